@@ -1,0 +1,588 @@
+//! D(w) by the Einstein formula, with error bars from independent batches.
+//!
+//! Each batch is one trajectory started from the invariant measure with its own random stream
+//! ([`crate::sampling::stream`]). Along it the MSD is sampled every τ (the exact mean hop time)
+//! with every sample a time origin, and D_b is a quarter of the least-squares slope of MSD(t)
+//! over the fit window [lo·τ, hi·τ] (the slope, not MSD/4t at one t, so the intercept of the
+//! transient does not bias D). D is the mean of the D_b and its error the standard error over
+//! batches. A second, later window is fitted too and reported: the two agreeing within errors
+//! shows that the fit window lies in the linear regime.
+//!
+//! Results do not depend on the number of threads: batch b's bits depend only on (seed, b),
+//! and batches are combined in index order.
+
+use std::fs::OpenOptions;
+use std::io::{BufRead, BufReader, Write};
+use std::path::PathBuf;
+use std::str::FromStr;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use rug::Float;
+use serde::{Deserialize, Serialize};
+
+use crate::error::Error;
+use crate::geometry::{check_diffusive_gap, Geometry};
+use crate::kernel::trap::Trap;
+use crate::observables::counters::Counters;
+use crate::observables::msd::Msd;
+use crate::real::Real;
+use crate::sampling::{equilibrium_state, stream};
+use crate::scenes::lattice::{LatticeState, PeriodicLattice};
+use crate::stats::{linear_fit, mean_se};
+
+/// Number type of a run: `f64`, or `rug::Float` with a number of bits ≥ 53.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Precision {
+    /// IEEE double.
+    F64,
+    /// MPFR with this many bits.
+    Bits(u32),
+}
+
+impl std::fmt::Display for Precision {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Precision::F64 => write!(f, "f64"),
+            Precision::Bits(b) => write!(f, "{b}"),
+        }
+    }
+}
+
+impl FromStr for Precision {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        let s = s.trim();
+        if s.eq_ignore_ascii_case("f64") {
+            return Ok(Precision::F64);
+        }
+        let bits: u32 = s.parse().map_err(|_| {
+            Error::Invalid(format!(
+                "precision '{s}' is not 'f64' or a number of bits (53 or more)"
+            ))
+        })?;
+        <Float as Real>::check_ctx(bits)?;
+        Ok(Precision::Bits(bits))
+    }
+}
+
+/// A fit window in units of the mean hop time τ.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Window {
+    /// Start, in units of τ.
+    pub lo: usize,
+    /// End, in units of τ.
+    pub hi: usize,
+}
+
+impl Window {
+    /// Seven lags evenly spaced over the window (in units of τ).
+    pub fn lags(&self) -> Vec<usize> {
+        let mut v: Vec<usize> = (0..7)
+            .map(|k| self.lo + ((self.hi - self.lo) * k + 3) / 6)
+            .collect();
+        v.dedup();
+        v
+    }
+}
+
+impl FromStr for Window {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        let bad = || {
+            Error::Invalid(format!(
+                "fit window '{s}' must be LO:HI in units of tau, 1 <= LO < HI <= 100000"
+            ))
+        };
+        let (a, b) = s.split_once(':').ok_or_else(bad)?;
+        let lo: usize = a.trim().parse().map_err(|_| bad())?;
+        let hi: usize = b.trim().parse().map_err(|_| bad())?;
+        if lo < 1 || hi <= lo || hi > 100_000 {
+            return Err(bad());
+        }
+        Ok(Window { lo, hi })
+    }
+}
+
+/// Everything that defines a diffusion run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DiffusionConfig {
+    /// Gap w (the exact double given).
+    pub w: f64,
+    /// Total number of collisions over all batches.
+    pub collisions: u64,
+    /// Number of independent batches (trajectories).
+    pub batches: u32,
+    /// Seed of the random streams.
+    pub seed: u64,
+    /// Number type.
+    pub precision: Precision,
+    /// Fit window for D.
+    pub window: Window,
+    /// Later window, fitted as a check of the linear regime.
+    pub check_window: Window,
+}
+
+impl DiffusionConfig {
+    /// The default run at `w`: 2·10⁹ collisions in 32 batches, windows [10τ, 40τ] and [20τ, 80τ].
+    pub fn new(w: f64) -> Self {
+        DiffusionConfig {
+            w,
+            collisions: 2_000_000_000,
+            batches: 32,
+            seed: 1,
+            precision: Precision::F64,
+            window: Window { lo: 10, hi: 40 },
+            check_window: Window { lo: 20, hi: 80 },
+        }
+    }
+
+    /// Checks every parameter; errors name the valid range.
+    pub fn validate(&self) -> Result<(), Error> {
+        check_diffusive_gap(self.w)?;
+        if self.collisions == 0 {
+            return Err(Error::Zero { what: "collisions" });
+        }
+        if self.batches == 0 {
+            return Err(Error::Zero { what: "batches" });
+        }
+        if self.batches < 2 {
+            return Err(Error::TooFew {
+                what: "batches",
+                min: 2,
+                got: self.batches as u64,
+            });
+        }
+        if let Precision::Bits(b) = self.precision {
+            <Float as Real>::check_ctx(b)?;
+        }
+        // Each batch must be long enough to reach the far end of the check window many times.
+        let per_batch = self.collisions / self.batches as u64;
+        let g = Geometry::new(self.w)?;
+        let hops = per_batch as f64 / g.collisions_per_hop();
+        let need = 20 * self.window.hi.max(self.check_window.hi) as u64;
+        if hops < need as f64 {
+            let min = (need as f64 * g.collisions_per_hop()).ceil() as u64 * self.batches as u64;
+            return Err(Error::TooFew {
+                what: "collisions (for this w, window and batch count)",
+                min,
+                got: self.collisions,
+            });
+        }
+        Ok(())
+    }
+
+    fn lags(&self) -> Vec<usize> {
+        let mut l = self.window.lags();
+        l.extend(self.check_window.lags());
+        l.sort_unstable();
+        l.dedup();
+        l
+    }
+}
+
+/// What one batch produced (also the unit of checkpointing).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BatchResult {
+    /// Batch index (its random stream).
+    pub index: u32,
+    /// Event totals.
+    pub counters: Counters,
+    /// Lags in units of τ.
+    pub lags: Vec<usize>,
+    /// MSD at each lag.
+    pub msd: Vec<f64>,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// One estimate with its standard error.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Estimate {
+    /// Value.
+    pub value: f64,
+    /// Standard error.
+    pub err: f64,
+}
+
+/// The result of a diffusion run (the CLI's `--json`).
+#[allow(non_snake_case)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct DiffusionReport {
+    /// Gap w.
+    pub w: f64,
+    /// Diffusion coefficient (fit window `window`).
+    pub D: f64,
+    /// Its standard error over batches.
+    pub D_err: f64,
+    /// Fit window of D, in units of τ.
+    pub window: Window,
+    /// D from the later window (check of the linear regime).
+    pub D_check: f64,
+    /// Its standard error.
+    pub D_check_err: f64,
+    /// The later window.
+    pub check_window: Window,
+    /// Machta–Zwanzig value (eq. 2).
+    pub D_MZ: f64,
+    /// Boltzmann value (eq. 8).
+    pub D_Bo: f64,
+    /// Measured mean free path (total time / collisions).
+    pub mean_free_path: f64,
+    /// Its standard error.
+    pub mean_free_path_err: f64,
+    /// Santaló's exact value π|Q|/|∂Q|.
+    pub mean_free_path_exact: f64,
+    /// Measured mean hop time (total time / crossings).
+    pub tau_hop: f64,
+    /// Its standard error.
+    pub tau_hop_err: f64,
+    /// Exact τ = πA/(3w).
+    pub tau_hop_exact: f64,
+    /// Measured collisions per hop.
+    pub collisions_per_hop: f64,
+    /// Its standard error.
+    pub collisions_per_hop_err: f64,
+    /// Exact π/(3w).
+    pub collisions_per_hop_exact: f64,
+    /// Lag times (in time units) at which the MSD was measured.
+    pub msd_times: Vec<f64>,
+    /// MSD/(4t) at those times (mean over batches) with errors: approaches D from one side.
+    pub msd_over_4t: Vec<Estimate>,
+    /// Longest free path seen in the run.
+    pub longest_free_path: f64,
+    /// Total collisions.
+    pub collisions: u64,
+    /// Number of batches.
+    pub batches: u32,
+    /// Seed.
+    pub seed: u64,
+    /// "f64" or the number of bits.
+    pub precision: String,
+    /// Threads used (does not change the result).
+    pub threads: usize,
+    /// Wall-clock seconds of this invocation.
+    pub seconds: f64,
+    /// Collisions per wall-clock second in this invocation.
+    pub collisions_per_second: f64,
+    /// Batches reused from a checkpoint.
+    pub resumed_batches: u32,
+    /// Crate version.
+    pub version: String,
+}
+
+/// Runs one batch on number type `T`.
+#[allow(clippy::too_many_arguments)]
+pub fn run_batch<T: Real>(
+    lat: &PeriodicLattice<T>,
+    trap64: &Trap<f64>,
+    seed: u64,
+    index: u32,
+    collisions: u64,
+    tau: f64,
+    lags: &[usize],
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<BatchResult, Error> {
+    const CHUNK: u64 = 1 << 20;
+    let start = Instant::now();
+    let ctx = lat.trap.a.ctx();
+    let mut rng = stream(seed, index as u64);
+    let s64 = equilibrium_state(trap64, &mut rng);
+    let mut s = LatticeState::<T>::convert_from_f64(ctx, &s64);
+    let (a, h) = lat.a_h_f64();
+    let mut msd = Msd::new(tau, lags, a, h);
+    let mut c = Counters::default();
+    let mut next_report = CHUNK;
+    while c.collisions < collisions {
+        let ev = lat
+            .next_event(&s)
+            .ok_or_else(|| Error::Invalid("trajectory lost its next event".into()))?;
+        msd.observe(lat, &s, &ev);
+        c.record(ev.kind, ev.time.to_f64());
+        lat.apply(&mut s, &ev);
+        if c.collisions >= next_report {
+            progress(CHUNK);
+            next_report += CHUNK;
+        }
+    }
+    progress(collisions % CHUNK);
+    c.finish();
+    Ok(BatchResult {
+        index,
+        counters: c,
+        lags: lags.to_vec(),
+        msd: msd.values(),
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+fn d_of_batch(b: &BatchResult, tau: f64, win: &Window) -> f64 {
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for (lag, m) in b.lags.iter().zip(&b.msd) {
+        if *lag >= win.lo && *lag <= win.hi {
+            x.push(*lag as f64 * tau);
+            y.push(*m);
+        }
+    }
+    linear_fit(&x, &y).1 / 4.0
+}
+
+/// Runs the configured computation on `threads` threads. `progress` receives collision counts
+/// as they are done. With a `checkpoint` file, every finished batch is appended to it at once
+/// and batches already there (from the same configuration) are not run again.
+pub fn run(
+    cfg: &DiffusionConfig,
+    threads: usize,
+    checkpoint: Option<&PathBuf>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<DiffusionReport, Error> {
+    cfg.validate()?;
+    if threads == 0 {
+        return Err(Error::Zero { what: "threads" });
+    }
+    let start = Instant::now();
+    let g = Geometry::new(cfg.w)?;
+    let tau = g.hop_time();
+    let lags = cfg.lags();
+    let trap64 = Trap::new(cfg.w)?;
+
+    let mut done: Vec<BatchResult> = match checkpoint {
+        Some(p) => load_checkpoint(p, cfg)?,
+        None => Vec::new(),
+    };
+    let resumed = done.len() as u32;
+    for b in &done {
+        progress(b.counters.collisions);
+    }
+    let todo: Vec<u32> = (0..cfg.batches)
+        .filter(|i| !done.iter().any(|b| b.index == *i))
+        .collect();
+    let writer = match checkpoint {
+        Some(p) => Some(Mutex::new(open_checkpoint(p, cfg)?)),
+        None => None,
+    };
+    let per = cfg.collisions / cfg.batches as u64;
+    let extra = cfg.collisions % cfg.batches as u64;
+    let n_of = |i: u32| per + u64::from((i as u64) < extra);
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Invalid(format!("thread pool: {e}")))?;
+    let record = |r: Result<BatchResult, Error>| -> Result<BatchResult, Error> {
+        let r = r?;
+        if let Some(wr) = &writer {
+            let mut f = wr
+                .lock()
+                .map_err(|_| Error::Io("checkpoint lock poisoned".into()))?;
+            writeln!(
+                f,
+                "{}",
+                serde_json::to_string(&r).map_err(|e| Error::Io(e.to_string()))?
+            )?;
+            f.flush()?;
+        }
+        Ok(r)
+    };
+    let new: Vec<BatchResult> = pool.install(|| match cfg.precision {
+        Precision::F64 => {
+            let lat = PeriodicLattice::new(cfg.w)?;
+            todo.par_iter()
+                .map(|&i| {
+                    record(run_batch(
+                        &lat,
+                        &trap64,
+                        cfg.seed,
+                        i,
+                        n_of(i),
+                        tau,
+                        &lags,
+                        progress,
+                    ))
+                })
+                .collect::<Result<Vec<_>, Error>>()
+        }
+        Precision::Bits(bits) => {
+            let lat = PeriodicLattice::new(Float::with_val(bits, cfg.w))?;
+            todo.par_iter()
+                .map(|&i| {
+                    record(run_batch(
+                        &lat,
+                        &trap64,
+                        cfg.seed,
+                        i,
+                        n_of(i),
+                        tau,
+                        &lags,
+                        progress,
+                    ))
+                })
+                .collect::<Result<Vec<_>, Error>>()
+        }
+    })?;
+    let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
+    done.extend(new);
+    done.sort_by_key(|b| b.index);
+    let seconds = start.elapsed().as_secs_f64();
+    Ok(summarise(
+        cfg, &g, tau, &done, threads, seconds, resumed, run_now,
+    ))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn summarise(
+    cfg: &DiffusionConfig,
+    g: &Geometry<f64>,
+    tau: f64,
+    done: &[BatchResult],
+    threads: usize,
+    seconds: f64,
+    resumed: u32,
+    run_now: u64,
+) -> DiffusionReport {
+    let ds: Vec<f64> = done
+        .iter()
+        .map(|b| d_of_batch(b, tau, &cfg.window))
+        .collect();
+    let dc: Vec<f64> = done
+        .iter()
+        .map(|b| d_of_batch(b, tau, &cfg.check_window))
+        .collect();
+    let ratio = |f: &dyn Fn(&Counters) -> f64| {
+        mean_se(&done.iter().map(|b| f(&b.counters)).collect::<Vec<_>>())
+    };
+    let (d, d_err) = mean_se(&ds);
+    let (dcv, dce) = mean_se(&dc);
+    let (mfp, mfp_e) = ratio(&|c| c.time / c.collisions as f64);
+    let (th, th_e) = ratio(&|c| c.time / c.crossings as f64);
+    let (cph, cph_e) = ratio(&|c| c.collisions as f64 / c.crossings as f64);
+    let lags = &done[0].lags;
+    let msd_times: Vec<f64> = lags.iter().map(|&l| l as f64 * tau).collect();
+    let msd_over_4t = (0..lags.len())
+        .map(|k| {
+            let v: Vec<f64> = done
+                .iter()
+                .map(|b| b.msd[k] / (4.0 * msd_times[k]))
+                .collect();
+            let (value, err) = mean_se(&v);
+            Estimate { value, err }
+        })
+        .collect();
+    let total: u64 = done.iter().map(|b| b.counters.collisions).sum();
+    DiffusionReport {
+        w: cfg.w,
+        D: d,
+        D_err: d_err,
+        window: cfg.window,
+        D_check: dcv,
+        D_check_err: dce,
+        check_window: cfg.check_window,
+        D_MZ: g.d_mz(),
+        D_Bo: g.d_bo(),
+        mean_free_path: mfp,
+        mean_free_path_err: mfp_e,
+        mean_free_path_exact: g.mean_free_path(),
+        tau_hop: th,
+        tau_hop_err: th_e,
+        tau_hop_exact: tau,
+        collisions_per_hop: cph,
+        collisions_per_hop_err: cph_e,
+        collisions_per_hop_exact: g.collisions_per_hop(),
+        msd_times,
+        msd_over_4t,
+        longest_free_path: done
+            .iter()
+            .map(|b| b.counters.longest_free_path)
+            .fold(0.0, f64::max),
+        collisions: total,
+        batches: cfg.batches,
+        seed: cfg.seed,
+        precision: cfg.precision.to_string(),
+        threads,
+        seconds,
+        collisions_per_second: run_now as f64 / seconds,
+        resumed_batches: resumed,
+        version: env!("CARGO_PKG_VERSION").to_string(),
+    }
+}
+
+#[derive(Serialize, Deserialize)]
+struct CheckpointHeader {
+    config: DiffusionConfig,
+    version: String,
+}
+
+fn load_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<Vec<BatchResult>, Error> {
+    let f = match std::fs::File::open(p) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(e.into()),
+    };
+    let mut lines = BufReader::new(f).lines();
+    let header = match lines.next() {
+        Some(l) => l?,
+        None => return Ok(Vec::new()),
+    };
+    let h: CheckpointHeader = serde_json::from_str(&header)
+        .map_err(|e| Error::Io(format!("{}: not a lorentz checkpoint ({e})", p.display())))?;
+    if h.config != *cfg {
+        return Err(Error::Invalid(format!(
+            "checkpoint {} belongs to another run ({:?}); use another file or the same parameters",
+            p.display(),
+            h.config
+        )));
+    }
+    let mut out: Vec<BatchResult> = Vec::new();
+    for l in lines {
+        let l = l?;
+        // A line cut short by an interruption is ignored: that batch is simply run again.
+        if let Ok(b) = serde_json::from_str::<BatchResult>(&l) {
+            if !out.iter().any(|o| o.index == b.index) {
+                out.push(b);
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn open_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<std::fs::File, Error> {
+    let fresh = std::fs::metadata(p).map(|m| m.len() == 0).unwrap_or(true);
+    let mut f = OpenOptions::new().create(true).append(true).open(p)?;
+    if fresh {
+        let h = CheckpointHeader {
+            config: cfg.clone(),
+            version: env!("CARGO_PKG_VERSION").into(),
+        };
+        writeln!(
+            f,
+            "{}",
+            serde_json::to_string(&h).map_err(|e| Error::Io(e.to_string()))?
+        )?;
+    } else {
+        // Make sure a line cut short by an interruption does not swallow the next record.
+        writeln!(f)?;
+    }
+    Ok(f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn precision_parsing() {
+        assert_eq!("f64".parse::<Precision>().unwrap(), Precision::F64);
+        assert_eq!("256".parse::<Precision>().unwrap(), Precision::Bits(256));
+        assert!("52".parse::<Precision>().is_err());
+        assert!("abc".parse::<Precision>().is_err());
+    }
+
+    #[test]
+    fn window_lags() {
+        let w: Window = "10:40".parse().unwrap();
+        assert_eq!(w.lags(), vec![10, 15, 20, 25, 30, 35, 40]);
+        assert!("40:10".parse::<Window>().is_err());
+        assert!("0:10".parse::<Window>().is_err());
+    }
+}

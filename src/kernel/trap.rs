@@ -1,0 +1,330 @@
+//! The canonical trap: one triangle of the lattice, its three vertex disks and three edges.
+//!
+//! Every trap of the triangular lattice is congruent to the canonical triangle
+//! P₀ = (0, 0), P₁ = (a, 0), P₂ = (a/2, h), h = √3a/2, either directly ("up" traps) or by a
+//! point reflection ("down" traps). Inside it only the three vertex disks can be hit (every other
+//! disk centre is at distance ≥ h > 1 from the triangle: `proofs-notes/no-missed-collision.md`),
+//! so the next event of a free flight is one of at most five candidates: a collision with a
+//! vertex disk, or a crossing of an edge Eₖ (the edge opposite Pₖ) through its gap into the
+//! neighbouring trap. The disk just hit and the edge just crossed are excluded **by identity**,
+//! never by a tolerance.
+//!
+//! Crossing Eₖ maps the neighbouring trap onto the canonical one by the point reflection about
+//! the midpoint of Eₖ, p ↦ cₖ − p with cₖ = sum of the endpoints of Eₖ, and v ↦ −v (exact).
+//! The two endpoint disks of Eₖ swap labels; the opposite disk leaves the candidate set.
+
+use super::ray_disk::ray_disk_centred;
+use super::vec2::Vec2;
+use crate::error::Error;
+use crate::real::Real;
+
+/// Marker for "no disk / no edge excluded".
+pub const NONE: u8 = 3;
+
+/// What ends a free flight inside a trap.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EventKind {
+    /// Specular collision with the vertex disk Pₖ.
+    Collision(u8),
+    /// Crossing of edge Eₖ (opposite Pₖ) through its gap.
+    Crossing(u8),
+}
+
+/// The next event: its kind and the flight time to it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Event<T> {
+    /// Collision or crossing, with the disk/edge label.
+    pub kind: EventKind,
+    /// Flight time from the current position (speed ≈ 1, so also the flight length).
+    pub time: T,
+}
+
+/// Position and velocity in the canonical frame of the current trap, plus the obstacles the
+/// current straight flight cannot meet again (the disk it left, the edge it entered by).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flight<T> {
+    /// Position in the canonical trap frame (bounded: within the triangle, up to rounding).
+    pub pos: Vec2<T>,
+    /// Velocity (|v| = 1 up to rounding).
+    pub vel: Vec2<T>,
+    /// Disk left by the last collision on this straight flight ([`NONE`] if none).
+    pub excluded_disk: u8,
+    /// Edge entered by on this straight flight ([`NONE`] if none).
+    pub excluded_edge: u8,
+}
+
+impl<T: Real> Flight<T> {
+    /// A flight from `pos` with velocity `vel`, nothing excluded.
+    pub fn new(pos: Vec2<T>, vel: Vec2<T>) -> Self {
+        Flight {
+            pos,
+            vel,
+            excluded_disk: NONE,
+            excluded_edge: NONE,
+        }
+    }
+    /// The same flight converted to another number type through `f64` is *not* offered; use
+    /// [`Flight::convert_from_f64`] to lift an `f64` state exactly.
+    pub fn convert_from_f64(ctx: T::Ctx, f: &Flight<f64>) -> Self {
+        Flight {
+            pos: Vec2::from_f64(ctx, f.pos.x, f.pos.y),
+            vel: Vec2::from_f64(ctx, f.vel.x, f.vel.y),
+            excluded_disk: f.excluded_disk,
+            excluded_edge: f.excluded_edge,
+        }
+    }
+    /// Nearest `f64` state.
+    pub fn to_f64(&self) -> Flight<f64> {
+        Flight {
+            pos: Vec2::new(self.pos.x.to_f64(), self.pos.y.to_f64()),
+            vel: Vec2::new(self.vel.x.to_f64(), self.vel.y.to_f64()),
+            excluded_disk: self.excluded_disk,
+            excluded_edge: self.excluded_edge,
+        }
+    }
+    /// Reverses the velocity. The reversed particle has not left any disk and has not entered
+    /// by any edge: exclusions are cleared (a reversal right after a collision re-collides with
+    /// the same disk at time 0, undoing the reflection).
+    pub fn reverse(&mut self) {
+        self.vel = self.vel.clone().neg();
+        self.excluded_disk = NONE;
+        self.excluded_edge = NONE;
+    }
+}
+
+/// The canonical trap at gap `w`, all constants at the working precision.
+#[derive(Debug, Clone)]
+pub struct Trap<T: Real> {
+    /// Gap w.
+    pub w: T,
+    /// Spacing a = 2 + w.
+    pub a: T,
+    /// Height h = √3a/2.
+    pub h: T,
+    /// Disk centres P₀, P₁, P₂.
+    pub vertices: [Vec2<T>; 3],
+    /// Inward unit normals nₖ of the edges Eₖ (opposite Pₖ).
+    pub normals: [Vec2<T>; 3],
+    /// Offsets oₖ: the signed distance to Eₖ is σₖ(p) = nₖ·p − oₖ (≥ 0 inside).
+    pub offsets: [T; 3],
+    /// Reflection centres cₖ = sum of the endpoints of Eₖ.
+    pub centres: [Vec2<T>; 3],
+}
+
+impl<T: Real> Trap<T> {
+    /// The canonical trap at gap `w > 0` (any precision ≥ 53 bits).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::kernel::trap::Trap;
+    /// let t = Trap::new(0.1f64).unwrap();
+    /// assert_eq!(t.vertices[1].x, 2.1);
+    /// ```
+    pub fn new(w: T) -> Result<Self, Error> {
+        let g = crate::geometry::Geometry::new(w.clone())?;
+        let ctx = w.ctx();
+        let a = g.spacing();
+        let h = g.row_spacing();
+        let half_sqrt3 = g.sqrt3().scale(0.5);
+        let half = T::from_f64(ctx, 0.5);
+        let z = T::zero(ctx);
+        let vertices = [
+            Vec2::new(z.clone(), z.clone()),
+            Vec2::new(a.clone(), z.clone()),
+            Vec2::new(a.clone().scale(0.5), h.clone()),
+        ];
+        let normals = [
+            Vec2::new(-half_sqrt3.clone(), -half.clone()),
+            Vec2::new(half_sqrt3, -half),
+            Vec2::new(z.clone(), T::one(ctx)),
+        ];
+        let offsets = [-h.clone(), z.clone(), z.clone()];
+        let centres = [
+            Vec2::new(a.clone().scale(1.5), h.clone()),
+            Vec2::new(a.clone().scale(0.5), h.clone()),
+            Vec2::new(a.clone(), z),
+        ];
+        Ok(Trap {
+            w,
+            a,
+            h,
+            vertices,
+            normals,
+            offsets,
+            centres,
+        })
+    }
+
+    /// Signed distance from `p` to edge `k` (positive inside the triangle).
+    #[inline(always)]
+    pub fn edge_distance(&self, k: usize, p: &Vec2<T>) -> T {
+        self.normals[k].dot(p) - &self.offsets[k]
+    }
+
+    /// The next event of the straight flight `f`, or `None` if there is none (only for a zero
+    /// or non-finite velocity: a finite nonzero velocity always leaves the triangle).
+    ///
+    /// Candidates are the vertex disks other than `f.excluded_disk` (cancellation-free root,
+    /// [`super::ray_disk::ray_disk_with_speed`]) and the edges other than `f.excluded_edge` that the velocity
+    /// points out of (time σₖ/(−nₖ·v), or 0 if the start is numerically beyond the edge).
+    /// Ties go to the lower disk label, then collisions before crossings.
+    ///
+    /// The canonical coordinates make several operations exact, and they are skipped without
+    /// changing a bit of the result (see `proofs-notes/bit-for-bit.md`): d = p − P₀ = p,
+    /// n₂·v = v_y, σ₂ = p_y, σ₁ = n₁·p (o₁ = 0), and n₀, n₁ share the products (√3/2)·x and x/2.
+    #[inline(always)]
+    pub fn next_event(&self, f: &Flight<T>) -> Option<Event<T>> {
+        let (p, v) = (&f.pos, &f.vel);
+        let vv = v.norm2();
+        let mut best: Option<Event<T>> = None;
+        let mut offer = |t: T, kind: EventKind| {
+            if best.as_ref().is_none_or(|b| t < b.time) {
+                best = Some(Event { kind, time: t });
+            }
+        };
+        if f.excluded_disk != 0 {
+            if let Some(t) = ray_disk_centred(p.x.clone(), p.y.clone(), v, &vv) {
+                offer(t, EventKind::Collision(0));
+            }
+        }
+        for m in 1..3u8 {
+            if m != f.excluded_disk {
+                let c = &self.vertices[m as usize];
+                if let Some(t) = ray_disk_centred(p.x.clone() - &c.x, p.y.clone() - &c.y, v, &vv) {
+                    offer(t, EventKind::Collision(m));
+                }
+            }
+        }
+        // Edge normals: n₀ = (−k, −½), n₁ = (k, −½), n₂ = (0, 1), k = √3/2.
+        let k = &self.normals[1].x;
+        let kvx = k.clone() * &v.x;
+        let hvy = v.y.clone().scale(0.5);
+        let (kpx, hpy) = (k.clone() * &p.x, p.y.clone().scale(0.5));
+        let mut edge = |e: u8, nv: T, sigma: T| {
+            if e != f.excluded_edge && nv.lt0() {
+                let t = if sigma.gt0() {
+                    sigma / &(-nv)
+                } else {
+                    T::zero(nv.ctx())
+                };
+                offer(t, EventKind::Crossing(e));
+            }
+        };
+        edge(
+            0,
+            -(kvx.clone() + &hvy),
+            self.h.clone() - &(kpx.clone() + &hpy),
+        );
+        edge(1, kvx - &hvy, kpx - &hpy);
+        edge(2, v.y.clone(), p.y.clone());
+        best
+    }
+
+    /// Moves along the flight to the event and carries it out: a specular reflection
+    /// v' = v − 2(v·n)n with n = x − Pₘ at the contact point x (|n| = 1 up to rounding; the
+    /// particle stays at x), or the point reflection into the neighbouring trap's frame.
+    #[inline(always)]
+    pub fn apply(&self, f: &mut Flight<T>, ev: &Event<T>) {
+        let x = f.pos.along(&ev.time, &f.vel);
+        match ev.kind {
+            EventKind::Collision(m) => {
+                // n = x − Pₘ; for P₀ = (0, 0) the subtraction is exact and skipped.
+                let n = if m == 0 {
+                    x.clone()
+                } else {
+                    x.sub(&self.vertices[m as usize])
+                };
+                let s = f.vel.dot(&n).scale(2.0);
+                f.vel.x -= &(n.x.clone() * &s);
+                f.vel.y -= &(n.y * &s);
+                f.pos = x;
+                f.excluded_disk = m;
+                f.excluded_edge = NONE;
+            }
+            EventKind::Crossing(k) => {
+                f.pos = self.centres[k as usize].sub(&x);
+                f.vel.x.neg_mut();
+                f.vel.y.neg_mut();
+                f.excluded_disk = relabel_after_crossing(k, f.excluded_disk);
+                f.excluded_edge = k;
+            }
+        }
+    }
+
+    /// `true` if `p` is in the closed triangle and outside the open disks (the free trap),
+    /// decided at the working precision.
+    pub fn is_free(&self, p: &Vec2<T>) -> bool {
+        (0..3).all(|k| !self.edge_distance(k, p).lt0())
+            && self
+                .vertices
+                .iter()
+                .all(|c| !p.sub(c).norm2().add_f64(-1.0).lt0())
+    }
+}
+
+/// Label of a disk after crossing edge `k`: the endpoints of Eₖ swap (m ↦ 3 − k − m), the
+/// opposite disk Pₖ is not a vertex of the new trap ([`NONE`]).
+#[inline(always)]
+pub fn relabel_after_crossing(k: u8, m: u8) -> u8 {
+    if m == NONE || m == k {
+        NONE
+    } else {
+        3 - k - m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reflection_centres_map_edges_onto_themselves() {
+        let t = Trap::new(0.1f64).unwrap();
+        for k in 0..3u8 {
+            let (i, j) = match k {
+                0 => (1, 2),
+                1 => (2, 0),
+                _ => (0, 1),
+            };
+            // cₖ − Pᵢ = Pⱼ: the endpoints swap, and relabel agrees.
+            let img = t.centres[k as usize].sub(&t.vertices[i]);
+            assert!(
+                (img.x - t.vertices[j].x).abs() < 1e-15 && (img.y - t.vertices[j].y).abs() < 1e-15
+            );
+            assert_eq!(relabel_after_crossing(k, i as u8), j as u8);
+            assert_eq!(relabel_after_crossing(k, k), NONE);
+        }
+    }
+
+    #[test]
+    fn normals_point_inward_and_vertices_lie_on_their_edges() {
+        let t = Trap::new(0.2f64).unwrap();
+        let centroid = Vec2::new(t.a / 2.0, t.h / 3.0);
+        for k in 0..3 {
+            assert!(t.edge_distance(k, &centroid) > 0.0);
+            for (i, p) in t.vertices.iter().enumerate() {
+                let d = t.edge_distance(k, p);
+                if i == k {
+                    assert!((d - t.h).abs() < 1e-14, "opposite vertex at height h");
+                } else {
+                    assert!(d.abs() < 1e-15);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn crossing_then_crossing_back_is_the_identity_up_to_rounding() {
+        let t = Trap::new(0.1f64).unwrap();
+        // A point in the gap of E2 (y = 0, x = a/2) moving down.
+        let mut f = Flight::new(Vec2::new(t.a / 2.0, 0.3), Vec2::new(0.0, -1.0));
+        let ev = t.next_event(&f).unwrap();
+        assert_eq!(ev.kind, EventKind::Crossing(2));
+        t.apply(&mut f, &ev);
+        assert_eq!(f.excluded_edge, 2);
+        // Now moving up in the neighbour's frame (the frame is point-reflected).
+        assert_eq!(f.vel.y, 1.0);
+        assert!((f.pos.x - t.a / 2.0).abs() < 1e-15 && f.pos.y.abs() < 1e-15);
+    }
+}

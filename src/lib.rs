@@ -1,0 +1,32 @@
+//! # lorentz-gas
+//!
+//! Deterministic diffusion in the two-dimensional periodic Lorentz gas (point particle, speed 1,
+//! hard disks of radius 1 on a triangular lattice of spacing 2 + w), after Klages & Dellago,
+//! *J. Stat. Phys.* **101**, 145 (2000) — computed by one collision kernel that is generic over
+//! `f64` (production) and `rug::Float` (the MPFR shadow that audits it).
+//!
+//! Layout, physics first:
+//! * [`real`]: the number trait (`f64`, `rug::Float` ≥ 53 bits).
+//! * [`geometry`]: closed forms (w∞, w₀, ⟨ℓ⟩, τ, D_MZ, D_Bo, …).
+//! * [`kernel`]: ray–disk root, the canonical trap, reflections.
+//! * [`scenes`]: the periodic lattice built from the trap.
+//! * [`sampling`]: initial conditions from the invariant measure; reproducible streams.
+//! * [`observables`]: mean squared displacement and event counters.
+//! * [`stats`]: batch means, blocking, weighted linear fits.
+//! * [`diffusion`]: D(w) by the Einstein formula with error bars.
+//! * [`verification`]: shadows, reversibility, Birkhoff-map Jacobians.
+#![warn(missing_docs)]
+
+pub mod bench;
+pub mod diffusion;
+pub mod error;
+pub mod geometry;
+pub mod kernel;
+pub mod observables;
+pub mod real;
+pub mod sampling;
+pub mod scenes;
+pub mod stats;
+pub mod verification;
+
+pub use error::Error;

@@ -1,0 +1,349 @@
+//! `lorentz`: the command-line face of lorentz-gas.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rug::Float;
+use serde_json::json;
+
+use lorentz_gas::diffusion::{self, DiffusionConfig, Precision, Window};
+use lorentz_gas::error::Error;
+use lorentz_gas::geometry::Geometry;
+use lorentz_gas::real::Real;
+
+#[derive(Parser)]
+#[command(
+    name = "lorentz",
+    version,
+    about = "Deterministic diffusion in the periodic Lorentz gas (Klages & Dellago 2000), with error bars and MPFR shadows"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Diffusion coefficient D(w) by the Einstein formula, with standard errors from independent batches.
+    Diffusion {
+        /// Gap between neighbouring disks, 0 < w < 4/sqrt(3) - 2 = 0.3094.
+        #[arg(long, allow_negative_numbers = true)]
+        w: f64,
+        /// Total collisions over all batches.
+        #[arg(long, default_value_t = 2_000_000_000)]
+        collisions: u64,
+        /// Independent batches (trajectories); the error bar is their standard error.
+        #[arg(long, default_value_t = 32)]
+        batches: u32,
+        /// Seed of the random streams (same seed, same bits, whatever --threads).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Number type: f64, or MPFR bits (>= 53).
+        #[arg(long, default_value = "f64")]
+        precision: String,
+        /// Fit window LO:HI for the MSD slope, in units of the mean hop time tau.
+        #[arg(long, default_value = "10:40")]
+        window: String,
+        /// Second, later window fitted as a check of the linear regime.
+        #[arg(long, default_value = "20:80")]
+        check_window: String,
+        /// Append each finished batch to this file; a rerun with the same parameters resumes.
+        #[arg(long)]
+        checkpoint: Option<PathBuf>,
+        /// Machine-readable output.
+        #[arg(long)]
+        json: bool,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Every closed-form quantity at gap w (geometry, Santaló, Machta-Zwanzig, Boltzmann).
+    Constants {
+        /// Gap w > 0.
+        #[arg(long, allow_negative_numbers = true)]
+        w: f64,
+        /// f64 or MPFR bits (>= 53).
+        #[arg(long, default_value = "f64")]
+        precision: String,
+        /// Machine-readable output.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Single-trajectory kernel throughput (median of repetitions).
+    Bench {
+        /// Gap w > 0.
+        #[arg(long, allow_negative_numbers = true)]
+        w: f64,
+        /// Collisions per repetition.
+        #[arg(long, default_value_t = 20_000_000)]
+        collisions: u64,
+        /// Repetitions (the median is reported).
+        #[arg(long, default_value_t = 7)]
+        repetitions: usize,
+        /// Threads (the kernel benchmark is single-trajectory; only 1 is meaningful).
+        #[arg(long, default_value_t = 1)]
+        threads: usize,
+        /// f64 or MPFR bits (>= 53).
+        #[arg(long, default_value = "f64")]
+        precision: String,
+        /// Seed of the starting point.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Machine-readable output.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match real_main(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn progress_bar(total: u64, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::hidden());
+    }
+    let pb = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+    pb.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ({per_sec}, eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    pb
+}
+
+fn to_json<T: serde::Serialize>(v: &T) -> Result<String, Error> {
+    serde_json::to_string_pretty(v).map_err(|e| Error::Io(e.to_string()))
+}
+
+fn real_main(cli: Cli) -> Result<(), Error> {
+    match cli.cmd {
+        Cmd::Diffusion {
+            w,
+            collisions,
+            batches,
+            seed,
+            threads,
+            precision,
+            window,
+            check_window,
+            checkpoint,
+            json,
+            quiet,
+        } => {
+            let cfg = DiffusionConfig {
+                w,
+                collisions,
+                batches,
+                seed,
+                precision: precision.parse()?,
+                window: window.parse::<Window>()?,
+                check_window: check_window.parse::<Window>()?,
+            };
+            cfg.validate()?;
+            let threads = threads.unwrap_or_else(|| {
+                std::thread::available_parallelism()
+                    .map(|n| n.get())
+                    .unwrap_or(1)
+            });
+            let pb = progress_bar(collisions, quiet);
+            let r = diffusion::run(&cfg, threads, checkpoint.as_ref(), &|n| pb.inc(n))?;
+            pb.finish_and_clear();
+            if json {
+                println!("{}", to_json(&r)?);
+            } else {
+                print_diffusion(&r);
+            }
+        }
+        Cmd::Constants { w, precision, json } => match precision.parse::<Precision>()? {
+            Precision::F64 => print_constants(Geometry::new(w)?, json)?,
+            Precision::Bits(b) => print_constants(Geometry::new(Float::with_val(b, w))?, json)?,
+        },
+        Cmd::Bench {
+            w,
+            collisions,
+            repetitions,
+            threads,
+            precision,
+            seed,
+            json,
+        } => {
+            if threads != 1 {
+                return Err(Error::Invalid(
+                    "bench measures one trajectory on one thread: use --threads 1".into(),
+                ));
+            }
+            let r = lorentz_gas::bench::throughput(
+                w,
+                precision.parse()?,
+                collisions,
+                repetitions,
+                seed,
+            )?;
+            if json {
+                println!("{}", to_json(&r)?);
+            } else {
+                println!(
+                    "w = {}  precision {}  {} collisions x {} repetitions, 1 thread\nmedian {:.3e} collisions/s = {:.2} ns/collision  (runs: {})",
+                    r.w,
+                    r.precision,
+                    r.collisions,
+                    r.repetitions,
+                    r.collisions_per_second,
+                    r.ns_per_collision,
+                    r.samples.iter().map(|s| format!("{s:.3e}")).collect::<Vec<_>>().join(" ")
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+fn sigmas(x: f64, err: f64, exact: f64) -> String {
+    format!("{:+.1} sigma", (x - exact) / err)
+}
+
+fn print_diffusion(r: &diffusion::DiffusionReport) {
+    println!(
+        "periodic Lorentz gas, w = {}  ({} precision, seed {}, {} batches, {:.3e} collisions, {} threads, {:.1} s, {:.3e} collisions/s)",
+        r.w, r.precision, r.seed, r.batches, r.collisions as f64, r.threads, r.seconds, r.collisions_per_second
+    );
+    println!(
+        "D              = {:.6} ± {:.6}   ({:.3} %, MSD slope over [{}τ, {}τ])",
+        r.D,
+        r.D_err,
+        100.0 * r.D_err / r.D,
+        r.window.lo,
+        r.window.hi
+    );
+    println!(
+        "D (check)      = {:.6} ± {:.6}   (MSD slope over [{}τ, {}τ]; difference {:+.1} combined sigma)",
+        r.D_check,
+        r.D_check_err,
+        r.check_window.lo,
+        r.check_window.hi,
+        (r.D_check - r.D) / (r.D_err.powi(2) + r.D_check_err.powi(2)).sqrt()
+    );
+    println!(
+        "D_MZ           = {:.6}           D/D_MZ = {:.4}",
+        r.D_MZ,
+        r.D / r.D_MZ
+    );
+    println!("D_Bo           = {:.6}", r.D_Bo);
+    println!(
+        "mean free path = {:.7} ± {:.7}   exact {:.7}  ({})",
+        r.mean_free_path,
+        r.mean_free_path_err,
+        r.mean_free_path_exact,
+        sigmas(
+            r.mean_free_path,
+            r.mean_free_path_err,
+            r.mean_free_path_exact
+        )
+    );
+    println!(
+        "mean hop time  = {:.6} ± {:.6}   exact {:.6}  ({})",
+        r.tau_hop,
+        r.tau_hop_err,
+        r.tau_hop_exact,
+        sigmas(r.tau_hop, r.tau_hop_err, r.tau_hop_exact)
+    );
+    println!(
+        "collisions/hop = {:.5} ± {:.5}   exact {:.5}  ({})",
+        r.collisions_per_hop,
+        r.collisions_per_hop_err,
+        r.collisions_per_hop_exact,
+        sigmas(
+            r.collisions_per_hop,
+            r.collisions_per_hop_err,
+            r.collisions_per_hop_exact
+        )
+    );
+    if r.resumed_batches > 0 {
+        println!(
+            "({} batches resumed from the checkpoint)",
+            r.resumed_batches
+        );
+    }
+}
+
+fn print_constants<T: Real>(g: Geometry<T>, json: bool) -> Result<(), Error> {
+    let ctx = g.ctx();
+    let rows: Vec<(&str, &str, T)> = vec![
+        ("w", "gap", g.gap()),
+        ("a", "lattice spacing 2 + w", g.spacing()),
+        ("n", "number density 2/(sqrt3 a^2)", g.density()),
+        (
+            "w_inf",
+            "horizon threshold 4/sqrt3 - 2",
+            Geometry::<T>::w_inf(ctx),
+        ),
+        (
+            "w_0",
+            "collisionless-flight onset 2/sqrt3 - 1",
+            Geometry::<T>::w_0(ctx),
+        ),
+        ("trap_area", "A = sqrt3 a^2/4 - pi/2", g.trap_area()),
+        (
+            "free_area_per_disk",
+            "|Q| = 1/n - pi = 2A",
+            g.free_area_per_disk(),
+        ),
+        ("boundary_per_disk", "|dQ| = 2 pi", g.boundary_per_disk()),
+        (
+            "mean_free_path",
+            "Santalo pi|Q|/|dQ| = A",
+            g.mean_free_path(),
+        ),
+        ("trap_distance", "l = a/sqrt3", g.trap_distance()),
+        ("tau_hop", "tau = pi A/(3w)", g.hop_time()),
+        ("collisions_per_hop", "pi/(3w)", g.collisions_per_hop()),
+        ("D_MZ", "Machta-Zwanzig l^2/(4 tau)", g.d_mz()),
+        ("D_Bo", "Boltzmann (3/16)(1/n - pi)", g.d_bo()),
+    ];
+    let horizon_finite = g.gap() < Geometry::<T>::w_inf(ctx);
+    let lmax = g.max_free_path_bound();
+    if json {
+        let mut m = serde_json::Map::new();
+        for (k, _, v) in &rows {
+            m.insert((*k).into(), json!(v.to_decimal()));
+        }
+        m.insert(
+            "max_free_path_bound".into(),
+            json!(lmax.as_ref().map(|v| v.to_decimal())),
+        );
+        m.insert("finite_horizon".into(), json!(horizon_finite));
+        m.insert("precision_bits".into(), json!(T::bits(ctx)));
+        m.insert("version".into(), json!(env!("CARGO_PKG_VERSION")));
+        println!("{}", to_json(&m)?);
+    } else {
+        for (k, d, v) in &rows {
+            println!("{k:<20} {:<45} {d}", v.to_decimal());
+        }
+        match lmax {
+            Some(l) => println!(
+                "{:<20} {:<45} upper bound 7a/sqrt3 on any free path",
+                "max_free_path_bound",
+                l.to_decimal()
+            ),
+            None => println!(
+                "w >= w_inf: infinite horizon, free paths are unbounded and D does not exist"
+            ),
+        }
+    }
+    Ok(())
+}
