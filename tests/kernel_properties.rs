@@ -1,0 +1,132 @@
+//! Property tests of the kernel, one suite instantiated per scalar type (f64, MPFR 128 and
+//! 256 bits), with tolerances scaled by each type's unit roundoff u. Seeded (proptest's
+//! deterministic RNG via `PROPTEST_RNG_SEED`-independent fixed config) and shrinking.
+//!
+//! Bounds (proofs-notes/error-model.md):
+//! * energy: one collision changes |v|² by at most 256u (|d| ≤ a + 1 < 3.4 for w < w∞);
+//! * a post-event position is never inside a disk by more than 256u (|x − c|² ≥ 1 − 256u);
+//! * a post-event position is within 256u·a of the closed triangle.
+
+use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
+use lorentz_gas::kernel::vec2::Vec2;
+use lorentz_gas::real::Real;
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use rug::Float;
+
+/// A free start in the canonical trap from three numbers in [0, 1): position by reflection of
+/// the unit square onto the triangle, direction angle 2π·u₃ (in f64: inputs, not kernel code).
+fn start(w: f64, u1: f64, u2: f64, u3: f64) -> Option<Flight<f64>> {
+    let t = Trap::new(w).ok()?;
+    let (mut a, mut b) = (u1, u2);
+    if a + b > 1.0 {
+        a = 1.0 - a;
+        b = 1.0 - b;
+    }
+    let p = Vec2::new(a * t.a + b * t.a * 0.5, b * t.h);
+    if !t.is_free(&p) {
+        return None;
+    }
+    let ang = 2.0 * std::f64::consts::PI * u3;
+    Some(Flight::new(p, Vec2::new(ang.cos(), ang.sin())))
+}
+
+fn runner(cases: u32) -> TestRunner {
+    let cfg = Config { cases, failure_persistence: None, ..Config::default() };
+    TestRunner::new_with_rng(cfg, TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]))
+}
+
+macro_rules! kernel_properties {
+    ($name:ident, $t:ty, $ctx:expr, $cases:expr) => {
+        mod $name {
+            use super::*;
+            type T = $t;
+            fn ctx() -> <T as Real>::Ctx {
+                $ctx
+            }
+            fn u() -> f64 {
+                <T as Real>::unit_roundoff(ctx())
+            }
+
+            #[test]
+            fn energy_positions_and_exclusions_over_twenty_events() {
+                runner($cases)
+                    .run(&(0.001f64..0.309, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0), |(w, u1, u2, u3)| {
+                        let Some(f64s) = start(w, u1, u2, u3) else { return Ok(()) };
+                        let trap = Trap::new(T::from_f64(ctx(), w)).unwrap();
+                        let mut f = Flight::<T>::convert_from_f64(ctx(), &f64s);
+                        let tol = 256.0 * u();
+                        for _ in 0..20 {
+                            let e2 = f.vel.norm2().to_f64();
+                            let ev = trap.next_event(&f).expect("a unit velocity always has an event");
+                            prop_assert!(!ev.time.lt0(), "negative flight time");
+                            trap.apply(&mut f, &ev);
+                            let e2b = f.vel.norm2().to_f64();
+                            prop_assert!((e2b - e2).abs() <= tol, "energy step {:e} > {:e}", e2b - e2, tol);
+                            for c in &trap.vertices {
+                                let r2 = f.pos.sub(c).norm2().to_f64();
+                                prop_assert!(r2 >= 1.0 - tol, "inside a disk: |x-c|^2 = {r2}");
+                            }
+                            for k in 0..3 {
+                                let s = trap.edge_distance(k, &f.pos).to_f64();
+                                prop_assert!(s >= -tol * trap.a.to_f64(), "outside edge {k}: {s:e}");
+                            }
+                            match ev.kind {
+                                EventKind::Collision(m) => prop_assert_eq!(f.excluded_disk, m),
+                                EventKind::Crossing(k) => prop_assert_eq!(f.excluded_edge, k),
+                            }
+                        }
+                        Ok(())
+                    })
+                    .unwrap();
+            }
+
+            #[test]
+            fn single_event_reversal_returns_within_the_one_step_bound() {
+                // Forward one collision, reverse, one collision back (at zero time): the velocity
+                // returns to −v₀ within 4·256u (two reflections), the position stays put.
+                runner($cases)
+                    .run(&(0.01f64..0.3, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0), |(w, u1, u2, u3)| {
+                        let Some(f64s) = start(w, u1, u2, u3) else { return Ok(()) };
+                        let trap = Trap::new(T::from_f64(ctx(), w)).unwrap();
+                        let mut f = Flight::<T>::convert_from_f64(ctx(), &f64s);
+                        let v0 = f.vel.clone();
+                        let ev = trap.next_event(&f).unwrap();
+                        if !matches!(ev.kind, EventKind::Collision(_)) {
+                            return Ok(());
+                        }
+                        trap.apply(&mut f, &ev);
+                        let x1 = f.pos.clone();
+                        f.reverse();
+                        let back = trap.next_event(&f).unwrap();
+                        prop_assert_eq!(back.kind, ev.kind);
+                        prop_assert!(back.time.to_f64() <= 256.0 * u(), "re-collision at t = {:e}", back.time.to_f64());
+                        trap.apply(&mut f, &back);
+                        let dv = Vec2::new(f.vel.x.clone() + &v0.x, f.vel.y.clone() + &v0.y).norm2().sqrt().to_f64();
+                        prop_assert!(dv <= 4.0 * 256.0 * u(), "velocity error {dv:e}");
+                        let dx = f.pos.sub(&x1).norm2().sqrt().to_f64();
+                        prop_assert!(dx <= 256.0 * u(), "position moved by {dx:e}");
+                        Ok(())
+                    })
+                    .unwrap();
+            }
+        }
+    };
+}
+
+kernel_properties!(f64_kernel, f64, (), 2000);
+kernel_properties!(mpfr128_kernel, Float, 128, 300);
+kernel_properties!(mpfr256_kernel, Float, 256, 200);
+
+/// The property runner shrinks: a deliberately false property is reduced to a minimal case.
+#[test]
+fn the_runner_shrinks_failures() {
+    let r = runner(256).run(&(0u64..1_000_000), |n| {
+        prop_assert!(n < 1000);
+        Ok(())
+    });
+    match r {
+        Err(proptest::test_runner::TestError::Fail(_, n)) => assert_eq!(n, 1000, "shrunk to {n}"),
+        other => panic!("expected a shrunk failure, got {other:?}"),
+    }
+}
