@@ -290,6 +290,7 @@ pub fn run_batch<T: Real>(
     let mut rng = stream(seed, index as u64);
     let s64 = equilibrium_state(trap64, &mut rng);
     let mut s = LatticeState::<T>::convert_from_f64(ctx, &s64);
+    s.flight.normalise_speed();
     let (a, h) = lat.a_h_f64();
     let mut msd = Msd::new(tau, lags, a, h);
     let mut c = Counters::default();

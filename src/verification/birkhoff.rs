@@ -49,7 +49,10 @@ pub struct Birkhoff {
 /// Builds the lattice state just after a collision with the disk at the origin, with contact
 /// angle `s ∈ (0, π/3)` (the arc of P₀ inside the up trap (0, 0)) and outgoing sin φ = `p`.
 pub fn state_from_birkhoff(bits: u32, s: &Float, p: &Float) -> LatticeState<Float> {
-    let n = Vec2::new(Float::with_val(bits, s.cos_ref()), Float::with_val(bits, s.sin_ref()));
+    let n = Vec2::new(
+        Float::with_val(bits, s.cos_ref()),
+        Float::with_val(bits, s.sin_ref()),
+    );
     let t = Vec2::new(-n.y.clone(), n.x.clone());
     let cphi = (Float::with_val(bits, 1) - &Real::square(p)).sqrt();
     let vel = Vec2::new(
@@ -58,11 +61,17 @@ pub fn state_from_birkhoff(bits: u32, s: &Float, p: &Float) -> LatticeState<Floa
     );
     let mut flight = Flight::new(n, vel);
     flight.excluded_disk = 0;
-    LatticeState { cell: Cell::default(), flight }
+    LatticeState {
+        cell: Cell::default(),
+        flight,
+    }
 }
 
 /// Runs to the next collision and returns its Birkhoff coordinates (θ in world orientation).
-pub fn next_collision(lat: &PeriodicLattice<Float>, st: &mut LatticeState<Float>) -> Result<Birkhoff, Error> {
+pub fn next_collision(
+    lat: &PeriodicLattice<Float>,
+    st: &mut LatticeState<Float>,
+) -> Result<Birkhoff, Error> {
     loop {
         let ev: Event<Float> = lat.step(st)?;
         if let EventKind::Collision(m) = ev.kind {
@@ -77,7 +86,11 @@ pub fn next_collision(lat: &PeriodicLattice<Float>, st: &mut LatticeState<Float>
                 ny = -ny;
             }
             let s = ny.atan2(&nx);
-            return Ok(Birkhoff { disk: vertex_lattice_point(&st.cell, m), s, p });
+            return Ok(Birkhoff {
+                disk: vertex_lattice_point(&st.cell, m),
+                s,
+                p,
+            });
         }
     }
 }
@@ -100,7 +113,13 @@ fn angle_diff(a: &Float, b: &Float) -> Float {
 /// The Jacobian of the Birkhoff map at (s, p) (contact on the disk at the origin, see
 /// [`state_from_birkhoff`]) by central differences with step `h`, at `bits` of precision.
 /// Returns `None` if a perturbed orbit hits a different disk (a singularity is within `h`).
-pub fn birkhoff_jacobian(w: f64, bits: u32, s: &Float, p: &Float, h: &Float) -> Result<Option<Matrix2<Float>>, Error> {
+pub fn birkhoff_jacobian(
+    w: f64,
+    bits: u32,
+    s: &Float,
+    p: &Float,
+    h: &Float,
+) -> Result<Option<Matrix2<Float>>, Error> {
     let lat = PeriodicLattice::new(Float::with_val(bits, w))?;
     let image = |s: &Float, p: &Float| -> Result<Birkhoff, Error> {
         let mut st = state_from_birkhoff(bits, s, p);
@@ -149,14 +168,20 @@ pub struct Tangent {
 
 impl Default for Tangent {
     fn default() -> Self {
-        Tangent { jac: Matrix4::identity() }
+        Tangent {
+            jac: Matrix4::identity(),
+        }
     }
 }
 
 impl Tangent {
     /// The linearisation of one event: flight for time t, then either the collision with unit
     /// normal n (incoming velocity v) or the point reflection of a crossing (δ ↦ −δ).
-    pub fn event_matrix(f: &Flight<f64>, ev: &Event<f64>, vertices: &[Vec2<f64>; 3]) -> Matrix4<f64> {
+    pub fn event_matrix(
+        f: &Flight<f64>,
+        ev: &Event<f64>,
+        vertices: &[Vec2<f64>; 3],
+    ) -> Matrix4<f64> {
         let t = ev.time;
         let mut flight = Matrix4::identity();
         flight[(0, 2)] = t;
@@ -179,7 +204,8 @@ impl Tangent {
                     let dt = -n.dot(&dq) / vn;
                     let dn = dq + v * dt;
                     let dq2 = dq - n * (2.0 * n.dot(&dq));
-                    let dv2 = dv - n * (2.0 * dv.dot(&n)) - n * (2.0 * v.dot(&dn)) - dn * (2.0 * vn);
+                    let dv2 =
+                        dv - n * (2.0 * dv.dot(&n)) - n * (2.0 * v.dot(&dn)) - dn * (2.0 * vn);
                     col[(0, k)] = dq2[0];
                     col[(1, k)] = dq2[1];
                     col[(2, k)] = dv2[0];

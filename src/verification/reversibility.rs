@@ -31,7 +31,11 @@ pub struct Reversal<T> {
 /// Runs `n ≥ 1` collisions forward from `start` (a free-flight state with nothing excluded),
 /// reverses, and runs `n` collisions back (the first of which re-does the last forward one at
 /// zero flight time).
-pub fn reverse_and_return<T: Real>(lat: &PeriodicLattice<T>, start: &LatticeState<T>, n: u64) -> Result<Reversal<T>, Error> {
+pub fn reverse_and_return<T: Real>(
+    lat: &PeriodicLattice<T>,
+    start: &LatticeState<T>,
+    n: u64,
+) -> Result<Reversal<T>, Error> {
     if n == 0 {
         return Err(Error::Zero { what: "collisions" });
     }
@@ -59,7 +63,12 @@ pub fn reverse_and_return<T: Real>(lat: &PeriodicLattice<T>, start: &LatticeStat
     let d = returned_contact.sub(&first_contact);
     let vb = world_velocity(&s);
     let dv = Vec2::new(vb.x + &v0.x, vb.y + &v0.y);
-    Ok(Reversal { position_error: d.norm2().sqrt(), velocity_error: dv.norm2().sqrt(), first_contact, returned_contact })
+    Ok(Reversal {
+        position_error: d.norm2().sqrt(),
+        velocity_error: dv.norm2().sqrt(),
+        first_contact,
+        returned_contact,
+    })
 }
 
 fn world_velocity<T: Real>(s: &LatticeState<T>) -> Vec2<T> {
@@ -68,4 +77,46 @@ fn world_velocity<T: Real>(s: &LatticeState<T>) -> Vec2<T> {
     } else {
         s.flight.vel.clone()
     }
+}
+
+/// Largest singular value of the flow Jacobian over the first `n` collisions of the orbit from
+/// `start` (computed in f64 along the `T` orbit), and the number of events on the way.
+pub fn amplification<T: Real>(
+    lat: &PeriodicLattice<T>,
+    start: &LatticeState<T>,
+    n: u64,
+) -> Result<(f64, u64), Error> {
+    use super::birkhoff::Tangent;
+    let verts64 = lat
+        .trap
+        .vertices
+        .clone()
+        .map(|v| Vec2::new(v.x.to_f64(), v.y.to_f64()));
+    let mut s = start.clone();
+    let mut tan = Tangent::default();
+    let (mut c, mut events, mut max) = (0, 0u64, 1.0f64);
+    while c < n {
+        let ev = lat
+            .next_event(&s)
+            .ok_or_else(|| Error::Invalid("no next event".into()))?;
+        let f64s = s.flight.to_f64();
+        let e64 = crate::kernel::trap::Event {
+            kind: ev.kind,
+            time: ev.time.to_f64(),
+        };
+        tan.push(&f64s, &e64, &verts64);
+        lat.apply(&mut s, &ev);
+        events += 1;
+        if let EventKind::Collision(_) = ev.kind {
+            c += 1;
+            max = max.max(tan.norm());
+        }
+    }
+    Ok((max, events))
+}
+
+/// The reversal error bound 2·E·K·u·max‖J‖ with E events forward (as many back) and the
+/// one-event error K·u, K = 256 (`proofs-notes/reversibility.md`).
+pub fn reversal_bound(unit_roundoff: f64, events: u64, max_amplification: f64) -> f64 {
+    2.0 * events as f64 * 256.0 * unit_roundoff * max_amplification
 }

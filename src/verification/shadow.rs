@@ -93,19 +93,36 @@ fn candidates(tr: &Trap<Float>, f: &Flight<Float>) -> Vec<Candidate> {
             continue;
         }
         let gamma = d.norm2() - 1u32;
-        let sq = if disc.is_sign_positive() { disc.clone().sqrt() } else { Float::with_val(disc.prec(), 0) };
+        let sq = if disc.is_sign_positive() {
+            disc.clone().sqrt()
+        } else {
+            Float::with_val(disc.prec(), 0)
+        };
         let denom = sq.clone() - &beta;
         let t = if gamma.is_sign_positive() && denom.is_sign_positive() && !denom.is_zero() {
             gamma.clone() / &denom
         } else {
             Float::with_val(gamma.prec(), 0)
         };
-        let (t64, den64, sq64) = (t.to_f64(), denom.to_f64().max(f64::MIN_POSITIVE), sq.to_f64());
+        let (t64, den64, sq64) = (
+            t.to_f64(),
+            denom.to_f64().max(f64::MIN_POSITIVE),
+            sq.to_f64(),
+        );
         let e_gamma = 2.0 * (2.0 * dn * e_d + 3.0 * U * dn * dn + U);
-        let e_sq = if sq64 > 0.0 { e_disc / (2.0 * sq64) + U * sq64 } else { f64::INFINITY };
+        let e_sq = if sq64 > 0.0 {
+            e_disc / (2.0 * sq64) + U * sq64
+        } else {
+            f64::INFINITY
+        };
         let e_den = e_sq + e_beta + U * den64;
         let time_bound = 2.0 * (e_gamma / den64 + t64 * e_den / den64 + U * t64);
-        out.push(Candidate { kind: EventKind::Collision(m), time: t, time_bound, disc: Some((disc64, e_disc)) });
+        out.push(Candidate {
+            kind: EventKind::Collision(m),
+            time: t,
+            time_bound,
+            disc: Some((disc64, e_disc)),
+        });
     }
     for k in 0..3u8 {
         if k == f.excluded_edge {
@@ -126,8 +143,14 @@ fn candidates(tr: &Trap<Float>, f: &Flight<Float>) -> Vec<Candidate> {
         };
         let t64 = t.to_f64();
         let mag = nv64.abs().max(f64::MIN_POSITIVE);
-        let time_bound = 2.0 * ((e_sigma + s64.abs().min(e_sigma)) / mag + t64 * e_nv / mag + U * t64);
-        out.push(Candidate { kind: EventKind::Crossing(k), time: t, time_bound, disc: None });
+        let time_bound =
+            2.0 * ((e_sigma + s64.abs().min(e_sigma)) / mag + t64 * e_nv / mag + U * t64);
+        out.push(Candidate {
+            kind: EventKind::Crossing(k),
+            time: t,
+            time_bound,
+            disc: None,
+        });
     }
     out
 }
@@ -136,12 +159,20 @@ fn candidates(tr: &Trap<Float>, f: &Flight<Float>) -> Vec<Candidate> {
 ///
 /// # Errors
 /// If `bits < 53` or the f64 state has no next event.
-pub fn check_event(t64: &Trap<f64>, tref: &Trap<Float>, f: &Flight<f64>) -> Result<EventCheck, Error> {
+pub fn check_event(
+    t64: &Trap<f64>,
+    tref: &Trap<Float>,
+    f: &Flight<f64>,
+) -> Result<EventCheck, Error> {
     let bits = tref.a.prec();
     <Float as Real>::check_ctx(bits)?;
-    let e64: Event<f64> = t64.next_event(f).ok_or_else(|| Error::Invalid("f64 state has no next event".into()))?;
+    let e64: Event<f64> = t64
+        .next_event(f)
+        .ok_or_else(|| Error::Invalid("f64 state has no next event".into()))?;
     let fr = Flight::<Float>::convert_from_f64(bits, f);
-    let er: Event<Float> = tref.next_event(&fr).ok_or_else(|| Error::Invalid("reference state has no next event".into()))?;
+    let er: Event<Float> = tref
+        .next_event(&fr)
+        .ok_or_else(|| Error::Invalid("reference state has no next event".into()))?;
     let cands = candidates(tref, &fr);
     let best = cands.iter().find(|c| c.kind == er.kind);
     let best_bound = best.map(|c| c.time_bound).unwrap_or(f64::INFINITY);
@@ -152,7 +183,9 @@ pub fn check_event(t64: &Trap<f64>, tref: &Trap<Float>, f: &Flight<f64>) -> Resu
             let gap = (c.time.clone() - &er.time).to_f64().abs();
             gap <= c.time_bound + best_bound
         }
-    }) || cands.iter().any(|c| matches!(c.disc, Some((d, e)) if d.abs() <= e));
+    }) || cands
+        .iter()
+        .any(|c| matches!(c.disc, Some((d, e)) if d.abs() <= e));
 
     let mut a64 = f.clone();
     t64.apply(&mut a64, &e64);
@@ -169,7 +202,9 @@ pub fn check_event(t64: &Trap<f64>, tref: &Trap<Float>, f: &Flight<f64>) -> Resu
     let velocity_bound = 4.0 * (position_bound + U * (1.0 + 2.0 * a)) + 8.0 * U;
     let same = e64.kind == er.kind;
     let in_model = if same {
-        time_error <= best_bound && position_error <= position_bound && velocity_error <= velocity_bound
+        time_error <= best_bound
+            && position_error <= position_bound
+            && velocity_error <= velocity_bound
     } else {
         ambiguous
     };

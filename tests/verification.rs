@@ -1,0 +1,163 @@
+//! Verification: reversibility with a chaos-aware bound, Liouville invariance of the Birkhoff
+//! map, uniform sin φ at collisions, and f64 events replayed in MPFR within the error model.
+
+use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
+use lorentz_gas::kernel::vec2::Vec2;
+use lorentz_gas::real::Real;
+use lorentz_gas::sampling::{equilibrium_state, stream};
+use lorentz_gas::scenes::lattice::{LatticeState, PeriodicLattice};
+use lorentz_gas::stats::mean_se;
+use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
+use lorentz_gas::verification::reversibility::{amplification, reversal_bound, reverse_and_return};
+use lorentz_gas::verification::shadow::check_event;
+use rand::Rng;
+use rug::Float;
+
+/// f64: N collisions forward and back return within 2·E·256u·max‖J‖ (E events, J the flow
+/// Jacobian along the orbit), for N up to 25 — where max‖J‖ has grown to ~1e10.
+#[test]
+fn f64_reversal_within_the_chaos_bound() {
+    for (k, &w) in [0.05, 0.1, 0.2, 0.3].iter().enumerate() {
+        let lat = PeriodicLattice::new(w).unwrap();
+        for n in [1u64, 5, 10, 25] {
+            let start = equilibrium_state(&lat.trap, &mut stream(21, k as u64 * 100 + n));
+            let r = reverse_and_return(&lat, &start, n).unwrap();
+            let (amp, events) = amplification(&lat, &start, n).unwrap();
+            let bound = reversal_bound(f64::EPSILON / 2.0, events, amp);
+            assert!(
+                r.position_error <= bound,
+                "w={w} n={n}: {:e} > {bound:e}",
+                r.position_error
+            );
+            assert!(
+                r.velocity_error <= bound,
+                "w={w} n={n}: {:e} > {bound:e}",
+                r.velocity_error
+            );
+        }
+    }
+}
+
+/// 256 bits: 50 collisions forward and back return to better than 1e-50 (and within the bound).
+#[test]
+fn mpfr256_fifty_collisions_return_below_1e_minus_50() {
+    for (k, &w) in [0.1, 0.2].iter().enumerate() {
+        let lat64 = PeriodicLattice::new(w).unwrap();
+        let start64 = equilibrium_state(&lat64.trap, &mut stream(22, k as u64));
+        let lat = PeriodicLattice::new(Float::with_val(256, w)).unwrap();
+        let mut start = LatticeState::<Float>::convert_from_f64(256, &start64);
+        start.flight.normalise_speed();
+        let r = reverse_and_return(&lat, &start, 50).unwrap();
+        let (amp, events) = amplification(&lat, &start, 50).unwrap();
+        let bound = reversal_bound(<Float as Real>::unit_roundoff(256), events, amp);
+        let err = r.position_error.to_f64().max(r.velocity_error.to_f64());
+        assert!(err < 1e-50, "w={w}: {err:e}");
+        assert!(err <= bound, "w={w}: {err:e} > bound {bound:e}");
+        eprintln!("w={w}: 50 collisions at 256 bits return within {err:e} (bound {bound:e}, max|J| {amp:e})");
+    }
+}
+
+/// Liouville: the Birkhoff map (s, sin φ) ↦ (s', sin φ') has |det DT| = 1. Central differences
+/// at 256 bits with h = 2⁻⁹⁰: truncation ~h²·|D³T| ≲ 1e-54·1e6, rounding ~u/h·|DT| ≲ 1e-50·1e3,
+/// so 1e-40 is a bound with a wide margin (proofs-notes/liouville.md).
+#[test]
+fn birkhoff_map_preserves_phase_space_volume() {
+    let bits = 256;
+    let h = Float::with_val(bits, Float::i_exp(1, -90));
+    let mut rng = stream(23, 0);
+    let mut checked = 0;
+    while checked < 24 {
+        let w = 0.02 + 0.28 * rng.random::<f64>();
+        let s = Float::with_val(
+            bits,
+            0.05 + (std::f64::consts::FRAC_PI_3 - 0.1) * rng.random::<f64>(),
+        );
+        let p = Float::with_val(bits, 1.9 * rng.random::<f64>() - 0.95);
+        let Some(j) = birkhoff_jacobian(w, bits, &s, &p, &h).unwrap() else {
+            continue;
+        };
+        let det = det2(&j);
+        let dev = (det.clone().abs() - 1u32).abs().to_f64();
+        assert!(dev < 1e-40, "w={w}: det = {det}");
+        // Orientation: with s counter-clockwise and φ from the outward normal, det = +1.
+        assert!(det.is_sign_positive(), "det = {det}");
+        checked += 1;
+    }
+}
+
+/// At collisions sin φ is uniform on [−1, 1] (the invariant measure cos φ dφ ds). Twenty bins,
+/// frequencies from 16 independent trajectories: every bin within 4.5σ of 1/20.
+#[test]
+fn sin_phi_is_uniform_at_collisions() {
+    let bins = 20;
+    for &w in &[0.05, 0.25] {
+        let lat = PeriodicLattice::new(w).unwrap();
+        let mut freq: Vec<Vec<f64>> = vec![Vec::new(); bins];
+        for b in 0..16 {
+            let mut s = equilibrium_state(&lat.trap, &mut stream(24, b));
+            let mut hist = vec![0u64; bins];
+            let mut c = 0;
+            while c < 250_000 {
+                if let EventKind::Collision(m) = lat.step(&mut s).unwrap().kind {
+                    c += 1;
+                    let n = s.flight.pos.sub(&lat.trap.vertices[m as usize]);
+                    let sin_phi = n.cross(&s.flight.vel);
+                    let k = (((sin_phi + 1.0) / 2.0 * bins as f64) as usize).min(bins - 1);
+                    hist[k] += 1;
+                }
+            }
+            for k in 0..bins {
+                freq[k].push(hist[k] as f64 / c as f64);
+            }
+        }
+        for (k, f) in freq.iter().enumerate() {
+            let (m, se) = mean_se(f);
+            assert!((m - 0.05).abs() <= 4.5 * se, "w={w} bin {k}: {m} ± {se}");
+        }
+    }
+}
+
+/// f64 vs MPFR-256 on single events from random states: every event within the one-step error
+/// model (time, contact point, outgoing velocity, and which obstacle).
+#[test]
+fn f64_events_replayed_in_mpfr_are_within_the_error_model() {
+    let mut rng = stream(25, 0);
+    let mut worst: f64 = 0.0;
+    for i in 0..3000 {
+        let w = 0.001 + 0.308 * rng.random::<f64>();
+        let t64 = Trap::new(w).unwrap();
+        let tr = Trap::new(Float::with_val(256, w)).unwrap();
+        let lat = PeriodicLattice::new(w).unwrap();
+        let mut s = equilibrium_state(&t64, &mut rng);
+        // Advance a few events so the state has exclusions and post-collision velocities.
+        for _ in 0..(i % 7) {
+            lat.step(&mut s).unwrap();
+        }
+        let c = check_event(&t64, &tr, &s.flight).unwrap();
+        assert!(
+            c.in_model,
+            "event outside the model: {c:?} from {:?}",
+            s.flight
+        );
+        if c.time_bound > 0.0 {
+            worst = worst.max(c.time_error / c.time_bound);
+        }
+    }
+    eprintln!("largest time error / bound: {worst:.3e}");
+}
+
+/// The canonical hard case of the naive root: a start a hair off a disk surface, moving in.
+#[test]
+fn near_surface_start_replays_within_the_model() {
+    let t64 = Trap::new(0.1).unwrap();
+    let tr = Trap::new(Float::with_val(256, 0.1)).unwrap();
+    for k in 1..50 {
+        let eps = (-(k as f64)).exp2();
+        let ang: f64 = 0.5;
+        let p = Vec2::new((1.0 + eps) * ang.cos(), (1.0 + eps) * ang.sin());
+        let v = Vec2::new(-(ang + 0.3).cos(), -(ang + 0.3).sin());
+        let f = Flight::new(p, v);
+        let c = check_event(&t64, &tr, &f).unwrap();
+        assert!(c.in_model, "eps = 2^-{k}: {c:?}");
+    }
+}
