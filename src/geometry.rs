@@ -149,12 +149,12 @@ impl<T: Real> Geometry<T> {
 
 /// Upper bound on the free path for `w < w∞` (proof in `proofs-notes/max-free-path.md`).
 ///
-/// With h = √3a/2 < 2 the rows of disks of each lattice direction overlap. A flight whose
-/// direction makes the angle θ ∈ [0, π/6] with its nearest row direction stays between two
-/// adjacent rows except at its two ends; inside the strip it can pass over at most one disk of
-/// the lower row and under at most one of the upper row, which bounds its horizontal extent by
-/// 3a/2, and each end adds at most a. With cos θ ≥ √3/2 this gives
-/// ℓ_max ≤ (3a/2 + 2a)/(√3/2) = 7a/√3.
+/// * `w < w₀`: no trap can be crossed without a collision, so a free flight visits at most two
+///   adjacent traps, a rhombus whose diameter is its long diagonal: ℓ_max ≤ √3·a.
+/// * `w₀ ≤ w < w∞`: take the row direction within 30° of the flight. Rows overlap (h < 2), so
+///   a flight can cross at most two rows of disks, and between two row crossings it can cross
+///   at most two traps from slanted gap to slanted gap; it thus visits at most 3 strips × 4
+///   traps, each a chord of length ≤ a: ℓ_max ≤ 12·a.
 ///
 /// Returns `None` at and above w∞, where a collision-free corridor exists.
 pub fn max_free_path_bound<T: Real>(g: &Geometry<T>) -> Option<T> {
@@ -162,7 +162,11 @@ pub fn max_free_path_bound<T: Real>(g: &Geometry<T>) -> Option<T> {
     if g.gap() >= Geometry::<T>::w_inf(ctx) {
         return None;
     }
-    Some(g.spacing().scale(7.0) / &g.sqrt3())
+    if g.gap() < Geometry::<T>::w_0(ctx) {
+        Some(g.spacing() * &g.sqrt3())
+    } else {
+        Some(g.spacing().scale(12.0))
+    }
 }
 
 /// Checks that D exists at `w`: finite, `0 < w < w∞`. The comparison with w∞ is made at

@@ -336,7 +336,7 @@ fn print_constants<T: Real>(g: Geometry<T>, json: bool) -> Result<(), Error> {
         }
         match lmax {
             Some(l) => println!(
-                "{:<20} {:<45} upper bound 7a/sqrt3 on any free path",
+                "{:<20} {:<45} proven bound on any free path: sqrt3 a below w_0, 12 a below w_inf",
                 "max_free_path_bound",
                 l.to_decimal()
             ),
