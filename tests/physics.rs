@@ -275,3 +275,38 @@ fn energy_has_no_drift_over_ten_million_collisions() {
         sum_sq.sqrt()
     );
 }
+
+/// The unwrapped world position is continuous: over every event the world displacement (exact
+/// lattice integers plus offsets) equals flight time × world velocity, for every kind of
+/// crossing of both trap orientations. This is what the MSD, hence D, is built from.
+#[test]
+fn unwrapped_position_is_continuous_across_every_crossing() {
+    for (k, &w) in [0.02, 0.2, 0.3].iter().enumerate() {
+        let lat = PeriodicLattice::new(w).unwrap();
+        let (a, h) = lat.a_h_f64();
+        let mut s = equilibrium_state(&lat.trap, &mut stream(12, k as u64));
+        let mut seen = std::collections::HashSet::new();
+        for _ in 0..200_000 {
+            let before = lat.unwrapped(&s, 0.0);
+            let sg = s.cell.sign();
+            let (vx, vy) = (sg * s.flight.vel.x, sg * s.flight.vel.y);
+            let down = s.cell.down;
+            let ev = lat.step(&mut s).unwrap();
+            if let EventKind::Crossing(e) = ev.kind {
+                seen.insert((down, e));
+            }
+            let d = lat.unwrapped(&s, 0.0).displacement_from(&before, a, h);
+            let err = ((d[0] - ev.time * vx).powi(2) + (d[1] - ev.time * vy).powi(2)).sqrt();
+            assert!(
+                err <= 64.0 * f64::EPSILON * (a + ev.time),
+                "w={w}: jump {err:e} over {:?}",
+                ev.kind
+            );
+        }
+        assert_eq!(
+            seen.len(),
+            6,
+            "all three edges of both orientations crossed"
+        );
+    }
+}
