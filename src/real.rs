@@ -136,6 +136,12 @@ pub trait Real:
     /// `self ← −self` in place (exact).
     fn neg_mut(&mut self);
 
+    /// `self ← self²` in place (correctly rounded; no allocation for `rug::Float`).
+    fn square_mut(&mut self);
+
+    /// `self ← a·b` into existing storage (correctly rounded at `self`'s precision).
+    fn set_mul(&mut self, a: &Self, b: &Self);
+
     /// `self > 0` (no allocation for `rug::Float`).
     fn gt0(&self) -> bool;
 
@@ -217,6 +223,14 @@ impl Real for f64 {
         *self = -*self;
     }
     #[inline(always)]
+    fn square_mut(&mut self) {
+        *self *= *self;
+    }
+    #[inline(always)]
+    fn set_mul(&mut self, a: &f64, b: &f64) {
+        *self = a * b;
+    }
+    #[inline(always)]
     fn gt0(&self) -> bool {
         *self > 0.0
     }
@@ -295,6 +309,14 @@ impl Real for Float {
     #[inline]
     fn neg_mut(&mut self) {
         rug::ops::NegAssign::neg_assign(self);
+    }
+    #[inline]
+    fn square_mut(&mut self) {
+        Float::square_mut(self);
+    }
+    #[inline]
+    fn set_mul(&mut self, a: &Float, b: &Float) {
+        rug::Assign::assign(self, a * b);
     }
     #[inline]
     fn gt0(&self) -> bool {

@@ -47,22 +47,33 @@ pub fn ray_disk_with_speed<T: Real>(p: &Vec2<T>, v: &Vec2<T>, vv: &T, c: &Vec2<T
 
 /// As [`ray_disk_with_speed`], with the offset d = p − c from the centre already formed.
 #[inline(always)]
-pub fn ray_disk_centred<T: Real>(dx: T, dy: T, v: &Vec2<T>, vv: &T) -> Option<T> {
-    let d = Vec2::new(dx, dy);
-    let beta = d.dot(v);
+pub fn ray_disk_centred<T: Real>(mut dx: T, mut dy: T, v: &Vec2<T>, vv: &T) -> Option<T> {
+    // Written with in-place operations so that rug::Float allocates as little as possible; the
+    // order of the correctly rounded operations is exactly that of d·v, d×v, |v|² − q², |d|² − 1.
+    let mut beta = dx.clone() * &v.x;
+    let mut tmp = dy.clone() * &v.y;
+    beta += &tmp;
     if !beta.lt0() {
         return None;
     }
-    let q = d.cross(v);
-    let disc = vv.clone() - &q.square();
+    let mut q = dx.clone() * &v.y;
+    tmp.set_mul(&dy, &v.x);
+    q -= &tmp;
+    q.square_mut();
+    let mut disc = vv.clone();
+    disc -= &q;
     if !disc.gt0() {
         return None;
     }
-    let gamma = d.norm2().add_f64(-1.0);
+    dx.square_mut();
+    dy.square_mut();
+    dx += &dy;
+    let gamma = dx.add_f64(-1.0);
     if !gamma.gt0() {
         return Some(T::zero(gamma.ctx()));
     }
-    let denom = disc.sqrt() - &beta;
+    let mut denom = disc.sqrt();
+    denom -= &beta;
     Some(gamma / &denom)
 }
 

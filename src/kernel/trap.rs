@@ -203,11 +203,13 @@ impl<T: Real> Trap<T> {
                 }
             }
         }
-        // Edge normals: n₀ = (−k, −½), n₁ = (k, −½), n₂ = (0, 1), k = √3/2.
+        // Edge normals: n₀ = (−k, −½), n₁ = (k, −½), n₂ = (0, 1), k = √3/2. In-place forms
+        // with the same rounded operations: −(kvₓ + v_y/2), h − (kpₓ + p_y/2) = −(kpₓ + p_y/2) + h.
         let k = &self.normals[1].x;
         let kvx = k.clone() * &v.x;
         let hvy = v.y.clone().scale(0.5);
-        let (kpx, hpy) = (k.clone() * &p.x, p.y.clone().scale(0.5));
+        let kpx = k.clone() * &p.x;
+        let hpy = p.y.clone().scale(0.5);
         let mut edge = |e: u8, nv: T, sigma: T| {
             if e != f.excluded_edge && nv.lt0() {
                 let t = if sigma.gt0() {
@@ -218,13 +220,16 @@ impl<T: Real> Trap<T> {
                 offer(t, EventKind::Crossing(e));
             }
         };
-        edge(
-            0,
-            -(kvx.clone() + &hvy),
-            self.h.clone() - &(kpx.clone() + &hpy),
-        );
+        let mut nv0 = kvx.clone() + &hvy;
+        nv0.neg_mut();
+        let mut sigma0 = kpx.clone() + &hpy;
+        sigma0.neg_mut();
+        sigma0 += &self.h;
+        edge(0, nv0, sigma0);
         edge(1, kvx - &hvy, kpx - &hpy);
-        edge(2, v.y.clone(), p.y.clone());
+        if f.excluded_edge != 2 && v.y.lt0() {
+            edge(2, v.y.clone(), p.y.clone());
+        }
         best
     }
 
