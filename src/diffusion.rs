@@ -31,6 +31,7 @@ use crate::real::Real;
 use crate::sampling::{equilibrium_state, stream};
 use crate::scenes::lattice::{LatticeState, PeriodicLattice};
 use crate::stats::{linear_fit, mean_se};
+use crate::verification::audit::{AuditSummary, Auditor, AUDIT_SALT};
 
 /// Number type of a run: `f64`, or `rug::Float` with a number of bits ≥ 53.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -183,7 +184,7 @@ impl DiffusionConfig {
 }
 
 /// What one batch produced (also the unit of checkpointing).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BatchResult {
     /// Batch index (its random stream).
     pub index: u32,
@@ -195,6 +196,18 @@ pub struct BatchResult {
     pub msd: Vec<f64>,
     /// Wall-clock seconds.
     pub seconds: f64,
+    /// Per-event shadow audit of a sample of this batch's events (f64 runs with `--audit`).
+    #[serde(default)]
+    pub audit: Option<AuditSummary>,
+}
+
+/// Sampling rate and reference precision of a production run's self-audit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AuditSpec {
+    /// Fraction of events replayed.
+    pub rate: f64,
+    /// Reference precision (bits, ≥ 128).
+    pub bits: u32,
 }
 
 /// One estimate with its standard error.
@@ -268,6 +281,8 @@ pub struct DiffusionReport {
     pub collisions_per_second: f64,
     /// Batches reused from a checkpoint.
     pub resumed_batches: u32,
+    /// The self-audit, if requested: events replayed, outside the model, error quantiles.
+    pub audit: Option<crate::verification::audit::AuditSummary>,
     /// Crate version.
     pub version: String,
 }
@@ -282,9 +297,19 @@ pub fn run_batch<T: Real>(
     collisions: u64,
     tau: f64,
     lags: &[usize],
+    audit: Option<AuditSpec>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<BatchResult, Error> {
     const CHUNK: u64 = 1 << 20;
+    let mut auditor = match audit {
+        Some(a) => Some(Auditor::new(
+            trap64.w,
+            a.rate,
+            a.bits,
+            stream(seed ^ AUDIT_SALT, index as u64),
+        )?),
+        None => None,
+    };
     let start = Instant::now();
     let ctx = lat.trap.a.ctx();
     let mut rng = stream(seed, index as u64);
@@ -300,6 +325,9 @@ pub fn run_batch<T: Real>(
             .next_event(&s)
             .ok_or_else(|| Error::Invalid("trajectory lost its next event".into()))?;
         msd.observe(lat, &s, &ev);
+        if let Some(a) = auditor.as_mut() {
+            a.observe(&s.flight.to_f64())?;
+        }
         c.record(ev.kind, ev.time.to_f64());
         lat.apply(&mut s, &ev);
         if c.collisions >= next_report {
@@ -315,6 +343,7 @@ pub fn run_batch<T: Real>(
         lags: lags.to_vec(),
         msd: msd.values(),
         seconds: start.elapsed().as_secs_f64(),
+        audit: auditor.map(|a| a.summary),
     })
 }
 
@@ -338,7 +367,23 @@ pub fn run(
     checkpoint: Option<&PathBuf>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<DiffusionReport, Error> {
+    run_audited(cfg, threads, checkpoint, None, progress)
+}
+
+/// As [`run`], replaying a fraction of the events in MPFR as it goes (`audit`, f64 runs only).
+pub fn run_audited(
+    cfg: &DiffusionConfig,
+    threads: usize,
+    checkpoint: Option<&PathBuf>,
+    audit: Option<AuditSpec>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<DiffusionReport, Error> {
     cfg.validate()?;
+    if audit.is_some() && cfg.precision != Precision::F64 {
+        return Err(Error::Invalid(
+            "--audit replays f64 events in MPFR: it applies to f64 runs only".into(),
+        ));
+    }
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
@@ -399,6 +444,7 @@ pub fn run(
                         n_of(i),
                         tau,
                         &lags,
+                        audit,
                         progress,
                     ))
                 })
@@ -416,6 +462,7 @@ pub fn run(
                         n_of(i),
                         tau,
                         &lags,
+                        audit,
                         progress,
                     ))
                 })
@@ -471,6 +518,14 @@ fn summarise(
         })
         .collect();
     let total: u64 = done.iter().map(|b| b.counters.collisions).sum();
+    let audit =
+        done.iter()
+            .filter_map(|b| b.audit.as_ref())
+            .fold(None, |acc: Option<AuditSummary>, a| {
+                let mut m = acc.unwrap_or_default();
+                m.merge(a);
+                Some(m)
+            });
     DiffusionReport {
         w: cfg.w,
         D: d,
@@ -504,6 +559,7 @@ fn summarise(
         seconds,
         collisions_per_second: run_now as f64 / seconds,
         resumed_batches: resumed,
+        audit,
         version: env!("CARGO_PKG_VERSION").to_string(),
     }
 }

@@ -56,12 +56,42 @@ enum Cmd {
         /// Append each finished batch to this file; a rerun with the same parameters resumes.
         #[arg(long)]
         checkpoint: Option<PathBuf>,
+        /// Replay this fraction of the events in MPFR as the run goes (per-event shadow audit; f64 runs).
+        #[arg(long)]
+        audit: Option<f64>,
+        /// Reference precision of the audit, in bits (>= 128).
+        #[arg(long, default_value_t = 128)]
+        audit_precision: u32,
         /// Machine-readable output.
         #[arg(long)]
         json: bool,
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+    },
+    /// Per-event shadow audit: replay f64 events in MPFR from the exact pre-event state and judge them against the error model.
+    Audit {
+        /// Gap w, 0 < w < w_inf.
+        #[arg(long, allow_negative_numbers = true)]
+        w: f64,
+        /// Collisions simulated (all trajectories).
+        #[arg(long, default_value_t = 1_000_000)]
+        collisions: u64,
+        /// Fraction of events replayed, in (0, 1].
+        #[arg(long, default_value_t = 1.0)]
+        sample: f64,
+        /// Reference precision in bits (>= 128).
+        #[arg(long, default_value_t = 128)]
+        precision: u32,
+        /// Seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Worker threads (default: all cores); one trajectory per thread.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Machine-readable output (includes every event outside the model, with its exact state).
+        #[arg(long)]
+        json: bool,
     },
     /// Every closed-form quantity at gap w (geometry, Santaló, Machta-Zwanzig, Boltzmann).
     Constants {
@@ -142,6 +172,8 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             window,
             check_window,
             checkpoint,
+            audit,
+            audit_precision,
             json,
             quiet,
         } => {
@@ -161,12 +193,46 @@ fn real_main(cli: Cli) -> Result<(), Error> {
                     .unwrap_or(1)
             });
             let pb = progress_bar(collisions, quiet);
-            let r = diffusion::run(&cfg, threads, checkpoint.as_ref(), &|n| pb.inc(n))?;
+            let audit = audit.map(|rate| diffusion::AuditSpec {
+                rate,
+                bits: audit_precision,
+            });
+            let r =
+                diffusion::run_audited(&cfg, threads, checkpoint.as_ref(), audit, &|n| pb.inc(n))?;
             pb.finish_and_clear();
             if json {
                 println!("{}", to_json(&r)?);
             } else {
                 print_diffusion(&r);
+            }
+        }
+        Cmd::Audit {
+            w,
+            collisions,
+            sample,
+            precision,
+            seed,
+            threads,
+            json,
+        } => {
+            let threads = threads.unwrap_or_else(|| {
+                std::thread::available_parallelism()
+                    .map(|n| n.get())
+                    .unwrap_or(1)
+            });
+            let r = lorentz_gas::verification::audit::audit_run(
+                w,
+                collisions,
+                sample,
+                precision,
+                seed,
+                threads as u32,
+                threads,
+            )?;
+            if json {
+                println!("{}", to_json(&r)?);
+            } else {
+                print_audit(&r);
             }
         }
         Cmd::Constants { w, precision, json } => match precision.parse::<Precision>()? {
@@ -211,6 +277,34 @@ fn real_main(cli: Cli) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+fn print_audit(r: &lorentz_gas::verification::audit::AuditReport) {
+    let s = &r.summary;
+    println!(
+        "shadow audit, w = {}: {} events of {} ({} collisions, {} trajectories, seed {}) replayed at {} bits in {:.1} s",
+        r.w, s.audited, r.events, r.collisions, r.trajectories, r.seed, r.precision, r.seconds
+    );
+    println!(
+        "outside the error model: {}   ambiguous at f64 resolution: {}   f64 chose another obstacle: {}",
+        s.outside, s.ambiguous, s.different_choice
+    );
+    let q = &r.quantiles;
+    println!("one-step error            median      99%         max");
+    for (name, v) in [
+        ("flight time", q.time_error),
+        ("contact point", q.position_error),
+        ("velocity", q.velocity_error),
+        ("time error / bound", q.time_error_over_bound),
+    ] {
+        println!("{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}", v[0], v[1], v[2]);
+    }
+    for e in s.outside_events.iter().take(5) {
+        println!(
+            "outside: state bits {:x?} excluded {:?}: {:?}",
+            e.state_bits, e.excluded, e.check
+        );
+    }
 }
 
 fn sigmas(x: f64, err: f64, exact: f64) -> String {
@@ -273,6 +367,12 @@ fn print_diffusion(r: &diffusion::DiffusionReport) {
             r.collisions_per_hop_exact
         )
     );
+    if let Some(a) = &r.audit {
+        println!(
+            "self-audit     : {} events replayed in MPFR, {} outside the error model, worst time error / bound {:.2e}",
+            a.audited, a.outside, a.time_error_over_bound.max
+        );
+    }
     if r.resumed_batches > 0 {
         println!(
             "({} batches resumed from the checkpoint)",

@@ -161,3 +161,70 @@ fn near_surface_start_replays_within_the_model() {
         assert!(c.in_model, "eps = 2^-{k}: {c:?}");
     }
 }
+
+/// The per-event audit of production trajectories: every replayed event inside the model; the
+/// recorded worst events replay to the same verdict from their exact bit patterns.
+#[test]
+fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
+    use lorentz_gas::verification::audit::{audit_run, replay};
+    for &w in &[0.02, 0.1, 0.3] {
+        let r = audit_run(w, 100_000, 1.0, 128, 7, 2, 2).unwrap();
+        assert!(r.summary.audited >= 100_000);
+        assert_eq!(
+            r.summary.outside,
+            0,
+            "w={w}: {:?}",
+            r.summary.outside_events.first()
+        );
+        assert!(r.quantiles.time_error_over_bound[2] <= 1.0);
+        let worst = &r.summary.worst[0];
+        let again = replay(worst, 128).unwrap();
+        assert_eq!(again.time_error, worst.check.time_error);
+        assert_eq!(again.kind_f64, worst.check.kind_f64);
+    }
+}
+
+/// A production run audits itself on a sample of its events without changing its result.
+#[test]
+fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
+    use lorentz_gas::diffusion::{run, run_audited, AuditSpec, DiffusionConfig};
+    let mut cfg = DiffusionConfig::new(0.12);
+    cfg.collisions = 2_000_000;
+    cfg.batches = 4;
+    cfg.window = "2:8".parse().unwrap();
+    cfg.check_window = "4:16".parse().unwrap();
+    let plain = run(&cfg, 2, None, &|_| {}).unwrap();
+    let audited = run_audited(
+        &cfg,
+        2,
+        None,
+        Some(AuditSpec {
+            rate: 0.01,
+            bits: 128,
+        }),
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(plain.D.to_bits(), audited.D.to_bits());
+    let a = audited.audit.unwrap();
+    // ~1 % of ~2.2·10⁶ events: a binomial count, 5σ ≈ 740.
+    assert!(
+        (a.audited as f64 - 0.01 * 2.2e6).abs() < 1500.0,
+        "{}",
+        a.audited
+    );
+    assert_eq!(a.outside, 0);
+    let mut rug = cfg.clone();
+    rug.precision = lorentz_gas::diffusion::Precision::Bits(128);
+    assert!(run_audited(
+        &rug,
+        2,
+        None,
+        Some(AuditSpec {
+            rate: 0.01,
+            bits: 128
+        }),
+        &|_| {}
+    )
+    .is_err());
+}

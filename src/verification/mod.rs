@@ -4,6 +4,8 @@
 //! * [`reversibility`]: forward N collisions, reverse, N back.
 //! * [`birkhoff`]: the collision map in Birkhoff coordinates and its Jacobian.
 
+/// Sampled per-event audits of f64 production runs.
+pub mod audit;
 /// Birkhoff coordinates and the Jacobian of the collision map.
 pub mod birkhoff;
 /// Time reversal of long orbits.
