@@ -93,6 +93,30 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// Largest Lyapunov exponent (tangent space) and the divergence of f64/64..1024-bit orbits from a 4096-bit reference.
+    Lyapunov {
+        /// Gap w, 0 < w < w_inf.
+        #[arg(long, allow_negative_numbers = true)]
+        w: f64,
+        /// Collisions per tangent-space orbit.
+        #[arg(long, default_value_t = 2_000_000)]
+        collisions: u64,
+        /// Independent tangent-space orbits.
+        #[arg(long, default_value_t = 16)]
+        orbits: u32,
+        /// Initial conditions for the divergence measurement (0 to skip it).
+        #[arg(long, default_value_t = 8)]
+        starts: u32,
+        /// Seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Machine-readable output.
+        #[arg(long)]
+        json: bool,
+    },
     /// Every closed-form quantity at gap w (geometry, Santaló, Machta-Zwanzig, Boltzmann).
     Constants {
         /// Gap w > 0.
@@ -233,6 +257,52 @@ fn real_main(cli: Cli) -> Result<(), Error> {
                 println!("{}", to_json(&r)?);
             } else {
                 print_audit(&r);
+            }
+        }
+        Cmd::Lyapunov {
+            w,
+            collisions,
+            orbits,
+            starts,
+            seed,
+            threads,
+            json,
+        } => {
+            use lorentz_gas::verification::lyapunov::{divergence, lyapunov};
+            let threads = threads.unwrap_or_else(|| {
+                std::thread::available_parallelism()
+                    .map(|n| n.get())
+                    .unwrap_or(1)
+            });
+            let l = lyapunov(w, collisions, orbits, seed, threads)?;
+            let d = if starts > 0 {
+                divergence(w, &[64, 128, 256, 512, 1024], 4096, 900, starts, seed)?
+            } else {
+                Vec::new()
+            };
+            if json {
+                println!("{}", to_json(&json!({ "tangent": l, "divergence": d }))?);
+            } else {
+                println!(
+                    "w = {}: largest Lyapunov exponent (tangent space, {} orbits x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time",
+                    w, l.orbits, l.collisions, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err
+                );
+                if !d.is_empty() {
+                    println!("divergence from a 4096-bit reference ({starts} initial conditions):");
+                    println!("precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time");
+                    for x in &d {
+                        println!(
+                            "{:>9}  {:>12.1} ± {:<8.1}       {:.4} ± {:.4}        {:.4} ± {:.4}",
+                            x.precision,
+                            x.horizon,
+                            x.horizon_err,
+                            x.rate_per_collision,
+                            x.rate_per_collision_err,
+                            x.rate_per_time,
+                            x.rate_per_time_err
+                        );
+                    }
+                }
             }
         }
         Cmd::Constants { w, precision, json } => match precision.parse::<Precision>()? {

@@ -162,6 +162,9 @@ pub trait Real:
 
     /// Human-readable decimal with as many digits as the precision carries.
     fn to_decimal(&self) -> String;
+
+    /// The value as an MPFR number of `bits` bits (exact when `bits` ≥ this number's precision).
+    fn to_mpfr(&self, bits: u32) -> Float;
 }
 
 impl Real for f64 {
@@ -244,6 +247,9 @@ impl Real for f64 {
     }
     fn to_decimal(&self) -> String {
         format!("{self:e}")
+    }
+    fn to_mpfr(&self, bits: u32) -> Float {
+        Float::with_val(bits, *self)
     }
 }
 
@@ -334,6 +340,9 @@ impl Real for Float {
         // digits ≈ bits·log10(2), plus one guard digit.
         let digits = (self.prec() as f64 * std::f64::consts::LOG10_2).ceil() as usize + 1;
         self.to_string_radix(10, Some(digits))
+    }
+    fn to_mpfr(&self, bits: u32) -> Float {
+        Float::with_val(bits, self)
     }
 }
 

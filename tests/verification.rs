@@ -228,3 +228,46 @@ fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
     )
     .is_err());
 }
+
+/// The growth rate of the deviation between a P-bit orbit and a 4096-bit reference (precision
+/// divergence) equals the tangent-space Lyapunov exponent within 4 combined standard errors, per
+/// collision and per unit time, at three gaps; and the divergence horizon grows with the bits.
+#[test]
+fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
+    use lorentz_gas::verification::lyapunov::{divergence, lyapunov};
+    for &w in &[0.05, 0.15, 0.3] {
+        let l = lyapunov(w, 200_000, 8, 3, 2).unwrap();
+        let d = divergence(w, &[256, 1024], 4096, 1200, 8, 3).unwrap();
+        let last = d.last().unwrap();
+        let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
+        assert!(
+            z(
+                last.rate_per_collision,
+                last.rate_per_collision_err,
+                l.per_collision,
+                l.per_collision_err
+            ) < 4.0,
+            "w={w}: {last:?} vs {l:?}"
+        );
+        assert!(
+            z(
+                last.rate_per_time,
+                last.rate_per_time_err,
+                l.per_time,
+                l.per_time_err
+            ) < 4.0,
+            "w={w}: {last:?} vs {l:?}"
+        );
+        // Horizons: f64 < 256 bits < 1024 bits, each roughly ∝ bits (ln 2·bits/λ).
+        assert!(
+            d[0].horizon < d[1].horizon && d[1].horizon < d[2].horizon,
+            "{d:?}"
+        );
+        let predicted = (1024.0 * std::f64::consts::LN_2 + 1e-3f64.ln()) / l.per_collision;
+        assert!(
+            (d[2].horizon - predicted).abs() < 0.1 * predicted,
+            "w={w}: horizon {} vs {predicted}",
+            d[2].horizon
+        );
+    }
+}

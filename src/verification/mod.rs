@@ -8,6 +8,8 @@
 pub mod audit;
 /// Birkhoff coordinates and the Jacobian of the collision map.
 pub mod birkhoff;
+/// Lyapunov exponents: tangent space and precision divergence.
+pub mod lyapunov;
 /// Time reversal of long orbits.
 pub mod reversibility;
 /// Per-event MPFR shadows of f64 runs.

@@ -1,0 +1,283 @@
+//! Chaos, measured two ways.
+//!
+//! * [`lyapunov`]: the largest Lyapunov exponent from the tangent dynamics
+//!   (`proofs-notes/tangent-map.md`) along long f64 orbits — a tangent vector is propagated
+//!   event by event and renormalised; λ = Σ ln(growth)/N per collision and Σ ln(growth)/T per
+//!   unit time, with the standard error over independent orbits.
+//! * [`divergence`]: the same initial condition run at f64 and at 64 … 1024 bits against a 4096-bit
+//!   reference; the deviation grows like u_P·e^{λk}, so the number of collisions before it passes
+//!   10⁻³ (the divergence horizon) grows linearly in the number of bits, and the fitted growth
+//!   rate is the Lyapunov exponent again (`proofs-notes/lyapunov.md`).
+
+use nalgebra::{Vector2, Vector4};
+use rayon::prelude::*;
+use rug::Float;
+use serde::Serialize;
+
+use crate::error::Error;
+use crate::geometry::check_diffusive_gap;
+use crate::kernel::trap::{Event, EventKind, Flight};
+use crate::kernel::vec2::Vec2;
+use crate::real::Real;
+use crate::sampling::{equilibrium_state, stream};
+use crate::scenes::lattice::{LatticeState, PeriodicLattice};
+use crate::stats::{linear_fit, mean_se};
+
+/// Applies the linearisation of one event to the tangent vector (δq, δv) ∈ ℝ⁴.
+pub fn tangent_step(
+    t: &mut Vector4<f64>,
+    f: &Flight<f64>,
+    ev: &Event<f64>,
+    vertices: &[Vec2<f64>; 3],
+) {
+    let tt = ev.time;
+    let mut dq = Vector2::new(t[0] + tt * t[2], t[1] + tt * t[3]);
+    let mut dv = Vector2::new(t[2], t[3]);
+    match ev.kind {
+        EventKind::Crossing(_) => {
+            dq = -dq;
+            dv = -dv;
+        }
+        EventKind::Collision(m) => {
+            let x = f.pos.along(&tt, &f.vel);
+            let c = &vertices[m as usize];
+            let n = Vector2::new(x.x - c.x, x.y - c.y).normalize();
+            let v = Vector2::new(f.vel.x, f.vel.y);
+            let vn = v.dot(&n);
+            let dt = -n.dot(&dq) / vn;
+            let dn = dq + v * dt;
+            let dq2 = dq - n * (2.0 * n.dot(&dq));
+            let dv2 = dv - n * (2.0 * dv.dot(&n)) - n * (2.0 * v.dot(&dn)) - dn * (2.0 * vn);
+            dq = dq2;
+            dv = dv2;
+        }
+    }
+    *t = Vector4::new(dq[0], dq[1], dv[0], dv[1]);
+}
+
+/// Largest Lyapunov exponent with its standard error.
+#[derive(Debug, Clone, Serialize)]
+pub struct LyapunovReport {
+    /// Gap w.
+    pub w: f64,
+    /// λ per collision.
+    pub per_collision: f64,
+    /// Its standard error over orbits.
+    pub per_collision_err: f64,
+    /// λ per unit time.
+    pub per_time: f64,
+    /// Its standard error.
+    pub per_time_err: f64,
+    /// Collisions per orbit (after a transient of 1000).
+    pub collisions: u64,
+    /// Independent orbits.
+    pub orbits: u32,
+    /// Seed.
+    pub seed: u64,
+    /// Crate version.
+    pub version: String,
+}
+
+/// Tangent-space largest Lyapunov exponent from `orbits` independent f64 orbits of `collisions`
+/// collisions each.
+pub fn lyapunov(
+    w: f64,
+    collisions: u64,
+    orbits: u32,
+    seed: u64,
+    threads: usize,
+) -> Result<LyapunovReport, Error> {
+    check_diffusive_gap(w)?;
+    if collisions == 0 || orbits < 2 || threads == 0 {
+        return Err(Error::TooFew {
+            what: "collisions, orbits (>= 2) or threads",
+            min: 2,
+            got: orbits as u64,
+        });
+    }
+    let lat = PeriodicLattice::new(w)?;
+    let verts = lat.trap.vertices.clone();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Invalid(e.to_string()))?;
+    let per: Vec<(f64, f64)> = pool.install(|| {
+        (0..orbits)
+            .into_par_iter()
+            .map(|b| -> Result<(f64, f64), Error> {
+                let mut rng = stream(seed, b as u64);
+                let mut s = equilibrium_state(&lat.trap, &mut rng);
+                let d = crate::sampling::direction(&mut rng);
+                let mut t = Vector4::new(d.x, d.y, 0.3 * d.y, -0.3 * d.x);
+                let (mut c, mut logsum, mut time) = (0u64, 0.0, 0.0);
+                let transient = 1000;
+                while c < collisions + transient {
+                    let ev = lat
+                        .next_event(&s)
+                        .ok_or_else(|| Error::Invalid("no next event".into()))?;
+                    tangent_step(&mut t, &s.flight, &ev, &verts);
+                    lat.apply(&mut s, &ev);
+                    if c >= transient {
+                        time += ev.time;
+                    }
+                    if let EventKind::Collision(_) = ev.kind {
+                        c += 1;
+                        let n = t.norm();
+                        t /= n;
+                        if c > transient {
+                            logsum += n.ln();
+                        }
+                    }
+                }
+                Ok((logsum / collisions as f64, logsum / time))
+            })
+            .collect::<Result<Vec<_>, Error>>()
+    })?;
+    let (pc, pce) = mean_se(&per.iter().map(|p| p.0).collect::<Vec<_>>());
+    let (pt, pte) = mean_se(&per.iter().map(|p| p.1).collect::<Vec<_>>());
+    Ok(LyapunovReport {
+        w,
+        per_collision: pc,
+        per_collision_err: pce,
+        per_time: pt,
+        per_time_err: pte,
+        collisions,
+        orbits,
+        seed,
+        version: env!("CARGO_PKG_VERSION").into(),
+    })
+}
+
+/// World contact points and velocities at the first `n` collisions of an orbit, as 4096-bit
+/// (or lower) numbers converted to `Float` at `out_bits`.
+fn collision_track<T: Real>(
+    lat: &PeriodicLattice<T>,
+    start: &LatticeState<T>,
+    n: usize,
+    out_bits: u32,
+) -> Result<Vec<([Float; 4], f64)>, Error> {
+    let mut s = start.clone();
+    let mut out = Vec::with_capacity(n);
+    let mut time = 0.0;
+    while out.len() < n {
+        let ev = lat.step(&mut s)?;
+        time += ev.time.to_f64();
+        if let EventKind::Collision(_) = ev.kind {
+            let x = lat.world(&s);
+            let (vx, vy) = if s.cell.down {
+                (-s.flight.vel.x.clone(), -s.flight.vel.y.clone())
+            } else {
+                (s.flight.vel.x.clone(), s.flight.vel.y.clone())
+            };
+            // Exact: every T value is a binary float of ≤ out_bits bits.
+            let conv = |v: &T| -> Float { v.to_mpfr(out_bits) };
+            out.push(([conv(&x.x), conv(&x.y), conv(&vx), conv(&vy)], time));
+        }
+    }
+    Ok(out)
+}
+
+/// The divergence of one precision from the reference.
+#[derive(Debug, Clone, Serialize)]
+pub struct Divergence {
+    /// "f64" or bits.
+    pub precision: String,
+    /// Collisions until the deviation first exceeds 10⁻³ (mean over initial conditions).
+    pub horizon: f64,
+    /// Its standard error.
+    pub horizon_err: f64,
+    /// Fitted growth rate of ln(deviation) per collision (mean ± SE over initial conditions).
+    pub rate_per_collision: f64,
+    /// Its standard error.
+    pub rate_per_collision_err: f64,
+    /// Fitted growth rate per unit time.
+    pub rate_per_time: f64,
+    /// Its standard error.
+    pub rate_per_time_err: f64,
+}
+
+/// Runs `starts` equilibrium initial conditions at f64 and at each of `bits`, against a reference
+/// at `ref_bits`, for `n` collisions; fits ln(deviation) against collision number (and time) where
+/// 10⁴·u_P < deviation < 10⁻³.
+pub fn divergence(
+    w: f64,
+    bits: &[u32],
+    ref_bits: u32,
+    n: usize,
+    starts: u32,
+    seed: u64,
+) -> Result<Vec<Divergence>, Error> {
+    check_diffusive_gap(w)?;
+    let l64 = PeriodicLattice::new(w)?;
+    let lref = PeriodicLattice::new(Float::with_val(ref_bits, w))?;
+    let mut precs: Vec<Option<u32>> = vec![None];
+    precs.extend(bits.iter().map(|&b| Some(b)));
+    let mut per: Vec<Vec<(f64, f64, f64)>> = vec![Vec::new(); precs.len()];
+    for k in 0..starts {
+        let s64 = equilibrium_state(&l64.trap, &mut stream(seed, k as u64));
+        let r = collision_track(
+            &lref,
+            &LatticeState::<Float>::convert_from_f64(ref_bits, &s64),
+            n,
+            ref_bits,
+        )?;
+        for (pi, p) in precs.iter().enumerate() {
+            let track = match p {
+                None => collision_track(&l64, &s64, n, ref_bits)?,
+                Some(b) => {
+                    let lat = PeriodicLattice::new(Float::with_val(*b, w))?;
+                    collision_track(
+                        &lat,
+                        &LatticeState::<Float>::convert_from_f64(*b, &s64),
+                        n,
+                        ref_bits,
+                    )?
+                }
+            };
+            let u = (-(p.unwrap_or(53) as f64)).exp2();
+            let mut dev = Vec::with_capacity(n);
+            for (a, b) in track.iter().zip(&r) {
+                let mut d = Float::with_val(ref_bits, 0);
+                for i in 0..4 {
+                    d += (a.0[i].clone() - &b.0[i]).abs();
+                }
+                dev.push((d.to_f64(), b.1));
+            }
+            let horizon = dev.iter().position(|d| d.0 > 1e-3).unwrap_or(n) as f64;
+            let (mut xs, mut ts, mut ys) = (Vec::new(), Vec::new(), Vec::new());
+            for (i, d) in dev.iter().enumerate() {
+                if d.0 > 1e4 * u && d.0 < 1e-3 && (i as f64) < horizon {
+                    xs.push(i as f64);
+                    ts.push(d.1);
+                    ys.push(d.0.ln());
+                }
+            }
+            if xs.len() >= 5 {
+                per[pi].push((horizon, linear_fit(&xs, &ys).1, linear_fit(&ts, &ys).1));
+            } else {
+                per[pi].push((horizon, f64::NAN, f64::NAN));
+            }
+        }
+    }
+    Ok(precs
+        .iter()
+        .zip(per)
+        .map(|(p, v)| {
+            let h: Vec<f64> = v.iter().map(|x| x.0).collect();
+            let rc: Vec<f64> = v.iter().map(|x| x.1).filter(|x| x.is_finite()).collect();
+            let rt: Vec<f64> = v.iter().map(|x| x.2).filter(|x| x.is_finite()).collect();
+            let (hm, he) = mean_se(&h);
+            let (cm, ce) = mean_se(&rc);
+            let (tm, te) = mean_se(&rt);
+            Divergence {
+                precision: p.map(|b| b.to_string()).unwrap_or_else(|| "f64".into()),
+                horizon: hm,
+                horizon_err: he,
+                rate_per_collision: cm,
+                rate_per_collision_err: ce,
+                rate_per_time: tm,
+                rate_per_time_err: te,
+            }
+        })
+        .collect())
+}
