@@ -150,7 +150,7 @@ pub fn lyapunov(
 
 /// World contact points and velocities at the first `n` collisions of an orbit, as 4096-bit
 /// (or lower) numbers converted to `Float` at `out_bits`.
-fn collision_track<T: Real>(
+pub(crate) fn collision_track<T: Real>(
     lat: &PeriodicLattice<T>,
     start: &LatticeState<T>,
     n: usize,

@@ -8,6 +8,8 @@
 pub mod audit;
 /// Birkhoff coordinates and the Jacobian of the collision map.
 pub mod birkhoff;
+/// Finite-segment certification by precision doubling.
+pub mod certify;
 /// Lyapunov exponents: tangent space and precision divergence.
 pub mod lyapunov;
 /// Time reversal of long orbits.
