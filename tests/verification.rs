@@ -288,3 +288,44 @@ fn precision_doubling_certifies_a_segment() {
         "{c:?}"
     );
 }
+
+/// Statistics do not depend on precision: D and the mean free path from an MPFR-128 run (fewer
+/// collisions, larger errors) agree with the f64 values within 4 combined standard errors, and
+/// the MPFR run's mean free path agrees with Santaló's value within 4σ.
+#[test]
+fn statistics_do_not_move_with_precision() {
+    use lorentz_gas::diffusion::{run, DiffusionConfig, Precision};
+    let mut cfg = DiffusionConfig::new(0.2);
+    cfg.batches = 4;
+    cfg.window = "2:8".parse().unwrap();
+    cfg.check_window = "4:16".parse().unwrap();
+    cfg.collisions = 1_200_000;
+    cfg.precision = Precision::Bits(128);
+    let hi = run(&cfg, 2, None, &|_| {}).unwrap();
+    cfg.collisions = 40_000_000;
+    cfg.batches = 16;
+    cfg.precision = Precision::F64;
+    let lo = run(&cfg, 2, None, &|_| {}).unwrap();
+    let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
+    assert!(
+        z(hi.D, hi.D_err, lo.D, lo.D_err) < 4.0,
+        "D: {} ± {} (128) vs {} ± {} (f64)",
+        hi.D,
+        hi.D_err,
+        lo.D,
+        lo.D_err
+    );
+    assert!(
+        z(
+            hi.mean_free_path,
+            hi.mean_free_path_err,
+            lo.mean_free_path,
+            lo.mean_free_path_err
+        ) < 4.0
+    );
+    assert!((hi.mean_free_path - hi.mean_free_path_exact).abs() < 4.0 * hi.mean_free_path_err);
+    eprintln!(
+        "D(0.2): {} ± {} at 128 bits, {} ± {} at f64",
+        hi.D, hi.D_err, lo.D, lo.D_err
+    );
+}
