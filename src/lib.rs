@@ -20,10 +20,12 @@
 pub mod bench;
 pub mod diffusion;
 pub mod error;
+pub mod figures;
 pub mod geometry;
 pub mod kernel;
 pub mod observables;
 pub mod real;
+pub mod report;
 pub mod sampling;
 pub mod scenes;
 pub mod stats;

@@ -167,6 +167,12 @@ enum Cmd {
         /// Seed of the starting point.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// Speed against error for f64 and MPFR 53..1024 bits: Markdown, JSON, PNG and SVG into --out.
+        #[arg(long)]
+        report: bool,
+        /// Output directory of --report.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
         /// Machine-readable output.
         #[arg(long)]
         json: bool,
@@ -352,12 +358,29 @@ fn real_main(cli: Cli) -> Result<(), Error> {
         },
         Cmd::Bench {
             w,
+            report: true,
+            out,
+            ..
+        } => {
+            let threads = std::thread::available_parallelism()
+                .map(|n| n.get())
+                .unwrap_or(1);
+            let (_, md) = lorentz_gas::report::speed_against_error(w, &out, threads)?;
+            println!("{md}");
+            println!(
+                "written: {}/speed-vs-error.{{md,json,png,svg}}",
+                out.display()
+            );
+        }
+        Cmd::Bench {
+            w,
             collisions,
             repetitions,
             threads,
             precision,
             seed,
             json,
+            ..
         } => {
             if threads != 1 {
                 return Err(Error::Invalid(
