@@ -22,6 +22,7 @@ pub mod diffusion;
 pub mod error;
 pub mod figures;
 pub mod geometry;
+pub mod hopping;
 pub mod kernel;
 pub mod observables;
 pub mod real;

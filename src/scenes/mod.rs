@@ -2,5 +2,7 @@
 //! obstacles and the precision it needs.
 //!
 //! * [`lattice`]: the infinite periodic triangular lattice (trap hopping, unwrapped positions).
+//! * [`single_trap`]: one trap of three disks and its gaps, for injection experiments.
 
 pub mod lattice;
+pub mod single_trap;

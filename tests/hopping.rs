@@ -1,0 +1,95 @@
+//! Trap hopping (paper Sec. III): Kac's lemma for injection, backscattering both ways, the
+//! symmetries of the symbol statistics, collisionless flights, and the hop-level Green–Kubo D
+//! against the Einstein D. Tolerances: 4 (combined) standard errors over independent batches.
+
+use lorentz_gas::diffusion::{run, DiffusionConfig};
+use lorentz_gas::hopping::{backscatter, hops};
+
+fn z(a: f64, ea: f64, b: f64, eb: f64) -> f64 {
+    (a - b).abs() / (ea * ea + eb * eb).sqrt()
+}
+
+#[test]
+fn injection_obeys_kac_and_agrees_with_trajectories() {
+    for &w in &[0.055, 0.2] {
+        let inj = backscatter(w, 1_000_000, 16, 51, 2).unwrap();
+        assert!(
+            z(
+                inj.mean_visit_time,
+                inj.mean_visit_time_err,
+                inj.mean_visit_time_exact,
+                0.0
+            ) < 4.0,
+            "{inj:?}"
+        );
+        assert!(
+            z(
+                inj.mean_collisions_per_visit,
+                inj.mean_collisions_per_visit_err,
+                inj.mean_collisions_per_visit_exact,
+                0.0
+            ) < 4.0,
+            "{inj:?}"
+        );
+        assert!(z(inj.p_l.value, inj.p_l.err, inj.p_r.value, inj.p_r.err) < 4.0);
+        let tr = hops(w, 40_000_000, 16, 3, 52, 2).unwrap();
+        assert!(
+            z(inj.p_bs, inj.p_bs_err, tr.p_bs, tr.p_bs_err) < 4.0,
+            "injection {} ± {} vs trajectory {} ± {}",
+            inj.p_bs,
+            inj.p_bs_err,
+            tr.p_bs,
+            tr.p_bs_err
+        );
+        // 2·(3 + 9 + 27) = 78 symmetry z-scores: a false alarm above 4.2 has probability < 0.3 %.
+        assert!(
+            tr.symmetry_max_z < 4.2,
+            "symmetry violated: max z = {}",
+            tr.symmetry_max_z
+        );
+        let total: f64 = tr.pairs.values().map(|e| e.value).sum();
+        assert!((total - 1.0).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn collisionless_visits_only_above_w0() {
+    let below = hops(0.15, 4_000_000, 4, 1, 53, 2).unwrap();
+    assert_eq!(below.p_cf, 0.0);
+    let above = hops(0.25, 4_000_000, 4, 1, 54, 2).unwrap();
+    assert!(
+        above.p_cf > 10.0 * above.p_cf_err,
+        "{} ± {}",
+        above.p_cf,
+        above.p_cf_err
+    );
+    let inj = backscatter(0.25, 400_000, 8, 55, 2).unwrap();
+    assert!(
+        z(inj.p_cf.value, inj.p_cf.err, above.p_cf, above.p_cf_err) < 4.0,
+        "p_cf injection {:?} vs trajectory {}",
+        inj.p_cf,
+        above.p_cf
+    );
+}
+
+/// D_GK = D_MZ (1 + 2 Σ_j C_j) is exact because the mean hop time is exact: a second, independent
+/// estimator of D (built from trap indices only, not from positions).
+#[test]
+fn hop_level_green_kubo_matches_einstein() {
+    for &w in &[0.05, 0.25] {
+        let gk = hops(w, 60_000_000, 16, 1, 56, 2).unwrap();
+        let mut cfg = DiffusionConfig::new(w);
+        cfg.collisions = 60_000_000;
+        cfg.batches = 16;
+        cfg.seed = 57;
+        let e = run(&cfg, 2, None, &|_| {}).unwrap();
+        assert!(
+            z(gk.D_GK, gk.D_GK_err, e.D, e.D_err) < 4.0,
+            "w={w}: GK {} ± {} vs Einstein {} ± {}",
+            gk.D_GK,
+            gk.D_GK_err,
+            e.D,
+            e.D_err
+        );
+    }
+}
