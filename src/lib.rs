@@ -30,6 +30,7 @@ pub mod report;
 pub mod sampling;
 pub mod scenes;
 pub mod stats;
+pub mod sweep;
 pub mod verification;
 
 pub use error::Error;

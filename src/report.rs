@@ -204,6 +204,7 @@ pub fn speed_against_error(
             label: "kernel (f64 and MPFR)".into(),
             points: pts,
             notes,
+            line: true,
         }],
     )?;
     Ok((report, md))

@@ -27,6 +27,8 @@ pub struct Series {
     pub points: Vec<(f64, f64, f64)>,
     /// Optional text next to each point (empty: none).
     pub notes: Vec<String>,
+    /// Join the points with a line (otherwise markers only).
+    pub line: bool,
 }
 
 /// Axes of a simple scientific plot.
