@@ -216,6 +216,23 @@ enum Cmd {
         #[arg(long)]
         quiet: bool,
     },
+    /// Regenerate one of the paper's figures from this crate's numbers (PNG, SVG, CSV, JSON into --out).
+    Figure {
+        /// backscatter-map (Fig. 5) or backscatter (Fig. 4a and its inset). Figs. 2, 7, 8: use `sweep`.
+        kind: String,
+        /// Gap for backscatter-map.
+        #[arg(long, default_value_t = 0.1)]
+        w: f64,
+        /// Injections (map) or injections per point (curve).
+        #[arg(long, default_value_t = 60_000)]
+        samples: u64,
+        /// Seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output directory.
+        #[arg(long, default_value = "results/figures")]
+        out: PathBuf,
+    },
     /// Every closed-form quantity at gap w (geometry, Santaló, Machta-Zwanzig, Boltzmann).
     Constants {
         /// Gap w > 0.
@@ -561,6 +578,28 @@ fn real_main(cli: Cli) -> Result<(), Error> {
                 }
                 println!("written: {}/sweep.{{csv,json}}, fig2-D-vs-w, fig7-boltzmann, fig8-residuals (.png, .svg)", out.display());
             }
+        }
+        Cmd::Figure {
+            kind,
+            w,
+            samples,
+            seed,
+            out,
+        } => {
+            use lorentz_gas::figures::paper;
+            let threads = std::thread::available_parallelism()
+                .map(|n| n.get())
+                .unwrap_or(1);
+            match kind.as_str() {
+                "backscatter-map" => paper::backscatter_map(w, samples, seed, &out)?,
+                "backscatter" => {
+                    let grid: Vec<f64> = (1..=30).map(|i| 0.01 * i as f64).filter(|w| *w < 0.3094).collect();
+                    let inset: Vec<f64> = (0..=30).map(|i| 0.04 + 0.001 * i as f64).collect();
+                    paper::backscatter_curve(&grid, &inset, samples.max(100_000), seed, threads, &out)?
+                }
+                other => return Err(Error::Invalid(format!("unknown figure '{other}': use backscatter-map or backscatter (Figs. 2, 7, 8: lorentz sweep)"))),
+            }
+            println!("written into {}", out.display());
         }
         Cmd::Constants { w, precision, json } => match precision.parse::<Precision>()? {
             Precision::F64 => print_constants(Geometry::new(w)?, json)?,

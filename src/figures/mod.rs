@@ -6,6 +6,8 @@ use std::sync::Once;
 
 use plotters::prelude::*;
 
+pub mod paper;
+
 use crate::error::Error;
 
 static FONT: Once = Once::new();
@@ -92,23 +94,32 @@ where
                 .map_err(io)?;
             for (i, s) in series.iter().enumerate() {
                 let c = Palette99::pick(i).to_rgba();
+                let joined: Vec<(f64, f64)> = if s.line {
+                    s.points.iter().map(|p| (p.0, p.1)).collect()
+                } else {
+                    Vec::new()
+                };
                 chart
-                    .draw_series(LineSeries::new(
-                        s.points.iter().map(|p| (p.0, p.1)),
-                        c.stroke_width(2),
-                    ))
+                    .draw_series(LineSeries::new(joined, c.stroke_width(2)))
                     .map_err(io)?
                     .label(s.label.clone())
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
                     });
-                chart
-                    .draw_series(
-                        s.points
-                            .iter()
-                            .map(|p| Circle::new((p.0, p.1), 3, c.filled())),
-                    )
-                    .map_err(io)?;
+                if s.line || s.points.len() < 1000 {
+                    chart
+                        .draw_series(
+                            s.points
+                                .iter()
+                                .map(|p| Circle::new((p.0, p.1), 3, c.filled())),
+                        )
+                        .map_err(io)?;
+                } else {
+                    // Dense scatter (e.g. Fig. 5): single pixels.
+                    chart
+                        .draw_series(s.points.iter().map(|p| Pixel::new((p.0, p.1), c)))
+                        .map_err(io)?;
+                }
                 chart
                     .draw_series(
                         s.points
