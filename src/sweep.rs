@@ -53,7 +53,8 @@ pub struct SweepReport {
     pub rows: Vec<SweepRow>,
     /// Straight line D = c₀ + c₁ w over the range (for the residuals).
     pub linear_fit: (f64, f64),
-    /// Boltzmann offset ΔD with the slope fixed at 3/16, and its standard error.
+    /// Boltzmann offset ΔD with the slope fixed at 3/16 (equal-weight least squares over the sweep's
+    /// range), and the standard error of that mean.
     pub boltzmann_offset: (f64, f64),
     /// Free least-squares slope of D against 1/n (compare with 3/16 = 0.1875) and intercept.
     pub boltzmann_free_fit: (f64, f64),
@@ -193,18 +194,10 @@ fn analyse(cfg: &SweepConfig, points: &[SweepPoint], resumed: u32) -> Result<Swe
     for r in &mut rows {
         r.residual = r.D - (lin.0 + lin.1 * r.w);
     }
-    // Boltzmann with slope 3/16: ΔD = mean of (D_Bo − D), weighted by 1/σ².
-    let wts: Vec<f64> = rows
-        .iter()
-        .map(|r| 1.0 / (r.D_err * r.D_err).max(1e-300))
-        .collect();
-    let sw: f64 = wts.iter().sum();
-    let off = rows
-        .iter()
-        .zip(&wts)
-        .map(|(r, w)| w * (r.D_Bo - r.D))
-        .sum::<f64>()
-        / sw;
+    // Boltzmann with slope 3/16: the one-parameter least-squares fit of D = D_Bo − ΔD with equal
+    // weights (the form is not exact, so 1/σ² weights would let the best-measured points decide):
+    // ΔD = mean of (D_Bo − D), error the standard error of that mean.
+    let (off, off_err) = mean_se(&rows.iter().map(|r| r.D_Bo - r.D).collect::<Vec<_>>());
     let free = linear_fit(&rows.iter().map(|r| r.inv_n).collect::<Vec<_>>(), &ds);
     let mut crossing = None;
     for pair in rows.windows(2) {
@@ -225,7 +218,7 @@ fn analyse(cfg: &SweepConfig, points: &[SweepPoint], resumed: u32) -> Result<Swe
         config: cfg.clone(),
         rows,
         linear_fit: lin,
-        boltzmann_offset: (off, (1.0 / sw).sqrt()),
+        boltzmann_offset: (off, off_err),
         boltzmann_free_fit: (free.1, free.0),
         mz_crossing: crossing,
         resumed_points: resumed,
