@@ -7,15 +7,17 @@ use std::collections::BTreeMap;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::diffusion::Estimate;
+use crate::diffusion::{Estimate, Precision};
 use crate::error::Error;
 use crate::geometry::{check_diffusive_gap, Geometry};
 use crate::kernel::trap::EventKind;
 use crate::observables::hops::{sequence_name, Hops};
+use crate::real::Real;
 use crate::sampling::{equilibrium_state, stream};
 use crate::scenes::lattice::PeriodicLattice;
 use crate::scenes::single_trap::{Exit, SingleTrap};
 use crate::stats::mean_se;
+use rug::Float;
 
 /// Runs `f(b)` for batches b = 0 … n−1 on `threads` threads; results in batch order.
 pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
@@ -75,7 +77,7 @@ pub struct BackscatterReport {
     pub version: String,
 }
 
-/// Injects `visits` particles (in `batches` batches) through one gap from the invariant flux.
+/// Injects `visits` particles (in `batches` batches) through one gap from the invariant flux, in f64.
 pub fn backscatter(
     w: f64,
     visits: u64,
@@ -83,17 +85,17 @@ pub fn backscatter(
     seed: u64,
     threads: usize,
 ) -> Result<BackscatterReport, Error> {
-    check_diffusive_gap(w)?;
-    if visits == 0 || batches < 2 {
-        return Err(Error::TooFew {
-            what: "visits or batches",
-            min: 2,
-            got: visits.min(batches as u64),
-        });
-    }
-    let scene = SingleTrap::new(w)?;
-    let per = visits.div_ceil(batches as u64);
-    let res = par_batches(threads, batches, |b| {
+    backscatter_at(w, visits, batches, seed, threads, Precision::F64)
+}
+
+fn inject<T: Real>(
+    scene: &SingleTrap<T>,
+    per: u64,
+    batches: u32,
+    seed: u64,
+    threads: usize,
+) -> Result<Vec<[f64; 6]>, Error> {
+    par_batches(threads, batches, |b| {
         let mut rng = stream(seed, b as u64);
         let (mut z, mut l, mut r, mut cf, mut t, mut c) = (0u64, 0u64, 0u64, 0u64, 0.0, 0u64);
         for _ in 0..per {
@@ -116,7 +118,41 @@ pub fn backscatter(
             t / n,
             c as f64 / n,
         ])
-    })?;
+    })
+}
+
+/// As [`backscatter`], on number type `precision` (the same generic kernel at MPFR precision:
+/// statistics must not depend on it).
+pub fn backscatter_at(
+    w: f64,
+    visits: u64,
+    batches: u32,
+    seed: u64,
+    threads: usize,
+    precision: Precision,
+) -> Result<BackscatterReport, Error> {
+    check_diffusive_gap(w)?;
+    if visits == 0 || batches < 2 {
+        return Err(Error::TooFew {
+            what: "visits or batches",
+            min: 2,
+            got: visits.min(batches as u64),
+        });
+    }
+    let per = visits.div_ceil(batches as u64);
+    let res = match precision {
+        Precision::F64 => inject(&SingleTrap::new(w)?, per, batches, seed, threads)?,
+        Precision::Bits(b) => {
+            <Float as Real>::check_ctx(b)?;
+            inject(
+                &SingleTrap::new(Float::with_val(b, w))?,
+                per,
+                batches,
+                seed,
+                threads,
+            )?
+        }
+    };
     let col = |k: usize| est(&res.iter().map(|x| x[k]).collect::<Vec<_>>());
     let g = Geometry::new(w)?;
     let (pz, mt, mc) = (col(0), col(4), col(5));

@@ -143,6 +143,9 @@ enum Cmd {
         /// Particles injected.
         #[arg(long, default_value_t = 10_000_000)]
         visits: u64,
+        /// Number type: f64, or MPFR bits (>= 53).
+        #[arg(long, default_value = "f64")]
+        precision: String,
         /// Independent batches.
         #[arg(long, default_value_t = 32)]
         batches: u32,
@@ -453,6 +456,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
         Cmd::Backscatter {
             w,
             visits,
+            precision,
             batches,
             seed,
             threads,
@@ -463,7 +467,14 @@ fn real_main(cli: Cli) -> Result<(), Error> {
                     .map(|n| n.get())
                     .unwrap_or(1)
             });
-            let r = lorentz_gas::hopping::backscatter(w, visits, batches, seed, threads)?;
+            let r = lorentz_gas::hopping::backscatter_at(
+                w,
+                visits,
+                batches,
+                seed,
+                threads,
+                precision.parse()?,
+            )?;
             if json {
                 println!("{}", to_json(&r)?);
             } else {

@@ -93,3 +93,29 @@ fn hop_level_green_kubo_matches_einstein() {
         );
     }
 }
+
+/// p_bs does not depend on precision: injection at MPFR-128 (fewer visits) agrees with f64 within
+/// 4 combined standard errors.
+#[test]
+fn backscattering_does_not_move_with_precision() {
+    use lorentz_gas::diffusion::Precision;
+    use lorentz_gas::hopping::backscatter_at;
+    let hi = backscatter_at(0.1, 32_000, 8, 61, 2, Precision::Bits(128)).unwrap();
+    let lo = backscatter_at(0.1, 1_000_000, 16, 62, 2, Precision::F64).unwrap();
+    assert!(
+        z(hi.p_bs, hi.p_bs_err, lo.p_bs, lo.p_bs_err) < 4.0,
+        "{} ± {} vs {} ± {}",
+        hi.p_bs,
+        hi.p_bs_err,
+        lo.p_bs,
+        lo.p_bs_err
+    );
+    assert!(
+        z(
+            hi.mean_visit_time,
+            hi.mean_visit_time_err,
+            hi.mean_visit_time_exact,
+            0.0
+        ) < 4.0
+    );
+}
