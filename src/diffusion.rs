@@ -431,44 +431,44 @@ pub fn run_audited(
         }
         Ok(r)
     };
-    let new: Vec<BatchResult> = pool.install(|| match cfg.precision {
+    let batches =
+        |lat: &(dyn Fn(u32) -> Result<BatchResult, Error> + Sync)| -> Result<Vec<BatchResult>, Error> {
+            pool.install(|| todo.par_iter().map(|&i| record(lat(i))).collect())
+        };
+    let new: Vec<BatchResult> = match cfg.precision {
         Precision::F64 => {
             let lat = PeriodicLattice::new(cfg.w)?;
-            todo.par_iter()
-                .map(|&i| {
-                    record(run_batch(
-                        &lat,
-                        &trap64,
-                        cfg.seed,
-                        i,
-                        n_of(i),
-                        tau,
-                        &lags,
-                        audit,
-                        progress,
-                    ))
-                })
-                .collect::<Result<Vec<_>, Error>>()
+            batches(&|i| {
+                run_batch(
+                    &lat,
+                    &trap64,
+                    cfg.seed,
+                    i,
+                    n_of(i),
+                    tau,
+                    &lags,
+                    audit,
+                    progress,
+                )
+            })?
         }
         Precision::Bits(bits) => {
             let lat = PeriodicLattice::new(Float::with_val(bits, cfg.w))?;
-            todo.par_iter()
-                .map(|&i| {
-                    record(run_batch(
-                        &lat,
-                        &trap64,
-                        cfg.seed,
-                        i,
-                        n_of(i),
-                        tau,
-                        &lags,
-                        audit,
-                        progress,
-                    ))
-                })
-                .collect::<Result<Vec<_>, Error>>()
+            batches(&|i| {
+                run_batch(
+                    &lat,
+                    &trap64,
+                    cfg.seed,
+                    i,
+                    n_of(i),
+                    tau,
+                    &lags,
+                    audit,
+                    progress,
+                )
+            })?
         }
-    })?;
+    };
     let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
     done.extend(new);
     done.sort_by_key(|b| b.index);

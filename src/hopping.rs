@@ -4,7 +4,6 @@
 
 use std::collections::BTreeMap;
 
-use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::diffusion::{Estimate, Precision};
@@ -12,28 +11,13 @@ use crate::error::Error;
 use crate::geometry::{check_diffusive_gap, Geometry};
 use crate::kernel::trap::EventKind;
 use crate::observables::hops::{sequence_name, Hops};
+use crate::parallel::par_batches;
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, stream};
 use crate::scenes::lattice::PeriodicLattice;
 use crate::scenes::single_trap::{Exit, SingleTrap};
 use crate::stats::mean_se;
 use rug::Float;
-
-/// Runs `f(b)` for batches b = 0 … n−1 on `threads` threads; results in batch order.
-pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
-    threads: usize,
-    n: u32,
-    f: F,
-) -> Result<Vec<R>, Error> {
-    if threads == 0 {
-        return Err(Error::Zero { what: "threads" });
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Invalid(e.to_string()))?;
-    pool.install(|| (0..n).into_par_iter().map(&f).collect())
-}
 
 fn est(v: &[f64]) -> Estimate {
     let (value, err) = mean_se(v);

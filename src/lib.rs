@@ -25,6 +25,7 @@ pub mod geometry;
 pub mod hopping;
 pub mod kernel;
 pub mod observables;
+pub mod parallel;
 pub mod real;
 pub mod report;
 pub mod sampling;

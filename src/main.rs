@@ -291,6 +291,15 @@ fn main() -> ExitCode {
     }
 }
 
+/// The requested thread count, or every core.
+fn all_cores(threads: Option<usize>) -> usize {
+    threads.unwrap_or_else(|| {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    })
+}
+
 fn progress_bar(total: u64, quiet: bool) -> ProgressBar {
     if quiet || !std::io::stderr().is_terminal() {
         return ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::hidden());
@@ -336,11 +345,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
                 check_window: check_window.parse::<Window>()?,
             };
             cfg.validate()?;
-            let threads = threads.unwrap_or_else(|| {
-                std::thread::available_parallelism()
-                    .map(|n| n.get())
-                    .unwrap_or(1)
-            });
+            let threads = all_cores(threads);
             let pb = progress_bar(collisions, quiet);
             let audit = audit.map(|rate| diffusion::AuditSpec {
                 rate,
@@ -364,11 +369,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             threads,
             json,
         } => {
-            let threads = threads.unwrap_or_else(|| {
-                std::thread::available_parallelism()
-                    .map(|n| n.get())
-                    .unwrap_or(1)
-            });
+            let threads = all_cores(threads);
             let r = lorentz_gas::verification::audit::audit_run(
                 w,
                 collisions,
@@ -394,11 +395,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             json,
         } => {
             use lorentz_gas::verification::lyapunov::{divergence, lyapunov};
-            let threads = threads.unwrap_or_else(|| {
-                std::thread::available_parallelism()
-                    .map(|n| n.get())
-                    .unwrap_or(1)
-            });
+            let threads = all_cores(threads);
             let l = lyapunov(w, collisions, orbits, seed, threads)?;
             let d = if starts > 0 {
                 divergence(w, &[64, 128, 256, 512, 1024], 4096, 900, starts, seed)?
@@ -462,11 +459,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             threads,
             json,
         } => {
-            let threads = threads.unwrap_or_else(|| {
-                std::thread::available_parallelism()
-                    .map(|n| n.get())
-                    .unwrap_or(1)
-            });
+            let threads = all_cores(threads);
             let r = lorentz_gas::hopping::backscatter_at(
                 w,
                 visits,
@@ -504,11 +497,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             threads,
             json,
         } => {
-            let threads = threads.unwrap_or_else(|| {
-                std::thread::available_parallelism()
-                    .map(|n| n.get())
-                    .unwrap_or(1)
-            });
+            let threads = all_cores(threads);
             let r = lorentz_gas::hopping::hops(w, collisions, batches, order, seed, threads)?;
             if json {
                 println!("{}", to_json(&r)?);
@@ -549,11 +538,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             json,
             quiet,
         } => {
-            let threads = threads.unwrap_or_else(|| {
-                std::thread::available_parallelism()
-                    .map(|n| n.get())
-                    .unwrap_or(1)
-            });
+            let threads = all_cores(threads);
             let cfg = lorentz_gas::sweep::SweepConfig {
                 w_from,
                 w_to,
@@ -598,9 +583,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             out,
         } => {
             use lorentz_gas::figures::paper;
-            let threads = std::thread::available_parallelism()
-                .map(|n| n.get())
-                .unwrap_or(1);
+            let threads = all_cores(None);
             match kind.as_str() {
                 "backscatter-map" => paper::backscatter_map(w, samples, seed, &out)?,
                 "backscatter" => {
@@ -622,9 +605,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             out,
             ..
         } => {
-            let threads = std::thread::available_parallelism()
-                .map(|n| n.get())
-                .unwrap_or(1);
+            let threads = all_cores(None);
             let (_, md) = lorentz_gas::report::speed_against_error(w, &out, threads)?;
             println!("{md}");
             println!(

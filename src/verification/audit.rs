@@ -95,43 +95,7 @@ pub struct AuditedEvent {
     /// Excluded disk and edge (3 = none).
     pub excluded: [u8; 2],
     /// The verdict.
-    pub check: EventCheckSummary,
-}
-
-/// Serializable summary of an [`EventCheck`].
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct EventCheckSummary {
-    /// f64 event.
-    pub kind_f64: String,
-    /// Reference event.
-    pub kind_ref: String,
-    /// |t_f64 − t_ref|.
-    pub time_error: f64,
-    /// Its bound.
-    pub time_bound: f64,
-    /// Position error after the event.
-    pub position_error: f64,
-    /// Velocity error after the event.
-    pub velocity_error: f64,
-    /// The choice of event was ambiguous at f64 resolution.
-    pub ambiguous: bool,
-    /// Inside the model.
-    pub in_model: bool,
-}
-
-impl From<&EventCheck> for EventCheckSummary {
-    fn from(c: &EventCheck) -> Self {
-        EventCheckSummary {
-            kind_f64: c.kind_f64.clone(),
-            kind_ref: c.kind_ref.clone(),
-            time_error: c.time_error,
-            time_bound: c.time_bound,
-            position_error: c.position_error,
-            velocity_error: c.velocity_error,
-            ambiguous: c.ambiguous,
-            in_model: c.in_model,
-        }
-    }
+    pub check: EventCheck,
 }
 
 /// What an audit found (mergeable across batches).
@@ -255,7 +219,7 @@ impl Auditor {
             ],
             state: [f.pos.x, f.pos.y, f.vel.x, f.vel.y],
             excluded: [f.excluded_disk, f.excluded_edge],
-            check: c.into(),
+            check: c.clone(),
         };
         if !c.in_model {
             s.outside += 1;
@@ -363,7 +327,6 @@ pub fn audit_run(
     use crate::kernel::trap::EventKind;
     use crate::sampling::{equilibrium_state, stream};
     use crate::scenes::lattice::PeriodicLattice;
-    use rayon::prelude::*;
     crate::geometry::check_diffusive_gap(w)?;
     if collisions == 0 {
         return Err(Error::Zero { what: "collisions" });
@@ -374,32 +337,24 @@ pub fn audit_run(
     let start = std::time::Instant::now();
     let lat = PeriodicLattice::new(w)?;
     let per = collisions.div_ceil(trajectories as u64);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Invalid(e.to_string()))?;
-    let parts: Vec<(AuditSummary, u64)> = pool.install(|| {
-        (0..trajectories)
-            .into_par_iter()
-            .map(|b| -> Result<(AuditSummary, u64), Error> {
-                let mut s = equilibrium_state(&lat.trap, &mut stream(seed, b as u64));
-                let mut a = Auditor::new(w, sample, bits, stream(seed ^ AUDIT_SALT, b as u64))?;
-                let (mut c, mut events) = (0, 0u64);
-                while c < per {
-                    let ev = lat
-                        .next_event(&s)
-                        .ok_or_else(|| Error::Invalid("no next event".into()))?;
-                    a.observe(&s.flight)?;
-                    lat.apply(&mut s, &ev);
-                    events += 1;
-                    if let EventKind::Collision(_) = ev.kind {
-                        c += 1;
-                    }
+    let parts: Vec<(AuditSummary, u64)> =
+        crate::parallel::par_batches(threads, trajectories, |b| {
+            let mut s = equilibrium_state(&lat.trap, &mut stream(seed, b as u64));
+            let mut a = Auditor::new(w, sample, bits, stream(seed ^ AUDIT_SALT, b as u64))?;
+            let (mut c, mut events) = (0, 0u64);
+            while c < per {
+                let ev = lat
+                    .next_event(&s)
+                    .ok_or_else(|| Error::Invalid("no next event".into()))?;
+                a.observe(&s.flight)?;
+                lat.apply(&mut s, &ev);
+                events += 1;
+                if let EventKind::Collision(_) = ev.kind {
+                    c += 1;
                 }
-                Ok((a.summary, events))
-            })
-            .collect::<Result<Vec<_>, Error>>()
-    })?;
+            }
+            Ok((a.summary, events))
+        })?;
     let mut summary = AuditSummary::default();
     let mut events = 0;
     for (p, e) in &parts {

@@ -10,7 +10,7 @@
 //! [`Tangent`] propagates the 4×4 Jacobian of the flow in Cartesian coordinates (f64, nalgebra)
 //! along an orbit, for error amplification bounds and Lyapunov exponents.
 
-use nalgebra::{Matrix2, Matrix4, Vector2};
+use nalgebra::{Matrix2, Matrix4, Vector2, Vector4};
 use rug::Float;
 
 use crate::real::Real;
@@ -182,38 +182,15 @@ impl Tangent {
         ev: &Event<f64>,
         vertices: &[Vec2<f64>; 3],
     ) -> Matrix4<f64> {
-        let t = ev.time;
-        let mut flight = Matrix4::identity();
-        flight[(0, 2)] = t;
-        flight[(1, 3)] = t;
-        match ev.kind {
-            EventKind::Crossing(_) => -flight,
-            EventKind::Collision(m) => {
-                let x = f.pos.along(&t, &f.vel);
-                let c = &vertices[m as usize];
-                let n = Vector2::new(x.x - c.x, x.y - c.y).normalize();
-                let v = Vector2::new(f.vel.x, f.vel.y);
-                let vn = v.dot(&n);
-                // Columns: image of each unit tangent vector e_k.
-                let mut col = Matrix4::zeros();
-                for k in 0..4 {
-                    let mut e = [0.0; 4];
-                    e[k] = 1.0;
-                    let dq = Vector2::new(e[0], e[1]);
-                    let dv = Vector2::new(e[2], e[3]);
-                    let dt = -n.dot(&dq) / vn;
-                    let dn = dq + v * dt;
-                    let dq2 = dq - n * (2.0 * n.dot(&dq));
-                    let dv2 =
-                        dv - n * (2.0 * dv.dot(&n)) - n * (2.0 * v.dot(&dn)) - dn * (2.0 * vn);
-                    col[(0, k)] = dq2[0];
-                    col[(1, k)] = dq2[1];
-                    col[(2, k)] = dv2[0];
-                    col[(3, k)] = dv2[1];
-                }
-                col * flight
-            }
+        // The map is linear: its columns are the images of the unit tangent vectors.
+        let mut m = Matrix4::zeros();
+        for k in 0..4 {
+            let mut e = Vector4::zeros();
+            e[k] = 1.0;
+            tangent_step(&mut e, f, ev, vertices);
+            m.set_column(k, &e);
         }
+        m
     }
 
     /// Multiplies in one event (call before the event is applied to `f`).
@@ -229,3 +206,35 @@ impl Tangent {
 
 /// `NONE` re-exported for callers building flights by hand.
 pub const NO_OBSTACLE: u8 = NONE;
+
+/// Applies the linearisation of one event to the tangent vector (δq, δv) ∈ ℝ⁴.
+pub fn tangent_step(
+    t: &mut Vector4<f64>,
+    f: &Flight<f64>,
+    ev: &Event<f64>,
+    vertices: &[Vec2<f64>; 3],
+) {
+    let tt = ev.time;
+    let mut dq = Vector2::new(t[0] + tt * t[2], t[1] + tt * t[3]);
+    let mut dv = Vector2::new(t[2], t[3]);
+    match ev.kind {
+        EventKind::Crossing(_) => {
+            dq = -dq;
+            dv = -dv;
+        }
+        EventKind::Collision(m) => {
+            let x = f.pos.along(&tt, &f.vel);
+            let c = &vertices[m as usize];
+            let n = Vector2::new(x.x - c.x, x.y - c.y).normalize();
+            let v = Vector2::new(f.vel.x, f.vel.y);
+            let vn = v.dot(&n);
+            let dt = -n.dot(&dq) / vn;
+            let dn = dq + v * dt;
+            let dq2 = dq - n * (2.0 * n.dot(&dq));
+            let dv2 = dv - n * (2.0 * dv.dot(&n)) - n * (2.0 * v.dot(&dn)) - dn * (2.0 * vn);
+            dq = dq2;
+            dv = dv2;
+        }
+    }
+    *t = Vector4::new(dq[0], dq[1], dv[0], dv[1]);
+}

@@ -9,51 +9,20 @@
 //!   10⁻³ (the divergence horizon) grows linearly in the number of bits, and the fitted growth
 //!   rate is the Lyapunov exponent again (`proofs-notes/lyapunov.md`).
 
-use nalgebra::{Vector2, Vector4};
-use rayon::prelude::*;
+use nalgebra::Vector4;
+
+use super::birkhoff::tangent_step;
 use rug::Float;
 use serde::Serialize;
 
 use crate::error::Error;
 use crate::geometry::check_diffusive_gap;
-use crate::kernel::trap::{Event, EventKind, Flight};
-use crate::kernel::vec2::Vec2;
+use crate::kernel::trap::EventKind;
+use crate::parallel::par_batches;
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, stream};
 use crate::scenes::lattice::{LatticeState, PeriodicLattice};
 use crate::stats::{linear_fit, mean_se};
-
-/// Applies the linearisation of one event to the tangent vector (δq, δv) ∈ ℝ⁴.
-pub fn tangent_step(
-    t: &mut Vector4<f64>,
-    f: &Flight<f64>,
-    ev: &Event<f64>,
-    vertices: &[Vec2<f64>; 3],
-) {
-    let tt = ev.time;
-    let mut dq = Vector2::new(t[0] + tt * t[2], t[1] + tt * t[3]);
-    let mut dv = Vector2::new(t[2], t[3]);
-    match ev.kind {
-        EventKind::Crossing(_) => {
-            dq = -dq;
-            dv = -dv;
-        }
-        EventKind::Collision(m) => {
-            let x = f.pos.along(&tt, &f.vel);
-            let c = &vertices[m as usize];
-            let n = Vector2::new(x.x - c.x, x.y - c.y).normalize();
-            let v = Vector2::new(f.vel.x, f.vel.y);
-            let vn = v.dot(&n);
-            let dt = -n.dot(&dq) / vn;
-            let dn = dq + v * dt;
-            let dq2 = dq - n * (2.0 * n.dot(&dq));
-            let dv2 = dv - n * (2.0 * dv.dot(&n)) - n * (2.0 * v.dot(&dn)) - dn * (2.0 * vn);
-            dq = dq2;
-            dv = dv2;
-        }
-    }
-    *t = Vector4::new(dq[0], dq[1], dv[0], dv[1]);
-}
 
 /// Largest Lyapunov exponent with its standard error.
 #[derive(Debug, Clone, Serialize)]
@@ -97,41 +66,32 @@ pub fn lyapunov(
     }
     let lat = PeriodicLattice::new(w)?;
     let verts = lat.trap.vertices.clone();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Invalid(e.to_string()))?;
-    let per: Vec<(f64, f64)> = pool.install(|| {
-        (0..orbits)
-            .into_par_iter()
-            .map(|b| -> Result<(f64, f64), Error> {
-                let mut rng = stream(seed, b as u64);
-                let mut s = equilibrium_state(&lat.trap, &mut rng);
-                let d = crate::sampling::direction(&mut rng);
-                let mut t = Vector4::new(d.x, d.y, 0.3 * d.y, -0.3 * d.x);
-                let (mut c, mut logsum, mut time) = (0u64, 0.0, 0.0);
-                let transient = 1000;
-                while c < collisions + transient {
-                    let ev = lat
-                        .next_event(&s)
-                        .ok_or_else(|| Error::Invalid("no next event".into()))?;
-                    tangent_step(&mut t, &s.flight, &ev, &verts);
-                    lat.apply(&mut s, &ev);
-                    if c >= transient {
-                        time += ev.time;
-                    }
-                    if let EventKind::Collision(_) = ev.kind {
-                        c += 1;
-                        let n = t.norm();
-                        t /= n;
-                        if c > transient {
-                            logsum += n.ln();
-                        }
-                    }
+    let per: Vec<(f64, f64)> = par_batches(threads, orbits, |b| {
+        let mut rng = stream(seed, b as u64);
+        let mut s = equilibrium_state(&lat.trap, &mut rng);
+        let d = crate::sampling::direction(&mut rng);
+        let mut t = Vector4::new(d.x, d.y, 0.3 * d.y, -0.3 * d.x);
+        let (mut c, mut logsum, mut time) = (0u64, 0.0, 0.0);
+        let transient = 1000;
+        while c < collisions + transient {
+            let ev = lat
+                .next_event(&s)
+                .ok_or_else(|| Error::Invalid("no next event".into()))?;
+            tangent_step(&mut t, &s.flight, &ev, &verts);
+            lat.apply(&mut s, &ev);
+            if c >= transient {
+                time += ev.time;
+            }
+            if let EventKind::Collision(_) = ev.kind {
+                c += 1;
+                let n = t.norm();
+                t /= n;
+                if c > transient {
+                    logsum += n.ln();
                 }
-                Ok((logsum / collisions as f64, logsum / time))
-            })
-            .collect::<Result<Vec<_>, Error>>()
+            }
+        }
+        Ok((logsum / collisions as f64, logsum / time))
     })?;
     let (pc, pce) = mean_se(&per.iter().map(|p| p.0).collect::<Vec<_>>());
     let (pt, pte) = mean_se(&per.iter().map(|p| p.1).collect::<Vec<_>>());

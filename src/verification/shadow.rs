@@ -7,7 +7,7 @@
 //! whose events are all inside the model is an ε-pseudo-orbit with the measured ε.
 
 use rug::Float;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
 use crate::kernel::trap::{Event, EventKind, Flight, Trap};
@@ -26,7 +26,7 @@ struct Candidate {
 }
 
 /// The verdict on one replayed event.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct EventCheck {
     /// Event chosen by the f64 kernel (`"collision k"` / `"crossing k"`).
     pub kind_f64: String,
