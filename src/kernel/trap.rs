@@ -93,7 +93,7 @@ impl<T: Real> Flight<T> {
     /// by any edge: exclusions are cleared (a reversal right after a collision re-collides with
     /// the same disk at time 0, undoing the reflection).
     pub fn reverse(&mut self) {
-        self.vel = self.vel.clone().neg();
+        self.vel = -self.vel.clone();
         self.excluded_disk = NONE;
         self.excluded_edge = NONE;
     }

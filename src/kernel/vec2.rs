@@ -59,9 +59,13 @@ impl<T: Real> Vec2<T> {
             y: self.y.clone() + &(d.y.clone() * t),
         }
     }
+}
+
+impl<T: Real> std::ops::Neg for Vec2<T> {
+    type Output = Self;
     /// `−self` (exact).
     #[inline(always)]
-    pub fn neg(self) -> Self {
+    fn neg(self) -> Self {
         Vec2 {
             x: -self.x,
             y: -self.y,

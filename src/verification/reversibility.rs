@@ -73,7 +73,7 @@ pub fn reverse_and_return<T: Real>(
 
 fn world_velocity<T: Real>(s: &LatticeState<T>) -> Vec2<T> {
     if s.cell.down {
-        s.flight.vel.clone().neg()
+        -s.flight.vel.clone()
     } else {
         s.flight.vel.clone()
     }
