@@ -27,6 +27,7 @@ pub mod real;
 pub mod sampling;
 pub mod scenes;
 pub mod stats;
+pub mod theory;
 pub mod verification;
 
 pub use error::Error;
