@@ -246,5 +246,20 @@ mod tests {
         // e(0.3) = 0.3 − w₀ = 0.14529946162074848…
         let e3 = e(&g).to_f64();
         assert!((e3 - 0.145_299_461_620_748_48).abs() < 1e-16);
+        // Recorded 256-bit values (proofs-notes/paper-appendix-a.md), 17 decimals: the decimal
+        // rounding is ≤ 5e-18 absolute, the conversion to f64 ≤ u relative.
+        let cases = [
+            (0.2, 0.022_585_692_593_464_68, 0.029_587_389_557_863_16),
+            (0.25, 0.077_689_445_106_467_05, 0.101_621_410_150_733_57),
+            (0.3, 0.145_605_740_804_566_54, 0.190_010_473_171_062_54),
+        ];
+        for (w, correct, printed) in cases {
+            let g = g256(w);
+            let a = p_cf(&g).to_f64();
+            let b = p_cf_as_printed(&g).to_f64();
+            let u = f64::EPSILON / 2.0;
+            assert!((a - correct).abs() <= 5e-18 + u * correct, "w = {w}: {a}");
+            assert!((b - printed).abs() <= 5e-18 + u * printed, "w = {w}: {b}");
+        }
     }
 }
