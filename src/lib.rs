@@ -14,7 +14,9 @@
 //! * [`observables`]: mean squared displacement and event counters.
 //! * [`stats`]: batch means, blocking, weighted linear fits.
 //! * [`diffusion`]: D(w) by the Einstein formula with error bars.
-//! * [`verification`]: shadows, reversibility, Birkhoff-map Jacobians.
+//! * [`theory`]: symbolic dynamics, the corrected Machta–Zwanzig hierarchy, App. A, exact and
+//!   simulated correlated lattice walks, hop-level Green–Kubo.
+//! * [`verification`]: shadows, audits, reversibility, Birkhoff-map Jacobians, Lyapunov exponents.
 #![warn(missing_docs)]
 
 pub mod bench;
@@ -32,6 +34,7 @@ pub mod sampling;
 pub mod scenes;
 pub mod stats;
 pub mod sweep;
+pub mod theory;
 pub mod verification;
 
 pub use error::Error;

@@ -1,0 +1,25 @@
+//! Theory of the trap-hopping picture: the Machta–Zwanzig random walk and the paper's
+//! corrections (Sec. III and Apps. A, B of Klages & Dellago 2000), and the exact and
+//! Monte-Carlo diffusion coefficients of correlated walks on the honeycomb of traps.
+//!
+//! * [`honeycomb`]: symbols z, l, r; exact walks on the lattice of trap centres.
+//! * [`sequences`]: validated tables of symbol-sequence probabilities.
+//! * [`hierarchy`]: D_cf, D_bs, D₁ (eqs. 4–6) and D_k (App. B, corrected).
+//! * [`appendix_a`]: the analytic p_cf (eqs. A4–A8), with the printed slip.
+//! * [`markov`]: exact D of the order-k correlated walk (resolvent of the history chain).
+//! * [`lattice_walk`]: Monte Carlo of that walk (Fig. 6b), Einstein formula, batch errors.
+//! * [`green_kubo`]: hop-level Green–Kubo estimator from direction sequences.
+//!
+//! The derivations are in `proofs-notes/` (index: `proofs-notes/theory-index.md`).
+
+pub mod appendix_a;
+pub mod green_kubo;
+pub mod hierarchy;
+pub mod honeycomb;
+pub mod lattice_walk;
+pub mod markov;
+pub mod sequences;
+
+pub use honeycomb::Symbol;
+pub use markov::CorrelatedWalk;
+pub use sequences::SequenceProbabilities;

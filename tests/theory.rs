@@ -1,0 +1,193 @@
+//! Monte-Carlo checks of the theory module: the lattice-gas walk (Einstein formula) and the
+//! hop-level Green–Kubo estimator against the exact resolvent D of the same correlated walk.
+//!
+//! Every comparison is "within 4 standard errors" (batch means over independent streams),
+//! plus the deterministic bias of the estimator where there is one, computed exactly from the
+//! chain (`fit_bias`, truncation tail) — never a hand-tuned tolerance.
+
+use lorentz_gas::geometry::Geometry;
+use lorentz_gas::stats::mean_se;
+use lorentz_gas::theory::green_kubo::{green_kubo, ErrorMethod, Truncation};
+use lorentz_gas::theory::honeycomb::{sequence_from_index, Symbol};
+use lorentz_gas::theory::lattice_walk::{
+    direction_sequence, fit_bias, simulate, symbol_sequence, LatticeWalkConfig,
+};
+use lorentz_gas::theory::markov::{persistent_d_over_d_mz, CorrelatedWalk};
+use lorentz_gas::theory::sequences::{count_sequences, SequenceProbabilities};
+
+/// A mirror-symmetric order-k walk with genuine memory (k ≥ 2), see
+/// `proofs-notes/lattice-walk.md`: p(z|h) = 0.2 + 0.3·#z(h)/(k−1); the rest, q, goes to l and r
+/// by the last symbol (l: 35/65 %, r: mirrored) or, after z, by the majority of l vs r in h.
+fn correlated(k: usize) -> CorrelatedWalk {
+    let n = 3usize.pow(k as u32 - 1);
+    let cond = (0..n)
+        .map(|h| {
+            let s = sequence_from_index(k - 1, h);
+            let nz = s.iter().filter(|&&x| x == Symbol::Z).count() as f64;
+            let nl = s.iter().filter(|&&x| x == Symbol::L).count();
+            let nr = s.iter().filter(|&&x| x == Symbol::R).count();
+            let pz = 0.2 + 0.3 * nz / (k as f64 - 1.0);
+            let q = 1.0 - pz;
+            let fl = match s.last() {
+                Some(Symbol::L) => 0.35,
+                Some(Symbol::R) => 0.65,
+                _ if nl > nr => 0.6,
+                _ if nr > nl => 0.4,
+                _ => 0.5,
+            };
+            let pl = q * fl;
+            [pz, pl, 1.0 - pz - pl]
+        })
+        .collect();
+    CorrelatedWalk::from_conditionals(k, cond).unwrap()
+}
+
+/// The order-2 table of `markov::tests` (exact D/D_MZ = 195/134, proofs-notes/markov-walk.md).
+fn order2() -> CorrelatedWalk {
+    CorrelatedWalk::from_conditionals(2, vec![[0.5, 0.25, 0.25], [0.3, 0.2, 0.5], [0.3, 0.5, 0.2]])
+        .unwrap()
+}
+
+fn check_walk(name: &str, walk: &CorrelatedWalk, seed: u64) {
+    let cfg = LatticeWalkConfig::new(32, 32768, 128, seed);
+    let exact = walk.d_over_d_mz().unwrap();
+    let bias = fit_bias(walk, &cfg).unwrap();
+    let r = simulate(walk, &cfg).unwrap();
+    let z = (r.d_over_d_mz - exact) / r.se;
+    println!(
+        "{name}: MC D/D_MZ = {:.5} ± {:.5}, exact {exact:.6}, z = {z:+.2}, fit bias {bias:.1e}",
+        r.d_over_d_mz, r.se
+    );
+    // The fit window [64, 128] is long enough: its exact bias is below a tenth of σ.
+    assert!(
+        bias.abs() < 0.1 * r.se,
+        "{name}: fit bias {bias} vs se {}",
+        r.se
+    );
+    assert!(z.abs() < 4.0, "{name}: z = {z}");
+}
+
+#[test]
+fn lattice_walk_memoryless_one_third_is_machta_zwanzig() {
+    let w = CorrelatedWalk::memoryless(1.0 / 3.0).unwrap();
+    assert_eq!(w.d_over_d_mz().unwrap(), 1.0);
+    check_walk("memoryless p_bs = 1/3", &w, 11);
+    // In absolute units at w = 0.1 the walk gives D_MZ within the same 4σ.
+    let g = Geometry::new(0.1f64).unwrap();
+    let r = simulate(&w, &LatticeWalkConfig::new(8, 4096, 64, 12)).unwrap();
+    let (d, se) = r.d(&g);
+    assert!((d - g.d_mz()).abs() < 4.0 * se);
+}
+
+#[test]
+fn lattice_walk_order1_persistent() {
+    let w = CorrelatedWalk::memoryless(0.38).unwrap();
+    let exact = persistent_d_over_d_mz(&0.38f64);
+    // 1×1 solve: |Δ| ≤ 16u(1 + |c|)/(1 − |c|)·D with c = (1 − 3·0.38)/2 = −0.07.
+    let tol = 16.0 * f64::EPSILON / 2.0 * (1.07 / 0.93) * exact;
+    assert!((w.d_over_d_mz().unwrap() - exact).abs() <= tol);
+    check_walk("order 1, p_bs = 0.38", &w, 21);
+}
+
+#[test]
+fn lattice_walk_order2() {
+    let w = order2();
+    let d = w.d_over_d_mz().unwrap();
+    // Backward-stable 3×3 complex LU: |Δ| ≤ 64·n·u·κ·D with n = 3, κ(I − Q) < 10.
+    assert!(
+        (d - 195.0 / 134.0).abs() <= 64.0 * 3.0 * f64::EPSILON / 2.0 * 10.0 * d,
+        "{d}"
+    );
+    check_walk("order 2 (195/134)", &w, 31);
+}
+
+#[test]
+fn lattice_walk_order3_and_order4() {
+    check_walk("order 3", &correlated(3), 41);
+    check_walk("order 4", &correlated(4), 51);
+}
+
+#[test]
+fn simulated_symbol_frequencies_match_the_stationary_table() {
+    // 16 independent sequences of 2^16 exits; per-sequence frequencies of each length-2 word
+    // → mean ± SE, compared with the chain's stationary table within 4σ.
+    let w = correlated(3);
+    let table = w.sequence_probabilities(2).unwrap();
+    let seqs: Vec<Vec<Symbol>> = (0..16)
+        .map(|b| symbol_sequence(&w, 61, b, 1 << 16))
+        .collect();
+    for i in 0..9 {
+        let f: Vec<f64> = seqs
+            .iter()
+            .map(|s| {
+                let c = count_sequences(s, 2);
+                c[i] as f64 / c.iter().sum::<u64>() as f64
+            })
+            .collect();
+        let (m, se) = mean_se(&f);
+        let p = table.probabilities()[i];
+        assert!((m - p).abs() < 4.0 * se, "word {i}: {m} ± {se} vs {p}");
+    }
+    // Rebuilding the walk from the measured order-3 table recovers the walk's conditionals
+    // (the measured table is a valid SequenceProbabilities).
+    let all: Vec<Symbol> = seqs.concat();
+    let counts = count_sequences(&all, 3);
+    let t = SequenceProbabilities::from_counts(3, &counts).unwrap();
+    assert!(CorrelatedWalk::new(&t).is_ok());
+}
+
+fn check_gk(name: &str, walk: &CorrelatedWalk, seed: u64) {
+    let seqs: Vec<Vec<u8>> = (0..16)
+        .map(|b| direction_sequence(walk, seed, b, 1 << 17))
+        .collect();
+    let r = green_kubo(&seqs, Truncation::Automatic { c: 6.0 }).unwrap();
+    assert_eq!(r.error_method, ErrorMethod::Batches(16));
+    let c = walk.correlations(r.truncation);
+    let truncated = 1.0 + 2.0 * c.iter().sum::<f64>();
+    let exact = walk.d_over_d_mz().unwrap();
+    let tail = exact - truncated;
+    let z = (r.d_over_d_mz - truncated) / r.se;
+    println!(
+        "{name}: GK D/D_MZ = {:.5} ± {:.5} (J = {}), exact truncated {truncated:.6}, \
+         exact {exact:.6}, tail {tail:.1e}, z = {z:+.2}",
+        r.d_over_d_mz, r.se, r.truncation
+    );
+    // Unbiased for the truncated sum; against D the exactly known tail is added.
+    assert!(z.abs() < 4.0, "{name}: z = {z}");
+    assert!((r.d_over_d_mz - exact).abs() < 4.0 * r.se + tail.abs());
+    // The estimated correlations agree with the exact ones; each pooled Ĉ_j is a mean of
+    // 2^21 bounded terms with SE ≤ √(τ_int/N)… checked only through D above.
+    assert_eq!(r.correlations.len(), r.truncation);
+}
+
+#[test]
+fn green_kubo_matches_the_exact_walk() {
+    check_gk(
+        "GK memoryless 1/3",
+        &CorrelatedWalk::memoryless(1.0 / 3.0).unwrap(),
+        71,
+    );
+    check_gk(
+        "GK order 1, 0.38",
+        &CorrelatedWalk::memoryless(0.38).unwrap(),
+        72,
+    );
+    check_gk("GK order 2", &order2(), 73);
+    check_gk("GK order 4", &correlated(4), 74);
+}
+
+#[test]
+fn green_kubo_single_sequence_uses_blocking() {
+    let w = order2();
+    let s = direction_sequence(&w, 81, 0, 1 << 20);
+    let r = green_kubo(&[s], Truncation::Fixed(24)).unwrap();
+    assert_eq!(r.error_method, ErrorMethod::Blocking);
+    let c = w.correlations(24);
+    let truncated = 1.0 + 2.0 * c.iter().sum::<f64>();
+    let z = (r.d_over_d_mz - truncated) / r.se;
+    println!(
+        "GK single sequence: {:.5} ± {:.5} vs {truncated:.6}, z = {z:+.2}",
+        r.d_over_d_mz, r.se
+    );
+    assert!(z.abs() < 4.0);
+}
