@@ -6,6 +6,8 @@
 
 /// Birkhoff coordinates and the Jacobian of the collision map.
 pub mod birkhoff;
+/// Fuzzing oracle: decodes raw bytes into valid (often degenerate) states and judges the kernel.
+pub mod oracle;
 /// Time reversal of long orbits.
 pub mod reversibility;
 /// Per-event MPFR shadows of f64 runs.
