@@ -3,6 +3,8 @@
 //! * [`shadow`]: replays single `f64` events in MPFR from the same pre-event state.
 //! * [`reversibility`]: forward N collisions, reverse, N back.
 //! * [`birkhoff`]: the collision map in Birkhoff coordinates and its Jacobian.
+//! * [`audit`], [`lyapunov`], [`certify`]: production audits, chaos, certified segments.
+//! * [`oracle`]: the fuzzing oracle (also run by `cargo test`).
 
 /// Sampled per-event audits of f64 production runs.
 pub mod audit;
@@ -12,6 +14,8 @@ pub mod birkhoff;
 pub mod certify;
 /// Lyapunov exponents: tangent space and precision divergence.
 pub mod lyapunov;
+/// Fuzzing oracle: decodes raw bytes into valid (often degenerate) states and judges the kernel.
+pub mod oracle;
 /// Time reversal of long orbits.
 pub mod reversibility;
 /// Per-event MPFR shadows of f64 runs.

@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""Writes the hand-made seed corpora fuzz/corpus/<target>/seed-* (byte layout:
+proofs-notes/fuzzing.md). Run from the fuzz/ directory."""
+import os
+import struct
+
+def w(mode, n):
+    return bytes([mode]) + struct.pack("<I", n)
+
+HALF = w(0, 0x80000000)         # w ~ w_inf/2 = w_0
+NEAR_INF = w(3, 1 << 18)        # within 2^-32 (relative) of w_inf
+TINY = w(2, 38)                 # w = 2^-40
+SMALL = w(2, 5)                 # w = 2^-7
+
+def prim(sel, wb, events, body, pn=0, vn=0):
+    return bytes([sel]) + wb + bytes([events]) + body + bytes([pn, vn])
+
+def impact(disk, k, above, side, u1, u2):
+    return bytes([disk, (0x80 if above else 0) | (k - 1), side]) + struct.pack("<HH", u1, u2)
+
+def near(disk, k, motion, flags, psi, chi):
+    return bytes([disk, k - 1, motion, flags]) + struct.pack("<HH", psi, chi)
+
+def tangent(edge, line, back, s):
+    return bytes([edge, line, back]) + struct.pack("<H", s)
+
+def gap(edge, end, at, ang, u1, u2):
+    return bytes([edge, end, at]) + struct.pack("<IHH", ang, u1, u2)
+
+def arbitrary(u1, u2, ang):
+    return struct.pack("<HHI", u1, u2, ang)
+
+PRIM = {
+    "impact-disk0-b-1-2e-52": prim(0, HALF, 3, impact(0, 52, False, 0, 20000, 40000)),
+    "impact-disk2-b-1+2e-52": prim(0, NEAR_INF, 3, impact(2, 52, True, 1, 50000, 9000)),
+    "impact-disk1-b-1-2e-30-tiny-w": prim(0, TINY, 4, impact(1, 30, False, 1, 1234, 60000), 4, 40),
+    "near-disk0-2e-60-in": prim(1, HALF, 2, near(0, 60, 0, 0, 30000, 32768)),
+    "near-disk1-2e-40-out-excluded": prim(1, SMALL, 2, near(1, 40, 1, 1, 0, 20000)),
+    "near-disk2-2e-53-tangent-excluded": prim(1, NEAR_INF, 3, near(2, 53, 2, 3, 65535, 0), 0, 17),
+    "tangent-edge2-outer-near-winf": prim(2, NEAR_INF, 4, tangent(2, 0, 0, 10000), 0, 1),
+    "tangent-edge0-inner1": prim(2, HALF, 4, tangent(0, 1, 1, 40000), 1, 2),
+    "tangent-edge1-inner2-tiny-w": prim(2, TINY, 4, tangent(1, 2, 0, 0), 2, 3),
+    "gap-edge2-end0-at-point": prim(3, HALF, 3, gap(2, 0, 1, 0x40000000, 0, 0)),
+    "gap-edge1-end1-aimed": prim(3, SMALL, 3, gap(1, 1, 0, 0, 11111, 22222), 8, 80),
+    "arbitrary": prim(4, w(1, 0x30000000), 4, arbitrary(12345, 23456, 0x9E3779B9)),
+}
+
+def scene(i, j, down, steps, p):
+    return struct.pack(
+        "<IIBH", (i + 1_000_000_000), (j + 1_000_000_000), down, steps - 1) + p
+
+SCENE = {
+    "impact-origin-up": scene(0, 0, 0, 4096, PRIM["impact-disk0-b-1-2e-52"]),
+    "near-far-down": scene(1_000_000_000, -1_000_000_000, 1, 4096, PRIM["near-disk0-2e-60-in"]),
+    "tangent-corner-up": scene(-1_000_000_000, 1_000_000_000, 0, 3000, PRIM["tangent-edge2-outer-near-winf"]),
+    "tangent-tiny-w-down": scene(123456789, -987654321, 1, 4096, PRIM["tangent-edge1-inner2-tiny-w"]),
+    "gap-point-up": scene(-7, 3, 0, 2048, PRIM["gap-edge2-end0-at-point"]),
+    "arbitrary-down": scene(999_999_999, 999_999_999, 1, 4096, PRIM["arbitrary"]),
+}
+
+for target, seeds in (("collision_primitive", PRIM), ("scene_stepper", SCENE)):
+    d = os.path.join("corpus", target)
+    os.makedirs(d, exist_ok=True)
+    for name, b in seeds.items():
+        with open(os.path.join(d, "seed-" + name), "wb") as f:
+            f.write(b)
