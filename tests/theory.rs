@@ -155,8 +155,6 @@ fn check_gk(name: &str, walk: &CorrelatedWalk, seed: u64) {
     // Unbiased for the truncated sum; against D the exactly known tail is added.
     assert!(z.abs() < 4.0, "{name}: z = {z}");
     assert!((r.d_over_d_mz - exact).abs() < 4.0 * r.se + tail.abs());
-    // The estimated correlations agree with the exact ones; each pooled Ĉ_j is a mean of
-    // 2^21 bounded terms with SE ≤ √(τ_int/N)… checked only through D above.
     assert_eq!(r.correlations.len(), r.truncation);
 }
 

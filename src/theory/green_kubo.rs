@@ -144,7 +144,7 @@ pub fn green_kubo(sequences: &[Vec<u8>], truncation: Truncation) -> Result<Green
             j
         }
         Truncation::Automatic { c } => {
-            if !(c > 0.0) {
+            if c.is_nan() || c <= 0.0 {
                 return Err(Error::Invalid(format!(
                     "window constant c = {c} must be > 0"
                 )));
@@ -214,13 +214,13 @@ mod tests {
         let s = vec![Symbol::L; 600];
         let d = directions_from_symbols(0, &s);
         for j in 1..=12 {
-            let c = correlation(&[d.clone()], j);
+            let c = correlation(std::slice::from_ref(&d), j);
             assert_eq!(c, TWO_COS[j % 6] as f64 / 2.0);
         }
         // lr repeated: directions 0, 5, 0, 5, …: C_j = 1 (j even), ½ (j odd).
         let s = parse_symbols(&"lr".repeat(200)).unwrap();
         let d = directions_from_symbols(0, &s);
-        assert_eq!(correlation(&[d.clone()], 1), 0.5);
+        assert_eq!(correlation(std::slice::from_ref(&d), 1), 0.5);
         assert_eq!(correlation(&[d], 2), 1.0);
     }
 

@@ -326,8 +326,9 @@ mod tests {
 
     #[test]
     fn generic_walk_matches_the_exact_lattice_walk() {
-        // Error model: each hop is two rotations' worth of rounding, ≤ 4u per component per hop
-        // growing linearly; after k ≤ 5 hops from a unit start |error| ≤ 64 k u.
+        // Error model: a ±120° rotation adds ≤ 4u per component (two products, one sum, one
+        // halving of numbers ≤ 1), so direction i carries ≤ 4iu; summing k + 1 of them adds
+        // ≤ (k+1)u per step: |error| ≤ Σ_i (4i + k + 1)u ≤ (k+1)(3k+1)u ≤ 64(k+1)u (k ≤ 21).
         for k in 0..6usize {
             for s in all_sequences(k) {
                 let e = walk_exact(0, &s).to_cartesian::<Float>(256);

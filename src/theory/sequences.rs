@@ -67,7 +67,7 @@ impl SequenceProbabilities {
             s.add(x);
         }
         let total = s.value();
-        if !(total > 0.0) || !total.is_finite() {
+        if total.is_nan() || total <= 0.0 || !total.is_finite() {
             return Err(Error::Invalid(format!(
                 "sequence weights must have a positive finite sum, got {total}"
             )));
