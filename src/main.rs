@@ -221,7 +221,7 @@ enum Cmd {
     },
     /// Regenerate one of the paper's figures from this crate's numbers (PNG, SVG, CSV, JSON into --out).
     Figure {
-        /// backscatter-map (Fig. 5) or backscatter (Fig. 4a and its inset). Figs. 2, 7, 8: use `sweep`.
+        /// backscatter-map (Fig. 5), backscatter (Fig. 4a and inset) or hierarchy (Figs. 3, 4b, 6). Figs. 2, 7, 8: use `sweep`.
         kind: String,
         /// Gap for backscatter-map.
         #[arg(long, default_value_t = 0.1)]
@@ -607,12 +607,16 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             let threads = all_cores(None);
             match kind.as_str() {
                 "backscatter-map" => paper::backscatter_map(w, samples, seed, &out)?,
+                "hierarchy" => {
+                    let grid: Vec<f64> = (1..=15).map(|i| 0.02 * i as f64).collect();
+                    paper::hierarchy(&grid, samples.max(10_000_000), seed, threads, &out)?
+                }
                 "backscatter" => {
                     let grid: Vec<f64> = (1..=30).map(|i| 0.01 * i as f64).filter(|w| *w < 0.3094).collect();
                     let inset: Vec<f64> = (0..=30).map(|i| 0.04 + 0.001 * i as f64).collect();
                     paper::backscatter_curve(&grid, &inset, samples.max(100_000), seed, threads, &out)?
                 }
-                other => return Err(Error::Invalid(format!("unknown figure '{other}': use backscatter-map or backscatter (Figs. 2, 7, 8: lorentz sweep)"))),
+                other => return Err(Error::Invalid(format!("unknown figure '{other}': use backscatter-map, backscatter or hierarchy (Figs. 2, 7, 8: lorentz sweep)"))),
             }
             println!("written into {}", out.display());
         }
