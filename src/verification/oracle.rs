@@ -427,7 +427,7 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
             (0..16)
                 .map(|i| {
                     geo.free_point(
-                        (u1 + i as f64 * 0.318_309_886_183_791).fract(),
+                        (u1 + i as f64 * std::f64::consts::FRAC_1_PI).fract(),
                         (u2 + i as f64 * 0.577_215_664_901_532).fract(),
                     )
                 })
