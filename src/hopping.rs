@@ -200,6 +200,28 @@ pub struct HopsReport {
     pub version: String,
 }
 
+impl HopsReport {
+    /// The measured probabilities of the sequences of length `k` as a validated table for the
+    /// theory ([`crate::theory::sequences::SequenceProbabilities`]; same index order).
+    pub fn table(
+        &self,
+        k: usize,
+    ) -> Result<crate::theory::sequences::SequenceProbabilities, Error> {
+        let m = self
+            .sequences
+            .get(k.wrapping_sub(1))
+            .ok_or_else(|| Error::Invalid(format!("no sequences of length {k} were counted")))?;
+        let mut p = vec![0.0; 3usize.pow(k as u32)];
+        for (name, e) in m {
+            let idx = name
+                .chars()
+                .fold(0usize, |a, c| a * 3 + "zlr".find(c).unwrap_or(0));
+            p[idx] = e.value;
+        }
+        crate::theory::sequences::SequenceProbabilities::from_weights(k, p)
+    }
+}
+
 fn mirror(code: usize, k: usize) -> usize {
     // l ↔ r digit by digit.
     let mut out = 0;
@@ -375,22 +397,10 @@ pub fn theory(
     seed: u64,
     threads: usize,
 ) -> Result<TheoryReport, Error> {
-    use crate::theory::{
-        appendix_a, hierarchy, markov::CorrelatedWalk, sequences::SequenceProbabilities,
-    };
+    use crate::theory::{appendix_a, hierarchy, markov::CorrelatedWalk};
     let h = hops(w, collisions, batches, order.max(3), seed, threads)?;
     let g = Geometry::new(w)?;
-    let table = |k: usize| -> Result<SequenceProbabilities, Error> {
-        let m = &h.sequences[k - 1];
-        let mut p = vec![0.0; 3usize.pow(k as u32)];
-        for (name, e) in m {
-            let idx = name
-                .chars()
-                .fold(0usize, |a, c| a * 3 + "zlr".find(c).expect("symbol"));
-            p[idx] = e.value;
-        }
-        SequenceProbabilities::from_weights(k, p)
-    };
+    let table = |k: usize| h.table(k);
     let p_cf = h.p_cf;
     let mut d_k = Vec::new();
     let mut exact = Vec::new();

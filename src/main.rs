@@ -676,21 +676,13 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             seed,
             json,
         } => {
-            use lorentz_gas::theory::{
-                lattice_walk, markov::CorrelatedWalk, sequences::SequenceProbabilities,
-            };
+            use lorentz_gas::theory::{lattice_walk, markov::CorrelatedWalk};
             let h =
                 lorentz_gas::hopping::hops(w, collisions, 16, order.max(1), seed, all_cores(None))?;
             let g = Geometry::new(w)?;
             let mut rows = Vec::new();
             for k in 1..=order.max(1) {
-                let mut p = vec![0.0; 3usize.pow(k as u32)];
-                for (name, e) in &h.sequences[k - 1] {
-                    p[name
-                        .chars()
-                        .fold(0usize, |a, c| a * 3 + "zlr".find(c).unwrap_or(0))] = e.value;
-                }
-                let walk = CorrelatedWalk::new(&SequenceProbabilities::from_weights(k, p)?)?;
+                let walk = CorrelatedWalk::new(&h.table(k)?)?;
                 let sim = lattice_walk::simulate(
                     &walk,
                     &lattice_walk::LatticeWalkConfig::new(16, 4096, 128, seed),
