@@ -28,10 +28,10 @@ use crate::kernel::trap::Trap;
 use crate::observables::counters::Counters;
 use crate::observables::msd::Msd;
 use crate::real::Real;
-use crate::sampling::{equilibrium_state, stream};
+use crate::sampling::{equilibrium_state, stream, Purpose, StreamKey};
 use crate::scenes::lattice::{LatticeState, PeriodicLattice};
 use crate::stats::{linear_fit, mean_se};
-use crate::verification::audit::{AuditSummary, Auditor, AUDIT_SALT};
+use crate::verification::audit::{AuditSummary, Auditor};
 
 /// Number type of a run: `f64`, or `rug::Float` with a number of bits ≥ 53.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -306,7 +306,7 @@ pub fn run_batch<T: Real>(
             trap64.w,
             a.rate,
             a.bits,
-            stream(seed ^ AUDIT_SALT, index as u64),
+            StreamKey::new(seed, Purpose::Audit, index as u64).rng(),
         )?),
         None => None,
     };

@@ -325,7 +325,7 @@ pub fn audit_run(
     threads: usize,
 ) -> Result<AuditReport, Error> {
     use crate::kernel::trap::EventKind;
-    use crate::sampling::{equilibrium_state, stream};
+    use crate::sampling::{equilibrium_state, stream, Purpose, StreamKey};
     use crate::scenes::lattice::PeriodicLattice;
     crate::geometry::check_diffusive_gap(w)?;
     if collisions == 0 {
@@ -340,7 +340,7 @@ pub fn audit_run(
     let parts: Vec<(AuditSummary, u64)> =
         crate::parallel::par_batches(threads, trajectories, |b| {
             let mut s = equilibrium_state(&lat.trap, &mut stream(seed, b as u64));
-            let mut a = Auditor::new(w, sample, bits, stream(seed ^ AUDIT_SALT, b as u64))?;
+            let mut a = Auditor::new(w, sample, bits, StreamKey::new(seed, Purpose::Audit, b as u64).rng())?;
             let (mut c, mut events) = (0, 0u64);
             while c < per {
                 let ev = lat
@@ -382,5 +382,3 @@ pub fn audit_run(
     })
 }
 
-/// Salt separating the auditor's random stream from the trajectory's.
-pub const AUDIT_SALT: u64 = 0xA0D1_7A0D_17A0_D17A;
