@@ -8,7 +8,7 @@
 //! batches. A second, later window is fitted too and reported: the two agreeing within errors
 //! shows that the fit window lies in the linear regime.
 //!
-//! Results do not depend on the number of threads: batch b's bits depend only on (seed, b),
+//! Results do not depend on the number of threads: batch b's bits depend only on (seed, run, b),
 //! and batches are combined in index order.
 
 use std::fs::OpenOptions;
@@ -19,54 +19,21 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use rayon::prelude::*;
-use rug::Float;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
+use crate::metadata::RunMeta;
+pub use crate::precision::Precision;
+use crate::precision::AtPrecision;
 use crate::geometry::{check_diffusive_gap, Geometry};
 use crate::kernel::trap::Trap;
 use crate::observables::counters::Counters;
 use crate::observables::msd::Msd;
 use crate::real::Real;
-use crate::sampling::{equilibrium_state, stream, Purpose, StreamKey};
+use crate::sampling::{equilibrium_state, Purpose, StreamKey};
 use crate::scenes::lattice::{LatticeState, PeriodicLattice};
 use crate::stats::{linear_fit, mean_se};
 use crate::verification::audit::{AuditSummary, Auditor};
-
-/// Number type of a run: `f64`, or `rug::Float` with a number of bits ≥ 53.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Precision {
-    /// IEEE double.
-    F64,
-    /// MPFR with this many bits.
-    Bits(u32),
-}
-
-impl std::fmt::Display for Precision {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Precision::F64 => write!(f, "f64"),
-            Precision::Bits(b) => write!(f, "{b}"),
-        }
-    }
-}
-
-impl FromStr for Precision {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self, Error> {
-        let s = s.trim();
-        if s.eq_ignore_ascii_case("f64") {
-            return Ok(Precision::F64);
-        }
-        let bits: u32 = s.parse().map_err(|_| {
-            Error::Invalid(format!(
-                "precision '{s}' is not 'f64' or a number of bits (53 or more)"
-            ))
-        })?;
-        <Float as Real>::check_ctx(bits)?;
-        Ok(Precision::Bits(bits))
-    }
-}
 
 /// A fit window in units of the mean hop time τ.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -106,6 +73,10 @@ impl FromStr for Window {
     }
 }
 
+/// A batch must cover the end of the later fit window this many times (so that the MSD at the
+/// longest lag averages over many independent time origins).
+pub const MIN_HOPS_PER_LAG: usize = 20;
+
 /// Everything that defines a diffusion run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DiffusionConfig {
@@ -117,6 +88,10 @@ pub struct DiffusionConfig {
     pub batches: u32,
     /// Seed of the random streams.
     pub seed: u64,
+    /// Which run of this seed (0 for a single run; run r of sweep point i is i·runs + r): batch b
+    /// uses the trajectory stream `(seed, run, b)` ([`crate::sampling::StreamKey`]).
+    #[serde(default)]
+    pub run: u64,
     /// Number type.
     pub precision: Precision,
     /// Fit window for D.
@@ -133,6 +108,7 @@ impl DiffusionConfig {
             collisions: 2_000_000_000,
             batches: 32,
             seed: 1,
+            run: 0,
             precision: Precision::F64,
             window: Window { lo: 10, hi: 40 },
             check_window: Window { lo: 20, hi: 80 },
@@ -156,19 +132,28 @@ impl DiffusionConfig {
             });
         }
         if let Precision::Bits(b) = self.precision {
-            <Float as Real>::check_ctx(b)?;
+            <rug::Float as Real>::check_ctx(b)?;
         }
         // Each batch must be long enough to reach the far end of the check window many times.
-        let per_batch = self.collisions / self.batches as u64;
         let g = Geometry::new(self.w)?;
-        let hops = per_batch as f64 / g.collisions_per_hop();
-        let need = 20 * self.window.hi.max(self.check_window.hi) as u64;
-        if hops < need as f64 {
-            let min = (need as f64 * g.collisions_per_hop()).ceil() as u64 * self.batches as u64;
-            return Err(Error::TooFew {
-                what: "collisions (for this w, window and batch count)",
-                min,
-                got: self.collisions,
+        let need_hops = (MIN_HOPS_PER_LAG * self.window.hi.max(self.check_window.hi)) as f64;
+        let min = need_hops * g.collisions_per_hop() * self.batches as f64;
+        if (self.collisions as f64) < min {
+            return Err(if min < u64::MAX as f64 {
+                Error::TooFew {
+                    what: "collisions (for this w, window and batch count)",
+                    min: min.ceil() as u64,
+                    got: self.collisions,
+                }
+            } else {
+                Error::Invalid(format!(
+                    "w = {} needs about {min:.1e} collisions for {} batches to reach the fit \
+                     window (pi/(3w) = {:.1e} collisions per hop), more than any run can do \
+                     (2^64 = 1.8e19): use a larger w",
+                    self.w,
+                    self.batches,
+                    g.collisions_per_hop()
+                ))
             });
         }
         Ok(())
@@ -208,6 +193,15 @@ pub struct AuditSpec {
     pub rate: f64,
     /// Reference precision (bits, ≥ 128).
     pub bits: u32,
+}
+
+impl AuditSpec {
+    /// A checked audit specification: `rate` in (0, 1], `bits` from
+    /// [`crate::verification::audit::MIN_AUDIT_BITS`] to `MAX_AUDIT_BITS`.
+    pub fn new(rate: f64, bits: u32) -> Result<Self, Error> {
+        crate::verification::audit::check_audit(rate, bits)?;
+        Ok(AuditSpec { rate, bits })
+    }
 }
 
 /// One estimate with its standard error.
@@ -267,14 +261,6 @@ pub struct DiffusionReport {
     pub longest_free_path: f64,
     /// Total collisions.
     pub collisions: u64,
-    /// Number of batches.
-    pub batches: u32,
-    /// Seed.
-    pub seed: u64,
-    /// "f64" or the number of bits.
-    pub precision: String,
-    /// Threads used (does not change the result).
-    pub threads: usize,
     /// Wall-clock seconds of this invocation.
     pub seconds: f64,
     /// Collisions per wall-clock second in this invocation.
@@ -283,16 +269,16 @@ pub struct DiffusionReport {
     pub resumed_batches: u32,
     /// The self-audit, if requested: events replayed, outside the model, error quantiles.
     pub audit: Option<crate::verification::audit::AuditSummary>,
-    /// Crate version.
-    pub version: String,
+    /// Version, seed, batches, precision, engine, threads, command line.
+    pub meta: RunMeta,
 }
 
-/// Runs one batch on number type `T`.
+/// Runs one batch on number type `T`: batch `index` of run `run` of seed `seed`.
 #[allow(clippy::too_many_arguments)]
 pub fn run_batch<T: Real>(
     lat: &PeriodicLattice<T>,
     trap64: &Trap<f64>,
-    seed: u64,
+    (seed, run): (u64, u64),
     index: u32,
     collisions: u64,
     tau: f64,
@@ -306,13 +292,17 @@ pub fn run_batch<T: Real>(
             trap64.w,
             a.rate,
             a.bits,
-            StreamKey::new(seed, Purpose::Audit, index as u64).rng(),
+            StreamKey::new(seed, Purpose::Audit, index as u64)
+                .in_run(run)
+                .rng(),
         )?),
         None => None,
     };
     let start = Instant::now();
     let ctx = lat.trap.a.ctx();
-    let mut rng = stream(seed, index as u64);
+    let mut rng = StreamKey::new(seed, Purpose::Trajectory, index as u64)
+        .in_run(run)
+        .rng();
     let s64 = equilibrium_state(trap64, &mut rng);
     let mut s = LatticeState::<T>::convert_from_f64(ctx, &s64);
     s.flight.normalise_speed();
@@ -408,10 +398,6 @@ pub fn run_audited(
         Some(p) => Some(Mutex::new(open_checkpoint(p, cfg)?)),
         None => None,
     };
-    let per = cfg.collisions / cfg.batches as u64;
-    let extra = cfg.collisions % cfg.batches as u64;
-    let n_of = |i: u32| per + u64::from((i as u64) < extra);
-
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -431,44 +417,17 @@ pub fn run_audited(
         }
         Ok(r)
     };
-    let batches =
-        |lat: &(dyn Fn(u32) -> Result<BatchResult, Error> + Sync)| -> Result<Vec<BatchResult>, Error> {
-            pool.install(|| todo.par_iter().map(|&i| record(lat(i))).collect())
-        };
-    let new: Vec<BatchResult> = match cfg.precision {
-        Precision::F64 => {
-            let lat = PeriodicLattice::new(cfg.w)?;
-            batches(&|i| {
-                run_batch(
-                    &lat,
-                    &trap64,
-                    cfg.seed,
-                    i,
-                    n_of(i),
-                    tau,
-                    &lags,
-                    audit,
-                    progress,
-                )
-            })?
-        }
-        Precision::Bits(bits) => {
-            let lat = PeriodicLattice::new(Float::with_val(bits, cfg.w))?;
-            batches(&|i| {
-                run_batch(
-                    &lat,
-                    &trap64,
-                    cfg.seed,
-                    i,
-                    n_of(i),
-                    tau,
-                    &lags,
-                    audit,
-                    progress,
-                )
-            })?
-        }
-    };
+    let new = cfg.precision.dispatch(RunBatches {
+        cfg,
+        trap64: &trap64,
+        todo: &todo,
+        tau,
+        lags: &lags,
+        audit,
+        pool: &pool,
+        record: &record,
+        progress,
+    })?;
     let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
     done.extend(new);
     done.sort_by_key(|b| b.index);
@@ -476,6 +435,48 @@ pub fn run_audited(
     Ok(summarise(
         cfg, &g, tau, &done, threads, seconds, resumed, run_now,
     ))
+}
+
+/// The batches still to run, on the number type of the run's precision.
+struct RunBatches<'a> {
+    cfg: &'a DiffusionConfig,
+    trap64: &'a Trap<f64>,
+    todo: &'a [u32],
+    tau: f64,
+    lags: &'a [usize],
+    audit: Option<AuditSpec>,
+    pool: &'a rayon::ThreadPool,
+    record: &'a (dyn Fn(Result<BatchResult, Error>) -> Result<BatchResult, Error> + Sync),
+    progress: &'a (dyn Fn(u64) + Sync),
+}
+
+impl AtPrecision for RunBatches<'_> {
+    type Output = Result<Vec<BatchResult>, Error>;
+    fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
+        let lat = PeriodicLattice::new(T::from_f64(ctx, self.cfg.w))?;
+        let cfg = self.cfg;
+        let per = cfg.collisions / cfg.batches as u64;
+        let extra = cfg.collisions % cfg.batches as u64;
+        let n_of = |i: u32| per + u64::from((i as u64) < extra);
+        self.pool.install(|| {
+            self.todo
+                .par_iter()
+                .map(|&i| {
+                    (self.record)(run_batch(
+                        &lat,
+                        self.trap64,
+                        (cfg.seed, cfg.run),
+                        i,
+                        n_of(i),
+                        self.tau,
+                        self.lags,
+                        self.audit,
+                        self.progress,
+                    ))
+                })
+                .collect()
+        })
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -552,15 +553,16 @@ fn summarise(
             .map(|b| b.counters.longest_free_path)
             .fold(0.0, f64::max),
         collisions: total,
-        batches: cfg.batches,
-        seed: cfg.seed,
-        precision: cfg.precision.to_string(),
-        threads,
         seconds,
         collisions_per_second: run_now as f64 / seconds,
         resumed_batches: resumed,
         audit,
-        version: env!("CARGO_PKG_VERSION").to_string(),
+        meta: RunMeta::new(
+            Some(cfg.seed),
+            Some(cfg.batches as u64),
+            cfg.precision,
+            Some(threads),
+        ),
     }
 }
 

@@ -12,7 +12,7 @@
 //! * [`scenes`]: the periodic lattice built from the trap.
 //! * [`sampling`]: initial conditions from the invariant measure; reproducible streams.
 //! * [`observables`]: mean squared displacement and event counters.
-//! * [`stats`]: batch means, blocking, weighted linear fits.
+//! * [`stats`]: batch means, blocking, least-squares fits (weighted, with χ²), Student-t quantiles.
 //! * [`diffusion`]: D(w) by the Einstein formula with error bars.
 //! * [`theory`]: symbolic dynamics, the corrected Machta–Zwanzig hierarchy, App. A, exact and
 //!   simulated correlated lattice walks, hop-level Green–Kubo.
@@ -24,10 +24,13 @@ pub mod diffusion;
 pub mod error;
 pub mod figures;
 pub mod geometry;
+pub mod grid;
 pub mod hopping;
 pub mod kernel;
+pub mod metadata;
 pub mod observables;
 pub mod parallel;
+pub mod precision;
 pub mod real;
 pub mod report;
 pub mod sampling;

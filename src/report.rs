@@ -15,12 +15,15 @@ use serde::Serialize;
 use crate::bench::throughput;
 use crate::diffusion::{run, DiffusionConfig, Precision};
 use crate::error::Error;
+use crate::metadata::RunMeta;
 use crate::figures::{plot, PlotSpec, Series};
 use crate::kernel::trap::{Flight, Trap};
 use crate::real::Real;
-use crate::sampling::{equilibrium_state, stream};
+use crate::sampling::{equilibrium_state, Purpose, StreamKey};
 use crate::scenes::lattice::PeriodicLattice;
-use crate::verification::lyapunov::divergence;
+use crate::verification::lyapunov::{
+    divergence, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS,
+};
 
 /// One row of the report.
 #[derive(Debug, Clone, Serialize)]
@@ -54,9 +57,30 @@ pub struct SpeedReport {
     pub collisions_for_0_1_percent: f64,
     /// The calibration run's relative error and collisions.
     pub calibration: (f64, u64),
-    /// Crate version.
-    pub version: String,
+    /// Version, seed, precision, engine, threads, command line.
+    pub meta: RunMeta,
 }
+
+/// Collisions of the f64 calibration run whose relative error on D is scaled (as N^(−1/2)) to the
+/// collisions a 0.1 % error needs: 10⁸ gives that error to ~15 %.
+pub const CALIBRATION_COLLISIONS: u64 = 100_000_000;
+/// Events of the f64 orbit whose every tenth pre-event state is replayed for the one-step errors.
+pub const ONE_STEP_EVENTS: usize = 20_000;
+/// Reference precision of the one-step errors: twice the largest precision measured.
+pub const ONE_STEP_REFERENCE_BITS: u32 = 2048;
+/// MPFR precisions measured.
+pub const REPORT_BITS: [u32; 6] = [53, 64, 128, 256, 512, 1024];
+/// Repetitions of each timing (the median is reported).
+pub const REPORT_REPETITIONS: usize = 7;
+/// Collisions per f64 timing repetition.
+pub const F64_TIMING_COLLISIONS: u64 = 20_000_000;
+/// Collisions per MPFR timing repetition (10⁵ at 1024 bits and above, where one costs ~10 µs).
+pub const MPFR_TIMING_COLLISIONS: u64 = 200_000;
+/// Initial conditions of the divergence horizons.
+pub const HORIZON_STARTS: u32 = 8;
+
+/// Steps of the report, for a progress bar: calibration, divergence, and one timing per precision.
+pub const REPORT_STEPS: u64 = 2 + 1 + REPORT_BITS.len() as u64;
 
 fn one_step<T: Real>(trap: &Trap<T>, tref: &Trap<Float>, states: &[Flight<f64>]) -> (f64, f64) {
     let ctx = trap.a.ctx();
@@ -68,7 +92,7 @@ fn one_step<T: Real>(trap: &Trap<T>, tref: &Trap<Float>, states: &[Flight<f64>])
             if e.kind != r.kind {
                 return Some(f64::INFINITY);
             }
-            Some((e.time.to_mpfr(2048) - &r.time).abs().to_f64())
+            Some((e.time.to_mpfr(ONE_STEP_REFERENCE_BITS) - &r.time).abs().to_f64())
         })
         .collect();
     errs.sort_by(|a, b| a.total_cmp(b));
@@ -76,35 +100,60 @@ fn one_step<T: Real>(trap: &Trap<T>, tref: &Trap<Float>, states: &[Flight<f64>])
 }
 
 /// Measures the report at gap `w` and writes `speed-vs-error.{md,json,png,svg}` into `dir`.
+///
+/// Everything random comes from `seed` (the calibration run's batches, the orbit of the one-step
+/// errors, the divergence starts). `progress` receives finished steps (of [`REPORT_STEPS`]).
 pub fn speed_against_error(
     w: f64,
     dir: &Path,
+    seed: u64,
     threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(SpeedReport, String), Error> {
     crate::geometry::check_diffusive_gap(w)?;
-    std::fs::create_dir_all(dir)?;
     // Calibration: relative error of D from 10⁸ f64 collisions; error ∝ N^(−1/2).
     let mut cfg = DiffusionConfig::new(w);
-    cfg.collisions = 100_000_000;
+    cfg.collisions = CALIBRATION_COLLISIONS;
+    cfg.seed = seed;
+    cfg.validate()?;
+    std::fs::create_dir_all(dir)?;
     let cal = run(&cfg, threads, None, &|_| {})?;
+    progress(2);
     let rel = cal.D_err / cal.D;
     let n_needed = cfg.collisions as f64 * (rel / 1e-3).powi(2);
 
     // Pre-event states from an f64 orbit.
     let lat = PeriodicLattice::new(w)?;
-    let mut s = equilibrium_state(&lat.trap, &mut stream(77, 0));
+    let mut s = equilibrium_state(
+        &lat.trap,
+        &mut StreamKey::new(seed, Purpose::Verification, 0).rng(),
+    );
     let mut states = Vec::new();
-    for k in 0..20_000 {
+    for k in 0..ONE_STEP_EVENTS {
         if k % 10 == 0 {
             states.push(s.flight.clone());
         }
         lat.step(&mut s)?;
     }
-    let tref = Trap::new(Float::with_val(2048, w))?;
-    let bits_list = [53u32, 64, 128, 256, 512, 1024];
-    let div = divergence(w, &bits_list, 4096, 900, 8, 5)?;
+    let tref = Trap::new(Float::with_val(ONE_STEP_REFERENCE_BITS, w))?;
+    let bits_list = REPORT_BITS;
+    let div = divergence(
+        w,
+        &bits_list,
+        DIVERGENCE_REFERENCE_BITS,
+        DIVERGENCE_COLLISIONS,
+        HORIZON_STARTS,
+        seed,
+        &|_| {},
+    )?;
+    progress(1);
     let mut rows = Vec::new();
-    let f64_ns = throughput(w, Precision::F64, 20_000_000, 7, 1)?.ns_per_collision;
+    let time = |p: Precision, n: u64| -> Result<f64, Error> {
+        let t = throughput(w, p, n, REPORT_REPETITIONS, seed, 1, &|_| {})?;
+        progress(1);
+        Ok(t.ns_per_collision)
+    };
+    let f64_ns = time(Precision::F64, F64_TIMING_COLLISIONS)?;
     let cpu = |ns: f64| n_needed * ns * 1e-9;
     let (m, x) = one_step(&Trap::new(w)?, &tref, &states);
     rows.push(ReportRow {
@@ -118,8 +167,12 @@ pub fn speed_against_error(
         cpu_seconds_d_0_1_percent: cpu(f64_ns),
     });
     for (i, &b) in bits_list.iter().enumerate() {
-        let n = if b >= 1024 { 100_000 } else { 200_000 };
-        let ns = throughput(w, Precision::Bits(b), n, 7, 1)?.ns_per_collision;
+        let n = if b >= 1024 {
+            MPFR_TIMING_COLLISIONS / 2
+        } else {
+            MPFR_TIMING_COLLISIONS
+        };
+        let ns = time(Precision::Bits(b), n)?;
         let (m, x) = one_step(&Trap::new(Float::with_val(b, w))?, &tref, &states);
         rows.push(ReportRow {
             precision: b.to_string(),
@@ -137,10 +190,10 @@ pub fn speed_against_error(
         rows,
         collisions_for_0_1_percent: n_needed,
         calibration: (rel, cfg.collisions),
-        version: env!("CARGO_PKG_VERSION").into(),
+        meta: RunMeta::new(Some(seed), Some(cfg.batches as u64), "f64 and MPFR", Some(threads)),
     };
     let mut md = format!(
-        "Speed against error at w = {w} (one thread per measurement; medians of 7 repetitions; one-step error = |flight time − 2048-bit value| from the same exact pre-event state over {} events; horizon = collisions until 10⁻³ from a 4096-bit orbit, mean of 8 starts; CPU time for D at 0.1 %: {:.2e} collisions, calibrated by an f64 run of {:.0e} collisions with relative error {:.3} %)\n\n",
+        "Speed against error at w = {w} (one thread per measurement; medians of {REPORT_REPETITIONS} repetitions; one-step error = |flight time − {ONE_STEP_REFERENCE_BITS}-bit value| from the same exact pre-event state over {} events; horizon = collisions until 10⁻³ from a {DIVERGENCE_REFERENCE_BITS}-bit orbit, mean of {HORIZON_STARTS} starts; CPU time for D at 0.1 %: {:.2e} collisions, calibrated by an f64 run of {:.0e} collisions with relative error {:.3} %)\n\n",
         states.len(),
         n_needed,
         cfg.collisions as f64,

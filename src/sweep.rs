@@ -2,6 +2,11 @@
 //! fine-scale analyses (Figs. 2, 7, 8): D against D_MZ and the measured crossing D = D_MZ; the
 //! Boltzmann form D_Bo − ΔD = (3/16)(1/n − π) − ΔD fitted against 1/n (ΔD with the slope fixed
 //! at 3/16, and the free slope); residuals of D from a straight line in w, with error bars.
+//!
+//! Errors: a point's error comes from the batch errors inside its runs (R runs of B batches:
+//! R(B − 1) degrees of freedom), never from the spread of a handful of run values; that spread is
+//! reported as a χ² consistency check. The fits downstream are weighted by these errors and report
+//! χ²/dof (`proofs-notes/sweep-errors.md`).
 
 use std::path::{Path, PathBuf};
 
@@ -11,25 +16,37 @@ use crate::diffusion::{run, DiffusionConfig, Precision};
 use crate::error::Error;
 use crate::figures::{plot, PlotSpec, Series};
 use crate::geometry::Geometry;
-use crate::stats::{linear_fit, mean_se};
+use crate::grid::decimal_grid;
+use crate::metadata::RunMeta;
+use crate::stats::{chi2_p_value, weighted_line_fit, weighted_mean, LineFit, WeightedMean};
 
 /// What defines a sweep.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SweepConfig {
-    /// First w.
-    pub w_from: f64,
-    /// Last w.
-    pub w_to: f64,
+    /// First w, as the decimal typed (the grid is computed exactly: [`crate::grid`]).
+    pub w_from: String,
+    /// Last w, as typed.
+    pub w_to: String,
     /// Number of points (≥ 2).
     pub steps: u32,
-    /// Independent runs per point.
+    /// Independent runs per point (≥ 1; with ≥ 2 their spread is checked against their errors).
     pub runs: u32,
     /// Collisions per run.
     pub collisions: u64,
-    /// Batches per run.
+    /// Batches per run (≥ 2): the error bar of a run is the standard error over its batches.
     pub batches: u32,
-    /// Base seed (run r of point i uses seed + 1000·i + r).
+    /// Seed: run r of point i uses the streams of run i·runs + r of this seed.
     pub seed: u64,
+}
+
+/// One run of one point.
+#[allow(non_snake_case)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RunValue {
+    /// D of the run (mean over its batches).
+    pub D: f64,
+    /// Its standard error over the run's batches.
+    pub D_err: f64,
 }
 
 /// One finished point (the unit of resumption).
@@ -37,10 +54,12 @@ pub struct SweepConfig {
 pub struct SweepPoint {
     /// Configuration the point belongs to.
     pub config: SweepConfig,
+    /// Index of the point in the grid.
+    pub index: u32,
     /// Gap.
     pub w: f64,
-    /// D and its error for each run.
-    pub runs: Vec<(f64, f64)>,
+    /// Each run's D and error.
+    pub runs: Vec<RunValue>,
 }
 
 /// The analysis of a finished sweep.
@@ -49,22 +68,43 @@ pub struct SweepPoint {
 pub struct SweepReport {
     /// The configuration.
     pub config: SweepConfig,
-    /// Rows: w, 1/n, D (mean over runs), its standard error, D_MZ, D_Bo, residual from the linear fit.
+    /// One row per point.
     pub rows: Vec<SweepRow>,
-    /// Straight line D = c₀ + c₁ w over the range (for the residuals).
-    pub linear_fit: (f64, f64),
-    /// Boltzmann offset ΔD with the slope fixed at 3/16 (equal-weight least squares over the sweep's
-    /// range), and the standard error of that mean.
-    pub boltzmann_offset: (f64, f64),
-    /// Free least-squares slope of D against 1/n (compare with 3/16 = 0.1875) and intercept.
-    pub boltzmann_free_fit: (f64, f64),
-    /// w where D − D_MZ changes sign (linear interpolation), if inside the range, with its error.
-    pub mz_crossing: Option<(f64, f64)>,
+    /// Weighted straight line D = c₀ + c₁w over the range (the residuals of Fig. 8 are from it);
+    /// its χ²/dof measures structure beyond a straight line.
+    pub linear_fit: LineFit,
+    /// Boltzmann offset ΔD in D = D_Bo − ΔD with the slope fixed at 3/16: the weighted mean of
+    /// D_Bo − D, with χ² of the points about it.
+    pub boltzmann_offset: WeightedMean,
+    /// ΔD's error scaled by √(χ²/dof) when χ²/dof > 1 (the form is not exact over the range; the
+    /// scatter, not the statistical errors, then sets the uncertainty).
+    pub boltzmann_offset_err_scaled: f64,
+    /// Weighted straight line D = c₀ + c₁(1/n) (compare c₁ with 3/16 = 0.1875).
+    pub boltzmann_free_fit: LineFit,
+    /// Where D − D_MZ changes sign, from a weighted straight line through the points around the
+    /// sign change, if the sign changes in the range.
+    pub mz_crossing: Option<Crossing>,
     /// Points reused from earlier runs of the same sweep.
     pub resumed_points: u32,
-    /// Crate version.
-    pub version: String,
+    /// Version, seed, runs, precision, engine, threads, command line.
+    pub meta: RunMeta,
 }
+
+/// A zero of D − D_MZ.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Crossing {
+    /// w at the crossing.
+    pub w: f64,
+    /// Its standard error (propagated from the fit's covariance).
+    pub err: f64,
+    /// The local fit (of D − D_MZ against w) it comes from.
+    pub fit: LineFit,
+}
+
+/// Points on each side of the sign change used for the local fit of the crossing: a straight line
+/// is accurate over a few grid spacings of a smooth curve, and 2 + 2 points leave 2 degrees of
+/// freedom for its χ².
+pub const CROSSING_POINTS_PER_SIDE: usize = 2;
 
 /// One row of the sweep.
 #[allow(non_snake_case)]
@@ -74,37 +114,59 @@ pub struct SweepRow {
     pub w: f64,
     /// Inverse density 1/n = √3a²/2.
     pub inv_n: f64,
-    /// Mean D over runs.
+    /// D: mean over runs (equal weights; every run has the same collisions).
     pub D: f64,
-    /// Standard error over runs.
+    /// Its standard error from the batch errors inside the runs: √(Σ_r σ_r²)/R.
     pub D_err: f64,
+    /// Degrees of freedom of D_err: R·(B − 1).
+    pub D_err_dof: u64,
+    /// χ² of the run values about their mean, Σ_r ((D_r − D)/σ_r)²: the consistency check.
+    pub runs_chi2: f64,
+    /// Its degrees of freedom, R − 1.
+    pub runs_dof: u32,
+    /// Probability of a χ² at least this large if the runs agree within their errors.
+    pub runs_p_value: f64,
     /// Machta–Zwanzig.
     pub D_MZ: f64,
     /// Boltzmann.
     pub D_Bo: f64,
-    /// D minus the straight-line fit.
+    /// D minus the weighted straight-line fit.
     pub residual: f64,
     /// Each run's D.
     pub run_D: Vec<f64>,
 }
 
 impl SweepConfig {
-    fn points(&self) -> Vec<f64> {
-        (0..self.steps)
-            .map(|i| self.w_from + (self.w_to - self.w_from) * i as f64 / (self.steps - 1) as f64)
-            .collect()
+    /// The grid of w, exact decimals rounded once.
+    pub fn points(&self) -> Result<Vec<f64>, Error> {
+        decimal_grid(&self.w_from, &self.w_to, self.steps)
     }
-    fn validate(&self) -> Result<(), Error> {
-        if self.steps < 2 || self.runs < 2 {
-            return Err(Error::Invalid(
-                "a sweep needs --steps >= 2 and --runs >= 2 (the error bar is over runs)".into(),
-            ));
+
+    /// The diffusion run r of point i.
+    fn run_config(&self, i: u32, w: f64, r: u32) -> DiffusionConfig {
+        let mut c = DiffusionConfig::new(w);
+        c.collisions = self.collisions;
+        c.batches = self.batches;
+        c.seed = self.seed;
+        // u32·u32 + u32 < 2⁶⁴: cannot overflow, and distinct (i, r) give distinct runs.
+        c.run = i as u64 * self.runs as u64 + r as u64;
+        c.precision = Precision::F64;
+        c
+    }
+
+    /// Checks every parameter before anything runs or is written.
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.steps < 2 {
+            return Err(Error::Invalid(format!(
+                "steps = {}: a sweep needs at least 2 points",
+                self.steps
+            )));
         }
-        for w in self.points() {
-            let mut c = DiffusionConfig::new(w);
-            c.collisions = self.collisions;
-            c.batches = self.batches;
-            c.validate()?;
+        if self.runs == 0 {
+            return Err(Error::Zero { what: "runs" });
+        }
+        for (i, w) in self.points()?.into_iter().enumerate() {
+            self.run_config(i as u32, w, 0).validate()?;
         }
         Ok(())
     }
@@ -115,7 +177,8 @@ fn point_path(dir: &Path, i: usize) -> PathBuf {
 }
 
 /// Runs (or resumes) the sweep, writing `points/` as each point finishes, then `sweep.csv`,
-/// `sweep.json` and the figures into `dir`. `progress` receives collision counts.
+/// `sweep.json` and the figures into `dir`. `progress` receives collision counts. Nothing is
+/// written before the configuration has been checked.
 pub fn sweep(
     cfg: &SweepConfig,
     dir: &Path,
@@ -126,12 +189,12 @@ pub fn sweep(
     std::fs::create_dir_all(dir.join("points"))?;
     let mut points = Vec::new();
     let mut resumed = 0;
-    for (i, w) in cfg.points().into_iter().enumerate() {
+    for (i, w) in cfg.points()?.into_iter().enumerate() {
         let path = point_path(dir, i);
         if let Ok(text) = std::fs::read_to_string(&path) {
             if let Ok(p) = serde_json::from_str::<SweepPoint>(&text) {
-                if p.config == *cfg && p.w == w {
-                    progress(cfg.collisions * cfg.runs as u64);
+                if p.config == *cfg && p.w == w && p.index as usize == i {
+                    progress(cfg.collisions.saturating_mul(cfg.runs as u64));
                     points.push(p);
                     resumed += 1;
                     continue;
@@ -144,16 +207,15 @@ pub fn sweep(
         }
         let mut runs = Vec::new();
         for r in 0..cfg.runs {
-            let mut c = DiffusionConfig::new(w);
-            c.collisions = cfg.collisions;
-            c.batches = cfg.batches;
-            c.seed = cfg.seed + 1000 * i as u64 + r as u64;
-            c.precision = Precision::F64;
-            let rep = run(&c, threads, None, progress)?;
-            runs.push((rep.D, rep.D_err));
+            let rep = run(&cfg.run_config(i as u32, w, r), threads, None, progress)?;
+            runs.push(RunValue {
+                D: rep.D,
+                D_err: rep.D_err,
+            });
         }
         let p = SweepPoint {
             config: cfg.clone(),
+            index: i as u32,
             w,
             runs,
         };
@@ -166,75 +228,116 @@ pub fn sweep(
         std::fs::rename(&tmp, &path)?;
         points.push(p);
     }
-    let report = analyse(cfg, &points, resumed)?;
+    let report = analyse(cfg, &points, resumed, threads)?;
     write_outputs(&report, dir)?;
     Ok(report)
 }
 
-fn analyse(cfg: &SweepConfig, points: &[SweepPoint], resumed: u32) -> Result<SweepReport, Error> {
-    let mut rows = Vec::new();
-    for p in points {
-        let g = Geometry::new(p.w)?;
-        let ds: Vec<f64> = p.runs.iter().map(|r| r.0).collect();
-        let (d, e) = mean_se(&ds);
-        rows.push(SweepRow {
-            w: p.w,
-            inv_n: 1.0 / g.density(),
-            D: d,
-            D_err: e,
-            D_MZ: g.d_mz(),
-            D_Bo: g.d_bo(),
-            residual: 0.0,
-            run_D: ds,
-        });
-    }
-    let ws: Vec<f64> = rows.iter().map(|r| r.w).collect();
-    let ds: Vec<f64> = rows.iter().map(|r| r.D).collect();
-    let lin = linear_fit(&ws, &ds);
+/// One point's D, its error from the batch errors inside the runs, and the runs' χ².
+fn combine(cfg: &SweepConfig, p: &SweepPoint) -> Result<SweepRow, Error> {
+    let g = Geometry::new(p.w)?;
+    let r = p.runs.len() as f64;
+    let d = p.runs.iter().map(|x| x.D).sum::<f64>() / r;
+    let d_err = p.runs.iter().map(|x| x.D_err * x.D_err).sum::<f64>().sqrt() / r;
+    let chi2: f64 = p.runs.iter().map(|x| ((x.D - d) / x.D_err).powi(2)).sum();
+    let dof = p.runs.len() as u32 - 1;
+    Ok(SweepRow {
+        w: p.w,
+        inv_n: 1.0 / g.density(),
+        D: d,
+        D_err: d_err,
+        D_err_dof: p.runs.len() as u64 * (cfg.batches as u64 - 1),
+        runs_chi2: chi2,
+        runs_dof: dof,
+        runs_p_value: chi2_p_value(chi2, dof as usize),
+        D_MZ: g.d_mz(),
+        D_Bo: g.d_bo(),
+        residual: 0.0,
+        run_D: p.runs.iter().map(|x| x.D).collect(),
+    })
+}
+
+/// The crossing of D − D_MZ, from a weighted straight line through up to
+/// [`CROSSING_POINTS_PER_SIDE`] points on each side of the first sign change.
+pub fn mz_crossing(rows: &[SweepRow]) -> Result<Option<Crossing>, Error> {
+    let f: Vec<f64> = rows.iter().map(|r| r.D - r.D_MZ).collect();
+    let Some(k) = (0..f.len().saturating_sub(1)).find(|&k| f[k].signum() != f[k + 1].signum())
+    else {
+        return Ok(None);
+    };
+    let lo = (k + 1).saturating_sub(CROSSING_POINTS_PER_SIDE);
+    let hi = (k + 1 + CROSSING_POINTS_PER_SIDE).min(rows.len());
+    let sel = &rows[lo..hi];
+    let fit = weighted_line_fit(
+        &sel.iter().map(|r| r.w).collect::<Vec<_>>(),
+        &sel.iter().map(|r| r.D - r.D_MZ).collect::<Vec<_>>(),
+        &sel.iter().map(|r| r.D_err).collect::<Vec<_>>(),
+    )?;
+    let (w, err) = fit.root();
+    Ok(Some(Crossing { w, err, fit }))
+}
+
+fn analyse(
+    cfg: &SweepConfig,
+    points: &[SweepPoint],
+    resumed: u32,
+    threads: usize,
+) -> Result<SweepReport, Error> {
+    let mut rows = points
+        .iter()
+        .map(|p| combine(cfg, p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let col = |f: &dyn Fn(&SweepRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
+    let (ws, ds, es, inv_n) = (
+        col(&|r| r.w),
+        col(&|r| r.D),
+        col(&|r| r.D_err),
+        col(&|r| r.inv_n),
+    );
+    let lin = weighted_line_fit(&ws, &ds, &es)?;
+    let boltz = weighted_mean(&col(&|r| r.D_Bo - r.D), &es)?;
+    let scale = if boltz.dof > 0 {
+        (boltz.chi2 / boltz.dof as f64).max(1.0).sqrt()
+    } else {
+        1.0
+    };
+    let free = weighted_line_fit(&inv_n, &ds, &es)?;
     for r in &mut rows {
-        r.residual = r.D - (lin.0 + lin.1 * r.w);
+        r.residual = r.D - lin.at(r.w);
     }
-    // Boltzmann with slope 3/16: the one-parameter least-squares fit of D = D_Bo − ΔD with equal
-    // weights (the form is not exact, so 1/σ² weights would let the best-measured points decide):
-    // ΔD = mean of (D_Bo − D), error the standard error of that mean.
-    let (off, off_err) = mean_se(&rows.iter().map(|r| r.D_Bo - r.D).collect::<Vec<_>>());
-    let free = linear_fit(&rows.iter().map(|r| r.inv_n).collect::<Vec<_>>(), &ds);
-    let mut crossing = None;
-    for pair in rows.windows(2) {
-        let (a, b) = (&pair[0], &pair[1]);
-        let (fa, fb) = (a.D - a.D_MZ, b.D - b.D_MZ);
-        if fa.signum() != fb.signum() {
-            let x = a.w + (b.w - a.w) * fa / (fa - fb);
-            // Error by propagation of the two D errors through the interpolation.
-            let dxdfa = (b.w - a.w) * (-fb) / (fa - fb).powi(2);
-            let dxdfb = (b.w - a.w) * fa / (fa - fb).powi(2);
-            crossing = Some((
-                x,
-                ((dxdfa * a.D_err).powi(2) + (dxdfb * b.D_err).powi(2)).sqrt(),
-            ));
-        }
-    }
+    let crossing = mz_crossing(&rows)?;
     Ok(SweepReport {
         config: cfg.clone(),
         rows,
         linear_fit: lin,
-        boltzmann_offset: (off, off_err),
-        boltzmann_free_fit: (free.1, free.0),
+        boltzmann_offset: boltz,
+        boltzmann_offset_err_scaled: boltz.err * scale,
+        boltzmann_free_fit: free,
         mz_crossing: crossing,
         resumed_points: resumed,
-        version: env!("CARGO_PKG_VERSION").into(),
+        meta: RunMeta::new(
+            Some(cfg.seed),
+            Some(cfg.runs as u64 * cfg.batches as u64),
+            Precision::F64,
+            Some(threads),
+        ),
     })
 }
 
 fn write_outputs(r: &SweepReport, dir: &Path) -> Result<(), Error> {
-    let mut csv = String::from("w,inv_n,D,D_err,D_MZ,D_Bo,residual,runs\n");
+    let mut csv =
+        String::from("w,inv_n,D,D_err,D_err_dof,runs_chi2,runs_dof,runs_p_value,D_MZ,D_Bo,residual,runs\n");
     for row in &r.rows {
         csv.push_str(&format!(
-            "{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
             row.w,
             row.inv_n,
             row.D,
             row.D_err,
+            row.D_err_dof,
+            row.runs_chi2,
+            row.runs_dof,
+            row.runs_p_value,
             row.D_MZ,
             row.D_Bo,
             row.residual,
@@ -271,7 +374,7 @@ fn write_outputs(r: &SweepReport, dir: &Path) -> Result<(), Error> {
             s("Machta-Zwanzig D_MZ", pts(&|x| (x.w, x.D_MZ, 0.0))),
         ],
     )?;
-    let (off, _) = r.boltzmann_offset;
+    let off = r.boltzmann_offset.mean;
     plot(
         &dir.join("fig7-boltzmann"),
         &PlotSpec {
@@ -293,7 +396,7 @@ fn write_outputs(r: &SweepReport, dir: &Path) -> Result<(), Error> {
     let mut runs = Vec::new();
     for row in &r.rows {
         for d in &row.run_D {
-            runs.push((row.w, d - (r.linear_fit.0 + r.linear_fit.1 * row.w), 0.0));
+            runs.push((row.w, d - r.linear_fit.at(row.w), 0.0));
         }
     }
     plot(
@@ -307,7 +410,7 @@ fn write_outputs(r: &SweepReport, dir: &Path) -> Result<(), Error> {
         },
         &[
             s(
-                "mean over runs (error bar: SE)",
+                "mean over runs (error bar: from the batches)",
                 pts(&|x| (x.w, x.residual, x.D_err)),
             ),
             Series {

@@ -1,15 +1,23 @@
 //! The sweep: resumable without redoing finished points, bit-identical on resume; writes its data
-//! and figures; the Boltzmann and Machta–Zwanzig analyses on its output.
+//! and figures; errors of the size its collisions warrant; the Machta–Zwanzig crossing with an
+//! error bar that covers the true crossing as often as it should.
 
-use lorentz_gas::sweep::{sweep, SweepConfig};
+use lorentz_gas::diffusion::{run, DiffusionConfig};
+use lorentz_gas::sweep::{mz_crossing, sweep, SweepConfig, SweepRow};
+use rand::Rng;
+use rand_distr::{Distribution, StandardNormal};
+use statrs::distribution::{ContinuousCDF, FisherSnedecor};
+
+/// Two-sided tail probability of 4σ of a normal: the "4σ" of every bound in this file.
+const P_4_SIGMA: f64 = 6.334e-5;
 
 #[test]
 fn an_interrupted_sweep_resumes_without_redoing_points() {
     let dir = std::env::temp_dir().join(format!("lorentz-sweep-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let cfg = SweepConfig {
-        w_from: 0.08,
-        w_to: 0.16,
+        w_from: "0.08".into(),
+        w_to: "0.16".into(),
         steps: 3,
         runs: 2,
         collisions: 3_000_000,
@@ -18,6 +26,7 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     };
     let first = sweep(&cfg, &dir, 2, &|_| {}).unwrap();
     assert_eq!(first.resumed_points, 0);
+    assert_eq!(first.rows[1].w, 0.12, "the grid point is the decimal asked for");
     for f in [
         "sweep.csv",
         "sweep.json",
@@ -28,18 +37,92 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     ] {
         assert!(dir.join(f).metadata().unwrap().len() > 100, "{f}");
     }
+    assert!(std::fs::read_to_string(dir.join("sweep.csv"))
+        .unwrap()
+        .contains("\n0.12,"));
     // "Interrupt": lose the last point; the rerun redoes only that one and gives the same bits.
     std::fs::remove_file(dir.join("points").join("point-0002.json")).unwrap();
-    let second = sweep(&cfg, &dir, 2, &|_| {}).unwrap();
+    let second = sweep(&cfg, &dir, 1, &|_| {}).unwrap();
     assert_eq!(second.resumed_points, 2);
     for (a, b) in first.rows.iter().zip(&second.rows) {
         assert_eq!(a.D.to_bits(), b.D.to_bits());
+        assert_eq!(a.D_err.to_bits(), b.D_err.to_bits());
     }
-    // Across w = 0.12 the sign of D − D_MZ changes (MZ overestimates below, underestimates above).
-    let (x, e) = first.mz_crossing.expect("a crossing between 0.08 and 0.16");
-    assert!(x > 0.08 && x < 0.16 && e > 0.0, "{x} ± {e}");
+    // The error of a two-run point is the size its collisions warrant. A single run with the same
+    // total collisions and the same batch length (8 batches of 7.5·10⁵) has the same true error;
+    // the ratio of the two squared error estimates (6 and 7 degrees of freedom) is F(6, 7)
+    // distributed. The old estimator (the spread of two run values) fails this by 30–100×.
+    let row = &first.rows[1];
+    assert_eq!(row.D_err_dof, 2 * 3);
+    let mut single = DiffusionConfig::new(0.12);
+    single.collisions = 6_000_000;
+    single.batches = 8;
+    single.seed = 1234;
+    let s = run(&single, 2, None, &|_| {}).unwrap();
+    let f = FisherSnedecor::new(6.0, 7.0).unwrap();
+    let (lo, hi) = (
+        f.inverse_cdf(P_4_SIGMA / 2.0),
+        f.inverse_cdf(1.0 - P_4_SIGMA / 2.0),
+    );
+    let ratio = (row.D_err / s.D_err).powi(2);
+    assert!(ratio > lo && ratio < hi, "{ratio} not in [{lo}, {hi}]");
     // A different sweep refuses the directory.
     let other = SweepConfig { seed: 10, ..cfg };
     assert!(sweep(&other, &dir, 2, &|_| {}).is_err());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn synthetic_rows(ws: &[f64], sigma: &[f64], truth: &dyn Fn(f64) -> f64, rng: &mut impl Rng) -> Vec<SweepRow> {
+    ws.iter()
+        .zip(sigma)
+        .map(|(&w, &s)| {
+            let noise: f64 = StandardNormal.sample(rng);
+            SweepRow {
+                w,
+                inv_n: 0.0,
+                D: truth(w) + s * noise,
+                D_err: s,
+                D_err_dof: 1000,
+                runs_chi2: 0.0,
+                runs_dof: 0,
+                runs_p_value: f64::NAN,
+                D_MZ: 0.0,
+                D_Bo: 0.0,
+                residual: 0.0,
+                run_D: Vec::new(),
+            }
+        })
+        .collect()
+}
+
+/// The crossing's error bar is honest: over many synthetic sweeps with Gaussian errors around a
+/// line through a known crossing, the pulls (w − w*)/err have mean 0 and standard deviation 1
+/// within their sampling errors (4σ: 4/√M for the mean, 4/√(2M) for the standard deviation).
+/// (An interpolation between the two points at the sign change always lies between them: that
+/// test could not fail; this one does when the propagated error is wrong.)
+#[test]
+fn mz_crossing_error_bar_covers_the_true_crossing() {
+    let truth_w = 0.1178;
+    let truth = |w: f64| -0.9 * (w - truth_w);
+    let ws: Vec<f64> = (0..15).map(|i| 0.02 * (i + 1) as f64).collect();
+    let sigma: Vec<f64> = ws.iter().map(|w| 2e-4 * (1.0 + 4.0 * w)).collect();
+    let mut rng = lorentz_gas::sampling::stream(2024, 0);
+    let m = 2000;
+    let pulls: Vec<f64> = (0..m)
+        .map(|_| {
+            let rows = synthetic_rows(&ws, &sigma, &truth, &mut rng);
+            let c = mz_crossing(&rows).unwrap().expect("a sign change");
+            (c.w - truth_w) / c.err
+        })
+        .collect();
+    let mean = pulls.iter().sum::<f64>() / m as f64;
+    let sd = (pulls.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / (m - 1) as f64).sqrt();
+    assert!(mean.abs() < 4.0 / (m as f64).sqrt(), "mean pull {mean}");
+    assert!(
+        (sd - 1.0).abs() < 4.0 / (2.0 * m as f64).sqrt(),
+        "pull standard deviation {sd}"
+    );
+    // No sign change, no crossing.
+    let rows = synthetic_rows(&ws, &sigma, &|_| 1.0, &mut rng);
+    assert!(mz_crossing(&rows).unwrap().is_none());
 }

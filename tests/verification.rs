@@ -166,9 +166,17 @@ fn near_surface_start_replays_within_the_model() {
 /// recorded worst events replay to the same verdict from their exact bit patterns.
 #[test]
 fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::audit::{audit_run, replay};
+    use lorentz_gas::verification::audit::{audit_run, replay, AuditConfig};
     for &w in &[0.02, 0.1, 0.3] {
-        let r = audit_run(w, 100_000, 1.0, 128, 7, 2, 2).unwrap();
+        let cfg = AuditConfig {
+            w,
+            collisions: 100_000,
+            trajectories: 2,
+            sample: 1.0,
+            bits: 128,
+            seed: 7,
+        };
+        let r = audit_run(&cfg, 2, &|_| {}).unwrap();
         assert!(r.summary.audited >= 100_000);
         assert_eq!(
             r.summary.outside,
@@ -236,8 +244,8 @@ fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
 fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
     use lorentz_gas::verification::lyapunov::{divergence, lyapunov};
     for &w in &[0.05, 0.15, 0.3] {
-        let l = lyapunov(w, 200_000, 8, 3, 2).unwrap();
-        let d = divergence(w, &[256, 1024], 4096, 1200, 8, 3).unwrap();
+        let l = lyapunov(w, 200_000, 8, 3, 2, &|_| {}).unwrap();
+        let d = divergence(w, &[256, 1024], 4096, 1200, 8, 3, &|_| {}).unwrap();
         let last = d.last().unwrap();
         let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
         assert!(
@@ -280,7 +288,7 @@ fn precision_doubling_certifies_a_segment() {
     use lorentz_gas::verification::certify::certify;
     let lat = PeriodicLattice::new(0.1).unwrap();
     let start = equilibrium_state(&lat.trap, &mut stream(31, 0));
-    let c = certify(0.1, &start, 300, 40).unwrap();
+    let c = certify(0.1, &start, 300, 40, &|_| {}).unwrap();
     assert!(c.digits_agreed >= 40.0, "{c:?}");
     assert!(c.bits >= 400 && c.bits <= 1024, "{c:?}");
     assert!(

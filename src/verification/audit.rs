@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use super::shadow::{check_event, EventCheck};
 use crate::error::Error;
+use crate::metadata::RunMeta;
 use crate::kernel::trap::{Flight, Trap};
 use crate::kernel::vec2::Vec2;
 
@@ -150,6 +151,29 @@ fn ratio(e: &AuditedEvent) -> f64 {
     }
 }
 
+/// Fewest reference bits: 128 bits resolve the f64 one-step errors (~10⁻¹⁶) by more than twenty
+/// orders of magnitude, so the reference's own rounding never enters a verdict.
+pub const MIN_AUDIT_BITS: u32 = 128;
+
+/// Most reference bits accepted: beyond 2¹⁶ bits one replayed event costs milliseconds and the
+/// verdicts cannot change (the reference error is already below 10⁻¹⁹⁰⁰⁰).
+pub const MAX_AUDIT_BITS: u32 = 1 << 16;
+
+/// Checks an audit's sampling rate and reference precision; errors name the valid ranges.
+pub fn check_audit(rate: f64, bits: u32) -> Result<(), Error> {
+    if !(rate > 0.0 && rate <= 1.0) {
+        return Err(Error::Invalid(format!(
+            "audit sample rate {rate} must be in (0, 1]"
+        )));
+    }
+    if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&bits) {
+        return Err(Error::Invalid(format!(
+            "audit precision {bits} bits is out of range: use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} bits"
+        )));
+    }
+    Ok(())
+}
+
 /// Audits a sample of the events of one f64 trajectory.
 pub struct Auditor {
     w: f64,
@@ -165,16 +189,7 @@ impl Auditor {
     /// An auditor at gap `w`, sampling rate `rate ∈ (0, 1]`, reference precision `bits ≥ 128`,
     /// with its own random stream (it never touches the trajectory's stream).
     pub fn new(w: f64, rate: f64, bits: u32, rng: Xoshiro256PlusPlus) -> Result<Self, Error> {
-        if !(rate > 0.0 && rate <= 1.0) {
-            return Err(Error::Invalid(format!(
-                "audit sample rate {rate} must be in (0, 1]"
-            )));
-        }
-        if bits < 128 {
-            return Err(Error::Invalid(format!(
-                "audit precision {bits} bits: the reference needs at least 128 bits"
-            )));
-        }
+        check_audit(rate, bits)?;
         Ok(Auditor {
             w,
             t64: Trap::new(w)?,
@@ -268,23 +283,32 @@ mod tests {
     }
 }
 
+/// What an audit run does: `collisions` collisions in all, over `trajectories` independent f64
+/// trajectories from the invariant measure (seed `seed`), replaying a fraction `sample` of their
+/// events at `bits`. The thread count is not part of it: it never changes the result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AuditConfig {
+    /// Gap w.
+    pub w: f64,
+    /// Collisions in all (trajectory i gets ⌊N/T⌋, plus one for the first N mod T).
+    pub collisions: u64,
+    /// Independent trajectories.
+    pub trajectories: u32,
+    /// Fraction of events replayed, in (0, 1].
+    pub sample: f64,
+    /// Reference precision in bits.
+    pub bits: u32,
+    /// Seed.
+    pub seed: u64,
+}
+
 /// The result of [`audit_run`] (the CLI's `audit --json`).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct AuditReport {
-    /// Gap w.
-    pub w: f64,
-    /// Collisions simulated (all trajectories).
-    pub collisions: u64,
+    /// What was run.
+    pub config: AuditConfig,
     /// Events simulated.
     pub events: u64,
-    /// Sampling rate.
-    pub sample: f64,
-    /// Reference precision in bits.
-    pub precision: u32,
-    /// Seed.
-    pub seed: u64,
-    /// Independent trajectories.
-    pub trajectories: u32,
     /// Quantiles (median, 0.99, max) of the time error, contact-point error, velocity error and
     /// time error / bound.
     pub quantiles: AuditQuantiles,
@@ -292,8 +316,8 @@ pub struct AuditReport {
     pub summary: AuditSummary,
     /// Wall-clock seconds.
     pub seconds: f64,
-    /// Crate version.
-    pub version: String,
+    /// Version, seed, trajectories, reference precision, engine, threads, command line.
+    pub meta: RunMeta,
 }
 
 /// Median, 99th percentile and maximum of each one-step error.
@@ -313,36 +337,49 @@ fn q3(h: &LogHistogram) -> [f64; 3] {
     [h.quantile(0.5), h.quantile(0.99), h.max]
 }
 
-/// Runs `trajectories` independent f64 trajectories from the invariant measure (seed `seed`),
-/// `collisions` collisions in all, auditing a fraction `sample` of their events at `bits`.
+/// Collisions between two progress reports of an audit trajectory.
+const PROGRESS_CHUNK: u64 = 1 << 16;
+
+/// Runs the audit `cfg` on `threads` threads (the result does not depend on them). `progress`
+/// receives collision counts.
 pub fn audit_run(
-    w: f64,
-    collisions: u64,
-    sample: f64,
-    bits: u32,
-    seed: u64,
-    trajectories: u32,
+    cfg: &AuditConfig,
     threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<AuditReport, Error> {
     use crate::kernel::trap::EventKind;
     use crate::sampling::{equilibrium_state, stream, Purpose, StreamKey};
     use crate::scenes::lattice::PeriodicLattice;
+    let w = cfg.w;
     crate::geometry::check_diffusive_gap(w)?;
-    if collisions == 0 {
+    if cfg.collisions == 0 {
         return Err(Error::Zero { what: "collisions" });
     }
-    if trajectories == 0 || threads == 0 {
+    if cfg.trajectories == 0 {
+        return Err(Error::Zero {
+            what: "trajectories",
+        });
+    }
+    if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
+    check_audit(cfg.sample, cfg.bits)?;
     let start = std::time::Instant::now();
     let lat = PeriodicLattice::new(w)?;
-    let per = collisions.div_ceil(trajectories as u64);
+    let per = cfg.collisions / cfg.trajectories as u64;
+    let extra = cfg.collisions % cfg.trajectories as u64;
     let parts: Vec<(AuditSummary, u64)> =
-        crate::parallel::par_batches(threads, trajectories, |b| {
-            let mut s = equilibrium_state(&lat.trap, &mut stream(seed, b as u64));
-            let mut a = Auditor::new(w, sample, bits, StreamKey::new(seed, Purpose::Audit, b as u64).rng())?;
+        crate::parallel::par_batches(threads, cfg.trajectories, |b| {
+            let n = per + u64::from((b as u64) < extra);
+            let mut s = equilibrium_state(&lat.trap, &mut stream(cfg.seed, b as u64));
+            let mut a = Auditor::new(
+                w,
+                cfg.sample,
+                cfg.bits,
+                StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),
+            )?;
             let (mut c, mut events) = (0, 0u64);
-            while c < per {
+            while c < n {
                 let ev = lat
                     .next_event(&s)
                     .ok_or_else(|| Error::Invalid("no next event".into()))?;
@@ -351,8 +388,12 @@ pub fn audit_run(
                 events += 1;
                 if let EventKind::Collision(_) = ev.kind {
                     c += 1;
+                    if c % PROGRESS_CHUNK == 0 {
+                        progress(PROGRESS_CHUNK);
+                    }
                 }
             }
+            progress(n % PROGRESS_CHUNK);
             Ok((a.summary, events))
         })?;
     let mut summary = AuditSummary::default();
@@ -368,17 +409,16 @@ pub fn audit_run(
         time_error_over_bound: q3(&summary.time_error_over_bound),
     };
     Ok(AuditReport {
-        w,
-        collisions: per * trajectories as u64,
+        config: cfg.clone(),
         events,
-        sample,
-        precision: bits,
-        seed,
-        trajectories,
         quantiles,
         summary,
         seconds: start.elapsed().as_secs_f64(),
-        version: env!("CARGO_PKG_VERSION").to_string(),
+        meta: RunMeta::new(
+            Some(cfg.seed),
+            Some(cfg.trajectories as u64),
+            cfg.bits,
+            Some(threads),
+        ),
     })
 }
-

@@ -12,8 +12,24 @@ use serde::Serialize;
 
 use super::lyapunov::{collision_track, lyapunov};
 use crate::error::Error;
-use crate::kernel::trap::Flight;
+use crate::metadata::RunMeta;
 use crate::scenes::lattice::{LatticeState, PeriodicLattice};
+
+/// Collisions per orbit of the λ estimate that sets the starting precision.
+pub const LAMBDA_COLLISIONS: u64 = 100_000;
+/// Orbits of the λ estimate (its relative error, ~10⁻³, changes P by a few bits).
+pub const LAMBDA_ORBITS: u32 = 4;
+/// Seed of the λ estimate: fixed, so the precisions tried depend on (w, N, d) only.
+pub const LAMBDA_SEED: u64 = 17;
+/// Guard bits added to P = ⌈(λN + d ln 10)/ln 2⌉ for the prefactor of the error growth.
+pub const GUARD_BITS: u32 = 64;
+/// Smallest P tried.
+pub const MIN_BITS: u32 = 128;
+/// Largest P tried (the 2P run then has 2²¹ bits): beyond it one collision costs milliseconds
+/// and a segment that still disagrees is not worth certifying this way.
+pub const MAX_BITS: u32 = 1 << 20;
+/// Memory the two stored MPFR tracks may take, checked before anything is allocated.
+pub const MAX_MEMORY_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 
 /// A certified segment.
 #[derive(Debug, Clone, Serialize)]
@@ -33,6 +49,8 @@ pub struct Certificate {
     pub tried: Vec<u32>,
     /// Collisions for which the f64 orbit from the same start stays within 10⁻³ of the certified one.
     pub f64_faithful_collisions: usize,
+    /// Version, seed of the start (if drawn from a seed), precision P, command line.
+    pub meta: RunMeta,
 }
 
 fn max_dev(a: &[([Float; 4], f64)], b: &[([Float; 4], f64)]) -> f64 {
@@ -46,29 +64,97 @@ fn max_dev(a: &[([Float; 4], f64)], b: &[([Float; 4], f64)]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Bytes of one stored collision (four MPFR numbers of `bits` bits, their headers, a time).
+fn bytes_per_collision(bits: f64) -> f64 {
+    4.0 * (32.0 + (bits / 64.0).ceil() * 8.0) + 8.0
+}
+
+/// The starting precision for `n` collisions to `digits` digits at Lyapunov exponent `lambda`,
+/// or an error naming the largest segment that fits the limits.
+pub fn starting_bits(lambda: f64, n: usize, digits: u32) -> Result<u32, Error> {
+    let ln2 = std::f64::consts::LN_2;
+    let need = (lambda * n as f64 + digits as f64 * std::f64::consts::LN_10) / ln2
+        + GUARD_BITS as f64;
+    let n_max = ((MAX_BITS - GUARD_BITS) as f64 * ln2 - digits as f64 * std::f64::consts::LN_10)
+        / lambda;
+    if need > MAX_BITS as f64 {
+        return Err(Error::Invalid(format!(
+            "certifying {n} collisions to {digits} digits needs about {need:.2e} bits (lambda N / ln 2 \
+             at lambda = {lambda:.3} per collision), more than the {MAX_BITS} supported: \
+             use at most {} collisions",
+            n_max.max(0.0).floor()
+        )));
+    }
+    let bits = (need.ceil() as u32).max(MIN_BITS);
+    // Three tracks live at once (P, 2P, and f64 or the next attempt), stored at 2P bits.
+    let memory = 3.0 * n as f64 * bytes_per_collision(2.0 * bits as f64);
+    if memory > MAX_MEMORY_BYTES {
+        return Err(Error::Invalid(format!(
+            "certifying {n} collisions to {digits} digits at {bits} bits needs about {:.1} GiB of \
+             memory, more than the {:.0} GiB limit: use fewer collisions",
+            memory / (1u64 << 30) as f64,
+            MAX_MEMORY_BYTES / (1u64 << 30) as f64
+        )));
+    }
+    Ok(bits)
+}
+
 /// Certifies `n` collisions of the orbit from `start` (taken exactly) to `digits` digits.
+/// `progress` receives collision counts of the runs made.
 pub fn certify(
     w: f64,
     start: &LatticeState<f64>,
     n: usize,
     digits: u32,
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Certificate, Error> {
+    certify_with_meta(w, start, n, digits, None, progress)
+}
+
+/// Certifies `n` collisions from the start of trajectory 0 of seed `seed` (the first batch of
+/// `lorentz diffusion --seed SEED`).
+pub fn certify_seeded(
+    w: f64,
+    seed: u64,
+    n: usize,
+    digits: u32,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Certificate, Error> {
+    crate::geometry::check_diffusive_gap(w)?;
+    let trap = crate::kernel::trap::Trap::new(w)?;
+    let start = crate::sampling::equilibrium_state(&trap, &mut crate::sampling::stream(seed, 0));
+    certify_with_meta(w, &start, n, digits, Some(seed), progress)
+}
+
+fn certify_with_meta(
+    w: f64,
+    start: &LatticeState<f64>,
+    n: usize,
+    digits: u32,
+    seed: Option<u64>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Certificate, Error> {
+    crate::geometry::check_diffusive_gap(w)?;
     if n == 0 {
         return Err(Error::Zero { what: "collisions" });
     }
-    let lambda = lyapunov(w, 100_000, 4, 17, 1)?.per_collision;
-    let need =
-        (lambda * n as f64 + digits as f64 * std::f64::consts::LN_10) / std::f64::consts::LN_2;
-    let mut bits = (need.ceil() as u32 + 64).max(128);
+    if digits == 0 {
+        return Err(Error::Zero { what: "digits" });
+    }
+    let lambda = lyapunov(w, LAMBDA_COLLISIONS, LAMBDA_ORBITS, LAMBDA_SEED, 1, &|_| {})?
+        .per_collision;
+    let mut bits = starting_bits(lambda, n, digits)?;
     let mut tried = Vec::new();
     let run = |b: u32, out: u32| -> Result<Vec<([Float; 4], f64)>, Error> {
         let lat = PeriodicLattice::new(Float::with_val(b, w))?;
-        collision_track(
+        let t = collision_track(
             &lat,
             &LatticeState::<Float>::convert_from_f64(b, start),
             n,
             out,
-        )
+        );
+        progress(n as u64);
+        t
     };
     loop {
         tried.push(bits);
@@ -82,6 +168,7 @@ pub fn certify(
         };
         if agreed >= digits as f64 {
             let f = collision_track(&PeriodicLattice::new(w)?, start, n, out)?;
+            progress(n as u64);
             let faithful = f
                 .iter()
                 .zip(&hi)
@@ -95,24 +182,18 @@ pub fn certify(
                 bits,
                 tried,
                 f64_faithful_collisions: faithful,
+                meta: RunMeta::new(seed, None, bits, Some(1)),
             });
         }
-        if bits > 1 << 20 {
+        if bits >= MAX_BITS || 3.0 * n as f64 * bytes_per_collision(4.0 * bits as f64) > MAX_MEMORY_BYTES {
             return Err(Error::Invalid(format!(
-                "could not certify {n} collisions to {digits} digits below 2^20 bits"
+                "could not certify {n} collisions to {digits} digits within {} bits and {:.0} GiB \
+                 (the runs at {bits} and {} bits agree to {agreed:.1} digits)",
+                MAX_BITS,
+                MAX_MEMORY_BYTES / (1u64 << 30) as f64,
+                2 * bits
             )));
         }
         bits *= 2;
-    }
-}
-
-/// A start from its f64 components, exactly (for the CLI and tests).
-pub fn start_from(x: f64, y: f64, vx: f64, vy: f64) -> LatticeState<f64> {
-    LatticeState {
-        cell: Default::default(),
-        flight: Flight::new(
-            crate::kernel::vec2::Vec2::new(x, y),
-            crate::kernel::vec2::Vec2::new(vx, vy),
-        ),
     }
 }

@@ -16,6 +16,7 @@ use rug::Float;
 use serde::Serialize;
 
 use crate::error::Error;
+use crate::metadata::RunMeta;
 use crate::geometry::check_diffusive_gap;
 use crate::kernel::trap::EventKind;
 use crate::parallel::par_batches;
@@ -23,6 +24,25 @@ use crate::real::Real;
 use crate::sampling::{equilibrium_state, stream};
 use crate::scenes::lattice::{LatticeState, PeriodicLattice};
 use crate::stats::{linear_fit, mean_se};
+
+/// Collisions discarded at the start of each tangent orbit, so the tangent vector has turned into
+/// the unstable direction (it does so within a few collisions at λ ≈ 1 per collision; 1000 is
+/// ample and costs 0.05 % of a default orbit).
+pub const TANGENT_TRANSIENT: u64 = 1000;
+
+/// Collisions between two progress reports.
+const PROGRESS_CHUNK: u64 = 1 << 16;
+
+/// Precisions (bits) whose divergence from the reference `lorentz lyapunov` measures, next to f64.
+pub const DIVERGENCE_BITS: [u32; 5] = [64, 128, 256, 512, 1024];
+
+/// Reference precision of the divergence measurement: four times the largest precision measured,
+/// so the reference's own divergence horizon (~3000 collisions) lies beyond every horizon measured.
+pub const DIVERGENCE_REFERENCE_BITS: u32 = 4096;
+
+/// Collisions followed in the divergence measurement: beyond the 1024-bit horizon (~785
+/// collisions at w = 0.1) with a margin.
+pub const DIVERGENCE_COLLISIONS: usize = 900;
 
 /// Largest Lyapunov exponent with its standard error.
 #[derive(Debug, Clone, Serialize)]
@@ -41,20 +61,20 @@ pub struct LyapunovReport {
     pub collisions: u64,
     /// Independent orbits.
     pub orbits: u32,
-    /// Seed.
-    pub seed: u64,
-    /// Crate version.
-    pub version: String,
+    /// Version, seed, orbits, precision, engine, threads, command line.
+    pub meta: RunMeta,
 }
 
 /// Tangent-space largest Lyapunov exponent from `orbits` independent f64 orbits of `collisions`
 /// collisions each.
+/// `progress` receives collision counts.
 pub fn lyapunov(
     w: f64,
     collisions: u64,
     orbits: u32,
     seed: u64,
     threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<LyapunovReport, Error> {
     check_diffusive_gap(w)?;
     if collisions == 0 || orbits < 2 || threads == 0 {
@@ -72,7 +92,7 @@ pub fn lyapunov(
         let d = crate::sampling::direction(&mut rng);
         let mut t = Vector4::new(d.x, d.y, 0.3 * d.y, -0.3 * d.x);
         let (mut c, mut logsum, mut time) = (0u64, 0.0, 0.0);
-        let transient = 1000;
+        let transient = TANGENT_TRANSIENT;
         while c < collisions + transient {
             let ev = lat
                 .next_event(&s)
@@ -89,8 +109,12 @@ pub fn lyapunov(
                 if c > transient {
                     logsum += n.ln();
                 }
+                if c % PROGRESS_CHUNK == 0 {
+                    progress(PROGRESS_CHUNK);
+                }
             }
         }
+        progress((collisions + transient) % PROGRESS_CHUNK);
         Ok((logsum / collisions as f64, logsum / time))
     })?;
     let (pc, pce) = mean_se(&per.iter().map(|p| p.0).collect::<Vec<_>>());
@@ -103,8 +127,7 @@ pub fn lyapunov(
         per_time_err: pte,
         collisions,
         orbits,
-        seed,
-        version: env!("CARGO_PKG_VERSION").into(),
+        meta: RunMeta::new(Some(seed), Some(orbits as u64), "f64", Some(threads)),
     })
 }
 
@@ -166,14 +189,21 @@ pub fn divergence(
     n: usize,
     starts: u32,
     seed: u64,
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<Divergence>, Error> {
     check_diffusive_gap(w)?;
+    if let Some(&b) = bits.iter().find(|&&b| b >= ref_bits) {
+        return Err(Error::Invalid(format!(
+            "divergence: precision {b} bits must be below the reference's {ref_bits} bits"
+        )));
+    }
     let l64 = PeriodicLattice::new(w)?;
     let lref = PeriodicLattice::new(Float::with_val(ref_bits, w))?;
     let mut precs: Vec<Option<u32>> = vec![None];
     precs.extend(bits.iter().map(|&b| Some(b)));
     let mut per: Vec<Vec<(f64, f64, f64)>> = vec![Vec::new(); precs.len()];
     for k in 0..starts {
+        progress(1);
         let s64 = equilibrium_state(&l64.trap, &mut stream(seed, k as u64));
         let r = collision_track(
             &lref,

@@ -1,0 +1,74 @@
+//! `lorentz audit`: replay f64 events in MPFR and judge them against the one-step error model.
+
+use lorentz_gas::error::Error;
+use lorentz_gas::verification::audit::{audit_run, AuditConfig, AuditReport};
+
+use super::args::{parse_count, parse_count_u32, GapArg, OutputArgs, RunArgs};
+use super::output::emit;
+use super::progress::Progress;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    gap: GapArg,
+    /// Collisions simulated, over all trajectories.
+    #[arg(long, default_value = "1e6", value_parser = parse_count)]
+    collisions: u64,
+    /// Independent trajectories (not tied to --threads: the result is the same on any thread count).
+    #[arg(long, default_value = "4", value_parser = parse_count_u32)]
+    trajectories: u32,
+    /// Fraction of events replayed, in (0, 1].
+    #[arg(long, default_value_t = 1.0)]
+    sample: f64,
+    /// Reference precision in bits (128 to 65536).
+    #[arg(long, default_value_t = 128)]
+    precision: u32,
+    #[command(flatten)]
+    run: RunArgs,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let cfg = AuditConfig {
+        w: a.gap.w,
+        collisions: a.collisions,
+        trajectories: a.trajectories,
+        sample: a.sample,
+        bits: a.precision,
+        seed: a.run.seed,
+    };
+    let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
+    let r = audit_run(&cfg, a.run.threads(), &pb.callback())?;
+    drop(pb);
+    emit(a.output.json, &r, print)
+}
+
+fn print(r: &AuditReport) {
+    let s = &r.summary;
+    let c = &r.config;
+    println!(
+        "shadow audit, w = {}: {} events of {} ({} collisions, {} trajectories, seed {}) replayed at {} bits in {:.1} s",
+        c.w, s.audited, r.events, c.collisions, c.trajectories, c.seed, c.bits, r.seconds
+    );
+    println!(
+        "outside the error model: {}   ambiguous at f64 resolution: {}   f64 chose another obstacle: {}",
+        s.outside, s.ambiguous, s.different_choice
+    );
+    let q = &r.quantiles;
+    println!("one-step error            median      99%         max");
+    for (name, v) in [
+        ("flight time", q.time_error),
+        ("contact point", q.position_error),
+        ("velocity", q.velocity_error),
+        ("time error / bound", q.time_error_over_bound),
+    ] {
+        println!("{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}", v[0], v[1], v[2]);
+    }
+    for e in s.outside_events.iter().take(5) {
+        println!(
+            "outside: state bits {:x?} excluded {:?}: {:?}",
+            e.state_bits, e.excluded, e.check
+        );
+    }
+}

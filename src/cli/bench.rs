@@ -1,0 +1,84 @@
+//! `lorentz bench`: kernel throughput, and with `--report` the speed-against-error table.
+
+use lorentz_gas::bench::{throughput, Throughput};
+use lorentz_gas::error::Error;
+use lorentz_gas::report::{speed_against_error, REPORT_STEPS};
+
+use super::args::{
+    parse_count, parse_count_usize, GapArg, OutDirArg, OutputArgs, PrecisionArg, RunArgs,
+};
+use super::output::{emit, to_json};
+use super::progress::Progress;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    gap: GapArg,
+    /// Collisions per trajectory per repetition.
+    #[arg(long, default_value = "2e7", value_parser = parse_count)]
+    collisions: u64,
+    /// Repetitions (the median is reported), 1 to 1000.
+    #[arg(long, default_value = "7", value_parser = parse_count_usize)]
+    repetitions: usize,
+    #[command(flatten)]
+    precision: PrecisionArg,
+    /// Seed of the starting points; --threads K runs K trajectories at once, one per thread
+    /// (default: 1, the single-core kernel speed).
+    #[command(flatten)]
+    run: RunArgs,
+    /// Speed against error for f64 and MPFR 53..1024 bits: Markdown, JSON, PNG and SVG into --out.
+    #[arg(long)]
+    report: bool,
+    #[command(flatten)]
+    out: OutDirArg,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let threads = a.run.threads.unwrap_or(1);
+    if a.report {
+        let out = a.out.dir("results");
+        let pb = Progress::new(REPORT_STEPS, "steps", a.output.quiet);
+        let (r, md) = speed_against_error(a.gap.w, &out, a.run.seed, a.run.threads(), &pb.callback())?;
+        drop(pb);
+        if a.output.json {
+            println!("{}", to_json(&r)?);
+        } else {
+            println!("{md}");
+            println!("written: {}/speed-vs-error.{{md,json,png,svg}}", out.display());
+        }
+        return Ok(());
+    }
+    let pb = Progress::new(a.repetitions as u64, "repetitions", a.output.quiet);
+    let r = throughput(
+        a.gap.w,
+        a.precision.precision,
+        a.collisions,
+        a.repetitions,
+        a.run.seed,
+        threads,
+        &pb.callback(),
+    )?;
+    drop(pb);
+    emit(a.output.json, &r, print)
+}
+
+fn print(r: &Throughput) {
+    println!(
+        "w = {}  precision {}  {} collisions x {} repetitions on {} thread(s)\nmedian {:.3e} collisions/s ({:.3e} per thread) = {:.2} ns/collision per thread  (runs: {})",
+        r.w,
+        r.meta.precision,
+        r.collisions,
+        r.repetitions,
+        r.threads,
+        r.collisions_per_second,
+        r.collisions_per_second_per_thread,
+        r.ns_per_collision,
+        r.samples
+            .iter()
+            .map(|s| format!("{s:.3e}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+}

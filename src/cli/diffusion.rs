@@ -1,0 +1,142 @@
+//! `lorentz diffusion`: D(w) by the Einstein formula.
+
+use std::path::PathBuf;
+
+use lorentz_gas::diffusion::{self, AuditSpec, DiffusionConfig, DiffusionReport, Window};
+use lorentz_gas::error::Error;
+
+use super::args::{parse_count, parse_count_u32, GapArg, OutputArgs, PrecisionArg, RunArgs};
+use super::output::{emit, sigmas};
+use super::progress::Progress;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    gap: GapArg,
+    /// Total collisions over all batches (2e9, 2_000_000_000 and 2000000000 all work).
+    #[arg(long, default_value = "2e9", value_parser = parse_count)]
+    collisions: u64,
+    /// Independent batches (trajectories), at least 2; the error bar is their standard error.
+    #[arg(long, default_value = "32", value_parser = parse_count_u32)]
+    batches: u32,
+    #[command(flatten)]
+    run: RunArgs,
+    #[command(flatten)]
+    precision: PrecisionArg,
+    /// Fit window LO:HI for the MSD slope, in units of the mean hop time tau.
+    #[arg(long, default_value = "10:40")]
+    window: Window,
+    /// Second, later window fitted as a check of the linear regime.
+    #[arg(long, default_value = "20:80")]
+    check_window: Window,
+    /// Append each finished batch to this file; a rerun with the same parameters resumes.
+    #[arg(long)]
+    checkpoint: Option<PathBuf>,
+    /// Replay this fraction (0, 1] of the events in MPFR as the run goes (f64 runs).
+    #[arg(long)]
+    audit: Option<f64>,
+    /// Reference precision of the audit, in bits (>= 128).
+    #[arg(long, default_value_t = 128)]
+    audit_precision: u32,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let cfg = DiffusionConfig {
+        w: a.gap.w,
+        collisions: a.collisions,
+        batches: a.batches,
+        seed: a.run.seed,
+        run: 0,
+        precision: a.precision.precision,
+        window: a.window,
+        check_window: a.check_window,
+    };
+    cfg.validate()?;
+    let audit = a
+        .audit
+        .map(|rate| AuditSpec::new(rate, a.audit_precision))
+        .transpose()?;
+    let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
+    let r = diffusion::run_audited(
+        &cfg,
+        a.run.threads(),
+        a.checkpoint.as_ref(),
+        audit,
+        &pb.callback(),
+    )?;
+    drop(pb);
+    emit(a.output.json, &r, print)
+}
+
+fn print(r: &DiffusionReport) {
+    let m = &r.meta;
+    println!(
+        "periodic Lorentz gas, w = {}  ({} precision, seed {}, {} batches, {:.3e} collisions, {} threads, {:.1} s, {:.3e} collisions/s)",
+        r.w,
+        m.precision,
+        m.seed.unwrap_or_default(),
+        m.batches.unwrap_or_default(),
+        r.collisions as f64,
+        m.threads.unwrap_or_default(),
+        r.seconds,
+        r.collisions_per_second
+    );
+    println!(
+        "D              = {:.6} ± {:.6}   ({:.3} %, MSD slope over [{}τ, {}τ])",
+        r.D,
+        r.D_err,
+        100.0 * r.D_err / r.D,
+        r.window.lo,
+        r.window.hi
+    );
+    println!(
+        "D (check)      = {:.6} ± {:.6}   (MSD slope over [{}τ, {}τ]; difference {:+.1} combined sigma)",
+        r.D_check,
+        r.D_check_err,
+        r.check_window.lo,
+        r.check_window.hi,
+        (r.D_check - r.D) / (r.D_err.powi(2) + r.D_check_err.powi(2)).sqrt()
+    );
+    println!(
+        "D_MZ           = {:.6}           D/D_MZ = {:.4}",
+        r.D_MZ,
+        r.D / r.D_MZ
+    );
+    println!("D_Bo           = {:.6}", r.D_Bo);
+    println!(
+        "mean free path = {:.7} ± {:.7}   exact {:.7}  ({})",
+        r.mean_free_path,
+        r.mean_free_path_err,
+        r.mean_free_path_exact,
+        sigmas(r.mean_free_path, r.mean_free_path_err, r.mean_free_path_exact)
+    );
+    println!(
+        "mean hop time  = {:.6} ± {:.6}   exact {:.6}  ({})",
+        r.tau_hop,
+        r.tau_hop_err,
+        r.tau_hop_exact,
+        sigmas(r.tau_hop, r.tau_hop_err, r.tau_hop_exact)
+    );
+    println!(
+        "collisions/hop = {:.5} ± {:.5}   exact {:.5}  ({})",
+        r.collisions_per_hop,
+        r.collisions_per_hop_err,
+        r.collisions_per_hop_exact,
+        sigmas(
+            r.collisions_per_hop,
+            r.collisions_per_hop_err,
+            r.collisions_per_hop_exact
+        )
+    );
+    if let Some(a) = &r.audit {
+        println!(
+            "self-audit     : {} events replayed in MPFR, {} outside the error model, worst time error / bound {:.2e}",
+            a.audited, a.outside, a.time_error_over_bound.max
+        );
+    }
+    if r.resumed_batches > 0 {
+        println!("({} batches resumed from the checkpoint)", r.resumed_batches);
+    }
+}

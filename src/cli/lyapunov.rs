@@ -1,0 +1,101 @@
+//! `lorentz lyapunov`: the largest Lyapunov exponent and the divergence of finite-precision orbits.
+
+use serde::Serialize;
+
+use lorentz_gas::error::Error;
+use lorentz_gas::verification::lyapunov::{
+    divergence, lyapunov, Divergence, LyapunovReport, DIVERGENCE_BITS, DIVERGENCE_COLLISIONS,
+    DIVERGENCE_REFERENCE_BITS, TANGENT_TRANSIENT,
+};
+
+use super::args::{parse_count, parse_count_u32, GapArg, OutputArgs, RunArgs};
+use super::output::emit;
+use super::progress::Progress;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    gap: GapArg,
+    /// Collisions per tangent-space orbit.
+    #[arg(long, default_value = "2e6", value_parser = parse_count)]
+    collisions: u64,
+    /// Independent tangent-space orbits (at least 2).
+    #[arg(long, default_value = "16", value_parser = parse_count_u32)]
+    orbits: u32,
+    /// Initial conditions for the divergence measurement (0 to skip it).
+    #[arg(long, default_value = "8", value_parser = parse_count_u32)]
+    starts: u32,
+    #[command(flatten)]
+    run: RunArgs,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+#[derive(Serialize)]
+struct Report {
+    tangent: LyapunovReport,
+    divergence: Vec<Divergence>,
+}
+
+/// Most divergence starts: each costs about a second of MPFR work at 4096 bits.
+const MAX_STARTS: u32 = 10_000;
+
+pub fn run(a: Args) -> Result<(), Error> {
+    if a.starts > MAX_STARTS {
+        return Err(Error::Invalid(format!(
+            "starts = {} is too many: use 0 to {MAX_STARTS} (each costs about a second)",
+            a.starts
+        )));
+    }
+    let total = (a.collisions.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.orbits as u64);
+    let pb = Progress::new(total, "collisions", a.output.quiet);
+    let tangent = lyapunov(
+        a.gap.w,
+        a.collisions,
+        a.orbits,
+        a.run.seed,
+        a.run.threads(),
+        &pb.callback(),
+    )?;
+    drop(pb);
+    let divergence = if a.starts > 0 {
+        let pb = Progress::new(a.starts as u64, "initial conditions", a.output.quiet);
+        divergence(
+            a.gap.w,
+            &DIVERGENCE_BITS,
+            DIVERGENCE_REFERENCE_BITS,
+            DIVERGENCE_COLLISIONS,
+            a.starts,
+            a.run.seed,
+            &pb.callback(),
+        )?
+    } else {
+        Vec::new()
+    };
+    emit(a.output.json, &Report { tangent, divergence }, |r| {
+        let l = &r.tangent;
+        println!(
+            "w = {}: largest Lyapunov exponent (tangent space, {} orbits x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time",
+            l.w, l.orbits, l.collisions, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err
+        );
+        if !r.divergence.is_empty() {
+            println!(
+                "divergence from a {DIVERGENCE_REFERENCE_BITS}-bit reference ({} initial conditions):",
+                a.starts
+            );
+            println!("precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time");
+            for x in &r.divergence {
+                println!(
+                    "{:>9}  {:>12.1} ± {:<8.1}       {:.4} ± {:.4}        {:.4} ± {:.4}",
+                    x.precision,
+                    x.horizon,
+                    x.horizon_err,
+                    x.rate_per_collision,
+                    x.rate_per_collision_err,
+                    x.rate_per_time,
+                    x.rate_per_time_err
+                );
+            }
+        }
+    })
+}

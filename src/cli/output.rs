@@ -1,0 +1,25 @@
+//! Printing a result: JSON (with its `meta` block) or the human-readable text.
+
+use serde::Serialize;
+
+use lorentz_gas::error::Error;
+
+/// Pretty JSON of a result.
+pub fn to_json<T: Serialize>(v: &T) -> Result<String, Error> {
+    serde_json::to_string_pretty(v).map_err(|e| Error::Io(e.to_string()))
+}
+
+/// Prints `r` as JSON when `json`, else through `text`.
+pub fn emit<T: Serialize>(json: bool, r: &T, text: impl FnOnce(&T)) -> Result<(), Error> {
+    if json {
+        println!("{}", to_json(r)?);
+    } else {
+        text(r);
+    }
+    Ok(())
+}
+
+/// "(+0.4 sigma)" for a measured value against an exact one.
+pub fn sigmas(x: f64, err: f64, exact: f64) -> String {
+    format!("{:+.1} sigma", (x - exact) / err)
+}

@@ -1,0 +1,47 @@
+//! The progress bar every long command shows on stderr: hidden with `--quiet` or when stderr is
+//! not a terminal, so pipes and CI logs stay clean.
+
+use std::io::IsTerminal;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+/// A progress bar over a known amount of work (collisions, injections, points, repetitions).
+pub struct Progress {
+    bar: ProgressBar,
+}
+
+impl Progress {
+    /// A bar for `total` units of `unit` (shown in the bar's message).
+    pub fn new(total: u64, unit: &str, quiet: bool) -> Self {
+        if quiet || !std::io::stderr().is_terminal() {
+            return Progress {
+                bar: ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::hidden()),
+            };
+        }
+        let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {wide_bar} {percent}% {msg} ({per_sec}, eta {eta})",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        bar.set_message(unit.to_string());
+        Progress { bar }
+    }
+
+    /// Adds `n` finished units.
+    pub fn inc(&self, n: u64) {
+        self.bar.inc(n);
+    }
+
+    /// A callback for the library's `progress: &(dyn Fn(u64) + Sync)` parameters.
+    pub fn callback(&self) -> impl Fn(u64) + Sync + '_ {
+        move |n| self.bar.inc(n)
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+    }
+}

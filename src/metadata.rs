@@ -1,0 +1,59 @@
+//! The one metadata block every result carries: what produced it and how to reproduce it.
+//!
+//! Every report type of the crate has a `meta: RunMeta` field (the `"meta"` object of each JSON
+//! result), filled by [`RunMeta::new`] in one place: crate version, seed, batches, precision,
+//! engine, thread count and the command line of the process.
+
+use serde::{Deserialize, Serialize};
+
+/// Engine of the production runs: the generic scalar kernel (the only one so far).
+pub const ENGINE_SCALAR: &str = "scalar";
+
+/// Provenance of one result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunMeta {
+    /// Crate version that computed the result.
+    pub version: String,
+    /// Seed of the random streams (`None` for deterministic computations).
+    pub seed: Option<u64>,
+    /// Independent batches (trajectories, runs) the error bars come from, where there are any.
+    pub batches: Option<u64>,
+    /// Number type: `"f64"` or MPFR bits.
+    pub precision: String,
+    /// Engine that ran the trajectories.
+    pub engine: String,
+    /// Worker threads (never changes the result, only the time).
+    pub threads: Option<usize>,
+    /// The command line of the process that produced the result.
+    pub command_line: Vec<String>,
+}
+
+impl RunMeta {
+    /// Metadata for a result of this process.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::metadata::RunMeta;
+    /// let m = RunMeta::new(Some(7), Some(32), "f64", Some(2));
+    /// assert_eq!(m.version, env!("CARGO_PKG_VERSION"));
+    /// assert_eq!(m.engine, "scalar");
+    /// assert!(!m.command_line.is_empty());
+    /// ```
+    pub fn new(
+        seed: Option<u64>,
+        batches: Option<u64>,
+        precision: impl std::fmt::Display,
+        threads: Option<usize>,
+    ) -> Self {
+        RunMeta {
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            seed,
+            batches,
+            precision: precision.to_string(),
+            engine: ENGINE_SCALAR.to_string(),
+            threads,
+            command_line: std::env::args().collect(),
+        }
+    }
+}
