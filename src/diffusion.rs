@@ -147,7 +147,7 @@ impl DiffusionConfig {
                 }
             } else {
                 Error::Invalid(format!(
-                    "w = {} needs about {min:.1e} collisions for {} batches to reach the fit \
+                    "w = {:?} needs about {min:.1e} collisions for {} batches to reach the fit \
                      window (pi/(3w) = {:.1e} collisions per hop), more than any run can do \
                      (2^64 = 1.8e19): use a larger w",
                     self.w,

@@ -53,12 +53,12 @@ impl fmt::Display for Error {
             Error::NotFinite { what } => write!(f, "{what} must be a finite number"),
             Error::Trapped { w } => write!(
                 f,
-                "w = {w} is not > 0: at w <= 0 the disks touch and the particle is trapped in one \
+                "w = {w:?} is not > 0: at w <= 0 the disks touch and the particle is trapped in one \
                  triangle, there is no diffusion (valid range: 0 < w < 4/sqrt(3) - 2 = 0.3094...)"
             ),
             Error::InfiniteHorizon { w, w_inf } => write!(
                 f,
-                "w = {w} is not < w_inf = 4/sqrt(3) - 2 = {w_inf:.17}: the horizon is infinite, \
+                "w = {w:?} is not < w_inf = 4/sqrt(3) - 2 = {w_inf:.17}: the horizon is infinite, \
                  free flights are unbounded and the diffusion coefficient does not exist \
                  (valid range: 0 < w < {w_inf:.6})"
             ),

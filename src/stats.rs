@@ -84,6 +84,16 @@ pub fn linear_fit(x: &[f64], y: &[f64]) -> (f64, f64) {
     (sol[0], sol[1])
 }
 
+/// Weights 1/σ², refusing errors that are zero, negative or not finite.
+fn weights(sigma: &[f64]) -> Result<Vec<f64>, Error> {
+    if let Some(s) = sigma.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+        return Err(Error::Invalid(format!(
+            "a weighted fit needs positive finite errors (got {s})"
+        )));
+    }
+    Ok(sigma.iter().map(|s| 1.0 / (s * s)).collect())
+}
+
 /// A weighted least-squares straight line y = c₀ + c₁x with its covariance and goodness of fit.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LineFit {
@@ -147,12 +157,7 @@ pub fn weighted_line_fit(x: &[f64], y: &[f64], sigma: &[f64]) -> Result<LineFit,
             "a straight-line fit needs at least two points, each with x, y and an error".into(),
         ));
     }
-    if let Some(s) = sigma.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
-        return Err(Error::Invalid(format!(
-            "a weighted fit needs positive finite errors (got {s})"
-        )));
-    }
-    let w: Vec<f64> = sigma.iter().map(|s| 1.0 / (s * s)).collect();
+    let w = weights(sigma)?;
     let sw: f64 = w.iter().sum();
     let xm = w.iter().zip(x).map(|(w, x)| w * x).sum::<f64>() / sw;
     let ym = w.iter().zip(y).map(|(w, y)| w * y).sum::<f64>() / sw;
@@ -212,12 +217,7 @@ pub fn weighted_mean(x: &[f64], sigma: &[f64]) -> Result<WeightedMean, Error> {
     if x.len() != sigma.len() || x.is_empty() {
         return Err(Error::Invalid("a weighted mean needs values with errors".into()));
     }
-    if let Some(s) = sigma.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
-        return Err(Error::Invalid(format!(
-            "a weighted mean needs positive finite errors (got {s})"
-        )));
-    }
-    let w: Vec<f64> = sigma.iter().map(|s| 1.0 / (s * s)).collect();
+    let w = weights(sigma)?;
     let sw: f64 = w.iter().sum();
     let mean = w.iter().zip(x).map(|(w, x)| w * x).sum::<f64>() / sw;
     let chi2 = x

@@ -1,11 +1,14 @@
-//! The command line: bad input gets a clear error naming the valid range and exit status 2,
-//! never a panic; good input gives the documented JSON keys.
+//! The command line: every subcommand refuses bad input with exit status 2 and one line naming the
+//! valid range — never a panic, an abort or a file written — and every result carries the same
+//! metadata block; counts are typed as physicists type them; results do not depend on --threads.
 
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn lorentz(args: &[&str]) -> (i32, String, String) {
+fn lorentz_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_lorentz"))
         .args(args)
+        .current_dir(dir)
         .output()
         .expect("run lorentz");
     (
@@ -15,118 +18,235 @@ fn lorentz(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+fn scratch(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lorentz-cli-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// (arguments, a word the one-line message must contain)
+const BAD: &[(&[&str], &str)] = &[
+    // diffusion
+    (&["diffusion", "--w", "0"], "0 < w < 4/sqrt(3) - 2"),
+    (&["diffusion", "--w", "-0.1"], "trapped"),
+    (&["diffusion", "--w", "0.31"], "0.309"),
+    (&["diffusion", "--w", "0.3094010767585031"], "infinite"),
+    (&["diffusion", "--w", "NaN"], "finite"),
+    (&["diffusion", "--w", "inf"], "finite"),
+    (&["diffusion", "--w", "abc"], "invalid value"),
+    (&["diffusion", "--w", "1e-300", "--collisions", "1000"], "more than any run"),
+    (&["diffusion", "--w", "0.1", "--precision", "52"], "53"),
+    (&["diffusion", "--w", "0.1", "--precision", "double"], "f64"),
+    (&["diffusion", "--w", "0.1", "--collisions", "0"], "collisions"),
+    (&["diffusion", "--w", "0.1", "--collisions", "-5"], "whole number"),
+    (&["diffusion", "--w", "0.1", "--collisions", "1.5"], "whole number"),
+    (&["diffusion", "--w", "0.1", "--collisions", "1e20"], "too large"),
+    (&["diffusion", "--w", "0.1", "--batches", "0"], "batches"),
+    (&["diffusion", "--w", "0.1", "--batches", "1"], "batches"),
+    (&["diffusion", "--w", "0.1", "--batches", "5e9"], "4294967295"),
+    (&["diffusion", "--w", "0.1", "--collisions", "1000"], "too small"),
+    (&["diffusion", "--w", "0.1", "--threads", "0"], "threads must be from 1"),
+    (&["diffusion", "--w", "0.1", "--threads", "1e9"], "threads must be from 1"),
+    (&["diffusion", "--w", "0.1", "--window", "40:10"], "window"),
+    (&["diffusion", "--w", "0.1", "--audit", "2"], "(0, 1]"),
+    (&["diffusion", "--w", "0.1", "--audit", "0.1", "--audit-precision", "64"], "128"),
+    // audit
+    (&["audit", "--w", "0"], "trapped"),
+    (&["audit", "--w", "0.1", "--collisions", "0"], "collisions"),
+    (&["audit", "--w", "0.1", "--trajectories", "0"], "trajectories"),
+    (&["audit", "--w", "0.1", "--sample", "0"], "(0, 1]"),
+    (&["audit", "--w", "0.1", "--sample", "1.5"], "(0, 1]"),
+    (&["audit", "--w", "0.1", "--precision", "64"], "128"),
+    (&["audit", "--w", "0.1", "--precision", "4000000000"], "65536"),
+    // lyapunov
+    (&["lyapunov", "--w", "0.4"], "infinite"),
+    (&["lyapunov", "--w", "0.1", "--orbits", "1"], "orbits"),
+    (&["lyapunov", "--w", "0.1", "--collisions", "0"], "collisions"),
+    (&["lyapunov", "--w", "0.1", "--starts", "1e6"], "starts"),
+    // certify
+    (&["certify", "--w", "0"], "trapped"),
+    (&["certify", "--w", "0.1", "--collisions", "0"], "collisions"),
+    (&["certify", "--w", "0.1", "--digits", "0"], "digits"),
+    (&["certify", "--w", "0.1", "--collisions", "100000000000"], "at most"),
+    (&["certify", "--w", "0.1", "--collisions", "200000", "--digits", "10"], "memory"),
+    // backscatter
+    (&["backscatter", "--w", "0"], "trapped"),
+    (&["backscatter", "--w", "0.1", "--visits", "0"], "visits"),
+    (&["backscatter", "--w", "0.1", "--batches", "1"], "batches"),
+    (&["backscatter", "--w", "0.1", "--precision", "20"], "53"),
+    // hops
+    (&["hops", "--w", "0.35"], "infinite"),
+    (&["hops", "--w", "0.1", "--collisions", "0"], "collisions"),
+    (&["hops", "--w", "0.1", "--order", "0"], "order"),
+    (&["hops", "--w", "0.1", "--order", "100"], "order"),
+    (&["hops", "--w", "0.1", "--batches", "1"], "batches"),
+    // sweep
+    (&["sweep", "--w-from", "0.1", "--w-to", "0.5", "--out", "out"], "infinite"),
+    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "1", "--out", "out"], "steps"),
+    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--runs", "0", "--out", "out"], "runs"),
+    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--batches", "1", "--out", "out"], "batches"),
+    (&["sweep", "--w-from", "abc", "--w-to", "0.2", "--out", "out"], "decimal"),
+    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--collisions", "1000", "--out", "out"], "too small"),
+    // figure
+    (&["figure", "fig9", "--out", "out"], "invalid value"),
+    (&["figure", "backscatter-map", "--w", "0", "--out", "out"], "trapped"),
+    (&["figure", "backscatter-map", "--samples", "0", "--out", "out"], "samples"),
+    // theory
+    (&["theory", "--w", "0"], "trapped"),
+    (&["theory", "--w", "0.1", "--order", "0"], "order"),
+    (&["theory", "--w", "0.1", "--order", "100"], "order"),
+    // lattice-walk
+    (&["lattice-walk", "--w", "0"], "trapped"),
+    (&["lattice-walk", "--w", "0.1", "--order", "0"], "order"),
+    (&["lattice-walk", "--w", "0.1", "--order", "100"], "order"),
+    // constants
+    (&["constants", "--w", "0"], "trapped"),
+    (&["constants", "--w", "0.1", "--precision", "20"], "53"),
+    // bench
+    (&["bench", "--w", "0.1", "--collisions", "0"], "collisions"),
+    (&["bench", "--w", "-1"], "trapped"),
+    (&["bench", "--w", "0.1", "--repetitions", "0"], "repetitions"),
+    (&["bench", "--w", "0.1", "--threads", "0"], "threads"),
+];
+
 #[test]
-fn bad_input_is_rejected_with_the_valid_range() {
-    let cases: &[(&[&str], &str)] = &[
-        (&["diffusion", "--w", "0"], "trapped"),
-        (&["diffusion", "--w", "-0.1"], "trapped"),
-        (&["diffusion", "--w", "0.31"], "0.309"),
-        (&["diffusion", "--w", "0.3094010767585031"], "infinite"),
-        (&["diffusion", "--w", "NaN"], "finite"),
-        (&["diffusion", "--w", "inf"], "finite"),
-        (&["diffusion", "--w", "0.1", "--precision", "52"], "53"),
-        (&["diffusion", "--w", "0.1", "--precision", "double"], "f64"),
-        (
-            &["diffusion", "--w", "0.1", "--collisions", "0"],
-            "collisions",
-        ),
-        (&["diffusion", "--w", "0.1", "--batches", "0"], "batches"),
-        (&["diffusion", "--w", "0.1", "--batches", "1"], "batches"),
-        (
-            &["diffusion", "--w", "0.1", "--collisions", "1000"],
-            "too small",
-        ),
-        (
-            &[
-                "diffusion",
-                "--w",
-                "0.1",
-                "--threads",
-                "0",
-                "--collisions",
-                "2000000",
-                "--batches",
-                "2",
-            ],
-            "threads",
-        ),
-        (&["diffusion", "--w", "0.1", "--window", "40:10"], "window"),
-        (&["constants", "--w", "0"], "trapped"),
-        (&["constants", "--w", "0.1", "--precision", "20"], "53"),
-        (&["bench", "--w", "0.1", "--collisions", "0"], "collisions"),
-        (&["bench", "--w", "-1"], "trapped"),
-    ];
-    for (args, needle) in cases {
-        let (code, out, err) = lorentz(args);
-        assert_eq!(code, 2, "{args:?}: status {code}, stderr {err}");
-        assert!(out.is_empty(), "{args:?}: printed {out}");
-        assert!(
-            err.to_lowercase().contains(needle),
-            "{args:?}: '{err}' lacks '{needle}'"
-        );
-        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+fn bad_input_is_refused_with_status_2_one_line_and_no_files() {
+    let dir = scratch("bad");
+    let mut failures = Vec::new();
+    for (args, needle) in BAD {
+        let (code, out, err) = lorentz_in(&dir, args);
+        let lines = err.lines().filter(|l| !l.trim().is_empty()).count();
+        let written: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().collect();
+        if code != 2
+            || !out.is_empty()
+            || lines != 1
+            || !err.to_lowercase().contains(&needle.to_lowercase())
+            || err.contains("panicked")
+            || !written.is_empty()
+        {
+            failures.push(format!(
+                "{args:?}: status {code}, {lines} stderr lines '{}' (wanted '{needle}'), stdout {} bytes, {} files written",
+                err.trim(),
+                out.len(),
+                written.len()
+            ));
+        }
+        for f in written {
+            let _ = std::fs::remove_dir_all(f.path());
+            let _ = std::fs::remove_file(f.path());
+        }
     }
-    // A non-number is refused by the argument parser (also status 2).
-    let (code, _, err) = lorentz(&["diffusion", "--w", "abc"]);
-    assert_eq!(code, 2);
-    assert!(err.contains("invalid value"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// One quick good run of every subcommand: exit 0, JSON with the shared metadata block, counts
+/// written as 2e6 and 2_000_000, and --quiet accepted everywhere.
+#[test]
+fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadata_block() {
+    let dir = scratch("good");
+    let runs: &[&[&str]] = &[
+        &["diffusion", "--w", "0.2", "--collisions", "2e6", "--batches", "4", "--window", "2:8", "--check-window", "4:16"],
+        &["audit", "--w", "0.1", "--collisions", "2_000", "--trajectories", "2"],
+        &["lyapunov", "--w", "0.1", "--collisions", "2e4", "--orbits", "2", "--starts", "0"],
+        &["certify", "--w", "0.1", "--collisions", "50", "--digits", "20"],
+        &["backscatter", "--w", "0.1", "--visits", "2e4", "--batches", "4"],
+        &["hops", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2"],
+        &["theory", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2"],
+        &["lattice-walk", "--w", "0.1", "--collisions", "1e6", "--order", "2"],
+        &["constants", "--w", "0.1", "--precision", "200"],
+        &["bench", "--w", "0.1", "--collisions", "1e5", "--repetitions", "3"],
+        &["sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "3", "--runs", "2", "--collisions", "1_000_000", "--batches", "4", "--out", "sweep"],
+    ];
+    for args in runs {
+        let mut a: Vec<&str> = args.to_vec();
+        a.push("--json");
+        if args[0] != "constants" {
+            a.push("--quiet");
+        }
+        let (code, out, err) = lorentz_in(&dir, &a);
+        assert_eq!(code, 0, "{a:?}: {err}");
+        let v: serde_json::Value =
+            serde_json::from_str(&out).unwrap_or_else(|e| panic!("{a:?}: {e}: {out}"));
+        let meta = find_meta(&v).unwrap_or_else(|| panic!("{a:?}: no meta block in {out}"));
+        for k in ["version", "seed", "batches", "precision", "engine", "threads", "command_line"] {
+            assert!(meta.get(k).is_some(), "{a:?}: meta lacks {k}");
+        }
+        assert_eq!(meta["version"], env!("CARGO_PKG_VERSION"));
+        assert_eq!(meta["command_line"][1], args[0], "{a:?}");
+    }
+    // The sweep's grid point is the decimal asked for.
+    let csv = std::fs::read_to_string(dir.join("sweep").join("sweep.csv")).unwrap();
+    assert!(csv.contains("\n0.15,"), "{csv}");
+    assert!(!csv.contains("0.15000000000000002"), "{csv}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn find_meta(v: &serde_json::Value) -> Option<&serde_json::Value> {
+    if let Some(m) = v.get("meta") {
+        return Some(m);
+    }
+    v.as_object()?.values().find_map(|x| x.get("meta"))
+}
+
+/// Everything in a result except what describes the invocation (time, threads, command line).
+fn physics(mut v: serde_json::Value) -> serde_json::Value {
+    fn strip(v: &mut serde_json::Value) {
+        if let Some(o) = v.as_object_mut() {
+            for k in ["meta", "seconds", "collisions_per_second"] {
+                o.remove(k);
+            }
+            for x in o.values_mut() {
+                strip(x);
+            }
+        }
+    }
+    strip(&mut v);
+    v
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let dir = scratch("threads");
+    for base in [
+        &["audit", "--w", "0.1", "--collisions", "1e5", "--json"][..],
+        &["diffusion", "--w", "0.2", "--collisions", "2e6", "--batches", "4", "--window", "2:8", "--check-window", "4:16", "--json"][..],
+        &["hops", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2", "--json"][..],
+    ] {
+        let run = |t: &str| {
+            let mut a = base.to_vec();
+            a.extend(["--threads", t]);
+            let (code, out, err) = lorentz_in(&dir, &a);
+            assert_eq!(code, 0, "{a:?}: {err}");
+            physics(serde_json::from_str(&out).unwrap())
+        };
+        assert_eq!(run("1"), run("2"), "{base:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn json_outputs_have_the_documented_keys() {
-    let (code, out, err) = lorentz(&[
-        "diffusion",
-        "--w",
-        "0.2",
-        "--collisions",
-        "2000000",
-        "--batches",
-        "4",
-        "--window",
-        "2:8",
-        "--check-window",
-        "4:16",
-        "--json",
-    ]);
+    let dir = scratch("keys");
+    let (code, out, err) = lorentz_in(
+        &dir,
+        &["diffusion", "--w", "0.2", "--collisions", "2000000", "--batches", "4", "--window", "2:8", "--check-window", "4:16", "--json"],
+    );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     for k in [
-        "w",
-        "D",
-        "D_err",
-        "D_MZ",
-        "mean_free_path",
-        "mean_free_path_err",
-        "mean_free_path_exact",
-        "tau_hop",
-        "tau_hop_err",
-        "tau_hop_exact",
-        "collisions",
-        "batches",
-        "seed",
-        "precision",
-        "seconds",
-        "collisions_per_second",
-        "version",
+        "w", "D", "D_err", "D_MZ", "mean_free_path", "mean_free_path_err", "mean_free_path_exact",
+        "tau_hop", "tau_hop_err", "tau_hop_exact", "collisions", "seconds", "collisions_per_second",
     ] {
         assert!(v.get(k).is_some(), "missing key {k}");
     }
-    assert_eq!(v["precision"], "f64");
-    let (code, out, _) = lorentz(&[
-        "bench",
-        "--w",
-        "0.1",
-        "--collisions",
-        "100000",
-        "--repetitions",
-        "3",
-        "--json",
-    ]);
-    assert_eq!(code, 0);
-    let b: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert!(b["collisions_per_second"].as_f64().unwrap() > 0.0);
-    let (code, out, _) = lorentz(&["constants", "--w", "0.1", "--precision", "200", "--json"]);
+    assert_eq!(v["meta"]["precision"], "f64");
+    assert_eq!(v["meta"]["seed"], 1);
+    assert_eq!(v["meta"]["batches"], 4);
+    let (code, out, _) = lorentz_in(&dir, &["constants", "--w", "0.1", "--precision", "200", "--json"]);
     assert_eq!(code, 0);
     let c: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!(c["w_inf"].as_str().unwrap().starts_with("3.0940107675850"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

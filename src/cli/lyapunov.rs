@@ -60,7 +60,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     drop(pb);
     let divergence = if a.starts > 0 {
         let pb = Progress::new(a.starts as u64, "initial conditions", a.output.quiet);
-        divergence(
+        let d = divergence(
             a.gap.w,
             &DIVERGENCE_BITS,
             DIVERGENCE_REFERENCE_BITS,
@@ -68,7 +68,9 @@ pub fn run(a: Args) -> Result<(), Error> {
             a.starts,
             a.run.seed,
             &pb.callback(),
-        )?
+        )?;
+        drop(pb);
+        d
     } else {
         Vec::new()
     };

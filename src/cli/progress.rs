@@ -29,11 +29,6 @@ impl Progress {
         Progress { bar }
     }
 
-    /// Adds `n` finished units.
-    pub fn inc(&self, n: u64) {
-        self.bar.inc(n);
-    }
-
     /// A callback for the library's `progress: &(dyn Fn(u64) + Sync)` parameters.
     pub fn callback(&self) -> impl Fn(u64) + Sync + '_ {
         move |n| self.bar.inc(n)

@@ -69,34 +69,50 @@ fn bytes_per_collision(bits: f64) -> f64 {
     4.0 * (32.0 + (bits / 64.0).ceil() * 8.0) + 8.0
 }
 
-/// The starting precision for `n` collisions to `digits` digits at Lyapunov exponent `lambda`,
-/// or an error naming the largest segment that fits the limits.
-pub fn starting_bits(lambda: f64, n: usize, digits: u32) -> Result<u32, Error> {
-    let ln2 = std::f64::consts::LN_2;
-    let need = (lambda * n as f64 + digits as f64 * std::f64::consts::LN_10) / ln2
+/// The starting precision and the memory of its three stored tracks, for `n` collisions to
+/// `digits` digits at Lyapunov exponent `lambda`.
+fn needs(lambda: f64, n: f64, digits: u32) -> (f64, f64) {
+    let need = (lambda * n + digits as f64 * std::f64::consts::LN_10) / std::f64::consts::LN_2
         + GUARD_BITS as f64;
-    let n_max = ((MAX_BITS - GUARD_BITS) as f64 * ln2 - digits as f64 * std::f64::consts::LN_10)
-        / lambda;
-    if need > MAX_BITS as f64 {
-        return Err(Error::Invalid(format!(
-            "certifying {n} collisions to {digits} digits needs about {need:.2e} bits (lambda N / ln 2 \
-             at lambda = {lambda:.3} per collision), more than the {MAX_BITS} supported: \
-             use at most {} collisions",
-            n_max.max(0.0).floor()
-        )));
-    }
-    let bits = (need.ceil() as u32).max(MIN_BITS);
+    let bits = need.ceil().max(MIN_BITS as f64);
     // Three tracks live at once (P, 2P, and f64 or the next attempt), stored at 2P bits.
-    let memory = 3.0 * n as f64 * bytes_per_collision(2.0 * bits as f64);
-    if memory > MAX_MEMORY_BYTES {
-        return Err(Error::Invalid(format!(
-            "certifying {n} collisions to {digits} digits at {bits} bits needs about {:.1} GiB of \
-             memory, more than the {:.0} GiB limit: use fewer collisions",
+    (bits, 3.0 * n * bytes_per_collision(2.0 * bits))
+}
+
+/// The starting precision for `n` collisions to `digits` digits at Lyapunov exponent `lambda`,
+/// or an error naming the largest segment that fits the limits ([`MAX_BITS`],
+/// [`MAX_MEMORY_BYTES`]).
+pub fn starting_bits(lambda: f64, n: usize, digits: u32) -> Result<u32, Error> {
+    let fits = |n: f64| {
+        let (b, m) = needs(lambda, n, digits);
+        b <= MAX_BITS as f64 && m <= MAX_MEMORY_BYTES
+    };
+    let (bits, memory) = needs(lambda, n as f64, digits);
+    if fits(n as f64) {
+        return Ok(bits as u32);
+    }
+    // The largest segment that fits, by bisection (both needs grow with n).
+    let (mut lo, mut hi) = (0.0f64, n as f64);
+    while hi - lo > 1.0 {
+        let mid = ((lo + hi) / 2.0).floor();
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let why = if bits > MAX_BITS as f64 {
+        format!("about {bits:.2e} bits (lambda N / ln 2 at lambda = {lambda:.3} per collision), more than the {MAX_BITS} supported")
+    } else {
+        format!(
+            "{bits:.0} bits and about {:.1} GiB of memory, more than the {:.0} GiB limit",
             memory / (1u64 << 30) as f64,
             MAX_MEMORY_BYTES / (1u64 << 30) as f64
-        )));
-    }
-    Ok(bits)
+        )
+    };
+    Err(Error::Invalid(format!(
+        "certifying {n} collisions to {digits} digits needs {why}: use at most {lo:.0} collisions"
+    )))
 }
 
 /// Certifies `n` collisions of the orbit from `start` (taken exactly) to `digits` digits.
