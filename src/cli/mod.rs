@@ -7,12 +7,17 @@ pub mod output;
 pub mod progress;
 
 mod audit;
+mod backscatter;
 mod bench;
 mod certify;
 mod constants;
 mod diffusion;
+mod figure;
+mod hops;
+mod lattice_walk;
 mod lyapunov;
 mod sweep;
+mod theory;
 
 use std::process::ExitCode;
 
@@ -44,8 +49,18 @@ enum Cmd {
     Lyapunov(lyapunov::Args),
     /// Certify a segment of N collisions to D digits by precision doubling (runs at P and 2P bits agree).
     Certify(certify::Args),
+    /// Backscattering by injection into a single trap from the invariant flux (Kac's lemma checks included).
+    Backscatter(backscatter::Args),
+    /// Trap-hopping statistics along lattice trajectories: p_bs, p_cf, symbol sequences, hop-level Green-Kubo D.
+    Hops(hops::Args),
     /// D over a range of w with independent runs per point (resumable); residuals, Boltzmann fit, MZ crossing, figures.
     Sweep(sweep::Args),
+    /// Regenerate one of the paper's figures from this crate's numbers (PNG, SVG, CSV, JSON into --out).
+    Figure(figure::Args),
+    /// The corrected Machta-Zwanzig hierarchy (D_cf, D_bs, D_1, D_k), App. A p_cf, and the exact D of correlated lattice walks, on measured hop statistics.
+    Theory(theory::Args),
+    /// Fig. 6b by simulation: correlated lattice walks of order 1..K driven by the measured symbol tables, next to their exact D.
+    LatticeWalk(lattice_walk::Args),
     /// Every closed-form quantity at gap w (geometry, Santalo, Machta-Zwanzig, Boltzmann).
     Constants(constants::Args),
     /// Kernel throughput (median of repetitions); with --report, speed against error.
@@ -89,7 +104,12 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::Audit(a) => audit::run(a),
         Cmd::Lyapunov(a) => lyapunov::run(a),
         Cmd::Certify(a) => certify::run(a),
+        Cmd::Backscatter(a) => backscatter::run(a),
+        Cmd::Hops(a) => hops::run(a),
         Cmd::Sweep(a) => sweep::run(a),
+        Cmd::Figure(a) => figure::run(a),
+        Cmd::Theory(a) => theory::run(a),
+        Cmd::LatticeWalk(a) => lattice_walk::run(a),
         Cmd::Constants(a) => constants::run(a),
         Cmd::Bench(a) => bench::run(a),
     }
