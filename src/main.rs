@@ -506,6 +506,7 @@ fn real_main(cli: Cli) -> Result<(), Error> {
                 seed,
                 threads,
                 precision.parse()?,
+                &|_| {},
             )?;
             if json {
                 println!("{}", to_json(&r)?);
@@ -537,7 +538,8 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             json,
         } => {
             let threads = all_cores(threads);
-            let r = lorentz_gas::hopping::hops(w, collisions, batches, order, seed, threads)?;
+            let r =
+                lorentz_gas::hopping::hops(w, collisions, batches, order, seed, threads, &|_| {})?;
             if json {
                 println!("{}", to_json(&r)?);
             } else {
@@ -646,8 +648,15 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             seed,
             json,
         } => {
-            let r =
-                lorentz_gas::hopping::theory(w, collisions, batches, order, seed, all_cores(None))?;
+            let r = lorentz_gas::hopping::theory(
+                w,
+                collisions,
+                batches,
+                order,
+                seed,
+                all_cores(None),
+                &|_| {},
+            )?;
             if json {
                 println!("{}", to_json(&r)?);
             } else {
@@ -677,8 +686,15 @@ fn real_main(cli: Cli) -> Result<(), Error> {
             json,
         } => {
             use lorentz_gas::theory::{lattice_walk, markov::CorrelatedWalk};
-            let h =
-                lorentz_gas::hopping::hops(w, collisions, 16, order.max(1), seed, all_cores(None))?;
+            let h = lorentz_gas::hopping::hops(
+                w,
+                collisions,
+                16,
+                order.max(1),
+                seed,
+                all_cores(None),
+                &|_| {},
+            )?;
             let g = Geometry::new(w)?;
             let mut rows = Vec::new();
             for k in 1..=order.max(1) {

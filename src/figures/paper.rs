@@ -9,7 +9,8 @@ use super::{plot, PlotSpec, Series};
 use crate::error::Error;
 use crate::hopping::backscatter;
 use crate::sampling::stream;
-use crate::scenes::single_trap::{Exit, SingleTrap};
+use crate::scenes::single_trap::SingleTrap;
+use crate::symbols::Symbol;
 
 fn write_json(path: &Path, v: &serde_json::Value) -> Result<(), Error> {
     std::fs::write(
@@ -29,13 +30,8 @@ pub fn backscatter_map(w: f64, samples: u64, seed: u64, dir: &Path) -> Result<()
     let mut csv = String::from("x_2_over_w,sin_alpha,exit\n");
     for _ in 0..samples {
         let v = scene.random_visit(&mut rng)?;
-        let e = match v.exit {
-            Exit::Z => "z",
-            Exit::L => "l",
-            Exit::R => "r",
-        };
-        csv.push_str(&format!("{},{},{}\n", v.x, v.sin_alpha, e));
-        if v.exit == Exit::Z {
+        csv.push_str(&format!("{},{},{}\n", v.x, v.sin_alpha, v.exit));
+        if v.exit == Symbol::Z {
             pts.push((v.x, v.sin_alpha, 0.0));
         }
     }
@@ -131,7 +127,7 @@ pub fn hierarchy(
     std::fs::create_dir_all(dir)?;
     let mut rows = Vec::new();
     for (i, &w) in grid.iter().enumerate() {
-        let t = theory(w, collisions, 8, 4, seed + i as u64, threads)?;
+        let t = theory(w, collisions, 8, 4, seed + i as u64, threads, &|_| {})?;
         let mut c = DiffusionConfig::new(w);
         c.collisions = collisions;
         c.batches = 8;
@@ -164,16 +160,14 @@ pub fn hierarchy(
         &dir.join("fig3-4b-6-hierarchy.json"),
         &json!({"grid": grid, "collisions_per_point": collisions, "seed": seed, "precision": "f64", "version": env!("CARGO_PKG_VERSION")}),
     )?;
-    let ser =
-        |label: &str,
-         f: &dyn Fn(&(f64, crate::hopping::TheoryReport, f64, f64)) -> (f64, f64, f64)| {
-            Series {
-                label: label.into(),
-                points: rows.iter().map(f).collect(),
-                notes: Vec::new(),
-                line: true,
-            }
-        };
+    /// (w, theory, Einstein D, its error) of one grid point.
+    type Row = (f64, crate::hopping::TheoryReport, f64, f64);
+    let ser = |label: &str, f: &dyn Fn(&Row) -> (f64, f64, f64)| Series {
+        label: label.into(),
+        points: rows.iter().map(f).collect(),
+        notes: Vec::new(),
+        line: true,
+    };
     let d = |label: &str| ser(label, &|r| (r.0, r.2, r.3));
     let spec = |title: &'static str, y: &'static str| PlotSpec {
         title,
