@@ -11,7 +11,8 @@
 //! * [`kernel`]: ray–disk root, the canonical trap, reflections.
 //! * [`scenes`]: the periodic lattice built from the trap.
 //! * [`sampling`]: initial conditions from the invariant measure; reproducible streams.
-//! * [`observables`]: mean squared displacement and event counters.
+//! * [`symbols`]: the exit symbols z, l, r and their words (the one encoding).
+//! * [`observables`]: mean squared displacement, event counters, trap-hopping statistics.
 //! * [`stats`]: batch means, blocking, least-squares fits (weighted, with χ²), Student-t quantiles.
 //! * [`diffusion`]: D(w) by the Einstein formula with error bars.
 //! * [`theory`]: symbolic dynamics, the corrected Machta–Zwanzig hierarchy, App. A, exact and
@@ -37,6 +38,7 @@ pub mod sampling;
 pub mod scenes;
 pub mod stats;
 pub mod sweep;
+pub mod symbols;
 pub mod theory;
 pub mod verification;
 

@@ -7,7 +7,7 @@
 
 use lorentz_gas::geometry::Geometry;
 use lorentz_gas::stats::mean_se;
-use lorentz_gas::theory::green_kubo::{green_kubo, ErrorMethod, Truncation};
+use lorentz_gas::theory::green_kubo::{green_kubo, Truncation};
 use lorentz_gas::theory::honeycomb::{sequence_from_index, Symbol};
 use lorentz_gas::theory::lattice_walk::{
     direction_sequence, fit_bias, simulate, symbol_sequence, LatticeWalkConfig,
@@ -141,7 +141,7 @@ fn check_gk(name: &str, walk: &CorrelatedWalk, seed: u64) {
         .map(|b| direction_sequence(walk, seed, b, 1 << 17))
         .collect();
     let r = green_kubo(&seqs, Truncation::Automatic { c: 6.0 }).unwrap();
-    assert_eq!(r.error_method, ErrorMethod::Batches(16));
+    assert_eq!(r.batch_values.len(), 16);
     let c = walk.correlations(r.truncation);
     let truncated = 1.0 + 2.0 * c.iter().sum::<f64>();
     let exact = walk.d_over_d_mz().unwrap();
@@ -174,17 +174,23 @@ fn green_kubo_matches_the_exact_walk() {
     check_gk("GK order 4", &correlated(4), 74);
 }
 
+/// The error bar is over independent sequences only: one sequence is refused (its gᵢ are
+/// correlated), and a fixed window J = 24 over 16 sequences covers the exact truncated sum.
 #[test]
-fn green_kubo_single_sequence_uses_blocking() {
+fn green_kubo_fixed_window_needs_independent_sequences() {
     let w = order2();
-    let s = direction_sequence(&w, 81, 0, 1 << 20);
-    let r = green_kubo(&[s], Truncation::Fixed(24)).unwrap();
-    assert_eq!(r.error_method, ErrorMethod::Blocking);
+    let one = direction_sequence(&w, 81, 0, 1 << 16);
+    let e = green_kubo(&[one], Truncation::Fixed(24)).unwrap_err();
+    assert!(e.to_string().contains("at least 2"), "{e}");
+    let seqs: Vec<Vec<u8>> = (0..16)
+        .map(|b| direction_sequence(&w, 81, b, 1 << 16))
+        .collect();
+    let r = green_kubo(&seqs, Truncation::Fixed(24)).unwrap();
     let c = w.correlations(24);
     let truncated = 1.0 + 2.0 * c.iter().sum::<f64>();
     let z = (r.d_over_d_mz - truncated) / r.se;
     println!(
-        "GK single sequence: {:.5} ± {:.5} vs {truncated:.6}, z = {z:+.2}",
+        "GK fixed J = 24: {:.5} ± {:.5} vs {truncated:.6}, z = {z:+.2}",
         r.d_over_d_mz, r.se
     );
     assert!(z.abs() < 4.0);

@@ -47,20 +47,23 @@ pub fn run(a: Args) -> Result<(), Error> {
         Kind::BackscatterMap => {
             let n = a.samples.unwrap_or(paper::MAP_SAMPLES);
             let pb = Progress::new(n, "injections", a.output.quiet);
-            paper::backscatter_map(a.w, n, seed, &out, &pb.callback())?
+            let r = paper::backscatter_map(a.w, n, seed, &out, &pb.callback())?;
+            r
         }
         Kind::Backscatter => {
             let n = a.samples.unwrap_or(paper::CURVE_SAMPLES);
             let points = paper::backscatter_grids()?.iter().map(|g| g.len() as u64).sum::<u64>();
             let pb = Progress::new(n.saturating_mul(points), "injections", a.output.quiet);
-            paper::backscatter_curve(n, seed, threads, &out, &pb.callback())?
+            let r = paper::backscatter_curve(n, seed, threads, &out, &pb.callback())?;
+            r
         }
         Kind::Hierarchy => {
             let n = a.samples.unwrap_or(paper::HIERARCHY_COLLISIONS);
             let points = paper::hierarchy_grid()?.len() as u64;
             // The hop statistics and the Einstein run each use n collisions per gap.
             let pb = Progress::new(n.saturating_mul(2 * points), "collisions", a.output.quiet);
-            paper::hierarchy(n, seed, threads, &out, &pb.callback())?
+            let r = paper::hierarchy(n, seed, threads, &out, &pb.callback())?;
+            r
         }
     };
     emit(a.output.json, &r, |r| {

@@ -3,46 +3,107 @@
 
 use std::path::Path;
 
+use serde::Serialize;
 use serde_json::json;
 
 use super::{plot, PlotSpec, Series};
+use crate::diffusion::{DiffusionConfig, Precision};
 use crate::error::Error;
-use crate::hopping::backscatter;
-use crate::sampling::stream;
-use crate::scenes::single_trap::{Exit, SingleTrap};
+use crate::grid::decimal_grid;
+use crate::hopping::{backscatter_run, check_hops_input, theory_run};
+use crate::metadata::RunMeta;
+use crate::sampling::{Purpose, StreamKey};
+use crate::scenes::single_trap::SingleTrap;
+use crate::symbols::Symbol;
 
-fn write_json(path: &Path, v: &serde_json::Value) -> Result<(), Error> {
+/// Default injections of Fig. 5: enough points to show the backscattering regions' shape.
+pub const MAP_SAMPLES: u64 = 60_000;
+/// Default injections per gap of Fig. 4a: p_bs to about ±0.001 (binomial, p ≈ 0.37).
+pub const CURVE_SAMPLES: u64 = 200_000;
+/// Batches per gap of Fig. 4a (errors over 16 batches: 15 degrees of freedom).
+pub const CURVE_BATCHES: u32 = 16;
+/// Default collisions per gap of Figs. 3, 4b, 6 (for the hop statistics, and again for D).
+pub const HIERARCHY_COLLISIONS: u64 = 20_000_000;
+/// Batches per gap of Figs. 3, 4b, 6.
+pub const HIERARCHY_BATCHES: u32 = 8;
+/// Highest order of the lattice walks in Fig. 6b.
+pub const HIERARCHY_ORDER: usize = 4;
+
+/// The grids of Fig. 4a: w = 0.01 … 0.30 in steps of 0.01 (all below w∞ = 0.3094), and the inset
+/// around the maximum, w = 0.040 … 0.070 in steps of 0.001 — exact decimals.
+pub fn backscatter_grids() -> Result<[Vec<f64>; 2], Error> {
+    Ok([
+        decimal_grid("0.01", "0.30", 30)?,
+        decimal_grid("0.04", "0.07", 31)?,
+    ])
+}
+
+/// The grid of Figs. 3, 4b, 6: w = 0.02 … 0.30 in steps of 0.02.
+pub fn hierarchy_grid() -> Result<Vec<f64>, Error> {
+    decimal_grid("0.02", "0.30", 15)
+}
+
+/// What a figure command wrote.
+#[derive(Debug, Clone, Serialize)]
+pub struct FigureReport {
+    /// Files written (names inside the output directory).
+    pub files: Vec<String>,
+    /// Version, seed, batches, precision, engine, threads, command line.
+    pub meta: RunMeta,
+}
+
+/// The data file of a figure: its rows (or summary) with the metadata block.
+fn write_json(path: &Path, data: serde_json::Value, meta: &RunMeta) -> Result<(), Error> {
+    let v = json!({ "data": data, "meta": meta });
     std::fs::write(
         path,
-        serde_json::to_string_pretty(v).map_err(|e| Error::Io(e.to_string()))?,
+        serde_json::to_string_pretty(&v).map_err(|e| Error::Io(e.to_string()))?,
     )?;
     Ok(())
 }
 
+fn files(stem: &str) -> Vec<String> {
+    ["csv", "json", "png", "svg"]
+        .iter()
+        .map(|e| format!("{stem}.{e}"))
+        .collect()
+}
+
 /// Fig. 5: injection conditions (2x/w, sin α) that backscatter at gap `w` (`samples` injections).
-pub fn backscatter_map(w: f64, samples: u64, seed: u64, dir: &Path) -> Result<(), Error> {
+/// `progress` receives injections done.
+pub fn backscatter_map(
+    w: f64,
+    samples: u64,
+    seed: u64,
+    dir: &Path,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<FigureReport, Error> {
     crate::geometry::check_diffusive_gap(w)?;
-    std::fs::create_dir_all(dir)?;
+    if samples == 0 {
+        return Err(Error::Zero { what: "samples" });
+    }
     let scene = SingleTrap::new(w)?;
-    let mut rng = stream(seed, 0);
+    std::fs::create_dir_all(dir)?;
+    let mut rng = StreamKey::new(seed, Purpose::Injection, 0).rng();
     let mut pts = Vec::new();
     let mut csv = String::from("x_2_over_w,sin_alpha,exit\n");
-    for _ in 0..samples {
+    for k in 1..=samples {
+        if k % 4096 == 0 {
+            progress(4096);
+        }
         let v = scene.random_visit(&mut rng)?;
-        let e = match v.exit {
-            Exit::Z => "z",
-            Exit::L => "l",
-            Exit::R => "r",
-        };
-        csv.push_str(&format!("{},{},{}\n", v.x, v.sin_alpha, e));
-        if v.exit == Exit::Z {
+        csv.push_str(&format!("{},{},{}\n", v.x, v.sin_alpha, v.exit));
+        if v.exit == Symbol::Z {
             pts.push((v.x, v.sin_alpha, 0.0));
         }
     }
+    progress(samples % 4096);
+    let meta = RunMeta::new(Some(seed), None, Precision::F64, Some(1));
     std::fs::write(dir.join("fig5-backscatter-map.csv"), csv)?;
     write_json(
         &dir.join("fig5-backscatter-map.json"),
-        &json!({"w": w, "samples": samples, "backscattered": pts.len(), "seed": seed, "precision": "f64", "version": env!("CARGO_PKG_VERSION")}),
+        json!({"w": w, "samples": samples, "backscattered": pts.len()}),
+        &meta,
     )?;
     plot(
         &dir.join("fig5-backscatter-map"),
@@ -59,23 +120,49 @@ pub fn backscatter_map(w: f64, samples: u64, seed: u64, dir: &Path) -> Result<()
             notes: Vec::new(),
             line: false,
         }],
-    )
+    )?;
+    Ok(FigureReport {
+        files: files("fig5-backscatter-map"),
+        meta,
+    })
 }
 
-/// Fig. 4a: p_bs against w on `grid`, and the fine grid `inset` (the paper's inset), by injection.
+/// Fig. 4a: p_bs against w on [`backscatter_grids`] (the curve and the paper's inset), by
+/// injection of `visits` particles per gap. Point i of the curve is run i of `seed`, point j of
+/// the inset run (curve length + j): no two points share a stream. `progress` receives injections.
 pub fn backscatter_curve(
-    grid: &[f64],
-    inset: &[f64],
     visits: u64,
     seed: u64,
     threads: usize,
     dir: &Path,
-) -> Result<(), Error> {
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<FigureReport, Error> {
+    if visits < CURVE_BATCHES as u64 {
+        return Err(Error::TooFew {
+            what: "samples (injections per gap)",
+            min: CURVE_BATCHES as u64,
+            got: visits,
+        });
+    }
+    let [grid, inset] = backscatter_grids()?;
     std::fs::create_dir_all(dir)?;
-    for (name, ws) in [("fig4a-p-bs", grid), ("fig4a-inset-p-bs", inset)] {
+    let meta = RunMeta::new(Some(seed), Some(CURVE_BATCHES as u64), Precision::F64, Some(threads));
+    let mut written = Vec::new();
+    for (name, ws, first_run) in [
+        ("fig4a-p-bs", &grid, 0u64),
+        ("fig4a-inset-p-bs", &inset, grid.len() as u64),
+    ] {
         let mut rows = Vec::new();
         for (i, &w) in ws.iter().enumerate() {
-            let r = backscatter(w, visits, 16, seed + i as u64, threads)?;
+            let r = backscatter_run(
+                w,
+                visits,
+                CURVE_BATCHES,
+                (seed, first_run + i as u64),
+                threads,
+                Precision::F64,
+                progress,
+            )?;
             rows.push((w, r.p_bs, r.p_bs_err));
         }
         let mut csv = String::from("w,p_bs,p_bs_err\n");
@@ -85,8 +172,10 @@ pub fn backscatter_curve(
         std::fs::write(dir.join(format!("{name}.csv")), csv)?;
         write_json(
             &dir.join(format!("{name}.json")),
-            &json!({"rows": rows, "visits_per_point": visits, "seed": seed, "precision": "f64", "version": env!("CARGO_PKG_VERSION")}),
+            json!({"rows": rows, "visits_per_point": visits}),
+            &meta,
         )?;
+        written.extend(files(name));
         let third: Vec<(f64, f64, f64)> = ws.iter().map(|&w| (w, 1.0 / 3.0, 0.0)).collect();
         plot(
             &dir.join(name),
@@ -113,30 +202,54 @@ pub fn backscatter_curve(
             ],
         )?;
     }
-    Ok(())
+    Ok(FigureReport {
+        files: written,
+        meta,
+    })
 }
 
 /// Figs. 3, 4b and 6: on a grid of w, the measured p_cf against App. A (corrected and as printed),
 /// D against D_MZ, D_cf, D_bs (Figs. 3b, 4b), the hierarchy D_1 … D_3 combined with collisionless
 /// flights (Fig. 6a) and the exact order-k lattice walks k = 1 … 4 (Fig. 6b). D is the Einstein value.
+///
+/// On [`hierarchy_grid`], `collisions` per gap for the hop statistics (run i of `seed`) and again
+/// for D (run grid length + i). Every gap is checked before anything runs. `progress` receives
+/// collisions.
 pub fn hierarchy(
-    grid: &[f64],
     collisions: u64,
     seed: u64,
     threads: usize,
     dir: &Path,
-) -> Result<(), Error> {
-    use crate::diffusion::{run, DiffusionConfig};
-    use crate::hopping::theory;
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<FigureReport, Error> {
+    use crate::diffusion::run;
+    let grid = hierarchy_grid()?;
+    let n = grid.len() as u64;
+    let einstein = |i: usize, w: f64| {
+        let mut c = DiffusionConfig::new(w);
+        c.collisions = collisions;
+        c.batches = HIERARCHY_BATCHES;
+        c.seed = seed;
+        c.run = n + i as u64;
+        c
+    };
+    for (i, &w) in grid.iter().enumerate() {
+        check_hops_input(w, collisions, HIERARCHY_BATCHES, HIERARCHY_ORDER)?;
+        einstein(i, w).validate()?;
+    }
     std::fs::create_dir_all(dir)?;
     let mut rows = Vec::new();
     for (i, &w) in grid.iter().enumerate() {
-        let t = theory(w, collisions, 8, 4, seed + i as u64, threads)?;
-        let mut c = DiffusionConfig::new(w);
-        c.collisions = collisions;
-        c.batches = 8;
-        c.seed = seed + 100 + i as u64;
-        let d = run(&c, threads, None, &|_| {})?;
+        let t = theory_run(
+            w,
+            collisions,
+            HIERARCHY_BATCHES,
+            HIERARCHY_ORDER,
+            (seed, i as u64),
+            threads,
+            progress,
+        )?;
+        let d = run(&einstein(i, w), threads, None, progress)?;
         rows.push((w, t, d.D, d.D_err));
     }
     let mut csv = String::from("w,D,D_err,D_MZ,D_cf,D_bs,D_1,D_2,D_3,walk_1,walk_2,walk_3,walk_4,p_cf,p_cf_err,p_cf_app_a,p_cf_app_a_printed\n");
@@ -160,20 +273,25 @@ pub fn hierarchy(
         ));
     }
     std::fs::write(dir.join("fig3-4b-6-hierarchy.csv"), csv)?;
+    let meta = RunMeta::new(
+        Some(seed),
+        Some(HIERARCHY_BATCHES as u64),
+        Precision::F64,
+        Some(threads),
+    );
     write_json(
         &dir.join("fig3-4b-6-hierarchy.json"),
-        &json!({"grid": grid, "collisions_per_point": collisions, "seed": seed, "precision": "f64", "version": env!("CARGO_PKG_VERSION")}),
+        json!({"grid": grid, "collisions_per_point": collisions}),
+        &meta,
     )?;
-    let ser =
-        |label: &str,
-         f: &dyn Fn(&(f64, crate::hopping::TheoryReport, f64, f64)) -> (f64, f64, f64)| {
-            Series {
-                label: label.into(),
-                points: rows.iter().map(f).collect(),
-                notes: Vec::new(),
-                line: true,
-            }
-        };
+    /// (w, theory, Einstein D, its error) of one grid point.
+    type Row = (f64, crate::hopping::TheoryReport, f64, f64);
+    let ser = |label: &str, f: &dyn Fn(&Row) -> (f64, f64, f64)| Series {
+        label: label.into(),
+        points: rows.iter().map(f).collect(),
+        notes: Vec::new(),
+        line: true,
+    };
     let d = |label: &str| ser(label, &|r| (r.0, r.2, r.3));
     let spec = |title: &'static str, y: &'static str| PlotSpec {
         title,
@@ -227,5 +345,22 @@ pub fn hierarchy(
             ser("order 3", &|r| (r.0, r.1.lattice_gas_exact[2].1, 0.0)),
             ser("order 4", &|r| (r.0, r.1.lattice_gas_exact[3].1, 0.0)),
         ],
-    )
+    )?;
+    let mut written = vec![
+        "fig3-4b-6-hierarchy.csv".to_string(),
+        "fig3-4b-6-hierarchy.json".to_string(),
+    ];
+    for stem in [
+        "fig3a-p-cf",
+        "fig3b-4b-corrections",
+        "fig6a-hierarchy",
+        "fig6b-lattice-walks",
+    ] {
+        written.push(format!("{stem}.png"));
+        written.push(format!("{stem}.svg"));
+    }
+    Ok(FigureReport {
+        files: written,
+        meta,
+    })
 }

@@ -1,14 +1,15 @@
-//! Trap-hopping statistics along a lattice trajectory: the symbol sequence z/l/r
-//! ([`crate::scenes::single_trap::exit_symbol`]), collisionless visits, symbol-sequence counts up to
-//! an order K, and the correlations C_j of hop directions for the hop-level Green–Kubo formula
-//! D = D_MZ (1 + 2 Σ_j C_j) (`proofs-notes/hops.md`).
+//! Trap-hopping statistics along a lattice trajectory: the exit symbols z/l/r
+//! ([`crate::symbols::Symbol`], from [`crate::scenes::single_trap::exit_symbol`]), collisionless
+//! visits, symbol-sequence counts up to an order K, and the hop directions, fed to the hop-level
+//! Green–Kubo estimator ([`crate::theory::green_kubo`]) for D = D_MZ (1 + 2 Σ_j C_j)
+//! (`proofs-notes/hops.md`).
 
+use crate::error::Error;
 use crate::kernel::trap::{Event, EventKind};
 use crate::scenes::lattice::LatticeState;
-use crate::scenes::single_trap::{exit_symbol, Exit};
-
-/// Number of hop-direction correlations accumulated (C₁ … C_J).
-pub const GK_LAGS: usize = 48;
+use crate::scenes::single_trap::exit_symbol;
+use crate::symbols::check_order;
+use crate::theory::green_kubo::{HopCorrelations, MAX_LAG};
 
 /// Hop statistics of one trajectory.
 #[derive(Debug, Clone)]
@@ -20,35 +21,22 @@ pub struct Hops {
     pub visits: u64,
     /// Complete visits without a collision.
     pub collisionless: u64,
-    /// counts[k−1][code]: occurrences of each length-k symbol sequence (base-3 code, z = 0,
-    /// l = 1, r = 2, first symbol most significant), k = 1 … order.
+    /// `counts[k−1][index]`: occurrences of each length-k symbol sequence, in
+    /// [`crate::symbols::sequence_index`] order, k = 1 … order.
     pub counts: Vec<Vec<u64>>,
-    history: u64,
+    history: usize,
     seen: u64,
-    dirs: Vec<u8>,
-    hops: u64,
-    /// Σ cos(angle between hops j apart), j = 1 … GK_LAGS.
-    pub corr_sums: Vec<f64>,
-    /// Number of pairs in each sum.
-    pub corr_counts: Vec<u64>,
+    /// Hop directions (60°·index + 30° in the world frame) accumulated for the Green–Kubo
+    /// estimator, lags 1 … [`MAX_LAG`].
+    pub directions: HopCorrelations,
 }
-
-fn code(e: Exit) -> u64 {
-    match e {
-        Exit::Z => 0,
-        Exit::L => 1,
-        Exit::R => 2,
-    }
-}
-
-/// cos(60°·k) for k = 0 … 5.
-const COS60: [f64; 6] = [1.0, 0.5, -0.5, -1.0, -0.5, 0.5];
 
 impl Hops {
-    /// Statistics up to sequences of length `order` (≥ 1).
-    pub fn new(order: usize) -> Self {
-        let order = order.max(1);
-        Hops {
+    /// Statistics up to sequences of length `order`, 1 ≤ `order` ≤ [`crate::symbols::MAX_ORDER`]
+    /// (an error names the range otherwise).
+    pub fn new(order: usize) -> Result<Self, Error> {
+        check_order("order", order)?;
+        Ok(Hops {
             order,
             entered: None,
             collided: false,
@@ -57,11 +45,13 @@ impl Hops {
             counts: (1..=order).map(|k| vec![0; 3usize.pow(k as u32)]).collect(),
             history: 0,
             seen: 0,
-            dirs: vec![0; GK_LAGS + 1],
-            hops: 0,
-            corr_sums: vec![0.0; GK_LAGS],
-            corr_counts: vec![0; GK_LAGS],
-        }
+            directions: HopCorrelations::new(MAX_LAG)?,
+        })
+    }
+
+    /// The longest sequences counted.
+    pub fn order(&self) -> usize {
+        self.order
     }
 
     /// Called with the state *before* `ev` is applied.
@@ -73,26 +63,18 @@ impl Hops {
                 // Hop direction in the world: outward normals of E₀, E₁, E₂ at 30°, 150°, 270°,
                 // i.e. 60°·{0, 2, 4} + 30°; a down trap is turned by 180° (+3).
                 let dir = ([0u8, 2, 4][k as usize] + if s.cell.down { 3 } else { 0 }) % 6;
-                let cap = self.dirs.len() as u64;
-                let i = (self.hops % cap) as usize;
-                self.dirs[i] = dir;
-                for j in 1..=GK_LAGS.min(self.hops as usize) {
-                    let old = self.dirs[(i + cap as usize - j) % cap as usize];
-                    self.corr_sums[j - 1] += COS60[((dir + 6 - old) % 6) as usize];
-                    self.corr_counts[j - 1] += 1;
-                }
-                self.hops += 1;
+                self.directions.push(dir);
                 if let Some(e) = self.entered {
                     self.visits += 1;
                     if !self.collided {
                         self.collisionless += 1;
                     }
-                    let sym = code(exit_symbol(e, k));
+                    let sym = exit_symbol(e, k).index();
                     self.seen += 1;
-                    self.history = (self.history * 3 + sym) % 3u64.pow(self.order as u32);
+                    self.history = (self.history * 3 + sym) % self.counts[self.order - 1].len();
                     for len in 1..=self.order.min(self.seen as usize) {
-                        let c = self.history % 3u64.pow(len as u32);
-                        self.counts[len - 1][c as usize] += 1;
+                        let c = self.history % self.counts[len - 1].len();
+                        self.counts[len - 1][c] += 1;
                     }
                 }
                 // The edge crossed is the entrance of the next trap (same label after the point
@@ -102,24 +84,58 @@ impl Hops {
             }
         }
     }
-
-    /// Hop-direction correlations C_j.
-    pub fn correlations(&self) -> Vec<f64> {
-        self.corr_sums
-            .iter()
-            .zip(&self.corr_counts)
-            .map(|(s, &c)| if c > 0 { s / c as f64 } else { 0.0 })
-            .collect()
-    }
 }
 
-/// Name of a base-3 code of length k ("zl", …).
-pub fn sequence_name(code: usize, k: usize) -> String {
-    let mut out = vec![' '; k];
-    let mut c = code;
-    for i in (0..k).rev() {
-        out[i] = ['z', 'l', 'r'][c % 3];
-        c /= 3;
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::{equilibrium_state, stream};
+    use crate::scenes::lattice::PeriodicLattice;
+    use crate::symbols::{Symbol, MAX_ORDER};
+    use crate::theory::honeycomb::next_direction;
+
+    #[test]
+    fn order_out_of_range_is_an_error() {
+        for k in [0, MAX_ORDER + 1] {
+            let e = Hops::new(k).unwrap_err().to_string();
+            assert!(e.contains(&format!("1 <= order <= {MAX_ORDER}")), "{e}");
+        }
+        assert_eq!(Hops::new(1).unwrap().order(), 1);
     }
-    out.into_iter().collect()
+
+    /// Along a real trajectory, the exit symbol of every visit turns the hop direction exactly
+    /// as the honeycomb's convention says (z: +180°, l: −60°, r: +60°), and the counts of each
+    /// length are consistent: the three one-symbol extensions of a word add up to it.
+    #[test]
+    fn symbols_agree_with_the_honeycomb_turns() {
+        let lat = PeriodicLattice::new(0.2).unwrap();
+        let mut s = equilibrium_state(&lat.trap, &mut stream(3, 0));
+        let mut h = Hops::new(3).unwrap();
+        let (mut last_dir, mut entered): (Option<u8>, Option<u8>) = (None, None);
+        let mut checked = 0;
+        while h.visits < 5000 {
+            let ev = lat.next_event(&s).unwrap();
+            if let EventKind::Crossing(k) = ev.kind {
+                let dir = ([0u8, 2, 4][k as usize] + if s.cell.down { 3 } else { 0 }) % 6;
+                if let (Some(d), Some(e)) = (last_dir, entered) {
+                    let sym: Symbol = exit_symbol(e, k);
+                    assert_eq!(next_direction(d, sym), dir, "{sym} from {d}");
+                    checked += 1;
+                }
+                last_dir = Some(dir);
+                entered = Some(k);
+            }
+            h.observe(&s, &ev);
+            lat.apply(&mut s, &ev);
+        }
+        assert_eq!(checked, 5000);
+        for k in 1..3 {
+            let long = &h.counts[k];
+            for (i, &c) in h.counts[k - 1].iter().enumerate() {
+                // Words of length k + 1 that start with word i: all but possibly the last window.
+                let ext: u64 = long[3 * i..3 * i + 3].iter().sum();
+                assert!(c == ext || c == ext + 1, "k = {k}, word {i}: {c} vs {ext}");
+            }
+        }
+    }
 }

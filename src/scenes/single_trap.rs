@@ -14,32 +14,28 @@ use crate::error::Error;
 use crate::kernel::trap::{EventKind, Flight, Trap, NONE};
 use crate::kernel::vec2::Vec2;
 use crate::real::Real;
+use crate::symbols::Symbol;
 
-/// The gap a particle left by, relative to the one it came in by (the paper's symbols; chirality
-/// in [`exit_symbol`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-pub enum Exit {
-    /// Back through the entrance (backscattering).
-    Z,
-    /// Through the gap 120° counter-clockwise from the entrance, seen from the trap centre.
-    L,
-    /// Through the gap 120° clockwise from the entrance.
-    R,
-}
-
-/// Symbol of leaving by edge `out` after entering by edge `entered`, in the canonical frame.
+/// Symbol ([`crate::symbols::Symbol`]) of leaving by edge `out` after entering by edge `entered`
+/// (edge labels 0, 1, 2), in the canonical frame.
 /// The outward normals of E₂, E₀, E₁ point at −90°, 30°, 150°: counter-clockwise order 2 → 0 → 1,
 /// so l = (k + 1) mod 3 and r = (k + 2) mod 3. A down trap is the canonical one turned by 180°,
 /// which preserves orientation: the same rule holds in every trap.
-pub fn exit_symbol(entered: u8, out: u8) -> Exit {
+pub fn exit_symbol(entered: u8, out: u8) -> Symbol {
+    debug_assert!(entered < 3 && out < 3, "edge labels are 0, 1, 2");
     if out == entered {
-        Exit::Z
+        Symbol::Z
     } else if out == (entered + 1) % 3 {
-        Exit::L
+        Symbol::L
     } else {
-        Exit::R
+        Symbol::R
     }
 }
+
+/// Event cap of [`SingleTrap::random_visit`]: 2⁴⁰ ≈ 1.1·10¹² events, ~10⁸ times the mean visit
+/// (π/(3w) collisions, below 10⁴ for every w ≥ 10⁻⁴) — reached only by an orbit trapped for ever
+/// (a set of measure zero), whose endless loop it turns into an error.
+pub const MAX_VISIT_EVENTS: u64 = 1 << 40;
 
 /// One visit: injected, followed to the exit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,7 +45,7 @@ pub struct Visit {
     /// sin α of the injection direction.
     pub sin_alpha: f64,
     /// Exit symbol.
-    pub exit: Exit,
+    pub exit: Symbol,
     /// Time in the trap.
     pub time: f64,
     /// Collisions in the trap.
@@ -109,11 +105,12 @@ impl<T: Real> SingleTrap<T> {
         Err(Error::Invalid(format!("particle injected at 2x/w = {x}, sin a = {sin_alpha} did not leave within {max_events} events")))
     }
 
-    /// A visit from the invariant flux: 2x/w and sin α uniform in [−1, 1].
+    /// A visit from the invariant flux: 2x/w and sin α uniform in [−1, 1], at most
+    /// [`MAX_VISIT_EVENTS`] events.
     pub fn random_visit<R: Rng + ?Sized>(&self, rng: &mut R) -> Result<Visit, Error> {
         let x = 2.0 * rng.random::<f64>() - 1.0;
         let s = 2.0 * rng.random::<f64>() - 1.0;
-        self.visit(x, s, 1 << 40)
+        self.visit(x, s, MAX_VISIT_EVENTS)
     }
 }
 
@@ -123,11 +120,11 @@ mod tests {
 
     #[test]
     fn chirality_is_a_rotation() {
-        assert_eq!(exit_symbol(2, 0), Exit::L);
-        assert_eq!(exit_symbol(0, 1), Exit::L);
-        assert_eq!(exit_symbol(1, 2), Exit::L);
-        assert_eq!(exit_symbol(2, 1), Exit::R);
-        assert_eq!(exit_symbol(1, 1), Exit::Z);
+        assert_eq!(exit_symbol(2, 0), Symbol::L);
+        assert_eq!(exit_symbol(0, 1), Symbol::L);
+        assert_eq!(exit_symbol(1, 2), Symbol::L);
+        assert_eq!(exit_symbol(2, 1), Symbol::R);
+        assert_eq!(exit_symbol(1, 1), Symbol::Z);
     }
 
     #[test]
@@ -135,7 +132,7 @@ mod tests {
         // Entering at the gap centre along the normal: head-on with P₂, straight back out.
         let t = SingleTrap::new(0.1f64).unwrap();
         let v = t.visit(0.0, 0.0, 100).unwrap();
-        assert_eq!(v.exit, Exit::Z);
+        assert_eq!(v.exit, Symbol::Z);
         assert_eq!(v.collisions, 1);
         assert!((v.time - 2.0 * (t.trap.h - 1.0)).abs() < 1e-14);
     }

@@ -1,13 +1,16 @@
-//! Hop-level Green–Kubo estimator of D from sequences of hop directions.
+//! The hop-level Green–Kubo estimator of D — the crate's one: the Lorentz gas's lattice
+//! trajectories feed it hop by hop ([`crate::observables::hops::Hops`] →
+//! [`crate::hopping::hops`], window [`HOP_TRUNCATION`]), and so do simulated correlated walks
+//! ([`super::lattice_walk::direction_sequence`] → [`green_kubo`]).
 //!
 //! For hops of length l every τ with stationary directions d̂ᵢ,
 //!
 //! D = (l²/(4τ))·[1 + 2 Σ_{j≥1} C_j] = D_MZ·[1 + 2 Σ_{j≥1} C_j],  C_j = ⟨d̂ᵢ·d̂ᵢ₊ⱼ⟩
 //!
 //! (the discrete-time Green–Kubo formula: ⟨|Σᵢ₌₁ⁿ d̂ᵢ|²⟩ = n + 2Σ_{j<n}(n − j)C_j). The
-//! estimator truncates at lag J:
+//! estimator accumulates lags up to J_max ([`HopCorrelations`]) and truncates at lag J ≤ J_max:
 //!
-//! D_GK/D_MZ = (1/N') Σ_{i<N'} gᵢ,  gᵢ = 1 + 2 Σ_{j=1}^{J} d̂ᵢ·d̂ᵢ₊ⱼ,  N' = N − J,
+//! D_GK/D_MZ = (1/N') Σ_{i<N'} gᵢ,  gᵢ = 1 + 2 Σ_{j=1}^{J} d̂ᵢ·d̂ᵢ₊ⱼ,  N' = N − J_max,
 //!
 //! with d̂ᵢ·d̂ᵢ₊ⱼ = cos(60°·(kᵢ₊ⱼ − kᵢ)) ∈ {1, ½, −½, −1} for direction indices kᵢ, so every gᵢ
 //! is an exact half-integer (accumulated in integers). Its expectation is exactly
@@ -17,17 +20,41 @@
 //! J ≥ c·τ̂(J), τ̂(J) = 1 + 2Σ_{j≤J}|Ĉ_j| (absolute values, so that anticorrelated hops do
 //! not shorten the window), Ĉ_j the pooled estimate. The chosen J is reported.
 //!
-//! Errors: with ≥ 2 independent sequences, the standard error of the mean of the per-sequence
-//! estimates (batches); with one sequence, blocking of the gᵢ series
-//! ([`crate::stats::blocking_se`]).
+//! Errors: the standard error of the mean of the per-sequence estimates over ≥ 2 independent
+//! sequences (batches) — never from one sequence, whose gᵢ are correlated.
+//!
+//! # The window of the Lorentz gas ([`HOP_TRUNCATION`]: all [`MAX_LAG`] = 48 lags)
+//!
+//! Measured (`proofs-notes/green-kubo.md`, 2·10⁸ collisions in 16 batches per w): the hop
+//! correlations of the Lorentz gas decay geometrically and are indistinguishable from 0 beyond
+//! j ≈ 7 at w ≤ 0.25 and beyond j ≈ 10 at w = 0.3 (long flights near w∞ = 0.3094 keep them
+//! positive longest). Summing 48 lags, about 5 × the longest significant one, leaves a tail
+//! below the statistical error at every w from 0.02 to 0.3: the sum over lags 49 … 256 is
+//! within 2σ of 0, and D_GK agrees with the Einstein D within 2σ. Sokal's window (c = 6) would
+//! pick J = 7–9 with an error about 2.5 × smaller, but at w = 0.3 it drops C₁₀ … C₁₆, together
+//! about twice its own error bar, so that bar would no longer cover the truncation bias; 48
+//! fixed lags trade that factor for an error bar that does. Cost: 48 integer additions per
+//! hop, about 10 % of the collision time at w = 0.3 and less at smaller w (fewer hops per
+//! collision).
 
 use crate::error::Error;
-use crate::stats::{blocking_se, mean_se};
+use crate::stats::mean_se;
 
-use super::honeycomb::{next_direction, Symbol};
+use super::honeycomb::next_direction;
+use crate::symbols::Symbol;
 
 /// 2·cos(60°·m) for m = 0..5: exact integers 2, 1, −1, −2, −1, 1.
 const TWO_COS: [i64; 6] = [2, 1, -1, -2, -1, 1];
+
+/// Lags accumulated along Lorentz-gas trajectories (J_max): about 5 × the longest significant
+/// hop correlation (j ≈ 10 near w∞), so the neglected tail stays below the statistical error
+/// (module documentation); also the cap of the automatic window of [`green_kubo`].
+pub const MAX_LAG: usize = 48;
+
+/// The window of the Lorentz gas's hop-level estimator: all [`MAX_LAG`] lags, not Sokal's
+/// shorter automatic window, whose error bar would not cover the truncation bias near w∞
+/// (module documentation).
+pub const HOP_TRUNCATION: Truncation = Truncation::Fixed(MAX_LAG);
 
 /// How the sum over lags is truncated.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,28 +68,117 @@ pub enum Truncation {
     },
 }
 
-/// How the standard error was obtained.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ErrorMethod {
-    /// Standard error of the mean over this many independent sequences.
-    Batches(usize),
-    /// Blocking of the single sequence's gᵢ series.
-    Blocking,
+/// Streaming accumulator of one sequence of hop directions (indices 0..6): for every origin i
+/// with all `max_lag` successors seen, the exact integers 2 d̂ᵢ·d̂ᵢ₊ⱼ, j = 1 … `max_lag`, summed
+/// per lag. All lags share the same origins i < N − `max_lag`, so for every J ≤ `max_lag` the
+/// estimate 1 + 2Σ_{j≤J} Ĉ_j is exactly the mean of the gᵢ of the module documentation.
+/// Memory O(`max_lag`), time O(`max_lag`) per hop.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HopCorrelations {
+    /// The last max_lag + 1 directions, stored twice (ring of length cap = max_lag + 1 written at
+    /// p and p + cap), so that the window of an origin is one contiguous slice.
+    ring: Vec<u8>,
+    pushed: u64,
+    sums: Vec<i64>,
 }
 
-/// Result of [`green_kubo`].
+/// 2·cos(60°·(b − a)) as row a, column b (padded to 8 columns so that `b & 7` needs no bounds
+/// check).
+const TWO_COS_ROW: [[i64; 8]; 6] = {
+    let mut t = [[0i64; 8]; 6];
+    let mut a = 0;
+    while a < 6 {
+        let mut b = 0;
+        while b < 6 {
+            t[a][b] = TWO_COS[(b + 6 - a) % 6];
+            b += 1;
+        }
+        a += 1;
+    }
+    t
+};
+
+impl HopCorrelations {
+    /// An empty accumulator of lags 1 … `max_lag` (≥ 1).
+    pub fn new(max_lag: usize) -> Result<Self, Error> {
+        if max_lag == 0 {
+            return Err(Error::Zero { what: "max_lag" });
+        }
+        Ok(HopCorrelations {
+            ring: vec![0; 2 * (max_lag + 1)],
+            pushed: 0,
+            sums: vec![0; max_lag],
+        })
+    }
+
+    /// Largest lag accumulated.
+    pub fn max_lag(&self) -> usize {
+        self.sums.len()
+    }
+
+    /// The next hop direction, an index 0..6 (angle 60°·index plus any fixed offset); panics
+    /// in debug builds on an index ≥ 6 ([`green_kubo`] validates its input).
+    #[inline]
+    pub fn push(&mut self, dir: u8) {
+        debug_assert!(dir < 6, "hop direction index {dir} is not in 0..6");
+        let m = self.sums.len();
+        let cap = m + 1;
+        let p = (self.pushed % cap as u64) as usize;
+        self.ring[p] = dir;
+        self.ring[p + cap] = dir;
+        self.pushed += 1;
+        if self.pushed > m as u64 {
+            // Origin i = newest − max_lag sits right after the newest in the ring.
+            let i = if p + 1 == cap { 0 } else { p + 1 };
+            let window = &self.ring[i..i + cap];
+            let row = &TWO_COS_ROW[(window[0] % 6) as usize];
+            for (s, &b) in self.sums.iter_mut().zip(&window[1..]) {
+                *s += row[(b & 7) as usize];
+            }
+        }
+    }
+
+    /// Hops pushed, N.
+    pub fn hops(&self) -> u64 {
+        self.pushed
+    }
+
+    /// Complete origins, N − max_lag (0 while N ≤ max_lag).
+    pub fn origins(&self) -> u64 {
+        self.pushed.saturating_sub(self.sums.len() as u64)
+    }
+
+    /// Ĉ_j of this sequence (mean of d̂ᵢ·d̂ᵢ₊ⱼ over the complete origins; 0 before any),
+    /// 1 ≤ j ≤ max_lag.
+    pub fn correlation(&self, j: usize) -> f64 {
+        let n = self.origins();
+        if n == 0 {
+            0.0
+        } else {
+            self.sums[j - 1] as f64 / (2.0 * n as f64)
+        }
+    }
+
+    /// 1 + 2Σ_{j≤J} Ĉ_j of this sequence (the mean of its gᵢ).
+    pub fn d_over_d_mz(&self, j: usize) -> f64 {
+        let n = self.origins().max(1) as f64;
+        1.0 + self.sums[..j].iter().sum::<i64>() as f64 / n
+    }
+}
+
+/// Result of [`estimate`] and [`green_kubo`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct GreenKubo {
-    /// D_GK/D_MZ = 1 + 2Σ_{j≤J} C_j (estimated).
+    /// D_GK/D_MZ = 1 + 2Σ_{j≤J} C_j (estimated): the mean of the per-sequence estimates.
     pub d_over_d_mz: f64,
-    /// Its standard error.
+    /// Its standard error over the independent sequences (batch means).
     pub se: f64,
     /// The truncation lag J used.
     pub truncation: usize,
-    /// Pooled estimates Ĉ_1..Ĉ_J.
+    /// Pooled estimates Ĉ_1..Ĉ_J (sums over all sequences divided by all origins).
     pub correlations: Vec<f64>,
-    /// How `se` was obtained.
-    pub error_method: ErrorMethod,
+    /// The estimate of each sequence, in input order.
+    pub batch_values: Vec<f64>,
 }
 
 /// Hop directions (indices 0..6) from an initial direction and exit symbols: kᵢ₊₁ = kᵢ + turn(sᵢ₊₁).
@@ -77,68 +193,51 @@ pub fn directions_from_symbols(d0: u8, symbols: &[Symbol]) -> Vec<u8> {
     v
 }
 
-/// Σ_i 2 d̂ᵢ·d̂ᵢ₊ⱼ over i < n − j (an exact integer) and the number of terms.
-fn lag_sum(dirs: &[u8], j: usize) -> (i64, usize) {
-    if dirs.len() <= j {
-        return (0, 0);
+/// The pooled estimate Ĉ_j = Σ d̂ᵢ·d̂ᵢ₊ⱼ / (number of origins) over all accumulators.
+pub fn pooled_correlation(batches: &[HopCorrelations], j: usize) -> f64 {
+    let (s, n) = batches.iter().fold((0i64, 0u64), |a, b| {
+        (a.0 + b.sums[j - 1], a.1 + b.origins())
+    });
+    if n == 0 {
+        0.0
+    } else {
+        s as f64 / (2.0 * n as f64)
     }
-    let s = dirs
-        .iter()
-        .zip(&dirs[j..])
-        .map(|(&a, &b)| TWO_COS[((b + 6 - a) % 6) as usize])
-        .sum();
-    (s, dirs.len() - j)
 }
 
-/// The pooled estimate Ĉ_j = Σ d̂ᵢ·d̂ᵢ₊ⱼ / (number of pairs) over all sequences.
-pub fn correlation(sequences: &[Vec<u8>], j: usize) -> f64 {
-    let (s, n) = sequences
-        .iter()
-        .map(|d| lag_sum(d, j))
-        .fold((0i64, 0usize), |a, b| (a.0 + b.0, a.1 + b.1));
-    s as f64 / (2.0 * n as f64)
-}
-
-/// The Green–Kubo estimate of D/D_MZ from sequences of hop-direction indices (0..6), see the
-/// module documentation.
+/// The Green–Kubo estimate of D/D_MZ from independent sequences (see the module documentation):
+/// the window J from `truncation` (J ≤ the accumulators' `max_lag`), each sequence's
+/// 1 + 2Σ_{j≤J} Ĉ_j, their mean and its standard error.
 ///
-/// # Examples
-///
-/// ```
-/// use lorentz_gas::theory::green_kubo::{green_kubo, Truncation};
-/// // Hops back and forth forever: C_j = (−1)^j, truncated at J = 1: 1 + 2(−1) = −1.
-/// let s: Vec<u8> = (0..100).map(|i| if i % 2 == 0 { 0 } else { 3 }).collect();
-/// let r = green_kubo(&[s.clone(), s], Truncation::Fixed(1)).unwrap();
-/// assert_eq!(r.d_over_d_mz, -1.0);
-/// ```
-pub fn green_kubo(sequences: &[Vec<u8>], truncation: Truncation) -> Result<GreenKubo, Error> {
-    if sequences.is_empty() {
+/// Needs ≥ 2 sequences (the error is over independent sequences), all with the same
+/// `max_lag` and at least 4·`max_lag` hops each.
+pub fn estimate(batches: &[HopCorrelations], truncation: Truncation) -> Result<GreenKubo, Error> {
+    if batches.len() < 2 {
         return Err(Error::TooFew {
-            what: "sequences",
-            min: 1,
-            got: 0,
+            what: "independent hop sequences (for a batch error)",
+            min: 2,
+            got: batches.len() as u64,
         });
     }
-    if let Some(bad) = sequences.iter().flatten().find(|&&d| d >= 6) {
-        return Err(Error::Invalid(format!(
-            "hop direction index {bad} is not in 0..6"
-        )));
+    let j_max = batches[0].max_lag();
+    if batches.iter().any(|b| b.max_lag() != j_max) {
+        return Err(Error::Invalid(
+            "hop sequences accumulated with different maximum lags".into(),
+        ));
     }
-    let shortest = sequences.iter().map(|s| s.len()).min().unwrap_or(0);
-    let j_cap = shortest / 4;
-    if j_cap < 8 {
+    let shortest = batches.iter().map(|b| b.hops()).min().unwrap_or(0);
+    if shortest < 4 * j_max as u64 {
         return Err(Error::TooFew {
-            what: "hops per sequence",
-            min: 32,
-            got: shortest as u64,
+            what: "hops per sequence (4 × the largest lag)",
+            min: 4 * j_max as u64,
+            got: shortest,
         });
     }
     let j = match truncation {
         Truncation::Fixed(j) => {
-            if j == 0 || j > j_cap {
+            if j == 0 || j > j_max {
                 return Err(Error::Invalid(format!(
-                    "truncation J = {j} must be in 1..={j_cap} (a quarter of the shortest \
-                     sequence, {shortest} hops)"
+                    "truncation J = {j} must be in 1..={j_max} (the largest lag accumulated)"
                 )));
             }
             j
@@ -151,8 +250,8 @@ pub fn green_kubo(sequences: &[Vec<u8>], truncation: Truncation) -> Result<Green
             }
             let mut tau = 1.0;
             let mut found = None;
-            for j in 1..=j_cap {
-                tau += 2.0 * correlation(sequences, j).abs();
+            for j in 1..=j_max {
+                tau += 2.0 * pooled_correlation(batches, j).abs();
                 if j as f64 >= c * tau {
                     found = Some(j);
                     break;
@@ -160,68 +259,111 @@ pub fn green_kubo(sequences: &[Vec<u8>], truncation: Truncation) -> Result<Green
             }
             found.ok_or_else(|| {
                 Error::Invalid(format!(
-                    "no truncation J ≤ {j_cap} satisfies J ≥ {c}·τ̂(J): sequences too short \
-                     for these correlations"
+                    "no truncation J ≤ {j_max} satisfies J ≥ {c}·τ̂(J): the hop correlations \
+                     are too long for the lags accumulated"
                 ))
             })?
         }
     };
-    let correlations: Vec<f64> = (1..=j).map(|l| correlation(sequences, l)).collect();
-    // gᵢ·2 as integers, per sequence.
-    let g2 = |d: &[u8]| -> Vec<i64> {
-        (0..d.len() - j)
-            .map(|i| {
-                let a = d[i];
-                2 + 2
-                    * (1..=j)
-                        .map(|l| TWO_COS[((d[i + l] + 6 - a) % 6) as usize])
-                        .sum::<i64>()
-            })
-            .collect()
-    };
-    let (d, se, method) = if sequences.len() >= 2 {
-        let means: Vec<f64> = sequences
-            .iter()
-            .map(|s| {
-                let g = g2(s);
-                g.iter().sum::<i64>() as f64 / (2.0 * g.len() as f64)
-            })
-            .collect();
-        let (m, se) = mean_se(&means);
-        (m, se, ErrorMethod::Batches(sequences.len()))
-    } else {
-        let g: Vec<f64> = g2(&sequences[0]).iter().map(|&x| x as f64 / 2.0).collect();
-        let m = g.iter().sum::<f64>() / g.len() as f64;
-        (m, blocking_se(&g), ErrorMethod::Blocking)
-    };
+    let correlations = (1..=j).map(|l| pooled_correlation(batches, l)).collect();
+    let batch_values: Vec<f64> = batches.iter().map(|b| b.d_over_d_mz(j)).collect();
+    let (d, se) = mean_se(&batch_values);
     Ok(GreenKubo {
         d_over_d_mz: d,
         se,
         truncation: j,
         correlations,
-        error_method: method,
+        batch_values,
     })
+}
+
+/// [`estimate`] on stored sequences of hop-direction indices (0..6), accumulated up to lag
+/// J for `Fixed(J)` and up to min([`MAX_LAG`], shortest/4) for `Automatic`.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::theory::green_kubo::{green_kubo, Truncation};
+/// // Hops back and forth forever: C_j = (−1)^j, truncated at J = 1: 1 + 2(−1) = −1.
+/// let s: Vec<u8> = (0..100).map(|i| if i % 2 == 0 { 0 } else { 3 }).collect();
+/// let r = green_kubo(&[s.clone(), s], Truncation::Fixed(1)).unwrap();
+/// assert_eq!(r.d_over_d_mz, -1.0);
+/// ```
+pub fn green_kubo(sequences: &[Vec<u8>], truncation: Truncation) -> Result<GreenKubo, Error> {
+    if let Some(bad) = sequences.iter().flatten().find(|&&d| d >= 6) {
+        return Err(Error::Invalid(format!(
+            "hop direction index {bad} is not in 0..6"
+        )));
+    }
+    let shortest = sequences.iter().map(|s| s.len()).min().unwrap_or(0);
+    let j_max = match truncation {
+        Truncation::Fixed(j) => j.max(1),
+        Truncation::Automatic { .. } => MAX_LAG.min(shortest / 4).max(1),
+    };
+    let acc: Vec<HopCorrelations> = sequences
+        .iter()
+        .map(|s| {
+            let mut a = HopCorrelations::new(j_max)?;
+            for &d in s {
+                a.push(d);
+            }
+            Ok(a)
+        })
+        .collect::<Result<_, Error>>()?;
+    estimate(&acc, truncation)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::theory::honeycomb::parse_symbols;
+    use crate::symbols::parse_symbols;
+
+    fn accumulate(d: &[u8], max_lag: usize) -> HopCorrelations {
+        let mut a = HopCorrelations::new(max_lag).unwrap();
+        for &x in d {
+            a.push(x);
+        }
+        a
+    }
 
     #[test]
     fn exact_correlations_of_deterministic_sequences() {
         // Always l: directions 0, 5, 4, 3, … ; C_j = cos(60° j) exactly.
         let s = vec![Symbol::L; 600];
-        let d = directions_from_symbols(0, &s);
+        let a = accumulate(&directions_from_symbols(0, &s), 12);
         for j in 1..=12 {
-            let c = correlation(std::slice::from_ref(&d), j);
-            assert_eq!(c, TWO_COS[j % 6] as f64 / 2.0);
+            assert_eq!(a.correlation(j), TWO_COS[j % 6] as f64 / 2.0);
         }
         // lr repeated: directions 0, 5, 0, 5, …: C_j = 1 (j even), ½ (j odd).
         let s = parse_symbols(&"lr".repeat(200)).unwrap();
-        let d = directions_from_symbols(0, &s);
-        assert_eq!(correlation(std::slice::from_ref(&d), 1), 0.5);
-        assert_eq!(correlation(&[d], 2), 1.0);
+        let a = accumulate(&directions_from_symbols(0, &s), 2);
+        assert_eq!(a.correlation(1), 0.5);
+        assert_eq!(a.correlation(2), 1.0);
+        assert_eq!(pooled_correlation(&[a.clone(), a], 2), 1.0);
+    }
+
+    #[test]
+    fn streaming_sums_equal_the_mean_of_g() {
+        // The accumulator against the definition gᵢ = 1 + 2Σ_{j≤J} d̂ᵢ·d̂ᵢ₊ⱼ, i < N − J_max,
+        // on an arbitrary sequence: equal as exact rationals (integer sums over one count).
+        let d: Vec<u8> = (0..1000u64)
+            .map(|i| ((i * i * 7 + i * 3 + (i >> 3)) % 6) as u8)
+            .collect();
+        let j_max = 10;
+        let a = accumulate(&d, j_max);
+        assert_eq!(a.hops(), 1000);
+        assert_eq!(a.origins(), 990);
+        for j in 1..=j_max {
+            let g2: i64 = (0..d.len() - j_max)
+                .map(|i| {
+                    2 + 2
+                        * (1..=j)
+                            .map(|l| TWO_COS[((d[i + l] + 6 - d[i]) % 6) as usize])
+                            .sum::<i64>()
+                })
+                .sum();
+            assert_eq!(a.d_over_d_mz(j), g2 as f64 / (2.0 * 990.0));
+        }
     }
 
     #[test]
@@ -233,15 +375,22 @@ mod tests {
         assert_eq!(r.d_over_d_mz, 1.0);
         assert_eq!(r.se, 0.0);
         assert_eq!(r.truncation, 6);
-        assert_eq!(r.error_method, ErrorMethod::Batches(2));
+        assert_eq!(r.batch_values, vec![1.0, 1.0]);
     }
 
     #[test]
     fn invalid_input() {
-        assert!(green_kubo(&[], Truncation::Fixed(1)).is_err());
-        assert!(green_kubo(&[vec![0, 7, 0, 1]], Truncation::Fixed(1)).is_err());
-        assert!(green_kubo(&[vec![0; 100]], Truncation::Fixed(30)).is_err());
-        assert!(green_kubo(&[vec![0; 100]], Truncation::Automatic { c: -1.0 }).is_err());
-        assert!(green_kubo(&[vec![0; 16]], Truncation::Fixed(2)).is_err());
+        let e = |r: Result<GreenKubo, Error>| r.unwrap_err().to_string();
+        assert!(e(green_kubo(&[], Truncation::Fixed(1))).contains("at least 2"));
+        let two = |s: Vec<u8>| vec![s.clone(), s];
+        assert!(e(green_kubo(&[vec![0; 100]], Truncation::Fixed(1))).contains("at least 2"));
+        assert!(e(green_kubo(&two(vec![0, 7, 0, 1]), Truncation::Fixed(1))).contains("0..6"));
+        assert!(e(green_kubo(&two(vec![0; 100]), Truncation::Fixed(30))).contains("4 ×"));
+        assert!(green_kubo(&two(vec![0; 100]), Truncation::Automatic { c: -1.0 }).is_err());
+        assert!(green_kubo(&two(vec![0; 7]), Truncation::Fixed(2)).is_err());
+        assert!(HopCorrelations::new(0).is_err());
+        let a = HopCorrelations::new(3).unwrap();
+        let b = HopCorrelations::new(4).unwrap();
+        assert!(estimate(&[a, b], Truncation::Fixed(1)).is_err());
     }
 }

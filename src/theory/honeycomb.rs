@@ -1,4 +1,5 @@
-//! Symbolic dynamics of trap hopping on the honeycomb lattice of trap centres.
+//! Trap hopping on the honeycomb lattice of trap centres: the action of the symbols
+//! ([`crate::symbols`], re-exported here) on hop directions and exact walks.
 //!
 //! # Convention
 //!
@@ -26,116 +27,22 @@
 //! the hop vectors, which contains the honeycomb); in units of l² the squared distance is the
 //! exact integer |m **e**₁ + n **e**₂|² = m² + mn + n².
 
-use crate::error::Error;
 use crate::kernel::vec2::Vec2;
 use crate::real::Real;
 
-/// The exit gap of a trap relative to its entrance gap (see the module documentation).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Symbol {
-    /// Back through the entrance gap (backscattering): hop direction **d** ↦ −**d**.
-    Z,
-    /// The gap 120° counter-clockwise from the entrance (seen from the trap centre):
-    /// **d** ↦ R(−60°)**d**.
-    L,
-    /// The gap 120° clockwise from the entrance: **d** ↦ R(+60°)**d**.
-    R,
-}
+pub use crate::symbols::{
+    all_sequences, parse_symbols, sequence_from_index, sequence_index, word, Symbol,
+};
 
 impl Symbol {
-    /// The three symbols in index order z, l, r (indices 0, 1, 2).
-    pub const ALL: [Symbol; 3] = [Symbol::Z, Symbol::L, Symbol::R];
-
-    /// Index 0, 1, 2 for z, l, r (the digit used by [`sequence_index`]).
-    pub fn index(self) -> usize {
-        match self {
-            Symbol::Z => 0,
-            Symbol::L => 1,
-            Symbol::R => 2,
-        }
-    }
-
-    /// Inverse of [`Symbol::index`].
-    pub fn from_index(i: usize) -> Option<Symbol> {
-        Symbol::ALL.get(i).copied()
-    }
-
     /// Change of the hop-direction index (mod 6): z → +3, l → −1 ≡ +5, r → +1.
-    pub fn turn(self) -> u8 {
+    pub const fn turn(self) -> u8 {
         match self {
             Symbol::Z => 3,
             Symbol::L => 5,
             Symbol::R => 1,
         }
     }
-
-    /// The mirror image (l ↔ r, z fixed).
-    pub fn mirror(self) -> Symbol {
-        match self {
-            Symbol::Z => Symbol::Z,
-            Symbol::L => Symbol::R,
-            Symbol::R => Symbol::L,
-        }
-    }
-
-    /// The lower-case letter used by the paper.
-    pub fn to_char(self) -> char {
-        match self {
-            Symbol::Z => 'z',
-            Symbol::L => 'l',
-            Symbol::R => 'r',
-        }
-    }
-}
-
-/// Parses a word such as `"lzr"` (case-insensitive) into symbols.
-///
-/// # Examples
-///
-/// ```
-/// use lorentz_gas::theory::honeycomb::{parse_symbols, Symbol};
-/// assert_eq!(parse_symbols("lZr").unwrap(), vec![Symbol::L, Symbol::Z, Symbol::R]);
-/// assert!(parse_symbols("lx").is_err());
-/// ```
-pub fn parse_symbols(word: &str) -> Result<Vec<Symbol>, Error> {
-    word.chars()
-        .map(|c| match c.to_ascii_lowercase() {
-            'z' => Ok(Symbol::Z),
-            'l' => Ok(Symbol::L),
-            'r' => Ok(Symbol::R),
-            _ => Err(Error::Invalid(format!(
-                "symbol '{c}' in \"{word}\" is not one of z, l, r"
-            ))),
-        })
-        .collect()
-}
-
-/// Writes symbols as the paper's word, e.g. `"lzr"`.
-pub fn word(symbols: &[Symbol]) -> String {
-    symbols.iter().map(|s| s.to_char()).collect()
-}
-
-/// Index of a sequence s₁…s_k as the base-3 number Σ sᵢ 3^(k−i) (first symbol most
-/// significant, digits z = 0, l = 1, r = 2).
-pub fn sequence_index(symbols: &[Symbol]) -> usize {
-    symbols.iter().fold(0, |acc, s| 3 * acc + s.index())
-}
-
-/// Inverse of [`sequence_index`] for sequences of length `k`.
-pub fn sequence_from_index(k: usize, mut index: usize) -> Vec<Symbol> {
-    let mut v = vec![Symbol::Z; k];
-    for slot in v.iter_mut().rev() {
-        *slot = Symbol::ALL[index % 3];
-        index /= 3;
-    }
-    v
-}
-
-/// All 3^k sequences of length `k`, in [`sequence_index`] order.
-pub fn all_sequences(k: usize) -> Vec<Vec<Symbol>> {
-    (0..3usize.pow(k as u32))
-        .map(|i| sequence_from_index(k, i))
-        .collect()
 }
 
 /// The six hop vectors **u**ₖ (angle 60°·k) in the basis **e**₁ = **u**₀, **e**₂ = **u**₁:
@@ -260,18 +167,6 @@ pub fn walk<T: Real>(d0: &Vec2<T>, symbols: &[Symbol]) -> Vec2<T> {
 mod tests {
     use super::*;
     use rug::Float;
-
-    #[test]
-    fn sequence_index_round_trip() {
-        for k in 0..5 {
-            for (i, s) in all_sequences(k).iter().enumerate() {
-                assert_eq!(sequence_index(s), i);
-                assert_eq!(sequence_from_index(k, i), *s);
-            }
-        }
-        assert_eq!(sequence_index(&parse_symbols("lzr").unwrap()), 9 + 2);
-        assert_eq!(word(&parse_symbols("RLZ").unwrap()), "rlz");
-    }
 
     #[test]
     fn hop_vectors_have_unit_length_and_sum_to_zero() {

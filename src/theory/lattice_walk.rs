@@ -23,11 +23,16 @@ use rand::Rng;
 use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::sampling::stream;
+use crate::sampling::{Purpose, StreamKey};
 use crate::stats::{linear_fit, mean_se};
 
 use super::honeycomb::{next_direction, LatticePoint, Symbol};
 use super::markov::CorrelatedWalk;
+
+/// The random stream of walker batch `index` (never a trajectory's stream of the same seed).
+fn walk_stream(seed: u64, index: u64) -> rand_xoshiro::Xoshiro256PlusPlus {
+    StreamKey::new(seed, Purpose::LatticeWalk, index).rng()
+}
 
 /// Run parameters of [`simulate`].
 #[derive(Debug, Clone, PartialEq)]
@@ -175,10 +180,10 @@ pub struct Walker {
 }
 
 /// The hop directions (indices 0..6) of one stationary walker of `n` hops, from
-/// `stream(seed, index)`: the input of [`super::green_kubo`].
+/// the lattice-walk stream `(seed, LatticeWalk, index)`: the input of [`super::green_kubo`].
 pub fn direction_sequence(walk: &CorrelatedWalk, seed: u64, index: u64, n: usize) -> Vec<u8> {
     let s = Sampler::new(walk);
-    let mut rng = stream(seed, index);
+    let mut rng = walk_stream(seed, index);
     let mut w = s.start(&mut rng);
     (0..n)
         .map(|_| {
@@ -188,10 +193,10 @@ pub fn direction_sequence(walk: &CorrelatedWalk, seed: u64, index: u64, n: usize
         .collect()
 }
 
-/// The exit symbols of one stationary walker of `n` hops, from `stream(seed, index)`.
+/// The exit symbols of one stationary walker of `n` hops, from the lattice-walk stream `(seed, LatticeWalk, index)`.
 pub fn symbol_sequence(walk: &CorrelatedWalk, seed: u64, index: u64, n: usize) -> Vec<Symbol> {
     let s = Sampler::new(walk);
-    let mut rng = stream(seed, index);
+    let mut rng = walk_stream(seed, index);
     let mut w = s.start(&mut rng);
     (0..n).map(|_| s.step(&mut w, &mut rng)).collect()
 }
@@ -216,7 +221,7 @@ pub fn simulate(
     let batch_values: Vec<f64> = (0..cfg.batches as u64)
         .into_par_iter()
         .map(|b| {
-            let mut rng = stream(cfg.seed, b);
+            let mut rng = walk_stream(cfg.seed, b);
             let mut sums = vec![0u128; cfg.hops + 1];
             for _ in 0..cfg.walkers {
                 let mut w = sampler.start(&mut rng);

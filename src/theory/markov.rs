@@ -33,8 +33,8 @@ use crate::error::Error;
 use crate::geometry::Geometry;
 use crate::real::Real;
 
-use super::honeycomb::Symbol;
 use super::sequences::SequenceProbabilities;
+use crate::symbols::{sequence_from_index, sequence_index, word, Symbol};
 
 /// Correlation of successive hop directions of the memoryless walk,
 /// c = ⟨d̂ᵢ·d̂ᵢ₊₁⟩ = p_bs·(−1) + (1 − p_bs)·cos 60° = (1 − 3p_bs)/2.
@@ -78,8 +78,9 @@ pub struct CorrelatedWalk {
 }
 
 impl CorrelatedWalk {
-    /// Largest order accepted (3⁶ = 729 histories, a dense complex LU).
-    pub const MAX_ORDER: usize = 7;
+    /// Largest order accepted: the crate's one limit [`crate::symbols::MAX_ORDER`]
+    /// (3⁶ = 729 histories, a dense complex LU).
+    pub const MAX_ORDER: usize = crate::symbols::MAX_ORDER;
 
     /// The walk whose sequences of length k have the probabilities `p` (k = `p.len()`).
     pub fn new(p: &SequenceProbabilities) -> Result<Self, Error> {
@@ -106,7 +107,7 @@ impl CorrelatedWalk {
     }
 
     /// The walk of order k from p(s | h) given for each of the 3^(k−1) histories h in
-    /// [`super::honeycomb::sequence_index`] order, as `[p(z|h), p(l|h), p(r|h)]`. Each row must
+    /// [`crate::symbols::sequence_index`] order, as `[p(z|h), p(l|h), p(r|h)]`. Each row must
     /// be finite, ≥ 0 and sum to 1 within 4u.
     pub fn from_conditionals(k: usize, cond: Vec<[f64; 3]>) -> Result<Self, Error> {
         Self::check_order(k)?;
@@ -119,7 +120,7 @@ impl CorrelatedWalk {
             )));
         }
         for (h, row) in cond.iter().enumerate() {
-            let hist = super::honeycomb::word(&super::honeycomb::sequence_from_index(k - 1, h));
+            let hist = word(&sequence_from_index(k - 1, h));
             if row.iter().any(|x| !x.is_finite() || *x < 0.0) {
                 return Err(Error::Invalid(format!(
                     "p(·|\"{hist}\") = {row:?}: conditional probabilities must be finite and ≥ 0"
@@ -142,13 +143,7 @@ impl CorrelatedWalk {
     }
 
     fn check_order(k: usize) -> Result<(), Error> {
-        if k == 0 || k > Self::MAX_ORDER {
-            return Err(Error::Invalid(format!(
-                "walk order k = {k} is out of range: use 1 ≤ k ≤ {}",
-                Self::MAX_ORDER
-            )));
-        }
-        Ok(())
+        crate::symbols::check_order("walk order k", k)
     }
 
     /// The order k (sequences of length k, memory of k − 1 symbols).
@@ -190,8 +185,8 @@ impl CorrelatedWalk {
         let nh = self.cond.len();
         let w: Vec<f64> = (0..3usize.pow(full as u32))
             .map(|i| {
-                let s = super::honeycomb::sequence_from_index(full, i);
-                let h0 = super::honeycomb::sequence_index(&s[..m]);
+                let s = sequence_from_index(full, i);
+                let h0 = sequence_index(&s[..m]);
                 let mut x = self.stationary[h0];
                 let mut h = h0;
                 for &sym in &s[m..] {

@@ -9,7 +9,7 @@
 use crate::error::Error;
 use crate::stats::CompensatedSum;
 
-use super::honeycomb::{sequence_index, Symbol};
+use crate::symbols::{sequence_from_index, sequence_index, word, Symbol};
 
 /// p(s₁…s_k) for all 3^k sequences of length k, validated: every entry finite and ≥ 0, the sum
 /// equal to 1 within the rounding error model of [`SequenceProbabilities::new`].
@@ -124,7 +124,7 @@ impl SequenceProbabilities {
     fn check_entries(k: usize, p: &[f64]) -> Result<(), Error> {
         for (i, &x) in p.iter().enumerate() {
             if !x.is_finite() || x < 0.0 {
-                let w = super::honeycomb::word(&super::honeycomb::sequence_from_index(k, i));
+                let w = word(&sequence_from_index(k, i));
                 return Err(Error::Invalid(format!(
                     "probability of sequence \"{w}\" is {x}: every probability must be finite \
                      and ≥ 0"
@@ -189,8 +189,8 @@ pub fn count_sequences(symbols: &[Symbol], k: usize) -> Vec<u64> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::honeycomb::parse_symbols;
     use super::*;
+    use crate::symbols::parse_symbols;
 
     #[test]
     fn validation_errors_are_clear() {
