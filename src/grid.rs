@@ -80,7 +80,7 @@ pub fn decimal_grid(from: &str, to: &str, steps: u32) -> Result<Vec<f64>, Error>
     let span = Rational::from(&b - &a);
     Ok((0..steps)
         .map(|i| {
-            let x = Rational::from(&a + Rational::from(&span * Rational::from((i, steps - 1))));
+            let x = a.clone() + span.clone() * Rational::from((i, steps - 1));
             nearest_f64(&x)
         })
         .collect())
@@ -98,7 +98,7 @@ pub fn decimal_steps(a: &str, h: &str, n: u32) -> Result<Vec<f64>, Error> {
     let a = parse_decimal(a)?;
     let h = parse_decimal(h)?;
     Ok((0..n)
-        .map(|i| nearest_f64(&Rational::from(&a + Rational::from(&h * i))))
+        .map(|i| nearest_f64(&(a.clone() + h.clone() * i)))
         .collect())
 }
 

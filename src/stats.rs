@@ -162,7 +162,7 @@ pub fn weighted_line_fit(x: &[f64], y: &[f64], sigma: &[f64]) -> Result<LineFit,
     let xm = w.iter().zip(x).map(|(w, x)| w * x).sum::<f64>() / sw;
     let ym = w.iter().zip(y).map(|(w, y)| w * y).sum::<f64>() / sw;
     let stt: f64 = w.iter().zip(x).map(|(w, x)| w * (x - xm).powi(2)).sum();
-    if !(stt > 0.0) {
+    if stt.is_nan() || stt <= 0.0 {
         return Err(Error::Invalid(
             "a straight-line fit needs at least two distinct x".into(),
         ));

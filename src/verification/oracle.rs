@@ -368,20 +368,20 @@ fn validate(thp: &Trap<Float>, f: &Flight<f64>) -> Result<(), String> {
     let a = thp.a.to_f64();
     for k in 0..3 {
         let s = thp.edge_distance(k, &p).to_f64();
-        if !(s >= -VALID_EDGE * a) {
+        if s.is_nan() || s < -VALID_EDGE * a {
             return Err(format!("decoded start outside edge {k}: sigma = {s:e}"));
         }
     }
     for (m, c) in thp.vertices.iter().enumerate() {
         let e = (p.sub(c).norm2() - 1u32).to_f64();
-        if !(e >= -VALID_DISK) {
+        if e.is_nan() || e < -VALID_DISK {
             return Err(format!(
                 "decoded start inside disk {m}: |p-c|^2 - 1 = {e:e}"
             ));
         }
     }
     let e = (v.norm2() - 1u32).to_f64();
-    if !(e.abs() <= VALID_SPEED) {
+    if e.abs().is_nan() || e.abs() > VALID_SPEED {
         return Err(format!("decoded speed off: |v|^2 - 1 = {e:e}"));
     }
     if f.excluded_edge != NONE {
@@ -790,7 +790,7 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
                 rep.collisions += 1;
                 let dev = (e2 - 1.0).abs() / U;
                 rep.worst_energy_u = rep.worst_energy_u.max(dev);
-                if !(dev <= 128.0) {
+                if dev.is_nan() || dev > 128.0 {
                     return Err(fail(format!(
                         "|v|^2 - 1 = {:e} = {dev} u after a collision",
                         e2 - 1.0
@@ -824,7 +824,7 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
         }
         for (m, c) in lat.trap.vertices.iter().enumerate() {
             let r2 = fl.pos.sub(c).norm2();
-            if !(r2 >= 1.0 - 256.0 * U) {
+            if r2.is_nan() || r2 < 1.0 - 256.0 * U {
                 return Err(fail(format!(
                     "inside disk {m} after {:?}: |x-c|^2 = {r2:e}",
                     ev.kind
@@ -833,7 +833,7 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
         }
         for k in 0..3 {
             let sig = lat.trap.edge_distance(k, &fl.pos);
-            if !(sig >= -256.0 * U * a) {
+            if sig.is_nan() || sig < -256.0 * U * a {
                 return Err(fail(format!(
                     "outside edge {k} after {:?}: sigma = {sig:e}",
                     ev.kind
@@ -842,7 +842,7 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
         }
         let d = lat.unwrapped(&s, 0.0).displacement_from(&u_before, a, h);
         let err = ((d[0] - ev.time * vx).powi(2) + (d[1] - ev.time * vy).powi(2)).sqrt();
-        if !(err <= 64.0 * f64::EPSILON * (a + ev.time)) {
+        if err.is_nan() || err > 64.0 * f64::EPSILON * (a + ev.time) {
             return Err(fail(format!("unwrapped jump {err:e} over {:?}", ev.kind)));
         }
         rep.events += 1;
