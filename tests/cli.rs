@@ -68,6 +68,8 @@ const BAD: &[(&[&str], &str)] = &[
     (&["certify", "--w", "0"], "trapped"),
     (&["certify", "--w", "0.1", "--collisions", "0"], "collisions"),
     (&["certify", "--w", "0.1", "--digits", "0"], "digits"),
+    (&["certify", "--w", "0.1", "--digits", "-3"], "whole number"),
+    (&["diffusion", "--w", "0.1", "--seed", "-1"], "whole number"),
     (&["certify", "--w", "0.1", "--collisions", "100000000000"], "at most"),
     (&["certify", "--w", "0.1", "--collisions", "200000", "--digits", "10"], "memory"),
     // backscatter

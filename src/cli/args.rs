@@ -99,10 +99,10 @@ pub struct GapArg {
 #[derive(Args, Debug, Clone)]
 pub struct RunArgs {
     /// Seed of the random streams (same seed, same bits, whatever --threads).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value = "1", value_parser = parse_count, allow_negative_numbers = true)]
     pub seed: u64,
     /// Worker threads, 1 to 4096 (default: all cores); never changes the result.
-    #[arg(long, value_parser = parse_threads)]
+    #[arg(long, value_parser = parse_threads, allow_negative_numbers = true)]
     pub threads: Option<usize>,
 }
 

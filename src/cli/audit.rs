@@ -12,16 +12,16 @@ pub struct Args {
     #[command(flatten)]
     gap: GapArg,
     /// Collisions simulated, over all trajectories.
-    #[arg(long, default_value = "1e6", value_parser = parse_count)]
+    #[arg(long, default_value = "1e6", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
     /// Independent trajectories (not tied to --threads: the result is the same on any thread count).
-    #[arg(long, default_value = "4", value_parser = parse_count_u32)]
+    #[arg(long, default_value = "4", value_parser = parse_count_u32, allow_negative_numbers = true)]
     trajectories: u32,
     /// Fraction of events replayed, in (0, 1].
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     sample: f64,
     /// Reference precision in bits (128 to 65536).
-    #[arg(long, default_value_t = 128)]
+    #[arg(long, default_value = "128", value_parser = parse_count_u32, allow_negative_numbers = true)]
     precision: u32,
     #[command(flatten)]
     run: RunArgs,

@@ -12,12 +12,12 @@ pub struct Args {
     #[command(flatten)]
     gap: GapArg,
     /// Particles injected.
-    #[arg(long, default_value = "1e7", value_parser = parse_count)]
+    #[arg(long, default_value = "1e7", value_parser = parse_count, allow_negative_numbers = true)]
     visits: u64,
     #[command(flatten)]
     precision: PrecisionArg,
     /// Independent batches (at least 2).
-    #[arg(long, default_value = "32", value_parser = parse_count_u32)]
+    #[arg(long, default_value = "32", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
     #[command(flatten)]
     run: RunArgs,

@@ -15,10 +15,10 @@ pub struct Args {
     #[command(flatten)]
     gap: GapArg,
     /// Collisions per trajectory per repetition.
-    #[arg(long, default_value = "2e7", value_parser = parse_count)]
+    #[arg(long, default_value = "2e7", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
     /// Repetitions (the median is reported), 1 to 1000.
-    #[arg(long, default_value = "7", value_parser = parse_count_usize)]
+    #[arg(long, default_value = "7", value_parser = parse_count_usize, allow_negative_numbers = true)]
     repetitions: usize,
     #[command(flatten)]
     precision: PrecisionArg,

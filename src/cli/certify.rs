@@ -3,7 +3,7 @@
 use lorentz_gas::error::Error;
 use lorentz_gas::verification::certify::certify_seeded;
 
-use super::args::{parse_count_usize, GapArg, OutputArgs};
+use super::args::{parse_count, parse_count_u32, parse_count_usize, GapArg, OutputArgs};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -12,13 +12,13 @@ pub struct Args {
     #[command(flatten)]
     gap: GapArg,
     /// Collisions in the segment.
-    #[arg(long, default_value = "1000", value_parser = parse_count_usize)]
+    #[arg(long, default_value = "1000", value_parser = parse_count_usize, allow_negative_numbers = true)]
     collisions: usize,
     /// Digits to certify (1 or more).
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value = "30", value_parser = parse_count_u32, allow_negative_numbers = true)]
     digits: u32,
     /// Seed of the equilibrium start (the start of batch 0 of `diffusion --seed SEED`).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value = "1", value_parser = parse_count, allow_negative_numbers = true)]
     seed: u64,
     #[command(flatten)]
     output: OutputArgs,

@@ -14,10 +14,10 @@ pub struct Args {
     #[command(flatten)]
     gap: GapArg,
     /// Total collisions over all batches (2e9, 2_000_000_000 and 2000000000 all work).
-    #[arg(long, default_value = "2e9", value_parser = parse_count)]
+    #[arg(long, default_value = "2e9", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
     /// Independent batches (trajectories), at least 2; the error bar is their standard error.
-    #[arg(long, default_value = "32", value_parser = parse_count_u32)]
+    #[arg(long, default_value = "32", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
     #[command(flatten)]
     run: RunArgs,
@@ -36,7 +36,7 @@ pub struct Args {
     #[arg(long)]
     audit: Option<f64>,
     /// Reference precision of the audit, in bits (>= 128).
-    #[arg(long, default_value_t = 128)]
+    #[arg(long, default_value = "128", value_parser = parse_count_u32, allow_negative_numbers = true)]
     audit_precision: u32,
     #[command(flatten)]
     output: OutputArgs,

@@ -29,7 +29,7 @@ pub struct Args {
     w: f64,
     /// Injections (map), injections per point (backscatter) or collisions per gap (hierarchy);
     /// default 60000, 200000 and 2e7.
-    #[arg(long, value_parser = parse_count)]
+    #[arg(long, value_parser = parse_count, allow_negative_numbers = true)]
     samples: Option<u64>,
     #[command(flatten)]
     run: RunArgs,

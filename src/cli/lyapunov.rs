@@ -17,13 +17,13 @@ pub struct Args {
     #[command(flatten)]
     gap: GapArg,
     /// Collisions per tangent-space orbit.
-    #[arg(long, default_value = "2e6", value_parser = parse_count)]
+    #[arg(long, default_value = "2e6", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
     /// Independent tangent-space orbits (at least 2).
-    #[arg(long, default_value = "16", value_parser = parse_count_u32)]
+    #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
     orbits: u32,
     /// Initial conditions for the divergence measurement (0 to skip it).
-    #[arg(long, default_value = "8", value_parser = parse_count_u32)]
+    #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
     starts: u32,
     #[command(flatten)]
     run: RunArgs,

@@ -16,16 +16,16 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     w_to: String,
     /// Number of points (at least 2).
-    #[arg(long, default_value = "11", value_parser = parse_count_u32)]
+    #[arg(long, default_value = "11", value_parser = parse_count_u32, allow_negative_numbers = true)]
     steps: u32,
     /// Independent runs per point (their spread is checked against the batch errors).
-    #[arg(long, default_value = "10", value_parser = parse_count_u32)]
+    #[arg(long, default_value = "10", value_parser = parse_count_u32, allow_negative_numbers = true)]
     runs: u32,
     /// Collisions per run.
-    #[arg(long, default_value = "2e8", value_parser = parse_count)]
+    #[arg(long, default_value = "2e8", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
     /// Batches per run (at least 2): each run's error is the standard error over its batches.
-    #[arg(long, default_value = "8", value_parser = parse_count_u32)]
+    #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
     #[command(flatten)]
     run: RunArgs,

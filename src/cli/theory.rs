@@ -12,13 +12,13 @@ pub struct Args {
     #[command(flatten)]
     gap: GapArg,
     /// Collisions in all.
-    #[arg(long, default_value = "2e8", value_parser = parse_count)]
+    #[arg(long, default_value = "2e8", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
     /// Independent batches (at least 2).
-    #[arg(long, default_value = "16", value_parser = parse_count_u32)]
+    #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
     /// Highest order k of the hierarchy and of the lattice walk.
-    #[arg(long, default_value = "4", value_parser = parse_count_usize)]
+    #[arg(long, default_value = "4", value_parser = parse_count_usize, allow_negative_numbers = true)]
     order: usize,
     #[command(flatten)]
     run: RunArgs,
