@@ -54,6 +54,21 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     // distributed. The old estimator (the spread of two run values) fails this by 30–100×.
     let row = &first.rows[1];
     assert_eq!(row.D_err_dof, 2 * 3);
+    // By definition it combines the batch errors of the point's two runs (runs 2 and 3 of seed 9:
+    // point 1, two runs per point), not the spread of their two values.
+    let runs: Vec<_> = (2..4)
+        .map(|r| {
+            let mut c = DiffusionConfig::new(0.12);
+            c.collisions = cfg.collisions;
+            c.batches = cfg.batches;
+            c.seed = cfg.seed;
+            c.run = r;
+            run(&c, 2, None, &|_| {}).unwrap()
+        })
+        .collect();
+    assert_eq!(row.run_D, vec![runs[0].D, runs[1].D]);
+    let within = (runs[0].D_err.powi(2) + runs[1].D_err.powi(2)).sqrt() / 2.0;
+    assert_eq!(row.D_err, within);
     let mut single = DiffusionConfig::new(0.12);
     single.collisions = 6_000_000;
     single.batches = 8;
