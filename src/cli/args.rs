@@ -95,6 +95,67 @@ pub struct GapArg {
     pub w: f64,
 }
 
+/// The measurement of hop statistics along lattice trajectories (`hops`, `theory`, `lattice-walk`).
+#[derive(Args, Debug, Clone)]
+pub struct HopArgs {
+    /// Lorentz-gas collisions in all (2e8, 2_000_000_000, ...).
+    #[arg(long, default_value = "2e8", value_parser = parse_count, allow_negative_numbers = true)]
+    pub collisions: u64,
+    /// Independent batches (at least 2); every error bar is over them.
+    #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
+    pub batches: u32,
+    /// Longest symbol sequence counted, and highest order of the theory (1 to 7).
+    #[arg(long, default_value = "4", value_parser = parse_count_usize, allow_negative_numbers = true)]
+    pub order: usize,
+}
+
+/// The whole command line of a hop analysis: gap, measurement, seed and threads, output.
+#[derive(Args, Debug, Clone)]
+pub struct HopCommand {
+    #[command(flatten)]
+    gap: GapArg,
+    #[command(flatten)]
+    hop: HopArgs,
+    #[command(flatten)]
+    run: RunArgs,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+/// The library's hop analyses share one signature: (w, collisions, batches, order, seed, threads,
+/// progress).
+pub type HopAnalysis<R> = fn(
+    f64,
+    u64,
+    u32,
+    usize,
+    u64,
+    usize,
+    &(dyn Fn(u64) + Sync),
+) -> Result<R, lorentz_gas::error::Error>;
+
+impl HopCommand {
+    /// Runs `analysis` with a progress bar over the collisions and prints its result.
+    pub fn run<R: serde::Serialize>(
+        &self,
+        analysis: HopAnalysis<R>,
+        print: impl FnOnce(&R),
+    ) -> Result<(), lorentz_gas::error::Error> {
+        let pb = super::progress::Progress::new(self.hop.collisions, "collisions", self.output.quiet);
+        let r = analysis(
+            self.gap.w,
+            self.hop.collisions,
+            self.hop.batches,
+            self.hop.order,
+            self.run.seed,
+            self.run.threads(),
+            &pb.callback(),
+        )?;
+        drop(pb);
+        super::output::emit(self.output.json, &r, print)
+    }
+}
+
 /// Seed and threads of a stochastic computation.
 #[derive(Args, Debug, Clone)]
 pub struct RunArgs {

@@ -3,42 +3,13 @@
 use lorentz_gas::error::Error;
 use lorentz_gas::hopping::{theory, TheoryReport};
 
-use super::args::{parse_count, parse_count_u32, parse_count_usize, GapArg, OutputArgs, RunArgs};
-use super::output::emit;
-use super::progress::Progress;
+use super::args::HopCommand;
 
-#[derive(clap::Args)]
-pub struct Args {
-    #[command(flatten)]
-    gap: GapArg,
-    /// Collisions in all.
-    #[arg(long, default_value = "2e8", value_parser = parse_count, allow_negative_numbers = true)]
-    collisions: u64,
-    /// Independent batches (at least 2).
-    #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    batches: u32,
-    /// Highest order k of the hierarchy and of the lattice walk.
-    #[arg(long, default_value = "4", value_parser = parse_count_usize, allow_negative_numbers = true)]
-    order: usize,
-    #[command(flatten)]
-    run: RunArgs,
-    #[command(flatten)]
-    output: OutputArgs,
-}
+/// `lorentz theory` takes the shared hop-analysis options.
+pub type Args = HopCommand;
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let pb = Progress::new(a.collisions, "collisions", a.output.quiet);
-    let r = theory(
-        a.gap.w,
-        a.collisions,
-        a.batches,
-        a.order,
-        a.run.seed,
-        a.run.threads(),
-        &pb.callback(),
-    )?;
-    drop(pb);
-    emit(a.output.json, &r, print)
+    a.run(theory, print)
 }
 
 fn print(r: &TheoryReport) {
