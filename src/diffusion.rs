@@ -568,9 +568,17 @@ fn summarise(
 
 #[derive(Serialize, Deserialize)]
 struct CheckpointHeader {
+    /// [`CHECKPOINT_FORMAT`]; absent in files of the old stream scheme.
+    #[serde(default)]
+    format: u32,
     config: DiffusionConfig,
-    version: String,
+    meta: Option<RunMeta>,
 }
+
+/// Format of checkpoint files: 2 since random streams are named by keys
+/// ([`crate::sampling::StreamKey`]). A file of another format holds batches from other streams
+/// and is refused rather than mixed with new ones.
+const CHECKPOINT_FORMAT: u32 = 2;
 
 fn load_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<Vec<BatchResult>, Error> {
     let f = match std::fs::File::open(p) {
@@ -585,6 +593,14 @@ fn load_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<Vec<BatchResult
     };
     let h: CheckpointHeader = serde_json::from_str(&header)
         .map_err(|e| Error::Io(format!("{}: not a lorentz checkpoint ({e})", p.display())))?;
+    if h.format != CHECKPOINT_FORMAT {
+        return Err(Error::Invalid(format!(
+            "checkpoint {} has format {} (this version writes {CHECKPOINT_FORMAT}, with other random \
+             streams): its batches cannot be combined with new ones; use another file",
+            p.display(),
+            h.format
+        )));
+    }
     if h.config != *cfg {
         return Err(Error::Invalid(format!(
             "checkpoint {} belongs to another run ({:?}); use another file or the same parameters",
@@ -610,8 +626,14 @@ fn open_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<std::fs::File, 
     let mut f = OpenOptions::new().create(true).append(true).open(p)?;
     if fresh {
         let h = CheckpointHeader {
+            format: CHECKPOINT_FORMAT,
             config: cfg.clone(),
-            version: env!("CARGO_PKG_VERSION").into(),
+            meta: Some(RunMeta::new(
+                Some(cfg.seed),
+                Some(cfg.batches as u64),
+                cfg.precision,
+                None,
+            )),
         };
         writeln!(
             f,
