@@ -207,11 +207,24 @@ fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
     .unwrap();
     assert_eq!(plain.D.to_bits(), audited.D.to_bits());
     let a = audited.audit.unwrap();
-    // ~1 % of ~2.2·10⁶ events: a binomial count, 5σ ≈ 740.
+    // Each event is replayed independently with probability r (the auditor's own stream), so
+    // given the number of events E the count is Binomial(E, r). E = C + H: C collisions (fixed)
+    // and H crossings, E[H] = C·3w/π exactly (Kac: π/(3w) collisions per hop). Over the law of H,
+    //   Var(count) = E[E]·r(1 − r) + r²·Var(H),
+    // Var(H) from the batch ratios ρ_b = C_b/H_b: H = Σ C_b/ρ_b, δH ≈ −(C/ρ²)·δρ̄, so
+    // sd(H) ≈ C·se(ρ̄)/ρ² (a 0.2 % correction). At C = 2·10⁶, w = 0.12: σ ≈ 149; 5σ ≈ 743.
+    // The count is ~2·10⁴, so the normal approximation is good far into the tails.
+    let r = 0.01;
+    let c = audited.collisions as f64;
+    let events = c * (1.0 + 1.0 / audited.collisions_per_hop_exact);
+    let sd_h = c * audited.collisions_per_hop_err / audited.collisions_per_hop.powi(2);
+    let sigma = (events * r * (1.0 - r) + r * r * sd_h * sd_h).sqrt();
+    let expected = r * events;
     assert!(
-        (a.audited as f64 - 0.01 * 2.2e6).abs() < 1500.0,
-        "{}",
-        a.audited
+        (a.audited as f64 - expected).abs() <= 5.0 * sigma,
+        "{} events audited, expected {expected:.0} ± {sigma:.0} ({:.1}σ)",
+        a.audited,
+        (a.audited as f64 - expected) / sigma
     );
     assert_eq!(a.outside, 0);
     let mut rug = cfg.clone();
