@@ -191,7 +191,8 @@ fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
         let loo: Vec<f64> = (0..K).map(|k| d4_of(Some(k))).collect();
         let mean_loo = loo.iter().sum::<f64>() / K as f64;
         let kf = K as f64;
-        let se4 = ((kf - 1.0) / kf * loo.iter().map(|d| (d - mean_loo).powi(2)).sum::<f64>()).sqrt();
+        let se4 =
+            ((kf - 1.0) / kf * loo.iter().map(|d| (d - mean_loo).powi(2)).sum::<f64>()).sqrt();
         let mut cfg = DiffusionConfig::new(w);
         cfg.collisions = 40_000_000;
         cfg.batches = 16;

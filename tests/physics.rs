@@ -264,7 +264,11 @@ fn energy_has_no_drift_over_ten_million_collisions() {
     // 2. Contraction from ±2⁻³⁰ off the unit speed, 1000 equilibrium starts.
     for k in 0..1000u64 {
         let mut s = equilibrium_state(&lat.trap, &mut stream(9, 1 + k));
-        let f = if k % 2 == 0 { 1.0 + 2f64.powi(-31) } else { 1.0 - 2f64.powi(-31) };
+        let f = if k % 2 == 0 {
+            1.0 + 2f64.powi(-31)
+        } else {
+            1.0 - 2f64.powi(-31)
+        };
         s.flight.vel = Vec2::new(s.flight.vel.x * f, s.flight.vel.y * f);
         let eta_in = s.flight.vel.norm2() - 1.0;
         assert!(eta_in.abs() > 1e6 * u);
@@ -310,7 +314,11 @@ fn energy_has_no_drift_over_ten_million_collisions() {
     let (c0, slope) = linear_fit(&j, &means);
     let jbar = (B as f64 - 1.0) / 2.0;
     let sxx: f64 = j.iter().map(|x| (x - jbar).powi(2)).sum();
-    let ss: f64 = j.iter().zip(&means).map(|(x, m)| (m - c0 - slope * x).powi(2)).sum();
+    let ss: f64 = j
+        .iter()
+        .zip(&means)
+        .map(|(x, m)| (m - c0 - slope * x).powi(2))
+        .sum();
     let se = (ss / (B as f64 - 2.0) / sxx).sqrt();
     let t_max = normal_sigma_equivalent_t(B as f64 - 2.0, 4.0);
     assert!(

@@ -266,10 +266,7 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
         let last = d.last().unwrap();
         let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
         let t4 = |ea: f64, eb: f64| {
-            normal_sigma_equivalent_t(
-                welch_dof(ea, STARTS as f64, eb, l.orbits as f64),
-                4.0,
-            )
+            normal_sigma_equivalent_t(welch_dof(ea, STARTS as f64, eb, l.orbits as f64), 4.0)
         };
         assert!(
             z(
@@ -342,10 +339,7 @@ fn statistics_do_not_move_with_precision() {
     let lo = run(&cfg, 2, None, &|_| {}).unwrap();
     let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
     let t4 = |ea: f64, eb: f64| {
-        normal_sigma_equivalent_t(
-            welch_dof(ea, hi.batches as f64, eb, lo.batches as f64),
-            4.0,
-        )
+        normal_sigma_equivalent_t(welch_dof(ea, hi.batches as f64, eb, lo.batches as f64), 4.0)
     };
     assert!(
         z(hi.D, hi.D_err, lo.D, lo.D_err) < t4(hi.D_err, lo.D_err),
