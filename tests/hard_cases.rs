@@ -6,11 +6,12 @@ use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::sampling::{equilibrium_state, stream};
 use lorentz_gas::scenes::lattice::{LatticeState, PeriodicLattice};
-use lorentz_gas::stats::{mean_se, CompensatedSum};
+use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t, CompensatedSum};
 use lorentz_gas::verification::shadow::check_event;
 use rug::Float;
 
 /// Mean free path over `b` independent trajectories of `n` collisions: (mean, SE, hops).
+/// (mean − exact)/SE is Student-t with b − 1 dof; see [`santalo_within_four_sigma`].
 fn free_path(w: f64, n: u64, b: u64, seed: u64) -> (f64, f64, u64) {
     let lat = PeriodicLattice::new(w).unwrap();
     let mut ls = Vec::new();
@@ -33,18 +34,27 @@ fn free_path(w: f64, n: u64, b: u64, seed: u64) -> (f64, f64, u64) {
     (m, se, hops)
 }
 
+/// Santaló's ⟨ℓ⟩ within "4σ" of a mean over `b` batches: the Student-t quantile with b − 1 dof at
+/// the normal's two-sided 4σ tail probability 6.3·10⁻⁵ (16 batches: 5.48; 4 batches would allow
+/// 32.6, which is why these runs use 16 shorter trajectories rather than 4 or 8 long ones).
+fn santalo_within_four_sigma(w: f64, m: f64, se: f64, b: u64) {
+    let exact = Geometry::new(w).unwrap().mean_free_path();
+    let k = normal_sigma_equivalent_t(b as f64 - 1.0, 4.0);
+    assert!(
+        (m - exact).abs() <= k * se,
+        "w = {w}: {m} ± {se} vs {exact} (t = {:.2}, bound {k:.2})",
+        (m - exact) / se
+    );
+}
+
 /// w = 10⁻⁶: a gap of a millionth, about 10⁶ collisions per hop. Santaló still holds within 4σ,
 /// and the number of hops is Poisson with mean N·3w/π (within 4√mean + 1).
 #[test]
 fn tiny_gap_w_1e_minus_6() {
     let w = 1e-6;
-    let (m, se, hops) = free_path(w, 2_500_000, 4, 41);
+    let (m, se, hops) = free_path(w, 625_000, 16, 41);
     let g = Geometry::new(w).unwrap();
-    assert!(
-        (m - g.mean_free_path()).abs() <= 4.0 * se,
-        "{m} ± {se} vs {}",
-        g.mean_free_path()
-    );
+    santalo_within_four_sigma(w, m, se, 16);
     let expect = 1e7 / g.collisions_per_hop();
     assert!(
         (hops as f64 - expect).abs() <= 4.0 * expect.sqrt() + 1.0,
@@ -57,13 +67,8 @@ fn tiny_gap_w_1e_minus_6() {
 #[test]
 fn just_below_the_horizon_threshold() {
     let w = Geometry::<f64>::w_inf(()) - 1e-9;
-    let (m, se, _) = free_path(w, 1_000_000, 8, 42);
-    let g = Geometry::new(w).unwrap();
-    assert!(
-        (m - g.mean_free_path()).abs() <= 4.0 * se,
-        "{m} ± {se} vs {}",
-        g.mean_free_path()
-    );
+    let (m, se, _) = free_path(w, 500_000, 16, 42);
+    santalo_within_four_sigma(w, m, se, 16);
 }
 
 /// w = w₀ exactly (the double nearest 2/√3 − 1): collisionless crossings have measure zero there
@@ -87,8 +92,8 @@ fn exactly_at_w0() {
         }
     }
     assert_eq!(free, 0);
-    let (m, se, _) = free_path(w, 1_000_000, 8, 44);
-    assert!((m - Geometry::new(w).unwrap().mean_free_path()).abs() <= 4.0 * se);
+    let (m, se, _) = free_path(w, 500_000, 16, 44);
+    santalo_within_four_sigma(w, m, se, 16);
 }
 
 /// A flight along the edge line y = 0 between disks P₀ and P₁ (through the gap, along its length):

@@ -4,7 +4,8 @@
 //!
 //! Bounds (proofs-notes/error-model.md):
 //! * energy: after every event ||v|² − 1| ≤ 128u (one reflection's rounding; the Newton factor
-//!   removes the incoming deviation; crossings negate v exactly);
+//!   removes the incoming deviation); a crossing negates v exactly, so |v|² is unchanged bit for
+//!   bit;
 //! * a post-event position is never inside a disk by more than 256u (|x − c|² ≥ 1 − 256u);
 //! * a post-event position is within 256u·a of the closed triangle.
 
@@ -77,22 +78,45 @@ macro_rules! kernel_properties {
                             let mut f = lift(&f64s);
                             let tol = 256.0 * u();
                             for _ in 0..20 {
-                                let e2 = f.vel.norm2().to_f64();
+                                let v_in = f.vel.clone();
+                                let e2 = v_in.norm2();
                                 let ev = trap
                                     .next_event(&f)
                                     .expect("a unit velocity always has an event");
                                 prop_assert!(!ev.time.lt0(), "negative flight time");
                                 trap.apply(&mut f, &ev);
-                                let e2b = f.vel.norm2().to_f64();
-                                let _ = e2;
+                                let e2b = f.vel.norm2();
+                                // |v|² − 1 is formed in T before rounding to f64: rounding |v|²
+                                // itself to f64 would read every MPFR deviation below 2⁻⁵³ as 0.
+                                let eta = e2b.clone().add_f64(-1.0).to_f64();
                                 prop_assert!(
-                                    (e2b - 1.0).abs() <= 128.0 * u(),
-                                    "|v|^2 - 1 = {:e}",
-                                    e2b - 1.0
+                                    eta.abs() <= 128.0 * u(),
+                                    "|v|^2 - 1 = {:e} = {:.1}u after {:?} (before: {:e})",
+                                    eta,
+                                    eta / u(),
+                                    ev.kind,
+                                    e2.clone().add_f64(-1.0).to_f64()
                                 );
+                                // A crossing is a point reflection: v ↦ −v exactly, so |v|² is
+                                // unchanged bit for bit (no rounding may enter; the 128u band
+                                // would hide one).
+                                if let EventKind::Crossing(k) = ev.kind {
+                                    prop_assert!(
+                                        f.vel.x == -v_in.x.clone() && f.vel.y == -v_in.y.clone(),
+                                        "crossing {k} changed v beyond a sign: {:?} -> {:?}",
+                                        v_in,
+                                        f.vel
+                                    );
+                                    prop_assert!(
+                                        e2b == e2,
+                                        "crossing {k} changed |v|^2 by {:e}u",
+                                        (e2b.clone() - e2.clone()).to_f64() / u()
+                                    );
+                                }
                                 for c in &trap.vertices {
-                                    let r2 = f.pos.sub(c).norm2().to_f64();
-                                    prop_assert!(r2 >= 1.0 - tol, "inside a disk: |x-c|^2 = {r2}");
+                                    // |x − c|² − 1 in T (as for the energy: 1 − 256u is 1 in f64).
+                                    let d = f.pos.sub(c).norm2().add_f64(-1.0).to_f64();
+                                    prop_assert!(d >= -tol, "inside a disk: |x-c|^2 - 1 = {d:e}");
                                 }
                                 for k in 0..3 {
                                     let s = trap.edge_distance(k, &f.pos).to_f64();

@@ -3,10 +3,13 @@
 //!
 //! Every comparison is "within 4 standard errors" (batch means over independent streams),
 //! plus the deterministic bias of the estimator where there is one, computed exactly from the
-//! chain (`fit_bias`, truncation tail) — never a hand-tuned tolerance.
+//! chain (`fit_bias`, truncation tail) — never a hand-tuned tolerance. A z-score whose standard
+//! error comes from the spread of n batch means is Student-t with n − 1 dof, so "4σ" is the
+//! Student-t quantile at the normal's two-sided 4σ tail probability 6.3·10⁻⁵
+//! (`stats::normal_sigma_equivalent_t`; 15 dof: 5.48, 31 dof: 4.62).
 
 use lorentz_gas::geometry::Geometry;
-use lorentz_gas::stats::mean_se;
+use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t};
 use lorentz_gas::theory::green_kubo::{green_kubo, Truncation};
 use lorentz_gas::theory::honeycomb::{sequence_from_index, Symbol};
 use lorentz_gas::theory::lattice_walk::{
@@ -48,6 +51,11 @@ fn order2() -> CorrelatedWalk {
         .unwrap()
 }
 
+/// The 4σ-equivalent bound for a mean of `n` batch means.
+fn t4(n: usize) -> f64 {
+    normal_sigma_equivalent_t(n as f64 - 1.0, 4.0)
+}
+
 fn check_walk(name: &str, walk: &CorrelatedWalk, seed: u64) {
     let cfg = LatticeWalkConfig::new(32, 32768, 128, seed);
     let exact = walk.d_over_d_mz().unwrap();
@@ -64,7 +72,7 @@ fn check_walk(name: &str, walk: &CorrelatedWalk, seed: u64) {
         "{name}: fit bias {bias} vs se {}",
         r.se
     );
-    assert!(z.abs() < 4.0, "{name}: z = {z}");
+    assert!(z.abs() < t4(cfg.batches), "{name}: z = {z}");
 }
 
 #[test]
@@ -74,9 +82,15 @@ fn lattice_walk_memoryless_one_third_is_machta_zwanzig() {
     check_walk("memoryless p_bs = 1/3", &w, 11);
     // In absolute units at w = 0.1 the walk gives D_MZ within the same 4σ.
     let g = Geometry::new(0.1f64).unwrap();
-    let r = simulate(&w, &LatticeWalkConfig::new(8, 4096, 64, 12)).unwrap();
+    // 32 batches of 1024 walkers: with 8 batches "4σ" would be t₇ = 8.47.
+    let cfg = LatticeWalkConfig::new(32, 1024, 64, 12);
+    let r = simulate(&w, &cfg).unwrap();
     let (d, se) = r.d(&g);
-    assert!((d - g.d_mz()).abs() < 4.0 * se);
+    assert!(
+        (d - g.d_mz()).abs() < t4(cfg.batches) * se,
+        "{d} ± {se} vs D_MZ {}",
+        g.d_mz()
+    );
 }
 
 #[test]
@@ -126,7 +140,10 @@ fn simulated_symbol_frequencies_match_the_stationary_table() {
             .collect();
         let (m, se) = mean_se(&f);
         let p = table.probabilities()[i];
-        assert!((m - p).abs() < 4.0 * se, "word {i}: {m} ± {se} vs {p}");
+        assert!(
+            (m - p).abs() < t4(f.len()) * se,
+            "word {i}: {m} ± {se} vs {p}"
+        );
     }
     // Rebuilding the walk from the measured order-3 table recovers the walk's conditionals
     // (the measured table is a valid SequenceProbabilities).
@@ -142,6 +159,7 @@ fn check_gk(name: &str, walk: &CorrelatedWalk, seed: u64) {
         .collect();
     let r = green_kubo(&seqs, Truncation::Automatic { c: 6.0 }).unwrap();
     assert_eq!(r.batch_values.len(), 16);
+    let k = t4(seqs.len());
     let c = walk.correlations(r.truncation);
     let truncated = 1.0 + 2.0 * c.iter().sum::<f64>();
     let exact = walk.d_over_d_mz().unwrap();
@@ -153,8 +171,8 @@ fn check_gk(name: &str, walk: &CorrelatedWalk, seed: u64) {
         r.d_over_d_mz, r.se, r.truncation
     );
     // Unbiased for the truncated sum; against D the exactly known tail is added.
-    assert!(z.abs() < 4.0, "{name}: z = {z}");
-    assert!((r.d_over_d_mz - exact).abs() < 4.0 * r.se + tail.abs());
+    assert!(z.abs() < k, "{name}: z = {z} (bound {k:.2})");
+    assert!((r.d_over_d_mz - exact).abs() < k * r.se + tail.abs());
     assert_eq!(r.correlations.len(), r.truncation);
 }
 
@@ -193,5 +211,5 @@ fn green_kubo_fixed_window_needs_independent_sequences() {
         "GK fixed J = 24: {:.5} ± {:.5} vs {truncated:.6}, z = {z:+.2}",
         r.d_over_d_mz, r.se
     );
-    assert!(z.abs() < 4.0);
+    assert!(z.abs() < t4(seqs.len()), "z = {z}");
 }

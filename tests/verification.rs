@@ -6,7 +6,7 @@ use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::real::Real;
 use lorentz_gas::sampling::{equilibrium_state, stream};
 use lorentz_gas::scenes::lattice::{LatticeState, PeriodicLattice};
-use lorentz_gas::stats::mean_se;
+use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t, welch_dof};
 use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
 use lorentz_gas::verification::reversibility::{amplification, reversal_bound, reverse_and_return};
 use lorentz_gas::verification::shadow::check_event;
@@ -86,7 +86,9 @@ fn birkhoff_map_preserves_phase_space_volume() {
 }
 
 /// At collisions sin φ is uniform on [−1, 1] (the invariant measure cos φ dφ ds). Twenty bins,
-/// frequencies from 16 independent trajectories: every bin within 4.5σ of 1/20.
+/// frequencies from 16 independent trajectories: every bin within 4.5σ of 1/20 — the z-score of a
+/// mean over 16 trajectories is Student-t with 15 dof, so "4.5σ" is its quantile at the normal's
+/// two-sided 4.5σ tail probability 6.8·10⁻⁶ (6.73; 40 bins make a family-wise 2.7·10⁻⁴).
 #[test]
 fn sin_phi_is_uniform_at_collisions() {
     let bins = 20;
@@ -112,7 +114,12 @@ fn sin_phi_is_uniform_at_collisions() {
         }
         for (k, f) in freq.iter().enumerate() {
             let (m, se) = mean_se(f);
-            assert!((m - 0.05).abs() <= 4.5 * se, "w={w} bin {k}: {m} ± {se}");
+            let t = normal_sigma_equivalent_t(f.len() as f64 - 1.0, 4.5);
+            assert!(
+                (m - 0.05).abs() <= t * se,
+                "w={w} bin {k}: {m} ± {se} (t = {:.2}, bound {t:.2})",
+                (m - 0.05) / se
+            );
         }
     }
 }
@@ -215,11 +222,24 @@ fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
     .unwrap();
     assert_eq!(plain.D.to_bits(), audited.D.to_bits());
     let a = audited.audit.unwrap();
-    // ~1 % of ~2.2·10⁶ events: a binomial count, 5σ ≈ 740.
+    // Each event is replayed independently with probability r (the auditor's own stream), so
+    // given the number of events E the count is Binomial(E, r). E = C + H: C collisions (fixed)
+    // and H crossings, E[H] = C·3w/π exactly (Kac: π/(3w) collisions per hop). Over the law of H,
+    //   Var(count) = E[E]·r(1 − r) + r²·Var(H),
+    // Var(H) from the batch ratios ρ_b = C_b/H_b: H = Σ C_b/ρ_b, δH ≈ −(C/ρ²)·δρ̄, so
+    // sd(H) ≈ C·se(ρ̄)/ρ² (a 0.2 % correction). At C = 2·10⁶, w = 0.12: σ ≈ 149; 5σ ≈ 743.
+    // The count is ~2·10⁴, so the normal approximation is good far into the tails.
+    let r = 0.01;
+    let c = audited.collisions as f64;
+    let events = c * (1.0 + 1.0 / audited.collisions_per_hop_exact);
+    let sd_h = c * audited.collisions_per_hop_err / audited.collisions_per_hop.powi(2);
+    let sigma = (events * r * (1.0 - r) + r * r * sd_h * sd_h).sqrt();
+    let expected = r * events;
     assert!(
-        (a.audited as f64 - 0.01 * 2.2e6).abs() < 1500.0,
-        "{}",
-        a.audited
+        (a.audited as f64 - expected).abs() <= 5.0 * sigma,
+        "{} events audited, expected {expected:.0} ± {sigma:.0} ({:.1}σ)",
+        a.audited,
+        (a.audited as f64 - expected) / sigma
     );
     assert_eq!(a.outside, 0);
     let mut rug = cfg.clone();
@@ -240,21 +260,29 @@ fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
 /// The growth rate of the deviation between a P-bit orbit and a 4096-bit reference (precision
 /// divergence) equals the tangent-space Lyapunov exponent within 4 combined standard errors, per
 /// collision and per unit time, at three gaps; and the divergence horizon grows with the bits.
+/// Both errors are over 8 independent orbits/starts: "4σ" is the Student-t quantile at the
+/// Welch–Satterthwaite dof (7 to 14) for the normal's two-sided 4σ tail probability. (All 8
+/// starts give a finite rate at 1024 bits — checked: the fit range 10⁴u..10⁻³ is a growth by
+/// e⁶⁹⁵, hundreds of collisions, far more than the 5 points a fit needs.)
 #[test]
 fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
     use lorentz_gas::verification::lyapunov::{divergence, lyapunov};
+    const STARTS: u32 = 8;
     for &w in &[0.05, 0.15, 0.3] {
         let l = lyapunov(w, 200_000, 8, 3, 2, &|_| {}).unwrap();
-        let d = divergence(w, &[256, 1024], 4096, 1200, 8, 3, &|_| {}).unwrap();
+        let d = divergence(w, &[256, 1024], 4096, 1200, STARTS, 3, &|_| {}).unwrap();
         let last = d.last().unwrap();
         let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
+        let t4 = |ea: f64, eb: f64| {
+            normal_sigma_equivalent_t(welch_dof(ea, STARTS as f64, eb, l.orbits as f64), 4.0)
+        };
         assert!(
             z(
                 last.rate_per_collision,
                 last.rate_per_collision_err,
                 l.per_collision,
                 l.per_collision_err
-            ) < 4.0,
+            ) < t4(last.rate_per_collision_err, l.per_collision_err),
             "w={w}: {last:?} vs {l:?}"
         );
         assert!(
@@ -263,7 +291,7 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
                 last.rate_per_time_err,
                 l.per_time,
                 l.per_time_err
-            ) < 4.0,
+            ) < t4(last.rate_per_time_err, l.per_time_err),
             "w={w}: {last:?} vs {l:?}"
         );
         // Horizons: f64 < 256 bits < 1024 bits, each roughly ∝ bits (ln 2·bits/λ).
@@ -299,12 +327,15 @@ fn precision_doubling_certifies_a_segment() {
 
 /// Statistics do not depend on precision: D and the mean free path from an MPFR-128 run (fewer
 /// collisions, larger errors) agree with the f64 values within 4 combined standard errors, and
-/// the MPFR run's mean free path agrees with Santaló's value within 4σ.
+/// the MPFR run's mean free path agrees with Santaló's value within 4σ. Both runs have 16
+/// batches; "4σ" is the Student-t quantile at the normal's 4σ tail probability, with 15 dof
+/// against the exact value and the Welch–Satterthwaite dof for the comparisons (with 4 batches it
+/// would be t₃ = 32.6).
 #[test]
 fn statistics_do_not_move_with_precision() {
     use lorentz_gas::diffusion::{run, DiffusionConfig, Precision};
     let mut cfg = DiffusionConfig::new(0.2);
-    cfg.batches = 4;
+    cfg.batches = 16;
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
     cfg.collisions = 1_200_000;
@@ -315,8 +346,11 @@ fn statistics_do_not_move_with_precision() {
     cfg.precision = Precision::F64;
     let lo = run(&cfg, 2, None, &|_| {}).unwrap();
     let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
+    let t4 = |ea: f64, eb: f64| {
+        normal_sigma_equivalent_t(welch_dof(ea, hi.meta.batches.unwrap() as f64, eb, lo.meta.batches.unwrap() as f64), 4.0)
+    };
     assert!(
-        z(hi.D, hi.D_err, lo.D, lo.D_err) < 4.0,
+        z(hi.D, hi.D_err, lo.D, lo.D_err) < t4(hi.D_err, lo.D_err),
         "D: {} ± {} (128) vs {} ± {} (f64)",
         hi.D,
         hi.D_err,
@@ -329,9 +363,21 @@ fn statistics_do_not_move_with_precision() {
             hi.mean_free_path_err,
             lo.mean_free_path,
             lo.mean_free_path_err
-        ) < 4.0
+        ) < t4(hi.mean_free_path_err, lo.mean_free_path_err),
+        "mean free path: {} ± {} (128) vs {} ± {} (f64)",
+        hi.mean_free_path,
+        hi.mean_free_path_err,
+        lo.mean_free_path,
+        lo.mean_free_path_err
     );
-    assert!((hi.mean_free_path - hi.mean_free_path_exact).abs() < 4.0 * hi.mean_free_path_err);
+    let t_exact = normal_sigma_equivalent_t(hi.meta.batches.unwrap() as f64 - 1.0, 4.0);
+    assert!(
+        (hi.mean_free_path - hi.mean_free_path_exact).abs() < t_exact * hi.mean_free_path_err,
+        "mean free path at 128 bits: {} ± {} vs {}",
+        hi.mean_free_path,
+        hi.mean_free_path_err,
+        hi.mean_free_path_exact
+    );
     eprintln!(
         "D(0.2): {} ± {} at 128 bits, {} ± {} at f64",
         hi.D, hi.D_err, lo.D, lo.D_err

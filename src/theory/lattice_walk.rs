@@ -208,8 +208,10 @@ pub fn symbol_sequence(walk: &CorrelatedWalk, seed: u64, index: u64, n: usize) -
 /// ```
 /// use lorentz_gas::theory::{lattice_walk::{simulate, LatticeWalkConfig}, markov::CorrelatedWalk};
 /// let w = CorrelatedWalk::memoryless(1.0 / 3.0).unwrap();
-/// let r = simulate(&w, &LatticeWalkConfig::new(4, 500, 32, 1)).unwrap();
-/// assert!((r.d_over_d_mz - 1.0).abs() < 5.0 * r.se);
+/// let r = simulate(&w, &LatticeWalkConfig::new(16, 128, 32, 1)).unwrap();
+/// // The error is over 16 batches: a Student-t z-score with 15 dof, "4σ" = 5.48.
+/// let k = lorentz_gas::stats::normal_sigma_equivalent_t(15.0, 4.0);
+/// assert!((r.d_over_d_mz - 1.0).abs() < k * r.se);
 /// ```
 pub fn simulate(
     walk: &CorrelatedWalk,
