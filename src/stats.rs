@@ -359,6 +359,111 @@ pub fn weighted_line_fit(x: &[f64], y: &[f64], sigma: &[f64]) -> Result<LineFit,
     })
 }
 
+/// A weighted least-squares quadratic y = c₀ + c₁t + c₂t² in t = x − x₀, with its covariance and χ².
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct QuadraticFit {
+    /// The centre x₀.
+    pub x0: f64,
+    /// (c₀, c₁, c₂).
+    pub c: [f64; 3],
+    /// Covariance of the coefficients from the input errors.
+    pub cov: [[f64; 3]; 3],
+    /// χ² of the points about the fit.
+    pub chi2: f64,
+    /// Degrees of freedom, n − 3.
+    pub dof: usize,
+}
+
+impl QuadraticFit {
+    /// The root nearest t = 0 (as t, relative to x₀) and its standard error by linear propagation,
+    /// or `None` if the quadratic has no real root. The roots are formed without cancellation:
+    /// q = −(c₁ + sign(c₁)√(c₁² − 4c₀c₂))/2, roots q/c₂ and c₀/q.
+    pub fn root_near_zero(&self) -> Option<(f64, f64)> {
+        let [c0, c1, c2] = self.c;
+        let disc = c1 * c1 - 4.0 * c0 * c2;
+        if disc < 0.0 {
+            return None;
+        }
+        let q = -0.5 * (c1 + c1.signum() * disc.sqrt());
+        let mut roots = vec![];
+        if q != 0.0 {
+            roots.push(c0 / q);
+        }
+        if c2 != 0.0 {
+            roots.push(q / c2);
+        }
+        let t = roots.into_iter().min_by(|a, b| a.abs().total_cmp(&b.abs()))?;
+        let g = [1.0, t, t * t];
+        let mut var = 0.0;
+        for i in 0..3 {
+            for j in 0..3 {
+                var += g[i] * self.cov[i][j] * g[j];
+            }
+        }
+        let slope = c1 + 2.0 * c2 * t;
+        Some((t, var.max(0.0).sqrt() / slope.abs()))
+    }
+}
+
+/// Weighted least squares of a quadratic through points (x, y ± σ), in t = x − `x0`.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::stats::weighted_quadratic_fit;
+/// let x = [0.0, 1.0, 2.0, 3.0];
+/// let y: Vec<f64> = x.iter().map(|x| 1.0 - 2.0 * x + 0.5 * x * x).collect();
+/// let q = weighted_quadratic_fit(&x, &y, &[0.1; 4], 1.0).unwrap();
+/// // In t = x − 1: y = −0.5 − t + 0.5t², roots t = 1 ± √2.
+/// assert!((q.c[0] + 0.5).abs() < 1e-12 && (q.c[1] + 1.0).abs() < 1e-12 && (q.c[2] - 0.5).abs() < 1e-12);
+/// let (t, _) = q.root_near_zero().unwrap();
+/// assert!((t - (1.0 - 2f64.sqrt())).abs() < 1e-12);
+/// ```
+pub fn weighted_quadratic_fit(
+    x: &[f64],
+    y: &[f64],
+    sigma: &[f64],
+    x0: f64,
+) -> Result<QuadraticFit, Error> {
+    if x.len() != y.len() || x.len() != sigma.len() || x.len() < 3 {
+        return Err(Error::Invalid(
+            "a quadratic fit needs at least three points, each with x, y and an error".into(),
+        ));
+    }
+    let w = weights(sigma)?;
+    let mut n = nalgebra::Matrix3::<f64>::zeros();
+    let mut b = nalgebra::Vector3::<f64>::zeros();
+    for i in 0..x.len() {
+        let t = x[i] - x0;
+        let g = nalgebra::Vector3::new(1.0, t, t * t);
+        n += w[i] * g * g.transpose();
+        b += w[i] * y[i] * g;
+    }
+    let inv = n.try_inverse().ok_or_else(|| {
+        Error::Invalid("a quadratic fit needs at least three distinct x".into())
+    })?;
+    let c = inv * b;
+    let chi2 = (0..x.len())
+        .map(|i| {
+            let t = x[i] - x0;
+            ((y[i] - c[0] - c[1] * t - c[2] * t * t) / sigma[i]).powi(2)
+        })
+        .sum();
+    let mut cov = [[0.0; 3]; 3];
+    for (i, row) in cov.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = inv[(i, j)];
+        }
+    }
+    Ok(QuadraticFit {
+        x0,
+        c: [c[0], c[1], c[2]],
+        cov,
+        chi2,
+        dof: x.len() - 3,
+    })
+}
+
 /// A weighted mean with its error and the χ² of the values about it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct WeightedMean {
@@ -417,6 +522,23 @@ pub fn chi2_p_value(chi2: f64, dof: usize) -> f64 {
     use statrs::distribution::{ChiSquared, ContinuousCDF};
     match ChiSquared::new(dof as f64) {
         Ok(d) if dof > 0 => d.sf(chi2),
+        _ => f64::NAN,
+    }
+}
+
+/// Probability that an F(d₁, d₂) variable exceeds `f` (NaN without degrees of freedom).
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::stats::f_p_value;
+/// // F(1, d) is t²_d: P(F > 4.3027²) = P(|t₂| > 4.3027) = 0.05.
+/// assert!((f_p_value(4.302653f64.powi(2), 1.0, 2.0) - 0.05).abs() < 1e-6);
+/// ```
+pub fn f_p_value(f: f64, d1: f64, d2: f64) -> f64 {
+    use statrs::distribution::{ContinuousCDF, FisherSnedecor};
+    match FisherSnedecor::new(d1, d2) {
+        Ok(d) if f.is_finite() => d.sf(f),
         _ => f64::NAN,
     }
 }

@@ -18,7 +18,9 @@ use crate::figures::{plot, PlotSpec, Series};
 use crate::geometry::Geometry;
 use crate::grid::decimal_grid;
 use crate::metadata::RunMeta;
-use crate::stats::{chi2_p_value, weighted_line_fit, weighted_mean, LineFit, WeightedMean};
+use crate::stats::{
+    f_p_value, weighted_line_fit, weighted_mean, weighted_quadratic_fit, LineFit, WeightedMean,
+};
 
 /// What defines a sweep.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -95,16 +97,24 @@ pub struct SweepReport {
 pub struct Crossing {
     /// w at the crossing.
     pub w: f64,
-    /// Its standard error (propagated from the fit's covariance).
+    /// Its standard error, propagated from the local fit's covariance.
     pub err: f64,
-    /// The local fit (of D − D_MZ against w) it comes from.
-    pub fit: LineFit,
+    /// The error scaled by √(χ²/dof) when χ²/dof > 1 (the local form does not describe the points
+    /// within their errors; the scatter then sets the uncertainty).
+    pub err_scaled: f64,
+    /// χ² of the local fit.
+    pub chi2: f64,
+    /// Its degrees of freedom (points − parameters).
+    pub dof: usize,
+    /// Points used.
+    pub points: usize,
 }
 
-/// Points on each side of the sign change used for the local fit of the crossing: a straight line
-/// is accurate over a few grid spacings of a smooth curve, and 2 + 2 points leave 2 degrees of
-/// freedom for its χ².
-pub const CROSSING_POINTS_PER_SIDE: usize = 2;
+/// Points on each side of the sign change used for the local fit of the crossing: a quadratic
+/// through 3 + 3 points follows the curvature of D − D_MZ (a straight line through 2 + 2 points
+/// of the 0.02-spaced paper grid is biased by it by several of its own errors) and leaves 3
+/// degrees of freedom for its χ².
+pub const CROSSING_POINTS_PER_SIDE: usize = 3;
 
 /// One row of the sweep.
 #[allow(non_snake_case)]
@@ -120,11 +130,14 @@ pub struct SweepRow {
     pub D_err: f64,
     /// Degrees of freedom of D_err: R·(B − 1).
     pub D_err_dof: u64,
-    /// χ² of the run values about their mean, Σ_r ((D_r − D)/σ_r)²: the consistency check.
-    pub runs_chi2: f64,
-    /// Its degrees of freedom, R − 1.
-    pub runs_dof: u32,
-    /// Probability of a χ² at least this large if the runs agree within their errors.
+    /// The consistency check of the runs: F = s²_between / mean_r σ̂_r², the variance of the run
+    /// values over the mean of their squared batch errors. Every run has the same collisions and
+    /// batches, so under "the runs agree within their errors" F is exactly F(R − 1, R(B − 1))
+    /// distributed (NaN for one run).
+    pub runs_f: f64,
+    /// Its degrees of freedom (R − 1, R(B − 1)).
+    pub runs_f_dof: (u32, u64),
+    /// Probability of an F at least this large if the runs agree within their errors.
     pub runs_p_value: f64,
     /// Machta–Zwanzig.
     pub D_MZ: f64,
@@ -239,17 +252,20 @@ fn combine(cfg: &SweepConfig, p: &SweepPoint) -> Result<SweepRow, Error> {
     let r = p.runs.len() as f64;
     let d = p.runs.iter().map(|x| x.D).sum::<f64>() / r;
     let d_err = p.runs.iter().map(|x| x.D_err * x.D_err).sum::<f64>().sqrt() / r;
-    let chi2: f64 = p.runs.iter().map(|x| ((x.D - d) / x.D_err).powi(2)).sum();
-    let dof = p.runs.len() as u32 - 1;
+    let dof1 = p.runs.len() as u32 - 1;
+    let dof2 = p.runs.len() as u64 * (cfg.batches as u64 - 1);
+    let between = p.runs.iter().map(|x| (x.D - d).powi(2)).sum::<f64>() / dof1 as f64;
+    let within = p.runs.iter().map(|x| x.D_err * x.D_err).sum::<f64>() / r;
+    let f = between / within;
     Ok(SweepRow {
         w: p.w,
         inv_n: 1.0 / g.density(),
         D: d,
         D_err: d_err,
-        D_err_dof: p.runs.len() as u64 * (cfg.batches as u64 - 1),
-        runs_chi2: chi2,
-        runs_dof: dof,
-        runs_p_value: chi2_p_value(chi2, dof as usize),
+        D_err_dof: dof2,
+        runs_f: f,
+        runs_f_dof: (dof1, dof2),
+        runs_p_value: f_p_value(f, dof1 as f64, dof2 as f64),
         D_MZ: g.d_mz(),
         D_Bo: g.d_bo(),
         residual: 0.0,
@@ -257,8 +273,10 @@ fn combine(cfg: &SweepConfig, p: &SweepPoint) -> Result<SweepRow, Error> {
     })
 }
 
-/// The crossing of D − D_MZ, from a weighted straight line through up to
-/// [`CROSSING_POINTS_PER_SIDE`] points on each side of the first sign change.
+/// The crossing of D − D_MZ, from a weighted least-squares quadratic through up to
+/// [`CROSSING_POINTS_PER_SIDE`] points on each side of the first sign change (a straight line when
+/// only two points exist). The root is the one nearest the sign change; its error is
+/// (gᵀ Σ g)^½ / |f′(w*)| with g = (1, t*, t*²) and Σ the fit's covariance.
 pub fn mz_crossing(rows: &[SweepRow]) -> Result<Option<Crossing>, Error> {
     let f: Vec<f64> = rows.iter().map(|r| r.D - r.D_MZ).collect();
     let Some(k) = (0..f.len().saturating_sub(1)).find(|&k| f[k].signum() != f[k + 1].signum())
@@ -268,13 +286,35 @@ pub fn mz_crossing(rows: &[SweepRow]) -> Result<Option<Crossing>, Error> {
     let lo = (k + 1).saturating_sub(CROSSING_POINTS_PER_SIDE);
     let hi = (k + 1 + CROSSING_POINTS_PER_SIDE).min(rows.len());
     let sel = &rows[lo..hi];
-    let fit = weighted_line_fit(
-        &sel.iter().map(|r| r.w).collect::<Vec<_>>(),
-        &sel.iter().map(|r| r.D - r.D_MZ).collect::<Vec<_>>(),
-        &sel.iter().map(|r| r.D_err).collect::<Vec<_>>(),
-    )?;
-    let (w, err) = fit.root();
-    Ok(Some(Crossing { w, err, fit }))
+    let x: Vec<f64> = sel.iter().map(|r| r.w).collect();
+    let y: Vec<f64> = sel.iter().map(|r| r.D - r.D_MZ).collect();
+    let e: Vec<f64> = sel.iter().map(|r| r.D_err).collect();
+    // Centre on the linear interpolation between the two points that change sign.
+    let x0 = rows[k].w + (rows[k + 1].w - rows[k].w) * f[k] / (f[k] - f[k + 1]);
+    let (t, err, chi2, dof) = if sel.len() >= 3 {
+        let q = weighted_quadratic_fit(&x, &y, &e, x0)?;
+        let (t, err) = q.root_near_zero().ok_or_else(|| {
+            Error::Invalid("the local quadratic of D - D_MZ has no real root".into())
+        })?;
+        (t, err, q.chi2, q.dof)
+    } else {
+        let l = weighted_line_fit(&x, &y, &e)?;
+        let (w, err) = l.root();
+        (w - x0, err, l.chi2, l.dof)
+    };
+    let scale = if dof > 0 {
+        (chi2 / dof as f64).max(1.0).sqrt()
+    } else {
+        1.0
+    };
+    Ok(Some(Crossing {
+        w: x0 + t,
+        err,
+        err_scaled: err * scale,
+        chi2,
+        dof,
+        points: sel.len(),
+    }))
 }
 
 fn analyse(
@@ -326,17 +366,18 @@ fn analyse(
 
 fn write_outputs(r: &SweepReport, dir: &Path) -> Result<(), Error> {
     let mut csv =
-        String::from("w,inv_n,D,D_err,D_err_dof,runs_chi2,runs_dof,runs_p_value,D_MZ,D_Bo,residual,runs\n");
+        String::from("w,inv_n,D,D_err,D_err_dof,runs_F,runs_F_dof1,runs_F_dof2,runs_p_value,D_MZ,D_Bo,residual,runs\n");
     for row in &r.rows {
         csv.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             row.w,
             row.inv_n,
             row.D,
             row.D_err,
             row.D_err_dof,
-            row.runs_chi2,
-            row.runs_dof,
+            row.runs_f,
+            row.runs_f_dof.0,
+            row.runs_f_dof.1,
             row.runs_p_value,
             row.D_MZ,
             row.D_Bo,

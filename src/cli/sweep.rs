@@ -70,17 +70,16 @@ fn print(r: &SweepReport) {
         "sweep w = {} .. {}, {} points x {} runs x {} collisions in {} batches ({} points resumed)",
         c.w_from, c.w_to, c.steps, c.runs, c.collisions, c.batches, r.resumed_points
     );
-    println!("error of D: from the batches inside the runs (dof = runs x (batches - 1)); runs chi2: spread of the runs against those errors");
-    println!("       w         D            +-       dof   runs chi2/dof (p)     D_MZ       D_Bo      residual");
+    println!("error of D: from the batches inside the runs (dof = runs x (batches - 1)); runs F (p): spread of the runs against those errors, F(runs - 1, dof)");
+    println!("       w         D            +-       dof   runs F     (p)     D_MZ       D_Bo      residual");
     for x in &r.rows {
         println!(
-            "{:>8}  {:.6}  {:.6}  {:>6}   {:>6.2}/{:<3} ({:.2})   {:.6}  {:.6}  {:+.2e}",
+            "{:>8}  {:.6}  {:.6}  {:>6}   {:>6.2}  ({:.3})   {:.6}  {:.6}  {:+.2e}",
             x.w,
             x.D,
             x.D_err,
             x.D_err_dof,
-            x.runs_chi2,
-            x.runs_dof,
+            x.runs_f,
             x.runs_p_value,
             x.D_MZ,
             x.D_Bo,
@@ -107,8 +106,8 @@ fn print(r: &SweepReport) {
     );
     match &r.mz_crossing {
         Some(x) => println!(
-            "D = D_MZ at w = {:.4} ± {:.4} (local weighted line, chi2/dof = {:.2}/{})",
-            x.w, x.err, x.fit.chi2, x.fit.dof
+            "D = D_MZ at w = {:.4} ± {:.4} (local weighted quadratic through {} points, chi2/dof = {:.2}/{}; error scaled by sqrt(chi2/dof) when above 1: ± {:.4})",
+            x.w, x.err, x.points, x.chi2, x.dof, x.err_scaled
         ),
         None => println!("D - D_MZ does not change sign in this range"),
     }

@@ -18,6 +18,8 @@ use crate::symbols::Symbol;
 
 /// Default injections of Fig. 5: enough points to show the backscattering regions' shape.
 pub const MAP_SAMPLES: u64 = 60_000;
+/// Injections between two progress reports of Fig. 5 (a few milliseconds of work).
+const MAP_PROGRESS_CHUNK: u64 = 4096;
 /// Default injections per gap of Fig. 4a: p_bs to about ±0.001 (binomial, p ≈ 0.37).
 pub const CURVE_SAMPLES: u64 = 200_000;
 /// Batches per gap of Fig. 4a (errors over 16 batches: 15 degrees of freedom).
@@ -88,8 +90,8 @@ pub fn backscatter_map(
     let mut pts = Vec::new();
     let mut csv = String::from("x_2_over_w,sin_alpha,exit\n");
     for k in 1..=samples {
-        if k % 4096 == 0 {
-            progress(4096);
+        if k % MAP_PROGRESS_CHUNK == 0 {
+            progress(MAP_PROGRESS_CHUNK);
         }
         let v = scene.random_visit(&mut rng)?;
         csv.push_str(&format!("{},{},{}\n", v.x, v.sin_alpha, v.exit));
@@ -97,7 +99,7 @@ pub fn backscatter_map(
             pts.push((v.x, v.sin_alpha, 0.0));
         }
     }
-    progress(samples % 4096);
+    progress(samples % MAP_PROGRESS_CHUNK);
     let meta = RunMeta::new(Some(seed), None, Precision::F64, Some(1));
     std::fs::write(dir.join("fig5-backscatter-map.csv"), csv)?;
     write_json(
