@@ -3,7 +3,7 @@
 
 use std::io::IsTerminal;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 
 /// A progress bar over a known amount of work (collisions, injections, points, repetitions).
 pub struct Progress {
@@ -21,8 +21,13 @@ impl Progress {
         let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
         bar.set_style(
             ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {wide_bar} {percent}% {msg} ({per_sec}, eta {eta})",
+                "{spinner} [{elapsed_precise}] {wide_bar} {percent}% {msg} ({rate}, eta {eta})",
             )
+            .map(|s| {
+                s.with_key("rate", |st: &ProgressState, w: &mut dyn std::fmt::Write| {
+                    let _ = write!(w, "{:.3e}/s", st.per_sec());
+                })
+            })
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
         );
         bar.set_message(unit.to_string());
