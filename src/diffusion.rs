@@ -131,6 +131,7 @@ impl DiffusionConfig {
                 got: self.batches as u64,
             });
         }
+        crate::parallel::check_batches("batches", self.batches)?;
         if let Precision::Bits(b) = self.precision {
             <rug::Float as Real>::check_ctx(b)?;
         }

@@ -5,6 +5,21 @@ use rayon::prelude::*;
 
 use crate::error::Error;
 
+/// Most batches (trajectories, orbits, runs) accepted: every batch keeps its result in memory until
+/// the end, and error bars need dozens, not millions; 2²⁰ keeps the results well below a GiB.
+pub const MAX_BATCHES: u32 = 1 << 20;
+
+/// Refuses more than [`MAX_BATCHES`] batches, naming `what` and the valid range.
+pub fn check_batches(what: &str, n: u32) -> Result<(), Error> {
+    if n > MAX_BATCHES {
+        return Err(Error::Invalid(format!(
+            "{what} = {n} is too many: use at most {MAX_BATCHES} (each keeps its result in memory \
+             until the end; error bars need dozens)"
+        )));
+    }
+    Ok(())
+}
+
 /// Runs `f(b)` for batches b = 0 … n−1 on `threads` threads; results in batch order.
 pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
     threads: usize,
@@ -14,6 +29,7 @@ pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
+    check_batches("batches", n)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

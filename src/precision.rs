@@ -27,8 +27,15 @@ impl std::fmt::Display for Precision {
     }
 }
 
+/// Most bits a run may ask for: at 2²⁰ bits (128 KiB per number) one collision already costs
+/// about a millisecond, and MPFR would accept up to 2³¹ bits — 256 MiB per number, far more than a
+/// machine holds for the few hundred numbers a lattice, a trajectory and its observers keep.
+pub const MAX_RUN_BITS: u32 = 1 << 20;
+
 impl FromStr for Precision {
     type Err = Error;
+    /// `f64`, or a number of bits from 53 to [`MAX_RUN_BITS`]; anything else is refused with the
+    /// valid range (and, above the range, the memory one number would take).
     fn from_str(s: &str) -> Result<Self, Error> {
         let s = s.trim();
         if s.eq_ignore_ascii_case("f64") {
@@ -36,10 +43,17 @@ impl FromStr for Precision {
         }
         let bits: u32 = s.parse().map_err(|_| {
             Error::Invalid(format!(
-                "precision '{s}' is not 'f64' or a number of bits (53 or more)"
+                "precision '{s}' is not 'f64' or a number of bits from 53 to {MAX_RUN_BITS}"
             ))
         })?;
         <Float as Real>::check_ctx(bits)?;
+        if bits > MAX_RUN_BITS {
+            return Err(Error::Invalid(format!(
+                "precision {bits} bits is out of range: use 'f64' or 53 to {MAX_RUN_BITS} bits \
+                 (one number would take {:.0} MiB)",
+                bits as f64 / 8.0 / (1u64 << 20) as f64
+            )));
+        }
         Ok(Precision::Bits(bits))
     }
 }

@@ -51,6 +51,10 @@ pub struct RunValue {
     pub D_err: f64,
 }
 
+/// Most points of a sweep: each point is at least two diffusion runs, so 10⁴ points is already far
+/// beyond a campaign; more is a typo, refused before the grid is allocated.
+pub const MAX_SWEEP_POINTS: u32 = 10_000;
+
 /// One finished point (the unit of resumption).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SweepPoint {
@@ -178,6 +182,13 @@ impl SweepConfig {
         if self.runs == 0 {
             return Err(Error::Zero { what: "runs" });
         }
+        if self.steps > MAX_SWEEP_POINTS {
+            return Err(Error::Invalid(format!(
+                "steps = {} is too many: use 2 to {MAX_SWEEP_POINTS} points",
+                self.steps
+            )));
+        }
+        crate::parallel::check_batches("runs", self.runs)?;
         for (i, w) in self.points()?.into_iter().enumerate() {
             self.run_config(i as u32, w, 0).validate()?;
         }

@@ -45,6 +45,9 @@ const BAD: &[(&[&str], &str)] = &[
     (&["diffusion", "--w", "0.1", "--batches", "0"], "batches"),
     (&["diffusion", "--w", "0.1", "--batches", "1"], "batches"),
     (&["diffusion", "--w", "0.1", "--batches", "5e9"], "4294967295"),
+    (&["diffusion", "--w", "0.1", "--batches", "4e9", "--collisions", "1e19"], "at most 1048576"),
+    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "4e9", "--out", "out"], "2 to 10000"),
+    (&["audit", "--w", "0.1", "--trajectories", "4e9", "--collisions", "1e19"], "at most 1048576"),
     (&["diffusion", "--w", "0.1", "--collisions", "1000"], "too small"),
     (&["diffusion", "--w", "0.1", "--threads", "0"], "threads must be from 1"),
     (&["diffusion", "--w", "0.1", "--threads", "1e9"], "threads must be from 1"),
@@ -105,6 +108,8 @@ const BAD: &[(&[&str], &str)] = &[
     // constants
     (&["constants", "--w", "0"], "trapped"),
     (&["constants", "--w", "0.1", "--precision", "20"], "53"),
+    (&["constants", "--w", "0.1", "--precision", "2000000000"], "1048576"),
+    (&["diffusion", "--w", "0.1", "--precision", "99999999999"], "1048576"),
     // bench
     (&["bench", "--w", "0.1", "--collisions", "0"], "collisions"),
     (&["bench", "--w", "-1"], "trapped"),
