@@ -163,6 +163,7 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
         &["theory", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2"],
         &["lattice-walk", "--w", "0.1", "--collisions", "1e6", "--order", "2"],
         &["constants", "--w", "0.1", "--precision", "200"],
+        &["figure", "backscatter-map", "--samples", "1e3", "--out", "fig"],
         &["bench", "--w", "0.1", "--collisions", "1e5", "--repetitions", "3"],
         &["sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "3", "--runs", "2", "--collisions", "1_000_000", "--batches", "4", "--out", "sweep"],
     ];
@@ -183,6 +184,12 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
         assert_eq!(meta["version"], env!("CARGO_PKG_VERSION"));
         assert_eq!(meta["command_line"][1], args[0], "{a:?}");
     }
+    // The figure's data file carries the same block.
+    let fig: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("fig").join("fig5-backscatter-map.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(fig["meta"]["seed"], 1);
     // The sweep's grid point is the decimal asked for.
     let csv = std::fs::read_to_string(dir.join("sweep").join("sweep.csv")).unwrap();
     assert!(csv.contains("\n0.15,"), "{csv}");
