@@ -6,10 +6,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::Error;
-use crate::metadata::RunMeta;
-use crate::precision::{AtPrecision, Precision};
 use crate::geometry::Geometry;
 use crate::kernel::trap::Trap;
+use crate::metadata::RunMeta;
+use crate::precision::{AtPrecision, Precision};
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, stream};
 use crate::scenes::lattice::{LatticeState, PeriodicLattice};

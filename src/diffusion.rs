@@ -22,13 +22,13 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
-use crate::metadata::RunMeta;
-pub use crate::precision::Precision;
-use crate::precision::AtPrecision;
 use crate::geometry::{check_diffusive_gap, Geometry};
 use crate::kernel::trap::Trap;
+use crate::metadata::RunMeta;
 use crate::observables::counters::Counters;
 use crate::observables::msd::Msd;
+use crate::precision::AtPrecision;
+pub use crate::precision::Precision;
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, Purpose, StreamKey};
 use crate::scenes::lattice::{LatticeState, PeriodicLattice};

@@ -21,7 +21,11 @@ const MAX_DECIMAL_DIGITS: usize = 40;
 /// assert!(parse_decimal("0x1p-3").is_err());
 /// ```
 pub fn parse_decimal(s: &str) -> Result<Rational, Error> {
-    let bad = || Error::Invalid(format!("'{s}' is not a decimal number (such as 0.15 or 1.5e-1)"));
+    let bad = || {
+        Error::Invalid(format!(
+            "'{s}' is not a decimal number (such as 0.15 or 1.5e-1)"
+        ))
+    };
     let t = s.trim();
     let (neg, t) = match t.strip_prefix('-') {
         Some(r) => (true, r),

@@ -8,12 +8,12 @@ use serde::Serialize;
 
 use crate::diffusion::Estimate;
 use crate::error::Error;
-use crate::metadata::RunMeta;
-use crate::precision::{AtPrecision, Precision};
 use crate::geometry::{check_diffusive_gap, Geometry};
 use crate::kernel::trap::EventKind;
+use crate::metadata::RunMeta;
 use crate::observables::hops::Hops;
 use crate::parallel::par_batches;
+use crate::precision::{AtPrecision, Precision};
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, Purpose, StreamKey};
 use crate::scenes::lattice::PeriodicLattice;
@@ -267,7 +267,12 @@ pub fn min_collisions_per_batch(w: f64) -> Result<u64, Error> {
     Ok((8.0 * green_kubo::MAX_LAG as f64 * g.collisions_per_hop()).ceil() as u64)
 }
 
-pub(crate) fn check_hops_input(w: f64, collisions: u64, batches: u32, order: usize) -> Result<u64, Error> {
+pub(crate) fn check_hops_input(
+    w: f64,
+    collisions: u64,
+    batches: u32,
+    order: usize,
+) -> Result<u64, Error> {
     check_diffusive_gap(w)?;
     check_order("order", order)?;
     if batches < 2 {
@@ -417,7 +422,12 @@ pub fn hops_run(
         correlations,
         visits: res.iter().map(|h| h.visits).sum(),
         collisions,
-        meta: RunMeta::new(Some(seed), Some(batches as u64), Precision::F64, Some(threads)),
+        meta: RunMeta::new(
+            Some(seed),
+            Some(batches as u64),
+            Precision::F64,
+            Some(threads),
+        ),
     })
 }
 

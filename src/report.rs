@@ -15,15 +15,13 @@ use serde::Serialize;
 use crate::bench::throughput;
 use crate::diffusion::{run, DiffusionConfig, Precision};
 use crate::error::Error;
-use crate::metadata::RunMeta;
 use crate::figures::{plot, PlotSpec, Series};
 use crate::kernel::trap::{Flight, Trap};
+use crate::metadata::RunMeta;
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, Purpose, StreamKey};
 use crate::scenes::lattice::PeriodicLattice;
-use crate::verification::lyapunov::{
-    divergence, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS,
-};
+use crate::verification::lyapunov::{divergence, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS};
 
 /// One row of the report.
 #[derive(Debug, Clone, Serialize)]
@@ -92,7 +90,11 @@ fn one_step<T: Real>(trap: &Trap<T>, tref: &Trap<Float>, states: &[Flight<f64>])
             if e.kind != r.kind {
                 return Some(f64::INFINITY);
             }
-            Some((e.time.to_mpfr(ONE_STEP_REFERENCE_BITS) - &r.time).abs().to_f64())
+            Some(
+                (e.time.to_mpfr(ONE_STEP_REFERENCE_BITS) - &r.time)
+                    .abs()
+                    .to_f64(),
+            )
         })
         .collect();
     errs.sort_by(|a, b| a.total_cmp(b));
@@ -190,7 +192,12 @@ pub fn speed_against_error(
         rows,
         collisions_for_0_1_percent: n_needed,
         calibration: (rel, cfg.collisions),
-        meta: RunMeta::new(Some(seed), Some(cfg.batches as u64), "f64 and MPFR", Some(threads)),
+        meta: RunMeta::new(
+            Some(seed),
+            Some(cfg.batches as u64),
+            "f64 and MPFR",
+            Some(threads),
+        ),
     };
     let mut md = format!(
         "Speed against error at w = {w} (one thread per measurement; medians of {REPORT_REPETITIONS} repetitions; one-step error = |flight time − {ONE_STEP_REFERENCE_BITS}-bit value| from the same exact pre-event state over {} events; horizon = collisions until 10⁻³ from a {DIVERGENCE_REFERENCE_BITS}-bit orbit, mean of {HORIZON_STARTS} starts; CPU time for D at 0.1 %: {:.2e} collisions, calibrated by an f64 run of {:.0e} collisions with relative error {:.3} %)\n\n",

@@ -217,7 +217,13 @@ mod tests {
                 for run in 0..4u64 {
                     for index in [0u64, 1, 999, 1000, u64::MAX] {
                         let x: [u64; 2] = {
-                            let mut r = StreamKey { seed, purpose: p, run, index }.rng();
+                            let mut r = StreamKey {
+                                seed,
+                                purpose: p,
+                                run,
+                                index,
+                            }
+                            .rng();
                             [r.random(), r.random()]
                         };
                         assert!(seen.insert(x), "{seed} {p:?} {run} {index}");
@@ -230,8 +236,9 @@ mod tests {
     #[test]
     fn splitmix_finaliser_is_invertible_on_samples() {
         // Distinct inputs, distinct outputs (the map is a bijection; sampled here).
-        let outs: std::collections::HashSet<u64> =
-            (0..100_000u64).map(|x| splitmix_finalise(x.wrapping_mul(0x9E37_79B9_7F4A_7C15))).collect();
+        let outs: std::collections::HashSet<u64> = (0..100_000u64)
+            .map(|x| splitmix_finalise(x.wrapping_mul(0x9E37_79B9_7F4A_7C15)))
+            .collect();
         assert_eq!(outs.len(), 100_000);
     }
 

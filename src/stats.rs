@@ -392,7 +392,9 @@ impl QuadraticFit {
         if c2 != 0.0 {
             roots.push(q / c2);
         }
-        let t = roots.into_iter().min_by(|a, b| a.abs().total_cmp(&b.abs()))?;
+        let t = roots
+            .into_iter()
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))?;
         let g = [1.0, t, t * t];
         let mut var = 0.0;
         for i in 0..3 {
@@ -439,9 +441,9 @@ pub fn weighted_quadratic_fit(
         n += w[i] * g * g.transpose();
         b += w[i] * y[i] * g;
     }
-    let inv = n.try_inverse().ok_or_else(|| {
-        Error::Invalid("a quadratic fit needs at least three distinct x".into())
-    })?;
+    let inv = n
+        .try_inverse()
+        .ok_or_else(|| Error::Invalid("a quadratic fit needs at least three distinct x".into()))?;
     let c = inv * b;
     let chi2 = (0..x.len())
         .map(|i| {
@@ -490,7 +492,9 @@ pub struct WeightedMean {
 /// ```
 pub fn weighted_mean(x: &[f64], sigma: &[f64]) -> Result<WeightedMean, Error> {
     if x.len() != sigma.len() || x.is_empty() {
-        return Err(Error::Invalid("a weighted mean needs values with errors".into()));
+        return Err(Error::Invalid(
+            "a weighted mean needs values with errors".into(),
+        ));
     }
     let w = weights(sigma)?;
     let sw: f64 = w.iter().sum();

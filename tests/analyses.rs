@@ -26,7 +26,10 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     };
     let first = sweep(&cfg, &dir, 2, &|_| {}).unwrap();
     assert_eq!(first.resumed_points, 0);
-    assert_eq!(first.rows[1].w, 0.12, "the grid point is the decimal asked for");
+    assert_eq!(
+        first.rows[1].w, 0.12,
+        "the grid point is the decimal asked for"
+    );
     for f in [
         "sweep.csv",
         "sweep.json",
@@ -87,7 +90,12 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-fn synthetic_rows(ws: &[f64], sigma: &[f64], truth: &dyn Fn(f64) -> f64, rng: &mut impl Rng) -> Vec<SweepRow> {
+fn synthetic_rows(
+    ws: &[f64],
+    sigma: &[f64],
+    truth: &dyn Fn(f64) -> f64,
+    rng: &mut impl Rng,
+) -> Vec<SweepRow> {
     ws.iter()
         .zip(sigma)
         .map(|(&w, &s)| {

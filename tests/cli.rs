@@ -35,46 +35,137 @@ const BAD: &[(&[&str], &str)] = &[
     (&["diffusion", "--w", "NaN"], "finite"),
     (&["diffusion", "--w", "inf"], "finite"),
     (&["diffusion", "--w", "abc"], "invalid value"),
-    (&["diffusion", "--w", "1e-300", "--collisions", "1000"], "more than any run"),
+    (
+        &["diffusion", "--w", "1e-300", "--collisions", "1000"],
+        "more than any run",
+    ),
     (&["diffusion", "--w", "0.1", "--precision", "52"], "53"),
     (&["diffusion", "--w", "0.1", "--precision", "double"], "f64"),
-    (&["diffusion", "--w", "0.1", "--collisions", "0"], "collisions"),
-    (&["diffusion", "--w", "0.1", "--collisions", "-5"], "whole number"),
-    (&["diffusion", "--w", "0.1", "--collisions", "1.5"], "whole number"),
-    (&["diffusion", "--w", "0.1", "--collisions", "1e20"], "too large"),
+    (
+        &["diffusion", "--w", "0.1", "--collisions", "0"],
+        "collisions",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--collisions", "-5"],
+        "whole number",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--collisions", "1.5"],
+        "whole number",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--collisions", "1e20"],
+        "too large",
+    ),
     (&["diffusion", "--w", "0.1", "--batches", "0"], "batches"),
     (&["diffusion", "--w", "0.1", "--batches", "1"], "batches"),
-    (&["diffusion", "--w", "0.1", "--batches", "5e9"], "4294967295"),
-    (&["diffusion", "--w", "0.1", "--batches", "4e9", "--collisions", "1e19"], "at most 1048576"),
-    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "4e9", "--out", "out"], "2 to 10000"),
-    (&["audit", "--w", "0.1", "--trajectories", "4e9", "--collisions", "1e19"], "at most 1048576"),
-    (&["diffusion", "--w", "0.1", "--collisions", "1000"], "too small"),
-    (&["diffusion", "--w", "0.1", "--threads", "0"], "threads must be from 1"),
-    (&["diffusion", "--w", "0.1", "--threads", "1e9"], "threads must be from 1"),
+    (
+        &["diffusion", "--w", "0.1", "--batches", "5e9"],
+        "4294967295",
+    ),
+    (
+        &[
+            "diffusion",
+            "--w",
+            "0.1",
+            "--batches",
+            "4e9",
+            "--collisions",
+            "1e19",
+        ],
+        "at most 1048576",
+    ),
+    (
+        &[
+            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "4e9", "--out", "out",
+        ],
+        "2 to 10000",
+    ),
+    (
+        &[
+            "audit",
+            "--w",
+            "0.1",
+            "--trajectories",
+            "4e9",
+            "--collisions",
+            "1e19",
+        ],
+        "at most 1048576",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--collisions", "1000"],
+        "too small",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--threads", "0"],
+        "threads must be from 1",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--threads", "1e9"],
+        "threads must be from 1",
+    ),
     (&["diffusion", "--w", "0.1", "--window", "40:10"], "window"),
     (&["diffusion", "--w", "0.1", "--audit", "2"], "(0, 1]"),
-    (&["diffusion", "--w", "0.1", "--audit", "0.1", "--audit-precision", "64"], "128"),
+    (
+        &[
+            "diffusion",
+            "--w",
+            "0.1",
+            "--audit",
+            "0.1",
+            "--audit-precision",
+            "64",
+        ],
+        "128",
+    ),
     // audit
     (&["audit", "--w", "0"], "trapped"),
     (&["audit", "--w", "0.1", "--collisions", "0"], "collisions"),
-    (&["audit", "--w", "0.1", "--trajectories", "0"], "trajectories"),
+    (
+        &["audit", "--w", "0.1", "--trajectories", "0"],
+        "trajectories",
+    ),
     (&["audit", "--w", "0.1", "--sample", "0"], "(0, 1]"),
     (&["audit", "--w", "0.1", "--sample", "1.5"], "(0, 1]"),
     (&["audit", "--w", "0.1", "--precision", "64"], "128"),
-    (&["audit", "--w", "0.1", "--precision", "4000000000"], "65536"),
+    (
+        &["audit", "--w", "0.1", "--precision", "4000000000"],
+        "65536",
+    ),
     // lyapunov
     (&["lyapunov", "--w", "0.4"], "infinite"),
     (&["lyapunov", "--w", "0.1", "--orbits", "1"], "orbits"),
-    (&["lyapunov", "--w", "0.1", "--collisions", "0"], "collisions"),
+    (
+        &["lyapunov", "--w", "0.1", "--collisions", "0"],
+        "collisions",
+    ),
     (&["lyapunov", "--w", "0.1", "--starts", "1e6"], "starts"),
     // certify
     (&["certify", "--w", "0"], "trapped"),
-    (&["certify", "--w", "0.1", "--collisions", "0"], "collisions"),
+    (
+        &["certify", "--w", "0.1", "--collisions", "0"],
+        "collisions",
+    ),
     (&["certify", "--w", "0.1", "--digits", "0"], "digits"),
     (&["certify", "--w", "0.1", "--digits", "-3"], "whole number"),
     (&["diffusion", "--w", "0.1", "--seed", "-1"], "whole number"),
-    (&["certify", "--w", "0.1", "--collisions", "100000000000"], "at most"),
-    (&["certify", "--w", "0.1", "--collisions", "200000", "--digits", "10"], "memory"),
+    (
+        &["certify", "--w", "0.1", "--collisions", "100000000000"],
+        "at most",
+    ),
+    (
+        &[
+            "certify",
+            "--w",
+            "0.1",
+            "--collisions",
+            "200000",
+            "--digits",
+            "10",
+        ],
+        "memory",
+    ),
     // backscatter
     (&["backscatter", "--w", "0"], "trapped"),
     (&["backscatter", "--w", "0.1", "--visits", "0"], "visits"),
@@ -87,16 +178,71 @@ const BAD: &[(&[&str], &str)] = &[
     (&["hops", "--w", "0.1", "--order", "100"], "order"),
     (&["hops", "--w", "0.1", "--batches", "1"], "batches"),
     // sweep
-    (&["sweep", "--w-from", "0.1", "--w-to", "0.5", "--out", "out"], "infinite"),
-    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "1", "--out", "out"], "steps"),
-    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--runs", "0", "--out", "out"], "runs"),
-    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--batches", "1", "--out", "out"], "batches"),
-    (&["sweep", "--w-from", "abc", "--w-to", "0.2", "--out", "out"], "decimal"),
-    (&["sweep", "--w-from", "0.1", "--w-to", "0.2", "--collisions", "1000", "--out", "out"], "too small"),
+    (
+        &["sweep", "--w-from", "0.1", "--w-to", "0.5", "--out", "out"],
+        "infinite",
+    ),
+    (
+        &[
+            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "1", "--out", "out",
+        ],
+        "steps",
+    ),
+    (
+        &[
+            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--runs", "0", "--out", "out",
+        ],
+        "runs",
+    ),
+    (
+        &[
+            "sweep",
+            "--w-from",
+            "0.1",
+            "--w-to",
+            "0.2",
+            "--batches",
+            "1",
+            "--out",
+            "out",
+        ],
+        "batches",
+    ),
+    (
+        &["sweep", "--w-from", "abc", "--w-to", "0.2", "--out", "out"],
+        "decimal",
+    ),
+    (
+        &[
+            "sweep",
+            "--w-from",
+            "0.1",
+            "--w-to",
+            "0.2",
+            "--collisions",
+            "1000",
+            "--out",
+            "out",
+        ],
+        "too small",
+    ),
     // figure
     (&["figure", "fig9", "--out", "out"], "invalid value"),
-    (&["figure", "backscatter-map", "--w", "0", "--out", "out"], "trapped"),
-    (&["figure", "backscatter-map", "--samples", "0", "--out", "out"], "samples"),
+    (
+        &["figure", "backscatter-map", "--w", "0", "--out", "out"],
+        "trapped",
+    ),
+    (
+        &[
+            "figure",
+            "backscatter-map",
+            "--samples",
+            "0",
+            "--out",
+            "out",
+        ],
+        "samples",
+    ),
     // theory
     (&["theory", "--w", "0"], "trapped"),
     (&["theory", "--w", "0.1", "--order", "0"], "order"),
@@ -108,12 +254,21 @@ const BAD: &[(&[&str], &str)] = &[
     // constants
     (&["constants", "--w", "0"], "trapped"),
     (&["constants", "--w", "0.1", "--precision", "20"], "53"),
-    (&["constants", "--w", "0.1", "--precision", "2000000000"], "1048576"),
-    (&["diffusion", "--w", "0.1", "--precision", "99999999999"], "1048576"),
+    (
+        &["constants", "--w", "0.1", "--precision", "2000000000"],
+        "1048576",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--precision", "99999999999"],
+        "1048576",
+    ),
     // bench
     (&["bench", "--w", "0.1", "--collisions", "0"], "collisions"),
     (&["bench", "--w", "-1"], "trapped"),
-    (&["bench", "--w", "0.1", "--repetitions", "0"], "repetitions"),
+    (
+        &["bench", "--w", "0.1", "--repetitions", "0"],
+        "repetitions",
+    ),
     (&["bench", "--w", "0.1", "--threads", "0"], "threads"),
 ];
 
@@ -154,18 +309,123 @@ fn bad_input_is_refused_with_status_2_one_line_and_no_files() {
 fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadata_block() {
     let dir = scratch("good");
     let runs: &[&[&str]] = &[
-        &["diffusion", "--w", "0.2", "--collisions", "2e6", "--batches", "4", "--window", "2:8", "--check-window", "4:16"],
-        &["audit", "--w", "0.1", "--collisions", "2_000", "--trajectories", "2"],
-        &["lyapunov", "--w", "0.1", "--collisions", "2e4", "--orbits", "2", "--starts", "0"],
-        &["certify", "--w", "0.1", "--collisions", "50", "--digits", "20"],
-        &["backscatter", "--w", "0.1", "--visits", "2e4", "--batches", "4"],
-        &["hops", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2"],
-        &["theory", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2"],
-        &["lattice-walk", "--w", "0.1", "--collisions", "1e6", "--order", "2"],
+        &[
+            "diffusion",
+            "--w",
+            "0.2",
+            "--collisions",
+            "2e6",
+            "--batches",
+            "4",
+            "--window",
+            "2:8",
+            "--check-window",
+            "4:16",
+        ],
+        &[
+            "audit",
+            "--w",
+            "0.1",
+            "--collisions",
+            "2_000",
+            "--trajectories",
+            "2",
+        ],
+        &[
+            "lyapunov",
+            "--w",
+            "0.1",
+            "--collisions",
+            "2e4",
+            "--orbits",
+            "2",
+            "--starts",
+            "0",
+        ],
+        &[
+            "certify",
+            "--w",
+            "0.1",
+            "--collisions",
+            "50",
+            "--digits",
+            "20",
+        ],
+        &[
+            "backscatter",
+            "--w",
+            "0.1",
+            "--visits",
+            "2e4",
+            "--batches",
+            "4",
+        ],
+        &[
+            "hops",
+            "--w",
+            "0.1",
+            "--collisions",
+            "1e6",
+            "--batches",
+            "4",
+            "--order",
+            "2",
+        ],
+        &[
+            "theory",
+            "--w",
+            "0.1",
+            "--collisions",
+            "1e6",
+            "--batches",
+            "4",
+            "--order",
+            "2",
+        ],
+        &[
+            "lattice-walk",
+            "--w",
+            "0.1",
+            "--collisions",
+            "1e6",
+            "--order",
+            "2",
+        ],
         &["constants", "--w", "0.1", "--precision", "200"],
-        &["figure", "backscatter-map", "--samples", "1e3", "--out", "fig"],
-        &["bench", "--w", "0.1", "--collisions", "1e5", "--repetitions", "3"],
-        &["sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "3", "--runs", "2", "--collisions", "1_000_000", "--batches", "4", "--out", "sweep"],
+        &[
+            "figure",
+            "backscatter-map",
+            "--samples",
+            "1e3",
+            "--out",
+            "fig",
+        ],
+        &[
+            "bench",
+            "--w",
+            "0.1",
+            "--collisions",
+            "1e5",
+            "--repetitions",
+            "3",
+        ],
+        &[
+            "sweep",
+            "--w-from",
+            "0.1",
+            "--w-to",
+            "0.2",
+            "--steps",
+            "3",
+            "--runs",
+            "2",
+            "--collisions",
+            "1_000_000",
+            "--batches",
+            "4",
+            "--out",
+            "sweep",
+        ],
     ];
     for args in runs {
         let mut a: Vec<&str> = args.to_vec();
@@ -178,7 +438,15 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
         let v: serde_json::Value =
             serde_json::from_str(&out).unwrap_or_else(|e| panic!("{a:?}: {e}: {out}"));
         let meta = find_meta(&v).unwrap_or_else(|| panic!("{a:?}: no meta block in {out}"));
-        for k in ["version", "seed", "batches", "precision", "engine", "threads", "command_line"] {
+        for k in [
+            "version",
+            "seed",
+            "batches",
+            "precision",
+            "engine",
+            "threads",
+            "command_line",
+        ] {
             assert!(meta.get(k).is_some(), "{a:?}: meta lacks {k}");
         }
         assert_eq!(meta["version"], env!("CARGO_PKG_VERSION"));
@@ -225,8 +493,32 @@ fn results_do_not_depend_on_the_thread_count() {
     let dir = scratch("threads");
     for base in [
         &["audit", "--w", "0.1", "--collisions", "1e5", "--json"][..],
-        &["diffusion", "--w", "0.2", "--collisions", "2e6", "--batches", "4", "--window", "2:8", "--check-window", "4:16", "--json"][..],
-        &["hops", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2", "--json"][..],
+        &[
+            "diffusion",
+            "--w",
+            "0.2",
+            "--collisions",
+            "2e6",
+            "--batches",
+            "4",
+            "--window",
+            "2:8",
+            "--check-window",
+            "4:16",
+            "--json",
+        ][..],
+        &[
+            "hops",
+            "--w",
+            "0.1",
+            "--collisions",
+            "1e6",
+            "--batches",
+            "4",
+            "--order",
+            "2",
+            "--json",
+        ][..],
     ] {
         let run = |t: &str| {
             let mut a = base.to_vec();
@@ -251,20 +543,47 @@ fn json_outputs_have_the_documented_keys() {
     let dir = scratch("keys");
     let (code, out, err) = lorentz_in(
         &dir,
-        &["diffusion", "--w", "0.2", "--collisions", "2000000", "--batches", "4", "--window", "2:8", "--check-window", "4:16", "--json"],
+        &[
+            "diffusion",
+            "--w",
+            "0.2",
+            "--collisions",
+            "2000000",
+            "--batches",
+            "4",
+            "--window",
+            "2:8",
+            "--check-window",
+            "4:16",
+            "--json",
+        ],
     );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     for k in [
-        "w", "D", "D_err", "D_MZ", "mean_free_path", "mean_free_path_err", "mean_free_path_exact",
-        "tau_hop", "tau_hop_err", "tau_hop_exact", "collisions", "seconds", "collisions_per_second",
+        "w",
+        "D",
+        "D_err",
+        "D_MZ",
+        "mean_free_path",
+        "mean_free_path_err",
+        "mean_free_path_exact",
+        "tau_hop",
+        "tau_hop_err",
+        "tau_hop_exact",
+        "collisions",
+        "seconds",
+        "collisions_per_second",
     ] {
         assert!(v.get(k).is_some(), "missing key {k}");
     }
     assert_eq!(v["meta"]["precision"], "f64");
     assert_eq!(v["meta"]["seed"], 1);
     assert_eq!(v["meta"]["batches"], 4);
-    let (code, out, _) = lorentz_in(&dir, &["constants", "--w", "0.1", "--precision", "200", "--json"]);
+    let (code, out, _) = lorentz_in(
+        &dir,
+        &["constants", "--w", "0.1", "--precision", "200", "--json"],
+    );
     assert_eq!(code, 0);
     let c: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!(c["w_inf"].as_str().unwrap().starts_with("3.0940107675850"));

@@ -179,8 +179,16 @@ fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
             .map(|k| {
                 // Sub-run k of gap i: run i·K + k of seed 71 (distinct streams, no seed arithmetic).
                 let run = (i * K) as u64 + k;
-                let h = lorentz_gas::hopping::hops_run(w, 40_000_000 / K as u64, 2, 4, (71, run), 2, &|_| {})
-                    .unwrap();
+                let h = lorentz_gas::hopping::hops_run(
+                    w,
+                    40_000_000 / K as u64,
+                    2,
+                    4,
+                    (71, run),
+                    2,
+                    &|_| {},
+                )
+                .unwrap();
                 h.table(4).unwrap().probabilities().to_vec()
             })
             .collect();

@@ -347,7 +347,15 @@ fn statistics_do_not_move_with_precision() {
     let lo = run(&cfg, 2, None, &|_| {}).unwrap();
     let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
     let t4 = |ea: f64, eb: f64| {
-        normal_sigma_equivalent_t(welch_dof(ea, hi.meta.batches.unwrap() as f64, eb, lo.meta.batches.unwrap() as f64), 4.0)
+        normal_sigma_equivalent_t(
+            welch_dof(
+                ea,
+                hi.meta.batches.unwrap() as f64,
+                eb,
+                lo.meta.batches.unwrap() as f64,
+            ),
+            4.0,
+        )
     };
     assert!(
         z(hi.D, hi.D_err, lo.D, lo.D_err) < t4(hi.D_err, lo.D_err),

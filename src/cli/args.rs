@@ -49,13 +49,16 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
     let (digits, shift) = if shift < 0 {
         let drop = (-shift) as usize;
         if drop > digits.len() || !digits[digits.len() - drop..].bytes().all(|b| b == b'0') {
-            return Err(format!("'{s}' is not a whole number: a count must be an integer"));
+            return Err(format!(
+                "'{s}' is not a whole number: a count must be an integer"
+            ));
         }
         (&digits[..digits.len() - drop], 0)
     } else {
         (digits, shift)
     };
-    let too_large = || format!("'{s}' is too large: a count is at most 18446744073709551615 (2^64 - 1)");
+    let too_large =
+        || format!("'{s}' is too large: a count is at most 18446744073709551615 (2^64 - 1)");
     if digits.len() as i64 + shift > 20 {
         return Err(too_large());
     }
@@ -141,7 +144,8 @@ impl HopCommand {
         analysis: HopAnalysis<R>,
         print: impl FnOnce(&R),
     ) -> Result<(), lorentz_gas::error::Error> {
-        let pb = super::progress::Progress::new(self.hop.collisions, "collisions", self.output.quiet);
+        let pb =
+            super::progress::Progress::new(self.hop.collisions, "collisions", self.output.quiet);
         let r = analysis(
             self.gap.w,
             self.hop.collisions,
@@ -233,8 +237,21 @@ mod tests {
             assert_eq!(parse_count(s), Ok(v), "{s}");
         }
         for s in [
-            "", "-1", "1.5", "2e-3", "1e20", "18446744073709551616", "abc", "1e", "e9", "_1", "1__0",
-            "0x10", "1e99999999999999999999", "NaN", "inf",
+            "",
+            "-1",
+            "1.5",
+            "2e-3",
+            "1e20",
+            "18446744073709551616",
+            "abc",
+            "1e",
+            "e9",
+            "_1",
+            "1__0",
+            "0x10",
+            "1e99999999999999999999",
+            "NaN",
+            "inf",
         ] {
             assert!(parse_count(s).is_err(), "{s} accepted");
         }

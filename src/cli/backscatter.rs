@@ -50,7 +50,14 @@ fn print(r: &BackscatterReport) {
     );
     println!(
         "p_bs = {:.5} ± {:.5}   p_l = {:.5} ± {:.5}   p_r = {:.5} ± {:.5}   p_cf = {:.5} ± {:.5}",
-        r.p_bs, r.p_bs_err, r.p_l.value, r.p_l.err, r.p_r.value, r.p_r.err, r.p_cf.value, r.p_cf.err
+        r.p_bs,
+        r.p_bs_err,
+        r.p_l.value,
+        r.p_l.err,
+        r.p_r.value,
+        r.p_r.err,
+        r.p_cf.value,
+        r.p_cf.err
     );
     println!(
         "mean visit time      = {:.5} ± {:.5}   Kac tau = {:.5}",
@@ -58,6 +65,8 @@ fn print(r: &BackscatterReport) {
     );
     println!(
         "collisions per visit = {:.4} ± {:.4}   Kac pi/(3w) = {:.4}",
-        r.mean_collisions_per_visit, r.mean_collisions_per_visit_err, r.mean_collisions_per_visit_exact
+        r.mean_collisions_per_visit,
+        r.mean_collisions_per_visit_err,
+        r.mean_collisions_per_visit_exact
     );
 }

@@ -40,13 +40,17 @@ pub fn run(a: Args) -> Result<(), Error> {
     if a.report {
         let out = a.out.dir("results");
         let pb = Progress::new(REPORT_STEPS, "steps", a.output.quiet);
-        let (r, md) = speed_against_error(a.gap.w, &out, a.run.seed, a.run.threads(), &pb.callback())?;
+        let (r, md) =
+            speed_against_error(a.gap.w, &out, a.run.seed, a.run.threads(), &pb.callback())?;
         drop(pb);
         if a.output.json {
             println!("{}", to_json(&r)?);
         } else {
             println!("{md}");
-            println!("written: {}/speed-vs-error.{{md,json,png,svg}}", out.display());
+            println!(
+                "written: {}/speed-vs-error.{{md,json,png,svg}}",
+                out.display()
+            );
         }
         return Ok(());
     }

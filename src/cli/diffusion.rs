@@ -110,7 +110,11 @@ fn print(r: &DiffusionReport) {
         r.mean_free_path,
         r.mean_free_path_err,
         r.mean_free_path_exact,
-        sigmas(r.mean_free_path, r.mean_free_path_err, r.mean_free_path_exact)
+        sigmas(
+            r.mean_free_path,
+            r.mean_free_path_err,
+            r.mean_free_path_exact
+        )
     );
     println!(
         "mean hop time  = {:.6} ± {:.6}   exact {:.6}  ({})",
@@ -137,6 +141,9 @@ fn print(r: &DiffusionReport) {
         );
     }
     if r.resumed_batches > 0 {
-        println!("({} batches resumed from the checkpoint)", r.resumed_batches);
+        println!(
+            "({} batches resumed from the checkpoint)",
+            r.resumed_batches
+        );
     }
 }

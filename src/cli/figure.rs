@@ -52,7 +52,10 @@ pub fn run(a: Args) -> Result<(), Error> {
         }
         Kind::Backscatter => {
             let n = a.samples.unwrap_or(paper::CURVE_SAMPLES);
-            let points = paper::backscatter_grids()?.iter().map(|g| g.len() as u64).sum::<u64>();
+            let points = paper::backscatter_grids()?
+                .iter()
+                .map(|g| g.len() as u64)
+                .sum::<u64>();
             let pb = Progress::new(n.saturating_mul(points), "injections", a.output.quiet);
             let r = paper::backscatter_curve(n, seed, threads, &out, &pb.callback())?;
             r

@@ -74,30 +74,37 @@ pub fn run(a: Args) -> Result<(), Error> {
     } else {
         Vec::new()
     };
-    emit(a.output.json, &Report { tangent, divergence }, |r| {
-        let l = &r.tangent;
-        println!(
+    emit(
+        a.output.json,
+        &Report {
+            tangent,
+            divergence,
+        },
+        |r| {
+            let l = &r.tangent;
+            println!(
             "w = {}: largest Lyapunov exponent (tangent space, {} orbits x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time",
             l.w, l.orbits, l.collisions, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err
         );
-        if !r.divergence.is_empty() {
-            println!(
+            if !r.divergence.is_empty() {
+                println!(
                 "divergence from a {DIVERGENCE_REFERENCE_BITS}-bit reference ({} initial conditions):",
                 a.starts
             );
-            println!("precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time");
-            for x in &r.divergence {
-                println!(
-                    "{:>9}  {:>12.1} ± {:<8.1}       {:.4} ± {:.4}        {:.4} ± {:.4}",
-                    x.precision,
-                    x.horizon,
-                    x.horizon_err,
-                    x.rate_per_collision,
-                    x.rate_per_collision_err,
-                    x.rate_per_time,
-                    x.rate_per_time_err
-                );
+                println!("precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time");
+                for x in &r.divergence {
+                    println!(
+                        "{:>9}  {:>12.1} ± {:<8.1}       {:.4} ± {:.4}        {:.4} ± {:.4}",
+                        x.precision,
+                        x.horizon,
+                        x.horizon_err,
+                        x.rate_per_collision,
+                        x.rate_per_collision_err,
+                        x.rate_per_time,
+                        x.rate_per_time_err
+                    );
+                }
             }
-        }
-    })
+        },
+    )
 }

@@ -76,7 +76,10 @@ pub fn main() -> ExitCode {
             // clap's first line names the option and the reason; the usage lines that follow
             // are left to --help.
             let text = e.to_string();
-            eprintln!("{}", text.lines().next().unwrap_or("error: invalid arguments"));
+            eprintln!(
+                "{}",
+                text.lines().next().unwrap_or("error: invalid arguments")
+            );
             return ExitCode::from(EXIT_BAD_INPUT);
         }
         Err(e) => {
@@ -95,7 +98,10 @@ pub fn main() -> ExitCode {
 }
 
 fn one_line(e: &Error) -> String {
-    e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")
+    e.to_string()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 fn run(cmd: Cmd) -> Result<(), Error> {

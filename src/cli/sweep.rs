@@ -75,15 +75,7 @@ fn print(r: &SweepReport) {
     for x in &r.rows {
         println!(
             "{:>8}  {:.6}  {:.6}  {:>6}   {:>6.2}  ({:.3})   {:.6}  {:.6}  {:+.2e}",
-            x.w,
-            x.D,
-            x.D_err,
-            x.D_err_dof,
-            x.runs_f,
-            x.runs_p_value,
-            x.D_MZ,
-            x.D_Bo,
-            x.residual
+            x.w, x.D, x.D_err, x.D_err_dof, x.runs_f, x.runs_p_value, x.D_MZ, x.D_Bo, x.residual
         );
     }
     let l = &r.linear_fit;

@@ -21,7 +21,10 @@ fn print(r: &TheoryReport) {
         "D_GK (the Lorentz gas) = {:.6} ± {:.6}   D_MZ = {:.6}",
         r.D_GK.value, r.D_GK.err, r.D_MZ
     );
-    println!("D_cf = {:.6}  D_bs = {:.6}  D_1 = {:.6}", r.D_cf, r.D_bs, r.D_1);
+    println!(
+        "D_cf = {:.6}  D_bs = {:.6}  D_1 = {:.6}",
+        r.D_cf, r.D_bs, r.D_1
+    );
     for ((k, dk, dc), (_, ex)) in r.D_k.iter().zip(&r.lattice_gas_exact) {
         println!(
             "k = {k}: D_k = {dk:.6}  with collisionless flights {dc:.6}   exact order-{k} lattice walk {ex:.6}"

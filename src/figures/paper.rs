@@ -148,7 +148,12 @@ pub fn backscatter_curve(
     }
     let [grid, inset] = backscatter_grids()?;
     std::fs::create_dir_all(dir)?;
-    let meta = RunMeta::new(Some(seed), Some(CURVE_BATCHES as u64), Precision::F64, Some(threads));
+    let meta = RunMeta::new(
+        Some(seed),
+        Some(CURVE_BATCHES as u64),
+        Precision::F64,
+        Some(threads),
+    );
     let mut written = Vec::new();
     for (name, ws, first_run) in [
         ("fig4a-p-bs", &grid, 0u64),

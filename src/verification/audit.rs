@@ -15,9 +15,9 @@ use serde::{Deserialize, Serialize};
 
 use super::shadow::{check_event, EventCheck};
 use crate::error::Error;
-use crate::metadata::RunMeta;
 use crate::kernel::trap::{Flight, Trap};
 use crate::kernel::vec2::Vec2;
+use crate::metadata::RunMeta;
 
 /// Log-histogram of positive values: bins of 0.1 decade from 10⁻³⁰ to 10¹⁰, plus zeros.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

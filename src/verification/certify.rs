@@ -157,8 +157,8 @@ fn certify_with_meta(
     if digits == 0 {
         return Err(Error::Zero { what: "digits" });
     }
-    let lambda = lyapunov(w, LAMBDA_COLLISIONS, LAMBDA_ORBITS, LAMBDA_SEED, 1, &|_| {})?
-        .per_collision;
+    let lambda =
+        lyapunov(w, LAMBDA_COLLISIONS, LAMBDA_ORBITS, LAMBDA_SEED, 1, &|_| {})?.per_collision;
     let mut bits = starting_bits(lambda, n, digits)?;
     let mut tried = Vec::new();
     let run = |b: u32, out: u32| -> Result<Vec<([Float; 4], f64)>, Error> {
@@ -201,7 +201,9 @@ fn certify_with_meta(
                 meta: RunMeta::new(seed, None, bits, Some(1)),
             });
         }
-        if bits >= MAX_BITS || 3.0 * n as f64 * bytes_per_collision(4.0 * bits as f64) > MAX_MEMORY_BYTES {
+        if bits >= MAX_BITS
+            || 3.0 * n as f64 * bytes_per_collision(4.0 * bits as f64) > MAX_MEMORY_BYTES
+        {
             return Err(Error::Invalid(format!(
                 "could not certify {n} collisions to {digits} digits within {} bits and {:.0} GiB \
                  (the runs at {bits} and {} bits agree to {agreed:.1} digits)",

@@ -16,9 +16,9 @@ use rug::Float;
 use serde::Serialize;
 
 use crate::error::Error;
-use crate::metadata::RunMeta;
 use crate::geometry::check_diffusive_gap;
 use crate::kernel::trap::EventKind;
+use crate::metadata::RunMeta;
 use crate::parallel::par_batches;
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, stream};
