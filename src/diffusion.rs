@@ -456,9 +456,7 @@ impl AtPrecision for RunBatches<'_> {
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
         let lat = PeriodicLattice::new(T::from_f64(ctx, self.cfg.w))?;
         let cfg = self.cfg;
-        let per = cfg.collisions / cfg.batches as u64;
-        let extra = cfg.collisions % cfg.batches as u64;
-        let n_of = |i: u32| per + u64::from((i as u64) < extra);
+        let n_of = |i: u32| crate::parallel::share(cfg.collisions, cfg.batches, i);
         self.pool.install(|| {
             self.todo
                 .par_iter()

@@ -12,7 +12,7 @@ use crate::geometry::{check_diffusive_gap, Geometry};
 use crate::kernel::trap::EventKind;
 use crate::metadata::RunMeta;
 use crate::observables::hops::Hops;
-use crate::parallel::par_batches;
+use crate::parallel::{par_batches, share};
 use crate::precision::{AtPrecision, Precision};
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, Purpose, StreamKey};
@@ -97,11 +97,8 @@ impl AtPrecision for Inject<'_> {
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
         let scene = SingleTrap::new(T::from_f64(ctx, self.w))?;
         let progress = self.progress;
-        // Batch b injects ⌊N/B⌋ particles, plus one for the first N mod B: N in all, exactly.
-        let per = self.visits / self.batches as u64;
-        let extra = self.visits % self.batches as u64;
         par_batches(self.threads, self.batches, |b| {
-            let n_b = per + u64::from((b as u64) < extra);
+            let n_b = share(self.visits, self.batches, b);
             let mut rng = StreamKey::new(self.seed, Purpose::Injection, b as u64)
                 .in_run(self.run)
                 .rng();
@@ -272,7 +269,7 @@ pub(crate) fn check_hops_input(
     collisions: u64,
     batches: u32,
     order: usize,
-) -> Result<u64, Error> {
+) -> Result<(), Error> {
     check_diffusive_gap(w)?;
     check_order("order", order)?;
     if batches < 2 {
@@ -293,12 +290,11 @@ pub(crate) fn check_hops_input(
             min.saturating_mul(batches as u64)
         )));
     }
-    Ok(per)
+    crate::parallel::check_batches("batches", batches)
 }
 
-/// Runs `batches` lattice trajectories of `collisions` collisions in all (⌊N/B⌋ each, plus one for
-/// the first N mod B) and collects
-/// the hop statistics up to sequences of length `order` and the hop-level Green–Kubo D.
+/// Runs `batches` lattice trajectories of `collisions` collisions in all
+/// ([`crate::parallel::share`]) and collects the hop statistics up to sequences of length `order` and the hop-level Green–Kubo D.
 ///
 /// Checked before any work: 0 < w < w∞, 1 ≤ `order` ≤ [`crate::symbols::MAX_ORDER`],
 /// `batches` ≥ 2, at least [`min_collisions_per_batch`] collisions per batch, `threads` ≥ 1.
@@ -327,11 +323,10 @@ pub fn hops_run(
     threads: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<HopsReport, Error> {
-    let per = check_hops_input(w, collisions, batches, order)?;
-    let extra = collisions % batches as u64;
+    check_hops_input(w, collisions, batches, order)?;
     let lat = PeriodicLattice::new(w)?;
     let res: Vec<Hops> = par_batches(threads, batches, |b| {
-        let per = per + u64::from((b as u64) < extra);
+        let per = share(collisions, batches, b);
         let mut s = equilibrium_state(
             &lat.trap,
             &mut StreamKey::new(seed, Purpose::Trajectory, b as u64)

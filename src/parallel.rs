@@ -20,6 +20,21 @@ pub fn check_batches(what: &str, n: u32) -> Result<(), Error> {
     Ok(())
 }
 
+/// The share of batch `b` when `total` units (collisions, visits) are split over `batches`:
+/// ⌊total/batches⌋, plus one for the first `total mod batches` batches — `total` in all, exactly.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::parallel::share;
+/// let parts: Vec<u64> = (0..3).map(|b| share(10, 3, b)).collect();
+/// assert_eq!(parts, vec![4, 3, 3]);
+/// ```
+pub fn share(total: u64, batches: u32, b: u32) -> u64 {
+    let n = batches as u64;
+    total / n + u64::from((b as u64) < total % n)
+}
+
 /// Runs `f(b)` for batches b = 0 … n−1 on `threads` threads; results in batch order.
 pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
     threads: usize,

@@ -512,24 +512,6 @@ pub fn weighted_mean(x: &[f64], sigma: &[f64]) -> Result<WeightedMean, Error> {
     })
 }
 
-/// Probability that a χ² variable with `dof` degrees of freedom exceeds `chi2` (the p-value of a
-/// consistency check); NaN without degrees of freedom.
-///
-/// # Examples
-///
-/// ```
-/// use lorentz_gas::stats::chi2_p_value;
-/// // The median of χ² with 1 degree of freedom is 0.4549…
-/// assert!((chi2_p_value(0.454936, 1) - 0.5).abs() < 1e-5);
-/// ```
-pub fn chi2_p_value(chi2: f64, dof: usize) -> f64 {
-    use statrs::distribution::{ChiSquared, ContinuousCDF};
-    match ChiSquared::new(dof as f64) {
-        Ok(d) if dof > 0 => d.sf(chi2),
-        _ => f64::NAN,
-    }
-}
-
 /// Probability that an F(d₁, d₂) variable exceeds `f` (NaN without degrees of freedom).
 ///
 /// # Examples

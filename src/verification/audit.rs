@@ -366,11 +366,9 @@ pub fn audit_run(
     check_audit(cfg.sample, cfg.bits)?;
     let start = std::time::Instant::now();
     let lat = PeriodicLattice::new(w)?;
-    let per = cfg.collisions / cfg.trajectories as u64;
-    let extra = cfg.collisions % cfg.trajectories as u64;
     let parts: Vec<(AuditSummary, u64)> =
         crate::parallel::par_batches(threads, cfg.trajectories, |b| {
-            let n = per + u64::from((b as u64) < extra);
+            let n = crate::parallel::share(cfg.collisions, cfg.trajectories, b);
             let mut s = equilibrium_state(&lat.trap, &mut stream(cfg.seed, b as u64));
             let mut a = Auditor::new(
                 w,
