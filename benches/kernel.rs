@@ -4,7 +4,7 @@
 use divan::Bencher;
 use lorentz_gas::real::Real;
 use lorentz_gas::sampling::{equilibrium_state, stream};
-use lorentz_gas::scenes::lattice::{LatticeState, PeriodicLattice};
+use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
 use rug::Float;
 
 fn main() {
@@ -13,7 +13,7 @@ fn main() {
 
 const COLLISIONS: u64 = 1000;
 
-fn run<T: Real>(b: Bencher, lat: &PeriodicLattice<T>, start: LatticeState<T>) {
+fn run<T: Real>(b: Bencher, lat: &TriangularLattice<T>, start: LatticeState<T>) {
     let mut s = start;
     b.counter(divan::counter::ItemsCount::new(COLLISIONS))
         .bench_local(|| lat.run_collisions(&mut s, COLLISIONS).unwrap());
@@ -21,16 +21,16 @@ fn run<T: Real>(b: Bencher, lat: &PeriodicLattice<T>, start: LatticeState<T>) {
 
 #[divan::bench(args = [0.02, 0.1, 0.3])]
 fn f64_collisions(b: Bencher, w: f64) {
-    let lat = PeriodicLattice::new(w).unwrap();
-    let s = equilibrium_state(&lat.trap, &mut stream(1, 0));
+    let lat = TriangularLattice::new(w).unwrap();
+    let s = equilibrium_state(lat.trap(), &mut stream(1, 0));
     run(b, &lat, s);
 }
 
 #[divan::bench(args = [53, 128, 256, 1024], sample_count = 20)]
 fn mpfr_collisions_w_0_1(b: Bencher, bits: u32) {
-    let lat64 = PeriodicLattice::new(0.1).unwrap();
-    let s64 = equilibrium_state(&lat64.trap, &mut stream(1, 0));
-    let lat = PeriodicLattice::new(Float::with_val(bits, 0.1)).unwrap();
+    let lat64 = TriangularLattice::new(0.1).unwrap();
+    let s64 = equilibrium_state(lat64.trap(), &mut stream(1, 0));
+    let lat = TriangularLattice::new(Float::with_val(bits, 0.1)).unwrap();
     let mut s = LatticeState::<Float>::convert_from_f64(bits, &s64);
     s.flight.normalise_speed();
     run(b, &lat, s);

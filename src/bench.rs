@@ -12,7 +12,7 @@ use crate::metadata::RunMeta;
 use crate::precision::{AtPrecision, Precision};
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, stream};
-use crate::scenes::lattice::{LatticeState, PeriodicLattice};
+use crate::scenes::lattice::{LatticeState, TriangularLattice};
 
 /// Throughput measurement: the median of several timed repetitions.
 #[derive(Debug, Clone, Serialize)]
@@ -67,7 +67,7 @@ impl AtPrecision for TimeRuns<'_> {
     type Output = Result<(Vec<f64>, f64), Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
         let trap64 = Trap::new(self.w)?;
-        let lat = PeriodicLattice::new(T::from_f64(ctx, self.w))?;
+        let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
         let mut states: Vec<LatticeState<T>> = (0..self.threads)
             .map(|k| {
                 let s64 = equilibrium_state(&trap64, &mut stream(self.seed, k as u64));

@@ -31,7 +31,7 @@ use crate::precision::AtPrecision;
 pub use crate::precision::Precision;
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, Purpose, StreamKey};
-use crate::scenes::lattice::{LatticeState, PeriodicLattice};
+use crate::scenes::lattice::{LatticeState, TriangularLattice};
 use crate::stats::{linear_fit, mean_se};
 use crate::verification::audit::{AuditSummary, Auditor};
 
@@ -277,7 +277,7 @@ pub struct DiffusionReport {
 /// Runs one batch on number type `T`: batch `index` of run `run` of seed `seed`.
 #[allow(clippy::too_many_arguments)]
 pub fn run_batch<T: Real>(
-    lat: &PeriodicLattice<T>,
+    lat: &TriangularLattice<T>,
     trap64: &Trap<f64>,
     (seed, run): (u64, u64),
     index: u32,
@@ -290,7 +290,7 @@ pub fn run_batch<T: Real>(
     const CHUNK: u64 = 1 << 20;
     let mut auditor = match audit {
         Some(a) => Some(Auditor::new(
-            trap64.w,
+            &crate::scenes::triangular::TriangularScene::new(trap64.w)?,
             a.rate,
             a.bits,
             StreamKey::new(seed, Purpose::Audit, index as u64)
@@ -300,15 +300,14 @@ pub fn run_batch<T: Real>(
         None => None,
     };
     let start = Instant::now();
-    let ctx = lat.trap.a.ctx();
+    let ctx = lat.trap().a.ctx();
     let mut rng = StreamKey::new(seed, Purpose::Trajectory, index as u64)
         .in_run(run)
         .rng();
     let s64 = equilibrium_state(trap64, &mut rng);
     let mut s = LatticeState::<T>::convert_from_f64(ctx, &s64);
     s.flight.normalise_speed();
-    let (a, h) = lat.a_h_f64();
-    let mut msd = Msd::new(tau, lags, a, h);
+    let mut msd = Msd::new(tau, lags, lat.basis_f64());
     let mut c = Counters::default();
     let mut next_report = CHUNK;
     while c.collisions < collisions {
@@ -454,7 +453,7 @@ struct RunBatches<'a> {
 impl AtPrecision for RunBatches<'_> {
     type Output = Result<Vec<BatchResult>, Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
-        let lat = PeriodicLattice::new(T::from_f64(ctx, self.cfg.w))?;
+        let lat = TriangularLattice::new(T::from_f64(ctx, self.cfg.w))?;
         let cfg = self.cfg;
         let n_of = |i: u32| crate::parallel::share(cfg.collisions, cfg.batches, i);
         self.pool.install(|| {

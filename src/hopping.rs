@@ -16,7 +16,7 @@ use crate::parallel::{par_batches, share};
 use crate::precision::{AtPrecision, Precision};
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, Purpose, StreamKey};
-use crate::scenes::lattice::PeriodicLattice;
+use crate::scenes::lattice::TriangularLattice;
 use crate::scenes::single_trap::SingleTrap;
 use crate::stats::mean_se;
 use crate::symbols::{
@@ -324,11 +324,11 @@ pub fn hops_run(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<HopsReport, Error> {
     check_hops_input(w, collisions, batches, order)?;
-    let lat = PeriodicLattice::new(w)?;
+    let lat = TriangularLattice::new(w)?;
     let res: Vec<Hops> = par_batches(threads, batches, |b| {
         let per = share(collisions, batches, b);
         let mut s = equilibrium_state(
-            &lat.trap,
+            lat.trap(),
             &mut StreamKey::new(seed, Purpose::Trajectory, b as u64)
                 .in_run(run)
                 .rng(),

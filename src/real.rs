@@ -89,6 +89,9 @@ pub trait Real:
         Self::from_f64(ctx, n as f64)
     }
 
+    /// An exact rational (a user input such as 1/3 or 0.1), correctly rounded to the context.
+    fn from_rational(ctx: Self::Ctx, q: &rug::Rational) -> Self;
+
     /// Nearest `f64`.
     fn to_f64(&self) -> f64;
 
@@ -183,6 +186,11 @@ impl Real for f64 {
     fn from_f64(_: (), x: f64) -> f64 {
         x
     }
+    fn from_rational(_: (), q: &rug::Rational) -> f64 {
+        // Correctly rounded: MPFR rounds the exact quotient once to 53 bits, which is the double
+        // (the normal range is all this crate uses).
+        Float::with_val(53, q).to_f64()
+    }
     #[inline(always)]
     fn to_f64(&self) -> f64 {
         *self
@@ -275,6 +283,9 @@ impl Real for Float {
     }
     fn from_i32(ctx: u32, n: i32) -> Float {
         Float::with_val(ctx, n)
+    }
+    fn from_rational(ctx: u32, q: &rug::Rational) -> Float {
+        Float::with_val(ctx, q)
     }
     #[inline]
     fn to_f64(&self) -> f64 {

@@ -20,7 +20,7 @@ use crate::kernel::trap::{Flight, Trap};
 use crate::metadata::RunMeta;
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, Purpose, StreamKey};
-use crate::scenes::lattice::PeriodicLattice;
+use crate::scenes::lattice::TriangularLattice;
 use crate::verification::lyapunov::{divergence, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS};
 
 /// One row of the report.
@@ -125,9 +125,9 @@ pub fn speed_against_error(
     let n_needed = cfg.collisions as f64 * (rel / 1e-3).powi(2);
 
     // Pre-event states from an f64 orbit.
-    let lat = PeriodicLattice::new(w)?;
+    let lat = TriangularLattice::new(w)?;
     let mut s = equilibrium_state(
-        &lat.trap,
+        lat.trap(),
         &mut StreamKey::new(seed, Purpose::Verification, 0).rng(),
     );
     let mut states = Vec::new();
@@ -140,7 +140,7 @@ pub fn speed_against_error(
     let tref = Trap::new(Float::with_val(ONE_STEP_REFERENCE_BITS, w))?;
     let bits_list = REPORT_BITS;
     let div = divergence(
-        w,
+        &crate::scenes::triangular::TriangularScene::new(w)?,
         &bits_list,
         DIVERGENCE_REFERENCE_BITS,
         DIVERGENCE_COLLISIONS,

@@ -16,7 +16,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 
 use crate::kernel::trap::{Flight, Trap};
 use crate::kernel::vec2::Vec2;
-use crate::scenes::lattice::{Cell, LatticeState};
+use crate::scenes::lattice::{CellIndex, LatticeState};
 
 /// What a random stream is used for. The purpose is part of the stream's key, so that, say, the
 /// events an audit samples are never drawn from the stream that started the trajectory.
@@ -179,7 +179,7 @@ pub fn equilibrium_state<R: Rng + ?Sized>(trap: &Trap<f64>, rng: &mut R) -> Latt
     let pos = position_in_trap(trap, rng);
     let vel = direction(rng);
     LatticeState {
-        cell: Cell::default(),
+        cell: CellIndex::default(),
         flight: Flight::new(pos, vel),
     }
 }

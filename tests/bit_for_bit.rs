@@ -6,7 +6,7 @@
 use lorentz_gas::kernel::trap::Event;
 use lorentz_gas::real::Real;
 use lorentz_gas::sampling::{equilibrium_state, stream};
-use lorentz_gas::scenes::lattice::{LatticeState, PeriodicLattice};
+use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
 use rug::Float;
 
 fn same(a: f64, b: &Float) -> bool {
@@ -19,9 +19,9 @@ fn rug53_reproduces_f64_bit_for_bit() {
         .iter()
         .enumerate()
     {
-        let l64 = PeriodicLattice::new(w).unwrap();
-        let l53 = PeriodicLattice::new(Float::with_val(53, w)).unwrap();
-        let mut s64 = equilibrium_state(&l64.trap, &mut stream(11, k as u64));
+        let l64 = TriangularLattice::new(w).unwrap();
+        let l53 = TriangularLattice::new(Float::with_val(53, w)).unwrap();
+        let mut s64 = equilibrium_state(l64.trap(), &mut stream(11, k as u64));
         let mut s53 = LatticeState::<Float>::convert_from_f64(53, &s64);
         for i in 0..30_000 {
             let e64: Event<f64> = l64.step(&mut s64).unwrap();

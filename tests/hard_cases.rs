@@ -5,7 +5,7 @@ use lorentz_gas::geometry::Geometry;
 use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::sampling::{equilibrium_state, stream};
-use lorentz_gas::scenes::lattice::{LatticeState, PeriodicLattice};
+use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
 use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t, CompensatedSum};
 use lorentz_gas::verification::shadow::check_event;
 use rug::Float;
@@ -13,11 +13,11 @@ use rug::Float;
 /// Mean free path over `b` independent trajectories of `n` collisions: (mean, SE, hops).
 /// (mean − exact)/SE is Student-t with b − 1 dof; see [`santalo_within_four_sigma`].
 fn free_path(w: f64, n: u64, b: u64, seed: u64) -> (f64, f64, u64) {
-    let lat = PeriodicLattice::new(w).unwrap();
+    let lat = TriangularLattice::new(w).unwrap();
     let mut ls = Vec::new();
     let mut hops = 0;
     for k in 0..b {
-        let mut s = equilibrium_state(&lat.trap, &mut stream(seed, k));
+        let mut s = equilibrium_state(lat.trap(), &mut stream(seed, k));
         let mut t = CompensatedSum::default();
         let mut c = 0;
         while c < n {
@@ -76,8 +76,8 @@ fn just_below_the_horizon_threshold() {
 #[test]
 fn exactly_at_w0() {
     let w = Geometry::<f64>::w_0(());
-    let lat = PeriodicLattice::new(w).unwrap();
-    let mut s = equilibrium_state(&lat.trap, &mut stream(43, 0));
+    let lat = TriangularLattice::new(w).unwrap();
+    let mut s = equilibrium_state(lat.trap(), &mut stream(43, 0));
     let (mut entered, mut collided, mut free) = (false, true, 0);
     for _ in 0..4_000_000 {
         match lat.step(&mut s).unwrap().kind {
@@ -102,7 +102,7 @@ fn exactly_at_w0() {
 fn flight_along_a_gap_edge_is_an_exact_periodic_orbit() {
     let trap = Trap::new(0.1).unwrap();
     let mut f = Flight::new(Vec2::new(1.0, 0.0), Vec2::new(1.0, 0.0));
-    f.excluded_disk = 0;
+    f.excluded_disk = Some(0);
     for k in 0..10_000 {
         let ev = trap.next_event(&f).unwrap();
         let expect = if k % 2 == 0 { 1 } else { 0 };
@@ -165,9 +165,10 @@ fn billion_collision_run_speed_and_exact_unwrapped_displacement() {
 
 fn long_run(n: u64) {
     let u = f64::EPSILON / 2.0;
-    let lat = PeriodicLattice::new(0.1).unwrap();
-    let (a, h) = lat.a_h_f64();
-    let mut s: LatticeState<f64> = equilibrium_state(&lat.trap, &mut stream(45, 0));
+    let lat = TriangularLattice::new(0.1).unwrap();
+    let basis = lat.basis_f64();
+    let a = basis.a;
+    let mut s: LatticeState<f64> = equilibrium_state(lat.trap(), &mut stream(45, 0));
     s.flight.normalise_speed();
     let start = lat.unwrapped(&s, 0.0);
     let (mut sx, mut sy) = (CompensatedSum::default(), CompensatedSum::default());
@@ -185,7 +186,7 @@ fn long_run(n: u64) {
         }
     }
     assert!(worst <= 128.0 * u, "|v|^2 - 1 reached {worst:e}");
-    let d = lat.unwrapped(&s, 0.0).displacement_from(&start, a, h);
+    let d = lat.unwrapped(&s, 0.0).displacement_from(&start, &basis);
     let err = ((d[0] - sx.value()).powi(2) + (d[1] - sy.value()).powi(2)).sqrt();
     let bound = 6.0 * (events as f64).sqrt() * 4.0 * u * a;
     assert!(

@@ -126,8 +126,12 @@ macro_rules! kernel_properties {
                                     );
                                 }
                                 match ev.kind {
-                                    EventKind::Collision(m) => prop_assert_eq!(f.excluded_disk, m),
-                                    EventKind::Crossing(k) => prop_assert_eq!(f.excluded_edge, k),
+                                    EventKind::Collision(m) => {
+                                        prop_assert_eq!(f.excluded_disk, Some(m))
+                                    }
+                                    EventKind::Crossing(k) => {
+                                        prop_assert_eq!(f.excluded_edge, Some(k))
+                                    }
                                 }
                             }
                             Ok(())

@@ -3,10 +3,10 @@
 
 use lorentz_gas::diffusion::{run, DiffusionConfig};
 use lorentz_gas::geometry::Geometry;
-use lorentz_gas::kernel::trap::{EventKind, Flight, NONE};
+use lorentz_gas::kernel::trap::{EventKind, Flight};
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::sampling::{equilibrium_state, stream};
-use lorentz_gas::scenes::lattice::{Cell, LatticeState, PeriodicLattice};
+use lorentz_gas::scenes::lattice::{CellIndex, LatticeState, TriangularLattice};
 
 fn within(x: f64, err: f64, exact: f64, k: f64, what: &str) {
     assert!(err > 0.0 && err.is_finite(), "{what}: bad error {err}");
@@ -117,14 +117,14 @@ fn checkpoint_resumes_finished_batches() {
 fn horizon_threshold_w_inf() {
     let w_inf = Geometry::<f64>::w_inf(());
     for &w in &[w_inf + 1e-9, w_inf + 1e-3, 0.35, 0.5] {
-        let lat = PeriodicLattice::new(w).unwrap();
-        let (a, h) = (lat.trap.a, lat.trap.h);
+        let lat = TriangularLattice::new(w).unwrap();
+        let (a, h) = (lat.trap().a, lat.trap().h);
         assert!(
             h / 2.0 - 1.0 > 1e6 * f64::EPSILON,
             "the corridor is resolvable at w = {w}"
         );
         let mut s = LatticeState {
-            cell: Cell::default(),
+            cell: CellIndex::default(),
             flight: Flight::new(Vec2::new(a / 2.0, h / 2.0), Vec2::new(1.0, 0.0)),
         };
         let mut travelled = 0.0;
@@ -143,11 +143,11 @@ fn horizon_threshold_w_inf() {
         );
     }
     for &w in &[0.01, 0.1, 0.2, 0.3, w_inf - 1e-6] {
-        let lat = PeriodicLattice::new(w).unwrap();
+        let lat = TriangularLattice::new(w).unwrap();
         let g = Geometry::new(w).unwrap();
-        let (a, h) = (lat.trap.a, lat.trap.h);
+        let (a, h) = (lat.trap().a, lat.trap().h);
         let mut s = LatticeState {
-            cell: Cell::default(),
+            cell: CellIndex::default(),
             flight: Flight::new(Vec2::new(a / 2.0, h / 2.0), Vec2::new(1.0, 0.0)),
         };
         let mut t = 0.0;
@@ -170,9 +170,9 @@ fn horizon_threshold_w_inf() {
 fn free_paths_are_bounded_below_w_inf() {
     let w_inf = Geometry::<f64>::w_inf(());
     for (k, &w) in [0.05, 0.15, 0.2, 0.3, w_inf - 1e-4].iter().enumerate() {
-        let lat = PeriodicLattice::new(w).unwrap();
+        let lat = TriangularLattice::new(w).unwrap();
         let bound = Geometry::new(w).unwrap().max_free_path_bound().unwrap();
-        let mut s = equilibrium_state(&lat.trap, &mut stream(5, k as u64));
+        let mut s = equilibrium_state(lat.trap(), &mut stream(5, k as u64));
         let (mut run, mut longest) = (0.0, 0.0f64);
         let mut c = 0;
         while c < 2_000_000 {
@@ -200,8 +200,8 @@ fn free_paths_are_bounded_below_w_inf() {
 fn collisionless_flights_onset_w0() {
     let w0 = Geometry::<f64>::w_0(());
     let count = |w: f64| -> u64 {
-        let lat = PeriodicLattice::new(w).unwrap();
-        let mut s = equilibrium_state(&lat.trap, &mut stream(8, 0));
+        let lat = TriangularLattice::new(w).unwrap();
+        let mut s = equilibrium_state(lat.trap(), &mut stream(8, 0));
         let (mut since_crossing, mut collided, mut n) = (false, true, 0);
         for _ in 0..4_000_000 {
             match lat.step(&mut s).unwrap().kind {
@@ -224,13 +224,13 @@ fn collisionless_flights_onset_w0() {
     // The explicit chord of proofs-notes/w0.md: from (r, 0) on E₂ towards r(1/2, √3/2) on E₁,
     // r = (a − 1 + 2/√3)/2, passes P₀ at distance r√3/2 > 1 for w > w₀.
     for &w in &[w0 + 1e-6, 0.2, 0.3] {
-        let lat = PeriodicLattice::new(w).unwrap();
-        let a = lat.trap.a;
+        let lat = TriangularLattice::new(w).unwrap();
+        let a = lat.trap().a;
         let r = 0.5 * (a - 1.0 + 2.0 / 3f64.sqrt());
         let mut f = Flight::new(Vec2::new(r, 0.0), Vec2::new(-0.5, 3f64.sqrt() / 2.0));
-        f.excluded_edge = 2;
-        assert_eq!(f.excluded_disk, NONE);
-        let ev = lat.trap.next_event(&f).unwrap();
+        f.excluded_edge = Some(2);
+        assert_eq!(f.excluded_disk, None);
+        let ev = lat.trap().next_event(&f).unwrap();
         assert_eq!(ev.kind, EventKind::Crossing(1), "w = {w}");
     }
 }
@@ -259,11 +259,11 @@ fn collisionless_flights_onset_w0() {
 fn energy_has_no_drift_over_ten_million_collisions() {
     use lorentz_gas::stats::{linear_fit, normal_sigma_equivalent_t};
     let u = f64::EPSILON / 2.0;
-    let lat = PeriodicLattice::new(0.1).unwrap();
+    let lat = TriangularLattice::new(0.1).unwrap();
 
     // 2. Contraction from ±2⁻³⁰ off the unit speed, 1000 equilibrium starts.
     for k in 0..1000u64 {
-        let mut s = equilibrium_state(&lat.trap, &mut stream(9, 1 + k));
+        let mut s = equilibrium_state(lat.trap(), &mut stream(9, 1 + k));
         let f = if k % 2 == 0 {
             1.0 + 2f64.powi(-31)
         } else {
@@ -285,7 +285,7 @@ fn energy_has_no_drift_over_ten_million_collisions() {
     // 1. and 3. along one equilibrium orbit of 10⁷ collisions.
     const B: usize = 20;
     const L: u64 = 500_000;
-    let mut s = equilibrium_state(&lat.trap, &mut stream(9, 0));
+    let mut s = equilibrium_state(lat.trap(), &mut stream(9, 0));
     let (mut c, mut worst_eta, mut worst_step) = (0u64, 0.0f64, 0.0f64);
     let mut prev = s.flight.vel.norm2();
     let mut block_sum = 0.0; // Σ η/u over the current block
@@ -349,9 +349,10 @@ fn energy_has_no_drift_over_ten_million_collisions() {
 #[test]
 fn unwrapped_position_is_continuous_across_every_crossing() {
     for (k, &w) in [0.02, 0.2, 0.3].iter().enumerate() {
-        let lat = PeriodicLattice::new(w).unwrap();
-        let (a, h) = lat.a_h_f64();
-        let mut s = equilibrium_state(&lat.trap, &mut stream(12, k as u64));
+        let lat = TriangularLattice::new(w).unwrap();
+        let basis = lat.basis_f64();
+        let a = basis.a;
+        let mut s = equilibrium_state(lat.trap(), &mut stream(12, k as u64));
         let mut seen = std::collections::HashSet::new();
         for _ in 0..200_000 {
             let before = lat.unwrapped(&s, 0.0);
@@ -362,7 +363,7 @@ fn unwrapped_position_is_continuous_across_every_crossing() {
             if let EventKind::Crossing(e) = ev.kind {
                 seen.insert((down, e));
             }
-            let d = lat.unwrapped(&s, 0.0).displacement_from(&before, a, h);
+            let d = lat.unwrapped(&s, 0.0).displacement_from(&before, &basis);
             let err = ((d[0] - ev.time * vx).powi(2) + (d[1] - ev.time * vy).powi(2)).sqrt();
             assert!(
                 err <= 64.0 * f64::EPSILON * (a + ev.time),

@@ -5,7 +5,9 @@ use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::real::Real;
 use lorentz_gas::sampling::{equilibrium_state, stream};
-use lorentz_gas::scenes::lattice::{LatticeState, PeriodicLattice};
+use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::triangular::TriangularScene;
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t, welch_dof};
 use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
 use lorentz_gas::verification::reversibility::{amplification, reversal_bound, reverse_and_return};
@@ -18,9 +20,9 @@ use rug::Float;
 #[test]
 fn f64_reversal_within_the_chaos_bound() {
     for (k, &w) in [0.05, 0.1, 0.2, 0.3].iter().enumerate() {
-        let lat = PeriodicLattice::new(w).unwrap();
+        let lat = TriangularLattice::new(w).unwrap();
         for n in [1u64, 5, 10, 25] {
-            let start = equilibrium_state(&lat.trap, &mut stream(21, k as u64 * 100 + n));
+            let start = equilibrium_state(lat.trap(), &mut stream(21, k as u64 * 100 + n));
             let r = reverse_and_return(&lat, &start, n).unwrap();
             let (amp, events) = amplification(&lat, &start, n).unwrap();
             let bound = reversal_bound(f64::EPSILON / 2.0, events, amp);
@@ -42,9 +44,9 @@ fn f64_reversal_within_the_chaos_bound() {
 #[test]
 fn mpfr256_fifty_collisions_return_below_1e_minus_50() {
     for (k, &w) in [0.1, 0.2].iter().enumerate() {
-        let lat64 = PeriodicLattice::new(w).unwrap();
-        let start64 = equilibrium_state(&lat64.trap, &mut stream(22, k as u64));
-        let lat = PeriodicLattice::new(Float::with_val(256, w)).unwrap();
+        let lat64 = TriangularLattice::new(w).unwrap();
+        let start64 = equilibrium_state(lat64.trap(), &mut stream(22, k as u64));
+        let lat = TriangularLattice::new(Float::with_val(256, w)).unwrap();
         let mut start = LatticeState::<Float>::convert_from_f64(256, &start64);
         start.flight.normalise_speed();
         let r = reverse_and_return(&lat, &start, 50).unwrap();
@@ -73,7 +75,9 @@ fn birkhoff_map_preserves_phase_space_volume() {
             0.05 + (std::f64::consts::FRAC_PI_3 - 0.1) * rng.random::<f64>(),
         );
         let p = Float::with_val(bits, 1.9 * rng.random::<f64>() - 0.95);
-        let Some(j) = birkhoff_jacobian(w, bits, &s, &p, &h).unwrap() else {
+        let Some(j) =
+            birkhoff_jacobian(&TriangularScene::new(w).unwrap(), bits, &s, &p, &h).unwrap()
+        else {
             continue;
         };
         let det = det2(&j);
@@ -93,16 +97,16 @@ fn birkhoff_map_preserves_phase_space_volume() {
 fn sin_phi_is_uniform_at_collisions() {
     let bins = 20;
     for &w in &[0.05, 0.25] {
-        let lat = PeriodicLattice::new(w).unwrap();
+        let lat = TriangularLattice::new(w).unwrap();
         let mut freq: Vec<Vec<f64>> = vec![Vec::new(); bins];
         for b in 0..16 {
-            let mut s = equilibrium_state(&lat.trap, &mut stream(24, b));
+            let mut s = equilibrium_state(lat.trap(), &mut stream(24, b));
             let mut hist = vec![0u64; bins];
             let mut c = 0;
             while c < 250_000 {
                 if let EventKind::Collision(m) = lat.step(&mut s).unwrap().kind {
                     c += 1;
-                    let n = s.flight.pos.sub(&lat.trap.vertices[m as usize]);
+                    let n = s.flight.pos.sub(&lat.trap().vertices[m as usize]);
                     let sin_phi = n.cross(&s.flight.vel);
                     let k = (((sin_phi + 1.0) / 2.0 * bins as f64) as usize).min(bins - 1);
                     hist[k] += 1;
@@ -134,7 +138,7 @@ fn f64_events_replayed_in_mpfr_are_within_the_error_model() {
         let w = 0.001 + 0.308 * rng.random::<f64>();
         let t64 = Trap::new(w).unwrap();
         let tr = Trap::new(Float::with_val(256, w)).unwrap();
-        let lat = PeriodicLattice::new(w).unwrap();
+        let lat = TriangularLattice::new(w).unwrap();
         let mut s = equilibrium_state(&t64, &mut rng);
         // Advance a few events so the state has exclusions and post-collision velocities.
         for _ in 0..(i % 7) {
@@ -175,15 +179,16 @@ fn near_surface_start_replays_within_the_model() {
 fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
     use lorentz_gas::verification::audit::{audit_run, replay, AuditConfig};
     for &w in &[0.02, 0.1, 0.3] {
+        let scene = TriangularScene::new(w).unwrap();
         let cfg = AuditConfig {
-            w,
+            scene: scene.label(),
             collisions: 100_000,
             trajectories: 2,
             sample: 1.0,
             bits: 128,
             seed: 7,
         };
-        let r = audit_run(&cfg, 2, &|_| {}).unwrap();
+        let r = audit_run(&scene, &cfg, 2, &|_| {}).unwrap();
         assert!(r.summary.audited >= 100_000);
         assert_eq!(
             r.summary.outside,
@@ -193,7 +198,7 @@ fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
         );
         assert!(r.quantiles.time_error_over_bound[2] <= 1.0);
         let worst = &r.summary.worst[0];
-        let again = replay(worst, 128).unwrap();
+        let again = replay(&scene, worst, 128).unwrap();
         assert_eq!(again.time_error, worst.check.time_error);
         assert_eq!(again.kind_f64, worst.check.kind_f64);
     }
@@ -269,8 +274,9 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
     use lorentz_gas::verification::lyapunov::{divergence, lyapunov};
     const STARTS: u32 = 8;
     for &w in &[0.05, 0.15, 0.3] {
-        let l = lyapunov(w, 200_000, 8, 3, 2, &|_| {}).unwrap();
-        let d = divergence(w, &[256, 1024], 4096, 1200, STARTS, 3, &|_| {}).unwrap();
+        let scene = TriangularScene::new(w).unwrap();
+        let l = lyapunov(&scene, 200_000, 8, 3, 2, &|_| {}).unwrap();
+        let d = divergence(&scene, &[256, 1024], 4096, 1200, STARTS, 3, &|_| {}).unwrap();
         let last = d.last().unwrap();
         let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
         let t4 = |ea: f64, eb: f64| {
@@ -314,9 +320,16 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
 #[test]
 fn precision_doubling_certifies_a_segment() {
     use lorentz_gas::verification::certify::certify;
-    let lat = PeriodicLattice::new(0.1).unwrap();
-    let start = equilibrium_state(&lat.trap, &mut stream(31, 0));
-    let c = certify(0.1, &start, 300, 40, &|_| {}).unwrap();
+    let lat = TriangularLattice::new(0.1).unwrap();
+    let start = equilibrium_state(lat.trap(), &mut stream(31, 0));
+    let c = certify(
+        &TriangularScene::new(0.1).unwrap(),
+        &start,
+        300,
+        40,
+        &|_| {},
+    )
+    .unwrap();
     assert!(c.digits_agreed >= 40.0, "{c:?}");
     assert!(c.bits >= 400 && c.bits <= 1024, "{c:?}");
     assert!(

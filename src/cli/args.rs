@@ -98,6 +98,62 @@ pub struct GapArg {
     pub w: f64,
 }
 
+/// The billiard table of a command that works on any scene (`audit`, `lyapunov`, `certify`).
+#[derive(Args, Debug, Clone)]
+pub struct SceneArgs {
+    /// The scene: `triangular` (disks of radius 1 at spacing 2 + w, needs --w).
+    #[arg(long, default_value = "triangular")]
+    pub scene: SceneName,
+    /// Gap w of the triangular scene: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+    #[arg(long, allow_negative_numbers = true)]
+    pub w: Option<f64>,
+}
+
+/// The scenes a command can run on.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SceneName {
+    /// The triangular Lorentz gas of the paper.
+    Triangular,
+}
+
+/// A resolved scene, ready for the library's scene-generic analyses (see [`with_scene`]).
+pub enum SceneChoice {
+    /// The triangular lattice.
+    Triangular(lorentz_gas::scenes::triangular::TriangularScene),
+}
+
+impl SceneArgs {
+    /// The scene the options describe, with every parameter checked.
+    pub fn resolve(&self) -> Result<SceneChoice, lorentz_gas::error::Error> {
+        use lorentz_gas::error::Error;
+        match self.scene {
+            SceneName::Triangular => {
+                let w = self.w.ok_or_else(|| {
+                    Error::Invalid(
+                        "the triangular scene needs --w: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094..."
+                            .into(),
+                    )
+                })?;
+                lorentz_gas::geometry::check_diffusive_gap(w)?;
+                Ok(SceneChoice::Triangular(
+                    lorentz_gas::scenes::triangular::TriangularScene::new(w)?,
+                ))
+            }
+        }
+    }
+}
+
+/// Runs `$body` with `$s` bound to the concrete scene of `$choice` (one monomorphic copy of the
+/// analysis per scene).
+macro_rules! with_scene {
+    ($choice:expr, |$s:ident| $body:expr) => {
+        match $choice {
+            $crate::cli::args::SceneChoice::Triangular($s) => $body,
+        }
+    };
+}
+pub(crate) use with_scene;
+
 /// The measurement of hop statistics along lattice trajectories (`hops`, `theory`, `lattice-walk`).
 #[derive(Args, Debug, Clone)]
 pub struct HopArgs {

@@ -3,14 +3,16 @@
 use lorentz_gas::error::Error;
 use lorentz_gas::verification::audit::{audit_run, AuditConfig, AuditReport};
 
-use super::args::{parse_count, parse_count_u32, GapArg, OutputArgs, RunArgs};
+use lorentz_gas::scenes::Scene;
+
+use super::args::{parse_count, parse_count_u32, with_scene, OutputArgs, RunArgs, SceneArgs};
 use super::output::emit;
 use super::progress::Progress;
 
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    gap: GapArg,
+    scene: SceneArgs,
     /// Collisions simulated, over all trajectories.
     #[arg(long, default_value = "1e6", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
@@ -30,8 +32,10 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
+    let choice = a.scene.resolve()?;
+    let label = with_scene!(&choice, |s| s.label());
     let cfg = AuditConfig {
-        w: a.gap.w,
+        scene: label,
         collisions: a.collisions,
         trajectories: a.trajectories,
         sample: a.sample,
@@ -39,7 +43,12 @@ pub fn run(a: Args) -> Result<(), Error> {
         seed: a.run.seed,
     };
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
-    let r = audit_run(&cfg, a.run.threads(), &pb.callback())?;
+    let r = with_scene!(&choice, |s| audit_run(
+        s,
+        &cfg,
+        a.run.threads(),
+        &pb.callback()
+    ))?;
     drop(pb);
     emit(a.output.json, &r, print)
 }
@@ -48,8 +57,8 @@ fn print(r: &AuditReport) {
     let s = &r.summary;
     let c = &r.config;
     println!(
-        "shadow audit, w = {}: {} events of {} ({} collisions, {} trajectories, seed {}) replayed at {} bits in {:.1} s",
-        c.w, s.audited, r.events, c.collisions, c.trajectories, c.seed, c.bits, r.seconds
+        "shadow audit, {}: {} events of {} ({} collisions, {} trajectories, seed {}) replayed at {} bits in {:.1} s",
+        c.scene, s.audited, r.events, c.collisions, c.trajectories, c.seed, c.bits, r.seconds
     );
     println!(
         "outside the error model: {}   ambiguous at f64 resolution: {}   f64 chose another obstacle: {}",

@@ -3,14 +3,16 @@
 use lorentz_gas::error::Error;
 use lorentz_gas::verification::certify::certify_seeded;
 
-use super::args::{parse_count, parse_count_u32, parse_count_usize, GapArg, OutputArgs};
+use super::args::{
+    parse_count, parse_count_u32, parse_count_usize, with_scene, OutputArgs, SceneArgs,
+};
 use super::output::emit;
 use super::progress::Progress;
 
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    gap: GapArg,
+    scene: SceneArgs,
     /// Collisions in the segment.
     #[arg(long, default_value = "1000", value_parser = parse_count_usize, allow_negative_numbers = true)]
     collisions: usize,
@@ -27,12 +29,19 @@ pub struct Args {
 pub fn run(a: Args) -> Result<(), Error> {
     // Two MPFR runs and one f64 run of the segment when the first precision suffices.
     let pb = Progress::new(3 * a.collisions as u64, "collisions", a.output.quiet);
-    let c = certify_seeded(a.gap.w, a.seed, a.collisions, a.digits, &pb.callback())?;
+    let choice = a.scene.resolve()?;
+    let c = with_scene!(&choice, |s| certify_seeded(
+        s,
+        a.seed,
+        a.collisions,
+        a.digits,
+        &pb.callback()
+    ))?;
     drop(pb);
     emit(a.output.json, &c, |c| {
         println!(
-            "w = {}: {} collisions from the seed-{} start certified to {:.1} digits (runs at {} and {} bits agree; tried {:?});\nthe f64 orbit from the same start stays within 1e-3 of it for {} collisions",
-            c.w, c.collisions, a.seed, c.digits_agreed, c.bits, 2 * c.bits, c.tried, c.f64_faithful_collisions
+            "{}: {} collisions from the seed-{} start certified to {:.1} digits (runs at {} and {} bits agree; tried {:?});\nthe f64 orbit from the same start stays within 1e-3 of it for {} collisions",
+            c.scene, c.collisions, a.seed, c.digits_agreed, c.bits, 2 * c.bits, c.tried, c.f64_faithful_collisions
         );
     })
 }

@@ -8,14 +8,14 @@ use lorentz_gas::verification::lyapunov::{
     DIVERGENCE_REFERENCE_BITS, TANGENT_TRANSIENT,
 };
 
-use super::args::{parse_count, parse_count_u32, GapArg, OutputArgs, RunArgs};
+use super::args::{parse_count, parse_count_u32, with_scene, OutputArgs, RunArgs, SceneArgs};
 use super::output::emit;
 use super::progress::Progress;
 
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    gap: GapArg,
+    scene: SceneArgs,
     /// Collisions per tangent-space orbit.
     #[arg(long, default_value = "2e6", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
@@ -47,28 +47,29 @@ pub fn run(a: Args) -> Result<(), Error> {
             a.starts
         )));
     }
+    let choice = a.scene.resolve()?;
     let total = (a.collisions.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.orbits as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
-    let tangent = lyapunov(
-        a.gap.w,
+    let tangent = with_scene!(&choice, |s| lyapunov(
+        s,
         a.collisions,
         a.orbits,
         a.run.seed,
         a.run.threads(),
         &pb.callback(),
-    )?;
+    ))?;
     drop(pb);
     let divergence = if a.starts > 0 {
         let pb = Progress::new(a.starts as u64, "initial conditions", a.output.quiet);
-        let d = divergence(
-            a.gap.w,
+        let d = with_scene!(&choice, |s| divergence(
+            s,
             &DIVERGENCE_BITS,
             DIVERGENCE_REFERENCE_BITS,
             DIVERGENCE_COLLISIONS,
             a.starts,
             a.run.seed,
             &pb.callback(),
-        )?;
+        ))?;
         drop(pb);
         d
     } else {
@@ -83,8 +84,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         |r| {
             let l = &r.tangent;
             println!(
-            "w = {}: largest Lyapunov exponent (tangent space, {} orbits x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time",
-            l.w, l.orbits, l.collisions, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err
+            "{}: largest Lyapunov exponent (tangent space, {} orbits x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time",
+            l.scene, l.orbits, l.collisions, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err
         );
             if !r.divergence.is_empty() {
                 println!(

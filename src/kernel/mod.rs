@@ -1,13 +1,20 @@
 //! The collision kernel, generic over [`crate::real::Real`]: one file per geometric query.
 //!
 //! * [`vec2`]: the plane vector.
-//! * [`ray_disk`]: first contact with a unit disk (cancellation-free root).
-//! * [`trap`]: the canonical triangular trap; next event among its three disks and three edges,
-//!   specular reflection, and the point reflection into the neighbouring trap.
+//! * [`ray_disk`]: first contact with a disk (cancellation-free root).
+//! * [`flight`]: the state of a free flight and the events that end it (exclusions by identity).
+//! * [`cell`]: the generic cell kernel — next event and its execution in any convex polygonal
+//!   cell with disk obstacles, whose edges map exactly into the neighbouring cell.
+//! * [`trap`]: the triangular lattice's trap (three disks, three edges, point reflections) with
+//!   its fused fast path, bit-identical to the generic kernel on the same cell.
 //!
-//! Scenes ([`crate::scenes`]) compose the trap into the periodic lattice or a single open trap;
-//! observables never touch this module.
+//! Scenes ([`crate::scenes`]) supply the cells; observables never touch this module.
 
+pub mod cell;
+pub mod flight;
 pub mod ray_disk;
 pub mod trap;
 pub mod vec2;
+
+pub use cell::{CellKernel, ConvexCell};
+pub use flight::{Event, EventKind, Flight};

@@ -47,9 +47,35 @@ pub fn ray_disk_with_speed<T: Real>(p: &Vec2<T>, v: &Vec2<T>, vv: &T, c: &Vec2<T
 
 /// As [`ray_disk_with_speed`], with the offset d = p − c from the centre already formed.
 #[inline(always)]
-pub fn ray_disk_centred<T: Real>(mut dx: T, mut dy: T, v: &Vec2<T>, vv: &T) -> Option<T> {
-    // Written with in-place operations so that rug::Float allocates as little as possible; the
-    // order of the correctly rounded operations is exactly that of d·v, d×v, |v|² − q², |d|² − 1.
+pub fn ray_disk_centred<T: Real>(dx: T, dy: T, v: &Vec2<T>, vv: &T) -> Option<T> {
+    root(dx, dy, v, vv.clone(), None)
+}
+
+/// First contact with the circle |x − c| = r of a general radius, for the generic cell kernel:
+/// the same cancellation-free root with Δ = |v|²r² − q² and γ = |d|² − r², `r2 = r²` given at the
+/// working precision. For r² = 1 every operation rounds exactly as in [`ray_disk_centred`]
+/// (multiplying by 1 and subtracting 1 are the same correctly rounded operations), which is what
+/// makes the generic kernel and the triangular trap's fused path agree bit for bit.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::kernel::{ray_disk::ray_circle_centred, vec2::Vec2};
+/// // d = p − c = (−1, 0.1), moving east towards a circle of radius 1/2.
+/// let v = Vec2::new(1.0f64, 0.0);
+/// let t = ray_circle_centred(-1.0, 0.1, &v, &1.0, &0.25).unwrap();
+/// assert!((t - (1.0 - (0.25f64 - 0.01).sqrt())).abs() < 1e-15);
+/// ```
+#[inline(always)]
+pub fn ray_circle_centred<T: Real>(dx: T, dy: T, v: &Vec2<T>, vv: &T, r2: &T) -> Option<T> {
+    root(dx, dy, v, vv.clone() * r2, Some(r2))
+}
+
+/// The root itself, with `vvr2 = |v|²r²` formed by the caller and `r2 = None` meaning r = 1.
+/// Written with in-place operations so that rug::Float allocates as little as possible; the
+/// order of the correctly rounded operations is exactly that of d·v, d×v, |v|²r² − q², |d|² − r².
+#[inline(always)]
+fn root<T: Real>(mut dx: T, mut dy: T, v: &Vec2<T>, vvr2: T, r2: Option<&T>) -> Option<T> {
     let mut beta = dx.clone() * &v.x;
     let mut tmp = dy.clone() * &v.y;
     beta += &tmp;
@@ -60,7 +86,7 @@ pub fn ray_disk_centred<T: Real>(mut dx: T, mut dy: T, v: &Vec2<T>, vv: &T) -> O
     tmp.set_mul(&dy, &v.x);
     q -= &tmp;
     q.square_mut();
-    let mut disc = vv.clone();
+    let mut disc = vvr2;
     disc -= &q;
     if !disc.gt0() {
         return None;
@@ -68,7 +94,10 @@ pub fn ray_disk_centred<T: Real>(mut dx: T, mut dy: T, v: &Vec2<T>, vv: &T) -> O
     dx.square_mut();
     dy.square_mut();
     dx += &dy;
-    let gamma = dx.add_f64(-1.0);
+    let gamma = match r2 {
+        Some(r2) => dx - r2,
+        None => dx.add_f64(-1.0),
+    };
     if !gamma.gt0() {
         return Some(T::zero(gamma.ctx()));
     }

@@ -13,91 +13,12 @@
 //! the midpoint of Eₖ, p ↦ cₖ − p with cₖ = sum of the endpoints of Eₖ, and v ↦ −v (exact).
 //! The two endpoint disks of Eₖ swap labels; the opposite disk leaves the candidate set.
 
+use super::cell::{CellKernel, ConvexCell, Edge, EdgeMap, LatticeBasis};
+pub use super::flight::{Event, EventKind, Flight};
 use super::ray_disk::ray_disk_centred;
 use super::vec2::Vec2;
 use crate::error::Error;
 use crate::real::Real;
-
-/// Marker for "no disk / no edge excluded".
-pub const NONE: u8 = 3;
-
-/// What ends a free flight inside a trap.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum EventKind {
-    /// Specular collision with the vertex disk Pₖ.
-    Collision(u8),
-    /// Crossing of edge Eₖ (opposite Pₖ) through its gap.
-    Crossing(u8),
-}
-
-/// The next event: its kind and the flight time to it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Event<T> {
-    /// Collision or crossing, with the disk/edge label.
-    pub kind: EventKind,
-    /// Flight time from the current position (speed ≈ 1, so also the flight length).
-    pub time: T,
-}
-
-/// Position and velocity in the canonical frame of the current trap, plus the obstacles the
-/// current straight flight cannot meet again (the disk it left, the edge it entered by).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Flight<T> {
-    /// Position in the canonical trap frame (bounded: within the triangle, up to rounding).
-    pub pos: Vec2<T>,
-    /// Velocity (|v| = 1 up to rounding).
-    pub vel: Vec2<T>,
-    /// Disk left by the last collision on this straight flight ([`NONE`] if none).
-    pub excluded_disk: u8,
-    /// Edge entered by on this straight flight ([`NONE`] if none).
-    pub excluded_edge: u8,
-}
-
-impl<T: Real> Flight<T> {
-    /// A flight from `pos` with velocity `vel`, nothing excluded.
-    pub fn new(pos: Vec2<T>, vel: Vec2<T>) -> Self {
-        Flight {
-            pos,
-            vel,
-            excluded_disk: NONE,
-            excluded_edge: NONE,
-        }
-    }
-    /// The same flight converted to another number type through `f64` is *not* offered; use
-    /// [`Flight::convert_from_f64`] to lift an `f64` state exactly.
-    pub fn convert_from_f64(ctx: T::Ctx, f: &Flight<f64>) -> Self {
-        Flight {
-            pos: Vec2::from_f64(ctx, f.pos.x, f.pos.y),
-            vel: Vec2::from_f64(ctx, f.vel.x, f.vel.y),
-            excluded_disk: f.excluded_disk,
-            excluded_edge: f.excluded_edge,
-        }
-    }
-    /// Rescales the velocity to |v| = 1 at the working precision (for starts lifted from f64,
-    /// whose |v|² − 1 is of order 2⁻⁵³ rather than the working unit roundoff).
-    pub fn normalise_speed(&mut self) {
-        let n = self.vel.norm2().sqrt();
-        self.vel.x /= &n;
-        self.vel.y /= &n;
-    }
-    /// Nearest `f64` state.
-    pub fn to_f64(&self) -> Flight<f64> {
-        Flight {
-            pos: Vec2::new(self.pos.x.to_f64(), self.pos.y.to_f64()),
-            vel: Vec2::new(self.vel.x.to_f64(), self.vel.y.to_f64()),
-            excluded_disk: self.excluded_disk,
-            excluded_edge: self.excluded_edge,
-        }
-    }
-    /// Reverses the velocity. The reversed particle has not left any disk and has not entered
-    /// by any edge: exclusions are cleared (a reversal right after a collision re-collides with
-    /// the same disk at time 0, undoing the reflection).
-    pub fn reverse(&mut self) {
-        self.vel = -self.vel.clone();
-        self.excluded_disk = NONE;
-        self.excluded_edge = NONE;
-    }
-}
 
 /// The canonical trap at gap `w`, all constants at the working precision.
 #[derive(Debug, Clone)]
@@ -116,6 +37,9 @@ pub struct Trap<T: Real> {
     pub offsets: [T; 3],
     /// Reflection centres cₖ = sum of the endpoints of Eₖ.
     pub centres: [Vec2<T>; 3],
+    /// The same trap as a generic [`ConvexCell`] of the triangular lattice (e₁ = (a, 0),
+    /// e₂ = (a/2, h)); its generic kernel and the fused one here agree bit for bit.
+    pub cell: ConvexCell<T>,
 }
 
 impl<T: Real> Trap<T> {
@@ -143,7 +67,7 @@ impl<T: Real> Trap<T> {
         ];
         let normals = [
             Vec2::new(-half_sqrt3.clone(), -half.clone()),
-            Vec2::new(half_sqrt3, -half),
+            Vec2::new(half_sqrt3, -half.clone()),
             Vec2::new(z.clone(), T::one(ctx)),
         ];
         let offsets = [-h.clone(), z.clone(), z.clone()];
@@ -152,6 +76,33 @@ impl<T: Real> Trap<T> {
             Vec2::new(a.clone().scale(0.5), h.clone()),
             Vec2::new(a.clone(), z),
         ];
+        // Crossing Eₖ: the point reflection about cₖ/2; the edge keeps its label, the endpoints
+        // of Eₖ swap and Pₖ leaves; the anchor steps by the lattice vector dₖ of cₖ.
+        let steps = [[1, 1], [0, 1], [1, 0]];
+        let edges = (0..3u8)
+            .map(|k| Edge {
+                normal: normals[k as usize].clone(),
+                offset: offsets[k as usize].clone(),
+                map: EdgeMap::PointReflection(centres[k as usize].clone()),
+                entered: k,
+                disks_after: (0..3u8)
+                    .map(|m| relabel_after_crossing(k, Some(m)))
+                    .collect(),
+                step: steps[k as usize],
+            })
+            .collect();
+        let cell = ConvexCell {
+            corners: vertices.to_vec(),
+            radius: T::one(ctx),
+            radius2: T::one(ctx),
+            disks: vertices.to_vec(),
+            edges,
+            lattice: LatticeBasis {
+                a: a.clone(),
+                beta: half.clone(),
+                h: h.clone(),
+            },
+        };
         Ok(Trap {
             w,
             a,
@@ -160,6 +111,7 @@ impl<T: Real> Trap<T> {
             normals,
             offsets,
             centres,
+            cell,
         })
     }
 
@@ -190,13 +142,13 @@ impl<T: Real> Trap<T> {
                 best = Some(Event { kind, time: t });
             }
         };
-        if f.excluded_disk != 0 {
+        if f.excluded_disk != Some(0) {
             if let Some(t) = ray_disk_centred(p.x.clone(), p.y.clone(), v, &vv) {
                 offer(t, EventKind::Collision(0));
             }
         }
         for m in 1..3u8 {
-            if m != f.excluded_disk {
+            if f.excluded_disk != Some(m) {
                 let c = &self.vertices[m as usize];
                 if let Some(t) = ray_disk_centred(p.x.clone() - &c.x, p.y.clone() - &c.y, v, &vv) {
                     offer(t, EventKind::Collision(m));
@@ -211,7 +163,7 @@ impl<T: Real> Trap<T> {
         let kpx = k.clone() * &p.x;
         let hpy = p.y.clone().scale(0.5);
         let mut edge = |e: u8, nv: T, sigma: T| {
-            if e != f.excluded_edge && nv.lt0() {
+            if f.excluded_edge != Some(e) && nv.lt0() {
                 let t = if sigma.gt0() {
                     sigma / &(-nv)
                 } else {
@@ -227,7 +179,7 @@ impl<T: Real> Trap<T> {
         sigma0 += &self.h;
         edge(0, nv0, sigma0);
         edge(1, kvx - &hvy, kpx - &hpy);
-        if f.excluded_edge != 2 && v.y.lt0() {
+        if f.excluded_edge != Some(2) && v.y.lt0() {
             edge(2, v.y.clone(), p.y.clone());
         }
         best
@@ -262,15 +214,15 @@ impl<T: Real> Trap<T> {
                 f.vel.x *= &k;
                 f.vel.y *= &k;
                 f.pos = x;
-                f.excluded_disk = m;
-                f.excluded_edge = NONE;
+                f.excluded_disk = Some(m);
+                f.excluded_edge = None;
             }
             EventKind::Crossing(k) => {
                 f.pos = self.centres[k as usize].sub(&x);
                 f.vel.x.neg_mut();
                 f.vel.y.neg_mut();
                 f.excluded_disk = relabel_after_crossing(k, f.excluded_disk);
-                f.excluded_edge = k;
+                f.excluded_edge = Some(k);
             }
         }
     }
@@ -287,13 +239,26 @@ impl<T: Real> Trap<T> {
 }
 
 /// Label of a disk after crossing edge `k`: the endpoints of Eₖ swap (m ↦ 3 − k − m), the
-/// opposite disk Pₖ is not a vertex of the new trap ([`NONE`]).
+/// opposite disk Pₖ is not a vertex of the new trap (`None`).
 #[inline(always)]
-pub fn relabel_after_crossing(k: u8, m: u8) -> u8 {
-    if m == NONE || m == k {
-        NONE
-    } else {
-        3 - k - m
+pub fn relabel_after_crossing(k: u8, m: Option<u8>) -> Option<u8> {
+    match m {
+        Some(m) if m != k => Some(3 - k - m),
+        _ => None,
+    }
+}
+
+impl<T: Real> CellKernel<T> for Trap<T> {
+    fn cell(&self) -> &ConvexCell<T> {
+        &self.cell
+    }
+    #[inline(always)]
+    fn next_event(&self, f: &Flight<T>) -> Option<Event<T>> {
+        Trap::next_event(self, f)
+    }
+    #[inline(always)]
+    fn apply(&self, f: &mut Flight<T>, ev: &Event<T>) {
+        Trap::apply(self, f, ev)
     }
 }
 
@@ -315,8 +280,8 @@ mod tests {
             assert!(
                 (img.x - t.vertices[j].x).abs() < 1e-15 && (img.y - t.vertices[j].y).abs() < 1e-15
             );
-            assert_eq!(relabel_after_crossing(k, i as u8), j as u8);
-            assert_eq!(relabel_after_crossing(k, k), NONE);
+            assert_eq!(relabel_after_crossing(k, Some(i as u8)), Some(j as u8));
+            assert_eq!(relabel_after_crossing(k, Some(k)), None);
         }
     }
 
@@ -345,7 +310,7 @@ mod tests {
         let ev = t.next_event(&f).unwrap();
         assert_eq!(ev.kind, EventKind::Crossing(2));
         t.apply(&mut f, &ev);
-        assert_eq!(f.excluded_edge, 2);
+        assert_eq!(f.excluded_edge, Some(2));
         // Now moving up in the neighbour's frame (the frame is point-reflected).
         assert_eq!(f.vel.y, 1.0);
         assert!((f.pos.x - t.a / 2.0).abs() < 1e-15 && f.pos.y.abs() < 1e-15);

@@ -90,7 +90,7 @@ impl Hops {
 mod tests {
     use super::*;
     use crate::sampling::{equilibrium_state, stream};
-    use crate::scenes::lattice::PeriodicLattice;
+    use crate::scenes::lattice::TriangularLattice;
     use crate::symbols::{Symbol, MAX_ORDER};
     use crate::theory::honeycomb::next_direction;
 
@@ -108,8 +108,8 @@ mod tests {
     /// length are consistent: the three one-symbol extensions of a word add up to it.
     #[test]
     fn symbols_agree_with_the_honeycomb_turns() {
-        let lat = PeriodicLattice::new(0.2).unwrap();
-        let mut s = equilibrium_state(&lat.trap, &mut stream(3, 0));
+        let lat = TriangularLattice::new(0.2).unwrap();
+        let mut s = equilibrium_state(lat.trap(), &mut stream(3, 0));
         let mut h = Hops::new(3).unwrap();
         let (mut last_dir, mut entered): (Option<u8>, Option<u8>) = (None, None);
         let mut checked = 0;

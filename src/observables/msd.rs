@@ -3,9 +3,9 @@
 //! inside the free flight that contains the sample time; displacements are differenced as exact
 //! lattice integers plus bounded offsets ([`Unwrapped`]).
 
-use crate::kernel::trap::Event;
+use crate::kernel::{CellKernel, Event};
 use crate::real::Real;
-use crate::scenes::lattice::{LatticeState, PeriodicLattice, Unwrapped};
+use crate::scenes::lattice::{Basis64, Lattice, LatticeState, Unwrapped};
 
 /// Accumulates the MSD of one trajectory.
 #[derive(Debug, Clone)]
@@ -17,13 +17,12 @@ pub struct Msd {
     until: f64,
     sums: Vec<f64>,
     counts: Vec<u64>,
-    a: f64,
-    h: f64,
+    basis: Basis64,
 }
 
 impl Msd {
     /// Samples every `dt` (time units); lags in units of `dt`.
-    pub fn new(dt: f64, lags: &[usize], a: f64, h: f64) -> Self {
+    pub fn new(dt: f64, lags: &[usize], basis: Basis64) -> Self {
         let cap = lags.iter().copied().max().unwrap_or(1) + 1;
         Msd {
             dt,
@@ -33,17 +32,16 @@ impl Msd {
             until: 0.0,
             sums: vec![0.0; lags.len()],
             counts: vec![0; lags.len()],
-            a,
-            h,
+            basis,
         }
     }
 
     /// Called with the state *before* `ev` is applied: records every grid time inside the
     /// flight of duration `ev.time`.
     #[inline(always)]
-    pub fn observe<T: Real>(
+    pub fn observe<T: Real, K: CellKernel<T>>(
         &mut self,
-        lat: &PeriodicLattice<T>,
+        lat: &Lattice<T, K>,
         s: &LatticeState<T>,
         ev: &Event<T>,
     ) {
@@ -68,7 +66,7 @@ impl Msd {
         for (k, &lag) in self.lags.iter().enumerate() {
             if (lag as u64) <= self.n {
                 let old = &self.ring[(idx + cap - lag) % cap];
-                let d = u.displacement_from(old, self.a, self.h);
+                let d = u.displacement_from(old, &self.basis);
                 self.sums[k] += d[0] * d[0] + d[1] * d[1];
                 self.counts[k] += 1;
             }

@@ -1,33 +1,38 @@
-//! The periodic triangular lattice, as a walk over its traps.
+//! A periodic lattice of cells, walked one cell at a time — for any cell kernel.
 //!
-//! State: the current trap as exact integers — the anchor lattice point (i, j) and an
-//! orientation s = ±1 — plus the flight in the canonical frame, so that
+//! State: the current cell as exact integers — the index (i, j) and an orientation s = ±1 —
+//! plus the flight in the cell's own frame, so that
 //!
-//! world position = i·e₁ + j·e₂ + s·p,  e₁ = (a, 0), e₂ = (a/2, h).
+//! world position = a(i + βj)·x̂ + hj·ŷ + s·p   (e₁ = (a, 0), e₂ = (βa, h)).
 //!
-//! Up traps have s = +1 (vertices L(i,j), L(i+1,j), L(i,j+1)); down traps s = −1 (vertices
-//! L(i,j), L(i−1,j), L(i,j−1)). Crossing edge Eₖ moves the anchor by s·dₖ with
-//! d₀ = (1,1), d₁ = (0,1), d₂ = (1,0) (the lattice vector of cₖ) and flips s. The offset p
-//! stays bounded for ever, so precision does not decay with the distance travelled, and the
-//! unwrapped displacement is exact integers plus a bounded offset.
+//! Crossing edge Eₖ moves the index by s·stepₖ and flips s if the edge map is a point
+//! reflection ([`crate::kernel::cell::Edge`]). The offset p stays bounded for ever, so precision
+//! does not decay with the distance travelled, and the unwrapped displacement is exact integers
+//! plus a bounded offset.
+//!
+//! The triangular lattice of traps ([`TriangularLattice`]: up traps s = +1 with vertices
+//! L(i,j), L(i+1,j), L(i,j+1); down traps s = −1 with vertices L(i,j), L(i−1,j), L(i,j−1))
+//! runs on the trap's fused kernel; other scenes on the generic [`ConvexCell`].
 
 use crate::error::Error;
-use crate::kernel::trap::{Event, EventKind, Flight, Trap};
+use crate::kernel::cell::{CellKernel, ConvexCell, Edge};
+use crate::kernel::trap::Trap;
 use crate::kernel::vec2::Vec2;
+use crate::kernel::{Event, EventKind, Flight};
 use crate::real::Real;
 
-/// A trap of the lattice: anchor lattice point and orientation.
+/// A cell of the lattice: index and orientation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct Cell {
-    /// Anchor index along e₁.
+pub struct CellIndex {
+    /// Index along e₁.
     pub i: i64,
-    /// Anchor index along e₂.
+    /// Index along e₂.
     pub j: i64,
-    /// `true` for s = −1 (a "down" trap).
+    /// `true` for s = −1 (a point-reflected cell, the triangular lattice's "down" traps).
     pub down: bool,
 }
 
-impl Cell {
+impl CellIndex {
     /// The orientation s = ±1.
     pub fn sign(&self) -> f64 {
         if self.down {
@@ -36,26 +41,19 @@ impl Cell {
             1.0
         }
     }
-    /// The neighbouring trap across edge `k`.
+    /// The neighbouring cell across `edge`.
     #[inline(always)]
-    pub fn across(&self, k: u8) -> Cell {
-        let (di, dj) = match k {
-            0 => (1, 1),
-            1 => (0, 1),
-            _ => (1, 0),
-        };
-        if self.down {
-            Cell {
-                i: self.i - di,
-                j: self.j - dj,
-                down: false,
-            }
+    pub fn across<T>(&self, edge: &Edge<T>) -> CellIndex {
+        let [di, dj] = edge.step;
+        let (i, j) = if self.down {
+            (self.i - di, self.j - dj)
         } else {
-            Cell {
-                i: self.i + di,
-                j: self.j + dj,
-                down: true,
-            }
+            (self.i + di, self.j + dj)
+        };
+        CellIndex {
+            i,
+            j,
+            down: self.down ^ edge.flips(),
         }
     }
 }
@@ -63,9 +61,9 @@ impl Cell {
 /// A particle in the lattice.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LatticeState<T> {
-    /// The trap it is in.
-    pub cell: Cell,
-    /// Its flight in the trap's canonical frame.
+    /// The cell it is in.
+    pub cell: CellIndex,
+    /// Its flight in the cell's frame.
     pub flight: Flight<T>,
 }
 
@@ -86,6 +84,17 @@ impl<T: Real> LatticeState<T> {
     }
 }
 
+/// The lattice basis as `f64` (a, β, h), for observables.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Basis64 {
+    /// Length of e₁.
+    pub a: f64,
+    /// Shear of e₂ (exact).
+    pub beta: f64,
+    /// Height of e₂.
+    pub h: f64,
+}
+
 /// An unwrapped world position: exact lattice integers plus a bounded `f64` offset.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Unwrapped {
@@ -93,7 +102,7 @@ pub struct Unwrapped {
     pub i: i64,
     /// Lattice index along e₂.
     pub j: i64,
-    /// Offset s·p from the lattice point, |offset| < a.
+    /// Offset s·p from the lattice point (bounded by the cell size).
     pub off: [f64; 2],
 }
 
@@ -101,50 +110,82 @@ impl Unwrapped {
     /// Displacement `self − from` in world coordinates, with the integer parts differenced
     /// exactly before conversion.
     #[inline(always)]
-    pub fn displacement_from(&self, from: &Unwrapped, a: f64, h: f64) -> [f64; 2] {
+    pub fn displacement_from(&self, from: &Unwrapped, b: &Basis64) -> [f64; 2] {
         let di = (self.i - from.i) as f64;
         let dj = (self.j - from.j) as f64;
         [
-            a * (di + 0.5 * dj) + (self.off[0] - from.off[0]),
-            h * dj + (self.off[1] - from.off[1]),
+            b.a * (di + b.beta * dj) + (self.off[0] - from.off[0]),
+            b.h * dj + (self.off[1] - from.off[1]),
         ]
     }
+    /// World x-coordinate (for stopping rules on x; exact integers converted once).
+    #[inline(always)]
+    pub fn world_x(&self, b: &Basis64) -> f64 {
+        b.a * (self.i as f64 + b.beta * self.j as f64) + self.off[0]
+    }
 }
 
-/// The periodic lattice scene.
+/// The periodic lattice of the cells of one kernel.
 #[derive(Debug, Clone)]
-pub struct PeriodicLattice<T: Real> {
-    /// The canonical trap.
-    pub trap: Trap<T>,
-    a64: f64,
-    h64: f64,
+pub struct Lattice<T: Real, K: CellKernel<T>> {
+    /// The cell kernel (generic or a scene's fused fast path).
+    pub kernel: K,
+    basis: Basis64,
+    _t: std::marker::PhantomData<T>,
 }
 
-impl<T: Real> PeriodicLattice<T> {
-    /// The lattice at gap `w > 0`.
+/// The triangular lattice of traps, on the trap's fused kernel.
+pub type TriangularLattice<T> = Lattice<T, Trap<T>>;
+
+impl<T: Real> Lattice<T, Trap<T>> {
+    /// The triangular lattice at gap `w > 0`.
     pub fn new(w: T) -> Result<Self, Error> {
-        let trap = Trap::new(w)?;
-        let (a64, h64) = (trap.a.to_f64(), trap.h.to_f64());
-        Ok(PeriodicLattice { trap, a64, h64 })
+        Ok(Lattice::from_kernel(Trap::new(w)?))
+    }
+    /// The canonical trap.
+    pub fn trap(&self) -> &Trap<T> {
+        &self.kernel
+    }
+}
+
+impl<T: Real, K: CellKernel<T>> Lattice<T, K> {
+    /// The lattice of the cells of `kernel`.
+    pub fn from_kernel(kernel: K) -> Self {
+        let l = &kernel.cell().lattice;
+        let basis = Basis64 {
+            a: l.a.to_f64(),
+            beta: l.beta.to_f64(),
+            h: l.h.to_f64(),
+        };
+        Lattice {
+            kernel,
+            basis,
+            _t: std::marker::PhantomData,
+        }
     }
 
-    /// Lattice spacing and row height as `f64` (for observables).
-    pub fn a_h_f64(&self) -> (f64, f64) {
-        (self.a64, self.h64)
+    /// The cell description.
+    pub fn cell(&self) -> &ConvexCell<T> {
+        self.kernel.cell()
     }
 
-    /// The next event of the state's flight (see [`Trap::next_event`]).
+    /// The lattice basis as `f64` (for observables).
+    pub fn basis_f64(&self) -> Basis64 {
+        self.basis
+    }
+
+    /// The next event of the state's flight.
     #[inline(always)]
     pub fn next_event(&self, s: &LatticeState<T>) -> Option<Event<T>> {
-        self.trap.next_event(&s.flight)
+        self.kernel.next_event(&s.flight)
     }
 
-    /// Carries out `ev`, moving to the neighbouring trap on a crossing.
+    /// Carries out `ev`, moving to the neighbouring cell on a crossing.
     #[inline(always)]
     pub fn apply(&self, s: &mut LatticeState<T>, ev: &Event<T>) {
-        self.trap.apply(&mut s.flight, ev);
+        self.kernel.apply(&mut s.flight, ev);
         if let EventKind::Crossing(k) = ev.kind {
-            s.cell = s.cell.across(k);
+            s.cell = s.cell.across(&self.kernel.cell().edges[k as usize]);
         }
     }
 
@@ -194,13 +235,14 @@ impl<T: Real> PeriodicLattice<T> {
         }
     }
 
-    /// World position at the working precision: L(i, j) + s·p.
+    /// World position at the working precision: a(i + βj)·x̂ + hj·ŷ + s·p.
     pub fn world(&self, s: &LatticeState<T>) -> Vec2<T> {
-        let ctx = self.trap.a.ctx();
+        let l = &self.kernel.cell().lattice;
+        let ctx = l.a.ctx();
         let i = T::from_f64(ctx, s.cell.i as f64);
         let j = T::from_f64(ctx, s.cell.j as f64);
-        let lx = self.trap.a.clone() * &(i + &j.clone().scale(0.5));
-        let ly = self.trap.h.clone() * &j;
+        let lx = l.a.clone() * &(i + &(l.beta.clone() * &j));
+        let ly = l.h.clone() * &j;
         if s.cell.down {
             Vec2::new(lx - &s.flight.pos.x, ly - &s.flight.pos.y)
         } else {
@@ -215,17 +257,14 @@ mod tests {
 
     #[test]
     fn across_is_an_involution_and_matches_the_geometry() {
-        let t = Trap::new(0.1f64).unwrap();
+        let lat = TriangularLattice::new(0.1f64).unwrap();
+        let t = lat.trap().clone();
         for down in [false, true] {
-            let c = Cell { i: 3, j: -2, down };
+            let c = CellIndex { i: 3, j: -2, down };
             for k in 0..3u8 {
-                assert_eq!(c.across(k).across(k), c);
+                let e = &t.cell.edges[k as usize];
+                assert_eq!(c.across(e).across(e), c);
                 // The world image of a point on edge k is the same seen from both traps.
-                let lat = PeriodicLattice {
-                    trap: t.clone(),
-                    a64: t.a,
-                    h64: t.h,
-                };
                 let mid = Vec2::new(t.centres[k as usize].x / 2.0, t.centres[k as usize].y / 2.0);
                 let s1 = LatticeState {
                     cell: c,
@@ -233,7 +272,7 @@ mod tests {
                 };
                 let other = t.centres[k as usize].sub(&mid);
                 let s2 = LatticeState {
-                    cell: c.across(k),
+                    cell: c.across(e),
                     flight: Flight::new(other, Vec2::new(1.0, 0.0)),
                 };
                 let (w1, w2) = (lat.world(&s1), lat.world(&s2));

@@ -1,8 +1,58 @@
-//! Scenes: geometry set-ups built from the kernel's canonical trap. Each carries only the
-//! obstacles and the precision it needs.
+//! Scenes: what a billiard table supplies to the generic kernel, and nothing more.
 //!
-//! * [`lattice`]: the infinite periodic triangular lattice (trap hopping, unwrapped positions).
+//! A [`Scene`] supplies its cell (a [`ConvexCell`](crate::kernel::ConvexCell): a convex polygon,
+//! its disks with exact centres and radius, its edges with the exact maps into the neighbouring
+//! cell and the integer steps for unwrapping) through a cell kernel at any working precision,
+//! the invariant-measure sampler, and its exact identities. Everything above — observables,
+//! estimators, the shadow audit, the fuzz oracle, Lyapunov exponents, reversal, certification —
+//! is written once against this trait.
+//!
+//! * [`lattice`]: the periodic walk over the cells of any kernel (exact integer cell indices,
+//!   bounded offsets, unwrapped positions).
+//! * [`triangular`]: the triangular lattice of disks of radius 1 at spacing 2 + w (the paper),
+//!   on the trap's fused kernel.
 //! * [`single_trap`]: one trap of three disks and its gaps, for injection experiments.
+//!
+//! A new scene is one file implementing [`Scene`]; it never touches [`crate::kernel`].
 
 pub mod lattice;
 pub mod single_trap;
+pub mod triangular;
+
+use rand::Rng;
+
+use crate::error::Error;
+use crate::kernel::CellKernel;
+use crate::real::Real;
+use lattice::{Lattice, LatticeState};
+
+/// A billiard table made of congruent convex cells.
+pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
+    /// The kernel that runs the scene's cell at number type `T` (the generic
+    /// [`ConvexCell`](crate::kernel::ConvexCell) or a bit-identical fused path).
+    type Kernel<T: Real>: CellKernel<T>;
+
+    /// A short description with the parameters, e.g. `triangular w=0.1`.
+    fn label(&self) -> String;
+
+    /// The scene's cell kernel with every constant at the working precision `ctx`, computed from
+    /// the exact parameters (never through `f64` when `T` is wider).
+    fn kernel<T: Real>(&self, ctx: T::Ctx) -> Result<Self::Kernel<T>, Error>;
+
+    /// The periodic lattice of the scene's cells at precision `ctx`.
+    fn lattice<T: Real>(&self, ctx: T::Ctx) -> Result<Lattice<T, Self::Kernel<T>>, Error> {
+        Ok(Lattice::from_kernel(self.kernel(ctx)?))
+    }
+
+    /// A state drawn from the invariant measure (uniform position in the free part of the cell
+    /// with index (0, 0), uniform direction).
+    fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> LatticeState<f64>;
+
+    /// Santaló's mean free path ⟨ℓ⟩ = π|Q|/|∂Q| (|Q| the free area of a cell, |∂Q| the length of
+    /// the disk boundary inside it), in closed form.
+    fn mean_free_path(&self) -> f64;
+
+    /// `true` if every free flight is bounded (no collision-free corridor): only then does the
+    /// diffusion coefficient exist as a finite Einstein limit.
+    fn finite_horizon(&self) -> bool;
+}

@@ -11,7 +11,7 @@
 use rand::Rng;
 
 use crate::error::Error;
-use crate::kernel::trap::{EventKind, Flight, Trap, NONE};
+use crate::kernel::trap::{EventKind, Flight, Trap};
 use crate::kernel::vec2::Vec2;
 use crate::real::Real;
 use crate::symbols::Symbol;
@@ -77,8 +77,7 @@ impl<T: Real> SingleTrap<T> {
         let s = T::from_f64(ctx, sin_alpha);
         let c = (T::one(ctx) - &s.square()).sqrt();
         let mut f = Flight::new(Vec2::new(px, T::zero(ctx)), Vec2::new(s, c));
-        f.excluded_edge = 2;
-        f.excluded_disk = NONE;
+        f.excluded_edge = Some(2);
         let (mut time, mut coll) = (0.0, 0u64);
         for _ in 0..max_events {
             let ev = self

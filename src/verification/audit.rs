@@ -15,9 +15,10 @@ use serde::{Deserialize, Serialize};
 
 use super::shadow::{check_event, EventCheck};
 use crate::error::Error;
-use crate::kernel::trap::{Flight, Trap};
 use crate::kernel::vec2::Vec2;
+use crate::kernel::Flight;
 use crate::metadata::RunMeta;
+use crate::scenes::Scene;
 
 /// Log-histogram of positive values: bins of 0.1 decade from 10⁻³⁰ to 10¹⁰, plus zeros.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -87,14 +88,14 @@ impl LogHistogram {
 /// An audited event with its exact f64 pre-event state (bit patterns, for replay).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct AuditedEvent {
-    /// Gap w.
-    pub w: f64,
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
     /// Position and velocity (x, y, vx, vy) as IEEE bit patterns.
     pub state_bits: [u64; 4],
     /// The same as decimals (shortest round-trip form).
     pub state: [f64; 4],
-    /// Excluded disk and edge (3 = none).
-    pub excluded: [u8; 2],
+    /// Excluded disk and edge (`null` = none).
+    pub excluded: [Option<u8>; 2],
     /// The verdict.
     pub check: EventCheck,
 }
@@ -174,26 +175,28 @@ pub fn check_audit(rate: f64, bits: u32) -> Result<(), Error> {
     Ok(())
 }
 
-/// Audits a sample of the events of one f64 trajectory.
-pub struct Auditor {
-    w: f64,
-    t64: Trap<f64>,
-    tref: Trap<Float>,
+/// Audits a sample of the events of one f64 trajectory of scene `S`.
+pub struct Auditor<S: Scene> {
+    label: String,
+    t64: S::Kernel<f64>,
+    tref: S::Kernel<Float>,
     rate: f64,
     rng: Xoshiro256PlusPlus,
     /// What was found so far.
     pub summary: AuditSummary,
 }
 
-impl Auditor {
-    /// An auditor at gap `w`, sampling rate `rate ∈ (0, 1]`, reference precision `bits ≥ 128`,
-    /// with its own random stream (it never touches the trajectory's stream).
-    pub fn new(w: f64, rate: f64, bits: u32, rng: Xoshiro256PlusPlus) -> Result<Self, Error> {
+impl<S: Scene> Auditor<S> {
+    /// An auditor of `scene`, sampling rate `rate ∈ (0, 1]`, reference precision `bits ≥ 128`,
+    /// with its own random stream (it never touches the trajectory's stream). The f64 replay
+    /// runs the scene's production kernel; the reference is the same kernel at `bits`, whose
+    /// constants come from the same exact scene parameters.
+    pub fn new(scene: &S, rate: f64, bits: u32, rng: Xoshiro256PlusPlus) -> Result<Self, Error> {
         check_audit(rate, bits)?;
         Ok(Auditor {
-            w,
-            t64: Trap::new(w)?,
-            tref: Trap::new(Float::with_val(bits, w))?,
+            label: scene.label(),
+            t64: scene.kernel::<f64>(())?,
+            tref: scene.kernel::<Float>(bits)?,
             rate,
             rng,
             summary: AuditSummary::default(),
@@ -225,7 +228,7 @@ impl Auditor {
             s.different_choice += 1;
         }
         let record = |c: &EventCheck| AuditedEvent {
-            w: self.w,
+            scene: self.label.clone(),
             state_bits: [
                 f.pos.x.to_bits(),
                 f.pos.y.to_bits(),
@@ -251,17 +254,23 @@ impl Auditor {
     }
 }
 
-/// Replays a recorded event at `bits` of precision.
-pub fn replay(e: &AuditedEvent, bits: u32) -> Result<EventCheck, Error> {
+/// Replays a recorded event of `scene` at `bits` of precision.
+///
+/// # Errors
+/// If the event was recorded in another scene, or the precision is out of range.
+pub fn replay<S: Scene>(scene: &S, e: &AuditedEvent, bits: u32) -> Result<EventCheck, Error> {
+    if e.scene != scene.label() {
+        return Err(Error::Invalid(format!(
+            "the event was recorded in scene `{}`, not `{}`",
+            e.scene,
+            scene.label()
+        )));
+    }
     let [x, y, vx, vy] = e.state_bits.map(f64::from_bits);
     let mut f = Flight::new(Vec2::new(x, y), Vec2::new(vx, vy));
     f.excluded_disk = e.excluded[0];
     f.excluded_edge = e.excluded[1];
-    check_event(
-        &Trap::new(e.w)?,
-        &Trap::new(Float::with_val(bits, e.w))?,
-        &f,
-    )
+    check_event(&scene.kernel::<f64>(())?, &scene.kernel::<Float>(bits)?, &f)
 }
 
 #[cfg(test)]
@@ -288,8 +297,8 @@ mod tests {
 /// events at `bits`. The thread count is not part of it: it never changes the result.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AuditConfig {
-    /// Gap w.
-    pub w: f64,
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
     /// Collisions in all (trajectory i gets ⌊N/T⌋, plus one for the first N mod T).
     pub collisions: u64,
     /// Independent trajectories.
@@ -342,16 +351,21 @@ const PROGRESS_CHUNK: u64 = 1 << 16;
 
 /// Runs the audit `cfg` on `threads` threads (the result does not depend on them). `progress`
 /// receives collision counts.
-pub fn audit_run(
+pub fn audit_run<S: Scene>(
+    scene: &S,
     cfg: &AuditConfig,
     threads: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<AuditReport, Error> {
-    use crate::kernel::trap::EventKind;
-    use crate::sampling::{equilibrium_state, stream, Purpose, StreamKey};
-    use crate::scenes::lattice::PeriodicLattice;
-    let w = cfg.w;
-    crate::geometry::check_diffusive_gap(w)?;
+    use crate::kernel::EventKind;
+    use crate::sampling::{stream, Purpose, StreamKey};
+    if cfg.scene != scene.label() {
+        return Err(Error::Invalid(format!(
+            "audit configuration for scene `{}` run on `{}`",
+            cfg.scene,
+            scene.label()
+        )));
+    }
     if cfg.collisions == 0 {
         return Err(Error::Zero { what: "collisions" });
     }
@@ -365,13 +379,13 @@ pub fn audit_run(
     }
     check_audit(cfg.sample, cfg.bits)?;
     let start = std::time::Instant::now();
-    let lat = PeriodicLattice::new(w)?;
+    let lat = scene.lattice::<f64>(())?;
     let parts: Vec<(AuditSummary, u64)> =
         crate::parallel::par_batches(threads, cfg.trajectories, |b| {
             let n = crate::parallel::share(cfg.collisions, cfg.trajectories, b);
-            let mut s = equilibrium_state(&lat.trap, &mut stream(cfg.seed, b as u64));
+            let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
             let mut a = Auditor::new(
-                w,
+                scene,
                 cfg.sample,
                 cfg.bits,
                 StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),

@@ -16,39 +16,35 @@ use rug::Float;
 use crate::real::Real;
 
 use crate::error::Error;
-use crate::kernel::trap::{Event, EventKind, Flight, NONE};
 use crate::kernel::vec2::Vec2;
-use crate::scenes::lattice::{Cell, LatticeState, PeriodicLattice};
-
-/// World-coordinate lattice point of vertex `m` of trap `cell`.
-pub fn vertex_lattice_point(cell: &Cell, m: u8) -> (i64, i64) {
-    // Up trap at anchor (i, j): vertices L(i,j), L(i+1,j), L(i,j+1); down: L(i,j), L(i-1,j), L(i,j-1).
-    let (di, dj) = match m {
-        0 => (0, 0),
-        1 => (1, 0),
-        _ => (0, 1),
-    };
-    if cell.down {
-        (cell.i - di, cell.j - dj)
-    } else {
-        (cell.i + di, cell.j + dj)
-    }
-}
+use crate::kernel::{CellKernel, ConvexCell, Event, EventKind, Flight};
+use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
+use crate::scenes::Scene;
 
 /// A collision state in Birkhoff coordinates, at the working precision.
 #[derive(Debug, Clone)]
 pub struct Birkhoff {
-    /// Lattice point of the disk.
-    pub disk: (i64, i64),
+    /// World centre of the disk (distinct disks are ≥ 2r apart: see [`Birkhoff::same_disk`]).
+    pub disk: [f64; 2],
     /// Polar angle θ of the contact point (arc length on the unit circle).
     pub s: Float,
     /// sin φ of the outgoing velocity.
     pub p: Float,
 }
 
-/// Builds the lattice state just after a collision with the disk at the origin, with contact
-/// angle `s ∈ (0, π/3)` (the arc of P₀ inside the up trap (0, 0)) and outgoing sin φ = `p`.
-pub fn state_from_birkhoff(bits: u32, s: &Float, p: &Float) -> LatticeState<Float> {
+impl Birkhoff {
+    /// `true` if both states are on the same disk: disks do not overlap, so two centres closer
+    /// than one radius (with rounding errors ~2⁻ᵇⁱᵗˢ) are the same disk.
+    pub fn same_disk(&self, o: &Birkhoff, radius: f64) -> bool {
+        (self.disk[0] - o.disk[0]).hypot(self.disk[1] - o.disk[1]) < radius
+    }
+}
+
+/// Builds the lattice state just after a collision with disk 0 of the cell (0, 0), with contact
+/// angle `s` (a point of the disk's arc inside the cell: (0, π/3) for the triangular trap's P₀,
+/// any angle for a disk inside its cell) and outgoing sin φ = `p`.
+pub fn state_from_birkhoff(cell: &ConvexCell<Float>, s: &Float, p: &Float) -> LatticeState<Float> {
+    let bits = s.prec();
     let n = Vec2::new(
         Float::with_val(bits, s.cos_ref()),
         Float::with_val(bits, s.sin_ref()),
@@ -59,24 +55,29 @@ pub fn state_from_birkhoff(bits: u32, s: &Float, p: &Float) -> LatticeState<Floa
         cphi.clone() * &n.x + &(p.clone() * &t.x),
         cphi * &n.y + &(p.clone() * &t.y),
     );
-    let mut flight = Flight::new(n, vel);
-    flight.excluded_disk = 0;
+    let c = &cell.disks[0];
+    let pos = Vec2::new(
+        c.x.clone() + &(cell.radius.clone() * &n.x),
+        c.y.clone() + &(cell.radius.clone() * &n.y),
+    );
+    let mut flight = Flight::new(pos, vel);
+    flight.excluded_disk = Some(0);
     LatticeState {
-        cell: Cell::default(),
+        cell: CellIndex::default(),
         flight,
     }
 }
 
 /// Runs to the next collision and returns its Birkhoff coordinates (θ in world orientation).
-pub fn next_collision(
-    lat: &PeriodicLattice<Float>,
+pub fn next_collision<K: CellKernel<Float>>(
+    lat: &Lattice<Float, K>,
     st: &mut LatticeState<Float>,
 ) -> Result<Birkhoff, Error> {
     loop {
         let ev: Event<Float> = lat.step(st)?;
         if let EventKind::Collision(m) = ev.kind {
             let f = &st.flight;
-            let c = &lat.trap.vertices[m as usize];
+            let c = &lat.cell().disks[m as usize];
             // Normal and velocity in world orientation: both flip with the trap's sign, so
             // n × v (= sin φ) is frame independent and θ = atan2(s·n).
             let (mut nx, mut ny) = (f.pos.x.clone() - &c.x, f.pos.y.clone() - &c.y);
@@ -86,8 +87,13 @@ pub fn next_collision(
                 ny = -ny;
             }
             let s = ny.atan2(&nx);
+            let centre = LatticeState {
+                cell: st.cell,
+                flight: Flight::new(c.clone(), f.vel.clone()),
+            };
+            let cw = lat.world(&centre);
             return Ok(Birkhoff {
-                disk: vertex_lattice_point(&st.cell, m),
+                disk: [cw.x.to_f64(), cw.y.to_f64()],
                 s,
                 p,
             });
@@ -110,19 +116,20 @@ fn angle_diff(a: &Float, b: &Float) -> Float {
     d
 }
 
-/// The Jacobian of the Birkhoff map at (s, p) (contact on the disk at the origin, see
+/// The Jacobian of the Birkhoff map of `scene` at (s, p) (contact on disk 0 of cell (0, 0), see
 /// [`state_from_birkhoff`]) by central differences with step `h`, at `bits` of precision.
 /// Returns `None` if a perturbed orbit hits a different disk (a singularity is within `h`).
-pub fn birkhoff_jacobian(
-    w: f64,
+pub fn birkhoff_jacobian<S: Scene>(
+    scene: &S,
     bits: u32,
     s: &Float,
     p: &Float,
     h: &Float,
 ) -> Result<Option<Matrix2<Float>>, Error> {
-    let lat = PeriodicLattice::new(Float::with_val(bits, w))?;
+    let lat = scene.lattice::<Float>(bits)?;
+    let r = lat.cell().radius.to_f64();
     let image = |s: &Float, p: &Float| -> Result<Birkhoff, Error> {
-        let mut st = state_from_birkhoff(bits, s, p);
+        let mut st = state_from_birkhoff(lat.cell(), s, p);
         next_collision(&lat, &mut st)
     };
     let base = image(s, p)?;
@@ -138,7 +145,7 @@ pub fn birkhoff_jacobian(
             pm -= h;
         }
         let (fp, fm) = (image(&sp, &pp)?, image(&sm, &pm)?);
-        if fp.disk != base.disk || fm.disk != base.disk {
+        if !fp.same_disk(&base, r) || !fm.same_disk(&base, r) {
             return Ok(None);
         }
         let two_h = h.clone() * 2u32;
@@ -177,25 +184,21 @@ impl Default for Tangent {
 impl Tangent {
     /// The linearisation of one event: flight for time t, then either the collision with unit
     /// normal n (incoming velocity v) or the point reflection of a crossing (δ ↦ −δ).
-    pub fn event_matrix(
-        f: &Flight<f64>,
-        ev: &Event<f64>,
-        vertices: &[Vec2<f64>; 3],
-    ) -> Matrix4<f64> {
+    pub fn event_matrix(f: &Flight<f64>, ev: &Event<f64>, cell: &ConvexCell<f64>) -> Matrix4<f64> {
         // The map is linear: its columns are the images of the unit tangent vectors.
         let mut m = Matrix4::zeros();
         for k in 0..4 {
             let mut e = Vector4::zeros();
             e[k] = 1.0;
-            tangent_step(&mut e, f, ev, vertices);
+            tangent_step(&mut e, f, ev, cell);
             m.set_column(k, &e);
         }
         m
     }
 
     /// Multiplies in one event (call before the event is applied to `f`).
-    pub fn push(&mut self, f: &Flight<f64>, ev: &Event<f64>, vertices: &[Vec2<f64>; 3]) {
-        self.jac = Self::event_matrix(f, ev, vertices) * self.jac;
+    pub fn push(&mut self, f: &Flight<f64>, ev: &Event<f64>, cell: &ConvexCell<f64>) {
+        self.jac = Self::event_matrix(f, ev, cell) * self.jac;
     }
 
     /// Largest singular value of the accumulated Jacobian.
@@ -204,32 +207,33 @@ impl Tangent {
     }
 }
 
-/// `NONE` re-exported for callers building flights by hand.
-pub const NO_OBSTACLE: u8 = NONE;
-
-/// Applies the linearisation of one event to the tangent vector (δq, δv) ∈ ℝ⁴.
+/// Applies the linearisation of one event of `cell` to the tangent vector (δq, δv) ∈ ℝ⁴: a
+/// translation into the neighbour leaves it alone, a point reflection negates it, a collision
+/// with a disk of radius r is the reflection with curvature 1/r (δn = δx_c/r).
 pub fn tangent_step(
     t: &mut Vector4<f64>,
     f: &Flight<f64>,
     ev: &Event<f64>,
-    vertices: &[Vec2<f64>; 3],
+    cell: &ConvexCell<f64>,
 ) {
     let tt = ev.time;
     let mut dq = Vector2::new(t[0] + tt * t[2], t[1] + tt * t[3]);
     let mut dv = Vector2::new(t[2], t[3]);
     match ev.kind {
-        EventKind::Crossing(_) => {
-            dq = -dq;
-            dv = -dv;
+        EventKind::Crossing(k) => {
+            if cell.edges[k as usize].flips() {
+                dq = -dq;
+                dv = -dv;
+            }
         }
         EventKind::Collision(m) => {
             let x = f.pos.along(&tt, &f.vel);
-            let c = &vertices[m as usize];
+            let c = &cell.disks[m as usize];
             let n = Vector2::new(x.x - c.x, x.y - c.y).normalize();
             let v = Vector2::new(f.vel.x, f.vel.y);
             let vn = v.dot(&n);
             let dt = -n.dot(&dq) / vn;
-            let dn = dq + v * dt;
+            let dn = (dq + v * dt) / cell.radius;
             let dq2 = dq - n * (2.0 * n.dot(&dq));
             let dv2 = dv - n * (2.0 * dv.dot(&n)) - n * (2.0 * v.dot(&dn)) - dn * (2.0 * vn);
             dq = dq2;

@@ -13,7 +13,8 @@ use serde::Serialize;
 use super::lyapunov::{collision_track, lyapunov};
 use crate::error::Error;
 use crate::metadata::RunMeta;
-use crate::scenes::lattice::{LatticeState, PeriodicLattice};
+use crate::scenes::lattice::LatticeState;
+use crate::scenes::Scene;
 
 /// Collisions per orbit of the λ estimate that sets the starting precision.
 pub const LAMBDA_COLLISIONS: u64 = 100_000;
@@ -34,8 +35,8 @@ pub const MAX_MEMORY_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 /// A certified segment.
 #[derive(Debug, Clone, Serialize)]
 pub struct Certificate {
-    /// Gap w.
-    pub w: f64,
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
     /// Collisions certified.
     pub collisions: usize,
     /// Digits requested.
@@ -117,52 +118,56 @@ pub fn starting_bits(lambda: f64, n: usize, digits: u32) -> Result<u32, Error> {
 
 /// Certifies `n` collisions of the orbit from `start` (taken exactly) to `digits` digits.
 /// `progress` receives collision counts of the runs made.
-pub fn certify(
-    w: f64,
+pub fn certify<S: Scene>(
+    scene: &S,
     start: &LatticeState<f64>,
     n: usize,
     digits: u32,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Certificate, Error> {
-    certify_with_meta(w, start, n, digits, None, progress)
+    certify_with_meta(scene, start, n, digits, None, progress)
 }
 
 /// Certifies `n` collisions from the start of trajectory 0 of seed `seed` (the first batch of
 /// `lorentz diffusion --seed SEED`).
-pub fn certify_seeded(
-    w: f64,
+pub fn certify_seeded<S: Scene>(
+    scene: &S,
     seed: u64,
     n: usize,
     digits: u32,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Certificate, Error> {
-    crate::geometry::check_diffusive_gap(w)?;
-    let trap = crate::kernel::trap::Trap::new(w)?;
-    let start = crate::sampling::equilibrium_state(&trap, &mut crate::sampling::stream(seed, 0));
-    certify_with_meta(w, &start, n, digits, Some(seed), progress)
+    let start = scene.sample(&mut crate::sampling::stream(seed, 0));
+    certify_with_meta(scene, &start, n, digits, Some(seed), progress)
 }
 
-fn certify_with_meta(
-    w: f64,
+fn certify_with_meta<S: Scene>(
+    scene: &S,
     start: &LatticeState<f64>,
     n: usize,
     digits: u32,
     seed: Option<u64>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Certificate, Error> {
-    crate::geometry::check_diffusive_gap(w)?;
     if n == 0 {
         return Err(Error::Zero { what: "collisions" });
     }
     if digits == 0 {
         return Err(Error::Zero { what: "digits" });
     }
-    let lambda =
-        lyapunov(w, LAMBDA_COLLISIONS, LAMBDA_ORBITS, LAMBDA_SEED, 1, &|_| {})?.per_collision;
+    let lambda = lyapunov(
+        scene,
+        LAMBDA_COLLISIONS,
+        LAMBDA_ORBITS,
+        LAMBDA_SEED,
+        1,
+        &|_| {},
+    )?
+    .per_collision;
     let mut bits = starting_bits(lambda, n, digits)?;
     let mut tried = Vec::new();
     let run = |b: u32, out: u32| -> Result<Vec<([Float; 4], f64)>, Error> {
-        let lat = PeriodicLattice::new(Float::with_val(b, w))?;
+        let lat = scene.lattice::<Float>(b)?;
         let t = collision_track(
             &lat,
             &LatticeState::<Float>::convert_from_f64(b, start),
@@ -183,7 +188,7 @@ fn certify_with_meta(
             f64::INFINITY
         };
         if agreed >= digits as f64 {
-            let f = collision_track(&PeriodicLattice::new(w)?, start, n, out)?;
+            let f = collision_track(&scene.lattice::<f64>(())?, start, n, out)?;
             progress(n as u64);
             let faithful = f
                 .iter()
@@ -191,7 +196,7 @@ fn certify_with_meta(
                 .position(|(x, y)| (0..4).any(|i| (x.0[i].clone() - &y.0[i]).abs().to_f64() > 1e-3))
                 .unwrap_or(n);
             return Ok(Certificate {
-                w,
+                scene: scene.label(),
                 collisions: n,
                 digits_requested: digits,
                 digits_agreed: agreed,

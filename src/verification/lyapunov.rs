@@ -16,13 +16,13 @@ use rug::Float;
 use serde::Serialize;
 
 use crate::error::Error;
-use crate::geometry::check_diffusive_gap;
-use crate::kernel::trap::EventKind;
+use crate::kernel::{CellKernel, EventKind};
 use crate::metadata::RunMeta;
 use crate::parallel::par_batches;
 use crate::real::Real;
-use crate::sampling::{equilibrium_state, stream};
-use crate::scenes::lattice::{LatticeState, PeriodicLattice};
+use crate::sampling::stream;
+use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::scenes::Scene;
 use crate::stats::{linear_fit, mean_se};
 
 /// Collisions discarded at the start of each tangent orbit, so the tangent vector has turned into
@@ -47,8 +47,8 @@ pub const DIVERGENCE_COLLISIONS: usize = 900;
 /// Largest Lyapunov exponent with its standard error.
 #[derive(Debug, Clone, Serialize)]
 pub struct LyapunovReport {
-    /// Gap w.
-    pub w: f64,
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
     /// λ per collision.
     pub per_collision: f64,
     /// Its standard error over orbits.
@@ -68,15 +68,14 @@ pub struct LyapunovReport {
 /// Tangent-space largest Lyapunov exponent from `orbits` independent f64 orbits of `collisions`
 /// collisions each.
 /// `progress` receives collision counts.
-pub fn lyapunov(
-    w: f64,
+pub fn lyapunov<S: Scene>(
+    scene: &S,
     collisions: u64,
     orbits: u32,
     seed: u64,
     threads: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<LyapunovReport, Error> {
-    check_diffusive_gap(w)?;
     if collisions == 0 || orbits < 2 || threads == 0 {
         return Err(Error::TooFew {
             what: "collisions, orbits (>= 2) or threads",
@@ -84,11 +83,11 @@ pub fn lyapunov(
             got: orbits as u64,
         });
     }
-    let lat = PeriodicLattice::new(w)?;
-    let verts = lat.trap.vertices.clone();
+    let lat = scene.lattice::<f64>(())?;
+    let cell = lat.cell().clone();
     let per: Vec<(f64, f64)> = par_batches(threads, orbits, |b| {
         let mut rng = stream(seed, b as u64);
-        let mut s = equilibrium_state(&lat.trap, &mut rng);
+        let mut s = scene.sample(&mut rng);
         let d = crate::sampling::direction(&mut rng);
         let mut t = Vector4::new(d.x, d.y, 0.3 * d.y, -0.3 * d.x);
         let (mut c, mut logsum, mut time) = (0u64, 0.0, 0.0);
@@ -97,7 +96,7 @@ pub fn lyapunov(
             let ev = lat
                 .next_event(&s)
                 .ok_or_else(|| Error::Invalid("no next event".into()))?;
-            tangent_step(&mut t, &s.flight, &ev, &verts);
+            tangent_step(&mut t, &s.flight, &ev, &cell);
             lat.apply(&mut s, &ev);
             if c >= transient {
                 time += ev.time;
@@ -120,7 +119,7 @@ pub fn lyapunov(
     let (pc, pce) = mean_se(&per.iter().map(|p| p.0).collect::<Vec<_>>());
     let (pt, pte) = mean_se(&per.iter().map(|p| p.1).collect::<Vec<_>>());
     Ok(LyapunovReport {
-        w,
+        scene: scene.label(),
         per_collision: pc,
         per_collision_err: pce,
         per_time: pt,
@@ -133,8 +132,8 @@ pub fn lyapunov(
 
 /// World contact points and velocities at the first `n` collisions of an orbit, as 4096-bit
 /// (or lower) numbers converted to `Float` at `out_bits`.
-pub(crate) fn collision_track<T: Real>(
-    lat: &PeriodicLattice<T>,
+pub(crate) fn collision_track<T: Real, K: CellKernel<T>>(
+    lat: &Lattice<T, K>,
     start: &LatticeState<T>,
     n: usize,
     out_bits: u32,
@@ -182,8 +181,8 @@ pub struct Divergence {
 /// Runs `starts` equilibrium initial conditions at f64 and at each of `bits`, against a reference
 /// at `ref_bits`, for `n` collisions; fits ln(deviation) against collision number (and time) where
 /// 10⁴·u_P < deviation < 10⁻³.
-pub fn divergence(
-    w: f64,
+pub fn divergence<S: Scene>(
+    scene: &S,
     bits: &[u32],
     ref_bits: u32,
     n: usize,
@@ -191,20 +190,19 @@ pub fn divergence(
     seed: u64,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<Divergence>, Error> {
-    check_diffusive_gap(w)?;
     if let Some(&b) = bits.iter().find(|&&b| b >= ref_bits) {
         return Err(Error::Invalid(format!(
             "divergence: precision {b} bits must be below the reference's {ref_bits} bits"
         )));
     }
-    let l64 = PeriodicLattice::new(w)?;
-    let lref = PeriodicLattice::new(Float::with_val(ref_bits, w))?;
+    let l64 = scene.lattice::<f64>(())?;
+    let lref = scene.lattice::<Float>(ref_bits)?;
     let mut precs: Vec<Option<u32>> = vec![None];
     precs.extend(bits.iter().map(|&b| Some(b)));
     let mut per: Vec<Vec<(f64, f64, f64)>> = vec![Vec::new(); precs.len()];
     for k in 0..starts {
         progress(1);
-        let s64 = equilibrium_state(&l64.trap, &mut stream(seed, k as u64));
+        let s64 = scene.sample(&mut stream(seed, k as u64));
         let r = collision_track(
             &lref,
             &LatticeState::<Float>::convert_from_f64(ref_bits, &s64),
@@ -215,7 +213,7 @@ pub fn divergence(
             let track = match p {
                 None => collision_track(&l64, &s64, n, ref_bits)?,
                 Some(b) => {
-                    let lat = PeriodicLattice::new(Float::with_val(*b, w))?;
+                    let lat = scene.lattice::<Float>(*b)?;
                     collision_track(
                         &lat,
                         &LatticeState::<Float>::convert_from_f64(*b, &s64),

@@ -25,10 +25,10 @@ use rug::float::Constant;
 use rug::Float;
 
 use crate::geometry::Geometry;
-use crate::kernel::trap::{Event, EventKind, Flight, Trap, NONE};
+use crate::kernel::trap::{Event, EventKind, Flight, Trap};
 use crate::kernel::vec2::Vec2;
 use crate::real::Real;
-use crate::scenes::lattice::{Cell, LatticeState, PeriodicLattice};
+use crate::scenes::lattice::{CellIndex, LatticeState, TriangularLattice};
 use crate::verification::shadow::check_event;
 
 /// Precision of the MPFR replay and of the decoder's geometric constructions.
@@ -112,7 +112,7 @@ pub struct SceneInput {
     /// Gap, start flight and family as for the primitive target.
     pub primitive: PrimitiveInput,
     /// The trap the start is in.
-    pub cell: Cell,
+    pub cell: CellIndex,
     /// Number of events to step (1..=[`MAX_STEPS`]).
     pub steps: u32,
 }
@@ -384,11 +384,11 @@ fn validate(thp: &Trap<Float>, f: &Flight<f64>) -> Result<(), String> {
     if e.abs().is_nan() || e.abs() > VALID_SPEED {
         return Err(format!("decoded speed off: |v|^2 - 1 = {e:e}"));
     }
-    if f.excluded_edge != NONE {
+    if f.excluded_edge.is_some() {
         return Err("decoded start with an excluded edge".into());
     }
-    if f.excluded_disk != NONE {
-        let d = p.sub(&thp.vertices[f.excluded_disk as usize]);
+    if let Some(m) = f.excluded_disk {
+        let d = p.sub(&thp.vertices[m as usize]);
         let beta = d.dot(&v).to_f64();
         // Excluding a disk is valid only if the flight leaves it, up to the rounding of v·n:
         // each component of v is within 4.5 ulps (≤ 4.5u) of the exact tangent direction.
@@ -400,6 +400,9 @@ fn validate(thp: &Trap<Float>, f: &Flight<f64>) -> Result<(), String> {
     Ok(())
 }
 
+/// A decoded start: family, position, high-precision velocity, excluded disk.
+type Built = (PrimitiveCase, Vec2<f64>, Vec2<Float>, Option<u8>);
+
 /// Decodes the canonical-trap part of an input (see `proofs-notes/fuzzing.md` for the layout).
 fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
     let sel = r.u8();
@@ -409,7 +412,7 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
     let thp = &geo.thp;
     let two_pi = pi() * 2u32;
     // Case-specific bytes are always read in full (fixed layout per case).
-    let built: Option<(PrimitiveCase, Vec2<f64>, Vec2<Float>, u8)> = match sel % 5 {
+    let built: Option<Built> = match sel % 5 {
         0 => {
             let disk = r.u8() % 3;
             let kb = r.u8();
@@ -449,7 +452,7 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
                         PrimitiveCase::Impact { disk, k, above },
                         p64,
                         unit(&phi),
-                        NONE,
+                        None,
                     ))
                 })
         }
@@ -500,7 +503,7 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
                     },
                     round(&p),
                     unit(&dir),
-                    if excluded { disk } else { NONE },
+                    if excluded { Some(disk) } else { None },
                 )
             })
         }
@@ -547,7 +550,7 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
                         PrimitiveCase::DoubleTangent { edge, line },
                         round(&p),
                         v,
-                        NONE,
+                        None,
                     )
                 })
             })
@@ -575,12 +578,12 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
                 at_point,
             };
             if at_point {
-                Some((case, round(&g), unit(&(two_pi.clone() * &hp(ang))), NONE))
+                Some((case, round(&g), unit(&(two_pi.clone() * &hp(ang))), None))
             } else {
                 let p64 = geo.free_point(u1, u2);
                 let p = Vec2::<Float>::from_f64(ORACLE_BITS, p64.x, p64.y);
                 let to_g = g.sub(&p);
-                (to_g.norm2().to_f64() > 1e-6).then(|| (case, p64, unit(&angle_of(&to_g)), NONE))
+                (to_g.norm2().to_f64() > 1e-6).then(|| (case, p64, unit(&angle_of(&to_g)), None))
             }
         }
         _ => None,
@@ -593,7 +596,7 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
             PrimitiveCase::Arbitrary,
             geo.free_point(u1, u2),
             unit(&(two_pi.clone() * &hp(ang))),
-            NONE,
+            None,
         )
     });
     let (pn, vn) = (r.u8(), r.u8());
@@ -646,7 +649,7 @@ pub fn decode_scene(data: &[u8]) -> Result<SceneInput, OracleFailure> {
     let primitive = decode_primitive(rest)?;
     Ok(SceneInput {
         primitive,
-        cell: Cell { i, j, down },
+        cell: CellIndex { i, j, down },
         steps,
     })
 }
@@ -737,8 +740,9 @@ pub fn collision_primitive(data: &[u8]) -> Result<OracleReport, OracleFailure> {
 pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
     let input = decode_scene(data)?;
     let w = input.primitive.w;
-    let lat = PeriodicLattice::new(w).expect("w > 0");
-    let (a, h) = lat.a_h_f64();
+    let lat = TriangularLattice::new(w).expect("w > 0");
+    let basis = lat.basis_f64();
+    let a = basis.a;
     let mut s = LatticeState {
         cell: input.cell,
         flight: input.primitive.flight.clone(),
@@ -799,7 +803,7 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
                 if s.cell != before.cell {
                     return Err(fail(format!("cell changed on a collision: {:?}", s.cell)));
                 }
-                if fl.excluded_disk != m || fl.excluded_edge != NONE {
+                if fl.excluded_disk != Some(m) || fl.excluded_edge.is_some() {
                     return Err(fail(format!("exclusions after collision {m}: {fl:?}")));
                 }
             }
@@ -810,19 +814,20 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
                         "|v|^2 changed on a crossing: {e2_before:e} -> {e2:e}"
                     )));
                 }
-                if s.cell != before.cell.across(k) {
+                let edge = &lat.cell().edges[k as usize];
+                if s.cell != before.cell.across(edge) {
                     return Err(fail(format!(
                         "cell {:?} after crossing {k}, expected {:?}",
                         s.cell,
-                        before.cell.across(k)
+                        before.cell.across(edge)
                     )));
                 }
-                if fl.excluded_edge != k {
+                if fl.excluded_edge != Some(edge.entered) {
                     return Err(fail(format!("exclusions after crossing {k}: {fl:?}")));
                 }
             }
         }
-        for (m, c) in lat.trap.vertices.iter().enumerate() {
+        for (m, c) in lat.trap().vertices.iter().enumerate() {
             let r2 = fl.pos.sub(c).norm2();
             if r2.is_nan() || r2 < 1.0 - 256.0 * U {
                 return Err(fail(format!(
@@ -832,7 +837,7 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
             }
         }
         for k in 0..3 {
-            let sig = lat.trap.edge_distance(k, &fl.pos);
+            let sig = lat.trap().edge_distance(k, &fl.pos);
             if sig.is_nan() || sig < -256.0 * U * a {
                 return Err(fail(format!(
                     "outside edge {k} after {:?}: sigma = {sig:e}",
@@ -840,7 +845,7 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
                 )));
             }
         }
-        let d = lat.unwrapped(&s, 0.0).displacement_from(&u_before, a, h);
+        let d = lat.unwrapped(&s, 0.0).displacement_from(&u_before, &basis);
         let err = ((d[0] - ev.time * vx).powi(2) + (d[1] - ev.time * vy).powi(2)).sqrt();
         if err.is_nan() || err > 64.0 * f64::EPSILON * (a + ev.time) {
             return Err(fail(format!("unwrapped jump {err:e} over {:?}", ev.kind)));

@@ -10,10 +10,10 @@
 //! (computed along the f64 orbit by [`super::birkhoff::Tangent`]).
 
 use crate::error::Error;
-use crate::kernel::trap::EventKind;
 use crate::kernel::vec2::Vec2;
+use crate::kernel::{CellKernel, ConvexCell, EventKind};
 use crate::real::Real;
-use crate::scenes::lattice::{LatticeState, PeriodicLattice};
+use crate::scenes::lattice::{Lattice, LatticeState};
 
 /// Outcome of a reversal experiment.
 #[derive(Debug, Clone)]
@@ -31,8 +31,8 @@ pub struct Reversal<T> {
 /// Runs `n ≥ 1` collisions forward from `start` (a free-flight state with nothing excluded),
 /// reverses, and runs `n` collisions back (the first of which re-does the last forward one at
 /// zero flight time).
-pub fn reverse_and_return<T: Real>(
-    lat: &PeriodicLattice<T>,
+pub fn reverse_and_return<T: Real, K: CellKernel<T>>(
+    lat: &Lattice<T, K>,
     start: &LatticeState<T>,
     n: u64,
 ) -> Result<Reversal<T>, Error> {
@@ -81,17 +81,13 @@ fn world_velocity<T: Real>(s: &LatticeState<T>) -> Vec2<T> {
 
 /// Largest singular value of the flow Jacobian over the first `n` collisions of the orbit from
 /// `start` (computed in f64 along the `T` orbit), and the number of events on the way.
-pub fn amplification<T: Real>(
-    lat: &PeriodicLattice<T>,
+pub fn amplification<T: Real, K: CellKernel<T>>(
+    lat: &Lattice<T, K>,
     start: &LatticeState<T>,
     n: u64,
 ) -> Result<(f64, u64), Error> {
     use super::birkhoff::Tangent;
-    let verts64 = lat
-        .trap
-        .vertices
-        .clone()
-        .map(|v| Vec2::new(v.x.to_f64(), v.y.to_f64()));
+    let cell64 = cell_to_f64(lat.cell());
     let mut s = start.clone();
     let mut tan = Tangent::default();
     let (mut c, mut events, mut max) = (0, 0u64, 1.0f64);
@@ -100,11 +96,11 @@ pub fn amplification<T: Real>(
             .next_event(&s)
             .ok_or_else(|| Error::Invalid("no next event".into()))?;
         let f64s = s.flight.to_f64();
-        let e64 = crate::kernel::trap::Event {
+        let e64 = crate::kernel::Event {
             kind: ev.kind,
             time: ev.time.to_f64(),
         };
-        tan.push(&f64s, &e64, &verts64);
+        tan.push(&f64s, &e64, &cell64);
         lat.apply(&mut s, &ev);
         events += 1;
         if let EventKind::Collision(_) = ev.kind {
@@ -113,6 +109,38 @@ pub fn amplification<T: Real>(
         }
     }
     Ok((max, events))
+}
+
+/// The nearest-`f64` copy of a cell (for the f64 tangent map along an orbit of any precision).
+pub fn cell_to_f64<T: Real>(c: &ConvexCell<T>) -> ConvexCell<f64> {
+    use crate::kernel::cell::{Edge, EdgeMap, LatticeBasis};
+    let v = |p: &Vec2<T>| Vec2::new(p.x.to_f64(), p.y.to_f64());
+    ConvexCell {
+        corners: c.corners.iter().map(v).collect(),
+        radius: c.radius.to_f64(),
+        radius2: c.radius2.to_f64(),
+        disks: c.disks.iter().map(v).collect(),
+        edges: c
+            .edges
+            .iter()
+            .map(|e| Edge {
+                normal: v(&e.normal),
+                offset: e.offset.to_f64(),
+                map: match &e.map {
+                    EdgeMap::Translation(t) => EdgeMap::Translation(v(t)),
+                    EdgeMap::PointReflection(p) => EdgeMap::PointReflection(v(p)),
+                },
+                entered: e.entered,
+                disks_after: e.disks_after.clone(),
+                step: e.step,
+            })
+            .collect(),
+        lattice: LatticeBasis {
+            a: c.lattice.a.to_f64(),
+            beta: c.lattice.beta.to_f64(),
+            h: c.lattice.h.to_f64(),
+        },
+    }
 }
 
 /// The reversal error bound 2·E·K·u·max‖J‖ with E events forward (as many back) and the

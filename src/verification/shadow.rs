@@ -10,7 +10,7 @@ use rug::Float;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
-use crate::kernel::trap::{Event, EventKind, Flight, Trap};
+use crate::kernel::{CellKernel, ConvexCell, Event, EventKind, Flight};
 use crate::real::Real;
 
 /// One candidate event computed at reference precision, with the quantities the error model
@@ -62,29 +62,37 @@ fn label(k: EventKind) -> String {
 const U: f64 = f64::EPSILON / 2.0;
 
 /// Candidates at reference precision (same exclusions as the f64 state), each with its bound.
-fn candidates(tr: &Trap<Float>, f: &Flight<Float>) -> Vec<Candidate> {
-    let a = tr.a.to_f64();
+///
+/// The bounds are written for any [`ConvexCell`]: `a` below is the cell's extent (the largest
+/// |coordinate| of its corners and disk centres, the spacing a for the triangular trap), r² the
+/// squared disk radius (1 there), so for the triangular trap they are the bounds of
+/// `proofs-notes/error-model.md` term by term.
+fn candidates(cell: &ConvexCell<Float>, f: &Flight<Float>) -> Vec<Candidate> {
+    let a = cell.extent();
+    let r2 = cell.radius2.to_f64();
     let mut out = Vec::new();
     let (p, v) = (&f.pos, &f.vel);
     let vv = v.norm2();
-    for m in 0..3u8 {
-        if m == f.excluded_disk {
+    for (m, c) in cell.disks.iter().enumerate() {
+        let m = m as u8;
+        if f.excluded_disk == Some(m) {
             continue;
         }
-        let d = p.sub(&tr.vertices[m as usize]);
+        let d = p.sub(c);
         let beta = d.dot(v);
         let q = d.cross(v);
-        let disc = vv.clone() - &Real::square(&q);
+        let disc = vv.clone() * &cell.radius2 - &Real::square(&q);
         let dn = d.norm2().sqrt().to_f64();
         // Error model (first order, each term doubled): the f64 centre differs from the exact
-        // one by ≤ u·a per component, each operation adds its rounding.
+        // one by ≤ u·a per component, each operation adds its rounding; r² is rounded once.
         let e_d = U * (dn + 2.0 * a);
         let e_beta = 2.0 * (2.0 * e_d + 2.0 * U * dn);
-        let e_disc = 2.0 * (4.0 * U + 2.0 * q.to_f64().abs() * (2.0 * e_d + 2.0 * U * dn) + U);
+        let e_disc =
+            2.0 * (4.0 * U * r2 + 2.0 * q.to_f64().abs() * (2.0 * e_d + 2.0 * U * dn) + U * r2);
         if !beta.lt0() {
-            // Moving away: the f64 sign of β can flip only if |β| ≤ e_β; then Δ ≈ |v|² and the
+            // Moving away: the f64 sign of β can flip only if |β| ≤ e_β; then Δ ≈ |v|²r² and the
             // root is t ≈ γ/(2|β|) ≥ …: such a start sits on the disk surface, handled by γ ≤ 0.
-            if beta.to_f64().abs() > e_beta || d.norm2().to_f64() > 1.0 + 8.0 * U * dn * dn {
+            if beta.to_f64().abs() > e_beta || d.norm2().to_f64() > r2 + 8.0 * U * dn * dn {
                 continue;
             }
         }
@@ -92,7 +100,7 @@ fn candidates(tr: &Trap<Float>, f: &Flight<Float>) -> Vec<Candidate> {
         if disc64 <= -e_disc {
             continue;
         }
-        let gamma = d.norm2() - 1u32;
+        let gamma = d.norm2() - &cell.radius2;
         let sq = if disc.is_sign_positive() {
             disc.clone().sqrt()
         } else {
@@ -109,7 +117,7 @@ fn candidates(tr: &Trap<Float>, f: &Flight<Float>) -> Vec<Candidate> {
             denom.to_f64().max(f64::MIN_POSITIVE),
             sq.to_f64(),
         );
-        let e_gamma = 2.0 * (2.0 * dn * e_d + 3.0 * U * dn * dn + U);
+        let e_gamma = 2.0 * (2.0 * dn * e_d + 3.0 * U * dn * dn + U * r2);
         let e_sq = if sq64 > 0.0 {
             e_disc / (2.0 * sq64) + U * sq64
         } else {
@@ -124,12 +132,13 @@ fn candidates(tr: &Trap<Float>, f: &Flight<Float>) -> Vec<Candidate> {
             disc: Some((disc64, e_disc)),
         });
     }
-    for k in 0..3u8 {
-        if k == f.excluded_edge {
+    for (k, e) in cell.edges.iter().enumerate() {
+        let k = k as u8;
+        if f.excluded_edge == Some(k) {
             continue;
         }
-        let nv = tr.normals[k as usize].dot(v);
-        let sigma = tr.edge_distance(k as usize, p);
+        let nv = e.normal.dot(v);
+        let sigma = cell.edge_distance(k as usize, p);
         let (nv64, s64) = (nv.to_f64(), sigma.to_f64());
         let e_nv = 4.0 * U;
         let e_sigma = 4.0 * U * (p.norm2().sqrt().to_f64() + 2.0 * a);
@@ -159,12 +168,13 @@ fn candidates(tr: &Trap<Float>, f: &Flight<Float>) -> Vec<Candidate> {
 ///
 /// # Errors
 /// If `bits < 53` or the f64 state has no next event.
-pub fn check_event(
-    t64: &Trap<f64>,
-    tref: &Trap<Float>,
+pub fn check_event<K64: CellKernel<f64>, KRef: CellKernel<Float>>(
+    t64: &K64,
+    tref: &KRef,
     f: &Flight<f64>,
 ) -> Result<EventCheck, Error> {
-    let bits = tref.a.prec();
+    let cell = tref.cell();
+    let bits = cell.radius2.prec();
     <Float as Real>::check_ctx(bits)?;
     let e64: Event<f64> = t64
         .next_event(f)
@@ -173,7 +183,7 @@ pub fn check_event(
     let er: Event<Float> = tref
         .next_event(&fr)
         .ok_or_else(|| Error::Invalid("reference state has no next event".into()))?;
-    let cands = candidates(tref, &fr);
+    let cands = candidates(cell, &fr);
     let best = cands.iter().find(|c| c.kind == er.kind);
     let best_bound = best.map(|c| c.time_bound).unwrap_or(f64::INFINITY);
     // Ambiguous: another candidate within the combined bounds of the best, or a disk in the
@@ -195,11 +205,13 @@ pub fn check_event(
     let lifted = Flight::<Float>::convert_from_f64(bits, &a64);
     let position_error = lifted.pos.sub(&ar.pos).norm2().sqrt().to_f64();
     let velocity_error = lifted.vel.sub(&ar.vel).norm2().sqrt().to_f64();
-    let a = tref.a.to_f64();
+    let a = cell.extent();
+    let r = cell.radius.to_f64();
     // Position: the time error along |v| ≈ 1, plus rounding of x = p + t v and of the frame map.
     let position_bound = best_bound + 4.0 * U * (2.0 * a + er.time.to_f64());
-    // Velocity: v' = v − 2(v·n)n with n = x − Pₘ; |δv'| ≤ 4|δn| + 8u, |δn| ≤ |δx| + u(1 + 2a).
-    let velocity_bound = 4.0 * (position_bound + U * (1.0 + 2.0 * a)) + 8.0 * U;
+    // Velocity: v' = v − 2(v·n)n/r² with n = x − c, |n| = r; |δv'| ≤ 4|δn|/r + 8u,
+    // |δn| ≤ |δx| + u(r + 2a) (r = 1 for the triangular trap).
+    let velocity_bound = 4.0 * (position_bound + U * (r + 2.0 * a)) / r + 8.0 * U;
     let same = e64.kind == er.kind;
     let in_model = if same {
         time_error <= best_bound
