@@ -28,6 +28,22 @@ use crate::metadata::RunMeta;
 use crate::observables::counters::Counters;
 use crate::observables::msd::Msd;
 use crate::precision::AtPrecision;
+/// Refuses a scene in which the diffusion coefficient does not exist: with an infinite horizon
+/// (collision-free corridors) free flights have a distribution with ⟨ℓ²⟩ = ∞, the mean squared
+/// displacement grows like t ln t and the Einstein limit ⟨Δr²⟩/4t diverges (Bleher 1992).
+///
+/// # Errors
+/// For an infinite-horizon scene, with the reason.
+pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), Error> {
+    if scene.finite_horizon() {
+        return Ok(());
+    }
+    Err(Error::Invalid(format!(
+        "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use the triangular scene with 0 < w < w_inf = 0.3094...",
+        scene.label()
+    )))
+}
+
 pub use crate::precision::Precision;
 use crate::real::Real;
 use crate::sampling::{equilibrium_state, Purpose, StreamKey};

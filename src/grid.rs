@@ -58,6 +58,34 @@ pub fn parse_decimal(s: &str) -> Result<Rational, Error> {
     Ok(r)
 }
 
+/// An exact number as a user types it: a decimal (`0.1`, `2.5e-3`) or a fraction of two
+/// decimals (`1/3`, `-2/7`), parsed exactly (never through a double).
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::grid::parse_exact;
+/// use rug::Rational;
+/// assert_eq!(parse_exact("1/3").unwrap(), Rational::from((1, 3)));
+/// assert_eq!(parse_exact("0.1").unwrap(), Rational::from((1, 10)));
+/// assert!(parse_exact("1/0").is_err());
+/// assert!(parse_exact("1/3/4").is_err());
+/// ```
+pub fn parse_exact(s: &str) -> Result<Rational, Error> {
+    match s.split_once('/') {
+        None => parse_decimal(s),
+        Some((n, d)) => {
+            let (n, d) = (parse_decimal(n)?, parse_decimal(d)?);
+            if d == 0 {
+                return Err(Error::Invalid(format!(
+                    "'{s}' divides by zero: use a decimal such as 0.25 or a fraction such as 1/3"
+                )));
+            }
+            Ok(n / d)
+        }
+    }
+}
+
 /// The double nearest to an exact rational (ties to even).
 pub fn nearest_f64(r: &Rational) -> f64 {
     Float::with_val(f64::MANTISSA_DIGITS, r).to_f64()

@@ -101,12 +101,16 @@ pub struct GapArg {
 /// The billiard table of a command that works on any scene (`audit`, `lyapunov`, `certify`).
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// The scene: `triangular` (disks of radius 1 at spacing 2 + w, needs --w).
+    /// The scene: `triangular` (disks of radius 1 at spacing 2 + w, needs --w) or `square`
+    /// (disks of radius r at unit spacing, needs --radius).
     #[arg(long, default_value = "triangular")]
     pub scene: SceneName,
     /// Gap w of the triangular scene: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
     #[arg(long, allow_negative_numbers = true)]
     pub w: Option<f64>,
+    /// Disk radius of the square scene, exact (a decimal or a fraction such as 1/3): 0 < r < 1/2.
+    #[arg(long, allow_hyphen_values = true)]
+    pub radius: Option<String>,
 }
 
 /// The scenes a command can run on.
@@ -114,20 +118,44 @@ pub struct SceneArgs {
 pub enum SceneName {
     /// The triangular Lorentz gas of the paper.
     Triangular,
+    /// The square Lorentz gas (Sinai billiard).
+    Square,
 }
 
 /// A resolved scene, ready for the library's scene-generic analyses (see [`with_scene`]).
 pub enum SceneChoice {
     /// The triangular lattice.
-    Triangular(lorentz_gas::scenes::triangular::TriangularScene),
+    Triangular(Box<lorentz_gas::scenes::triangular::TriangularScene>),
+    /// The square lattice.
+    Square(lorentz_gas::scenes::square::SquareScene),
 }
 
 impl SceneArgs {
     /// The scene the options describe, with every parameter checked.
     pub fn resolve(&self) -> Result<SceneChoice, lorentz_gas::error::Error> {
         use lorentz_gas::error::Error;
+        let refuse = |flag: &str, scene: &str| {
+            Err(Error::Invalid(format!(
+                "{flag} does not apply to the {scene} scene: use --w with --scene triangular, --radius with --scene square"
+            )))
+        };
         match self.scene {
+            SceneName::Square => {
+                if self.w.is_some() {
+                    return refuse("--w", "square");
+                }
+                let r = self.radius.as_deref().ok_or_else(|| {
+                    Error::Invalid("the square scene needs --radius: 0 < radius < 1/2".into())
+                })?;
+                let r = lorentz_gas::grid::parse_exact(r)?;
+                Ok(SceneChoice::Square(
+                    lorentz_gas::scenes::square::SquareScene::exact(r)?,
+                ))
+            }
             SceneName::Triangular => {
+                if self.radius.is_some() {
+                    return refuse("--radius", "triangular");
+                }
                 let w = self.w.ok_or_else(|| {
                     Error::Invalid(
                         "the triangular scene needs --w: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094..."
@@ -135,9 +163,9 @@ impl SceneArgs {
                     )
                 })?;
                 lorentz_gas::geometry::check_diffusive_gap(w)?;
-                Ok(SceneChoice::Triangular(
+                Ok(SceneChoice::Triangular(Box::new(
                     lorentz_gas::scenes::triangular::TriangularScene::new(w)?,
-                ))
+                )))
             }
         }
     }
@@ -148,7 +176,11 @@ impl SceneArgs {
 macro_rules! with_scene {
     ($choice:expr, |$s:ident| $body:expr) => {
         match $choice {
-            $crate::cli::args::SceneChoice::Triangular($s) => $body,
+            $crate::cli::args::SceneChoice::Triangular($s) => {
+                let $s: &lorentz_gas::scenes::triangular::TriangularScene = $s;
+                $body
+            }
+            $crate::cli::args::SceneChoice::Square($s) => $body,
         }
     };
 }

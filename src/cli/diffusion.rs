@@ -5,14 +5,16 @@ use std::path::PathBuf;
 use lorentz_gas::diffusion::{self, AuditSpec, DiffusionConfig, DiffusionReport, Window};
 use lorentz_gas::error::Error;
 
-use super::args::{parse_count, parse_count_u32, GapArg, OutputArgs, PrecisionArg, RunArgs};
+use super::args::{
+    parse_count, parse_count_u32, OutputArgs, PrecisionArg, RunArgs, SceneArgs, SceneChoice,
+};
 use super::output::{emit, sigmas};
 use super::progress::Progress;
 
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    gap: GapArg,
+    scene: SceneArgs,
     /// Total collisions over all batches (2e9, 2_000_000_000 and 2000000000 all work).
     #[arg(long, default_value = "2e9", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
@@ -43,8 +45,15 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
+    let w = match a.scene.resolve()? {
+        SceneChoice::Triangular(s) => s.w(),
+        SceneChoice::Square(s) => {
+            diffusion::require_finite_horizon(&s)?;
+            unreachable!("the square scene has an infinite horizon")
+        }
+    };
     let cfg = DiffusionConfig {
-        w: a.gap.w,
+        w,
         collisions: a.collisions,
         batches: a.batches,
         seed: a.run.seed,

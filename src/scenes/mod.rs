@@ -11,12 +11,15 @@
 //!   bounded offsets, unwrapped positions).
 //! * [`triangular`]: the triangular lattice of disks of radius 1 at spacing 2 + w (the paper),
 //!   on the trap's fused kernel.
+//! * [`square`]: disks of radius 0 < r < 1/2 on the unit square lattice (the Sinai billiard;
+//!   always infinite horizon), on the generic kernel.
 //! * [`single_trap`]: one trap of three disks and its gaps, for injection experiments.
 //!
 //! A new scene is one file implementing [`Scene`]; it never touches [`crate::kernel`].
 
 pub mod lattice;
 pub mod single_trap;
+pub mod square;
 pub mod triangular;
 
 use rand::Rng;

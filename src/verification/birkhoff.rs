@@ -79,9 +79,9 @@ pub fn next_collision<K: CellKernel<Float>>(
             let f = &st.flight;
             let c = &lat.cell().disks[m as usize];
             // Normal and velocity in world orientation: both flip with the trap's sign, so
-            // n × v (= sin φ) is frame independent and θ = atan2(s·n).
+            // n × v / r (= sin φ, |n| = r) is frame independent and θ = atan2(s·n).
             let (mut nx, mut ny) = (f.pos.x.clone() - &c.x, f.pos.y.clone() - &c.y);
-            let p = nx.clone() * &f.vel.y - &(ny.clone() * &f.vel.x);
+            let p = (nx.clone() * &f.vel.y - &(ny.clone() * &f.vel.x)) / &lat.cell().radius;
             if st.cell.down {
                 nx = -nx;
                 ny = -ny;

@@ -1,0 +1,333 @@
+//! The square Lorentz gas (disks of radius 0 < r < 1/2 at unit spacing) on the generic cell
+//! kernel: the checks every scene must pass.
+//!
+//! * Santaló's mean free path (1 − πr²)/(2r), within 4σ of batch means;
+//! * no missed collision: every free flight, unwrapped into the world, misses every disk of the
+//!   surrounding 5×5 block except the one it ends on (brute force at 256 bits);
+//! * property tests per scalar type (f64, MPFR 128 bits), seeded and shrinking: energy
+//!   ||v|² − 1| ≤ 128u·(1 + 1/(2r)) after every event, a crossing leaves v bit for bit (a translation), no
+//!   post-event position inside the disk by more than 256u or outside the cell by more than
+//!   256u, exclusions by identity, one-event reversal;
+//! * reversibility of long orbits within the amplification bound, Liouville |det DT| = 1 of the
+//!   Birkhoff map, the shadow audit with 0 events outside the error model.
+
+use lorentz_gas::kernel::vec2::Vec2;
+use lorentz_gas::kernel::{EventKind, Flight};
+use lorentz_gas::real::Real;
+use lorentz_gas::sampling::stream;
+use lorentz_gas::scenes::lattice::LatticeState;
+use lorentz_gas::scenes::square::SquareScene;
+use lorentz_gas::scenes::Scene;
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use rand::Rng;
+use rug::{Float, Rational};
+
+fn scene(r: f64) -> SquareScene {
+    SquareScene::new(r).unwrap()
+}
+
+/// Mean free path: total flight time over collisions, 16 independent equilibrium batches of
+/// 2·10⁵ collisions each at three radii; the batch means' standard error is the σ. (The infinite
+/// horizon gives the free-path density an ℓ⁻³ tail, so ⟨ℓ²⟩ diverges logarithmically; at these
+/// radii the corridors are narrow and the batch spread still measures the error — a 4σ bound.)
+#[test]
+fn mean_free_path_is_santalos() {
+    for (k, &r) in [0.1, 1.0 / 3.0, 0.45].iter().enumerate() {
+        let s = scene(r);
+        let lat = s.lattice::<f64>(()).unwrap();
+        let means: Vec<f64> = (0..16u64)
+            .map(|b| {
+                let mut st = s.sample(&mut stream(71 + k as u64, b));
+                let (mut t, mut c) = (0.0, 0u64);
+                // Start the clock at the first collision (the first flight is not a free path).
+                while !matches!(lat.step(&mut st).unwrap().kind, EventKind::Collision(_)) {}
+                while c < 200_000 {
+                    let ev = lat.step(&mut st).unwrap();
+                    t += ev.time;
+                    if let EventKind::Collision(_) = ev.kind {
+                        c += 1;
+                    }
+                }
+                t / c as f64
+            })
+            .collect();
+        let n = means.len() as f64;
+        let m = means.iter().sum::<f64>() / n;
+        let se = (means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+        let exact = s.mean_free_path();
+        assert!(
+            (m - exact).abs() < 4.0 * se,
+            "r = {r}: <l> = {m} ± {se}, Santalo {exact}"
+        );
+    }
+}
+
+/// Brute force at 256 bits: the world segment of every flight meets no disk of the 5×5 block of
+/// integer points around its start, except at its end when the event is a collision.
+#[test]
+fn no_collision_is_missed() {
+    let bits = 256;
+    for (k, &r) in [0.05, 0.25, 0.49].iter().enumerate() {
+        let s = scene(r);
+        let lat = s.lattice::<Float>(bits).unwrap();
+        let r2 = Float::with_val(bits, &lat.cell().radius2);
+        let s64 = s.sample(&mut stream(81, k as u64));
+        let mut st = LatticeState::<Float>::convert_from_f64(bits, &s64);
+        for i in 0..20_000 {
+            let a = lat.world(&st);
+            let ev = lat.step(&mut st).unwrap();
+            let b = lat.world(&st);
+            let (ci, cj) = (st.cell.i, st.cell.j);
+            for di in -2..=2i64 {
+                for dj in -2..=2i64 {
+                    let c = Vec2::new(
+                        Float::with_val(bits, ci + di),
+                        Float::with_val(bits, cj + dj),
+                    );
+                    // Distance² from c to the segment [a, b], minus r².
+                    let ab = b.sub(&a);
+                    let ac = c.sub(&a);
+                    let l2 = ab.norm2();
+                    let mut t = if l2.is_zero() {
+                        Float::with_val(bits, 0)
+                    } else {
+                        ac.dot(&ab) / &l2
+                    };
+                    t = t.clamp(&0, &1);
+                    let p = a.along(&t, &ab);
+                    let gap = (p.sub(&c).norm2() - &r2).to_f64();
+                    let ends_here =
+                        matches!(ev.kind, EventKind::Collision(_)) && di == 0 && dj == 0;
+                    if !ends_here {
+                        assert!(
+                            gap > -1e-60,
+                            "r = {r} event {i}: flight crosses disk ({}, {}): {gap:e}",
+                            ci + di,
+                            cj + dj
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn runner(cases: u32) -> TestRunner {
+    let cfg = Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    };
+    TestRunner::new_with_rng(cfg, TestRng::from_seed(RngAlgorithm::ChaCha, &[9; 32]))
+}
+
+/// A free start in the cell from three numbers in [0, 1) (a walk until outside the disk, so that
+/// shrinking still acts on the inputs).
+fn start(r: f64, u1: f64, u2: f64, u3: f64) -> Flight<f64> {
+    let p = (0..256)
+        .find_map(|i| {
+            let x = (u1 + i as f64 * 0.618_033_988_749_895).fract() - 0.5;
+            let y = (u2 + i as f64 * 0.414_213_562_373_095).fract() - 0.5;
+            (x * x + y * y >= r * r).then(|| Vec2::new(x, y))
+        })
+        .unwrap_or(Vec2::new(0.5, 0.5));
+    let ang = 2.0 * std::f64::consts::PI * u3;
+    Flight::new(p, Vec2::new(ang.cos(), ang.sin()))
+}
+
+macro_rules! square_properties {
+    ($name:ident, $t:ty, $ctx:expr, $cases:expr) => {
+        mod $name {
+            use super::*;
+            type T = $t;
+            fn ctx() -> <T as Real>::Ctx {
+                $ctx
+            }
+            fn u() -> f64 {
+                <T as Real>::unit_roundoff(ctx())
+            }
+            fn lift(f: &Flight<f64>) -> Flight<T> {
+                let mut g = Flight::<T>::convert_from_f64(ctx(), f);
+                g.normalise_speed();
+                g
+            }
+
+            #[test]
+            fn energy_cell_and_exclusions_hold_after_every_event() {
+                runner($cases)
+                    .run(
+                        &(0.01f64..0.4999, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0),
+                        |(r, u1, u2, u3)| {
+                            let cell = scene(r).kernel::<T>(ctx()).unwrap();
+                            let mut f = lift(&start(r, u1, u2, u3));
+                            let tol = 256.0 * u();
+                            for _ in 0..200 {
+                                let v_in = f.vel.clone();
+                                let ev = cell.next_event(&f).unwrap();
+                                prop_assert!(ev.time.to_f64() >= 0.0);
+                                cell.apply(&mut f, &ev);
+                                // One reflection's rounding: 128u for the unit disks of the
+                                // triangular trap; with |n| = r the contact point's absolute
+                                // error u·(½ + t) is relative u(½ + t)/r, so the band widens by
+                                // the factor 1 + 1/(2r) (proofs-notes/energy.md).
+                                let e2 = f.vel.norm2().add_f64(-1.0).to_f64();
+                                let band = 128.0 * u() * (1.0 + 0.5 / r);
+                                prop_assert!(e2.abs() <= band, "|v|^2 - 1 = {e2:e}");
+                                match ev.kind {
+                                    EventKind::Crossing(k) => {
+                                        // A translation: the velocity is untouched, bit for bit.
+                                        prop_assert!(f.vel == v_in, "crossing {k} changed v");
+                                        prop_assert_eq!(
+                                            f.excluded_edge,
+                                            Some(cell.edges[k as usize].entered)
+                                        );
+                                        prop_assert_eq!(f.excluded_disk, None);
+                                    }
+                                    EventKind::Collision(m) => {
+                                        prop_assert_eq!(f.excluded_disk, Some(m));
+                                        prop_assert_eq!(f.excluded_edge, None);
+                                    }
+                                }
+                                let d =
+                                    (f.pos.sub(&cell.disks[0]).norm2() - &cell.radius2).to_f64();
+                                prop_assert!(d >= -tol, "inside the disk: {d:e}");
+                                for k in 0..4 {
+                                    let s = cell.edge_distance(k, &f.pos).to_f64();
+                                    prop_assert!(s >= -tol, "outside edge {k}: {s:e}");
+                                }
+                            }
+                            Ok(())
+                        },
+                    )
+                    .unwrap();
+            }
+
+            #[test]
+            fn single_event_reversal_returns_within_the_one_step_bound() {
+                runner($cases)
+                    .run(
+                        &(0.01f64..0.4999, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0),
+                        |(r, u1, u2, u3)| {
+                            let cell = scene(r).kernel::<T>(ctx()).unwrap();
+                            let mut f = lift(&start(r, u1, u2, u3));
+                            // Fly to the first collision (crossings on the way are translations).
+                            let ev = loop {
+                                let ev = cell.next_event(&f).unwrap();
+                                if matches!(ev.kind, EventKind::Collision(_)) {
+                                    break ev;
+                                }
+                                cell.apply(&mut f, &ev);
+                            };
+                            let v0 = f.vel.clone();
+                            cell.apply(&mut f, &ev);
+                            let x1 = f.pos.clone();
+                            f.reverse();
+                            let back = cell.next_event(&f).unwrap();
+                            prop_assert_eq!(back.kind, ev.kind);
+                            prop_assert!(back.time.to_f64() <= 256.0 * u());
+                            cell.apply(&mut f, &back);
+                            let dv = Vec2::new(f.vel.x.clone() + &v0.x, f.vel.y.clone() + &v0.y)
+                                .norm2()
+                                .sqrt()
+                                .to_f64();
+                            // Two reflections with |n| = r: the error scales like u/r.
+                            prop_assert!(dv <= 4.0 * 256.0 * u() / r, "velocity error {dv:e}");
+                            let dx = f.pos.sub(&x1).norm2().sqrt().to_f64();
+                            prop_assert!(dx <= 256.0 * u(), "position moved by {dx:e}");
+                            Ok(())
+                        },
+                    )
+                    .unwrap();
+            }
+        }
+    };
+}
+
+square_properties!(f64_square, f64, (), 1000);
+square_properties!(mpfr128_square, Float, 128, 150);
+
+/// N collisions forward, reverse, N back: the error stays within the bound 2E·256u·max‖J‖ of
+/// `proofs-notes/reversibility.md`, at f64 and at 256 bits.
+#[test]
+fn long_orbits_reverse_within_the_amplification_bound() {
+    use lorentz_gas::verification::reversibility::{
+        amplification, reversal_bound, reverse_and_return,
+    };
+    let s = scene(1.0 / 3.0);
+    for k in 0..4u64 {
+        let s64 = s.sample(&mut stream(91, k));
+        for n in [5u64, 15] {
+            let lat = s.lattice::<f64>(()).unwrap();
+            let rev = reverse_and_return(&lat, &s64, n).unwrap();
+            let (amp, events) = amplification(&lat, &s64, n).unwrap();
+            let bound = reversal_bound(f64::EPSILON / 2.0, events, amp);
+            assert!(
+                rev.position_error <= bound,
+                "f64 n={n}: {} > {bound:e}",
+                rev.position_error
+            );
+            let lat = s.lattice::<Float>(256).unwrap();
+            let st = LatticeState::<Float>::convert_from_f64(256, &s64);
+            let rev = reverse_and_return(&lat, &st, n).unwrap();
+            let bound = reversal_bound((-256f64).exp2(), events, amp);
+            assert!(rev.position_error.to_f64() <= bound, "256 bits n={n}");
+        }
+    }
+}
+
+/// Liouville: |det DT| = 1 for the Birkhoff map, by central differences at 256 bits
+/// (h = 2⁻⁹⁰; the error budget of `proofs-notes/liouville.md` with curvature 1/r ≤ 20).
+#[test]
+fn birkhoff_map_preserves_phase_space_volume() {
+    use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
+    let bits = 256;
+    let h = Float::with_val(bits, Float::i_exp(1, -90));
+    let mut rng = stream(92, 0);
+    let mut checked = 0;
+    while checked < 16 {
+        let r = 0.05 + 0.44 * rng.random::<f64>();
+        let s = Float::with_val(bits, 2.0 * std::f64::consts::PI * rng.random::<f64>());
+        let p = Float::with_val(bits, 1.9 * rng.random::<f64>() - 0.95);
+        let Some(j) = birkhoff_jacobian(&scene(r), bits, &s, &p, &h).unwrap() else {
+            continue;
+        };
+        let dev = (det2(&j).abs() - 1u32).abs().to_f64();
+        assert!(dev < 1e-30, "r = {r}: |det| - 1 = {dev:e}");
+        checked += 1;
+    }
+}
+
+/// The shadow audit on the square scene: 2·10⁵ collisions (about 6·10⁵ events) replayed at
+/// 128 bits, none outside the one-step error model; the radius 1/3 is taken exactly, so the
+/// reference runs at the exact radius while the f64 run uses its nearest double.
+#[test]
+fn shadow_audit_finds_nothing_outside_the_model() {
+    use lorentz_gas::verification::audit::{audit_run, AuditConfig};
+    let s = SquareScene::exact(Rational::from((1, 3))).unwrap();
+    let cfg = AuditConfig {
+        scene: s.label(),
+        collisions: 200_000,
+        trajectories: 2,
+        sample: 1.0,
+        bits: 128,
+        seed: 93,
+    };
+    let r = audit_run(&s, &cfg, 2, &|_| {}).unwrap();
+    assert!(r.summary.audited >= 200_000);
+    assert_eq!(
+        r.summary.outside,
+        0,
+        "{:?}",
+        r.summary.outside_events.first()
+    );
+}
+
+/// The horizon is infinite for every radius, and the Einstein D is refused.
+#[test]
+fn diffusion_is_refused_in_the_square_scene() {
+    let s = scene(0.45);
+    assert!(!s.finite_horizon());
+    let e = lorentz_gas::diffusion::require_finite_horizon(&s).unwrap_err();
+    assert!(e.to_string().contains("infinite horizon"), "{e}");
+}
