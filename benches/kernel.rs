@@ -3,8 +3,9 @@
 
 use divan::Bencher;
 use lorentz_gas::real::Real;
-use lorentz_gas::sampling::{equilibrium_state, stream};
+use lorentz_gas::sampling::stream;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::triangular::equilibrium_state;
 use rug::Float;
 
 fn main() {

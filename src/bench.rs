@@ -11,8 +11,9 @@ use crate::kernel::trap::Trap;
 use crate::metadata::RunMeta;
 use crate::precision::{AtPrecision, Precision};
 use crate::real::Real;
-use crate::sampling::{equilibrium_state, stream};
+use crate::sampling::stream;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
+use crate::scenes::triangular::equilibrium_state;
 
 /// Throughput measurement: the median of several timed repetitions.
 #[derive(Debug, Clone, Serialize)]

@@ -46,8 +46,9 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
 
 pub use crate::precision::Precision;
 use crate::real::Real;
-use crate::sampling::{equilibrium_state, Purpose, StreamKey};
+use crate::sampling::{Purpose, StreamKey};
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
+use crate::scenes::triangular::equilibrium_state;
 use crate::stats::{linear_fit, mean_se};
 use crate::verification::audit::{AuditSummary, Auditor};
 

@@ -15,9 +15,10 @@ use crate::observables::hops::Hops;
 use crate::parallel::{par_batches, share};
 use crate::precision::{AtPrecision, Precision};
 use crate::real::Real;
-use crate::sampling::{equilibrium_state, Purpose, StreamKey};
+use crate::sampling::{Purpose, StreamKey};
 use crate::scenes::lattice::TriangularLattice;
 use crate::scenes::single_trap::SingleTrap;
+use crate::scenes::triangular::equilibrium_state;
 use crate::stats::mean_se;
 use crate::symbols::{
     check_order, mirror_index, parse_sequence_index, reverse_index, sequence_name,

@@ -19,8 +19,9 @@ use crate::figures::{plot, PlotSpec, Series};
 use crate::kernel::trap::{Flight, Trap};
 use crate::metadata::RunMeta;
 use crate::real::Real;
-use crate::sampling::{equilibrium_state, Purpose, StreamKey};
+use crate::sampling::{Purpose, StreamKey};
 use crate::scenes::lattice::TriangularLattice;
+use crate::scenes::triangular::equilibrium_state;
 use crate::verification::lyapunov::{divergence, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS};
 
 /// One row of the report.

@@ -1,9 +1,5 @@
-//! Initial conditions from the invariant (Liouville) measure, and reproducible random streams.
-//!
-//! The invariant measure of the billiard flow is uniform in position over the free region and
-//! uniform in direction. Every trap is congruent to the canonical one and the lattice is
-//! homogeneous, so a start uniform in the canonical free trap with a uniform direction is a
-//! sample of the equilibrium measure of the whole lattice; no burn-in is needed.
+//! Reproducible random streams, and the scene-independent part of the invariant measure (a
+//! uniform direction). Positions are drawn by each scene's sampler ([`crate::scenes::Scene::sample`]).
 //!
 //! Streams: every random stream is named by a [`StreamKey`] — the user's seed, what the stream is
 //! for ([`Purpose`]), a run number and an index (the batch, trajectory or grid point) — and its
@@ -14,9 +10,7 @@
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use crate::kernel::trap::{Flight, Trap};
 use crate::kernel::vec2::Vec2;
-use crate::scenes::lattice::{CellIndex, LatticeState};
 
 /// What a random stream is used for. The purpose is part of the stream's key, so that, say, the
 /// events an audit samples are never drawn from the stream that started the trajectory.
@@ -159,31 +153,6 @@ pub fn direction<R: Rng + ?Sized>(rng: &mut R) -> Vec2<f64> {
     }
 }
 
-/// A point uniform in the free part of the canonical trap.
-pub fn position_in_trap<R: Rng + ?Sized>(trap: &Trap<f64>, rng: &mut R) -> Vec2<f64> {
-    loop {
-        let (mut u1, mut u2) = (rng.random::<f64>(), rng.random::<f64>());
-        if u1 + u2 > 1.0 {
-            u1 = 1.0 - u1;
-            u2 = 1.0 - u2;
-        }
-        let p = Vec2::new(u1 * trap.a + u2 * trap.a * 0.5, u2 * trap.h);
-        if trap.is_free(&p) {
-            return p;
-        }
-    }
-}
-
-/// A lattice state drawn from the invariant measure (trap (0, 0), up).
-pub fn equilibrium_state<R: Rng + ?Sized>(trap: &Trap<f64>, rng: &mut R) -> LatticeState<f64> {
-    let pos = position_in_trap(trap, rng);
-    let vel = direction(rng);
-    LatticeState {
-        cell: CellIndex::default(),
-        flight: Flight::new(pos, vel),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -244,6 +213,8 @@ mod tests {
 
     #[test]
     fn positions_fill_the_free_trap_uniformly() {
+        use crate::kernel::trap::Trap;
+        use crate::scenes::triangular::position_in_trap;
         // The fraction of samples in the left half (x < a/2) is 1/2 by symmetry.
         let trap = Trap::new(0.1).unwrap();
         let mut r = stream(2, 0);

@@ -5,8 +5,9 @@
 
 use lorentz_gas::kernel::trap::Event;
 use lorentz_gas::real::Real;
-use lorentz_gas::sampling::{equilibrium_state, stream};
+use lorentz_gas::sampling::stream;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::triangular::equilibrium_state;
 use rug::Float;
 
 fn same(a: f64, b: &Float) -> bool {

@@ -133,6 +133,47 @@ const BAD: &[(&[&str], &str)] = &[
         &["audit", "--w", "0.1", "--precision", "4000000000"],
         "65536",
     ),
+    // scenes
+    (
+        &["audit", "--scene", "square", "--radius", "0.5"],
+        "0 < radius < 1/2",
+    ),
+    (
+        &["audit", "--scene", "square", "--radius", "-1/3"],
+        "0 < radius < 1/2",
+    ),
+    (
+        &["audit", "--scene", "square", "--radius", "1/0"],
+        "divides by zero",
+    ),
+    (
+        &["audit", "--scene", "square", "--radius", "x"],
+        "not a decimal",
+    ),
+    (&["audit", "--scene", "square"], "needs --radius"),
+    (
+        &[
+            "audit", "--scene", "square", "--radius", "0.3", "--w", "0.1",
+        ],
+        "does not apply",
+    ),
+    (
+        &["audit", "--scene", "hexagonal", "--w", "0.1"],
+        "triangular",
+    ),
+    (
+        &["lyapunov", "--w", "0.1", "--radius", "0.3"],
+        "does not apply",
+    ),
+    (
+        &["certify", "--scene", "square", "--radius", "0.7"],
+        "0 < radius < 1/2",
+    ),
+    (
+        &["diffusion", "--scene", "square", "--radius", "1/3"],
+        "infinite horizon",
+    ),
+    (&["diffusion", "--collisions", "1e6"], "needs --w"),
     // lyapunov
     (&["lyapunov", "--w", "0.4"], "infinite"),
     (&["lyapunov", "--w", "0.1", "--orbits", "1"], "orbits"),

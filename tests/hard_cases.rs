@@ -4,8 +4,9 @@
 use lorentz_gas::geometry::Geometry;
 use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::sampling::{equilibrium_state, stream};
+use lorentz_gas::sampling::stream;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t, CompensatedSum};
 use lorentz_gas::verification::shadow::check_event;
 use rug::Float;

@@ -5,8 +5,9 @@ use lorentz_gas::diffusion::{run, DiffusionConfig};
 use lorentz_gas::geometry::Geometry;
 use lorentz_gas::kernel::trap::{EventKind, Flight};
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::sampling::{equilibrium_state, stream};
+use lorentz_gas::sampling::stream;
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState, TriangularLattice};
+use lorentz_gas::scenes::triangular::equilibrium_state;
 
 fn within(x: f64, err: f64, exact: f64, k: f64, what: &str) {
     assert!(err > 0.0 && err.is_finite(), "{what}: bad error {err}");

@@ -4,8 +4,9 @@
 use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::real::Real;
-use lorentz_gas::sampling::{equilibrium_state, stream};
+use lorentz_gas::sampling::stream;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t, welch_dof};

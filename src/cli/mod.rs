@@ -76,10 +76,14 @@ pub fn main() -> ExitCode {
             // clap's first line names the option and the reason; the usage lines that follow
             // are left to --help.
             let text = e.to_string();
-            eprintln!(
-                "{}",
-                text.lines().next().unwrap_or("error: invalid arguments")
-            );
+            let first = text.lines().next().unwrap_or("error: invalid arguments");
+            // An invalid choice names the valid ones on the same line.
+            match e.get(clap::error::ContextKind::ValidValue) {
+                Some(clap::error::ContextValue::Strings(v)) if !v.is_empty() => {
+                    eprintln!("{first}: use one of {}", v.join(", "))
+                }
+                _ => eprintln!("{first}"),
+            }
             return ExitCode::from(EXIT_BAD_INPUT);
         }
         Err(e) => {

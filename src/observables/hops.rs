@@ -89,8 +89,9 @@ impl Hops {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampling::{equilibrium_state, stream};
+    use crate::sampling::stream;
     use crate::scenes::lattice::TriangularLattice;
+    use crate::scenes::triangular::equilibrium_state;
     use crate::symbols::{Symbol, MAX_ORDER};
     use crate::theory::honeycomb::next_direction;
 

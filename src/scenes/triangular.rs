@@ -5,11 +5,13 @@
 use rand::Rng;
 use rug::Rational;
 
-use super::lattice::LatticeState;
+use super::lattice::{CellIndex, LatticeState};
 use super::Scene;
 use crate::error::Error;
 use crate::geometry::Geometry;
 use crate::kernel::trap::Trap;
+use crate::kernel::vec2::Vec2;
+use crate::kernel::Flight;
 use crate::real::Real;
 
 /// The triangular Lorentz gas at gap w.
@@ -68,7 +70,7 @@ impl Scene for TriangularScene {
     }
 
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> LatticeState<f64> {
-        crate::sampling::equilibrium_state(&self.trap64, rng)
+        equilibrium_state(&self.trap64, rng)
     }
 
     fn mean_free_path(&self) -> f64 {
@@ -79,5 +81,32 @@ impl Scene for TriangularScene {
 
     fn finite_horizon(&self) -> bool {
         self.w() < Geometry::<f64>::w_inf(())
+    }
+}
+
+/// A point uniform in the free part of the canonical trap.
+pub fn position_in_trap<R: Rng + ?Sized>(trap: &Trap<f64>, rng: &mut R) -> Vec2<f64> {
+    loop {
+        let (mut u1, mut u2) = (rng.random::<f64>(), rng.random::<f64>());
+        if u1 + u2 > 1.0 {
+            u1 = 1.0 - u1;
+            u2 = 1.0 - u2;
+        }
+        let p = Vec2::new(u1 * trap.a + u2 * trap.a * 0.5, u2 * trap.h);
+        if trap.is_free(&p) {
+            return p;
+        }
+    }
+}
+
+/// A lattice state drawn from the invariant measure (trap (0, 0), up): the invariant measure of
+/// the billiard flow is uniform in position over the free region and uniform in direction; every
+/// trap is congruent to the canonical one and the lattice is homogeneous, so no burn-in is needed.
+pub fn equilibrium_state<R: Rng + ?Sized>(trap: &Trap<f64>, rng: &mut R) -> LatticeState<f64> {
+    let pos = position_in_trap(trap, rng);
+    let vel = crate::sampling::direction(rng);
+    LatticeState {
+        cell: CellIndex::default(),
+        flight: Flight::new(pos, vel),
     }
 }
