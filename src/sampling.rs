@@ -32,6 +32,8 @@ pub enum Purpose {
     LatticeWalk,
     /// Perturbations and starts used by verification (divergence, certification, reports).
     Verification,
+    /// Initial conditions in the open strip of the escape-rate estimator.
+    Escape,
 }
 
 impl Purpose {
@@ -43,6 +45,7 @@ impl Purpose {
             Purpose::Injection => 3,
             Purpose::LatticeWalk => 4,
             Purpose::Verification => 5,
+            Purpose::Escape => 6,
         }
     }
 }
