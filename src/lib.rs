@@ -15,6 +15,8 @@
 //! * [`observables`]: mean squared displacement, event counters, trap-hopping statistics.
 //! * [`stats`]: batch means, blocking, least-squares fits (weighted, with χ²), Student-t quantiles.
 //! * [`diffusion`]: D(w) by the Einstein formula with error bars.
+//! * [`escape`]: D(w) from the escape rate out of an open strip (Gaspard–Baras), extrapolated in
+//!   the width.
 //! * [`theory`]: symbolic dynamics, the corrected Machta–Zwanzig hierarchy, App. A, exact and
 //!   simulated correlated lattice walks, hop-level Green–Kubo.
 //! * [`verification`]: shadows, audits, reversibility, Birkhoff-map Jacobians, Lyapunov exponents.
@@ -23,6 +25,7 @@
 pub mod bench;
 pub mod diffusion;
 pub mod error;
+pub mod escape;
 pub mod figures;
 pub mod geometry;
 pub mod grid;

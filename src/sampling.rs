@@ -26,6 +26,8 @@ pub enum Purpose {
     LatticeWalk,
     /// Perturbations and starts used by verification (divergence, certification, reports).
     Verification,
+    /// Initial conditions in the open strip of the escape-rate estimator.
+    Escape,
 }
 
 impl Purpose {
@@ -37,6 +39,7 @@ impl Purpose {
             Purpose::Injection => 3,
             Purpose::LatticeWalk => 4,
             Purpose::Verification => 5,
+            Purpose::Escape => 6,
         }
     }
 }

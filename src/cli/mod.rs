@@ -12,6 +12,7 @@ mod bench;
 mod certify;
 mod constants;
 mod diffusion;
+mod escape;
 mod figure;
 mod hops;
 mod lattice_walk;
@@ -43,6 +44,8 @@ struct Cli {
 enum Cmd {
     /// Diffusion coefficient D(w) by the Einstein formula, with standard errors from independent batches.
     Diffusion(diffusion::Args),
+    /// Diffusion coefficient from the escape rate out of open strips of several widths (Gaspard-Baras), extrapolated in 1/L.
+    Escape(escape::Args),
     /// Per-event shadow audit: replay f64 events in MPFR from the exact pre-event state and judge them against the error model.
     Audit(audit::Args),
     /// Largest Lyapunov exponent (tangent space) and the divergence of f64/64..1024-bit orbits from a 4096-bit reference.
@@ -111,6 +114,7 @@ fn one_line(e: &Error) -> String {
 fn run(cmd: Cmd) -> Result<(), Error> {
     match cmd {
         Cmd::Diffusion(a) => diffusion::run(a),
+        Cmd::Escape(a) => escape::run(a),
         Cmd::Audit(a) => audit::run(a),
         Cmd::Lyapunov(a) => lyapunov::run(a),
         Cmd::Certify(a) => certify::run(a),

@@ -14,12 +14,15 @@
 //! * [`square`]: disks of radius 0 < r < 1/2 on the unit square lattice (the Sinai billiard;
 //!   always infinite horizon), on the generic kernel.
 //! * [`single_trap`]: one trap of three disks and its gaps, for injection experiments.
+//! * [`strip`]: the triangular lattice between two absorbing vertical lines x = 0 and x = L, for
+//!   the escape-rate estimator of D.
 //!
 //! A new scene is one file implementing [`Scene`]; it never touches [`crate::kernel`].
 
 pub mod lattice;
 pub mod single_trap;
 pub mod square;
+pub mod strip;
 pub mod triangular;
 
 use rand::Rng;
