@@ -19,6 +19,8 @@
 //!   the width.
 //! * [`theory`]: symbolic dynamics, the corrected Machta–Zwanzig hierarchy, App. A, exact and
 //!   simulated correlated lattice walks, hop-level Green–Kubo.
+//! * [`trajectory`]: one trajectory from exact initial conditions to certified digits (precision
+//!   doubling).
 //! * [`verification`]: shadows, audits, reversibility, Birkhoff-map Jacobians, Lyapunov exponents.
 #![warn(missing_docs)]
 
@@ -43,6 +45,7 @@ pub mod stats;
 pub mod sweep;
 pub mod symbols;
 pub mod theory;
+pub mod trajectory;
 pub mod verification;
 
 pub use error::Error;

@@ -19,6 +19,7 @@ mod lattice_walk;
 mod lyapunov;
 mod sweep;
 mod theory;
+mod trajectory;
 
 use std::process::ExitCode;
 
@@ -66,6 +67,8 @@ enum Cmd {
     LatticeWalk(lattice_walk::Args),
     /// Every closed-form quantity at gap w (geometry, Santalo, Machta-Zwanzig, Boltzmann).
     Constants(constants::Args),
+    /// One trajectory from exact initial conditions (start, direction, time) to certified digits by precision doubling.
+    Trajectory(trajectory::Args),
     /// Kernel throughput (median of repetitions); with --report, speed against error.
     Bench(bench::Args),
 }
@@ -125,6 +128,7 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::Theory(a) => theory::run(a),
         Cmd::LatticeWalk(a) => lattice_walk::run(a),
         Cmd::Constants(a) => constants::run(a),
+        Cmd::Trajectory(a) => trajectory::run(a),
         Cmd::Bench(a) => bench::run(a),
     }
 }

@@ -251,6 +251,44 @@ impl<T: Real, K: CellKernel<T>> Lattice<T, K> {
     }
 }
 
+/// Most edge crossings [`settle`] makes: a first guess from `f64` is off by at most one cell
+/// across an edge or a corner, so a few steps always suffice.
+pub const MAX_SETTLE_STEPS: usize = 8;
+
+/// Moves the point `p`, given in the frame of cell `index` (possibly a little outside it), into
+/// the cell that contains it, deciding at the working precision: while some edge distance is
+/// negative, the point is mapped across the edge with the most negative one (exactly as the
+/// kernel maps a crossing). A point on an edge (distance exactly 0) stays where it is.
+///
+/// # Errors
+/// If the point is still outside after [`MAX_SETTLE_STEPS`] crossings (the first guess was not
+/// near the point).
+pub fn settle<T: Real>(
+    cell: &ConvexCell<T>,
+    mut index: CellIndex,
+    mut p: Vec2<T>,
+) -> Result<(CellIndex, Vec2<T>), Error> {
+    for _ in 0..=MAX_SETTLE_STEPS {
+        let worst = (0..cell.edges.len())
+            .map(|k| (k, cell.edge_distance(k, &p)))
+            .filter(|(_, d)| d.lt0())
+            .min_by(|a, b| a.1.partial_cmp(&b.1).unwrap_or(std::cmp::Ordering::Equal));
+        let Some((k, _)) = worst else {
+            return Ok((index, p));
+        };
+        let e = &cell.edges[k];
+        p = match &e.map {
+            crate::kernel::cell::EdgeMap::Translation(t) => p.sub(t),
+            crate::kernel::cell::EdgeMap::PointReflection(c) => c.sub(&p),
+        };
+        index = index.across(e);
+    }
+    Err(Error::Invalid(format!(
+        "could not place the point {:?} in a cell within {MAX_SETTLE_STEPS} crossings",
+        p.to_f64()
+    )))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

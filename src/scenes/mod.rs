@@ -26,11 +26,31 @@ pub mod strip;
 pub mod triangular;
 
 use rand::Rng;
+use rug::Rational;
 
 use crate::error::Error;
+use crate::kernel::vec2::Vec2;
 use crate::kernel::CellKernel;
 use crate::real::Real;
-use lattice::{Lattice, LatticeState};
+use lattice::{CellIndex, Lattice, LatticeState};
+
+/// Largest |coordinate| of a world point [`Scene::locate`] accepts: cell indices stay far inside
+/// the integers an `f64` and an `i64` hold exactly, and the absolute error of the cell offset
+/// (|x|·2⁻ᴾ) stays negligible.
+pub const MAX_WORLD_COORDINATE: f64 = 1e12;
+
+/// Refuses a world point with a coordinate beyond ±[`MAX_WORLD_COORDINATE`].
+pub fn check_world_point(x: &Rational, y: &Rational) -> Result<(), Error> {
+    let limit = Rational::from_f64(MAX_WORLD_COORDINATE).expect("finite constant");
+    if x.clone().abs() > limit || y.clone().abs() > limit {
+        return Err(Error::Invalid(format!(
+            "the point ({}, {}) is too far out: use coordinates from -{MAX_WORLD_COORDINATE:e} to {MAX_WORLD_COORDINATE:e}",
+            crate::grid::nearest_f64(x),
+            crate::grid::nearest_f64(y)
+        )));
+    }
+    Ok(())
+}
 
 /// A billiard table made of congruent convex cells.
 pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
@@ -44,6 +64,22 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// The scene's cell kernel with every constant at the working precision `ctx`, computed from
     /// the exact parameters (never through `f64` when `T` is wider).
     fn kernel<T: Real>(&self, ctx: T::Ctx) -> Result<Self::Kernel<T>, Error>;
+
+    /// The cell containing the world point (x, y), given exactly, and the point in that cell's
+    /// frame at precision `ctx` (its world image is (x, y) up to the rounding of the offset,
+    /// never through `f64` when `T` is wider). The cell is decided at the working precision; a
+    /// point on a cell boundary may be placed in either neighbouring cell — both describe the
+    /// same world point, and the kernel continues identically from either. Whether the point is
+    /// free (outside every disk) is left to the caller.
+    ///
+    /// # Errors
+    /// If a coordinate exceeds ±[`MAX_WORLD_COORDINATE`].
+    fn locate<T: Real>(
+        &self,
+        ctx: T::Ctx,
+        x: &Rational,
+        y: &Rational,
+    ) -> Result<(CellIndex, Vec2<T>), Error>;
 
     /// The periodic lattice of the scene's cells at precision `ctx`.
     fn lattice<T: Real>(&self, ctx: T::Ctx) -> Result<Lattice<T, Self::Kernel<T>>, Error> {

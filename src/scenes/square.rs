@@ -121,6 +121,31 @@ impl Scene for SquareScene {
         })
     }
 
+    /// Exact: i = round(x), j = round(y) in rationals (halves round away from zero, so a point
+    /// on a cell edge goes to the outer cell), offset (x − i, y − j) exact and rounded once.
+    fn locate<T: Real>(
+        &self,
+        ctx: T::Ctx,
+        x: &Rational,
+        y: &Rational,
+    ) -> Result<(CellIndex, Vec2<T>), Error> {
+        T::check_ctx(ctx)?;
+        super::check_world_point(x, y)?;
+        let split = |q: &Rational| -> (i64, Rational) {
+            let n = q.clone().round();
+            let i = n
+                .numer()
+                .to_i64()
+                .expect("|q| <= MAX_WORLD_COORDINATE fits an i64");
+            (i, q.clone() - n)
+        };
+        let ((i, fx), (j, fy)) = (split(x), split(y));
+        Ok((
+            CellIndex { i, j, down: false },
+            Vec2::new(T::from_rational(ctx, &fx), T::from_rational(ctx, &fy)),
+        ))
+    }
+
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> LatticeState<f64> {
         let r2 = self.r64 * self.r64;
         let pos = loop {

@@ -5,7 +5,7 @@
 use rand::Rng;
 use rug::Rational;
 
-use super::lattice::{CellIndex, LatticeState};
+use super::lattice::{settle, CellIndex, LatticeState};
 use super::Scene;
 use crate::error::Error;
 use crate::geometry::Geometry;
@@ -67,6 +67,42 @@ impl Scene for TriangularScene {
     fn kernel<T: Real>(&self, ctx: T::Ctx) -> Result<Trap<T>, Error> {
         T::check_ctx(ctx)?;
         Trap::new(T::from_rational(ctx, &self.w))
+    }
+
+    /// The trap from the point's lattice coordinates (u, v) = (x/a − y/(2h), y/h): the
+    /// parallelogram (⌊u⌋, ⌊v⌋) splits into the up trap (⌊u⌋, ⌊v⌋) (frac u + frac v ≤ 1) and the
+    /// down trap (⌊u⌋ + 1, ⌊v⌋ + 1). This first guess is taken in `f64`; the offset is then
+    /// computed at the working precision from the exact (x, y) and moved across any edge it is
+    /// beyond, decided at the working precision ([`settle`]).
+    fn locate<T: Real>(
+        &self,
+        ctx: T::Ctx,
+        x: &Rational,
+        y: &Rational,
+    ) -> Result<(CellIndex, Vec2<T>), Error> {
+        super::check_world_point(x, y)?;
+        let trap = self.kernel::<T>(ctx)?;
+        let (x64, y64) = (crate::grid::nearest_f64(x), crate::grid::nearest_f64(y));
+        let v = y64 / self.trap64.h;
+        let u = x64 / self.trap64.a - v / 2.0;
+        let (i, j) = (u.floor(), v.floor());
+        let up = (u - i) + (v - j) <= 1.0;
+        let (i, j) = (i as i64, j as i64);
+        let lattice_point = |i: i64, j: i64| {
+            let (fi, fj) = (T::from_f64(ctx, i as f64), T::from_f64(ctx, j as f64));
+            Vec2::new(
+                trap.a.clone() * &(fi + &fj.clone().scale(0.5)),
+                trap.h.clone() * &fj,
+            )
+        };
+        let world = Vec2::new(T::from_rational(ctx, x), T::from_rational(ctx, y));
+        let (index, p) = if up {
+            (CellIndex { i, j, down: false }, world.sub(&lattice_point(i, j)))
+        } else {
+            let (i, j) = (i + 1, j + 1);
+            (CellIndex { i, j, down: true }, lattice_point(i, j).sub(&world))
+        };
+        settle(&trap.cell, index, p)
     }
 
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> LatticeState<f64> {

@@ -1,0 +1,166 @@
+//! `lorentz trajectory`: one trajectory from exact initial conditions to certified digits.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use rug::Rational;
+
+use lorentz_gas::error::Error;
+use lorentz_gas::grid::parse_exact;
+use lorentz_gas::scenes::square::SquareScene;
+use lorentz_gas::scenes::triangular::TriangularScene;
+use lorentz_gas::trajectory::{plan, trajectory, TrajectoryInput, TrajectoryReport, MAX_DIGITS};
+
+use super::args::{parse_count_u32, OutputArgs, SceneName};
+use super::output::emit;
+use super::progress::Progress;
+
+/// Work (expected events × bits of the runs) above which a progress bar is shown: about two
+/// seconds of MPFR arithmetic.
+const PROGRESS_BIT_EVENTS: f64 = 5e8;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene: `square` (disks of radius r at every integer point, needs --radius) or
+    /// `triangular` (disks of radius 1 at spacing 2 + w, needs --w).
+    #[arg(long)]
+    scene: SceneName,
+    /// Disk radius of the square scene, exact (such as 1/3 or 0.25): 0 < radius < 1/2.
+    #[arg(long, allow_hyphen_values = true)]
+    radius: Option<String>,
+    /// Gap of the triangular scene, exact (such as 0.1 or 1/10): w > 0.
+    #[arg(long, allow_hyphen_values = true)]
+    w: Option<String>,
+    /// Start x,y in world coordinates, exact (such as 0.5,0.1 or 1/2,1/10); outside every disk.
+    #[arg(long, allow_hyphen_values = true)]
+    start: String,
+    /// Direction dx,dy, exact and nonzero (normalised at the working precision).
+    #[arg(long, allow_hyphen_values = true)]
+    direction: String,
+    /// Total time T > 0 (speed 1), exact.
+    #[arg(long, allow_hyphen_values = true)]
+    time: String,
+    /// Digits to certify, 1 to 10000.
+    #[arg(long, default_value = "30", value_parser = parse_count_u32, allow_negative_numbers = true)]
+    digits: u32,
+    /// Write every event of the final run (kind, obstacle, world x, world y, time) to this CSV.
+    #[arg(long)]
+    events: Option<PathBuf>,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+/// A pair `x,y` of exact numbers.
+fn parse_pair(flag: &str, s: &str) -> Result<(Rational, Rational), Error> {
+    let bad = || {
+        Error::Invalid(format!(
+            "--{flag} '{s}' is not a pair: use two exact numbers separated by a comma, such as 0.5,0.1 or 1/2,1/10"
+        ))
+    };
+    let (a, b) = s.split_once(',').ok_or_else(bad)?;
+    if b.contains(',') {
+        return Err(bad());
+    }
+    Ok((parse_exact(a)?, parse_exact(b)?))
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    if a.digits == 0 || a.digits > MAX_DIGITS {
+        return Err(Error::Invalid(format!(
+            "digits = {} is out of range: use 1 to {MAX_DIGITS}",
+            a.digits
+        )));
+    }
+    let (x, y) = parse_pair("start", &a.start)?;
+    let (dx, dy) = parse_pair("direction", &a.direction)?;
+    let input = TrajectoryInput {
+        x,
+        y,
+        dx,
+        dy,
+        time: parse_exact(&a.time)?,
+        digits: a.digits,
+    };
+    let refuse = |flag: &str, scene: &str| {
+        Err(Error::Invalid(format!(
+            "{flag} does not apply to the {scene} scene: use --w with --scene triangular, --radius with --scene square"
+        )))
+    };
+    let report = match a.scene {
+        SceneName::Square => {
+            if a.w.is_some() {
+                return refuse("--w", "square");
+            }
+            let r = a.radius.as_deref().ok_or_else(|| {
+                Error::Invalid("the square scene needs --radius: 0 < radius < 1/2".into())
+            })?;
+            let scene = SquareScene::exact(parse_exact(r)?)?;
+            run_scene(&scene, &input, &a)?
+        }
+        SceneName::Triangular => {
+            if a.radius.is_some() {
+                return refuse("--radius", "triangular");
+            }
+            let w = a.w.as_deref().ok_or_else(|| {
+                Error::Invalid("the triangular scene needs --w: w > 0".into())
+            })?;
+            let w = parse_exact(w)?;
+            if w <= 0 {
+                return Err(Error::Invalid(format!(
+                    "w = {} is out of range: use w > 0 (at w <= 0 the disks touch)",
+                    lorentz_gas::grid::nearest_f64(&w)
+                )));
+            }
+            let scene = TriangularScene::exact(w)?;
+            run_scene(&scene, &input, &a)?
+        }
+    };
+    if let Some(path) = &a.events {
+        write_events(path, &report)?;
+    }
+    emit(a.output.json, &report, |r| {
+        println!("{}, t = {}: {} collisions, {} crossings", r.scene, a.time, r.collisions, r.crossings);
+        println!("x        = {}", r.x);
+        println!("y        = {}", r.y);
+        println!("distance = {}", r.distance);
+        println!(
+            "{} digits certified (runs at {} and {} bits agree to {:.1} digits and go through the same events; tried {:?})",
+            r.certified_digits,
+            r.precision_bits,
+            2 * r.precision_bits,
+            r.digits_agreed,
+            r.tried
+        );
+    })
+}
+
+fn run_scene<S: lorentz_gas::scenes::Scene>(
+    scene: &S,
+    input: &TrajectoryInput,
+    a: &Args,
+) -> Result<TrajectoryReport, Error> {
+    let p = plan(scene, input)?;
+    let work = 3.0 * p.bits as f64 * p.expected_events;
+    let quiet = a.output.quiet || work < PROGRESS_BIT_EVENTS;
+    // Two runs (P and 2P) when the first precision suffices.
+    let pb = Progress::new(
+        (2.0 * p.expected_collisions).ceil() as u64,
+        "collisions",
+        quiet,
+    );
+    let r = trajectory(scene, input, a.events.is_some(), &pb.callback());
+    drop(pb);
+    r
+}
+
+fn write_events(path: &PathBuf, r: &TrajectoryReport) -> Result<(), Error> {
+    let file = std::fs::File::create(path)
+        .map_err(|e| Error::Io(format!("cannot create {}: {e}", path.display())))?;
+    let mut out = std::io::BufWriter::new(file);
+    writeln!(out, "kind,obstacle,x,y,time")?;
+    for e in &r.events {
+        writeln!(out, "{},{},{},{},{}", e.kind, e.obstacle, e.x, e.y, e.time)?;
+    }
+    out.flush()?;
+    Ok(())
+}

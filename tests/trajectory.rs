@@ -1,0 +1,286 @@
+//! `lorentz_gas::trajectory` against an independent reference written here: plain world
+//! coordinates at 2000 bits, the first disk hit found by brute force over every lattice point
+//! within reach (textbook quadratic formula), specular reflection, time accumulated until T.
+//! It shares no code with the crate's kernel, cells or lattice walk.
+
+use rug::ops::Pow;
+use rug::{Float, Integer, Rational};
+
+use lorentz_gas::grid::parse_exact;
+use lorentz_gas::scenes::square::SquareScene;
+use lorentz_gas::scenes::triangular::TriangularScene;
+use lorentz_gas::scenes::Scene;
+use lorentz_gas::trajectory::{decimal, trajectory, TrajectoryInput, TrajectoryReport};
+
+/// Precision of the reference: far beyond the few hundred bits ten to twenty collisions lose.
+const REF_BITS: u32 = 2000;
+
+/// The disk lattice of the reference, in world coordinates.
+enum Disks {
+    /// Radius r at every integer point.
+    Square { r: Float },
+    /// Radius 1 at a(i + j/2, j√3/2), a = 2 + w.
+    Triangular { a: Float, h: Float },
+}
+
+impl Disks {
+    fn square(r: &str) -> Self {
+        Disks::Square {
+            r: Float::with_val(REF_BITS, &parse_exact(r).unwrap()),
+        }
+    }
+    fn triangular(w: &str) -> Self {
+        let a = Float::with_val(REF_BITS, &parse_exact(w).unwrap()) + 2u32;
+        let h = a.clone() * Float::with_val(REF_BITS, 3u32).sqrt() / 2u32;
+        Disks::Triangular { a, h }
+    }
+    fn radius(&self) -> Float {
+        match self {
+            Disks::Square { r } => r.clone(),
+            Disks::Triangular { .. } => Float::with_val(REF_BITS, 1u32),
+        }
+    }
+    /// Every disk centre within `reach` of (px, py) (a superset: a bounding box of lattice
+    /// indices), with its index.
+    fn near(&self, px: &Float, py: &Float, reach: &Float) -> Vec<((i64, i64), Float, Float)> {
+        let floor = |f: Float| f.floor().to_f64() as i64;
+        let ceil = |f: Float| f.ceil().to_f64() as i64;
+        let mut out = Vec::new();
+        match self {
+            Disks::Square { .. } => {
+                for i in floor(px.clone() - reach)..=ceil(px.clone() + reach) {
+                    for j in floor(py.clone() - reach)..=ceil(py.clone() + reach) {
+                        out.push((
+                            (i, j),
+                            Float::with_val(REF_BITS, i),
+                            Float::with_val(REF_BITS, j),
+                        ));
+                    }
+                }
+            }
+            Disks::Triangular { a, h } => {
+                let j0 = floor((py.clone() - reach) / h) - 1;
+                let j1 = ceil((py.clone() + reach) / h) + 1;
+                for j in j0..=j1 {
+                    let half_j = Float::with_val(REF_BITS, j) / 2u32;
+                    let i0 = floor((px.clone() - reach) / a - &half_j) - 1;
+                    let i1 = ceil((px.clone() + reach) / a - &half_j) + 1;
+                    for i in i0..=i1 {
+                        let cx = a.clone() * (Float::with_val(REF_BITS, i) + &half_j);
+                        let cy = h.clone() * j;
+                        out.push(((i, j), cx, cy));
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The reference flow: (x, y, distance, collisions) at time `t`.
+fn reference(disks: &Disks, start: (&str, &str), dir: (&str, &str), t: &str) -> ([Float; 3], u64) {
+    let f = |s: &str| Float::with_val(REF_BITS, &parse_exact(s).unwrap());
+    let (mut px, mut py) = (f(start.0), f(start.1));
+    let (dx, dy) = (f(dir.0), f(dir.1));
+    let norm = (dx.clone() * &dx + dy.clone() * &dy).sqrt();
+    let (mut vx, mut vy) = (dx / &norm, dy / &norm);
+    let r = disks.radius();
+    let r2 = r.clone() * &r;
+    let mut remaining = f(t);
+    let mut last: Option<(i64, i64)> = None;
+    let mut collisions = 0;
+    loop {
+        let reach = remaining.clone() + &r + 1u32;
+        let mut best: Option<(Float, Float, Float, (i64, i64))> = None;
+        for (ij, cx, cy) in disks.near(&px, &py, &reach) {
+            if last == Some(ij) {
+                continue;
+            }
+            // |p + t v − c|² = r²: t² + 2bt + c₀ = 0 with b = v·(p − c), c₀ = |p − c|² − r².
+            let (ox, oy) = (px.clone() - &cx, py.clone() - &cy);
+            let b = vx.clone() * &ox + vy.clone() * &oy;
+            let c0 = ox.clone() * &ox + oy.clone() * &oy - &r2;
+            let disc = b.clone() * &b - &c0;
+            if disc <= 0 {
+                continue;
+            }
+            let hit = -b - disc.sqrt();
+            if hit <= 0 {
+                continue;
+            }
+            if best.as_ref().is_none_or(|(bt, ..)| hit < *bt) {
+                best = Some((hit, cx, cy, ij));
+            }
+        }
+        match best {
+            Some((hit, cx, cy, ij)) if hit <= remaining => {
+                px += vx.clone() * &hit;
+                py += vy.clone() * &hit;
+                let (nx, ny) = (px.clone() - &cx, py.clone() - &cy);
+                let k = (vx.clone() * &nx + vy.clone() * &ny) * 2u32 / &r2;
+                vx -= k.clone() * &nx;
+                vy -= k * &ny;
+                remaining -= &hit;
+                last = Some(ij);
+                collisions += 1;
+            }
+            _ => {
+                px += vx.clone() * &remaining;
+                py += vy.clone() * &remaining;
+                let d = (px.clone() * &px + py.clone() * &py).sqrt();
+                return ([px, py, d], collisions);
+            }
+        }
+    }
+}
+
+fn input(start: (&str, &str), dir: (&str, &str), t: &str, digits: u32) -> TrajectoryInput {
+    TrajectoryInput {
+        x: parse_exact(start.0).unwrap(),
+        y: parse_exact(start.1).unwrap(),
+        dx: parse_exact(dir.0).unwrap(),
+        dy: parse_exact(dir.1).unwrap(),
+        time: parse_exact(t).unwrap(),
+        digits,
+    }
+}
+
+/// Integer digits of |q| (0 below 1): the printed digits end at 10^(lead − certified).
+fn lead(q: &Float) -> i64 {
+    if q.is_zero() {
+        0
+    } else {
+        (q.to_f64().abs().log10().floor() as i64 + 1).max(0)
+    }
+}
+
+/// Every printed value is within one unit of its last digit of the reference, the collision
+/// count is the reference's, and the certified digits never exceed the agreement less the guard.
+fn check(report: &TrajectoryReport, reference: &([Float; 3], u64), what: &str) {
+    let (values, collisions) = reference;
+    assert_eq!(report.collisions, *collisions, "{what}: collisions");
+    assert!(report.certified_digits >= report.digits_requested, "{what}");
+    assert!(
+        report.certified_digits as f64 <= report.digits_agreed - 1.0,
+        "{what}: certified {} digits, but P and 2P agree to {:.2}",
+        report.certified_digits,
+        report.digits_agreed
+    );
+    for (k, (printed, exact)) in [&report.x, &report.y, &report.distance]
+        .into_iter()
+        .zip(values)
+        .enumerate()
+    {
+        let p = Float::with_val(REF_BITS, Float::parse(printed).unwrap());
+        let digits_after_point = printed.split_once('.').map_or(0, |(_, f)| f.len()) as i64;
+        assert_eq!(
+            digits_after_point,
+            report.certified_digits as i64 - lead(exact),
+            "{what}: value {k} prints {printed}"
+        );
+        let unit = Float::with_val(REF_BITS, Float::i_pow_u(10, 0))
+            / Float::with_val(REF_BITS, Integer::from(10).pow(digits_after_point as u32));
+        let err = (p - exact).abs();
+        assert!(
+            err <= unit,
+            "{what}: value {k} = {printed} is off the reference {} by {} (more than one unit, {})",
+            exact.to_string_radix(10, Some(40)),
+            err.to_f64(),
+            unit.to_f64()
+        );
+    }
+}
+
+#[test]
+fn siam_problem_2_distance_at_t_10_to_100_digits() {
+    let scene = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();
+    let (start, dir, t) = (("1/2", "1/10"), ("1", "0"), "10");
+    let r = trajectory(&scene, &input(start, dir, t, 100), false, &|_| {}).unwrap();
+    let reference = reference(&Disks::square("1/3"), start, dir, t);
+    check(&r, &reference, "SIAM problem 2");
+    // The first 100 digits, each correctly rounded from its own computation.
+    assert_eq!(decimal(&r.values[2], 100), decimal(&reference.0[2], 100));
+    assert!(r.distance.starts_with("0.99526"), "{}", r.distance);
+}
+
+#[test]
+fn variants_agree_with_the_brute_force_reference() {
+    type Case<'a> = (&'a str, &'a str, (&'a str, &'a str), (&'a str, &'a str), &'a str, u32);
+    let cases: [Case; 6] = [
+        ("square", "1/4", ("1/2", "1/3"), ("3", "4"), "7", 50),
+        ("square", "0.2", ("0.3", "-0.45"), ("-1", "2"), "15", 40),
+        ("square", "1/3", ("0.5", "0.1"), ("1", "0"), "12.5", 60),
+        ("triangular", "1/10", ("1.05", "0.6"), ("1", "0.3"), "10", 50),
+        ("triangular", "0.1", ("2.1", "1.1"), ("-2", "-7"), "6", 80),
+        ("triangular", "0.2", ("-1.1", "-0.6"), ("-2", "1"), "8", 30),
+    ];
+    for (name, param, start, dir, t, digits) in cases {
+        let what = format!("{name} {param} from {start:?} along {dir:?} for {t}");
+        let inp = input(start, dir, t, digits);
+        let (r, disks) = if name == "square" {
+            let s = SquareScene::exact(parse_exact(param).unwrap()).unwrap();
+            (trajectory(&s, &inp, false, &|_| {}), Disks::square(param))
+        } else {
+            let s = TriangularScene::exact(parse_exact(param).unwrap()).unwrap();
+            (trajectory(&s, &inp, false, &|_| {}), Disks::triangular(param))
+        };
+        let r = r.unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert!(r.collisions > 0, "{what}: no collision");
+        check(&r, &reference(&disks, start, dir, t), &what);
+    }
+}
+
+#[test]
+fn events_are_recorded_in_order_up_to_time_t() {
+    let scene = TriangularScene::exact(parse_exact("1/10").unwrap()).unwrap();
+    let r = trajectory(
+        &scene,
+        &input(("1.05", "0.6"), ("1", "0.3"), "10", 20),
+        true,
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(r.events.len() as u64, r.collisions + r.crossings);
+    let times: Vec<f64> = r.events.iter().map(|e| e.time.parse().unwrap()).collect();
+    assert!(times.windows(2).all(|w| w[0] <= w[1]));
+    assert!(times.last().is_some_and(|&t| t <= 10.0));
+}
+
+#[test]
+fn starts_inside_a_disk_and_zero_directions_are_refused() {
+    let square = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();
+    let e = trajectory(&square, &input(("2.1", "-0.9"), ("1", "0"), "1", 10), false, &|_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("inside the disk at (2, -1)"), "{e}");
+    let e = trajectory(&square, &input(("0.5", "0.1"), ("0", "0"), "1", 10), false, &|_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("direction (0, 0) is zero"), "{e}");
+    let tri = TriangularScene::exact(parse_exact("0.1").unwrap()).unwrap();
+    let e = trajectory(&tri, &input(("2.5", "0.1"), ("1", "0"), "1", 10), false, &|_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("inside the disk at (2.1, 0)"), "{e}");
+    for (t, d) in [("0", 10), ("-1", 10), ("1", 0), ("1", 10_001)] {
+        assert!(
+            trajectory(&square, &input(("0.5", "0.1"), ("1", "0"), t, d), false, &|_| {}).is_err(),
+            "time {t}, digits {d} accepted"
+        );
+    }
+}
+
+#[test]
+fn a_start_on_a_cell_boundary_gives_the_same_trajectory_from_either_side() {
+    // (0.5, 0.1) lies on the edge between the square cells (0, 0) and (1, 0); the same world
+    // point approached as a fraction and as a decimal must give identical digits, and the
+    // located point must be the given one in either frame.
+    let scene = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();
+    let (x, y) = (parse_exact("1/2").unwrap(), parse_exact("0.1").unwrap());
+    let (cell, p) = scene.locate::<Float>(256, &x, &y).unwrap();
+    let world_x = Rational::from(cell.i) + p.x.to_rational().unwrap();
+    assert_eq!(world_x, x);
+    let a = trajectory(&scene, &input(("1/2", "0.1"), ("1", "0"), "3", 40), false, &|_| {});
+    let b = trajectory(&scene, &input(("0.5", "1/10"), ("1", "0"), "3", 40), false, &|_| {});
+    assert_eq!(a.unwrap().distance, b.unwrap().distance);
+}
