@@ -1,12 +1,20 @@
 //! The fuzzing oracle (`lorentz_gas::verification::oracle`) driven by proptest, by the
-//! committed seed corpora of `fuzz/corpus/`, and by one regression test per minimised fuzz
-//! finding. Seeded (ChaCha, fixed seed) and shrinking; see `proofs-notes/fuzzing.md`.
+//! committed seed corpora of `fuzz/corpus/`, by a seeded statistical sweep of MPFR-replayed
+//! events over both scenes, and by named regression tests for degenerate states. Seeded
+//! (ChaCha, fixed seed) and shrinking; see `proofs-notes/fuzzing.md`.
 
 use std::collections::HashSet;
 use std::path::PathBuf;
+use std::time::Instant;
 
+use lorentz_gas::kernel::vec2::Vec2;
+use lorentz_gas::kernel::{EventKind, Flight};
+use lorentz_gas::scenes::lattice::{CellIndex, LatticeState};
+use lorentz_gas::scenes::square::SquareScene;
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::verification::oracle::{
-    collision_primitive, decode_primitive, decode_scene, scene_stepper, PrimitiveCase,
+    collision_primitive, decode_primitive, decode_scene, replay_events, scene_stepper,
+    step_lattice, PrimitiveCase, SceneParams,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
@@ -26,6 +34,28 @@ fn bytes() -> impl Strategy<Value = Vec<u8>> {
     proptest::collection::vec(any::<u8>(), 0..64)
 }
 
+/// Byte vectors whose leading (scene) byte selects the square scene.
+fn square_bytes() -> impl Strategy<Value = Vec<u8>> {
+    bytes().prop_map(|mut b| {
+        match b.first_mut() {
+            Some(s) => *s |= 1,
+            None => b.push(1),
+        }
+        b
+    })
+}
+
+/// Like [`square_bytes`], for the scene stepper (its prefix is 11 bytes long).
+fn square_scene_bytes() -> impl Strategy<Value = Vec<u8>> {
+    bytes().prop_map(|mut b| {
+        if b.len() < 12 {
+            b.resize(12, 0);
+        }
+        b[11] |= 1;
+        b
+    })
+}
+
 fn family(c: PrimitiveCase) -> u8 {
     match c {
         PrimitiveCase::Impact { .. } => 0,
@@ -33,7 +63,12 @@ fn family(c: PrimitiveCase) -> u8 {
         PrimitiveCase::DoubleTangent { .. } => 2,
         PrimitiveCase::GapPoint { .. } => 3,
         PrimitiveCase::Arbitrary => 4,
+        PrimitiveCase::Corner { .. } => 5,
     }
+}
+
+fn is_square(s: SceneParams) -> bool {
+    matches!(s, SceneParams::Square { .. })
 }
 
 #[test]
@@ -60,29 +95,64 @@ fn random_bytes_through_the_scene_stepper_oracle() {
         .unwrap();
 }
 
-/// Random bytes reach every family and every sub-case (disk, exponent range, motion, line),
-/// so the proptest above exercises all of them.
+#[test]
+fn random_square_bytes_through_the_collision_primitive_oracle() {
+    runner(3000)
+        .run(&square_bytes(), |data| {
+            prop_assert!(is_square(decode_primitive(&data).unwrap().scene));
+            if let Err(e) = collision_primitive(&data) {
+                prop_assert!(false, "{e}");
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn random_square_bytes_through_the_scene_stepper_oracle() {
+    runner(600)
+        .run(&square_scene_bytes(), |data| {
+            let s = decode_scene(&data).unwrap();
+            prop_assert!(is_square(s.primitive.scene) && !s.cell.down);
+            if let Err(e) = scene_stepper(&data) {
+                prop_assert!(false, "{e}");
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+/// Random bytes reach every family and every sub-case in both scenes, so the proptests above
+/// exercise all of them. Triangular: disk × side of b, disk × motion, pair × line, edge × point ×
+/// mode, the three corners aimed at (the corners are disk centres, so starts at a corner fall
+/// back), arbitrary. Square: side of b, motion, edge × side of the corridor tangent, corner ×
+/// mode (no edge meets the circle, so GapPoint always falls back), arbitrary.
 #[test]
 fn random_bytes_reach_every_decoded_case() {
     let mut seen = HashSet::new();
     let mut rng = TestRng::from_seed(RngAlgorithm::ChaCha, &[12; 32]);
-    for _ in 0..4000 {
+    for _ in 0..12000 {
         let data: Vec<u8> = (0..48).map(|_| rng.random()).collect();
-        let c = decode_primitive(&data).unwrap().case;
-        seen.insert(match c {
-            PrimitiveCase::Impact { disk, above, .. } => (0, disk, above as u8),
-            PrimitiveCase::NearSurface { disk, motion, .. } => (1, disk, motion),
-            PrimitiveCase::DoubleTangent { edge, line } => (2, edge, line),
+        let d = decode_primitive(&data).unwrap();
+        let sq = is_square(d.scene) as u8;
+        seen.insert(match d.case {
+            PrimitiveCase::Impact { disk, above, .. } => (sq, 0, disk, above as u8),
+            PrimitiveCase::NearSurface { disk, motion, .. } => (sq, 1, disk, motion),
+            PrimitiveCase::DoubleTangent { pair, line } => (sq, 2, pair, line),
             PrimitiveCase::GapPoint {
                 edge,
-                end,
+                point,
                 at_point,
-            } => (3, edge, end * 2 + at_point as u8),
-            PrimitiveCase::Arbitrary => (4, 0, 0),
+            } => (sq, 3, edge, point * 2 + at_point as u8),
+            PrimitiveCase::Arbitrary => (sq, 4, 0, 0),
+            PrimitiveCase::Corner { corner, mode } => (sq, 5, corner, mode),
         });
     }
-    let expected = 3 * 2 + 3 * 3 + 3 * 3 + 3 * 4 + 1;
-    assert_eq!(seen.len(), expected, "{seen:?}");
+    let triangular = 3 * 2 + 3 * 3 + 3 * 3 + 3 * 4 + 3 + 1;
+    let square = 2 + 3 + 4 * 2 + 4 * 3 + 1;
+    let count = |s: u8| seen.iter().filter(|k| k.0 == s).count();
+    assert_eq!(count(0), triangular, "{seen:?}");
+    assert_eq!(count(1), square, "{seen:?}");
 }
 
 fn corpus(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
@@ -106,26 +176,188 @@ fn corpus(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
     out
 }
 
-/// Every committed seed passes, and together the seeds cover all five families.
+/// Every committed seed passes, and together the seeds cover all six families and both scenes.
 #[test]
 fn committed_collision_primitive_seeds_pass_and_cover_every_family() {
     let seeds = corpus("collision_primitive");
     let mut fams = HashSet::new();
+    let mut scenes = HashSet::new();
     for (p, b) in &seeds {
-        let r = collision_primitive(b).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-        fams.insert(family(r.case));
+        let d = decode_primitive(b).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        collision_primitive(b).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        fams.insert(family(d.case));
+        scenes.insert(is_square(d.scene));
     }
-    assert_eq!(fams.len(), 5, "families covered: {fams:?}");
+    assert_eq!(fams.len(), 6, "families covered: {fams:?}");
+    assert_eq!(scenes.len(), 2);
 }
 
 #[test]
 fn committed_scene_stepper_seeds_pass_and_cover_every_family() {
     let seeds = corpus("scene_stepper");
     let mut fams = HashSet::new();
+    let mut scenes = HashSet::new();
     for (p, b) in &seeds {
         let s = decode_scene(b).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         scene_stepper(b).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         fams.insert(family(s.primitive.case));
+        scenes.insert(is_square(s.primitive.scene));
     }
-    assert_eq!(fams.len(), 5, "families covered: {fams:?}");
+    assert_eq!(fams.len(), 6, "families covered: {fams:?}");
+    assert_eq!(scenes.len(), 2);
+}
+
+/// Totals of a statistical sweep over one scene.
+#[derive(Debug, Default)]
+struct Sweep {
+    inputs: u64,
+    events: u64,
+    ambiguous: u64,
+    outside_model: u64,
+    worst_time_ratio: f64,
+    first_failures: Vec<String>,
+}
+
+/// Replays seeded random inputs whose scene byte is `scene_byte` through the collision
+/// primitive oracle until `min_events` events have been replayed in MPFR. Every failure is
+/// counted (an event outside the error model or any other violation) rather than stopping.
+fn sweep(scene_byte: u8, min_events: u64, seed: u8) -> Sweep {
+    let mut rng = TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]);
+    let mut s = Sweep::default();
+    while s.events < min_events {
+        let mut data: Vec<u8> = (0..40).map(|_| rng.random()).collect();
+        data[0] = scene_byte;
+        s.inputs += 1;
+        match collision_primitive(&data) {
+            Ok(rep) => {
+                s.events += rep.events;
+                s.ambiguous += rep.ambiguous;
+                s.worst_time_ratio = s.worst_time_ratio.max(rep.worst_time_ratio);
+            }
+            Err(e) => {
+                s.outside_model += 1;
+                s.events += e.event.map_or(0, |n| n + 1);
+                if s.first_failures.len() < 5 {
+                    s.first_failures.push(format!("{data:?}: {e}"));
+                }
+            }
+        }
+    }
+    s
+}
+
+fn run_sweep(min_events_per_scene: u64, seed: u8) {
+    let t0 = Instant::now();
+    let mut total_outside = 0;
+    for (name, byte) in [("triangular", 0u8), ("square", 1u8)] {
+        let s = sweep(byte, min_events_per_scene, seed);
+        println!(
+            "{name}: {} inputs, {} events replayed in MPFR, {} ambiguous, {} outside the model, \
+             worst time error/bound {:.3}",
+            s.inputs, s.events, s.ambiguous, s.outside_model, s.worst_time_ratio
+        );
+        for f in &s.first_failures {
+            println!("  {f}");
+        }
+        total_outside += s.outside_model;
+    }
+    println!("wall time {:.1} s", t0.elapsed().as_secs_f64());
+    assert_eq!(total_outside, 0, "events outside the error model");
+}
+
+/// The fast statistical sweep of the default suite: ≥ 150 000 MPFR-replayed events per scene.
+#[test]
+fn sweep_of_replayed_events_has_none_outside_the_model() {
+    run_sweep(150_000, 21);
+}
+
+/// The statistical sweep: ≥ 500 000 MPFR-replayed events per scene (≥ 10⁶ in all), none
+/// outside the error model. Run with
+/// `cargo test --release --test fuzz_oracle -- --ignored --nocapture million`.
+#[test]
+#[ignore]
+fn sweep_of_a_million_replayed_events_has_none_outside_the_model() {
+    run_sweep(500_000, 22);
+}
+
+/// Square scenes of the regression tests: a generic radius, 1/3, the largest double below ½
+/// and a tiny one.
+fn radii() -> [f64; 4] {
+    [0.25, 1.0 / 3.0, 0.5 - (-53f64).exp2(), (-20f64).exp2()]
+}
+
+/// A ray exactly through the cell corner (½, ½): the right and top edges are crossed at the
+/// same time t (bit for bit: same σ and same n·v), the kernel takes the right edge, and the next
+/// event is the top edge at t = 0 in the neighbouring cell.
+#[test]
+fn regression_square_ray_exactly_through_a_cell_corner() {
+    for r in radii() {
+        let scene = SquareScene::new(r).unwrap();
+        let d = std::f64::consts::FRAC_1_SQRT_2;
+        let f = Flight::new(Vec2::new(0.375, 0.375), Vec2::new(d, d));
+        let k = scene.kernel::<f64>(()).unwrap();
+        let mut g = f.clone();
+        let e1 = k.next_event(&g).unwrap();
+        assert_eq!(e1.kind, EventKind::Crossing(0), "r = {r}");
+        k.apply(&mut g, &e1);
+        let e2 = k.next_event(&g).unwrap();
+        assert_eq!((e2.kind, e2.time), (EventKind::Crossing(1), 0.0), "r = {r}");
+        let rep = replay_events(&scene, None, &f, 4).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(rep.events, 4);
+        assert!(rep.ambiguous >= 1, "the double crossing is a tie: {rep:?}");
+        let start = LatticeState {
+            cell: CellIndex {
+                i: -7,
+                j: 1_000_000_000,
+                down: false,
+            },
+            flight: f,
+        };
+        step_lattice(&scene, None, &start, 4096).unwrap_or_else(|e| panic!("{e}"));
+    }
+}
+
+/// A horizontal ray along the corridor boundary y = r (in the cell frame; ½ − r from the edge
+/// y = ½): tangent to the disk of every cell of the row, the tangency band of every replay.
+#[test]
+fn regression_square_ray_along_a_corridor_boundary_grazes_every_disk() {
+    for r in radii() {
+        let scene = SquareScene::new(r).unwrap();
+        for (y, vx) in [(r, 1.0), (-r, 1.0), (r, -1.0)] {
+            let f = Flight::new(Vec2::new(-0.4, y), Vec2::new(vx, 0.0));
+            let rep = replay_events(&scene, None, &f, 4).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(rep.events, 4);
+            let start = LatticeState {
+                cell: CellIndex::default(),
+                flight: f,
+            };
+            let rep = step_lattice(&scene, None, &start, 4096).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(rep.events, 4096);
+        }
+    }
+}
+
+/// Starts exactly on an edge moving along it (n·v = 0: that edge is never a candidate), up the
+/// right edge and down the left one; each flight runs through the corners (½, ±½) of every
+/// cell of its column.
+#[test]
+fn regression_square_start_on_an_edge_moving_along_it() {
+    for r in radii() {
+        let scene = SquareScene::new(r).unwrap();
+        for (x, vy) in [(0.5, 1.0), (-0.5, -1.0), (0.5, -1.0)] {
+            let f = Flight::new(Vec2::new(x, 0.1), Vec2::new(0.0, vy));
+            let rep = replay_events(&scene, None, &f, 4).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(rep.events, 4);
+            let start = LatticeState {
+                cell: CellIndex {
+                    i: 3,
+                    j: -3,
+                    down: false,
+                },
+                flight: f,
+            };
+            let rep = step_lattice(&scene, None, &start, 4096).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(rep.crossings, 4096, "a free column: no collision");
+        }
+    }
 }

@@ -1,23 +1,28 @@
-//! Fuzzing oracle: decodes arbitrary bytes into valid (often degenerate) states and judges the
-//! `f64` kernel on them.
+//! Fuzzing oracle: decodes arbitrary bytes into valid (often degenerate) states of any scene's
+//! cell and judges the `f64` kernel on them.
 //!
 //! Two entry points, shared by the cargo-fuzz targets in `fuzz/` and by `tests/fuzz_oracle.rs`:
 //!
-//! * [`collision_primitive`]: one of five families of canonical-trap states — near-grazing impact
-//!   parameters b = 1 ∓ 2⁻ᵏ, starts 2⁻ᵏ off a disk surface (moving in, out, tangentially),
-//!   common tangents of two vertex disks, rays through the points where a gap meets a disk, and
-//!   arbitrary free states — each nudged by a few ulps; up to four successive events are replayed
-//!   in MPFR ([`ORACLE_BITS`] bits) by [`check_event`] and must be inside the one-step error model.
-//! * [`scene_stepper`]: a lattice state (trap index up to ±10⁹, either orientation, flight from
-//!   the same five families) stepped up to 4096 events in `f64`; after every event the
-//!   invariants of `proofs-notes/energy.md`, `proofs-notes/no-missed-collision.md` and the
-//!   unwrapping continuity of `tests/physics.rs` are checked.
+//! * [`collision_primitive`]: a leading byte selects the scene ([`SceneParams`]: the triangular
+//!   gas at gap w or the square gas at radius r), then one of six families of states written
+//!   against the cell description ([`ConvexCell`]) only — near-grazing impact parameters
+//!   r(1 ∓ 2⁻ᵏ), starts r·2⁻ᵏ off a disk surface (moving in, out, tangentially), common tangents
+//!   of two disks (or, in a one-disk cell, the tangents parallel to an edge: the corridor
+//!   boundaries), rays through the points where an edge meets a circle, rays through a corner
+//!   of the polygon, and arbitrary free states — each nudged by a few ulps; up to four
+//!   successive events are replayed in MPFR ([`ORACLE_BITS`] bits) by [`check_event`] and must
+//!   be inside the one-step error model ([`replay_events`], generic over the scene).
+//! * [`scene_stepper`]: a lattice state (cell index up to ±10⁹, either orientation where the
+//!   lattice has two, flight from the same families) stepped up to 4096 events in `f64`; after
+//!   every event the invariants of `proofs-notes/energy.md`, `proofs-notes/no-missed-collision.md`
+//!   and the unwrapping continuity of `tests/physics.rs` are checked ([`step_lattice`], generic
+//!   over the scene).
 //!
 //! Decoding never fails: missing bytes read as zero, every byte pattern maps to a valid state
-//! (inside the closed triangle, outside the open disks and with |v| = 1, each up to the
-//! rounding bounds [`VALID_DISK`], [`VALID_EDGE`], [`VALID_SPEED`]), and the decoded state is
-//! itself re-validated, so a decoder bug is reported rather than blamed on the kernel. Layout of
-//! the bytes and the bounds: `proofs-notes/fuzzing.md`.
+//! (inside the closed cell, outside the open disks and with |v| = 1, each up to the rounding
+//! bounds [`VALID_DISK`], [`VALID_EDGE`], [`VALID_SPEED`]), and the decoded state is itself
+//! re-validated, so a decoder bug is reported rather than blamed on the kernel. Layout of the
+//! bytes and the bounds: `proofs-notes/fuzzing.md`.
 
 use std::fmt;
 
@@ -25,10 +30,14 @@ use rug::float::Constant;
 use rug::Float;
 
 use crate::geometry::Geometry;
-use crate::kernel::trap::{Event, EventKind, Flight, Trap};
+use crate::kernel::cell::{CellKernel, ConvexCell};
 use crate::kernel::vec2::Vec2;
+use crate::kernel::{Event, EventKind, Flight};
 use crate::real::Real;
-use crate::scenes::lattice::{CellIndex, LatticeState, TriangularLattice};
+use crate::scenes::lattice::{CellIndex, LatticeState};
+use crate::scenes::square::SquareScene;
+use crate::scenes::triangular::TriangularScene;
+use crate::scenes::Scene;
 use crate::verification::shadow::check_event;
 
 /// Precision of the MPFR replay and of the decoder's geometric constructions.
@@ -37,10 +46,11 @@ pub const ORACLE_BITS: u32 = 192;
 /// Unit roundoff of `f64`.
 const U: f64 = f64::EPSILON / 2.0;
 
-/// A decoded start may lie inside a disk by at most this much in |p − c|² − 1: the same ε ≤ 28u
-/// that the kernel's own rounded contact points reach (`proofs-notes/energy.md`).
+/// A decoded start may lie inside a disk by at most this much in (|p − c|² − r²)/r²: the same
+/// ε ≤ 28u that the kernel's own rounded contact points reach (`proofs-notes/energy.md`).
 pub const VALID_DISK: f64 = 28.0 * U;
-/// A decoded start may lie outside an edge by at most `VALID_EDGE · a` (signed distance).
+/// A decoded start may lie outside an edge by at most `VALID_EDGE · extent` (signed distance;
+/// extent = [`ConvexCell::extent`], the scale of the coordinates' rounding).
 pub const VALID_EDGE: f64 = 16.0 * U;
 /// A decoded velocity has ||v|² − 1| ≤ `VALID_SPEED` (rounding plus ≤ 4 ulps per component).
 pub const VALID_SPEED: f64 = 32.0 * U;
@@ -48,21 +58,90 @@ pub const VALID_SPEED: f64 = 32.0 * U;
 /// Largest number of events stepped by [`scene_stepper`].
 pub const MAX_STEPS: u32 = 4096;
 
-/// The five families of decoded states.
+/// Energy band after a collision, in units of u, before the scaling 1 + extent/r of
+/// [`energy_band`] (the one-reflection bound of `proofs-notes/energy.md`).
+const ENERGY_BAND_U: f64 = 128.0;
+/// A post-event position may be inside a disk by this much in |x − c|² − r², in units of u
+/// (the bound of `tests/kernel_properties.rs` and `tests/square.rs`; both radii are ≤ 1).
+const POST_EVENT_DISK_U: f64 = 256.0;
+/// A post-event position may be outside an edge by this much times the extent, in units of u.
+const POST_EVENT_EDGE_U: f64 = 256.0;
+/// Unwrapped displacement continuity: |Δx − t·s·v| ≤ this · ε · (diameter + t)
+/// (`tests/physics.rs`).
+const UNWRAP_EPS: f64 = 64.0;
+/// Number of sample angles of the walk that finds a disk's free arcs (1° apart: far finer than
+/// any arc of the two scenes, which are ≥ 60°).
+const ARC_SAMPLES: usize = 360;
+/// Bisection steps refining each end of a free arc in `f64` (to the last ulp of the angle).
+const ARC_REFINE_STEPS: u32 = 64;
+/// Tolerance of the high-precision freeness test for constructed points (points built on an
+/// edge or a tangent line are free up to the 192-bit rounding of the construction).
+const HP_TINY_EXP: f64 = -100.0;
+
+/// Largest ||v|² − 1| allowed after a collision in `cell`, in units of u: 128u·(1 + extent/r).
+/// The contact point's absolute rounding error is of order u·extent, relative u·extent/r to
+/// |n| = r; for the square cell (extent ½) this is the 128u·(1 + 1/(2r)) of `tests/square.rs`,
+/// for the triangular trap (r = 1, extent a < 2.31) at most ≈ 424u, looser than the 128u of
+/// `energy.md` — the reports' `worst_energy_u` shows how much of the band is used.
+pub fn energy_band<T: Real>(cell: &ConvexCell<T>) -> f64 {
+    ENERGY_BAND_U * (1.0 + cell.extent() / cell.radius.to_f64())
+}
+
+/// The diameter of the cell polygon (largest distance between two corners).
+pub fn diameter<T: Real>(cell: &ConvexCell<T>) -> f64 {
+    let c: Vec<[f64; 2]> = cell.corners.iter().map(|p| p.to_f64()).collect();
+    c.iter()
+        .flat_map(|p| c.iter().map(move |q| (p[0] - q[0]).hypot(p[1] - q[1])))
+        .fold(0.0, f64::max)
+}
+
+/// The scene a decoded input runs in (selected by the leading byte).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SceneParams {
+    /// The triangular Lorentz gas at gap w ∈ (0, w∞) (scene byte even).
+    Triangular {
+        /// The gap.
+        w: f64,
+    },
+    /// The square Lorentz gas at radius r ∈ (0, ½) (scene byte odd).
+    Square {
+        /// The disk radius.
+        r: f64,
+    },
+}
+
+impl SceneParams {
+    /// The scene's description, as [`Scene::label`].
+    pub fn label(&self) -> String {
+        match *self {
+            SceneParams::Triangular { w } => format!("triangular w={w:e}"),
+            SceneParams::Square { r } => format!("square r={r:e}"),
+        }
+    }
+}
+
+impl fmt::Display for SceneParams {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.label())
+    }
+}
+
+/// The six families of decoded states, written against the cell description.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum PrimitiveCase {
-    /// Aimed at vertex disk `disk` with impact parameter b = 1 − 2⁻ᵏ (or 1 + 2⁻ᵏ if `above`).
+    /// Aimed at disk `disk` with impact parameter b = r(1 − 2⁻ᵏ) (or r(1 + 2⁻ᵏ) if `above`).
     Impact {
-        /// Vertex disk aimed at.
+        /// Disk aimed at.
         disk: u8,
         /// Exponent k, 1..=52.
         k: u8,
-        /// b = 1 + 2⁻ᵏ (a near miss) instead of 1 − 2⁻ᵏ.
+        /// b = r(1 + 2⁻ᵏ) (a near miss) instead of r(1 − 2⁻ᵏ).
         above: bool,
     },
-    /// Start at distance 2⁻ᵏ from the surface of vertex disk `disk`.
+    /// Start at distance r·2⁻ᵏ from the surface of disk `disk`, at an angle on one of the
+    /// disk's free arcs inside the cell.
     NearSurface {
-        /// Vertex disk.
+        /// Disk.
         disk: u8,
         /// Exponent k, 1..=60 (beyond 53 the start rounds onto the surface).
         k: u8,
@@ -71,36 +150,48 @@ pub enum PrimitiveCase {
         /// The disk is excluded (a post-collision state); only when not moving in.
         excluded: bool,
     },
-    /// On a common tangent of the two endpoint disks of edge `edge`.
+    /// On a common tangent of two disks of the cell; in a one-disk cell, on a tangent of the
+    /// disk parallel to an edge (a corridor boundary).
     DoubleTangent {
-        /// Edge whose endpoint disks the line touches.
-        edge: u8,
-        /// 0: the outer tangent parallel to the edge (at distance 1 inside); 1, 2: the two
-        /// inner tangents through the edge midpoint.
+        /// With two or more disks: the pair of disks ((pair + 1) mod n, (pair + 2) mod n) (for
+        /// the triangular trap, the endpoint disks of edge `pair`); with one disk: the edge the
+        /// tangent is parallel to.
+        pair: u8,
+        /// With two or more disks: 0 the outer tangent on the cell's side (at distance r from
+        /// the centre line), 1, 2 the two inner tangents through the midpoint; with one disk:
+        /// 0 the tangent on the side of the edge's normal, 1 the opposite one.
         line: u8,
     },
-    /// Through a point where the gap of edge `edge` meets a disk (distance 1 from an endpoint).
+    /// Through a point where edge `edge` meets a disk's circle inside the cell.
     GapPoint {
         /// Edge.
         edge: u8,
-        /// Which endpoint's disk.
-        end: u8,
+        /// Which of the edge's circle points, in counter-clockwise order along the edge.
+        point: u8,
         /// Start at the point itself (else aimed at it from a free point).
         at_point: bool,
     },
-    /// A free point in the triangle with a unit velocity.
+    /// Through a corner of the cell polygon, where two edges meet.
+    Corner {
+        /// Corner (index into [`ConvexCell::corners`]).
+        corner: u8,
+        /// 0 start at the corner (if free) in any direction; 1 aimed at the corner from a free
+        /// point; 2 start at the corner (if free) moving along one of its two edges.
+        mode: u8,
+    },
+    /// A free point in the cell with a unit velocity.
     Arbitrary,
 }
 
-/// A decoded canonical-trap state.
+/// A decoded single-cell state.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PrimitiveInput {
+    /// The scene.
+    pub scene: SceneParams,
     /// Which family (after fall-backs: a family whose construction fails decodes as
     /// [`PrimitiveCase::Arbitrary`]).
     pub case: PrimitiveCase,
-    /// Gap w ∈ (0, w∞).
-    pub w: f64,
-    /// The start.
+    /// The start, in the cell's frame.
     pub flight: Flight<f64>,
     /// Number of successive events to replay (1..=4).
     pub events: u8,
@@ -109,9 +200,9 @@ pub struct PrimitiveInput {
 /// A decoded lattice run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneInput {
-    /// Gap, start flight and family as for the primitive target.
+    /// Scene, start flight and family as for the primitive target.
     pub primitive: PrimitiveInput,
-    /// The trap the start is in.
+    /// The cell the start is in.
     pub cell: CellIndex,
     /// Number of events to step (1..=[`MAX_STEPS`]).
     pub steps: u32,
@@ -120,10 +211,10 @@ pub struct SceneInput {
 /// What an oracle run checked.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OracleReport {
-    /// The decoded family.
-    pub case: PrimitiveCase,
-    /// The gap.
-    pub w: f64,
+    /// The decoded family (`None` for a hand-made state).
+    pub case: Option<PrimitiveCase>,
+    /// The scene.
+    pub scene: String,
     /// Events checked.
     pub events: u64,
     /// Of which collisions.
@@ -138,11 +229,28 @@ pub struct OracleReport {
     pub worst_energy_u: f64,
 }
 
+impl OracleReport {
+    fn new(case: Option<PrimitiveCase>, scene: String) -> Self {
+        OracleReport {
+            case,
+            scene,
+            events: 0,
+            collisions: 0,
+            crossings: 0,
+            ambiguous: 0,
+            worst_time_ratio: 0.0,
+            worst_energy_u: 0.0,
+        }
+    }
+}
+
 /// Why an oracle run failed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OracleFailure {
     /// The decoded family.
     pub case: Option<PrimitiveCase>,
+    /// The scene.
+    pub scene: String,
     /// Index of the event that failed (0-based; `None` for a decoding failure).
     pub event: Option<u64>,
     /// What was violated.
@@ -155,8 +263,8 @@ impl fmt::Display for OracleFailure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "oracle failure ({:?}, event {:?}): {}; state {}",
-            self.case, self.event, self.reason, self.state
+            "oracle failure ({}, {:?}, event {:?}): {}; state {}",
+            self.scene, self.case, self.event, self.reason, self.state
         )
     }
 }
@@ -242,6 +350,14 @@ fn angle_of(v: &Vec2<Float>) -> Float {
     v.y.clone().atan2(&v.x)
 }
 
+fn round(p: &Vec2<Float>) -> Vec2<f64> {
+    Vec2::new(p.x.to_f64(), p.y.to_f64())
+}
+
+fn lift(p: &Vec2<f64>) -> Vec2<Float> {
+    Vec2::<Float>::from_f64(ORACLE_BITS, p.x, p.y)
+}
+
 /// The largest f64 gap strictly below w∞.
 fn w_max() -> f64 {
     let wi = Geometry::<Float>::w_inf(ORACLE_BITS);
@@ -265,56 +381,92 @@ fn decode_w(r: &mut Bytes) -> f64 {
     }
 }
 
-/// Geometric context of a decoding: the trap at f64 and at [`ORACLE_BITS`].
+/// r from a mode byte and 32 bits: uniform in (0, ½), a power 2⁻ᵉ (e = 2..=40), or ½ − 2⁻ᵏ
+/// (k = 2..=53, exact; ½ − 2⁻⁵³ is the largest double below ½).
+fn decode_r(r: &mut Bytes) -> f64 {
+    let mode = r.u8() % 4;
+    let n = r.u32();
+    match mode {
+        0 | 1 => 0.5 * ((n as f64 + 1.0) / 4_294_967_297.0),
+        2 => (-((2 + n % 39) as f64)).exp2(),
+        _ => 0.5 - (-((2 + n % 52) as f64)).exp2(),
+    }
+}
+
+/// Geometric context of a decoding: the scene's cell at f64 and at [`ORACLE_BITS`].
 struct Geo {
-    t64: Trap<f64>,
-    thp: Trap<Float>,
+    c64: ConvexCell<f64>,
+    chp: ConvexCell<Float>,
 }
 
 impl Geo {
-    fn new(w: f64) -> Self {
-        Geo {
-            t64: Trap::new(w).expect("w > 0"),
-            thp: Trap::new(hp(w)).expect("w > 0"),
-        }
+    fn new<S: Scene>(scene: &S) -> Result<Self, String> {
+        let k64 = scene.kernel::<f64>(()).map_err(|e| e.to_string())?;
+        let khp = scene
+            .kernel::<Float>(ORACLE_BITS)
+            .map_err(|e| e.to_string())?;
+        Ok(Geo {
+            c64: k64.cell().clone(),
+            chp: khp.cell().clone(),
+        })
     }
+
+    fn n_disks(&self) -> usize {
+        self.chp.disks.len()
+    }
+
     /// Free at high precision, up to 2⁻¹⁰⁰: σₖ(p) ≥ −2⁻¹⁰⁰ for every edge and
-    /// |p − c|² ≥ 1 − 2⁻¹⁰⁰ for every disk (points constructed on an edge or a tangent line).
+    /// |p − c|² ≥ r²(1 − 2⁻¹⁰⁰) for every disk (points constructed on an edge or a tangent line).
     fn free_hp(&self, p: &Vec2<Float>) -> bool {
-        let tiny = (-100f64).exp2();
-        (0..3).all(|k| self.thp.edge_distance(k, p).to_f64() >= -tiny)
+        let tiny = HP_TINY_EXP.exp2();
+        let r2 = self.chp.radius2.to_f64();
+        (0..self.chp.edges.len()).all(|k| self.chp.edge_distance(k, p).to_f64() >= -tiny)
             && self
-                .thp
-                .vertices
+                .chp
+                .disks
                 .iter()
-                .all(|c| p.sub(c).norm2().to_f64() >= 1.0 - tiny)
+                .all(|c| p.sub(c).norm2().to_f64() >= r2 * (1.0 - tiny))
     }
-    /// A free point from two fractions (folded onto the triangle, then an additive-recurrence
-    /// walk until free; the centroid, always free, as the last resort).
+
+    /// A free point from two fractions: c₀ + u₁(c₁ − c₀) + u₂(c_last − c₀) over the corners
+    /// (folded back onto the triangle c₀c₁c₂ when the cell is one; the whole cell when it is a
+    /// parallelogram), then an additive-recurrence walk until free; the centroid or a free
+    /// corner as the last resort.
     fn free_point(&self, u1: f64, u2: f64) -> Vec2<f64> {
-        let t = &self.t64;
+        let c = &self.c64.corners;
+        let (o, p1, p2) = (&c[0], &c[1], &c[c.len() - 1]);
+        let (e1, e2) = (p1.sub(o), p2.sub(o));
         for i in 0..256 {
             let (mut a, mut b) = (
                 (u1 + i as f64 * 0.618_033_988_749_895).fract(),
                 (u2 + i as f64 * 0.414_213_562_373_095).fract(),
             );
-            if a + b > 1.0 {
+            if c.len() == 3 && a + b > 1.0 {
                 a = 1.0 - a;
                 b = 1.0 - b;
             }
-            let p = Vec2::new(a * t.a + b * t.a * 0.5, b * t.h);
-            if t.is_free(&p) {
+            let p = Vec2::new(o.x + a * e1.x + b * e2.x, o.y + a * e1.y + b * e2.y);
+            if self.c64.is_free(&p) {
                 return p;
             }
         }
-        Vec2::new(t.a * 0.5, t.h / 3.0)
+        let n = c.len() as f64;
+        let centroid = Vec2::new(
+            c.iter().map(|p| p.x).sum::<f64>() / n,
+            c.iter().map(|p| p.y).sum::<f64>() / n,
+        );
+        std::iter::once(centroid.clone())
+            .chain(c.iter().cloned())
+            .find(|p| self.c64.is_free(p))
+            .unwrap_or(centroid)
     }
-    /// The range of s with A + s·u in the closed triangle (at high precision), if not empty.
+
+    /// The range of s with A + s·u in the closed cell (at high precision), if not empty.
     fn clip(&self, a: &Vec2<Float>, u: &Vec2<Float>) -> Option<(Float, Float)> {
         let (mut lo, mut hi): (Option<Float>, Option<Float>) = (None, None);
-        for k in 0..3 {
-            let sigma = self.thp.edge_distance(k, a);
-            let nu = self.thp.normals[k].dot(u);
+        for (k, e) in self.chp.edges.iter().enumerate() {
+            let sigma = self.chp.edge_distance(k, a);
+            let nu = e.normal.dot(u);
             // A direction within rounding of an edge's is parallel to it.
             if nu.to_f64().abs() < 1e-40 {
                 if sigma.to_f64() < -1e-40 {
@@ -338,6 +490,7 @@ impl Geo {
         let (lo, hi) = (lo?, hi?);
         (lo <= hi).then_some((lo, hi))
     }
+
     /// A free point A + s·u of the line, s chosen from `frac` (then a walk, then the ends and
     /// the middle of the clipped range).
     fn point_on_line(&self, a: &Vec2<Float>, u: &Vec2<Float>, frac: f64) -> Option<Vec2<Float>> {
@@ -355,28 +508,116 @@ impl Geo {
         }
         None
     }
+
+    /// `true` if the point of disk `m`'s surface at angle `theta` is in the closed cell and
+    /// outside the other disks (decided in `f64`, for the arc walk).
+    fn surface_free64(&self, m: usize, theta: f64) -> bool {
+        let c = &self.c64;
+        let (s, co) = theta.sin_cos();
+        let p = Vec2::new(c.disks[m].x + c.radius * co, c.disks[m].y + c.radius * s);
+        (0..c.edges.len()).all(|k| c.edge_distance(k, &p) >= 0.0)
+            && c.disks
+                .iter()
+                .enumerate()
+                .all(|(j, d)| j == m || p.sub(d).norm2() >= c.radius2)
+    }
+
+    /// The free arcs of disk `m`'s surface inside the cell, as angle intervals [lo, hi] (hi may
+    /// exceed 2π): a walk over [`ARC_SAMPLES`] angles finds the runs of free samples, each end
+    /// is then bisected to the last ulp. The whole circle is one arc [0, 2π].
+    fn free_arcs(&self, m: usize) -> Vec<(f64, f64)> {
+        let step = std::f64::consts::TAU / ARC_SAMPLES as f64;
+        let free: Vec<bool> = (0..ARC_SAMPLES)
+            .map(|i| self.surface_free64(m, i as f64 * step))
+            .collect();
+        if free.iter().all(|&f| f) {
+            return vec![(0.0, std::f64::consts::TAU)];
+        }
+        let Some(start) = free.iter().position(|&f| !f) else {
+            return Vec::new();
+        };
+        // Bisects between a free angle and a non-free one, returning the free end.
+        let refine = |mut inside: f64, mut outside: f64| {
+            for _ in 0..ARC_REFINE_STEPS {
+                let mid = 0.5 * (inside + outside);
+                if mid == inside || mid == outside {
+                    break;
+                }
+                if self.surface_free64(m, mid) {
+                    inside = mid;
+                } else {
+                    outside = mid;
+                }
+            }
+            inside
+        };
+        let mut arcs = Vec::new();
+        let mut run: Option<usize> = None;
+        for n in start + 1..=start + ARC_SAMPLES {
+            let i = n % ARC_SAMPLES;
+            match (free[i], run) {
+                (true, None) => run = Some(n),
+                (false, Some(first)) => {
+                    let lo = refine(first as f64 * step, (first - 1) as f64 * step);
+                    let hi = refine((n - 1) as f64 * step, n as f64 * step);
+                    arcs.push((lo, hi));
+                    run = None;
+                }
+                _ => {}
+            }
+        }
+        arcs
+    }
+
+    /// The points where edge `k`'s line meets a disk's circle inside the closed cell, in
+    /// counter-clockwise order along the edge.
+    fn edge_circle_points(&self, k: usize) -> Vec<Vec2<Float>> {
+        let c = &self.chp;
+        let e = &c.edges[k];
+        let n = &e.normal;
+        // Counter-clockwise direction along the edge: the interior (n) is on its left.
+        let t = Vec2::new(n.y.clone(), -n.x.clone());
+        let mut pts: Vec<(Float, Vec2<Float>)> = Vec::new();
+        for d in &c.disks {
+            // Foot of the perpendicular from the centre, q = c + (o − n·c)n; half-chord √(r² − δ²).
+            let delta = e.offset.clone() - &n.dot(d);
+            let h2 = c.radius2.clone() - &Real::square(&delta);
+            if h2.is_sign_negative() {
+                continue;
+            }
+            let q = d.along(&delta, n);
+            let h = h2.sqrt();
+            for s in [-h.clone(), h] {
+                let p = q.along(&s, &t);
+                let on_cell = (0..c.edges.len())
+                    .all(|j| j == k || c.edge_distance(j, &p).to_f64() >= -HP_TINY_EXP.exp2());
+                if on_cell {
+                    pts.push((t.dot(&p), p));
+                }
+            }
+        }
+        pts.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
+        pts.into_iter().map(|(_, p)| p).collect()
+    }
 }
 
-fn round(p: &Vec2<Float>) -> Vec2<f64> {
-    Vec2::new(p.x.to_f64(), p.y.to_f64())
-}
-
-/// Checks that a decoded state is valid (see the module documentation).
-fn validate(thp: &Trap<Float>, f: &Flight<f64>) -> Result<(), String> {
-    let p = Vec2::<Float>::from_f64(ORACLE_BITS, f.pos.x, f.pos.y);
-    let v = Vec2::<Float>::from_f64(ORACLE_BITS, f.vel.x, f.vel.y);
-    let a = thp.a.to_f64();
-    for k in 0..3 {
-        let s = thp.edge_distance(k, &p).to_f64();
-        if s.is_nan() || s < -VALID_EDGE * a {
+/// Checks that a decoded state is valid in `cell` (see the module documentation).
+fn validate(cell: &ConvexCell<Float>, f: &Flight<f64>) -> Result<(), String> {
+    let p = lift(&f.pos);
+    let v = lift(&f.vel);
+    let extent = cell.extent();
+    for k in 0..cell.edges.len() {
+        let s = cell.edge_distance(k, &p).to_f64();
+        if s.is_nan() || s < -VALID_EDGE * extent {
             return Err(format!("decoded start outside edge {k}: sigma = {s:e}"));
         }
     }
-    for (m, c) in thp.vertices.iter().enumerate() {
-        let e = (p.sub(c).norm2() - 1u32).to_f64();
+    let r2 = cell.radius2.to_f64();
+    for (m, c) in cell.disks.iter().enumerate() {
+        let e = ((p.sub(c).norm2() - &cell.radius2) / &cell.radius2).to_f64();
         if e.is_nan() || e < -VALID_DISK {
             return Err(format!(
-                "decoded start inside disk {m}: |p-c|^2 - 1 = {e:e}"
+                "decoded start inside disk {m}: (|p-c|^2 - r^2)/r^2 = {e:e} (r^2 = {r2:e})"
             ));
         }
     }
@@ -388,7 +629,7 @@ fn validate(thp: &Trap<Float>, f: &Flight<f64>) -> Result<(), String> {
         return Err("decoded start with an excluded edge".into());
     }
     if let Some(m) = f.excluded_disk {
-        let d = p.sub(&thp.vertices[m as usize]);
+        let d = p.sub(&cell.disks[m as usize]);
         let beta = d.dot(&v).to_f64();
         // Excluding a disk is valid only if the flight leaves it, up to the rounding of v·n:
         // each component of v is within 4.5 ulps (≤ 4.5u) of the exact tangent direction.
@@ -403,29 +644,33 @@ fn validate(thp: &Trap<Float>, f: &Flight<f64>) -> Result<(), String> {
 /// A decoded start: family, position, high-precision velocity, excluded disk.
 type Built = (PrimitiveCase, Vec2<f64>, Vec2<Float>, Option<u8>);
 
-/// Decodes the canonical-trap part of an input (see `proofs-notes/fuzzing.md` for the layout).
-fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
-    let sel = r.u8();
-    let w = decode_w(r);
-    let events = 1 + r.u8() % 4;
-    let geo = Geo::new(w);
-    let thp = &geo.thp;
+/// Number of families selected by the case byte (its value modulo this).
+const FAMILIES: u8 = 6;
+
+/// Decodes a start in the cell of `scene` from the case byte `sel` and the case's own bytes
+/// (see `proofs-notes/fuzzing.md` for the layout); the bytes of each family are always read in
+/// full (a fixed layout per family).
+fn build_flight(geo: &Geo, sel: u8, r: &mut Bytes) -> (PrimitiveCase, Flight<f64>) {
+    let chp = &geo.chp;
+    let nd = geo.n_disks();
+    let ne = chp.edges.len();
     let two_pi = pi() * 2u32;
-    // Case-specific bytes are always read in full (fixed layout per case).
-    let built: Option<Built> = match sel % 5 {
+    let half_pi = pi() / 2u32;
+    let built: Option<Built> = match sel % FAMILIES {
         0 => {
-            let disk = r.u8() % 3;
+            let disk = r.u8() % nd as u8;
             let kb = r.u8();
             let side = r.u8() & 1 == 1;
             let (u1, u2) = (r.frac16(), r.frac16());
             let above = kb & 0x80 != 0;
             let k = 1 + (kb & 0x7f) % 52;
-            let b = if above {
+            let factor = if above {
                 1.0 + (-(k as f64)).exp2()
             } else {
                 1.0 - (-(k as f64)).exp2()
             };
-            let c = &thp.vertices[disk as usize];
+            let b = chp.radius.clone() * &hp(factor);
+            let c = &chp.disks[disk as usize];
             // A free start far enough from the disk (|p − c| > b), by the same walk.
             (0..16)
                 .map(|i| {
@@ -435,10 +680,9 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
                     )
                 })
                 .find_map(|p64| {
-                    let p = Vec2::<Float>::from_f64(ORACLE_BITS, p64.x, p64.y);
-                    let to_c = c.sub(&p);
+                    let to_c = c.sub(&lift(&p64));
                     let dist = to_c.norm2().sqrt();
-                    let ratio = hp(b) / &dist;
+                    let ratio = b.clone() / &dist;
                     if ratio.to_f64() >= 1.0 {
                         return None;
                     }
@@ -457,136 +701,186 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
                 })
         }
         1 => {
-            let disk = r.u8() % 3;
+            let disk = r.u8() % nd as u8;
             let k = 1 + r.u8() % 60;
             let motion = r.u8() % 3;
             let flags = r.u8();
             let (psi_f, chi_f) = (r.frac16(), r.open16());
             let excluded = motion != 0 && flags & 1 == 1;
-            let c = &thp.vertices[disk as usize];
-            // The 60° sector of the disk inside the triangle starts at 0, 2π/3, 4π/3.
-            let base = pi() * 2u32 * (disk as u32) / 3u32;
-            let width = pi() / 3u32;
-            let mid = base.clone() + &(width.clone() / 2u32);
-            let r_dist = hp(1.0) + &hp((-(k as f64)).exp2());
-            let mut psi = base.clone() + &(width * &hp(psi_f));
-            // Near the sector ends the point can fall in a neighbouring disk (small w): move
-            // it towards the bisector until free.
-            let mut found = None;
-            for _ in 0..64 {
-                let p = c.along(&r_dist, &unit(&psi));
-                if geo.free_hp(&p) {
-                    found = Some(p);
-                    break;
-                }
-                psi = mid.clone() + &((psi - &mid) / 2u32);
-            }
-            found.map(|p| {
-                let half_pi = pi() / 2u32;
-                let dir = match motion {
-                    0 => psi.clone() + &half_pi + &(pi() * &hp(chi_f)),
-                    1 => psi.clone() - &half_pi + &(pi() * &hp(chi_f)),
-                    _ => {
-                        if flags & 2 == 2 {
-                            psi.clone() + &half_pi
-                        } else {
-                            psi.clone() - &half_pi
+            let c = &chp.disks[disk as usize];
+            let arcs = geo.free_arcs(disk as usize);
+            let dist = chp.radius.clone() * &(hp(1.0) + &hp((-(k as f64)).exp2()));
+            (!arcs.is_empty())
+                .then(|| arcs[(flags >> 2) as usize % arcs.len()])
+                .and_then(|(lo, hi)| {
+                    let (lo, hi) = (hp(lo), hp(hi));
+                    let width = hi.clone() - &lo;
+                    let mid = lo.clone() + &(width.clone() / 2u32);
+                    let psi0 = lo + &(width * &hp(psi_f));
+                    // Near the arc ends the point can fall outside the cell or in a
+                    // neighbouring disk: pull it towards the middle of the arc, by tiny
+                    // fractions first (an end on an edge stays on it), then by halves.
+                    let pulls = [0.0, -50.0, -40.0, -30.0, -20.0, -10.0]
+                        .into_iter()
+                        .map(|e: f64| if e == 0.0 { 0.0 } else { e.exp2() })
+                        .chain((1..=64).map(|n| 1.0 - (-(n as f64)).exp2()));
+                    pulls
+                        .map(|fr| psi0.clone() + &((mid.clone() - &psi0) * &hp(fr)))
+                        .find_map(|psi| {
+                            let p = c.along(&dist, &unit(&psi));
+                            geo.free_hp(&p).then_some((psi, p))
+                        })
+                })
+                .map(|(psi, p)| {
+                    let dir = match motion {
+                        0 => psi.clone() + &half_pi + &(pi() * &hp(chi_f)),
+                        1 => psi.clone() - &half_pi + &(pi() * &hp(chi_f)),
+                        _ => {
+                            if flags & 2 == 2 {
+                                psi.clone() + &half_pi
+                            } else {
+                                psi.clone() - &half_pi
+                            }
                         }
-                    }
-                };
-                (
-                    PrimitiveCase::NearSurface {
-                        disk,
-                        k,
-                        motion,
-                        excluded,
-                    },
-                    round(&p),
-                    unit(&dir),
-                    if excluded { Some(disk) } else { None },
-                )
-            })
+                    };
+                    (
+                        PrimitiveCase::NearSurface {
+                            disk,
+                            k,
+                            motion,
+                            excluded,
+                        },
+                        round(&p),
+                        unit(&dir),
+                        if excluded { Some(disk) } else { None },
+                    )
+                })
         }
         2 => {
-            let edge = r.u8() % 3;
-            let line = r.u8() % 3;
+            let pair_b = r.u8();
+            let line_b = r.u8();
             let back = r.u8() & 1 == 1;
             let s_f = r.frac16();
-            let (i, j) = match edge {
-                0 => (1, 2),
-                1 => (2, 0),
-                _ => (0, 1),
-            };
-            let (pi_, pj) = (&thp.vertices[i], &thp.vertices[j]);
-            let along = pj.sub(pi_);
-            let e_dir = Vec2::new(along.x.clone() / &thp.a, along.y.clone() / &thp.a);
-            let mid = Vec2::new(
-                thp.centres[edge as usize].x.clone() / 2u32,
-                thp.centres[edge as usize].y.clone() / 2u32,
-            );
-            let line_through = |line: u8| match line {
-                0 => {
-                    let n = &thp.normals[edge as usize];
-                    (
-                        Vec2::new(mid.x.clone() + &n.x, mid.y.clone() + &n.y),
-                        e_dir.clone(),
-                    )
-                }
-                _ => {
-                    // Inner tangents: through the midpoint at angle ±α, sin α = 2/a.
-                    let alpha = (hp(2.0) / &thp.a).asin();
-                    let th = angle_of(&e_dir);
-                    let th = if line == 1 { th + &alpha } else { th - &alpha };
-                    (mid.clone(), unit(&th))
-                }
-            };
-            // The outer tangent runs through the opposite disk for all its length inside the
-            // triangle when w is small; then the first inner tangent is used instead.
-            [line, 1].into_iter().find_map(|line| {
-                let (anchor, dir) = line_through(line);
+            let found = |pair: u8, line: u8, anchor: Vec2<Float>, dir: Vec2<Float>| {
                 geo.point_on_line(&anchor, &dir, s_f).map(|p| {
                     let v = if back { -dir.clone() } else { dir };
                     (
-                        PrimitiveCase::DoubleTangent { edge, line },
+                        PrimitiveCase::DoubleTangent { pair, line },
                         round(&p),
                         v,
                         None,
                     )
                 })
-            })
+            };
+            if nd >= 2 {
+                let pair = pair_b % nd as u8;
+                let (i, j) = if nd == 2 {
+                    (0, 1)
+                } else {
+                    ((pair as usize + 1) % nd, (pair as usize + 2) % nd)
+                };
+                let (ci, cj) = (&chp.disks[i], &chp.disks[j]);
+                let d = cj.sub(ci);
+                let len = d.norm2().sqrt();
+                let e_dir = Vec2::new(d.x.clone() / &len, d.y.clone() / &len);
+                let mid = Vec2::new((ci.x.clone() + &cj.x) / 2u32, (ci.y.clone() + &cj.y) / 2u32);
+                // The normal of the centre line pointing to the cell's side (its centroid).
+                let nc = chp.corners.len() as u32;
+                let centroid = Vec2::new(
+                    chp.corners.iter().fold(hp(0.0), |s, p| s + &p.x) / nc,
+                    chp.corners.iter().fold(hp(0.0), |s, p| s + &p.y) / nc,
+                );
+                let mut n = Vec2::new(-e_dir.y.clone(), e_dir.x.clone());
+                if centroid.sub(&mid).dot(&n).is_sign_negative() {
+                    n = -n;
+                }
+                let line_through = |line: u8| match line {
+                    0 => (mid.along(&chp.radius, &n), e_dir.clone()),
+                    _ => {
+                        // Inner tangents: through the midpoint at angle ±α, sin α = 2r/|cⱼ − cᵢ|.
+                        let alpha = (chp.radius.clone() * 2u32 / &len).asin();
+                        let th = angle_of(&e_dir);
+                        let th = if line == 1 { th + &alpha } else { th - &alpha };
+                        (mid.clone(), unit(&th))
+                    }
+                };
+                // The outer tangent can run inside a third disk for all its length inside the
+                // cell (the triangular trap at small w); then the first inner tangent is used.
+                let line = line_b % 3;
+                [line, 1].into_iter().find_map(|line| {
+                    let (anchor, dir) = line_through(line);
+                    found(pair, line, anchor, dir)
+                })
+            } else {
+                // One disk: the tangents parallel to edge `pair` (corridor boundaries).
+                let pair = pair_b % ne as u8;
+                let line = line_b % 2;
+                let n = &chp.edges[pair as usize].normal;
+                let side = if line == 0 { hp(1.0) } else { hp(-1.0) };
+                let anchor = chp.disks[0].along(&(chp.radius.clone() * &side), n);
+                let dir = Vec2::new(n.y.clone(), -n.x.clone());
+                found(pair, line, anchor, dir)
+            }
         }
         3 => {
-            let edge = r.u8() % 3;
-            let end = r.u8() % 2;
+            let edge = r.u8() % ne as u8;
+            let point_b = r.u8();
             let at_point = r.u8() & 1 == 1;
             let ang = r.frac32();
             let (u1, u2) = (r.frac16(), r.frac16());
-            let (i, j) = match edge {
-                0 => (1usize, 2usize),
-                1 => (2, 0),
-                _ => (0, 1),
-            };
-            let (from, to) = if end == 0 { (i, j) } else { (j, i) };
-            let d = thp.vertices[to].sub(&thp.vertices[from]);
-            let g = Vec2::new(
-                thp.vertices[from].x.clone() + &(d.x.clone() / &thp.a),
-                thp.vertices[from].y.clone() + &(d.y.clone() / &thp.a),
-            );
-            let case = PrimitiveCase::GapPoint {
-                edge,
-                end,
-                at_point,
-            };
-            if at_point {
-                Some((case, round(&g), unit(&(two_pi.clone() * &hp(ang))), None))
-            } else {
-                let p64 = geo.free_point(u1, u2);
-                let p = Vec2::<Float>::from_f64(ORACLE_BITS, p64.x, p64.y);
-                let to_g = g.sub(&p);
-                (to_g.norm2().to_f64() > 1e-6).then(|| (case, p64, unit(&angle_of(&to_g)), None))
+            let pts = geo.edge_circle_points(edge as usize);
+            (!pts.is_empty()).then_some(()).and_then(|()| {
+                let point = point_b % pts.len() as u8;
+                let g = &pts[point as usize];
+                let case = PrimitiveCase::GapPoint {
+                    edge,
+                    point,
+                    at_point,
+                };
+                if at_point {
+                    Some((case, round(g), unit(&(two_pi.clone() * &hp(ang))), None))
+                } else {
+                    let p64 = geo.free_point(u1, u2);
+                    let to_g = g.sub(&lift(&p64));
+                    (to_g.norm2().to_f64() > 1e-6)
+                        .then(|| (case, p64, unit(&angle_of(&to_g)), None))
+                }
+            })
+        }
+        4 => None,
+        _ => {
+            let corner = r.u8() % chp.corners.len() as u8;
+            let mode = r.u8() % 3;
+            let which = r.u8();
+            let ang = r.frac32();
+            let (u1, u2) = (r.frac16(), r.frac16());
+            let q = &chp.corners[corner as usize];
+            let case = PrimitiveCase::Corner { corner, mode };
+            match mode {
+                0 => geo
+                    .free_hp(q)
+                    .then(|| (case, round(q), unit(&(two_pi.clone() * &hp(ang))), None)),
+                1 => {
+                    let p64 = geo.free_point(u1, u2);
+                    let to_q = q.sub(&lift(&p64));
+                    (to_q.norm2().to_f64() > 1e-6)
+                        .then(|| (case, p64, unit(&angle_of(&to_q)), None))
+                }
+                _ => {
+                    // Along one of the (two) edges through the corner, either way.
+                    let tiny = HP_TINY_EXP.exp2();
+                    let through: Vec<usize> = (0..ne)
+                        .filter(|&k| chp.edge_distance(k, q).to_f64().abs() <= tiny)
+                        .collect();
+                    (geo.free_hp(q) && !through.is_empty()).then(|| {
+                        let n = &chp.edges[through[(which >> 1) as usize % through.len()]].normal;
+                        let t = Vec2::new(n.y.clone(), -n.x.clone());
+                        let t = if which & 1 == 1 { -t } else { t };
+                        (case, round(q), t, None)
+                    })
+                }
             }
         }
-        _ => None,
     };
     let (case, pos, vel_hp, excluded_disk) = built.unwrap_or_else(|| {
         // Arbitrary (also the fall-back of a failed construction: reads its own bytes).
@@ -610,12 +904,53 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
     );
     let mut flight = Flight::new(pos, vel);
     flight.excluded_disk = excluded_disk;
-    PrimitiveInput {
-        case,
-        w,
-        flight,
-        events,
-    }
+    (case, flight)
+}
+
+/// Decodes the whole single-cell input: `[scene][case][parameter mode][parameter: u32][events]`,
+/// then the family's bytes and the nudges.
+fn decode_flight(r: &mut Bytes) -> Result<(PrimitiveInput, Geo), String> {
+    let scene_b = r.u8();
+    let sel = r.u8();
+    let (scene, geo) = if scene_b % 2 == 0 {
+        let w = decode_w(r);
+        let s = TriangularScene::new(w).map_err(|e| e.to_string())?;
+        (SceneParams::Triangular { w }, Geo::new(&s)?)
+    } else {
+        let radius = decode_r(r);
+        let s = SquareScene::new(radius).map_err(|e| e.to_string())?;
+        (SceneParams::Square { r: radius }, Geo::new(&s)?)
+    };
+    let events = 1 + r.u8() % 4;
+    let (case, flight) = build_flight(&geo, sel, r);
+    Ok((
+        PrimitiveInput {
+            scene,
+            case,
+            flight,
+            events,
+        },
+        geo,
+    ))
+}
+
+/// Decodes and validates a single-cell input, keeping the cell it was decoded in.
+fn decode_validated(data: &[u8]) -> Result<(PrimitiveInput, Geo), OracleFailure> {
+    let (input, geo) = decode_flight(&mut Bytes::new(data)).map_err(|reason| OracleFailure {
+        case: None,
+        scene: "undecodable".into(),
+        event: None,
+        reason,
+        state: format!("{data:?}"),
+    })?;
+    validate(&geo.chp, &input.flight).map_err(|reason| OracleFailure {
+        case: Some(input.case),
+        scene: input.scene.label(),
+        event: None,
+        reason,
+        state: format!("{:?}", input.flight),
+    })?;
+    Ok((input, geo))
 }
 
 /// Decodes the input of [`collision_primitive`].
@@ -623,19 +958,12 @@ fn decode_flight(r: &mut Bytes) -> PrimitiveInput {
 /// # Errors
 /// If the decoded state is not valid (a decoder bug, never expected).
 pub fn decode_primitive(data: &[u8]) -> Result<PrimitiveInput, OracleFailure> {
-    let input = decode_flight(&mut Bytes::new(data));
-    let thp = Trap::new(hp(input.w)).expect("w > 0");
-    validate(&thp, &input.flight).map_err(|reason| OracleFailure {
-        case: Some(input.case),
-        event: None,
-        reason,
-        state: format!("w = {:e}, {:?}", input.w, input.flight),
-    })?;
-    Ok(input)
+    decode_validated(data).map(|(input, _)| input)
 }
 
-/// Decodes the input of [`scene_stepper`]: trap index (i, j) ∈ [−10⁹, 10⁹]², orientation,
-/// step count, then the flight as for [`decode_primitive`].
+/// Decodes the input of [`scene_stepper`]: cell index (i, j) ∈ [−10⁹, 10⁹]², orientation
+/// (honoured only if the lattice has point-reflected cells), step count, then the flight as for
+/// [`decode_primitive`].
 ///
 /// # Errors
 /// If the decoded state is not valid (a decoder bug, never expected).
@@ -646,45 +974,56 @@ pub fn decode_scene(data: &[u8]) -> Result<SceneInput, OracleFailure> {
     let down = r.u8() & 1 == 1;
     let steps = 1 + r.u16() as u32 % MAX_STEPS;
     let rest = &data[r.pos.min(data.len())..];
-    let primitive = decode_primitive(rest)?;
+    let (primitive, geo) = decode_validated(rest)?;
+    let flips = geo.chp.edges.iter().any(|e| e.flips());
     Ok(SceneInput {
         primitive,
-        cell: CellIndex { i, j, down },
+        cell: CellIndex {
+            i,
+            j,
+            down: down && flips,
+        },
         steps,
     })
 }
 
-/// Judges up to four successive events of a decoded canonical-trap state against the one-step
-/// error model by MPFR replay ([`check_event`] at [`ORACLE_BITS`]): the replay must be
-/// `in_model`, the f64 event time finite and ≥ 0, no error or bound NaN, the post-event state
-/// finite.
+/// Replays up to `events` successive events of the `f64` flight `start` in the cell of `scene`
+/// against the one-step error model by MPFR replay ([`check_event`] at [`ORACLE_BITS`]): the
+/// replay must be `in_model`, the f64 event time finite and ≥ 0, no error or bound NaN, the
+/// post-event state finite. `case` only labels the report.
 ///
 /// # Errors
 /// The first violation, with the state before the failing event.
-pub fn collision_primitive(data: &[u8]) -> Result<OracleReport, OracleFailure> {
-    let input = decode_primitive(data)?;
-    let t64 = Trap::new(input.w).expect("w > 0");
-    let tref = Trap::new(hp(input.w)).expect("w > 0");
-    let mut f = input.flight.clone();
-    let mut rep = OracleReport {
-        case: input.case,
-        w: input.w,
-        events: 0,
-        collisions: 0,
-        crossings: 0,
-        ambiguous: 0,
-        worst_time_ratio: 0.0,
-        worst_energy_u: 0.0,
+pub fn replay_events<S: Scene>(
+    scene: &S,
+    case: Option<PrimitiveCase>,
+    start: &Flight<f64>,
+    events: u32,
+) -> Result<OracleReport, OracleFailure> {
+    let label = scene.label();
+    let setup = |reason: String| OracleFailure {
+        case,
+        scene: label.clone(),
+        event: None,
+        reason,
+        state: format!("{start:?}"),
     };
-    for n in 0..input.events as u64 {
+    let k64 = scene.kernel::<f64>(()).map_err(|e| setup(e.to_string()))?;
+    let kref = scene
+        .kernel::<Float>(ORACLE_BITS)
+        .map_err(|e| setup(e.to_string()))?;
+    let mut f = start.clone();
+    let mut rep = OracleReport::new(case, label.clone());
+    for n in 0..events as u64 {
         let before = f.clone();
         let fail = |reason: String| OracleFailure {
-            case: Some(input.case),
+            case,
+            scene: label.clone(),
             event: Some(n),
             reason,
-            state: format!("w = {:e}, {:?}", input.w, before),
+            state: format!("{before:?}"),
         };
-        let c = check_event(&t64, &tref, &f).map_err(|e| fail(format!("check_event: {e}")))?;
+        let c = check_event(&k64, &kref, &f).map_err(|e| fail(format!("check_event: {e}")))?;
         let nums = [
             ("time_error", c.time_error),
             ("time_bound", c.time_bound),
@@ -699,7 +1038,7 @@ pub fn collision_primitive(data: &[u8]) -> Result<OracleReport, OracleFailure> {
         if !c.in_model {
             return Err(fail(format!("event outside the error model: {c:?}")));
         }
-        let ev: Event<f64> = t64
+        let ev: Event<f64> = k64
             .next_event(&f)
             .ok_or_else(|| fail("no next event".into()))?;
         if !(ev.time.is_finite() && ev.time >= 0.0) {
@@ -709,7 +1048,7 @@ pub fn collision_primitive(data: &[u8]) -> Result<OracleReport, OracleFailure> {
             rep.worst_time_ratio = rep.worst_time_ratio.max(c.time_error / c.time_bound);
         }
         rep.ambiguous += c.ambiguous as u64;
-        t64.apply(&mut f, &ev);
+        k64.apply(&mut f, &ev);
         if ![f.pos.x, f.pos.y, f.vel.x, f.vel.y]
             .iter()
             .all(|x| x.is_finite())
@@ -725,45 +1064,84 @@ pub fn collision_primitive(data: &[u8]) -> Result<OracleReport, OracleFailure> {
     Ok(rep)
 }
 
-/// Steps a decoded lattice state in `f64` and checks after every event (bounds of
-/// `tests/kernel_properties.rs`, `proofs-notes/energy.md`, `tests/physics.rs`):
+/// Judges up to four successive events of a decoded single-cell state (any scene) with
+/// [`replay_events`].
 ///
-/// * event time finite, ≥ 0 and ≤ 2a (a chord of the triangle is ≤ a); state finite;
-/// * after a collision ||v|² − 1| ≤ 128u; after a crossing |v|² unchanged bit for bit;
-/// * |x − c|² ≥ 1 − 256u for every vertex disk, σₖ(x) ≥ −256u·a for every edge;
-/// * unwrapped world displacement = t·(s·v) within 64ε(a + t);
-/// * the cell moves by `Cell::across(k)` exactly on `Crossing(k)` and not at all on a collision;
-///   the disk hit / edge crossed is the one excluded.
+/// # Errors
+/// A decoding failure or the first violation, with the state before the failing event.
+pub fn collision_primitive(data: &[u8]) -> Result<OracleReport, OracleFailure> {
+    let input = decode_primitive(data)?;
+    let (case, events) = (Some(input.case), input.events as u32);
+    match input.scene {
+        SceneParams::Triangular { w } => {
+            replay_events(&triangular(w)?, case, &input.flight, events)
+        }
+        SceneParams::Square { r } => replay_events(&square(r)?, case, &input.flight, events),
+    }
+}
+
+fn triangular(w: f64) -> Result<TriangularScene, OracleFailure> {
+    TriangularScene::new(w).map_err(|e| scene_failure(format!("triangular w={w:e}: {e}")))
+}
+
+fn square(r: f64) -> Result<SquareScene, OracleFailure> {
+    SquareScene::new(r).map_err(|e| scene_failure(format!("square r={r:e}: {e}")))
+}
+
+fn scene_failure(reason: String) -> OracleFailure {
+    OracleFailure {
+        case: None,
+        scene: "undecodable".into(),
+        event: None,
+        reason,
+        state: String::new(),
+    }
+}
+
+/// Steps the lattice state `start` of `scene` up to `steps` events in `f64` and checks after
+/// every event (bounds of `tests/kernel_properties.rs`, `tests/square.rs`,
+/// `proofs-notes/energy.md`, `tests/physics.rs`), for any cell:
+///
+/// * event time finite, ≥ 0 and ≤ 2·diameter of the cell polygon; state finite;
+/// * after a collision ||v|² − 1| ≤ [`energy_band`]·u; after a crossing |v|² unchanged bit for
+///   bit (translations and point reflections are exact);
+/// * |x − c|² ≥ r² − 256u for every disk, σₖ(x) ≥ −256u·extent for every edge;
+/// * unwrapped world displacement = t·(s·v) within 64ε(diameter + t);
+/// * the cell index moves by [`CellIndex::across`] exactly on a crossing and not at all on a
+///   collision; the disk hit (`Some(m)`) / edge entered (`Some(edge.entered)`) is the one
+///   excluded.
 ///
 /// # Errors
 /// The first violation, with the state before the failing event.
-pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
-    let input = decode_scene(data)?;
-    let w = input.primitive.w;
-    let lat = TriangularLattice::new(w).expect("w > 0");
+pub fn step_lattice<S: Scene>(
+    scene: &S,
+    case: Option<PrimitiveCase>,
+    start: &LatticeState<f64>,
+    steps: u32,
+) -> Result<OracleReport, OracleFailure> {
+    let label = scene.label();
+    let lat = scene.lattice::<f64>(()).map_err(|e| OracleFailure {
+        case,
+        scene: label.clone(),
+        event: None,
+        reason: e.to_string(),
+        state: format!("{start:?}"),
+    })?;
     let basis = lat.basis_f64();
-    let a = basis.a;
-    let mut s = LatticeState {
-        cell: input.cell,
-        flight: input.primitive.flight.clone(),
-    };
-    let mut rep = OracleReport {
-        case: input.primitive.case,
-        w,
-        events: 0,
-        collisions: 0,
-        crossings: 0,
-        ambiguous: 0,
-        worst_energy_u: 0.0,
-        worst_time_ratio: 0.0,
-    };
-    for n in 0..input.steps as u64 {
+    let cell = lat.cell().clone();
+    let extent = cell.extent();
+    let diam = diameter(&cell);
+    let band = energy_band(&cell);
+    let mut s = start.clone();
+    let mut rep = OracleReport::new(case, label.clone());
+    for n in 0..steps as u64 {
         let before = s.clone();
         let fail = |reason: String| OracleFailure {
-            case: Some(input.primitive.case),
+            case,
+            scene: label.clone(),
             event: Some(n),
             reason,
-            state: format!("w = {w:e}, {before:?}"),
+            state: format!("{before:?}"),
         };
         let u_before = lat.unwrapped(&s, 0.0);
         let sg = s.cell.sign();
@@ -773,7 +1151,7 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
             .step(&mut s)
             .map_err(|e| fail(format!("step failed: {e}")))?;
         let fl = &s.flight;
-        if !(ev.time.is_finite() && ev.time >= 0.0 && ev.time <= 2.0 * a) {
+        if !(ev.time.is_finite() && ev.time >= 0.0 && ev.time <= 2.0 * diam) {
             return Err(fail(format!(
                 "bad event time {:e} ({:?})",
                 ev.time, ev.kind
@@ -794,9 +1172,9 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
                 rep.collisions += 1;
                 let dev = (e2 - 1.0).abs() / U;
                 rep.worst_energy_u = rep.worst_energy_u.max(dev);
-                if dev.is_nan() || dev > 128.0 {
+                if dev.is_nan() || dev > band {
                     return Err(fail(format!(
-                        "|v|^2 - 1 = {:e} = {dev} u after a collision",
+                        "|v|^2 - 1 = {:e} = {dev} u after a collision (band {band} u)",
                         e2 - 1.0
                     )));
                 }
@@ -814,12 +1192,12 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
                         "|v|^2 changed on a crossing: {e2_before:e} -> {e2:e}"
                     )));
                 }
-                let edge = &lat.cell().edges[k as usize];
-                if s.cell != before.cell.across(edge) {
+                let edge = &cell.edges[k as usize];
+                let expected = before.cell.across(edge);
+                if s.cell != expected {
                     return Err(fail(format!(
-                        "cell {:?} after crossing {k}, expected {:?}",
-                        s.cell,
-                        before.cell.across(edge)
+                        "cell {:?} after crossing {k}, expected {expected:?}",
+                        s.cell
                     )));
                 }
                 if fl.excluded_edge != Some(edge.entered) {
@@ -827,18 +1205,18 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
                 }
             }
         }
-        for (m, c) in lat.trap().vertices.iter().enumerate() {
-            let r2 = fl.pos.sub(c).norm2();
-            if r2.is_nan() || r2 < 1.0 - 256.0 * U {
+        for (m, c) in cell.disks.iter().enumerate() {
+            let d = fl.pos.sub(c).norm2() - cell.radius2;
+            if d.is_nan() || d < -POST_EVENT_DISK_U * U {
                 return Err(fail(format!(
-                    "inside disk {m} after {:?}: |x-c|^2 = {r2:e}",
+                    "inside disk {m} after {:?}: |x-c|^2 - r^2 = {d:e}",
                     ev.kind
                 )));
             }
         }
-        for k in 0..3 {
-            let sig = lat.trap().edge_distance(k, &fl.pos);
-            if sig.is_nan() || sig < -256.0 * U * a {
+        for k in 0..cell.edges.len() {
+            let sig = cell.edge_distance(k, &fl.pos);
+            if sig.is_nan() || sig < -POST_EVENT_EDGE_U * U * extent {
                 return Err(fail(format!(
                     "outside edge {k} after {:?}: sigma = {sig:e}",
                     ev.kind
@@ -847,12 +1225,29 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
         }
         let d = lat.unwrapped(&s, 0.0).displacement_from(&u_before, &basis);
         let err = ((d[0] - ev.time * vx).powi(2) + (d[1] - ev.time * vy).powi(2)).sqrt();
-        if err.is_nan() || err > 64.0 * f64::EPSILON * (a + ev.time) {
+        if err.is_nan() || err > UNWRAP_EPS * f64::EPSILON * (diam + ev.time) {
             return Err(fail(format!("unwrapped jump {err:e} over {:?}", ev.kind)));
         }
         rep.events += 1;
     }
     Ok(rep)
+}
+
+/// Steps a decoded lattice state (any scene) with [`step_lattice`].
+///
+/// # Errors
+/// A decoding failure or the first violation, with the state before the failing event.
+pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
+    let input = decode_scene(data)?;
+    let case = Some(input.primitive.case);
+    let start = LatticeState {
+        cell: input.cell,
+        flight: input.primitive.flight.clone(),
+    };
+    match input.primitive.scene {
+        SceneParams::Triangular { w } => step_lattice(&triangular(w)?, case, &start, input.steps),
+        SceneParams::Square { r } => step_lattice(&square(r)?, case, &start, input.steps),
+    }
 }
 
 #[cfg(test)]
@@ -863,6 +1258,7 @@ mod tests {
     fn empty_input_decodes_and_passes() {
         assert!(collision_primitive(&[]).is_ok());
         assert!(scene_stepper(&[]).is_ok());
+        assert!(collision_primitive(&[1]).is_ok());
     }
 
     #[test]
@@ -884,5 +1280,37 @@ mod tests {
                 assert!(w > 0.0 && hp(w) < wi, "mode {mode} n {n}: w = {w:e}");
             }
         }
+    }
+
+    #[test]
+    fn r_stays_inside_zero_half() {
+        for mode in 0..4u8 {
+            for n in [0u32, 1, 51, 12345, u32::MAX] {
+                let b = [&[mode][..], &n.to_le_bytes()[..]].concat();
+                let r = decode_r(&mut Bytes::new(&b));
+                assert!(r > 0.0 && r < 0.5, "mode {mode} n {n}: r = {r:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn free_arcs_are_the_trap_sector_and_the_whole_square_circle() {
+        let tri = Geo::new(&TriangularScene::new(0.1).unwrap()).unwrap();
+        for m in 0..3 {
+            let arcs = tri.free_arcs(m);
+            assert_eq!(arcs.len(), 1, "disk {m}: {arcs:?}");
+            let (lo, hi) = arcs[0];
+            let base = std::f64::consts::TAU * m as f64 / 3.0;
+            let third = std::f64::consts::FRAC_PI_3;
+            let lo = lo.rem_euclid(std::f64::consts::TAU);
+            assert!((lo - base).abs() < 1e-14, "disk {m}: lo {lo} base {base}");
+            assert!(
+                (hi - lo - third).abs() < 1e-14,
+                "disk {m}: width {}",
+                hi - lo
+            );
+        }
+        let sq = Geo::new(&SquareScene::new(0.25).unwrap()).unwrap();
+        assert_eq!(sq.free_arcs(0), vec![(0.0, std::f64::consts::TAU)]);
     }
 }
