@@ -331,7 +331,11 @@ fn run_at<S: Scene>(
         <Float as Real>::from_rational(bits, &input.dy),
     );
     let norm = (dx.clone().square() + &dy.clone().square()).sqrt();
-    let vel = Vec2::new(dx / &norm, dy / &norm);
+    let mut vel = Vec2::new(dx / &norm, dy / &norm);
+    if cell.down {
+        // A point-reflected cell (s = −1) sees the world velocity reversed: world = L − p.
+        vel = -vel;
+    }
     let mut s = LatticeState {
         cell,
         flight: Flight::new(pos, vel),

@@ -70,7 +70,8 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// never through `f64` when `T` is wider). The cell is decided at the working precision; a
     /// point on a cell boundary may be placed in either neighbouring cell — both describe the
     /// same world point, and the kernel continues identically from either. Whether the point is
-    /// free (outside every disk) is left to the caller.
+    /// free (outside every disk) is left to the caller, and so is the velocity: in a cell of
+    /// orientation s = −1 (`down`) the frame velocity is minus the world velocity.
     ///
     /// # Errors
     /// If a coordinate exceeds ±[`MAX_WORLD_COORDINATE`].
