@@ -346,9 +346,9 @@ fn run_at<S: Scene>(
     let mut sequence = Vec::new();
     let mut events = Vec::new();
     loop {
-        let ev = lat.next_event(&s).ok_or_else(|| {
-            Error::Invalid("the flight has no next event (zero velocity)".into())
-        })?;
+        let ev = lat
+            .next_event(&s)
+            .ok_or_else(|| Error::Invalid("the flight has no next event (zero velocity)".into()))?;
         let end = elapsed.clone() + &ev.time;
         if end > total {
             let rest = total.clone() - &elapsed;

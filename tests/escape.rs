@@ -62,7 +62,10 @@ fn straight_flight_is_absorbed_at_the_exact_crossing_time() {
     assert!((o.time - 0.05 / c).abs() < 1e-14, "{}", o.time);
     // Censored: the same flight with t_max before the crossing survives to t_max.
     let o = strip
-        .follow(state(CellIndex::default(), (a / 2.0, h / 3.0), (c, sn)), 0.05)
+        .follow(
+            state(CellIndex::default(), (a / 2.0, h / 3.0), (c, sn)),
+            0.05,
+        )
         .unwrap();
     assert_eq!((o.exit, o.time), (None, 0.05));
 }

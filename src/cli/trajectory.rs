@@ -101,9 +101,10 @@ pub fn run(a: Args) -> Result<(), Error> {
             if a.radius.is_some() {
                 return refuse("--radius", "triangular");
             }
-            let w = a.w.as_deref().ok_or_else(|| {
-                Error::Invalid("the triangular scene needs --w: w > 0".into())
-            })?;
+            let w = a
+                .w
+                .as_deref()
+                .ok_or_else(|| Error::Invalid("the triangular scene needs --w: w > 0".into()))?;
             let w = parse_exact(w)?;
             if w <= 0 {
                 return Err(Error::Invalid(format!(
@@ -119,7 +120,10 @@ pub fn run(a: Args) -> Result<(), Error> {
         write_events(path, &report)?;
     }
     emit(a.output.json, &report, |r| {
-        println!("{}, t = {}: {} collisions, {} crossings", r.scene, a.time, r.collisions, r.crossings);
+        println!(
+            "{}, t = {}: {} collisions, {} crossings",
+            r.scene, a.time, r.collisions, r.crossings
+        );
         println!("x        = {}", r.x);
         println!("y        = {}", r.y);
         println!("distance = {}", r.distance);
