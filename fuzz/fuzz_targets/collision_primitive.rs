@@ -1,5 +1,6 @@
-//! Degenerate canonical-trap states replayed in MPFR: see
-//! `lorentz_gas::verification::oracle::collision_primitive` and `proofs-notes/fuzzing.md`.
+//! Degenerate single-cell states of any scene (leading byte: triangular or square) replayed
+//! in MPFR: see `lorentz_gas::verification::oracle::collision_primitive` and
+//! `proofs-notes/fuzzing.md`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

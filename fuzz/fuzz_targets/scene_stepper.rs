@@ -1,4 +1,4 @@
-//! Lattice runs stepped in f64 with invariants checked after every event: see
+//! Lattice runs of any scene stepped in f64 with invariants checked after every event: see
 //! `lorentz_gas::verification::oracle::scene_stepper` and `proofs-notes/fuzzing.md`.
 #![no_main]
 
