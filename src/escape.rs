@@ -134,9 +134,6 @@ impl EscapeConfig {
         if distinct.len() != self.widths.len() {
             return Err(Error::Invalid("widths must be distinct".into()));
         }
-        if self.particles == 0 {
-            return Err(Error::Zero { what: "particles" });
-        }
         if !(MIN_PARTICLES..=MAX_PARTICLES).contains(&self.particles) {
             return Err(Error::Invalid(format!(
                 "particles = {} is out of range: use {MIN_PARTICLES} <= particles <= \
@@ -208,10 +205,7 @@ pub fn window_rate(batches: &[Vec<Lifetime>], from: f64, to: f64) -> Result<Rate
             got: batches.len() as u64,
         });
     }
-    let counts: Vec<(u64, f64)> = batches
-        .iter()
-        .map(|b| window_counts(b, from, to))
-        .collect();
+    let counts: Vec<(u64, f64)> = batches.iter().map(|b| window_counts(b, from, to)).collect();
     let n: u64 = counts.iter().map(|c| c.0).sum();
     let e: f64 = counts.iter().map(|c| c.1).sum();
     if n == 0 || e <= 0.0 {
@@ -225,11 +219,7 @@ pub fn window_rate(batches: &[Vec<Lifetime>], from: f64, to: f64) -> Result<Rate
         .iter()
         .map(|&(nb, eb)| (nb as f64 - gamma * eb).powi(2))
         .sum();
-    let alive = batches
-        .iter()
-        .flatten()
-        .filter(|l| l.time > from)
-        .count() as u64;
+    let alive = batches.iter().flatten().filter(|l| l.time > from).count() as u64;
     Ok(RateEstimate {
         gamma,
         err: (b / (b - 1.0) * ss).sqrt() / e,
