@@ -292,6 +292,15 @@ const BAD: &[(&[&str], &str)] = &[
     (&["lattice-walk", "--w", "0"], "trapped"),
     (&["lattice-walk", "--w", "0.1", "--order", "0"], "order"),
     (&["lattice-walk", "--w", "0.1", "--order", "100"], "order"),
+    // escape
+    (&["escape", "--w", "0"], "trapped"),
+    (&["escape", "--w", "0.1", "--widths", "3,20,30"], "<= L <="),
+    (&["escape", "--w", "0.1", "--widths", "20,30"], "3 distinct"),
+    (&["escape", "--w", "0.1", "--particles", "0"], "particles"),
+    (
+        &["escape", "--w", "0.1", "--particles", "1e12"],
+        "particles",
+    ),
     // constants
     (&["constants", "--w", "0"], "trapped"),
     (&["constants", "--w", "0.1", "--precision", "20"], "53"),
@@ -433,6 +442,15 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "2",
         ],
         &["constants", "--w", "0.1", "--precision", "200"],
+        &[
+            "escape",
+            "--w",
+            "0.3",
+            "--widths",
+            "10,12,14",
+            "--particles",
+            "3.2e3",
+        ],
         &[
             "figure",
             "backscatter-map",

@@ -18,6 +18,10 @@ const CHI2_15_Q999: f64 = 37.697;
 /// The standard normal's two-sided 10⁻³ quantile.
 const Z_Q999: f64 = 3.2905;
 
+/// The standard normal's two-sided 10⁻⁴ quantile: the per-width bound of the tail check (four
+/// widths, so a correct estimator fails it with probability < 4·10⁻⁴).
+const Z_Q9999: f64 = 3.8906;
+
 fn state(cell: CellIndex, pos: (f64, f64), vel: (f64, f64)) -> LatticeState<f64> {
     LatticeState {
         cell,
@@ -174,6 +178,26 @@ fn escape_results_do_not_depend_on_the_thread_count() {
     assert_eq!(r1.events, r2.events);
 }
 
+/// The command line refuses bad input with exit status 2 and one line naming the valid range.
+#[test]
+fn escape_cli_refuses_bad_input_with_status_2() {
+    for args in [
+        &["escape", "--w", "0.4"][..],
+        &["escape", "--w", "0.1", "--widths", "3,20,30"],
+        &["escape", "--w", "0.1", "--particles", "0"],
+        &["escape", "--w", "0.1", "--particles", "1e12"],
+    ] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lorentz"))
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains("use") || err.contains("<"), "{args:?}: {err}");
+    }
+}
+
 /// Bad input is refused with the valid range.
 #[test]
 fn bad_escape_input_is_refused() {
@@ -221,13 +245,21 @@ fn escape_agrees_with_einstein(w: f64, particles: u64, collisions: u64) {
         r.D_escape, r.D_escape_err, r.chi2_per_dof, d.D, d.D_err
     );
     assert!(r.D_escape_err > 0.0 && r.D_escape_err.is_finite());
+    for x in &r.widths {
+        assert!(
+            x.tail_check_sigma.abs() < Z_Q9999,
+            "L = {}: the tail is not exponential ({:+.1} sigma)",
+            x.L,
+            x.tail_check_sigma
+        );
+    }
     assert!(z.abs() < 3.0, "D_escape - D = {z:+.2} combined sigma");
 }
 
 /// The statistical check at w = 0.3 (the cheapest: largest D, longest flights).
 #[test]
 fn escape_rate_d_agrees_with_einstein_at_w_0_3() {
-    escape_agrees_with_einstein(0.3, 40_000, 40_000_000);
+    escape_agrees_with_einstein(0.3, 60_000, 40_000_000);
 }
 
 /// The full check at w = 0.1, 0.2, 0.3 (minutes).

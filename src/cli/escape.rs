@@ -2,7 +2,7 @@
 //! (Gaspard–Baras), extrapolated in 1/L.
 
 use lorentz_gas::error::Error;
-use lorentz_gas::escape::{self, EscapeConfig, EscapeReport, MAX_PARTICLES, MIN_PARTICLES};
+use lorentz_gas::escape::{self, EscapeConfig, EscapeReport};
 
 use super::args::{parse_count, GapArg, OutputArgs, RunArgs};
 use super::output::emit;
@@ -27,11 +27,6 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), Error> {
     lorentz_gas::geometry::check_diffusive_gap(a.gap.w)?;
-    if a.particles == 0 {
-        return Err(Error::Invalid(format!(
-            "particles = 0: use {MIN_PARTICLES} <= particles <= {MAX_PARTICLES} per width"
-        )));
-    }
     let cfg = EscapeConfig {
         w: a.gap.w,
         widths: a.widths.unwrap_or_else(|| escape::default_widths(a.gap.w)),
