@@ -205,12 +205,26 @@ fn siam_problem_2_distance_at_t_10_to_100_digits() {
 
 #[test]
 fn variants_agree_with_the_brute_force_reference() {
-    type Case<'a> = (&'a str, &'a str, (&'a str, &'a str), (&'a str, &'a str), &'a str, u32);
+    type Case<'a> = (
+        &'a str,
+        &'a str,
+        (&'a str, &'a str),
+        (&'a str, &'a str),
+        &'a str,
+        u32,
+    );
     let cases: [Case; 6] = [
         ("square", "1/4", ("1/2", "1/3"), ("3", "4"), "7", 50),
         ("square", "0.2", ("0.3", "-0.45"), ("-1", "2"), "15", 40),
         ("square", "1/3", ("0.5", "0.1"), ("1", "0"), "12.5", 60),
-        ("triangular", "1/10", ("1.05", "0.6"), ("1", "0.3"), "10", 50),
+        (
+            "triangular",
+            "1/10",
+            ("1.05", "0.6"),
+            ("1", "0.3"),
+            "10",
+            50,
+        ),
         ("triangular", "0.1", ("2.1", "1.1"), ("-2", "-7"), "6", 80),
         ("triangular", "0.2", ("-1.1", "-0.6"), ("-2", "1"), "8", 30),
     ];
@@ -222,7 +236,10 @@ fn variants_agree_with_the_brute_force_reference() {
             (trajectory(&s, &inp, false, &|_| {}), Disks::square(param))
         } else {
             let s = TriangularScene::exact(parse_exact(param).unwrap()).unwrap();
-            (trajectory(&s, &inp, false, &|_| {}), Disks::triangular(param))
+            (
+                trajectory(&s, &inp, false, &|_| {}),
+                Disks::triangular(param),
+            )
         };
         let r = r.unwrap_or_else(|e| panic!("{what}: {e}"));
         assert!(r.collisions > 0, "{what}: no collision");
@@ -249,22 +266,43 @@ fn events_are_recorded_in_order_up_to_time_t() {
 #[test]
 fn starts_inside_a_disk_and_zero_directions_are_refused() {
     let square = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();
-    let e = trajectory(&square, &input(("2.1", "-0.9"), ("1", "0"), "1", 10), false, &|_| {})
-        .unwrap_err()
-        .to_string();
+    let e = trajectory(
+        &square,
+        &input(("2.1", "-0.9"), ("1", "0"), "1", 10),
+        false,
+        &|_| {},
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("inside the disk at (2, -1)"), "{e}");
-    let e = trajectory(&square, &input(("0.5", "0.1"), ("0", "0"), "1", 10), false, &|_| {})
-        .unwrap_err()
-        .to_string();
+    let e = trajectory(
+        &square,
+        &input(("0.5", "0.1"), ("0", "0"), "1", 10),
+        false,
+        &|_| {},
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("direction (0, 0) is zero"), "{e}");
     let tri = TriangularScene::exact(parse_exact("0.1").unwrap()).unwrap();
-    let e = trajectory(&tri, &input(("2.5", "0.1"), ("1", "0"), "1", 10), false, &|_| {})
-        .unwrap_err()
-        .to_string();
+    let e = trajectory(
+        &tri,
+        &input(("2.5", "0.1"), ("1", "0"), "1", 10),
+        false,
+        &|_| {},
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("inside the disk at (2.1, 0)"), "{e}");
     for (t, d) in [("0", 10), ("-1", 10), ("1", 0), ("1", 10_001)] {
         assert!(
-            trajectory(&square, &input(("0.5", "0.1"), ("1", "0"), t, d), false, &|_| {}).is_err(),
+            trajectory(
+                &square,
+                &input(("0.5", "0.1"), ("1", "0"), t, d),
+                false,
+                &|_| {}
+            )
+            .is_err(),
             "time {t}, digits {d} accepted"
         );
     }
@@ -280,7 +318,17 @@ fn a_start_on_a_cell_boundary_gives_the_same_trajectory_from_either_side() {
     let (cell, p) = scene.locate::<Float>(256, &x, &y).unwrap();
     let world_x = Rational::from(cell.i) + p.x.to_rational().unwrap();
     assert_eq!(world_x, x);
-    let a = trajectory(&scene, &input(("1/2", "0.1"), ("1", "0"), "3", 40), false, &|_| {});
-    let b = trajectory(&scene, &input(("0.5", "1/10"), ("1", "0"), "3", 40), false, &|_| {});
+    let a = trajectory(
+        &scene,
+        &input(("1/2", "0.1"), ("1", "0"), "3", 40),
+        false,
+        &|_| {},
+    );
+    let b = trajectory(
+        &scene,
+        &input(("0.5", "1/10"), ("1", "0"), "3", 40),
+        false,
+        &|_| {},
+    );
     assert_eq!(a.unwrap().distance, b.unwrap().distance);
 }

@@ -96,10 +96,16 @@ impl Scene for TriangularScene {
         };
         let world = Vec2::new(T::from_rational(ctx, x), T::from_rational(ctx, y));
         let (index, p) = if up {
-            (CellIndex { i, j, down: false }, world.sub(&lattice_point(i, j)))
+            (
+                CellIndex { i, j, down: false },
+                world.sub(&lattice_point(i, j)),
+            )
         } else {
             let (i, j) = (i + 1, j + 1);
-            (CellIndex { i, j, down: true }, lattice_point(i, j).sub(&world))
+            (
+                CellIndex { i, j, down: true },
+                lattice_point(i, j).sub(&world),
+            )
         };
         settle(&trap.cell, index, p)
     }
