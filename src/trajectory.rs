@@ -195,7 +195,13 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
         ));
     }
     crate::scenes::check_world_point(&input.x, &input.y)?;
-    crate::scenes::check_world_point(&input.dx, &input.dy)?;
+    crate::scenes::check_world_point(&input.dx, &input.dy).map_err(|_| {
+        Error::Invalid(format!(
+            "direction components must lie from -{:e} to {:e} (only the direction matters: scale it down)",
+            crate::scenes::MAX_WORLD_COORDINATE,
+            crate::scenes::MAX_WORLD_COORDINATE
+        ))
+    })?;
     let mean_free_path = scene.mean_free_path();
     let time = crate::grid::nearest_f64(&input.time);
     let expected_collisions = time / mean_free_path;
