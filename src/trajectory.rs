@@ -53,9 +53,15 @@ pub const LAMBDA_SEED: u64 = 17;
 /// particle crosses about |vₓ| + |v_y| ≤ √2 unit-square edges per unit time, and fewer trap
 /// edges; 3 leaves room for corners).
 pub const CROSSINGS_PER_UNIT_TIME: f64 = 3.0;
-/// Largest (events × bits) summed over the runs of one attempt that is accepted before
-/// anything is allocated: about a minute of MPFR arithmetic on one core.
-pub const MAX_BIT_EVENTS: f64 = 2e10;
+/// Exponent of the cost of one MPFR multiplication in the number of 64-bit limbs (Karatsuba /
+/// Toom range; measured: doubling P multiplies the time per event by about 3).
+pub const COST_EXPONENT: f64 = 1.6;
+/// Seconds per cost unit (one event at one limb), measured with the release build on the
+/// development machine (T = 3000 in the square gas at r = 1/3: 7 s for 1.1·10⁸ units).
+pub const SECONDS_PER_COST_UNIT: f64 = 6.4e-8;
+/// Longest estimated run accepted (seconds of the first P/2P attempt): five minutes; a longer
+/// time is refused before anything is allocated.
+pub const MAX_SECONDS: f64 = 300.0;
 /// Events a run may take beyond the estimate before it is stopped (the estimate is an average;
 /// an orbit may collide more often, but not by this factor).
 pub const EVENT_SLACK: f64 = 100.0;
@@ -105,6 +111,15 @@ pub struct Plan {
     pub expected_events: f64,
     /// Starting precision P.
     pub bits: u32,
+    /// Estimated seconds of the first attempt (runs at P and 2P): expected events ×
+    /// ((P/64)^1.6 + (2P/64)^1.6) × [`SECONDS_PER_COST_UNIT`].
+    pub estimated_seconds: f64,
+}
+
+/// Estimated seconds of the runs at `bits` and 2·`bits` over `events` events.
+pub fn estimated_seconds(bits: f64, events: f64) -> f64 {
+    let limbs = bits / 64.0;
+    events * (limbs.powf(COST_EXPONENT) + (2.0 * limbs).powf(COST_EXPONENT)) * SECONDS_PER_COST_UNIT
 }
 
 /// A trajectory at time T with certified digits.
@@ -160,7 +175,7 @@ struct Run {
 ///
 /// # Errors
 /// Digits outside 1..=[`MAX_DIGITS`], a time ≤ 0, a zero direction, a start too far out, or a
-/// time whose precision or work exceeds [`MAX_BITS`] or [`MAX_BIT_EVENTS`].
+/// time whose precision or estimated run time exceeds [`MAX_BITS`] or [`MAX_SECONDS`].
 pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error> {
     if input.digits == 0 || input.digits > MAX_DIGITS {
         return Err(Error::Invalid(format!(
@@ -180,16 +195,23 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
         ));
     }
     crate::scenes::check_world_point(&input.x, &input.y)?;
-    crate::scenes::check_world_point(&input.dx, &input.dy)?;
+    crate::scenes::check_world_point(&input.dx, &input.dy).map_err(|_| {
+        Error::Invalid(format!(
+            "direction components must lie from -{:e} to {:e} (only the direction matters: scale it down)",
+            crate::scenes::MAX_WORLD_COORDINATE,
+            crate::scenes::MAX_WORLD_COORDINATE
+        ))
+    })?;
     let mean_free_path = scene.mean_free_path();
     let time = crate::grid::nearest_f64(&input.time);
     let expected_collisions = time / mean_free_path;
     let expected_events = expected_collisions + CROSSINGS_PER_UNIT_TIME * time;
     let digits_bits = (input.digits + GUARD_DIGITS + 1) as f64 * std::f64::consts::LOG2_10;
-    let max_events = MAX_BIT_EVENTS / (3.0 * MIN_BITS as f64);
-    if !expected_events.is_finite() || expected_events > max_events {
+    if !expected_events.is_finite()
+        || estimated_seconds(MIN_BITS as f64, expected_events) > MAX_SECONDS
+    {
         return Err(Error::Invalid(format!(
-            "time = {time:e} is out of range: it means about {expected_events:.2e} events, more than the {max_events:.1e} a certified run can afford; use a shorter time"
+            "time = {time:e} is out of range: it means about {expected_events:.2e} events, more than a certified run can afford in {MAX_SECONDS} s; use a shorter time"
         )));
     }
     let lambda = lyapunov(
@@ -203,11 +225,10 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
     .per_collision;
     let need = digits_bits + expected_collisions * lambda / std::f64::consts::LN_2;
     let bits = (need.ceil() + GUARD_BITS as f64).max(MIN_BITS as f64);
-    // One attempt runs at P and 2P.
-    let work = 3.0 * bits * expected_events;
-    if bits > MAX_BITS as f64 || work > MAX_BIT_EVENTS {
+    let seconds = estimated_seconds(bits, expected_events);
+    if bits > MAX_BITS as f64 || seconds > MAX_SECONDS {
         return Err(Error::Invalid(format!(
-            "time = {time} to {} digits needs about {bits:.0} bits over {expected_events:.0} events (lambda = {lambda:.3} per collision, {expected_collisions:.0} collisions), beyond the limits of {MAX_BITS} bits and {MAX_BIT_EVENTS:.0e} bit-events: use a shorter time or fewer digits",
+            "time = {time} to {} digits needs about {bits:.0} bits over {expected_events:.0} events (lambda = {lambda:.3} per collision, {expected_collisions:.0} collisions), about {seconds:.0} s, beyond the limits of {MAX_BITS} bits and {MAX_SECONDS} s: use a shorter time or fewer digits",
             input.digits
         )));
     }
@@ -217,6 +238,7 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
         expected_collisions,
         expected_events,
         bits: bits as u32,
+        estimated_seconds: seconds,
     })
 }
 
@@ -402,19 +424,25 @@ const EVENT_DIGITS: usize = 20;
 /// Digits counted for `q`: the number of integer digits of |q| (0 if |q| < 1), so that
 /// `digits` digits of `q` end at the decimal position 10^(lead − digits).
 fn lead(q: &Float) -> i64 {
-    if q.is_zero() {
+    let a = Float::with_val(64, q.abs_ref());
+    if a < 1 {
         return 0;
     }
-    let e = q.to_f64().abs().log10().floor() as i64 + 1;
-    e.max(0)
+    a.log10().floor().to_f64() as i64 + 1
 }
 
 /// Digits to which `lo` (at `bits_lo` bits) and `hi` agree: lead(hi) − log₁₀|lo − hi|. Equal
-/// values count as agreeing to the resolution 2^−bits_lo·max(|hi|, 1) of the lower run.
+/// values count as agreeing to the resolution 2^−bits_lo·max(|hi|, 1) of the lower run. The
+/// logarithms are taken in MPFR (a deviation of 2^−30000 underflows a double).
 pub fn digits_agreed(lo: &Float, hi: &Float, bits_lo: u32) -> f64 {
-    let dev = (lo.clone() - hi).abs().to_f64();
-    let floor = hi.to_f64().abs().max(1.0) * (-(bits_lo as f64)).exp2();
-    lead(hi) as f64 - dev.max(floor).log10()
+    let dev = Float::with_val(
+        64,
+        Float::with_val(hi.prec().max(lo.prec()), lo - hi).abs_ref(),
+    );
+    let scale = Float::with_val(64, hi.abs_ref()).max(&Float::with_val(64, 1));
+    let resolution = scale >> bits_lo;
+    let worst = if dev > resolution { dev } else { resolution };
+    lead(hi) as f64 - worst.log10().to_f64()
 }
 
 /// `q` correctly rounded to `digits` digits counted from its leading integer digit, or from the

@@ -15,9 +15,8 @@ use super::args::{parse_count_u32, OutputArgs, SceneName};
 use super::output::emit;
 use super::progress::Progress;
 
-/// Work (expected events × bits of the runs) above which a progress bar is shown: about two
-/// seconds of MPFR arithmetic.
-const PROGRESS_BIT_EVENTS: f64 = 5e8;
+/// Estimated seconds above which a progress bar is shown.
+const PROGRESS_SECONDS: f64 = 2.0;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -144,8 +143,7 @@ fn run_scene<S: lorentz_gas::scenes::Scene>(
     a: &Args,
 ) -> Result<TrajectoryReport, Error> {
     let p = plan(scene, input)?;
-    let work = 3.0 * p.bits as f64 * p.expected_events;
-    let quiet = a.output.quiet || work < PROGRESS_BIT_EVENTS;
+    let quiet = a.output.quiet || p.estimated_seconds < PROGRESS_SECONDS;
     // Two runs (P and 2P) when the first precision suffices.
     let pb = Progress::new(
         (2.0 * p.expected_collisions).ceil() as u64,
