@@ -67,8 +67,7 @@ const U: f64 = f64::EPSILON / 2.0;
 /// |coordinate| of its corners and disk centres, the spacing a for the triangular trap), r² the
 /// squared disk radius (1 there), so for the triangular trap they are the bounds of
 /// `proofs-notes/error-model.md` term by term.
-fn candidates(cell: &ConvexCell<Float>, f: &Flight<Float>) -> Vec<Candidate> {
-    let a = cell.extent();
+fn candidates(cell: &ConvexCell<Float>, a: f64, f: &Flight<Float>) -> Vec<Candidate> {
     let r2 = cell.radius2.to_f64();
     let mut out = Vec::new();
     let (p, v) = (&f.pos, &f.vel);
@@ -183,7 +182,9 @@ pub fn check_event<K64: CellKernel<f64>, KRef: CellKernel<Float>>(
     let er: Event<Float> = tref
         .next_event(&fr)
         .ok_or_else(|| Error::Invalid("reference state has no next event".into()))?;
-    let cands = candidates(cell, &fr);
+    // The cell's extent, the scale of its constants' rounding (computed once per event).
+    let a = cell.extent();
+    let cands = candidates(cell, a, &fr);
     let best = cands.iter().find(|c| c.kind == er.kind);
     let best_bound = best.map(|c| c.time_bound).unwrap_or(f64::INFINITY);
     // Ambiguous: another candidate within the combined bounds of the best, or a disk in the
@@ -205,7 +206,6 @@ pub fn check_event<K64: CellKernel<f64>, KRef: CellKernel<Float>>(
     let lifted = Flight::<Float>::convert_from_f64(bits, &a64);
     let position_error = lifted.pos.sub(&ar.pos).norm2().sqrt().to_f64();
     let velocity_error = lifted.vel.sub(&ar.vel).norm2().sqrt().to_f64();
-    let a = cell.extent();
     let r = cell.radius.to_f64();
     // Position: the time error along |v| ≈ 1, plus rounding of x = p + t v and of the frame map.
     let position_bound = best_bound + 4.0 * U * (2.0 * a + er.time.to_f64());
