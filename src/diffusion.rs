@@ -25,8 +25,10 @@ use crate::error::Error;
 use crate::geometry::{check_diffusive_gap, Geometry};
 use crate::kernel::trap::Trap;
 use crate::metadata::RunMeta;
-use crate::observables::counters::Counters;
+use crate::engine::{drive, run_block, Engine, Resolved, SimdPath, BLOCK};
+use crate::observables::counters::{CounterLanes, Counters};
 use crate::observables::msd::Msd;
+use crate::observables::{EventLanes, Observer};
 use crate::precision::AtPrecision;
 /// Refuses a scene in which the diffusion coefficient does not exist: with an infinite horizon
 /// (collision-free corridors) free flights have a distribution with ⟨ℓ²⟩ = ∞, the mean squared
@@ -47,10 +49,10 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
 pub use crate::precision::Precision;
 use crate::real::Real;
 use crate::sampling::{Purpose, StreamKey};
-use crate::scenes::lattice::{LatticeState, TriangularLattice};
-use crate::scenes::triangular::equilibrium_state;
+use crate::scenes::lattice::{Basis64, LatticeState, TriangularLattice};
+use crate::scenes::triangular::{equilibrium_state, TriangularScene};
 use crate::stats::{linear_fit, mean_se};
-use crate::verification::audit::{AuditSummary, Auditor};
+use crate::verification::audit::{AuditLanes, AuditSummary, Auditor};
 
 /// A fit window in units of the mean hop time τ.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -291,67 +293,157 @@ pub struct DiffusionReport {
     pub meta: RunMeta,
 }
 
-/// Runs one batch on number type `T`: batch `index` of run `run` of seed `seed`.
-#[allow(clippy::too_many_arguments)]
-pub fn run_batch<T: Real>(
-    lat: &TriangularLattice<T>,
-    trap64: &Trap<f64>,
-    (seed, run): (u64, u64),
+/// One trajectory of a run: which stream starts it and how many collisions it makes.
+#[derive(Debug, Clone, Copy)]
+struct Job {
+    seed: u64,
+    run: u64,
     index: u32,
     collisions: u64,
+}
+
+impl Job {
+    /// The start: a point of the invariant measure from the trajectory stream `(seed, run,
+    /// index)`, its speed normalised at the working precision.
+    fn start<T: Real>(&self, trap64: &Trap<f64>, ctx: T::Ctx) -> LatticeState<T> {
+        let mut rng = StreamKey::new(self.seed, Purpose::Trajectory, self.index as u64)
+            .in_run(self.run)
+            .rng();
+        let s64 = equilibrium_state(trap64, &mut rng);
+        let mut s = LatticeState::<T>::convert_from_f64(ctx, &s64);
+        s.flight.normalise_speed();
+        s
+    }
+
+    fn auditor(&self, trap64: &Trap<f64>, audit: Option<AuditSpec>) -> Result<Option<Auditor<TriangularScene>>, Error> {
+        audit
+            .map(|a| {
+                Auditor::new(
+                    &TriangularScene::new(trap64.w)?,
+                    a.rate,
+                    a.bits,
+                    StreamKey::new(self.seed, Purpose::Audit, self.index as u64)
+                        .in_run(self.run)
+                        .rng(),
+                )
+            })
+            .transpose()
+    }
+}
+
+/// What a diffusion run watches along each trajectory: counters, the MSD, and optionally the
+/// per-event shadow audit.
+struct BatchObservers {
+    counters: CounterLanes,
+    msd: Msd,
+    audit: Option<AuditLanes<TriangularScene>>,
+}
+
+impl BatchObservers {
+    fn new(
+        jobs: &[Job],
+        lanes: usize,
+        trap64: &Trap<f64>,
+        basis: Basis64,
+        tau: f64,
+        lags: &[usize],
+        audit: Option<AuditSpec>,
+    ) -> Result<Self, Error> {
+        let audit = match audit {
+            Some(_) => {
+                let mut v = Vec::with_capacity(lanes);
+                for j in jobs {
+                    v.push(j.auditor(trap64, audit)?);
+                }
+                v.resize_with(lanes, || None);
+                Some(AuditLanes {
+                    lanes: v,
+                    error: None,
+                })
+            }
+            None => None,
+        };
+        Ok(BatchObservers {
+            counters: CounterLanes::new(lanes),
+            msd: Msd::new(tau, lags, basis, lanes),
+            audit,
+        })
+    }
+
+    /// The results of the jobs, lane by lane.
+    fn results(mut self, jobs: &[Job], seconds: f64) -> Result<Vec<BatchResult>, Error> {
+        if let Some(e) = self.audit.as_mut().and_then(|a| a.error.take()) {
+            return Err(e);
+        }
+        let mut audits = self.audit.map(|a| a.lanes);
+        Ok(jobs
+            .iter()
+            .enumerate()
+            .map(|(l, j)| BatchResult {
+                index: j.index,
+                counters: self.counters.lane(l),
+                lags: self.msd.lags().to_vec(),
+                msd: self.msd.values(l),
+                seconds,
+                audit: audits
+                    .as_mut()
+                    .and_then(|a| a[l].take())
+                    .map(|a| a.summary),
+            })
+            .collect())
+    }
+}
+
+impl<const L: usize> Observer<L> for BatchObservers {
+    #[inline(always)]
+    fn observe(&mut self, e: &EventLanes<L>) {
+        self.counters.observe(e);
+        self.msd.observe(e);
+        if let Some(a) = self.audit.as_mut() {
+            a.observe(e);
+        }
+    }
+}
+
+/// Runs one trajectory on the scalar engine at number type `T`.
+fn run_scalar<T: Real>(
+    lat: &TriangularLattice<T>,
+    trap64: &Trap<f64>,
+    job: Job,
     tau: f64,
     lags: &[usize],
     audit: Option<AuditSpec>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<BatchResult, Error> {
-    const CHUNK: u64 = 1 << 20;
-    let mut auditor = match audit {
-        Some(a) => Some(Auditor::new(
-            &crate::scenes::triangular::TriangularScene::new(trap64.w)?,
-            a.rate,
-            a.bits,
-            StreamKey::new(seed, Purpose::Audit, index as u64)
-                .in_run(run)
-                .rng(),
-        )?),
-        None => None,
-    };
     let start = Instant::now();
-    let ctx = lat.trap().a.ctx();
-    let mut rng = StreamKey::new(seed, Purpose::Trajectory, index as u64)
-        .in_run(run)
-        .rng();
-    let s64 = equilibrium_state(trap64, &mut rng);
-    let mut s = LatticeState::<T>::convert_from_f64(ctx, &s64);
-    s.flight.normalise_speed();
-    let mut msd = Msd::new(tau, lags, lat.basis_f64());
-    let mut c = Counters::default();
-    let mut next_report = CHUNK;
-    while c.collisions < collisions {
-        let ev = lat
-            .next_event(&s)
-            .ok_or_else(|| Error::Invalid("trajectory lost its next event".into()))?;
-        msd.observe(lat, &s, &ev);
-        if let Some(a) = auditor.as_mut() {
-            a.observe(&s.flight.to_f64())?;
-        }
-        c.record(ev.kind, ev.time.to_f64());
-        lat.apply(&mut s, &ev);
-        if c.collisions >= next_report {
-            progress(CHUNK);
-            next_report += CHUNK;
-        }
-    }
-    progress(collisions % CHUNK);
-    c.finish();
-    Ok(BatchResult {
-        index,
-        counters: c,
-        lags: lags.to_vec(),
-        msd: msd.values(),
-        seconds: start.elapsed().as_secs_f64(),
-        audit: auditor.map(|a| a.summary),
-    })
+    let mut s = job.start::<T>(trap64, lat.trap().a.ctx());
+    let mut obs = BatchObservers::new(&[job], 1, trap64, lat.basis_f64(), tau, lags, audit)?;
+    drive(lat, &mut s, job.collisions, &mut obs, progress)?;
+    let mut r = obs.results(&[job], start.elapsed().as_secs_f64())?;
+    Ok(r.remove(0))
+}
+
+/// Runs up to [`BLOCK`] trajectories together on the SIMD engine (`f64`, bit-identical to
+/// [`run_scalar`] lane by lane).
+fn run_simd(
+    path: SimdPath,
+    trap64: &Trap<f64>,
+    jobs: &[Job],
+    tau: f64,
+    lags: &[usize],
+    audit: Option<AuditSpec>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<BatchResult>, Error> {
+    let start = Instant::now();
+    let mut states: Vec<LatticeState<f64>> = jobs.iter().map(|j| j.start(trap64, ())).collect();
+    let quotas: Vec<u64> = jobs.iter().map(|j| j.collisions).collect();
+    // The basis the scalar engine's f64 lattice has (`Lattice::basis_f64`).
+    let basis = TriangularLattice::from_kernel(trap64.clone()).basis_f64();
+    let mut obs = BatchObservers::new(jobs, BLOCK, trap64, basis, tau, lags, audit)?;
+    run_block(path, trap64, &mut states, &quotas, &mut obs, progress)?;
+    // The block's wall time, shared out: each batch's `seconds` is its part of the block.
+    let seconds = start.elapsed().as_secs_f64() / jobs.len() as f64;
+    obs.results(jobs, seconds)
 }
 
 fn d_of_batch(b: &BatchResult, tau: f64, win: &Window) -> f64 {
@@ -385,6 +477,20 @@ pub fn run_audited(
     audit: Option<AuditSpec>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<DiffusionReport, Error> {
+    run_on(cfg, Engine::Auto, threads, checkpoint, audit, progress)
+}
+
+/// As [`run_audited`], on the engine `engine` ([`Engine::Auto`]: SIMD for `f64`). The result has
+/// the same bits on every engine and at every thread count; only `seconds`, the speed and the
+/// metadata's engine differ.
+pub fn run_on(
+    cfg: &DiffusionConfig,
+    engine: Engine,
+    threads: usize,
+    checkpoint: Option<&PathBuf>,
+    audit: Option<AuditSpec>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<DiffusionReport, Error> {
     cfg.validate()?;
     if audit.is_some() && cfg.precision != Precision::F64 {
         return Err(Error::Invalid(
@@ -394,11 +500,11 @@ pub fn run_audited(
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
+    let resolved = engine.resolve(cfg.precision == Precision::F64)?;
     let start = Instant::now();
     let g = Geometry::new(cfg.w)?;
     let tau = g.hop_time();
     let lags = cfg.lags();
-    let trap64 = Trap::new(cfg.w)?;
 
     let mut done: Vec<BatchResult> = match checkpoint {
         Some(p) => load_checkpoint(p, cfg)?,
@@ -408,19 +514,20 @@ pub fn run_audited(
     for b in &done {
         progress(b.counters.collisions);
     }
-    let todo: Vec<u32> = (0..cfg.batches)
+    let todo: Vec<Job> = (0..cfg.batches)
         .filter(|i| !done.iter().any(|b| b.index == *i))
+        .map(|i| Job {
+            seed: cfg.seed,
+            run: cfg.run,
+            index: i,
+            collisions: crate::parallel::share(cfg.collisions, cfg.batches, i),
+        })
         .collect();
     let writer = match checkpoint {
         Some(p) => Some(Mutex::new(open_checkpoint(p, cfg)?)),
         None => None,
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Invalid(format!("thread pool: {e}")))?;
-    let record = |r: Result<BatchResult, Error>| -> Result<BatchResult, Error> {
-        let r = r?;
+    let record = |r: &BatchResult| -> Result<(), Error> {
         if let Some(wr) = &writer {
             let mut f = wr
                 .lock()
@@ -428,66 +535,201 @@ pub fn run_audited(
             writeln!(
                 f,
                 "{}",
-                serde_json::to_string(&r).map_err(|e| Error::Io(e.to_string()))?
+                serde_json::to_string(r).map_err(|e| Error::Io(e.to_string()))?
             )?;
             f.flush()?;
         }
-        Ok(r)
+        Ok(())
     };
-    let new = cfg.precision.dispatch(RunBatches {
-        cfg,
-        trap64: &trap64,
-        todo: &todo,
-        tau,
-        lags: &lags,
-        audit,
-        pool: &pool,
-        record: &record,
+    let new = execute(
+        &todo,
+        ExecSpec {
+            w: cfg.w,
+            precision: cfg.precision,
+            engine: resolved,
+            threads,
+            tau,
+            lags: &lags,
+            audit,
+        },
+        &record,
         progress,
-    })?;
+    )?;
     let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
     done.extend(new);
     done.sort_by_key(|b| b.index);
     let seconds = start.elapsed().as_secs_f64();
-    Ok(summarise(
-        cfg, &g, tau, &done, threads, seconds, resumed, run_now,
-    ))
+    let mut rep = summarise(cfg, &g, tau, &done, threads, seconds, resumed, run_now);
+    rep.meta = rep.meta.with_engine(resolved);
+    Ok(rep)
 }
 
-/// The batches still to run, on the number type of the run's precision.
-struct RunBatches<'a> {
-    cfg: &'a DiffusionConfig,
+/// Several runs at the same w and fit windows (a sweep point's independent runs), their
+/// trajectories packed together into SIMD blocks: each report has the same bits as [`run_on`]
+/// of its configuration alone.
+///
+/// # Errors
+/// If the configurations differ in w, precision or windows, or any is invalid.
+pub fn run_many(
+    cfgs: &[DiffusionConfig],
+    engine: Engine,
+    threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<DiffusionReport>, Error> {
+    let Some(first) = cfgs.first() else {
+        return Ok(Vec::new());
+    };
+    for c in cfgs {
+        c.validate()?;
+        if c.w != first.w
+            || c.precision != first.precision
+            || c.window != first.window
+            || c.check_window != first.check_window
+        {
+            return Err(Error::Invalid(
+                "runs packed together must share w, precision and fit windows".into(),
+            ));
+        }
+    }
+    if threads == 0 {
+        return Err(Error::Zero { what: "threads" });
+    }
+    let resolved = engine.resolve(first.precision == Precision::F64)?;
+    let start = Instant::now();
+    let g = Geometry::new(first.w)?;
+    let tau = g.hop_time();
+    let lags = first.lags();
+    let jobs: Vec<Job> = cfgs
+        .iter()
+        .flat_map(|c| {
+            (0..c.batches).map(move |i| Job {
+                seed: c.seed,
+                run: c.run,
+                index: i,
+                collisions: crate::parallel::share(c.collisions, c.batches, i),
+            })
+        })
+        .collect();
+    let results = execute(
+        &jobs,
+        ExecSpec {
+            w: first.w,
+            precision: first.precision,
+            engine: resolved,
+            threads,
+            tau,
+            lags: &lags,
+            audit: None,
+        },
+        &|_| Ok(()),
+        progress,
+    )?;
+    let seconds = start.elapsed().as_secs_f64();
+    let mut out = Vec::with_capacity(cfgs.len());
+    let mut rest = results.into_iter();
+    for c in cfgs {
+        let done: Vec<BatchResult> = rest.by_ref().take(c.batches as usize).collect();
+        let n: u64 = done.iter().map(|b| b.counters.collisions).sum();
+        let mut rep = summarise(c, &g, tau, &done, threads, seconds, 0, n);
+        rep.collisions_per_second =
+            jobs.iter().map(|j| j.collisions).sum::<u64>() as f64 / seconds;
+        rep.meta = rep.meta.with_engine(resolved);
+        out.push(rep);
+    }
+    Ok(out)
+}
+
+/// How the trajectories of [`execute`] run.
+struct ExecSpec<'a> {
+    w: f64,
+    precision: Precision,
+    engine: Resolved,
+    threads: usize,
+    tau: f64,
+    lags: &'a [usize],
+    audit: Option<AuditSpec>,
+}
+
+/// Runs `jobs` on `spec.threads` threads — one job per task on the scalar engine, blocks of
+/// [`BLOCK`] jobs on the SIMD engine — handing each finished result to `record` at once.
+/// Results come back in job order.
+fn execute(
+    jobs: &[Job],
+    spec: ExecSpec<'_>,
+    record: &(dyn Fn(&BatchResult) -> Result<(), Error> + Sync),
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<BatchResult>, Error> {
+    for j in jobs {
+        crate::engine::check_trajectory_length(j.collisions)?;
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(spec.threads)
+        .build()
+        .map_err(|e| Error::Invalid(format!("thread pool: {e}")))?;
+    let trap64 = Trap::new(spec.w)?;
+    match spec.engine {
+        Resolved::Simd(path) => {
+            let blocks: Vec<&[Job]> = jobs.chunks(BLOCK).collect();
+            let out: Vec<Vec<BatchResult>> = pool.install(|| {
+                blocks
+                    .par_iter()
+                    .map(|b| {
+                        let r = run_simd(path, &trap64, b, spec.tau, spec.lags, spec.audit, progress)?;
+                        for x in &r {
+                            record(x)?;
+                        }
+                        Ok(r)
+                    })
+                    .collect::<Result<_, Error>>()
+            })?;
+            Ok(out.into_iter().flatten().collect())
+        }
+        Resolved::Scalar => spec.precision.dispatch(RunScalar {
+            jobs,
+            w: spec.w,
+            trap64: &trap64,
+            tau: spec.tau,
+            lags: spec.lags,
+            audit: spec.audit,
+            pool: &pool,
+            record,
+            progress,
+        }),
+    }
+}
+
+/// The jobs on the scalar engine, at the number type of the run's precision.
+struct RunScalar<'a> {
+    jobs: &'a [Job],
+    w: f64,
     trap64: &'a Trap<f64>,
-    todo: &'a [u32],
     tau: f64,
     lags: &'a [usize],
     audit: Option<AuditSpec>,
     pool: &'a rayon::ThreadPool,
-    record: &'a (dyn Fn(Result<BatchResult, Error>) -> Result<BatchResult, Error> + Sync),
+    record: &'a (dyn Fn(&BatchResult) -> Result<(), Error> + Sync),
     progress: &'a (dyn Fn(u64) + Sync),
 }
 
-impl AtPrecision for RunBatches<'_> {
+impl AtPrecision for RunScalar<'_> {
     type Output = Result<Vec<BatchResult>, Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
-        let lat = TriangularLattice::new(T::from_f64(ctx, self.cfg.w))?;
-        let cfg = self.cfg;
-        let n_of = |i: u32| crate::parallel::share(cfg.collisions, cfg.batches, i);
+        let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
         self.pool.install(|| {
-            self.todo
+            self.jobs
                 .par_iter()
-                .map(|&i| {
-                    (self.record)(run_batch(
+                .map(|&j| {
+                    let r = run_scalar(
                         &lat,
                         self.trap64,
-                        (cfg.seed, cfg.run),
-                        i,
-                        n_of(i),
+                        j,
                         self.tau,
                         self.lags,
                         self.audit,
                         self.progress,
-                    ))
+                    )?;
+                    (self.record)(&r)?;
+                    Ok(r)
                 })
                 .collect()
         })

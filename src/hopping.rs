@@ -9,10 +9,10 @@ use serde::Serialize;
 use crate::diffusion::Estimate;
 use crate::error::Error;
 use crate::geometry::{check_diffusive_gap, Geometry};
-use crate::kernel::trap::EventKind;
 use crate::metadata::RunMeta;
-use crate::observables::hops::Hops;
-use crate::parallel::{par_batches, share};
+use crate::engine::{drive, run_block, Engine, Resolved, BLOCK};
+use crate::observables::hops::{HopLanes, Hops};
+use crate::parallel::{par_batches, par_chunks, share};
 use crate::precision::{AtPrecision, Precision};
 use crate::real::Real;
 use crate::sampling::{Purpose, StreamKey};
@@ -24,10 +24,6 @@ use crate::symbols::{
     check_order, mirror_index, parse_sequence_index, reverse_index, sequence_name,
 };
 use crate::theory::green_kubo::{self, HopCorrelations};
-
-/// Collisions between two calls of a progress callback: 2²⁰ ≈ 10⁶, a few milliseconds of one
-/// thread — a smooth bar at negligible cost (as in [`crate::diffusion::run`]).
-const COLLISION_CHUNK: u64 = 1 << 20;
 
 /// Injected visits between two calls of a progress callback: 2¹⁶, about 10⁶ collisions at w = 0.1
 /// (π/(3w) ≈ 10 collisions per visit).
@@ -324,34 +320,58 @@ pub fn hops_run(
     threads: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<HopsReport, Error> {
+    hops_on(
+        w,
+        collisions,
+        batches,
+        order,
+        (seed, run),
+        Engine::Auto,
+        threads,
+        progress,
+    )
+}
+
+/// As [`hops_run`], on the engine `engine` (the same bits on every engine).
+#[allow(clippy::too_many_arguments)]
+pub fn hops_on(
+    w: f64,
+    collisions: u64,
+    batches: u32,
+    order: usize,
+    (seed, run): (u64, u64),
+    engine: Engine,
+    threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<HopsReport, Error> {
     check_hops_input(w, collisions, batches, order)?;
+    let resolved = engine.resolve(true)?;
     let lat = TriangularLattice::new(w)?;
-    let res: Vec<Hops> = par_batches(threads, batches, |b| {
-        let per = share(collisions, batches, b);
-        let mut s = equilibrium_state(
+    let start = |b: usize| {
+        equilibrium_state(
             lat.trap(),
             &mut StreamKey::new(seed, Purpose::Trajectory, b as u64)
                 .in_run(run)
                 .rng(),
-        );
-        let mut h = Hops::new(order)?;
-        let mut c = 0;
-        while c < per {
-            let ev = lat
-                .next_event(&s)
-                .ok_or_else(|| Error::Invalid("no next event".into()))?;
-            h.observe(&s, &ev);
-            lat.apply(&mut s, &ev);
-            if let EventKind::Collision(_) = ev.kind {
-                c += 1;
-                if c % COLLISION_CHUNK == 0 {
-                    progress(COLLISION_CHUNK);
-                }
-            }
-        }
-        progress(per % COLLISION_CHUNK);
-        Ok(h)
-    })?;
+        )
+    };
+    let quota = |b: usize| share(collisions, batches, b as u32);
+    let res: Vec<Hops> = match resolved {
+        Resolved::Scalar => par_batches(threads, batches, |b| {
+            let mut s = start(b as usize);
+            let mut h = HopLanes::new(order, 1)?;
+            drive(&lat, &mut s, quota(b as usize), &mut h, progress)?;
+            Ok(h.lanes.remove(0))
+        })?,
+        Resolved::Simd(path) => par_chunks(threads, batches as usize, BLOCK, |r| {
+            let mut states: Vec<_> = r.clone().map(start).collect();
+            let quotas: Vec<u64> = r.clone().map(quota).collect();
+            let mut h = HopLanes::new(order, BLOCK)?;
+            run_block(path, lat.trap(), &mut states, &quotas, &mut h, progress)?;
+            h.lanes.truncate(r.len());
+            Ok(h.lanes)
+        })?,
+    };
     let g = Geometry::new(w)?;
     let d_mz = g.d_mz();
     let mut sequences = Vec::new();
@@ -423,7 +443,8 @@ pub fn hops_run(
             Some(batches as u64),
             Precision::F64,
             Some(threads),
-        ),
+        )
+        .with_engine(resolved),
     })
 }
 

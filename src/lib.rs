@@ -10,6 +10,8 @@
 //! * [`geometry`]: closed forms (w∞, w₀, ⟨ℓ⟩, τ, D_MZ, D_Bo, …).
 //! * [`kernel`]: ray–disk root, the canonical trap, reflections.
 //! * [`scenes`]: the periodic lattice built from the trap.
+//! * [`engine`]: what runs trajectories — the scalar engine (any precision) and the SIMD
+//!   multi-trajectory engine (`f64`, bit-identical), both feeding the same observers.
 //! * [`sampling`]: initial conditions from the invariant measure; reproducible streams.
 //! * [`symbols`]: the exit symbols z, l, r and their words (the one encoding).
 //! * [`observables`]: mean squared displacement, event counters, trap-hopping statistics.
@@ -26,6 +28,7 @@
 
 pub mod bench;
 pub mod diffusion;
+pub mod engine;
 pub mod error;
 pub mod escape;
 pub mod figures;

@@ -6,7 +6,8 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Engine of the production runs: the generic scalar kernel (the only one so far).
+/// Engine of results computed one trajectory at a time on the generic kernel (the default of
+/// [`RunMeta::new`]; [`RunMeta::with_engine`] records the SIMD engine where it ran).
 pub const ENGINE_SCALAR: &str = "scalar";
 
 /// Provenance of one result.
@@ -20,8 +21,12 @@ pub struct RunMeta {
     pub batches: Option<u64>,
     /// Number type: `"f64"` or MPFR bits.
     pub precision: String,
-    /// Engine that ran the trajectories.
+    /// Engine that ran the trajectories: `"scalar"` or `"simd"`.
     pub engine: String,
+    /// The SIMD engine's instruction path (`"avx512"`, `"avx2"`, `"portable"`); absent for the
+    /// scalar engine.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub simd: Option<String>,
     /// Worker threads (never changes the result, only the time).
     pub threads: Option<usize>,
     /// The command line of the process that produced the result.
@@ -52,8 +57,16 @@ impl RunMeta {
             batches,
             precision: precision.to_string(),
             engine: ENGINE_SCALAR.to_string(),
+            simd: None,
             threads,
             command_line: std::env::args().collect(),
         }
+    }
+
+    /// The same metadata with the engine that actually ran.
+    pub fn with_engine(mut self, e: crate::engine::Resolved) -> Self {
+        self.engine = e.name().to_string();
+        self.simd = e.simd().map(|p| p.to_string());
+        self
     }
 }

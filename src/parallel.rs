@@ -35,6 +35,36 @@ pub fn share(total: u64, batches: u32, b: u32) -> u64 {
     total / n + u64::from((b as u64) < total % n)
 }
 
+/// Runs `f(range)` for consecutive ranges of `chunk` items out of 0 … n−1 (the last may be
+/// shorter) on `threads` threads; the results, each a vector of one value per item, are
+/// concatenated in item order. For the SIMD engine, whose unit of work is a block of
+/// trajectories.
+pub fn par_chunks<R: Send, F: Fn(std::ops::Range<usize>) -> Result<Vec<R>, Error> + Sync + Send>(
+    threads: usize,
+    n: usize,
+    chunk: usize,
+    f: F,
+) -> Result<Vec<R>, Error> {
+    if threads == 0 {
+        return Err(Error::Zero { what: "threads" });
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Invalid(e.to_string()))?;
+    let ranges: Vec<std::ops::Range<usize>> = (0..n)
+        .step_by(chunk.max(1))
+        .map(|a| a..(a + chunk.max(1)).min(n))
+        .collect();
+    let parts: Vec<Vec<R>> = pool.install(|| {
+        ranges
+            .into_par_iter()
+            .map(&f)
+            .collect::<Result<Vec<_>, Error>>()
+    })?;
+    Ok(parts.into_iter().flatten().collect())
+}
+
 /// Runs `f(b)` for batches b = 0 … n−1 on `threads` threads; results in batch order.
 pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
     threads: usize,

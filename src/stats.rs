@@ -548,6 +548,11 @@ impl CompensatedSum {
         }
         self.sum = t;
     }
+    /// The sum from its running total and its compensation (as kept in vector lanes by
+    /// [`crate::observables::counters::CounterLanes`]).
+    pub fn from_parts(sum: f64, c: f64) -> Self {
+        CompensatedSum { sum, c }
+    }
     /// The compensated total.
     pub fn value(&self) -> f64 {
         self.sum + self.c

@@ -5,8 +5,8 @@
 //! (`proofs-notes/hops.md`).
 
 use crate::error::Error;
-use crate::kernel::trap::{Event, EventKind};
-use crate::scenes::lattice::LatticeState;
+use super::{lanes, EventLanes, Observer};
+use crate::kernel::trap::EventKind;
 use crate::scenes::single_trap::exit_symbol;
 use crate::symbols::check_order;
 use crate::theory::green_kubo::{HopCorrelations, MAX_LAG};
@@ -54,15 +54,16 @@ impl Hops {
         self.order
     }
 
-    /// Called with the state *before* `ev` is applied.
+    /// Called with each event `kind` and whether the trap it happens in is a down trap
+    /// (the orientation before the event).
     #[inline(always)]
-    pub fn observe<T>(&mut self, s: &LatticeState<T>, ev: &Event<T>) {
-        match ev.kind {
+    pub fn observe(&mut self, kind: EventKind, down: bool) {
+        match kind {
             EventKind::Collision(_) => self.collided = true,
             EventKind::Crossing(k) => {
                 // Hop direction in the world: outward normals of E₀, E₁, E₂ at 30°, 150°, 270°,
                 // i.e. 60°·{0, 2, 4} + 30°; a down trap is turned by 180° (+3).
-                let dir = ([0u8, 2, 4][k as usize] + if s.cell.down { 3 } else { 0 }) % 6;
+                let dir = ([0u8, 2, 4][k as usize] + if down { 3 } else { 0 }) % 6;
                 self.directions.push(dir);
                 if let Some(e) = self.entered {
                     self.visits += 1;
@@ -81,6 +82,40 @@ impl Hops {
                 // reflection).
                 self.entered = Some(k);
                 self.collided = false;
+            }
+        }
+    }
+}
+
+/// The hop statistics of L trajectories: a collision only sets a flag, a crossing (about one
+/// event in π/(3w)) updates that lane's [`Hops`].
+#[derive(Debug, Clone)]
+pub struct HopLanes {
+    /// One accumulator per lane.
+    pub lanes: Vec<Hops>,
+}
+
+impl HopLanes {
+    /// `lanes` accumulators of sequences up to `order`.
+    pub fn new(order: usize, lanes: usize) -> Result<Self, Error> {
+        let h = Hops::new(order)?;
+        Ok(HopLanes {
+            lanes: vec![h; lanes],
+        })
+    }
+}
+
+impl<const L: usize> Observer<L> for HopLanes {
+    #[inline(always)]
+    fn observe(&mut self, e: &EventLanes<L>) {
+        let hops = lanes::<Hops, L>(&mut self.lanes);
+        for (l, h) in hops.iter_mut().enumerate() {
+            if e.live[l] {
+                if e.is_collision(l) {
+                    h.collided = true;
+                } else {
+                    h.observe(e.event(l).kind, e.cell[2][l] < 0.0);
+                }
             }
         }
     }
@@ -126,7 +161,7 @@ mod tests {
                 last_dir = Some(dir);
                 entered = Some(k);
             }
-            h.observe(&s, &ev);
+            h.observe(ev.kind, s.cell.down);
             lat.apply(&mut s, &ev);
         }
         assert_eq!(checked, 5000);

@@ -2,76 +2,82 @@
 //! origin (overlapping windows). Positions are sampled on the fixed grid t = k·Δ, interpolated
 //! inside the free flight that contains the sample time; displacements are differenced as exact
 //! lattice integers plus bounded offsets ([`Unwrapped`]).
+//!
+//! Cost: only the lags the fit windows use are accumulated (a dozen, not every multiple of Δ), the
+//! ring of past samples has a power-of-two length (an index is a mask, not a division), and the
+//! per-event work is one comparison per lane against the time left to the next sample — done for
+//! all lanes at once; a sample (once per Δ ≈ one hop) is handled lane by lane.
 
-use crate::kernel::{CellKernel, Event};
-use crate::real::Real;
-use crate::scenes::lattice::{Basis64, Lattice, LatticeState, Unwrapped};
+use super::{lanes, EventLanes, Observer};
+use crate::scenes::lattice::{Basis64, Unwrapped};
 
-/// Accumulates the MSD of one trajectory.
+/// The MSD accumulator of one trajectory.
+#[derive(Debug, Clone)]
+struct Lane {
+    ring: Vec<Unwrapped>,
+    n: u64,
+    sums: Vec<f64>,
+}
+
+/// Accumulates the MSD of L trajectories.
 #[derive(Debug, Clone)]
 pub struct Msd {
     dt: f64,
     lags: Vec<usize>,
-    ring: Vec<Unwrapped>,
-    n: u64,
-    until: f64,
-    sums: Vec<f64>,
-    counts: Vec<u64>,
+    mask: usize,
     basis: Basis64,
+    until: Vec<f64>,
+    lanes: Vec<Lane>,
 }
 
 impl Msd {
-    /// Samples every `dt` (time units); lags in units of `dt`.
-    pub fn new(dt: f64, lags: &[usize], basis: Basis64) -> Self {
-        let cap = lags.iter().copied().max().unwrap_or(1) + 1;
+    /// Samples every `dt` (time units); lags in units of `dt`; `lanes` trajectories.
+    pub fn new(dt: f64, lags: &[usize], basis: Basis64, lanes: usize) -> Self {
+        let cap = (lags.iter().copied().max().unwrap_or(1) + 1).next_power_of_two();
         Msd {
             dt,
             lags: lags.to_vec(),
-            ring: vec![Unwrapped::default(); cap],
-            n: 0,
-            until: 0.0,
-            sums: vec![0.0; lags.len()],
-            counts: vec![0; lags.len()],
+            mask: cap - 1,
             basis,
+            until: vec![0.0; lanes],
+            lanes: vec![
+                Lane {
+                    ring: vec![Unwrapped::default(); cap],
+                    n: 0,
+                    sums: vec![0.0; lags.len()],
+                };
+                lanes
+            ],
         }
     }
 
-    /// Called with the state *before* `ev` is applied: records every grid time inside the
-    /// flight of duration `ev.time`.
-    #[inline(always)]
-    pub fn observe<T: Real, K: CellKernel<T>>(
-        &mut self,
-        lat: &Lattice<T, K>,
-        s: &LatticeState<T>,
-        ev: &Event<T>,
-    ) {
-        let t = ev.time.to_f64();
-        if self.until > t {
-            self.until -= t;
-            return;
-        }
-        let mut tau = self.until;
+    /// Records every grid time inside lane `l`'s flight (the rare path).
+    #[cold]
+    #[inline(never)]
+    fn sample<const L: usize>(&mut self, e: &EventLanes<L>, l: usize) {
+        let t = e.time[l];
+        let mut tau = self.until[l];
         while tau <= t {
-            self.push(lat.unwrapped(s, tau));
+            let u = e.unwrapped(l, tau);
+            self.push(l, u);
             tau += self.dt;
         }
-        self.until = tau - t;
+        self.until[l] = tau - t;
     }
 
     #[inline(always)]
-    fn push(&mut self, u: Unwrapped) {
-        let cap = self.ring.len();
-        let idx = (self.n % cap as u64) as usize;
-        self.ring[idx] = u;
+    fn push(&mut self, l: usize, u: Unwrapped) {
+        let lane = &mut self.lanes[l];
+        let idx = (lane.n as usize) & self.mask;
+        lane.ring[idx] = u;
         for (k, &lag) in self.lags.iter().enumerate() {
-            if (lag as u64) <= self.n {
-                let old = &self.ring[(idx + cap - lag) % cap];
+            if (lag as u64) <= lane.n {
+                let old = &lane.ring[idx.wrapping_sub(lag) & self.mask];
                 let d = u.displacement_from(old, &self.basis);
-                self.sums[k] += d[0] * d[0] + d[1] * d[1];
-                self.counts[k] += 1;
+                lane.sums[k] += d[0] * d[0] + d[1] * d[1];
             }
         }
-        self.n += 1;
+        lane.n += 1;
     }
 
     /// The lags (in units of the sampling interval).
@@ -82,16 +88,43 @@ impl Msd {
     pub fn dt(&self) -> f64 {
         self.dt
     }
-    /// MSD at each lag.
-    pub fn values(&self) -> Vec<f64> {
-        self.sums
+    /// MSD at each lag of lane `l` (NaN at a lag longer than the samples taken).
+    pub fn values(&self, l: usize) -> Vec<f64> {
+        let lane = &self.lanes[l];
+        self.lags
             .iter()
-            .zip(&self.counts)
-            .map(|(s, &c)| if c > 0 { s / c as f64 } else { f64::NAN })
+            .zip(&lane.sums)
+            .map(|(&lag, s)| {
+                let c = lane.n.saturating_sub(lag as u64);
+                if c > 0 {
+                    s / c as f64
+                } else {
+                    f64::NAN
+                }
+            })
             .collect()
     }
-    /// Number of samples taken.
-    pub fn samples(&self) -> u64 {
-        self.n
+    /// Number of samples taken in lane `l`.
+    pub fn samples(&self, l: usize) -> u64 {
+        self.lanes[l].n
+    }
+}
+
+impl<const L: usize> Observer<L> for Msd {
+    #[inline(always)]
+    fn observe(&mut self, e: &EventLanes<L>) {
+        let until = lanes::<f64, L>(&mut self.until);
+        let mut due = 0u64;
+        for l in 0..L {
+            // A flight that ends before the next grid time only shortens the wait.
+            let wait = e.live[l] && until[l] > e.time[l];
+            until[l] = if wait { until[l] - e.time[l] } else { until[l] };
+            due |= ((e.live[l] && !wait) as u64) << l;
+        }
+        while due != 0 {
+            let l = due.trailing_zeros() as usize;
+            due &= due - 1;
+            self.sample(e, l);
+        }
     }
 }

@@ -18,6 +18,7 @@ use crate::error::Error;
 use crate::kernel::vec2::Vec2;
 use crate::kernel::Flight;
 use crate::metadata::RunMeta;
+use crate::observables::{EventLanes, Observer};
 use crate::scenes::Scene;
 
 /// Log-histogram of positive values: bins of 0.1 decade from 10⁻³⁰ to 10¹⁰, plus zeros.
@@ -173,6 +174,31 @@ pub fn check_audit(rate: f64, bits: u32) -> Result<(), Error> {
         )));
     }
     Ok(())
+}
+
+/// The auditors of L trajectories as an [`Observer`]: lane `l`'s events go to auditor `l` (a
+/// lane without one is not audited). The first replay error is kept and the rest skipped.
+pub struct AuditLanes<S: Scene> {
+    /// One auditor per lane.
+    pub lanes: Vec<Option<Auditor<S>>>,
+    /// The first error met while replaying.
+    pub error: Option<Error>,
+}
+
+impl<const L: usize, S: Scene> Observer<L> for AuditLanes<S> {
+    fn observe(&mut self, e: &EventLanes<L>) {
+        if self.error.is_some() {
+            return;
+        }
+        for (l, a) in self.lanes.iter_mut().enumerate() {
+            if let (true, Some(a)) = (e.live[l], a.as_mut()) {
+                if let Err(err) = a.observe(&e.state(l).flight) {
+                    self.error = Some(err);
+                    return;
+                }
+            }
+        }
+    }
 }
 
 /// Audits a sample of the events of one f64 trajectory of scene `S`.

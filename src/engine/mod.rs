@@ -1,0 +1,329 @@
+//! Engines: what advances trajectories event by event and shows the events to observers.
+//!
+//! * The **scalar** engine runs one trajectory at a time on the scene's kernel at any precision
+//!   (`f64` or MPFR): [`drive`].
+//! * The **SIMD** engine ([`simd`]) runs [`BLOCK`] trajectories of the triangular lattice in
+//!   `f64` vector lanes, every lane bit-identical to the scalar kernel: [`run_block`]. The vector
+//!   instructions are chosen at run time ([`SimdPath`]): AVX-512, AVX2, or a portable path.
+//!
+//! Both feed the same [`Observer`]s, so an observable is written once and has the same bits on
+//! every engine, at any thread count (each trajectory's bits depend only on its start).
+
+pub mod lanes;
+pub mod simd;
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::Error;
+use crate::kernel::cell::CellKernel;
+use crate::kernel::trap::Trap;
+use crate::observables::{EventLanes, Observer, NO_LABEL};
+use crate::real::Real;
+use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
+pub use simd::BLOCK;
+
+/// Longest trajectory the engines accept, in collisions: 2⁵⁰ ≈ 1.1·10¹⁵ (months of one core).
+/// Cell indices and collision counts are held as exact integers in `f64` lanes; an event changes
+/// an index by at most 1 and a free flight crosses at most a handful of cells, so they stay far
+/// below 2⁵³, where `f64` integers stop being exact.
+pub const MAX_COLLISIONS_PER_TRAJECTORY: u64 = 1 << 50;
+
+/// Which engine runs a production computation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Engine {
+    /// SIMD for `f64` runs of the triangular lattice, scalar otherwise.
+    #[default]
+    Auto,
+    /// One trajectory at a time on the generic kernel (any precision).
+    Scalar,
+    /// Many trajectories per core in vector lanes (`f64` only).
+    Simd,
+}
+
+impl Engine {
+    /// The engine that runs at number type `precision_is_f64`: `Auto` is SIMD for `f64` and
+    /// scalar for MPFR; an explicit `Simd` at MPFR precision is refused.
+    pub fn resolve(self, precision_is_f64: bool) -> Result<Resolved, Error> {
+        match (self, precision_is_f64) {
+            (Engine::Scalar, _) | (Engine::Auto, false) => Ok(Resolved::Scalar),
+            (Engine::Auto, true) | (Engine::Simd, true) => Ok(Resolved::Simd(SimdPath::select()?)),
+            (Engine::Simd, false) => Err(Error::Invalid(
+                "--engine simd runs f64 only: use --engine scalar (or auto) with an MPFR precision"
+                    .into(),
+            )),
+        }
+    }
+}
+
+/// The engine that actually runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Resolved {
+    /// The scalar engine.
+    Scalar,
+    /// The SIMD engine on this instruction path.
+    Simd(SimdPath),
+}
+
+impl Resolved {
+    /// `"scalar"` or `"simd"` (the `engine` of a result's metadata).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Resolved::Scalar => "scalar",
+            Resolved::Simd(_) => "simd",
+        }
+    }
+    /// The instruction path of the SIMD engine (`None` for the scalar engine).
+    pub fn simd(&self) -> Option<SimdPath> {
+        match self {
+            Resolved::Scalar => None,
+            Resolved::Simd(p) => Some(*p),
+        }
+    }
+}
+
+/// The vector instructions of the SIMD engine. All give the same bits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SimdPath {
+    /// 8 lanes per `zmm` register, mask registers.
+    Avx512,
+    /// 4 lanes per `ymm` register.
+    Avx2,
+    /// Plain arrays of 4 lanes (any CPU).
+    Portable,
+}
+
+/// Environment variable that forces a SIMD path (`avx512`, `avx2` or `portable`), for tests
+/// and comparisons; a path the CPU lacks is refused.
+pub const SIMD_ENV: &str = "LORENTZ_SIMD";
+
+impl SimdPath {
+    /// Every path, fastest first.
+    pub const ALL: [SimdPath; 3] = [SimdPath::Avx512, SimdPath::Avx2, SimdPath::Portable];
+
+    /// `true` if this CPU can run the path.
+    pub fn available(self) -> bool {
+        match self {
+            SimdPath::Portable => true,
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
+
+    /// The best path this CPU has.
+    pub fn best() -> SimdPath {
+        Self::ALL
+            .into_iter()
+            .find(|p| p.available())
+            .unwrap_or(SimdPath::Portable)
+    }
+
+    /// The path [`SIMD_ENV`] names, or the best one.
+    ///
+    /// # Errors
+    /// If the variable names an unknown path or one this CPU lacks.
+    pub fn select() -> Result<SimdPath, Error> {
+        match std::env::var(SIMD_ENV) {
+            Ok(v) if !v.is_empty() => {
+                let p: SimdPath = v.parse()?;
+                if !p.available() {
+                    return Err(Error::Invalid(format!(
+                        "{SIMD_ENV}={v}: this CPU does not have {v}; available: {}",
+                        Self::ALL
+                            .iter()
+                            .filter(|p| p.available())
+                            .map(|p| p.to_string())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )));
+                }
+                Ok(p)
+            }
+            _ => Ok(Self::best()),
+        }
+    }
+}
+
+impl fmt::Display for SimdPath {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            SimdPath::Avx512 => "avx512",
+            SimdPath::Avx2 => "avx2",
+            SimdPath::Portable => "portable",
+        })
+    }
+}
+
+impl FromStr for SimdPath {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s {
+            "avx512" => Ok(SimdPath::Avx512),
+            "avx2" => Ok(SimdPath::Avx2),
+            "portable" => Ok(SimdPath::Portable),
+            _ => Err(Error::Invalid(format!(
+                "SIMD path '{s}': use avx512, avx2 or portable"
+            ))),
+        }
+    }
+}
+
+/// Refuses a trajectory longer than [`MAX_COLLISIONS_PER_TRAJECTORY`].
+pub fn check_trajectory_length(collisions: u64) -> Result<(), Error> {
+    if collisions > MAX_COLLISIONS_PER_TRAJECTORY {
+        return Err(Error::Invalid(format!(
+            "{collisions} collisions in one trajectory: use at most 2^50 = \
+             {MAX_COLLISIONS_PER_TRAJECTORY} per trajectory (more batches for more collisions)"
+        )));
+    }
+    Ok(())
+}
+
+/// The scalar engine: advances `s` on `lat` until it has made `collisions` collisions, showing
+/// every event (with the state before it) to `obs`. `progress` receives collision counts in
+/// chunks of 2²⁰.
+///
+/// # Errors
+/// If the state loses its next event (zero or non-finite velocity).
+#[inline]
+pub fn drive<T: Real, K: CellKernel<T>, O: Observer<1>>(
+    lat: &Lattice<T, K>,
+    s: &mut LatticeState<T>,
+    collisions: u64,
+    obs: &mut O,
+    progress: &dyn Fn(u64),
+) -> Result<(), Error> {
+    const CHUNK: u64 = 1 << 20;
+    let mut c = 0u64;
+    let mut next_report = CHUNK;
+    while c < collisions {
+        let ev = lat
+            .next_event(s)
+            .ok_or_else(|| Error::Invalid("trajectory lost its next event".into()))?;
+        obs.observe(&EventLanes::single(s, &ev));
+        if let crate::kernel::EventKind::Collision(_) = ev.kind {
+            c += 1;
+        }
+        lat.apply(s, &ev);
+        if c >= next_report {
+            progress(CHUNK);
+            next_report += CHUNK;
+        }
+    }
+    progress(collisions % CHUNK);
+    Ok(())
+}
+
+/// The SIMD engine: advances up to [`BLOCK`] trajectories `states` of the triangular lattice
+/// with trap `trap`, lane l until it has made `quotas[l]` collisions, showing every step to
+/// `obs` (built for [`BLOCK`] lanes; lanes beyond `states.len()` are never live). The states are
+/// left where the scalar engine would leave them.
+///
+/// # Errors
+/// If more than [`BLOCK`] states are given, quotas and states differ in number, a quota exceeds
+/// [`MAX_COLLISIONS_PER_TRAJECTORY`], or a trajectory loses its next event.
+pub fn run_block<O: Observer<BLOCK>>(
+    path: SimdPath,
+    trap: &Trap<f64>,
+    states: &mut [LatticeState<f64>],
+    quotas: &[u64],
+    obs: &mut O,
+    progress: &dyn Fn(u64),
+) -> Result<(), Error> {
+    if states.len() > BLOCK || quotas.len() != states.len() {
+        return Err(Error::Invalid(format!(
+            "a SIMD block runs 1 to {BLOCK} trajectories with one quota each (got {} states, {} quotas)",
+            states.len(),
+            quotas.len()
+        )));
+    }
+    if !path.available() {
+        return Err(Error::Invalid(format!(
+            "this CPU cannot run the {path} path"
+        )));
+    }
+    for &q in quotas {
+        check_trajectory_length(q)?;
+    }
+    let mut st = simd::BlockState {
+        pos: [[0.0; BLOCK]; 2],
+        vel: [[0.0; BLOCK]; 2],
+        excluded: [[NO_LABEL; BLOCK]; 2],
+        cell: [[0.0; BLOCK], [0.0; BLOCK], [1.0; BLOCK]],
+        collisions: [0.0; BLOCK],
+        quota: [0.0; BLOCK],
+    };
+    for (l, (s, &q)) in states.iter().zip(quotas).enumerate() {
+        let f = &s.flight;
+        st.pos[0][l] = f.pos.x;
+        st.pos[1][l] = f.pos.y;
+        st.vel[0][l] = f.vel.x;
+        st.vel[1][l] = f.vel.y;
+        st.excluded[0][l] = f.excluded_disk.map_or(NO_LABEL, f64::from);
+        st.excluded[1][l] = f.excluded_edge.map_or(NO_LABEL, f64::from);
+        st.cell[0][l] = s.cell.i as f64;
+        st.cell[1][l] = s.cell.j as f64;
+        st.cell[2][l] = s.cell.sign();
+        st.quota[l] = q as f64;
+    }
+    let lost = match path {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `path.available()` checked the CPU feature above.
+        SimdPath::Avx512 => unsafe { run_avx512(trap, &mut st, obs, progress) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        SimdPath::Avx2 => unsafe { run_avx2(trap, &mut st, obs, progress) },
+        _ => simd::run::<lanes::Portable, O>(trap, &mut st, obs, progress),
+    };
+    for (l, s) in states.iter_mut().enumerate() {
+        let label = |c: f64| (c >= 0.0).then_some(c as u8);
+        s.flight.pos.x = st.pos[0][l];
+        s.flight.pos.y = st.pos[1][l];
+        s.flight.vel.x = st.vel[0][l];
+        s.flight.vel.y = st.vel[1][l];
+        s.flight.excluded_disk = label(st.excluded[0][l]);
+        s.flight.excluded_edge = label(st.excluded[1][l]);
+        s.cell = CellIndex {
+            i: st.cell[0][l] as i64,
+            j: st.cell[1][l] as i64,
+            down: st.cell[2][l] < 0.0,
+        };
+    }
+    match lost {
+        Some(l) => Err(Error::Invalid(format!(
+            "trajectory {l} of the block lost its next event (velocity {:?})",
+            [st.vel[0][l], st.vel[1][l]]
+        ))),
+        None => Ok(()),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn run_avx512<O: Observer<BLOCK>>(
+    trap: &Trap<f64>,
+    st: &mut simd::BlockState,
+    obs: &mut O,
+    progress: &dyn Fn(u64),
+) -> Option<usize> {
+    simd::run::<lanes::Avx512, O>(trap, st, obs, progress)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn run_avx2<O: Observer<BLOCK>>(
+    trap: &Trap<f64>,
+    st: &mut simd::BlockState,
+    obs: &mut O,
+    progress: &dyn Fn(u64),
+) -> Option<usize> {
+    simd::run::<lanes::Avx2, O>(trap, st, obs, progress)
+}

@@ -1,0 +1,279 @@
+//! The multi-trajectory engine of the triangular lattice: [`BLOCK`] independent trajectories
+//! advance one event per step in vector lanes, branch-free.
+//!
+//! Every lane executes exactly the correctly rounded operations of the trap's kernel
+//! ([`crate::kernel::trap::Trap::next_event`] and [`crate::kernel::trap::Trap::apply`]), in the
+//! same order, on the same constants (taken from the `Trap<f64>` itself):
+//!
+//! * all five candidates are computed in every lane — the three vertex disks by the
+//!   cancellation-free root (β = d·v, q = d×v, Δ = |v|² − q², γ = |d|² − 1,
+//!   t = γ/(√Δ − β)), the three edges by σₖ/(−nₖ·v) — and a candidate the scalar code would not
+//!   offer (excluded by identity, moving away, missing, or not leaving through the edge) is
+//!   masked out rather than skipped;
+//! * the earliest is chosen by the scalar code's rule, offered in the order disk 0, 1, 2, edge
+//!   0, 1, 2 and taken only if strictly earlier (so ties go to the lower disk, then collisions
+//!   before crossings, then the lower edge), with a separate "have one" mask so that not even an
+//!   infinite time could change the choice;
+//! * the reflection (with its Newton speed factor) and the point reflection into the
+//!   neighbouring trap are both computed and blended by the event mask; the exclusion labels
+//!   and the cell index (i, j, s) are updated by masks as exact small integers.
+//!
+//! The trap's fused path skips operations that are exact in its coordinates (d = p − P₀ = p,
+//! p_y − 0); a lane skips exactly the same ones, and where the scalar code branches between two
+//! exact forms (n = x for P₀, n = x − Pₘ otherwise) the lane computes x − 0, which is the same
+//! value bit for bit. `tests/engine.rs` checks every event of every lane against the scalar
+//! kernel, on every code path the machine has.
+
+use super::lanes::Lanes;
+use crate::kernel::trap::Trap;
+use crate::observables::{EventLanes, Observer, CROSSING_CODE, NO_LABEL};
+
+/// Trajectories per block: 16 = two AVX-512 vectors, four AVX2 or portable vectors — enough
+/// independent work to hide the latency of the divide/square-root chain of one step.
+pub const BLOCK: usize = 16;
+
+/// The block's state: one lane per trajectory, structure of arrays.
+#[derive(Debug, Clone)]
+pub struct BlockState {
+    /// Position in the cell frame.
+    pub pos: [[f64; BLOCK]; 2],
+    /// Velocity.
+    pub vel: [[f64; BLOCK]; 2],
+    /// Excluded disk and edge ([`NO_LABEL`] for none).
+    pub excluded: [[f64; BLOCK]; 2],
+    /// Cell index i, j and orientation s = ±1.
+    pub cell: [[f64; BLOCK]; 3],
+    /// Collisions so far (exact integers below 2⁵³).
+    pub collisions: [f64; BLOCK],
+    /// Collisions to do.
+    pub quota: [f64; BLOCK],
+}
+
+/// The trap's constants, splatted.
+struct Consts<V> {
+    p1x: V,
+    p2x: V,
+    p2y: V,
+    k: V,
+    h: V,
+    c: [[V; 2]; 3],
+}
+
+impl<V: Lanes> Consts<V> {
+    #[inline(always)]
+    fn new(t: &Trap<f64>) -> Self {
+        Consts {
+            p1x: V::splat(t.vertices[1].x),
+            p2x: V::splat(t.vertices[2].x),
+            p2y: V::splat(t.vertices[2].y),
+            k: V::splat(t.normals[1].x),
+            h: V::splat(t.h),
+            c: [0, 1, 2].map(|k| [V::splat(t.centres[k].x), V::splat(t.centres[k].y)]),
+        }
+    }
+}
+
+/// The cancellation-free root of [`crate::kernel::ray_disk`] in every lane: the time, and the
+/// mask of lanes where the scalar code returns `Some` (β < 0 and Δ > 0); where γ ≤ 0 the time
+/// is 0 (a start numerically inside, moving in).
+#[inline(always)]
+fn root<V: Lanes>(dx: V, dy: V, vx: V, vy: V, vv: V) -> (V, V::Mask) {
+    let zero = V::splat(0.0);
+    let beta = dx.mul(vx).add(dy.mul(vy));
+    let q = dx.mul(vy).sub(dy.mul(vx));
+    let disc = vv.sub(q.mul(q));
+    let gamma = dx.mul(dx).add(dy.mul(dy)).add(V::splat(-1.0));
+    let hit = V::and(beta.lt(zero), disc.gt(zero));
+    let t = gamma.div(disc.sqrt().sub(beta));
+    (V::select(gamma.gt(zero), t, zero), hit)
+}
+
+/// The chosen event so far: time, code, and whether there is one.
+struct Best<V: Lanes> {
+    t: V,
+    code: V,
+    has: V::Mask,
+}
+
+impl<V: Lanes> Best<V> {
+    /// Offers candidate `code` with time `t` in the lanes of `valid`: taken where there is no
+    /// event yet or it is strictly earlier (the scalar `offer`).
+    #[inline(always)]
+    fn offer(&mut self, valid: V::Mask, t: V, code: f64) {
+        let earlier = V::or(t.lt(self.t), V::and_not(valid, self.has));
+        let take = V::and(valid, earlier);
+        self.t = V::select(take, t, self.t);
+        self.code = V::select(take, V::splat(code), self.code);
+        self.has = V::or(self.has, valid);
+    }
+}
+
+/// One event for the `V::WIDTH` lanes starting at `o`: records each live lane's event and prior
+/// state in `out`, applies it, and returns the bits of live lanes that had no next event (a
+/// zero or non-finite velocity; the scalar kernel's `None`). Finished lanes are left unchanged.
+#[inline(always)]
+fn advance<V: Lanes, const L: usize>(
+    c: &Consts<V>,
+    st: &mut BlockState,
+    out: &mut EventLanes<L>,
+    o: usize,
+) -> u64 {
+    let zero = V::splat(0.0);
+    let px = V::load(&st.pos[0][o..]);
+    let py = V::load(&st.pos[1][o..]);
+    let vx = V::load(&st.vel[0][o..]);
+    let vy = V::load(&st.vel[1][o..]);
+    let ed = V::load(&st.excluded[0][o..]);
+    let ee = V::load(&st.excluded[1][o..]);
+    let count = V::load(&st.collisions[o..]);
+    let live = count.lt(V::load(&st.quota[o..]));
+
+    // Candidates, in the scalar code's order of offers.
+    let vv = vx.mul(vx).add(vy.mul(vy));
+    let mut best = Best {
+        t: V::splat(f64::INFINITY),
+        code: zero,
+        has: zero.lt(zero),
+    };
+    let (t0, h0) = root(px, py, vx, vy, vv);
+    best.offer(V::and_not(h0, ed.eq(V::splat(0.0))), t0, 0.0);
+    let (t1, h1) = root(px.sub(c.p1x), py, vx, vy, vv);
+    best.offer(V::and_not(h1, ed.eq(V::splat(1.0))), t1, 1.0);
+    let (t2, h2) = root(px.sub(c.p2x), py.sub(c.p2y), vx, vy, vv);
+    best.offer(V::and_not(h2, ed.eq(V::splat(2.0))), t2, 2.0);
+    let kvx = c.k.mul(vx);
+    let hvy = vy.mul(V::splat(0.5));
+    let kpx = c.k.mul(px);
+    let hpy = py.mul(V::splat(0.5));
+    let edges = [
+        (kvx.add(hvy).neg(), kpx.add(hpy).neg().add(c.h)),
+        (kvx.sub(hvy), kpx.sub(hpy)),
+        (vy, py),
+    ];
+    for (e, (nv, sigma)) in edges.into_iter().enumerate() {
+        let valid = V::and_not(nv.lt(zero), ee.eq(V::splat(e as f64)));
+        let t = V::select(sigma.gt(zero), sigma.div(nv.neg()), zero);
+        best.offer(valid, t, CROSSING_CODE + e as f64);
+    }
+    let lost = V::bits(V::and_not(live, best.has));
+    let go = V::and(live, best.has);
+
+    // Record the step for the observers.
+    live_bits_into::<V, L>(live, &mut out.live[o..]);
+    best.t.store(&mut out.time[o..]);
+    best.code.store(&mut out.code[o..]);
+    px.store(&mut out.pos[0][o..]);
+    py.store(&mut out.pos[1][o..]);
+    vx.store(&mut out.vel[0][o..]);
+    vy.store(&mut out.vel[1][o..]);
+    ed.store(&mut out.excluded[0][o..]);
+    ee.store(&mut out.excluded[1][o..]);
+    let ci = V::load(&st.cell[0][o..]);
+    let cj = V::load(&st.cell[1][o..]);
+    let sg = V::load(&st.cell[2][o..]);
+    ci.store(&mut out.cell[0][o..]);
+    cj.store(&mut out.cell[1][o..]);
+    sg.store(&mut out.cell[2][o..]);
+
+    // Carry it out: x = p + v t, then both outcomes, blended.
+    let t = best.t;
+    let code = best.code;
+    let xx = px.add(vx.mul(t));
+    let xy = py.add(vy.mul(t));
+    let coll = code.lt(V::splat(CROSSING_CODE));
+    let is1 = code.eq(V::splat(1.0));
+    let is2 = code.eq(V::splat(2.0));
+    // Collision with disk m: n = x − Pₘ (x − 0 = x for P₀ and for P₁'s y, exactly).
+    let nx = xx.sub(V::select(is1, c.p1x, V::select(is2, c.p2x, zero)));
+    let ny = xy.sub(V::select(is2, c.p2y, zero));
+    let kf = vv.neg().add(V::splat(3.0)).mul(V::splat(0.5));
+    let s = vx.mul(nx).add(vy.mul(ny)).mul(V::splat(2.0));
+    let rvx = vx.sub(nx.mul(s)).mul(kf);
+    let rvy = vy.sub(ny.mul(s)).mul(kf);
+    // Crossing of edge k: p ↦ cₖ − x, v ↦ −v.
+    let e0 = code.eq(V::splat(CROSSING_CODE));
+    let e1 = code.eq(V::splat(CROSSING_CODE + 1.0));
+    let cx = V::select(e0, c.c[0][0], V::select(e1, c.c[1][0], c.c[2][0]));
+    let cy = V::select(e0, c.c[0][1], V::select(e1, c.c[1][1], c.c[2][1]));
+    let npx = V::select(coll, xx, cx.sub(xx));
+    let npy = V::select(coll, xy, cy.sub(xy));
+    let nvx = V::select(coll, rvx, vx.neg());
+    let nvy = V::select(coll, rvy, vy.neg());
+    // Exclusions: after a collision (m, none); after crossing k the endpoints of Eₖ swap
+    // (m ↦ 3 − k − m), Pₖ and "none" become none, and Eₖ is the edge entered by.
+    let k = code.sub(V::splat(CROSSING_CODE));
+    let none = V::splat(NO_LABEL);
+    let keeps = V::and_not(ed.gt(none), ed.eq(k));
+    let relabelled = V::select(keeps, V::splat(3.0).sub(k).sub(ed), none);
+    let ned = V::select(coll, code, relabelled);
+    let nee = V::select(coll, none, k);
+    // Cell: steps (1, 1), (0, 1), (1, 0) across E₀, E₁, E₂, times s; s flips on a crossing.
+    let e2 = code.eq(V::splat(CROSSING_CODE + 2.0));
+    let nci = ci.add(V::select(V::or(e0, e2), sg, zero));
+    let ncj = cj.add(V::select(V::or(e0, e1), sg, zero));
+    let nsg = V::select(coll, sg, sg.neg());
+    let ncount = count.add(V::select(coll, V::splat(1.0), zero));
+
+    let keep = |new: V, old: V| V::select(go, new, old);
+    keep(npx, px).store(&mut st.pos[0][o..]);
+    keep(npy, py).store(&mut st.pos[1][o..]);
+    keep(nvx, vx).store(&mut st.vel[0][o..]);
+    keep(nvy, vy).store(&mut st.vel[1][o..]);
+    keep(ned, ed).store(&mut st.excluded[0][o..]);
+    keep(nee, ee).store(&mut st.excluded[1][o..]);
+    keep(nci, ci).store(&mut st.cell[0][o..]);
+    keep(ncj, cj).store(&mut st.cell[1][o..]);
+    keep(nsg, sg).store(&mut st.cell[2][o..]);
+    keep(ncount, count).store(&mut st.collisions[o..]);
+    lost << o
+}
+
+#[inline(always)]
+fn live_bits_into<V: Lanes, const L: usize>(m: V::Mask, out: &mut [bool]) {
+    let b = V::bits(m);
+    for (l, x) in out[..V::WIDTH].iter_mut().enumerate() {
+        *x = (b >> l) & 1 == 1;
+    }
+}
+
+/// Steps between two calls of the progress callback: 2¹⁴ steps of a block, ≈ 2.4·10⁵ collisions.
+const PROGRESS_STEPS: u64 = 1 << 14;
+
+/// Runs the block until every lane has its quota of collisions, showing each step to `obs`.
+/// Returns the index of a lane that lost its next event, if any (the run stops there).
+#[inline(always)]
+pub(super) fn run<V: Lanes, O: Observer<BLOCK>>(
+    trap: &Trap<f64>,
+    st: &mut BlockState,
+    obs: &mut O,
+    progress: &dyn Fn(u64),
+) -> Option<usize> {
+    let c = Consts::<V>::new(trap);
+    let mut out = EventLanes::<BLOCK>::default();
+    let mut reported = st.collisions.iter().sum::<f64>();
+    let mut steps = 0u64;
+    loop {
+        let mut lost = 0u64;
+        let mut o = 0;
+        while o < BLOCK {
+            lost |= advance::<V, BLOCK>(&c, st, &mut out, o);
+            o += V::WIDTH;
+        }
+        if lost != 0 {
+            return Some(lost.trailing_zeros() as usize);
+        }
+        if !out.live.iter().any(|&l| l) {
+            break;
+        }
+        obs.observe(&out);
+        steps += 1;
+        if steps % PROGRESS_STEPS == 0 {
+            let done = st.collisions.iter().sum::<f64>();
+            progress((done - reported) as u64);
+            reported = done;
+        }
+    }
+    let done = st.collisions.iter().sum::<f64>();
+    progress((done - reported) as u64);
+    None
+}
