@@ -1,11 +1,14 @@
-//! Kernel throughput (the CLI's `bench`): events only, no observables; one trajectory per thread.
+//! Engine throughput (the CLI's `bench`): events only, no observables. Each thread runs one
+//! trajectory (scalar engine) or one block of [`BLOCK`] trajectories (SIMD engine).
 
 use std::time::Instant;
 
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::engine::{drive, run_block, Engine, Resolved, BLOCK};
 use crate::error::Error;
+use crate::observables::{EventLanes, Observer};
 use crate::geometry::Geometry;
 use crate::kernel::trap::Trap;
 use crate::metadata::RunMeta;
@@ -20,12 +23,14 @@ use crate::scenes::triangular::equilibrium_state;
 pub struct Throughput {
     /// Gap w.
     pub w: f64,
-    /// Collisions per trajectory per repetition.
+    /// Collisions per thread per repetition (shared out over the thread's trajectories).
     pub collisions: u64,
     /// Number of repetitions.
     pub repetitions: usize,
-    /// Trajectories run at once, one per thread.
+    /// Threads, each running one trajectory (scalar) or one block of trajectories (SIMD).
     pub threads: usize,
+    /// Trajectories per thread (1 for the scalar engine, [`BLOCK`] for the SIMD engine).
+    pub trajectories_per_thread: usize,
     /// Median collisions per wall-clock second over the repetitions (all threads together).
     pub collisions_per_second: f64,
     /// Median collisions per second per thread.
@@ -56,6 +61,7 @@ pub const MAX_REPETITIONS: usize = 1000;
 
 /// Timed repetitions of `threads` trajectories on number type `T`.
 struct TimeRuns<'a> {
+    engine: Resolved,
     w: f64,
     seed: u64,
     collisions: u64,
@@ -69,12 +75,24 @@ impl AtPrecision for TimeRuns<'_> {
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
         let trap64 = Trap::new(self.w)?;
         let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
-        let mut states: Vec<LatticeState<T>> = (0..self.threads)
+        let lanes = match self.engine {
+            Resolved::Scalar => 1,
+            Resolved::Simd(_) => BLOCK,
+        };
+        // Thread k runs trajectories k·lanes … (k+1)·lanes − 1 of the seed's streams.
+        let mut states: Vec<Vec<LatticeState<T>>> = (0..self.threads)
             .map(|k| {
-                let s64 = equilibrium_state(&trap64, &mut stream(self.seed, k as u64));
-                let mut s = LatticeState::convert_from_f64(ctx, &s64);
-                s.flight.normalise_speed();
-                s
+                (0..lanes)
+                    .map(|l| {
+                        let s64 = equilibrium_state(
+                            &trap64,
+                            &mut stream(self.seed, (k * lanes + l) as u64),
+                        );
+                        let mut s = LatticeState::convert_from_f64(ctx, &s64);
+                        s.flight.normalise_speed();
+                        s
+                    })
+                    .collect()
             })
             .collect();
         let pool = rayon::ThreadPoolBuilder::new()
@@ -82,11 +100,14 @@ impl AtPrecision for TimeRuns<'_> {
             .build()
             .map_err(|e| Error::Invalid(format!("thread pool: {e}")))?;
         let n = self.collisions;
-        let go = |states: &mut Vec<LatticeState<T>>, n: u64| -> Result<u64, Error> {
+        let engine = self.engine;
+        // Each trajectory makes ⌊n/lanes⌋ collisions per repetition.
+        let per_rep = n / lanes as u64 * (lanes * self.threads) as u64;
+        let go = |states: &mut Vec<Vec<LatticeState<T>>>, n: u64| -> Result<u64, Error> {
             pool.install(|| {
                 states
                     .par_iter_mut()
-                    .map(|s| lat.run_collisions(s, n))
+                    .map(|block| run_thread(engine, &lat, &trap64, block, n))
                     .collect::<Result<Vec<u64>, Error>>()
                     .map(|v| v.iter().sum())
             })
@@ -98,19 +119,69 @@ impl AtPrecision for TimeRuns<'_> {
         for _ in 0..self.reps {
             let t0 = Instant::now();
             hops = go(&mut states, n)?;
-            out.push((n * self.threads as u64) as f64 / t0.elapsed().as_secs_f64());
+            out.push(per_rep as f64 / t0.elapsed().as_secs_f64());
             (self.progress)(1);
         }
-        Ok((out, hops as f64 / (n * self.threads as u64) as f64))
+        Ok((out, hops as f64 / per_rep as f64))
     }
 }
 
-/// Times `reps` repetitions of `collisions` collisions on each of `threads` trajectories run at
-/// once (one per thread), continuing equilibrium starts (seed `seed`). `progress` receives
-/// finished repetitions.
+/// One thread's share of a repetition: `n` collisions over its trajectories, continuing them;
+/// returns the crossings made.
+fn run_thread<T: Real>(
+    engine: Resolved,
+    lat: &TriangularLattice<T>,
+    trap64: &Trap<f64>,
+    block: &mut [LatticeState<T>],
+    n: u64,
+) -> Result<u64, Error> {
+    match engine {
+        Resolved::Scalar => {
+            let mut c = CrossingCount(0);
+            let each = n / block.len() as u64;
+            for s in block.iter_mut() {
+                drive(lat, s, each, &mut c, &|_| {})?;
+            }
+            Ok(c.0)
+        }
+        Resolved::Simd(path) => {
+            // The SIMD engine runs f64 only (`Engine::resolve` refuses otherwise), so the
+            // conversions below are exact copies.
+            let mut s64: Vec<LatticeState<f64>> = block.iter().map(|s| s.to_f64()).collect();
+            let quotas = vec![n / block.len() as u64; block.len()];
+            let mut c = CrossingCount(0);
+            run_block(path, trap64, &mut s64, &quotas, &mut c, &|_| {})?;
+            for (s, x) in block.iter_mut().zip(&s64) {
+                *s = LatticeState::convert_from_f64(s.flight.pos.x.ctx(), x);
+            }
+            Ok(c.0)
+        }
+    }
+}
+
+/// Counts crossings only — the cheapest possible observer, so that the benchmark times the
+/// engine (and the counts show that the same events were made).
+struct CrossingCount(u64);
+
+impl<const L: usize> Observer<L> for CrossingCount {
+    #[inline(always)]
+    fn observe(&mut self, e: &EventLanes<L>) {
+        let mut n = 0;
+        for l in 0..L {
+            n += (e.live[l] & !e.is_collision(l)) as u64;
+        }
+        self.0 += n;
+    }
+}
+
+/// Times `reps` repetitions of `collisions` collisions on each of `threads` threads (one
+/// trajectory each on the scalar engine, a block of [`BLOCK`] on the SIMD engine), continuing
+/// equilibrium starts (seed `seed`). `progress` receives finished repetitions.
+#[allow(clippy::too_many_arguments)]
 pub fn throughput(
     w: f64,
     precision: Precision,
+    engine: Engine,
     collisions: u64,
     reps: usize,
     seed: u64,
@@ -129,7 +200,9 @@ pub fn throughput(
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
+    let resolved = engine.resolve(precision == Precision::F64)?;
     let (samples, cpc) = precision.dispatch(TimeRuns {
+        engine: resolved,
         w,
         seed,
         collisions,
@@ -143,11 +216,15 @@ pub fn throughput(
         collisions,
         repetitions: reps,
         threads,
+        trajectories_per_thread: match resolved {
+            Resolved::Scalar => 1,
+            Resolved::Simd(_) => BLOCK,
+        },
         collisions_per_second: m,
         collisions_per_second_per_thread: m / threads as f64,
         ns_per_collision: 1e9 * threads as f64 / m,
         samples,
         crossings_per_collision: cpc,
-        meta: RunMeta::new(Some(seed), None, precision, Some(threads)),
+        meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
     })
 }

@@ -12,7 +12,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::diffusion::{run, DiffusionConfig, Precision};
+use crate::diffusion::{run_many, DiffusionConfig, Precision};
+use crate::engine::Engine;
 use crate::error::Error;
 use crate::figures::{plot, PlotSpec, Series};
 use crate::geometry::Geometry;
@@ -209,7 +210,20 @@ pub fn sweep(
     threads: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<SweepReport, Error> {
+    sweep_on(cfg, dir, Engine::Auto, threads, progress)
+}
+
+/// As [`sweep`], on the engine `engine` (the same bits on every engine). A point's runs are
+/// packed together ([`run_many`]), so that R runs of B batches fill R·B SIMD lanes.
+pub fn sweep_on(
+    cfg: &SweepConfig,
+    dir: &Path,
+    engine: Engine,
+    threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<SweepReport, Error> {
     cfg.validate()?;
+    let resolved = engine.resolve(true)?;
     std::fs::create_dir_all(dir.join("points"))?;
     let mut points = Vec::new();
     let mut resumed = 0;
@@ -229,14 +243,16 @@ pub fn sweep(
                 path.display()
             )));
         }
-        let mut runs = Vec::new();
-        for r in 0..cfg.runs {
-            let rep = run(&cfg.run_config(i as u32, w, r), threads, None, progress)?;
-            runs.push(RunValue {
+        let cfgs: Vec<DiffusionConfig> = (0..cfg.runs)
+            .map(|r| cfg.run_config(i as u32, w, r))
+            .collect();
+        let runs = run_many(&cfgs, engine, threads, progress)?
+            .into_iter()
+            .map(|rep| RunValue {
                 D: rep.D,
                 D_err: rep.D_err,
-            });
-        }
+            })
+            .collect();
         let p = SweepPoint {
             config: cfg.clone(),
             index: i as u32,
@@ -252,7 +268,8 @@ pub fn sweep(
         std::fs::rename(&tmp, &path)?;
         points.push(p);
     }
-    let report = analyse(cfg, &points, resumed, threads)?;
+    let mut report = analyse(cfg, &points, resumed, threads)?;
+    report.meta = report.meta.with_engine(resolved);
     write_outputs(&report, dir)?;
     Ok(report)
 }

@@ -213,23 +213,19 @@ pub struct HopCommand {
     output: OutputArgs,
 }
 
-/// The library's hop analyses share one signature: (w, collisions, batches, order, seed, threads,
-/// progress).
-pub type HopAnalysis<R> = fn(
-    f64,
-    u64,
-    u32,
-    usize,
-    u64,
-    usize,
-    &(dyn Fn(u64) + Sync),
-) -> Result<R, lorentz_gas::error::Error>;
-
 impl HopCommand {
     /// Runs `analysis` with a progress bar over the collisions and prints its result.
     pub fn run<R: serde::Serialize>(
         &self,
-        analysis: HopAnalysis<R>,
+        analysis: impl FnOnce(
+            f64,
+            u64,
+            u32,
+            usize,
+            u64,
+            usize,
+            &(dyn Fn(u64) + Sync),
+        ) -> Result<R, lorentz_gas::error::Error>,
         print: impl FnOnce(&R),
     ) -> Result<(), lorentz_gas::error::Error> {
         let pb =
@@ -268,6 +264,16 @@ impl RunArgs {
                 .unwrap_or(1)
         })
     }
+}
+
+/// Engine choice.
+#[derive(Args, Debug, Clone)]
+pub struct EngineArg {
+    /// Engine: auto (SIMD for f64, scalar for MPFR), scalar (one trajectory at a time), or simd
+    /// (16 trajectories per core in vector lanes, f64). All give the same bits. The SIMD
+    /// instructions are chosen at run time (AVX-512, AVX2 or portable; LORENTZ_SIMD forces one).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub engine: lorentz_gas::engine::Engine,
 }
 
 /// Number type.

@@ -5,7 +5,7 @@ use lorentz_gas::error::Error;
 use lorentz_gas::report::{speed_against_error, REPORT_STEPS};
 
 use super::args::{
-    parse_count, parse_count_usize, GapArg, OutDirArg, OutputArgs, PrecisionArg, RunArgs,
+    parse_count, parse_count_usize, EngineArg, GapArg, OutDirArg, OutputArgs, PrecisionArg, RunArgs,
 };
 use super::output::{emit, to_json};
 use super::progress::Progress;
@@ -14,7 +14,8 @@ use super::progress::Progress;
 pub struct Args {
     #[command(flatten)]
     gap: GapArg,
-    /// Collisions per trajectory per repetition.
+    /// Collisions per thread per repetition (the SIMD engine shares them out over the thread's
+    /// 16 trajectories).
     #[arg(long, default_value = "2e7", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
     /// Repetitions (the median is reported), 1 to 1000.
@@ -22,6 +23,8 @@ pub struct Args {
     repetitions: usize,
     #[command(flatten)]
     precision: PrecisionArg,
+    #[command(flatten)]
+    engine: EngineArg,
     /// Seed of the starting points; --threads K runs K trajectories at once, one per thread
     /// (default: 1, the single-core kernel speed).
     #[command(flatten)]
@@ -58,6 +61,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     let r = throughput(
         a.gap.w,
         a.precision.precision,
+        a.engine.engine,
         a.collisions,
         a.repetitions,
         a.run.seed,
@@ -70,9 +74,13 @@ pub fn run(a: Args) -> Result<(), Error> {
 
 fn print(r: &Throughput) {
     println!(
-        "w = {}  precision {}  {} collisions x {} repetitions on {} thread(s)\nmedian {:.3e} collisions/s ({:.3e} per thread) = {:.2} ns/collision per thread  (runs: {})",
+        "w = {}  precision {}  engine {}  {} collisions x {} repetitions on {} thread(s)\nmedian {:.3e} collisions/s ({:.3e} per thread) = {:.2} ns/collision per thread  (runs: {})",
         r.w,
         r.meta.precision,
+        match &r.meta.simd {
+            Some(p) => format!("{} ({p})", r.meta.engine),
+            None => r.meta.engine.clone(),
+        },
         r.collisions,
         r.repetitions,
         r.threads,

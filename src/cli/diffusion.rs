@@ -6,7 +6,7 @@ use lorentz_gas::diffusion::{self, AuditSpec, DiffusionConfig, DiffusionReport, 
 use lorentz_gas::error::Error;
 
 use super::args::{
-    parse_count, parse_count_u32, OutputArgs, PrecisionArg, RunArgs, SceneArgs, SceneChoice,
+    parse_count, parse_count_u32, EngineArg, OutputArgs, PrecisionArg, RunArgs, SceneArgs, SceneChoice,
 };
 use super::output::{emit, sigmas};
 use super::progress::Progress;
@@ -25,6 +25,8 @@ pub struct Args {
     run: RunArgs,
     #[command(flatten)]
     precision: PrecisionArg,
+    #[command(flatten)]
+    engine: EngineArg,
     /// Fit window LO:HI for the MSD slope, in units of the mean hop time tau.
     #[arg(long, default_value = "10:40")]
     window: Window,
@@ -68,8 +70,9 @@ pub fn run(a: Args) -> Result<(), Error> {
         .map(|rate| AuditSpec::new(rate, a.audit_precision))
         .transpose()?;
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
-    let r = diffusion::run_audited(
+    let r = diffusion::run_on(
         &cfg,
+        a.engine.engine,
         a.run.threads(),
         a.checkpoint.as_ref(),
         audit,
@@ -82,9 +85,13 @@ pub fn run(a: Args) -> Result<(), Error> {
 fn print(r: &DiffusionReport) {
     let m = &r.meta;
     println!(
-        "periodic Lorentz gas, w = {}  ({} precision, seed {}, {} batches, {:.3e} collisions, {} threads, {:.1} s, {:.3e} collisions/s)",
+        "periodic Lorentz gas, w = {}  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {} threads, {:.1} s, {:.3e} collisions/s)",
         r.w,
         m.precision,
+        match &m.simd {
+            Some(p) => format!("{} ({p})", m.engine),
+            None => m.engine.clone(),
+        },
         m.seed.unwrap_or_default(),
         m.batches.unwrap_or_default(),
         r.collisions as f64,

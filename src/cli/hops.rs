@@ -1,25 +1,47 @@
 //! `lorentz hops`: trap-hopping statistics along lattice trajectories.
 
 use lorentz_gas::error::Error;
-use lorentz_gas::hopping::{hops, HopsReport};
+use lorentz_gas::hopping::{hops_on, HopsReport};
 
-use super::args::HopCommand;
+use super::args::{EngineArg, HopCommand};
 
-/// `lorentz hops` takes the shared hop-analysis options.
-pub type Args = HopCommand;
+/// `lorentz hops` takes the shared hop-analysis options and the engine.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    hop: HopCommand,
+    #[command(flatten)]
+    engine: EngineArg,
+}
 
 pub fn run(a: Args) -> Result<(), Error> {
-    a.run(hops, print)
+    let engine = a.engine.engine;
+    a.hop.run(
+        |w, collisions, batches, order, seed, threads, progress| {
+            hops_on(
+                w,
+                collisions,
+                batches,
+                order,
+                (seed, 0),
+                engine,
+                threads,
+                progress,
+            )
+        },
+        print,
+    )
 }
 
 fn print(r: &HopsReport) {
     println!(
-        "trap hopping along lattice trajectories, w = {} ({} visits, {:.2e} collisions, {} batches, seed {})",
+        "trap hopping along lattice trajectories, w = {} ({} visits, {:.2e} collisions, {} batches, seed {}, {} engine)",
         r.w,
         r.visits,
         r.collisions as f64,
         r.meta.batches.unwrap_or_default(),
-        r.meta.seed.unwrap_or_default()
+        r.meta.seed.unwrap_or_default(),
+        r.meta.engine
     );
     println!(
         "p_bs = {:.5} ± {:.5}   p_cf = {:.6} ± {:.6}",

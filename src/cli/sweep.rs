@@ -1,9 +1,9 @@
 //! `lorentz sweep`: D over a range of w, resumable, with the paper's coarse and fine analyses.
 
 use lorentz_gas::error::Error;
-use lorentz_gas::sweep::{sweep, SweepConfig, SweepReport};
+use lorentz_gas::sweep::{sweep_on, SweepConfig, SweepReport};
 
-use super::args::{parse_count, parse_count_u32, OutDirArg, OutputArgs, RunArgs};
+use super::args::{parse_count, parse_count_u32, EngineArg, OutDirArg, OutputArgs, RunArgs};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -29,6 +29,8 @@ pub struct Args {
     batches: u32,
     #[command(flatten)]
     run: RunArgs,
+    #[command(flatten)]
+    engine: EngineArg,
     /// Output directory (default results/sweep; finished points are kept in OUT/points/ and reused).
     #[command(flatten)]
     out: OutDirArg,
@@ -53,7 +55,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         .saturating_mul(a.runs as u64)
         .saturating_mul(a.steps as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
-    let r = sweep(&cfg, &out, a.run.threads(), &pb.callback())?;
+    let r = sweep_on(&cfg, &out, a.engine.engine, a.run.threads(), &pb.callback())?;
     drop(pb);
     emit(a.output.json, &r, |r| {
         print(r);

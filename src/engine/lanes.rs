@@ -170,6 +170,87 @@ impl Lanes for Portable {
     }
 }
 
+/// Two vectors used as one of twice the width. Every operation is issued for both halves
+/// back to back, so the two independent dependency chains interleave in the instruction stream
+/// and the core overlaps them (one step of the engine is a long chain of divisions and square
+/// roots: a single vector would leave the divider idle while it waits).
+#[derive(Debug, Clone, Copy)]
+pub struct Pair<V>(pub V, pub V);
+
+impl<V: Lanes> Lanes for Pair<V> {
+    const WIDTH: usize = 2 * V::WIDTH;
+    type Mask = (V::Mask, V::Mask);
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        Pair(V::splat(x), V::splat(x))
+    }
+    #[inline(always)]
+    fn load(a: &[f64]) -> Self {
+        Pair(V::load(a), V::load(&a[V::WIDTH..]))
+    }
+    #[inline(always)]
+    fn store(self, a: &mut [f64]) {
+        self.0.store(a);
+        self.1.store(&mut a[V::WIDTH..]);
+    }
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Pair(self.0.add(o.0), self.1.add(o.1))
+    }
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Pair(self.0.sub(o.0), self.1.sub(o.1))
+    }
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        Pair(self.0.mul(o.0), self.1.mul(o.1))
+    }
+    #[inline(always)]
+    fn div(self, o: Self) -> Self {
+        Pair(self.0.div(o.0), self.1.div(o.1))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Pair(self.0.sqrt(), self.1.sqrt())
+    }
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Pair(self.0.neg(), self.1.neg())
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> Self::Mask {
+        (self.0.lt(o.0), self.1.lt(o.1))
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> Self::Mask {
+        (self.0.gt(o.0), self.1.gt(o.1))
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> Self::Mask {
+        (self.0.eq(o.0), self.1.eq(o.1))
+    }
+    #[inline(always)]
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self {
+        Pair(V::select(m.0, a.0, b.0), V::select(m.1, a.1, b.1))
+    }
+    #[inline(always)]
+    fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask {
+        (V::and(a.0, b.0), V::and(a.1, b.1))
+    }
+    #[inline(always)]
+    fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask {
+        (V::or(a.0, b.0), V::or(a.1, b.1))
+    }
+    #[inline(always)]
+    fn and_not(a: Self::Mask, b: Self::Mask) -> Self::Mask {
+        (V::and_not(a.0, b.0), V::and_not(a.1, b.1))
+    }
+    #[inline(always)]
+    fn bits(m: Self::Mask) -> u64 {
+        V::bits(m.0) | V::bits(m.1) << V::WIDTH
+    }
+}
+
 #[cfg(target_arch = "x86_64")]
 pub use x86::{Avx2, Avx512};
 

@@ -314,7 +314,7 @@ unsafe fn run_avx512<O: Observer<BLOCK>>(
     obs: &mut O,
     progress: &dyn Fn(u64),
 ) -> Option<usize> {
-    simd::run::<lanes::Avx512, O>(trap, st, obs, progress)
+    simd::run::<lanes::Pair<lanes::Avx512>, O>(trap, st, obs, progress)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -325,5 +325,5 @@ unsafe fn run_avx2<O: Observer<BLOCK>>(
     obs: &mut O,
     progress: &dyn Fn(u64),
 ) -> Option<usize> {
-    simd::run::<lanes::Avx2, O>(trap, st, obs, progress)
+    simd::run::<lanes::Pair<lanes::Avx2>, O>(trap, st, obs, progress)
 }

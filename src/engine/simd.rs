@@ -1,6 +1,9 @@
 //! The multi-trajectory engine of the triangular lattice: [`BLOCK`] independent trajectories
 //! advance one event per step in vector lanes, branch-free.
 //!
+//! No closures in this file's hot code: a closure does not inherit the target features of the
+//! function it is written in, so its vector operations would be calls rather than instructions.
+//!
 //! Every lane executes exactly the correctly rounded operations of the trap's kernel
 //! ([`crate::kernel::trap::Trap::next_event`] and [`crate::kernel::trap::Trap::apply`]), in the
 //! same order, on the same constants (taken from the `Trap<f64>` itself):
@@ -68,7 +71,11 @@ impl<V: Lanes> Consts<V> {
             p2y: V::splat(t.vertices[2].y),
             k: V::splat(t.normals[1].x),
             h: V::splat(t.h),
-            c: [0, 1, 2].map(|k| [V::splat(t.centres[k].x), V::splat(t.centres[k].y)]),
+            c: [
+                [V::splat(t.centres[0].x), V::splat(t.centres[0].y)],
+                [V::splat(t.centres[1].x), V::splat(t.centres[1].y)],
+                [V::splat(t.centres[2].x), V::splat(t.centres[2].y)],
+            ],
         }
     }
 }
@@ -88,24 +95,51 @@ fn root<V: Lanes>(dx: V, dy: V, vx: V, vy: V, vv: V) -> (V, V::Mask) {
     (V::select(gamma.gt(zero), t, zero), hit)
 }
 
-/// The chosen event so far: time, code, and whether there is one.
-struct Best<V: Lanes> {
+/// A candidate event per lane: time, code, and whether there is one.
+#[derive(Clone, Copy)]
+struct Cand<V: Lanes> {
     t: V,
     code: V,
     has: V::Mask,
 }
 
-impl<V: Lanes> Best<V> {
-    /// Offers candidate `code` with time `t` in the lanes of `valid`: taken where there is no
-    /// event yet or it is strictly earlier (the scalar `offer`).
+impl<V: Lanes> Cand<V> {
     #[inline(always)]
-    fn offer(&mut self, valid: V::Mask, t: V, code: f64) {
-        let earlier = V::or(t.lt(self.t), V::and_not(valid, self.has));
-        let take = V::and(valid, earlier);
-        self.t = V::select(take, t, self.t);
-        self.code = V::select(take, V::splat(code), self.code);
-        self.has = V::or(self.has, valid);
+    fn new(valid: V::Mask, t: V, code: f64) -> Self {
+        Cand {
+            t,
+            code: V::splat(code),
+            has: valid,
+        }
     }
+
+    /// The earlier of `self` and a candidate `later` offered after it: `later` wins only where
+    /// `self` has none or `later` is strictly earlier — the scalar `offer`. Offering the
+    /// candidates one by one in the scalar order picks the first of the earliest; so does this
+    /// rule applied as a tree over the same order (ties keep the left, which came first), which
+    /// halves the dependent chain of comparisons.
+    #[inline(always)]
+    fn then(self, later: Self) -> Self {
+        let take = V::and(
+            later.has,
+            V::or(later.t.lt(self.t), V::and_not(later.has, self.has)),
+        );
+        Cand {
+            t: V::select(take, later.t, self.t),
+            code: V::select(take, later.code, self.code),
+            has: V::or(self.has, later.has),
+        }
+    }
+}
+
+/// The crossing candidate of edge `e` from (nᵉ·v, σₑ): offered where nᵉ·v < 0 and the edge is
+/// not the one entered by; time σₑ/(−nᵉ·v), or 0 where σₑ ≤ 0.
+#[inline(always)]
+fn crossing<V: Lanes>((nv, sigma): (V, V), ee: V, e: f64) -> Cand<V> {
+    let zero = V::splat(0.0);
+    let valid = V::and_not(nv.lt(zero), ee.eq(V::splat(e)));
+    let t = V::select(sigma.gt(zero), sigma.div(nv.neg()), zero);
+    Cand::new(valid, t, CROSSING_CODE + e)
 }
 
 /// One event for the `V::WIDTH` lanes starting at `o`: records each live lane's event and prior
@@ -130,17 +164,12 @@ fn advance<V: Lanes, const L: usize>(
 
     // Candidates, in the scalar code's order of offers.
     let vv = vx.mul(vx).add(vy.mul(vy));
-    let mut best = Best {
-        t: V::splat(f64::INFINITY),
-        code: zero,
-        has: zero.lt(zero),
-    };
     let (t0, h0) = root(px, py, vx, vy, vv);
-    best.offer(V::and_not(h0, ed.eq(V::splat(0.0))), t0, 0.0);
+    let d0 = Cand::new(V::and_not(h0, ed.eq(V::splat(0.0))), t0, 0.0);
     let (t1, h1) = root(px.sub(c.p1x), py, vx, vy, vv);
-    best.offer(V::and_not(h1, ed.eq(V::splat(1.0))), t1, 1.0);
+    let d1 = Cand::new(V::and_not(h1, ed.eq(V::splat(1.0))), t1, 1.0);
     let (t2, h2) = root(px.sub(c.p2x), py.sub(c.p2y), vx, vy, vv);
-    best.offer(V::and_not(h2, ed.eq(V::splat(2.0))), t2, 2.0);
+    let d2 = Cand::new(V::and_not(h2, ed.eq(V::splat(2.0))), t2, 2.0);
     let kvx = c.k.mul(vx);
     let hvy = vy.mul(V::splat(0.5));
     let kpx = c.k.mul(px);
@@ -150,11 +179,11 @@ fn advance<V: Lanes, const L: usize>(
         (kvx.sub(hvy), kpx.sub(hpy)),
         (vy, py),
     ];
-    for (e, (nv, sigma)) in edges.into_iter().enumerate() {
-        let valid = V::and_not(nv.lt(zero), ee.eq(V::splat(e as f64)));
-        let t = V::select(sigma.gt(zero), sigma.div(nv.neg()), zero);
-        best.offer(valid, t, CROSSING_CODE + e as f64);
-    }
+    let c0 = crossing(edges[0], ee, 0.0);
+    let c1 = crossing(edges[1], ee, 1.0);
+    let c2 = crossing(edges[2], ee, 2.0);
+    // The scalar order d0, d1, d2, e0, e1, e2 as a tree: ((d0 d1)(d2 e0))(e1 e2).
+    let best = d0.then(d1).then(d2.then(c0)).then(c1.then(c2));
     let lost = V::bits(V::and_not(live, best.has));
     let go = V::and(live, best.has);
 
@@ -214,17 +243,16 @@ fn advance<V: Lanes, const L: usize>(
     let nsg = V::select(coll, sg, sg.neg());
     let ncount = count.add(V::select(coll, V::splat(1.0), zero));
 
-    let keep = |new: V, old: V| V::select(go, new, old);
-    keep(npx, px).store(&mut st.pos[0][o..]);
-    keep(npy, py).store(&mut st.pos[1][o..]);
-    keep(nvx, vx).store(&mut st.vel[0][o..]);
-    keep(nvy, vy).store(&mut st.vel[1][o..]);
-    keep(ned, ed).store(&mut st.excluded[0][o..]);
-    keep(nee, ee).store(&mut st.excluded[1][o..]);
-    keep(nci, ci).store(&mut st.cell[0][o..]);
-    keep(ncj, cj).store(&mut st.cell[1][o..]);
-    keep(nsg, sg).store(&mut st.cell[2][o..]);
-    keep(ncount, count).store(&mut st.collisions[o..]);
+    V::select(go, npx, px).store(&mut st.pos[0][o..]);
+    V::select(go, npy, py).store(&mut st.pos[1][o..]);
+    V::select(go, nvx, vx).store(&mut st.vel[0][o..]);
+    V::select(go, nvy, vy).store(&mut st.vel[1][o..]);
+    V::select(go, ned, ed).store(&mut st.excluded[0][o..]);
+    V::select(go, nee, ee).store(&mut st.excluded[1][o..]);
+    V::select(go, nci, ci).store(&mut st.cell[0][o..]);
+    V::select(go, ncj, cj).store(&mut st.cell[1][o..]);
+    V::select(go, nsg, sg).store(&mut st.cell[2][o..]);
+    V::select(go, ncount, count).store(&mut st.collisions[o..]);
     lost << o
 }
 
