@@ -6,12 +6,17 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::diffusion::DiffusionConfig;
 use crate::engine::{drive, run_block, Engine, Resolved, BLOCK};
 use crate::error::Error;
-use crate::observables::{EventLanes, Observer};
 use crate::geometry::Geometry;
 use crate::kernel::trap::Trap;
+use crate::lanes::Lanes;
 use crate::metadata::RunMeta;
+use crate::observables::counters::CounterLanes;
+use crate::observables::hops::HopLanes;
+use crate::observables::msd::Msd;
+use crate::observables::{EventLanes, Nothing, Observer, CROSSING_CODE};
 use crate::precision::{AtPrecision, Precision};
 use crate::real::Real;
 use crate::sampling::stream;
@@ -31,6 +36,8 @@ pub struct Throughput {
     pub threads: usize,
     /// Trajectories per thread (1 for the scalar engine, [`BLOCK`] for the SIMD engine).
     pub trajectories_per_thread: usize,
+    /// What was observed besides the crossing count.
+    pub observe: Observe,
     /// Median collisions per wall-clock second over the repetitions (all threads together).
     pub collisions_per_second: f64,
     /// Median collisions per second per thread.
@@ -62,6 +69,7 @@ pub const MAX_REPETITIONS: usize = 1000;
 /// Timed repetitions of `threads` trajectories on number type `T`.
 struct TimeRuns<'a> {
     engine: Resolved,
+    observe: Observe,
     w: f64,
     seed: u64,
     collisions: u64,
@@ -101,13 +109,14 @@ impl AtPrecision for TimeRuns<'_> {
             .map_err(|e| Error::Invalid(format!("thread pool: {e}")))?;
         let n = self.collisions;
         let engine = self.engine;
+        let observe = self.observe;
         // Each trajectory makes ⌊n/lanes⌋ collisions per repetition.
         let per_rep = n / lanes as u64 * (lanes * self.threads) as u64;
         let go = |states: &mut Vec<Vec<LatticeState<T>>>, n: u64| -> Result<u64, Error> {
             pool.install(|| {
                 states
                     .par_iter_mut()
-                    .map(|block| run_thread(engine, &lat, &trap64, block, n))
+                    .map(|block| run_thread(engine, observe, &lat, &trap64, block, n))
                     .collect::<Result<Vec<u64>, Error>>()
                     .map(|v| v.iter().sum())
             })
@@ -126,35 +135,90 @@ impl AtPrecision for TimeRuns<'_> {
     }
 }
 
-/// One thread's share of a repetition: `n` collisions over its trajectories, continuing them;
-/// returns the crossings made.
+/// What the benchmark watches besides the engine's own crossing count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Observe {
+    /// Nothing: the bare engine.
+    #[default]
+    None,
+    /// The event counters (collisions, crossings, compensated time, longest flight).
+    Counters,
+    /// The MSD at the default fit windows' lags.
+    Msd,
+    /// Counters and MSD: what `lorentz diffusion` watches.
+    Diffusion,
+    /// The hop symbols and hop-direction correlations of `lorentz hops` (order 3).
+    Hops,
+}
+
+/// One thread's share of a repetition: `n` collisions over its trajectories, continuing them
+/// and watching them with `observe`; returns the crossings made.
 fn run_thread<T: Real>(
     engine: Resolved,
+    observe: Observe,
     lat: &TriangularLattice<T>,
     trap64: &Trap<f64>,
     block: &mut [LatticeState<T>],
     n: u64,
 ) -> Result<u64, Error> {
+    let lanes = match engine {
+        Resolved::Scalar => 1,
+        Resolved::Simd(_) => BLOCK,
+    };
+    let w = trap64.w;
+    let msd = || -> Result<Msd, Error> {
+        let tau = Geometry::new(w)?.hop_time();
+        Ok(Msd::new(
+            tau,
+            &DiffusionConfig::new(w).lags(),
+            lat.basis_f64(),
+            lanes,
+        ))
+    };
+    match observe {
+        Observe::None => run_observed(engine, lat, trap64, block, n, Nothing),
+        Observe::Counters => run_observed(engine, lat, trap64, block, n, CounterLanes::new(lanes)),
+        Observe::Msd => run_observed(engine, lat, trap64, block, n, msd()?),
+        Observe::Diffusion => run_observed(
+            engine,
+            lat,
+            trap64,
+            block,
+            n,
+            (CounterLanes::new(lanes), msd()?),
+        ),
+        Observe::Hops => run_observed(engine, lat, trap64, block, n, HopLanes::new(3, lanes)?),
+    }
+}
+
+fn run_observed<T: Real, O: Observer<1> + Observer<BLOCK>>(
+    engine: Resolved,
+    lat: &TriangularLattice<T>,
+    trap64: &Trap<f64>,
+    block: &mut [LatticeState<T>],
+    n: u64,
+    obs: O,
+) -> Result<u64, Error> {
+    let mut obs = (CrossingCount(0), obs);
     match engine {
         Resolved::Scalar => {
-            let mut c = CrossingCount(0);
             let each = n / block.len() as u64;
             for s in block.iter_mut() {
-                drive(lat, s, each, &mut c, &|_| {})?;
+                drive(lat, s, each, &mut obs, &|_| {})?;
             }
-            Ok(c.0)
+            Ok(obs.0 .0)
         }
         Resolved::Simd(path) => {
             // The SIMD engine runs f64 only (`Engine::resolve` refuses otherwise), so the
             // conversions below are exact copies.
             let mut s64: Vec<LatticeState<f64>> = block.iter().map(|s| s.to_f64()).collect();
             let quotas = vec![n / block.len() as u64; block.len()];
-            let mut c = CrossingCount(0);
-            run_block(path, trap64, &mut s64, &quotas, &mut c, &|_| {})?;
+            run_block(path, trap64, &mut s64, &quotas, &mut obs, &|_| {})?;
             for (s, x) in block.iter_mut().zip(&s64) {
                 *s = LatticeState::convert_from_f64(s.flight.pos.x.ctx(), x);
             }
-            Ok(c.0)
+            Ok(obs.0 .0)
         }
     }
 }
@@ -165,12 +229,17 @@ struct CrossingCount(u64);
 
 impl<const L: usize> Observer<L> for CrossingCount {
     #[inline(always)]
-    fn observe(&mut self, e: &EventLanes<L>) {
-        let mut n = 0;
-        for l in 0..L {
-            n += (e.live[l] & !e.is_collision(l)) as u64;
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        for e in steps {
+            let mut o = 0;
+            let mut collided = 0u64;
+            while o < L {
+                let coll = V::load(&e.code[o..]).lt(V::splat(CROSSING_CODE));
+                collided |= V::bits(coll) << o;
+                o += V::WIDTH;
+            }
+            self.0 += (e.live_bits & !collided).count_ones() as u64;
         }
-        self.0 += n;
     }
 }
 
@@ -182,6 +251,7 @@ pub fn throughput(
     w: f64,
     precision: Precision,
     engine: Engine,
+    observe: Observe,
     collisions: u64,
     reps: usize,
     seed: u64,
@@ -203,6 +273,7 @@ pub fn throughput(
     let resolved = engine.resolve(precision == Precision::F64)?;
     let (samples, cpc) = precision.dispatch(TimeRuns {
         engine: resolved,
+        observe,
         w,
         seed,
         collisions,
@@ -216,6 +287,7 @@ pub fn throughput(
         collisions,
         repetitions: reps,
         threads,
+        observe,
         trajectories_per_thread: match resolved {
             Resolved::Scalar => 1,
             Resolved::Simd(_) => BLOCK,

@@ -21,11 +21,12 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::engine::{drive, run_block, Engine, Resolved, SimdPath, BLOCK};
 use crate::error::Error;
 use crate::geometry::{check_diffusive_gap, Geometry};
 use crate::kernel::trap::Trap;
+use crate::lanes::Lanes;
 use crate::metadata::RunMeta;
-use crate::engine::{drive, run_block, Engine, Resolved, SimdPath, BLOCK};
 use crate::observables::counters::{CounterLanes, Counters};
 use crate::observables::msd::Msd;
 use crate::observables::{EventLanes, Observer};
@@ -179,7 +180,8 @@ impl DiffusionConfig {
         Ok(())
     }
 
-    fn lags(&self) -> Vec<usize> {
+    /// The lags (in units of τ) the MSD is accumulated at: those of both fit windows.
+    pub fn lags(&self) -> Vec<usize> {
         let mut l = self.window.lags();
         l.extend(self.check_window.lags());
         l.sort_unstable();
@@ -315,7 +317,11 @@ impl Job {
         s
     }
 
-    fn auditor(&self, trap64: &Trap<f64>, audit: Option<AuditSpec>) -> Result<Option<Auditor<TriangularScene>>, Error> {
+    fn auditor(
+        &self,
+        trap64: &Trap<f64>,
+        audit: Option<AuditSpec>,
+    ) -> Result<Option<Auditor<TriangularScene>>, Error> {
         audit
             .map(|a| {
                 Auditor::new(
@@ -385,10 +391,7 @@ impl BatchObservers {
                 lags: self.msd.lags().to_vec(),
                 msd: self.msd.values(l),
                 seconds,
-                audit: audits
-                    .as_mut()
-                    .and_then(|a| a[l].take())
-                    .map(|a| a.summary),
+                audit: audits.as_mut().and_then(|a| a[l].take()).map(|a| a.summary),
             })
             .collect())
     }
@@ -396,11 +399,11 @@ impl BatchObservers {
 
 impl<const L: usize> Observer<L> for BatchObservers {
     #[inline(always)]
-    fn observe(&mut self, e: &EventLanes<L>) {
-        self.counters.observe(e);
-        self.msd.observe(e);
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        self.counters.observe::<V>(steps);
+        self.msd.observe::<V>(steps);
         if let Some(a) = self.audit.as_mut() {
-            a.observe(e);
+            a.observe::<V>(steps);
         }
     }
 }
@@ -631,8 +634,7 @@ pub fn run_many(
         let done: Vec<BatchResult> = rest.by_ref().take(c.batches as usize).collect();
         let n: u64 = done.iter().map(|b| b.counters.collisions).sum();
         let mut rep = summarise(c, &g, tau, &done, threads, seconds, 0, n);
-        rep.collisions_per_second =
-            jobs.iter().map(|j| j.collisions).sum::<u64>() as f64 / seconds;
+        rep.collisions_per_second = jobs.iter().map(|j| j.collisions).sum::<u64>() as f64 / seconds;
         rep.meta = rep.meta.with_engine(resolved);
         out.push(rep);
     }
@@ -674,7 +676,8 @@ fn execute(
                 blocks
                     .par_iter()
                     .map(|b| {
-                        let r = run_simd(path, &trap64, b, spec.tau, spec.lags, spec.audit, progress)?;
+                        let r =
+                            run_simd(path, &trap64, b, spec.tau, spec.lags, spec.audit, progress)?;
                         for x in &r {
                             record(x)?;
                         }
@@ -833,9 +836,10 @@ struct CheckpointHeader {
 }
 
 /// Format of checkpoint files: 2 since random streams are named by keys
-/// ([`crate::sampling::StreamKey`]). A file of another format holds batches from other streams
-/// and is refused rather than mixed with new ones.
-const CHECKPOINT_FORMAT: u32 = 2;
+/// ([`crate::sampling::StreamKey`]), 3 since the MSD's time origins are every gcd(lags)·τ
+/// ([`Msd`]). A file of another format holds batches of another estimator or other streams and
+/// is refused rather than mixed with new ones.
+const CHECKPOINT_FORMAT: u32 = 3;
 
 fn load_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<Vec<BatchResult>, Error> {
     let f = match std::fs::File::open(p) {

@@ -7,10 +7,10 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use crate::diffusion::Estimate;
+use crate::engine::{drive, run_block, Engine, Resolved, BLOCK};
 use crate::error::Error;
 use crate::geometry::{check_diffusive_gap, Geometry};
 use crate::metadata::RunMeta;
-use crate::engine::{drive, run_block, Engine, Resolved, BLOCK};
 use crate::observables::hops::{HopLanes, Hops};
 use crate::parallel::{par_batches, par_chunks, share};
 use crate::precision::{AtPrecision, Precision};

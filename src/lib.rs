@@ -7,6 +7,8 @@
 //!
 //! Layout, physics first:
 //! * [`real`]: the number trait (`f64`, `rug::Float` ≥ 53 bits).
+//! * [`lanes`]: vectors of `f64` lanes (AVX-512, AVX2, portable, one `f64`) with exactly the
+//!   scalar IEEE operations, for the SIMD engine and its observers.
 //! * [`geometry`]: closed forms (w∞, w₀, ⟨ℓ⟩, τ, D_MZ, D_Bo, …).
 //! * [`kernel`]: ray–disk root, the canonical trap, reflections.
 //! * [`scenes`]: the periodic lattice built from the trap.
@@ -36,6 +38,7 @@ pub mod geometry;
 pub mod grid;
 pub mod hopping;
 pub mod kernel;
+pub mod lanes;
 pub mod metadata;
 pub mod observables;
 pub mod parallel;

@@ -153,7 +153,17 @@ pub fn speed_against_error(
     let mut rows = Vec::new();
     let time = |p: Precision, n: u64| -> Result<f64, Error> {
         // What production runs on: the SIMD engine for f64, the scalar engine for MPFR.
-        let t = throughput(w, p, crate::engine::Engine::Auto, n, REPORT_REPETITIONS, seed, 1, &|_| {})?;
+        let t = throughput(
+            w,
+            p,
+            crate::engine::Engine::Auto,
+            crate::bench::Observe::None,
+            n,
+            REPORT_REPETITIONS,
+            seed,
+            1,
+            &|_| {},
+        )?;
         progress(1);
         Ok(t.ns_per_collision)
     };

@@ -36,10 +36,12 @@ fn bits(s: &LatticeState<f64>, e: &Event<f64>) -> [u64; 9] {
 }
 
 impl<const L: usize> Observer<L> for Record {
-    fn observe(&mut self, e: &EventLanes<L>) {
-        for l in 0..L {
-            if e.live[l] {
-                self.events[l].push(bits(&e.state(l), &e.event(l)));
+    fn observe<V: lorentz_gas::lanes::Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        for e in steps {
+            for l in 0..L {
+                if e.is_live(l) {
+                    self.events[l].push(bits(&e.state(l), &e.event(l)));
+                }
             }
         }
     }
@@ -144,7 +146,10 @@ fn hard_cases_and_grazing_starts_are_reproduced_on_every_path() {
                 let base = d.y.atan2(d.x) + (1.0 / dist).asin();
                 for k in [-3.0, 0.0, 3.0] {
                     let ang = base + k * 1e-16 * (m + 1) as f64;
-                    starts.push(lane(Flight::new(centre.clone(), Vec2::new(ang.cos(), ang.sin()))));
+                    starts.push(lane(Flight::new(
+                        centre.clone(),
+                        Vec2::new(ang.cos(), ang.sin()),
+                    )));
                 }
             }
             // On an edge (σ = 0), leaving and entering.

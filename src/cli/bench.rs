@@ -25,6 +25,10 @@ pub struct Args {
     precision: PrecisionArg,
     #[command(flatten)]
     engine: EngineArg,
+    /// Observers to run along (to measure what observation costs): none (the bare engine),
+    /// counters, msd, diffusion (counters + MSD, as in `lorentz diffusion`), hops.
+    #[arg(long, value_enum, default_value = "none")]
+    observe: lorentz_gas::bench::Observe,
     /// Seed of the starting points; --threads K runs K trajectories at once, one per thread
     /// (default: 1, the single-core kernel speed).
     #[command(flatten)]
@@ -62,6 +66,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         a.gap.w,
         a.precision.precision,
         a.engine.engine,
+        a.observe,
         a.collisions,
         a.repetitions,
         a.run.seed,

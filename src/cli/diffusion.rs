@@ -6,7 +6,8 @@ use lorentz_gas::diffusion::{self, AuditSpec, DiffusionConfig, DiffusionReport, 
 use lorentz_gas::error::Error;
 
 use super::args::{
-    parse_count, parse_count_u32, EngineArg, OutputArgs, PrecisionArg, RunArgs, SceneArgs, SceneChoice,
+    parse_count, parse_count_u32, EngineArg, OutputArgs, PrecisionArg, RunArgs, SceneArgs,
+    SceneChoice,
 };
 use super::output::{emit, sigmas};
 use super::progress::Progress;

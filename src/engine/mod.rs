@@ -9,8 +9,9 @@
 //! Both feed the same [`Observer`]s, so an observable is written once and has the same bits on
 //! every engine, at any thread count (each trajectory's bits depend only on its start).
 
-pub mod lanes;
 pub mod simd;
+
+use crate::lanes;
 
 use std::fmt;
 use std::str::FromStr;
@@ -208,7 +209,7 @@ pub fn drive<T: Real, K: CellKernel<T>, O: Observer<1>>(
         let ev = lat
             .next_event(s)
             .ok_or_else(|| Error::Invalid("trajectory lost its next event".into()))?;
-        obs.observe(&EventLanes::single(s, &ev));
+        obs.observe::<f64>(std::slice::from_ref(&EventLanes::single(s, &ev)));
         if let crate::kernel::EventKind::Collision(_) = ev.kind {
             c += 1;
         }
@@ -253,14 +254,12 @@ pub fn run_block<O: Observer<BLOCK>>(
     for &q in quotas {
         check_trajectory_length(q)?;
     }
-    let mut st = simd::BlockState {
-        pos: [[0.0; BLOCK]; 2],
-        vel: [[0.0; BLOCK]; 2],
-        excluded: [[NO_LABEL; BLOCK]; 2],
-        cell: [[0.0; BLOCK], [0.0; BLOCK], [1.0; BLOCK]],
+    let mut counts = simd::BlockCounts {
         collisions: [0.0; BLOCK],
         quota: [0.0; BLOCK],
     };
+    let mut ring = vec![EventLanes::<BLOCK>::default(); simd::OBSERVE_EVERY + 1];
+    let st = &mut ring[0];
     for (l, (s, &q)) in states.iter().zip(quotas).enumerate() {
         let f = &s.flight;
         st.pos[0][l] = f.pos.x;
@@ -272,17 +271,18 @@ pub fn run_block<O: Observer<BLOCK>>(
         st.cell[0][l] = s.cell.i as f64;
         st.cell[1][l] = s.cell.j as f64;
         st.cell[2][l] = s.cell.sign();
-        st.quota[l] = q as f64;
+        counts.quota[l] = q as f64;
     }
     let lost = match path {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `path.available()` checked the CPU feature above.
-        SimdPath::Avx512 => unsafe { run_avx512(trap, &mut st, obs, progress) },
+        SimdPath::Avx512 => unsafe { run_avx512(trap, &mut counts, &mut ring, obs, progress) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        SimdPath::Avx2 => unsafe { run_avx2(trap, &mut st, obs, progress) },
-        _ => simd::run::<lanes::Portable, O>(trap, &mut st, obs, progress),
+        SimdPath::Avx2 => unsafe { run_avx2(trap, &mut counts, &mut ring, obs, progress) },
+        _ => simd::run::<lanes::Portable, O>(trap, &mut counts, &mut ring, obs, progress),
     };
+    let st = &ring[0];
     for (l, s) in states.iter_mut().enumerate() {
         let label = |c: f64| (c >= 0.0).then_some(c as u8);
         s.flight.pos.x = st.pos[0][l];
@@ -300,7 +300,7 @@ pub fn run_block<O: Observer<BLOCK>>(
     match lost {
         Some(l) => Err(Error::Invalid(format!(
             "trajectory {l} of the block lost its next event (velocity {:?})",
-            [st.vel[0][l], st.vel[1][l]]
+            [states[l].flight.vel.x, states[l].flight.vel.y]
         ))),
         None => Ok(()),
     }
@@ -310,20 +310,22 @@ pub fn run_block<O: Observer<BLOCK>>(
 #[target_feature(enable = "avx512f")]
 unsafe fn run_avx512<O: Observer<BLOCK>>(
     trap: &Trap<f64>,
-    st: &mut simd::BlockState,
+    counts: &mut simd::BlockCounts,
+    ring: &mut [EventLanes<BLOCK>],
     obs: &mut O,
     progress: &dyn Fn(u64),
 ) -> Option<usize> {
-    simd::run::<lanes::Pair<lanes::Avx512>, O>(trap, st, obs, progress)
+    simd::run::<lanes::Pair<lanes::Avx512>, O>(trap, counts, ring, obs, progress)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn run_avx2<O: Observer<BLOCK>>(
     trap: &Trap<f64>,
-    st: &mut simd::BlockState,
+    counts: &mut simd::BlockCounts,
+    ring: &mut [EventLanes<BLOCK>],
     obs: &mut O,
     progress: &dyn Fn(u64),
 ) -> Option<usize> {
-    simd::run::<lanes::Pair<lanes::Avx2>, O>(trap, st, obs, progress)
+    simd::run::<lanes::Pair<lanes::Avx2>, O>(trap, counts, ring, obs, progress)
 }

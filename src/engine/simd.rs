@@ -27,26 +27,21 @@
 //! value bit for bit. `tests/engine.rs` checks every event of every lane against the scalar
 //! kernel, on every code path the machine has.
 
-use super::lanes::Lanes;
 use crate::kernel::trap::Trap;
-use crate::observables::{EventLanes, Observer, CROSSING_CODE, NO_LABEL};
+use crate::lanes::Lanes;
+use crate::observables::{EventLanes, Observer, CROSSING_CODE, NO_EVENT, NO_LABEL};
 
 /// Trajectories per block: 16 = two AVX-512 vectors, four AVX2 or portable vectors — enough
 /// independent work to hide the latency of the divide/square-root chain of one step.
 pub const BLOCK: usize = 16;
 
-/// The block's state: one lane per trajectory, structure of arrays.
+/// The block's collision counts and quotas (exact integers below 2⁵³). The lanes' positions,
+/// velocities, exclusions and cells live in the [`EventLanes`] buffers the observers read: the
+/// state before step k is buffer k's, and the step writes the state after it into buffer k + 1
+/// (so nothing is copied for the observers).
 #[derive(Debug, Clone)]
-pub struct BlockState {
-    /// Position in the cell frame.
-    pub pos: [[f64; BLOCK]; 2],
-    /// Velocity.
-    pub vel: [[f64; BLOCK]; 2],
-    /// Excluded disk and edge ([`NO_LABEL`] for none).
-    pub excluded: [[f64; BLOCK]; 2],
-    /// Cell index i, j and orientation s = ±1.
-    pub cell: [[f64; BLOCK]; 3],
-    /// Collisions so far (exact integers below 2⁵³).
+pub struct BlockCounts {
+    /// Collisions so far.
     pub collisions: [f64; BLOCK],
     /// Collisions to do.
     pub quota: [f64; BLOCK],
@@ -143,24 +138,26 @@ fn crossing<V: Lanes>((nv, sigma): (V, V), ee: V, e: f64) -> Cand<V> {
 }
 
 /// One event for the `V::WIDTH` lanes starting at `o`: records each live lane's event and prior
-/// state in `out`, applies it, and returns the bits of live lanes that had no next event (a
-/// zero or non-finite velocity; the scalar kernel's `None`). Finished lanes are left unchanged.
+/// state in `out`, applies it, and returns the bits (at their block positions) of the live lanes
+/// that had no next event (a zero or non-finite velocity; the scalar kernel's `None`) and of the
+/// live lanes. Finished lanes are left unchanged.
 #[inline(always)]
 fn advance<V: Lanes, const L: usize>(
     c: &Consts<V>,
-    st: &mut BlockState,
+    counts: &mut BlockCounts,
     out: &mut EventLanes<L>,
+    next: &mut EventLanes<L>,
     o: usize,
-) -> u64 {
+) -> (u64, u64) {
     let zero = V::splat(0.0);
-    let px = V::load(&st.pos[0][o..]);
-    let py = V::load(&st.pos[1][o..]);
-    let vx = V::load(&st.vel[0][o..]);
-    let vy = V::load(&st.vel[1][o..]);
-    let ed = V::load(&st.excluded[0][o..]);
-    let ee = V::load(&st.excluded[1][o..]);
-    let count = V::load(&st.collisions[o..]);
-    let live = count.lt(V::load(&st.quota[o..]));
+    let px = V::load(&out.pos[0][o..]);
+    let py = V::load(&out.pos[1][o..]);
+    let vx = V::load(&out.vel[0][o..]);
+    let vy = V::load(&out.vel[1][o..]);
+    let ed = V::load(&out.excluded[0][o..]);
+    let ee = V::load(&out.excluded[1][o..]);
+    let count = V::load(&counts.collisions[o..]);
+    let live = count.lt(V::load(&counts.quota[o..]));
 
     // Candidates, in the scalar code's order of offers.
     let vv = vx.mul(vx).add(vy.mul(vy));
@@ -187,22 +184,12 @@ fn advance<V: Lanes, const L: usize>(
     let lost = V::bits(V::and_not(live, best.has));
     let go = V::and(live, best.has);
 
-    // Record the step for the observers.
-    live_bits_into::<V, L>(live, &mut out.live[o..]);
-    best.t.store(&mut out.time[o..]);
-    best.code.store(&mut out.code[o..]);
-    px.store(&mut out.pos[0][o..]);
-    py.store(&mut out.pos[1][o..]);
-    vx.store(&mut out.vel[0][o..]);
-    vy.store(&mut out.vel[1][o..]);
-    ed.store(&mut out.excluded[0][o..]);
-    ee.store(&mut out.excluded[1][o..]);
-    let ci = V::load(&st.cell[0][o..]);
-    let cj = V::load(&st.cell[1][o..]);
-    let sg = V::load(&st.cell[2][o..]);
-    ci.store(&mut out.cell[0][o..]);
-    cj.store(&mut out.cell[1][o..]);
-    sg.store(&mut out.cell[2][o..]);
+    // Record the event for the observers (the state before it is already in `out`).
+    V::select(live, best.t, zero).store(&mut out.time[o..]);
+    V::select(live, best.code, V::splat(NO_EVENT)).store(&mut out.code[o..]);
+    let ci = V::load(&out.cell[0][o..]);
+    let cj = V::load(&out.cell[1][o..]);
+    let sg = V::load(&out.cell[2][o..]);
 
     // Carry it out: x = p + v t, then both outcomes, blended.
     let t = best.t;
@@ -243,65 +230,97 @@ fn advance<V: Lanes, const L: usize>(
     let nsg = V::select(coll, sg, sg.neg());
     let ncount = count.add(V::select(coll, V::splat(1.0), zero));
 
-    V::select(go, npx, px).store(&mut st.pos[0][o..]);
-    V::select(go, npy, py).store(&mut st.pos[1][o..]);
-    V::select(go, nvx, vx).store(&mut st.vel[0][o..]);
-    V::select(go, nvy, vy).store(&mut st.vel[1][o..]);
-    V::select(go, ned, ed).store(&mut st.excluded[0][o..]);
-    V::select(go, nee, ee).store(&mut st.excluded[1][o..]);
-    V::select(go, nci, ci).store(&mut st.cell[0][o..]);
-    V::select(go, ncj, cj).store(&mut st.cell[1][o..]);
-    V::select(go, nsg, sg).store(&mut st.cell[2][o..]);
-    V::select(go, ncount, count).store(&mut st.collisions[o..]);
-    lost << o
-}
-
-#[inline(always)]
-fn live_bits_into<V: Lanes, const L: usize>(m: V::Mask, out: &mut [bool]) {
-    let b = V::bits(m);
-    for (l, x) in out[..V::WIDTH].iter_mut().enumerate() {
-        *x = (b >> l) & 1 == 1;
-    }
+    V::select(go, npx, px).store(&mut next.pos[0][o..]);
+    V::select(go, npy, py).store(&mut next.pos[1][o..]);
+    V::select(go, nvx, vx).store(&mut next.vel[0][o..]);
+    V::select(go, nvy, vy).store(&mut next.vel[1][o..]);
+    V::select(go, ned, ed).store(&mut next.excluded[0][o..]);
+    V::select(go, nee, ee).store(&mut next.excluded[1][o..]);
+    V::select(go, nci, ci).store(&mut next.cell[0][o..]);
+    V::select(go, ncj, cj).store(&mut next.cell[1][o..]);
+    V::select(go, nsg, sg).store(&mut next.cell[2][o..]);
+    V::select(go, ncount, count).store(&mut counts.collisions[o..]);
+    (lost << o, V::bits(live) << o)
 }
 
 /// Steps between two calls of the progress callback: 2¹⁴ steps of a block, ≈ 2.4·10⁵ collisions.
 const PROGRESS_STEPS: u64 = 1 << 14;
 
+/// Steps the engine runs before the observers see them. An observer's rare work (an MSD
+/// sample, a hop) is a branch on the event time, which is known only at the end of a step's long
+/// divide/square-root chain; taken inside the engine loop, each misprediction would discard the
+/// next step's work already in flight. Buffering a few steps and observing them afterwards
+/// keeps the engine's loop free of unpredictable branches (8 steps of 16 lanes: 14 KiB, in L1).
+pub const OBSERVE_EVERY: usize = 8;
+
 /// Runs the block until every lane has its quota of collisions, showing each step to `obs`.
-/// Returns the index of a lane that lost its next event, if any (the run stops there).
+/// `ring[0]` holds the starting states (the other fields are ignored) and, on return, the final
+/// ones. Returns the index of a lane that lost its next event, if any (the run stops there,
+/// after the observers have seen the steps before).
 #[inline(always)]
 pub(super) fn run<V: Lanes, O: Observer<BLOCK>>(
     trap: &Trap<f64>,
-    st: &mut BlockState,
+    counts: &mut BlockCounts,
+    ring: &mut [EventLanes<BLOCK>],
     obs: &mut O,
     progress: &dyn Fn(u64),
 ) -> Option<usize> {
+    debug_assert_eq!(ring.len(), OBSERVE_EVERY + 1);
     let c = Consts::<V>::new(trap);
-    let mut out = EventLanes::<BLOCK>::default();
-    let mut reported = st.collisions.iter().sum::<f64>();
+    let mut reported = counts.collisions.iter().sum::<f64>();
     let mut steps = 0u64;
     loop {
-        let mut lost = 0u64;
-        let mut o = 0;
-        while o < BLOCK {
-            lost |= advance::<V, BLOCK>(&c, st, &mut out, o);
-            o += V::WIDTH;
+        let mut filled = 0;
+        let mut stop = None;
+        while filled < OBSERVE_EVERY {
+            let (done, rest) = ring.split_at_mut(filled + 1);
+            let (out, next) = (&mut done[filled], &mut rest[0]);
+            let mut lost = 0u64;
+            let mut live = 0u64;
+            let mut o = 0;
+            while o < BLOCK {
+                let (lo, li) = advance::<V, BLOCK>(&c, counts, out, next, o);
+                lost |= lo;
+                live |= li;
+                o += V::WIDTH;
+            }
+            out.live_bits = live;
+            if lost != 0 {
+                stop = Some(Some(lost.trailing_zeros() as usize));
+                break;
+            }
+            if live == 0 {
+                stop = Some(None);
+                break;
+            }
+            filled += 1;
         }
-        if lost != 0 {
-            return Some(lost.trailing_zeros() as usize);
+        obs.observe::<V>(&ring[..filled]);
+        // The state before the first unobserved step starts the next round (and is the final
+        // state when the run stops).
+        if filled > 0 {
+            let (head, tail) = ring.split_at_mut(filled);
+            copy_state(&tail[0], &mut head[0]);
         }
-        if !out.live.iter().any(|&l| l) {
-            break;
+        if let Some(r) = stop {
+            let done = counts.collisions.iter().sum::<f64>();
+            progress((done - reported) as u64);
+            return r;
         }
-        obs.observe(&out);
-        steps += 1;
-        if steps % PROGRESS_STEPS == 0 {
-            let done = st.collisions.iter().sum::<f64>();
+        steps += OBSERVE_EVERY as u64;
+        if steps.is_multiple_of(PROGRESS_STEPS) {
+            let done = counts.collisions.iter().sum::<f64>();
             progress((done - reported) as u64);
             reported = done;
         }
     }
-    let done = st.collisions.iter().sum::<f64>();
-    progress((done - reported) as u64);
-    None
+}
+
+/// Copies the lane states (position, velocity, exclusions, cell) of `from` into `to`.
+#[inline(always)]
+fn copy_state<const L: usize>(from: &EventLanes<L>, to: &mut EventLanes<L>) {
+    to.pos = from.pos;
+    to.vel = from.vel;
+    to.excluded = from.excluded;
+    to.cell = from.cell;
 }

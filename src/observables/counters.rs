@@ -3,7 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{lanes, EventLanes, Observer};
+use super::{lanes, EventLanes, Observer, CROSSING_CODE, NO_EVENT};
+use crate::lanes::Lanes;
 use crate::stats::CompensatedSum;
 
 /// Totals along one trajectory.
@@ -32,16 +33,18 @@ impl Counters {
     }
 }
 
-/// The counters of L trajectories, updated lane by lane with selects (no branches), so that the
-/// update vectorises.
+/// The counters of L trajectories, in lanes: the compensated sum, the free path and the
+/// counts (exact integers in `f64`, below 2⁵³ by [`crate::engine::MAX_COLLISIONS_PER_TRAJECTORY`])
+/// are updated with vector selects, no branches. A lane that is not live has time +0 and code
+/// [`NO_EVENT`] ([`EventLanes`]), which leave every accumulator unchanged, so no mask is needed.
 #[derive(Debug, Clone)]
 pub struct CounterLanes {
     sum: Vec<f64>,
     comp: Vec<f64>,
     current: Vec<f64>,
     longest: Vec<f64>,
-    collisions: Vec<u64>,
-    crossings: Vec<u64>,
+    collisions: Vec<f64>,
+    events: Vec<f64>,
 }
 
 impl CounterLanes {
@@ -52,16 +55,16 @@ impl CounterLanes {
             comp: vec![0.0; lanes],
             current: vec![0.0; lanes],
             longest: vec![0.0; lanes],
-            collisions: vec![0; lanes],
-            crossings: vec![0; lanes],
+            collisions: vec![0.0; lanes],
+            events: vec![0.0; lanes],
         }
     }
 
     /// The totals of lane `l` (with `time` filled in).
     pub fn lane(&self, l: usize) -> Counters {
         let mut c = Counters {
-            collisions: self.collisions[l],
-            crossings: self.crossings[l],
+            collisions: self.collisions[l] as u64,
+            crossings: (self.events[l] - self.collisions[l]) as u64,
             time_sum: CompensatedSum::from_parts(self.sum[l], self.comp[l]),
             time: 0.0,
             longest_free_path: self.longest[l],
@@ -74,39 +77,51 @@ impl CounterLanes {
 
 impl<const L: usize> Observer<L> for CounterLanes {
     #[inline(always)]
-    fn observe(&mut self, e: &EventLanes<L>) {
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
         let sum = lanes::<f64, L>(&mut self.sum);
         let comp = lanes::<f64, L>(&mut self.comp);
         let cur = lanes::<f64, L>(&mut self.current);
         let longest = lanes::<f64, L>(&mut self.longest);
-        let ncoll = lanes::<u64, L>(&mut self.collisions);
-        let ncross = lanes::<u64, L>(&mut self.crossings);
-        for l in 0..L {
-            let live = e.live[l];
-            let x = e.time[l];
-            let coll = e.is_collision(l);
-            // CompensatedSum::add, written with selects (the same operations).
-            let s = sum[l];
-            let t = s + x;
-            let c = if s.abs() >= x.abs() {
-                (s - t) + x
-            } else {
-                (x - t) + s
-            };
-            let c = comp[l] + c;
-            let path = cur[l] + x;
-            let long = if coll && path > longest[l] {
-                path
-            } else {
-                longest[l]
-            };
-            let path = if coll { 0.0 } else { path };
-            sum[l] = if live { t } else { s };
-            comp[l] = if live { c } else { comp[l] };
-            cur[l] = if live { path } else { cur[l] };
-            longest[l] = if live { long } else { longest[l] };
-            ncoll[l] += (live & coll) as u64;
-            ncross[l] += (live & !coll) as u64;
+        let ncoll = lanes::<f64, L>(&mut self.collisions);
+        let nev = lanes::<f64, L>(&mut self.events);
+        let (zero, one) = (V::splat(0.0), V::splat(1.0));
+        let (cross, none) = (V::splat(CROSSING_CODE), V::splat(NO_EVENT));
+        let mut o = 0;
+        while o < L {
+            // The accumulators stay in registers over the steps.
+            let (mut s, mut cp, mut path) =
+                (V::load(&sum[o..]), V::load(&comp[o..]), V::load(&cur[o..]));
+            let (mut long, mut nc, mut ne) = (
+                V::load(&longest[o..]),
+                V::load(&ncoll[o..]),
+                V::load(&nev[o..]),
+            );
+            for e in steps {
+                let x = V::load(&e.time[o..]);
+                let code = V::load(&e.code[o..]);
+                let coll = code.lt(cross);
+                // CompensatedSum::add (Neumaier), the same operations with a select.
+                let t = s.add(x);
+                cp = cp.add(V::select(
+                    s.abs().ge(x.abs()),
+                    s.sub(t).add(x),
+                    x.sub(t).add(s),
+                ));
+                s = t;
+                // The free path in progress ends at a collision.
+                path = path.add(x);
+                long = V::select(V::and(coll, path.gt(long)), path, long);
+                path = V::select(coll, zero, path);
+                nc = nc.add(V::select(coll, one, zero));
+                ne = ne.add(V::select(code.lt(none), one, zero));
+            }
+            s.store(&mut sum[o..]);
+            cp.store(&mut comp[o..]);
+            path.store(&mut cur[o..]);
+            long.store(&mut longest[o..]);
+            nc.store(&mut ncoll[o..]);
+            ne.store(&mut nev[o..]);
+            o += V::WIDTH;
         }
     }
 }

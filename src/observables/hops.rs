@@ -4,9 +4,10 @@
 //! Green–Kubo estimator ([`crate::theory::green_kubo`]) for D = D_MZ (1 + 2 Σ_j C_j)
 //! (`proofs-notes/hops.md`).
 
+use super::{lanes, EventLanes, Observer, CROSSING_CODE};
 use crate::error::Error;
-use super::{lanes, EventLanes, Observer};
 use crate::kernel::trap::EventKind;
+use crate::lanes::Lanes;
 use crate::scenes::single_trap::exit_symbol;
 use crate::symbols::check_order;
 use crate::theory::green_kubo::{HopCorrelations, MAX_LAG};
@@ -107,16 +108,36 @@ impl HopLanes {
 
 impl<const L: usize> Observer<L> for HopLanes {
     #[inline(always)]
-    fn observe(&mut self, e: &EventLanes<L>) {
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        for e in steps {
+            self.step::<V, L>(e);
+        }
+    }
+}
+
+impl HopLanes {
+    #[inline(always)]
+    fn step<V: Lanes, const L: usize>(&mut self, e: &EventLanes<L>) {
+        let mut collided = 0u64;
+        let mut o = 0;
+        while o < L {
+            let coll = V::load(&e.code[o..]).lt(V::splat(CROSSING_CODE));
+            collided |= V::bits(coll) << o;
+            o += V::WIDTH;
+        }
+        let live = e.live_bits;
         let hops = lanes::<Hops, L>(&mut self.lanes);
-        for (l, h) in hops.iter_mut().enumerate() {
-            if e.live[l] {
-                if e.is_collision(l) {
-                    h.collided = true;
-                } else {
-                    h.observe(e.event(l).kind, e.cell[2][l] < 0.0);
-                }
-            }
+        // A collision only sets a flag; a crossing (one event in π/(3w)) is a hop.
+        let mut flag = live & collided;
+        while flag != 0 {
+            hops[flag.trailing_zeros() as usize].collided = true;
+            flag &= flag - 1;
+        }
+        let mut hop = live & !collided;
+        while hop != 0 {
+            let l = hop.trailing_zeros() as usize;
+            hop &= hop - 1;
+            hops[l].observe(e.event(l).kind, e.cell[2][l] < 0.0);
         }
     }
 }

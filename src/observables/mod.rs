@@ -4,8 +4,9 @@
 //! step (L = 1 for the scalar engine) and shows every [`Observer`] the step as an
 //! [`EventLanes`]: for each lane the event met (flight time and what ended the flight) and the
 //! state before it. Observers keep one accumulator per lane and update them with plain loops
-//! over the lanes, which the compiler vectorises inside the engine's SIMD code; rare work (a
-//! sample of the MSD, a hop) is done lane by lane. The per-lane arithmetic is the same whatever
+//! written with the engine's own vector type ([`Lanes`]: AVX-512, AVX2, … or plain `f64` on the
+//! scalar engine), so the per-event work is a few vector instructions for all lanes at once;
+//! rare work (a sample of the MSD, a hop) is done lane by lane. The per-lane arithmetic is the same whatever
 //! L is, so every observable has the same bits on every engine.
 //!
 //! * [`msd`]: mean squared displacement at fixed lag times, sampled on a fixed time grid.
@@ -17,6 +18,7 @@ pub mod hops;
 pub mod msd;
 
 use crate::kernel::{Event, EventKind, Flight};
+use crate::lanes::Lanes;
 use crate::real::Real;
 use crate::scenes::lattice::{CellIndex, LatticeState, Unwrapped};
 
@@ -26,20 +28,28 @@ pub const NO_LABEL: f64 = -1.0;
 /// Event codes: 0, 1, 2 a collision with disk 0, 1, 2; this plus k a crossing of edge k.
 pub const CROSSING_CODE: f64 = 3.0;
 
+/// The event code of a lane that is not live (no event: its time is 0).
+pub const NO_EVENT: f64 = 6.0;
+
 /// One step of L trajectories: the event of each lane and the lane's state just before it.
 ///
-/// Lanes whose trajectory has finished (or that pad a block) have `live[l] == false`; observers
-/// must leave their accumulators unchanged for them. Small integers (labels, event codes, cell
+/// Observers read it with the engine's vector type ([`Lanes`]): `V::load(&e.time[o..])` for the
+/// lanes o … o + `V::WIDTH` − 1 and `V::from_bits(e.live_bits >> o)` for their live mask.
+///
+/// Lanes whose trajectory has finished (or that pad a block) are not live (bit l of `live_bits`
+/// clear); observers must leave their accumulators unchanged for them. Such a lane's time is
+/// +0 and its code [`NO_EVENT`], so that an accumulator that adds times or counts codes is left
+/// unchanged without a mask (adding +0 to a sum that is not −0 returns it bit for bit). Small integers (labels, event codes, cell
 /// indices, orientation ±1) are held as exact `f64` values so that the engine can keep them in
 /// vector lanes; a cell index is exact while it is below 2⁵³ in magnitude, which
 /// [`crate::engine::MAX_COLLISIONS_PER_TRAJECTORY`] guarantees (an event changes it by at most 1).
 #[derive(Debug, Clone)]
 pub struct EventLanes<const L: usize> {
-    /// The lane's trajectory is still running.
-    pub live: [bool; L],
+    /// Bit l set iff lane l's trajectory is still running.
+    pub live_bits: u64,
     /// Flight time to the event.
     pub time: [f64; L],
-    /// What ended the flight: disk m (0, 1, 2) or [`CROSSING_CODE`] + edge k.
+    /// What ended the flight: disk m (0, 1, 2), [`CROSSING_CODE`] + edge k, or [`NO_EVENT`].
     pub code: [f64; L],
     /// Position before the event, in the cell frame (x, y).
     pub pos: [[f64; L]; 2],
@@ -54,9 +64,9 @@ pub struct EventLanes<const L: usize> {
 impl<const L: usize> Default for EventLanes<L> {
     fn default() -> Self {
         EventLanes {
-            live: [false; L],
+            live_bits: 0,
             time: [0.0; L],
-            code: [0.0; L],
+            code: [NO_EVENT; L],
             pos: [[0.0; L]; 2],
             vel: [[0.0; L]; 2],
             excluded: [[NO_LABEL; L]; 2],
@@ -81,6 +91,12 @@ fn label_of(c: f64) -> Option<u8> {
 }
 
 impl<const L: usize> EventLanes<L> {
+    /// `true` if lane `l`'s trajectory is still running.
+    #[inline(always)]
+    pub fn is_live(&self, l: usize) -> bool {
+        (self.live_bits >> l) & 1 == 1
+    }
+
     /// `true` if lane `l`'s event is a collision.
     #[inline(always)]
     pub fn is_collision(&self, l: usize) -> bool {
@@ -147,7 +163,7 @@ impl EventLanes<1> {
     pub fn single<T: Real>(s: &LatticeState<T>, ev: &Event<T>) -> Self {
         let f = &s.flight;
         EventLanes {
-            live: [true],
+            live_bits: 1,
             time: [ev.time.to_f64()],
             code: [code_of(ev.kind)],
             pos: [[f.pos.x.to_f64()], [f.pos.y.to_f64()]],
@@ -159,27 +175,30 @@ impl EventLanes<1> {
 }
 
 /// Something that watches the events of L trajectories at a time, keeping one accumulator per
-/// lane. It must update lane `l` only if `e.live[l]`, and do the same `f64` operations per lane
-/// whatever L is (so results do not depend on the engine).
+/// lane. It must update lane `l` only if it is live, and do the same `f64` operations per lane
+/// whatever L and `V` are (so results do not depend on the engine): written with the
+/// operations of [`Lanes`], which are exactly the scalar ones lane by lane, that is automatic.
 pub trait Observer<const L: usize> {
-    /// One step.
-    fn observe(&mut self, e: &EventLanes<L>);
+    /// Consecutive steps, in order, read with vectors of type `V` (`f64` on the scalar engine,
+    /// whose L is 1). The engine hands over a few steps at a time, so an observer can keep its
+    /// accumulators in registers across them.
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]);
 }
 
 impl<const L: usize, A: Observer<L>, B: Observer<L>> Observer<L> for (A, B) {
     #[inline(always)]
-    fn observe(&mut self, e: &EventLanes<L>) {
-        self.0.observe(e);
-        self.1.observe(e);
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        self.0.observe::<V>(steps);
+        self.1.observe::<V>(steps);
     }
 }
 
 impl<const L: usize, A: Observer<L>, B: Observer<L>, C: Observer<L>> Observer<L> for (A, B, C) {
     #[inline(always)]
-    fn observe(&mut self, e: &EventLanes<L>) {
-        self.0.observe(e);
-        self.1.observe(e);
-        self.2.observe(e);
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        self.0.observe::<V>(steps);
+        self.1.observe::<V>(steps);
+        self.2.observe::<V>(steps);
     }
 }
 
@@ -189,7 +208,7 @@ pub struct Nothing;
 
 impl<const L: usize> Observer<L> for Nothing {
     #[inline(always)]
-    fn observe(&mut self, _: &EventLanes<L>) {}
+    fn observe<V: Lanes>(&mut self, _: &[EventLanes<L>]) {}
 }
 
 /// Views lane accumulators of length `n` as an array of the block's width (checked once per

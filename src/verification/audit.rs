@@ -186,15 +186,17 @@ pub struct AuditLanes<S: Scene> {
 }
 
 impl<const L: usize, S: Scene> Observer<L> for AuditLanes<S> {
-    fn observe(&mut self, e: &EventLanes<L>) {
-        if self.error.is_some() {
-            return;
-        }
-        for (l, a) in self.lanes.iter_mut().enumerate() {
-            if let (true, Some(a)) = (e.live[l], a.as_mut()) {
-                if let Err(err) = a.observe(&e.state(l).flight) {
-                    self.error = Some(err);
-                    return;
+    fn observe<V: crate::lanes::Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        for e in steps {
+            if self.error.is_some() {
+                return;
+            }
+            for (l, a) in self.lanes.iter_mut().enumerate() {
+                if let (true, Some(a)) = (e.is_live(l), a.as_mut()) {
+                    if let Err(err) = a.observe(&e.state(l).flight) {
+                        self.error = Some(err);
+                        return;
+                    }
                 }
             }
         }

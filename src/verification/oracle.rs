@@ -913,7 +913,7 @@ fn build_flight(geo: &Geo, sel: u8, r: &mut Bytes) -> (PrimitiveCase, Flight<f64
 fn decode_flight(r: &mut Bytes) -> Result<(PrimitiveInput, Geo), String> {
     let scene_b = r.u8();
     let sel = r.u8();
-    let (scene, geo) = if scene_b % 2 == 0 {
+    let (scene, geo) = if scene_b.is_multiple_of(2) {
         let w = decode_w(r);
         let s = TriangularScene::new(w).map_err(|e| e.to_string())?;
         (SceneParams::Triangular { w }, Geo::new(&s)?)

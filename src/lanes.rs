@@ -1,5 +1,6 @@
-//! Vectors of `f64` lanes: the few IEEE operations the multi-trajectory engine needs, on
-//! AVX-512, AVX2, or plain arrays.
+//! Vectors of `f64` lanes: the few IEEE operations the multi-trajectory engine and its
+//! observers need, on AVX-512, AVX2, plain arrays, or a single `f64` (the scalar engine's one
+//! lane).
 //!
 //! Why by hand rather than a SIMD crate: the engine must reproduce the generic kernel bit for bit,
 //! so every lane has to execute *exactly* the correctly rounded operations of the scalar code in
@@ -9,10 +10,11 @@
 //! compile time (without `-C target-cpu` it would never use AVX-512 in a portable binary), and
 //! `pulp`'s dispatch tokens would hide which instruction runs behind a larger API; a thin trait
 //! over `std::arch` keeps each operation visibly one instruction, and the kernel
-//! ([`super::simd`]) is written once, generic over [`Lanes`].
+//! ([`crate::engine::simd`]) and the observers ([`crate::observables`]) are written once,
+//! generic over [`Lanes`]; on one lane (`f64`) they are exactly the scalar code.
 //!
 //! Safety model: the AVX-512 and AVX2 types may only be *created* inside functions compiled
-//! with those target features, which the dispatcher ([`super::SimdPath`]) enters only after
+//! with those target features, which the dispatcher ([`crate::engine::SimdPath`]) enters only after
 //! run-time detection. Their methods are `#[inline(always)]`, so they are compiled into those
 //! functions with the features enabled.
 
@@ -44,12 +46,16 @@ pub trait Lanes: Copy {
     fn sqrt(self) -> Self;
     /// `−self` (exact: flips the sign bit).
     fn neg(self) -> Self;
+    /// `|self|` (exact: clears the sign bit).
+    fn abs(self) -> Self;
     /// `self < o`.
     fn lt(self, o: Self) -> Self::Mask;
     /// `self > o`.
     fn gt(self, o: Self) -> Self::Mask;
     /// `self == o`.
     fn eq(self, o: Self) -> Self::Mask;
+    /// `self ≥ o`.
+    fn ge(self, o: Self) -> Self::Mask;
     /// `m ? a : b` lane by lane.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
     /// `a ∧ b`.
@@ -60,6 +66,98 @@ pub trait Lanes: Copy {
     fn and_not(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Bit `l` set for every true lane `l`.
     fn bits(m: Self::Mask) -> u64;
+    /// The mask whose lane `l` is bit `l` of `b` (higher bits ignored).
+    fn from_bits(b: u64) -> Self::Mask;
+}
+
+/// One lane: the scalar engine's observers run the same generic code on plain `f64`.
+impl Lanes for f64 {
+    const WIDTH: usize = 1;
+    type Mask = bool;
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn load(a: &[f64]) -> Self {
+        a[0]
+    }
+    #[inline(always)]
+    fn store(self, a: &mut [f64]) {
+        a[0] = self;
+    }
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        self + o
+    }
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        self - o
+    }
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        self * o
+    }
+    #[inline(always)]
+    fn div(self, o: Self) -> Self {
+        self / o
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn neg(self) -> Self {
+        -self
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> bool {
+        self < o
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> bool {
+        self > o
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> bool {
+        self == o
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> bool {
+        self >= o
+    }
+    #[inline(always)]
+    fn select(m: bool, a: Self, b: Self) -> Self {
+        if m {
+            a
+        } else {
+            b
+        }
+    }
+    #[inline(always)]
+    fn and(a: bool, b: bool) -> bool {
+        a & b
+    }
+    #[inline(always)]
+    fn or(a: bool, b: bool) -> bool {
+        a | b
+    }
+    #[inline(always)]
+    fn and_not(a: bool, b: bool) -> bool {
+        a & !b
+    }
+    #[inline(always)]
+    fn bits(m: bool) -> u64 {
+        m as u64
+    }
+    #[inline(always)]
+    fn from_bits(b: u64) -> bool {
+        b & 1 == 1
+    }
 }
 
 /// Plain arrays of four lanes: the portable path (any CPU; the compiler vectorises what the
@@ -132,8 +230,16 @@ impl Lanes for Portable {
         self.map(|a| -a)
     }
     #[inline(always)]
+    fn abs(self) -> Self {
+        self.map(f64::abs)
+    }
+    #[inline(always)]
     fn lt(self, o: Self) -> [bool; 4] {
         self.test(o, |a, b| a < b)
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> [bool; 4] {
+        self.test(o, |a, b| a >= b)
     }
     #[inline(always)]
     fn gt(self, o: Self) -> [bool; 4] {
@@ -167,6 +273,10 @@ impl Lanes for Portable {
     #[inline(always)]
     fn bits(m: [bool; 4]) -> u64 {
         (m[0] as u64) | (m[1] as u64) << 1 | (m[2] as u64) << 2 | (m[3] as u64) << 3
+    }
+    #[inline(always)]
+    fn from_bits(b: u64) -> [bool; 4] {
+        [b & 1 != 0, b & 2 != 0, b & 4 != 0, b & 8 != 0]
     }
 }
 
@@ -218,6 +328,14 @@ impl<V: Lanes> Lanes for Pair<V> {
         Pair(self.0.neg(), self.1.neg())
     }
     #[inline(always)]
+    fn abs(self) -> Self {
+        Pair(self.0.abs(), self.1.abs())
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> Self::Mask {
+        (self.0.ge(o.0), self.1.ge(o.1))
+    }
+    #[inline(always)]
     fn lt(self, o: Self) -> Self::Mask {
         (self.0.lt(o.0), self.1.lt(o.1))
     }
@@ -248,6 +366,10 @@ impl<V: Lanes> Lanes for Pair<V> {
     #[inline(always)]
     fn bits(m: Self::Mask) -> u64 {
         V::bits(m.0) | V::bits(m.1) << V::WIDTH
+    }
+    #[inline(always)]
+    fn from_bits(b: u64) -> Self::Mask {
+        (V::from_bits(b), V::from_bits(b >> V::WIDTH))
     }
 }
 
@@ -310,6 +432,14 @@ mod x86 {
             Avx2(unsafe { _mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)) })
         }
         #[inline(always)]
+        fn abs(self) -> Self {
+            Avx2(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
+        }
+        #[inline(always)]
+        fn ge(self, o: Self) -> __m256d {
+            unsafe { _mm256_cmp_pd::<_CMP_GE_OQ>(self.0, o.0) }
+        }
+        #[inline(always)]
         fn lt(self, o: Self) -> __m256d {
             unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0) }
         }
@@ -341,6 +471,15 @@ mod x86 {
         #[inline(always)]
         fn bits(m: __m256d) -> u64 {
             (unsafe { _mm256_movemask_pd(m) }) as u64
+        }
+        #[inline(always)]
+        fn from_bits(b: u64) -> __m256d {
+            // Lane l is all ones where bit l of b is set: (b & 2ˡ) == 2ˡ, compared as integers.
+            unsafe {
+                let sel = _mm256_set_epi64x(8, 4, 2, 1);
+                let v = _mm256_and_si256(_mm256_set1_epi64x(b as i64), sel);
+                _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, sel))
+            }
         }
     }
 
@@ -398,6 +537,19 @@ mod x86 {
             })
         }
         #[inline(always)]
+        fn abs(self) -> Self {
+            Avx512(unsafe {
+                _mm512_castsi512_pd(_mm512_and_si512(
+                    _mm512_castpd_si512(self.0),
+                    _mm512_set1_epi64(i64::MAX),
+                ))
+            })
+        }
+        #[inline(always)]
+        fn ge(self, o: Self) -> __mmask8 {
+            unsafe { _mm512_cmp_pd_mask::<_CMP_GE_OQ>(self.0, o.0) }
+        }
+        #[inline(always)]
         fn lt(self, o: Self) -> __mmask8 {
             unsafe { _mm512_cmp_pd_mask::<_CMP_LT_OQ>(self.0, o.0) }
         }
@@ -430,6 +582,10 @@ mod x86 {
         fn bits(m: __mmask8) -> u64 {
             m as u64
         }
+        #[inline(always)]
+        fn from_bits(b: u64) -> __mmask8 {
+            b as __mmask8
+        }
     }
 }
 
@@ -446,5 +602,95 @@ mod tests {
         assert_eq!(Portable::bits(a.eq(b)), 0b0110);
         assert!(a.neg().0[1].is_sign_positive());
         assert_eq!(Portable::select(a.gt(b), a, b).0, [3.0, 0.0, 3.0, 1.0]);
+        assert_eq!(Portable::bits(Portable::from_bits(0b1010)), 0b1010);
+        assert_eq!(a.abs().0[1].to_bits(), 0);
+    }
+
+    /// Every path computes every operation exactly as `f64` does, lane by lane, on values
+    /// chosen to hit signed zeros, subnormals, infinities and NaN; masks round-trip through bits.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn vector_paths_agree_with_f64_lane_by_lane() {
+        let vals = [
+            1.0,
+            -0.0,
+            0.0,
+            3.5,
+            -2.25,
+            1e-310,
+            -1e308,
+            f64::INFINITY,
+            f64::NAN,
+            0.1,
+            7.0,
+            -3.0,
+            2.0,
+            1e-16,
+            0.5,
+            -1.0,
+        ];
+        let other = [
+            3.0, 0.0, -0.0, 3.5, 1e-300, 2.0, 1e308, 1.0, 1.0, 0.3, -7.0, 9.0, 2.0, 1.0, -0.5, -1.0,
+        ];
+        fn check<V: Lanes>(a: &[f64; 16], b: &[f64; 16]) {
+            let mut o = 0;
+            while o < 16 {
+                let (x, y) = (V::load(&a[o..]), V::load(&b[o..]));
+                let mut got = [0.0; 16];
+                type Op<V> = (fn(V, V) -> V, fn(f64, f64) -> f64);
+                let ops: [Op<V>; 6] = [
+                    (V::add, |p, q| p + q),
+                    (V::sub, |p, q| p - q),
+                    (V::mul, |p, q| p * q),
+                    (V::div, |p, q| p / q),
+                    (|p, _| V::sqrt(p), |p, _| p.sqrt()),
+                    (|p, _| V::abs(V::neg(p)), |p, _| (-p).abs()),
+                ];
+                for (vop, sop) in ops {
+                    vop(x, y).store(&mut got[o..]);
+                    for l in 0..V::WIDTH {
+                        let want = sop(a[o + l], b[o + l]);
+                        assert!(
+                            got[o + l].to_bits() == want.to_bits()
+                                || (want.is_nan() && got[o + l].is_nan()),
+                            "lane {} {} vs {}",
+                            o + l,
+                            got[o + l],
+                            want
+                        );
+                    }
+                }
+                let m = V::bits(x.lt(y)) | V::bits(x.ge(y)) << 16;
+                for l in 0..V::WIDTH {
+                    assert_eq!(m >> l & 1 == 1, a[o + l] < b[o + l]);
+                    assert_eq!(m >> (16 + l) & 1 == 1, a[o + l] >= b[o + l]);
+                }
+                assert_eq!(
+                    V::bits(V::from_bits(0b0110_1001)),
+                    0b0110_1001 & ((1 << V::WIDTH) - 1)
+                );
+                o += V::WIDTH;
+            }
+        }
+        check::<f64>(&vals, &other);
+        check::<Portable>(&vals, &other);
+        if std::arch::is_x86_feature_detected!("avx2") {
+            #[target_feature(enable = "avx2")]
+            unsafe fn avx2(a: &[f64; 16], b: &[f64; 16]) {
+                check::<Avx2>(a, b);
+                check::<Pair<Avx2>>(a, b);
+            }
+            // SAFETY: the feature was detected.
+            unsafe { avx2(&vals, &other) }
+        }
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            #[target_feature(enable = "avx512f")]
+            unsafe fn avx512(a: &[f64; 16], b: &[f64; 16]) {
+                check::<Avx512>(a, b);
+                check::<Pair<Avx512>>(a, b);
+            }
+            // SAFETY: the feature was detected.
+            unsafe { avx512(&vals, &other) }
+        }
     }
 }
