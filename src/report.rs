@@ -81,6 +81,23 @@ pub const HORIZON_STARTS: u32 = 8;
 /// Steps of the report, for a progress bar: calibration, divergence, and one timing per precision.
 pub const REPORT_STEPS: u64 = 2 + 1 + REPORT_BITS.len() as u64;
 
+/// The pre-event state of every tenth of the first [`ONE_STEP_EVENTS`] events (an observer).
+struct EveryTenth {
+    states: Vec<Flight<f64>>,
+    events: usize,
+}
+
+impl crate::observables::Observer<1> for EveryTenth {
+    fn observe<V: crate::lanes::Lanes>(&mut self, steps: &[crate::observables::EventLanes<1>]) {
+        for e in steps {
+            if self.events < ONE_STEP_EVENTS && self.events % 10 == 0 {
+                self.states.push(e.state(0).flight);
+            }
+            self.events += 1;
+        }
+    }
+}
+
 fn one_step<T: Real>(trap: &Trap<T>, tref: &Trap<Float>, states: &[Flight<f64>]) -> (f64, f64) {
     let ctx = trap.a.ctx();
     let mut errs: Vec<f64> = states
@@ -131,13 +148,19 @@ pub fn speed_against_error(
         lat.trap(),
         &mut StreamKey::new(seed, Purpose::Verification, 0).rng(),
     );
-    let mut states = Vec::new();
-    for k in 0..ONE_STEP_EVENTS {
-        if k % 10 == 0 {
-            states.push(s.flight.clone());
-        }
-        lat.step(&mut s)?;
-    }
+    let mut every_tenth = EveryTenth {
+        states: Vec::new(),
+        events: 0,
+    };
+    // ONE_STEP_EVENTS collisions make more than ONE_STEP_EVENTS events.
+    crate::engine::drive(
+        &lat,
+        &mut s,
+        ONE_STEP_EVENTS as u64,
+        &mut every_tenth,
+        &|_| {},
+    )?;
+    let states = every_tenth.states;
     let tref = Trap::new(Float::with_val(ONE_STEP_REFERENCE_BITS, w))?;
     let bits_list = REPORT_BITS;
     let div = divergence(

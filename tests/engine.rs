@@ -251,7 +251,10 @@ fn msd_grid_keeps_the_error_of_d() {
     }
     let (dc, ec) = mean_se(&coarse_d);
     let (df, ef) = mean_se(&fine_d);
-    eprintln!("coarse D = {dc} ± {ec}, fine D = {df} ± {ef}, error ratio {}", ec / ef);
+    eprintln!(
+        "coarse D = {dc} ± {ec}, fine D = {df} ± {ef}, error ratio {}",
+        ec / ef
+    );
     assert!((dc - df).abs() < 0.5 * ef, "{dc} vs {df} (± {ef})");
     assert!(ec / ef < 1.05, "error ratio {}", ec / ef);
 }

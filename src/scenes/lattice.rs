@@ -205,19 +205,6 @@ impl<T: Real, K: CellKernel<T>> Lattice<T, K> {
         Ok(ev)
     }
 
-    /// Advances until `n` collisions have happened; returns the number of crossings on the way.
-    pub fn run_collisions(&self, s: &mut LatticeState<T>, n: u64) -> Result<u64, Error> {
-        let mut hops = 0;
-        let mut c = 0;
-        while c < n {
-            match self.step(s)?.kind {
-                EventKind::Collision(_) => c += 1,
-                EventKind::Crossing(_) => hops += 1,
-            }
-        }
-        Ok(hops)
-    }
-
     /// Unwrapped world position of the state, after a further free flight of time `dt`
     /// (`dt = 0` for the current position).
     #[inline(always)]

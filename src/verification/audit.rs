@@ -374,9 +374,6 @@ fn q3(h: &LogHistogram) -> [f64; 3] {
     [h.quantile(0.5), h.quantile(0.99), h.max]
 }
 
-/// Collisions between two progress reports of an audit trajectory.
-const PROGRESS_CHUNK: u64 = 1 << 16;
-
 /// Runs the audit `cfg` on `threads` threads (the result does not depend on them). `progress`
 /// receives collision counts.
 pub fn audit_run<S: Scene>(
@@ -385,7 +382,8 @@ pub fn audit_run<S: Scene>(
     threads: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<AuditReport, Error> {
-    use crate::kernel::EventKind;
+    use crate::engine::drive;
+    use crate::observables::counters::CounterLanes;
     use crate::sampling::{stream, Purpose, StreamKey};
     if cfg.scene != scene.label() {
         return Err(Error::Invalid(format!(
@@ -412,28 +410,32 @@ pub fn audit_run<S: Scene>(
         crate::parallel::par_batches(threads, cfg.trajectories, |b| {
             let n = crate::parallel::share(cfg.collisions, cfg.trajectories, b);
             let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
-            let mut a = Auditor::new(
+            let a = Auditor::new(
                 scene,
                 cfg.sample,
                 cfg.bits,
                 StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),
             )?;
-            let (mut c, mut events) = (0, 0u64);
-            while c < n {
-                let ev = lat
-                    .next_event(&s)
-                    .ok_or_else(|| Error::Invalid("no next event".into()))?;
-                a.observe(&s.flight)?;
-                lat.apply(&mut s, &ev);
-                events += 1;
-                if let EventKind::Collision(_) = ev.kind {
-                    c += 1;
-                    if c % PROGRESS_CHUNK == 0 {
-                        progress(PROGRESS_CHUNK);
-                    }
-                }
+            let mut obs = (
+                AuditLanes {
+                    lanes: vec![Some(a)],
+                    error: None,
+                },
+                CounterLanes::new(1),
+            );
+            drive(&lat, &mut s, n, &mut obs, progress)?;
+            let (audit, counters) = obs;
+            if let Some(e) = audit.error {
+                return Err(e);
             }
-            progress(n % PROGRESS_CHUNK);
+            let a = audit
+                .lanes
+                .into_iter()
+                .next()
+                .flatten()
+                .expect("one auditor");
+            let c = counters.lane(0);
+            let events = c.collisions + c.crossings;
             Ok((a.summary, events))
         })?;
     let mut summary = AuditSummary::default();

@@ -15,9 +15,13 @@ use super::birkhoff::tangent_step;
 use rug::Float;
 use serde::Serialize;
 
+use crate::engine::drive;
 use crate::error::Error;
+use crate::kernel::cell::ConvexCell;
 use crate::kernel::{CellKernel, EventKind};
+use crate::lanes::Lanes;
 use crate::metadata::RunMeta;
+use crate::observables::{EventLanes, Observer};
 use crate::parallel::par_batches;
 use crate::real::Real;
 use crate::sampling::stream;
@@ -29,9 +33,6 @@ use crate::stats::{linear_fit, mean_se};
 /// the unstable direction (it does so within a few collisions at λ ≈ 1 per collision; 1000 is
 /// ample and costs 0.05 % of a default orbit).
 pub const TANGENT_TRANSIENT: u64 = 1000;
-
-/// Collisions between two progress reports.
-const PROGRESS_CHUNK: u64 = 1 << 16;
 
 /// Precisions (bits) whose divergence from the reference `lorentz lyapunov` measures, next to f64.
 pub const DIVERGENCE_BITS: [u32; 5] = [64, 128, 256, 512, 1024];
@@ -89,31 +90,22 @@ pub fn lyapunov<S: Scene>(
         let mut rng = stream(seed, b as u64);
         let mut s = scene.sample(&mut rng);
         let d = crate::sampling::direction(&mut rng);
-        let mut t = Vector4::new(d.x, d.y, 0.3 * d.y, -0.3 * d.x);
-        let (mut c, mut logsum, mut time) = (0u64, 0.0, 0.0);
-        let transient = TANGENT_TRANSIENT;
-        while c < collisions + transient {
-            let ev = lat
-                .next_event(&s)
-                .ok_or_else(|| Error::Invalid("no next event".into()))?;
-            tangent_step(&mut t, &s.flight, &ev, &cell);
-            lat.apply(&mut s, &ev);
-            if c >= transient {
-                time += ev.time;
-            }
-            if let EventKind::Collision(_) = ev.kind {
-                c += 1;
-                let n = t.norm();
-                t /= n;
-                if c > transient {
-                    logsum += n.ln();
-                }
-                if c % PROGRESS_CHUNK == 0 {
-                    progress(PROGRESS_CHUNK);
-                }
-            }
-        }
-        progress((collisions + transient) % PROGRESS_CHUNK);
+        let mut tangent = Tangent {
+            t: Vector4::new(d.x, d.y, 0.3 * d.y, -0.3 * d.x),
+            cell: &cell,
+            collisions: 0,
+            transient: TANGENT_TRANSIENT,
+            logsum: 0.0,
+            time: 0.0,
+        };
+        drive(
+            &lat,
+            &mut s,
+            collisions + TANGENT_TRANSIENT,
+            &mut tangent,
+            progress,
+        )?;
+        let (logsum, time) = (tangent.logsum, tangent.time);
         Ok((logsum / collisions as f64, logsum / time))
     })?;
     let (pc, pce) = mean_se(&per.iter().map(|p| p.0).collect::<Vec<_>>());
@@ -128,6 +120,39 @@ pub fn lyapunov<S: Scene>(
         orbits,
         meta: RunMeta::new(Some(seed), Some(orbits as u64), "f64", Some(threads)),
     })
+}
+
+/// The tangent dynamics along one orbit (an observer of the scalar engine): the tangent vector
+/// is carried through every event by the linearised map and renormalised at every collision;
+/// after `transient` collisions, the logarithms of the growth factors and the flight times are
+/// summed.
+struct Tangent<'a> {
+    t: Vector4<f64>,
+    cell: &'a ConvexCell<f64>,
+    collisions: u64,
+    transient: u64,
+    logsum: f64,
+    time: f64,
+}
+
+impl Observer<1> for Tangent<'_> {
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<1>]) {
+        for e in steps {
+            let (s, ev) = (e.state(0), e.event(0));
+            tangent_step(&mut self.t, &s.flight, &ev, self.cell);
+            if self.collisions >= self.transient {
+                self.time += ev.time;
+            }
+            if let EventKind::Collision(_) = ev.kind {
+                self.collisions += 1;
+                let n = self.t.norm();
+                self.t /= n;
+                if self.collisions > self.transient {
+                    self.logsum += n.ln();
+                }
+            }
+        }
+    }
 }
 
 /// World contact points and velocities at the first `n` collisions of an orbit, as 4096-bit
