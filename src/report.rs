@@ -90,7 +90,7 @@ struct EveryTenth {
 impl crate::observables::Observer<1> for EveryTenth {
     fn observe<V: crate::lanes::Lanes>(&mut self, steps: &[crate::observables::EventLanes<1>]) {
         for e in steps {
-            if self.events < ONE_STEP_EVENTS && self.events % 10 == 0 {
+            if self.events < ONE_STEP_EVENTS && self.events.is_multiple_of(10) {
                 self.states.push(e.state(0).flight);
             }
             self.events += 1;
