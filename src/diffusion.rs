@@ -152,6 +152,7 @@ impl DiffusionConfig {
             });
         }
         crate::parallel::check_batches("batches", self.batches)?;
+        crate::engine::check_trajectory_length(self.collisions.div_ceil(self.batches as u64))?;
         if let Precision::Bits(b) = self.precision {
             <rug::Float as Real>::check_ctx(b)?;
         }

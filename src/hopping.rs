@@ -287,6 +287,7 @@ pub(crate) fn check_hops_input(
             min.saturating_mul(batches as u64)
         )));
     }
+    crate::engine::check_trajectory_length(collisions.div_ceil(batches as u64))?;
     crate::parallel::check_batches("batches", batches)
 }
 

@@ -58,6 +58,33 @@ const BAD: &[(&[&str], &str)] = &[
         "too large",
     ),
     (&["diffusion", "--w", "0.1", "--batches", "0"], "batches"),
+    (&["diffusion", "--w", "0.1", "--engine", "gpu"], "simd"),
+    (
+        &[
+            "diffusion",
+            "--w",
+            "0.1",
+            "--engine",
+            "simd",
+            "--precision",
+            "128",
+        ],
+        "f64 only",
+    ),
+    (
+        &[
+            "diffusion",
+            "--w",
+            "0.1",
+            "--collisions",
+            "1e18",
+            "--batches",
+            "2",
+        ],
+        "2^50",
+    ),
+    (&["hops", "--w", "0.1", "--engine", "fast"], "scalar"),
+    (&["bench", "--w", "0.1", "--observe", "all"], "diffusion"),
     (&["diffusion", "--w", "0.1", "--batches", "1"], "batches"),
     (
         &["diffusion", "--w", "0.1", "--batches", "5e9"],
@@ -351,6 +378,38 @@ fn bad_input_is_refused_with_status_2_one_line_and_no_files() {
     }
     let _ = std::fs::remove_dir_all(&dir);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `LORENTZ_SIMD` naming an unknown path is refused like any bad input; naming `portable` runs
+/// and says so in the metadata.
+#[test]
+fn simd_path_override_is_checked_and_reported() {
+    let run = |v: &str| {
+        Command::new(env!("CARGO_BIN_EXE_lorentz"))
+            .args([
+                "diffusion",
+                "--w",
+                "0.2",
+                "--collisions",
+                "4e5",
+                "--batches",
+                "4",
+            ])
+            .args(["--json", "--quiet"])
+            .env("LORENTZ_SIMD", v)
+            .output()
+            .expect("run lorentz")
+    };
+    let bad = run("avx9");
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("avx512, avx2 or portable"), "{err}");
+    let good = run("portable");
+    assert_eq!(good.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&good.stdout).unwrap();
+    assert_eq!(v["meta"]["engine"], "simd");
+    assert_eq!(v["meta"]["simd"], "portable");
 }
 
 /// One quick good run of every subcommand: exit 0, JSON with the shared metadata block, counts
