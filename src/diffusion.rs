@@ -1,15 +1,18 @@
 //! D(w) by the Einstein formula, with error bars from independent batches.
 //!
 //! Each batch is one trajectory started from the invariant measure with its own random stream
-//! ([`crate::sampling::stream`]). Along it the MSD is sampled every τ (the exact mean hop time)
-//! with every sample a time origin, and D_b is a quarter of the least-squares slope of MSD(t)
+//! ([`crate::sampling::stream`]). Along it the MSD is sampled every gτ (τ the exact mean hop
+//! time, g the gcd of the fit lags in units of τ: 5 for the default windows; `proofs-notes/
+//! msd-grid.md`) with every sample a time origin, and D_b is a quarter of the least-squares slope
+//! of MSD(t)
 //! over the fit window [lo·τ, hi·τ] (the slope, not MSD/4t at one t, so the intercept of the
 //! transient does not bias D). D is the mean of the D_b and its error the standard error over
 //! batches. A second, later window is fitted too and reported: the two agreeing within errors
 //! shows that the fit window lies in the linear regime.
 //!
-//! Results do not depend on the number of threads: batch b's bits depend only on (seed, run, b),
-//! and batches are combined in index order.
+//! Results do not depend on the number of threads or the engine: batch b's bits depend only on
+//! (seed, run, b) — the SIMD engine runs 16 batches in vector lanes, each bit-identical to the
+//! scalar engine ([`crate::engine`]) — and batches are combined in index order.
 
 use std::fs::OpenOptions;
 use std::io::{BufRead, BufReader, Write};
