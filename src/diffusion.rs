@@ -534,7 +534,7 @@ pub fn run_on(
         Some(p) => Some(Mutex::new(open_checkpoint(p, cfg)?)),
         None => None,
     };
-    let record = |r: &BatchResult| -> Result<(), Error> {
+    let record = |_: &Job, r: &BatchResult| -> Result<(), Error> {
         if let Some(wr) = &writer {
             let mut f = wr
                 .lock()
@@ -571,16 +571,68 @@ pub fn run_on(
     Ok(rep)
 }
 
+/// Header of a [`run_many`] journal: the configurations it belongs to.
+#[derive(Serialize, Deserialize)]
+struct JournalHeader {
+    format: u32,
+    configs: Vec<DiffusionConfig>,
+}
+
+/// One finished batch in a [`run_many`] journal.
+#[derive(Serialize, Deserialize)]
+struct JournalEntry {
+    run: u64,
+    batch: BatchResult,
+}
+
+/// The finished batches of a journal written for `cfgs`, by (run, batch index); a line torn by an
+/// interruption is ignored (that batch runs again).
+fn load_journal(p: &std::path::Path, cfgs: &[DiffusionConfig]) -> Result<Vec<JournalEntry>, Error> {
+    let f = match std::fs::File::open(p) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(e.into()),
+    };
+    let mut lines = BufReader::new(f).lines();
+    let Some(header) = lines.next() else {
+        return Ok(Vec::new());
+    };
+    let h: JournalHeader = serde_json::from_str(&header?)
+        .map_err(|e| Error::Io(format!("{}: not a lorentz journal ({e})", p.display())))?;
+    if h.format != CHECKPOINT_FORMAT || h.configs != cfgs {
+        return Err(Error::Invalid(format!(
+            "{} belongs to other runs (or another version): use another directory",
+            p.display()
+        )));
+    }
+    let mut out: Vec<JournalEntry> = Vec::new();
+    for l in lines {
+        if let Ok(e) = serde_json::from_str::<JournalEntry>(&l?) {
+            if !out
+                .iter()
+                .any(|o| o.run == e.run && o.batch.index == e.batch.index)
+            {
+                out.push(e);
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// Several runs at the same w and fit windows (a sweep point's independent runs), their
 /// trajectories packed together into SIMD blocks: each report has the same bits as [`run_on`]
-/// of its configuration alone.
+/// of its configuration alone. With a `journal` file, every finished batch is appended to it at
+/// once and batches already there (for the same configurations) are not run again, so an
+/// interrupted point loses at most the blocks in flight.
 ///
 /// # Errors
-/// If the configurations differ in w, precision or windows, or any is invalid.
+/// If the configurations differ in w, precision or windows, any is invalid, or the journal
+/// belongs to other configurations.
 pub fn run_many(
     cfgs: &[DiffusionConfig],
     engine: Engine,
     threads: usize,
+    journal: Option<&std::path::Path>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<DiffusionReport>, Error> {
     let Some(first) = cfgs.first() else {
@@ -617,8 +669,63 @@ pub fn run_many(
             })
         })
         .collect();
-    let results = execute(
-        &jobs,
+    let finished = match journal {
+        Some(p) => load_journal(p, cfgs)?,
+        None => Vec::new(),
+    };
+    for e in &finished {
+        progress(e.batch.counters.collisions);
+    }
+    let todo: Vec<Job> = jobs
+        .iter()
+        .filter(|j| {
+            !finished
+                .iter()
+                .any(|e| e.run == j.run && e.batch.index == j.index)
+        })
+        .copied()
+        .collect();
+    let writer = match journal {
+        Some(p) => {
+            let fresh = std::fs::metadata(p).map(|m| m.len() == 0).unwrap_or(true);
+            let mut f = OpenOptions::new().create(true).append(true).open(p)?;
+            if fresh {
+                let h = JournalHeader {
+                    format: CHECKPOINT_FORMAT,
+                    configs: cfgs.to_vec(),
+                };
+                writeln!(
+                    f,
+                    "{}",
+                    serde_json::to_string(&h).map_err(|e| Error::Io(e.to_string()))?
+                )?;
+            } else {
+                writeln!(f)?;
+            }
+            Some(Mutex::new(f))
+        }
+        None => None,
+    };
+    let record = |j: &Job, r: &BatchResult| -> Result<(), Error> {
+        if let Some(wr) = &writer {
+            let mut f = wr
+                .lock()
+                .map_err(|_| Error::Io("journal lock poisoned".into()))?;
+            let e = JournalEntry {
+                run: j.run,
+                batch: r.clone(),
+            };
+            writeln!(
+                f,
+                "{}",
+                serde_json::to_string(&e).map_err(|e| Error::Io(e.to_string()))?
+            )?;
+            f.flush()?;
+        }
+        Ok(())
+    };
+    let new = execute(
+        &todo,
         ExecSpec {
             w: first.w,
             precision: first.precision,
@@ -628,17 +735,25 @@ pub fn run_many(
             lags: &lags,
             audit: None,
         },
-        &|_| Ok(()),
+        &record,
         progress,
     )?;
     let seconds = start.elapsed().as_secs_f64();
+    let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
+    let mut all: Vec<(u64, BatchResult)> = finished.into_iter().map(|e| (e.run, e.batch)).collect();
+    all.extend(todo.iter().map(|j| j.run).zip(new));
     let mut out = Vec::with_capacity(cfgs.len());
-    let mut rest = results.into_iter();
     for c in cfgs {
-        let done: Vec<BatchResult> = rest.by_ref().take(c.batches as usize).collect();
+        let mut done: Vec<BatchResult> = all
+            .iter()
+            .filter(|(r, _)| *r == c.run)
+            .map(|(_, b)| b.clone())
+            .collect();
+        done.sort_by_key(|b| b.index);
+        let resumed = done.len() as u32 - todo.iter().filter(|j| j.run == c.run).count() as u32;
         let n: u64 = done.iter().map(|b| b.counters.collisions).sum();
-        let mut rep = summarise(c, &g, tau, &done, threads, seconds, 0, n);
-        rep.collisions_per_second = jobs.iter().map(|j| j.collisions).sum::<u64>() as f64 / seconds;
+        let mut rep = summarise(c, &g, tau, &done, threads, seconds, resumed, n);
+        rep.collisions_per_second = run_now as f64 / seconds;
         rep.meta = rep.meta.with_engine(resolved);
         out.push(rep);
     }
@@ -662,7 +777,7 @@ struct ExecSpec<'a> {
 fn execute(
     jobs: &[Job],
     spec: ExecSpec<'_>,
-    record: &(dyn Fn(&BatchResult) -> Result<(), Error> + Sync),
+    record: &(dyn Fn(&Job, &BatchResult) -> Result<(), Error> + Sync),
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<BatchResult>, Error> {
     for j in jobs {
@@ -682,8 +797,8 @@ fn execute(
                     .map(|b| {
                         let r =
                             run_simd(path, &trap64, b, spec.tau, spec.lags, spec.audit, progress)?;
-                        for x in &r {
-                            record(x)?;
+                        for (j, x) in b.iter().zip(&r) {
+                            record(j, x)?;
                         }
                         Ok(r)
                     })
@@ -714,7 +829,7 @@ struct RunScalar<'a> {
     lags: &'a [usize],
     audit: Option<AuditSpec>,
     pool: &'a rayon::ThreadPool,
-    record: &'a (dyn Fn(&BatchResult) -> Result<(), Error> + Sync),
+    record: &'a (dyn Fn(&Job, &BatchResult) -> Result<(), Error> + Sync),
     progress: &'a (dyn Fn(u64) + Sync),
 }
 
@@ -735,7 +850,7 @@ impl AtPrecision for RunScalar<'_> {
                         self.audit,
                         self.progress,
                     )?;
-                    (self.record)(&r)?;
+                    (self.record)(&j, &r)?;
                     Ok(r)
                 })
                 .collect()

@@ -246,7 +246,10 @@ pub fn sweep_on(
         let cfgs: Vec<DiffusionConfig> = (0..cfg.runs)
             .map(|r| cfg.run_config(i as u32, w, r))
             .collect();
-        let runs = run_many(&cfgs, engine, threads, progress)?
+        // Finished batches of this point are journalled as they come, so that an interruption
+        // loses at most the blocks in flight, not the point's finished runs.
+        let journal = path.with_extension("partial");
+        let runs = run_many(&cfgs, engine, threads, Some(&journal), progress)?
             .into_iter()
             .map(|rep| RunValue {
                 D: rep.D,
@@ -266,6 +269,7 @@ pub fn sweep_on(
             serde_json::to_string(&p).map_err(|e| Error::Io(e.to_string()))?,
         )?;
         std::fs::rename(&tmp, &path)?;
+        let _ = std::fs::remove_file(&journal);
         points.push(p);
     }
     let mut report = analyse(cfg, &points, resumed, threads)?;

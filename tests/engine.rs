@@ -258,3 +258,64 @@ fn msd_grid_keeps_the_error_of_d() {
     assert!((dc - df).abs() < 0.5 * ef, "{dc} vs {df} (± {ef})");
     assert!(ec / ef < 1.05, "error ratio {}", ec / ef);
 }
+
+/// A sweep point's runs packed into SIMD blocks give each run's bits of a run alone; with a
+/// journal, an interrupted point (some batches finished, one line torn) resumes without redoing
+/// the finished batches and ends with the same bits.
+#[test]
+fn packed_runs_equal_single_runs_and_resume_from_their_journal() {
+    use lorentz_gas::diffusion::{run_many, run_on, DiffusionConfig};
+    use lorentz_gas::engine::Engine;
+    let cfgs: Vec<DiffusionConfig> = (0..3)
+        .map(|r| {
+            let mut c = DiffusionConfig::new(0.25);
+            c.collisions = 300_000;
+            c.batches = 6;
+            c.run = 7 + r;
+            c
+        })
+        .collect();
+    let alone: Vec<_> = cfgs
+        .iter()
+        .map(|c| physics_json(&run_on(c, Engine::Scalar, 1, None, None, &|_| {}).unwrap()))
+        .collect();
+    let dir = std::env::temp_dir().join(format!("lorentz-journal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let journal = dir.join("point.partial");
+    let packed: Vec<_> = run_many(&cfgs, Engine::Auto, 2, Some(&journal), &|_| {})
+        .unwrap()
+        .iter()
+        .map(physics_json)
+        .collect();
+    let strip = |mut v: serde_json::Value| {
+        v.as_object_mut().unwrap().remove("resumed_batches");
+        v
+    };
+    for (a, p) in alone.iter().zip(&packed) {
+        assert_eq!(strip(a.clone()), strip(p.clone()));
+    }
+    // Keep the header and 7 batches, tear the 8th line: 7 batches are reused.
+    let text = std::fs::read_to_string(&journal).unwrap();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.is_empty()).collect();
+    assert_eq!(lines.len(), 1 + 18);
+    let mut cut = lines[..8].join("\n");
+    cut.push('\n');
+    cut.push_str(&lines[8][..lines[8].len() / 2]);
+    std::fs::write(&journal, cut).unwrap();
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let resumed = run_many(&cfgs, Engine::Auto, 2, Some(&journal), &|n| {
+        done.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+    })
+    .unwrap();
+    let reused: u32 = resumed.iter().map(|r| r.resumed_batches).sum();
+    assert_eq!(reused, 7);
+    for (a, p) in alone.iter().zip(&resumed) {
+        assert_eq!(strip(a.clone()), strip(physics_json(p)));
+    }
+    assert_eq!(done.into_inner(), 3 * 300_000);
+    // A journal of other runs is refused.
+    let mut other = cfgs.clone();
+    other[0].seed = 99;
+    assert!(run_many(&other, Engine::Auto, 2, Some(&journal), &|_| {}).is_err());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -36,7 +36,8 @@ pub const MAX_COLLISIONS_PER_TRAJECTORY: u64 = 1 << 50;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Engine {
-    /// SIMD for `f64` runs of the triangular lattice, scalar otherwise.
+    /// SIMD for `f64` runs of the triangular lattice on a CPU with AVX2 or AVX-512, scalar
+    /// otherwise.
     #[default]
     Auto,
     /// One trajectory at a time on the generic kernel (any precision).
@@ -46,12 +47,24 @@ pub enum Engine {
 }
 
 impl Engine {
-    /// The engine that runs at number type `precision_is_f64`: `Auto` is SIMD for `f64` and
-    /// scalar for MPFR; an explicit `Simd` at MPFR precision is refused.
+    /// The engine that runs at number type `precision_is_f64`: `Auto` is SIMD for `f64` (on a
+    /// CPU with AVX2 or AVX-512, or with [`SIMD_ENV`] naming a path) and scalar for MPFR; an
+    /// explicit `Simd` at MPFR precision is refused.
     pub fn resolve(self, precision_is_f64: bool) -> Result<Resolved, Error> {
         match (self, precision_is_f64) {
             (Engine::Scalar, _) | (Engine::Auto, false) => Ok(Resolved::Scalar),
-            (Engine::Auto, true) | (Engine::Simd, true) => Ok(Resolved::Simd(SimdPath::select()?)),
+            (Engine::Auto, true) => {
+                // The portable path only pays off where the compiler can vectorise it well; on
+                // a CPU with neither AVX2 nor AVX-512 `auto` keeps the scalar engine unless the
+                // path is asked for by name.
+                let p = SimdPath::select()?;
+                if p == SimdPath::Portable && !SimdPath::forced() {
+                    Ok(Resolved::Scalar)
+                } else {
+                    Ok(Resolved::Simd(p))
+                }
+            }
+            (Engine::Simd, true) => Ok(Resolved::Simd(SimdPath::select()?)),
             (Engine::Simd, false) => Err(Error::Invalid(
                 "--engine simd runs f64 only: use --engine scalar (or auto) with an MPFR precision"
                     .into(),
@@ -125,6 +138,11 @@ impl SimdPath {
             .into_iter()
             .find(|p| p.available())
             .unwrap_or(SimdPath::Portable)
+    }
+
+    /// `true` if [`SIMD_ENV`] names a path.
+    pub fn forced() -> bool {
+        std::env::var(SIMD_ENV).is_ok_and(|v| !v.is_empty())
     }
 
     /// The path [`SIMD_ENV`] names, or the best one.
