@@ -407,6 +407,55 @@ impl QuadraticFit {
     }
 }
 
+/// χ² of a weighted least-squares polynomial of `degree` through (x, y ± σ), with x mapped onto
+/// [−1, 1] first (so the normal equations stay well conditioned), solved by SVD; with its degrees of
+/// freedom n − degree − 1.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::stats::weighted_polynomial_chi2;
+/// let x = [0.0, 1.0, 2.0, 3.0];
+/// let y: Vec<f64> = x.iter().map(|x| 1.0 + x * x).collect();
+/// let (chi2, dof) = weighted_polynomial_chi2(&x, &y, &[0.1; 4], 2).unwrap();
+/// assert!(chi2 < 1e-18 && dof == 1);
+/// ```
+///
+/// # Errors
+/// Fewer than degree + 2 points, or an error that is not positive and finite.
+pub fn weighted_polynomial_chi2(
+    x: &[f64],
+    y: &[f64],
+    sigma: &[f64],
+    degree: usize,
+) -> Result<(f64, usize), Error> {
+    let n = x.len();
+    if y.len() != n || sigma.len() != n || n < degree + 2 {
+        return Err(Error::Invalid(format!(
+            "a degree-{degree} fit with a χ² needs at least {} points, each with x, y and an error",
+            degree + 2
+        )));
+    }
+    let w = weights(sigma)?;
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let (mid, half) = (0.5 * (lo + hi), (0.5 * (hi - lo)).max(f64::MIN_POSITIVE));
+    let a = nalgebra::DMatrix::from_fn(n, degree + 1, |r, k| {
+        ((x[r] - mid) / half).powi(k as i32) * w[r].sqrt()
+    });
+    let b = nalgebra::DVector::from_fn(n, |r, _| y[r] * w[r].sqrt());
+    let c = a
+        .clone()
+        .svd(true, true)
+        .solve(&b, 1e-14)
+        .map_err(|e| Error::Invalid(format!("polynomial fit: {e}")))?;
+    let r = a * c - b;
+    Ok((r.norm_squared(), n - degree - 1))
+}
+
 /// Weighted least squares of a quadratic through points (x, y ± σ), in t = x − `x0`.
 ///
 /// # Examples

@@ -20,7 +20,8 @@ use crate::geometry::Geometry;
 use crate::grid::decimal_grid;
 use crate::metadata::RunMeta;
 use crate::stats::{
-    f_p_value, weighted_line_fit, weighted_mean, weighted_quadratic_fit, LineFit, WeightedMean,
+    f_p_value, weighted_line_fit, weighted_mean, weighted_polynomial_chi2, weighted_quadratic_fit,
+    LineFit, WeightedMean,
 };
 
 /// What defines a sweep.
@@ -80,6 +81,11 @@ pub struct SweepReport {
     /// Weighted straight line D = c₀ + c₁w over the range (the residuals of Fig. 8 are from it);
     /// its χ²/dof measures structure beyond a straight line.
     pub linear_fit: LineFit,
+    /// χ² and degrees of freedom of weighted polynomials of degree 1 … 7 (as far as the points
+    /// allow): structure that no low-degree polynomial absorbs within the errors is fine structure,
+    /// not curvature.
+    #[serde(default)]
+    pub polynomial_chi2: Vec<PolynomialChi2>,
     /// Boltzmann offset ΔD in D = D_Bo − ΔD with the slope fixed at 3/16: the weighted mean of
     /// D_Bo − D, with χ² of the points about it.
     pub boltzmann_offset: WeightedMean,
@@ -96,6 +102,20 @@ pub struct SweepReport {
     /// Version, seed, runs, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
+
+/// The χ² of one weighted polynomial fit of D(w).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PolynomialChi2 {
+    /// Degree.
+    pub degree: usize,
+    /// χ².
+    pub chi2: f64,
+    /// Degrees of freedom (points − degree − 1).
+    pub dof: usize,
+}
+
+/// Highest polynomial degree tried in [`SweepReport::polynomial_chi2`].
+pub const MAX_POLYNOMIAL_DEGREE: usize = 7;
 
 /// A zero of D − D_MZ.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -378,7 +398,16 @@ fn analyse(
         r.residual = r.D - lin.at(r.w);
     }
     let crossing = mz_crossing(&rows)?;
+    let mut polynomial_chi2 = Vec::new();
+    for degree in 1..=MAX_POLYNOMIAL_DEGREE {
+        if ws.len() < degree + 2 {
+            break;
+        }
+        let (chi2, dof) = weighted_polynomial_chi2(&ws, &ds, &es, degree)?;
+        polynomial_chi2.push(PolynomialChi2 { degree, chi2, dof });
+    }
     Ok(SweepReport {
+        polynomial_chi2,
         config: cfg.clone(),
         rows,
         linear_fit: lin,

@@ -85,6 +85,14 @@ fn print(r: &SweepReport) {
         "straight line D = {:.6} + {:.6} w: chi2/dof = {:.2}/{} (residuals: Fig. 8)",
         l.intercept, l.slope, l.chi2, l.dof
     );
+    println!(
+        "polynomials in w, chi2/dof by degree: {}",
+        r.polynomial_chi2
+            .iter()
+            .map(|p| format!("{}: {:.1}/{}", p.degree, p.chi2, p.dof))
+            .collect::<Vec<_>>()
+            .join("  ")
+    );
     let b = &r.boltzmann_offset;
     println!(
         "Boltzmann offset (slope 3/16): Delta D = {:.5} ± {:.5} (chi2/dof = {:.1}/{}; error scaled by sqrt(chi2/dof) when above 1: ± {:.5})",
