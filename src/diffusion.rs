@@ -184,6 +184,17 @@ impl DiffusionConfig {
         Ok(())
     }
 
+    /// The trajectories of this run: batch i follows the stream (seed, run, i) for its share of
+    /// the collisions.
+    fn jobs(&self) -> impl Iterator<Item = Job> + '_ {
+        (0..self.batches).map(move |i| Job {
+            seed: self.seed,
+            run: self.run,
+            index: i,
+            collisions: crate::parallel::share(self.collisions, self.batches, i),
+        })
+    }
+
     /// The lags (in units of τ) the MSD is accumulated at: those of both fit windows.
     pub fn lags(&self) -> Vec<usize> {
         let mut l = self.window.lags();
@@ -487,6 +498,22 @@ pub fn run_audited(
     run_on(cfg, Engine::Auto, threads, checkpoint, audit, progress)
 }
 
+/// What a run (or runs packed together) at `cfg`'s w and windows needs before its trajectories
+/// start: the engine that will run them, the geometry, τ and the MSD lags.
+fn setup(
+    cfg: &DiffusionConfig,
+    engine: Engine,
+    threads: usize,
+) -> Result<(Resolved, Geometry<f64>, f64, Vec<usize>), Error> {
+    if threads == 0 {
+        return Err(Error::Zero { what: "threads" });
+    }
+    let resolved = engine.resolve(cfg.precision == Precision::F64)?;
+    let g = Geometry::new(cfg.w)?;
+    let tau = g.hop_time();
+    Ok((resolved, g, tau, cfg.lags()))
+}
+
 /// As [`run_audited`], on the engine `engine` ([`Engine::Auto`]: SIMD for `f64`). The result has
 /// the same bits on every engine and at every thread count; only `seconds`, the speed and the
 /// metadata's engine differ.
@@ -504,14 +531,8 @@ pub fn run_on(
             "--audit replays f64 events in MPFR: it applies to f64 runs only".into(),
         ));
     }
-    if threads == 0 {
-        return Err(Error::Zero { what: "threads" });
-    }
-    let resolved = engine.resolve(cfg.precision == Precision::F64)?;
+    let (resolved, g, tau, lags) = setup(cfg, engine, threads)?;
     let start = Instant::now();
-    let g = Geometry::new(cfg.w)?;
-    let tau = g.hop_time();
-    let lags = cfg.lags();
 
     let mut done: Vec<BatchResult> = match checkpoint {
         Some(p) => load_checkpoint(p, cfg)?,
@@ -521,14 +542,9 @@ pub fn run_on(
     for b in &done {
         progress(b.counters.collisions);
     }
-    let todo: Vec<Job> = (0..cfg.batches)
-        .filter(|i| !done.iter().any(|b| b.index == *i))
-        .map(|i| Job {
-            seed: cfg.seed,
-            run: cfg.run,
-            index: i,
-            collisions: crate::parallel::share(cfg.collisions, cfg.batches, i),
-        })
+    let todo: Vec<Job> = cfg
+        .jobs()
+        .filter(|j| !done.iter().any(|b| b.index == j.index))
         .collect();
     let writer = match checkpoint {
         Some(p) => Some(Mutex::new(open_checkpoint(p, cfg)?)),
@@ -650,25 +666,9 @@ pub fn run_many(
             ));
         }
     }
-    if threads == 0 {
-        return Err(Error::Zero { what: "threads" });
-    }
-    let resolved = engine.resolve(first.precision == Precision::F64)?;
+    let (resolved, g, tau, lags) = setup(first, engine, threads)?;
     let start = Instant::now();
-    let g = Geometry::new(first.w)?;
-    let tau = g.hop_time();
-    let lags = first.lags();
-    let jobs: Vec<Job> = cfgs
-        .iter()
-        .flat_map(|c| {
-            (0..c.batches).map(move |i| Job {
-                seed: c.seed,
-                run: c.run,
-                index: i,
-                collisions: crate::parallel::share(c.collisions, c.batches, i),
-            })
-        })
-        .collect();
+    let jobs: Vec<Job> = cfgs.iter().flat_map(DiffusionConfig::jobs).collect();
     let finished = match journal {
         Some(p) => load_journal(p, cfgs)?,
         None => Vec::new(),
