@@ -241,6 +241,16 @@ pub fn drive<T: Real, K: CellKernel<T>, O: Observer<1>>(
     Ok(())
 }
 
+/// The event buffers of one SIMD block ([`simd::OBSERVE_EVERY`] steps and the state after them),
+/// starting a page. Where the allocator happened to put them changed a worker's speed: with the
+/// ring from a plain `Vec`, one of two threads ran 15–20 % slower than the other, for its whole
+/// block (8·10⁸ collisions on 2 threads: 180 M/s; page-aligned: 192–208 M/s, with one thread
+/// unchanged at ~103 M/s). Aligning the ring, not the buffers inside it, leaves the hot loop's
+/// code as it was (`#[repr(align(64))]` on [`EventLanes`] balanced the threads too but made one
+/// thread 8–14 % slower).
+#[repr(C, align(4096))]
+struct Ring([EventLanes<BLOCK>; simd::OBSERVE_EVERY + 1]);
+
 /// The SIMD engine: advances up to [`BLOCK`] trajectories `states` of the triangular lattice
 /// with trap `trap`, lane l until it has made `quotas[l]` collisions, showing every step to
 /// `obs` (built for [`BLOCK`] lanes; lanes beyond `states.len()` are never live). The states are
@@ -276,7 +286,8 @@ pub fn run_block<O: Observer<BLOCK>>(
         collisions: [0.0; BLOCK],
         quota: [0.0; BLOCK],
     };
-    let mut ring = vec![EventLanes::<BLOCK>::default(); simd::OBSERVE_EVERY + 1];
+    let mut ring = Box::new(Ring(std::array::from_fn(|_| EventLanes::default())));
+    let ring = &mut ring.0[..];
     let st = &mut ring[0];
     for (l, (s, &q)) in states.iter().zip(quotas).enumerate() {
         let f = &s.flight;
@@ -294,11 +305,11 @@ pub fn run_block<O: Observer<BLOCK>>(
     let lost = match path {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `path.available()` checked the CPU feature above.
-        SimdPath::Avx512 => unsafe { run_avx512(trap, &mut counts, &mut ring, obs, progress) },
+        SimdPath::Avx512 => unsafe { run_avx512(trap, &mut counts, ring, obs, progress) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        SimdPath::Avx2 => unsafe { run_avx2(trap, &mut counts, &mut ring, obs, progress) },
-        _ => simd::run::<lanes::Portable, O>(trap, &mut counts, &mut ring, obs, progress),
+        SimdPath::Avx2 => unsafe { run_avx2(trap, &mut counts, ring, obs, progress) },
+        _ => simd::run::<lanes::Portable, O>(trap, &mut counts, ring, obs, progress),
     };
     let st = &ring[0];
     for (l, s) in states.iter_mut().enumerate() {
