@@ -47,6 +47,7 @@ pub mod real;
 pub mod report;
 pub mod sampling;
 pub mod scenes;
+pub mod slurm;
 pub mod stats;
 pub mod sweep;
 pub mod symbols;

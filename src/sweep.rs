@@ -57,6 +57,85 @@ pub struct RunValue {
 /// beyond a campaign; more is a typo, refused before the grid is allocated.
 pub const MAX_SWEEP_POINTS: u32 = 10_000;
 
+/// Part `index` of `count` of a sweep's points: point i belongs to part i mod `count` (parts
+/// 0 … count − 1, as Slurm numbers the tasks of `--array=0-(count−1)`). Round-robin, so every
+/// part spans the whole w range and the parts take about equal time (the cost per collision
+/// varies with w). A part's points are the same bits as those points of the whole sweep: a point
+/// depends only on the configuration and its index.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// Which part, 0 … count − 1.
+    pub index: u32,
+    /// Into how many parts the points are dealt.
+    pub count: u32,
+}
+
+impl Shard {
+    /// Parses `I/N` (0 ≤ I < N), as in `--shard 3/8`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::sweep::Shard;
+    /// let s = Shard::parse("1/4").unwrap();
+    /// assert_eq!((s.index, s.count), (1, 4));
+    /// assert!(s.owns(5) && !s.owns(4));
+    /// assert!(Shard::parse("4/4").is_err());
+    /// ```
+    pub fn parse(text: &str) -> Result<Shard, Error> {
+        let bad = || {
+            Error::Invalid(format!(
+                "shard = {text:?}: expected I/N with N from 1 to {MAX_SWEEP_POINTS} and I from 0 to N-1 (Slurm: --shard $SLURM_ARRAY_TASK_ID/N with --array=0-(N-1))"
+            ))
+        };
+        let (i, n) = text.trim().split_once('/').ok_or_else(bad)?;
+        let index: u32 = i.trim().parse().map_err(|_| bad())?;
+        let count: u32 = n.trim().parse().map_err(|_| bad())?;
+        if count == 0 || count > MAX_SWEEP_POINTS || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// Whether point `i` belongs to this part.
+    pub fn owns(&self, i: u32) -> bool {
+        i % self.count == self.index
+    }
+
+    /// Checks that every part of `cfg`'s points gets at least one point.
+    pub fn validate(&self, cfg: &SweepConfig) -> Result<(), Error> {
+        if self.count > cfg.steps || self.index >= self.count {
+            return Err(Error::Invalid(format!(
+                "shard = {}/{}: a sweep of {} points has parts 0 to N-1 with N from 1 to {} (every part needs a point)",
+                self.index, self.count, cfg.steps, cfg.steps
+            )));
+        }
+        Ok(())
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+/// What one part of a sharded sweep leaves in its directory (`shard.json`, next to `points/`):
+/// the part's identity for [`merge`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ShardReport {
+    /// The whole sweep's configuration.
+    pub config: SweepConfig,
+    /// Which part.
+    pub shard: Shard,
+    /// Indices of the part's points, all finished.
+    pub points: Vec<u32>,
+    /// Of them, reused from an earlier, interrupted run of the part.
+    pub resumed_points: u32,
+    /// Version, seed, engine, threads, command line of this part's process.
+    pub meta: RunMeta,
+}
+
 /// One finished point (the unit of resumption).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SweepPoint {
@@ -244,10 +323,62 @@ pub fn sweep_on(
 ) -> Result<SweepReport, Error> {
     cfg.validate()?;
     let resolved = engine.resolve(true)?;
+    let (points, resumed) = run_points(cfg, dir, engine, threads, progress, |_| true)?;
+    let mut report = analyse(cfg, &points, resumed, threads)?;
+    report.meta = report.meta.with_engine(resolved);
+    write_outputs(&report, dir)?;
+    Ok(report)
+}
+
+/// Part `shard` of the sweep `cfg`: its points only (resumable, as [`sweep_on`]), written to
+/// `dir/points/` with `dir/shard.json`; the analysis waits for [`merge`]. `progress` receives
+/// collision counts.
+pub fn sweep_shard(
+    cfg: &SweepConfig,
+    shard: Shard,
+    dir: &Path,
+    engine: Engine,
+    threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ShardReport, Error> {
+    cfg.validate()?;
+    shard.validate(cfg)?;
+    let resolved = engine.resolve(true)?;
+    let (points, resumed) = run_points(cfg, dir, engine, threads, progress, |i| shard.owns(i))?;
+    let report = ShardReport {
+        config: cfg.clone(),
+        shard,
+        points: points.iter().map(|p| p.index).collect(),
+        resumed_points: resumed,
+        meta: RunMeta::new(
+            Some(cfg.seed),
+            Some(cfg.runs as u64 * cfg.batches as u64),
+            Precision::F64,
+            Some(threads),
+        )
+        .with_engine(resolved),
+    };
+    write_atomically(&dir.join("shard.json"), &to_json(&report)?)?;
+    Ok(report)
+}
+
+/// Runs (or reuses) the points i of `cfg` with `owns(i)`, in index order, each written to
+/// `dir/points/` as it finishes; returns them and how many were reused.
+fn run_points(
+    cfg: &SweepConfig,
+    dir: &Path,
+    engine: Engine,
+    threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
+    owns: impl Fn(u32) -> bool,
+) -> Result<(Vec<SweepPoint>, u32), Error> {
     std::fs::create_dir_all(dir.join("points"))?;
     let mut points = Vec::new();
     let mut resumed = 0;
     for (i, w) in cfg.points()?.into_iter().enumerate() {
+        if !owns(i as u32) {
+            continue;
+        }
         let path = point_path(dir, i);
         if let Ok(text) = std::fs::read_to_string(&path) {
             if let Ok(p) = serde_json::from_str::<SweepPoint>(&text) {
@@ -282,20 +413,216 @@ pub fn sweep_on(
             w,
             runs,
         };
-        // Write-then-rename: an interruption never leaves a half-written point.
-        let tmp = path.with_extension("tmp");
-        std::fs::write(
-            &tmp,
-            serde_json::to_string(&p).map_err(|e| Error::Io(e.to_string()))?,
+        write_atomically(
+            &path,
+            &serde_json::to_string(&p).map_err(|e| Error::Io(e.to_string()))?,
         )?;
-        std::fs::rename(&tmp, &path)?;
         let _ = std::fs::remove_file(&journal);
         points.push(p);
     }
-    let mut report = analyse(cfg, &points, resumed, threads)?;
-    report.meta = report.meta.with_engine(resolved);
-    write_outputs(&report, dir)?;
+    Ok((points, resumed))
+}
+
+fn to_json<T: Serialize>(x: &T) -> Result<String, Error> {
+    serde_json::to_string_pretty(x).map_err(|e| Error::Io(e.to_string()))
+}
+
+/// Write-then-rename: an interruption never leaves a half-written file.
+fn write_atomically(path: &Path, text: &str) -> Result<(), Error> {
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, text)?;
+    std::fs::rename(&tmp, path)?;
+    Ok(())
+}
+
+/// Combines the directories of a sharded sweep (each from [`sweep_shard`], or any directory of
+/// finished points of the same sweep) into `out`: the points are copied to `out/points/` (so
+/// that `lorentz sweep` with the same configuration and `--out out` resumes all of them) and the
+/// analysis, `sweep.csv`, `sweep.json` and the figures are written as [`sweep_on`] writes them —
+/// the same bits, apart from `meta` (this process) and `resumed_points` (every point merged).
+///
+/// # Errors
+/// A directory without points, points or parts of different configurations, a point or part
+/// present twice, parts of different counts, or missing points (named, with the part that owns
+/// each) — before anything is written.
+pub fn merge(dirs: &[PathBuf], out: &Path, threads: usize) -> Result<SweepReport, Error> {
+    if dirs.is_empty() {
+        return Err(Error::Invalid(
+            "merge needs at least one directory of sweep points".into(),
+        ));
+    }
+    let mut cfg: Option<(SweepConfig, PathBuf)> = None;
+    let mut shards: std::collections::BTreeMap<u32, (Shard, PathBuf)> = Default::default();
+    let mut found: std::collections::BTreeMap<u32, (SweepPoint, PathBuf)> = Default::default();
+    let same = |c: &SweepConfig, d: &Path, cfg: &mut Option<(SweepConfig, PathBuf)>| match cfg {
+        None => {
+            *cfg = Some((c.clone(), d.to_path_buf()));
+            Ok(())
+        }
+        Some((c0, d0)) if c0 != c => Err(Error::Invalid(format!(
+            "{} and {} hold different sweeps ({}): merge only parts of one sweep",
+            d0.display(),
+            d.display(),
+            config_difference(c0, c)
+        ))),
+        Some(_) => Ok(()),
+    };
+    for d in dirs {
+        let manifest = d.join("shard.json");
+        if manifest.exists() {
+            let text = std::fs::read_to_string(&manifest)?;
+            let m: ShardReport = serde_json::from_str(&text).map_err(|e| {
+                Error::Invalid(format!(
+                    "{} is not a shard manifest: {e}",
+                    manifest.display()
+                ))
+            })?;
+            same(&m.config, d, &mut cfg)?;
+            if let Some((s0, d0)) = shards.values().next() {
+                if s0.count != m.shard.count {
+                    return Err(Error::Invalid(format!(
+                        "{} is part {} but {} is part {}: merge parts of one split",
+                        d0.display(),
+                        s0,
+                        d.display(),
+                        m.shard
+                    )));
+                }
+            }
+            if let Some((_, d0)) = shards.get(&m.shard.index) {
+                return Err(Error::Invalid(format!(
+                    "part {} is in both {} and {}",
+                    m.shard,
+                    d0.display(),
+                    d.display()
+                )));
+            }
+            shards.insert(m.shard.index, (m.shard, d.clone()));
+        }
+        let pdir = d.join("points");
+        let entries = std::fs::read_dir(&pdir).map_err(|e| {
+            Error::Invalid(format!(
+                "{}: no sweep points here ({e}); give the directories that lorentz sweep --shard wrote",
+                d.display()
+            ))
+        })?;
+        let mut names: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "json"))
+            .collect();
+        names.sort();
+        for path in names {
+            let text = std::fs::read_to_string(&path)?;
+            let p: SweepPoint = serde_json::from_str(&text).map_err(|e| {
+                Error::Invalid(format!("{} is not a sweep point: {e}", path.display()))
+            })?;
+            same(&p.config, d, &mut cfg)?;
+            if let Some((_, d0)) = found.get(&p.index) {
+                return Err(Error::Invalid(format!(
+                    "point {} (w = {}) is in both {} and {}",
+                    p.index,
+                    p.w,
+                    d0.display(),
+                    d.display()
+                )));
+            }
+            found.insert(p.index, (p, d.clone()));
+        }
+    }
+    // The engines that ran the parts (informational: every engine gives the same bits).
+    let mut engines: Vec<(String, Option<String>)> = Vec::new();
+    for (_, d) in shards.values() {
+        let text = std::fs::read_to_string(d.join("shard.json"))?;
+        if let Ok(m) = serde_json::from_str::<ShardReport>(&text) {
+            let e = (m.meta.engine, m.meta.simd);
+            if !engines.contains(&e) {
+                engines.push(e);
+            }
+        }
+    }
+    let Some((cfg, _)) = cfg else {
+        return Err(Error::Invalid(format!(
+            "no sweep points in {}",
+            dirs.iter()
+                .map(|d| d.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    };
+    cfg.validate()?;
+    let grid = cfg.points()?;
+    let missing: Vec<u32> = (0..cfg.steps).filter(|i| !found.contains_key(i)).collect();
+    if !missing.is_empty() {
+        let count = shards.values().next().map(|(s, _)| s.count);
+        let list = missing
+            .iter()
+            .take(10)
+            .map(|&i| match count {
+                Some(n) => format!("{i} (w = {}, part {}/{n})", grid[i as usize], i % n),
+                None => format!("{i} (w = {})", grid[i as usize]),
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        let more = if missing.len() > 10 { ", …" } else { "" };
+        return Err(Error::Invalid(format!(
+            "{} of {} points missing: {list}{more}; run (or finish) those parts first",
+            missing.len(),
+            cfg.steps
+        )));
+    }
+    let mut points = Vec::with_capacity(found.len());
+    for (i, (p, _)) in found {
+        if p.w != grid[i as usize] {
+            return Err(Error::Invalid(format!(
+                "point {i} has w = {} but the grid has {}: a damaged point file",
+                p.w, grid[i as usize]
+            )));
+        }
+        points.push(p);
+    }
+    std::fs::create_dir_all(out.join("points"))?;
+    for p in &points {
+        write_atomically(
+            &point_path(out, p.index as usize),
+            &serde_json::to_string(p).map_err(|e| Error::Io(e.to_string()))?,
+        )?;
+    }
+    let n = points.len() as u32;
+    let mut report = analyse(&cfg, &points, n, threads)?;
+    if let [(engine, simd)] = &engines[..] {
+        report.meta.engine = engine.clone();
+        report.meta.simd = simd.clone();
+    } else if !engines.is_empty() {
+        report.meta.engine = engines
+            .iter()
+            .map(|(e, s)| s.as_ref().map_or(e.clone(), |s| format!("{e} ({s})")))
+            .collect::<Vec<_>>()
+            .join(" + ");
+    }
+    write_outputs(&report, out)?;
     Ok(report)
+}
+
+/// The first field in which two sweep configurations differ, as `field: a ≠ b`.
+fn config_difference(a: &SweepConfig, b: &SweepConfig) -> String {
+    let fields = [
+        ("w_from", a.w_from.clone(), b.w_from.clone()),
+        ("w_to", a.w_to.clone(), b.w_to.clone()),
+        ("steps", a.steps.to_string(), b.steps.to_string()),
+        ("runs", a.runs.to_string(), b.runs.to_string()),
+        (
+            "collisions",
+            a.collisions.to_string(),
+            b.collisions.to_string(),
+        ),
+        ("batches", a.batches.to_string(), b.batches.to_string()),
+        ("seed", a.seed.to_string(), b.seed.to_string()),
+    ];
+    fields
+        .iter()
+        .find(|(_, x, y)| x != y)
+        .map(|(f, x, y)| format!("{f}: {x} vs {y}"))
+        .unwrap_or_else(|| "their configurations differ".into())
 }
 
 /// One point's D, its error from the batch errors inside the runs, and the runs' χ².

@@ -294,6 +294,87 @@ const BAD: &[(&[&str], &str)] = &[
         ],
         "too small",
     ),
+    (
+        &[
+            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--shard", "3/3", "--out", "out",
+        ],
+        "0 to N-1",
+    ),
+    (
+        &[
+            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--shard", "a/b", "--out", "out",
+        ],
+        "I/N",
+    ),
+    (
+        &[
+            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--shard", "11/12", "--out", "out",
+        ],
+        "every part needs a point",
+    ),
+    // merge
+    (&["merge", "no-such-dir", "--out", "out"], "no sweep points"),
+    (&["merge", "--out", "out"], "required"),
+    // slurm
+    (
+        &[
+            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "0", "--out", "out",
+        ],
+        "1 to 11 parts",
+    ),
+    (
+        &[
+            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "12", "--out", "out",
+        ],
+        "1 to 11 parts",
+    ),
+    (
+        &[
+            "slurm",
+            "sweep",
+            "--w-from",
+            "0.1",
+            "--w-to",
+            "0.2",
+            "--array",
+            "4",
+            "--partition",
+            "a b",
+            "--out",
+            "out",
+        ],
+        "partition",
+    ),
+    (
+        &[
+            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "4", "--time", "2h",
+            "--out", "out",
+        ],
+        "2:00:00",
+    ),
+    (
+        &[
+            "slurm",
+            "sweep",
+            "--w-from",
+            "0.1",
+            "--w-to",
+            "0.2",
+            "--array",
+            "4",
+            "--cpus-per-task",
+            "0",
+            "--out",
+            "out",
+        ],
+        "cpus-per-task",
+    ),
+    (
+        &[
+            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.5", "--array", "4", "--out", "out",
+        ],
+        "infinite",
+    ),
     // figure
     (&["figure", "fig9", "--out", "out"], "invalid value"),
     (

@@ -17,6 +17,8 @@ mod figure;
 mod hops;
 mod lattice_walk;
 mod lyapunov;
+mod merge;
+mod slurm;
 mod sweep;
 mod theory;
 mod trajectory;
@@ -59,6 +61,10 @@ enum Cmd {
     Hops(hops::Args),
     /// D over a range of w with independent runs per point (resumable); residuals, Boltzmann fit, MZ crossing, figures.
     Sweep(sweep::Args),
+    /// Combine the parts of a sweep run with --shard I/N into the whole sweep's CSV, JSON and figures (bit-identical).
+    Merge(merge::Args),
+    /// Write Slurm batch scripts for a campaign: a job array of sweep parts and a merge job that depends on it.
+    Slurm(slurm::Args),
     /// Regenerate one of the paper's figures from this crate's numbers (PNG, SVG, CSV, JSON into --out).
     Figure(figure::Args),
     /// The corrected Machta-Zwanzig hierarchy (D_cf, D_bs, D_1, D_k), App. A p_cf, and the exact D of correlated lattice walks, on measured hop statistics.
@@ -124,6 +130,8 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::Backscatter(a) => backscatter::run(a),
         Cmd::Hops(a) => hops::run(a),
         Cmd::Sweep(a) => sweep::run(a),
+        Cmd::Merge(a) => merge::run(a),
+        Cmd::Slurm(a) => slurm::run(a),
         Cmd::Figure(a) => figure::run(a),
         Cmd::Theory(a) => theory::run(a),
         Cmd::LatticeWalk(a) => lattice_walk::run(a),

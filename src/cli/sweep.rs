@@ -1,14 +1,15 @@
 //! `lorentz sweep`: D over a range of w, resumable, with the paper's coarse and fine analyses.
 
 use lorentz_gas::error::Error;
-use lorentz_gas::sweep::{sweep_on, SweepConfig, SweepReport};
+use lorentz_gas::sweep::{sweep_on, sweep_shard, Shard, SweepConfig, SweepReport};
 
 use super::args::{parse_count, parse_count_u32, EngineArg, OutDirArg, OutputArgs, RunArgs};
 use super::output::emit;
 use super::progress::Progress;
 
-#[derive(clap::Args)]
-pub struct Args {
+/// The sweep itself: the w grid, runs, collisions, batches (shared with `lorentz slurm sweep`).
+#[derive(clap::Args, Clone)]
+pub struct GridArgs {
     /// First w, a decimal (the grid is computed exactly: 0.1 .. 0.2 in 3 steps gives 0.15).
     #[arg(long, allow_negative_numbers = true)]
     w_from: String,
@@ -27,6 +28,33 @@ pub struct Args {
     /// Batches per run (at least 2): each run's error is the standard error over its batches.
     #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
+}
+
+impl GridArgs {
+    /// The sweep's configuration with `seed`, checked.
+    pub fn config(&self, seed: u64) -> Result<SweepConfig, Error> {
+        let cfg = SweepConfig {
+            w_from: self.w_from.clone(),
+            w_to: self.w_to.clone(),
+            steps: self.steps,
+            runs: self.runs,
+            collisions: self.collisions,
+            batches: self.batches,
+            seed,
+        };
+        cfg.validate()?;
+        Ok(cfg)
+    }
+}
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    grid: GridArgs,
+    /// Compute only part I of N (I = 0 .. N-1; point i belongs to part i mod N) into --out, for
+    /// `lorentz merge`; as a Slurm array task: --shard $SLURM_ARRAY_TASK_ID/N.
+    #[arg(long)]
+    shard: Option<String>,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -39,22 +67,44 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let cfg = SweepConfig {
-        w_from: a.w_from,
-        w_to: a.w_to,
-        steps: a.steps,
-        runs: a.runs,
-        collisions: a.collisions,
-        batches: a.batches,
-        seed: a.run.seed,
-    };
-    cfg.validate()?;
+    let cfg = a.grid.config(a.run.seed)?;
+    let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
+    if let Some(s) = shard {
+        s.validate(&cfg)?;
+    }
     let out = a.out.dir("results/sweep");
+    let points = match shard {
+        Some(s) => (0..cfg.steps).filter(|&i| s.owns(i)).count() as u64,
+        None => cfg.steps as u64,
+    };
     let total = a
+        .grid
         .collisions
-        .saturating_mul(a.runs as u64)
-        .saturating_mul(a.steps as u64);
+        .saturating_mul(a.grid.runs as u64)
+        .saturating_mul(points);
     let pb = Progress::new(total, "collisions", a.output.quiet);
+    if let Some(s) = shard {
+        let r = sweep_shard(
+            &cfg,
+            s,
+            &out,
+            a.engine.engine,
+            a.run.threads(),
+            &pb.callback(),
+        )?;
+        drop(pb);
+        return emit(a.output.json, &r, |r| {
+            println!(
+                "part {} of sweep w = {} .. {}: points {:?} ({} resumed) written to {}/points; combine the parts with lorentz merge",
+                r.shard,
+                cfg.w_from,
+                cfg.w_to,
+                r.points,
+                r.resumed_points,
+                out.display()
+            );
+        });
+    }
     let r = sweep_on(&cfg, &out, a.engine.engine, a.run.threads(), &pb.callback())?;
     drop(pb);
     emit(a.output.json, &r, |r| {
@@ -66,7 +116,8 @@ pub fn run(a: Args) -> Result<(), Error> {
     })
 }
 
-fn print(r: &SweepReport) {
+/// The sweep's table and fits, as text.
+pub fn print(r: &SweepReport) {
     let c = &r.config;
     println!(
         "sweep w = {} .. {}, {} points x {} runs x {} collisions in {} batches ({} points resumed)",

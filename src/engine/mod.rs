@@ -47,6 +47,15 @@ pub enum Engine {
 }
 
 impl Engine {
+    /// The name on the command line (`--engine auto|scalar|simd`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Engine::Auto => "auto",
+            Engine::Scalar => "scalar",
+            Engine::Simd => "simd",
+        }
+    }
+
     /// The engine that runs at number type `precision_is_f64`: `Auto` is SIMD for `f64` (on a
     /// CPU with AVX2 or AVX-512, or with [`SIMD_ENV`] naming a path) and scalar for MPFR; an
     /// explicit `Simd` at MPFR precision is refused.

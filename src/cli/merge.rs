@@ -1,0 +1,37 @@
+//! `lorentz merge`: the parts of a sharded sweep combined into the whole sweep's outputs.
+
+use std::path::PathBuf;
+
+use lorentz_gas::error::Error;
+use lorentz_gas::sweep::merge;
+
+use super::args::{OutDirArg, OutputArgs, RunArgs};
+use super::output::emit;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Directories written by `lorentz sweep --shard I/N` (all N parts of one sweep).
+    #[arg(required = true)]
+    dirs: Vec<PathBuf>,
+    /// Output directory (default results/sweep): sweep.csv, sweep.json, the figures, and every
+    /// point in OUT/points (so `lorentz sweep` with the same settings and --out OUT resumes them).
+    #[command(flatten)]
+    out: OutDirArg,
+    #[command(flatten)]
+    run: RunArgs,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let out = a.out.dir("results/sweep");
+    let r = merge(&a.dirs, &out, a.run.threads())?;
+    emit(a.output.json, &r, |r| {
+        super::sweep::print(r);
+        println!(
+            "merged {} parts: {}/sweep.{{csv,json}}, fig2-D-vs-w, fig7-boltzmann, fig8-residuals (.png, .svg)",
+            a.dirs.len(),
+            out.display()
+        );
+    })
+}

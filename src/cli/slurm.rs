@@ -1,0 +1,85 @@
+//! `lorentz slurm`: batch scripts that run a campaign on a Slurm cluster (job array + dependent
+//! merge job). The scripts are written, not submitted: `sh OUT/slurm/submit.sh` submits them.
+
+use std::path::PathBuf;
+
+use lorentz_gas::error::Error;
+use lorentz_gas::slurm::SweepCampaign;
+
+use super::args::{parse_count_u32, EngineArg, OutDirArg, RunArgs};
+use super::sweep::GridArgs;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    what: What,
+}
+
+#[derive(clap::Subcommand)]
+enum What {
+    /// A sweep as a job array of N parts and a merge job that runs when all have succeeded.
+    Sweep(SweepArgs),
+}
+
+#[derive(clap::Args)]
+struct SweepArgs {
+    #[command(flatten)]
+    grid: GridArgs,
+    /// Parts of the sweep: array tasks 0 .. N-1 (1 to the number of points).
+    #[arg(long, value_parser = parse_count_u32, allow_negative_numbers = true)]
+    array: u32,
+    /// CPUs of each array task (its --threads).
+    #[arg(long, default_value = "1", value_parser = parse_count_u32, allow_negative_numbers = true)]
+    cpus_per_task: u32,
+    /// Slurm partition (default: the cluster's default partition).
+    #[arg(long)]
+    partition: Option<String>,
+    /// Wall-time limit of each task, in Slurm's forms (90, 2:00:00, 1-12:00:00).
+    #[arg(long)]
+    time: Option<String>,
+    /// The lorentz binary the jobs run (default: this one), as seen from the compute nodes.
+    #[arg(long)]
+    lorentz: Option<PathBuf>,
+    #[command(flatten)]
+    run: RunArgs,
+    #[command(flatten)]
+    engine: EngineArg,
+    /// Output directory of the campaign (default results/sweep): parts in OUT/shard-I, the merged
+    /// sweep in OUT, scripts and job logs in OUT/slurm.
+    #[command(flatten)]
+    out: OutDirArg,
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let What::Sweep(a) = a.what;
+    let config = a.grid.config(a.run.seed)?;
+    let absolute = |p: PathBuf| -> Result<PathBuf, Error> {
+        if p.is_absolute() {
+            Ok(p)
+        } else {
+            Ok(std::env::current_dir()?.join(p))
+        }
+    };
+    let binary = match a.lorentz {
+        Some(p) => absolute(p)?,
+        None => std::env::current_exe()?,
+    };
+    let c = SweepCampaign {
+        config,
+        parts: a.array,
+        out: absolute(a.out.dir("results/sweep"))?,
+        binary,
+        engine: a.engine.engine,
+        cpus_per_task: a.cpus_per_task,
+        partition: a.partition,
+        time: a.time,
+    };
+    for p in c.write()? {
+        println!("written: {}", p.display());
+    }
+    println!(
+        "submit with: sh {}",
+        c.out.join("slurm").join("submit.sh").display()
+    );
+    Ok(())
+}

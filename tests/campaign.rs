@@ -1,0 +1,145 @@
+//! Campaigns split into parts: a sweep computed as N shards and merged gives the same bits as the
+//! sweep computed in one piece, and merging refuses what does not belong together.
+
+use std::path::{Path, PathBuf};
+
+use lorentz_gas::engine::Engine;
+use lorentz_gas::sweep::{merge, sweep_on, sweep_shard, Shard, SweepConfig};
+
+fn scratch(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lorentz-campaign-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn config(seed: u64) -> SweepConfig {
+    SweepConfig {
+        w_from: "0.2".into(),
+        w_to: "0.3".into(),
+        steps: 5,
+        runs: 2,
+        collisions: 200_000,
+        batches: 4,
+        seed,
+    }
+}
+
+/// `sweep.json` without what differs by construction: `meta` (the process) and `resumed_points`.
+fn science(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("sweep.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let o = v.as_object_mut().unwrap();
+    o.remove("meta").expect("a meta block");
+    o.remove("resumed_points").expect("resumed_points");
+    v
+}
+
+fn same_bytes(a: &Path, b: &Path) {
+    assert!(
+        std::fs::read(a).unwrap() == std::fs::read(b).unwrap(),
+        "{} and {} differ",
+        a.display(),
+        b.display()
+    );
+}
+
+#[test]
+fn shards_merged_equal_the_whole_sweep_bit_for_bit() {
+    let dir = scratch("equal");
+    let cfg = config(1);
+    let quiet = |_: u64| {};
+    sweep_on(&cfg, &dir.join("whole"), Engine::Auto, 2, &quiet).unwrap();
+    // Three parts on different engines and thread counts: 5 points dealt as {0, 3}, {1, 4}, {2}.
+    let mut parts = Vec::new();
+    for (i, (engine, threads)) in [(Engine::Auto, 1), (Engine::Scalar, 2), (Engine::Auto, 2)]
+        .into_iter()
+        .enumerate()
+    {
+        let shard = Shard {
+            index: i as u32,
+            count: 3,
+        };
+        let d = dir.join(format!("part-{i}"));
+        let r = sweep_shard(&cfg, shard, &d, engine, threads, &quiet).unwrap();
+        let want: Vec<u32> = (0..5).filter(|p| p % 3 == i as u32).collect();
+        assert_eq!(r.points, want);
+        parts.push(d);
+    }
+    // Given in any order.
+    parts.reverse();
+    let merged = dir.join("merged");
+    let r = merge(&parts, &merged, 1).unwrap();
+    assert_eq!(r.rows.len(), 5);
+    let whole = dir.join("whole");
+    for f in [
+        "sweep.csv",
+        "fig2-D-vs-w.svg",
+        "fig7-boltzmann.svg",
+        "fig8-residuals.svg",
+        "fig8-residuals.png",
+    ] {
+        same_bytes(&whole.join(f), &merged.join(f));
+    }
+    assert_eq!(science(&whole), science(&merged));
+    for i in 0..5 {
+        let f = format!("points/point-{i:04}.json");
+        same_bytes(&whole.join(&f), &merged.join(&f));
+    }
+    // The merged directory is a finished sweep: running the sweep there resumes every point.
+    let again = sweep_on(&cfg, &merged, Engine::Auto, 2, &quiet).unwrap();
+    assert_eq!(again.resumed_points, 5);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn merge_refuses_missing_duplicate_and_foreign_parts() {
+    let dir = scratch("refuse");
+    let quiet = |_: u64| {};
+    let part = |cfg: &SweepConfig, i: u32, n: u32, name: &str| {
+        let d = dir.join(name);
+        sweep_shard(
+            cfg,
+            Shard { index: i, count: n },
+            &d,
+            Engine::Auto,
+            2,
+            &quiet,
+        )
+        .unwrap();
+        d
+    };
+    let a = part(&config(1), 0, 2, "a");
+    let b = part(&config(1), 1, 2, "b");
+    let foreign = part(&config(2), 1, 2, "foreign");
+    let other_split = part(&config(1), 2, 3, "other-split");
+    let out = dir.join("out");
+    let err = |dirs: &[PathBuf]| merge(dirs, &out, 1).unwrap_err().to_string();
+
+    let e = err(std::slice::from_ref(&a));
+    assert!(
+        e.contains("2 of 5 points missing") && e.contains("part 1/2"),
+        "{e}"
+    );
+    let e = err(&[a.clone(), b.clone(), b.clone()]);
+    assert!(e.contains("part 1/2 is in both"), "{e}");
+    let e = err(&[a.clone(), foreign]);
+    assert!(
+        e.contains("different sweeps") && e.contains("seed: 1 vs 2"),
+        "{e}"
+    );
+    let e = err(&[a.clone(), b.clone(), other_split]);
+    assert!(e.contains("part 0/2") && e.contains("part 2/3"), "{e}");
+    let e = err(&[dir.join("nothing")]);
+    assert!(e.contains("no sweep points"), "{e}");
+    // Nothing was written by the refused merges.
+    assert!(!out.exists());
+    // A damaged point (its w no longer on the grid) is named.
+    let p = b.join("points").join("point-0001.json");
+    let text = std::fs::read_to_string(&p).unwrap();
+    let w1 = lorentz_gas::grid::decimal_grid("0.2", "0.3", 5).unwrap()[1];
+    std::fs::write(&p, text.replace(&format!("\"w\":{w1}"), "\"w\":0.26")).unwrap();
+    let e = err(&[a, b]);
+    assert!(e.contains("point 1 has w = 0.26"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
