@@ -306,8 +306,74 @@ pub struct DiffusionReport {
     pub resumed_batches: u32,
     /// The self-audit, if requested: events replayed, outside the model, error quantiles.
     pub audit: Option<crate::verification::audit::AuditSummary>,
+    /// The configuration that produced the result (what `lorentz report` re-runs batches from).
+    #[serde(default)]
+    pub config: Option<DiffusionConfig>,
+    /// D of each batch, in batch order (D is their mean, D_err their standard error).
+    #[serde(default)]
+    pub batch_D: Vec<f64>,
+    /// D of each batch in the check window.
+    #[serde(default)]
+    pub batch_D_check: Vec<f64>,
+    /// Each batch's MSD at `msd_times` (batch order).
+    #[serde(default)]
+    pub batch_msd: Vec<Vec<f64>>,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
+}
+
+impl DiffusionReport {
+    /// D and D_err recomputed from the batch values exactly as the run computed them (the same
+    /// operations in the same order, so the same bits).
+    pub fn d_from_batches(&self) -> ((f64, f64), (f64, f64)) {
+        (mean_se(&self.batch_D), mean_se(&self.batch_D_check))
+    }
+}
+
+/// D of one batch in `window` and in `check`: the slope of its MSD against time over the lags of
+/// each window, divided by 4.
+pub fn batch_d(b: &BatchResult, tau: f64, window: &Window, check: &Window) -> (f64, f64) {
+    (d_of_batch(b, tau, window), d_of_batch(b, tau, check))
+}
+
+/// Runs only the batches `indices` of `cfg` (their own streams and collision shares, so each gives
+/// the bits it gave in the full run), on `engine`, replaying a fraction of their events in MPFR
+/// when `audit` is given. For re-checking a recorded result batch by batch.
+pub fn rerun_batches(
+    cfg: &DiffusionConfig,
+    indices: &[u32],
+    engine: Engine,
+    threads: usize,
+    audit: Option<AuditSpec>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<BatchResult>, Error> {
+    cfg.validate()?;
+    let (resolved, _, tau, lags) = setup(cfg, engine, threads)?;
+    for &i in indices {
+        if i >= cfg.batches {
+            return Err(Error::Invalid(format!(
+                "batch {i}: the run has batches 0 to {}",
+                cfg.batches - 1
+            )));
+        }
+    }
+    let jobs: Vec<Job> = cfg.jobs().filter(|j| indices.contains(&j.index)).collect();
+    let mut r = execute(
+        &jobs,
+        ExecSpec {
+            w: cfg.w,
+            precision: cfg.precision,
+            engine: resolved,
+            threads,
+            tau,
+            lags: &lags,
+            audit,
+        },
+        &|_, _| Ok(()),
+        progress,
+    )?;
+    r.sort_by_key(|b| b.index);
+    Ok(r)
 }
 
 /// One trajectory of a run: which stream starts it and how many collisions it makes.
@@ -936,6 +1002,10 @@ fn summarise(
         collisions_per_second: run_now as f64 / seconds,
         resumed_batches: resumed,
         audit,
+        config: Some(cfg.clone()),
+        batch_D: ds,
+        batch_D_check: dc,
+        batch_msd: done.iter().map(|b| b.msd.clone()).collect(),
         meta: RunMeta::new(
             Some(cfg.seed),
             Some(cfg.batches as u64),

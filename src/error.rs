@@ -45,6 +45,8 @@ pub enum Error {
     Invalid(String),
     /// An I/O error (checkpoint or output files).
     Io(String),
+    /// A verification ran and its verdict is FAIL (not bad input: exit status 1).
+    CheckFailed(String),
 }
 
 impl fmt::Display for Error {
@@ -73,6 +75,7 @@ impl fmt::Display for Error {
             }
             Error::Invalid(s) => write!(f, "{s}"),
             Error::Io(s) => write!(f, "I/O error: {s}"),
+            Error::CheckFailed(s) => write!(f, "{s}"),
         }
     }
 }

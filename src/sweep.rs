@@ -260,7 +260,7 @@ impl SweepConfig {
     }
 
     /// The diffusion run r of point i.
-    fn run_config(&self, i: u32, w: f64, r: u32) -> DiffusionConfig {
+    pub fn run_config(&self, i: u32, w: f64, r: u32) -> DiffusionConfig {
         let mut c = DiffusionConfig::new(w);
         c.collisions = self.collisions;
         c.batches = self.batches;

@@ -18,6 +18,7 @@ mod hops;
 mod lattice_walk;
 mod lyapunov;
 mod merge;
+mod report;
 mod slurm;
 mod sweep;
 mod theory;
@@ -31,6 +32,8 @@ use lorentz_gas::error::Error;
 
 /// Exit status of every refused input (clap's convention for usage errors).
 const EXIT_BAD_INPUT: u8 = 2;
+/// Exit status of a verification whose verdict is FAIL (`lorentz report`).
+const EXIT_CHECK_FAILED: u8 = 1;
 
 #[derive(Parser)]
 #[command(
@@ -61,6 +64,8 @@ enum Cmd {
     Hops(hops::Args),
     /// D over a range of w with independent runs per point (resumable); residuals, Boltzmann fit, MZ crossing, figures.
     Sweep(sweep::Args),
+    /// Audit a result file before publication: provenance, record, statistics, exact identities, shadow audit, precision independence, reproducibility (PASS/FAIL; Markdown, HTML, JSON).
+    Report(report::Args),
     /// Combine the parts of a sweep run with --shard I/N into the whole sweep's CSV, JSON and figures (bit-identical).
     Merge(merge::Args),
     /// Write Slurm batch scripts for a campaign: a job array of sweep parts and a merge job that depends on it.
@@ -106,6 +111,10 @@ pub fn main() -> ExitCode {
     };
     match run(cli.cmd) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e @ Error::CheckFailed(_)) => {
+            eprintln!("error: {}", one_line(&e));
+            ExitCode::from(EXIT_CHECK_FAILED)
+        }
         Err(e) => {
             eprintln!("error: {}", one_line(&e));
             ExitCode::from(EXIT_BAD_INPUT)
@@ -131,6 +140,7 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::Hops(a) => hops::run(a),
         Cmd::Sweep(a) => sweep::run(a),
         Cmd::Merge(a) => merge::run(a),
+        Cmd::Report(a) => report::run(a),
         Cmd::Slurm(a) => slurm::run(a),
         Cmd::Figure(a) => figure::run(a),
         Cmd::Theory(a) => theory::run(a),

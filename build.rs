@@ -1,0 +1,34 @@
+//! Build provenance for `lorentz report`: the git commit of the checkout (when built from one) and
+//! the rustc version, as compile-time environment variables.
+
+use std::process::Command;
+
+fn main() {
+    let run = |cmd: &str, args: &[&str]| {
+        Command::new(cmd)
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+            .filter(|s| !s.is_empty())
+    };
+    let commit = run("git", &["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let version = run(&rustc, &["--version"]).unwrap_or_else(|| "unknown".into());
+    println!("cargo:rustc-env=LORENTZ_GIT_COMMIT={commit}");
+    println!("cargo:rustc-env=LORENTZ_RUSTC_VERSION={version}");
+    // A new commit changes HEAD (detached) or the branch's ref; nothing else reruns this.
+    let mut watch = vec!["HEAD".to_string(), "packed-refs".to_string()];
+    watch.extend(run("git", &["symbolic-ref", "-q", "HEAD"]));
+    for name in watch {
+        // --git-path resolves the files of linked worktrees too; a missing file is not watched
+        // (cargo would rerun on every build).
+        if let Some(path) = run("git", &["rev-parse", "--git-path", &name]) {
+            if std::path::Path::new(&path).exists() {
+                println!("cargo:rerun-if-changed={path}");
+            }
+        }
+    }
+    println!("cargo:rerun-if-changed=build.rs");
+}
