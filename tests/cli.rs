@@ -234,6 +234,21 @@ const BAD: &[(&[&str], &str)] = &[
         ],
         "memory",
     ),
+    // shadow
+    (&["shadow", "--w", "0.4"], "0 < w < w_inf"),
+    (
+        &["shadow", "--w", "0.1", "--collisions", "0"],
+        "use 2 to 10000",
+    ),
+    (
+        &["shadow", "--w", "0.1", "--collisions", "2e4"],
+        "use 2 to 10000",
+    ),
+    (&["shadow", "--w", "0.1", "--precision", "64"], "use 128 to"),
+    (
+        &["shadow", "--w", "0.1", "--segments", "0"],
+        "use 1 to 10000",
+    ),
     // backscatter
     (&["backscatter", "--w", "0"], "trapped"),
     (&["backscatter", "--w", "0.1", "--visits", "0"], "visits"),

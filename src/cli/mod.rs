@@ -19,6 +19,7 @@ mod lattice_walk;
 mod lyapunov;
 mod merge;
 mod report;
+mod shadow;
 mod slurm;
 mod sweep;
 mod theory;
@@ -58,6 +59,8 @@ enum Cmd {
     Lyapunov(lyapunov::Args),
     /// Certify a segment of N collisions to D digits by precision doubling (runs at P and 2P bits agree).
     Certify(certify::Args),
+    /// True shadowing: a true orbit (MPFR, Newton on the whole segment) within delta of each f64 segment, with a Newton-Kantorovich bound.
+    Shadow(shadow::Args),
     /// Backscattering by injection into a single trap from the invariant flux (Kac's lemma checks included).
     Backscatter(backscatter::Args),
     /// Trap-hopping statistics along lattice trajectories: p_bs, p_cf, symbol sequences, hop-level Green-Kubo D.
@@ -136,6 +139,7 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::Audit(a) => audit::run(a),
         Cmd::Lyapunov(a) => lyapunov::run(a),
         Cmd::Certify(a) => certify::run(a),
+        Cmd::Shadow(a) => shadow::run(a),
         Cmd::Backscatter(a) => backscatter::run(a),
         Cmd::Hops(a) => hops::run(a),
         Cmd::Sweep(a) => sweep::run(a),

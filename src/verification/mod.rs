@@ -1,6 +1,7 @@
 //! Verification: the machinery that shows why the digits can be trusted.
 //!
 //! * [`shadow`]: replays single `f64` events in MPFR from the same pre-event state.
+//! * [`shadowing`]: true orbits near whole `f64` segments (Newton on the defects, GHYS).
 //! * [`reversibility`]: forward N collisions, reverse, N back.
 //! * [`birkhoff`]: the collision map in Birkhoff coordinates and its Jacobian.
 //! * [`audit`], [`lyapunov`], [`certify`]: production audits, chaos, certified segments.
@@ -14,3 +15,4 @@ pub mod oracle;
 pub mod publication;
 pub mod reversibility;
 pub mod shadow;
+pub mod shadowing;

@@ -1,0 +1,101 @@
+//! `lorentz shadow`: true orbits near f64 segments (Newton on the whole segment in MPFR).
+
+use lorentz_gas::error::Error;
+use lorentz_gas::geometry::Geometry;
+use lorentz_gas::grid::parse_exact;
+use lorentz_gas::scenes::triangular::TriangularScene;
+use lorentz_gas::verification::shadowing::{
+    check_request, shadow_segments, ShadowRequest, MAX_SEGMENTS,
+};
+use rug::Float;
+
+use super::args::{parse_count_u32, parse_count_usize, OutputArgs, RunArgs};
+use super::output::emit;
+use super::progress::Progress;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Gap w, exact (such as 0.1 or 1/10): 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+    #[arg(long, allow_hyphen_values = true)]
+    w: String,
+    /// Collisions per segment, 2 to 10000.
+    #[arg(long, default_value = "1000", value_parser = parse_count_usize, allow_negative_numbers = true)]
+    collisions: usize,
+    /// MPFR working precision in bits (128 or more); the residual is re-checked at twice this.
+    #[arg(long, default_value = "128", value_parser = parse_count_u32, allow_negative_numbers = true)]
+    precision: u32,
+    /// Segments (segment k starts from the equilibrium state of batch k of the seed), 1 to 10000.
+    #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
+    segments: u32,
+    #[command(flatten)]
+    run: RunArgs,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+/// The gap, exactly, refused outside (0, w_inf) with one line naming the range.
+fn gap(s: &str) -> Result<TriangularScene, Error> {
+    let w = parse_exact(s)?;
+    let w_inf = Geometry::<Float>::w_inf(256);
+    if w <= 0 || Float::with_val(256, &w) >= w_inf {
+        return Err(Error::Invalid(format!(
+            "w = {s} is out of range: use 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094..."
+        )));
+    }
+    TriangularScene::exact(w)
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let scene = gap(&a.w)?;
+    check_request(a.collisions, a.precision)?;
+    if a.segments == 0 || a.segments > MAX_SEGMENTS {
+        return Err(Error::Invalid(format!(
+            "segments = {} is out of range: use 1 to {MAX_SEGMENTS}",
+            a.segments
+        )));
+    }
+    let pb = Progress::new(
+        a.collisions as u64 * a.segments as u64,
+        "collisions",
+        a.output.quiet,
+    );
+    let request = ShadowRequest {
+        collisions: a.collisions,
+        segments: a.segments,
+        seed: a.run.seed,
+        bits: a.precision,
+    };
+    let r = shadow_segments(&scene, &request, a.run.threads(), &pb.callback())?;
+    drop(pb);
+    let opt = |x: Option<f64>| x.map_or_else(|| "-".to_string(), |v| format!("{v:.2e}"));
+    emit(a.output.json, &r, |r| {
+        println!(
+            "{}: {} segments of {} collisions at {} bits: {} converged, {} certified; median delta {}, max {}",
+            r.scene,
+            r.segments.len(),
+            r.request.collisions,
+            r.request.bits,
+            r.converged,
+            r.certified,
+            opt(r.median_delta),
+            opt(r.max_delta)
+        );
+        println!("segment  conv  iter     delta  residual  2K|F(y0)|         K  2K*eps  min cos phi  failure");
+        for s in &r.segments {
+            let sh = &s.shadow;
+            println!(
+                "{:>7}  {:>4}  {:>4}  {:>8}  {:>8}  {:>9}  {:>8}  {:>6}  {:>11}  {}",
+                s.segment,
+                if sh.converged { "yes" } else { "no" },
+                sh.iterations,
+                opt(sh.delta),
+                opt(sh.residual),
+                opt(sh.a_priori_bound),
+                opt(sh.inverse_bound),
+                opt(sh.correction_bound),
+                opt(sh.min_cos_phi),
+                sh.failure.as_deref().unwrap_or("")
+            );
+        }
+    })
+}
