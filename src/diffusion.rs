@@ -376,6 +376,19 @@ pub fn rerun_batches(
     Ok(r)
 }
 
+/// The `f64` start of batch `index` of `cfg`: the state its trajectory starts from in the run
+/// (the equilibrium state of its stream (seed, run, index)).
+pub fn batch_start(cfg: &DiffusionConfig, index: u32) -> Result<LatticeState<f64>, Error> {
+    let trap64 = Trap::new(cfg.w)?;
+    let job = Job {
+        seed: cfg.seed,
+        run: cfg.run,
+        index,
+        collisions: 0,
+    };
+    Ok(job.start::<f64>(&trap64, ()))
+}
+
 /// One trajectory of a run: which stream starts it and how many collisions it makes.
 #[derive(Debug, Clone, Copy)]
 struct Job {

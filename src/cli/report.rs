@@ -84,4 +84,3 @@ pub fn run(a: Args) -> Result<(), Error> {
     }
     Ok(())
 }
-

@@ -15,6 +15,8 @@
 //!   MPFR (≥ 128 bits) from the exact pre-event state: none outside the error model;
 //! - **precision independence** — short runs from the same starts in f64 and in MPFR at 128 bits
 //!   agree with each other and with the recorded D within errors;
+//! - **shadowing** — for the first 1000 collisions of some of the run's own trajectories, a true
+//!   orbit within δ of every f64 collision point ([`crate::verification::shadowing`]);
 //! - **reproducibility** — re-run batches give the recorded bits (one batch, chosen by the file's
 //!   digest, with `quick`; every batch otherwise).
 //!
@@ -205,7 +207,14 @@ fn cpu_model() -> String {
 struct Checks(Vec<Check>);
 
 impl Checks {
-    fn add(&mut self, group: &str, name: &str, verdict: Verdict, detail: String, numbers: &[(&str, f64)]) {
+    fn add(
+        &mut self,
+        group: &str,
+        name: &str,
+        verdict: Verdict,
+        detail: String,
+        numbers: &[(&str, f64)],
+    ) {
         self.0.push(Check {
             group: group.into(),
             name: name.into(),
@@ -214,7 +223,14 @@ impl Checks {
             numbers: numbers.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
         });
     }
-    fn pass_if(&mut self, ok: bool, group: &str, name: &str, detail: String, numbers: &[(&str, f64)]) {
+    fn pass_if(
+        &mut self,
+        ok: bool,
+        group: &str,
+        name: &str,
+        detail: String,
+        numbers: &[(&str, f64)],
+    ) {
         let v = if ok { Verdict::Pass } else { Verdict::Fail };
         self.add(group, name, v, detail, numbers);
     }
@@ -237,8 +253,12 @@ pub fn audit_result_file(
         )));
     }
     let start = std::time::Instant::now();
-    let bytes = std::fs::read(path)
-        .map_err(|e| Error::Invalid(format!("{}: cannot read the result file ({e})", path.display())))?;
+    let bytes = std::fs::read(path).map_err(|e| {
+        Error::Invalid(format!(
+            "{}: cannot read the result file ({e})",
+            path.display()
+        ))
+    })?;
     let value: serde_json::Value = serde_json::from_slice(&bytes).map_err(|e| {
         Error::Invalid(format!(
             "{}: not a JSON result of lorentz ({e}); write one with --json",
@@ -372,10 +392,7 @@ fn diffusion_checks(
     let ((d, de), (dc, dce)) = r.d_from_batches();
     let mut bad = Vec::new();
     if n != cfg.batches as usize || r.batch_D_check.len() != n || r.batch_msd.len() != n {
-        bad.push(format!(
-            "{n} batch values for {} batches",
-            cfg.batches
-        ));
+        bad.push(format!("{n} batch values for {} batches", cfg.batches));
     }
     for (name, rec, again) in [
         ("D", r.D, d),
@@ -385,7 +402,9 @@ fn diffusion_checks(
         ("w", r.w, cfg.w),
     ] {
         if rec.to_bits() != again.to_bits() {
-            bad.push(format!("{name}: recorded {rec:e}, from the batches {again:e}"));
+            bad.push(format!(
+                "{name}: recorded {rec:e}, from the batches {again:e}"
+            ));
         }
     }
     for (k, e) in r.msd_over_4t.iter().enumerate() {
@@ -471,10 +490,13 @@ fn diffusion_checks(
             },
             Series {
                 label: format!("D = {:.6} ± {:.6} (band)", r.D, r.D_err),
-                points: [r.msd_times[0], *r.msd_times.last().unwrap_or(&r.msd_times[0])]
-                    .iter()
-                    .flat_map(|&t| [(t, r.D + r.D_err, 0.0), (t, r.D - r.D_err, 0.0)])
-                    .collect(),
+                points: [
+                    r.msd_times[0],
+                    *r.msd_times.last().unwrap_or(&r.msd_times[0]),
+                ]
+                .iter()
+                .flat_map(|&t| [(t, r.D + r.D_err, 0.0), (t, r.D - r.D_err, 0.0)])
+                .collect(),
                 notes: Vec::new(),
                 line: false,
             },
@@ -486,9 +508,27 @@ fn diffusion_checks(
     // --- exact identities ------------------------------------------------------------------
     let g = Geometry::new(cfg.w)?;
     for (name, v, e, exact, recorded_exact) in [
-        ("mean free path (Santaló π|Q|/|∂Q|)", r.mean_free_path, r.mean_free_path_err, g.mean_free_path(), r.mean_free_path_exact),
-        ("hop time τ = πA/(3w)", r.tau_hop, r.tau_hop_err, g.hop_time(), r.tau_hop_exact),
-        ("collisions per hop π/(3w)", r.collisions_per_hop, r.collisions_per_hop_err, g.collisions_per_hop(), r.collisions_per_hop_exact),
+        (
+            "mean free path (Santaló π|Q|/|∂Q|)",
+            r.mean_free_path,
+            r.mean_free_path_err,
+            g.mean_free_path(),
+            r.mean_free_path_exact,
+        ),
+        (
+            "hop time τ = πA/(3w)",
+            r.tau_hop,
+            r.tau_hop_err,
+            g.hop_time(),
+            r.tau_hop_exact,
+        ),
+        (
+            "collisions per hop π/(3w)",
+            r.collisions_per_hop,
+            r.collisions_per_hop_err,
+            g.collisions_per_hop(),
+            r.collisions_per_hop_exact,
+        ),
     ] {
         let z = (v - exact) / e;
         let same = exact.to_bits() == recorded_exact.to_bits();
@@ -498,7 +538,11 @@ fn diffusion_checks(
             name,
             format!(
                 "{v} ± {e:.1e} against exact {exact} ({z:+.2}σ; bound {SIGMAS}σ){}",
-                if same { "" } else { "; the recorded exact value is not the closed form" }
+                if same {
+                    ""
+                } else {
+                    "; the recorded exact value is not the closed form"
+                }
             ),
             &[("value", v), ("err", e), ("exact", exact)],
         );
@@ -511,10 +555,18 @@ fn diffusion_checks(
     };
     let per_batch = cfg.collisions / cfg.batches as u64;
     let rerun_collisions = per_batch * rerun.len() as u64;
-    let events = if opts.quick { AUDIT_EVENTS_QUICK } else { AUDIT_EVENTS_FULL };
+    let events = if opts.quick {
+        AUDIT_EVENTS_QUICK
+    } else {
+        AUDIT_EVENTS_FULL
+    };
     let rate = (events / rerun_collisions.max(1) as f64).clamp(1e-9, 1.0);
     let min = precision_min_collisions(&cfg)?;
-    let len = if opts.quick { PRECISION_LENGTH_QUICK } else { PRECISION_LENGTH_FULL };
+    let len = if opts.quick {
+        PRECISION_LENGTH_QUICK
+    } else {
+        PRECISION_LENGTH_FULL
+    };
     let short = ((min as f64) * len).ceil() as u64;
     planned(rerun_collisions + 2 * short);
 
@@ -526,7 +578,11 @@ fn diffusion_checks(
     };
     // One batch alone runs fastest on the scalar engine (a SIMD block would carry 15 idle
     // lanes); all batches on the SIMD engine. Both give the same bits.
-    let engine = if rerun.len() == 1 { Engine::Scalar } else { Engine::Auto };
+    let engine = if rerun.len() == 1 {
+        Engine::Scalar
+    } else {
+        Engine::Auto
+    };
     let again = rerun_batches(&cfg, &rerun, engine, opts.threads, audit, progress)?;
     let tau = g.hop_time();
     let mut differ = Vec::new();
@@ -534,7 +590,9 @@ fn diffusion_checks(
         let (bd, bdc) = batch_d(b, tau, &cfg.window, &cfg.check_window);
         let i = b.index as usize;
         let rec = (r.batch_D.get(i).copied(), r.batch_D_check.get(i).copied());
-        if rec.0.map(f64::to_bits) != Some(bd.to_bits()) || rec.1.map(f64::to_bits) != Some(bdc.to_bits()) {
+        if rec.0.map(f64::to_bits) != Some(bd.to_bits())
+            || rec.1.map(f64::to_bits) != Some(bdc.to_bits())
+        {
             differ.push(format!(
                 "batch {i}: recorded D = {:?}, re-run {bd:e}",
                 rec.0
@@ -585,6 +643,71 @@ fn diffusion_checks(
         ),
     }
     precision_independence(&cfg, r, short, opts, checks, progress)?;
+    shadowing_certificate(&cfg, &rerun, opts, checks)?;
+    Ok(())
+}
+
+/// Collisions per shadowed segment: long enough that the f64 orbit has left any orbit started
+/// from its rounded start (the divergence horizon is ~35 collisions), short enough for seconds.
+const SHADOW_COLLISIONS: usize = 1000;
+
+/// The true-orbit certificate ([`crate::verification::shadowing`]) for the first
+/// [`SHADOW_COLLISIONS`] collisions of some of the run's own trajectories: those of the re-run
+/// batches (at most two with `quick`, eight otherwise).
+fn shadowing_certificate(
+    cfg: &DiffusionConfig,
+    rerun: &[u32],
+    opts: Options,
+    checks: &mut Checks,
+) -> Result<(), Error> {
+    use crate::verification::shadowing::{f64_segment, shadow_pseudo_orbit};
+    let scene = crate::scenes::triangular::TriangularScene::new(cfg.w)?;
+    let want = if opts.quick { 2 } else { 8 };
+    let mut batches: Vec<u32> = rerun.iter().copied().take(want).collect();
+    let mut next = rerun.first().copied().unwrap_or(0);
+    while batches.len() < want.min(cfg.batches as usize) {
+        next = (next + 1) % cfg.batches;
+        if !batches.contains(&next) {
+            batches.push(next);
+        }
+    }
+    let results = crate::parallel::par_batches(opts.threads, batches.len() as u32, |k| {
+        let start = crate::diffusion::batch_start(cfg, batches[k as usize])?;
+        let orbit = f64_segment(&scene, &start, SHADOW_COLLISIONS, opts.bits)?;
+        shadow_pseudo_orbit(&scene, &orbit, opts.bits)
+    })?;
+    let certified = results.iter().filter(|s| s.certified).count();
+    let delta = results.iter().filter_map(|s| s.delta).fold(0.0, f64::max);
+    let bound = results
+        .iter()
+        .filter_map(|s| s.correction_bound)
+        .fold(0.0, f64::max);
+    let failures: Vec<String> = results
+        .iter()
+        .zip(&batches)
+        .filter(|(s, _)| !s.certified)
+        .map(|(s, b)| {
+            format!(
+                "batch {b}: {}",
+                s.failure.clone().unwrap_or_else(|| "not certified".into())
+            )
+        })
+        .collect();
+    checks.pass_if(
+        failures.is_empty(),
+        "verification",
+        "shadowing: a true orbit within δ of the computed one",
+        if failures.is_empty() {
+            format!(
+                "first {SHADOW_COLLISIONS} collisions of batches {batches:?}: {certified} of {} segments certified at {} bits (Newton on the whole segment; a true orbit with the same disks within 2Kε ≤ {bound:.1e} of the refined one); δ ≤ {delta:.2e} from every f64 collision point",
+                results.len(),
+                opts.bits
+            )
+        } else {
+            format!("{} of {} segments not certified: {}", failures.len(), results.len(), failures.join("; "))
+        },
+        &[("delta_max", delta), ("certified", certified as f64), ("segments", results.len() as f64)],
+    );
     Ok(())
 }
 
@@ -653,13 +776,21 @@ fn batch_statistics(r: &DiffusionReport, checks: &mut Checks) {
         p > ALPHA,
         "statistics",
         "between-batch χ²: four groups of consecutive batches agree",
-        format!("χ² = {chi2:.2} for {} dof, p = {p:.3} (fail below {ALPHA})", groups - 1),
+        format!(
+            "χ² = {chi2:.2} for {} dof, p = {p:.3} (fail below {ALPHA})",
+            groups - 1
+        ),
         &[("chi2", chi2), ("dof", (groups - 1) as f64), ("p", p)],
     );
     // Externally studentised batch values, t_{n-2}; Bonferroni over n.
     let mut worst = (0usize, 0.0f64);
     for b in 0..n {
-        let rest: Vec<f64> = x.iter().enumerate().filter(|(i, _)| *i != b).map(|(_, v)| *v).collect();
+        let rest: Vec<f64> = x
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != b)
+            .map(|(_, v)| *v)
+            .collect();
         let (mr, se_r) = mean_se(&rest);
         let sd = se_r * ((n - 1) as f64).sqrt();
         let t = (x[b] - mr) / (sd * (1.0 + 1.0 / (n - 1) as f64).sqrt());
@@ -687,7 +818,9 @@ fn batch_statistics(r: &DiffusionReport, checks: &mut Checks) {
         if nb < 3 {
             continue;
         }
-        let blocks: Vec<f64> = (0..nb).map(|i| x[i * k..(i + 1) * k].iter().sum::<f64>() / k as f64).collect();
+        let blocks: Vec<f64> = (0..nb)
+            .map(|i| x[i * k..(i + 1) * k].iter().sum::<f64>() / k as f64)
+            .collect();
         let sek = mean_se(&blocks).1;
         let ratio2 = (sek / se1).powi(2);
         let (lo, hi) = (
@@ -779,9 +912,12 @@ fn sweep_checks(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(), Error> {
     let bad_file = |e: String| Error::Invalid(format!("not a sweep result: {e}"));
-    let cfg: SweepConfig = serde_json::from_value(value["config"].clone()).map_err(|e| bad_file(e.to_string()))?;
+    let cfg: SweepConfig =
+        serde_json::from_value(value["config"].clone()).map_err(|e| bad_file(e.to_string()))?;
     cfg.validate()?;
-    let rows = value["rows"].as_array().ok_or_else(|| bad_file("no rows".into()))?;
+    let rows = value["rows"]
+        .as_array()
+        .ok_or_else(|| bad_file("no rows".into()))?;
     let num = |r: &serde_json::Value, k: &str| r[k].as_f64().unwrap_or(f64::NAN);
     let grid = cfg.points()?;
     let mut bad = Vec::new();
@@ -791,16 +927,24 @@ fn sweep_checks(
     let (mut ws, mut ds, mut es) = (Vec::new(), Vec::new(), Vec::new());
     for (i, row) in rows.iter().enumerate() {
         let w = num(row, "w");
-        let runs: Vec<f64> = row["run_D"].as_array().map(|a| a.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect()).unwrap_or_default();
+        let runs: Vec<f64> = row["run_D"]
+            .as_array()
+            .map(|a| a.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect())
+            .unwrap_or_default();
         let mean = runs.iter().sum::<f64>() / runs.len() as f64;
         let g = Geometry::new(w)?;
         if grid.get(i).map(|x| x.to_bits()) != Some(w.to_bits()) {
             bad.push(format!("row {i}: w = {w} is not the grid's"));
         }
         if runs.len() != cfg.runs as usize || mean.to_bits() != num(row, "D").to_bits() {
-            bad.push(format!("row {i} (w = {w}): D = {} is not the mean of its runs ({mean})", num(row, "D")));
+            bad.push(format!(
+                "row {i} (w = {w}): D = {} is not the mean of its runs ({mean})",
+                num(row, "D")
+            ));
         }
-        if g.d_mz().to_bits() != num(row, "D_MZ").to_bits() || g.d_bo().to_bits() != num(row, "D_Bo").to_bits() {
+        if g.d_mz().to_bits() != num(row, "D_MZ").to_bits()
+            || g.d_bo().to_bits() != num(row, "D_Bo").to_bits()
+        {
             bad.push(format!("row {i}: D_MZ or D_Bo is not the closed form"));
         }
         ws.push(w);
@@ -811,7 +955,9 @@ fn sweep_checks(
         let lin = weighted_line_fit(&ws, &ds, &es)?;
         for (i, row) in rows.iter().enumerate() {
             if (ds[i] - lin.at(ws[i])).to_bits() != num(row, "residual").to_bits() {
-                bad.push(format!("row {i}: the residual is not D minus the weighted line"));
+                bad.push(format!(
+                    "row {i}: the residual is not D minus the weighted line"
+                ));
             }
         }
     }
@@ -826,9 +972,19 @@ fn sweep_checks(
         },
         &[("points", rows.len() as f64)],
     );
-    let ps: Vec<f64> = rows.iter().map(|r| num(r, "runs_p_value")).filter(|p| p.is_finite()).collect();
+    let ps: Vec<f64> = rows
+        .iter()
+        .map(|r| num(r, "runs_p_value"))
+        .filter(|p| p.is_finite())
+        .collect();
     if ps.is_empty() {
-        checks.add("statistics", "runs agree within their errors", Verdict::Skip, "one run per point: no spread to test".into(), &[]);
+        checks.add(
+            "statistics",
+            "runs agree within their errors",
+            Verdict::Skip,
+            "one run per point: no spread to test".into(),
+            &[],
+        );
     } else {
         let pmin = ps.iter().copied().fold(1.0, f64::min);
         checks.pass_if(
@@ -856,12 +1012,18 @@ fn sweep_checks(
     planned(cfg.collisions);
     let c = cfg.run_config(i, grid[i as usize], r);
     let again = crate::diffusion::run_on(&c, Engine::Auto, opts.threads, None, None, progress)?;
-    let rec = rows.get(i as usize).and_then(|row| row["run_D"].get(r as usize)).and_then(|v| v.as_f64());
+    let rec = rows
+        .get(i as usize)
+        .and_then(|row| row["run_D"].get(r as usize))
+        .and_then(|v| v.as_f64());
     checks.pass_if(
         rec.map(f64::to_bits) == Some(again.D.to_bits()),
         "reproducibility",
         "one run re-run from its seed gives the recorded bits",
-        format!("point {i} (w = {}), run {r}: recorded D = {rec:?}, re-run {}", grid[i as usize], again.D),
+        format!(
+            "point {i} (w = {}), run {r}: recorded D = {rec:?}, re-run {}",
+            grid[i as usize], again.D
+        ),
         &[("point", i as f64), ("run", r as f64)],
     );
     Ok(())
@@ -880,19 +1042,42 @@ impl PublicationReport {
         row("kind", p.kind.clone());
         if let Some(m) = &p.recorded {
             row("recorded by", format!("lorentz {}", m.version));
-            row("engine", format!("{}{}", m.engine, m.simd.as_ref().map_or(String::new(), |s| format!(" ({s})"))));
+            row(
+                "engine",
+                format!(
+                    "{}{}",
+                    m.engine,
+                    m.simd.as_ref().map_or(String::new(), |s| format!(" ({s})"))
+                ),
+            );
             row("precision", m.precision.clone());
             row("seed", m.seed.map_or("-".into(), |x| x.to_string()));
             row("threads", m.threads.map_or("-".into(), |x| x.to_string()));
             row("command line", format!("`{}`", m.command_line.join(" ")));
         }
-        row("report by", format!("lorentz {} (git {}), {}", p.version, p.git_commit, p.rustc));
+        row(
+            "report by",
+            format!("lorentz {} (git {}), {}", p.version, p.git_commit, p.rustc),
+        );
         row("CPU", p.cpu.clone());
         row("date (UTC)", p.date_utc.clone());
-        row("settings", format!("{}, {:.1} s", if self.quick { "quick" } else { "full" }, self.seconds));
+        row(
+            "settings",
+            format!(
+                "{}, {:.1} s",
+                if self.quick { "quick" } else { "full" },
+                self.seconds
+            ),
+        );
         s += "\n## Checks\n\n| | group | check | numbers |\n|---|---|---|---|\n";
         for c in &self.checks {
-            s += &format!("| **{}** | {} | {} | {} |\n", c.verdict, c.group, c.name, c.detail.replace('|', "\\|"));
+            s += &format!(
+                "| **{}** | {} | {} | {} |\n",
+                c.verdict,
+                c.group,
+                c.name,
+                c.detail.replace('|', "\\|")
+            );
         }
         for f in &self.figures {
             s += &format!("\n![{f}]({f}.png)\n");
@@ -902,37 +1087,58 @@ impl PublicationReport {
 
     /// The report as one self-contained HTML page (figures inlined as SVG from `dir`).
     pub fn html(&self, dir: &Path) -> String {
-        let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+        let esc = |t: &str| {
+            t.replace('&', "&amp;")
+                .replace('<', "&lt;")
+                .replace('>', "&gt;")
+        };
         let p = &self.provenance;
         let mut s = format!(
             "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Audit of {}</title>\n<style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:.3em .6em;vertical-align:top}}.PASS{{color:#060;font-weight:bold}}.FAIL{{color:#b00;font-weight:bold}}.SKIP{{color:#777;font-weight:bold}}</style></head><body>\n<h1>Audit of {}: <span class=\"{}\">{}</span></h1>\n<h2>Provenance</h2><table>\n",
             esc(&p.result_file), esc(&p.result_file), self.verdict, self.verdict
         );
-        let mut row = |k: &str, v: &str| s += &format!("<tr><th>{k}</th><td>{}</td></tr>\n", esc(v));
+        let mut row =
+            |k: &str, v: &str| s += &format!("<tr><th>{k}</th><td>{}</td></tr>\n", esc(v));
         row("result file SHA-256", &p.sha256);
         row("kind", &p.kind);
         if let Some(m) = &p.recorded {
             row("recorded by", &format!("lorentz {}", m.version));
-            row("engine", &format!("{}{}", m.engine, m.simd.as_ref().map_or(String::new(), |s| format!(" ({s})"))));
+            row(
+                "engine",
+                &format!(
+                    "{}{}",
+                    m.engine,
+                    m.simd.as_ref().map_or(String::new(), |s| format!(" ({s})"))
+                ),
+            );
             row("precision", &m.precision);
             row("seed", &m.seed.map_or("-".into(), |x| x.to_string()));
             row("command line", &m.command_line.join(" "));
         }
-        row("report by", &format!("lorentz {} (git {}), {}", p.version, p.git_commit, p.rustc));
+        row(
+            "report by",
+            &format!("lorentz {} (git {}), {}", p.version, p.git_commit, p.rustc),
+        );
         row("CPU", &p.cpu);
         row("date (UTC)", &p.date_utc);
         s += "</table>\n<h2>Checks</h2><table><tr><th></th><th>group</th><th>check</th><th>numbers</th></tr>\n";
         for c in &self.checks {
             s += &format!(
                 "<tr><td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                c.verdict, c.verdict, esc(&c.group), esc(&c.name), esc(&c.detail)
+                c.verdict,
+                c.verdict,
+                esc(&c.group),
+                esc(&c.name),
+                esc(&c.detail)
             );
         }
         s += "</table>\n";
         for f in &self.figures {
             let svg = std::fs::read_to_string(dir.join(format!("{f}.svg"))).unwrap_or_default();
             let svg = svg.trim_start_matches(|c| c != '<');
-            let svg = svg.strip_prefix("<?xml").map_or(svg, |r| r.split_once("?>").map_or(r, |x| x.1));
+            let svg = svg
+                .strip_prefix("<?xml")
+                .map_or(svg, |r| r.split_once("?>").map_or(r, |x| x.1));
             s += &format!("<h2>{}</h2>\n{}\n", esc(f), svg);
         }
         s += "</body></html>\n";

@@ -1,0 +1,116 @@
+//! `lorentz report`: a fresh result passes every check; a result with an edited number fails.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn lorentz(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_lorentz"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run lorentz");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn scratch() -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lorentz-report-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn checks(dir: &Path, report: &str) -> Vec<(String, String, String)> {
+    let text = std::fs::read_to_string(dir.join(report).join("report.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["checks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            (
+                c["verdict"].as_str().unwrap().to_string(),
+                c["group"].as_str().unwrap().to_string(),
+                c["name"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
+    let dir = scratch();
+    let (code, json, err) = lorentz(
+        &dir,
+        &[
+            "diffusion",
+            "--w",
+            "0.3",
+            "--collisions",
+            "4e6",
+            "--batches",
+            "16",
+            "--json",
+            "--quiet",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(dir.join("d.json"), &json).unwrap();
+
+    let (code, out, err) = lorentz(&dir, &["report", "d.json", "--quick", "--quiet"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let c = checks(&dir, "d-report");
+    let groups: Vec<&str> = c.iter().map(|x| x.1.as_str()).collect();
+    for g in [
+        "provenance",
+        "reproducibility",
+        "statistics",
+        "identities",
+        "verification",
+    ] {
+        assert!(groups.contains(&g), "no {g} check in {c:?}");
+    }
+    assert!(c.iter().all(|x| x.0 == "PASS"), "{c:?}");
+    assert!(c.iter().any(|x| x.2.contains("shadowing")), "{c:?}");
+    let html = std::fs::read_to_string(dir.join("d-report/report.html")).unwrap();
+    assert_eq!(html.matches("<svg").count(), 2, "the two figures inlined");
+    for f in ["report.md", "local-slope.png", "batch-histogram.svg"] {
+        assert!(dir.join("d-report").join(f).exists(), "{f}");
+    }
+
+    // One digit of D changed: the report fails, in its reproducibility group, with status 1.
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let d = v["D"].as_f64().unwrap();
+    let edited = json.replacen(
+        &format!("\"D\": {d}"),
+        &format!("\"D\": {}", d * (1.0 + 1e-4)),
+        1,
+    );
+    assert_ne!(edited, json);
+    std::fs::write(dir.join("edited.json"), &edited).unwrap();
+    let (code, _, err) = lorentz(&dir, &["report", "edited.json", "--quick", "--quiet"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("FAILED"), "{err}");
+    let c = checks(&dir, "edited-report");
+    assert!(
+        c.iter().any(|x| x.0 == "FAIL" && x.1 == "reproducibility"),
+        "{c:?}"
+    );
+
+    // One batch value changed (D left alone): also a failure.
+    let b0 = v["batch_D"][0].as_f64().unwrap();
+    let edited = json.replacen(&format!("{b0}"), &format!("{}", b0 * 1.001), 1);
+    std::fs::write(dir.join("batch.json"), &edited).unwrap();
+    let (code, _, _) = lorentz(&dir, &["report", "batch.json", "--quick", "--quiet"]);
+    assert_eq!(code, 1);
+
+    // Not a result: exit 2, one line.
+    std::fs::write(dir.join("junk.json"), "{}").unwrap();
+    let (code, _, err) = lorentz(&dir, &["report", "junk.json", "--quick"]);
+    assert_eq!(code, 2);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
