@@ -45,6 +45,7 @@ pub mod parallel;
 pub mod precision;
 pub mod real;
 pub mod report;
+pub mod reproduce;
 pub mod sampling;
 pub mod scenes;
 pub mod slurm;

@@ -327,6 +327,12 @@ const BAD: &[(&[&str], &str)] = &[
         ],
         "every part needs a point",
     ),
+    // report, reproduce
+    (&["report", "no-such-result.json", "--quick"], "cannot read"),
+    (
+        &["reproduce", "--budget", "huge", "--out", "out"],
+        "invalid value",
+    ),
     // merge
     (&["merge", "no-such-dir", "--out", "out"], "no sweep points"),
     (&["merge", "--out", "out"], "required"),

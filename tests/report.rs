@@ -114,3 +114,55 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The whole quick reproduction (about 1.5 minutes on 2 cores): every step, the index, and a
+/// rerun that resumes everything. `cargo test --release -- --ignored`.
+#[test]
+#[ignore]
+fn quick_reproduction_writes_every_figure_and_resumes() {
+    let dir = std::env::temp_dir().join(format!("lorentz-reproduce-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = dir.to_str().unwrap();
+    let (code, _, err) = lorentz(
+        Path::new("."),
+        &["reproduce", "--budget", "quick", "--out", out, "--quiet"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let index = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    for f in [
+        "sweep/fig2-D-vs-w.png",
+        "sweep/fig7-boltzmann.png",
+        "sweep/fig8-residuals.png",
+        "fig8-fine/fig8-residuals.png",
+        "backscatter/fig5-backscatter-map.png",
+        "backscatter/fig4a-p-bs.png",
+        "backscatter/fig4a-inset-p-bs.png",
+        "hierarchy/fig3a-p-cf.png",
+        "hierarchy/fig6b-lattice-walks.png",
+        "speed/speed-vs-error.png",
+    ] {
+        assert!(dir.join(f).exists(), "{f} missing");
+        assert!(index.contains(f), "{f} not in index.html");
+    }
+    assert!(index.contains("D = D_MZ"));
+    let (code, json, _) = lorentz(
+        Path::new("."),
+        &[
+            "reproduce",
+            "--budget",
+            "quick",
+            "--out",
+            out,
+            "--quiet",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(v["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|s| s["resumed"] == true));
+    let _ = std::fs::remove_dir_all(&dir);
+}

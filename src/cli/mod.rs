@@ -19,6 +19,7 @@ mod lattice_walk;
 mod lyapunov;
 mod merge;
 mod report;
+mod reproduce;
 mod shadow;
 mod slurm;
 mod sweep;
@@ -69,6 +70,8 @@ enum Cmd {
     Sweep(sweep::Args),
     /// Audit a result file before publication: provenance, record, statistics, exact identities, shadow audit, precision independence, reproducibility (PASS/FAIL; Markdown, HTML, JSON).
     Report(report::Args),
+    /// Regenerate every figure (2-8) and table of the README, the paper's claims and speed against error into one folder with an index.html (resumable).
+    Reproduce(reproduce::Args),
     /// Combine the parts of a sweep run with --shard I/N into the whole sweep's CSV, JSON and figures (bit-identical).
     Merge(merge::Args),
     /// Write Slurm batch scripts for a campaign: a job array of sweep parts and a merge job that depends on it.
@@ -145,6 +148,7 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::Sweep(a) => sweep::run(a),
         Cmd::Merge(a) => merge::run(a),
         Cmd::Report(a) => report::run(a),
+        Cmd::Reproduce(a) => reproduce::run(a),
         Cmd::Slurm(a) => slurm::run(a),
         Cmd::Figure(a) => figure::run(a),
         Cmd::Theory(a) => theory::run(a),

@@ -176,3 +176,16 @@ pub fn plot(stem: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), Error
     )?;
     Ok(())
 }
+
+/// Text for HTML pages (reports, indexes): `&`, `<` and `>` escaped.
+///
+/// # Examples
+///
+/// ```
+/// assert_eq!(lorentz_gas::figures::html_escape("a<b & c"), "a&lt;b &amp; c");
+/// ```
+pub fn html_escape(t: &str) -> String {
+    t.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}

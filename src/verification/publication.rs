@@ -42,7 +42,7 @@ use crate::figures::{plot, PlotSpec, Series};
 use crate::geometry::Geometry;
 use crate::metadata::RunMeta;
 use crate::precision::Precision;
-use crate::stats::{mean_se, student_t_quantile, weighted_line_fit};
+use crate::stats::{mean_se, normal_sigma_equivalent_t, student_t_quantile, weighted_line_fit};
 use crate::sweep::SweepConfig;
 
 /// A check's outcome.
@@ -148,8 +148,8 @@ const PRECISION_BATCHES: u32 = 8;
 const PRECISION_LENGTH_QUICK: f64 = 4.0;
 /// As [`PRECISION_LENGTH_QUICK`], for the full report.
 const PRECISION_LENGTH_FULL: f64 = 32.0;
-/// Agreement bound, in standard errors, of exact identities and of independent estimates (the
-/// crate's convention: a 4σ deviation has probability 6·10⁻⁵ for a Gaussian estimate).
+/// Agreement bound of exact identities and independent estimates: the normal 4σ tail probability
+/// (6·10⁻⁵), as a Student-t quantile for errors from a few batches (the crate's convention).
 const SIGMAS: f64 = 4.0;
 /// Significance of the statistical consistency checks (Bonferroni-corrected where several values
 /// are tested at once): a correct run fails one of them about once in a thousand reports.
@@ -449,13 +449,14 @@ fn diffusion_checks(
         .map(|(a, b)| a - b)
         .collect();
     let (md, sd) = mean_se(&diffs);
+    let bound_pair = normal_sigma_equivalent_t((n.max(2) - 1) as f64, SIGMAS);
     checks.pass_if(
-        (md / sd).abs() <= SIGMAS,
+        (md / sd).abs() <= bound_pair,
         "statistics",
         "fit window: D and D_check agree",
         format!(
-            "D[{}τ, {}τ] − D[{}τ, {}τ] = {md:.3e} ± {sd:.1e} ({:+.1}σ; paired over batches; bound {SIGMAS}σ)",
-            r.window.lo, r.window.hi, r.check_window.lo, r.check_window.hi, md / sd
+            "D[{}τ, {}τ] − D[{}τ, {}τ] = {md:.3e} ± {sd:.1e} ({:+.1}σ; paired over batches; bound {bound_pair:.2}σ, t with {} dof)",
+            r.window.lo, r.window.hi, r.check_window.lo, r.check_window.hi, md / sd, n.max(2) - 1
         ),
         &[("difference", md), ("difference_err", sd)],
     );
@@ -507,6 +508,8 @@ fn diffusion_checks(
     figures.push("batch-histogram".into());
     // --- exact identities ------------------------------------------------------------------
     let g = Geometry::new(cfg.w)?;
+    // Errors from n batches: the 4σ bound is the Student-t quantile at the normal 4σ tail.
+    let bound_n = normal_sigma_equivalent_t((n.max(2) - 1) as f64, SIGMAS);
     for (name, v, e, exact, recorded_exact) in [
         (
             "mean free path (Santaló π|Q|/|∂Q|)",
@@ -533,11 +536,12 @@ fn diffusion_checks(
         let z = (v - exact) / e;
         let same = exact.to_bits() == recorded_exact.to_bits();
         checks.pass_if(
-            z.abs() <= SIGMAS && same,
+            z.abs() <= bound_n && same,
             "identities",
             name,
             format!(
-                "{v} ± {e:.1e} against exact {exact} ({z:+.2}σ; bound {SIGMAS}σ){}",
+                "{v} ± {e:.1e} against exact {exact} ({z:+.2}σ; bound {bound_n:.2}σ, the {SIGMAS}σ tail of t with {} dof){}",
+                n - 1,
                 if same {
                     ""
                 } else {
@@ -737,18 +741,21 @@ fn precision_independence(
     let hi = short(Precision::Bits(opts.bits))?;
     let z_pair = (hi.D - lo.D) / (hi.D_err.hypot(lo.D_err));
     let z_rec = (hi.D - r.D) / (hi.D_err.hypot(r.D_err));
+    // Errors from PRECISION_BATCHES batches: the t quantile at the normal 4σ tail.
+    let bound = normal_sigma_equivalent_t((PRECISION_BATCHES - 1) as f64, SIGMAS);
     checks.pass_if(
-        z_pair.abs() <= SIGMAS && z_rec.abs() <= SIGMAS,
+        z_pair.abs() <= bound && z_rec.abs() <= bound,
         "verification",
         "precision independence",
         format!(
-            "{PRECISION_BATCHES} batches of {} collisions from the run's first starts: MPFR {} bits D = {:.5} ± {:.5}, f64 D = {:.5} ± {:.5} ({z_pair:+.1}σ); against the recorded D {z_rec:+.1}σ (bound {SIGMAS}σ)",
+            "{PRECISION_BATCHES} batches of {} collisions from the run's first starts: MPFR {} bits D = {:.5} ± {:.5}, f64 D = {:.5} ± {:.5} ({z_pair:+.1}σ); against the recorded D {z_rec:+.1}σ (bound {bound:.2}σ, t with {} dof)",
             collisions / PRECISION_BATCHES as u64,
             opts.bits,
             hi.D,
             hi.D_err,
             lo.D,
-            lo.D_err
+            lo.D_err,
+            PRECISION_BATCHES - 1
         ),
         &[("D_mpfr", hi.D), ("D_mpfr_err", hi.D_err), ("D_f64", lo.D), ("D_f64_err", lo.D_err)],
     );
@@ -1087,11 +1094,7 @@ impl PublicationReport {
 
     /// The report as one self-contained HTML page (figures inlined as SVG from `dir`).
     pub fn html(&self, dir: &Path) -> String {
-        let esc = |t: &str| {
-            t.replace('&', "&amp;")
-                .replace('<', "&lt;")
-                .replace('>', "&gt;")
-        };
+        let esc = crate::figures::html_escape;
         let p = &self.provenance;
         let mut s = format!(
             "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Audit of {}</title>\n<style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:.3em .6em;vertical-align:top}}.PASS{{color:#060;font-weight:bold}}.FAIL{{color:#b00;font-weight:bold}}.SKIP{{color:#777;font-weight:bold}}</style></head><body>\n<h1>Audit of {}: <span class=\"{}\">{}</span></h1>\n<h2>Provenance</h2><table>\n",

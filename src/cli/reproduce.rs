@@ -1,0 +1,73 @@
+//! `lorentz reproduce`: every figure and table of the README into one folder with an index.html.
+
+use std::sync::Mutex;
+
+use lorentz_gas::error::Error;
+use lorentz_gas::reproduce::{reproduce, Budget, Reporter};
+
+use super::args::{OutDirArg, OutputArgs, RunArgs};
+use super::output::emit;
+use super::progress::Progress;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// quick (minutes on 2 cores) or paper (the README's statistics, Fig. 8 at 2e9 collisions per
+    /// run: about an hour on 2 cores).
+    #[arg(long, value_enum, default_value = "quick")]
+    budget: Budget,
+    #[command(flatten)]
+    run: RunArgs,
+    /// Output directory (default results/reproduce); finished steps are kept and not redone.
+    #[command(flatten)]
+    out: OutDirArg,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+/// One progress bar per step, titled "[k/n] step (unit)".
+struct Bars {
+    quiet: bool,
+    bar: Mutex<Option<Progress>>,
+}
+
+impl Reporter for Bars {
+    fn stage(&self, index: usize, count: usize, name: &str, total: u64, unit: &str) {
+        if let Ok(mut b) = self.bar.lock() {
+            *b = None;
+            *b = Some(Progress::new(
+                total,
+                &format!("[{}/{count}] {name} ({unit})", index + 1),
+                self.quiet,
+            ));
+        }
+    }
+    fn advance(&self, n: u64) {
+        if let Ok(b) = self.bar.lock() {
+            if let Some(b) = b.as_ref() {
+                b.callback()(n);
+            }
+        }
+    }
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let out = a.out.dir("results/reproduce");
+    let bars = Bars {
+        quiet: a.output.quiet,
+        bar: Mutex::new(None),
+    };
+    let r = reproduce(a.budget, &out, a.run.seed, a.run.threads(), &bars)?;
+    drop(bars);
+    emit(a.output.json, &r, |r| {
+        for s in &r.steps {
+            println!(
+                "{:<12} {:>8.1} s{}  {}",
+                s.name,
+                s.seconds,
+                if s.resumed { " (resumed)" } else { "" },
+                s.title
+            );
+        }
+        println!("written: {}/index.html", out.display());
+    })
+}
