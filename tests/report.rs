@@ -166,3 +166,48 @@ fn quick_reproduction_writes_every_figure_and_resumes() {
         .all(|s| s["resumed"] == true));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn other_results_are_re_run_from_their_command_line() {
+    let dir = std::env::temp_dir().join(format!("lorentz-report-bs-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let (code, json, err) = lorentz(
+        &dir,
+        &[
+            "backscatter",
+            "--w",
+            "0.1",
+            "--visits",
+            "20000",
+            "--json",
+            "--quiet",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(dir.join("b.json"), &json).unwrap();
+    let (code, out, err) = lorentz(&dir, &["report", "b.json", "--quick", "--quiet"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let c = checks(&dir, "b-report");
+    assert!(c.iter().all(|x| x.0 == "PASS"), "{c:?}");
+    assert!(c.iter().any(|x| x.1 == "identities"), "{c:?}");
+    assert!(c.iter().any(|x| x.1 == "reproducibility"), "{c:?}");
+
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let p = v["p_bs"].as_f64().unwrap();
+    let edited = json.replacen(
+        &format!("\"p_bs\": {p}"),
+        &format!("\"p_bs\": {}", p + 1e-5),
+        1,
+    );
+    assert_ne!(edited, json);
+    std::fs::write(dir.join("edited.json"), &edited).unwrap();
+    let (code, _, _) = lorentz(&dir, &["report", "edited.json", "--quick", "--quiet"]);
+    assert_eq!(code, 1);
+    let c = checks(&dir, "edited-report");
+    assert!(
+        c.iter().any(|x| x.0 == "FAIL" && x.1 == "reproducibility"),
+        "{c:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

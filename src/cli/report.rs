@@ -50,6 +50,17 @@ pub fn run(a: Args) -> Result<(), Error> {
             b.callback()(n);
         }
     };
+    // Re-runs a recorded command line through this binary, with its JSON on stdout.
+    let rerun = |args: &[String]| -> Result<serde_json::Value, Error> {
+        let mut cmd = std::process::Command::new(std::env::current_exe()?);
+        cmd.args(args.iter().filter(|a| *a != "--json" && *a != "--quiet"));
+        cmd.args(["--json", "--quiet"]);
+        let out = cmd.stderr(std::process::Stdio::inherit()).output()?;
+        if !out.status.success() {
+            return Err(Error::Invalid(format!("exit status {}", out.status)));
+        }
+        serde_json::from_slice(&out.stdout).map_err(|e| Error::Io(e.to_string()))
+    };
     let r = audit_result_file(
         &a.result,
         &out,
@@ -60,6 +71,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         },
         &planned,
         &progress,
+        Some(&rerun),
     )?;
     drop(bar);
     r.write(&out)?;

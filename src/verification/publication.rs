@@ -22,8 +22,9 @@
 //!
 //! For a `sweep` result: the record (each D is the mean of its runs, D_MZ and D_Bo are the closed
 //! forms, the residuals are from the weighted line through the points), the runs' F tests over
-//! the points, and one run of one point re-run from its seed. Other result kinds get provenance
-//! and the digest; their checks are marked SKIP, saying so.
+//! the points, and one run of one point re-run from its seed. For `hops`, `backscatter` and
+//! `escape` results: the exact identities they carry (Kac's lemma for injection) and the recorded
+//! command re-run, every field identical but timing and metadata.
 //!
 //! Every result's provenance: this build (version, git commit, rustc), the CPU, the date, the
 //! recorded `meta` (version, seed, engine, SIMD path, threads, command line) and the SHA-256 of the
@@ -236,14 +237,21 @@ impl Checks {
     }
 }
 
+/// Runs a recorded command line (the arguments after the program name) again and returns its
+/// `--json` result: how the report re-runs results it has no library re-run for (`hops`,
+/// `backscatter`, `escape`). The command-line layer provides it; the library only compares.
+pub type Rerun<'a> = &'a dyn Fn(&[String]) -> Result<serde_json::Value, Error>;
+
 /// Audits the result file `path`, writing figures into `out` (created). `progress` receives the
-/// collisions re-run; `planned` is told their total first.
+/// collisions re-run; `planned` is told their total first; `rerun` re-runs recorded command
+/// lines (without it, results other than `diffusion` and `sweep` are not re-run).
 pub fn audit_result_file(
     path: &Path,
     out: &Path,
     opts: Options,
     planned: &dyn Fn(u64),
     progress: &(dyn Fn(u64) + Sync),
+    rerun: Option<Rerun<'_>>,
 ) -> Result<PublicationReport, Error> {
     if opts.bits < crate::verification::audit::MIN_AUDIT_BITS {
         return Err(Error::Invalid(format!(
@@ -310,18 +318,19 @@ pub fn audit_result_file(
             let r: DiffusionReport = serde_json::from_value(value).map_err(|e| {
                 Error::Invalid(format!("{}: not a diffusion result ({e})", path.display()))
             })?;
-            diffusion_checks(&r, &sha, out, opts, &mut checks, &mut figures, planned, progress)?;
+            diffusion_checks(
+                &r,
+                &sha,
+                out,
+                opts,
+                &mut checks,
+                &mut figures,
+                planned,
+                progress,
+            )?;
         }
         "sweep" => sweep_checks(&value, &sha, opts, &mut checks, planned, progress)?,
-        other => checks.add(
-            "reproducibility",
-            "kind-specific checks",
-            Verdict::Skip,
-            format!(
-                "the report checks diffusion and sweep results in depth; for a {other} result it gives provenance and the digest only"
-            ),
-            &[],
-        ),
+        other => other_checks(other, &value, opts, &mut checks, rerun),
     }
     let verdict = if checks.0.iter().any(|c| c.verdict == Verdict::Fail) {
         Verdict::Fail
@@ -347,6 +356,166 @@ pub fn audit_result_file(
         seconds: start.elapsed().as_secs_f64(),
         meta: RunMeta::new(None, None, Precision::Bits(opts.bits), Some(opts.threads)),
     })
+}
+
+/// Fields of a result that legitimately differ between two runs of the same command: the
+/// process's metadata and its timing.
+const VOLATILE_FIELDS: [&str; 5] = [
+    "meta",
+    "seconds",
+    "collisions_per_second",
+    "events_per_second",
+    "resumed_batches",
+];
+
+/// Most collisions, injections or events the quick report re-runs a recorded command for (about
+/// 20 s on 2 cores).
+const QUICK_RERUN_WORK: f64 = 2e9;
+
+/// `hops`, `backscatter`, `escape`: the exact identities the result carries, and the recorded
+/// command re-run (through `rerun`) giving the same bits in every field but timing and metadata.
+fn other_checks(
+    kind: &str,
+    value: &serde_json::Value,
+    opts: Options,
+    checks: &mut Checks,
+    rerun: Option<Rerun<'_>>,
+) {
+    let num = |k: &str| value[k].as_f64();
+    let batches = value["meta"]["batches"]
+        .as_f64()
+        .unwrap_or(f64::INFINITY)
+        .max(2.0);
+    if kind == "backscatter" {
+        let bound = normal_sigma_equivalent_t(batches - 1.0, SIGMAS);
+        for (name, k, w_exact) in [
+            (
+                "mean visit time = τ (Kac)",
+                "mean_visit_time",
+                "mean_visit_time_exact",
+            ),
+            (
+                "collisions per visit = π/(3w) (Kac)",
+                "mean_collisions_per_visit",
+                "mean_collisions_per_visit_exact",
+            ),
+        ] {
+            let (Some(v), Some(e), Some(x), Some(w)) =
+                (num(k), num(&format!("{k}_err")), num(w_exact), num("w"))
+            else {
+                continue;
+            };
+            let exact = Geometry::new(w).map(|g| {
+                if k == "mean_visit_time" {
+                    g.hop_time()
+                } else {
+                    g.collisions_per_hop()
+                }
+            });
+            let closed = exact.as_ref().is_ok_and(|c| c.to_bits() == x.to_bits());
+            let z = (v - x) / e;
+            checks.pass_if(
+                z.abs() <= bound && closed,
+                "identities",
+                name,
+                format!(
+                    "{v} ± {e:.1e} against exact {x} ({z:+.2}σ; bound {bound:.2}σ){}",
+                    if closed {
+                        ""
+                    } else {
+                        "; the recorded exact value is not the closed form"
+                    }
+                ),
+                &[("value", v), ("err", e), ("exact", x)],
+            );
+        }
+    }
+    let work = ["collisions", "visits", "events"]
+        .iter()
+        .find_map(|k| num(k))
+        .unwrap_or(f64::INFINITY);
+    let name = "the recorded command re-run gives the same bits";
+    let Some(rerun) = rerun else {
+        checks.add(
+            "reproducibility",
+            name,
+            Verdict::Skip,
+            "no way to re-run commands was given".into(),
+            &[],
+        );
+        return;
+    };
+    if opts.quick && work > QUICK_RERUN_WORK {
+        checks.add(
+            "reproducibility",
+            name,
+            Verdict::Skip,
+            format!("{work:e} collisions/visits/events: more than the quick report re-runs ({QUICK_RERUN_WORK:e}); run without --quick"),
+            &[],
+        );
+        return;
+    }
+    let args: Vec<String> = value["meta"]["command_line"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .skip(1)
+                .filter_map(|x| x.as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
+    let strip = |v: &serde_json::Value| {
+        let mut v = v.clone();
+        if let Some(o) = v.as_object_mut() {
+            for k in VOLATILE_FIELDS {
+                o.remove(k);
+            }
+        }
+        v
+    };
+    match rerun(&args) {
+        Ok(again) => {
+            let (a, b) = (strip(value), strip(&again));
+            let differ: Vec<String> = a
+                .as_object()
+                .map(|o| {
+                    o.iter()
+                        .filter(|(k, v)| b.get(k.as_str()) != Some(v))
+                        .map(|(k, _)| k.clone())
+                        .collect()
+                })
+                .unwrap_or_default();
+            checks.pass_if(
+                differ.is_empty() && a == b,
+                "reproducibility",
+                name,
+                if differ.is_empty() && a == b {
+                    format!(
+                        "`lorentz {}` again: every field identical (timing and metadata aside)",
+                        args.join(" ")
+                    )
+                } else {
+                    format!(
+                        "`lorentz {}` again: {} differ",
+                        args.join(" "),
+                        if differ.is_empty() {
+                            "the fields".to_string()
+                        } else {
+                            differ.join(", ")
+                        }
+                    )
+                },
+                &[("work", work)],
+            );
+        }
+        Err(e) => checks.add(
+            "reproducibility",
+            name,
+            Verdict::Fail,
+            format!("`lorentz {}` did not run again: {e}", args.join(" ")),
+            &[],
+        ),
+    }
 }
 
 /// A batch index chosen by the file's digest: not known in advance to whoever edits the file.
