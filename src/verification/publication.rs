@@ -630,6 +630,8 @@ fn diffusion_checks(
         &[("difference", md), ("difference_err", sd)],
     );
     let slope_series = local_slopes(r);
+    let t_first = r.msd_times.first().copied().unwrap_or(0.0);
+    let t_last = r.msd_times.last().copied().unwrap_or(t_first);
     let stem = out.join("local-slope");
     plot(
         &stem,
@@ -659,16 +661,16 @@ fn diffusion_checks(
                 line: true,
             },
             Series {
-                label: format!("D = {:.6} ± {:.6} (band)", r.D, r.D_err),
-                points: [
-                    r.msd_times[0],
-                    *r.msd_times.last().unwrap_or(&r.msd_times[0]),
-                ]
-                .iter()
-                .flat_map(|&t| [(t, r.D + r.D_err, 0.0), (t, r.D - r.D_err, 0.0)])
-                .collect(),
+                label: format!("D + D_err = {:.6} + {:.6}", r.D, r.D_err),
+                points: vec![(t_first, r.D + r.D_err, 0.0), (t_last, r.D + r.D_err, 0.0)],
                 notes: Vec::new(),
-                line: false,
+                line: true,
+            },
+            Series {
+                label: "D - D_err".into(),
+                points: vec![(t_first, r.D - r.D_err, 0.0), (t_last, r.D - r.D_err, 0.0)],
+                notes: Vec::new(),
+                line: true,
             },
         ],
     )?;
