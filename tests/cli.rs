@@ -329,6 +329,8 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     // report, reproduce
     (&["report", "no-such-result.json", "--quick"], "cannot read"),
+    (&["report", "r.json", "--bits", "64"], "128 to 65536"),
+    (&["report", "r.json", "--bits", "1e6"], "128 to 65536"),
     (
         &["reproduce", "--budget", "huge", "--out", "out"],
         "invalid value",

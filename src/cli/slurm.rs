@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use lorentz_gas::error::Error;
 use lorentz_gas::slurm::SweepCampaign;
 
-use super::args::{parse_count_u32, EngineArg, OutDirArg, RunArgs};
+use super::args::{parse_count_u32, EngineArg, OutDirArg, OutputArgs, RunArgs};
+use super::output::emit;
 use super::sweep::GridArgs;
 
 #[derive(clap::Args)]
@@ -48,6 +49,16 @@ struct SweepArgs {
     /// sweep in OUT, scripts and job logs in OUT/slurm.
     #[command(flatten)]
     out: OutDirArg,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+/// What `lorentz slurm sweep` wrote.
+#[derive(serde::Serialize)]
+struct Written {
+    files: Vec<PathBuf>,
+    submit: String,
+    meta: lorentz_gas::metadata::RunMeta,
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
@@ -74,12 +85,20 @@ pub fn run(a: Args) -> Result<(), Error> {
         partition: a.partition,
         time: a.time,
     };
-    for p in c.write()? {
-        println!("written: {}", p.display());
-    }
-    println!(
-        "submit with: sh {}",
-        c.out.join("slurm").join("submit.sh").display()
-    );
-    Ok(())
+    let w = Written {
+        files: c.write()?,
+        submit: format!("sh {}", c.out.join("slurm").join("submit.sh").display()),
+        meta: lorentz_gas::metadata::RunMeta::new(
+            Some(c.config.seed),
+            Some(c.config.runs as u64 * c.config.batches as u64),
+            lorentz_gas::precision::Precision::F64,
+            Some(c.cpus_per_task as usize),
+        ),
+    };
+    emit(a.output.json, &w, |w| {
+        for p in &w.files {
+            println!("written: {}", p.display());
+        }
+        println!("submit with: {}", w.submit);
+    })
 }

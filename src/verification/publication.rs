@@ -253,12 +253,14 @@ pub fn audit_result_file(
     progress: &(dyn Fn(u64) + Sync),
     rerun: Option<Rerun<'_>>,
 ) -> Result<PublicationReport, Error> {
-    if opts.bits < crate::verification::audit::MIN_AUDIT_BITS {
-        return Err(Error::Invalid(format!(
-            "bits = {}: the shadow audit needs at least {} bits",
-            opts.bits,
-            crate::verification::audit::MIN_AUDIT_BITS
-        )));
+    {
+        use crate::verification::audit::{MAX_AUDIT_BITS, MIN_AUDIT_BITS};
+        if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&opts.bits) {
+            return Err(Error::Invalid(format!(
+                "bits = {}: use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} (the shadow audit needs at least {MIN_AUDIT_BITS})",
+                opts.bits
+            )));
+        }
     }
     let start = std::time::Instant::now();
     let bytes = std::fs::read(path).map_err(|e| {
