@@ -43,6 +43,7 @@ pub mod metadata;
 pub mod observables;
 pub mod parallel;
 pub mod precision;
+pub mod publication;
 pub mod real;
 pub mod report;
 pub mod reproduce;

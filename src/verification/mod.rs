@@ -12,7 +12,6 @@ pub mod birkhoff;
 pub mod certify;
 pub mod lyapunov;
 pub mod oracle;
-pub mod publication;
 pub mod reversibility;
 pub mod shadow;
 pub mod shadowing;
