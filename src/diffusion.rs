@@ -16,7 +16,7 @@
 
 use std::fs::OpenOptions;
 use std::io::{BufRead, BufReader, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::Mutex;
 use std::time::Instant;
@@ -348,7 +348,7 @@ pub fn rerun_batches(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<BatchResult>, Error> {
     cfg.validate()?;
-    let (resolved, _, tau, lags) = setup(cfg, engine, threads)?;
+    let (spec, _) = setup(cfg, engine, threads, audit)?;
     for &i in indices {
         if i >= cfg.batches {
             return Err(Error::Invalid(format!(
@@ -358,20 +358,7 @@ pub fn rerun_batches(
         }
     }
     let jobs: Vec<Job> = cfg.jobs().filter(|j| indices.contains(&j.index)).collect();
-    let mut r = execute(
-        &jobs,
-        ExecSpec {
-            w: cfg.w,
-            precision: cfg.precision,
-            engine: resolved,
-            threads,
-            tau,
-            lags: &lags,
-            audit,
-        },
-        &|_, _| Ok(()),
-        progress,
-    )?;
+    let mut r = execute(&jobs, spec, &|_, _| Ok(()), progress)?;
     r.sort_by_key(|b| b.index);
     Ok(r)
 }
@@ -578,19 +565,28 @@ pub fn run_audited(
 }
 
 /// What a run (or runs packed together) at `cfg`'s w and windows needs before its trajectories
-/// start: the engine that will run them, the geometry, τ and the MSD lags.
+/// start: how they execute (the engine that will run them, τ, the MSD lags, the audit) and the
+/// geometry.
 fn setup(
     cfg: &DiffusionConfig,
     engine: Engine,
     threads: usize,
-) -> Result<(Resolved, Geometry<f64>, f64, Vec<usize>), Error> {
+    audit: Option<AuditSpec>,
+) -> Result<(ExecSpec, Geometry<f64>), Error> {
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
-    let resolved = engine.resolve(cfg.precision == Precision::F64)?;
     let g = Geometry::new(cfg.w)?;
-    let tau = g.hop_time();
-    Ok((resolved, g, tau, cfg.lags()))
+    let spec = ExecSpec {
+        w: cfg.w,
+        precision: cfg.precision,
+        engine: engine.resolve(cfg.precision == Precision::F64)?,
+        threads,
+        tau: g.hop_time(),
+        lags: cfg.lags(),
+        audit,
+    };
+    Ok((spec, g))
 }
 
 /// As [`run_audited`], on the engine `engine` ([`Engine::Auto`]: SIMD for `f64`). The result has
@@ -610,7 +606,8 @@ pub fn run_on(
             "--audit replays f64 events in MPFR: it applies to f64 runs only".into(),
         ));
     }
-    let (resolved, g, tau, lags) = setup(cfg, engine, threads)?;
+    let (spec, g) = setup(cfg, engine, threads, audit)?;
+    let (resolved, tau) = (spec.engine, spec.tau);
     let start = Instant::now();
 
     let mut done: Vec<BatchResult> = match checkpoint {
@@ -629,34 +626,8 @@ pub fn run_on(
         Some(p) => Some(Mutex::new(open_checkpoint(p, cfg)?)),
         None => None,
     };
-    let record = |_: &Job, r: &BatchResult| -> Result<(), Error> {
-        if let Some(wr) = &writer {
-            let mut f = wr
-                .lock()
-                .map_err(|_| Error::Io("checkpoint lock poisoned".into()))?;
-            writeln!(
-                f,
-                "{}",
-                serde_json::to_string(r).map_err(|e| Error::Io(e.to_string()))?
-            )?;
-            f.flush()?;
-        }
-        Ok(())
-    };
-    let new = execute(
-        &todo,
-        ExecSpec {
-            w: cfg.w,
-            precision: cfg.precision,
-            engine: resolved,
-            threads,
-            tau,
-            lags: &lags,
-            audit,
-        },
-        &record,
-        progress,
-    )?;
+    let record = |_: &Job, r: &BatchResult| append_line(writer.as_ref(), "checkpoint", r);
+    let new = execute(&todo, spec, &record, progress)?;
     let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
     done.extend(new);
     done.sort_by_key(|b| b.index);
@@ -664,6 +635,27 @@ pub fn run_on(
     let mut rep = summarise(cfg, &g, tau, &done, threads, seconds, resumed, run_now);
     rep.meta = rep.meta.with_engine(resolved);
     Ok(rep)
+}
+
+/// Appends `v` as one JSON line to the checkpoint or journal `writer` (if any) and flushes it, so
+/// that a finished batch survives an interruption; `what` names the file in errors.
+fn append_line<T: Serialize>(
+    writer: Option<&Mutex<std::fs::File>>,
+    what: &str,
+    v: &T,
+) -> Result<(), Error> {
+    if let Some(wr) = writer {
+        let mut f = wr
+            .lock()
+            .map_err(|_| Error::Io(format!("{what} lock poisoned")))?;
+        writeln!(
+            f,
+            "{}",
+            serde_json::to_string(v).map_err(|e| Error::Io(e.to_string()))?
+        )?;
+        f.flush()?;
+    }
+    Ok(())
 }
 
 /// Header of a [`run_many`] journal: the configurations it belongs to.
@@ -745,7 +737,8 @@ pub fn run_many(
             ));
         }
     }
-    let (resolved, g, tau, lags) = setup(first, engine, threads)?;
+    let (spec, g) = setup(first, engine, threads, None)?;
+    let (resolved, tau) = (spec.engine, spec.tau);
     let start = Instant::now();
     let jobs: Vec<Job> = cfgs.iter().flat_map(DiffusionConfig::jobs).collect();
     let finished = match journal {
@@ -765,58 +758,23 @@ pub fn run_many(
         .copied()
         .collect();
     let writer = match journal {
-        Some(p) => {
-            let fresh = std::fs::metadata(p).map(|m| m.len() == 0).unwrap_or(true);
-            let mut f = OpenOptions::new().create(true).append(true).open(p)?;
-            if fresh {
-                let h = JournalHeader {
-                    format: CHECKPOINT_FORMAT,
-                    configs: cfgs.to_vec(),
-                };
-                writeln!(
-                    f,
-                    "{}",
-                    serde_json::to_string(&h).map_err(|e| Error::Io(e.to_string()))?
-                )?;
-            } else {
-                writeln!(f)?;
-            }
-            Some(Mutex::new(f))
-        }
+        Some(p) => Some(Mutex::new(open_appending(
+            p,
+            &JournalHeader {
+                format: CHECKPOINT_FORMAT,
+                configs: cfgs.to_vec(),
+            },
+        )?)),
         None => None,
     };
-    let record = |j: &Job, r: &BatchResult| -> Result<(), Error> {
-        if let Some(wr) = &writer {
-            let mut f = wr
-                .lock()
-                .map_err(|_| Error::Io("journal lock poisoned".into()))?;
-            let e = JournalEntry {
-                run: j.run,
-                batch: r.clone(),
-            };
-            writeln!(
-                f,
-                "{}",
-                serde_json::to_string(&e).map_err(|e| Error::Io(e.to_string()))?
-            )?;
-            f.flush()?;
-        }
-        Ok(())
+    let record = |j: &Job, r: &BatchResult| {
+        let e = JournalEntry {
+            run: j.run,
+            batch: r.clone(),
+        };
+        append_line(writer.as_ref(), "journal", &e)
     };
-    let new = execute(
-        &todo,
-        ExecSpec {
-            w: first.w,
-            precision: first.precision,
-            engine: resolved,
-            threads,
-            tau,
-            lags: &lags,
-            audit: None,
-        },
-        &record,
-        progress,
-    )?;
+    let new = execute(&todo, spec, &record, progress)?;
     let seconds = start.elapsed().as_secs_f64();
     let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
     let mut all: Vec<(u64, BatchResult)> = finished.into_iter().map(|e| (e.run, e.batch)).collect();
@@ -840,13 +798,13 @@ pub fn run_many(
 }
 
 /// How the trajectories of [`execute`] run.
-struct ExecSpec<'a> {
+struct ExecSpec {
     w: f64,
     precision: Precision,
     engine: Resolved,
     threads: usize,
     tau: f64,
-    lags: &'a [usize],
+    lags: Vec<usize>,
     audit: Option<AuditSpec>,
 }
 
@@ -855,7 +813,7 @@ struct ExecSpec<'a> {
 /// Results come back in job order.
 fn execute(
     jobs: &[Job],
-    spec: ExecSpec<'_>,
+    spec: ExecSpec,
     record: &(dyn Fn(&Job, &BatchResult) -> Result<(), Error> + Sync),
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<BatchResult>, Error> {
@@ -875,7 +833,7 @@ fn execute(
                     .par_iter()
                     .map(|b| {
                         let r =
-                            run_simd(path, &trap64, b, spec.tau, spec.lags, spec.audit, progress)?;
+                            run_simd(path, &trap64, b, spec.tau, &spec.lags, spec.audit, progress)?;
                         for (j, x) in b.iter().zip(&r) {
                             record(j, x)?;
                         }
@@ -890,7 +848,7 @@ fn execute(
             w: spec.w,
             trap64: &trap64,
             tau: spec.tau,
-            lags: spec.lags,
+            lags: &spec.lags,
             audit: spec.audit,
             pool: &pool,
             record,
@@ -1084,11 +1042,10 @@ fn load_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<Vec<BatchResult
     Ok(out)
 }
 
-fn open_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<std::fs::File, Error> {
-    let fresh = std::fs::metadata(p).map(|m| m.len() == 0).unwrap_or(true);
-    let mut f = OpenOptions::new().create(true).append(true).open(p)?;
-    if fresh {
-        let h = CheckpointHeader {
+fn open_checkpoint(p: &Path, cfg: &DiffusionConfig) -> Result<std::fs::File, Error> {
+    open_appending(
+        p,
+        &CheckpointHeader {
             format: CHECKPOINT_FORMAT,
             config: cfg.clone(),
             meta: Some(RunMeta::new(
@@ -1097,14 +1054,23 @@ fn open_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<std::fs::File, 
                 cfg.precision,
                 None,
             )),
-        };
+        },
+    )
+}
+
+/// Opens the checkpoint or journal `p` for appending: a new (or empty) file gets `header` as its
+/// first line; an existing one gets a newline first, so that a line cut short by an
+/// interruption does not swallow the next record.
+fn open_appending<H: Serialize>(p: &Path, header: &H) -> Result<std::fs::File, Error> {
+    let fresh = std::fs::metadata(p).map(|m| m.len() == 0).unwrap_or(true);
+    let mut f = OpenOptions::new().create(true).append(true).open(p)?;
+    if fresh {
         writeln!(
             f,
             "{}",
-            serde_json::to_string(&h).map_err(|e| Error::Io(e.to_string()))?
+            serde_json::to_string(header).map_err(|e| Error::Io(e.to_string()))?
         )?;
     } else {
-        // Make sure a line cut short by an interruption does not swallow the next record.
         writeln!(f)?;
     }
     Ok(f)

@@ -454,6 +454,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path, threads: usize) -> Result<SweepReport
     let mut cfg: Option<(SweepConfig, PathBuf)> = None;
     let mut shards: std::collections::BTreeMap<u32, (Shard, PathBuf)> = Default::default();
     let mut found: std::collections::BTreeMap<u32, (SweepPoint, PathBuf)> = Default::default();
+    // The engines that ran the parts (informational: every engine gives the same bits).
+    let mut engines: Vec<(String, Option<String>)> = Vec::new();
     let same = |c: &SweepConfig, d: &Path, cfg: &mut Option<(SweepConfig, PathBuf)>| match cfg {
         None => {
             *cfg = Some((c.clone(), d.to_path_buf()));
@@ -498,6 +500,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path, threads: usize) -> Result<SweepReport
                 )));
             }
             shards.insert(m.shard.index, (m.shard, d.clone()));
+            let e = (m.meta.engine, m.meta.simd);
+            if !engines.contains(&e) {
+                engines.push(e);
+            }
         }
         let pdir = d.join("points");
         let entries = std::fs::read_dir(&pdir).map_err(|e| {
@@ -527,17 +533,6 @@ pub fn merge(dirs: &[PathBuf], out: &Path, threads: usize) -> Result<SweepReport
                 )));
             }
             found.insert(p.index, (p, d.clone()));
-        }
-    }
-    // The engines that ran the parts (informational: every engine gives the same bits).
-    let mut engines: Vec<(String, Option<String>)> = Vec::new();
-    for (_, d) in shards.values() {
-        let text = std::fs::read_to_string(d.join("shard.json"))?;
-        if let Ok(m) = serde_json::from_str::<ShardReport>(&text) {
-            let e = (m.meta.engine, m.meta.simd);
-            if !engines.contains(&e) {
-                engines.push(e);
-            }
         }
     }
     let Some((cfg, _)) = cfg else {

@@ -2,21 +2,11 @@
 //! valid range — never a panic, an abort or a file written — and every result carries the same
 //! metadata block; counts are typed as physicists type them; results do not depend on --threads.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
-fn lorentz_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lorentz"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run lorentz");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+mod common;
+use common::lorentz_in;
 
 fn scratch(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("lorentz-cli-{tag}-{}", std::process::id()));

@@ -1,20 +1,9 @@
 //! `lorentz report`: a fresh result passes every check; a result with an edited number fails.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn lorentz(dir: &Path, args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lorentz"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run lorentz");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+mod common;
+use common::lorentz_in as lorentz;
 
 fn scratch() -> PathBuf {
     let d = std::env::temp_dir().join(format!("lorentz-report-{}", std::process::id()));
