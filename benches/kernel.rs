@@ -4,15 +4,16 @@
 //! diffusion`. The CLI's `lorentz bench` gives the same numbers as collisions per second.
 
 use divan::Bencher;
-use lorentz_gas::engine::{drive, run_block, SimdPath, BLOCK};
-use lorentz_gas::geometry::Geometry;
-use lorentz_gas::observables::counters::CounterLanes;
-use lorentz_gas::observables::msd::Msd;
-use lorentz_gas::observables::Nothing;
-use lorentz_gas::real::Real;
-use lorentz_gas::sampling::stream;
+use lorentz_gas::engine::simd::BLOCK;
+use lorentz_gas::engine::{drive, run_block, SimdPath};
+use lorentz_gas::numbers::real::Real;
+use lorentz_gas::observers::counters::CounterLanes;
+use lorentz_gas::observers::msd::Msd;
+use lorentz_gas::observers::Nothing;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
+use lorentz_gas::scenes::triangular::geometry::Geometry;
 use rug::Float;
 
 fn main() {
@@ -48,7 +49,7 @@ fn scalar_mpfr_w_0_1(b: Bencher, bits: u32) {
     run(b, &lat, s);
 }
 
-fn simd<O: lorentz_gas::observables::Observer<BLOCK>>(
+fn simd<O: lorentz_gas::observers::Observer<BLOCK>>(
     b: Bencher,
     path: SimdPath,
     w: f64,
@@ -84,7 +85,7 @@ fn simd_best_bare(b: Bencher, w: f64) {
 fn simd_best_with_diffusion_observers(b: Bencher, w: f64) {
     let lat = TriangularLattice::new(w).unwrap();
     let tau = Geometry::new(w).unwrap().hop_time();
-    let lags = lorentz_gas::diffusion::DiffusionConfig::new(w).lags();
+    let lags = lorentz_gas::estimators::diffusion::DiffusionConfig::new(w).lags();
     let basis = lat.basis_f64();
     simd(b, SimdPath::best(), w, || {
         (CounterLanes::new(BLOCK), Msd::new(tau, &lags, basis, BLOCK))

@@ -5,56 +5,39 @@
 //! *J. Stat. Phys.* **101**, 145 (2000) — computed by one collision kernel that is generic over
 //! `f64` (production) and `rug::Float` (the MPFR shadow that audits it).
 //!
-//! Layout, physics first:
-//! * [`real`]: the number trait (`f64`, `rug::Float` ≥ 53 bits).
-//! * [`lanes`]: vectors of `f64` lanes (AVX-512, AVX2, portable, one `f64`) with exactly the
-//!   scalar IEEE operations, for the SIMD engine and its observers.
-//! * [`geometry`]: closed forms (w∞, w₀, ⟨ℓ⟩, τ, D_MZ, D_Bo, …).
-//! * [`kernel`]: ray–disk root, the canonical trap, reflections.
-//! * [`scenes`]: the periodic lattice built from the trap.
-//! * [`engine`]: what runs trajectories — the scalar engine (any precision) and the SIMD
-//!   multi-trajectory engine (`f64`, bit-identical), both feeding the same observers.
-//! * [`sampling`]: initial conditions from the invariant measure; reproducible streams.
-//! * [`symbols`]: the exit symbols z, l, r and their words (the one encoding).
-//! * [`observables`]: mean squared displacement, event counters, trap-hopping statistics.
-//! * [`stats`]: batch means, blocking, least-squares fits (weighted, with χ²), Student-t quantiles.
-//! * [`diffusion`]: D(w) by the Einstein formula with error bars.
-//! * [`escape`]: D(w) from the escape rate out of an open strip (Gaspard–Baras), extrapolated in
-//!   the width.
-//! * [`theory`]: symbolic dynamics, the corrected Machta–Zwanzig hierarchy, App. A, exact and
-//!   simulated correlated lattice walks, hop-level Green–Kubo.
-//! * [`trajectory`]: one trajectory from exact initial conditions to certified digits (precision
-//!   doubling).
-//! * [`verification`]: shadows, audits, reversibility, Birkhoff-map Jacobians, Lyapunov exponents.
+//! ## The map
+//!
+//! The layers, each using only the ones above it in this list (`ARCHITECTURE.md` says more):
+//!
+//! 1. [`numbers`]: the number trait (`f64`, MPFR), SIMD lanes, precisions, exact inputs.
+//! 2. [`kernel`]: one file per geometric query — ray–disk root, flights and events, the generic
+//!    cell kernel and the triangular trap's fused path.
+//! 3. [`scenes`]: billiard tables built from kernels — the triangular lattice (and its closed
+//!    forms), the square lattice, a single trap, the open strip; initial conditions; symbols.
+//! 4. [`engine`]: what advances trajectories — the scalar engine (any precision), the SIMD
+//!    engine (bit-identical `f64`), parallel batches, run metadata.
+//! 5. [`observers`]: what watches the events — MSD, counters, trap hops.
+//! 6. [`estimators`]: the analyses (diffusion, hops, sweep, escape, trajectory, throughput).
+//! 7. [`report`]: publication audit, speed against error, reproduction, figures.
+//!
+//! Beside them: [`statistics`] (batch means, fits, Student-t), [`theory`] (symbolic dynamics,
+//! the corrected hierarchy, exact correlated walks, Green–Kubo), [`verification`] (shadows,
+//! shadowing, reversibility, Lyapunov exponents, certification, the fuzz oracle), [`campaigns`]
+//! (Slurm), and the `lorentz` binary's `cli`. Errors are [`Error`].
 #![warn(missing_docs)]
 
-pub mod bench;
-pub mod diffusion;
+pub mod campaigns;
 pub mod engine;
-pub mod error;
-pub mod escape;
-pub mod figures;
-pub mod geometry;
-pub mod grid;
-pub mod hopping;
+mod error;
+pub mod estimators;
 pub mod kernel;
-pub mod lanes;
-pub mod metadata;
-pub mod observables;
-pub mod parallel;
-pub mod precision;
-pub mod publication;
-pub mod real;
+pub mod numbers;
+pub mod observers;
+#[cfg(feature = "report")]
 pub mod report;
-pub mod reproduce;
-pub mod sampling;
 pub mod scenes;
-pub mod slurm;
-pub mod stats;
-pub mod sweep;
-pub mod symbols;
+pub mod statistics;
 pub mod theory;
-pub mod trajectory;
 pub mod verification;
 
 pub use error::Error;

@@ -2,8 +2,9 @@
 //! and figures; errors of the size its collisions warrant; the Machta–Zwanzig crossing with an
 //! error bar that covers the true crossing as often as it should.
 
-use lorentz_gas::diffusion::{run, DiffusionConfig};
-use lorentz_gas::sweep::{mz_crossing, sweep, SweepConfig, SweepRow};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+use lorentz_gas::estimators::sweep::{mz_crossing, sweep, SweepConfig, SweepRow};
 use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
@@ -66,7 +67,14 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
             c.batches = cfg.batches;
             c.seed = cfg.seed;
             c.run = r;
-            run(&c, 2, None, &|_| {}).unwrap()
+            run(
+                &c,
+                &RunOptions {
+                    threads: 2,
+                    ..RunOptions::default()
+                },
+            )
+            .unwrap()
         })
         .collect();
     assert_eq!(row.run_D, vec![runs[0].D, runs[1].D]);
@@ -76,7 +84,14 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     single.collisions = 6_000_000;
     single.batches = 8;
     single.seed = 1234;
-    let s = run(&single, 2, None, &|_| {}).unwrap();
+    let s = run(
+        &single,
+        &RunOptions {
+            threads: 2,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     let f = FisherSnedecor::new(6.0, 7.0).unwrap();
     let (lo, hi) = (
         f.inverse_cdf(P_4_SIGMA / 2.0),
@@ -131,7 +146,7 @@ fn mz_crossing_error_bar_covers_the_true_crossing() {
     let truth = |w: f64| 0.2 * (w - truth_w) + 1.5 * (w - truth_w).powi(2);
     let ws: Vec<f64> = (0..15).map(|i| 0.02 * (i + 1) as f64).collect();
     let sigma: Vec<f64> = ws.iter().map(|w| 1e-4 * (1.0 + 4.0 * w)).collect();
-    let mut rng = lorentz_gas::sampling::stream(2024, 0);
+    let mut rng = lorentz_gas::scenes::sampling::stream(2024, 0);
     let m = 2000;
     let pulls: Vec<f64> = (0..m)
         .map(|_| {

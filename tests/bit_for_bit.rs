@@ -3,10 +3,10 @@
 //! trap index — which proves the generic code contains no stray `f64` operation, constant or
 //! non-correctly-rounded function (proofs-notes/bit-for-bit.md).
 
-use lorentz_gas::kernel::trap::Event;
-use lorentz_gas::real::Real;
-use lorentz_gas::sampling::stream;
+use lorentz_gas::kernel::flight::Event;
+use lorentz_gas::numbers::real::Real;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
 use rug::Float;
 
@@ -50,7 +50,7 @@ fn rug53_reproduces_f64_bit_for_bit() {
 
 #[test]
 fn constants_at_53_bits_are_the_f64_constants() {
-    use lorentz_gas::geometry::Geometry;
+    use lorentz_gas::scenes::triangular::geometry::Geometry;
     let g64 = Geometry::new(0.1f64).unwrap();
     let g53 = Geometry::new(Float::with_val(53, 0.1)).unwrap();
     assert!(same(g64.mean_free_path(), &g53.mean_free_path()));

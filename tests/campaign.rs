@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use lorentz_gas::engine::Engine;
-use lorentz_gas::sweep::{merge, sweep_on, sweep_shard, Shard, SweepConfig};
+use lorentz_gas::estimators::sweep::{merge, sweep_on, sweep_shard, Shard, SweepConfig};
 
 fn scratch(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("lorentz-campaign-{tag}-{}", std::process::id()));
@@ -137,7 +137,7 @@ fn merge_refuses_missing_duplicate_and_foreign_parts() {
     // A damaged point (its w no longer on the grid) is named.
     let p = b.join("points").join("point-0001.json");
     let text = std::fs::read_to_string(&p).unwrap();
-    let w1 = lorentz_gas::grid::decimal_grid("0.2", "0.3", 5).unwrap()[1];
+    let w1 = lorentz_gas::numbers::exact::decimal_grid("0.2", "0.3", 5).unwrap()[1];
     std::fs::write(&p, text.replace(&format!("\"w\":{w1}"), "\"w\":0.26")).unwrap();
     let e = err(&[a, b]);
     assert!(e.contains("point 1 has w = 0.26"), "{e}");

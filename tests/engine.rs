@@ -2,13 +2,15 @@
 //! every instruction path this machine has (AVX-512, AVX2, portable), and the production
 //! observables have the same bits on every engine and thread count.
 
-use lorentz_gas::engine::{run_block, SimdPath, BLOCK};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::engine::simd::BLOCK;
+use lorentz_gas::engine::{run_block, SimdPath};
 use lorentz_gas::kernel::trap::Trap;
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::kernel::{Event, Flight};
-use lorentz_gas::observables::{EventLanes, Observer};
-use lorentz_gas::sampling::stream;
+use lorentz_gas::kernel::{flight::Event, flight::Flight};
+use lorentz_gas::observers::{EventLanes, Observer};
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState, TriangularLattice};
+use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
 
 /// Every event of every lane, as bits.
@@ -19,8 +21,8 @@ struct Record {
 fn bits(s: &LatticeState<f64>, e: &Event<f64>) -> [u64; 9] {
     let f = &s.flight;
     let code = match e.kind {
-        lorentz_gas::kernel::EventKind::Collision(m) => m as u64,
-        lorentz_gas::kernel::EventKind::Crossing(k) => 3 + k as u64,
+        lorentz_gas::kernel::flight::EventKind::Collision(m) => m as u64,
+        lorentz_gas::kernel::flight::EventKind::Crossing(k) => 3 + k as u64,
     };
     [
         e.time.to_bits(),
@@ -36,7 +38,7 @@ fn bits(s: &LatticeState<f64>, e: &Event<f64>) -> [u64; 9] {
 }
 
 impl<const L: usize> Observer<L> for Record {
-    fn observe<V: lorentz_gas::lanes::Lanes>(&mut self, steps: &[EventLanes<L>]) {
+    fn observe<V: lorentz_gas::numbers::lanes::Lanes>(&mut self, steps: &[EventLanes<L>]) {
         for e in steps {
             for l in 0..L {
                 if e.is_live(l) {
@@ -68,7 +70,7 @@ fn compare(path: SimdPath, w: f64, starts: &[LatticeState<f64>], quotas: &[u64])
                 Some(&want),
                 "{path} w={w} lane {l} event {k}"
             );
-            if let lorentz_gas::kernel::EventKind::Collision(_) = ev.kind {
+            if let lorentz_gas::kernel::flight::EventKind::Collision(_) = ev.kind {
                 c += 1;
             }
             lat.apply(&mut s, &ev);
@@ -107,7 +109,7 @@ fn every_lane_reproduces_the_scalar_kernel_on_every_path() {
 /// disk within a few ulps of tangency from either side; starts exactly on an edge.
 #[test]
 fn hard_cases_and_grazing_starts_are_reproduced_on_every_path() {
-    use lorentz_gas::geometry::Geometry;
+    use lorentz_gas::scenes::triangular::geometry::Geometry;
     let w_inf = Geometry::<f64>::w_inf(());
     let w0 = Geometry::<f64>::w_0(());
     for path in SimdPath::ALL.into_iter().filter(|p| p.available()) {
@@ -180,9 +182,9 @@ fn physics_json<T: serde::Serialize>(r: &T) -> serde_json::Value {
 /// block and one with 12 padding lanes.
 #[test]
 fn diffusion_and_hops_are_identical_on_every_engine() {
-    use lorentz_gas::diffusion::{run_on, DiffusionConfig};
     use lorentz_gas::engine::Engine;
-    use lorentz_gas::hopping::hops_on;
+    use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
+    use lorentz_gas::estimators::hops::hops_on;
     for (w, collisions) in [(0.02, 4_000_000u64), (0.1, 2_000_000), (0.3, 1_000_000)] {
         let mut cfg = DiffusionConfig::new(w);
         cfg.collisions = collisions;
@@ -194,7 +196,19 @@ fn diffusion_and_hops_are_identical_on_every_engine() {
             (Engine::Simd, 2),
         ]
         .iter()
-        .map(|&(e, t)| physics_json(&run_on(&cfg, e, t, None, None, &|_| {}).unwrap()))
+        .map(|&(e, t)| {
+            physics_json(
+                &diffusion::run(
+                    &cfg,
+                    &RunOptions {
+                        engine: e,
+                        threads: t,
+                        ..RunOptions::default()
+                    },
+                )
+                .unwrap(),
+            )
+        })
         .collect();
         for r in &runs[1..] {
             assert_eq!(r, &runs[0], "diffusion at w = {w}");
@@ -214,11 +228,11 @@ fn diffusion_and_hops_are_identical_on_every_engine() {
 /// and the two estimates of D differ by much less than that error.
 #[test]
 fn msd_grid_keeps_the_error_of_d() {
-    use lorentz_gas::diffusion::DiffusionConfig;
     use lorentz_gas::engine::drive;
-    use lorentz_gas::geometry::Geometry;
-    use lorentz_gas::observables::msd::Msd;
-    use lorentz_gas::stats::{linear_fit, mean_se};
+    use lorentz_gas::estimators::diffusion::DiffusionConfig;
+    use lorentz_gas::observers::msd::Msd;
+    use lorentz_gas::scenes::triangular::geometry::Geometry;
+    use lorentz_gas::statistics::{linear_fit, mean_se};
     let w = 0.1;
     let lat = TriangularLattice::new(w).unwrap();
     let tau = Geometry::new(w).unwrap().hop_time();
@@ -264,8 +278,8 @@ fn msd_grid_keeps_the_error_of_d() {
 /// the finished batches and ends with the same bits.
 #[test]
 fn packed_runs_equal_single_runs_and_resume_from_their_journal() {
-    use lorentz_gas::diffusion::{run_many, run_on, DiffusionConfig};
     use lorentz_gas::engine::Engine;
+    use lorentz_gas::estimators::diffusion::{self, run_many, DiffusionConfig};
     let cfgs: Vec<DiffusionConfig> = (0..3)
         .map(|r| {
             let mut c = DiffusionConfig::new(0.25);
@@ -277,12 +291,29 @@ fn packed_runs_equal_single_runs_and_resume_from_their_journal() {
         .collect();
     let alone: Vec<_> = cfgs
         .iter()
-        .map(|c| physics_json(&run_on(c, Engine::Scalar, 1, None, None, &|_| {}).unwrap()))
+        .map(|c| {
+            physics_json(
+                &diffusion::run(
+                    c,
+                    &RunOptions {
+                        engine: Engine::Scalar,
+                        threads: 1,
+                        ..RunOptions::default()
+                    },
+                )
+                .unwrap(),
+            )
+        })
         .collect();
     let dir = std::env::temp_dir().join(format!("lorentz-journal-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let journal = dir.join("point.partial");
-    let packed: Vec<_> = run_many(&cfgs, Engine::Auto, 2, Some(&journal), &|_| {})
+    let journaled = RunOptions {
+        threads: 2,
+        resume: Some(journal.clone()),
+        ..RunOptions::default()
+    };
+    let packed: Vec<_> = run_many(&cfgs, &journaled)
         .unwrap()
         .iter()
         .map(physics_json)
@@ -303,9 +334,16 @@ fn packed_runs_equal_single_runs_and_resume_from_their_journal() {
     cut.push_str(&lines[8][..lines[8].len() / 2]);
     std::fs::write(&journal, cut).unwrap();
     let done = std::sync::atomic::AtomicU64::new(0);
-    let resumed = run_many(&cfgs, Engine::Auto, 2, Some(&journal), &|n| {
+    let count = |n| {
         done.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-    })
+    };
+    let resumed = run_many(
+        &cfgs,
+        &RunOptions {
+            progress: &count,
+            ..journaled.clone()
+        },
+    )
     .unwrap();
     let reused: u32 = resumed.iter().map(|r| r.resumed_batches).sum();
     assert_eq!(reused, 7);
@@ -316,6 +354,6 @@ fn packed_runs_equal_single_runs_and_resume_from_their_journal() {
     // A journal of other runs is refused.
     let mut other = cfgs.clone();
     other[0].seed = 99;
-    assert!(run_many(&other, Engine::Auto, 2, Some(&journal), &|_| {}).is_err());
+    assert!(run_many(&other, &journaled).is_err());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -2,12 +2,13 @@
 //! (absorption at the exact crossing time, sampling from the invariant measure restricted to the
 //! strip), thread independence, and D_escape against the Einstein D within 3 combined σ.
 
-use lorentz_gas::diffusion::{self, DiffusionConfig};
-use lorentz_gas::escape::{self, EscapeConfig};
-use lorentz_gas::kernel::trap::Flight;
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
+use lorentz_gas::estimators::escape::{self, EscapeConfig};
+use lorentz_gas::kernel::flight::Flight;
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::sampling::{Purpose, StreamKey};
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState};
+use lorentz_gas::scenes::sampling::{Purpose, StreamKey};
 use lorentz_gas::scenes::strip::{Side, Strip};
 use lorentz_gas::scenes::triangular::TriangularScene;
 
@@ -231,7 +232,14 @@ fn escape_agrees_with_einstein(w: f64, particles: u64, collisions: u64) {
     dc.collisions = collisions;
     dc.batches = 16;
     dc.seed = 2026;
-    let d = diffusion::run(&dc, threads, None, &|_| {}).unwrap();
+    let d = diffusion::run(
+        &dc,
+        &RunOptions {
+            threads: threads,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     let sigma = r.D_escape_err.hypot(d.D_err);
     let z = (r.D_escape - d.D) / sigma;
     for x in &r.widths {

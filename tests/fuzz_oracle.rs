@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::kernel::{EventKind, Flight};
+use lorentz_gas::kernel::{flight::EventKind, flight::Flight};
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState};
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::Scene;

@@ -1,14 +1,14 @@
 //! The hard cases: w → 0, w just below w∞, w = w₀ exactly, flights along a gap edge and through
 //! the corner where a gap meets a disk, and very long runs (the 10⁹-collision one is `--ignored`).
 
-use lorentz_gas::geometry::Geometry;
-use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::sampling::stream;
+use lorentz_gas::kernel::{flight::EventKind, flight::Flight, trap::Trap};
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
-use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t, CompensatedSum};
-use lorentz_gas::verification::shadow::check_event;
+use lorentz_gas::scenes::triangular::geometry::Geometry;
+use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t, CompensatedSum};
+use lorentz_gas::verification::replay::check_event;
 use rug::Float;
 
 /// Mean free path over `b` independent trajectories of `n` collisions: (mean, SE, hops).

@@ -6,9 +6,10 @@
 //! normal's two-sided 4σ tail probability 6.3·10⁻⁵ (`stats::normal_sigma_equivalent_t`; 15 dof:
 //! 5.48, 30 dof: 4.65).
 
-use lorentz_gas::diffusion::{run, DiffusionConfig};
-use lorentz_gas::hopping::{backscatter, hops};
-use lorentz_gas::stats::{normal_sigma_equivalent_t, student_t_quantile, welch_dof};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+use lorentz_gas::estimators::hops::{backscatter, hops};
+use lorentz_gas::statistics::{normal_sigma_equivalent_t, student_t_quantile, welch_dof};
 
 fn z(a: f64, ea: f64, b: f64, eb: f64) -> f64 {
     (a - b).abs() / (ea * ea + eb * eb).sqrt()
@@ -16,7 +17,7 @@ fn z(a: f64, ea: f64, b: f64, eb: f64) -> f64 {
 
 /// The 4σ-equivalent bound for a mean of `n` batch means against an exact value.
 /// Batches of a result, from its metadata block.
-fn nb(m: &lorentz_gas::metadata::RunMeta) -> u32 {
+fn nb(m: &lorentz_gas::engine::metadata::RunMeta) -> u32 {
     m.batches.expect("batches in the metadata") as u32
 }
 
@@ -117,7 +118,14 @@ fn hop_level_green_kubo_matches_einstein() {
         cfg.collisions = 60_000_000;
         cfg.batches = 16;
         cfg.seed = 57;
-        let e = run(&cfg, 2, None, &|_| {}).unwrap();
+        let e = run(
+            &cfg,
+            &RunOptions {
+                threads: 2,
+                ..RunOptions::default()
+            },
+        )
+        .unwrap();
         let k = t4_welch(gk.D_GK_err, nb(&gk.meta), e.D_err, nb(&e.meta));
         assert!(
             z(gk.D_GK, gk.D_GK_err, e.D, e.D_err) < k,
@@ -134,8 +142,8 @@ fn hop_level_green_kubo_matches_einstein() {
 /// 4 combined standard errors.
 #[test]
 fn backscattering_does_not_move_with_precision() {
-    use lorentz_gas::diffusion::Precision;
-    use lorentz_gas::hopping::backscatter_at;
+    use lorentz_gas::estimators::hops::backscatter_at;
+    use lorentz_gas::numbers::precision::Precision;
     let hi = backscatter_at(0.1, 32_000, 16, 61, 2, Precision::Bits(128), &|_| {}).unwrap();
     let lo = backscatter_at(0.1, 1_000_000, 16, 62, 2, Precision::F64, &|_| {}).unwrap();
     let k = t4_welch(hi.p_bs_err, nb(&hi.meta), lo.p_bs_err, nb(&lo.meta));
@@ -169,7 +177,7 @@ fn backscattering_does_not_move_with_precision() {
 /// dof. Memory beyond four hops, a wrong table or a wrong resolvent shows up as a larger z.
 #[test]
 fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
-    use lorentz_gas::geometry::Geometry;
+    use lorentz_gas::scenes::triangular::geometry::Geometry;
     use lorentz_gas::theory::markov::CorrelatedWalk;
     use lorentz_gas::theory::sequences::SequenceProbabilities;
     const K: usize = 16;
@@ -179,7 +187,7 @@ fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
             .map(|k| {
                 // Sub-run k of gap i: run i·K + k of seed 71 (distinct streams, no seed arithmetic).
                 let run = (i * K) as u64 + k;
-                let h = lorentz_gas::hopping::hops_run(
+                let h = lorentz_gas::estimators::hops::hops_run(
                     w,
                     40_000_000 / K as u64,
                     2,
@@ -212,7 +220,14 @@ fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
         cfg.collisions = 40_000_000;
         cfg.batches = 16;
         cfg.seed = 72;
-        let e = run(&cfg, 2, None, &|_| {}).unwrap();
+        let e = run(
+            &cfg,
+            &RunOptions {
+                threads: 2,
+                ..RunOptions::default()
+            },
+        )
+        .unwrap();
         let dof = welch_dof(se4, kf, e.D_err, nb(&e.meta) as f64);
         let t_max = normal_sigma_equivalent_t(dof, 4.0);
         let zz = z(d4, se4, e.D, e.D_err);
@@ -235,8 +250,8 @@ fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
 /// per batch for the Green–Kubo window.
 #[test]
 fn bad_orders_and_counts_are_refused_up_front() {
-    use lorentz_gas::hopping::{lattice_walks, min_collisions_per_batch, theory};
-    use lorentz_gas::symbols::MAX_ORDER;
+    use lorentz_gas::estimators::hops::{lattice_walks, min_collisions_per_batch, theory};
+    use lorentz_gas::scenes::symbols::MAX_ORDER;
     use std::sync::atomic::{AtomicU64, Ordering};
     let work = AtomicU64::new(0);
     let p = |n: u64| {
@@ -294,17 +309,25 @@ fn backscatter_at_f64(
     batches: u32,
     seed: u64,
     progress: &(dyn Fn(u64) + Sync),
-) -> lorentz_gas::hopping::BackscatterReport {
-    use lorentz_gas::diffusion::Precision;
-    lorentz_gas::hopping::backscatter_at(w, visits, batches, seed, 2, Precision::F64, progress)
-        .unwrap()
+) -> lorentz_gas::estimators::hops::BackscatterReport {
+    use lorentz_gas::numbers::precision::Precision;
+    lorentz_gas::estimators::hops::backscatter_at(
+        w,
+        visits,
+        batches,
+        seed,
+        2,
+        Precision::F64,
+        progress,
+    )
+    .unwrap()
 }
 
 /// Fig. 6b by simulation from the library: each order-k walk driven by the measured table is
 /// simulated within 4σ of its exact D, and the exact order-4 D is within 4σ of the gas's hop-level D.
 #[test]
 fn lattice_walks_agree_with_their_exact_d() {
-    use lorentz_gas::hopping::lattice_walks;
+    use lorentz_gas::estimators::hops::lattice_walks;
     let r = lattice_walks(0.1, 20_000_000, 8, 4, 81, 2, &|_| {}).unwrap();
     assert_eq!(r.walks.len(), 4);
     for row in &r.walks {
@@ -315,7 +338,7 @@ fn lattice_walks_agree_with_their_exact_d() {
     }
     // The fit window of the simulated walks is long enough: for the same measured tables (same
     // seed), the exact fit bias is below a tenth of the statistical error.
-    use lorentz_gas::hopping::{WALK_BATCHES, WALK_HOPS, WALK_WALKERS};
+    use lorentz_gas::estimators::hops::{WALK_BATCHES, WALK_HOPS, WALK_WALKERS};
     use lorentz_gas::theory::lattice_walk::{fit_bias, LatticeWalkConfig};
     use lorentz_gas::theory::markov::CorrelatedWalk;
     let h = hops(0.1, 20_000_000, 8, 4, 81, 2, &|_| {}).unwrap();
@@ -323,7 +346,7 @@ fn lattice_walks_agree_with_their_exact_d() {
     for row in &r.walks {
         let walk = CorrelatedWalk::new(&h.table(row.order).unwrap()).unwrap();
         assert_eq!(
-            walk.d(&lorentz_gas::geometry::Geometry::new(0.1).unwrap())
+            walk.d(&lorentz_gas::scenes::triangular::geometry::Geometry::new(0.1).unwrap())
                 .unwrap(),
             row.D_exact
         );

@@ -9,9 +9,9 @@
 //! * a post-event position is never inside a disk by more than 256u (|x − c|² ≥ 1 − 256u);
 //! * a post-event position is within 256u·a of the closed triangle.
 
-use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::real::Real;
+use lorentz_gas::kernel::{flight::EventKind, flight::Flight, trap::Trap};
+use lorentz_gas::numbers::real::Real;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use rug::Float;

@@ -1,13 +1,14 @@
 //! Physics checks: exact identities within 4σ, the horizon threshold w∞, the collisionless
 //! flight onset w₀, the maximal free path, and energy without drift.
 
-use lorentz_gas::diffusion::{run, DiffusionConfig};
-use lorentz_gas::geometry::Geometry;
-use lorentz_gas::kernel::trap::{EventKind, Flight};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::sampling::stream;
+use lorentz_gas::kernel::{flight::EventKind, flight::Flight};
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState, TriangularLattice};
+use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
+use lorentz_gas::scenes::triangular::geometry::Geometry;
 
 fn within(x: f64, err: f64, exact: f64, k: f64, what: &str) {
     assert!(err > 0.0 && err.is_finite(), "{what}: bad error {err}");
@@ -24,13 +25,20 @@ fn within(x: f64, err: f64, exact: f64, k: f64, what: &str) {
 /// two-sided 4σ tail probability 6.3·10⁻⁵ (t₁₅: 5.48).
 #[test]
 fn exact_identities_within_four_sigma() {
-    use lorentz_gas::stats::normal_sigma_equivalent_t;
+    use lorentz_gas::statistics::normal_sigma_equivalent_t;
     for &w in &[0.05, 0.25] {
         let mut cfg = DiffusionConfig::new(w);
         cfg.collisions = 40_000_000;
         cfg.batches = 16;
         cfg.seed = 2024;
-        let r = run(&cfg, 2, None, &|_| {}).unwrap();
+        let r = run(
+            &cfg,
+            &RunOptions {
+                threads: 2,
+                ..RunOptions::default()
+            },
+        )
+        .unwrap();
         let k = normal_sigma_equivalent_t(r.meta.batches.unwrap() as f64 - 1.0, 4.0);
         within(
             r.mean_free_path,
@@ -69,12 +77,33 @@ fn same_seed_same_bits_any_thread_count() {
     cfg.seed = 99;
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
-    let a = run(&cfg, 1, None, &|_| {}).unwrap();
-    let b = run(&cfg, 2, None, &|_| {}).unwrap();
+    let a = run(
+        &cfg,
+        &RunOptions {
+            threads: 1,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
+    let b = run(
+        &cfg,
+        &RunOptions {
+            threads: 2,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     assert_eq!(a.D.to_bits(), b.D.to_bits());
     assert_eq!(a.mean_free_path.to_bits(), b.mean_free_path.to_bits());
     cfg.seed = 100;
-    let c = run(&cfg, 2, None, &|_| {}).unwrap();
+    let c = run(
+        &cfg,
+        &RunOptions {
+            threads: 2,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     assert_ne!(a.D.to_bits(), c.D.to_bits());
 }
 
@@ -91,7 +120,15 @@ fn checkpoint_resumes_finished_batches() {
     cfg.batches = 4;
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
-    let full = run(&cfg, 2, Some(&path), &|_| {}).unwrap();
+    let full = run(
+        &cfg,
+        &RunOptions {
+            threads: 2,
+            resume: Some(path.clone()),
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     // Simulate an interruption: keep the header and two finished batches, plus a torn line.
     let text = std::fs::read_to_string(&path).unwrap();
     let lines: Vec<&str> = text.lines().filter(|l| !l.is_empty()).collect();
@@ -103,12 +140,28 @@ fn checkpoint_resumes_finished_batches() {
         ),
     )
     .unwrap();
-    let resumed = run(&cfg, 2, Some(&path), &|_| {}).unwrap();
+    let resumed = run(
+        &cfg,
+        &RunOptions {
+            threads: 2,
+            resume: Some(path.clone()),
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     assert_eq!(resumed.resumed_batches, 2);
     assert_eq!(resumed.D.to_bits(), full.D.to_bits());
     // A different configuration refuses the file.
     cfg.seed += 1;
-    assert!(run(&cfg, 2, Some(&path), &|_| {}).is_err());
+    assert!(run(
+        &cfg,
+        &RunOptions {
+            threads: 2,
+            resume: Some(path.clone()),
+            ..RunOptions::default()
+        }
+    )
+    .is_err());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -258,7 +311,7 @@ fn collisionless_flights_onset_w0() {
 ///    b ≳ 1.6·10⁻⁹u per collision, ~10⁴ times below what claim 1 can see.
 #[test]
 fn energy_has_no_drift_over_ten_million_collisions() {
-    use lorentz_gas::stats::{linear_fit, normal_sigma_equivalent_t};
+    use lorentz_gas::statistics::{linear_fit, normal_sigma_equivalent_t};
     let u = f64::EPSILON / 2.0;
     let lat = TriangularLattice::new(0.1).unwrap();
 

@@ -5,10 +5,10 @@
 //! while production runs use the fused path.
 
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::kernel::{ConvexCell, Flight};
-use lorentz_gas::real::Real;
-use lorentz_gas::sampling::stream;
+use lorentz_gas::kernel::{cell::ConvexCell, flight::Flight};
+use lorentz_gas::numbers::real::Real;
 use lorentz_gas::scenes::lattice::{Lattice, LatticeState, TriangularLattice};
+use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::scenes::Scene;
 use rand::Rng;

@@ -3,8 +3,8 @@
 
 use rug::Float;
 
-use lorentz_gas::grid::parse_exact;
-use lorentz_gas::sampling::stream;
+use lorentz_gas::numbers::exact::parse_exact;
+use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::verification::shadowing::{

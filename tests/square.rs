@@ -12,10 +12,10 @@
 //!   Birkhoff map, the shadow audit with 0 events outside the error model.
 
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::kernel::{EventKind, Flight};
-use lorentz_gas::real::Real;
-use lorentz_gas::sampling::stream;
+use lorentz_gas::kernel::{flight::EventKind, flight::Flight};
+use lorentz_gas::numbers::real::Real;
 use lorentz_gas::scenes::lattice::LatticeState;
+use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::Scene;
 use proptest::prelude::*;
@@ -303,7 +303,7 @@ fn birkhoff_map_preserves_phase_space_volume() {
 /// reference runs at the exact radius while the f64 run uses its nearest double.
 #[test]
 fn shadow_audit_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::audit::{audit_run, AuditConfig};
+    use lorentz_gas::verification::shadow_audit::{audit_run, AuditConfig};
     let s = SquareScene::exact(Rational::from((1, 3))).unwrap();
     let cfg = AuditConfig {
         scene: s.label(),
@@ -328,6 +328,6 @@ fn shadow_audit_finds_nothing_outside_the_model() {
 fn diffusion_is_refused_in_the_square_scene() {
     let s = scene(0.45);
     assert!(!s.finite_horizon());
-    let e = lorentz_gas::diffusion::require_finite_horizon(&s).unwrap_err();
+    let e = lorentz_gas::estimators::diffusion::require_finite_horizon(&s).unwrap_err();
     assert!(e.to_string().contains("infinite horizon"), "{e}");
 }

@@ -8,10 +8,10 @@
 //! Student-t quantile at the normal's two-sided 4σ tail probability 6.3·10⁻⁵
 //! (`stats::normal_sigma_equivalent_t`; 15 dof: 5.48, 31 dof: 4.62).
 
-use lorentz_gas::geometry::Geometry;
-use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t};
+use lorentz_gas::scenes::symbols::{sequence_from_index, Symbol};
+use lorentz_gas::scenes::triangular::geometry::Geometry;
+use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t};
 use lorentz_gas::theory::green_kubo::{green_kubo, Truncation};
-use lorentz_gas::theory::honeycomb::{sequence_from_index, Symbol};
 use lorentz_gas::theory::lattice_walk::{
     direction_sequence, fit_bias, simulate, symbol_sequence, LatticeWalkConfig,
 };

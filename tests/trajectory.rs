@@ -1,4 +1,4 @@
-//! `lorentz_gas::trajectory` against an independent reference written here: plain world
+//! `lorentz_gas::estimators::trajectory` against an independent reference written here: plain world
 //! coordinates at 2000 bits, the first disk hit found by brute force over every lattice point
 //! within reach (textbook quadratic formula), specular reflection, time accumulated until T.
 //! It shares no code with the crate's kernel, cells or lattice walk.
@@ -6,11 +6,11 @@
 use rug::ops::Pow;
 use rug::{Float, Integer, Rational};
 
-use lorentz_gas::grid::parse_exact;
+use lorentz_gas::estimators::trajectory::{decimal, trajectory, TrajectoryInput, TrajectoryReport};
+use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::scenes::Scene;
-use lorentz_gas::trajectory::{decimal, trajectory, TrajectoryInput, TrajectoryReport};
 
 /// Precision of the reference: far beyond the few hundred bits ten to twenty collisions lose.
 const REF_BITS: u32 = 2000;

@@ -1,18 +1,19 @@
 //! Verification: reversibility with a chaos-aware bound, Liouville invariance of the Birkhoff
 //! map, uniform sin φ at collisions, and f64 events replayed in MPFR within the error model.
 
-use lorentz_gas::kernel::trap::{EventKind, Flight, Trap};
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::real::Real;
-use lorentz_gas::sampling::stream;
+use lorentz_gas::kernel::{flight::EventKind, flight::Flight, trap::Trap};
+use lorentz_gas::numbers::real::Real;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::scenes::Scene;
-use lorentz_gas::stats::{mean_se, normal_sigma_equivalent_t, welch_dof};
+use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t, welch_dof};
 use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
+use lorentz_gas::verification::replay::check_event;
 use lorentz_gas::verification::reversibility::{amplification, reversal_bound, reverse_and_return};
-use lorentz_gas::verification::shadow::check_event;
 use rand::Rng;
 use rug::Float;
 
@@ -178,7 +179,7 @@ fn near_surface_start_replays_within_the_model() {
 /// recorded worst events replay to the same verdict from their exact bit patterns.
 #[test]
 fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::audit::{audit_run, replay, AuditConfig};
+    use lorentz_gas::verification::shadow_audit::{audit_run, replay, AuditConfig};
     for &w in &[0.02, 0.1, 0.3] {
         let scene = TriangularScene::new(w).unwrap();
         let cfg = AuditConfig {
@@ -208,24 +209,31 @@ fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
 /// A production run audits itself on a sample of its events without changing its result.
 #[test]
 fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
-    use lorentz_gas::diffusion::{run, run_audited, AuditSpec, DiffusionConfig};
+    use lorentz_gas::engine::options::AuditSpec;
+    use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
     let mut cfg = DiffusionConfig::new(0.12);
     cfg.collisions = 2_000_000;
     cfg.batches = 4;
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
-    let plain = run(&cfg, 2, None, &|_| {}).unwrap();
-    let audited = run_audited(
+    let plain = run(
         &cfg,
-        2,
-        None,
-        Some(AuditSpec {
-            rate: 0.01,
-            bits: 128,
-        }),
-        &|_| {},
+        &RunOptions {
+            threads: 2,
+            ..RunOptions::default()
+        },
     )
     .unwrap();
+    let audit = Some(AuditSpec {
+        rate: 0.01,
+        bits: 128,
+    });
+    let opts = RunOptions {
+        threads: 2,
+        audit,
+        ..RunOptions::default()
+    };
+    let audited = run(&cfg, &opts).unwrap();
     assert_eq!(plain.D.to_bits(), audited.D.to_bits());
     let a = audited.audit.unwrap();
     // Each event is replayed independently with probability r (the auditor's own stream), so
@@ -249,18 +257,8 @@ fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
     );
     assert_eq!(a.outside, 0);
     let mut rug = cfg.clone();
-    rug.precision = lorentz_gas::diffusion::Precision::Bits(128);
-    assert!(run_audited(
-        &rug,
-        2,
-        None,
-        Some(AuditSpec {
-            rate: 0.01,
-            bits: 128
-        }),
-        &|_| {}
-    )
-    .is_err());
+    rug.precision = lorentz_gas::numbers::precision::Precision::Bits(128);
+    assert!(run(&rug, &opts).is_err());
 }
 
 /// The growth rate of the deviation between a P-bit orbit and a 4096-bit reference (precision
@@ -347,18 +345,33 @@ fn precision_doubling_certifies_a_segment() {
 /// would be t₃ = 32.6).
 #[test]
 fn statistics_do_not_move_with_precision() {
-    use lorentz_gas::diffusion::{run, DiffusionConfig, Precision};
+    use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+    use lorentz_gas::numbers::precision::Precision;
     let mut cfg = DiffusionConfig::new(0.2);
     cfg.batches = 16;
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
     cfg.collisions = 1_200_000;
     cfg.precision = Precision::Bits(128);
-    let hi = run(&cfg, 2, None, &|_| {}).unwrap();
+    let hi = run(
+        &cfg,
+        &RunOptions {
+            threads: 2,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     cfg.collisions = 40_000_000;
     cfg.batches = 16;
     cfg.precision = Precision::F64;
-    let lo = run(&cfg, 2, None, &|_| {}).unwrap();
+    let lo = run(
+        &cfg,
+        &RunOptions {
+            threads: 2,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
     let t4 = |ea: f64, eb: f64| {
         normal_sigma_equivalent_t(

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use lorentz_gas::precision::Precision;
+use lorentz_gas::numbers::precision::Precision;
 
 /// Most worker threads accepted: far beyond any node this runs on; a larger pool only costs
 /// memory (one stack per thread) and never speeds anything up.
@@ -132,8 +132,8 @@ pub enum SceneChoice {
 
 impl SceneArgs {
     /// The scene the options describe, with every parameter checked.
-    pub fn resolve(&self) -> Result<SceneChoice, lorentz_gas::error::Error> {
-        use lorentz_gas::error::Error;
+    pub fn resolve(&self) -> Result<SceneChoice, lorentz_gas::Error> {
+        use lorentz_gas::Error;
         let refuse = |flag: &str, scene: &str| {
             Err(Error::Invalid(format!(
                 "{flag} does not apply to the {scene} scene: use --w with --scene triangular, --radius with --scene square"
@@ -147,7 +147,7 @@ impl SceneArgs {
                 let r = self.radius.as_deref().ok_or_else(|| {
                     Error::Invalid("the square scene needs --radius: 0 < radius < 1/2".into())
                 })?;
-                let r = lorentz_gas::grid::parse_exact(r)?;
+                let r = lorentz_gas::numbers::exact::parse_exact(r)?;
                 Ok(SceneChoice::Square(
                     lorentz_gas::scenes::square::SquareScene::exact(r)?,
                 ))
@@ -162,7 +162,7 @@ impl SceneArgs {
                             .into(),
                     )
                 })?;
-                lorentz_gas::geometry::check_diffusive_gap(w)?;
+                lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(w)?;
                 Ok(SceneChoice::Triangular(Box::new(
                     lorentz_gas::scenes::triangular::TriangularScene::new(w)?,
                 )))
@@ -225,9 +225,9 @@ impl HopCommand {
             u64,
             usize,
             &(dyn Fn(u64) + Sync),
-        ) -> Result<R, lorentz_gas::error::Error>,
+        ) -> Result<R, lorentz_gas::Error>,
         print: impl FnOnce(&R),
-    ) -> Result<(), lorentz_gas::error::Error> {
+    ) -> Result<(), lorentz_gas::Error> {
         let pb =
             super::progress::Progress::new(self.hop.collisions, "collisions", self.output.quiet);
         let r = analysis(

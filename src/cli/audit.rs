@@ -1,7 +1,7 @@
 //! `lorentz audit`: replay f64 events in MPFR and judge them against the one-step error model.
 
-use lorentz_gas::error::Error;
-use lorentz_gas::verification::audit::{audit_run, AuditConfig, AuditReport};
+use lorentz_gas::verification::shadow_audit::{audit_run, AuditConfig, AuditReport};
+use lorentz_gas::Error;
 
 use lorentz_gas::scenes::Scene;
 

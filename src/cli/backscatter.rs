@@ -1,7 +1,7 @@
 //! `lorentz backscatter`: injection into one trap from the invariant flux.
 
-use lorentz_gas::error::Error;
-use lorentz_gas::hopping::{backscatter_at, BackscatterReport};
+use lorentz_gas::estimators::hops::{backscatter_at, BackscatterReport};
+use lorentz_gas::Error;
 
 use super::args::{parse_count, parse_count_u32, GapArg, OutputArgs, PrecisionArg, RunArgs};
 use super::output::emit;

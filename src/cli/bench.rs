@@ -1,8 +1,8 @@
 //! `lorentz bench`: kernel throughput, and with `--report` the speed-against-error table.
 
-use lorentz_gas::bench::{throughput, Throughput};
-use lorentz_gas::error::Error;
-use lorentz_gas::report::{speed_against_error, REPORT_STEPS};
+use lorentz_gas::estimators::throughput::{throughput, Throughput};
+use lorentz_gas::report::speed_error::{speed_against_error, REPORT_STEPS};
+use lorentz_gas::Error;
 
 use super::args::{
     parse_count, parse_count_usize, EngineArg, GapArg, OutDirArg, OutputArgs, PrecisionArg, RunArgs,
@@ -28,7 +28,7 @@ pub struct Args {
     /// Observers to run along (to measure what observation costs): none (the bare engine),
     /// counters, msd, diffusion (counters + MSD, as in `lorentz diffusion`), hops.
     #[arg(long, value_enum, default_value = "none")]
-    observe: lorentz_gas::bench::Observe,
+    observe: lorentz_gas::estimators::throughput::Observe,
     /// Seed of the starting points; --threads K runs K trajectories at once, one per thread
     /// (default: 1, the single-core kernel speed).
     #[command(flatten)]

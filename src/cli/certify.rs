@@ -1,7 +1,7 @@
 //! `lorentz certify`: certify a segment by precision doubling.
 
-use lorentz_gas::error::Error;
 use lorentz_gas::verification::certify::certify_seeded;
+use lorentz_gas::Error;
 
 use super::args::{
     parse_count, parse_count_u32, parse_count_usize, with_scene, OutputArgs, SceneArgs,

@@ -2,11 +2,11 @@
 
 use serde_json::json;
 
-use lorentz_gas::error::Error;
-use lorentz_gas::geometry::Geometry;
-use lorentz_gas::metadata::RunMeta;
-use lorentz_gas::precision::{AtPrecision, Precision};
-use lorentz_gas::real::Real;
+use lorentz_gas::engine::metadata::RunMeta;
+use lorentz_gas::numbers::precision::{AtPrecision, Precision};
+use lorentz_gas::numbers::real::Real;
+use lorentz_gas::scenes::triangular::geometry::Geometry;
+use lorentz_gas::Error;
 
 use super::args::{GapArg, PrecisionArg};
 use super::output::to_json;

@@ -2,8 +2,9 @@
 
 use std::path::PathBuf;
 
-use lorentz_gas::diffusion::{self, AuditSpec, DiffusionConfig, DiffusionReport, Window};
-use lorentz_gas::error::Error;
+use lorentz_gas::engine::options::{AuditSpec, RunOptions};
+use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport, Window};
+use lorentz_gas::Error;
 
 use super::args::{
     parse_count, parse_count_u32, EngineArg, OutputArgs, PrecisionArg, RunArgs, SceneArgs,
@@ -71,14 +72,16 @@ pub fn run(a: Args) -> Result<(), Error> {
         .map(|rate| AuditSpec::new(rate, a.audit_precision))
         .transpose()?;
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
-    let r = diffusion::run_on(
-        &cfg,
-        a.engine.engine,
-        a.run.threads(),
-        a.checkpoint.as_ref(),
+    let progress = pb.callback();
+    let opts = RunOptions {
+        engine: a.engine.engine,
+        threads: a.run.threads(),
+        progress: &progress,
+        resume: a.checkpoint.clone(),
         audit,
-        &pb.callback(),
-    )?;
+    };
+    let r = diffusion::run(&cfg, &opts)?;
+    drop(progress);
     drop(pb);
     emit(a.output.json, &r, print)
 }

@@ -1,8 +1,8 @@
 //! `lorentz escape`: D(w) from the escape rate out of open strips of several widths
 //! (Gaspard–Baras), extrapolated in 1/L.
 
-use lorentz_gas::error::Error;
-use lorentz_gas::escape::{self, EscapeConfig, EscapeReport};
+use lorentz_gas::estimators::escape::{self, EscapeConfig, EscapeReport};
+use lorentz_gas::Error;
 
 use super::args::{parse_count, GapArg, OutputArgs, RunArgs};
 use super::output::emit;
@@ -26,7 +26,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    lorentz_gas::geometry::check_diffusive_gap(a.gap.w)?;
+    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(a.gap.w)?;
     let cfg = EscapeConfig {
         w: a.gap.w,
         widths: a.widths.unwrap_or_else(|| escape::default_widths(a.gap.w)),

@@ -2,8 +2,8 @@
 
 use clap::ValueEnum;
 
-use lorentz_gas::error::Error;
-use lorentz_gas::figures::paper;
+use lorentz_gas::report::figures::paper;
+use lorentz_gas::Error;
 
 use super::args::{parse_count, OutDirArg, OutputArgs, RunArgs};
 use super::output::emit;

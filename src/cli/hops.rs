@@ -1,7 +1,7 @@
 //! `lorentz hops`: trap-hopping statistics along lattice trajectories.
 
-use lorentz_gas::error::Error;
-use lorentz_gas::hopping::{hops_on, HopsReport};
+use lorentz_gas::estimators::hops::{hops_on, HopsReport};
+use lorentz_gas::Error;
 
 use super::args::{EngineArg, HopCommand};
 

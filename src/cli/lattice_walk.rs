@@ -1,7 +1,7 @@
 //! `lorentz lattice-walk`: Fig. 6b by simulation — correlated walks on the measured symbol tables.
 
-use lorentz_gas::error::Error;
-use lorentz_gas::hopping::{lattice_walks, LatticeWalkReport};
+use lorentz_gas::estimators::hops::{lattice_walks, LatticeWalkReport};
+use lorentz_gas::Error;
 
 use super::args::HopCommand;
 

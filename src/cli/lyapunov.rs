@@ -2,11 +2,11 @@
 
 use serde::Serialize;
 
-use lorentz_gas::error::Error;
 use lorentz_gas::verification::lyapunov::{
     divergence, lyapunov, Divergence, LyapunovReport, DIVERGENCE_BITS, DIVERGENCE_COLLISIONS,
     DIVERGENCE_REFERENCE_BITS, TANGENT_TRANSIENT,
 };
+use lorentz_gas::Error;
 
 use super::args::{parse_count, parse_count_u32, with_scene, OutputArgs, RunArgs, SceneArgs};
 use super::output::emit;

@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use lorentz_gas::error::Error;
-use lorentz_gas::sweep::merge;
+use lorentz_gas::estimators::sweep::merge;
+use lorentz_gas::Error;
 
 use super::args::{OutDirArg, OutputArgs, RunArgs};
 use super::output::emit;
@@ -26,6 +26,7 @@ pub struct Args {
 pub fn run(a: Args) -> Result<(), Error> {
     let out = a.out.dir("results/sweep");
     let r = merge(&a.dirs, &out, a.run.threads())?;
+    lorentz_gas::report::figures::sweep::write_sweep_figures(&r, &out)?;
     emit(a.output.json, &r, |r| {
         super::sweep::print(r);
         println!(

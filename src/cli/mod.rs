@@ -30,7 +30,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use lorentz_gas::error::Error;
+use lorentz_gas::Error;
 
 /// Exit status of every refused input (clap's convention for usage errors).
 const EXIT_BAD_INPUT: u8 = 2;

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use lorentz_gas::error::Error;
+use lorentz_gas::Error;
 
 /// Pretty JSON of a result.
 pub fn to_json<T: Serialize>(v: &T) -> Result<String, Error> {

@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use lorentz_gas::error::Error;
-use lorentz_gas::publication::{audit_result_file, Options, Verdict};
+use lorentz_gas::report::publication::{audit_result_file, Options, Verdict};
+use lorentz_gas::Error;
 
 use super::args::{OutDirArg, OutputArgs, RunArgs};
 use super::output::emit;

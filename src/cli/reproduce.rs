@@ -2,8 +2,8 @@
 
 use std::sync::Mutex;
 
-use lorentz_gas::error::Error;
-use lorentz_gas::reproduce::{reproduce, Budget, Reporter};
+use lorentz_gas::report::reproduce::{reproduce, Budget, Reporter};
+use lorentz_gas::Error;
 
 use super::args::{OutDirArg, OutputArgs, RunArgs};
 use super::output::emit;

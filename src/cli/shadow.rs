@@ -1,12 +1,12 @@
 //! `lorentz shadow`: true orbits near f64 segments (Newton on the whole segment in MPFR).
 
-use lorentz_gas::error::Error;
-use lorentz_gas::geometry::Geometry;
-use lorentz_gas::grid::parse_exact;
+use lorentz_gas::numbers::exact::parse_exact;
+use lorentz_gas::scenes::triangular::geometry::Geometry;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::verification::shadowing::{
     check_request, shadow_segments, ShadowRequest, MAX_SEGMENTS,
 };
+use lorentz_gas::Error;
 use rug::Float;
 
 use super::args::{parse_count_u32, parse_count_usize, OutputArgs, RunArgs};

@@ -3,8 +3,8 @@
 
 use std::path::PathBuf;
 
-use lorentz_gas::error::Error;
-use lorentz_gas::slurm::SweepCampaign;
+use lorentz_gas::campaigns::slurm::SweepCampaign;
+use lorentz_gas::Error;
 
 use super::args::{parse_count_u32, EngineArg, OutDirArg, OutputArgs, RunArgs};
 use super::output::emit;
@@ -58,7 +58,7 @@ struct SweepArgs {
 struct Written {
     files: Vec<PathBuf>,
     submit: String,
-    meta: lorentz_gas::metadata::RunMeta,
+    meta: lorentz_gas::engine::metadata::RunMeta,
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
@@ -88,10 +88,10 @@ pub fn run(a: Args) -> Result<(), Error> {
     let w = Written {
         files: c.write()?,
         submit: format!("sh {}", c.out.join("slurm").join("submit.sh").display()),
-        meta: lorentz_gas::metadata::RunMeta::new(
+        meta: lorentz_gas::engine::metadata::RunMeta::new(
             Some(c.config.seed),
             Some(c.config.runs as u64 * c.config.batches as u64),
-            lorentz_gas::precision::Precision::F64,
+            lorentz_gas::numbers::precision::Precision::F64,
             Some(c.cpus_per_task as usize),
         ),
     };

@@ -1,7 +1,7 @@
 //! `lorentz sweep`: D over a range of w, resumable, with the paper's coarse and fine analyses.
 
-use lorentz_gas::error::Error;
-use lorentz_gas::sweep::{sweep_on, sweep_shard, Shard, SweepConfig, SweepReport};
+use lorentz_gas::estimators::sweep::{sweep_on, sweep_shard, Shard, SweepConfig, SweepReport};
+use lorentz_gas::Error;
 
 use super::args::{parse_count, parse_count_u32, EngineArg, OutDirArg, OutputArgs, RunArgs};
 use super::output::emit;
@@ -106,6 +106,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         });
     }
     let r = sweep_on(&cfg, &out, a.engine.engine, a.run.threads(), &pb.callback())?;
+    lorentz_gas::report::figures::sweep::write_sweep_figures(&r, &out)?;
     drop(pb);
     emit(a.output.json, &r, |r| {
         print(r);

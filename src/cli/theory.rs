@@ -1,7 +1,7 @@
 //! `lorentz theory`: the corrected Machta–Zwanzig hierarchy and exact correlated lattice walks.
 
-use lorentz_gas::error::Error;
-use lorentz_gas::hopping::{theory, TheoryReport};
+use lorentz_gas::estimators::hops::{theory, TheoryReport};
+use lorentz_gas::Error;
 
 use super::args::HopCommand;
 

@@ -5,11 +5,13 @@ use std::path::PathBuf;
 
 use rug::Rational;
 
-use lorentz_gas::error::Error;
-use lorentz_gas::grid::parse_exact;
+use lorentz_gas::estimators::trajectory::{
+    plan, trajectory, TrajectoryInput, TrajectoryReport, MAX_DIGITS,
+};
+use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::trajectory::{plan, trajectory, TrajectoryInput, TrajectoryReport, MAX_DIGITS};
+use lorentz_gas::Error;
 
 use super::args::{parse_count_u32, OutputArgs, SceneName};
 use super::output::emit;
@@ -108,7 +110,7 @@ pub fn run(a: Args) -> Result<(), Error> {
             if w <= 0 {
                 return Err(Error::Invalid(format!(
                     "w = {} is out of range: use w > 0 (at w <= 0 the disks touch)",
-                    lorentz_gas::grid::nearest_f64(&w)
+                    lorentz_gas::numbers::exact::nearest_f64(&w)
                 )));
             }
             let scene = TriangularScene::exact(w)?;

@@ -9,22 +9,26 @@
 //! Both feed the same [`Observer`]s, so an observable is written once and has the same bits on
 //! every engine, at any thread count (each trajectory's bits depend only on its start).
 
+pub mod metadata;
+pub mod options;
+pub mod parallel;
 pub mod simd;
 
-use crate::lanes;
+use simd::BLOCK;
+
+use crate::numbers::lanes;
 
 use std::fmt;
 use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::Error;
 use crate::kernel::cell::CellKernel;
 use crate::kernel::trap::Trap;
-use crate::observables::{EventLanes, Observer, NO_LABEL};
-use crate::real::Real;
+use crate::numbers::real::Real;
+use crate::observers::{EventLanes, Observer, NO_LABEL};
 use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
-pub use simd::BLOCK;
+use crate::Error;
 
 /// Longest trajectory the engines accept, in collisions: 2⁵⁰ ≈ 1.1·10¹⁵ (months of one core).
 /// Cell indices and collision counts are held as exact integers in `f64` lanes; an event changes
@@ -33,7 +37,8 @@ pub use simd::BLOCK;
 pub const MAX_COLLISIONS_PER_TRAJECTORY: u64 = 1 << 50;
 
 /// Which engine runs a production computation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Engine {
     /// SIMD for `f64` runs of the triangular lattice on a CPU with AVX2 or AVX-512, scalar
@@ -237,7 +242,7 @@ pub fn drive<T: Real, K: CellKernel<T>, O: Observer<1>>(
             .next_event(s)
             .ok_or_else(|| Error::Invalid("trajectory lost its next event".into()))?;
         obs.observe::<f64>(std::slice::from_ref(&EventLanes::single(s, &ev)));
-        if let crate::kernel::EventKind::Collision(_) = ev.kind {
+        if let crate::kernel::flight::EventKind::Collision(_) = ev.kind {
             c += 1;
         }
         lat.apply(s, &ev);

@@ -28,8 +28,8 @@
 //! kernel, on every code path the machine has.
 
 use crate::kernel::trap::Trap;
-use crate::lanes::Lanes;
-use crate::observables::{EventLanes, Observer, CROSSING_CODE, NO_EVENT, NO_LABEL};
+use crate::numbers::lanes::Lanes;
+use crate::observers::{EventLanes, Observer, CROSSING_CODE, NO_EVENT, NO_LABEL};
 
 /// Trajectories per block: 16 = two AVX-512 vectors, four AVX2 or portable vectors — enough
 /// independent work to hide the latency of the divide/square-root chain of one step.

@@ -24,7 +24,7 @@
 use super::flight::{Event, EventKind, Flight};
 use super::ray_disk::ray_circle_centred;
 use super::vec2::Vec2;
-use crate::real::Real;
+use crate::numbers::real::Real;
 
 /// How a point leaving the cell through an edge is expressed in the neighbouring cell's frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -127,7 +127,7 @@ impl<T: Real> ConvexCell<T> {
     /// # Examples
     ///
     /// ```
-    /// use lorentz_gas::kernel::{trap::Trap, EventKind, Flight, vec2::Vec2};
+    /// use lorentz_gas::kernel::{trap::Trap, flight::EventKind, flight::Flight, vec2::Vec2};
     /// let cell = Trap::new(0.1f64).unwrap().cell;
     /// // From the middle of the base gap straight up: head-on with the apex disk P₂.
     /// let f = Flight::new(Vec2::new(1.05, 0.0), Vec2::new(0.0, 1.0));

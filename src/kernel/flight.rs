@@ -4,7 +4,7 @@
 //! or nothing), never a tolerance and never a sentinel value that could collide with a label.
 
 use super::vec2::Vec2;
-use crate::real::Real;
+use crate::numbers::real::Real;
 
 /// What ends a free flight inside a cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

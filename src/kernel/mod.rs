@@ -1,4 +1,4 @@
-//! The collision kernel, generic over [`crate::real::Real`]: one file per geometric query.
+//! The collision kernel, generic over [`crate::numbers::real::Real`]: one file per geometric query.
 //!
 //! * [`vec2`]: the plane vector.
 //! * [`ray_disk`]: first contact with a disk (cancellation-free root).
@@ -15,6 +15,3 @@ pub mod flight;
 pub mod ray_disk;
 pub mod trap;
 pub mod vec2;
-
-pub use cell::{CellKernel, ConvexCell};
-pub use flight::{Event, EventKind, Flight};

@@ -16,7 +16,7 @@
 //! (parry's `ray_ball` uses it). Error model: `proofs-notes/ray-disk.md`.
 
 use super::vec2::Vec2;
-use crate::real::Real;
+use crate::numbers::real::Real;
 
 /// Time until the ray `p + t v` enters the unit disk centred at `c`, or `None` if it moves
 /// away (β ≥ 0) or misses (Δ ≤ 0). A start numerically inside the disk (γ ≤ 0) moving inward

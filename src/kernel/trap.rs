@@ -14,11 +14,11 @@
 //! The two endpoint disks of Eₖ swap labels; the opposite disk leaves the candidate set.
 
 use super::cell::{CellKernel, ConvexCell, Edge, EdgeMap, LatticeBasis};
-pub use super::flight::{Event, EventKind, Flight};
+use super::flight::{Event, EventKind, Flight};
 use super::ray_disk::ray_disk_centred;
 use super::vec2::Vec2;
-use crate::error::Error;
-use crate::real::Real;
+use crate::numbers::real::Real;
+use crate::Error;
 
 /// The canonical trap at gap `w`, all constants at the working precision.
 #[derive(Debug, Clone)]
@@ -53,11 +53,20 @@ impl<T: Real> Trap<T> {
     /// assert_eq!(t.vertices[1].x, 2.1);
     /// ```
     pub fn new(w: T) -> Result<Self, Error> {
-        let g = crate::geometry::Geometry::new(w.clone())?;
+        // The same operations as the closed forms (`scenes::triangular::geometry`), which sit
+        // above the kernel: a = w + 2, h = √3a/2.
         let ctx = w.ctx();
-        let a = g.spacing();
-        let h = g.row_spacing();
-        let half_sqrt3 = g.sqrt3().scale(0.5);
+        T::check_ctx(ctx)?;
+        if !w.is_finite() {
+            return Err(Error::NotFinite { what: "w" });
+        }
+        if w <= T::zero(ctx) {
+            return Err(Error::Trapped { w: w.to_f64() });
+        }
+        let a = w.clone() + &T::from_f64(ctx, 2.0);
+        let sqrt3 = T::sqrt3(ctx);
+        let h = (sqrt3.clone() * &a).scale(0.5);
+        let half_sqrt3 = sqrt3.scale(0.5);
         let half = T::from_f64(ctx, 0.5);
         let z = T::zero(ctx);
         let vertices = [

@@ -1,6 +1,6 @@
 //! A two-component vector over any [`Real`].
 
-use crate::real::Real;
+use crate::numbers::real::Real;
 
 /// A point or velocity in the plane.
 #[derive(Debug, Clone, PartialEq)]

@@ -14,12 +14,12 @@
 //! L(i,j), L(i+1,j), L(i,j+1); down traps s = −1 with vertices L(i,j), L(i−1,j), L(i,j−1))
 //! runs on the trap's fused kernel; other scenes on the generic [`ConvexCell`].
 
-use crate::error::Error;
 use crate::kernel::cell::{CellKernel, ConvexCell, Edge};
 use crate::kernel::trap::Trap;
 use crate::kernel::vec2::Vec2;
-use crate::kernel::{Event, EventKind, Flight};
-use crate::real::Real;
+use crate::kernel::{flight::Event, flight::EventKind, flight::Flight};
+use crate::numbers::real::Real;
+use crate::Error;
 
 /// A cell of the lattice: index and orientation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -1,6 +1,6 @@
 //! Scenes: what a billiard table supplies to the generic kernel, and nothing more.
 //!
-//! A [`Scene`] supplies its cell (a [`ConvexCell`](crate::kernel::ConvexCell): a convex polygon,
+//! A [`Scene`] supplies its cell (a [`ConvexCell`](crate::kernel::cell::ConvexCell): a convex polygon,
 //! its disks with exact centres and radius, its edges with the exact maps into the neighbouring
 //! cell and the integer steps for unwrapping) through a cell kernel at any working precision,
 //! the invariant-measure sampler, and its exact identities. Everything above — observables,
@@ -20,18 +20,20 @@
 //! A new scene is one file implementing [`Scene`]; it never touches [`crate::kernel`].
 
 pub mod lattice;
+pub mod sampling;
 pub mod single_trap;
 pub mod square;
 pub mod strip;
+pub mod symbols;
 pub mod triangular;
 
 use rand::Rng;
 use rug::Rational;
 
-use crate::error::Error;
+use crate::kernel::cell::CellKernel;
 use crate::kernel::vec2::Vec2;
-use crate::kernel::CellKernel;
-use crate::real::Real;
+use crate::numbers::real::Real;
+use crate::Error;
 use lattice::{CellIndex, Lattice, LatticeState};
 
 /// Largest |coordinate| of a world point [`Scene::locate`] accepts: cell indices stay far inside
@@ -45,8 +47,8 @@ pub fn check_world_point(x: &Rational, y: &Rational) -> Result<(), Error> {
     if x.clone().abs() > limit || y.clone().abs() > limit {
         return Err(Error::Invalid(format!(
             "the point ({}, {}) is too far out: use coordinates from -{MAX_WORLD_COORDINATE:e} to {MAX_WORLD_COORDINATE:e}",
-            crate::grid::nearest_f64(x),
-            crate::grid::nearest_f64(y)
+            crate::numbers::exact::nearest_f64(x),
+            crate::numbers::exact::nearest_f64(y)
         )));
     }
     Ok(())
@@ -55,7 +57,7 @@ pub fn check_world_point(x: &Rational, y: &Rational) -> Result<(), Error> {
 /// A billiard table made of congruent convex cells.
 pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// The kernel that runs the scene's cell at number type `T` (the generic
-    /// [`ConvexCell`](crate::kernel::ConvexCell) or a bit-identical fused path).
+    /// [`ConvexCell`](crate::kernel::cell::ConvexCell) or a bit-identical fused path).
     type Kernel<T: Real>: CellKernel<T>;
 
     /// A short description with the parameters, e.g. `triangular w=0.1`.

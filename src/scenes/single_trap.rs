@@ -10,13 +10,13 @@
 
 use rand::Rng;
 
-use crate::error::Error;
-use crate::kernel::trap::{EventKind, Flight, Trap};
 use crate::kernel::vec2::Vec2;
-use crate::real::Real;
-use crate::symbols::Symbol;
+use crate::kernel::{flight::EventKind, flight::Flight, trap::Trap};
+use crate::numbers::real::Real;
+use crate::scenes::symbols::Symbol;
+use crate::Error;
 
-/// Symbol ([`crate::symbols::Symbol`]) of leaving by edge `out` after entering by edge `entered`
+/// Symbol ([`crate::scenes::symbols::Symbol`]) of leaving by edge `out` after entering by edge `entered`
 /// (edge labels 0, 1, 2), in the canonical frame.
 /// The outward normals of E₂, E₀, E₁ point at −90°, 30°, 150°: counter-clockwise order 2 → 0 → 1,
 /// so l = (k + 1) mod 3 and r = (k + 2) mod 3. A down trap is the canonical one turned by 180°,

@@ -14,11 +14,11 @@ use rug::Rational;
 
 use super::lattice::{CellIndex, LatticeState};
 use super::Scene;
-use crate::error::Error;
 use crate::kernel::cell::{ConvexCell, Edge, EdgeMap, LatticeBasis};
+use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
-use crate::kernel::Flight;
-use crate::real::Real;
+use crate::numbers::real::Real;
+use crate::Error;
 
 /// The square Lorentz gas with disk radius r.
 #[derive(Debug, Clone)]
@@ -156,7 +156,7 @@ impl Scene for SquareScene {
         };
         LatticeState {
             cell: CellIndex::default(),
-            flight: Flight::new(pos, crate::sampling::direction(rng)),
+            flight: Flight::new(pos, crate::scenes::sampling::direction(rng)),
         }
     }
 

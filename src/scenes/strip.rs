@@ -1,5 +1,5 @@
 //! The open strip: the triangular Lorentz gas between two vertical absorbing lines x = 0 and
-//! x = L (infinite in y), the geometry of the escape-rate estimator ([`crate::escape`]).
+//! x = L (infinite in y), the geometry of the escape-rate estimator ([`crate::estimators::escape`]).
 //!
 //! A particle is absorbed the first time its world x-coordinate leaves [0, L]. Between two events
 //! the flight is a straight segment, so x is linear in time along it: comparing the world x at
@@ -28,7 +28,7 @@ use rand::Rng;
 use super::lattice::{Basis64, CellIndex, LatticeState, TriangularLattice};
 use super::triangular::TriangularScene;
 use super::Scene;
-use crate::error::Error;
+use crate::Error;
 
 /// How a particle's life in the strip ended.
 #[derive(Debug, Clone, Copy, PartialEq)]

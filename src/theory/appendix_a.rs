@@ -21,8 +21,8 @@
 //! e of eq. (A4) and w₀ of eq. (A5) agree with w₀ = 2/√3 − 1 of
 //! [`Geometry::w_0`]: e = a − 1 − 2/√3 vanishes exactly at a = 1 + 2/√3.
 
-use crate::geometry::Geometry;
-use crate::real::Real;
+use crate::numbers::real::Real;
+use crate::scenes::triangular::geometry::Geometry;
 
 /// Eq. (A4) simplified: e = a − 1 − 2/√3, evaluated as w − w₀ (no cancellation between a and
 /// 1 + 2/√3). Negative below w₀ (no collisionless flights).

@@ -23,13 +23,12 @@
 
 use std::collections::BTreeMap;
 
-use crate::geometry::Geometry;
-use crate::real::Real;
+use crate::numbers::real::Real;
+use crate::scenes::triangular::geometry::Geometry;
 
-use super::honeycomb::{
-    all_sequences, parse_symbols, sequence_index, squared_displacement, Symbol,
-};
+use super::honeycomb::squared_displacement;
 use super::sequences::SequenceProbabilities;
+use crate::scenes::symbols::{all_sequences, parse_symbols, sequence_index, Symbol};
 
 /// Eq. (4): D_cf = [1 − p_cf] D_MZ + p_cf · 3 D_MZ = (1 + 2p_cf) D_MZ (a collisionless flight
 /// covers the next-nearest-neighbour distance l₂ = √3 l in the time τ).
@@ -56,7 +55,7 @@ pub fn second_moment<T: Real>(ctx: T::Ctx, p: &SequenceProbabilities) -> T {
     let k = p.len();
     let mut m = T::zero(ctx);
     for (i, &pi) in p.probabilities().iter().enumerate() {
-        let n = squared_displacement(&super::honeycomb::sequence_from_index(k, i));
+        let n = squared_displacement(&crate::scenes::symbols::sequence_from_index(k, i));
         m += &(T::from_f64(ctx, pi) * &T::from_i32(ctx, n as i32));
     }
     m
@@ -68,7 +67,7 @@ pub fn second_moment<T: Real>(ctx: T::Ctx, p: &SequenceProbabilities) -> T {
 /// # Examples
 ///
 /// ```
-/// use lorentz_gas::geometry::Geometry;
+/// use lorentz_gas::scenes::triangular::geometry::Geometry;
 /// use lorentz_gas::theory::{hierarchy::{d_bs, d_k}, sequences::SequenceProbabilities};
 /// let g = Geometry::new(0.1f64).unwrap();
 /// let p = SequenceProbabilities::memoryless(1, 0.38).unwrap();
@@ -102,7 +101,7 @@ pub fn distance_classes(k: usize) -> Vec<DistanceClass> {
     for s in all_sequences(k) {
         m.entry(squared_displacement(&s))
             .or_default()
-            .push(super::honeycomb::word(&s));
+            .push(crate::scenes::symbols::word(&s));
     }
     m.into_iter()
         .map(|(squared, mut words)| {

@@ -1,5 +1,5 @@
 //! Trap hopping on the honeycomb lattice of trap centres: the action of the symbols
-//! ([`crate::symbols`], re-exported here) on hop directions and exact walks.
+//! ([`crate::scenes::symbols`], re-exported here) on hop directions and exact walks.
 //!
 //! # Convention
 //!
@@ -28,11 +28,9 @@
 //! exact integer |m **e**₁ + n **e**₂|² = m² + mn + n².
 
 use crate::kernel::vec2::Vec2;
-use crate::real::Real;
+use crate::numbers::real::Real;
 
-pub use crate::symbols::{
-    all_sequences, parse_symbols, sequence_from_index, sequence_index, word, Symbol,
-};
+use crate::scenes::symbols::Symbol;
 
 impl Symbol {
     /// Change of the hop-direction index (mod 6): z → +3, l → −1 ≡ +5, r → +1.
@@ -92,7 +90,8 @@ impl LatticePoint {
 /// # Examples
 ///
 /// ```
-/// use lorentz_gas::theory::honeycomb::{parse_symbols, walk_exact};
+/// use lorentz_gas::scenes::symbols::parse_symbols;
+/// use lorentz_gas::theory::honeycomb::walk_exact;
 /// // Initial hop and back: at the origin.
 /// assert_eq!(walk_exact(0, &parse_symbols("z").unwrap()).norm2(), 0);
 /// // A forward hop: next-nearest neighbour, |Δr|² = 3 l².
@@ -147,7 +146,8 @@ pub fn next_hop<T: Real>(d: &Vec2<T>, s: Symbol, sqrt3: &T) -> Vec2<T> {
 ///
 /// ```
 /// use lorentz_gas::kernel::vec2::Vec2;
-/// use lorentz_gas::theory::honeycomb::{parse_symbols, walk};
+/// use lorentz_gas::scenes::symbols::parse_symbols;
+/// use lorentz_gas::theory::honeycomb::walk;
 /// let d0 = Vec2::new(1.0f64, 0.0);
 /// let r = walk(&d0, &parse_symbols("lr").unwrap());
 /// assert!((r.x * r.x + r.y * r.y - 7.0).abs() < 1e-14);
@@ -166,6 +166,7 @@ pub fn walk<T: Real>(d0: &Vec2<T>, symbols: &[Symbol]) -> Vec2<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scenes::symbols::all_sequences;
     use rug::Float;
 
     #[test]

@@ -11,7 +11,7 @@
 //! D/D_MZ = slope of MSD(n) against n (time nτ) = lim MSD(n)/n,
 //!
 //! fitted by least squares over n ∈ [`LatticeWalkConfig::fit_from`], `hops`]. Batch b uses
-//! [`crate::sampling::stream`]`(seed, b)` only, so batches are independent and the result does
+//! [`crate::scenes::sampling::stream`]`(seed, b)` only, so batches are independent and the result does
 //! not depend on the number of threads (rayon over batches, results collected in order).
 //! D/D_MZ and its standard error are the mean and standard error of the batch slopes.
 //!
@@ -22,12 +22,13 @@
 use rand::Rng;
 use rayon::prelude::*;
 
-use crate::error::Error;
-use crate::sampling::{Purpose, StreamKey};
-use crate::stats::{linear_fit, mean_se};
+use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::statistics::{linear_fit, mean_se};
+use crate::Error;
 
-use super::honeycomb::{next_direction, LatticePoint, Symbol};
+use super::honeycomb::{next_direction, LatticePoint};
 use super::markov::CorrelatedWalk;
+use crate::scenes::symbols::Symbol;
 
 /// The random stream of walker batch `index` (never a trajectory's stream of the same seed).
 fn walk_stream(seed: u64, index: u64) -> rand_xoshiro::Xoshiro256PlusPlus {
@@ -45,7 +46,7 @@ pub struct LatticeWalkConfig {
     pub hops: usize,
     /// First time (in hops) of the linear fit; the fit runs over `fit_from..=hops`.
     pub fit_from: usize,
-    /// Seed of the run ([`crate::sampling::stream`]).
+    /// Seed of the run ([`crate::scenes::sampling::stream`]).
     pub seed: u64,
 }
 
@@ -97,7 +98,7 @@ pub struct LatticeWalkResult {
 
 impl LatticeWalkResult {
     /// D and its standard error in absolute units, D = D_MZ(w)·D/D_MZ.
-    pub fn d(&self, g: &crate::geometry::Geometry<f64>) -> (f64, f64) {
+    pub fn d(&self, g: &crate::scenes::triangular::geometry::Geometry<f64>) -> (f64, f64) {
         let m = g.d_mz();
         (self.d_over_d_mz * m, self.se * m)
     }
@@ -210,7 +211,7 @@ pub fn symbol_sequence(walk: &CorrelatedWalk, seed: u64, index: u64, n: usize) -
 /// let w = CorrelatedWalk::memoryless(1.0 / 3.0).unwrap();
 /// let r = simulate(&w, &LatticeWalkConfig::new(16, 128, 32, 1)).unwrap();
 /// // The error is over 16 batches: a Student-t z-score with 15 dof, "4σ" = 5.48.
-/// let k = lorentz_gas::stats::normal_sigma_equivalent_t(15.0, 4.0);
+/// let k = lorentz_gas::statistics::normal_sigma_equivalent_t(15.0, 4.0);
 /// assert!((r.d_over_d_mz - 1.0).abs() < k * r.se);
 /// ```
 pub fn simulate(

@@ -29,12 +29,12 @@
 
 use nalgebra::{Complex, DMatrix, DVector};
 
-use crate::error::Error;
-use crate::geometry::Geometry;
-use crate::real::Real;
+use crate::numbers::real::Real;
+use crate::scenes::triangular::geometry::Geometry;
+use crate::Error;
 
 use super::sequences::SequenceProbabilities;
-use crate::symbols::{sequence_from_index, sequence_index, word, Symbol};
+use crate::scenes::symbols::{sequence_from_index, sequence_index, word, Symbol};
 
 /// Correlation of successive hop directions of the memoryless walk,
 /// c = ⟨d̂ᵢ·d̂ᵢ₊₁⟩ = p_bs·(−1) + (1 − p_bs)·cos 60° = (1 − 3p_bs)/2.
@@ -78,9 +78,9 @@ pub struct CorrelatedWalk {
 }
 
 impl CorrelatedWalk {
-    /// Largest order accepted: the crate's one limit [`crate::symbols::MAX_ORDER`]
+    /// Largest order accepted: the crate's one limit [`crate::scenes::symbols::MAX_ORDER`]
     /// (3⁶ = 729 histories, a dense complex LU).
-    pub const MAX_ORDER: usize = crate::symbols::MAX_ORDER;
+    pub const MAX_ORDER: usize = crate::scenes::symbols::MAX_ORDER;
 
     /// The walk whose sequences of length k have the probabilities `p` (k = `p.len()`).
     pub fn new(p: &SequenceProbabilities) -> Result<Self, Error> {
@@ -107,7 +107,7 @@ impl CorrelatedWalk {
     }
 
     /// The walk of order k from p(s | h) given for each of the 3^(k−1) histories h in
-    /// [`crate::symbols::sequence_index`] order, as `[p(z|h), p(l|h), p(r|h)]`. Each row must
+    /// [`crate::scenes::symbols::sequence_index`] order, as `[p(z|h), p(l|h), p(r|h)]`. Each row must
     /// be finite, ≥ 0 and sum to 1 within 4u.
     pub fn from_conditionals(k: usize, cond: Vec<[f64; 3]>) -> Result<Self, Error> {
         Self::check_order(k)?;
@@ -143,7 +143,7 @@ impl CorrelatedWalk {
     }
 
     fn check_order(k: usize) -> Result<(), Error> {
-        crate::symbols::check_order("walk order k", k)
+        crate::scenes::symbols::check_order("walk order k", k)
     }
 
     /// The order k (sequences of length k, memory of k − 1 symbols).

@@ -19,7 +19,3 @@ pub mod honeycomb;
 pub mod lattice_walk;
 pub mod markov;
 pub mod sequences;
-
-pub use honeycomb::Symbol;
-pub use markov::CorrelatedWalk;
-pub use sequences::SequenceProbabilities;

@@ -6,10 +6,10 @@
 //! frequency with which k consecutive trap exits are s₁, …, s_k, measured along a long
 //! trajectory ([`count_sequences`]).
 
-use crate::error::Error;
-use crate::stats::CompensatedSum;
+use crate::statistics::CompensatedSum;
+use crate::Error;
 
-use crate::symbols::{sequence_from_index, sequence_index, word, Symbol};
+use crate::scenes::symbols::{sequence_from_index, sequence_index, word, Symbol};
 
 /// p(s₁…s_k) for all 3^k sequences of length k, validated: every entry finite and ≥ 0, the sum
 /// equal to 1 within the rounding error model of [`SequenceProbabilities::new`].
@@ -190,7 +190,7 @@ pub fn count_sequences(symbols: &[Symbol], k: usize) -> Vec<u64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::symbols::parse_symbols;
+    use crate::scenes::symbols::parse_symbols;
 
     #[test]
     fn validation_errors_are_clear() {

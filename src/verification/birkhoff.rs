@@ -13,13 +13,15 @@
 use nalgebra::{Matrix2, Matrix4, Vector2, Vector4};
 use rug::Float;
 
-use crate::real::Real;
+use crate::numbers::real::Real;
 
-use crate::error::Error;
 use crate::kernel::vec2::Vec2;
-use crate::kernel::{CellKernel, ConvexCell, Event, EventKind, Flight};
+use crate::kernel::{
+    cell::CellKernel, cell::ConvexCell, flight::Event, flight::EventKind, flight::Flight,
+};
 use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
 use crate::scenes::Scene;
+use crate::Error;
 
 /// A collision state in Birkhoff coordinates, at the working precision.
 #[derive(Debug, Clone)]

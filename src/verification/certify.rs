@@ -11,10 +11,10 @@ use rug::Float;
 use serde::Serialize;
 
 use super::lyapunov::{collision_track, lyapunov};
-use crate::error::Error;
-use crate::metadata::RunMeta;
+use crate::engine::metadata::RunMeta;
 use crate::scenes::lattice::LatticeState;
 use crate::scenes::Scene;
+use crate::Error;
 
 /// Collisions per orbit of the λ estimate that sets the starting precision.
 pub const LAMBDA_COLLISIONS: u64 = 100_000;
@@ -137,7 +137,7 @@ pub fn certify_seeded<S: Scene>(
     digits: u32,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Certificate, Error> {
-    let start = scene.sample(&mut crate::sampling::stream(seed, 0));
+    let start = scene.sample(&mut crate::scenes::sampling::stream(seed, 0));
     certify_with_meta(scene, &start, n, digits, Some(seed), progress)
 }
 

@@ -16,18 +16,18 @@ use rug::Float;
 use serde::Serialize;
 
 use crate::engine::drive;
-use crate::error::Error;
+use crate::engine::metadata::RunMeta;
+use crate::engine::parallel::par_batches;
 use crate::kernel::cell::ConvexCell;
-use crate::kernel::{CellKernel, EventKind};
-use crate::lanes::Lanes;
-use crate::metadata::RunMeta;
-use crate::observables::{EventLanes, Observer};
-use crate::parallel::par_batches;
-use crate::real::Real;
-use crate::sampling::stream;
+use crate::kernel::{cell::CellKernel, flight::EventKind};
+use crate::numbers::lanes::Lanes;
+use crate::numbers::real::Real;
+use crate::observers::{EventLanes, Observer};
 use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::scenes::sampling::stream;
 use crate::scenes::Scene;
-use crate::stats::{linear_fit, mean_se};
+use crate::statistics::{linear_fit, mean_se};
+use crate::Error;
 
 /// Collisions discarded at the start of each tangent orbit, so the tangent vector has turned into
 /// the unstable direction (it does so within a few collisions at λ ≈ 1 per collision; 1000 is
@@ -89,7 +89,7 @@ pub fn lyapunov<S: Scene>(
     let per: Vec<(f64, f64)> = par_batches(threads, orbits, |b| {
         let mut rng = stream(seed, b as u64);
         let mut s = scene.sample(&mut rng);
-        let d = crate::sampling::direction(&mut rng);
+        let d = crate::scenes::sampling::direction(&mut rng);
         let mut tangent = Tangent {
             t: Vector4::new(d.x, d.y, 0.3 * d.y, -0.3 * d.x),
             cell: &cell,

@@ -29,16 +29,16 @@ use std::fmt;
 use rug::float::Constant;
 use rug::Float;
 
-use crate::geometry::Geometry;
 use crate::kernel::cell::{CellKernel, ConvexCell};
 use crate::kernel::vec2::Vec2;
-use crate::kernel::{Event, EventKind, Flight};
-use crate::real::Real;
+use crate::kernel::{flight::Event, flight::EventKind, flight::Flight};
+use crate::numbers::real::Real;
 use crate::scenes::lattice::{CellIndex, LatticeState};
 use crate::scenes::square::SquareScene;
+use crate::scenes::triangular::geometry::Geometry;
 use crate::scenes::triangular::TriangularScene;
 use crate::scenes::Scene;
-use crate::verification::shadow::check_event;
+use crate::verification::replay::check_event;
 
 /// Precision of the MPFR replay and of the decoder's geometric constructions.
 pub const ORACLE_BITS: u32 = 192;

@@ -9,11 +9,11 @@
 //! with u the unit roundoff, K u the one-event error, J_k the Jacobian of the first k events
 //! (computed along the f64 orbit by [`super::birkhoff::Tangent`]).
 
-use crate::error::Error;
 use crate::kernel::vec2::Vec2;
-use crate::kernel::{CellKernel, ConvexCell, EventKind};
-use crate::real::Real;
+use crate::kernel::{cell::CellKernel, cell::ConvexCell, flight::EventKind};
+use crate::numbers::real::Real;
 use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::Error;
 
 /// Outcome of a reversal experiment.
 #[derive(Debug, Clone)]
@@ -96,7 +96,7 @@ pub fn amplification<T: Real, K: CellKernel<T>>(
             .next_event(&s)
             .ok_or_else(|| Error::Invalid("no next event".into()))?;
         let f64s = s.flight.to_f64();
-        let e64 = crate::kernel::Event {
+        let e64 = crate::kernel::flight::Event {
             kind: ev.kind,
             time: ev.time.to_f64(),
         };

@@ -31,14 +31,14 @@
 use rug::Float;
 use serde::Serialize;
 
-use crate::error::Error;
+use crate::engine::metadata::RunMeta;
+use crate::engine::parallel::par_batches;
+use crate::kernel::flight::EventKind;
 use crate::kernel::vec2::Vec2;
-use crate::kernel::EventKind;
-use crate::metadata::RunMeta;
-use crate::parallel::par_batches;
-use crate::sampling::stream;
 use crate::scenes::lattice::LatticeState;
+use crate::scenes::sampling::stream;
 use crate::scenes::Scene;
+use crate::Error;
 
 /// Smallest working precision: 128 bits leave ~75 bits between the `f64` defects (~2⁻⁵³) and
 /// the rounding level, room for the quadratic convergence to show and for the proof's margins.
@@ -819,7 +819,7 @@ pub fn f64_segment<S: Scene>(
         let c64 = &lat.cell().disks[m as usize];
         let cw = lat.world(&LatticeState {
             cell: st.cell,
-            flight: crate::kernel::Flight::new(c64.clone(), f.vel.clone()),
+            flight: crate::kernel::flight::Flight::new(c64.clone(), f.vel.clone()),
         });
         let j = (cw.y / basis.h).round();
         let i = (cw.x / basis.a - basis.beta * j).round();

@@ -1,0 +1,286 @@
+//! Campaigns on Slurm, the scheduler HPC users already have: a sweep dealt into the parts of a
+//! job array ([`crate::estimators::sweep::Shard`]), and a merge job that starts only when every part has
+//! succeeded (`--dependency=afterok`). This module only writes the batch scripts; Slurm runs them.
+//!
+//! Each array task runs `lorentz sweep … --shard $SLURM_ARRAY_TASK_ID/N --out OUT/shard-$ID`
+//! (resumable: a requeued or resubmitted task reuses its finished points), and the merge job runs
+//! `lorentz merge OUT/shard-0 … OUT/shard-(N−1) --out OUT`, which writes the same `sweep.csv`,
+//! `sweep.json` and figures as the sweep run in one piece ([`crate::estimators::sweep::merge`]).
+//!
+//! Slurm's default `MaxArraySize` is 1001 (tasks 0 … 1000); a site may set it lower or higher.
+
+use std::path::{Path, PathBuf};
+
+use crate::engine::Engine;
+use crate::estimators::sweep::{SweepConfig, MAX_SWEEP_POINTS};
+use crate::Error;
+
+/// A sweep as a Slurm campaign: the job array of its parts and the dependent merge job.
+#[derive(Debug, Clone)]
+pub struct SweepCampaign {
+    /// The whole sweep.
+    pub config: SweepConfig,
+    /// Parts (array tasks), 1 … steps.
+    pub parts: u32,
+    /// Output directory of the merged sweep; part i writes `OUT/shard-i`, the scripts and the
+    /// jobs' logs go to `OUT/slurm`. Absolute: the jobs may start in another directory.
+    pub out: PathBuf,
+    /// The `lorentz` binary the jobs run (absolute; visible on the compute nodes).
+    pub binary: PathBuf,
+    /// `--engine` of the parts: the same bits on every engine.
+    pub engine: Engine,
+    /// CPUs per array task (the part's `--threads`).
+    pub cpus_per_task: u32,
+    /// Slurm partition, if not the default one.
+    pub partition: Option<String>,
+    /// Wall-time limit of each task (Slurm's formats, e.g. `2:00:00` or `1-00:00:00`).
+    pub time: Option<String>,
+}
+
+/// Most CPUs per task accepted: more than any node has today, so larger is a typo.
+pub const MAX_CPUS_PER_TASK: u32 = 1024;
+
+/// Quotes `s` for a POSIX shell: single quotes, with each `'` written as `'\''`.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::campaigns::slurm::shell_quote;
+/// assert_eq!(shell_quote("a b"), "'a b'");
+/// assert_eq!(shell_quote("it's"), "'it'\\''s'");
+/// ```
+pub fn shell_quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
+}
+
+fn checked(what: &str, value: &str, allowed: &str, ok: impl Fn(char) -> bool) -> Result<(), Error> {
+    if value.is_empty() || !value.chars().all(ok) {
+        return Err(Error::Invalid(format!("{what} = {value:?}: use {allowed}")));
+    }
+    Ok(())
+}
+
+impl SweepCampaign {
+    /// Checks the campaign before anything is written.
+    pub fn validate(&self) -> Result<(), Error> {
+        self.config.validate()?;
+        if self.parts == 0 || self.parts > self.config.steps.min(MAX_SWEEP_POINTS) {
+            return Err(Error::Invalid(format!(
+                "array = {}: use 1 to {} parts (the sweep has {} points; every part needs one)",
+                self.parts, self.config.steps, self.config.steps
+            )));
+        }
+        if self.cpus_per_task == 0 || self.cpus_per_task > MAX_CPUS_PER_TASK {
+            return Err(Error::Invalid(format!(
+                "cpus-per-task = {}: use 1 to {MAX_CPUS_PER_TASK}",
+                self.cpus_per_task
+            )));
+        }
+        if let Some(p) = &self.partition {
+            checked(
+                "partition",
+                p,
+                "letters, digits, '_', '-', '.' and ','",
+                |c| c.is_ascii_alphanumeric() || "_-.,".contains(c),
+            )?;
+        }
+        if let Some(t) = &self.time {
+            checked(
+                "time",
+                t,
+                "Slurm's forms such as 90, 2:00:00 or 1-12:00:00",
+                |c| c.is_ascii_digit() || c == ':' || c == '-',
+            )?;
+        }
+        for (what, p) in [("out", &self.out), ("binary", &self.binary)] {
+            if !p.is_absolute() {
+                return Err(Error::Invalid(format!(
+                    "{what} = {}: must be an absolute path (the jobs start elsewhere)",
+                    p.display()
+                )));
+            }
+            if p.to_str().is_none() {
+                return Err(Error::Invalid(format!(
+                    "{what} = {}: must be valid UTF-8 to go into a batch script",
+                    p.display()
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    fn q(p: &Path) -> String {
+        shell_quote(p.to_str().unwrap_or_default())
+    }
+
+    fn header(&self, name: &str, out: &str) -> String {
+        let mut s = format!(
+            "#!/bin/bash\n#SBATCH --job-name={name}\n#SBATCH --output={}\n",
+            self.out.join("slurm").join(out).display()
+        );
+        if let Some(p) = &self.partition {
+            s += &format!("#SBATCH --partition={p}\n");
+        }
+        if let Some(t) = &self.time {
+            s += &format!("#SBATCH --time={t}\n");
+        }
+        s
+    }
+
+    /// The job array: task i computes part i/N of the sweep into `OUT/shard-i`.
+    pub fn array_script(&self) -> String {
+        let c = &self.config;
+        let n = self.parts;
+        let mut s = self.header("lorentz-sweep", "sweep-%A_%a.out");
+        s += &format!(
+            "#SBATCH --array=0-{}\n#SBATCH --ntasks=1\n#SBATCH --cpus-per-task={}\n",
+            n - 1,
+            self.cpus_per_task
+        );
+        s += &format!(
+            "# Part $SLURM_ARRAY_TASK_ID of {n} of the sweep w = {} .. {} ({} points x {} runs x {} collisions).\n\
+             # Resumable: a requeued or resubmitted task reuses the part's finished points.\n\
+             set -euo pipefail\n",
+            c.w_from, c.w_to, c.steps, c.runs, c.collisions
+        );
+        s += &format!(
+            "exec {} sweep --w-from {} --w-to {} --steps {} --runs {} --collisions {} --batches {} --seed {} \\\n  \
+             --engine {} --threads \"${{SLURM_CPUS_PER_TASK:-{}}}\" --shard \"$SLURM_ARRAY_TASK_ID/{n}\" \\\n  \
+             --out {}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet\n",
+            Self::q(&self.binary),
+            shell_quote(&c.w_from),
+            shell_quote(&c.w_to),
+            c.steps,
+            c.runs,
+            c.collisions,
+            c.batches,
+            c.seed,
+            self.engine.name(),
+            self.cpus_per_task,
+            Self::q(&self.out),
+        );
+        s
+    }
+
+    /// The merge job: combines the parts into `OUT` (submitted with `--dependency=afterok` on
+    /// the array by [`SweepCampaign::submit_script`]).
+    pub fn merge_script(&self) -> String {
+        let mut s = self.header("lorentz-sweep-merge", "merge-%j.out");
+        s += "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=1\n";
+        s += &format!(
+            "# Combines the {} parts into the sweep's CSV, JSON and figures; fails, naming them, if points are missing.\n\
+             set -euo pipefail\n\
+             out={}\n\
+             parts=()\n\
+             for i in $(seq 0 {}); do parts+=(\"$out/shard-$i\"); done\n\
+             exec {} merge \"${{parts[@]}}\" --out \"$out\" --quiet\n",
+            self.parts,
+            Self::q(&self.out),
+            self.parts - 1,
+            Self::q(&self.binary),
+        );
+        s
+    }
+
+    /// Submits the array, then the merge job depending on it; prints both job ids.
+    pub fn submit_script(&self) -> String {
+        "#!/bin/sh\n\
+         # Submits the sweep's job array, then the merge job, which starts only when every task has\n\
+         # succeeded (afterok). Prints: array JOBID merge JOBID.\n\
+         set -eu\n\
+         cd \"$(dirname \"$0\")\"\n\
+         array=$(sbatch --parsable sweep-array.sbatch)\n\
+         array=${array%%;*}\n\
+         merge=$(sbatch --parsable --dependency=afterok:\"$array\" merge.sbatch)\n\
+         merge=${merge%%;*}\n\
+         echo \"array $array merge $merge\"\n"
+            .to_string()
+    }
+
+    /// Writes `sweep-array.sbatch`, `merge.sbatch` and `submit.sh` into `OUT/slurm/` and returns
+    /// their paths (submit with `sh OUT/slurm/submit.sh`).
+    pub fn write(&self) -> Result<Vec<PathBuf>, Error> {
+        self.validate()?;
+        let dir = self.out.join("slurm");
+        std::fs::create_dir_all(&dir)?;
+        let mut written = Vec::new();
+        for (name, text) in [
+            ("sweep-array.sbatch", self.array_script()),
+            ("merge.sbatch", self.merge_script()),
+            ("submit.sh", self.submit_script()),
+        ] {
+            let path = dir.join(name);
+            std::fs::write(&path, text)?;
+            written.push(path);
+        }
+        Ok(written)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn campaign() -> SweepCampaign {
+        SweepCampaign {
+            config: SweepConfig {
+                w_from: "0.2".into(),
+                w_to: "0.3".into(),
+                steps: 21,
+                runs: 10,
+                collisions: 2_000_000_000,
+                batches: 16,
+                seed: 5,
+            },
+            parts: 7,
+            out: PathBuf::from("/scratch/it's here"),
+            binary: PathBuf::from("/opt/lorentz/bin/lorentz"),
+            engine: Engine::Auto,
+            cpus_per_task: 2,
+            partition: Some("short".into()),
+            time: Some("2:00:00".into()),
+        }
+    }
+
+    #[test]
+    fn array_script_reproduces_the_sweep_and_deals_it_into_parts() {
+        let s = campaign().array_script();
+        assert!(s.contains("#SBATCH --array=0-6\n"), "{s}");
+        assert!(
+            s.contains("#SBATCH --partition=short\n#SBATCH --time=2:00:00\n"),
+            "{s}"
+        );
+        assert!(s.contains("--w-from '0.2' --w-to '0.3' --steps 21 --runs 10 --collisions 2000000000 --batches 16 --seed 5"), "{s}");
+        assert!(s.contains("--shard \"$SLURM_ARRAY_TASK_ID/7\""), "{s}");
+        assert!(
+            s.contains("--out '/scratch/it'\\''s here'/shard-\"$SLURM_ARRAY_TASK_ID\""),
+            "{s}"
+        );
+    }
+
+    #[test]
+    fn merge_waits_for_every_task() {
+        let c = campaign();
+        assert!(c.merge_script().contains("for i in $(seq 0 6)"));
+        assert!(c
+            .submit_script()
+            .contains("--dependency=afterok:\"$array\" merge.sbatch"));
+    }
+
+    #[test]
+    fn refuses_what_would_break_the_scripts() {
+        let mut c = campaign();
+        c.parts = 22;
+        assert!(c.validate().is_err());
+        let mut c = campaign();
+        c.partition = Some("a\n#SBATCH --mem=1".into());
+        assert!(c.validate().is_err());
+        let mut c = campaign();
+        c.out = PathBuf::from("relative/out");
+        assert!(c.validate().is_err());
+        let mut c = campaign();
+        c.cpus_per_task = 0;
+        assert!(c.validate().is_err());
+        assert!(campaign().validate().is_ok());
+    }
+}

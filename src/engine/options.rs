@@ -1,0 +1,130 @@
+//! How an analysis runs, as opposed to what it computes: one [`RunOptions`] for every
+//! `run(&config, &options)` of the crate.
+//!
+//! The options never change a result's bits: the engine, the thread count and progress
+//! reporting are invisible in the numbers; `resume` only skips work already finished (of the
+//! same configuration) and `audit` adds a summary beside the numbers.
+
+use std::path::PathBuf;
+
+use super::Engine;
+use crate::Error;
+
+/// Fewest reference bits of a shadow audit: 128 bits resolve the f64 one-step errors (~10⁻¹⁶)
+/// by more than twenty orders of magnitude, so the reference's own rounding never enters a
+/// verdict.
+pub const MIN_AUDIT_BITS: u32 = 128;
+
+/// Most reference bits of a shadow audit: beyond 2¹⁶ bits one replayed event costs milliseconds
+/// and the verdicts cannot change (the reference error is already below 10⁻¹⁹⁰⁰⁰).
+pub const MAX_AUDIT_BITS: u32 = 1 << 16;
+
+/// Sampling rate and reference precision of a production run's self-audit (a fraction of the
+/// events replayed in MPFR as the run goes; `f64` runs only).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AuditSpec {
+    /// Fraction of events replayed, in (0, 1].
+    pub rate: f64,
+    /// Reference precision, [`MIN_AUDIT_BITS`] to [`MAX_AUDIT_BITS`] bits.
+    pub bits: u32,
+}
+
+impl AuditSpec {
+    /// A checked audit specification; the error names the valid ranges.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::engine::options::AuditSpec;
+    /// assert!(AuditSpec::new(1e-3, 256).is_ok());
+    /// assert!(AuditSpec::new(0.0, 256).is_err());
+    /// assert!(AuditSpec::new(1e-3, 64).is_err());
+    /// ```
+    pub fn new(rate: f64, bits: u32) -> Result<Self, Error> {
+        let s = AuditSpec { rate, bits };
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// Checks the rate and the bits (a struct built by hand is checked again before a run).
+    pub fn validate(&self) -> Result<(), Error> {
+        let (rate, bits) = (self.rate, self.bits);
+        if !(rate > 0.0 && rate <= 1.0) {
+            return Err(Error::Invalid(format!(
+                "audit sample rate {rate} must be in (0, 1]"
+            )));
+        }
+        if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&bits) {
+            return Err(Error::Invalid(format!(
+                "audit precision {bits} bits is out of range: use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} bits"
+            )));
+        }
+        Ok(())
+    }
+}
+
+fn no_progress(_: u64) {}
+
+/// How a computation runs: engine, worker threads, progress, where to resume from, and the
+/// optional shadow audit.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::engine::{options::RunOptions, Engine};
+/// let opts = RunOptions { engine: Engine::Scalar, threads: 1, ..RunOptions::default() };
+/// assert_eq!(opts.threads, 1);
+/// assert!(opts.resume.is_none());
+/// ```
+#[derive(Clone)]
+pub struct RunOptions<'a> {
+    /// The engine ([`Engine::Auto`]: SIMD for `f64` where the CPU has it); the bits are the same
+    /// on every engine.
+    pub engine: Engine,
+    /// Worker threads (≥ 1; default: the cores available); the bits are the same at every count.
+    pub threads: usize,
+    /// Receives units of work as they are done (collisions, visits or particles, as the
+    /// analysis documents), from any worker thread.
+    pub progress: &'a (dyn Fn(u64) + Sync),
+    /// Where finished work is kept, so that an interrupted run continues where it stopped (a
+    /// file or a directory, as the analysis documents); `None`: nothing is kept.
+    pub resume: Option<PathBuf>,
+    /// Replay a fraction of the events in MPFR as the run goes (analyses that offer it).
+    pub audit: Option<AuditSpec>,
+}
+
+impl Default for RunOptions<'_> {
+    fn default() -> Self {
+        RunOptions {
+            engine: Engine::Auto,
+            threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            progress: &no_progress,
+            resume: None,
+            audit: None,
+        }
+    }
+}
+
+impl std::fmt::Debug for RunOptions<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RunOptions")
+            .field("engine", &self.engine)
+            .field("threads", &self.threads)
+            .field("resume", &self.resume)
+            .field("audit", &self.audit)
+            .finish_non_exhaustive()
+    }
+}
+
+impl RunOptions<'_> {
+    /// Checks the thread count and the audit before any work.
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.threads == 0 {
+            return Err(Error::Zero { what: "threads" });
+        }
+        if let Some(a) = &self.audit {
+            a.validate()?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,83 @@
+//! Independent batches on a fixed number of threads, combined in batch order (so results do not
+//! depend on the thread count).
+
+use rayon::prelude::*;
+
+use crate::Error;
+
+/// Most batches (trajectories, orbits, runs) accepted: every batch keeps its result in memory until
+/// the end, and error bars need dozens, not millions; 2²⁰ keeps the results well below a GiB.
+pub const MAX_BATCHES: u32 = 1 << 20;
+
+/// Refuses more than [`MAX_BATCHES`] batches, naming `what` and the valid range.
+pub fn check_batches(what: &str, n: u32) -> Result<(), Error> {
+    if n > MAX_BATCHES {
+        return Err(Error::Invalid(format!(
+            "{what} = {n} is too many: use at most {MAX_BATCHES} (each keeps its result in memory \
+             until the end; error bars need dozens)"
+        )));
+    }
+    Ok(())
+}
+
+/// The share of batch `b` when `total` units (collisions, visits) are split over `batches`:
+/// ⌊total/batches⌋, plus one for the first `total mod batches` batches — `total` in all, exactly.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::engine::parallel::share;
+/// let parts: Vec<u64> = (0..3).map(|b| share(10, 3, b)).collect();
+/// assert_eq!(parts, vec![4, 3, 3]);
+/// ```
+pub fn share(total: u64, batches: u32, b: u32) -> u64 {
+    let n = batches as u64;
+    total / n + u64::from((b as u64) < total % n)
+}
+
+/// Runs `f(range)` for consecutive ranges of `chunk` items out of 0 … n−1 (the last may be
+/// shorter) on `threads` threads; the results, each a vector of one value per item, are
+/// concatenated in item order. For the SIMD engine, whose unit of work is a block of
+/// trajectories.
+pub fn par_chunks<R: Send, F: Fn(std::ops::Range<usize>) -> Result<Vec<R>, Error> + Sync + Send>(
+    threads: usize,
+    n: usize,
+    chunk: usize,
+    f: F,
+) -> Result<Vec<R>, Error> {
+    if threads == 0 {
+        return Err(Error::Zero { what: "threads" });
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Invalid(e.to_string()))?;
+    let ranges: Vec<std::ops::Range<usize>> = (0..n)
+        .step_by(chunk.max(1))
+        .map(|a| a..(a + chunk.max(1)).min(n))
+        .collect();
+    let parts: Vec<Vec<R>> = pool.install(|| {
+        ranges
+            .into_par_iter()
+            .map(&f)
+            .collect::<Result<Vec<_>, Error>>()
+    })?;
+    Ok(parts.into_iter().flatten().collect())
+}
+
+/// Runs `f(b)` for batches b = 0 … n−1 on `threads` threads; results in batch order.
+pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
+    threads: usize,
+    n: u32,
+    f: F,
+) -> Result<Vec<R>, Error> {
+    if threads == 0 {
+        return Err(Error::Zero { what: "threads" });
+    }
+    check_batches("batches", n)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Invalid(e.to_string()))?;
+    pool.install(|| (0..n).into_par_iter().map(&f).collect())
+}

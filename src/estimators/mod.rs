@@ -1,0 +1,17 @@
+//! Estimators: the analyses, each a validated configuration and one entry point.
+//!
+//! * [`diffusion`]: D(w) by the Einstein formula (MSD slope) with batch errors.
+//! * [`hops`]: trap hopping — symbol sequences, backscattering, Green–Kubo, lattice walks.
+//! * [`sweep`]: D over a grid of gaps with a fit, in shards for campaigns.
+//! * [`escape`]: D from the escape rate out of an open strip (Gaspard–Baras).
+//! * [`trajectory`]: one trajectory from exact initial conditions to certified digits.
+//! * [`throughput`]: collisions per second of the engines (`lorentz bench`).
+//!
+//! [`metadata`](crate::engine::metadata) records how each result was computed.
+
+pub mod diffusion;
+pub mod escape;
+pub mod hops;
+pub mod sweep;
+pub mod throughput;
+pub mod trajectory;

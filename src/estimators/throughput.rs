@@ -1,0 +1,304 @@
+//! Engine throughput (the CLI's `bench`): events only, no observables. Each thread runs one
+//! trajectory (scalar engine) or one block of [`BLOCK`] trajectories (SIMD engine).
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::engine::metadata::RunMeta;
+use crate::engine::simd::BLOCK;
+use crate::engine::{drive, run_block, Engine, Resolved};
+use crate::estimators::diffusion::DiffusionConfig;
+use crate::kernel::trap::Trap;
+use crate::numbers::lanes::Lanes;
+use crate::numbers::precision::{AtPrecision, Precision};
+use crate::numbers::real::Real;
+use crate::observers::counters::CounterLanes;
+use crate::observers::hops::HopLanes;
+use crate::observers::msd::Msd;
+use crate::observers::{EventLanes, Nothing, Observer, CROSSING_CODE};
+use crate::scenes::lattice::{LatticeState, TriangularLattice};
+use crate::scenes::sampling::stream;
+use crate::scenes::triangular::equilibrium_state;
+use crate::scenes::triangular::geometry::Geometry;
+use crate::Error;
+
+/// Throughput measurement: the median of several timed repetitions.
+#[derive(Debug, Clone, Serialize)]
+pub struct Throughput {
+    /// Gap w.
+    pub w: f64,
+    /// Collisions per thread per repetition (shared out over the thread's trajectories).
+    pub collisions: u64,
+    /// Number of repetitions.
+    pub repetitions: usize,
+    /// Threads, each running one trajectory (scalar) or one block of trajectories (SIMD).
+    pub threads: usize,
+    /// Trajectories per thread (1 for the scalar engine, [`BLOCK`] for the SIMD engine).
+    pub trajectories_per_thread: usize,
+    /// What was observed besides the crossing count.
+    pub observe: Observe,
+    /// Median collisions per wall-clock second over the repetitions (all threads together).
+    pub collisions_per_second: f64,
+    /// Median collisions per second per thread.
+    pub collisions_per_second_per_thread: f64,
+    /// Median nanoseconds per collision on one thread.
+    pub ns_per_collision: f64,
+    /// Every repetition's collisions per second (all threads), in order.
+    pub samples: Vec<f64>,
+    /// Crossings per collision seen (to compare event counts across implementations).
+    pub crossings_per_collision: f64,
+    /// Version, seed, precision, engine, threads, command line.
+    pub meta: RunMeta,
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(|a, b| a.total_cmp(b));
+    let n = s.len();
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+/// Most repetitions: the median is settled long before.
+pub const MAX_REPETITIONS: usize = 1000;
+
+/// Timed repetitions of `threads` trajectories on number type `T`.
+struct TimeRuns<'a> {
+    engine: Resolved,
+    observe: Observe,
+    w: f64,
+    seed: u64,
+    collisions: u64,
+    reps: usize,
+    threads: usize,
+    progress: &'a (dyn Fn(u64) + Sync),
+}
+
+impl AtPrecision for TimeRuns<'_> {
+    type Output = Result<(Vec<f64>, f64), Error>;
+    fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
+        let trap64 = Trap::new(self.w)?;
+        let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
+        let lanes = match self.engine {
+            Resolved::Scalar => 1,
+            Resolved::Simd(_) => BLOCK,
+        };
+        // Thread k runs trajectories k·lanes … (k+1)·lanes − 1 of the seed's streams.
+        let mut states: Vec<Vec<LatticeState<T>>> = (0..self.threads)
+            .map(|k| {
+                (0..lanes)
+                    .map(|l| {
+                        let s64 = equilibrium_state(
+                            &trap64,
+                            &mut stream(self.seed, (k * lanes + l) as u64),
+                        );
+                        let mut s = LatticeState::convert_from_f64(ctx, &s64);
+                        s.flight.normalise_speed();
+                        s
+                    })
+                    .collect()
+            })
+            .collect();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads)
+            .build()
+            .map_err(|e| Error::Invalid(format!("thread pool: {e}")))?;
+        let n = self.collisions;
+        let engine = self.engine;
+        let observe = self.observe;
+        // Each trajectory makes ⌊n/lanes⌋ collisions per repetition.
+        let per_rep = n / lanes as u64 * (lanes * self.threads) as u64;
+        let go = |states: &mut Vec<Vec<LatticeState<T>>>, n: u64| -> Result<u64, Error> {
+            pool.install(|| {
+                states
+                    .par_iter_mut()
+                    .map(|block| run_thread(engine, observe, &lat, &trap64, block, n))
+                    .collect::<Result<Vec<u64>, Error>>()
+                    .map(|v| v.iter().sum())
+            })
+        };
+        // One untimed warm-up of a tenth of the length.
+        go(&mut states, (n / 10).max(1))?;
+        let mut out = Vec::with_capacity(self.reps);
+        let mut hops = 0;
+        for _ in 0..self.reps {
+            let t0 = Instant::now();
+            hops = go(&mut states, n)?;
+            out.push(per_rep as f64 / t0.elapsed().as_secs_f64());
+            (self.progress)(1);
+        }
+        Ok((out, hops as f64 / per_rep as f64))
+    }
+}
+
+/// What the benchmark watches besides the engine's own crossing count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Observe {
+    /// Nothing: the bare engine.
+    #[default]
+    None,
+    /// The event counters (collisions, crossings, compensated time, longest flight).
+    Counters,
+    /// The MSD at the default fit windows' lags.
+    Msd,
+    /// Counters and MSD: what `lorentz diffusion` watches.
+    Diffusion,
+    /// The hop symbols and hop-direction correlations of `lorentz hops` (order 3).
+    Hops,
+}
+
+/// One thread's share of a repetition: `n` collisions over its trajectories, continuing them
+/// and watching them with `observe`; returns the crossings made.
+fn run_thread<T: Real>(
+    engine: Resolved,
+    observe: Observe,
+    lat: &TriangularLattice<T>,
+    trap64: &Trap<f64>,
+    block: &mut [LatticeState<T>],
+    n: u64,
+) -> Result<u64, Error> {
+    let lanes = match engine {
+        Resolved::Scalar => 1,
+        Resolved::Simd(_) => BLOCK,
+    };
+    let w = trap64.w;
+    let msd = || -> Result<Msd, Error> {
+        let tau = Geometry::new(w)?.hop_time();
+        Ok(Msd::new(
+            tau,
+            &DiffusionConfig::new(w).lags(),
+            lat.basis_f64(),
+            lanes,
+        ))
+    };
+    match observe {
+        Observe::None => run_observed(engine, lat, trap64, block, n, Nothing),
+        Observe::Counters => run_observed(engine, lat, trap64, block, n, CounterLanes::new(lanes)),
+        Observe::Msd => run_observed(engine, lat, trap64, block, n, msd()?),
+        Observe::Diffusion => run_observed(
+            engine,
+            lat,
+            trap64,
+            block,
+            n,
+            (CounterLanes::new(lanes), msd()?),
+        ),
+        Observe::Hops => run_observed(engine, lat, trap64, block, n, HopLanes::new(3, lanes)?),
+    }
+}
+
+fn run_observed<T: Real, O: Observer<1> + Observer<BLOCK>>(
+    engine: Resolved,
+    lat: &TriangularLattice<T>,
+    trap64: &Trap<f64>,
+    block: &mut [LatticeState<T>],
+    n: u64,
+    obs: O,
+) -> Result<u64, Error> {
+    let mut obs = (CrossingCount(0), obs);
+    match engine {
+        Resolved::Scalar => {
+            let each = n / block.len() as u64;
+            for s in block.iter_mut() {
+                drive(lat, s, each, &mut obs, &|_| {})?;
+            }
+            Ok(obs.0 .0)
+        }
+        Resolved::Simd(path) => {
+            // The SIMD engine runs f64 only (`Engine::resolve` refuses otherwise), so the
+            // conversions below are exact copies.
+            let mut s64: Vec<LatticeState<f64>> = block.iter().map(|s| s.to_f64()).collect();
+            let quotas = vec![n / block.len() as u64; block.len()];
+            run_block(path, trap64, &mut s64, &quotas, &mut obs, &|_| {})?;
+            for (s, x) in block.iter_mut().zip(&s64) {
+                *s = LatticeState::convert_from_f64(s.flight.pos.x.ctx(), x);
+            }
+            Ok(obs.0 .0)
+        }
+    }
+}
+
+/// Counts crossings only — the cheapest possible observer, so that the benchmark times the
+/// engine (and the counts show that the same events were made).
+struct CrossingCount(u64);
+
+impl<const L: usize> Observer<L> for CrossingCount {
+    #[inline(always)]
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        for e in steps {
+            let mut o = 0;
+            let mut collided = 0u64;
+            while o < L {
+                let coll = V::load(&e.code[o..]).lt(V::splat(CROSSING_CODE));
+                collided |= V::bits(coll) << o;
+                o += V::WIDTH;
+            }
+            self.0 += (e.live_bits & !collided).count_ones() as u64;
+        }
+    }
+}
+
+/// Times `reps` repetitions of `collisions` collisions on each of `threads` threads (one
+/// trajectory each on the scalar engine, a block of [`BLOCK`] on the SIMD engine), continuing
+/// equilibrium starts (seed `seed`). `progress` receives finished repetitions.
+#[allow(clippy::too_many_arguments)]
+pub fn throughput(
+    w: f64,
+    precision: Precision,
+    engine: Engine,
+    observe: Observe,
+    collisions: u64,
+    reps: usize,
+    seed: u64,
+    threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Throughput, Error> {
+    Geometry::new(w)?;
+    if collisions == 0 {
+        return Err(Error::Zero { what: "collisions" });
+    }
+    if reps == 0 || reps > MAX_REPETITIONS {
+        return Err(Error::Invalid(format!(
+            "repetitions = {reps}: use 1 to {MAX_REPETITIONS}"
+        )));
+    }
+    if threads == 0 {
+        return Err(Error::Zero { what: "threads" });
+    }
+    let resolved = engine.resolve(precision == Precision::F64)?;
+    let (samples, cpc) = precision.dispatch(TimeRuns {
+        engine: resolved,
+        observe,
+        w,
+        seed,
+        collisions,
+        reps,
+        threads,
+        progress,
+    })?;
+    let m = median(&samples);
+    Ok(Throughput {
+        w,
+        collisions,
+        repetitions: reps,
+        threads,
+        observe,
+        trajectories_per_thread: match resolved {
+            Resolved::Scalar => 1,
+            Resolved::Simd(_) => BLOCK,
+        },
+        collisions_per_second: m,
+        collisions_per_second_per_thread: m / threads as f64,
+        ns_per_collision: 1e9 * threads as f64 / m,
+        samples,
+        crossings_per_collision: cpc,
+        meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
+    })
+}

@@ -1,0 +1,501 @@
+//! One trajectory from exact initial conditions, to certified decimal digits.
+//!
+//! The start (x, y), the direction (dx, dy), the time T and the scene's parameters are exact
+//! rationals. At a working precision P the start is located in its cell ([`Scene::locate`]), the
+//! direction is normalised at P (never through `f64`), and the flow runs event by event until
+//! the accumulated time would pass T; the last free flight is then advanced by the remaining
+//! time. The world position (x, y) and the distance √(x² + y²) at time T follow.
+//!
+//! Certification (`proofs-notes/trajectory.md`): rounding errors grow like e^{λn} over n
+//! collisions, so P starts at ⌈(D + 2)·log₂10 + n·λ/ln 2⌉ + [`GUARD_BITS`] with n = T/⟨ℓ⟩
+//! (Santaló) and λ the scene's Lyapunov exponent per collision. The runs at P and 2P must go
+//! through the same event sequence and agree in x, y and the distance to the requested digits;
+//! otherwise P doubles (up to [`MAX_BITS`]). Digits are counted from the leading digit for
+//! |q| ≥ 1 and from the first decimal place for |q| < 1 (absolute near zero); one agreed digit
+//! is kept back as a guard, so each printed value (the 2P run, correctly rounded) is within one
+//! unit of its last digit of the exact value, unless the two runs' agreement was a coincidence
+//! (the caveat of `proofs-notes/trajectory.md`).
+
+use rug::ops::Pow;
+use rug::{Float, Integer, Rational};
+use serde::Serialize;
+
+use crate::engine::metadata::RunMeta;
+use crate::kernel::vec2::Vec2;
+use crate::kernel::{flight::EventKind, flight::Flight};
+use crate::numbers::real::Real;
+use crate::scenes::lattice::{CellIndex, LatticeState};
+use crate::scenes::Scene;
+use crate::verification::lyapunov::lyapunov;
+use crate::Error;
+
+/// Most digits a trajectory may ask for: 10⁴ digits already need ≥ 33 000 bits before any
+/// chaos, and more only hides a typo.
+pub const MAX_DIGITS: u32 = 10_000;
+/// Guard bits added to the starting precision for the prefactor of the error growth.
+pub const GUARD_BITS: u32 = 64;
+/// Smallest precision tried.
+pub const MIN_BITS: u32 = 128;
+/// Largest precision P tried (the 2P run then has 2¹⁹ bits): one event then costs about a
+/// millisecond, and a time that needs more is not worth running this way.
+pub const MAX_BITS: u32 = 1 << 18;
+/// Agreed digits kept back from the printed ones, so that rounding the 2P value to the printed
+/// digits plus the P/2P deviation stay within one unit of the last printed digit.
+pub const GUARD_DIGITS: u32 = 1;
+/// Collisions per orbit of the Lyapunov estimate that sets the starting precision (its error,
+/// a few per cent, changes P by a few bits; the doubling loop absorbs any shortfall).
+pub const LAMBDA_COLLISIONS: u64 = 20_000;
+/// Orbits of the Lyapunov estimate (at least 2 for its error bar).
+pub const LAMBDA_ORBITS: u32 = 2;
+/// Seed of the Lyapunov estimate: fixed, so the precisions tried depend on the input only.
+pub const LAMBDA_SEED: u64 = 17;
+/// Bound on cell-edge crossings per unit time used for the resource estimate (a unit-speed
+/// particle crosses about |vₓ| + |v_y| ≤ √2 unit-square edges per unit time, and fewer trap
+/// edges; 3 leaves room for corners).
+pub const CROSSINGS_PER_UNIT_TIME: f64 = 3.0;
+/// Exponent of the cost of one MPFR multiplication in the number of 64-bit limbs (Karatsuba /
+/// Toom range; measured: doubling P multiplies the time per event by about 3).
+pub const COST_EXPONENT: f64 = 1.6;
+/// Seconds per cost unit (one event at one limb), measured with the release build on the
+/// development machine (T = 3000 in the square gas at r = 1/3: 7 s for 1.1·10⁸ units).
+pub const SECONDS_PER_COST_UNIT: f64 = 6.4e-8;
+/// Longest estimated run accepted (seconds of the first P/2P attempt): five minutes; a longer
+/// time is refused before anything is allocated.
+pub const MAX_SECONDS: f64 = 300.0;
+/// Events a run may take beyond the estimate before it is stopped (the estimate is an average;
+/// an orbit may collide more often, but not by this factor).
+pub const EVENT_SLACK: f64 = 100.0;
+
+/// The exact input of one trajectory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrajectoryInput {
+    /// Start, world x.
+    pub x: Rational,
+    /// Start, world y.
+    pub y: Rational,
+    /// Direction, x component (any length but zero; normalised at the working precision).
+    pub dx: Rational,
+    /// Direction, y component.
+    pub dy: Rational,
+    /// Total time T > 0 (speed 1, so also the path length).
+    pub time: Rational,
+    /// Digits requested, 1 to [`MAX_DIGITS`].
+    pub digits: u32,
+}
+
+/// One event of the final run, for `--events`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EventRecord {
+    /// `collision` or `crossing`.
+    pub kind: &'static str,
+    /// The disk (collision) or edge (crossing) label in the cell's frame.
+    pub obstacle: u8,
+    /// World x of the event, 20 significant digits.
+    pub x: String,
+    /// World y of the event, 20 significant digits.
+    pub y: String,
+    /// Time of the event since the start, 20 significant digits.
+    pub time: String,
+}
+
+/// The plan made before anything is allocated.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Plan {
+    /// Lyapunov exponent per collision of the scene (equilibrium estimate).
+    pub lambda_per_collision: f64,
+    /// Santaló's mean free path ⟨ℓ⟩.
+    pub mean_free_path: f64,
+    /// Expected collisions T/⟨ℓ⟩.
+    pub expected_collisions: f64,
+    /// Expected events (collisions and crossings), for the resource check.
+    pub expected_events: f64,
+    /// Starting precision P.
+    pub bits: u32,
+    /// Estimated seconds of the first attempt (runs at P and 2P): expected events ×
+    /// ((P/64)^1.6 + (2P/64)^1.6) × [`SECONDS_PER_COST_UNIT`].
+    pub estimated_seconds: f64,
+}
+
+/// Estimated seconds of the runs at `bits` and 2·`bits` over `events` events.
+pub fn estimated_seconds(bits: f64, events: f64) -> f64 {
+    let limbs = bits / 64.0;
+    events * (limbs.powf(COST_EXPONENT) + (2.0 * limbs).powf(COST_EXPONENT)) * SECONDS_PER_COST_UNIT
+}
+
+/// A trajectory at time T with certified digits.
+#[derive(Debug, Clone, Serialize)]
+pub struct TrajectoryReport {
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
+    /// World x at time T, exactly `certified_digits` digits.
+    pub x: String,
+    /// World y at time T.
+    pub y: String,
+    /// Distance from the origin √(x² + y²) at time T.
+    pub distance: String,
+    /// Collisions up to time T.
+    pub collisions: u64,
+    /// Cell-edge crossings up to time T.
+    pub crossings: u64,
+    /// Digits printed: the smallest agreement over x, y and the distance, less
+    /// [`GUARD_DIGITS`] (at least the digits requested).
+    pub certified_digits: u32,
+    /// Digits requested.
+    pub digits_requested: u32,
+    /// Smallest agreement of the P and 2P runs over x, y and the distance, in digits.
+    pub digits_agreed: f64,
+    /// The precision P (bits) of the certifying pair (the printed values are from the 2P run).
+    pub precision_bits: u32,
+    /// Precisions P tried, in order.
+    pub tried: Vec<u32>,
+    /// The plan (Lyapunov exponent, expected collisions, starting precision).
+    pub plan: Plan,
+    /// Events of the 2P run (filled only when asked for).
+    #[serde(skip)]
+    pub events: Vec<EventRecord>,
+    /// x, y and the distance of the 2P run at its full precision.
+    #[serde(skip)]
+    pub values: [Float; 3],
+    /// Version, precision P, command line.
+    pub meta: RunMeta,
+}
+
+/// One run at one precision.
+#[derive(Debug, Clone)]
+struct Run {
+    values: [Float; 3],
+    collisions: u64,
+    crossings: u64,
+    sequence: Vec<(EventKind, CellIndex)>,
+    events: Vec<EventRecord>,
+}
+
+/// Checks the input and makes the plan: Lyapunov estimate, expected events, starting precision,
+/// and the resource check (bits × events) — before anything large is allocated.
+///
+/// # Errors
+/// Digits outside 1..=[`MAX_DIGITS`], a time ≤ 0, a zero direction, a start too far out, or a
+/// time whose precision or estimated run time exceeds [`MAX_BITS`] or [`MAX_SECONDS`].
+pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error> {
+    if input.digits == 0 || input.digits > MAX_DIGITS {
+        return Err(Error::Invalid(format!(
+            "digits = {} is out of range: use 1 to {MAX_DIGITS}",
+            input.digits
+        )));
+    }
+    if input.time <= 0 {
+        return Err(Error::Invalid(format!(
+            "time = {} is out of range: use a time > 0",
+            crate::numbers::exact::nearest_f64(&input.time)
+        )));
+    }
+    if input.dx == 0 && input.dy == 0 {
+        return Err(Error::Invalid(
+            "direction (0, 0) is zero: use a nonzero direction such as 1,0".into(),
+        ));
+    }
+    crate::scenes::check_world_point(&input.x, &input.y)?;
+    crate::scenes::check_world_point(&input.dx, &input.dy).map_err(|_| {
+        Error::Invalid(format!(
+            "direction components must lie from -{:e} to {:e} (only the direction matters: scale it down)",
+            crate::scenes::MAX_WORLD_COORDINATE,
+            crate::scenes::MAX_WORLD_COORDINATE
+        ))
+    })?;
+    let mean_free_path = scene.mean_free_path();
+    let time = crate::numbers::exact::nearest_f64(&input.time);
+    let expected_collisions = time / mean_free_path;
+    let expected_events = expected_collisions + CROSSINGS_PER_UNIT_TIME * time;
+    let digits_bits = (input.digits + GUARD_DIGITS + 1) as f64 * std::f64::consts::LOG2_10;
+    if !expected_events.is_finite()
+        || estimated_seconds(MIN_BITS as f64, expected_events) > MAX_SECONDS
+    {
+        return Err(Error::Invalid(format!(
+            "time = {time:e} is out of range: it means about {expected_events:.2e} events, more than a certified run can afford in {MAX_SECONDS} s; use a shorter time"
+        )));
+    }
+    let lambda = lyapunov(
+        scene,
+        LAMBDA_COLLISIONS,
+        LAMBDA_ORBITS,
+        LAMBDA_SEED,
+        1,
+        &|_| {},
+    )?
+    .per_collision;
+    let need = digits_bits + expected_collisions * lambda / std::f64::consts::LN_2;
+    let bits = (need.ceil() + GUARD_BITS as f64).max(MIN_BITS as f64);
+    let seconds = estimated_seconds(bits, expected_events);
+    if bits > MAX_BITS as f64 || seconds > MAX_SECONDS {
+        return Err(Error::Invalid(format!(
+            "time = {time} to {} digits needs about {bits:.0} bits over {expected_events:.0} events (lambda = {lambda:.3} per collision, {expected_collisions:.0} collisions), about {seconds:.0} s, beyond the limits of {MAX_BITS} bits and {MAX_SECONDS} s: use a shorter time or fewer digits",
+            input.digits
+        )));
+    }
+    Ok(Plan {
+        lambda_per_collision: lambda,
+        mean_free_path,
+        expected_collisions,
+        expected_events,
+        bits: bits as u32,
+        estimated_seconds: seconds,
+    })
+}
+
+/// Runs the trajectory at precisions P, 2P, 4P, … until two consecutive runs go through the
+/// same events and agree to the requested digits; prints the 2P run's values with the certified
+/// digits. `record_events` keeps the events of the final run; `progress` receives collision
+/// counts.
+///
+/// # Errors
+/// Everything [`plan`] refuses; a start inside a disk; no agreement within [`MAX_BITS`].
+///
+/// # Examples
+///
+/// ```no_run
+/// use lorentz_gas::numbers::exact::parse_exact;
+/// use lorentz_gas::scenes::square::SquareScene;
+/// use lorentz_gas::estimators::trajectory::{trajectory, TrajectoryInput};
+/// let scene = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();
+/// let input = TrajectoryInput {
+///     x: parse_exact("1/2").unwrap(),
+///     y: parse_exact("1/10").unwrap(),
+///     dx: parse_exact("1").unwrap(),
+///     dy: parse_exact("0").unwrap(),
+///     time: parse_exact("10").unwrap(),
+///     digits: 30,
+/// };
+/// let r = trajectory(&scene, &input, false, &|_| {}).unwrap();
+/// assert!(r.distance.starts_with("0.99526"));
+/// ```
+pub fn trajectory<S: Scene>(
+    scene: &S,
+    input: &TrajectoryInput,
+    record_events: bool,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<TrajectoryReport, Error> {
+    let plan = plan(scene, input)?;
+    let max_events = (plan.expected_events * EVENT_SLACK) as u64 + 10_000;
+    let mut bits = plan.bits;
+    let mut tried = Vec::new();
+    let mut lo = run_at(scene, input, bits, record_events, max_events, progress)?;
+    loop {
+        tried.push(bits);
+        let hi = run_at(scene, input, 2 * bits, record_events, max_events, progress)?;
+        let same_events = lo.sequence == hi.sequence;
+        let agreed = (0..3)
+            .map(|k| digits_agreed(&lo.values[k], &hi.values[k], bits))
+            .fold(f64::INFINITY, f64::min);
+        let certified = (agreed.floor() - GUARD_DIGITS as f64).max(0.0) as u32;
+        if same_events && certified >= input.digits {
+            let text = |k: usize| decimal(&hi.values[k], certified);
+            return Ok(TrajectoryReport {
+                scene: scene.label(),
+                x: text(0),
+                y: text(1),
+                distance: text(2),
+                collisions: hi.collisions,
+                crossings: hi.crossings,
+                certified_digits: certified,
+                digits_requested: input.digits,
+                digits_agreed: agreed,
+                precision_bits: bits,
+                tried,
+                plan,
+                events: hi.events,
+                values: hi.values,
+                meta: RunMeta::new(None, None, bits, Some(1)),
+            });
+        }
+        if 2 * bits > MAX_BITS {
+            return Err(Error::Invalid(format!(
+                "could not certify {} digits within {MAX_BITS} bits: the runs at {bits} and {} bits {} (agreement {agreed:.1} digits); use a shorter time or fewer digits",
+                input.digits,
+                2 * bits,
+                if same_events { "go through the same events" } else { "go through different events (a grazing collision or a corner)" }
+            )));
+        }
+        bits *= 2;
+        lo = hi;
+    }
+}
+
+/// The run at `bits` bits.
+fn run_at<S: Scene>(
+    scene: &S,
+    input: &TrajectoryInput,
+    bits: u32,
+    record_events: bool,
+    max_events: u64,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Run, Error> {
+    let lat = scene.lattice::<Float>(bits)?;
+    let (cell, pos) = scene.locate::<Float>(bits, &input.x, &input.y)?;
+    let kernel = lat.cell();
+    for c in &kernel.disks {
+        if (pos.sub(c).norm2() - &kernel.radius2).lt0() {
+            let centre = lat.world(&LatticeState {
+                cell,
+                flight: Flight::new(c.clone(), c.clone()),
+            });
+            return Err(Error::Invalid(format!(
+                "start ({}, {}) is inside the disk at ({}, {}) of radius {}: choose a start at distance >= the radius from every disk centre",
+                crate::numbers::exact::nearest_f64(&input.x),
+                crate::numbers::exact::nearest_f64(&input.y),
+                centre.x.to_f64(),
+                centre.y.to_f64(),
+                kernel.radius.to_f64()
+            )));
+        }
+    }
+    let (dx, dy) = (
+        <Float as Real>::from_rational(bits, &input.dx),
+        <Float as Real>::from_rational(bits, &input.dy),
+    );
+    let norm = (dx.clone().square() + &dy.clone().square()).sqrt();
+    let mut vel = Vec2::new(dx / &norm, dy / &norm);
+    if cell.down {
+        // A point-reflected cell (s = −1) sees the world velocity reversed: world = L − p.
+        vel = -vel;
+    }
+    let mut s = LatticeState {
+        cell,
+        flight: Flight::new(pos, vel),
+    };
+    let total = <Float as Real>::from_rational(bits, &input.time);
+    let mut elapsed = Float::with_val(bits, 0);
+    let (mut collisions, mut crossings) = (0u64, 0u64);
+    let mut sequence = Vec::new();
+    let mut events = Vec::new();
+    loop {
+        let ev = lat
+            .next_event(&s)
+            .ok_or_else(|| Error::Invalid("the flight has no next event (zero velocity)".into()))?;
+        let end = elapsed.clone() + &ev.time;
+        if end > total {
+            let rest = total.clone() - &elapsed;
+            s.flight.pos = s.flight.pos.along(&rest, &s.flight.vel);
+            break;
+        }
+        lat.apply(&mut s, &ev);
+        elapsed = end;
+        sequence.push((ev.kind, s.cell));
+        let (kind, obstacle) = match ev.kind {
+            EventKind::Collision(m) => {
+                collisions += 1;
+                progress(1);
+                ("collision", m)
+            }
+            EventKind::Crossing(k) => {
+                crossings += 1;
+                ("crossing", k)
+            }
+        };
+        if record_events {
+            let w = lat.world(&s);
+            events.push(EventRecord {
+                kind,
+                obstacle,
+                x: w.x.to_string_radix(10, Some(EVENT_DIGITS)),
+                y: w.y.to_string_radix(10, Some(EVENT_DIGITS)),
+                time: elapsed.to_string_radix(10, Some(EVENT_DIGITS)),
+            });
+        }
+        if (sequence.len() as u64) > max_events {
+            return Err(Error::Invalid(format!(
+                "the run passed {max_events} events before time T, far beyond the estimate: use a shorter time"
+            )));
+        }
+    }
+    let w = lat.world(&s);
+    let distance = (w.x.clone().square() + &w.y.clone().square()).sqrt();
+    Ok(Run {
+        values: [w.x, w.y, distance],
+        collisions,
+        crossings,
+        sequence,
+        events,
+    })
+}
+
+/// Significant digits of the `--events` coordinates and times.
+const EVENT_DIGITS: usize = 20;
+
+/// Digits counted for `q`: the number of integer digits of |q| (0 if |q| < 1), so that
+/// `digits` digits of `q` end at the decimal position 10^(lead − digits).
+fn lead(q: &Float) -> i64 {
+    let a = Float::with_val(64, q.abs_ref());
+    if a < 1 {
+        return 0;
+    }
+    a.log10().floor().to_f64() as i64 + 1
+}
+
+/// Digits to which `lo` (at `bits_lo` bits) and `hi` agree: lead(hi) − log₁₀|lo − hi|. Equal
+/// values count as agreeing to the resolution 2^−bits_lo·max(|hi|, 1) of the lower run. The
+/// logarithms are taken in MPFR (a deviation of 2^−30000 underflows a double).
+pub fn digits_agreed(lo: &Float, hi: &Float, bits_lo: u32) -> f64 {
+    let dev = Float::with_val(
+        64,
+        Float::with_val(hi.prec().max(lo.prec()), lo - hi).abs_ref(),
+    );
+    let scale = Float::with_val(64, hi.abs_ref()).max(&Float::with_val(64, 1));
+    let resolution = scale >> bits_lo;
+    let worst = if dev > resolution { dev } else { resolution };
+    lead(hi) as f64 - worst.log10().to_f64()
+}
+
+/// `q` correctly rounded to `digits` digits counted from its leading integer digit, or from the
+/// first decimal place when |q| < 1 (so `0.99526…` with 100 digits has 100 decimals), as a plain
+/// decimal string.
+pub fn decimal(q: &Float, digits: u32) -> String {
+    let places = digits as i64 - lead(q);
+    let prec = q.prec() + (places.unsigned_abs() as f64 * std::f64::consts::LOG2_10) as u32 + 64;
+    let ten = Integer::from(10);
+    let scaled = if places >= 0 {
+        Float::with_val(prec, q * ten.pow(places as u32))
+    } else {
+        Float::with_val(prec, q / ten.pow((-places) as u32))
+    };
+    let n = scaled.to_integer().unwrap_or_default();
+    let sign = if n < 0 { "-" } else { "" };
+    let mut s = n.abs().to_string();
+    if places <= 0 {
+        s.push_str(&"0".repeat((-places) as usize));
+        return format!("{sign}{s}");
+    }
+    let places = places as usize;
+    if s.len() <= places {
+        s = format!("{}{s}", "0".repeat(places + 1 - s.len()));
+    }
+    let (int, frac) = s.split_at(s.len() - places);
+    format!("{sign}{int}.{frac}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decimals_round_and_place_the_point() {
+        let q = Float::with_val(200, Float::parse("0.99526").unwrap());
+        assert_eq!(decimal(&q, 3), "0.995");
+        assert_eq!(decimal(&q, 4), "0.9953");
+        let q = Float::with_val(200, Float::parse("-12.345678").unwrap());
+        assert_eq!(decimal(&q, 4), "-12.35");
+        assert_eq!(decimal(&q, 1), "-10");
+        let q = Float::with_val(200, Float::parse("0.00123").unwrap());
+        assert_eq!(decimal(&q, 4), "0.0012");
+        assert_eq!(decimal(&Float::with_val(64, 0), 2), "0.00");
+    }
+
+    #[test]
+    fn agreement_counts_decimals_below_one_and_significant_digits_above() {
+        let a = Float::with_val(300, Float::parse("0.123456789").unwrap());
+        let b = Float::with_val(300, Float::parse("0.123456788").unwrap());
+        assert!((digits_agreed(&a, &b, 300) - 9.0).abs() < 0.01);
+        let a = Float::with_val(300, Float::parse("123.456789").unwrap());
+        let b = Float::with_val(300, Float::parse("123.456788").unwrap());
+        assert!((digits_agreed(&a, &b, 300) - 9.0).abs() < 0.01);
+    }
+}

@@ -1,0 +1,159 @@
+//! Parameter grids from exact decimals: `--w-from 0.1 --w-to 0.2 --steps 3` gives exactly the
+//! doubles nearest to 0.1, 0.15 and 0.2 (never 0.15000000000000002), because every grid point is
+//! computed as an exact rational and rounded once.
+
+use rug::{Float, Integer, Rational};
+
+use crate::Error;
+
+/// Most digits accepted in a decimal (a double has 17 significant digits; more only hides a typo).
+const MAX_DECIMAL_DIGITS: usize = 40;
+
+/// Parses a decimal such as `0.1`, `-2.5e-3` or `3` exactly.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::numbers::exact::parse_decimal;
+/// use rug::Rational;
+/// assert_eq!(parse_decimal("0.1").unwrap(), Rational::from((1, 10)));
+/// assert_eq!(parse_decimal("2.5e-3").unwrap(), Rational::from((1, 400)));
+/// assert!(parse_decimal("0x1p-3").is_err());
+/// ```
+pub fn parse_decimal(s: &str) -> Result<Rational, Error> {
+    let bad = || {
+        Error::Invalid(format!(
+            "'{s}' is not a decimal number (such as 0.15 or 1.5e-1)"
+        ))
+    };
+    let t = s.trim();
+    let (neg, t) = match t.strip_prefix('-') {
+        Some(r) => (true, r),
+        None => (false, t.strip_prefix('+').unwrap_or(t)),
+    };
+    let (mant, exp) = match t.find(['e', 'E']) {
+        Some(i) => (&t[..i], t[i + 1..].parse::<i32>().map_err(|_| bad())?),
+        None => (t, 0),
+    };
+    let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
+    if int.is_empty() && frac.is_empty()
+        || !int.bytes().all(|b| b.is_ascii_digit())
+        || !frac.bytes().all(|b| b.is_ascii_digit())
+        || int.len() + frac.len() > MAX_DECIMAL_DIGITS
+        || exp.unsigned_abs() > 400
+    {
+        return Err(bad());
+    }
+    let digits: Integer = format!("{int}{frac}").parse().map_err(|_| bad())?;
+    let shift = exp - frac.len() as i32;
+    let pow10 = |k: u32| Integer::from(Integer::u_pow_u(10, k));
+    let mut r = if shift >= 0 {
+        Rational::from(digits * pow10(shift as u32))
+    } else {
+        Rational::from((digits, pow10((-shift) as u32)))
+    };
+    if neg {
+        r = -r;
+    }
+    Ok(r)
+}
+
+/// An exact number as a user types it: a decimal (`0.1`, `2.5e-3`) or a fraction of two
+/// decimals (`1/3`, `-2/7`), parsed exactly (never through a double).
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::numbers::exact::parse_exact;
+/// use rug::Rational;
+/// assert_eq!(parse_exact("1/3").unwrap(), Rational::from((1, 3)));
+/// assert_eq!(parse_exact("0.1").unwrap(), Rational::from((1, 10)));
+/// assert!(parse_exact("1/0").is_err());
+/// assert!(parse_exact("1/3/4").is_err());
+/// ```
+pub fn parse_exact(s: &str) -> Result<Rational, Error> {
+    match s.split_once('/') {
+        None => parse_decimal(s),
+        Some((n, d)) => {
+            let (n, d) = (parse_decimal(n)?, parse_decimal(d)?);
+            if d == 0 {
+                return Err(Error::Invalid(format!(
+                    "'{s}' divides by zero: use a decimal such as 0.25 or a fraction such as 1/3"
+                )));
+            }
+            Ok(n / d)
+        }
+    }
+}
+
+/// The double nearest to an exact rational (ties to even).
+pub fn nearest_f64(r: &Rational) -> f64 {
+    Float::with_val(f64::MANTISSA_DIGITS, r).to_f64()
+}
+
+/// `steps ≥ 2` points from `from` to `to` (decimal strings), evenly spaced in exact arithmetic:
+/// point i is the double nearest to from + (to − from)·i/(steps − 1).
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::numbers::exact::decimal_grid;
+/// assert_eq!(decimal_grid("0.1", "0.2", 3).unwrap(), vec![0.1, 0.15, 0.2]);
+/// assert_eq!(decimal_grid("0.02", "0.3", 15).unwrap()[2], 0.06);
+/// ```
+pub fn decimal_grid(from: &str, to: &str, steps: u32) -> Result<Vec<f64>, Error> {
+    if steps < 2 {
+        return Err(Error::Invalid(format!(
+            "a grid needs at least 2 points (got {steps})"
+        )));
+    }
+    let a = parse_decimal(from)?;
+    let b = parse_decimal(to)?;
+    let span = Rational::from(&b - &a);
+    Ok((0..steps)
+        .map(|i| {
+            let x = a.clone() + span.clone() * Rational::from((i, steps - 1));
+            nearest_f64(&x)
+        })
+        .collect())
+}
+
+/// Points a + i·h for i = 0 … n−1 (decimal strings), each rounded once.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::numbers::exact::decimal_steps;
+/// assert_eq!(decimal_steps("0.04", "0.001", 3).unwrap(), vec![0.04, 0.041, 0.042]);
+/// ```
+pub fn decimal_steps(a: &str, h: &str, n: u32) -> Result<Vec<f64>, Error> {
+    let a = parse_decimal(a)?;
+    let h = parse_decimal(h)?;
+    Ok((0..n)
+        .map(|i| nearest_f64(&(a.clone() + h.clone() * i)))
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_points_are_the_decimals_asked_for() {
+        // Naive arithmetic gives 0.15000000000000002 here.
+        let naive = 0.1 + (0.2 - 0.1) * 1.0 / 2.0;
+        assert_ne!(naive, 0.15);
+        let g = decimal_grid("0.1", "0.2", 3).unwrap();
+        assert_eq!(g[1], "0.15".parse::<f64>().unwrap());
+        assert_eq!(format!("{}", g[1]), "0.15");
+        // Every point of a long grid equals the parse of its decimal.
+        let g = decimal_grid("0.2", "0.3", 21).unwrap();
+        for (i, w) in g.iter().enumerate() {
+            let d = format!("0.{}", 200 + 5 * i as u32);
+            assert_eq!(*w, d.parse::<f64>().unwrap(), "{i}");
+        }
+        assert!(decimal_grid("0.1", "abc", 3).is_err());
+        assert!(decimal_grid("0.1", "0.2", 1).is_err());
+        assert_eq!(parse_decimal("-1.5").unwrap(), Rational::from((-3, 2)));
+    }
+}

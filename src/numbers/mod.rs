@@ -1,0 +1,14 @@
+//! Numbers: the working precisions and the exact inputs every layer above computes with.
+//!
+//! * [`real`]: the number trait [`Real`](real::Real), implemented by `f64` and `rug::Float`
+//!   (≥ 53 bits); the kernel is generic over it.
+//! * [`lanes`]: vectors of `f64` lanes (AVX-512, AVX2, portable, one `f64`) with exactly the
+//!   scalar IEEE operations, for the SIMD engine and its observers.
+//! * [`precision`]: a run's precision (`f64` or MPFR bits) and instantiation at it.
+//! * [`exact`]: exact decimals and fractions (`0.1`, `1/3`) parsed as rationals, and grids of them
+//!   rounded once.
+
+pub mod exact;
+pub mod lanes;
+pub mod precision;
+pub mod real;

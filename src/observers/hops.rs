@@ -1,0 +1,198 @@
+//! Trap-hopping statistics along a lattice trajectory: the exit symbols z/l/r
+//! ([`crate::scenes::symbols::Symbol`], from [`crate::scenes::single_trap::exit_symbol`]), collisionless
+//! visits, symbol-sequence counts up to an order K, and the hop directions, fed to the hop-level
+//! Green–Kubo estimator ([`crate::theory::green_kubo`]) for D = D_MZ (1 + 2 Σ_j C_j)
+//! (`proofs-notes/hops.md`).
+
+use super::hop_correlations::{HopCorrelations, MAX_LAG};
+use super::{lanes, EventLanes, Observer, CROSSING_CODE};
+use crate::kernel::flight::EventKind;
+use crate::numbers::lanes::Lanes;
+use crate::scenes::single_trap::exit_symbol;
+use crate::scenes::symbols::check_order;
+use crate::Error;
+
+/// Hop statistics of one trajectory.
+#[derive(Debug, Clone)]
+pub struct Hops {
+    order: usize,
+    entered: Option<u8>,
+    collided: bool,
+    /// Complete visits (entered and left by a gap).
+    pub visits: u64,
+    /// Complete visits without a collision.
+    pub collisionless: u64,
+    /// `counts[k−1][index]`: occurrences of each length-k symbol sequence, in
+    /// [`crate::scenes::symbols::sequence_index`] order, k = 1 … order.
+    pub counts: Vec<Vec<u64>>,
+    history: usize,
+    seen: u64,
+    /// Hop directions (60°·index + 30° in the world frame) accumulated for the Green–Kubo
+    /// estimator, lags 1 … [`MAX_LAG`].
+    pub directions: HopCorrelations,
+}
+
+impl Hops {
+    /// Statistics up to sequences of length `order`, 1 ≤ `order` ≤ [`crate::scenes::symbols::MAX_ORDER`]
+    /// (an error names the range otherwise).
+    pub fn new(order: usize) -> Result<Self, Error> {
+        check_order("order", order)?;
+        Ok(Hops {
+            order,
+            entered: None,
+            collided: false,
+            visits: 0,
+            collisionless: 0,
+            counts: (1..=order).map(|k| vec![0; 3usize.pow(k as u32)]).collect(),
+            history: 0,
+            seen: 0,
+            directions: HopCorrelations::new(MAX_LAG)?,
+        })
+    }
+
+    /// The longest sequences counted.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// Called with each event `kind` and whether the trap it happens in is a down trap
+    /// (the orientation before the event).
+    #[inline(always)]
+    pub fn observe(&mut self, kind: EventKind, down: bool) {
+        match kind {
+            EventKind::Collision(_) => self.collided = true,
+            EventKind::Crossing(k) => {
+                // Hop direction in the world: outward normals of E₀, E₁, E₂ at 30°, 150°, 270°,
+                // i.e. 60°·{0, 2, 4} + 30°; a down trap is turned by 180° (+3).
+                let dir = ([0u8, 2, 4][k as usize] + if down { 3 } else { 0 }) % 6;
+                self.directions.push(dir);
+                if let Some(e) = self.entered {
+                    self.visits += 1;
+                    if !self.collided {
+                        self.collisionless += 1;
+                    }
+                    let sym = exit_symbol(e, k).index();
+                    self.seen += 1;
+                    self.history = (self.history * 3 + sym) % self.counts[self.order - 1].len();
+                    for len in 1..=self.order.min(self.seen as usize) {
+                        let c = self.history % self.counts[len - 1].len();
+                        self.counts[len - 1][c] += 1;
+                    }
+                }
+                // The edge crossed is the entrance of the next trap (same label after the point
+                // reflection).
+                self.entered = Some(k);
+                self.collided = false;
+            }
+        }
+    }
+}
+
+/// The hop statistics of L trajectories: a collision only sets a flag, a crossing (about one
+/// event in π/(3w)) updates that lane's [`Hops`].
+#[derive(Debug, Clone)]
+pub struct HopLanes {
+    /// One accumulator per lane.
+    pub lanes: Vec<Hops>,
+}
+
+impl HopLanes {
+    /// `lanes` accumulators of sequences up to `order`.
+    pub fn new(order: usize, lanes: usize) -> Result<Self, Error> {
+        let h = Hops::new(order)?;
+        Ok(HopLanes {
+            lanes: vec![h; lanes],
+        })
+    }
+}
+
+impl<const L: usize> Observer<L> for HopLanes {
+    #[inline(always)]
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        for e in steps {
+            self.step::<V, L>(e);
+        }
+    }
+}
+
+impl HopLanes {
+    #[inline(always)]
+    fn step<V: Lanes, const L: usize>(&mut self, e: &EventLanes<L>) {
+        let mut collided = 0u64;
+        let mut o = 0;
+        while o < L {
+            let coll = V::load(&e.code[o..]).lt(V::splat(CROSSING_CODE));
+            collided |= V::bits(coll) << o;
+            o += V::WIDTH;
+        }
+        let live = e.live_bits;
+        let hops = lanes::<Hops, L>(&mut self.lanes);
+        // A collision only sets a flag; a crossing (one event in π/(3w)) is a hop.
+        let mut flag = live & collided;
+        while flag != 0 {
+            hops[flag.trailing_zeros() as usize].collided = true;
+            flag &= flag - 1;
+        }
+        let mut hop = live & !collided;
+        while hop != 0 {
+            let l = hop.trailing_zeros() as usize;
+            hop &= hop - 1;
+            hops[l].observe(e.event(l).kind, e.cell[2][l] < 0.0);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenes::lattice::TriangularLattice;
+    use crate::scenes::sampling::stream;
+    use crate::scenes::symbols::{Symbol, MAX_ORDER};
+    use crate::scenes::triangular::equilibrium_state;
+    use crate::theory::honeycomb::next_direction;
+
+    #[test]
+    fn order_out_of_range_is_an_error() {
+        for k in [0, MAX_ORDER + 1] {
+            let e = Hops::new(k).unwrap_err().to_string();
+            assert!(e.contains(&format!("1 <= order <= {MAX_ORDER}")), "{e}");
+        }
+        assert_eq!(Hops::new(1).unwrap().order(), 1);
+    }
+
+    /// Along a real trajectory, the exit symbol of every visit turns the hop direction exactly
+    /// as the honeycomb's convention says (z: +180°, l: −60°, r: +60°), and the counts of each
+    /// length are consistent: the three one-symbol extensions of a word add up to it.
+    #[test]
+    fn symbols_agree_with_the_honeycomb_turns() {
+        let lat = TriangularLattice::new(0.2).unwrap();
+        let mut s = equilibrium_state(lat.trap(), &mut stream(3, 0));
+        let mut h = Hops::new(3).unwrap();
+        let (mut last_dir, mut entered): (Option<u8>, Option<u8>) = (None, None);
+        let mut checked = 0;
+        while h.visits < 5000 {
+            let ev = lat.next_event(&s).unwrap();
+            if let EventKind::Crossing(k) = ev.kind {
+                let dir = ([0u8, 2, 4][k as usize] + if s.cell.down { 3 } else { 0 }) % 6;
+                if let (Some(d), Some(e)) = (last_dir, entered) {
+                    let sym: Symbol = exit_symbol(e, k);
+                    assert_eq!(next_direction(d, sym), dir, "{sym} from {d}");
+                    checked += 1;
+                }
+                last_dir = Some(dir);
+                entered = Some(k);
+            }
+            h.observe(ev.kind, s.cell.down);
+            lat.apply(&mut s, &ev);
+        }
+        assert_eq!(checked, 5000);
+        for k in 1..3 {
+            let long = &h.counts[k];
+            for (i, &c) in h.counts[k - 1].iter().enumerate() {
+                // Words of length k + 1 that start with word i: all but possibly the last window.
+                let ext: u64 = long[3 * i..3 * i + 3].iter().sum();
+                assert!(c == ext || c == ext + 1, "k = {k}, word {i}: {c} vs {ext}");
+            }
+        }
+    }
+}

@@ -1,0 +1,192 @@
+//! Figures with plotters: PNG and SVG, text rendered from an embedded DejaVu Sans (no system font
+//! libraries; the font's licence is in `src/figures/DejaVuSans-LICENSE.txt`).
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::prelude::*;
+
+pub mod paper;
+pub mod sweep;
+
+use crate::Error;
+
+static FONT: Once = Once::new();
+
+/// Registers the embedded font as "sans-serif" (idempotent).
+pub fn register_font() {
+    FONT.call_once(|| {
+        let bytes: &'static [u8] = include_bytes!("DejaVuSans.ttf");
+        // The font is valid; registration only fails for malformed data.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, bytes);
+    });
+}
+
+/// One series of a log-log or lin-log plot: label, points (x, y, optional y error).
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// Points (x, y, y-error or 0).
+    pub points: Vec<(f64, f64, f64)>,
+    /// Optional text next to each point (empty: none).
+    pub notes: Vec<String>,
+    /// Join the points with a line (otherwise markers only).
+    pub line: bool,
+}
+
+/// Axes of a simple scientific plot.
+pub struct PlotSpec<'a> {
+    /// Title.
+    pub title: &'a str,
+    /// x label.
+    pub x_label: &'a str,
+    /// y label.
+    pub y_label: &'a str,
+    /// Logarithmic x axis.
+    pub log_x: bool,
+    /// Logarithmic y axis.
+    pub log_y: bool,
+}
+
+fn io(e: impl std::fmt::Display) -> Error {
+    Error::Io(e.to_string())
+}
+
+fn range(v: impl Iterator<Item = f64> + Clone, log: bool) -> (f64, f64) {
+    let lo = v.clone().fold(f64::INFINITY, f64::min);
+    let hi = v.fold(f64::NEG_INFINITY, f64::max);
+    if log {
+        (lo / 2.0, hi * 2.0)
+    } else {
+        let pad = 0.08 * (hi - lo).max(1e-12);
+        (lo - pad, hi + pad)
+    }
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    spec: &PlotSpec,
+    series: &[Series],
+) -> Result<(), Error>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(io)?;
+    let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
+    let ys = series
+        .iter()
+        .flat_map(|s| s.points.iter().flat_map(|p| [p.1 - p.2, p.1 + p.2]));
+    let (x0, x1) = range(xs, spec.log_x);
+    let (y0, y1) = range(ys.filter(|y| !spec.log_y || *y > 0.0), spec.log_y);
+    let mut b = ChartBuilder::on(&root);
+    b.caption(spec.title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(80);
+    macro_rules! body {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            chart
+                .configure_mesh()
+                .x_desc(spec.x_label)
+                .y_desc(spec.y_label)
+                .label_style(("sans-serif", 14))
+                .draw()
+                .map_err(io)?;
+            for (i, s) in series.iter().enumerate() {
+                let c = Palette99::pick(i).to_rgba();
+                let joined: Vec<(f64, f64)> = if s.line {
+                    s.points.iter().map(|p| (p.0, p.1)).collect()
+                } else {
+                    Vec::new()
+                };
+                chart
+                    .draw_series(LineSeries::new(joined, c.stroke_width(2)))
+                    .map_err(io)?
+                    .label(s.label.clone())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                    });
+                if s.line || s.points.len() < 1000 {
+                    chart
+                        .draw_series(
+                            s.points
+                                .iter()
+                                .map(|p| Circle::new((p.0, p.1), 3, c.filled())),
+                        )
+                        .map_err(io)?;
+                } else {
+                    // Dense scatter (e.g. Fig. 5): single pixels.
+                    chart
+                        .draw_series(s.points.iter().map(|p| Pixel::new((p.0, p.1), c)))
+                        .map_err(io)?;
+                }
+                chart
+                    .draw_series(
+                        s.points
+                            .iter()
+                            .zip(&s.notes)
+                            .map(|(p, t)| Text::new(t.clone(), (p.0, p.1), ("sans-serif", 13))),
+                    )
+                    .map_err(io)?;
+                chart
+                    .draw_series(s.points.iter().filter(|p| p.2 > 0.0).map(|p| {
+                        ErrorBar::new_vertical(p.0, p.1 - p.2, p.1, p.1 + p.2, c.stroke_width(1), 6)
+                    }))
+                    .map_err(io)?;
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 14))
+                .draw()
+                .map_err(io)?;
+        }};
+    }
+    match (spec.log_x, spec.log_y) {
+        (true, true) => body!(b
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(io)?),
+        (true, false) => body!(b
+            .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+            .map_err(io)?),
+        (false, true) => body!(b
+            .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+            .map_err(io)?),
+        (false, false) => body!(b.build_cartesian_2d(x0..x1, y0..y1).map_err(io)?),
+    }
+    root.present().map_err(io)?;
+    Ok(())
+}
+
+/// Writes `stem.png` and `stem.svg` (800×600).
+pub fn plot(stem: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), Error> {
+    register_font();
+    let png = stem.with_extension("png");
+    let svg = stem.with_extension("svg");
+    draw(
+        BitMapBackend::new(&png, (800, 600)).into_drawing_area(),
+        spec,
+        series,
+    )?;
+    draw(
+        SVGBackend::new(&svg, (800, 600)).into_drawing_area(),
+        spec,
+        series,
+    )?;
+    Ok(())
+}
+
+/// Text for HTML pages (reports, indexes): `&`, `<` and `>` escaped.
+///
+/// # Examples
+///
+/// ```
+/// assert_eq!(lorentz_gas::report::figures::html_escape("a<b & c"), "a&lt;b &amp; c");
+/// ```
+pub fn html_escape(t: &str) -> String {
+    t.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}

@@ -1,0 +1,380 @@
+//! The paper's figures regenerated from this crate's own numbers (data in CSV and JSON next to each
+//! PNG/SVG, with seed and version). Figs. 2, 7, 8 come from [`crate::estimators::sweep`].
+
+use std::path::Path;
+
+use serde::Serialize;
+use serde_json::json;
+
+use super::{plot, PlotSpec, Series};
+use crate::engine::metadata::RunMeta;
+use crate::estimators::diffusion::DiffusionConfig;
+use crate::estimators::hops::{backscatter_run, check_hops_input, theory_run};
+use crate::numbers::exact::decimal_grid;
+use crate::numbers::precision::Precision;
+use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::scenes::single_trap::SingleTrap;
+use crate::scenes::symbols::Symbol;
+use crate::Error;
+
+/// Default injections of Fig. 5: enough points to show the backscattering regions' shape.
+pub const MAP_SAMPLES: u64 = 60_000;
+/// Injections between two progress reports of Fig. 5 (a few milliseconds of work).
+const MAP_PROGRESS_CHUNK: u64 = 4096;
+/// Default injections per gap of Fig. 4a: p_bs to about ±0.001 (binomial, p ≈ 0.37).
+pub const CURVE_SAMPLES: u64 = 200_000;
+/// Batches per gap of Fig. 4a (errors over 16 batches: 15 degrees of freedom).
+pub const CURVE_BATCHES: u32 = 16;
+/// Default collisions per gap of Figs. 3, 4b, 6 (for the hop statistics, and again for D).
+pub const HIERARCHY_COLLISIONS: u64 = 20_000_000;
+/// Batches per gap of Figs. 3, 4b, 6.
+pub const HIERARCHY_BATCHES: u32 = 8;
+/// Highest order of the lattice walks in Fig. 6b.
+pub const HIERARCHY_ORDER: usize = 4;
+
+/// The grids of Fig. 4a: w = 0.01 … 0.30 in steps of 0.01 (all below w∞ = 0.3094), and the inset
+/// around the maximum, w = 0.040 … 0.070 in steps of 0.001 — exact decimals.
+pub fn backscatter_grids() -> Result<[Vec<f64>; 2], Error> {
+    Ok([
+        decimal_grid("0.01", "0.30", 30)?,
+        decimal_grid("0.04", "0.07", 31)?,
+    ])
+}
+
+/// The grid of Figs. 3, 4b, 6: w = 0.02 … 0.30 in steps of 0.02.
+pub fn hierarchy_grid() -> Result<Vec<f64>, Error> {
+    decimal_grid("0.02", "0.30", 15)
+}
+
+/// What a figure command wrote.
+#[derive(Debug, Clone, Serialize)]
+pub struct FigureReport {
+    /// Files written (names inside the output directory).
+    pub files: Vec<String>,
+    /// Version, seed, batches, precision, engine, threads, command line.
+    pub meta: RunMeta,
+}
+
+/// The data file of a figure: its rows (or summary) with the metadata block.
+fn write_json(path: &Path, data: serde_json::Value, meta: &RunMeta) -> Result<(), Error> {
+    let v = json!({ "data": data, "meta": meta });
+    std::fs::write(
+        path,
+        serde_json::to_string_pretty(&v).map_err(|e| Error::Io(e.to_string()))?,
+    )?;
+    Ok(())
+}
+
+fn files(stem: &str) -> Vec<String> {
+    ["csv", "json", "png", "svg"]
+        .iter()
+        .map(|e| format!("{stem}.{e}"))
+        .collect()
+}
+
+/// Fig. 5: injection conditions (2x/w, sin α) that backscatter at gap `w` (`samples` injections).
+/// `progress` receives injections done.
+pub fn backscatter_map(
+    w: f64,
+    samples: u64,
+    seed: u64,
+    dir: &Path,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<FigureReport, Error> {
+    crate::scenes::triangular::geometry::check_diffusive_gap(w)?;
+    if samples == 0 {
+        return Err(Error::Zero { what: "samples" });
+    }
+    let scene = SingleTrap::new(w)?;
+    std::fs::create_dir_all(dir)?;
+    let mut rng = StreamKey::new(seed, Purpose::Injection, 0).rng();
+    let mut pts = Vec::new();
+    let mut csv = String::from("x_2_over_w,sin_alpha,exit\n");
+    for k in 1..=samples {
+        if k % MAP_PROGRESS_CHUNK == 0 {
+            progress(MAP_PROGRESS_CHUNK);
+        }
+        let v = scene.random_visit(&mut rng)?;
+        csv.push_str(&format!("{},{},{}\n", v.x, v.sin_alpha, v.exit));
+        if v.exit == Symbol::Z {
+            pts.push((v.x, v.sin_alpha, 0.0));
+        }
+    }
+    progress(samples % MAP_PROGRESS_CHUNK);
+    let meta = RunMeta::new(Some(seed), None, Precision::F64, Some(1));
+    std::fs::write(dir.join("fig5-backscatter-map.csv"), csv)?;
+    write_json(
+        &dir.join("fig5-backscatter-map.json"),
+        json!({"w": w, "samples": samples, "backscattered": pts.len()}),
+        &meta,
+    )?;
+    plot(
+        &dir.join("fig5-backscatter-map"),
+        &PlotSpec {
+            title: &format!("Injections that backscatter, w = {w} (paper Fig. 5)"),
+            x_label: "2x/w",
+            y_label: "sin(alpha)",
+            log_x: false,
+            log_y: false,
+        },
+        &[Series {
+            label: format!("backscattered ({} of {samples})", pts.len()),
+            points: pts,
+            notes: Vec::new(),
+            line: false,
+        }],
+    )?;
+    Ok(FigureReport {
+        files: files("fig5-backscatter-map"),
+        meta,
+    })
+}
+
+/// Fig. 4a: p_bs against w on [`backscatter_grids`] (the curve and the paper's inset), by
+/// injection of `visits` particles per gap. Point i of the curve is run i of `seed`, point j of
+/// the inset run (curve length + j): no two points share a stream. `progress` receives injections.
+pub fn backscatter_curve(
+    visits: u64,
+    seed: u64,
+    threads: usize,
+    dir: &Path,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<FigureReport, Error> {
+    if visits < CURVE_BATCHES as u64 {
+        return Err(Error::TooFew {
+            what: "samples (injections per gap)",
+            min: CURVE_BATCHES as u64,
+            got: visits,
+        });
+    }
+    let [grid, inset] = backscatter_grids()?;
+    std::fs::create_dir_all(dir)?;
+    let meta = RunMeta::new(
+        Some(seed),
+        Some(CURVE_BATCHES as u64),
+        Precision::F64,
+        Some(threads),
+    );
+    let mut written = Vec::new();
+    for (name, ws, first_run) in [
+        ("fig4a-p-bs", &grid, 0u64),
+        ("fig4a-inset-p-bs", &inset, grid.len() as u64),
+    ] {
+        let mut rows = Vec::new();
+        for (i, &w) in ws.iter().enumerate() {
+            let r = backscatter_run(
+                w,
+                visits,
+                CURVE_BATCHES,
+                (seed, first_run + i as u64),
+                threads,
+                Precision::F64,
+                progress,
+            )?;
+            rows.push((w, r.p_bs, r.p_bs_err));
+        }
+        let mut csv = String::from("w,p_bs,p_bs_err\n");
+        for r in &rows {
+            csv.push_str(&format!("{},{},{}\n", r.0, r.1, r.2));
+        }
+        std::fs::write(dir.join(format!("{name}.csv")), csv)?;
+        write_json(
+            &dir.join(format!("{name}.json")),
+            json!({"rows": rows, "visits_per_point": visits}),
+            &meta,
+        )?;
+        written.extend(files(name));
+        let third: Vec<(f64, f64, f64)> = ws.iter().map(|&w| (w, 1.0 / 3.0, 0.0)).collect();
+        plot(
+            &dir.join(name),
+            &PlotSpec {
+                title: "Backscattering probability (paper Fig. 4a)",
+                x_label: "gap w",
+                y_label: "p_bs",
+                log_x: false,
+                log_y: false,
+            },
+            &[
+                Series {
+                    label: "p_bs by injection (error bars: SE)".into(),
+                    points: rows,
+                    notes: Vec::new(),
+                    line: true,
+                },
+                Series {
+                    label: "1/3 (Machta-Zwanzig)".into(),
+                    points: third,
+                    notes: Vec::new(),
+                    line: true,
+                },
+            ],
+        )?;
+    }
+    Ok(FigureReport {
+        files: written,
+        meta,
+    })
+}
+
+/// Figs. 3, 4b and 6: on a grid of w, the measured p_cf against App. A (corrected and as printed),
+/// D against D_MZ, D_cf, D_bs (Figs. 3b, 4b), the hierarchy D_1 … D_3 combined with collisionless
+/// flights (Fig. 6a) and the exact order-k lattice walks k = 1 … 4 (Fig. 6b). D is the Einstein value.
+///
+/// On [`hierarchy_grid`], `collisions` per gap for the hop statistics (run i of `seed`) and again
+/// for D (run grid length + i). Every gap is checked before anything runs. `progress` receives
+/// collisions.
+pub fn hierarchy(
+    collisions: u64,
+    seed: u64,
+    threads: usize,
+    dir: &Path,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<FigureReport, Error> {
+    use crate::engine::options::RunOptions;
+    use crate::estimators::diffusion::run;
+    let grid = hierarchy_grid()?;
+    let n = grid.len() as u64;
+    let einstein = |i: usize, w: f64| {
+        let mut c = DiffusionConfig::new(w);
+        c.collisions = collisions;
+        c.batches = HIERARCHY_BATCHES;
+        c.seed = seed;
+        c.run = n + i as u64;
+        c
+    };
+    for (i, &w) in grid.iter().enumerate() {
+        check_hops_input(w, collisions, HIERARCHY_BATCHES, HIERARCHY_ORDER)?;
+        einstein(i, w).validate()?;
+    }
+    std::fs::create_dir_all(dir)?;
+    let mut rows = Vec::new();
+    for (i, &w) in grid.iter().enumerate() {
+        let t = theory_run(
+            w,
+            collisions,
+            HIERARCHY_BATCHES,
+            HIERARCHY_ORDER,
+            (seed, i as u64),
+            threads,
+            progress,
+        )?;
+        let opts = RunOptions {
+            threads,
+            progress,
+            ..RunOptions::default()
+        };
+        let d = run(&einstein(i, w), &opts)?;
+        rows.push((w, t, d.D, d.D_err));
+    }
+    let mut csv = String::from("w,D,D_err,D_MZ,D_cf,D_bs,D_1,D_2,D_3,walk_1,walk_2,walk_3,walk_4,p_cf,p_cf_err,p_cf_app_a,p_cf_app_a_printed\n");
+    for (w, t, d, e) in &rows {
+        csv.push_str(&format!(
+            "{w},{d},{e},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            t.D_MZ,
+            t.D_cf,
+            t.D_bs,
+            t.D_1,
+            t.D_k[1].2,
+            t.D_k[2].2,
+            t.lattice_gas_exact[0].1,
+            t.lattice_gas_exact[1].1,
+            t.lattice_gas_exact[2].1,
+            t.lattice_gas_exact[3].1,
+            t.p_cf.value,
+            t.p_cf.err,
+            t.p_cf_appendix_a.0,
+            t.p_cf_appendix_a.1
+        ));
+    }
+    std::fs::write(dir.join("fig3-4b-6-hierarchy.csv"), csv)?;
+    let meta = RunMeta::new(
+        Some(seed),
+        Some(HIERARCHY_BATCHES as u64),
+        Precision::F64,
+        Some(threads),
+    );
+    write_json(
+        &dir.join("fig3-4b-6-hierarchy.json"),
+        json!({"grid": grid, "collisions_per_point": collisions}),
+        &meta,
+    )?;
+    /// (w, theory, Einstein D, its error) of one grid point.
+    type Row = (f64, crate::estimators::hops::TheoryReport, f64, f64);
+    let ser = |label: &str, f: &dyn Fn(&Row) -> (f64, f64, f64)| Series {
+        label: label.into(),
+        points: rows.iter().map(f).collect(),
+        notes: Vec::new(),
+        line: true,
+    };
+    let d = |label: &str| ser(label, &|r| (r.0, r.2, r.3));
+    let spec = |title: &'static str, y: &'static str| PlotSpec {
+        title,
+        x_label: "gap w",
+        y_label: y,
+        log_x: false,
+        log_y: false,
+    };
+    plot(
+        &dir.join("fig3a-p-cf"),
+        &spec(
+            "Collisionless flights across a trap (paper Fig. 3a)",
+            "p_cf",
+        ),
+        &[
+            ser("measured", &|r| (r.0, r.1.p_cf.value, r.1.p_cf.err)),
+            ser("App. A (flux integral corrected)", &|r| {
+                (r.0, r.1.p_cf_appendix_a.0, 0.0)
+            }),
+            ser("App. A as printed", &|r| (r.0, r.1.p_cf_appendix_a.1, 0.0)),
+        ],
+    )?;
+    plot(
+        &dir.join("fig3b-4b-corrections"),
+        &spec("D against D_MZ, D_cf (Fig. 3b) and D_bs (Fig. 4b)", "D"),
+        &[
+            d("D (Einstein)"),
+            ser("D_MZ", &|r| (r.0, r.1.D_MZ, 0.0)),
+            ser("D_cf (eq. 4)", &|r| (r.0, r.1.D_cf, 0.0)),
+            ser("D_bs (eq. 5)", &|r| (r.0, r.1.D_bs, 0.0)),
+        ],
+    )?;
+    plot(
+        &dir.join("fig6a-hierarchy"),
+        &spec("Corrected Machta-Zwanzig hierarchy (paper Fig. 6a)", "D"),
+        &[
+            d("D (Einstein)"),
+            ser("D_MZ", &|r| (r.0, r.1.D_MZ, 0.0)),
+            ser("D_1 (eq. 6)", &|r| (r.0, r.1.D_1, 0.0)),
+            ser("D_2 (App. B corrected)", &|r| (r.0, r.1.D_k[1].2, 0.0)),
+            ser("D_3 (App. B corrected)", &|r| (r.0, r.1.D_k[2].2, 0.0)),
+        ],
+    )?;
+    plot(
+        &dir.join("fig6b-lattice-walks"),
+        &spec("Correlated lattice walks, exact D (paper Fig. 6b)", "D"),
+        &[
+            d("D (Einstein)"),
+            ser("order 1", &|r| (r.0, r.1.lattice_gas_exact[0].1, 0.0)),
+            ser("order 2", &|r| (r.0, r.1.lattice_gas_exact[1].1, 0.0)),
+            ser("order 3", &|r| (r.0, r.1.lattice_gas_exact[2].1, 0.0)),
+            ser("order 4", &|r| (r.0, r.1.lattice_gas_exact[3].1, 0.0)),
+        ],
+    )?;
+    let mut written = vec![
+        "fig3-4b-6-hierarchy.csv".to_string(),
+        "fig3-4b-6-hierarchy.json".to_string(),
+    ];
+    for stem in [
+        "fig3a-p-cf",
+        "fig3b-4b-corrections",
+        "fig6a-hierarchy",
+        "fig6b-lattice-walks",
+    ] {
+        written.push(format!("{stem}.png"));
+        written.push(format!("{stem}.svg"));
+    }
+    Ok(FigureReport {
+        files: written,
+        meta,
+    })
+}

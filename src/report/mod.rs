@@ -1,0 +1,12 @@
+//! Reports: what turns results into documents a reader can check.
+//!
+//! * [`publication`]: `lorentz report`, the publication audit of a result file (every check PASS,
+//!   FAIL or SKIP with its numbers; Markdown, HTML, JSON).
+//! * [`speed_error`]: speed against error across precisions (`lorentz bench --report`).
+//! * [`reproduce`]: every figure and table of the README into one folder (`lorentz reproduce`).
+//! * [`figures`]: the plotting backend and the paper's figures.
+
+pub mod figures;
+pub mod publication;
+pub mod reproduce;
+pub mod speed_error;

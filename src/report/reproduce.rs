@@ -1,0 +1,550 @@
+//! `lorentz reproduce`: every figure and table of the README regenerated into one folder with an
+//! `index.html` — the D(w) table, Figs. 2–8, the fine structure of Fig. 8, the paper's claims
+//! against this crate's numbers, and speed against error.
+//!
+//! Each step writes into its own subfolder and, when it has finished, a `done.json` marker with
+//! the budget; a rerun of the same budget skips finished steps (and the sweeps inside a step
+//! resume their finished points), so an interrupted reproduction loses at most the step in
+//! flight. Every step's random streams come from one seed, each step's from its own runs.
+//!
+//! Budgets: `quick` (a few minutes on 2 cores: statistics an order of magnitude below the
+//! README's) and `paper` (the README's statistics, Fig. 8 at the paper's 2·10⁹ collisions per run:
+//! about an hour on 2 cores).
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
+use crate::engine::Engine;
+use crate::estimators::diffusion::{run, DiffusionConfig};
+use crate::estimators::sweep::{sweep_on, SweepConfig, SweepReport};
+use crate::numbers::precision::Precision;
+use crate::report::figures::paper;
+use crate::scenes::triangular::geometry::Geometry;
+use crate::Error;
+
+/// How much statistics a reproduction uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Budget {
+    /// Minutes on 2 cores.
+    Quick,
+    /// The README's and the paper's statistics (about an hour on 2 cores).
+    Paper,
+}
+
+impl Budget {
+    fn name(self) -> &'static str {
+        match self {
+            Budget::Quick => "quick",
+            Budget::Paper => "paper",
+        }
+    }
+}
+
+/// Where a reproduction reports its progress: one stage per step, then units of work.
+pub trait Reporter: Sync {
+    /// Step `index` of `count`, named `name`, will do `total` units of `unit`.
+    fn stage(&self, index: usize, count: usize, name: &str, total: u64, unit: &str);
+    /// `n` more units done.
+    fn advance(&self, n: u64);
+}
+
+/// The D(w) table's gaps (the README's).
+pub const TABLE_GAPS: [&str; 7] = ["0.02", "0.055", "0.1", "0.15", "0.2", "0.25", "0.3"];
+
+/// One step of a reproduction.
+#[derive(Debug, Clone, Serialize)]
+pub struct StepRecord {
+    /// Folder name.
+    pub name: String,
+    /// What it reproduces.
+    pub title: String,
+    /// Reused from an earlier run of the same budget.
+    pub resumed: bool,
+    /// Seconds (of the run that computed it).
+    pub seconds: f64,
+    /// Files written, relative to the reproduction's folder.
+    pub files: Vec<String>,
+}
+
+/// What a reproduction did.
+#[derive(Debug, Clone, Serialize)]
+pub struct ReproduceReport {
+    /// The budget.
+    pub budget: Budget,
+    /// The steps, in order.
+    pub steps: Vec<StepRecord>,
+    /// Version, seed, threads, command line.
+    pub meta: RunMeta,
+}
+
+#[derive(Serialize, serde::Deserialize)]
+struct Done {
+    budget: String,
+    version: String,
+    seconds: f64,
+    files: Vec<String>,
+}
+
+struct Step {
+    name: &'static str,
+    title: &'static str,
+}
+
+const STEPS: [Step; 7] = [
+    Step {
+        name: "d-table",
+        title: "D(w) at seven gaps (the README's table)",
+    },
+    Step {
+        name: "sweep",
+        title: "Figs. 2, 7, 8: D(w), the Boltzmann form, residuals over w = 0.02 … 0.3",
+    },
+    Step {
+        name: "fig8-fine",
+        title: "Fig. 8's fine structure over w = 0.20 … 0.30",
+    },
+    Step {
+        name: "backscatter",
+        title: "Fig. 5 (where particles backscatter) and Fig. 4a with its inset (p_bs(w))",
+    },
+    Step {
+        name: "hierarchy",
+        title: "Figs. 3, 4b, 6: p_cf, corrections, the hierarchy, lattice walks",
+    },
+    Step {
+        name: "claims",
+        title: "The paper's claims against this crate's numbers",
+    },
+    Step {
+        name: "speed",
+        title: "Speed against error",
+    },
+];
+
+fn list_files(dir: &Path, sub: &str) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir.join(sub))
+        .map(|d| {
+            d.flatten()
+                .filter(|e| e.path().is_file())
+                .map(|e| format!("{sub}/{}", e.file_name().to_string_lossy()))
+                .filter(|f| !f.ends_with("done.json"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+/// Regenerates everything into `dir` at `budget` with `seed` on `threads` threads, skipping steps
+/// finished earlier at the same budget, and writes `dir/index.html`.
+pub fn reproduce(
+    budget: Budget,
+    dir: &Path,
+    seed: u64,
+    threads: usize,
+    reporter: &dyn Reporter,
+) -> Result<ReproduceReport, Error> {
+    std::fs::create_dir_all(dir)?;
+    let mut steps = Vec::new();
+    let mut sweep_report: Option<SweepReport> = None;
+    let mut fine_report: Option<SweepReport> = None;
+    for (k, step) in STEPS.iter().enumerate() {
+        let sub = dir.join(step.name);
+        let marker = sub.join("done.json");
+        if let Some(d) = std::fs::read_to_string(&marker)
+            .ok()
+            .and_then(|t| serde_json::from_str::<Done>(&t).ok())
+            .filter(|d| d.budget == budget.name() && d.version == env!("CARGO_PKG_VERSION"))
+        {
+            reporter.stage(k, STEPS.len(), step.name, 0, "resumed");
+            if step.name == "sweep" || step.name == "fig8-fine" {
+                // The claims and the index need the sweeps' analyses: re-analysing finished points
+                // takes a fraction of a second.
+                let r = run_sweep(step.name, budget, &sub, seed, threads, reporter)?;
+                if step.name == "sweep" {
+                    sweep_report = Some(r)
+                } else {
+                    fine_report = Some(r)
+                }
+            }
+            steps.push(StepRecord {
+                name: step.name.into(),
+                title: step.title.into(),
+                resumed: true,
+                seconds: d.seconds,
+                files: d.files,
+            });
+            continue;
+        }
+        std::fs::create_dir_all(&sub)?;
+        let t0 = std::time::Instant::now();
+        match step.name {
+            "d-table" => d_table(budget, &sub, seed, threads, k, reporter)?,
+            "sweep" | "fig8-fine" => {
+                reporter.stage(
+                    k,
+                    STEPS.len(),
+                    step.name,
+                    sweep_config(step.name, budget, seed)?.collisions_total(),
+                    "collisions",
+                );
+                let r = run_sweep(step.name, budget, &sub, seed, threads, reporter)?;
+                if step.name == "sweep" {
+                    sweep_report = Some(r)
+                } else {
+                    fine_report = Some(r)
+                }
+            }
+            "backscatter" => {
+                let (map, curve) = match budget {
+                    Budget::Quick => (paper::MAP_SAMPLES, paper::CURVE_SAMPLES),
+                    Budget::Paper => (4 * paper::MAP_SAMPLES, 10 * paper::CURVE_SAMPLES),
+                };
+                let points: u64 = paper::backscatter_grids()?
+                    .iter()
+                    .map(|g| g.len() as u64)
+                    .sum();
+                reporter.stage(
+                    k,
+                    STEPS.len(),
+                    step.name,
+                    map + curve * points,
+                    "injections",
+                );
+                let adv = |n: u64| reporter.advance(n);
+                paper::backscatter_map(0.1, map, seed, &sub, &adv)?;
+                paper::backscatter_curve(curve, seed, threads, &sub, &adv)?;
+            }
+            "hierarchy" => {
+                let n = match budget {
+                    Budget::Quick => paper::HIERARCHY_COLLISIONS,
+                    Budget::Paper => 10 * paper::HIERARCHY_COLLISIONS,
+                };
+                let points = paper::hierarchy_grid()?.len() as u64;
+                reporter.stage(k, STEPS.len(), step.name, 2 * n * points, "collisions");
+                paper::hierarchy(n, seed, threads, &sub, &|n| reporter.advance(n))?;
+            }
+            "claims" => {
+                reporter.stage(k, STEPS.len(), step.name, 1, "tables");
+                claims(dir, &sub, sweep_report.as_ref(), fine_report.as_ref())?;
+                reporter.advance(1);
+            }
+            "speed" => {
+                reporter.stage(
+                    k,
+                    STEPS.len(),
+                    step.name,
+                    crate::report::speed_error::REPORT_STEPS,
+                    "steps",
+                );
+                crate::report::speed_error::speed_against_error(0.1, &sub, seed, threads, &|n| {
+                    reporter.advance(n)
+                })?;
+            }
+            _ => unreachable!("every step is matched"),
+        }
+        let files = list_files(dir, step.name);
+        let seconds = t0.elapsed().as_secs_f64();
+        let done = Done {
+            budget: budget.name().into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            seconds,
+            files: files.clone(),
+        };
+        std::fs::write(
+            &marker,
+            serde_json::to_string_pretty(&done).map_err(|e| Error::Io(e.to_string()))?,
+        )?;
+        steps.push(StepRecord {
+            name: step.name.into(),
+            title: step.title.into(),
+            resumed: false,
+            seconds,
+            files,
+        });
+    }
+    let report = ReproduceReport {
+        budget,
+        steps,
+        meta: RunMeta::new(Some(seed), None, Precision::F64, Some(threads)),
+    };
+    std::fs::write(dir.join("index.html"), index_html(dir, &report))?;
+    std::fs::write(
+        dir.join("reproduce.json"),
+        serde_json::to_string_pretty(&report).map_err(|e| Error::Io(e.to_string()))?,
+    )?;
+    Ok(report)
+}
+
+impl SweepConfig {
+    fn collisions_total(&self) -> u64 {
+        self.collisions
+            .saturating_mul(self.runs as u64)
+            .saturating_mul(self.steps as u64)
+    }
+}
+
+fn sweep_config(name: &str, budget: Budget, seed: u64) -> Result<SweepConfig, Error> {
+    let (from, to, steps, runs, collisions, batches) = match (name, budget) {
+        // The README's Figs. 2, 7, 8.
+        ("sweep", Budget::Quick) => ("0.02", "0.3", 15, 4, 20_000_000, 8),
+        ("sweep", Budget::Paper) => ("0.02", "0.3", 15, 4, 50_000_000, 8),
+        // Fig. 8 at the paper's statistics: ten runs of 2·10⁹ collisions per point.
+        ("fig8-fine", Budget::Quick) => ("0.20", "0.30", 21, 10, 20_000_000, 16),
+        ("fig8-fine", Budget::Paper) => ("0.20", "0.30", 21, 10, 2_000_000_000, 16),
+        _ => return Err(Error::Invalid(format!("no sweep step {name}"))),
+    };
+    let c = SweepConfig {
+        w_from: from.into(),
+        w_to: to.into(),
+        steps,
+        runs,
+        collisions,
+        batches,
+        seed,
+    };
+    c.validate()?;
+    Ok(c)
+}
+
+fn run_sweep(
+    name: &str,
+    budget: Budget,
+    dir: &Path,
+    seed: u64,
+    threads: usize,
+    reporter: &dyn Reporter,
+) -> Result<SweepReport, Error> {
+    let c = sweep_config(name, budget, seed)?;
+    let r = sweep_on(&c, dir, Engine::Auto, threads, &|n| reporter.advance(n))?;
+    crate::report::figures::sweep::write_sweep_figures(&r, dir)?;
+    Ok(r)
+}
+
+/// The D(w) table: one diffusion run per gap (run i of `seed`).
+fn d_table(
+    budget: Budget,
+    dir: &Path,
+    seed: u64,
+    threads: usize,
+    k: usize,
+    reporter: &dyn Reporter,
+) -> Result<(), Error> {
+    let collisions = match budget {
+        Budget::Quick => 200_000_000,
+        Budget::Paper => 2_000_000_000,
+    };
+    reporter.stage(
+        k,
+        STEPS.len(),
+        "d-table",
+        collisions * TABLE_GAPS.len() as u64,
+        "collisions",
+    );
+    let mut md = String::from(
+        "| w | D ± σ | rel. error | D over [20τ, 80τ] | D_MZ | D/D_MZ | ⟨ℓ⟩ σ | τ σ | seconds |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut rows = Vec::new();
+    for (i, w) in TABLE_GAPS.iter().enumerate() {
+        let w64: f64 = w.parse().map_err(|_| Error::Invalid(format!("gap {w}")))?;
+        let mut c = DiffusionConfig::new(w64);
+        c.collisions = collisions;
+        c.seed = seed;
+        c.run = i as u64;
+        let advance = |n| reporter.advance(n);
+        let opts = RunOptions {
+            threads,
+            progress: &advance,
+            ..RunOptions::default()
+        };
+        let r = run(&c, &opts)?;
+        md += &format!(
+            "| {w} | {:.5} ± {:.5} | {:.3} % | {:.5} ± {:.5} | {:.5} | {:.4} | {:+.1} | {:+.1} | {:.1} |\n",
+            r.D,
+            r.D_err,
+            100.0 * r.D_err / r.D,
+            r.D_check,
+            r.D_check_err,
+            r.D_MZ,
+            r.D / r.D_MZ,
+            (r.mean_free_path - r.mean_free_path_exact) / r.mean_free_path_err,
+            (r.tau_hop - r.tau_hop_exact) / r.tau_hop_err,
+            r.seconds
+        );
+        std::fs::write(
+            dir.join(format!("diffusion-w{w}.json")),
+            serde_json::to_string_pretty(&r).map_err(|e| Error::Io(e.to_string()))?,
+        )?;
+        rows.push(r);
+    }
+    std::fs::write(dir.join("d-table.md"), md)?;
+    Ok(())
+}
+
+/// The paper's claims, each with this reproduction's number.
+fn claims(
+    dir: &Path,
+    out: &Path,
+    sweep: Option<&SweepReport>,
+    fine: Option<&SweepReport>,
+) -> Result<(), Error> {
+    let mut md = String::from("| the paper says | measured here | source |\n|---|---|---|\n");
+    let w_inf = Geometry::<f64>::w_inf(());
+    let w_0 = Geometry::<f64>::w_0(());
+    md += &format!(
+        "| horizon infinite above w∞ = 4/√3 − 2 ≈ 0.3094 | w∞ = {w_inf:.16} | closed form |\n"
+    );
+    md += &format!(
+        "| collisionless trap crossings from w₀ ≈ 0.1547 | w₀ = {w_0:.16} | closed form |\n"
+    );
+    for (w, claim) in [(0.055, "more than 17"), (0.02, "more than 50")] {
+        let g = Geometry::new(w)?;
+        md += &format!(
+            "| collisions per hop at w = {w}: {claim} | π/(3w) = {:.2} | exact (Kac) |\n",
+            g.collisions_per_hop()
+        );
+    }
+    let rows = |f: &str| -> Vec<(f64, f64, f64)> {
+        std::fs::read_to_string(dir.join("backscatter").join(f))
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            .and_then(|v| serde_json::from_value(v["data"]["rows"].clone()).ok())
+            .unwrap_or_default()
+    };
+    let inset = rows("fig4a-inset-p-bs.json");
+    if let Some(m) = inset.iter().max_by(|a, b| a.1.total_cmp(&b.1)) {
+        md += &format!(
+            "| p_bs has its maximum ≈ 0.38 near w ≈ 0.055 | largest p_bs on the inset grid: {:.4} ± {:.4} at w = {} | Fig. 4a inset |\n",
+            m.1, m.2, m.0
+        );
+    }
+    if let Some(m) = rows("fig4a-p-bs.json")
+        .iter()
+        .find(|r| (r.0 - 0.02).abs() < 1e-12)
+    {
+        md += &format!(
+            "| p_bs close to 0.36 at w = 0.02 | {:.4} ± {:.4} | Fig. 4a |\n",
+            m.1, m.2
+        );
+    }
+    if let Some(s) = sweep {
+        match &s.mz_crossing {
+            Some(x) => {
+                md += &format!(
+                    "| D = D_MZ at w ≈ 0.1 | w = {:.4} ± {:.4} | Fig. 2 sweep |\n",
+                    x.w, x.err_scaled
+                )
+            }
+            None => md += "| D = D_MZ at w ≈ 0.1 | no sign change of D − D_MZ in the sweep | Fig. 2 sweep |\n",
+        }
+    }
+    if let Some(f) = fine {
+        md += &format!(
+            "| D(w) has structure beyond a straight line (Fig. 8) | straight line χ²/dof = {:.1}/{} over w = 0.20 … 0.30 | Fig. 8 fine sweep |\n",
+            f.linear_fit.chi2, f.linear_fit.dof
+        );
+    }
+    std::fs::write(out.join("claims.md"), md)?;
+    Ok(())
+}
+
+/// A Markdown pipe table as HTML (the only Markdown the index needs).
+fn md_table_html(md: &str) -> String {
+    let esc = crate::report::figures::html_escape;
+    let mut s = String::from("<table>\n");
+    let mut first = true;
+    for line in md.lines().filter(|l| l.trim_start().starts_with('|')) {
+        let cells: Vec<&str> = line
+            .trim()
+            .trim_matches('|')
+            .split('|')
+            .map(str::trim)
+            .collect();
+        if cells
+            .iter()
+            .all(|c| c.chars().all(|ch| ch == '-' || ch == ':'))
+        {
+            continue;
+        }
+        let tag = if first { "th" } else { "td" };
+        first = false;
+        s += "<tr>";
+        for c in cells {
+            s += &format!("<{tag}>{}</{tag}>", esc(c));
+        }
+        s += "</tr>\n";
+    }
+    s + "</table>\n"
+}
+
+fn index_html(dir: &Path, r: &ReproduceReport) -> String {
+    let mut s = format!(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>lorentz reproduce ({})</title>\n<style>body{{font-family:sans-serif;max-width:75em;margin:2em auto}}table{{border-collapse:collapse;margin:1em 0}}td,th{{border:1px solid #ccc;padding:.25em .5em}}img{{max-width:48%;margin:.3em}}</style></head><body>\n<h1>Klages &amp; Dellago (2000), reproduced by lorentz {} — budget {}</h1>\n<p>seed {}, {} threads; every file in this folder was written by <code>lorentz reproduce</code>.</p>\n",
+        r.budget.name(),
+        env!("CARGO_PKG_VERSION"),
+        r.budget.name(),
+        r.meta.seed.unwrap_or(0),
+        r.meta.threads.unwrap_or(0),
+    );
+    for st in &r.steps {
+        s += &format!(
+            "<h2>{}</h2>\n<p><code>{}/</code>, {:.1} s{}</p>\n",
+            st.title,
+            st.name,
+            st.seconds,
+            if st.resumed {
+                " (finished in an earlier run)"
+            } else {
+                ""
+            }
+        );
+        for f in &st.files {
+            if f.ends_with(".md") {
+                if let Ok(md) = std::fs::read_to_string(dir.join(f)) {
+                    s += &md_table_html(&md);
+                }
+            }
+        }
+        for f in st.files.iter().filter(|f| f.ends_with(".png")) {
+            s += &format!("<a href=\"{f}\"><img src=\"{f}\" alt=\"{f}\"></a>\n");
+        }
+        let data: Vec<&String> = st
+            .files
+            .iter()
+            .filter(|f| f.ends_with(".csv") || f.ends_with(".json"))
+            .collect();
+        if !data.is_empty() {
+            s += "<p>data: ";
+            for f in data {
+                s += &format!("<a href=\"{f}\">{f}</a> ");
+            }
+            s += "</p>\n";
+        }
+    }
+    s + "</body></html>\n"
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn markdown_tables_become_html() {
+        let h = md_table_html("| a | b<c |\n|---|---|\n| 1 | 2 |\n");
+        assert_eq!(h, "<table>\n<tr><th>a</th><th>b&lt;c</th></tr>\n<tr><td>1</td><td>2</td></tr>\n</table>\n");
+    }
+
+    #[test]
+    fn budgets_are_valid_sweeps() {
+        for b in [Budget::Quick, Budget::Paper] {
+            for name in ["sweep", "fig8-fine"] {
+                sweep_config(name, b, 1).unwrap();
+            }
+        }
+    }
+}

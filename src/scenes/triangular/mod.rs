@@ -1,0 +1,159 @@
+//! The paper's scene: disks of radius 1 on the triangular lattice of spacing a = 2 + w, disk
+//! centres at a(i + j/2, j√3/2). The cell is the canonical trap ([`Trap`]: three vertex disks,
+//! three edges, point reflections into the neighbouring traps), run on its fused kernel.
+
+pub mod geometry;
+
+use rand::Rng;
+use rug::Rational;
+
+use super::lattice::{settle, CellIndex, LatticeState};
+use super::Scene;
+use crate::kernel::flight::Flight;
+use crate::kernel::trap::Trap;
+use crate::kernel::vec2::Vec2;
+use crate::numbers::real::Real;
+use crate::scenes::triangular::geometry::Geometry;
+use crate::Error;
+
+/// The triangular Lorentz gas at gap w.
+#[derive(Debug, Clone)]
+pub struct TriangularScene {
+    /// The gap, exactly as given.
+    w: Rational,
+    /// The trap at the nearest double (the production sampler's frame).
+    trap64: Trap<f64>,
+}
+
+impl TriangularScene {
+    /// The scene at the double `w` (taken exactly as that binary number).
+    ///
+    /// # Errors
+    /// If `w` is not a positive finite gap.
+    pub fn new(w: f64) -> Result<Self, Error> {
+        let q = Rational::from_f64(w)
+            .ok_or_else(|| Error::Invalid(format!("w = {w} is not a finite number")))?;
+        Self::exact(q)
+    }
+
+    /// The scene at the exact gap `w` (a decimal such as 1/10 is not a double: at a working
+    /// precision P every constant is computed from the exact value).
+    pub fn exact(w: Rational) -> Result<Self, Error> {
+        let trap64 = Trap::new(<f64 as Real>::from_rational((), &w))?;
+        Ok(TriangularScene { w, trap64 })
+    }
+
+    /// The gap as the nearest double.
+    pub fn w(&self) -> f64 {
+        self.trap64.w
+    }
+
+    /// The exact gap.
+    pub fn w_exact(&self) -> &Rational {
+        &self.w
+    }
+
+    /// The canonical trap in `f64`.
+    pub fn trap64(&self) -> &Trap<f64> {
+        &self.trap64
+    }
+}
+
+impl Scene for TriangularScene {
+    type Kernel<T: Real> = Trap<T>;
+
+    fn label(&self) -> String {
+        format!("triangular w={}", self.w())
+    }
+
+    fn kernel<T: Real>(&self, ctx: T::Ctx) -> Result<Trap<T>, Error> {
+        T::check_ctx(ctx)?;
+        Trap::new(T::from_rational(ctx, &self.w))
+    }
+
+    /// The trap from the point's lattice coordinates (u, v) = (x/a − y/(2h), y/h): the
+    /// parallelogram (⌊u⌋, ⌊v⌋) splits into the up trap (⌊u⌋, ⌊v⌋) (frac u + frac v ≤ 1) and the
+    /// down trap (⌊u⌋ + 1, ⌊v⌋ + 1). This first guess is taken in `f64`; the offset is then
+    /// computed at the working precision from the exact (x, y) and moved across any edge it is
+    /// beyond, decided at the working precision ([`settle`]).
+    fn locate<T: Real>(
+        &self,
+        ctx: T::Ctx,
+        x: &Rational,
+        y: &Rational,
+    ) -> Result<(CellIndex, Vec2<T>), Error> {
+        super::check_world_point(x, y)?;
+        let trap = self.kernel::<T>(ctx)?;
+        let (x64, y64) = (
+            crate::numbers::exact::nearest_f64(x),
+            crate::numbers::exact::nearest_f64(y),
+        );
+        let v = y64 / self.trap64.h;
+        let u = x64 / self.trap64.a - v / 2.0;
+        let (i, j) = (u.floor(), v.floor());
+        let up = (u - i) + (v - j) <= 1.0;
+        let (i, j) = (i as i64, j as i64);
+        let lattice_point = |i: i64, j: i64| {
+            let (fi, fj) = (T::from_f64(ctx, i as f64), T::from_f64(ctx, j as f64));
+            Vec2::new(
+                trap.a.clone() * &(fi + &fj.clone().scale(0.5)),
+                trap.h.clone() * &fj,
+            )
+        };
+        let world = Vec2::new(T::from_rational(ctx, x), T::from_rational(ctx, y));
+        let (index, p) = if up {
+            (
+                CellIndex { i, j, down: false },
+                world.sub(&lattice_point(i, j)),
+            )
+        } else {
+            let (i, j) = (i + 1, j + 1);
+            (
+                CellIndex { i, j, down: true },
+                lattice_point(i, j).sub(&world),
+            )
+        };
+        settle(&trap.cell, index, p)
+    }
+
+    fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> LatticeState<f64> {
+        equilibrium_state(&self.trap64, rng)
+    }
+
+    fn mean_free_path(&self) -> f64 {
+        Geometry::new(self.w())
+            .map(|g| g.mean_free_path())
+            .unwrap_or(f64::NAN)
+    }
+
+    fn finite_horizon(&self) -> bool {
+        self.w() < Geometry::<f64>::w_inf(())
+    }
+}
+
+/// A point uniform in the free part of the canonical trap.
+pub fn position_in_trap<R: Rng + ?Sized>(trap: &Trap<f64>, rng: &mut R) -> Vec2<f64> {
+    loop {
+        let (mut u1, mut u2) = (rng.random::<f64>(), rng.random::<f64>());
+        if u1 + u2 > 1.0 {
+            u1 = 1.0 - u1;
+            u2 = 1.0 - u2;
+        }
+        let p = Vec2::new(u1 * trap.a + u2 * trap.a * 0.5, u2 * trap.h);
+        if trap.is_free(&p) {
+            return p;
+        }
+    }
+}
+
+/// A lattice state drawn from the invariant measure (trap (0, 0), up): the invariant measure of
+/// the billiard flow is uniform in position over the free region and uniform in direction; every
+/// trap is congruent to the canonical one and the lattice is homogeneous, so no burn-in is needed.
+pub fn equilibrium_state<R: Rng + ?Sized>(trap: &Trap<f64>, rng: &mut R) -> LatticeState<f64> {
+    let pos = position_in_trap(trap, rng);
+    let vel = crate::scenes::sampling::direction(rng);
+    LatticeState {
+        cell: CellIndex::default(),
+        flight: Flight::new(pos, vel),
+    }
+}

@@ -1,0 +1,444 @@
+//! Per-event shadow audit of f64 production runs.
+//!
+//! An [`Auditor`] watches an f64 trajectory and, for a random sample of its events (rate r),
+//! replays the event at P ≥ 128 bits from the *exact* f64 pre-event state
+//! ([`super::replay::check_event`]) and judges it against the one-step error model. It keeps
+//! log-histograms of the one-step errors (time, contact point, velocity, and each as a fraction of
+//! its bound), the worst events, and every event outside the model with its exact state, so it can
+//! be replayed with [`replay`]. A run whose audited events are all inside the model is an
+//! ε-pseudo-orbit with the measured ε (`proofs-notes/error-model.md`).
+
+use rand::Rng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rug::Float;
+use serde::{Deserialize, Serialize};
+
+use super::replay::{check_event, EventCheck};
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::AuditSpec;
+use crate::kernel::flight::Flight;
+use crate::kernel::vec2::Vec2;
+use crate::observers::{EventLanes, Observer};
+use crate::scenes::Scene;
+use crate::Error;
+
+/// Log-histogram of positive values: bins of 0.1 decade from 10⁻³⁰ to 10¹⁰, plus zeros.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LogHistogram {
+    /// Counts per bin; bin k covers [10^(−30 + k/10), 10^(−30 + (k+1)/10)).
+    pub counts: Vec<u64>,
+    /// Exact zeros.
+    pub zeros: u64,
+    /// Largest value seen.
+    pub max: f64,
+}
+
+impl Default for LogHistogram {
+    fn default() -> Self {
+        LogHistogram {
+            counts: vec![0; 400],
+            zeros: 0,
+            max: 0.0,
+        }
+    }
+}
+
+impl LogHistogram {
+    /// Records `x ≥ 0`.
+    pub fn add(&mut self, x: f64) {
+        if x <= 0.0 {
+            self.zeros += 1;
+            return;
+        }
+        self.max = self.max.max(x);
+        let k = ((x.log10() + 30.0) * 10.0).floor().clamp(0.0, 399.0) as usize;
+        self.counts[k] += 1;
+    }
+    /// Adds another histogram.
+    pub fn merge(&mut self, o: &LogHistogram) {
+        for (a, b) in self.counts.iter_mut().zip(&o.counts) {
+            *a += b;
+        }
+        self.zeros += o.zeros;
+        self.max = self.max.max(o.max);
+    }
+    /// Total count.
+    pub fn total(&self) -> u64 {
+        self.zeros + self.counts.iter().sum::<u64>()
+    }
+    /// Quantile q ∈ [0, 1], to the bin's upper edge (0.1 decade resolution).
+    pub fn quantile(&self, q: f64) -> f64 {
+        let n = self.total();
+        if n == 0 {
+            return f64::NAN;
+        }
+        let target = (q * n as f64).ceil().max(1.0) as u64;
+        let mut c = self.zeros;
+        if c >= target {
+            return 0.0;
+        }
+        for (k, &x) in self.counts.iter().enumerate() {
+            c += x;
+            if c >= target {
+                return 10f64.powf(-30.0 + (k + 1) as f64 / 10.0).min(self.max);
+            }
+        }
+        self.max
+    }
+}
+
+/// An audited event with its exact f64 pre-event state (bit patterns, for replay).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct AuditedEvent {
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
+    /// Position and velocity (x, y, vx, vy) as IEEE bit patterns.
+    pub state_bits: [u64; 4],
+    /// The same as decimals (shortest round-trip form).
+    pub state: [f64; 4],
+    /// Excluded disk and edge (`null` = none).
+    pub excluded: [Option<u8>; 2],
+    /// The verdict.
+    pub check: EventCheck,
+}
+
+/// What an audit found (mergeable across batches).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct AuditSummary {
+    /// Events replayed.
+    pub audited: u64,
+    /// Events outside the error model.
+    pub outside: u64,
+    /// Events whose choice was ambiguous at f64 resolution (inside the model).
+    pub ambiguous: u64,
+    /// Events where f64 and the reference chose different obstacles (all ambiguous if inside).
+    pub different_choice: u64,
+    /// One-step time errors.
+    pub time_error: LogHistogram,
+    /// Contact-point errors.
+    pub position_error: LogHistogram,
+    /// Velocity errors.
+    pub velocity_error: LogHistogram,
+    /// Time error as a fraction of its bound.
+    pub time_error_over_bound: LogHistogram,
+    /// The worst events by time error / bound (at most 10).
+    pub worst: Vec<AuditedEvent>,
+    /// Every event outside the model (at most 1000 kept).
+    pub outside_events: Vec<AuditedEvent>,
+}
+
+impl AuditSummary {
+    /// Adds another summary.
+    pub fn merge(&mut self, o: &AuditSummary) {
+        self.audited += o.audited;
+        self.outside += o.outside;
+        self.ambiguous += o.ambiguous;
+        self.different_choice += o.different_choice;
+        self.time_error.merge(&o.time_error);
+        self.position_error.merge(&o.position_error);
+        self.velocity_error.merge(&o.velocity_error);
+        self.time_error_over_bound.merge(&o.time_error_over_bound);
+        self.worst.extend(o.worst.iter().cloned());
+        self.worst.sort_by(|a, b| ratio(b).total_cmp(&ratio(a)));
+        self.worst.truncate(10);
+        self.outside_events.extend(o.outside_events.iter().cloned());
+        self.outside_events.truncate(1000);
+    }
+}
+
+fn ratio(e: &AuditedEvent) -> f64 {
+    if e.check.time_bound > 0.0 {
+        e.check.time_error / e.check.time_bound
+    } else {
+        0.0
+    }
+}
+
+/// The auditors of L trajectories as an [`Observer`]: lane `l`'s events go to auditor `l` (a
+/// lane without one is not audited). The first replay error is kept and the rest skipped.
+pub struct AuditLanes<S: Scene> {
+    /// One auditor per lane.
+    pub lanes: Vec<Option<Auditor<S>>>,
+    /// The first error met while replaying.
+    pub error: Option<Error>,
+}
+
+impl<const L: usize, S: Scene> Observer<L> for AuditLanes<S> {
+    fn observe<V: crate::numbers::lanes::Lanes>(&mut self, steps: &[EventLanes<L>]) {
+        for e in steps {
+            if self.error.is_some() {
+                return;
+            }
+            for (l, a) in self.lanes.iter_mut().enumerate() {
+                if let (true, Some(a)) = (e.is_live(l), a.as_mut()) {
+                    if let Err(err) = a.observe(&e.state(l).flight) {
+                        self.error = Some(err);
+                        return;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Audits a sample of the events of one f64 trajectory of scene `S`.
+pub struct Auditor<S: Scene> {
+    label: String,
+    t64: S::Kernel<f64>,
+    tref: S::Kernel<Float>,
+    rate: f64,
+    rng: Xoshiro256PlusPlus,
+    /// What was found so far.
+    pub summary: AuditSummary,
+}
+
+impl<S: Scene> Auditor<S> {
+    /// An auditor of `scene`, sampling rate `rate ∈ (0, 1]`, reference precision `bits ≥ 128`,
+    /// with its own random stream (it never touches the trajectory's stream). The f64 replay
+    /// runs the scene's production kernel; the reference is the same kernel at `bits`, whose
+    /// constants come from the same exact scene parameters.
+    pub fn new(scene: &S, rate: f64, bits: u32, rng: Xoshiro256PlusPlus) -> Result<Self, Error> {
+        AuditSpec::new(rate, bits)?;
+        Ok(Auditor {
+            label: scene.label(),
+            t64: scene.kernel::<f64>(())?,
+            tref: scene.kernel::<Float>(bits)?,
+            rate,
+            rng,
+            summary: AuditSummary::default(),
+        })
+    }
+
+    /// Called with the pre-event state of every event; replays a random sample of them.
+    #[inline]
+    pub fn observe(&mut self, f: &Flight<f64>) -> Result<(), Error> {
+        if self.rate < 1.0 && self.rng.random::<f64>() >= self.rate {
+            return Ok(());
+        }
+        let c = check_event(&self.t64, &self.tref, f)?;
+        let s = &mut self.summary;
+        s.audited += 1;
+        s.time_error.add(c.time_error);
+        s.position_error.add(c.position_error);
+        s.velocity_error.add(c.velocity_error);
+        let r = if c.time_bound > 0.0 {
+            c.time_error / c.time_bound
+        } else {
+            0.0
+        };
+        s.time_error_over_bound.add(r);
+        if c.ambiguous {
+            s.ambiguous += 1;
+        }
+        if c.kind_f64 != c.kind_ref {
+            s.different_choice += 1;
+        }
+        let record = |c: &EventCheck| AuditedEvent {
+            scene: self.label.clone(),
+            state_bits: [
+                f.pos.x.to_bits(),
+                f.pos.y.to_bits(),
+                f.vel.x.to_bits(),
+                f.vel.y.to_bits(),
+            ],
+            state: [f.pos.x, f.pos.y, f.vel.x, f.vel.y],
+            excluded: [f.excluded_disk, f.excluded_edge],
+            check: c.clone(),
+        };
+        if !c.in_model {
+            s.outside += 1;
+            if s.outside_events.len() < 1000 {
+                s.outside_events.push(record(&c));
+            }
+        }
+        if s.worst.len() < 10 || r > ratio(s.worst.last().expect("non-empty")) {
+            s.worst.push(record(&c));
+            s.worst.sort_by(|a, b| ratio(b).total_cmp(&ratio(a)));
+            s.worst.truncate(10);
+        }
+        Ok(())
+    }
+}
+
+/// Replays a recorded event of `scene` at `bits` of precision.
+///
+/// # Errors
+/// If the event was recorded in another scene, or the precision is out of range.
+pub fn replay<S: Scene>(scene: &S, e: &AuditedEvent, bits: u32) -> Result<EventCheck, Error> {
+    if e.scene != scene.label() {
+        return Err(Error::Invalid(format!(
+            "the event was recorded in scene `{}`, not `{}`",
+            e.scene,
+            scene.label()
+        )));
+    }
+    let [x, y, vx, vy] = e.state_bits.map(f64::from_bits);
+    let mut f = Flight::new(Vec2::new(x, y), Vec2::new(vx, vy));
+    f.excluded_disk = e.excluded[0];
+    f.excluded_edge = e.excluded[1];
+    check_event(&scene.kernel::<f64>(())?, &scene.kernel::<Float>(bits)?, &f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn histogram_quantiles() {
+        let mut h = LogHistogram::default();
+        for k in 0..100 {
+            h.add(10f64.powi(-(k % 10)));
+        }
+        h.add(0.0);
+        assert_eq!(h.total(), 101);
+        assert_eq!(h.quantile(0.0), 0.0);
+        assert!((h.quantile(1.0) - 1.0).abs() < 1e-12);
+        let med = h.quantile(0.5);
+        assert!(med > 1e-6 && med < 1e-3, "{med}");
+    }
+}
+
+/// What an audit run does: `collisions` collisions in all, over `trajectories` independent f64
+/// trajectories from the invariant measure (seed `seed`), replaying a fraction `sample` of their
+/// events at `bits`. The thread count is not part of it: it never changes the result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AuditConfig {
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
+    /// Collisions in all (trajectory i gets ⌊N/T⌋, plus one for the first N mod T).
+    pub collisions: u64,
+    /// Independent trajectories.
+    pub trajectories: u32,
+    /// Fraction of events replayed, in (0, 1].
+    pub sample: f64,
+    /// Reference precision in bits.
+    pub bits: u32,
+    /// Seed.
+    pub seed: u64,
+}
+
+/// The result of [`audit_run`] (the CLI's `audit --json`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct AuditReport {
+    /// What was run.
+    pub config: AuditConfig,
+    /// Events simulated.
+    pub events: u64,
+    /// Quantiles (median, 0.99, max) of the time error, contact-point error, velocity error and
+    /// time error / bound.
+    pub quantiles: AuditQuantiles,
+    /// Everything found.
+    pub summary: AuditSummary,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+    /// Version, seed, trajectories, reference precision, engine, threads, command line.
+    pub meta: RunMeta,
+}
+
+/// Median, 99th percentile and maximum of each one-step error.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct AuditQuantiles {
+    /// Time error.
+    pub time_error: [f64; 3],
+    /// Contact-point error.
+    pub position_error: [f64; 3],
+    /// Velocity error.
+    pub velocity_error: [f64; 3],
+    /// Time error / bound.
+    pub time_error_over_bound: [f64; 3],
+}
+
+fn q3(h: &LogHistogram) -> [f64; 3] {
+    [h.quantile(0.5), h.quantile(0.99), h.max]
+}
+
+/// Runs the audit `cfg` on `threads` threads (the result does not depend on them). `progress`
+/// receives collision counts.
+pub fn audit_run<S: Scene>(
+    scene: &S,
+    cfg: &AuditConfig,
+    threads: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<AuditReport, Error> {
+    use crate::engine::drive;
+    use crate::observers::counters::CounterLanes;
+    use crate::scenes::sampling::{stream, Purpose, StreamKey};
+    if cfg.scene != scene.label() {
+        return Err(Error::Invalid(format!(
+            "audit configuration for scene `{}` run on `{}`",
+            cfg.scene,
+            scene.label()
+        )));
+    }
+    if cfg.collisions == 0 {
+        return Err(Error::Zero { what: "collisions" });
+    }
+    if cfg.trajectories == 0 {
+        return Err(Error::Zero {
+            what: "trajectories",
+        });
+    }
+    if threads == 0 {
+        return Err(Error::Zero { what: "threads" });
+    }
+    AuditSpec::new(cfg.sample, cfg.bits)?;
+    let start = std::time::Instant::now();
+    let lat = scene.lattice::<f64>(())?;
+    let parts: Vec<(AuditSummary, u64)> =
+        crate::engine::parallel::par_batches(threads, cfg.trajectories, |b| {
+            let n = crate::engine::parallel::share(cfg.collisions, cfg.trajectories, b);
+            let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
+            let a = Auditor::new(
+                scene,
+                cfg.sample,
+                cfg.bits,
+                StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),
+            )?;
+            let mut obs = (
+                AuditLanes {
+                    lanes: vec![Some(a)],
+                    error: None,
+                },
+                CounterLanes::new(1),
+            );
+            drive(&lat, &mut s, n, &mut obs, progress)?;
+            let (audit, counters) = obs;
+            if let Some(e) = audit.error {
+                return Err(e);
+            }
+            let a = audit
+                .lanes
+                .into_iter()
+                .next()
+                .flatten()
+                .expect("one auditor");
+            let c = counters.lane(0);
+            let events = c.collisions + c.crossings;
+            Ok((a.summary, events))
+        })?;
+    let mut summary = AuditSummary::default();
+    let mut events = 0;
+    for (p, e) in &parts {
+        summary.merge(p);
+        events += e;
+    }
+    let quantiles = AuditQuantiles {
+        time_error: q3(&summary.time_error),
+        position_error: q3(&summary.position_error),
+        velocity_error: q3(&summary.velocity_error),
+        time_error_over_bound: q3(&summary.time_error_over_bound),
+    };
+    Ok(AuditReport {
+        config: cfg.clone(),
+        events,
+        quantiles,
+        summary,
+        seconds: start.elapsed().as_secs_f64(),
+        meta: RunMeta::new(
+            Some(cfg.seed),
+            Some(cfg.trajectories as u64),
+            cfg.bits,
+            Some(threads),
+        ),
+    })
+}
