@@ -4,13 +4,29 @@
 
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
-use lorentz_gas::estimators::sweep::{mz_crossing, sweep, SweepConfig, SweepRow};
+use lorentz_gas::estimators::sweep::analysis::mz_crossing;
+use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepRow};
+use lorentz_gas::report::figures::sweep::write_sweep_figures;
 use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 
 /// Two-sided tail probability of 4σ of a normal: the "4σ" of every bound in this file.
 const P_4_SIGMA: f64 = 6.334e-5;
+
+/// The sweep as `lorentz sweep --out dir` runs it: points kept in `dir`, tables and figures
+/// written there.
+fn sweep_into(cfg: &SweepConfig, dir: &std::path::Path, threads: usize) -> sweep::SweepReport {
+    let opts = RunOptions {
+        threads,
+        resume: Some(dir.to_path_buf()),
+        ..RunOptions::default()
+    };
+    let r = sweep::run(cfg, &opts).unwrap();
+    sweep::write_tables(&r, dir).unwrap();
+    write_sweep_figures(&r, dir).unwrap();
+    r
+}
 
 #[test]
 fn an_interrupted_sweep_resumes_without_redoing_points() {
@@ -25,7 +41,7 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
         batches: 4,
         seed: 9,
     };
-    let first = sweep(&cfg, &dir, 2, &|_| {}).unwrap();
+    let first = sweep_into(&cfg, &dir, 2);
     assert_eq!(first.resumed_points, 0);
     assert_eq!(
         first.rows[1].w, 0.12,
@@ -46,7 +62,7 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
         .contains("\n0.12,"));
     // "Interrupt": lose the last point; the rerun redoes only that one and gives the same bits.
     std::fs::remove_file(dir.join("points").join("point-0002.json")).unwrap();
-    let second = sweep(&cfg, &dir, 1, &|_| {}).unwrap();
+    let second = sweep_into(&cfg, &dir, 1);
     assert_eq!(second.resumed_points, 2);
     for (a, b) in first.rows.iter().zip(&second.rows) {
         assert_eq!(a.D.to_bits(), b.D.to_bits());
@@ -101,7 +117,12 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     assert!(ratio > lo && ratio < hi, "{ratio} not in [{lo}, {hi}]");
     // A different sweep refuses the directory.
     let other = SweepConfig { seed: 10, ..cfg };
-    assert!(sweep(&other, &dir, 2, &|_| {}).is_err());
+    let opts = RunOptions {
+        threads: 2,
+        resume: Some(dir.clone()),
+        ..RunOptions::default()
+    };
+    assert!(sweep::run(&other, &opts).is_err());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

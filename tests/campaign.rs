@@ -3,8 +3,62 @@
 
 use std::path::{Path, PathBuf};
 
+use lorentz_gas::campaigns::merge::{self, MergeConfig};
+use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig, ShardReport};
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::Engine;
-use lorentz_gas::estimators::sweep::{merge, sweep_on, sweep_shard, Shard, SweepConfig};
+use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepReport};
+use lorentz_gas::report::figures::sweep::write_sweep_figures;
+
+fn options(engine: Engine, threads: usize, dir: &Path) -> RunOptions<'static> {
+    RunOptions {
+        engine,
+        threads,
+        resume: Some(dir.to_path_buf()),
+        ..RunOptions::default()
+    }
+}
+
+/// `lorentz sweep --out dir`: the points in `dir`, then the tables and figures.
+fn sweep_on(cfg: &SweepConfig, dir: &Path, engine: Engine, threads: usize) -> SweepReport {
+    let r = sweep::run(cfg, &options(engine, threads, dir)).unwrap();
+    sweep::write_tables(&r, dir).unwrap();
+    write_sweep_figures(&r, dir).unwrap();
+    r
+}
+
+/// `lorentz sweep --shard I/N --out dir`.
+fn run_shard(
+    cfg: &SweepConfig,
+    s: Shard,
+    dir: &Path,
+    engine: Engine,
+    threads: usize,
+) -> ShardReport {
+    let part = ShardConfig {
+        sweep: cfg.clone(),
+        shard: s,
+    };
+    shard::run(&part, &options(engine, threads, dir)).unwrap()
+}
+
+/// `lorentz merge --out out parts…`: the merged points, tables and figures.
+fn merge_into(parts: &[PathBuf], out: &Path) -> Result<SweepReport, lorentz_gas::Error> {
+    let cfg = MergeConfig {
+        parts: parts.to_vec(),
+        out: out.to_path_buf(),
+    };
+    let r = merge::run(
+        &cfg,
+        &RunOptions {
+            threads: 1,
+            ..RunOptions::default()
+        },
+    )?;
+    sweep::write_tables(&r, out)?;
+    write_sweep_figures(&r, out)?;
+    Ok(r)
+}
 
 fn scratch(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("lorentz-campaign-{tag}-{}", std::process::id()));
@@ -48,8 +102,7 @@ fn same_bytes(a: &Path, b: &Path) {
 fn shards_merged_equal_the_whole_sweep_bit_for_bit() {
     let dir = scratch("equal");
     let cfg = config(1);
-    let quiet = |_: u64| {};
-    sweep_on(&cfg, &dir.join("whole"), Engine::Auto, 2, &quiet).unwrap();
+    sweep_on(&cfg, &dir.join("whole"), Engine::Auto, 2);
     // Three parts on different engines and thread counts: 5 points dealt as {0, 3}, {1, 4}, {2}.
     let mut parts = Vec::new();
     for (i, (engine, threads)) in [(Engine::Auto, 1), (Engine::Scalar, 2), (Engine::Auto, 2)]
@@ -61,7 +114,7 @@ fn shards_merged_equal_the_whole_sweep_bit_for_bit() {
             count: 3,
         };
         let d = dir.join(format!("part-{i}"));
-        let r = sweep_shard(&cfg, shard, &d, engine, threads, &quiet).unwrap();
+        let r = run_shard(&cfg, shard, &d, engine, threads);
         let want: Vec<u32> = (0..5).filter(|p| p % 3 == i as u32).collect();
         assert_eq!(r.points, want);
         parts.push(d);
@@ -69,7 +122,7 @@ fn shards_merged_equal_the_whole_sweep_bit_for_bit() {
     // Given in any order.
     parts.reverse();
     let merged = dir.join("merged");
-    let r = merge(&parts, &merged, 1).unwrap();
+    let r = merge_into(&parts, &merged).unwrap();
     assert_eq!(r.rows.len(), 5);
     let whole = dir.join("whole");
     for f in [
@@ -87,7 +140,7 @@ fn shards_merged_equal_the_whole_sweep_bit_for_bit() {
         same_bytes(&whole.join(&f), &merged.join(&f));
     }
     // The merged directory is a finished sweep: running the sweep there resumes every point.
-    let again = sweep_on(&cfg, &merged, Engine::Auto, 2, &quiet).unwrap();
+    let again = sweep_on(&cfg, &merged, Engine::Auto, 2);
     assert_eq!(again.resumed_points, 5);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -95,18 +148,9 @@ fn shards_merged_equal_the_whole_sweep_bit_for_bit() {
 #[test]
 fn merge_refuses_missing_duplicate_and_foreign_parts() {
     let dir = scratch("refuse");
-    let quiet = |_: u64| {};
     let part = |cfg: &SweepConfig, i: u32, n: u32, name: &str| {
         let d = dir.join(name);
-        sweep_shard(
-            cfg,
-            Shard { index: i, count: n },
-            &d,
-            Engine::Auto,
-            2,
-            &quiet,
-        )
-        .unwrap();
+        run_shard(cfg, Shard { index: i, count: n }, &d, Engine::Auto, 2);
         d
     };
     let a = part(&config(1), 0, 2, "a");
@@ -114,7 +158,7 @@ fn merge_refuses_missing_duplicate_and_foreign_parts() {
     let foreign = part(&config(2), 1, 2, "foreign");
     let other_split = part(&config(1), 2, 3, "other-split");
     let out = dir.join("out");
-    let err = |dirs: &[PathBuf]| merge(dirs, &out, 1).unwrap_err().to_string();
+    let err = |dirs: &[PathBuf]| merge_into(dirs, &out).unwrap_err().to_string();
 
     let e = err(std::slice::from_ref(&a));
     assert!(

@@ -184,7 +184,7 @@ fn physics_json<T: serde::Serialize>(r: &T) -> serde_json::Value {
 fn diffusion_and_hops_are_identical_on_every_engine() {
     use lorentz_gas::engine::Engine;
     use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
-    use lorentz_gas::estimators::hops::hops_on;
+    use lorentz_gas::estimators::hops::{self, HopsConfig};
     for (w, collisions) in [(0.02, 4_000_000u64), (0.1, 2_000_000), (0.3, 1_000_000)] {
         let mut cfg = DiffusionConfig::new(w);
         cfg.collisions = collisions;
@@ -216,7 +216,20 @@ fn diffusion_and_hops_are_identical_on_every_engine() {
         let hops: Vec<serde_json::Value> = [(Engine::Scalar, 2), (Engine::Simd, 1)]
             .iter()
             .map(|&(e, t)| {
-                physics_json(&hops_on(w, collisions, 20, 3, (5, 0), e, t, &|_| {}).unwrap())
+                let cfg = HopsConfig {
+                    w,
+                    collisions,
+                    batches: 20,
+                    order: 3,
+                    seed: 5,
+                    run: 0,
+                };
+                let opts = RunOptions {
+                    engine: e,
+                    threads: t,
+                    ..RunOptions::default()
+                };
+                physics_json(&hops::run(&cfg, &opts).unwrap())
             })
             .collect();
         assert_eq!(hops[0], hops[1], "hops at w = {w}");

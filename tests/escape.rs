@@ -173,8 +173,22 @@ fn escape_results_do_not_depend_on_the_thread_count() {
         particles: escape::MIN_PARTICLES,
         seed: 5,
     };
-    let r1 = escape::run(&cfg, 1, &|_| {}).unwrap();
-    let r2 = escape::run(&cfg, 2, &|_| {}).unwrap();
+    let r1 = escape::run(
+        &cfg,
+        &RunOptions {
+            threads: 1,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
+    let r2 = escape::run(
+        &cfg,
+        &RunOptions {
+            threads: 2,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     assert_eq!(r1.D_escape.to_bits(), r2.D_escape.to_bits());
     assert_eq!(r1.events, r2.events);
 }
@@ -227,7 +241,14 @@ fn escape_agrees_with_einstein(w: f64, particles: u64, collisions: u64) {
     let mut cfg = EscapeConfig::new(w);
     cfg.particles = particles;
     cfg.seed = 2026;
-    let r = escape::run(&cfg, threads, &|_| {}).unwrap();
+    let r = escape::run(
+        &cfg,
+        &RunOptions {
+            threads,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
     let mut dc = DiffusionConfig::new(w);
     dc.collisions = collisions;
     dc.batches = 16;
@@ -235,7 +256,7 @@ fn escape_agrees_with_einstein(w: f64, particles: u64, collisions: u64) {
     let d = diffusion::run(
         &dc,
         &RunOptions {
-            threads: threads,
+            threads,
             ..RunOptions::default()
         },
     )

@@ -8,8 +8,51 @@
 
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
-use lorentz_gas::estimators::hops::{backscatter, hops};
+use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
+use lorentz_gas::estimators::hops::{self, HopsConfig};
+use lorentz_gas::numbers::precision::Precision;
 use lorentz_gas::statistics::{normal_sigma_equivalent_t, student_t_quantile, welch_dof};
+
+/// A hop measurement of `collisions` in `batches` up to `order`, seed `seed`, run 0.
+fn hop_cfg(w: f64, collisions: u64, batches: u32, order: usize, seed: u64) -> HopsConfig {
+    HopsConfig {
+        w,
+        collisions,
+        batches,
+        order,
+        seed,
+        run: 0,
+    }
+}
+
+/// Injection of `visits` in `batches`, seed `seed`, at `precision`.
+fn inject_cfg(
+    w: f64,
+    visits: u64,
+    batches: u32,
+    seed: u64,
+    precision: Precision,
+) -> BackscatterConfig {
+    BackscatterConfig {
+        w,
+        visits,
+        batches,
+        seed,
+        run: 0,
+        precision,
+    }
+}
+
+/// Two threads, reporting progress to `progress`.
+fn two_threads(progress: &(dyn Fn(u64) + Sync)) -> RunOptions<'_> {
+    RunOptions {
+        threads: 2,
+        progress,
+        ..RunOptions::default()
+    }
+}
+
+fn quiet(_: u64) {}
 
 fn z(a: f64, ea: f64, b: f64, eb: f64) -> f64 {
     (a - b).abs() / (ea * ea + eb * eb).sqrt()
@@ -33,7 +76,11 @@ fn t4_welch(ea: f64, na: u32, eb: f64, nb: u32) -> f64 {
 #[test]
 fn injection_obeys_kac_and_agrees_with_trajectories() {
     for &w in &[0.055, 0.2] {
-        let inj = backscatter(w, 1_000_000, 16, 51, 2).unwrap();
+        let inj = backscatter::run(
+            &inject_cfg(w, 1_000_000, 16, 51, Precision::F64),
+            &two_threads(&quiet),
+        )
+        .unwrap();
         assert!(
             z(
                 inj.mean_visit_time,
@@ -62,7 +109,7 @@ fn injection_obeys_kac_and_agrees_with_trajectories() {
             "p_l {pl} vs p_r {pr}: {:.2}σ",
             (pl - pr) / sd
         );
-        let tr = hops(w, 40_000_000, 16, 3, 52, 2, &|_| {}).unwrap();
+        let tr = hops::run(&hop_cfg(w, 40_000_000, 16, 3, 52), &two_threads(&quiet)).unwrap();
         let k = t4_welch(inj.p_bs_err, nb(&inj.meta), tr.p_bs_err, nb(&tr.meta));
         assert!(
             z(inj.p_bs, inj.p_bs_err, tr.p_bs, tr.p_bs_err) < k,
@@ -88,16 +135,20 @@ fn injection_obeys_kac_and_agrees_with_trajectories() {
 
 #[test]
 fn collisionless_visits_only_above_w0() {
-    let below = hops(0.15, 4_000_000, 4, 1, 53, 2, &|_| {}).unwrap();
+    let below = hops::run(&hop_cfg(0.15, 4_000_000, 4, 1, 53), &two_threads(&quiet)).unwrap();
     assert_eq!(below.p_cf, 0.0);
-    let above = hops(0.25, 4_000_000, 16, 1, 54, 2, &|_| {}).unwrap();
+    let above = hops::run(&hop_cfg(0.25, 4_000_000, 16, 1, 54), &two_threads(&quiet)).unwrap();
     assert!(
         above.p_cf > 10.0 * above.p_cf_err,
         "{} ± {}",
         above.p_cf,
         above.p_cf_err
     );
-    let inj = backscatter(0.25, 400_000, 16, 55, 2).unwrap();
+    let inj = backscatter::run(
+        &inject_cfg(0.25, 400_000, 16, 55, Precision::F64),
+        &two_threads(&quiet),
+    )
+    .unwrap();
     let k = t4_welch(inj.p_cf.err, nb(&inj.meta), above.p_cf_err, nb(&above.meta));
     assert!(
         z(inj.p_cf.value, inj.p_cf.err, above.p_cf, above.p_cf_err) < k,
@@ -113,7 +164,7 @@ fn collisionless_visits_only_above_w0() {
 #[test]
 fn hop_level_green_kubo_matches_einstein() {
     for &w in &[0.05, 0.25] {
-        let gk = hops(w, 60_000_000, 16, 1, 56, 2, &|_| {}).unwrap();
+        let gk = hops::run(&hop_cfg(w, 60_000_000, 16, 1, 56), &two_threads(&quiet)).unwrap();
         let mut cfg = DiffusionConfig::new(w);
         cfg.collisions = 60_000_000;
         cfg.batches = 16;
@@ -142,10 +193,16 @@ fn hop_level_green_kubo_matches_einstein() {
 /// 4 combined standard errors.
 #[test]
 fn backscattering_does_not_move_with_precision() {
-    use lorentz_gas::estimators::hops::backscatter_at;
-    use lorentz_gas::numbers::precision::Precision;
-    let hi = backscatter_at(0.1, 32_000, 16, 61, 2, Precision::Bits(128), &|_| {}).unwrap();
-    let lo = backscatter_at(0.1, 1_000_000, 16, 62, 2, Precision::F64, &|_| {}).unwrap();
+    let hi = backscatter::run(
+        &inject_cfg(0.1, 32_000, 16, 61, Precision::Bits(128)),
+        &two_threads(&quiet),
+    )
+    .unwrap();
+    let lo = backscatter::run(
+        &inject_cfg(0.1, 1_000_000, 16, 62, Precision::F64),
+        &two_threads(&quiet),
+    )
+    .unwrap();
     let k = t4_welch(hi.p_bs_err, nb(&hi.meta), lo.p_bs_err, nb(&lo.meta));
     assert!(
         z(hi.p_bs, hi.p_bs_err, lo.p_bs, lo.p_bs_err) < k,
@@ -187,16 +244,11 @@ fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
             .map(|k| {
                 // Sub-run k of gap i: run i·K + k of seed 71 (distinct streams, no seed arithmetic).
                 let run = (i * K) as u64 + k;
-                let h = lorentz_gas::estimators::hops::hops_run(
-                    w,
-                    40_000_000 / K as u64,
-                    2,
-                    4,
-                    (71, run),
-                    2,
-                    &|_| {},
-                )
-                .unwrap();
+                let cfg = HopsConfig {
+                    run,
+                    ..hop_cfg(w, 40_000_000 / K as u64, 2, 4, 71)
+                };
+                let h = hops::run(&cfg, &two_threads(&quiet)).unwrap();
                 h.table(4).unwrap().probabilities().to_vec()
             })
             .collect();
@@ -259,22 +311,24 @@ fn bad_orders_and_counts_are_refused_up_front() {
     };
     let range = format!("1 <= order <= {MAX_ORDER}");
     for order in [0, MAX_ORDER + 1, 100] {
-        let e = theory(0.1, 1_000_000_000, 8, order, 1, 2, &p).unwrap_err();
+        let e =
+            theory::run(&hop_cfg(0.1, 1_000_000_000, 8, order, 1), &two_threads(&p)).unwrap_err();
         assert!(e.to_string().contains(&range), "{e}");
-        let e = hops(0.1, 1_000_000_000, 8, order, 1, 2, &p).unwrap_err();
+        let e = hops::run(&hop_cfg(0.1, 1_000_000_000, 8, order, 1), &two_threads(&p)).unwrap_err();
         assert!(e.to_string().contains(&range), "{e}");
-        let e = lattice_walks(0.1, 1_000_000_000, 8, order, 1, 2, &p).unwrap_err();
+        let e = lattice_walks::run(&hop_cfg(0.1, 1_000_000_000, 8, order, 1), &two_threads(&p))
+            .unwrap_err();
         assert!(e.to_string().contains(&range), "{e}");
     }
     let min = min_collisions_per_batch(0.1).unwrap();
-    let e = hops(0.1, 4 * min - 4, 4, 2, 1, 2, &p).unwrap_err();
+    let e = hops::run(&hop_cfg(0.1, 4 * min - 4, 4, 2, 1), &two_threads(&p)).unwrap_err();
     assert!(
         e.to_string()
             .contains(&format!("{min} collisions per batch")),
         "{e}"
     );
-    assert!(hops(0.1, 1_000_000_000, 1, 2, 1, 2, &p).is_err());
-    assert!(hops(0.4, 1_000_000_000, 8, 2, 1, 2, &p).is_err());
+    assert!(hops::run(&hop_cfg(0.1, 1_000_000_000, 1, 2, 1), &two_threads(&p)).is_err());
+    assert!(hops::run(&hop_cfg(0.4, 1_000_000_000, 8, 2, 1), &two_threads(&p)).is_err());
     assert_eq!(work.load(Ordering::Relaxed), 0, "no work before validation");
 }
 
@@ -287,7 +341,7 @@ fn progress_adds_up_and_tables_reject_unknown_symbols() {
     let p = |n: u64| {
         done.fetch_add(n, Ordering::Relaxed);
     };
-    let mut r = hops(0.2, 3_000_001, 3, 2, 5, 2, &p).unwrap();
+    let mut r = hops::run(&hop_cfg(0.2, 3_000_001, 3, 2, 5), &two_threads(&p)).unwrap();
     assert_eq!(done.load(Ordering::Relaxed), r.collisions);
     assert_eq!(r.collisions, 3_000_001, "exactly the collisions asked for");
     assert!(r.table(2).is_ok());
@@ -309,18 +363,9 @@ fn backscatter_at_f64(
     batches: u32,
     seed: u64,
     progress: &(dyn Fn(u64) + Sync),
-) -> lorentz_gas::estimators::hops::BackscatterReport {
-    use lorentz_gas::numbers::precision::Precision;
-    lorentz_gas::estimators::hops::backscatter_at(
-        w,
-        visits,
-        batches,
-        seed,
-        2,
-        Precision::F64,
-        progress,
-    )
-    .unwrap()
+) -> BackscatterReport {
+    let cfg = inject_cfg(w, visits, batches, seed, Precision::F64);
+    backscatter::run(&cfg, &two_threads(progress)).unwrap()
 }
 
 /// Fig. 6b by simulation from the library: each order-k walk driven by the measured table is
@@ -328,7 +373,7 @@ fn backscatter_at_f64(
 #[test]
 fn lattice_walks_agree_with_their_exact_d() {
     use lorentz_gas::estimators::hops::lattice_walks;
-    let r = lattice_walks(0.1, 20_000_000, 8, 4, 81, 2, &|_| {}).unwrap();
+    let r = lattice_walks::run(&hop_cfg(0.1, 20_000_000, 8, 4, 81), &two_threads(&quiet)).unwrap();
     assert_eq!(r.walks.len(), 4);
     for row in &r.walks {
         assert!(
@@ -338,10 +383,10 @@ fn lattice_walks_agree_with_their_exact_d() {
     }
     // The fit window of the simulated walks is long enough: for the same measured tables (same
     // seed), the exact fit bias is below a tenth of the statistical error.
-    use lorentz_gas::estimators::hops::{WALK_BATCHES, WALK_HOPS, WALK_WALKERS};
+    use lorentz_gas::estimators::hops::lattice_walks::{WALK_BATCHES, WALK_HOPS, WALK_WALKERS};
     use lorentz_gas::theory::lattice_walk::{fit_bias, LatticeWalkConfig};
     use lorentz_gas::theory::markov::CorrelatedWalk;
-    let h = hops(0.1, 20_000_000, 8, 4, 81, 2, &|_| {}).unwrap();
+    let h = hops::run(&hop_cfg(0.1, 20_000_000, 8, 4, 81), &two_threads(&quiet)).unwrap();
     let cfg = LatticeWalkConfig::new(WALK_BATCHES, WALK_WALKERS, WALK_HOPS, 81);
     for row in &r.walks {
         let walk = CorrelatedWalk::new(&h.table(row.order).unwrap()).unwrap();

@@ -1,11 +1,11 @@
 //! Campaigns on Slurm, the scheduler HPC users already have: a sweep dealt into the parts of a
-//! job array ([`crate::estimators::sweep::Shard`]), and a merge job that starts only when every part has
+//! job array ([`crate::campaigns::shard::Shard`]), and a merge job that starts only when every part has
 //! succeeded (`--dependency=afterok`). This module only writes the batch scripts; Slurm runs them.
 //!
 //! Each array task runs `lorentz sweep … --shard $SLURM_ARRAY_TASK_ID/N --out OUT/shard-$ID`
 //! (resumable: a requeued or resubmitted task reuses its finished points), and the merge job runs
 //! `lorentz merge OUT/shard-0 … OUT/shard-(N−1) --out OUT`, which writes the same `sweep.csv`,
-//! `sweep.json` and figures as the sweep run in one piece ([`crate::estimators::sweep::merge`]).
+//! `sweep.json` and figures as the sweep run in one piece ([`crate::campaigns::merge::run`]).
 //!
 //! Slurm's default `MaxArraySize` is 1001 (tasks 0 … 1000); a site may set it lower or higher.
 

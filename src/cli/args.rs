@@ -5,6 +5,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::hops::HopsConfig;
 use lorentz_gas::numbers::precision::Precision;
 
 /// Most worker threads accepted: far beyond any node this runs on; a larger pool only costs
@@ -217,28 +219,29 @@ impl HopCommand {
     /// Runs `analysis` with a progress bar over the collisions and prints its result.
     pub fn run<R: serde::Serialize>(
         &self,
-        analysis: impl FnOnce(
-            f64,
-            u64,
-            u32,
-            usize,
-            u64,
-            usize,
-            &(dyn Fn(u64) + Sync),
-        ) -> Result<R, lorentz_gas::Error>,
+        engine: lorentz_gas::engine::Engine,
+        analysis: impl FnOnce(&HopsConfig, &RunOptions) -> Result<R, lorentz_gas::Error>,
         print: impl FnOnce(&R),
     ) -> Result<(), lorentz_gas::Error> {
+        let cfg = HopsConfig {
+            w: self.gap.w,
+            collisions: self.hop.collisions,
+            batches: self.hop.batches,
+            order: self.hop.order,
+            seed: self.run.seed,
+            run: 0,
+        };
         let pb =
             super::progress::Progress::new(self.hop.collisions, "collisions", self.output.quiet);
-        let r = analysis(
-            self.gap.w,
-            self.hop.collisions,
-            self.hop.batches,
-            self.hop.order,
-            self.run.seed,
-            self.run.threads(),
-            &pb.callback(),
-        )?;
+        let progress = pb.callback();
+        let opts = RunOptions {
+            engine,
+            threads: self.run.threads(),
+            progress: &progress,
+            ..RunOptions::default()
+        };
+        let r = analysis(&cfg, &opts)?;
+        drop(progress);
         drop(pb);
         super::output::emit(self.output.json, &r, print)
     }

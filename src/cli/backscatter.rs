@@ -1,6 +1,7 @@
 //! `lorentz backscatter`: injection into one trap from the invariant flux.
 
-use lorentz_gas::estimators::hops::{backscatter_at, BackscatterReport};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
 use lorentz_gas::Error;
 
 use super::args::{parse_count, parse_count_u32, GapArg, OutputArgs, PrecisionArg, RunArgs};
@@ -27,15 +28,22 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let pb = Progress::new(a.visits, "injections", a.output.quiet);
-    let r = backscatter_at(
-        a.gap.w,
-        a.visits,
-        a.batches,
-        a.run.seed,
-        a.run.threads(),
-        a.precision.precision,
-        &pb.callback(),
-    )?;
+    let cfg = BackscatterConfig {
+        w: a.gap.w,
+        visits: a.visits,
+        batches: a.batches,
+        seed: a.run.seed,
+        run: 0,
+        precision: a.precision.precision,
+    };
+    let progress = pb.callback();
+    let opts = RunOptions {
+        threads: a.run.threads(),
+        progress: &progress,
+        ..RunOptions::default()
+    };
+    let r = backscatter::run(&cfg, &opts)?;
+    drop(progress);
     drop(pb);
     emit(a.output.json, &r, print)
 }

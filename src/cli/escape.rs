@@ -1,6 +1,7 @@
 //! `lorentz escape`: D(w) from the escape rate out of open strips of several widths
 //! (Gaspard–Baras), extrapolated in 1/L.
 
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::escape::{self, EscapeConfig, EscapeReport};
 use lorentz_gas::Error;
 
@@ -39,7 +40,14 @@ pub fn run(a: Args) -> Result<(), Error> {
         "particles",
         a.output.quiet,
     );
-    let r = escape::run(&cfg, a.run.threads(), &pb.callback())?;
+    let progress = pb.callback();
+    let opts = RunOptions {
+        threads: a.run.threads(),
+        progress: &progress,
+        ..RunOptions::default()
+    };
+    let r = escape::run(&cfg, &opts)?;
+    drop(progress);
     drop(pb);
     emit(a.output.json, &r, print)
 }

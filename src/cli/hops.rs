@@ -1,6 +1,6 @@
 //! `lorentz hops`: trap-hopping statistics along lattice trajectories.
 
-use lorentz_gas::estimators::hops::{hops_on, HopsReport};
+use lorentz_gas::estimators::hops::{self, HopsReport};
 use lorentz_gas::Error;
 
 use super::args::{EngineArg, HopCommand};
@@ -15,22 +15,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let engine = a.engine.engine;
-    a.hop.run(
-        |w, collisions, batches, order, seed, threads, progress| {
-            hops_on(
-                w,
-                collisions,
-                batches,
-                order,
-                (seed, 0),
-                engine,
-                threads,
-                progress,
-            )
-        },
-        print,
-    )
+    a.hop.run(a.engine.engine, hops::run, print)
 }
 
 fn print(r: &HopsReport) {

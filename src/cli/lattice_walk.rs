@@ -1,6 +1,7 @@
 //! `lorentz lattice-walk`: Fig. 6b by simulation — correlated walks on the measured symbol tables.
 
-use lorentz_gas::estimators::hops::{lattice_walks, LatticeWalkReport};
+use lorentz_gas::engine::Engine;
+use lorentz_gas::estimators::hops::lattice_walks::{self, LatticeWalkReport};
 use lorentz_gas::Error;
 
 use super::args::HopCommand;
@@ -9,7 +10,7 @@ use super::args::HopCommand;
 pub type Args = HopCommand;
 
 pub fn run(a: Args) -> Result<(), Error> {
-    a.run(lattice_walks, print)
+    a.run(Engine::Auto, lattice_walks::run, print)
 }
 
 fn print(r: &LatticeWalkReport) {

@@ -2,7 +2,9 @@
 
 use std::path::PathBuf;
 
-use lorentz_gas::estimators::sweep::merge;
+use lorentz_gas::campaigns::merge::{self, MergeConfig};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::sweep;
 use lorentz_gas::Error;
 
 use super::args::{OutDirArg, OutputArgs, RunArgs};
@@ -25,7 +27,16 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let out = a.out.dir("results/sweep");
-    let r = merge(&a.dirs, &out, a.run.threads())?;
+    let cfg = MergeConfig {
+        parts: a.dirs.clone(),
+        out: out.clone(),
+    };
+    let opts = RunOptions {
+        threads: a.run.threads(),
+        ..RunOptions::default()
+    };
+    let r = merge::run(&cfg, &opts)?;
+    sweep::write_tables(&r, &out)?;
     lorentz_gas::report::figures::sweep::write_sweep_figures(&r, &out)?;
     emit(a.output.json, &r, |r| {
         super::sweep::print(r);

@@ -1,6 +1,8 @@
 //! `lorentz sweep`: D over a range of w, resumable, with the paper's coarse and fine analyses.
 
-use lorentz_gas::estimators::sweep::{sweep_on, sweep_shard, Shard, SweepConfig, SweepReport};
+use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepReport};
 use lorentz_gas::Error;
 
 use super::args::{parse_count, parse_count_u32, EngineArg, OutDirArg, OutputArgs, RunArgs};
@@ -83,15 +85,21 @@ pub fn run(a: Args) -> Result<(), Error> {
         .saturating_mul(a.grid.runs as u64)
         .saturating_mul(points);
     let pb = Progress::new(total, "collisions", a.output.quiet);
+    let progress = pb.callback();
+    let opts = RunOptions {
+        engine: a.engine.engine,
+        threads: a.run.threads(),
+        progress: &progress,
+        resume: Some(out.clone()),
+        audit: None,
+    };
     if let Some(s) = shard {
-        let r = sweep_shard(
-            &cfg,
-            s,
-            &out,
-            a.engine.engine,
-            a.run.threads(),
-            &pb.callback(),
-        )?;
+        let part = ShardConfig {
+            sweep: cfg.clone(),
+            shard: s,
+        };
+        let r = shard::run(&part, &opts)?;
+        drop(progress);
         drop(pb);
         return emit(a.output.json, &r, |r| {
             println!(
@@ -105,9 +113,11 @@ pub fn run(a: Args) -> Result<(), Error> {
             );
         });
     }
-    let r = sweep_on(&cfg, &out, a.engine.engine, a.run.threads(), &pb.callback())?;
-    lorentz_gas::report::figures::sweep::write_sweep_figures(&r, &out)?;
+    let r = sweep::run(&cfg, &opts)?;
+    drop(progress);
     drop(pb);
+    sweep::write_tables(&r, &out)?;
+    lorentz_gas::report::figures::sweep::write_sweep_figures(&r, &out)?;
     emit(a.output.json, &r, |r| {
         print(r);
         println!(

@@ -1,6 +1,7 @@
 //! `lorentz theory`: the corrected Machta–Zwanzig hierarchy and exact correlated lattice walks.
 
-use lorentz_gas::estimators::hops::{theory, TheoryReport};
+use lorentz_gas::engine::Engine;
+use lorentz_gas::estimators::hops::theory::{self, TheoryReport};
 use lorentz_gas::Error;
 
 use super::args::HopCommand;
@@ -9,7 +10,7 @@ use super::args::HopCommand;
 pub type Args = HopCommand;
 
 pub fn run(a: Args) -> Result<(), Error> {
-    a.run(theory, print)
+    a.run(Engine::Auto, theory::run, print)
 }
 
 fn print(r: &TheoryReport) {

@@ -32,6 +32,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
 use crate::engine::parallel::{par_batches, share};
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::strip::Strip;
@@ -79,6 +80,7 @@ pub const FINITE_SIZE_FORM: &str = "D_eff(L) = gamma(L) L^2/pi^2 = D + c/L (abso
 
 /// Everything that defines an escape-rate run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct EscapeConfig {
     /// Gap w.
     pub w: f64,
@@ -395,14 +397,15 @@ pub fn analyse_width(
     })
 }
 
-/// Runs the configured computation on `threads` threads. `progress` receives particle counts as
-/// they finish.
-pub fn run(
-    cfg: &EscapeConfig,
-    threads: usize,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<EscapeReport, Error> {
+/// Runs the configured computation. `options.progress` receives particle counts as they finish;
+/// only `threads` and `progress` of the options apply (the strips run on the scalar kernel).
+///
+/// # Errors
+/// An invalid configuration or options, before any work.
+pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Error> {
     cfg.validate()?;
+    options.validate()?;
+    let (threads, progress) = (options.threads, options.progress);
     let start = Instant::now();
     let scene = TriangularScene::new(cfg.w)?;
     let g = Geometry::new(cfg.w)?;

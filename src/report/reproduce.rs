@@ -17,9 +17,8 @@ use serde::Serialize;
 
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::engine::Engine;
 use crate::estimators::diffusion::{run, DiffusionConfig};
-use crate::estimators::sweep::{sweep_on, SweepConfig, SweepReport};
+use crate::estimators::sweep::{self, SweepConfig, SweepReport};
 use crate::numbers::precision::Precision;
 use crate::report::figures::paper;
 use crate::scenes::triangular::geometry::Geometry;
@@ -321,7 +320,15 @@ fn run_sweep(
     reporter: &dyn Reporter,
 ) -> Result<SweepReport, Error> {
     let c = sweep_config(name, budget, seed)?;
-    let r = sweep_on(&c, dir, Engine::Auto, threads, &|n| reporter.advance(n))?;
+    let advance = |n| reporter.advance(n);
+    let opts = RunOptions {
+        threads,
+        progress: &advance,
+        resume: Some(dir.to_path_buf()),
+        ..RunOptions::default()
+    };
+    let r = sweep::run(&c, &opts)?;
+    sweep::write_tables(&r, dir)?;
     crate::report::figures::sweep::write_sweep_figures(&r, dir)?;
     Ok(r)
 }

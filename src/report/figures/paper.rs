@@ -8,8 +8,10 @@ use serde_json::json;
 
 use super::{plot, PlotSpec, Series};
 use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
 use crate::estimators::diffusion::DiffusionConfig;
-use crate::estimators::hops::{backscatter_run, check_hops_input, theory_run};
+use crate::estimators::hops::backscatter::{self, BackscatterConfig};
+use crate::estimators::hops::{theory, HopsConfig};
 use crate::numbers::exact::decimal_grid;
 use crate::numbers::precision::Precision;
 use crate::scenes::sampling::{Purpose, StreamKey};
@@ -155,6 +157,11 @@ pub fn backscatter_curve(
         Precision::F64,
         Some(threads),
     );
+    let opts = RunOptions {
+        threads,
+        progress,
+        ..RunOptions::default()
+    };
     let mut written = Vec::new();
     for (name, ws, first_run) in [
         ("fig4a-p-bs", &grid, 0u64),
@@ -162,15 +169,15 @@ pub fn backscatter_curve(
     ] {
         let mut rows = Vec::new();
         for (i, &w) in ws.iter().enumerate() {
-            let r = backscatter_run(
+            let cfg = BackscatterConfig {
                 w,
                 visits,
-                CURVE_BATCHES,
-                (seed, first_run + i as u64),
-                threads,
-                Precision::F64,
-                progress,
-            )?;
+                batches: CURVE_BATCHES,
+                seed,
+                run: first_run + i as u64,
+                precision: Precision::F64,
+            };
+            let r = backscatter::run(&cfg, &opts)?;
             rows.push((w, r.p_bs, r.p_bs_err));
         }
         let mut csv = String::from("w,p_bs,p_bs_err\n");
@@ -230,7 +237,6 @@ pub fn hierarchy(
     dir: &Path,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<FigureReport, Error> {
-    use crate::engine::options::RunOptions;
     use crate::estimators::diffusion::run;
     let grid = hierarchy_grid()?;
     let n = grid.len() as u64;
@@ -242,27 +248,27 @@ pub fn hierarchy(
         c.run = n + i as u64;
         c
     };
+    let hop_config = |i: usize, w: f64| HopsConfig {
+        w,
+        collisions,
+        batches: HIERARCHY_BATCHES,
+        order: HIERARCHY_ORDER,
+        seed,
+        run: i as u64,
+    };
     for (i, &w) in grid.iter().enumerate() {
-        check_hops_input(w, collisions, HIERARCHY_BATCHES, HIERARCHY_ORDER)?;
+        hop_config(i, w).validate()?;
         einstein(i, w).validate()?;
     }
+    let opts = RunOptions {
+        threads,
+        progress,
+        ..RunOptions::default()
+    };
     std::fs::create_dir_all(dir)?;
     let mut rows = Vec::new();
     for (i, &w) in grid.iter().enumerate() {
-        let t = theory_run(
-            w,
-            collisions,
-            HIERARCHY_BATCHES,
-            HIERARCHY_ORDER,
-            (seed, i as u64),
-            threads,
-            progress,
-        )?;
-        let opts = RunOptions {
-            threads,
-            progress,
-            ..RunOptions::default()
-        };
+        let t = theory::run(&hop_config(i, w), &opts)?;
         let d = run(&einstein(i, w), &opts)?;
         rows.push((w, t, d.D, d.D_err));
     }
@@ -299,7 +305,7 @@ pub fn hierarchy(
         &meta,
     )?;
     /// (w, theory, Einstein D, its error) of one grid point.
-    type Row = (f64, crate::estimators::hops::TheoryReport, f64, f64);
+    type Row = (f64, theory::TheoryReport, f64, f64);
     let ser = |label: &str, f: &dyn Fn(&Row) -> (f64, f64, f64)| Series {
         label: label.into(),
         points: rows.iter().map(f).collect(),

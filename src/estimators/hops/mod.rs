@@ -1,0 +1,301 @@
+//! Trap-hopping analyses (paper Sec. III): backscattering by injection into a single trap, and
+//! symbol statistics, collisionless flights and the hop-level Green–Kubo D along long lattice
+//! trajectories. Every number has a standard error over independent batches.
+//!
+//! * [`run`]: symbol statistics, p_bs, p_cf and the hop-level Green–Kubo D ([`HopsConfig`]).
+//! * [`backscatter`]: injection into a single trap.
+//! * [`theory`]: the corrected hierarchy on the measured tables.
+//! * [`lattice_walks`]: Fig. 6b by simulated correlated walks.
+
+pub mod backscatter;
+pub mod lattice_walks;
+pub mod theory;
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
+use crate::engine::parallel::{par_batches, par_chunks, share};
+use crate::engine::simd::BLOCK;
+use crate::engine::{drive, run_block, Resolved};
+use crate::estimators::diffusion::Estimate;
+use crate::numbers::precision::Precision;
+use crate::observers::hop_correlations::{HopCorrelations, MAX_LAG};
+use crate::observers::hops::{HopLanes, Hops};
+use crate::scenes::lattice::TriangularLattice;
+use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::scenes::symbols::{
+    check_order, mirror_index, parse_sequence_index, reverse_index, sequence_name,
+};
+use crate::scenes::triangular::equilibrium_state;
+use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
+use crate::statistics::mean_se;
+use crate::theory::green_kubo;
+use crate::Error;
+
+fn est(v: &[f64]) -> Estimate {
+    let (value, err) = mean_se(v);
+    Estimate { value, err }
+}
+
+/// Everything that defines a measurement of hop statistics along lattice trajectories (also the
+/// input of [`theory::run`] and [`lattice_walks::run`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HopsConfig {
+    /// Gap w, 0 < w < w∞.
+    pub w: f64,
+    /// Lorentz-gas collisions in all, shared over the batches
+    /// ([`crate::engine::parallel::share`]).
+    pub collisions: u64,
+    /// Independent batches (trajectories, at least 2); every error bar is over them.
+    pub batches: u32,
+    /// Longest symbol sequence counted, 1 to [`crate::scenes::symbols::MAX_ORDER`].
+    pub order: usize,
+    /// Seed of the random streams.
+    pub seed: u64,
+    /// Which run of this seed: batch b follows the trajectory stream `(seed, run, b)`, so that
+    /// the points of a grid never share streams.
+    #[serde(default)]
+    pub run: u64,
+}
+
+impl HopsConfig {
+    /// The command line's defaults at `w`: 2·10⁸ collisions in 16 batches, order 4, seed 1.
+    pub fn new(w: f64) -> Self {
+        HopsConfig {
+            w,
+            collisions: 200_000_000,
+            batches: 16,
+            order: 4,
+            seed: 1,
+            run: 0,
+        }
+    }
+
+    /// Checks before any work: 0 < w < w∞, 1 ≤ `order` ≤ [`crate::scenes::symbols::MAX_ORDER`],
+    /// `batches` ≥ 2, at least [`min_collisions_per_batch`] collisions per batch.
+    pub fn validate(&self) -> Result<(), Error> {
+        let HopsConfig {
+            w,
+            collisions,
+            batches,
+            order,
+            ..
+        } = *self;
+        check_diffusive_gap(w)?;
+        check_order("order", order)?;
+        if batches < 2 {
+            return Err(Error::TooFew {
+                what: "batches",
+                min: 2,
+                got: batches as u64,
+            });
+        }
+        let per = collisions / batches as u64;
+        let min = min_collisions_per_batch(w)?;
+        if per < min {
+            return Err(Error::Invalid(format!(
+                "collisions = {collisions} is too few for {batches} batches at w = {w}: the hop-level \
+                 Green–Kubo estimator needs at least {min} collisions per batch ({} hops of \
+                 pi/(3w) collisions each), i.e. collisions >= {}",
+                8 * MAX_LAG,
+                min.saturating_mul(batches as u64)
+            )));
+        }
+        crate::engine::check_trajectory_length(collisions.div_ceil(batches as u64))?;
+        crate::engine::parallel::check_batches("batches", batches)
+    }
+}
+
+/// Hop statistics along lattice trajectories (the CLI's `hops --json`).
+#[allow(non_snake_case)]
+#[derive(Debug, Clone, Serialize)]
+pub struct HopsReport {
+    /// Gap.
+    pub w: f64,
+    /// Backscattering probability p(z).
+    pub p_bs: f64,
+    /// Its standard error.
+    pub p_bs_err: f64,
+    /// Probability of a visit without collision.
+    pub p_cf: f64,
+    /// Its standard error.
+    pub p_cf_err: f64,
+    /// The nine two-symbol probabilities.
+    pub pairs: BTreeMap<String, Estimate>,
+    /// Sequence probabilities for every length 1 … order.
+    pub sequences: Vec<BTreeMap<String, Estimate>>,
+    /// Largest |z-score| of the symmetries p(s) = p(mirror s) and p(s) = p(reverse(mirror s)).
+    pub symmetry_max_z: f64,
+    /// Hop-level Green–Kubo D = D_MZ (1 + 2 Σ_{j≤J} C_j) ([`green_kubo::HOP_TRUNCATION`]).
+    pub D_GK: f64,
+    /// Its standard error over the independent batches.
+    pub D_GK_err: f64,
+    /// The Green–Kubo window J (number of lags summed).
+    pub gk_window: usize,
+    /// Machta–Zwanzig D.
+    pub D_MZ: f64,
+    /// Hop-direction correlations C_1 … C_J (J = `gk_window`), batch means and errors.
+    pub correlations: Vec<Estimate>,
+    /// Complete trap visits observed.
+    pub visits: u64,
+    /// Collisions simulated.
+    pub collisions: u64,
+    /// Version, seed, batches, precision, engine, threads, command line.
+    pub meta: RunMeta,
+}
+
+impl HopsReport {
+    /// The measured probabilities of the sequences of length `k` as a validated table for the
+    /// theory ([`crate::theory::sequences::SequenceProbabilities`]; same index order). A sequence
+    /// name that is not a word of length `k` over z, l, r is an error.
+    pub fn table(
+        &self,
+        k: usize,
+    ) -> Result<crate::theory::sequences::SequenceProbabilities, Error> {
+        let m = self
+            .sequences
+            .get(k.wrapping_sub(1))
+            .ok_or_else(|| Error::Invalid(format!("no sequences of length {k} were counted")))?;
+        let mut p = vec![0.0; 3usize.pow(k as u32)];
+        for (name, e) in m {
+            p[parse_sequence_index(name, k)?] = e.value;
+        }
+        crate::theory::sequences::SequenceProbabilities::from_weights(k, p)
+    }
+}
+
+/// Fewest collisions per batch [`hops`] accepts: on average 8·[`MAX_LAG`] hops
+/// (π/(3w) collisions each), twice the 4·J_max hops the Green–Kubo estimator needs per
+/// sequence, so that a batch falls short of them with negligible probability.
+pub fn min_collisions_per_batch(w: f64) -> Result<u64, Error> {
+    let g = Geometry::new(w)?;
+    Ok((8.0 * MAX_LAG as f64 * g.collisions_per_hop()).ceil() as u64)
+}
+
+/// Runs `cfg.batches` lattice trajectories of `cfg.collisions` collisions in all and collects
+/// the hop statistics up to sequences of length `cfg.order` and the hop-level Green–Kubo D. The
+/// same bits on every engine and at every thread count.
+///
+/// `options.progress` receives the collisions done, in increments of up to 2²⁰ per batch,
+/// summing to the report's `collisions`.
+///
+/// # Errors
+/// An invalid configuration or options ([`HopsConfig::validate`]), before any work.
+pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> {
+    cfg.validate()?;
+    options.validate()?;
+    let HopsConfig {
+        w,
+        collisions,
+        batches,
+        order,
+        seed,
+        run,
+    } = *cfg;
+    let (engine, threads, progress) = (options.engine, options.threads, options.progress);
+    let resolved = engine.resolve(true)?;
+    let lat = TriangularLattice::new(w)?;
+    let start = |b: usize| {
+        equilibrium_state(
+            lat.trap(),
+            &mut StreamKey::new(seed, Purpose::Trajectory, b as u64)
+                .in_run(run)
+                .rng(),
+        )
+    };
+    let quota = |b: usize| share(collisions, batches, b as u32);
+    let res: Vec<Hops> = match resolved {
+        Resolved::Scalar => par_batches(threads, batches, |b| {
+            let mut s = start(b as usize);
+            let mut h = HopLanes::new(order, 1)?;
+            drive(&lat, &mut s, quota(b as usize), &mut h, progress)?;
+            Ok(h.lanes.remove(0))
+        })?,
+        Resolved::Simd(path) => par_chunks(threads, batches as usize, BLOCK, |r| {
+            let mut states: Vec<_> = r.clone().map(start).collect();
+            let quotas: Vec<u64> = r.clone().map(quota).collect();
+            let mut h = HopLanes::new(order, BLOCK)?;
+            run_block(path, lat.trap(), &mut states, &quotas, &mut h, progress)?;
+            h.lanes.truncate(r.len());
+            Ok(h.lanes)
+        })?,
+    };
+    let g = Geometry::new(w)?;
+    let d_mz = g.d_mz();
+    let mut sequences = Vec::new();
+    let mut zmax: f64 = 0.0;
+    for k in 1..=order {
+        let n = 3usize.pow(k as u32);
+        let per_batch: Vec<Vec<f64>> = res
+            .iter()
+            .map(|h| {
+                let tot: u64 = h.counts[k - 1].iter().sum();
+                h.counts[k - 1]
+                    .iter()
+                    .map(|&c| c as f64 / tot.max(1) as f64)
+                    .collect()
+            })
+            .collect();
+        let mut m = BTreeMap::new();
+        for code in 0..n {
+            m.insert(
+                sequence_name(k, code),
+                est(&per_batch.iter().map(|p| p[code]).collect::<Vec<_>>()),
+            );
+            for other in [
+                mirror_index(k, code),
+                reverse_index(k, mirror_index(k, code)),
+            ] {
+                let d: Vec<f64> = per_batch.iter().map(|p| p[code] - p[other]).collect();
+                let e = est(&d);
+                if e.err > 0.0 {
+                    zmax = zmax.max(e.value.abs() / e.err);
+                }
+            }
+        }
+        sequences.push(m);
+    }
+    let pairs = if order >= 2 {
+        sequences[1].clone()
+    } else {
+        BTreeMap::new()
+    };
+    let p_bs = sequences[0]["z"];
+    let p_cf = est(&res
+        .iter()
+        .map(|h| h.collisionless as f64 / h.visits.max(1) as f64)
+        .collect::<Vec<_>>());
+    let dirs: Vec<HopCorrelations> = res.iter().map(|h| h.directions.clone()).collect();
+    let gk = green_kubo::estimate(&dirs, green_kubo::HOP_TRUNCATION)?;
+    let correlations = (1..=gk.truncation)
+        .map(|j| est(&dirs.iter().map(|d| d.correlation(j)).collect::<Vec<_>>()))
+        .collect();
+    Ok(HopsReport {
+        w,
+        p_bs: p_bs.value,
+        p_bs_err: p_bs.err,
+        p_cf: p_cf.value,
+        p_cf_err: p_cf.err,
+        pairs,
+        sequences,
+        symmetry_max_z: zmax,
+        D_GK: d_mz * gk.d_over_d_mz,
+        D_GK_err: d_mz * gk.se,
+        gk_window: gk.truncation,
+        D_MZ: d_mz,
+        correlations,
+        visits: res.iter().map(|h| h.visits).sum(),
+        collisions,
+        meta: RunMeta::new(
+            Some(seed),
+            Some(batches as u64),
+            Precision::F64,
+            Some(threads),
+        )
+        .with_engine(resolved),
+    })
+}

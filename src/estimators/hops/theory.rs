@@ -1,0 +1,103 @@
+//! The corrected Machta–Zwanzig hierarchy (paper Sec. III and App. B) evaluated on hop
+//! statistics measured along lattice trajectories, beside the exact D of the correlated walks
+//! their tables define.
+
+use serde::Serialize;
+
+use super::HopsConfig;
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
+use crate::estimators::diffusion::Estimate;
+use crate::scenes::triangular::geometry::Geometry;
+use crate::Error;
+
+/// The corrected Machta–Zwanzig hierarchy evaluated on measured hop statistics (the CLI's
+/// `theory --json`).
+#[allow(non_snake_case)]
+#[derive(Debug, Clone, Serialize)]
+pub struct TheoryReport {
+    /// Gap.
+    pub w: f64,
+    /// Measured p_bs and p_cf (with errors).
+    pub p_bs: Estimate,
+    /// See `p_bs`.
+    pub p_cf: Estimate,
+    /// App. A analytic p_cf with the flux integral corrected, and as printed.
+    pub p_cf_appendix_a: (f64, f64),
+    /// Machta–Zwanzig.
+    pub D_MZ: f64,
+    /// Eq. (4) with the measured p_cf.
+    pub D_cf: f64,
+    /// Eq. (5) with the measured p_bs.
+    pub D_bs: f64,
+    /// Eq. (6).
+    pub D_1: f64,
+    /// (k, D_k from the walked distance classes, D_k combined with collisionless flights as eq. 6).
+    pub D_k: Vec<(usize, f64, f64)>,
+    /// The paper's printed (B2) and (B3) evaluated literally (for comparison; see
+    /// proofs-notes/paper-appendix-b.md).
+    pub D_2_D_3_as_printed: (f64, f64),
+    /// (k, exact D of the order-k correlated walk with the measured sequence table).
+    pub lattice_gas_exact: Vec<(usize, f64)>,
+    /// Hop-level Green–Kubo D of the Lorentz gas itself (the reference).
+    pub D_GK: Estimate,
+    /// Collisions simulated.
+    pub collisions: u64,
+    /// Version, seed, batches, precision, engine, threads, command line.
+    pub meta: RunMeta,
+}
+
+/// Measures sequence tables up to max(`cfg.order`, 3) (at least 3, for the printed (B2), (B3))
+/// along lattice trajectories ([`super::run`]) and evaluates the theory for k = 1 … max(order, 3).
+///
+/// # Errors
+/// As [`super::run`], checked before any work.
+pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<TheoryReport, Error> {
+    use crate::theory::{appendix_a, hierarchy, markov::CorrelatedWalk};
+    cfg.validate()?;
+    let top = cfg.order.max(3);
+    let w = cfg.w;
+    let h = super::run(&HopsConfig { order: top, ..*cfg }, options)?;
+    let g = Geometry::new(w)?;
+    let table = |k: usize| h.table(k);
+    let p_cf = h.p_cf;
+    let mut d_k = Vec::new();
+    let mut exact = Vec::new();
+    for k in 1..=top {
+        let t = table(k)?;
+        d_k.push((
+            k,
+            hierarchy::d_k(&g, &t),
+            hierarchy::d_k_combined(&g, &t, &p_cf),
+        ));
+        exact.push((k, CorrelatedWalk::new(&t)?.d(&g)?));
+    }
+    Ok(TheoryReport {
+        w,
+        p_bs: Estimate {
+            value: h.p_bs,
+            err: h.p_bs_err,
+        },
+        p_cf: Estimate {
+            value: h.p_cf,
+            err: h.p_cf_err,
+        },
+        p_cf_appendix_a: (appendix_a::p_cf(&g), appendix_a::p_cf_as_printed(&g)),
+        D_MZ: g.d_mz(),
+        D_cf: hierarchy::d_cf(&g, &p_cf),
+        D_bs: hierarchy::d_bs(&g, &h.p_bs),
+        D_1: hierarchy::d_1(&g, &h.p_bs, &p_cf),
+        D_k: d_k,
+        D_2_D_3_as_printed: (
+            hierarchy::d2_as_printed(&g, &table(2)?),
+            hierarchy::d3_as_printed(&g, &table(3)?),
+        ),
+        lattice_gas_exact: exact,
+        D_GK: Estimate {
+            value: h.D_GK,
+            err: h.D_GK_err,
+        },
+        collisions: h.collisions,
+        meta: h.meta,
+    })
+}
