@@ -34,7 +34,7 @@ pub enum Symbol {
 }
 
 /// Largest order k accepted anywhere: sequence tables measured along trajectories
-/// ([`crate::estimators::hops::hops`]), the hierarchy and the exact and simulated order-k walks
+/// ([`crate::estimators::hops::run`]), the hierarchy and the exact and simulated order-k walks
 /// ([`crate::theory::markov::CorrelatedWalk`]).
 ///
 /// Why 7: the exact walk of order k is a dense complex LU on its 3^(k−1) histories — 729 at

@@ -1,6 +1,6 @@
 //! The hop-level Green–Kubo estimator of D — the crate's one: the Lorentz gas's lattice
 //! trajectories feed it hop by hop ([`crate::observers::hops::Hops`] →
-//! [`crate::estimators::hops::hops`], window [`HOP_TRUNCATION`]), and so do simulated correlated walks
+//! [`crate::estimators::hops::run`], window [`HOP_TRUNCATION`]), and so do simulated correlated walks
 //! ([`super::lattice_walk::direction_sequence`] → [`green_kubo`]).
 //!
 //! For hops of length l every τ with stationary directions d̂ᵢ,

@@ -9,16 +9,16 @@ use crate::engine::options::RunOptions;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::Error;
 
-/// Independent batches of simulated walkers per order in [`lattice_walks`]: 16 give a standard
+/// Independent batches of simulated walkers per order in [`run`]: 16 give a standard
 /// error whose own relative uncertainty is about 1/√(2·15) ≈ 18 %.
 pub const WALK_BATCHES: usize = 16;
 
-/// Walkers per batch in [`lattice_walks`]: 16 × 4096 walkers of [`WALK_HOPS`] hops (8.4·10⁶
+/// Walkers per batch in [`run`]: 16 × 4096 walkers of [`WALK_HOPS`] hops (8.4·10⁶
 /// hops, a fraction of a second per order) put the error of the simulated D near 0.8 % at
 /// w = 0.1 — a seventh of the 5.5 % step from order 1 to order 2 that Fig. 6b shows.
 pub const WALK_WALKERS: usize = 4096;
 
-/// Hops per walker in [`lattice_walks`] (the Einstein fit runs over the second half, 64 … 128):
+/// Hops per walker in [`run`] (the Einstein fit runs over the second half, 64 … 128):
 /// the Lorentz gas's hop correlations, which the measured walks inherit, vanish within about
 /// ten hops ([`crate::theory::green_kubo`]), so the exact fit bias
 /// ([`crate::theory::lattice_walk::fit_bias`]) is far below the statistical error.
@@ -47,7 +47,7 @@ pub struct LatticeWalkReport {
     pub w: f64,
     /// Machta–Zwanzig D.
     pub D_MZ: f64,
-    /// Hop-level Green–Kubo D of the Lorentz gas (as [`HopsReport::D_GK`]).
+    /// Hop-level Green–Kubo D of the Lorentz gas (as [`super::HopsReport::D_GK`]).
     pub D_GK: f64,
     /// Its standard error.
     pub D_GK_err: f64,

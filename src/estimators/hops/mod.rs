@@ -168,7 +168,7 @@ impl HopsReport {
     }
 }
 
-/// Fewest collisions per batch [`hops`] accepts: on average 8·[`MAX_LAG`] hops
+/// Fewest collisions per batch [`run`] accepts: on average 8·[`MAX_LAG`] hops
 /// (π/(3w) collisions each), twice the 4·J_max hops the Green–Kubo estimator needs per
 /// sequence, so that a batch falls short of them with negligible probability.
 pub fn min_collisions_per_batch(w: f64) -> Result<u64, Error> {
