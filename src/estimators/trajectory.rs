@@ -7,10 +7,10 @@
 //! time. The world position (x, y) and the distance √(x² + y²) at time T follow.
 //!
 //! Certification (`proofs-notes/trajectory.md`): rounding errors grow like e^{λn} over n
-//! collisions, so P starts at ⌈(D + 2)·log₂10 + n·λ/ln 2⌉ + [`GUARD_BITS`] with n = T/⟨ℓ⟩
+//! collisions, so P starts at ⌈(D + 2)·log₂10 + n·λ/ln 2⌉ + [`TRAJECTORY_GUARD_BITS`] with n = T/⟨ℓ⟩
 //! (Santaló) and λ the scene's Lyapunov exponent per collision. The runs at P and 2P must go
 //! through the same event sequence and agree in x, y and the distance to the requested digits;
-//! otherwise P doubles (up to [`MAX_BITS`]). Digits are counted from the leading digit for
+//! otherwise P doubles (up to [`MAX_TRAJECTORY_BITS`]). Digits are counted from the leading digit for
 //! |q| ≥ 1 and from the first decimal place for |q| < 1 (absolute near zero); one agreed digit
 //! is kept back as a guard, so each printed value (the 2P run, correctly rounded) is within one
 //! unit of its last digit of the exact value, unless the two runs' agreement was a coincidence
@@ -33,22 +33,22 @@ use crate::Error;
 /// chaos, and more only hides a typo.
 pub const MAX_DIGITS: u32 = 10_000;
 /// Guard bits added to the starting precision for the prefactor of the error growth.
-pub const GUARD_BITS: u32 = 64;
+pub const TRAJECTORY_GUARD_BITS: u32 = 64;
 /// Smallest precision tried.
-pub const MIN_BITS: u32 = 128;
+pub const MIN_TRAJECTORY_BITS: u32 = 128;
 /// Largest precision P tried (the 2P run then has 2¹⁹ bits): one event then costs about a
 /// millisecond, and a time that needs more is not worth running this way.
-pub const MAX_BITS: u32 = 1 << 18;
+pub const MAX_TRAJECTORY_BITS: u32 = 1 << 18;
 /// Agreed digits kept back from the printed ones, so that rounding the 2P value to the printed
 /// digits plus the P/2P deviation stay within one unit of the last printed digit.
 pub const GUARD_DIGITS: u32 = 1;
 /// Collisions per orbit of the Lyapunov estimate that sets the starting precision (its error,
 /// a few per cent, changes P by a few bits; the doubling loop absorbs any shortfall).
-pub const LAMBDA_COLLISIONS: u64 = 20_000;
+pub const PLAN_LAMBDA_COLLISIONS: u64 = 20_000;
 /// Orbits of the Lyapunov estimate (at least 2 for its error bar).
-pub const LAMBDA_ORBITS: u32 = 2;
+pub const PLAN_LAMBDA_ORBITS: u32 = 2;
 /// Seed of the Lyapunov estimate: fixed, so the precisions tried depend on the input only.
-pub const LAMBDA_SEED: u64 = 17;
+pub const PLAN_LAMBDA_SEED: u64 = 17;
 /// Bound on cell-edge crossings per unit time used for the resource estimate (a unit-speed
 /// particle crosses about |vₓ| + |v_y| ≤ √2 unit-square edges per unit time, and fewer trap
 /// edges; 3 leaves room for corners).
@@ -175,7 +175,7 @@ struct Run {
 ///
 /// # Errors
 /// Digits outside 1..=[`MAX_DIGITS`], a time ≤ 0, a zero direction, a start too far out, or a
-/// time whose precision or estimated run time exceeds [`MAX_BITS`] or [`MAX_SECONDS`].
+/// time whose precision or estimated run time exceeds [`MAX_TRAJECTORY_BITS`] or [`MAX_SECONDS`].
 pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error> {
     if input.digits == 0 || input.digits > MAX_DIGITS {
         return Err(Error::Invalid(format!(
@@ -208,7 +208,7 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
     let expected_events = expected_collisions + CROSSINGS_PER_UNIT_TIME * time;
     let digits_bits = (input.digits + GUARD_DIGITS + 1) as f64 * std::f64::consts::LOG2_10;
     if !expected_events.is_finite()
-        || estimated_seconds(MIN_BITS as f64, expected_events) > MAX_SECONDS
+        || estimated_seconds(MIN_TRAJECTORY_BITS as f64, expected_events) > MAX_SECONDS
     {
         return Err(Error::Invalid(format!(
             "time = {time:e} is out of range: it means about {expected_events:.2e} events, more than a certified run can afford in {MAX_SECONDS} s; use a shorter time"
@@ -216,19 +216,19 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
     }
     let lambda = lyapunov(
         scene,
-        LAMBDA_COLLISIONS,
-        LAMBDA_ORBITS,
-        LAMBDA_SEED,
+        PLAN_LAMBDA_COLLISIONS,
+        PLAN_LAMBDA_ORBITS,
+        PLAN_LAMBDA_SEED,
         1,
         &|_| {},
     )?
     .per_collision;
     let need = digits_bits + expected_collisions * lambda / std::f64::consts::LN_2;
-    let bits = (need.ceil() + GUARD_BITS as f64).max(MIN_BITS as f64);
+    let bits = (need.ceil() + TRAJECTORY_GUARD_BITS as f64).max(MIN_TRAJECTORY_BITS as f64);
     let seconds = estimated_seconds(bits, expected_events);
-    if bits > MAX_BITS as f64 || seconds > MAX_SECONDS {
+    if bits > MAX_TRAJECTORY_BITS as f64 || seconds > MAX_SECONDS {
         return Err(Error::Invalid(format!(
-            "time = {time} to {} digits needs about {bits:.0} bits over {expected_events:.0} events (lambda = {lambda:.3} per collision, {expected_collisions:.0} collisions), about {seconds:.0} s, beyond the limits of {MAX_BITS} bits and {MAX_SECONDS} s: use a shorter time or fewer digits",
+            "time = {time} to {} digits needs about {bits:.0} bits over {expected_events:.0} events (lambda = {lambda:.3} per collision, {expected_collisions:.0} collisions), about {seconds:.0} s, beyond the limits of {MAX_TRAJECTORY_BITS} bits and {MAX_SECONDS} s: use a shorter time or fewer digits",
             input.digits
         )));
     }
@@ -248,7 +248,7 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
 /// counts.
 ///
 /// # Errors
-/// Everything [`plan`] refuses; a start inside a disk; no agreement within [`MAX_BITS`].
+/// Everything [`plan`] refuses; a start inside a disk; no agreement within [`MAX_TRAJECTORY_BITS`].
 ///
 /// # Examples
 ///
@@ -307,9 +307,9 @@ pub fn trajectory<S: Scene>(
                 meta: RunMeta::new(None, None, bits, Some(1)),
             });
         }
-        if 2 * bits > MAX_BITS {
+        if 2 * bits > MAX_TRAJECTORY_BITS {
             return Err(Error::Invalid(format!(
-                "could not certify {} digits within {MAX_BITS} bits: the runs at {bits} and {} bits {} (agreement {agreed:.1} digits); use a shorter time or fewer digits",
+                "could not certify {} digits within {MAX_TRAJECTORY_BITS} bits: the runs at {bits} and {} bits {} (agreement {agreed:.1} digits); use a shorter time or fewer digits",
                 input.digits,
                 2 * bits,
                 if same_events { "go through the same events" } else { "go through different events (a grazing collision or a corner)" }

@@ -30,7 +30,7 @@ use crate::scenes::triangular::geometry::Geometry;
 /// # Examples
 ///
 /// ```
-/// use lorentz_gas::{geometry::Geometry, theory::appendix_a::e};
+/// use lorentz_gas::{scenes::triangular::geometry::Geometry, theory::appendix_a::e};
 /// let w0 = Geometry::<f64>::w_0(());
 /// assert_eq!(e(&Geometry::new(w0).unwrap()), 0.0);
 /// ```
@@ -88,7 +88,7 @@ pub fn phi_as_printed<T: Real>(g: &Geometry<T>) -> T {
 /// # Examples
 ///
 /// ```
-/// use lorentz_gas::{geometry::Geometry, theory::appendix_a::p_cf};
+/// use lorentz_gas::{scenes::triangular::geometry::Geometry, theory::appendix_a::p_cf};
 /// assert_eq!(p_cf(&Geometry::new(0.15f64).unwrap()), 0.0);
 /// assert!(p_cf(&Geometry::new(0.25f64).unwrap()) > 0.0);
 /// ```

@@ -17,18 +17,18 @@ use crate::scenes::Scene;
 use crate::Error;
 
 /// Collisions per orbit of the λ estimate that sets the starting precision.
-pub const LAMBDA_COLLISIONS: u64 = 100_000;
+pub const CERTIFY_LAMBDA_COLLISIONS: u64 = 100_000;
 /// Orbits of the λ estimate (its relative error, ~10⁻³, changes P by a few bits).
-pub const LAMBDA_ORBITS: u32 = 4;
+pub const CERTIFY_LAMBDA_ORBITS: u32 = 4;
 /// Seed of the λ estimate: fixed, so the precisions tried depend on (w, N, d) only.
-pub const LAMBDA_SEED: u64 = 17;
+pub const CERTIFY_LAMBDA_SEED: u64 = 17;
 /// Guard bits added to P = ⌈(λN + d ln 10)/ln 2⌉ for the prefactor of the error growth.
-pub const GUARD_BITS: u32 = 64;
+pub const CERTIFY_GUARD_BITS: u32 = 64;
 /// Smallest P tried.
-pub const MIN_BITS: u32 = 128;
+pub const MIN_CERTIFY_BITS: u32 = 128;
 /// Largest P tried (the 2P run then has 2²¹ bits): beyond it one collision costs milliseconds
 /// and a segment that still disagrees is not worth certifying this way.
-pub const MAX_BITS: u32 = 1 << 20;
+pub const MAX_CERTIFY_BITS: u32 = 1 << 20;
 /// Memory the two stored MPFR tracks may take, checked before anything is allocated.
 pub const MAX_MEMORY_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 
@@ -74,19 +74,19 @@ fn bytes_per_collision(bits: f64) -> f64 {
 /// `digits` digits at Lyapunov exponent `lambda`.
 fn needs(lambda: f64, n: f64, digits: u32) -> (f64, f64) {
     let need = (lambda * n + digits as f64 * std::f64::consts::LN_10) / std::f64::consts::LN_2
-        + GUARD_BITS as f64;
-    let bits = need.ceil().max(MIN_BITS as f64);
+        + CERTIFY_GUARD_BITS as f64;
+    let bits = need.ceil().max(MIN_CERTIFY_BITS as f64);
     // Three tracks live at once (P, 2P, and f64 or the next attempt), stored at 2P bits.
     (bits, 3.0 * n * bytes_per_collision(2.0 * bits))
 }
 
 /// The starting precision for `n` collisions to `digits` digits at Lyapunov exponent `lambda`,
-/// or an error naming the largest segment that fits the limits ([`MAX_BITS`],
+/// or an error naming the largest segment that fits the limits ([`MAX_CERTIFY_BITS`],
 /// [`MAX_MEMORY_BYTES`]).
 pub fn starting_bits(lambda: f64, n: usize, digits: u32) -> Result<u32, Error> {
     let fits = |n: f64| {
         let (b, m) = needs(lambda, n, digits);
-        b <= MAX_BITS as f64 && m <= MAX_MEMORY_BYTES
+        b <= MAX_CERTIFY_BITS as f64 && m <= MAX_MEMORY_BYTES
     };
     let (bits, memory) = needs(lambda, n as f64, digits);
     if fits(n as f64) {
@@ -102,8 +102,8 @@ pub fn starting_bits(lambda: f64, n: usize, digits: u32) -> Result<u32, Error> {
             hi = mid;
         }
     }
-    let why = if bits > MAX_BITS as f64 {
-        format!("about {bits:.2e} bits (lambda N / ln 2 at lambda = {lambda:.3} per collision), more than the {MAX_BITS} supported")
+    let why = if bits > MAX_CERTIFY_BITS as f64 {
+        format!("about {bits:.2e} bits (lambda N / ln 2 at lambda = {lambda:.3} per collision), more than the {MAX_CERTIFY_BITS} supported")
     } else {
         format!(
             "{bits:.0} bits and about {:.1} GiB of memory, more than the {:.0} GiB limit",
@@ -157,9 +157,9 @@ fn certify_with_meta<S: Scene>(
     }
     let lambda = lyapunov(
         scene,
-        LAMBDA_COLLISIONS,
-        LAMBDA_ORBITS,
-        LAMBDA_SEED,
+        CERTIFY_LAMBDA_COLLISIONS,
+        CERTIFY_LAMBDA_ORBITS,
+        CERTIFY_LAMBDA_SEED,
         1,
         &|_| {},
     )?
@@ -206,13 +206,13 @@ fn certify_with_meta<S: Scene>(
                 meta: RunMeta::new(seed, None, bits, Some(1)),
             });
         }
-        if bits >= MAX_BITS
+        if bits >= MAX_CERTIFY_BITS
             || 3.0 * n as f64 * bytes_per_collision(4.0 * bits as f64) > MAX_MEMORY_BYTES
         {
             return Err(Error::Invalid(format!(
                 "could not certify {n} collisions to {digits} digits within {} bits and {:.0} GiB \
                  (the runs at {bits} and {} bits agree to {agreed:.1} digits)",
-                MAX_BITS,
+                MAX_CERTIFY_BITS,
                 MAX_MEMORY_BYTES / (1u64 << 30) as f64,
                 2 * bits
             )));

@@ -1,5 +1,5 @@
 //! Figures with plotters: PNG and SVG, text rendered from an embedded DejaVu Sans (no system font
-//! libraries; the font's licence is in `src/figures/DejaVuSans-LICENSE.txt`).
+//! libraries; the font's licence is in `src/report/figures/DejaVuSans-LICENSE.txt`).
 
 use std::path::Path;
 use std::sync::Once;
