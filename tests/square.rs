@@ -303,7 +303,8 @@ fn birkhoff_map_preserves_phase_space_volume() {
 /// reference runs at the exact radius while the f64 run uses its nearest double.
 #[test]
 fn shadow_audit_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::shadow_audit::{audit_run, AuditConfig};
+    use lorentz_gas::engine::options::RunOptions;
+    use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
     let s = SquareScene::exact(Rational::from((1, 3))).unwrap();
     let cfg = AuditConfig {
         scene: s.label(),
@@ -313,7 +314,11 @@ fn shadow_audit_finds_nothing_outside_the_model() {
         bits: 128,
         seed: 93,
     };
-    let r = audit_run(&s, &cfg, 2, &|_| {}).unwrap();
+    let two = RunOptions {
+        threads: 2,
+        ..RunOptions::default()
+    };
+    let r = shadow_audit::run(&s, &cfg, &two).unwrap();
     assert!(r.summary.audited >= 200_000);
     assert_eq!(
         r.summary.outside,

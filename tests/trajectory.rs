@@ -6,7 +6,8 @@
 use rug::ops::Pow;
 use rug::{Float, Integer, Rational};
 
-use lorentz_gas::estimators::trajectory::{decimal, trajectory, TrajectoryInput, TrajectoryReport};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::trajectory::{decimal, TrajectoryInput, TrajectoryReport};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::triangular::TriangularScene;
@@ -142,7 +143,21 @@ fn input(start: (&str, &str), dir: (&str, &str), t: &str, digits: u32) -> Trajec
         dy: parse_exact(dir.1).unwrap(),
         time: parse_exact(t).unwrap(),
         digits,
+        record_events: false,
     }
+}
+
+/// One certified trajectory of `scene` (events recorded if `events`).
+fn trajectory<S: Scene>(
+    scene: &S,
+    input: &TrajectoryInput,
+    events: bool,
+) -> Result<TrajectoryReport, lorentz_gas::Error> {
+    let input = TrajectoryInput {
+        record_events: events,
+        ..input.clone()
+    };
+    lorentz_gas::estimators::trajectory::run(scene, &input, &RunOptions::default())
 }
 
 /// Integer digits of |q| (0 below 1): the printed digits end at 10^(lead − certified).
@@ -195,7 +210,7 @@ fn check(report: &TrajectoryReport, reference: &([Float; 3], u64), what: &str) {
 fn siam_problem_2_distance_at_t_10_to_100_digits() {
     let scene = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();
     let (start, dir, t) = (("1/2", "1/10"), ("1", "0"), "10");
-    let r = trajectory(&scene, &input(start, dir, t, 100), false, &|_| {}).unwrap();
+    let r = trajectory(&scene, &input(start, dir, t, 100), false).unwrap();
     let reference = reference(&Disks::square("1/3"), start, dir, t);
     check(&r, &reference, "SIAM problem 2");
     // The first 100 digits, each correctly rounded from its own computation.
@@ -233,13 +248,10 @@ fn variants_agree_with_the_brute_force_reference() {
         let inp = input(start, dir, t, digits);
         let (r, disks) = if name == "square" {
             let s = SquareScene::exact(parse_exact(param).unwrap()).unwrap();
-            (trajectory(&s, &inp, false, &|_| {}), Disks::square(param))
+            (trajectory(&s, &inp, false), Disks::square(param))
         } else {
             let s = TriangularScene::exact(parse_exact(param).unwrap()).unwrap();
-            (
-                trajectory(&s, &inp, false, &|_| {}),
-                Disks::triangular(param),
-            )
+            (trajectory(&s, &inp, false), Disks::triangular(param))
         };
         let r = r.unwrap_or_else(|e| panic!("{what}: {e}"));
         assert!(r.collisions > 0, "{what}: no collision");
@@ -254,7 +266,6 @@ fn events_are_recorded_in_order_up_to_time_t() {
         &scene,
         &input(("1.05", "0.6"), ("1", "0.3"), "10", 20),
         true,
-        &|_| {},
     )
     .unwrap();
     assert_eq!(r.events.len() as u64, r.collisions + r.crossings);
@@ -266,43 +277,22 @@ fn events_are_recorded_in_order_up_to_time_t() {
 #[test]
 fn starts_inside_a_disk_and_zero_directions_are_refused() {
     let square = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();
-    let e = trajectory(
-        &square,
-        &input(("2.1", "-0.9"), ("1", "0"), "1", 10),
-        false,
-        &|_| {},
-    )
-    .unwrap_err()
-    .to_string();
+    let e = trajectory(&square, &input(("2.1", "-0.9"), ("1", "0"), "1", 10), false)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("inside the disk at (2, -1)"), "{e}");
-    let e = trajectory(
-        &square,
-        &input(("0.5", "0.1"), ("0", "0"), "1", 10),
-        false,
-        &|_| {},
-    )
-    .unwrap_err()
-    .to_string();
+    let e = trajectory(&square, &input(("0.5", "0.1"), ("0", "0"), "1", 10), false)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("direction (0, 0) is zero"), "{e}");
     let tri = TriangularScene::exact(parse_exact("0.1").unwrap()).unwrap();
-    let e = trajectory(
-        &tri,
-        &input(("2.5", "0.1"), ("1", "0"), "1", 10),
-        false,
-        &|_| {},
-    )
-    .unwrap_err()
-    .to_string();
+    let e = trajectory(&tri, &input(("2.5", "0.1"), ("1", "0"), "1", 10), false)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("inside the disk at (2.1, 0)"), "{e}");
     for (t, d) in [("0", 10), ("-1", 10), ("1", 0), ("1", 10_001)] {
         assert!(
-            trajectory(
-                &square,
-                &input(("0.5", "0.1"), ("1", "0"), t, d),
-                false,
-                &|_| {}
-            )
-            .is_err(),
+            trajectory(&square, &input(("0.5", "0.1"), ("1", "0"), t, d), false,).is_err(),
             "time {t}, digits {d} accepted"
         );
     }
@@ -318,17 +308,7 @@ fn a_start_on_a_cell_boundary_gives_the_same_trajectory_from_either_side() {
     let (cell, p) = scene.locate::<Float>(256, &x, &y).unwrap();
     let world_x = Rational::from(cell.i) + p.x.to_rational().unwrap();
     assert_eq!(world_x, x);
-    let a = trajectory(
-        &scene,
-        &input(("1/2", "0.1"), ("1", "0"), "3", 40),
-        false,
-        &|_| {},
-    );
-    let b = trajectory(
-        &scene,
-        &input(("0.5", "1/10"), ("1", "0"), "3", 40),
-        false,
-        &|_| {},
-    );
+    let a = trajectory(&scene, &input(("1/2", "0.1"), ("1", "0"), "3", 40), false);
+    let b = trajectory(&scene, &input(("0.5", "1/10"), ("1", "0"), "3", 40), false);
     assert_eq!(a.unwrap().distance, b.unwrap().distance);
 }

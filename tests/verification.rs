@@ -179,7 +179,7 @@ fn near_surface_start_replays_within_the_model() {
 /// recorded worst events replay to the same verdict from their exact bit patterns.
 #[test]
 fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::shadow_audit::{audit_run, replay, AuditConfig};
+    use lorentz_gas::verification::shadow_audit::{self, replay, AuditConfig};
     for &w in &[0.02, 0.1, 0.3] {
         let scene = TriangularScene::new(w).unwrap();
         let cfg = AuditConfig {
@@ -190,7 +190,11 @@ fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
             bits: 128,
             seed: 7,
         };
-        let r = audit_run(&scene, &cfg, 2, &|_| {}).unwrap();
+        let two = RunOptions {
+            threads: 2,
+            ..RunOptions::default()
+        };
+        let r = shadow_audit::run(&scene, &cfg, &two).unwrap();
         assert!(r.summary.audited >= 100_000);
         assert_eq!(
             r.summary.outside,
@@ -270,12 +274,29 @@ fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
 /// e⁶⁹⁵, hundreds of collisions, far more than the 5 points a fit needs.)
 #[test]
 fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
-    use lorentz_gas::verification::lyapunov::{divergence, lyapunov};
+    use lorentz_gas::verification::divergence::{self, DivergenceConfig};
+    use lorentz_gas::verification::lyapunov::{self, LyapunovConfig};
     const STARTS: u32 = 8;
     for &w in &[0.05, 0.15, 0.3] {
         let scene = TriangularScene::new(w).unwrap();
-        let l = lyapunov(&scene, 200_000, 8, 3, 2, &|_| {}).unwrap();
-        let d = divergence(&scene, &[256, 1024], 4096, 1200, STARTS, 3, &|_| {}).unwrap();
+        let two = RunOptions {
+            threads: 2,
+            ..RunOptions::default()
+        };
+        let cfg = LyapunovConfig {
+            collisions: 200_000,
+            orbits: 8,
+            seed: 3,
+        };
+        let l = lyapunov::run(&scene, &cfg, &two).unwrap();
+        let cfg = DivergenceConfig {
+            bits: vec![256, 1024],
+            reference_bits: 4096,
+            collisions: 1200,
+            starts: STARTS,
+            seed: 3,
+        };
+        let d = divergence::run(&scene, &cfg, &two).unwrap();
         let last = d.last().unwrap();
         let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
         let t4 = |ea: f64, eb: f64| {
@@ -318,17 +339,15 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
 /// one for about 30 collisions (its divergence horizon).
 #[test]
 fn precision_doubling_certifies_a_segment() {
-    use lorentz_gas::verification::certify::certify;
-    let lat = TriangularLattice::new(0.1).unwrap();
-    let start = equilibrium_state(lat.trap(), &mut stream(31, 0));
-    let c = certify(
-        &TriangularScene::new(0.1).unwrap(),
-        &start,
-        300,
-        40,
-        &|_| {},
-    )
-    .unwrap();
+    use lorentz_gas::verification::certify::{self, CertifyConfig};
+    // The start of trajectory 0 of seed 31 (the scene's equilibrium sampler on stream (31, 0)).
+    let cfg = CertifyConfig {
+        collisions: 300,
+        digits: 40,
+        seed: 31,
+    };
+    let scene = TriangularScene::new(0.1).unwrap();
+    let c = certify::run(&scene, &cfg, &RunOptions::default()).unwrap();
     assert!(c.digits_agreed >= 40.0, "{c:?}");
     assert!(c.bits >= 400 && c.bits <= 1024, "{c:?}");
     assert!(

@@ -1,6 +1,6 @@
 //! `lorentz audit`: replay f64 events in MPFR and judge them against the one-step error model.
 
-use lorentz_gas::verification::shadow_audit::{audit_run, AuditConfig, AuditReport};
+use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
 use lorentz_gas::Error;
 
 use lorentz_gas::scenes::Scene;
@@ -43,12 +43,9 @@ pub fn run(a: Args) -> Result<(), Error> {
         seed: a.run.seed,
     };
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
-    let r = with_scene!(&choice, |s| audit_run(
-        s,
-        &cfg,
-        a.run.threads(),
-        &pb.callback()
-    ))?;
+    let opts = pb.options(a.run.threads());
+    let r = with_scene!(&choice, |s| shadow_audit::run(s, &cfg, &opts))?;
+    drop(opts);
     drop(pb);
     emit(a.output.json, &r, print)
 }

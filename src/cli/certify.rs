@@ -1,6 +1,6 @@
 //! `lorentz certify`: certify a segment by precision doubling.
 
-use lorentz_gas::verification::certify::certify_seeded;
+use lorentz_gas::verification::certify::{self, CertifyConfig};
 use lorentz_gas::Error;
 
 use super::args::{
@@ -30,13 +30,14 @@ pub fn run(a: Args) -> Result<(), Error> {
     // Two MPFR runs and one f64 run of the segment when the first precision suffices.
     let pb = Progress::new(3 * a.collisions as u64, "collisions", a.output.quiet);
     let choice = a.scene.resolve()?;
-    let c = with_scene!(&choice, |s| certify_seeded(
-        s,
-        a.seed,
-        a.collisions,
-        a.digits,
-        &pb.callback()
-    ))?;
+    let cfg = CertifyConfig {
+        collisions: a.collisions,
+        digits: a.digits,
+        seed: a.seed,
+    };
+    let opts = pb.options(1);
+    let c = with_scene!(&choice, |s| certify::run(s, &cfg, &opts))?;
+    drop(opts);
     drop(pb);
     emit(a.output.json, &c, |c| {
         println!(

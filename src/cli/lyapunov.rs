@@ -2,9 +2,11 @@
 
 use serde::Serialize;
 
+use lorentz_gas::verification::divergence::{
+    self, Divergence, DivergenceConfig, DIVERGENCE_REFERENCE_BITS,
+};
 use lorentz_gas::verification::lyapunov::{
-    divergence, lyapunov, Divergence, LyapunovReport, DIVERGENCE_BITS, DIVERGENCE_COLLISIONS,
-    DIVERGENCE_REFERENCE_BITS, TANGENT_TRANSIENT,
+    self, LyapunovConfig, LyapunovReport, TANGENT_TRANSIENT,
 };
 use lorentz_gas::Error;
 
@@ -50,26 +52,25 @@ pub fn run(a: Args) -> Result<(), Error> {
     let choice = a.scene.resolve()?;
     let total = (a.collisions.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.orbits as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
-    let tangent = with_scene!(&choice, |s| lyapunov(
-        s,
-        a.collisions,
-        a.orbits,
-        a.run.seed,
-        a.run.threads(),
-        &pb.callback(),
-    ))?;
+    let cfg = LyapunovConfig {
+        collisions: a.collisions,
+        orbits: a.orbits,
+        seed: a.run.seed,
+    };
+    let opts = pb.options(a.run.threads());
+    let tangent = with_scene!(&choice, |s| lyapunov::run(s, &cfg, &opts))?;
+    drop(opts);
     drop(pb);
     let divergence = if a.starts > 0 {
         let pb = Progress::new(a.starts as u64, "initial conditions", a.output.quiet);
-        let d = with_scene!(&choice, |s| divergence(
-            s,
-            &DIVERGENCE_BITS,
-            DIVERGENCE_REFERENCE_BITS,
-            DIVERGENCE_COLLISIONS,
-            a.starts,
-            a.run.seed,
-            &pb.callback(),
-        ))?;
+        let cfg = DivergenceConfig {
+            starts: a.starts,
+            seed: a.run.seed,
+            ..DivergenceConfig::new()
+        };
+        let opts = pb.options(1);
+        let d = with_scene!(&choice, |s| divergence::run(s, &cfg, &opts))?;
+        drop(opts);
         drop(pb);
         d
     } else {

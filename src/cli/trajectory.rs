@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use rug::Rational;
 
 use lorentz_gas::estimators::trajectory::{
-    plan, trajectory, TrajectoryInput, TrajectoryReport, MAX_DIGITS,
+    self, plan, TrajectoryInput, TrajectoryReport, MAX_DIGITS,
 };
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::square::SquareScene;
@@ -81,6 +81,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         dy,
         time: parse_exact(&a.time)?,
         digits: a.digits,
+        record_events: a.events.is_some(),
     };
     let refuse = |flag: &str, scene: &str| {
         Err(Error::Invalid(format!(
@@ -152,9 +153,8 @@ fn run_scene<S: lorentz_gas::scenes::Scene>(
         "collisions",
         quiet,
     );
-    let r = trajectory(scene, input, a.events.is_some(), &pb.callback());
-    drop(pb);
-    r
+    let opts = pb.options(1);
+    trajectory::run(scene, input, &opts)
 }
 
 fn write_events(path: &PathBuf, r: &TrajectoryReport) -> Result<(), Error> {

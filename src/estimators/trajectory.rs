@@ -21,12 +21,13 @@ use rug::{Float, Integer, Rational};
 use serde::Serialize;
 
 use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{flight::EventKind, flight::Flight};
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{CellIndex, LatticeState};
 use crate::scenes::Scene;
-use crate::verification::lyapunov::lyapunov;
+use crate::verification::lyapunov::{self, LyapunovConfig};
 use crate::Error;
 
 /// Most digits a trajectory may ask for: 10⁴ digits already need ≥ 33 000 bits before any
@@ -81,6 +82,8 @@ pub struct TrajectoryInput {
     pub time: Rational,
     /// Digits requested, 1 to [`MAX_DIGITS`].
     pub digits: u32,
+    /// Keep every event of the final run in the report (`--events`).
+    pub record_events: bool,
 }
 
 /// One event of the final run, for `--events`.
@@ -214,13 +217,17 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
             "time = {time:e} is out of range: it means about {expected_events:.2e} events, more than a certified run can afford in {MAX_SECONDS} s; use a shorter time"
         )));
     }
-    let lambda = lyapunov(
+    let lambda = lyapunov::run(
         scene,
-        PLAN_LAMBDA_COLLISIONS,
-        PLAN_LAMBDA_ORBITS,
-        PLAN_LAMBDA_SEED,
-        1,
-        &|_| {},
+        &LyapunovConfig {
+            collisions: PLAN_LAMBDA_COLLISIONS,
+            orbits: PLAN_LAMBDA_ORBITS,
+            seed: PLAN_LAMBDA_SEED,
+        },
+        &RunOptions {
+            threads: 1,
+            ..RunOptions::default()
+        },
     )?
     .per_collision;
     let need = digits_bits + expected_collisions * lambda / std::f64::consts::LN_2;
@@ -244,7 +251,7 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
 
 /// Runs the trajectory at precisions P, 2P, 4P, … until two consecutive runs go through the
 /// same events and agree to the requested digits; prints the 2P run's values with the certified
-/// digits. `record_events` keeps the events of the final run; `progress` receives collision
+/// digits. `input.record_events` keeps the events of the final run; `options.progress` receives collision
 /// counts.
 ///
 /// # Errors
@@ -255,7 +262,8 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
 /// ```no_run
 /// use lorentz_gas::numbers::exact::parse_exact;
 /// use lorentz_gas::scenes::square::SquareScene;
-/// use lorentz_gas::estimators::trajectory::{trajectory, TrajectoryInput};
+/// use lorentz_gas::engine::options::RunOptions;
+/// use lorentz_gas::estimators::trajectory::{self, TrajectoryInput};
 /// let scene = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();
 /// let input = TrajectoryInput {
 ///     x: parse_exact("1/2").unwrap(),
@@ -264,16 +272,18 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
 ///     dy: parse_exact("0").unwrap(),
 ///     time: parse_exact("10").unwrap(),
 ///     digits: 30,
+///     record_events: false,
 /// };
-/// let r = trajectory(&scene, &input, false, &|_| {}).unwrap();
+/// let r = trajectory::run(&scene, &input, &RunOptions::default()).unwrap();
 /// assert!(r.distance.starts_with("0.99526"));
 /// ```
-pub fn trajectory<S: Scene>(
+pub fn run<S: Scene>(
     scene: &S,
     input: &TrajectoryInput,
-    record_events: bool,
-    progress: &(dyn Fn(u64) + Sync),
+    options: &RunOptions,
 ) -> Result<TrajectoryReport, Error> {
+    options.validate()?;
+    let (record_events, progress) = (input.record_events, options.progress);
     let plan = plan(scene, input)?;
     let max_events = (plan.expected_events * EVENT_SLACK) as u64 + 10_000;
     let mut bits = plan.bits;

@@ -23,7 +23,9 @@ use crate::report::figures::{plot, PlotSpec, Series};
 use crate::scenes::lattice::TriangularLattice;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::triangular::equilibrium_state;
-use crate::verification::lyapunov::{divergence, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS};
+use crate::verification::divergence::{
+    self, DivergenceConfig, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS,
+};
 use crate::Error;
 
 /// One row of the report.
@@ -174,14 +176,19 @@ pub fn speed_against_error(
     let states = every_tenth.states;
     let tref = Trap::new(Float::with_val(ONE_STEP_REFERENCE_BITS, w))?;
     let bits_list = REPORT_BITS;
-    let div = divergence(
+    let div = divergence::run(
         &crate::scenes::triangular::TriangularScene::new(w)?,
-        &bits_list,
-        DIVERGENCE_REFERENCE_BITS,
-        DIVERGENCE_COLLISIONS,
-        HORIZON_STARTS,
-        seed,
-        &|_| {},
+        &DivergenceConfig {
+            bits: bits_list.to_vec(),
+            reference_bits: DIVERGENCE_REFERENCE_BITS,
+            collisions: DIVERGENCE_COLLISIONS,
+            starts: HORIZON_STARTS,
+            seed,
+        },
+        &RunOptions {
+            threads: 1,
+            ..RunOptions::default()
+        },
     )?;
     progress(1);
     let mut rows = Vec::new();

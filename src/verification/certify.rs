@@ -8,10 +8,11 @@
 //! from the same start follows the true one.
 
 use rug::Float;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-use super::lyapunov::{collision_track, lyapunov};
+use super::lyapunov::{collision_track, LyapunovConfig};
 use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
 use crate::scenes::lattice::LatticeState;
 use crate::scenes::Scene;
 use crate::Error;
@@ -116,29 +117,58 @@ pub fn starting_bits(lambda: f64, n: usize, digits: u32) -> Result<u32, Error> {
     )))
 }
 
-/// Certifies `n` collisions of the orbit from `start` (taken exactly) to `digits` digits.
-/// `progress` receives collision counts of the runs made.
-pub fn certify<S: Scene>(
-    scene: &S,
-    start: &LatticeState<f64>,
-    n: usize,
-    digits: u32,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Certificate, Error> {
-    certify_with_meta(scene, start, n, digits, None, progress)
+/// What a certification runs: `collisions` collisions from the start of trajectory 0 of seed
+/// `seed` (the first batch of `lorentz diffusion --seed SEED`) to `digits` digits.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CertifyConfig {
+    /// Collisions of the segment.
+    pub collisions: usize,
+    /// Digits certified (of every position and velocity at every collision).
+    pub digits: u32,
+    /// Seed of the equilibrium start.
+    pub seed: u64,
 }
 
-/// Certifies `n` collisions from the start of trajectory 0 of seed `seed` (the first batch of
-/// `lorentz diffusion --seed SEED`).
-pub fn certify_seeded<S: Scene>(
+impl CertifyConfig {
+    /// The command line's defaults: 1000 collisions to 30 digits from the seed-1 start.
+    pub fn new() -> Self {
+        CertifyConfig {
+            collisions: 1000,
+            digits: 30,
+            seed: 1,
+        }
+    }
+}
+
+impl Default for CertifyConfig {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Certifies the segment `cfg` of `scene` by precision doubling. `options.progress` receives
+/// collision counts of the runs made; the runs are sequential (the options' threads do not
+/// apply).
+///
+/// # Errors
+/// No collisions or digits, or a segment beyond the precision and memory limits (the error names
+/// the longest segment that fits).
+pub fn run<S: Scene>(
     scene: &S,
-    seed: u64,
-    n: usize,
-    digits: u32,
-    progress: &(dyn Fn(u64) + Sync),
+    cfg: &CertifyConfig,
+    options: &RunOptions,
 ) -> Result<Certificate, Error> {
-    let start = scene.sample(&mut crate::scenes::sampling::stream(seed, 0));
-    certify_with_meta(scene, &start, n, digits, Some(seed), progress)
+    options.validate()?;
+    let start = scene.sample(&mut crate::scenes::sampling::stream(cfg.seed, 0));
+    certify_with_meta(
+        scene,
+        &start,
+        cfg.collisions,
+        cfg.digits,
+        Some(cfg.seed),
+        options.progress,
+    )
 }
 
 fn certify_with_meta<S: Scene>(
@@ -155,13 +185,17 @@ fn certify_with_meta<S: Scene>(
     if digits == 0 {
         return Err(Error::Zero { what: "digits" });
     }
-    let lambda = lyapunov(
+    let lambda = super::lyapunov::run(
         scene,
-        CERTIFY_LAMBDA_COLLISIONS,
-        CERTIFY_LAMBDA_ORBITS,
-        CERTIFY_LAMBDA_SEED,
-        1,
-        &|_| {},
+        &LyapunovConfig {
+            collisions: CERTIFY_LAMBDA_COLLISIONS,
+            orbits: CERTIFY_LAMBDA_ORBITS,
+            seed: CERTIFY_LAMBDA_SEED,
+        },
+        &RunOptions {
+            threads: 1,
+            ..RunOptions::default()
+        },
     )?
     .per_collision;
     let mut bits = starting_bits(lambda, n, digits)?;

@@ -5,11 +5,12 @@
 //! * [`reversibility`]: forward N collisions, reverse, N back.
 //! * [`birkhoff`]: the collision map in Birkhoff coordinates and its Jacobian.
 //! * [`shadow_audit`]: the MPFR shadow audit of a production run's own trajectories.
-//! * [`lyapunov`], [`certify`]: chaos, certified segments.
+//! * [`lyapunov`], [`divergence`], [`certify`]: chaos, certified segments.
 //! * `oracle` (feature `oracle`): the fuzzing oracle (also run by `cargo test`).
 
 pub mod birkhoff;
 pub mod certify;
+pub mod divergence;
 pub mod lyapunov;
 #[cfg(feature = "oracle")]
 pub mod oracle;

@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use super::replay::{check_event, EventCheck};
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::AuditSpec;
+use crate::engine::options::{AuditSpec, RunOptions};
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
 use crate::observers::{EventLanes, Observer};
@@ -317,7 +317,7 @@ pub struct AuditConfig {
     pub seed: u64,
 }
 
-/// The result of [`audit_run`] (the CLI's `audit --json`).
+/// The result of [`run`] (the CLI's `audit --json`).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct AuditReport {
     /// What was run.
@@ -354,12 +354,16 @@ fn q3(h: &LogHistogram) -> [f64; 3] {
 
 /// Runs the audit `cfg` on `threads` threads (the result does not depend on them). `progress`
 /// receives collision counts.
-pub fn audit_run<S: Scene>(
+///
+/// Only `threads` and `progress` of the options apply (the audit's own sample rate and bits
+/// are in `cfg`).
+pub fn run<S: Scene>(
     scene: &S,
     cfg: &AuditConfig,
-    threads: usize,
-    progress: &(dyn Fn(u64) + Sync),
+    options: &RunOptions,
 ) -> Result<AuditReport, Error> {
+    options.validate()?;
+    let (threads, progress) = (options.threads, options.progress);
     use crate::engine::drive;
     use crate::observers::counters::CounterLanes;
     use crate::scenes::sampling::{stream, Purpose, StreamKey};
