@@ -3,9 +3,10 @@
 //! against the Einstein D. Tolerances: "4σ" over independent batches. A z-score whose standard
 //! error comes from the spread of n batch means is Student-t with n − 1 dof (Welch–Satterthwaite
 //! dof for the difference of two such estimates), so "4σ" is the Student-t quantile at the
-//! normal's two-sided 4σ tail probability 6.3·10⁻⁵ (`stats::normal_sigma_equivalent_t`; 15 dof:
+//! normal's two-sided 4σ tail probability 6.3·10⁻⁵ (`statistics::normal_sigma_equivalent_t`; 15 dof:
 //! 5.48, 30 dof: 4.65).
 
+use crate::common::{t4, t4_welch};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
@@ -58,19 +59,9 @@ fn z(a: f64, ea: f64, b: f64, eb: f64) -> f64 {
     (a - b).abs() / (ea * ea + eb * eb).sqrt()
 }
 
-/// The 4σ-equivalent bound for a mean of `n` batch means against an exact value.
 /// Batches of a result, from its metadata block.
 fn nb(m: &lorentz_gas::engine::metadata::RunMeta) -> u32 {
     m.batches.expect("batches in the metadata") as u32
-}
-
-fn t4(n: u32) -> f64 {
-    normal_sigma_equivalent_t(n as f64 - 1.0, 4.0)
-}
-
-/// The 4σ-equivalent bound for the difference of two independent batch means.
-fn t4_welch(ea: f64, na: u32, eb: f64, nb: u32) -> f64 {
-    normal_sigma_equivalent_t(welch_dof(ea, na as f64, eb, nb as f64), 4.0)
 }
 
 #[test]

@@ -60,13 +60,6 @@ fn merge_into(parts: &[PathBuf], out: &Path) -> Result<SweepReport, lorentz_gas:
     Ok(r)
 }
 
-fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lorentz-campaign-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
 fn config(seed: u64) -> SweepConfig {
     SweepConfig {
         w_from: "0.2".into(),
@@ -100,7 +93,8 @@ fn same_bytes(a: &Path, b: &Path) {
 
 #[test]
 fn shards_merged_equal_the_whole_sweep_bit_for_bit() {
-    let dir = scratch("equal");
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     let cfg = config(1);
     sweep_on(&cfg, &dir.join("whole"), Engine::Auto, 2);
     // Three parts on different engines and thread counts: 5 points dealt as {0, 3}, {1, 4}, {2}.
@@ -147,7 +141,8 @@ fn shards_merged_equal_the_whole_sweep_bit_for_bit() {
 
 #[test]
 fn merge_refuses_missing_duplicate_and_foreign_parts() {
-    let dir = scratch("refuse");
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     let part = |cfg: &SweepConfig, i: u32, n: u32, name: &str| {
         let d = dir.join(name);
         run_shard(cfg, Shard { index: i, count: n }, &d, Engine::Auto, 2);

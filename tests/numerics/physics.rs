@@ -111,7 +111,8 @@ fn same_seed_same_bits_any_thread_count() {
 /// the same bits as an uninterrupted run.
 #[test]
 fn checkpoint_resumes_finished_batches() {
-    let dir = std::env::temp_dir().join(format!("lorentz-ckpt-{}", std::process::id()));
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("run.jsonl");
     let _ = std::fs::remove_file(&path);

@@ -1,16 +1,8 @@
 //! `lorentz report`: a fresh result passes every check; a result with an edited number fails.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-mod common;
-use common::lorentz_in as lorentz;
-
-fn scratch() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lorentz-report-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::common::lorentz_in as lorentz;
 
 fn checks(dir: &Path, report: &str) -> Vec<(String, String, String)> {
     let text = std::fs::read_to_string(dir.join(report).join("report.json")).unwrap();
@@ -31,7 +23,8 @@ fn checks(dir: &Path, report: &str) -> Vec<(String, String, String)> {
 
 #[test]
 fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
-    let dir = scratch();
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     let (code, json, err) = lorentz(
         &dir,
         &[
@@ -109,7 +102,8 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
 #[test]
 #[ignore]
 fn quick_reproduction_writes_every_figure_and_resumes() {
-    let dir = std::env::temp_dir().join(format!("lorentz-reproduce-{}", std::process::id()));
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     let _ = std::fs::remove_dir_all(&dir);
     let out = dir.to_str().unwrap();
     let (code, _, err) = lorentz(
@@ -158,7 +152,8 @@ fn quick_reproduction_writes_every_figure_and_resumes() {
 
 #[test]
 fn other_results_are_re_run_from_their_command_line() {
-    let dir = std::env::temp_dir().join(format!("lorentz-report-bs-{}", std::process::id()));
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (code, json, err) = lorentz(

@@ -2,18 +2,9 @@
 //! valid range — never a panic, an abort or a file written — and every result carries the same
 //! metadata block; counts are typed as physicists type them; results do not depend on --threads.
 
-use std::path::PathBuf;
 use std::process::Command;
 
-mod common;
-use common::lorentz_in;
-
-fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lorentz-cli-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::common::lorentz_in;
 
 /// (arguments, a word the one-line message must contain)
 const BAD: &[(&[&str], &str)] = &[
@@ -445,7 +436,8 @@ const BAD: &[(&[&str], &str)] = &[
 
 #[test]
 fn bad_input_is_refused_with_status_2_one_line_and_no_files() {
-    let dir = scratch("bad");
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     let mut failures = Vec::new();
     for (args, needle) in BAD {
         let (code, out, err) = lorentz_in(&dir, args);
@@ -510,7 +502,8 @@ fn simd_path_override_is_checked_and_reported() {
 /// written as 2e6 and 2_000_000, and --quiet accepted everywhere.
 #[test]
 fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadata_block() {
-    let dir = scratch("good");
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     let runs: &[&[&str]] = &[
         &[
             "diffusion",
@@ -702,7 +695,8 @@ fn physics(mut v: serde_json::Value) -> serde_json::Value {
 
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
-    let dir = scratch("threads");
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     for base in [
         &["audit", "--w", "0.1", "--collisions", "1e5", "--json"][..],
         &[
@@ -752,7 +746,8 @@ fn results_do_not_depend_on_the_thread_count() {
 
 #[test]
 fn json_outputs_have_the_documented_keys() {
-    let dir = scratch("keys");
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     let (code, out, err) = lorentz_in(
         &dir,
         &[

@@ -19,7 +19,7 @@ use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::Scene;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use proptest::test_runner::TestRunner;
 use rand::Rng;
 use rug::{Float, Rational};
 
@@ -114,12 +114,7 @@ fn no_collision_is_missed() {
 }
 
 fn runner(cases: u32) -> TestRunner {
-    let cfg = Config {
-        cases,
-        failure_persistence: None,
-        ..Config::default()
-    };
-    TestRunner::new_with_rng(cfg, TestRng::from_seed(RngAlgorithm::ChaCha, &[9; 32]))
+    crate::common::runner(cases, 9)
 }
 
 /// A free start in the cell from three numbers in [0, 1) (a walk until outside the disk, so that

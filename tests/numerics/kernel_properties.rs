@@ -13,7 +13,7 @@ use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight, trap::Trap};
 use lorentz_gas::numbers::real::Real;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use proptest::test_runner::TestRunner;
 use rug::Float;
 
 /// A free start in the canonical trap from three numbers in [0, 1): position by reflection of
@@ -39,12 +39,7 @@ fn start(w: f64, u1: f64, u2: f64, u3: f64) -> Option<Flight<f64>> {
 }
 
 fn runner(cases: u32) -> TestRunner {
-    let cfg = Config {
-        cases,
-        failure_persistence: None,
-        ..Config::default()
-    };
-    TestRunner::new_with_rng(cfg, TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]))
+    crate::common::runner(cases, 7)
 }
 
 macro_rules! kernel_properties {

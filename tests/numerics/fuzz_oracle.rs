@@ -17,15 +17,10 @@ use lorentz_gas::verification::oracle::{
     step_lattice, PrimitiveCase, SceneParams,
 };
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use proptest::test_runner::{RngAlgorithm, TestRng, TestRunner};
 
 fn runner(cases: u32) -> TestRunner {
-    let cfg = Config {
-        cases,
-        failure_persistence: None,
-        ..Config::default()
-    };
-    TestRunner::new_with_rng(cfg, TestRng::from_seed(RngAlgorithm::ChaCha, &[11; 32]))
+    crate::common::runner(cases, 11)
 }
 
 /// Byte vectors of any length up to 64 (the decoders read at most ~40 bytes; shorter inputs

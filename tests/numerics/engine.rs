@@ -318,7 +318,8 @@ fn packed_runs_equal_single_runs_and_resume_from_their_journal() {
             )
         })
         .collect();
-    let dir = std::env::temp_dir().join(format!("lorentz-journal-{}", std::process::id()));
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     std::fs::create_dir_all(&dir).unwrap();
     let journal = dir.join("point.partial");
     let journaled = RunOptions {

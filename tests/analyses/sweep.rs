@@ -30,7 +30,8 @@ fn sweep_into(cfg: &SweepConfig, dir: &std::path::Path, threads: usize) -> sweep
 
 #[test]
 fn an_interrupted_sweep_resumes_without_redoing_points() {
-    let dir = std::env::temp_dir().join(format!("lorentz-sweep-{}", std::process::id()));
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
     let _ = std::fs::remove_dir_all(&dir);
     let cfg = SweepConfig {
         w_from: "0.08".into(),

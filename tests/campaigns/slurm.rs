@@ -90,7 +90,8 @@ fn sweep_sharded_over_a_real_slurm_cluster_equals_the_sweep_in_one_piece() {
         eprintln!("skipped: no Slurm here: {why}");
         return;
     }
-    let root = std::env::temp_dir().join(format!("lorentz-slurm-{}", std::process::id()));
+    let tmp = crate::common::scratch();
+    let root = tmp.path().to_path_buf();
     let _ = std::fs::remove_dir_all(&root);
     std::fs::create_dir_all(&root).unwrap();
     let cluster = Cluster {

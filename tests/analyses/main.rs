@@ -1,0 +1,13 @@
+//! The analyses through the library: sweeps, the escape-rate estimator, trap hopping and the
+//! corrected hierarchy, each against exact values or a second estimator with Student-t bounds.
+//!
+//! One test binary with one module per topic (one link of the library with static GMP/MPFR
+//! instead of one per file); helpers shared by every binary are in `tests/common`.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod escape;
+mod hopping;
+mod sweep;
+mod theory;

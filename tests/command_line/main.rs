@@ -1,0 +1,10 @@
+//! The `lorentz` binary: bad input, metadata, thread independence, and the publication audit.
+//!
+//! One test binary with one module per topic (one link of the library with static GMP/MPFR
+//! instead of one per file); helpers shared by every binary are in `tests/common`.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod commands;
+mod report;

@@ -1,0 +1,21 @@
+//! The numerical-correctness suite: the kernel's properties per scalar type, bit-for-bit
+//! agreement of every path (MPFR-53, generic f64, SIMD), hard cases, physics identities, scenes,
+//! certified trajectories, the fuzz oracle, shadowing and the shadow audits.
+//!
+//! One test binary with one module per topic (one link of the library with static GMP/MPFR
+//! instead of one per file); helpers shared by every binary are in `tests/common`.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod bit_for_bit;
+mod engine;
+mod fuzz_oracle;
+mod hard_cases;
+mod kernel_properties;
+mod physics;
+mod scenes;
+mod shadowing;
+mod square;
+mod trajectory;
+mod verification;
