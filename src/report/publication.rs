@@ -1232,6 +1232,7 @@ fn histogram(x: &[f64], mean: f64, stem: &Path) -> Result<(), Error> {
     )
 }
 
+/// The checks of a `sweep` result (see the module documentation), in order.
 fn sweep_checks(value: &serde_json::Value, ctx: Ctx<'_>, checks: &mut Checks) -> Result<(), Error> {
     let bad_file = |e: String| Error::Invalid(format!("not a sweep result: {e}"));
     let cfg: SweepConfig =
