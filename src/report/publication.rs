@@ -39,7 +39,9 @@ use sha2::{Digest, Sha256};
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOptions};
 use crate::engine::Engine;
-use crate::estimators::diffusion::{batch_d, rerun_batches, DiffusionConfig, DiffusionReport};
+use crate::estimators::diffusion::{
+    batch_d, rerun_batches, BatchResult, DiffusionConfig, DiffusionReport,
+};
 use crate::estimators::sweep::SweepConfig;
 use crate::numbers::precision::Precision;
 use crate::report::figures::{plot, PlotSpec, Series};
@@ -256,86 +258,30 @@ pub fn audit_result_file(
     progress: &(dyn Fn(u64) + Sync),
     rerun: Option<Rerun<'_>>,
 ) -> Result<PublicationReport, Error> {
-    {
-        use crate::engine::options::{MAX_AUDIT_BITS, MIN_AUDIT_BITS};
-        if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&opts.bits) {
-            return Err(Error::Invalid(format!(
-                "bits = {}: use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} (the shadow audit needs at least {MIN_AUDIT_BITS})",
-                opts.bits
-            )));
-        }
-    }
+    check_bits(opts.bits)?;
     let start = std::time::Instant::now();
-    let bytes = std::fs::read(path).map_err(|e| {
-        Error::Invalid(format!(
-            "{}: cannot read the result file ({e})",
-            path.display()
-        ))
-    })?;
-    let value: serde_json::Value = serde_json::from_slice(&bytes).map_err(|e| {
-        Error::Invalid(format!(
-            "{}: not a JSON result of lorentz ({e}); write one with --json",
-            path.display()
-        ))
-    })?;
-    let recorded: Option<RunMeta> = value
-        .get("meta")
-        .and_then(|m| serde_json::from_value(m.clone()).ok());
-    let kind = recorded
-        .as_ref()
-        .and_then(|m| m.command_line.get(1).cloned())
-        .ok_or_else(|| {
-            Error::Invalid(format!(
-                "{}: no meta block with a command line: not a result file of lorentz --json",
-                path.display()
-            ))
-        })?;
-    let sha = sha256_hex(&bytes);
+    let file = ResultFile::read(path)?;
+    let sha = sha256_hex(&file.bytes);
     std::fs::create_dir_all(out)?;
     let mut checks = Checks(Vec::new());
     let mut figures = Vec::new();
-    checks.add(
-        "provenance",
-        "result file identified",
-        Verdict::Pass,
-        format!(
-            "{} result, SHA-256 {sha}; recorded by lorentz {} ({} engine{}, {} threads, seed {})",
-            kind,
-            recorded.as_ref().map_or("?", |m| m.version.as_str()),
-            recorded.as_ref().map_or("?", |m| m.engine.as_str()),
-            recorded
-                .as_ref()
-                .and_then(|m| m.simd.as_ref())
-                .map_or(String::new(), |s| format!(" {s}")),
-            recorded
-                .as_ref()
-                .and_then(|m| m.threads)
-                .map_or("?".into(), |t| t.to_string()),
-            recorded
-                .as_ref()
-                .and_then(|m| m.seed)
-                .map_or("-".into(), |s| s.to_string()),
-        ),
-        &[],
-    );
-    match kind.as_str() {
+    identification_check(&mut checks, &file.kind, &sha, file.recorded.as_ref());
+    let ctx = Ctx {
+        sha: &sha,
+        out,
+        opts,
+        planned,
+        progress,
+    };
+    match file.kind.as_str() {
         "diffusion" => {
-            let r: DiffusionReport = serde_json::from_value(value).map_err(|e| {
+            let r: DiffusionReport = serde_json::from_value(file.value).map_err(|e| {
                 Error::Invalid(format!("{}: not a diffusion result ({e})", path.display()))
             })?;
-            diffusion_checks(
-                &r,
-                &sha,
-                out,
-                opts,
-                &mut checks,
-                &mut figures,
-                planned,
-                progress,
-            )?;
+            diffusion_checks(&r, ctx, &mut checks, &mut figures)?;
         }
-        "sweep" => sweep_checks(&value, &sha, opts, &mut checks, planned, progress)?,
-        other => other_checks(other, &value, opts, &mut checks, rerun),
+        "sweep" => sweep_checks(&file.value, ctx, &mut checks)?,
+        other => other_checks(other, &file.value, opts, &mut checks, rerun),
     }
     let verdict = if checks.0.iter().any(|c| c.verdict == Verdict::Fail) {
         Verdict::Fail
@@ -347,8 +293,8 @@ pub fn audit_result_file(
         provenance: Provenance {
             result_file: path.display().to_string(),
             sha256: sha,
-            kind,
-            recorded,
+            kind: file.kind,
+            recorded: file.recorded,
             version: env!("CARGO_PKG_VERSION").into(),
             git_commit: env!("LORENTZ_GIT_COMMIT").into(),
             rustc: env!("LORENTZ_RUSTC_VERSION").into(),
@@ -361,6 +307,97 @@ pub fn audit_result_file(
         seconds: start.elapsed().as_secs_f64(),
         meta: RunMeta::new(None, None, Precision::Bits(opts.bits), Some(opts.threads)),
     })
+}
+
+/// What every check of one audit shares: the file's digest, where figures go, the settings, and
+/// where re-runs report their planned and finished collisions.
+#[derive(Clone, Copy)]
+struct Ctx<'a> {
+    sha: &'a str,
+    out: &'a Path,
+    opts: Options,
+    planned: &'a dyn Fn(u64),
+    progress: &'a (dyn Fn(u64) + Sync),
+}
+
+/// Refuses an MPFR precision outside what the shadow audit accepts.
+fn check_bits(bits: u32) -> Result<(), Error> {
+    use crate::engine::options::{MAX_AUDIT_BITS, MIN_AUDIT_BITS};
+    if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&bits) {
+        return Err(Error::Invalid(format!(
+            "bits = {bits}: use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} (the shadow audit needs at least {MIN_AUDIT_BITS})"
+        )));
+    }
+    Ok(())
+}
+
+/// A result file as read: its bytes, its JSON, its recorded `meta` and the command that wrote it.
+struct ResultFile {
+    bytes: Vec<u8>,
+    value: serde_json::Value,
+    recorded: Option<RunMeta>,
+    kind: String,
+}
+
+impl ResultFile {
+    /// Reads and parses `path`, refusing files that are not JSON results of lorentz.
+    fn read(path: &Path) -> Result<Self, Error> {
+        let bytes = std::fs::read(path).map_err(|e| {
+            Error::Invalid(format!(
+                "{}: cannot read the result file ({e})",
+                path.display()
+            ))
+        })?;
+        let value: serde_json::Value = serde_json::from_slice(&bytes).map_err(|e| {
+            Error::Invalid(format!(
+                "{}: not a JSON result of lorentz ({e}); write one with --json",
+                path.display()
+            ))
+        })?;
+        let recorded: Option<RunMeta> = value
+            .get("meta")
+            .and_then(|m| serde_json::from_value(m.clone()).ok());
+        let kind = recorded
+            .as_ref()
+            .and_then(|m| m.command_line.get(1).cloned())
+            .ok_or_else(|| {
+                Error::Invalid(format!(
+                    "{}: no meta block with a command line: not a result file of lorentz --json",
+                    path.display()
+                ))
+            })?;
+        Ok(ResultFile {
+            bytes,
+            value,
+            recorded,
+            kind,
+        })
+    }
+}
+
+/// The provenance check: which result this is, by whom and how it was recorded.
+fn identification_check(checks: &mut Checks, kind: &str, sha: &str, recorded: Option<&RunMeta>) {
+    checks.add(
+        "provenance",
+        "result file identified",
+        Verdict::Pass,
+        format!(
+            "{} result, SHA-256 {sha}; recorded by lorentz {} ({} engine{}, {} threads, seed {})",
+            kind,
+            recorded.map_or("?", |m| m.version.as_str()),
+            recorded.map_or("?", |m| m.engine.as_str()),
+            recorded
+                .and_then(|m| m.simd.as_ref())
+                .map_or(String::new(), |s| format!(" {s}")),
+            recorded
+                .and_then(|m| m.threads)
+                .map_or("?".into(), |t| t.to_string()),
+            recorded
+                .and_then(|m| m.seed)
+                .map_or("-".into(), |s| s.to_string()),
+        ),
+        &[],
+    );
 }
 
 /// Fields of a result that legitimately differ between two runs of the same command: the
@@ -386,58 +423,12 @@ fn other_checks(
     checks: &mut Checks,
     rerun: Option<Rerun<'_>>,
 ) {
-    let num = |k: &str| value[k].as_f64();
-    let batches = value["meta"]["batches"]
-        .as_f64()
-        .unwrap_or(f64::INFINITY)
-        .max(2.0);
     if kind == "backscatter" {
-        let bound = normal_sigma_equivalent_t(batches - 1.0, SIGMAS);
-        for (name, k, w_exact) in [
-            (
-                "mean visit time = τ (Kac)",
-                "mean_visit_time",
-                "mean_visit_time_exact",
-            ),
-            (
-                "collisions per visit = π/(3w) (Kac)",
-                "mean_collisions_per_visit",
-                "mean_collisions_per_visit_exact",
-            ),
-        ] {
-            let (Some(v), Some(e), Some(x), Some(w)) =
-                (num(k), num(&format!("{k}_err")), num(w_exact), num("w"))
-            else {
-                continue;
-            };
-            let exact = Geometry::new(w).map(|g| {
-                if k == "mean_visit_time" {
-                    g.hop_time()
-                } else {
-                    g.collisions_per_hop()
-                }
-            });
-            let closed = exact.as_ref().is_ok_and(|c| c.to_bits() == x.to_bits());
-            let z = (v - x) / e;
-            checks.pass_if(
-                z.abs() <= bound && closed,
-                "identities",
-                name,
-                format!(
-                    "{v} ± {e:.1e} against exact {x} ({z:+.2}σ; bound {bound:.2}σ){}",
-                    if closed {
-                        ""
-                    } else {
-                        "; the recorded exact value is not the closed form"
-                    }
-                ),
-                &[("value", v), ("err", e), ("exact", x)],
-            );
-        }
+        backscatter_identity_checks(value, checks);
     }
     let work = ["collisions", "visits", "events"]
         .iter()
-        .find_map(|k| num(k))
+        .find_map(|k| value[k].as_f64())
         .unwrap_or(f64::INFINITY);
     let name = "the recorded command re-run gives the same bits";
     let Some(rerun) = rerun else {
@@ -469,50 +460,8 @@ fn other_checks(
                 .collect()
         })
         .unwrap_or_default();
-    let strip = |v: &serde_json::Value| {
-        let mut v = v.clone();
-        if let Some(o) = v.as_object_mut() {
-            for k in VOLATILE_FIELDS {
-                o.remove(k);
-            }
-        }
-        v
-    };
     match rerun(&args) {
-        Ok(again) => {
-            let (a, b) = (strip(value), strip(&again));
-            let differ: Vec<String> = a
-                .as_object()
-                .map(|o| {
-                    o.iter()
-                        .filter(|(k, v)| b.get(k.as_str()) != Some(v))
-                        .map(|(k, _)| k.clone())
-                        .collect()
-                })
-                .unwrap_or_default();
-            checks.pass_if(
-                differ.is_empty() && a == b,
-                "reproducibility",
-                name,
-                if differ.is_empty() && a == b {
-                    format!(
-                        "`lorentz {}` again: every field identical (timing and metadata aside)",
-                        args.join(" ")
-                    )
-                } else {
-                    format!(
-                        "`lorentz {}` again: {} differ",
-                        args.join(" "),
-                        if differ.is_empty() {
-                            "the fields".to_string()
-                        } else {
-                            differ.join(", ")
-                        }
-                    )
-                },
-                &[("work", work)],
-            );
-        }
+        Ok(again) => rerun_identical_check(value, &again, &args, work, checks),
         Err(e) => checks.add(
             "reproducibility",
             name,
@@ -521,6 +470,112 @@ fn other_checks(
             &[],
         ),
     }
+}
+
+/// A `backscatter` result's Kac identities: mean visit time and collisions per visit against
+/// their closed forms.
+fn backscatter_identity_checks(value: &serde_json::Value, checks: &mut Checks) {
+    let num = |k: &str| value[k].as_f64();
+    let batches = value["meta"]["batches"]
+        .as_f64()
+        .unwrap_or(f64::INFINITY)
+        .max(2.0);
+    let bound = normal_sigma_equivalent_t(batches - 1.0, SIGMAS);
+    for (name, k, w_exact) in [
+        (
+            "mean visit time = τ (Kac)",
+            "mean_visit_time",
+            "mean_visit_time_exact",
+        ),
+        (
+            "collisions per visit = π/(3w) (Kac)",
+            "mean_collisions_per_visit",
+            "mean_collisions_per_visit_exact",
+        ),
+    ] {
+        let (Some(v), Some(e), Some(x), Some(w)) =
+            (num(k), num(&format!("{k}_err")), num(w_exact), num("w"))
+        else {
+            continue;
+        };
+        let exact = Geometry::new(w).map(|g| {
+            if k == "mean_visit_time" {
+                g.hop_time()
+            } else {
+                g.collisions_per_hop()
+            }
+        });
+        let closed = exact.as_ref().is_ok_and(|c| c.to_bits() == x.to_bits());
+        let z = (v - x) / e;
+        checks.pass_if(
+            z.abs() <= bound && closed,
+            "identities",
+            name,
+            format!(
+                "{v} ± {e:.1e} against exact {x} ({z:+.2}σ; bound {bound:.2}σ){}",
+                if closed {
+                    ""
+                } else {
+                    "; the recorded exact value is not the closed form"
+                }
+            ),
+            &[("value", v), ("err", e), ("exact", x)],
+        );
+    }
+}
+
+/// `value` without the fields that differ between two runs of the same command.
+fn strip_volatile(v: &serde_json::Value) -> serde_json::Value {
+    let mut v = v.clone();
+    if let Some(o) = v.as_object_mut() {
+        for k in VOLATILE_FIELDS {
+            o.remove(k);
+        }
+    }
+    v
+}
+
+/// The re-run check: the recorded result `value` and the re-run's `again` identical in every
+/// field but timing and metadata.
+fn rerun_identical_check(
+    value: &serde_json::Value,
+    again: &serde_json::Value,
+    args: &[String],
+    work: f64,
+    checks: &mut Checks,
+) {
+    let (a, b) = (strip_volatile(value), strip_volatile(again));
+    let differ: Vec<String> = a
+        .as_object()
+        .map(|o| {
+            o.iter()
+                .filter(|(k, v)| b.get(k.as_str()) != Some(v))
+                .map(|(k, _)| k.clone())
+                .collect()
+        })
+        .unwrap_or_default();
+    checks.pass_if(
+        differ.is_empty() && a == b,
+        "reproducibility",
+        "the recorded command re-run gives the same bits",
+        if differ.is_empty() && a == b {
+            format!(
+                "`lorentz {}` again: every field identical (timing and metadata aside)",
+                args.join(" ")
+            )
+        } else {
+            format!(
+                "`lorentz {}` again: {} differ",
+                args.join(" "),
+                if differ.is_empty() {
+                    "the fields".to_string()
+                } else {
+                    differ.join(", ")
+                }
+            )
+        },
+        &[("work", work)],
+    );
 }
 
 /// A batch index chosen by the file's digest: not known in advance to whoever edits the file.
@@ -540,16 +595,12 @@ fn chi2_upper_p(x: f64, dof: f64) -> f64 {
     ChiSquared::new(dof).map_or(f64::NAN, |c| c.sf(x))
 }
 
-#[allow(clippy::too_many_arguments)]
+/// The checks of a `diffusion` result (see the module documentation), in order.
 fn diffusion_checks(
     r: &DiffusionReport,
-    sha: &str,
-    out: &Path,
-    opts: Options,
+    ctx: Ctx<'_>,
     checks: &mut Checks,
     figures: &mut Vec<String>,
-    planned: &dyn Fn(u64),
-    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(), Error> {
     let Some(cfg) = r.config.clone() else {
         checks.add(
@@ -562,7 +613,50 @@ fn diffusion_checks(
         return Ok(());
     };
     let n = r.batch_D.len();
-    // --- record ---------------------------------------------------------------------------
+    record_check(r, &cfg, checks);
+    if n < 8 {
+        checks.add(
+            "statistics",
+            "batch statistics",
+            Verdict::Skip,
+            format!("{n} batches: the consistency checks need at least 8"),
+            &[],
+        );
+    } else {
+        batch_statistics(r, checks);
+    }
+    fit_window_check(r, checks);
+    diffusion_figures(r, ctx.out, figures)?;
+    let g = Geometry::new(cfg.w)?;
+    identity_checks(r, &g, checks);
+    // --- re-runs: reproducibility with the shadow audit, precision independence ---------------
+    let plan = RerunPlan::new(&cfg, ctx)?;
+    (ctx.planned)(plan.collisions + 2 * plan.short);
+    let can_audit = cfg.precision == Precision::F64;
+    let audit = if can_audit {
+        Some(AuditSpec::new(plan.rate, ctx.opts.bits)?)
+    } else {
+        None
+    };
+    let again = rerun_batches(
+        &cfg,
+        &plan.batches,
+        plan.engine,
+        ctx.opts.threads,
+        audit,
+        ctx.progress,
+    )?;
+    rerun_batches_check(r, &cfg, g.hop_time(), &plan, &again, ctx.opts, checks);
+    shadow_audit_check(&again, ctx.opts, checks);
+    precision_independence(&cfg, r, plan.short, ctx.opts, checks, ctx.progress)?;
+    shadowing_certificate(&cfg, &plan.batches, ctx.opts, checks)?;
+    Ok(())
+}
+
+/// The record check: D, its errors, D_check and MSD/(4t) recomputed from the per-batch values
+/// give the recorded bits.
+fn record_check(r: &DiffusionReport, cfg: &DiffusionConfig, checks: &mut Checks) {
+    let n = r.batch_D.len();
     let ((d, de), (dc, dce)) = r.d_from_batches();
     let mut bad = Vec::new();
     if n != cfg.batches as usize || r.batch_D_check.len() != n || r.batch_msd.len() != n {
@@ -604,18 +698,11 @@ fn diffusion_checks(
         },
         &[("batches", n as f64)],
     );
-    if n < 8 {
-        checks.add(
-            "statistics",
-            "batch statistics",
-            Verdict::Skip,
-            format!("{n} batches: the consistency checks need at least 8"),
-            &[],
-        );
-    } else {
-        batch_statistics(r, checks);
-    }
-    // --- fit window and D(t) ----------------------------------------------------------------
+}
+
+/// The fit window: D against D_check, paired over batches.
+fn fit_window_check(r: &DiffusionReport, checks: &mut Checks) {
+    let n = r.batch_D.len();
     let diffs: Vec<f64> = r
         .batch_D
         .iter()
@@ -634,6 +721,15 @@ fn diffusion_checks(
         ),
         &[("difference", md), ("difference_err", sd)],
     );
+}
+
+/// The figures of a diffusion audit: the local slope D(t) with the recorded D, and the histogram
+/// of the batch values.
+fn diffusion_figures(
+    r: &DiffusionReport,
+    out: &Path,
+    figures: &mut Vec<String>,
+) -> Result<(), Error> {
     let slope_series = local_slopes(r);
     let t_first = r.msd_times.first().copied().unwrap_or(0.0);
     let t_last = r.msd_times.last().copied().unwrap_or(t_first);
@@ -682,8 +778,13 @@ fn diffusion_checks(
     figures.push("local-slope".into());
     histogram(&r.batch_D, r.D, &out.join("batch-histogram"))?;
     figures.push("batch-histogram".into());
-    // --- exact identities ------------------------------------------------------------------
-    let g = Geometry::new(cfg.w)?;
+    Ok(())
+}
+
+/// The exact identities of the same run (mean free path, hop time, collisions per hop), each
+/// within the 4σ bound of its batch error.
+fn identity_checks(r: &DiffusionReport, g: &Geometry<f64>, checks: &mut Checks) {
+    let n = r.batch_D.len();
     // Errors from n batches: the 4σ bound is the Student-t quantile at the normal 4σ tail.
     let bound_n = normal_sigma_equivalent_t((n.max(2) - 1) as f64, SIGMAS);
     for (name, v, e, exact, recorded_exact) in [
@@ -727,46 +828,72 @@ fn diffusion_checks(
             &[("value", v), ("err", e), ("exact", exact)],
         );
     }
-    // --- re-runs: reproducibility with the shadow audit, precision independence ---------------
-    let rerun: Vec<u32> = if opts.quick {
-        vec![batch_from_digest(sha, cfg.batches)]
-    } else {
-        (0..cfg.batches).collect()
-    };
-    let per_batch = cfg.collisions / cfg.batches as u64;
-    let rerun_collisions = per_batch * rerun.len() as u64;
-    let events = if opts.quick {
-        AUDIT_EVENTS_QUICK
-    } else {
-        AUDIT_EVENTS_FULL
-    };
-    let rate = (events / rerun_collisions.max(1) as f64).clamp(1e-9, 1.0);
-    let min = precision_min_collisions(&cfg)?;
-    let len = if opts.quick {
-        PRECISION_LENGTH_QUICK
-    } else {
-        PRECISION_LENGTH_FULL
-    };
-    let short = ((min as f64) * len).ceil() as u64;
-    planned(rerun_collisions + 2 * short);
+}
 
-    let can_audit = cfg.precision == Precision::F64;
-    let audit = if can_audit {
-        Some(AuditSpec::new(rate, opts.bits)?)
-    } else {
-        None
-    };
-    // One batch alone runs fastest on the scalar engine (a SIMD block would carry 15 idle
-    // lanes); all batches on the SIMD engine. Both give the same bits.
-    let engine = if rerun.len() == 1 {
-        Engine::Scalar
-    } else {
-        Engine::Auto
-    };
-    let again = rerun_batches(&cfg, &rerun, engine, opts.threads, audit, progress)?;
-    let tau = g.hop_time();
+/// What the audit re-runs: which batches on which engine, their collisions, the shadow audit's
+/// replay rate and the length of the precision-independence runs.
+struct RerunPlan {
+    batches: Vec<u32>,
+    engine: Engine,
+    collisions: u64,
+    rate: f64,
+    short: u64,
+}
+
+impl RerunPlan {
+    /// One batch chosen by the digest with `quick`, every batch otherwise.
+    fn new(cfg: &DiffusionConfig, ctx: Ctx<'_>) -> Result<Self, Error> {
+        let opts = ctx.opts;
+        let batches: Vec<u32> = if opts.quick {
+            vec![batch_from_digest(ctx.sha, cfg.batches)]
+        } else {
+            (0..cfg.batches).collect()
+        };
+        let per_batch = cfg.collisions / cfg.batches as u64;
+        let collisions = per_batch * batches.len() as u64;
+        let events = if opts.quick {
+            AUDIT_EVENTS_QUICK
+        } else {
+            AUDIT_EVENTS_FULL
+        };
+        let rate = (events / collisions.max(1) as f64).clamp(1e-9, 1.0);
+        let min = precision_min_collisions(cfg)?;
+        let len = if opts.quick {
+            PRECISION_LENGTH_QUICK
+        } else {
+            PRECISION_LENGTH_FULL
+        };
+        let short = ((min as f64) * len).ceil() as u64;
+        // One batch alone runs fastest on the scalar engine (a SIMD block would carry 15 idle
+        // lanes); all batches on the SIMD engine. Both give the same bits.
+        let engine = if batches.len() == 1 {
+            Engine::Scalar
+        } else {
+            Engine::Auto
+        };
+        Ok(RerunPlan {
+            batches,
+            engine,
+            collisions,
+            rate,
+            short,
+        })
+    }
+}
+
+/// The re-run batches give the recorded D and D_check of each batch to the last bit.
+fn rerun_batches_check(
+    r: &DiffusionReport,
+    cfg: &DiffusionConfig,
+    tau: f64,
+    plan: &RerunPlan,
+    again: &[BatchResult],
+    opts: Options,
+    checks: &mut Checks,
+) {
+    let rerun = &plan.batches;
     let mut differ = Vec::new();
-    for b in &again {
+    for b in again {
         let (bd, bdc) = batch_d(b, tau, &cfg.window, &cfg.check_window);
         let i = b.index as usize;
         let rec = (r.batch_D.get(i).copied(), r.batch_D_check.get(i).copied());
@@ -788,14 +915,18 @@ fn diffusion_checks(
                 "batch{} {} ({} collisions) re-run on the {} engine: D of each batch identical to the last bit",
                 if rerun.len() == 1 { "" } else { "es" },
                 if rerun.len() <= 4 { format!("{rerun:?}") } else { format!("0..{}", rerun.len() - 1) },
-                rerun_collisions,
-                engine.name()
+                plan.collisions,
+                plan.engine.name()
             )
         } else {
             format!("{} of {} re-run batches differ: {}", differ.len(), rerun.len(), differ.iter().take(3).cloned().collect::<Vec<_>>().join("; "))
         },
         &[("batches_rerun", rerun.len() as f64)],
     );
+}
+
+/// The shadow audit of the re-run batches' events: none outside the error model.
+fn shadow_audit_check(again: &[BatchResult], opts: Options, checks: &mut Checks) {
     match again.iter().filter_map(|b| b.audit.clone()).reduce(|mut a, b| {
         a.merge(&b);
         a
@@ -822,9 +953,6 @@ fn diffusion_checks(
             &[],
         ),
     }
-    precision_independence(&cfg, r, short, opts, checks, progress)?;
-    shadowing_certificate(&cfg, &rerun, opts, checks)?;
-    Ok(())
 }
 
 /// Collisions per shadowed segment: long enough that the f64 orbit has left any orbit started
@@ -942,6 +1070,13 @@ fn precision_independence(
 /// The between-group χ², the most extreme batch, and batch against block errors.
 fn batch_statistics(r: &DiffusionReport, checks: &mut Checks) {
     let x = &r.batch_D;
+    between_groups_check(x, checks);
+    outlier_check(x, checks);
+    block_error_checks(x, checks);
+}
+
+/// The between-group χ² of four groups of consecutive batches.
+fn between_groups_check(x: &[f64], checks: &mut Checks) {
     let n = x.len();
     // Four groups of consecutive batches (the last takes the remainder).
     let groups = 4;
@@ -966,6 +1101,11 @@ fn batch_statistics(r: &DiffusionReport, checks: &mut Checks) {
         ),
         &[("chi2", chi2), ("dof", (groups - 1) as f64), ("p", p)],
     );
+}
+
+/// The most extreme batch against a Bonferroni Student-t bound.
+fn outlier_check(x: &[f64], checks: &mut Checks) {
+    let n = x.len();
     // Externally studentised batch values, t_{n-2}; Bonferroni over n.
     let mut worst = (0usize, 0.0f64);
     for b in 0..n {
@@ -995,6 +1135,11 @@ fn batch_statistics(r: &DiffusionReport, checks: &mut Checks) {
         ),
         &[("t", worst.1), ("bound", bound)],
     );
+}
+
+/// The batch error against the errors of blocks of 2 and 4 batches (F bounds).
+fn block_error_checks(x: &[f64], checks: &mut Checks) {
+    let n = x.len();
     // Blocks of k consecutive batches: (SE_k / SE_1)² ~ F(n/k − 1, n − 1) for independent batches.
     let se1 = mean_se(x).1;
     for k in [2usize, 4] {
@@ -1087,14 +1232,8 @@ fn histogram(x: &[f64], mean: f64, stem: &Path) -> Result<(), Error> {
     )
 }
 
-fn sweep_checks(
-    value: &serde_json::Value,
-    sha: &str,
-    opts: Options,
-    checks: &mut Checks,
-    planned: &dyn Fn(u64),
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<(), Error> {
+/// The checks of a `sweep` result (see the module documentation), in order.
+fn sweep_checks(value: &serde_json::Value, ctx: Ctx<'_>, checks: &mut Checks) -> Result<(), Error> {
     let bad_file = |e: String| Error::Invalid(format!("not a sweep result: {e}"));
     let cfg: SweepConfig =
         serde_json::from_value(value["config"].clone()).map_err(|e| bad_file(e.to_string()))?;
@@ -1102,15 +1241,32 @@ fn sweep_checks(
     let rows = value["rows"]
         .as_array()
         .ok_or_else(|| bad_file("no rows".into()))?;
-    let num = |r: &serde_json::Value, k: &str| r[k].as_f64().unwrap_or(f64::NAN);
     let grid = cfg.points()?;
+    sweep_record_check(&cfg, rows, &grid, checks)?;
+    sweep_runs_check(rows, checks);
+    sweep_rerun_check(&cfg, rows, &grid, ctx, checks)
+}
+
+/// A number of a sweep row (NaN when absent).
+fn row_num(r: &serde_json::Value, k: &str) -> f64 {
+    r[k].as_f64().unwrap_or(f64::NAN)
+}
+
+/// The sweep's record: the grid, each D the mean of its runs, the closed forms and the residuals
+/// from the weighted line recomputed to the same bits.
+fn sweep_record_check(
+    cfg: &SweepConfig,
+    rows: &[serde_json::Value],
+    grid: &[f64],
+    checks: &mut Checks,
+) -> Result<(), Error> {
     let mut bad = Vec::new();
     if rows.len() != grid.len() {
         bad.push(format!("{} rows for {} points", rows.len(), grid.len()));
     }
     let (mut ws, mut ds, mut es) = (Vec::new(), Vec::new(), Vec::new());
     for (i, row) in rows.iter().enumerate() {
-        let w = num(row, "w");
+        let w = row_num(row, "w");
         let runs: Vec<f64> = row["run_D"]
             .as_array()
             .map(|a| a.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect())
@@ -1120,25 +1276,25 @@ fn sweep_checks(
         if grid.get(i).map(|x| x.to_bits()) != Some(w.to_bits()) {
             bad.push(format!("row {i}: w = {w} is not the grid's"));
         }
-        if runs.len() != cfg.runs as usize || mean.to_bits() != num(row, "D").to_bits() {
+        if runs.len() != cfg.runs as usize || mean.to_bits() != row_num(row, "D").to_bits() {
             bad.push(format!(
                 "row {i} (w = {w}): D = {} is not the mean of its runs ({mean})",
-                num(row, "D")
+                row_num(row, "D")
             ));
         }
-        if g.d_mz().to_bits() != num(row, "D_MZ").to_bits()
-            || g.d_bo().to_bits() != num(row, "D_Bo").to_bits()
+        if g.d_mz().to_bits() != row_num(row, "D_MZ").to_bits()
+            || g.d_bo().to_bits() != row_num(row, "D_Bo").to_bits()
         {
             bad.push(format!("row {i}: D_MZ or D_Bo is not the closed form"));
         }
         ws.push(w);
-        ds.push(num(row, "D"));
-        es.push(num(row, "D_err"));
+        ds.push(row_num(row, "D"));
+        es.push(row_num(row, "D_err"));
     }
     if bad.is_empty() {
         let lin = weighted_line_fit(&ws, &ds, &es)?;
         for (i, row) in rows.iter().enumerate() {
-            if (ds[i] - lin.at(ws[i])).to_bits() != num(row, "residual").to_bits() {
+            if (ds[i] - lin.at(ws[i])).to_bits() != row_num(row, "residual").to_bits() {
                 bad.push(format!(
                     "row {i}: the residual is not D minus the weighted line"
                 ));
@@ -1156,9 +1312,15 @@ fn sweep_checks(
         },
         &[("points", rows.len() as f64)],
     );
+    Ok(())
+}
+
+/// The runs of each point agree within their errors (the recorded F tests, Bonferroni over the
+/// points).
+fn sweep_runs_check(rows: &[serde_json::Value], checks: &mut Checks) {
     let ps: Vec<f64> = rows
         .iter()
-        .map(|r| num(r, "runs_p_value"))
+        .map(|r| row_num(r, "runs_p_value"))
         .filter(|p| p.is_finite())
         .collect();
     if ps.is_empty() {
@@ -1179,10 +1341,19 @@ fn sweep_checks(
             &[("p_min", pmin)],
         );
     }
-    // One run of one point, chosen by the digest, re-run from its seed.
-    let pick = batch_from_digest(sha, cfg.steps * cfg.runs);
+}
+
+/// One run of one point, chosen by the digest, re-run from its seed.
+fn sweep_rerun_check(
+    cfg: &SweepConfig,
+    rows: &[serde_json::Value],
+    grid: &[f64],
+    ctx: Ctx<'_>,
+    checks: &mut Checks,
+) -> Result<(), Error> {
+    let pick = batch_from_digest(ctx.sha, cfg.steps * cfg.runs);
     let (i, r) = (pick / cfg.runs, pick % cfg.runs);
-    let budget = if opts.quick { 4e9 } else { f64::INFINITY };
+    let budget = if ctx.opts.quick { 4e9 } else { f64::INFINITY };
     if cfg.collisions as f64 > budget {
         checks.add(
             "reproducibility",
@@ -1193,9 +1364,10 @@ fn sweep_checks(
         );
         return Ok(());
     }
-    planned(cfg.collisions);
+    (ctx.planned)(cfg.collisions);
     let c = cfg.run_config(i, grid[i as usize], r);
-    let again = crate::estimators::diffusion::run(&c, &rerun_options(opts.threads, progress))?;
+    let again =
+        crate::estimators::diffusion::run(&c, &rerun_options(ctx.opts.threads, ctx.progress))?;
     let rec = rows
         .get(i as usize)
         .and_then(|row| row["run_D"].get(r as usize))

@@ -89,41 +89,58 @@ struct Done {
     files: Vec<String>,
 }
 
-struct Step {
-    name: &'static str,
-    title: &'static str,
+/// One step of a reproduction, in the order they run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Step {
+    DTable,
+    Sweep,
+    Fig8Fine,
+    Backscatter,
+    Hierarchy,
+    Claims,
+    Speed,
 }
 
-const STEPS: [Step; 7] = [
-    Step {
-        name: "d-table",
-        title: "D(w) at seven gaps (the README's table)",
-    },
-    Step {
-        name: "sweep",
-        title: "Figs. 2, 7, 8: D(w), the Boltzmann form, residuals over w = 0.02 … 0.3",
-    },
-    Step {
-        name: "fig8-fine",
-        title: "Fig. 8's fine structure over w = 0.20 … 0.30",
-    },
-    Step {
-        name: "backscatter",
-        title: "Fig. 5 (where particles backscatter) and Fig. 4a with its inset (p_bs(w))",
-    },
-    Step {
-        name: "hierarchy",
-        title: "Figs. 3, 4b, 6: p_cf, corrections, the hierarchy, lattice walks",
-    },
-    Step {
-        name: "claims",
-        title: "The paper's claims against this crate's numbers",
-    },
-    Step {
-        name: "speed",
-        title: "Speed against error",
-    },
-];
+impl Step {
+    /// Every step, in order.
+    const ALL: [Step; 7] = [
+        Step::DTable,
+        Step::Sweep,
+        Step::Fig8Fine,
+        Step::Backscatter,
+        Step::Hierarchy,
+        Step::Claims,
+        Step::Speed,
+    ];
+
+    /// The step's folder (and its name in `reproduce.json` and the index).
+    fn name(self) -> &'static str {
+        match self {
+            Step::DTable => "d-table",
+            Step::Sweep => "sweep",
+            Step::Fig8Fine => "fig8-fine",
+            Step::Backscatter => "backscatter",
+            Step::Hierarchy => "hierarchy",
+            Step::Claims => "claims",
+            Step::Speed => "speed",
+        }
+    }
+
+    /// What the step reproduces.
+    fn title(self) -> &'static str {
+        match self {
+            Step::DTable => "D(w) at seven gaps (the README's table)",
+            Step::Sweep => "Figs. 2, 7, 8: D(w), the Boltzmann form, residuals over w = 0.02 … 0.3",
+            Step::Fig8Fine => "Fig. 8's fine structure over w = 0.20 … 0.30",
+            Step::Backscatter => {
+                "Fig. 5 (where particles backscatter) and Fig. 4a with its inset (p_bs(w))"
+            }
+            Step::Hierarchy => "Figs. 3, 4b, 6: p_cf, corrections, the hierarchy, lattice walks",
+            Step::Claims => "The paper's claims against this crate's numbers",
+            Step::Speed => "Speed against error",
+        }
+    }
+}
 
 fn list_files(dir: &Path, sub: &str) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir.join(sub))
@@ -149,123 +166,18 @@ pub fn reproduce(
     reporter: &dyn Reporter,
 ) -> Result<ReproduceReport, Error> {
     std::fs::create_dir_all(dir)?;
+    let mut run = Reproduction {
+        budget,
+        dir,
+        seed,
+        threads,
+        reporter,
+        sweep: None,
+        fine: None,
+    };
     let mut steps = Vec::new();
-    let mut sweep_report: Option<SweepReport> = None;
-    let mut fine_report: Option<SweepReport> = None;
-    for (k, step) in STEPS.iter().enumerate() {
-        let sub = dir.join(step.name);
-        let marker = sub.join("done.json");
-        if let Some(d) = std::fs::read_to_string(&marker)
-            .ok()
-            .and_then(|t| serde_json::from_str::<Done>(&t).ok())
-            .filter(|d| d.budget == budget.name() && d.version == env!("CARGO_PKG_VERSION"))
-        {
-            reporter.stage(k, STEPS.len(), step.name, 0, "resumed");
-            if step.name == "sweep" || step.name == "fig8-fine" {
-                // The claims and the index need the sweeps' analyses: re-analysing finished points
-                // takes a fraction of a second.
-                let r = run_sweep(step.name, budget, &sub, seed, threads, reporter)?;
-                if step.name == "sweep" {
-                    sweep_report = Some(r)
-                } else {
-                    fine_report = Some(r)
-                }
-            }
-            steps.push(StepRecord {
-                name: step.name.into(),
-                title: step.title.into(),
-                resumed: true,
-                seconds: d.seconds,
-                files: d.files,
-            });
-            continue;
-        }
-        std::fs::create_dir_all(&sub)?;
-        let t0 = std::time::Instant::now();
-        match step.name {
-            "d-table" => d_table(budget, &sub, seed, threads, k, reporter)?,
-            "sweep" | "fig8-fine" => {
-                reporter.stage(
-                    k,
-                    STEPS.len(),
-                    step.name,
-                    sweep_config(step.name, budget, seed)?.collisions_total(),
-                    "collisions",
-                );
-                let r = run_sweep(step.name, budget, &sub, seed, threads, reporter)?;
-                if step.name == "sweep" {
-                    sweep_report = Some(r)
-                } else {
-                    fine_report = Some(r)
-                }
-            }
-            "backscatter" => {
-                let (map, curve) = match budget {
-                    Budget::Quick => (paper::MAP_SAMPLES, paper::CURVE_SAMPLES),
-                    Budget::Paper => (4 * paper::MAP_SAMPLES, 10 * paper::CURVE_SAMPLES),
-                };
-                let points: u64 = paper::backscatter_grids()?
-                    .iter()
-                    .map(|g| g.len() as u64)
-                    .sum();
-                reporter.stage(
-                    k,
-                    STEPS.len(),
-                    step.name,
-                    map + curve * points,
-                    "injections",
-                );
-                let adv = |n: u64| reporter.advance(n);
-                paper::backscatter_map(0.1, map, seed, &sub, &adv)?;
-                paper::backscatter_curve(curve, seed, threads, &sub, &adv)?;
-            }
-            "hierarchy" => {
-                let n = match budget {
-                    Budget::Quick => paper::HIERARCHY_COLLISIONS,
-                    Budget::Paper => 10 * paper::HIERARCHY_COLLISIONS,
-                };
-                let points = paper::hierarchy_grid()?.len() as u64;
-                reporter.stage(k, STEPS.len(), step.name, 2 * n * points, "collisions");
-                paper::hierarchy(n, seed, threads, &sub, &|n| reporter.advance(n))?;
-            }
-            "claims" => {
-                reporter.stage(k, STEPS.len(), step.name, 1, "tables");
-                claims(dir, &sub, sweep_report.as_ref(), fine_report.as_ref())?;
-                reporter.advance(1);
-            }
-            "speed" => {
-                reporter.stage(
-                    k,
-                    STEPS.len(),
-                    step.name,
-                    crate::report::speed_error::REPORT_STEPS,
-                    "steps",
-                );
-                crate::report::speed_error::speed_against_error(0.1, &sub, seed, threads, &|n| {
-                    reporter.advance(n)
-                })?;
-            }
-            _ => unreachable!("every step is matched"),
-        }
-        let files = list_files(dir, step.name);
-        let seconds = t0.elapsed().as_secs_f64();
-        let done = Done {
-            budget: budget.name().into(),
-            version: env!("CARGO_PKG_VERSION").into(),
-            seconds,
-            files: files.clone(),
-        };
-        std::fs::write(
-            &marker,
-            serde_json::to_string_pretty(&done).map_err(|e| Error::Io(e.to_string()))?,
-        )?;
-        steps.push(StepRecord {
-            name: step.name.into(),
-            title: step.title.into(),
-            resumed: false,
-            seconds,
-            files,
-        });
+    for (k, step) in Step::ALL.into_iter().enumerate() {
+        steps.push(run.step(k, step)?);
     }
     let report = ReproduceReport {
         budget,
@@ -280,6 +192,151 @@ pub fn reproduce(
     Ok(report)
 }
 
+/// A reproduction under way: its settings, and the sweeps' analyses that the claims need.
+struct Reproduction<'a> {
+    budget: Budget,
+    dir: &'a Path,
+    seed: u64,
+    threads: usize,
+    reporter: &'a dyn Reporter,
+    /// The analysis of the [`Step::Sweep`] step, once run or resumed.
+    sweep: Option<SweepReport>,
+    /// The analysis of the [`Step::Fig8Fine`] step, once run or resumed.
+    fine: Option<SweepReport>,
+}
+
+impl Reproduction<'_> {
+    /// Step `k`: taken from an earlier run of the same budget if that finished it, else run and
+    /// marked done.
+    fn step(&mut self, k: usize, step: Step) -> Result<StepRecord, Error> {
+        let sub = self.dir.join(step.name());
+        let marker = sub.join("done.json");
+        if let Some(d) = self.finished(&marker) {
+            self.resume(k, step, &sub)?;
+            return Ok(StepRecord {
+                name: step.name().into(),
+                title: step.title().into(),
+                resumed: true,
+                seconds: d.seconds,
+                files: d.files,
+            });
+        }
+        std::fs::create_dir_all(&sub)?;
+        let t0 = std::time::Instant::now();
+        self.compute(k, step, &sub)?;
+        let files = list_files(self.dir, step.name());
+        let seconds = t0.elapsed().as_secs_f64();
+        let done = Done {
+            budget: self.budget.name().into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            seconds,
+            files: files.clone(),
+        };
+        std::fs::write(
+            &marker,
+            serde_json::to_string_pretty(&done).map_err(|e| Error::Io(e.to_string()))?,
+        )?;
+        Ok(StepRecord {
+            name: step.name().into(),
+            title: step.title().into(),
+            resumed: false,
+            seconds,
+            files,
+        })
+    }
+
+    /// The `done.json` marker at `marker`, if it is of this budget and this version.
+    fn finished(&self, marker: &Path) -> Option<Done> {
+        std::fs::read_to_string(marker)
+            .ok()
+            .and_then(|t| serde_json::from_str::<Done>(&t).ok())
+            .filter(|d| d.budget == self.budget.name() && d.version == env!("CARGO_PKG_VERSION"))
+    }
+
+    /// A finished step taken over: reported as resumed, and the sweeps re-analysed.
+    fn resume(&mut self, k: usize, step: Step, sub: &Path) -> Result<(), Error> {
+        self.reporter
+            .stage(k, Step::ALL.len(), step.name(), 0, "resumed");
+        if matches!(step, Step::Sweep | Step::Fig8Fine) {
+            // The claims and the index need the sweeps' analyses: re-analysing finished points
+            // takes a fraction of a second.
+            self.sweep_step(step, sub)?;
+        }
+        Ok(())
+    }
+
+    /// Runs the sweep of `step` (resuming its finished points) and keeps its analysis.
+    fn sweep_step(&mut self, step: Step, sub: &Path) -> Result<(), Error> {
+        let r = run_sweep(
+            step,
+            self.budget,
+            sub,
+            self.seed,
+            self.threads,
+            self.reporter,
+        )?;
+        if step == Step::Sweep {
+            self.sweep = Some(r)
+        } else {
+            self.fine = Some(r)
+        }
+        Ok(())
+    }
+
+    /// Runs step `k` into `sub`.
+    fn compute(&mut self, k: usize, step: Step, sub: &Path) -> Result<(), Error> {
+        let (budget, seed, threads, reporter) =
+            (self.budget, self.seed, self.threads, self.reporter);
+        let stage =
+            |total: u64, unit: &str| reporter.stage(k, Step::ALL.len(), step.name(), total, unit);
+        match step {
+            Step::DTable => d_table(budget, sub, seed, threads, k, reporter)?,
+            Step::Sweep | Step::Fig8Fine => {
+                stage(
+                    sweep_config(step, budget, seed)?.collisions_total(),
+                    "collisions",
+                );
+                self.sweep_step(step, sub)?;
+            }
+            Step::Backscatter => {
+                let (map, curve) = match budget {
+                    Budget::Quick => (paper::MAP_SAMPLES, paper::CURVE_SAMPLES),
+                    Budget::Paper => (4 * paper::MAP_SAMPLES, 10 * paper::CURVE_SAMPLES),
+                };
+                let points: u64 = paper::backscatter_grids()?
+                    .iter()
+                    .map(|g| g.len() as u64)
+                    .sum();
+                stage(map + curve * points, "injections");
+                let adv = |n: u64| reporter.advance(n);
+                paper::backscatter_map(0.1, map, seed, sub, &adv)?;
+                paper::backscatter_curve(curve, seed, threads, sub, &adv)?;
+            }
+            Step::Hierarchy => {
+                let n = match budget {
+                    Budget::Quick => paper::HIERARCHY_COLLISIONS,
+                    Budget::Paper => 10 * paper::HIERARCHY_COLLISIONS,
+                };
+                let points = paper::hierarchy_grid()?.len() as u64;
+                stage(2 * n * points, "collisions");
+                paper::hierarchy(n, seed, threads, sub, &|n| reporter.advance(n))?;
+            }
+            Step::Claims => {
+                stage(1, "tables");
+                claims(self.dir, sub, self.sweep.as_ref(), self.fine.as_ref())?;
+                reporter.advance(1);
+            }
+            Step::Speed => {
+                stage(crate::report::speed_error::REPORT_STEPS, "steps");
+                crate::report::speed_error::speed_against_error(0.1, sub, seed, threads, &|n| {
+                    reporter.advance(n)
+                })?;
+            }
+        }
+        Ok(())
+    }
+}
+
 impl SweepConfig {
     fn collisions_total(&self) -> u64 {
         self.collisions
@@ -288,15 +345,15 @@ impl SweepConfig {
     }
 }
 
-fn sweep_config(name: &str, budget: Budget, seed: u64) -> Result<SweepConfig, Error> {
-    let (from, to, steps, runs, collisions, batches) = match (name, budget) {
+fn sweep_config(step: Step, budget: Budget, seed: u64) -> Result<SweepConfig, Error> {
+    let (from, to, steps, runs, collisions, batches) = match (step, budget) {
         // The README's Figs. 2, 7, 8.
-        ("sweep", Budget::Quick) => ("0.02", "0.3", 15, 4, 20_000_000, 8),
-        ("sweep", Budget::Paper) => ("0.02", "0.3", 15, 4, 50_000_000, 8),
+        (Step::Sweep, Budget::Quick) => ("0.02", "0.3", 15, 4, 20_000_000, 8),
+        (Step::Sweep, Budget::Paper) => ("0.02", "0.3", 15, 4, 50_000_000, 8),
         // Fig. 8 at the paper's statistics: ten runs of 2·10⁹ collisions per point.
-        ("fig8-fine", Budget::Quick) => ("0.20", "0.30", 21, 10, 20_000_000, 16),
-        ("fig8-fine", Budget::Paper) => ("0.20", "0.30", 21, 10, 2_000_000_000, 16),
-        _ => return Err(Error::Invalid(format!("no sweep step {name}"))),
+        (Step::Fig8Fine, Budget::Quick) => ("0.20", "0.30", 21, 10, 20_000_000, 16),
+        (Step::Fig8Fine, Budget::Paper) => ("0.20", "0.30", 21, 10, 2_000_000_000, 16),
+        _ => return Err(Error::Invalid(format!("no sweep step {}", step.name()))),
     };
     let c = SweepConfig {
         w_from: from.into(),
@@ -312,14 +369,14 @@ fn sweep_config(name: &str, budget: Budget, seed: u64) -> Result<SweepConfig, Er
 }
 
 fn run_sweep(
-    name: &str,
+    step: Step,
     budget: Budget,
     dir: &Path,
     seed: u64,
     threads: usize,
     reporter: &dyn Reporter,
 ) -> Result<SweepReport, Error> {
-    let c = sweep_config(name, budget, seed)?;
+    let c = sweep_config(step, budget, seed)?;
     let advance = |n| reporter.advance(n);
     let opts = RunOptions {
         threads,
@@ -348,8 +405,8 @@ fn d_table(
     };
     reporter.stage(
         k,
-        STEPS.len(),
-        "d-table",
+        Step::ALL.len(),
+        Step::DTable.name(),
         collisions * TABLE_GAPS.len() as u64,
         "collisions",
     );
@@ -549,8 +606,8 @@ mod tests {
     #[test]
     fn budgets_are_valid_sweeps() {
         for b in [Budget::Quick, Budget::Paper] {
-            for name in ["sweep", "fig8-fine"] {
-                sweep_config(name, b, 1).unwrap();
+            for step in [Step::Sweep, Step::Fig8Fine] {
+                sweep_config(step, b, 1).unwrap();
             }
         }
     }

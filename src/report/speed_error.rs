@@ -24,7 +24,7 @@ use crate::scenes::lattice::TriangularLattice;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::triangular::equilibrium_state;
 use crate::verification::divergence::{
-    self, DivergenceConfig, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS,
+    self, Divergence, DivergenceConfig, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS,
 };
 use crate::Error;
 
@@ -138,7 +138,65 @@ pub fn speed_against_error(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(SpeedReport, String), Error> {
     crate::scenes::triangular::geometry::check_diffusive_gap(w)?;
-    // Calibration: relative error of D from 10⁸ f64 collisions; error ∝ N^(−1/2).
+    let (cfg, rel) = calibrate(w, dir, seed, threads)?;
+    progress(2);
+    let n_needed = cfg.collisions as f64 * (rel / 1e-3).powi(2);
+    let states = one_step_states(w, seed)?;
+    let tref = Trap::new(Float::with_val(ONE_STEP_REFERENCE_BITS, w))?;
+    let div = divergence::run(
+        &crate::scenes::triangular::TriangularScene::new(w)?,
+        &DivergenceConfig {
+            bits: REPORT_BITS.to_vec(),
+            reference_bits: DIVERGENCE_REFERENCE_BITS,
+            collisions: DIVERGENCE_COLLISIONS,
+            starts: HORIZON_STARTS,
+            seed,
+        },
+        &RunOptions {
+            threads: 1,
+            ..RunOptions::default()
+        },
+    )?;
+    progress(1);
+    let bench = Bench {
+        w,
+        seed,
+        n_needed,
+        states: &states,
+        tref: &tref,
+        div: &div,
+        progress,
+    };
+    let report = SpeedReport {
+        w,
+        rows: bench.rows()?,
+        collisions_for_0_1_percent: n_needed,
+        calibration: (rel, cfg.collisions),
+        meta: RunMeta::new(
+            Some(seed),
+            Some(cfg.batches as u64),
+            "f64 and MPFR",
+            Some(threads),
+        ),
+    };
+    let md = speed_markdown(&report, states.len());
+    std::fs::write(dir.join("speed-vs-error.md"), &md)?;
+    std::fs::write(
+        dir.join("speed-vs-error.json"),
+        serde_json::to_string_pretty(&report).map_err(|e| Error::Io(e.to_string()))?,
+    )?;
+    speed_plot(&report, dir)?;
+    Ok((report, md))
+}
+
+/// Calibration: the relative error of D from [`CALIBRATION_COLLISIONS`] f64 collisions (error ∝
+/// N^(−1/2)), with the run's configuration; creates `dir` once the configuration is valid.
+fn calibrate(
+    w: f64,
+    dir: &Path,
+    seed: u64,
+    threads: usize,
+) -> Result<(DiffusionConfig, f64), Error> {
     let mut cfg = DiffusionConfig::new(w);
     cfg.collisions = CALIBRATION_COLLISIONS;
     cfg.seed = seed;
@@ -151,11 +209,11 @@ pub fn speed_against_error(
             ..RunOptions::default()
         },
     )?;
-    progress(2);
-    let rel = cal.D_err / cal.D;
-    let n_needed = cfg.collisions as f64 * (rel / 1e-3).powi(2);
+    Ok((cfg, cal.D_err / cal.D))
+}
 
-    // Pre-event states from an f64 orbit.
+/// Pre-event states from an f64 orbit: every tenth of the first [`ONE_STEP_EVENTS`] events.
+fn one_step_states(w: f64, seed: u64) -> Result<Vec<Flight<f64>>, Error> {
     let lat = TriangularLattice::new(w)?;
     let mut s = equilibrium_state(
         lat.trap(),
@@ -173,90 +231,92 @@ pub fn speed_against_error(
         &mut every_tenth,
         &|_| {},
     )?;
-    let states = every_tenth.states;
-    let tref = Trap::new(Float::with_val(ONE_STEP_REFERENCE_BITS, w))?;
-    let bits_list = REPORT_BITS;
-    let div = divergence::run(
-        &crate::scenes::triangular::TriangularScene::new(w)?,
-        &DivergenceConfig {
-            bits: bits_list.to_vec(),
-            reference_bits: DIVERGENCE_REFERENCE_BITS,
-            collisions: DIVERGENCE_COLLISIONS,
-            starts: HORIZON_STARTS,
-            seed,
-        },
-        &RunOptions {
-            threads: 1,
-            ..RunOptions::default()
-        },
-    )?;
-    progress(1);
-    let mut rows = Vec::new();
-    let time = |p: Precision, n: u64| -> Result<f64, Error> {
+    Ok(every_tenth.states)
+}
+
+/// What the rows are measured with: the gap and seed, the collisions a 0.1 % D needs, the
+/// one-step states and their reference trap, the divergence horizons, and the progress callback.
+struct Bench<'a> {
+    w: f64,
+    seed: u64,
+    n_needed: f64,
+    states: &'a [Flight<f64>],
+    tref: &'a Trap<Float>,
+    div: &'a [Divergence],
+    progress: &'a (dyn Fn(u64) + Sync),
+}
+
+impl Bench<'_> {
+    /// Median ns per collision at precision `p` over `n` collisions (one thread), one step done.
+    fn time(&self, p: Precision, n: u64) -> Result<f64, Error> {
         // What production runs on: the SIMD engine for f64, the scalar engine for MPFR.
         let t = throughput(
-            w,
+            self.w,
             p,
             crate::engine::Engine::Auto,
             crate::estimators::throughput::Observe::None,
             n,
             REPORT_REPETITIONS,
-            seed,
+            self.seed,
             1,
             &|_| {},
         )?;
-        progress(1);
+        (self.progress)(1);
         Ok(t.ns_per_collision)
-    };
-    let f64_ns = time(Precision::F64, F64_TIMING_COLLISIONS)?;
-    let cpu = |ns: f64| n_needed * ns * 1e-9;
-    let (m, x) = one_step(&Trap::new(w)?, &tref, &states);
-    rows.push(ReportRow {
-        precision: "f64".into(),
-        bits: 53,
-        ns_per_collision: f64_ns,
-        ratio_to_f64: 1.0,
-        one_step_median: m,
-        one_step_worst: x,
-        horizon: div[0].horizon,
-        cpu_seconds_d_0_1_percent: cpu(f64_ns),
-    });
-    for (i, &b) in bits_list.iter().enumerate() {
-        let n = if b >= 1024 {
-            MPFR_TIMING_COLLISIONS / 2
-        } else {
-            MPFR_TIMING_COLLISIONS
-        };
-        let ns = time(Precision::Bits(b), n)?;
-        let (m, x) = one_step(&Trap::new(Float::with_val(b, w))?, &tref, &states);
+    }
+
+    /// The rows: f64 first, then each of [`REPORT_BITS`].
+    fn rows(&self) -> Result<Vec<ReportRow>, Error> {
+        let w = self.w;
+        let mut rows = Vec::new();
+        let f64_ns = self.time(Precision::F64, F64_TIMING_COLLISIONS)?;
+        let cpu = |ns: f64| self.n_needed * ns * 1e-9;
+        let (m, x) = one_step(&Trap::new(w)?, self.tref, self.states);
         rows.push(ReportRow {
-            precision: b.to_string(),
-            bits: b,
-            ns_per_collision: ns,
-            ratio_to_f64: ns / f64_ns,
+            precision: "f64".into(),
+            bits: 53,
+            ns_per_collision: f64_ns,
+            ratio_to_f64: 1.0,
             one_step_median: m,
             one_step_worst: x,
-            horizon: div[i + 1].horizon,
-            cpu_seconds_d_0_1_percent: cpu(ns),
+            horizon: self.div[0].horizon,
+            cpu_seconds_d_0_1_percent: cpu(f64_ns),
         });
+        for (i, &b) in REPORT_BITS.iter().enumerate() {
+            let n = if b >= 1024 {
+                MPFR_TIMING_COLLISIONS / 2
+            } else {
+                MPFR_TIMING_COLLISIONS
+            };
+            let ns = self.time(Precision::Bits(b), n)?;
+            let (m, x) = one_step(&Trap::new(Float::with_val(b, w))?, self.tref, self.states);
+            rows.push(ReportRow {
+                precision: b.to_string(),
+                bits: b,
+                ns_per_collision: ns,
+                ratio_to_f64: ns / f64_ns,
+                one_step_median: m,
+                one_step_worst: x,
+                horizon: self.div[i + 1].horizon,
+                cpu_seconds_d_0_1_percent: cpu(ns),
+            });
+        }
+        Ok(rows)
     }
-    let report = SpeedReport {
-        w,
-        rows,
-        collisions_for_0_1_percent: n_needed,
-        calibration: (rel, cfg.collisions),
-        meta: RunMeta::new(
-            Some(seed),
-            Some(cfg.batches as u64),
-            "f64 and MPFR",
-            Some(threads),
-        ),
-    };
+}
+
+/// The report as a Markdown paragraph and table (`states` one-step states were replayed).
+fn speed_markdown(report: &SpeedReport, states: usize) -> String {
+    let (w, n_needed, (rel, calibration)) = (
+        report.w,
+        report.collisions_for_0_1_percent,
+        report.calibration,
+    );
     let mut md = format!(
         "Speed against error at w = {w} (one thread per measurement; medians of {REPORT_REPETITIONS} repetitions; one-step error = |flight time − {ONE_STEP_REFERENCE_BITS}-bit value| from the same exact pre-event state over {} events; horizon = collisions until 10⁻³ from a {DIVERGENCE_REFERENCE_BITS}-bit orbit, mean of {HORIZON_STARTS} starts; CPU time for D at 0.1 %: {:.2e} collisions, calibrated by an f64 run of {:.0e} collisions with relative error {:.3} %)\n\n",
-        states.len(),
+        states,
         n_needed,
-        cfg.collisions as f64,
+        calibration as f64,
         100.0 * rel
     );
     md.push_str("| precision | ns / collision | × f64 | one-step error (median) | one-step error (worst) | divergence horizon (collisions) | CPU time for D ± 0.1 % |\n|---|---|---|---|---|---|---|\n");
@@ -277,11 +337,12 @@ pub fn speed_against_error(
             human_time(r.cpu_seconds_d_0_1_percent)
         ));
     }
-    std::fs::write(dir.join("speed-vs-error.md"), &md)?;
-    std::fs::write(
-        dir.join("speed-vs-error.json"),
-        serde_json::to_string_pretty(&report).map_err(|e| Error::Io(e.to_string()))?,
-    )?;
+    md
+}
+
+/// The figure `speed-vs-error.{png,svg}`: ns per collision against correct digits per event.
+fn speed_plot(report: &SpeedReport, dir: &Path) -> Result<(), Error> {
+    let w = report.w;
     let pts: Vec<(f64, f64, f64)> = report
         .rows
         .iter()
@@ -319,8 +380,7 @@ pub fn speed_against_error(
             notes,
             line: true,
         }],
-    )?;
-    Ok((report, md))
+    )
 }
 
 fn human_time(s: f64) -> String {

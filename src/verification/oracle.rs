@@ -651,249 +651,15 @@ const FAMILIES: u8 = 6;
 /// (see `proofs-notes/fuzzing.md` for the layout); the bytes of each family are always read in
 /// full (a fixed layout per family).
 fn build_flight(geo: &Geo, sel: u8, r: &mut Bytes) -> (PrimitiveCase, Flight<f64>) {
-    let chp = &geo.chp;
-    let nd = geo.n_disks();
-    let ne = chp.edges.len();
-    let two_pi = pi() * 2u32;
-    let half_pi = pi() / 2u32;
     let built: Option<Built> = match sel % FAMILIES {
-        0 => {
-            let disk = r.u8() % nd as u8;
-            let kb = r.u8();
-            let side = r.u8() & 1 == 1;
-            let (u1, u2) = (r.frac16(), r.frac16());
-            let above = kb & 0x80 != 0;
-            let k = 1 + (kb & 0x7f) % 52;
-            let factor = if above {
-                1.0 + (-(k as f64)).exp2()
-            } else {
-                1.0 - (-(k as f64)).exp2()
-            };
-            let b = chp.radius.clone() * &hp(factor);
-            let c = &chp.disks[disk as usize];
-            // A free start far enough from the disk (|p − c| > b), by the same walk.
-            (0..16)
-                .map(|i| {
-                    geo.free_point(
-                        (u1 + i as f64 * std::f64::consts::FRAC_1_PI).fract(),
-                        (u2 + i as f64 * 0.577_215_664_901_532).fract(),
-                    )
-                })
-                .find_map(|p64| {
-                    let to_c = c.sub(&lift(&p64));
-                    let dist = to_c.norm2().sqrt();
-                    let ratio = b.clone() / &dist;
-                    if ratio.to_f64() >= 1.0 {
-                        return None;
-                    }
-                    let alpha = ratio.asin();
-                    let phi = if side {
-                        angle_of(&to_c) + &alpha
-                    } else {
-                        angle_of(&to_c) - &alpha
-                    };
-                    Some((
-                        PrimitiveCase::Impact { disk, k, above },
-                        p64,
-                        unit(&phi),
-                        None,
-                    ))
-                })
-        }
-        1 => {
-            let disk = r.u8() % nd as u8;
-            let k = 1 + r.u8() % 60;
-            let motion = r.u8() % 3;
-            let flags = r.u8();
-            let (psi_f, chi_f) = (r.frac16(), r.open16());
-            let excluded = motion != 0 && flags & 1 == 1;
-            let c = &chp.disks[disk as usize];
-            let arcs = geo.free_arcs(disk as usize);
-            let dist = chp.radius.clone() * &(hp(1.0) + &hp((-(k as f64)).exp2()));
-            (!arcs.is_empty())
-                .then(|| arcs[(flags >> 2) as usize % arcs.len()])
-                .and_then(|(lo, hi)| {
-                    let (lo, hi) = (hp(lo), hp(hi));
-                    let width = hi.clone() - &lo;
-                    let mid = lo.clone() + &(width.clone() / 2u32);
-                    let psi0 = lo + &(width * &hp(psi_f));
-                    // Near the arc ends the point can fall outside the cell or in a
-                    // neighbouring disk: pull it towards the middle of the arc, by tiny
-                    // fractions first (an end on an edge stays on it), then by halves.
-                    let pulls = std::iter::once(0.0)
-                        .chain([-50.0, -40.0, -30.0, -20.0, -10.0].map(f64::exp2))
-                        .chain((1..=64).map(|n| 1.0 - (-(n as f64)).exp2()));
-                    pulls
-                        .map(|fr| psi0.clone() + &((mid.clone() - &psi0) * &hp(fr)))
-                        .find_map(|psi| {
-                            let p = c.along(&dist, &unit(&psi));
-                            geo.free_hp(&p).then_some((psi, p))
-                        })
-                })
-                .map(|(psi, p)| {
-                    let dir = match motion {
-                        0 => psi.clone() + &half_pi + &(pi() * &hp(chi_f)),
-                        1 => psi.clone() - &half_pi + &(pi() * &hp(chi_f)),
-                        _ => {
-                            if flags & 2 == 2 {
-                                psi.clone() + &half_pi
-                            } else {
-                                psi.clone() - &half_pi
-                            }
-                        }
-                    };
-                    (
-                        PrimitiveCase::NearSurface {
-                            disk,
-                            k,
-                            motion,
-                            excluded,
-                        },
-                        round(&p),
-                        unit(&dir),
-                        if excluded { Some(disk) } else { None },
-                    )
-                })
-        }
-        2 => {
-            let pair_b = r.u8();
-            let line_b = r.u8();
-            let back = r.u8() & 1 == 1;
-            let s_f = r.frac16();
-            let found = |pair: u8, line: u8, anchor: Vec2<Float>, dir: Vec2<Float>| {
-                geo.point_on_line(&anchor, &dir, s_f).map(|p| {
-                    let v = if back { -dir.clone() } else { dir };
-                    (
-                        PrimitiveCase::DoubleTangent { pair, line },
-                        round(&p),
-                        v,
-                        None,
-                    )
-                })
-            };
-            if nd >= 2 {
-                let pair = pair_b % nd as u8;
-                let (i, j) = if nd == 2 {
-                    (0, 1)
-                } else {
-                    ((pair as usize + 1) % nd, (pair as usize + 2) % nd)
-                };
-                let (ci, cj) = (&chp.disks[i], &chp.disks[j]);
-                let d = cj.sub(ci);
-                let len = d.norm2().sqrt();
-                let e_dir = Vec2::new(d.x.clone() / &len, d.y.clone() / &len);
-                let mid = Vec2::new((ci.x.clone() + &cj.x) / 2u32, (ci.y.clone() + &cj.y) / 2u32);
-                // The normal of the centre line pointing to the cell's side (its centroid).
-                let nc = chp.corners.len() as u32;
-                let centroid = Vec2::new(
-                    chp.corners.iter().fold(hp(0.0), |s, p| s + &p.x) / nc,
-                    chp.corners.iter().fold(hp(0.0), |s, p| s + &p.y) / nc,
-                );
-                let mut n = Vec2::new(-e_dir.y.clone(), e_dir.x.clone());
-                if centroid.sub(&mid).dot(&n).is_sign_negative() {
-                    n = -n;
-                }
-                let line_through = |line: u8| match line {
-                    0 => (mid.along(&chp.radius, &n), e_dir.clone()),
-                    _ => {
-                        // Inner tangents: through the midpoint at angle ±α, sin α = 2r/|cⱼ − cᵢ|.
-                        let alpha = (chp.radius.clone() * 2u32 / &len).asin();
-                        let th = angle_of(&e_dir);
-                        let th = if line == 1 { th + &alpha } else { th - &alpha };
-                        (mid.clone(), unit(&th))
-                    }
-                };
-                // The outer tangent can run inside a third disk for all its length inside the
-                // cell (the triangular trap at small w); then the first inner tangent is used.
-                let line = line_b % 3;
-                [line, 1].into_iter().find_map(|line| {
-                    let (anchor, dir) = line_through(line);
-                    found(pair, line, anchor, dir)
-                })
-            } else {
-                // One disk: the tangents parallel to edge `pair` (corridor boundaries).
-                let pair = pair_b % ne as u8;
-                let line = line_b % 2;
-                let n = &chp.edges[pair as usize].normal;
-                let side = if line == 0 { hp(1.0) } else { hp(-1.0) };
-                let anchor = chp.disks[0].along(&(chp.radius.clone() * &side), n);
-                let dir = Vec2::new(n.y.clone(), -n.x.clone());
-                found(pair, line, anchor, dir)
-            }
-        }
-        3 => {
-            let edge = r.u8() % ne as u8;
-            let point_b = r.u8();
-            let at_point = r.u8() & 1 == 1;
-            let ang = r.frac32();
-            let (u1, u2) = (r.frac16(), r.frac16());
-            let pts = geo.edge_circle_points(edge as usize);
-            if pts.is_empty() {
-                None
-            } else {
-                let point = point_b % pts.len() as u8;
-                let g = &pts[point as usize];
-                let case = PrimitiveCase::GapPoint {
-                    edge,
-                    point,
-                    at_point,
-                };
-                if at_point {
-                    Some((case, round(g), unit(&(two_pi.clone() * &hp(ang))), None))
-                } else {
-                    let p64 = geo.free_point(u1, u2);
-                    let to_g = g.sub(&lift(&p64));
-                    (to_g.norm2().to_f64() > 1e-6)
-                        .then(|| (case, p64, unit(&angle_of(&to_g)), None))
-                }
-            }
-        }
+        0 => impact_start(geo, r),
+        1 => near_surface_start(geo, r),
+        2 => double_tangent_start(geo, r),
+        3 => gap_point_start(geo, r),
         4 => None,
-        _ => {
-            let corner = r.u8() % chp.corners.len() as u8;
-            let mode = r.u8() % 3;
-            let which = r.u8();
-            let ang = r.frac32();
-            let (u1, u2) = (r.frac16(), r.frac16());
-            let q = &chp.corners[corner as usize];
-            let case = PrimitiveCase::Corner { corner, mode };
-            match mode {
-                0 => geo
-                    .free_hp(q)
-                    .then(|| (case, round(q), unit(&(two_pi.clone() * &hp(ang))), None)),
-                1 => {
-                    let p64 = geo.free_point(u1, u2);
-                    let to_q = q.sub(&lift(&p64));
-                    (to_q.norm2().to_f64() > 1e-6)
-                        .then(|| (case, p64, unit(&angle_of(&to_q)), None))
-                }
-                _ => {
-                    // Along one of the (two) edges through the corner, either way.
-                    let tiny = HP_TINY_EXP.exp2();
-                    let through: Vec<usize> = (0..ne)
-                        .filter(|&k| chp.edge_distance(k, q).to_f64().abs() <= tiny)
-                        .collect();
-                    (geo.free_hp(q) && !through.is_empty()).then(|| {
-                        let n = &chp.edges[through[(which >> 1) as usize % through.len()]].normal;
-                        let t = Vec2::new(n.y.clone(), -n.x.clone());
-                        let t = if which & 1 == 1 { -t } else { t };
-                        (case, round(q), t, None)
-                    })
-                }
-            }
-        }
+        _ => corner_start(geo, r),
     };
-    let (case, pos, vel_hp, excluded_disk) = built.unwrap_or_else(|| {
-        // Arbitrary (also the fall-back of a failed construction: reads its own bytes).
-        let (u1, u2) = (r.frac16(), r.frac16());
-        let ang = r.frac32();
-        (
-            PrimitiveCase::Arbitrary,
-            geo.free_point(u1, u2),
-            unit(&(two_pi.clone() * &hp(ang))),
-            None,
-        )
-    });
+    let (case, pos, vel_hp, excluded_disk) = built.unwrap_or_else(|| arbitrary_start(geo, r));
     let (pn, vn) = (r.u8(), r.u8());
     let pos = Vec2::new(
         nudge(pos.x, NUDGE[(pn % 3) as usize]),
@@ -906,6 +672,303 @@ fn build_flight(geo: &Geo, sel: u8, r: &mut Bytes) -> (PrimitiveCase, Flight<f64
     let mut flight = Flight::new(pos, vel);
     flight.excluded_disk = excluded_disk;
     (case, flight)
+}
+
+/// 2π at [`ORACLE_BITS`].
+fn two_pi() -> Float {
+    pi() * 2u32
+}
+
+/// Family 0 ([`PrimitiveCase::Impact`]): aimed at a disk with impact parameter r(1 ∓ 2⁻ᵏ), from a
+/// free start.
+fn impact_start(geo: &Geo, r: &mut Bytes) -> Option<Built> {
+    let chp = &geo.chp;
+    let nd = geo.n_disks();
+    let disk = r.u8() % nd as u8;
+    let kb = r.u8();
+    let side = r.u8() & 1 == 1;
+    let (u1, u2) = (r.frac16(), r.frac16());
+    let above = kb & 0x80 != 0;
+    let k = 1 + (kb & 0x7f) % 52;
+    let factor = if above {
+        1.0 + (-(k as f64)).exp2()
+    } else {
+        1.0 - (-(k as f64)).exp2()
+    };
+    let b = chp.radius.clone() * &hp(factor);
+    let c = &chp.disks[disk as usize];
+    // A free start far enough from the disk (|p − c| > b), by the same walk.
+    (0..16)
+        .map(|i| {
+            geo.free_point(
+                (u1 + i as f64 * std::f64::consts::FRAC_1_PI).fract(),
+                (u2 + i as f64 * 0.577_215_664_901_532).fract(),
+            )
+        })
+        .find_map(|p64| {
+            let to_c = c.sub(&lift(&p64));
+            let dist = to_c.norm2().sqrt();
+            let ratio = b.clone() / &dist;
+            if ratio.to_f64() >= 1.0 {
+                return None;
+            }
+            let alpha = ratio.asin();
+            let phi = if side {
+                angle_of(&to_c) + &alpha
+            } else {
+                angle_of(&to_c) - &alpha
+            };
+            Some((
+                PrimitiveCase::Impact { disk, k, above },
+                p64,
+                unit(&phi),
+                None,
+            ))
+        })
+}
+
+/// Family 1 ([`PrimitiveCase::NearSurface`]): a start r·2⁻ᵏ from a disk's surface on one of its
+/// free arcs, moving in, out or tangentially.
+fn near_surface_start(geo: &Geo, r: &mut Bytes) -> Option<Built> {
+    let chp = &geo.chp;
+    let nd = geo.n_disks();
+    let half_pi = pi() / 2u32;
+    let disk = r.u8() % nd as u8;
+    let k = 1 + r.u8() % 60;
+    let motion = r.u8() % 3;
+    let flags = r.u8();
+    let (psi_f, chi_f) = (r.frac16(), r.open16());
+    let excluded = motion != 0 && flags & 1 == 1;
+    let c = &chp.disks[disk as usize];
+    let arcs = geo.free_arcs(disk as usize);
+    let dist = chp.radius.clone() * &(hp(1.0) + &hp((-(k as f64)).exp2()));
+    (!arcs.is_empty())
+        .then(|| arcs[(flags >> 2) as usize % arcs.len()])
+        .and_then(|(lo, hi)| {
+            let (lo, hi) = (hp(lo), hp(hi));
+            let width = hi.clone() - &lo;
+            let mid = lo.clone() + &(width.clone() / 2u32);
+            let psi0 = lo + &(width * &hp(psi_f));
+            // Near the arc ends the point can fall outside the cell or in a
+            // neighbouring disk: pull it towards the middle of the arc, by tiny
+            // fractions first (an end on an edge stays on it), then by halves.
+            let pulls = std::iter::once(0.0)
+                .chain([-50.0, -40.0, -30.0, -20.0, -10.0].map(f64::exp2))
+                .chain((1..=64).map(|n| 1.0 - (-(n as f64)).exp2()));
+            pulls
+                .map(|fr| psi0.clone() + &((mid.clone() - &psi0) * &hp(fr)))
+                .find_map(|psi| {
+                    let p = c.along(&dist, &unit(&psi));
+                    geo.free_hp(&p).then_some((psi, p))
+                })
+        })
+        .map(|(psi, p)| {
+            let dir = match motion {
+                0 => psi.clone() + &half_pi + &(pi() * &hp(chi_f)),
+                1 => psi.clone() - &half_pi + &(pi() * &hp(chi_f)),
+                _ => {
+                    if flags & 2 == 2 {
+                        psi.clone() + &half_pi
+                    } else {
+                        psi.clone() - &half_pi
+                    }
+                }
+            };
+            (
+                PrimitiveCase::NearSurface {
+                    disk,
+                    k,
+                    motion,
+                    excluded,
+                },
+                round(&p),
+                unit(&dir),
+                if excluded { Some(disk) } else { None },
+            )
+        })
+}
+
+/// Family 2 ([`PrimitiveCase::DoubleTangent`]): on a common tangent of two disks (in a one-disk
+/// cell, a tangent parallel to an edge), either way along it.
+fn double_tangent_start(geo: &Geo, r: &mut Bytes) -> Option<Built> {
+    let chp = &geo.chp;
+    let nd = geo.n_disks();
+    let ne = chp.edges.len();
+    let pair_b = r.u8();
+    let line_b = r.u8();
+    let back = r.u8() & 1 == 1;
+    let s_f = r.frac16();
+    let found = |pair: u8, line: u8, anchor: Vec2<Float>, dir: Vec2<Float>| {
+        geo.point_on_line(&anchor, &dir, s_f).map(|p| {
+            let v = if back { -dir.clone() } else { dir };
+            (
+                PrimitiveCase::DoubleTangent { pair, line },
+                round(&p),
+                v,
+                None,
+            )
+        })
+    };
+    if nd >= 2 {
+        let pair = pair_b % nd as u8;
+        let tangents = PairTangents::new(geo, pair);
+        // The outer tangent can run inside a third disk for all its length inside the
+        // cell (the triangular trap at small w); then the first inner tangent is used.
+        let line = line_b % 3;
+        [line, 1].into_iter().find_map(|line| {
+            let (anchor, dir) = tangents.line(line);
+            found(pair, line, anchor, dir)
+        })
+    } else {
+        // One disk: the tangents parallel to edge `pair` (corridor boundaries).
+        let pair = pair_b % ne as u8;
+        let line = line_b % 2;
+        let n = &chp.edges[pair as usize].normal;
+        let side = if line == 0 { hp(1.0) } else { hp(-1.0) };
+        let anchor = chp.disks[0].along(&(chp.radius.clone() * &side), n);
+        let dir = Vec2::new(n.y.clone(), -n.x.clone());
+        found(pair, line, anchor, dir)
+    }
+}
+
+/// The common tangents of two disks of the cell: the midpoint of their centres, the direction
+/// of the centre line and its normal towards the cell, the centres' distance, the radius.
+struct PairTangents {
+    mid: Vec2<Float>,
+    e_dir: Vec2<Float>,
+    n: Vec2<Float>,
+    len: Float,
+    radius: Float,
+}
+
+impl PairTangents {
+    /// The disks chosen by `pair`: the two disks, or the two after disk `pair` (cyclically).
+    fn new(geo: &Geo, pair: u8) -> Self {
+        let chp = &geo.chp;
+        let nd = geo.n_disks();
+        let (i, j) = if nd == 2 {
+            (0, 1)
+        } else {
+            ((pair as usize + 1) % nd, (pair as usize + 2) % nd)
+        };
+        let (ci, cj) = (&chp.disks[i], &chp.disks[j]);
+        let d = cj.sub(ci);
+        let len = d.norm2().sqrt();
+        let e_dir = Vec2::new(d.x.clone() / &len, d.y.clone() / &len);
+        let mid = Vec2::new((ci.x.clone() + &cj.x) / 2u32, (ci.y.clone() + &cj.y) / 2u32);
+        // The normal of the centre line pointing to the cell's side (its centroid).
+        let nc = chp.corners.len() as u32;
+        let centroid = Vec2::new(
+            chp.corners.iter().fold(hp(0.0), |s, p| s + &p.x) / nc,
+            chp.corners.iter().fold(hp(0.0), |s, p| s + &p.y) / nc,
+        );
+        let mut n = Vec2::new(-e_dir.y.clone(), e_dir.x.clone());
+        if centroid.sub(&mid).dot(&n).is_sign_negative() {
+            n = -n;
+        }
+        PairTangents {
+            mid,
+            e_dir,
+            n,
+            len,
+            radius: chp.radius.clone(),
+        }
+    }
+
+    /// Tangent `line` as (anchor, direction): 0 the outer one on the cell's side, 1 and 2 the
+    /// inner ones.
+    fn line(&self, line: u8) -> (Vec2<Float>, Vec2<Float>) {
+        match line {
+            0 => (self.mid.along(&self.radius, &self.n), self.e_dir.clone()),
+            _ => {
+                // Inner tangents: through the midpoint at angle ±α, sin α = 2r/|cⱼ − cᵢ|.
+                let alpha = (self.radius.clone() * 2u32 / &self.len).asin();
+                let th = angle_of(&self.e_dir);
+                let th = if line == 1 { th + &alpha } else { th - &alpha };
+                (self.mid.clone(), unit(&th))
+            }
+        }
+    }
+}
+
+/// Family 3 ([`PrimitiveCase::GapPoint`]): at a point where an edge meets a disk's circle, or aimed
+/// at one from a free point.
+fn gap_point_start(geo: &Geo, r: &mut Bytes) -> Option<Built> {
+    let ne = geo.chp.edges.len();
+    let edge = r.u8() % ne as u8;
+    let point_b = r.u8();
+    let at_point = r.u8() & 1 == 1;
+    let ang = r.frac32();
+    let (u1, u2) = (r.frac16(), r.frac16());
+    let pts = geo.edge_circle_points(edge as usize);
+    if pts.is_empty() {
+        None
+    } else {
+        let point = point_b % pts.len() as u8;
+        let g = &pts[point as usize];
+        let case = PrimitiveCase::GapPoint {
+            edge,
+            point,
+            at_point,
+        };
+        if at_point {
+            Some((case, round(g), unit(&(two_pi() * &hp(ang))), None))
+        } else {
+            let p64 = geo.free_point(u1, u2);
+            let to_g = g.sub(&lift(&p64));
+            (to_g.norm2().to_f64() > 1e-6).then(|| (case, p64, unit(&angle_of(&to_g)), None))
+        }
+    }
+}
+
+/// Family 5 ([`PrimitiveCase::Corner`]): at a corner of the cell, aimed at one, or along an edge
+/// through it.
+fn corner_start(geo: &Geo, r: &mut Bytes) -> Option<Built> {
+    let chp = &geo.chp;
+    let ne = chp.edges.len();
+    let corner = r.u8() % chp.corners.len() as u8;
+    let mode = r.u8() % 3;
+    let which = r.u8();
+    let ang = r.frac32();
+    let (u1, u2) = (r.frac16(), r.frac16());
+    let q = &chp.corners[corner as usize];
+    let case = PrimitiveCase::Corner { corner, mode };
+    match mode {
+        0 => geo
+            .free_hp(q)
+            .then(|| (case, round(q), unit(&(two_pi() * &hp(ang))), None)),
+        1 => {
+            let p64 = geo.free_point(u1, u2);
+            let to_q = q.sub(&lift(&p64));
+            (to_q.norm2().to_f64() > 1e-6).then(|| (case, p64, unit(&angle_of(&to_q)), None))
+        }
+        _ => {
+            // Along one of the (two) edges through the corner, either way.
+            let tiny = HP_TINY_EXP.exp2();
+            let through: Vec<usize> = (0..ne)
+                .filter(|&k| chp.edge_distance(k, q).to_f64().abs() <= tiny)
+                .collect();
+            (geo.free_hp(q) && !through.is_empty()).then(|| {
+                let n = &chp.edges[through[(which >> 1) as usize % through.len()]].normal;
+                let t = Vec2::new(n.y.clone(), -n.x.clone());
+                let t = if which & 1 == 1 { -t } else { t };
+                (case, round(q), t, None)
+            })
+        }
+    }
+}
+
+/// [`PrimitiveCase::Arbitrary`] (family 4, and the fall-back of a failed construction: reads its
+/// own bytes).
+fn arbitrary_start(geo: &Geo, r: &mut Bytes) -> Built {
+    let (u1, u2) = (r.frac16(), r.frac16());
+    let ang = r.frac32();
+    (
+        PrimitiveCase::Arbitrary,
+        geo.free_point(u1, u2),
+        unit(&(two_pi() * &hp(ang))),
+        None,
+    )
 }
 
 /// Decodes the whole single-cell input: `[scene][case][parameter mode][parameter: u32][events]`,
@@ -1129,10 +1192,8 @@ pub fn step_lattice<S: Scene>(
         state: format!("{start:?}"),
     })?;
     let basis = lat.basis_f64();
-    let cell = lat.cell().clone();
-    let extent = cell.extent();
-    let diam = diameter(&cell);
-    let band = energy_band(&cell);
+    let bounds = EventBounds::new(lat.cell().clone());
+    let diam = bounds.diam;
     let mut s = start.clone();
     let mut rep = OracleReport::new(case, label.clone());
     for n in 0..steps as u64 {
@@ -1147,83 +1208,12 @@ pub fn step_lattice<S: Scene>(
         let u_before = lat.unwrapped(&s, 0.0);
         let sg = s.cell.sign();
         let (vx, vy) = (sg * s.flight.vel.x, sg * s.flight.vel.y);
-        let e2_before = s.flight.vel.norm2();
         let ev = lat
             .step(&mut s)
             .map_err(|e| fail(format!("step failed: {e}")))?;
-        let fl = &s.flight;
-        if !(ev.time.is_finite() && ev.time >= 0.0 && ev.time <= 2.0 * diam) {
-            return Err(fail(format!(
-                "bad event time {:e} ({:?})",
-                ev.time, ev.kind
-            )));
-        }
-        if ![fl.pos.x, fl.pos.y, fl.vel.x, fl.vel.y]
-            .iter()
-            .all(|x| x.is_finite())
-        {
-            return Err(fail(format!(
-                "non-finite state after {:?}: {fl:?}",
-                ev.kind
-            )));
-        }
-        let e2 = fl.vel.norm2();
-        match ev.kind {
-            EventKind::Collision(m) => {
-                rep.collisions += 1;
-                let dev = (e2 - 1.0).abs() / U;
-                rep.worst_energy_u = rep.worst_energy_u.max(dev);
-                if dev.is_nan() || dev > band {
-                    return Err(fail(format!(
-                        "|v|^2 - 1 = {:e} = {dev} u after a collision (band {band} u)",
-                        e2 - 1.0
-                    )));
-                }
-                if s.cell != before.cell {
-                    return Err(fail(format!("cell changed on a collision: {:?}", s.cell)));
-                }
-                if fl.excluded_disk != Some(m) || fl.excluded_edge.is_some() {
-                    return Err(fail(format!("exclusions after collision {m}: {fl:?}")));
-                }
-            }
-            EventKind::Crossing(k) => {
-                rep.crossings += 1;
-                if e2.to_bits() != e2_before.to_bits() {
-                    return Err(fail(format!(
-                        "|v|^2 changed on a crossing: {e2_before:e} -> {e2:e}"
-                    )));
-                }
-                let edge = &cell.edges[k as usize];
-                let expected = before.cell.across(edge);
-                if s.cell != expected {
-                    return Err(fail(format!(
-                        "cell {:?} after crossing {k}, expected {expected:?}",
-                        s.cell
-                    )));
-                }
-                if fl.excluded_edge != Some(edge.entered) {
-                    return Err(fail(format!("exclusions after crossing {k}: {fl:?}")));
-                }
-            }
-        }
-        for (m, c) in cell.disks.iter().enumerate() {
-            let d = fl.pos.sub(c).norm2() - cell.radius2;
-            if d.is_nan() || d < -POST_EVENT_DISK_U * U {
-                return Err(fail(format!(
-                    "inside disk {m} after {:?}: |x-c|^2 - r^2 = {d:e}",
-                    ev.kind
-                )));
-            }
-        }
-        for k in 0..cell.edges.len() {
-            let sig = cell.edge_distance(k, &fl.pos);
-            if sig.is_nan() || sig < -POST_EVENT_EDGE_U * U * extent {
-                return Err(fail(format!(
-                    "outside edge {k} after {:?}: sigma = {sig:e}",
-                    ev.kind
-                )));
-            }
-        }
+        bounds
+            .check_after(&before, &ev, &s, &mut rep)
+            .map_err(fail)?;
         let d = lat.unwrapped(&s, 0.0).displacement_from(&u_before, &basis);
         let err = ((d[0] - ev.time * vx).powi(2) + (d[1] - ev.time * vy).powi(2)).sqrt();
         if err.is_nan() || err > UNWRAP_EPS * f64::EPSILON * (diam + ev.time) {
@@ -1232,6 +1222,132 @@ pub fn step_lattice<S: Scene>(
         rep.events += 1;
     }
     Ok(rep)
+}
+
+/// The cell of [`step_lattice`] with the bounds its per-event checks use: extent, diameter and
+/// energy band.
+struct EventBounds {
+    cell: ConvexCell<f64>,
+    extent: f64,
+    diam: f64,
+    band: f64,
+}
+
+impl EventBounds {
+    /// The bounds of `cell`.
+    fn new(cell: ConvexCell<f64>) -> Self {
+        EventBounds {
+            extent: cell.extent(),
+            diam: diameter(&cell),
+            band: energy_band(&cell),
+            cell,
+        }
+    }
+
+    /// The checks of one event `ev` from `before` to `after` but the unwrapped displacement,
+    /// counting it in `rep`; the reason of the first violation.
+    fn check_after(
+        &self,
+        before: &LatticeState<f64>,
+        ev: &Event<f64>,
+        after: &LatticeState<f64>,
+        rep: &mut OracleReport,
+    ) -> Result<(), String> {
+        let fl = &after.flight;
+        if !(ev.time.is_finite() && ev.time >= 0.0 && ev.time <= 2.0 * self.diam) {
+            return Err(format!("bad event time {:e} ({:?})", ev.time, ev.kind));
+        }
+        if ![fl.pos.x, fl.pos.y, fl.vel.x, fl.vel.y]
+            .iter()
+            .all(|x| x.is_finite())
+        {
+            return Err(format!("non-finite state after {:?}: {fl:?}", ev.kind));
+        }
+        match ev.kind {
+            EventKind::Collision(m) => self.check_collision(m, before, after, rep)?,
+            EventKind::Crossing(k) => self.check_crossing(k, before, after, rep)?,
+        }
+        self.check_position(fl, ev.kind)
+    }
+
+    /// After collision `m`: |v|² within the energy band, the same cell, disk `m` excluded.
+    fn check_collision(
+        &self,
+        m: u8,
+        before: &LatticeState<f64>,
+        after: &LatticeState<f64>,
+        rep: &mut OracleReport,
+    ) -> Result<(), String> {
+        let (fl, band) = (&after.flight, self.band);
+        let e2 = fl.vel.norm2();
+        rep.collisions += 1;
+        let dev = (e2 - 1.0).abs() / U;
+        rep.worst_energy_u = rep.worst_energy_u.max(dev);
+        if dev.is_nan() || dev > band {
+            return Err(format!(
+                "|v|^2 - 1 = {:e} = {dev} u after a collision (band {band} u)",
+                e2 - 1.0
+            ));
+        }
+        if after.cell != before.cell {
+            return Err(format!("cell changed on a collision: {:?}", after.cell));
+        }
+        if fl.excluded_disk != Some(m) || fl.excluded_edge.is_some() {
+            return Err(format!("exclusions after collision {m}: {fl:?}"));
+        }
+        Ok(())
+    }
+
+    /// After crossing edge `k`: |v|² unchanged bit for bit, the cell moved across the edge, the
+    /// edge entered excluded.
+    fn check_crossing(
+        &self,
+        k: u8,
+        before: &LatticeState<f64>,
+        after: &LatticeState<f64>,
+        rep: &mut OracleReport,
+    ) -> Result<(), String> {
+        let fl = &after.flight;
+        let (e2_before, e2) = (before.flight.vel.norm2(), fl.vel.norm2());
+        rep.crossings += 1;
+        if e2.to_bits() != e2_before.to_bits() {
+            return Err(format!(
+                "|v|^2 changed on a crossing: {e2_before:e} -> {e2:e}"
+            ));
+        }
+        let edge = &self.cell.edges[k as usize];
+        let expected = before.cell.across(edge);
+        if after.cell != expected {
+            return Err(format!(
+                "cell {:?} after crossing {k}, expected {expected:?}",
+                after.cell
+            ));
+        }
+        if fl.excluded_edge != Some(edge.entered) {
+            return Err(format!("exclusions after crossing {k}: {fl:?}"));
+        }
+        Ok(())
+    }
+
+    /// After event `kind`: outside every disk and inside every edge, up to rounding.
+    fn check_position(&self, fl: &Flight<f64>, kind: EventKind) -> Result<(), String> {
+        let cell = &self.cell;
+        for (m, c) in cell.disks.iter().enumerate() {
+            let d = fl.pos.sub(c).norm2() - cell.radius2;
+            if d.is_nan() || d < -POST_EVENT_DISK_U * U {
+                return Err(format!(
+                    "inside disk {m} after {kind:?}: |x-c|^2 - r^2 = {d:e}"
+                ));
+            }
+        }
+        for k in 0..cell.edges.len() {
+            let sig = cell.edge_distance(k, &fl.pos);
+            if sig.is_nan() || sig < -POST_EVENT_EDGE_U * U * self.extent {
+                return Err(format!("outside edge {k} after {kind:?}: sigma = {sig:e}"));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Steps a decoded lattice state (any scene) with [`step_lattice`].

@@ -635,50 +635,14 @@ pub fn shadow_pseudo_orbit<S: Scene>(
     };
     let y0: Vec<OrbitPoint> = orbit.iter().map(lift).collect();
     let mut y = y0.clone();
-    let mut first: Option<Evaluation> = None;
-    let mut iterations = 0;
-    let last = loop {
-        let ev = match evaluate(&table, &y) {
-            Ok(ev) => ev,
-            Err((k, e)) => {
-                let why = describe(k, &e, &y);
-                return Ok(Shadow::failed(n, bits, iterations, y, why));
-            }
-        };
-        let residual = ev.f.iter().map(|v| norm2(v).to_f64()).fold(0.0, f64::max);
-        let tol = (CONVERGENCE_SLACK_BITS as f64 - bits as f64).exp2() / ev.cos_min.0.min(1.0);
-        if first.is_none() {
-            first = Some(Evaluation {
-                f: ev.f.clone(),
-                jac: ev.jac.clone(),
-                tau: Vec::new(),
-                cos_min: ev.cos_min,
-            });
-        }
-        if residual <= tol {
-            break ev;
-        }
-        if iterations == MAX_ITERATIONS || !residual.is_finite() {
-            let why = format!(
-                "no convergence after {iterations} Newton iterations (max defect {residual:.3e}); smallest cos phi = {:.3e} at event {} (near-grazing: the linearisation is poor)",
-                ev.cos_min.0, ev.cos_min.1
-            );
-            return Ok(Shadow::failed(n, bits, iterations, y, why));
-        }
-        let Some(e) = min_norm_correction(&ev.jac, &ev.f) else {
-            let why = format!(
-                "the linearised system is numerically singular; smallest cos phi = {:.3e} at event {}",
-                ev.cos_min.0, ev.cos_min.1
-            );
-            return Ok(Shadow::failed(n, bits, iterations, y, why));
-        };
-        for (x, d) in y.iter_mut().zip(&e) {
-            x.s += &d[0];
-            x.p += &d[1];
-        }
-        iterations += 1;
+    let Converged {
+        first,
+        last,
+        iterations,
+    } = match newton(&table, &mut y, bits) {
+        Ok(c) => c,
+        Err((iterations, why)) => return Ok(Shadow::failed(n, bits, iterations, y, why)),
     };
-    let first = first.expect("evaluated at least once");
     let mut sh = Shadow::failed(n, bits, iterations, Vec::new(), String::new());
     sh.failure = None;
     sh.converged = true;
@@ -691,6 +655,99 @@ pub fn shadow_pseudo_orbit<S: Scene>(
             return Ok(Shadow::failed(n, bits, iterations, y, why));
         }
     };
+    let (eps, f0_l2) = record_defects(&mut sh, &ev2, &first, &last, bits);
+    let m_est = record_distance(&mut sh, &y, &y0, &first, &last, bits);
+    let amax = last.jac.iter().map(m_norm).fold(0.0, f64::max);
+    sh.max_jacobian_norm = Some(amax);
+    sh.min_cos_phi = Some(last.cos_min.0);
+    sh.min_cos_phi_event = Some(last.cos_min.1);
+    let (gap, blocked) = clearance(&table, &y, &last.tau);
+    sh.min_clearance = Some(gap);
+    if let Some((k, d, g)) = blocked {
+        sh.converged = false;
+        sh.failure = Some(format!(
+            "the flight from event {k} passes through disk ({}, {}) (clearance {g:.3e}): a near-tangent flight past a second disk, the f64 disk sequence is not that of a true orbit",
+            d[0], d[1]
+        ));
+        sh.orbit = y;
+        return Ok(sh);
+    }
+    let estimates = Estimates {
+        eps,
+        f0_l2,
+        m_est,
+        amax,
+        gap,
+    };
+    certify(&mut sh, &last, bits, &estimates);
+    sh.orbit = y;
+    Ok(sh)
+}
+
+/// Newton's method converged: the first and the last evaluation, and the iterations taken.
+struct Converged {
+    first: Evaluation,
+    last: Evaluation,
+    iterations: usize,
+}
+
+/// Newton's method on `y` (minimum-norm corrections) until the defect is within the tolerance
+/// at `bits`; on failure, the iterations done and the reason.
+fn newton(table: &Table, y: &mut [OrbitPoint], bits: u32) -> Result<Converged, (usize, String)> {
+    let mut first: Option<Evaluation> = None;
+    let mut iterations = 0;
+    loop {
+        let ev = evaluate(table, y).map_err(|(k, e)| (iterations, describe(k, &e, y)))?;
+        let residual = ev.f.iter().map(|v| norm2(v).to_f64()).fold(0.0, f64::max);
+        let tol = (CONVERGENCE_SLACK_BITS as f64 - bits as f64).exp2() / ev.cos_min.0.min(1.0);
+        if first.is_none() {
+            first = Some(Evaluation {
+                f: ev.f.clone(),
+                jac: ev.jac.clone(),
+                tau: Vec::new(),
+                cos_min: ev.cos_min,
+            });
+        }
+        if residual <= tol {
+            let first = first.expect("evaluated at least once");
+            return Ok(Converged {
+                first,
+                last: ev,
+                iterations,
+            });
+        }
+        if iterations == MAX_ITERATIONS || !residual.is_finite() {
+            let why = format!(
+                "no convergence after {iterations} Newton iterations (max defect {residual:.3e}); smallest cos phi = {:.3e} at event {} (near-grazing: the linearisation is poor)",
+                ev.cos_min.0, ev.cos_min.1
+            );
+            return Err((iterations, why));
+        }
+        let Some(e) = min_norm_correction(&ev.jac, &ev.f) else {
+            let why = format!(
+                "the linearised system is numerically singular; smallest cos phi = {:.3e} at event {}",
+                ev.cos_min.0, ev.cos_min.1
+            );
+            return Err((iterations, why));
+        };
+        for (x, d) in y.iter_mut().zip(&e) {
+            x.s += &d[0];
+            x.p += &d[1];
+        }
+        iterations += 1;
+    }
+}
+
+/// Records the defects of the converged orbit (`ev2`, at twice the precision) and of the
+/// pseudo-orbit (`first`) in `sh`; returns the defect bound ε and the pseudo-orbit's L² defect.
+fn record_defects(
+    sh: &mut Shadow,
+    ev2: &Evaluation,
+    first: &Evaluation,
+    last: &Evaluation,
+    bits: u32,
+) -> (f64, f64) {
+    let n = sh.collisions;
     let norms2: Vec<f64> = ev2.f.iter().map(|v| norm2(v).to_f64()).collect();
     let sec = 1.0 / last.cos_min.0.min(1.0);
     let rho =
@@ -705,7 +762,20 @@ pub fn shadow_pseudo_orbit<S: Scene>(
         .map(|v| norm2(v).to_f64().powi(2))
         .sum::<f64>()
         .sqrt();
-    // δ and the secant estimate of ‖D²T‖.
+    (eps, f0_l2)
+}
+
+/// Records δ (the largest distance of `y` from the pseudo-orbit `y0`) in `sh` with the secant
+/// estimate of ‖D²T‖, which it returns.
+fn record_distance(
+    sh: &mut Shadow,
+    y: &[OrbitPoint],
+    y0: &[OrbitPoint],
+    first: &Evaluation,
+    last: &Evaluation,
+    bits: u32,
+) -> f64 {
+    let n = y.len();
     let mut delta = 0.0f64;
     let mut m_est = 0.0f64;
     let floor = (40.0 - bits as f64).exp2();
@@ -723,21 +793,29 @@ pub fn shadow_pseudo_orbit<S: Scene>(
     }
     sh.delta = Some(delta);
     sh.second_derivative_estimate = Some(m_est);
-    let amax = last.jac.iter().map(m_norm).fold(0.0, f64::max);
-    sh.max_jacobian_norm = Some(amax);
-    sh.min_cos_phi = Some(last.cos_min.0);
-    sh.min_cos_phi_event = Some(last.cos_min.1);
-    let (gap, blocked) = clearance(&table, &y, &last.tau);
-    sh.min_clearance = Some(gap);
-    if let Some((k, d, g)) = blocked {
-        sh.converged = false;
-        sh.failure = Some(format!(
-            "the flight from event {k} passes through disk ({}, {}) (clearance {g:.3e}): a near-tangent flight past a second disk, the f64 disk sequence is not that of a true orbit",
-            d[0], d[1]
-        ));
-        sh.orbit = y;
-        return Ok(sh);
-    }
+    m_est
+}
+
+/// What the certificate weighs: the defect bound ε, the pseudo-orbit's L² defect, the estimate
+/// of ‖D²T‖, the largest Jacobian norm and the smallest clearance.
+struct Estimates {
+    eps: f64,
+    f0_l2: f64,
+    m_est: f64,
+    amax: f64,
+    gap: f64,
+}
+
+/// The Newton–Kantorovich certificate from the bound K on ‖J⁺‖ at the converged orbit (`last`),
+/// or the reason there is none.
+fn certify(sh: &mut Shadow, last: &Evaluation, bits: u32, est: &Estimates) {
+    let Estimates {
+        eps,
+        f0_l2,
+        m_est,
+        amax,
+        gap,
+    } = *est;
     match inverse_bound(&last.jac, bits) {
         None => {
             sh.failure = Some(format!(
@@ -762,8 +840,6 @@ pub fn shadow_pseudo_orbit<S: Scene>(
             }
         }
     }
-    sh.orbit = y;
-    Ok(sh)
 }
 
 /// Refuses a segment length or precision outside the supported ranges, naming them.

@@ -162,22 +162,53 @@ pub fn backscatter_curve(
         progress,
         ..RunOptions::default()
     };
+    let curve = Curve {
+        visits,
+        seed,
+        dir,
+        meta: &meta,
+        opts: &opts,
+    };
     let mut written = Vec::new();
     for (name, ws, first_run) in [
         ("fig4a-p-bs", &grid, 0u64),
         ("fig4a-inset-p-bs", &inset, grid.len() as u64),
     ] {
+        curve.panel(name, ws, first_run)?;
+        written.extend(files(name));
+    }
+    Ok(FigureReport {
+        files: written,
+        meta,
+    })
+}
+
+/// What the panels of Fig. 4a share: injections per gap, seed, output folder, metadata and run
+/// options.
+struct Curve<'a> {
+    visits: u64,
+    seed: u64,
+    dir: &'a Path,
+    meta: &'a RunMeta,
+    opts: &'a RunOptions<'a>,
+}
+
+impl Curve<'_> {
+    /// One panel `name` of Fig. 4a over the gaps `ws` (point i is run `first_run` + i): its CSV,
+    /// JSON and figure.
+    fn panel(&self, name: &str, ws: &[f64], first_run: u64) -> Result<(), Error> {
+        let dir = self.dir;
         let mut rows = Vec::new();
         for (i, &w) in ws.iter().enumerate() {
             let cfg = BackscatterConfig {
                 w,
-                visits,
+                visits: self.visits,
                 batches: CURVE_BATCHES,
-                seed,
+                seed: self.seed,
                 run: first_run + i as u64,
                 precision: Precision::F64,
             };
-            let r = backscatter::run(&cfg, &opts)?;
+            let r = backscatter::run(&cfg, self.opts)?;
             rows.push((w, r.p_bs, r.p_bs_err));
         }
         let mut csv = String::from("w,p_bs,p_bs_err\n");
@@ -187,10 +218,9 @@ pub fn backscatter_curve(
         std::fs::write(dir.join(format!("{name}.csv")), csv)?;
         write_json(
             &dir.join(format!("{name}.json")),
-            json!({"rows": rows, "visits_per_point": visits}),
-            &meta,
+            json!({"rows": rows, "visits_per_point": self.visits}),
+            self.meta,
         )?;
-        written.extend(files(name));
         let third: Vec<(f64, f64, f64)> = ws.iter().map(|&w| (w, 1.0 / 3.0, 0.0)).collect();
         plot(
             &dir.join(name),
@@ -215,12 +245,8 @@ pub fn backscatter_curve(
                     line: true,
                 },
             ],
-        )?;
+        )
     }
-    Ok(FigureReport {
-        files: written,
-        meta,
-    })
 }
 
 /// Figs. 3, 4b and 6: on a grid of w, the measured p_cf against App. A (corrected and as printed),
@@ -239,26 +265,14 @@ pub fn hierarchy(
 ) -> Result<FigureReport, Error> {
     use crate::estimators::diffusion::run;
     let grid = hierarchy_grid()?;
-    let n = grid.len() as u64;
-    let einstein = |i: usize, w: f64| {
-        let mut c = DiffusionConfig::new(w);
-        c.collisions = collisions;
-        c.batches = HIERARCHY_BATCHES;
-        c.seed = seed;
-        c.run = n + i as u64;
-        c
-    };
-    let hop_config = |i: usize, w: f64| HopsConfig {
-        w,
+    let runs = HierarchyRuns {
         collisions,
-        batches: HIERARCHY_BATCHES,
-        order: HIERARCHY_ORDER,
         seed,
-        run: i as u64,
+        points: grid.len() as u64,
     };
     for (i, &w) in grid.iter().enumerate() {
-        hop_config(i, w).validate()?;
-        einstein(i, w).validate()?;
+        runs.hops(i, w).validate()?;
+        runs.einstein(i, w).validate()?;
     }
     let opts = RunOptions {
         threads,
@@ -268,12 +282,83 @@ pub fn hierarchy(
     std::fs::create_dir_all(dir)?;
     let mut rows = Vec::new();
     for (i, &w) in grid.iter().enumerate() {
-        let t = theory::run(&hop_config(i, w), &opts)?;
-        let d = run(&einstein(i, w), &opts)?;
+        let t = theory::run(&runs.hops(i, w), &opts)?;
+        let d = run(&runs.einstein(i, w), &opts)?;
         rows.push((w, t, d.D, d.D_err));
     }
+    std::fs::write(dir.join("fig3-4b-6-hierarchy.csv"), hierarchy_csv(&rows))?;
+    let meta = RunMeta::new(
+        Some(seed),
+        Some(HIERARCHY_BATCHES as u64),
+        Precision::F64,
+        Some(threads),
+    );
+    write_json(
+        &dir.join("fig3-4b-6-hierarchy.json"),
+        json!({"grid": grid, "collisions_per_point": collisions}),
+        &meta,
+    )?;
+    hierarchy_plots(&rows, dir)?;
+    let mut written = vec![
+        "fig3-4b-6-hierarchy.csv".to_string(),
+        "fig3-4b-6-hierarchy.json".to_string(),
+    ];
+    for stem in HIERARCHY_STEMS {
+        written.push(format!("{stem}.png"));
+        written.push(format!("{stem}.svg"));
+    }
+    Ok(FigureReport {
+        files: written,
+        meta,
+    })
+}
+
+/// The figures [`hierarchy`] draws, in order.
+const HIERARCHY_STEMS: [&str; 4] = [
+    "fig3a-p-cf",
+    "fig3b-4b-corrections",
+    "fig6a-hierarchy",
+    "fig6b-lattice-walks",
+];
+
+/// The runs of [`hierarchy`]: `collisions` per gap from `seed` on a grid of `points` gaps.
+struct HierarchyRuns {
+    collisions: u64,
+    seed: u64,
+    points: u64,
+}
+
+impl HierarchyRuns {
+    /// The Einstein D at gap `w`, point `i` (run grid length + i).
+    fn einstein(&self, i: usize, w: f64) -> DiffusionConfig {
+        let mut c = DiffusionConfig::new(w);
+        c.collisions = self.collisions;
+        c.batches = HIERARCHY_BATCHES;
+        c.seed = self.seed;
+        c.run = self.points + i as u64;
+        c
+    }
+
+    /// The hop statistics at gap `w`, point `i` (run i).
+    fn hops(&self, i: usize, w: f64) -> HopsConfig {
+        HopsConfig {
+            w,
+            collisions: self.collisions,
+            batches: HIERARCHY_BATCHES,
+            order: HIERARCHY_ORDER,
+            seed: self.seed,
+            run: i as u64,
+        }
+    }
+}
+
+/// (w, theory, Einstein D, its error) of one grid point.
+type HierarchyRow = (f64, theory::TheoryReport, f64, f64);
+
+/// The CSV of [`hierarchy`]: one line per gap.
+fn hierarchy_csv(rows: &[HierarchyRow]) -> String {
     let mut csv = String::from("w,D,D_err,D_MZ,D_cf,D_bs,D_1,D_2,D_3,walk_1,walk_2,walk_3,walk_4,p_cf,p_cf_err,p_cf_app_a,p_cf_app_a_printed\n");
-    for (w, t, d, e) in &rows {
+    for (w, t, d, e) in rows {
         csv.push_str(&format!(
             "{w},{d},{e},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             t.D_MZ,
@@ -292,21 +377,12 @@ pub fn hierarchy(
             t.p_cf_appendix_a.1
         ));
     }
-    std::fs::write(dir.join("fig3-4b-6-hierarchy.csv"), csv)?;
-    let meta = RunMeta::new(
-        Some(seed),
-        Some(HIERARCHY_BATCHES as u64),
-        Precision::F64,
-        Some(threads),
-    );
-    write_json(
-        &dir.join("fig3-4b-6-hierarchy.json"),
-        json!({"grid": grid, "collisions_per_point": collisions}),
-        &meta,
-    )?;
-    /// (w, theory, Einstein D, its error) of one grid point.
-    type Row = (f64, theory::TheoryReport, f64, f64);
-    let ser = |label: &str, f: &dyn Fn(&Row) -> (f64, f64, f64)| Series {
+    csv
+}
+
+/// The four figures of [`hierarchy`] ([`HIERARCHY_STEMS`]) into `dir`.
+fn hierarchy_plots(rows: &[HierarchyRow], dir: &Path) -> Result<(), Error> {
+    let ser = |label: &str, f: &dyn Fn(&HierarchyRow) -> (f64, f64, f64)| Series {
         label: label.into(),
         points: rows.iter().map(f).collect(),
         notes: Vec::new(),
@@ -365,22 +441,5 @@ pub fn hierarchy(
             ser("order 3", &|r| (r.0, r.1.lattice_gas_exact[2].1, 0.0)),
             ser("order 4", &|r| (r.0, r.1.lattice_gas_exact[3].1, 0.0)),
         ],
-    )?;
-    let mut written = vec![
-        "fig3-4b-6-hierarchy.csv".to_string(),
-        "fig3-4b-6-hierarchy.json".to_string(),
-    ];
-    for stem in [
-        "fig3a-p-cf",
-        "fig3b-4b-corrections",
-        "fig6a-hierarchy",
-        "fig6b-lattice-walks",
-    ] {
-        written.push(format!("{stem}.png"));
-        written.push(format!("{stem}.svg"));
-    }
-    Ok(FigureReport {
-        files: written,
-        meta,
-    })
+    )
 }
