@@ -1,6 +1,7 @@
 //! The parts of a sharded sweep combined into the whole sweep: the same bits as the sweep run in
 //! one piece, apart from `meta` (this process) and `resumed_points` (every point merged).
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -33,66 +34,116 @@ pub struct MergeConfig {
 /// each) — before anything is written.
 pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error> {
     options.validate()?;
-    let (dirs, out, threads): (&[PathBuf], &Path, usize) = (&cfg.parts, &cfg.out, options.threads);
+    let (dirs, out) = (&cfg.parts, cfg.out.as_path());
     if dirs.is_empty() {
         return Err(Error::Invalid(
             "merge needs at least one directory of sweep points".into(),
         ));
     }
-    let mut cfg: Option<(SweepConfig, PathBuf)> = None;
-    let mut shards: std::collections::BTreeMap<u32, (Shard, PathBuf)> = Default::default();
-    let mut found: std::collections::BTreeMap<u32, (SweepPoint, PathBuf)> = Default::default();
-    // The engines that ran the parts (informational: every engine gives the same bits).
-    let mut engines: Vec<(String, Option<String>)> = Vec::new();
-    let same = |c: &SweepConfig, d: &Path, cfg: &mut Option<(SweepConfig, PathBuf)>| match cfg {
-        None => {
-            *cfg = Some((c.clone(), d.to_path_buf()));
-            Ok(())
-        }
-        Some((c0, d0)) if c0 != c => Err(Error::Invalid(format!(
-            "{} and {} hold different sweeps ({}): merge only parts of one sweep",
-            d0.display(),
-            d.display(),
-            config_difference(c0, c)
-        ))),
-        Some(_) => Ok(()),
-    };
+    let mut parts = Parts::default();
     for d in dirs {
-        let manifest = d.join("shard.json");
-        if manifest.exists() {
-            let text = std::fs::read_to_string(&manifest)?;
-            let m: ShardReport = serde_json::from_str(&text).map_err(|e| {
-                Error::Invalid(format!(
-                    "{} is not a shard manifest: {e}",
-                    manifest.display()
-                ))
-            })?;
-            same(&m.config, d, &mut cfg)?;
-            if let Some((s0, d0)) = shards.values().next() {
-                if s0.count != m.shard.count {
-                    return Err(Error::Invalid(format!(
-                        "{} is part {} but {} is part {}: merge parts of one split",
-                        d0.display(),
-                        s0,
-                        d.display(),
-                        m.shard
-                    )));
-                }
+        parts.read_manifest(d)?;
+        parts.read_points(d)?;
+    }
+    let Some((sweep, _)) = parts.config.clone() else {
+        return Err(Error::Invalid(format!(
+            "no sweep points in {}",
+            dirs.iter()
+                .map(|d| d.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    };
+    sweep.validate()?;
+    let points = parts.complete(&sweep)?;
+    std::fs::create_dir_all(out.join("points"))?;
+    for p in &points {
+        write_atomically(
+            &point_path(out, p.index as usize),
+            &serde_json::to_string(p).map_err(|e| Error::Io(e.to_string()))?,
+        )?;
+    }
+    let n = points.len() as u32;
+    let mut report = analyse(&sweep, &points, n, options.threads)?;
+    parts.name_engines(&mut report);
+    Ok(report)
+}
+
+/// What the part directories hold, gathered and checked as they are read.
+#[derive(Default)]
+struct Parts {
+    /// The sweep, and the directory it was first seen in.
+    config: Option<(SweepConfig, PathBuf)>,
+    /// The parts with a manifest, by index.
+    shards: BTreeMap<u32, (Shard, PathBuf)>,
+    /// The points, by index, with their directory.
+    found: BTreeMap<u32, (SweepPoint, PathBuf)>,
+    /// The engines that ran the parts (informational: every engine gives the same bits).
+    engines: Vec<(String, Option<String>)>,
+}
+
+impl Parts {
+    /// Checks that `c` (read in `d`) is the sweep seen so far.
+    fn same(&mut self, c: &SweepConfig, d: &Path) -> Result<(), Error> {
+        match &self.config {
+            None => {
+                self.config = Some((c.clone(), d.to_path_buf()));
+                Ok(())
             }
-            if let Some((_, d0)) = shards.get(&m.shard.index) {
+            Some((c0, d0)) if c0 != c => Err(Error::Invalid(format!(
+                "{} and {} hold different sweeps ({}): merge only parts of one sweep",
+                d0.display(),
+                d.display(),
+                config_difference(c0, c)
+            ))),
+            Some(_) => Ok(()),
+        }
+    }
+
+    /// Reads `d/shard.json`, if there is one: the part's identity, checked against the others.
+    fn read_manifest(&mut self, d: &Path) -> Result<(), Error> {
+        let manifest = d.join("shard.json");
+        if !manifest.exists() {
+            return Ok(());
+        }
+        let text = std::fs::read_to_string(&manifest)?;
+        let m: ShardReport = serde_json::from_str(&text).map_err(|e| {
+            Error::Invalid(format!(
+                "{} is not a shard manifest: {e}",
+                manifest.display()
+            ))
+        })?;
+        self.same(&m.config, d)?;
+        if let Some((s0, d0)) = self.shards.values().next() {
+            if s0.count != m.shard.count {
                 return Err(Error::Invalid(format!(
-                    "part {} is in both {} and {}",
-                    m.shard,
+                    "{} is part {} but {} is part {}: merge parts of one split",
                     d0.display(),
-                    d.display()
+                    s0,
+                    d.display(),
+                    m.shard
                 )));
             }
-            shards.insert(m.shard.index, (m.shard, d.clone()));
-            let e = (m.meta.engine, m.meta.simd);
-            if !engines.contains(&e) {
-                engines.push(e);
-            }
         }
+        if let Some((_, d0)) = self.shards.get(&m.shard.index) {
+            return Err(Error::Invalid(format!(
+                "part {} is in both {} and {}",
+                m.shard,
+                d0.display(),
+                d.display()
+            )));
+        }
+        self.shards
+            .insert(m.shard.index, (m.shard, d.to_path_buf()));
+        let e = (m.meta.engine, m.meta.simd);
+        if !self.engines.contains(&e) {
+            self.engines.push(e);
+        }
+        Ok(())
+    }
+
+    /// Reads the points in `d/points/`, each of the same sweep and present once.
+    fn read_points(&mut self, d: &Path) -> Result<(), Error> {
         let pdir = d.join("points");
         let entries = std::fs::read_dir(&pdir).map_err(|e| {
             Error::Invalid(format!(
@@ -110,8 +161,8 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
             let p: SweepPoint = serde_json::from_str(&text).map_err(|e| {
                 Error::Invalid(format!("{} is not a sweep point: {e}", path.display()))
             })?;
-            same(&p.config, d, &mut cfg)?;
-            if let Some((_, d0)) = found.get(&p.index) {
+            self.same(&p.config, d)?;
+            if let Some((_, d0)) = self.found.get(&p.index) {
                 return Err(Error::Invalid(format!(
                     "point {} (w = {}) is in both {} and {}",
                     p.index,
@@ -120,67 +171,61 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
                     d.display()
                 )));
             }
-            found.insert(p.index, (p, d.clone()));
+            self.found.insert(p.index, (p, d.to_path_buf()));
         }
+        Ok(())
     }
-    let Some((cfg, _)) = cfg else {
-        return Err(Error::Invalid(format!(
-            "no sweep points in {}",
-            dirs.iter()
-                .map(|d| d.display().to_string())
+
+    /// Every point of `sweep`, in index order, each on its grid point; missing points are named
+    /// with the part that owns each.
+    fn complete(&self, sweep: &SweepConfig) -> Result<Vec<SweepPoint>, Error> {
+        let grid = sweep.points()?;
+        let missing: Vec<u32> = (0..sweep.steps)
+            .filter(|i| !self.found.contains_key(i))
+            .collect();
+        if !missing.is_empty() {
+            let count = self.shards.values().next().map(|(s, _)| s.count);
+            let list = missing
+                .iter()
+                .take(10)
+                .map(|&i| match count {
+                    Some(n) => format!("{i} (w = {}, part {}/{n})", grid[i as usize], i % n),
+                    None => format!("{i} (w = {})", grid[i as usize]),
+                })
                 .collect::<Vec<_>>()
-                .join(", ")
-        )));
-    };
-    cfg.validate()?;
-    let grid = cfg.points()?;
-    let missing: Vec<u32> = (0..cfg.steps).filter(|i| !found.contains_key(i)).collect();
-    if !missing.is_empty() {
-        let count = shards.values().next().map(|(s, _)| s.count);
-        let list = missing
-            .iter()
-            .take(10)
-            .map(|&i| match count {
-                Some(n) => format!("{i} (w = {}, part {}/{n})", grid[i as usize], i % n),
-                None => format!("{i} (w = {})", grid[i as usize]),
-            })
-            .collect::<Vec<_>>()
-            .join(", ");
-        let more = if missing.len() > 10 { ", …" } else { "" };
-        return Err(Error::Invalid(format!(
-            "{} of {} points missing: {list}{more}; run (or finish) those parts first",
-            missing.len(),
-            cfg.steps
-        )));
-    }
-    let mut points = Vec::with_capacity(found.len());
-    for (i, (p, _)) in found {
-        if p.w != grid[i as usize] {
+                .join(", ");
+            let more = if missing.len() > 10 { ", …" } else { "" };
             return Err(Error::Invalid(format!(
-                "point {i} has w = {} but the grid has {}: a damaged point file",
-                p.w, grid[i as usize]
+                "{} of {} points missing: {list}{more}; run (or finish) those parts first",
+                missing.len(),
+                sweep.steps
             )));
         }
-        points.push(p);
+        let mut points = Vec::with_capacity(self.found.len());
+        for (&i, (p, _)) in &self.found {
+            if p.w != grid[i as usize] {
+                return Err(Error::Invalid(format!(
+                    "point {i} has w = {} but the grid has {}: a damaged point file",
+                    p.w, grid[i as usize]
+                )));
+            }
+            points.push(p.clone());
+        }
+        Ok(points)
     }
-    std::fs::create_dir_all(out.join("points"))?;
-    for p in &points {
-        write_atomically(
-            &point_path(out, p.index as usize),
-            &serde_json::to_string(p).map_err(|e| Error::Io(e.to_string()))?,
-        )?;
+
+    /// The engines of the parts into the report's metadata (one, or all of them joined).
+    fn name_engines(&self, report: &mut SweepReport) {
+        if let [(engine, simd)] = &self.engines[..] {
+            report.meta.engine = engine.clone();
+            report.meta.simd = simd.clone();
+        } else if !self.engines.is_empty() {
+            report.meta.engine = self
+                .engines
+                .iter()
+                .map(|(e, s)| s.as_ref().map_or(e.clone(), |s| format!("{e} ({s})")))
+                .collect::<Vec<_>>()
+                .join(" + ");
+        }
     }
-    let n = points.len() as u32;
-    let mut report = analyse(&cfg, &points, n, threads)?;
-    if let [(engine, simd)] = &engines[..] {
-        report.meta.engine = engine.clone();
-        report.meta.simd = simd.clone();
-    } else if !engines.is_empty() {
-        report.meta.engine = engines
-            .iter()
-            .map(|(e, s)| s.as_ref().map_or(e.clone(), |s| format!("{e} ({s})")))
-            .collect::<Vec<_>>()
-            .join(" + ");
-    }
-    Ok(report)
 }

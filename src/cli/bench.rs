@@ -1,7 +1,8 @@
 //! `lorentz bench`: kernel throughput, and with `--report` the speed-against-error table.
 
-use lorentz_gas::estimators::throughput::{throughput, Throughput};
-use lorentz_gas::report::speed_error::{speed_against_error, REPORT_STEPS};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::throughput::{self, Throughput, ThroughputConfig};
+use lorentz_gas::report::speed_error::{self, SpeedErrorConfig, REPORT_STEPS};
 use lorentz_gas::Error;
 
 use super::args::{
@@ -47,8 +48,14 @@ pub fn run(a: Args) -> Result<(), Error> {
     if a.report {
         let out = a.out.dir("results");
         let pb = Progress::new(REPORT_STEPS, "steps", a.output.quiet);
-        let (r, md) =
-            speed_against_error(a.gap.w, &out, a.run.seed, a.run.threads(), &pb.callback())?;
+        let cfg = SpeedErrorConfig {
+            w: a.gap.w,
+            seed: a.run.seed,
+            out: out.clone(),
+        };
+        let opts = pb.options(a.run.threads());
+        let (r, md) = speed_error::run(&cfg, &opts)?;
+        drop(opts);
         drop(pb);
         if a.output.json {
             println!("{}", to_json(&r)?);
@@ -62,17 +69,20 @@ pub fn run(a: Args) -> Result<(), Error> {
         return Ok(());
     }
     let pb = Progress::new(a.repetitions as u64, "repetitions", a.output.quiet);
-    let r = throughput(
-        a.gap.w,
-        a.precision.precision,
-        a.engine.engine,
-        a.observe,
-        a.collisions,
-        a.repetitions,
-        a.run.seed,
-        threads,
-        &pb.callback(),
-    )?;
+    let cfg = ThroughputConfig {
+        w: a.gap.w,
+        precision: a.precision.precision,
+        observe: a.observe,
+        collisions: a.collisions,
+        repetitions: a.repetitions,
+        seed: a.run.seed,
+    };
+    let opts = RunOptions {
+        engine: a.engine.engine,
+        ..pb.options(threads)
+    };
+    let r = throughput::run(&cfg, &opts)?;
+    drop(opts);
     drop(pb);
     emit(a.output.json, &r, print)
 }

@@ -4,7 +4,7 @@ use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::triangular::geometry::Geometry;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::verification::shadowing::{
-    check_request, shadow_segments, ShadowRequest, MAX_SEGMENTS,
+    self as shadowing, check_request, ShadowConfig, MAX_SEGMENTS,
 };
 use lorentz_gas::Error;
 use rug::Float;
@@ -59,13 +59,15 @@ pub fn run(a: Args) -> Result<(), Error> {
         "collisions",
         a.output.quiet,
     );
-    let request = ShadowRequest {
+    let request = ShadowConfig {
         collisions: a.collisions,
         segments: a.segments,
         seed: a.run.seed,
         bits: a.precision,
     };
-    let r = shadow_segments(&scene, &request, a.run.threads(), &pb.callback())?;
+    let opts = pb.options(a.run.threads());
+    let r = shadowing::run(&scene, &request, &opts)?;
+    drop(opts);
     drop(pb);
     let opt = |x: Option<f64>| x.map_or_else(|| "-".to_string(), |v| format!("{v:.2e}"));
     emit(a.output.json, &r, |r| {

@@ -4,11 +4,12 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
 use crate::engine::simd::BLOCK;
-use crate::engine::{drive, run_block, Engine, Resolved};
+use crate::engine::{drive, run_block, Resolved};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::kernel::trap::Trap;
 use crate::numbers::lanes::Lanes;
@@ -137,7 +138,7 @@ impl AtPrecision for TimeRuns<'_> {
 }
 
 /// What the benchmark watches besides the engine's own crossing count.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Observe {
@@ -245,21 +246,57 @@ impl<const L: usize> Observer<L> for CrossingCount {
     }
 }
 
-/// Times `reps` repetitions of `collisions` collisions on each of `threads` threads (one
-/// trajectory each on the scalar engine, a block of [`BLOCK`] on the SIMD engine), continuing
-/// equilibrium starts (seed `seed`). `progress` receives finished repetitions.
-#[allow(clippy::too_many_arguments)]
-pub fn throughput(
-    w: f64,
-    precision: Precision,
-    engine: Engine,
-    observe: Observe,
-    collisions: u64,
-    reps: usize,
-    seed: u64,
-    threads: usize,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Throughput, Error> {
+/// What a throughput measurement times.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThroughputConfig {
+    /// Gap w > 0.
+    pub w: f64,
+    /// Number type.
+    pub precision: Precision,
+    /// Which observers run beside the engine.
+    pub observe: Observe,
+    /// Collisions per thread per repetition.
+    pub collisions: u64,
+    /// Repetitions, 1 to [`MAX_REPETITIONS`] (the median is reported).
+    pub repetitions: usize,
+    /// Seed of the equilibrium starts.
+    pub seed: u64,
+}
+
+impl ThroughputConfig {
+    /// The command line's defaults at `w`: f64, bare engine, 2·10⁷ collisions, 7 repetitions,
+    /// seed 1.
+    pub fn new(w: f64) -> Self {
+        ThroughputConfig {
+            w,
+            precision: Precision::F64,
+            observe: Observe::None,
+            collisions: 20_000_000,
+            repetitions: 7,
+            seed: 1,
+        }
+    }
+}
+
+/// Times `cfg.repetitions` repetitions of `cfg.collisions` collisions on each of
+/// `options.threads` threads (one trajectory each on the scalar engine, a block of [`BLOCK`] on
+/// the SIMD engine, `options.engine`), continuing equilibrium starts. `options.progress`
+/// receives finished repetitions.
+///
+/// # Errors
+/// A gap that is not positive, no collisions, repetitions out of range, or invalid options.
+pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, Error> {
+    options.validate()?;
+    let ThroughputConfig {
+        w,
+        precision,
+        observe,
+        collisions,
+        repetitions: reps,
+        seed,
+    } = *cfg;
+    let (engine, threads, progress) = (options.engine, options.threads, options.progress);
     Geometry::new(w)?;
     if collisions == 0 {
         return Err(Error::Zero { what: "collisions" });

@@ -328,9 +328,18 @@ impl Reproduction<'_> {
             }
             Step::Speed => {
                 stage(crate::report::speed_error::REPORT_STEPS, "steps");
-                crate::report::speed_error::speed_against_error(0.1, sub, seed, threads, &|n| {
-                    reporter.advance(n)
-                })?;
+                let cfg = crate::report::speed_error::SpeedErrorConfig {
+                    w: 0.1,
+                    seed,
+                    out: sub.to_path_buf(),
+                };
+                let advance = |n| reporter.advance(n);
+                let opts = RunOptions {
+                    threads,
+                    progress: &advance,
+                    ..RunOptions::default()
+                };
+                crate::report::speed_error::run(&cfg, &opts)?;
             }
         }
         Ok(())

@@ -7,15 +7,15 @@
 //! reference by 10⁻³); and the CPU time a D with 0.1 % relative error would take, from a measured
 //! f64 calibration run (statistics do not depend on precision: `tests/verification.rs`).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use rug::Float;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::estimators::diffusion::{run, DiffusionConfig};
-use crate::estimators::throughput::throughput;
+use crate::estimators::diffusion::{self, DiffusionConfig};
+use crate::estimators::throughput::{self, Observe, ThroughputConfig};
 use crate::kernel::{flight::Flight, trap::Trap};
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
@@ -126,17 +126,29 @@ fn one_step<T: Real>(trap: &Trap<T>, tref: &Trap<Float>, states: &[Flight<f64>])
     (errs[errs.len() / 2], *errs.last().unwrap_or(&f64::NAN))
 }
 
-/// Measures the report at gap `w` and writes `speed-vs-error.{md,json,png,svg}` into `dir`.
+/// What the speed-against-error report measures, and where it is written.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedErrorConfig {
+    /// Gap, 0 < w < w∞.
+    pub w: f64,
+    /// Everything random comes from it (the calibration run's batches, the orbit of the one-step
+    /// errors, the divergence starts).
+    pub seed: u64,
+    /// Folder of `speed-vs-error.{md,json,png,svg}` (created).
+    pub out: PathBuf,
+}
+
+/// Measures the report and writes `speed-vs-error.{md,json,png,svg}` into `cfg.out`; returns
+/// the report and its Markdown. `options.threads` runs the calibration; every timing runs on one
+/// thread. `options.progress` receives finished steps (of [`REPORT_STEPS`]).
 ///
-/// Everything random comes from `seed` (the calibration run's batches, the orbit of the one-step
-/// errors, the divergence starts). `progress` receives finished steps (of [`REPORT_STEPS`]).
-pub fn speed_against_error(
-    w: f64,
-    dir: &Path,
-    seed: u64,
-    threads: usize,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<(SpeedReport, String), Error> {
+/// # Errors
+/// A gap outside (0, w∞), invalid options, or an I/O error.
+pub fn run(cfg: &SpeedErrorConfig, options: &RunOptions) -> Result<(SpeedReport, String), Error> {
+    options.validate()?;
+    let (w, dir, seed) = (cfg.w, cfg.out.as_path(), cfg.seed);
+    let (threads, progress) = (options.threads, options.progress);
     crate::scenes::triangular::geometry::check_diffusive_gap(w)?;
     let (cfg, rel) = calibrate(w, dir, seed, threads)?;
     progress(2);
@@ -202,7 +214,7 @@ fn calibrate(
     cfg.seed = seed;
     cfg.validate()?;
     std::fs::create_dir_all(dir)?;
-    let cal = run(
+    let cal = diffusion::run(
         &cfg,
         &RunOptions {
             threads,
@@ -250,17 +262,19 @@ impl Bench<'_> {
     /// Median ns per collision at precision `p` over `n` collisions (one thread), one step done.
     fn time(&self, p: Precision, n: u64) -> Result<f64, Error> {
         // What production runs on: the SIMD engine for f64, the scalar engine for MPFR.
-        let t = throughput(
-            self.w,
-            p,
-            crate::engine::Engine::Auto,
-            crate::estimators::throughput::Observe::None,
-            n,
-            REPORT_REPETITIONS,
-            self.seed,
-            1,
-            &|_| {},
-        )?;
+        let cfg = ThroughputConfig {
+            w: self.w,
+            precision: p,
+            observe: Observe::None,
+            collisions: n,
+            repetitions: REPORT_REPETITIONS,
+            seed: self.seed,
+        };
+        let one = RunOptions {
+            threads: 1,
+            ..RunOptions::default()
+        };
+        let t = throughput::run(&cfg, &one)?;
         (self.progress)(1);
         Ok(t.ns_per_collision)
     }

@@ -32,6 +32,7 @@ use rug::Float;
 use serde::Serialize;
 
 use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
 use crate::engine::parallel::par_batches;
 use crate::kernel::flight::EventKind;
 use crate::kernel::vec2::Vec2;
@@ -42,9 +43,9 @@ use crate::Error;
 
 /// Smallest working precision: 128 bits leave ~75 bits between the `f64` defects (~2⁻⁵³) and
 /// the rounding level, room for the quadratic convergence to show and for the proof's margins.
-pub const MIN_BITS: u32 = 128;
+pub const MIN_SHADOW_BITS: u32 = 128;
 /// Largest working precision accepted (the cost of one map grows like bits^1.6).
-pub const MAX_BITS: u32 = 1 << 16;
+pub const MAX_SHADOW_BITS: u32 = 1 << 16;
 /// Longest segment: the range. The cost is O(N) per Newton iteration (about 0.1 s per
 /// 10⁴ collisions at 128 bits), so longer segments would work; 10⁴ keeps the memory and time of
 /// `--segments` runs predictable.
@@ -613,13 +614,13 @@ fn clearance(
 }
 
 /// Shadows the pseudo-orbit `orbit` (N ≥ 2 collision points with their disks) by a true orbit of
-/// `scene` with the same disk sequence, at `bits` ≥ [`MIN_BITS`] of precision.
+/// `scene` with the same disk sequence, at `bits` ≥ [`MIN_SHADOW_BITS`] of precision.
 ///
 /// A pseudo-orbit that cannot be shadowed (grazing, a missed or blocked flight, no convergence)
 /// is an `Ok` with `converged = false` and the reason in `failure`.
 ///
 /// # Errors
-/// If N < 2, N > [`MAX_COLLISIONS`], or `bits` is outside [[`MIN_BITS`], [`MAX_BITS`]].
+/// If N < 2, N > [`MAX_COLLISIONS`], or `bits` is outside [[`MIN_SHADOW_BITS`], [`MAX_SHADOW_BITS`]].
 pub fn shadow_pseudo_orbit<S: Scene>(
     scene: &S,
     orbit: &[OrbitPoint],
@@ -849,9 +850,9 @@ pub fn check_request(n: usize, bits: u32) -> Result<(), Error> {
             "collisions = {n} is out of range: use 2 to {MAX_COLLISIONS} (a segment needs one step; longer segments: split them)"
         )));
     }
-    if !(MIN_BITS..=MAX_BITS).contains(&bits) {
+    if !(MIN_SHADOW_BITS..=MAX_SHADOW_BITS).contains(&bits) {
         return Err(Error::Invalid(format!(
-            "precision = {bits} bits is out of range: use {MIN_BITS} to {MAX_BITS}"
+            "precision = {bits} bits is out of range: use {MIN_SHADOW_BITS} to {MAX_SHADOW_BITS}"
         )));
     }
     Ok(())
@@ -957,7 +958,7 @@ pub struct ShadowReport {
     /// Segments whose shadow is certified (see [`Shadow::certified`]).
     pub certified: u32,
     /// The request: collisions per segment, segments, seed, working precision.
-    pub request: ShadowRequest,
+    pub request: ShadowConfig,
     /// Median δ over the converged segments.
     pub median_delta: Option<f64>,
     /// Largest δ over the converged segments.
@@ -968,32 +969,33 @@ pub struct ShadowReport {
     pub meta: RunMeta,
 }
 
-/// What [`shadow_segments`] is asked for.
+/// What [`run`] is asked for.
 #[derive(Debug, Clone, Copy, Serialize)]
-pub struct ShadowRequest {
+pub struct ShadowConfig {
     /// Collisions N per segment, 2 to [`MAX_COLLISIONS`].
     pub collisions: usize,
     /// Segments, 1 to [`MAX_SEGMENTS`].
     pub segments: u32,
     /// Seed of the start streams.
     pub seed: u64,
-    /// Working precision P (bits), [`MIN_BITS`] to [`MAX_BITS`].
+    /// Working precision P (bits), [`MIN_SHADOW_BITS`] to [`MAX_SHADOW_BITS`].
     pub bits: u32,
 }
 
 /// Shadows `segments` segments of `collisions` collisions each; segment k starts from the
-/// equilibrium state of stream (seed, k). The result does not depend on `threads`.
-/// `progress` receives collision counts.
+/// equilibrium state of stream (seed, k). The result does not depend on `options.threads`;
+/// `options.progress` receives collision counts.
 ///
 /// # Errors
 /// If a parameter is out of range ([`check_request`], 1 ≤ segments ≤ [`MAX_SEGMENTS`]).
-pub fn shadow_segments<S: Scene>(
+pub fn run<S: Scene>(
     scene: &S,
-    request: &ShadowRequest,
-    threads: usize,
-    progress: &(dyn Fn(u64) + Sync),
+    request: &ShadowConfig,
+    options: &RunOptions,
 ) -> Result<ShadowReport, Error> {
-    let &ShadowRequest {
+    options.validate()?;
+    let (threads, progress) = (options.threads, options.progress);
+    let &ShadowConfig {
         collisions,
         segments,
         seed,

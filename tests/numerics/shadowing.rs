@@ -3,12 +3,13 @@
 
 use rug::Float;
 
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::verification::shadowing::{
-    defects, f64_segment, shadow_pseudo_orbit, shadow_segments, OrbitPoint, Shadow, ShadowRequest,
+    self as shadowing, defects, f64_segment, shadow_pseudo_orbit, OrbitPoint, Shadow, ShadowConfig,
     Table,
 };
 
@@ -18,8 +19,8 @@ fn scene(w: &str) -> TriangularScene {
     TriangularScene::exact(parse_exact(w).unwrap()).unwrap()
 }
 
-fn request(collisions: usize, segments: u32) -> ShadowRequest {
-    ShadowRequest {
+fn request(collisions: usize, segments: u32) -> ShadowConfig {
+    ShadowConfig {
         collisions,
         segments,
         seed: 1,
@@ -70,7 +71,15 @@ fn assert_clean(sh: &Shadow, what: &str) {
 fn f64_segments_are_shadowed_at_w_0_1_and_0_3() {
     for w in ["0.1", "0.3"] {
         let sc = scene(w);
-        let r = shadow_segments(&sc, &request(300, 4), 1, &|_| {}).unwrap();
+        let r = shadowing::run(
+            &sc,
+            &request(300, 4),
+            &RunOptions {
+                threads: 1,
+                ..RunOptions::default()
+            },
+        )
+        .unwrap();
         assert_eq!(r.converged, 4, "w = {w}");
         for s in &r.segments {
             assert_clean(&s.shadow, &format!("w = {w}, segment {}", s.segment));
@@ -196,8 +205,15 @@ fn bad_requests_name_the_valid_range() {
     assert!(e.contains("use 2 to 10000"), "{e}");
     let e = shadow_pseudo_orbit(&sc, &y, 64).unwrap_err().to_string();
     assert!(e.contains("use 128 to"), "{e}");
-    let e = shadow_segments(&sc, &request(10, 0), 1, &|_| {})
-        .unwrap_err()
-        .to_string();
+    let e = shadowing::run(
+        &sc,
+        &request(10, 0),
+        &RunOptions {
+            threads: 1,
+            ..RunOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("use 1 to"), "{e}");
 }

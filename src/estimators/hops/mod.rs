@@ -194,71 +194,13 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
         batches,
         order,
         seed,
-        run,
+        ..
     } = *cfg;
-    let (engine, threads, progress) = (options.engine, options.threads, options.progress);
-    let resolved = engine.resolve(true)?;
-    let lat = TriangularLattice::new(w)?;
-    let start = |b: usize| {
-        equilibrium_state(
-            lat.trap(),
-            &mut StreamKey::new(seed, Purpose::Trajectory, b as u64)
-                .in_run(run)
-                .rng(),
-        )
-    };
-    let quota = |b: usize| share(collisions, batches, b as u32);
-    let res: Vec<Hops> = match resolved {
-        Resolved::Scalar => par_batches(threads, batches, |b| {
-            let mut s = start(b as usize);
-            let mut h = HopLanes::new(order, 1)?;
-            drive(&lat, &mut s, quota(b as usize), &mut h, progress)?;
-            Ok(h.lanes.remove(0))
-        })?,
-        Resolved::Simd(path) => par_chunks(threads, batches as usize, BLOCK, |r| {
-            let mut states: Vec<_> = r.clone().map(start).collect();
-            let quotas: Vec<u64> = r.clone().map(quota).collect();
-            let mut h = HopLanes::new(order, BLOCK)?;
-            run_block(path, lat.trap(), &mut states, &quotas, &mut h, progress)?;
-            h.lanes.truncate(r.len());
-            Ok(h.lanes)
-        })?,
-    };
+    let threads = options.threads;
+    let (res, resolved) = measure(cfg, options)?;
     let g = Geometry::new(w)?;
     let d_mz = g.d_mz();
-    let mut sequences = Vec::new();
-    let mut zmax: f64 = 0.0;
-    for k in 1..=order {
-        let n = 3usize.pow(k as u32);
-        let per_batch: Vec<Vec<f64>> = res
-            .iter()
-            .map(|h| {
-                let tot: u64 = h.counts[k - 1].iter().sum();
-                h.counts[k - 1]
-                    .iter()
-                    .map(|&c| c as f64 / tot.max(1) as f64)
-                    .collect()
-            })
-            .collect();
-        let mut m = BTreeMap::new();
-        for code in 0..n {
-            m.insert(
-                sequence_name(k, code),
-                est(&per_batch.iter().map(|p| p[code]).collect::<Vec<_>>()),
-            );
-            for other in [
-                mirror_index(k, code),
-                reverse_index(k, mirror_index(k, code)),
-            ] {
-                let d: Vec<f64> = per_batch.iter().map(|p| p[code] - p[other]).collect();
-                let e = est(&d);
-                if e.err > 0.0 {
-                    zmax = zmax.max(e.value.abs() / e.err);
-                }
-            }
-        }
-        sequences.push(m);
-    }
+    let (sequences, zmax) = sequence_tables(&res, order);
     let pairs = if order >= 2 {
         sequences[1].clone()
     } else {
@@ -298,4 +240,85 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
         )
         .with_engine(resolved),
     })
+}
+
+/// Runs the configuration's trajectories on the resolved engine: the hop statistics of each
+/// batch, in batch order, and the engine that ran them.
+fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolved), Error> {
+    let HopsConfig {
+        w,
+        collisions,
+        batches,
+        order,
+        seed,
+        run,
+    } = *cfg;
+    let (engine, threads, progress) = (options.engine, options.threads, options.progress);
+    let resolved = engine.resolve(true)?;
+    let lat = TriangularLattice::new(w)?;
+    let start = |b: usize| {
+        equilibrium_state(
+            lat.trap(),
+            &mut StreamKey::new(seed, Purpose::Trajectory, b as u64)
+                .in_run(run)
+                .rng(),
+        )
+    };
+    let quota = |b: usize| share(collisions, batches, b as u32);
+    let res: Vec<Hops> = match resolved {
+        Resolved::Scalar => par_batches(threads, batches, |b| {
+            let mut s = start(b as usize);
+            let mut h = HopLanes::new(order, 1)?;
+            drive(&lat, &mut s, quota(b as usize), &mut h, progress)?;
+            Ok(h.lanes.remove(0))
+        })?,
+        Resolved::Simd(path) => par_chunks(threads, batches as usize, BLOCK, |r| {
+            let mut states: Vec<_> = r.clone().map(start).collect();
+            let quotas: Vec<u64> = r.clone().map(quota).collect();
+            let mut h = HopLanes::new(order, BLOCK)?;
+            run_block(path, lat.trap(), &mut states, &quotas, &mut h, progress)?;
+            h.lanes.truncate(r.len());
+            Ok(h.lanes)
+        })?,
+    };
+    Ok((res, resolved))
+}
+
+/// The sequence probabilities of every length 1 … `order` (batch means and errors by name), and
+/// the largest |z-score| of the mirror and reversal symmetries.
+fn sequence_tables(res: &[Hops], order: usize) -> (Vec<BTreeMap<String, Estimate>>, f64) {
+    let mut sequences = Vec::new();
+    let mut zmax: f64 = 0.0;
+    for k in 1..=order {
+        let n = 3usize.pow(k as u32);
+        let per_batch: Vec<Vec<f64>> = res
+            .iter()
+            .map(|h| {
+                let tot: u64 = h.counts[k - 1].iter().sum();
+                h.counts[k - 1]
+                    .iter()
+                    .map(|&c| c as f64 / tot.max(1) as f64)
+                    .collect()
+            })
+            .collect();
+        let mut m = BTreeMap::new();
+        for code in 0..n {
+            m.insert(
+                sequence_name(k, code),
+                est(&per_batch.iter().map(|p| p[code]).collect::<Vec<_>>()),
+            );
+            for other in [
+                mirror_index(k, code),
+                reverse_index(k, mirror_index(k, code)),
+            ] {
+                let d: Vec<f64> = per_batch.iter().map(|p| p[code] - p[other]).collect();
+                let e = est(&d);
+                if e.err > 0.0 {
+                    zmax = zmax.max(e.value.abs() / e.err);
+                }
+            }
+        }
+        sequences.push(m);
+    }
+    (sequences, zmax)
 }
