@@ -8,8 +8,9 @@ use serde::{Deserialize, Serialize};
 
 use super::shard::{Shard, ShardReport};
 use crate::engine::options::RunOptions;
-use crate::estimators::sweep::analysis::{analyse, config_difference};
-use crate::estimators::sweep::points::{point_path, write_atomically};
+use crate::engine::resume::{difference, write_atomically};
+use crate::estimators::sweep::analysis::analyse;
+use crate::estimators::sweep::points::point_path;
 use crate::estimators::sweep::{SweepConfig, SweepPoint, SweepReport};
 use crate::Error;
 
@@ -60,7 +61,9 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
     for p in &points {
         write_atomically(
             &point_path(out, p.index as usize),
-            &serde_json::to_string(p).map_err(|e| Error::Io(e.to_string()))?,
+            serde_json::to_string(p)
+                .map_err(|e| Error::Io(e.to_string()))?
+                .as_bytes(),
         )?;
     }
     let n = points.len() as u32;
@@ -94,7 +97,7 @@ impl Parts {
                 "{} and {} hold different sweeps ({}): merge only parts of one sweep",
                 d0.display(),
                 d.display(),
-                config_difference(c0, c)
+                difference(c0, c).unwrap_or_else(|| "their configurations differ".into())
             ))),
             Some(_) => Ok(()),
         }

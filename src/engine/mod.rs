@@ -12,6 +12,7 @@
 pub mod metadata;
 pub mod options;
 pub mod parallel;
+pub mod resume;
 pub mod simd;
 
 use simd::BLOCK;

@@ -232,9 +232,11 @@ impl Reproduction<'_> {
             seconds,
             files: files.clone(),
         };
-        std::fs::write(
+        crate::engine::resume::write_atomically(
             &marker,
-            serde_json::to_string_pretty(&done).map_err(|e| Error::Io(e.to_string()))?,
+            serde_json::to_string_pretty(&done)
+                .map_err(|e| Error::Io(e.to_string()))?
+                .as_bytes(),
         )?;
         Ok(StepRecord {
             name: step.name().into(),

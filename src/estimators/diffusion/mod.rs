@@ -14,11 +14,8 @@
 //! (seed, run, b) — the SIMD engine runs 16 batches in vector lanes, each bit-identical to the
 //! scalar engine ([`crate::engine`]) — and batches are combined in index order.
 
-use std::fs::OpenOptions;
-use std::io::{BufRead, BufReader, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::str::FromStr;
-use std::sync::Mutex;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -52,6 +49,7 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
 }
 
 use crate::engine::options::{AuditSpec, RunOptions};
+use crate::engine::resume::Journal;
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{Basis64, LatticeState, TriangularLattice};
@@ -590,10 +588,7 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
     let (resolved, tau) = (spec.engine, spec.tau);
     let start = Instant::now();
 
-    let mut done: Vec<BatchResult> = match checkpoint {
-        Some(p) => load_checkpoint(p, cfg)?,
-        None => Vec::new(),
-    };
+    let (journal, mut done) = open_checkpoint(checkpoint.map(|p| p.as_path()), cfg)?;
     let resumed = done.len() as u32;
     for b in &done {
         progress(b.counters.collisions);
@@ -602,11 +597,7 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
         .jobs()
         .filter(|j| !done.iter().any(|b| b.index == j.index))
         .collect();
-    let writer = match checkpoint {
-        Some(p) => Some(Mutex::new(open_checkpoint(p, cfg)?)),
-        None => None,
-    };
-    let record = |_: &Job, r: &BatchResult| append_line(writer.as_ref(), "checkpoint", r);
+    let record = |_: &Job, r: &BatchResult| journal.as_ref().map_or(Ok(()), |j| j.append(r));
     let new = execute(&todo, spec, &record, progress)?;
     let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
     done.extend(new);
@@ -617,34 +608,6 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
     Ok(rep)
 }
 
-/// Appends `v` as one JSON line to the checkpoint or journal `writer` (if any) and flushes it, so
-/// that a finished batch survives an interruption; `what` names the file in errors.
-fn append_line<T: Serialize>(
-    writer: Option<&Mutex<std::fs::File>>,
-    what: &str,
-    v: &T,
-) -> Result<(), Error> {
-    if let Some(wr) = writer {
-        let mut f = wr
-            .lock()
-            .map_err(|_| Error::Io(format!("{what} lock poisoned")))?;
-        writeln!(
-            f,
-            "{}",
-            serde_json::to_string(v).map_err(|e| Error::Io(e.to_string()))?
-        )?;
-        f.flush()?;
-    }
-    Ok(())
-}
-
-/// Header of a [`run_many`] journal: the configurations it belongs to.
-#[derive(Serialize, Deserialize)]
-struct JournalHeader {
-    format: u32,
-    configs: Vec<DiffusionConfig>,
-}
-
 /// One finished batch in a [`run_many`] journal.
 #[derive(Serialize, Deserialize)]
 struct JournalEntry {
@@ -652,38 +615,57 @@ struct JournalEntry {
     batch: BatchResult,
 }
 
-/// The finished batches of a journal written for `cfgs`, by (run, batch index); a line torn by an
-/// interruption is ignored (that batch runs again).
-fn load_journal(p: &std::path::Path, cfgs: &[DiffusionConfig]) -> Result<Vec<JournalEntry>, Error> {
-    let f = match std::fs::File::open(p) {
-        Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(e.into()),
+/// Kind of the records of a [`run_many`] journal.
+const PACKED_KIND: &str = "packed diffusion runs";
+
+/// Kind of the records of a diffusion checkpoint.
+const CHECKPOINT_KIND: &str = "diffusion batches";
+
+/// The checkpoint at `path` (if any) of `cfg`, opened for appending, and its finished batches
+/// (each index once; a torn line ignored).
+fn open_checkpoint(
+    path: Option<&Path>,
+    cfg: &DiffusionConfig,
+) -> Result<(Option<Journal<BatchResult>>, Vec<BatchResult>), Error> {
+    let Some(p) = path else {
+        return Ok((None, Vec::new()));
     };
-    let mut lines = BufReader::new(f).lines();
-    let Some(header) = lines.next() else {
-        return Ok(Vec::new());
-    };
-    let h: JournalHeader = serde_json::from_str(&header?)
-        .map_err(|e| Error::Io(format!("{}: not a lorentz journal ({e})", p.display())))?;
-    if h.format != CHECKPOINT_FORMAT || h.configs != cfgs {
-        return Err(Error::Invalid(format!(
-            "{} belongs to other runs (or another version): use another directory",
-            p.display()
-        )));
-    }
-    let mut out: Vec<JournalEntry> = Vec::new();
-    for l in lines {
-        if let Ok(e) = serde_json::from_str::<JournalEntry>(&l?) {
-            if !out
-                .iter()
-                .any(|o| o.run == e.run && o.batch.index == e.batch.index)
-            {
-                out.push(e);
-            }
+    let meta = RunMeta::new(
+        Some(cfg.seed),
+        Some(cfg.batches as u64),
+        cfg.precision,
+        None,
+    );
+    let (journal, records) = Journal::<BatchResult>::open(p, CHECKPOINT_KIND, cfg, Some(meta))?;
+    let mut done: Vec<BatchResult> = Vec::new();
+    for b in records {
+        if !done.iter().any(|o| o.index == b.index) {
+            done.push(b);
         }
     }
-    Ok(out)
+    Ok((Some(journal), done))
+}
+
+/// The journal at `path` (if any) of the packed runs `cfgs`, opened for appending, and its
+/// finished batches (each (run, index) once; a torn line ignored).
+fn open_journal(
+    path: Option<&Path>,
+    cfgs: &[DiffusionConfig],
+) -> Result<(Option<Journal<JournalEntry>>, Vec<JournalEntry>), Error> {
+    let Some(p) = path else {
+        return Ok((None, Vec::new()));
+    };
+    let (journal, records) = Journal::<JournalEntry>::open(p, PACKED_KIND, &cfgs, None)?;
+    let mut out: Vec<JournalEntry> = Vec::new();
+    for e in records {
+        if !out
+            .iter()
+            .any(|o| o.run == e.run && o.batch.index == e.batch.index)
+        {
+            out.push(e);
+        }
+    }
+    Ok((Some(journal), out))
 }
 
 /// Several runs at the same w and fit windows (a sweep point's independent runs), their
@@ -721,10 +703,7 @@ pub fn run_many(
     let (resolved, tau) = (spec.engine, spec.tau);
     let start = Instant::now();
     let jobs: Vec<Job> = cfgs.iter().flat_map(DiffusionConfig::jobs).collect();
-    let finished = match journal {
-        Some(p) => load_journal(p, cfgs)?,
-        None => Vec::new(),
-    };
+    let (journal, finished) = open_journal(journal, cfgs)?;
     for e in &finished {
         progress(e.batch.counters.collisions);
     }
@@ -737,22 +716,12 @@ pub fn run_many(
         })
         .copied()
         .collect();
-    let writer = match journal {
-        Some(p) => Some(Mutex::new(open_appending(
-            p,
-            &JournalHeader {
-                format: CHECKPOINT_FORMAT,
-                configs: cfgs.to_vec(),
-            },
-        )?)),
-        None => None,
-    };
     let record = |j: &Job, r: &BatchResult| {
         let e = JournalEntry {
             run: j.run,
             batch: r.clone(),
         };
-        append_line(writer.as_ref(), "journal", &e)
+        journal.as_ref().map_or(Ok(()), |w| w.append(&e))
     };
     let new = execute(&todo, spec, &record, progress)?;
     let seconds = start.elapsed().as_secs_f64();
@@ -964,96 +933,6 @@ fn summarise(
             Some(threads),
         ),
     }
-}
-
-#[derive(Serialize, Deserialize)]
-struct CheckpointHeader {
-    /// [`CHECKPOINT_FORMAT`]; absent in files of the old stream scheme.
-    #[serde(default)]
-    format: u32,
-    config: DiffusionConfig,
-    meta: Option<RunMeta>,
-}
-
-/// Format of checkpoint files: 2 since random streams are named by keys
-/// ([`crate::scenes::sampling::StreamKey`]), 3 since the MSD's time origins are every gcd(lags)·τ
-/// ([`Msd`]). A file of another format holds batches of another estimator or other streams and
-/// is refused rather than mixed with new ones.
-const CHECKPOINT_FORMAT: u32 = 3;
-
-fn load_checkpoint(p: &PathBuf, cfg: &DiffusionConfig) -> Result<Vec<BatchResult>, Error> {
-    let f = match std::fs::File::open(p) {
-        Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(e.into()),
-    };
-    let mut lines = BufReader::new(f).lines();
-    let header = match lines.next() {
-        Some(l) => l?,
-        None => return Ok(Vec::new()),
-    };
-    let h: CheckpointHeader = serde_json::from_str(&header)
-        .map_err(|e| Error::Io(format!("{}: not a lorentz checkpoint ({e})", p.display())))?;
-    if h.format != CHECKPOINT_FORMAT {
-        return Err(Error::Invalid(format!(
-            "checkpoint {} has format {} (this version writes {CHECKPOINT_FORMAT}, with other random \
-             streams): its batches cannot be combined with new ones; use another file",
-            p.display(),
-            h.format
-        )));
-    }
-    if h.config != *cfg {
-        return Err(Error::Invalid(format!(
-            "checkpoint {} belongs to another run ({:?}); use another file or the same parameters",
-            p.display(),
-            h.config
-        )));
-    }
-    let mut out: Vec<BatchResult> = Vec::new();
-    for l in lines {
-        let l = l?;
-        // A line cut short by an interruption is ignored: that batch is simply run again.
-        if let Ok(b) = serde_json::from_str::<BatchResult>(&l) {
-            if !out.iter().any(|o| o.index == b.index) {
-                out.push(b);
-            }
-        }
-    }
-    Ok(out)
-}
-
-fn open_checkpoint(p: &Path, cfg: &DiffusionConfig) -> Result<std::fs::File, Error> {
-    open_appending(
-        p,
-        &CheckpointHeader {
-            format: CHECKPOINT_FORMAT,
-            config: cfg.clone(),
-            meta: Some(RunMeta::new(
-                Some(cfg.seed),
-                Some(cfg.batches as u64),
-                cfg.precision,
-                None,
-            )),
-        },
-    )
-}
-
-/// Opens the checkpoint or journal `p` for appending: a new (or empty) file gets `header` as its
-/// first line; an existing one gets a newline first, so that a line cut short by an
-/// interruption does not swallow the next record.
-fn open_appending<H: Serialize>(p: &Path, header: &H) -> Result<std::fs::File, Error> {
-    let fresh = std::fs::metadata(p).map(|m| m.len() == 0).unwrap_or(true);
-    let mut f = OpenOptions::new().create(true).append(true).open(p)?;
-    if fresh {
-        writeln!(
-            f,
-            "{}",
-            serde_json::to_string(header).map_err(|e| Error::Io(e.to_string()))?
-        )?;
-    } else {
-        writeln!(f)?;
-    }
-    Ok(f)
 }
 
 #[cfg(test)]

@@ -14,28 +14,6 @@ use crate::statistics::{
 };
 use crate::Error;
 
-/// The first field in which two sweep configurations differ, as `field: a ≠ b`.
-pub(crate) fn config_difference(a: &SweepConfig, b: &SweepConfig) -> String {
-    let fields = [
-        ("w_from", a.w_from.clone(), b.w_from.clone()),
-        ("w_to", a.w_to.clone(), b.w_to.clone()),
-        ("steps", a.steps.to_string(), b.steps.to_string()),
-        ("runs", a.runs.to_string(), b.runs.to_string()),
-        (
-            "collisions",
-            a.collisions.to_string(),
-            b.collisions.to_string(),
-        ),
-        ("batches", a.batches.to_string(), b.batches.to_string()),
-        ("seed", a.seed.to_string(), b.seed.to_string()),
-    ];
-    fields
-        .iter()
-        .find(|(_, x, y)| x != y)
-        .map(|(f, x, y)| format!("{f}: {x} vs {y}"))
-        .unwrap_or_else(|| "their configurations differ".into())
-}
-
 /// One point's D, its error from the batch errors inside the runs, and the runs' χ².
 fn combine(cfg: &SweepConfig, p: &SweepPoint) -> Result<SweepRow, Error> {
     let g = Geometry::new(p.w)?;

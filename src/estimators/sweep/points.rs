@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::{RunValue, SweepConfig, SweepPoint};
 use crate::engine::options::RunOptions;
+use crate::engine::resume::{difference, write_atomically};
 use crate::estimators::diffusion::{run_many, DiffusionConfig};
 use crate::Error;
 
@@ -54,15 +55,28 @@ fn reuse(cfg: &SweepConfig, path: &Path, i: usize, w: f64) -> Result<Option<Swee
     let Ok(text) = std::fs::read_to_string(path) else {
         return Ok(None);
     };
-    if let Ok(p) = serde_json::from_str::<SweepPoint>(&text) {
-        if p.config == *cfg && p.w == w && p.index as usize == i {
-            return Ok(Some(p));
-        }
+    let p = serde_json::from_str::<SweepPoint>(&text).map_err(|e| {
+        Error::Invalid(format!(
+            "{} is not a sweep point ({e}): use another --out",
+            path.display()
+        ))
+    })?;
+    if p.config != *cfg {
+        return Err(Error::Invalid(format!(
+            "{} belongs to another sweep ({}): use another --out",
+            path.display(),
+            difference(&p.config, cfg).unwrap_or_else(|| "another configuration".into())
+        )));
     }
-    Err(Error::Invalid(format!(
-        "{} belongs to another sweep: use another --out",
-        path.display()
-    )))
+    if p.w != w || p.index as usize != i {
+        return Err(Error::Invalid(format!(
+            "{} is point {} at w = {}, not point {i} at w = {w}: a damaged point file",
+            path.display(),
+            p.index,
+            p.w
+        )));
+    }
+    Ok(Some(p))
 }
 
 /// Runs point `i` (its runs packed together), written to `dir` if given.
@@ -101,21 +115,16 @@ fn run_point(
     if let (Some(path), Some(journal)) = (path, journal) {
         write_atomically(
             &path,
-            &serde_json::to_string(&p).map_err(|e| Error::Io(e.to_string()))?,
+            serde_json::to_string(&p)
+                .map_err(|e| Error::Io(e.to_string()))?
+                .as_bytes(),
         )?;
         let _ = std::fs::remove_file(&journal);
     }
     Ok(p)
 }
 
+/// Pretty JSON of `x`.
 pub(crate) fn to_json<T: Serialize>(x: &T) -> Result<String, Error> {
     serde_json::to_string_pretty(x).map_err(|e| Error::Io(e.to_string()))
-}
-
-/// Write-then-rename: an interruption never leaves a half-written file.
-pub(crate) fn write_atomically(path: &Path, text: &str) -> Result<(), Error> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, text)?;
-    std::fs::rename(&tmp, path)?;
-    Ok(())
 }
