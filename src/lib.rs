@@ -15,7 +15,7 @@
 //! 3. [`scenes`]: billiard tables built from kernels — the triangular lattice (and its closed
 //!    forms), the square lattice, a single trap, the open strip; initial conditions; symbols.
 //! 4. [`engine`]: what advances trajectories — the scalar engine (any precision), the SIMD
-//!    engine (bit-identical `f64`), parallel batches, run metadata.
+//!    engine (bit-identical `f64`), parallel batches, run options, resuming, run metadata.
 //! 5. [`observers`]: what watches the events — MSD, counters, trap hops.
 //! 6. [`estimators`]: the analyses (diffusion, hops, sweep, escape, trajectory, throughput).
 //! 7. [`report`]: publication audit, speed against error, reproduction, figures.
@@ -23,7 +23,22 @@
 //! Beside them: [`statistics`] (batch means, fits, Student-t), [`theory`] (symbolic dynamics,
 //! the corrected hierarchy, exact correlated walks, Green–Kubo), [`verification`] (shadows,
 //! shadowing, reversibility, Lyapunov exponents, certification, the fuzz oracle), [`campaigns`]
-//! (Slurm), and the `lorentz` binary's `cli`. Errors are [`Error`].
+//! (shards, merge, Slurm), and the `lorentz` binary's `cli`. Errors are [`Error`].
+//!
+//! ## One way to call an analysis
+//!
+//! Every analysis is a validated configuration and one entry point,
+//! `run(&config, &RunOptions)` ([`engine::options::RunOptions`]: engine, threads, progress,
+//! resume, audit — never what is computed); analyses that work on any scene take it first,
+//! `run(&scene, &config, &options)`:
+//!
+//! ```
+//! use lorentz_gas::engine::options::RunOptions;
+//! use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
+//! let cfg = DiffusionConfig { collisions: 2_000_000, batches: 4, ..DiffusionConfig::new(0.2) };
+//! let r = diffusion::run(&cfg, &RunOptions::default()).unwrap();
+//! assert!(r.D > 0.0 && r.D_err > 0.0);
+//! ```
 #![warn(missing_docs)]
 
 pub mod campaigns;

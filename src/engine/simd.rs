@@ -24,7 +24,7 @@
 //! The trap's fused path skips operations that are exact in its coordinates (d = p − P₀ = p,
 //! p_y − 0); a lane skips exactly the same ones, and where the scalar code branches between two
 //! exact forms (n = x for P₀, n = x − Pₘ otherwise) the lane computes x − 0, which is the same
-//! value bit for bit. `tests/engine.rs` checks every event of every lane against the scalar
+//! value bit for bit. `tests/numerics/engine.rs` checks every event of every lane against the scalar
 //! kernel, on every code path the machine has.
 
 use crate::kernel::trap::Trap;

@@ -19,7 +19,7 @@
 //! Correctness of a cell (no obstacle outside the candidate list can be met inside the cell)
 //! is the scene's obligation, argued for each cell in `proofs-notes/no-missed-collision.md`.
 //! A scene may supply a fused fast path for its cell ([`CellKernel`]); it must agree with this
-//! generic kernel bit for bit (the triangular trap's does: `tests/scenes.rs`).
+//! generic kernel bit for bit (the triangular trap's does: `tests/numerics/scenes.rs`).
 
 use super::flight::{Event, EventKind, Flight};
 use super::ray_disk::ray_circle_centred;

@@ -14,7 +14,7 @@
 //! Only correctly rounded operations (`+ − × ÷ √`) are used by the kernel. MPFR rounds each of
 //! them correctly at the target precision, exactly as IEEE 754 does for `f64`, so the generic
 //! kernel instantiated with `rug::Float` at 53 bits reproduces the `f64` kernel bit for bit
-//! (see `proofs-notes/bit-for-bit.md` and `tests/bit_for_bit.rs`).
+//! (see `proofs-notes/bit-for-bit.md` and `tests/numerics/bit_for_bit.rs`).
 
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};

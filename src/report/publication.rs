@@ -143,7 +143,7 @@ pub struct Options {
 }
 
 /// Events replayed in MPFR by the shadow audit: enough to see the error model's tail (the
-/// per-event bound is exceeded by none of the ~10⁷ events of `tests/verification.rs`).
+/// per-event bound is exceeded by none of the ~10⁷ events of `tests/numerics/verification.rs`).
 const AUDIT_EVENTS_QUICK: f64 = 2e4;
 /// As [`AUDIT_EVENTS_QUICK`], for the full report.
 const AUDIT_EVENTS_FULL: f64 = 2e5;

@@ -5,7 +5,7 @@
 //! one-step error (flight time of the next event from the same exact pre-event state, against a
 //! 2048-bit reference); the divergence horizon (collisions until an orbit leaves a 4096-bit
 //! reference by 10⁻³); and the CPU time a D with 0.1 % relative error would take, from a measured
-//! f64 calibration run (statistics do not depend on precision: `tests/verification.rs`).
+//! f64 calibration run (statistics do not depend on precision: `tests/numerics/verification.rs`).
 
 use std::path::{Path, PathBuf};
 

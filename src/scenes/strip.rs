@@ -21,7 +21,7 @@
 //! point uniform over the union of those traps; rejecting the points with x outside [0, L]
 //! leaves it uniform over the free part of the strip's period, because that union covers it.
 //! The direction is uniform and stays uniform under the reflection v ↦ −v of a down trap.
-//! (`proofs-notes/escape-rate.md`; enforced by `tests/escape.rs`.)
+//! (`proofs-notes/escape-rate.md`; enforced by `tests/analyses/escape.rs`.)
 
 use rand::Rng;
 

@@ -1,7 +1,7 @@
 //! Fuzzing oracle: decodes arbitrary bytes into valid (often degenerate) states of any scene's
 //! cell and judges the `f64` kernel on them.
 //!
-//! Two entry points, shared by the cargo-fuzz targets in `fuzz/` and by `tests/fuzz_oracle.rs`:
+//! Two entry points, shared by the cargo-fuzz targets in `fuzz/` and by `tests/numerics/fuzz_oracle.rs`:
 //!
 //! * [`collision_primitive`]: a leading byte selects the scene ([`SceneParams`]: the triangular
 //!   gas at gap w or the square gas at radius r), then one of six families of states written
@@ -15,7 +15,7 @@
 //! * [`scene_stepper`]: a lattice state (cell index up to ±10⁹, either orientation where the
 //!   lattice has two, flight from the same families) stepped up to 4096 events in `f64`; after
 //!   every event the invariants of `proofs-notes/energy.md`, `proofs-notes/no-missed-collision.md`
-//!   and the unwrapping continuity of `tests/physics.rs` are checked ([`step_lattice`], generic
+//!   and the unwrapping continuity of `tests/numerics/physics.rs` are checked ([`step_lattice`], generic
 //!   over the scene).
 //!
 //! Decoding never fails: missing bytes read as zero, every byte pattern maps to a valid state
@@ -62,12 +62,12 @@ pub const MAX_STEPS: u32 = 4096;
 /// [`energy_band`] (the one-reflection bound of `proofs-notes/energy.md`).
 const ENERGY_BAND_U: f64 = 128.0;
 /// A post-event position may be inside a disk by this much in |x − c|² − r², in units of u
-/// (the bound of `tests/kernel_properties.rs` and `tests/square.rs`; both radii are ≤ 1).
+/// (the bound of `tests/numerics/kernel_properties.rs` and `tests/numerics/square.rs`; both radii are ≤ 1).
 const POST_EVENT_DISK_U: f64 = 256.0;
 /// A post-event position may be outside an edge by this much times the extent, in units of u.
 const POST_EVENT_EDGE_U: f64 = 256.0;
 /// Unwrapped displacement continuity: |Δx − t·s·v| ≤ this · ε · (diameter + t)
-/// (`tests/physics.rs`).
+/// (`tests/numerics/physics.rs`).
 const UNWRAP_EPS: f64 = 64.0;
 /// Number of sample angles of the walk that finds a disk's free arcs (1° apart: far finer than
 /// any arc of the two scenes, which are ≥ 60°).
@@ -80,7 +80,7 @@ const HP_TINY_EXP: f64 = -100.0;
 
 /// Largest ||v|² − 1| allowed after a collision in `cell`, in units of u: 128u·(1 + extent/r).
 /// The contact point's absolute rounding error is of order u·extent, relative u·extent/r to
-/// |n| = r; for the square cell (extent ½) this is the 128u·(1 + 1/(2r)) of `tests/square.rs`,
+/// |n| = r; for the square cell (extent ½) this is the 128u·(1 + 1/(2r)) of `tests/numerics/square.rs`,
 /// for the triangular trap (r = 1, extent a < 2.31) at most ≈ 424u, looser than the 128u of
 /// `energy.md` — the reports' `worst_energy_u` shows how much of the band is used.
 pub fn energy_band<T: Real>(cell: &ConvexCell<T>) -> f64 {
@@ -1163,8 +1163,8 @@ fn scene_failure(reason: String) -> OracleFailure {
 }
 
 /// Steps the lattice state `start` of `scene` up to `steps` events in `f64` and checks after
-/// every event (bounds of `tests/kernel_properties.rs`, `tests/square.rs`,
-/// `proofs-notes/energy.md`, `tests/physics.rs`), for any cell:
+/// every event (bounds of `tests/numerics/kernel_properties.rs`, `tests/numerics/square.rs`,
+/// `proofs-notes/energy.md`, `tests/numerics/physics.rs`), for any cell:
 ///
 /// * event time finite, ≥ 0 and ≤ 2·diameter of the cell polygon; state finite;
 /// * after a collision ||v|² − 1| ≤ [`energy_band`]·u; after a crossing |v|² unchanged bit for

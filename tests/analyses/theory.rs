@@ -6,7 +6,7 @@
 //! chain (`fit_bias`, truncation tail) — never a hand-tuned tolerance. A z-score whose standard
 //! error comes from the spread of n batch means is Student-t with n − 1 dof, so "4σ" is the
 //! Student-t quantile at the normal's two-sided 4σ tail probability 6.3·10⁻⁵
-//! (`stats::normal_sigma_equivalent_t`; 15 dof: 5.48, 31 dof: 4.62).
+//! (`statistics::normal_sigma_equivalent_t`; 15 dof: 5.48, 31 dof: 4.62).
 
 use lorentz_gas::scenes::symbols::{sequence_from_index, Symbol};
 use lorentz_gas::scenes::triangular::geometry::Geometry;

@@ -103,7 +103,7 @@ fn every_lane_reproduces_the_scalar_kernel_on_every_path() {
     }
 }
 
-/// The hard cases of `tests/hard_cases.rs` and near-grazing starts, one per lane: the gap
+/// The hard cases of `tests/numerics/hard_cases.rs` and near-grazing starts, one per lane: the gap
 /// widths w = 10⁻⁶, w₀ and just below w∞; the exact periodic orbit along a gap edge (starting
 /// on a disk's surface); rays aimed at the corners where a gap meets a disk; flights that graze a
 /// disk within a few ulps of tangency from either side; starts exactly on an edge.

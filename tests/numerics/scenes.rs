@@ -14,7 +14,7 @@ use lorentz_gas::scenes::Scene;
 use rand::Rng;
 use rug::Float;
 
-/// The gaps of `tests/bit_for_bit.rs`: tiny, small, the paper's, w₀, large, near w∞.
+/// The gaps of `tests/numerics/bit_for_bit.rs`: tiny, small, the paper's, w₀, large, near w∞.
 const GAPS: [f64; 7] = [0.005, 0.02, 0.1, 0.1547, 0.2, 0.3, 0.3094];
 
 /// Equal values with equal signs (the sign of a zero shows in the `f64` bits).
