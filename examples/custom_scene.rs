@@ -43,8 +43,14 @@ impl RhombicTriangular {
         Ok(RhombicTriangular { a, r })
     }
 
+    /// The spacing as the nearest double.
     fn a64(&self) -> f64 {
-        self.a.to_f64()
+        <f64 as Real>::from_rational((), &self.a)
+    }
+
+    /// The radius as the nearest double.
+    fn r64(&self) -> f64 {
+        <f64 as Real>::from_rational((), &self.r)
     }
 }
 
@@ -52,7 +58,7 @@ impl Scene for RhombicTriangular {
     type Kernel<T: Real> = ConvexCell<T>;
 
     fn label(&self) -> String {
-        format!("rhombic triangular a={} r={}", self.a64(), self.r.to_f64())
+        format!("rhombic triangular a={} r={}", self.a64(), self.r64())
     }
 
     fn kernel<T: Real>(&self, ctx: T::Ctx) -> Result<ConvexCell<T>, Error> {
@@ -151,7 +157,7 @@ impl Scene for RhombicTriangular {
     }
 
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> LatticeState<f64> {
-        let (a, r) = (self.a64(), self.r.to_f64());
+        let (a, r) = (self.a64(), self.r64());
         let h = a * 3f64.sqrt() / 2.0;
         let corners = [(0.0, 0.0), (a, 0.0), (1.5 * a, h), (0.5 * a, h)];
         let pos = loop {
@@ -173,13 +179,13 @@ impl Scene for RhombicTriangular {
     /// Santaló: ⟨ℓ⟩ = π|Q|/|∂Q| with |Q| = ah − πr² (the four corner sectors make one disk) and
     /// |∂Q| = 2πr.
     fn mean_free_path(&self) -> f64 {
-        let (a, r) = (self.a64(), self.r.to_f64());
+        let (a, r) = (self.a64(), self.r64());
         (a * a * 3f64.sqrt() / 2.0 - std::f64::consts::PI * r * r) / (2.0 * r)
     }
 
     /// Finite horizon below a = 4r/√3 (the paper's w∞ at r = 1).
     fn finite_horizon(&self) -> bool {
-        self.a64() < 4.0 * self.r.to_f64() / 3f64.sqrt()
+        self.a64() < 4.0 * self.r64() / 3f64.sqrt()
     }
 }
 
