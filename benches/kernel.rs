@@ -4,12 +4,12 @@
 //! diffusion`. The CLI's `lorentz bench` gives the same numbers as collisions per second.
 
 use divan::Bencher;
+use lorentz_gas::engine::observe::Nothing;
 use lorentz_gas::engine::simd::BLOCK;
 use lorentz_gas::engine::{drive, run_block, SimdPath};
 use lorentz_gas::numbers::real::Real;
 use lorentz_gas::observers::counters::CounterLanes;
 use lorentz_gas::observers::msd::Msd;
-use lorentz_gas::observers::Nothing;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
@@ -49,7 +49,7 @@ fn scalar_mpfr_w_0_1(b: Bencher, bits: u32) {
     run(b, &lat, s);
 }
 
-fn simd<O: lorentz_gas::observers::Observer<BLOCK>>(
+fn simd<O: lorentz_gas::engine::observe::Observer<BLOCK>>(
     b: Bencher,
     path: SimdPath,
     w: f64,

@@ -10,6 +10,7 @@
 //! every engine, at any thread count (each trajectory's bits depend only on its start).
 
 pub mod metadata;
+pub mod observe;
 pub mod options;
 pub mod parallel;
 pub mod resume;
@@ -24,10 +25,10 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
+use crate::engine::observe::{EventLanes, Observer, NO_LABEL};
 use crate::kernel::cell::CellKernel;
 use crate::kernel::trap::Trap;
 use crate::numbers::real::Real;
-use crate::observers::{EventLanes, Observer, NO_LABEL};
 use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
 use crate::Error;
 

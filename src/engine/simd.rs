@@ -27,9 +27,9 @@
 //! value bit for bit. `tests/numerics/engine.rs` checks every event of every lane against the scalar
 //! kernel, on every code path the machine has.
 
+use crate::engine::observe::{EventLanes, Observer, CROSSING_CODE, NO_EVENT, NO_LABEL};
 use crate::kernel::trap::Trap;
 use crate::numbers::lanes::Lanes;
-use crate::observers::{EventLanes, Observer, CROSSING_CODE, NO_EVENT, NO_LABEL};
 
 /// Trajectories per block: 16 = two AVX-512 vectors, four AVX2 or portable vectors — enough
 /// independent work to hide the latency of the divide/square-root chain of one step.

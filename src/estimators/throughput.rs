@@ -7,6 +7,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
+use crate::engine::observe::{EventLanes, Nothing, Observer, CROSSING_CODE};
 use crate::engine::options::RunOptions;
 use crate::engine::simd::BLOCK;
 use crate::engine::{drive, run_block, Resolved};
@@ -18,7 +19,6 @@ use crate::numbers::real::Real;
 use crate::observers::counters::CounterLanes;
 use crate::observers::hops::HopLanes;
 use crate::observers::msd::Msd;
-use crate::observers::{EventLanes, Nothing, Observer, CROSSING_CODE};
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
 use crate::scenes::sampling::stream;
 use crate::scenes::triangular::equilibrium_state;

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{lanes, EventLanes, Observer, CROSSING_CODE, NO_EVENT};
+use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE, NO_EVENT};
 use crate::numbers::lanes::Lanes;
 use crate::statistics::CompensatedSum;
 

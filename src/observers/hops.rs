@@ -5,7 +5,7 @@
 //! (`proofs-notes/hops.md`).
 
 use super::hop_correlations::{HopCorrelations, MAX_LAG};
-use super::{lanes, EventLanes, Observer, CROSSING_CODE};
+use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE};
 use crate::kernel::flight::EventKind;
 use crate::numbers::lanes::Lanes;
 use crate::scenes::single_trap::exit_symbol;

@@ -15,7 +15,7 @@
 //! vector comparison against the time left to the next sample for all lanes at once; a sample
 //! (once per Δ, several hops) is handled lane by lane.
 
-use super::{lanes, EventLanes, Observer};
+use crate::engine::observe::{lanes, EventLanes, Observer};
 use crate::numbers::lanes::Lanes;
 use crate::scenes::lattice::Basis64;
 

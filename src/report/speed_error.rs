@@ -91,10 +91,10 @@ struct EveryTenth {
     events: usize,
 }
 
-impl crate::observers::Observer<1> for EveryTenth {
+impl crate::engine::observe::Observer<1> for EveryTenth {
     fn observe<V: crate::numbers::lanes::Lanes>(
         &mut self,
-        steps: &[crate::observers::EventLanes<1>],
+        steps: &[crate::engine::observe::EventLanes<1>],
     ) {
         for e in steps {
             if self.events < ONE_STEP_EVENTS && self.events.is_multiple_of(10) {

@@ -15,13 +15,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::drive;
 use crate::engine::metadata::RunMeta;
+use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::RunOptions;
 use crate::engine::parallel::par_batches;
 use crate::kernel::cell::ConvexCell;
 use crate::kernel::{cell::CellKernel, flight::EventKind};
 use crate::numbers::lanes::Lanes;
 use crate::numbers::real::Real;
-use crate::observers::{EventLanes, Observer};
 use crate::scenes::lattice::{Lattice, LatticeState};
 use crate::scenes::sampling::stream;
 use crate::scenes::Scene;

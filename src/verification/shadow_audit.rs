@@ -15,10 +15,10 @@ use serde::{Deserialize, Serialize};
 
 use super::replay::{check_event, EventCheck};
 use crate::engine::metadata::RunMeta;
+use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::{AuditSpec, RunOptions};
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
-use crate::observers::{EventLanes, Observer};
 use crate::scenes::Scene;
 use crate::Error;
 

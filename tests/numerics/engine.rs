@@ -2,13 +2,13 @@
 //! every instruction path this machine has (AVX-512, AVX2, portable), and the production
 //! observables have the same bits on every engine and thread count.
 
+use lorentz_gas::engine::observe::{EventLanes, Observer};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::simd::BLOCK;
 use lorentz_gas::engine::{run_block, SimdPath};
 use lorentz_gas::kernel::trap::Trap;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::Event, flight::Flight};
-use lorentz_gas::observers::{EventLanes, Observer};
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;

@@ -22,6 +22,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
+use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::simd::BLOCK;
 use crate::engine::{drive, run_block, Engine, Resolved, SimdPath};
 use crate::kernel::trap::Trap;
@@ -29,7 +30,6 @@ use crate::numbers::lanes::Lanes;
 use crate::numbers::precision::AtPrecision;
 use crate::observers::counters::{CounterLanes, Counters};
 use crate::observers::msd::Msd;
-use crate::observers::{EventLanes, Observer};
 use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
 use crate::Error;
 /// Refuses a scene in which the diffusion coefficient does not exist: with an infinite horizon
