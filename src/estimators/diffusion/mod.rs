@@ -18,20 +18,28 @@ use std::path::Path;
 use std::str::FromStr;
 use std::time::Instant;
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
-use crate::engine::observe::{EventLanes, Observer};
-use crate::engine::simd::BLOCK;
-use crate::engine::{drive, run_block, Engine, Resolved, SimdPath};
+use crate::engine::options::{AuditSpec, RunOptions};
+use crate::engine::resume::Journal;
+use crate::engine::Engine;
 use crate::kernel::trap::Trap;
-use crate::numbers::lanes::Lanes;
-use crate::numbers::precision::AtPrecision;
-use crate::observers::counters::{CounterLanes, Counters};
-use crate::observers::msd::Msd;
+use crate::numbers::precision::Precision;
+use crate::numbers::real::Real;
+use crate::observers::counters::Counters;
+use crate::scenes::lattice::LatticeState;
 use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
+use crate::statistics::mean_se;
+use crate::verification::shadow_audit::AuditSummary;
 use crate::Error;
+
+mod execution;
+mod summary;
+
+use execution::{execute, setup, Job};
+use summary::{d_of_batch, summarise};
+
 /// Refuses a scene in which the diffusion coefficient does not exist: with an infinite horizon
 /// (collision-free corridors) free flights have a distribution with ⟨ℓ²⟩ = ∞, the mean squared
 /// displacement grows like t ln t and the Einstein limit ⟨Δr²⟩/4t diverges (Bleher 1992).
@@ -47,16 +55,6 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
         scene.label()
     )))
 }
-
-use crate::engine::options::{AuditSpec, RunOptions};
-use crate::engine::resume::Journal;
-use crate::numbers::precision::Precision;
-use crate::numbers::real::Real;
-use crate::scenes::lattice::{Basis64, LatticeState, TriangularLattice};
-use crate::scenes::sampling::{Purpose, StreamKey};
-use crate::scenes::triangular::{equilibrium_state, TriangularScene};
-use crate::statistics::{linear_fit, mean_se};
-use crate::verification::shadow_audit::{AuditLanes, AuditSummary, Auditor};
 
 /// A fit window in units of the mean hop time τ.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -358,196 +356,6 @@ pub fn batch_start(cfg: &DiffusionConfig, index: u32) -> Result<LatticeState<f64
     Ok(job.start::<f64>(&trap64, ()))
 }
 
-/// One trajectory of a run: which stream starts it and how many collisions it makes.
-#[derive(Debug, Clone, Copy)]
-struct Job {
-    seed: u64,
-    run: u64,
-    index: u32,
-    collisions: u64,
-}
-
-impl Job {
-    /// The start: a point of the invariant measure from the trajectory stream `(seed, run,
-    /// index)`, its speed normalised at the working precision.
-    fn start<T: Real>(&self, trap64: &Trap<f64>, ctx: T::Ctx) -> LatticeState<T> {
-        let mut rng = StreamKey::new(self.seed, Purpose::Trajectory, self.index as u64)
-            .in_run(self.run)
-            .rng();
-        let s64 = equilibrium_state(trap64, &mut rng);
-        let mut s = LatticeState::<T>::convert_from_f64(ctx, &s64);
-        s.flight.normalise_speed();
-        s
-    }
-
-    fn auditor(
-        &self,
-        trap64: &Trap<f64>,
-        audit: Option<AuditSpec>,
-    ) -> Result<Option<Auditor<TriangularScene>>, Error> {
-        audit
-            .map(|a| {
-                Auditor::new(
-                    &TriangularScene::new(trap64.w)?,
-                    a.rate,
-                    a.bits,
-                    StreamKey::new(self.seed, Purpose::Audit, self.index as u64)
-                        .in_run(self.run)
-                        .rng(),
-                )
-            })
-            .transpose()
-    }
-}
-
-/// What a diffusion run watches along each trajectory: counters, the MSD, and optionally the
-/// per-event shadow audit.
-struct BatchObservers {
-    counters: CounterLanes,
-    msd: Msd,
-    audit: Option<AuditLanes<TriangularScene>>,
-}
-
-impl BatchObservers {
-    fn new(
-        jobs: &[Job],
-        lanes: usize,
-        trap64: &Trap<f64>,
-        basis: Basis64,
-        tau: f64,
-        lags: &[usize],
-        audit: Option<AuditSpec>,
-    ) -> Result<Self, Error> {
-        let audit = match audit {
-            Some(_) => {
-                let mut v = Vec::with_capacity(lanes);
-                for j in jobs {
-                    v.push(j.auditor(trap64, audit)?);
-                }
-                v.resize_with(lanes, || None);
-                Some(AuditLanes {
-                    lanes: v,
-                    error: None,
-                })
-            }
-            None => None,
-        };
-        Ok(BatchObservers {
-            counters: CounterLanes::new(lanes),
-            msd: Msd::new(tau, lags, basis, lanes),
-            audit,
-        })
-    }
-
-    /// The results of the jobs, lane by lane.
-    fn results(mut self, jobs: &[Job], seconds: f64) -> Result<Vec<BatchResult>, Error> {
-        if let Some(e) = self.audit.as_mut().and_then(|a| a.error.take()) {
-            return Err(e);
-        }
-        let mut audits = self.audit.map(|a| a.lanes);
-        Ok(jobs
-            .iter()
-            .enumerate()
-            .map(|(l, j)| BatchResult {
-                index: j.index,
-                counters: self.counters.lane(l),
-                lags: self.msd.lags().to_vec(),
-                msd: self.msd.values(l),
-                seconds,
-                audit: audits.as_mut().and_then(|a| a[l].take()).map(|a| a.summary),
-            })
-            .collect())
-    }
-}
-
-impl<const L: usize> Observer<L> for BatchObservers {
-    #[inline(always)]
-    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
-        self.counters.observe::<V>(steps);
-        self.msd.observe::<V>(steps);
-        if let Some(a) = self.audit.as_mut() {
-            a.observe::<V>(steps);
-        }
-    }
-}
-
-/// Runs one trajectory on the scalar engine at number type `T`.
-fn run_scalar<T: Real>(
-    lat: &TriangularLattice<T>,
-    trap64: &Trap<f64>,
-    job: Job,
-    tau: f64,
-    lags: &[usize],
-    audit: Option<AuditSpec>,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<BatchResult, Error> {
-    let start = Instant::now();
-    let mut s = job.start::<T>(trap64, lat.trap().a.ctx());
-    let mut obs = BatchObservers::new(&[job], 1, trap64, lat.basis_f64(), tau, lags, audit)?;
-    drive(lat, &mut s, job.collisions, &mut obs, progress)?;
-    let mut r = obs.results(&[job], start.elapsed().as_secs_f64())?;
-    Ok(r.remove(0))
-}
-
-/// Runs up to [`BLOCK`] trajectories together on the SIMD engine (`f64`, bit-identical to
-/// [`run_scalar`] lane by lane).
-fn run_simd(
-    path: SimdPath,
-    trap64: &Trap<f64>,
-    jobs: &[Job],
-    tau: f64,
-    lags: &[usize],
-    audit: Option<AuditSpec>,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Vec<BatchResult>, Error> {
-    let start = Instant::now();
-    let mut states: Vec<LatticeState<f64>> = jobs.iter().map(|j| j.start(trap64, ())).collect();
-    let quotas: Vec<u64> = jobs.iter().map(|j| j.collisions).collect();
-    // The basis the scalar engine's f64 lattice has (`Lattice::basis_f64`).
-    let basis = TriangularLattice::from_kernel(trap64.clone()).basis_f64();
-    let mut obs = BatchObservers::new(jobs, BLOCK, trap64, basis, tau, lags, audit)?;
-    run_block(path, trap64, &mut states, &quotas, &mut obs, progress)?;
-    // The block's wall time, shared out: each batch's `seconds` is its part of the block.
-    let seconds = start.elapsed().as_secs_f64() / jobs.len() as f64;
-    obs.results(jobs, seconds)
-}
-
-fn d_of_batch(b: &BatchResult, tau: f64, win: &Window) -> f64 {
-    let (mut x, mut y) = (Vec::new(), Vec::new());
-    for (lag, m) in b.lags.iter().zip(&b.msd) {
-        if *lag >= win.lo && *lag <= win.hi {
-            x.push(*lag as f64 * tau);
-            y.push(*m);
-        }
-    }
-    linear_fit(&x, &y).1 / 4.0
-}
-
-/// What a run (or runs packed together) at `cfg`'s w and windows needs before its trajectories
-/// start: how they execute (the engine that will run them, τ, the MSD lags, the audit) and the
-/// geometry.
-fn setup(
-    cfg: &DiffusionConfig,
-    engine: Engine,
-    threads: usize,
-    audit: Option<AuditSpec>,
-) -> Result<(ExecSpec, Geometry<f64>), Error> {
-    if threads == 0 {
-        return Err(Error::Zero { what: "threads" });
-    }
-    let g = Geometry::new(cfg.w)?;
-    let spec = ExecSpec {
-        w: cfg.w,
-        precision: cfg.precision,
-        engine: engine.resolve(cfg.precision == Precision::F64)?,
-        threads,
-        tau: g.hop_time(),
-        lags: cfg.lags(),
-        audit,
-    };
-    Ok((spec, g))
-}
-
 /// Runs the configured computation. The result has the same bits on every engine and at every
 /// thread count; only `seconds`, the speed and the metadata's engine differ.
 ///
@@ -744,195 +552,6 @@ pub fn run_many(
         out.push(rep);
     }
     Ok(out)
-}
-
-/// How the trajectories of [`execute`] run.
-struct ExecSpec {
-    w: f64,
-    precision: Precision,
-    engine: Resolved,
-    threads: usize,
-    tau: f64,
-    lags: Vec<usize>,
-    audit: Option<AuditSpec>,
-}
-
-/// Runs `jobs` on `spec.threads` threads — one job per task on the scalar engine, blocks of
-/// [`BLOCK`] jobs on the SIMD engine — handing each finished result to `record` at once.
-/// Results come back in job order.
-fn execute(
-    jobs: &[Job],
-    spec: ExecSpec,
-    record: &(dyn Fn(&Job, &BatchResult) -> Result<(), Error> + Sync),
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Vec<BatchResult>, Error> {
-    for j in jobs {
-        crate::engine::check_trajectory_length(j.collisions)?;
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(spec.threads)
-        .build()
-        .map_err(|e| Error::Invalid(format!("thread pool: {e}")))?;
-    let trap64 = Trap::new(spec.w)?;
-    match spec.engine {
-        Resolved::Simd(path) => {
-            let blocks: Vec<&[Job]> = jobs.chunks(BLOCK).collect();
-            let out: Vec<Vec<BatchResult>> = pool.install(|| {
-                blocks
-                    .par_iter()
-                    .map(|b| {
-                        let r =
-                            run_simd(path, &trap64, b, spec.tau, &spec.lags, spec.audit, progress)?;
-                        for (j, x) in b.iter().zip(&r) {
-                            record(j, x)?;
-                        }
-                        Ok(r)
-                    })
-                    .collect::<Result<_, Error>>()
-            })?;
-            Ok(out.into_iter().flatten().collect())
-        }
-        Resolved::Scalar => spec.precision.dispatch(RunScalar {
-            jobs,
-            w: spec.w,
-            trap64: &trap64,
-            tau: spec.tau,
-            lags: &spec.lags,
-            audit: spec.audit,
-            pool: &pool,
-            record,
-            progress,
-        }),
-    }
-}
-
-/// The jobs on the scalar engine, at the number type of the run's precision.
-struct RunScalar<'a> {
-    jobs: &'a [Job],
-    w: f64,
-    trap64: &'a Trap<f64>,
-    tau: f64,
-    lags: &'a [usize],
-    audit: Option<AuditSpec>,
-    pool: &'a rayon::ThreadPool,
-    record: &'a (dyn Fn(&Job, &BatchResult) -> Result<(), Error> + Sync),
-    progress: &'a (dyn Fn(u64) + Sync),
-}
-
-impl AtPrecision for RunScalar<'_> {
-    type Output = Result<Vec<BatchResult>, Error>;
-    fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
-        let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
-        self.pool.install(|| {
-            self.jobs
-                .par_iter()
-                .map(|&j| {
-                    let r = run_scalar(
-                        &lat,
-                        self.trap64,
-                        j,
-                        self.tau,
-                        self.lags,
-                        self.audit,
-                        self.progress,
-                    )?;
-                    (self.record)(&j, &r)?;
-                    Ok(r)
-                })
-                .collect()
-        })
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
-fn summarise(
-    cfg: &DiffusionConfig,
-    g: &Geometry<f64>,
-    tau: f64,
-    done: &[BatchResult],
-    threads: usize,
-    seconds: f64,
-    resumed: u32,
-    run_now: u64,
-) -> DiffusionReport {
-    let ds: Vec<f64> = done
-        .iter()
-        .map(|b| d_of_batch(b, tau, &cfg.window))
-        .collect();
-    let dc: Vec<f64> = done
-        .iter()
-        .map(|b| d_of_batch(b, tau, &cfg.check_window))
-        .collect();
-    let ratio = |f: &dyn Fn(&Counters) -> f64| {
-        mean_se(&done.iter().map(|b| f(&b.counters)).collect::<Vec<_>>())
-    };
-    let (d, d_err) = mean_se(&ds);
-    let (dcv, dce) = mean_se(&dc);
-    let (mfp, mfp_e) = ratio(&|c| c.time / c.collisions as f64);
-    let (th, th_e) = ratio(&|c| c.time / c.crossings as f64);
-    let (cph, cph_e) = ratio(&|c| c.collisions as f64 / c.crossings as f64);
-    let lags = &done[0].lags;
-    let msd_times: Vec<f64> = lags.iter().map(|&l| l as f64 * tau).collect();
-    let msd_over_4t = (0..lags.len())
-        .map(|k| {
-            let v: Vec<f64> = done
-                .iter()
-                .map(|b| b.msd[k] / (4.0 * msd_times[k]))
-                .collect();
-            let (value, err) = mean_se(&v);
-            Estimate { value, err }
-        })
-        .collect();
-    let total: u64 = done.iter().map(|b| b.counters.collisions).sum();
-    let audit =
-        done.iter()
-            .filter_map(|b| b.audit.as_ref())
-            .fold(None, |acc: Option<AuditSummary>, a| {
-                let mut m = acc.unwrap_or_default();
-                m.merge(a);
-                Some(m)
-            });
-    DiffusionReport {
-        w: cfg.w,
-        D: d,
-        D_err: d_err,
-        window: cfg.window,
-        D_check: dcv,
-        D_check_err: dce,
-        check_window: cfg.check_window,
-        D_MZ: g.d_mz(),
-        D_Bo: g.d_bo(),
-        mean_free_path: mfp,
-        mean_free_path_err: mfp_e,
-        mean_free_path_exact: g.mean_free_path(),
-        tau_hop: th,
-        tau_hop_err: th_e,
-        tau_hop_exact: tau,
-        collisions_per_hop: cph,
-        collisions_per_hop_err: cph_e,
-        collisions_per_hop_exact: g.collisions_per_hop(),
-        msd_times,
-        msd_over_4t,
-        longest_free_path: done
-            .iter()
-            .map(|b| b.counters.longest_free_path)
-            .fold(0.0, f64::max),
-        collisions: total,
-        seconds,
-        collisions_per_second: run_now as f64 / seconds,
-        resumed_batches: resumed,
-        audit,
-        config: Some(cfg.clone()),
-        batch_D: ds,
-        batch_D_check: dc,
-        batch_msd: done.iter().map(|b| b.msd.clone()).collect(),
-        meta: RunMeta::new(
-            Some(cfg.seed),
-            Some(cfg.batches as u64),
-            cfg.precision,
-            Some(threads),
-        ),
-    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,111 @@
+//! From finished batches to a report: D and its check from each batch's MSD slope, the exact
+//! identities, and the metadata.
+
+use super::{BatchResult, DiffusionConfig, DiffusionReport, Estimate, Window};
+use crate::engine::metadata::RunMeta;
+use crate::observers::counters::Counters;
+use crate::scenes::triangular::geometry::Geometry;
+use crate::statistics::{linear_fit, mean_se};
+use crate::verification::shadow_audit::AuditSummary;
+
+pub(super) fn d_of_batch(b: &BatchResult, tau: f64, win: &Window) -> f64 {
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for (lag, m) in b.lags.iter().zip(&b.msd) {
+        if *lag >= win.lo && *lag <= win.hi {
+            x.push(*lag as f64 * tau);
+            y.push(*m);
+        }
+    }
+    linear_fit(&x, &y).1 / 4.0
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(super) fn summarise(
+    cfg: &DiffusionConfig,
+    g: &Geometry<f64>,
+    tau: f64,
+    done: &[BatchResult],
+    threads: usize,
+    seconds: f64,
+    resumed: u32,
+    run_now: u64,
+) -> DiffusionReport {
+    let ds: Vec<f64> = done
+        .iter()
+        .map(|b| d_of_batch(b, tau, &cfg.window))
+        .collect();
+    let dc: Vec<f64> = done
+        .iter()
+        .map(|b| d_of_batch(b, tau, &cfg.check_window))
+        .collect();
+    let ratio = |f: &dyn Fn(&Counters) -> f64| {
+        mean_se(&done.iter().map(|b| f(&b.counters)).collect::<Vec<_>>())
+    };
+    let (d, d_err) = mean_se(&ds);
+    let (dcv, dce) = mean_se(&dc);
+    let (mfp, mfp_e) = ratio(&|c| c.time / c.collisions as f64);
+    let (th, th_e) = ratio(&|c| c.time / c.crossings as f64);
+    let (cph, cph_e) = ratio(&|c| c.collisions as f64 / c.crossings as f64);
+    let lags = &done[0].lags;
+    let msd_times: Vec<f64> = lags.iter().map(|&l| l as f64 * tau).collect();
+    let msd_over_4t = (0..lags.len())
+        .map(|k| {
+            let v: Vec<f64> = done
+                .iter()
+                .map(|b| b.msd[k] / (4.0 * msd_times[k]))
+                .collect();
+            let (value, err) = mean_se(&v);
+            Estimate { value, err }
+        })
+        .collect();
+    let total: u64 = done.iter().map(|b| b.counters.collisions).sum();
+    let audit =
+        done.iter()
+            .filter_map(|b| b.audit.as_ref())
+            .fold(None, |acc: Option<AuditSummary>, a| {
+                let mut m = acc.unwrap_or_default();
+                m.merge(a);
+                Some(m)
+            });
+    DiffusionReport {
+        w: cfg.w,
+        D: d,
+        D_err: d_err,
+        window: cfg.window,
+        D_check: dcv,
+        D_check_err: dce,
+        check_window: cfg.check_window,
+        D_MZ: g.d_mz(),
+        D_Bo: g.d_bo(),
+        mean_free_path: mfp,
+        mean_free_path_err: mfp_e,
+        mean_free_path_exact: g.mean_free_path(),
+        tau_hop: th,
+        tau_hop_err: th_e,
+        tau_hop_exact: tau,
+        collisions_per_hop: cph,
+        collisions_per_hop_err: cph_e,
+        collisions_per_hop_exact: g.collisions_per_hop(),
+        msd_times,
+        msd_over_4t,
+        longest_free_path: done
+            .iter()
+            .map(|b| b.counters.longest_free_path)
+            .fold(0.0, f64::max),
+        collisions: total,
+        seconds,
+        collisions_per_second: run_now as f64 / seconds,
+        resumed_batches: resumed,
+        audit,
+        config: Some(cfg.clone()),
+        batch_D: ds,
+        batch_D_check: dc,
+        batch_msd: done.iter().map(|b| b.msd.clone()).collect(),
+        meta: RunMeta::new(
+            Some(cfg.seed),
+            Some(cfg.batches as u64),
+            cfg.precision,
+            Some(threads),
+        ),
+    }
+}
