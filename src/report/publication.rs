@@ -426,7 +426,7 @@ fn other_checks(
     if kind == "backscatter" {
         backscatter_identity_checks(value, checks);
     }
-    let work = ["collisions", "visits", "events"]
+    let work = ["collisions", "particles", "events"]
         .iter()
         .find_map(|k| value[k].as_f64())
         .unwrap_or(f64::INFINITY);
@@ -446,7 +446,7 @@ fn other_checks(
             "reproducibility",
             name,
             Verdict::Skip,
-            format!("{work:e} collisions/visits/events: more than the quick report re-runs ({QUICK_RERUN_WORK:e}); run without --quick"),
+            format!("{work:e} collisions/particles/events: more than the quick report re-runs ({QUICK_RERUN_WORK:e}); run without --quick"),
             &[],
         );
         return;

@@ -266,7 +266,7 @@ impl Bench<'_> {
             w: self.w,
             precision: p,
             observe: Observe::None,
-            collisions: n,
+            collisions_per_thread: n,
             repetitions: REPORT_REPETITIONS,
             seed: self.seed,
         };

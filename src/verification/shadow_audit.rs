@@ -298,21 +298,21 @@ mod tests {
     }
 }
 
-/// What an audit run does: `collisions` collisions in all, over `trajectories` independent f64
+/// What an audit run does: `collisions` collisions in all, over `batches` independent f64
 /// trajectories from the invariant measure (seed `seed`), replaying a fraction `sample` of their
-/// events at `bits`. The thread count is not part of it: it never changes the result.
+/// events at `reference_bits`. The thread count is not part of it: it never changes the result.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AuditConfig {
     /// The scene ([`Scene::label`]).
     pub scene: String,
     /// Collisions in all (trajectory i gets ⌊N/T⌋, plus one for the first N mod T).
     pub collisions: u64,
-    /// Independent trajectories.
-    pub trajectories: u32,
+    /// Independent batches (one trajectory each).
+    pub batches: u32,
     /// Fraction of events replayed, in (0, 1].
     pub sample: f64,
-    /// Reference precision in bits.
-    pub bits: u32,
+    /// MPFR precision of the replay, in bits.
+    pub reference_bits: u32,
     /// Seed.
     pub seed: u64,
 }
@@ -331,7 +331,7 @@ pub struct AuditReport {
     pub summary: AuditSummary,
     /// Wall-clock seconds.
     pub seconds: f64,
-    /// Version, seed, trajectories, reference precision, engine, threads, command line.
+    /// Version, seed, batches, reference precision, engine, threads, command line.
     pub meta: RunMeta,
 }
 
@@ -377,25 +377,23 @@ pub fn run<S: Scene>(
     if cfg.collisions == 0 {
         return Err(Error::Zero { what: "collisions" });
     }
-    if cfg.trajectories == 0 {
-        return Err(Error::Zero {
-            what: "trajectories",
-        });
+    if cfg.batches == 0 {
+        return Err(Error::Zero { what: "batches" });
     }
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
-    AuditSpec::new(cfg.sample, cfg.bits)?;
+    AuditSpec::new(cfg.sample, cfg.reference_bits)?;
     let start = std::time::Instant::now();
     let lat = scene.lattice::<f64>(())?;
     let parts: Vec<(AuditSummary, u64)> =
-        crate::engine::parallel::par_batches(threads, cfg.trajectories, |b| {
-            let n = crate::engine::parallel::share(cfg.collisions, cfg.trajectories, b);
+        crate::engine::parallel::par_batches(threads, cfg.batches, |b| {
+            let n = crate::engine::parallel::share(cfg.collisions, cfg.batches, b);
             let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
             let a = Auditor::new(
                 scene,
                 cfg.sample,
-                cfg.bits,
+                cfg.reference_bits,
                 StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),
             )?;
             let mut obs = (
@@ -440,8 +438,8 @@ pub fn run<S: Scene>(
         seconds: start.elapsed().as_secs_f64(),
         meta: RunMeta::new(
             Some(cfg.seed),
-            Some(cfg.trajectories as u64),
-            cfg.bits,
+            Some(cfg.batches as u64),
+            cfg.reference_bits,
             Some(threads),
         ),
     })

@@ -36,7 +36,7 @@ fn inject_cfg(
 ) -> BackscatterConfig {
     BackscatterConfig {
         w,
-        visits,
+        particles: visits,
         batches,
         seed,
         run: 0,
@@ -93,8 +93,8 @@ fn injection_obeys_kac_and_agrees_with_trajectories() {
         // p_l = p_r. The two come from the same visits, whose exits are independent multinomial
         // draws, so the difference has the exact variance (p_l + p_r − (p_l − p_r)²)/N — larger
         // than σ_l² + σ_r² (the covariance −p_l·p_r/N is negative). N = 10⁶: normal, 4σ.
-        let (pl, pr) = (inj.p_l.value, inj.p_r.value);
-        let sd = ((pl + pr - (pl - pr).powi(2)) / inj.visits as f64).sqrt();
+        let (pl, pr) = (inj.p_l, inj.p_r);
+        let sd = ((pl + pr - (pl - pr).powi(2)) / inj.particles as f64).sqrt();
         assert!(
             (pl - pr).abs() < 4.0 * sd,
             "p_l {pl} vs p_r {pr}: {:.2}σ",
@@ -140,9 +140,9 @@ fn collisionless_visits_only_above_w0() {
         &two_threads(&quiet),
     )
     .unwrap();
-    let k = t4_welch(inj.p_cf.err, nb(&inj.meta), above.p_cf_err, nb(&above.meta));
+    let k = t4_welch(inj.p_cf_err, nb(&inj.meta), above.p_cf_err, nb(&above.meta));
     assert!(
-        z(inj.p_cf.value, inj.p_cf.err, above.p_cf, above.p_cf_err) < k,
+        z(inj.p_cf, inj.p_cf_err, above.p_cf, above.p_cf_err) < k,
         "p_cf injection {:?} vs trajectory {} ± {} (bound {k:.2})",
         inj.p_cf,
         above.p_cf,
@@ -345,7 +345,7 @@ fn progress_adds_up_and_tables_reject_unknown_symbols() {
         done.fetch_add(n, Ordering::Relaxed);
     };
     let b = backscatter_at_f64(0.1, 200_003, 4, 6, &p);
-    assert_eq!(done.load(Ordering::Relaxed), b.visits);
+    assert_eq!(done.load(Ordering::Relaxed), b.particles);
 }
 
 fn backscatter_at_f64(

@@ -34,9 +34,12 @@ pub struct SweepConfig {
     pub steps: u32,
     /// Independent runs per point (≥ 1; with ≥ 2 their spread is checked against their errors).
     pub runs: u32,
-    /// Collisions per run.
+    /// Collisions per run (serialized as `collisions_per_run`, the command line's name).
+    #[serde(rename = "collisions_per_run")]
     pub collisions: u64,
-    /// Batches per run (≥ 2): the error bar of a run is the standard error over its batches.
+    /// Batches per run (≥ 2): the error bar of a run is the standard error over its batches
+    /// (serialized as `batches_per_run`, the command line's name).
+    #[serde(rename = "batches_per_run")]
     pub batches: u32,
     /// Seed: run r of point i uses the streams of run i·runs + r of this seed.
     pub seed: u64,
