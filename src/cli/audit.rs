@@ -70,7 +70,10 @@ fn print(r: &AuditReport) {
         ("velocity", q.velocity_error),
         ("time error / bound", q.time_error_over_bound),
     ] {
-        println!("{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}", v[0], v[1], v[2]);
+        println!(
+            "{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}",
+            v.median, v.p99, v.max
+        );
     }
     for e in s.outside_events.iter().take(5) {
         println!(

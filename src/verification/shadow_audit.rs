@@ -339,17 +339,32 @@ pub struct AuditReport {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct AuditQuantiles {
     /// Time error.
-    pub time_error: [f64; 3],
+    pub time_error: Quantiles,
     /// Contact-point error.
-    pub position_error: [f64; 3],
+    pub position_error: Quantiles,
     /// Velocity error.
-    pub velocity_error: [f64; 3],
+    pub velocity_error: Quantiles,
     /// Time error / bound.
-    pub time_error_over_bound: [f64; 3],
+    pub time_error_over_bound: Quantiles,
 }
 
-fn q3(h: &LogHistogram) -> [f64; 3] {
-    [h.quantile(0.5), h.quantile(0.99), h.max]
+/// Median, 99th percentile and maximum of one error.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub struct Quantiles {
+    /// Median.
+    pub median: f64,
+    /// 99th percentile.
+    pub p99: f64,
+    /// Maximum.
+    pub max: f64,
+}
+
+fn q3(h: &LogHistogram) -> Quantiles {
+    Quantiles {
+        median: h.quantile(0.5),
+        p99: h.quantile(0.99),
+        max: h.max,
+    }
 }
 
 /// Runs the audit `cfg` on `threads` threads (the result does not depend on them). `progress`

@@ -276,8 +276,10 @@ pub struct DiffusionReport {
     pub collisions_per_hop_exact: f64,
     /// Lag times (in time units) at which the MSD was measured.
     pub msd_times: Vec<f64>,
-    /// MSD/(4t) at those times (mean over batches) with errors: approaches D from one side.
-    pub msd_over_4t: Vec<Estimate>,
+    /// MSD/(4t) at those times (mean over batches): approaches D from one side.
+    pub msd_over_4t: Vec<f64>,
+    /// Its standard errors, time by time.
+    pub msd_over_4t_err: Vec<f64>,
     /// Longest free path seen in the run.
     pub longest_free_path: f64,
     /// Total collisions.
@@ -904,7 +906,7 @@ fn summarise(
     let (cph, cph_e) = ratio(&|c| c.collisions as f64 / c.crossings as f64);
     let lags = &done[0].lags;
     let msd_times: Vec<f64> = lags.iter().map(|&l| l as f64 * tau).collect();
-    let msd_over_4t = (0..lags.len())
+    let msd_over_4t: Vec<Estimate> = (0..lags.len())
         .map(|k| {
             let v: Vec<f64> = done
                 .iter()
@@ -943,7 +945,8 @@ fn summarise(
         collisions_per_hop_err: cph_e,
         collisions_per_hop_exact: g.collisions_per_hop(),
         msd_times,
-        msd_over_4t,
+        msd_over_4t: msd_over_4t.iter().map(|e| e.value).collect(),
+        msd_over_4t_err: msd_over_4t.iter().map(|e| e.err).collect(),
         longest_free_path: done
             .iter()
             .map(|b| b.counters.longest_free_path)
