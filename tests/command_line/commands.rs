@@ -849,12 +849,81 @@ fn json_outputs_have_the_documented_keys() {
     assert_eq!(v["meta"]["precision"], "f64");
     assert_eq!(v["meta"]["seed"], 1);
     assert_eq!(v["meta"]["batches"], 4);
+    // One spelling per value: the config's number type is the meta's.
+    assert_eq!(v["config"]["precision"], "f64");
+    assert_eq!(
+        v["msd_over_4t"].as_array().map(Vec::len),
+        v["msd_over_4t_err"].as_array().map(Vec::len)
+    );
+    // Numbers as JSON numbers, with every digit of the working precision.
     let (code, out, _) = lorentz_in(
         &dir,
         &["constants", "--w", "0.1", "--precision", "200", "--json"],
     );
     assert_eq!(code, 0);
     let c: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert!(c["w_inf"].as_str().unwrap().starts_with("3.0940107675850"));
+    assert!((c["w_inf"].as_f64().unwrap() - 0.309_401_076_758_503).abs() < 1e-14);
+    assert!(
+        out.contains("\"w_inf\": 3.0940107675850305803659512200782982"),
+        "{out}"
+    );
+    assert_eq!(c["meta"]["precision"], "200");
+    // Estimates as flat x / x_err pairs, records with named keys.
+    let (code, out, err) = lorentz_in(
+        &dir,
+        &[
+            "theory",
+            "--w",
+            "0.1",
+            "--collisions",
+            "1e6",
+            "--batches",
+            "4",
+            "--order",
+            "2",
+            "--json",
+            "--quiet",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let t: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in [
+        "p_bs",
+        "p_bs_err",
+        "p_cf",
+        "p_cf_err",
+        "p_cf_appendix_a",
+        "p_cf_appendix_a_as_printed",
+        "D_2_as_printed",
+        "D_3_as_printed",
+        "D_GK",
+        "D_GK_err",
+    ] {
+        assert!(t[k].is_number(), "theory: {k} is not a number");
+    }
+    for k in ["k", "D_k", "D_k_combined", "D_lattice_walk"] {
+        assert!(t["orders"][0][k].is_number(), "theory: orders lack {k}");
+    }
+    let (code, out, err) = lorentz_in(
+        &dir,
+        &[
+            "backscatter",
+            "--w",
+            "0.1",
+            "--particles",
+            "2e4",
+            "--batches",
+            "4",
+            "--json",
+            "--quiet",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let b: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in ["p_bs", "p_l", "p_r", "p_cf"] {
+        assert!(b[k].is_number(), "backscatter: {k}");
+        assert!(b[format!("{k}_err")].is_number(), "backscatter: {k}_err");
+    }
+    assert_eq!(b["particles"], 20000);
     let _ = std::fs::remove_dir_all(&dir);
 }
