@@ -138,13 +138,14 @@ impl SweepCampaign {
             self.cpus_per_task
         );
         s += &format!(
-            "# Part $SLURM_ARRAY_TASK_ID of {n} of the sweep w = {} .. {} ({} points x {} runs x {} collisions).\n\
+            "# Part $SLURM_ARRAY_TASK_ID of {n} of the sweep w = {} .. {} ({} points x {} runs x {} collisions per run).\n\
              # Resumable: a requeued or resubmitted task reuses the part's finished points.\n\
              set -euo pipefail\n",
             c.w_from, c.w_to, c.steps, c.runs, c.collisions
         );
         s += &format!(
-            "exec {} sweep --w-from {} --w-to {} --steps {} --runs {} --collisions {} --batches {} --seed {} \\\n  \
+            "exec {} sweep --w-from {} --w-to {} --steps {} --runs {} --collisions-per-run {} \\\n  \
+             --batches-per-run {} --seed {} \\\n  \
              --engine {} --threads \"${{SLURM_CPUS_PER_TASK:-{}}}\" --shard \"$SLURM_ARRAY_TASK_ID/{n}\" \\\n  \
              --out {}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet\n",
             Self::q(&self.binary),
@@ -250,7 +251,7 @@ mod tests {
             s.contains("#SBATCH --partition=short\n#SBATCH --time=2:00:00\n"),
             "{s}"
         );
-        assert!(s.contains("--w-from '0.2' --w-to '0.3' --steps 21 --runs 10 --collisions 2000000000 --batches 16 --seed 5"), "{s}");
+        assert!(s.contains("--w-from '0.2' --w-to '0.3' --steps 21 --runs 10 --collisions-per-run 2000000000 \\\n  --batches-per-run 16 --seed 5"), "{s}");
         assert!(s.contains("--shard \"$SLURM_ARRAY_TASK_ID/7\""), "{s}");
         assert!(
             s.contains("--out '/scratch/it'\\''s here'/shard-\"$SLURM_ARRAY_TASK_ID\""),

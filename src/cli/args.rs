@@ -1,8 +1,6 @@
 //! Options shared by the subcommands (defined once, flattened into each command) and the value
 //! parsers for counts and thread numbers.
 
-use std::path::PathBuf;
-
 use clap::Args;
 
 use lorentz_gas::engine::options::RunOptions;
@@ -191,10 +189,10 @@ pub(crate) use with_scene;
 /// The measurement of hop statistics along lattice trajectories (`hops`, `theory`, `lattice-walk`).
 #[derive(Args, Debug, Clone)]
 pub struct HopArgs {
-    /// Lorentz-gas collisions in all (2e8, 2_000_000_000, ...).
+    /// Lorentz-gas collisions in all, over every batch (2e8, 2_000_000_000, ...).
     #[arg(long, default_value = "2e8", value_parser = parse_count, allow_negative_numbers = true)]
     pub collisions: u64,
-    /// Independent batches (at least 2); every error bar is over them.
+    /// Independent batches (trajectories), at least 2; every error bar is over them.
     #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
     pub batches: u32,
     /// Longest symbol sequence counted, and highest order of the theory (1 to 7).
@@ -228,7 +226,7 @@ impl HopCommand {
             collisions: self.hop.collisions,
             batches: self.hop.batches,
             order: self.hop.order,
-            seed: self.run.seed,
+            seed: self.run.seed(),
             run: 0,
         };
         let pb =
@@ -247,18 +245,23 @@ impl HopCommand {
     }
 }
 
-/// Seed and threads of a stochastic computation.
+/// The seed of a stochastic computation.
 #[derive(Args, Debug, Clone)]
-pub struct RunArgs {
+pub struct SeedArg {
     /// Seed of the random streams (same seed, same bits, whatever --threads).
     #[arg(long, default_value = "1", value_parser = parse_count, allow_negative_numbers = true)]
     pub seed: u64,
+}
+
+/// The worker threads of a computation.
+#[derive(Args, Debug, Clone)]
+pub struct ThreadsArg {
     /// Worker threads, 1 to 4096 (default: all cores); never changes the result.
     #[arg(long, value_parser = parse_threads, allow_negative_numbers = true)]
     pub threads: Option<usize>,
 }
 
-impl RunArgs {
+impl ThreadsArg {
     /// The requested thread count, or every core.
     pub fn threads(&self) -> usize {
         self.threads.unwrap_or_else(|| {
@@ -266,6 +269,26 @@ impl RunArgs {
                 .map(|n| n.get())
                 .unwrap_or(1)
         })
+    }
+}
+
+/// Seed and threads of a stochastic computation.
+#[derive(Args, Debug, Clone)]
+pub struct RunArgs {
+    #[command(flatten)]
+    seed_arg: SeedArg,
+    #[command(flatten)]
+    threads_arg: ThreadsArg,
+}
+
+impl RunArgs {
+    /// The seed.
+    pub fn seed(&self) -> u64 {
+        self.seed_arg.seed
+    }
+    /// The requested thread count, or every core.
+    pub fn threads(&self) -> usize {
+        self.threads_arg.threads()
     }
 }
 
@@ -279,12 +302,20 @@ pub struct EngineArg {
     pub engine: lorentz_gas::engine::Engine,
 }
 
-/// Number type.
+/// The run's number type.
 #[derive(Args, Debug, Clone)]
 pub struct PrecisionArg {
-    /// Number type: f64, or MPFR with this many bits (53 or more).
+    /// The run's number type: f64, or MPFR with this many bits (53 or more).
     #[arg(long, default_value = "f64")]
     pub precision: Precision,
+}
+
+/// The MPFR precision of a reference (the replay of an audit, a true orbit of a shadow), in bits.
+#[derive(Args, Debug, Clone)]
+pub struct ReferenceBitsArg {
+    /// MPFR precision of the reference the f64 run is checked against, in bits (128 or more).
+    #[arg(long, default_value = "128", value_parser = parse_count_u32, allow_negative_numbers = true)]
+    pub reference_bits: u32,
 }
 
 /// How results are shown.
@@ -296,21 +327,6 @@ pub struct OutputArgs {
     /// No progress bar on stderr.
     #[arg(long)]
     pub quiet: bool,
-}
-
-/// Where files go.
-#[derive(Args, Debug, Clone)]
-pub struct OutDirArg {
-    /// Output directory (default depends on the command).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-}
-
-impl OutDirArg {
-    /// The directory given, or `default`.
-    pub fn dir(&self, default: &str) -> PathBuf {
-        self.out.clone().unwrap_or_else(|| PathBuf::from(default))
-    }
 }
 
 #[cfg(test)]

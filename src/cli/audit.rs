@@ -13,18 +13,19 @@ use super::progress::Progress;
 pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
-    /// Collisions simulated, over all trajectories.
+    /// Collisions in all, over every batch.
     #[arg(long, default_value = "1e6", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
-    /// Independent trajectories (not tied to --threads: the result is the same on any thread count).
+    /// Independent batches (trajectories), at least 1; not tied to --threads (the result is the
+    /// same on any thread count).
     #[arg(long, default_value = "4", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    trajectories: u32,
+    batches: u32,
     /// Fraction of events replayed, in (0, 1].
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     sample: f64,
-    /// Reference precision in bits (128 to 65536).
+    /// MPFR precision of the replay, in bits (128 to 65536).
     #[arg(long, default_value = "128", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    precision: u32,
+    reference_bits: u32,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -37,10 +38,10 @@ pub fn run(a: Args) -> Result<(), Error> {
     let cfg = AuditConfig {
         scene: label,
         collisions: a.collisions,
-        trajectories: a.trajectories,
+        batches: a.batches,
         sample: a.sample,
-        bits: a.precision,
-        seed: a.run.seed,
+        reference_bits: a.reference_bits,
+        seed: a.run.seed(),
     };
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
     let opts = pb.options(a.run.threads());
@@ -54,8 +55,8 @@ fn print(r: &AuditReport) {
     let s = &r.summary;
     let c = &r.config;
     println!(
-        "shadow audit, {}: {} events of {} ({} collisions, {} trajectories, seed {}) replayed at {} bits in {:.1} s",
-        c.scene, s.audited, r.events, c.collisions, c.trajectories, c.seed, c.bits, r.seconds
+        "shadow audit, {}: {} events of {} ({} collisions, {} batches, seed {}) replayed at {} bits in {:.1} s",
+        c.scene, s.audited, r.events, c.collisions, c.batches, c.seed, c.reference_bits, r.seconds
     );
     println!(
         "outside the error model: {}   ambiguous at f64 resolution: {}   f64 chose another obstacle: {}",
@@ -69,7 +70,10 @@ fn print(r: &AuditReport) {
         ("velocity", q.velocity_error),
         ("time error / bound", q.time_error_over_bound),
     ] {
-        println!("{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}", v[0], v[1], v[2]);
+        println!(
+            "{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}",
+            v.median, v.p99, v.max
+        );
     }
     for e in s.outside_events.iter().take(5) {
         println!(

@@ -12,12 +12,12 @@ use super::progress::Progress;
 pub struct Args {
     #[command(flatten)]
     gap: GapArg,
-    /// Particles injected.
+    /// Particles injected in all, over every batch (1e7, 10_000_000, ...).
     #[arg(long, default_value = "1e7", value_parser = parse_count, allow_negative_numbers = true)]
-    visits: u64,
+    particles: u64,
     #[command(flatten)]
     precision: PrecisionArg,
-    /// Independent batches (at least 2).
+    /// Independent batches, at least 2; every error bar is over them.
     #[arg(long, default_value = "32", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
     #[command(flatten)]
@@ -27,12 +27,12 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let pb = Progress::new(a.visits, "injections", a.output.quiet);
+    let pb = Progress::new(a.particles, "injections", a.output.quiet);
     let cfg = BackscatterConfig {
         w: a.gap.w,
-        visits: a.visits,
+        particles: a.particles,
         batches: a.batches,
-        seed: a.run.seed,
+        seed: a.run.seed(),
         run: 0,
         precision: a.precision.precision,
     };
@@ -50,22 +50,15 @@ pub fn run(a: Args) -> Result<(), Error> {
 
 fn print(r: &BackscatterReport) {
     println!(
-        "injection into one trap, w = {} ({} visits, {} batches, seed {})",
+        "injection into one trap, w = {} ({} particles, {} batches, seed {})",
         r.w,
-        r.visits,
+        r.particles,
         r.meta.batches.unwrap_or_default(),
         r.meta.seed.unwrap_or_default()
     );
     println!(
         "p_bs = {:.5} ± {:.5}   p_l = {:.5} ± {:.5}   p_r = {:.5} ± {:.5}   p_cf = {:.5} ± {:.5}",
-        r.p_bs,
-        r.p_bs_err,
-        r.p_l.value,
-        r.p_l.err,
-        r.p_r.value,
-        r.p_r.err,
-        r.p_cf.value,
-        r.p_cf.err
+        r.p_bs, r.p_bs_err, r.p_l, r.p_l_err, r.p_r, r.p_r_err, r.p_cf, r.p_cf_err
     );
     println!(
         "mean visit time      = {:.5} ± {:.5}   Kac tau = {:.5}",

@@ -1,12 +1,15 @@
 //! `lorentz bench`: kernel throughput, and with `--report` the speed-against-error table.
 
+use std::path::PathBuf;
+
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::throughput::{self, Throughput, ThroughputConfig};
 use lorentz_gas::report::speed_error::{self, SpeedErrorConfig, REPORT_STEPS};
 use lorentz_gas::Error;
 
 use super::args::{
-    parse_count, parse_count_usize, EngineArg, GapArg, OutDirArg, OutputArgs, PrecisionArg, RunArgs,
+    parse_count, parse_count_usize, parse_threads, EngineArg, GapArg, OutputArgs, PrecisionArg,
+    SeedArg, ThreadsArg,
 };
 use super::output::{emit, to_json};
 use super::progress::Progress;
@@ -15,10 +18,10 @@ use super::progress::Progress;
 pub struct Args {
     #[command(flatten)]
     gap: GapArg,
-    /// Collisions per thread per repetition (the SIMD engine shares them out over the thread's
-    /// 16 trajectories).
+    /// Collisions of each thread in each repetition (the SIMD engine shares them out over the
+    /// thread's 16 trajectories).
     #[arg(long, default_value = "2e7", value_parser = parse_count, allow_negative_numbers = true)]
-    collisions: u64,
+    collisions_per_thread: u64,
     /// Repetitions (the median is reported), 1 to 1000.
     #[arg(long, default_value = "7", value_parser = parse_count_usize, allow_negative_numbers = true)]
     repetitions: usize,
@@ -30,30 +33,34 @@ pub struct Args {
     /// counters, msd, diffusion (counters + MSD, as in `lorentz diffusion`), hops.
     #[arg(long, value_enum, default_value = "none")]
     observe: lorentz_gas::estimators::throughput::Observe,
-    /// Seed of the starting points; --threads K runs K trajectories at once, one per thread
-    /// (default: 1, the single-core kernel speed).
     #[command(flatten)]
-    run: RunArgs,
+    seed: SeedArg,
+    /// Worker threads, 1 to 4096: K threads run K trajectories at once, one per thread (default:
+    /// 1, the single-core kernel speed; with --report, all cores for the calibration run).
+    #[arg(long, value_parser = parse_threads, allow_negative_numbers = true)]
+    threads: Option<usize>,
     /// Speed against error for f64 and MPFR 53..1024 bits: Markdown, JSON, PNG and SVG into --out.
     #[arg(long)]
     report: bool,
-    #[command(flatten)]
-    out: OutDirArg,
+    /// Output directory of --report (speed-vs-error.{md,json,png,svg}).
+    #[arg(long, default_value = "results")]
+    out: PathBuf,
     #[command(flatten)]
     output: OutputArgs,
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let threads = a.run.threads.unwrap_or(1);
+    let threads = a.threads.unwrap_or(1);
     if a.report {
-        let out = a.out.dir("results");
+        let out = a.out.clone();
         let pb = Progress::new(REPORT_STEPS, "steps", a.output.quiet);
         let cfg = SpeedErrorConfig {
             w: a.gap.w,
-            seed: a.run.seed,
+            seed: a.seed.seed,
             out: out.clone(),
         };
-        let opts = pb.options(a.run.threads());
+        let all = ThreadsArg { threads: a.threads }.threads();
+        let opts = pb.options(all);
         let (r, md) = speed_error::run(&cfg, &opts)?;
         drop(opts);
         drop(pb);
@@ -73,9 +80,9 @@ pub fn run(a: Args) -> Result<(), Error> {
         w: a.gap.w,
         precision: a.precision.precision,
         observe: a.observe,
-        collisions: a.collisions,
+        collisions_per_thread: a.collisions_per_thread,
         repetitions: a.repetitions,
-        seed: a.run.seed,
+        seed: a.seed.seed,
     };
     let opts = RunOptions {
         engine: a.engine.engine,
@@ -89,14 +96,14 @@ pub fn run(a: Args) -> Result<(), Error> {
 
 fn print(r: &Throughput) {
     println!(
-        "w = {}  precision {}  engine {}  {} collisions x {} repetitions on {} thread(s)\nmedian {:.3e} collisions/s ({:.3e} per thread) = {:.2} ns/collision per thread  (runs: {})",
+        "w = {}  precision {}  engine {}  {} collisions per thread x {} repetitions on {} thread(s)\nmedian {:.3e} collisions/s ({:.3e} per thread) = {:.2} ns/collision per thread  (runs: {})",
         r.w,
         r.meta.precision,
         match &r.meta.simd {
             Some(p) => format!("{} ({p})", r.meta.engine),
             None => r.meta.engine.clone(),
         },
-        r.collisions,
+        r.collisions_per_thread,
         r.repetitions,
         r.threads,
         r.collisions_per_second,

@@ -1,6 +1,9 @@
 //! `lorentz constants`: every closed form at gap w, at any precision.
 
-use serde_json::json;
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+use serde_json::value::RawValue;
 
 use lorentz_gas::engine::metadata::RunMeta;
 use lorentz_gas::numbers::precision::{AtPrecision, Precision};
@@ -29,6 +32,18 @@ pub fn run(a: Args) -> Result<(), Error> {
         json: a.json,
         precision: p,
     })
+}
+
+/// `constants --json`: every closed form by name, then the horizon bound and the metadata.
+#[derive(Serialize)]
+struct ConstantsJson {
+    #[serde(flatten)]
+    numbers: BTreeMap<&'static str, Box<RawValue>>,
+    /// Proven bound on any free path (null at infinite horizon).
+    max_free_path_bound: Option<Box<RawValue>>,
+    finite_horizon: bool,
+    precision_bits: u32,
+    meta: RunMeta,
 }
 
 struct Constants {
@@ -76,22 +91,22 @@ impl AtPrecision for Constants {
         let horizon_finite = g.gap() < Geometry::<T>::w_inf(ctx);
         let lmax = g.max_free_path_bound();
         if self.json {
-            let mut m = serde_json::Map::new();
+            // Every number as a JSON number with all the digits of the working precision.
+            let number = |v: &T| -> Result<Box<RawValue>, Error> {
+                RawValue::from_string(v.to_decimal()).map_err(|e| Error::Io(e.to_string()))
+            };
+            let mut numbers = BTreeMap::new();
             for (k, _, v) in &rows {
-                m.insert((*k).into(), json!(v.to_decimal()));
+                numbers.insert(*k, number(v)?);
             }
-            m.insert(
-                "max_free_path_bound".into(),
-                json!(lmax.as_ref().map(|v| v.to_decimal())),
-            );
-            m.insert("finite_horizon".into(), json!(horizon_finite));
-            m.insert("precision_bits".into(), json!(T::bits(ctx)));
-            m.insert(
-                "meta".into(),
-                serde_json::to_value(RunMeta::new(None, None, self.precision, None))
-                    .map_err(|e| Error::Io(e.to_string()))?,
-            );
-            println!("{}", to_json(&m)?);
+            let out = ConstantsJson {
+                numbers,
+                max_free_path_bound: lmax.as_ref().map(number).transpose()?,
+                finite_horizon: horizon_finite,
+                precision_bits: T::bits(ctx),
+                meta: RunMeta::new(None, None, self.precision, None),
+            };
+            println!("{}", to_json(&out)?);
         } else {
             for (k, d, v) in &rows {
                 println!("{k:<20} {:<45} {d}", v.to_decimal());

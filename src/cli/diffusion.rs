@@ -7,8 +7,8 @@ use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport,
 use lorentz_gas::Error;
 
 use super::args::{
-    parse_count, parse_count_u32, EngineArg, OutputArgs, PrecisionArg, RunArgs, SceneArgs,
-    SceneChoice,
+    parse_count, parse_count_u32, EngineArg, OutputArgs, PrecisionArg, ReferenceBitsArg, RunArgs,
+    SceneArgs, SceneChoice,
 };
 use super::output::{emit, sigmas};
 use super::progress::Progress;
@@ -17,7 +17,7 @@ use super::progress::Progress;
 pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
-    /// Total collisions over all batches (2e9, 2_000_000_000 and 2000000000 all work).
+    /// Collisions in all, over every batch (2e9, 2_000_000_000 and 2000000000 all work).
     #[arg(long, default_value = "2e9", value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
     /// Independent batches (trajectories), at least 2; the error bar is their standard error.
@@ -41,9 +41,8 @@ pub struct Args {
     /// Replay this fraction (0, 1] of the events in MPFR as the run goes (f64 runs).
     #[arg(long)]
     audit: Option<f64>,
-    /// Reference precision of the audit, in bits (>= 128).
-    #[arg(long, default_value = "128", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    audit_precision: u32,
+    #[command(flatten)]
+    reference: ReferenceBitsArg,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -60,7 +59,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         w,
         collisions: a.collisions,
         batches: a.batches,
-        seed: a.run.seed,
+        seed: a.run.seed(),
         run: 0,
         precision: a.precision.precision,
         window: a.window,
@@ -69,7 +68,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     cfg.validate()?;
     let audit = a
         .audit
-        .map(|rate| AuditSpec::new(rate, a.audit_precision))
+        .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
         .transpose()?;
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
     let progress = pb.callback();

@@ -17,9 +17,10 @@ pub struct Args {
     /// a = 2 + w); each at least max(4a, 10 mean free paths) and at most 2000.
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     widths: Option<Vec<f64>>,
-    /// Particles per width (2e5, 200_000 and 200000 all work).
+    /// Particles injected into each strip width (2e5, 200_000 and 200000 all work); they are
+    /// split into the batches the error bars are over.
     #[arg(long, default_value = "2e5", value_parser = parse_count, allow_negative_numbers = true)]
-    particles: u64,
+    particles_per_width: u64,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -31,12 +32,12 @@ pub fn run(a: Args) -> Result<(), Error> {
     let cfg = EscapeConfig {
         w: a.gap.w,
         widths: a.widths.unwrap_or_else(|| escape::default_widths(a.gap.w)),
-        particles: a.particles,
-        seed: a.run.seed,
+        particles_per_width: a.particles_per_width,
+        seed: a.run.seed(),
     };
     cfg.validate()?;
     let pb = Progress::new(
-        cfg.particles * cfg.widths.len() as u64,
+        cfg.particles_per_width * cfg.widths.len() as u64,
         "particles",
         a.output.quiet,
     );

@@ -35,7 +35,7 @@ fn print(r: &HopsReport) {
     let pairs: Vec<String> = r
         .pairs
         .iter()
-        .map(|(k, e)| format!("p({k}) = {:.5} ± {:.5}", e.value, e.err))
+        .map(|(k, v)| format!("p({k}) = {v:.5} ± {:.5}", r.pairs_err[k]))
         .collect();
     for c in pairs.chunks(3) {
         println!("{}", c.join("   "));

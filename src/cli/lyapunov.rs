@@ -18,13 +18,14 @@ use super::progress::Progress;
 pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
-    /// Collisions per tangent-space orbit.
+    /// Collisions of each batch (one tangent-space orbit each), after a transient.
     #[arg(long, default_value = "2e6", value_parser = parse_count, allow_negative_numbers = true)]
-    collisions: u64,
-    /// Independent tangent-space orbits (at least 2).
+    collisions_per_batch: u64,
+    /// Independent batches (tangent-space orbits), at least 2; the error bar is over them.
     #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    orbits: u32,
-    /// Initial conditions for the divergence measurement (0 to skip it).
+    batches: u32,
+    /// Initial conditions of the divergence measurement (0 to skip it); its error bars are over
+    /// them.
     #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
     starts: u32,
     #[command(flatten)]
@@ -50,12 +51,13 @@ pub fn run(a: Args) -> Result<(), Error> {
         )));
     }
     let choice = a.scene.resolve()?;
-    let total = (a.collisions.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.orbits as u64);
+    let total =
+        (a.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.batches as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
     let cfg = LyapunovConfig {
-        collisions: a.collisions,
-        orbits: a.orbits,
-        seed: a.run.seed,
+        collisions_per_batch: a.collisions_per_batch,
+        batches: a.batches,
+        seed: a.run.seed(),
     };
     let opts = pb.options(a.run.threads());
     let tangent = with_scene!(&choice, |s| lyapunov::run(s, &cfg, &opts))?;
@@ -65,7 +67,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         let pb = Progress::new(a.starts as u64, "initial conditions", a.output.quiet);
         let cfg = DivergenceConfig {
             starts: a.starts,
-            seed: a.run.seed,
+            seed: a.run.seed(),
             ..DivergenceConfig::new()
         };
         let opts = pb.options(1);
@@ -85,8 +87,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         |r| {
             let l = &r.tangent;
             println!(
-            "{}: largest Lyapunov exponent (tangent space, {} orbits x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time",
-            l.scene, l.orbits, l.collisions, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err
+            "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time",
+            l.scene, l.batches, l.collisions_per_batch, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err
         );
             if !r.divergence.is_empty() {
                 println!(

@@ -7,7 +7,7 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep;
 use lorentz_gas::Error;
 
-use super::args::{OutDirArg, OutputArgs, RunArgs};
+use super::args::{OutputArgs, ThreadsArg};
 use super::output::emit;
 
 #[derive(clap::Args)]
@@ -15,24 +15,24 @@ pub struct Args {
     /// Directories written by `lorentz sweep --shard I/N` (all N parts of one sweep).
     #[arg(required = true)]
     dirs: Vec<PathBuf>,
-    /// Output directory (default results/sweep): sweep.csv, sweep.json, the figures, and every
-    /// point in OUT/points (so `lorentz sweep` with the same settings and --out OUT resumes them).
+    /// Output directory: sweep.csv, sweep-runs.csv, sweep.json, the figures, and every point in
+    /// OUT/points (so `lorentz sweep` with the same settings and --out OUT resumes them).
+    #[arg(long, default_value = "results/sweep")]
+    out: PathBuf,
     #[command(flatten)]
-    out: OutDirArg,
-    #[command(flatten)]
-    run: RunArgs,
+    threads: ThreadsArg,
     #[command(flatten)]
     output: OutputArgs,
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let out = a.out.dir("results/sweep");
+    let out = a.out.clone();
     let cfg = MergeConfig {
         parts: a.dirs.clone(),
         out: out.clone(),
     };
     let opts = RunOptions {
-        threads: a.run.threads(),
+        threads: a.threads.threads(),
         ..RunOptions::default()
     };
     let r = merge::run(&cfg, &opts)?;
@@ -41,7 +41,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     emit(a.output.json, &r, |r| {
         super::sweep::print(r);
         println!(
-            "merged {} parts: {}/sweep.{{csv,json}}, fig2-D-vs-w, fig7-boltzmann, fig8-residuals (.png, .svg)",
+            "merged {} parts: {}/sweep.{{csv,json}}, sweep-runs.csv, fig2-D-vs-w, fig7-boltzmann, fig8-residuals (.png, .svg)",
             a.dirs.len(),
             out.display()
         );

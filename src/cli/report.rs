@@ -6,7 +6,7 @@ use std::sync::OnceLock;
 use lorentz_gas::report::publication::{audit_result_file, Options, Verdict};
 use lorentz_gas::Error;
 
-use super::args::{OutDirArg, OutputArgs, RunArgs};
+use super::args::{OutputArgs, ThreadsArg};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -18,14 +18,16 @@ pub struct Args {
     /// precision runs — under a minute for a default diffusion result on 2 cores.
     #[arg(long)]
     quick: bool,
-    /// MPFR bits of the shadow audit and the precision-independence run (128 or more).
+    /// MPFR precision of the references, in bits (128 or more): the shadow audit's replay and the
+    /// precision-independence run.
     #[arg(long, default_value = "128", value_parser = super::args::parse_count_u32)]
-    bits: u32,
-    /// Output directory for report.{md,html,json} and the figures (default: RESULT's name + "-report").
+    reference_bits: u32,
+    /// Output directory for report.{md,html,json} and the figures (default: beside RESULT, named
+    /// RESULT's file stem + "-report", e.g. d.json -> d-report).
+    #[arg(long)]
+    out: Option<PathBuf>,
     #[command(flatten)]
-    out: OutDirArg,
-    #[command(flatten)]
-    run: RunArgs,
+    threads: ThreadsArg,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -38,7 +40,7 @@ pub fn run(a: Args) -> Result<(), Error> {
             .map_or("result".into(), |s| s.to_string_lossy().to_string());
         a.result.with_file_name(format!("{stem}-report"))
     };
-    let out = a.out.out.clone().unwrap_or(default);
+    let out = a.out.clone().unwrap_or(default);
     // The amount of work is known only once the file is read: the bar starts then.
     let bar: OnceLock<Progress> = OnceLock::new();
     let quiet = a.output.quiet;
@@ -66,8 +68,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         &out,
         Options {
             quick: a.quick,
-            threads: a.run.threads(),
-            bits: a.bits,
+            threads: a.threads.threads(),
+            bits: a.reference_bits,
         },
         &planned,
         &progress,

@@ -1,11 +1,12 @@
 //! `lorentz reproduce`: every figure and table of the README into one folder with an index.html.
 
+use std::path::PathBuf;
 use std::sync::Mutex;
 
 use lorentz_gas::report::reproduce::{reproduce, Budget, Reporter};
 use lorentz_gas::Error;
 
-use super::args::{OutDirArg, OutputArgs, RunArgs};
+use super::args::{OutputArgs, RunArgs};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -17,9 +18,9 @@ pub struct Args {
     budget: Budget,
     #[command(flatten)]
     run: RunArgs,
-    /// Output directory (default results/reproduce); finished steps are kept and not redone.
-    #[command(flatten)]
-    out: OutDirArg,
+    /// Output directory; finished steps are kept and not redone.
+    #[arg(long, default_value = "results/reproduce")]
+    out: PathBuf,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -51,12 +52,12 @@ impl Reporter for Bars {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let out = a.out.dir("results/reproduce");
+    let out = a.out.clone();
     let bars = Bars {
         quiet: a.output.quiet,
         bar: Mutex::new(None),
     };
-    let r = reproduce(a.budget, &out, a.run.seed, a.run.threads(), &bars)?;
+    let r = reproduce(a.budget, &out, a.run.seed(), a.run.threads(), &bars)?;
     drop(bars);
     emit(a.output.json, &r, |r| {
         for s in &r.steps {

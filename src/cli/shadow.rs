@@ -18,12 +18,13 @@ pub struct Args {
     /// Gap w, exact (such as 0.1 or 1/10): 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
     #[arg(long, allow_hyphen_values = true)]
     w: String,
-    /// Collisions per segment, 2 to 10000.
+    /// Collisions of each segment, 2 to 10000.
     #[arg(long, default_value = "1000", value_parser = parse_count_usize, allow_negative_numbers = true)]
-    collisions: usize,
-    /// MPFR working precision in bits (128 or more); the residual is re-checked at twice this.
+    collisions_per_segment: usize,
+    /// MPFR precision of the true orbit, in bits (128 or more); the residual is re-checked at
+    /// twice this.
     #[arg(long, default_value = "128", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    precision: u32,
+    reference_bits: u32,
     /// Segments (segment k starts from the equilibrium state of batch k of the seed), 1 to 10000.
     #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
     segments: u32,
@@ -47,7 +48,7 @@ fn gap(s: &str) -> Result<TriangularScene, Error> {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let scene = gap(&a.w)?;
-    check_request(a.collisions, a.precision)?;
+    check_request(a.collisions_per_segment, a.reference_bits)?;
     if a.segments == 0 || a.segments > MAX_SEGMENTS {
         return Err(Error::Invalid(format!(
             "segments = {} is out of range: use 1 to {MAX_SEGMENTS}",
@@ -55,15 +56,15 @@ pub fn run(a: Args) -> Result<(), Error> {
         )));
     }
     let pb = Progress::new(
-        a.collisions as u64 * a.segments as u64,
+        a.collisions_per_segment as u64 * a.segments as u64,
         "collisions",
         a.output.quiet,
     );
     let request = ShadowConfig {
-        collisions: a.collisions,
+        collisions_per_segment: a.collisions_per_segment,
         segments: a.segments,
-        seed: a.run.seed,
-        bits: a.precision,
+        seed: a.run.seed(),
+        reference_bits: a.reference_bits,
     };
     let opts = pb.options(a.run.threads());
     let r = shadowing::run(&scene, &request, &opts)?;
@@ -75,8 +76,8 @@ pub fn run(a: Args) -> Result<(), Error> {
             "{}: {} segments of {} collisions at {} bits: {} converged, {} certified; median delta {}, max {}",
             r.scene,
             r.segments.len(),
-            r.request.collisions,
-            r.request.bits,
+            r.config.collisions_per_segment,
+            r.config.reference_bits,
             r.converged,
             r.certified,
             opt(r.median_delta),

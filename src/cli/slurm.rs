@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use lorentz_gas::campaigns::slurm::SweepCampaign;
 use lorentz_gas::Error;
 
-use super::args::{parse_count_u32, EngineArg, OutDirArg, OutputArgs, RunArgs};
+use super::args::{parse_count_u32, EngineArg, OutputArgs, SeedArg};
 use super::output::emit;
 use super::sweep::GridArgs;
 
@@ -29,7 +29,7 @@ struct SweepArgs {
     /// Parts of the sweep: array tasks 0 .. N-1 (1 to the number of points).
     #[arg(long, value_parser = parse_count_u32, allow_negative_numbers = true)]
     array: u32,
-    /// CPUs of each array task (its --threads).
+    /// CPUs of each array task (the --threads of its `lorentz sweep`).
     #[arg(long, default_value = "1", value_parser = parse_count_u32, allow_negative_numbers = true)]
     cpus_per_task: u32,
     /// Slurm partition (default: the cluster's default partition).
@@ -42,13 +42,13 @@ struct SweepArgs {
     #[arg(long)]
     lorentz: Option<PathBuf>,
     #[command(flatten)]
-    run: RunArgs,
+    seed: SeedArg,
     #[command(flatten)]
     engine: EngineArg,
-    /// Output directory of the campaign (default results/sweep): parts in OUT/shard-I, the merged
-    /// sweep in OUT, scripts and job logs in OUT/slurm.
-    #[command(flatten)]
-    out: OutDirArg,
+    /// Output directory of the campaign: parts in OUT/shard-I, the merged sweep in OUT, scripts
+    /// and job logs in OUT/slurm.
+    #[arg(long, default_value = "results/sweep")]
+    out: PathBuf,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -63,7 +63,7 @@ struct Written {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let What::Sweep(a) = a.what;
-    let config = a.grid.config(a.run.seed)?;
+    let config = a.grid.config(a.seed.seed)?;
     let absolute = |p: PathBuf| -> Result<PathBuf, Error> {
         if p.is_absolute() {
             Ok(p)
@@ -78,7 +78,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     let c = SweepCampaign {
         config,
         parts: a.array,
-        out: absolute(a.out.dir("results/sweep"))?,
+        out: absolute(a.out)?,
         binary,
         engine: a.engine.engine,
         cpus_per_task: a.cpus_per_task,

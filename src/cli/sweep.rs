@@ -5,11 +5,14 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepReport};
 use lorentz_gas::Error;
 
-use super::args::{parse_count, parse_count_u32, EngineArg, OutDirArg, OutputArgs, RunArgs};
+use std::path::PathBuf;
+
+use super::args::{parse_count, parse_count_u32, EngineArg, OutputArgs, RunArgs};
 use super::output::emit;
 use super::progress::Progress;
 
-/// The sweep itself: the w grid, runs, collisions, batches (shared with `lorentz slurm sweep`).
+/// The sweep itself: the w grid, runs, collisions and batches per run (shared with `lorentz slurm
+/// sweep`).
 #[derive(clap::Args, Clone)]
 pub struct GridArgs {
     /// First w, a decimal (the grid is computed exactly: 0.1 .. 0.2 in 3 steps gives 0.15).
@@ -21,15 +24,16 @@ pub struct GridArgs {
     /// Number of points (at least 2).
     #[arg(long, default_value = "11", value_parser = parse_count_u32, allow_negative_numbers = true)]
     steps: u32,
-    /// Independent runs per point (their spread is checked against the batch errors).
+    /// Independent runs at each point w (their spread is checked against the batch errors).
     #[arg(long, default_value = "10", value_parser = parse_count_u32, allow_negative_numbers = true)]
     runs: u32,
-    /// Collisions per run.
+    /// Collisions of each run, over its batches (a point costs runs x this).
     #[arg(long, default_value = "2e8", value_parser = parse_count, allow_negative_numbers = true)]
-    collisions: u64,
-    /// Batches per run (at least 2): each run's error is the standard error over its batches.
+    collisions_per_run: u64,
+    /// Independent batches of each run (at least 2): each run's error is the standard error over
+    /// its batches.
     #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    batches: u32,
+    batches_per_run: u32,
 }
 
 impl GridArgs {
@@ -40,8 +44,8 @@ impl GridArgs {
             w_to: self.w_to.clone(),
             steps: self.steps,
             runs: self.runs,
-            collisions: self.collisions,
-            batches: self.batches,
+            collisions: self.collisions_per_run,
+            batches: self.batches_per_run,
             seed,
         };
         cfg.validate()?;
@@ -61,27 +65,28 @@ pub struct Args {
     run: RunArgs,
     #[command(flatten)]
     engine: EngineArg,
-    /// Output directory (default results/sweep; finished points are kept in OUT/points/ and reused).
-    #[command(flatten)]
-    out: OutDirArg,
+    /// Output directory: sweep.csv, sweep-runs.csv, sweep.json and the figures; finished points
+    /// are kept in OUT/points/ and reused.
+    #[arg(long, default_value = "results/sweep")]
+    out: PathBuf,
     #[command(flatten)]
     output: OutputArgs,
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let cfg = a.grid.config(a.run.seed)?;
+    let cfg = a.grid.config(a.run.seed())?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     if let Some(s) = shard {
         s.validate(&cfg)?;
     }
-    let out = a.out.dir("results/sweep");
+    let out = a.out.clone();
     let points = match shard {
         Some(s) => (0..cfg.steps).filter(|&i| s.owns(i)).count() as u64,
         None => cfg.steps as u64,
     };
     let total = a
         .grid
-        .collisions
+        .collisions_per_run
         .saturating_mul(a.grid.runs as u64)
         .saturating_mul(points);
     let pb = Progress::new(total, "collisions", a.output.quiet);
@@ -121,7 +126,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     emit(a.output.json, &r, |r| {
         print(r);
         println!(
-            "written: {}/sweep.{{csv,json}}, fig2-D-vs-w, fig7-boltzmann, fig8-residuals (.png, .svg)",
+            "written: {}/sweep.{{csv,json}}, sweep-runs.csv, fig2-D-vs-w, fig7-boltzmann, fig8-residuals (.png, .svg)",
             out.display()
         );
     })
@@ -131,7 +136,7 @@ pub fn run(a: Args) -> Result<(), Error> {
 pub fn print(r: &SweepReport) {
     let c = &r.config;
     println!(
-        "sweep w = {} .. {}, {} points x {} runs x {} collisions in {} batches ({} points resumed)",
+        "sweep w = {} .. {}, {} points x {} runs x {} collisions in {} batches per run ({} points resumed)",
         c.w_from, c.w_to, c.steps, c.runs, c.collisions, c.batches, r.resumed_points
     );
     println!("error of D: from the batches inside the runs (dof = runs x (batches - 1)); runs F (p): spread of the runs against those errors, F(runs - 1, dof)");

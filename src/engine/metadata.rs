@@ -17,9 +17,14 @@ pub struct RunMeta {
     pub version: String,
     /// Seed of the random streams (`None` for deterministic computations).
     pub seed: Option<u64>,
-    /// Independent batches (trajectories, runs) the error bars come from, where there are any.
+    /// The number of independent batches (sets of trajectories, each with its own random streams)
+    /// whose scatter the result's error bars are computed from: `--batches` where a command has
+    /// it; runs × batches per run for a sweep (per point); widths × batches per width for
+    /// `escape`; segments for `shadow`. `None` where nothing is averaged over batches.
     pub batches: Option<u64>,
-    /// Number type: `"f64"` or MPFR bits.
+    /// Number type: `"f64"` or MPFR bits (`"128"`), the serde form of
+    /// [`Precision`](crate::numbers::precision::Precision); for `audit` and `shadow`, the MPFR
+    /// precision of the reference.
     pub precision: String,
     /// Engine that ran the trajectories: `"scalar"` or `"simd"`.
     pub engine: String,

@@ -87,7 +87,7 @@ pub struct EscapeConfig {
     /// Strip widths L (lengths, disk radius 1).
     pub widths: Vec<f64>,
     /// Particles per width.
-    pub particles: u64,
+    pub particles_per_width: u64,
     /// Seed of the random streams.
     pub seed: u64,
 }
@@ -98,7 +98,7 @@ impl EscapeConfig {
         EscapeConfig {
             w,
             widths: default_widths(w),
-            particles: 200_000,
+            particles_per_width: 200_000,
             seed: 1,
         }
     }
@@ -136,11 +136,11 @@ impl EscapeConfig {
         if distinct.len() != self.widths.len() {
             return Err(Error::Invalid("widths must be distinct".into()));
         }
-        if !(MIN_PARTICLES..=MAX_PARTICLES).contains(&self.particles) {
+        if !(MIN_PARTICLES..=MAX_PARTICLES).contains(&self.particles_per_width) {
             return Err(Error::Invalid(format!(
-                "particles = {} is out of range: use {MIN_PARTICLES} <= particles <= \
-                 {MAX_PARTICLES} per width",
-                self.particles
+                "particles_per_width = {} is out of range: use {MIN_PARTICLES} <= \
+                 particles_per_width <= {MAX_PARTICLES}",
+                self.particles_per_width
             )));
         }
         Ok(())
@@ -429,7 +429,7 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
         let mut rng = StreamKey::new(cfg.seed, Purpose::Escape, b as u64)
             .in_run(k as u64)
             .rng();
-        let n = share(cfg.particles, nb, b);
+        let n = share(cfg.particles_per_width, nb, b);
         let mut lifetimes = Vec::with_capacity(n as usize);
         let mut events = 0;
         for _ in 0..n {

@@ -30,8 +30,8 @@ use crate::Error;
 pub struct Throughput {
     /// Gap w.
     pub w: f64,
-    /// Collisions per thread per repetition (shared out over the thread's trajectories).
-    pub collisions: u64,
+    /// Collisions of each thread in each repetition (shared out over the thread's trajectories).
+    pub collisions_per_thread: u64,
     /// Number of repetitions.
     pub repetitions: usize,
     /// Threads, each running one trajectory (scalar) or one block of trajectories (SIMD).
@@ -256,8 +256,8 @@ pub struct ThroughputConfig {
     pub precision: Precision,
     /// Which observers run beside the engine.
     pub observe: Observe,
-    /// Collisions per thread per repetition.
-    pub collisions: u64,
+    /// Collisions of each thread in each repetition.
+    pub collisions_per_thread: u64,
     /// Repetitions, 1 to [`MAX_REPETITIONS`] (the median is reported).
     pub repetitions: usize,
     /// Seed of the equilibrium starts.
@@ -272,14 +272,14 @@ impl ThroughputConfig {
             w,
             precision: Precision::F64,
             observe: Observe::None,
-            collisions: 20_000_000,
+            collisions_per_thread: 20_000_000,
             repetitions: 7,
             seed: 1,
         }
     }
 }
 
-/// Times `cfg.repetitions` repetitions of `cfg.collisions` collisions on each of
+/// Times `cfg.repetitions` repetitions of `cfg.collisions_per_thread` collisions on each of
 /// `options.threads` threads (one trajectory each on the scalar engine, a block of [`BLOCK`] on
 /// the SIMD engine, `options.engine`), continuing equilibrium starts. `options.progress`
 /// receives finished repetitions.
@@ -292,7 +292,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         w,
         precision,
         observe,
-        collisions,
+        collisions_per_thread: collisions,
         repetitions: reps,
         seed,
     } = *cfg;
@@ -323,7 +323,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
     let m = median(&samples);
     Ok(Throughput {
         w,
-        collisions,
+        collisions_per_thread: collisions,
         repetitions: reps,
         threads,
         observe,

@@ -220,8 +220,8 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
     let lambda = lyapunov::run(
         scene,
         &LyapunovConfig {
-            collisions: PLAN_LAMBDA_COLLISIONS,
-            orbits: PLAN_LAMBDA_ORBITS,
+            collisions_per_batch: PLAN_LAMBDA_COLLISIONS,
+            batches: PLAN_LAMBDA_ORBITS,
             seed: PLAN_LAMBDA_SEED,
         },
         &RunOptions {

@@ -10,7 +10,11 @@ use crate::numbers::real::Real;
 use crate::Error;
 
 /// Number type of a run: `f64`, or `rug::Float` with a number of bits ≥ 53.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+///
+/// Its serde form is its display form, the one typed on the command line and written in a result's
+/// `meta.precision`: the string `"f64"` or the number of bits as a string (`"128"`); a JSON number
+/// of bits is read too.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Precision {
     /// IEEE double.
     F64,
@@ -31,6 +35,28 @@ impl std::fmt::Display for Precision {
 /// about a millisecond, and MPFR would accept up to 2³¹ bits — 256 MiB per number, far more than a
 /// machine holds for the few hundred numbers a lattice, a trajectory and its observers keep.
 pub const MAX_RUN_BITS: u32 = 1 << 20;
+
+impl Serialize for Precision {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+impl<'de> Deserialize<'de> for Precision {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Form {
+            Text(String),
+            Bits(u32),
+        }
+        let text = match Form::deserialize(d)? {
+            Form::Text(t) => t,
+            Form::Bits(b) => b.to_string(),
+        };
+        text.parse().map_err(serde::de::Error::custom)
+    }
+}
 
 impl FromStr for Precision {
     type Err = Error;

@@ -426,7 +426,7 @@ fn other_checks(
     if kind == "backscatter" {
         backscatter_identity_checks(value, checks);
     }
-    let work = ["collisions", "visits", "events"]
+    let work = ["collisions", "particles", "events"]
         .iter()
         .find_map(|k| value[k].as_f64())
         .unwrap_or(f64::INFINITY);
@@ -446,7 +446,7 @@ fn other_checks(
             "reproducibility",
             name,
             Verdict::Skip,
-            format!("{work:e} collisions/visits/events: more than the quick report re-runs ({QUICK_RERUN_WORK:e}); run without --quick"),
+            format!("{work:e} collisions/particles/events: more than the quick report re-runs ({QUICK_RERUN_WORK:e}); run without --quick"),
             &[],
         );
         return;
@@ -675,7 +675,7 @@ fn record_check(r: &DiffusionReport, cfg: &DiffusionConfig, checks: &mut Checks)
             ));
         }
     }
-    for (k, e) in r.msd_over_4t.iter().enumerate() {
+    for (k, (rec, rec_err)) in r.msd_over_4t.iter().zip(&r.msd_over_4t_err).enumerate() {
         let t = r.msd_times.get(k).copied().unwrap_or(f64::NAN);
         let v: Vec<f64> = r
             .batch_msd
@@ -683,7 +683,10 @@ fn record_check(r: &DiffusionReport, cfg: &DiffusionConfig, checks: &mut Checks)
             .map(|m| m.get(k).copied().unwrap_or(f64::NAN) / (4.0 * t))
             .collect();
         let (value, err) = mean_se(&v);
-        if value.to_bits() != e.value.to_bits() || err.to_bits() != e.err.to_bits() {
+        if r.msd_over_4t.len() != r.msd_over_4t_err.len()
+            || value.to_bits() != rec.to_bits()
+            || err.to_bits() != rec_err.to_bits()
+        {
             bad.push(format!("MSD/(4t) at t = {t}"));
         }
     }
@@ -755,8 +758,8 @@ fn diffusion_figures(
                 points: r
                     .msd_times
                     .iter()
-                    .zip(&r.msd_over_4t)
-                    .map(|(t, e)| (*t, e.value, e.err))
+                    .zip(r.msd_over_4t.iter().zip(&r.msd_over_4t_err))
+                    .map(|(t, (v, e))| (*t, *v, *e))
                     .collect(),
                 notes: Vec::new(),
                 line: true,

@@ -58,8 +58,10 @@ pub struct SpeedReport {
     pub rows: Vec<ReportRow>,
     /// Collisions needed for 0.1 % relative error on D (from the calibration run).
     pub collisions_for_0_1_percent: f64,
-    /// The calibration run's relative error and collisions.
-    pub calibration: (f64, u64),
+    /// The calibration run's relative error on D (D_err/D).
+    pub calibration_relative_err: f64,
+    /// The calibration run's collisions.
+    pub calibration_collisions: u64,
     /// Version, seed, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -183,7 +185,8 @@ pub fn run(cfg: &SpeedErrorConfig, options: &RunOptions) -> Result<(SpeedReport,
         w,
         rows: bench.rows()?,
         collisions_for_0_1_percent: n_needed,
-        calibration: (rel, cfg.collisions),
+        calibration_relative_err: rel,
+        calibration_collisions: cfg.collisions,
         meta: RunMeta::new(
             Some(seed),
             Some(cfg.batches as u64),
@@ -266,7 +269,7 @@ impl Bench<'_> {
             w: self.w,
             precision: p,
             observe: Observe::None,
-            collisions: n,
+            collisions_per_thread: n,
             repetitions: REPORT_REPETITIONS,
             seed: self.seed,
         };
@@ -321,10 +324,11 @@ impl Bench<'_> {
 
 /// The report as a Markdown paragraph and table (`states` one-step states were replayed).
 fn speed_markdown(report: &SpeedReport, states: usize) -> String {
-    let (w, n_needed, (rel, calibration)) = (
+    let (w, n_needed, rel, calibration) = (
         report.w,
         report.collisions_for_0_1_percent,
-        report.calibration,
+        report.calibration_relative_err,
+        report.calibration_collisions,
     );
     let mut md = format!(
         "Speed against error at w = {w} (one thread per measurement; medians of {REPORT_REPETITIONS} repetitions; one-step error = |flight time − {ONE_STEP_REFERENCE_BITS}-bit value| from the same exact pre-event state over {} events; horizon = collisions until 10⁻³ from a {DIVERGENCE_REFERENCE_BITS}-bit orbit, mean of {HORIZON_STARTS} starts; CPU time for D at 0.1 %: {:.2e} collisions, calibrated by an f64 run of {:.0e} collisions with relative error {:.3} %)\n\n",

@@ -188,8 +188,8 @@ fn certify_with_meta<S: Scene>(
     let lambda = super::lyapunov::run(
         scene,
         &LyapunovConfig {
-            collisions: CERTIFY_LAMBDA_COLLISIONS,
-            orbits: CERTIFY_LAMBDA_ORBITS,
+            collisions_per_batch: CERTIFY_LAMBDA_COLLISIONS,
+            batches: CERTIFY_LAMBDA_ORBITS,
             seed: CERTIFY_LAMBDA_SEED,
         },
         &RunOptions {

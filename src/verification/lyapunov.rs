@@ -46,11 +46,11 @@ pub struct LyapunovReport {
     pub per_time: f64,
     /// Its standard error.
     pub per_time_err: f64,
-    /// Collisions per orbit (after a transient of 1000).
-    pub collisions: u64,
-    /// Independent orbits.
-    pub orbits: u32,
-    /// Version, seed, orbits, precision, engine, threads, command line.
+    /// Collisions of each batch (one orbit each), after a transient of 1000.
+    pub collisions_per_batch: u64,
+    /// Independent batches (tangent-space orbits).
+    pub batches: u32,
+    /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
 
@@ -58,20 +58,20 @@ pub struct LyapunovReport {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LyapunovConfig {
-    /// Collisions per orbit (after a transient of [`TANGENT_TRANSIENT`]).
-    pub collisions: u64,
-    /// Independent orbits (at least 2); the error is over them.
-    pub orbits: u32,
+    /// Collisions of each batch (one orbit), after a transient of [`TANGENT_TRANSIENT`].
+    pub collisions_per_batch: u64,
+    /// Independent batches (tangent-space orbits), at least 2; the error is over them.
+    pub batches: u32,
     /// Seed: orbit b starts from stream (seed, b).
     pub seed: u64,
 }
 
 impl LyapunovConfig {
-    /// The command line's defaults: 2·10⁶ collisions on each of 16 orbits, seed 1.
+    /// The command line's defaults: 2·10⁶ collisions in each of 16 batches, seed 1.
     pub fn new() -> Self {
         LyapunovConfig {
-            collisions: 2_000_000,
-            orbits: 16,
+            collisions_per_batch: 2_000_000,
+            batches: 16,
             seed: 1,
         }
     }
@@ -83,12 +83,12 @@ impl Default for LyapunovConfig {
     }
 }
 
-/// Tangent-space largest Lyapunov exponent of `scene` from `cfg.orbits` independent f64 orbits
-/// of `cfg.collisions` collisions each. `options.progress` receives collision counts; only
-/// `threads` and `progress` of the options apply.
+/// Tangent-space largest Lyapunov exponent of `scene` from `cfg.batches` independent f64 orbits
+/// of `cfg.collisions_per_batch` collisions each. `options.progress` receives collision counts;
+/// only `threads` and `progress` of the options apply.
 ///
 /// # Errors
-/// No collisions, fewer than 2 orbits, or invalid options.
+/// No collisions, fewer than 2 batches, or invalid options.
 pub fn run<S: Scene>(
     scene: &S,
     cfg: &LyapunovConfig,
@@ -96,21 +96,21 @@ pub fn run<S: Scene>(
 ) -> Result<LyapunovReport, Error> {
     options.validate()?;
     let LyapunovConfig {
-        collisions,
-        orbits,
+        collisions_per_batch,
+        batches,
         seed,
     } = *cfg;
     let (threads, progress) = (options.threads, options.progress);
-    if collisions == 0 || orbits < 2 || threads == 0 {
+    if collisions_per_batch == 0 || batches < 2 || threads == 0 {
         return Err(Error::TooFew {
-            what: "collisions, orbits (>= 2) or threads",
+            what: "collisions_per_batch, batches (>= 2) or threads",
             min: 2,
-            got: orbits as u64,
+            got: batches as u64,
         });
     }
     let lat = scene.lattice::<f64>(())?;
     let cell = lat.cell().clone();
-    let per: Vec<(f64, f64)> = par_batches(threads, orbits, |b| {
+    let per: Vec<(f64, f64)> = par_batches(threads, batches, |b| {
         let mut rng = stream(seed, b as u64);
         let mut s = scene.sample(&mut rng);
         let d = crate::scenes::sampling::direction(&mut rng);
@@ -125,12 +125,12 @@ pub fn run<S: Scene>(
         drive(
             &lat,
             &mut s,
-            collisions + TANGENT_TRANSIENT,
+            collisions_per_batch + TANGENT_TRANSIENT,
             &mut tangent,
             progress,
         )?;
         let (logsum, time) = (tangent.logsum, tangent.time);
-        Ok((logsum / collisions as f64, logsum / time))
+        Ok((logsum / collisions_per_batch as f64, logsum / time))
     })?;
     let (pc, pce) = mean_se(&per.iter().map(|p| p.0).collect::<Vec<_>>());
     let (pt, pte) = mean_se(&per.iter().map(|p| p.1).collect::<Vec<_>>());
@@ -140,9 +140,9 @@ pub fn run<S: Scene>(
         per_collision_err: pce,
         per_time: pt,
         per_time_err: pte,
-        collisions,
-        orbits,
-        meta: RunMeta::new(Some(seed), Some(orbits as u64), "f64", Some(threads)),
+        collisions_per_batch,
+        batches,
+        meta: RunMeta::new(Some(seed), Some(batches as u64), "f64", Some(threads)),
     })
 }
 

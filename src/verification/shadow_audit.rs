@@ -298,21 +298,21 @@ mod tests {
     }
 }
 
-/// What an audit run does: `collisions` collisions in all, over `trajectories` independent f64
+/// What an audit run does: `collisions` collisions in all, over `batches` independent f64
 /// trajectories from the invariant measure (seed `seed`), replaying a fraction `sample` of their
-/// events at `bits`. The thread count is not part of it: it never changes the result.
+/// events at `reference_bits`. The thread count is not part of it: it never changes the result.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AuditConfig {
     /// The scene ([`Scene::label`]).
     pub scene: String,
     /// Collisions in all (trajectory i gets ⌊N/T⌋, plus one for the first N mod T).
     pub collisions: u64,
-    /// Independent trajectories.
-    pub trajectories: u32,
+    /// Independent batches (one trajectory each).
+    pub batches: u32,
     /// Fraction of events replayed, in (0, 1].
     pub sample: f64,
-    /// Reference precision in bits.
-    pub bits: u32,
+    /// MPFR precision of the replay, in bits.
+    pub reference_bits: u32,
     /// Seed.
     pub seed: u64,
 }
@@ -331,7 +331,7 @@ pub struct AuditReport {
     pub summary: AuditSummary,
     /// Wall-clock seconds.
     pub seconds: f64,
-    /// Version, seed, trajectories, reference precision, engine, threads, command line.
+    /// Version, seed, batches, reference precision, engine, threads, command line.
     pub meta: RunMeta,
 }
 
@@ -339,17 +339,32 @@ pub struct AuditReport {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct AuditQuantiles {
     /// Time error.
-    pub time_error: [f64; 3],
+    pub time_error: Quantiles,
     /// Contact-point error.
-    pub position_error: [f64; 3],
+    pub position_error: Quantiles,
     /// Velocity error.
-    pub velocity_error: [f64; 3],
+    pub velocity_error: Quantiles,
     /// Time error / bound.
-    pub time_error_over_bound: [f64; 3],
+    pub time_error_over_bound: Quantiles,
 }
 
-fn q3(h: &LogHistogram) -> [f64; 3] {
-    [h.quantile(0.5), h.quantile(0.99), h.max]
+/// Median, 99th percentile and maximum of one error.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub struct Quantiles {
+    /// Median.
+    pub median: f64,
+    /// 99th percentile.
+    pub p99: f64,
+    /// Maximum.
+    pub max: f64,
+}
+
+fn q3(h: &LogHistogram) -> Quantiles {
+    Quantiles {
+        median: h.quantile(0.5),
+        p99: h.quantile(0.99),
+        max: h.max,
+    }
 }
 
 /// Runs the audit `cfg` on `threads` threads (the result does not depend on them). `progress`
@@ -377,25 +392,23 @@ pub fn run<S: Scene>(
     if cfg.collisions == 0 {
         return Err(Error::Zero { what: "collisions" });
     }
-    if cfg.trajectories == 0 {
-        return Err(Error::Zero {
-            what: "trajectories",
-        });
+    if cfg.batches == 0 {
+        return Err(Error::Zero { what: "batches" });
     }
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
-    AuditSpec::new(cfg.sample, cfg.bits)?;
+    AuditSpec::new(cfg.sample, cfg.reference_bits)?;
     let start = std::time::Instant::now();
     let lat = scene.lattice::<f64>(())?;
     let parts: Vec<(AuditSummary, u64)> =
-        crate::engine::parallel::par_batches(threads, cfg.trajectories, |b| {
-            let n = crate::engine::parallel::share(cfg.collisions, cfg.trajectories, b);
+        crate::engine::parallel::par_batches(threads, cfg.batches, |b| {
+            let n = crate::engine::parallel::share(cfg.collisions, cfg.batches, b);
             let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
             let a = Auditor::new(
                 scene,
                 cfg.sample,
-                cfg.bits,
+                cfg.reference_bits,
                 StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),
             )?;
             let mut obs = (
@@ -440,8 +453,8 @@ pub fn run<S: Scene>(
         seconds: start.elapsed().as_secs_f64(),
         meta: RunMeta::new(
             Some(cfg.seed),
-            Some(cfg.trajectories as u64),
-            cfg.bits,
+            Some(cfg.batches as u64),
+            cfg.reference_bits,
             Some(threads),
         ),
     })

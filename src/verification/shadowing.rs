@@ -957,8 +957,8 @@ pub struct ShadowReport {
     pub converged: u32,
     /// Segments whose shadow is certified (see [`Shadow::certified`]).
     pub certified: u32,
-    /// The request: collisions per segment, segments, seed, working precision.
-    pub request: ShadowConfig,
+    /// What was run: collisions per segment, segments, seed, working precision.
+    pub config: ShadowConfig,
     /// Median δ over the converged segments.
     pub median_delta: Option<f64>,
     /// Largest δ over the converged segments.
@@ -972,17 +972,18 @@ pub struct ShadowReport {
 /// What [`run`] is asked for.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct ShadowConfig {
-    /// Collisions N per segment, 2 to [`MAX_COLLISIONS`].
-    pub collisions: usize,
+    /// Collisions N of each segment, 2 to [`MAX_COLLISIONS`].
+    pub collisions_per_segment: usize,
     /// Segments, 1 to [`MAX_SEGMENTS`].
     pub segments: u32,
     /// Seed of the start streams.
     pub seed: u64,
-    /// Working precision P (bits), [`MIN_SHADOW_BITS`] to [`MAX_SHADOW_BITS`].
-    pub bits: u32,
+    /// MPFR working precision P of the true orbit (bits), [`MIN_SHADOW_BITS`] to
+    /// [`MAX_SHADOW_BITS`].
+    pub reference_bits: u32,
 }
 
-/// Shadows `segments` segments of `collisions` collisions each; segment k starts from the
+/// Shadows `segments` segments of `collisions_per_segment` collisions each; segment k starts from the
 /// equilibrium state of stream (seed, k). The result does not depend on `options.threads`;
 /// `options.progress` receives collision counts.
 ///
@@ -996,10 +997,10 @@ pub fn run<S: Scene>(
     options.validate()?;
     let (threads, progress) = (options.threads, options.progress);
     let &ShadowConfig {
-        collisions,
+        collisions_per_segment: collisions,
         segments,
         seed,
-        bits,
+        reference_bits: bits,
     } = request;
     check_request(collisions, bits)?;
     if !(1..=MAX_SEGMENTS).contains(&segments) {
@@ -1035,7 +1036,7 @@ pub fn run<S: Scene>(
     });
     Ok(ShadowReport {
         scene: scene.label(),
-        request: *request,
+        config: *request,
         converged: out.iter().filter(|s| s.shadow.converged).count() as u32,
         certified: out.iter().filter(|s| s.shadow.certified).count() as u32,
         median_delta,

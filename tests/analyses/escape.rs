@@ -170,7 +170,7 @@ fn escape_results_do_not_depend_on_the_thread_count() {
     let cfg = EscapeConfig {
         w: 0.3,
         widths: vec![11.0, 13.0, 15.0],
-        particles: escape::MIN_PARTICLES,
+        particles_per_width: escape::MIN_PARTICLES,
         seed: 5,
     };
     let r1 = escape::run(
@@ -199,8 +199,8 @@ fn escape_cli_refuses_bad_input_with_status_2() {
     for args in [
         &["escape", "--w", "0.4"][..],
         &["escape", "--w", "0.1", "--widths", "3,20,30"],
-        &["escape", "--w", "0.1", "--particles", "0"],
-        &["escape", "--w", "0.1", "--particles", "1e12"],
+        &["escape", "--w", "0.1", "--particles-per-width", "0"],
+        &["escape", "--w", "0.1", "--particles-per-width", "1e12"],
     ] {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_lorentz"))
             .args(args)
@@ -226,9 +226,9 @@ fn bad_escape_input_is_refused() {
     c.widths = vec![20.0, 30.0];
     assert!(c.validate().is_err());
     c = ok.clone();
-    c.particles = 0;
+    c.particles_per_width = 0;
     assert!(c.validate().is_err());
-    c.particles = escape::MAX_PARTICLES + 1;
+    c.particles_per_width = escape::MAX_PARTICLES + 1;
     assert!(c.validate().is_err());
     c = ok;
     c.w = 0.31;
@@ -239,7 +239,7 @@ fn bad_escape_input_is_refused() {
 fn escape_agrees_with_einstein(w: f64, particles: u64, collisions: u64) {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut cfg = EscapeConfig::new(w);
-    cfg.particles = particles;
+    cfg.particles_per_width = particles;
     cfg.seed = 2026;
     let r = escape::run(
         &cfg,

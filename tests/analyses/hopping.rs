@@ -36,7 +36,7 @@ fn inject_cfg(
 ) -> BackscatterConfig {
     BackscatterConfig {
         w,
-        visits,
+        particles: visits,
         batches,
         seed,
         run: 0,
@@ -93,8 +93,8 @@ fn injection_obeys_kac_and_agrees_with_trajectories() {
         // p_l = p_r. The two come from the same visits, whose exits are independent multinomial
         // draws, so the difference has the exact variance (p_l + p_r − (p_l − p_r)²)/N — larger
         // than σ_l² + σ_r² (the covariance −p_l·p_r/N is negative). N = 10⁶: normal, 4σ.
-        let (pl, pr) = (inj.p_l.value, inj.p_r.value);
-        let sd = ((pl + pr - (pl - pr).powi(2)) / inj.visits as f64).sqrt();
+        let (pl, pr) = (inj.p_l, inj.p_r);
+        let sd = ((pl + pr - (pl - pr).powi(2)) / inj.particles as f64).sqrt();
         assert!(
             (pl - pr).abs() < 4.0 * sd,
             "p_l {pl} vs p_r {pr}: {:.2}σ",
@@ -119,7 +119,7 @@ fn injection_obeys_kac_and_agrees_with_trajectories() {
             "symmetry violated: max z = {} (bound {k:.2})",
             tr.symmetry_max_z
         );
-        let total: f64 = tr.pairs.values().map(|e| e.value).sum();
+        let total: f64 = tr.pairs.values().sum();
         assert!((total - 1.0).abs() < 1e-12);
     }
 }
@@ -140,9 +140,9 @@ fn collisionless_visits_only_above_w0() {
         &two_threads(&quiet),
     )
     .unwrap();
-    let k = t4_welch(inj.p_cf.err, nb(&inj.meta), above.p_cf_err, nb(&above.meta));
+    let k = t4_welch(inj.p_cf_err, nb(&inj.meta), above.p_cf_err, nb(&above.meta));
     assert!(
-        z(inj.p_cf.value, inj.p_cf.err, above.p_cf, above.p_cf_err) < k,
+        z(inj.p_cf, inj.p_cf_err, above.p_cf, above.p_cf_err) < k,
         "p_cf injection {:?} vs trajectory {} ± {} (bound {k:.2})",
         inj.p_cf,
         above.p_cf,
@@ -336,8 +336,8 @@ fn progress_adds_up_and_tables_reject_unknown_symbols() {
     assert_eq!(done.load(Ordering::Relaxed), r.collisions);
     assert_eq!(r.collisions, 3_000_001, "exactly the collisions asked for");
     assert!(r.table(2).is_ok());
-    let v = r.sequences[1].remove("zl").unwrap();
-    r.sequences[1].insert("zx".into(), v);
+    let v = r.sequences.remove("zl").unwrap();
+    r.sequences.insert("zx".into(), v);
     let e = r.table(2).unwrap_err().to_string();
     assert!(e.contains("'x'") && e.contains("z, l, r"), "{e}");
     let done = AtomicU64::new(0);
@@ -345,7 +345,7 @@ fn progress_adds_up_and_tables_reject_unknown_symbols() {
         done.fetch_add(n, Ordering::Relaxed);
     };
     let b = backscatter_at_f64(0.1, 200_003, 4, 6, &p);
-    assert_eq!(done.load(Ordering::Relaxed), b.visits);
+    assert_eq!(done.load(Ordering::Relaxed), b.particles);
 }
 
 fn backscatter_at_f64(

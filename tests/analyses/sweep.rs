@@ -50,6 +50,7 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     );
     for f in [
         "sweep.csv",
+        "sweep-runs.csv",
         "sweep.json",
         "fig2-D-vs-w.png",
         "fig2-D-vs-w.svg",
@@ -58,9 +59,25 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     ] {
         assert!(dir.join(f).metadata().unwrap().len() > 100, "{f}");
     }
-    assert!(std::fs::read_to_string(dir.join("sweep.csv"))
-        .unwrap()
-        .contains("\n0.12,"));
+    let csv = std::fs::read_to_string(dir.join("sweep.csv")).unwrap();
+    assert!(csv.contains("\n0.12,"));
+    // The CSV's columns are the keys of the JSON's rows, and no field holds a list.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("sweep.json")).unwrap()).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    for k in &header {
+        assert!(
+            json["rows"][0].get(*k).is_some(),
+            "column {k} is not a row key"
+        );
+    }
+    assert!(csv.lines().all(|l| !l.contains(' ')), "{csv}");
+    let runs = std::fs::read_to_string(dir.join("sweep-runs.csv")).unwrap();
+    assert_eq!(runs.lines().next(), Some("w,run,run_D"));
+    assert_eq!(
+        runs.lines().count(),
+        1 + first.rows.len() * cfg.runs as usize
+    );
     // "Interrupt": lose the last point; the rerun redoes only that one and gives the same bits.
     std::fs::remove_file(dir.join("points").join("point-0002.json")).unwrap();
     let second = sweep_into(&cfg, &dir, 1);
@@ -144,7 +161,8 @@ fn synthetic_rows(
                 D_err: s,
                 D_err_dof: 1000,
                 runs_f: f64::NAN,
-                runs_f_dof: (0, 1000),
+                runs_f_dof1: 0,
+                runs_f_dof2: 1000,
                 runs_p_value: f64::NAN,
                 D_MZ: 0.0,
                 D_Bo: 0.0,

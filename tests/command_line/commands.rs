@@ -94,7 +94,7 @@ const BAD: &[(&[&str], &str)] = &[
             "audit",
             "--w",
             "0.1",
-            "--trajectories",
+            "--batches",
             "4e9",
             "--collisions",
             "1e19",
@@ -122,7 +122,7 @@ const BAD: &[(&[&str], &str)] = &[
             "0.1",
             "--audit",
             "0.1",
-            "--audit-precision",
+            "--reference-bits",
             "64",
         ],
         "128",
@@ -130,15 +130,12 @@ const BAD: &[(&[&str], &str)] = &[
     // audit
     (&["audit", "--w", "0"], "trapped"),
     (&["audit", "--w", "0.1", "--collisions", "0"], "collisions"),
-    (
-        &["audit", "--w", "0.1", "--trajectories", "0"],
-        "trajectories",
-    ),
+    (&["audit", "--w", "0.1", "--batches", "0"], "batches"),
     (&["audit", "--w", "0.1", "--sample", "0"], "(0, 1]"),
     (&["audit", "--w", "0.1", "--sample", "1.5"], "(0, 1]"),
-    (&["audit", "--w", "0.1", "--precision", "64"], "128"),
+    (&["audit", "--w", "0.1", "--reference-bits", "64"], "128"),
     (
-        &["audit", "--w", "0.1", "--precision", "4000000000"],
+        &["audit", "--w", "0.1", "--reference-bits", "4000000000"],
         "65536",
     ),
     // scenes
@@ -184,9 +181,9 @@ const BAD: &[(&[&str], &str)] = &[
     (&["diffusion", "--collisions", "1e6"], "needs --w"),
     // lyapunov
     (&["lyapunov", "--w", "0.4"], "infinite"),
-    (&["lyapunov", "--w", "0.1", "--orbits", "1"], "orbits"),
+    (&["lyapunov", "--w", "0.1", "--batches", "1"], "batches"),
     (
-        &["lyapunov", "--w", "0.1", "--collisions", "0"],
+        &["lyapunov", "--w", "0.1", "--collisions-per-batch", "0"],
         "collisions",
     ),
     (&["lyapunov", "--w", "0.1", "--starts", "1e6"], "starts"),
@@ -218,21 +215,27 @@ const BAD: &[(&[&str], &str)] = &[
     // shadow
     (&["shadow", "--w", "0.4"], "0 < w < w_inf"),
     (
-        &["shadow", "--w", "0.1", "--collisions", "0"],
+        &["shadow", "--w", "0.1", "--collisions-per-segment", "0"],
         "use 2 to 10000",
     ),
     (
-        &["shadow", "--w", "0.1", "--collisions", "2e4"],
+        &["shadow", "--w", "0.1", "--collisions-per-segment", "2e4"],
         "use 2 to 10000",
     ),
-    (&["shadow", "--w", "0.1", "--precision", "64"], "use 128 to"),
+    (
+        &["shadow", "--w", "0.1", "--reference-bits", "64"],
+        "use 128 to",
+    ),
     (
         &["shadow", "--w", "0.1", "--segments", "0"],
         "use 1 to 10000",
     ),
     // backscatter
     (&["backscatter", "--w", "0"], "trapped"),
-    (&["backscatter", "--w", "0.1", "--visits", "0"], "visits"),
+    (
+        &["backscatter", "--w", "0.1", "--particles", "0"],
+        "particles",
+    ),
     (&["backscatter", "--w", "0.1", "--batches", "1"], "batches"),
     (&["backscatter", "--w", "0.1", "--precision", "20"], "53"),
     // hops
@@ -265,7 +268,7 @@ const BAD: &[(&[&str], &str)] = &[
             "0.1",
             "--w-to",
             "0.2",
-            "--batches",
+            "--batches-per-run",
             "1",
             "--out",
             "out",
@@ -283,7 +286,7 @@ const BAD: &[(&[&str], &str)] = &[
             "0.1",
             "--w-to",
             "0.2",
-            "--collisions",
+            "--collisions-per-run",
             "1000",
             "--out",
             "out",
@@ -310,8 +313,18 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     // report, reproduce
     (&["report", "no-such-result.json", "--quick"], "cannot read"),
-    (&["report", "r.json", "--bits", "64"], "128 to 65536"),
-    (&["report", "r.json", "--bits", "1e6"], "128 to 65536"),
+    (
+        &["report", "r.json", "--reference-bits", "64"],
+        "128 to 65536",
+    ),
+    (
+        &["report", "r.json", "--reference-bits", "1e6"],
+        "128 to 65536",
+    ),
+    (
+        &["report", "r.json", "--seed", "2"],
+        "unexpected argument '--seed'",
+    ),
     (
         &["reproduce", "--budget", "huge", "--out", "out"],
         "invalid value",
@@ -319,6 +332,10 @@ const BAD: &[(&[&str], &str)] = &[
     // merge
     (&["merge", "no-such-dir", "--out", "out"], "no sweep points"),
     (&["merge", "--out", "out"], "required"),
+    (
+        &["merge", "d", "--seed", "2"],
+        "unexpected argument '--seed'",
+    ),
     // slurm
     (
         &[
@@ -379,8 +396,43 @@ const BAD: &[(&[&str], &str)] = &[
         ],
         "infinite",
     ),
+    (
+        &[
+            "slurm",
+            "sweep",
+            "--w-from",
+            "0.1",
+            "--w-to",
+            "0.2",
+            "--array",
+            "4",
+            "--threads",
+            "2",
+            "--out",
+            "out",
+        ],
+        "unexpected argument '--threads'",
+    ),
     // figure
-    (&["figure", "fig9", "--out", "out"], "invalid value"),
+    (
+        &["figure", "fig9", "--out", "out"],
+        "unrecognized subcommand",
+    ),
+    (
+        &["figure", "backscatter", "--w", "0.1", "--out", "out"],
+        "unexpected argument '--w'",
+    ),
+    (
+        &[
+            "figure",
+            "hierarchy",
+            "--particles-per-gap",
+            "10",
+            "--out",
+            "out",
+        ],
+        "unexpected argument",
+    ),
     (
         &["figure", "backscatter-map", "--w", "0", "--out", "out"],
         "trapped",
@@ -389,12 +441,12 @@ const BAD: &[(&[&str], &str)] = &[
         &[
             "figure",
             "backscatter-map",
-            "--samples",
+            "--particles",
             "0",
             "--out",
             "out",
         ],
-        "samples",
+        "particles",
     ),
     // theory
     (&["theory", "--w", "0"], "trapped"),
@@ -408,9 +460,12 @@ const BAD: &[(&[&str], &str)] = &[
     (&["escape", "--w", "0"], "trapped"),
     (&["escape", "--w", "0.1", "--widths", "3,20,30"], "<= L <="),
     (&["escape", "--w", "0.1", "--widths", "20,30"], "3 distinct"),
-    (&["escape", "--w", "0.1", "--particles", "0"], "particles"),
     (
-        &["escape", "--w", "0.1", "--particles", "1e12"],
+        &["escape", "--w", "0.1", "--particles-per-width", "0"],
+        "particles",
+    ),
+    (
+        &["escape", "--w", "0.1", "--particles-per-width", "1e12"],
         "particles",
     ),
     // constants
@@ -425,7 +480,14 @@ const BAD: &[(&[&str], &str)] = &[
         "1048576",
     ),
     // bench
-    (&["bench", "--w", "0.1", "--collisions", "0"], "collisions"),
+    (
+        &["bench", "--w", "0.1", "--collisions-per-thread", "0"],
+        "collisions",
+    ),
+    (
+        &["bench", "--w", "0.1", "--collisions", "1e5"],
+        "unexpected argument",
+    ),
     (&["bench", "--w", "-1"], "trapped"),
     (
         &["bench", "--w", "0.1", "--repetitions", "0"],
@@ -524,16 +586,16 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "0.1",
             "--collisions",
             "2_000",
-            "--trajectories",
+            "--batches",
             "2",
         ],
         &[
             "lyapunov",
             "--w",
             "0.1",
-            "--collisions",
+            "--collisions-per-batch",
             "2e4",
-            "--orbits",
+            "--batches",
             "2",
             "--starts",
             "0",
@@ -551,7 +613,7 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "backscatter",
             "--w",
             "0.1",
-            "--visits",
+            "--particles",
             "2e4",
             "--batches",
             "4",
@@ -594,13 +656,13 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "0.3",
             "--widths",
             "10,12,14",
-            "--particles",
+            "--particles-per-width",
             "3.2e3",
         ],
         &[
             "figure",
             "backscatter-map",
-            "--samples",
+            "--particles",
             "1e3",
             "--out",
             "fig",
@@ -609,7 +671,7 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "bench",
             "--w",
             "0.1",
-            "--collisions",
+            "--collisions-per-thread",
             "1e5",
             "--repetitions",
             "3",
@@ -624,9 +686,9 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "3",
             "--runs",
             "2",
-            "--collisions",
+            "--collisions-per-run",
             "1_000_000",
-            "--batches",
+            "--batches-per-run",
             "4",
             "--out",
             "sweep",
@@ -787,12 +849,81 @@ fn json_outputs_have_the_documented_keys() {
     assert_eq!(v["meta"]["precision"], "f64");
     assert_eq!(v["meta"]["seed"], 1);
     assert_eq!(v["meta"]["batches"], 4);
+    // One spelling per value: the config's number type is the meta's.
+    assert_eq!(v["config"]["precision"], "f64");
+    assert_eq!(
+        v["msd_over_4t"].as_array().map(Vec::len),
+        v["msd_over_4t_err"].as_array().map(Vec::len)
+    );
+    // Numbers as JSON numbers, with every digit of the working precision.
     let (code, out, _) = lorentz_in(
         &dir,
         &["constants", "--w", "0.1", "--precision", "200", "--json"],
     );
     assert_eq!(code, 0);
     let c: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert!(c["w_inf"].as_str().unwrap().starts_with("3.0940107675850"));
+    assert!((c["w_inf"].as_f64().unwrap() - 0.309_401_076_758_503).abs() < 1e-14);
+    assert!(
+        out.contains("\"w_inf\": 3.0940107675850305803659512200782982"),
+        "{out}"
+    );
+    assert_eq!(c["meta"]["precision"], "200");
+    // Estimates as flat x / x_err pairs, records with named keys.
+    let (code, out, err) = lorentz_in(
+        &dir,
+        &[
+            "theory",
+            "--w",
+            "0.1",
+            "--collisions",
+            "1e6",
+            "--batches",
+            "4",
+            "--order",
+            "2",
+            "--json",
+            "--quiet",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let t: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in [
+        "p_bs",
+        "p_bs_err",
+        "p_cf",
+        "p_cf_err",
+        "p_cf_appendix_a",
+        "p_cf_appendix_a_as_printed",
+        "D_2_as_printed",
+        "D_3_as_printed",
+        "D_GK",
+        "D_GK_err",
+    ] {
+        assert!(t[k].is_number(), "theory: {k} is not a number");
+    }
+    for k in ["k", "D_k", "D_k_combined", "D_lattice_walk"] {
+        assert!(t["orders"][0][k].is_number(), "theory: orders lack {k}");
+    }
+    let (code, out, err) = lorentz_in(
+        &dir,
+        &[
+            "backscatter",
+            "--w",
+            "0.1",
+            "--particles",
+            "2e4",
+            "--batches",
+            "4",
+            "--json",
+            "--quiet",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let b: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in ["p_bs", "p_l", "p_r", "p_cf"] {
+        assert!(b[k].is_number(), "backscatter: {k}");
+        assert!(b[format!("{k}_err")].is_number(), "backscatter: {k}_err");
+    }
+    assert_eq!(b["particles"], 20000);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -162,7 +162,7 @@ fn other_results_are_re_run_from_their_command_line() {
             "backscatter",
             "--w",
             "0.1",
-            "--visits",
+            "--particles",
             "20000",
             "--json",
             "--quiet",

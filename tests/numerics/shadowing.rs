@@ -21,10 +21,10 @@ fn scene(w: &str) -> TriangularScene {
 
 fn request(collisions: usize, segments: u32) -> ShadowConfig {
     ShadowConfig {
-        collisions,
+        collisions_per_segment: collisions,
         segments,
         seed: 1,
-        bits: BITS,
+        reference_bits: BITS,
     }
 }
 

@@ -304,9 +304,9 @@ fn shadow_audit_finds_nothing_outside_the_model() {
     let cfg = AuditConfig {
         scene: s.label(),
         collisions: 200_000,
-        trajectories: 2,
+        batches: 2,
         sample: 1.0,
-        bits: 128,
+        reference_bits: 128,
         seed: 93,
     };
     let two = RunOptions {

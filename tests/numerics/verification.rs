@@ -185,9 +185,9 @@ fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
         let cfg = AuditConfig {
             scene: scene.label(),
             collisions: 100_000,
-            trajectories: 2,
+            batches: 2,
             sample: 1.0,
-            bits: 128,
+            reference_bits: 128,
             seed: 7,
         };
         let two = RunOptions {
@@ -202,7 +202,7 @@ fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
             "w={w}: {:?}",
             r.summary.outside_events.first()
         );
-        assert!(r.quantiles.time_error_over_bound[2] <= 1.0);
+        assert!(r.quantiles.time_error_over_bound.max <= 1.0);
         let worst = &r.summary.worst[0];
         let again = replay(&scene, worst, 128).unwrap();
         assert_eq!(again.time_error, worst.check.time_error);
@@ -284,8 +284,8 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
             ..RunOptions::default()
         };
         let cfg = LyapunovConfig {
-            collisions: 200_000,
-            orbits: 8,
+            collisions_per_batch: 200_000,
+            batches: 8,
             seed: 3,
         };
         let l = lyapunov::run(&scene, &cfg, &two).unwrap();
@@ -300,7 +300,7 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
         let last = d.last().unwrap();
         let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
         let t4 = |ea: f64, eb: f64| {
-            normal_sigma_equivalent_t(welch_dof(ea, STARTS as f64, eb, l.orbits as f64), 4.0)
+            normal_sigma_equivalent_t(welch_dof(ea, STARTS as f64, eb, l.batches as f64), 4.0)
         };
         assert!(
             z(

@@ -272,8 +272,10 @@ pub struct DiffusionReport {
     pub collisions_per_hop_exact: f64,
     /// Lag times (in time units) at which the MSD was measured.
     pub msd_times: Vec<f64>,
-    /// MSD/(4t) at those times (mean over batches) with errors: approaches D from one side.
-    pub msd_over_4t: Vec<Estimate>,
+    /// MSD/(4t) at those times (mean over batches): approaches D from one side.
+    pub msd_over_4t: Vec<f64>,
+    /// Its standard errors, time by time.
+    pub msd_over_4t_err: Vec<f64>,
     /// Longest free path seen in the run.
     pub longest_free_path: f64,
     /// Total collisions.

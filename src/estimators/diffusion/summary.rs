@@ -48,7 +48,7 @@ pub(super) fn summarise(
     let (cph, cph_e) = ratio(&|c| c.collisions as f64 / c.crossings as f64);
     let lags = &done[0].lags;
     let msd_times: Vec<f64> = lags.iter().map(|&l| l as f64 * tau).collect();
-    let msd_over_4t = (0..lags.len())
+    let msd_over_4t: Vec<Estimate> = (0..lags.len())
         .map(|k| {
             let v: Vec<f64> = done
                 .iter()
@@ -87,7 +87,8 @@ pub(super) fn summarise(
         collisions_per_hop_err: cph_e,
         collisions_per_hop_exact: g.collisions_per_hop(),
         msd_times,
-        msd_over_4t,
+        msd_over_4t: msd_over_4t.iter().map(|e| e.value).collect(),
+        msd_over_4t_err: msd_over_4t.iter().map(|e| e.err).collect(),
         longest_free_path: done
             .iter()
             .map(|b| b.counters.longest_free_path)

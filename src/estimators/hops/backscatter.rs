@@ -7,7 +7,6 @@ use super::est;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::parallel::{par_batches, share};
-use crate::estimators::diffusion::Estimate;
 use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::scenes::sampling::{Purpose, StreamKey};
@@ -26,7 +25,7 @@ pub struct BackscatterConfig {
     /// Gap w, 0 < w < w∞.
     pub w: f64,
     /// Particles injected in all (at least one per batch).
-    pub visits: u64,
+    pub particles: u64,
     /// Independent batches (at least 2); every error bar is over them.
     pub batches: u32,
     /// Seed of the random streams.
@@ -44,7 +43,7 @@ impl BackscatterConfig {
     pub fn new(w: f64) -> Self {
         BackscatterConfig {
             w,
-            visits: 10_000_000,
+            particles: 10_000_000,
             batches: 32,
             seed: 1,
             run: 0,
@@ -62,11 +61,11 @@ impl BackscatterConfig {
                 got: self.batches as u64,
             });
         }
-        if self.visits < self.batches as u64 {
+        if self.particles < self.batches as u64 {
             return Err(Error::TooFew {
-                what: "visits (one per batch at least)",
+                what: "particles (one per batch at least)",
                 min: self.batches as u64,
-                got: self.visits,
+                got: self.particles,
             });
         }
         crate::engine::parallel::check_batches("batches", self.batches)
@@ -82,12 +81,18 @@ pub struct BackscatterReport {
     pub p_bs: f64,
     /// Its standard error.
     pub p_bs_err: f64,
-    /// P(leave to the left), P(leave to the right) (equal by symmetry).
-    pub p_l: Estimate,
-    /// See `p_l`.
-    pub p_r: Estimate,
+    /// P(leave to the left) (equal to `p_r` by symmetry).
+    pub p_l: f64,
+    /// Its standard error.
+    pub p_l_err: f64,
+    /// P(leave to the right).
+    pub p_r: f64,
+    /// Its standard error.
+    pub p_r_err: f64,
     /// P(no collision in the trap).
-    pub p_cf: Estimate,
+    pub p_cf: f64,
+    /// Its standard error.
+    pub p_cf_err: f64,
     /// Mean time in the trap.
     pub mean_visit_time: f64,
     /// Its standard error.
@@ -100,8 +105,8 @@ pub struct BackscatterReport {
     pub mean_collisions_per_visit_err: f64,
     /// Kac: π/(3w).
     pub mean_collisions_per_visit_exact: f64,
-    /// Visits simulated.
-    pub visits: u64,
+    /// Particles injected (one visit each).
+    pub particles: u64,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -109,7 +114,7 @@ pub struct BackscatterReport {
 /// The injection batches on number type `T`.
 struct Inject<'a> {
     w: f64,
-    visits: u64,
+    particles: u64,
     batches: u32,
     seed: u64,
     run: u64,
@@ -123,7 +128,7 @@ impl AtPrecision for Inject<'_> {
         let scene = SingleTrap::new(T::from_f64(ctx, self.w))?;
         let progress = self.progress;
         par_batches(self.threads, self.batches, |b| {
-            let n_b = share(self.visits, self.batches, b);
+            let n_b = share(self.particles, self.batches, b);
             let mut rng = StreamKey::new(self.seed, Purpose::Injection, b as u64)
                 .in_run(self.run)
                 .rng();
@@ -152,9 +157,9 @@ impl AtPrecision for Inject<'_> {
     }
 }
 
-/// Injects `cfg.visits` particles (in `cfg.batches` batches) through one gap from the invariant
+/// Injects `cfg.particles` particles (in `cfg.batches` batches) through one gap from the invariant
 /// flux, at the configuration's precision. `options.progress` receives the visits done, in
-/// increments of up to 2¹⁶ per batch, summing to `visits`. Only `threads` and `progress` of the
+/// increments of up to 2¹⁶ per batch, summing to `particles`. Only `threads` and `progress` of the
 /// options apply (injection runs on the scalar kernel).
 ///
 /// # Errors
@@ -164,7 +169,7 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
     options.validate()?;
     let BackscatterConfig {
         w,
-        visits,
+        particles,
         batches,
         seed,
         run,
@@ -173,7 +178,7 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
     let (threads, progress) = (options.threads, options.progress);
     let res = precision.dispatch(Inject {
         w,
-        visits,
+        particles,
         batches,
         seed,
         run,
@@ -183,20 +188,24 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
     let col = |k: usize| est(&res.iter().map(|x| x[k]).collect::<Vec<_>>());
     let g = Geometry::new(w)?;
     let (pz, mt, mc) = (col(0), col(4), col(5));
+    let (pl, pr, pcf) = (col(1), col(2), col(3));
     Ok(BackscatterReport {
         w,
         p_bs: pz.value,
         p_bs_err: pz.err,
-        p_l: col(1),
-        p_r: col(2),
-        p_cf: col(3),
+        p_l: pl.value,
+        p_l_err: pl.err,
+        p_r: pr.value,
+        p_r_err: pr.err,
+        p_cf: pcf.value,
+        p_cf_err: pcf.err,
         mean_visit_time: mt.value,
         mean_visit_time_err: mt.err,
         mean_visit_time_exact: g.hop_time(),
         mean_collisions_per_visit: mc.value,
         mean_collisions_per_visit_err: mc.err,
         mean_collisions_per_visit_exact: g.collisions_per_hop(),
-        visits,
+        particles,
         meta: RunMeta::new(Some(seed), Some(batches as u64), precision, Some(threads)),
     })
 }

@@ -124,10 +124,15 @@ pub struct HopsReport {
     pub p_cf: f64,
     /// Its standard error.
     pub p_cf_err: f64,
-    /// The nine two-symbol probabilities.
-    pub pairs: BTreeMap<String, Estimate>,
-    /// Sequence probabilities for every length 1 … order.
-    pub sequences: Vec<BTreeMap<String, Estimate>>,
+    /// The nine two-symbol probabilities, by sequence (`"zl"`: z then l; empty below order 2).
+    pub pairs: BTreeMap<String, f64>,
+    /// Their standard errors, by sequence.
+    pub pairs_err: BTreeMap<String, f64>,
+    /// Sequence probabilities of every length 1 … order, by sequence (the length of the name is
+    /// the length of the sequence; the probabilities of one length sum to 1).
+    pub sequences: BTreeMap<String, f64>,
+    /// Their standard errors, by sequence.
+    pub sequences_err: BTreeMap<String, f64>,
     /// Largest |z-score| of the symmetries p(s) = p(mirror s) and p(s) = p(reverse(mirror s)).
     pub symmetry_max_z: f64,
     /// Hop-level Green–Kubo D = D_MZ (1 + 2 Σ_{j≤J} C_j) ([`green_kubo::HOP_TRUNCATION`]).
@@ -138,8 +143,10 @@ pub struct HopsReport {
     pub gk_window: usize,
     /// Machta–Zwanzig D.
     pub D_MZ: f64,
-    /// Hop-direction correlations C_1 … C_J (J = `gk_window`), batch means and errors.
-    pub correlations: Vec<Estimate>,
+    /// Hop-direction correlations C_1 … C_J (J = `gk_window`; element j − 1 is lag j), batch means.
+    pub correlations: Vec<f64>,
+    /// Their standard errors, lag by lag.
+    pub correlations_err: Vec<f64>,
     /// Complete trap visits observed.
     pub visits: u64,
     /// Collisions simulated.
@@ -156,13 +163,19 @@ impl HopsReport {
         &self,
         k: usize,
     ) -> Result<crate::theory::sequences::SequenceProbabilities, Error> {
-        let m = self
+        let m: Vec<(&String, &f64)> = self
             .sequences
-            .get(k.wrapping_sub(1))
-            .ok_or_else(|| Error::Invalid(format!("no sequences of length {k} were counted")))?;
+            .iter()
+            .filter(|(name, _)| name.chars().count() == k)
+            .collect();
+        if k == 0 || m.is_empty() {
+            return Err(Error::Invalid(format!(
+                "no sequences of length {k} were counted"
+            )));
+        }
         let mut p = vec![0.0; 3usize.pow(k as u32)];
-        for (name, e) in m {
-            p[parse_sequence_index(name, k)?] = e.value;
+        for (name, v) in m {
+            p[parse_sequence_index(name, k)?] = *v;
         }
         crate::theory::sequences::SequenceProbabilities::from_weights(k, p)
     }
@@ -200,20 +213,28 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
     let (res, resolved) = measure(cfg, options)?;
     let g = Geometry::new(w)?;
     let d_mz = g.d_mz();
-    let (sequences, zmax) = sequence_tables(&res, order);
-    let pairs = if order >= 2 {
-        sequences[1].clone()
-    } else {
-        BTreeMap::new()
+    let (tables, zmax) = sequence_tables(&res, order);
+    let p_bs = tables[0]["z"];
+    let values = |m: &BTreeMap<String, Estimate>| -> BTreeMap<String, f64> {
+        m.iter().map(|(k, e)| (k.clone(), e.value)).collect()
     };
-    let p_bs = sequences[0]["z"];
+    let errors = |m: &BTreeMap<String, Estimate>| -> BTreeMap<String, f64> {
+        m.iter().map(|(k, e)| (k.clone(), e.err)).collect()
+    };
+    let none = BTreeMap::new();
+    let pairs = tables.get(1).unwrap_or(&none);
+    let all: BTreeMap<String, Estimate> = tables
+        .iter()
+        .flatten()
+        .map(|(k, e)| (k.clone(), *e))
+        .collect();
     let p_cf = est(&res
         .iter()
         .map(|h| h.collisionless as f64 / h.visits.max(1) as f64)
         .collect::<Vec<_>>());
     let dirs: Vec<HopCorrelations> = res.iter().map(|h| h.directions.clone()).collect();
     let gk = green_kubo::estimate(&dirs, green_kubo::HOP_TRUNCATION)?;
-    let correlations = (1..=gk.truncation)
+    let correlations: Vec<Estimate> = (1..=gk.truncation)
         .map(|j| est(&dirs.iter().map(|d| d.correlation(j)).collect::<Vec<_>>()))
         .collect();
     Ok(HopsReport {
@@ -222,14 +243,17 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
         p_bs_err: p_bs.err,
         p_cf: p_cf.value,
         p_cf_err: p_cf.err,
-        pairs,
-        sequences,
+        pairs: values(pairs),
+        pairs_err: errors(pairs),
+        sequences: values(&all),
+        sequences_err: errors(&all),
         symmetry_max_z: zmax,
         D_GK: d_mz * gk.d_over_d_mz,
         D_GK_err: d_mz * gk.se,
         gk_window: gk.truncation,
         D_MZ: d_mz,
-        correlations,
+        correlations: correlations.iter().map(|e| e.value).collect(),
+        correlations_err: correlations.iter().map(|e| e.err).collect(),
         visits: res.iter().map(|h| h.visits).sum(),
         collisions,
         meta: RunMeta::new(

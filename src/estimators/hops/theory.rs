@@ -7,7 +7,6 @@ use serde::Serialize;
 use super::HopsConfig;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::estimators::diffusion::Estimate;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::Error;
 
@@ -18,12 +17,18 @@ use crate::Error;
 pub struct TheoryReport {
     /// Gap.
     pub w: f64,
-    /// Measured p_bs and p_cf (with errors).
-    pub p_bs: Estimate,
-    /// See `p_bs`.
-    pub p_cf: Estimate,
-    /// App. A analytic p_cf with the flux integral corrected, and as printed.
-    pub p_cf_appendix_a: (f64, f64),
+    /// Measured p_bs (backscattering probability of a trap visit).
+    pub p_bs: f64,
+    /// Its standard error.
+    pub p_bs_err: f64,
+    /// Measured p_cf (probability of a collisionless flight through a trap).
+    pub p_cf: f64,
+    /// Its standard error.
+    pub p_cf_err: f64,
+    /// App. A analytic p_cf with the flux integral corrected.
+    pub p_cf_appendix_a: f64,
+    /// App. A analytic p_cf as printed in the paper.
+    pub p_cf_appendix_a_as_printed: f64,
     /// Machta–Zwanzig.
     pub D_MZ: f64,
     /// Eq. (4) with the measured p_cf.
@@ -32,19 +37,35 @@ pub struct TheoryReport {
     pub D_bs: f64,
     /// Eq. (6).
     pub D_1: f64,
-    /// (k, D_k from the walked distance classes, D_k combined with collisionless flights as eq. 6).
-    pub D_k: Vec<(usize, f64, f64)>,
-    /// The paper's printed (B2) and (B3) evaluated literally (for comparison; see
+    /// The hierarchy by order k = 1 … max(order, 3).
+    pub orders: Vec<TheoryOrder>,
+    /// The paper's printed (B2) evaluated literally (for comparison; see
     /// proofs-notes/paper-appendix-b.md).
-    pub D_2_D_3_as_printed: (f64, f64),
-    /// (k, exact D of the order-k correlated walk with the measured sequence table).
-    pub lattice_gas_exact: Vec<(usize, f64)>,
+    pub D_2_as_printed: f64,
+    /// The paper's printed (B3) evaluated literally.
+    pub D_3_as_printed: f64,
     /// Hop-level Green–Kubo D of the Lorentz gas itself (the reference).
-    pub D_GK: Estimate,
+    pub D_GK: f64,
+    /// Its standard error.
+    pub D_GK_err: f64,
     /// Collisions simulated.
     pub collisions: u64,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
+}
+
+/// One order of the hierarchy in a [`TheoryReport`].
+#[allow(non_snake_case)]
+#[derive(Debug, Clone, Serialize)]
+pub struct TheoryOrder {
+    /// The order k (length of the symbol sequences).
+    pub k: usize,
+    /// D_k from the walked distance classes.
+    pub D_k: f64,
+    /// D_k combined with collisionless flights as eq. (6).
+    pub D_k_combined: f64,
+    /// Exact D of the order-k correlated lattice walk with the measured sequence table.
+    pub D_lattice_walk: f64,
 }
 
 /// Measures sequence tables up to max(`cfg.order`, 3) (at least 3, for the printed (B2), (B3))
@@ -61,42 +82,33 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<TheoryReport, Error
     let g = Geometry::new(w)?;
     let table = |k: usize| h.table(k);
     let p_cf = h.p_cf;
-    let mut d_k = Vec::new();
-    let mut exact = Vec::new();
+    let mut orders = Vec::new();
     for k in 1..=top {
         let t = table(k)?;
-        d_k.push((
+        orders.push(TheoryOrder {
             k,
-            hierarchy::d_k(&g, &t),
-            hierarchy::d_k_combined(&g, &t, &p_cf),
-        ));
-        exact.push((k, CorrelatedWalk::new(&t)?.d(&g)?));
+            D_k: hierarchy::d_k(&g, &t),
+            D_k_combined: hierarchy::d_k_combined(&g, &t, &p_cf),
+            D_lattice_walk: CorrelatedWalk::new(&t)?.d(&g)?,
+        });
     }
     Ok(TheoryReport {
         w,
-        p_bs: Estimate {
-            value: h.p_bs,
-            err: h.p_bs_err,
-        },
-        p_cf: Estimate {
-            value: h.p_cf,
-            err: h.p_cf_err,
-        },
-        p_cf_appendix_a: (appendix_a::p_cf(&g), appendix_a::p_cf_as_printed(&g)),
+        p_bs: h.p_bs,
+        p_bs_err: h.p_bs_err,
+        p_cf: h.p_cf,
+        p_cf_err: h.p_cf_err,
+        p_cf_appendix_a: appendix_a::p_cf(&g),
+        p_cf_appendix_a_as_printed: appendix_a::p_cf_as_printed(&g),
         D_MZ: g.d_mz(),
         D_cf: hierarchy::d_cf(&g, &p_cf),
         D_bs: hierarchy::d_bs(&g, &h.p_bs),
         D_1: hierarchy::d_1(&g, &h.p_bs, &p_cf),
-        D_k: d_k,
-        D_2_D_3_as_printed: (
-            hierarchy::d2_as_printed(&g, &table(2)?),
-            hierarchy::d3_as_printed(&g, &table(3)?),
-        ),
-        lattice_gas_exact: exact,
-        D_GK: Estimate {
-            value: h.D_GK,
-            err: h.D_GK_err,
-        },
+        orders,
+        D_2_as_printed: hierarchy::d2_as_printed(&g, &table(2)?),
+        D_3_as_printed: hierarchy::d3_as_printed(&g, &table(3)?),
+        D_GK: h.D_GK,
+        D_GK_err: h.D_GK_err,
         collisions: h.collisions,
         meta: h.meta,
     })

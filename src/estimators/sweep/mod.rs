@@ -34,9 +34,12 @@ pub struct SweepConfig {
     pub steps: u32,
     /// Independent runs per point (≥ 1; with ≥ 2 their spread is checked against their errors).
     pub runs: u32,
-    /// Collisions per run.
+    /// Collisions per run (serialized as `collisions_per_run`, the command line's name).
+    #[serde(rename = "collisions_per_run")]
     pub collisions: u64,
-    /// Batches per run (≥ 2): the error bar of a run is the standard error over its batches.
+    /// Batches per run (≥ 2): the error bar of a run is the standard error over its batches
+    /// (serialized as `batches_per_run`, the command line's name).
+    #[serde(rename = "batches_per_run")]
     pub batches: u32,
     /// Seed: run r of point i uses the streams of run i·runs + r of this seed.
     pub seed: u64,
@@ -159,8 +162,10 @@ pub struct SweepRow {
     /// batches, so under "the runs agree within their errors" F is exactly F(R − 1, R(B − 1))
     /// distributed (NaN for one run).
     pub runs_f: f64,
-    /// Its degrees of freedom (R − 1, R(B − 1)).
-    pub runs_f_dof: (u32, u64),
+    /// Its numerator degrees of freedom, R − 1.
+    pub runs_f_dof1: u32,
+    /// Its denominator degrees of freedom, R(B − 1).
+    pub runs_f_dof2: u64,
     /// Probability of an F at least this large if the runs agree within their errors.
     pub runs_p_value: f64,
     /// Machta–Zwanzig.
@@ -169,7 +174,7 @@ pub struct SweepRow {
     pub D_Bo: f64,
     /// D minus the weighted straight-line fit.
     pub residual: f64,
-    /// Each run's D.
+    /// Each run's D, in run order (also `sweep-runs.csv`).
     pub run_D: Vec<f64>,
 }
 
@@ -239,34 +244,36 @@ pub fn run(cfg: &SweepConfig, options: &RunOptions) -> Result<SweepReport, Error
     Ok(report)
 }
 
-/// Writes `sweep.csv` and `sweep.json` into `dir` (the figures are
-/// [`write_sweep_figures`](crate::report::figures::sweep::write_sweep_figures)).
+/// Writes `sweep.csv` (one line per point; its columns are the keys of `sweep.json`'s rows),
+/// `sweep-runs.csv` (one line per run: `w,run,run_D`) and `sweep.json` into `dir` (the figures
+/// are [`write_sweep_figures`](crate::report::figures::sweep::write_sweep_figures)).
 pub fn write_tables(r: &SweepReport, dir: &Path) -> Result<(), Error> {
-    let mut csv =
-        String::from("w,inv_n,D,D_err,D_err_dof,runs_F,runs_F_dof1,runs_F_dof2,runs_p_value,D_MZ,D_Bo,residual,runs\n");
+    let mut csv = String::from(
+        "w,inv_n,D,D_err,D_err_dof,runs_f,runs_f_dof1,runs_f_dof2,runs_p_value,D_MZ,D_Bo,residual\n",
+    );
+    let mut runs = String::from("w,run,run_D\n");
     for row in &r.rows {
+        for (k, d) in row.run_D.iter().enumerate() {
+            runs.push_str(&format!("{},{k},{d}\n", row.w));
+        }
         csv.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
             row.w,
             row.inv_n,
             row.D,
             row.D_err,
             row.D_err_dof,
             row.runs_f,
-            row.runs_f_dof.0,
-            row.runs_f_dof.1,
+            row.runs_f_dof1,
+            row.runs_f_dof2,
             row.runs_p_value,
             row.D_MZ,
             row.D_Bo,
             row.residual,
-            row.run_D
-                .iter()
-                .map(|d| d.to_string())
-                .collect::<Vec<_>>()
-                .join(" ")
         ));
     }
     std::fs::write(dir.join("sweep.csv"), csv)?;
+    std::fs::write(dir.join("sweep-runs.csv"), runs)?;
     std::fs::write(
         dir.join("sweep.json"),
         serde_json::to_string_pretty(r).map_err(|e| Error::Io(e.to_string()))?,

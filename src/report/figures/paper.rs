@@ -74,25 +74,25 @@ fn files(stem: &str) -> Vec<String> {
         .collect()
 }
 
-/// Fig. 5: injection conditions (2x/w, sin α) that backscatter at gap `w` (`samples` injections).
+/// Fig. 5: injection conditions (2x/w, sin α) that backscatter at gap `w` (`particles` injected).
 /// `progress` receives injections done.
 pub fn backscatter_map(
     w: f64,
-    samples: u64,
+    particles: u64,
     seed: u64,
     dir: &Path,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<FigureReport, Error> {
     crate::scenes::triangular::geometry::check_diffusive_gap(w)?;
-    if samples == 0 {
-        return Err(Error::Zero { what: "samples" });
+    if particles == 0 {
+        return Err(Error::Zero { what: "particles" });
     }
     let scene = SingleTrap::new(w)?;
     std::fs::create_dir_all(dir)?;
     let mut rng = StreamKey::new(seed, Purpose::Injection, 0).rng();
     let mut pts = Vec::new();
     let mut csv = String::from("x_2_over_w,sin_alpha,exit\n");
-    for k in 1..=samples {
+    for k in 1..=particles {
         if k % MAP_PROGRESS_CHUNK == 0 {
             progress(MAP_PROGRESS_CHUNK);
         }
@@ -102,12 +102,12 @@ pub fn backscatter_map(
             pts.push((v.x, v.sin_alpha, 0.0));
         }
     }
-    progress(samples % MAP_PROGRESS_CHUNK);
+    progress(particles % MAP_PROGRESS_CHUNK);
     let meta = RunMeta::new(Some(seed), None, Precision::F64, Some(1));
     std::fs::write(dir.join("fig5-backscatter-map.csv"), csv)?;
     write_json(
         &dir.join("fig5-backscatter-map.json"),
-        json!({"w": w, "samples": samples, "backscattered": pts.len()}),
+        json!({"w": w, "particles": particles, "backscattered": pts.len()}),
         &meta,
     )?;
     plot(
@@ -120,7 +120,7 @@ pub fn backscatter_map(
             log_y: false,
         },
         &[Series {
-            label: format!("backscattered ({} of {samples})", pts.len()),
+            label: format!("backscattered ({} of {particles})", pts.len()),
             points: pts,
             notes: Vec::new(),
             line: false,
@@ -133,20 +133,20 @@ pub fn backscatter_map(
 }
 
 /// Fig. 4a: p_bs against w on [`backscatter_grids`] (the curve and the paper's inset), by
-/// injection of `visits` particles per gap. Point i of the curve is run i of `seed`, point j of
+/// injection of `particles_per_gap` particles at each gap. Point i of the curve is run i of `seed`, point j of
 /// the inset run (curve length + j): no two points share a stream. `progress` receives injections.
 pub fn backscatter_curve(
-    visits: u64,
+    particles_per_gap: u64,
     seed: u64,
     threads: usize,
     dir: &Path,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<FigureReport, Error> {
-    if visits < CURVE_BATCHES as u64 {
+    if particles_per_gap < CURVE_BATCHES as u64 {
         return Err(Error::TooFew {
-            what: "samples (injections per gap)",
+            what: "particles per gap",
             min: CURVE_BATCHES as u64,
-            got: visits,
+            got: particles_per_gap,
         });
     }
     let [grid, inset] = backscatter_grids()?;
@@ -163,7 +163,7 @@ pub fn backscatter_curve(
         ..RunOptions::default()
     };
     let curve = Curve {
-        visits,
+        particles_per_gap,
         seed,
         dir,
         meta: &meta,
@@ -186,7 +186,7 @@ pub fn backscatter_curve(
 /// What the panels of Fig. 4a share: injections per gap, seed, output folder, metadata and run
 /// options.
 struct Curve<'a> {
-    visits: u64,
+    particles_per_gap: u64,
     seed: u64,
     dir: &'a Path,
     meta: &'a RunMeta,
@@ -202,7 +202,7 @@ impl Curve<'_> {
         for (i, &w) in ws.iter().enumerate() {
             let cfg = BackscatterConfig {
                 w,
-                visits: self.visits,
+                particles: self.particles_per_gap,
                 batches: CURVE_BATCHES,
                 seed: self.seed,
                 run: first_run + i as u64,
@@ -218,7 +218,13 @@ impl Curve<'_> {
         std::fs::write(dir.join(format!("{name}.csv")), csv)?;
         write_json(
             &dir.join(format!("{name}.json")),
-            json!({"rows": rows, "visits_per_point": self.visits}),
+            json!({
+                "rows": rows
+                    .iter()
+                    .map(|r| json!({"w": r.0, "p_bs": r.1, "p_bs_err": r.2}))
+                    .collect::<Vec<_>>(),
+                "particles_per_gap": self.particles_per_gap
+            }),
             self.meta,
         )?;
         let third: Vec<(f64, f64, f64)> = ws.iter().map(|&w| (w, 1.0 / 3.0, 0.0)).collect();
@@ -295,7 +301,7 @@ pub fn hierarchy(
     );
     write_json(
         &dir.join("fig3-4b-6-hierarchy.json"),
-        json!({"grid": grid, "collisions_per_point": collisions}),
+        json!({"grid": grid, "collisions_per_gap": collisions}),
         &meta,
     )?;
     hierarchy_plots(&rows, dir)?;
@@ -365,16 +371,16 @@ fn hierarchy_csv(rows: &[HierarchyRow]) -> String {
             t.D_cf,
             t.D_bs,
             t.D_1,
-            t.D_k[1].2,
-            t.D_k[2].2,
-            t.lattice_gas_exact[0].1,
-            t.lattice_gas_exact[1].1,
-            t.lattice_gas_exact[2].1,
-            t.lattice_gas_exact[3].1,
-            t.p_cf.value,
-            t.p_cf.err,
-            t.p_cf_appendix_a.0,
-            t.p_cf_appendix_a.1
+            t.orders[1].D_k_combined,
+            t.orders[2].D_k_combined,
+            t.orders[0].D_lattice_walk,
+            t.orders[1].D_lattice_walk,
+            t.orders[2].D_lattice_walk,
+            t.orders[3].D_lattice_walk,
+            t.p_cf,
+            t.p_cf_err,
+            t.p_cf_appendix_a,
+            t.p_cf_appendix_a_as_printed
         ));
     }
     csv
@@ -403,11 +409,13 @@ fn hierarchy_plots(rows: &[HierarchyRow], dir: &Path) -> Result<(), Error> {
             "p_cf",
         ),
         &[
-            ser("measured", &|r| (r.0, r.1.p_cf.value, r.1.p_cf.err)),
+            ser("measured", &|r| (r.0, r.1.p_cf, r.1.p_cf_err)),
             ser("App. A (flux integral corrected)", &|r| {
-                (r.0, r.1.p_cf_appendix_a.0, 0.0)
+                (r.0, r.1.p_cf_appendix_a, 0.0)
             }),
-            ser("App. A as printed", &|r| (r.0, r.1.p_cf_appendix_a.1, 0.0)),
+            ser("App. A as printed", &|r| {
+                (r.0, r.1.p_cf_appendix_a_as_printed, 0.0)
+            }),
         ],
     )?;
     plot(
@@ -427,8 +435,12 @@ fn hierarchy_plots(rows: &[HierarchyRow], dir: &Path) -> Result<(), Error> {
             d("D (Einstein)"),
             ser("D_MZ", &|r| (r.0, r.1.D_MZ, 0.0)),
             ser("D_1 (eq. 6)", &|r| (r.0, r.1.D_1, 0.0)),
-            ser("D_2 (App. B corrected)", &|r| (r.0, r.1.D_k[1].2, 0.0)),
-            ser("D_3 (App. B corrected)", &|r| (r.0, r.1.D_k[2].2, 0.0)),
+            ser("D_2 (App. B corrected)", &|r| {
+                (r.0, r.1.orders[1].D_k_combined, 0.0)
+            }),
+            ser("D_3 (App. B corrected)", &|r| {
+                (r.0, r.1.orders[2].D_k_combined, 0.0)
+            }),
         ],
     )?;
     plot(
@@ -436,10 +448,10 @@ fn hierarchy_plots(rows: &[HierarchyRow], dir: &Path) -> Result<(), Error> {
         &spec("Correlated lattice walks, exact D (paper Fig. 6b)", "D"),
         &[
             d("D (Einstein)"),
-            ser("order 1", &|r| (r.0, r.1.lattice_gas_exact[0].1, 0.0)),
-            ser("order 2", &|r| (r.0, r.1.lattice_gas_exact[1].1, 0.0)),
-            ser("order 3", &|r| (r.0, r.1.lattice_gas_exact[2].1, 0.0)),
-            ser("order 4", &|r| (r.0, r.1.lattice_gas_exact[3].1, 0.0)),
+            ser("order 1", &|r| (r.0, r.1.orders[0].D_lattice_walk, 0.0)),
+            ser("order 2", &|r| (r.0, r.1.orders[1].D_lattice_walk, 0.0)),
+            ser("order 3", &|r| (r.0, r.1.orders[2].D_lattice_walk, 0.0)),
+            ser("order 4", &|r| (r.0, r.1.orders[3].D_lattice_walk, 0.0)),
         ],
     )
 }
