@@ -13,7 +13,7 @@ field() { grep -o "\"$1\": *\"[a-z0-9]*\"" | head -n 1 | cut -d'"' -f4; }
 
 echo "| what (w = $W) | engine | ns / collision / core | collisions / s | × scalar |"
 echo "|---|---|---|---|---|"
-scalar=$("$B" bench --w "$W" --threads 1 --engine scalar --collisions 2e7 --repetitions 7 --json --quiet)
+scalar=$("$B" bench --w "$W" --threads 1 --engine scalar --collisions-per-thread 2e7 --repetitions 7 --json --quiet)
 s_cps=$(echo "$scalar" | num collisions_per_second)
 line() { # label engine cps threads
     awk -v l="$1" -v e="$2" -v c="$3" -v t="$4" -v s="$s_cps" \
@@ -21,10 +21,10 @@ line() { # label engine cps threads
 }
 line "bare engine, 1 thread (\`bench --engine scalar\`)" scalar "$s_cps" 1
 for p in avx512 avx2 portable; do
-    out=$(LORENTZ_SIMD=$p "$B" bench --w "$W" --threads 1 --collisions 1e8 --repetitions 7 --json --quiet 2>/dev/null) || continue
+    out=$(LORENTZ_SIMD=$p "$B" bench --w "$W" --threads 1 --collisions-per-thread 1e8 --repetitions 7 --json --quiet 2>/dev/null) || continue
     line "bare engine, 1 thread (\`LORENTZ_SIMD=$p bench\`)" "simd ($p)" "$(echo "$out" | num collisions_per_second)" 1
 done
-best=$("$B" bench --w "$W" --threads 1 --collisions 1e8 --repetitions 7 --observe diffusion --json --quiet)
+best=$("$B" bench --w "$W" --threads 1 --collisions-per-thread 1e8 --repetitions 7 --observe diffusion --json --quiet)
 line "engine + counters + MSD, 1 thread (\`bench --observe diffusion\`)" "simd ($(echo "$best" | field simd))" "$(echo "$best" | num collisions_per_second)" 1
 for t in 1 2; do
     d=$("$B" diffusion --w "$W" --collisions 4e8 --threads $t --json --quiet)
