@@ -42,6 +42,23 @@ pub struct Trap<T: Real> {
     pub cell: ConvexCell<T>,
 }
 
+/// The lattice spacing a = 2 + w of a positive finite gap `w` at its working precision (the
+/// closed forms of `scenes::triangular::geometry` start from the same a).
+///
+/// # Errors
+/// An unusable precision, a gap that is not finite, or w ≤ 0 (the disks overlap).
+pub fn spacing<T: Real>(w: &T) -> Result<T, Error> {
+    let ctx = w.ctx();
+    T::check_ctx(ctx)?;
+    if !w.is_finite() {
+        return Err(Error::NotFinite { what: "w" });
+    }
+    if *w <= T::zero(ctx) {
+        return Err(Error::Trapped { w: w.to_f64() });
+    }
+    Ok(w.clone() + &T::from_f64(ctx, 2.0))
+}
+
 impl<T: Real> Trap<T> {
     /// The canonical trap at gap `w > 0` (any precision ≥ 53 bits).
     ///
@@ -53,17 +70,8 @@ impl<T: Real> Trap<T> {
     /// assert_eq!(t.vertices[1].x, 2.1);
     /// ```
     pub fn new(w: T) -> Result<Self, Error> {
-        // The same operations as the closed forms (`scenes::triangular::geometry`), which sit
-        // above the kernel: a = w + 2, h = √3a/2.
         let ctx = w.ctx();
-        T::check_ctx(ctx)?;
-        if !w.is_finite() {
-            return Err(Error::NotFinite { what: "w" });
-        }
-        if w <= T::zero(ctx) {
-            return Err(Error::Trapped { w: w.to_f64() });
-        }
-        let a = w.clone() + &T::from_f64(ctx, 2.0);
+        let a = spacing(&w)?;
         let sqrt3 = T::sqrt3(ctx);
         let h = (sqrt3.clone() * &a).scale(0.5);
         let half_sqrt3 = sqrt3.scale(0.5);

@@ -48,14 +48,7 @@ impl<T: Real> Geometry<T> {
     /// see [`check_diffusive_gap`] for the range where D exists).
     pub fn new(w: T) -> Result<Self, Error> {
         let ctx = w.ctx();
-        T::check_ctx(ctx)?;
-        if !w.is_finite() {
-            return Err(Error::NotFinite { what: "w" });
-        }
-        if w <= T::zero(ctx) {
-            return Err(Error::Trapped { w: w.to_f64() });
-        }
-        let a = w.clone() + &T::from_f64(ctx, 2.0);
+        let a = crate::kernel::trap::spacing(&w)?;
         Ok(Geometry {
             a,
             sqrt3: T::sqrt3(ctx),
