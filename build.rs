@@ -1,5 +1,6 @@
-//! Build provenance for `lorentz report`: the git commit of the checkout (when built from one) and
-//! the rustc version, as compile-time environment variables.
+//! Build provenance for `lorentz report`: the git commit of the checkout (when built from one,
+//! with `-dirty` when its sources had uncommitted changes) and the rustc version, as compile-time
+//! environment variables.
 
 use std::process::Command;
 
@@ -13,7 +14,18 @@ fn main() {
             .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
             .filter(|s| !s.is_empty())
     };
-    let commit = run("git", &["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    // The paths the binary is built from: a change to any of them not yet committed makes the
+    // build `-dirty`, so a report never names a commit the binary was not built from.
+    let sources = ["src", "Cargo.toml", "Cargo.lock", "build.rs"];
+    let mut commit = run("git", &["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    let mut status = vec!["status", "--porcelain", "--untracked-files=normal", "--"];
+    status.extend(sources);
+    if commit != "unknown" && run("git", &status).is_some() {
+        commit.push_str("-dirty");
+    }
+    for path in sources {
+        println!("cargo:rerun-if-changed={path}");
+    }
     let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
     let version = run(&rustc, &["--version"]).unwrap_or_else(|| "unknown".into());
     println!("cargo:rustc-env=LORENTZ_GIT_COMMIT={commit}");
