@@ -2,6 +2,28 @@
 //! bars in [`progress`], printing in [`output`]. Every analysis lives in the library; a
 //! subcommand parses, calls the library, and prints.
 
+/// `println!` for the command line: a closed standard output (the reader of a pipe has gone, as
+/// in `lorentz … --json | head -1`) ends the program quietly with status 0 instead of a panic;
+/// any other failure to write is reported on stderr with its cause.
+macro_rules! println {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let mut out = std::io::stdout().lock();
+        if let Err(e) = writeln!(out, $($arg)*) {
+            crate::cli::output::stdout_failed(e);
+        }
+    }};
+}
+
+/// `eprintln!` for the command line: a closed standard error is not reported anywhere (there is
+/// nowhere to report it) and never panics.
+macro_rules! eprintln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr().lock(), $($arg)*);
+    }};
+}
+
 pub mod args;
 pub mod output;
 pub mod progress;
@@ -36,6 +58,8 @@ use lorentz_gas::Error;
 const EXIT_BAD_INPUT: u8 = 2;
 /// Exit status of a verification whose verdict is FAIL (`lorentz report`).
 const EXIT_CHECK_FAILED: u8 = 1;
+/// Exit status when standard output cannot be written (other than a closed pipe, which exits 0).
+const EXIT_IO: u8 = 3;
 
 #[derive(Parser)]
 #[command(

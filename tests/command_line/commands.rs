@@ -927,3 +927,52 @@ fn json_outputs_have_the_documented_keys() {
     assert_eq!(b["particles"], 20000);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A closed standard output (the reader of a pipe has gone) ends the program quietly with status
+/// 0 — no panic, no backtrace; a standard output that cannot be written (a full device) is
+/// reported on stderr with status 3; a closed standard error never panics.
+#[test]
+fn closed_or_failing_output_ends_quietly() {
+    use std::process::Stdio;
+    let args = [
+        "diffusion",
+        "--w",
+        "0.1",
+        "--collisions",
+        "4e6",
+        "--batches",
+        "4",
+        "--json",
+        "--quiet",
+    ];
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lorentz"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away before anything is written
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "stderr: {err}");
+    assert!(!err.contains("panicked") && err.is_empty(), "stderr: {err}");
+    if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
+        let out = Command::new(env!("CARGO_BIN_EXE_lorentz"))
+            .args(args)
+            .stdout(full)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(3), "stderr: {err}");
+        assert!(
+            err.contains("cannot write to standard output") && !err.contains("panicked"),
+            "{err}"
+        );
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_lorentz"))
+        .args(["diffusion", "--w", "0.5"])
+        .stderr(Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}
