@@ -16,7 +16,22 @@
 //! Safety model: the AVX-512 and AVX2 types may only be *created* inside functions compiled
 //! with those target features, which the dispatcher ([`crate::engine::SimdPath`]) enters only after
 //! run-time detection. Their methods are `#[inline(always)]`, so they are compiled into those
-//! functions with the features enabled.
+//! functions with the features enabled. The types are private to the crate, so that rule holds
+//! for every caller: safe code outside the crate reaches them only through the detected dispatch
+//! and cannot name them, let alone construct one on a CPU without the feature:
+//!
+//! ```compile_fail
+//! use lorentz_gas::numbers::lanes::{Avx512, Lanes};
+//! let v = Avx512::splat(1.0); // would execute AVX-512 instructions on any CPU
+//! ```
+//!
+//! The portable and one-lane types are public: they execute no special instructions.
+//!
+//! ```
+//! use lorentz_gas::numbers::lanes::Lanes;
+//! let v = <f64 as Lanes>::splat(2.0);
+//! assert_eq!(v.sqrt(), 2f64.sqrt());
+//! ```
 
 /// A vector of `f64` lanes with lane-wise IEEE operations and masks.
 ///
@@ -374,7 +389,7 @@ impl<V: Lanes> Lanes for Pair<V> {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub use x86::{Avx2, Avx512};
+pub(crate) use x86::{Avx2, Avx512};
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
