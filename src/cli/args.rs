@@ -90,12 +90,47 @@ pub fn parse_threads(s: &str) -> Result<usize, String> {
     Ok(v as usize)
 }
 
+/// A gap as typed: an exact decimal or fraction (`0.1`, `1/10`), kept exactly and as its nearest
+/// double; `nan` and `inf` pass through as doubles so that the library names the valid range.
+#[derive(Debug, Clone)]
+pub struct Gap {
+    /// The nearest double (what `f64` runs use).
+    pub value: f64,
+    /// The exact value, for closed forms at any precision (`None` for `nan`, `inf`).
+    pub exact: Option<rug::Rational>,
+}
+
+/// Parses `--w`: a decimal (`0.1`, `1.5e-1`) or a fraction (`1/10`), exactly.
+pub fn parse_gap(s: &str) -> Result<Gap, String> {
+    match lorentz_gas::numbers::exact::parse_exact(s) {
+        Ok(q) => Ok(Gap {
+            value: lorentz_gas::numbers::exact::nearest_f64(&q),
+            exact: Some(q),
+        }),
+        Err(e) => match s.trim().parse::<f64>() {
+            Ok(v) if !v.is_finite() => Ok(Gap {
+                value: v,
+                exact: None,
+            }),
+            _ => Err(e.to_string()),
+        },
+    }
+}
+
 /// The gap between neighbouring disks.
 #[derive(Args, Debug, Clone)]
 pub struct GapArg {
-    /// Gap w between neighbouring disks (radius 1): 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    #[arg(long, allow_negative_numbers = true)]
-    pub w: f64,
+    /// Gap w between neighbouring disks (radius 1), a decimal or a fraction such as 1/10:
+    /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+    #[arg(long = "w", value_parser = parse_gap, allow_negative_numbers = true)]
+    pub gap: Gap,
+}
+
+impl GapArg {
+    /// The gap as its nearest double.
+    pub fn w(&self) -> f64 {
+        self.gap.value
+    }
 }
 
 /// The billiard table of a command that works on any scene (`audit`, `lyapunov`, `certify`).
@@ -105,9 +140,10 @@ pub struct SceneArgs {
     /// (disks of radius r at unit spacing, needs --radius).
     #[arg(long, default_value = "triangular")]
     pub scene: SceneName,
-    /// Gap w of the triangular scene: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    #[arg(long, allow_negative_numbers = true)]
-    pub w: Option<f64>,
+    /// Gap w of the triangular scene, a decimal or a fraction such as 1/10:
+    /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+    #[arg(long, value_parser = parse_gap, allow_negative_numbers = true)]
+    pub w: Option<Gap>,
     /// Disk radius of the square scene, exact (a decimal or a fraction such as 1/3): 0 < r < 1/2.
     #[arg(long, allow_hyphen_values = true)]
     pub radius: Option<String>,
@@ -156,7 +192,7 @@ impl SceneArgs {
                 if self.radius.is_some() {
                     return refuse("--radius", "triangular");
                 }
-                let w = self.w.ok_or_else(|| {
+                let w = self.w.as_ref().map(|g| g.value).ok_or_else(|| {
                     Error::Invalid(
                         "the triangular scene needs --w: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094..."
                             .into(),
@@ -222,7 +258,7 @@ impl HopCommand {
         print: impl FnOnce(&R),
     ) -> Result<(), lorentz_gas::Error> {
         let cfg = HopsConfig {
-            w: self.gap.w,
+            w: self.gap.w(),
             collisions: self.hop.collisions,
             batches: self.hop.batches,
             order: self.hop.order,

@@ -29,7 +29,7 @@ pub struct Args {
 pub fn run(a: Args) -> Result<(), Error> {
     let pb = Progress::new(a.particles, "injections", a.output.quiet);
     let cfg = BackscatterConfig {
-        w: a.gap.w,
+        w: a.gap.w(),
         particles: a.particles,
         batches: a.batches,
         seed: a.run.seed(),

@@ -55,7 +55,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         let out = a.out.clone();
         let pb = Progress::new(REPORT_STEPS, "steps", a.output.quiet);
         let cfg = SpeedErrorConfig {
-            w: a.gap.w,
+            w: a.gap.w(),
             seed: a.seed.seed,
             out: out.clone(),
         };
@@ -77,7 +77,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     }
     let pb = Progress::new(a.repetitions as u64, "repetitions", a.output.quiet);
     let cfg = ThroughputConfig {
-        w: a.gap.w,
+        w: a.gap.w(),
         precision: a.precision.precision,
         observe: a.observe,
         collisions_per_thread: a.collisions_per_thread,

@@ -28,7 +28,8 @@ pub struct Args {
 pub fn run(a: Args) -> Result<(), Error> {
     let p: Precision = a.precision.precision;
     p.dispatch(Constants {
-        w: a.gap.w,
+        w: a.gap.w(),
+        exact: a.gap.gap.exact.clone(),
         json: a.json,
         precision: p,
     })
@@ -48,6 +49,8 @@ struct ConstantsJson {
 
 struct Constants {
     w: f64,
+    /// The gap exactly as typed: every closed form starts from it at the working precision.
+    exact: Option<rug::Rational>,
     json: bool,
     precision: Precision,
 }
@@ -55,7 +58,11 @@ struct Constants {
 impl AtPrecision for Constants {
     type Output = Result<(), Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Result<(), Error> {
-        let g = Geometry::new(T::from_f64(ctx, self.w))?;
+        let w = match &self.exact {
+            Some(q) => T::from_rational(ctx, q),
+            None => T::from_f64(ctx, self.w),
+        };
+        let g = Geometry::new(w)?;
         let rows: Vec<(&str, &str, T)> = vec![
             ("w", "gap", g.gap()),
             ("a", "lattice spacing 2 + w", g.spacing()),

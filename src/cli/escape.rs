@@ -28,10 +28,12 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(a.gap.w)?;
+    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(a.gap.w())?;
     let cfg = EscapeConfig {
-        w: a.gap.w,
-        widths: a.widths.unwrap_or_else(|| escape::default_widths(a.gap.w)),
+        w: a.gap.w(),
+        widths: a
+            .widths
+            .unwrap_or_else(|| escape::default_widths(a.gap.w())),
         particles_per_width: a.particles_per_width,
         seed: a.run.seed(),
     };

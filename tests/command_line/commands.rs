@@ -976,3 +976,45 @@ fn closed_or_failing_output_ends_quietly() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// A gap is an exact input: `--w 0.2` at 200 bits is 0.2 to the last digit (not the double
+/// nearest 0.2), and `--w 1/10` is accepted and gives the bits of `--w 0.1` in an f64 run.
+#[test]
+fn gaps_are_exact_decimals_or_fractions() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    let (code, out, err) = lorentz_in(
+        dir,
+        &["constants", "--w", "0.2", "--precision", "200", "--json"],
+    );
+    assert_eq!(code, 0, "{err}");
+    // The JSON number as written (a parsed f64 would round it): 200 bits hold 60 digits, the
+    // first 55 after the point are the decimal's zeros.
+    let w = out
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("\"w\": "))
+        .expect("a w key")
+        .trim_end_matches(',');
+    assert!(
+        w.starts_with(&format!("2.{}", "0".repeat(55))),
+        "w = {w} is not 0.2 at 200 bits"
+    );
+    let run = |w: &str| {
+        let args = [
+            "diffusion",
+            "--w",
+            w,
+            "--collisions",
+            "4e6",
+            "--batches",
+            "4",
+            "--json",
+            "--quiet",
+        ];
+        let (code, out, err) = lorentz_in(dir, &args);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        (v["w"].as_f64().unwrap(), v["D"].as_f64().unwrap().to_bits())
+    };
+    assert_eq!(run("1/10"), run("0.1"));
+}
