@@ -173,22 +173,8 @@ fn escape_results_do_not_depend_on_the_thread_count() {
         particles_per_width: escape::MIN_PARTICLES,
         seed: 5,
     };
-    let r1 = escape::run(
-        &cfg,
-        &RunOptions {
-            threads: 1,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
-    let r2 = escape::run(
-        &cfg,
-        &RunOptions {
-            threads: 2,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let r1 = escape::run(&cfg, &crate::common::threads(1)).unwrap();
+    let r2 = escape::run(&cfg, &crate::common::threads(2)).unwrap();
     assert_eq!(r1.D_escape.to_bits(), r2.D_escape.to_bits());
     assert_eq!(r1.events, r2.events);
 }

@@ -160,14 +160,7 @@ fn hop_level_green_kubo_matches_einstein() {
         cfg.collisions = 60_000_000;
         cfg.batches = 16;
         cfg.seed = 57;
-        let e = run(
-            &cfg,
-            &RunOptions {
-                threads: 2,
-                ..RunOptions::default()
-            },
-        )
-        .unwrap();
+        let e = run(&cfg, &crate::common::threads(2)).unwrap();
         let k = t4_welch(gk.D_GK_err, nb(&gk.meta), e.D_err, nb(&e.meta));
         assert!(
             z(gk.D_GK, gk.D_GK_err, e.D, e.D_err) < k,
@@ -263,14 +256,7 @@ fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
         cfg.collisions = 40_000_000;
         cfg.batches = 16;
         cfg.seed = 72;
-        let e = run(
-            &cfg,
-            &RunOptions {
-                threads: 2,
-                ..RunOptions::default()
-            },
-        )
-        .unwrap();
+        let e = run(&cfg, &crate::common::threads(2)).unwrap();
         let dof = welch_dof(se4, kf, e.D_err, nb(&e.meta) as f64);
         let t_max = normal_sigma_equivalent_t(dof, 4.0);
         let zz = z(d4, se4, e.D, e.D_err);

@@ -101,14 +101,7 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
             c.batches = cfg.batches;
             c.seed = cfg.seed;
             c.run = r;
-            run(
-                &c,
-                &RunOptions {
-                    threads: 2,
-                    ..RunOptions::default()
-                },
-            )
-            .unwrap()
+            run(&c, &crate::common::threads(2)).unwrap()
         })
         .collect();
     assert_eq!(row.run_D, vec![runs[0].D, runs[1].D]);
@@ -118,14 +111,7 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     single.collisions = 6_000_000;
     single.batches = 8;
     single.seed = 1234;
-    let s = run(
-        &single,
-        &RunOptions {
-            threads: 2,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let s = run(&single, &crate::common::threads(2)).unwrap();
     let f = FisherSnedecor::new(6.0, 7.0).unwrap();
     let (lo, hi) = (
         f.inverse_cdf(P_4_SIGMA / 2.0),

@@ -48,13 +48,7 @@ fn merge_into(parts: &[PathBuf], out: &Path) -> Result<SweepReport, lorentz_gas:
         parts: parts.to_vec(),
         out: out.to_path_buf(),
     };
-    let r = merge::run(
-        &cfg,
-        &RunOptions {
-            threads: 1,
-            ..RunOptions::default()
-        },
-    )?;
+    let r = merge::run(&cfg, &crate::common::threads(1))?;
     sweep::write_tables(&r, out)?;
     write_sweep_figures(&r, out)?;
     Ok(r)

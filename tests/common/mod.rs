@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::process::Command;
 
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::statistics::{normal_sigma_equivalent_t, welch_dof};
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
@@ -52,4 +53,13 @@ pub fn runner(cases: u32, seed: u8) -> TestRunner {
         ..Config::default()
     };
     TestRunner::new_with_rng(cfg, TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]))
+}
+
+/// Run options on `threads` threads, everything else default (auto engine, no progress, nothing
+/// resumed, no audit).
+pub fn threads(threads: usize) -> RunOptions<'static> {
+    RunOptions {
+        threads,
+        ..RunOptions::default()
+    }
 }

@@ -31,14 +31,7 @@ fn exact_identities_within_four_sigma() {
         cfg.collisions = 40_000_000;
         cfg.batches = 16;
         cfg.seed = 2024;
-        let r = run(
-            &cfg,
-            &RunOptions {
-                threads: 2,
-                ..RunOptions::default()
-            },
-        )
-        .unwrap();
+        let r = run(&cfg, &crate::common::threads(2)).unwrap();
         let k = normal_sigma_equivalent_t(r.meta.batches.unwrap() as f64 - 1.0, 4.0);
         within(
             r.mean_free_path,
@@ -77,33 +70,12 @@ fn same_seed_same_bits_any_thread_count() {
     cfg.seed = 99;
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
-    let a = run(
-        &cfg,
-        &RunOptions {
-            threads: 1,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
-    let b = run(
-        &cfg,
-        &RunOptions {
-            threads: 2,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let a = run(&cfg, &crate::common::threads(1)).unwrap();
+    let b = run(&cfg, &crate::common::threads(2)).unwrap();
     assert_eq!(a.D.to_bits(), b.D.to_bits());
     assert_eq!(a.mean_free_path.to_bits(), b.mean_free_path.to_bits());
     cfg.seed = 100;
-    let c = run(
-        &cfg,
-        &RunOptions {
-            threads: 2,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let c = run(&cfg, &crate::common::threads(2)).unwrap();
     assert_ne!(a.D.to_bits(), c.D.to_bits());
 }
 
@@ -121,15 +93,12 @@ fn checkpoint_resumes_finished_batches() {
     cfg.batches = 4;
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
-    let full = run(
-        &cfg,
-        &RunOptions {
-            threads: 2,
-            resume: Some(path.clone()),
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let resumable = RunOptions {
+        threads: 2,
+        resume: Some(path.clone()),
+        ..RunOptions::default()
+    };
+    let full = run(&cfg, &resumable).unwrap();
     // Simulate an interruption: keep the header and two finished batches, plus a torn line.
     let text = std::fs::read_to_string(&path).unwrap();
     let lines: Vec<&str> = text.lines().filter(|l| !l.is_empty()).collect();
@@ -141,28 +110,12 @@ fn checkpoint_resumes_finished_batches() {
         ),
     )
     .unwrap();
-    let resumed = run(
-        &cfg,
-        &RunOptions {
-            threads: 2,
-            resume: Some(path.clone()),
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let resumed = run(&cfg, &resumable).unwrap();
     assert_eq!(resumed.resumed_batches, 2);
     assert_eq!(resumed.D.to_bits(), full.D.to_bits());
     // A different configuration refuses the file.
     cfg.seed += 1;
-    assert!(run(
-        &cfg,
-        &RunOptions {
-            threads: 2,
-            resume: Some(path.clone()),
-            ..RunOptions::default()
-        }
-    )
-    .is_err());
+    assert!(run(&cfg, &resumable).is_err());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

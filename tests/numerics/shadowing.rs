@@ -3,7 +3,6 @@
 
 use rug::Float;
 
-use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
@@ -71,15 +70,7 @@ fn assert_clean(sh: &Shadow, what: &str) {
 fn f64_segments_are_shadowed_at_w_0_1_and_0_3() {
     for w in ["0.1", "0.3"] {
         let sc = scene(w);
-        let r = shadowing::run(
-            &sc,
-            &request(300, 4),
-            &RunOptions {
-                threads: 1,
-                ..RunOptions::default()
-            },
-        )
-        .unwrap();
+        let r = shadowing::run(&sc, &request(300, 4), &crate::common::threads(1)).unwrap();
         assert_eq!(r.converged, 4, "w = {w}");
         for s in &r.segments {
             assert_clean(&s.shadow, &format!("w = {w}, segment {}", s.segment));
@@ -205,15 +196,8 @@ fn bad_requests_name_the_valid_range() {
     assert!(e.contains("use 2 to 10000"), "{e}");
     let e = shadow_pseudo_orbit(&sc, &y, 64).unwrap_err().to_string();
     assert!(e.contains("use 128 to"), "{e}");
-    let e = shadowing::run(
-        &sc,
-        &request(10, 0),
-        &RunOptions {
-            threads: 1,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap_err()
-    .to_string();
+    let e = shadowing::run(&sc, &request(10, 0), &crate::common::threads(1))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("use 1 to"), "{e}");
 }

@@ -298,7 +298,6 @@ fn birkhoff_map_preserves_phase_space_volume() {
 /// reference runs at the exact radius while the f64 run uses its nearest double.
 #[test]
 fn shadow_audit_finds_nothing_outside_the_model() {
-    use lorentz_gas::engine::options::RunOptions;
     use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
     let s = SquareScene::exact(Rational::from((1, 3))).unwrap();
     let cfg = AuditConfig {
@@ -309,10 +308,7 @@ fn shadow_audit_finds_nothing_outside_the_model() {
         reference_bits: 128,
         seed: 93,
     };
-    let two = RunOptions {
-        threads: 2,
-        ..RunOptions::default()
-    };
+    let two = crate::common::threads(2);
     let r = shadow_audit::run(&s, &cfg, &two).unwrap();
     assert!(r.summary.audited >= 200_000);
     assert_eq!(

@@ -190,10 +190,7 @@ fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
             reference_bits: 128,
             seed: 7,
         };
-        let two = RunOptions {
-            threads: 2,
-            ..RunOptions::default()
-        };
+        let two = crate::common::threads(2);
         let r = shadow_audit::run(&scene, &cfg, &two).unwrap();
         assert!(r.summary.audited >= 100_000);
         assert_eq!(
@@ -220,14 +217,7 @@ fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
     cfg.batches = 4;
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
-    let plain = run(
-        &cfg,
-        &RunOptions {
-            threads: 2,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let plain = run(&cfg, &crate::common::threads(2)).unwrap();
     let audit = Some(AuditSpec {
         rate: 0.01,
         bits: 128,
@@ -279,10 +269,7 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
     const STARTS: u32 = 8;
     for &w in &[0.05, 0.15, 0.3] {
         let scene = TriangularScene::new(w).unwrap();
-        let two = RunOptions {
-            threads: 2,
-            ..RunOptions::default()
-        };
+        let two = crate::common::threads(2);
         let cfg = LyapunovConfig {
             collisions_per_batch: 200_000,
             batches: 8,
@@ -372,25 +359,11 @@ fn statistics_do_not_move_with_precision() {
     cfg.check_window = "4:16".parse().unwrap();
     cfg.collisions = 1_200_000;
     cfg.precision = Precision::Bits(128);
-    let hi = run(
-        &cfg,
-        &RunOptions {
-            threads: 2,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let hi = run(&cfg, &crate::common::threads(2)).unwrap();
     cfg.collisions = 40_000_000;
     cfg.batches = 16;
     cfg.precision = Precision::F64;
-    let lo = run(
-        &cfg,
-        &RunOptions {
-            threads: 2,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let lo = run(&cfg, &crate::common::threads(2)).unwrap();
     let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
     let t4 = |ea: f64, eb: f64| {
         normal_sigma_equivalent_t(
