@@ -8,9 +8,9 @@ use serde::{Deserialize, Serialize};
 
 use super::shard::{Shard, ShardReport};
 use crate::engine::options::RunOptions;
-use crate::engine::resume::{difference, write_atomically};
+use crate::engine::resume::{difference, seal, unseal, write_atomically};
 use crate::estimators::sweep::analysis::analyse;
-use crate::estimators::sweep::points::point_path;
+use crate::estimators::sweep::points::{point_path, read_point};
 use crate::estimators::sweep::{SweepConfig, SweepPoint, SweepReport};
 use crate::Error;
 
@@ -59,12 +59,7 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
     let points = parts.complete(&sweep)?;
     std::fs::create_dir_all(out.join("points"))?;
     for p in &points {
-        write_atomically(
-            &point_path(out, p.index as usize),
-            serde_json::to_string(p)
-                .map_err(|e| Error::Io(e.to_string()))?
-                .as_bytes(),
-        )?;
+        write_atomically(&point_path(out, p.index as usize), seal(p)?.as_bytes())?;
     }
     let n = points.len() as u32;
     let mut report = analyse(&sweep, &points, n, options.threads)?;
@@ -109,13 +104,9 @@ impl Parts {
         if !manifest.exists() {
             return Ok(());
         }
-        let text = std::fs::read_to_string(&manifest)?;
-        let m: ShardReport = serde_json::from_str(&text).map_err(|e| {
-            Error::Invalid(format!(
-                "{} is not a shard manifest: {e}",
-                manifest.display()
-            ))
-        })?;
+        let text = std::fs::read_to_string(&manifest)
+            .map_err(|e| crate::engine::resume::io_error("read", &manifest, e))?;
+        let m: ShardReport = unseal(&manifest, &text, "shard manifest")?;
         self.same(&m.config, d)?;
         if let Some((s0, d0)) = self.shards.values().next() {
             if s0.count != m.shard.count {
@@ -160,10 +151,7 @@ impl Parts {
             .collect();
         names.sort();
         for path in names {
-            let text = std::fs::read_to_string(&path)?;
-            let p: SweepPoint = serde_json::from_str(&text).map_err(|e| {
-                Error::Invalid(format!("{} is not a sweep point: {e}", path.display()))
-            })?;
+            let p = read_point(&path)?;
             self.same(&p.config, d)?;
             if let Some((_, d0)) = self.found.get(&p.index) {
                 return Err(Error::Invalid(format!(

@@ -6,8 +6,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::engine::resume::write_atomically;
-use crate::estimators::sweep::points::{run_points, to_json};
+use crate::engine::resume::{seal, write_atomically};
+use crate::estimators::sweep::points::run_points;
 use crate::estimators::sweep::{SweepConfig, MAX_SWEEP_POINTS};
 use crate::numbers::precision::Precision;
 use crate::Error;
@@ -141,6 +141,6 @@ pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<ShardReport, Error
         )
         .with_engine(resolved),
     };
-    write_atomically(&dir.join("shard.json"), to_json(&report)?.as_bytes())?;
+    write_atomically(&dir.join("shard.json"), seal(&report)?.as_bytes())?;
     Ok(report)
 }

@@ -328,6 +328,29 @@ impl RunArgs {
     }
 }
 
+/// How often a resumable run saves its trajectories in flight.
+#[derive(Args, Debug, Clone)]
+pub struct CheckpointEveryArg {
+    /// With a checkpoint: save the whole state of every trajectory in flight every SECONDS of
+    /// wall time (0 to 86400; a kill loses at most about this much work). Finished batches are
+    /// saved as they finish.
+    #[arg(long, value_name = "SECONDS", default_value = "60", value_parser = parse_interval)]
+    pub checkpoint_every: std::time::Duration,
+}
+
+/// A checkpoint interval in seconds, 0 to a day.
+fn parse_interval(text: &str) -> Result<std::time::Duration, String> {
+    let max = lorentz_gas::engine::options::MAX_CHECKPOINT_EVERY.as_secs();
+    let s: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number of seconds: use 0 to {max}"))?;
+    if !(0.0..=max as f64).contains(&s) {
+        return Err(format!("{s} s is out of range: use 0 to {max} seconds"));
+    }
+    Ok(std::time::Duration::from_secs_f64(s))
+}
+
 /// Engine choice.
 #[derive(Args, Debug, Clone)]
 pub struct EngineArg {

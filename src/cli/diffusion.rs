@@ -7,8 +7,8 @@ use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport,
 use lorentz_gas::Error;
 
 use super::args::{
-    parse_count, parse_count_u32, EngineArg, OutputArgs, PrecisionArg, ReferenceBitsArg, RunArgs,
-    SceneArgs, SceneChoice,
+    parse_count, parse_count_u32, CheckpointEveryArg, EngineArg, OutputArgs, PrecisionArg,
+    ReferenceBitsArg, RunArgs, SceneArgs, SceneChoice,
 };
 use super::output::{emit, sigmas};
 use super::progress::Progress;
@@ -35,9 +35,12 @@ pub struct Args {
     /// Second, later window fitted as a check of the linear regime.
     #[arg(long, default_value = "20:80")]
     check_window: Window,
-    /// Append each finished batch to this file; a rerun with the same parameters resumes.
+    /// Keep the run's work in this file (finished batches as they finish, trajectories in
+    /// flight every --checkpoint-every); a rerun with the same parameters resumes to the same bits.
     #[arg(long)]
     checkpoint: Option<PathBuf>,
+    #[command(flatten)]
+    every: CheckpointEveryArg,
     /// Replay this fraction (0, 1] of the events in MPFR as the run goes (f64 runs).
     #[arg(long)]
     audit: Option<f64>,
@@ -78,6 +81,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         progress: &progress,
         resume: a.checkpoint.clone(),
         audit,
+        checkpoint_every: a.every.checkpoint_every,
     };
     let r = diffusion::run(&cfg, &opts)?;
     drop(progress);

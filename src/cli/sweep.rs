@@ -7,7 +7,9 @@ use lorentz_gas::Error;
 
 use std::path::PathBuf;
 
-use super::args::{parse_count, parse_count_u32, EngineArg, OutputArgs, RunArgs};
+use super::args::{
+    parse_count, parse_count_u32, CheckpointEveryArg, EngineArg, OutputArgs, RunArgs,
+};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -66,9 +68,11 @@ pub struct Args {
     #[command(flatten)]
     engine: EngineArg,
     /// Output directory: sweep.csv, sweep-runs.csv, sweep.json and the figures; finished points
-    /// are kept in OUT/points/ and reused.
+    /// are kept in OUT/points/ and reused, the point in progress in OUT/points/*.partial.
     #[arg(long, default_value = "results/sweep")]
     out: PathBuf,
+    #[command(flatten)]
+    every: CheckpointEveryArg,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -97,6 +101,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         progress: &progress,
         resume: Some(out.clone()),
         audit: None,
+        checkpoint_every: a.every.checkpoint_every,
     };
     if let Some(s) = shard {
         let part = ShardConfig {

@@ -6,6 +6,7 @@
 //! same configuration) and `audit` adds a summary beside the numbers.
 
 use std::path::PathBuf;
+use std::time::Duration;
 
 use super::Engine;
 use crate::Error;
@@ -91,7 +92,18 @@ pub struct RunOptions<'a> {
     pub resume: Option<PathBuf>,
     /// Replay a fraction of the events in MPFR as the run goes (analyses that offer it).
     pub audit: Option<AuditSpec>,
+    /// With `resume`: how often the trajectories in flight are saved whole (positions,
+    /// velocities, cells, observer accumulators), so that an interruption loses at most about
+    /// this much work (analyses that offer it; default [`DEFAULT_CHECKPOINT_EVERY`]).
+    pub checkpoint_every: Duration,
 }
+
+/// Default interval between saves of the trajectories in flight: a minute of work at risk, and
+/// a checkpoint write (tens of kilobytes) per thread per minute.
+pub const DEFAULT_CHECKPOINT_EVERY: Duration = Duration::from_secs(60);
+
+/// Longest interval between saves: a day.
+pub const MAX_CHECKPOINT_EVERY: Duration = Duration::from_secs(86_400);
 
 impl Default for RunOptions<'_> {
     fn default() -> Self {
@@ -101,6 +113,7 @@ impl Default for RunOptions<'_> {
             progress: &no_progress,
             resume: None,
             audit: None,
+            checkpoint_every: DEFAULT_CHECKPOINT_EVERY,
         }
     }
 }
@@ -112,6 +125,7 @@ impl std::fmt::Debug for RunOptions<'_> {
             .field("threads", &self.threads)
             .field("resume", &self.resume)
             .field("audit", &self.audit)
+            .field("checkpoint_every", &self.checkpoint_every)
             .finish_non_exhaustive()
     }
 }
@@ -124,6 +138,13 @@ impl RunOptions<'_> {
         }
         if let Some(a) = &self.audit {
             a.validate()?;
+        }
+        if self.checkpoint_every > MAX_CHECKPOINT_EVERY {
+            return Err(Error::Invalid(format!(
+                "checkpoint interval {} s is out of range: use 0 to {} s",
+                self.checkpoint_every.as_secs_f64(),
+                MAX_CHECKPOINT_EVERY.as_secs()
+            )));
         }
         Ok(())
     }

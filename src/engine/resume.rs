@@ -4,29 +4,66 @@
 //!
 //! * [`Journal`]: finished records appended as they come, one JSON line each, after a versioned
 //!   header that names the kind of work and its configuration. Opening a journal of another
-//!   kind, format or configuration is refused with the first field that differs; a line torn by
-//!   an interruption is ignored (that record is simply computed again).
+//!   kind, format or configuration is refused with the first field that differs. Every line
+//!   carries a SHA-256 digest (a record's salted with the header's), so an edited, repeated or
+//!   foreign line is refused naming the file and the line; only a last line torn by an
+//!   interruption is dropped (that record is simply computed again).
 //! * [`write_atomically`]: whole files (a sweep point, a part's manifest, a step's record) are
 //!   written to a temporary file in the same directory, synced, and renamed over the target, so
 //!   a reader sees the old file or the new one, never a mixture.
+//! * [`seal`] / [`unseal`]: whole-file units of finished work carry a digest of their content,
+//!   checked before they are reused or merged.
 //! * [`difference`]: the first field in which two configurations differ, for those refusals.
 
+use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
-use std::io::{BufRead, BufReader, Write};
+use std::io::Write;
 use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use sha2::{Digest, Sha256};
 
 use super::metadata::RunMeta;
 use crate::Error;
 
 /// Version of the journal layout (header fields, one record per line). A journal of another
-/// version is refused: its records may mean something else (version 3 and earlier wrote no
-/// `kind`; earlier stream schemes drew other trajectories).
-pub const FORMAT: u32 = 4;
+/// version is refused: its records may mean something else (version 4 and earlier carried no
+/// digests; version 3 and earlier wrote no `kind`; earlier stream schemes drew other
+/// trajectories).
+pub const FORMAT: u32 = 5;
+
+/// The SHA-256 digest of `bytes`, as 64 lower-case hex digits.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::engine::resume::sha256_hex;
+/// assert_eq!(
+///     sha256_hex(b"abc"),
+///     "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+/// );
+/// ```
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// The digest of a JSON value: SHA-256 of `salt`, a newline and the value's compact JSON (keys
+/// in the order serde_json keeps them, which a parse and a re-serialisation preserve; numbers
+/// round-trip exactly).
+fn digest_of(salt: &str, v: &Value) -> String {
+    let mut h = Sha256::new();
+    h.update(salt.as_bytes());
+    h.update(b"\n");
+    h.update(v.to_string().as_bytes());
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
 
 /// The first line of a journal.
 #[derive(Serialize, Deserialize)]
@@ -44,66 +81,128 @@ struct Header<C> {
 
 /// An append-only record of finished work of one configuration (see the module documentation).
 /// Records are appended from any worker thread.
+///
+/// Every line carries a SHA-256 digest: the header's covers its format, kind, configuration and
+/// metadata; a record's covers the header's digest and the record, so that a record copied from
+/// a journal of another configuration is as foreign as an edited one.
 #[derive(Debug)]
 pub struct Journal<R> {
     path: PathBuf,
-    file: Mutex<File>,
+    /// The header line (with its digest), for rewrites.
+    header: String,
+    /// The header's digest: the salt of every record's.
+    salt: String,
+    /// Open for appending (`None` only while the journal is first written).
+    file: Mutex<Option<File>>,
     records: PhantomData<fn(R)>,
 }
 
 impl<R: Serialize + DeserializeOwned> Journal<R> {
     /// Opens the journal at `path` for work of `kind` at `config` (created with its header if
-    /// missing or empty) and returns it with the records already in it, in file order.
+    /// missing or empty) and returns it with the records already in it, in file order. A last
+    /// line cut short by an interruption (no newline) is dropped from the file.
     ///
     /// # Errors
-    /// A file that is not a journal, or one of another format, kind or configuration (naming
-    /// the first field that differs); an I/O error (naming the path).
+    /// A file that is not a journal, one of another format, kind or configuration (naming the
+    /// first field that differs), a line edited, repeated or not a record (naming the file and
+    /// the line); an I/O error (naming the path).
     pub fn open<C: Serialize>(
         path: &Path,
         kind: &str,
         config: &C,
         meta: Option<RunMeta>,
     ) -> Result<(Self, Vec<R>), Error> {
-        let records = read_records(path, kind, config)?;
-        let fresh = std::fs::metadata(path).map_or(true, |m| m.len() == 0);
-        let mut f = OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(path)
-            .map_err(|e| io_error("open", path, e))?;
-        if fresh {
-            let header = Header {
-                format: FORMAT,
-                kind: kind.to_string(),
-                config,
-                meta,
-            };
-            writeln!(f, "{}", to_line(&header)?).map_err(|e| io_error("write", path, e))?;
-        } else {
-            // A line cut short by an interruption must not swallow the next record.
-            writeln!(f).map_err(|e| io_error("write", path, e))?;
+        let (header, salt, lines) = match read_journal(path, kind, config)? {
+            Some(found) => found,
+            None => {
+                let mut h = serde_json::to_value(Header {
+                    format: FORMAT,
+                    kind: kind.to_string(),
+                    config,
+                    meta,
+                })
+                .map_err(|e| Error::Invalid(format!("journal header: {e}")))?;
+                let salt = digest_of("", &h);
+                h["digest"] = Value::String(salt.clone());
+                (h.to_string(), salt, Vec::new())
+            }
+        };
+        let mut records = Vec::with_capacity(lines.len());
+        for (n, line) in &lines {
+            let r = serde_json::from_value::<R>(line["record"].clone()).map_err(|e| {
+                Error::Invalid(format!(
+                    "{} line {n}: a record of the right digest but not a {kind} record ({e}): use another file",
+                    path.display()
+                ))
+            })?;
+            records.push(r);
         }
-        f.sync_data().map_err(|e| io_error("sync", path, e))?;
         let journal = Journal {
             path: path.to_path_buf(),
-            file: Mutex::new(f),
+            header,
+            salt,
+            file: Mutex::new(None),
             records: PhantomData,
         };
+        let text: String = lines.iter().map(|(_, l)| format!("{l}\n")).collect();
+        journal.replace_text(&text)?;
         Ok((journal, records))
     }
 
-    /// Appends `record` as one line and syncs it to disk, so that it survives an interruption.
+    /// The line of `record`, with its digest and the newline.
+    fn line(&self, record: &R) -> Result<String, Error> {
+        let v = serde_json::to_value(record)
+            .map_err(|e| Error::Invalid(format!("journal record: {e}")))?;
+        let digest = digest_of(&self.salt, &v);
+        let mut line = serde_json::json!({ "digest": digest, "record": v }).to_string();
+        line.push('\n');
+        Ok(line)
+    }
+
+    /// Appends `record` as one line (one write) and syncs it to disk, so that it survives an
+    /// interruption.
     ///
     /// # Errors
     /// An I/O error, naming the path.
     pub fn append(&self, record: &R) -> Result<(), Error> {
-        let line = to_line(record)?;
-        let mut f = self
-            .file
-            .lock()
-            .map_err(|_| Error::Io(format!("{}: journal lock poisoned", self.path.display())))?;
-        writeln!(f, "{line}").map_err(|e| io_error("write", &self.path, e))?;
+        let line = self.line(record)?;
+        let mut f = self.file.lock().map_err(|_| {
+            Error::Invalid(format!("{}: journal lock poisoned", self.path.display()))
+        })?;
+        let f = f
+            .as_mut()
+            .ok_or_else(|| Error::Invalid(format!("{}: journal not open", self.path.display())))?;
+        f.write_all(line.as_bytes())
+            .map_err(|e| io_error("write", &self.path, e))?;
         f.sync_data().map_err(|e| io_error("sync", &self.path, e))
+    }
+
+    /// Replaces the records with `records`, atomically (a reader or a resumed run sees the old
+    /// journal or the new one): how a journal drops records that later ones made redundant.
+    ///
+    /// # Errors
+    /// An I/O error, naming the path.
+    pub fn rewrite(&self, records: &[R]) -> Result<(), Error> {
+        let mut text = String::new();
+        for r in records {
+            text.push_str(&self.line(r)?);
+        }
+        self.replace_text(&text)
+    }
+
+    /// Writes the header and `body` atomically and reopens the file for appending.
+    fn replace_text(&self, body: &str) -> Result<(), Error> {
+        let mut f = self.file.lock().map_err(|_| {
+            Error::Invalid(format!("{}: journal lock poisoned", self.path.display()))
+        })?;
+        write_atomically(&self.path, format!("{}\n{body}", self.header).as_bytes())?;
+        *f = Some(
+            OpenOptions::new()
+                .append(true)
+                .open(&self.path)
+                .map_err(|e| io_error("open", &self.path, e))?,
+        );
+        Ok(())
     }
 
     /// The journal's file.
@@ -112,29 +211,73 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
     }
 }
 
-/// The records of the journal at `path` (none if it is missing or empty), after checking its
-/// header against `kind` and `config`.
-fn read_records<C: Serialize, R: DeserializeOwned>(
+/// The verified contents of the journal at `path` (`None` if it is missing or empty): its
+/// header line, the header's digest, and the records' lines (numbered from 1 as an editor
+/// numbers them) with their digests checked.
+#[allow(clippy::type_complexity)]
+fn read_journal<C: Serialize>(
     path: &Path,
     kind: &str,
     config: &C,
-) -> Result<Vec<R>, Error> {
-    let f = match File::open(path) {
-        Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(io_error("open", path, e)),
+) -> Result<Option<(String, String, Vec<(usize, Value)>)>, Error> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) if e.kind() == std::io::ErrorKind::InvalidData => {
+            return Err(Error::Invalid(format!(
+                "{} is not a lorentz journal (not UTF-8 text): use another file",
+                path.display()
+            )))
+        }
+        Err(e) => return Err(io_error("read", path, e)),
     };
-    let mut lines = BufReader::new(f).lines();
-    let Some(first) = lines.next() else {
-        return Ok(Vec::new());
+    if text.is_empty() {
+        return Ok(None);
+    }
+    // A last line without its newline was cut short by an interruption: it is dropped (that
+    // record is computed again). Every complete line must be intact.
+    let complete = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
+    let mut lines = complete.lines().enumerate().map(|(i, l)| (i + 1, l));
+    let Some((_, first)) = lines.next() else {
+        return Ok(None);
     };
-    let first = first.map_err(|e| io_error("read", path, e))?;
-    let h: Header<serde_json::Value> = serde_json::from_str(&first).map_err(|e| {
+    let salt = check_header(path, first, kind, config)?;
+    let mut seen: HashMap<String, usize> = HashMap::new();
+    let mut out = Vec::new();
+    for (n, line) in lines {
+        let v = check_record(path, n, line, &salt)?;
+        let d = v["digest"].as_str().unwrap_or_default().to_string();
+        if let Some(m) = seen.insert(d, n) {
+            return Err(Error::Invalid(format!(
+                "{} line {n} repeats line {m}: an edited journal (use another file)",
+                path.display()
+            )));
+        }
+        out.push((n, v));
+    }
+    Ok(Some((first.to_string(), salt, out)))
+}
+
+/// Checks a journal's header line against `kind` and `config` and returns its digest.
+fn check_header<C: Serialize>(
+    path: &Path,
+    line: &str,
+    kind: &str,
+    config: &C,
+) -> Result<String, Error> {
+    let not_journal = |why: String| {
         Error::Invalid(format!(
-            "{} is not a lorentz journal ({e}): use another file",
+            "{} is not a lorentz journal ({why}): use another file",
             path.display()
         ))
-    })?;
+    };
+    let mut v: Value = serde_json::from_str(line).map_err(|e| not_journal(e.to_string()))?;
+    let digest = match v.as_object_mut().and_then(|o| o.remove("digest")) {
+        Some(Value::String(d)) => Some(d),
+        _ => None,
+    };
+    let h: Header<Value> =
+        serde_json::from_value(v.clone()).map_err(|e| not_journal(e.to_string()))?;
     if h.format != FORMAT || h.kind != kind {
         return Err(Error::Invalid(format!(
             "{} holds {} of format {} (this version resumes {kind} of format {FORMAT}): use another file",
@@ -143,7 +286,15 @@ fn read_records<C: Serialize, R: DeserializeOwned>(
             h.format
         )));
     }
-    let want = serde_json::to_value(config).map_err(|e| Error::Io(e.to_string()))?;
+    let salt = digest_of("", &v);
+    if digest.as_deref() != Some(salt.as_str()) {
+        return Err(Error::Invalid(format!(
+            "{} line 1: the header does not match its digest (edited): use another file",
+            path.display()
+        )));
+    }
+    let want =
+        serde_json::to_value(config).map_err(|e| Error::Invalid(format!("configuration: {e}")))?;
     if h.config != want {
         return Err(Error::Invalid(format!(
             "{} belongs to another configuration ({}): use another file or the same parameters",
@@ -152,15 +303,67 @@ fn read_records<C: Serialize, R: DeserializeOwned>(
                 .unwrap_or_else(|| "the configurations differ".into())
         )));
     }
-    let mut out = Vec::new();
-    for line in lines {
-        let line = line.map_err(|e| io_error("read", path, e))?;
-        // A line torn by an interruption is ignored: that record is computed again.
-        if let Ok(r) = serde_json::from_str::<R>(&line) {
-            out.push(r);
-        }
+    Ok(salt)
+}
+
+/// Checks record line `n` against its digest (salted with the header's).
+fn check_record(path: &Path, n: usize, line: &str, salt: &str) -> Result<Value, Error> {
+    let bad = |why: &str| {
+        Error::Invalid(format!(
+            "{} line {n}: {why}: an edited, damaged or foreign journal (use another file)",
+            path.display()
+        ))
+    };
+    let v: Value = serde_json::from_str(line).map_err(|_| bad("not a journal record"))?;
+    let (Some(Value::String(d)), Some(r)) = (v.get("digest"), v.get("record")) else {
+        return Err(bad("not a journal record"));
+    };
+    if v.as_object().map_or(0, |o| o.len()) != 2 {
+        return Err(bad("unknown fields beside the record"));
     }
-    Ok(out)
+    if *d != digest_of(salt, r) {
+        return Err(bad("the record does not match its digest"));
+    }
+    Ok(v)
+}
+
+/// `x` as pretty JSON with a `digest` field: the SHA-256 of its compact JSON. What a whole-file
+/// unit of finished work (a sweep point, a part's manifest) is written as, so that
+/// [`unseal`] can refuse an edited file.
+///
+/// # Errors
+/// If `x` is not a JSON object.
+pub fn seal<T: Serialize>(x: &T) -> Result<String, Error> {
+    let mut v = serde_json::to_value(x).map_err(|e| Error::Invalid(format!("{e}")))?;
+    let d = digest_of("", &v);
+    let Some(o) = v.as_object_mut() else {
+        return Err(Error::Invalid("only a JSON object can be sealed".into()));
+    };
+    o.insert("digest".into(), Value::String(d));
+    serde_json::to_string_pretty(&v).map_err(|e| Error::Invalid(format!("{e}")))
+}
+
+/// The value of a file written by [`seal`], its digest checked: an edited, truncated or
+/// unsealed file is refused, naming `path` and what it should be (`what`).
+///
+/// # Errors
+/// As above.
+pub fn unseal<T: DeserializeOwned>(path: &Path, text: &str, what: &str) -> Result<T, Error> {
+    let bad = |why: String| {
+        Error::Invalid(format!(
+            "{}: {why}: not an intact {what} (edited, damaged or of another version)",
+            path.display()
+        ))
+    };
+    let mut v: Value = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
+    let d = match v.as_object_mut().and_then(|o| o.remove("digest")) {
+        Some(Value::String(d)) => d,
+        _ => return Err(bad("no digest".into())),
+    };
+    if d != digest_of("", &v) {
+        return Err(bad("the content does not match its digest".into()));
+    }
+    serde_json::from_value(v).map_err(|e| bad(e.to_string()))
 }
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same directory is written,
@@ -199,8 +402,7 @@ pub fn difference<C: Serialize>(a: &C, b: &C) -> Option<String> {
 }
 
 /// The first differing leaf of two JSON values, with its path.
-fn value_difference(a: &serde_json::Value, b: &serde_json::Value, at: &str) -> Option<String> {
-    use serde_json::Value;
+fn value_difference(a: &Value, b: &Value, at: &str) -> Option<String> {
     let name = |k: &str| {
         if at.is_empty() {
             k.to_string()
@@ -231,16 +433,12 @@ fn value_difference(a: &serde_json::Value, b: &serde_json::Value, at: &str) -> O
     }
 }
 
-fn show(v: Option<&serde_json::Value>) -> String {
+fn show(v: Option<&Value>) -> String {
     match v {
         None => "absent".into(),
-        Some(serde_json::Value::String(s)) => s.clone(),
+        Some(Value::String(s)) => s.clone(),
         Some(v) => v.to_string(),
     }
-}
-
-fn to_line<T: Serialize>(v: &T) -> Result<String, Error> {
-    serde_json::to_string(v).map_err(|e| Error::Io(e.to_string()))
 }
 
 /// An I/O error that names the operation and the path.
@@ -260,22 +458,24 @@ mod tests {
 
     #[test]
     fn journals_keep_records_and_refuse_foreign_work() {
-        let dir = std::env::temp_dir().join(format!("lorentz-resume-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join("j.jsonl");
-        let _ = std::fs::remove_file(&p);
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("j.jsonl");
         let cfg = Cfg { w: 0.1, seed: 1 };
         let (j, old) = Journal::<u32>::open(&p, "numbers", &cfg, None).unwrap();
         assert!(old.is_empty());
         j.append(&7).unwrap();
         j.append(&9).unwrap();
         drop(j);
-        // A torn last line is ignored; the records before it are kept.
+        // A torn last line is dropped; the records before it are kept.
         let mut text = std::fs::read_to_string(&p).unwrap();
-        text.push_str("1\"x");
+        text.push_str("{\"digest\":\"12");
         std::fs::write(&p, text).unwrap();
         let (_, old) = Journal::<u32>::open(&p, "numbers", &cfg, None).unwrap();
         assert_eq!(old, vec![7, 9]);
+        assert!(
+            std::fs::read_to_string(&p).unwrap().ends_with("}\n"),
+            "the torn line is gone"
+        );
         let e = Journal::<u32>::open(&p, "numbers", &Cfg { w: 0.1, seed: 2 }, None)
             .unwrap_err()
             .to_string();
@@ -284,7 +484,73 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("letters"), "{e}");
-        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Writes `lines` as the journal at `p` and returns the refusal of opening it.
+    fn refusal(p: &Path, lines: &[String], cfg: &Cfg) -> String {
+        std::fs::write(p, lines.concat()).unwrap();
+        Journal::<u32>::open(p, "numbers", cfg, None)
+            .unwrap_err()
+            .to_string()
+    }
+
+    #[test]
+    fn edited_repeated_and_foreign_lines_are_refused_by_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, q) = (dir.path().join("a.jsonl"), dir.path().join("b.jsonl"));
+        let (a, b) = (Cfg { w: 0.1, seed: 1 }, Cfg { w: 0.1, seed: 2 });
+        let (j, _) = Journal::<u32>::open(&p, "numbers", &a, None).unwrap();
+        j.append(&7).unwrap();
+        j.append(&9).unwrap();
+        let (k, _) = Journal::<u32>::open(&q, "numbers", &b, None).unwrap();
+        k.append(&5).unwrap();
+        let lines: Vec<String> = std::fs::read_to_string(&p)
+            .unwrap()
+            .lines()
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let other: Vec<String> = std::fs::read_to_string(&q)
+            .unwrap()
+            .lines()
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let edited = lines[2].replace("\"record\":9", "\"record\":8");
+        assert_ne!(edited, lines[2]);
+        let e = refusal(&p, &[lines[0].clone(), lines[1].clone(), edited], &a);
+        assert!(e.contains("a.jsonl line 3") && e.contains("digest"), "{e}");
+        let e = refusal(
+            &p,
+            &[lines[0].clone(), lines[1].clone(), lines[1].clone()],
+            &a,
+        );
+        assert!(e.contains("line 3 repeats line 2"), "{e}");
+        let e = refusal(&p, &[lines[0].clone(), other[1].clone()], &a);
+        assert!(e.contains("line 2") && e.contains("foreign"), "{e}");
+        let header = lines[0].replace("\"w\":0.1", "\"w\":0.2");
+        let e = refusal(&p, &[header, lines[1].clone()], &Cfg { w: 0.2, seed: 1 });
+        assert!(e.contains("line 1") && e.contains("digest"), "{e}");
+        let e = refusal(&p, &[lines[0].clone(), "garbage\n".into()], &a);
+        assert!(e.contains("line 2"), "{e}");
+    }
+
+    #[test]
+    fn sealed_files_refuse_edits() {
+        let p = Path::new("point.json");
+        let text = seal(&Cfg { w: 0.1, seed: 3 }).unwrap();
+        let back: Cfg = unseal(p, &text, "point").unwrap();
+        assert_eq!(back, Cfg { w: 0.1, seed: 3 });
+        let edited = text.replace("0.1", "0.10000000000000002");
+        assert_ne!(edited, text);
+        let e = unseal::<Cfg>(p, &edited, "point").unwrap_err().to_string();
+        assert!(e.contains("point.json") && e.contains("digest"), "{e}");
+        let e = unseal::<Cfg>(p, &text[..text.len() / 2], "point")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("point.json"), "{e}");
+        let e = unseal::<Cfg>(p, "{\"w\":0.1,\"seed\":3}", "point")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no digest"), "{e}");
     }
 
     #[test]

@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE, NO_EVENT};
 use crate::numbers::lanes::Lanes;
 use crate::statistics::CompensatedSum;
+use crate::Error;
 
 /// Totals along one trajectory.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
@@ -72,6 +73,59 @@ impl CounterLanes {
         };
         c.finish();
         c
+    }
+}
+
+/// One lane of [`CounterLanes`], exactly (what a checkpoint keeps).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CounterLaneState {
+    /// Compensated sum of flight times: its value and its compensation.
+    pub time: [f64; 2],
+    /// The free path in progress.
+    pub current: f64,
+    /// The longest free path so far.
+    pub longest: f64,
+    /// Collisions (an exact integer).
+    pub collisions: f64,
+    /// Events, collisions and crossings (an exact integer).
+    pub events: f64,
+}
+
+impl CounterLanes {
+    /// Everything lane `l` has counted.
+    pub fn lane_state(&self, l: usize) -> CounterLaneState {
+        CounterLaneState {
+            time: [self.sum[l], self.comp[l]],
+            current: self.current[l],
+            longest: self.longest[l],
+            collisions: self.collisions[l],
+            events: self.events[l],
+        }
+    }
+
+    /// Puts back into lane `l` what [`CounterLanes::lane_state`] took.
+    ///
+    /// # Errors
+    /// If a value is not finite, or a count is not a whole number from 0 to 2⁵³.
+    pub fn set_lane_state(&mut self, l: usize, s: &CounterLaneState) -> Result<(), Error> {
+        let count = |x: f64| (0.0..=9007199254740992.0).contains(&x) && x.fract() == 0.0;
+        let ok = s.time.iter().all(|x| x.is_finite())
+            && s.current.is_finite()
+            && s.longest.is_finite()
+            && count(s.collisions)
+            && count(s.events)
+            && s.events >= s.collisions;
+        if !ok {
+            return Err(Error::Invalid(format!(
+                "counter state {s:?} is not one a trajectory can reach"
+            )));
+        }
+        [self.sum[l], self.comp[l]] = s.time;
+        self.current[l] = s.current;
+        self.longest[l] = s.longest;
+        self.collisions[l] = s.collisions;
+        self.events[l] = s.events;
+        Ok(())
     }
 }
 

@@ -15,9 +15,12 @@
 //! vector comparison against the time left to the next sample for all lanes at once; a sample
 //! (once per Δ, several hops) is handled lane by lane.
 
+use serde::{Deserialize, Serialize};
+
 use crate::engine::observe::{lanes, EventLanes, Observer};
 use crate::numbers::lanes::Lanes;
 use crate::scenes::lattice::Basis64;
+use crate::Error;
 
 /// The MSD accumulator of one trajectory: a ring of past samples (cell i, j as exact `f64`
 /// integers and the offset x, y) and one sum per lag.
@@ -129,6 +132,59 @@ impl Msd {
     pub fn samples(&self, l: usize) -> u64 {
         self.lanes[l].n
     }
+
+    /// Everything lane `l` has accumulated, exactly (what a checkpoint keeps).
+    pub fn lane_state(&self, l: usize) -> MsdLaneState {
+        let lane = &self.lanes[l];
+        MsdLaneState {
+            until: self.until[l],
+            ring: lane.ring.clone(),
+            samples: lane.n,
+            sums: lane.sums.clone(),
+        }
+    }
+
+    /// Puts back into lane `l` what [`Msd::lane_state`] took from an MSD of the same lags and
+    /// sampling interval.
+    ///
+    /// # Errors
+    /// If the state has another ring or number of lags, or non-finite values.
+    pub fn set_lane_state(&mut self, l: usize, s: &MsdLaneState) -> Result<(), Error> {
+        let finite = s.until.is_finite()
+            && s.ring.iter().flatten().all(|x| x.is_finite())
+            && s.sums.iter().all(|x| x.is_finite() && *x >= 0.0);
+        if s.ring.len() != self.mask + 1 || s.sums.len() != self.lags.len() || !finite {
+            return Err(Error::Invalid(format!(
+                "an MSD lane state with {} samples in its ring and {} sums does not fit this run \
+                 ({} and {}, all finite)",
+                s.ring.len(),
+                s.sums.len(),
+                self.mask + 1,
+                self.lags.len()
+            )));
+        }
+        self.until[l] = s.until;
+        self.lanes[l] = Lane {
+            ring: s.ring.clone(),
+            n: s.samples,
+            sums: s.sums.clone(),
+        };
+        Ok(())
+    }
+}
+
+/// One lane of an [`Msd`], exactly: the time left to its next sample, its ring of past samples,
+/// how many it has taken, and its sums per lag.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MsdLaneState {
+    /// Time left to the next grid time.
+    pub until: f64,
+    /// Past samples (cell i, j, offset x, y), indexed by sample number modulo the ring length.
+    pub ring: Vec<[f64; 4]>,
+    /// Samples taken.
+    pub samples: u64,
+    /// Sum of squared displacements per lag.
+    pub sums: Vec<f64>,
 }
 
 fn gcd(a: usize, b: usize) -> usize {

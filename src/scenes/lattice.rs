@@ -82,6 +82,89 @@ impl<T: Real> LatticeState<T> {
             flight: self.flight.to_f64(),
         }
     }
+
+    /// The state exactly, its coordinates as rationals (what a checkpoint keeps: any precision,
+    /// no rounding either way).
+    pub fn to_exact(&self) -> ExactState {
+        let bits = T::bits(self.flight.pos.x.ctx());
+        let q = |x: &T| {
+            x.to_mpfr(bits)
+                .to_rational()
+                .map_or_else(|| "nan".to_string(), |r| r.to_string())
+        };
+        let f = &self.flight;
+        ExactState {
+            cell: [self.cell.i, self.cell.j],
+            down: self.cell.down,
+            pos: [q(&f.pos.x), q(&f.pos.y)],
+            vel: [q(&f.vel.x), q(&f.vel.y)],
+            excluded_disk: f.excluded_disk,
+            excluded_edge: f.excluded_edge,
+        }
+    }
+
+    /// The state [`LatticeState::to_exact`] wrote, at precision `ctx`.
+    ///
+    /// # Errors
+    /// A coordinate that is not a rational, not finite, or not exactly representable at `ctx`'s
+    /// precision (a state of another precision); a label above 2; a cell index beyond ±2⁵³.
+    pub fn from_exact(ctx: T::Ctx, e: &ExactState) -> Result<Self, Error> {
+        let bits = T::bits(ctx);
+        let value = |s: &str| -> Result<T, Error> {
+            let q: rug::Rational = s.parse().map_err(|_| {
+                Error::Invalid(format!("state coordinate {s:?} is not a rational p/q"))
+            })?;
+            let x = T::from_rational(ctx, &q);
+            if x.to_mpfr(bits).to_rational().as_ref() != Some(&q) {
+                return Err(Error::Invalid(format!(
+                    "state coordinate {s} is not a {bits}-bit number: a state of another precision"
+                )));
+            }
+            Ok(x)
+        };
+        let label = |l: Option<u8>| l.is_none_or(|m| m <= 2);
+        const LIMIT: i64 = 1 << 53;
+        if !label(e.excluded_disk)
+            || !label(e.excluded_edge)
+            || e.cell.iter().any(|c| c.abs() >= LIMIT)
+        {
+            return Err(Error::Invalid(format!(
+                "state labels {:?}/{:?} or cell {:?} out of range (labels 0 to 2, cells within 2^53)",
+                e.excluded_disk, e.excluded_edge, e.cell
+            )));
+        }
+        Ok(LatticeState {
+            cell: CellIndex {
+                i: e.cell[0],
+                j: e.cell[1],
+                down: e.down,
+            },
+            flight: Flight {
+                pos: Vec2::new(value(&e.pos[0])?, value(&e.pos[1])?),
+                vel: Vec2::new(value(&e.vel[0])?, value(&e.vel[1])?),
+                excluded_disk: e.excluded_disk,
+                excluded_edge: e.excluded_edge,
+            },
+        })
+    }
+}
+
+/// A lattice state written exactly: cell, orientation, position and velocity as rationals
+/// `p/q` (for an `f64` state, q a power of two), exclusions.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct ExactState {
+    /// Cell index (i, j).
+    pub cell: [i64; 2],
+    /// A down (point-reflected) cell.
+    pub down: bool,
+    /// Position in the cell frame.
+    pub pos: [String; 2],
+    /// Velocity.
+    pub vel: [String; 2],
+    /// Excluded disk (0, 1, 2).
+    pub excluded_disk: Option<u8>,
+    /// Excluded edge (0, 1, 2).
+    pub excluded_edge: Option<u8>,
 }
 
 /// The lattice basis as `f64` (a, β, h), for observables.

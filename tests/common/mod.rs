@@ -63,3 +63,20 @@ pub fn threads(threads: usize) -> RunOptions<'static> {
         ..RunOptions::default()
     }
 }
+
+/// A result's JSON without what differs between runs of the same bits: timing, metadata, and how
+/// much was resumed from a checkpoint.
+pub fn physics_only(mut v: serde_json::Value) -> serde_json::Value {
+    if let Some(m) = v.as_object_mut() {
+        for k in [
+            "meta",
+            "seconds",
+            "collisions_per_second",
+            "resumed_batches",
+            "resumed_points",
+        ] {
+            m.remove(k);
+        }
+    }
+    v
+}

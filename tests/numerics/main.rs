@@ -9,6 +9,7 @@
 mod common;
 
 mod bit_for_bit;
+mod checkpoints;
 mod engine;
 mod fuzz_oracle;
 mod hard_cases;

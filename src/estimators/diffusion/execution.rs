@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::checkpoint::{InFlight, Keeper};
 use super::{BatchResult, DiffusionConfig};
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::AuditSpec;
@@ -125,6 +126,32 @@ impl BatchObservers {
     }
 }
 
+impl BatchObservers {
+    /// Lane `l`'s trajectory in flight: `job` after `collisions` collisions in `state`.
+    fn in_flight<T: Real>(
+        &self,
+        l: usize,
+        job: &Job,
+        collisions: u64,
+        state: &LatticeState<T>,
+    ) -> InFlight {
+        InFlight {
+            run: job.run,
+            index: job.index,
+            collisions,
+            state: state.to_exact(),
+            counters: self.counters.lane_state(l),
+            msd: self.msd.lane_state(l),
+        }
+    }
+
+    /// Puts a saved trajectory's accumulators back into lane `l`.
+    fn restore(&mut self, l: usize, f: &InFlight) -> Result<(), Error> {
+        self.counters.set_lane_state(l, &f.counters)?;
+        self.msd.set_lane_state(l, &f.msd)
+    }
+}
+
 impl<const L: usize> Observer<L> for BatchObservers {
     #[inline(always)]
     fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
@@ -136,42 +163,87 @@ impl<const L: usize> Observer<L> for BatchObservers {
     }
 }
 
-/// Runs one trajectory on the scalar engine at number type `T`.
+/// Runs one trajectory on the scalar engine at number type `T`, from its saved state if it was
+/// in flight, saving it at `keep`'s interval.
 pub(super) fn run_scalar<T: Real>(
     lat: &TriangularLattice<T>,
     trap64: &Trap<f64>,
     job: Job,
-    tau: f64,
-    lags: &[usize],
-    audit: Option<AuditSpec>,
+    x: &ExecSpec,
+    keep: &Keeper,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<BatchResult, Error> {
     let start = Instant::now();
-    let mut s = job.start::<T>(trap64, lat.trap().a.ctx());
-    let mut obs = BatchObservers::new(&[job], 1, trap64, lat.basis_f64(), tau, lags, audit)?;
-    drive(lat, &mut s, job.collisions, &mut obs, progress)?;
+    let ctx = lat.trap().a.ctx();
+    let mut obs = BatchObservers::new(&[job], 1, trap64, lat.basis_f64(), x.tau, &x.lags, x.audit)?;
+    let (mut s, mut done) = match keep.resumed(&job) {
+        Some(f) => {
+            obs.restore(0, f)?;
+            (f.state::<T>(ctx)?, f.collisions)
+        }
+        None => (job.start::<T>(trap64, ctx), 0),
+    };
+    let segment = keep.segment(T::bits(ctx) > 53);
+    let mut last = Instant::now();
+    while done < job.collisions {
+        let q = (job.collisions - done).min(segment);
+        drive(lat, &mut s, q, &mut obs, progress)?;
+        done += q;
+        if done < job.collisions {
+            keep.save_if_due(&mut last, || vec![obs.in_flight(0, &job, done, &s)])?;
+        }
+    }
     let mut r = obs.results(&[job], start.elapsed().as_secs_f64())?;
     Ok(r.remove(0))
 }
 
 /// Runs up to [`BLOCK`] trajectories together on the SIMD engine (`f64`, bit-identical to
-/// [`run_scalar`] lane by lane).
+/// [`run_scalar`] lane by lane), each from its saved state if it was in flight, saving them at
+/// `keep`'s interval.
 pub(super) fn run_simd(
     path: SimdPath,
     trap64: &Trap<f64>,
     jobs: &[Job],
-    tau: f64,
-    lags: &[usize],
-    audit: Option<AuditSpec>,
+    x: &ExecSpec,
+    keep: &Keeper,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<BatchResult>, Error> {
     let start = Instant::now();
-    let mut states: Vec<LatticeState<f64>> = jobs.iter().map(|j| j.start(trap64, ())).collect();
-    let quotas: Vec<u64> = jobs.iter().map(|j| j.collisions).collect();
     // The basis the scalar engine's f64 lattice has (`Lattice::basis_f64`).
     let basis = TriangularLattice::from_kernel(trap64.clone()).basis_f64();
-    let mut obs = BatchObservers::new(jobs, BLOCK, trap64, basis, tau, lags, audit)?;
-    run_block(path, trap64, &mut states, &quotas, &mut obs, progress)?;
+    let mut obs = BatchObservers::new(jobs, BLOCK, trap64, basis, x.tau, &x.lags, x.audit)?;
+    let mut states = Vec::with_capacity(jobs.len());
+    let mut done = vec![0u64; jobs.len()];
+    for (l, j) in jobs.iter().enumerate() {
+        match keep.resumed(j) {
+            Some(f) => {
+                obs.restore(l, f)?;
+                states.push(f.state::<f64>(())?);
+                done[l] = f.collisions;
+            }
+            None => states.push(j.start(trap64, ())),
+        }
+    }
+    let segment = keep.segment(false);
+    let mut last = Instant::now();
+    loop {
+        let quotas: Vec<u64> = jobs
+            .iter()
+            .zip(&done)
+            .map(|(j, d)| (j.collisions - d).min(segment))
+            .collect();
+        if quotas.iter().all(|&q| q == 0) {
+            break;
+        }
+        run_block(path, trap64, &mut states, &quotas, &mut obs, progress)?;
+        done.iter_mut().zip(&quotas).for_each(|(d, q)| *d += q);
+        keep.save_if_due(&mut last, || {
+            (0..jobs.len())
+                .filter(|&l| done[l] < jobs[l].collisions)
+                .map(|l| obs.in_flight(l, &jobs[l], done[l], &states[l]))
+                .collect()
+        })?;
+    }
     // The block's wall time, shared out: each batch's `seconds` is its part of the block.
     let seconds = start.elapsed().as_secs_f64() / jobs.len() as f64;
     obs.results(jobs, seconds)
@@ -214,12 +286,12 @@ pub(super) struct ExecSpec {
 }
 
 /// Runs `jobs` on `spec.threads` threads — one job per task on the scalar engine, blocks of
-/// [`BLOCK`] jobs on the SIMD engine — handing each finished result to `record` at once.
-/// Results come back in job order.
+/// [`BLOCK`] jobs on the SIMD engine — handing each finished result to `keep` at once (and the
+/// trajectories in flight at its interval). Results come back in job order.
 pub(super) fn execute(
     jobs: &[Job],
     spec: ExecSpec,
-    record: &(dyn Fn(&Job, &BatchResult) -> Result<(), Error> + Sync),
+    keep: &Keeper,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<BatchResult>, Error> {
     for j in jobs {
@@ -237,10 +309,9 @@ pub(super) fn execute(
                 blocks
                     .par_iter()
                     .map(|b| {
-                        let r =
-                            run_simd(path, &trap64, b, spec.tau, &spec.lags, spec.audit, progress)?;
+                        let r = run_simd(path, &trap64, b, &spec, keep, progress)?;
                         for (j, x) in b.iter().zip(&r) {
-                            record(j, x)?;
+                            keep.finish(j, x)?;
                         }
                         Ok(r)
                     })
@@ -250,13 +321,10 @@ pub(super) fn execute(
         }
         Resolved::Scalar => spec.precision.dispatch(RunScalar {
             jobs,
-            w: spec.w,
+            spec: &spec,
             trap64: &trap64,
-            tau: spec.tau,
-            lags: &spec.lags,
-            audit: spec.audit,
             pool: &pool,
-            record,
+            keep,
             progress,
         }),
     }
@@ -265,34 +333,23 @@ pub(super) fn execute(
 /// The jobs on the scalar engine, at the number type of the run's precision.
 pub(super) struct RunScalar<'a> {
     jobs: &'a [Job],
-    w: f64,
+    spec: &'a ExecSpec,
     trap64: &'a Trap<f64>,
-    tau: f64,
-    lags: &'a [usize],
-    audit: Option<AuditSpec>,
     pool: &'a rayon::ThreadPool,
-    record: &'a (dyn Fn(&Job, &BatchResult) -> Result<(), Error> + Sync),
+    keep: &'a Keeper,
     progress: &'a (dyn Fn(u64) + Sync),
 }
 
 impl AtPrecision for RunScalar<'_> {
     type Output = Result<Vec<BatchResult>, Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
-        let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
+        let lat = TriangularLattice::new(T::from_f64(ctx, self.spec.w))?;
         self.pool.install(|| {
             self.jobs
                 .par_iter()
                 .map(|&j| {
-                    let r = run_scalar(
-                        &lat,
-                        self.trap64,
-                        j,
-                        self.tau,
-                        self.lags,
-                        self.audit,
-                        self.progress,
-                    )?;
-                    (self.record)(&j, &r)?;
+                    let r = run_scalar(&lat, self.trap64, j, self.spec, self.keep, self.progress)?;
+                    self.keep.finish(&j, &r)?;
                     Ok(r)
                 })
                 .collect()

@@ -22,7 +22,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOptions};
-use crate::engine::resume::Journal;
 use crate::engine::Engine;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
@@ -34,9 +33,11 @@ use crate::statistics::mean_se;
 use crate::verification::shadow_audit::AuditSummary;
 use crate::Error;
 
+mod checkpoint;
 mod execution;
 mod summary;
 
+use checkpoint::{Keeper, CHECKPOINT_KIND, PACKED_KIND};
 use execution::{execute, setup, Job};
 use summary::{d_of_batch, summarise};
 
@@ -340,7 +341,7 @@ pub fn rerun_batches(
         }
     }
     let jobs: Vec<Job> = cfg.jobs().filter(|j| indices.contains(&j.index)).collect();
-    let mut r = execute(&jobs, spec, &|_, _| Ok(()), progress)?;
+    let mut r = execute(&jobs, spec, &Keeper::none(), progress)?;
     r.sort_by_key(|b| b.index);
     Ok(r)
 }
@@ -362,13 +363,17 @@ pub fn batch_start(cfg: &DiffusionConfig, index: u32) -> Result<LatticeState<f64
 /// thread count; only `seconds`, the speed and the metadata's engine differ.
 ///
 /// `options.progress` receives collision counts as they are done. With `options.resume` (a
-/// checkpoint file), every finished batch is appended to it at once and batches already there
-/// (from the same configuration) are not run again. `options.audit` replays a fraction of the
-/// events in MPFR as the run goes (`f64` runs only).
+/// checkpoint file), every finished batch is appended to it at once, and every
+/// `options.checkpoint_every` the whole state of each trajectory in flight; batches already
+/// there (from the same configuration) are not run again and trajectories in flight continue
+/// from their saved state, to the uninterrupted bits. A resumed run whose exact identities then
+/// fail stops with an error. `options.audit` replays a fraction of the events in MPFR as the run
+/// goes (`f64` runs only; with it, only finished batches are kept).
 ///
 /// # Errors
 /// An invalid configuration or options (before any work), a checkpoint of another
-/// configuration, or an I/O error.
+/// configuration or an edited one (naming the file and line), an I/O error, or a resumed run
+/// failing its exact identities.
 ///
 /// # Examples
 ///
@@ -381,119 +386,121 @@ pub fn batch_start(cfg: &DiffusionConfig, index: u32) -> Result<LatticeState<f64
 /// ```
 pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionReport, Error> {
     options.validate()?;
-    let (engine, threads, audit, progress) = (
-        options.engine,
-        options.threads,
-        options.audit,
-        options.progress,
-    );
-    let checkpoint = options.resume.as_ref();
     cfg.validate()?;
+    let audit = options.audit;
     if audit.is_some() && cfg.precision != Precision::F64 {
         return Err(Error::Invalid(
             "--audit replays f64 events in MPFR: it applies to f64 runs only".into(),
         ));
     }
-    let (spec, g) = setup(cfg, engine, threads, audit)?;
+    let (spec, g) = setup(cfg, options.engine, options.threads, audit)?;
     let (resolved, tau) = (spec.engine, spec.tau);
     let start = Instant::now();
-
-    let (journal, mut done) = open_checkpoint(checkpoint.map(|p| p.as_path()), cfg)?;
-    let resumed = done.len() as u32;
-    for b in &done {
-        progress(b.counters.collisions);
-    }
-    let todo: Vec<Job> = cfg
-        .jobs()
-        .filter(|j| !done.iter().any(|b| b.index == j.index))
-        .collect();
-    let record = |_: &Job, r: &BatchResult| journal.as_ref().map_or(Ok(()), |j| j.append(r));
-    let new = execute(&todo, spec, &record, progress)?;
-    let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
-    done.extend(new);
-    done.sort_by_key(|b| b.index);
-    let seconds = start.elapsed().as_secs_f64();
-    let mut rep = summarise(cfg, &g, tau, &done, threads, seconds, resumed, run_now);
-    rep.meta = rep.meta.with_engine(resolved);
-    Ok(rep)
-}
-
-/// One finished batch in a [`run_many`] journal.
-#[derive(Serialize, Deserialize)]
-struct JournalEntry {
-    run: u64,
-    batch: BatchResult,
-}
-
-/// Kind of the records of a [`run_many`] journal.
-const PACKED_KIND: &str = "packed diffusion runs";
-
-/// Kind of the records of a diffusion checkpoint.
-const CHECKPOINT_KIND: &str = "diffusion batches";
-
-/// The checkpoint at `path` (if any) of `cfg`, opened for appending, and its finished batches
-/// (each index once; a torn line ignored).
-fn open_checkpoint(
-    path: Option<&Path>,
-    cfg: &DiffusionConfig,
-) -> Result<(Option<Journal<BatchResult>>, Vec<BatchResult>), Error> {
-    let Some(p) = path else {
-        return Ok((None, Vec::new()));
-    };
+    let jobs: Vec<Job> = cfg.jobs().collect();
     let meta = RunMeta::new(
         Some(cfg.seed),
         Some(cfg.batches as u64),
         cfg.precision,
         None,
     );
-    let (journal, records) = Journal::<BatchResult>::open(p, CHECKPOINT_KIND, cfg, Some(meta))?;
-    let mut done: Vec<BatchResult> = Vec::new();
-    for b in records {
-        if !done.iter().any(|o| o.index == b.index) {
-            done.push(b);
-        }
+    let keep = open_keeper(options, CHECKPOINT_KIND, cfg, Some(meta), &jobs)?;
+    (options.progress)(keep.collisions_done());
+    let resumed = keep.finished().count() as u32;
+    let todo: Vec<Job> = jobs.into_iter().filter(|j| !keep.is_finished(j)).collect();
+    let new = execute(&todo, spec, &keep, options.progress)?;
+    let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
+    let mut done: Vec<BatchResult> = keep.finished().map(|(_, b)| b.clone()).collect();
+    done.extend(new);
+    done.sort_by_key(|b| b.index);
+    let seconds = start.elapsed().as_secs_f64();
+    let mut rep = summarise(
+        cfg,
+        &g,
+        tau,
+        &done,
+        options.threads,
+        seconds,
+        resumed,
+        run_now,
+    );
+    rep.meta = rep.meta.with_engine(resolved);
+    if resumed > 0 || keep.in_flight_count() > 0 {
+        check_resumed_identities(&rep, options.resume.as_deref())?;
     }
-    Ok((Some(journal), done))
+    Ok(rep)
 }
 
-/// The journal at `path` (if any) of the packed runs `cfgs`, opened for appending, and its
-/// finished batches (each (run, index) once; a torn line ignored).
-fn open_journal(
-    path: Option<&Path>,
-    cfgs: &[DiffusionConfig],
-) -> Result<(Option<Journal<JournalEntry>>, Vec<JournalEntry>), Error> {
-    let Some(p) = path else {
-        return Ok((None, Vec::new()));
-    };
-    let (journal, records) = Journal::<JournalEntry>::open(p, PACKED_KIND, &cfgs, None)?;
-    let mut out: Vec<JournalEntry> = Vec::new();
-    for e in records {
-        if !out
-            .iter()
-            .any(|o| o.run == e.run && o.batch.index == e.batch.index)
-        {
-            out.push(e);
+/// The work kept at `options.resume` (nothing without it), with the trajectories in flight saved
+/// at `options.checkpoint_every` (finished batches only with a per-event audit).
+fn open_keeper<C: Serialize>(
+    options: &RunOptions,
+    kind: &str,
+    config: &C,
+    meta: Option<RunMeta>,
+    jobs: &[Job],
+) -> Result<Keeper, Error> {
+    let every = options.audit.is_none().then_some(options.checkpoint_every);
+    Keeper::open(options.resume.as_deref(), kind, config, meta, jobs, every)
+}
+
+/// A resumed run's exact identities (mean free path, hop time, collisions per hop against their
+/// closed forms), each within the Student-t equivalent of 4σ for its batches: work taken from a
+/// checkpoint that measured something else (another gap, an edited value) fails them.
+fn check_resumed_identities(rep: &DiffusionReport, path: Option<&Path>) -> Result<(), Error> {
+    let n = rep.batch_D.len();
+    if n < 2 {
+        return Ok(());
+    }
+    let bound = crate::statistics::normal_sigma_equivalent_t(n as f64 - 1.0, 4.0);
+    let checks = [
+        (
+            "mean free path",
+            rep.mean_free_path,
+            rep.mean_free_path_err,
+            rep.mean_free_path_exact,
+        ),
+        (
+            "mean hop time",
+            rep.tau_hop,
+            rep.tau_hop_err,
+            rep.tau_hop_exact,
+        ),
+        (
+            "collisions per hop",
+            rep.collisions_per_hop,
+            rep.collisions_per_hop_err,
+            rep.collisions_per_hop_exact,
+        ),
+    ];
+    for (what, x, err, exact) in checks {
+        let t = (x - exact) / err;
+        if t.is_nan() || t.abs() > bound {
+            return Err(Error::CheckFailed(format!(
+                "the run resumed from {} fails an exact identity: {what} {x} is {t:+.1} standard \
+                 errors from its closed form {exact} (bound {bound:.2} for {n} batches): the \
+                 checkpoint holds work of another configuration; delete it and run again",
+                path.map_or_else(|| "its checkpoint".into(), |p| p.display().to_string())
+            )));
         }
     }
-    Ok((Some(journal), out))
+    Ok(())
 }
 
 /// Several runs at the same w and fit windows (a sweep point's independent runs), their
 /// trajectories packed together into SIMD blocks: each report has the same bits as [`run`]
-/// of its configuration alone. With a journal file (`options.resume`), every finished batch is appended to it at
-/// once and batches already there (for the same configurations) are not run again, so an
-/// interrupted point loses at most the blocks in flight.
+/// of its configuration alone. With a journal file (`options.resume`), every finished batch is
+/// appended to it at once and the trajectories in flight every `options.checkpoint_every`, and
+/// work already there (for the same configurations) continues, so an interrupted point loses at
+/// most one interval.
 ///
 /// # Errors
 /// If the configurations differ in w, precision or windows, any is invalid, or the journal
-/// belongs to other configurations.
+/// belongs to other configurations or was edited.
 pub fn run_many(
     cfgs: &[DiffusionConfig],
     options: &RunOptions,
 ) -> Result<Vec<DiffusionReport>, Error> {
     options.validate()?;
-    let (engine, threads, progress) = (options.engine, options.threads, options.progress);
-    let journal = options.resume.as_deref();
     let Some(first) = cfgs.first() else {
         return Ok(Vec::new());
     };
@@ -509,34 +516,17 @@ pub fn run_many(
             ));
         }
     }
-    let (spec, g) = setup(first, engine, threads, None)?;
+    let (spec, g) = setup(first, options.engine, options.threads, None)?;
     let (resolved, tau) = (spec.engine, spec.tau);
     let start = Instant::now();
     let jobs: Vec<Job> = cfgs.iter().flat_map(DiffusionConfig::jobs).collect();
-    let (journal, finished) = open_journal(journal, cfgs)?;
-    for e in &finished {
-        progress(e.batch.counters.collisions);
-    }
-    let todo: Vec<Job> = jobs
-        .iter()
-        .filter(|j| {
-            !finished
-                .iter()
-                .any(|e| e.run == j.run && e.batch.index == j.index)
-        })
-        .copied()
-        .collect();
-    let record = |j: &Job, r: &BatchResult| {
-        let e = JournalEntry {
-            run: j.run,
-            batch: r.clone(),
-        };
-        journal.as_ref().map_or(Ok(()), |w| w.append(&e))
-    };
-    let new = execute(&todo, spec, &record, progress)?;
+    let keep = open_keeper(options, PACKED_KIND, &cfgs, None, &jobs)?;
+    (options.progress)(keep.collisions_done());
+    let todo: Vec<Job> = jobs.into_iter().filter(|j| !keep.is_finished(j)).collect();
+    let new = execute(&todo, spec, &keep, options.progress)?;
     let seconds = start.elapsed().as_secs_f64();
     let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
-    let mut all: Vec<(u64, BatchResult)> = finished.into_iter().map(|e| (e.run, e.batch)).collect();
+    let mut all: Vec<(u64, BatchResult)> = keep.finished().map(|(r, b)| (r, b.clone())).collect();
     all.extend(todo.iter().map(|j| j.run).zip(new));
     let mut out = Vec::with_capacity(cfgs.len());
     for c in cfgs {
@@ -548,9 +538,12 @@ pub fn run_many(
         done.sort_by_key(|b| b.index);
         let resumed = done.len() as u32 - todo.iter().filter(|j| j.run == c.run).count() as u32;
         let n: u64 = done.iter().map(|b| b.counters.collisions).sum();
-        let mut rep = summarise(c, &g, tau, &done, threads, seconds, resumed, n);
+        let mut rep = summarise(c, &g, tau, &done, options.threads, seconds, resumed, n);
         rep.collisions_per_second = run_now as f64 / seconds;
         rep.meta = rep.meta.with_engine(resolved);
+        if resumed > 0 || keep.in_flight_count() > 0 {
+            check_resumed_identities(&rep, options.resume.as_deref())?;
+        }
         out.push(rep);
     }
     Ok(out)

@@ -4,11 +4,9 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Serialize;
-
 use super::{RunValue, SweepConfig, SweepPoint};
 use crate::engine::options::RunOptions;
-use crate::engine::resume::{difference, write_atomically};
+use crate::engine::resume::{difference, seal, unseal, write_atomically};
 use crate::estimators::diffusion::{run_many, DiffusionConfig};
 use crate::Error;
 
@@ -49,18 +47,51 @@ pub(crate) fn run_points(
     Ok((points, resumed))
 }
 
-/// The finished point `i` at `path`, if there is one of this sweep; a file of another sweep is an
-/// error.
-fn reuse(cfg: &SweepConfig, path: &Path, i: usize, w: f64) -> Result<Option<SweepPoint>, Error> {
-    let Ok(text) = std::fs::read_to_string(path) else {
-        return Ok(None);
-    };
-    let p = serde_json::from_str::<SweepPoint>(&text).map_err(|e| {
-        Error::Invalid(format!(
-            "{} is not a sweep point ({e}): use another --out",
+/// Most bytes a point file may have: its configuration and a D ± error per run fit in far less.
+const MAX_POINT_BYTES: u64 = 16 << 20;
+
+/// The sweep point in the file at `path`, its digest checked, and its index the one its name
+/// (`point-NNNN.json`) gives: an edited, truncated, renamed or foreign file is refused, naming
+/// the path.
+///
+/// # Errors
+/// As above, or an I/O error naming the path.
+pub fn read_point(path: &Path) -> Result<SweepPoint, Error> {
+    let len = std::fs::metadata(path)
+        .map_err(|e| crate::engine::resume::io_error("read", path, e))?
+        .len();
+    if len > MAX_POINT_BYTES {
+        return Err(Error::Invalid(format!(
+            "{}: {len} bytes is too large for a sweep point (at most {MAX_POINT_BYTES})",
             path.display()
-        ))
-    })?;
+        )));
+    }
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| crate::engine::resume::io_error("read", path, e))?;
+    let p: SweepPoint = unseal(path, &text, "sweep point")?;
+    let named = path.file_name().and_then(|n| n.to_str()).and_then(|n| {
+        n.strip_prefix("point-")?
+            .strip_suffix(".json")?
+            .parse::<u32>()
+            .ok()
+    });
+    if named != Some(p.index) {
+        return Err(Error::Invalid(format!(
+            "{} holds point {}: a renamed or copied point file (point i lives in point-iiii.json)",
+            path.display(),
+            p.index
+        )));
+    }
+    Ok(p)
+}
+
+/// The finished point `i` at `path`, if there is one of this sweep; a file of another sweep or an
+/// edited one is an error.
+fn reuse(cfg: &SweepConfig, path: &Path, i: usize, w: f64) -> Result<Option<SweepPoint>, Error> {
+    if !path.exists() {
+        return Ok(None);
+    }
+    let p = read_point(path)?;
     if p.config != *cfg {
         return Err(Error::Invalid(format!(
             "{} belongs to another sweep ({}): use another --out",
@@ -90,8 +121,8 @@ fn run_point(
     let cfgs: Vec<DiffusionConfig> = (0..cfg.runs)
         .map(|r| cfg.run_config(i as u32, w, r))
         .collect();
-    // Finished batches of this point are journalled as they come, so that an interruption
-    // loses at most the blocks in flight, not the point's finished runs.
+    // Finished batches of this point and its trajectories in flight are journalled, so that an
+    // interruption loses at most one checkpoint interval.
     let path = dir.map(|d| point_path(d, i));
     let journal = path.as_ref().map(|p| p.with_extension("partial"));
     let opts = RunOptions {
@@ -113,18 +144,8 @@ fn run_point(
         runs,
     };
     if let (Some(path), Some(journal)) = (path, journal) {
-        write_atomically(
-            &path,
-            serde_json::to_string(&p)
-                .map_err(|e| Error::Io(e.to_string()))?
-                .as_bytes(),
-        )?;
+        write_atomically(&path, seal(&p)?.as_bytes())?;
         let _ = std::fs::remove_file(&journal);
     }
     Ok(p)
-}
-
-/// Pretty JSON of `x`.
-pub(crate) fn to_json<T: Serialize>(x: &T) -> Result<String, Error> {
-    serde_json::to_string_pretty(x).map_err(|e| Error::Io(e.to_string()))
 }

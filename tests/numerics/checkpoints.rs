@@ -1,0 +1,163 @@
+//! Checkpoints that keep the trajectories in flight: a run resumed from any prefix of its
+//! checkpoint (any moment a kill could leave) gives the uninterrupted bits, on every engine,
+//! thread count and precision; edited or forged checkpoints are refused.
+
+use std::path::Path;
+use std::time::Duration;
+
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::engine::resume::sha256_hex;
+use lorentz_gas::engine::Engine;
+use lorentz_gas::estimators::diffusion::{run, DiffusionConfig, DiffusionReport};
+use lorentz_gas::numbers::precision::Precision;
+use lorentz_gas::Error;
+use rand::{Rng, SeedableRng};
+
+/// A report without what may differ between an interrupted and an uninterrupted run: timing,
+/// metadata and how much was resumed.
+fn physics(r: &DiffusionReport) -> serde_json::Value {
+    let mut v = serde_json::to_value(r).unwrap();
+    let m = v.as_object_mut().unwrap();
+    for k in [
+        "meta",
+        "seconds",
+        "collisions_per_second",
+        "resumed_batches",
+    ] {
+        m.remove(k);
+    }
+    v
+}
+
+fn options(engine: Engine, threads: usize, path: &Path) -> RunOptions<'static> {
+    RunOptions {
+        engine,
+        threads,
+        resume: Some(path.to_path_buf()),
+        // Every segment of every trajectory is saved: the journal holds every state a kill
+        // at any moment could have left.
+        checkpoint_every: Duration::ZERO,
+        ..RunOptions::default()
+    }
+}
+
+/// Runs `cfg` uninterrupted, then with a checkpoint saved at every segment; then, for `cuts`
+/// random prefixes of that checkpoint (cut anywhere, mid-line included), resumes on the other
+/// engine and thread count and compares every physical field with the uninterrupted run.
+fn resumes_from_every_prefix(cfg: &DiffusionConfig, engines: [(Engine, usize); 2], cuts: usize) {
+    let tmp = crate::common::scratch();
+    let full_path = tmp.path().join("full.jsonl");
+    let reference = physics(&run(cfg, &crate::common::threads(2)).unwrap());
+    let (e0, t0) = engines[0];
+    let checkpointed = run(cfg, &options(e0, t0, &full_path)).unwrap();
+    assert_eq!(
+        physics(&checkpointed),
+        reference,
+        "a checkpointed run has the bits"
+    );
+    let text = std::fs::read_to_string(&full_path).unwrap();
+    let in_flight = text.matches("\"in_flight\"").count();
+    assert!(
+        in_flight >= 2 * cfg.batches as usize,
+        "{in_flight} states saved"
+    );
+    let header = text.find('\n').unwrap() + 1;
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(cfg.seed);
+    for k in 0..cuts {
+        let cut = rng.random_range(header..text.len());
+        let path = tmp.path().join(format!("cut-{k}.jsonl"));
+        std::fs::write(&path, &text[..cut]).unwrap();
+        let (e1, t1) = engines[k % 2];
+        let resumed = run(cfg, &options(e1, t1, &path)).unwrap();
+        assert_eq!(
+            physics(&resumed),
+            reference,
+            "resumed at byte {cut} of {} on {e1:?} with {t1} threads",
+            text.len()
+        );
+    }
+}
+
+/// f64 on the SIMD and scalar engines, 1 and 2 threads: 3·10⁶ collisions per trajectory, three
+/// segments each, so the prefixes include trajectories in flight at several stages, finished
+/// batches, and lines torn by the cut.
+#[test]
+fn f64_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
+    let mut cfg = DiffusionConfig::new(0.12);
+    cfg.collisions = 12_000_000;
+    cfg.batches = 4;
+    cfg.seed = 5;
+    resumes_from_every_prefix(&cfg, [(Engine::Auto, 2), (Engine::Scalar, 1)], 6);
+}
+
+/// MPFR: the saved states are exact rationals at the run's precision (segments of 2¹⁴
+/// collisions).
+#[test]
+fn mpfr_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
+    let mut cfg = DiffusionConfig::new(0.2);
+    cfg.collisions = 160_000;
+    cfg.batches = 4;
+    cfg.precision = Precision::Bits(80);
+    cfg.window = "2:8".parse().unwrap();
+    cfg.check_window = "4:16".parse().unwrap();
+    resumes_from_every_prefix(&cfg, [(Engine::Auto, 2), (Engine::Scalar, 1)], 3);
+}
+
+/// The records of a checkpoint with their digests recomputed for a header edited from w = 0.1 to
+/// w = 0.2: what someone who knows the digest scheme could forge.
+fn forge(text: &str) -> String {
+    let digest = |salt: &str, v: &serde_json::Value| sha256_hex(format!("{salt}\n{v}").as_bytes());
+    let mut lines = text.lines();
+    let mut h: serde_json::Value = serde_json::from_str(lines.next().unwrap()).unwrap();
+    let o = h.as_object_mut().unwrap();
+    o.remove("digest");
+    o["config"]["w"] = serde_json::json!(0.2);
+    let salt = digest("", &h);
+    h["digest"] = serde_json::Value::String(salt.clone());
+    let mut out = format!("{h}\n");
+    for l in lines {
+        let v: serde_json::Value = serde_json::from_str(l).unwrap();
+        let r = &v["record"];
+        out.push_str(&format!(
+            "{}\n",
+            serde_json::json!({ "digest": digest(&salt, r), "record": r })
+        ));
+    }
+    out
+}
+
+/// An edited record is refused naming the file and the line; a forged checkpoint (batches of
+/// w = 0.1 under a header of w = 0.2, digests recomputed) passes the digests but fails the exact
+/// identities, and the resumed run stops with an error instead of reporting D(0.2).
+#[test]
+fn edited_and_forged_checkpoints_are_refused() {
+    let tmp = crate::common::scratch();
+    let path = tmp.path().join("c.jsonl");
+    let mut cfg = DiffusionConfig::new(0.1);
+    cfg.collisions = 20_000_000;
+    cfg.batches = 8;
+    let opts = RunOptions {
+        resume: Some(path.clone()),
+        ..crate::common::threads(2)
+    };
+    run(&cfg, &opts).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    // One batch's flight time changed by 1 %: refused, naming file and line.
+    let third = text.lines().nth(2).unwrap();
+    let at = third.find("\"time\":").unwrap() + 7;
+    let end = at + third[at..].find([',', '}']).unwrap();
+    let t: f64 = third[at..end].parse().unwrap();
+    let edited = text.replacen(&third[at..end], &format!("{:?}", t * 1.01), 1);
+    assert_ne!(edited, text);
+    std::fs::write(&path, &edited).unwrap();
+    let e = run(&cfg, &opts).unwrap_err().to_string();
+    assert!(e.contains("c.jsonl line 3") && e.contains("digest"), "{e}");
+    // Forged: the digests hold, the physics does not.
+    std::fs::write(&path, forge(&text)).unwrap();
+    let mut at_02 = cfg.clone();
+    at_02.w = 0.2;
+    let e = run(&at_02, &opts).unwrap_err();
+    assert!(matches!(e, Error::CheckFailed(_)), "{e}");
+    let e = e.to_string();
+    assert!(e.contains("c.jsonl") && e.contains("mean free path"), "{e}");
+}
