@@ -245,6 +245,12 @@ pub struct HopCommand {
     hop: HopArgs,
     #[command(flatten)]
     run: RunArgs,
+    /// Keep the run's work in this file (finished batches as they finish, trajectories in
+    /// flight every --checkpoint-every); a rerun with the same parameters resumes to the same bits.
+    #[arg(long)]
+    checkpoint: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    every: CheckpointEveryArg,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -272,6 +278,8 @@ impl HopCommand {
             engine,
             threads: self.run.threads(),
             progress: &progress,
+            resume: self.checkpoint.clone(),
+            checkpoint_every: self.every.checkpoint_every,
             ..RunOptions::default()
         };
         let r = analysis(&cfg, &opts)?;

@@ -17,7 +17,8 @@ pub const MAX_LAG: usize = 48;
 /// per lag. All lags share the same origins i < N − `max_lag`, so for every J ≤ `max_lag` the
 /// estimate 1 + 2Σ_{j≤J} Ĉ_j is exactly the mean of the gᵢ of the module documentation.
 /// Memory O(`max_lag`), time O(`max_lag`) per hop.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct HopCorrelations {
     /// The last max_lag + 1 directions, stored twice (ring of length cap = max_lag + 1 written at
     /// p and p + cap), so that the window of an origin is one contiguous slice.
@@ -53,6 +54,14 @@ impl HopCorrelations {
             pushed: 0,
             sums: vec![0; max_lag],
         })
+    }
+
+    /// Whether `self` (read from a checkpoint) is a state an accumulator of `max_lag` could be
+    /// in: its sizes, and directions 0 … 5.
+    pub fn is_reachable(&self, max_lag: usize) -> bool {
+        self.ring.len() == 2 * (max_lag + 1)
+            && self.sums.len() == max_lag
+            && self.ring.iter().all(|&d| d < 6)
     }
 
     /// Largest lag accumulated.

@@ -5,15 +5,18 @@
 //! (`proofs-notes/hops.md`).
 
 use super::hop_correlations::{HopCorrelations, MAX_LAG};
+use crate::engine::checkpoint::LaneCheckpoint;
 use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE};
 use crate::kernel::flight::EventKind;
 use crate::numbers::lanes::Lanes;
 use crate::scenes::single_trap::exit_symbol;
 use crate::scenes::symbols::check_order;
 use crate::Error;
+use serde::{Deserialize, Serialize};
 
-/// Hop statistics of one trajectory.
-#[derive(Debug, Clone)]
+/// Hop statistics of one trajectory (also what a checkpoint keeps of it).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Hops {
     order: usize,
     entered: Option<u8>,
@@ -103,6 +106,41 @@ impl HopLanes {
         Ok(HopLanes {
             lanes: vec![h; lanes],
         })
+    }
+}
+
+impl Hops {
+    /// Whether `self` (read from a checkpoint) is a state an accumulator like `like` could be in.
+    fn is_reachable_like(&self, like: &Hops) -> bool {
+        let sizes = self.counts.len() == like.counts.len()
+            && self
+                .counts
+                .iter()
+                .zip(&like.counts)
+                .all(|(a, b)| a.len() == b.len());
+        sizes
+            && self.order == like.order
+            && self.entered.is_none_or(|e| e <= 2)
+            && self.history < like.counts[like.order - 1].len()
+            && self.collisionless <= self.visits
+            && self.directions.is_reachable(like.directions.max_lag())
+    }
+}
+
+impl LaneCheckpoint for HopLanes {
+    type Lane = Hops;
+    fn save_lane(&self, l: usize) -> Hops {
+        self.lanes[l].clone()
+    }
+    fn restore_lane(&mut self, l: usize, saved: &Hops) -> Result<(), Error> {
+        if !saved.is_reachable_like(&self.lanes[l]) {
+            return Err(Error::Invalid(format!(
+                "a saved hop state of order {} does not fit this run (order {})",
+                saved.order, self.lanes[l].order
+            )));
+        }
+        self.lanes[l] = saved.clone();
+        Ok(())
     }
 }
 

@@ -8,26 +8,11 @@ use std::time::Duration;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::resume::sha256_hex;
 use lorentz_gas::engine::Engine;
-use lorentz_gas::estimators::diffusion::{run, DiffusionConfig, DiffusionReport};
+use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::numbers::precision::Precision;
 use lorentz_gas::Error;
 use rand::{Rng, SeedableRng};
-
-/// A report without what may differ between an interrupted and an uninterrupted run: timing,
-/// metadata and how much was resumed.
-fn physics(r: &DiffusionReport) -> serde_json::Value {
-    let mut v = serde_json::to_value(r).unwrap();
-    let m = v.as_object_mut().unwrap();
-    for k in [
-        "meta",
-        "seconds",
-        "collisions_per_second",
-        "resumed_batches",
-    ] {
-        m.remove(k);
-    }
-    v
-}
 
 fn options(engine: Engine, threads: usize, path: &Path) -> RunOptions<'static> {
     RunOptions {
@@ -41,15 +26,23 @@ fn options(engine: Engine, threads: usize, path: &Path) -> RunOptions<'static> {
     }
 }
 
-/// Runs `cfg` uninterrupted, then with a checkpoint saved at every segment; then, for `cuts`
-/// random prefixes of that checkpoint (cut anywhere, mid-line included), resumes on the other
-/// engine and thread count and compares every physical field with the uninterrupted run.
-fn resumes_from_every_prefix(cfg: &DiffusionConfig, engines: [(Engine, usize); 2], cuts: usize) {
+/// Runs an analysis (`analysis(options)`, seeded by `seed`) uninterrupted, then with a
+/// checkpoint saved at every segment; then, for `cuts` random prefixes of that checkpoint (cut
+/// anywhere, mid-line included), resumes on the other engine and thread count and compares
+/// every physical field with the uninterrupted run. `min_saved`: states the checkpoint must hold.
+fn resumes_from_every_prefix<R: serde::Serialize>(
+    analysis: impl Fn(&RunOptions) -> Result<R, Error>,
+    seed: u64,
+    min_saved: usize,
+    engines: [(Engine, usize); 2],
+    cuts: usize,
+) {
+    let physics = |r: &R| crate::common::physics_only(serde_json::to_value(r).unwrap());
     let tmp = crate::common::scratch();
     let full_path = tmp.path().join("full.jsonl");
-    let reference = physics(&run(cfg, &crate::common::threads(2)).unwrap());
+    let reference = physics(&analysis(&crate::common::threads(2)).unwrap());
     let (e0, t0) = engines[0];
-    let checkpointed = run(cfg, &options(e0, t0, &full_path)).unwrap();
+    let checkpointed = analysis(&options(e0, t0, &full_path)).unwrap();
     assert_eq!(
         physics(&checkpointed),
         reference,
@@ -57,18 +50,15 @@ fn resumes_from_every_prefix(cfg: &DiffusionConfig, engines: [(Engine, usize); 2
     );
     let text = std::fs::read_to_string(&full_path).unwrap();
     let in_flight = text.matches("\"in_flight\"").count();
-    assert!(
-        in_flight >= 2 * cfg.batches as usize,
-        "{in_flight} states saved"
-    );
+    assert!(in_flight >= min_saved, "{in_flight} states saved");
     let header = text.find('\n').unwrap() + 1;
-    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(cfg.seed);
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
     for k in 0..cuts {
         let cut = rng.random_range(header..text.len());
         let path = tmp.path().join(format!("cut-{k}.jsonl"));
         std::fs::write(&path, &text[..cut]).unwrap();
         let (e1, t1) = engines[k % 2];
-        let resumed = run(cfg, &options(e1, t1, &path)).unwrap();
+        let resumed = analysis(&options(e1, t1, &path)).unwrap();
         assert_eq!(
             physics(&resumed),
             reference,
@@ -87,7 +77,8 @@ fn f64_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
     cfg.collisions = 12_000_000;
     cfg.batches = 4;
     cfg.seed = 5;
-    resumes_from_every_prefix(&cfg, [(Engine::Auto, 2), (Engine::Scalar, 1)], 6);
+    let engines = [(Engine::Auto, 2), (Engine::Scalar, 1)];
+    resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, 8, engines, 6);
 }
 
 /// MPFR: the saved states are exact rationals at the run's precision (segments of 2¹⁴
@@ -100,7 +91,20 @@ fn mpfr_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
     cfg.precision = Precision::Bits(80);
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
-    resumes_from_every_prefix(&cfg, [(Engine::Auto, 2), (Engine::Scalar, 1)], 3);
+    let engines = [(Engine::Auto, 2), (Engine::Scalar, 1)];
+    resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, 8, engines, 3);
+}
+
+/// Hop statistics resume the same way (each lane's symbol history, sequence counts and
+/// Green–Kubo ring are saved whole).
+#[test]
+fn hop_statistics_resume_from_any_moment_to_the_uninterrupted_bits() {
+    let mut cfg = HopsConfig::new(0.1);
+    cfg.collisions = 12_000_000;
+    cfg.batches = 4;
+    cfg.seed = 8;
+    let engines = [(Engine::Scalar, 2), (Engine::Auto, 1)];
+    resumes_from_every_prefix(|o| hops::run(&cfg, o), cfg.seed, 8, engines, 4);
 }
 
 /// The records of a checkpoint with their digests recomputed for a header edited from w = 0.1 to

@@ -4,19 +4,20 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
-use super::checkpoint::{InFlight, Keeper};
 use super::{BatchResult, DiffusionConfig};
+use crate::engine::checkpoint::{drive_kept, run_block_kept, Keeper, LaneCheckpoint, Quota};
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::AuditSpec;
 use crate::engine::simd::BLOCK;
-use crate::engine::{drive, run_block, Engine, Resolved, SimdPath};
+use crate::engine::{Engine, Resolved, SimdPath};
 use crate::kernel::trap::Trap;
 use crate::numbers::lanes::Lanes;
 use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
-use crate::observers::counters::CounterLanes;
-use crate::observers::msd::Msd;
+use crate::observers::counters::{CounterLaneState, CounterLanes};
+use crate::observers::msd::{Msd, MsdLaneState};
 use crate::scenes::lattice::{Basis64, LatticeState, TriangularLattice};
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::triangular::geometry::Geometry;
@@ -34,6 +35,15 @@ pub(super) struct Job {
 }
 
 impl Job {
+    /// Its run, index and collisions, as the checkpoint knows it.
+    pub(super) fn quota(&self) -> Quota {
+        Quota {
+            run: self.run,
+            index: self.index,
+            collisions: self.collisions,
+        }
+    }
+
     /// The start: a point of the invariant measure from the trajectory stream `(seed, run,
     /// index)`, its speed normalised at the working precision.
     pub(super) fn start<T: Real>(&self, trap64: &Trap<f64>, ctx: T::Ctx) -> LatticeState<T> {
@@ -126,29 +136,29 @@ impl BatchObservers {
     }
 }
 
-impl BatchObservers {
-    /// Lane `l`'s trajectory in flight: `job` after `collisions` collisions in `state`.
-    fn in_flight<T: Real>(
-        &self,
-        l: usize,
-        job: &Job,
-        collisions: u64,
-        state: &LatticeState<T>,
-    ) -> InFlight {
-        InFlight {
-            run: job.run,
-            index: job.index,
-            collisions,
-            state: state.to_exact(),
+/// What a diffusion trajectory's observers have accumulated (the per-event audit is not saved:
+/// with it, only finished batches are kept).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DiffusionLane {
+    counters: CounterLaneState,
+    msd: MsdLaneState,
+}
+
+/// The checkpoint of a diffusion run: finished batches and trajectories in flight.
+pub(super) type DiffusionKeeper = Keeper<BatchResult, DiffusionLane>;
+
+impl LaneCheckpoint for BatchObservers {
+    type Lane = DiffusionLane;
+    fn save_lane(&self, l: usize) -> DiffusionLane {
+        DiffusionLane {
             counters: self.counters.lane_state(l),
             msd: self.msd.lane_state(l),
         }
     }
-
-    /// Puts a saved trajectory's accumulators back into lane `l`.
-    fn restore(&mut self, l: usize, f: &InFlight) -> Result<(), Error> {
-        self.counters.set_lane_state(l, &f.counters)?;
-        self.msd.set_lane_state(l, &f.msd)
+    fn restore_lane(&mut self, l: usize, saved: &DiffusionLane) -> Result<(), Error> {
+        self.counters.set_lane_state(l, &saved.counters)?;
+        self.msd.set_lane_state(l, &saved.msd)
     }
 }
 
@@ -170,29 +180,14 @@ pub(super) fn run_scalar<T: Real>(
     trap64: &Trap<f64>,
     job: Job,
     x: &ExecSpec,
-    keep: &Keeper,
+    keep: &DiffusionKeeper,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<BatchResult, Error> {
     let start = Instant::now();
     let ctx = lat.trap().a.ctx();
     let mut obs = BatchObservers::new(&[job], 1, trap64, lat.basis_f64(), x.tau, &x.lags, x.audit)?;
-    let (mut s, mut done) = match keep.resumed(&job) {
-        Some(f) => {
-            obs.restore(0, f)?;
-            (f.state::<T>(ctx)?, f.collisions)
-        }
-        None => (job.start::<T>(trap64, ctx), 0),
-    };
-    let segment = keep.segment(T::bits(ctx) > 53);
-    let mut last = Instant::now();
-    while done < job.collisions {
-        let q = (job.collisions - done).min(segment);
-        drive(lat, &mut s, q, &mut obs, progress)?;
-        done += q;
-        if done < job.collisions {
-            keep.save_if_due(&mut last, || vec![obs.in_flight(0, &job, done, &s)])?;
-        }
-    }
+    let begin = || job.start::<T>(trap64, ctx);
+    drive_kept(lat, ctx, &job.quota(), begin, &mut obs, keep, progress)?;
     let mut r = obs.results(&[job], start.elapsed().as_secs_f64())?;
     Ok(r.remove(0))
 }
@@ -205,45 +200,16 @@ pub(super) fn run_simd(
     trap64: &Trap<f64>,
     jobs: &[Job],
     x: &ExecSpec,
-    keep: &Keeper,
+    keep: &DiffusionKeeper,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<BatchResult>, Error> {
     let start = Instant::now();
     // The basis the scalar engine's f64 lattice has (`Lattice::basis_f64`).
     let basis = TriangularLattice::from_kernel(trap64.clone()).basis_f64();
     let mut obs = BatchObservers::new(jobs, BLOCK, trap64, basis, x.tau, &x.lags, x.audit)?;
-    let mut states = Vec::with_capacity(jobs.len());
-    let mut done = vec![0u64; jobs.len()];
-    for (l, j) in jobs.iter().enumerate() {
-        match keep.resumed(j) {
-            Some(f) => {
-                obs.restore(l, f)?;
-                states.push(f.state::<f64>(())?);
-                done[l] = f.collisions;
-            }
-            None => states.push(j.start(trap64, ())),
-        }
-    }
-    let segment = keep.segment(false);
-    let mut last = Instant::now();
-    loop {
-        let quotas: Vec<u64> = jobs
-            .iter()
-            .zip(&done)
-            .map(|(j, d)| (j.collisions - d).min(segment))
-            .collect();
-        if quotas.iter().all(|&q| q == 0) {
-            break;
-        }
-        run_block(path, trap64, &mut states, &quotas, &mut obs, progress)?;
-        done.iter_mut().zip(&quotas).for_each(|(d, q)| *d += q);
-        keep.save_if_due(&mut last, || {
-            (0..jobs.len())
-                .filter(|&l| done[l] < jobs[l].collisions)
-                .map(|l| obs.in_flight(l, &jobs[l], done[l], &states[l]))
-                .collect()
-        })?;
-    }
+    let quotas: Vec<Quota> = jobs.iter().map(Job::quota).collect();
+    let begin = |l: usize| jobs[l].start(trap64, ());
+    run_block_kept(path, trap64, &quotas, begin, &mut obs, keep, progress)?;
     // The block's wall time, shared out: each batch's `seconds` is its part of the block.
     let seconds = start.elapsed().as_secs_f64() / jobs.len() as f64;
     obs.results(jobs, seconds)
@@ -291,7 +257,7 @@ pub(super) struct ExecSpec {
 pub(super) fn execute(
     jobs: &[Job],
     spec: ExecSpec,
-    keep: &Keeper,
+    keep: &DiffusionKeeper,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<BatchResult>, Error> {
     for j in jobs {
@@ -311,7 +277,7 @@ pub(super) fn execute(
                     .map(|b| {
                         let r = run_simd(path, &trap64, b, &spec, keep, progress)?;
                         for (j, x) in b.iter().zip(&r) {
-                            keep.finish(j, x)?;
+                            keep.finish(&j.quota(), x)?;
                         }
                         Ok(r)
                     })
@@ -336,7 +302,7 @@ pub(super) struct RunScalar<'a> {
     spec: &'a ExecSpec,
     trap64: &'a Trap<f64>,
     pool: &'a rayon::ThreadPool,
-    keep: &'a Keeper,
+    keep: &'a DiffusionKeeper,
     progress: &'a (dyn Fn(u64) + Sync),
 }
 
@@ -349,7 +315,7 @@ impl AtPrecision for RunScalar<'_> {
                 .par_iter()
                 .map(|&j| {
                     let r = run_scalar(&lat, self.trap64, j, self.spec, self.keep, self.progress)?;
-                    self.keep.finish(&j, &r)?;
+                    self.keep.finish(&j.quota(), &r)?;
                     Ok(r)
                 })
                 .collect()

@@ -20,6 +20,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+use crate::engine::checkpoint::Quota;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOptions};
 use crate::engine::Engine;
@@ -33,12 +34,16 @@ use crate::statistics::mean_se;
 use crate::verification::shadow_audit::AuditSummary;
 use crate::Error;
 
-mod checkpoint;
 mod execution;
 mod summary;
 
-use checkpoint::{Keeper, CHECKPOINT_KIND, PACKED_KIND};
-use execution::{execute, setup, Job};
+use execution::{execute, setup, DiffusionKeeper, Job};
+
+/// Kind of the records of a diffusion checkpoint.
+const CHECKPOINT_KIND: &str = "diffusion trajectories";
+
+/// Kind of the records of a [`run_many`] journal.
+const PACKED_KIND: &str = "packed diffusion trajectories";
 use summary::{d_of_batch, summarise};
 
 /// Refuses a scene in which the diffusion coefficient does not exist: with an infinite horizon
@@ -341,7 +346,7 @@ pub fn rerun_batches(
         }
     }
     let jobs: Vec<Job> = cfg.jobs().filter(|j| indices.contains(&j.index)).collect();
-    let mut r = execute(&jobs, spec, &Keeper::none(), progress)?;
+    let mut r = execute(&jobs, spec, &DiffusionKeeper::none(), progress)?;
     r.sort_by_key(|b| b.index);
     Ok(r)
 }
@@ -404,9 +409,11 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
         None,
     );
     let keep = open_keeper(options, CHECKPOINT_KIND, cfg, Some(meta), &jobs)?;
-    (options.progress)(keep.collisions_done());
     let resumed = keep.finished().count() as u32;
-    let todo: Vec<Job> = jobs.into_iter().filter(|j| !keep.is_finished(j)).collect();
+    let todo: Vec<Job> = jobs
+        .into_iter()
+        .filter(|j| !keep.is_finished(&j.quota()))
+        .collect();
     let new = execute(&todo, spec, &keep, options.progress)?;
     let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
     let mut done: Vec<BatchResult> = keep.finished().map(|(_, b)| b.clone()).collect();
@@ -438,9 +445,22 @@ fn open_keeper<C: Serialize>(
     config: &C,
     meta: Option<RunMeta>,
     jobs: &[Job],
-) -> Result<Keeper, Error> {
+) -> Result<DiffusionKeeper, Error> {
     let every = options.audit.is_none().then_some(options.checkpoint_every);
-    Keeper::open(options.resume.as_deref(), kind, config, meta, jobs, every)
+    let quotas: Vec<_> = jobs.iter().map(Job::quota).collect();
+    let fits =
+        |q: &Quota, b: &BatchResult| b.index == q.index && b.counters.collisions == q.collisions;
+    let keep = DiffusionKeeper::open(
+        options.resume.as_deref(),
+        kind,
+        config,
+        meta,
+        &quotas,
+        every,
+        &fits,
+    )?;
+    (options.progress)(keep.collisions_done(&quotas));
+    Ok(keep)
 }
 
 /// A resumed run's exact identities (mean free path, hop time, collisions per hop against their
@@ -521,8 +541,10 @@ pub fn run_many(
     let start = Instant::now();
     let jobs: Vec<Job> = cfgs.iter().flat_map(DiffusionConfig::jobs).collect();
     let keep = open_keeper(options, PACKED_KIND, &cfgs, None, &jobs)?;
-    (options.progress)(keep.collisions_done());
-    let todo: Vec<Job> = jobs.into_iter().filter(|j| !keep.is_finished(j)).collect();
+    let todo: Vec<Job> = jobs
+        .into_iter()
+        .filter(|j| !keep.is_finished(&j.quota()))
+        .collect();
     let new = execute(&todo, spec, &keep, options.progress)?;
     let seconds = start.elapsed().as_secs_f64();
     let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();

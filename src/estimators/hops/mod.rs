@@ -15,11 +15,12 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use crate::engine::checkpoint::{drive_kept, run_block_kept, Keeper, Quota};
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::parallel::{par_batches, par_chunks, share};
 use crate::engine::simd::BLOCK;
-use crate::engine::{drive, run_block, Resolved};
+use crate::engine::Resolved;
 use crate::estimators::diffusion::Estimate;
 use crate::numbers::precision::Precision;
 use crate::observers::hop_correlations::{HopCorrelations, MAX_LAG};
@@ -266,8 +267,13 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
     })
 }
 
+/// Kind of the records of a hops checkpoint.
+const CHECKPOINT_KIND: &str = "hop trajectories";
+
 /// Runs the configuration's trajectories on the resolved engine: the hop statistics of each
-/// batch, in batch order, and the engine that ran them.
+/// batch, in batch order, and the engine that ran them. With `options.resume`, finished batches
+/// and (every `options.checkpoint_every`) the trajectories in flight are kept there, and work
+/// already there continues, to the uninterrupted bits.
 fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolved), Error> {
     let HopsConfig {
         w,
@@ -277,10 +283,10 @@ fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolve
         seed,
         run,
     } = *cfg;
-    let (engine, threads, progress) = (options.engine, options.threads, options.progress);
-    let resolved = engine.resolve(true)?;
+    let (threads, progress) = (options.threads, options.progress);
+    let resolved = options.engine.resolve(true)?;
     let lat = TriangularLattice::new(w)?;
-    let start = |b: usize| {
+    let start = |b: u32| {
         equilibrium_state(
             lat.trap(),
             &mut StreamKey::new(seed, Purpose::Trajectory, b as u64)
@@ -288,24 +294,51 @@ fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolve
                 .rng(),
         )
     };
-    let quota = |b: usize| share(collisions, batches, b as u32);
-    let res: Vec<Hops> = match resolved {
-        Resolved::Scalar => par_batches(threads, batches, |b| {
-            let mut s = start(b as usize);
+    let jobs: Vec<Quota> = (0..batches)
+        .map(|index| Quota {
+            run,
+            index,
+            collisions: share(collisions, batches, index),
+        })
+        .collect();
+    let meta = RunMeta::new(Some(seed), Some(batches as u64), Precision::F64, None);
+    let fits = |_: &Quota, h: &Hops| h.order() == order;
+    let keep = Keeper::<Hops, Hops>::open(
+        options.resume.as_deref(),
+        CHECKPOINT_KIND,
+        cfg,
+        Some(meta),
+        &jobs,
+        Some(options.checkpoint_every),
+        &fits,
+    )?;
+    progress(keep.collisions_done(&jobs));
+    let todo: Vec<Quota> = jobs.into_iter().filter(|j| !keep.is_finished(j)).collect();
+    let new: Vec<Hops> = match resolved {
+        Resolved::Scalar => par_batches(threads, todo.len() as u32, |k| {
+            let j = &todo[k as usize];
             let mut h = HopLanes::new(order, 1)?;
-            drive(&lat, &mut s, quota(b as usize), &mut h, progress)?;
-            Ok(h.lanes.remove(0))
+            drive_kept(&lat, (), j, || start(j.index), &mut h, &keep, progress)?;
+            let r = h.lanes.remove(0);
+            keep.finish(j, &r)?;
+            Ok(r)
         })?,
-        Resolved::Simd(path) => par_chunks(threads, batches as usize, BLOCK, |r| {
-            let mut states: Vec<_> = r.clone().map(start).collect();
-            let quotas: Vec<u64> = r.clone().map(quota).collect();
+        Resolved::Simd(path) => par_chunks(threads, todo.len(), BLOCK, |r| {
+            let js = &todo[r];
             let mut h = HopLanes::new(order, BLOCK)?;
-            run_block(path, lat.trap(), &mut states, &quotas, &mut h, progress)?;
-            h.lanes.truncate(r.len());
+            let begin = |l: usize| start(js[l].index);
+            run_block_kept(path, lat.trap(), js, begin, &mut h, &keep, progress)?;
+            h.lanes.truncate(js.len());
+            for (j, x) in js.iter().zip(&h.lanes) {
+                keep.finish(j, x)?;
+            }
             Ok(h.lanes)
         })?,
     };
-    Ok((res, resolved))
+    let mut all: Vec<(u32, Hops)> = keep.finished_by_index().collect();
+    all.extend(todo.iter().map(|j| j.index).zip(new));
+    all.sort_by_key(|(i, _)| *i);
+    Ok((all.into_iter().map(|(_, h)| h).collect(), resolved))
 }
 
 /// The sequence probabilities of every length 1 … `order` (batch means and errors by name), and

@@ -1,0 +1,406 @@
+//! Trajectories that survive a kill: what a resumable run keeps so that an interruption loses at
+//! most one checkpoint interval — the finished batches, and at the interval the whole state of
+//! every trajectory in flight (its exact position, velocity, cell and exclusions, its collision
+//! count, and its observers' accumulators) — as records of the run's [`Journal`] (digested line
+//! by line), and the engines' drivers that run a trajectory in segments, restore it and save it.
+//!
+//! A resumed trajectory continues from its saved state with the same operations, so the result
+//! has the uninterrupted bits on any engine and thread count (`proofs-notes/checkpoints.md`).
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+use super::metadata::RunMeta;
+use super::observe::Observer;
+use super::resume::Journal;
+use super::simd::BLOCK;
+use super::{drive, run_block, SimdPath};
+use crate::kernel::cell::CellKernel;
+use crate::kernel::trap::Trap;
+use crate::numbers::real::Real;
+use crate::scenes::lattice::{ExactState, Lattice, LatticeState};
+use crate::Error;
+
+/// An observer whose accumulators, lane by lane, can be saved and put back exactly.
+pub trait LaneCheckpoint {
+    /// Everything one lane has accumulated.
+    type Lane: Serialize + DeserializeOwned + Clone + Send + Sync;
+    /// Lane `l`'s accumulators.
+    fn save_lane(&self, l: usize) -> Self::Lane;
+    /// Puts `saved` back into lane `l`.
+    ///
+    /// # Errors
+    /// A state this observer could not have saved (other sizes, impossible values).
+    fn restore_lane(&mut self, l: usize, saved: &Self::Lane) -> Result<(), Error>;
+}
+
+/// One trajectory of a run: its run and batch (stream) index, and its collisions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Quota {
+    /// The run it belongs to (several runs share a journal when packed together).
+    pub run: u64,
+    /// Its batch index.
+    pub index: u32,
+    /// Collisions it makes.
+    pub collisions: u64,
+}
+
+/// One line of a checkpoint: a finished batch's result `F`, or a trajectory in flight whose
+/// observers saved `S`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Record<F, S> {
+    /// A finished batch.
+    Finished {
+        /// Its run.
+        run: u64,
+        /// Its batch index.
+        index: u32,
+        /// Its result.
+        result: F,
+    },
+    /// A trajectory in flight.
+    InFlight(InFlight<S>),
+}
+
+/// A trajectory in flight, whole: enough to continue it as if it had never stopped.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InFlight<S> {
+    /// Its run.
+    pub run: u64,
+    /// Its batch index.
+    pub index: u32,
+    /// Collisions done.
+    pub collisions: u64,
+    /// Its state after the last of them.
+    pub state: ExactState,
+    /// Its observers' accumulators.
+    pub observers: S,
+}
+
+/// Collisions per trajectory between two looks at the clock on the SIMD and `f64` engines
+/// (2²⁰: about 0.1 s for a block of 16), and at MPFR precision (2¹⁴: about as long).
+const SEGMENT_F64: u64 = 1 << 20;
+const SEGMENT_MPFR: u64 = 1 << 14;
+
+/// The work of a run kept on disk (or nowhere): what was found when it started, and where new
+/// work goes.
+pub struct Keeper<F, S> {
+    journal: Option<Journal<Record<F, S>>>,
+    /// Save the trajectories in flight this often (`None`: finished batches only).
+    every: Option<Duration>,
+    finished: BTreeMap<(u64, u32), F>,
+    in_flight: HashMap<(u64, u32), InFlight<S>>,
+}
+
+impl<F, S> Keeper<F, S>
+where
+    F: Serialize + DeserializeOwned + Clone,
+    S: Serialize + DeserializeOwned + Clone,
+{
+    /// Nothing kept.
+    pub fn none() -> Self {
+        Keeper {
+            journal: None,
+            every: None,
+            finished: BTreeMap::new(),
+            in_flight: HashMap::new(),
+        }
+    }
+
+    /// The journal at `path` (if any) of work `kind` at `config`, whose trajectories are `jobs`:
+    /// its records checked against the jobs (each finished batch once, with its job's
+    /// collisions; each trajectory in flight short of them), the newest state of each
+    /// trajectory kept and the journal compacted to them. `every`: the save interval of
+    /// trajectories in flight (`None`: finished batches only, as with a per-event audit, whose
+    /// replay state is not saved). `fits`: whether a finished result can be the one of its job
+    /// (its index, its collisions).
+    pub fn open<C: Serialize>(
+        path: Option<&Path>,
+        kind: &str,
+        config: &C,
+        meta: Option<RunMeta>,
+        jobs: &[Quota],
+        every: Option<Duration>,
+        fits: &dyn Fn(&Quota, &F) -> bool,
+    ) -> Result<Self, Error> {
+        let Some(p) = path else {
+            return Ok(Keeper::none());
+        };
+        let (journal, records) = Journal::<Record<F, S>>::open(p, kind, config, meta)?;
+        let quota: HashMap<(u64, u32), Quota> =
+            jobs.iter().map(|j| ((j.run, j.index), *j)).collect();
+        let mut k = Keeper {
+            journal: None,
+            every,
+            finished: BTreeMap::new(),
+            in_flight: HashMap::new(),
+        };
+        for r in records {
+            k.take(p, r, &quota, fits)?;
+        }
+        k.in_flight.retain(|key, _| !k.finished.contains_key(key));
+        let mut kept: Vec<Record<F, S>> = k
+            .finished
+            .iter()
+            .map(|(&(run, index), b)| Record::Finished {
+                run,
+                index,
+                result: b.clone(),
+            })
+            .collect();
+        let mut flying: Vec<&InFlight<S>> = k.in_flight.values().collect();
+        flying.sort_by_key(|f| (f.run, f.index));
+        kept.extend(flying.into_iter().cloned().map(Record::InFlight));
+        journal.rewrite(&kept)?;
+        k.journal = Some(journal);
+        Ok(k)
+    }
+
+    /// Adds record `r` of the journal at `p`, checked against the jobs' quotas.
+    fn take(
+        &mut self,
+        p: &Path,
+        r: Record<F, S>,
+        quota: &HashMap<(u64, u32), Quota>,
+        fits: &dyn Fn(&Quota, &F) -> bool,
+    ) -> Result<(), Error> {
+        let foreign = |run: u64, index: u32, why: &str| {
+            Error::Invalid(format!(
+                "{}: the record of run {run}, batch {index} {why}: an edited or foreign checkpoint (use another file)",
+                p.display()
+            ))
+        };
+        match r {
+            Record::Finished { run, index, result } => {
+                let key = (run, index);
+                if !quota.get(&key).is_some_and(|q| fits(q, &result)) {
+                    return Err(foreign(run, index, "is not a batch of this run"));
+                }
+                if self.finished.insert(key, result).is_some() {
+                    return Err(foreign(key.0, key.1, "appears twice"));
+                }
+            }
+            Record::InFlight(f) => {
+                let key = (f.run, f.index);
+                if quota.get(&key).is_none_or(|q| f.collisions >= q.collisions) {
+                    return Err(foreign(
+                        f.run,
+                        f.index,
+                        "is not a trajectory in flight of this run",
+                    ));
+                }
+                let newer = self
+                    .in_flight
+                    .get(&key)
+                    .is_none_or(|old| old.collisions < f.collisions);
+                if newer {
+                    self.in_flight.insert(key, f);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Finished batches found at the start, with their runs, in (run, batch) order.
+    pub fn finished(&self) -> impl Iterator<Item = (u64, &F)> {
+        self.finished.iter().map(|(&(run, _), b)| (run, b))
+    }
+
+    /// Finished batches found at the start, with their indices, in (run, batch) order.
+    pub fn finished_by_index(&self) -> impl Iterator<Item = (u32, F)> + '_ {
+        self.finished.iter().map(|(&(_, i), b)| (i, b.clone()))
+    }
+
+    /// Whether the batch of `job` was finished before this start.
+    pub fn is_finished(&self, job: &Quota) -> bool {
+        self.finished.contains_key(&(job.run, job.index))
+    }
+
+    /// How many trajectories continue from a saved state.
+    pub fn in_flight_count(&self) -> usize {
+        self.in_flight.len()
+    }
+
+    /// Collisions already done (finished batches of `jobs` and trajectories in flight).
+    pub fn collisions_done(&self, jobs: &[Quota]) -> u64 {
+        let f: u64 = jobs
+            .iter()
+            .filter(|j| self.is_finished(j))
+            .map(|j| j.collisions)
+            .sum();
+        f + self.in_flight.values().map(|s| s.collisions).sum::<u64>()
+    }
+
+    /// The saved state of `job`'s trajectory, if it was in flight.
+    pub fn resumed(&self, job: &Quota) -> Option<&InFlight<S>> {
+        self.in_flight.get(&(job.run, job.index))
+    }
+
+    /// Collisions per trajectory between looks at the clock: all of them when nothing in
+    /// flight is saved.
+    pub fn segment(&self, mpfr: bool) -> u64 {
+        match self.every {
+            None => u64::MAX,
+            Some(_) if mpfr => SEGMENT_MPFR,
+            Some(_) => SEGMENT_F64,
+        }
+    }
+
+    /// Keeps the finished batch `result` of `job`.
+    pub fn finish(&self, job: &Quota, result: &F) -> Result<(), Error> {
+        match &self.journal {
+            Some(j) => j.append(&Record::Finished {
+                run: job.run,
+                index: job.index,
+                result: result.clone(),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Saves the trajectories in flight that `states` yields if an interval has passed since
+    /// `last` (then resets it).
+    pub fn save_if_due(
+        &self,
+        last: &mut Instant,
+        states: impl FnOnce() -> Vec<InFlight<S>>,
+    ) -> Result<(), Error> {
+        let (Some(j), Some(every)) = (&self.journal, self.every) else {
+            return Ok(());
+        };
+        if last.elapsed() < every {
+            return Ok(());
+        }
+        for s in states() {
+            j.append(&Record::InFlight(s))?;
+        }
+        *last = Instant::now();
+        Ok(())
+    }
+}
+
+impl<S> InFlight<S> {
+    /// The saved state at number type `T`.
+    pub fn state<T: Real>(&self, ctx: T::Ctx) -> Result<LatticeState<T>, Error> {
+        LatticeState::from_exact(ctx, &self.state)
+    }
+}
+
+/// Runs `job`'s trajectory on the scalar engine at precision `ctx` until it has made its
+/// collisions — from `start()`, or from its saved state if it was in flight (with `obs`'s lane
+/// put back) — in segments, saving it at `keep`'s interval. Returns the final state. The same
+/// bits as [`drive`] in one piece.
+///
+/// # Errors
+/// A saved state that does not fit, a lost next event, or an I/O error of the journal.
+pub fn drive_kept<T, K, O, F>(
+    lat: &Lattice<T, K>,
+    ctx: T::Ctx,
+    job: &Quota,
+    start: impl FnOnce() -> LatticeState<T>,
+    obs: &mut O,
+    keep: &Keeper<F, O::Lane>,
+    progress: &dyn Fn(u64),
+) -> Result<LatticeState<T>, Error>
+where
+    T: Real,
+    K: CellKernel<T>,
+    O: Observer<1> + LaneCheckpoint,
+    F: Serialize + DeserializeOwned + Clone,
+{
+    let (mut s, mut done) = match keep.resumed(job) {
+        Some(f) => {
+            obs.restore_lane(0, &f.observers)?;
+            (f.state::<T>(ctx)?, f.collisions)
+        }
+        None => (start(), 0),
+    };
+    let segment = keep.segment(T::bits(ctx) > 53);
+    let mut last = Instant::now();
+    while done < job.collisions {
+        let q = (job.collisions - done).min(segment);
+        drive(lat, &mut s, q, obs, progress)?;
+        done += q;
+        if done < job.collisions {
+            keep.save_if_due(&mut last, || vec![in_flight(job, done, &s, obs, 0)])?;
+        }
+    }
+    Ok(s)
+}
+
+/// Runs up to [`BLOCK`] trajectories `jobs` together on the SIMD engine's `path` until each has
+/// made its collisions — lane l from `start(l)`, or from its saved state if it was in flight
+/// (with `obs`'s lane put back) — in segments, saving them at `keep`'s interval. Returns the
+/// final states. The same bits as [`run_block`] in one piece.
+///
+/// # Errors
+/// As [`run_block`], a saved state that does not fit, or an I/O error of the journal.
+pub fn run_block_kept<O, F>(
+    path: SimdPath,
+    trap: &Trap<f64>,
+    jobs: &[Quota],
+    start: impl Fn(usize) -> LatticeState<f64>,
+    obs: &mut O,
+    keep: &Keeper<F, O::Lane>,
+    progress: &dyn Fn(u64),
+) -> Result<Vec<LatticeState<f64>>, Error>
+where
+    O: Observer<BLOCK> + LaneCheckpoint,
+    F: Serialize + DeserializeOwned + Clone,
+{
+    let mut states = Vec::with_capacity(jobs.len());
+    let mut done = vec![0u64; jobs.len()];
+    for (l, j) in jobs.iter().enumerate() {
+        match keep.resumed(j) {
+            Some(f) => {
+                obs.restore_lane(l, &f.observers)?;
+                states.push(f.state::<f64>(())?);
+                done[l] = f.collisions;
+            }
+            None => states.push(start(l)),
+        }
+    }
+    let segment = keep.segment(false);
+    let mut last = Instant::now();
+    loop {
+        let quotas: Vec<u64> = jobs
+            .iter()
+            .zip(&done)
+            .map(|(j, d)| (j.collisions - d).min(segment))
+            .collect();
+        if quotas.iter().all(|&q| q == 0) {
+            return Ok(states);
+        }
+        run_block(path, trap, &mut states, &quotas, obs, progress)?;
+        done.iter_mut().zip(&quotas).for_each(|(d, q)| *d += q);
+        keep.save_if_due(&mut last, || {
+            (0..jobs.len())
+                .filter(|&l| done[l] < jobs[l].collisions)
+                .map(|l| in_flight(&jobs[l], done[l], &states[l], obs, l))
+                .collect()
+        })?;
+    }
+}
+
+/// Lane `l`'s trajectory in flight: `job` after `collisions` collisions in `state`.
+fn in_flight<T: Real, O: LaneCheckpoint>(
+    job: &Quota,
+    collisions: u64,
+    state: &LatticeState<T>,
+    obs: &O,
+    l: usize,
+) -> InFlight<O::Lane> {
+    InFlight {
+        run: job.run,
+        index: job.index,
+        collisions,
+        state: state.to_exact(),
+        observers: obs.save_lane(l),
+    }
+}
