@@ -5,7 +5,7 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::escape::{self, EscapeConfig, EscapeReport};
 use lorentz_gas::Error;
 
-use super::args::{parse_count, GapArg, OutputArgs, RunArgs};
+use super::args::{parse_count, CheckpointEveryArg, GapArg, OutputArgs, RunArgs};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -23,6 +23,13 @@ pub struct Args {
     particles_per_width: u64,
     #[command(flatten)]
     run: RunArgs,
+    /// Keep the run's work in this file (each batch's finished particles every
+    /// --checkpoint-every and when it ends); a rerun with the same parameters resumes to the
+    /// same bits.
+    #[arg(long)]
+    checkpoint: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    every: CheckpointEveryArg,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -47,6 +54,8 @@ pub fn run(a: Args) -> Result<(), Error> {
     let opts = RunOptions {
         threads: a.run.threads(),
         progress: &progress,
+        resume: a.checkpoint.clone(),
+        checkpoint_every: a.every.checkpoint_every,
         ..RunOptions::default()
     };
     let r = escape::run(&cfg, &opts)?;

@@ -9,19 +9,23 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::resume::sha256_hex;
 use lorentz_gas::engine::Engine;
 use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::numbers::precision::Precision;
 use lorentz_gas::Error;
 use rand::{Rng, SeedableRng};
 
-fn options(engine: Engine, threads: usize, path: &Path) -> RunOptions<'static> {
+/// The marker of a trajectory in flight in a checkpoint.
+const IN_FLIGHT: &str = "\"in_flight\"";
+
+/// Options that save everything a kill could leave: with `every` zero, every segment of every
+/// trajectory.
+fn options(engine: Engine, threads: usize, path: &Path, every: Duration) -> RunOptions<'static> {
     RunOptions {
         engine,
         threads,
         resume: Some(path.to_path_buf()),
-        // Every segment of every trajectory is saved: the journal holds every state a kill
-        // at any moment could have left.
-        checkpoint_every: Duration::ZERO,
+        checkpoint_every: every,
         ..RunOptions::default()
     }
 }
@@ -29,28 +33,40 @@ fn options(engine: Engine, threads: usize, path: &Path) -> RunOptions<'static> {
 /// Runs an analysis (`analysis(options)`, seeded by `seed`) uninterrupted, then with a
 /// checkpoint saved at every segment; then, for `cuts` random prefixes of that checkpoint (cut
 /// anywhere, mid-line included), resumes on the other engine and thread count and compares
-/// every physical field with the uninterrupted run. `min_saved`: states the checkpoint must hold.
+/// every physical field with the uninterrupted run. `saved`: a record's marker and how many the checkpoint must hold.
 fn resumes_from_every_prefix<R: serde::Serialize>(
     analysis: impl Fn(&RunOptions) -> Result<R, Error>,
     seed: u64,
-    min_saved: usize,
+    saved: (&str, usize),
     engines: [(Engine, usize); 2],
     cuts: usize,
+) {
+    resume_with_interval(analysis, seed, saved, engines, cuts, Duration::ZERO)
+}
+
+/// [`resumes_from_every_prefix`] with the checkpoint saved every `every`.
+fn resume_with_interval<R: serde::Serialize>(
+    analysis: impl Fn(&RunOptions) -> Result<R, Error>,
+    seed: u64,
+    saved: (&str, usize),
+    engines: [(Engine, usize); 2],
+    cuts: usize,
+    every: Duration,
 ) {
     let physics = |r: &R| crate::common::physics_only(serde_json::to_value(r).unwrap());
     let tmp = crate::common::scratch();
     let full_path = tmp.path().join("full.jsonl");
     let reference = physics(&analysis(&crate::common::threads(2)).unwrap());
     let (e0, t0) = engines[0];
-    let checkpointed = analysis(&options(e0, t0, &full_path)).unwrap();
+    let checkpointed = analysis(&options(e0, t0, &full_path, every)).unwrap();
     assert_eq!(
         physics(&checkpointed),
         reference,
         "a checkpointed run has the bits"
     );
     let text = std::fs::read_to_string(&full_path).unwrap();
-    let in_flight = text.matches("\"in_flight\"").count();
-    assert!(in_flight >= min_saved, "{in_flight} states saved");
+    let records = text.matches(saved.0).count();
+    assert!(records >= saved.1, "{records} records {} saved", saved.0);
     let header = text.find('\n').unwrap() + 1;
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
     for k in 0..cuts {
@@ -58,7 +74,7 @@ fn resumes_from_every_prefix<R: serde::Serialize>(
         let path = tmp.path().join(format!("cut-{k}.jsonl"));
         std::fs::write(&path, &text[..cut]).unwrap();
         let (e1, t1) = engines[k % 2];
-        let resumed = analysis(&options(e1, t1, &path)).unwrap();
+        let resumed = analysis(&options(e1, t1, &path, every)).unwrap();
         assert_eq!(
             physics(&resumed),
             reference,
@@ -78,7 +94,7 @@ fn f64_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
     cfg.batches = 4;
     cfg.seed = 5;
     let engines = [(Engine::Auto, 2), (Engine::Scalar, 1)];
-    resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, 8, engines, 6);
+    resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, (IN_FLIGHT, 8), engines, 6);
 }
 
 /// MPFR: the saved states are exact rationals at the run's precision (segments of 2¹⁴
@@ -92,7 +108,7 @@ fn mpfr_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
     let engines = [(Engine::Auto, 2), (Engine::Scalar, 1)];
-    resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, 8, engines, 3);
+    resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, (IN_FLIGHT, 8), engines, 3);
 }
 
 /// Hop statistics resume the same way (each lane's symbol history, sequence counts and
@@ -104,7 +120,29 @@ fn hop_statistics_resume_from_any_moment_to_the_uninterrupted_bits() {
     cfg.batches = 4;
     cfg.seed = 8;
     let engines = [(Engine::Scalar, 2), (Engine::Auto, 1)];
-    resumes_from_every_prefix(|o| hops::run(&cfg, o), cfg.seed, 8, engines, 4);
+    resumes_from_every_prefix(|o| hops::run(&cfg, o), cfg.seed, (IN_FLIGHT, 8), engines, 4);
+}
+
+/// Escape runs resume from consecutive chunks of finished particles (the starts of the particles
+/// already followed are drawn again, not followed).
+#[test]
+fn escape_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
+    let mut cfg = EscapeConfig::new(0.2);
+    cfg.particles_per_width = 4000;
+    cfg.seed = 4;
+    let engines = [(Engine::Scalar, 2), (Engine::Scalar, 1)];
+    // Chunks, not trajectories in flight: the checkpoint holds no "in_flight" record. A chunk
+    // every millisecond (a particle lives about as long), not one per particle.
+    let every = Duration::from_millis(1);
+    let chunks = ("\"task\"", 40);
+    resume_with_interval(
+        |o| escape::run(&cfg, o),
+        cfg.seed,
+        chunks,
+        engines,
+        4,
+        every,
+    );
 }
 
 /// The records of a checkpoint with their digests recomputed for a header edited from w = 0.1 to

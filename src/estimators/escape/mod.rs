@@ -31,6 +31,10 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+mod chunks;
+
+use chunks::Chunks;
+
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::parallel::{par_batches, share};
@@ -398,7 +402,10 @@ pub fn analyse_width(
 }
 
 /// Runs the configured computation. `options.progress` receives particle counts as they finish;
-/// only `threads` and `progress` of the options apply (the strips run on the scalar kernel).
+/// `threads`, `progress`, `resume` and `checkpoint_every` of the options apply (the strips run on
+/// the scalar kernel). With `options.resume` (a file), each batch's finished particles are
+/// appended to it every `options.checkpoint_every` and when the batch ends, and a rerun continues
+/// from them to the uninterrupted bits.
 ///
 /// # Errors
 /// An invalid configuration or options, before any work.
@@ -423,26 +430,47 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
         .collect();
     let nb = BATCHES_PER_WIDTH;
     let tasks = nb * cfg.widths.len() as u32;
+    let quota = |task: u32| share(cfg.particles_per_width, nb, task % nb);
+    let t_max_of = |task: u32| t_max[(task / nb) as usize];
+    let every = options.checkpoint_every;
+    let kept = Chunks::open(
+        options.resume.as_deref(),
+        cfg,
+        tasks,
+        quota,
+        t_max_of,
+        every,
+    )?;
+    progress(kept.particles_done());
     let outs = par_batches(threads, tasks, |task| {
         let (k, b) = (task / nb, task % nb);
         let strip = &strips[k as usize];
         let mut rng = StreamKey::new(cfg.seed, Purpose::Escape, b as u64)
             .in_run(k as u64)
             .rng();
-        let n = share(cfg.particles_per_width, nb, b);
-        let mut lifetimes = Vec::with_capacity(n as usize);
-        let mut events = 0;
-        for _ in 0..n {
+        let n = quota(task);
+        let mut done = kept.found(task);
+        // The starts of the particles already followed: drawn again, not followed.
+        for _ in 0..done.lifetimes.len() {
+            strip.sample(&mut rng);
+        }
+        let (mut saved, mut last) = ((done.lifetimes.len(), done.events), Instant::now());
+        for _ in done.lifetimes.len() as u64..n {
             let s = strip.sample(&mut rng);
             let o = strip.follow(s, t_max[k as usize])?;
-            events += o.events;
-            lifetimes.push(Lifetime {
+            done.events += o.events;
+            done.lifetimes.push(Lifetime {
                 time: o.time,
                 absorbed: o.exit.is_some(),
             });
             progress(1);
+            kept.save(task, &done, &mut saved, &mut last, false)?;
         }
-        Ok(BatchOut { lifetimes, events })
+        kept.save(task, &done, &mut saved, &mut last, true)?;
+        Ok(BatchOut {
+            lifetimes: done.lifetimes,
+            events: done.events,
+        })
     })?;
     let mut widths = Vec::with_capacity(cfg.widths.len());
     for (k, chunk) in outs.chunks(nb as usize).enumerate() {
