@@ -54,6 +54,20 @@ fn merge_into(parts: &[PathBuf], out: &Path) -> Result<SweepReport, lorentz_gas:
     Ok(r)
 }
 
+/// Resuming the sweep `config(1)` in `dir` after `edit` of point file `p` is refused, naming it.
+fn refuse_resume(dir: &Path, p: &Path, edit: &dyn Fn(&str) -> String) {
+    let text = std::fs::read_to_string(p).unwrap();
+    std::fs::write(p, edit(&text)).unwrap();
+    let e = sweep::run(&config(1), &options(Engine::Auto, 2, dir))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(&p.display().to_string()) && e.contains("digest"),
+        "{e}"
+    );
+    std::fs::write(p, text).unwrap();
+}
+
 fn config(seed: u64) -> SweepConfig {
     SweepConfig {
         w_from: "0.2".into(),
@@ -134,7 +148,7 @@ fn shards_merged_equal_the_whole_sweep_bit_for_bit() {
 }
 
 #[test]
-fn merge_refuses_missing_duplicate_and_foreign_parts() {
+fn merge_refuses_missing_duplicate_foreign_and_edited_parts() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
     let part = |cfg: &SweepConfig, i: u32, n: u32, name: &str| {
@@ -167,12 +181,52 @@ fn merge_refuses_missing_duplicate_and_foreign_parts() {
     assert!(e.contains("no sweep points"), "{e}");
     // Nothing was written by the refused merges.
     assert!(!out.exists());
-    // A damaged point (its w no longer on the grid) is named.
+    // Edited, renamed and damaged files are refused by name.
+    let refuse = |path: &Path, edit: &dyn Fn(&str) -> String, want: &str| {
+        let text = std::fs::read_to_string(path).unwrap();
+        let edited = edit(&text);
+        assert_ne!(edited, text, "the edit changes {}", path.display());
+        std::fs::write(path, &edited).unwrap();
+        let e = err(&[a.clone(), b.clone()]);
+        assert!(
+            e.contains(&path.display().to_string()) && e.contains(want),
+            "{e}"
+        );
+        std::fs::write(path, text).unwrap();
+    };
     let p = b.join("points").join("point-0001.json");
-    let text = std::fs::read_to_string(&p).unwrap();
+    // One run's D changed by 1 %.
+    let run_d = |t: &str| {
+        let v: serde_json::Value = serde_json::from_str(t).unwrap();
+        let d = v["runs"][0]["D"].as_f64().unwrap();
+        t.replacen(&format!("{d}"), &format!("{}", d * 1.01), 1)
+    };
+    refuse(&p, &run_d, "digest");
+    // Its w moved off the grid.
     let w1 = lorentz_gas::numbers::exact::decimal_grid("0.2", "0.3", 5).unwrap()[1];
-    std::fs::write(&p, text.replace(&format!("\"w\":{w1}"), "\"w\":0.26")).unwrap();
-    let e = err(&[a, b]);
-    assert!(e.contains("point 1 has w = 0.26"), "{e}");
+    refuse(&p, &|t| t.replace(&format!(": {w1}"), ": 0.26"), "digest");
+    // Cut short.
+    refuse(&p, &|t| t[..t.len() / 2].to_string(), "sweep point");
+    // The part's manifest edited.
+    refuse(
+        &b.join("shard.json"),
+        &|t| t.replace("\"index\": 1", "\"index\": 0"),
+        "digest",
+    );
+    // A point copied under another point's name.
+    let copy = b.join("points").join("point-0002.json");
+    std::fs::copy(&p, &copy).unwrap();
+    let e = err(&[a.clone(), b.clone()]);
+    assert!(
+        e.contains("point-0002.json") && e.contains("holds point 1"),
+        "{e}"
+    );
+    std::fs::remove_file(&copy).unwrap();
+    // A sweep resumed in a directory with an edited point refuses it too.
+    refuse_resume(&b, &p, &run_d);
+    assert!(
+        merge_into(&[a, b], &out).is_ok(),
+        "the restored parts merge"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -27,22 +27,32 @@ pub(crate) fn run_points(
     if let Some(d) = dir {
         std::fs::create_dir_all(d.join("points"))?;
     }
-    let mut points = Vec::new();
+    // Every point already on disk is checked before any work: an edited or foreign file stops
+    // the sweep before it computes (or writes) anything.
+    let grid: Vec<(usize, f64)> = cfg
+        .points()?
+        .into_iter()
+        .enumerate()
+        .filter(|(i, _)| owns(*i as u32))
+        .collect();
+    let mut found = Vec::with_capacity(grid.len());
+    for &(i, w) in &grid {
+        found.push(match dir {
+            Some(d) => reuse(cfg, &point_path(d, i), i, w)?,
+            None => None,
+        });
+    }
+    let mut points = Vec::with_capacity(grid.len());
     let mut resumed = 0;
-    for (i, w) in cfg.points()?.into_iter().enumerate() {
-        if !owns(i as u32) {
-            continue;
-        }
-        if let Some(d) = dir {
-            if let Some(p) = reuse(cfg, &point_path(d, i), i, w)? {
+    for (&(i, w), old) in grid.iter().zip(found) {
+        match old {
+            Some(p) => {
                 (options.progress)(cfg.collisions.saturating_mul(cfg.runs as u64));
                 points.push(p);
                 resumed += 1;
-                continue;
             }
+            None => points.push(run_point(cfg, options, dir, i, w)?),
         }
-        let p = run_point(cfg, options, dir, i, w)?;
-        points.push(p);
     }
     Ok((points, resumed))
 }
