@@ -342,7 +342,7 @@ pub struct CheckpointEveryArg {
     /// With a checkpoint: save the whole state of every trajectory in flight every SECONDS of
     /// wall time (0 to 86400; a kill loses at most about this much work). Finished batches are
     /// saved as they finish.
-    #[arg(long, value_name = "SECONDS", default_value = "60", value_parser = parse_interval)]
+    #[arg(long, value_name = "SECONDS", default_value = "60", value_parser = parse_interval, allow_negative_numbers = true)]
     pub checkpoint_every: std::time::Duration,
 }
 

@@ -244,6 +244,31 @@ const BAD: &[(&[&str], &str)] = &[
     (&["hops", "--w", "0.1", "--order", "0"], "order"),
     (&["hops", "--w", "0.1", "--order", "100"], "order"),
     (&["hops", "--w", "0.1", "--batches", "1"], "batches"),
+    // checkpoint intervals
+    (
+        &["diffusion", "--w", "0.1", "--checkpoint-every", "-1"],
+        "0 to 86400",
+    ),
+    (
+        &["hops", "--w", "0.1", "--checkpoint-every", "1e6"],
+        "0 to 86400",
+    ),
+    (
+        &["escape", "--w", "0.1", "--checkpoint-every", "soon"],
+        "0 to 86400",
+    ),
+    (
+        &[
+            "sweep",
+            "--w-from",
+            "0.1",
+            "--w-to",
+            "0.2",
+            "--checkpoint-every",
+            "NaN",
+        ],
+        "0 to 86400",
+    ),
     // sweep
     (
         &["sweep", "--w-from", "0.1", "--w-to", "0.5", "--out", "out"],

@@ -11,9 +11,12 @@ use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
+use rand::Rng;
+
 use super::{EscapeConfig, Lifetime};
 use crate::engine::metadata::RunMeta;
 use crate::engine::resume::Journal;
+use crate::scenes::strip::Strip;
 use crate::Error;
 
 /// Kind of the records of an escape checkpoint.
@@ -95,7 +98,7 @@ impl Chunks {
     }
 
     /// The particles of batch `task` already followed.
-    pub(super) fn found(&self, task: u32) -> Done {
+    fn found(&self, task: u32) -> Done {
         self.found.get(&task).cloned().unwrap_or_default()
     }
 
@@ -104,9 +107,41 @@ impl Chunks {
         self.found.values().map(|d| d.lifetimes.len() as u64).sum()
     }
 
+    /// Follows the particles of batch `task` from the random stream `rng` in `strip`, up to `n`
+    /// of them with cut-off `t_max`, continuing after those already kept (whose starts are drawn
+    /// again, not followed) and keeping new ones at the interval and at the end.
+    pub(super) fn follow(
+        &self,
+        task: u32,
+        strip: &Strip,
+        mut rng: impl Rng,
+        n: u64,
+        t_max: f64,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Done, Error> {
+        let mut done = self.found(task);
+        for _ in 0..done.lifetimes.len() {
+            strip.sample(&mut rng);
+        }
+        let (mut saved, mut last) = ((done.lifetimes.len(), done.events), Instant::now());
+        for _ in done.lifetimes.len() as u64..n {
+            let s = strip.sample(&mut rng);
+            let o = strip.follow(s, t_max)?;
+            done.events += o.events;
+            done.lifetimes.push(Lifetime {
+                time: o.time,
+                absorbed: o.exit.is_some(),
+            });
+            progress(1);
+            self.save(task, &done, &mut saved, &mut last, false)?;
+        }
+        self.save(task, &done, &mut saved, &mut last, true)?;
+        Ok(done)
+    }
+
     /// Appends batch `task`'s particles since `saved` (of `done`) if the interval has passed
     /// since `last` or `finished`, and moves `saved` and `last` on.
-    pub(super) fn save(
+    fn save(
         &self,
         task: u32,
         done: &Done,

@@ -401,6 +401,26 @@ pub fn analyse_width(
     })
 }
 
+/// The per-width analyses of the batches `outs` (width by width, [`BATCHES_PER_WIDTH`] each).
+fn analyse_widths(
+    widths: &[f64],
+    outs: &[BatchOut],
+    g: &Geometry<f64>,
+    t_max: &[f64],
+) -> Result<Vec<EscapeWidth>, Error> {
+    let pi2 = std::f64::consts::PI * std::f64::consts::PI;
+    let mut out = Vec::with_capacity(widths.len());
+    for (k, chunk) in outs.chunks(BATCHES_PER_WIDTH as usize).enumerate() {
+        let l = widths[k];
+        let batches: Vec<Vec<Lifetime>> = chunk.iter().map(|o| o.lifetimes.clone()).collect();
+        let guess = g.d_mz() * pi2 / (l * l);
+        let mut wr = analyse_width(l, g.spacing(), guess, t_max[k], &batches)?;
+        wr.events = chunk.iter().map(|o| o.events).sum();
+        out.push(wr);
+    }
+    Ok(out)
+}
+
 /// Runs the configured computation. `options.progress` receives particle counts as they finish;
 /// `threads`, `progress`, `resume` and `checkpoint_every` of the options apply (the strips run on
 /// the scalar kernel). With `options.resume` (a file), each batch's finished particles are
@@ -444,42 +464,17 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
     progress(kept.particles_done());
     let outs = par_batches(threads, tasks, |task| {
         let (k, b) = (task / nb, task % nb);
-        let strip = &strips[k as usize];
-        let mut rng = StreamKey::new(cfg.seed, Purpose::Escape, b as u64)
+        let rng = StreamKey::new(cfg.seed, Purpose::Escape, b as u64)
             .in_run(k as u64)
             .rng();
-        let n = quota(task);
-        let mut done = kept.found(task);
-        // The starts of the particles already followed: drawn again, not followed.
-        for _ in 0..done.lifetimes.len() {
-            strip.sample(&mut rng);
-        }
-        let (mut saved, mut last) = ((done.lifetimes.len(), done.events), Instant::now());
-        for _ in done.lifetimes.len() as u64..n {
-            let s = strip.sample(&mut rng);
-            let o = strip.follow(s, t_max[k as usize])?;
-            done.events += o.events;
-            done.lifetimes.push(Lifetime {
-                time: o.time,
-                absorbed: o.exit.is_some(),
-            });
-            progress(1);
-            kept.save(task, &done, &mut saved, &mut last, false)?;
-        }
-        kept.save(task, &done, &mut saved, &mut last, true)?;
+        let strip = &strips[k as usize];
+        let done = kept.follow(task, strip, rng, quota(task), t_max_of(task), progress)?;
         Ok(BatchOut {
             lifetimes: done.lifetimes,
             events: done.events,
         })
     })?;
-    let mut widths = Vec::with_capacity(cfg.widths.len());
-    for (k, chunk) in outs.chunks(nb as usize).enumerate() {
-        let l = cfg.widths[k];
-        let batches: Vec<Vec<Lifetime>> = chunk.iter().map(|o| o.lifetimes.clone()).collect();
-        let mut wr = analyse_width(l, g.spacing(), d_mz * pi2 / (l * l), t_max[k], &batches)?;
-        wr.events = chunk.iter().map(|o| o.events).sum();
-        widths.push(wr);
-    }
+    let widths = analyse_widths(&cfg.widths, &outs, &g, &t_max)?;
     let x: Vec<f64> = widths.iter().map(|r| 1.0 / r.L).collect();
     let y: Vec<f64> = widths.iter().map(|r| r.D_eff).collect();
     let s: Vec<f64> = widths.iter().map(|r| r.D_eff_err).collect();
