@@ -1,9 +1,9 @@
 //! `lorentz report`: the audit of a result file before publication.
 
 use std::path::PathBuf;
-use std::sync::OnceLock;
 
-use lorentz_gas::report::publication::{audit_result_file, Options, Verdict};
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::report::publication::{self, planned_rerun_collisions, AuditConfig, Verdict};
 use lorentz_gas::Error;
 
 use super::args::{OutputArgs, ThreadsArg};
@@ -12,12 +12,18 @@ use super::progress::Progress;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// A result written with --json (diffusion, sweep; other kinds get provenance and digest).
+    /// A result of diffusion, sweep (or merge), hops, theory, lattice-walk, backscatter or
+    /// escape, written with --json (or sweep.json); at most 64 MiB.
     result: PathBuf,
-    /// Quick: one batch re-run (chosen by the file's digest), fewer events replayed, short
-    /// precision runs — under a minute for a default diffusion result on 2 cores.
+    /// Quick: one batch (or run) re-run, chosen by the file's digest, fewer events replayed,
+    /// short precision runs, at most 2e9 collisions re-run in all — under a minute for a default
+    /// diffusion result on 2 cores.
     #[arg(long)]
     quick: bool,
+    /// Most collisions re-run in all (computed from the recorded configuration); re-runs
+    /// beyond it are reported as SKIP.
+    #[arg(long, value_parser = super::args::parse_count, allow_negative_numbers = true)]
+    max_rerun_collisions: Option<u64>,
     /// MPFR precision of the references, in bits (128 or more): the shadow audit's replay and the
     /// precision-independence run.
     #[arg(long, default_value = "128", value_parser = super::args::parse_count_u32)]
@@ -40,51 +46,42 @@ pub fn run(a: Args) -> Result<(), Error> {
             .map_or("result".into(), |s| s.to_string_lossy().to_string());
         a.result.with_file_name(format!("{stem}-report"))
     };
-    let out = a.out.clone().unwrap_or(default);
-    // The amount of work is known only once the file is read: the bar starts then.
-    let bar: OnceLock<Progress> = OnceLock::new();
-    let quiet = a.output.quiet;
-    let planned = |n: u64| {
-        let _ = bar.set(Progress::new(n, "collisions re-run", quiet));
+    let cfg = AuditConfig {
+        result: a.result.clone(),
+        out: a.out.clone().unwrap_or(default),
+        quick: a.quick,
+        reference_bits: a.reference_bits,
+        max_rerun_collisions: a.max_rerun_collisions,
     };
-    let progress = |n: u64| {
-        if let Some(b) = bar.get() {
-            b.callback()(n);
-        }
+    // The file is read and checked first (bad input exits before anything is written); the
+    // bar counts the collisions its configuration says the audit re-runs.
+    let (_, planned) = planned_rerun_collisions(&cfg)?;
+    let bar = Progress::new(planned, "collisions re-run", a.output.quiet);
+    let progress = bar.callback();
+    let opts = RunOptions {
+        threads: a.threads.threads(),
+        progress: &progress,
+        ..RunOptions::default()
     };
-    // Re-runs a recorded command line through this binary, with its JSON on stdout.
-    let rerun = |args: &[String]| -> Result<serde_json::Value, Error> {
-        let mut cmd = std::process::Command::new(std::env::current_exe()?);
-        cmd.args(args.iter().filter(|a| *a != "--json" && *a != "--quiet"));
-        cmd.args(["--json", "--quiet"]);
-        let out = cmd.stderr(std::process::Stdio::inherit()).output()?;
-        if !out.status.success() {
-            return Err(Error::Invalid(format!("exit status {}", out.status)));
-        }
-        serde_json::from_slice(&out.stdout).map_err(|e| Error::Io(e.to_string()))
-    };
-    let r = audit_result_file(
-        &a.result,
-        &out,
-        Options {
-            quick: a.quick,
-            threads: a.threads.threads(),
-            bits: a.reference_bits,
-        },
-        &planned,
-        &progress,
-        Some(&rerun),
-    )?;
+    let r = publication::run(&cfg, &opts)?;
+    drop(progress);
     drop(bar);
-    r.write(&out)?;
+    let out = &cfg.out;
     emit(a.output.json, &r, |r| {
         for c in &r.checks {
             println!("{}  {:<16} {}: {}", c.verdict, c.group, c.name, c.detail);
         }
+        let skipped = r
+            .checks
+            .iter()
+            .filter(|c| c.verdict == Verdict::Skip)
+            .count();
         println!(
-            "{}: {} ({:.1} s); written: {}/report.{{md,html,json}}",
+            "{}: {} ({} checks, {skipped} skipped; {:.3e} collisions re-run, {:.1} s); written: {}/report.{{md,html,json}}",
             r.provenance.result_file,
             r.verdict,
+            r.checks.len(),
+            r.rerun_collisions as f64,
             r.seconds,
             out.display()
         );

@@ -154,6 +154,7 @@ fn synthetic_rows(
                 D_Bo: 0.0,
                 residual: 0.0,
                 run_D: Vec::new(),
+                run_D_err: Vec::new(),
             }
         })
         .collect()

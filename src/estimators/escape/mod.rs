@@ -334,6 +334,8 @@ pub struct EscapeReport {
     pub events: u64,
     /// Wall-clock seconds.
     pub seconds: f64,
+    /// The configuration that produced the result (what `lorentz report` re-runs).
+    pub config: EscapeConfig,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -511,6 +513,7 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
         events: widths.iter().map(|r| r.events).sum(),
         widths,
         seconds: start.elapsed().as_secs_f64(),
+        config: cfg.clone(),
         meta: RunMeta::new(Some(cfg.seed), Some(tasks as u64), "f64", Some(threads)),
     })
 }

@@ -73,7 +73,7 @@ impl BackscatterConfig {
 }
 
 /// Backscattering by injection (the CLI's `backscatter --json`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BackscatterReport {
     /// Gap.
     pub w: f64,
@@ -107,6 +107,8 @@ pub struct BackscatterReport {
     pub mean_collisions_per_visit_exact: f64,
     /// Particles injected (one visit each).
     pub particles: u64,
+    /// The configuration that produced the result (what `lorentz report` re-runs).
+    pub config: BackscatterConfig,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -206,6 +208,7 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
         mean_collisions_per_visit_err: mc.err,
         mean_collisions_per_visit_exact: g.collisions_per_hop(),
         particles,
+        config: cfg.clone(),
         meta: RunMeta::new(Some(seed), Some(batches as u64), precision, Some(threads)),
     })
 }

@@ -1,7 +1,7 @@
 //! Fig. 6b by simulation: correlated lattice walks of order 1 … K driven by the symbol tables
 //! measured along Lorentz-gas trajectories, next to their exact D.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::HopsConfig;
 use crate::engine::metadata::RunMeta;
@@ -26,7 +26,7 @@ pub const WALK_HOPS: usize = 128;
 
 /// One order of [`LatticeWalkReport`].
 #[allow(non_snake_case)]
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LatticeWalkRow {
     /// Order k of the correlated walk (memory of k − 1 symbols).
     pub order: usize,
@@ -41,7 +41,7 @@ pub struct LatticeWalkRow {
 /// Fig. 6b by simulation (the CLI's `lattice-walk --json`): correlated walks driven by the
 /// measured symbol tables, simulated and exact, next to the Lorentz gas's own hop-level D.
 #[allow(non_snake_case)]
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LatticeWalkReport {
     /// Gap.
     pub w: f64,
@@ -53,6 +53,8 @@ pub struct LatticeWalkReport {
     pub D_GK_err: f64,
     /// Orders 1 … `order`.
     pub walks: Vec<LatticeWalkRow>,
+    /// The configuration that produced the result (what `lorentz report` re-runs).
+    pub config: HopsConfig,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -68,6 +70,7 @@ pub struct LatticeWalkReport {
 pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<LatticeWalkReport, Error> {
     use crate::theory::{lattice_walk, markov::CorrelatedWalk};
     let h = super::run(cfg, options)?;
+    let config = *cfg;
     let (w, order, seed, threads) = (cfg.w, cfg.order, cfg.seed, options.threads);
     let g = Geometry::new(w)?;
     let cfg = lattice_walk::LatticeWalkConfig::new(WALK_BATCHES, WALK_WALKERS, WALK_HOPS, seed);
@@ -93,6 +96,7 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<LatticeWalkReport, 
         D_GK: h.D_GK,
         D_GK_err: h.D_GK_err,
         walks,
+        config,
         meta: h.meta,
     })
 }

@@ -113,7 +113,7 @@ impl HopsConfig {
 
 /// Hop statistics along lattice trajectories (the CLI's `hops --json`).
 #[allow(non_snake_case)]
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct HopsReport {
     /// Gap.
     pub w: f64,
@@ -152,6 +152,8 @@ pub struct HopsReport {
     pub visits: u64,
     /// Collisions simulated.
     pub collisions: u64,
+    /// The configuration that produced the result (what `lorentz report` re-runs).
+    pub config: HopsConfig,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -257,6 +259,7 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
         correlations_err: correlations.iter().map(|e| e.err).collect(),
         visits: res.iter().map(|h| h.visits).sum(),
         collisions,
+        config: *cfg,
         meta: RunMeta::new(
             Some(seed),
             Some(batches as u64),

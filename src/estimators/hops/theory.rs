@@ -2,7 +2,7 @@
 //! statistics measured along lattice trajectories, beside the exact D of the correlated walks
 //! their tables define.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::HopsConfig;
 use crate::engine::metadata::RunMeta;
@@ -13,7 +13,7 @@ use crate::Error;
 /// The corrected Machta–Zwanzig hierarchy evaluated on measured hop statistics (the CLI's
 /// `theory --json`).
 #[allow(non_snake_case)]
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct TheoryReport {
     /// Gap.
     pub w: f64,
@@ -50,13 +50,16 @@ pub struct TheoryReport {
     pub D_GK_err: f64,
     /// Collisions simulated.
     pub collisions: u64,
+    /// The configuration that produced the result (as given: the tables are measured up to
+    /// max(order, 3)); what `lorentz report` re-runs.
+    pub config: HopsConfig,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
 
 /// One order of the hierarchy in a [`TheoryReport`].
 #[allow(non_snake_case)]
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct TheoryOrder {
     /// The order k (length of the symbol sequences).
     pub k: usize,
@@ -110,6 +113,7 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<TheoryReport, Error
         D_GK: h.D_GK,
         D_GK_err: h.D_GK_err,
         collisions: h.collisions,
+        config: *cfg,
         meta: h.meta,
     })
 }

@@ -39,6 +39,7 @@ fn combine(cfg: &SweepConfig, p: &SweepPoint) -> Result<SweepRow, Error> {
         D_Bo: g.d_bo(),
         residual: 0.0,
         run_D: p.runs.iter().map(|x| x.D).collect(),
+        run_D_err: p.runs.iter().map(|x| x.D_err).collect(),
     })
 }
 

@@ -74,7 +74,7 @@ pub struct SweepPoint {
 
 /// The analysis of a finished sweep.
 #[allow(non_snake_case)]
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SweepReport {
     /// The configuration.
     pub config: SweepConfig,
@@ -106,7 +106,7 @@ pub struct SweepReport {
 }
 
 /// The χ² of one weighted polynomial fit of D(w).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PolynomialChi2 {
     /// Degree.
     pub degree: usize,
@@ -120,7 +120,7 @@ pub struct PolynomialChi2 {
 pub const MAX_POLYNOMIAL_DEGREE: usize = 7;
 
 /// A zero of D − D_MZ.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Crossing {
     /// w at the crossing.
     pub w: f64,
@@ -145,7 +145,7 @@ pub const CROSSING_POINTS_PER_SIDE: usize = 3;
 
 /// One row of the sweep.
 #[allow(non_snake_case)]
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SweepRow {
     /// Gap.
     pub w: f64,
@@ -160,13 +160,16 @@ pub struct SweepRow {
     /// The consistency check of the runs: F = s²_between / mean_r σ̂_r², the variance of the run
     /// values over the mean of their squared batch errors. Every run has the same collisions and
     /// batches, so under "the runs agree within their errors" F is exactly F(R − 1, R(B − 1))
-    /// distributed (NaN for one run).
+    /// distributed (NaN for one run, written as JSON `null`).
+    #[serde(deserialize_with = "nan_if_null")]
     pub runs_f: f64,
     /// Its numerator degrees of freedom, R − 1.
     pub runs_f_dof1: u32,
     /// Its denominator degrees of freedom, R(B − 1).
     pub runs_f_dof2: u64,
-    /// Probability of an F at least this large if the runs agree within their errors.
+    /// Probability of an F at least this large if the runs agree within their errors (NaN for
+    /// one run, written as JSON `null`).
+    #[serde(deserialize_with = "nan_if_null")]
     pub runs_p_value: f64,
     /// Machta–Zwanzig.
     pub D_MZ: f64,
@@ -176,6 +179,14 @@ pub struct SweepRow {
     pub residual: f64,
     /// Each run's D, in run order (also `sweep-runs.csv`).
     pub run_D: Vec<f64>,
+    /// Each run's standard error over its batches, in run order: with `run_D`, everything the
+    /// row and the fits are computed from (`lorentz report` recomputes them).
+    pub run_D_err: Vec<f64>,
+}
+
+/// A number that JSON writes as `null` when it is NaN (serde_json has no NaN) read back as NaN.
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 impl SweepConfig {

@@ -1,0 +1,704 @@
+//! The audit of a `diffusion` result (see the module documentation of
+//! [`super`]): the record, batch statistics, exact identities, and batches re-run from the
+//! recorded configuration with a shadow audit, precision independence and shadowing.
+
+use std::path::Path;
+
+use super::file::ResultFile;
+use super::statistics::batch_statistics;
+use super::{batch_from_digest, Checks, Ctx, Verdict, SIGMAS};
+use crate::engine::options::AuditSpec;
+use crate::engine::parallel::share;
+use crate::engine::Engine;
+use crate::estimators::diffusion::{
+    batch_d, rerun_batches, BatchResult, DiffusionConfig, DiffusionReport,
+};
+use crate::numbers::precision::Precision;
+use crate::report::figures::{plot, PlotSpec, Series};
+use crate::scenes::triangular::geometry::Geometry;
+use crate::statistics::{mean_se, normal_sigma_equivalent_t};
+use crate::Error;
+
+/// Events replayed in MPFR by the shadow audit: enough to see the error model's tail (the
+/// per-event bound is exceeded by none of the ~10⁷ events of `tests/numerics/verification.rs`).
+const AUDIT_EVENTS_QUICK: f64 = 2e4;
+/// As [`AUDIT_EVENTS_QUICK`], for the full report.
+const AUDIT_EVENTS_FULL: f64 = 2e5;
+/// Batches of the precision-independence runs (enough for a standard error).
+const PRECISION_BATCHES: u32 = 8;
+/// Collisions per batch of the MPFR precision run, as a multiple of the least the fit windows need:
+/// about 5·10⁵ collisions at w = 0.1 for the quick report (a few seconds at 128 bits).
+const PRECISION_LENGTH_QUICK: f64 = 4.0;
+/// As [`PRECISION_LENGTH_QUICK`], for the full report.
+const PRECISION_LENGTH_FULL: f64 = 32.0;
+
+/// The file as a diffusion result whose recorded configuration the command line would accept.
+pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<DiffusionReport, Error> {
+    let r: DiffusionReport = file.parse(path)?;
+    let Some(cfg) = &r.config else {
+        return Err(Error::Invalid(format!(
+            "{}: no `config`: a diffusion result written before results carried their configuration cannot be audited; run the diffusion again",
+            path.display()
+        )));
+    };
+    cfg.validate().map_err(|e| refused_config(path, e))?;
+    Ok(r)
+}
+
+/// A recorded configuration that command-line input with the same values would be refused for.
+pub(super) fn refused_config(path: &Path, e: Error) -> Error {
+    Error::Invalid(format!(
+        "{}: the recorded configuration is refused, as the same command-line input would be: {e}",
+        path.display()
+    ))
+}
+
+/// The recorded configuration (present: [`parse`] checked it).
+fn config(r: &DiffusionReport) -> Result<&DiffusionConfig, Error> {
+    r.config
+        .as_ref()
+        .ok_or_else(|| Error::Invalid("a diffusion result without a configuration".into()))
+}
+
+/// The re-runs, in the order [`checks`] takes them: the batches, the two precision runs, the
+/// shadowed segments.
+pub(super) fn reruns(r: &DiffusionReport, quick: bool, sha: &str) -> Result<Vec<u64>, Error> {
+    let cfg = config(r)?;
+    let plan = RerunPlan::new(cfg, quick, sha)?;
+    Ok(vec![
+        plan.collisions,
+        2 * plan.short,
+        (shadowed_batches(cfg, &plan.batches, quick).len() * SHADOW_COLLISIONS) as u64,
+    ])
+}
+
+/// The checks of a `diffusion` result (see the module documentation), in order.
+pub(super) fn checks(
+    r: &DiffusionReport,
+    ctx: &Ctx<'_>,
+    checks: &mut Checks,
+    figures: &mut Vec<String>,
+) -> Result<(), Error> {
+    let cfg = config(r)?;
+    let g = Geometry::new(cfg.w)?;
+    let shape = shape_problems(r, cfg, g.hop_time());
+    if !shape.is_empty() {
+        checks.pass_if(
+            false,
+            "reproducibility",
+            "the record has the shape of its configuration",
+            format!("{}; nothing else is checked", shape.join("; ")),
+            &[],
+        );
+        return Ok(());
+    }
+    record_check(r, cfg, checks);
+    let n = r.batch_D.len();
+    if n < 8 {
+        checks.skip(
+            "statistics",
+            "batch statistics",
+            format!("{n} batches: the consistency checks need at least 8"),
+        );
+    } else {
+        batch_statistics(&r.batch_D, checks);
+    }
+    fit_window_check(r, checks);
+    diffusion_figures(r, ctx.out, figures)?;
+    identity_checks(r, &g, checks);
+    reruns_checks(r, cfg, &g, ctx, checks)
+}
+
+/// The checks that re-run the configuration: the batches with the shadow audit, precision
+/// independence, shadowing — each within the budget.
+fn reruns_checks(
+    r: &DiffusionReport,
+    cfg: &DiffusionConfig,
+    g: &Geometry<f64>,
+    ctx: &Ctx<'_>,
+    checks: &mut Checks,
+) -> Result<(), Error> {
+    let plan = RerunPlan::new(cfg, ctx.quick, ctx.sha)?;
+    let name = if ctx.quick {
+        "one batch re-run from its seed gives the recorded bits"
+    } else {
+        "every batch re-run from its seed gives the recorded bits"
+    };
+    match ctx.take() {
+        Ok(_) => {
+            let audit = if cfg.precision == Precision::F64 {
+                Some(AuditSpec::new(plan.rate, ctx.bits)?)
+            } else {
+                None
+            };
+            let again = rerun_batches(
+                cfg,
+                &plan.batches,
+                plan.engine,
+                ctx.threads,
+                audit,
+                ctx.progress,
+            )?;
+            rerun_batches_check(r, cfg, g.hop_time(), &plan, &again, ctx, checks);
+            shadow_audit_check(&again, ctx, checks);
+        }
+        Err(why) => {
+            checks.skip("reproducibility", name, why.clone());
+            checks.skip(
+                "verification",
+                "shadow audit of events of the same trajectories",
+                why,
+            );
+        }
+    }
+    match ctx.take() {
+        Ok(_) => precision_independence(cfg, r, plan.short, ctx, checks)?,
+        Err(why) => checks.skip("verification", "precision independence", why),
+    }
+    match ctx.take() {
+        Ok(_) => shadowing_certificate(cfg, &plan.batches, ctx, checks)?,
+        Err(why) => checks.skip(
+            "verification",
+            "shadowing: a true orbit within δ of the computed one",
+            why,
+        ),
+    }
+    Ok(())
+}
+
+/// What in the record does not have the shape its configuration gives: the gap and windows, the
+/// number of batch values, the lag times.
+fn shape_problems(r: &DiffusionReport, cfg: &DiffusionConfig, tau: f64) -> Vec<String> {
+    let mut bad = Vec::new();
+    let batches = cfg.batches as usize;
+    if r.w.to_bits() != cfg.w.to_bits()
+        || r.window != cfg.window
+        || r.check_window != cfg.check_window
+    {
+        bad.push("w or the fit windows differ from the configuration's".to_string());
+    }
+    for (name, len) in [
+        ("batch_D", r.batch_D.len()),
+        ("batch_D_check", r.batch_D_check.len()),
+        ("batch_msd", r.batch_msd.len()),
+    ] {
+        if len != batches {
+            bad.push(format!("{len} values of {name} for {batches} batches"));
+        }
+    }
+    let times: Vec<f64> = cfg.lags().iter().map(|&l| l as f64 * tau).collect();
+    let same = |a: &[f64]| a.len() == times.len();
+    if times
+        .iter()
+        .map(|t| t.to_bits())
+        .ne(r.msd_times.iter().map(|t| t.to_bits()))
+        || !same(&r.msd_over_4t)
+        || !same(&r.msd_over_4t_err)
+        || !r.batch_msd.iter().all(|m| same(m))
+    {
+        bad.push(format!(
+            "the MSD lag times or the lengths of the MSD series are not the {} lags of the fit windows",
+            times.len()
+        ));
+    }
+    bad
+}
+
+/// What the audit re-runs: which batches on which engine, their collisions, the shadow audit's
+/// replay rate and the length of the precision-independence runs.
+struct RerunPlan {
+    batches: Vec<u32>,
+    engine: Engine,
+    collisions: u64,
+    rate: f64,
+    short: u64,
+}
+
+impl RerunPlan {
+    /// One batch chosen by the digest `sha` with `quick`, every batch otherwise.
+    fn new(cfg: &DiffusionConfig, quick: bool, sha: &str) -> Result<Self, Error> {
+        let batches: Vec<u32> = if quick {
+            vec![batch_from_digest(sha, cfg.batches)]
+        } else {
+            (0..cfg.batches).collect()
+        };
+        let collisions: u64 = if quick {
+            batches
+                .iter()
+                .map(|&b| share(cfg.collisions, cfg.batches, b))
+                .sum()
+        } else {
+            cfg.collisions
+        };
+        let events = if quick {
+            AUDIT_EVENTS_QUICK
+        } else {
+            AUDIT_EVENTS_FULL
+        };
+        let rate = (events / collisions.max(1) as f64).clamp(1e-9, 1.0);
+        let min = precision_min_collisions(cfg)?;
+        let len = if quick {
+            PRECISION_LENGTH_QUICK
+        } else {
+            PRECISION_LENGTH_FULL
+        };
+        let short = ((min as f64) * len).ceil() as u64;
+        // One batch alone runs fastest on the scalar engine (a SIMD block would carry 15 idle
+        // lanes); all batches on the SIMD engine. Both give the same bits.
+        let engine = if batches.len() == 1 {
+            Engine::Scalar
+        } else {
+            Engine::Auto
+        };
+        Ok(RerunPlan {
+            batches,
+            engine,
+            collisions,
+            rate,
+            short,
+        })
+    }
+}
+
+/// The batches whose trajectories are shadowed: the re-run ones first, at most two with `quick`
+/// and eight otherwise.
+fn shadowed_batches(cfg: &DiffusionConfig, rerun: &[u32], quick: bool) -> Vec<u32> {
+    let want = if quick { 2 } else { 8 };
+    let mut batches: Vec<u32> = rerun.iter().copied().take(want).collect();
+    let mut next = rerun.first().copied().unwrap_or(0);
+    while batches.len() < want.min(cfg.batches as usize) {
+        next = (next + 1) % cfg.batches;
+        if !batches.contains(&next) {
+            batches.push(next);
+        }
+    }
+    batches
+}
+
+/// The record check: D, its errors, D_check and MSD/(4t) recomputed from the per-batch values
+/// give the recorded bits.
+fn record_check(r: &DiffusionReport, cfg: &DiffusionConfig, checks: &mut Checks) {
+    let n = r.batch_D.len();
+    let ((d, de), (dc, dce)) = r.d_from_batches();
+    let mut bad = Vec::new();
+    bad.extend(super::meta_problems(
+        &r.meta,
+        Some(cfg.seed),
+        Some(u64::from(cfg.batches)),
+        &cfg.precision.to_string(),
+    ));
+    if r.collisions != cfg.collisions {
+        bad.push(format!(
+            "collisions: recorded {}, configured {}",
+            r.collisions, cfg.collisions
+        ));
+    }
+    for (name, rec, again) in [
+        ("D", r.D, d),
+        ("D_err", r.D_err, de),
+        ("D_check", r.D_check, dc),
+        ("D_check_err", r.D_check_err, dce),
+        ("w", r.w, cfg.w),
+    ] {
+        if rec.to_bits() != again.to_bits() {
+            bad.push(format!(
+                "{name}: recorded {rec:e}, from the batches {again:e}"
+            ));
+        }
+    }
+    for (k, (rec, rec_err)) in r.msd_over_4t.iter().zip(&r.msd_over_4t_err).enumerate() {
+        let t = r.msd_times.get(k).copied().unwrap_or(f64::NAN);
+        let v: Vec<f64> = r
+            .batch_msd
+            .iter()
+            .map(|m| m.get(k).copied().unwrap_or(f64::NAN) / (4.0 * t))
+            .collect();
+        let (value, err) = mean_se(&v);
+        if r.msd_over_4t.len() != r.msd_over_4t_err.len()
+            || value.to_bits() != rec.to_bits()
+            || err.to_bits() != rec_err.to_bits()
+        {
+            bad.push(format!("MSD/(4t) at t = {t}"));
+        }
+    }
+    checks.pass_if(
+        bad.is_empty(),
+        "reproducibility",
+        "D and its errors follow from the recorded batches",
+        if bad.is_empty() {
+            format!("D = {} ± {} and D_check, MSD/(4t) at {} lags recomputed from {n} batch values: the same bits", r.D, r.D_err, r.msd_times.len())
+        } else {
+            format!("recomputed values differ from the recorded ones: {}", bad.join("; "))
+        },
+        &[("batches", n as f64)],
+    );
+}
+
+/// The fit window: D against D_check, paired over batches.
+fn fit_window_check(r: &DiffusionReport, checks: &mut Checks) {
+    let n = r.batch_D.len();
+    let diffs: Vec<f64> = r
+        .batch_D
+        .iter()
+        .zip(&r.batch_D_check)
+        .map(|(a, b)| a - b)
+        .collect();
+    let (md, sd) = mean_se(&diffs);
+    let bound_pair = normal_sigma_equivalent_t((n.max(2) - 1) as f64, SIGMAS);
+    checks.pass_if(
+        (md / sd).abs() <= bound_pair,
+        "statistics",
+        "fit window: D and D_check agree",
+        format!(
+            "D[{}τ, {}τ] − D[{}τ, {}τ] = {md:.3e} ± {sd:.1e} ({:+.1}σ; paired over batches; bound {bound_pair:.2}σ, t with {} dof)",
+            r.window.lo, r.window.hi, r.check_window.lo, r.check_window.hi, md / sd, n.max(2) - 1
+        ),
+        &[("difference", md), ("difference_err", sd)],
+    );
+}
+
+/// The figures of a diffusion audit: the local slope D(t) with the recorded D, and the histogram
+/// of the batch values.
+fn diffusion_figures(
+    r: &DiffusionReport,
+    out: &Path,
+    figures: &mut Vec<String>,
+) -> Result<(), Error> {
+    let slope_series = local_slopes(r);
+    let t_first = r.msd_times.first().copied().unwrap_or(0.0);
+    let t_last = r.msd_times.last().copied().unwrap_or(t_first);
+    let stem = out.join("local-slope");
+    plot(
+        &stem,
+        &PlotSpec {
+            title: "Local slope D(t) = d MSD / (4 dt), with the recorded D",
+            x_label: "t",
+            y_label: "D(t)",
+            log_x: false,
+            log_y: false,
+        },
+        &[
+            Series {
+                label: "local slope between lags (error: over batches)".into(),
+                points: slope_series,
+                notes: Vec::new(),
+                line: true,
+            },
+            Series {
+                label: "MSD/(4t)".into(),
+                points: r
+                    .msd_times
+                    .iter()
+                    .zip(r.msd_over_4t.iter().zip(&r.msd_over_4t_err))
+                    .map(|(t, (v, e))| (*t, *v, *e))
+                    .collect(),
+                notes: Vec::new(),
+                line: true,
+            },
+            Series {
+                label: format!("D + D_err = {:.6} + {:.6}", r.D, r.D_err),
+                points: vec![(t_first, r.D + r.D_err, 0.0), (t_last, r.D + r.D_err, 0.0)],
+                notes: Vec::new(),
+                line: true,
+            },
+            Series {
+                label: "D - D_err".into(),
+                points: vec![(t_first, r.D - r.D_err, 0.0), (t_last, r.D - r.D_err, 0.0)],
+                notes: Vec::new(),
+                line: true,
+            },
+        ],
+    )?;
+    figures.push("local-slope".into());
+    histogram(&r.batch_D, r.D, &out.join("batch-histogram"))?;
+    figures.push("batch-histogram".into());
+    Ok(())
+}
+
+/// The exact identities of the same run (mean free path, hop time, collisions per hop), each
+/// within the 4σ bound of its batch error.
+fn identity_checks(r: &DiffusionReport, g: &Geometry<f64>, checks: &mut Checks) {
+    let n = r.batch_D.len();
+    // Errors from n batches: the 4σ bound is the Student-t quantile at the normal 4σ tail.
+    let bound_n = normal_sigma_equivalent_t((n.max(2) - 1) as f64, SIGMAS);
+    for (name, v, e, exact, recorded_exact) in [
+        (
+            "mean free path (Santaló π|Q|/|∂Q|)",
+            r.mean_free_path,
+            r.mean_free_path_err,
+            g.mean_free_path(),
+            r.mean_free_path_exact,
+        ),
+        (
+            "hop time τ = πA/(3w)",
+            r.tau_hop,
+            r.tau_hop_err,
+            g.hop_time(),
+            r.tau_hop_exact,
+        ),
+        (
+            "collisions per hop π/(3w)",
+            r.collisions_per_hop,
+            r.collisions_per_hop_err,
+            g.collisions_per_hop(),
+            r.collisions_per_hop_exact,
+        ),
+    ] {
+        let z = (v - exact) / e;
+        let same = exact.to_bits() == recorded_exact.to_bits();
+        checks.pass_if(
+            z.abs() <= bound_n && same,
+            "identities",
+            name,
+            format!(
+                "{v} ± {e:.1e} against exact {exact} ({z:+.2}σ; bound {bound_n:.2}σ, the {SIGMAS}σ tail of t with {} dof){}",
+                n - 1,
+                if same {
+                    ""
+                } else {
+                    "; the recorded exact value is not the closed form"
+                }
+            ),
+            &[("value", v), ("err", e), ("exact", exact)],
+        );
+    }
+}
+
+/// The re-run batches give the recorded D and D_check of each batch to the last bit.
+fn rerun_batches_check(
+    r: &DiffusionReport,
+    cfg: &DiffusionConfig,
+    tau: f64,
+    plan: &RerunPlan,
+    again: &[BatchResult],
+    ctx: &Ctx<'_>,
+    checks: &mut Checks,
+) {
+    let rerun = &plan.batches;
+    let mut differ = Vec::new();
+    for b in again {
+        let (bd, bdc) = batch_d(b, tau, &cfg.window, &cfg.check_window);
+        let i = b.index as usize;
+        let rec = (r.batch_D.get(i).copied(), r.batch_D_check.get(i).copied());
+        if rec.0.map(f64::to_bits) != Some(bd.to_bits())
+            || rec.1.map(f64::to_bits) != Some(bdc.to_bits())
+        {
+            differ.push(format!(
+                "batch {i}: recorded D = {:?}, re-run {bd:e}",
+                rec.0
+            ));
+        }
+    }
+    checks.pass_if(
+        differ.is_empty(),
+        "reproducibility",
+        if ctx.quick { "one batch re-run from its seed gives the recorded bits" } else { "every batch re-run from its seed gives the recorded bits" },
+        if differ.is_empty() {
+            format!(
+                "batch{} {} ({} collisions) re-run on the {} engine: D of each batch identical to the last bit",
+                if rerun.len() == 1 { "" } else { "es" },
+                if rerun.len() <= 4 { format!("{rerun:?}") } else { format!("0..{}", rerun.len() - 1) },
+                plan.collisions,
+                plan.engine.name()
+            )
+        } else {
+            format!("{} of {} re-run batches differ: {}", differ.len(), rerun.len(), differ.iter().take(3).cloned().collect::<Vec<_>>().join("; "))
+        },
+        &[("batches_rerun", rerun.len() as f64)],
+    );
+}
+
+/// The shadow audit of the re-run batches' events: none outside the error model.
+fn shadow_audit_check(again: &[BatchResult], ctx: &Ctx<'_>, checks: &mut Checks) {
+    match again.iter().filter_map(|b| b.audit.clone()).reduce(|mut a, b| {
+        a.merge(&b);
+        a
+    }) {
+        Some(a) => checks.pass_if(
+            a.outside == 0 && a.audited > 0,
+            "verification",
+            "shadow audit of events of the same trajectories",
+            format!(
+                "{} events replayed at {} bits from the exact pre-event state: {} outside the error model, {} ambiguous; median time error / bound {:.2e}",
+                a.audited,
+                ctx.bits,
+                a.outside,
+                a.ambiguous,
+                a.time_error_over_bound.quantile(0.5)
+            ),
+            &[("audited", a.audited as f64), ("outside", a.outside as f64)],
+        ),
+        None => checks.add(
+            "verification",
+            "shadow audit of events of the same trajectories",
+            Verdict::Skip,
+            "the run is not f64: its events are MPFR already".into(),
+            &[],
+        ),
+    }
+}
+
+/// Collisions per shadowed segment: long enough that the f64 orbit has left any orbit started
+/// from its rounded start (the divergence horizon is ~35 collisions), short enough for seconds.
+const SHADOW_COLLISIONS: usize = 1000;
+
+/// The true-orbit certificate ([`crate::verification::shadowing`]) for the first
+/// [`SHADOW_COLLISIONS`] collisions of some of the run's own trajectories: those of the re-run
+/// batches (at most two with `quick`, eight otherwise).
+fn shadowing_certificate(
+    cfg: &DiffusionConfig,
+    rerun: &[u32],
+    ctx: &Ctx<'_>,
+    checks: &mut Checks,
+) -> Result<(), Error> {
+    use crate::verification::shadowing::{f64_segment, shadow_pseudo_orbit};
+    let scene = crate::scenes::triangular::TriangularScene::new(cfg.w)?;
+    let batches = shadowed_batches(cfg, rerun, ctx.quick);
+    let bits = ctx.bits;
+    let results = crate::engine::parallel::par_batches(ctx.threads, batches.len() as u32, |k| {
+        let start = crate::estimators::diffusion::batch_start(cfg, batches[k as usize])?;
+        let orbit = f64_segment(&scene, &start, SHADOW_COLLISIONS, bits)?;
+        shadow_pseudo_orbit(&scene, &orbit, bits)
+    })?;
+    let certified = results.iter().filter(|s| s.certified).count();
+    let delta = results.iter().filter_map(|s| s.delta).fold(0.0, f64::max);
+    let bound = results
+        .iter()
+        .filter_map(|s| s.correction_bound)
+        .fold(0.0, f64::max);
+    let failures: Vec<String> = results
+        .iter()
+        .zip(&batches)
+        .filter(|(s, _)| !s.certified)
+        .map(|(s, b)| {
+            format!(
+                "batch {b}: {}",
+                s.failure.clone().unwrap_or_else(|| "not certified".into())
+            )
+        })
+        .collect();
+    checks.pass_if(
+        failures.is_empty(),
+        "verification",
+        "shadowing: a true orbit within δ of the computed one",
+        if failures.is_empty() {
+            format!(
+                "first {SHADOW_COLLISIONS} collisions of batches {batches:?}: {certified} of {} segments certified at {} bits (Newton on the whole segment; a true orbit with the same disks within 2Kε ≤ {bound:.1e} of the refined one); δ ≤ {delta:.2e} from every f64 collision point",
+                results.len(),
+                ctx.bits
+            )
+        } else {
+            format!("{} of {} segments not certified: {}", failures.len(), results.len(), failures.join("; "))
+        },
+        &[("delta_max", delta), ("certified", certified as f64), ("segments", results.len() as f64)],
+    );
+    Ok(())
+}
+
+/// Least collisions of a [`PRECISION_BATCHES`]-batch run at `cfg`'s w and windows.
+fn precision_min_collisions(cfg: &DiffusionConfig) -> Result<u64, Error> {
+    let g = Geometry::new(cfg.w)?;
+    let hops = (crate::estimators::diffusion::MIN_HOPS_PER_LAG
+        * cfg.window.hi.max(cfg.check_window.hi)) as f64;
+    Ok((hops * g.collisions_per_hop() * PRECISION_BATCHES as f64).ceil() as u64)
+}
+
+fn precision_independence(
+    cfg: &DiffusionConfig,
+    r: &DiffusionReport,
+    collisions: u64,
+    ctx: &Ctx<'_>,
+    checks: &mut Checks,
+) -> Result<(), Error> {
+    let short = |precision| {
+        let mut c = cfg.clone();
+        c.collisions = collisions;
+        c.batches = PRECISION_BATCHES;
+        c.precision = precision;
+        crate::estimators::diffusion::run(&c, &ctx.options())
+    };
+    let lo = short(Precision::F64)?;
+    let hi = short(Precision::Bits(ctx.bits))?;
+    let z_pair = (hi.D - lo.D) / (hi.D_err.hypot(lo.D_err));
+    let z_rec = (hi.D - r.D) / (hi.D_err.hypot(r.D_err));
+    // Errors from PRECISION_BATCHES batches: the t quantile at the normal 4σ tail.
+    let bound = normal_sigma_equivalent_t((PRECISION_BATCHES - 1) as f64, SIGMAS);
+    checks.pass_if(
+        z_pair.abs() <= bound && z_rec.abs() <= bound,
+        "verification",
+        "precision independence",
+        format!(
+            "{PRECISION_BATCHES} batches of {} collisions from the run's first starts: MPFR {} bits D = {:.5} ± {:.5}, f64 D = {:.5} ± {:.5} ({z_pair:+.1}σ); against the recorded D {z_rec:+.1}σ (bound {bound:.2}σ, t with {} dof)",
+            collisions / PRECISION_BATCHES as u64,
+            ctx.bits,
+            hi.D,
+            hi.D_err,
+            lo.D,
+            lo.D_err,
+            PRECISION_BATCHES - 1
+        ),
+        &[("D_mpfr", hi.D), ("D_mpfr_err", hi.D_err), ("D_f64", lo.D), ("D_f64_err", lo.D_err)],
+    );
+    Ok(())
+}
+
+/// The local slope (MSD(t_{k+1}) − MSD(t_k)) / (4 (t_{k+1} − t_k)) per batch, mean ± error, at the
+/// interval midpoints.
+fn local_slopes(r: &DiffusionReport) -> Vec<(f64, f64, f64)> {
+    let t = &r.msd_times;
+    (0..t.len().saturating_sub(1))
+        .map(|k| {
+            let v: Vec<f64> = r
+                .batch_msd
+                .iter()
+                .map(|m| (m[k + 1] - m[k]) / (4.0 * (t[k + 1] - t[k])))
+                .collect();
+            let (m, e) = mean_se(&v);
+            (0.5 * (t[k] + t[k + 1]), m, e)
+        })
+        .collect()
+}
+
+/// A histogram of the batch values, as a step outline, with the mean marked.
+fn histogram(x: &[f64], mean: f64, stem: &Path) -> Result<(), Error> {
+    let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let bins = ((x.len() as f64).sqrt().ceil() as usize).max(4);
+    let width = ((hi - lo) / bins as f64).max(f64::MIN_POSITIVE);
+    let mut counts = vec![0u32; bins];
+    for v in x {
+        counts[(((v - lo) / width) as usize).min(bins - 1)] += 1;
+    }
+    let mut outline = vec![(lo, 0.0, 0.0)];
+    for (i, c) in counts.iter().enumerate() {
+        let a = lo + i as f64 * width;
+        outline.push((a, *c as f64, 0.0));
+        outline.push((a + width, *c as f64, 0.0));
+    }
+    outline.push((lo + bins as f64 * width, 0.0, 0.0));
+    let top = *counts.iter().max().unwrap_or(&1) as f64;
+    plot(
+        stem,
+        &PlotSpec {
+            title: "D of each batch",
+            x_label: "D",
+            y_label: "batches",
+            log_x: false,
+            log_y: false,
+        },
+        &[
+            Series {
+                label: format!("{} batches", x.len()),
+                points: outline,
+                notes: Vec::new(),
+                line: true,
+            },
+            Series {
+                label: "mean".into(),
+                points: vec![(mean, 0.0, 0.0), (mean, top, 0.0)],
+                notes: Vec::new(),
+                line: true,
+            },
+        ],
+    )
+}

@@ -1,0 +1,213 @@
+//! The result-file reader of the audit: a bounded read, the kind recognised from the file's
+//! keys, and every key checked against the schema of that kind.
+//!
+//! Nothing in the file decides what runs or where anything is written: the kind is one of
+//! [`Kind`] (recognised by a key only that kind writes), the file is read into the kind's result
+//! struct, a key the struct does not hold refuses the file (so an audited file carries no
+//! unaudited fields), and the recorded configuration is validated as command-line input is.
+
+use std::io::Read;
+use std::path::Path;
+
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use serde_json::Value;
+
+use crate::Error;
+
+/// Largest result file the audit reads: 64 MiB, checked from the file's metadata before reading
+/// (and again while reading). The largest results lorentz writes at realistic settings are far
+/// below it: a default diffusion result is 8 kB (32 batches × 25 MSD lags), a 10⁴-point sweep of
+/// 10 runs about 6 MB; at 25 lags the bound allows about 10⁵ diffusion batches. Reading parses
+/// into a JSON tree and the result struct, about 4 times the file's size at most.
+pub const MAX_RESULT_BYTES: u64 = 64 << 20;
+
+/// The kinds of result the audit knows, each recognised by a key that only it writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// `lorentz diffusion --json`.
+    Diffusion,
+    /// `lorentz sweep` (`sweep.json`, `--json`) and `lorentz merge` (the same result).
+    Sweep,
+    /// `lorentz hops --json`.
+    Hops,
+    /// `lorentz theory --json`.
+    Theory,
+    /// `lorentz lattice-walk --json`.
+    LatticeWalk,
+    /// `lorentz backscatter --json`.
+    Backscatter,
+    /// `lorentz escape --json`.
+    Escape,
+}
+
+impl Kind {
+    /// Every kind, each with the key that identifies it.
+    pub const ALL: [(Kind, &'static str); 7] = [
+        (Kind::Diffusion, "batch_D"),
+        (Kind::Sweep, "rows"),
+        (Kind::Hops, "pairs"),
+        (Kind::Theory, "orders"),
+        (Kind::LatticeWalk, "walks"),
+        (Kind::Backscatter, "mean_visit_time"),
+        (Kind::Escape, "D_escape"),
+    ];
+
+    /// The command that writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Diffusion => "diffusion",
+            Kind::Sweep => "sweep",
+            Kind::Hops => "hops",
+            Kind::Theory => "theory",
+            Kind::LatticeWalk => "lattice-walk",
+            Kind::Backscatter => "backscatter",
+            Kind::Escape => "escape",
+        }
+    }
+
+    /// The kinds, as a list for messages: `diffusion (key batch_D), …`.
+    fn list() -> String {
+        Kind::ALL
+            .iter()
+            .map(|(k, key)| format!("{} ({key})", k.name()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// A result file as read: its digest, its kind and its JSON tree.
+pub struct ResultFile {
+    /// SHA-256 of the file's bytes (hex).
+    pub sha: String,
+    /// Its kind.
+    pub kind: Kind,
+    /// Its JSON (an object).
+    pub value: Value,
+}
+
+/// Bad input naming the file.
+fn bad(path: &Path, why: impl std::fmt::Display) -> Error {
+    Error::Invalid(format!("{}: {why}", path.display()))
+}
+
+impl ResultFile {
+    /// Reads `path` (a regular file of at most [`MAX_RESULT_BYTES`]), parses it and recognises
+    /// its kind; anything else is bad input naming the file and the reason.
+    pub fn read(path: &Path) -> Result<Self, Error> {
+        let bytes = read_bounded(path)?;
+        let sha = super::provenance::sha256_hex(&bytes);
+        let value: Value = serde_json::from_slice(&bytes).map_err(|e| {
+            bad(
+                path,
+                format!("not a JSON result of lorentz ({e}); write one with --json"),
+            )
+        })?;
+        drop(bytes);
+        let Some(object) = value.as_object() else {
+            return Err(bad(path, "not a JSON object: not a result of lorentz"));
+        };
+        let kinds: Vec<Kind> = Kind::ALL
+            .iter()
+            .filter(|(_, key)| object.contains_key(*key))
+            .map(|(k, _)| *k)
+            .collect();
+        let kind = match kinds[..] {
+            [k] => k,
+            [] => {
+                return Err(bad(
+                    path,
+                    format!(
+                        "not a result that report audits: it has none of the keys that identify {} (results of other commands are not audited)",
+                        Kind::list()
+                    ),
+                ))
+            }
+            _ => {
+                return Err(bad(
+                    path,
+                    format!(
+                        "keys of several kinds of result ({}): not a result of lorentz",
+                        kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(", ")
+                    ),
+                ))
+            }
+        };
+        Ok(ResultFile { sha, kind, value })
+    }
+
+    /// The file as the result struct `T` of its kind: every key of the file must be one that
+    /// `T` holds (the first other one is named), and `T` must parse.
+    pub fn parse<T: DeserializeOwned + Serialize>(&self, path: &Path) -> Result<T, Error> {
+        let kind = self.kind.name();
+        let t = T::deserialize(&self.value).map_err(|e| {
+            bad(
+                path,
+                format!("not a {kind} result as lorentz writes it: {e}"),
+            )
+        })?;
+        let schema = serde_json::to_value(&t).map_err(|e| bad(path, e))?;
+        if let Some(key) = first_unknown_key(&self.value, &schema, "") {
+            return Err(bad(
+                path,
+                format!("unknown key `{key}`: a {kind} result holds no such key, and the audit accepts no field it does not check"),
+            ));
+        }
+        Ok(t)
+    }
+}
+
+/// Reads at most [`MAX_RESULT_BYTES`] of the regular file `path`, refusing larger ones (from the
+/// metadata, before reading) and anything that is not a regular file.
+fn read_bounded(path: &Path) -> Result<Vec<u8>, Error> {
+    let cannot = |e: std::io::Error| bad(path, format!("cannot read the result file ({e})"));
+    let file = std::fs::File::open(path).map_err(cannot)?;
+    let meta = file.metadata().map_err(cannot)?;
+    if !meta.is_file() {
+        return Err(bad(path, "not a regular file"));
+    }
+    let too_big = |n: u64| {
+        bad(
+            path,
+            format!(
+                "{n} bytes is larger than the {MAX_RESULT_BYTES} bytes (64 MiB) a result file may have: refused before reading"
+            ),
+        )
+    };
+    if meta.len() > MAX_RESULT_BYTES {
+        return Err(too_big(meta.len()));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(MAX_RESULT_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(cannot)?;
+    if bytes.len() as u64 > MAX_RESULT_BYTES {
+        return Err(too_big(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+/// The first key (as a dotted path) of `file` that `schema` (the result struct written back)
+/// does not hold, looking into objects and arrays.
+fn first_unknown_key(file: &Value, schema: &Value, at: &str) -> Option<String> {
+    let join = |k: &str| {
+        if at.is_empty() {
+            k.to_string()
+        } else {
+            format!("{at}.{k}")
+        }
+    };
+    match (file, schema) {
+        (Value::Object(f), Value::Object(s)) => f.iter().find_map(|(k, v)| match s.get(k) {
+            None => Some(join(k)),
+            Some(sv) => first_unknown_key(v, sv, &join(k)),
+        }),
+        (Value::Object(f), _) => f.keys().next().map(|k| join(k)),
+        (Value::Array(f), Value::Array(s)) => f
+            .iter()
+            .zip(s)
+            .enumerate()
+            .find_map(|(i, (a, b))| first_unknown_key(a, b, &join(&i.to_string()))),
+        _ => None,
+    }
+}

@@ -1,0 +1,558 @@
+//! The audit of a result file before publication (`lorentz report`): why a number from a run
+//! can be trusted, check by check, each PASS, FAIL or SKIP (with the reason) and its numbers.
+//!
+//! **The audit trusts nothing in the file.** It reads the file ([`file`]: at most
+//! [`file::MAX_RESULT_BYTES`], every key checked against the schema of its kind), takes the
+//! recorded *configuration* (the `config` object), validates it exactly as the command line
+//! validates its input, and re-runs it through the library (`estimators::<kind>::run`). It never
+//! runs the recorded command line (`meta.command_line` is shown, never used) and never starts a
+//! process; the work of every re-run is computed from the validated configuration, and the
+//! report writes only inside [`AuditConfig::out`].
+//!
+//! For a `diffusion` result:
+//! - **reproducibility of the record** — D, D_err, D_check and MSD/(4t) recomputed from the
+//!   per-batch values in the file give the recorded bits (an edited summary number fails here, an
+//!   edited batch value in the re-run below);
+//! - **statistics** — the batches' between-group χ² (four groups of consecutive batches), the
+//!   most extreme batch against a Bonferroni Student-t bound, the batch error against the errors of
+//!   blocks of 2 and 4 batches (F bounds), and the fit window: D against D_check (paired over
+//!   batches) with the local slope D(t) plotted with its error band;
+//! - **exact identities** from the same run: mean free path (Santaló), τ = πA/(3w), π/(3w)
+//!   collisions per hop, each within 4σ;
+//! - **shadow audit** — batches re-run from their seeds with a fraction of their events replayed in
+//!   MPFR (≥ 128 bits) from the exact pre-event state: none outside the error model;
+//! - **precision independence** — short runs from the same starts in f64 and in MPFR at 128 bits
+//!   agree with each other and with the recorded D within errors;
+//! - **shadowing** — for the first 1000 collisions of some of the run's own trajectories, a true
+//!   orbit within δ of every f64 collision point ([`crate::verification::shadowing`]);
+//! - **reproducibility** — re-run batches give the recorded bits (one batch, chosen by the file's
+//!   digest, with `quick`; every batch otherwise).
+//!
+//! For a `sweep` result (also one written by `lorentz merge`: the same result): the record (the
+//! rows, the F tests of the runs, the fits and the crossing recomputed by the sweep's own analysis
+//! from each run's D and error in the file, to the bit), the runs' F tests over the points, and
+//! runs re-run from their seeds (one run of one point, chosen by the digest, with `quick`; the
+//! whole sweep otherwise). For `hops`, `theory`, `lattice-walk`, `backscatter` and `escape`: the
+//! record against its configuration, the exact identities they carry (Kac's lemma for
+//! injection), and the configuration re-run, every field identical but timing and metadata.
+//!
+//! **Work.** Each re-run's collisions follow from the configuration (a batch, a run, the whole
+//! computation; expected collisions for injections and escape, from the closed forms). They are
+//! taken in order from one budget: [`QUICK_RERUN_COLLISIONS`] with `quick`,
+//! [`AuditConfig::max_rerun_collisions`] when set, else unbounded. A re-run that does not fit is a
+//! SKIP saying how many collisions it needs and how many remain — never a silent pass.
+//!
+//! Every result's provenance: this build (version, git commit, rustc), the CPU, the date, the
+//! recorded `meta` (version, seed, engine, SIMD path, threads, command line) and the SHA-256 of the
+//! file — so the report is bound to exactly the bytes it audited.
+
+mod backscatter;
+mod diffusion;
+mod escape;
+pub mod file;
+mod hops;
+mod provenance;
+mod render;
+mod same_bits;
+mod statistics;
+mod sweep;
+
+use std::cell::Cell;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::{RunOptions, MAX_AUDIT_BITS, MIN_AUDIT_BITS};
+use crate::numbers::precision::Precision;
+use crate::Error;
+use file::{Kind, ResultFile};
+
+/// A check's outcome.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "UPPERCASE")]
+pub enum Verdict {
+    /// The property holds, with the numbers shown.
+    Pass,
+    /// The property fails: the result should not be published as it is.
+    Fail,
+    /// Not checked, for the reason given (not a pass).
+    Skip,
+}
+
+impl std::fmt::Display for Verdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Verdict::Pass => "PASS",
+            Verdict::Fail => "FAIL",
+            Verdict::Skip => "SKIP",
+        })
+    }
+}
+
+/// One check of the report.
+#[derive(Debug, Clone, Serialize)]
+pub struct Check {
+    /// Group (provenance, record, statistics, identities, verification, reproducibility).
+    pub group: String,
+    /// What is checked.
+    pub name: String,
+    /// The outcome.
+    pub verdict: Verdict,
+    /// The numbers and the criterion, in words.
+    pub detail: String,
+    /// The numbers, by name.
+    pub numbers: BTreeMap<String, f64>,
+}
+
+/// Where the result and this report come from.
+#[derive(Debug, Clone, Serialize)]
+pub struct Provenance {
+    /// The audited file.
+    pub result_file: String,
+    /// SHA-256 of its bytes (hex).
+    pub sha256: String,
+    /// Which kind of result it is (`diffusion`, `sweep`, …), recognised from its keys.
+    pub kind: String,
+    /// The `meta` block recorded in the file (shown; its command line is never run).
+    pub recorded: Option<RunMeta>,
+    /// Version of the crate that writes this report.
+    pub version: String,
+    /// Git commit this binary was built from (`unknown` outside a checkout).
+    pub git_commit: String,
+    /// The compiler that built it.
+    pub rustc: String,
+    /// CPU model of this machine.
+    pub cpu: String,
+    /// Date and time of the report (UTC, ISO 8601).
+    pub date_utc: String,
+}
+
+/// The whole report.
+#[derive(Debug, Clone, Serialize)]
+pub struct PublicationReport {
+    /// FAIL if any check failed, else PASS (skipped checks are listed, not counted).
+    pub verdict: Verdict,
+    /// Provenance of the result and of the report.
+    pub provenance: Provenance,
+    /// The checks, in order.
+    pub checks: Vec<Check>,
+    /// Figures written next to the report (file stems).
+    pub figures: Vec<String>,
+    /// Whether the quick settings were used.
+    pub quick: bool,
+    /// Collisions re-run in all (within the budget).
+    pub rerun_collisions: u64,
+    /// Wall-clock seconds the report took.
+    pub seconds: f64,
+    /// This process's metadata.
+    pub meta: RunMeta,
+}
+
+/// Most collisions the quick report re-runs in all (about 20 s on 2 cores).
+pub const QUICK_RERUN_COLLISIONS: u64 = 2_000_000_000;
+
+/// What to audit, where the report goes, and how thoroughly.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AuditConfig {
+    /// The result file (written by `lorentz … --json`, `sweep --out`, `merge`).
+    pub result: PathBuf,
+    /// Directory of `report.{md,html,json}` and the figures (created): the audit writes nothing
+    /// anywhere else.
+    pub out: PathBuf,
+    /// Quick: one batch (or run) re-run, fewer events replayed, shorter precision runs, and at
+    /// most [`QUICK_RERUN_COLLISIONS`] re-run in all.
+    pub quick: bool,
+    /// MPFR precision of the references (shadow audit, precision independence, shadowing),
+    /// [`MIN_AUDIT_BITS`] to [`MAX_AUDIT_BITS`].
+    pub reference_bits: u32,
+    /// Most collisions re-run in all (with `quick`, the smaller of this and
+    /// [`QUICK_RERUN_COLLISIONS`]); `None`: no bound but `quick`'s. Re-runs beyond it are SKIP.
+    #[serde(default)]
+    pub max_rerun_collisions: Option<u64>,
+}
+
+impl AuditConfig {
+    /// The full audit of `result` into `out` at 128 bits.
+    pub fn new(result: impl Into<PathBuf>, out: impl Into<PathBuf>) -> Self {
+        AuditConfig {
+            result: result.into(),
+            out: out.into(),
+            quick: false,
+            reference_bits: MIN_AUDIT_BITS,
+            max_rerun_collisions: None,
+        }
+    }
+
+    /// Checks the settings (the file itself is checked when it is read).
+    pub fn validate(&self) -> Result<(), Error> {
+        let bits = self.reference_bits;
+        if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&bits) {
+            return Err(Error::Invalid(format!(
+                "reference bits = {bits}: use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} (the shadow audit needs at least {MIN_AUDIT_BITS})"
+            )));
+        }
+        Ok(())
+    }
+
+    /// The budget of re-run collisions.
+    fn budget(&self) -> Option<u64> {
+        match (self.quick, self.max_rerun_collisions) {
+            (true, Some(m)) => Some(m.min(QUICK_RERUN_COLLISIONS)),
+            (true, None) => Some(QUICK_RERUN_COLLISIONS),
+            (false, m) => m,
+        }
+    }
+}
+
+/// The audited result, parsed and validated: one per kind.
+enum Audited {
+    Diffusion(Box<crate::estimators::diffusion::DiffusionReport>),
+    Sweep(Box<crate::estimators::sweep::SweepReport>),
+    Hops(Box<hops::HopsKind>),
+    Backscatter(Box<crate::estimators::hops::backscatter::BackscatterReport>),
+    Escape(Box<crate::estimators::escape::EscapeReport>),
+}
+
+impl Audited {
+    /// Reads `cfg.result`: the file, its kind, the result struct, its configuration validated.
+    fn read(cfg: &AuditConfig) -> Result<(ResultFile, Audited), Error> {
+        let path = cfg.result.as_path();
+        let file = ResultFile::read(path)?;
+        let a = match file.kind {
+            Kind::Diffusion => Audited::Diffusion(Box::new(diffusion::parse(&file, path)?)),
+            Kind::Sweep => Audited::Sweep(Box::new(sweep::parse(&file, path)?)),
+            Kind::Hops | Kind::Theory | Kind::LatticeWalk => {
+                Audited::Hops(Box::new(hops::parse(&file, path)?))
+            }
+            Kind::Backscatter => Audited::Backscatter(Box::new(backscatter::parse(&file, path)?)),
+            Kind::Escape => Audited::Escape(Box::new(escape::parse(&file, path)?)),
+        };
+        Ok((file, a))
+    }
+
+    /// The re-runs of the audit, in the order the checks take them: collisions each.
+    fn reruns(&self, quick: bool, sha: &str) -> Result<Vec<u64>, Error> {
+        match self {
+            Audited::Diffusion(r) => diffusion::reruns(r, quick, sha),
+            Audited::Sweep(r) => Ok(sweep::reruns(r, quick)),
+            Audited::Hops(h) => Ok(vec![h.config().collisions]),
+            Audited::Backscatter(r) => Ok(vec![backscatter::collisions(&r.config)?]),
+            Audited::Escape(r) => Ok(vec![escape::collisions(&r.config)?]),
+        }
+    }
+
+    fn meta(&self) -> &RunMeta {
+        match self {
+            Audited::Diffusion(r) => &r.meta,
+            Audited::Sweep(r) => &r.meta,
+            Audited::Hops(h) => h.meta(),
+            Audited::Backscatter(r) => &r.meta,
+            Audited::Escape(r) => &r.meta,
+        }
+    }
+}
+
+/// The re-runs admitted by `budget`, in order: each fits in what the earlier ones left.
+fn admitted(reruns: &[u64], budget: Option<u64>) -> Vec<bool> {
+    let mut left = budget;
+    reruns
+        .iter()
+        .map(|&n| match left {
+            None => true,
+            Some(l) if n <= l => {
+                left = Some(l - n);
+                true
+            }
+            Some(_) => false,
+        })
+        .collect()
+}
+
+/// The kind of `cfg.result` and the collisions the audit will re-run: what a progress bar needs
+/// before [`run`]. Reads and checks the file as [`run`] does (bad input is refused here too).
+pub fn planned_rerun_collisions(cfg: &AuditConfig) -> Result<(Kind, u64), Error> {
+    cfg.validate()?;
+    let (file, a) = Audited::read(cfg)?;
+    let reruns = a.reruns(cfg.quick, &file.sha)?;
+    let ok = admitted(&reruns, cfg.budget());
+    let total = reruns
+        .iter()
+        .zip(&ok)
+        .filter(|(_, y)| **y)
+        .map(|(n, _)| n)
+        .sum();
+    Ok((file.kind, total))
+}
+
+/// Audits the result file `cfg.result` and writes the report (`report.md`, `report.html`,
+/// `report.json`) and its figures into `cfg.out` (created) — nowhere else. `options.threads` run
+/// the re-runs; `options.progress` receives the collisions re-run (in all
+/// [`planned_rerun_collisions`]); the engine is the audit's choice (the bits are the same on every
+/// engine).
+///
+/// # Errors
+/// Bad input (before anything is written): settings out of range, a file that cannot be read,
+/// is larger than [`file::MAX_RESULT_BYTES`], is not JSON, is not a result of a kind the audit
+/// knows, holds a key its kind does not, or records a configuration the command line would
+/// refuse. A FAIL verdict is not an error: it is in the report.
+pub fn run(cfg: &AuditConfig, options: &RunOptions) -> Result<PublicationReport, Error> {
+    cfg.validate()?;
+    options.validate()?;
+    let start = std::time::Instant::now();
+    let (file, audited) = Audited::read(cfg)?;
+    let reruns = audited.reruns(cfg.quick, &file.sha)?;
+    let ctx = Ctx {
+        sha: &file.sha,
+        out: &cfg.out,
+        quick: cfg.quick,
+        bits: cfg.reference_bits,
+        threads: options.threads,
+        progress: options.progress,
+        reruns,
+        admitted: Vec::new(),
+        next: Cell::new(0),
+        done: Cell::new(0),
+        budget: cfg.budget(),
+    };
+    let ctx = Ctx {
+        admitted: admitted(&ctx.reruns, ctx.budget),
+        ..ctx
+    };
+    std::fs::create_dir_all(&cfg.out).map_err(|e| {
+        Error::Io(format!(
+            "cannot create directory {}: {e}",
+            cfg.out.display()
+        ))
+    })?;
+    let mut checks = Checks(Vec::new());
+    let mut figures = Vec::new();
+    let kind = file.kind.name();
+    provenance::identification_check(&mut checks, kind, &file.sha, audited.meta());
+    match &audited {
+        Audited::Diffusion(r) => diffusion::checks(r, &ctx, &mut checks, &mut figures)?,
+        Audited::Sweep(r) => sweep::checks(r, &ctx, &mut checks)?,
+        Audited::Hops(h) => hops::checks(h, &ctx, &mut checks)?,
+        Audited::Backscatter(r) => backscatter::checks(r, &ctx, &mut checks)?,
+        Audited::Escape(r) => escape::checks(r, &ctx, &mut checks)?,
+    }
+    let verdict = if checks.0.iter().any(|c| c.verdict == Verdict::Fail) {
+        Verdict::Fail
+    } else {
+        Verdict::Pass
+    };
+    let report = PublicationReport {
+        verdict,
+        provenance: provenance::provenance(
+            cfg.result.display().to_string(),
+            &file.sha,
+            kind,
+            Some(audited.meta().clone()),
+        ),
+        checks: checks.0,
+        figures,
+        quick: cfg.quick,
+        rerun_collisions: ctx.done.get(),
+        seconds: start.elapsed().as_secs_f64(),
+        meta: RunMeta::new(
+            None,
+            None,
+            Precision::Bits(cfg.reference_bits),
+            Some(options.threads),
+        ),
+    };
+    report.write(&cfg.out)?;
+    Ok(report)
+}
+
+/// What every check of one audit shares: the file's digest, where figures go, the settings, the
+/// re-runs with the budget's admission of each, and where re-runs report their collisions.
+struct Ctx<'a> {
+    sha: &'a str,
+    out: &'a Path,
+    quick: bool,
+    bits: u32,
+    threads: usize,
+    progress: &'a (dyn Fn(u64) + Sync),
+    /// The re-runs' collisions, in the order the checks take them.
+    reruns: Vec<u64>,
+    /// Whether each fits in the budget.
+    admitted: Vec<bool>,
+    /// The next re-run to be taken.
+    next: Cell<usize>,
+    /// Collisions of the re-runs taken so far.
+    done: Cell<u64>,
+    budget: Option<u64>,
+}
+
+impl Ctx<'_> {
+    /// Takes the next re-run: `Ok(collisions)` if the budget admits it, else `Err(reason)` for the
+    /// SKIP of its check.
+    fn take(&self) -> Result<u64, String> {
+        let i = self.next.get();
+        self.next.set(i + 1);
+        let n = self.reruns.get(i).copied().unwrap_or(u64::MAX);
+        if self.admitted.get(i).copied().unwrap_or(false) {
+            self.done.set(self.done.get() + n);
+            return Ok(n);
+        }
+        let budget = self.budget.unwrap_or(u64::MAX);
+        Err(format!(
+            "the re-run needs {:.3e} collisions (computed from the recorded configuration); the audit re-runs at most {:.3e} in all ({}), {:.3e} of them left: not re-run",
+            n as f64,
+            budget as f64,
+            if self.quick { "quick report" } else { "its bound" },
+            budget.saturating_sub(self.done.get()) as f64,
+        ))
+    }
+
+    /// Runs `f` with the options of a re-run of `n` collisions whose progress comes in `units`
+    /// units (particles, visits) of about n/units collisions each.
+    fn rerun_in_units<T>(
+        &self,
+        n: u64,
+        units: u64,
+        f: impl FnOnce(&RunOptions) -> Result<T, Error>,
+    ) -> Result<T, Error> {
+        let per = n / units.max(1);
+        let progress = |v: u64| (self.progress)(v.saturating_mul(per));
+        f(&RunOptions {
+            progress: &progress,
+            ..self.options()
+        })
+    }
+
+    /// Run options for a re-run: the default engine on the audit's threads, its progress.
+    fn options(&self) -> RunOptions<'_> {
+        RunOptions {
+            threads: self.threads,
+            progress: self.progress,
+            ..RunOptions::default()
+        }
+    }
+}
+
+/// Agreement bound of exact identities and independent estimates: the normal 4σ tail probability
+/// (6·10⁻⁵), as a Student-t quantile for errors from a few batches (the crate's convention).
+const SIGMAS: f64 = 4.0;
+/// Significance of the statistical consistency checks (Bonferroni-corrected where several values
+/// are tested at once): a correct run fails one of them about once in a thousand reports.
+const ALPHA: f64 = 1e-3;
+
+struct Checks(Vec<Check>);
+
+impl Checks {
+    fn add(
+        &mut self,
+        group: &str,
+        name: &str,
+        verdict: Verdict,
+        detail: String,
+        numbers: &[(&str, f64)],
+    ) {
+        self.0.push(Check {
+            group: group.into(),
+            name: name.into(),
+            verdict,
+            detail,
+            numbers: numbers.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+        });
+    }
+
+    fn pass_if(
+        &mut self,
+        ok: bool,
+        group: &str,
+        name: &str,
+        detail: String,
+        numbers: &[(&str, f64)],
+    ) {
+        let v = if ok { Verdict::Pass } else { Verdict::Fail };
+        self.add(group, name, v, detail, numbers);
+    }
+
+    /// A SKIP of `name` for `reason`.
+    fn skip(&mut self, group: &str, name: &str, reason: String) {
+        self.add(group, name, Verdict::Skip, reason, &[]);
+    }
+}
+
+/// What in a recorded `meta` block disagrees with the configuration: its seed, its number of
+/// batches, its precision.
+fn meta_problems(
+    meta: &RunMeta,
+    seed: Option<u64>,
+    batches: Option<u64>,
+    precision: &str,
+) -> Vec<String> {
+    let mut bad = Vec::new();
+    if meta.seed != seed {
+        bad.push(format!("meta.seed {:?}, configured {seed:?}", meta.seed));
+    }
+    if meta.batches != batches {
+        bad.push(format!(
+            "meta.batches {:?}, configured {batches:?}",
+            meta.batches
+        ));
+    }
+    if meta.precision != precision {
+        bad.push(format!(
+            "meta.precision {:?}, configured {precision:?}",
+            meta.precision
+        ));
+    }
+    bad
+}
+
+/// The check that the record agrees with its configuration (`bad` lists what does not).
+fn record_check(bad: Vec<String>, checks: &mut Checks) {
+    checks.pass_if(
+        bad.is_empty(),
+        "reproducibility",
+        "the record agrees with its configuration",
+        if bad.is_empty() {
+            "gap, work, seed, batches, precision and closed forms as configured".into()
+        } else {
+            bad.join("; ")
+        },
+        &[],
+    );
+}
+
+/// A batch index chosen by the file's digest: not known in advance to whoever edits the file.
+fn batch_from_digest(sha: &str, batches: u32) -> u32 {
+    let head = sha
+        .get(..16)
+        .and_then(|h| u64::from_str_radix(h, 16).ok())
+        .unwrap_or(0);
+    (head % u64::from(batches.max(1))) as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dates_from_days() {
+        assert_eq!(provenance::civil_from_days(0), (1970, 1, 1));
+        assert_eq!(provenance::civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(provenance::civil_from_days(20_780), (2026, 11, 23));
+    }
+
+    #[test]
+    fn sha256_of_abc() {
+        assert_eq!(
+            provenance::sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+    }
+
+    #[test]
+    fn the_budget_admits_re_runs_in_order() {
+        assert_eq!(admitted(&[5, 10, 3], Some(9)), [true, false, true]);
+        assert_eq!(admitted(&[5, 10, 3], None), [true, true, true]);
+        assert_eq!(admitted(&[5], Some(0)), [false]);
+    }
+}
