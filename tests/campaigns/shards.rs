@@ -230,3 +230,79 @@ fn merge_refuses_missing_duplicate_foreign_and_edited_parts() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `lorentz merge` writes a sweep result that `lorentz report` audits exactly like the sweep it
+/// equals: the merged file passes, and with one run's D edited by 1 % (and nothing else) it fails
+/// — the point's D is no longer the mean of its runs.
+#[test]
+fn a_merged_sweep_with_one_run_edited_fails_its_report() {
+    use crate::common::lorentz_in as lorentz;
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    let sweep = [
+        "sweep",
+        "--w-from",
+        "0.2",
+        "--w-to",
+        "0.3",
+        "--steps",
+        "3",
+        "--runs",
+        "2",
+        "--collisions-per-run",
+        "2e5",
+        "--batches-per-run",
+        "4",
+        "--quiet",
+    ];
+    for part in ["0/2", "1/2"] {
+        let out = format!("part-{}", &part[..1]);
+        let mut args = sweep.to_vec();
+        args.extend(["--shard", part, "--out", &out]);
+        let (code, _, err) = lorentz(dir, &args);
+        assert_eq!(code, 0, "{err}");
+    }
+    let (code, _, err) = lorentz(
+        dir,
+        &["merge", "part-0", "part-1", "--out", "merged", "--quiet"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let merged = dir.join("merged/sweep.json");
+    let (code, out, err) = lorentz(
+        dir,
+        &["report", "merged/sweep.json", "--out", "rep", "--quiet"],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+
+    let text = std::fs::read_to_string(&merged).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let d = v["rows"][1]["run_D"][0].as_f64().unwrap();
+    v["rows"][1]["run_D"][0] = serde_json::json!(d * 1.01);
+    std::fs::write(
+        dir.join("edited.json"),
+        serde_json::to_string_pretty(&v).unwrap(),
+    )
+    .unwrap();
+    let (code, _, err) = lorentz(dir, &["report", "edited.json", "--out", "rep-edited"]);
+    assert_eq!(code, 1, "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("rep-edited/report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["provenance"]["kind"], "sweep");
+    let failed: Vec<&str> = report["checks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["verdict"] == "FAIL")
+        .map(|c| c["detail"].as_str().unwrap())
+        .collect();
+    // The record (the point's D is no longer the mean of its runs), and the full report's re-run
+    // of the whole sweep (the recorded run is not the re-run's).
+    assert_eq!(failed.len(), 2, "{failed:?}");
+    assert!(
+        failed[0].starts_with("the analysis of the recorded runs differs from the record in")
+            && failed[0].contains("rows"),
+        "{failed:?}"
+    );
+    assert!(failed[1].ends_with("rows differ"), "{failed:?}");
+}

@@ -1,6 +1,9 @@
-//! `lorentz report`: a fresh result passes every check; a result with an edited number fails.
+//! `lorentz report`: a fresh result passes every check; a result with an edited number fails;
+//! doctored files (an edited command line, a foreign kind, understated work, extra keys, an
+//! oversized file) never make it run what the file says or write outside `--out`.
 
-use std::path::Path;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
 
 use crate::common::lorentz_in as lorentz;
 
@@ -151,7 +154,7 @@ fn quick_reproduction_writes_every_figure_and_resumes() {
 }
 
 #[test]
-fn other_results_are_re_run_from_their_command_line() {
+fn other_results_are_re_run_from_their_configuration() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
     let _ = std::fs::remove_dir_all(&dir);
@@ -194,4 +197,234 @@ fn other_results_are_re_run_from_their_command_line() {
         "{c:?}"
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Every file and directory below `dir` (recursively), relative to it.
+fn listing(dir: &Path) -> BTreeSet<PathBuf> {
+    fn walk(root: &Path, d: &Path, out: &mut BTreeSet<PathBuf>) {
+        for e in std::fs::read_dir(d).unwrap() {
+            let p = e.unwrap().path();
+            out.insert(p.strip_prefix(root).unwrap().to_path_buf());
+            if p.is_dir() {
+                walk(root, &p, out);
+            }
+        }
+    }
+    let mut out = BTreeSet::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+/// What appeared below `dir` since `before`, outside `out` (relative to `dir`).
+fn written_outside(dir: &Path, before: &BTreeSet<PathBuf>, out: &str) -> Vec<PathBuf> {
+    listing(dir)
+        .difference(before)
+        .filter(|p| !p.starts_with(out))
+        .cloned()
+        .collect()
+}
+
+/// A small `lorentz NAME … --json` result in `dir/file` (checked to exit 0), as JSON.
+fn result_in(dir: &Path, file: &str, args: &[&str]) -> serde_json::Value {
+    let mut all = args.to_vec();
+    all.extend(["--json", "--quiet"]);
+    let (code, json, err) = lorentz(dir, &all);
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(dir.join(file), &json).unwrap();
+    serde_json::from_str(&json).unwrap()
+}
+
+const HOPS: [&str; 9] = [
+    "hops",
+    "--w",
+    "0.1",
+    "--collisions",
+    "2e5",
+    "--batches",
+    "2",
+    "--order",
+    "3",
+];
+
+#[test]
+fn an_edited_command_line_is_never_run() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    let mut v = result_in(dir, "h.json", &HOPS);
+    // The file's author asks for figures in `evil/`: a subcommand, an output and work of their
+    // choosing.
+    v["meta"]["command_line"] = serde_json::json!([
+        "lorentz",
+        "figure",
+        "backscatter-map",
+        "--particles",
+        "1000",
+        "--out",
+        "evil"
+    ]);
+    std::fs::write(
+        dir.join("evil.json"),
+        serde_json::to_string_pretty(&v).unwrap(),
+    )
+    .unwrap();
+    let before = listing(dir);
+    let (code, out, err) = lorentz(dir, &["report", "evil.json", "--quick", "--out", "rep"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(!dir.join("evil").exists(), "the recorded command line ran");
+    assert_eq!(written_outside(dir, &before, "rep"), Vec::<PathBuf>::new());
+    // The report does not look at it: the same checks and verdicts as for the unedited file.
+    let (code, _, err) = lorentz(dir, &["report", "h.json", "--quick", "--out", "rep-h"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(checks(dir, "rep"), checks(dir, "rep-h"));
+    assert!(checks(dir, "rep")
+        .iter()
+        .any(|c| c.0 == "PASS" && c.2 == "the recorded configuration re-run gives the same bits"));
+}
+
+#[test]
+fn a_foreign_or_unknown_kind_is_refused() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    let (code, json, err) = lorentz(dir, &["constants", "--w", "0.1", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(dir.join("c.json"), json).unwrap();
+    std::fs::write(dir.join("k.json"), r#"{"kind": "launch", "meta": {}}"#).unwrap();
+    let before = listing(dir);
+    for f in ["c.json", "k.json"] {
+        let (code, _, err) = lorentz(dir, &["report", f, "--quick", "--out", "rep"]);
+        assert_eq!(code, 2, "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(
+            err.contains(f) && err.contains("not a result that report audits"),
+            "{err}"
+        );
+        assert!(err.contains("diffusion (batch_D)"), "{err}");
+    }
+    assert_eq!(listing(dir), before, "nothing written, not even --out");
+}
+
+#[test]
+fn understated_work_is_computed_from_the_configuration_and_bounded() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    let mut v = result_in(dir, "h.json", &HOPS);
+    // The configuration asks for 10^14 collisions (about a day on 2 cores); the summary field
+    // understates it.
+    v["config"]["collisions"] = serde_json::json!(100_000_000_000_000u64);
+    std::fs::write(
+        dir.join("big.json"),
+        serde_json::to_string_pretty(&v).unwrap(),
+    )
+    .unwrap();
+    let before = listing(dir);
+    let t = std::time::Instant::now();
+    let (code, out, err) = lorentz(dir, &["report", "big.json", "--quick", "--out", "rep"]);
+    assert!(t.elapsed().as_secs() < 60, "the configured work ran");
+    assert_eq!(code, 1, "{out}{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("rep/report.json")).unwrap())
+            .unwrap();
+    let c = v["checks"].as_array().unwrap();
+    let rerun = c
+        .iter()
+        .find(|c| c["name"] == "the recorded configuration re-run gives the same bits")
+        .unwrap();
+    assert_eq!(rerun["verdict"], "SKIP", "{rerun}");
+    let why = rerun["detail"].as_str().unwrap();
+    assert!(
+        why.contains("needs 1.000e14 collisions") && why.contains("2.000e9"),
+        "{why}"
+    );
+    assert!(
+        c.iter()
+            .any(|c| c["verdict"] == "FAIL"
+                && c["name"] == "the record agrees with its configuration")
+    );
+    assert_eq!(v["rerun_collisions"], 0);
+    assert_eq!(written_outside(dir, &before, "rep"), Vec::<PathBuf>::new());
+
+    // Without --quick, a bound of one's own: the same skip, and a fitting re-run still runs.
+    let (code, _, err) = lorentz(
+        dir,
+        &[
+            "report",
+            "h.json",
+            "--max-rerun-collisions",
+            "1e5",
+            "--out",
+            "rep-bounded",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(checks(dir, "rep-bounded").iter().any(|c| c.0 == "SKIP"));
+    let (code, _, err) = lorentz(
+        dir,
+        &[
+            "report",
+            "h.json",
+            "--max-rerun-collisions",
+            "2e5",
+            "--out",
+            "rep-fits",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(checks(dir, "rep-fits").iter().all(|c| c.0 == "PASS"));
+}
+
+#[test]
+fn extra_keys_are_refused_naming_the_key() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    let v = result_in(dir, "h.json", &HOPS);
+    for (file, key) in [
+        ("top.json", "unaudited"),
+        ("nested.json", "config.unaudited"),
+    ] {
+        let mut e = v.clone();
+        match key.split_once('.') {
+            Some((outer, inner)) => e[outer][inner] = serde_json::json!([1.0, 2.0]),
+            None => e[key] = serde_json::json!([1.0, 2.0]),
+        }
+        std::fs::write(dir.join(file), serde_json::to_string(&e).unwrap()).unwrap();
+    }
+    let before = listing(dir);
+    for (file, key) in [
+        ("top.json", "unaudited"),
+        ("nested.json", "config.unaudited"),
+    ] {
+        let (code, _, err) = lorentz(dir, &["report", file, "--quick", "--out", "rep"]);
+        assert_eq!(code, 2, "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        // Named with its path by the reader, or by the configuration's own refusal of unknown
+        // fields (`unknown field `unaudited``).
+        let leaf = key.rsplit('.').next().unwrap();
+        assert!(
+            (err.contains(&format!("unknown key `{key}`"))
+                || err.contains(&format!("unknown field `{leaf}`")))
+                && err.contains(file),
+            "{err}"
+        );
+    }
+    assert_eq!(listing(dir), before, "nothing written");
+}
+
+#[test]
+fn an_oversized_file_is_refused_naming_the_limit() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    // A sparse file one byte over the limit: refused from its size, before it is read.
+    let f = std::fs::File::create(dir.join("big.json")).unwrap();
+    f.set_len((64 << 20) + 1).unwrap();
+    let before = listing(dir);
+    let t = std::time::Instant::now();
+    let (code, _, err) = lorentz(dir, &["report", "big.json", "--quick", "--out", "rep"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(t.elapsed().as_secs() < 10);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("64 MiB") && err.contains("67108865 bytes"),
+        "{err}"
+    );
+    assert_eq!(listing(dir), before, "nothing written");
 }
