@@ -428,3 +428,49 @@ fn an_oversized_file_is_refused_naming_the_limit() {
     );
     assert_eq!(listing(dir), before, "nothing written");
 }
+
+/// The `report_audit` fuzz target's property on its seed corpus and fixed mutations of it
+/// (truncations, flipped bytes, numbers made huge, negative or fractional): the quick audit with
+/// a re-run bound of 25 000 collisions never panics and writes nothing outside its `out`.
+#[test]
+fn the_fuzz_seeds_and_their_mutations_stay_inside_out() {
+    use lorentz_gas::report::publication::{self, AuditConfig};
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/corpus/report_audit");
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    let mut inputs = Vec::new();
+    for e in std::fs::read_dir(&corpus).unwrap() {
+        let bytes = std::fs::read(e.unwrap().path()).unwrap();
+        let text = String::from_utf8(bytes.clone()).unwrap();
+        let n = bytes.len();
+        inputs.push(bytes.clone());
+        inputs.push(bytes[..n / 2].to_vec());
+        for k in 1..8 {
+            let mut b = bytes.clone();
+            b[k * n / 8] ^= 0x5a;
+            inputs.push(b);
+        }
+        for (from, to) in [("2,", "1e300,"), ("0.", "-0."), ("1,", "1.5,"), ("[", "[[")] {
+            inputs.push(text.replacen(from, to, 3).into_bytes());
+        }
+    }
+    let options = lorentz_gas::engine::options::RunOptions {
+        threads: 1,
+        ..lorentz_gas::engine::options::RunOptions::default()
+    };
+    for (i, input) in inputs.iter().enumerate() {
+        let _ = std::fs::remove_dir_all(dir.join("out"));
+        std::fs::write(dir.join("input.json"), input).unwrap();
+        let cfg = AuditConfig {
+            quick: true,
+            max_rerun_collisions: Some(25_000),
+            ..AuditConfig::new(dir.join("input.json"), dir.join("out"))
+        };
+        let _ = publication::run(&cfg, &options);
+        let outside: Vec<PathBuf> = listing(dir)
+            .into_iter()
+            .filter(|p| p != Path::new("input.json") && !p.starts_with("out"))
+            .collect();
+        assert!(outside.is_empty(), "input {i}: {outside:?}");
+    }
+}

@@ -521,13 +521,20 @@ fn record_check(bad: Vec<String>, checks: &mut Checks) {
     );
 }
 
-/// A batch index chosen by the file's digest: not known in advance to whoever edits the file.
-fn batch_from_digest(sha: &str, batches: u32) -> u32 {
+/// An index below `n` chosen by the file's digest: not known in advance to whoever edits the
+/// file.
+fn pick_from_digest(sha: &str, n: u64) -> u64 {
     let head = sha
         .get(..16)
         .and_then(|h| u64::from_str_radix(h, 16).ok())
         .unwrap_or(0);
-    (head % u64::from(batches.max(1))) as u32
+    head % n.max(1)
+}
+
+/// A batch index below `batches` chosen by the file's digest.
+fn batch_from_digest(sha: &str, batches: u32) -> u32 {
+    // Below `batches`, so it fits.
+    pick_from_digest(sha, u64::from(batches)) as u32
 }
 
 #[cfg(test)]

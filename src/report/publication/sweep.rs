@@ -7,7 +7,7 @@ use std::path::Path;
 use super::diffusion::refused_config;
 use super::file::ResultFile;
 use super::same_bits::{differing, rerun_check};
-use super::{batch_from_digest, Checks, Ctx, ALPHA};
+use super::{pick_from_digest, Checks, Ctx, ALPHA};
 use crate::estimators::sweep::analysis::analyse;
 use crate::estimators::sweep::{self, RunValue, SweepConfig, SweepPoint, SweepReport};
 use crate::Error;
@@ -174,8 +174,11 @@ fn one_run_check(
         checks.skip("reproducibility", name, why);
         return Ok(());
     }
-    let pick = batch_from_digest(ctx.sha, cfg.steps.saturating_mul(cfg.runs));
-    let (i, k) = (pick / cfg.runs, pick % cfg.runs);
+    // steps × runs can exceed u32 (10⁴ points × 2²⁰ runs): picked in u64.
+    let runs = u64::from(cfg.runs.max(1));
+    let pick = pick_from_digest(ctx.sha, u64::from(cfg.steps) * runs);
+    // Below steps and runs respectively, so both fit in u32.
+    let (i, k) = ((pick / runs) as u32, (pick % runs) as u32);
     let (iu, ku) = (i as usize, k as usize);
     let c = cfg.run_config(i, grid[iu], k);
     let again = crate::estimators::diffusion::run(&c, &ctx.options())?;
