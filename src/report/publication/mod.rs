@@ -1,7 +1,7 @@
 //! The audit of a result file before publication (`lorentz report`): why a number from a run
 //! can be trusted, check by check, each PASS, FAIL or SKIP (with the reason) and its numbers.
 //!
-//! **The audit trusts nothing in the file.** It reads the file ([`file`]: at most
+//! **The audit trusts nothing in the file.** It reads the file ([`mod@file`]: at most
 //! [`file::MAX_RESULT_BYTES`], every key checked against the schema of its kind), takes the
 //! recorded *configuration* (the `config` object), validates it exactly as the command line
 //! validates its input, and re-runs it through the library (`estimators::<kind>::run`). It never
