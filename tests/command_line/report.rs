@@ -289,8 +289,10 @@ fn a_foreign_or_unknown_kind_is_refused() {
     assert_eq!(code, 0, "{err}");
     std::fs::write(dir.join("c.json"), json).unwrap();
     std::fs::write(dir.join("k.json"), r#"{"kind": "launch", "meta": {}}"#).unwrap();
+    // `bench --report` has `rows` too, but is no sweep.
+    std::fs::write(dir.join("b.json"), r#"{"w": 0.1, "rows": [], "meta": {}}"#).unwrap();
     let before = listing(dir);
-    for f in ["c.json", "k.json"] {
+    for f in ["c.json", "k.json", "b.json"] {
         let (code, _, err) = lorentz(dir, &["report", f, "--quick", "--out", "rep"]);
         assert_eq!(code, 2, "{err}");
         assert_eq!(err.trim().lines().count(), 1, "{err}");
