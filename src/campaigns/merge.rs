@@ -57,13 +57,11 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
     };
     sweep.validate()?;
     let points = parts.complete(&sweep)?;
-    std::fs::create_dir_all(out.join("points"))?;
+    crate::files::create_dir_all(out.join("points"))?;
     for p in &points {
         write_atomically(
             &point_path(out, p.index as usize),
-            serde_json::to_string(p)
-                .map_err(|e| Error::Io(e.to_string()))?
-                .as_bytes(),
+            serde_json::to_string(p).map_err(Error::encode)?.as_bytes(),
         )?;
     }
     let n = points.len() as u32;
@@ -109,7 +107,7 @@ impl Parts {
         if !manifest.exists() {
             return Ok(());
         }
-        let text = std::fs::read_to_string(&manifest)?;
+        let text = crate::files::read_to_string(&manifest)?;
         let m: ShardReport = serde_json::from_str(&text).map_err(|e| {
             Error::Invalid(format!(
                 "{} is not a shard manifest: {e}",
@@ -160,7 +158,7 @@ impl Parts {
             .collect();
         names.sort();
         for path in names {
-            let text = std::fs::read_to_string(&path)?;
+            let text = crate::files::read_to_string(&path)?;
             let p: SweepPoint = serde_json::from_str(&text).map_err(|e| {
                 Error::Invalid(format!("{} is not a sweep point: {e}", path.display()))
             })?;

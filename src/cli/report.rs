@@ -54,14 +54,19 @@ pub fn run(a: Args) -> Result<(), Error> {
     };
     // Re-runs a recorded command line through this binary, with its JSON on stdout.
     let rerun = |args: &[String]| -> Result<serde_json::Value, Error> {
-        let mut cmd = std::process::Command::new(std::env::current_exe()?);
+        let exe = std::env::current_exe().map_err(Error::io("locate", "this program"))?;
+        let mut cmd = std::process::Command::new(&exe);
         cmd.args(args.iter().filter(|a| *a != "--json" && *a != "--quiet"));
         cmd.args(["--json", "--quiet"]);
-        let out = cmd.stderr(std::process::Stdio::inherit()).output()?;
+        let out = cmd
+            .stderr(std::process::Stdio::inherit())
+            .output()
+            .map_err(Error::io("run", &exe))?;
         if !out.status.success() {
-            return Err(Error::Invalid(format!("exit status {}", out.status)));
+            return Err(Error::Failed(format!("exit status {}", out.status)));
         }
-        serde_json::from_slice(&out.stdout).map_err(|e| Error::Io(e.to_string()))
+        serde_json::from_slice(&out.stdout)
+            .map_err(|e| Error::Failed(format!("the re-run printed no JSON result: {e}")))
     };
     let r = audit_result_file(
         &a.result,

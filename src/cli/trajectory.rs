@@ -158,13 +158,14 @@ fn run_scene<S: lorentz_gas::scenes::Scene>(
 }
 
 fn write_events(path: &PathBuf, r: &TrajectoryReport) -> Result<(), Error> {
-    let file = std::fs::File::create(path)
-        .map_err(|e| Error::Io(format!("cannot create {}: {e}", path.display())))?;
-    let mut out = std::io::BufWriter::new(file);
-    writeln!(out, "kind,obstacle,x,y,time")?;
-    for e in &r.events {
-        writeln!(out, "{},{},{},{},{}", e.kind, e.obstacle, e.x, e.y, e.time)?;
-    }
-    out.flush()?;
-    Ok(())
+    let mut out = std::io::BufWriter::new(lorentz_gas::files::create(path)?);
+    let failed = Error::io("write", path);
+    let write = |out: &mut std::io::BufWriter<_>| -> std::io::Result<()> {
+        writeln!(out, "kind,obstacle,x,y,time")?;
+        for e in &r.events {
+            writeln!(out, "{},{},{},{},{}", e.kind, e.obstacle, e.x, e.y, e.time)?;
+        }
+        out.flush()
+    };
+    write(&mut out).map_err(failed)
 }

@@ -98,10 +98,9 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
     /// An I/O error, naming the path.
     pub fn append(&self, record: &R) -> Result<(), Error> {
         let line = to_line(record)?;
-        let mut f = self
-            .file
-            .lock()
-            .map_err(|_| Error::Io(format!("{}: journal lock poisoned", self.path.display())))?;
+        let mut f = self.file.lock().map_err(|_| {
+            Error::Failed(format!("{}: journal lock poisoned", self.path.display()))
+        })?;
         writeln!(f, "{line}").map_err(|e| io_error("write", &self.path, e))?;
         f.sync_data().map_err(|e| io_error("sync", &self.path, e))
     }
@@ -143,7 +142,7 @@ fn read_records<C: Serialize, R: DeserializeOwned>(
             h.format
         )));
     }
-    let want = serde_json::to_value(config).map_err(|e| Error::Io(e.to_string()))?;
+    let want = serde_json::to_value(config).map_err(Error::encode)?;
     if h.config != want {
         return Err(Error::Invalid(format!(
             "{} belongs to another configuration ({}): use another file or the same parameters",
@@ -240,12 +239,12 @@ fn show(v: Option<&serde_json::Value>) -> String {
 }
 
 fn to_line<T: Serialize>(v: &T) -> Result<String, Error> {
-    serde_json::to_string(v).map_err(|e| Error::Io(e.to_string()))
+    serde_json::to_string(v).map_err(Error::encode)
 }
 
 /// An I/O error that names the operation and the path.
-pub fn io_error(op: &str, path: &Path, e: std::io::Error) -> Error {
-    Error::Io(format!("cannot {op} {}: {e}", path.display()))
+pub fn io_error(op: &'static str, path: &Path, e: std::io::Error) -> Error {
+    Error::io(op, path)(e)
 }
 
 #[cfg(test)]

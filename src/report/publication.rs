@@ -262,7 +262,7 @@ pub fn audit_result_file(
     let start = std::time::Instant::now();
     let file = ResultFile::read(path)?;
     let sha = sha256_hex(&file.bytes);
-    std::fs::create_dir_all(out)?;
+    crate::files::create_dir_all(out)?;
     let mut checks = Checks(Vec::new());
     let mut figures = Vec::new();
     identification_check(&mut checks, &file.kind, &sha, file.recorded.as_ref());
@@ -342,12 +342,7 @@ struct ResultFile {
 impl ResultFile {
     /// Reads and parses `path`, refusing files that are not JSON results of lorentz.
     fn read(path: &Path) -> Result<Self, Error> {
-        let bytes = std::fs::read(path).map_err(|e| {
-            Error::Invalid(format!(
-                "{}: cannot read the result file ({e})",
-                path.display()
-            ))
-        })?;
+        let bytes = crate::files::read(path)?;
         let value: serde_json::Value = serde_json::from_slice(&bytes).map_err(|e| {
             Error::Invalid(format!(
                 "{}: not a JSON result of lorentz ({e}); write one with --json",
@@ -1502,11 +1497,11 @@ impl PublicationReport {
 
     /// Writes `report.md`, `report.html` and `report.json` into `dir`.
     pub fn write(&self, dir: &Path) -> Result<(), Error> {
-        std::fs::write(dir.join("report.md"), self.markdown())?;
-        std::fs::write(dir.join("report.html"), self.html(dir))?;
-        std::fs::write(
+        crate::files::write(dir.join("report.md"), self.markdown())?;
+        crate::files::write(dir.join("report.html"), self.html(dir))?;
+        crate::files::write(
             dir.join("report.json"),
-            serde_json::to_string_pretty(self).map_err(|e| Error::Io(e.to_string()))?,
+            serde_json::to_string_pretty(self).map_err(Error::encode)?,
         )?;
         Ok(())
     }

@@ -312,7 +312,6 @@ const BAD: &[(&[&str], &str)] = &[
         "every part needs a point",
     ),
     // report, reproduce
-    (&["report", "no-such-result.json", "--quick"], "cannot read"),
     (
         &["report", "r.json", "--reference-bits", "64"],
         "128 to 65536",
@@ -525,6 +524,60 @@ fn bad_input_is_refused_with_status_2_one_line_and_no_files() {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// A file or directory that cannot be read or written exits with status 3 and one line naming
+/// the operation and the path — whatever the command: an output directory under a regular file
+/// (a test may run as root, where permission bits do not stop a write, but a path through a file
+/// stops everyone), an input file that does not exist.
+#[test]
+fn unreadable_or_unwritable_paths_exit_3_naming_the_path() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    std::fs::write(dir.join("file"), "a regular file").unwrap();
+    // (command line, the operation and the path its one line must name)
+    let cases = [
+        (
+            "report no-such-result.json --quick",
+            "cannot read",
+            "no-such-result.json",
+        ),
+        (
+            "slurm sweep --w-from 0.1 --w-to 0.2 --array 2 --out file/sub",
+            "cannot create directory",
+            "file/sub/slurm",
+        ),
+        (
+            "sweep --w-from 0.1 --w-to 0.2 --steps 2 --runs 2 --collisions-per-run 1e5 \
+             --batches-per-run 2 --out file/sweep",
+            "cannot create directory",
+            "file/sweep",
+        ),
+        (
+            "figure backscatter-map --particles 100 --out file/fig",
+            "cannot create directory",
+            "file/fig",
+        ),
+        (
+            "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,1/7 \
+             --time 5 --events file/events.csv",
+            "cannot create",
+            "file/events.csv",
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (line, op, path) in cases {
+        let args: Vec<&str> = line.split_whitespace().collect();
+        let (code, out, err) = lorentz_in(dir, &args);
+        let lines = err.lines().filter(|l| !l.trim().is_empty()).count();
+        if code != 3 || lines != 1 || !err.contains(op) || !err.contains(path) || !out.is_empty() {
+            failures.push(format!(
+                "{args:?}: status {code}, {lines} stderr lines '{}' (wanted '{op}' and '{path}')",
+                err.trim()
+            ));
+        }
+    }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

@@ -27,7 +27,7 @@ pub(crate) fn run_points(
 ) -> Result<(Vec<SweepPoint>, u32), Error> {
     let dir = options.resume.as_deref();
     if let Some(d) = dir {
-        std::fs::create_dir_all(d.join("points"))?;
+        crate::files::create_dir_all(d.join("points"))?;
     }
     let mut points = Vec::new();
     let mut resumed = 0;
@@ -52,7 +52,7 @@ pub(crate) fn run_points(
 /// The finished point `i` at `path`, if there is one of this sweep; a file of another sweep is an
 /// error.
 fn reuse(cfg: &SweepConfig, path: &Path, i: usize, w: f64) -> Result<Option<SweepPoint>, Error> {
-    let Ok(text) = std::fs::read_to_string(path) else {
+    let Ok(text) = crate::files::read_to_string(path) else {
         return Ok(None);
     };
     let p = serde_json::from_str::<SweepPoint>(&text).map_err(|e| {
@@ -115,9 +115,7 @@ fn run_point(
     if let (Some(path), Some(journal)) = (path, journal) {
         write_atomically(
             &path,
-            serde_json::to_string(&p)
-                .map_err(|e| Error::Io(e.to_string()))?
-                .as_bytes(),
+            serde_json::to_string(&p).map_err(Error::encode)?.as_bytes(),
         )?;
         let _ = std::fs::remove_file(&journal);
     }
@@ -126,5 +124,5 @@ fn run_point(
 
 /// Pretty JSON of `x`.
 pub(crate) fn to_json<T: Serialize>(x: &T) -> Result<String, Error> {
-    serde_json::to_string_pretty(x).map_err(|e| Error::Io(e.to_string()))
+    serde_json::to_string_pretty(x).map_err(Error::encode)
 }
