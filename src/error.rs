@@ -1,21 +1,37 @@
-//! Errors for bad input: each names the valid range.
+//! Errors: bad input (each names the valid range), I/O (each names its operation and path),
+//! run-time failures, and FAIL verdicts.
+//!
+//! Every failure is one of four kinds, and the command line maps each kind to one exit status
+//! ([`Error::kind`]): bad input, an I/O failure, a computation that started and could not finish
+//! correctly, and a verification whose verdict is FAIL.
 
-use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-/// Everything a caller can get wrong. Never a panic, never a silent NaN.
-#[derive(Debug, Clone, PartialEq)]
+/// Everything that can go wrong. Never a panic, never a silent NaN.
+#[derive(Debug, Clone, thiserror::Error)]
 pub enum Error {
     /// The gap `w` is NaN or infinite.
+    #[error("{what} must be a finite number")]
     NotFinite {
         /// Which parameter.
         what: &'static str,
     },
     /// `w ≤ 0`: the disks touch or overlap and the particle is trapped, there is no diffusion.
+    #[error(
+        "w = {w:?} is not > 0: at w <= 0 the disks touch and the particle is trapped in one \
+         triangle, there is no diffusion (valid range: 0 < w < 4/sqrt(3) - 2 = 0.3094...)"
+    )]
     Trapped {
         /// The offending gap.
         w: f64,
     },
     /// `w ≥ w∞ = 4/√3 − 2`: the horizon is infinite and D does not exist.
+    #[error(
+        "w = {w:?} is not < w_inf = 4/sqrt(3) - 2 = {w_inf:.17}: the horizon is infinite, \
+         free flights are unbounded and the diffusion coefficient does not exist \
+         (valid range: 0 < w < {w_inf:.6})"
+    )]
     InfiniteHorizon {
         /// The offending gap.
         w: f64,
@@ -23,16 +39,22 @@ pub enum Error {
         w_inf: f64,
     },
     /// Precision below 53 bits (or above MPFR's maximum).
+    #[error(
+        "precision {bits} bits is out of range: use 'f64' or a number of bits from 53 to {}",
+        rug::float::prec_max()
+    )]
     Precision {
         /// The requested number of bits.
         bits: u32,
     },
     /// A count that must be positive is zero.
+    #[error("{what} must be at least 1")]
     Zero {
         /// Which parameter.
         what: &'static str,
     },
     /// A count too small for the requested analysis.
+    #[error("{what} = {got} is too small: at least {min} is needed")]
     TooFew {
         /// Which parameter.
         what: &'static str,
@@ -42,48 +64,83 @@ pub enum Error {
         got: u64,
     },
     /// Any other invalid argument, with the reason.
+    #[error("{0}")]
     Invalid(String),
-    /// An I/O error (checkpoint or output files).
-    Io(String),
+    /// A file or directory could not be read, created, written or renamed.
+    #[error("cannot {op} {}: {source}", path.display())]
+    Io {
+        /// What was being done: "read", "create", "write", "rename", "create directory", ...
+        op: &'static str,
+        /// The file or directory.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: Arc<std::io::Error>,
+    },
+    /// A computation that started could not finish correctly: a re-run that does not reproduce,
+    /// an identity violated during a run, a resumed run that fails its checks, a lost event.
+    #[error("{0}")]
+    Failed(String),
     /// A verification ran and its verdict is FAIL (not bad input: exit status 1).
+    #[error("{0}")]
     CheckFailed(String),
 }
 
-impl fmt::Display for Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Error::NotFinite { what } => write!(f, "{what} must be a finite number"),
-            Error::Trapped { w } => write!(
-                f,
-                "w = {w:?} is not > 0: at w <= 0 the disks touch and the particle is trapped in one \
-                 triangle, there is no diffusion (valid range: 0 < w < 4/sqrt(3) - 2 = 0.3094...)"
-            ),
-            Error::InfiniteHorizon { w, w_inf } => write!(
-                f,
-                "w = {w:?} is not < w_inf = 4/sqrt(3) - 2 = {w_inf:.17}: the horizon is infinite, \
-                 free flights are unbounded and the diffusion coefficient does not exist \
-                 (valid range: 0 < w < {w_inf:.6})"
-            ),
-            Error::Precision { bits } => write!(
-                f,
-                "precision {bits} bits is out of range: use 'f64' or a number of bits from 53 to {}",
-                rug::float::prec_max()
-            ),
-            Error::Zero { what } => write!(f, "{what} must be at least 1"),
-            Error::TooFew { what, min, got } => {
-                write!(f, "{what} = {got} is too small: at least {min} is needed")
-            }
-            Error::Invalid(s) => write!(f, "{s}"),
-            Error::Io(s) => write!(f, "I/O error: {s}"),
-            Error::CheckFailed(s) => write!(f, "{s}"),
-        }
-    }
+/// The four kinds of failure, one exit status each on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The input is outside its valid range (the message names the range).
+    BadInput,
+    /// A file or directory (or standard output) could not be read or written.
+    Io,
+    /// A computation that started could not finish correctly.
+    Failed,
+    /// A verification's verdict is FAIL.
+    CheckFailed,
 }
 
-impl std::error::Error for Error {}
+impl Error {
+    /// The I/O error of operation `op` on `path`, for `.map_err(Error::io("read", &path))`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::Error;
+    /// let e = std::fs::read("/nonexistent/x.json").map_err(Error::io("read", "/nonexistent/x.json"));
+    /// let text = e.unwrap_err().to_string();
+    /// assert!(text.starts_with("cannot read /nonexistent/x.json: "), "{text}");
+    /// ```
+    pub fn io<P: AsRef<Path>>(op: &'static str, path: P) -> impl FnOnce(std::io::Error) -> Error {
+        move |source| Error::Io {
+            op,
+            path: path.as_ref().to_path_buf(),
+            source: Arc::new(source),
+        }
+    }
 
-impl From<std::io::Error> for Error {
-    fn from(e: std::io::Error) -> Self {
-        Error::Io(e.to_string())
+    /// Which kind of failure this is.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            Error::Io { .. } => ErrorKind::Io,
+            Error::Failed(_) => ErrorKind::Failed,
+            Error::CheckFailed(_) => ErrorKind::CheckFailed,
+            Error::NotFinite { .. }
+            | Error::Trapped { .. }
+            | Error::InfiniteHorizon { .. }
+            | Error::Precision { .. }
+            | Error::Zero { .. }
+            | Error::TooFew { .. }
+            | Error::Invalid(_) => ErrorKind::BadInput,
+        }
+    }
+
+    /// A result that could not be encoded as JSON (a run-time failure: results are plain data).
+    pub fn encode(e: serde_json::Error) -> Error {
+        Error::Failed(format!("cannot encode the result as JSON: {e}"))
+    }
+
+    /// A file whose contents are not what they should be (bad input naming the file).
+    pub fn malformed(path: &Path, why: impl std::fmt::Display) -> Error {
+        Error::Invalid(format!("{}: {why}", path.display()))
     }
 }

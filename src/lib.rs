@@ -45,6 +45,7 @@ pub mod campaigns;
 pub mod engine;
 mod error;
 pub mod estimators;
+pub mod files;
 pub mod kernel;
 pub mod numbers;
 pub mod observers;
@@ -55,4 +56,4 @@ pub mod statistics;
 pub mod theory;
 pub mod verification;
 
-pub use error::Error;
+pub use error::{Error, ErrorKind};

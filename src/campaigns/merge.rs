@@ -57,7 +57,7 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
     };
     sweep.validate()?;
     let points = parts.complete(&sweep)?;
-    std::fs::create_dir_all(out.join("points"))?;
+    crate::files::create_dir_all(out.join("points"))?;
     for p in &points {
         write_atomically(&point_path(out, p.index as usize), seal(p)?.as_bytes())?;
     }

@@ -203,7 +203,7 @@ impl SweepCampaign {
     pub fn write(&self) -> Result<Vec<PathBuf>, Error> {
         self.validate()?;
         let dir = self.out.join("slurm");
-        std::fs::create_dir_all(&dir)?;
+        crate::files::create_dir_all(&dir)?;
         let mut written = Vec::new();
         for (name, text) in [
             ("sweep-array.sbatch", self.array_script()),
@@ -211,7 +211,7 @@ impl SweepCampaign {
             ("submit.sh", self.submit_script()),
         ] {
             let path = dir.join(name);
-            std::fs::write(&path, text)?;
+            crate::files::write(&path, text)?;
             written.push(path);
         }
         Ok(written)

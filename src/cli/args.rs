@@ -90,25 +90,35 @@ pub fn parse_threads(s: &str) -> Result<usize, String> {
     Ok(v as usize)
 }
 
-/// A gap as typed: an exact decimal or fraction (`0.1`, `1/10`), kept exactly and as its nearest
-/// double; `nan` and `inf` pass through as doubles so that the library names the valid range.
+/// A gap or a radius as typed: an exact decimal or fraction (`0.1`, `1/10`), kept exactly and as
+/// its nearest double; `nan` and `inf` pass through as doubles so that the library names the
+/// valid range.
 #[derive(Debug, Clone)]
-pub struct Gap {
+pub struct Exact {
     /// The nearest double (what `f64` runs use).
     pub value: f64,
-    /// The exact value, for closed forms at any precision (`None` for `nan`, `inf`).
+    /// The exact value, for scenes and closed forms at any precision (`None` for `nan`, `inf`).
     pub exact: Option<rug::Rational>,
 }
 
-/// Parses `--w`: a decimal (`0.1`, `1.5e-1`) or a fraction (`1/10`), exactly.
-pub fn parse_gap(s: &str) -> Result<Gap, String> {
+impl Exact {
+    /// The exact value of parameter `what`, or the refusal of a NaN or an infinity.
+    pub fn rational(&self, what: &'static str) -> Result<rug::Rational, lorentz_gas::Error> {
+        self.exact
+            .clone()
+            .ok_or(lorentz_gas::Error::NotFinite { what })
+    }
+}
+
+/// Parses `--w` and `--radius`: a decimal (`0.1`, `1.5e-1`) or a fraction (`1/10`), exactly.
+pub fn parse_exact_arg(s: &str) -> Result<Exact, String> {
     match lorentz_gas::numbers::exact::parse_exact(s) {
-        Ok(q) => Ok(Gap {
+        Ok(q) => Ok(Exact {
             value: lorentz_gas::numbers::exact::nearest_f64(&q),
             exact: Some(q),
         }),
         Err(e) => match s.trim().parse::<f64>() {
-            Ok(v) if !v.is_finite() => Ok(Gap {
+            Ok(v) if !v.is_finite() => Ok(Exact {
                 value: v,
                 exact: None,
             }),
@@ -122,8 +132,8 @@ pub fn parse_gap(s: &str) -> Result<Gap, String> {
 pub struct GapArg {
     /// Gap w between neighbouring disks (radius 1), a decimal or a fraction such as 1/10:
     /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    #[arg(long = "w", value_parser = parse_gap, allow_negative_numbers = true)]
-    pub gap: Gap,
+    #[arg(long = "w", value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    pub gap: Exact,
 }
 
 impl GapArg {
@@ -142,11 +152,11 @@ pub struct SceneArgs {
     pub scene: SceneName,
     /// Gap w of the triangular scene, a decimal or a fraction such as 1/10:
     /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    #[arg(long, value_parser = parse_gap, allow_negative_numbers = true)]
-    pub w: Option<Gap>,
-    /// Disk radius of the square scene, exact (a decimal or a fraction such as 1/3): 0 < r < 1/2.
-    #[arg(long, allow_hyphen_values = true)]
-    pub radius: Option<String>,
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    pub w: Option<Exact>,
+    /// Disk radius of the square scene, a decimal or a fraction such as 1/3: 0 < r < 1/2.
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    pub radius: Option<Exact>,
 }
 
 /// The scenes a command can run on.
@@ -167,7 +177,9 @@ pub enum SceneChoice {
 }
 
 impl SceneArgs {
-    /// The scene the options describe, with every parameter checked.
+    /// The scene the options describe, with every parameter checked. The scene keeps the gap or
+    /// radius exactly as typed: an analysis at P bits rounds it once at P bits (`--w 0.1` at 256
+    /// bits is 1/10 to 256 bits, not the double nearest 0.1).
     pub fn resolve(&self) -> Result<SceneChoice, lorentz_gas::Error> {
         use lorentz_gas::Error;
         let refuse = |flag: &str, scene: &str| {
@@ -180,27 +192,26 @@ impl SceneArgs {
                 if self.w.is_some() {
                     return refuse("--w", "square");
                 }
-                let r = self.radius.as_deref().ok_or_else(|| {
+                let r = self.radius.as_ref().ok_or_else(|| {
                     Error::Invalid("the square scene needs --radius: 0 < radius < 1/2".into())
                 })?;
-                let r = lorentz_gas::numbers::exact::parse_exact(r)?;
                 Ok(SceneChoice::Square(
-                    lorentz_gas::scenes::square::SquareScene::exact(r)?,
+                    lorentz_gas::scenes::square::SquareScene::exact(r.rational("radius")?)?,
                 ))
             }
             SceneName::Triangular => {
                 if self.radius.is_some() {
                     return refuse("--radius", "triangular");
                 }
-                let w = self.w.as_ref().map(|g| g.value).ok_or_else(|| {
+                let w = self.w.as_ref().ok_or_else(|| {
                     Error::Invalid(
                         "the triangular scene needs --w: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094..."
                             .into(),
                     )
                 })?;
-                lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(w)?;
+                lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(w.value)?;
                 Ok(SceneChoice::Triangular(Box::new(
-                    lorentz_gas::scenes::triangular::TriangularScene::new(w)?,
+                    lorentz_gas::scenes::triangular::TriangularScene::exact(w.rational("w")?)?,
                 )))
             }
         }
@@ -439,5 +450,42 @@ mod tests {
         assert_eq!(parse_threads("2"), Ok(2));
         assert!(parse_threads("0").is_err());
         assert!(parse_threads("1e6").is_err());
+    }
+
+    /// The scene of `--w 1/10` or `--w 0.1` at 256 bits has w = 1/10 rounded once at 256 bits,
+    /// not the double nearest 0.1 (which differs from 1/10 by 5.6e-18); the same for `--radius`.
+    #[test]
+    fn scenes_keep_the_exact_gap_and_radius() {
+        use lorentz_gas::scenes::Scene;
+        use rug::{Float, Rational};
+        let scene = |w: Option<&str>, r: Option<&str>| {
+            SceneArgs {
+                scene: if w.is_some() {
+                    SceneName::Triangular
+                } else {
+                    SceneName::Square
+                },
+                w: w.map(|s| parse_exact_arg(s).unwrap()),
+                radius: r.map(|s| parse_exact_arg(s).unwrap()),
+            }
+            .resolve()
+            .unwrap()
+        };
+        let tenth = Float::with_val(256, Rational::from((1, 10)));
+        for typed in ["0.1", "1/10"] {
+            let SceneChoice::Triangular(s) = scene(Some(typed), None) else {
+                panic!("a triangular scene")
+            };
+            let w = s.kernel::<Float>(256).unwrap().w;
+            assert_eq!(w, tenth, "--w {typed}");
+            assert_ne!(w, Float::with_val(256, 0.1f64), "--w {typed}");
+            // f64 runs use the double nearest 0.1.
+            assert_eq!(s.kernel::<f64>(()).unwrap().w, 0.1);
+        }
+        let SceneChoice::Square(s) = scene(None, Some("1/3")) else {
+            panic!("a square scene")
+        };
+        let third = Float::with_val(256, Rational::from((1, 3)));
+        assert_eq!(s.kernel::<Float>(256).unwrap().radius, third);
     }
 }

@@ -100,7 +100,7 @@ impl AtPrecision for Constants {
         if self.json {
             // Every number as a JSON number with all the digits of the working precision.
             let number = |v: &T| -> Result<Box<RawValue>, Error> {
-                RawValue::from_string(v.to_decimal()).map_err(|e| Error::Io(e.to_string()))
+                RawValue::from_string(v.to_decimal()).map_err(Error::encode)
             };
             let mut numbers = BTreeMap::new();
             for (k, _, v) in &rows {

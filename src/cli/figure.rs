@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use lorentz_gas::report::figures::paper;
 use lorentz_gas::Error;
 
-use super::args::{parse_count, OutputArgs, RunArgs};
+use super::args::{parse_count, parse_exact_arg, Exact, OutputArgs, RunArgs};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -40,9 +40,9 @@ struct Common {
 
 #[derive(clap::Args)]
 struct MapArgs {
-    /// Gap w of the map: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
-    w: f64,
+    /// Gap w of the map, a decimal or a fraction such as 1/10: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+    #[arg(long, default_value = "0.1", value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    w: Exact,
     /// Particles injected in all.
     #[arg(long, default_value_t = paper::MAP_SAMPLES, value_parser = parse_count, allow_negative_numbers = true)]
     particles: u64,
@@ -73,7 +73,13 @@ pub fn run(a: Args) -> Result<(), Error> {
         Kind::BackscatterMap(m) => {
             let c = &m.common;
             let pb = Progress::new(m.particles, "injections", c.output.quiet);
-            let r = paper::backscatter_map(m.w, m.particles, c.run.seed(), &c.out, &pb.callback())?;
+            let r = paper::backscatter_map(
+                m.w.value,
+                m.particles,
+                c.run.seed(),
+                &c.out,
+                &pb.callback(),
+            )?;
             (r, c)
         }
         Kind::Backscatter(b) => {

@@ -52,14 +52,29 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use lorentz_gas::Error;
+use lorentz_gas::{Error, ErrorKind};
 
 /// Exit status of every refused input (clap's convention for usage errors).
 const EXIT_BAD_INPUT: u8 = 2;
 /// Exit status of a verification whose verdict is FAIL (`lorentz report`).
 const EXIT_CHECK_FAILED: u8 = 1;
-/// Exit status when standard output cannot be written (other than a closed pipe, which exits 0).
+/// Exit status when a file, a directory or standard output cannot be read or written (other
+/// than a closed pipe, which exits 0).
 const EXIT_IO: u8 = 3;
+/// Exit status of a computation that started and could not finish correctly (a re-run that
+/// fails, an identity violated during a run, a resumed run that fails its checks).
+const EXIT_FAILED: u8 = 4;
+
+/// The exit status of each kind of error: the one table of the command line's statuses (the
+/// README's "Exit status" paragraph lists the same).
+fn exit_status(kind: ErrorKind) -> u8 {
+    match kind {
+        ErrorKind::CheckFailed => EXIT_CHECK_FAILED,
+        ErrorKind::BadInput => EXIT_BAD_INPUT,
+        ErrorKind::Io => EXIT_IO,
+        ErrorKind::Failed => EXIT_FAILED,
+    }
+}
 
 #[derive(Parser)]
 #[command(
@@ -114,8 +129,8 @@ enum Cmd {
     Bench(bench::Args),
 }
 
-/// Parses the command line, runs the subcommand, and maps every refusal to exit status 2 with
-/// one line on stderr.
+/// Parses the command line, runs the subcommand, and maps every error to its exit status
+/// ([`exit_status`]) with one line on stderr.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
@@ -141,13 +156,9 @@ pub fn main() -> ExitCode {
     };
     match run(cli.cmd) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e @ Error::CheckFailed(_)) => {
-            eprintln!("error: {}", one_line(&e));
-            ExitCode::from(EXIT_CHECK_FAILED)
-        }
         Err(e) => {
             eprintln!("error: {}", one_line(&e));
-            ExitCode::from(EXIT_BAD_INPUT)
+            ExitCode::from(exit_status(e.kind()))
         }
     }
 }

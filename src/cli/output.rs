@@ -22,7 +22,7 @@ pub fn stdout_failed(e: std::io::Error) -> ! {
 
 /// Pretty JSON of a result.
 pub fn to_json<T: Serialize>(v: &T) -> Result<String, Error> {
-    serde_json::to_string_pretty(v).map_err(|e| Error::Io(e.to_string()))
+    serde_json::to_string_pretty(v).map_err(Error::encode)
 }
 
 /// Prints `r` as JSON when `json`, else through `text`.

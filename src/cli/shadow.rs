@@ -1,6 +1,5 @@
 //! `lorentz shadow`: true orbits near f64 segments (Newton on the whole segment in MPFR).
 
-use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::triangular::geometry::Geometry;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::verification::shadowing::{
@@ -9,15 +8,17 @@ use lorentz_gas::verification::shadowing::{
 use lorentz_gas::Error;
 use rug::Float;
 
-use super::args::{parse_count_u32, parse_count_usize, OutputArgs, RunArgs};
+use super::args::{
+    parse_count_u32, parse_count_usize, parse_exact_arg, Exact, OutputArgs, RunArgs,
+};
 use super::output::emit;
 use super::progress::Progress;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Gap w, exact (such as 0.1 or 1/10): 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    #[arg(long, allow_hyphen_values = true)]
-    w: String,
+    /// Gap w, a decimal or a fraction such as 1/10: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    w: Exact,
     /// Collisions of each segment, 2 to 10000.
     #[arg(long, default_value = "1000", value_parser = parse_count_usize, allow_negative_numbers = true)]
     collisions_per_segment: usize,
@@ -35,12 +36,13 @@ pub struct Args {
 }
 
 /// The gap, exactly, refused outside (0, w_inf) with one line naming the range.
-fn gap(s: &str) -> Result<TriangularScene, Error> {
-    let w = parse_exact(s)?;
+fn gap(g: &Exact) -> Result<TriangularScene, Error> {
+    let w = g.rational("w")?;
     let w_inf = Geometry::<Float>::w_inf(256);
     if w <= 0 || Float::with_val(256, &w) >= w_inf {
         return Err(Error::Invalid(format!(
-            "w = {s} is out of range: use 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094..."
+            "w = {} is out of range: use 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...",
+            g.value
         )));
     }
     TriangularScene::exact(w)

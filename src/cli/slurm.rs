@@ -68,12 +68,14 @@ pub fn run(a: Args) -> Result<(), Error> {
         if p.is_absolute() {
             Ok(p)
         } else {
-            Ok(std::env::current_dir()?.join(p))
+            Ok(std::env::current_dir()
+                .map_err(Error::io("read", "the current directory"))?
+                .join(p))
         }
     };
     let binary = match a.lorentz {
         Some(p) => absolute(p)?,
-        None => std::env::current_exe()?,
+        None => std::env::current_exe().map_err(Error::io("locate", "this program"))?,
     };
     let c = SweepCampaign {
         config,

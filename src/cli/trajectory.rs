@@ -1,7 +1,7 @@
 //! `lorentz trajectory`: one trajectory from exact initial conditions to certified digits.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use rug::Rational;
 
@@ -13,7 +13,7 @@ use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::Error;
 
-use super::args::{parse_count_u32, OutputArgs, SceneName};
+use super::args::{parse_count_u32, parse_exact_arg, Exact, OutputArgs, SceneName};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -26,12 +26,12 @@ pub struct Args {
     /// `triangular` (disks of radius 1 at spacing 2 + w, needs --w).
     #[arg(long)]
     scene: SceneName,
-    /// Disk radius of the square scene, exact (such as 1/3 or 0.25): 0 < radius < 1/2.
-    #[arg(long, allow_hyphen_values = true)]
-    radius: Option<String>,
-    /// Gap of the triangular scene, exact (such as 0.1 or 1/10): w > 0.
-    #[arg(long, allow_hyphen_values = true)]
-    w: Option<String>,
+    /// Disk radius of the square scene, a decimal or a fraction such as 1/3: 0 < radius < 1/2.
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    radius: Option<Exact>,
+    /// Gap of the triangular scene, a decimal or a fraction such as 1/10: w > 0.
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    w: Option<Exact>,
     /// Start x,y in world coordinates, exact (such as 0.5,0.1 or 1/2,1/10); outside every disk.
     #[arg(long, allow_hyphen_values = true)]
     start: String,
@@ -93,21 +93,20 @@ pub fn run(a: Args) -> Result<(), Error> {
             if a.w.is_some() {
                 return refuse("--w", "square");
             }
-            let r = a.radius.as_deref().ok_or_else(|| {
+            let r = a.radius.as_ref().ok_or_else(|| {
                 Error::Invalid("the square scene needs --radius: 0 < radius < 1/2".into())
             })?;
-            let scene = SquareScene::exact(parse_exact(r)?)?;
+            let scene = SquareScene::exact(r.rational("radius")?)?;
             run_scene(&scene, &input, &a)?
         }
         SceneName::Triangular => {
             if a.radius.is_some() {
                 return refuse("--radius", "triangular");
             }
-            let w = a
-                .w
-                .as_deref()
-                .ok_or_else(|| Error::Invalid("the triangular scene needs --w: w > 0".into()))?;
-            let w = parse_exact(w)?;
+            let w =
+                a.w.as_ref()
+                    .ok_or_else(|| Error::Invalid("the triangular scene needs --w: w > 0".into()))?
+                    .rational("w")?;
             if w <= 0 {
                 return Err(Error::Invalid(format!(
                     "w = {} is out of range: use w > 0 (at w <= 0 the disks touch)",
@@ -118,9 +117,6 @@ pub fn run(a: Args) -> Result<(), Error> {
             run_scene(&scene, &input, &a)?
         }
     };
-    if let Some(path) = &a.events {
-        write_events(path, &report)?;
-    }
     emit(a.output.json, &report, |r| {
         println!(
             "{}, t = {}: {} collisions, {} crossings",
@@ -154,17 +150,28 @@ fn run_scene<S: lorentz_gas::scenes::Scene>(
         quiet,
     );
     let opts = pb.options(1);
-    trajectory::run(scene, input, &opts)
+    // The events file is created once the request is checked and before the run, so that an
+    // unwritable path is refused before the work; a failed run leaves no file behind.
+    let Some(path) = &a.events else {
+        return trajectory::run(scene, input, &opts);
+    };
+    let file = lorentz_gas::files::create(path)?;
+    let report = trajectory::run(scene, input, &opts).inspect_err(|_| {
+        let _ = std::fs::remove_file(path);
+    })?;
+    write_events(file, path, &report)?;
+    Ok(report)
 }
 
-fn write_events(path: &PathBuf, r: &TrajectoryReport) -> Result<(), Error> {
-    let file = std::fs::File::create(path)
-        .map_err(|e| Error::Io(format!("cannot create {}: {e}", path.display())))?;
+fn write_events(file: std::fs::File, path: &Path, r: &TrajectoryReport) -> Result<(), Error> {
     let mut out = std::io::BufWriter::new(file);
-    writeln!(out, "kind,obstacle,x,y,time")?;
-    for e in &r.events {
-        writeln!(out, "{},{},{},{},{}", e.kind, e.obstacle, e.x, e.y, e.time)?;
-    }
-    out.flush()?;
-    Ok(())
+    let failed = Error::io("write", path);
+    let write = |out: &mut std::io::BufWriter<_>| -> std::io::Result<()> {
+        writeln!(out, "kind,obstacle,x,y,time")?;
+        for e in &r.events {
+            writeln!(out, "{},{},{},{},{}", e.kind, e.obstacle, e.x, e.y, e.time)?;
+        }
+        out.flush()
+    };
+    write(&mut out).map_err(failed)
 }

@@ -243,7 +243,7 @@ pub fn drive<T: Real, K: CellKernel<T>, O: Observer<1>>(
     while c < collisions {
         let ev = lat
             .next_event(s)
-            .ok_or_else(|| Error::Invalid("trajectory lost its next event".into()))?;
+            .ok_or_else(|| Error::Failed("trajectory lost its next event".into()))?;
         obs.observe::<f64>(std::slice::from_ref(&EventLanes::single(s, &ev)));
         if let crate::kernel::flight::EventKind::Collision(_) = ev.kind {
             c += 1;
@@ -344,7 +344,7 @@ pub fn run_block<O: Observer<BLOCK>>(
         };
     }
     match lost {
-        Some(l) => Err(Error::Invalid(format!(
+        Some(l) => Err(Error::Failed(format!(
             "trajectory {l} of the block lost its next event (velocity {:?})",
             [states[l].flight.vel.x, states[l].flight.vel.y]
         ))),

@@ -51,7 +51,7 @@ pub fn par_chunks<R: Send, F: Fn(std::ops::Range<usize>) -> Result<Vec<R>, Error
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| Error::Invalid(e.to_string()))?;
+        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
     let ranges: Vec<std::ops::Range<usize>> = (0..n)
         .step_by(chunk.max(1))
         .map(|a| a..(a + chunk.max(1)).min(n))
@@ -78,6 +78,6 @@ pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| Error::Invalid(e.to_string()))?;
+        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
     pool.install(|| (0..n).into_par_iter().map(&f).collect())
 }

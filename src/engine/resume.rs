@@ -167,7 +167,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
     pub fn append(&self, record: &R) -> Result<(), Error> {
         let line = self.line(record)?;
         let mut f = self.file.lock().map_err(|_| {
-            Error::Invalid(format!("{}: journal lock poisoned", self.path.display()))
+            Error::Failed(format!("{}: journal lock poisoned", self.path.display()))
         })?;
         let f = f
             .as_mut()
@@ -293,8 +293,7 @@ fn check_header<C: Serialize>(
             path.display()
         )));
     }
-    let want =
-        serde_json::to_value(config).map_err(|e| Error::Invalid(format!("configuration: {e}")))?;
+    let want = serde_json::to_value(config).map_err(Error::encode)?;
     if h.config != want {
         return Err(Error::Invalid(format!(
             "{} belongs to another configuration ({}): use another file or the same parameters",
@@ -442,8 +441,8 @@ fn show(v: Option<&Value>) -> String {
 }
 
 /// An I/O error that names the operation and the path.
-pub fn io_error(op: &str, path: &Path, e: std::io::Error) -> Error {
-    Error::Io(format!("cannot {op} {}: {e}", path.display()))
+pub fn io_error(op: &'static str, path: &Path, e: std::io::Error) -> Error {
+    Error::io(op, path)(e)
 }
 
 #[cfg(test)]

@@ -165,7 +165,7 @@ pub fn reproduce(
     threads: usize,
     reporter: &dyn Reporter,
 ) -> Result<ReproduceReport, Error> {
-    std::fs::create_dir_all(dir)?;
+    crate::files::create_dir_all(dir)?;
     let mut run = Reproduction {
         budget,
         dir,
@@ -184,10 +184,10 @@ pub fn reproduce(
         steps,
         meta: RunMeta::new(Some(seed), None, Precision::F64, Some(threads)),
     };
-    std::fs::write(dir.join("index.html"), index_html(dir, &report))?;
-    std::fs::write(
+    crate::files::write(dir.join("index.html"), index_html(dir, &report))?;
+    crate::files::write(
         dir.join("reproduce.json"),
-        serde_json::to_string_pretty(&report).map_err(|e| Error::Io(e.to_string()))?,
+        serde_json::to_string_pretty(&report).map_err(Error::encode)?,
     )?;
     Ok(report)
 }
@@ -221,7 +221,7 @@ impl Reproduction<'_> {
                 files: d.files,
             });
         }
-        std::fs::create_dir_all(&sub)?;
+        crate::files::create_dir_all(&sub)?;
         let t0 = std::time::Instant::now();
         self.compute(k, step, &sub)?;
         let files = list_files(self.dir, step.name());
@@ -235,7 +235,7 @@ impl Reproduction<'_> {
         crate::engine::resume::write_atomically(
             &marker,
             serde_json::to_string_pretty(&done)
-                .map_err(|e| Error::Io(e.to_string()))?
+                .map_err(Error::encode)?
                 .as_bytes(),
         )?;
         Ok(StepRecord {
@@ -249,7 +249,7 @@ impl Reproduction<'_> {
 
     /// The `done.json` marker at `marker`, if it is of this budget and this version.
     fn finished(&self, marker: &Path) -> Option<Done> {
-        std::fs::read_to_string(marker)
+        crate::files::read_to_string(marker)
             .ok()
             .and_then(|t| serde_json::from_str::<Done>(&t).ok())
             .filter(|d| d.budget == self.budget.name() && d.version == env!("CARGO_PKG_VERSION"))
@@ -451,13 +451,13 @@ fn d_table(
             (r.tau_hop - r.tau_hop_exact) / r.tau_hop_err,
             r.seconds
         );
-        std::fs::write(
+        crate::files::write(
             dir.join(format!("diffusion-w{w}.json")),
-            serde_json::to_string_pretty(&r).map_err(|e| Error::Io(e.to_string()))?,
+            serde_json::to_string_pretty(&r).map_err(Error::encode)?,
         )?;
         rows.push(r);
     }
-    std::fs::write(dir.join("d-table.md"), md)?;
+    crate::files::write(dir.join("d-table.md"), md)?;
     Ok(())
 }
 
@@ -485,7 +485,7 @@ fn claims(
         );
     }
     let rows = |f: &str| -> Vec<(f64, f64, f64)> {
-        std::fs::read_to_string(dir.join("backscatter").join(f))
+        crate::files::read_to_string(dir.join("backscatter").join(f))
             .ok()
             .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
             .and_then(|v| serde_json::from_value(v["data"]["rows"].clone()).ok())
@@ -524,7 +524,7 @@ fn claims(
             f.linear_fit.chi2, f.linear_fit.dof
         );
     }
-    std::fs::write(out.join("claims.md"), md)?;
+    crate::files::write(out.join("claims.md"), md)?;
     Ok(())
 }
 
@@ -580,7 +580,7 @@ fn index_html(dir: &Path, r: &ReproduceReport) -> String {
         );
         for f in &st.files {
             if f.ends_with(".md") {
-                if let Ok(md) = std::fs::read_to_string(dir.join(f)) {
+                if let Ok(md) = crate::files::read_to_string(dir.join(f)) {
                     s += &md_table_html(&md);
                 }
             }

@@ -195,10 +195,10 @@ pub fn run(cfg: &SpeedErrorConfig, options: &RunOptions) -> Result<(SpeedReport,
         ),
     };
     let md = speed_markdown(&report, states.len());
-    std::fs::write(dir.join("speed-vs-error.md"), &md)?;
-    std::fs::write(
+    crate::files::write(dir.join("speed-vs-error.md"), &md)?;
+    crate::files::write(
         dir.join("speed-vs-error.json"),
-        serde_json::to_string_pretty(&report).map_err(|e| Error::Io(e.to_string()))?,
+        serde_json::to_string_pretty(&report).map_err(Error::encode)?,
     )?;
     speed_plot(&report, dir)?;
     Ok((report, md))
@@ -216,7 +216,7 @@ fn calibrate(
     cfg.collisions = CALIBRATION_COLLISIONS;
     cfg.seed = seed;
     cfg.validate()?;
-    std::fs::create_dir_all(dir)?;
+    crate::files::create_dir_all(dir)?;
     let cal = diffusion::run(
         &cfg,
         &RunOptions {

@@ -83,7 +83,7 @@ impl<T: Real> SingleTrap<T> {
             let ev = self
                 .trap
                 .next_event(&f)
-                .ok_or_else(|| Error::Invalid("no next event".into()))?;
+                .ok_or_else(|| Error::Failed("no next event".into()))?;
             time += ev.time.to_f64();
             match ev.kind {
                 EventKind::Collision(_) => {

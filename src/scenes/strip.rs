@@ -162,7 +162,7 @@ impl Strip {
         loop {
             let ev = lat
                 .next_event(&state)
-                .ok_or_else(|| Error::Invalid("trajectory lost its next event".into()))?;
+                .ok_or_else(|| Error::Failed("trajectory lost its next event".into()))?;
             let dt = ev.time;
             let x0 = lat.unwrapped(&state, 0.0).world_x(&self.basis);
             let x1 = lat.unwrapped(&state, dt).world_x(&self.basis);

@@ -243,7 +243,7 @@ fn certify_with_meta<S: Scene>(
         if bits >= MAX_CERTIFY_BITS
             || 3.0 * n as f64 * bytes_per_collision(4.0 * bits as f64) > MAX_MEMORY_BYTES
         {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "could not certify {n} collisions to {digits} digits within {} bits and {:.0} GiB \
                  (the runs at {bits} and {} bits agree to {agreed:.1} digits)",
                 MAX_CERTIFY_BITS,

@@ -179,11 +179,11 @@ pub fn check_event<K64: CellKernel<f64>, KRef: CellKernel<Float>>(
     <Float as Real>::check_ctx(bits)?;
     let e64: Event<f64> = t64
         .next_event(f)
-        .ok_or_else(|| Error::Invalid("f64 state has no next event".into()))?;
+        .ok_or_else(|| Error::Failed("f64 state has no next event".into()))?;
     let fr = Flight::<Float>::convert_from_f64(bits, f);
     let er: Event<Float> = tref
         .next_event(&fr)
-        .ok_or_else(|| Error::Invalid("reference state has no next event".into()))?;
+        .ok_or_else(|| Error::Failed("reference state has no next event".into()))?;
     // The cell's extent, the scale of its constants' rounding (computed once per event).
     let a = cell.extent();
     let cands = candidates(cell, a, &fr);

@@ -94,7 +94,7 @@ pub fn amplification<T: Real, K: CellKernel<T>>(
     while c < n {
         let ev = lat
             .next_event(&s)
-            .ok_or_else(|| Error::Invalid("no next event".into()))?;
+            .ok_or_else(|| Error::Failed("no next event".into()))?;
         let f64s = s.flight.to_f64();
         let e64 = crate::kernel::flight::Event {
             kind: ev.kind,

@@ -157,6 +157,32 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     (&["audit", "--scene", "square"], "needs --radius"),
     (
+        &["certify", "--scene", "square", "--radius", "inf"],
+        "radius must be a finite number",
+    ),
+    (&["shadow", "--w", "nan"], "w must be a finite number"),
+    (&["shadow", "--w", "1/0"], "divides by zero"),
+    (
+        &["figure", "backscatter-map", "--w", "1/0", "--out", "out"],
+        "divides by zero",
+    ),
+    (
+        &[
+            "trajectory",
+            "--scene",
+            "square",
+            "--radius",
+            "nan",
+            "--start",
+            "0,0",
+            "--direction",
+            "1,0",
+            "--time",
+            "1",
+        ],
+        "radius must be a finite number",
+    ),
+    (
         &[
             "audit", "--scene", "square", "--radius", "0.3", "--w", "0.1",
         ],
@@ -337,7 +363,6 @@ const BAD: &[(&[&str], &str)] = &[
         "every part needs a point",
     ),
     // report, reproduce
-    (&["report", "no-such-result.json", "--quick"], "cannot read"),
     (
         &["report", "r.json", "--reference-bits", "64"],
         "128 to 65536",
@@ -550,6 +575,60 @@ fn bad_input_is_refused_with_status_2_one_line_and_no_files() {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// A file or directory that cannot be read or written exits with status 3 and one line naming
+/// the operation and the path — whatever the command: an output directory under a regular file
+/// (a test may run as root, where permission bits do not stop a write, but a path through a file
+/// stops everyone), an input file that does not exist.
+#[test]
+fn unreadable_or_unwritable_paths_exit_3_naming_the_path() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    std::fs::write(dir.join("file"), "a regular file").unwrap();
+    // (command line, the operation and the path its one line must name)
+    let cases = [
+        (
+            "report no-such-result.json --quick",
+            "cannot read",
+            "no-such-result.json",
+        ),
+        (
+            "slurm sweep --w-from 0.1 --w-to 0.2 --array 2 --out file/sub",
+            "cannot create directory",
+            "file/sub/slurm",
+        ),
+        (
+            "sweep --w-from 0.1 --w-to 0.2 --steps 2 --runs 2 --collisions-per-run 1e5 \
+             --batches-per-run 2 --out file/sweep",
+            "cannot create directory",
+            "file/sweep",
+        ),
+        (
+            "figure backscatter-map --particles 100 --out file/fig",
+            "cannot create directory",
+            "file/fig",
+        ),
+        (
+            "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,1/7 \
+             --time 5 --events file/events.csv",
+            "cannot create",
+            "file/events.csv",
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (line, op, path) in cases {
+        let args: Vec<&str> = line.split_whitespace().collect();
+        let (code, out, err) = lorentz_in(dir, &args);
+        let lines = err.lines().filter(|l| !l.trim().is_empty()).count();
+        if code != 3 || lines != 1 || !err.contains(op) || !err.contains(path) || !out.is_empty() {
+            failures.push(format!(
+                "{args:?}: status {code}, {lines} stderr lines '{}' (wanted '{op}' and '{path}')",
+                err.trim()
+            ));
+        }
+    }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
@@ -1042,4 +1121,54 @@ fn gaps_are_exact_decimals_or_fractions() {
         (v["w"].as_f64().unwrap(), v["D"].as_f64().unwrap().to_bits())
     };
     assert_eq!(run("1/10"), run("0.1"));
+}
+
+/// Every command that takes `--w` takes a fraction: `--w 1/10` gives exactly the result of
+/// `--w 0.1` (in f64 analyses both are the double nearest 0.1; at MPFR precision both are 1/10
+/// rounded at that precision), whatever the command (bench, a timing, only has to accept it).
+#[test]
+fn every_command_taking_w_takes_a_fraction_with_the_same_result() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
+    // W is replaced by the gap as a decimal, then as a fraction.
+    let commands = [
+        "diffusion --w W --collisions 2e6 --batches 4 --window 2:8 --check-window 4:16",
+        "audit --w W --collisions 2e3 --batches 2",
+        "lyapunov --w W --collisions-per-batch 2e4 --batches 2 --starts 1",
+        "certify --w W --collisions 50 --digits 20",
+        "shadow --w W --collisions-per-segment 20 --segments 2",
+        "backscatter --w W --particles 2e4 --batches 4",
+        "hops --w W --collisions 1e6 --batches 4 --order 2",
+        "theory --w W --collisions 1e6 --batches 4 --order 2",
+        "lattice-walk --w W --collisions 1e6 --order 2",
+        "constants --w W",
+        "constants --w W --precision 300",
+        "escape --w W --widths 10,12,14 --particles-per-width 3.2e3",
+        "figure backscatter-map --w W --particles 1e3 --out fig",
+        "trajectory --scene triangular --w W --start 0,1.5 --direction 1,1/7 --time 3",
+        "bench --w W --collisions-per-thread 1e4 --repetitions 1",
+    ];
+    let mut failures = Vec::new();
+    for line in commands {
+        let run = |w: &str| {
+            let mut args: Vec<&str> = line
+                .split_whitespace()
+                .map(|a| if a == "W" { w } else { a })
+                .collect();
+            args.push("--json");
+            let (code, out, err) = lorentz_in(dir, &args);
+            let v = serde_json::from_str::<serde_json::Value>(&out).map(physics);
+            (code, v.map_err(|e| format!("{e}: {err}")))
+        };
+        let (decimal, fraction) = if line.starts_with("escape") {
+            (run("0.3"), run("3/10"))
+        } else {
+            (run("0.1"), run("1/10"))
+        };
+        let same = line.starts_with("bench") || decimal.1.as_ref().ok() == fraction.1.as_ref().ok();
+        if decimal.0 != 0 || fraction.0 != 0 || decimal.1.is_err() || !same {
+            failures.push(format!("{line}: {decimal:?} against {fraction:?}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

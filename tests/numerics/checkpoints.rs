@@ -199,7 +199,7 @@ fn edited_and_forged_checkpoints_are_refused() {
     let mut at_02 = cfg.clone();
     at_02.w = 0.2;
     let e = run(&at_02, &opts).unwrap_err();
-    assert!(matches!(e, Error::CheckFailed(_)), "{e}");
+    assert!(matches!(e, Error::Failed(_)), "{e}");
     let e = e.to_string();
     assert!(e.contains("c.jsonl") && e.contains("mean free path"), "{e}");
 }

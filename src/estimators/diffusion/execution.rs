@@ -266,7 +266,7 @@ pub(super) fn execute(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(spec.threads)
         .build()
-        .map_err(|e| Error::Invalid(format!("thread pool: {e}")))?;
+        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
     let trap64 = Trap::new(spec.w)?;
     match spec.engine {
         Resolved::Simd(path) => {

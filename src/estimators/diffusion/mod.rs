@@ -495,7 +495,7 @@ fn check_resumed_identities(rep: &DiffusionReport, path: Option<&Path>) -> Resul
     for (what, x, err, exact) in checks {
         let t = (x - exact) / err;
         if t.is_nan() || t.abs() > bound {
-            return Err(Error::CheckFailed(format!(
+            return Err(Error::Failed(format!(
                 "the run resumed from {} fails an exact identity: {what} {x} is {t:+.1} standard \
                  errors from its closed form {exact} (bound {bound:.2} for {n} batches): the \
                  checkpoint holds work of another configuration; delete it and run again",

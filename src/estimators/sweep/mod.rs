@@ -283,11 +283,11 @@ pub fn write_tables(r: &SweepReport, dir: &Path) -> Result<(), Error> {
             row.residual,
         ));
     }
-    std::fs::write(dir.join("sweep.csv"), csv)?;
-    std::fs::write(dir.join("sweep-runs.csv"), runs)?;
-    std::fs::write(
+    crate::files::write(dir.join("sweep.csv"), csv)?;
+    crate::files::write(dir.join("sweep-runs.csv"), runs)?;
+    crate::files::write(
         dir.join("sweep.json"),
-        serde_json::to_string_pretty(r).map_err(|e| Error::Io(e.to_string()))?,
+        serde_json::to_string_pretty(r).map_err(Error::encode)?,
     )?;
     Ok(())
 }

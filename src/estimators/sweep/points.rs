@@ -25,7 +25,7 @@ pub(crate) fn run_points(
 ) -> Result<(Vec<SweepPoint>, u32), Error> {
     let dir = options.resume.as_deref();
     if let Some(d) = dir {
-        std::fs::create_dir_all(d.join("points"))?;
+        crate::files::create_dir_all(d.join("points"))?;
     }
     // Every point already on disk is checked before any work: an edited or foreign file stops
     // the sweep before it computes (or writes) anything.

@@ -48,8 +48,10 @@ pub struct PlotSpec<'a> {
     pub log_y: bool,
 }
 
-fn io(e: impl std::fmt::Display) -> Error {
-    Error::Io(e.to_string())
+/// A plotting error while drawing `path` (the backends write the file when the figure is
+/// presented, so their errors are I/O errors on that file).
+fn io(path: &Path) -> impl Fn(&dyn std::fmt::Display) -> Error + '_ {
+    move |e| Error::io("write", path)(std::io::Error::other(e.to_string()))
 }
 
 fn range(v: impl Iterator<Item = f64> + Clone, log: bool) -> (f64, f64) {
@@ -64,6 +66,7 @@ fn range(v: impl Iterator<Item = f64> + Clone, log: bool) -> (f64, f64) {
 }
 
 fn draw<DB: DrawingBackend>(
+    path: &Path,
     root: DrawingArea<DB, plotters::coord::Shift>,
     spec: &PlotSpec,
     series: &[Series],
@@ -71,6 +74,8 @@ fn draw<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
+    let fail = io(path);
+    let io = |e: plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>| fail(&e);
     root.fill(&WHITE).map_err(io)?;
     let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
     let ys = series
@@ -166,11 +171,13 @@ pub fn plot(stem: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), Error
     let png = stem.with_extension("png");
     let svg = stem.with_extension("svg");
     draw(
+        &png,
         BitMapBackend::new(&png, (800, 600)).into_drawing_area(),
         spec,
         series,
     )?;
     draw(
+        &svg,
         SVGBackend::new(&svg, (800, 600)).into_drawing_area(),
         spec,
         series,

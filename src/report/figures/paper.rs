@@ -60,9 +60,9 @@ pub struct FigureReport {
 /// The data file of a figure: its rows (or summary) with the metadata block.
 fn write_json(path: &Path, data: serde_json::Value, meta: &RunMeta) -> Result<(), Error> {
     let v = json!({ "data": data, "meta": meta });
-    std::fs::write(
+    crate::files::write(
         path,
-        serde_json::to_string_pretty(&v).map_err(|e| Error::Io(e.to_string()))?,
+        serde_json::to_string_pretty(&v).map_err(Error::encode)?,
     )?;
     Ok(())
 }
@@ -88,7 +88,7 @@ pub fn backscatter_map(
         return Err(Error::Zero { what: "particles" });
     }
     let scene = SingleTrap::new(w)?;
-    std::fs::create_dir_all(dir)?;
+    crate::files::create_dir_all(dir)?;
     let mut rng = StreamKey::new(seed, Purpose::Injection, 0).rng();
     let mut pts = Vec::new();
     let mut csv = String::from("x_2_over_w,sin_alpha,exit\n");
@@ -104,7 +104,7 @@ pub fn backscatter_map(
     }
     progress(particles % MAP_PROGRESS_CHUNK);
     let meta = RunMeta::new(Some(seed), None, Precision::F64, Some(1));
-    std::fs::write(dir.join("fig5-backscatter-map.csv"), csv)?;
+    crate::files::write(dir.join("fig5-backscatter-map.csv"), csv)?;
     write_json(
         &dir.join("fig5-backscatter-map.json"),
         json!({"w": w, "particles": particles, "backscattered": pts.len()}),
@@ -150,7 +150,7 @@ pub fn backscatter_curve(
         });
     }
     let [grid, inset] = backscatter_grids()?;
-    std::fs::create_dir_all(dir)?;
+    crate::files::create_dir_all(dir)?;
     let meta = RunMeta::new(
         Some(seed),
         Some(CURVE_BATCHES as u64),
@@ -215,7 +215,7 @@ impl Curve<'_> {
         for r in &rows {
             csv.push_str(&format!("{},{},{}\n", r.0, r.1, r.2));
         }
-        std::fs::write(dir.join(format!("{name}.csv")), csv)?;
+        crate::files::write(dir.join(format!("{name}.csv")), csv)?;
         write_json(
             &dir.join(format!("{name}.json")),
             json!({
@@ -285,14 +285,14 @@ pub fn hierarchy(
         progress,
         ..RunOptions::default()
     };
-    std::fs::create_dir_all(dir)?;
+    crate::files::create_dir_all(dir)?;
     let mut rows = Vec::new();
     for (i, &w) in grid.iter().enumerate() {
         let t = theory::run(&runs.hops(i, w), &opts)?;
         let d = run(&runs.einstein(i, w), &opts)?;
         rows.push((w, t, d.D, d.D_err));
     }
-    std::fs::write(dir.join("fig3-4b-6-hierarchy.csv"), hierarchy_csv(&rows))?;
+    crate::files::write(dir.join("fig3-4b-6-hierarchy.csv"), hierarchy_csv(&rows))?;
     let meta = RunMeta::new(
         Some(seed),
         Some(HIERARCHY_BATCHES as u64),

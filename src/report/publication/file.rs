@@ -161,9 +161,8 @@ impl ResultFile {
 /// Reads at most [`MAX_RESULT_BYTES`] of the regular file `path`, refusing larger ones (from the
 /// metadata, before reading) and anything that is not a regular file.
 fn read_bounded(path: &Path) -> Result<Vec<u8>, Error> {
-    let cannot = |e: std::io::Error| bad(path, format!("cannot read the result file ({e})"));
-    let file = std::fs::File::open(path).map_err(cannot)?;
-    let meta = file.metadata().map_err(cannot)?;
+    let file = std::fs::File::open(path).map_err(Error::io("open", path))?;
+    let meta = file.metadata().map_err(Error::io("read", path))?;
     if !meta.is_file() {
         return Err(bad(path, "not a regular file"));
     }
@@ -181,7 +180,7 @@ fn read_bounded(path: &Path) -> Result<Vec<u8>, Error> {
     let mut bytes = Vec::with_capacity(meta.len() as usize);
     file.take(MAX_RESULT_BYTES + 1)
         .read_to_end(&mut bytes)
-        .map_err(cannot)?;
+        .map_err(Error::io("read", path))?;
     if bytes.len() as u64 > MAX_RESULT_BYTES {
         return Err(too_big(bytes.len() as u64));
     }

@@ -321,12 +321,7 @@ pub fn run(cfg: &AuditConfig, options: &RunOptions) -> Result<PublicationReport,
         admitted: admitted(&ctx.reruns, ctx.budget),
         ..ctx
     };
-    std::fs::create_dir_all(&cfg.out).map_err(|e| {
-        Error::Io(format!(
-            "cannot create directory {}: {e}",
-            cfg.out.display()
-        ))
-    })?;
+    crate::files::create_dir_all(&cfg.out)?;
     let mut checks = Checks(Vec::new());
     let mut figures = Vec::new();
     let kind = file.kind.name();

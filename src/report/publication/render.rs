@@ -126,15 +126,14 @@ impl PublicationReport {
 
     /// Writes `report.md`, `report.html` and `report.json` into `dir`.
     pub fn write(&self, dir: &Path) -> Result<(), Error> {
-        let json = serde_json::to_string_pretty(self).map_err(|e| Error::Io(e.to_string()))?;
+        let json = serde_json::to_string_pretty(self).map_err(Error::encode)?;
         for (name, text) in [
             ("report.md", self.markdown()),
             ("report.html", self.html(dir)),
             ("report.json", json),
         ] {
             let path = dir.join(name);
-            std::fs::write(&path, text)
-                .map_err(|e| Error::Io(format!("cannot write {}: {e}", path.display())))?;
+            crate::files::write(&path, text)?;
         }
         Ok(())
     }

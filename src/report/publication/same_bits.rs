@@ -21,7 +21,7 @@ const VOLATILE_FIELDS: [&str; 6] = [
 
 /// `v` as JSON without the fields that differ between two runs of one configuration.
 fn science<T: Serialize>(v: &T) -> Result<Value, Error> {
-    let mut v = serde_json::to_value(v).map_err(|e| Error::Io(e.to_string()))?;
+    let mut v = serde_json::to_value(v).map_err(Error::encode)?;
     if let Some(o) = v.as_object_mut() {
         for k in VOLATILE_FIELDS {
             o.remove(k);
