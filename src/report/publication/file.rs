@@ -161,7 +161,7 @@ impl ResultFile {
 /// Reads at most [`MAX_RESULT_BYTES`] of the regular file `path`, refusing larger ones (from the
 /// metadata, before reading) and anything that is not a regular file.
 fn read_bounded(path: &Path) -> Result<Vec<u8>, Error> {
-    let file = std::fs::File::open(path).map_err(Error::io("open", path))?;
+    let file = std::fs::File::open(path).map_err(Error::io("read", path))?;
     let meta = file.metadata().map_err(Error::io("read", path))?;
     if !meta.is_file() {
         return Err(bad(path, "not a regular file"));
