@@ -81,11 +81,25 @@ pub fn parse_count_usize(s: &str) -> Result<usize, String> {
     usize::try_from(v).map_err(|_| format!("'{s}' is too large for this machine"))
 }
 
-/// A thread count from 1 to [`MAX_THREADS`].
+/// Most worker threads accepted per core this process may use: a few more threads than cores
+/// cost little, far more only slow a run down (4096 threads on 2 cores ran 350 times slower).
+pub const MAX_THREADS_PER_CORE: usize = 4;
+
+/// The cores this process may use (its CPU affinity and quota), at least 1.
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// A thread count from 1 to [`MAX_THREADS_PER_CORE`] × [`cores`] (and at most [`MAX_THREADS`]).
 pub fn parse_threads(s: &str) -> Result<usize, String> {
     let v = parse_count(s)?;
-    if v == 0 || v > MAX_THREADS as u64 {
-        return Err(format!("threads must be from 1 to {MAX_THREADS}"));
+    let cores = cores();
+    let max = (MAX_THREADS_PER_CORE * cores).min(MAX_THREADS);
+    if v == 0 || v > max as u64 {
+        return Err(format!(
+            "threads must be from 1 to {max} ({MAX_THREADS_PER_CORE} per core on the {cores} \
+             cores this process may use: more threads than that only slow a run down)"
+        ));
     }
     Ok(v as usize)
 }
@@ -311,7 +325,7 @@ pub struct SeedArg {
 /// The worker threads of a computation.
 #[derive(Args, Debug, Clone)]
 pub struct ThreadsArg {
-    /// Worker threads, 1 to 4096 (default: all cores); never changes the result.
+    /// Worker threads, 1 to 4 per core (default: all cores); never changes the result.
     #[arg(long, value_parser = parse_threads, allow_negative_numbers = true)]
     pub threads: Option<usize>,
 }
@@ -319,11 +333,7 @@ pub struct ThreadsArg {
 impl ThreadsArg {
     /// The requested thread count, or every core.
     pub fn threads(&self) -> usize {
-        self.threads.unwrap_or_else(|| {
-            std::thread::available_parallelism()
-                .map(|n| n.get())
-                .unwrap_or(1)
-        })
+        self.threads.unwrap_or_else(cores)
     }
 }
 
@@ -450,6 +460,8 @@ mod tests {
         assert_eq!(parse_threads("2"), Ok(2));
         assert!(parse_threads("0").is_err());
         assert!(parse_threads("1e6").is_err());
+        assert_eq!(parse_threads(&(4 * cores()).to_string()), Ok(4 * cores()));
+        assert!(parse_threads(&(4 * cores() + 1).to_string()).is_err());
     }
 
     /// The scene of `--w 1/10` or `--w 0.1` at 256 bits has w = 1/10 rounded once at 256 bits,

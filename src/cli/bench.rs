@@ -35,7 +35,7 @@ pub struct Args {
     observe: lorentz_gas::estimators::throughput::Observe,
     #[command(flatten)]
     seed: SeedArg,
-    /// Worker threads, 1 to 4096: K threads run K trajectories at once, one per thread (default:
+    /// Worker threads, 1 to 4 per core: K threads run K trajectories at once, one per thread (default:
     /// 1, the single-core kernel speed; with --report, all cores for the calibration run).
     #[arg(long, value_parser = parse_threads, allow_negative_numbers = true)]
     threads: Option<usize>,

@@ -103,17 +103,30 @@ pub fn starting_bits(lambda: f64, n: usize, digits: u32) -> Result<u32, Error> {
             hi = mid;
         }
     }
-    let why = if bits > MAX_CERTIFY_BITS as f64 {
-        format!("about {bits:.2e} bits (lambda N / ln 2 at lambda = {lambda:.3} per collision), more than the {MAX_CERTIFY_BITS} supported")
-    } else {
-        format!(
-            "{bits:.0} bits and about {:.1} GiB of memory, more than the {:.0} GiB limit",
-            memory / (1u64 << 30) as f64,
-            MAX_MEMORY_BYTES / (1u64 << 30) as f64
-        )
+    let gib = |m: f64| m / (1u64 << 30) as f64;
+    let (bits_limit, memory_limit) = (
+        format!("the limit of {MAX_CERTIFY_BITS} bits"),
+        format!("the memory limit of {:.0} GiB", gib(MAX_MEMORY_BYTES)),
+    );
+    let over = |b: f64, m: f64| match (b > MAX_CERTIFY_BITS as f64, m > MAX_MEMORY_BYTES) {
+        (true, true) => format!("{bits_limit} and {memory_limit}"),
+        (true, false) => bits_limit.clone(),
+        _ => memory_limit.clone(),
     };
+    let needed = format!(
+        "certifying {n} collisions to {digits} digits needs about {bits:.3e} bits (lambda N / ln 2 \
+         at lambda = {lambda:.3} per collision) and {:.3e} GiB of memory, beyond {}",
+        gib(memory),
+        over(bits, memory)
+    );
+    if lo < 1.0 {
+        return Err(Error::Invalid(format!("{needed}: use fewer digits")));
+    }
+    // The limit that stops the next collision beyond the longest segment that fits.
+    let (b1, m1) = needs(lambda, lo + 1.0, digits);
     Err(Error::Invalid(format!(
-        "certifying {n} collisions to {digits} digits needs {why}: use at most {lo:.0} collisions"
+        "{needed}: use at most {lo:.0} collisions (where {} binds)",
+        over(b1, m1)
     )))
 }
 

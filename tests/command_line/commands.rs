@@ -113,6 +113,11 @@ const BAD: &[(&[&str], &str)] = &[
         &["diffusion", "--w", "0.1", "--threads", "1e9"],
         "threads must be from 1",
     ),
+    (
+        &["diffusion", "--w", "0.1", "--threads", "4096"],
+        "4 per core",
+    ),
+    (&["bench", "--w", "0.1", "--threads", "4096"], "4 per core"),
     (&["diffusion", "--w", "0.1", "--window", "40:10"], "window"),
     (&["diffusion", "--w", "0.1", "--audit", "2"], "(0, 1]"),
     (
@@ -224,7 +229,7 @@ const BAD: &[(&[&str], &str)] = &[
     (&["diffusion", "--w", "0.1", "--seed", "-1"], "whole number"),
     (
         &["certify", "--w", "0.1", "--collisions", "100000000000"],
-        "at most",
+        "use at most 33007 collisions (where the memory limit of 4 GiB binds)",
     ),
     (
         &[
@@ -329,6 +334,18 @@ const BAD: &[(&[&str], &str)] = &[
     (
         &["sweep", "--w-from", "abc", "--w-to", "0.2", "--out", "out"],
         "decimal",
+    ),
+    (
+        &[
+            "sweep", "--w-from", "0.1", "--w-to", "0.1", "--steps", "3", "--out", "out",
+        ],
+        "distinct w",
+    ),
+    (
+        &[
+            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.1", "--array", "2", "--out", "out",
+        ],
+        "distinct w",
     ),
     (
         &[

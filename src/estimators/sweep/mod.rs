@@ -225,7 +225,19 @@ impl SweepConfig {
             )));
         }
         crate::engine::parallel::check_batches("runs", self.runs)?;
-        for (i, w) in self.points()?.into_iter().enumerate() {
+        let points = self.points()?;
+        if let Some(k) = points.windows(2).position(|p| p[0] == p[1]) {
+            return Err(Error::Invalid(format!(
+                "--w-from {} --w-to {} in {} steps gives w = {} at points {k} and {}: the fits \
+                 need distinct w, use ends that differ by more than the steps resolve",
+                self.w_from,
+                self.w_to,
+                self.steps,
+                points[k],
+                k + 1
+            )));
+        }
+        for (i, w) in points.into_iter().enumerate() {
             self.run_config(i as u32, w, 0).validate()?;
         }
         Ok(())
