@@ -113,9 +113,17 @@ pub struct Exact {
     pub value: f64,
     /// The exact value, for scenes and closed forms at any precision (`None` for `nan`, `inf`).
     pub exact: Option<rug::Rational>,
+    /// The text as typed (trimmed): what a configuration records as the exact value.
+    pub text: String,
 }
 
 impl Exact {
+    /// The value as typed, for a configuration's `w_exact` (`None` for `nan` and `inf`, which
+    /// validation refuses).
+    pub fn exact_text(&self) -> Option<String> {
+        self.exact.as_ref().map(|_| self.text.clone())
+    }
+
     /// The exact value of parameter `what`, or the refusal of a NaN or an infinity.
     pub fn rational(&self, what: &'static str) -> Result<rug::Rational, lorentz_gas::Error> {
         self.exact
@@ -130,11 +138,13 @@ pub fn parse_exact_arg(s: &str) -> Result<Exact, String> {
         Ok(q) => Ok(Exact {
             value: lorentz_gas::numbers::exact::nearest_f64(&q),
             exact: Some(q),
+            text: s.trim().to_string(),
         }),
         Err(e) => match s.trim().parse::<f64>() {
             Ok(v) if !v.is_finite() => Ok(Exact {
                 value: v,
                 exact: None,
+                text: s.trim().to_string(),
             }),
             _ => Err(e.to_string()),
         },
@@ -154,6 +164,11 @@ impl GapArg {
     /// The gap as its nearest double.
     pub fn w(&self) -> f64 {
         self.gap.value
+    }
+
+    /// The gap exactly as typed (`"1/10"`), for runs at MPFR precisions.
+    pub fn exact_text(&self) -> Option<String> {
+        self.gap.exact_text()
     }
 }
 

@@ -30,6 +30,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     let pb = Progress::new(a.particles, "injections", a.output.quiet);
     let cfg = BackscatterConfig {
         w: a.gap.w(),
+        w_exact: a.gap.exact_text(),
         particles: a.particles,
         batches: a.batches,
         seed: a.run.seed(),

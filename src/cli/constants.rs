@@ -40,6 +40,8 @@ pub fn run(a: Args) -> Result<(), Error> {
 struct ConstantsJson {
     #[serde(flatten)]
     numbers: BTreeMap<&'static str, Box<RawValue>>,
+    /// The gap exactly, as a reduced fraction (`"1/5"`); `w` is it at the working precision.
+    w_exact: Option<String>,
     /// Proven bound on any free path (null at infinite horizon).
     max_free_path_bound: Option<Box<RawValue>>,
     finite_horizon: bool,
@@ -108,6 +110,7 @@ impl AtPrecision for Constants {
             }
             let out = ConstantsJson {
                 numbers,
+                w_exact: self.exact.as_ref().map(|q| q.to_string()),
                 max_free_path_bound: lmax.as_ref().map(number).transpose()?,
                 finite_horizon: horizon_finite,
                 precision_bits: T::bits(ctx),
@@ -115,14 +118,23 @@ impl AtPrecision for Constants {
             };
             println!("{}", to_json(&out)?);
         } else {
+            // Text shows the digits the working precision guarantees; JSON carries every digit.
+            let shown = |v: &T| significant(v, T::bits(ctx));
+            if let Some(q) = &self.exact {
+                println!(
+                    "{:<20} {:<45} gap as typed, exactly",
+                    "w_exact",
+                    q.to_string()
+                );
+            }
             for (k, d, v) in &rows {
-                println!("{k:<20} {:<45} {d}", v.to_decimal());
+                println!("{k:<20} {:<45} {d}", shown(v));
             }
             match lmax {
                 Some(l) => println!(
                     "{:<20} {:<45} proven bound on any free path: sqrt3 a below w_0, 12 a below w_inf",
                     "max_free_path_bound",
-                    l.to_decimal()
+                    shown(&l)
                 ),
                 None => println!(
                     "w >= w_inf: infinite horizon, free paths are unbounded and D does not exist"
@@ -131,4 +143,12 @@ impl AtPrecision for Constants {
         }
         Ok(())
     }
+}
+
+/// `v` to the decimal digits that `bits` bits guarantee, ⌊(bits − 1)·log₁₀ 2⌋: a value within
+/// half an ulp of the exact one rounds to these digits up to one unit in the last (so the gap 0.2
+/// at 200 bits shows as 2.000…0e-1, not the binary number's 2.000…03e-1 of the round-trip form).
+fn significant<T: Real>(v: &T, bits: u32) -> String {
+    let digits = ((bits - 1) as f64 * std::f64::consts::LOG10_2).floor() as usize;
+    v.to_mpfr(bits).to_string_radix(10, Some(digits.max(1)))
 }

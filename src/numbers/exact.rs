@@ -4,6 +4,7 @@
 
 use rug::{Float, Integer, Rational};
 
+use crate::numbers::real::Real;
 use crate::Error;
 
 /// Most digits accepted in a decimal (a double has 17 significant digits; more only hides a typo).
@@ -91,8 +92,57 @@ pub fn nearest_f64(r: &Rational) -> f64 {
     Float::with_val(f64::MANTISSA_DIGITS, r).to_f64()
 }
 
-/// `steps ≥ 2` points from `from` to `to` (decimal strings), evenly spaced in exact arithmetic:
-/// point i is the double nearest to from + (to − from)·i/(steps − 1).
+/// A parameter (a gap or a radius) at a working precision: `exact`, the decimal or fraction the
+/// user typed, correctly rounded once to the context when it is given; otherwise the double
+/// `value` itself, taken as that binary number. At 53 bits both give `value` (see
+/// [`check_exact`]), so MPFR-53 runs keep the bits of `f64` runs.
+///
+/// # Errors
+/// If `exact` does not parse.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::numbers::exact::param_at;
+/// let w: rug::Float = param_at(200, 0.1, Some("1/10")).unwrap();
+/// assert_eq!(w, rug::Float::with_val(200, rug::Float::parse("0.1").unwrap()));
+/// let w: f64 = param_at((), 0.1, Some("1/10")).unwrap();
+/// assert_eq!(w, 0.1);
+/// ```
+pub fn param_at<T: Real>(ctx: T::Ctx, value: f64, exact: Option<&str>) -> Result<T, Error> {
+    Ok(match exact {
+        Some(text) => T::from_rational(ctx, &parse_exact(text)?),
+        None => T::from_f64(ctx, value),
+    })
+}
+
+/// Checks that `exact`, when given, is a decimal or fraction whose nearest double is `value`: a
+/// configuration carries a parameter both ways, and the two must name the same number.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::numbers::exact::check_exact;
+/// assert!(check_exact("w", 0.1, Some("1/10")).is_ok());
+/// assert!(check_exact("w", 0.1, None).is_ok());
+/// assert!(check_exact("w", 0.2, Some("1/10")).is_err());
+/// assert!(check_exact("w", 0.1, Some("one tenth")).is_err());
+/// ```
+pub fn check_exact(what: &'static str, value: f64, exact: Option<&str>) -> Result<(), Error> {
+    let Some(text) = exact else { return Ok(()) };
+    let q = parse_exact(text)?;
+    let near = nearest_f64(&q);
+    if near.to_bits() != value.to_bits() {
+        return Err(Error::Invalid(format!(
+            "{what}_exact = '{text}' is not {what} = {value:?} (its nearest double is {near:?}): \
+             give the same number in both"
+        )));
+    }
+    Ok(())
+}
+
+/// `steps ≥ 2` points from `from` to `to` (decimals or fractions, as [`parse_exact`] reads them),
+/// evenly spaced in exact arithmetic: point i is the double nearest to from + (to − from)·i/(steps − 1).
 ///
 /// # Examples
 ///
@@ -100,6 +150,7 @@ pub fn nearest_f64(r: &Rational) -> f64 {
 /// use lorentz_gas::numbers::exact::decimal_grid;
 /// assert_eq!(decimal_grid("0.1", "0.2", 3).unwrap(), vec![0.1, 0.15, 0.2]);
 /// assert_eq!(decimal_grid("0.02", "0.3", 15).unwrap()[2], 0.06);
+/// assert_eq!(decimal_grid("1/10", "1/5", 3).unwrap(), vec![0.1, 0.15, 0.2]);
 /// ```
 pub fn decimal_grid(from: &str, to: &str, steps: u32) -> Result<Vec<f64>, Error> {
     if steps < 2 {
@@ -107,8 +158,8 @@ pub fn decimal_grid(from: &str, to: &str, steps: u32) -> Result<Vec<f64>, Error>
             "a grid needs at least 2 points (got {steps})"
         )));
     }
-    let a = parse_decimal(from)?;
-    let b = parse_decimal(to)?;
+    let a = parse_exact(from)?;
+    let b = parse_exact(to)?;
     let span = Rational::from(&b - &a);
     Ok((0..steps)
         .map(|i| {

@@ -35,12 +35,11 @@ fn inject_cfg(
     precision: Precision,
 ) -> BackscatterConfig {
     BackscatterConfig {
-        w,
         particles: visits,
         batches,
         seed,
-        run: 0,
         precision,
+        ..BackscatterConfig::new(w)
     }
 }
 

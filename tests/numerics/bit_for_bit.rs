@@ -62,3 +62,48 @@ fn constants_at_53_bits_are_the_f64_constants() {
     ));
     assert!(same(<f64 as Real>::pi(()), &<Float as Real>::pi(53)));
 }
+
+/// A gap given exactly (`w_exact`, as `--w 1/10` records it) reaches MPFR unrounded: at 53 bits
+/// it is the double and the run keeps the bits of the `f64` run; at 128 bits it is 1/10 to 128
+/// bits, 5.6·10⁻¹⁸ from the double, and a chaotic trajectory (Lyapunov exponent ≈ 2 per unit
+/// time) turns that into a different run within a few dozen collisions, so D differs. A
+/// `w_exact` that does not round to `w` is refused before any work.
+#[test]
+fn an_exact_gap_reaches_mpfr_without_the_doubles_rounding() {
+    use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+    use lorentz_gas::numbers::precision::Precision;
+    let base = DiffusionConfig {
+        collisions: 20_000,
+        batches: 2,
+        window: "2:8".parse().unwrap(),
+        check_window: "3:9".parse().unwrap(),
+        ..DiffusionConfig::new(0.1)
+    };
+    let d = |precision: Precision, exact: Option<&str>| {
+        let cfg = DiffusionConfig {
+            precision,
+            w_exact: exact.map(str::to_string),
+            ..base.clone()
+        };
+        let r = run(&cfg, &crate::common::threads(2)).unwrap();
+        (r.D.to_bits(), r.mean_free_path.to_bits())
+    };
+    let f64_run = d(Precision::F64, None);
+    assert_eq!(d(Precision::Bits(53), Some("1/10")), f64_run);
+    assert_eq!(d(Precision::F64, Some("1/10")), f64_run);
+    let of_double = d(Precision::Bits(128), None);
+    let of_tenth = d(Precision::Bits(128), Some("1/10"));
+    assert_eq!(d(Precision::Bits(128), Some("0.1")), of_tenth);
+    assert_ne!(
+        of_tenth, of_double,
+        "1/10 at 128 bits ran as the double 0.1"
+    );
+    let wrong = DiffusionConfig {
+        w_exact: Some("1/5".into()),
+        ..base.clone()
+    };
+    let e = run(&wrong, &crate::common::threads(1))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("w_exact = '1/5' is not w = 0.1"), "{e}");
+}

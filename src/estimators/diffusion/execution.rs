@@ -230,6 +230,7 @@ pub(super) fn setup(
     let g = Geometry::new(cfg.w)?;
     let spec = ExecSpec {
         w: cfg.w,
+        w_exact: cfg.w_exact.clone(),
         precision: cfg.precision,
         engine: engine.resolve(cfg.precision == Precision::F64)?,
         threads,
@@ -243,6 +244,8 @@ pub(super) fn setup(
 /// How the trajectories of [`execute`] run.
 pub(super) struct ExecSpec {
     pub(super) w: f64,
+    /// The gap as given, for MPFR runs ([`crate::numbers::exact::param_at`]).
+    pub(super) w_exact: Option<String>,
     pub(super) precision: Precision,
     pub(super) engine: Resolved,
     pub(super) threads: usize,
@@ -309,7 +312,9 @@ pub(super) struct RunScalar<'a> {
 impl AtPrecision for RunScalar<'_> {
     type Output = Result<Vec<BatchResult>, Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
-        let lat = TriangularLattice::new(T::from_f64(ctx, self.spec.w))?;
+        let w =
+            crate::numbers::exact::param_at::<T>(ctx, self.spec.w, self.spec.w_exact.as_deref())?;
+        let lat = TriangularLattice::new(w)?;
         self.pool.install(|| {
             self.jobs
                 .par_iter()

@@ -22,8 +22,12 @@ const VISIT_CHUNK: u64 = 1 << 16;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BackscatterConfig {
-    /// Gap w, 0 < w < w∞.
+    /// Gap w, 0 < w < w∞: the double that `f64` runs use.
     pub w: f64,
+    /// The gap exactly as given, for runs at an MPFR precision (see
+    /// [`DiffusionConfig::w_exact`](crate::estimators::diffusion::DiffusionConfig::w_exact)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub w_exact: Option<String>,
     /// Particles injected in all (at least one per batch).
     pub particles: u64,
     /// Independent batches (at least 2); every error bar is over them.
@@ -43,6 +47,7 @@ impl BackscatterConfig {
     pub fn new(w: f64) -> Self {
         BackscatterConfig {
             w,
+            w_exact: None,
             particles: 10_000_000,
             batches: 32,
             seed: 1,
@@ -54,6 +59,7 @@ impl BackscatterConfig {
     /// Checks every field before any work; errors name the valid range.
     pub fn validate(&self) -> Result<(), Error> {
         check_diffusive_gap(self.w)?;
+        crate::numbers::exact::check_exact("w", self.w, self.w_exact.as_deref())?;
         if self.batches < 2 {
             return Err(Error::TooFew {
                 what: "batches",
@@ -116,6 +122,7 @@ pub struct BackscatterReport {
 /// The injection batches on number type `T`.
 struct Inject<'a> {
     w: f64,
+    w_exact: Option<&'a str>,
     particles: u64,
     batches: u32,
     seed: u64,
@@ -127,7 +134,8 @@ struct Inject<'a> {
 impl AtPrecision for Inject<'_> {
     type Output = Result<Vec<[f64; 6]>, Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
-        let scene = SingleTrap::new(T::from_f64(ctx, self.w))?;
+        let w = crate::numbers::exact::param_at::<T>(ctx, self.w, self.w_exact)?;
+        let scene = SingleTrap::new(w)?;
         let progress = self.progress;
         par_batches(self.threads, self.batches, |b| {
             let n_b = share(self.particles, self.batches, b);
@@ -171,6 +179,7 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
     options.validate()?;
     let BackscatterConfig {
         w,
+        ref w_exact,
         particles,
         batches,
         seed,
@@ -180,6 +189,7 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
     let (threads, progress) = (options.threads, options.progress);
     let res = precision.dispatch(Inject {
         w,
+        w_exact: w_exact.as_deref(),
         particles,
         batches,
         seed,

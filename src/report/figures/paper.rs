@@ -202,6 +202,7 @@ impl Curve<'_> {
         for (i, &w) in ws.iter().enumerate() {
             let cfg = BackscatterConfig {
                 w,
+                w_exact: None,
                 particles: self.particles_per_gap,
                 batches: CURVE_BATCHES,
                 seed: self.seed,
