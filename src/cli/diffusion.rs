@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport, Window};
+use lorentz_gas::statistics::comparison;
 use lorentz_gas::Error;
 
 use super::args::{
@@ -51,6 +52,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
+    let w_exact = a.scene.w.as_ref().and_then(|w| w.exact_text());
     let w = match a.scene.resolve()? {
         SceneChoice::Triangular(s) => s.w(),
         SceneChoice::Square(s) => {
@@ -60,6 +62,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     };
     let cfg = DiffusionConfig {
         w,
+        w_exact,
         collisions: a.collisions,
         batches: a.batches,
         seed: a.run.seed(),
@@ -107,21 +110,41 @@ fn print(r: &DiffusionReport) {
         r.collisions_per_second
     );
     println!(
-        "D              = {:.6} ± {:.6}   ({:.3} %, MSD slope over [{}τ, {}τ])",
+        "D              = {:.6} ± {:.6}   ({:.3} %, MSD slope over [{}τ, {}τ]){}",
         r.D,
         r.D_err,
         100.0 * r.D_err / r.D,
         r.window.lo,
-        r.window.hi
+        r.window.hi,
+        comparison::few_samples_note(r.batch_D.len(), "batches")
+    );
+    let n = r.batch_D.len();
+    let window_check = comparison::of(
+        r.D_minus_D_check,
+        r.D_minus_D_check_err,
+        n.saturating_sub(1).max(1) as f64,
     );
     println!(
-        "D (check)      = {:.6} ± {:.6}   (MSD slope over [{}τ, {}τ]; difference {:+.1} combined sigma)",
+        "D (check)      = {:.6} ± {:.6}   (MSD slope over [{}τ, {}τ]; D − D_check = {:+.6} ± {:.6}, {})",
         r.D_check,
         r.D_check_err,
         r.check_window.lo,
         r.check_window.hi,
-        (r.D_check - r.D) / (r.D_err.powi(2) + r.D_check_err.powi(2)).sqrt()
+        r.D_minus_D_check,
+        r.D_minus_D_check_err,
+        window_check.describe(&format!("paired over {n} batches"))
     );
+    if !window_check.agrees() {
+        eprintln!(
+            "warning: D over [{}τ, {}τ] and over [{}τ, {}τ] differ by {:.1} paired standard errors: \
+             the MSD is not yet linear over the fit window; use a later --window",
+            r.window.lo,
+            r.window.hi,
+            r.check_window.lo,
+            r.check_window.hi,
+            window_check.z.abs()
+        );
+    }
     println!(
         "D_MZ           = {:.6}           D/D_MZ = {:.4}",
         r.D_MZ,
@@ -136,7 +159,8 @@ fn print(r: &DiffusionReport) {
         sigmas(
             r.mean_free_path,
             r.mean_free_path_err,
-            r.mean_free_path_exact
+            r.mean_free_path_exact,
+            n
         )
     );
     println!(
@@ -144,7 +168,7 @@ fn print(r: &DiffusionReport) {
         r.tau_hop,
         r.tau_hop_err,
         r.tau_hop_exact,
-        sigmas(r.tau_hop, r.tau_hop_err, r.tau_hop_exact)
+        sigmas(r.tau_hop, r.tau_hop_err, r.tau_hop_exact, n)
     );
     println!(
         "collisions/hop = {:.5} ± {:.5}   exact {:.5}  ({})",
@@ -154,7 +178,8 @@ fn print(r: &DiffusionReport) {
         sigmas(
             r.collisions_per_hop,
             r.collisions_per_hop_err,
-            r.collisions_per_hop_exact
+            r.collisions_per_hop_exact,
+            n
         )
     );
     if let Some(a) = &r.audit {

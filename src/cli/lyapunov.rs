@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 
+use lorentz_gas::statistics::{comparison, welch_dof};
 use lorentz_gas::verification::divergence::{
     self, Divergence, DivergenceConfig, DIVERGENCE_REFERENCE_BITS,
 };
@@ -44,9 +45,10 @@ struct Report {
 const MAX_STARTS: u32 = 10_000;
 
 pub fn run(a: Args) -> Result<(), Error> {
-    if a.starts > MAX_STARTS {
+    if a.starts == 1 || a.starts > MAX_STARTS {
         return Err(Error::Invalid(format!(
-            "starts = {} is too many: use 0 to {MAX_STARTS} (each costs about a second)",
+            "starts = {}: use 0 (no divergence measurement) or 2 to {MAX_STARTS} (the error bars \
+             are over the starts, reliable from 4; each costs about a second)",
             a.starts
         )));
     }
@@ -87,25 +89,36 @@ pub fn run(a: Args) -> Result<(), Error> {
         |r| {
             let l = &r.tangent;
             println!(
-            "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time",
-            l.scene, l.batches, l.collisions_per_batch, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err
+            "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time{}",
+            l.scene, l.batches, l.collisions_per_batch, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err,
+            comparison::few_samples_note(l.batches as usize, "batches")
         );
             if !r.divergence.is_empty() {
                 println!(
-                "divergence from a {DIVERGENCE_REFERENCE_BITS}-bit reference ({} initial conditions):",
-                a.starts
+                "divergence from a {DIVERGENCE_REFERENCE_BITS}-bit reference ({} initial conditions){}:",
+                a.starts,
+                comparison::few_samples_note(a.starts as usize, "starts")
             );
-                println!("precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time");
+                println!("precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time   growth per collision against λ (independent runs, Welch dof)");
                 for x in &r.divergence {
+                    let dof = welch_dof(
+                        x.rate_per_collision_err,
+                        a.starts as f64,
+                        l.per_collision_err,
+                        l.batches as f64,
+                    );
+                    let e = x.rate_per_collision_err.hypot(l.per_collision_err);
+                    let against = comparison::of(x.rate_per_collision - l.per_collision, e, dof);
                     println!(
-                        "{:>9}  {:>12.1} ± {:<8.1}       {:.4} ± {:.4}        {:.4} ± {:.4}",
+                        "{:>9}  {:>12.1} ± {:<8.1}       {:.4} ± {:.4}        {:.4} ± {:.4}        {}",
                         x.precision,
                         x.horizon,
                         x.horizon_err,
                         x.rate_per_collision,
                         x.rate_per_collision_err,
                         x.rate_per_time,
-                        x.rate_per_time_err
+                        x.rate_per_time_err,
+                        against.describe("Welch")
                     );
                 }
             }

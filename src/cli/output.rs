@@ -2,6 +2,7 @@
 
 use std::io::Write as _;
 
+use lorentz_gas::statistics::comparison;
 use serde::Serialize;
 
 use lorentz_gas::Error;
@@ -35,7 +36,10 @@ pub fn emit<T: Serialize>(json: bool, r: &T, text: impl FnOnce(&T)) -> Result<()
     Ok(())
 }
 
-/// "(+0.4 sigma)" for a measured value against an exact one.
-pub fn sigmas(x: f64, err: f64, exact: f64) -> String {
-    format!("{:+.1} sigma", (x - exact) / err)
+/// "+0.4σ, bound 4.6σ: agree" for a measured value with an error from `n` batches against an
+/// exact one (the bound is the Student-t equivalent of 4σ with n − 1 dof).
+pub fn sigmas(x: f64, err: f64, exact: f64, n: usize) -> String {
+    let c = comparison::of(x - exact, err, n.saturating_sub(1).max(1) as f64);
+    let verdict = if c.agrees() { "agree" } else { "DISAGREE" };
+    format!("{:+.1}σ, bound {:.1}σ: {verdict}", c.z, c.bound)
 }

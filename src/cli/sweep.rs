@@ -147,9 +147,15 @@ pub fn print(r: &SweepReport) {
     println!("error of D: from the batches inside the runs (dof = runs x (batches - 1)); runs F (p): spread of the runs against those errors, F(runs - 1, dof)");
     println!("       w         D            +-       dof   runs F     (p)     D_MZ       D_Bo      residual");
     for x in &r.rows {
+        // One run per point has no spread to test: say so rather than print NaN.
+        let f_test = if x.runs_f.is_finite() {
+            format!("{:>6.2}  ({:.3})", x.runs_f, x.runs_p_value)
+        } else {
+            format!("{:>15}", "n/a (1 run)")
+        };
         println!(
-            "{:>8}  {:.6}  {:.6}  {:>6}   {:>6.2}  ({:.3})   {:.6}  {:.6}  {:+.2e}",
-            x.w, x.D, x.D_err, x.D_err_dof, x.runs_f, x.runs_p_value, x.D_MZ, x.D_Bo, x.residual
+            "{:>8}  {:.6}  {:.6}  {:>6}   {f_test}   {:.6}  {:.6}  {:+.2e}",
+            x.w, x.D, x.D_err, x.D_err_dof, x.D_MZ, x.D_Bo, x.residual
         );
     }
     let l = &r.linear_fit;

@@ -6,6 +6,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 
+pub mod comparison;
+
 /// Mean and standard error of the mean of independent values (the batch-means estimator).
 ///
 /// # Examples

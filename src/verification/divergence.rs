@@ -75,6 +75,24 @@ impl DivergenceConfig {
     }
 }
 
+impl DivergenceConfig {
+    /// Checks the configuration before any work: every error bar is over the starts, so there
+    /// must be at least two of them.
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.starts < 2 {
+            return Err(Error::TooFew {
+                what: "starts (the error bars are over them)",
+                min: 2,
+                got: self.starts as u64,
+            });
+        }
+        if self.collisions == 0 {
+            return Err(Error::Zero { what: "collisions" });
+        }
+        Ok(())
+    }
+}
+
 impl Default for DivergenceConfig {
     fn default() -> Self {
         Self::new()
@@ -94,6 +112,7 @@ pub fn run<S: Scene>(
     options: &RunOptions,
 ) -> Result<Vec<Divergence>, Error> {
     options.validate()?;
+    cfg.validate()?;
     let (bits, ref_bits, n, starts, seed) = (
         &cfg.bits[..],
         cfg.reference_bits,

@@ -864,7 +864,8 @@ fn find_meta(v: &serde_json::Value) -> Option<&serde_json::Value> {
 fn physics(mut v: serde_json::Value) -> serde_json::Value {
     fn strip(v: &mut serde_json::Value) {
         if let Some(o) = v.as_object_mut() {
-            for k in ["meta", "seconds", "collisions_per_second"] {
+            // `w_exact` is the gap as typed: "0.1" and "1/10" are the same number.
+            for k in ["meta", "seconds", "collisions_per_second", "w_exact"] {
                 o.remove(k);
             }
             for x in o.values_mut() {
@@ -1104,6 +1105,20 @@ fn closed_or_failing_output_ends_quietly() {
 fn gaps_are_exact_decimals_or_fractions() {
     let tmp = crate::common::scratch();
     let dir = tmp.path();
+    // As text, every digit shown is one that 200 bits guarantee, and so is the decimal's.
+    let (code, out, err) = lorentz_in(dir, &["constants", "--w", "0.2", "--precision", "200"]);
+    assert_eq!(code, 0, "{err}");
+    let shown = |key: &str| {
+        let line = out
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(key));
+        line.and_then(|l| l.split_whitespace().nth(1))
+            .unwrap_or_else(|| panic!("no {key} row in {out}"))
+            .to_string()
+    };
+    // ⌊199·log₁₀2⌋ = 59 significant digits.
+    assert_eq!(shown("w"), format!("2.{}e-1", "0".repeat(58)));
+    assert_eq!(shown("w_exact"), "1/5");
     let (code, out, err) = lorentz_in(
         dir,
         &["constants", "--w", "0.2", "--precision", "200", "--json"],
@@ -1164,17 +1179,30 @@ fn every_command_taking_w_takes_a_fraction_with_the_same_result() {
         "figure backscatter-map --w W --particles 1e3 --out fig",
         "trajectory --scene triangular --w W --start 0,1.5 --direction 1,1/7 --time 3",
         "bench --w W --collisions-per-thread 1e4 --repetitions 1",
+        "sweep --w-from W --w-to 0.25 --steps 2 --runs 2 --collisions-per-run 2e6 \
+         --batches-per-run 4 --out OUT",
     ];
     let mut failures = Vec::new();
     for line in commands {
         let run = |w: &str| {
+            // A folder of its own for each spelling (a sweep resumes only its own grid).
+            let out = format!("out-{}", w.replace('/', "-over-"));
             let mut args: Vec<&str> = line
                 .split_whitespace()
-                .map(|a| if a == "W" { w } else { a })
+                .map(|a| match a {
+                    "W" => w,
+                    "OUT" => &out,
+                    _ => a,
+                })
                 .collect();
             args.push("--json");
             let (code, out, err) = lorentz_in(dir, &args);
             let v = serde_json::from_str::<serde_json::Value>(&out).map(physics);
+            // A sweep records its ends as typed ("1/10" or "0.1"); its rows must agree.
+            let v = v.map(|v| match line.starts_with("sweep") {
+                true => v["rows"].clone(),
+                false => v,
+            });
             (code, v.map_err(|e| format!("{e}: {err}")))
         };
         let (decimal, fraction) = if line.starts_with("escape") {

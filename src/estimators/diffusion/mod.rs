@@ -107,8 +107,13 @@ pub const MIN_HOPS_PER_LAG: usize = 20;
 /// Everything that defines a diffusion run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DiffusionConfig {
-    /// Gap w (the exact double given).
+    /// Gap w: the double that `f64` runs use.
     pub w: f64,
+    /// The gap exactly as the user gave it (a decimal or a fraction such as `"1/10"`), whose
+    /// nearest double is `w`: runs at an MPFR precision start from it, rounded once, so they
+    /// never see the double's representation error. `None`: the double `w` is the gap.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub w_exact: Option<String>,
     /// Total number of collisions over all batches.
     pub collisions: u64,
     /// Number of independent batches (trajectories).
@@ -132,6 +137,7 @@ impl DiffusionConfig {
     pub fn new(w: f64) -> Self {
         DiffusionConfig {
             w,
+            w_exact: None,
             collisions: 2_000_000_000,
             batches: 32,
             seed: 1,
@@ -145,6 +151,7 @@ impl DiffusionConfig {
     /// Checks every parameter; errors name the valid range.
     pub fn validate(&self) -> Result<(), Error> {
         check_diffusive_gap(self.w)?;
+        crate::numbers::exact::check_exact("w", self.w, self.w_exact.as_deref())?;
         if self.collisions == 0 {
             return Err(Error::Zero { what: "collisions" });
         }
@@ -162,6 +169,16 @@ impl DiffusionConfig {
         crate::engine::check_trajectory_length(self.collisions.div_ceil(self.batches as u64))?;
         if let Precision::Bits(b) = self.precision {
             <rug::Float as Real>::check_ctx(b)?;
+        }
+        if self.check_window == self.window {
+            return Err(Error::Invalid(format!(
+                "check_window = {0}:{1} is the fit window {0}:{1}: the check needs another \
+                 window, such as a later one ({2}:{3})",
+                self.window.lo,
+                self.window.hi,
+                2 * self.window.lo,
+                2 * self.window.hi
+            )));
         }
         // Each batch must be long enough to reach the far end of the check window many times.
         let g = Geometry::new(self.w)?;
@@ -254,6 +271,13 @@ pub struct DiffusionReport {
     pub D_check_err: f64,
     /// The later window.
     pub check_window: Window,
+    /// D − D_check, paired over the batches (the mean of the per-batch differences): both come
+    /// from the same trajectories, so their errors must not be added in quadrature.
+    #[serde(default)]
+    pub D_minus_D_check: f64,
+    /// Its standard error (of the per-batch differences; `meta.batches` − 1 dof).
+    #[serde(default)]
+    pub D_minus_D_check_err: f64,
     /// Machta–Zwanzig value (eq. 2).
     pub D_MZ: f64,
     /// Boltzmann value (eq. 8).
@@ -429,7 +453,7 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
         seconds,
         resumed,
         run_now,
-    );
+    )?;
     rep.meta = rep.meta.with_engine(resolved);
     if resumed > 0 || keep.in_flight_count() > 0 {
         check_resumed_identities(&rep, options.resume.as_deref())?;
@@ -560,7 +584,7 @@ pub fn run_many(
         done.sort_by_key(|b| b.index);
         let resumed = done.len() as u32 - todo.iter().filter(|j| j.run == c.run).count() as u32;
         let n: u64 = done.iter().map(|b| b.counters.collisions).sum();
-        let mut rep = summarise(c, &g, tau, &done, options.threads, seconds, resumed, n);
+        let mut rep = summarise(c, &g, tau, &done, options.threads, seconds, resumed, n)?;
         rep.collisions_per_second = run_now as f64 / seconds;
         rep.meta = rep.meta.with_engine(resolved);
         if resumed > 0 || keep.in_flight_count() > 0 {

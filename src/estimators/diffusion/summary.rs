@@ -7,6 +7,7 @@ use crate::observers::counters::Counters;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::statistics::{linear_fit, mean_se};
 use crate::verification::shadow_audit::AuditSummary;
+use crate::Error;
 
 pub(super) fn d_of_batch(b: &BatchResult, tau: f64, win: &Window) -> f64 {
     let (mut x, mut y) = (Vec::new(), Vec::new());
@@ -29,7 +30,7 @@ pub(super) fn summarise(
     seconds: f64,
     resumed: u32,
     run_now: u64,
-) -> DiffusionReport {
+) -> Result<DiffusionReport, Error> {
     let ds: Vec<f64> = done
         .iter()
         .map(|b| d_of_batch(b, tau, &cfg.window))
@@ -43,6 +44,7 @@ pub(super) fn summarise(
     };
     let (d, d_err) = mean_se(&ds);
     let (dcv, dce) = mean_se(&dc);
+    let window_diff = crate::statistics::comparison::paired(&ds, &dc)?;
     let (mfp, mfp_e) = ratio(&|c| c.time / c.collisions as f64);
     let (th, th_e) = ratio(&|c| c.time / c.crossings as f64);
     let (cph, cph_e) = ratio(&|c| c.collisions as f64 / c.crossings as f64);
@@ -67,7 +69,7 @@ pub(super) fn summarise(
                 m.merge(a);
                 Some(m)
             });
-    DiffusionReport {
+    Ok(DiffusionReport {
         w: cfg.w,
         D: d,
         D_err: d_err,
@@ -75,6 +77,8 @@ pub(super) fn summarise(
         D_check: dcv,
         D_check_err: dce,
         check_window: cfg.check_window,
+        D_minus_D_check: window_diff.difference,
+        D_minus_D_check_err: window_diff.err,
         D_MZ: g.d_mz(),
         D_Bo: g.d_bo(),
         mean_free_path: mfp,
@@ -108,5 +112,5 @@ pub(super) fn summarise(
             cfg.precision,
             Some(threads),
         ),
-    }
+    })
 }

@@ -16,7 +16,7 @@ use crate::estimators::diffusion::{
 use crate::numbers::precision::Precision;
 use crate::report::figures::{plot, PlotSpec, Series};
 use crate::scenes::triangular::geometry::Geometry;
-use crate::statistics::{mean_se, normal_sigma_equivalent_t};
+use crate::statistics::{comparison, mean_se, normal_sigma_equivalent_t};
 use crate::Error;
 
 /// Events replayed in MPFR by the shadow audit: enough to see the error model's tail (the
@@ -337,23 +337,27 @@ fn record_check(r: &DiffusionReport, cfg: &DiffusionConfig, checks: &mut Checks)
 /// The fit window: D against D_check, paired over batches.
 fn fit_window_check(r: &DiffusionReport, checks: &mut Checks) {
     let n = r.batch_D.len();
-    let diffs: Vec<f64> = r
-        .batch_D
-        .iter()
-        .zip(&r.batch_D_check)
-        .map(|(a, b)| a - b)
-        .collect();
-    let (md, sd) = mean_se(&diffs);
-    let bound_pair = normal_sigma_equivalent_t((n.max(2) - 1) as f64, SIGMAS);
+    let Ok(c) = comparison::paired(&r.batch_D, &r.batch_D_check) else {
+        return checks.pass_if(
+            false,
+            "statistics",
+            "fit window: D and D_check agree",
+            format!(
+                "{n} values of D against {} of D_check: no paired comparison",
+                r.batch_D_check.len()
+            ),
+            &[],
+        );
+    };
     checks.pass_if(
-        (md / sd).abs() <= bound_pair,
+        c.agrees(),
         "statistics",
         "fit window: D and D_check agree",
         format!(
-            "D[{}τ, {}τ] − D[{}τ, {}τ] = {md:.3e} ± {sd:.1e} ({:+.1}σ; paired over batches; bound {bound_pair:.2}σ, t with {} dof)",
-            r.window.lo, r.window.hi, r.check_window.lo, r.check_window.hi, md / sd, n.max(2) - 1
+            "D[{}τ, {}τ] − D[{}τ, {}τ] = {:.3e} ± {:.1e} ({:+.1}σ; paired over batches; bound {:.2}σ, t with {} dof)",
+            r.window.lo, r.window.hi, r.check_window.lo, r.check_window.hi, c.difference, c.err, c.z, c.bound, c.dof
         ),
-        &[("difference", md), ("difference_err", sd)],
+        &[("difference", c.difference), ("difference_err", c.err)],
     );
 }
 

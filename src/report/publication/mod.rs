@@ -429,9 +429,9 @@ impl Ctx<'_> {
     }
 }
 
-/// Agreement bound of exact identities and independent estimates: the normal 4σ tail probability
-/// (6·10⁻⁵), as a Student-t quantile for errors from a few batches (the crate's convention).
-const SIGMAS: f64 = 4.0;
+/// Agreement bound of exact identities and independent estimates: the crate's one convention
+/// (the normal 4σ tail probability as a Student-t quantile, [`crate::statistics::comparison`]).
+use crate::statistics::comparison::SIGMAS;
 /// Significance of the statistical consistency checks (Bonferroni-corrected where several values
 /// are tested at once): a correct run fails one of them about once in a thousand reports.
 const ALPHA: f64 = 1e-3;
