@@ -1,6 +1,7 @@
 //! `lorentz hops`: trap-hopping statistics along lattice trajectories.
 
 use lorentz_gas::estimators::hops::{self, HopsReport};
+use lorentz_gas::statistics::comparison;
 use lorentz_gas::Error;
 
 use super::args::{EngineArg, HopCommand};
@@ -20,13 +21,14 @@ pub fn run(a: Args) -> Result<(), Error> {
 
 fn print(r: &HopsReport) {
     println!(
-        "trap hopping along lattice trajectories, w = {} ({} visits, {:.2e} collisions, {} batches, seed {}, {} engine)",
+        "trap hopping along lattice trajectories, w = {} ({} visits, {:.2e} collisions, {} batches, seed {}, {} engine){}",
         r.w,
         r.visits,
         r.collisions as f64,
         r.meta.batches.unwrap_or_default(),
         r.meta.seed.unwrap_or_default(),
-        r.meta.engine
+        r.meta.engine,
+        comparison::few_samples_note(r.meta.batches.unwrap_or_default() as usize, "batches")
     );
     println!(
         "p_bs = {:.5} ± {:.5}   p_cf = {:.6} ± {:.6}",
@@ -40,9 +42,18 @@ fn print(r: &HopsReport) {
     for c in pairs.chunks(3) {
         println!("{}", c.join("   "));
     }
+    let verdict = if r.symmetry_max_z <= r.symmetry_bound {
+        "hold"
+    } else {
+        "VIOLATED"
+    };
     println!(
-        "symmetries p(s) = p(mirror s) = p(reversed mirror s): largest |z| = {:.2}",
-        r.symmetry_max_z
+        "symmetries p(s) = p(mirror s) = p(reversed mirror s): largest |z| = {:.2} of {} paired comparisons (bound {:.2}: the 4σ-equivalent t with {} dof over {} comparisons): {verdict}",
+        r.symmetry_max_z,
+        r.symmetry_comparisons,
+        r.symmetry_bound,
+        r.meta.batches.unwrap_or(1).saturating_sub(1),
+        r.symmetry_comparisons
     );
     println!(
         "hop-level Green-Kubo D = {:.6} ± {:.6}   (D_MZ = {:.6})",

@@ -1166,7 +1166,7 @@ fn every_command_taking_w_takes_a_fraction_with_the_same_result() {
     let commands = [
         "diffusion --w W --collisions 2e6 --batches 4 --window 2:8 --check-window 4:16",
         "audit --w W --collisions 2e3 --batches 2",
-        "lyapunov --w W --collisions-per-batch 2e4 --batches 2 --starts 1",
+        "lyapunov --w W --collisions-per-batch 2e4 --batches 2 --starts 2",
         "certify --w W --collisions 50 --digits 20",
         "shadow --w W --collisions-per-segment 20 --segments 2",
         "backscatter --w W --particles 2e4 --batches 4",

@@ -8,4 +8,5 @@ mod common;
 
 mod checkpoints;
 mod commands;
+mod honest_numbers;
 mod report;

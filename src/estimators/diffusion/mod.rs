@@ -273,10 +273,8 @@ pub struct DiffusionReport {
     pub check_window: Window,
     /// D − D_check, paired over the batches (the mean of the per-batch differences): both come
     /// from the same trajectories, so their errors must not be added in quadrature.
-    #[serde(default)]
     pub D_minus_D_check: f64,
     /// Its standard error (of the per-batch differences; `meta.batches` − 1 dof).
-    #[serde(default)]
     pub D_minus_D_check_err: f64,
     /// Machta–Zwanzig value (eq. 2).
     pub D_MZ: f64,

@@ -7,6 +7,7 @@ use super::HopsConfig;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::scenes::triangular::geometry::Geometry;
+use crate::statistics::comparison;
 use crate::Error;
 
 /// Independent batches of simulated walkers per order in [`run`]: 16 give a standard
@@ -36,6 +37,15 @@ pub struct LatticeWalkRow {
     pub D_simulated_err: f64,
     /// The exact D of the same walk (resolvent of its history chain).
     pub D_exact: f64,
+    /// Its standard error as an estimate of the walk of the Lorentz gas's exact table
+    /// (jackknife over the batches the table was measured from).
+    pub D_exact_err: f64,
+    /// D_simulated − D_exact over D_simulated_err: the simulation of this very walk against its
+    /// exact value (the table is the same, so only the walk's own noise enters; Student-t with
+    /// [`WALK_BATCHES`] − 1 dof).
+    pub simulated_z: f64,
+    /// The agreement bound of `simulated_z` (the 4σ-equivalent t).
+    pub simulated_bound: f64,
 }
 
 /// Fig. 6b by simulation (the CLI's `lattice-walk --json`): correlated walks driven by the
@@ -69,7 +79,8 @@ pub struct LatticeWalkReport {
 /// As [`super::run`], checked before any work.
 pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<LatticeWalkReport, Error> {
     use crate::theory::{lattice_walk, markov::CorrelatedWalk};
-    let h = super::run(cfg, options)?;
+    let (h, batches) = super::run_with_batches(cfg, options)?;
+    let pools = super::jackknife::leave_one_out(&batches, cfg.order)?;
     let config = *cfg;
     let (w, order, seed, threads) = (cfg.w, cfg.order, cfg.seed, options.threads);
     let g = Geometry::new(w)?;
@@ -83,11 +94,18 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<LatticeWalkReport, 
         let walk = CorrelatedWalk::new(&h.table(k)?)?;
         let sim = pool.install(|| lattice_walk::simulate(&walk, &cfg))?;
         let (d, err) = sim.d(&g);
+        let exact = walk.d(&g)?;
+        let check = comparison::of(d - exact, err, (WALK_BATCHES - 1) as f64);
         walks.push(LatticeWalkRow {
             order: k,
             D_simulated: d,
             D_simulated_err: err,
-            D_exact: walk.d(&g)?,
+            D_exact: exact,
+            D_exact_err: super::jackknife::se(&pools, |p| {
+                CorrelatedWalk::new(&p.tables[k - 1])?.d(&g)
+            })?,
+            simulated_z: check.z,
+            simulated_bound: check.bound,
         });
     }
     Ok(LatticeWalkReport {

@@ -8,6 +8,7 @@
 //! * [`lattice_walks`]: Fig. 6b by simulated correlated walks.
 
 pub mod backscatter;
+mod jackknife;
 pub mod lattice_walks;
 pub mod theory;
 
@@ -134,8 +135,18 @@ pub struct HopsReport {
     pub sequences: BTreeMap<String, f64>,
     /// Their standard errors, by sequence.
     pub sequences_err: BTreeMap<String, f64>,
-    /// Largest |z-score| of the symmetries p(s) = p(mirror s) and p(s) = p(reverse(mirror s)).
+    /// Largest |z-score| of the symmetries p(s) = p(mirror s) and p(s) = p(reverse(mirror s)),
+    /// each paired over the batches (the per-batch differences of the two frequencies).
     pub symmetry_max_z: f64,
+    /// How many distinct symmetry pairs were compared (those whose frequencies differ in some
+    /// batch).
+    #[serde(default)]
+    pub symmetry_comparisons: usize,
+    /// The bound on `symmetry_max_z`: the Student-t (batches − 1 dof) quantile at the 4σ tail
+    /// probability over `symmetry_comparisons` (Bonferroni), so a run whose symmetries hold
+    /// exceeds it with probability below 6.3·10⁻⁵.
+    #[serde(default)]
+    pub symmetry_bound: f64,
     /// Hop-level Green–Kubo D = D_MZ (1 + 2 Σ_{j≤J} C_j) ([`green_kubo::HOP_TRUNCATION`]).
     pub D_GK: f64,
     /// Its standard error over the independent batches.
@@ -202,6 +213,15 @@ pub fn min_collisions_per_batch(w: f64) -> Result<u64, Error> {
 /// # Errors
 /// An invalid configuration or options ([`HopsConfig::validate`]), before any work.
 pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> {
+    run_with_batches(cfg, options).map(|(report, _)| report)
+}
+
+/// [`run`], and each batch's statistics (in batch order) for the errors of quantities derived
+/// from the tables ([`jackknife`]).
+fn run_with_batches(
+    cfg: &HopsConfig,
+    options: &RunOptions,
+) -> Result<(HopsReport, Vec<Hops>), Error> {
     cfg.validate()?;
     options.validate()?;
     let HopsConfig {
@@ -216,7 +236,9 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
     let (res, resolved) = measure(cfg, options)?;
     let g = Geometry::new(w)?;
     let d_mz = g.d_mz();
-    let (tables, zmax) = sequence_tables(&res, order);
+    let (tables, zmax, comparisons) = sequence_tables(&res, order);
+    let symmetry_bound =
+        crate::statistics::comparison::largest_of_bound((res.len().max(2) - 1) as f64, comparisons);
     let p_bs = tables[0]["z"];
     let values = |m: &BTreeMap<String, Estimate>| -> BTreeMap<String, f64> {
         m.iter().map(|(k, e)| (k.clone(), e.value)).collect()
@@ -240,7 +262,7 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
     let correlations: Vec<Estimate> = (1..=gk.truncation)
         .map(|j| est(&dirs.iter().map(|d| d.correlation(j)).collect::<Vec<_>>()))
         .collect();
-    Ok(HopsReport {
+    let report = HopsReport {
         w,
         p_bs: p_bs.value,
         p_bs_err: p_bs.err,
@@ -251,6 +273,8 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
         sequences: values(&all),
         sequences_err: errors(&all),
         symmetry_max_z: zmax,
+        symmetry_comparisons: comparisons,
+        symmetry_bound,
         D_GK: d_mz * gk.d_over_d_mz,
         D_GK_err: d_mz * gk.se,
         gk_window: gk.truncation,
@@ -267,7 +291,8 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<HopsReport, Error> 
             Some(threads),
         )
         .with_engine(resolved),
-    })
+    };
+    Ok((report, res))
 }
 
 /// Kind of the records of a hops checkpoint.
@@ -346,9 +371,12 @@ fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolve
 
 /// The sequence probabilities of every length 1 … `order` (batch means and errors by name), and
 /// the largest |z-score| of the mirror and reversal symmetries.
-fn sequence_tables(res: &[Hops], order: usize) -> (Vec<BTreeMap<String, Estimate>>, f64) {
+/// The sequence tables of every length, the largest symmetry |z| and how many distinct pairs it
+/// is the largest of.
+fn sequence_tables(res: &[Hops], order: usize) -> (Vec<BTreeMap<String, Estimate>>, f64, usize) {
     let mut sequences = Vec::new();
     let mut zmax: f64 = 0.0;
+    let mut pairs = std::collections::BTreeSet::new();
     for k in 1..=order {
         let n = 3usize.pow(k as u32);
         let per_batch: Vec<Vec<f64>> = res
@@ -375,10 +403,11 @@ fn sequence_tables(res: &[Hops], order: usize) -> (Vec<BTreeMap<String, Estimate
                 let e = est(&d);
                 if e.err > 0.0 {
                     zmax = zmax.max(e.value.abs() / e.err);
+                    pairs.insert((k, code.min(other), code.max(other)));
                 }
             }
         }
         sequences.push(m);
     }
-    (sequences, zmax)
+    (sequences, zmax, pairs.len())
 }

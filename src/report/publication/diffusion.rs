@@ -293,11 +293,20 @@ fn record_check(r: &DiffusionReport, cfg: &DiffusionConfig, checks: &mut Checks)
             r.collisions, cfg.collisions
         ));
     }
+    let (diff, diff_err) = match comparison::paired(&r.batch_D, &r.batch_D_check) {
+        Ok(c) => (c.difference, c.err),
+        Err(e) => {
+            bad.push(format!("D − D_check: {e}"));
+            (f64::NAN, f64::NAN)
+        }
+    };
     for (name, rec, again) in [
         ("D", r.D, d),
         ("D_err", r.D_err, de),
         ("D_check", r.D_check, dc),
         ("D_check_err", r.D_check_err, dce),
+        ("D_minus_D_check", r.D_minus_D_check, diff),
+        ("D_minus_D_check_err", r.D_minus_D_check_err, diff_err),
         ("w", r.w, cfg.w),
     ] {
         if rec.to_bits() != again.to_bits() {
