@@ -6,12 +6,13 @@
 #   scripts/kill-resume.sh diffusion [KILLS] [INTERVAL]   # --w 0.1 --collisions 8e9 --threads 2
 #   scripts/kill-resume.sh sweep [KILLS] [INTERVAL]       # 3 points x 4 runs x 5e8 collisions
 #
-# Uses target/release/lorentz (cargo build --release first) and a scratch directory.
+# Uses target/release/lorentz (cargo build --release first), or the binary in LORENTZ_BIN (a copy
+# keeps a rebuild from changing the binary mid-measurement), and a scratch directory.
 set -euo pipefail
 kind=${1:?diffusion or sweep}
 kills=${2:-20}
 every=${3:-5}
-bin=$(cd "$(dirname "$0")/.." && pwd)/target/release/lorentz
+bin=${LORENTZ_BIN:-$(cd "$(dirname "$0")/.." && pwd)/target/release/lorentz}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
