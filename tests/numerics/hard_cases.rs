@@ -8,6 +8,7 @@ use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::scenes::triangular::geometry::Geometry;
 use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t, CompensatedSum};
+use lorentz_gas::verification::error_model::{ENERGY_BAND_U, UNIT_ROUNDOFF};
 use lorentz_gas::verification::replay::check_event;
 use rug::Float;
 
@@ -165,7 +166,7 @@ fn billion_collision_run_speed_and_exact_unwrapped_displacement() {
 }
 
 fn long_run(n: u64) {
-    let u = f64::EPSILON / 2.0;
+    let u = UNIT_ROUNDOFF;
     let lat = TriangularLattice::new(0.1).unwrap();
     let basis = lat.basis_f64();
     let a = basis.a;
@@ -186,7 +187,7 @@ fn long_run(n: u64) {
             worst = worst.max((s.flight.vel.norm2() - 1.0).abs());
         }
     }
-    assert!(worst <= 128.0 * u, "|v|^2 - 1 reached {worst:e}");
+    assert!(worst <= ENERGY_BAND_U * u, "|v|^2 - 1 reached {worst:e}");
     let d = lat.unwrapped(&s, 0.0).displacement_from(&start, &basis);
     let err = ((d[0] - sx.value()).powi(2) + (d[1] - sy.value()).powi(2)).sqrt();
     let bound = 6.0 * (events as f64).sqrt() * 4.0 * u * a;

@@ -12,6 +12,7 @@ use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t, welch_dof};
 use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
+use lorentz_gas::verification::error_model::UNIT_ROUNDOFF;
 use lorentz_gas::verification::replay::check_event;
 use lorentz_gas::verification::reversibility::{amplification, reversal_bound, reverse_and_return};
 use rand::Rng;
@@ -27,7 +28,7 @@ fn f64_reversal_within_the_chaos_bound() {
             let start = equilibrium_state(lat.trap(), &mut stream(21, k as u64 * 100 + n));
             let r = reverse_and_return(&lat, &start, n).unwrap();
             let (amp, events) = amplification(&lat, &start, n).unwrap();
-            let bound = reversal_bound(f64::EPSILON / 2.0, events, amp);
+            let bound = reversal_bound(UNIT_ROUNDOFF, events, amp);
             assert!(
                 r.position_error <= bound,
                 "w={w} n={n}: {:e} > {bound:e}",
