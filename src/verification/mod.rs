@@ -1,5 +1,6 @@
 //! Verification: the machinery that shows why the digits can be trusted.
 //!
+//! * [`error_model`]: the constants of the `f64` error model (the bounds the checks and the tests share).
 //! * [`replay`]: replays single `f64` events in MPFR from the same pre-event state.
 //! * [`shadowing`]: true orbits near whole `f64` segments (Newton on the defects, GHYS).
 //! * [`reversibility`]: forward N collisions, reverse, N back.
@@ -11,6 +12,7 @@
 pub mod birkhoff;
 pub mod certify;
 pub mod divergence;
+pub mod error_model;
 pub mod lyapunov;
 #[cfg(feature = "oracle")]
 pub mod oracle;

@@ -38,13 +38,14 @@ use crate::scenes::square::SquareScene;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::scenes::triangular::TriangularScene;
 use crate::scenes::Scene;
+use crate::verification::error_model::{ENERGY_BAND_U, POST_EVENT_U, UNIT_ROUNDOFF, UNWRAP_EPS};
 use crate::verification::replay::check_event;
 
 /// Precision of the MPFR replay and of the decoder's geometric constructions.
 pub const ORACLE_BITS: u32 = 192;
 
 /// Unit roundoff of `f64`.
-const U: f64 = f64::EPSILON / 2.0;
+const U: f64 = UNIT_ROUNDOFF;
 
 /// A decoded start may lie inside a disk by at most this much in (|p − c|² − r²)/r²: the same
 /// ε ≤ 28u that the kernel's own rounded contact points reach (`proofs-notes/energy.md`).
@@ -58,17 +59,6 @@ pub const VALID_SPEED: f64 = 32.0 * U;
 /// Largest number of events stepped by [`scene_stepper`].
 pub const MAX_STEPS: u32 = 4096;
 
-/// Energy band after a collision, in units of u, before the scaling 1 + extent/r of
-/// [`energy_band`] (the one-reflection bound of `proofs-notes/energy.md`).
-const ENERGY_BAND_U: f64 = 128.0;
-/// A post-event position may be inside a disk by this much in |x − c|² − r², in units of u
-/// (the bound of `tests/numerics/kernel_properties.rs` and `tests/numerics/square.rs`; both radii are ≤ 1).
-const POST_EVENT_DISK_U: f64 = 256.0;
-/// A post-event position may be outside an edge by this much times the extent, in units of u.
-const POST_EVENT_EDGE_U: f64 = 256.0;
-/// Unwrapped displacement continuity: |Δx − t·s·v| ≤ this · ε · (diameter + t)
-/// (`tests/numerics/physics.rs`).
-const UNWRAP_EPS: f64 = 64.0;
 /// Number of sample angles of the walk that finds a disk's free arcs (1° apart: far finer than
 /// any arc of the two scenes, which are ≥ 60°).
 const ARC_SAMPLES: usize = 360;
@@ -1334,7 +1324,7 @@ impl EventBounds {
         let cell = &self.cell;
         for (m, c) in cell.disks.iter().enumerate() {
             let d = fl.pos.sub(c).norm2() - cell.radius2;
-            if d.is_nan() || d < -POST_EVENT_DISK_U * U {
+            if d.is_nan() || d < -POST_EVENT_U * U {
                 return Err(format!(
                     "inside disk {m} after {kind:?}: |x-c|^2 - r^2 = {d:e}"
                 ));
@@ -1342,7 +1332,7 @@ impl EventBounds {
         }
         for k in 0..cell.edges.len() {
             let sig = cell.edge_distance(k, &fl.pos);
-            if sig.is_nan() || sig < -POST_EVENT_EDGE_U * U * self.extent {
+            if sig.is_nan() || sig < -POST_EVENT_U * U * self.extent {
                 return Err(format!("outside edge {k} after {kind:?}: sigma = {sig:e}"));
             }
         }

@@ -61,7 +61,7 @@ fn label(k: EventKind) -> String {
 }
 
 /// Unit roundoff of f64.
-const U: f64 = f64::EPSILON / 2.0;
+const U: f64 = crate::verification::error_model::UNIT_ROUNDOFF;
 
 /// Candidates at reference precision (same exclusions as the f64 state), each with its bound.
 ///

@@ -13,6 +13,7 @@ use crate::kernel::vec2::Vec2;
 use crate::kernel::{cell::CellKernel, cell::ConvexCell, flight::EventKind};
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::verification::error_model::ONE_EVENT_U;
 use crate::Error;
 
 /// Outcome of a reversal experiment.
@@ -144,7 +145,7 @@ pub fn cell_to_f64<T: Real>(c: &ConvexCell<T>) -> ConvexCell<f64> {
 }
 
 /// The reversal error bound 2·E·K·u·max‖J‖ with E events forward (as many back) and the
-/// one-event error K·u, K = 256 (`proofs-notes/reversibility.md`).
+/// one-event error K·u, K = [`ONE_EVENT_U`] = 256 (`proofs-notes/reversibility.md`).
 pub fn reversal_bound(unit_roundoff: f64, events: u64, max_amplification: f64) -> f64 {
-    2.0 * events as f64 * 256.0 * unit_roundoff * max_amplification
+    2.0 * events as f64 * ONE_EVENT_U * unit_roundoff * max_amplification
 }

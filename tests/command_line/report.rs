@@ -87,8 +87,27 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
 
     // One batch value changed (D left alone): also a failure.
     let b0 = v["batch_D"][0].as_f64().unwrap();
-    let edited = json.replacen(&format!("{b0}"), &format!("{}", b0 * 1.001), 1);
+    let at = json.find("\"batch_D\"").expect("batch_D in the result");
+    let (head, tail) = json.split_at(at);
+    let edited = format!(
+        "{head}{}",
+        tail.replacen(&format!("{b0}"), &format!("{}", b0 * 1.001), 1)
+    );
+    let e: serde_json::Value = serde_json::from_str(&edited).unwrap();
+    assert_eq!(
+        e["batch_D"][0].as_f64(),
+        Some(b0 * 1.001),
+        "batch_D[0] edited"
+    );
+    assert_eq!(e["D"], v["D"], "D left alone");
+    let mut rest = e.clone();
+    rest["batch_D"][0] = v["batch_D"][0].clone();
+    assert_eq!(rest, v, "nothing but batch_D[0] changed");
     std::fs::write(dir.join("batch.json"), &edited).unwrap();
+    assert_eq!(
+        std::fs::read_to_string(dir.join("batch.json")).unwrap(),
+        edited
+    );
     let (code, _, _) = lorentz(&dir, &["report", "batch.json", "--quick", "--quiet"]);
     assert_eq!(code, 1);
 

@@ -8,31 +8,70 @@ use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::scenes::triangular::geometry::Geometry;
 use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t, CompensatedSum};
+use lorentz_gas::verification::error_model::{ENERGY_BAND_U, ONE_EVENT_U, UNIT_ROUNDOFF};
 use lorentz_gas::verification::replay::check_event;
 use rug::Float;
 
-/// Mean free path over `b` independent trajectories of `n` collisions: (mean, SE, hops).
-/// (mean − exact)/SE is Student-t with b − 1 dof; see [`santalo_within_four_sigma`].
-fn free_path(w: f64, n: u64, b: u64, seed: u64) -> (f64, f64, u64) {
+/// What [`free_path`] measured over its trajectories.
+struct FreePaths {
+    /// Mean free path (mean of the trajectories' means).
+    mean: f64,
+    /// Its standard error: (mean − exact)/SE is Student-t with b − 1 dof; see
+    /// [`santalo_within_four_sigma`].
+    se: f64,
+    /// Trap crossings in all.
+    hops: u64,
+    /// The longest free flight, from one collision to the next (crossings between them summed),
+    /// over every trajectory.
+    longest: f64,
+    /// Crossings within that longest flight.
+    longest_crossings: u64,
+}
+
+/// Mean free path over `b` independent trajectories of `n` collisions, and the longest flight.
+fn free_path(w: f64, n: u64, b: u64, seed: u64) -> FreePaths {
     let lat = TriangularLattice::new(w).unwrap();
     let mut ls = Vec::new();
-    let mut hops = 0;
+    let (mut hops, mut longest, mut longest_crossings) = (0, 0.0f64, 0);
     for k in 0..b {
         let mut s = equilibrium_state(lat.trap(), &mut stream(seed, k));
         let mut t = CompensatedSum::default();
         let mut c = 0;
+        // The flight in progress (None before the first collision: the start is not one) and
+        // the crossings within it.
+        let (mut flight, mut crossings): (Option<f64>, u64) = (None, 0);
         while c < n {
             let ev = lat.step(&mut s).unwrap();
             t.add(ev.time);
+            if let Some(f) = flight.as_mut() {
+                *f += ev.time;
+            }
             match ev.kind {
-                EventKind::Collision(_) => c += 1,
-                EventKind::Crossing(_) => hops += 1,
+                EventKind::Collision(_) => {
+                    c += 1;
+                    if let Some(f) = flight {
+                        if f > longest {
+                            (longest, longest_crossings) = (f, crossings);
+                        }
+                    }
+                    (flight, crossings) = (Some(0.0), 0);
+                }
+                EventKind::Crossing(_) => {
+                    hops += 1;
+                    crossings += 1;
+                }
             }
         }
         ls.push(t.value() / n as f64);
     }
-    let (m, se) = mean_se(&ls);
-    (m, se, hops)
+    let (mean, se) = mean_se(&ls);
+    FreePaths {
+        mean,
+        se,
+        hops,
+        longest,
+        longest_crossings,
+    }
 }
 
 /// Santaló's ⟨ℓ⟩ within "4σ" of a mean over `b` batches: the Student-t quantile with b − 1 dof at
@@ -53,9 +92,9 @@ fn santalo_within_four_sigma(w: f64, m: f64, se: f64, b: u64) {
 #[test]
 fn tiny_gap_w_1e_minus_6() {
     let w = 1e-6;
-    let (m, se, hops) = free_path(w, 625_000, 16, 41);
+    let FreePaths { mean, se, hops, .. } = free_path(w, 625_000, 16, 41);
     let g = Geometry::new(w).unwrap();
-    santalo_within_four_sigma(w, m, se, 16);
+    santalo_within_four_sigma(w, mean, se, 16);
     let expect = 1e7 / g.collisions_per_hop();
     assert!(
         (hops as f64 - expect).abs() <= 4.0 * expect.sqrt() + 1.0,
@@ -64,12 +103,27 @@ fn tiny_gap_w_1e_minus_6() {
 }
 
 /// w = w∞ − 10⁻⁹: corridors almost open, very long flights; Santaló within 4σ and every flight
-/// within the proven bound.
+/// within the proven bound ℓ_max = 12a (`Geometry::max_free_path_bound`,
+/// `proofs-notes/max-free-path.md`). A flight is summed in f64 from its events' times (each with
+/// a relative error of a few u, `proofs-notes/error-model.md`), so it may exceed its exact length
+/// by (crossings + 1)·[`ONE_EVENT_U`]·u·ℓ at most — far below anything the bound could hide.
 #[test]
 fn just_below_the_horizon_threshold() {
     let w = Geometry::<f64>::w_inf(()) - 1e-9;
-    let (m, se, _) = free_path(w, 500_000, 16, 42);
-    santalo_within_four_sigma(w, m, se, 16);
+    let fp = free_path(w, 500_000, 16, 42);
+    santalo_within_four_sigma(w, fp.mean, fp.se, 16);
+    let bound = Geometry::new(w).unwrap().max_free_path_bound().unwrap();
+    let rounding = (fp.longest_crossings + 1) as f64 * ONE_EVENT_U * UNIT_ROUNDOFF * fp.longest;
+    assert!(
+        fp.longest <= bound + rounding,
+        "w = {w}: a free flight of {} ({} crossings) beyond the proven bound {bound}",
+        fp.longest,
+        fp.longest_crossings
+    );
+    eprintln!(
+        "w = w_inf - 1e-9: longest of 8e6 flights {:.3} ({} crossings), bound 12a = {bound:.3}",
+        fp.longest, fp.longest_crossings
+    );
 }
 
 /// w = w₀ exactly (the double nearest 2/√3 − 1): collisionless crossings have measure zero there
@@ -93,8 +147,8 @@ fn exactly_at_w0() {
         }
     }
     assert_eq!(free, 0);
-    let (m, se, _) = free_path(w, 500_000, 16, 44);
-    santalo_within_four_sigma(w, m, se, 16);
+    let fp = free_path(w, 500_000, 16, 44);
+    santalo_within_four_sigma(w, fp.mean, fp.se, 16);
 }
 
 /// A flight along the edge line y = 0 between disks P₀ and P₁ (through the gap, along its length):
@@ -165,7 +219,7 @@ fn billion_collision_run_speed_and_exact_unwrapped_displacement() {
 }
 
 fn long_run(n: u64) {
-    let u = f64::EPSILON / 2.0;
+    let u = UNIT_ROUNDOFF;
     let lat = TriangularLattice::new(0.1).unwrap();
     let basis = lat.basis_f64();
     let a = basis.a;
@@ -186,7 +240,7 @@ fn long_run(n: u64) {
             worst = worst.max((s.flight.vel.norm2() - 1.0).abs());
         }
     }
-    assert!(worst <= 128.0 * u, "|v|^2 - 1 reached {worst:e}");
+    assert!(worst <= ENERGY_BAND_U * u, "|v|^2 - 1 reached {worst:e}");
     let d = lat.unwrapped(&s, 0.0).displacement_from(&start, &basis);
     let err = ((d[0] - sx.value()).powi(2) + (d[1] - sy.value()).powi(2)).sqrt();
     let bound = 6.0 * (events as f64).sqrt() * 4.0 * u * a;

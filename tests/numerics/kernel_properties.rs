@@ -12,6 +12,7 @@
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight, trap::Trap};
 use lorentz_gas::numbers::real::Real;
+use lorentz_gas::verification::error_model::{ENERGY_BAND_U, ONE_EVENT_U, POST_EVENT_U};
 use proptest::prelude::*;
 use proptest::test_runner::TestRunner;
 use rug::Float;
@@ -71,7 +72,7 @@ macro_rules! kernel_properties {
                             };
                             let trap = Trap::new(T::from_f64(ctx(), w)).unwrap();
                             let mut f = lift(&f64s);
-                            let tol = 256.0 * u();
+                            let tol = POST_EVENT_U * u();
                             for _ in 0..20 {
                                 let v_in = f.vel.clone();
                                 let e2 = v_in.norm2();
@@ -85,7 +86,7 @@ macro_rules! kernel_properties {
                                 // itself to f64 would read every MPFR deviation below 2⁻⁵³ as 0.
                                 let eta = e2b.clone().add_f64(-1.0).to_f64();
                                 prop_assert!(
-                                    eta.abs() <= 128.0 * u(),
+                                    eta.abs() <= ENERGY_BAND_U * u(),
                                     "|v|^2 - 1 = {:e} = {:.1}u after {:?} (before: {:e})",
                                     eta,
                                     eta / u(),
@@ -159,7 +160,7 @@ macro_rules! kernel_properties {
                             let back = trap.next_event(&f).unwrap();
                             prop_assert_eq!(back.kind, ev.kind);
                             prop_assert!(
-                                back.time.to_f64() <= 256.0 * u(),
+                                back.time.to_f64() <= ONE_EVENT_U * u(),
                                 "re-collision at t = {:e}",
                                 back.time.to_f64()
                             );
@@ -168,9 +169,9 @@ macro_rules! kernel_properties {
                                 .norm2()
                                 .sqrt()
                                 .to_f64();
-                            prop_assert!(dv <= 4.0 * 256.0 * u(), "velocity error {dv:e}");
+                            prop_assert!(dv <= 4.0 * ONE_EVENT_U * u(), "velocity error {dv:e}");
                             let dx = f.pos.sub(&x1).norm2().sqrt().to_f64();
-                            prop_assert!(dx <= 256.0 * u(), "position moved by {dx:e}");
+                            prop_assert!(dx <= ONE_EVENT_U * u(), "position moved by {dx:e}");
                             Ok(())
                         },
                     )

@@ -18,6 +18,9 @@ use lorentz_gas::scenes::lattice::LatticeState;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::Scene;
+use lorentz_gas::verification::error_model::{
+    ENERGY_BAND_U, ONE_EVENT_U, POST_EVENT_U, UNIT_ROUNDOFF,
+};
 use proptest::prelude::*;
 use proptest::test_runner::TestRunner;
 use rand::Rng;
@@ -30,7 +33,8 @@ fn scene(r: f64) -> SquareScene {
 /// Mean free path: total flight time over collisions, 16 independent equilibrium batches of
 /// 2·10⁵ collisions each at three radii; the batch means' standard error is the σ. (The infinite
 /// horizon gives the free-path density an ℓ⁻³ tail, so ⟨ℓ²⟩ diverges logarithmically; at these
-/// radii the corridors are narrow and the batch spread still measures the error — a 4σ bound.)
+/// radii the corridors are narrow and the batch spread still measures the error — a "4σ" bound:
+/// the Student-t quantile with 15 dof at the normal's 4σ tail probability, 5.48.)
 #[test]
 fn mean_free_path_is_santalos() {
     for (k, &r) in [0.1, 1.0 / 3.0, 0.45].iter().enumerate() {
@@ -56,8 +60,10 @@ fn mean_free_path_is_santalos() {
         let m = means.iter().sum::<f64>() / n;
         let se = (means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
         let exact = s.mean_free_path();
+        // The t-ratio of a mean over 16 batches has 15 dof: the crate's "4σ" rule.
+        let bound = lorentz_gas::statistics::normal_sigma_equivalent_t(n - 1.0, 4.0);
         assert!(
-            (m - exact).abs() < 4.0 * se,
+            (m - exact).abs() < bound * se,
             "r = {r}: <l> = {m} ± {se}, Santalo {exact}"
         );
     }
@@ -156,7 +162,7 @@ macro_rules! square_properties {
                         |(r, u1, u2, u3)| {
                             let cell = scene(r).kernel::<T>(ctx()).unwrap();
                             let mut f = lift(&start(r, u1, u2, u3));
-                            let tol = 256.0 * u();
+                            let tol = POST_EVENT_U * u();
                             for _ in 0..200 {
                                 let v_in = f.vel.clone();
                                 let ev = cell.next_event(&f).unwrap();
@@ -167,7 +173,7 @@ macro_rules! square_properties {
                                 // error u·(½ + t) is relative u(½ + t)/r, so the band widens by
                                 // the factor 1 + 1/(2r) (proofs-notes/energy.md).
                                 let e2 = f.vel.norm2().add_f64(-1.0).to_f64();
-                                let band = 128.0 * u() * (1.0 + 0.5 / r);
+                                let band = ENERGY_BAND_U * u() * (1.0 + 0.5 / r);
                                 prop_assert!(e2.abs() <= band, "|v|^2 - 1 = {e2:e}");
                                 match ev.kind {
                                     EventKind::Crossing(k) => {
@@ -220,16 +226,19 @@ macro_rules! square_properties {
                             f.reverse();
                             let back = cell.next_event(&f).unwrap();
                             prop_assert_eq!(back.kind, ev.kind);
-                            prop_assert!(back.time.to_f64() <= 256.0 * u());
+                            prop_assert!(back.time.to_f64() <= ONE_EVENT_U * u());
                             cell.apply(&mut f, &back);
                             let dv = Vec2::new(f.vel.x.clone() + &v0.x, f.vel.y.clone() + &v0.y)
                                 .norm2()
                                 .sqrt()
                                 .to_f64();
                             // Two reflections with |n| = r: the error scales like u/r.
-                            prop_assert!(dv <= 4.0 * 256.0 * u() / r, "velocity error {dv:e}");
+                            prop_assert!(
+                                dv <= 4.0 * ONE_EVENT_U * u() / r,
+                                "velocity error {dv:e}"
+                            );
                             let dx = f.pos.sub(&x1).norm2().sqrt().to_f64();
-                            prop_assert!(dx <= 256.0 * u(), "position moved by {dx:e}");
+                            prop_assert!(dx <= ONE_EVENT_U * u(), "position moved by {dx:e}");
                             Ok(())
                         },
                     )
@@ -256,7 +265,7 @@ fn long_orbits_reverse_within_the_amplification_bound() {
             let lat = s.lattice::<f64>(()).unwrap();
             let rev = reverse_and_return(&lat, &s64, n).unwrap();
             let (amp, events) = amplification(&lat, &s64, n).unwrap();
-            let bound = reversal_bound(f64::EPSILON / 2.0, events, amp);
+            let bound = reversal_bound(UNIT_ROUNDOFF, events, amp);
             assert!(
                 rev.position_error <= bound,
                 "f64 n={n}: {} > {bound:e}",

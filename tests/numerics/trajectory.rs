@@ -298,17 +298,83 @@ fn starts_inside_a_disk_and_zero_directions_are_refused() {
     }
 }
 
+/// A start on the edge between two square cells is located on one side of it (the nearest
+/// lattice point, halves away from zero): world x = ½ lies in cell 1 at local x = −½, world
+/// x = −½ in cell −1 at local x = +½. Both are the same physical start modulo the lattice vector
+/// (1, 0), so the two trajectories are translates of each other: x differs by exactly 1 and y is
+/// the same — one flown from the left side of the edge, the other from its right side, where a
+/// flight leaving the cell must cross at time 0. The same along y. Each run is also checked
+/// against the brute-force reference, and the two printed values (each within one unit of its
+/// last digit of the exact value) agree within two units.
 #[test]
 fn a_start_on_a_cell_boundary_gives_the_same_trajectory_from_either_side() {
-    // (0.5, 0.1) lies on the edge between the square cells (0, 0) and (1, 0); the same world
-    // point approached as a fraction and as a decimal must give identical digits, and the
-    // located point must be the given one in either frame.
     let scene = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();
-    let (x, y) = (parse_exact("1/2").unwrap(), parse_exact("0.1").unwrap());
-    let (cell, p) = scene.locate::<Float>(256, &x, &y).unwrap();
-    let world_x = Rational::from(cell.i) + p.x.to_rational().unwrap();
-    assert_eq!(world_x, x);
-    let a = trajectory(&scene, &input(("1/2", "0.1"), ("1", "0"), "3", 40), false);
-    let b = trajectory(&scene, &input(("0.5", "1/10"), ("1", "0"), "3", 40), false);
-    assert_eq!(a.unwrap().distance, b.unwrap().distance);
+    let disks = Disks::square("1/3");
+    // (start on the positive edge, the same start on the negative edge, direction, offset)
+    type Case<'a> = (
+        (&'a str, &'a str),
+        (&'a str, &'a str),
+        (&'a str, &'a str),
+        (i64, i64),
+    );
+    let cases: [Case; 4] = [
+        (("1/2", "1/10"), ("-1/2", "1/10"), ("1", "0"), (1, 0)),
+        (("1/2", "1/10"), ("-1/2", "1/10"), ("-1", "3/10"), (1, 0)),
+        (("3/10", "1/2"), ("3/10", "-1/2"), ("1/5", "1"), (0, 1)),
+        (("3/10", "1/2"), ("3/10", "-1/2"), ("-2/5", "-1"), (0, 1)),
+    ];
+    for (plus, minus, dir, (di, dj)) in cases {
+        let what = format!("from {plus:?} and {minus:?} along {dir:?}");
+        // The two starts are located in the neighbouring cells' frames, on opposite sides.
+        let side = |start: (&str, &str)| {
+            let (x, y) = (parse_exact(start.0).unwrap(), parse_exact(start.1).unwrap());
+            let (cell, p) = scene.locate::<Float>(256, &x, &y).unwrap();
+            // The coordinate across the edge (±½, a dyadic) is exact in the cell's frame.
+            let (index, local, world) = if di == 1 {
+                (cell.i, &p.x, x)
+            } else {
+                (cell.j, &p.y, y)
+            };
+            assert_eq!(
+                Rational::from(index) + local.to_rational().unwrap(),
+                world,
+                "{what}: located elsewhere"
+            );
+            (
+                cell.i,
+                cell.j,
+                p.x.to_f64() * di as f64 + p.y.to_f64() * dj as f64,
+            )
+        };
+        let (ip, jp, local_p) = side(plus);
+        let (im, jm, local_m) = side(minus);
+        assert_eq!((ip - im, jp - jm), (2 * di, 2 * dj), "{what}: cells");
+        assert_eq!(
+            (local_p, local_m),
+            (-0.5, 0.5),
+            "{what}: the two sides of the edge"
+        );
+        let run = |start| {
+            let r = trajectory(&scene, &input(start, dir, "8", 40), false)
+                .unwrap_or_else(|e| panic!("{what}: {e}"));
+            check(&r, &reference(&disks, start, dir, "8"), &what);
+            r
+        };
+        let (a, b) = (run(plus), run(minus));
+        assert!(a.collisions > 0, "{what}: no collision");
+        assert_eq!(a.collisions, b.collisions, "{what}: collisions");
+        let unit = Float::with_val(REF_BITS, Float::i_exp(1, 0))
+            / Float::with_val(
+                REF_BITS,
+                Integer::from(10).pow(a.certified_digits.min(b.certified_digits)),
+            );
+        for (k, shift) in [(0, di), (1, dj)] {
+            let gap = (a.values[k].clone() - &b.values[k] - shift).abs();
+            assert!(
+                gap <= unit.clone() * 2u32,
+                "{what}: value {k} differs between the two sides by {} (beyond the shift {shift})",
+                gap.to_f64()
+            );
+        }
+    }
 }
