@@ -33,7 +33,7 @@ pub struct Divergence {
     pub precision: String,
     /// Collisions until the deviation first exceeds 10⁻³ (mean over initial conditions).
     pub horizon: f64,
-    /// Its standard error.
+    /// Its standard error over the starts (NaN for one start: no spread to estimate it from).
     pub horizon_err: f64,
     /// Fitted growth rate of ln(deviation) per collision (mean ± SE over initial conditions).
     pub rate_per_collision: f64,
@@ -76,15 +76,12 @@ impl DivergenceConfig {
 }
 
 impl DivergenceConfig {
-    /// Checks the configuration before any work: every error bar is over the starts, so there
-    /// must be at least two of them.
+    /// Checks the configuration before any work. One start is accepted (its horizon is that
+    /// start's own, which a test of one orbit needs), but its error fields are NaN: nothing to
+    /// spread over; the command line asks for 2 or more.
     pub fn validate(&self) -> Result<(), Error> {
-        if self.starts < 2 {
-            return Err(Error::TooFew {
-                what: "starts (the error bars are over them)",
-                min: 2,
-                got: self.starts as u64,
-            });
+        if self.starts == 0 {
+            return Err(Error::Zero { what: "starts" });
         }
         if self.collisions == 0 {
             return Err(Error::Zero { what: "collisions" });

@@ -396,6 +396,142 @@ const BAD: &[(&[&str], &str)] = &[
         &["reproduce", "--budget", "huge", "--out", "out"],
         "invalid value",
     ),
+    (
+        &[
+            "reproduce",
+            "--budget",
+            "quick",
+            "--threads",
+            "0",
+            "--out",
+            "out",
+        ],
+        "threads must be from 1 to",
+    ),
+    (
+        &["reproduce", "--seed", "-1", "--out", "out"],
+        "is not a count",
+    ),
+    // trajectory: the start, the direction, the time and the digits
+    (
+        &[
+            "trajectory",
+            "--scene",
+            "square",
+            "--radius",
+            "1/3",
+            "--start",
+            "0,0",
+            "--direction",
+            "1,0",
+            "--time",
+            "1",
+        ],
+        "distance >= the radius",
+    ),
+    (
+        &[
+            "trajectory",
+            "--scene",
+            "square",
+            "--radius",
+            "1/3",
+            "--start",
+            "1/2",
+            "--direction",
+            "1,0",
+            "--time",
+            "1",
+        ],
+        "is not a pair",
+    ),
+    (
+        &[
+            "trajectory",
+            "--scene",
+            "square",
+            "--radius",
+            "1/3",
+            "--start",
+            "1/2,1/10",
+            "--direction",
+            "0,0",
+            "--time",
+            "1",
+        ],
+        "use a nonzero direction",
+    ),
+    (
+        &[
+            "trajectory",
+            "--scene",
+            "square",
+            "--radius",
+            "1/3",
+            "--start",
+            "1/2,1/10",
+            "--direction",
+            "1,0",
+            "--time",
+            "0",
+        ],
+        "use a time > 0",
+    ),
+    (
+        &[
+            "trajectory",
+            "--scene",
+            "square",
+            "--radius",
+            "1/3",
+            "--start",
+            "1/2,1/10",
+            "--direction",
+            "1,0",
+            "--time",
+            "1e30",
+        ],
+        "use a shorter time",
+    ),
+    (
+        &[
+            "trajectory",
+            "--scene",
+            "square",
+            "--radius",
+            "1/3",
+            "--start",
+            "1/2,1/10",
+            "--direction",
+            "1,0",
+            "--time",
+            "1",
+            "--digits",
+            "20000",
+        ],
+        "use 1 to 10000",
+    ),
+    // one value is not an error bar; a check window equal to the fit window checks nothing
+    (
+        &["lyapunov", "--w", "0.1", "--starts", "1"],
+        "use 0 (no divergence measurement) or 2 to",
+    ),
+    (
+        &[
+            "diffusion",
+            "--w",
+            "0.1",
+            "--window",
+            "10:40",
+            "--check-window",
+            "10:40",
+        ],
+        "is the fit window 10:40",
+    ),
+    (
+        &["sweep", "--w-from", "1/0", "--w-to", "0.2", "--out", "out"],
+        "divides by zero",
+    ),
     // merge
     (&["merge", "no-such-dir", "--out", "out"], "no sweep points"),
     (&["merge", "--out", "out"], "required"),
@@ -814,7 +950,85 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "--out",
             "sweep",
         ],
+        &[
+            "shadow",
+            "--w",
+            "0.1",
+            "--collisions-per-segment",
+            "20",
+            "--segments",
+            "2",
+        ],
+        &[
+            "trajectory",
+            "--scene",
+            "square",
+            "--radius",
+            "1/3",
+            "--start",
+            "1/2,1/10",
+            "--direction",
+            "1,1/7",
+            "--time",
+            "3",
+        ],
+        &["report", "d.json", "--quick", "--out", "rep"],
+        &["merge", "p0", "p1", "--out", "merged"],
+        &[
+            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "2", "--out", "slurm",
+        ],
     ];
+    // What `report` audits and `merge` merges: a diffusion result and the two parts of a sweep.
+    // (`reproduce --json` takes minutes: `report::quick_reproduction_writes_every_figure_and_resumes`,
+    // which CI runs with --ignored, checks it.)
+    let (code, out, err) = lorentz_in(
+        &dir,
+        &[
+            "diffusion",
+            "--w",
+            "0.2",
+            "--collisions",
+            "2e6",
+            "--batches",
+            "4",
+            "--window",
+            "2:8",
+            "--check-window",
+            "4:16",
+            "--json",
+            "--quiet",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(dir.join("d.json"), out).unwrap();
+    for part in ["0", "1"] {
+        let shard = format!("{part}/2");
+        let out = format!("p{part}");
+        let (code, _, err) = lorentz_in(
+            &dir,
+            &[
+                "sweep",
+                "--w-from",
+                "0.1",
+                "--w-to",
+                "0.2",
+                "--steps",
+                "3",
+                "--runs",
+                "2",
+                "--collisions-per-run",
+                "1e6",
+                "--batches-per-run",
+                "4",
+                "--shard",
+                &shard,
+                "--out",
+                &out,
+                "--quiet",
+            ],
+        );
+        assert_eq!(code, 0, "{err}");
+    }
     for args in runs {
         let mut a: Vec<&str> = args.to_vec();
         a.push("--json");

@@ -10,3 +10,4 @@ mod checkpoints;
 mod commands;
 mod honest_numbers;
 mod report;
+mod result_keys;
