@@ -109,6 +109,25 @@ fn print(r: &DiffusionReport) {
         r.seconds,
         r.collisions_per_second
     );
+    print_d(r);
+    print_identities(r);
+    if let Some(a) = &r.audit {
+        println!(
+            "self-audit     : {} events replayed in MPFR, {} outside the error model, worst time error / bound {:.2e}",
+            a.audited, a.outside, a.time_error_over_bound.max
+        );
+    }
+    if r.resumed_batches > 0 {
+        println!(
+            "({} batches resumed from the checkpoint)",
+            r.resumed_batches
+        );
+    }
+}
+
+/// D over both windows, their paired difference (a warning on stderr when they disagree), and
+/// the closed forms D_MZ and D_Bo.
+fn print_d(r: &DiffusionReport) {
     println!(
         "D              = {:.6} ± {:.6}   ({:.3} %, MSD slope over [{}τ, {}τ]){}",
         r.D,
@@ -122,7 +141,7 @@ fn print(r: &DiffusionReport) {
     let window_check = comparison::of(
         r.D_minus_D_check,
         r.D_minus_D_check_err,
-        n.saturating_sub(1).max(1) as f64,
+        comparison::batch_dof(n),
     );
     println!(
         "D (check)      = {:.6} ± {:.6}   (MSD slope over [{}τ, {}τ]; D − D_check = {:+.6} ± {:.6}, {})",
@@ -151,6 +170,11 @@ fn print(r: &DiffusionReport) {
         r.D / r.D_MZ
     );
     println!("D_Bo           = {:.6}", r.D_Bo);
+}
+
+/// The measured exact identities against their closed forms, each with its bound and verdict.
+fn print_identities(r: &DiffusionReport) {
+    let n = r.batch_D.len();
     println!(
         "mean free path = {:.7} ± {:.7}   exact {:.7}  ({})",
         r.mean_free_path,
@@ -182,16 +206,4 @@ fn print(r: &DiffusionReport) {
             n
         )
     );
-    if let Some(a) = &r.audit {
-        println!(
-            "self-audit     : {} events replayed in MPFR, {} outside the error model, worst time error / bound {:.2e}",
-            a.audited, a.outside, a.time_error_over_bound.max
-        );
-    }
-    if r.resumed_batches > 0 {
-        println!(
-            "({} batches resumed from the checkpoint)",
-            r.resumed_batches
-        );
-    }
 }

@@ -38,7 +38,7 @@ fn print(r: &TheoryReport) {
         let against = comparison::of(
             o.D_k_combined_minus_D_GK,
             o.D_k_combined_minus_D_GK_err,
-            n.saturating_sub(1).max(1) as f64,
+            comparison::batch_dof(n),
         );
         let verdict = if against.agrees() {
             "not resolved from D_GK"

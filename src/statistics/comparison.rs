@@ -120,6 +120,12 @@ pub fn paired(a: &[f64], b: &[f64]) -> Result<Comparison, Error> {
     Ok(of(difference, err, (a.len() - 1) as f64))
 }
 
+/// The degrees of freedom of an error bar from `n` batches, n − 1 (at least 1, so a bound exists
+/// for a result that records fewer).
+pub fn batch_dof(n: usize) -> f64 {
+    n.saturating_sub(1).max(1) as f64
+}
+
 /// A difference with standard error `err` on `dof` degrees of freedom (z = 0 for an exact
 /// agreement with no spread).
 pub fn of(difference: f64, err: f64, dof: f64) -> Comparison {

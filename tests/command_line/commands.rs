@@ -978,55 +978,16 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "2", "--out", "slurm",
         ],
     ];
-    // What `report` audits and `merge` merges: a diffusion result and the two parts of a sweep.
-    // (`reproduce --json` takes minutes: `report::quick_reproduction_writes_every_figure_and_resumes`,
-    // which CI runs with --ignored, checks it.)
-    let (code, out, err) = lorentz_in(
-        &dir,
-        &[
-            "diffusion",
-            "--w",
-            "0.2",
-            "--collisions",
-            "2e6",
-            "--batches",
-            "4",
-            "--window",
-            "2:8",
-            "--check-window",
-            "4:16",
-            "--json",
-            "--quiet",
-        ],
-    );
-    assert_eq!(code, 0, "{err}");
-    std::fs::write(dir.join("d.json"), out).unwrap();
+    // What `merge` merges: the two parts of a sweep. (`report` audits the diffusion result the
+    // first run below writes; `reproduce --json` takes minutes:
+    // `report::quick_reproduction_writes_every_figure_and_resumes`, which CI runs with --ignored,
+    // checks it.)
     for part in ["0", "1"] {
-        let shard = format!("{part}/2");
-        let out = format!("p{part}");
-        let (code, _, err) = lorentz_in(
-            &dir,
-            &[
-                "sweep",
-                "--w-from",
-                "0.1",
-                "--w-to",
-                "0.2",
-                "--steps",
-                "3",
-                "--runs",
-                "2",
-                "--collisions-per-run",
-                "1e6",
-                "--batches-per-run",
-                "4",
-                "--shard",
-                &shard,
-                "--out",
-                &out,
-                "--quiet",
-            ],
+        let line = format!(
+            "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1e6 \
+             --batches-per-run 4 --shard {part}/2 --out p{part} --quiet"
         );
+        let (code, _, err) = lorentz_in(&dir, &line.split_whitespace().collect::<Vec<_>>());
         assert_eq!(code, 0, "{err}");
     }
     for args in runs {
@@ -1037,6 +998,9 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
         }
         let (code, out, err) = lorentz_in(&dir, &a);
         assert_eq!(code, 0, "{a:?}: {err}");
+        if args[0] == "diffusion" {
+            std::fs::write(dir.join("d.json"), &out).unwrap();
+        }
         let v: serde_json::Value =
             serde_json::from_str(&out).unwrap_or_else(|e| panic!("{a:?}: {e}: {out}"));
         let meta = find_meta(&v).unwrap_or_else(|| panic!("{a:?}: no meta block in {out}"));
