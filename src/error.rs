@@ -84,6 +84,10 @@ pub enum Error {
     /// A verification ran and its verdict is FAIL (not bad input: exit status 1).
     #[error("{0}")]
     CheckFailed(String),
+    /// The run was asked to stop ([`crate::engine::options::StopFlag`]) before it finished;
+    /// a checkpoint, if the run kept one, holds the work up to its last save.
+    #[error("interrupted: the run was stopped before it finished")]
+    Interrupted,
 }
 
 /// The four kinds of failure, one exit status each on the command line.
@@ -97,6 +101,8 @@ pub enum ErrorKind {
     Failed,
     /// A verification's verdict is FAIL.
     CheckFailed,
+    /// The run was asked to stop before it finished.
+    Interrupted,
 }
 
 impl Error {
@@ -124,6 +130,7 @@ impl Error {
             Error::Io { .. } => ErrorKind::Io,
             Error::Failed(_) => ErrorKind::Failed,
             Error::CheckFailed(_) => ErrorKind::CheckFailed,
+            Error::Interrupted => ErrorKind::Interrupted,
             Error::NotFinite { .. }
             | Error::Trapped { .. }
             | Error::InfiniteHorizon { .. }

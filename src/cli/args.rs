@@ -7,148 +7,15 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::hops::HopsConfig;
 use lorentz_gas::numbers::precision::Precision;
 
-/// Most worker threads accepted: far beyond any node this runs on; a larger pool only costs
-/// memory (one stack per thread) and never speeds anything up.
-pub const MAX_THREADS: usize = 4096;
+pub use lorentz_gas::numbers::count::{
+    parse_count, parse_count_u32, parse_count_usize, parse_threads,
+};
 
-/// A count as physicists type it: `2000000000`, `2_000_000_000`, `2e9`, `2.5e8` — a whole number
-/// from 0 to 2⁶⁴ − 1, parsed exactly (never through a float).
-pub fn parse_count(s: &str) -> Result<u64, String> {
-    let bad = || {
-        format!("'{s}' is not a count: use a whole number from 0 to 18446744073709551615, such as 2000000000, 2_000_000_000 or 2e9")
-    };
-    let t = s.trim();
-    if t.is_empty() || t.starts_with('_') || t.ends_with('_') || t.contains("__") {
-        return Err(bad());
-    }
-    let t = t.replace('_', "");
-    let (mant, exp) = match t.find(['e', 'E']) {
-        Some(i) => {
-            let e = t[i + 1..].strip_prefix('+').unwrap_or(&t[i + 1..]);
-            if e.is_empty() || !e.bytes().all(|b| b.is_ascii_digit()) && !e.starts_with('-') {
-                return Err(bad());
-            }
-            (&t[..i], e.parse::<i64>().map_err(|_| bad())?)
-        }
-        None => (&t[..], 0),
-    };
-    let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
-    if int.is_empty() && frac.is_empty()
-        || !int.bytes().all(|b| b.is_ascii_digit())
-        || !frac.bytes().all(|b| b.is_ascii_digit())
-    {
-        return Err(bad());
-    }
-    let digits = format!("{int}{frac}");
-    // value = digits × 10^(exp − frac.len())
-    let shift = exp - frac.len() as i64;
-    let digits = digits.trim_start_matches('0');
-    if digits.is_empty() {
-        return Ok(0);
-    }
-    let (digits, shift) = if shift < 0 {
-        let drop = (-shift) as usize;
-        if drop > digits.len() || !digits[digits.len() - drop..].bytes().all(|b| b == b'0') {
-            return Err(format!(
-                "'{s}' is not a whole number: a count must be an integer"
-            ));
-        }
-        (&digits[..digits.len() - drop], 0)
-    } else {
-        (digits, shift)
-    };
-    let too_large =
-        || format!("'{s}' is too large: a count is at most 18446744073709551615 (2^64 - 1)");
-    if digits.len() as i64 + shift > 20 {
-        return Err(too_large());
-    }
-    let mut v: u128 = digits.parse().map_err(|_| too_large())?;
-    for _ in 0..shift {
-        v *= 10;
-    }
-    u64::try_from(v).map_err(|_| too_large())
-}
-
-/// A count that must fit in 32 bits (batches, runs, steps, orbits).
-pub fn parse_count_u32(s: &str) -> Result<u32, String> {
-    let v = parse_count(s)?;
-    u32::try_from(v).map_err(|_| format!("'{s}' is too large: at most 4294967295"))
-}
-
-/// A count that indexes memory (`usize`).
-pub fn parse_count_usize(s: &str) -> Result<usize, String> {
-    let v = parse_count(s)?;
-    usize::try_from(v).map_err(|_| format!("'{s}' is too large for this machine"))
-}
-
-/// Most worker threads accepted per core this process may use: a few more threads than cores
-/// cost little, far more only slow a run down (4096 threads on 2 cores ran 350 times slower).
-pub const MAX_THREADS_PER_CORE: usize = 4;
-
-/// The cores this process may use (its CPU affinity and quota), at least 1.
-pub fn cores() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
-}
-
-/// A thread count from 1 to [`MAX_THREADS_PER_CORE`] × [`cores`] (and at most [`MAX_THREADS`]).
-pub fn parse_threads(s: &str) -> Result<usize, String> {
-    let v = parse_count(s)?;
-    let cores = cores();
-    let max = (MAX_THREADS_PER_CORE * cores).min(MAX_THREADS);
-    if v == 0 || v > max as u64 {
-        return Err(format!(
-            "threads must be from 1 to {max} ({MAX_THREADS_PER_CORE} per core on the {cores} \
-             cores this process may use: more threads than that only slow a run down)"
-        ));
-    }
-    Ok(v as usize)
-}
-
-/// A gap or a radius as typed: an exact decimal or fraction (`0.1`, `1/10`), kept exactly and as
-/// its nearest double; `nan` and `inf` pass through as doubles so that the library names the
-/// valid range.
-#[derive(Debug, Clone)]
-pub struct Exact {
-    /// The nearest double (what `f64` runs use).
-    pub value: f64,
-    /// The exact value, for scenes and closed forms at any precision (`None` for `nan`, `inf`).
-    pub exact: Option<rug::Rational>,
-    /// The text as typed (trimmed): what a configuration records as the exact value.
-    pub text: String,
-}
-
-impl Exact {
-    /// The value as typed, for a configuration's `w_exact` (`None` for `nan` and `inf`, which
-    /// validation refuses).
-    pub fn exact_text(&self) -> Option<String> {
-        self.exact.as_ref().map(|_| self.text.clone())
-    }
-
-    /// The exact value of parameter `what`, or the refusal of a NaN or an infinity.
-    pub fn rational(&self, what: &'static str) -> Result<rug::Rational, lorentz_gas::Error> {
-        self.exact
-            .clone()
-            .ok_or(lorentz_gas::Error::NotFinite { what })
-    }
-}
+pub use lorentz_gas::numbers::exact::ExactInput as Exact;
 
 /// Parses `--w` and `--radius`: a decimal (`0.1`, `1.5e-1`) or a fraction (`1/10`), exactly.
 pub fn parse_exact_arg(s: &str) -> Result<Exact, String> {
-    match lorentz_gas::numbers::exact::parse_exact(s) {
-        Ok(q) => Ok(Exact {
-            value: lorentz_gas::numbers::exact::nearest_f64(&q),
-            exact: Some(q),
-            text: s.trim().to_string(),
-        }),
-        Err(e) => match s.trim().parse::<f64>() {
-            Ok(v) if !v.is_finite() => Ok(Exact {
-                value: v,
-                exact: None,
-                text: s.trim().to_string(),
-            }),
-            _ => Err(e.to_string()),
-        },
-    }
+    Exact::parse(s).map_err(|e| e.to_string())
 }
 
 /// The gap between neighbouring disks.
@@ -348,7 +215,8 @@ pub struct ThreadsArg {
 impl ThreadsArg {
     /// The requested thread count, or every core.
     pub fn threads(&self) -> usize {
-        self.threads.unwrap_or_else(cores)
+        self.threads
+            .unwrap_or_else(lorentz_gas::numbers::count::cores)
     }
 }
 
@@ -475,8 +343,9 @@ mod tests {
         assert_eq!(parse_threads("2"), Ok(2));
         assert!(parse_threads("0").is_err());
         assert!(parse_threads("1e6").is_err());
-        assert_eq!(parse_threads(&(4 * cores()).to_string()), Ok(4 * cores()));
-        assert!(parse_threads(&(4 * cores() + 1).to_string()).is_err());
+        let cores = lorentz_gas::numbers::count::cores();
+        assert_eq!(parse_threads(&(4 * cores).to_string()), Ok(4 * cores));
+        assert!(parse_threads(&(4 * cores + 1).to_string()).is_err());
     }
 
     /// The scene of `--w 1/10` or `--w 0.1` at 256 bits has w = 1/10 rounded once at 256 bits,

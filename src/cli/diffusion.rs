@@ -85,6 +85,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         resume: a.checkpoint.clone(),
         audit,
         checkpoint_every: a.every.checkpoint_every,
+        stop: None,
     };
     let r = diffusion::run(&cfg, &opts)?;
     drop(progress);

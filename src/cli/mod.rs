@@ -64,6 +64,8 @@ const EXIT_IO: u8 = 3;
 /// Exit status of a computation that started and could not finish correctly (a re-run that
 /// fails, an identity violated during a run, a resumed run that fails its checks).
 const EXIT_FAILED: u8 = 4;
+/// Exit status of a run stopped before it finished (the shell's status for SIGINT).
+const EXIT_INTERRUPTED: u8 = 130;
 
 /// The exit status of each kind of error: the one table of the command line's statuses (the
 /// README's "Exit status" paragraph lists the same).
@@ -73,6 +75,7 @@ fn exit_status(kind: ErrorKind) -> u8 {
         ErrorKind::BadInput => EXIT_BAD_INPUT,
         ErrorKind::Io => EXIT_IO,
         ErrorKind::Failed => EXIT_FAILED,
+        ErrorKind::Interrupted => EXIT_INTERRUPTED,
     }
 }
 

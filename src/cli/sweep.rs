@@ -102,6 +102,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         resume: Some(out.clone()),
         audit: None,
         checkpoint_every: a.every.checkpoint_every,
+        stop: None,
     };
     if let Some(s) = shard {
         let part = ShardConfig {

@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use super::metadata::RunMeta;
 use super::observe::Observer;
+use super::options::StopFlag;
 use super::resume::Journal;
 use super::simd::BLOCK;
 use super::{drive, run_block, SimdPath};
@@ -96,6 +97,8 @@ pub struct Keeper<F, S> {
     every: Option<Duration>,
     finished: BTreeMap<(u64, u32), F>,
     in_flight: HashMap<(u64, u32), InFlight<S>>,
+    /// A request to stop, looked at between segments (`None`: the run is not watched).
+    stop: Option<StopFlag>,
 }
 
 impl<F, S> Keeper<F, S>
@@ -110,6 +113,22 @@ where
             every: None,
             finished: BTreeMap::new(),
             in_flight: HashMap::new(),
+            stop: None,
+        }
+    }
+
+    /// The same keeper, looking at `stop` between segments (a run whose stop is requested ends
+    /// with [`Error::Interrupted`] within one segment, its journal as of its last save).
+    pub fn watching(mut self, stop: Option<&StopFlag>) -> Self {
+        self.stop = stop.cloned();
+        self
+    }
+
+    /// [`Error::Interrupted`] if a stop was requested.
+    pub fn check_stop(&self) -> Result<(), Error> {
+        match &self.stop {
+            Some(s) => s.check(),
+            None => Ok(()),
         }
     }
 
@@ -140,6 +159,7 @@ where
             every,
             finished: BTreeMap::new(),
             in_flight: HashMap::new(),
+            stop: None,
         };
         for r in records {
             k.take(p, r, &quota, fits)?;
@@ -242,13 +262,13 @@ where
         self.in_flight.get(&(job.run, job.index))
     }
 
-    /// Collisions per trajectory between looks at the clock: all of them when nothing in
-    /// flight is saved.
+    /// Collisions per trajectory between looks at the clock and at the stop request: all of
+    /// them when nothing in flight is saved and nobody can ask the run to stop.
     pub fn segment(&self, mpfr: bool) -> u64 {
-        match self.every {
-            None => u64::MAX,
-            Some(_) if mpfr => SEGMENT_MPFR,
-            Some(_) => SEGMENT_F64,
+        match (self.every, &self.stop) {
+            (None, None) => u64::MAX,
+            _ if mpfr => SEGMENT_MPFR,
+            _ => SEGMENT_F64,
         }
     }
 
@@ -325,6 +345,7 @@ where
     let mut last = Instant::now();
     while done < job.collisions {
         let q = (job.collisions - done).min(segment);
+        keep.check_stop()?;
         drive(lat, &mut s, q, obs, progress)?;
         done += q;
         if done < job.collisions {
@@ -377,6 +398,7 @@ where
         if quotas.iter().all(|&q| q == 0) {
             return Ok(states);
         }
+        keep.check_stop()?;
         run_block(path, trap, &mut states, &quotas, obs, progress)?;
         done.iter_mut().zip(&quotas).for_each(|(d, q)| *d += q);
         keep.save_if_due(&mut last, || {

@@ -6,6 +6,8 @@
 //! same configuration) and `audit` adds a summary beside the numbers.
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Duration;
 
 use super::Engine;
@@ -64,6 +66,45 @@ impl AuditSpec {
     }
 }
 
+/// A request to stop a run before it finishes, shared between whoever asks (a Python binding
+/// that saw Ctrl-C, a signal handler) and the run's workers, which look at it between segments
+/// of their trajectories (about 0.1 s of work each) and then end the run with
+/// [`Error::Interrupted`]. Clones share one flag.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::engine::options::StopFlag;
+/// let stop = StopFlag::default();
+/// let seen_by_a_worker = stop.clone();
+/// assert!(seen_by_a_worker.check().is_ok());
+/// stop.request();
+/// assert!(seen_by_a_worker.check().is_err());
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct StopFlag(Arc<AtomicBool>);
+
+impl StopFlag {
+    /// Asks every run watching this flag to stop.
+    pub fn request(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether a stop was requested.
+    pub fn requested(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+
+    /// [`Error::Interrupted`] if a stop was requested.
+    pub fn check(&self) -> Result<(), Error> {
+        if self.requested() {
+            Err(Error::Interrupted)
+        } else {
+            Ok(())
+        }
+    }
+}
+
 fn no_progress(_: u64) {}
 
 /// How a computation runs: engine, worker threads, progress, where to resume from, and the
@@ -96,6 +137,10 @@ pub struct RunOptions<'a> {
     /// velocities, cells, observer accumulators), so that an interruption loses at most about
     /// this much work (analyses that offer it; default [`DEFAULT_CHECKPOINT_EVERY`]).
     pub checkpoint_every: Duration,
+    /// A flag whose request stops the run early with [`Error::Interrupted`] (analyses that
+    /// offer it: diffusion, its packed runs and sweeps, hops; `None`: the run cannot be stopped).
+    /// Never changes the bits of a run that finishes.
+    pub stop: Option<StopFlag>,
 }
 
 /// Default interval between saves of the trajectories in flight: a minute of work at risk, and
@@ -114,6 +159,7 @@ impl Default for RunOptions<'_> {
             resume: None,
             audit: None,
             checkpoint_every: DEFAULT_CHECKPOINT_EVERY,
+            stop: None,
         }
     }
 }
@@ -126,6 +172,7 @@ impl std::fmt::Debug for RunOptions<'_> {
             .field("resume", &self.resume)
             .field("audit", &self.audit)
             .field("checkpoint_every", &self.checkpoint_every)
+            .field("stop", &self.stop)
             .finish_non_exhaustive()
     }
 }

@@ -208,3 +208,62 @@ mod tests {
         assert_eq!(parse_decimal("-1.5").unwrap(), Rational::from((-3, 2)));
     }
 }
+
+/// A gap or a radius as a user typed it (on the command line, from Python): an exact decimal or
+/// fraction (`0.1`, `1/10`), kept exactly and as its nearest double; `nan` and `inf` pass
+/// through as doubles so that the analysis refuses them naming the valid range.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::numbers::exact::ExactInput;
+/// let w = ExactInput::parse("1/10").unwrap();
+/// assert_eq!(w.value, 0.1);
+/// assert_eq!(w.exact_text().as_deref(), Some("1/10"));
+/// assert!(ExactInput::parse("nan").unwrap().rational("w").is_err());
+/// assert!(ExactInput::parse("0.1.2").is_err());
+/// ```
+#[derive(Debug, Clone)]
+pub struct ExactInput {
+    /// The nearest double (what `f64` runs use).
+    pub value: f64,
+    /// The exact value, for scenes and closed forms at any precision (`None` for `nan`, `inf`).
+    pub exact: Option<Rational>,
+    /// The text as typed (trimmed): what a configuration records as the exact value.
+    pub text: String,
+}
+
+impl ExactInput {
+    /// Parses `s`: an exact decimal or fraction, or a non-finite double.
+    ///
+    /// # Errors
+    /// Anything else, with [`parse_exact`]'s message.
+    pub fn parse(s: &str) -> Result<Self, Error> {
+        match parse_exact(s) {
+            Ok(q) => Ok(ExactInput {
+                value: nearest_f64(&q),
+                exact: Some(q),
+                text: s.trim().to_string(),
+            }),
+            Err(e) => match s.trim().parse::<f64>() {
+                Ok(v) if !v.is_finite() => Ok(ExactInput {
+                    value: v,
+                    exact: None,
+                    text: s.trim().to_string(),
+                }),
+                _ => Err(e),
+            },
+        }
+    }
+
+    /// The value as typed, for a configuration's `w_exact` (`None` for `nan` and `inf`, which
+    /// validation refuses).
+    pub fn exact_text(&self) -> Option<String> {
+        self.exact.as_ref().map(|_| self.text.clone())
+    }
+
+    /// The exact value of parameter `what`, or the refusal of a NaN or an infinity.
+    pub fn rational(&self, what: &'static str) -> Result<Rational, Error> {
+        self.exact.clone().ok_or(Error::NotFinite { what })
+    }
+}

@@ -5,9 +5,11 @@
 //! * [`lanes`]: vectors of `f64` lanes (AVX-512, AVX2, portable, one `f64`) with exactly the
 //!   scalar IEEE operations, for the SIMD engine and its observers.
 //! * [`precision`]: a run's precision (`f64` or MPFR bits) and instantiation at it.
+//! * [`count`]: counts (`2e9`) and thread numbers as typed, parsed exactly and checked.
 //! * [`exact`]: exact decimals and fractions (`0.1`, `1/3`) parsed as rationals, and grids of them
 //!   rounded once.
 
+pub mod count;
 pub mod exact;
 pub mod lanes;
 pub mod precision;

@@ -5,6 +5,7 @@
 //! * [`honeycomb`]: symbols z, l, r; exact walks on the lattice of trap centres.
 //! * [`sequences`]: validated tables of symbol-sequence probabilities.
 //! * [`hierarchy`]: D_cf, D_bs, D₁ (eqs. 4–6) and D_k (App. B, corrected).
+//! * [`constants`]: every closed form at gap w, at any precision (`lorentz constants`).
 //! * [`appendix_a`]: the analytic p_cf (eqs. A4–A8), with the printed slip.
 //! * [`markov`]: exact D of the order-k correlated walk (resolvent of the history chain).
 //! * [`lattice_walk`]: Monte Carlo of that walk (Fig. 6b), Einstein formula, batch errors.
@@ -13,6 +14,7 @@
 //! The derivations are in `proofs-notes/` (index: `proofs-notes/theory-index.md`).
 
 pub mod appendix_a;
+pub mod constants;
 pub mod green_kubo;
 pub mod hierarchy;
 pub mod honeycomb;

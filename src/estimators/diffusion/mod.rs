@@ -480,7 +480,8 @@ fn open_keeper<C: Serialize>(
         &quotas,
         every,
         &fits,
-    )?;
+    )?
+    .watching(options.stop.as_ref());
     (options.progress)(keep.collisions_done(&quotas));
     Ok(keep)
 }

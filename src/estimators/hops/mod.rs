@@ -339,7 +339,8 @@ fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolve
         &jobs,
         Some(options.checkpoint_every),
         &fits,
-    )?;
+    )?
+    .watching(options.stop.as_ref());
     progress(keep.collisions_done(&jobs));
     let todo: Vec<Quota> = jobs.into_iter().filter(|j| !keep.is_finished(j)).collect();
     let new: Vec<Hops> = match resolved {

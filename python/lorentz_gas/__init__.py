@@ -1,0 +1,604 @@
+"""Deterministic diffusion in the two-dimensional periodic Lorentz gas.
+
+A point particle of speed 1 among hard disks of radius 1 on a triangular lattice of spacing
+2 + w (Klages & Dellago, J. Stat. Phys. 101, 145 (2000)), or among disks of radius r at the
+integer points of the plane (the square scene). Every function runs the ``lorentz-gas`` Rust
+library and returns what ``lorentz <command> --json`` prints, with the same bits for the same
+parameters and seed. Lengths are in units of the disk radius (triangular) or of the lattice
+spacing (square); times in those units over the speed 1.
+
+Inputs
+    Gaps and radii: a ``str`` (an exact decimal ``"0.1"`` or fraction ``"1/10"``, parsed as the
+    command line parses it), a ``fractions.Fraction`` or ``decimal.Decimal`` (exact), or a
+    ``float`` (taken as its shortest decimal, ``0.1`` as ``"0.1"``). Counts: an ``int``, a
+    whole ``float`` (``2e9``) or a string (``"2e9"``, ``"2_000_000_000"``).
+
+Behaviour
+    The GIL is released while computing; Ctrl-C (``KeyboardInterrupt``) stops a run within
+    about a second and leaves no thread behind; ``progress=True`` shows a tqdm bar when tqdm is
+    installed (or pass a callable receiving the units done since its last call). Bad input
+    raises ``ValueError`` with the command line's one-line message naming the valid range; I/O
+    problems raise ``OSError`` naming the path.
+
+Example
+    >>> import lorentz_gas as lg
+    >>> r = lg.diffusion(w=0.1, collisions=2e7, batches=8)   # doctest: +SKIP
+    >>> r                                                     # doctest: +SKIP
+    <DiffusionResult: D = 0.0998... ± 0.000... at w = 0.1>
+"""
+
+from __future__ import annotations
+
+import decimal
+import fractions
+import numbers
+import os
+from typing import Any, Callable, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from ._native import CheckFailedError, ComputationError
+from ._results import (
+    AuditResult,
+    BackscatterResult,
+    CertifyResult,
+    DiffusionResult,
+    EscapeResult,
+    HopsResult,
+    LyapunovResult,
+    ReportResult,
+    Result,
+    ShadowResult,
+    SweepResult,
+    TrajectoryResult,
+)
+
+__version__ = _native.__version__
+
+__all__ = [
+    "diffusion",
+    "hops",
+    "backscatter",
+    "sweep",
+    "escape",
+    "lyapunov",
+    "audit",
+    "shadow",
+    "certify",
+    "trajectory",
+    "constants",
+    "report",
+    "events",
+    "EVENT_DTYPE",
+    "agreement_bound",
+    "Result",
+    "DiffusionResult",
+    "HopsResult",
+    "BackscatterResult",
+    "SweepResult",
+    "EscapeResult",
+    "LyapunovResult",
+    "AuditResult",
+    "ShadowResult",
+    "CertifyResult",
+    "TrajectoryResult",
+    "ReportResult",
+    "CheckFailedError",
+    "ComputationError",
+]
+
+Exact = Union[str, float, int, fractions.Fraction, decimal.Decimal]
+Count = Union[int, float, str]
+Progress = Union[bool, Callable[[int], Any]]
+PathLike = Union[str, "os.PathLike[str]"]
+
+#: The dtype of :func:`events`: one record per event.
+EVENT_DTYPE = np.dtype(
+    [
+        ("t", np.float64),  # time since the start (speed 1: also the path length)
+        ("x", np.float64),  # unwrapped world position after the event
+        ("y", np.float64),
+        ("vx", np.float64),  # velocity after the event (unit length)
+        ("vy", np.float64),
+        ("collision", np.bool_),  # True: a collision with a disk; False: an edge crossing
+        ("obstacle", np.uint8),  # the disk (collision) or edge (crossing) label in the cell
+        ("i", np.int64),  # cell indices along the lattice vectors e1, e2
+        ("j", np.int64),
+        ("down", np.bool_),  # the cell's orientation (triangular lattice: a point-reflected trap)
+    ]
+)
+
+
+def agreement_bound(dof: float) -> float:
+    """The crate's agreement bound for a value with an error from ``dof + 1`` batches: the
+    Student-t quantile with ``dof`` degrees of freedom whose two-sided tail equals that of 4
+    normal sigma (6.3e-5). ``agreement_bound(float("inf")) == 4.0``."""
+    return _native.agreement_bound(float(dof))
+
+
+def _exact(name: str, v: Any) -> str:
+    """An exact input as the text the command line parses."""
+    if isinstance(v, bool):
+        raise TypeError(f"{name} must be a number or a string, not bool")
+    if isinstance(v, str):
+        return v
+    if isinstance(v, fractions.Fraction):
+        return f"{v.numerator}/{v.denominator}"
+    if isinstance(v, decimal.Decimal):
+        return str(v)
+    if isinstance(v, numbers.Integral):
+        return str(int(v))
+    if isinstance(v, numbers.Real):
+        return repr(float(v))
+    raise TypeError(f"{name} must be a str, float, int, Fraction or Decimal, not {type(v).__name__}")
+
+
+def _optional_exact(name: str, v: Any) -> Optional[str]:
+    return None if v is None else _exact(name, v)
+
+
+def _count(name: str, v: Any) -> str:
+    """A count as the text the command line parses (whole floats such as 2e9 are accepted)."""
+    if isinstance(v, bool):
+        raise TypeError(f"{name} must be a whole number, not bool")
+    if isinstance(v, str):
+        return v
+    if isinstance(v, numbers.Integral):
+        return str(int(v))
+    if isinstance(v, numbers.Real):
+        f = float(v)
+        return repr(int(f)) if f.is_integer() and abs(f) < 2.0**64 else repr(f)
+    raise TypeError(f"{name} must be an int, a whole float or a string, not {type(v).__name__}")
+
+
+def _threads(v: Optional[Count]) -> Optional[str]:
+    return None if v is None else _count("threads", v)
+
+
+def _path(v: Optional[PathLike]) -> Optional[str]:
+    return None if v is None else os.fspath(v)
+
+
+class _Bar:
+    """A tqdm bar fed by the run's progress (nothing when tqdm is missing)."""
+
+    def __init__(self, progress: Progress, total: float, unit: str):
+        self.bar = None
+        self.callback: Optional[Callable[[int], Any]] = None
+        if callable(progress):
+            self.callback = progress
+        elif progress:
+            try:
+                from tqdm.auto import tqdm
+            except ImportError:
+                return
+            self.bar = tqdm(total=int(total), unit=unit, unit_scale=True, dynamic_ncols=True)
+            self.callback = self.bar.update
+
+    def __enter__(self) -> Optional[Callable[[int], Any]]:
+        return self.callback
+
+    def __exit__(self, *exc: Any) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def _total(v: Any) -> float:
+    try:
+        return float(str(v).replace("_", ""))
+    except ValueError:
+        return 0.0
+
+
+def diffusion(
+    w: Exact,
+    collisions: Count = 2e9,
+    batches: Count = 32,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    engine: str = "auto",
+    precision: Union[str, int] = "f64",
+    window: Tuple[float, float] = (10, 40),
+    check_window: Tuple[float, float] = (20, 80),
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    audit: Optional[float] = None,
+    reference_bits: Count = 128,
+    progress: Progress = False,
+) -> DiffusionResult:
+    """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap between neighbouring disks (radius 1): 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+    collisions : int
+        Collisions in all, over every batch (at least 2 per batch).
+    batches : int
+        Independent trajectories, at least 2; ``D_err`` is their standard error.
+    seed : int
+        Seed of the random starts: the same seed gives the same bits on any thread count,
+        engine, or in the command line.
+    threads : int, optional
+        Worker threads, 1 to 4 per core (default: every core this process may use).
+    engine : {"auto", "scalar", "simd"}
+        The engine; every engine gives the same bits.
+    precision : "f64" or int
+        The number type: f64, or MPFR with this many bits (53 or more; much slower).
+    window, check_window : (lo, hi)
+        Fit windows of the MSD slope, in units of the mean hop time tau.
+    checkpoint : path, optional
+        Keep the work in this file; a rerun with the same parameters resumes to the same bits.
+    checkpoint_every : float
+        Seconds between saves of the trajectories in flight (0 to 86400).
+    audit : float, optional
+        Replay this fraction (0, 1] of the events in MPFR as the run goes (f64 runs).
+    reference_bits : int
+        MPFR precision of the audit's replay (128 to 65536 bits).
+    progress : bool or callable
+        Show a tqdm bar (if tqdm is installed), or call ``progress(n)`` with collisions done.
+
+    Returns
+    -------
+    DiffusionResult
+        ``D``, ``D_err`` (length^2/time), ``D_check``, ``D_check_err``, ``mean_free_path``,
+        ``mean_free_path_err``, ``mean_free_path_exact``, ``msd_times``, ``msd`` and
+        ``batch_D`` (numpy arrays), ``meta``; ``to_dict()``, ``to_json()``.
+    """
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.diffusion(
+            _exact("w", w),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            _count("seed", seed),
+            _threads(threads),
+            str(engine),
+            str(precision),
+            (float(window[0]), float(window[1])),
+            (float(check_window[0]), float(check_window[1])),
+            _path(checkpoint),
+            float(checkpoint_every),
+            None if audit is None else float(audit),
+            _count("reference_bits", reference_bits),
+            cb,
+        )
+    return DiffusionResult(text)
+
+
+def hops(
+    w: Exact,
+    collisions: Count = 2e8,
+    batches: Count = 16,
+    order: Count = 4,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    engine: str = "auto",
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = False,
+) -> HopsResult:
+    """Trap-hopping statistics along lattice trajectories (``lorentz hops``).
+
+    ``w``: the gap, 0 < w < 0.3094...; ``collisions``: in all, over the ``batches`` (at least
+    2); ``order``: the longest symbol sequence counted (1 to 7). Returns the backscattering
+    probability ``p_bs``, the symbol-sequence probabilities ``pairs`` (with ``pairs_err``), the
+    symmetry test and the hop-level Green–Kubo ``D_GK`` against ``D_MZ``. Other parameters as
+    in :func:`diffusion`.
+    """
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.hops(
+            _exact("w", w),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            _count("order", order),
+            _count("seed", seed),
+            _threads(threads),
+            str(engine),
+            _path(checkpoint),
+            float(checkpoint_every),
+            cb,
+        )
+    return HopsResult(text)
+
+
+def backscatter(
+    w: Exact,
+    particles: Count = 1e7,
+    batches: Count = 32,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    precision: Union[str, int] = "f64",
+    progress: Progress = False,
+) -> BackscatterResult:
+    """Backscattering by injection into one trap (``lorentz backscatter``): ``particles``
+    injected with the invariant measure of the trap's openings, split into ``batches``."""
+    with _Bar(progress, _total(_count("particles", particles)), "inj") as cb:
+        text = _native.backscatter(
+            _exact("w", w),
+            _count("particles", particles),
+            _count("batches", batches),
+            _count("seed", seed),
+            _threads(threads),
+            str(precision),
+            cb,
+        )
+    return BackscatterResult(text)
+
+
+def sweep(
+    w_from: Exact,
+    w_to: Exact,
+    steps: Count = 11,
+    runs: Count = 10,
+    collisions_per_run: Count = 2e8,
+    batches_per_run: Count = 8,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    engine: str = "auto",
+    out: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = False,
+) -> SweepResult:
+    """D(w) over ``steps`` gaps from ``w_from`` to ``w_to`` (``lorentz sweep``), computed on an
+    exact grid; ``runs`` independent runs per point of ``collisions_per_run`` collisions over
+    ``batches_per_run`` batches. With ``out``, finished points are kept there (a rerun
+    resumes) and the tables sweep.csv, sweep-runs.csv and sweep.json are written. The result
+    has ``rows`` and the columns ``w``, ``D``, ``D_err``, ``D_MZ``, ``D_Bo`` as numpy arrays;
+    ``to_pandas()`` gives the table."""
+    total = _total(_count("collisions_per_run", collisions_per_run)) * _total(
+        _count("runs", runs)
+    ) * _total(_count("steps", steps))
+    with _Bar(progress, total, "coll") as cb:
+        text = _native.sweep(
+            _exact("w_from", w_from),
+            _exact("w_to", w_to),
+            _count("steps", steps),
+            _count("runs", runs),
+            _count("collisions_per_run", collisions_per_run),
+            _count("batches_per_run", batches_per_run),
+            _count("seed", seed),
+            _threads(threads),
+            str(engine),
+            _path(out),
+            float(checkpoint_every),
+            cb,
+        )
+    return SweepResult(text)
+
+
+def escape(
+    w: Exact,
+    widths: Optional[Sequence[float]] = None,
+    particles_per_width: Count = 2e5,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = False,
+) -> EscapeResult:
+    """D from the escape rate out of open strips of several widths (``lorentz escape``,
+    Gaspard–Baras), extrapolated in 1/L. ``widths``: at least 3 distinct strip widths L
+    (default 8a, 12a, 16a, 24a with a = 2 + w)."""
+    n = 4 if widths is None else len(widths)
+    with _Bar(progress, _total(_count("particles_per_width", particles_per_width)) * n, "part") as cb:
+        text = _native.escape(
+            _exact("w", w),
+            None if widths is None else [float(x) for x in widths],
+            _count("particles_per_width", particles_per_width),
+            _count("seed", seed),
+            _threads(threads),
+            _path(checkpoint),
+            float(checkpoint_every),
+            cb,
+        )
+    return EscapeResult(text)
+
+
+def lyapunov(
+    w: Optional[Exact] = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    collisions_per_batch: Count = 2e6,
+    batches: Count = 16,
+    starts: Count = 8,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    progress: Progress = False,
+) -> LyapunovResult:
+    """The largest Lyapunov exponent in tangent space (``lorentz lyapunov``), per collision and
+    per unit time, and (``starts`` > 0, at least 2) its divergence from a 4096-bit reference."""
+    with _Bar(progress, 0, "coll") as cb:
+        text = _native.lyapunov(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("collisions_per_batch", collisions_per_batch),
+            _count("batches", batches),
+            _count("starts", starts),
+            _count("seed", seed),
+            _threads(threads),
+            cb,
+        )
+    return LyapunovResult(text)
+
+
+def audit(
+    w: Optional[Exact] = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    collisions: Count = 1e6,
+    batches: Count = 4,
+    sample: float = 1.0,
+    reference_bits: Count = 128,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    progress: Progress = False,
+) -> AuditResult:
+    """The shadow audit (``lorentz audit``): a ``sample`` fraction (0, 1] of the f64 events
+    replayed at ``reference_bits`` (128 to 65536) and checked against the error model."""
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.audit(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            float(sample),
+            _count("reference_bits", reference_bits),
+            _count("seed", seed),
+            _threads(threads),
+            cb,
+        )
+    return AuditResult(text)
+
+
+def shadow(
+    w: Exact,
+    collisions_per_segment: Count = 100,
+    segments: Count = 8,
+    reference_bits: Count = 256,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    progress: Progress = False,
+) -> ShadowResult:
+    """True orbits shadowing f64 segments of the triangular gas (``lorentz shadow``)."""
+    with _Bar(progress, 0, "coll") as cb:
+        text = _native.shadow(
+            _exact("w", w),
+            _count("collisions_per_segment", collisions_per_segment),
+            _count("segments", segments),
+            _count("reference_bits", reference_bits),
+            _count("seed", seed),
+            _threads(threads),
+            cb,
+        )
+    return ShadowResult(text)
+
+
+def certify(
+    w: Optional[Exact] = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    collisions: Count = 1000,
+    digits: Count = 30,
+    seed: Count = 1,
+    progress: Progress = False,
+) -> CertifyResult:
+    """A segment of ``collisions`` collisions from the equilibrium start of batch 0 of
+    ``diffusion(seed=seed)``, certified to ``digits`` digits (``lorentz certify``)."""
+    with _Bar(progress, 3 * _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.certify(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("collisions", collisions),
+            _count("digits", digits),
+            _count("seed", seed),
+            cb,
+        )
+    return CertifyResult(text)
+
+
+def trajectory(
+    start: Tuple[Exact, Exact],
+    direction: Tuple[Exact, Exact],
+    time: Exact,
+    *,
+    w: Optional[Exact] = None,
+    scene: Optional[str] = None,
+    radius: Optional[Exact] = None,
+    digits: Count = 30,
+    events: bool = False,
+    progress: Progress = False,
+) -> TrajectoryResult:
+    """One trajectory from exact initial conditions to certified digits (``lorentz
+    trajectory``): ``start`` (x, y) in world coordinates outside every disk, ``direction``
+    (dx, dy) nonzero, total ``time`` > 0, all exact. ``scene`` defaults to "triangular" with
+    ``w`` and "square" with ``radius``. The result's ``x``, ``y`` and ``distance`` are decimal
+    strings carrying exactly the certified digits (1 to 10000)."""
+    if scene is None:
+        scene = "square" if radius is not None and w is None else "triangular"
+    with _Bar(progress, 0, "coll") as cb:
+        text = _native.trajectory(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            (_exact("start", start[0]), _exact("start", start[1])),
+            (_exact("direction", direction[0]), _exact("direction", direction[1])),
+            _exact("time", time),
+            _count("digits", digits),
+            bool(events),
+            cb,
+        )
+    return TrajectoryResult(text)
+
+
+def constants(w: Exact, precision: Union[str, int] = "f64") -> Result:
+    """Every closed form at gap ``w`` (``lorentz constants --json``) at the working
+    ``precision``: lattice spacing, density, w_inf, w_0, trap area, Santaló's mean free path,
+    hop time, D_MZ, D_Bo, the bound on free paths. Values are numbers with every digit of the
+    working precision (as Python floats; ``to_json()`` keeps them all)."""
+    return Result(_native.constants(_exact("w", w), str(precision)))
+
+
+def report(
+    path: PathLike,
+    out: Optional[PathLike] = None,
+    quick: bool = False,
+    reference_bits: Count = 128,
+    max_rerun_collisions: Optional[Count] = None,
+    threads: Optional[Count] = None,
+    progress: Progress = False,
+) -> ReportResult:
+    """The publication audit of a result file (``lorentz report``): re-runs its recorded
+    configuration, checks every identity and writes report.md, report.html and report.json to
+    ``out`` (default: next to the file). The verdict is the result's ``verdict``; a FAIL is
+    returned, not raised (``raise CheckFailedError`` yourself to stop a pipeline)."""
+    with _Bar(progress, 0, "coll") as cb:
+        text = _native.report(
+            os.fspath(path),
+            _path(out),
+            bool(quick),
+            _count("reference_bits", reference_bits),
+            None if max_rerun_collisions is None else _count("max_rerun_collisions", max_rerun_collisions),
+            _threads(threads),
+            cb,
+        )
+    return ReportResult(text)
+
+
+def events(
+    w: Optional[Exact] = None,
+    n: Count = 100_000,
+    *,
+    seed: Count = 1,
+    batch: Count = 0,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    progress: Progress = False,
+) -> np.ndarray:
+    """``n`` consecutive events of one trajectory as a numpy structured array of dtype
+    :data:`EVENT_DTYPE`: ``t`` (time since the start), ``x``, ``y`` (unwrapped world position
+    after the event), ``vx``, ``vy`` (velocity after it), ``collision`` (True for a disk,
+    False for an edge crossing), ``obstacle`` (the disk or edge label), ``i``, ``j``, ``down``
+    (the cell). The trajectory is batch ``batch`` of ``diffusion(w, seed=seed)`` (the same
+    start), on the f64 engine. Memory is checked first: ``MemoryError`` names the largest n
+    that fits."""
+    with _Bar(progress, _total(_count("n", n)), "ev") as cb:
+        cols = _native.events(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("n", n),
+            _count("seed", seed),
+            _count("batch", batch),
+            cb,
+        )
+    out = np.empty(len(cols["t"]), dtype=EVENT_DTYPE)
+    for name in EVENT_DTYPE.names:
+        out[name] = cols[name]
+    return out

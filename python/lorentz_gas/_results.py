@@ -1,0 +1,194 @@
+"""Result objects: the command line's JSON as attributes, numeric lists as numpy arrays."""
+
+from __future__ import annotations
+
+import copy
+import json
+from typing import Any, Dict, List, Optional
+
+import numpy as np
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _array(v: Any) -> Any:
+    """A list of numbers (or a rectangular list of such lists) as a numpy array, else ``v``."""
+    if isinstance(v, list) and v:
+        if all(_is_number(x) for x in v):
+            if all(isinstance(x, int) for x in v):
+                return np.asarray(v, dtype=np.int64)
+            return np.asarray(v, dtype=np.float64)
+        if all(isinstance(x, list) and x and all(_is_number(y) for y in x) for x in v):
+            if len({len(x) for x in v}) == 1:
+                return np.asarray(v, dtype=np.float64)
+    return v
+
+
+def _pm(x: Optional[float], err: Optional[float]) -> str:
+    if x is None or err is None:
+        return "n/a"
+    return f"{x:.6f} ± {err:.6f}"
+
+
+class Result:
+    """A result: every key of the command line's ``--json`` output as an attribute (numeric
+    lists as numpy arrays), ``meta`` (how it was computed) as a dict, ``to_dict()`` and
+    ``to_json()`` (the command line's JSON, digit for digit)."""
+
+    _kind = "result"
+
+    def __init__(self, text: str):
+        self._json = text
+        self._data: Dict[str, Any] = json.loads(text)
+        for k, v in self._data.items():
+            setattr(self, k, _array(v))
+
+    def keys(self) -> List[str]:
+        """The result's keys, in the command line's order."""
+        return list(self._data)
+
+    def __getitem__(self, key: str) -> Any:
+        return getattr(self, key)
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The result as plain Python data (lists, not arrays): ``json.loads(self.to_json())``."""
+        return copy.deepcopy(self._data)
+
+    def to_json(self) -> str:
+        """The command line's JSON of this result (``lorentz <command> --json``), unchanged."""
+        return self._json
+
+    def _summary(self) -> str:
+        return ", ".join(self.keys()[:6]) + ", ..."
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__}: {self._summary()}>"
+
+
+class DiffusionResult(Result):
+    """D(w) by the Einstein formula: ``D`` ± ``D_err`` (standard error over the batches, in
+    units of length²/time with speed 1 and disk radius 1), the check window's ``D_check``, the
+    mean free path against Santaló's ``mean_free_path_exact``, ``msd_times`` (time) and
+    ``msd`` (⟨Δr²⟩, length²) as numpy arrays, ``batch_D`` (one D per batch)."""
+
+    @property
+    def msd(self) -> np.ndarray:
+        """Mean squared displacement ⟨Δr²⟩ at ``msd_times`` (4 t · ``msd_over_4t``)."""
+        return 4.0 * np.asarray(self.msd_times) * np.asarray(self.msd_over_4t)
+
+    @property
+    def msd_err(self) -> np.ndarray:
+        """Standard error of ``msd`` over the batches."""
+        return 4.0 * np.asarray(self.msd_times) * np.asarray(self.msd_over_4t_err)
+
+    def _summary(self) -> str:
+        return f"D = {_pm(self.D, self.D_err)} at w = {self.w}"
+
+
+class HopsResult(Result):
+    """Trap-hopping statistics: backscattering ``p_bs``, symbol-sequence probabilities
+    ``pairs`` (with ``pairs_err``), the hop-level Green–Kubo ``D_GK`` against ``D_MZ``."""
+
+    def _summary(self) -> str:
+        return (
+            f"p_bs = {_pm(self.p_bs, self.p_bs_err)}, D_GK = {_pm(self.D_GK, self.D_GK_err)} "
+            f"at w = {self.w}"
+        )
+
+
+class BackscatterResult(Result):
+    """Backscattering by injection into one trap."""
+
+    def _summary(self) -> str:
+        p = self._data.get("p_bs")
+        e = self._data.get("p_bs_err")
+        return f"p_bs = {_pm(p, e)} at w = {self._data.get('w')}"
+
+
+class SweepResult(Result):
+    """D(w) over a grid of gaps: ``rows`` (one dict per w) and, as numpy arrays, ``w``, ``D``,
+    ``D_err``, ``D_MZ``, ``D_Bo`` (one value per point); ``to_pandas()`` gives the table."""
+
+    _COLUMNS = ("w", "inv_n", "D", "D_err", "D_err_dof", "runs_p_value", "D_MZ", "D_Bo")
+
+    def __init__(self, text: str):
+        super().__init__(text)
+        for c in self._COLUMNS:
+            if c not in self._data:
+                setattr(self, c, np.asarray([r[c] for r in self._data["rows"]]))
+
+    def to_pandas(self):
+        """The rows as a ``pandas.DataFrame`` (one row per w; needs pandas)."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError("SweepResult.to_pandas() needs pandas: pip install pandas") from e
+        return pd.DataFrame(
+            [{k: v for k, v in r.items() if not isinstance(v, list)} for r in self._data["rows"]]
+        )
+
+    def _summary(self) -> str:
+        ws = [r["w"] for r in self._data["rows"]]
+        return f"{len(ws)} points, w = {ws[0]} .. {ws[-1]}"
+
+
+class EscapeResult(Result):
+    """Diffusion from the escape rate out of open strips (Gaspard–Baras)."""
+
+    def _summary(self) -> str:
+        d = self._data
+        return f"D = {_pm(d.get('D'), d.get('D_err'))} at w = {d.get('w')}"
+
+
+class LyapunovResult(Result):
+    """The largest Lyapunov exponent (``tangent``) and the divergence rows (``divergence``)."""
+
+    def _summary(self) -> str:
+        t = self._data["tangent"]
+        return (
+            f"lambda = {_pm(t['per_collision'], t['per_collision_err'])} per collision, "
+            f"{_pm(t['per_time'], t['per_time_err'])} per unit time"
+        )
+
+
+class AuditResult(Result):
+    """A shadow audit: the events replayed in MPFR and how many fell outside the error model."""
+
+    def _summary(self) -> str:
+        s = self._data["summary"]
+        return f"{s['audited']} events replayed, {s['outside']} outside the error model"
+
+
+class ShadowResult(Result):
+    """True orbits shadowing f64 segments (Newton's method, certified by Kantorovich)."""
+
+    def _summary(self) -> str:
+        d = self._data
+        return f"{len(d['segments'])} segments: {d['converged']} converged, {d['certified']} certified"
+
+
+class CertifyResult(Result):
+    """A segment of an equilibrium trajectory certified to its digits."""
+
+    def _summary(self) -> str:
+        d = self._data
+        return f"{d['collisions']} collisions certified to {d['digits_agreed']:.1f} digits"
+
+
+class TrajectoryResult(Result):
+    """One trajectory from exact inputs: ``x``, ``y`` and ``distance`` are decimal strings
+    carrying exactly the certified digits; ``events`` (when asked) the events as dicts."""
+
+    def _summary(self) -> str:
+        d = self._data
+        return f"x = {d['x']}, y = {d['y']} ({d['certified_digits']} digits certified)"
+
+
+class ReportResult(Result):
+    """The publication audit of a result file: ``verdict`` (PASS, WARN or FAIL) and ``checks``."""
+
+    def _summary(self) -> str:
+        d = self._data
+        return f"{d['verdict']}: {len(d['checks'])} checks"

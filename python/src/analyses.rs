@@ -1,0 +1,551 @@
+//! One function per analysis: the values as typed, the library's configuration (checked by its
+//! `validate`), `run(&config, &options)` on a worker thread, the result as the command line's
+//! JSON.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use serde::Serialize;
+
+use lorentz_gas::engine::options::{AuditSpec, RunOptions, MAX_CHECKPOINT_EVERY};
+use lorentz_gas::engine::Engine;
+use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, Window};
+use lorentz_gas::estimators::escape::{self, EscapeConfig};
+use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
+use lorentz_gas::estimators::hops::{self, HopsConfig};
+use lorentz_gas::estimators::sweep::{self, SweepConfig};
+use lorentz_gas::estimators::trajectory::{self, TrajectoryInput, MAX_DIGITS};
+use lorentz_gas::numbers::exact::parse_exact;
+use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
+use lorentz_gas::scenes::Scene;
+use lorentz_gas::theory::constants::{self, ConstantsConfig};
+use lorentz_gas::verification::certify::{self, CertifyConfig};
+use lorentz_gas::verification::divergence::{self, Divergence, DivergenceConfig};
+use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
+use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
+use lorentz_gas::verification::shadowing::{self, ShadowConfig};
+
+use crate::inputs::{self, count_u32, count_u64, count_usize, exact};
+use crate::scenes::{resolve, with_scene};
+use crate::watch::{compute, json, Ctl};
+
+/// The run options of a computation watched by `ctl`.
+fn options<'a>(ctl: &'a Ctl<'a>, threads: usize, engine: Engine) -> RunOptions<'a> {
+    RunOptions {
+        engine,
+        threads,
+        progress: ctl.progress,
+        stop: Some(ctl.stop.clone()),
+        ..RunOptions::default()
+    }
+}
+
+/// A fit window in units of τ, as the command line's `LO:HI`.
+fn window(name: &str, (lo, hi): (f64, f64)) -> PyResult<Window> {
+    format!("{lo}:{hi}")
+        .parse::<Window>()
+        .map_err(|e| PyValueError::new_err(format!("{name}: {e}")))
+}
+
+/// A checkpoint interval in seconds, 0 to a day.
+fn interval(seconds: f64) -> PyResult<Duration> {
+    let max = MAX_CHECKPOINT_EVERY.as_secs_f64();
+    if !(0.0..=max).contains(&seconds) {
+        return Err(PyValueError::new_err(format!(
+            "checkpoint_every = {seconds} s is out of range: use 0 to {max} s"
+        )));
+    }
+    Ok(Duration::from_secs_f64(seconds))
+}
+
+/// The Lyapunov result of the command line: the tangent-space exponent and the divergence rows.
+#[derive(Serialize)]
+struct LyapunovJson {
+    tangent: LyapunovReport,
+    divergence: Vec<Divergence>,
+}
+
+#[pyfunction]
+#[pyo3(name = "diffusion", signature = (w, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_diffusion(
+    py: Python<'_>,
+    w: &str,
+    collisions: &str,
+    batches: &str,
+    seed: &str,
+    threads: Option<&str>,
+    engine: &str,
+    precision: &str,
+    window: (f64, f64),
+    check_window: (f64, f64),
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: f64,
+    audit: Option<f64>,
+    reference_bits: &str,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let w = exact("w", w)?;
+    let cfg = DiffusionConfig {
+        w: w.value,
+        w_exact: w.exact_text(),
+        collisions: count_u64("collisions", collisions)?,
+        batches: count_u32("batches", batches)?,
+        seed: count_u64("seed", seed)?,
+        run: 0,
+        precision: inputs::precision(precision)?,
+        window: self::window("window", window)?,
+        check_window: self::window("check_window", check_window)?,
+    };
+    cfg.validate().map_err(crate::py_err)?;
+    let audit = match audit {
+        Some(rate) => Some(
+            AuditSpec::new(rate, count_u32("reference_bits", reference_bits)?)
+                .map_err(crate::py_err)?,
+        ),
+        None => None,
+    };
+    let (threads, engine) = (inputs::threads(threads)?, inputs::engine(engine)?);
+    let every = interval(checkpoint_every)?;
+    let r = compute(py, progress, |ctl| {
+        let opts = RunOptions {
+            resume: checkpoint,
+            audit,
+            checkpoint_every: every,
+            ..options(ctl, threads, engine)
+        };
+        diffusion::run(&cfg, &opts)
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
+#[pyo3(name = "hops", signature = (w, collisions, batches, order, seed, threads, engine, checkpoint, checkpoint_every, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_hops(
+    py: Python<'_>,
+    w: &str,
+    collisions: &str,
+    batches: &str,
+    order: &str,
+    seed: &str,
+    threads: Option<&str>,
+    engine: &str,
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: f64,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let cfg = HopsConfig {
+        w: exact("w", w)?.value,
+        collisions: count_u64("collisions", collisions)?,
+        batches: count_u32("batches", batches)?,
+        order: count_usize("order", order)?,
+        seed: count_u64("seed", seed)?,
+        run: 0,
+    };
+    let (threads, engine) = (inputs::threads(threads)?, inputs::engine(engine)?);
+    let every = interval(checkpoint_every)?;
+    let r = compute(py, progress, |ctl| {
+        let opts = RunOptions {
+            resume: checkpoint,
+            checkpoint_every: every,
+            ..options(ctl, threads, engine)
+        };
+        hops::run(&cfg, &opts)
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
+#[pyo3(name = "backscatter", signature = (w, particles, batches, seed, threads, precision, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_backscatter(
+    py: Python<'_>,
+    w: &str,
+    particles: &str,
+    batches: &str,
+    seed: &str,
+    threads: Option<&str>,
+    precision: &str,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let w = exact("w", w)?;
+    let cfg = BackscatterConfig {
+        w: w.value,
+        w_exact: w.exact_text(),
+        particles: count_u64("particles", particles)?,
+        batches: count_u32("batches", batches)?,
+        seed: count_u64("seed", seed)?,
+        run: 0,
+        precision: inputs::precision(precision)?,
+    };
+    let threads = inputs::threads(threads)?;
+    let r = compute(py, progress, |ctl| {
+        backscatter::run(&cfg, &options(ctl, threads, Engine::Auto))
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
+#[pyo3(name = "sweep", signature = (w_from, w_to, steps, runs, collisions_per_run, batches_per_run, seed, threads, engine, out, checkpoint_every, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_sweep(
+    py: Python<'_>,
+    w_from: &str,
+    w_to: &str,
+    steps: &str,
+    runs: &str,
+    collisions_per_run: &str,
+    batches_per_run: &str,
+    seed: &str,
+    threads: Option<&str>,
+    engine: &str,
+    out: Option<PathBuf>,
+    checkpoint_every: f64,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let cfg = SweepConfig {
+        w_from: w_from.trim().to_string(),
+        w_to: w_to.trim().to_string(),
+        steps: count_u32("steps", steps)?,
+        runs: count_u32("runs", runs)?,
+        collisions: count_u64("collisions_per_run", collisions_per_run)?,
+        batches: count_u32("batches_per_run", batches_per_run)?,
+        seed: count_u64("seed", seed)?,
+    };
+    cfg.validate().map_err(crate::py_err)?;
+    let (threads, engine) = (inputs::threads(threads)?, inputs::engine(engine)?);
+    let every = interval(checkpoint_every)?;
+    let r = compute(py, progress, |ctl| {
+        let opts = RunOptions {
+            resume: out.clone(),
+            checkpoint_every: every,
+            ..options(ctl, threads, engine)
+        };
+        let r = sweep::run(&cfg, &opts)?;
+        if let Some(dir) = &out {
+            sweep::write_tables(&r, dir)?;
+        }
+        Ok(r)
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
+#[pyo3(name = "escape", signature = (w, widths, particles_per_width, seed, threads, checkpoint, checkpoint_every, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_escape(
+    py: Python<'_>,
+    w: &str,
+    widths: Option<Vec<f64>>,
+    particles_per_width: &str,
+    seed: &str,
+    threads: Option<&str>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: f64,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let w = exact("w", w)?.value;
+    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(w).map_err(crate::py_err)?;
+    let cfg = EscapeConfig {
+        w,
+        widths: widths.unwrap_or_else(|| escape::default_widths(w)),
+        particles_per_width: count_u64("particles_per_width", particles_per_width)?,
+        seed: count_u64("seed", seed)?,
+    };
+    cfg.validate().map_err(crate::py_err)?;
+    let threads = inputs::threads(threads)?;
+    let every = interval(checkpoint_every)?;
+    let r = compute(py, progress, |ctl| {
+        let opts = RunOptions {
+            resume: checkpoint,
+            checkpoint_every: every,
+            ..options(ctl, threads, Engine::Auto)
+        };
+        escape::run(&cfg, &opts)
+    })?;
+    json(&r)
+}
+
+/// Most divergence starts: each costs about a second of MPFR work at 4096 bits.
+const MAX_STARTS: u32 = 10_000;
+
+#[pyfunction]
+#[pyo3(name = "lyapunov", signature = (scene, w, radius, collisions_per_batch, batches, starts, seed, threads, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_lyapunov(
+    py: Python<'_>,
+    scene: &str,
+    w: Option<&str>,
+    radius: Option<&str>,
+    collisions_per_batch: &str,
+    batches: &str,
+    starts: &str,
+    seed: &str,
+    threads: Option<&str>,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let starts = count_u32("starts", starts)?;
+    if starts == 1 || starts > MAX_STARTS {
+        return Err(PyValueError::new_err(format!(
+            "starts = {starts}: use 0 (no divergence measurement) or 2 to {MAX_STARTS} (the error \
+             bars are over the starts, reliable from 4; each costs about a second)"
+        )));
+    }
+    let choice = resolve(scene, w, radius)?;
+    let seed = count_u64("seed", seed)?;
+    let cfg = LyapunovConfig {
+        collisions_per_batch: count_u64("collisions_per_batch", collisions_per_batch)?,
+        batches: count_u32("batches", batches)?,
+        seed,
+    };
+    let threads = inputs::threads(threads)?;
+    let r = compute(py, progress, |ctl| {
+        let opts = options(ctl, threads, Engine::Auto);
+        let tangent = with_scene!(&choice, |s| lyapunov::run(s, &cfg, &opts))?;
+        let divergence = if starts > 0 {
+            let d = DivergenceConfig {
+                starts,
+                seed,
+                ..DivergenceConfig::new()
+            };
+            let one = options(ctl, 1, Engine::Auto);
+            with_scene!(&choice, |s| divergence::run(s, &d, &one))?
+        } else {
+            Vec::new()
+        };
+        Ok(LyapunovJson {
+            tangent,
+            divergence,
+        })
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
+#[pyo3(name = "audit", signature = (scene, w, radius, collisions, batches, sample, reference_bits, seed, threads, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_audit(
+    py: Python<'_>,
+    scene: &str,
+    w: Option<&str>,
+    radius: Option<&str>,
+    collisions: &str,
+    batches: &str,
+    sample: f64,
+    reference_bits: &str,
+    seed: &str,
+    threads: Option<&str>,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let choice = resolve(scene, w, radius)?;
+    let cfg = AuditConfig {
+        scene: with_scene!(&choice, |s| s.label()),
+        collisions: count_u64("collisions", collisions)?,
+        batches: count_u32("batches", batches)?,
+        sample,
+        reference_bits: count_u32("reference_bits", reference_bits)?,
+        seed: count_u64("seed", seed)?,
+    };
+    let threads = inputs::threads(threads)?;
+    let r = compute(py, progress, |ctl| {
+        let opts = options(ctl, threads, Engine::Auto);
+        with_scene!(&choice, |s| shadow_audit::run(s, &cfg, &opts))
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
+#[pyo3(name = "shadow", signature = (w, collisions_per_segment, segments, reference_bits, seed, threads, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_shadow(
+    py: Python<'_>,
+    w: &str,
+    collisions_per_segment: &str,
+    segments: &str,
+    reference_bits: &str,
+    seed: &str,
+    threads: Option<&str>,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let choice = resolve("triangular", Some(w), None)?;
+    let request = ShadowConfig {
+        collisions_per_segment: count_usize("collisions_per_segment", collisions_per_segment)?,
+        segments: count_u32("segments", segments)?,
+        seed: count_u64("seed", seed)?,
+        reference_bits: count_u32("reference_bits", reference_bits)?,
+    };
+    let threads = inputs::threads(threads)?;
+    let r = compute(py, progress, |ctl| {
+        let opts = options(ctl, threads, Engine::Auto);
+        with_scene!(&choice, |s| shadowing::run(s, &request, &opts))
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
+#[pyo3(name = "certify", signature = (scene, w, radius, collisions, digits, seed, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_certify(
+    py: Python<'_>,
+    scene: &str,
+    w: Option<&str>,
+    radius: Option<&str>,
+    collisions: &str,
+    digits: &str,
+    seed: &str,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let choice = resolve(scene, w, radius)?;
+    let cfg = CertifyConfig {
+        collisions: count_usize("collisions", collisions)?,
+        digits: count_u32("digits", digits)?,
+        seed: count_u64("seed", seed)?,
+    };
+    let r = compute(py, progress, |ctl| {
+        let opts = options(ctl, 1, Engine::Auto);
+        with_scene!(&choice, |s| certify::run(s, &cfg, &opts))
+    })?;
+    json(&r)
+}
+
+/// One exact number of a trajectory's input, named for its message.
+fn exact_q(name: &str, text: &str) -> PyResult<rug::Rational> {
+    parse_exact(text).map_err(|e| PyValueError::new_err(format!("{name}: {e}")))
+}
+
+#[pyfunction]
+#[pyo3(name = "trajectory", signature = (scene, w, radius, start, direction, time, digits, events, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_trajectory(
+    py: Python<'_>,
+    scene: &str,
+    w: Option<&str>,
+    radius: Option<&str>,
+    start: (String, String),
+    direction: (String, String),
+    time: &str,
+    digits: &str,
+    events: bool,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let digits = count_u32("digits", digits)?;
+    if digits == 0 || digits > MAX_DIGITS {
+        return Err(PyValueError::new_err(format!(
+            "digits = {digits} is out of range: use 1 to {MAX_DIGITS}"
+        )));
+    }
+    let input = TrajectoryInput {
+        x: exact_q("start", &start.0)?,
+        y: exact_q("start", &start.1)?,
+        dx: exact_q("direction", &direction.0)?,
+        dy: exact_q("direction", &direction.1)?,
+        time: exact_q("time", time)?,
+        digits,
+        record_events: events,
+    };
+    // Any gap w > 0 (the trajectory is one orbit: no diffusive range is needed).
+    let choice = match (scene, w) {
+        ("triangular", Some(w)) => {
+            let q = exact("w", w)?.rational("w").map_err(crate::py_err)?;
+            if q <= 0 {
+                return Err(PyValueError::new_err(format!(
+                    "w = {} is out of range: use w > 0 (at w <= 0 the disks touch)",
+                    lorentz_gas::numbers::exact::nearest_f64(&q)
+                )));
+            }
+            crate::scenes::SceneChoice::Triangular(Box::new(
+                lorentz_gas::scenes::triangular::TriangularScene::exact(q)
+                    .map_err(crate::py_err)?,
+            ))
+        }
+        _ => resolve(scene, w, radius)?,
+    };
+    let r = compute(py, progress, |ctl| {
+        let opts = options(ctl, 1, Engine::Auto);
+        with_scene!(&choice, |s| trajectory::run(s, &input, &opts))
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
+#[pyo3(name = "report", signature = (result, out, quick, reference_bits, max_rerun_collisions, threads, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_report(
+    py: Python<'_>,
+    result: PathBuf,
+    out: Option<PathBuf>,
+    quick: bool,
+    reference_bits: &str,
+    max_rerun_collisions: Option<&str>,
+    threads: Option<&str>,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let out = out.unwrap_or_else(|| {
+        let stem = result
+            .file_stem()
+            .map_or("result".into(), |s| s.to_string_lossy().to_string());
+        result.with_file_name(format!("{stem}-report"))
+    });
+    let cfg = PublicationConfig {
+        result,
+        out,
+        quick,
+        reference_bits: count_u32("reference_bits", reference_bits)?,
+        max_rerun_collisions: max_rerun_collisions
+            .map(|m| count_u64("max_rerun_collisions", m))
+            .transpose()?,
+    };
+    let threads = inputs::threads(threads)?;
+    let r = compute(py, progress, |ctl| {
+        publication::run(&cfg, &options(ctl, threads, Engine::Auto))
+    })?;
+    json(&r)
+}
+
+/// Registers the analyses in the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(py_diffusion, m)?)?;
+    m.add_function(wrap_pyfunction!(py_hops, m)?)?;
+    m.add_function(wrap_pyfunction!(py_backscatter, m)?)?;
+    m.add_function(wrap_pyfunction!(py_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(py_escape, m)?)?;
+    m.add_function(wrap_pyfunction!(py_lyapunov, m)?)?;
+    m.add_function(wrap_pyfunction!(py_audit, m)?)?;
+    m.add_function(wrap_pyfunction!(py_shadow, m)?)?;
+    m.add_function(wrap_pyfunction!(py_certify, m)?)?;
+    m.add_function(wrap_pyfunction!(py_trajectory, m)?)?;
+    m.add_function(wrap_pyfunction!(py_report, m)?)?;
+    m.add_function(wrap_pyfunction!(py_constants, m)?)?;
+    m.add_function(wrap_pyfunction!(py_agreement_bound, m)?)?;
+    Ok(())
+}
+
+#[pyfunction]
+#[pyo3(name = "constants", signature = (w, precision))]
+fn py_constants(w: &str, precision: &str) -> PyResult<String> {
+    let w = exact("w", w)?;
+    let r = constants::run(&ConstantsConfig {
+        w: w.value,
+        w_exact: w.exact_text(),
+        precision: inputs::precision(precision)?,
+    })
+    .map_err(crate::py_err)?;
+    r.to_json().map_err(crate::py_err)
+}
+
+/// The crate's agreement bound: the Student-t quantile with `dof` degrees of freedom whose
+/// two-sided tail equals that of 4 normal σ (6.3·10⁻⁵), for comparing a value with an error
+/// from `dof + 1` batches (`statistics::comparison::agreement_bound`).
+#[pyfunction]
+#[pyo3(name = "agreement_bound", signature = (dof))]
+fn py_agreement_bound(dof: f64) -> PyResult<f64> {
+    if dof.is_nan() || dof < 1.0 {
+        return Err(PyValueError::new_err(format!(
+            "dof = {dof} is out of range: use 1 or more (inf for the normal 4σ)"
+        )));
+    }
+    Ok(lorentz_gas::statistics::comparison::agreement_bound(dof))
+}

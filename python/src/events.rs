@@ -1,0 +1,178 @@
+//! `events`: the consecutive events of one trajectory as numpy columns, for a user's own
+//! observables (free paths, velocity autocorrelations, Poincaré sections).
+
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::exceptions::{PyMemoryError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use lorentz_gas::kernel::flight::EventKind;
+use lorentz_gas::scenes::sampling::stream;
+use lorentz_gas::scenes::Scene;
+use lorentz_gas::Error;
+
+use crate::inputs::{count_u32, count_u64};
+use crate::scenes::{resolve, with_scene};
+use crate::watch::{compute, Ctl};
+
+/// Bytes per event: the columns here (5 `f64`, 2 `i64`, 3 `u8`) and the structured array the
+/// Python package builds from them (the same again, padded).
+pub const BYTES_PER_EVENT: u64 = 59 + 64;
+
+/// Most events of one call: 2³² (about 500 GiB of events; memory refuses far fewer).
+pub const MAX_EVENTS: u64 = 1 << 32;
+
+/// Events between two looks at the stop flag and two progress reports.
+const CHUNK: u64 = 1 << 16;
+
+/// The columns of the events.
+#[derive(Default)]
+struct Columns {
+    t: Vec<f64>,
+    x: Vec<f64>,
+    y: Vec<f64>,
+    vx: Vec<f64>,
+    vy: Vec<f64>,
+    collision: Vec<u8>,
+    obstacle: Vec<u8>,
+    down: Vec<u8>,
+    i: Vec<i64>,
+    j: Vec<i64>,
+}
+
+impl Columns {
+    fn with_capacity(n: usize) -> Self {
+        Columns {
+            t: Vec::with_capacity(n),
+            x: Vec::with_capacity(n),
+            y: Vec::with_capacity(n),
+            vx: Vec::with_capacity(n),
+            vy: Vec::with_capacity(n),
+            collision: Vec::with_capacity(n),
+            obstacle: Vec::with_capacity(n),
+            down: Vec::with_capacity(n),
+            i: Vec::with_capacity(n),
+            j: Vec::with_capacity(n),
+        }
+    }
+}
+
+/// The memory the machine has available now (`MemAvailable` of /proc/meminfo), if known.
+fn available_bytes() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuses `n` events beyond [`MAX_EVENTS`] or beyond 80 % of the available memory.
+fn check_memory(n: u64) -> PyResult<()> {
+    if n == 0 || n > MAX_EVENTS {
+        return Err(PyValueError::new_err(format!(
+            "n = {n} is out of range: use 1 to {MAX_EVENTS} events"
+        )));
+    }
+    let need = n.saturating_mul(BYTES_PER_EVENT);
+    if let Some(avail) = available_bytes() {
+        if need as f64 > 0.8 * avail as f64 {
+            return Err(PyMemoryError::new_err(format!(
+                "n = {n} events need {:.2} GiB ({BYTES_PER_EVENT} bytes each), more than 80 % of \
+                 the {:.2} GiB available: ask for at most {} events, or several calls",
+                need as f64 / 2f64.powi(30),
+                avail as f64 / 2f64.powi(30),
+                (0.8 * avail as f64 / BYTES_PER_EVENT as f64) as u64
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// `n` events of the trajectory of batch `batch` with seed `seed` (its f64 start: the start of
+/// that batch of `diffusion`), on the scalar `f64` engine.
+fn record<S: Scene>(
+    scene: &S,
+    n: u64,
+    seed: u64,
+    batch: u32,
+    ctl: &Ctl<'_>,
+) -> Result<Columns, Error> {
+    let lat = scene.lattice::<f64>(())?;
+    let basis = lat.basis_f64();
+    let mut s = scene.sample(&mut stream(seed, batch as u64));
+    s.flight.normalise_speed();
+    let origin = lorentz_gas::scenes::lattice::Unwrapped::default();
+    let mut c = Columns::with_capacity(n as usize);
+    let mut t = 0.0f64;
+    let mut k = 0u64;
+    while k < n {
+        ctl.stop.check()?;
+        let end = (k + CHUNK).min(n);
+        for _ in k..end {
+            let ev = lat.step(&mut s).map_err(|e| Error::Failed(e.to_string()))?;
+            t += ev.time;
+            let u = lat.unwrapped(&s, 0.0);
+            let [x, y] = u.displacement_from(&origin, &basis);
+            let sg = s.cell.sign();
+            c.t.push(t);
+            c.x.push(x);
+            c.y.push(y);
+            c.vx.push(sg * s.flight.vel.x);
+            c.vy.push(sg * s.flight.vel.y);
+            let (col, label) = match ev.kind {
+                EventKind::Collision(d) => (1, d),
+                EventKind::Crossing(e) => (0, e),
+            };
+            c.collision.push(col);
+            c.obstacle.push(label);
+            c.down.push(u8::from(s.cell.down));
+            c.i.push(s.cell.i);
+            c.j.push(s.cell.j);
+        }
+        (ctl.progress)(end - k);
+        k = end;
+    }
+    Ok(c)
+}
+
+#[pyfunction]
+#[pyo3(name = "events", signature = (scene, w, radius, n, seed, batch, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_events<'py>(
+    py: Python<'py>,
+    scene: &str,
+    w: Option<&str>,
+    radius: Option<&str>,
+    n: &str,
+    seed: &str,
+    batch: &str,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let choice = resolve(scene, w, radius)?;
+    let n = count_u64("n", n)?;
+    let seed = count_u64("seed", seed)?;
+    let batch = count_u32("batch", batch)?;
+    check_memory(n)?;
+    let c = compute(py, progress, |ctl| {
+        with_scene!(&choice, |s| record(s, n, seed, batch, ctl))
+    })?;
+    let d = PyDict::new(py);
+    let f = |v: Vec<f64>| -> Bound<'py, PyArray1<f64>> { v.into_pyarray(py) };
+    d.set_item("t", f(c.t))?;
+    d.set_item("x", f(c.x))?;
+    d.set_item("y", f(c.y))?;
+    d.set_item("vx", f(c.vx))?;
+    d.set_item("vy", f(c.vy))?;
+    d.set_item("collision", c.collision.into_pyarray(py))?;
+    d.set_item("obstacle", c.obstacle.into_pyarray(py))?;
+    d.set_item("down", c.down.into_pyarray(py))?;
+    d.set_item("i", c.i.into_pyarray(py))?;
+    d.set_item("j", c.j.into_pyarray(py))?;
+    Ok(d)
+}
+
+/// Registers `events` in the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(py_events, m)?)?;
+    m.add("BYTES_PER_EVENT", BYTES_PER_EVENT)?;
+    Ok(())
+}

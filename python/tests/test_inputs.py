@@ -1,0 +1,96 @@
+"""Bad input raises ValueError with the command line's one-line message; I/O names the path."""
+
+import fractions
+
+import pytest
+
+import lorentz_gas as lg
+
+
+def cli_message(cli, *args):
+    code, _, err = cli(*args)
+    assert code == 2, err
+    line = err.strip().splitlines()[0]
+    assert line.startswith("error: ")
+    return line
+
+
+@pytest.mark.parametrize(
+    "kwargs, args",
+    [
+        (dict(w=0.5), ["--w", "0.5"]),
+        (dict(w=0), ["--w", "0"]),
+        (dict(w="nan"), ["--w", "nan"]),
+        (dict(w=0.1, batches=1), ["--w", "0.1", "--batches", "1"]),
+        (dict(w=0.1, precision=52), ["--w", "0.1", "--precision", "52"]),
+        (dict(w=0.1, window=(40, 10)), ["--w", "0.1", "--window", "40:10"]),
+        (dict(w=0.1, window=(10, 40), check_window=(10, 40)), ["--w", "0.1", "--check-window", "10:40"]),
+        (dict(w=0.1, audit=2.0), ["--w", "0.1", "--audit", "2"]),
+    ],
+)
+def test_library_refusals_are_the_command_lines_line(cli, kwargs, args):
+    with pytest.raises(ValueError) as e:
+        lg.diffusion(collisions=1000, **kwargs)
+    line = cli_message(cli, "diffusion", "--collisions", "1000", *args)
+    msg = str(e.value)
+    assert "\n" not in msg
+    assert line.endswith(msg.split(": ", 1)[-1]) or line == "error: " + msg, (line, msg)
+
+
+@pytest.mark.parametrize(
+    "kwargs, flag, value",
+    [
+        (dict(collisions=2.5), "--collisions", "2.5"),
+        (dict(collisions=-5), "--collisions", "-5"),
+        (dict(collisions="2e99"), "--collisions", "2e99"),
+        (dict(batches="many"), "--batches", "many"),
+        (dict(w="1/0"), "--w", "1/0"),
+        (dict(w="0.1.2"), "--w", "0.1.2"),
+    ],
+)
+def test_value_parsing_refusals_are_the_command_lines(cli, kwargs, flag, value):
+    args = {"w": 0.1, "collisions": 1000, **kwargs}
+    with pytest.raises(ValueError) as e:
+        lg.diffusion(**args)
+    flags = {"--w": "0.1", "--collisions": "1000", flag: value}
+    line = cli_message(cli, "diffusion", *[x for kv in flags.items() for x in kv])
+    # Python names the parameter ("collisions: ..."), clap the flag; the message after is one.
+    detail = str(e.value).split(": ", 1)[1]
+    assert line.endswith(detail), (line, str(e.value))
+
+
+def test_threads_engine_and_scene_are_checked():
+    with pytest.raises(ValueError, match="threads must be from 1 to"):
+        lg.diffusion(w=0.1, collisions=2e6, threads=0)
+    with pytest.raises(ValueError, match="'auto', 'scalar', 'simd'"):
+        lg.diffusion(w=0.1, collisions=2e6, engine="gpu")
+    with pytest.raises(ValueError, match="0 < radius < 1/2"):
+        lg.audit(scene="square", collisions=1000)
+    with pytest.raises(ValueError, match="does not apply"):
+        lg.audit(w=0.1, scene="square", radius=0.25, collisions=1000)
+    with pytest.raises(TypeError):
+        lg.diffusion(w=True, collisions=1000)
+
+
+def test_exact_inputs_of_every_kind_give_one_gap():
+    ws = [lg.constants(v).to_dict()["w_exact"] for v in ["0.1", "1/10", fractions.Fraction(1, 10), 0.1]]
+    assert ws == ["1/10"] * 4
+
+
+def test_io_errors_raise_oserror_naming_the_path(tmp_path):
+    bad = tmp_path / "file"
+    bad.write_text("")
+    target = bad / "checkpoint.ckpt"
+    with pytest.raises(OSError) as e:
+        lg.diffusion(w=0.1, collisions=1e6, batches=2, checkpoint=target)
+    assert str(target) in str(e.value)
+    with pytest.raises(OSError) as e:
+        lg.report(tmp_path / "missing.json")
+    assert "missing.json" in str(e.value)
+
+
+def test_events_refuses_more_than_memory_holds():
+    with pytest.raises(MemoryError, match="ask for at most"):
+        lg.events(w=0.1, n=2**31)
+    with pytest.raises(ValueError, match="out of range"):
+        lg.events(w=0.1, n=0)

@@ -1,0 +1,53 @@
+"""Result objects: arrays, a readable repr, to_dict and to_json, pandas."""
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+import lorentz_gas as lg
+
+
+@pytest.fixture(scope="module")
+def run():
+    return lg.diffusion(w=0.1, collisions=4e6, batches=8)
+
+
+def test_repr_says_d_with_its_error(run):
+    assert re.fullmatch(r"<DiffusionResult: D = 0\.\d{6} ± 0\.\d{6} at w = 0\.1>", repr(run))
+
+
+def test_arrays_and_their_shapes(run):
+    assert run.msd_times.dtype == np.float64 and run.msd.shape == run.msd_times.shape
+    assert run.batch_D.shape == (8,)
+    assert np.allclose(run.msd, 4 * run.msd_times * run.msd_over_4t)
+    assert isinstance(run.meta, dict) and run.meta["seed"] == 1
+    assert run.batch_msd.shape == (8, len(run.msd_times))
+
+
+def test_to_dict_and_to_json_agree(run):
+    d = run.to_dict()
+    assert d == json.loads(run.to_json())
+    assert d["D"] == run.D and isinstance(d["batch_D"], list)
+
+
+def test_the_error_is_the_standard_error_of_the_batches(run):
+    se = run.batch_D.std(ddof=1) / np.sqrt(len(run.batch_D))
+    assert run.D_err == pytest.approx(se, rel=1e-12)
+
+
+def test_sweep_rows_as_arrays_and_pandas():
+    s = lg.sweep(w_from="0.1", w_to="0.2", steps=2, runs=2, collisions_per_run=1e6, batches_per_run=2)
+    assert list(s.w) == [0.1, 0.2]
+    assert s.D.shape == (2,) and "2 points" in repr(s)
+    pd = pytest.importorskip("pandas")
+    df = s.to_pandas()
+    assert isinstance(df, pd.DataFrame) and list(df["w"]) == [0.1, 0.2]
+
+
+def test_help_explains_the_parameters():
+    doc = lg.diffusion.__doc__
+    for p in ["w :", "collisions :", "batches :", "seed :", "threads :", "engine :", "precision :"]:
+        assert p in doc
+    assert "0.3094" in doc

@@ -1,0 +1,73 @@
+"""The same parameters and seed give the same bits in Python and in the command line."""
+
+import json
+
+import lorentz_gas as lg
+
+# Keys that say how long a run took or how it was launched: everything else must be equal.
+TIMING = {"seconds", "collisions_per_second", "meta"}
+
+
+def same(a, b, path=""):
+    """Every number equal to the bit (JSON numbers are parsed as the same doubles)."""
+    if isinstance(a, dict):
+        assert set(a) == set(b), f"{path}: keys differ: {set(a) ^ set(b)}"
+        for k in a:
+            if k not in TIMING and not k.endswith("seconds"):
+                same(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert len(a) == len(b), f"{path}: lengths differ"
+        for i, (x, y) in enumerate(zip(a, b)):
+            same(x, y, f"{path}[{i}]")
+    else:
+        assert a == b, f"{path}: {a!r} (Python) != {b!r} (command line)"
+
+
+def test_diffusion_has_the_command_lines_bits(cli_json):
+    py = lg.diffusion(w="0.1", collisions=4e6, batches=8, seed=7, threads=2)
+    cl = cli_json("diffusion", "--w", "0.1", "--collisions", "4e6", "--batches", "8", "--seed", "7")
+    same(py.to_dict(), cl)
+    assert py.D == cl["D"] and py.D_err == cl["D_err"]
+    assert py.D.hex() == float(cl["D"]).hex()
+
+
+def test_diffusion_bits_do_not_depend_on_threads_engine_or_how_w_is_written():
+    a = lg.diffusion(w=0.1, collisions=2e6, batches=4, threads=1, engine="scalar")
+    b = lg.diffusion(w="1/10", collisions="2e6", batches=4, threads=2, engine="auto")
+    assert a.D == b.D and list(a.batch_D) == list(b.batch_D)
+
+
+def test_hops_has_the_command_lines_bits(cli_json):
+    py = lg.hops(w=0.2, collisions=2e6, batches=4, order=3, seed=3)
+    cl = cli_json("hops", "--w", "0.2", "--collisions", "2e6", "--batches", "4", "--order", "3", "--seed", "3")
+    same(py.to_dict(), cl)
+
+
+def test_sweep_has_the_command_lines_bits(cli_json, tmp_path):
+    py = lg.sweep(w_from="0.1", w_to="0.2", steps=2, runs=2, collisions_per_run=1e6, batches_per_run=2, seed=5)
+    cl = cli_json(
+        "sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "2", "--runs", "2",
+        "--collisions-per-run", "1e6", "--batches-per-run", "2", "--seed", "5",
+        "--out", str(tmp_path / "sweep"),
+    )
+    same(py.to_dict(), cl)
+    assert list(py.D) == [r["D"] for r in cl["rows"]]
+
+
+def test_trajectory_has_the_command_lines_digits(cli_json):
+    py = lg.trajectory(start=("21/20", "3/5"), direction=(1, "1/3"), time=10, w="0.1", digits=25)
+    cl = cli_json("trajectory", "--scene", "triangular", "--w", "0.1", "--start", "21/20,3/5",
+                  "--direction", "1,1/3", "--time", "10", "--digits", "25")
+    same(py.to_dict(), cl)
+    assert isinstance(py.x, str) and py.x == cl["x"]
+
+
+def test_constants_are_the_command_lines(cli):
+    code, out, _ = cli("constants", "--w", "1/7", "--precision", "200", "--json")
+    assert code == 0
+    py = json.loads(lg.constants("1/7", precision=200).to_json())
+    cl = json.loads(out)
+    py.pop("meta"), cl.pop("meta")
+    assert py == cl
+    # Every digit of the working precision is kept in the JSON text, not just a double's.
+    assert '"w_exact": "1/7"' in lg.constants("1/7", precision=200).to_json()
