@@ -113,7 +113,7 @@ EVENT_DTYPE = np.dtype(
 def agreement_bound(dof: float) -> float:
     """The crate's agreement bound for a value with an error from ``dof + 1`` batches: the
     Student-t quantile with ``dof`` degrees of freedom whose two-sided tail equals that of 4
-    normal sigma (6.3e-5). ``agreement_bound(float("inf")) == 4.0``."""
+    normal sigma (6.3e-5); ``agreement_bound(float("inf"))`` is 4 to 11 digits."""
     return _native.agreement_bound(float(dof))
 
 
@@ -170,9 +170,13 @@ class _Bar:
             self.callback = progress
         elif progress:
             try:
+                import ipywidgets  # noqa: F401  (tqdm's notebook bar needs it)
                 from tqdm.auto import tqdm
             except ImportError:
-                return
+                try:
+                    from tqdm import tqdm
+                except ImportError:
+                    return
             self.bar = tqdm(total=int(total), unit=unit, unit_scale=True, dynamic_ncols=True)
             self.callback = self.bar.update
 

@@ -108,16 +108,25 @@ class BackscatterResult(Result):
 
 
 class SweepResult(Result):
-    """D(w) over a grid of gaps: ``rows`` (one dict per w) and, as numpy arrays, ``w``, ``D``,
-    ``D_err``, ``D_MZ``, ``D_Bo`` (one value per point); ``to_pandas()`` gives the table."""
-
-    _COLUMNS = ("w", "inv_n", "D", "D_err", "D_err_dof", "runs_p_value", "D_MZ", "D_Bo")
+    """D(w) over a grid of gaps. ``rows`` is a numpy structured array, one record per w, with
+    the fields ``w``, ``inv_n`` (1/n, the area per disk), ``D``, ``D_err`` (standard error over
+    the runs' batches), ``D_err_dof``, ``runs_f``, ``runs_f_dof1``, ``runs_f_dof2``,
+    ``runs_p_value`` (the runs' spread against their errors), ``D_MZ``, ``D_Bo``, ``residual``;
+    each field is also an attribute (``s.D``, ``s.w``); ``run_D`` and ``run_D_err`` are
+    (points × runs) arrays; ``to_pandas()`` gives the table."""
 
     def __init__(self, text: str):
         super().__init__(text)
-        for c in self._COLUMNS:
-            if c not in self._data:
-                setattr(self, c, np.asarray([r[c] for r in self._data["rows"]]))
+        raw = self._data["rows"]
+        scalar = [k for k, v in raw[0].items() if not isinstance(v, list)] if raw else []
+        dtype = [(k, np.int64 if isinstance(raw[0][k], int) else np.float64) for k in scalar]
+        self.rows = np.array([tuple(r[k] for k in scalar) for r in raw], dtype=dtype)
+        for k in scalar:
+            if k not in self._data:
+                setattr(self, k, self.rows[k])
+        for k in ("run_D", "run_D_err"):
+            if raw and k in raw[0]:
+                setattr(self, k, np.array([r[k] for r in raw], dtype=np.float64))
 
     def to_pandas(self):
         """The rows as a ``pandas.DataFrame`` (one row per w; needs pandas)."""
@@ -125,12 +134,10 @@ class SweepResult(Result):
             import pandas as pd
         except ImportError as e:  # pragma: no cover - depends on the environment
             raise ImportError("SweepResult.to_pandas() needs pandas: pip install pandas") from e
-        return pd.DataFrame(
-            [{k: v for k, v in r.items() if not isinstance(v, list)} for r in self._data["rows"]]
-        )
+        return pd.DataFrame(self.rows)
 
     def _summary(self) -> str:
-        ws = [r["w"] for r in self._data["rows"]]
+        ws = self.rows["w"]
         return f"{len(ws)} points, w = {ws[0]} .. {ws[-1]}"
 
 

@@ -41,6 +41,9 @@ def test_sweep_rows_as_arrays_and_pandas():
     s = lg.sweep(w_from="0.1", w_to="0.2", steps=2, runs=2, collisions_per_run=1e6, batches_per_run=2)
     assert list(s.w) == [0.1, 0.2]
     assert s.D.shape == (2,) and "2 points" in repr(s)
+    assert s.rows.shape == (2,) and list(s.rows["D"]) == list(s.D)
+    assert s.run_D.shape == (2, 2)
+    assert s.rows[0]["w"] == 0.1
     pd = pytest.importorskip("pandas")
     df = s.to_pandas()
     assert isinstance(df, pd.DataFrame) and list(df["w"]) == [0.1, 0.2]

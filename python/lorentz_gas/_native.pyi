@@ -1,0 +1,70 @@
+"""Type stubs of the compiled module (`python/src/`). Call the keyword functions of
+`lorentz_gas` instead: these take every value as the text the command line parses and return
+the command line's JSON."""
+
+from typing import Callable, Dict, List, Optional, Tuple
+
+import numpy as np
+
+__version__: str
+BYTES_PER_EVENT: int
+
+class CheckFailedError(RuntimeError): ...
+class ComputationError(RuntimeError): ...
+
+Progress = Optional[Callable[[int], object]]
+
+def diffusion(
+    w: str, collisions: str, batches: str, seed: str, threads: Optional[str], engine: str,
+    precision: str, window: Tuple[float, float], check_window: Tuple[float, float],
+    checkpoint: Optional[str], checkpoint_every: float, audit: Optional[float],
+    reference_bits: str, progress: Progress,
+) -> str: ...
+def hops(
+    w: str, collisions: str, batches: str, order: str, seed: str, threads: Optional[str],
+    engine: str, checkpoint: Optional[str], checkpoint_every: float, progress: Progress,
+) -> str: ...
+def backscatter(
+    w: str, particles: str, batches: str, seed: str, threads: Optional[str], precision: str,
+    progress: Progress,
+) -> str: ...
+def sweep(
+    w_from: str, w_to: str, steps: str, runs: str, collisions_per_run: str,
+    batches_per_run: str, seed: str, threads: Optional[str], engine: str, out: Optional[str],
+    checkpoint_every: float, progress: Progress,
+) -> str: ...
+def escape(
+    w: str, widths: Optional[List[float]], particles_per_width: str, seed: str,
+    threads: Optional[str], checkpoint: Optional[str], checkpoint_every: float,
+    progress: Progress,
+) -> str: ...
+def lyapunov(
+    scene: str, w: Optional[str], radius: Optional[str], collisions_per_batch: str,
+    batches: str, starts: str, seed: str, threads: Optional[str], progress: Progress,
+) -> str: ...
+def audit(
+    scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
+    sample: float, reference_bits: str, seed: str, threads: Optional[str], progress: Progress,
+) -> str: ...
+def shadow(
+    w: str, collisions_per_segment: str, segments: str, reference_bits: str, seed: str,
+    threads: Optional[str], progress: Progress,
+) -> str: ...
+def certify(
+    scene: str, w: Optional[str], radius: Optional[str], collisions: str, digits: str,
+    seed: str, progress: Progress,
+) -> str: ...
+def trajectory(
+    scene: str, w: Optional[str], radius: Optional[str], start: Tuple[str, str],
+    direction: Tuple[str, str], time: str, digits: str, events: bool, progress: Progress,
+) -> str: ...
+def report(
+    result: str, out: Optional[str], quick: bool, reference_bits: str,
+    max_rerun_collisions: Optional[str], threads: Optional[str], progress: Progress,
+) -> str: ...
+def constants(w: str, precision: str) -> str: ...
+def agreement_bound(dof: float) -> float: ...
+def events(
+    scene: str, w: Optional[str], radius: Optional[str], n: str, seed: str, batch: str,
+    progress: Progress,
+) -> Dict[str, np.ndarray]: ...
