@@ -21,8 +21,17 @@ def os_threads():
     return len(os.listdir("/proc/self/task"))
 
 
+RUNS = {
+    # 2e11 collisions: half an hour on 2 cores; stopped between segments.
+    "diffusion": lambda threads: lg.diffusion(w=0.1, collisions=2e11, batches=32, threads=threads),
+    # 1e12 injections in 2^20 batches (about 0.4 s each on one core): stopped between batches.
+    "backscatter": lambda threads: lg.backscatter(w=0.1, particles=1e12, batches=2**20, threads=threads),
+}
+
+
 @pytest.mark.parametrize("threads", [1, 2])
-def test_ctrl_c_stops_a_2e11_collision_run_within_a_second(threads):
+@pytest.mark.parametrize("analysis", sorted(RUNS))
+def test_ctrl_c_stops_a_long_run_within_a_second(analysis, threads):
     before = os_threads()
     sent = {}
 
@@ -33,7 +42,7 @@ def test_ctrl_c_stops_a_2e11_collision_run_within_a_second(threads):
     timer = threading.Timer(0.5, interrupt)
     timer.start()
     with pytest.raises(KeyboardInterrupt):
-        lg.diffusion(w=0.1, collisions=2e11, batches=32, threads=threads)
+        RUNS[analysis](threads)
     stopped = time.monotonic() - sent["t"]
     timer.join()
     assert stopped < STOP_WITHIN, f"stopped {stopped:.2f} s after Ctrl-C"

@@ -3,6 +3,7 @@
 
 use rayon::prelude::*;
 
+use super::options::StopFlag;
 use crate::Error;
 
 /// Most batches (trajectories, orbits, runs) accepted: every batch keeps its result in memory until
@@ -71,6 +72,17 @@ pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
     n: u32,
     f: F,
 ) -> Result<Vec<R>, Error> {
+    par_batches_watched(threads, n, None, f)
+}
+
+/// [`par_batches`], looking at `stop` before each batch: once it is requested, the batches not
+/// yet started end at once and the run returns [`Error::Interrupted`].
+pub fn par_batches_watched<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
+    threads: usize,
+    n: u32,
+    stop: Option<&StopFlag>,
+    f: F,
+) -> Result<Vec<R>, Error> {
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
@@ -79,5 +91,11 @@ pub fn par_batches<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send>(
         .num_threads(threads)
         .build()
         .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
-    pool.install(|| (0..n).into_par_iter().map(&f).collect())
+    let watched = |b: u32| {
+        if let Some(s) = stop {
+            s.check()?;
+        }
+        f(b)
+    };
+    pool.install(|| (0..n).into_par_iter().map(watched).collect())
 }

@@ -17,7 +17,7 @@ use crate::engine::drive;
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::RunOptions;
-use crate::engine::parallel::par_batches;
+use crate::engine::parallel::par_batches_watched;
 use crate::kernel::cell::ConvexCell;
 use crate::kernel::{cell::CellKernel, flight::EventKind};
 use crate::numbers::lanes::Lanes;
@@ -110,7 +110,7 @@ pub fn run<S: Scene>(
     }
     let lat = scene.lattice::<f64>(())?;
     let cell = lat.cell().clone();
-    let per: Vec<(f64, f64)> = par_batches(threads, batches, |b| {
+    let per: Vec<(f64, f64)> = par_batches_watched(threads, batches, options.stop.as_ref(), |b| {
         let mut rng = stream(seed, b as u64);
         let mut s = scene.sample(&mut rng);
         let d = crate::scenes::sampling::direction(&mut rng);

@@ -401,8 +401,11 @@ pub fn run<S: Scene>(
     AuditSpec::new(cfg.sample, cfg.reference_bits)?;
     let start = std::time::Instant::now();
     let lat = scene.lattice::<f64>(())?;
-    let parts: Vec<(AuditSummary, u64)> =
-        crate::engine::parallel::par_batches(threads, cfg.batches, |b| {
+    let parts: Vec<(AuditSummary, u64)> = crate::engine::parallel::par_batches_watched(
+        threads,
+        cfg.batches,
+        options.stop.as_ref(),
+        |b| {
             let n = crate::engine::parallel::share(cfg.collisions, cfg.batches, b);
             let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
             let a = Auditor::new(
@@ -432,7 +435,8 @@ pub fn run<S: Scene>(
             let c = counters.lane(0);
             let events = c.collisions + c.crossings;
             Ok((a.summary, events))
-        })?;
+        },
+    )?;
     let mut summary = AuditSummary::default();
     let mut events = 0;
     for (p, e) in &parts {

@@ -248,9 +248,15 @@ fn a_stop_request_ends_a_run_that_then_resumes_to_the_uninterrupted_bits() {
     let stopped = requester.join().unwrap().elapsed();
     assert!(matches!(err, Error::Interrupted), "{err}");
     assert_eq!(err.kind(), lorentz_gas::ErrorKind::Interrupted);
-    assert!(stopped < Duration::from_secs(2), "stopped {stopped:?} after the request");
+    assert!(
+        stopped < Duration::from_secs(2),
+        "stopped {stopped:?} after the request"
+    );
     let kept = std::fs::read_to_string(&path).unwrap();
-    assert!(kept.contains(IN_FLIGHT), "the stopped run kept no trajectory in flight");
+    assert!(
+        kept.contains(IN_FLIGHT),
+        "the stopped run kept no trajectory in flight"
+    );
     let resumed = run(&cfg, &options(Engine::Auto, 1, &path, Duration::ZERO)).unwrap();
     assert_eq!(plain.D.to_bits(), resumed.D.to_bits());
     assert_eq!(plain.batch_D, resumed.batch_D);

@@ -37,7 +37,7 @@ use chunks::Chunks;
 
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::engine::parallel::{par_batches, share};
+use crate::engine::parallel::{par_batches_watched, share};
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::strip::Strip;
 use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
@@ -464,7 +464,7 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
         every,
     )?;
     progress(kept.particles_done());
-    let outs = par_batches(threads, tasks, |task| {
+    let outs = par_batches_watched(threads, tasks, options.stop.as_ref(), |task| {
         let (k, b) = (task / nb, task % nb);
         let rng = StreamKey::new(cfg.seed, Purpose::Escape, b as u64)
             .in_run(k as u64)

@@ -5,8 +5,8 @@ use serde::{Deserialize, Serialize};
 
 use super::est;
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
-use crate::engine::parallel::{par_batches, share};
+use crate::engine::options::{RunOptions, StopFlag};
+use crate::engine::parallel::{par_batches_watched, share};
 use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::scenes::sampling::{Purpose, StreamKey};
@@ -129,6 +129,7 @@ struct Inject<'a> {
     run: u64,
     threads: usize,
     progress: &'a (dyn Fn(u64) + Sync),
+    stop: Option<&'a StopFlag>,
 }
 
 impl AtPrecision for Inject<'_> {
@@ -137,7 +138,7 @@ impl AtPrecision for Inject<'_> {
         let w = crate::numbers::exact::param_at::<T>(ctx, self.w, self.w_exact)?;
         let scene = SingleTrap::new(w)?;
         let progress = self.progress;
-        par_batches(self.threads, self.batches, |b| {
+        par_batches_watched(self.threads, self.batches, self.stop, |b| {
             let n_b = share(self.particles, self.batches, b);
             let mut rng = StreamKey::new(self.seed, Purpose::Injection, b as u64)
                 .in_run(self.run)
@@ -196,6 +197,7 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
         run,
         threads,
         progress,
+        stop: options.stop.as_ref(),
     })?;
     let col = |k: usize| est(&res.iter().map(|x| x[k]).collect::<Vec<_>>());
     let g = Geometry::new(w)?;
