@@ -284,11 +284,26 @@ def hops(
 ) -> HopsResult:
     """Trap-hopping statistics along lattice trajectories (``lorentz hops``).
 
-    ``w``: the gap, 0 < w < 0.3094...; ``collisions``: in all, over the ``batches`` (at least
-    2); ``order``: the longest symbol sequence counted (1 to 7). Returns the backscattering
-    probability ``p_bs``, the symbol-sequence probabilities ``pairs`` (with ``pairs_err``), the
-    symmetry test and the hop-level Green–Kubo ``D_GK`` against ``D_MZ``. Other parameters as
-    in :func:`diffusion`.
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap between neighbouring disks (radius 1): 0 < w < w_inf = 0.3094...
+    collisions : int
+        Lorentz-gas collisions in all, over every batch.
+    batches : int
+        Independent trajectories, at least 2; every error bar is over them.
+    order : int
+        Longest symbol sequence counted (1 to 7).
+    seed, threads, engine, checkpoint, checkpoint_every, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    HopsResult
+        ``p_bs`` (backscattering probability, dimensionless) ± ``p_bs_err``, the symbol-sequence
+        probabilities ``pairs`` with ``pairs_err``, the symmetry test (``symmetry_max_z``
+        against ``symmetry_bound``) and the hop-level Green–Kubo ``D_GK`` ± ``D_GK_err``
+        (length^2/time) against ``D_MZ``.
     """
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
         text = _native.hops(
@@ -315,8 +330,25 @@ def backscatter(
     precision: Union[str, int] = "f64",
     progress: Progress = False,
 ) -> BackscatterResult:
-    """Backscattering by injection into one trap (``lorentz backscatter``): ``particles``
-    injected with the invariant measure of the trap's openings, split into ``batches``."""
+    """Backscattering by injection into one trap (``lorentz backscatter``).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap, 0 < w < w_inf = 0.3094...
+    particles : int
+        Particles injected through the trap's openings with the invariant measure.
+    batches : int
+        Independent batches the particles are split into, at least 2 (the error bars).
+    seed, threads, precision, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    BackscatterResult
+        The exit probabilities (dimensionless) with their standard errors, the mean time and
+        collisions in the trap against their exact values.
+    """
     with _Bar(progress, _total(_count("particles", particles)), "inj") as cb:
         text = _native.backscatter(
             _exact("w", w),
@@ -461,9 +493,9 @@ def audit(
 
 def shadow(
     w: Exact,
-    collisions_per_segment: Count = 100,
+    collisions_per_segment: Count = 1000,
     segments: Count = 8,
-    reference_bits: Count = 256,
+    reference_bits: Count = 128,
     seed: Count = 1,
     threads: Optional[Count] = None,
     progress: Progress = False,

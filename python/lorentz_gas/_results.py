@@ -146,7 +146,7 @@ class EscapeResult(Result):
 
     def _summary(self) -> str:
         d = self._data
-        return f"D = {_pm(d.get('D'), d.get('D_err'))} at w = {d.get('w')}"
+        return f"D = {_pm(d.get('D_escape'), d.get('D_escape_err'))} at w = {d.get('w')}"
 
 
 class LyapunovResult(Result):

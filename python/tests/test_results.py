@@ -54,3 +54,19 @@ def test_help_explains_the_parameters():
     for p in ["w :", "collisions :", "batches :", "seed :", "threads :", "engine :", "precision :"]:
         assert p in doc
     assert "0.3094" in doc
+
+
+def test_a_python_result_file_passes_the_publication_audit(tmp_path):
+    """`to_json()` is a result file the command line's `report` audits: re-run from its
+    recorded configuration to the bit, identities, shadows — PASS; an edited D fails."""
+    r = lg.diffusion(w="0.2", collisions=4e6, batches=8)
+    good = tmp_path / "d.json"
+    good.write_text(r.to_json())
+    rep = lg.report(good, quick=True)
+    assert rep.verdict == "PASS", [c for c in rep.checks if c["verdict"] != "PASS"]
+    assert (tmp_path / "d-report" / "report.md").is_file()
+    edited = r.to_dict()
+    edited["D"] *= 1.001
+    bad = tmp_path / "edited.json"
+    bad.write_text(json.dumps(edited))
+    assert lg.report(bad, quick=True).verdict == "FAIL"

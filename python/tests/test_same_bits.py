@@ -71,3 +71,27 @@ def test_constants_are_the_command_lines(cli):
     assert py == cl
     # Every digit of the working precision is kept in the JSON text, not just a double's.
     assert '"w_exact": "1/7"' in lg.constants("1/7", precision=200).to_json()
+
+
+def test_every_other_analysis_has_the_command_lines_bits(cli_json):
+    """Backscatter, escape, Lyapunov, audit, certify and shadow at small statistics: every
+    number equal, not just the keys."""
+    cases = [
+        (lambda: lg.backscatter(w="0.1", particles=1e5, batches=4, seed=2),
+         ["backscatter", "--w", "0.1", "--particles", "1e5", "--batches", "4", "--seed", "2"]),
+        (lambda: lg.escape(w="0.2", particles_per_width=4e3, seed=2),
+         ["escape", "--w", "0.2", "--particles-per-width", "4e3", "--seed", "2"]),
+        (lambda: lg.lyapunov(w="0.2", collisions_per_batch=1e4, batches=4, starts=0, seed=2),
+         ["lyapunov", "--scene", "triangular", "--w", "0.2", "--collisions-per-batch", "1e4",
+          "--batches", "4", "--starts", "0", "--seed", "2"]),
+        (lambda: lg.audit(scene="square", radius="1/3", collisions=2e3, batches=2, seed=2),
+         ["audit", "--scene", "square", "--radius", "1/3", "--collisions", "2e3", "--batches", "2",
+          "--seed", "2"]),
+        (lambda: lg.certify(w="0.2", collisions=50, digits=10, seed=2),
+         ["certify", "--scene", "triangular", "--w", "0.2", "--collisions", "50", "--digits", "10",
+          "--seed", "2"]),
+        (lambda: lg.shadow(w="0.2", collisions_per_segment=20, segments=2, seed=2),
+         ["shadow", "--w", "0.2", "--collisions-per-segment", "20", "--segments", "2", "--seed", "2"]),
+    ]
+    for run, args in cases:
+        same(run().to_dict(), cli_json(*args), args[0])
