@@ -376,12 +376,34 @@ def sweep(
     checkpoint_every: float = 60.0,
     progress: Progress = False,
 ) -> SweepResult:
-    """D(w) over ``steps`` gaps from ``w_from`` to ``w_to`` (``lorentz sweep``), computed on an
-    exact grid; ``runs`` independent runs per point of ``collisions_per_run`` collisions over
-    ``batches_per_run`` batches. With ``out``, finished points are kept there (a rerun
-    resumes) and the tables sweep.csv, sweep-runs.csv and sweep.json are written. The result
-    has ``rows`` and the columns ``w``, ``D``, ``D_err``, ``D_MZ``, ``D_Bo`` as numpy arrays;
-    ``to_pandas()`` gives the table."""
+    """D(w) over a grid of gaps (``lorentz sweep``).
+
+    Parameters
+    ----------
+    w_from, w_to : str, float, Fraction or Decimal
+        First and last gap, each in 0 < w < w_inf = 0.3094...; the grid is computed exactly
+        (0.1 .. 0.2 in 3 steps has 0.15, not its nearest double's neighbour).
+    steps : int
+        Number of gaps, at least 2.
+    runs : int
+        Independent runs at each gap (their spread is checked against the batch errors).
+    collisions_per_run : int
+        Collisions of each run, over its batches (a point costs runs x this).
+    batches_per_run : int
+        Independent batches of each run, at least 2.
+    out : path, optional
+        Keep finished points there (a rerun resumes) and write sweep.csv, sweep-runs.csv,
+        sweep.json and the figures.
+    seed, threads, engine, checkpoint_every, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    SweepResult
+        ``rows`` (numpy structured array, one record per gap: ``w``, ``D`` ± ``D_err`` in
+        length^2/time, ``D_MZ``, ``D_Bo``, the runs' F test), the same fields as attributes,
+        ``run_D`` (points x runs), ``linear_fit``; ``to_pandas()``.
+    """
     total = _total(_count("collisions_per_run", collisions_per_run)) * _total(
         _count("runs", runs)
     ) * _total(_count("steps", steps))
@@ -413,9 +435,26 @@ def escape(
     checkpoint_every: float = 60.0,
     progress: Progress = False,
 ) -> EscapeResult:
-    """D from the escape rate out of open strips of several widths (``lorentz escape``,
-    Gaspard–Baras), extrapolated in 1/L. ``widths``: at least 3 distinct strip widths L
-    (default 8a, 12a, 16a, 24a with a = 2 + w)."""
+    """D from the escape rate out of open strips (``lorentz escape``, Gaspard–Baras).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap, 0 < w < w_inf = 0.3094...
+    widths : sequence of float, optional
+        At least 3 distinct strip widths L (lengths; default 8a, 12a, 16a, 24a with a = 2 + w),
+        each at least max(4a, 10 mean free paths) and at most 2000.
+    particles_per_width : int
+        Particles injected into each strip, split into the batches the error bars are over.
+    seed, threads, checkpoint, checkpoint_every, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    EscapeResult
+        ``D_escape`` ± ``D_escape_err`` (length^2/time), extrapolated in 1/L, with the fit's
+        chi^2 and the per-width escape rates.
+    """
     n = 4 if widths is None else len(widths)
     with _Bar(progress, _total(_count("particles_per_width", particles_per_width)) * n, "part") as cb:
         text = _native.escape(
@@ -443,8 +482,28 @@ def lyapunov(
     threads: Optional[Count] = None,
     progress: Progress = False,
 ) -> LyapunovResult:
-    """The largest Lyapunov exponent in tangent space (``lorentz lyapunov``), per collision and
-    per unit time, and (``starts`` > 0, at least 2) its divergence from a 4096-bit reference."""
+    """The largest Lyapunov exponent (``lorentz lyapunov``).
+
+    Parameters
+    ----------
+    w : gap of the triangular scene (0 < w < 0.3094...); or ``scene="square"`` with ``radius``
+        (0 < radius < 1/2), exact as in :func:`diffusion`.
+    collisions_per_batch : int
+        Collisions of each tangent-space orbit, after a transient.
+    batches : int
+        Independent orbits, at least 2; the error bar is over them.
+    starts : int
+        Initial conditions of the divergence measurement from a 4096-bit reference: 0 (none) or
+        2 to 10000 (about a second each).
+    seed, threads, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    LyapunovResult
+        ``tangent`` (``per_collision`` and ``per_time`` with errors: 1/collision, 1/time) and
+        ``divergence`` (one row per horizon).
+    """
     with _Bar(progress, 0, "coll") as cb:
         text = _native.lyapunov(
             scene,
@@ -473,8 +532,29 @@ def audit(
     threads: Optional[Count] = None,
     progress: Progress = False,
 ) -> AuditResult:
-    """The shadow audit (``lorentz audit``): a ``sample`` fraction (0, 1] of the f64 events
-    replayed at ``reference_bits`` (128 to 65536) and checked against the error model."""
+    """The shadow audit (``lorentz audit``): f64 events replayed in MPFR.
+
+    Parameters
+    ----------
+    w, scene, radius
+        The scene, as in :func:`lyapunov`.
+    collisions : int
+        Collisions in all, over every batch.
+    batches : int
+        Independent trajectories, at least 1.
+    sample : float
+        Fraction of the events replayed, in (0, 1].
+    reference_bits : int
+        MPFR precision of the replay, 128 to 65536 bits.
+    seed, threads, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    AuditResult
+        ``summary`` (events audited, ``outside`` the error model, ambiguous), the one-step error
+        ``quantiles`` (flight time, contact point, velocity).
+    """
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
         text = _native.audit(
             scene,
@@ -500,7 +580,27 @@ def shadow(
     threads: Optional[Count] = None,
     progress: Progress = False,
 ) -> ShadowResult:
-    """True orbits shadowing f64 segments of the triangular gas (``lorentz shadow``)."""
+    """True orbits shadowing f64 segments of the triangular gas (``lorentz shadow``).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap, 0 < w < 0.3094...
+    collisions_per_segment : int
+        Collisions of each f64 segment.
+    segments : int
+        Segments, from independent equilibrium starts.
+    reference_bits : int
+        MPFR precision of the Newton iteration, 128 bits or more.
+    seed, threads, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    ShadowResult
+        Per segment: converged, certified (Kantorovich), the distance ``delta`` between the f64
+        segment and the true orbit.
+    """
     with _Bar(progress, 0, "coll") as cb:
         text = _native.shadow(
             _exact("w", w),
@@ -524,8 +624,26 @@ def certify(
     seed: Count = 1,
     progress: Progress = False,
 ) -> CertifyResult:
-    """A segment of ``collisions`` collisions from the equilibrium start of batch 0 of
-    ``diffusion(seed=seed)``, certified to ``digits`` digits (``lorentz certify``)."""
+    """A trajectory segment certified to its digits (``lorentz certify``).
+
+    Parameters
+    ----------
+    w, scene, radius
+        The scene, as in :func:`lyapunov`.
+    collisions : int
+        Collisions in the segment, from the equilibrium start of batch 0 of
+        ``diffusion(seed=seed)``.
+    digits : int
+        Digits to certify (1 or more).
+    seed : int
+        Seed of the start.
+
+    Returns
+    -------
+    CertifyResult
+        ``digits_agreed`` (runs at P and 2P bits agree to that many digits), ``bits``, and how
+        long the f64 orbit stays within 1e-3 of it (``f64_faithful_collisions``).
+    """
     with _Bar(progress, 3 * _total(_count("collisions", collisions)), "coll") as cb:
         text = _native.certify(
             scene,
@@ -617,7 +735,9 @@ def events(
     radius: Optional[Exact] = None,
     progress: Progress = False,
 ) -> np.ndarray:
-    """``n`` consecutive events of one trajectory as a numpy structured array of dtype
+    """One trajectory's events, for your own observables.
+
+    ``n`` consecutive events of one trajectory as a numpy structured array of dtype
     :data:`EVENT_DTYPE`: ``t`` (time since the start), ``x``, ``y`` (unwrapped world position
     after the event), ``vx``, ``vy`` (velocity after it), ``collision`` (True for a disk,
     False for an edge crossing), ``obstacle`` (the disk or edge label), ``i``, ``j``, ``down``
