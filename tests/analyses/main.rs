@@ -7,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod corridors;
 mod derived_errors;
 mod escape;
 mod hopping;
