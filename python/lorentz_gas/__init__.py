@@ -691,12 +691,22 @@ def trajectory(
     return TrajectoryResult(text)
 
 
-def constants(w: Exact, precision: Union[str, int] = "f64") -> Result:
-    """Every closed form at gap ``w`` (``lorentz constants --json``) at the working
-    ``precision``: lattice spacing, density, w_inf, w_0, trap area, Santaló's mean free path,
-    hop time, D_MZ, D_Bo, the bound on free paths. Values are numbers with every digit of the
-    working precision (as Python floats; ``to_json()`` keeps them all)."""
-    return Result(_native.constants(_exact("w", w), str(precision)))
+def constants(
+    w: Optional[Exact] = None, precision: Union[str, int] = "f64", *, radius: Optional[Exact] = None
+) -> Result:
+    """Every closed form of a scene (``lorentz constants --json``) at the working ``precision``.
+
+    ``w``: the triangular gas at gap w > 0 — lattice spacing, density, w_inf, w_0, trap area,
+    Santaló's mean free path, hop time, D_MZ, D_Bo, the bound on free paths; or ``radius``:
+    the square lattice (0 < radius < 1/2). At an infinite horizon (w >= w_inf, every square
+    lattice) ``superdiffusion`` holds the corridors (direction, angle, period, width) and the
+    exact constants: ``C_flow`` (P(tau > s) ~ C_flow/s under the flow), ``C_map``
+    (mu(tau > s) ~ C_map/s^2 under the billiard map), ``D_sup`` (dx/sqrt(t ln t) -> N(0, D_sup)),
+    ``msd_x_t_ln_t`` = 2 D_sup and ``msd_r_t_ln_t`` = 2 C_flow (the coefficients of t ln t in
+    <dx^2> and <|dr|^2>). Values carry every digit of the working precision in ``to_json()``."""
+    return Result(
+        _native.constants(_optional_exact("w", w), _optional_exact("radius", radius), str(precision))
+    )
 
 
 def report(

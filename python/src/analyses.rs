@@ -20,7 +20,7 @@ use lorentz_gas::estimators::trajectory::{self, TrajectoryInput, MAX_DIGITS};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
 use lorentz_gas::scenes::Scene;
-use lorentz_gas::theory::constants::{self, ConstantsConfig};
+use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsScene};
 use lorentz_gas::verification::certify::{self, CertifyConfig};
 use lorentz_gas::verification::divergence::{self, Divergence, DivergenceConfig};
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
@@ -524,12 +524,29 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 }
 
 #[pyfunction]
-#[pyo3(name = "constants", signature = (w, precision))]
-fn py_constants(w: &str, precision: &str) -> PyResult<String> {
-    let w = exact("w", w)?;
+#[pyo3(name = "constants", signature = (w, radius, precision))]
+fn py_constants(w: Option<&str>, radius: Option<&str>, precision: &str) -> PyResult<String> {
+    let scene = match (w, radius) {
+        (Some(w), None) => {
+            let w = exact("w", w)?;
+            ConstantsScene::Triangular {
+                w: w.value,
+                w_exact: w.exact_text(),
+            }
+        }
+        (None, Some(r)) => ConstantsScene::Square {
+            radius: exact("radius", r)?
+                .exact_text()
+                .ok_or_else(|| PyValueError::new_err("radius must be a finite number"))?,
+        },
+        _ => {
+            return Err(PyValueError::new_err(
+                "give w (the triangular scene, w > 0) or radius (the square scene, 0 < radius < 1/2), not both",
+            ))
+        }
+    };
     let r = constants::run(&ConstantsConfig {
-        w: w.value,
-        w_exact: w.exact_text(),
+        scene,
         precision: inputs::precision(precision)?,
     })
     .map_err(crate::py_err)?;

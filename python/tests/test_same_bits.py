@@ -95,3 +95,18 @@ def test_every_other_analysis_has_the_command_lines_bits(cli_json):
     ]
     for run, args in cases:
         same(run().to_dict(), cli_json(*args), args[0])
+
+
+def test_constants_of_the_square_lattice_and_beyond_w_inf_are_the_command_lines(cli):
+    for py, args in [
+        (lg.constants(radius="1/4"), ["--scene", "square", "--radius", "1/4"]),
+        (lg.constants("0.35"), ["--w", "0.35"]),
+    ]:
+        code, out, err = cli("constants", *args, "--json")
+        assert code == 0, err
+        cl = json.loads(out)
+        d = json.loads(py.to_json())
+        d.pop("meta"), cl.pop("meta")
+        assert d == cl
+    sd = lg.constants(radius="1/4").superdiffusion
+    assert len(sd["corridors"]) == 4 and sd["msd_r_t_ln_t"] == 2 * sd["C_flow"]

@@ -1,14 +1,24 @@
-//! `lorentz constants`: every closed form at gap w, at any precision.
+//! `lorentz constants`: every closed form of a scene, at any precision, with the corridors and
+//! the superdiffusion constants of an infinite horizon.
 
-use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsReport};
+use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsReport, ConstantsScene};
 use lorentz_gas::Error;
 
-use super::args::{GapArg, PrecisionArg};
+use super::args::{parse_exact_arg, Exact, PrecisionArg, SceneName};
 
 #[derive(clap::Args)]
 pub struct Args {
-    #[command(flatten)]
-    gap: GapArg,
+    /// The scene: `triangular` (disks of radius 1 at spacing 2 + w, needs --w; any w > 0, the
+    /// corridors listed beyond w_inf) or `square` (disks of radius r at unit spacing, needs
+    /// --radius).
+    #[arg(long, default_value = "triangular")]
+    scene: SceneName,
+    /// Gap w of the triangular scene, a decimal or a fraction such as 1/10: w > 0.
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    w: Option<Exact>,
+    /// Disk radius of the square scene, a decimal or a fraction such as 1/3: 0 < r < 1/2.
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    radius: Option<Exact>,
     #[command(flatten)]
     precision: PrecisionArg,
     /// Machine-readable output.
@@ -17,9 +27,27 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
+    let scene = match (a.scene, &a.w, &a.radius) {
+        (SceneName::Triangular, Some(w), None) => ConstantsScene::Triangular {
+            w: w.value,
+            w_exact: w.exact_text(),
+        },
+        (SceneName::Square, None, Some(r)) => ConstantsScene::Square {
+            radius: r.exact_text().ok_or(Error::NotFinite { what: "radius" })?,
+        },
+        (SceneName::Triangular, _, _) => {
+            return Err(Error::Invalid(
+                "the triangular scene takes --w (w > 0) and no --radius".into(),
+            ))
+        }
+        (SceneName::Square, _, _) => {
+            return Err(Error::Invalid(
+                "the square scene takes --radius (0 < radius < 1/2) and no --w".into(),
+            ))
+        }
+    };
     let r = constants::run(&ConstantsConfig {
-        w: a.gap.w(),
-        w_exact: a.gap.exact_text(),
+        scene,
         precision: a.precision.precision,
     })?;
     if a.json {
@@ -35,13 +63,30 @@ fn print(r: &ConstantsReport) {
     if let Some(q) = &r.w_exact {
         println!("{:<20} {:<45} gap as typed, exactly", "w_exact", q);
     }
+    if let Some(q) = &r.radius_exact {
+        println!("{:<20} {:<45} radius as typed, exactly", "radius_exact", q);
+    }
     for c in &r.rows {
         println!("{:<20} {:<45} {}", c.name, c.shown, c.formula);
     }
-    match &r.max_free_path_bound {
-        Some(c) => println!("{:<20} {:<45} {}", c.name, c.shown, c.formula),
-        None => {
-            println!("w >= w_inf: infinite horizon, free paths are unbounded and D does not exist")
+    match (&r.max_free_path_bound, &r.superdiffusion) {
+        (Some(c), _) => println!("{:<20} {:<45} {}", c.name, c.shown, c.formula),
+        (None, Some(sd)) => {
+            println!(
+                "infinite horizon: free paths are unbounded, D does not exist; {} corridors (superdiffusion, `lorentz superdiffusion`):",
+                sd.corridors.len()
+            );
+            for c in &sd.rows {
+                println!("{:<20} {:<45} {}", c.name, c.shown, c.formula);
+            }
+            println!("corridor (m, n)      angle (deg)     period          width");
+            for c in &sd.corridors {
+                println!(
+                    "({:>4}, {:>4})         {:>10.4}      {:<15.10} {:.10}",
+                    c.direction[0], c.direction[1], c.angle_degrees, c.period, c.width
+                );
+            }
         }
+        (None, None) => {}
     }
 }

@@ -102,8 +102,12 @@ impl<T: Real> Superdiffusion<T> {
 }
 
 /// Most corridors enumerated: beyond this the radius is so small that the list (about
-/// 0.48/r² directions) stops being useful; the error names the smallest radius accepted.
+/// 0.24/r² directions on the square lattice) stops being useful.
 pub const MAX_CORRIDORS: usize = 1 << 20;
+
+/// Largest |v|²/s² searched: 2²⁰ (square lattice: radius ≥ 1/2048; triangular: w ≤ 2362),
+/// about a million directions at most, enumerated in well under a second.
+pub const MAX_NORM2: i64 = 1 << 20;
 
 impl LatticeGas {
     /// Checks the radius or gap (exactly).
@@ -149,13 +153,13 @@ impl LatticeGas {
                 Rational::from(3) * a.clone() * &a / Rational::from(16)
             }
         };
-        let nmax = nmax.ceil().numer().to_i64().filter(|&n| n < (1 << 40));
+        let nmax = nmax.ceil().numer().to_i64().filter(|&n| n <= MAX_NORM2);
         let Some(nmax) = nmax else {
-            return Err(Error::Invalid(
-                "the radius is too small (or the gap too large) to list its corridors: \
-                 use radius >= 0.001 or w <= 1000"
-                    .into(),
-            ));
+            return Err(Error::Invalid(format!(
+                "the radius is too small (or the gap too large) to list every corridor (about \
+                 a million or more): use radius >= 1/2048 on the square lattice, w <= 2362 on \
+                 the triangular one (corridors up to |v|^2 = {MAX_NORM2} lattice spacings^2)"
+            )));
         };
         // p² + q² ≥ max(p, q)²; m² + mn + n² ≥ (3/4) max(|m|, |n|)².
         let coordinate = (((4 * nmax) as f64 / 3.0).sqrt().ceil() as i64) + 1;

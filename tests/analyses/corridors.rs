@@ -218,3 +218,60 @@ fn the_measured_flight_tail_has_the_exact_constant() {
     );
     assert!(se < 0.1 * exact, "the error {se} says nothing");
 }
+
+/// The issue's geometries against C_flow written out by hand, corridor by corridor: the
+/// triangular gas beyond w_inf has the three directions of the lattice (|v| = a,
+/// W = a√3/2 − 2); the square lattice at r = 0.4 the two axes; at 1/3 the axes and diagonals;
+/// at 0.1 the twenty directions with p² + q² ∈ {1, 2, 5, 10, 13, 17} (2, 2, 4, 4, 4, 4 of them).
+#[test]
+fn the_issues_geometries_by_hand() {
+    let pi = std::f64::consts::PI;
+    for w in [0.35f64, 0.4, 0.5] {
+        let a = 2.0 + w;
+        let width = a * 3f64.sqrt() / 2.0 - 2.0;
+        let q = a * a * 3f64.sqrt() / 2.0 - pi;
+        let hand = 3.0 * a * width * width / (pi * q);
+        let gas = LatticeGas::Triangular {
+            w: Rational::from_f64(w).unwrap(),
+        };
+        let s = superdiffusion::<f64>((), &gas).unwrap();
+        assert!(
+            (s.c_flow / hand - 1.0).abs() < 1e-13,
+            "w = {w}: {} against {hand}",
+            s.c_flow
+        );
+    }
+    let squares: [(f64, &[(f64, f64)]); 3] = [
+        (0.4, &[(1.0, 2.0)]),
+        (1.0 / 3.0, &[(1.0, 2.0), (2.0, 2.0)]),
+        (
+            0.1,
+            &[
+                (1.0, 2.0),
+                (2.0, 2.0),
+                (5.0, 4.0),
+                (10.0, 4.0),
+                (13.0, 4.0),
+                (17.0, 4.0),
+            ],
+        ),
+    ];
+    for (r, dirs) in squares {
+        let sum: f64 = dirs
+            .iter()
+            .map(|&(n2, mult)| mult * n2.sqrt() * (1.0 / n2.sqrt() - 2.0 * r).powi(2))
+            .sum();
+        let hand = sum / (pi * (1.0 - pi * r * r));
+        let exact = if r == 1.0 / 3.0 {
+            Rational::from((1, 3))
+        } else {
+            Rational::from_f64(r).unwrap()
+        };
+        let s = superdiffusion::<f64>((), &LatticeGas::Square { r: exact }).unwrap();
+        assert!(
+            (s.c_flow / hand - 1.0).abs() < 1e-13,
+            "r = {r}: {} against {hand}",
+            s.c_flow
+        );
+    }
+}

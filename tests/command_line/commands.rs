@@ -673,6 +673,19 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     // constants
     (&["constants", "--w", "0"], "trapped"),
+    (
+        &["constants", "--scene", "square", "--radius", "1/2"],
+        "0 < radius < 1/2",
+    ),
+    (
+        &["constants", "--scene", "square", "--w", "0.1"],
+        "--radius",
+    ),
+    (
+        &["constants", "--scene", "square", "--radius", "1/4096"],
+        "1/2048",
+    ),
+    (&["constants", "--w", "10000"], "w <= 2362"),
     (&["constants", "--w", "0.1", "--precision", "20"], "53"),
     (
         &["constants", "--w", "0.1", "--precision", "2000000000"],

@@ -98,7 +98,8 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
         ("shadow", run("shadow --w 0.1 --collisions-per-segment 20 --segments 2")),
         ("certify", run("certify --w 0.1 --collisions 50 --digits 20")),
         ("trajectory", run("trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,1/7 --time 3")),
-        ("constants", json_of(dir, "constants --w 1/10 --json")),
+        // Beyond w_inf, so that the superdiffusion block and its corridors are there.
+        ("constants", json_of(dir, "constants --w 1/2 --json")),
         ("bench", run("bench --w 0.1 --collisions-per-thread 1e5 --repetitions 1")),
     ];
     run("figure backscatter-map --particles 1e3 --out fig");
