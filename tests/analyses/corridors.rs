@@ -275,3 +275,29 @@ fn the_issues_geometries_by_hand() {
         );
     }
 }
+
+/// The horizon is decided exactly: gaps 10⁻¹⁸ either side of w∞ = 4/√3 − 2 (both round to the
+/// double nearest w∞, so no comparison of doubles can tell them apart) are a finite horizon
+/// without corridors and an infinite one with three.
+#[test]
+fn the_horizon_is_decided_exactly_at_w_inf() {
+    use lorentz_gas::numbers::exact::parse_exact;
+    use lorentz_gas::scenes::triangular::TriangularScene;
+    let below = parse_exact("0.309401076758503057036595122008").unwrap();
+    let above = parse_exact("0.309401076758503059036595122008").unwrap();
+    assert_eq!(below.to_f64(), above.to_f64());
+    assert!(TriangularScene::exact(below.clone())
+        .unwrap()
+        .finite_horizon());
+    assert!(!TriangularScene::exact(above.clone())
+        .unwrap()
+        .finite_horizon());
+    let count = |w: Rational| {
+        superdiffusion::<f64>((), &LatticeGas::Triangular { w })
+            .unwrap()
+            .corridors
+            .len()
+    };
+    assert_eq!(count(below), 0);
+    assert_eq!(count(above), 3);
+}

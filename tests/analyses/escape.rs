@@ -191,7 +191,7 @@ fn escape_cli_refuses_bad_input_with_status_2() {
     for (args, message) in [
         (
             &["escape", "--w", "0.4"][..],
-            "(valid range: 0 < w < 0.309401)",
+            "(valid range: 0 < w < 0.309401;",
         ),
         (
             &["escape", "--w", "0.1", "--widths", "3,20,30"],

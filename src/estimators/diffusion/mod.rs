@@ -57,7 +57,7 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
         return Ok(());
     }
     Err(Error::Invalid(format!(
-        "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use the triangular scene with 0 < w < w_inf = 0.3094...",
+        "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use the triangular scene with 0 < w < w_inf = 0.3094... (`lorentz constants --scene square --radius R` gives the corridors and the exact superdiffusion constants)",
         scene.label()
     )))
 }

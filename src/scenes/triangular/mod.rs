@@ -126,8 +126,12 @@ impl Scene for TriangularScene {
             .unwrap_or(f64::NAN)
     }
 
+    /// Decided exactly from the exact gap: a corridor along the lattice vectors opens when the
+    /// rows' spacing a√3/2 exceeds the diameter 2, i.e. 3(2 + w)² > 16 — a comparison of
+    /// rationals, never of rounded w and w∞ (`proofs-notes/corridors.md`).
     fn finite_horizon(&self) -> bool {
-        self.w() < Geometry::<f64>::w_inf(())
+        let a = Rational::from(2) + &self.w;
+        Rational::from(3) * a.clone() * &a <= 16
     }
 }
 
