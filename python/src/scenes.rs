@@ -42,11 +42,15 @@ pub fn resolve(name: &str, w: Option<&str>, radius: Option<&str>) -> PyResult<Sc
             }
             let w = w.ok_or_else(|| {
                 PyValueError::new_err(
-                    "the triangular scene needs w: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...",
+                    "the triangular scene needs w: w > 0 (a finite horizon below w_inf = 4/sqrt(3) - 2 = 0.3094...)",
                 )
             })?;
             let w = exact("w", w)?;
-            check_diffusive_gap(w.value).map_err(py_err)?;
+            // Any w > 0 (beyond w_inf the horizon is infinite: audits, Lyapunov exponents and
+            // events run there; diffusion refuses it itself).
+            if !w.value.is_finite() || w.value <= 0.0 {
+                check_diffusive_gap(w.value).map_err(py_err)?;
+            }
             TriangularScene::exact(w.rational("w").map_err(py_err)?)
                 .map(|s| SceneChoice::Triangular(Box::new(s)))
                 .map_err(py_err)

@@ -63,3 +63,15 @@ def test_square_scene_events():
     c = ev[ev["collision"]]
     d = np.hypot(c["x"] - np.round(c["x"]), c["y"] - np.round(c["y"]))
     assert np.allclose(d, 0.25, atol=1e-12)
+
+
+def test_events_beyond_the_horizon_fly_through_the_corridors():
+    """At w = 1/2 (infinite horizon) the flights still obey |dr| = dt, and some cross many
+    traps: the longest free flight exceeds the finite-horizon bound 12a."""
+    ev = lg.events(w="1/2", n=1_000_000, seed=5)
+    dt = np.diff(ev["t"])
+    dr = np.hypot(np.diff(ev["x"]), np.diff(ev["y"]))
+    scale = 1e-12 * (1 + np.maximum(np.abs(ev["x"][1:]), np.abs(ev["y"][1:])))
+    assert np.all(np.abs(dr - dt) < scale)
+    flights = np.diff(ev["t"][ev["collision"]])
+    assert flights.max() > 12 * 2.5

@@ -46,8 +46,8 @@ pub struct SceneArgs {
     /// (disks of radius r at unit spacing, needs --radius).
     #[arg(long, default_value = "triangular")]
     pub scene: SceneName,
-    /// Gap w of the triangular scene, a decimal or a fraction such as 1/10:
-    /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+    /// Gap w of the triangular scene, a decimal or a fraction such as 1/10: w > 0 (finite
+    /// horizon below w_inf = 4/sqrt(3) - 2 = 0.3094..., where diffusion needs it).
     #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
     pub w: Option<Exact>,
     /// Disk radius of the square scene, a decimal or a fraction such as 1/3: 0 < r < 1/2.
@@ -101,11 +101,18 @@ impl SceneArgs {
                 }
                 let w = self.w.as_ref().ok_or_else(|| {
                     Error::Invalid(
-                        "the triangular scene needs --w: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094..."
+                        "the triangular scene needs --w: w > 0 (a finite horizon below w_inf = 4/sqrt(3) - 2 = 0.3094...)"
                             .into(),
                     )
                 })?;
-                lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(w.value)?;
+                // Any w > 0: beyond w_inf the horizon is infinite, which the scene-generic
+                // analyses (audit, lyapunov, certify) handle; diffusion refuses it itself.
+                if !w.value.is_finite() {
+                    return Err(Error::NotFinite { what: "w" });
+                }
+                if w.value <= 0.0 {
+                    return Err(Error::Trapped { w: w.value });
+                }
                 Ok(SceneChoice::Triangular(Box::new(
                     lorentz_gas::scenes::triangular::TriangularScene::exact(w.rational("w")?)?,
                 )))

@@ -211,7 +211,7 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     (&["diffusion", "--collisions", "1e6"], "needs --w"),
     // lyapunov
-    (&["lyapunov", "--w", "0.4"], "infinite"),
+    (&["lyapunov", "--w", "-0.4"], "trapped"),
     (&["lyapunov", "--w", "0.1", "--batches", "1"], "batches"),
     (
         &["lyapunov", "--w", "0.1", "--collisions-per-batch", "0"],
