@@ -10,11 +10,14 @@ use crate::scenes::lattice::{CellIndex, LatticeState, Unwrapped};
 /// The label code of "no disk" / "no edge" in [`EventLanes::excluded`] (labels are 0, 1, 2).
 pub const NO_LABEL: f64 = -1.0;
 
-/// Event codes: 0, 1, 2 a collision with disk 0, 1, 2; this plus k a crossing of edge k.
-pub const CROSSING_CODE: f64 = 3.0;
+/// Event codes: m < [`CROSSING_CODE`] a collision with disk m; this plus k a crossing of edge k.
+/// A cell may have up to 16 disks and 48 edges (the triangular trap has 3 and 3, the square
+/// cell 1 and 4): every code stays below [`NO_EVENT`].
+pub const CROSSING_CODE: f64 = 16.0;
 
-/// The event code of a lane that is not live (no event: its time is 0).
-pub const NO_EVENT: f64 = 6.0;
+/// The event code of a lane that is not live (no event: its time is 0), above every event's
+/// code (an edge k < 48 has code 16 + k < 64).
+pub const NO_EVENT: f64 = 64.0;
 
 /// One step of L trajectories: the event of each lane and the lane's state just before it.
 ///
@@ -34,7 +37,8 @@ pub struct EventLanes<const L: usize> {
     pub live_bits: u64,
     /// Flight time to the event.
     pub time: [f64; L],
-    /// What ended the flight: disk m (0, 1, 2), [`CROSSING_CODE`] + edge k, or [`NO_EVENT`].
+    /// What ended the flight: disk m (below [`CROSSING_CODE`]), [`CROSSING_CODE`] + edge k, or
+    /// [`NO_EVENT`].
     pub code: [f64; L],
     /// Position before the event, in the cell frame (x, y).
     pub pos: [[f64; L]; 2],
