@@ -5,7 +5,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::PyResult;
 
 use lorentz_gas::scenes::square::SquareScene;
-use lorentz_gas::scenes::triangular::{geometry::check_diffusive_gap, TriangularScene};
+use lorentz_gas::scenes::triangular::TriangularScene;
+use lorentz_gas::Error;
 
 use crate::inputs::exact;
 use crate::py_err;
@@ -48,8 +49,11 @@ pub fn resolve(name: &str, w: Option<&str>, radius: Option<&str>) -> PyResult<Sc
             let w = exact("w", w)?;
             // Any w > 0 (beyond w_inf the horizon is infinite: audits, Lyapunov exponents and
             // events run there; diffusion refuses it itself).
-            if !w.value.is_finite() || w.value <= 0.0 {
-                check_diffusive_gap(w.value).map_err(py_err)?;
+            if !w.value.is_finite() {
+                return Err(py_err(Error::NotFinite { what: "w" }));
+            }
+            if w.value <= 0.0 {
+                return Err(py_err(Error::Trapped { w: w.value }));
             }
             TriangularScene::exact(w.rational("w").map_err(py_err)?)
                 .map(|s| SceneChoice::Triangular(Box::new(s)))

@@ -73,7 +73,7 @@ fn print(r: &ConstantsReport) {
         (Some(c), _) => println!("{:<20} {:<45} {}", c.name, c.shown, c.formula),
         (None, Some(sd)) => {
             println!(
-                "infinite horizon: free paths are unbounded, D does not exist; {} corridors (superdiffusion, `lorentz superdiffusion`):",
+                "infinite horizon: free paths are unbounded, D does not exist; {} corridors and the superdiffusion constants (proofs-notes/corridors.md):",
                 sd.corridors.len()
             );
             for c in &sd.rows {
