@@ -44,6 +44,7 @@ mod report;
 mod reproduce;
 mod shadow;
 mod slurm;
+mod superdiffusion;
 mod sweep;
 mod theory;
 mod trajectory;
@@ -104,6 +105,8 @@ enum Cmd {
     Certify(certify::Args),
     /// True shadowing: a true orbit (MPFR, Newton on the whole segment) within delta of each f64 segment, with a Newton-Kantorovich bound.
     Shadow(shadow::Args),
+    /// Superdiffusion beyond a finite horizon: flight tails, t*C(t), <dx^2>/t against ln t and the limit law, against the exact corridor constants.
+    Superdiffusion(superdiffusion::Args),
     /// Backscattering by injection into a single trap from the invariant flux (Kac's lemma checks included).
     Backscatter(backscatter::Args),
     /// Trap-hopping statistics along lattice trajectories: p_bs, p_cf, symbol sequences, hop-level Green-Kubo D.
@@ -181,6 +184,7 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::Lyapunov(a) => lyapunov::run(a),
         Cmd::Certify(a) => certify::run(a),
         Cmd::Shadow(a) => shadow::run(a),
+        Cmd::Superdiffusion(a) => superdiffusion::run(a),
         Cmd::Backscatter(a) => backscatter::run(a),
         Cmd::Hops(a) => hops::run(a),
         Cmd::Sweep(a) => sweep::run(a),

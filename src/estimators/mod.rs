@@ -4,6 +4,8 @@
 //! * [`hops`]: trap hopping — symbol sequences, backscattering, Green–Kubo, lattice walks.
 //! * [`sweep`]: D over a grid of gaps with a fit, in shards for campaigns.
 //! * [`escape`]: D from the escape rate out of an open strip (Gaspard–Baras).
+//! * [`superdiffusion`]: an infinite horizon's t ln t growth, flight tails and limit law against
+//!   the exact corridor constants.
 //! * [`trajectory`]: one trajectory from exact initial conditions to certified digits.
 //! * [`throughput`]: collisions per second of the engines (`lorentz bench`).
 //!
@@ -12,6 +14,7 @@
 pub mod diffusion;
 pub mod escape;
 pub mod hops;
+pub mod superdiffusion;
 pub mod sweep;
 pub mod throughput;
 pub mod trajectory;

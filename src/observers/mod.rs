@@ -13,8 +13,13 @@
 //! * [`msd`]: mean squared displacement at fixed lag times, sampled on a fixed time grid.
 //! * [`counters`]: collisions, crossings, total time (compensated), longest flight.
 //! * [`hops`]: trap-hopping symbols, collisionless visits, hop-direction correlations.
+//! * [`flight_tails`]: the tails of the free flights under the map and the flow.
+//! * [`lag_moments`]: ⟨|Δr|²⟩, ⟨v(0)·v(t)⟩ and the scaled displacement's histogram at lags on a
+//!   logarithmic grid.
 
 pub mod counters;
+pub mod flight_tails;
 pub mod hop_correlations;
 pub mod hops;
+pub mod lag_moments;
 pub mod msd;

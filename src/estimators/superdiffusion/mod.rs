@@ -1,0 +1,369 @@
+//! Superdiffusion in an infinite horizon, measured against the exact corridor constants
+//! ([`crate::theory::corridors`]): `lorentz superdiffusion`.
+//!
+//! Each batch is one long trajectory from the flow's invariant measure (stream (seed, b)) on the
+//! scalar `f64` kernel. Along it, two observers:
+//! * [`FlightTails`]: the map's tail s²·μ(τ > s) (complete collision-to-collision flights) and
+//!   the flow's s·P(τ⁺ > s) (Σ (τ − s)⁺ over the total time) at the lag grid's times;
+//! * [`LagMoments`]: sampled every mean free time ℓ, at lags t = mℓ on a logarithmic grid
+//!   (`points_per_octave` per octave up to 2^`octaves` ℓ), the time-averaged ⟨|Δr|²⟩ and
+//!   ⟨v(0)·v(t)⟩ over every window, and at each octave the histogram of Δx/√(D_sup t ln t).
+//!
+//! Both lattices are isotropic (their 3- and 4-fold rotations make every second-rank tensor a
+//! multiple of the identity), so per-component quantities are half the vector ones:
+//! ⟨Δx²⟩ = ⟨|Δr|²⟩/2 and C_xx(t) = ⟨v(0)·v(t)⟩/2 — the average of the x and y estimators, with
+//! half the variance of either.
+//!
+//! Every number is a mean over batches with its batch standard error; fits are made batch by
+//! batch with common weights (the batch variance of each point), so the batch spread of the
+//! fitted values carries every correlation between points and lags. Why batch errors are
+//! honest here although ⟨Δx⁴⟩ grows like t³, and what they need: `proofs-notes/
+//! superdiffusion-estimators.md` and the test
+//! `superdiffusion::msd_slope_errors_match_the_spread_of_independent_runs`.
+
+use serde::{Deserialize, Serialize};
+
+mod summary;
+
+pub use summary::{LagRow, LawRow};
+
+use crate::engine::drive;
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
+use crate::engine::parallel::{check_batches, par_batches_watched, share};
+use crate::numbers::exact::parse_exact;
+use crate::observers::flight_tails::{FlightTails, TailCounts};
+use crate::observers::lag_moments::{LagMoments, LagSums};
+use crate::scenes::sampling::stream;
+use crate::scenes::square::SquareScene;
+use crate::scenes::triangular::TriangularScene;
+use crate::scenes::Scene;
+use crate::theory::corridors::{self, CorridorJson, LatticeGas, Superdiffusion};
+use crate::Error;
+
+/// An infinite-horizon lattice, its parameter exactly as typed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Gas {
+    /// Disks of radius 1 at spacing 2 + w, w > w_inf = 4/√3 − 2.
+    Triangular {
+        /// The gap, a decimal or a fraction.
+        w: String,
+    },
+    /// Disks of radius r (0 < r < 1/2) at the integer points.
+    Square {
+        /// The radius, a decimal or a fraction.
+        radius: String,
+    },
+}
+
+impl Gas {
+    /// The lattice, exactly.
+    ///
+    /// # Errors
+    /// A parameter that is not a decimal or a fraction, or out of range.
+    pub fn lattice_gas(&self) -> Result<LatticeGas, Error> {
+        let gas = match self {
+            Gas::Triangular { w } => LatticeGas::Triangular { w: parse_exact(w)? },
+            Gas::Square { radius } => LatticeGas::Square {
+                r: parse_exact(radius)?,
+            },
+        };
+        gas.validate()?;
+        Ok(gas)
+    }
+}
+
+/// Longest lag grid: 2²⁰ mean free times (the ring of past samples holds 2²⁰ + 1 of 48 bytes).
+pub const MAX_OCTAVES: u32 = 20;
+
+/// What a superdiffusion measurement runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SuperdiffusionConfig {
+    /// The lattice.
+    pub gas: Gas,
+    /// Collisions in all, shared between the batches.
+    pub collisions: u64,
+    /// Independent batches (one trajectory each), at least 16: the errors are over them.
+    pub batches: u32,
+    /// The longest lag is 2^octaves mean free times.
+    pub octaves: u32,
+    /// Lags per octave.
+    pub points_per_octave: u32,
+    /// The lags of the VACF's plateau, [from, to] in mean free times.
+    pub vacf_fit: [f64; 2],
+    /// The lags of the fit of ⟨Δx²⟩/t = a ln t + b, [from, to] in mean free times.
+    pub msd_fit: [f64; 2],
+    /// Seed: batch b starts from stream (seed, b).
+    pub seed: u64,
+}
+
+/// Fewest batches: the errors of heavy-tailed batch means need a few dozen
+/// (`proofs-notes/superdiffusion-estimators.md`).
+pub const MIN_BATCHES: u32 = 16;
+
+impl SuperdiffusionConfig {
+    /// The command line's defaults for `gas`: 2·10⁸ collisions in 32 batches, lags to 2¹² ℓ at 4
+    /// per octave, the VACF's plateau over [64ℓ, 256ℓ], the MSD's slope over [512ℓ, 4096ℓ],
+    /// seed 1.
+    pub fn new(gas: Gas) -> Self {
+        SuperdiffusionConfig {
+            gas,
+            collisions: 200_000_000,
+            batches: 32,
+            octaves: 12,
+            points_per_octave: 4,
+            vacf_fit: [64.0, 256.0],
+            msd_fit: [512.0, 4096.0],
+            seed: 1,
+        }
+    }
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// A value out of range, naming the range.
+    pub fn validate(&self) -> Result<(), Error> {
+        check_batches("batches", self.batches)?;
+        if self.batches < MIN_BATCHES {
+            return Err(Error::Invalid(format!(
+                "batches = {}: use at least {MIN_BATCHES} (the errors of heavy-tailed means need a few dozen batches)",
+                self.batches
+            )));
+        }
+        if !(1..=MAX_OCTAVES).contains(&self.octaves) {
+            return Err(Error::Invalid(format!(
+                "octaves = {}: use 1 to {MAX_OCTAVES} (the longest lag is 2^octaves mean free times)",
+                self.octaves
+            )));
+        }
+        if !(1..=16).contains(&self.points_per_octave) {
+            return Err(Error::Invalid(format!(
+                "points per octave = {}: use 1 to 16",
+                self.points_per_octave
+            )));
+        }
+        let longest = (self.octaves as f64).exp2();
+        for (what, w) in [("VACF", self.vacf_fit), ("MSD", self.msd_fit)] {
+            let on_grid = self
+                .lag_steps()
+                .iter()
+                .filter(|&&m| (w[0]..=w[1]).contains(&(m as f64)))
+                .count();
+            if !(w[0] >= 1.0 && w[0] < w[1] && w[1] <= longest) || on_grid < 2 {
+                return Err(Error::Invalid(format!(
+                    "{what} fit window {}:{} mean free times: use 1 <= from < to <= 2^octaves = {longest} with at least two lags inside",
+                    w[0], w[1]
+                )));
+            }
+        }
+        let per_batch = self.collisions / self.batches as u64;
+        let needed = 4u64 << self.octaves;
+        if per_batch < needed {
+            return Err(Error::Invalid(format!(
+                "{} collisions in {} batches: use at least {} per batch (4 times the longest lag, 2^{} mean free times)",
+                self.collisions, self.batches, needed, self.octaves
+            )));
+        }
+        crate::engine::check_trajectory_length(per_batch + 1)?;
+        Ok(())
+    }
+
+    /// The lags in mean free times: round(2^(k/points_per_octave)) for k = 0 … octaves·points,
+    /// duplicates dropped (ascending).
+    pub fn lag_steps(&self) -> Vec<usize> {
+        let q = self.points_per_octave as f64;
+        let mut steps: Vec<usize> = (0..=self.octaves * self.points_per_octave)
+            .map(|k| (k as f64 / q).exp2().round() as usize)
+            .collect();
+        steps.dedup();
+        steps
+    }
+}
+
+/// A superdiffusion measurement against the exact constants.
+#[derive(Debug, Clone, Serialize)]
+pub struct SuperdiffusionReport {
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
+    /// Santaló's mean free path ℓ (the lag unit).
+    pub mean_free_path: f64,
+    /// Every corridor.
+    pub corridors: Vec<CorridorJson>,
+    /// Σ_xx: the limit law's variance and lim t·C_xx(t).
+    #[serde(rename = "D_sup_exact")]
+    pub d_sup_exact: f64,
+    /// The flow's tail constant: P(τ > s) ≈ C_flow/s.
+    #[serde(rename = "C_flow_exact")]
+    pub c_flow_exact: f64,
+    /// The map's tail constant: μ(τ > s) ≈ C_map/s².
+    #[serde(rename = "C_map_exact")]
+    pub c_map_exact: f64,
+    /// The coefficient of t ln t in ⟨Δx²⟩: 2 D_sup.
+    pub msd_log_slope_exact: f64,
+    /// C_flow from s·P(τ > s) = C + B/s fitted over `tail_fit`.
+    #[serde(rename = "C_flow_tail")]
+    pub c_flow_tail: f64,
+    /// Its batch error.
+    #[serde(rename = "C_flow_tail_err")]
+    pub c_flow_tail_err: f64,
+    /// C_map from s²·μ(τ > s) = C + B/s fitted over `tail_fit`.
+    #[serde(rename = "C_map_tail")]
+    pub c_map_tail: f64,
+    /// Its batch error.
+    #[serde(rename = "C_map_tail_err")]
+    pub c_map_tail_err: f64,
+    /// The tail fits' range of s (from 8ℓ to the last s with at least 100 flights per batch).
+    pub tail_fit: [f64; 2],
+    /// D_sup from t·C_xx(t): its weighted mean over `vacf_fit`.
+    #[serde(rename = "D_sup_vacf")]
+    pub d_sup_vacf: f64,
+    /// Its error: the batch error and the unsampled-flight term in quadrature.
+    #[serde(rename = "D_sup_vacf_err")]
+    pub d_sup_vacf_err: f64,
+    /// The batch error alone.
+    #[serde(rename = "D_sup_vacf_err_batch")]
+    pub d_sup_vacf_err_batch: f64,
+    /// The unsampled-flight term: |D_sup_vacf|·t/L at the window's last lag t, L the longest
+    /// flight seen (`proofs-notes/superdiffusion-estimators.md`).
+    #[serde(rename = "D_sup_vacf_err_unsampled")]
+    pub d_sup_vacf_err_unsampled: f64,
+    /// The lags of the VACF's plateau [from, to] (time units).
+    pub vacf_fit: [f64; 2],
+    /// The slope a of ⟨Δx²⟩/t = a ln t + b fitted over `msd_fit` (→ 2 D_sup).
+    pub msd_log_slope: f64,
+    /// Its error: batch and unsampled-flight terms in quadrature.
+    pub msd_log_slope_err: f64,
+    /// The batch error alone.
+    pub msd_log_slope_err_batch: f64,
+    /// The unsampled-flight term, |a|·t/L at the window's last lag.
+    pub msd_log_slope_err_unsampled: f64,
+    /// The intercept b.
+    pub msd_log_intercept: f64,
+    /// Its batch error.
+    pub msd_log_intercept_err: f64,
+    /// The lags of the MSD fit [from, to] (time units).
+    pub msd_fit: [f64; 2],
+    /// The longest free flight seen in all batches.
+    pub longest_flight: f64,
+    /// Per lag t: the tails at s = t, t·C_xx(t), ⟨Δx²⟩ and the local slope of ⟨Δx²⟩/t in ln t.
+    pub lags: Vec<LagRow>,
+    /// Per octave: the distribution of Δx/√(D_sup t ln t) against N(0, 1).
+    pub limit_law: Vec<LawRow>,
+    /// Collisions in all.
+    pub collisions: u64,
+    /// Collisions of each batch (the first batches take one more when they do not divide).
+    pub collisions_per_batch: u64,
+    /// Version, seed, batches, precision, engine, threads, command line.
+    pub meta: RunMeta,
+}
+
+/// What one batch's trajectory showed.
+#[derive(Debug, Clone)]
+struct Batch {
+    tails: TailCounts,
+    lags: LagSums,
+}
+
+/// Measures superdiffusion on `cfg.gas` (which must have an infinite horizon). Only `threads`,
+/// `progress` and `stop` of the options apply (the scalar `f64` kernel, no checkpoints).
+///
+/// # Errors
+/// An invalid configuration, a finite horizon (use [`crate::estimators::diffusion`]), or a run
+/// stopped on request.
+pub fn run(
+    cfg: &SuperdiffusionConfig,
+    options: &RunOptions,
+) -> Result<SuperdiffusionReport, Error> {
+    cfg.validate()?;
+    options.validate()?;
+    let gas = cfg.gas.lattice_gas()?;
+    let sd = corridors::superdiffusion::<f64>((), &gas)?;
+    match gas {
+        LatticeGas::Square { r } => run_on(&SquareScene::exact(r)?, cfg, &sd, options),
+        LatticeGas::Triangular { w } => run_on(&TriangularScene::exact(w)?, cfg, &sd, options),
+    }
+}
+
+fn run_on<S: Scene>(
+    scene: &S,
+    cfg: &SuperdiffusionConfig,
+    sd: &Superdiffusion<f64>,
+    options: &RunOptions,
+) -> Result<SuperdiffusionReport, Error> {
+    if scene.finite_horizon() || !sd.infinite_horizon() {
+        return Err(Error::Invalid(format!(
+            "{} has a finite horizon: the mean squared displacement grows like t and D exists; use `lorentz diffusion` (superdiffusion needs w > w_inf = 0.3094... or the square scene)",
+            scene.label()
+        )));
+    }
+    let ell = scene.mean_free_path();
+    let steps = cfg.lag_steps();
+    let times: Vec<f64> = steps.iter().map(|&m| m as f64 * ell).collect();
+    let histogram_at: Vec<usize> = (0..steps.len())
+        .filter(|&k| steps[k].is_power_of_two() && times[k] > std::f64::consts::E)
+        .collect();
+    let lat = scene.lattice::<f64>(())?;
+    let basis = lat.basis_f64();
+    let batches = par_batches_watched(options.threads, cfg.batches, options.stop.as_ref(), |b| {
+        let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
+        let mut obs = (
+            FlightTails::new(&times, 1),
+            LagMoments::new(ell, &steps, &histogram_at, sd.d_sup_xx, basis, 1),
+        );
+        let n = share(cfg.collisions, cfg.batches, b);
+        drive(&lat, &mut s, n, &mut obs, options.progress)?;
+        Ok(Batch {
+            tails: obs.0.counts(0).clone(),
+            lags: obs.1.sums(0).clone(),
+        })
+    })?;
+    let meta = RunMeta::new(
+        Some(cfg.seed),
+        Some(cfg.batches as u64),
+        "f64",
+        Some(options.threads),
+    );
+    let input = summary::Input {
+        cfg,
+        sd,
+        ell,
+        steps: &steps,
+        times: &times,
+        histogram_at: &histogram_at,
+    };
+    let s = summary::summarise(&input, &batches)?;
+    Ok(SuperdiffusionReport {
+        scene: scene.label(),
+        mean_free_path: ell,
+        corridors: sd.corridors.iter().map(|c| c.to_json()).collect(),
+        d_sup_exact: sd.d_sup_xx,
+        c_flow_exact: sd.c_flow,
+        c_map_exact: sd.c_map,
+        msd_log_slope_exact: sd.msd_x_coefficient(),
+        c_flow_tail: s.c_flow.0,
+        c_flow_tail_err: s.c_flow.1,
+        c_map_tail: s.c_map.0,
+        c_map_tail_err: s.c_map.1,
+        tail_fit: s.tail_fit,
+        d_sup_vacf: s.d_sup.value,
+        d_sup_vacf_err: s.d_sup.err(),
+        d_sup_vacf_err_batch: s.d_sup.batch,
+        d_sup_vacf_err_unsampled: s.d_sup.unsampled,
+        vacf_fit: s.vacf_fit,
+        msd_log_slope: s.slope.value,
+        msd_log_slope_err: s.slope.err(),
+        msd_log_slope_err_batch: s.slope.batch,
+        msd_log_slope_err_unsampled: s.slope.unsampled,
+        msd_log_intercept: s.intercept.0,
+        msd_log_intercept_err: s.intercept.1,
+        msd_fit: s.msd_fit,
+        longest_flight: s.longest,
+        lags: s.lags,
+        limit_law: s.law,
+        collisions: cfg.collisions,
+        collisions_per_batch: cfg.collisions / cfg.batches as u64,
+        meta,
+    })
+}
