@@ -30,8 +30,8 @@ pub enum Error {
     #[error(
         "w = {w:?} is not < w_inf = 4/sqrt(3) - 2 = {w_inf:.17}: the horizon is infinite, \
          free flights are unbounded and the diffusion coefficient does not exist \
-         (valid range: 0 < w < {w_inf:.6}; `lorentz constants --w W` gives the corridors and \
-         the exact superdiffusion constants)"
+         (valid range: 0 < w < {w_inf:.6}; `lorentz superdiffusion --w W` measures the t ln t \
+         growth against the exact corridor constants, which `lorentz constants --w W` lists)"
     )]
     InfiniteHorizon {
         /// The offending gap.

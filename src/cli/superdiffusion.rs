@@ -101,20 +101,21 @@ fn print(r: &SuperdiffusionReport) {
             sigmas(x, e, exact, n)
         )
     };
-    line(
-        "C_flow  (s P(tau > s) = C + B/s)",
+    match (
         r.c_flow_tail,
         r.c_flow_tail_err,
-        r.c_flow_exact,
-        r.tail_fit,
-    );
-    line(
-        "C_map   (s^2 mu(tau > s) = C + B/s)",
         r.c_map_tail,
         r.c_map_tail_err,
-        r.c_map_exact,
         r.tail_fit,
-    );
+    ) {
+        (Some(f), Some(fe), Some(m), Some(me), Some(range)) => {
+            line("C_flow  (s P(tau > s) = C + B/s)", f, fe, r.c_flow_exact, range);
+            line("C_map   (s^2 mu(tau > s) = C + B/s)", m, me, r.c_map_exact, range);
+        }
+        _ => println!(
+            "  C_flow, C_map: not fitted (every batch needs 100 flights longer than 8 l at two lags; use more collisions)"
+        ),
+    }
     line(
         "D_sup   (t C_xx(t), weighted mean)",
         r.d_sup_vacf,

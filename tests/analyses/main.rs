@@ -11,5 +11,6 @@ mod corridors;
 mod derived_errors;
 mod escape;
 mod hopping;
+mod superdiffusion;
 mod sweep;
 mod theory;

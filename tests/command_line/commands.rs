@@ -210,6 +210,36 @@ const BAD: &[(&[&str], &str)] = &[
         "infinite horizon",
     ),
     (&["diffusion", "--collisions", "1e6"], "needs --w"),
+    // superdiffusion
+    (&["superdiffusion", "--w", "0.1"], "finite horizon"),
+    (
+        &["superdiffusion", "--scene", "square", "--radius", "1/2"],
+        "0 < radius < 1/2",
+    ),
+    (
+        &[
+            "superdiffusion",
+            "--scene",
+            "square",
+            "--radius",
+            "1/4",
+            "--batches",
+            "4",
+        ],
+        "at least 16",
+    ),
+    (
+        &["superdiffusion", "--w", "0.5", "--msd-fit", "64:8"],
+        "FROM:TO",
+    ),
+    (
+        &["superdiffusion", "--w", "0.5", "--vacf-fit", "64:8192"],
+        "2^octaves",
+    ),
+    (
+        &["superdiffusion", "--w", "0.5", "--collisions", "1e5"],
+        "per batch",
+    ),
     // lyapunov
     (&["lyapunov", "--w", "-0.4"], "trapped"),
     (&["lyapunov", "--w", "0.1", "--batches", "1"], "batches"),

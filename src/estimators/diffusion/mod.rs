@@ -57,7 +57,7 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
         return Ok(());
     }
     Err(Error::Invalid(format!(
-        "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use the triangular scene with 0 < w < w_inf = 0.3094... (`lorentz constants --scene square --radius R` gives the corridors and the exact superdiffusion constants)",
+        "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use the triangular scene with 0 < w < w_inf = 0.3094..., or `lorentz superdiffusion --scene square --radius R`, which measures the t ln t growth against the exact corridor constants (`lorentz constants --scene square --radius R` lists them)",
         scene.label()
     )))
 }

@@ -202,20 +202,22 @@ pub struct SuperdiffusionReport {
     pub c_map_exact: f64,
     /// The coefficient of t ln t in ⟨Δx²⟩: 2 D_sup.
     pub msd_log_slope_exact: f64,
-    /// C_flow from s·P(τ > s) = C + B/s fitted over `tail_fit`.
+    /// C_flow from s·P(τ > s) = C + B/s fitted over `tail_fit` (`None` when fewer than two
+    /// grid times qualify: too few long flights).
     #[serde(rename = "C_flow_tail")]
-    pub c_flow_tail: f64,
+    pub c_flow_tail: Option<f64>,
     /// Its batch error.
     #[serde(rename = "C_flow_tail_err")]
-    pub c_flow_tail_err: f64,
+    pub c_flow_tail_err: Option<f64>,
     /// C_map from s²·μ(τ > s) = C + B/s fitted over `tail_fit`.
     #[serde(rename = "C_map_tail")]
-    pub c_map_tail: f64,
+    pub c_map_tail: Option<f64>,
     /// Its batch error.
     #[serde(rename = "C_map_tail_err")]
-    pub c_map_tail_err: f64,
-    /// The tail fits' range of s (from 8ℓ to the last s with at least 100 flights per batch).
-    pub tail_fit: [f64; 2],
+    pub c_map_tail_err: Option<f64>,
+    /// The tail fits' range of s: the grid times from 8ℓ on at which every batch saw at least
+    /// 100 longer flights.
+    pub tail_fit: Option<[f64; 2]>,
     /// D_sup from t·C_xx(t): its weighted mean over `vacf_fit`.
     #[serde(rename = "D_sup_vacf")]
     pub d_sup_vacf: f64,
@@ -342,10 +344,10 @@ fn run_on<S: Scene>(
         c_flow_exact: sd.c_flow,
         c_map_exact: sd.c_map,
         msd_log_slope_exact: sd.msd_x_coefficient(),
-        c_flow_tail: s.c_flow.0,
-        c_flow_tail_err: s.c_flow.1,
-        c_map_tail: s.c_map.0,
-        c_map_tail_err: s.c_map.1,
+        c_flow_tail: s.c_flow.map(|c| c.0),
+        c_flow_tail_err: s.c_flow.map(|c| c.1),
+        c_map_tail: s.c_map.map(|c| c.0),
+        c_map_tail_err: s.c_map.map(|c| c.1),
         tail_fit: s.tail_fit,
         d_sup_vacf: s.d_sup.value,
         d_sup_vacf_err: s.d_sup.err(),

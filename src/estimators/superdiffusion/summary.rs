@@ -86,9 +86,9 @@ pub(super) struct Input<'a> {
 }
 
 pub(super) struct Summary {
-    pub c_flow: (f64, f64),
-    pub c_map: (f64, f64),
-    pub tail_fit: [f64; 2],
+    pub c_flow: Option<MeanSe>,
+    pub c_map: Option<MeanSe>,
+    pub tail_fit: Option<[f64; 2]>,
     pub d_sup: Estimate,
     pub vacf_fit: [f64; 2],
     pub slope: Estimate,
@@ -164,15 +164,20 @@ pub(super) fn summarise(inp: &Input, batches: &[Batch]) -> Result<Summary, Error
                     .all(|b| b.tails.longer[k] >= TAIL_MIN_FLIGHTS)
         })
         .collect();
-    if tail_points.len() < 2 {
-        return Err(Error::Invalid(format!(
-            "too few long flights for the tail fits ({} collisions): every batch needs {TAIL_MIN_FLIGHTS} flights longer than {TAIL_FIT_FROM} mean free paths at two lags; use more collisions",
-            inp.cfg.collisions
-        )));
-    }
     let inv = |k: usize| 1.0 / times[k];
-    let c_map = batch_fit(&map, &tail_points, inv)?;
-    let c_flow = batch_fit(&flow, &tail_points, inv)?;
+    let (c_map, c_flow, tail_fit) = if tail_points.len() >= 2 {
+        let range = [
+            times[tail_points[0]],
+            times[tail_points[tail_points.len() - 1]],
+        ];
+        (
+            Some(batch_fit(&map, &tail_points, inv)?.0),
+            Some(batch_fit(&flow, &tail_points, inv)?.0),
+            Some(range),
+        )
+    } else {
+        (None, None, None)
+    };
     let longest = batches.iter().map(|b| b.tails.longest).fold(0.0, f64::max);
     let window = |w: [f64; 2]| -> Vec<usize> {
         (0..n)
@@ -234,9 +239,9 @@ pub(super) fn summarise(inp: &Input, batches: &[Batch]) -> Result<Summary, Error
         .map(|(h, &k)| law_row(batches, h, times[k], inp.sd.d_sup_xx, &msd.at(k)))
         .collect();
     Ok(Summary {
-        c_flow: c_flow.0,
-        c_map: c_map.0,
-        tail_fit: [times[tail_points[0]], times[*tail_points.last().unwrap()]],
+        c_flow,
+        c_map,
+        tail_fit,
         d_sup,
         vacf_fit: [times[vacf_points[0]], top(&vacf_points)],
         slope,
