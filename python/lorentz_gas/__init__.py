@@ -51,6 +51,7 @@ from ._results import (
     ReportResult,
     Result,
     ShadowResult,
+    SuperdiffusionResult,
     SweepResult,
     TrajectoryResult,
 )
@@ -64,6 +65,7 @@ __all__ = [
     "sweep",
     "escape",
     "lyapunov",
+    "superdiffusion",
     "audit",
     "shadow",
     "certify",
@@ -77,6 +79,7 @@ __all__ = [
     "DiffusionResult",
     "HopsResult",
     "BackscatterResult",
+    "SuperdiffusionResult",
     "SweepResult",
     "EscapeResult",
     "LyapunovResult",
@@ -137,6 +140,17 @@ def _exact(name: str, v: Any) -> str:
 
 def _optional_exact(name: str, v: Any) -> Optional[str]:
     return None if v is None else _exact(name, v)
+
+
+def _window(name: str, v: Any) -> Tuple[float, float]:
+    """A window (from, to) of two numbers."""
+    try:
+        lo, hi = v
+        return (float(lo), float(hi))
+    except (TypeError, ValueError) as e:
+        raise ValueError(
+            f"{name}: {v!r} is not a window (from, to): use two numbers such as (64, 256)"
+        ) from e
 
 
 def _count(name: str, v: Any) -> str:
@@ -518,6 +532,67 @@ def lyapunov(
             cb,
         )
     return LyapunovResult(text)
+
+
+def superdiffusion(
+    w: Optional[Exact] = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    collisions: Count = 2e8,
+    batches: Count = 32,
+    octaves: Count = 12,
+    points_per_octave: Count = 4,
+    vacf_fit: Tuple[float, float] = (64, 256),
+    msd_fit: Tuple[float, float] = (512, 4096),
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    progress: Progress = False,
+) -> SuperdiffusionResult:
+    """Superdiffusion beyond a finite horizon (``lorentz superdiffusion``): the free-flight
+    tails, t·C_xx(t), ⟨Δx²⟩/t against ln t and the limit law of Δx/√(t ln t), each against
+    the exact corridor constants.
+
+    Parameters
+    ----------
+    w : gap of the triangular scene beyond w_inf = 4/√3 − 2 = 0.3094...; or ``scene="square"``
+        with ``radius`` (0 < radius < 1/2), exact as in :func:`diffusion`.
+    collisions : int
+        Collisions in all, shared between the batches (at least 4·2^octaves per batch).
+    batches : int
+        Independent trajectories, at least 16; the errors are over them.
+    octaves : int
+        The longest lag is 2^octaves mean free times ℓ (1 to 20).
+    points_per_octave : int
+        Lags per octave (1 to 16).
+    vacf_fit, msd_fit : (float, float)
+        The lags, in mean free times, of the plateau of t·C_xx(t) and of the fit
+        ⟨Δx²⟩/t = a ln t + b.
+    seed, threads, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    SuperdiffusionResult
+        The exact constants, the measured ones with errors, and the ``lags`` and ``limit_law``
+        tables as numpy structured arrays (times in units of length at speed 1).
+    """
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.superdiffusion(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            _count("octaves", octaves),
+            _count("points_per_octave", points_per_octave),
+            _window("vacf_fit", vacf_fit),
+            _window("msd_fit", msd_fit),
+            _count("seed", seed),
+            _threads(threads),
+            cb,
+        )
+    return SuperdiffusionResult(text)
 
 
 def audit(

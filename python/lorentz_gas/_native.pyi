@@ -42,6 +42,11 @@ def lyapunov(
     scene: str, w: Optional[str], radius: Optional[str], collisions_per_batch: str,
     batches: str, starts: str, seed: str, threads: Optional[str], progress: Progress,
 ) -> str: ...
+def superdiffusion(
+    scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
+    octaves: str, points_per_octave: str, vacf_fit: Tuple[float, float],
+    msd_fit: Tuple[float, float], seed: str, threads: Optional[str], progress: Progress,
+) -> str: ...
 def audit(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
     sample: float, reference_bits: str, seed: str, threads: Optional[str], progress: Progress,

@@ -160,6 +160,46 @@ class LyapunovResult(Result):
         )
 
 
+def _records(raw: List[Dict[str, Any]]) -> np.ndarray:
+    """Rows of numbers (``None`` as NaN) as a numpy structured array."""
+    if not raw:
+        return np.zeros(0)
+    keys = list(raw[0])
+    ints = [k for k in keys if all(isinstance(r[k], int) and not isinstance(r[k], bool) for r in raw)]
+    dtype = [(k, np.int64 if k in ints else np.float64) for k in keys]
+    return np.array(
+        [tuple(np.nan if r[k] is None else r[k] for k in keys) for r in raw], dtype=dtype
+    )
+
+
+class SuperdiffusionResult(Result):
+    """Superdiffusion in an infinite horizon against the exact corridor constants.
+
+    The exact ``D_sup_exact`` (the limit law's variance of Δx/√(t ln t) and lim t·C_xx(t), in
+    length²/time), ``C_flow_exact`` (P(τ > s) ≈ C_flow/s, time), ``C_map_exact``
+    (μ(τ > s) ≈ C_map/s², time²), ``msd_log_slope_exact`` (2 D_sup) and the ``corridors``;
+    the measured ``C_flow_tail``, ``C_map_tail``, ``D_sup_vacf``, ``msd_log_slope`` with their
+    ``_err`` (``None`` for the tails when too few long flights were seen). ``lags`` is a numpy
+    structured array, one record per lag t (time): ``t``, ``t_over_ell``, ``s_p_flow``,
+    ``s2_p_map``, ``t_c``, ``msd_x`` (length²), ``msd_local_slope`` (NaN where the half lag is
+    not on the grid), each with ``_err``, the unsampled-flight bounds ``t_c_unsampled`` and
+    ``msd_local_slope_unsampled``, and ``flights_longer``; ``limit_law`` likewise, one record
+    per octave: ``t``, ``variance_ratio`` (→ 1), ``second_moment_ratio`` (→ 2), each with
+    ``_err``, ``ks_distance``, ``samples``."""
+
+    def __init__(self, text: str):
+        super().__init__(text)
+        self.lags = _records(self._data["lags"])
+        self.limit_law = _records(self._data["limit_law"])
+
+    def _summary(self) -> str:
+        d = self._data
+        return (
+            f"D_sup_vacf = {_pm(d['D_sup_vacf'], d['D_sup_vacf_err'])} against "
+            f"D_sup = {d['D_sup_exact']:.6f} on {d['scene']}"
+        )
+
+
 class AuditResult(Result):
     """A shadow audit: the events replayed in MPFR and how many fell outside the error model."""
 

@@ -15,6 +15,7 @@ use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, Window};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
+use lorentz_gas::estimators::superdiffusion::{self, Gas, SuperdiffusionConfig};
 use lorentz_gas::estimators::sweep::{self, SweepConfig};
 use lorentz_gas::estimators::trajectory::{self, TrajectoryInput, MAX_DIGITS};
 use lorentz_gas::numbers::exact::parse_exact;
@@ -325,6 +326,51 @@ fn py_lyapunov(
 }
 
 #[pyfunction]
+#[pyo3(name = "superdiffusion", signature = (scene, w, radius, collisions, batches, octaves, points_per_octave, vacf_fit, msd_fit, seed, threads, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_superdiffusion(
+    py: Python<'_>,
+    scene: &str,
+    w: Option<&str>,
+    radius: Option<&str>,
+    collisions: &str,
+    batches: &str,
+    octaves: &str,
+    points_per_octave: &str,
+    vacf_fit: [f64; 2],
+    msd_fit: [f64; 2],
+    seed: &str,
+    threads: Option<&str>,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    resolve(scene, w, radius)?;
+    let gas = match (scene, w, radius) {
+        ("square", None, Some(r)) => Gas::Square {
+            radius: inputs::exact("radius", r)?.text,
+        },
+        (_, Some(w), None) => Gas::Triangular {
+            w: inputs::exact("w", w)?.text,
+        },
+        _ => unreachable!("resolve checked the scene and its parameter"),
+    };
+    let cfg = SuperdiffusionConfig {
+        collisions: count_u64("collisions", collisions)?,
+        batches: count_u32("batches", batches)?,
+        octaves: count_u32("octaves", octaves)?,
+        points_per_octave: count_u32("points_per_octave", points_per_octave)?,
+        vacf_fit,
+        msd_fit,
+        seed: count_u64("seed", seed)?,
+        ..SuperdiffusionConfig::new(gas)
+    };
+    let threads = inputs::threads(threads)?;
+    let r = compute(py, progress, |ctl| {
+        superdiffusion::run(&cfg, &options(ctl, threads, Engine::Auto))
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
 #[pyo3(name = "audit", signature = (scene, w, radius, collisions, batches, sample, reference_bits, seed, threads, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_audit(
@@ -513,6 +559,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(py_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(py_escape, m)?)?;
     m.add_function(wrap_pyfunction!(py_lyapunov, m)?)?;
+    m.add_function(wrap_pyfunction!(py_superdiffusion, m)?)?;
     m.add_function(wrap_pyfunction!(py_audit, m)?)?;
     m.add_function(wrap_pyfunction!(py_shadow, m)?)?;
     m.add_function(wrap_pyfunction!(py_certify, m)?)?;

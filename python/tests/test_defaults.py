@@ -8,12 +8,12 @@ import pytest
 
 import lorentz_gas as lg
 
-FUNCTIONS = ["diffusion", "hops", "backscatter", "sweep", "escape", "lyapunov", "audit",
+FUNCTIONS = ["diffusion", "hops", "backscatter", "sweep", "escape", "lyapunov", "superdiffusion", "audit",
              "shadow", "certify", "trajectory", "report"]
 # Python keywords that are not command-line options (or are one under another name).
 NOT_OPTIONS = {"w", "progress", "path", "start", "direction", "time", "events", "scene",
                "radius", "out", "widths", "threads", "max_rerun_collisions", "checkpoint",
-               "w_from", "w_to", "window", "check_window", "audit"}
+               "w_from", "w_to", "window", "check_window", "audit", "vacf_fit", "msd_fit"}
 
 
 def cli_defaults(cli, command):
@@ -65,5 +65,10 @@ def test_windows_default_to_the_command_lines(cli):
     d = cli_defaults(cli, "diffusion")
     sig = inspect.signature(lg.diffusion).parameters
     for k in ["window", "check_window"]:
+        lo, hi = sig[k].default
+        assert f"{lo}:{hi}" == d[k]
+    d = cli_defaults(cli, "superdiffusion")
+    sig = inspect.signature(lg.superdiffusion).parameters
+    for k in ["vacf_fit", "msd_fit"]:
         lo, hi = sig[k].default
         assert f"{lo}:{hi}" == d[k]

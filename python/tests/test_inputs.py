@@ -94,3 +94,21 @@ def test_events_refuses_more_than_memory_holds():
         lg.events(w=0.1, n=2**31)
     with pytest.raises(ValueError, match="out of range"):
         lg.events(w=0.1, n=0)
+
+
+@pytest.mark.parametrize(
+    "kwargs, args",
+    [
+        (dict(w=0.2), ["--w", "0.2"]),
+        (dict(w=0.5, batches=8), ["--w", "0.5", "--batches", "8"]),
+        (dict(w=0.5, msd_fit=(16, 99999)), ["--w", "0.5", "--msd-fit", "16:99999"]),
+        (dict(scene="square", radius="1/2"), ["--scene", "square", "--radius", "1/2"]),
+    ],
+)
+def test_superdiffusion_refusals_are_the_command_lines_line(cli, kwargs, args):
+    with pytest.raises(ValueError) as e:
+        lg.superdiffusion(**kwargs)
+    line = cli_message(cli, "superdiffusion", *args)
+    msg = str(e.value)
+    assert "\n" not in msg
+    assert line.endswith(msg.split(": ", 1)[-1]) or line == "error: " + msg, (line, msg)

@@ -110,3 +110,14 @@ def test_constants_of_the_square_lattice_and_beyond_w_inf_are_the_command_lines(
         assert d == cl
     sd = lg.constants(radius="1/4").superdiffusion
     assert len(sd["corridors"]) == 4 and sd["msd_r_t_ln_t"] == 2 * sd["C_flow"]
+
+
+def test_superdiffusion_has_the_command_lines_bits(cli_json):
+    py = lg.superdiffusion(radius="1/4", scene="square", collisions=3.2e6, batches=16, octaves=6,
+                           vacf_fit=(8, 32), msd_fit=(16, 64), seed=4)
+    cl = cli_json("superdiffusion", "--scene", "square", "--radius", "1/4", "--collisions", "3.2e6",
+                  "--batches", "16", "--octaves", "6", "--vacf-fit", "8:32", "--msd-fit", "16:64",
+                  "--seed", "4")
+    same(py.to_dict(), cl)
+    assert list(py.lags["t_c"]) == [r["t_c"] for r in cl["lags"]]
+    assert py.D_sup_exact == cl["D_sup_exact"] and len(py.corridors) == 4
