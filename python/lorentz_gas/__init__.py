@@ -543,6 +543,7 @@ def superdiffusion(
     batches: Count = 32,
     octaves: Count = 12,
     points_per_octave: Count = 4,
+    tail_fit_from: float = 8,
     vacf_fit: Tuple[float, float] = (64, 256),
     msd_fit: Tuple[float, float] = (512, 4096),
     seed: Count = 1,
@@ -565,6 +566,9 @@ def superdiffusion(
         The longest lag is 2^octaves mean free times ℓ (1 to 20).
     points_per_octave : int
         Lags per octave (1 to 16).
+    tail_fit_from : float
+        The tail fits C + B/s use the times s from this many mean free times on (only those at
+        which every batch saw 100 longer flights).
     vacf_fit, msd_fit : (float, float)
         The lags, in mean free times, of the plateau of t·C_xx(t) and of the fit
         ⟨Δx²⟩/t = a ln t + b.
@@ -586,6 +590,7 @@ def superdiffusion(
             _count("batches", batches),
             _count("octaves", octaves),
             _count("points_per_octave", points_per_octave),
+            float(tail_fit_from),
             _window("vacf_fit", vacf_fit),
             _window("msd_fit", msd_fit),
             _count("seed", seed),

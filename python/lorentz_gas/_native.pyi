@@ -44,7 +44,7 @@ def lyapunov(
 ) -> str: ...
 def superdiffusion(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
-    octaves: str, points_per_octave: str, vacf_fit: Tuple[float, float],
+    octaves: str, points_per_octave: str, tail_fit_from: float, vacf_fit: Tuple[float, float],
     msd_fit: Tuple[float, float], seed: str, threads: Optional[str], progress: Progress,
 ) -> str: ...
 def audit(

@@ -182,7 +182,7 @@ class SuperdiffusionResult(Result):
     ``_err`` (``None`` for the tails when too few long flights were seen). ``lags`` is a numpy
     structured array, one record per lag t (time): ``t``, ``t_over_ell``, ``s_p_flow``,
     ``s2_p_map``, ``t_c``, ``msd_x`` (length²), ``msd_local_slope`` (NaN where the half lag is
-    not on the grid), each with ``_err``, the unsampled-flight bounds ``t_c_unsampled`` and
+    not on the grid), each with ``_err``, the unsampled-flight bounds ``s_p_flow_unsampled``, ``t_c_unsampled`` and
     ``msd_local_slope_unsampled``, and ``flights_longer``; ``limit_law`` likewise, one record
     per octave: ``t``, ``variance_ratio`` (→ 1), ``second_moment_ratio`` (→ 2), each with
     ``_err``, ``ks_distance``, ``samples``."""

@@ -326,7 +326,7 @@ fn py_lyapunov(
 }
 
 #[pyfunction]
-#[pyo3(name = "superdiffusion", signature = (scene, w, radius, collisions, batches, octaves, points_per_octave, vacf_fit, msd_fit, seed, threads, progress))]
+#[pyo3(name = "superdiffusion", signature = (scene, w, radius, collisions, batches, octaves, points_per_octave, tail_fit_from, vacf_fit, msd_fit, seed, threads, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_superdiffusion(
     py: Python<'_>,
@@ -337,6 +337,7 @@ fn py_superdiffusion(
     batches: &str,
     octaves: &str,
     points_per_octave: &str,
+    tail_fit_from: f64,
     vacf_fit: [f64; 2],
     msd_fit: [f64; 2],
     seed: &str,
@@ -358,6 +359,7 @@ fn py_superdiffusion(
         batches: count_u32("batches", batches)?,
         octaves: count_u32("octaves", octaves)?,
         points_per_octave: count_u32("points_per_octave", points_per_octave)?,
+        tail_fit_from,
         vacf_fit,
         msd_fit,
         seed: count_u64("seed", seed)?,

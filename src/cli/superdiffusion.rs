@@ -26,6 +26,10 @@ pub struct Args {
     /// Lags per octave (1 to 16).
     #[arg(long, default_value = "4", value_parser = parse_count_u32, allow_negative_numbers = true)]
     points_per_octave: u32,
+    /// The tail fits s P(tau > s) = C + B/s and s^2 mu(tau > s) = C + B/s use the times s from
+    /// this many mean free times on (where every batch saw 100 longer flights).
+    #[arg(long, default_value = "8", allow_negative_numbers = true)]
+    tail_fit_from: f64,
     /// The lags of the plateau of t C(t), FROM:TO in mean free times.
     #[arg(long, default_value = "64:256", value_parser = parse_window, allow_hyphen_values = true)]
     vacf_fit: [f64; 2],
@@ -58,6 +62,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         batches: a.batches,
         octaves: a.octaves,
         points_per_octave: a.points_per_octave,
+        tail_fit_from: a.tail_fit_from,
         vacf_fit: a.vacf_fit,
         msd_fit: a.msd_fit,
         seed: a.run.seed(),
@@ -113,7 +118,7 @@ fn print(r: &SuperdiffusionReport) {
             line("C_map   (s^2 mu(tau > s) = C + B/s)", m, me, r.c_map_exact, range);
         }
         _ => println!(
-            "  C_flow, C_map: not fitted (every batch needs 100 flights longer than 8 l at two lags; use more collisions)"
+            "  C_flow, C_map: not fitted (every batch needs 100 flights longer than --tail-fit-from mean free paths at two lags; use more collisions)"
         ),
     }
     line(

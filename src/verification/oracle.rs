@@ -88,7 +88,7 @@ pub fn diameter<T: Real>(cell: &ConvexCell<T>) -> f64 {
 /// The scene a decoded input runs in (selected by the leading byte).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SceneParams {
-    /// The triangular Lorentz gas at gap w ∈ (0, w∞) (scene byte even).
+    /// The triangular Lorentz gas at gap w ∈ (0, 2) (scene byte even; beyond w∞ an infinite horizon).
     Triangular {
         /// The gap.
         w: f64,
@@ -358,14 +358,29 @@ fn w_max() -> f64 {
     w
 }
 
-/// w from a mode byte and 32 bits: uniform in (0, w∞), a power 2⁻ᵉ (e = 2..=40), or within
-/// ~2⁻¹⁴ (relative) of w∞.
+/// The smallest f64 gap strictly above w∞.
+fn w_min_open() -> f64 {
+    let wi = Geometry::<Float>::w_inf(ORACLE_BITS);
+    let mut w = wi.to_f64();
+    while hp(w) <= wi {
+        w = next_up(w);
+    }
+    w
+}
+
+/// w from a mode byte and 32 bits: uniform in (0, w∞), uniform in (w∞, 2) (an infinite
+/// horizon: flights along the corridors cross many traps), a power 2⁻ᵉ (e = 2..=40), or within
+/// ~2⁻¹⁴ (relative) of w∞ below it.
 fn decode_w(r: &mut Bytes) -> f64 {
     let mode = r.u8() % 4;
     let n = r.u32();
     let wm = w_max();
     match mode {
-        0 | 1 => wm * ((n as f64 + 1.0) / 4_294_967_297.0),
+        0 => wm * ((n as f64 + 1.0) / 4_294_967_297.0),
+        1 => {
+            let lo = w_min_open();
+            lo + (2.0 - lo) * (n as f64 / 4_294_967_296.0)
+        }
         2 => (-((2 + n % 39) as f64)).exp2(),
         _ => wm * (1.0 - (n >> 18) as f64 * (-32f64).exp2()),
     }
@@ -1377,14 +1392,18 @@ mod tests {
     }
 
     #[test]
-    fn w_stays_below_w_inf() {
+    fn w_is_below_w_inf_but_in_mode_1_beyond_it() {
         let wi = Geometry::<Float>::w_inf(ORACLE_BITS);
-        assert!(hp(w_max()) < wi);
+        assert!(hp(w_max()) < wi && hp(w_min_open()) > wi);
         for mode in 0..4u8 {
             for n in [0u32, 1, 12345, u32::MAX] {
                 let b = [&[mode][..], &n.to_le_bytes()[..]].concat();
                 let w = decode_w(&mut Bytes::new(&b));
-                assert!(w > 0.0 && hp(w) < wi, "mode {mode} n {n}: w = {w:e}");
+                if mode == 1 {
+                    assert!(hp(w) > wi && w < 2.0, "mode 1 n {n}: w = {w:e}");
+                } else {
+                    assert!(w > 0.0 && hp(w) < wi, "mode {mode} n {n}: w = {w:e}");
+                }
             }
         }
     }

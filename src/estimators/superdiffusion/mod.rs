@@ -91,6 +91,9 @@ pub struct SuperdiffusionConfig {
     pub octaves: u32,
     /// Lags per octave.
     pub points_per_octave: u32,
+    /// The tail fits use the grid times s ≥ `tail_fit_from` mean free times (and only those at
+    /// which every batch saw at least 100 longer flights).
+    pub tail_fit_from: f64,
     /// The lags of the VACF's plateau, [from, to] in mean free times.
     pub vacf_fit: [f64; 2],
     /// The lags of the fit of ⟨Δx²⟩/t = a ln t + b, [from, to] in mean free times.
@@ -105,8 +108,8 @@ pub const MIN_BATCHES: u32 = 16;
 
 impl SuperdiffusionConfig {
     /// The command line's defaults for `gas`: 2·10⁸ collisions in 32 batches, lags to 2¹² ℓ at 4
-    /// per octave, the VACF's plateau over [64ℓ, 256ℓ], the MSD's slope over [512ℓ, 4096ℓ],
-    /// seed 1.
+    /// per octave, the tail fits from 8ℓ, the VACF's plateau over [64ℓ, 256ℓ], the MSD's slope
+    /// over [512ℓ, 4096ℓ], seed 1.
     pub fn new(gas: Gas) -> Self {
         SuperdiffusionConfig {
             gas,
@@ -114,6 +117,7 @@ impl SuperdiffusionConfig {
             batches: 32,
             octaves: 12,
             points_per_octave: 4,
+            tail_fit_from: 8.0,
             vacf_fit: [64.0, 256.0],
             msd_fit: [512.0, 4096.0],
             seed: 1,
@@ -145,6 +149,12 @@ impl SuperdiffusionConfig {
             )));
         }
         let longest = (self.octaves as f64).exp2();
+        if !(self.tail_fit_from >= 1.0 && self.tail_fit_from < longest) {
+            return Err(Error::Invalid(format!(
+                "tail fit from {} mean free times: use 1 <= from < 2^octaves = {longest}",
+                self.tail_fit_from
+            )));
+        }
         for (what, w) in [("VACF", self.vacf_fit), ("MSD", self.msd_fit)] {
             let on_grid = self
                 .lag_steps()
@@ -215,8 +225,8 @@ pub struct SuperdiffusionReport {
     /// Its batch error.
     #[serde(rename = "C_map_tail_err")]
     pub c_map_tail_err: Option<f64>,
-    /// The tail fits' range of s: the grid times from 8ℓ on at which every batch saw at least
-    /// 100 longer flights.
+    /// The tail fits' range of s: the grid times from `tail_fit_from`·ℓ on at which every batch
+    /// saw at least 100 longer flights.
     pub tail_fit: Option<[f64; 2]>,
     /// D_sup from t·C_xx(t): its weighted mean over `vacf_fit`.
     #[serde(rename = "D_sup_vacf")]

@@ -13,9 +13,6 @@ use crate::Error;
 /// The quartiles of N(0, 1) are ±0.6744897501960817.
 const NORMAL_QUARTILE: f64 = 0.674_489_750_196_081_7;
 
-/// The tail fits start at s = 8ℓ, where the flights of the short-time distribution have gone.
-pub const TAIL_FIT_FROM: f64 = 8.0;
-
 /// The tail fits use an s only while every batch saw at least this many longer flights (binomial
 /// noise of 10 % per batch at most).
 pub const TAIL_MIN_FLIGHTS: u64 = 100;
@@ -31,6 +28,9 @@ pub struct LagRow {
     pub s_p_flow: f64,
     /// Its batch error.
     pub s_p_flow_err: f64,
+    /// What flights longer than the longest seen (L) would add: |s·P(τ > s)|·s/L (each flight
+    /// counts with weight τ − s).
+    pub s_p_flow_unsampled: f64,
     /// s²·μ(τ > s) under the map (→ C_map).
     pub s2_p_map: f64,
     /// Its batch error.
@@ -158,7 +158,7 @@ pub(super) fn summarise(inp: &Input, batches: &[Batch]) -> Result<Summary, Error
     let longer = |k: usize| batches.iter().map(|b| b.tails.longer[k]).sum::<u64>();
     let tail_points: Vec<usize> = (0..n)
         .filter(|&k| {
-            times[k] >= TAIL_FIT_FROM * inp.ell
+            times[k] >= inp.cfg.tail_fit_from * inp.ell
                 && batches
                     .iter()
                     .all(|b| b.tails.longer[k] >= TAIL_MIN_FLIGHTS)
@@ -218,6 +218,7 @@ pub(super) fn summarise(inp: &Input, batches: &[Batch]) -> Result<Summary, Error
                 t_over_ell: steps[k] as f64,
                 s_p_flow,
                 s_p_flow_err,
+                s_p_flow_unsampled: s_p_flow.abs() * times[k] / longest,
                 s2_p_map,
                 s2_p_map_err,
                 flights_longer: longer(k),
