@@ -17,7 +17,8 @@
 //! 4. [`engine`]: what advances trajectories — the scalar engine (any precision), the SIMD
 //!    engine (bit-identical `f64`), parallel batches, run options, resuming, run metadata.
 //! 5. [`observers`]: what watches the events — MSD, counters, trap hops.
-//! 6. [`estimators`]: the analyses (diffusion, hops, sweep, escape, trajectory, throughput).
+//! 6. [`estimators`]: the analyses (diffusion, hops, sweep, escape, superdiffusion, trajectory,
+//!    throughput).
 //! 7. [`report`]: publication audit, speed against error, reproduction, figures.
 //!
 //! Beside them: [`statistics`] (batch means, fits, Student-t), [`theory`] (symbolic dynamics,

@@ -33,7 +33,7 @@ def load(args):
 
 
 def column(rows, key):
-    return np.array([np.nan if r[key] is None else r[key] for r in rows], dtype=float)
+    return np.array([np.nan if r.get(key) is None else r[key] for r in rows], dtype=float)
 
 
 def main():
@@ -63,7 +63,7 @@ def main():
             keep = np.isfinite(y) & (column(rows, "flights_longer") > 0 if "p_" in key else True)
             a.errorbar(x[keep], y[keep], yerr=e[keep], fmt="o" + style, ms=3, color=colour,
                        label=f"{what}, {label}" if a is ax[0, 0] else label)
-            if unsampled:
+            if unsampled and unsampled in rows[0]:
                 u = column(rows, unsampled) / exact
                 a.fill_between(x[keep], (y - u)[keep], (y + u)[keep], color=colour, alpha=0.15)
         t = column(law, "t") / ell
@@ -82,6 +82,7 @@ def main():
         a.axhline(1.0, color="k", lw=0.8)
         a.legend(fontsize=7)
     ax[1, 1].axhline(2.0, color="k", lw=0.8, ls=":")
+    ax[1, 1].set_yscale("log")
     for a in (ax[0, 0], ax[0, 1], ax[1, 0]):
         a.set_ylim(0.5, 2.2)
     fig.suptitle("Superdiffusion: each estimator over its exact corridor value "
