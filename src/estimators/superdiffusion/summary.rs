@@ -136,27 +136,44 @@ impl Columns {
     }
 }
 
-pub(super) fn summarise(inp: &Input, batches: &[Batch]) -> Result<Summary, Error> {
-    let n = inp.steps.len();
+/// Every batch's value of each per-lag quantity.
+struct Tables {
+    map: Columns,
+    flow: Columns,
+    vacf: Columns,
+    msd: Columns,
+    over_t: Columns,
+}
+
+impl Tables {
+    fn new(inp: &Input, batches: &[Batch]) -> Self {
+        let (n, times, steps) = (inp.steps.len(), inp.times, inp.steps);
+        let msd_at =
+            |b: &Batch, k: usize| 0.5 * b.lags.squared[k] / b.lags.windows(steps[k]) as f64;
+        Tables {
+            map: Columns::new(batches, n, |b, k| {
+                times[k] * times[k] * b.tails.longer[k] as f64 / b.tails.flights as f64
+            }),
+            flow: Columns::new(batches, n, |b, k| {
+                times[k] * b.tails.excess[k] / b.tails.time
+            }),
+            vacf: Columns::new(batches, n, |b, k| {
+                times[k] * 0.5 * b.lags.velocity[k] / b.lags.windows(steps[k]) as f64
+            }),
+            msd: Columns::new(batches, n, msd_at),
+            over_t: Columns::new(batches, n, |b, k| msd_at(b, k) / times[k]),
+        }
+    }
+}
+
+/// The tail constants (C_map, C_flow) fitted as C + B/s over the grid times from
+/// `tail_fit_from`·ℓ at which every batch saw [`TAIL_MIN_FLIGHTS`] longer flights, and the range
+/// (all `None` with fewer than two such times).
+type Tails = (Option<MeanSe>, Option<MeanSe>, Option<[f64; 2]>);
+
+fn tail_constants(inp: &Input, batches: &[Batch], t: &Tables) -> Result<Tails, Error> {
     let times = inp.times;
-    let map = Columns::new(batches, n, |b, k| {
-        times[k] * times[k] * b.tails.longer[k] as f64 / b.tails.flights as f64
-    });
-    let flow = Columns::new(batches, n, |b, k| {
-        times[k] * b.tails.excess[k] / b.tails.time
-    });
-    let steps = inp.steps;
-    let vacf = Columns::new(batches, n, |b, k| {
-        times[k] * 0.5 * b.lags.velocity[k] / b.lags.windows(steps[k]) as f64
-    });
-    let msd = Columns::new(batches, n, |b, k| {
-        0.5 * b.lags.squared[k] / b.lags.windows(steps[k]) as f64
-    });
-    let over_t = Columns::new(batches, n, |b, k| {
-        0.5 * b.lags.squared[k] / b.lags.windows(steps[k]) as f64 / times[k]
-    });
-    let longer = |k: usize| batches.iter().map(|b| b.tails.longer[k]).sum::<u64>();
-    let tail_points: Vec<usize> = (0..n)
+    let points: Vec<usize> = (0..times.len())
         .filter(|&k| {
             times[k] >= inp.cfg.tail_fit_from * inp.ell
                 && batches
@@ -164,80 +181,88 @@ pub(super) fn summarise(inp: &Input, batches: &[Batch]) -> Result<Summary, Error
                     .all(|b| b.tails.longer[k] >= TAIL_MIN_FLIGHTS)
         })
         .collect();
+    if points.len() < 2 {
+        return Ok((None, None, None));
+    }
     let inv = |k: usize| 1.0 / times[k];
-    let (c_map, c_flow, tail_fit) = if tail_points.len() >= 2 {
-        let range = [
-            times[tail_points[0]],
-            times[tail_points[tail_points.len() - 1]],
-        ];
-        (
-            Some(batch_fit(&map, &tail_points, inv)?.0),
-            Some(batch_fit(&flow, &tail_points, inv)?.0),
-            Some(range),
-        )
-    } else {
-        (None, None, None)
-    };
-    let longest = batches.iter().map(|b| b.tails.longest).fold(0.0, f64::max);
-    let window = |w: [f64; 2]| -> Vec<usize> {
-        (0..n)
-            .filter(|&k| (w[0]..=w[1]).contains(&(steps[k] as f64)))
-            .collect()
-    };
-    let (vacf_points, msd_points) = (window(inp.cfg.vacf_fit), window(inp.cfg.msd_fit));
-    let top = |p: &[usize]| times[*p.last().expect("validated: two lags in a window")];
-    let (d, d_err) = batch_mean(&vacf, &vacf_points)?;
-    let d_sup = Estimate {
-        value: d,
-        batch: d_err,
-        unsampled: d.abs() * top(&vacf_points) / longest,
-    };
-    let (intercept, a) = batch_fit(&over_t, &msd_points, |k| times[k].ln())?;
-    let slope = Estimate {
-        value: a.0,
-        batch: a.1,
-        unsampled: a.0.abs() * top(&msd_points) / longest,
-    };
-    let lags = (0..n)
+    Ok((
+        Some(batch_fit(&t.map, &points, inv)?.0),
+        Some(batch_fit(&t.flow, &points, inv)?.0),
+        Some([times[points[0]], times[points[points.len() - 1]]]),
+    ))
+}
+
+/// One row per lag.
+fn lag_rows(inp: &Input, batches: &[Batch], t: &Tables, longest: f64) -> Vec<LagRow> {
+    let (times, steps) = (inp.times, inp.steps);
+    (0..steps.len())
         .map(|k| {
-            let (s_p_flow, s_p_flow_err) = flow.mean_se(k);
-            let (s2_p_map, s2_p_map_err) = map.mean_se(k);
-            let (t_c, t_c_err) = vacf.mean_se(k);
-            let (msd_x, msd_x_err) = msd.mean_se(k);
+            let (s_p_flow, s_p_flow_err) = t.flow.mean_se(k);
+            let (s2_p_map, s2_p_map_err) = t.map.mean_se(k);
+            let (t_c, t_c_err) = t.vacf.mean_se(k);
+            let (msd_x, msd_x_err) = t.msd.mean_se(k);
             let half = steps.iter().position(|&m| 2 * m == steps[k]);
             let local = half.map(|h| {
-                let per: Vec<f64> = over_t
+                let per: Vec<f64> = t
+                    .over_t
                     .per
                     .iter()
                     .map(|b| (b[k] - b[h]) / std::f64::consts::LN_2)
                     .collect();
                 mean_se(&per)
             });
+            let unsampled = |v: f64| v.abs() * times[k] / longest;
             LagRow {
                 t: times[k],
                 t_over_ell: steps[k] as f64,
                 s_p_flow,
                 s_p_flow_err,
-                s_p_flow_unsampled: s_p_flow.abs() * times[k] / longest,
+                s_p_flow_unsampled: unsampled(s_p_flow),
                 s2_p_map,
                 s2_p_map_err,
-                flights_longer: longer(k),
+                flights_longer: batches.iter().map(|b| b.tails.longer[k]).sum(),
                 t_c,
                 t_c_err,
-                t_c_unsampled: t_c.abs() * times[k] / longest,
+                t_c_unsampled: unsampled(t_c),
                 msd_x,
                 msd_x_err,
                 msd_local_slope: local.map(|l| l.0),
                 msd_local_slope_err: local.map(|l| l.1),
-                msd_local_slope_unsampled: local.map(|l| l.0.abs() * times[k] / longest),
+                msd_local_slope_unsampled: local.map(|l| unsampled(l.0)),
             }
         })
-        .collect();
+        .collect()
+}
+
+pub(super) fn summarise(inp: &Input, batches: &[Batch]) -> Result<Summary, Error> {
+    let (times, steps) = (inp.times, inp.steps);
+    let t = Tables::new(inp, batches);
+    let (c_map, c_flow, tail_fit) = tail_constants(inp, batches, &t)?;
+    let longest = batches.iter().map(|b| b.tails.longest).fold(0.0, f64::max);
+    let window = |w: [f64; 2]| -> Vec<usize> {
+        (0..steps.len())
+            .filter(|&k| (w[0]..=w[1]).contains(&(steps[k] as f64)))
+            .collect()
+    };
+    let (vacf_points, msd_points) = (window(inp.cfg.vacf_fit), window(inp.cfg.msd_fit));
+    let top = |p: &[usize]| times[*p.last().expect("validated: two lags in a window")];
+    let (d, d_err) = batch_mean(&t.vacf, &vacf_points)?;
+    let d_sup = Estimate {
+        value: d,
+        batch: d_err,
+        unsampled: d.abs() * top(&vacf_points) / longest,
+    };
+    let (intercept, a) = batch_fit(&t.over_t, &msd_points, |k| times[k].ln())?;
+    let slope = Estimate {
+        value: a.0,
+        batch: a.1,
+        unsampled: a.0.abs() * top(&msd_points) / longest,
+    };
     let law = inp
         .histogram_at
         .iter()
         .enumerate()
-        .map(|(h, &k)| law_row(batches, h, times[k], inp.sd.d_sup_xx, &msd.at(k)))
+        .map(|(h, &k)| law_row(batches, h, times[k], inp.sd.d_sup_xx, &t.msd.at(k)))
         .collect();
     Ok(Summary {
         c_flow,
@@ -249,7 +274,7 @@ pub(super) fn summarise(inp: &Input, batches: &[Batch]) -> Result<Summary, Error
         intercept,
         msd_fit: [times[msd_points[0]], top(&msd_points)],
         longest,
-        lags,
+        lags: lag_rows(inp, batches, &t, longest),
         law,
     })
 }
