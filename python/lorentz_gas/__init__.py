@@ -549,6 +549,8 @@ def superdiffusion(
     msd_fit: Tuple[float, float] = (512, 4096),
     seed: Count = 1,
     threads: Optional[Count] = None,
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60,
     progress: Progress = False,
 ) -> SuperdiffusionResult:
     """Superdiffusion beyond a finite horizon (``lorentz superdiffusion``): the free-flight
@@ -573,8 +575,9 @@ def superdiffusion(
     vacf_fit, msd_fit : (float, float)
         The lags, in mean free times, of the plateau of t·C_xx(t) and of the fit
         ⟨Δx²⟩/t = a ln t + b.
-    seed, threads, progress
-        As in :func:`diffusion`.
+    seed, threads, checkpoint, checkpoint_every, progress
+        As in :func:`diffusion` (a checkpoint keeps finished batches and, every
+        ``checkpoint_every`` seconds, each trajectory in flight with its observers).
 
     Returns
     -------
@@ -596,6 +599,8 @@ def superdiffusion(
             _window("msd_fit", msd_fit),
             _count("seed", seed),
             _threads(threads),
+            _path(checkpoint),
+            float(checkpoint_every),
             cb,
         )
     return SuperdiffusionResult(text)

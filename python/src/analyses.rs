@@ -326,7 +326,7 @@ fn py_lyapunov(
 }
 
 #[pyfunction]
-#[pyo3(name = "superdiffusion", signature = (scene, w, radius, collisions, batches, octaves, points_per_octave, tail_fit_from, vacf_fit, msd_fit, seed, threads, progress))]
+#[pyo3(name = "superdiffusion", signature = (scene, w, radius, collisions, batches, octaves, points_per_octave, tail_fit_from, vacf_fit, msd_fit, seed, threads, checkpoint, checkpoint_every, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_superdiffusion(
     py: Python<'_>,
@@ -342,9 +342,12 @@ fn py_superdiffusion(
     msd_fit: [f64; 2],
     seed: &str,
     threads: Option<&str>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: f64,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     resolve(scene, w, radius)?;
+    let every = interval(checkpoint_every)?;
     let gas = match (scene, w, radius) {
         ("square", None, Some(r)) => Gas::Square {
             radius: inputs::exact("radius", r)?.text,
@@ -367,7 +370,12 @@ fn py_superdiffusion(
     };
     let threads = inputs::threads(threads)?;
     let r = compute(py, progress, |ctl| {
-        superdiffusion::run(&cfg, &options(ctl, threads, Engine::Auto))
+        let opts = RunOptions {
+            resume: checkpoint,
+            checkpoint_every: every,
+            ..options(ctl, threads, Engine::Auto)
+        };
+        superdiffusion::run(&cfg, &opts)
     })?;
     json(&r)
 }

@@ -4,7 +4,11 @@
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig, SuperdiffusionReport};
 use lorentz_gas::Error;
 
-use super::args::{parse_count, parse_count_u32, OutputArgs, RunArgs, SceneArgs};
+use lorentz_gas::engine::options::RunOptions;
+
+use super::args::{
+    parse_count, parse_count_u32, CheckpointEveryArg, OutputArgs, RunArgs, SceneArgs,
+};
 use super::output::{emit, sigmas};
 use super::progress::Progress;
 
@@ -38,6 +42,13 @@ pub struct Args {
     msd_fit: [f64; 2],
     #[command(flatten)]
     run: RunArgs,
+    /// Keep the run's work in this file (finished batches, and every --checkpoint-every each
+    /// trajectory in flight with its observers); a rerun with the same parameters resumes to
+    /// the same bits.
+    #[arg(long)]
+    checkpoint: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    every: CheckpointEveryArg,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -70,7 +81,11 @@ pub fn run(a: Args) -> Result<(), Error> {
     };
     cfg.validate()?;
     let pb = Progress::new(a.collisions, "collisions", a.output.quiet);
-    let opts = pb.options(a.run.threads());
+    let opts = RunOptions {
+        resume: a.checkpoint.clone(),
+        checkpoint_every: a.every.checkpoint_every,
+        ..pb.options(a.run.threads())
+    };
     let r = superdiffusion::run(&cfg, &opts)?;
     drop(opts);
     drop(pb);

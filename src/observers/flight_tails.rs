@@ -9,11 +9,16 @@
 //! (`proofs-notes/superdiffusion-estimators.md`). A trajectory ends at a collision, so there is
 //! no partial last flight. Crossings of cell edges do not end a flight.
 
+use serde::{Deserialize, Serialize};
+
+use crate::engine::checkpoint::LaneCheckpoint;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::numbers::lanes::Lanes;
+use crate::Error;
 
 /// What one trajectory's flights showed.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TailCounts {
     /// Flights counted for the map (every complete collision-to-collision flight).
     pub flights: u64,
@@ -27,8 +32,11 @@ pub struct TailCounts {
     pub excess: Vec<f64>,
 }
 
-#[derive(Debug, Clone)]
-struct Lane {
+/// One lane exactly (what a checkpoint keeps): the flight in progress, whether the first
+/// (partial) flight has ended, and the counts.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TailLane {
     flight: f64,
     started: bool,
     counts: TailCounts,
@@ -38,7 +46,7 @@ struct Lane {
 #[derive(Debug, Clone)]
 pub struct FlightTails {
     grid: Vec<f64>,
-    lanes: Vec<Lane>,
+    lanes: Vec<TailLane>,
 }
 
 impl FlightTails {
@@ -54,7 +62,7 @@ impl FlightTails {
         FlightTails {
             grid: grid.to_vec(),
             lanes: vec![
-                Lane {
+                TailLane {
                     flight: 0.0,
                     started: false,
                     counts,
@@ -91,6 +99,30 @@ impl FlightTails {
             c.flights += 1;
         }
         lane.started = true;
+    }
+}
+
+impl LaneCheckpoint for FlightTails {
+    type Lane = TailLane;
+    fn save_lane(&self, l: usize) -> TailLane {
+        self.lanes[l].clone()
+    }
+    fn restore_lane(&mut self, l: usize, saved: &TailLane) -> Result<(), Error> {
+        let c = &saved.counts;
+        let n = self.grid.len();
+        let finite = [saved.flight, c.time, c.longest]
+            .iter()
+            .chain(&c.excess)
+            .all(|x| x.is_finite() && *x >= 0.0);
+        if c.longer.len() != n || c.excess.len() != n || !finite {
+            return Err(Error::Invalid(format!(
+                "a flight-tail lane with {} and {} counts does not fit this run ({n} grid times, all finite and >= 0)",
+                c.longer.len(),
+                c.excess.len()
+            )));
+        }
+        self.lanes[l] = saved.clone();
+        Ok(())
     }
 }
 

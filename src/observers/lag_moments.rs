@@ -9,9 +9,13 @@
 //! times the cell's orientation. Each sample costs one pass over the lags; at Δ equal to the mean
 //! free time that is about one pass per collision.
 
+use serde::{Deserialize, Serialize};
+
+use crate::engine::checkpoint::LaneCheckpoint;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::numbers::lanes::Lanes;
 use crate::scenes::lattice::{Basis64, Unwrapped};
+use crate::Error;
 
 /// Bins of a histogram of the scaled displacement.
 pub const HISTOGRAM_BINS: usize = 800;
@@ -20,7 +24,8 @@ pub const HISTOGRAM_BINS: usize = 800;
 pub const HISTOGRAM_RANGE: f64 = 8.0;
 
 /// One trajectory's sums.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct LagSums {
     /// Grid samples taken.
     pub samples: u64,
@@ -39,8 +44,11 @@ impl LagSums {
     }
 }
 
-#[derive(Debug, Clone)]
-struct Lane {
+/// One lane exactly (what a checkpoint keeps): the time left to the next grid time, the ring
+/// of past samples (cell i, j, offset x, y, velocity x, y) and the sums.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MomentLane {
     until: f64,
     ring: Vec<[f64; 6]>,
     sums: LagSums,
@@ -55,7 +63,7 @@ pub struct LagMoments {
     histogrammed: Vec<(usize, f64)>,
     mask: usize,
     basis: Basis64,
-    lanes: Vec<Lane>,
+    lanes: Vec<MomentLane>,
 }
 
 impl LagMoments {
@@ -92,7 +100,7 @@ impl LagMoments {
             mask: cap - 1,
             basis,
             lanes: vec![
-                Lane {
+                MomentLane {
                     until: 0.0,
                     ring: vec![[0.0; 6]; cap],
                     sums,
@@ -167,6 +175,36 @@ impl LagMoments {
 fn bin(x: f64) -> usize {
     let b = (x + HISTOGRAM_BINS as f64 / 2.0).floor();
     b.clamp(0.0, (HISTOGRAM_BINS - 1) as f64) as usize
+}
+
+impl LaneCheckpoint for LagMoments {
+    type Lane = MomentLane;
+    fn save_lane(&self, l: usize) -> MomentLane {
+        self.lanes[l].clone()
+    }
+    fn restore_lane(&mut self, l: usize, saved: &MomentLane) -> Result<(), Error> {
+        let s = &saved.sums;
+        let finite = saved.until.is_finite()
+            && saved.until >= 0.0
+            && saved.ring.iter().flatten().all(|x| x.is_finite())
+            && s.squared.iter().chain(&s.velocity).all(|x| x.is_finite());
+        let fits = saved.ring.len() == self.mask + 1
+            && s.squared.len() == self.steps.len()
+            && s.velocity.len() == self.steps.len()
+            && s.histograms.len() == self.histogrammed.len()
+            && s.histograms.iter().all(|h| h.len() == HISTOGRAM_BINS);
+        if !(finite && fits) {
+            return Err(Error::Invalid(format!(
+                "a lag-moment lane with a ring of {} and {} lags does not fit this run ({} and {}, all finite)",
+                saved.ring.len(),
+                s.squared.len(),
+                self.mask + 1,
+                self.steps.len()
+            )));
+        }
+        self.lanes[l] = saved.clone();
+        Ok(())
+    }
 }
 
 impl<const L: usize> Observer<L> for LagMoments {

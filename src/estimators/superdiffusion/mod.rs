@@ -27,13 +27,15 @@ mod summary;
 
 pub use summary::{LagRow, LawRow};
 
-use crate::engine::drive;
+use crate::engine::checkpoint::{drive_kept, Keeper, LaneCheckpoint, Quota};
 use crate::engine::metadata::RunMeta;
+use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::RunOptions;
-use crate::engine::parallel::{check_batches, par_batches_watched, share};
+use crate::engine::parallel::{check_batches, par_batches, share};
 use crate::numbers::exact::parse_exact;
-use crate::observers::flight_tails::{FlightTails, TailCounts};
-use crate::observers::lag_moments::{LagMoments, LagSums};
+use crate::numbers::lanes::Lanes;
+use crate::observers::flight_tails::{FlightTails, TailCounts, TailLane};
+use crate::observers::lag_moments::{LagMoments, LagSums, MomentLane};
 use crate::scenes::sampling::stream;
 use crate::scenes::square::SquareScene;
 use crate::scenes::triangular::TriangularScene;
@@ -271,15 +273,46 @@ pub struct SuperdiffusionReport {
     pub meta: RunMeta,
 }
 
-/// What one batch's trajectory showed.
-#[derive(Debug, Clone)]
+/// What one batch's trajectory showed (a checkpoint's finished batch).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 struct Batch {
     tails: TailCounts,
     lags: LagSums,
 }
 
-/// Measures superdiffusion on `cfg.gas` (which must have an infinite horizon). Only `threads`,
-/// `progress` and `stop` of the options apply (the scalar `f64` kernel, no checkpoints).
+/// The kind of a superdiffusion checkpoint.
+pub const CHECKPOINT_KIND: &str = "lorentz-gas superdiffusion";
+
+/// Both observers of one trajectory, saved and put back together.
+struct Watch {
+    tails: FlightTails,
+    moments: LagMoments,
+}
+
+impl Observer<1> for Watch {
+    #[inline(always)]
+    fn observe<V: Lanes>(&mut self, steps: &[EventLanes<1>]) {
+        self.tails.observe::<V>(steps);
+        self.moments.observe::<V>(steps);
+    }
+}
+
+impl LaneCheckpoint for Watch {
+    type Lane = (TailLane, MomentLane);
+    fn save_lane(&self, l: usize) -> Self::Lane {
+        (self.tails.save_lane(l), self.moments.save_lane(l))
+    }
+    fn restore_lane(&mut self, l: usize, saved: &Self::Lane) -> Result<(), Error> {
+        self.tails.restore_lane(l, &saved.0)?;
+        self.moments.restore_lane(l, &saved.1)
+    }
+}
+
+/// Measures superdiffusion on `cfg.gas` (which must have an infinite horizon). Of the options,
+/// `threads`, `progress`, `stop`, `resume` (a checkpoint: finished batches, and every
+/// `checkpoint_every` each trajectory in flight with both observers' lanes) and
+/// `checkpoint_every` apply; it runs on the scalar `f64` kernel.
 ///
 /// # Errors
 /// An invalid configuration, a finite horizon (use [`crate::estimators::diffusion`]), or a run
@@ -318,25 +351,53 @@ fn run_on<S: Scene>(
         .collect();
     let lat = scene.lattice::<f64>(())?;
     let basis = lat.basis_f64();
-    let batches = par_batches_watched(options.threads, cfg.batches, options.stop.as_ref(), |b| {
-        let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
-        let mut obs = (
-            FlightTails::new(&times, 1),
-            LagMoments::new(ell, &steps, &histogram_at, sd.d_sup_xx, basis, 1),
-        );
-        let n = share(cfg.collisions, cfg.batches, b);
-        drive(&lat, &mut s, n, &mut obs, options.progress)?;
-        Ok(Batch {
-            tails: obs.0.counts(0).clone(),
-            lags: obs.1.sums(0).clone(),
+    let jobs: Vec<Quota> = (0..cfg.batches)
+        .map(|index| Quota {
+            run: 0,
+            index,
+            collisions: share(cfg.collisions, cfg.batches, index),
         })
-    })?;
+        .collect();
     let meta = RunMeta::new(
         Some(cfg.seed),
         Some(cfg.batches as u64),
         "f64",
         Some(options.threads),
     );
+    let fits = |_: &Quota, b: &Batch| {
+        b.tails.longer.len() == steps.len() && b.lags.squared.len() == steps.len()
+    };
+    let keep = Keeper::<Batch, (TailLane, MomentLane)>::open(
+        options.resume.as_deref(),
+        CHECKPOINT_KIND,
+        cfg,
+        Some(meta.clone()),
+        &jobs,
+        Some(options.checkpoint_every),
+        &fits,
+    )?
+    .watching(options.stop.as_ref());
+    (options.progress)(keep.collisions_done(&jobs));
+    let todo: Vec<Quota> = jobs.into_iter().filter(|j| !keep.is_finished(j)).collect();
+    let new = par_batches(options.threads, todo.len() as u32, |k| {
+        let j = &todo[k as usize];
+        let mut obs = Watch {
+            tails: FlightTails::new(&times, 1),
+            moments: LagMoments::new(ell, &steps, &histogram_at, sd.d_sup_xx, basis, 1),
+        };
+        let start = || scene.sample(&mut stream(cfg.seed, j.index as u64));
+        drive_kept(&lat, (), j, start, &mut obs, &keep, options.progress)?;
+        let b = Batch {
+            tails: obs.tails.counts(0).clone(),
+            lags: obs.moments.sums(0).clone(),
+        };
+        keep.finish(j, &b)?;
+        Ok(b)
+    })?;
+    let mut all: Vec<(u32, Batch)> = keep.finished_by_index().collect();
+    all.extend(todo.iter().map(|j| j.index).zip(new));
+    all.sort_by_key(|(i, _)| *i);
+    let batches: Vec<Batch> = all.into_iter().map(|(_, b)| b).collect();
     let input = summary::Input {
         cfg,
         sd,
