@@ -15,8 +15,7 @@ Inputs
 
 Behaviour
     The GIL is released while computing; Ctrl-C (``KeyboardInterrupt``) stops a run within
-    about a second (superdiffusion at the end of its trajectories in progress; certify,
-    trajectory, shadow and report finish first) and leaves no thread
+    about a second (certify, trajectory, shadow and report finish first) and leaves no thread
     behind; ``progress=True`` shows a tqdm bar when tqdm is
     installed (or pass a callable receiving the units done since its last call). Bad input
     raises ``ValueError`` with the command line's one-line message naming the valid range; I/O
