@@ -27,80 +27,54 @@ mod x86 {
 
     use super::{CHAINS, ROUNDS};
 
-    /// `CHAINS` independent chains of `vdivpd zmm` (the divisor is just above 1, so the values stay
-    /// normal for far longer than a call). Returns a lane sum so nothing is optimised away.
-    ///
-    /// # Safety
-    /// The CPU must have AVX-512F.
-    #[target_feature(enable = "avx512f")]
-    pub unsafe fn div_zmm() -> f64 {
-        let d = _mm512_set1_pd(1.000_000_1);
-        let mut acc = [_mm512_set1_pd(1.5); CHAINS];
-        for _ in 0..ROUNDS {
-            for a in acc.iter_mut() {
-                *a = _mm512_div_pd(*a, d);
+    /// `CHAINS` independent chains of one vector instruction, `ROUNDS` deep (a divisor just above
+    /// 1, and square roots converging to 1, keep every value normal). Returns the sum of the
+    /// lanes so that nothing is optimised away.
+    macro_rules! chains {
+        ($name:ident, $feature:literal, $set:ident, $store:ident, $lanes:literal, |$a:ident| $op:expr) => {
+            /// # Safety
+            /// The CPU must have the target feature.
+            #[target_feature(enable = $feature)]
+            pub unsafe fn $name() -> f64 {
+                let mut acc = [$set(1.5); CHAINS];
+                for _ in 0..ROUNDS {
+                    for $a in acc.iter_mut() {
+                        *$a = $op;
+                    }
+                }
+                let mut out = [0.0; $lanes];
+                let mut sum = 0.0;
+                for a in acc {
+                    $store(out.as_mut_ptr(), a);
+                    sum += out.iter().sum::<f64>();
+                }
+                sum
             }
-        }
-        acc.iter().map(|a| _mm512_reduce_add_pd(*a)).sum()
+        };
     }
 
-    /// `CHAINS` independent chains of `vsqrtpd zmm` (values converge to 1 and stay normal).
-    ///
-    /// # Safety
-    /// The CPU must have AVX-512F.
-    #[target_feature(enable = "avx512f")]
-    pub unsafe fn sqrt_zmm() -> f64 {
-        let mut acc = [_mm512_set1_pd(2.5); CHAINS];
-        for _ in 0..ROUNDS {
-            for a in acc.iter_mut() {
-                *a = _mm512_sqrt_pd(*a);
-            }
-        }
-        acc.iter().map(|a| _mm512_reduce_add_pd(*a)).sum()
-    }
-
-    /// `CHAINS` independent chains of `vdivpd ymm`.
-    ///
-    /// # Safety
-    /// The CPU must have AVX.
-    #[target_feature(enable = "avx")]
-    pub unsafe fn div_ymm() -> f64 {
-        let d = _mm256_set1_pd(1.000_000_1);
-        let mut acc = [_mm256_set1_pd(1.5); CHAINS];
-        for _ in 0..ROUNDS {
-            for a in acc.iter_mut() {
-                *a = _mm256_div_pd(*a, d);
-            }
-        }
-        let mut out = [0.0; 4];
-        let mut sum = 0.0;
-        for a in acc {
-            _mm256_storeu_pd(out.as_mut_ptr(), a);
-            sum += out.iter().sum::<f64>();
-        }
-        sum
-    }
-
-    /// `CHAINS` independent chains of `vsqrtpd ymm`.
-    ///
-    /// # Safety
-    /// The CPU must have AVX.
-    #[target_feature(enable = "avx")]
-    pub unsafe fn sqrt_ymm() -> f64 {
-        let mut acc = [_mm256_set1_pd(2.5); CHAINS];
-        for _ in 0..ROUNDS {
-            for a in acc.iter_mut() {
-                *a = _mm256_sqrt_pd(*a);
-            }
-        }
-        let mut out = [0.0; 4];
-        let mut sum = 0.0;
-        for a in acc {
-            _mm256_storeu_pd(out.as_mut_ptr(), a);
-            sum += out.iter().sum::<f64>();
-        }
-        sum
-    }
+    chains!(
+        div_zmm,
+        "avx512f",
+        _mm512_set1_pd,
+        _mm512_storeu_pd,
+        8,
+        |a| _mm512_div_pd(*a, _mm512_set1_pd(1.000_000_1))
+    );
+    chains!(
+        sqrt_zmm,
+        "avx512f",
+        _mm512_set1_pd,
+        _mm512_storeu_pd,
+        8,
+        |a| _mm512_sqrt_pd(*a)
+    );
+    chains!(div_ymm, "avx", _mm256_set1_pd, _mm256_storeu_pd, 4, |a| {
+        _mm256_div_pd(*a, _mm256_set1_pd(1.000_000_1))
+    });
+    chains!(sqrt_ymm, "avx", _mm256_set1_pd, _mm256_storeu_pd, 4, |a| {
+        _mm256_sqrt_pd(*a)
+    });
 }
 
 fn instructions(b: Bencher, f: fn() -> f64) {
