@@ -29,7 +29,7 @@ use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
 use lorentz_gas::verification::shadowing::{self, ShadowConfig};
 
 use crate::inputs::{self, count_u32, count_u64, count_usize, exact};
-use crate::scenes::{resolve, with_scene};
+use crate::scenes::{resolve, with_scene, SceneChoice};
 use crate::watch::{compute, json, Ctl};
 
 /// The run options of a computation watched by `ctl`.
@@ -346,17 +346,16 @@ fn py_superdiffusion(
     checkpoint_every: f64,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
-    resolve(scene, w, radius)?;
-    let every = interval(checkpoint_every)?;
-    let gas = match (scene, w, radius) {
-        ("square", None, Some(r)) => Gas::Square {
-            radius: inputs::exact("radius", r)?.text,
+    // The scene and its parameter checked as every analysis checks them, kept as typed.
+    let gas = match resolve(scene, w, radius)? {
+        SceneChoice::Square(_) => Gas::Square {
+            radius: inputs::exact("radius", radius.unwrap_or_default())?.text,
         },
-        (_, Some(w), None) => Gas::Triangular {
-            w: inputs::exact("w", w)?.text,
+        SceneChoice::Triangular(_) => Gas::Triangular {
+            w: inputs::exact("w", w.unwrap_or_default())?.text,
         },
-        _ => unreachable!("resolve checked the scene and its parameter"),
     };
+    let every = interval(checkpoint_every)?;
     let cfg = SuperdiffusionConfig {
         collisions: count_u64("collisions", collisions)?,
         batches: count_u32("batches", batches)?,

@@ -181,12 +181,8 @@ pub struct HopCommand {
     hop: HopArgs,
     #[command(flatten)]
     run: RunArgs,
-    /// Keep the run's work in this file (finished batches as they finish, trajectories in
-    /// flight every --checkpoint-every); a rerun with the same parameters resumes to the same bits.
-    #[arg(long)]
-    checkpoint: Option<std::path::PathBuf>,
     #[command(flatten)]
-    every: CheckpointEveryArg,
+    checkpoint: CheckpointArgs,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -210,14 +206,12 @@ impl HopCommand {
         let pb =
             super::progress::Progress::new(self.hop.collisions, "collisions", self.output.quiet);
         let progress = pb.callback();
-        let opts = RunOptions {
+        let opts = self.checkpoint.apply(RunOptions {
             engine,
             threads: self.run.threads(),
             progress: &progress,
-            resume: self.checkpoint.clone(),
-            checkpoint_every: self.every.checkpoint_every,
             ..RunOptions::default()
-        };
+        });
         let r = analysis(&cfg, &opts)?;
         drop(progress);
         drop(pb);
@@ -266,6 +260,30 @@ impl RunArgs {
     /// The requested thread count, or every core.
     pub fn threads(&self) -> usize {
         self.threads_arg.threads()
+    }
+}
+
+/// Where a resumable run keeps its work (`--checkpoint FILE`) and how often it saves the
+/// trajectories in flight (`--checkpoint-every`), for every command that resumes.
+#[derive(Args, Debug, Clone)]
+pub struct CheckpointArgs {
+    /// Keep the run's work in this file, saved as batches finish and every --checkpoint-every
+    /// (trajectories in flight; escape: each batch's finished particles); a rerun with the same
+    /// parameters resumes to the same bits.
+    #[arg(long)]
+    pub checkpoint: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    pub every: CheckpointEveryArg,
+}
+
+impl CheckpointArgs {
+    /// `options` resuming from and saving to the checkpoint at its interval.
+    pub fn apply<'a>(&self, options: RunOptions<'a>) -> RunOptions<'a> {
+        RunOptions {
+            resume: self.checkpoint.clone(),
+            checkpoint_every: self.every.checkpoint_every,
+            ..options
+        }
     }
 }
 

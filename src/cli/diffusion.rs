@@ -1,14 +1,12 @@
 //! `lorentz diffusion`: D(w) by the Einstein formula.
 
-use std::path::PathBuf;
-
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport, Window};
 use lorentz_gas::statistics::comparison;
 use lorentz_gas::Error;
 
 use super::args::{
-    parse_count, parse_count_u32, CheckpointEveryArg, EngineArg, OutputArgs, PrecisionArg,
+    parse_count, parse_count_u32, CheckpointArgs, EngineArg, OutputArgs, PrecisionArg,
     ReferenceBitsArg, RunArgs, SceneArgs, SceneChoice,
 };
 use super::output::{emit, sigmas};
@@ -36,12 +34,8 @@ pub struct Args {
     /// Second, later window fitted as a check of the linear regime.
     #[arg(long, default_value = "20:80")]
     check_window: Window,
-    /// Keep the run's work in this file (finished batches as they finish, trajectories in
-    /// flight every --checkpoint-every); a rerun with the same parameters resumes to the same bits.
-    #[arg(long)]
-    checkpoint: Option<PathBuf>,
     #[command(flatten)]
-    every: CheckpointEveryArg,
+    checkpoint: CheckpointArgs,
     /// Replay this fraction (0, 1] of the events in MPFR as the run goes (f64 runs).
     #[arg(long)]
     audit: Option<f64>,
@@ -78,15 +72,13 @@ pub fn run(a: Args) -> Result<(), Error> {
         .transpose()?;
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
     let progress = pb.callback();
-    let opts = RunOptions {
+    let opts = a.checkpoint.apply(RunOptions {
         engine: a.engine.engine,
         threads: a.run.threads(),
         progress: &progress,
-        resume: a.checkpoint.clone(),
         audit,
-        checkpoint_every: a.every.checkpoint_every,
-        stop: None,
-    };
+        ..RunOptions::default()
+    });
     let r = diffusion::run(&cfg, &opts)?;
     drop(progress);
     drop(pb);

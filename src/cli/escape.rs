@@ -5,7 +5,7 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::escape::{self, EscapeConfig, EscapeReport};
 use lorentz_gas::Error;
 
-use super::args::{parse_count, CheckpointEveryArg, GapArg, OutputArgs, RunArgs};
+use super::args::{parse_count, CheckpointArgs, GapArg, OutputArgs, RunArgs};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -23,13 +23,8 @@ pub struct Args {
     particles_per_width: u64,
     #[command(flatten)]
     run: RunArgs,
-    /// Keep the run's work in this file (each batch's finished particles every
-    /// --checkpoint-every and when it ends); a rerun with the same parameters resumes to the
-    /// same bits.
-    #[arg(long)]
-    checkpoint: Option<std::path::PathBuf>,
     #[command(flatten)]
-    every: CheckpointEveryArg,
+    checkpoint: CheckpointArgs,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -51,13 +46,11 @@ pub fn run(a: Args) -> Result<(), Error> {
         a.output.quiet,
     );
     let progress = pb.callback();
-    let opts = RunOptions {
+    let opts = a.checkpoint.apply(RunOptions {
         threads: a.run.threads(),
         progress: &progress,
-        resume: a.checkpoint.clone(),
-        checkpoint_every: a.every.checkpoint_every,
         ..RunOptions::default()
-    };
+    });
     let r = escape::run(&cfg, &opts)?;
     drop(progress);
     drop(pb);

@@ -4,11 +4,7 @@
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig, SuperdiffusionReport};
 use lorentz_gas::Error;
 
-use lorentz_gas::engine::options::RunOptions;
-
-use super::args::{
-    parse_count, parse_count_u32, CheckpointEveryArg, OutputArgs, RunArgs, SceneArgs,
-};
+use super::args::{parse_count, parse_count_u32, CheckpointArgs, OutputArgs, RunArgs, SceneArgs};
 use super::output::{emit, sigmas};
 use super::progress::Progress;
 
@@ -42,13 +38,8 @@ pub struct Args {
     msd_fit: [f64; 2],
     #[command(flatten)]
     run: RunArgs,
-    /// Keep the run's work in this file (finished batches, and every --checkpoint-every each
-    /// trajectory in flight with its observers); a rerun with the same parameters resumes to
-    /// the same bits.
-    #[arg(long)]
-    checkpoint: Option<std::path::PathBuf>,
     #[command(flatten)]
-    every: CheckpointEveryArg,
+    checkpoint: CheckpointArgs,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -81,11 +72,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     };
     cfg.validate()?;
     let pb = Progress::new(a.collisions, "collisions", a.output.quiet);
-    let opts = RunOptions {
-        resume: a.checkpoint.clone(),
-        checkpoint_every: a.every.checkpoint_every,
-        ..pb.options(a.run.threads())
-    };
+    let opts = a.checkpoint.apply(pb.options(a.run.threads()));
     let r = superdiffusion::run(&cfg, &opts)?;
     drop(opts);
     drop(pb);
@@ -112,6 +99,13 @@ fn print(r: &SuperdiffusionReport) {
         r.c_map_exact,
         r.msd_log_slope_exact
     );
+    print_estimates(r, n);
+    print_lags(r);
+    print_law(r);
+}
+
+/// The fitted constants, each against its exact value.
+fn print_estimates(r: &SuperdiffusionReport, n: usize) {
     println!("measured, each against its exact value:");
     let line = |what: &str, x: f64, e: f64, exact: f64, range: [f64; 2]| {
         println!(
@@ -158,6 +152,10 @@ fn print(r: &SuperdiffusionReport) {
         "  (the last two errors: batch {:.1e} and {:.1e}, with the bound on flights longer than the longest seen, L = {:.1}: {:.1e} and {:.1e})",
         r.d_sup_vacf_err_batch, r.msd_log_slope_err_batch, r.longest_flight, r.d_sup_vacf_err_unsampled, r.msd_log_slope_err_unsampled
     );
+}
+
+/// One line per lag, each quantity over its exact value.
+fn print_lags(r: &SuperdiffusionReport) {
     println!("per lag (relative to the exact value; batch errors, and in [ ] the bound on unsampled flights):");
     println!("      t/l            t   s P(tau>s)/C_flow  s^2 mu(tau>s)/C_map   t C(t)/D_sup   local slope/2D_sup");
     let rel = |x: f64, e: f64, exact: f64| format!("{:>7.4} ± {:<7.4}", x / exact, e / exact);
@@ -184,6 +182,10 @@ fn print(r: &SuperdiffusionReport) {
             slope
         );
     }
+}
+
+/// One line per octave of the limit law.
+fn print_law(r: &SuperdiffusionReport) {
     println!("limit law of u = dx / sqrt(D_sup t ln t) (-> N(0, 1)):");
     println!(
         "             t   (IQR/1.349)^2 (-> 1)   <u^2> (-> 2)       Kolmogorov distance   samples"

@@ -3,7 +3,6 @@
 //! each run reports.
 
 use lorentz_gas::estimators::hops::{self, theory, HopsConfig};
-use lorentz_gas::statistics::{f_p_value, mean_se, normal_two_sided_tail};
 
 /// Runs of the theory from disjoint streams of one seed.
 const RUNS: u64 = 24;
@@ -50,22 +49,15 @@ fn jackknife_errors_of_the_hierarchy_match_the_spread_of_independent_runs() {
             (o.D_k_combined_minus_D_GK, o.D_k_combined_minus_D_GK_err)
         }),
     ];
-    let p = normal_two_sided_tail(4.0) / quantities.len() as f64;
-    let (d1, d2) = ((RUNS - 1) as f64, (RUNS * (BATCHES as u64 - 1)) as f64);
-    let mut failures = Vec::new();
-    for (name, pick) in quantities {
-        let (values, errs): (Vec<f64>, Vec<f64>) = reports.iter().map(pick).unzip();
-        let (_, se) = mean_se(&values);
-        let spread = se * se * RUNS as f64;
-        let reported = errs.iter().map(|e| e * e).sum::<f64>() / RUNS as f64;
-        let f = spread / reported;
-        let upper = f_p_value(f, d1, d2);
-        let line = format!("{name}: spread²/error² = {f:.3} (P(F > f) = {upper:.2e})");
-        eprintln!("{line}");
-        if upper < p / 2.0 || upper > 1.0 - p / 2.0 {
-            failures.push(line);
-        }
-    }
+    let table: Vec<(&str, Vec<f64>, Vec<f64>)> = quantities
+        .iter()
+        .map(|(name, pick)| {
+            let (values, errs) = reports.iter().map(pick).unzip();
+            (*name, values, errs)
+        })
+        .collect();
+    let dof = (RUNS * (BATCHES as u64 - 1)) as f64;
+    let failures = crate::common::errors_outside_their_spread(&table, dof);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

@@ -10,7 +10,6 @@ use lorentz_gas::observers::flight_tails::FlightTails;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::Scene;
-use lorentz_gas::statistics::{f_p_value, mean_se, normal_two_sided_tail};
 
 use crate::common::{t4, threads};
 
@@ -154,22 +153,14 @@ fn msd_slope_errors_match_the_spread_of_independent_runs() {
             (r.c_map_tail.unwrap(), r.c_map_tail_err.unwrap())
         }),
     ];
-    let p = normal_two_sided_tail(4.0) / quantities.len() as f64;
-    let (d1, d2) = ((RUNS - 1) as f64, (RUNS * 15) as f64);
-    let mut failures = Vec::new();
-    for (name, pick) in quantities {
-        let (values, errs): (Vec<f64>, Vec<f64>) = reports.iter().map(pick).unzip();
-        let (_, se) = mean_se(&values);
-        let spread = se * se * RUNS as f64;
-        let reported = errs.iter().map(|e| e * e).sum::<f64>() / RUNS as f64;
-        let f = spread / reported;
-        let upper = f_p_value(f, d1, d2);
-        let line = format!("{name}: spread²/error² = {f:.3} (P(F > f) = {upper:.2e})");
-        eprintln!("{line}");
-        if upper < p / 2.0 || upper > 1.0 - p / 2.0 {
-            failures.push(line);
-        }
-    }
+    let table: Vec<(&str, Vec<f64>, Vec<f64>)> = quantities
+        .iter()
+        .map(|(name, pick)| {
+            let (values, errs) = reports.iter().map(pick).unzip();
+            (*name, values, errs)
+        })
+        .collect();
+    let failures = crate::common::errors_outside_their_spread(&table, (RUNS * 15) as f64);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

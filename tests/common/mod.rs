@@ -5,7 +5,9 @@ use std::path::Path;
 use std::process::Command;
 
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::statistics::{normal_sigma_equivalent_t, welch_dof};
+use lorentz_gas::statistics::{
+    f_p_value, mean_se, normal_sigma_equivalent_t, normal_two_sided_tail, welch_dof,
+};
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
 /// Runs the `lorentz` binary with `args` in `dir`: (exit status, stdout, stderr).
@@ -79,4 +81,31 @@ pub fn physics_only(mut v: serde_json::Value) -> serde_json::Value {
         }
     }
     v
+}
+
+/// Whether reported errors are honest over independent runs: for each quantity (name, one value
+/// per run, the error each run reported), the variance of the values against the mean squared
+/// error is F(runs − 1, `error_dof`)-distributed if the errors are right. Prints every ratio and
+/// returns those outside the central 1 − p of that F, p the normal 4σ two-sided tail over the
+/// number of quantities (Bonferroni).
+pub fn errors_outside_their_spread(
+    quantities: &[(&str, Vec<f64>, Vec<f64>)],
+    error_dof: f64,
+) -> Vec<String> {
+    let p = normal_two_sided_tail(4.0) / quantities.len() as f64;
+    let mut failures = Vec::new();
+    for (name, values, errs) in quantities {
+        let runs = values.len() as f64;
+        let (_, se) = mean_se(values);
+        let spread = se * se * runs;
+        let reported = errs.iter().map(|e| e * e).sum::<f64>() / runs;
+        let f = spread / reported;
+        let upper = f_p_value(f, runs - 1.0, error_dof);
+        let line = format!("{name}: spread²/error² = {f:.3} (P(F > f) = {upper:.2e})");
+        eprintln!("{line}");
+        if upper < p / 2.0 || upper > 1.0 - p / 2.0 {
+            failures.push(line);
+        }
+    }
+    failures
 }

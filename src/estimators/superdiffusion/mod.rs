@@ -349,6 +349,34 @@ fn run_on<S: Scene>(
     let histogram_at: Vec<usize> = (0..steps.len())
         .filter(|&k| steps[k].is_power_of_two() && times[k] > std::f64::consts::E)
         .collect();
+    let input = summary::Input {
+        cfg,
+        sd,
+        ell,
+        steps: &steps,
+        times: &times,
+        histogram_at: &histogram_at,
+    };
+    let meta = RunMeta::new(
+        Some(cfg.seed),
+        Some(cfg.batches as u64),
+        "f64",
+        Some(options.threads),
+    );
+    let batches = run_batches(scene, &input, &meta, options)?;
+    let s = summary::summarise(&input, &batches)?;
+    Ok(report(scene.label(), &input, s, meta))
+}
+
+/// Every batch's trajectory, in batch order: those a checkpoint holds finished, the others run
+/// (from their saved state when they were in flight) and kept as they finish.
+fn run_batches<S: Scene>(
+    scene: &S,
+    inp: &summary::Input,
+    meta: &RunMeta,
+    options: &RunOptions,
+) -> Result<Vec<Batch>, Error> {
+    let cfg = inp.cfg;
     let lat = scene.lattice::<f64>(())?;
     let basis = lat.basis_f64();
     let jobs: Vec<Quota> = (0..cfg.batches)
@@ -358,15 +386,8 @@ fn run_on<S: Scene>(
             collisions: share(cfg.collisions, cfg.batches, index),
         })
         .collect();
-    let meta = RunMeta::new(
-        Some(cfg.seed),
-        Some(cfg.batches as u64),
-        "f64",
-        Some(options.threads),
-    );
-    let fits = |_: &Quota, b: &Batch| {
-        b.tails.longer.len() == steps.len() && b.lags.squared.len() == steps.len()
-    };
+    let n = inp.steps.len();
+    let fits = |_: &Quota, b: &Batch| b.tails.longer.len() == n && b.lags.squared.len() == n;
     let keep = Keeper::<Batch, (TailLane, MomentLane)>::open(
         options.resume.as_deref(),
         CHECKPOINT_KIND,
@@ -382,8 +403,15 @@ fn run_on<S: Scene>(
     let new = par_batches(options.threads, todo.len() as u32, |k| {
         let j = &todo[k as usize];
         let mut obs = Watch {
-            tails: FlightTails::new(&times, 1),
-            moments: LagMoments::new(ell, &steps, &histogram_at, sd.d_sup_xx, basis, 1),
+            tails: FlightTails::new(inp.times, 1),
+            moments: LagMoments::new(
+                inp.ell,
+                inp.steps,
+                inp.histogram_at,
+                inp.sd.d_sup_xx,
+                basis,
+                1,
+            ),
         };
         let start = || scene.sample(&mut stream(cfg.seed, j.index as u64));
         drive_kept(&lat, (), j, start, &mut obs, &keep, options.progress)?;
@@ -397,19 +425,20 @@ fn run_on<S: Scene>(
     let mut all: Vec<(u32, Batch)> = keep.finished_by_index().collect();
     all.extend(todo.iter().map(|j| j.index).zip(new));
     all.sort_by_key(|(i, _)| *i);
-    let batches: Vec<Batch> = all.into_iter().map(|(_, b)| b).collect();
-    let input = summary::Input {
-        cfg,
-        sd,
-        ell,
-        steps: &steps,
-        times: &times,
-        histogram_at: &histogram_at,
-    };
-    let s = summary::summarise(&input, &batches)?;
-    Ok(SuperdiffusionReport {
-        scene: scene.label(),
-        mean_free_path: ell,
+    Ok(all.into_iter().map(|(_, b)| b).collect())
+}
+
+/// The report: the exact constants beside the summary's measurements.
+fn report(
+    scene: String,
+    inp: &summary::Input,
+    s: summary::Summary,
+    meta: RunMeta,
+) -> SuperdiffusionReport {
+    let (cfg, sd) = (inp.cfg, inp.sd);
+    SuperdiffusionReport {
+        scene,
+        mean_free_path: inp.ell,
         corridors: sd.corridors.iter().map(|c| c.to_json()).collect(),
         d_sup_exact: sd.d_sup_xx,
         c_flow_exact: sd.c_flow,
@@ -438,5 +467,5 @@ fn run_on<S: Scene>(
         collisions: cfg.collisions,
         collisions_per_batch: cfg.collisions / cfg.batches as u64,
         meta,
-    })
+    }
 }
