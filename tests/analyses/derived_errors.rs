@@ -49,15 +49,11 @@ fn jackknife_errors_of_the_hierarchy_match_the_spread_of_independent_runs() {
             (o.D_k_combined_minus_D_GK, o.D_k_combined_minus_D_GK_err)
         }),
     ];
-    let table: Vec<(&str, Vec<f64>, Vec<f64>)> = quantities
-        .iter()
-        .map(|(name, pick)| {
-            let (values, errs) = reports.iter().map(pick).unzip();
-            (*name, values, errs)
-        })
-        .collect();
-    let dof = (RUNS * (BATCHES as u64 - 1)) as f64;
-    let failures = crate::common::errors_outside_their_spread(&table, dof);
+    let failures = crate::common::errors_outside_their_spread(
+        &reports,
+        &quantities,
+        (RUNS * (BATCHES as u64 - 1)) as f64,
+    );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

@@ -153,14 +153,8 @@ fn msd_slope_errors_match_the_spread_of_independent_runs() {
             (r.c_map_tail.unwrap(), r.c_map_tail_err.unwrap())
         }),
     ];
-    let table: Vec<(&str, Vec<f64>, Vec<f64>)> = quantities
-        .iter()
-        .map(|(name, pick)| {
-            let (values, errs) = reports.iter().map(pick).unzip();
-            (*name, values, errs)
-        })
-        .collect();
-    let failures = crate::common::errors_outside_their_spread(&table, (RUNS * 15) as f64);
+    let failures =
+        crate::common::errors_outside_their_spread(&reports, &quantities, (RUNS * 15) as f64);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

@@ -83,20 +83,25 @@ pub fn physics_only(mut v: serde_json::Value) -> serde_json::Value {
     v
 }
 
-/// Whether reported errors are honest over independent runs: for each quantity (name, one value
-/// per run, the error each run reported), the variance of the values against the mean squared
-/// error is F(runs − 1, `error_dof`)-distributed if the errors are right. Prints every ratio and
-/// returns those outside the central 1 − p of that F, p the normal 4σ two-sided tail over the
-/// number of quantities (Bonferroni).
-pub fn errors_outside_their_spread(
-    quantities: &[(&str, Vec<f64>, Vec<f64>)],
+/// How a quantity's (value, error) is read from a run's report.
+pub type Pick<R> = fn(&R) -> (f64, f64);
+
+/// Whether reported errors are honest over independent runs: for each quantity (a name and
+/// how to pick (value, error) from a run's report), the variance of the runs' values against the
+/// mean of their squared errors is F(runs − 1, `error_dof`)-distributed if the errors are right.
+/// Prints every ratio and returns those outside the central 1 − p of that F, p the normal 4σ
+/// two-sided tail over the number of quantities (Bonferroni).
+pub fn errors_outside_their_spread<R>(
+    reports: &[R],
+    quantities: &[(&str, Pick<R>)],
     error_dof: f64,
 ) -> Vec<String> {
     let p = normal_two_sided_tail(4.0) / quantities.len() as f64;
+    let runs = reports.len() as f64;
     let mut failures = Vec::new();
-    for (name, values, errs) in quantities {
-        let runs = values.len() as f64;
-        let (_, se) = mean_se(values);
+    for (name, pick) in quantities {
+        let (values, errs): (Vec<f64>, Vec<f64>) = reports.iter().map(pick).unzip();
+        let (_, se) = mean_se(&values);
         let spread = se * se * runs;
         let reported = errs.iter().map(|e| e * e).sum::<f64>() / runs;
         let f = spread / reported;
