@@ -1,5 +1,6 @@
 //! The multi-trajectory engine of the triangular lattice: [`BLOCK`] independent trajectories
-//! advance one event per step in vector lanes, branch-free.
+//! advance one event per step in vector lanes, branch-free but for one rare branch (an undecided
+//! edge choice).
 //!
 //! No closures in this file's hot code: a closure does not inherit the target features of the
 //! function it is written in, so its vector operations would be calls rather than instructions.
@@ -8,15 +9,13 @@
 //! ([`crate::kernel::trap::Trap::next_event`] and [`crate::kernel::trap::Trap::apply`]), in the
 //! same order, on the same constants (taken from the `Trap<f64>` itself):
 //!
-//! * all five candidates are computed in every lane — the three vertex disks by the
-//!   cancellation-free root (β = d·v, q = d×v, Δ = |v|² − q², γ = |d|² − 1,
-//!   t = γ/(√Δ − β)), the three edges by σₖ/(−nₖ·v) — and a candidate the scalar code would not
-//!   offer (excluded by identity, moving away, missing, or not leaving through the edge) is
-//!   masked out rather than skipped;
-//! * the earliest is chosen by the scalar code's rule, offered in the order disk 0, 1, 2, edge
-//!   0, 1, 2 and taken only if strictly earlier (so ties go to the lower disk, then collisions
-//!   before crossings, then the lower edge), with a separate "have one" mask so that not even an
-//!   infinite time could change the choice;
+//! * the next event is chosen by the rules of [`crate::kernel::choice`], lane by lane: the
+//!   three disks' β = d·v and Δ = |v|² − (d×v)² (no square root), the earliest valid disk by the
+//!   largest β (or, below the gap 2⁻²⁰, by all three roots), the earliest edge by certified cross
+//!   products (a rare branch computes both quotients where some lane is undecided), then one
+//!   root γ/(√Δ − β) and one quotient σ/(−n·v) per lane, the edge taken only where strictly
+//!   earlier; a candidate the scalar code would not offer (excluded by identity, moving away,
+//!   missing, or not leaving through the edge) is masked out rather than skipped;
 //! * the reflection (with its Newton speed factor) and the point reflection into the
 //!   neighbouring trap are both computed and blended by the event mask; the exclusion labels
 //!   and the cell index (i, j, s) are updated by masks as exact small integers.
@@ -55,6 +54,7 @@ struct Consts<V> {
     k: V,
     h: V,
     c: [[V; 2]; 3],
+    certain: V,
 }
 
 impl<V: Lanes> Consts<V> {
@@ -71,23 +71,31 @@ impl<V: Lanes> Consts<V> {
                 [V::splat(t.centres[1].x), V::splat(t.centres[1].y)],
                 [V::splat(t.centres[2].x), V::splat(t.centres[2].y)],
             ],
+            certain: V::splat(t.cell.choice.certain),
         }
     }
 }
 
-/// The cancellation-free root of [`crate::kernel::ray_disk`] in every lane: the time, and the
-/// mask of lanes where the scalar code returns `Some` (β < 0 and Δ > 0); where γ ≤ 0 the time
-/// is 0 (a start numerically inside, moving in).
+/// The first half of the cancellation-free root ([`crate::kernel::ray_disk::approach`]) in every
+/// lane: β = d·v, Δ = |v|² − (d×v)², and the mask where the scalar code has a root (β < 0 and
+/// Δ > 0).
 #[inline(always)]
-fn root<V: Lanes>(dx: V, dy: V, vx: V, vy: V, vv: V) -> (V, V::Mask) {
+fn approach<V: Lanes>(dx: V, dy: V, vx: V, vy: V, vv: V) -> (V, V, V::Mask) {
     let zero = V::splat(0.0);
     let beta = dx.mul(vx).add(dy.mul(vy));
     let q = dx.mul(vy).sub(dy.mul(vx));
     let disc = vv.sub(q.mul(q));
+    (beta, disc, V::and(beta.lt(zero), disc.gt(zero)))
+}
+
+/// The second half ([`crate::kernel::ray_disk::Approach::entry`]): γ/(√Δ − β) with
+/// γ = |d|² − 1, or 0 where γ ≤ 0 (a start numerically inside, moving in).
+#[inline(always)]
+fn entry<V: Lanes>(dx: V, dy: V, beta: V, disc: V) -> V {
+    let zero = V::splat(0.0);
     let gamma = dx.mul(dx).add(dy.mul(dy)).add(V::splat(-1.0));
-    let hit = V::and(beta.lt(zero), disc.gt(zero));
     let t = gamma.div(disc.sqrt().sub(beta));
-    (V::select(gamma.gt(zero), t, zero), hit)
+    V::select(gamma.gt(zero), t, zero)
 }
 
 /// A candidate event per lane: time, code, and whether there is one.
@@ -99,20 +107,8 @@ struct Cand<V: Lanes> {
 }
 
 impl<V: Lanes> Cand<V> {
-    #[inline(always)]
-    fn new(valid: V::Mask, t: V, code: f64) -> Self {
-        Cand {
-            t,
-            code: V::splat(code),
-            has: valid,
-        }
-    }
-
     /// The earlier of `self` and a candidate `later` offered after it: `later` wins only where
-    /// `self` has none or `later` is strictly earlier — the scalar `offer`. Offering the
-    /// candidates one by one in the scalar order picks the first of the earliest; so does this
-    /// rule applied as a tree over the same order (ties keep the left, which came first), which
-    /// halves the dependent chain of comparisons.
+    /// `self` has none or `later` is strictly earlier — the scalar `offer`.
     #[inline(always)]
     fn then(self, later: Self) -> Self {
         let take = V::and(
@@ -127,14 +123,156 @@ impl<V: Lanes> Cand<V> {
     }
 }
 
-/// The crossing candidate of edge `e` from (nᵉ·v, σₑ): offered where nᵉ·v < 0 and the edge is
-/// not the one entered by; time σₑ/(−nᵉ·v), or 0 where σₑ ≤ 0.
+/// A disk before its root: offset, β, Δ, code, and whether it is offered.
+#[derive(Clone, Copy)]
+struct Disk<V: Lanes> {
+    dx: V,
+    dy: V,
+    beta: V,
+    disc: V,
+    code: V,
+    has: V::Mask,
+}
+
+impl<V: Lanes> Disk<V> {
+    #[inline(always)]
+    fn new(dx: V, dy: V, (vx, vy, vv): (V, V, V), ed: V, m: f64) -> Self {
+        let (beta, disc, hit) = approach(dx, dy, vx, vy, vv);
+        Disk {
+            dx,
+            dy,
+            beta,
+            disc,
+            code: V::splat(m),
+            has: V::and_not(hit, ed.eq(V::splat(m))),
+        }
+    }
+
+    /// [`crate::kernel::choice::EarliestDisk`] by β: `later` wins where `self` has none or its β
+    /// is strictly larger.
+    #[inline(always)]
+    fn then(self, later: Self) -> Self {
+        let take = V::and(
+            later.has,
+            V::or(later.beta.gt(self.beta), V::and_not(later.has, self.has)),
+        );
+        Disk {
+            dx: V::select(take, later.dx, self.dx),
+            dy: V::select(take, later.dy, self.dy),
+            beta: V::select(take, later.beta, self.beta),
+            disc: V::select(take, later.disc, self.disc),
+            code: V::select(take, later.code, self.code),
+            has: V::or(self.has, later.has),
+        }
+    }
+
+    /// The chosen disk's event: its root computed now.
+    #[inline(always)]
+    fn event(self) -> Cand<V> {
+        Cand {
+            t: entry(self.dx, self.dy, self.beta, self.disc),
+            code: self.code,
+            has: self.has,
+        }
+    }
+}
+
+/// An edge before its quotient: s⁺ (σ where σ > 0, else 0), m = −n·v, code, offered.
+#[derive(Clone, Copy)]
+struct Edge<V: Lanes> {
+    s: V,
+    m: V,
+    code: V,
+    has: V::Mask,
+}
+
+impl<V: Lanes> Edge<V> {
+    /// Edge `e` from (nᵉ·v, σₑ): offered where nᵉ·v < 0 and it is not the edge entered by.
+    #[inline(always)]
+    fn new((nv, sigma): (V, V), ee: V, e: f64) -> Self {
+        let zero = V::splat(0.0);
+        Edge {
+            s: V::select(sigma.gt(zero), sigma, zero),
+            m: nv.neg(),
+            code: V::splat(CROSSING_CODE + e),
+            has: V::and_not(nv.lt(zero), ee.eq(V::splat(e))),
+        }
+    }
+
+    /// s⁺/m, or 0 where s⁺ = 0: the scalar σ/(−n·v) (or 0 where σ ≤ 0).
+    #[inline(always)]
+    fn time(&self) -> V {
+        let zero = V::splat(0.0);
+        V::select(self.s.gt(zero), self.s.div(self.m), zero)
+    }
+
+    /// [`crate::kernel::choice::EarliestEdge`]: `later` wins where `self` has none or its cross
+    /// product is certainly smaller; where neither is certain, the quotients decide (a rare
+    /// branch: only near a corner, or on zero, infinite or NaN products).
+    #[inline(always)]
+    fn then(self, later: Self, certain: V) -> Self {
+        let late = later.s.mul(self.m);
+        let soon = self.s.mul(later.m);
+        let sure_later = late.lt(soon.mul(certain));
+        let sure_self = soon.lt(late.mul(certain));
+        let both = V::and(self.has, later.has);
+        let unsure = V::and_not(V::and_not(both, sure_later), sure_self);
+        let mut take = V::and(
+            later.has,
+            V::or(sure_later, V::and_not(later.has, self.has)),
+        );
+        if V::bits(unsure) != 0 {
+            take = V::or(take, V::and(unsure, later.time().lt(self.time())));
+        }
+        Edge {
+            s: V::select(take, later.s, self.s),
+            m: V::select(take, later.m, self.m),
+            code: V::select(take, later.code, self.code),
+            has: V::or(self.has, later.has),
+        }
+    }
+
+    /// The chosen edge's event: its quotient computed now.
+    #[inline(always)]
+    fn event(self) -> Cand<V> {
+        Cand {
+            t: self.time(),
+            code: self.code,
+            has: self.has,
+        }
+    }
+}
+
+/// The next event in every lane, by the rule of [`crate::kernel::choice`]: the earliest disk (by
+/// β when `BY_BETA`, else by every root), the earliest edge (certified cross products), and the
+/// edge only where strictly earlier.
 #[inline(always)]
-fn crossing<V: Lanes>((nv, sigma): (V, V), ee: V, e: f64) -> Cand<V> {
-    let zero = V::splat(0.0);
-    let valid = V::and_not(nv.lt(zero), ee.eq(V::splat(e)));
-    let t = V::select(sigma.gt(zero), sigma.div(nv.neg()), zero);
-    Cand::new(valid, t, CROSSING_CODE + e)
+#[allow(clippy::too_many_arguments)]
+fn choose<V: Lanes, const BY_BETA: bool>(
+    c: &Consts<V>,
+    (px, py): (V, V),
+    (vx, vy, vv): (V, V, V),
+    ed: V,
+    ee: V,
+) -> Cand<V> {
+    let v = (vx, vy, vv);
+    let d0 = Disk::new(px, py, v, ed, 0.0);
+    let d1 = Disk::new(px.sub(c.p1x), py, v, ed, 1.0);
+    let d2 = Disk::new(px.sub(c.p2x), py.sub(c.p2y), v, ed, 2.0);
+    let disk = if BY_BETA {
+        d0.then(d1).then(d2).event()
+    } else {
+        d0.event().then(d1.event()).then(d2.event())
+    };
+    let kvx = c.k.mul(vx);
+    let hvy = vy.mul(V::splat(0.5));
+    let kpx = c.k.mul(px);
+    let hpy = py.mul(V::splat(0.5));
+    let e0 = Edge::new((kvx.add(hvy).neg(), kpx.add(hpy).neg().add(c.h)), ee, 0.0);
+    let e1 = Edge::new((kvx.sub(hvy), kpx.sub(hpy)), ee, 1.0);
+    let e2 = Edge::new((vy, py), ee, 2.0);
+    let edge = e0.then(e1, c.certain).then(e2, c.certain).event();
+    disk.then(edge)
 }
 
 /// One event for the `V::WIDTH` lanes starting at `o`: records each live lane's event and prior
@@ -142,7 +280,7 @@ fn crossing<V: Lanes>((nv, sigma): (V, V), ee: V, e: f64) -> Cand<V> {
 /// that had no next event (a zero or non-finite velocity; the scalar kernel's `None`) and of the
 /// live lanes. Finished lanes are left unchanged.
 #[inline(always)]
-fn advance<V: Lanes, const L: usize>(
+fn advance<V: Lanes, const L: usize, const BY_BETA: bool>(
     c: &Consts<V>,
     counts: &mut BlockCounts,
     out: &mut EventLanes<L>,
@@ -159,28 +297,8 @@ fn advance<V: Lanes, const L: usize>(
     let count = V::load(&counts.collisions[o..]);
     let live = count.lt(V::load(&counts.quota[o..]));
 
-    // Candidates, in the scalar code's order of offers.
     let vv = vx.mul(vx).add(vy.mul(vy));
-    let (t0, h0) = root(px, py, vx, vy, vv);
-    let d0 = Cand::new(V::and_not(h0, ed.eq(V::splat(0.0))), t0, 0.0);
-    let (t1, h1) = root(px.sub(c.p1x), py, vx, vy, vv);
-    let d1 = Cand::new(V::and_not(h1, ed.eq(V::splat(1.0))), t1, 1.0);
-    let (t2, h2) = root(px.sub(c.p2x), py.sub(c.p2y), vx, vy, vv);
-    let d2 = Cand::new(V::and_not(h2, ed.eq(V::splat(2.0))), t2, 2.0);
-    let kvx = c.k.mul(vx);
-    let hvy = vy.mul(V::splat(0.5));
-    let kpx = c.k.mul(px);
-    let hpy = py.mul(V::splat(0.5));
-    let edges = [
-        (kvx.add(hvy).neg(), kpx.add(hpy).neg().add(c.h)),
-        (kvx.sub(hvy), kpx.sub(hpy)),
-        (vy, py),
-    ];
-    let c0 = crossing(edges[0], ee, 0.0);
-    let c1 = crossing(edges[1], ee, 1.0);
-    let c2 = crossing(edges[2], ee, 2.0);
-    // The scalar order d0, d1, d2, e0, e1, e2 as a tree: ((d0 d1)(d2 e0))(e1 e2).
-    let best = d0.then(d1).then(d2.then(c0)).then(c1.then(c2));
+    let best = choose::<V, BY_BETA>(c, (px, py), (vx, vy, vv), ed, ee);
     let lost = V::bits(V::and_not(live, best.has));
     let go = V::and(live, best.has);
 
@@ -265,6 +383,22 @@ pub(super) fn run<V: Lanes, O: Observer<BLOCK>>(
     obs: &mut O,
     progress: &dyn Fn(u64),
 ) -> Option<usize> {
+    if trap.cell.choice.disks_by_beta {
+        run_with::<V, O, true>(trap, counts, ring, obs, progress)
+    } else {
+        run_with::<V, O, false>(trap, counts, ring, obs, progress)
+    }
+}
+
+/// [`run`] with the disk rule fixed at compile time.
+#[inline(always)]
+fn run_with<V: Lanes, O: Observer<BLOCK>, const BY_BETA: bool>(
+    trap: &Trap<f64>,
+    counts: &mut BlockCounts,
+    ring: &mut [EventLanes<BLOCK>],
+    obs: &mut O,
+    progress: &dyn Fn(u64),
+) -> Option<usize> {
     debug_assert_eq!(ring.len(), OBSERVE_EVERY + 1);
     let c = Consts::<V>::new(trap);
     let mut reported = counts.collisions.iter().sum::<f64>();
@@ -279,7 +413,7 @@ pub(super) fn run<V: Lanes, O: Observer<BLOCK>>(
             let mut live = 0u64;
             let mut o = 0;
             while o < BLOCK {
-                let (lo, li) = advance::<V, BLOCK>(&c, counts, out, next, o);
+                let (lo, li) = advance::<V, BLOCK, BY_BETA>(&c, counts, out, next, o);
                 lost |= lo;
                 live |= li;
                 o += V::WIDTH;

@@ -1,7 +1,9 @@
 //! The collision kernel, generic over [`crate::numbers::real::Real`]: one file per geometric query.
 //!
 //! * [`vec2`]: the plane vector.
-//! * [`ray_disk`]: first contact with a disk (cancellation-free root).
+//! * [`ray_disk`]: first contact with a disk (cancellation-free root), split at the choice.
+//! * [`choice`]: the earliest disk and edge chosen before any square root or division, with the
+//!   rounded-time rule's result.
 //! * [`flight`]: the state of a free flight and the events that end it (exclusions by identity).
 //! * [`cell`]: the generic cell kernel — next event and its execution in any convex polygonal
 //!   cell with disk obstacles, whose edges map exactly into the neighbouring cell.
@@ -11,6 +13,7 @@
 //! Scenes ([`crate::scenes`]) supply the cells; observables never touch this module.
 
 pub mod cell;
+pub mod choice;
 pub mod flight;
 pub mod ray_disk;
 pub mod trap;

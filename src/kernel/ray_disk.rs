@@ -72,10 +72,47 @@ pub fn ray_circle_centred<T: Real>(dx: T, dy: T, v: &Vec2<T>, vv: &T, r2: &T) ->
 }
 
 /// The root itself, with `vvr2 = |v|²r²` formed by the caller and `r2 = None` meaning r = 1.
-/// Written with in-place operations so that rug::Float allocates as little as possible; the
-/// order of the correctly rounded operations is exactly that of d·v, d×v, |v|²r² − q², |d|² − r².
 #[inline(always)]
-fn root<T: Real>(mut dx: T, mut dy: T, v: &Vec2<T>, vvr2: T, r2: Option<&T>) -> Option<T> {
+fn root<T: Real>(dx: T, dy: T, v: &Vec2<T>, vvr2: T, r2: Option<&T>) -> Option<T> {
+    approach(dx, dy, v, vvr2).map(|a| a.entry(r2))
+}
+
+/// A ray that meets a circle, before its entry time is computed: the offset d = p − c, β = d·v
+/// (< 0: moving towards the centre; −β/|v|² is the time of closest approach, the chord's
+/// midpoint) and Δ = |v|²r² − (d×v)² (> 0: the line cuts the circle).
+///
+/// Splitting the root here lets the kernel choose the earliest of several disks by β before it
+/// takes a square root or divides (`proofs-notes/choose-before-dividing.md`); [`Approach::entry`]
+/// then finishes the root by exactly the operations of [`ray_circle_centred`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Approach<T> {
+    /// d_x = p_x − c_x.
+    pub dx: T,
+    /// d_y = p_y − c_y.
+    pub dy: T,
+    /// β = d·v, negative.
+    pub beta: T,
+    /// Δ = |v|²r² − (d×v)², positive.
+    pub disc: T,
+}
+
+/// The first half of the cancellation-free root: `Some` exactly where the root is (β < 0 and
+/// Δ > 0), with `vvr2 = |v|²r²` formed by the caller. Written with in-place operations so that
+/// rug::Float allocates as little as possible; the order of the correctly rounded operations is
+/// exactly that of d·v, d×v, |v|²r² − q².
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::kernel::{ray_disk::{approach, ray_disk_centred}, vec2::Vec2};
+/// let v = Vec2::new(1.0f64, 0.0);
+/// let a = approach(-3.0, 0.5, &v, 1.0).unwrap();
+/// assert_eq!(a.beta, -3.0);
+/// assert_eq!(Some(a.entry(None)), ray_disk_centred(-3.0, 0.5, &v, &1.0));
+/// assert!(approach(-3.0, 1.5, &v, 1.0).is_none()); // misses
+/// ```
+#[inline(always)]
+pub fn approach<T: Real>(dx: T, dy: T, v: &Vec2<T>, vvr2: T) -> Option<Approach<T>> {
     let mut beta = dx.clone() * &v.x;
     let mut tmp = dy.clone() * &v.y;
     beta += &tmp;
@@ -91,19 +128,34 @@ fn root<T: Real>(mut dx: T, mut dy: T, v: &Vec2<T>, vvr2: T, r2: Option<&T>) -> 
     if !disc.gt0() {
         return None;
     }
-    dx.square_mut();
-    dy.square_mut();
-    dx += &dy;
-    let gamma = match r2 {
-        Some(r2) => dx - r2,
-        None => dx.add_f64(-1.0),
-    };
-    if !gamma.gt0() {
-        return Some(T::zero(gamma.ctx()));
+    Some(Approach { dx, dy, beta, disc })
+}
+
+impl<T: Real> Approach<T> {
+    /// The entry time γ/(√Δ − β), γ = |d|² − r² (`r2 = None`: r = 1, γ = |d|² − 1 by adding
+    /// −1), or 0 where γ ≤ 0 (a start numerically inside, moving in).
+    #[inline(always)]
+    pub fn entry(self, r2: Option<&T>) -> T {
+        let Approach {
+            mut dx,
+            mut dy,
+            beta,
+            disc,
+        } = self;
+        dx.square_mut();
+        dy.square_mut();
+        dx += &dy;
+        let gamma = match r2 {
+            Some(r2) => dx - r2,
+            None => dx.add_f64(-1.0),
+        };
+        if !gamma.gt0() {
+            return T::zero(gamma.ctx());
+        }
+        let mut denom = disc.sqrt();
+        denom -= &beta;
+        gamma / &denom
     }
-    let mut denom = disc.sqrt();
-    denom -= &beta;
-    Some(gamma / &denom)
 }
 
 #[cfg(test)]

@@ -14,8 +14,9 @@
 //! The two endpoint disks of Eₖ swap labels; the opposite disk leaves the candidate set.
 
 use super::cell::{CellKernel, ConvexCell, Edge, EdgeMap, LatticeBasis};
+use super::choice::{first, Choice, EarliestDisk, EarliestEdge};
 use super::flight::{Event, EventKind, Flight};
-use super::ray_disk::ray_disk_centred;
+use super::ray_disk::approach;
 use super::vec2::Vec2;
 use crate::numbers::real::Real;
 use crate::Error;
@@ -119,6 +120,8 @@ impl<T: Real> Trap<T> {
                 beta: half.clone(),
                 h: h.clone(),
             },
+            // The three disks are pairwise a = 2 + w apart: gap w.
+            choice: Choice::new(ctx, Some(&w), &T::one(ctx)),
         };
         Ok(Trap {
             w,
@@ -144,7 +147,9 @@ impl<T: Real> Trap<T> {
     /// Candidates are the vertex disks other than `f.excluded_disk` (cancellation-free root,
     /// [`super::ray_disk::ray_disk_with_speed`]) and the edges other than `f.excluded_edge` that the velocity
     /// points out of (time σₖ/(−nₖ·v), or 0 if the start is numerically beyond the edge).
-    /// Ties go to the lower disk label, then collisions before crossings.
+    /// Ties go to the lower disk label, then collisions before crossings. The earliest disk and
+    /// edge are chosen before any square root or division, with the same result
+    /// ([`super::choice`]): one root and two quotients per event instead of three and three.
     ///
     /// The canonical coordinates make several operations exact, and they are skipped without
     /// changing a bit of the result (see `proofs-notes/bit-for-bit.md`): d = p − P₀ = p,
@@ -153,23 +158,15 @@ impl<T: Real> Trap<T> {
     pub fn next_event(&self, f: &Flight<T>) -> Option<Event<T>> {
         let (p, v) = (&f.pos, &f.vel);
         let vv = v.norm2();
-        let mut best: Option<Event<T>> = None;
-        let mut offer = |t: T, kind: EventKind| {
-            if best.as_ref().is_none_or(|b| t < b.time) {
-                best = Some(Event { kind, time: t });
-            }
-        };
+        let mut disks = EarliestDisk::new(self.cell.choice.disks_by_beta, None);
         if f.excluded_disk != Some(0) {
-            if let Some(t) = ray_disk_centred(p.x.clone(), p.y.clone(), v, &vv) {
-                offer(t, EventKind::Collision(0));
-            }
+            disks.offer(0, approach(p.x.clone(), p.y.clone(), v, vv.clone()));
         }
         for m in 1..3u8 {
             if f.excluded_disk != Some(m) {
                 let c = &self.vertices[m as usize];
-                if let Some(t) = ray_disk_centred(p.x.clone() - &c.x, p.y.clone() - &c.y, v, &vv) {
-                    offer(t, EventKind::Collision(m));
-                }
+                let (dx, dy) = (p.x.clone() - &c.x, p.y.clone() - &c.y);
+                disks.offer(m, approach(dx, dy, v, vv.clone()));
             }
         }
         // Edge normals: n₀ = (−k, −½), n₁ = (k, −½), n₂ = (0, 1), k = √3/2. In-place forms
@@ -179,27 +176,22 @@ impl<T: Real> Trap<T> {
         let hvy = v.y.clone().scale(0.5);
         let kpx = k.clone() * &p.x;
         let hpy = p.y.clone().scale(0.5);
-        let mut edge = |e: u8, nv: T, sigma: T| {
-            if f.excluded_edge != Some(e) && nv.lt0() {
-                let t = if sigma.gt0() {
-                    sigma / &(-nv)
-                } else {
-                    T::zero(nv.ctx())
-                };
-                offer(t, EventKind::Crossing(e));
-            }
-        };
-        let mut nv0 = kvx.clone() + &hvy;
-        nv0.neg_mut();
-        let mut sigma0 = kpx.clone() + &hpy;
-        sigma0.neg_mut();
-        sigma0 += &self.h;
-        edge(0, nv0, sigma0);
-        edge(1, kvx - &hvy, kpx - &hpy);
-        if f.excluded_edge != Some(2) && v.y.lt0() {
-            edge(2, v.y.clone(), p.y.clone());
+        let mut edges = EarliestEdge::new(&self.cell.choice.certain);
+        if f.excluded_edge != Some(0) {
+            let mut nv0 = kvx.clone() + &hvy;
+            nv0.neg_mut();
+            let mut sigma0 = kpx.clone() + &hpy;
+            sigma0.neg_mut();
+            sigma0 += &self.h;
+            edges.offer(0, nv0, sigma0);
         }
-        best
+        if f.excluded_edge != Some(1) {
+            edges.offer(1, kvx - &hvy, kpx - &hpy);
+        }
+        if f.excluded_edge != Some(2) {
+            edges.offer(2, v.y.clone(), p.y.clone());
+        }
+        first(disks.event(), edges.event())
     }
 
     /// Moves along the flight to the event and carries it out: a specular reflection

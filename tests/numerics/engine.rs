@@ -51,7 +51,12 @@ impl<const L: usize> Observer<L> for Record {
 }
 
 /// Runs `starts` on the scalar kernel and on `path`, comparing every event and the final states.
-fn compare(path: SimdPath, w: f64, starts: &[LatticeState<f64>], quotas: &[u64]) -> usize {
+pub(crate) fn compare(
+    path: SimdPath,
+    w: f64,
+    starts: &[LatticeState<f64>],
+    quotas: &[u64],
+) -> usize {
     let lat = TriangularLattice::new(w).unwrap();
     let mut rec = Record {
         events: vec![Vec::new(); BLOCK],
@@ -88,7 +93,7 @@ const GAPS: [f64; 7] = [0.001, 0.02, 0.05, 0.1, 0.15, 0.25, 0.3];
 
 /// The instruction paths this host can run, after naming on stderr those it cannot (a test
 /// that compares paths checks only these); the portable path is always among them.
-fn available_paths(test: &str) -> Vec<SimdPath> {
+pub(crate) fn available_paths(test: &str) -> Vec<SimdPath> {
     let (run, skipped): (Vec<SimdPath>, Vec<SimdPath>) =
         SimdPath::ALL.into_iter().partition(|p| p.available());
     if !skipped.is_empty() {

@@ -10,6 +10,7 @@ mod common;
 
 mod bit_for_bit;
 mod checkpoints;
+mod choice;
 mod engine;
 mod fuzz_oracle;
 mod hard_cases;
