@@ -115,4 +115,14 @@ fn print(r: &Throughput) {
             .collect::<Vec<_>>()
             .join(" ")
     );
+    if let Some(b) = &r.divider_bound {
+        println!(
+            "divider bound: {:.2} ns per division and {:.2} ns per square root of {} lanes; 1 root + 2 divisions per event = {:.2} ns/collision, {:.0} % of the engine's time",
+            b.unit.div_ns,
+            b.unit.sqrt_ns,
+            b.unit.lanes,
+            b.ns_per_collision,
+            100.0 * b.fraction
+        );
+    }
 }

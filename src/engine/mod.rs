@@ -9,6 +9,7 @@
 //! Both feed the same [`Observer`]s, so an observable is written once and has the same bits on
 //! every engine, at any thread count (each trajectory's bits depend only on its start).
 
+pub mod bound;
 pub mod checkpoint;
 pub mod metadata;
 pub mod observe;

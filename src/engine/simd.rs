@@ -107,6 +107,16 @@ struct Cand<V: Lanes> {
 }
 
 impl<V: Lanes> Cand<V> {
+    /// No candidate in any lane.
+    #[inline(always)]
+    fn none() -> Self {
+        Cand {
+            t: V::splat(0.0),
+            code: V::splat(0.0),
+            has: V::from_bits(0),
+        }
+    }
+
     /// The earlier of `self` and a candidate `later` offered after it: `later` wins only where
     /// `self` has none or `later` is strictly earlier — the scalar `offer`.
     #[inline(always)]
@@ -243,51 +253,36 @@ impl<V: Lanes> Edge<V> {
     }
 }
 
-/// The next event in every lane, by the rule of [`crate::kernel::choice`]: the earliest disk (by
-/// β when `BY_BETA`, else by every root), the earliest edge (certified cross products), and the
-/// edge only where strictly earlier.
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn choose<V: Lanes, const BY_BETA: bool>(
-    c: &Consts<V>,
-    (px, py): (V, V),
-    (vx, vy, vv): (V, V, V),
+/// A step of `V::WIDTH` lanes up to its square root and divisions: the state loaded, the
+/// earliest disk and edge chosen, their operands ready.
+#[derive(Clone, Copy)]
+struct Front<V: Lanes> {
+    o: usize,
+    px: V,
+    py: V,
+    vx: V,
+    vy: V,
+    vv: V,
     ed: V,
     ee: V,
-) -> Cand<V> {
-    let v = (vx, vy, vv);
-    let d0 = Disk::new(px, py, v, ed, 0.0);
-    let d1 = Disk::new(px.sub(c.p1x), py, v, ed, 1.0);
-    let d2 = Disk::new(px.sub(c.p2x), py.sub(c.p2y), v, ed, 2.0);
-    let disk = if BY_BETA {
-        d0.then(d1).then(d2).event()
-    } else {
-        d0.event().then(d1.event()).then(d2.event())
-    };
-    let kvx = c.k.mul(vx);
-    let hvy = vy.mul(V::splat(0.5));
-    let kpx = c.k.mul(px);
-    let hpy = py.mul(V::splat(0.5));
-    let e0 = Edge::new((kvx.add(hvy).neg(), kpx.add(hpy).neg().add(c.h)), ee, 0.0);
-    let e1 = Edge::new((kvx.sub(hvy), kpx.sub(hpy)), ee, 1.0);
-    let e2 = Edge::new((vy, py), ee, 2.0);
-    let edge = e0.then(e1, c.certain).then(e2, c.certain).event();
-    disk.then(edge)
+    count: V,
+    live: V::Mask,
+    /// The chosen disk (by β), its root not yet taken.
+    disk: Disk<V>,
+    /// The earliest disk by every root (below the gap where β decides).
+    timed: Cand<V>,
+    edge: Edge<V>,
 }
 
-/// One event for the `V::WIDTH` lanes starting at `o`: records each live lane's event and prior
-/// state in `out`, applies it, and returns the bits (at their block positions) of the live lanes
-/// that had no next event (a zero or non-finite velocity; the scalar kernel's `None`) and of the
-/// live lanes. Finished lanes are left unchanged.
+/// Loads the lanes starting at `o` and chooses their next disk and edge by the rules of
+/// [`crate::kernel::choice`] (by β when `BY_BETA`, else by every root).
 #[inline(always)]
-fn advance<V: Lanes, const L: usize, const BY_BETA: bool>(
+fn front<V: Lanes, const L: usize, const BY_BETA: bool>(
     c: &Consts<V>,
-    counts: &mut BlockCounts,
-    out: &mut EventLanes<L>,
-    next: &mut EventLanes<L>,
+    counts: &BlockCounts,
+    out: &EventLanes<L>,
     o: usize,
-) -> (u64, u64) {
-    let zero = V::splat(0.0);
+) -> Front<V> {
     let px = V::load(&out.pos[0][o..]);
     let py = V::load(&out.pos[1][o..]);
     let vx = V::load(&out.vel[0][o..]);
@@ -296,9 +291,76 @@ fn advance<V: Lanes, const L: usize, const BY_BETA: bool>(
     let ee = V::load(&out.excluded[1][o..]);
     let count = V::load(&counts.collisions[o..]);
     let live = count.lt(V::load(&counts.quota[o..]));
-
     let vv = vx.mul(vx).add(vy.mul(vy));
-    let best = choose::<V, BY_BETA>(c, (px, py), (vx, vy, vv), ed, ee);
+    let v = (vx, vy, vv);
+    let d0 = Disk::new(px, py, v, ed, 0.0);
+    let d1 = Disk::new(px.sub(c.p1x), py, v, ed, 1.0);
+    let d2 = Disk::new(px.sub(c.p2x), py.sub(c.p2y), v, ed, 2.0);
+    let (disk, timed) = if BY_BETA {
+        (d0.then(d1).then(d2), Cand::none())
+    } else {
+        (d0, d0.event().then(d1.event()).then(d2.event()))
+    };
+    let kvx = c.k.mul(vx);
+    let hvy = vy.mul(V::splat(0.5));
+    let kpx = c.k.mul(px);
+    let hpy = py.mul(V::splat(0.5));
+    let e0 = Edge::new((kvx.add(hvy).neg(), kpx.add(hpy).neg().add(c.h)), ee, 0.0);
+    let e1 = Edge::new((kvx.sub(hvy), kpx.sub(hpy)), ee, 1.0);
+    let e2 = Edge::new((vy, py), ee, 2.0);
+    let edge = e0.then(e1, c.certain).then(e2, c.certain);
+    Front {
+        o,
+        px,
+        py,
+        vx,
+        vy,
+        vv,
+        ed,
+        ee,
+        count,
+        live,
+        disk,
+        timed,
+        edge,
+    }
+}
+
+/// The chosen disk's root and edge's quotient, and the event: the edge only where strictly
+/// earlier.
+#[inline(always)]
+fn divide<V: Lanes, const BY_BETA: bool>(f: &Front<V>) -> Cand<V> {
+    let disk = if BY_BETA { f.disk.event() } else { f.timed };
+    disk.then(f.edge.event())
+}
+
+/// Records the event of the lanes of `f` in `out`, applies it into `next`, and returns the bits
+/// (at their block positions) of the live lanes that had no next event (a zero or non-finite
+/// velocity; the scalar kernel's `None`) and of the live lanes. Finished lanes are left
+/// unchanged.
+#[inline(always)]
+fn back<V: Lanes, const L: usize>(
+    c: &Consts<V>,
+    f: &Front<V>,
+    best: Cand<V>,
+    counts: &mut BlockCounts,
+    out: &mut EventLanes<L>,
+    next: &mut EventLanes<L>,
+) -> (u64, u64) {
+    let zero = V::splat(0.0);
+    let Front {
+        o,
+        px,
+        py,
+        vx,
+        vy,
+        vv,
+        ed,
+        ee,
+        count,
+        live,
+        ..
+    } = *f;
     let lost = V::bits(V::and_not(live, best.has));
     let go = V::and(live, best.has);
 
@@ -359,6 +421,20 @@ fn advance<V: Lanes, const L: usize, const BY_BETA: bool>(
     V::select(go, nsg, sg).store(&mut next.cell[2][o..]);
     V::select(go, ncount, count).store(&mut counts.collisions[o..]);
     (lost << o, V::bits(live) << o)
+}
+
+/// One event for the `V::WIDTH` lanes starting at `o` (see [`back`] for what it returns).
+#[inline(always)]
+fn advance<V: Lanes, const L: usize, const BY_BETA: bool>(
+    c: &Consts<V>,
+    counts: &mut BlockCounts,
+    out: &mut EventLanes<L>,
+    next: &mut EventLanes<L>,
+    o: usize,
+) -> (u64, u64) {
+    let f = front::<V, L, BY_BETA>(c, counts, out, o);
+    let best = divide::<V, BY_BETA>(&f);
+    back(c, &f, best, counts, out, next)
 }
 
 /// Steps between two calls of the progress callback: 2¹⁴ steps of a block, ≈ 2.4·10⁵ collisions.

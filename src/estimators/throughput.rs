@@ -6,6 +6,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::engine::bound::{self, DividerBound};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Nothing, Observer, CROSSING_CODE};
 use crate::engine::options::RunOptions;
@@ -50,8 +51,23 @@ pub struct Throughput {
     pub samples: Vec<f64>,
     /// Crossings per collision seen (to compare event counts across implementations).
     pub crossings_per_collision: f64,
+    /// The SIMD engine's floor on this machine, from its divide/square-root unit (null for the
+    /// scalar engine and the portable path).
+    pub divider_bound: Option<BoundReport>,
     /// Version, seed, precision, engine, threads, command line.
     pub meta: RunMeta,
+}
+
+/// The divider's bound against the engine's measured time.
+#[derive(Debug, Clone, Serialize)]
+pub struct BoundReport {
+    /// The unit's figures, measured at start-up ([`crate::engine::bound::measure`]).
+    #[serde(flatten)]
+    pub unit: DividerBound,
+    /// The bound per collision: per lane-event × (1 + crossings per collision).
+    pub ns_per_collision: f64,
+    /// The bound over the engine's median time per collision (1 = at the bound).
+    pub fraction: f64,
 }
 
 fn median(v: &[f64]) -> f64 {
@@ -310,6 +326,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         return Err(Error::Zero { what: "threads" });
     }
     let resolved = engine.resolve(precision == Precision::F64)?;
+    let unit = resolved.simd().and_then(bound::measure);
     let (samples, cpc) = precision.dispatch(TimeRuns {
         engine: resolved,
         observe,
@@ -321,6 +338,15 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         progress,
     })?;
     let m = median(&samples);
+    let ns_per_collision = 1e9 * threads as f64 / m;
+    let divider_bound = unit.map(|unit| {
+        let per_collision = unit.ns_per_event * (1.0 + cpc);
+        BoundReport {
+            unit,
+            ns_per_collision: per_collision,
+            fraction: per_collision / ns_per_collision,
+        }
+    });
     Ok(Throughput {
         w,
         collisions_per_thread: collisions,
@@ -333,9 +359,10 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         },
         collisions_per_second: m,
         collisions_per_second_per_thread: m / threads as f64,
-        ns_per_collision: 1e9 * threads as f64 / m,
+        ns_per_collision,
         samples,
         crossings_per_collision: cpc,
+        divider_bound,
         meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
     })
 }
