@@ -14,7 +14,6 @@
 //! lattice walk with exact integer cell indices, the engines, the MPFR shadow — comes with it.
 
 use lorentz_gas::kernel::cell::{ConvexCell, Edge, EdgeMap, LatticeBasis};
-use lorentz_gas::kernel::choice::Choice;
 use lorentz_gas::kernel::flight::{EventKind, Flight};
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::numbers::real::Real;
@@ -119,8 +118,6 @@ impl Scene for RhombicTriangular {
         ];
         let far = v(a.clone().scale(1.5), h.clone());
         let disks = vec![v(z.clone(), z.clone()), e1.clone(), far.clone(), e2.clone()];
-        // Whether the kernel may choose the earliest disk by β before dividing.
-        let choice = Choice::for_disks(ctx, &disks, &r);
         Ok(ConvexCell {
             corners: disks.clone(),
             radius2: r.square(),
@@ -132,7 +129,6 @@ impl Scene for RhombicTriangular {
                 beta: T::from_f64(ctx, 0.5),
                 h,
             },
-            choice,
         })
     }
 

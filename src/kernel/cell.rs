@@ -11,8 +11,7 @@
 //!   [`super::ray_disk::ray_circle_centred`]) and the crossings of the edges the velocity points
 //!   out of (σₖ/(−nₖ·v), or 0 if the start is numerically beyond the edge), the disk left and
 //!   the edge entered by being excluded **by identity**; ties go to the lower disk label, then
-//!   collisions before crossings, then the lower edge label. The earliest disk and edge are
-//!   chosen before any square root or division ([`super::choice`]), with the same result;
+//!   collisions before crossings, then the lower edge label;
 //! * a collision is the specular reflection v' = v − 2(v·n)n/r², n = x − c, times the Newton
 //!   factor (3 − |v|²)/2 (`proofs-notes/energy.md`); a crossing maps position and velocity
 //!   into the neighbour's frame exactly as the edge says.
@@ -22,9 +21,8 @@
 //! A scene may supply a fused fast path for its cell ([`CellKernel`]); it must agree with this
 //! generic kernel bit for bit (the triangular trap's does: `tests/numerics/scenes.rs`).
 
-use super::choice::{first, Choice, EarliestDisk, EarliestEdge};
 use super::flight::{Event, EventKind, Flight};
-use super::ray_disk::approach;
+use super::ray_disk::ray_circle_centred;
 use super::vec2::Vec2;
 use crate::numbers::real::Real;
 
@@ -93,9 +91,6 @@ pub struct ConvexCell<T> {
     pub edges: Vec<Edge<T>>,
     /// The lattice of cells.
     pub lattice: LatticeBasis<T>,
-    /// How the kernel chooses the next event before dividing ([`Choice::new`] from the
-    /// closest two disks' gap).
-    pub choice: Choice<T>,
 }
 
 impl<T: Real> ConvexCell<T> {
@@ -140,22 +135,39 @@ impl<T: Real> ConvexCell<T> {
     /// ```
     pub fn next_event(&self, f: &Flight<T>) -> Option<Event<T>> {
         let (p, v) = (&f.pos, &f.vel);
-        let vvr2 = v.norm2() * &self.radius2;
-        let mut disks = EarliestDisk::new(self.choice.disks_by_beta, Some(&self.radius2));
+        let vv = v.norm2();
+        let mut best: Option<Event<T>> = None;
+        let mut offer = |t: T, kind: EventKind| {
+            if best.as_ref().is_none_or(|b| t < b.time) {
+                best = Some(Event { kind, time: t });
+            }
+        };
         for (m, c) in self.disks.iter().enumerate() {
             let m = m as u8;
             if f.excluded_disk != Some(m) {
                 let (dx, dy) = (p.x.clone() - &c.x, p.y.clone() - &c.y);
-                disks.offer(m, approach(dx, dy, v, vvr2.clone()));
+                if let Some(t) = ray_circle_centred(dx, dy, v, &vv, &self.radius2) {
+                    offer(t, EventKind::Collision(m));
+                }
             }
         }
-        let mut edges = EarliestEdge::new(&self.choice.certain);
         for (k, e) in self.edges.iter().enumerate() {
-            if f.excluded_edge != Some(k as u8) {
-                edges.offer(k as u8, e.normal.dot(v), e.normal.dot(p) - &e.offset);
+            let k = k as u8;
+            if f.excluded_edge == Some(k) {
+                continue;
+            }
+            let nv = e.normal.dot(v);
+            if nv.lt0() {
+                let sigma = e.normal.dot(p) - &e.offset;
+                let t = if sigma.gt0() {
+                    sigma / &(-nv)
+                } else {
+                    T::zero(nv.ctx())
+                };
+                offer(t, EventKind::Crossing(k));
             }
         }
-        first(disks.event(), edges.event())
+        best
     }
 
     /// Moves along the flight to the event and carries it out (see the module documentation).

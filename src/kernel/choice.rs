@@ -22,11 +22,15 @@
 //!
 //! The chosen times are computed by exactly the operations of the full comparison, so the event
 //! and its time keep every bit. The SIMD engine (`crate::engine::simd`) applies the same two rules
-//! lane by lane.
+//! lane by lane, where every lane would otherwise compute all six candidates;
+//! [`super::trap::Trap::next_event_chosen`] is their scalar form at any precision, tested against
+//! the full comparison. The scalar engine keeps the full comparison
+//! ([`super::trap::Trap::next_event`]): its branches already skip the candidates that move away
+//! (about 1.3 roots and 1.5 quotients per event at w = 0.1), and the choice's extra comparisons
+//! made it slower, not faster (README, "The divider's bound").
 
 use super::flight::{Event, EventKind};
 use super::ray_disk::Approach;
-use super::vec2::Vec2;
 use crate::numbers::real::Real;
 
 /// The smallest gap between two disks, relative to their radius, at which the earliest disk is
@@ -58,29 +62,6 @@ impl<T: Real> Choice<T> {
             disks_by_beta,
             certain,
         }
-    }
-
-    /// The choice for a cell with these disk centres, all of radius `radius`: the gap is the
-    /// smallest centre distance less 2r, computed at the working precision (a rounding at the
-    /// threshold only decides which of two equivalent rules runs).
-    ///
-    /// # Examples
-    ///
-    /// ```
-    /// use lorentz_gas::kernel::{choice::Choice, vec2::Vec2};
-    /// let far = [Vec2::new(0.0, 0.0), Vec2::new(2.1, 0.0)];
-    /// assert!(Choice::for_disks((), &far, &1.0).disks_by_beta);
-    /// let touching = [Vec2::new(0.0, 0.0), Vec2::new(2.0, 0.0)];
-    /// assert!(!Choice::for_disks((), &touching, &1.0).disks_by_beta);
-    /// ```
-    pub fn for_disks(ctx: T::Ctx, centres: &[Vec2<T>], radius: &T) -> Self {
-        let gap = centres
-            .iter()
-            .enumerate()
-            .flat_map(|(i, a)| centres[i + 1..].iter().map(move |b| a.sub(b).norm2()))
-            .reduce(|x, y| if y < x { y } else { x })
-            .map(|d2| d2.sqrt() - &radius.clone().scale(2.0));
-        Self::new(ctx, gap.as_ref(), radius)
     }
 }
 

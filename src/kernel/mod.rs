@@ -3,7 +3,7 @@
 //! * [`vec2`]: the plane vector.
 //! * [`ray_disk`]: first contact with a disk (cancellation-free root), split at the choice.
 //! * [`choice`]: the earliest disk and edge chosen before any square root or division, with the
-//!   rounded-time rule's result.
+//!   rounded-time rule's result (the SIMD engine's rule; the scalar kernel compares every time).
 //! * [`flight`]: the state of a free flight and the events that end it (exclusions by identity).
 //! * [`cell`]: the generic cell kernel — next event and its execution in any convex polygonal
 //!   cell with disk obstacles, whose edges map exactly into the neighbouring cell.

@@ -16,7 +16,7 @@
 use super::cell::{CellKernel, ConvexCell, Edge, EdgeMap, LatticeBasis};
 use super::choice::{first, Choice, EarliestDisk, EarliestEdge};
 use super::flight::{Event, EventKind, Flight};
-use super::ray_disk::approach;
+use super::ray_disk::{approach, ray_disk_centred};
 use super::vec2::Vec2;
 use crate::numbers::real::Real;
 use crate::Error;
@@ -38,6 +38,8 @@ pub struct Trap<T: Real> {
     pub offsets: [T; 3],
     /// Reflection centres cₖ = sum of the endpoints of Eₖ.
     pub centres: [Vec2<T>; 3],
+    /// How [`Trap::next_event_chosen`] (and the SIMD engine) choose before dividing.
+    pub choice: Choice<T>,
     /// The same trap as a generic [`ConvexCell`] of the triangular lattice (e₁ = (a, 0),
     /// e₂ = (a/2, h)); its generic kernel and the fused one here agree bit for bit.
     pub cell: ConvexCell<T>,
@@ -120,9 +122,9 @@ impl<T: Real> Trap<T> {
                 beta: half.clone(),
                 h: h.clone(),
             },
-            // The three disks are pairwise a = 2 + w apart: gap w.
-            choice: Choice::new(ctx, Some(&w), &T::one(ctx)),
         };
+        // The three disks are pairwise a = 2 + w apart: gap w.
+        let choice = Choice::new(ctx, Some(&w), &T::one(ctx));
         Ok(Trap {
             w,
             a,
@@ -131,6 +133,7 @@ impl<T: Real> Trap<T> {
             normals,
             offsets,
             centres,
+            choice,
             cell,
         })
     }
@@ -147,9 +150,7 @@ impl<T: Real> Trap<T> {
     /// Candidates are the vertex disks other than `f.excluded_disk` (cancellation-free root,
     /// [`super::ray_disk::ray_disk_with_speed`]) and the edges other than `f.excluded_edge` that the velocity
     /// points out of (time σₖ/(−nₖ·v), or 0 if the start is numerically beyond the edge).
-    /// Ties go to the lower disk label, then collisions before crossings. The earliest disk and
-    /// edge are chosen before any square root or division, with the same result
-    /// ([`super::choice`]): one root and two quotients per event instead of three and three.
+    /// Ties go to the lower disk label, then collisions before crossings.
     ///
     /// The canonical coordinates make several operations exact, and they are skipped without
     /// changing a bit of the result (see `proofs-notes/bit-for-bit.md`): d = p − P₀ = p,
@@ -158,7 +159,66 @@ impl<T: Real> Trap<T> {
     pub fn next_event(&self, f: &Flight<T>) -> Option<Event<T>> {
         let (p, v) = (&f.pos, &f.vel);
         let vv = v.norm2();
-        let mut disks = EarliestDisk::new(self.cell.choice.disks_by_beta, None);
+        let mut best: Option<Event<T>> = None;
+        let mut offer = |t: T, kind: EventKind| {
+            if best.as_ref().is_none_or(|b| t < b.time) {
+                best = Some(Event { kind, time: t });
+            }
+        };
+        if f.excluded_disk != Some(0) {
+            if let Some(t) = ray_disk_centred(p.x.clone(), p.y.clone(), v, &vv) {
+                offer(t, EventKind::Collision(0));
+            }
+        }
+        for m in 1..3u8 {
+            if f.excluded_disk != Some(m) {
+                let c = &self.vertices[m as usize];
+                if let Some(t) = ray_disk_centred(p.x.clone() - &c.x, p.y.clone() - &c.y, v, &vv) {
+                    offer(t, EventKind::Collision(m));
+                }
+            }
+        }
+        // Edge normals: n₀ = (−k, −½), n₁ = (k, −½), n₂ = (0, 1), k = √3/2. In-place forms
+        // with the same rounded operations: −(kvₓ + v_y/2), h − (kpₓ + p_y/2) = −(kpₓ + p_y/2) + h.
+        let k = &self.normals[1].x;
+        let kvx = k.clone() * &v.x;
+        let hvy = v.y.clone().scale(0.5);
+        let kpx = k.clone() * &p.x;
+        let hpy = p.y.clone().scale(0.5);
+        let mut edge = |e: u8, nv: T, sigma: T| {
+            if f.excluded_edge != Some(e) && nv.lt0() {
+                let t = if sigma.gt0() {
+                    sigma / &(-nv)
+                } else {
+                    T::zero(nv.ctx())
+                };
+                offer(t, EventKind::Crossing(e));
+            }
+        };
+        let mut nv0 = kvx.clone() + &hvy;
+        nv0.neg_mut();
+        let mut sigma0 = kpx.clone() + &hpy;
+        sigma0.neg_mut();
+        sigma0 += &self.h;
+        edge(0, nv0, sigma0);
+        edge(1, kvx - &hvy, kpx - &hpy);
+        if f.excluded_edge != Some(2) && v.y.lt0() {
+            edge(2, v.y.clone(), p.y.clone());
+        }
+        best
+    }
+
+    /// The same event as [`Trap::next_event`], with the same bits, found by choosing before
+    /// dividing ([`super::choice`]): the earliest disk by β (when w ≥ 2⁻²⁰), the earliest edge
+    /// by certified cross products, then one root and two quotients. This is the rule the SIMD
+    /// engine applies lane by lane (`proofs-notes/choose-before-dividing.md`). On one scalar
+    /// trajectory it is no faster than the full comparison — whose branches already skip the
+    /// candidates that move away — so the scalar engine keeps that.
+    #[inline(always)]
+    pub fn next_event_chosen(&self, f: &Flight<T>) -> Option<Event<T>> {
+        let (p, v) = (&f.pos, &f.vel);
+        let vv = v.norm2();
+        let mut disks = EarliestDisk::new(self.choice.disks_by_beta, None);
         if f.excluded_disk != Some(0) {
             disks.offer(0, approach(p.x.clone(), p.y.clone(), v, vv.clone()));
         }
@@ -176,7 +236,7 @@ impl<T: Real> Trap<T> {
         let hvy = v.y.clone().scale(0.5);
         let kpx = k.clone() * &p.x;
         let hpy = p.y.clone().scale(0.5);
-        let mut edges = EarliestEdge::new(&self.cell.choice.certain);
+        let mut edges = EarliestEdge::new(&self.choice.certain);
         if f.excluded_edge != Some(0) {
             let mut nv0 = kvx.clone() + &hvy;
             nv0.neg_mut();

@@ -15,7 +15,6 @@ use rug::Rational;
 use super::lattice::{CellIndex, LatticeState};
 use super::Scene;
 use crate::kernel::cell::{ConvexCell, Edge, EdgeMap, LatticeBasis};
-use crate::kernel::choice::Choice;
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
@@ -108,8 +107,6 @@ impl Scene for SquareScene {
             edge(v(&one, &z), v(&-one.clone(), &z), 0, [-1, 0]),
             edge(v(&z, &one), v(&z, &-one.clone()), 1, [0, -1]),
         ];
-        // One disk per cell: nothing to choose between.
-        let choice = Choice::for_disks(ctx, &[v(&z, &z)], &r);
         Ok(ConvexCell {
             corners: vec![v(&ph, &mh), v(&ph, &ph), v(&mh, &ph), v(&mh, &mh)],
             radius2: r.square(),
@@ -121,7 +118,6 @@ impl Scene for SquareScene {
                 beta: z,
                 h: one,
             },
-            choice,
         })
     }
 

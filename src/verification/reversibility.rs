@@ -115,7 +115,6 @@ pub fn amplification<T: Real, K: CellKernel<T>>(
 /// The nearest-`f64` copy of a cell (for the f64 tangent map along an orbit of any precision).
 pub fn cell_to_f64<T: Real>(c: &ConvexCell<T>) -> ConvexCell<f64> {
     use crate::kernel::cell::{Edge, EdgeMap, LatticeBasis};
-    use crate::kernel::choice::Choice;
     let v = |p: &Vec2<T>| Vec2::new(p.x.to_f64(), p.y.to_f64());
     ConvexCell {
         corners: c.corners.iter().map(v).collect(),
@@ -141,11 +140,6 @@ pub fn cell_to_f64<T: Real>(c: &ConvexCell<T>) -> ConvexCell<f64> {
             a: c.lattice.a.to_f64(),
             beta: c.lattice.beta.to_f64(),
             h: c.lattice.h.to_f64(),
-        },
-        // The gap relative to the radius does not depend on the precision.
-        choice: Choice {
-            disks_by_beta: c.choice.disks_by_beta,
-            certain: Choice::<f64>::new((), None, &1.0).certain,
         },
     }
 }

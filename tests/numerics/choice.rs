@@ -1,5 +1,6 @@
-//! Choosing before dividing (`kernel::choice`, `proofs-notes/choose-before-dividing.md`) finds
-//! the event the full comparison finds — every disk root and every edge quotient computed, the
+//! Choosing before dividing (`kernel::choice`, `proofs-notes/choose-before-dividing.md`: the rule
+//! of the SIMD engine, in its scalar form `Trap::next_event_chosen`) finds the event the full
+//! comparison finds — every disk root and every edge quotient computed, the
 //! smallest rounded time taken in the offer order — with the same bits, on random starts at gaps
 //! from 2⁻²⁰ to beyond w∞, and on starts aimed at the near-ties the argument has to exclude.
 
@@ -51,15 +52,18 @@ fn every_root<T: Real>(cell: &ConvexCell<T>, f: &Flight<T>) -> Option<Event<T>> 
     best
 }
 
-/// Compares the fused trap, the generic cell kernel and the full comparison on `f`, then
-/// follows the flight for `events` events. Returns the number of events compared.
+/// Compares the choice ([`Trap::next_event_chosen`]), the kernel and the full comparison on
+/// `f`, then follows the flight for `events` events. Returns the number of events compared.
 fn follow<T: Real>(trap: &Trap<T>, mut f: Flight<T>, events: usize, what: &str) -> usize {
     for k in 0..events {
         let want = every_root(&trap.cell, &f);
-        let fused = trap.next_event(&f);
-        let generic = trap.cell.next_event(&f);
-        assert_eq!(fused, want, "{what}: event {k} (fused) from {f:?}");
-        assert_eq!(generic, want, "{what}: event {k} (generic) from {f:?}");
+        let chosen = trap.next_event_chosen(&f);
+        assert_eq!(chosen, want, "{what}: event {k} (chosen) from {f:?}");
+        assert_eq!(
+            trap.next_event(&f),
+            want,
+            "{what}: event {k} (kernel) from {f:?}"
+        );
         match want {
             Some(ev) => trap.apply(&mut f, &ev),
             None => return k,
@@ -102,7 +106,7 @@ fn choose_first_matches_every_root_on_random_starts() {
     let mut n = 0;
     for w in GAPS {
         let trap = Trap::new(w).unwrap();
-        assert!(trap.cell.choice.disks_by_beta, "w = {w:e}");
+        assert!(trap.choice.disks_by_beta, "w = {w:e}");
         let trap256 = Trap::new(Float::with_val(256, w)).unwrap();
         for s in 0..40 {
             let f = free_start(&trap, &mut rng);
@@ -279,13 +283,15 @@ fn near_ties_aimed_at_the_argument() {
 fn below_the_gap_every_root_is_computed() {
     for w in [1e-9, DISK_GAP_MIN * (1.0 - 1.0 / 256.0)] {
         let trap = Trap::new(w).unwrap();
-        assert!(!trap.cell.choice.disks_by_beta, "w = {w:e}");
+        assert!(!trap.choice.disks_by_beta, "w = {w:e}");
         for (s, f) in aimed_starts(&trap).into_iter().enumerate() {
             follow(&trap, f, 6, &format!("w = {w:e} aimed start {s}"));
         }
     }
-    let one = [Vec2::new(0.0, 0.0)];
-    assert!(Choice::for_disks((), &one, &0.25).disks_by_beta);
+    assert!(
+        Choice::<f64>::new((), None, &0.25).disks_by_beta,
+        "one disk"
+    );
 }
 
 /// Edge near-ties the certificate cannot decide: a start at a corner (σ = 0 on both edges it
@@ -305,12 +311,12 @@ fn undecided_edges_fall_back_to_the_quotients() {
         f.excluded_disk = Some(m);
         let ev = every_root(&trap.cell, &f).unwrap();
         assert_eq!(ev.time, 0.0, "corner {m}");
-        assert_eq!(trap.next_event(&f), Some(ev.clone()), "corner {m}");
+        assert_eq!(trap.next_event_chosen(&f), Some(ev.clone()), "corner {m}");
         starts.push(f);
     }
     // Corner 0, leaving through edges 1 and 2 at t = 0: the lower label, edge 1.
     assert_eq!(
-        trap.next_event(&starts[0]).unwrap().kind,
+        trap.next_event_chosen(&starts[0]).unwrap().kind,
         EventKind::Crossing(1)
     );
     let states: Vec<LatticeState<f64>> = starts
