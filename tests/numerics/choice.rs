@@ -4,9 +4,8 @@
 //! smallest rounded time taken in the offer order — with the same bits, on random starts at gaps
 //! from 2⁻²⁰ to beyond w∞, and on starts aimed at the near-ties the argument has to exclude.
 
-use lorentz_gas::kernel::cell::ConvexCell;
 use lorentz_gas::kernel::choice::{Choice, DISK_GAP_MIN};
-use lorentz_gas::kernel::flight::{Event, EventKind, Flight};
+use lorentz_gas::kernel::flight::{EventKind, Flight};
 use lorentz_gas::kernel::ray_disk::ray_circle_centred;
 use lorentz_gas::kernel::trap::Trap;
 use lorentz_gas::kernel::vec2::Vec2;
@@ -16,47 +15,13 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus as Gen;
 use rug::Float;
 
-/// The rule as it was before the choice: every root and every quotient, offered in order.
-fn every_root<T: Real>(cell: &ConvexCell<T>, f: &Flight<T>) -> Option<Event<T>> {
-    let (p, v) = (&f.pos, &f.vel);
-    let vv = v.norm2();
-    let mut best: Option<Event<T>> = None;
-    let mut offer = |t: T, kind: EventKind| {
-        if best.as_ref().is_none_or(|b| t < b.time) {
-            best = Some(Event { kind, time: t });
-        }
-    };
-    for (m, c) in cell.disks.iter().enumerate() {
-        if f.excluded_disk != Some(m as u8) {
-            let (dx, dy) = (p.x.clone() - &c.x, p.y.clone() - &c.y);
-            if let Some(t) = ray_circle_centred(dx, dy, v, &vv, &cell.radius2) {
-                offer(t, EventKind::Collision(m as u8));
-            }
-        }
-    }
-    for (k, e) in cell.edges.iter().enumerate() {
-        if f.excluded_edge == Some(k as u8) {
-            continue;
-        }
-        let nv = e.normal.dot(v);
-        if nv.lt0() {
-            let sigma = e.normal.dot(p) - &e.offset;
-            let t = if sigma.gt0() {
-                sigma / &(-nv)
-            } else {
-                T::zero(nv.ctx())
-            };
-            offer(t, EventKind::Crossing(k as u8));
-        }
-    }
-    best
-}
-
-/// Compares the choice ([`Trap::next_event_chosen`]), the kernel and the full comparison on
-/// `f`, then follows the flight for `events` events. Returns the number of events compared.
+/// Compares the choice ([`Trap::next_event_chosen`]) with the full comparison (the generic
+/// kernel, `ConvexCell::next_event`: every root and every quotient, offered in order) and the
+/// fused trap on `f`, then follows the flight for `events` events. Returns the number of events
+/// compared.
 fn follow<T: Real>(trap: &Trap<T>, mut f: Flight<T>, events: usize, what: &str) -> usize {
     for k in 0..events {
-        let want = every_root(&trap.cell, &f);
+        let want = trap.cell.next_event(&f);
         let chosen = trap.next_event_chosen(&f);
         assert_eq!(chosen, want, "{what}: event {k} (chosen) from {f:?}");
         assert_eq!(
@@ -309,7 +274,7 @@ fn undecided_edges_fall_back_to_the_quotients() {
     ] {
         let mut f = Flight::new(trap.vertices[m as usize].clone(), v);
         f.excluded_disk = Some(m);
-        let ev = every_root(&trap.cell, &f).unwrap();
+        let ev = trap.cell.next_event(&f).unwrap();
         assert_eq!(ev.time, 0.0, "corner {m}");
         assert_eq!(trap.next_event_chosen(&f), Some(ev.clone()), "corner {m}");
         starts.push(f);
