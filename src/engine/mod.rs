@@ -327,7 +327,8 @@ pub fn run_block<O: Observer<BLOCK>>(
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
         SimdPath::Avx2 => unsafe { run_avx2(trap, &mut counts, ring, obs, progress) },
-        _ => simd::run::<lanes::Portable, O>(trap, &mut counts, ring, obs, progress),
+        // The portable path's lanes are scalar code: every root is cheaper there than the β choice.
+        _ => simd::run_with::<lanes::Portable, O, false>(trap, &mut counts, ring, obs, progress),
     };
     let st = &ring[0];
     for (l, s) in states.iter_mut().enumerate() {
