@@ -11,14 +11,14 @@
 //!   [`DISK_GAP_MIN`]·r apart, the valid disk (β < 0, Δ > 0) with the largest β = d·v is the one
 //!   whose rounded entry time is smallest. Chords of disjoint disks on a line are disjoint, so the
 //!   chord midpoints −β/|v|² come in the order of the entries, at least the gap apart; the
-//!   worst rounding of a grazing entry time is about √(40u) ≈ 7·10⁻⁸ at f64 (less at more bits).
+//!   worst-case rounding of a grazing entry time is about 2·10⁻⁷ at f64 (less at more bits).
 //!   Below that gap every root is computed and compared, as before;
 //! * **edges** ([`EarliestEdge`]): the time of edge k is s⁺ₖ/mₖ (s⁺ₖ = σₖ where σₖ > 0, else 0;
 //!   mₖ = −nₖ·v > 0). Edge b is certainly earlier than edge a when the rounded products satisfy
 //!   s⁺_b·m_a < (1 − 2^(3−p))·(s⁺_a·m_b), and then the rounded quotients say so strictly too;
 //!   where neither order is certain (a near-tie at a corner, or a zero, infinite or NaN
 //!   product), both quotients are computed and compared as before. The edge choice is therefore
-//!   today's on every input, by construction.
+//!   the full comparison's on every input, by construction.
 //!
 //! The chosen times are computed by exactly the operations of the full comparison, so the event
 //! and its time keep every bit. The SIMD engine (`crate::engine::simd`) applies the same two rules
@@ -26,16 +26,16 @@
 //! [`super::trap::Trap::next_event_chosen`] is their scalar form at any precision, tested against
 //! the full comparison. The scalar engine keeps the full comparison
 //! ([`super::trap::Trap::next_event`]): its branches already skip the candidates that move away
-//! (about 1.3 roots and 1.5 quotients per event at w = 0.1), and the choice's extra comparisons
-//! made it slower, not faster (README, "The divider's bound").
+//! or miss, and the choice's extra comparisons made it slower, not faster (33 → 42 ns per
+//! collision in f64; `proofs-notes/choose-before-dividing.md`).
 
 use super::flight::{Event, EventKind};
 use super::ray_disk::Approach;
 use crate::numbers::real::Real;
 
 /// The smallest gap between two disks, relative to their radius, at which the earliest disk is
-/// chosen by β: 2⁻²⁰ ≈ 9.5·10⁻⁷, a factor 7 above twice the worst rounding of a grazing entry
-/// time at 53 bits (`proofs-notes/choose-before-dividing.md`).
+/// chosen by β: 2⁻²⁰ ≈ 9.5·10⁻⁷, a factor 2.2 above the 4.4·10⁻⁷ that the worst-case rounding of
+/// a grazing entry time needs at 53 bits (`proofs-notes/choose-before-dividing.md`).
 pub const DISK_GAP_MIN: f64 = 1.0 / 1_048_576.0;
 
 /// How a cell's kernel chooses before it divides (built once per cell, at its precision).
