@@ -139,7 +139,7 @@ fn instruction_ns(path: SimdPath, unit: Unit, calls: usize) -> Option<f64> {
     Some(t[calls / 2])
 }
 
-/// Measures the unit for `path` (about 0.1 s: 101 calls of each instruction). `None` for the
+/// Measures the unit for `path` (about 20 ms: 101 calls of each instruction). `None` for the
 /// portable path or a path this CPU lacks.
 pub fn measure(path: SimdPath) -> Option<DividerBound> {
     const CALLS: usize = 101;
