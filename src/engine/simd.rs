@@ -98,6 +98,13 @@ fn entry<V: Lanes>(dx: V, dy: V, beta: V, disc: V) -> V {
     V::select(gamma.gt(zero), t, zero)
 }
 
+/// Where a candidate offered later replaces the current one: where it has one and is `better`,
+/// or the current has none (the scalar `offer`'s `is_none_or`).
+#[inline(always)]
+fn wins<V: Lanes>(later: V::Mask, current: V::Mask, better: V::Mask) -> V::Mask {
+    V::and(later, V::or(better, V::and_not(later, current)))
+}
+
 /// A candidate event per lane: time, code, and whether there is one.
 #[derive(Clone, Copy)]
 struct Cand<V: Lanes> {
@@ -121,10 +128,7 @@ impl<V: Lanes> Cand<V> {
     /// `self` has none or `later` is strictly earlier — the scalar `offer`.
     #[inline(always)]
     fn then(self, later: Self) -> Self {
-        let take = V::and(
-            later.has,
-            V::or(later.t.lt(self.t), V::and_not(later.has, self.has)),
-        );
+        let take = wins::<V>(later.has, self.has, later.t.lt(self.t));
         Cand {
             t: V::select(take, later.t, self.t),
             code: V::select(take, later.code, self.code),
@@ -162,10 +166,7 @@ impl<V: Lanes> Disk<V> {
     /// is strictly larger.
     #[inline(always)]
     fn then(self, later: Self) -> Self {
-        let take = V::and(
-            later.has,
-            V::or(later.beta.gt(self.beta), V::and_not(later.has, self.has)),
-        );
+        let take = wins::<V>(later.has, self.has, later.beta.gt(self.beta));
         Disk {
             dx: V::select(take, later.dx, self.dx),
             dy: V::select(take, later.dy, self.dy),
@@ -227,10 +228,7 @@ impl<V: Lanes> Edge<V> {
         let sure_self = soon.lt(late.mul(certain));
         let both = V::and(self.has, later.has);
         let unsure = V::and_not(V::and_not(both, sure_later), sure_self);
-        let mut take = V::and(
-            later.has,
-            V::or(sure_later, V::and_not(later.has, self.has)),
-        );
+        let mut take = wins::<V>(later.has, self.has, sure_later);
         if V::bits(unsure) != 0 {
             take = V::or(take, V::and(unsure, later.time().lt(self.time())));
         }

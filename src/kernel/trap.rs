@@ -144,6 +144,24 @@ impl<T: Real> Trap<T> {
         self.normals[k].dot(p) - &self.offsets[k]
     }
 
+    /// (nₖ·v, σₖ) of the slanted edges E₀ and E₁ (E₂'s are v_y and p_y). The normals are
+    /// n₀ = (−k, −½), n₁ = (k, −½), k = √3/2; in-place forms with the same rounded operations:
+    /// −(kvₓ + v_y/2), h − (kpₓ + p_y/2) = −(kpₓ + p_y/2) + h, kvₓ − v_y/2 and kpₓ − p_y/2.
+    #[inline(always)]
+    fn slanted_edges(&self, p: &Vec2<T>, v: &Vec2<T>) -> [(T, T); 2] {
+        let k = &self.normals[1].x;
+        let kvx = k.clone() * &v.x;
+        let hvy = v.y.clone().scale(0.5);
+        let kpx = k.clone() * &p.x;
+        let hpy = p.y.clone().scale(0.5);
+        let mut nv0 = kvx.clone() + &hvy;
+        nv0.neg_mut();
+        let mut sigma0 = kpx.clone() + &hpy;
+        sigma0.neg_mut();
+        sigma0 += &self.h;
+        [(nv0, sigma0), (kvx - &hvy, kpx - &hpy)]
+    }
+
     /// The next event of the straight flight `f`, or `None` if there is none (only for a zero
     /// or non-finite velocity: a finite nonzero velocity always leaves the triangle).
     ///
@@ -178,13 +196,6 @@ impl<T: Real> Trap<T> {
                 }
             }
         }
-        // Edge normals: n₀ = (−k, −½), n₁ = (k, −½), n₂ = (0, 1), k = √3/2. In-place forms
-        // with the same rounded operations: −(kvₓ + v_y/2), h − (kpₓ + p_y/2) = −(kpₓ + p_y/2) + h.
-        let k = &self.normals[1].x;
-        let kvx = k.clone() * &v.x;
-        let hvy = v.y.clone().scale(0.5);
-        let kpx = k.clone() * &p.x;
-        let hpy = p.y.clone().scale(0.5);
         let mut edge = |e: u8, nv: T, sigma: T| {
             if f.excluded_edge != Some(e) && nv.lt0() {
                 let t = if sigma.gt0() {
@@ -195,13 +206,9 @@ impl<T: Real> Trap<T> {
                 offer(t, EventKind::Crossing(e));
             }
         };
-        let mut nv0 = kvx.clone() + &hvy;
-        nv0.neg_mut();
-        let mut sigma0 = kpx.clone() + &hpy;
-        sigma0.neg_mut();
-        sigma0 += &self.h;
+        let [(nv0, sigma0), (nv1, sigma1)] = self.slanted_edges(p, v);
         edge(0, nv0, sigma0);
-        edge(1, kvx - &hvy, kpx - &hpy);
+        edge(1, nv1, sigma1);
         if f.excluded_edge != Some(2) && v.y.lt0() {
             edge(2, v.y.clone(), p.y.clone());
         }
@@ -229,24 +236,11 @@ impl<T: Real> Trap<T> {
                 disks.offer(m, approach(dx, dy, v, vv.clone()));
             }
         }
-        // Edge normals: n₀ = (−k, −½), n₁ = (k, −½), n₂ = (0, 1), k = √3/2. In-place forms
-        // with the same rounded operations: −(kvₓ + v_y/2), h − (kpₓ + p_y/2) = −(kpₓ + p_y/2) + h.
-        let k = &self.normals[1].x;
-        let kvx = k.clone() * &v.x;
-        let hvy = v.y.clone().scale(0.5);
-        let kpx = k.clone() * &p.x;
-        let hpy = p.y.clone().scale(0.5);
         let mut edges = EarliestEdge::new(&self.choice.certain);
-        if f.excluded_edge != Some(0) {
-            let mut nv0 = kvx.clone() + &hvy;
-            nv0.neg_mut();
-            let mut sigma0 = kpx.clone() + &hpy;
-            sigma0.neg_mut();
-            sigma0 += &self.h;
-            edges.offer(0, nv0, sigma0);
-        }
-        if f.excluded_edge != Some(1) {
-            edges.offer(1, kvx - &hvy, kpx - &hpy);
+        for (e, (nv, sigma)) in (0..2u8).zip(self.slanted_edges(p, v)) {
+            if f.excluded_edge != Some(e) {
+                edges.offer(e, nv, sigma);
+            }
         }
         if f.excluded_edge != Some(2) {
             edges.offer(2, v.y.clone(), p.y.clone());
