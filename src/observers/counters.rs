@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE, NO_EVENT};
+use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE};
 use crate::numbers::lanes::Lanes;
 use crate::statistics::CompensatedSum;
 use crate::Error;
@@ -37,7 +37,8 @@ impl Counters {
 /// The counters of L trajectories, in lanes: the compensated sum, the free path and the
 /// counts (exact integers in `f64`, below 2⁵³ by [`crate::engine::MAX_COLLISIONS_PER_TRAJECTORY`])
 /// are updated with vector selects, no branches. A lane that is not live has time +0 and code
-/// [`NO_EVENT`] ([`EventLanes`]), which leave every accumulator unchanged, so no mask is needed.
+/// [`NO_EVENT`](crate::engine::observe::NO_EVENT) ([`EventLanes`]), which leave the sums, the
+/// free path and the collision count unchanged; the event count takes the live mask.
 #[derive(Debug, Clone)]
 pub struct CounterLanes {
     sum: Vec<f64>,
@@ -139,7 +140,7 @@ impl<const L: usize> Observer<L> for CounterLanes {
         let ncoll = lanes::<f64, L>(&mut self.collisions);
         let nev = lanes::<f64, L>(&mut self.events);
         let (zero, one) = (V::splat(0.0), V::splat(1.0));
-        let (cross, none) = (V::splat(CROSSING_CODE), V::splat(NO_EVENT));
+        let cross = V::splat(CROSSING_CODE);
         let mut o = 0;
         while o < L {
             // The accumulators stay in registers over the steps.
@@ -152,22 +153,24 @@ impl<const L: usize> Observer<L> for CounterLanes {
             );
             for e in steps {
                 let x = V::load(&e.time[o..]);
-                let code = V::load(&e.code[o..]);
-                let coll = code.lt(cross);
-                // CompensatedSum::add (Neumaier), the same operations with a select.
+                let coll = V::load(&e.code[o..]).lt(cross);
+                // CompensatedSum::add (Neumaier): the larger of s and x, less the sum, plus the
+                // smaller — the same operations, chosen by selects before them.
                 let t = s.add(x);
-                cp = cp.add(V::select(
-                    s.abs().ge(x.abs()),
-                    s.sub(t).add(x),
-                    x.sub(t).add(s),
-                ));
+                let s_larger = s.abs().ge(x.abs());
+                let (big, small) = (V::select(s_larger, s, x), V::select(s_larger, x, s));
+                cp = cp.add(big.sub(t).add(small));
                 s = t;
                 // The free path in progress ends at a collision.
                 path = path.add(x);
                 long = V::select(V::and(coll, path.gt(long)), path, long);
                 path = V::select(coll, zero, path);
-                nc = nc.add(V::select(coll, one, zero));
-                ne = ne.add(V::select(code.lt(none), one, zero));
+                // Counts (exact integers) step by one where the event is a collision, and for
+                // every event of a live lane (a live lane's code is below NO_EVENT, see
+                // `EventLanes`): selects of a sum rather than sums of a select, one operation
+                // each where the machine has masked adds.
+                nc = V::select(coll, nc.add(one), nc);
+                ne = V::select(V::from_bits(e.live_bits >> o), ne.add(one), ne);
             }
             s.store(&mut sum[o..]);
             cp.store(&mut comp[o..]);

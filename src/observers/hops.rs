@@ -9,8 +9,7 @@ use crate::engine::checkpoint::LaneCheckpoint;
 use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE};
 use crate::kernel::flight::EventKind;
 use crate::numbers::lanes::Lanes;
-use crate::scenes::single_trap::exit_symbol;
-use crate::scenes::symbols::check_order;
+use crate::scenes::symbols::{check_order, MAX_ORDER};
 use crate::Error;
 use serde::{Deserialize, Serialize};
 
@@ -64,48 +63,118 @@ impl Hops {
     pub fn observe(&mut self, kind: EventKind, down: bool) {
         match kind {
             EventKind::Collision(_) => self.collided = true,
-            EventKind::Crossing(k) => {
-                // Hop direction in the world: outward normals of E₀, E₁, E₂ at 30°, 150°, 270°,
-                // i.e. 60°·{0, 2, 4} + 30°; a down trap is turned by 180° (+3).
-                let dir = ([0u8, 2, 4][k as usize] + if down { 3 } else { 0 }) % 6;
-                self.directions.push(dir);
-                if let Some(e) = self.entered {
-                    self.visits += 1;
-                    if !self.collided {
-                        self.collisionless += 1;
-                    }
-                    let sym = exit_symbol(e, k).index();
-                    self.seen += 1;
-                    self.history = (self.history * 3 + sym) % self.counts[self.order - 1].len();
-                    for len in 1..=self.order.min(self.seen as usize) {
-                        let c = self.history % self.counts[len - 1].len();
-                        self.counts[len - 1][c] += 1;
-                    }
-                }
-                // The edge crossed is the entrance of the next trap (same label after the point
-                // reflection).
-                self.entered = Some(k);
-                self.collided = false;
+            EventKind::Crossing(k) => self.hop(k, down, self.collided),
+        }
+    }
+
+    /// The crossing of edge `k` out of a trap (a down trap if `down`), ending a visit that had a
+    /// collision if `collided`. No division and no branch on the symbols: the symbol is
+    /// (k − entrance) mod 3 ([`symbol_index`]) and the words' indices are reduced by
+    /// [`mod_pow3`].
+    #[inline(always)]
+    fn hop(&mut self, k: u8, down: bool, collided: bool) {
+        // Hop direction in the world: outward normals of E₀, E₁, E₂ at 30°, 150°, 270°,
+        // i.e. 60°·{0, 2, 4} + 30°; a down trap is turned by 180° (+3).
+        self.directions.push(DIRECTION[down as usize][k as usize]);
+        if let Some(e) = self.entered {
+            self.visits += 1;
+            self.collisionless += (!collided) as u64;
+            self.seen += 1;
+            let next = self.history * 3 + symbol_index(e, k);
+            self.history = mod_pow3(next, self.order);
+            for len in 1..=self.order.min(self.seen as usize) {
+                self.counts[len - 1][mod_pow3(self.history, len)] += 1;
             }
         }
+        // The edge crossed is the entrance of the next trap (same label after the point
+        // reflection).
+        self.entered = Some(k);
+        self.collided = false;
     }
 }
 
-/// The hop statistics of L trajectories: a collision only sets a flag, a crossing (about one
-/// event in π/(3w)) updates that lane's [`Hops`].
+/// Hop direction index (60°·index + 30° in the world) of a crossing of edge k, up and down traps.
+const DIRECTION: [[u8; 3]; 2] = [[0, 2, 4], [3, 5, 1]];
+
+/// The index of [`exit_symbol`](crate::scenes::single_trap::exit_symbol)`(entered, out)`: (out − entered) mod 3 (z = 0, l = 1, r = 2),
+/// without its branches.
+#[inline(always)]
+fn symbol_index(entered: u8, out: u8) -> usize {
+    (out as usize + 3 - entered as usize) % 3
+}
+
+/// 3^k for k = 0 … [`MAX_ORDER`].
+const POW3: [usize; MAX_ORDER + 1] = {
+    let mut t = [1usize; MAX_ORDER + 1];
+    let mut k = 1;
+    while k <= MAX_ORDER {
+        t[k] = 3 * t[k - 1];
+        k += 1;
+    }
+    t
+};
+
+/// ⌊2³²/3^k⌋ + 1: with it ⌊v·m/2³²⌋ = ⌊v/3^k⌋ exactly for v·(m·3^k − 2³²) < 2³², which holds for
+/// every v < 3^(MAX_ORDER + 1) (the largest word index times 3 plus a symbol; the tests check
+/// every such v).
+const MAGIC3: [u64; MAX_ORDER + 1] = {
+    let mut t = [0u64; MAX_ORDER + 1];
+    let mut k = 0;
+    while k <= MAX_ORDER {
+        t[k] = (1u64 << 32) / POW3[k] as u64 + 1;
+        k += 1;
+    }
+    t
+};
+
+/// v mod 3^k, by a multiplication (a word index is reduced at every hop; a division there
+/// costs more than the rest of the hop's symbol work).
+#[inline(always)]
+fn mod_pow3(v: usize, k: usize) -> usize {
+    debug_assert!(v < POW3[MAX_ORDER] * 3 && k <= MAX_ORDER);
+    let q = ((v as u64 * MAGIC3[k]) >> 32) as usize;
+    v - q * POW3[k]
+}
+
+/// The hop statistics of L trajectories: a collision only sets the lane's bit in a mask, a
+/// crossing (about one event in π/(3w)) updates that lane's [`Hops`].
 #[derive(Debug, Clone)]
 pub struct HopLanes {
-    /// One accumulator per lane.
-    pub lanes: Vec<Hops>,
+    lanes: Vec<Hops>,
+    /// Bit l: lane l has collided since it entered its trap. The lanes' own `collided` flags are
+    /// brought up to date from it when a lane is saved or handed out, so that a step's
+    /// collisions cost one OR for the whole block rather than a store per lane.
+    collided: u64,
 }
 
 impl HopLanes {
-    /// `lanes` accumulators of sequences up to `order`.
+    /// `lanes` accumulators of sequences up to `order` (at most 64 lanes).
     pub fn new(order: usize, lanes: usize) -> Result<Self, Error> {
         let h = Hops::new(order)?;
+        if lanes > 64 {
+            return Err(Error::Invalid(format!(
+                "hop statistics of {lanes} lanes: at most 64 are observed together"
+            )));
+        }
         Ok(HopLanes {
             lanes: vec![h; lanes],
+            collided: 0,
         })
+    }
+
+    /// Lane `l`'s statistics, up to date.
+    pub fn lane(&self, l: usize) -> Hops {
+        let mut h = self.lanes[l].clone();
+        h.collided = (self.collided >> l) & 1 == 1;
+        h
+    }
+
+    /// Every lane's statistics, up to date.
+    pub fn into_lanes(mut self) -> Vec<Hops> {
+        for (l, h) in self.lanes.iter_mut().enumerate() {
+            h.collided = (self.collided >> l) & 1 == 1;
+        }
+        self.lanes
     }
 }
 
@@ -130,7 +199,7 @@ impl Hops {
 impl LaneCheckpoint for HopLanes {
     type Lane = Hops;
     fn save_lane(&self, l: usize) -> Hops {
-        self.lanes[l].clone()
+        self.lane(l)
     }
     fn restore_lane(&mut self, l: usize, saved: &Hops) -> Result<(), Error> {
         if !saved.is_reachable_like(&self.lanes[l]) {
@@ -140,6 +209,7 @@ impl LaneCheckpoint for HopLanes {
             )));
         }
         self.lanes[l] = saved.clone();
+        self.collided = (self.collided & !(1 << l)) | (u64::from(saved.collided) << l);
         Ok(())
     }
 }
@@ -164,18 +234,17 @@ impl HopLanes {
             o += V::WIDTH;
         }
         let live = e.live_bits;
+        self.collided |= live & collided;
         let hops = lanes::<Hops, L>(&mut self.lanes);
-        // A collision only sets a flag; a crossing (one event in π/(3w)) is a hop.
-        let mut flag = live & collided;
-        while flag != 0 {
-            hops[flag.trailing_zeros() as usize].collided = true;
-            flag &= flag - 1;
-        }
+        // A crossing (one event in π/(3w)) is a hop.
         let mut hop = live & !collided;
         while hop != 0 {
             let l = hop.trailing_zeros() as usize;
             hop &= hop - 1;
-            hops[l].observe(e.event(l).kind, e.cell[2][l] < 0.0);
+            let k = (e.code[l] - CROSSING_CODE) as u8;
+            let had = (self.collided >> l) & 1 == 1;
+            self.collided &= !(1u64 << l);
+            hops[l].hop(k, e.cell[2][l] < 0.0, had);
         }
     }
 }
@@ -185,9 +254,44 @@ mod tests {
     use super::*;
     use crate::scenes::lattice::TriangularLattice;
     use crate::scenes::sampling::stream;
+    use crate::scenes::single_trap::exit_symbol;
     use crate::scenes::symbols::{Symbol, MAX_ORDER};
     use crate::scenes::triangular::equilibrium_state;
     use crate::theory::honeycomb::next_direction;
+
+    #[test]
+    fn symbol_index_is_the_exit_symbol() {
+        for e in 0..3u8 {
+            for k in 0..3u8 {
+                assert_eq!(symbol_index(e, k), exit_symbol(e, k).index(), "{e} → {k}");
+            }
+        }
+    }
+
+    /// The multiplication reduces every word index a hop can form, at every order.
+    #[test]
+    fn mod_pow3_is_the_remainder() {
+        for (k, &p) in POW3.iter().enumerate() {
+            for v in 0..POW3[MAX_ORDER] * 3 {
+                assert_eq!(mod_pow3(v, k), v % p, "{v} mod 3^{k}");
+            }
+        }
+    }
+
+    /// The lanes' collision bits travel with a saved lane and come back with it.
+    #[test]
+    fn collision_bits_are_saved_and_restored() {
+        let mut h = HopLanes::new(2, 3).unwrap();
+        h.collided = 0b010;
+        assert!(h.lane(1).collided && !h.lane(0).collided);
+        let saved = h.save_lane(1);
+        let mut g = HopLanes::new(2, 3).unwrap();
+        g.restore_lane(2, &saved).unwrap();
+        assert_eq!(g.collided, 0b100);
+        let lanes = g.into_lanes();
+        assert!(lanes[2].collided && !lanes[1].collided);
+        assert!(HopLanes::new(2, 65).is_err());
+    }
 
     #[test]
     fn order_out_of_range_is_an_error() {

@@ -348,7 +348,7 @@ fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolve
             let j = &todo[k as usize];
             let mut h = HopLanes::new(order, 1)?;
             drive_kept(&lat, (), j, || start(j.index), &mut h, &keep, progress)?;
-            let r = h.lanes.remove(0);
+            let r = h.into_lanes().remove(0);
             keep.finish(j, &r)?;
             Ok(r)
         })?,
@@ -357,11 +357,12 @@ fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolve
             let mut h = HopLanes::new(order, BLOCK)?;
             let begin = |l: usize| start(js[l].index);
             run_block_kept(path, lat.trap(), js, begin, &mut h, &keep, progress)?;
-            h.lanes.truncate(js.len());
-            for (j, x) in js.iter().zip(&h.lanes) {
+            let mut lanes = h.into_lanes();
+            lanes.truncate(js.len());
+            for (j, x) in js.iter().zip(&lanes) {
                 keep.finish(j, x)?;
             }
-            Ok(h.lanes)
+            Ok(lanes)
         })?,
     };
     let mut all: Vec<(u32, Hops)> = keep.finished_by_index().collect();
