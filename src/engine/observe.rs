@@ -200,6 +200,48 @@ impl<const L: usize> Observer<L> for Nothing {
     fn observe<V: Lanes>(&mut self, _: &[EventLanes<L>]) {}
 }
 
+/// The lanes of up to [`StepLanes::STEPS`] consecutive steps gathered into one mask (lane l of
+/// step k is bit k·L + l), visited in step order: an observer that has rare work in some lanes
+/// (a sample, a hop) finds them step by step with vector compares, then does the work in one
+/// loop over the group, so that the trip counts it cannot predict cost one loop exit per group
+/// rather than one per step.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StepLanes<const L: usize> {
+    bits: u128,
+}
+
+impl<const L: usize> StepLanes<L> {
+    /// Steps one mask holds (L ≤ 64).
+    pub const STEPS: usize = 128 / L;
+
+    /// Marks `lanes` (bit l: lane l) of step `k` (< [`Self::STEPS`]).
+    #[inline(always)]
+    pub fn set(&mut self, k: usize, lanes: u64) {
+        debug_assert!(k < Self::STEPS && (L == 64 || lanes >> L == 0));
+        self.bits |= u128::from(lanes) << (k * L);
+    }
+
+    /// Whether lane `l` of step `k` is marked.
+    #[inline(always)]
+    pub fn contains(&self, k: usize, l: usize) -> bool {
+        (self.bits >> (k * L + l)) & 1 == 1
+    }
+}
+
+impl<const L: usize> Iterator for StepLanes<L> {
+    /// (step, lane), in step order and lane order within a step.
+    type Item = (usize, usize);
+    #[inline(always)]
+    fn next(&mut self) -> Option<(usize, usize)> {
+        if self.bits == 0 {
+            return None;
+        }
+        let i = self.bits.trailing_zeros() as usize;
+        self.bits &= self.bits - 1;
+        Some((i / L, i % L))
+    }
+}
+
 /// Views lane accumulators of length `n` as an array of the block's width (checked once per
 /// step, so the lane loops have no bounds checks and vectorise).
 #[inline(always)]

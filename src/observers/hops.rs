@@ -6,7 +6,7 @@
 
 use super::hop_correlations::{HopCorrelations, MAX_LAG};
 use crate::engine::checkpoint::LaneCheckpoint;
-use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE};
+use crate::engine::observe::{lanes, EventLanes, Observer, StepLanes, CROSSING_CODE};
 use crate::kernel::flight::EventKind;
 use crate::numbers::lanes::Lanes;
 use crate::scenes::symbols::{check_order, MAX_ORDER};
@@ -217,34 +217,40 @@ impl LaneCheckpoint for HopLanes {
 impl<const L: usize> Observer<L> for HopLanes {
     #[inline(always)]
     fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
-        for e in steps {
-            self.step::<V, L>(e);
+        for group in steps.chunks(StepLanes::<L>::STEPS) {
+            self.group::<V, L>(group);
         }
     }
 }
 
 impl HopLanes {
+    /// A collision only sets a bit; the crossings (one event in π/(3w)) of the group's steps are
+    /// found first, with whether the visit each ends had a collision, and then taken as hops in
+    /// one loop, step by step.
     #[inline(always)]
-    fn step<V: Lanes, const L: usize>(&mut self, e: &EventLanes<L>) {
-        let mut collided = 0u64;
-        let mut o = 0;
-        while o < L {
-            let coll = V::load(&e.code[o..]).lt(V::splat(CROSSING_CODE));
-            collided |= V::bits(coll) << o;
-            o += V::WIDTH;
+    fn group<V: Lanes, const L: usize>(&mut self, steps: &[EventLanes<L>]) {
+        let (mut hops, mut had) = (StepLanes::<L>::default(), StepLanes::<L>::default());
+        let mut state = self.collided;
+        for (k, e) in steps.iter().enumerate() {
+            let mut collided = 0u64;
+            let mut o = 0;
+            while o < L {
+                let coll = V::load(&e.code[o..]).lt(V::splat(CROSSING_CODE));
+                collided |= V::bits(coll) << o;
+                o += V::WIDTH;
+            }
+            let live = e.live_bits;
+            let hop = live & !collided;
+            hops.set(k, hop);
+            had.set(k, state & hop);
+            state = (state & !hop) | (live & collided);
         }
-        let live = e.live_bits;
-        self.collided |= live & collided;
-        let hops = lanes::<Hops, L>(&mut self.lanes);
-        // A crossing (one event in π/(3w)) is a hop.
-        let mut hop = live & !collided;
-        while hop != 0 {
-            let l = hop.trailing_zeros() as usize;
-            hop &= hop - 1;
-            let k = (e.code[l] - CROSSING_CODE) as u8;
-            let had = (self.collided >> l) & 1 == 1;
-            self.collided &= !(1u64 << l);
-            hops[l].hop(k, e.cell[2][l] < 0.0, had);
+        self.collided = state;
+        let lanes = lanes::<Hops, L>(&mut self.lanes);
+        for (k, l) in hops {
+            let e = &steps[k];
+            let edge = (e.code[l] - CROSSING_CODE) as u8;
+            lanes[l].hop(edge, e.cell[2][l] < 0.0, had.contains(k, l));
         }
     }
 }

@@ -27,7 +27,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::observe::{lanes, EventLanes, Observer};
+use crate::engine::observe::{lanes, EventLanes, Observer, StepLanes};
 use crate::numbers::lanes::Lanes;
 use crate::scenes::lattice::Basis64;
 use crate::Error;
@@ -328,7 +328,7 @@ fn gcd(a: usize, b: usize) -> usize {
 impl<const L: usize> Observer<L> for Msd {
     #[inline(always)]
     fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
-        for group in steps.chunks(GROUP) {
+        for group in steps.chunks(GROUP.min(StepLanes::<L>::STEPS)) {
             self.group::<V, L>(group);
         }
     }
@@ -339,7 +339,7 @@ impl Msd {
     #[inline(always)]
     fn group<V: Lanes, const L: usize>(&mut self, steps: &[EventLanes<L>]) {
         let mut first = [[0.0; L]; GROUP];
-        let mut due = [0u64; GROUP];
+        let mut due = StepLanes::<L>::default();
         let until = lanes::<f64, L>(&mut self.until);
         let dt = V::splat(self.dt);
         let mut o = 0;
@@ -368,18 +368,13 @@ impl Msd {
                     later_grid_times(&mut w[..n], &nx[..n], &tt[..n], self.dt, again);
                     u = V::load(&w[..n]);
                 }
-                due[k] |= V::bits(reach) << o;
+                due.set(k, V::bits(reach) << o);
             }
             u.store(&mut until[o..]);
             o += V::WIDTH;
         }
-        for (k, e) in steps.iter().enumerate() {
-            let mut d = due[k];
-            while d != 0 {
-                let l = d.trailing_zeros() as usize;
-                d &= d - 1;
-                self.sample::<L>(e, l, first[k][l]);
-            }
+        for (k, l) in due {
+            self.sample::<L>(&steps[k], l, first[k][l]);
         }
     }
 }
