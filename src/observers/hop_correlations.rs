@@ -19,7 +19,8 @@ pub const MAX_LAG: usize = 48;
 /// per lag. All lags share the same origins i < N − `max_lag`, so for every J ≤ `max_lag` the
 /// estimate 1 + 2Σ_{j≤J} Ĉ_j is exactly the mean of the gᵢ of the module documentation.
 /// Memory O(`max_lag`), time O(`max_lag`) per hop, branch-free and vectorised: a hop adds the
-/// lags of one origin from a contiguous window of bytes ([`two_cos`]), with no division.
+/// lags of one origin from a contiguous window of bytes (2·cos by byte arithmetic), with no
+/// division.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(try_from = "Stored", into = "Stored")]
 pub struct HopCorrelations {
