@@ -1,7 +1,8 @@
 //! `cargo bench`: cost per collision of the engines side by side in one run (divan reports
 //! medians): the scalar engine in f64 and MPFR, and the SIMD engine (16 trajectories in vector
-//! lanes) on every instruction path this CPU has, bare and with the observers of `lorentz
-//! diffusion`. The CLI's `lorentz bench` gives the same numbers as collisions per second.
+//! lanes) on every instruction path this CPU has, bare, with the observers of `lorentz
+//! diffusion` and with those of `lorentz hops` (order 3). The CLI's `lorentz bench` gives the
+//! same numbers as collisions per second.
 
 use divan::Bencher;
 use lorentz_gas::engine::observe::Nothing;
@@ -89,5 +90,12 @@ fn simd_best_with_diffusion_observers(b: Bencher, w: f64) {
     let basis = lat.basis_f64();
     simd(b, SimdPath::best(), w, || {
         (CounterLanes::new(BLOCK), Msd::new(tau, &lags, basis, BLOCK))
+    });
+}
+
+#[divan::bench(args = [0.02, 0.1, 0.3])]
+fn simd_best_with_hop_observers(b: Bencher, w: f64) {
+    simd(b, SimdPath::best(), w, || {
+        lorentz_gas::observers::hops::HopLanes::new(3, BLOCK).unwrap()
     });
 }

@@ -76,6 +76,15 @@ impl TryFrom<Stored> for HopCorrelations {
     }
 }
 
+/// Adds 2·cos(60°·(b − a)) for each b of `later` to the sum beside it (`sums` and `later` are
+/// as long; written for slices and fixed-size arrays alike).
+#[inline(always)]
+fn add_lags<S: AsMut<[i64]> + ?Sized, B: AsRef<[u8]> + ?Sized>(sums: &mut S, later: &B, a: u8) {
+    for (s, &b) in sums.as_mut().iter_mut().zip(later.as_ref()) {
+        *s += two_cos(a, b) as i64;
+    }
+}
+
 /// 2·cos(60°·(b − a)) for directions a, b in 0..6, by arithmetic on bytes so that a window of
 /// them vectorises: with e = min(|b − a|, 6 − |b − a|) ∈ {0, 1, 2, 3} the values are 2, 1, −1, −2,
 /// that is 2 − e − [e ≥ 2] (the table of 2·cos(60°·m), checked for all 36 pairs by the tests).
@@ -129,9 +138,14 @@ impl HopCorrelations {
         self.pushed += 1;
         if self.pushed > m as u64 {
             let window = &self.ring[i..i + cap];
-            let a = window[0];
-            for (s, &b) in self.sums.iter_mut().zip(&window[1..]) {
-                *s += two_cos(a, b) as i64;
+            let (a, later) = (window[0], &window[1..]);
+            if m == MAX_LAG {
+                // The Lorentz-gas observers' J_max: a fixed length, unrolled.
+                let sums: &mut [i64; MAX_LAG] = self.sums.as_mut_slice().try_into().expect("m");
+                let later: &[u8; MAX_LAG] = later.try_into().expect("m");
+                add_lags(sums, later, a);
+            } else {
+                add_lags(&mut self.sums, later, a);
             }
         }
     }
@@ -179,6 +193,26 @@ mod tests {
             for b in 0..6u8 {
                 let want = TWO_COS[((b + 6 - a) % 6) as usize];
                 assert_eq!(two_cos(a, b) as i64, want, "a = {a}, b = {b}");
+            }
+        }
+    }
+
+    /// The unrolled J_max path and the general one against the definition, lag by lag.
+    #[test]
+    fn lag_sums_equal_the_definition_at_every_max_lag() {
+        let d: Vec<u8> = (0..700u64)
+            .map(|i| ((i * i * 11 + i / 7) % 6) as u8)
+            .collect();
+        for m in [1, 7, MAX_LAG - 1, MAX_LAG, MAX_LAG + 1] {
+            let mut a = HopCorrelations::new(m).unwrap();
+            for &x in &d {
+                a.push(x);
+            }
+            for j in 1..=m {
+                let want: i64 = (0..d.len() - m)
+                    .map(|i| TWO_COS[((d[i + j] + 6 - d[i]) % 6) as usize])
+                    .sum();
+                assert_eq!(a.lag_sum(j), want, "max_lag {m}, lag {j}");
             }
         }
     }
