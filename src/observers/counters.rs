@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE};
+use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE, NO_EVENT};
 use crate::numbers::lanes::Lanes;
 use crate::statistics::CompensatedSum;
 use crate::Error;
@@ -37,8 +37,7 @@ impl Counters {
 /// The counters of L trajectories, in lanes: the compensated sum, the free path and the
 /// counts (exact integers in `f64`, below 2⁵³ by [`crate::engine::MAX_COLLISIONS_PER_TRAJECTORY`])
 /// are updated with vector selects, no branches. A lane that is not live has time +0 and code
-/// [`NO_EVENT`](crate::engine::observe::NO_EVENT) ([`EventLanes`]), which leave the sums, the
-/// free path and the collision count unchanged; the event count takes the live mask.
+/// [`NO_EVENT`] ([`EventLanes`]), which leave every accumulator unchanged, so no mask is needed.
 #[derive(Debug, Clone)]
 pub struct CounterLanes {
     sum: Vec<f64>,
@@ -140,7 +139,7 @@ impl<const L: usize> Observer<L> for CounterLanes {
         let ncoll = lanes::<f64, L>(&mut self.collisions);
         let nev = lanes::<f64, L>(&mut self.events);
         let (zero, one) = (V::splat(0.0), V::splat(1.0));
-        let cross = V::splat(CROSSING_CODE);
+        let (cross, none) = (V::splat(CROSSING_CODE), V::splat(NO_EVENT));
         let mut o = 0;
         while o < L {
             // The accumulators stay in registers over the steps.
@@ -153,24 +152,22 @@ impl<const L: usize> Observer<L> for CounterLanes {
             );
             for e in steps {
                 let x = V::load(&e.time[o..]);
-                let coll = V::load(&e.code[o..]).lt(cross);
-                // CompensatedSum::add (Neumaier): the larger of s and x, less the sum, plus the
-                // smaller — the same operations, chosen by selects before them.
+                let code = V::load(&e.code[o..]);
+                let coll = code.lt(cross);
+                // CompensatedSum::add (Neumaier), the same operations with a select.
                 let t = s.add(x);
-                let s_larger = s.abs().ge(x.abs());
-                let (big, small) = (V::select(s_larger, s, x), V::select(s_larger, x, s));
-                cp = cp.add(big.sub(t).add(small));
+                cp = cp.add(V::select(
+                    s.abs().ge(x.abs()),
+                    s.sub(t).add(x),
+                    x.sub(t).add(s),
+                ));
                 s = t;
                 // The free path in progress ends at a collision.
                 path = path.add(x);
                 long = V::select(V::and(coll, path.gt(long)), path, long);
                 path = V::select(coll, zero, path);
-                // Counts (exact integers) step by one where the event is a collision, and for
-                // every event of a live lane (a live lane's code is below NO_EVENT, see
-                // `EventLanes`): selects of a sum rather than sums of a select, one operation
-                // each where the machine has masked adds.
-                nc = V::select(coll, nc.add(one), nc);
-                ne = V::select(V::from_bits(e.live_bits >> o), ne.add(one), ne);
+                nc = nc.add(V::select(coll, one, zero));
+                ne = ne.add(V::select(code.lt(none), one, zero));
             }
             s.store(&mut sum[o..]);
             cp.store(&mut comp[o..]);
