@@ -96,8 +96,8 @@ impl Hops {
 /// Hop direction index (60°·index + 30° in the world) of a crossing of edge k, up and down traps.
 const DIRECTION: [[u8; 3]; 2] = [[0, 2, 4], [3, 5, 1]];
 
-/// The index of [`exit_symbol`](crate::scenes::single_trap::exit_symbol)`(entered, out)`: (out − entered) mod 3 (z = 0, l = 1, r = 2),
-/// without its branches.
+/// The index of [`exit_symbol`](crate::scenes::single_trap::exit_symbol)`(entered, out)`:
+/// (out − entered) mod 3 (z = 0, l = 1, r = 2), without its branches.
 #[inline(always)]
 fn symbol_index(entered: u8, out: u8) -> usize {
     (out as usize + 3 - entered as usize) % 3

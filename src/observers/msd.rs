@@ -131,9 +131,8 @@ impl Msd {
         }
     }
 
-    /// Adds sample `u` of lane `l`: for every lag, |u − (the sample that many steps back)|²,
-    /// differenced as in [`crate::scenes::lattice::Unwrapped::displacement_from`] (exact integer
-    /// differences, then the basis). One lag at a time.
+    /// Adds sample `u` of lane `l`: for every lag, |u − (the sample that many steps back)|²
+    /// ([`squared_displacement`]), one lag at a time.
     #[inline(always)]
     fn push_sparse(&mut self, l: usize, u: [f64; 4]) {
         let lane = &mut self.lanes[l];
@@ -145,10 +144,7 @@ impl Msd {
             if step as u64 <= lane.n {
                 let o = 4 * (idx.wrapping_sub(step) & self.mask);
                 let old = &ring[o..o + 4];
-                let (di, dj) = (u[0] - old[0], u[1] - old[1]);
-                let dx = b.a * (di + b.beta * dj) + (u[2] - old[2]);
-                let dy = b.h * dj + (u[3] - old[3]);
-                *sum += dx * dx + dy * dy;
+                *sum += squared_displacement(b, &u, [old[0], old[1], old[2], old[3]]);
             }
         }
         lane.n += 1;
@@ -170,10 +166,7 @@ impl Msd {
         let sums = &mut lane.sums[..r];
         let b = &self.basis;
         for j in 0..r {
-            let (di, dj) = (u[0] - wi[j], u[1] - wj[j]);
-            let dx = b.a * (di + b.beta * dj) + (u[2] - wx[j]);
-            let dy = b.h * dj + (u[3] - wy[j]);
-            let v = dx * dx + dy * dy;
+            let v = squared_displacement(b, &u, [wi[j], wj[j], wx[j], wy[j]]);
             sums[j] += if ((r - j) as u64) <= n { v } else { 0.0 };
         }
         for (ring, x) in [ri, rj, rx, ry].into_iter().zip(u) {
@@ -301,6 +294,17 @@ impl Msd {
         };
         Ok(())
     }
+}
+
+/// |u − old|² for samples (cell i, j as exact `f64` integers, offset x, y), differenced as in
+/// [`crate::scenes::lattice::Unwrapped::displacement_from`]: exact integer differences, then the
+/// basis. Both layouts use it, so their sums are the same operations.
+#[inline(always)]
+fn squared_displacement(b: &Basis64, u: &[f64; 4], old: [f64; 4]) -> f64 {
+    let (di, dj) = (u[0] - old[0], u[1] - old[1]);
+    let dx = b.a * (di + b.beta * dj) + (u[2] - old[2]);
+    let dy = b.h * dj + (u[3] - old[3]);
+    dx * dx + dy * dy
 }
 
 /// One lane of an [`Msd`], exactly: the time left to its next sample, its ring of past samples,
