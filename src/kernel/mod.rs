@@ -4,6 +4,8 @@
 //! * [`ray_disk`]: first contact with a disk (cancellation-free root), split at the choice.
 //! * [`choice`]: the earliest disk and edge chosen before any square root or division, with the
 //!   rounded-time rule's result (the SIMD engine's rule; the scalar kernel compares every time).
+//! * [`certified`]: the trap's next event decided in `f64` balls, only the chosen time computed at
+//!   the working precision (MPFR), with the full comparison's bits.
 //! * [`flight`]: the state of a free flight and the events that end it (exclusions by identity).
 //! * [`cell`]: the generic cell kernel — next event and its execution in any convex polygonal
 //!   cell with disk obstacles, whose edges map exactly into the neighbouring cell.
@@ -13,6 +15,7 @@
 //! Scenes ([`crate::scenes`]) supply the cells; observables never touch this module.
 
 pub mod cell;
+pub mod certified;
 pub mod choice;
 pub mod flight;
 pub mod ray_disk;

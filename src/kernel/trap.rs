@@ -14,6 +14,7 @@
 //! The two endpoint disks of Eₖ swap labels; the opposite disk leaves the candidate set.
 
 use super::cell::{CellKernel, ConvexCell, Edge, EdgeMap, LatticeBasis};
+use super::certified::{self, TrapBalls};
 use super::choice::{first, Choice, EarliestDisk, EarliestEdge};
 use super::flight::{Event, EventKind, Flight};
 use super::ray_disk::{approach, ray_disk_centred};
@@ -43,6 +44,9 @@ pub struct Trap<T: Real> {
     /// The same trap as a generic [`ConvexCell`] of the triangular lattice (e₁ = (a, 0),
     /// e₂ = (a/2, h)); its generic kernel and the fused one here agree bit for bit.
     pub cell: ConvexCell<T>,
+    /// The constants as `f64` balls, for deciding events before computing them
+    /// ([`super::certified`]).
+    pub balls: TrapBalls,
 }
 
 /// The lattice spacing a = 2 + w of a positive finite gap `w` at its working precision (the
@@ -125,7 +129,7 @@ impl<T: Real> Trap<T> {
         };
         // The three disks are pairwise a = 2 + w apart: gap w.
         let choice = Choice::new(ctx, Some(&w), &T::one(ctx));
-        Ok(Trap {
+        let mut trap = Trap {
             w,
             a,
             h,
@@ -135,7 +139,10 @@ impl<T: Real> Trap<T> {
             centres,
             choice,
             cell,
-        })
+            balls: TrapBalls::default(),
+        };
+        trap.balls = TrapBalls::new(&trap);
+        Ok(trap)
     }
 
     /// Signed distance from `p` to edge `k` (positive inside the triangle).
@@ -149,21 +156,61 @@ impl<T: Real> Trap<T> {
     /// −(kvₓ + v_y/2), h − (kpₓ + p_y/2) = −(kpₓ + p_y/2) + h, kvₓ − v_y/2 and kpₓ − p_y/2.
     #[inline(always)]
     fn slanted_edges(&self, p: &Vec2<T>, v: &Vec2<T>) -> [(T, T); 2] {
+        let parts = self.slanted_parts(p, v);
+        [self.slanted_from(0, &parts), self.slanted_from(1, &parts)]
+    }
+
+    /// (nₑ·v, σₑ) of one slanted edge e ∈ {0, 1}, by the operations of the pair's.
+    #[inline(always)]
+    pub fn slanted_edge(&self, e: u8, p: &Vec2<T>, v: &Vec2<T>) -> (T, T) {
+        self.slanted_from(e, &self.slanted_parts(p, v))
+    }
+
+    /// The products both slanted edges share: kvₓ, v_y/2, kpₓ, p_y/2.
+    #[inline(always)]
+    fn slanted_parts(&self, p: &Vec2<T>, v: &Vec2<T>) -> [T; 4] {
         let k = &self.normals[1].x;
-        let kvx = k.clone() * &v.x;
-        let hvy = v.y.clone().scale(0.5);
-        let kpx = k.clone() * &p.x;
-        let hpy = p.y.clone().scale(0.5);
-        let mut nv0 = kvx.clone() + &hvy;
-        nv0.neg_mut();
-        let mut sigma0 = kpx.clone() + &hpy;
-        sigma0.neg_mut();
-        sigma0 += &self.h;
-        [(nv0, sigma0), (kvx - &hvy, kpx - &hpy)]
+        [
+            k.clone() * &v.x,
+            v.y.clone().scale(0.5),
+            k.clone() * &p.x,
+            p.y.clone().scale(0.5),
+        ]
+    }
+
+    /// Edge e's (n·v, σ) from the shared products.
+    #[inline(always)]
+    fn slanted_from(&self, e: u8, [kvx, hvy, kpx, hpy]: &[T; 4]) -> (T, T) {
+        if e == 0 {
+            let mut nv = kvx.clone() + hvy;
+            nv.neg_mut();
+            let mut sigma = kpx.clone() + hpy;
+            sigma.neg_mut();
+            sigma += &self.h;
+            (nv, sigma)
+        } else {
+            (kvx.clone() - hvy, kpx.clone() - hpy)
+        }
     }
 
     /// The next event of the straight flight `f`, or `None` if there is none (only for a zero
-    /// or non-finite velocity: a finite nonzero velocity always leaves the triangle).
+    /// or non-finite velocity: a finite nonzero velocity always leaves the triangle): the event
+    /// of the full comparison [`Trap::next_event_compared`], bit for bit. Where arithmetic is
+    /// dear ([`Real::DECIDE_IN_BALLS`]: MPFR) the event is first decided in `f64` balls and only
+    /// its own time computed at the working precision ([`super::certified`]); where the balls
+    /// cannot decide, and always for `f64`, every candidate is compared.
+    #[inline(always)]
+    pub fn next_event(&self, f: &Flight<T>) -> Option<Event<T>> {
+        if T::DECIDE_IN_BALLS {
+            if let Some(ev) = certified::next_event(self, f) {
+                return Some(ev);
+            }
+        }
+        self.next_event_compared(f)
+    }
+
+    /// The full comparison: the next event of `f` among every candidate's rounded time, the
+    /// kernel's definition of the next event.
     ///
     /// Candidates are the vertex disks other than `f.excluded_disk` (cancellation-free root,
     /// [`super::ray_disk::ray_disk_with_speed`]) and the edges other than `f.excluded_edge` that the velocity
@@ -174,7 +221,7 @@ impl<T: Real> Trap<T> {
     /// changing a bit of the result (see `proofs-notes/bit-for-bit.md`): d = p − P₀ = p,
     /// n₂·v = v_y, σ₂ = p_y, σ₁ = n₁·p (o₁ = 0), and n₀, n₁ share the products (√3/2)·x and x/2.
     #[inline(always)]
-    pub fn next_event(&self, f: &Flight<T>) -> Option<Event<T>> {
+    pub fn next_event_compared(&self, f: &Flight<T>) -> Option<Event<T>> {
         let (p, v) = (&f.pos, &f.vel);
         let vv = v.norm2();
         let mut best: Option<Event<T>> = None;

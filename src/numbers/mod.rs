@@ -5,10 +5,13 @@
 //! * [`lanes`]: vectors of `f64` lanes (AVX-512, AVX2, portable, one `f64`) with exactly the
 //!   scalar IEEE operations, for the SIMD engine and its observers.
 //! * [`precision`]: a run's precision (`f64` or MPFR bits) and instantiation at it.
+//! * [`ball`]: `f64` midpoint–radius enclosures of values computed at any precision ≥ 53 bits,
+//!   to decide signs and orders before computing them.
 //! * [`count`]: counts (`2e9`) and thread numbers as typed, parsed exactly and checked.
 //! * [`exact`]: exact decimals and fractions (`0.1`, `1/3`) parsed as rationals, and grids of them
 //!   rounded once.
 
+pub mod ball;
 pub mod count;
 pub mod exact;
 pub mod lanes;

@@ -64,6 +64,11 @@ pub trait Real:
     + for<'a> MulAssign<&'a Self>
     + for<'a> DivAssign<&'a Self>
 {
+    /// `true` where this type's arithmetic is so much dearer than `f64`'s that the kernel decides
+    /// each event in `f64` balls first and computes only the chosen candidate's time
+    /// (`crate::kernel::certified`): MPFR. The event and its bits are the same either way.
+    const DECIDE_IN_BALLS: bool = false;
+
     /// What is needed to create a number of this type: `()` for `f64`, bits for `rug::Float`.
     type Ctx: Copy + Debug + PartialEq + Send + Sync + 'static;
 
@@ -263,6 +268,7 @@ impl Real for f64 {
 
 impl Real for Float {
     type Ctx = u32;
+    const DECIDE_IN_BALLS: bool = true;
 
     #[inline]
     fn ctx(&self) -> u32 {

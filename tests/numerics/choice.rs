@@ -38,7 +38,7 @@ fn follow<T: Real>(trap: &Trap<T>, mut f: Flight<T>, events: usize, what: &str) 
 }
 
 /// A uniform point of the free trap and a uniform direction.
-fn free_start(trap: &Trap<f64>, rng: &mut Gen) -> Flight<f64> {
+pub(crate) fn free_start(trap: &Trap<f64>, rng: &mut Gen) -> Flight<f64> {
     loop {
         let (u, v): (f64, f64) = (rng.random(), rng.random());
         let (u, v) = if u + v > 1.0 {
@@ -134,7 +134,7 @@ fn two_disk_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
 /// Starts that aim at the places where the choice could differ from the full comparison:
 /// lines that barely cut two disks, corners (both edge lines crossed at once), flights along an
 /// edge through its gap, and rim starts leaving a disk at grazing angles.
-fn aimed_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
+pub(crate) fn aimed_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
     let mut out = two_disk_starts(trap);
     let centroid = Vec2::new(trap.a / 2.0, trap.h / 3.0);
     for c in &trap.vertices {

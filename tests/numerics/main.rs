@@ -9,6 +9,7 @@
 mod common;
 
 mod bit_for_bit;
+mod certified;
 mod checkpoints;
 mod choice;
 mod engine;
