@@ -24,10 +24,11 @@
 //! and its time keep every bit. The SIMD engine (`crate::engine::simd`) applies the same two rules
 //! lane by lane, where every lane would otherwise compute all six candidates;
 //! [`super::trap::Trap::next_event_chosen`] is their scalar form at any precision, tested against
-//! the full comparison. The scalar engine keeps the full comparison
-//! ([`super::trap::Trap::next_event`]): its branches already skip the candidates that move away
-//! or miss, and the choice's extra comparisons made it slower, not faster (33 → 42 ns per
-//! collision in f64; `proofs-notes/choose-before-dividing.md`).
+//! the full comparison. The scalar engine keeps the full comparison in `f64`
+//! ([`super::trap::Trap::next_event_compared`]): its branches already skip the candidates that
+//! move away or miss, and the choice's extra comparisons made it slower, not faster (33 → 42 ns
+//! per collision in f64; `proofs-notes/choose-before-dividing.md`). At MPFR precision it decides
+//! in `f64` balls instead ([`super::certified`]).
 
 use super::flight::{Event, EventKind};
 use super::ray_disk::Approach;

@@ -262,12 +262,13 @@ impl<T: Real> Trap<T> {
         best
     }
 
-    /// The same event as [`Trap::next_event`], with the same bits, found by choosing before
+    /// The same event as [`Trap::next_event_compared`], with the same bits, found by choosing before
     /// dividing ([`super::choice`]): the earliest disk by β (when w ≥ 2⁻²⁰), the earliest edge
     /// by certified cross products, then one root and two quotients. This is the rule the SIMD
     /// engine applies lane by lane (`proofs-notes/choose-before-dividing.md`). On one scalar
     /// trajectory it is no faster than the full comparison — whose branches already skip the
-    /// candidates that move away — so the scalar engine keeps that.
+    /// candidates that move away — so the scalar engine keeps that in `f64` and decides in balls
+    /// at MPFR precision ([`Trap::next_event`]).
     #[inline(always)]
     pub fn next_event_chosen(&self, f: &Flight<T>) -> Option<Event<T>> {
         let (p, v) = (&f.pos, &f.vel);
@@ -299,17 +300,28 @@ impl<T: Real> Trap<T> {
     /// v' = v − 2(v·n)n with n = x − Pₘ at the contact point x (|n| = 1 up to rounding),
     /// times the Newton factor (3 − |v|²)/2 that keeps |v| = 1 without drift; the
     /// particle stays at x. A crossing is the point reflection into the neighbour's frame.
+    ///
+    /// Written in place (the same correctly rounded operations as x = p + t·v, n = x − Pₘ,
+    /// v − (n·s) with s = 2(v·n), and cₖ − x as −x + cₖ), so that MPFR allocates five
+    /// temporaries per collision rather than a dozen.
     #[inline(always)]
     pub fn apply(&self, f: &mut Flight<T>, ev: &Event<T>) {
-        let x = f.pos.along(&ev.time, &f.vel);
+        // x = p + t·v, into the position.
+        let mut nx = f.vel.x.clone();
+        nx *= &ev.time;
+        f.pos.x += &nx;
+        let mut ny = f.vel.y.clone();
+        ny *= &ev.time;
+        f.pos.y += &ny;
         match ev.kind {
             EventKind::Collision(m) => {
                 // n = x − Pₘ; for P₀ = (0, 0) the subtraction is exact and skipped.
-                let n = if m == 0 {
-                    x.clone()
-                } else {
-                    x.sub(&self.vertices[m as usize])
-                };
+                nx.clone_from(&f.pos.x);
+                ny.clone_from(&f.pos.y);
+                if m != 0 {
+                    nx -= &self.vertices[m as usize].x;
+                    ny -= &self.vertices[m as usize].y;
+                }
                 // The speed is 1 by the model. Rounding in the reflection changes |v|² by O(u)
                 // per collision with a small systematic bias (ties at the binade boundary 1), so
                 // |v| would drift. One division-free Newton step for 1/|v|, with the factor
@@ -317,18 +329,34 @@ impl<T: Real> Trap<T> {
                 // reflection, so off the critical path), maps |v_in|² = 1 + η to
                 // |v_out|² = 1 + δ + O(η²), δ the reflection's own rounding: nothing
                 // accumulates (proofs-notes/energy.md).
-                let k = (-f.vel.norm2()).add_f64(3.0).scale(0.5);
-                let s = f.vel.dot(&n).scale(2.0);
-                f.vel.x -= &(n.x.clone() * &s);
-                f.vel.y -= &(n.y * &s);
+                let mut k = f.vel.x.clone();
+                k.square_mut();
+                let mut tmp = f.vel.y.clone();
+                tmp.square_mut();
+                k += &tmp;
+                k.neg_mut();
+                let k = k.add_f64(3.0).scale(0.5);
+                // s = 2(v·n).
+                let mut s = f.vel.x.clone();
+                s *= &nx;
+                tmp.set_mul(&f.vel.y, &ny);
+                s += &tmp;
+                let s = s.scale(2.0);
+                tmp.set_mul(&nx, &s);
+                f.vel.x -= &tmp;
+                tmp.set_mul(&ny, &s);
+                f.vel.y -= &tmp;
                 f.vel.x *= &k;
                 f.vel.y *= &k;
-                f.pos = x;
                 f.excluded_disk = Some(m);
                 f.excluded_edge = None;
             }
             EventKind::Crossing(k) => {
-                f.pos = self.centres[k as usize].sub(&x);
+                let c = &self.centres[k as usize];
+                f.pos.x.neg_mut();
+                f.pos.x += &c.x;
+                f.pos.y.neg_mut();
+                f.pos.y += &c.y;
                 f.vel.x.neg_mut();
                 f.vel.y.neg_mut();
                 f.excluded_disk = relabel_after_crossing(k, f.excluded_disk);

@@ -327,6 +327,18 @@ impl Real for Float {
     }
     #[inline]
     fn scale(self, k: f64) -> Float {
+        // A power of two scales exactly: by the exponent (mpfr_mul_2si), the same value as the
+        // correctly rounded product and without converting k.
+        let bits = k.to_bits();
+        let exponent = ((bits >> 52) & 0x7ff) as i32;
+        if bits & ((1 << 52) - 1) == 0 && exponent != 0 && exponent != 0x7ff {
+            let mut x = self;
+            x <<= exponent - 1023;
+            if k < 0.0 {
+                x.neg_mut();
+            }
+            return x;
+        }
         self * k
     }
     #[inline]
