@@ -1,7 +1,7 @@
 //! Fuzzing oracle: decodes arbitrary bytes into valid (often degenerate) states of any scene's
 //! cell and judges the `f64` kernel on them.
 //!
-//! Two entry points, shared by the cargo-fuzz targets in `fuzz/` and by `tests/numerics/fuzz_oracle.rs`:
+//! Three entry points, shared by the cargo-fuzz targets in `fuzz/` and by `tests/numerics/fuzz_oracle.rs`:
 //!
 //! * [`collision_primitive`]: a leading byte selects the scene ([`SceneParams`]: the triangular
 //!   gas at gap w or the square gas at radius r), then one of six families of states written
@@ -18,6 +18,9 @@
 //!   and the unwrapping continuity of `tests/numerics/physics.rs` are checked ([`step_lattice`], generic
 //!   over the scene).
 //!
+//! * [`decided_in_balls`]: the same decoded starts' events as the MPFR kernel decides them in
+//!   `f64` balls, against its full comparison, bit for bit (`proofs-notes/certified-filter.md`).
+//!
 //! Decoding never fails: missing bytes read as zero, every byte pattern maps to a valid state
 //! (inside the closed cell, outside the open disks and with |v| = 1, each up to the rounding
 //! bounds [`VALID_DISK`], [`VALID_EDGE`], [`VALID_SPEED`]), and the decoded state is itself
@@ -30,6 +33,8 @@ use rug::float::Constant;
 use rug::Float;
 
 use crate::kernel::cell::{CellKernel, ConvexCell};
+use crate::kernel::certified;
+use crate::kernel::trap::Trap;
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{flight::Event, flight::EventKind, flight::Flight};
 use crate::numbers::real::Real;
@@ -1147,6 +1152,50 @@ pub fn collision_primitive(data: &[u8]) -> Result<OracleReport, OracleFailure> {
         }
         SceneParams::Square { r } => replay_events(&square(r)?, case, &input.flight, events),
     }
+}
+
+/// The events of a decoded start ([`decode_primitive`]: grazing impacts, near-surface starts,
+/// double tangents, rim crossings, corners) as the MPFR kernel decides them in `f64` balls
+/// ([`crate::kernel::certified`]), against the full comparison, at 53 and at [`ORACLE_BITS`]
+/// bits: wherever the balls decide, the event and its time must be the full comparison's, bit
+/// for bit. Returns the number of events the balls decided (square-scene inputs: 0, the square
+/// cell compares every candidate).
+///
+/// # Errors
+/// The first event the balls decide differently, with the state before it.
+pub fn decided_in_balls(data: &[u8]) -> Result<u64, OracleFailure> {
+    let input = decode_primitive(data)?;
+    let SceneParams::Triangular { w } = input.scene else {
+        return Ok(0);
+    };
+    let mut decided = 0;
+    for bits in [53, ORACLE_BITS] {
+        let fail = |event: Option<u64>, reason: String, state: String| OracleFailure {
+            case: Some(input.case),
+            scene: format!("triangular w={w:e} at {bits} bits"),
+            event,
+            reason,
+            state,
+        };
+        let trap = Trap::new(Float::with_val(bits, w))
+            .map_err(|e| fail(None, e.to_string(), String::new()))?;
+        let mut f = Flight::<Float>::convert_from_f64(bits, &input.flight);
+        for n in 0..u64::from(input.events) {
+            let want = trap.next_event_compared(&f);
+            if let Some(ev) = certified::next_event(&trap, &f) {
+                if Some(&ev) != want.as_ref() {
+                    let why = format!("balls decided {ev:?}, the full comparison {want:?}");
+                    return Err(fail(Some(n), why, format!("{f:?}")));
+                }
+                decided += 1;
+            }
+            match want {
+                Some(ev) => trap.apply(&mut f, &ev),
+                None => break,
+            }
+        }
+    }
+    Ok(decided)
 }
 
 fn triangular(w: f64) -> Result<TriangularScene, OracleFailure> {

@@ -14,8 +14,8 @@ use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::verification::error_model::UNIT_ROUNDOFF;
 use lorentz_gas::verification::oracle::{
-    collision_primitive, decode_primitive, decode_scene, replay_events, scene_stepper,
-    step_lattice, PrimitiveCase, SceneParams,
+    collision_primitive, decided_in_balls, decode_primitive, decode_scene, replay_events,
+    scene_stepper, step_lattice, PrimitiveCase, SceneParams,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{RngAlgorithm, TestRng, TestRunner};
@@ -77,6 +77,25 @@ fn random_bytes_through_the_collision_primitive_oracle() {
             Ok(())
         })
         .unwrap();
+}
+
+/// The decoder's degenerate starts (grazing, near-surface, tangents, rim crossings, corners)
+/// through the MPFR kernel's balls: every decided event is the full comparison's. Most are
+/// decided (a filter that decided none would pass vacuously).
+#[test]
+fn random_bytes_through_the_balls_oracle() {
+    let decided = std::cell::Cell::new(0);
+    runner(1500)
+        .run(&bytes(), |data| {
+            match decided_in_balls(&data) {
+                Ok(n) => decided.set(decided.get() + n),
+                Err(e) => prop_assert!(false, "{e}"),
+            }
+            Ok(())
+        })
+        .unwrap();
+    eprintln!("balls decided {} events", decided.get());
+    assert!(decided.get() > 1500, "{}", decided.get());
 }
 
 #[test]
@@ -181,6 +200,7 @@ fn committed_collision_primitive_seeds_pass_and_cover_every_family() {
     for (p, b) in &seeds {
         let d = decode_primitive(b).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         collision_primitive(b).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        decided_in_balls(b).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         fams.insert(family(d.case));
         scenes.insert(is_square(d.scene));
     }
