@@ -13,10 +13,10 @@
 //! decides by a tolerance, it only skips work whose outcome it has proved
 //! (`proofs-notes/certified-filter.md`).
 
+use super::choice::edge_time;
 use super::flight::{Event, EventKind, Flight};
 use super::ray_disk::approach;
 use super::trap::Trap;
-use super::vec2::Vec2;
 use crate::numbers::ball::Ball;
 use crate::numbers::real::Real;
 
@@ -173,9 +173,11 @@ pub fn next_event<T: Real>(trap: &Trap<T>, f: &Flight<T>) -> Option<Event<T>> {
     let (p, v) = (&f.pos, &f.vel);
     if chosen < 3 {
         let m = chosen as u8;
-        let d = match m {
-            0 => Vec2::new(p.x.clone(), p.y.clone()),
-            _ => p.sub(&trap.vertices[m as usize]),
+        // As the full comparison forms d: p itself for P₀ = (0, 0).
+        let d = if m == 0 {
+            p.clone()
+        } else {
+            p.sub(&trap.vertices[m as usize])
         };
         let a = approach(d.x, d.y, v, v.norm2())?;
         return Some(Event {
@@ -189,13 +191,8 @@ pub fn next_event<T: Real>(trap: &Trap<T>, f: &Flight<T>) -> Option<Event<T>> {
         _ => trap.slanted_edge(e, p, v),
     };
     nv.neg_mut();
-    let time = if sigma.gt0() {
-        sigma / &nv
-    } else {
-        T::zero(nv.ctx())
-    };
     Some(Event {
         kind: EventKind::Crossing(e),
-        time,
+        time: edge_time(sigma, &nv),
     })
 }

@@ -128,10 +128,11 @@ pub struct EarliestEdge<'a, T: Real> {
 }
 
 /// An edge's time s⁺/m, or 0 where s⁺ = 0: the operations of σ/(−n·v) (or 0 where σ ≤ 0).
+/// Shared with [`super::certified`], which times its chosen edge by it.
 #[inline(always)]
-fn edge_time<T: Real>(s: &T, m: &T) -> T {
+pub(crate) fn edge_time<T: Real>(s: T, m: &T) -> T {
     if s.gt0() {
-        s.clone() / m
+        s / m
     } else {
         T::zero(s.ctx())
     }
@@ -166,7 +167,7 @@ impl<'a, T: Real> EarliestEdge<'a, T> {
                 } else if sooner < later * self.certain {
                     false
                 } else {
-                    edge_time(&s, &m) < edge_time(sa, ma)
+                    edge_time(s.clone(), &m) < edge_time(sa.clone(), ma)
                 }
             }
         };
@@ -180,7 +181,7 @@ impl<'a, T: Real> EarliestEdge<'a, T> {
     pub fn event(self) -> Option<Event<T>> {
         self.best.map(|(k, s, m)| Event {
             kind: EventKind::Crossing(k),
-            time: edge_time(&s, &m),
+            time: edge_time(s, &m),
         })
     }
 }

@@ -3,7 +3,8 @@
 //! * [`vec2`]: the plane vector.
 //! * [`ray_disk`]: first contact with a disk (cancellation-free root), split at the choice.
 //! * [`choice`]: the earliest disk and edge chosen before any square root or division, with the
-//!   rounded-time rule's result (the SIMD engine's rule; the scalar kernel compares every time).
+//!   rounded-time rule's result (the SIMD engine's rule; the scalar kernel compares every time in
+//!   `f64`).
 //! * [`certified`]: the trap's next event decided in `f64` balls, only the chosen time computed at
 //!   the working precision (MPFR), with the full comparison's bits.
 //! * [`flight`]: the state of a free flight and the events that end it (exclusions by identity).

@@ -69,24 +69,25 @@ fn decided_events_are_the_full_comparisons_on_random_starts() {
     }
 }
 
+/// Follows each of `starts` (built at `w` in `f64`) for `events` events at `bits` bits.
+fn follow_starts(w: f64, bits: u32, starts: &[Flight<f64>], events: usize, what: &str) -> Tally {
+    let trap = Trap::new(Float::with_val(bits, w)).unwrap();
+    let mut n = Tally::default();
+    for (s, f) in starts.iter().enumerate() {
+        let f = Flight::<Float>::convert_from_f64(bits, f);
+        let label = format!("w = {w:e}, {bits} bits, {what} {s}");
+        follow(&trap, f, events, &label, &mut n);
+    }
+    eprintln!("w = {w:e}, {bits} bits, {what} starts: {n:?}");
+    n
+}
+
 #[test]
 fn aimed_starts_are_decided_exactly_or_deferred() {
     for w in [1e-6, 1e-5, 0.1, 0.3] {
-        let trap = Trap::new(w).unwrap();
+        let starts = aimed_starts(&Trap::new(w).unwrap());
         for bits in [53u32, 256] {
-            let trap_p = Trap::new(Float::with_val(bits, w)).unwrap();
-            let mut n = Tally::default();
-            for (s, f) in aimed_starts(&trap).iter().enumerate() {
-                let f = Flight::<Float>::convert_from_f64(bits, f);
-                follow(
-                    &trap_p,
-                    f,
-                    6,
-                    &format!("w = {w:e}, {bits} bits, aimed {s}"),
-                    &mut n,
-                );
-            }
-            eprintln!("w = {w:e}, {bits} bits, aimed starts: {n:?}");
+            let n = follow_starts(w, bits, &starts, 6, "aimed");
             // Corners, grazing rims and flights along an edge are what the balls cannot decide.
             assert!(n.deferred > 0 && n.decided > 0, "w = {w:e}: {n:?}");
         }
@@ -129,21 +130,9 @@ fn rim_crossing_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
 #[test]
 fn rim_crossings_are_decided_exactly_or_deferred() {
     for w in [1e-3, 0.1, 0.3] {
-        let trap = Trap::new(w).unwrap();
+        let starts = rim_crossing_starts(&Trap::new(w).unwrap());
         for bits in [53u32, 256] {
-            let trap_p = Trap::new(Float::with_val(bits, w)).unwrap();
-            let mut n = Tally::default();
-            for (s, f) in rim_crossing_starts(&trap).iter().enumerate() {
-                let f = Flight::<Float>::convert_from_f64(bits, f);
-                follow(
-                    &trap_p,
-                    f,
-                    3,
-                    &format!("w = {w:e}, {bits} bits, rim {s}"),
-                    &mut n,
-                );
-            }
-            eprintln!("w = {w:e}, {bits} bits, rim crossings: {n:?}");
+            let n = follow_starts(w, bits, &starts, 3, "rim");
             assert!(n.deferred > 0, "w = {w:e}: {n:?}");
         }
     }
