@@ -18,17 +18,23 @@ pub const MAX_LAG: usize = 48;
 /// with all `max_lag` successors seen, the exact integers 2 d̂ᵢ·d̂ᵢ₊ⱼ, j = 1 … `max_lag`, summed
 /// per lag. All lags share the same origins i < N − `max_lag`, so for every J ≤ `max_lag` the
 /// estimate 1 + 2Σ_{j≤J} Ĉ_j is exactly the mean of the gᵢ of the module documentation.
-/// Memory O(`max_lag`), time O(`max_lag`) per hop, branch-free and vectorised: a hop adds the
-/// lags of one origin from a contiguous window of bytes (2·cos by byte arithmetic), with no
-/// division.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+/// Memory O(`max_lag`), time O(`max_lag`) per hop, vectorised: a hop adds the lags of one
+/// origin from a contiguous window of bytes (2·cos by byte arithmetic) to byte-wide sums, with
+/// no division and no widening; every [`RECENT`] origins those are added into the 64-bit sums.
+/// Equality and the stored form see only the totals.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 #[serde(try_from = "Stored", into = "Stored")]
 pub struct HopCorrelations {
     /// The last max_lag + 1 directions, stored twice (ring of length cap = max_lag + 1 written at
     /// p and p + cap), so that the window of an origin is one contiguous slice.
     ring: Vec<u8>,
     pushed: u64,
+    /// The sums per lag, less what `recent` holds.
     sums: Vec<i64>,
+    /// The sums per lag of the last `held` origins (each term is −2 … 2, so at most
+    /// 2·[`RECENT`] = 126 in magnitude: exact in an `i8`).
+    recent: Vec<i8>,
+    held: u8,
     /// Where the next direction goes: `pushed` mod cap, kept so that a hop divides nothing
     /// (not stored: derived from `pushed` when read back).
     at: usize,
@@ -43,13 +49,24 @@ struct Stored {
     sums: Vec<i64>,
 }
 
+/// Origins whose terms are summed in bytes before they are added to the 64-bit sums.
+const RECENT: u8 = 63;
+
 impl From<HopCorrelations> for Stored {
     fn from(h: HopCorrelations) -> Self {
         Stored {
+            sums: h.totals().collect(),
             ring: h.ring,
             pushed: h.pushed,
-            sums: h.sums,
         }
+    }
+}
+
+impl PartialEq for HopCorrelations {
+    /// The same directions, count and sums per lag (however much of them is still held in
+    /// bytes).
+    fn eq(&self, o: &Self) -> bool {
+        self.ring == o.ring && self.pushed == o.pushed && self.totals().eq(o.totals())
     }
 }
 
@@ -71,17 +88,20 @@ impl TryFrom<Stored> for HopCorrelations {
             at: (s.pushed % cap as u64) as usize,
             ring: s.ring,
             pushed: s.pushed,
+            recent: vec![0; s.sums.len()],
+            held: 0,
             sums: s.sums,
         })
     }
 }
 
-/// Adds 2·cos(60°·(b − a)) for each b of `later` to the sum beside it (`sums` and `later` are
-/// as long; written for slices and fixed-size arrays alike).
+/// Adds 2·cos(60°·(b − a)) for each b of `later` to the byte sum beside it (`sums` and `later`
+/// are as long; written for slices and fixed-size arrays alike). The caller keeps every sum
+/// within an `i8` ([`RECENT`]).
 #[inline(always)]
-fn add_lags<S: AsMut<[i64]> + ?Sized, B: AsRef<[u8]> + ?Sized>(sums: &mut S, later: &B, a: u8) {
+fn add_lags<S: AsMut<[i8]> + ?Sized, B: AsRef<[u8]> + ?Sized>(sums: &mut S, later: &B, a: u8) {
     for (s, &b) in sums.as_mut().iter_mut().zip(later.as_ref()) {
-        *s += two_cos(a, b) as i64;
+        *s += two_cos(a, b);
     }
 }
 
@@ -105,6 +125,8 @@ impl HopCorrelations {
             ring: vec![0; 2 * (max_lag + 1)],
             pushed: 0,
             sums: vec![0; max_lag],
+            recent: vec![0; max_lag],
+            held: 0,
             at: 0,
         })
     }
@@ -114,6 +136,8 @@ impl HopCorrelations {
     pub fn is_reachable(&self, max_lag: usize) -> bool {
         self.ring.len() == 2 * (max_lag + 1)
             && self.sums.len() == max_lag
+            && self.recent.len() == max_lag
+            && self.held < RECENT
             && self.ring.iter().all(|&d| d < 6)
     }
 
@@ -141,18 +165,40 @@ impl HopCorrelations {
             let (a, later) = (window[0], &window[1..]);
             if m == MAX_LAG {
                 // The Lorentz-gas observers' J_max: a fixed length, unrolled.
-                let sums: &mut [i64; MAX_LAG] = self.sums.as_mut_slice().try_into().expect("m");
+                let sums: &mut [i8; MAX_LAG] = self.recent.as_mut_slice().try_into().expect("m");
                 let later: &[u8; MAX_LAG] = later.try_into().expect("m");
                 add_lags(sums, later, a);
             } else {
-                add_lags(&mut self.sums, later, a);
+                add_lags(&mut self.recent, later, a);
+            }
+            self.held += 1;
+            if self.held == RECENT {
+                self.fold();
             }
         }
     }
 
+    /// Adds the byte sums into the 64-bit ones (every [`RECENT`] origins).
+    #[cold]
+    fn fold(&mut self) {
+        for (s, r) in self.sums.iter_mut().zip(&mut self.recent) {
+            *s += i64::from(*r);
+            *r = 0;
+        }
+        self.held = 0;
+    }
+
+    /// The sums per lag, 1 … max_lag.
+    fn totals(&self) -> impl Iterator<Item = i64> + '_ {
+        self.sums
+            .iter()
+            .zip(&self.recent)
+            .map(|(&s, &r)| s + i64::from(r))
+    }
+
     /// Σᵢ 2 d̂ᵢ·d̂ᵢ₊ⱼ over the complete origins (an exact integer), 1 ≤ j ≤ max_lag.
     pub fn lag_sum(&self, j: usize) -> i64 {
-        self.sums[j - 1]
+        self.sums[j - 1] + i64::from(self.recent[j - 1])
     }
 
     /// Hops pushed, N.
@@ -172,14 +218,14 @@ impl HopCorrelations {
         if n == 0 {
             0.0
         } else {
-            self.sums[j - 1] as f64 / (2.0 * n as f64)
+            self.lag_sum(j) as f64 / (2.0 * n as f64)
         }
     }
 
     /// 1 + 2Σ_{j≤J} Ĉ_j of this sequence (the mean of its gᵢ).
     pub fn d_over_d_mz(&self, j: usize) -> f64 {
         let n = self.origins().max(1) as f64;
-        1.0 + self.sums[..j].iter().sum::<i64>() as f64 / n
+        1.0 + self.totals().take(j).sum::<i64>() as f64 / n
     }
 }
 
@@ -217,12 +263,31 @@ mod tests {
         }
     }
 
+    /// Every term +2 (one direction) or every odd lag's −2 (a direction and its opposite, in
+    /// turn): the byte sums reach ±2·[`RECENT`] = ±126 before they are moved out, and stay exact.
+    #[test]
+    fn extreme_sums_stay_exact_in_bytes() {
+        for d in [vec![4u8; 1000], (0..1000).map(|i| 3 * (i % 2) as u8).collect()] {
+            let mut a = HopCorrelations::new(MAX_LAG).unwrap();
+            for &x in &d {
+                a.push(x);
+            }
+            let n = (d.len() - MAX_LAG) as i64;
+            for j in 1..=MAX_LAG {
+                let want = if d[0] == d[1] || j % 2 == 0 { 2 * n } else { -2 * n };
+                assert_eq!(a.lag_sum(j), want, "lag {j}");
+            }
+        }
+    }
+
     /// A state read back from its JSON goes on exactly as the one that was saved, at every
     /// phase of the ring (the position is derived from the count, not stored).
     #[test]
     fn read_back_state_continues_the_same_sums() {
         let d = |i: u64| ((i * i * 5 + i / 3) % 6) as u8;
-        for cut in [0u64, 1, 4, 5, 6, 7, 11, 23] {
+        // (Past 68 hops some origins' sums have been moved out of the bytes: the stored sums
+        // must hold both parts.)
+        for cut in [0u64, 1, 4, 5, 6, 7, 11, 23, 67, 68, 69, 70, 131, 200] {
             let mut a = HopCorrelations::new(5).unwrap();
             for i in 0..cut {
                 a.push(d(i));
@@ -231,6 +296,7 @@ mod tests {
             assert!(!json.contains("\"at\""), "{json}");
             let mut b: HopCorrelations = serde_json::from_str(&json).unwrap();
             assert_eq!(a, b);
+            assert!((1..=5).all(|j| a.lag_sum(j) == b.lag_sum(j)), "cut at {cut}");
             for i in cut..cut + 40 {
                 a.push(d(i));
                 b.push(d(i));
