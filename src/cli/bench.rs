@@ -2,7 +2,9 @@
 
 use std::path::PathBuf;
 
+use lorentz_gas::engine::metadata::RunMeta;
 use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::observer_costs::{self, ObserverCosts, ObserverCostsConfig};
 use lorentz_gas::estimators::throughput::{self, Throughput, ThroughputConfig};
 use lorentz_gas::report::speed_error::{self, SpeedErrorConfig, REPORT_STEPS};
 use lorentz_gas::Error;
@@ -42,6 +44,11 @@ pub struct Args {
     /// Speed against error for f64 and MPFR 53..1024 bits: Markdown, JSON, PNG and SVG into --out.
     #[arg(long)]
     report: bool,
+    /// Time the engine bare and with each set of observers (counters, msd, diffusion, hops) in
+    /// turns, --repetitions rounds of f64 runs, and report what each set adds to the bare time
+    /// (median of the paired ratios).
+    #[arg(long, conflicts_with_all = ["report", "observe", "precision"])]
+    observer_costs: bool,
     /// Output directory of --report (speed-vs-error.{md,json,png,svg}).
     #[arg(long, default_value = "results")]
     out: PathBuf,
@@ -75,7 +82,21 @@ pub fn run(a: Args) -> Result<(), Error> {
         }
         return Ok(());
     }
-    let pb = Progress::new(a.repetitions as u64, "repetitions", a.output.quiet);
+    if a.observer_costs {
+        let cfg = ObserverCostsConfig {
+            w: a.gap.w(),
+            collisions_per_thread: a.collisions_per_thread,
+            rounds: a.repetitions,
+            seed: a.seed.seed,
+        };
+        return timed(
+            &a,
+            threads,
+            "rounds",
+            |o| observer_costs::run(&cfg, o),
+            print_costs,
+        );
+    }
     let cfg = ThroughputConfig {
         w: a.gap.w(),
         precision: a.precision.precision,
@@ -84,14 +105,41 @@ pub fn run(a: Args) -> Result<(), Error> {
         repetitions: a.repetitions,
         seed: a.seed.seed,
     };
+    timed(
+        &a,
+        threads,
+        "repetitions",
+        |o| throughput::run(&cfg, o),
+        print,
+    )
+}
+
+/// Runs `measure` with a progress bar of --repetitions `unit` on `threads` threads and the
+/// engine asked for, then prints its result (JSON or `text`).
+fn timed<R: serde::Serialize>(
+    a: &Args,
+    threads: usize,
+    unit: &'static str,
+    measure: impl FnOnce(&RunOptions) -> Result<R, Error>,
+    text: fn(&R),
+) -> Result<(), Error> {
+    let pb = Progress::new(a.repetitions as u64, unit, a.output.quiet);
     let opts = RunOptions {
         engine: a.engine.engine,
         ..pb.options(threads)
     };
-    let r = throughput::run(&cfg, &opts)?;
+    let r = measure(&opts)?;
     drop(opts);
     drop(pb);
-    emit(a.output.json, &r, print)
+    emit(a.output.json, &r, text)
+}
+
+/// The engine that ran, with its SIMD path if any.
+fn engine(m: &RunMeta) -> String {
+    match &m.simd {
+        Some(p) => format!("{} ({p})", m.engine),
+        None => m.engine.clone(),
+    }
 }
 
 fn print(r: &Throughput) {
@@ -99,10 +147,7 @@ fn print(r: &Throughput) {
         "w = {}  precision {}  engine {}  {} collisions per thread x {} repetitions on {} thread(s)\nmedian {:.3e} collisions/s ({:.3e} per thread) = {:.2} ns/collision per thread  (runs: {})",
         r.w,
         r.meta.precision,
-        match &r.meta.simd {
-            Some(p) => format!("{} ({p})", r.meta.engine),
-            None => r.meta.engine.clone(),
-        },
+        engine(&r.meta),
         r.collisions_per_thread,
         r.repetitions,
         r.threads,
@@ -123,6 +168,26 @@ fn print(r: &Throughput) {
             b.unit.lanes,
             b.ns_per_collision,
             100.0 * b.fraction
+        );
+    }
+}
+
+fn print_costs(r: &ObserverCosts) {
+    println!(
+        "w = {}  engine {}  {} collisions per thread x {} rounds on {} thread(s), sets in turns",
+        r.w,
+        engine(&r.meta),
+        r.collisions_per_thread,
+        r.rounds,
+        r.threads,
+    );
+    println!("observe     ns/collision  over bare (median of paired ratios)");
+    for c in &r.costs {
+        println!(
+            "{:<10}  {:>12.2}  {:>+8.1} %",
+            format!("{:?}", c.observe).to_lowercase(),
+            c.ns_per_collision,
+            100.0 * c.over_bare
         );
     }
 }

@@ -8,12 +8,15 @@
 //!   the exact corridor constants.
 //! * [`trajectory`]: one trajectory from exact initial conditions to certified digits.
 //! * [`throughput`]: collisions per second of the engines (`lorentz bench`).
+//! * [`observer_costs`]: what each set of observers adds to the engine's time, timed in turns
+//!   (`lorentz bench --observer-costs`).
 //!
 //! [`metadata`](crate::engine::metadata) records how each result was computed.
 
 pub mod diffusion;
 pub mod escape;
 pub mod hops;
+pub mod observer_costs;
 pub mod superdiffusion;
 pub mod sweep;
 pub mod throughput;

@@ -70,7 +70,7 @@ pub struct BoundReport {
     pub fraction: f64,
 }
 
-fn median(v: &[f64]) -> f64 {
+pub(super) fn median(v: &[f64]) -> f64 {
     let mut s = v.to_vec();
     s.sort_by(|a, b| a.total_cmp(b));
     let n = s.len();
@@ -105,26 +105,8 @@ impl AtPrecision for TimeRuns<'_> {
             Resolved::Scalar => 1,
             Resolved::Simd(_) => BLOCK,
         };
-        // Thread k runs trajectories k·lanes … (k+1)·lanes − 1 of the seed's streams.
-        let mut states: Vec<Vec<LatticeState<T>>> = (0..self.threads)
-            .map(|k| {
-                (0..lanes)
-                    .map(|l| {
-                        let s64 = equilibrium_state(
-                            &trap64,
-                            &mut stream(self.seed, (k * lanes + l) as u64),
-                        );
-                        let mut s = LatticeState::convert_from_f64(ctx, &s64);
-                        s.flight.normalise_speed();
-                        s
-                    })
-                    .collect()
-            })
-            .collect();
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(self.threads)
-            .build()
-            .map_err(|e| Error::Invalid(format!("thread pool: {e}")))?;
+        let mut states = starts::<T>(ctx, &trap64, self.seed, self.threads, lanes);
+        let pool = thread_pool(self.threads)?;
         let n = self.collisions;
         let engine = self.engine;
         let observe = self.observe;
@@ -153,6 +135,37 @@ impl AtPrecision for TimeRuns<'_> {
     }
 }
 
+/// The benchmark's starts: thread k runs trajectories k·`lanes` … (k+1)·`lanes` − 1 of the
+/// seed's streams, from equilibrium.
+pub(super) fn starts<T: Real>(
+    ctx: T::Ctx,
+    trap64: &Trap<f64>,
+    seed: u64,
+    threads: usize,
+    lanes: usize,
+) -> Vec<Vec<LatticeState<T>>> {
+    (0..threads)
+        .map(|k| {
+            (0..lanes)
+                .map(|l| {
+                    let s64 = equilibrium_state(trap64, &mut stream(seed, (k * lanes + l) as u64));
+                    let mut s = LatticeState::convert_from_f64(ctx, &s64);
+                    s.flight.normalise_speed();
+                    s
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// A pool of `threads` workers.
+pub(super) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, Error> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Invalid(format!("thread pool: {e}")))
+}
+
 /// What the benchmark watches besides the engine's own crossing count.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
@@ -173,7 +186,7 @@ pub enum Observe {
 
 /// One thread's share of a repetition: `n` collisions over its trajectories, continuing them
 /// and watching them with `observe`; returns the crossings made.
-fn run_thread<T: Real>(
+pub(super) fn run_thread<T: Real>(
     engine: Resolved,
     observe: Observe,
     lat: &TriangularLattice<T>,

@@ -20,8 +20,8 @@ pub const MAX_LAG: usize = 48;
 /// estimate 1 + 2Σ_{j≤J} Ĉ_j is exactly the mean of the gᵢ of the module documentation.
 /// Memory O(`max_lag`), time O(`max_lag`) per hop, vectorised: a hop adds the lags of one
 /// origin from a contiguous window of bytes (2·cos by byte arithmetic) to byte-wide sums, with
-/// no division and no widening; every [`RECENT`] origins those are added into the 64-bit sums.
-/// Equality and the stored form see only the totals.
+/// no division and no widening; every 63 origins ([`Self::push`]) those are added into the
+/// 64-bit sums. Equality and the stored form see only the totals.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 #[serde(try_from = "Stored", into = "Stored")]
 pub struct HopCorrelations {
@@ -267,14 +267,21 @@ mod tests {
     /// turn): the byte sums reach ±2·[`RECENT`] = ±126 before they are moved out, and stay exact.
     #[test]
     fn extreme_sums_stay_exact_in_bytes() {
-        for d in [vec![4u8; 1000], (0..1000).map(|i| 3 * (i % 2) as u8).collect()] {
+        for d in [
+            vec![4u8; 1000],
+            (0..1000).map(|i| 3 * (i % 2) as u8).collect(),
+        ] {
             let mut a = HopCorrelations::new(MAX_LAG).unwrap();
             for &x in &d {
                 a.push(x);
             }
             let n = (d.len() - MAX_LAG) as i64;
             for j in 1..=MAX_LAG {
-                let want = if d[0] == d[1] || j % 2 == 0 { 2 * n } else { -2 * n };
+                let want = if d[0] == d[1] || j % 2 == 0 {
+                    2 * n
+                } else {
+                    -2 * n
+                };
                 assert_eq!(a.lag_sum(j), want, "lag {j}");
             }
         }
@@ -296,7 +303,10 @@ mod tests {
             assert!(!json.contains("\"at\""), "{json}");
             let mut b: HopCorrelations = serde_json::from_str(&json).unwrap();
             assert_eq!(a, b);
-            assert!((1..=5).all(|j| a.lag_sum(j) == b.lag_sum(j)), "cut at {cut}");
+            assert!(
+                (1..=5).all(|j| a.lag_sum(j) == b.lag_sum(j)),
+                "cut at {cut}"
+            );
             for i in cut..cut + 40 {
                 a.push(d(i));
                 b.push(d(i));

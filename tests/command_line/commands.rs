@@ -740,6 +740,28 @@ const BAD: &[(&[&str], &str)] = &[
         "repetitions",
     ),
     (&["bench", "--w", "0.1", "--threads", "0"], "threads"),
+    (
+        &[
+            "bench",
+            "--w",
+            "0.1",
+            "--observer-costs",
+            "--repetitions",
+            "0",
+        ],
+        "rounds",
+    ),
+    (
+        &[
+            "bench",
+            "--w",
+            "0.1",
+            "--observer-costs",
+            "--precision",
+            "128",
+        ],
+        "cannot be used with",
+    ),
 ];
 
 #[test]

@@ -102,6 +102,7 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
         ("constants", json_of(dir, "constants --w 1/2 --json")),
         ("superdiffusion", run("superdiffusion --scene square --radius 1/4 --collisions 3.2e6 --batches 16 --octaves 6 --vacf-fit 8:32 --msd-fit 16:64")),
         ("bench", run("bench --w 0.1 --collisions-per-thread 1e5 --repetitions 1")),
+        ("bench --observer-costs", run("bench --w 0.1 --observer-costs --collisions-per-thread 1e5 --repetitions 1")),
     ];
     run("figure backscatter-map --particles 1e3 --out fig");
     out.push((
