@@ -12,11 +12,9 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::throughput::{median, run_thread, starts, thread_pool, Observe, MAX_REPETITIONS};
+use super::throughput::{advance, lanes, median, starts, thread_pool, Observe, MAX_REPETITIONS};
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::engine::simd::BLOCK;
-use crate::engine::Resolved;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
@@ -122,24 +120,14 @@ pub fn run(cfg: &ObserverCostsConfig, options: &RunOptions) -> Result<ObserverCo
     cfg.validate()?;
     let threads = options.threads;
     let engine = options.engine.resolve(true)?;
-    let lanes = match engine {
-        Resolved::Scalar => 1,
-        Resolved::Simd(_) => BLOCK,
-    };
+    let lanes = lanes(engine);
     let trap64 = Trap::new(cfg.w)?;
     let lat = TriangularLattice::new(cfg.w)?;
     let pool = thread_pool(threads)?;
     let n = cfg.collisions_per_thread;
     let per_run = n / lanes as u64 * (lanes * threads) as u64;
     let go = |observe: Observe, states: &mut Vec<Vec<LatticeState<f64>>>, n: u64| {
-        pool.install(|| {
-            use rayon::prelude::*;
-            states
-                .par_iter_mut()
-                .map(|block| run_thread(engine, observe, &lat, &trap64, block, n))
-                .collect::<Result<Vec<u64>, Error>>()
-                .map(|v| v.iter().sum::<u64>())
-        })
+        advance(&pool, engine, observe, &lat, &trap64, states, n)
     };
     let mut states: Vec<_> = SETS
         .iter()

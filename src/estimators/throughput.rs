@@ -101,10 +101,7 @@ impl AtPrecision for TimeRuns<'_> {
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
         let trap64 = Trap::new(self.w)?;
         let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
-        let lanes = match self.engine {
-            Resolved::Scalar => 1,
-            Resolved::Simd(_) => BLOCK,
-        };
+        let lanes = lanes(self.engine);
         let mut states = starts::<T>(ctx, &trap64, self.seed, self.threads, lanes);
         let pool = thread_pool(self.threads)?;
         let n = self.collisions;
@@ -112,14 +109,8 @@ impl AtPrecision for TimeRuns<'_> {
         let observe = self.observe;
         // Each trajectory makes ⌊n/lanes⌋ collisions per repetition.
         let per_rep = n / lanes as u64 * (lanes * self.threads) as u64;
-        let go = |states: &mut Vec<Vec<LatticeState<T>>>, n: u64| -> Result<u64, Error> {
-            pool.install(|| {
-                states
-                    .par_iter_mut()
-                    .map(|block| run_thread(engine, observe, &lat, &trap64, block, n))
-                    .collect::<Result<Vec<u64>, Error>>()
-                    .map(|v| v.iter().sum())
-            })
+        let go = |states: &mut Vec<Vec<LatticeState<T>>>, n: u64| {
+            advance(&pool, engine, observe, &lat, &trap64, states, n)
         };
         // One untimed warm-up of a tenth of the length.
         go(&mut states, (n / 10).max(1))?;
@@ -158,6 +149,34 @@ pub(super) fn starts<T: Real>(
         .collect()
 }
 
+/// Trajectories per thread: one on the scalar engine, a block of [`BLOCK`] on the SIMD engine.
+pub(super) fn lanes(engine: Resolved) -> usize {
+    match engine {
+        Resolved::Scalar => 1,
+        Resolved::Simd(_) => BLOCK,
+    }
+}
+
+/// Every thread's trajectories (`states[k]`, on `pool`) continued by `n` collisions and watched
+/// with `observe` ([`run_thread`]); returns the crossings made.
+pub(super) fn advance<T: Real>(
+    pool: &rayon::ThreadPool,
+    engine: Resolved,
+    observe: Observe,
+    lat: &TriangularLattice<T>,
+    trap64: &Trap<f64>,
+    states: &mut [Vec<LatticeState<T>>],
+    n: u64,
+) -> Result<u64, Error> {
+    pool.install(|| {
+        states
+            .par_iter_mut()
+            .map(|block| run_thread(engine, observe, lat, trap64, block, n))
+            .collect::<Result<Vec<u64>, Error>>()
+            .map(|v| v.iter().sum())
+    })
+}
+
 /// A pool of `threads` workers.
 pub(super) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, Error> {
     rayon::ThreadPoolBuilder::new()
@@ -186,7 +205,7 @@ pub enum Observe {
 
 /// One thread's share of a repetition: `n` collisions over its trajectories, continuing them
 /// and watching them with `observe`; returns the crossings made.
-pub(super) fn run_thread<T: Real>(
+fn run_thread<T: Real>(
     engine: Resolved,
     observe: Observe,
     lat: &TriangularLattice<T>,
@@ -194,10 +213,7 @@ pub(super) fn run_thread<T: Real>(
     block: &mut [LatticeState<T>],
     n: u64,
 ) -> Result<u64, Error> {
-    let lanes = match engine {
-        Resolved::Scalar => 1,
-        Resolved::Simd(_) => BLOCK,
-    };
+    let lanes = lanes(engine);
     let w = trap64.w;
     let msd = || -> Result<Msd, Error> {
         let tau = Geometry::new(w)?.hop_time();
@@ -366,10 +382,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         repetitions: reps,
         threads,
         observe,
-        trajectories_per_thread: match resolved {
-            Resolved::Scalar => 1,
-            Resolved::Simd(_) => BLOCK,
-        },
+        trajectories_per_thread: lanes(resolved),
         collisions_per_second: m,
         collisions_per_second_per_thread: m / threads as f64,
         ns_per_collision,
