@@ -1,140 +1,160 @@
-//! A scene defined outside the crate, in one file: the triangular Lorentz gas with disks of any
-//! radius R (the crate's own scene fixes R = 1), described by its rhombic cell — four corner
-//! disks, four edges that translate into the neighbouring cells — and run through the generic
-//! kernel. The run checks Santaló's mean free path ⟨ℓ⟩ = (ah − πR²)/(2R) against the measured
-//! one with a Student-t bound, and exits with status 1 if it fails.
+//! A table the crate does not ship, defined in this one file and run through the library's own
+//! estimators with no step loop of its own: the square lattice of unit spacing with disks of
+//! radius 2/5 at the corners and 1/5 at the centres of the squares (two radii in one cell).
 //!
 //! ```sh
 //! cargo run --release --example custom_scene
 //! ```
 //!
-//! What a new scene supplies is only its geometry ([`Scene`]): the cell as a
-//! [`ConvexCell`] (corners, disks, edges with their maps), where a world point lies, the
-//! invariant-measure sampler and its exact identities. Everything else — the kernel, the
-//! lattice walk with exact integer cell indices, the engines, the MPFR shadow — comes with it.
+//! What a new scene supplies is its geometry ([`Scene`]): the cell as a [`ConvexCell`] (corners,
+//! disks with their own radii, edges with their maps), where a world point lies, the
+//! invariant-measure sampler and its closed forms (Santaló's mean free path, the crossing time,
+//! whether the horizon is finite). Everything else comes with it:
+//!
+//! * D by the Einstein formula with its standard error over independent batches
+//!   ([`diffusion::scene::run_on`]), with the scene's exact identities measured — the mean free
+//!   path against Santaló's π|Q|/|∂Q|, the mean crossing time against π|Q|/L — each within the
+//!   4σ-equivalent Student-t bound;
+//! * the per-event shadow audit of the run's own events (a sample replayed in MPFR and judged
+//!   against the f64 error model): no event may fall outside the model.
+//!
+//! The program exits with status 1 if any of these checks fails.
 
-use lorentz_gas::kernel::cell::{ConvexCell, Edge, EdgeMap, LatticeBasis};
-use lorentz_gas::kernel::flight::{EventKind, Flight};
+use lorentz_gas::engine::options::{AuditSpec, RunOptions};
+use lorentz_gas::estimators::diffusion::scene::{run_on, SceneDiffusionConfig};
+use lorentz_gas::kernel::cell::{ConvexCell, Disk, Edge, EdgeMap, LatticeBasis};
+use lorentz_gas::kernel::flight::Flight;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::numbers::real::Real;
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState};
-use lorentz_gas::scenes::sampling::{direction, stream};
+use lorentz_gas::scenes::sampling::direction;
 use lorentz_gas::scenes::Scene;
-use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t};
 use lorentz_gas::Error;
 use rand::Rng;
 use rug::Rational;
+use std::f64::consts::PI;
 
-/// Disks of radius `r` on the triangular lattice of spacing `a` (a > 2r: the disks do not
-/// touch), in the rhombic cell with corners 0, e₁, e₁ + e₂, e₂ (e₁ = (a, 0), e₂ = (a/2, h),
-/// h = √3a/2). No disk but the four corner ones reaches into the cell: every other lattice point
-/// is at least h > r from it.
+/// Disks of radius `rc` at the integer points and of radius `rm` at the centres (i + ½, j + ½)
+/// of the unit squares. The cell is the unit square [0, 1]² with its four corner disks (labels
+/// 0–3: (0, 0), (1, 0), (1, 1), (0, 1)) and its centre disk (label 4). With rc < ½ and
+/// rc + rm < √2/2 no disks touch, and no other disk reaches into the cell: the next integer
+/// points are at distance ≥ 1 > rc from it, the neighbours' centres at distance ½ > rm.
 #[derive(Debug, Clone)]
-struct RhombicTriangular {
-    a: Rational,
-    r: Rational,
+pub struct TwoRadiusSquare {
+    rc: Rational,
+    rm: Rational,
 }
 
-impl RhombicTriangular {
-    fn new(a: Rational, r: Rational) -> Result<Self, Error> {
-        if !(r > 0 && a > r.clone() * 2u32) {
-            return Err(Error::Invalid("use 0 < 2r < a".into()));
+impl TwoRadiusSquare {
+    /// The table with corner radius `rc` and centre radius `rm`, given exactly.
+    ///
+    /// # Errors
+    /// Unless 0 < rm, 0 < rc < ½ and rc + rm < √2/2 (no two disks touch).
+    pub fn new(rc: Rational, rm: Rational) -> Result<Self, Error> {
+        let sum = rc.clone() + &rm;
+        // rc + rm < √2/2  ⇔  2(rc + rm)² < 1 (both sides positive).
+        if !(rm > 0 && rc > 0 && rc < Rational::from((1, 2)) && sum.clone() * &sum * 2u32 < 1) {
+            return Err(Error::Invalid(
+                "use 0 < rc < 1/2, 0 < rm and rc + rm < sqrt(2)/2 (no two disks touch)".into(),
+            ));
         }
-        Ok(RhombicTriangular { a, r })
+        Ok(TwoRadiusSquare { rc, rm })
     }
 
-    /// The spacing as the nearest double.
-    fn a64(&self) -> f64 {
-        <f64 as Real>::from_rational((), &self.a)
+    fn radii64(&self) -> (f64, f64) {
+        (
+            <f64 as Real>::from_rational((), &self.rc),
+            <f64 as Real>::from_rational((), &self.rm),
+        )
     }
 
-    /// The radius as the nearest double.
-    fn r64(&self) -> f64 {
-        <f64 as Real>::from_rational((), &self.r)
+    /// The free area of a cell, |Q| = 1 − π(rc² + rm²) (four quarter disks make one).
+    fn free_area(&self) -> f64 {
+        let (rc, rm) = self.radii64();
+        1.0 - PI * (rc * rc + rm * rm)
     }
 }
 
-impl Scene for RhombicTriangular {
+impl Scene for TwoRadiusSquare {
     type Kernel<T: Real> = ConvexCell<T>;
 
     fn label(&self) -> String {
-        format!("rhombic triangular a={} r={}", self.a64(), self.r64())
+        let (rc, rm) = self.radii64();
+        format!("two-radius square rc={rc} rm={rm}")
     }
 
     fn kernel<T: Real>(&self, ctx: T::Ctx) -> Result<ConvexCell<T>, Error> {
         T::check_ctx(ctx)?;
-        let a = T::from_rational(ctx, &self.a);
-        let r = T::from_rational(ctx, &self.r);
-        let (z, one, half) = (T::zero(ctx), T::one(ctx), T::from_f64(ctx, 0.5));
-        let s = T::sqrt3(ctx).scale(0.5); // √3/2
-        let h = s.clone() * &a;
-        let v = |x: T, y: T| Vec2::new(x, y);
-        let e1 = v(a.clone(), z.clone());
-        let e2 = v(a.clone().scale(0.5), h.clone());
-        let neg = |p: &Vec2<T>| v(-p.x.clone(), -p.y.clone());
-        // Edges 0..3: bottom, right, top, left; each enters the neighbour by the opposite one.
-        // Disks 0..3 at 0, e₁, e₁ + e₂, e₂; `after` relabels them in the neighbour's frame.
-        let edge = |n: Vec2<T>, o: T, t: Vec2<T>, entered: u8, after: [Option<u8>; 4], step| Edge {
+        let (z, one) = (T::zero(ctx), T::one(ctx));
+        let half = T::from_f64(ctx, 0.5);
+        let v = |x: &T, y: &T| Vec2::new(x.clone(), y.clone());
+        let m1 = -one.clone();
+        // Edges 0..3: bottom, right, top, left, as inward normals n and offsets o (n·p ≥ o
+        // inside); each maps p ↦ p − t into the neighbour, which it enters by the opposite
+        // edge. `after` relabels this cell's disks in the neighbour (the centre never carries).
+        let edge = |n: Vec2<T>, o: &T, t: Vec2<T>, entered, after: [Option<u8>; 4], step| Edge {
             normal: n,
-            offset: o,
+            offset: o.clone(),
             map: EdgeMap::Translation(t),
             entered,
-            disks_after: after.to_vec(),
+            disks_after: after.iter().copied().chain([None]).collect(),
             step,
         };
         let edges = vec![
             edge(
-                v(z.clone(), one.clone()),
-                z.clone(),
-                neg(&e2),
+                v(&z, &one),
+                &z,
+                v(&z, &m1),
                 2,
                 [Some(3), Some(2), None, None],
                 [0, -1],
             ),
             edge(
-                v(-s.clone(), half.clone()),
-                -(s.clone() * &a),
-                e1.clone(),
+                v(&m1, &z),
+                &m1,
+                v(&one, &z),
                 3,
                 [None, Some(0), Some(3), None],
                 [1, 0],
             ),
             edge(
-                v(z.clone(), -one),
-                -h.clone(),
-                e2.clone(),
+                v(&z, &m1),
+                &m1,
+                v(&z, &one),
                 0,
                 [None, None, Some(1), Some(0)],
                 [0, 1],
             ),
             edge(
-                v(s.clone(), -half),
-                z.clone(),
-                neg(&e1),
+                v(&one, &z),
+                &z,
+                v(&m1, &z),
                 1,
                 [Some(1), None, None, Some(2)],
                 [-1, 0],
             ),
         ];
-        let far = v(a.clone().scale(1.5), h.clone());
-        let disks = vec![v(z.clone(), z.clone()), e1.clone(), far.clone(), e2.clone()];
+        let corners = vec![v(&z, &z), v(&one, &z), v(&one, &one), v(&z, &one)];
+        let rc = T::from_rational(ctx, &self.rc);
+        let mut disks: Vec<Disk<T>> = corners
+            .iter()
+            .map(|c| Disk::new(c.clone(), rc.clone()))
+            .collect();
+        disks.push(Disk::new(v(&half, &half), T::from_rational(ctx, &self.rm)));
         Ok(ConvexCell {
-            corners: disks.clone(),
-            radius2: r.square(),
-            radius: r,
+            corners,
             disks,
             edges,
             lattice: LatticeBasis {
-                a,
-                beta: T::from_f64(ctx, 0.5),
-                h,
+                a: one.clone(),
+                beta: z,
+                h: one,
             },
         })
     }
 
-    /// The cell is found in `f64` (j = ⌊y/h⌋, i = ⌊x/a − j/2⌋); the offset is computed at the
-    /// working precision from the exact point. A point within rounding of an edge may land in
-    /// either neighbour, which describes the same world point.
+    /// The cell (⌊x⌋, ⌊y⌋), exactly; the offset (x − ⌊x⌋, y − ⌊y⌋) is exact in rationals and
+    /// rounded once at the working precision.
     fn locate<T: Real>(
         &self,
         ctx: T::Ctx,
@@ -142,31 +162,33 @@ impl Scene for RhombicTriangular {
         y: &Rational,
     ) -> Result<(CellIndex, Vec2<T>), Error> {
         lorentz_gas::scenes::check_world_point(x, y)?;
-        let (a64, h64) = (self.a64(), self.a64() * 3f64.sqrt() / 2.0);
-        let j = (y.to_f64() / h64).floor() as i64;
-        let i = (x.to_f64() / a64 - j as f64 / 2.0).floor() as i64;
-        let a = T::from_rational(ctx, &self.a);
-        let h = T::sqrt3(ctx).scale(0.5) * &a;
-        let ox = a.clone() * &T::from_f64(ctx, i as f64 + j as f64 / 2.0);
-        let oy = h * &T::from_f64(ctx, j as f64);
+        let (i, j) = (x.clone().floor(), y.clone().floor());
         let p = Vec2::new(
-            T::from_rational(ctx, x) - &ox,
-            T::from_rational(ctx, y) - &oy,
+            T::from_rational(ctx, &(x.clone() - &i)),
+            T::from_rational(ctx, &(y.clone() - &j)),
         );
-        Ok((CellIndex { i, j, down: false }, p))
+        let index = |q: Rational| q.numer().to_i64().unwrap_or(0);
+        Ok((
+            CellIndex {
+                i: index(i),
+                j: index(j),
+                down: false,
+            },
+            p,
+        ))
     }
 
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> LatticeState<f64> {
-        let (a, r) = (self.a64(), self.r64());
-        let h = a * 3f64.sqrt() / 2.0;
-        let corners = [(0.0, 0.0), (a, 0.0), (1.5 * a, h), (0.5 * a, h)];
-        let pos = loop {
-            let (u, w): (f64, f64) = (rng.random(), rng.random());
-            let (x, y) = (u * a + w * a / 2.0, w * h);
-            if corners
+        let (rc, rm) = self.radii64();
+        let free = |x: f64, y: f64| {
+            let corner = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
                 .iter()
-                .all(|c| (x - c.0).powi(2) + (y - c.1).powi(2) >= r * r)
-            {
+                .all(|c| (x - c.0).powi(2) + (y - c.1).powi(2) >= rc * rc);
+            corner && (x - 0.5).powi(2) + (y - 0.5).powi(2) >= rm * rm
+        };
+        let pos = loop {
+            let (x, y): (f64, f64) = (rng.random(), rng.random());
+            if free(x, y) {
                 break Vec2::new(x, y);
             }
         };
@@ -176,58 +198,97 @@ impl Scene for RhombicTriangular {
         }
     }
 
-    /// Santaló: ⟨ℓ⟩ = π|Q|/|∂Q| with |Q| = ah − πr² (the four corner sectors make one disk) and
-    /// |∂Q| = 2πr.
+    /// Santaló: ⟨ℓ⟩ = π|Q|/|∂Q| with |∂Q| = 2π(rc + rm).
     fn mean_free_path(&self) -> f64 {
-        let (a, r) = (self.a64(), self.r64());
-        (a * a * 3f64.sqrt() / 2.0 - std::f64::consts::PI * r * r) / (2.0 * r)
+        let (rc, rm) = self.radii64();
+        PI * self.free_area() / (2.0 * PI * (rc + rm))
     }
 
-    /// Finite horizon below a = 4r/√3 (the paper's w∞ at r = 1).
+    /// Decided exactly. A corridor is a strip free of disks along a rational direction (p, q).
+    /// Along the axes the rows of corner disks block |y − k| < rc and the rows of centre disks
+    /// |y − k − ½| < rm: closed iff rc + rm ≥ ½. Along (1, 1) both kinds of centres lie on the
+    /// lines x − y = k, 1/√2 apart: closed iff 2·max(rc, rm) ≥ 1/√2. Every other primitive
+    /// direction has the corner lines at most 1/√5 apart, closed once 2rc ≥ 1/√2.
     fn finite_horizon(&self) -> bool {
-        self.a64() < 4.0 * self.r64() / 3f64.sqrt()
+        let big = if self.rc > self.rm {
+            &self.rc
+        } else {
+            &self.rm
+        };
+        let axes = self.rc.clone() + &self.rm >= Rational::from((1, 2));
+        let diagonal = big.clone() * big * 8u32 >= 1;
+        let others = self.rc.clone() * &self.rc * 8u32 >= 1;
+        axes && diagonal && others
     }
-}
 
-/// Flight time per collision of one trajectory of `collisions` collisions from `start`.
-fn free_path(
-    scene: &RhombicTriangular,
-    start: LatticeState<f64>,
-    collisions: u64,
-) -> Result<f64, Error> {
-    let lattice = scene.lattice::<f64>(())?;
-    let (mut s, mut time, mut hits) = (start, 0.0, 0u64);
-    while hits < collisions {
-        let e = lattice.step(&mut s)?;
-        time += e.time;
-        hits += u64::from(matches!(e.kind, EventKind::Collision(_)));
+    /// τ = π|Q|/L: each edge is free between its two corner disks, L = 4(1 − 2rc).
+    fn crossing_time(&self) -> Option<f64> {
+        let (rc, _) = self.radii64();
+        Some(PI * self.free_area() / (4.0 * (1.0 - 2.0 * rc)))
     }
-    Ok(time / hits as f64)
 }
 
 fn main() -> Result<(), Error> {
-    // r = 3/2 at gap 1/5: a = 2r + w = 16/5 < 4r/√3 ≈ 3.46 (finite horizon).
-    let scene = RhombicTriangular::new(Rational::from((16, 5)), Rational::from((3, 2)))?;
-    let (batches, collisions) = (16u64, 200_000u64);
-    let per: Vec<f64> = (0..batches)
-        .map(|b| free_path(&scene, scene.sample(&mut stream(7, b)), collisions))
-        .collect::<Result<_, _>>()?;
-    let (mean, se) = mean_se(&per);
-    let exact = scene.mean_free_path();
-    let z = (mean - exact) / se;
-    // The 4σ-equivalent Student-t bound for a mean of independent batch means.
-    let bound = normal_sigma_equivalent_t((batches - 1) as f64, 4.0);
+    let scene = TwoRadiusSquare::new(Rational::from((2, 5)), Rational::from((1, 5)))?;
+    let cfg = SceneDiffusionConfig {
+        collisions: 32_000_000,
+        batches: 16,
+        seed: 7,
+        ..SceneDiffusionConfig::default()
+    };
+    let options = RunOptions {
+        audit: Some(AuditSpec::new(1e-3, 256)?),
+        ..RunOptions::default()
+    };
+    let r = run_on(&scene, &cfg, &options)?;
+    println!("{} (finite horizon: {})", r.scene, scene.finite_horizon());
     println!(
-        "{} (finite horizon: {})",
-        scene.label(),
-        scene.finite_horizon()
+        "D = {:.6} ± {:.6} from {} batches of {} collisions (check window: {:.6} ± {:.6})",
+        r.D,
+        r.D_err,
+        cfg.batches,
+        cfg.collisions / cfg.batches as u64,
+        r.D_check,
+        r.D_check_err
     );
-    println!("mean free path = {mean:.6} ± {se:.6} from {batches} trajectories of {collisions} collisions");
-    println!("Santaló        = {exact:.6}   ({z:+.2} sigma; bound ±{bound:.2})");
-    if z.abs() > bound {
-        eprintln!("FAIL: the measured mean free path is {z:+.2} sigma from Santaló's");
+    let mut fails = Vec::new();
+    for i in &r.identities {
+        println!(
+            "{:<24} {:.6} ± {:.6}   exact {:.6}   ({:+.2} sigma; bound ±{:.2})",
+            i.name, i.measured, i.err, i.exact, i.t, i.bound
+        );
+        if !i.agrees {
+            fails.push(format!(
+                "{} is {:+.2} sigma from its closed form",
+                i.name, i.t
+            ));
+        }
+    }
+    let audit = r
+        .audit
+        .as_ref()
+        .ok_or_else(|| Error::Failed("no audit".into()))?;
+    println!(
+        "shadow audit: {} events replayed at 256 bits, {} outside the error model, {} ambiguous",
+        audit.audited, audit.outside, audit.ambiguous
+    );
+    if audit.outside > 0 || audit.audited == 0 {
+        fails.push(format!(
+            "{} of {} audited events outside the model",
+            audit.outside, audit.audited
+        ));
+    }
+    if !(r.D > 0.0 && r.D_err > 0.0 && r.D_err < 0.05 * r.D) {
+        fails.push(format!(
+            "D = {} ± {} is not a resolved positive value",
+            r.D, r.D_err
+        ));
+    }
+    if fails.is_empty() {
+        println!("PASS");
+        Ok(())
+    } else {
+        eprintln!("FAIL: {}", fails.join("; "));
         std::process::exit(1);
     }
-    println!("PASS");
-    Ok(())
 }

@@ -30,8 +30,8 @@ pub enum Error {
     #[error(
         "w = {w:?} is not < w_inf = 4/sqrt(3) - 2 = {w_inf:.17}: the horizon is infinite, \
          free flights are unbounded and the diffusion coefficient does not exist \
-         (valid range: 0 < w < {w_inf:.6}; `lorentz superdiffusion --w W` measures the t ln t \
-         growth against the exact corridor constants, which `lorentz constants --w W` lists)"
+         (valid range: 0 < w < {w_inf:.6}; the superdiffusion analysis measures the t ln t \
+         growth against the exact corridor constants, which the constants analysis lists)"
     )]
     InfiniteHorizon {
         /// The offending gap.
@@ -85,6 +85,15 @@ pub enum Error {
     /// A verification ran and its verdict is FAIL (not bad input: exit status 1).
     #[error("{0}")]
     CheckFailed(String),
+    /// A run option that the analysis does not use was set: it would be ignored. Each front end
+    /// names the option in its own terms (the command line's flag, Python's keyword).
+    #[error("{analysis} does not use the run option `{option}`: leave it unset")]
+    UnusedOption {
+        /// The analysis.
+        analysis: &'static str,
+        /// The option it does not use.
+        option: crate::engine::options::RunOption,
+    },
     /// The run was asked to stop ([`crate::engine::options::StopFlag`]) before it finished;
     /// a checkpoint, if the run kept one, holds the work up to its last save.
     #[error("interrupted: the run was stopped before it finished")]
@@ -138,6 +147,7 @@ impl Error {
             | Error::Precision { .. }
             | Error::Zero { .. }
             | Error::TooFew { .. }
+            | Error::UnusedOption { .. }
             | Error::Invalid(_) => ErrorKind::BadInput,
         }
     }

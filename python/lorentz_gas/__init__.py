@@ -47,12 +47,14 @@ from ._results import (
     DiffusionResult,
     EscapeResult,
     HopsResult,
+    LatticeWalkResult,
     LyapunovResult,
     ReportResult,
     Result,
     ShadowResult,
     SuperdiffusionResult,
     SweepResult,
+    TheoryResult,
     TrajectoryResult,
 )
 
@@ -61,6 +63,8 @@ __version__ = _native.__version__
 __all__ = [
     "diffusion",
     "hops",
+    "theory",
+    "lattice_walk",
     "backscatter",
     "sweep",
     "escape",
@@ -78,6 +82,8 @@ __all__ = [
     "Result",
     "DiffusionResult",
     "HopsResult",
+    "TheoryResult",
+    "LatticeWalkResult",
     "BackscatterResult",
     "SuperdiffusionResult",
     "SweepResult",
@@ -334,6 +340,81 @@ def hops(
             cb,
         )
     return HopsResult(text)
+
+
+def theory(
+    w: Exact,
+    collisions: Count = 2e8,
+    batches: Count = 16,
+    order: Count = 4,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = False,
+) -> TheoryResult:
+    """The corrected Machta–Zwanzig hierarchy on measured hop statistics (``lorentz theory``).
+
+    Parameters
+    ----------
+    w, collisions, batches, seed, threads, checkpoint, checkpoint_every, progress
+        As in :func:`hops`.
+    order : int
+        Longest symbol sequence counted, and highest order of the hierarchy (1 to 7).
+
+    Returns
+    -------
+    TheoryResult
+        ``D_cf``, ``D_bs``, ``D_1`` and the orders ``D_k`` of the corrected hierarchy
+        (length^2/time, each with its error), App. A's ``p_cf``, against ``D_GK`` and ``D_MZ``.
+    """
+    return TheoryResult(_hop_analysis(_native.theory, w, collisions, batches, order, seed,
+                                      threads, checkpoint, checkpoint_every, progress))
+
+
+def lattice_walk(
+    w: Exact,
+    collisions: Count = 2e8,
+    batches: Count = 16,
+    order: Count = 4,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = False,
+) -> LatticeWalkResult:
+    """Correlated lattice walks driven by the measured symbol tables (``lorentz lattice-walk``,
+    Fig. 6b): walks of order 1 to ``order`` simulated, next to their exact D.
+
+    Parameters
+    ----------
+    w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every, progress
+        As in :func:`theory`.
+
+    Returns
+    -------
+    LatticeWalkResult
+        ``walks`` (one row per order: the simulated and the exact D, length^2/time) against the
+        hop-level ``D_GK`` and ``D_MZ``.
+    """
+    return LatticeWalkResult(_hop_analysis(_native.lattice_walk, w, collisions, batches, order,
+                                           seed, threads, checkpoint, checkpoint_every, progress))
+
+
+def _hop_analysis(native, w, collisions, batches, order, seed, threads, checkpoint,
+                  checkpoint_every, progress) -> str:
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        return native(
+            _exact("w", w),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            _count("order", order),
+            _count("seed", seed),
+            _threads(threads),
+            _path(checkpoint),
+            float(checkpoint_every),
+            cb,
+        )
 
 
 def backscatter(

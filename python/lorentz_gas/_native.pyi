@@ -24,6 +24,14 @@ def hops(
     w: str, collisions: str, batches: str, order: str, seed: str, threads: Optional[str],
     engine: str, checkpoint: Optional[str], checkpoint_every: float, progress: Progress,
 ) -> str: ...
+def theory(
+    w: str, collisions: str, batches: str, order: str, seed: str, threads: Optional[str],
+    checkpoint: Optional[str], checkpoint_every: float, progress: Progress,
+) -> str: ...
+def lattice_walk(
+    w: str, collisions: str, batches: str, order: str, seed: str, threads: Optional[str],
+    checkpoint: Optional[str], checkpoint_every: float, progress: Progress,
+) -> str: ...
 def backscatter(
     w: str, particles: str, batches: str, seed: str, threads: Optional[str], precision: str,
     progress: Progress,

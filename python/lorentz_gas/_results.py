@@ -98,6 +98,22 @@ class HopsResult(Result):
         )
 
 
+class TheoryResult(Result):
+    """The corrected Machta–Zwanzig hierarchy: ``D_cf``, ``D_bs``, ``D_1`` and ``orders``
+    (``D_k`` with errors) against the hop-level Green–Kubo ``D_GK`` and ``D_MZ``."""
+
+    def _summary(self) -> str:
+        return f"D_1 = {_pm(self.D_1, self.D_1_err)}, D_GK = {_pm(self.D_GK, self.D_GK_err)} at w = {self.w}"
+
+
+class LatticeWalkResult(Result):
+    """Correlated lattice walks of each order: ``walks`` (simulated and exact D) against
+    ``D_GK``."""
+
+    def _summary(self) -> str:
+        return f"{len(self._data.get('walks', []))} walk orders, D_GK = {_pm(self.D_GK, self.D_GK_err)} at w = {self.w}"
+
+
 class BackscatterResult(Result):
     """Backscattering by injection into one trap."""
 

@@ -138,23 +138,100 @@ fn py_hops(
     checkpoint_every: f64,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
-    let cfg = HopsConfig {
+    let cfg = hop_config(w, collisions, batches, order, seed)?;
+    let engine = inputs::engine(engine)?;
+    let kept = Kept::new(threads, checkpoint, checkpoint_every)?;
+    let r = compute(py, progress, |ctl| {
+        hops::run(&cfg, &kept.options(ctl, engine))
+    })?;
+    json(&r)
+}
+
+/// The configuration of a hop analysis (hops, theory, lattice walks) from the values as typed.
+fn hop_config(
+    w: &str,
+    collisions: &str,
+    batches: &str,
+    order: &str,
+    seed: &str,
+) -> PyResult<HopsConfig> {
+    Ok(HopsConfig {
         w: exact("w", w)?.value,
         collisions: count_u64("collisions", collisions)?,
         batches: count_u32("batches", batches)?,
         order: count_usize("order", order)?,
         seed: count_u64("seed", seed)?,
         run: 0,
-    };
-    let (threads, engine) = (inputs::threads(threads)?, inputs::engine(engine)?);
-    let every = interval(checkpoint_every)?;
+    })
+}
+
+/// The threads and the checkpoint of a resumable analysis, checked before any work.
+struct Kept {
+    threads: usize,
+    checkpoint: Option<PathBuf>,
+    every: Duration,
+}
+
+impl Kept {
+    fn new(threads: Option<&str>, checkpoint: Option<PathBuf>, every: f64) -> PyResult<Self> {
+        Ok(Kept {
+            threads: inputs::threads(threads)?,
+            checkpoint,
+            every: interval(every)?,
+        })
+    }
+
+    fn options<'a>(&self, ctl: &'a Ctl<'a>, engine: Engine) -> RunOptions<'a> {
+        RunOptions {
+            resume: self.checkpoint.clone(),
+            checkpoint_every: self.every,
+            ..options(ctl, self.threads, engine)
+        }
+    }
+}
+
+#[pyfunction]
+#[pyo3(name = "theory", signature = (w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_theory(
+    py: Python<'_>,
+    w: &str,
+    collisions: &str,
+    batches: &str,
+    order: &str,
+    seed: &str,
+    threads: Option<&str>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: f64,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let cfg = hop_config(w, collisions, batches, order, seed)?;
+    let kept = Kept::new(threads, checkpoint, checkpoint_every)?;
     let r = compute(py, progress, |ctl| {
-        let opts = RunOptions {
-            resume: checkpoint,
-            checkpoint_every: every,
-            ..options(ctl, threads, engine)
-        };
-        hops::run(&cfg, &opts)
+        hops::theory::run(&cfg, &kept.options(ctl, Engine::Auto))
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
+#[pyo3(name = "lattice_walk", signature = (w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_lattice_walk(
+    py: Python<'_>,
+    w: &str,
+    collisions: &str,
+    batches: &str,
+    order: &str,
+    seed: &str,
+    threads: Option<&str>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: f64,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let cfg = hop_config(w, collisions, batches, order, seed)?;
+    let kept = Kept::new(threads, checkpoint, checkpoint_every)?;
+    let r = compute(py, progress, |ctl| {
+        hops::lattice_walks::run(&cfg, &kept.options(ctl, Engine::Auto))
     })?;
     json(&r)
 }
@@ -564,6 +641,8 @@ fn py_report(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(py_diffusion, m)?)?;
     m.add_function(wrap_pyfunction!(py_hops, m)?)?;
+    m.add_function(wrap_pyfunction!(py_theory, m)?)?;
+    m.add_function(wrap_pyfunction!(py_lattice_walk, m)?)?;
     m.add_function(wrap_pyfunction!(py_backscatter, m)?)?;
     m.add_function(wrap_pyfunction!(py_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(py_escape, m)?)?;

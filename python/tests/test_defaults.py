@@ -8,7 +8,7 @@ import pytest
 
 import lorentz_gas as lg
 
-FUNCTIONS = ["diffusion", "hops", "backscatter", "sweep", "escape", "lyapunov", "superdiffusion", "audit",
+FUNCTIONS = ["diffusion", "hops", "theory", "lattice_walk", "backscatter", "sweep", "escape", "lyapunov", "superdiffusion", "audit",
              "shadow", "certify", "trajectory", "report"]
 # Python keywords that are not command-line options (or are one under another name).
 NOT_OPTIONS = {"w", "progress", "path", "start", "direction", "time", "events", "scene",
@@ -46,7 +46,7 @@ def as_number(text):
 
 @pytest.mark.parametrize("name", FUNCTIONS)
 def test_defaults_are_the_command_lines(cli, name):
-    cli_d = cli_defaults(cli, name)
+    cli_d = cli_defaults(cli, name.replace("_", "-"))
     checked = 0
     for p in inspect.signature(getattr(lg, name)).parameters.values():
         if p.default is inspect.Parameter.empty or p.name in NOT_OPTIONS:

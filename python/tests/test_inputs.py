@@ -34,6 +34,8 @@ def test_library_refusals_are_the_command_lines_line(cli, kwargs, args):
     line = cli_message(cli, "diffusion", "--collisions", "1000", *args)
     msg = str(e.value)
     assert "\n" not in msg
+    # The library's words, not the command line's: no flag in a Python error.
+    assert "--" not in msg, msg
     assert line.endswith(msg.split(": ", 1)[-1]) or line == "error: " + msg, (line, msg)
 
 
@@ -112,3 +114,11 @@ def test_superdiffusion_refusals_are_the_command_lines_line(cli, kwargs, args):
     msg = str(e.value)
     assert "\n" not in msg
     assert line.endswith(msg.split(": ", 1)[-1]) or line == "error: " + msg, (line, msg)
+
+
+def test_an_option_an_analysis_does_not_use_is_refused():
+    # Lyapunov exponents keep no checkpoint: the keyword is not there to be ignored.
+    with pytest.raises(TypeError, match="checkpoint"):
+        lg.lyapunov(w=0.1, checkpoint="run.ckpt")
+    with pytest.raises(TypeError, match="engine"):
+        lg.escape(w=0.1, engine="scalar")

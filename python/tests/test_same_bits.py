@@ -43,6 +43,15 @@ def test_hops_has_the_command_lines_bits(cli_json):
     same(py.to_dict(), cl)
 
 
+def test_theory_and_lattice_walks_have_the_command_lines_bits(cli_json):
+    args = ["--w", "0.2", "--collisions", "2e6", "--batches", "4", "--order", "3", "--seed", "3"]
+    py = lg.theory(w=0.2, collisions=2e6, batches=4, order=3, seed=3)
+    same(py.to_dict(), cli_json("theory", *args))
+    assert "D_1" in repr(py)
+    py = lg.lattice_walk(w=0.2, collisions=2e6, batches=4, order=3, seed=3)
+    same(py.to_dict(), cli_json("lattice-walk", *args))
+
+
 def test_sweep_has_the_command_lines_bits(cli_json, tmp_path):
     py = lg.sweep(w_from="0.1", w_to="0.2", steps=2, runs=2, collisions_per_run=1e6, batches_per_run=2, seed=5)
     cl = cli_json(

@@ -35,6 +35,7 @@ pub struct MergeConfig {
 /// each) — before anything is written.
 pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error> {
     options.validate()?;
+    options.refuse_unused("merge", &[])?;
     let (dirs, out) = (&cfg.parts, cfg.out.as_path());
     if dirs.is_empty() {
         return Err(Error::Invalid(
@@ -141,7 +142,7 @@ impl Parts {
         let pdir = d.join("points");
         let entries = std::fs::read_dir(&pdir).map_err(|e| {
             Error::Invalid(format!(
-                "{}: no sweep points here ({e}); give the directories that lorentz sweep --shard wrote",
+                "{}: no sweep points here ({e}); give the directories the sweep's parts were written to",
                 d.display()
             ))
         })?;

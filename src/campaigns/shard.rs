@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::resume::{seal, write_atomically};
 use crate::estimators::sweep::points::run_points;
 use crate::estimators::sweep::{SweepConfig, MAX_SWEEP_POINTS};
@@ -40,7 +40,7 @@ impl Shard {
     pub fn parse(text: &str) -> Result<Shard, Error> {
         let bad = || {
             Error::Invalid(format!(
-                "shard = {text:?}: expected I/N with N from 1 to {MAX_SWEEP_POINTS} and I from 0 to N-1 (Slurm: --shard $SLURM_ARRAY_TASK_ID/N with --array=0-(N-1))"
+                "shard = {text:?}: expected I/N with N from 1 to {MAX_SWEEP_POINTS} and I from 0 to N-1 (under Slurm, I is the array task id of an array 0 to N-1)"
             ))
         };
         let (i, n) = text.trim().split_once('/').ok_or_else(bad)?;
@@ -120,9 +120,17 @@ impl ShardConfig {
 pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<ShardReport, Error> {
     cfg.validate()?;
     options.validate()?;
+    options.refuse_unused(
+        "sweep part",
+        &[
+            RunOption::Engine,
+            RunOption::Resume,
+            RunOption::CheckpointEvery,
+        ],
+    )?;
     let Some(dir) = options.resume.as_deref() else {
         return Err(Error::Invalid(
-            "a sweep part is written to a directory: give one (--out)".into(),
+            "a sweep part is written to a directory: give one (the run options' `resume`)".into(),
         ));
     };
     let (sweep, shard) = (&cfg.sweep, cfg.shard);

@@ -188,6 +188,18 @@ pub struct HopCommand {
 }
 
 impl HopCommand {
+    /// The configuration these options give.
+    pub fn config(&self) -> HopsConfig {
+        HopsConfig {
+            w: self.gap.w(),
+            collisions: self.hop.collisions,
+            batches: self.hop.batches,
+            order: self.hop.order,
+            seed: self.run.seed(),
+            run: 0,
+        }
+    }
+
     /// Runs `analysis` with a progress bar over the collisions and prints its result.
     pub fn run<R: serde::Serialize>(
         &self,
@@ -195,14 +207,7 @@ impl HopCommand {
         analysis: impl FnOnce(&HopsConfig, &RunOptions) -> Result<R, lorentz_gas::Error>,
         print: impl FnOnce(&R),
     ) -> Result<(), lorentz_gas::Error> {
-        let cfg = HopsConfig {
-            w: self.gap.w(),
-            collisions: self.hop.collisions,
-            batches: self.hop.batches,
-            order: self.hop.order,
-            seed: self.run.seed(),
-            run: 0,
-        };
+        let cfg = self.config();
         let pb =
             super::progress::Progress::new(self.hop.collisions, "collisions", self.output.quiet);
         let progress = pb.callback();
@@ -429,6 +434,6 @@ mod tests {
             panic!("a square scene")
         };
         let third = Float::with_val(256, Rational::from((1, 3)));
-        assert_eq!(s.kernel::<Float>(256).unwrap().radius, third);
+        assert_eq!(*s.kernel::<Float>(256).unwrap().disks[0].radius(), third);
     }
 }

@@ -27,9 +27,9 @@ pub struct Args {
     output: OutputArgs,
 }
 
-pub fn run(a: Args) -> Result<(), Error> {
-    let pb = Progress::new(a.particles, "injections", a.output.quiet);
-    let cfg = BackscatterConfig {
+/// The configuration these options give.
+pub fn config(a: &Args) -> BackscatterConfig {
+    BackscatterConfig {
         w: a.gap.w(),
         w_exact: a.gap.exact_text(),
         particles: a.particles,
@@ -37,7 +37,12 @@ pub fn run(a: Args) -> Result<(), Error> {
         seed: a.run.seed(),
         run: 0,
         precision: a.precision.precision,
-    };
+    }
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let pb = Progress::new(a.particles, "injections", a.output.quiet);
+    let cfg = config(&a);
     let progress = pb.callback();
     let opts = RunOptions {
         threads: a.run.threads(),

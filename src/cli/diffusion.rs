@@ -45,7 +45,8 @@ pub struct Args {
     output: OutputArgs,
 }
 
-pub fn run(a: Args) -> Result<(), Error> {
+/// The configuration these options give (validated).
+pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
     let w_exact = a.scene.w.as_ref().and_then(|w| w.exact_text());
     let w = match a.scene.resolve()? {
         SceneChoice::Triangular(s) => s.w(),
@@ -66,6 +67,11 @@ pub fn run(a: Args) -> Result<(), Error> {
         check_window: a.check_window,
     };
     cfg.validate()?;
+    Ok(cfg)
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let cfg = config(&a)?;
     let audit = a
         .audit
         .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))

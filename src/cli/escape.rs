@@ -29,17 +29,24 @@ pub struct Args {
     output: OutputArgs,
 }
 
-pub fn run(a: Args) -> Result<(), Error> {
+/// The configuration these options give (validated).
+pub fn config(a: &Args) -> Result<EscapeConfig, Error> {
     lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(a.gap.w())?;
     let cfg = EscapeConfig {
         w: a.gap.w(),
         widths: a
             .widths
+            .clone()
             .unwrap_or_else(|| escape::default_widths(a.gap.w())),
         particles_per_width: a.particles_per_width,
         seed: a.run.seed(),
     };
     cfg.validate()?;
+    Ok(cfg)
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    let cfg = config(&a)?;
     let pb = Progress::new(
         cfg.particles_per_width * cfg.widths.len() as u64,
         "particles",

@@ -10,7 +10,7 @@ use super::args::{EngineArg, HopCommand};
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    hop: HopCommand,
+    pub(super) hop: HopCommand,
     #[command(flatten)]
     engine: EngineArg,
 }

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::report::publication::command_line::CommandLine;
 use lorentz_gas::report::publication::{self, planned_rerun_collisions, AuditConfig, Verdict};
 use lorentz_gas::Error;
 
@@ -38,6 +39,66 @@ pub struct Args {
     output: OutputArgs,
 }
 
+/// A recorded command line read with this command line's own parser (never run): the command
+/// and the configuration it gives, for the audit's provenance check.
+fn read_command_line(line: &[String]) -> CommandLine {
+    let program = line
+        .first()
+        .and_then(|p| std::path::Path::new(p).file_stem())
+        .map(|s| s.to_string_lossy().to_string());
+    if program.as_deref() != Some("lorentz") {
+        return CommandLine::Foreign(format!(
+            "recorded by `{}`, not by the lorentz command line: nothing to parse",
+            line.first().map_or("", String::as_str)
+        ));
+    }
+    let cli = match <super::Cli as clap::Parser>::try_parse_from(line) {
+        Ok(c) => c,
+        Err(e) => {
+            let text = e.to_string();
+            return CommandLine::Refused(text.lines().next().unwrap_or("").to_string());
+        }
+    };
+    use super::Cmd;
+    let command = line.get(1).cloned().unwrap_or_default();
+    let config = match &cli.cmd {
+        Cmd::Diffusion(a) => json(super::diffusion::config(a)),
+        Cmd::Hops(a) => json(Ok(a.hop.config())),
+        Cmd::Theory(a) | Cmd::LatticeWalk(a) => json(Ok(a.config())),
+        Cmd::Backscatter(a) => json(Ok(super::backscatter::config(a))),
+        Cmd::Escape(a) => json(super::escape::config(a)),
+        Cmd::Sweep(a) => json(super::sweep::config(a)),
+        _ => Ok(None),
+    };
+    // The commands whose results `lorentz report` audits write a result of their own name;
+    // `merge` writes the sweep it merges.
+    let writes = match &cli.cmd {
+        Cmd::Merge(_) => Some("sweep".to_string()),
+        Cmd::Diffusion(_)
+        | Cmd::Hops(_)
+        | Cmd::Theory(_)
+        | Cmd::LatticeWalk(_)
+        | Cmd::Backscatter(_)
+        | Cmd::Escape(_)
+        | Cmd::Sweep(_) => Some(command.clone()),
+        _ => None,
+    };
+    match config {
+        Ok(config) => CommandLine::Parsed {
+            command,
+            writes,
+            config,
+        },
+        Err(e) => CommandLine::Refused(e.to_string()),
+    }
+}
+
+/// A configuration as the result file records it.
+fn json<C: serde::Serialize>(c: Result<C, Error>) -> Result<Option<serde_json::Value>, Error> {
+    c.and_then(|c| serde_json::to_value(c).map_err(Error::encode))
+        .map(Some)
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
     let default = {
         let stem = a
@@ -63,7 +124,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         progress: &progress,
         ..RunOptions::default()
     };
-    let r = publication::run(&cfg, &opts)?;
+    let r = publication::run_with(&cfg, &opts, Some(&read_command_line))?;
     drop(progress);
     drop(bar);
     let out = &cfg.out;

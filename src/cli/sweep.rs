@@ -77,8 +77,13 @@ pub struct Args {
     output: OutputArgs,
 }
 
+/// The configuration of the whole sweep these options give (validated).
+pub fn config(a: &Args) -> Result<lorentz_gas::estimators::sweep::SweepConfig, Error> {
+    a.grid.config(a.run.seed())
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
-    let cfg = a.grid.config(a.run.seed())?;
+    let cfg = config(&a)?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     if let Some(s) = shard {
         s.validate(&cfg)?;

@@ -84,7 +84,7 @@ impl Engine {
             }
             (Engine::Simd, true) => Ok(Resolved::Simd(SimdPath::select()?)),
             (Engine::Simd, false) => Err(Error::Invalid(
-                "--engine simd runs f64 only: use --engine scalar (or auto) with an MPFR precision"
+                "the SIMD engine runs f64 only: use the scalar engine (or auto) with an MPFR precision"
                     .into(),
             )),
         }

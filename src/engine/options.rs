@@ -179,9 +179,87 @@ impl std::fmt::Debug for RunOptions<'_> {
     }
 }
 
+/// An option of [`RunOptions`] that an analysis may not use. `threads`, `progress` and `stop`
+/// are taken by every analysis (a stop request is honoured at the analysis's next boundary of
+/// work); these four are not, and an analysis refuses each it does not use
+/// ([`RunOptions::refuse_unused`]) rather than ignore it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunOption {
+    /// [`RunOptions::engine`] other than [`Engine::Auto`].
+    Engine,
+    /// [`RunOptions::resume`] given.
+    Resume,
+    /// [`RunOptions::audit`] given.
+    Audit,
+    /// [`RunOptions::checkpoint_every`] other than [`DEFAULT_CHECKPOINT_EVERY`].
+    CheckpointEvery,
+}
+
+impl RunOption {
+    /// Every option that can be refused.
+    pub const ALL: [RunOption; 4] = [
+        RunOption::Engine,
+        RunOption::Resume,
+        RunOption::Audit,
+        RunOption::CheckpointEvery,
+    ];
+
+    /// The field of [`RunOptions`] it is.
+    pub fn field(self) -> &'static str {
+        match self {
+            RunOption::Engine => "engine",
+            RunOption::Resume => "resume",
+            RunOption::Audit => "audit",
+            RunOption::CheckpointEvery => "checkpoint_every",
+        }
+    }
+}
+
+impl std::fmt::Display for RunOption {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.field())
+    }
+}
+
 impl RunOptions<'_> {
+    /// Whether `option` is set away from its default.
+    pub fn is_set(&self, option: RunOption) -> bool {
+        match option {
+            RunOption::Engine => self.engine != Engine::Auto,
+            RunOption::Resume => self.resume.is_some(),
+            RunOption::Audit => self.audit.is_some(),
+            RunOption::CheckpointEvery => self.checkpoint_every != DEFAULT_CHECKPOINT_EVERY,
+        }
+    }
+
+    /// Refuses, with [`Error::UnusedOption`], the first option set away from its default that
+    /// `analysis` does not use (`uses`): an option that would be ignored is an error, never a
+    /// silent no-op.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::engine::options::{RunOption, RunOptions};
+    /// let opts = RunOptions { resume: Some("run.ckpt".into()), ..RunOptions::default() };
+    /// assert!(opts.refuse_unused("diffusion", &[RunOption::Resume]).is_ok());
+    /// let e = opts.refuse_unused("lyapunov", &[]).unwrap_err();
+    /// assert_eq!(e.to_string(), "lyapunov does not use the run option `resume`: leave it unset");
+    /// ```
+    pub fn refuse_unused(&self, analysis: &'static str, uses: &[RunOption]) -> Result<(), Error> {
+        match RunOption::ALL
+            .into_iter()
+            .find(|o| self.is_set(*o) && !uses.contains(o))
+        {
+            Some(option) => Err(Error::UnusedOption { analysis, option }),
+            None => Ok(()),
+        }
+    }
+
     /// Checks the thread count and the audit before any work.
     pub fn validate(&self) -> Result<(), Error> {
+        if cfg!(not(feature = "checkpoints")) && self.resume.is_some() {
+            return Err(Error::Invalid(super::resume::NO_CHECKPOINTS.into()));
+        }
         if self.threads == 0 {
             return Err(Error::Zero { what: "threads" });
         }

@@ -25,7 +25,6 @@ use std::sync::Mutex;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
-use sha2::{Digest, Sha256};
 
 use super::metadata::RunMeta;
 use crate::Error;
@@ -36,7 +35,8 @@ use crate::Error;
 /// trajectories).
 pub const FORMAT: u32 = 5;
 
-/// The SHA-256 digest of `bytes`, as 64 lower-case hex digits.
+/// The SHA-256 digest of `bytes`, as 64 lower-case hex digits: the crate's one SHA-256 helper
+/// (journals, sealed files, the publication audit's file digest). Feature `checkpoints`.
 ///
 /// # Examples
 ///
@@ -47,7 +47,9 @@ pub const FORMAT: u32 = 5;
 ///     "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
 /// );
 /// ```
+#[cfg(feature = "checkpoints")]
 pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::{Digest, Sha256};
     Sha256::digest(bytes)
         .iter()
         .map(|b| format!("{b:02x}"))
@@ -57,13 +59,21 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
 /// The digest of a JSON value: SHA-256 of `salt`, a newline and the value's compact JSON (keys
 /// in the order serde_json keeps them, which a parse and a re-serialisation preserve; numbers
 /// round-trip exactly).
-fn digest_of(salt: &str, v: &Value) -> String {
-    let mut h = Sha256::new();
-    h.update(salt.as_bytes());
-    h.update(b"\n");
-    h.update(v.to_string().as_bytes());
-    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+#[cfg(feature = "checkpoints")]
+fn digest_of(salt: &str, v: &Value) -> Result<String, Error> {
+    Ok(sha256_hex(format!("{salt}\n{v}").as_bytes()))
 }
+
+/// Without the `checkpoints` feature nothing is digested: journals and sealed files are
+/// refused (and [`super::options::RunOptions::validate`] refuses `resume` before any work).
+#[cfg(not(feature = "checkpoints"))]
+fn digest_of(_salt: &str, _v: &Value) -> Result<String, Error> {
+    Err(Error::Invalid(NO_CHECKPOINTS.into()))
+}
+
+/// Why a build without the `checkpoints` feature refuses to keep or resume work.
+pub const NO_CHECKPOINTS: &str = "this build of lorentz-gas keeps no checkpoints or sealed \
+     files: build the library with its `checkpoints` feature (on by default)";
 
 /// The first line of a journal.
 #[derive(Serialize, Deserialize)]
@@ -122,7 +132,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
                     meta,
                 })
                 .map_err(|e| Error::Invalid(format!("journal header: {e}")))?;
-                let salt = digest_of("", &h);
+                let salt = digest_of("", &h)?;
                 h["digest"] = Value::String(salt.clone());
                 (h.to_string(), salt, Vec::new())
             }
@@ -153,7 +163,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
     fn line(&self, record: &R) -> Result<String, Error> {
         let v = serde_json::to_value(record)
             .map_err(|e| Error::Invalid(format!("journal record: {e}")))?;
-        let digest = digest_of(&self.salt, &v);
+        let digest = digest_of(&self.salt, &v)?;
         let mut line = serde_json::json!({ "digest": digest, "record": v }).to_string();
         line.push('\n');
         Ok(line)
@@ -286,7 +296,7 @@ fn check_header<C: Serialize>(
             h.format
         )));
     }
-    let salt = digest_of("", &v);
+    let salt = digest_of("", &v)?;
     if digest.as_deref() != Some(salt.as_str()) {
         return Err(Error::Invalid(format!(
             "{} line 1: the header does not match its digest (edited): use another file",
@@ -320,7 +330,7 @@ fn check_record(path: &Path, n: usize, line: &str, salt: &str) -> Result<Value, 
     if v.as_object().map_or(0, |o| o.len()) != 2 {
         return Err(bad("unknown fields beside the record"));
     }
-    if *d != digest_of(salt, r) {
+    if *d != digest_of(salt, r)? {
         return Err(bad("the record does not match its digest"));
     }
     Ok(v)
@@ -334,7 +344,7 @@ fn check_record(path: &Path, n: usize, line: &str, salt: &str) -> Result<Value, 
 /// If `x` is not a JSON object.
 pub fn seal<T: Serialize>(x: &T) -> Result<String, Error> {
     let mut v = serde_json::to_value(x).map_err(|e| Error::Invalid(format!("{e}")))?;
-    let d = digest_of("", &v);
+    let d = digest_of("", &v)?;
     let Some(o) = v.as_object_mut() else {
         return Err(Error::Invalid("only a JSON object can be sealed".into()));
     };
@@ -359,7 +369,7 @@ pub fn unseal<T: DeserializeOwned>(path: &Path, text: &str, what: &str) -> Resul
         Some(Value::String(d)) => d,
         _ => return Err(bad("no digest".into())),
     };
-    if d != digest_of("", &v) {
+    if d != digest_of("", &v)? {
         return Err(bad("the content does not match its digest".into()));
     }
     serde_json::from_value(v).map_err(|e| bad(e.to_string()))
@@ -445,7 +455,7 @@ pub fn io_error(op: &'static str, path: &Path, e: std::io::Error) -> Error {
     Error::io(op, path)(e)
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "checkpoints"))]
 mod tests {
     use super::*;
 

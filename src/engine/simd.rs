@@ -71,7 +71,7 @@ impl<V: Lanes> Consts<V> {
                 [V::splat(t.centres[1].x), V::splat(t.centres[1].y)],
                 [V::splat(t.centres[2].x), V::splat(t.centres[2].y)],
             ],
-            certain: V::splat(t.choice.certain),
+            certain: V::splat(t.choice().certain),
         }
     }
 }
@@ -457,7 +457,7 @@ pub(super) fn run<V: Lanes, O: Observer<BLOCK>>(
     obs: &mut O,
     progress: &dyn Fn(u64),
 ) -> Option<usize> {
-    if trap.choice.disks_by_beta {
+    if trap.choice().disks_by_beta {
         run_with::<V, O, true>(trap, counts, ring, obs, progress)
     } else {
         run_with::<V, O, false>(trap, counts, ring, obs, progress)

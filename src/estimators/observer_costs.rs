@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::throughput::{advance, lanes, median, starts, thread_pool, Observe, MAX_REPETITIONS};
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOption, RunOptions};
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
@@ -117,6 +117,7 @@ pub struct ObserverCosts {
 /// (the observers changed the dynamics: a bug).
 pub fn run(cfg: &ObserverCostsConfig, options: &RunOptions) -> Result<ObserverCosts, Error> {
     options.validate()?;
+    options.refuse_unused("observer costs", &[RunOption::Engine])?;
     cfg.validate()?;
     let threads = options.threads;
     let engine = options.engine.resolve(true)?;

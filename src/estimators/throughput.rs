@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::engine::bound::{self, DividerBound};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Nothing, Observer, CROSSING_CODE};
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::simd::BLOCK;
 use crate::engine::{drive, run_block, Resolved};
 use crate::estimators::diffusion::DiffusionConfig;
@@ -333,6 +333,7 @@ impl ThroughputConfig {
 /// A gap that is not positive, no collisions, repetitions out of range, or invalid options.
 pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, Error> {
     options.validate()?;
+    options.refuse_unused("throughput", &[RunOption::Engine])?;
     let ThroughputConfig {
         w,
         precision,

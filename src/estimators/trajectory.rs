@@ -283,6 +283,7 @@ pub fn run<S: Scene>(
     options: &RunOptions,
 ) -> Result<TrajectoryReport, Error> {
     options.validate()?;
+    options.refuse_unused("trajectory", &[])?;
     let (record_events, progress) = (input.record_events, options.progress);
     let plan = plan(scene, input)?;
     let max_events = (plan.expected_events * EVENT_SLACK) as u64 + 10_000;
@@ -342,8 +343,9 @@ fn run_at<S: Scene>(
     let lat = scene.lattice::<Float>(bits)?;
     let (cell, pos) = scene.locate::<Float>(bits, &input.x, &input.y)?;
     let kernel = lat.cell();
-    for c in &kernel.disks {
-        if (pos.sub(c).norm2() - &kernel.radius2).lt0() {
+    for d in &kernel.disks {
+        let c = &d.centre;
+        if (pos.sub(c).norm2() - d.radius2()).lt0() {
             let centre = lat.world(&LatticeState {
                 cell,
                 flight: Flight::new(c.clone(), c.clone()),
@@ -354,7 +356,7 @@ fn run_at<S: Scene>(
                 crate::numbers::exact::nearest_f64(&input.y),
                 centre.x.to_f64(),
                 centre.y.to_f64(),
-                kernel.radius.to_f64()
+                d.radius().to_f64()
             )));
         }
     }

@@ -2,7 +2,7 @@
 //!
 //! A scene describes its fundamental cell as a [`ConvexCell`]: a convex polygon (its edges as
 //! inward unit normals nₖ and offsets oₖ, the signed distance to Eₖ being σₖ(p) = nₖ·p − oₖ),
-//! the centres of the disks that can be met inside it (all of one radius r), and for every
+//! the disks that can be met inside it (each a [`Disk`]: an exact centre and its own radius), and for every
 //! edge the exact map into the neighbouring cell's frame ([`EdgeMap`]: a translation or a point
 //! reflection), the labels the current exclusions take over there, and the integer step of the
 //! cell index for unwrapping. The kernel then needs nothing else:
@@ -12,7 +12,8 @@
 //!   out of (σₖ/(−nₖ·v), or 0 if the start is numerically beyond the edge), the disk left and
 //!   the edge entered by being excluded **by identity**; ties go to the lower disk label, then
 //!   collisions before crossings, then the lower edge label;
-//! * a collision is the specular reflection v' = v − 2(v·n)n/r², n = x − c, times the Newton
+//! * a collision is the specular reflection v' = v − 2(v·n)n/r², n = x − c (r the radius of the
+//!   disk met), times the Newton
 //!   factor (3 − |v|²)/2 (`proofs-notes/energy.md`); a crossing maps position and velocity
 //!   into the neighbour's frame exactly as the edge says.
 //!
@@ -75,18 +76,48 @@ pub struct LatticeBasis<T> {
     pub h: T,
 }
 
-/// A convex polygonal cell with disk obstacles of one radius: everything the generic kernel
-/// knows about a scene.
+/// A disk obstacle: its centre in the cell's frame and its radius, with r² kept beside it (the
+/// only way to build one is [`Disk::new`], so r² is always the rounded square of r).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Disk<T> {
+    /// Centre, in the cell's frame.
+    pub centre: Vec2<T>,
+    radius: T,
+    radius2: T,
+}
+
+impl<T: Real> Disk<T> {
+    /// The disk of radius `radius` (> 0, at the working precision) centred at `centre`.
+    pub fn new(centre: Vec2<T>, radius: T) -> Self {
+        let radius2 = radius.square();
+        Disk {
+            centre,
+            radius,
+            radius2,
+        }
+    }
+
+    /// The radius r.
+    #[inline]
+    pub fn radius(&self) -> &T {
+        &self.radius
+    }
+
+    /// r², rounded once at the working precision.
+    #[inline]
+    pub fn radius2(&self) -> &T {
+        &self.radius2
+    }
+}
+
+/// A convex polygonal cell with disk obstacles, each of its own radius: everything the generic
+/// kernel knows about a scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ConvexCell<T> {
     /// Polygon corners, counter-clockwise (for sampling and plots; the kernel uses the edges).
     pub corners: Vec<Vec2<T>>,
-    /// Disk radius r.
-    pub radius: T,
-    /// r², at the working precision.
-    pub radius2: T,
-    /// Centres of the disks that can be met inside the cell.
-    pub disks: Vec<Vec2<T>>,
+    /// The disks that can be met inside the cell.
+    pub disks: Vec<Disk<T>>,
     /// The edges.
     pub edges: Vec<Edge<T>>,
     /// The lattice of cells.
@@ -99,9 +130,18 @@ impl<T: Real> ConvexCell<T> {
     pub fn extent(&self) -> f64 {
         self.corners
             .iter()
-            .chain(&self.disks)
+            .chain(self.disks.iter().map(|d| &d.centre))
             .flat_map(|p| [p.x.to_f64().abs(), p.y.to_f64().abs()])
             .fold(0.0, f64::max)
+    }
+
+    /// The smallest disk radius (as the nearest double; infinite for a cell without disks): the
+    /// scale of the relative errors at a contact point.
+    pub fn smallest_radius(&self) -> f64 {
+        self.disks
+            .iter()
+            .map(|d| d.radius.to_f64())
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// Signed distance from `p` to edge `k` (positive inside the cell).
@@ -118,7 +158,7 @@ impl<T: Real> ConvexCell<T> {
             && self
                 .disks
                 .iter()
-                .all(|c| !(p.sub(c).norm2() - &self.radius2).lt0())
+                .all(|d| !(p.sub(&d.centre).norm2() - &d.radius2).lt0())
     }
 
     /// The next event of the straight flight `f`, or `None` if there is none (only for a zero
@@ -128,7 +168,7 @@ impl<T: Real> ConvexCell<T> {
     ///
     /// ```
     /// use lorentz_gas::kernel::{trap::Trap, flight::EventKind, flight::Flight, vec2::Vec2};
-    /// let cell = Trap::new(0.1f64).unwrap().cell;
+    /// let cell = Trap::new(0.1f64).unwrap().cell().clone();
     /// // From the middle of the base gap straight up: head-on with the apex disk P₂.
     /// let f = Flight::new(Vec2::new(1.05, 0.0), Vec2::new(0.0, 1.0));
     /// assert_eq!(cell.next_event(&f).unwrap().kind, EventKind::Collision(2));
@@ -142,11 +182,12 @@ impl<T: Real> ConvexCell<T> {
                 best = Some(Event { kind, time: t });
             }
         };
-        for (m, c) in self.disks.iter().enumerate() {
+        for (m, d) in self.disks.iter().enumerate() {
             let m = m as u8;
             if f.excluded_disk != Some(m) {
+                let c = &d.centre;
                 let (dx, dy) = (p.x.clone() - &c.x, p.y.clone() - &c.y);
-                if let Some(t) = ray_circle_centred(dx, dy, v, &vv, &self.radius2) {
+                if let Some(t) = ray_circle_centred(dx, dy, v, &vv, &d.radius2) {
                     offer(t, EventKind::Collision(m));
                 }
             }
@@ -175,9 +216,10 @@ impl<T: Real> ConvexCell<T> {
         let x = f.pos.along(&ev.time, &f.vel);
         match ev.kind {
             EventKind::Collision(m) => {
-                let n = x.sub(&self.disks[m as usize]);
+                let d = &self.disks[m as usize];
+                let n = x.sub(&d.centre);
                 let k = (-f.vel.norm2()).add_f64(3.0).scale(0.5);
-                let s = f.vel.dot(&n).scale(2.0) / &self.radius2;
+                let s = f.vel.dot(&n).scale(2.0) / &d.radius2;
                 f.vel.x -= &(n.x.clone() * &s);
                 f.vel.y -= &(n.y * &s);
                 f.vel.x *= &k;

@@ -2,7 +2,7 @@
 //!
 //! At MPFR precision most of an event's cost is the arithmetic of candidates that lose: the
 //! roots of disks that are not hit first and the quotients of edges that are not crossed first.
-//! Here every candidate of the full comparison ([`Trap::next_event_compared`]) is first evaluated
+//! Here every candidate of the full comparison ([`super::trap::Trap::next_event_compared`]) is first evaluated
 //! with [`Ball`]s — `f64` midpoint–radius enclosures of the values the working precision
 //! computes, by the same sequence of operations — and when the balls decide every sign the full
 //! comparison tests and put one candidate's time strictly before all the others, only that
@@ -13,10 +13,8 @@
 //! decides by a tolerance, it only skips work whose outcome it has proved
 //! (`proofs-notes/certified-filter.md`).
 
-use super::choice::edge_time;
-use super::flight::{Event, EventKind, Flight};
-use super::ray_disk::approach;
-use super::trap::Trap;
+use super::flight::Flight;
+use super::vec2::Vec2;
 use crate::numbers::ball::Ball;
 use crate::numbers::real::Real;
 
@@ -32,16 +30,14 @@ pub struct TrapBalls {
 }
 
 impl TrapBalls {
-    /// Balls around the trap's working-precision constants.
-    pub fn new<T: Real>(t: &Trap<T>) -> Self {
+    /// Balls around a trap's working-precision constants: the slanted normals' x component
+    /// `k` = √3/2, the height `h` and the disk centres P₁, P₂.
+    pub fn new<T: Real>(k: &T, h: &T, p1: &Vec2<T>, p2: &Vec2<T>) -> Self {
         let b = |x: &T| Ball::around(x.to_f64());
         TrapBalls {
-            k: b(&t.normals[1].x),
-            h: b(&t.h),
-            centres: [
-                [b(&t.vertices[1].x), b(&t.vertices[1].y)],
-                [b(&t.vertices[2].x), b(&t.vertices[2].y)],
-            ],
+            k: b(k),
+            h: b(h),
+            centres: [[b(&p1.x), b(&p1.y)], [b(&p2.x), b(&p2.y)]],
         }
     }
 }
@@ -165,34 +161,11 @@ fn certain_first(seen: &[Seen; 6]) -> Option<usize> {
     alone.then_some(i)
 }
 
-/// The next event of `f`, exactly as [`Trap::next_event_compared`] finds it, when the balls
-/// decide it; `None` when they cannot (the caller then compares every candidate).
+/// The candidate of `f`'s next event (0–2 the disks, 3–5 the edges) when the balls `balls` of
+/// its trap decide it: the one [`super::trap::Trap::next_event_compared`] finds, whose time the
+/// trap then computes alone ([`super::trap::Trap::next_event_decided`]); `None` when they
+/// cannot decide (the caller then compares every candidate).
 #[inline(always)]
-pub fn next_event<T: Real>(trap: &Trap<T>, f: &Flight<T>) -> Option<Event<T>> {
-    let chosen = certain_first(&candidates(&trap.balls, f))?;
-    let (p, v) = (&f.pos, &f.vel);
-    if chosen < 3 {
-        let m = chosen as u8;
-        // As the full comparison forms d: p itself for P₀ = (0, 0).
-        let d = if m == 0 {
-            p.clone()
-        } else {
-            p.sub(&trap.vertices[m as usize])
-        };
-        let a = approach(d.x, d.y, v, v.norm2())?;
-        return Some(Event {
-            kind: EventKind::Collision(m),
-            time: a.entry(None),
-        });
-    }
-    let e = (chosen - 3) as u8;
-    let (mut nv, sigma) = match e {
-        2 => (v.y.clone(), p.y.clone()),
-        _ => trap.slanted_edge(e, p, v),
-    };
-    nv.neg_mut();
-    Some(Event {
-        kind: EventKind::Crossing(e),
-        time: edge_time(sigma, &nv),
-    })
+pub fn decide<T: Real>(balls: &TrapBalls, f: &Flight<T>) -> Option<usize> {
+    certain_first(&candidates(balls, f))
 }

@@ -13,9 +13,9 @@
 //! the midpoint of Eₖ, p ↦ cₖ − p with cₖ = sum of the endpoints of Eₖ, and v ↦ −v (exact).
 //! The two endpoint disks of Eₖ swap labels; the opposite disk leaves the candidate set.
 
-use super::cell::{CellKernel, ConvexCell, Edge, EdgeMap, LatticeBasis};
+use super::cell::{CellKernel, ConvexCell, Disk, Edge, EdgeMap, LatticeBasis};
 use super::certified::{self, TrapBalls};
-use super::choice::{first, Choice, EarliestDisk, EarliestEdge};
+use super::choice::{edge_time, first, Choice, EarliestDisk, EarliestEdge};
 use super::flight::{Event, EventKind, Flight};
 use super::ray_disk::{approach, ray_disk_centred};
 use super::vec2::Vec2;
@@ -39,14 +39,16 @@ pub struct Trap<T: Real> {
     pub offsets: [T; 3],
     /// Reflection centres cₖ = sum of the endpoints of Eₖ.
     pub centres: [Vec2<T>; 3],
-    /// How [`Trap::next_event_chosen`] (and the SIMD engine) choose before dividing.
-    pub choice: Choice<T>,
+    /// How [`Trap::next_event_chosen`] (and the SIMD engine) choose before dividing: derived
+    /// from w, read through [`Trap::choice`].
+    choice: Choice<T>,
     /// The same trap as a generic [`ConvexCell`] of the triangular lattice (e₁ = (a, 0),
-    /// e₂ = (a/2, h)); its generic kernel and the fused one here agree bit for bit.
-    pub cell: ConvexCell<T>,
+    /// e₂ = (a/2, h)); its generic kernel and the fused one here agree bit for bit. Derived
+    /// from w, read through [`Trap::cell`].
+    cell: ConvexCell<T>,
     /// The constants as `f64` balls, for deciding events before computing them
     /// ([`super::certified`]).
-    pub balls: TrapBalls,
+    balls: TrapBalls,
 }
 
 /// The lattice spacing a = 2 + w of a positive finite gap `w` at its working precision (the
@@ -67,6 +69,17 @@ pub fn spacing<T: Real>(w: &T) -> Result<T, Error> {
 }
 
 impl<T: Real> Trap<T> {
+    /// How [`Trap::next_event_chosen`] and the SIMD engine choose before dividing.
+    pub fn choice(&self) -> &Choice<T> {
+        &self.choice
+    }
+
+    /// The same trap as a generic [`ConvexCell`] (its kernel agrees with the fused one bit for
+    /// bit).
+    pub fn cell(&self) -> &ConvexCell<T> {
+        &self.cell
+    }
+
     /// The canonical trap at gap `w > 0` (any precision ≥ 53 bits).
     ///
     /// # Examples
@@ -117,9 +130,10 @@ impl<T: Real> Trap<T> {
             .collect();
         let cell = ConvexCell {
             corners: vertices.to_vec(),
-            radius: T::one(ctx),
-            radius2: T::one(ctx),
-            disks: vertices.to_vec(),
+            disks: vertices
+                .iter()
+                .map(|c| Disk::new(c.clone(), T::one(ctx)))
+                .collect(),
             edges,
             lattice: LatticeBasis {
                 a: a.clone(),
@@ -141,7 +155,12 @@ impl<T: Real> Trap<T> {
             cell,
             balls: TrapBalls::default(),
         };
-        trap.balls = TrapBalls::new(&trap);
+        trap.balls = TrapBalls::new(
+            &trap.normals[1].x,
+            &trap.h,
+            &trap.vertices[1],
+            &trap.vertices[2],
+        );
         Ok(trap)
     }
 
@@ -202,11 +221,44 @@ impl<T: Real> Trap<T> {
     #[inline(always)]
     pub fn next_event(&self, f: &Flight<T>) -> Option<Event<T>> {
         if T::DECIDE_IN_BALLS {
-            if let Some(ev) = certified::next_event(self, f) {
+            if let Some(ev) = self.next_event_decided(f) {
                 return Some(ev);
             }
         }
         self.next_event_compared(f)
+    }
+
+    /// The next event of `f`, exactly as [`Trap::next_event_compared`] finds it, when the balls
+    /// decide it ([`certified::decide`]): only the chosen candidate's time is computed, by the
+    /// full comparison's own operations. `None` when the balls cannot decide.
+    #[inline(always)]
+    pub fn next_event_decided(&self, f: &Flight<T>) -> Option<Event<T>> {
+        let chosen = certified::decide(&self.balls, f)?;
+        let (p, v) = (&f.pos, &f.vel);
+        if chosen < 3 {
+            let m = chosen as u8;
+            // As the full comparison forms d: p itself for P₀ = (0, 0).
+            let d = if m == 0 {
+                p.clone()
+            } else {
+                p.sub(&self.vertices[m as usize])
+            };
+            let a = approach(d.x, d.y, v, v.norm2())?;
+            return Some(Event {
+                kind: EventKind::Collision(m),
+                time: a.entry(None),
+            });
+        }
+        let e = (chosen - 3) as u8;
+        let (mut nv, sigma) = match e {
+            2 => (v.y.clone(), p.y.clone()),
+            _ => self.slanted_edge(e, p, v),
+        };
+        nv.neg_mut();
+        Some(Event {
+            kind: EventKind::Crossing(e),
+            time: edge_time(sigma, &nv),
+        })
     }
 
     /// The full comparison: the next event of `f` among every candidate's rounded time, the

@@ -81,10 +81,14 @@ pub struct ReproduceReport {
     pub meta: RunMeta,
 }
 
-#[derive(Serialize, serde::Deserialize)]
+/// A finished step's marker, sealed ([`crate::engine::resume::seal`]): the budget, version and
+/// seed it was made with, so that a reproduction with another seed never takes it as its own.
+#[derive(Debug, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 struct Done {
     budget: String,
     version: String,
+    seed: u64,
     seconds: f64,
     files: Vec<String>,
 }
@@ -211,7 +215,7 @@ impl Reproduction<'_> {
     fn step(&mut self, k: usize, step: Step) -> Result<StepRecord, Error> {
         let sub = self.dir.join(step.name());
         let marker = sub.join("done.json");
-        if let Some(d) = self.finished(&marker) {
+        if let Some(d) = self.finished(&marker)? {
             self.resume(k, step, &sub)?;
             return Ok(StepRecord {
                 name: step.name().into(),
@@ -229,15 +233,12 @@ impl Reproduction<'_> {
         let done = Done {
             budget: self.budget.name().into(),
             version: env!("CARGO_PKG_VERSION").into(),
+            seed: self.seed,
             seconds,
             files: files.clone(),
         };
-        crate::engine::resume::write_atomically(
-            &marker,
-            serde_json::to_string_pretty(&done)
-                .map_err(Error::encode)?
-                .as_bytes(),
-        )?;
+        let sealed = crate::engine::resume::seal(&done)?;
+        crate::engine::resume::write_atomically(&marker, sealed.as_bytes())?;
         Ok(StepRecord {
             name: step.name().into(),
             title: step.title().into(),
@@ -247,12 +248,13 @@ impl Reproduction<'_> {
         })
     }
 
-    /// The `done.json` marker at `marker`, if it is of this budget and this version.
-    fn finished(&self, marker: &Path) -> Option<Done> {
-        crate::files::read_to_string(marker)
-            .ok()
-            .and_then(|t| serde_json::from_str::<Done>(&t).ok())
-            .filter(|d| d.budget == self.budget.name() && d.version == env!("CARGO_PKG_VERSION"))
+    /// The `done.json` marker at `marker`, if there is one of this budget and this version.
+    ///
+    /// # Errors
+    /// A marker that is not intact (edited, unsealed, of an older layout), or one made with
+    /// another seed: the step's files are another reproduction's, and the folder is refused.
+    fn finished(&self, marker: &Path) -> Result<Option<Done>, Error> {
+        finished_step(marker, self.budget.name(), self.seed)
     }
 
     /// A finished step taken over: reported as resumed, and the sweeps re-analysed.
@@ -604,9 +606,54 @@ fn index_html(dir: &Path, r: &ReproduceReport) -> String {
     s + "</body></html>\n"
 }
 
+/// The marker of a finished step at `marker` (see [`Reproduction::finished`]).
+fn finished_step(marker: &Path, budget: &str, seed: u64) -> Result<Option<Done>, Error> {
+    if !marker.exists() {
+        return Ok(None);
+    }
+    let text = crate::files::read_to_string(marker)?;
+    let d: Done = crate::engine::resume::unseal(marker, &text, "step marker")?;
+    if d.seed != seed {
+        return Err(Error::Invalid(format!(
+            "{} was made with seed {} and this reproduction has seed {}: use another folder \
+             (or seed {})",
+            marker.display(),
+            d.seed,
+            seed,
+            d.seed
+        )));
+    }
+    Ok((d.budget == budget && d.version == env!("CARGO_PKG_VERSION")).then_some(d))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_step_marker_of_another_seed_or_edited_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let marker = dir.path().join("done.json");
+        assert!(finished_step(&marker, "quick", 2).unwrap().is_none());
+        let done = Done {
+            budget: "quick".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            seed: 1,
+            seconds: 1.5,
+            files: vec!["d-table/table.md".into()],
+        };
+        let sealed = crate::engine::resume::seal(&done).unwrap();
+        std::fs::write(&marker, &sealed).unwrap();
+        assert_eq!(finished_step(&marker, "quick", 1).unwrap().unwrap().seed, 1);
+        assert!(finished_step(&marker, "paper", 1).unwrap().is_none());
+        let e = finished_step(&marker, "quick", 2).unwrap_err().to_string();
+        assert!(e.contains("seed 1") && e.contains("seed 2"), "{e}");
+        // The seed edited without the digest, and the unsealed layout of earlier versions.
+        std::fs::write(&marker, sealed.replace("\"seed\": 1", "\"seed\": 2")).unwrap();
+        assert!(finished_step(&marker, "quick", 2).is_err());
+        std::fs::write(&marker, serde_json::to_string(&done).unwrap()).unwrap();
+        assert!(finished_step(&marker, "quick", 1).is_err());
+    }
 
     #[test]
     fn markdown_tables_become_html() {

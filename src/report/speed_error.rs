@@ -149,6 +149,7 @@ pub struct SpeedErrorConfig {
 /// A gap outside (0, w∞), invalid options, or an I/O error.
 pub fn run(cfg: &SpeedErrorConfig, options: &RunOptions) -> Result<(SpeedReport, String), Error> {
     options.validate()?;
+    options.refuse_unused("speed against error", &[])?;
     let (w, dir, seed) = (cfg.w, cfg.out.as_path(), cfg.seed);
     let (threads, progress) = (options.threads, options.progress);
     crate::scenes::triangular::geometry::check_diffusive_gap(w)?;

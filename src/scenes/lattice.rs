@@ -370,7 +370,7 @@ mod tests {
         for down in [false, true] {
             let c = CellIndex { i: 3, j: -2, down };
             for k in 0..3u8 {
-                let e = &t.cell.edges[k as usize];
+                let e = &t.cell().edges[k as usize];
                 assert_eq!(c.across(e).across(e), c);
                 // The world image of a point on edge k is the same seen from both traps.
                 let mid = Vec2::new(t.centres[k as usize].x / 2.0, t.centres[k as usize].y / 2.0);

@@ -100,4 +100,13 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// `true` if every free flight is bounded (no collision-free corridor): only then does the
     /// diffusion coefficient exist as a finite Einstein limit.
     fn finite_horizon(&self) -> bool;
+
+    /// The mean time between crossings of the cell's edges at speed 1, in closed form:
+    /// τ = π|Q|/L, |Q| the free area of a cell and L the free length of its edges (the part of
+    /// each edge outside every disk; `proofs-notes/crossing-time.md`). The diffusion estimator
+    /// samples the MSD on a grid of this unit and checks the measured τ against it. `None`
+    /// (the default): the scene does not supply it, and time is measured in mean free times.
+    fn crossing_time(&self) -> Option<f64> {
+        None
+    }
 }

@@ -14,7 +14,7 @@ use rug::Rational;
 
 use super::lattice::{CellIndex, LatticeState};
 use super::Scene;
-use crate::kernel::cell::{ConvexCell, Edge, EdgeMap, LatticeBasis};
+use crate::kernel::cell::{ConvexCell, Disk, Edge, EdgeMap, LatticeBasis};
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
@@ -109,9 +109,7 @@ impl Scene for SquareScene {
         ];
         Ok(ConvexCell {
             corners: vec![v(&ph, &mh), v(&ph, &ph), v(&mh, &ph), v(&mh, &mh)],
-            radius2: r.square(),
-            radius: r,
-            disks: vec![v(&z, &z)],
+            disks: vec![Disk::new(v(&z, &z), r)],
             edges,
             lattice: LatticeBasis {
                 a: one.clone(),
@@ -168,5 +166,11 @@ impl Scene for SquareScene {
 
     fn finite_horizon(&self) -> bool {
         false
+    }
+
+    /// τ = π(1 − πr²)/4: the unit square's four edges lie outside the disk (r < ½), L = 4.
+    fn crossing_time(&self) -> Option<f64> {
+        let r = self.r64;
+        Some(std::f64::consts::PI * (1.0 - std::f64::consts::PI * r * r) / 4.0)
     }
 }

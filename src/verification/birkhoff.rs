@@ -57,10 +57,10 @@ pub fn state_from_birkhoff(cell: &ConvexCell<Float>, s: &Float, p: &Float) -> La
         cphi.clone() * &n.x + &(p.clone() * &t.x),
         cphi * &n.y + &(p.clone() * &t.y),
     );
-    let c = &cell.disks[0];
+    let (c, r) = (&cell.disks[0].centre, cell.disks[0].radius());
     let pos = Vec2::new(
-        c.x.clone() + &(cell.radius.clone() * &n.x),
-        c.y.clone() + &(cell.radius.clone() * &n.y),
+        c.x.clone() + &(r.clone() * &n.x),
+        c.y.clone() + &(r.clone() * &n.y),
     );
     let mut flight = Flight::new(pos, vel);
     flight.excluded_disk = Some(0);
@@ -79,11 +79,12 @@ pub fn next_collision<K: CellKernel<Float>>(
         let ev: Event<Float> = lat.step(st)?;
         if let EventKind::Collision(m) = ev.kind {
             let f = &st.flight;
-            let c = &lat.cell().disks[m as usize];
+            let disk = &lat.cell().disks[m as usize];
+            let c = &disk.centre;
             // Normal and velocity in world orientation: both flip with the trap's sign, so
             // n × v / r (= sin φ, |n| = r) is frame independent and θ = atan2(s·n).
             let (mut nx, mut ny) = (f.pos.x.clone() - &c.x, f.pos.y.clone() - &c.y);
-            let p = (nx.clone() * &f.vel.y - &(ny.clone() * &f.vel.x)) / &lat.cell().radius;
+            let p = (nx.clone() * &f.vel.y - &(ny.clone() * &f.vel.x)) / disk.radius();
             if st.cell.down {
                 nx = -nx;
                 ny = -ny;
@@ -129,7 +130,8 @@ pub fn birkhoff_jacobian<S: Scene>(
     h: &Float,
 ) -> Result<Option<Matrix2<Float>>, Error> {
     let lat = scene.lattice::<Float>(bits)?;
-    let r = lat.cell().radius.to_f64();
+    // The scale at which two contact disks are told apart: the smallest radius.
+    let r = lat.cell().smallest_radius();
     let image = |s: &Float, p: &Float| -> Result<Birkhoff, Error> {
         let mut st = state_from_birkhoff(lat.cell(), s, p);
         next_collision(&lat, &mut st)
@@ -230,12 +232,13 @@ pub fn tangent_step(
         }
         EventKind::Collision(m) => {
             let x = f.pos.along(&tt, &f.vel);
-            let c = &cell.disks[m as usize];
+            let disk = &cell.disks[m as usize];
+            let c = &disk.centre;
             let n = Vector2::new(x.x - c.x, x.y - c.y).normalize();
             let v = Vector2::new(f.vel.x, f.vel.y);
             let vn = v.dot(&n);
             let dt = -n.dot(&dq) / vn;
-            let dn = (dq + v * dt) / cell.radius;
+            let dn = (dq + v * dt) / *disk.radius();
             let dq2 = dq - n * (2.0 * n.dot(&dq));
             let dv2 = dv - n * (2.0 * dv.dot(&n)) - n * (2.0 * v.dot(&dn)) - dn * (2.0 * vn);
             dq = dq2;

@@ -173,6 +173,7 @@ pub fn run<S: Scene>(
     options: &RunOptions,
 ) -> Result<Certificate, Error> {
     options.validate()?;
+    options.refuse_unused("certify", &[])?;
     let start = scene.sample(&mut crate::scenes::sampling::stream(cfg.seed, 0));
     certify_with_meta(
         scene,

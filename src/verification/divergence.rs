@@ -109,6 +109,7 @@ pub fn run<S: Scene>(
     options: &RunOptions,
 ) -> Result<Vec<Divergence>, Error> {
     options.validate()?;
+    options.refuse_unused("divergence", &[])?;
     cfg.validate()?;
     let (bits, ref_bits, n, starts, seed) = (
         &cfg.bits[..],

@@ -95,6 +95,7 @@ pub fn run<S: Scene>(
     options: &RunOptions,
 ) -> Result<LyapunovReport, Error> {
     options.validate()?;
+    options.refuse_unused("lyapunov", &[])?;
     let LyapunovConfig {
         collisions_per_batch,
         batches,

@@ -67,22 +67,22 @@ const U: f64 = crate::verification::error_model::UNIT_ROUNDOFF;
 ///
 /// The bounds are written for any [`ConvexCell`]: `a` below is the cell's extent (the largest
 /// |coordinate| of its corners and disk centres, the spacing a for the triangular trap), r² the
-/// squared disk radius (1 there), so for the triangular trap they are the bounds of
+/// squared radius of the disk considered (1 there), so for the triangular trap they are the bounds of
 /// `proofs-notes/error-model.md` term by term.
 fn candidates(cell: &ConvexCell<Float>, a: f64, f: &Flight<Float>) -> Vec<Candidate> {
-    let r2 = cell.radius2.to_f64();
     let mut out = Vec::new();
     let (p, v) = (&f.pos, &f.vel);
     let vv = v.norm2();
-    for (m, c) in cell.disks.iter().enumerate() {
+    for (m, disk) in cell.disks.iter().enumerate() {
         let m = m as u8;
         if f.excluded_disk == Some(m) {
             continue;
         }
-        let d = p.sub(c);
+        let r2 = disk.radius2().to_f64();
+        let d = p.sub(&disk.centre);
         let beta = d.dot(v);
         let q = d.cross(v);
-        let disc = vv.clone() * &cell.radius2 - &Real::square(&q);
+        let disc = vv.clone() * disk.radius2() - &Real::square(&q);
         let dn = d.norm2().sqrt().to_f64();
         // Error model (first order, each term doubled): the f64 centre differs from the exact
         // one by ≤ u·a per component, each operation adds its rounding; r² is rounded once.
@@ -101,7 +101,7 @@ fn candidates(cell: &ConvexCell<Float>, a: f64, f: &Flight<Float>) -> Vec<Candid
         if disc64 <= -e_disc {
             continue;
         }
-        let gamma = d.norm2() - &cell.radius2;
+        let gamma = d.norm2() - disk.radius2();
         let sq = if disc.is_sign_positive() {
             disc.clone().sqrt()
         } else {
@@ -175,7 +175,7 @@ pub fn check_event<K64: CellKernel<f64>, KRef: CellKernel<Float>>(
     f: &Flight<f64>,
 ) -> Result<EventCheck, Error> {
     let cell = tref.cell();
-    let bits = cell.radius2.prec();
+    let bits = cell.lattice.a.prec();
     <Float as Real>::check_ctx(bits)?;
     let e64: Event<f64> = t64
         .next_event(f)
@@ -208,7 +208,11 @@ pub fn check_event<K64: CellKernel<f64>, KRef: CellKernel<Float>>(
     let lifted = Flight::<Float>::convert_from_f64(bits, &a64);
     let position_error = lifted.pos.sub(&ar.pos).norm2().sqrt().to_f64();
     let velocity_error = lifted.vel.sub(&ar.vel).norm2().sqrt().to_f64();
-    let r = cell.radius.to_f64();
+    // The radius of the disk met (the smallest one for a crossing, where no bound uses it).
+    let r = match er.kind {
+        EventKind::Collision(m) => cell.disks[m as usize].radius().to_f64(),
+        EventKind::Crossing(_) => cell.smallest_radius(),
+    };
     // Position: the time error along |v| ≈ 1, plus rounding of x = p + t v and of the frame map.
     let position_bound = best_bound + 4.0 * U * (2.0 * a + er.time.to_f64());
     // Velocity: v' = v − 2(v·n)n/r² with n = x − c, |n| = r; |δv'| ≤ 4|δn|/r + 8u,

@@ -114,13 +114,15 @@ pub fn amplification<T: Real, K: CellKernel<T>>(
 
 /// The nearest-`f64` copy of a cell (for the f64 tangent map along an orbit of any precision).
 pub fn cell_to_f64<T: Real>(c: &ConvexCell<T>) -> ConvexCell<f64> {
-    use crate::kernel::cell::{Edge, EdgeMap, LatticeBasis};
+    use crate::kernel::cell::{Disk, Edge, EdgeMap, LatticeBasis};
     let v = |p: &Vec2<T>| Vec2::new(p.x.to_f64(), p.y.to_f64());
     ConvexCell {
         corners: c.corners.iter().map(v).collect(),
-        radius: c.radius.to_f64(),
-        radius2: c.radius2.to_f64(),
-        disks: c.disks.iter().map(v).collect(),
+        disks: c
+            .disks
+            .iter()
+            .map(|d| Disk::new(v(&d.centre), d.radius().to_f64()))
+            .collect(),
         edges: c
             .edges
             .iter()

@@ -378,6 +378,7 @@ pub fn run<S: Scene>(
     options: &RunOptions,
 ) -> Result<AuditReport, Error> {
     options.validate()?;
+    options.refuse_unused("audit", &[])?;
     let (threads, progress) = (options.threads, options.progress);
     use crate::engine::drive;
     use crate::observers::counters::CounterLanes;

@@ -11,6 +11,7 @@ mod corridors;
 mod derived_errors;
 mod escape;
 mod hopping;
+mod options;
 mod superdiffusion;
 mod sweep;
 mod theory;

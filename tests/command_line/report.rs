@@ -288,16 +288,45 @@ fn an_edited_command_line_is_never_run() {
     .unwrap();
     let before = listing(dir);
     let (code, out, err) = lorentz(dir, &["report", "evil.json", "--quick", "--out", "rep"]);
-    assert_eq!(code, 0, "{out}{err}");
     assert!(!dir.join("evil").exists(), "the recorded command line ran");
     assert_eq!(written_outside(dir, &before, "rep"), Vec::<PathBuf>::new());
-    // The report does not look at it: the same checks and verdicts as for the unedited file.
+    // It is parsed with the command line's own parser (never run): it runs `figure`, which
+    // writes no hops result, so provenance FAILs (exit 1); every other check is the unedited
+    // file's.
+    assert_eq!(code, 1, "{out}{err}");
     let (code, _, err) = lorentz(dir, &["report", "h.json", "--quick", "--out", "rep-h"]);
     assert_eq!(code, 0, "{err}");
-    assert_eq!(checks(dir, "rep"), checks(dir, "rep-h"));
-    assert!(checks(dir, "rep")
+    let line = "recorded command line gives the recorded configuration";
+    let (evil, fresh) = (checks(dir, "rep"), checks(dir, "rep-h"));
+    assert!(
+        evil.iter().any(|c| c.0 == "FAIL" && c.2 == line),
+        "{evil:?}"
+    );
+    assert!(
+        fresh.iter().any(|c| c.0 == "PASS" && c.2 == line),
+        "{fresh:?}"
+    );
+    let others = |c: &[(String, String, String)]| -> Vec<_> {
+        c.iter().filter(|x| x.2 != line).cloned().collect()
+    };
+    assert_eq!(others(&evil), others(&fresh));
+    assert!(evil
         .iter()
         .any(|c| c.0 == "PASS" && c.2 == "the recorded configuration re-run gives the same bits"));
+
+    // The right command with another configuration (one option changed) FAILs naming the field.
+    let mut v = serde_json::from_str::<serde_json::Value>(
+        &std::fs::read_to_string(dir.join("h.json")).unwrap(),
+    )
+    .unwrap();
+    let cl = v["meta"]["command_line"].as_array().unwrap().clone();
+    let at = cl.iter().position(|a| a == "--order").unwrap() + 1;
+    v["meta"]["command_line"][at] = serde_json::json!("4");
+    std::fs::write(dir.join("other.json"), v.to_string()).unwrap();
+    let (code, _, err) = lorentz(dir, &["report", "other.json", "--quick", "--out", "rep-o"]);
+    assert_eq!(code, 1, "{err}");
+    let text = std::fs::read_to_string(dir.join("rep-o/report.json")).unwrap();
+    assert!(text.contains("order: 3 vs 4"), "{text}");
 }
 
 #[test]

@@ -6,7 +6,6 @@
 //! starts inside a disk and on an edge.
 
 use super::choice::{aimed_starts, free_start};
-use lorentz_gas::kernel::certified;
 use lorentz_gas::kernel::flight::{Event, Flight};
 use lorentz_gas::kernel::trap::Trap;
 use lorentz_gas::kernel::vec2::Vec2;
@@ -27,7 +26,7 @@ struct Tally {
 fn follow(trap: &Trap<Float>, mut f: Flight<Float>, events: usize, what: &str, n: &mut Tally) {
     for k in 0..events {
         let want: Option<Event<Float>> = trap.next_event_compared(&f);
-        match certified::next_event(trap, &f) {
+        match trap.next_event_decided(&f) {
             Some(ev) => {
                 n.decided += 1;
                 assert_eq!(Some(&ev), want.as_ref(), "{what}: event {k} from {f:?}");
@@ -35,7 +34,7 @@ fn follow(trap: &Trap<Float>, mut f: Flight<Float>, events: usize, what: &str, n
             None => n.deferred += 1,
         }
         assert_eq!(trap.next_event(&f), want, "{what}: event {k} (kernel)");
-        assert_eq!(trap.cell.next_event(&f), want, "{what}: event {k} (cell)");
+        assert_eq!(trap.cell().next_event(&f), want, "{what}: event {k} (cell)");
         match want {
             Some(ev) => trap.apply(&mut f, &ev),
             None => return,

@@ -130,9 +130,9 @@ fn escape_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
     let mut cfg = EscapeConfig::new(0.2);
     cfg.particles_per_width = 4000;
     cfg.seed = 4;
-    let engines = [(Engine::Scalar, 2), (Engine::Scalar, 1)];
-    // Chunks, not trajectories in flight: the checkpoint holds no "in_flight" record. A chunk
-    // every millisecond (a particle lives about as long), not one per particle.
+    let engines = [(Engine::Auto, 2), (Engine::Auto, 1)]; // escape runs the scalar kernel and takes no engine
+                                                          // Chunks, not trajectories in flight: the checkpoint holds no "in_flight" record. A chunk
+                                                          // every millisecond (a particle lives about as long), not one per particle.
     let every = Duration::from_millis(1);
     let chunks = ("\"task\"", 40);
     resume_with_interval(

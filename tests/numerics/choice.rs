@@ -21,7 +21,7 @@ use rug::Float;
 /// compared.
 fn follow<T: Real>(trap: &Trap<T>, mut f: Flight<T>, events: usize, what: &str) -> usize {
     for k in 0..events {
-        let want = trap.cell.next_event(&f);
+        let want = trap.cell().next_event(&f);
         let chosen = trap.next_event_chosen(&f);
         assert_eq!(chosen, want, "{what}: event {k} (chosen) from {f:?}");
         assert_eq!(
@@ -71,7 +71,7 @@ fn choose_first_matches_every_root_on_random_starts() {
     let mut n = 0;
     for w in GAPS {
         let trap = Trap::new(w).unwrap();
-        assert!(trap.choice.disks_by_beta, "w = {w:e}");
+        assert!(trap.choice().disks_by_beta, "w = {w:e}");
         let trap256 = Trap::new(Float::with_val(256, w)).unwrap();
         for s in 0..40 {
             let f = free_start(&trap, &mut rng);
@@ -248,7 +248,7 @@ fn near_ties_aimed_at_the_argument() {
 fn below_the_gap_every_root_is_computed() {
     for w in [1e-9, DISK_GAP_MIN * (1.0 - 1.0 / 256.0)] {
         let trap = Trap::new(w).unwrap();
-        assert!(!trap.choice.disks_by_beta, "w = {w:e}");
+        assert!(!trap.choice().disks_by_beta, "w = {w:e}");
         for (s, f) in aimed_starts(&trap).into_iter().enumerate() {
             follow(&trap, f, 6, &format!("w = {w:e} aimed start {s}"));
         }
@@ -274,7 +274,7 @@ fn undecided_edges_fall_back_to_the_quotients() {
     ] {
         let mut f = Flight::new(trap.vertices[m as usize].clone(), v);
         f.excluded_disk = Some(m);
-        let ev = trap.cell.next_event(&f).unwrap();
+        let ev = trap.cell().next_event(&f).unwrap();
         assert_eq!(ev.time, 0.0, "corner {m}");
         assert_eq!(trap.next_event_chosen(&f), Some(ev.clone()), "corner {m}");
         starts.push(f);

@@ -17,6 +17,7 @@ mod fuzz_oracle;
 mod hard_cases;
 mod kernel_properties;
 mod physics;
+mod scene_diffusion;
 mod scenes;
 mod shadowing;
 mod square;

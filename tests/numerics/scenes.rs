@@ -57,7 +57,7 @@ fn generic_cell_kernel_reproduces_the_fused_trap_bit_for_bit_in_f64() {
     for (k, &w) in GAPS.iter().enumerate() {
         let scene = TriangularScene::new(w).unwrap();
         let fused = scene.lattice::<f64>(()).unwrap();
-        let generic = Lattice::from_kernel(fused.trap().cell.clone());
+        let generic = Lattice::from_kernel(fused.trap().cell().clone());
         for run in 0..2u64 {
             let start = scene.sample(&mut stream(61, 2 * k as u64 + run));
             compare_runs(
@@ -77,7 +77,7 @@ fn generic_cell_kernel_reproduces_the_fused_trap_bit_for_bit_in_mpfr() {
         let scene = TriangularScene::new(w).unwrap();
         for bits in [53u32, 113] {
             let fused = scene.lattice::<Float>(bits).unwrap();
-            let generic = Lattice::from_kernel(fused.trap().cell.clone());
+            let generic = Lattice::from_kernel(fused.trap().cell().clone());
             let s64 = scene.sample(&mut stream(62, k as u64));
             let start = LatticeState::<Float>::convert_from_f64(bits, &s64);
             compare_runs(
@@ -119,7 +119,7 @@ fn generic_and_fused_agree_on_starts_aimed_at_the_gap_disk_corners() {
     use lorentz_gas::kernel::flight::EventKind;
     for &w in &GAPS {
         let lat = TriangularLattice::new(w).unwrap();
-        let generic = Lattice::from_kernel(lat.trap().cell.clone());
+        let generic = Lattice::from_kernel(lat.trap().cell().clone());
         let t = lat.trap().clone();
         let centre = Vec2::new(t.a / 2.0, t.h / 3.0);
         // A fifth of the free radius a/√3 − 1 around the centre: every corner is in sight.
@@ -190,7 +190,7 @@ fn generic_and_fused_agree_on_grazing_and_edge_starts() {
     let mut rng = stream(63, 0);
     for &w in &GAPS {
         let lat = TriangularLattice::new(w).unwrap();
-        let generic = Lattice::from_kernel(lat.trap().cell.clone());
+        let generic = Lattice::from_kernel(lat.trap().cell().clone());
         let t = lat.trap().clone();
         for k in 1..53 {
             let b = 1.0 - (-(k as f64)).exp2() * if rng.random::<bool>() { 1.0 } else { -1.0 };

@@ -77,7 +77,7 @@ fn no_collision_is_missed() {
     for (k, &r) in [0.05, 0.25, 0.49].iter().enumerate() {
         let s = scene(r);
         let lat = s.lattice::<Float>(bits).unwrap();
-        let r2 = Float::with_val(bits, &lat.cell().radius2);
+        let r2 = Float::with_val(bits, lat.cell().disks[0].radius2());
         let s64 = s.sample(&mut stream(81, k as u64));
         let mut st = LatticeState::<Float>::convert_from_f64(bits, &s64);
         for i in 0..20_000 {
@@ -190,8 +190,9 @@ macro_rules! square_properties {
                                         prop_assert_eq!(f.excluded_edge, None);
                                     }
                                 }
-                                let d =
-                                    (f.pos.sub(&cell.disks[0]).norm2() - &cell.radius2).to_f64();
+                                let d = (f.pos.sub(&cell.disks[0].centre).norm2()
+                                    - cell.disks[0].radius2())
+                                .to_f64();
                                 prop_assert!(d >= -tol, "inside the disk: {d:e}");
                                 for k in 0..4 {
                                     let s = cell.edge_distance(k, &f.pos).to_f64();

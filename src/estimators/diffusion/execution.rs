@@ -22,6 +22,7 @@ use crate::scenes::lattice::{Basis64, LatticeState, TriangularLattice};
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::triangular::geometry::Geometry;
 use crate::scenes::triangular::{equilibrium_state, TriangularScene};
+use crate::scenes::Scene;
 use crate::verification::shadow_audit::{AuditLanes, Auditor};
 use crate::Error;
 
@@ -47,58 +48,65 @@ impl Job {
     /// The start: a point of the invariant measure from the trajectory stream `(seed, run,
     /// index)`, its speed normalised at the working precision.
     pub(super) fn start<T: Real>(&self, trap64: &Trap<f64>, ctx: T::Ctx) -> LatticeState<T> {
+        self.start_with(ctx, |rng| equilibrium_state(trap64, rng))
+    }
+
+    /// The start drawn from `scene`'s invariant measure by the same stream: for the triangular
+    /// scene the same state as [`Job::start`].
+    pub(super) fn start_in<S: Scene, T: Real>(&self, scene: &S, ctx: T::Ctx) -> LatticeState<T> {
+        self.start_with(ctx, |rng| scene.sample(rng))
+    }
+
+    fn start_with<T: Real>(
+        &self,
+        ctx: T::Ctx,
+        sample: impl FnOnce(&mut rand_xoshiro::Xoshiro256PlusPlus) -> LatticeState<f64>,
+    ) -> LatticeState<T> {
         let mut rng = StreamKey::new(self.seed, Purpose::Trajectory, self.index as u64)
             .in_run(self.run)
             .rng();
-        let s64 = equilibrium_state(trap64, &mut rng);
+        let s64 = sample(&mut rng);
         let mut s = LatticeState::<T>::convert_from_f64(ctx, &s64);
         s.flight.normalise_speed();
         s
     }
 
-    pub(super) fn auditor(
-        &self,
-        trap64: &Trap<f64>,
-        audit: Option<AuditSpec>,
-    ) -> Result<Option<Auditor<TriangularScene>>, Error> {
-        audit
-            .map(|a| {
-                Auditor::new(
-                    &TriangularScene::new(trap64.w)?,
-                    a.rate,
-                    a.bits,
-                    StreamKey::new(self.seed, Purpose::Audit, self.index as u64)
-                        .in_run(self.run)
-                        .rng(),
-                )
-            })
-            .transpose()
+    /// The per-event auditor of this job's trajectory in `scene`, on its own audit stream.
+    pub(super) fn auditor<S: Scene>(&self, scene: &S, a: AuditSpec) -> Result<Auditor<S>, Error> {
+        Auditor::new(
+            scene,
+            a.rate,
+            a.bits,
+            StreamKey::new(self.seed, Purpose::Audit, self.index as u64)
+                .in_run(self.run)
+                .rng(),
+        )
     }
 }
 
 /// What a diffusion run watches along each trajectory: counters, the MSD, and optionally the
-/// per-event shadow audit.
-pub(super) struct BatchObservers {
+/// per-event shadow audit of the scene `S`.
+pub(super) struct BatchObservers<S: Scene = TriangularScene> {
     counters: CounterLanes,
     msd: Msd,
-    audit: Option<AuditLanes<TriangularScene>>,
+    audit: Option<AuditLanes<S>>,
 }
 
-impl BatchObservers {
+impl<S: Scene> BatchObservers<S> {
+    /// The observers of `jobs` in `lanes` lanes; with `audit`, each job's auditor of `scene`.
     pub(super) fn new(
         jobs: &[Job],
         lanes: usize,
-        trap64: &Trap<f64>,
         basis: Basis64,
         tau: f64,
         lags: &[usize],
-        audit: Option<AuditSpec>,
+        audit: Option<(AuditSpec, &S)>,
     ) -> Result<Self, Error> {
         let audit = match audit {
-            Some(_) => {
+            Some((spec, scene)) => {
                 let mut v = Vec::with_capacity(lanes);
                 for j in jobs {
-                    v.push(j.auditor(trap64, audit)?);
+                    v.push(Some(j.auditor(scene, spec)?));
                 }
                 v.resize_with(lanes, || None);
                 Some(AuditLanes {
@@ -148,7 +156,7 @@ pub(super) struct DiffusionLane {
 /// The checkpoint of a diffusion run: finished batches and trajectories in flight.
 pub(super) type DiffusionKeeper = Keeper<BatchResult, DiffusionLane>;
 
-impl LaneCheckpoint for BatchObservers {
+impl<S: Scene> LaneCheckpoint for BatchObservers<S> {
     type Lane = DiffusionLane;
     fn save_lane(&self, l: usize) -> DiffusionLane {
         DiffusionLane {
@@ -162,7 +170,7 @@ impl LaneCheckpoint for BatchObservers {
     }
 }
 
-impl<const L: usize> Observer<L> for BatchObservers {
+impl<const L: usize, S: Scene> Observer<L> for BatchObservers<S> {
     #[inline(always)]
     fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
         self.counters.observe::<V>(steps);
@@ -185,7 +193,9 @@ pub(super) fn run_scalar<T: Real>(
 ) -> Result<BatchResult, Error> {
     let start = Instant::now();
     let ctx = lat.trap().a.ctx();
-    let mut obs = BatchObservers::new(&[job], 1, trap64, lat.basis_f64(), x.tau, &x.lags, x.audit)?;
+    let scene = audit_scene(trap64, x.audit)?;
+    let audit = x.audit.zip(scene.as_ref());
+    let mut obs = BatchObservers::new(&[job], 1, lat.basis_f64(), x.tau, &x.lags, audit)?;
     let begin = || job.start::<T>(trap64, ctx);
     drive_kept(lat, ctx, &job.quota(), begin, &mut obs, keep, progress)?;
     let mut r = obs.results(&[job], start.elapsed().as_secs_f64())?;
@@ -206,13 +216,23 @@ pub(super) fn run_simd(
     let start = Instant::now();
     // The basis the scalar engine's f64 lattice has (`Lattice::basis_f64`).
     let basis = TriangularLattice::from_kernel(trap64.clone()).basis_f64();
-    let mut obs = BatchObservers::new(jobs, BLOCK, trap64, basis, x.tau, &x.lags, x.audit)?;
+    let scene = audit_scene(trap64, x.audit)?;
+    let audit = x.audit.zip(scene.as_ref());
+    let mut obs = BatchObservers::new(jobs, BLOCK, basis, x.tau, &x.lags, audit)?;
     let quotas: Vec<Quota> = jobs.iter().map(Job::quota).collect();
     let begin = |l: usize| jobs[l].start(trap64, ());
     run_block_kept(path, trap64, &quotas, begin, &mut obs, keep, progress)?;
     // The block's wall time, shared out: each batch's `seconds` is its part of the block.
     let seconds = start.elapsed().as_secs_f64() / jobs.len() as f64;
     obs.results(jobs, seconds)
+}
+
+/// The triangular scene the per-event audit replays (at the run's double w), if there is an audit.
+fn audit_scene(
+    trap64: &Trap<f64>,
+    audit: Option<AuditSpec>,
+) -> Result<Option<TriangularScene>, Error> {
+    audit.map(|_| TriangularScene::new(trap64.w)).transpose()
 }
 
 /// What a run (or runs packed together) at `cfg`'s w and windows needs before its trajectories

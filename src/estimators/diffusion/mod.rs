@@ -22,7 +22,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::checkpoint::Quota;
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::{AuditSpec, RunOptions};
+use crate::engine::options::{AuditSpec, RunOption, RunOptions};
 use crate::engine::Engine;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
@@ -35,6 +35,7 @@ use crate::verification::shadow_audit::AuditSummary;
 use crate::Error;
 
 mod execution;
+pub mod scene;
 mod summary;
 
 use execution::{execute, setup, DiffusionKeeper, Job};
@@ -57,7 +58,7 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
         return Ok(());
     }
     Err(Error::Invalid(format!(
-        "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use the triangular scene with 0 < w < w_inf = 0.3094..., or `lorentz superdiffusion --scene square --radius R`, which measures the t ln t growth against the exact corridor constants (`lorentz constants --scene square --radius R` lists them)",
+        "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use a finite-horizon scene (the triangular one with 0 < w < w_inf = 0.3094...), or the superdiffusion analysis, which measures the t ln t growth against the exact corridor constants (the constants analysis lists them)",
         scene.label()
     )))
 }
@@ -413,13 +414,10 @@ pub fn batch_start(cfg: &DiffusionConfig, index: u32) -> Result<LatticeState<f64
 /// ```
 pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionReport, Error> {
     options.validate()?;
+    options.refuse_unused("diffusion", &RunOption::ALL)?;
     cfg.validate()?;
+    check_audit(options, cfg.precision)?;
     let audit = options.audit;
-    if audit.is_some() && cfg.precision != Precision::F64 {
-        return Err(Error::Invalid(
-            "--audit replays f64 events in MPFR: it applies to f64 runs only".into(),
-        ));
-    }
     let (spec, g) = setup(cfg, options.engine, options.threads, audit)?;
     let (resolved, tau) = (spec.engine, spec.tau);
     let start = Instant::now();
@@ -457,6 +455,16 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
         check_resumed_identities(&rep, options.resume.as_deref())?;
     }
     Ok(rep)
+}
+
+/// Refuses a per-event audit of an MPFR run (the audit replays `f64` events in MPFR).
+fn check_audit(options: &RunOptions, precision: Precision) -> Result<(), Error> {
+    if options.audit.is_some() && precision != Precision::F64 {
+        return Err(Error::Invalid(
+            "the per-event audit replays f64 events in MPFR: it applies to f64 runs only".into(),
+        ));
+    }
+    Ok(())
 }
 
 /// The work kept at `options.resume` (nothing without it), with the trajectories in flight saved
@@ -544,6 +552,14 @@ pub fn run_many(
     options: &RunOptions,
 ) -> Result<Vec<DiffusionReport>, Error> {
     options.validate()?;
+    options.refuse_unused(
+        "diffusion (packed runs)",
+        &[
+            RunOption::Engine,
+            RunOption::Resume,
+            RunOption::CheckpointEvery,
+        ],
+    )?;
     let Some(first) = cfgs.first() else {
         return Ok(Vec::new());
     };

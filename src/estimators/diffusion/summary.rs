@@ -9,6 +9,35 @@ use crate::statistics::{linear_fit, mean_se};
 use crate::verification::shadow_audit::AuditSummary;
 use crate::Error;
 
+/// The lag times (lags in units of `tau`) and MSD/(4t) at each, mean and standard error over
+/// the batches.
+pub(super) fn msd_over_4t(done: &[BatchResult], tau: f64) -> (Vec<f64>, Vec<Estimate>) {
+    let lags = done.first().map(|b| b.lags.clone()).unwrap_or_default();
+    let msd_times: Vec<f64> = lags.iter().map(|&l| l as f64 * tau).collect();
+    let over = (0..lags.len())
+        .map(|k| {
+            let v: Vec<f64> = done
+                .iter()
+                .map(|b| b.msd[k] / (4.0 * msd_times[k]))
+                .collect();
+            let (value, err) = mean_se(&v);
+            Estimate { value, err }
+        })
+        .collect();
+    (msd_times, over)
+}
+
+/// The batches' per-event audits merged (`None` without an audit).
+pub(super) fn merged_audit(done: &[BatchResult]) -> Option<AuditSummary> {
+    done.iter()
+        .filter_map(|b| b.audit.as_ref())
+        .fold(None, |acc: Option<AuditSummary>, a| {
+            let mut m = acc.unwrap_or_default();
+            m.merge(a);
+            Some(m)
+        })
+}
+
 pub(super) fn d_of_batch(b: &BatchResult, tau: f64, win: &Window) -> f64 {
     let (mut x, mut y) = (Vec::new(), Vec::new());
     for (lag, m) in b.lags.iter().zip(&b.msd) {
@@ -48,27 +77,9 @@ pub(super) fn summarise(
     let (mfp, mfp_e) = ratio(&|c| c.time / c.collisions as f64);
     let (th, th_e) = ratio(&|c| c.time / c.crossings as f64);
     let (cph, cph_e) = ratio(&|c| c.collisions as f64 / c.crossings as f64);
-    let lags = &done[0].lags;
-    let msd_times: Vec<f64> = lags.iter().map(|&l| l as f64 * tau).collect();
-    let msd_over_4t: Vec<Estimate> = (0..lags.len())
-        .map(|k| {
-            let v: Vec<f64> = done
-                .iter()
-                .map(|b| b.msd[k] / (4.0 * msd_times[k]))
-                .collect();
-            let (value, err) = mean_se(&v);
-            Estimate { value, err }
-        })
-        .collect();
+    let (msd_times, msd_over_4t) = msd_over_4t(done, tau);
     let total: u64 = done.iter().map(|b| b.counters.collisions).sum();
-    let audit =
-        done.iter()
-            .filter_map(|b| b.audit.as_ref())
-            .fold(None, |acc: Option<AuditSummary>, a| {
-                let mut m = acc.unwrap_or_default();
-                m.merge(a);
-                Some(m)
-            });
+    let audit = merged_audit(done);
     Ok(DiffusionReport {
         w: cfg.w,
         D: d,

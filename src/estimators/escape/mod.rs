@@ -36,7 +36,7 @@ mod chunks;
 use chunks::Chunks;
 
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{par_batches_watched, share};
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::strip::Strip;
@@ -434,6 +434,7 @@ fn analyse_widths(
 pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Error> {
     cfg.validate()?;
     options.validate()?;
+    options.refuse_unused("escape", &[RunOption::Resume, RunOption::CheckpointEvery])?;
     let (threads, progress) = (options.threads, options.progress);
     let start = Instant::now();
     let scene = TriangularScene::new(cfg.w)?;

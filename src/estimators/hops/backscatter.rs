@@ -178,6 +178,7 @@ impl AtPrecision for Inject<'_> {
 pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterReport, Error> {
     cfg.validate()?;
     options.validate()?;
+    options.refuse_unused("backscatter", &[])?;
     let BackscatterConfig {
         w,
         ref w_exact,

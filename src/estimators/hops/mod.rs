@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::checkpoint::{drive_kept, run_block_kept, Keeper, Quota};
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{par_batches, par_chunks, share};
 use crate::engine::simd::BLOCK;
 use crate::engine::Resolved;
@@ -224,6 +224,14 @@ fn run_with_batches(
 ) -> Result<(HopsReport, Vec<Hops>), Error> {
     cfg.validate()?;
     options.validate()?;
+    options.refuse_unused(
+        "hops",
+        &[
+            RunOption::Engine,
+            RunOption::Resume,
+            RunOption::CheckpointEvery,
+        ],
+    )?;
     let HopsConfig {
         w,
         collisions,

@@ -30,7 +30,7 @@ pub use summary::{LagRow, LawRow};
 use crate::engine::checkpoint::{drive_kept, Keeper, LaneCheckpoint, Quota};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{check_batches, par_batches, share};
 use crate::numbers::exact::parse_exact;
 use crate::numbers::lanes::Lanes;
@@ -323,6 +323,10 @@ pub fn run(
 ) -> Result<SuperdiffusionReport, Error> {
     cfg.validate()?;
     options.validate()?;
+    options.refuse_unused(
+        "superdiffusion",
+        &[RunOption::Resume, RunOption::CheckpointEvery],
+    )?;
     let gas = cfg.gas.lattice_gas()?;
     let sd = corridors::superdiffusion::<f64>((), &gas)?;
     match gas {

@@ -16,7 +16,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOption, RunOptions};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::numbers::exact::decimal_grid;
 use crate::numbers::precision::Precision;
@@ -228,7 +228,7 @@ impl SweepConfig {
         let points = self.points()?;
         if let Some(k) = points.windows(2).position(|p| p[0] == p[1]) {
             return Err(Error::Invalid(format!(
-                "--w-from {} --w-to {} in {} steps gives w = {} at points {k} and {}: the fits \
+                "w_from = {} to w_to = {} in {} steps gives w = {} at points {k} and {}: the fits \
                  need distinct w, use ends that differ by more than the steps resolve",
                 self.w_from,
                 self.w_to,
@@ -260,6 +260,14 @@ impl SweepConfig {
 pub fn run(cfg: &SweepConfig, options: &RunOptions) -> Result<SweepReport, Error> {
     cfg.validate()?;
     options.validate()?;
+    options.refuse_unused(
+        "sweep",
+        &[
+            RunOption::Engine,
+            RunOption::Resume,
+            RunOption::CheckpointEvery,
+        ],
+    )?;
     let resolved = options.engine.resolve(true)?;
     let (points, resumed) = points::run_points(cfg, options, |_| true)?;
     let mut report = analysis::analyse(cfg, &points, resumed, options.threads)?;

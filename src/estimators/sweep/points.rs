@@ -104,7 +104,7 @@ fn reuse(cfg: &SweepConfig, path: &Path, i: usize, w: f64) -> Result<Option<Swee
     let p = read_point(path)?;
     if p.config != *cfg {
         return Err(Error::Invalid(format!(
-            "{} belongs to another sweep ({}): use another --out",
+            "{} belongs to another sweep ({}): use another directory",
             path.display(),
             difference(&p.config, cfg).unwrap_or_else(|| "another configuration".into())
         )));

@@ -97,11 +97,13 @@ impl ResultFile {
     /// its kind; anything else is bad input naming the file and the reason.
     pub fn read(path: &Path) -> Result<Self, Error> {
         let bytes = read_bounded(path)?;
-        let sha = super::provenance::sha256_hex(&bytes);
+        let sha = crate::engine::resume::sha256_hex(&bytes);
         let value: Value = serde_json::from_slice(&bytes).map_err(|e| {
             bad(
                 path,
-                format!("not a JSON result of lorentz ({e}); write one with --json"),
+                format!(
+                    "not a JSON result of lorentz ({e}); give a result an analysis wrote as JSON"
+                ),
             )
         })?;
         drop(bytes);

@@ -47,6 +47,7 @@
 //! file — so the report is bound to exactly the bytes it audited.
 
 mod backscatter;
+pub mod command_line;
 mod diffusion;
 mod escape;
 pub mod file;
@@ -299,8 +300,23 @@ pub fn planned_rerun_collisions(cfg: &AuditConfig) -> Result<(Kind, u64), Error>
 /// knows, holds a key its kind does not, or records a configuration the command line would
 /// refuse. A FAIL verdict is not an error: it is in the report.
 pub fn run(cfg: &AuditConfig, options: &RunOptions) -> Result<PublicationReport, Error> {
+    run_with(cfg, options, None)
+}
+
+/// [`run`] with a front end's reader of its own command lines: the recorded command line is
+/// parsed by it (never run) and must give the recorded configuration
+/// (the module [`command_line`]); without one that check is a SKIP.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_with(
+    cfg: &AuditConfig,
+    options: &RunOptions,
+    reader: Option<command_line::ReadCommandLine>,
+) -> Result<PublicationReport, Error> {
     cfg.validate()?;
     options.validate()?;
+    options.refuse_unused("report", &[])?;
     let start = std::time::Instant::now();
     let (file, audited) = Audited::read(cfg)?;
     let reruns = audited.reruns(cfg.quick, &file.sha)?;
@@ -326,6 +342,8 @@ pub fn run(cfg: &AuditConfig, options: &RunOptions) -> Result<PublicationReport,
     let mut figures = Vec::new();
     let kind = file.kind.name();
     provenance::identification_check(&mut checks, kind, &file.sha, audited.meta());
+    let config = file.value.get("config");
+    command_line::check(&mut checks, kind, config, audited.meta(), reader);
     match &audited {
         Audited::Diffusion(r) => diffusion::checks(r, &ctx, &mut checks, &mut figures)?,
         Audited::Sweep(r) => sweep::checks(r, &ctx, &mut checks)?,
@@ -546,7 +564,7 @@ mod tests {
     #[test]
     fn sha256_of_abc() {
         assert_eq!(
-            provenance::sha256_hex(b"abc"),
+            crate::engine::resume::sha256_hex(b"abc"),
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
         );
     }

@@ -1,18 +1,8 @@
 //! Where a result and its report come from: the file's digest, this build, this machine, the
 //! date, and the provenance check.
 
-use sha2::{Digest, Sha256};
-
 use super::{Checks, Provenance, Verdict};
 use crate::engine::metadata::RunMeta;
-
-/// The SHA-256 of `bytes` in hex.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
 
 /// Days since 1970-01-01 to (year, month, day) in the proleptic Gregorian calendar (H. Hinnant's
 /// `civil_from_days`; written out because a date is all the report needs from a calendar crate).

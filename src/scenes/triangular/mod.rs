@@ -113,7 +113,7 @@ impl Scene for TriangularScene {
                 lattice_point(i, j).sub(&world),
             )
         };
-        settle(&trap.cell, index, p)
+        settle(trap.cell(), index, p)
     }
 
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> LatticeState<f64> {
@@ -132,6 +132,11 @@ impl Scene for TriangularScene {
     fn finite_horizon(&self) -> bool {
         let a = Rational::from(2) + &self.w;
         Rational::from(3) * a.clone() * &a <= 16
+    }
+
+    /// The paper's mean hop time τ = πA/(3w): a trap's three gaps of width w are its free edges.
+    fn crossing_time(&self) -> Option<f64> {
+        Geometry::new(self.w()).ok().map(|g| g.hop_time())
     }
 }
 

@@ -1,0 +1,466 @@
+//! D on any table: the Einstein estimator of [`super`] for a billiard given as a [`Scene`], a
+//! scene of the crate's or one defined outside it.
+//!
+//! The same batches, streams, observers, checkpoints and per-event audit as [`super::run`], on
+//! the scalar engine (the SIMD engine runs only the triangular trap's fused kernel) at any
+//! precision. The MSD's time grid is in units of the scene's crossing time τ = π|Q|/L
+//! ([`Scene::crossing_time`]), or of the mean free time ⟨ℓ⟩ for a scene that does not supply
+//! it. For the triangular scene τ is the paper's hop time, and the batches have the bits of
+//! [`super::run`] on the scalar engine (`tests/numerics/scene_diffusion.rs`).
+//!
+//! Every result carries the scene's exact identities measured: the mean free path against
+//! Santaló's π|Q|/|∂Q|, and (where the scene supplies τ) the mean crossing time and collisions
+//! per crossing against τ and τ/⟨ℓ⟩, each as a Student-t statistic over the batches with its
+//! 4σ-equivalent bound.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::execution::{BatchObservers, DiffusionKeeper, Job};
+use super::summary::{d_of_batch, merged_audit, msd_over_4t};
+use super::{open_keeper, require_finite_horizon, BatchResult, Window, MIN_HOPS_PER_LAG};
+use crate::engine::checkpoint::drive_kept;
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::{AuditSpec, RunOption, RunOptions};
+use crate::engine::{Engine, Resolved};
+use crate::numbers::precision::{AtPrecision, Precision};
+use crate::numbers::real::Real;
+use crate::observers::counters::Counters;
+use crate::scenes::lattice::Lattice;
+use crate::scenes::Scene;
+use crate::statistics::{mean_se, normal_sigma_equivalent_t};
+use crate::verification::shadow_audit::AuditSummary;
+use crate::Error;
+
+/// Kind of the records of a scene diffusion checkpoint.
+const CHECKPOINT_KIND: &str = "scene diffusion trajectories";
+
+/// What defines a diffusion run on a given scene (the scene itself is the first argument of
+/// [`run_on`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDiffusionConfig {
+    /// Total number of collisions over all batches.
+    pub collisions: u64,
+    /// Number of independent batches (trajectories), at least 2.
+    pub batches: u32,
+    /// Seed of the random streams: batch b follows the trajectory stream (seed, 0, b).
+    pub seed: u64,
+    /// Number type.
+    pub precision: Precision,
+    /// Fit window for D, in units of the scene's time unit ([`time_unit`]).
+    pub window: Window,
+    /// Later window, fitted as a check of the linear regime.
+    pub check_window: Window,
+}
+
+impl Default for SceneDiffusionConfig {
+    /// The defaults of [`super::DiffusionConfig::new`]: 2·10⁹ collisions in 32 batches, seed 1,
+    /// `f64`, windows [10, 40] and [20, 80].
+    fn default() -> Self {
+        let d = super::DiffusionConfig::new(0.1);
+        SceneDiffusionConfig {
+            collisions: d.collisions,
+            batches: d.batches,
+            seed: d.seed,
+            precision: d.precision,
+            window: d.window,
+            check_window: d.check_window,
+        }
+    }
+}
+
+/// The time unit of the MSD grid and the fit windows in `scene`: its crossing time τ, or its
+/// mean free time ⟨ℓ⟩ (speed 1) if it supplies no τ.
+pub fn time_unit<S: Scene>(scene: &S) -> f64 {
+    scene
+        .crossing_time()
+        .unwrap_or_else(|| scene.mean_free_path())
+}
+
+impl SceneDiffusionConfig {
+    /// Checks every parameter against `scene`; errors name the valid range.
+    ///
+    /// # Errors
+    /// An infinite-horizon scene, too few batches or collisions, a precision out of range, or
+    /// equal windows.
+    pub fn validate<S: Scene>(&self, scene: &S) -> Result<(), Error> {
+        require_finite_horizon(scene)?;
+        if self.batches < 2 {
+            return Err(Error::TooFew {
+                what: "batches",
+                min: 2,
+                got: self.batches as u64,
+            });
+        }
+        crate::engine::parallel::check_batches("batches", self.batches)?;
+        crate::engine::check_trajectory_length(self.collisions.div_ceil(self.batches as u64))?;
+        if let Precision::Bits(b) = self.precision {
+            <rug::Float as Real>::check_ctx(b)?;
+        }
+        if self.check_window == self.window {
+            return Err(Error::Invalid(format!(
+                "check_window = {0}:{1} is the fit window: the check needs another window",
+                self.window.lo, self.window.hi
+            )));
+        }
+        let (unit, mfp) = (time_unit(scene), scene.mean_free_path());
+        if !(unit > 0.0 && mfp > 0.0 && unit.is_finite() && mfp.is_finite()) {
+            return Err(Error::Invalid(format!(
+                "{}: its mean free path {mfp} and time unit {unit} must be positive and finite",
+                scene.label()
+            )));
+        }
+        let need = (MIN_HOPS_PER_LAG * self.window.hi.max(self.check_window.hi)) as f64;
+        let min = need * unit / mfp * self.batches as f64;
+        if (self.collisions as f64) < min {
+            return Err(Error::TooFew {
+                what: "collisions (for this scene, window and batch count)",
+                min: min.ceil().min(u64::MAX as f64) as u64,
+                got: self.collisions,
+            });
+        }
+        Ok(())
+    }
+
+    /// The lags (in time units) the MSD is accumulated at: those of both fit windows.
+    fn lags(&self) -> Vec<usize> {
+        let mut l = self.window.lags();
+        l.extend(self.check_window.lags());
+        l.sort_unstable();
+        l.dedup();
+        l
+    }
+
+    fn jobs(&self) -> Vec<Job> {
+        (0..self.batches)
+            .map(|i| Job {
+                seed: self.seed,
+                run: 0,
+                index: i,
+                collisions: crate::engine::parallel::share(self.collisions, self.batches, i),
+            })
+            .collect()
+    }
+}
+
+/// One exact identity of the scene, measured: the batches' mean and standard error against the
+/// closed form, as a Student-t statistic with its 4σ-equivalent bound.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Identity {
+    /// What is measured ("mean free path", "crossing time", "collisions per crossing").
+    pub name: String,
+    /// Mean over the batches.
+    pub measured: f64,
+    /// Its standard error.
+    pub err: f64,
+    /// The closed form.
+    pub exact: f64,
+    /// (measured − exact)/err.
+    pub t: f64,
+    /// The Student-t equivalent of 4σ for batches − 1 degrees of freedom.
+    pub bound: f64,
+    /// |t| ≤ bound.
+    pub agrees: bool,
+}
+
+/// The result of [`run_on`].
+#[allow(non_snake_case)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SceneDiffusionReport {
+    /// The scene's label.
+    pub scene: String,
+    /// The time unit of the windows and the MSD grid (τ, or ⟨ℓ⟩ without one).
+    pub time_unit: f64,
+    /// `true` if the time unit is the scene's crossing time τ, `false` the mean free time.
+    pub time_unit_is_crossing_time: bool,
+    /// Diffusion coefficient (fit window `config.window`).
+    pub D: f64,
+    /// Its standard error over batches.
+    pub D_err: f64,
+    /// D from the later window (check of the linear regime).
+    pub D_check: f64,
+    /// Its standard error.
+    pub D_check_err: f64,
+    /// D − D_check paired over the batches (same trajectories: never added in quadrature).
+    pub D_minus_D_check: f64,
+    /// Its standard error.
+    pub D_minus_D_check_err: f64,
+    /// The exact identities measured (mean free path; crossing time and collisions per
+    /// crossing where the scene supplies τ).
+    pub identities: Vec<Identity>,
+    /// Lag times at which the MSD was measured.
+    pub msd_times: Vec<f64>,
+    /// MSD/(4t) at those times (mean over batches).
+    pub msd_over_4t: Vec<f64>,
+    /// Its standard errors.
+    pub msd_over_4t_err: Vec<f64>,
+    /// Longest free path seen in the run.
+    pub longest_free_path: f64,
+    /// Total collisions.
+    pub collisions: u64,
+    /// Wall-clock seconds of this invocation.
+    pub seconds: f64,
+    /// Batches reused from a checkpoint.
+    pub resumed_batches: u32,
+    /// The self-audit, if requested.
+    pub audit: Option<AuditSummary>,
+    /// D of each batch, in batch order.
+    pub batch_D: Vec<f64>,
+    /// D of each batch in the check window.
+    pub batch_D_check: Vec<f64>,
+    /// The configuration.
+    pub config: SceneDiffusionConfig,
+    /// Version, seed, batches, precision, engine, threads.
+    pub meta: RunMeta,
+}
+
+impl SceneDiffusionReport {
+    /// The identity named `name`, if measured.
+    pub fn identity(&self, name: &str) -> Option<&Identity> {
+        self.identities.iter().find(|i| i.name == name)
+    }
+}
+
+/// The configuration a checkpoint of [`run_on`] is opened with: the scene's label beside the
+/// run's parameters, so a checkpoint of another table is refused.
+#[derive(Serialize)]
+struct Header<'a> {
+    scene: String,
+    config: &'a SceneDiffusionConfig,
+}
+
+/// D of `scene` by the Einstein formula (see the module documentation). `options`: `threads`,
+/// `progress`, `resume` (a checkpoint file, as in [`super::run`]), `checkpoint_every`, `stop`,
+/// and `audit` (`f64` runs); `engine` must be [`Engine::Auto`] or [`Engine::Scalar`].
+///
+/// # Errors
+/// An invalid configuration or options, an infinite-horizon scene, a checkpoint of another run,
+/// an I/O error, or a resumed run failing the scene's exact identities.
+pub fn run_on<S: Scene>(
+    scene: &S,
+    cfg: &SceneDiffusionConfig,
+    options: &RunOptions,
+) -> Result<SceneDiffusionReport, Error> {
+    options.validate()?;
+    options.refuse_unused("diffusion", &RunOption::ALL)?;
+    cfg.validate(scene)?;
+    if !matches!(options.engine, Engine::Auto | Engine::Scalar) {
+        return Err(Error::Invalid(format!(
+            "engine = {:?}: a scene's own kernel runs on the scalar engine (the SIMD engine runs \
+             only the triangular trap's fused kernel); use engine auto or scalar",
+            options.engine
+        )));
+    }
+    super::check_audit(options, cfg.precision)?;
+    let start = Instant::now();
+    let jobs = cfg.jobs();
+    let meta = RunMeta::new(
+        Some(cfg.seed),
+        Some(cfg.batches as u64),
+        cfg.precision,
+        None,
+    );
+    let header = Header {
+        scene: scene.label(),
+        config: cfg,
+    };
+    let keep = open_keeper(options, CHECKPOINT_KIND, &header, Some(meta), &jobs)?;
+    let resumed = keep.finished().count() as u32;
+    let todo: Vec<Job> = jobs
+        .into_iter()
+        .filter(|j| !keep.is_finished(&j.quota()))
+        .collect();
+    let new = execute_on(scene, cfg, &todo, options, &keep)?;
+    let mut done: Vec<BatchResult> = keep.finished().map(|(_, b)| b.clone()).collect();
+    done.extend(new);
+    done.sort_by_key(|b| b.index);
+    let mut rep = summarise(scene, cfg, &done, start.elapsed().as_secs_f64(), resumed)?;
+    rep.meta = RunMeta::new(
+        Some(cfg.seed),
+        Some(cfg.batches as u64),
+        cfg.precision,
+        Some(options.threads),
+    )
+    .with_engine(Resolved::Scalar);
+    if resumed > 0 || keep.in_flight_count() > 0 {
+        if let Some(i) = rep.identities.iter().find(|i| !i.agrees) {
+            return Err(Error::Failed(format!(
+                "the run resumed from its checkpoint fails an exact identity: {} {} is {:+.1} \
+                 standard errors from its closed form {} (bound {:.2}): the checkpoint holds \
+                 work of another configuration; delete it and run again",
+                i.name, i.measured, i.t, i.exact, i.bound
+            )));
+        }
+    }
+    Ok(rep)
+}
+
+/// Runs `jobs` on the scalar engine at the configured precision, in parallel, handing each
+/// finished batch to `keep`. Results come back in job order.
+fn execute_on<S: Scene>(
+    scene: &S,
+    cfg: &SceneDiffusionConfig,
+    jobs: &[Job],
+    options: &RunOptions,
+    keep: &DiffusionKeeper,
+) -> Result<Vec<BatchResult>, Error> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads)
+        .build()
+        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
+    cfg.precision.dispatch(OnScene {
+        scene,
+        jobs,
+        tau: time_unit(scene),
+        lags: cfg.lags(),
+        audit: options.audit,
+        pool: &pool,
+        keep,
+        progress: options.progress,
+    })
+}
+
+/// The jobs of [`execute_on`] at the number type of the run's precision.
+struct OnScene<'a, S: Scene> {
+    scene: &'a S,
+    jobs: &'a [Job],
+    tau: f64,
+    lags: Vec<usize>,
+    audit: Option<AuditSpec>,
+    pool: &'a rayon::ThreadPool,
+    keep: &'a DiffusionKeeper,
+    progress: &'a (dyn Fn(u64) + Sync),
+}
+
+impl<S: Scene> AtPrecision for OnScene<'_, S> {
+    type Output = Result<Vec<BatchResult>, Error>;
+    fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
+        let lat = self.scene.lattice::<T>(ctx)?;
+        self.pool.install(|| {
+            self.jobs
+                .par_iter()
+                .map(|&j| {
+                    let r = self.one(&lat, ctx, j)?;
+                    self.keep.finish(&j.quota(), &r)?;
+                    Ok(r)
+                })
+                .collect()
+        })
+    }
+}
+
+impl<S: Scene> OnScene<'_, S> {
+    /// One trajectory, from its saved state if it was in flight.
+    fn one<T: Real>(
+        &self,
+        lat: &Lattice<T, S::Kernel<T>>,
+        ctx: T::Ctx,
+        job: Job,
+    ) -> Result<BatchResult, Error> {
+        let start = Instant::now();
+        let audit = self.audit.map(|a| (a, self.scene));
+        let mut obs =
+            BatchObservers::<S>::new(&[job], 1, lat.basis_f64(), self.tau, &self.lags, audit)?;
+        let begin = || job.start_in::<S, T>(self.scene, ctx);
+        let (keep, progress) = (self.keep, self.progress);
+        drive_kept(lat, ctx, &job.quota(), begin, &mut obs, keep, progress)?;
+        let mut r = obs.results(&[job], start.elapsed().as_secs_f64())?;
+        Ok(r.remove(0))
+    }
+}
+
+/// The report of finished batches.
+fn summarise<S: Scene>(
+    scene: &S,
+    cfg: &SceneDiffusionConfig,
+    done: &[BatchResult],
+    seconds: f64,
+    resumed: u32,
+) -> Result<SceneDiffusionReport, Error> {
+    let tau = time_unit(scene);
+    let ds: Vec<f64> = done
+        .iter()
+        .map(|b| d_of_batch(b, tau, &cfg.window))
+        .collect();
+    let dc: Vec<f64> = done
+        .iter()
+        .map(|b| d_of_batch(b, tau, &cfg.check_window))
+        .collect();
+    let (d, d_err) = mean_se(&ds);
+    let (dcv, dce) = mean_se(&dc);
+    let diff = crate::statistics::comparison::paired(&ds, &dc)?;
+    let (msd_times, over) = msd_over_4t(done, tau);
+    let audit = merged_audit(done);
+    Ok(SceneDiffusionReport {
+        scene: scene.label(),
+        time_unit: tau,
+        time_unit_is_crossing_time: scene.crossing_time().is_some(),
+        D: d,
+        D_err: d_err,
+        D_check: dcv,
+        D_check_err: dce,
+        D_minus_D_check: diff.difference,
+        D_minus_D_check_err: diff.err,
+        identities: identities(scene, done),
+        msd_times,
+        msd_over_4t: over.iter().map(|e| e.value).collect(),
+        msd_over_4t_err: over.iter().map(|e| e.err).collect(),
+        longest_free_path: done
+            .iter()
+            .map(|b| b.counters.longest_free_path)
+            .fold(0.0, f64::max),
+        collisions: done.iter().map(|b| b.counters.collisions).sum(),
+        seconds,
+        resumed_batches: resumed,
+        audit,
+        batch_D: ds,
+        batch_D_check: dc,
+        config: cfg.clone(),
+        meta: RunMeta::new(
+            Some(cfg.seed),
+            Some(cfg.batches as u64),
+            cfg.precision,
+            None,
+        ),
+    })
+}
+
+/// The scene's exact identities against the batches' counters.
+fn identities<S: Scene>(scene: &S, done: &[BatchResult]) -> Vec<Identity> {
+    let bound = normal_sigma_equivalent_t(done.len().saturating_sub(1).max(1) as f64, 4.0);
+    let measure = |name: &str, f: &dyn Fn(&Counters) -> f64, exact: f64| {
+        let (measured, err) = mean_se(&done.iter().map(|b| f(&b.counters)).collect::<Vec<_>>());
+        let t = (measured - exact) / err;
+        Identity {
+            name: name.into(),
+            measured,
+            err,
+            exact,
+            t,
+            bound,
+            agrees: t.abs() <= bound,
+        }
+    };
+    let mfp = scene.mean_free_path();
+    let mut out = vec![measure(
+        "mean free path",
+        &|c| c.time / c.collisions as f64,
+        mfp,
+    )];
+    if let Some(tau) = scene.crossing_time() {
+        out.push(measure(
+            "crossing time",
+            &|c| c.time / c.crossings as f64,
+            tau,
+        ));
+        out.push(measure(
+            "collisions per crossing",
+            &|c| c.collisions as f64 / c.crossings as f64,
+            tau / mfp,
+        ));
+    }
+    out
+}

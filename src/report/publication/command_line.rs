@@ -1,0 +1,125 @@
+//! The recorded command line checked against the recorded configuration: a front end that owns
+//! a command-line parser ([`ReadCommandLine`]) parses `meta.command_line` — never running it —
+//! into the configuration it would give, and the check FAILs, naming the first field that
+//! differs, when that is not the file's `config` or not a command that writes this kind of
+//! result. Without a parser, or for a result recorded by another program (a Python session), the
+//! check is a SKIP saying why.
+
+use serde_json::Value;
+
+use super::{Checks, Verdict};
+use crate::engine::metadata::RunMeta;
+
+/// What a front end reads from a recorded command line.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CommandLine {
+    /// A command line of this front end: its command (`diffusion`, `figure`, …), the kind of
+    /// result it writes, and, for a command that writes it from its own options, the
+    /// configuration it gives (`None` for a command such as `merge`, whose configuration is its
+    /// inputs').
+    Parsed {
+        /// The command's name.
+        command: String,
+        /// The kind of result it writes (`diffusion`, `sweep`, …), `None` for none of the
+        /// audited kinds.
+        writes: Option<String>,
+        /// The configuration, as the result file records it.
+        config: Option<Value>,
+    },
+    /// Not a command line of this front end (recorded by another program): why.
+    Foreign(String),
+    /// A command line of this front end that its parser refuses: the parser's reason.
+    Refused(String),
+}
+
+/// A front end's reader of its own command lines.
+pub type ReadCommandLine<'a> = &'a (dyn Fn(&[String]) -> CommandLine + Sync);
+
+/// The check that `recorded.command_line` gives the file's configuration `config` and writes a
+/// result of `kind`.
+pub(super) fn check(
+    checks: &mut Checks,
+    kind: &str,
+    config: Option<&Value>,
+    recorded: &RunMeta,
+    reader: Option<ReadCommandLine>,
+) {
+    let name = "recorded command line gives the recorded configuration";
+    let shown = recorded.command_line.join(" ");
+    let (verdict, detail) = match reader.map(|r| r(&recorded.command_line)) {
+        None => (
+            Verdict::Skip,
+            "no command-line parser was given to the audit (a library or Python call)".into(),
+        ),
+        Some(CommandLine::Foreign(why)) => (Verdict::Skip, why),
+        Some(CommandLine::Refused(why)) => (
+            Verdict::Fail,
+            format!("`{shown}` is not a command line the parser accepts: {why}"),
+        ),
+        Some(CommandLine::Parsed {
+            command,
+            writes,
+            config: c,
+        }) => judge(kind, config, &command, writes.as_deref(), c),
+    };
+    checks.add("provenance", name, verdict, detail, &[]);
+}
+
+/// The verdict on a parsed command line of `command` giving `given` for a `kind` result whose
+/// file records `config`.
+fn judge(
+    kind: &str,
+    config: Option<&Value>,
+    command: &str,
+    writes: Option<&str>,
+    given: Option<Value>,
+) -> (Verdict, String) {
+    if writes != Some(kind) {
+        return (
+            Verdict::Fail,
+            format!("the recorded command line runs `{command}`, which does not write this {kind} result"),
+        );
+    }
+    let (Some(given), Some(config)) = (given, config) else {
+        return (
+            Verdict::Skip,
+            format!("`{command}` takes its configuration from its inputs, not from its options"),
+        );
+    };
+    match crate::engine::resume::difference(config, &given) {
+        None => (
+            Verdict::Pass,
+            format!("the recorded `{command}` command line gives the file's configuration, field for field (parsed, not run)"),
+        ),
+        Some(d) => (
+            Verdict::Fail,
+            format!("the recorded command line does not give the file's configuration: {d}"),
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_command_line_of_another_command_or_configuration_fails() {
+        let cfg = serde_json::json!({"w": 0.1, "collisions": 1000});
+        let d = Some("diffusion");
+        let (v, _) = judge("diffusion", Some(&cfg), "diffusion", d, Some(cfg.clone()));
+        assert_eq!(v, Verdict::Pass);
+        let (v, why) = judge("hops", Some(&cfg), "figure", None, None);
+        assert_eq!(v, Verdict::Fail);
+        assert!(why.contains("`figure`"), "{why}");
+        assert_eq!(
+            judge("hops", Some(&cfg), "diffusion", d, Some(cfg.clone())).0,
+            Verdict::Fail
+        );
+        let other = serde_json::json!({"w": 0.1, "collisions": 2000});
+        let (v, why) = judge("diffusion", Some(&cfg), "diffusion", d, Some(other));
+        assert_eq!(v, Verdict::Fail);
+        assert!(why.contains("collisions"), "{why}");
+        let merge = judge("sweep", Some(&cfg), "merge", Some("sweep"), None);
+        assert_eq!(merge.0, Verdict::Skip);
+    }
+}

@@ -1,0 +1,122 @@
+//! The figures of a diffusion audit: the local slope D(t) with its error band and the recorded D, and the histogram of the batch values.
+
+use super::*;
+
+/// The figures of a diffusion audit: the local slope D(t) with the recorded D, and the histogram
+/// of the batch values.
+pub(super) fn diffusion_figures(
+    r: &DiffusionReport,
+    out: &Path,
+    figures: &mut Vec<String>,
+) -> Result<(), Error> {
+    let slope_series = local_slopes(r);
+    let t_first = r.msd_times.first().copied().unwrap_or(0.0);
+    let t_last = r.msd_times.last().copied().unwrap_or(t_first);
+    let stem = out.join("local-slope");
+    plot(
+        &stem,
+        &PlotSpec {
+            title: "Local slope D(t) = d MSD / (4 dt), with the recorded D",
+            x_label: "t",
+            y_label: "D(t)",
+            log_x: false,
+            log_y: false,
+        },
+        &[
+            Series {
+                label: "local slope between lags (error: over batches)".into(),
+                points: slope_series,
+                notes: Vec::new(),
+                line: true,
+            },
+            Series {
+                label: "MSD/(4t)".into(),
+                points: r
+                    .msd_times
+                    .iter()
+                    .zip(r.msd_over_4t.iter().zip(&r.msd_over_4t_err))
+                    .map(|(t, (v, e))| (*t, *v, *e))
+                    .collect(),
+                notes: Vec::new(),
+                line: true,
+            },
+            Series {
+                label: format!("D + D_err = {:.6} + {:.6}", r.D, r.D_err),
+                points: vec![(t_first, r.D + r.D_err, 0.0), (t_last, r.D + r.D_err, 0.0)],
+                notes: Vec::new(),
+                line: true,
+            },
+            Series {
+                label: "D - D_err".into(),
+                points: vec![(t_first, r.D - r.D_err, 0.0), (t_last, r.D - r.D_err, 0.0)],
+                notes: Vec::new(),
+                line: true,
+            },
+        ],
+    )?;
+    figures.push("local-slope".into());
+    histogram(&r.batch_D, r.D, &out.join("batch-histogram"))?;
+    figures.push("batch-histogram".into());
+    Ok(())
+}
+
+/// The local slope (MSD(t_{k+1}) − MSD(t_k)) / (4 (t_{k+1} − t_k)) per batch, mean ± error, at the
+/// interval midpoints.
+pub(super) fn local_slopes(r: &DiffusionReport) -> Vec<(f64, f64, f64)> {
+    let t = &r.msd_times;
+    (0..t.len().saturating_sub(1))
+        .map(|k| {
+            let v: Vec<f64> = r
+                .batch_msd
+                .iter()
+                .map(|m| (m[k + 1] - m[k]) / (4.0 * (t[k + 1] - t[k])))
+                .collect();
+            let (m, e) = mean_se(&v);
+            (0.5 * (t[k] + t[k + 1]), m, e)
+        })
+        .collect()
+}
+
+/// A histogram of the batch values, as a step outline, with the mean marked.
+pub(super) fn histogram(x: &[f64], mean: f64, stem: &Path) -> Result<(), Error> {
+    let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let bins = ((x.len() as f64).sqrt().ceil() as usize).max(4);
+    let width = ((hi - lo) / bins as f64).max(f64::MIN_POSITIVE);
+    let mut counts = vec![0u32; bins];
+    for v in x {
+        counts[(((v - lo) / width) as usize).min(bins - 1)] += 1;
+    }
+    let mut outline = vec![(lo, 0.0, 0.0)];
+    for (i, c) in counts.iter().enumerate() {
+        let a = lo + i as f64 * width;
+        outline.push((a, *c as f64, 0.0));
+        outline.push((a + width, *c as f64, 0.0));
+    }
+    outline.push((lo + bins as f64 * width, 0.0, 0.0));
+    let top = *counts.iter().max().unwrap_or(&1) as f64;
+    plot(
+        stem,
+        &PlotSpec {
+            title: "D of each batch",
+            x_label: "D",
+            y_label: "batches",
+            log_x: false,
+            log_y: false,
+        },
+        &[
+            Series {
+                label: format!("{} batches", x.len()),
+                points: outline,
+                notes: Vec::new(),
+                line: true,
+            },
+            Series {
+                label: "mean".into(),
+                points: vec![(mean, 0.0, 0.0), (mean, top, 0.0)],
+                notes: Vec::new(),
+                line: true,
+            },
+        ],
+    )
+}

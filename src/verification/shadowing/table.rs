@@ -1,0 +1,191 @@
+//! The billiard table at the working precision and one step of the collision map with its derivative.
+
+use super::*;
+
+/// The billiard table at the working precision: the lattice basis and the disk radius, every
+/// constant computed from the scene's exact parameters.
+#[derive(Debug, Clone)]
+pub struct Table {
+    pub(super) a: Float,
+    pub(super) beta: Float,
+    pub(super) h: Float,
+    pub(super) r: Float,
+    pub(super) bits: u32,
+}
+
+/// 2×2 matrix, row-major.
+pub(super) type M2 = [Float; 4];
+
+/// One step of the map with its Jacobian.
+pub(super) struct Step {
+    pub(super) s: Float,
+    pub(super) p: Float,
+    pub(super) jac: M2,
+    /// cos φ at the arrival.
+    pub(super) cos_in: Float,
+    /// Free flight τ.
+    pub(super) tau: Float,
+}
+
+/// Why a step of the map could not be taken.
+#[derive(Debug, Clone)]
+pub(super) enum StepFailure {
+    /// |p| ≥ 1: the outgoing velocity is tangent to the disk (or beyond).
+    Grazing(Float),
+    /// The line of flight misses the recorded next disk.
+    Miss,
+}
+
+impl Table {
+    /// The table of `scene` at `bits` of precision.
+    ///
+    /// # Errors
+    /// If `bits` is outside MPFR's range or the scene refuses it.
+    pub fn new<S: Scene>(scene: &S, bits: u32) -> Result<Self, Error> {
+        let lat = scene.lattice::<Float>(bits)?;
+        let c = lat.cell();
+        let r = c.disks[0].radius().clone();
+        if c.disks.iter().any(|d| *d.radius() != r) {
+            return Err(Error::Invalid(format!(
+                "{}: true shadowing is written for disks of one radius, and this scene's differ",
+                scene.label()
+            )));
+        }
+        Ok(Table {
+            a: c.lattice.a.clone(),
+            beta: c.lattice.beta.clone(),
+            h: c.lattice.h.clone(),
+            r,
+            bits,
+        })
+    }
+
+    /// The working precision.
+    pub fn bits(&self) -> u32 {
+        self.bits
+    }
+
+    /// Centre of disk (i, j): (a(i + βj), hj).
+    pub fn centre(&self, d: [i64; 2]) -> Vec2<Float> {
+        let (i, j) = (self.f(d[0] as f64), self.f(d[1] as f64));
+        let x = self.a.clone() * &(i + &(self.beta.clone() * &j));
+        Vec2::new(x, self.h.clone() * &j)
+    }
+
+    pub(super) fn f(&self, x: f64) -> Float {
+        Float::with_val(self.bits, x)
+    }
+
+    /// The billiard map T from `x` to the disk `next` at the table's precision, and its
+    /// Jacobian ∂(s′, p′)/∂(s, p) (row-major), by the chain rule through the flight. `None` if
+    /// |p| ≥ 1 (grazing) or the line of flight misses `next`. Another disk in the way is not
+    /// checked here (see [`shadow_pseudo_orbit`]).
+    pub fn map(&self, x: &OrbitPoint, next: [i64; 2]) -> Option<(OrbitPoint, [Float; 4])> {
+        let st = self.step(x, next).ok()?;
+        Some((
+            OrbitPoint {
+                disk: next,
+                s: st.s,
+                p: st.p,
+            },
+            st.jac,
+        ))
+    }
+
+    /// Contact point and outgoing velocity of the collision state `x`.
+    pub(super) fn phase(&self, x: &OrbitPoint) -> Result<(Vec2<Float>, Vec2<Float>), StepFailure> {
+        let b = self.bits;
+        let (s, p) = (Float::with_val(b, &x.s), Float::with_val(b, &x.p));
+        let c2 = Float::with_val(b, 1) - &p.clone().square();
+        if !c2.is_sign_positive() || c2.is_zero() {
+            return Err(StepFailure::Grazing(Float::with_val(b, 0)));
+        }
+        let cphi = c2.sqrt();
+        let (sn, cs) = s.sin_cos(Float::new(b));
+        let c = self.centre(x.disk);
+        let pos = Vec2::new(c.x + &(self.r.clone() * &cs), c.y + &(self.r.clone() * &sn));
+        let vel = Vec2::new(
+            cphi.clone() * &cs - &(p.clone() * &sn),
+            cphi * &sn + &(p * &cs),
+        );
+        Ok((pos, vel))
+    }
+
+    /// The billiard map from `x` to the disk `next` and its analytic Jacobian in (s, p)
+    /// (chain rule through the flight; `proofs-notes/shadowing.md`).
+    pub(super) fn step(&self, x: &OrbitPoint, next: [i64; 2]) -> Result<Step, StepFailure> {
+        let b = self.bits;
+        let s = Float::with_val(b, &x.s);
+        let p = Float::with_val(b, &x.p);
+        let cphi2 = Float::with_val(b, 1) - &p.clone().square();
+        if !cphi2.is_sign_positive() || cphi2.is_zero() {
+            return Err(StepFailure::Grazing(Float::with_val(b, 0)));
+        }
+        let cphi = cphi2.sqrt();
+        let (sn, cs) = s.sin_cos(Float::new(b));
+        let n = Vec2::new(cs.clone(), sn.clone());
+        let t = Vec2::new(-sn, cs);
+        let v = Vec2::new(
+            cphi.clone() * &n.x + &(p.clone() * &t.x),
+            cphi.clone() * &n.y + &(p.clone() * &t.y),
+        );
+        let c0 = self.centre(x.disk);
+        let c1 = self.centre(next);
+        let x0 = c0.along(&self.r, &n);
+        let d = x0.sub(&c1);
+        let beta = d.dot(&v);
+        let gamma = d.norm2() - &self.r.clone().square();
+        let disc = beta.clone().square() - &gamma;
+        if !beta.is_sign_negative() || !disc.is_sign_positive() || disc.is_zero() {
+            return Err(StepFailure::Miss);
+        }
+        let sq = disc.clone().sqrt();
+        // τ = −β − √Δ = γ/(√Δ − β), free of cancellation (β < 0, γ > 0).
+        let tau = gamma / &(sq.clone() - &beta);
+        let x1 = x0.along(&tau, &v);
+        let n1 = Vec2::new(
+            (x1.x.clone() - &c1.x) / &self.r,
+            (x1.y.clone() - &c1.y) / &self.r,
+        );
+        let s1 = Float::with_val(b, n1.y.atan2_ref(&n1.x));
+        let p1 = n1.cross(&v);
+        let cos_in = sq.clone() / &self.r;
+        let nn = n1.norm2();
+        // Directional derivatives along e_s and e_p.
+        let mut jac: M2 = std::array::from_fn(|_| Float::new(b));
+        for dir in 0..2 {
+            let (ds, dp) = if dir == 0 { (1.0, 0.0) } else { (0.0, 1.0) };
+            let (ds, dp) = (self.f(ds), self.f(dp));
+            // dn = t ds, dt = −n ds, dcφ = −p dp / cφ.
+            let dn = Vec2::new(t.x.clone() * &ds, t.y.clone() * &ds);
+            let dt = Vec2::new(-(n.x.clone() * &ds), -(n.y.clone() * &ds));
+            let dc = -(p.clone() * &dp) / &cphi;
+            let dv = Vec2::new(
+                dc.clone() * &n.x
+                    + &(cphi.clone() * &dn.x)
+                    + &(dp.clone() * &t.x)
+                    + &(p.clone() * &dt.x),
+                dc * &n.y + &(cphi.clone() * &dn.y) + &(dp * &t.y) + &(p.clone() * &dt.y),
+            );
+            let dx0 = Vec2::new(dn.x.clone() * &self.r, dn.y.clone() * &self.r);
+            let dbeta = dx0.dot(&v) + &d.dot(&dv);
+            let dgamma = d.dot(&dx0) * 2u32;
+            let ddisc = beta.clone() * &dbeta * 2u32 - &dgamma;
+            let dtau = -dbeta - &(ddisc / &(sq.clone() * 2u32));
+            let dx1 = Vec2::new(
+                dx0.x.clone() + &(dtau.clone() * &v.x) + &(tau.clone() * &dv.x),
+                dx0.y.clone() + &(dtau * &v.y) + &(tau.clone() * &dv.y),
+            );
+            let dn1 = Vec2::new(dx1.x / &self.r, dx1.y / &self.r);
+            jac[dir] = n1.cross(&dn1) / &nn;
+            jac[2 + dir] = dn1.cross(&v) + &n1.cross(&dv);
+        }
+        Ok(Step {
+            s: s1,
+            p: p1,
+            jac,
+            cos_in,
+            tau,
+        })
+    }
+}
