@@ -15,7 +15,6 @@
 //! scalar engine ([`crate::engine`]) — and batches are combined in index order.
 
 use std::path::Path;
-use std::str::FromStr;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -26,19 +25,21 @@ use crate::engine::options::{AuditSpec, RunOption, RunOptions};
 use crate::engine::Engine;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
-use crate::numbers::real::Real;
 use crate::observers::counters::Counters;
 use crate::scenes::lattice::LatticeState;
-use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
 use crate::statistics::mean_se;
 use crate::verification::shadow_audit::AuditSummary;
 use crate::Error;
 
+mod config;
 mod execution;
 pub mod scene;
 mod summary;
 
 use execution::{execute, setup, DiffusionKeeper, Job};
+
+// The configuration keeps its one public path, `estimators::diffusion::…` (its module is private).
+pub use config::{DiffusionConfig, Window, MIN_HOPS_PER_LAG};
 
 /// Kind of the records of a diffusion checkpoint.
 const CHECKPOINT_KIND: &str = "diffusion trajectories";
@@ -61,170 +62,6 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
         "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use a finite-horizon scene (the triangular one with 0 < w < w_inf = 0.3094...), or the superdiffusion analysis, which measures the t ln t growth against the exact corridor constants (the constants analysis lists them)",
         scene.label()
     )))
-}
-
-/// A fit window in units of the mean hop time τ.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Window {
-    /// Start, in units of τ.
-    pub lo: usize,
-    /// End, in units of τ.
-    pub hi: usize,
-}
-
-impl Window {
-    /// Seven lags evenly spaced over the window (in units of τ).
-    pub fn lags(&self) -> Vec<usize> {
-        let mut v: Vec<usize> = (0..7)
-            .map(|k| self.lo + ((self.hi - self.lo) * k + 3) / 6)
-            .collect();
-        v.dedup();
-        v
-    }
-}
-
-impl FromStr for Window {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self, Error> {
-        let bad = || {
-            Error::Invalid(format!(
-                "fit window '{s}' must be LO:HI in units of tau, 1 <= LO < HI <= 100000"
-            ))
-        };
-        let (a, b) = s.split_once(':').ok_or_else(bad)?;
-        let lo: usize = a.trim().parse().map_err(|_| bad())?;
-        let hi: usize = b.trim().parse().map_err(|_| bad())?;
-        if lo < 1 || hi <= lo || hi > 100_000 {
-            return Err(bad());
-        }
-        Ok(Window { lo, hi })
-    }
-}
-
-/// A batch must cover the end of the later fit window this many times (so that the MSD at the
-/// longest lag averages over many independent time origins).
-pub const MIN_HOPS_PER_LAG: usize = 20;
-
-/// Everything that defines a diffusion run.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DiffusionConfig {
-    /// Gap w: the double that `f64` runs use.
-    pub w: f64,
-    /// The gap exactly as the user gave it (a decimal or a fraction such as `"1/10"`), whose
-    /// nearest double is `w`: runs at an MPFR precision start from it, rounded once, so they
-    /// never see the double's representation error. `None`: the double `w` is the gap.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub w_exact: Option<String>,
-    /// Total number of collisions over all batches.
-    pub collisions: u64,
-    /// Number of independent batches (trajectories).
-    pub batches: u32,
-    /// Seed of the random streams.
-    pub seed: u64,
-    /// Which run of this seed (0 for a single run; run r of sweep point i is i·runs + r): batch b
-    /// uses the trajectory stream `(seed, run, b)` ([`crate::scenes::sampling::StreamKey`]).
-    #[serde(default)]
-    pub run: u64,
-    /// Number type.
-    pub precision: Precision,
-    /// Fit window for D.
-    pub window: Window,
-    /// Later window, fitted as a check of the linear regime.
-    pub check_window: Window,
-}
-
-impl DiffusionConfig {
-    /// The default run at `w`: 2·10⁹ collisions in 32 batches, windows [10τ, 40τ] and [20τ, 80τ].
-    pub fn new(w: f64) -> Self {
-        DiffusionConfig {
-            w,
-            w_exact: None,
-            collisions: 2_000_000_000,
-            batches: 32,
-            seed: 1,
-            run: 0,
-            precision: Precision::F64,
-            window: Window { lo: 10, hi: 40 },
-            check_window: Window { lo: 20, hi: 80 },
-        }
-    }
-
-    /// Checks every parameter; errors name the valid range.
-    pub fn validate(&self) -> Result<(), Error> {
-        check_diffusive_gap(self.w)?;
-        crate::numbers::exact::check_exact("w", self.w, self.w_exact.as_deref())?;
-        if self.collisions == 0 {
-            return Err(Error::Zero { what: "collisions" });
-        }
-        if self.batches == 0 {
-            return Err(Error::Zero { what: "batches" });
-        }
-        if self.batches < 2 {
-            return Err(Error::TooFew {
-                what: "batches",
-                min: 2,
-                got: self.batches as u64,
-            });
-        }
-        crate::engine::parallel::check_batches("batches", self.batches)?;
-        crate::engine::check_trajectory_length(self.collisions.div_ceil(self.batches as u64))?;
-        if let Precision::Bits(b) = self.precision {
-            <rug::Float as Real>::check_ctx(b)?;
-        }
-        if self.check_window == self.window {
-            return Err(Error::Invalid(format!(
-                "check_window = {0}:{1} is the fit window {0}:{1}: the check needs another \
-                 window, such as a later one ({2}:{3})",
-                self.window.lo,
-                self.window.hi,
-                2 * self.window.lo,
-                2 * self.window.hi
-            )));
-        }
-        // Each batch must be long enough to reach the far end of the check window many times.
-        let g = Geometry::new(self.w)?;
-        let need_hops = (MIN_HOPS_PER_LAG * self.window.hi.max(self.check_window.hi)) as f64;
-        let min = need_hops * g.collisions_per_hop() * self.batches as f64;
-        if (self.collisions as f64) < min {
-            return Err(if min < u64::MAX as f64 {
-                Error::TooFew {
-                    what: "collisions (for this w, window and batch count)",
-                    min: min.ceil() as u64,
-                    got: self.collisions,
-                }
-            } else {
-                Error::Invalid(format!(
-                    "w = {:?} needs about {min:.1e} collisions for {} batches to reach the fit \
-                     window (pi/(3w) = {:.1e} collisions per hop), more than any run can do \
-                     (2^64 = 1.8e19): use a larger w",
-                    self.w,
-                    self.batches,
-                    g.collisions_per_hop()
-                ))
-            });
-        }
-        Ok(())
-    }
-
-    /// The trajectories of this run: batch i follows the stream (seed, run, i) for its share of
-    /// the collisions.
-    fn jobs(&self) -> impl Iterator<Item = Job> + '_ {
-        (0..self.batches).map(move |i| Job {
-            seed: self.seed,
-            run: self.run,
-            index: i,
-            collisions: crate::engine::parallel::share(self.collisions, self.batches, i),
-        })
-    }
-
-    /// The lags (in units of τ) the MSD is accumulated at: those of both fit windows.
-    pub fn lags(&self) -> Vec<usize> {
-        let mut l = self.window.lags();
-        l.extend(self.check_window.lags());
-        l.sort_unstable();
-        l.dedup();
-        l
-    }
 }
 
 /// What one batch produced (also the unit of checkpointing).

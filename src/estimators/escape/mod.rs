@@ -42,7 +42,7 @@ use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::strip::Strip;
 use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
 use crate::scenes::triangular::TriangularScene;
-use crate::statistics::weighted_line_fit;
+use crate::statistics::fits::weighted_line_fit;
 use crate::Error;
 
 /// Independent batches per width: the error of γ̂ is their batch error (dozens give a reliable

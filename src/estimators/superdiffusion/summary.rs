@@ -6,7 +6,8 @@ use serde::Serialize;
 
 use super::{Batch, SuperdiffusionConfig};
 use crate::observers::lag_moments::{HISTOGRAM_BINS, HISTOGRAM_RANGE};
-use crate::statistics::{mean_se, weighted_line_fit};
+use crate::statistics::fits::weighted_line_fit;
+use crate::statistics::mean_se;
 use crate::theory::corridors::Superdiffusion;
 use crate::Error;
 

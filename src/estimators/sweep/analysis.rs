@@ -9,8 +9,9 @@ use super::{
 use crate::engine::metadata::RunMeta;
 use crate::numbers::precision::Precision;
 use crate::scenes::triangular::geometry::Geometry;
-use crate::statistics::{
-    f_p_value, weighted_line_fit, weighted_mean, weighted_polynomial_chi2, weighted_quadratic_fit,
+use crate::statistics::f_p_value;
+use crate::statistics::fits::{
+    weighted_line_fit, weighted_mean, weighted_polynomial_chi2, weighted_quadratic_fit,
 };
 use crate::Error;
 

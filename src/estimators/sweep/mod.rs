@@ -20,7 +20,7 @@ use crate::engine::options::{RunOption, RunOptions};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::numbers::exact::decimal_grid;
 use crate::numbers::precision::Precision;
-use crate::statistics::{LineFit, WeightedMean};
+use crate::statistics::fits::{LineFit, WeightedMean};
 use crate::Error;
 
 /// What defines a sweep.

@@ -24,6 +24,10 @@ use crate::report::figures::paper;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::Error;
 
+mod marker;
+
+use marker::{finished_step, Done};
+
 /// How much statistics a reproduction uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
@@ -79,18 +83,6 @@ pub struct ReproduceReport {
     pub steps: Vec<StepRecord>,
     /// Version, seed, threads, command line.
     pub meta: RunMeta,
-}
-
-/// A finished step's marker, sealed ([`crate::engine::resume::seal`]): the budget, version and
-/// seed it was made with, so that a reproduction with another seed never takes it as its own.
-#[derive(Debug, Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Done {
-    budget: String,
-    version: String,
-    seed: u64,
-    seconds: f64,
-    files: Vec<String>,
 }
 
 /// One step of a reproduction, in the order they run.
@@ -606,54 +598,9 @@ fn index_html(dir: &Path, r: &ReproduceReport) -> String {
     s + "</body></html>\n"
 }
 
-/// The marker of a finished step at `marker` (see [`Reproduction::finished`]).
-fn finished_step(marker: &Path, budget: &str, seed: u64) -> Result<Option<Done>, Error> {
-    if !marker.exists() {
-        return Ok(None);
-    }
-    let text = crate::files::read_to_string(marker)?;
-    let d: Done = crate::engine::resume::unseal(marker, &text, "step marker")?;
-    if d.seed != seed {
-        return Err(Error::Invalid(format!(
-            "{} was made with seed {} and this reproduction has seed {}: use another folder \
-             (or seed {})",
-            marker.display(),
-            d.seed,
-            seed,
-            d.seed
-        )));
-    }
-    Ok((d.budget == budget && d.version == env!("CARGO_PKG_VERSION")).then_some(d))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_step_marker_of_another_seed_or_edited_is_refused() {
-        let dir = tempfile::tempdir().unwrap();
-        let marker = dir.path().join("done.json");
-        assert!(finished_step(&marker, "quick", 2).unwrap().is_none());
-        let done = Done {
-            budget: "quick".into(),
-            version: env!("CARGO_PKG_VERSION").into(),
-            seed: 1,
-            seconds: 1.5,
-            files: vec!["d-table/table.md".into()],
-        };
-        let sealed = crate::engine::resume::seal(&done).unwrap();
-        std::fs::write(&marker, &sealed).unwrap();
-        assert_eq!(finished_step(&marker, "quick", 1).unwrap().unwrap().seed, 1);
-        assert!(finished_step(&marker, "paper", 1).unwrap().is_none());
-        let e = finished_step(&marker, "quick", 2).unwrap_err().to_string();
-        assert!(e.contains("seed 1") && e.contains("seed 2"), "{e}");
-        // The seed edited without the digest, and the unsealed layout of earlier versions.
-        std::fs::write(&marker, sealed.replace("\"seed\": 1", "\"seed\": 2")).unwrap();
-        assert!(finished_step(&marker, "quick", 2).is_err());
-        std::fs::write(&marker, serde_json::to_string(&done).unwrap()).unwrap();
-        assert!(finished_step(&marker, "quick", 1).is_err());
-    }
 
     #[test]
     fn markdown_tables_become_html() {
