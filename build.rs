@@ -36,10 +36,10 @@ fn main() {
     for name in watch {
         // --git-path resolves the files of linked worktrees too; a missing file is not watched
         // (cargo would rerun on every build).
-        if let Some(path) = run("git", &["rev-parse", "--git-path", &name]) {
-            if std::path::Path::new(&path).exists() {
-                println!("cargo:rerun-if-changed={path}");
-            }
+        if let Some(path) = run("git", &["rev-parse", "--git-path", &name])
+            && std::path::Path::new(&path).exists()
+        {
+            println!("cargo:rerun-if-changed={path}");
         }
     }
     println!("cargo:rerun-if-changed=build.rs");

@@ -11,8 +11,8 @@
 //! events per collision, next to the engine's ns per collision.
 
 use divan::Bencher;
-use lorentz_gas::engine::bound::{run_chains, Unit, CHAINS, ROUNDS};
 use lorentz_gas::engine::SimdPath;
+use lorentz_gas::engine::bound::{CHAINS, ROUNDS, Unit, run_chains};
 
 fn main() {
     divan::main();

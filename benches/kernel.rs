@@ -7,7 +7,7 @@
 use divan::Bencher;
 use lorentz_gas::engine::observe::Nothing;
 use lorentz_gas::engine::simd::BLOCK;
-use lorentz_gas::engine::{drive, run_block, SimdPath};
+use lorentz_gas::engine::{SimdPath, drive, run_block};
 use lorentz_gas::numbers::real::Real;
 use lorentz_gas::observers::counters::CounterLanes;
 use lorentz_gas::observers::msd::Msd;

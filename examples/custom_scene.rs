@@ -20,16 +20,16 @@
 //!
 //! The program exits with status 1 if any of these checks fails.
 
+use lorentz_gas::Error;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
-use lorentz_gas::estimators::diffusion::scene::{run_on, SceneDiffusionConfig};
+use lorentz_gas::estimators::diffusion::scene::{SceneDiffusionConfig, run_on};
 use lorentz_gas::kernel::cell::{ConvexCell, Disk, Edge, EdgeMap, LatticeBasis};
 use lorentz_gas::kernel::flight::Flight;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::numbers::real::Real;
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState};
 use lorentz_gas::scenes::sampling::direction;
-use lorentz_gas::scenes::Scene;
-use lorentz_gas::Error;
 use rand::Rng;
 use rug::Rational;
 use std::f64::consts::PI;

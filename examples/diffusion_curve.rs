@@ -9,9 +9,9 @@
 //! `run(&config, &RunOptions)`; the options (engine, threads, progress, resume) never change the
 //! bits of a result.
 
+use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
-use lorentz_gas::Error;
 
 fn main() -> Result<(), Error> {
     let collisions = match std::env::args().nth(1) {

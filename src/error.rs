@@ -85,9 +85,24 @@ pub enum Error {
     /// A verification ran and its verdict is FAIL (not bad input: exit status 1).
     #[error("{0}")]
     CheckFailed(String),
+    /// A scene given another scene's parameter, or none: each front end names the parameters in
+    /// its own terms (`--w`, `w=`).
+    #[error("{}", scene_parameter_text(scene, parameter, needs, range, *missing, &|p| p.to_string()))]
+    SceneParameter {
+        /// The scene.
+        scene: &'static str,
+        /// The parameter given that the scene does not take, or (`missing`) the one it needs.
+        parameter: &'static str,
+        /// The parameter the scene takes.
+        needs: &'static str,
+        /// Its valid range.
+        range: &'static str,
+        /// `true`: the scene's parameter is missing; `false`: `parameter` does not apply.
+        missing: bool,
+    },
     /// A run option that the analysis does not use was set: it would be ignored. Each front end
     /// names the option in its own terms (the command line's flag, Python's keyword).
-    #[error("{analysis} does not use the run option `{option}`: leave it unset")]
+    #[error("{}", unused_option_text(analysis, *option, &|p| format!("`{p}`")))]
     UnusedOption {
         /// The analysis.
         analysis: &'static str,
@@ -98,6 +113,38 @@ pub enum Error {
     /// a checkpoint, if the run kept one, holds the work up to its last save.
     #[error("interrupted: the run was stopped before it finished")]
     Interrupted,
+}
+
+/// The message of [`Error::SceneParameter`], the parameters spelled by `name`.
+fn scene_parameter_text(
+    scene: &str,
+    parameter: &str,
+    needs: &str,
+    range: &str,
+    missing: bool,
+    name: &dyn Fn(&str) -> String,
+) -> String {
+    if missing {
+        format!("the {scene} scene needs {}: {range}", name(needs))
+    } else {
+        format!(
+            "{} does not apply to the {scene} scene: give {} ({range})",
+            name(parameter),
+            name(needs)
+        )
+    }
+}
+
+/// The message of [`Error::UnusedOption`], the option spelled by `name`.
+fn unused_option_text(
+    analysis: &str,
+    option: crate::engine::options::RunOption,
+    name: &dyn Fn(&str) -> String,
+) -> String {
+    format!(
+        "{analysis} does not take {}: leave it out",
+        name(option.field())
+    )
 }
 
 /// The four kinds of failure, one exit status each on the command line.
@@ -134,6 +181,34 @@ impl Error {
         }
     }
 
+    /// The message, with every parameter a typed error names spelled by `name` (its field or
+    /// keyword in the library's terms: `w`, `radius`, `resume`, …): the command line passes its
+    /// flags, Python its keywords. Other errors give their message unchanged.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::engine::options::RunOption;
+    /// use lorentz_gas::Error;
+    /// let e = Error::UnusedOption { analysis: "lyapunov", option: RunOption::Resume };
+    /// assert_eq!(e.to_string(), "lyapunov does not take `resume`: leave it out");
+    /// let flag = |p: &str| format!("--{}", p.replace('_', "-"));
+    /// assert_eq!(e.presented(&flag), "lyapunov does not take --resume: leave it out");
+    /// ```
+    pub fn presented(&self, name: &dyn Fn(&str) -> String) -> String {
+        match self {
+            Error::SceneParameter {
+                scene,
+                parameter,
+                needs,
+                range,
+                missing,
+            } => scene_parameter_text(scene, parameter, needs, range, *missing, name),
+            Error::UnusedOption { analysis, option } => unused_option_text(analysis, *option, name),
+            other => other.to_string(),
+        }
+    }
+
     /// Which kind of failure this is.
     pub fn kind(&self) -> ErrorKind {
         match self {
@@ -148,6 +223,7 @@ impl Error {
             | Error::Zero { .. }
             | Error::TooFew { .. }
             | Error::UnusedOption { .. }
+            | Error::SceneParameter { .. }
             | Error::Invalid(_) => ErrorKind::BadInput,
         }
     }

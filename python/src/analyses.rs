@@ -9,15 +9,15 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use serde::Serialize;
 
-use lorentz_gas::engine::options::{AuditSpec, RunOptions, MAX_CHECKPOINT_EVERY};
 use lorentz_gas::engine::Engine;
+use lorentz_gas::engine::options::{AuditSpec, MAX_CHECKPOINT_EVERY, RunOptions};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, Window};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, Gas, SuperdiffusionConfig};
 use lorentz_gas::estimators::sweep::{self, SweepConfig};
-use lorentz_gas::estimators::trajectory::{self, TrajectoryInput, MAX_DIGITS};
+use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
 use lorentz_gas::scenes::Scene;
@@ -29,8 +29,10 @@ use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
 use lorentz_gas::verification::shadowing::{self, ShadowConfig};
 
 use crate::inputs::{self, count_u32, count_u64, count_usize, exact};
-use crate::scenes::{resolve, with_scene, SceneChoice};
-use crate::watch::{compute, json, Ctl};
+use crate::scenes::resolve;
+use crate::watch::{Ctl, compute, json};
+use lorentz_gas::scenes::spec::SceneChoice;
+use lorentz_gas::with_scene;
 
 /// The run options of a computation watched by `ctl`.
 fn options<'a>(ctl: &'a Ctl<'a>, threads: usize, engine: Engine) -> RunOptions<'a> {
@@ -588,7 +590,7 @@ fn py_trajectory(
                     lorentz_gas::numbers::exact::nearest_f64(&q)
                 )));
             }
-            crate::scenes::SceneChoice::Triangular(Box::new(
+            SceneChoice::Triangular(Box::new(
                 lorentz_gas::scenes::triangular::TriangularScene::exact(q)
                     .map_err(crate::py_err)?,
             ))
@@ -677,7 +679,7 @@ fn py_constants(w: Option<&str>, radius: Option<&str>, precision: &str) -> PyRes
         _ => {
             return Err(PyValueError::new_err(
                 "give w (the triangular scene, w > 0) or radius (the square scene, 0 < radius < 1/2), not both",
-            ))
+            ));
         }
     };
     let r = constants::run(&ConstantsConfig {

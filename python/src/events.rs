@@ -6,14 +6,15 @@ use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use lorentz_gas::kernel::flight::EventKind;
-use lorentz_gas::scenes::sampling::stream;
-use lorentz_gas::scenes::Scene;
 use lorentz_gas::Error;
+use lorentz_gas::kernel::flight::EventKind;
+use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::sampling::stream;
 
 use crate::inputs::{count_u32, count_u64};
-use crate::scenes::{resolve, with_scene};
-use crate::watch::{compute, Ctl};
+use crate::scenes::resolve;
+use crate::watch::{Ctl, compute};
+use lorentz_gas::with_scene;
 
 /// Bytes per event: the columns here (5 `f64`, 2 `i64`, 3 `u8`) and the structured array the
 /// Python package builds from them (the same again, padded).
@@ -73,16 +74,16 @@ fn check_memory(n: u64) -> PyResult<()> {
         )));
     }
     let need = n.saturating_mul(BYTES_PER_EVENT);
-    if let Some(avail) = available_bytes() {
-        if need as f64 > 0.8 * avail as f64 {
-            return Err(PyMemoryError::new_err(format!(
-                "n = {n} events need {:.2} GiB ({BYTES_PER_EVENT} bytes each), more than 80 % of \
+    if let Some(avail) = available_bytes()
+        && need as f64 > 0.8 * avail as f64
+    {
+        return Err(PyMemoryError::new_err(format!(
+            "n = {n} events need {:.2} GiB ({BYTES_PER_EVENT} bytes each), more than 80 % of \
                  the {:.2} GiB available: ask for at most {} events, or several calls",
-                need as f64 / 2f64.powi(30),
-                avail as f64 / 2f64.powi(30),
-                (0.8 * avail as f64 / BYTES_PER_EVENT as f64) as u64
-            )));
-        }
+            need as f64 / 2f64.powi(30),
+            avail as f64 / 2f64.powi(30),
+            (0.8 * avail as f64 / BYTES_PER_EVENT as f64) as u64
+        )));
     }
     Ok(())
 }

@@ -1,8 +1,8 @@
 //! The values a Python caller passes, parsed exactly as the command line parses them (one
 //! implementation, one message naming the valid range).
 
-use pyo3::exceptions::PyValueError;
 use pyo3::PyResult;
+use pyo3::exceptions::PyValueError;
 
 use lorentz_gas::engine::Engine;
 use lorentz_gas::numbers::count;

@@ -34,13 +34,7 @@ create_exception!(
 /// valid range, as on the command line), I/O is `OSError` (naming the path), a FAIL verdict is
 /// `CheckFailedError`, a stopped run `KeyboardInterrupt`, anything else `ComputationError`.
 pub(crate) fn py_err(e: Error) -> PyErr {
-    let text = match &e {
-        Error::UnusedOption { analysis, option } => format!(
-            "{analysis} does not take the keyword {}: leave it out",
-            keyword(*option)
-        ),
-        _ => e.to_string(),
-    };
+    let text = e.presented(&keyword);
     match e.kind() {
         ErrorKind::BadInput => PyValueError::new_err(text),
         ErrorKind::Io => PyOSError::new_err(text),
@@ -50,14 +44,11 @@ pub(crate) fn py_err(e: Error) -> PyErr {
     }
 }
 
-/// The keyword of a run option in the Python functions.
-fn keyword(option: lorentz_gas::engine::options::RunOption) -> &'static str {
-    use lorentz_gas::engine::options::RunOption;
-    match option {
-        RunOption::Engine => "engine=",
-        RunOption::Resume => "checkpoint=",
-        RunOption::Audit => "audit=",
-        RunOption::CheckpointEvery => "checkpoint_every=",
+/// The keyword of a parameter the library names (`resume` is `checkpoint=` here).
+fn keyword(parameter: &str) -> String {
+    match parameter {
+        "resume" => "checkpoint=".into(),
+        p => format!("{p}="),
     }
 }
 

@@ -11,8 +11,8 @@ use std::time::Duration;
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 
-use lorentz_gas::engine::options::StopFlag;
 use lorentz_gas::Error;
+use lorentz_gas::engine::options::StopFlag;
 
 use crate::py_err;
 
@@ -57,21 +57,21 @@ pub fn compute<R: Send>(
                 let finished =
                     !matches!(rx.recv_timeout(POLL), Err(mpsc::RecvTimeoutError::Timeout));
                 Python::attach(|py| {
-                    if raised.is_none() {
-                        if let Err(e) = py.check_signals() {
+                    if raised.is_none()
+                        && let Err(e) = py.check_signals()
+                    {
+                        stop.request();
+                        raised = Some(e);
+                    }
+                    let now = done.load(Ordering::Relaxed);
+                    if let (Some(cb), None) = (&callback, &raised)
+                        && now > reported
+                    {
+                        if let Err(e) = cb.call1(py, (now - reported,)) {
                             stop.request();
                             raised = Some(e);
                         }
-                    }
-                    let now = done.load(Ordering::Relaxed);
-                    if let (Some(cb), None) = (&callback, &raised) {
-                        if now > reported {
-                            if let Err(e) = cb.call1(py, (now - reported,)) {
-                                stop.request();
-                                raised = Some(e);
-                            }
-                            reported = now;
-                        }
+                        reported = now;
                     }
                 });
                 if finished {

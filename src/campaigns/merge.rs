@@ -7,12 +7,12 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::shard::{Shard, ShardReport};
+use crate::Error;
 use crate::engine::options::RunOptions;
 use crate::engine::resume::{difference, seal, unseal, write_atomically};
 use crate::estimators::sweep::analysis::analyse;
 use crate::estimators::sweep::points::{point_path, read_point};
 use crate::estimators::sweep::{SweepConfig, SweepPoint, SweepReport};
-use crate::Error;
 
 /// What to merge, and where.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -109,16 +109,16 @@ impl Parts {
             .map_err(|e| crate::engine::resume::io_error("read", &manifest, e))?;
         let m: ShardReport = unseal(&manifest, &text, "shard manifest")?;
         self.same(&m.config, d)?;
-        if let Some((s0, d0)) = self.shards.values().next() {
-            if s0.count != m.shard.count {
-                return Err(Error::Invalid(format!(
-                    "{} is part {} but {} is part {}: merge parts of one split",
-                    d0.display(),
-                    s0,
-                    d.display(),
-                    m.shard
-                )));
-            }
+        if let Some((s0, d0)) = self.shards.values().next()
+            && s0.count != m.shard.count
+        {
+            return Err(Error::Invalid(format!(
+                "{} is part {} but {} is part {}: merge parts of one split",
+                d0.display(),
+                s0,
+                d.display(),
+                m.shard
+            )));
         }
         if let Some((_, d0)) = self.shards.get(&m.shard.index) {
             return Err(Error::Invalid(format!(

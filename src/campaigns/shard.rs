@@ -4,13 +4,13 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::resume::{seal, write_atomically};
 use crate::estimators::sweep::points::run_points;
-use crate::estimators::sweep::{SweepConfig, MAX_SWEEP_POINTS};
+use crate::estimators::sweep::{MAX_SWEEP_POINTS, SweepConfig};
 use crate::numbers::precision::Precision;
-use crate::Error;
 
 /// Part `index` of `count` of a sweep's points: point i belongs to part i mod `count` (parts
 /// 0 … count − 1, as Slurm numbers the tasks of `--array=0-(count−1)`). Round-robin, so every

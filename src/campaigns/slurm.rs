@@ -11,9 +11,9 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::engine::Engine;
-use crate::estimators::sweep::{SweepConfig, MAX_SWEEP_POINTS};
 use crate::Error;
+use crate::engine::Engine;
+use crate::estimators::sweep::{MAX_SWEEP_POINTS, SweepConfig};
 
 /// A sweep as a Slurm campaign: the job array of its parts and the dependent merge job.
 #[derive(Debug, Clone)]
@@ -263,9 +263,10 @@ mod tests {
     fn merge_waits_for_every_task() {
         let c = campaign();
         assert!(c.merge_script().contains("for i in $(seq 0 6)"));
-        assert!(c
-            .submit_script()
-            .contains("--dependency=afterok:\"$array\" merge.sbatch"));
+        assert!(
+            c.submit_script()
+                .contains("--dependency=afterok:\"$array\" merge.sbatch")
+        );
     }
 
     #[test]

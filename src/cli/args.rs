@@ -6,6 +6,7 @@ use clap::Args;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::hops::HopsConfig;
 use lorentz_gas::numbers::precision::Precision;
+use lorentz_gas::scenes::spec::SceneSpec;
 
 pub use lorentz_gas::numbers::count::{
     parse_count, parse_count_u32, parse_count_usize, parse_threads,
@@ -64,60 +65,29 @@ pub enum SceneName {
     Square,
 }
 
-/// A resolved scene, ready for the library's scene-generic analyses (see [`with_scene`]).
-pub enum SceneChoice {
-    /// The triangular lattice.
-    Triangular(Box<lorentz_gas::scenes::triangular::TriangularScene>),
-    /// The square lattice.
-    Square(lorentz_gas::scenes::square::SquareScene),
-}
+pub use lorentz_gas::scenes::spec::SceneChoice;
+pub(crate) use lorentz_gas::with_scene;
 
 impl SceneArgs {
+    /// The scene the options describe ([`SceneSpec`]), the parameter kept exactly as typed.
+    pub fn spec(&self) -> Result<SceneSpec, lorentz_gas::Error> {
+        let name = match self.scene {
+            SceneName::Triangular => "triangular",
+            SceneName::Square => "square",
+        };
+        let text = |e: &Option<Exact>| e.as_ref().map(|e| e.text.clone());
+        SceneSpec::parse(
+            name,
+            text(&self.w).as_deref(),
+            text(&self.radius).as_deref(),
+        )
+    }
+
     /// The scene the options describe, with every parameter checked. The scene keeps the gap or
     /// radius exactly as typed: an analysis at P bits rounds it once at P bits (`--w 0.1` at 256
     /// bits is 1/10 to 256 bits, not the double nearest 0.1).
     pub fn resolve(&self) -> Result<SceneChoice, lorentz_gas::Error> {
-        use lorentz_gas::Error;
-        let refuse = |flag: &str, scene: &str| {
-            Err(Error::Invalid(format!(
-                "{flag} does not apply to the {scene} scene: use --w with --scene triangular, --radius with --scene square"
-            )))
-        };
-        match self.scene {
-            SceneName::Square => {
-                if self.w.is_some() {
-                    return refuse("--w", "square");
-                }
-                let r = self.radius.as_ref().ok_or_else(|| {
-                    Error::Invalid("the square scene needs --radius: 0 < radius < 1/2".into())
-                })?;
-                Ok(SceneChoice::Square(
-                    lorentz_gas::scenes::square::SquareScene::exact(r.rational("radius")?)?,
-                ))
-            }
-            SceneName::Triangular => {
-                if self.radius.is_some() {
-                    return refuse("--radius", "triangular");
-                }
-                let w = self.w.as_ref().ok_or_else(|| {
-                    Error::Invalid(
-                        "the triangular scene needs --w: w > 0 (a finite horizon below w_inf = 4/sqrt(3) - 2 = 0.3094...)"
-                            .into(),
-                    )
-                })?;
-                // Any w > 0: beyond w_inf the horizon is infinite, which the scene-generic
-                // analyses (audit, lyapunov, certify) handle; diffusion refuses it itself.
-                if !w.value.is_finite() {
-                    return Err(Error::NotFinite { what: "w" });
-                }
-                if w.value <= 0.0 {
-                    return Err(Error::Trapped { w: w.value });
-                }
-                Ok(SceneChoice::Triangular(Box::new(
-                    lorentz_gas::scenes::triangular::TriangularScene::exact(w.rational("w")?)?,
-                )))
-            }
-        }
+        self.spec()?.resolve()
     }
 }
 
@@ -142,21 +112,6 @@ impl SceneArgs {
         })
     }
 }
-
-/// Runs `$body` with `$s` bound to the concrete scene of `$choice` (one monomorphic copy of the
-/// analysis per scene).
-macro_rules! with_scene {
-    ($choice:expr, |$s:ident| $body:expr) => {
-        match $choice {
-            $crate::cli::args::SceneChoice::Triangular($s) => {
-                let $s: &lorentz_gas::scenes::triangular::TriangularScene = $s;
-                $body
-            }
-            $crate::cli::args::SceneChoice::Square($s) => $body,
-        }
-    };
-}
-pub(crate) use with_scene;
 
 /// The measurement of hop statistics along lattice trajectories (`hops`, `theory`, `lattice-walk`).
 #[derive(Args, Debug, Clone)]

@@ -1,11 +1,11 @@
 //! `lorentz audit`: replay f64 events in MPFR and judge them against the one-step error model.
 
-use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
 use lorentz_gas::Error;
+use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
 
 use lorentz_gas::scenes::Scene;
 
-use super::args::{parse_count, parse_count_u32, with_scene, OutputArgs, RunArgs, SceneArgs};
+use super::args::{OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32, with_scene};
 use super::output::emit;
 use super::progress::Progress;
 

@@ -1,11 +1,11 @@
 //! `lorentz backscatter`: injection into one trap from the invariant flux.
 
+use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
 use lorentz_gas::statistics::comparison;
-use lorentz_gas::Error;
 
-use super::args::{parse_count, parse_count_u32, GapArg, OutputArgs, PrecisionArg, RunArgs};
+use super::args::{GapArg, OutputArgs, PrecisionArg, RunArgs, parse_count, parse_count_u32};
 use super::output::{emit, sigmas};
 use super::progress::Progress;
 

@@ -2,16 +2,16 @@
 
 use std::path::PathBuf;
 
+use lorentz_gas::Error;
 use lorentz_gas::engine::metadata::RunMeta;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::observer_costs::{self, ObserverCosts, ObserverCostsConfig};
 use lorentz_gas::estimators::throughput::{self, Throughput, ThroughputConfig};
-use lorentz_gas::report::speed_error::{self, SpeedErrorConfig, REPORT_STEPS};
-use lorentz_gas::Error;
+use lorentz_gas::report::speed_error::{self, REPORT_STEPS, SpeedErrorConfig};
 
 use super::args::{
-    parse_count, parse_count_usize, parse_threads, EngineArg, GapArg, OutputArgs, PrecisionArg,
-    SeedArg, ThreadsArg,
+    EngineArg, GapArg, OutputArgs, PrecisionArg, SeedArg, ThreadsArg, parse_count,
+    parse_count_usize, parse_threads,
 };
 use super::output::{emit, to_json};
 use super::progress::Progress;

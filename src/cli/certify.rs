@@ -1,10 +1,10 @@
 //! `lorentz certify`: certify a segment by precision doubling.
 
-use lorentz_gas::verification::certify::{self, CertifyConfig};
 use lorentz_gas::Error;
+use lorentz_gas::verification::certify::{self, CertifyConfig};
 
 use super::args::{
-    parse_count, parse_count_u32, parse_count_usize, with_scene, OutputArgs, SceneArgs,
+    OutputArgs, SceneArgs, parse_count, parse_count_u32, parse_count_usize, with_scene,
 };
 use super::output::emit;
 use super::progress::Progress;
@@ -42,7 +42,14 @@ pub fn run(a: Args) -> Result<(), Error> {
     emit(a.output.json, &c, |c| {
         println!(
             "{}: {} collisions from the seed-{} start certified to {:.1} digits (runs at {} and {} bits agree; tried {:?});\nthe f64 orbit from the same start stays within 1e-3 of it for {} collisions",
-            c.scene, c.collisions, a.seed, c.digits_agreed, c.bits, 2 * c.bits, c.tried, c.f64_faithful_collisions
+            c.scene,
+            c.collisions,
+            a.seed,
+            c.digits_agreed,
+            c.bits,
+            2 * c.bits,
+            c.tried,
+            c.f64_faithful_collisions
         );
     })
 }

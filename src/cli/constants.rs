@@ -1,10 +1,10 @@
 //! `lorentz constants`: every closed form of a scene, at any precision, with the corridors and
 //! the superdiffusion constants of an infinite horizon.
 
-use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsReport, ConstantsScene};
 use lorentz_gas::Error;
+use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsReport, ConstantsScene};
 
-use super::args::{parse_exact_arg, Exact, PrecisionArg, SceneName};
+use super::args::{Exact, PrecisionArg, SceneName, parse_exact_arg};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -38,12 +38,12 @@ pub fn run(a: Args) -> Result<(), Error> {
         (SceneName::Triangular, _, _) => {
             return Err(Error::Invalid(
                 "the triangular scene takes --w (w > 0) and no --radius".into(),
-            ))
+            ));
         }
         (SceneName::Square, _, _) => {
             return Err(Error::Invalid(
                 "the square scene takes --radius (0 < radius < 1/2) and no --w".into(),
-            ))
+            ));
         }
     };
     let r = constants::run(&ConstantsConfig {

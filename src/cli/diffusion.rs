@@ -1,13 +1,13 @@
 //! `lorentz diffusion`: D(w) by the Einstein formula.
 
+use lorentz_gas::Error;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport, Window};
 use lorentz_gas::statistics::comparison;
-use lorentz_gas::Error;
 
 use super::args::{
-    parse_count, parse_count_u32, CheckpointArgs, EngineArg, OutputArgs, PrecisionArg,
-    ReferenceBitsArg, RunArgs, SceneArgs, SceneChoice,
+    CheckpointArgs, EngineArg, OutputArgs, PrecisionArg, ReferenceBitsArg, RunArgs, SceneArgs,
+    SceneChoice, parse_count, parse_count_u32,
 };
 use super::output::{emit, sigmas};
 use super::progress::Progress;

@@ -1,11 +1,11 @@
 //! `lorentz escape`: D(w) from the escape rate out of open strips of several widths
 //! (Gaspard–Baras), extrapolated in 1/L.
 
+use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::escape::{self, EscapeConfig, EscapeReport};
-use lorentz_gas::Error;
 
-use super::args::{parse_count, CheckpointArgs, GapArg, OutputArgs, RunArgs};
+use super::args::{CheckpointArgs, GapArg, OutputArgs, RunArgs, parse_count};
 use super::output::emit;
 use super::progress::Progress;
 

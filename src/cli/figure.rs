@@ -2,10 +2,10 @@
 
 use std::path::PathBuf;
 
-use lorentz_gas::report::figures::paper;
 use lorentz_gas::Error;
+use lorentz_gas::report::figures::paper;
 
-use super::args::{parse_count, parse_exact_arg, Exact, OutputArgs, RunArgs};
+use super::args::{Exact, OutputArgs, RunArgs, parse_count, parse_exact_arg};
 use super::output::emit;
 use super::progress::Progress;
 

@@ -1,8 +1,8 @@
 //! `lorentz hops`: trap-hopping statistics along lattice trajectories.
 
+use lorentz_gas::Error;
 use lorentz_gas::estimators::hops::{self, HopsReport};
 use lorentz_gas::statistics::comparison;
-use lorentz_gas::Error;
 
 use super::args::{EngineArg, HopCommand};
 

@@ -1,9 +1,9 @@
 //! `lorentz lattice-walk`: Fig. 6b by simulation — correlated walks on the measured symbol tables.
 
+use lorentz_gas::Error;
 use lorentz_gas::engine::Engine;
 use lorentz_gas::estimators::hops::lattice_walks::{self, LatticeWalkReport};
 use lorentz_gas::statistics::comparison;
-use lorentz_gas::Error;
 
 use super::args::HopCommand;
 

@@ -2,16 +2,16 @@
 
 use serde::Serialize;
 
+use lorentz_gas::Error;
 use lorentz_gas::statistics::{comparison, welch_dof};
 use lorentz_gas::verification::divergence::{
-    self, Divergence, DivergenceConfig, DIVERGENCE_REFERENCE_BITS,
+    self, DIVERGENCE_REFERENCE_BITS, Divergence, DivergenceConfig,
 };
 use lorentz_gas::verification::lyapunov::{
     self, LyapunovConfig, LyapunovReport, TANGENT_TRANSIENT,
 };
-use lorentz_gas::Error;
 
-use super::args::{parse_count, parse_count_u32, with_scene, OutputArgs, RunArgs, SceneArgs};
+use super::args::{OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32, with_scene};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -89,17 +89,25 @@ pub fn run(a: Args) -> Result<(), Error> {
         |r| {
             let l = &r.tangent;
             println!(
-            "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time{}",
-            l.scene, l.batches, l.collisions_per_batch, l.per_collision, l.per_collision_err, l.per_time, l.per_time_err,
-            comparison::few_samples_note(l.batches as usize, "batches")
-        );
+                "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time{}",
+                l.scene,
+                l.batches,
+                l.collisions_per_batch,
+                l.per_collision,
+                l.per_collision_err,
+                l.per_time,
+                l.per_time_err,
+                comparison::few_samples_note(l.batches as usize, "batches")
+            );
             if !r.divergence.is_empty() {
                 println!(
-                "divergence from a {DIVERGENCE_REFERENCE_BITS}-bit reference ({} initial conditions){}:",
-                a.starts,
-                comparison::few_samples_note(a.starts as usize, "starts")
-            );
-                println!("precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time   growth per collision against λ (independent runs, Welch dof)");
+                    "divergence from a {DIVERGENCE_REFERENCE_BITS}-bit reference ({} initial conditions){}:",
+                    a.starts,
+                    comparison::few_samples_note(a.starts as usize, "starts")
+                );
+                println!(
+                    "precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time   growth per collision against λ (independent runs, Welch dof)"
+                );
                 for x in &r.divergence {
                     let dof = welch_dof(
                         x.rate_per_collision_err,

@@ -2,10 +2,10 @@
 
 use std::path::PathBuf;
 
+use lorentz_gas::Error;
 use lorentz_gas::campaigns::merge::{self, MergeConfig};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep;
-use lorentz_gas::Error;
 
 use super::args::{OutputArgs, ThreadsArg};
 use super::output::emit;

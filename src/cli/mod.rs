@@ -172,23 +172,15 @@ pub fn main() -> ExitCode {
 /// The error as the command line says it: the library's message on one line, with the typed
 /// errors that name a parameter presented in the command line's terms (its flags).
 fn one_line(e: &Error) -> String {
-    let text = match e {
-        Error::UnusedOption { analysis, option } => {
-            format!("{analysis} does not take {}: leave it out", flag(*option))
-        }
-        _ => e.to_string(),
-    };
+    let text = e.presented(&flag);
     text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-/// The flag of a run option.
-fn flag(option: lorentz_gas::engine::options::RunOption) -> &'static str {
-    use lorentz_gas::engine::options::RunOption;
-    match option {
-        RunOption::Engine => "--engine",
-        RunOption::Resume => "--checkpoint",
-        RunOption::Audit => "--audit",
-        RunOption::CheckpointEvery => "--checkpoint-every",
+/// The flag of a parameter the library names (`resume` is `--checkpoint` here).
+fn flag(parameter: &str) -> String {
+    match parameter {
+        "resume" => "--checkpoint".into(),
+        p => format!("--{}", p.replace('_', "-")),
     }
 }
 

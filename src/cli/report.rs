@@ -2,10 +2,10 @@
 
 use std::path::PathBuf;
 
+use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::report::publication::command_line::CommandLine;
-use lorentz_gas::report::publication::{self, planned_rerun_collisions, AuditConfig, Verdict};
-use lorentz_gas::Error;
+use lorentz_gas::report::publication::{self, AuditConfig, Verdict, planned_rerun_collisions};
 
 use super::args::{OutputArgs, ThreadsArg};
 use super::output::emit;

@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 use std::sync::Mutex;
 
-use lorentz_gas::report::reproduce::{reproduce, Budget, Reporter};
 use lorentz_gas::Error;
+use lorentz_gas::report::reproduce::{Budget, Reporter, reproduce};
 
 use super::args::{OutputArgs, RunArgs};
 use super::output::emit;
@@ -43,10 +43,10 @@ impl Reporter for Bars {
         }
     }
     fn advance(&self, n: u64) {
-        if let Ok(b) = self.bar.lock() {
-            if let Some(b) = b.as_ref() {
-                b.callback()(n);
-            }
+        if let Ok(b) = self.bar.lock()
+            && let Some(b) = b.as_ref()
+        {
+            b.callback()(n);
         }
     }
 }

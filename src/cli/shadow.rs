@@ -1,15 +1,15 @@
 //! `lorentz shadow`: true orbits near f64 segments (Newton on the whole segment in MPFR).
 
-use lorentz_gas::scenes::triangular::geometry::Geometry;
-use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::verification::shadowing::{
-    self as shadowing, check_request, ShadowConfig, MAX_SEGMENTS,
-};
 use lorentz_gas::Error;
+use lorentz_gas::scenes::triangular::TriangularScene;
+use lorentz_gas::scenes::triangular::geometry::Geometry;
+use lorentz_gas::verification::shadowing::{
+    self as shadowing, MAX_SEGMENTS, ShadowConfig, check_request,
+};
 use rug::Float;
 
 use super::args::{
-    parse_count_u32, parse_count_usize, parse_exact_arg, Exact, OutputArgs, RunArgs,
+    Exact, OutputArgs, RunArgs, parse_count_u32, parse_count_usize, parse_exact_arg,
 };
 use super::output::emit;
 use super::progress::Progress;
@@ -85,7 +85,9 @@ pub fn run(a: Args) -> Result<(), Error> {
             opt(r.median_delta),
             opt(r.max_delta)
         );
-        println!("segment  conv  iter     delta  residual  2K|F(y0)|         K  2K*eps  min cos phi  failure");
+        println!(
+            "segment  conv  iter     delta  residual  2K|F(y0)|         K  2K*eps  min cos phi  failure"
+        );
         for s in &r.segments {
             let sh = &s.shadow;
             println!(

@@ -3,10 +3,10 @@
 
 use std::path::PathBuf;
 
-use lorentz_gas::campaigns::slurm::SweepCampaign;
 use lorentz_gas::Error;
+use lorentz_gas::campaigns::slurm::SweepCampaign;
 
-use super::args::{parse_count_u32, EngineArg, OutputArgs, SeedArg};
+use super::args::{EngineArg, OutputArgs, SeedArg, parse_count_u32};
 use super::output::emit;
 use super::sweep::GridArgs;
 

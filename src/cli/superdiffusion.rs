@@ -1,10 +1,10 @@
 //! `lorentz superdiffusion`: an infinite horizon's flight tails, velocity autocorrelation, t ln t
 //! growth and limit law, each against the exact corridor constants.
 
-use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig, SuperdiffusionReport};
 use lorentz_gas::Error;
+use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig, SuperdiffusionReport};
 
-use super::args::{parse_count, parse_count_u32, CheckpointArgs, OutputArgs, RunArgs, SceneArgs};
+use super::args::{CheckpointArgs, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32};
 use super::output::{emit, sigmas};
 use super::progress::Progress;
 
@@ -123,8 +123,20 @@ fn print_estimates(r: &SuperdiffusionReport, n: usize) {
         r.tail_fit,
     ) {
         (Some(f), Some(fe), Some(m), Some(me), Some(range)) => {
-            line("C_flow  (s P(tau > s) = C + B/s)", f, fe, r.c_flow_exact, range);
-            line("C_map   (s^2 mu(tau > s) = C + B/s)", m, me, r.c_map_exact, range);
+            line(
+                "C_flow  (s P(tau > s) = C + B/s)",
+                f,
+                fe,
+                r.c_flow_exact,
+                range,
+            );
+            line(
+                "C_map   (s^2 mu(tau > s) = C + B/s)",
+                m,
+                me,
+                r.c_map_exact,
+                range,
+            );
         }
         _ => println!(
             "  C_flow, C_map: not fitted (every batch needs 100 flights longer than --tail-fit-from mean free paths at two lags; use more collisions)"
@@ -150,14 +162,22 @@ fn print_estimates(r: &SuperdiffusionReport, n: usize) {
     );
     println!(
         "  (the last two errors: batch {:.1e} and {:.1e}, with the bound on flights longer than the longest seen, L = {:.1}: {:.1e} and {:.1e})",
-        r.d_sup_vacf_err_batch, r.msd_log_slope_err_batch, r.longest_flight, r.d_sup_vacf_err_unsampled, r.msd_log_slope_err_unsampled
+        r.d_sup_vacf_err_batch,
+        r.msd_log_slope_err_batch,
+        r.longest_flight,
+        r.d_sup_vacf_err_unsampled,
+        r.msd_log_slope_err_unsampled
     );
 }
 
 /// One line per lag, each quantity over its exact value.
 fn print_lags(r: &SuperdiffusionReport) {
-    println!("per lag (relative to the exact value; batch errors, and in [ ] the bound on unsampled flights):");
-    println!("      t/l            t   s P(tau>s)/C_flow  s^2 mu(tau>s)/C_map   t C(t)/D_sup   local slope/2D_sup");
+    println!(
+        "per lag (relative to the exact value; batch errors, and in [ ] the bound on unsampled flights):"
+    );
+    println!(
+        "      t/l            t   s P(tau>s)/C_flow  s^2 mu(tau>s)/C_map   t C(t)/D_sup   local slope/2D_sup"
+    );
     let rel = |x: f64, e: f64, exact: f64| format!("{:>7.4} ± {:<7.4}", x / exact, e / exact);
     for l in &r.lags {
         let slope = match (l.msd_local_slope, l.msd_local_slope_err) {

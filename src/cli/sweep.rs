@@ -1,14 +1,14 @@
 //! `lorentz sweep`: D over a range of w, resumable, with the paper's coarse and fine analyses.
 
+use lorentz_gas::Error;
 use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepReport};
-use lorentz_gas::Error;
 
 use std::path::PathBuf;
 
 use super::args::{
-    parse_count, parse_count_u32, CheckpointEveryArg, EngineArg, OutputArgs, RunArgs,
+    CheckpointEveryArg, EngineArg, OutputArgs, RunArgs, parse_count, parse_count_u32,
 };
 use super::output::emit;
 use super::progress::Progress;
@@ -150,8 +150,12 @@ pub fn print(r: &SweepReport) {
         "sweep w = {} .. {}, {} points x {} runs x {} collisions in {} batches per run ({} points resumed)",
         c.w_from, c.w_to, c.steps, c.runs, c.collisions, c.batches, r.resumed_points
     );
-    println!("error of D: from the batches inside the runs (dof = runs x (batches - 1)); runs F (p): spread of the runs against those errors, F(runs - 1, dof)");
-    println!("       w         D            +-       dof   runs F     (p)     D_MZ       D_Bo      residual");
+    println!(
+        "error of D: from the batches inside the runs (dof = runs x (batches - 1)); runs F (p): spread of the runs against those errors, F(runs - 1, dof)"
+    );
+    println!(
+        "       w         D            +-       dof   runs F     (p)     D_MZ       D_Bo      residual"
+    );
     for x in &r.rows {
         // One run per point has no spread to test: say so rather than print NaN.
         let f_test = if x.runs_f.is_finite() {

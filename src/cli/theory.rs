@@ -1,9 +1,9 @@
 //! `lorentz theory`: the corrected Machta–Zwanzig hierarchy and exact correlated lattice walks.
 
+use lorentz_gas::Error;
 use lorentz_gas::engine::Engine;
 use lorentz_gas::estimators::hops::theory::{self, TheoryReport};
 use lorentz_gas::statistics::comparison;
-use lorentz_gas::Error;
 
 use super::args::HopCommand;
 
@@ -17,7 +17,13 @@ pub fn run(a: Args) -> Result<(), Error> {
 fn print(r: &TheoryReport) {
     println!(
         "w = {}: p_bs = {:.5} ± {:.5}, p_cf = {:.6} ± {:.6} (App. A: {:.6} corrected, {:.6} as printed)",
-        r.w, r.p_bs, r.p_bs_err, r.p_cf, r.p_cf_err, r.p_cf_appendix_a, r.p_cf_appendix_a_as_printed
+        r.w,
+        r.p_bs,
+        r.p_bs_err,
+        r.p_cf,
+        r.p_cf_err,
+        r.p_cf_appendix_a,
+        r.p_cf_appendix_a_as_printed
     );
     println!(
         "D_GK (the Lorentz gas) = {:.6} ± {:.6}   D_MZ = {:.6}",

@@ -5,15 +5,15 @@ use std::path::{Path, PathBuf};
 
 use rug::Rational;
 
+use lorentz_gas::Error;
 use lorentz_gas::estimators::trajectory::{
-    self, plan, TrajectoryInput, TrajectoryReport, MAX_DIGITS,
+    self, MAX_DIGITS, TrajectoryInput, TrajectoryReport, plan,
 };
 use lorentz_gas::numbers::exact::parse_exact;
-use lorentz_gas::scenes::square::SquareScene;
-use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::Error;
+use lorentz_gas::scenes::spec::SceneSpec;
+use lorentz_gas::with_scene;
 
-use super::args::{parse_count_u32, parse_exact_arg, Exact, OutputArgs, SceneName};
+use super::args::{Exact, OutputArgs, SceneName, parse_count_u32, parse_exact_arg};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -83,40 +83,14 @@ pub fn run(a: Args) -> Result<(), Error> {
         digits: a.digits,
         record_events: a.events.is_some(),
     };
-    let refuse = |flag: &str, scene: &str| {
-        Err(Error::Invalid(format!(
-            "{flag} does not apply to the {scene} scene: use --w with --scene triangular, --radius with --scene square"
-        )))
+    let name = match a.scene {
+        SceneName::Triangular => "triangular",
+        SceneName::Square => "square",
     };
-    let report = match a.scene {
-        SceneName::Square => {
-            if a.w.is_some() {
-                return refuse("--w", "square");
-            }
-            let r = a.radius.as_ref().ok_or_else(|| {
-                Error::Invalid("the square scene needs --radius: 0 < radius < 1/2".into())
-            })?;
-            let scene = SquareScene::exact(r.rational("radius")?)?;
-            run_scene(&scene, &input, &a)?
-        }
-        SceneName::Triangular => {
-            if a.radius.is_some() {
-                return refuse("--radius", "triangular");
-            }
-            let w =
-                a.w.as_ref()
-                    .ok_or_else(|| Error::Invalid("the triangular scene needs --w: w > 0".into()))?
-                    .rational("w")?;
-            if w <= 0 {
-                return Err(Error::Invalid(format!(
-                    "w = {} is out of range: use w > 0 (at w <= 0 the disks touch)",
-                    lorentz_gas::numbers::exact::nearest_f64(&w)
-                )));
-            }
-            let scene = TriangularScene::exact(w)?;
-            run_scene(&scene, &input, &a)?
-        }
-    };
+    let text = |e: &Option<Exact>| e.as_ref().map(|e| e.text.clone());
+    let spec = SceneSpec::parse(name, text(&a.w).as_deref(), text(&a.radius).as_deref())?;
+    let choice = spec.resolve()?;
+    let report = with_scene!(&choice, |s| run_scene(s, &input, &a))?;
     emit(a.output.json, &report, |r| {
         println!(
             "{}, t = {}: {} collisions, {} crossings",

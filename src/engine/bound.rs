@@ -47,19 +47,21 @@ mod x86 {
             /// The CPU must have the target feature.
             #[target_feature(enable = $feature)]
             pub unsafe fn $name() -> f64 {
-                let mut acc = [$set(1.5); CHAINS];
-                for _ in 0..ROUNDS {
-                    for $a in acc.iter_mut() {
-                        *$a = $op;
+                unsafe {
+                    let mut acc = [$set(1.5); CHAINS];
+                    for _ in 0..ROUNDS {
+                        for $a in acc.iter_mut() {
+                            *$a = $op;
+                        }
                     }
+                    let mut out = [0.0; $lanes];
+                    let mut sum = 0.0;
+                    for a in acc {
+                        $store(out.as_mut_ptr(), a);
+                        sum += out.iter().sum::<f64>();
+                    }
+                    sum
                 }
-                let mut out = [0.0; $lanes];
-                let mut sum = 0.0;
-                for a in acc {
-                    $store(out.as_mut_ptr(), a);
-                    sum += out.iter().sum::<f64>();
-                }
-                sum
             }
         };
     }

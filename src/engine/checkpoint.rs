@@ -19,12 +19,12 @@ use super::observe::Observer;
 use super::options::StopFlag;
 use super::resume::Journal;
 use super::simd::BLOCK;
-use super::{drive, run_block, SimdPath};
+use super::{SimdPath, drive, run_block};
+use crate::Error;
 use crate::kernel::cell::CellKernel;
 use crate::kernel::trap::Trap;
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{ExactState, Lattice, LatticeState};
-use crate::Error;
 
 /// An observer whose accumulators, lane by lane, can be saved and put back exactly.
 pub trait LaneCheckpoint {

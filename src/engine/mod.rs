@@ -27,12 +27,12 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::observe::{EventLanes, Observer, NO_LABEL};
+use crate::Error;
+use crate::engine::observe::{EventLanes, NO_LABEL, Observer};
 use crate::kernel::cell::CellKernel;
 use crate::kernel::trap::Trap;
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
-use crate::Error;
 
 /// Longest trajectory the engines accept, in collisions: 2⁵⁰ ≈ 1.1·10¹⁵ (months of one core).
 /// Cell indices and collision counts are held as exact integers in `f64` lanes; an event changes

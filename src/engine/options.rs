@@ -6,8 +6,8 @@
 //! same configuration) and `audit` adds a summary beside the numbers.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use super::Engine;
@@ -243,7 +243,7 @@ impl RunOptions<'_> {
     /// let opts = RunOptions { resume: Some("run.ckpt".into()), ..RunOptions::default() };
     /// assert!(opts.refuse_unused("diffusion", &[RunOption::Resume]).is_ok());
     /// let e = opts.refuse_unused("lyapunov", &[]).unwrap_err();
-    /// assert_eq!(e.to_string(), "lyapunov does not use the run option `resume`: leave it unset");
+    /// assert_eq!(e.to_string(), "lyapunov does not take `resume`: leave it out");
     /// ```
     pub fn refuse_unused(&self, analysis: &'static str, uses: &[RunOption]) -> Result<(), Error> {
         match RunOption::ALL

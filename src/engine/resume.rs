@@ -237,7 +237,7 @@ fn read_journal<C: Serialize>(
             return Err(Error::Invalid(format!(
                 "{} is not a lorentz journal (not UTF-8 text): use another file",
                 path.display()
-            )))
+            )));
         }
         Err(e) => return Err(io_error("read", path, e)),
     };
@@ -396,10 +396,10 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     }
     std::fs::rename(&tmp, path).map_err(|e| io_error("rename into", path, e))?;
     // The rename itself is durable once the directory is synced (where the platform allows it).
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if let Ok(d) = File::open(dir) {
-            let _ = d.sync_all();
-        }
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+        && let Ok(d) = File::open(dir)
+    {
+        let _ = d.sync_all();
     }
     Ok(())
 }

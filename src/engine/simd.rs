@@ -26,7 +26,7 @@
 //! value bit for bit. `tests/numerics/engine.rs` checks every event of every lane against the scalar
 //! kernel, on every code path the machine has.
 
-use crate::engine::observe::{EventLanes, Observer, CROSSING_CODE, NO_EVENT, NO_LABEL};
+use crate::engine::observe::{CROSSING_CODE, EventLanes, NO_EVENT, NO_LABEL, Observer};
 use crate::kernel::trap::Trap;
 use crate::numbers::lanes::Lanes;
 

@@ -12,14 +12,14 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::throughput::{advance, lanes, median, starts, thread_pool, Observe, MAX_REPETITIONS};
+use super::throughput::{MAX_REPETITIONS, Observe, advance, lanes, median, starts, thread_pool};
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
 use crate::scenes::triangular::geometry::Geometry;
-use crate::Error;
 
 /// The observer sets timed, the bare engine first.
 pub const SETS: [Observe; 5] = [

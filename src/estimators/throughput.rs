@@ -6,12 +6,13 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::engine::bound::{self, DividerBound};
 use crate::engine::metadata::RunMeta;
-use crate::engine::observe::{EventLanes, Nothing, Observer, CROSSING_CODE};
+use crate::engine::observe::{CROSSING_CODE, EventLanes, Nothing, Observer};
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::simd::BLOCK;
-use crate::engine::{drive, run_block, Resolved};
+use crate::engine::{Resolved, drive, run_block};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::kernel::trap::Trap;
 use crate::numbers::lanes::Lanes;
@@ -24,7 +25,6 @@ use crate::scenes::lattice::{LatticeState, TriangularLattice};
 use crate::scenes::sampling::stream;
 use crate::scenes::triangular::equilibrium_state;
 use crate::scenes::triangular::geometry::Geometry;
-use crate::Error;
 
 /// Throughput measurement: the median of several timed repetitions.
 #[derive(Debug, Clone, Serialize)]
@@ -255,7 +255,7 @@ fn run_observed<T: Real, O: Observer<1> + Observer<BLOCK>>(
             for s in block.iter_mut() {
                 drive(lat, s, each, &mut obs, &|_| {})?;
             }
-            Ok(obs.0 .0)
+            Ok(obs.0.0)
         }
         Resolved::Simd(path) => {
             // The SIMD engine runs f64 only (`Engine::resolve` refuses otherwise), so the
@@ -266,7 +266,7 @@ fn run_observed<T: Real, O: Observer<1> + Observer<BLOCK>>(
             for (s, x) in block.iter_mut().zip(&s64) {
                 *s = LatticeState::convert_from_f64(s.flight.pos.x.ctx(), x);
             }
-            Ok(obs.0 .0)
+            Ok(obs.0.0)
         }
     }
 }

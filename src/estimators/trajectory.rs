@@ -20,15 +20,15 @@ use rug::ops::Pow;
 use rug::{Float, Integer, Rational};
 use serde::Serialize;
 
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{flight::EventKind, flight::Flight};
 use crate::numbers::real::Real;
-use crate::scenes::lattice::{CellIndex, LatticeState};
 use crate::scenes::Scene;
+use crate::scenes::lattice::{CellIndex, LatticeState};
 use crate::verification::lyapunov::{self, LyapunovConfig};
-use crate::Error;
 
 /// Most digits a trajectory may ask for: 10⁴ digits already need ≥ 33 000 bits before any
 /// chaos, and more only hides a typo.
@@ -323,7 +323,11 @@ pub fn run<S: Scene>(
                 "could not certify {} digits within {MAX_TRAJECTORY_BITS} bits: the runs at {bits} and {} bits {} (agreement {agreed:.1} digits); use a shorter time or fewer digits",
                 input.digits,
                 2 * bits,
-                if same_events { "go through the same events" } else { "go through different events (a grazing collision or a corner)" }
+                if same_events {
+                    "go through the same events"
+                } else {
+                    "go through different events (a grazing collision or a corner)"
+                }
             )));
         }
         bits *= 2;

@@ -131,11 +131,7 @@ pub struct EarliestEdge<'a, T: Real> {
 /// Shared with [`super::certified`], which times its chosen edge by it.
 #[inline(always)]
 pub(crate) fn edge_time<T: Real>(s: T, m: &T) -> T {
-    if s.gt0() {
-        s / m
-    } else {
-        T::zero(s.ctx())
-    }
+    if s.gt0() { s / m } else { T::zero(s.ctx()) }
 }
 
 impl<'a, T: Real> EarliestEdge<'a, T> {

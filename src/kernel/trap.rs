@@ -15,12 +15,12 @@
 
 use super::cell::{CellKernel, ConvexCell, Disk, Edge, EdgeMap, LatticeBasis};
 use super::certified::{self, TrapBalls};
-use super::choice::{edge_time, first, Choice, EarliestDisk, EarliestEdge};
+use super::choice::{Choice, EarliestDisk, EarliestEdge, edge_time, first};
 use super::flight::{Event, EventKind, Flight};
 use super::ray_disk::{approach, ray_disk_centred};
 use super::vec2::Vec2;
-use crate::numbers::real::Real;
 use crate::Error;
+use crate::numbers::real::Real;
 
 /// The canonical trap at gap `w`, all constants at the working precision.
 #[derive(Debug, Clone)]
@@ -220,10 +220,10 @@ impl<T: Real> Trap<T> {
     /// cannot decide, and always for `f64`, every candidate is compared.
     #[inline(always)]
     pub fn next_event(&self, f: &Flight<T>) -> Option<Event<T>> {
-        if T::DECIDE_IN_BALLS {
-            if let Some(ev) = self.next_event_decided(f) {
-                return Some(ev);
-            }
+        if T::DECIDE_IN_BALLS
+            && let Some(ev) = self.next_event_decided(f)
+        {
+            return Some(ev);
         }
         self.next_event_compared(f)
     }
@@ -282,10 +282,10 @@ impl<T: Real> Trap<T> {
                 best = Some(Event { kind, time: t });
             }
         };
-        if f.excluded_disk != Some(0) {
-            if let Some(t) = ray_disk_centred(p.x.clone(), p.y.clone(), v, &vv) {
-                offer(t, EventKind::Collision(0));
-            }
+        if f.excluded_disk != Some(0)
+            && let Some(t) = ray_disk_centred(p.x.clone(), p.y.clone(), v, &vv)
+        {
+            offer(t, EventKind::Collision(0));
         }
         for m in 1..3u8 {
             if f.excluded_disk != Some(m) {

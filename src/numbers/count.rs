@@ -10,7 +10,9 @@ pub const MAX_THREADS: usize = 4096;
 /// from 0 to 2⁶⁴ − 1, parsed exactly (never through a float).
 pub fn parse_count(s: &str) -> Result<u64, String> {
     let bad = || {
-        format!("'{s}' is not a count: use a whole number from 0 to 18446744073709551615, such as 2000000000, 2_000_000_000 or 2e9")
+        format!(
+            "'{s}' is not a count: use a whole number from 0 to 18446744073709551615, such as 2000000000, 2_000_000_000 or 2e9"
+        )
     };
     let t = s.trim();
     if t.is_empty() || t.starts_with('_') || t.ends_with('_') || t.contains("__") {

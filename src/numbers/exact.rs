@@ -4,8 +4,8 @@
 
 use rug::{Float, Integer, Rational};
 
-use crate::numbers::real::Real;
 use crate::Error;
+use crate::numbers::real::Real;
 
 /// Most digits accepted in a decimal (a double has 17 significant digits; more only hides a typo).
 const MAX_DECIMAL_DIGITS: usize = 40;

@@ -6,8 +6,8 @@ use std::str::FromStr;
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
-use crate::numbers::real::Real;
 use crate::Error;
+use crate::numbers::real::Real;
 
 /// Number type of a run: `f64`, or `rug::Float` with a number of bits ≥ 53.
 ///

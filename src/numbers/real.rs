@@ -19,8 +19,8 @@
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
-use rug::float::Constant;
 use rug::Float;
+use rug::float::Constant;
 
 use crate::Error;
 

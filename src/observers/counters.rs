@@ -3,10 +3,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::observe::{lanes, EventLanes, Observer, CROSSING_CODE, NO_EVENT};
+use crate::Error;
+use crate::engine::observe::{CROSSING_CODE, EventLanes, NO_EVENT, Observer, lanes};
 use crate::numbers::lanes::Lanes;
 use crate::statistics::CompensatedSum;
-use crate::Error;
 
 /// Totals along one trajectory.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]

@@ -11,10 +11,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::engine::checkpoint::LaneCheckpoint;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::numbers::lanes::Lanes;
-use crate::Error;
 
 /// What one trajectory's flights showed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

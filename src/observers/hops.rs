@@ -5,12 +5,12 @@
 //! (`proofs-notes/hops.md`).
 
 use super::hop_correlations::{HopCorrelations, MAX_LAG};
+use crate::Error;
 use crate::engine::checkpoint::LaneCheckpoint;
-use crate::engine::observe::{lanes, EventLanes, Observer, StepLanes, CROSSING_CODE};
+use crate::engine::observe::{CROSSING_CODE, EventLanes, Observer, StepLanes, lanes};
 use crate::kernel::flight::EventKind;
 use crate::numbers::lanes::Lanes;
-use crate::scenes::symbols::{check_order, MAX_ORDER};
-use crate::Error;
+use crate::scenes::symbols::{MAX_ORDER, check_order};
 use serde::{Deserialize, Serialize};
 
 /// Hop statistics of one trajectory (also what a checkpoint keeps of it).
@@ -261,7 +261,7 @@ mod tests {
     use crate::scenes::lattice::TriangularLattice;
     use crate::scenes::sampling::stream;
     use crate::scenes::single_trap::exit_symbol;
-    use crate::scenes::symbols::{Symbol, MAX_ORDER};
+    use crate::scenes::symbols::{MAX_ORDER, Symbol};
     use crate::scenes::triangular::equilibrium_state;
     use crate::theory::honeycomb::next_direction;
 

@@ -11,11 +11,11 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::engine::checkpoint::LaneCheckpoint;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::numbers::lanes::Lanes;
 use crate::scenes::lattice::{Basis64, Unwrapped};
-use crate::Error;
 
 /// Bins of a histogram of the scaled displacement.
 pub const HISTOGRAM_BINS: usize = 800;
@@ -157,13 +157,13 @@ impl LagMoments {
             let d = here.displacement_from(&from, &self.basis);
             s.squared[k] += d[0] * d[0] + d[1] * d[1];
             s.velocity[k] += u[4] * old[4] + u[5] * old[5];
-            if let Some(&(hk, per)) = self.histogrammed.get(next_histogram) {
-                if hk == k {
-                    let h = &mut s.histograms[next_histogram];
-                    h[bin(d[0] * per)] += 1;
-                    h[bin(d[1] * per)] += 1;
-                    next_histogram += 1;
-                }
+            if let Some(&(hk, per)) = self.histogrammed.get(next_histogram)
+                && hk == k
+            {
+                let h = &mut s.histograms[next_histogram];
+                h[bin(d[0] * per)] += 1;
+                h[bin(d[1] * per)] += 1;
+                next_histogram += 1;
             }
         }
         s.samples += 1;

@@ -27,10 +27,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::observe::{lanes, EventLanes, Observer, StepLanes};
+use crate::Error;
+use crate::engine::observe::{EventLanes, Observer, StepLanes, lanes};
 use crate::numbers::lanes::Lanes;
 use crate::scenes::lattice::Basis64;
-use crate::Error;
 
 /// The largest lag, in grid steps, accumulated by the dense layout (module documentation): beyond
 /// it, forming the displacement at every step back would cost more than taking the lags one by
@@ -322,11 +322,7 @@ pub struct MsdLaneState {
 }
 
 fn gcd(a: usize, b: usize) -> usize {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
-    }
+    if b == 0 { a } else { gcd(b, a % b) }
 }
 
 impl<const L: usize> Observer<L> for Msd {

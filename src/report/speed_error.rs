@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::estimators::diffusion::{self, DiffusionConfig};
@@ -19,14 +20,13 @@ use crate::estimators::throughput::{self, Observe, ThroughputConfig};
 use crate::kernel::{flight::Flight, trap::Trap};
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
-use crate::report::figures::{plot, PlotSpec, Series};
+use crate::report::figures::{PlotSpec, Series, plot};
 use crate::scenes::lattice::TriangularLattice;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::triangular::equilibrium_state;
 use crate::verification::divergence::{
-    self, Divergence, DivergenceConfig, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS,
+    self, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS, Divergence, DivergenceConfig,
 };
-use crate::Error;
 
 /// One row of the report.
 #[derive(Debug, Clone, Serialize)]

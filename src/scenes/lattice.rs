@@ -14,12 +14,12 @@
 //! L(i,j), L(i+1,j), L(i,j+1); down traps s = −1 with vertices L(i,j), L(i−1,j), L(i,j−1))
 //! runs on the trap's fused kernel; other scenes on the generic [`ConvexCell`].
 
+use crate::Error;
 use crate::kernel::cell::{CellKernel, ConvexCell, Edge};
 use crate::kernel::trap::Trap;
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{flight::Event, flight::EventKind, flight::Flight};
 use crate::numbers::real::Real;
-use crate::Error;
 
 /// A cell of the lattice: index and orientation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -35,11 +35,7 @@ pub struct CellIndex {
 impl CellIndex {
     /// The orientation s = ±1.
     pub fn sign(&self) -> f64 {
-        if self.down {
-            -1.0
-        } else {
-            1.0
-        }
+        if self.down { -1.0 } else { 1.0 }
     }
     /// The neighbouring cell across `edge`.
     #[inline(always)]

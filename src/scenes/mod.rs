@@ -22,6 +22,7 @@
 pub mod lattice;
 pub mod sampling;
 pub mod single_trap;
+pub mod spec;
 pub mod square;
 pub mod strip;
 pub mod symbols;
@@ -30,10 +31,10 @@ pub mod triangular;
 use rand::Rng;
 use rug::Rational;
 
+use crate::Error;
 use crate::kernel::cell::CellKernel;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
-use crate::Error;
 use lattice::{CellIndex, Lattice, LatticeState};
 
 /// Largest |coordinate| of a world point [`Scene::locate`] accepts: cell indices stay far inside

@@ -10,11 +10,11 @@
 
 use rand::Rng;
 
+use crate::Error;
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{flight::EventKind, flight::Flight, trap::Trap};
 use crate::numbers::real::Real;
 use crate::scenes::symbols::Symbol;
-use crate::Error;
 
 /// Symbol ([`crate::scenes::symbols::Symbol`]) of leaving by edge `out` after entering by edge `entered`
 /// (edge labels 0, 1, 2), in the canonical frame.
@@ -101,7 +101,9 @@ impl<T: Real> SingleTrap<T> {
                 }
             }
         }
-        Err(Error::Invalid(format!("particle injected at 2x/w = {x}, sin a = {sin_alpha} did not leave within {max_events} events")))
+        Err(Error::Invalid(format!(
+            "particle injected at 2x/w = {x}, sin a = {sin_alpha} did not leave within {max_events} events"
+        )))
     }
 
     /// A visit from the invariant flux: 2x/w and sin α uniform in [−1, 1], at most

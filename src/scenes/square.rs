@@ -12,13 +12,13 @@
 use rand::Rng;
 use rug::Rational;
 
-use super::lattice::{CellIndex, LatticeState};
 use super::Scene;
+use super::lattice::{CellIndex, LatticeState};
+use crate::Error;
 use crate::kernel::cell::{ConvexCell, Disk, Edge, EdgeMap, LatticeBasis};
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
-use crate::Error;
 
 /// The square Lorentz gas with disk radius r.
 #[derive(Debug, Clone)]

@@ -25,9 +25,9 @@
 
 use rand::Rng;
 
+use super::Scene;
 use super::lattice::{Basis64, CellIndex, LatticeState, TriangularLattice};
 use super::triangular::TriangularScene;
-use super::Scene;
 use crate::Error;
 
 /// How a particle's life in the strip ended.

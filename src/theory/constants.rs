@@ -8,13 +8,13 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 use serde_json::value::RawValue;
 
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::numbers::exact::{check_exact, parse_exact};
 use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::theory::corridors::{self, CorridorJson, LatticeGas, Superdiffusion};
-use crate::Error;
 use rug::Rational;
 
 /// The scene and the working precision.

@@ -19,8 +19,8 @@
 use rug::{Integer, Rational};
 use serde::Serialize;
 
-use crate::numbers::real::Real;
 use crate::Error;
+use crate::numbers::real::Real;
 
 /// A lattice of disks, one per cell, given exactly.
 #[derive(Debug, Clone, PartialEq)]

@@ -37,9 +37,9 @@
 //! hop, about 10 % of the collision time at w = 0.3 and less at smaller w (fewer hops per
 //! collision).
 
+use crate::Error;
 use crate::observers::hop_correlations::{HopCorrelations, MAX_LAG};
 use crate::statistics::mean_se;
-use crate::Error;
 
 use super::honeycomb::next_direction;
 use crate::scenes::symbols::Symbol;

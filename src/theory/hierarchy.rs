@@ -28,7 +28,7 @@ use crate::scenes::triangular::geometry::Geometry;
 
 use super::honeycomb::squared_displacement;
 use super::sequences::SequenceProbabilities;
-use crate::scenes::symbols::{all_sequences, parse_symbols, sequence_index, Symbol};
+use crate::scenes::symbols::{Symbol, all_sequences, parse_symbols, sequence_index};
 
 /// Eq. (4): D_cf = [1 − p_cf] D_MZ + p_cf · 3 D_MZ = (1 + 2p_cf) D_MZ (a collisionless flight
 /// covers the next-nearest-neighbour distance l₂ = √3 l in the time τ).

@@ -22,11 +22,11 @@
 use rand::Rng;
 use rayon::prelude::*;
 
+use crate::Error;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::statistics::{linear_fit, mean_se};
-use crate::Error;
 
-use super::honeycomb::{next_direction, LatticePoint};
+use super::honeycomb::{LatticePoint, next_direction};
 use super::markov::CorrelatedWalk;
 use crate::scenes::symbols::Symbol;
 

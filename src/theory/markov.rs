@@ -29,12 +29,12 @@
 
 use nalgebra::{Complex, DMatrix, DVector};
 
+use crate::Error;
 use crate::numbers::real::Real;
 use crate::scenes::triangular::geometry::Geometry;
-use crate::Error;
 
 use super::sequences::SequenceProbabilities;
-use crate::scenes::symbols::{sequence_from_index, sequence_index, word, Symbol};
+use crate::scenes::symbols::{Symbol, sequence_from_index, sequence_index, word};
 
 /// Correlation of successive hop directions of the memoryless walk,
 /// c = ⟨d̂ᵢ·d̂ᵢ₊₁⟩ = p_bs·(−1) + (1 − p_bs)·cos 60° = (1 − 3p_bs)/2.

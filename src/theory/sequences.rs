@@ -6,10 +6,10 @@
 //! frequency with which k consecutive trap exits are s₁, …, s_k, measured along a long
 //! trajectory ([`count_sequences`]).
 
-use crate::statistics::CompensatedSum;
 use crate::Error;
+use crate::statistics::CompensatedSum;
 
-use crate::scenes::symbols::{sequence_from_index, sequence_index, word, Symbol};
+use crate::scenes::symbols::{Symbol, sequence_from_index, sequence_index, word};
 
 /// p(s₁…s_k) for all 3^k sequences of length k, validated: every entry finite and ≥ 0, the sum
 /// equal to 1 within the rounding error model of [`SequenceProbabilities::new`].

@@ -15,13 +15,13 @@ use rug::Float;
 
 use crate::numbers::real::Real;
 
+use crate::Error;
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{
     cell::CellKernel, cell::ConvexCell, flight::Event, flight::EventKind, flight::Flight,
 };
-use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
 use crate::scenes::Scene;
-use crate::Error;
+use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
 
 /// A collision state in Birkhoff coordinates, at the working precision.
 #[derive(Debug, Clone)]

@@ -10,12 +10,12 @@
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
-use super::lyapunov::{collision_track, LyapunovConfig};
+use super::lyapunov::{LyapunovConfig, collision_track};
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::scenes::lattice::LatticeState;
 use crate::scenes::Scene;
-use crate::Error;
+use crate::scenes::lattice::LatticeState;
 
 /// Collisions per orbit of the λ estimate that sets the starting precision.
 pub const CERTIFY_LAMBDA_COLLISIONS: u64 = 100_000;

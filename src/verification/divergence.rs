@@ -8,12 +8,12 @@ use rug::Float;
 use serde::{Deserialize, Serialize};
 
 use super::lyapunov::collision_track;
+use crate::Error;
 use crate::engine::options::RunOptions;
+use crate::scenes::Scene;
 use crate::scenes::lattice::LatticeState;
 use crate::scenes::sampling::stream;
-use crate::scenes::Scene;
 use crate::statistics::{linear_fit, mean_se};
-use crate::Error;
 
 /// Precisions (bits) whose divergence from the reference `lorentz lyapunov` measures, next to f64.
 pub const DIVERGENCE_BITS: [u32; 5] = [64, 128, 256, 512, 1024];

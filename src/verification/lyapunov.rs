@@ -13,6 +13,7 @@ use super::birkhoff::tangent_step;
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::engine::drive;
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
@@ -22,11 +23,10 @@ use crate::kernel::cell::ConvexCell;
 use crate::kernel::{cell::CellKernel, flight::EventKind};
 use crate::numbers::lanes::Lanes;
 use crate::numbers::real::Real;
+use crate::scenes::Scene;
 use crate::scenes::lattice::{Lattice, LatticeState};
 use crate::scenes::sampling::stream;
-use crate::scenes::Scene;
 use crate::statistics::mean_se;
-use crate::Error;
 
 /// Collisions discarded at the start of each tangent orbit, so the tangent vector has turned into
 /// the unstable direction (it does so within a few collisions at λ ≈ 1 per collision; 1000 is

@@ -9,11 +9,11 @@
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::kernel::{
     cell::CellKernel, cell::ConvexCell, flight::Event, flight::EventKind, flight::Flight,
 };
 use crate::numbers::real::Real;
-use crate::Error;
 
 /// One candidate event computed at reference precision, with the quantities the error model
 /// needs.

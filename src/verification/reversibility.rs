@@ -9,12 +9,12 @@
 //! with u the unit roundoff, K u the one-event error, J_k the Jacobian of the first k events
 //! (computed along the f64 orbit by [`super::birkhoff::Tangent`]).
 
+use crate::Error;
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{cell::CellKernel, cell::ConvexCell, flight::EventKind};
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{Lattice, LatticeState};
 use crate::verification::error_model::ONE_EVENT_U;
-use crate::Error;
 
 /// Outcome of a reversal experiment.
 #[derive(Debug, Clone)]

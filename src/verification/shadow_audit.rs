@@ -13,14 +13,14 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
-use super::replay::{check_event, EventCheck};
+use super::replay::{EventCheck, check_event};
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::{AuditSpec, RunOptions};
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
 use crate::scenes::Scene;
-use crate::Error;
 
 /// Log-histogram of positive values: bins of 0.1 decade from 10⁻³⁰ to 10¹⁰, plus zeros.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -170,11 +170,11 @@ impl<const L: usize, S: Scene> Observer<L> for AuditLanes<S> {
                 return;
             }
             for (l, a) in self.lanes.iter_mut().enumerate() {
-                if let (true, Some(a)) = (e.is_live(l), a.as_mut()) {
-                    if let Err(err) = a.observe(&e.state(l).flight) {
-                        self.error = Some(err);
-                        return;
-                    }
+                if let (true, Some(a)) = (e.is_live(l), a.as_mut())
+                    && let Err(err) = a.observe(&e.state(l).flight)
+                {
+                    self.error = Some(err);
+                    return;
                 }
             }
         }
@@ -382,7 +382,7 @@ pub fn run<S: Scene>(
     let (threads, progress) = (options.threads, options.progress);
     use crate::engine::drive;
     use crate::observers::counters::CounterLanes;
-    use crate::scenes::sampling::{stream, Purpose, StreamKey};
+    use crate::scenes::sampling::{Purpose, StreamKey, stream};
     if cfg.scene != scene.label() {
         return Err(Error::Invalid(format!(
             "audit configuration for scene `{}` run on `{}`",

@@ -2,10 +2,10 @@
 //! (`proofs-notes/corridors.md`): the list against brute force, the constants' identities, the
 //! small-scatterer limit (Caglioti–Golse) and a Monte Carlo of the flight tail.
 
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::square::SquareScene;
-use lorentz_gas::scenes::Scene;
-use lorentz_gas::theory::corridors::{superdiffusion, LatticeGas};
+use lorentz_gas::theory::corridors::{LatticeGas, superdiffusion};
 use rug::{Float, Rational};
 
 fn square(r: (i64, i64)) -> LatticeGas {
@@ -286,12 +286,16 @@ fn the_horizon_is_decided_exactly_at_w_inf() {
     let below = parse_exact("0.309401076758503057036595122008").unwrap();
     let above = parse_exact("0.309401076758503059036595122008").unwrap();
     assert_eq!(below.to_f64(), above.to_f64());
-    assert!(TriangularScene::exact(below.clone())
-        .unwrap()
-        .finite_horizon());
-    assert!(!TriangularScene::exact(above.clone())
-        .unwrap()
-        .finite_horizon());
+    assert!(
+        TriangularScene::exact(below.clone())
+            .unwrap()
+            .finite_horizon()
+    );
+    assert!(
+        !TriangularScene::exact(above.clone())
+            .unwrap()
+            .finite_horizon()
+    );
     let count = |w: Rational| {
         superdiffusion::<f64>((), &LatticeGas::Triangular { w })
             .unwrap()

@@ -2,7 +2,7 @@
 //! bound are honest: over independent runs, the spread of each derived value matches the error
 //! each run reports.
 
-use lorentz_gas::estimators::hops::{self, theory, HopsConfig};
+use lorentz_gas::estimators::hops::{self, HopsConfig, theory};
 
 /// Runs of the theory from disjoint streams of one seed.
 const RUNS: u64 = 24;

@@ -8,7 +8,7 @@
 
 use crate::common::{t4, t4_welch};
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::numbers::precision::Precision;
@@ -363,7 +363,7 @@ fn lattice_walks_agree_with_their_exact_d() {
     // The fit window of the simulated walks is long enough: for the same measured tables (same
     // seed), the exact fit bias is below a tenth of the statistical error.
     use lorentz_gas::estimators::hops::lattice_walks::{WALK_BATCHES, WALK_HOPS, WALK_WALKERS};
-    use lorentz_gas::theory::lattice_walk::{fit_bias, LatticeWalkConfig};
+    use lorentz_gas::theory::lattice_walk::{LatticeWalkConfig, fit_bias};
     use lorentz_gas::theory::markov::CorrelatedWalk;
     let h = hops::run(&hop_cfg(0.1, 20_000_000, 8, 4, 81), &two_threads(&quiet)).unwrap();
     let cfg = LatticeWalkConfig::new(WALK_BATCHES, WALK_WALKERS, WALK_HOPS, 81);

@@ -5,8 +5,8 @@
 
 use std::time::Duration;
 
-use lorentz_gas::engine::options::{AuditSpec, RunOption, RunOptions};
 use lorentz_gas::engine::Engine;
+use lorentz_gas::engine::options::{AuditSpec, RunOption, RunOptions};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};

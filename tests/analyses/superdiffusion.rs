@@ -7,9 +7,9 @@ use lorentz_gas::engine::observe::{EventLanes, Observer};
 use lorentz_gas::estimators::superdiffusion::{self, Gas, SuperdiffusionConfig};
 use lorentz_gas::numbers::lanes::Lanes;
 use lorentz_gas::observers::flight_tails::FlightTails;
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::square::SquareScene;
-use lorentz_gas::scenes::Scene;
 
 use crate::common::{t4, threads};
 
@@ -193,16 +193,20 @@ fn finite_horizons_and_bad_windows_are_refused() {
     };
     let tri = |w: &str| SuperdiffusionConfig::new(Gas::Triangular { w: w.into() });
     assert!(run(tri("0.2")).contains("lorentz diffusion"));
-    assert!(run(SuperdiffusionConfig {
-        batches: 8,
-        ..tri("0.5")
-    })
-    .contains("at least 16"));
-    assert!(run(SuperdiffusionConfig {
-        msd_fit: [1000.0, 9000.0],
-        ..tri("0.5")
-    })
-    .contains("2^octaves"));
+    assert!(
+        run(SuperdiffusionConfig {
+            batches: 8,
+            ..tri("0.5")
+        })
+        .contains("at least 16")
+    );
+    assert!(
+        run(SuperdiffusionConfig {
+            msd_fit: [1000.0, 9000.0],
+            ..tri("0.5")
+        })
+        .contains("2^octaves")
+    );
     assert!(!run(tri("1/0")).is_empty());
 }
 

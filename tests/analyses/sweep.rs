@@ -3,7 +3,7 @@
 //! error bar that covers the true crossing as often as it should.
 
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
 use lorentz_gas::estimators::sweep::analysis::mz_crossing;
 use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepRow};
 use lorentz_gas::report::figures::sweep::write_sweep_figures;

@@ -8,15 +8,15 @@
 //! Student-t quantile at the normal's two-sided 4σ tail probability 6.3·10⁻⁵
 //! (`statistics::normal_sigma_equivalent_t`; 15 dof: 5.48, 31 dof: 4.62).
 
-use lorentz_gas::scenes::symbols::{sequence_from_index, Symbol};
+use lorentz_gas::scenes::symbols::{Symbol, sequence_from_index};
 use lorentz_gas::scenes::triangular::geometry::Geometry;
 use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t};
-use lorentz_gas::theory::green_kubo::{green_kubo, Truncation};
+use lorentz_gas::theory::green_kubo::{Truncation, green_kubo};
 use lorentz_gas::theory::lattice_walk::{
-    direction_sequence, fit_bias, simulate, symbol_sequence, LatticeWalkConfig,
+    LatticeWalkConfig, direction_sequence, fit_bias, simulate, symbol_sequence,
 };
-use lorentz_gas::theory::markov::{persistent_d_over_d_mz, CorrelatedWalk};
-use lorentz_gas::theory::sequences::{count_sequences, SequenceProbabilities};
+use lorentz_gas::theory::markov::{CorrelatedWalk, persistent_d_over_d_mz};
+use lorentz_gas::theory::sequences::{SequenceProbabilities, count_sequences};
 
 /// A mirror-symmetric order-k walk with genuine memory (k ≥ 2), see
 /// `proofs-notes/lattice-walk.md`: p(z|h) = 0.2 + 0.3·#z(h)/(k−1); the rest, q, goes to l and r

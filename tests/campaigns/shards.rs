@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use lorentz_gas::campaigns::merge::{self, MergeConfig};
 use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig, ShardReport};
-use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::Engine;
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepReport};
 use lorentz_gas::report::figures::sweep::write_sweep_figures;
 

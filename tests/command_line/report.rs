@@ -164,11 +164,13 @@ fn quick_reproduction_writes_every_figure_and_resumes() {
     );
     assert_eq!(code, 0);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
-    assert!(v["steps"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .all(|s| s["resumed"] == true));
+    assert!(
+        v["steps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|s| s["resumed"] == true)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -310,9 +312,11 @@ fn an_edited_command_line_is_never_run() {
         c.iter().filter(|x| x.2 != line).cloned().collect()
     };
     assert_eq!(others(&evil), others(&fresh));
-    assert!(evil
-        .iter()
-        .any(|c| c.0 == "PASS" && c.2 == "the recorded configuration re-run gives the same bits"));
+    assert!(
+        evil.iter().any(
+            |c| c.0 == "PASS" && c.2 == "the recorded configuration re-run gives the same bits"
+        )
+    );
 
     // The right command with another configuration (one option changed) FAILs naming the field.
     let mut v = serde_json::from_str::<serde_json::Value>(

@@ -86,23 +86,73 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
     std::fs::write(dir.join("d.json"), diffusion.to_string()).unwrap();
     let run = |line: &str| json_of(dir, &format!("{line} {q}"));
     let mut out = vec![
-        ("hops", run("hops --w 0.1 --collisions 1e6 --batches 4 --order 2")),
-        ("theory", run("theory --w 0.1 --collisions 1e6 --batches 4 --order 2")),
-        ("lattice-walk", run("lattice-walk --w 0.1 --collisions 1e6 --batches 4 --order 2")),
-        ("backscatter", run("backscatter --w 0.1 --particles 2e4 --batches 4")),
-        ("escape", run("escape --w 0.3 --widths 10,12,14 --particles-per-width 3.2e3")),
-        ("sweep", run("sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1e6 --batches-per-run 4 --out sw")),
-        ("sweep --shard", run("sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1e6 --batches-per-run 4 --shard 0/2 --out part")),
+        (
+            "hops",
+            run("hops --w 0.1 --collisions 1e6 --batches 4 --order 2"),
+        ),
+        (
+            "theory",
+            run("theory --w 0.1 --collisions 1e6 --batches 4 --order 2"),
+        ),
+        (
+            "lattice-walk",
+            run("lattice-walk --w 0.1 --collisions 1e6 --batches 4 --order 2"),
+        ),
+        (
+            "backscatter",
+            run("backscatter --w 0.1 --particles 2e4 --batches 4"),
+        ),
+        (
+            "escape",
+            run("escape --w 0.3 --widths 10,12,14 --particles-per-width 3.2e3"),
+        ),
+        (
+            "sweep",
+            run(
+                "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1e6 --batches-per-run 4 --out sw",
+            ),
+        ),
+        (
+            "sweep --shard",
+            run(
+                "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1e6 --batches-per-run 4 --shard 0/2 --out part",
+            ),
+        ),
         ("audit", run("audit --w 0.1 --collisions 2e3 --batches 2")),
-        ("lyapunov", run("lyapunov --w 0.1 --collisions-per-batch 2e4 --batches 2 --starts 2")),
-        ("shadow", run("shadow --w 0.1 --collisions-per-segment 20 --segments 2")),
-        ("certify", run("certify --w 0.1 --collisions 50 --digits 20")),
-        ("trajectory", run("trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,1/7 --time 3")),
+        (
+            "lyapunov",
+            run("lyapunov --w 0.1 --collisions-per-batch 2e4 --batches 2 --starts 2"),
+        ),
+        (
+            "shadow",
+            run("shadow --w 0.1 --collisions-per-segment 20 --segments 2"),
+        ),
+        (
+            "certify",
+            run("certify --w 0.1 --collisions 50 --digits 20"),
+        ),
+        (
+            "trajectory",
+            run(
+                "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,1/7 --time 3",
+            ),
+        ),
         // Beyond w_inf, so that the superdiffusion block and its corridors are there.
         ("constants", json_of(dir, "constants --w 1/2 --json")),
-        ("superdiffusion", run("superdiffusion --scene square --radius 1/4 --collisions 3.2e6 --batches 16 --octaves 6 --vacf-fit 8:32 --msd-fit 16:64")),
-        ("bench", run("bench --w 0.1 --collisions-per-thread 1e5 --repetitions 1")),
-        ("bench --observer-costs", run("bench --w 0.1 --observer-costs --collisions-per-thread 1e5 --repetitions 1")),
+        (
+            "superdiffusion",
+            run(
+                "superdiffusion --scene square --radius 1/4 --collisions 3.2e6 --batches 16 --octaves 6 --vacf-fit 8:32 --msd-fit 16:64",
+            ),
+        ),
+        (
+            "bench",
+            run("bench --w 0.1 --collisions-per-thread 1e5 --repetitions 1"),
+        ),
+        (
+            "bench --observer-costs",
+            run("bench --w 0.1 --observer-costs --collisions-per-thread 1e5 --repetitions 1"),
+        ),
     ];
     run("figure backscatter-map --particles 1e3 --out fig");
     out.push((

@@ -70,7 +70,7 @@ fn constants_at_53_bits_are_the_f64_constants() {
 /// `w_exact` that does not round to `w` is refused before any work.
 #[test]
 fn an_exact_gap_reaches_mpfr_without_the_doubles_rounding() {
-    use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+    use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
     use lorentz_gas::numbers::precision::Precision;
     let base = DiffusionConfig {
         collisions: 20_000,

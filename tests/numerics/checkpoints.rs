@@ -5,14 +5,14 @@
 use std::path::Path;
 use std::time::Duration;
 
+use lorentz_gas::Error;
+use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::resume::sha256_hex;
-use lorentz_gas::engine::Engine;
-use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::numbers::precision::Precision;
-use lorentz_gas::Error;
 use rand::{Rng, SeedableRng};
 
 /// The marker of a trajectory in flight in a checkpoint.
@@ -131,8 +131,8 @@ fn escape_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
     cfg.particles_per_width = 4000;
     cfg.seed = 4;
     let engines = [(Engine::Auto, 2), (Engine::Auto, 1)]; // escape runs the scalar kernel and takes no engine
-                                                          // Chunks, not trajectories in flight: the checkpoint holds no "in_flight" record. A chunk
-                                                          // every millisecond (a particle lives about as long), not one per particle.
+    // Chunks, not trajectories in flight: the checkpoint holds no "in_flight" record. A chunk
+    // every millisecond (a particle lives about as long), not one per particle.
     let every = Duration::from_millis(1);
     let chunks = ("\"task\"", 40);
     resume_with_interval(

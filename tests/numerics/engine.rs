@@ -6,7 +6,7 @@
 use lorentz_gas::engine::observe::{EventLanes, Observer};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::simd::BLOCK;
-use lorentz_gas::engine::{run_block, SimdPath};
+use lorentz_gas::engine::{SimdPath, run_block};
 use lorentz_gas::kernel::trap::Trap;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::Event, flight::Flight};
@@ -332,7 +332,7 @@ fn msd_grid_keeps_the_error_of_d() {
 #[test]
 fn packed_runs_equal_single_runs_and_resume_from_their_journal() {
     use lorentz_gas::engine::Engine;
-    use lorentz_gas::estimators::diffusion::{self, run_many, DiffusionConfig};
+    use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, run_many};
     let cfgs: Vec<DiffusionConfig> = (0..3)
         .map(|r| {
             let mut c = DiffusionConfig::new(0.25);
@@ -477,10 +477,11 @@ fn observer_sets_make_the_same_crossings_on_both_engines() {
         let sets: Vec<_> = r.costs.iter().map(|c| c.observe).collect();
         assert_eq!(sets, SETS);
         assert_eq!(r.costs[0].over_bare, 0.0);
-        assert!(r
-            .costs
-            .iter()
-            .all(|c| c.samples.len() == 2 && c.ns_per_collision > 0.0 && c.over_bare.is_finite()));
+        assert!(
+            r.costs.iter().all(|c| c.samples.len() == 2
+                && c.ns_per_collision > 0.0
+                && c.over_bare.is_finite())
+        );
         assert!(r.crossings_per_collision > 0.0 && r.crossings_per_collision < 1.0);
     }
 }

@@ -9,13 +9,13 @@ use std::time::Instant;
 
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight};
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState};
 use lorentz_gas::scenes::square::SquareScene;
-use lorentz_gas::scenes::Scene;
 use lorentz_gas::verification::error_model::UNIT_ROUNDOFF;
 use lorentz_gas::verification::oracle::{
-    collision_primitive, decided_in_balls, decode_primitive, decode_scene, replay_events,
-    scene_stepper, step_lattice, PrimitiveCase, SceneParams,
+    PrimitiveCase, SceneParams, collision_primitive, decided_in_balls, decode_primitive,
+    decode_scene, replay_events, scene_stepper, step_lattice,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{RngAlgorithm, TestRng, TestRunner};

@@ -7,7 +7,7 @@ use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::scenes::triangular::geometry::Geometry;
-use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t, CompensatedSum};
+use lorentz_gas::statistics::{CompensatedSum, mean_se, normal_sigma_equivalent_t};
 use lorentz_gas::verification::error_model::{ENERGY_BAND_U, ONE_EVENT_U, UNIT_ROUNDOFF};
 use lorentz_gas::verification::replay::check_event;
 use rug::Float;
@@ -49,10 +49,10 @@ fn free_path(w: f64, n: u64, b: u64, seed: u64) -> FreePaths {
             match ev.kind {
                 EventKind::Collision(_) => {
                     c += 1;
-                    if let Some(f) = flight {
-                        if f > longest {
-                            (longest, longest_crossings) = (f, crossings);
-                        }
+                    if let Some(f) = flight
+                        && f > longest
+                    {
+                        (longest, longest_crossings) = (f, crossings);
                     }
                     (flight, crossings) = (Some(0.0), 0);
                 }
@@ -250,5 +250,9 @@ fn long_run(n: u64) {
         sx.value(),
         sy.value()
     );
-    eprintln!("{n} collisions: worst ||v|^2-1| = {:.1}u, displacement {:.1} matches the summed flights to {err:e} (bound {bound:e})", worst / u, (d[0] * d[0] + d[1] * d[1]).sqrt());
+    eprintln!(
+        "{n} collisions: worst ||v|^2-1| = {:.1}u, displacement {:.1} matches the summed flights to {err:e} (bound {bound:e})",
+        worst / u,
+        (d[0] * d[0] + d[1] * d[1]).sqrt()
+    );
 }

@@ -2,7 +2,7 @@
 //! flight onset w₀, the maximal free path, and energy without drift.
 
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight};
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState, TriangularLattice};

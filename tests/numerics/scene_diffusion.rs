@@ -5,14 +5,14 @@
 //! model; infinite horizons, the SIMD engine and MPFR audits are refused; a checkpoint resumes
 //! to the uninterrupted bits and refuses another scene's.
 
-use lorentz_gas::engine::options::{AuditSpec, RunOptions};
+use lorentz_gas::Error;
 use lorentz_gas::engine::Engine;
-use lorentz_gas::estimators::diffusion::scene::{run_on, SceneDiffusionConfig};
+use lorentz_gas::engine::options::{AuditSpec, RunOptions};
+use lorentz_gas::estimators::diffusion::scene::{SceneDiffusionConfig, run_on};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
 use lorentz_gas::numbers::precision::Precision;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::Error;
 use rug::Rational;
 
 #[path = "../../examples/custom_scene.rs"]

@@ -8,10 +8,10 @@
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{cell::ConvexCell, flight::Flight};
 use lorentz_gas::numbers::real::Real;
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::{Lattice, LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::scenes::Scene;
 use lorentz_gas::verification::error_model::UNIT_ROUNDOFF;
 use rand::Rng;
 use rug::Float;

@@ -4,13 +4,13 @@
 use rug::Float;
 
 use lorentz_gas::numbers::exact::parse_exact;
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::scenes::Scene;
 use lorentz_gas::verification::error_model::UNIT_ROUNDOFF;
 use lorentz_gas::verification::shadowing::{
-    self as shadowing, defects, f64_segment, shadow_pseudo_orbit, OrbitPoint, Shadow, ShadowConfig,
-    Table, CONVERGENCE_SLACK_BITS,
+    self as shadowing, CONVERGENCE_SLACK_BITS, OrbitPoint, Shadow, ShadowConfig, Table, defects,
+    f64_segment, shadow_pseudo_orbit,
 };
 
 const BITS: u32 = 128;

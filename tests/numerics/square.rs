@@ -14,10 +14,10 @@
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight};
 use lorentz_gas::numbers::real::Real;
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::LatticeState;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::square::SquareScene;
-use lorentz_gas::scenes::Scene;
 use lorentz_gas::verification::error_model::{
     ENERGY_BAND_U, ONE_EVENT_U, POST_EVENT_U, UNIT_ROUNDOFF,
 };

@@ -7,11 +7,11 @@ use rug::ops::Pow;
 use rug::{Float, Integer, Rational};
 
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::trajectory::{decimal, TrajectoryInput, TrajectoryReport};
+use lorentz_gas::estimators::trajectory::{TrajectoryInput, TrajectoryReport, decimal};
 use lorentz_gas::numbers::exact::parse_exact;
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::scenes::Scene;
 
 /// Precision of the reference: far beyond the few hundred bits ten to twenty collisions lose.
 const REF_BITS: u32 = 2000;

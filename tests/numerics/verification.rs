@@ -5,11 +5,11 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight, trap::Trap};
 use lorentz_gas::numbers::real::Real;
+use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
-use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t, welch_dof};
 use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
 use lorentz_gas::verification::error_model::UNIT_ROUNDOFF;
@@ -58,7 +58,9 @@ fn mpfr256_fifty_collisions_return_below_1e_minus_50() {
         let err = r.position_error.to_f64().max(r.velocity_error.to_f64());
         assert!(err < 1e-50, "w={w}: {err:e}");
         assert!(err <= bound, "w={w}: {err:e} > bound {bound:e}");
-        eprintln!("w={w}: 50 collisions at 256 bits return within {err:e} (bound {bound:e}, max|J| {amp:e})");
+        eprintln!(
+            "w={w}: 50 collisions at 256 bits return within {err:e} (bound {bound:e}, max|J| {amp:e})"
+        );
     }
 }
 
@@ -184,7 +186,7 @@ fn near_surface_start_replays_within_the_model() {
 /// recorded worst events replay to the same verdict from their exact bit patterns.
 #[test]
 fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::shadow_audit::{self, replay, AuditConfig};
+    use lorentz_gas::verification::shadow_audit::{self, AuditConfig, replay};
     for &w in &[0.02, 0.1, 0.3] {
         let scene = TriangularScene::new(w).unwrap();
         let cfg = AuditConfig {
@@ -216,7 +218,7 @@ fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
 #[test]
 fn diffusion_self_audit_samples_events_and_leaves_d_unchanged() {
     use lorentz_gas::engine::options::AuditSpec;
-    use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+    use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
     let mut cfg = DiffusionConfig::new(0.12);
     cfg.collisions = 2_000_000;
     cfg.batches = 4;
@@ -390,7 +392,10 @@ fn precision_doubling_certifies_a_segment() {
         faithful >= horizon && faithful <= horizon + lag,
         "f64 faithful for {faithful} collisions; the divergence horizon from the same start is {horizon} (+ at most {lag:.1}): {c:?}"
     );
-    eprintln!("f64 faithful for {faithful} collisions, divergence horizon {horizon}, (53 ln2 + ln 1e-3)/lambda = {:.1}", (53.0 * std::f64::consts::LN_2 + 1e-3f64.ln()) / lambda.per_collision);
+    eprintln!(
+        "f64 faithful for {faithful} collisions, divergence horizon {horizon}, (53 ln2 + ln 1e-3)/lambda = {:.1}",
+        (53.0 * std::f64::consts::LN_2 + 1e-3f64.ln()) / lambda.per_collision
+    );
 }
 
 /// Statistics do not depend on precision: D and the mean free path from an MPFR-128 run (fewer
@@ -401,7 +406,7 @@ fn precision_doubling_certifies_a_segment() {
 /// would be t₃ = 32.6).
 #[test]
 fn statistics_do_not_move_with_precision() {
-    use lorentz_gas::estimators::diffusion::{run, DiffusionConfig};
+    use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
     use lorentz_gas::numbers::precision::Precision;
     let mut cfg = DiffusionConfig::new(0.2);
     cfg.batches = 16;

@@ -5,10 +5,10 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 
 use super::execution::Job;
+use crate::Error;
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
-use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
-use crate::Error;
+use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap};
 
 /// A fit window in units of the mean hop time τ.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -7,7 +7,8 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::{BatchResult, DiffusionConfig};
-use crate::engine::checkpoint::{drive_kept, run_block_kept, Keeper, LaneCheckpoint, Quota};
+use crate::Error;
+use crate::engine::checkpoint::{Keeper, LaneCheckpoint, Quota, drive_kept, run_block_kept};
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::AuditSpec;
 use crate::engine::simd::BLOCK;
@@ -18,13 +19,12 @@ use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::observers::counters::{CounterLaneState, CounterLanes};
 use crate::observers::msd::{Msd, MsdLaneState};
+use crate::scenes::Scene;
 use crate::scenes::lattice::{Basis64, LatticeState, TriangularLattice};
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::triangular::geometry::Geometry;
-use crate::scenes::triangular::{equilibrium_state, TriangularScene};
-use crate::scenes::Scene;
+use crate::scenes::triangular::{TriangularScene, equilibrium_state};
 use crate::verification::shadow_audit::{AuditLanes, Auditor};
-use crate::Error;
 
 /// One trajectory of a run: which stream starts it and how many collisions it makes.
 #[derive(Debug, Clone, Copy)]

@@ -19,27 +19,27 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
+use crate::engine::Engine;
 use crate::engine::checkpoint::Quota;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOption, RunOptions};
-use crate::engine::Engine;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
 use crate::observers::counters::Counters;
 use crate::scenes::lattice::LatticeState;
 use crate::statistics::mean_se;
 use crate::verification::shadow_audit::AuditSummary;
-use crate::Error;
 
 mod config;
 mod execution;
 pub mod scene;
 mod summary;
 
-use execution::{execute, setup, DiffusionKeeper, Job};
+use execution::{DiffusionKeeper, Job, execute, setup};
 
 // The configuration keeps its one public path, `estimators::diffusion::…` (its module is private).
-pub use config::{DiffusionConfig, Window, MIN_HOPS_PER_LAG};
+pub use config::{DiffusionConfig, MIN_HOPS_PER_LAG, Window};
 
 /// Kind of the records of a diffusion checkpoint.
 const CHECKPOINT_KIND: &str = "diffusion trajectories";

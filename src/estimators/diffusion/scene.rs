@@ -20,7 +20,8 @@ use serde::{Deserialize, Serialize};
 
 use super::execution::{BatchObservers, DiffusionKeeper, Job};
 use super::summary::{d_of_batch, merged_audit, msd_over_4t};
-use super::{open_keeper, require_finite_horizon, BatchResult, Window, MIN_HOPS_PER_LAG};
+use super::{BatchResult, MIN_HOPS_PER_LAG, Window, open_keeper, require_finite_horizon};
+use crate::Error;
 use crate::engine::checkpoint::drive_kept;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOption, RunOptions};
@@ -28,11 +29,10 @@ use crate::engine::{Engine, Resolved};
 use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::observers::counters::Counters;
-use crate::scenes::lattice::Lattice;
 use crate::scenes::Scene;
+use crate::scenes::lattice::Lattice;
 use crate::statistics::{mean_se, normal_sigma_equivalent_t};
 use crate::verification::shadow_audit::AuditSummary;
-use crate::Error;
 
 /// Kind of the records of a scene diffusion checkpoint.
 const CHECKPOINT_KIND: &str = "scene diffusion trajectories";
@@ -285,15 +285,15 @@ pub fn run_on<S: Scene>(
         Some(options.threads),
     )
     .with_engine(Resolved::Scalar);
-    if resumed > 0 || keep.in_flight_count() > 0 {
-        if let Some(i) = rep.identities.iter().find(|i| !i.agrees) {
-            return Err(Error::Failed(format!(
-                "the run resumed from its checkpoint fails an exact identity: {} {} is {:+.1} \
+    if (resumed > 0 || keep.in_flight_count() > 0)
+        && let Some(i) = rep.identities.iter().find(|i| !i.agrees)
+    {
+        return Err(Error::Failed(format!(
+            "the run resumed from its checkpoint fails an exact identity: {} {} is {:+.1} \
                  standard errors from its closed form {} (bound {:.2}): the checkpoint holds \
                  work of another configuration; delete it and run again",
-                i.name, i.measured, i.t, i.exact, i.bound
-            )));
-        }
+            i.name, i.measured, i.t, i.exact, i.bound
+        )));
     }
     Ok(rep)
 }

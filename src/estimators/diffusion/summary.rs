@@ -2,12 +2,12 @@
 //! identities, and the metadata.
 
 use super::{BatchResult, DiffusionConfig, DiffusionReport, Estimate, Window};
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::observers::counters::Counters;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::statistics::{linear_fit, mean_se};
 use crate::verification::shadow_audit::AuditSummary;
-use crate::Error;
 
 /// The lag times (lags in units of `tau`) and MSD/(4t) at each, mean and standard error over
 /// the batches.

@@ -14,10 +14,10 @@ use serde::{Deserialize, Serialize};
 use rand::Rng;
 
 use super::{EscapeConfig, Lifetime};
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::resume::Journal;
 use crate::scenes::strip::Strip;
-use crate::Error;
 
 /// Kind of the records of an escape checkpoint.
 const CHECKPOINT_KIND: &str = "escape particles";

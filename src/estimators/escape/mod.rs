@@ -35,15 +35,15 @@ mod chunks;
 
 use chunks::Chunks;
 
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{par_batches_watched, share};
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::strip::Strip;
-use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
 use crate::scenes::triangular::TriangularScene;
+use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap};
 use crate::statistics::fits::weighted_line_fit;
-use crate::Error;
 
 /// Independent batches per width: the error of γ̂ is their batch error (dozens give a reliable
 /// standard error; a fixed number keeps the bits independent of the thread count).

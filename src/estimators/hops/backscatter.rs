@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::est;
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOptions, StopFlag};
 use crate::engine::parallel::{par_batches_watched, share};
@@ -11,8 +12,7 @@ use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::single_trap::SingleTrap;
-use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
-use crate::Error;
+use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap};
 
 /// Injected visits between two calls of a progress callback: 2¹⁶, about 10⁶ collisions at w = 0.1
 /// (π/(3w) ≈ 10 collisions per visit).

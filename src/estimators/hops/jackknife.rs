@@ -6,12 +6,12 @@
 //! a resolvent. Differences such as D_k − D_GK are jackknifed as one function, so the
 //! correlation of the two (the same trajectories) is kept.
 
+use crate::Error;
 use crate::observers::hops::Hops;
 use crate::scenes::symbols::sequence_name;
 use crate::statistics::comparison::jackknife_se;
 use crate::theory::green_kubo;
 use crate::theory::sequences::SequenceProbabilities;
-use crate::Error;
 
 /// The statistics of a pool of batches that the theory is evaluated on.
 pub(super) struct Pool {

@@ -4,11 +4,11 @@
 use serde::{Deserialize, Serialize};
 
 use super::HopsConfig;
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::statistics::comparison;
-use crate::Error;
 
 /// Independent batches of simulated walkers per order in [`run`]: 16 give a standard
 /// error whose own relative uncertainty is about 1/√(2·15) ≈ 18 %.

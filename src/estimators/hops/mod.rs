@@ -16,12 +16,13 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::checkpoint::{drive_kept, run_block_kept, Keeper, Quota};
+use crate::Error;
+use crate::engine::Resolved;
+use crate::engine::checkpoint::{Keeper, Quota, drive_kept, run_block_kept};
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{par_batches, par_chunks, share};
 use crate::engine::simd::BLOCK;
-use crate::engine::Resolved;
 use crate::estimators::diffusion::Estimate;
 use crate::numbers::precision::Precision;
 use crate::observers::hop_correlations::{HopCorrelations, MAX_LAG};
@@ -32,10 +33,9 @@ use crate::scenes::symbols::{
     check_order, mirror_index, parse_sequence_index, reverse_index, sequence_name,
 };
 use crate::scenes::triangular::equilibrium_state;
-use crate::scenes::triangular::geometry::{check_diffusive_gap, Geometry};
+use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap};
 use crate::statistics::mean_se;
 use crate::theory::green_kubo;
-use crate::Error;
 
 fn est(v: &[f64]) -> Estimate {
     let (value, err) = mean_se(v);

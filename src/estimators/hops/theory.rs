@@ -4,13 +4,13 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::jackknife::{self, Pool};
 use super::HopsConfig;
+use super::jackknife::{self, Pool};
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::theory::sequences::SequenceProbabilities;
-use crate::Error;
 
 /// The corrected Machta–Zwanzig hierarchy evaluated on measured hop statistics (the CLI's
 /// `theory --json`).

@@ -27,7 +27,8 @@ mod summary;
 
 pub use summary::{LagRow, LawRow};
 
-use crate::engine::checkpoint::{drive_kept, Keeper, LaneCheckpoint, Quota};
+use crate::Error;
+use crate::engine::checkpoint::{Keeper, LaneCheckpoint, Quota, drive_kept};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::{RunOption, RunOptions};
@@ -36,12 +37,11 @@ use crate::numbers::exact::parse_exact;
 use crate::numbers::lanes::Lanes;
 use crate::observers::flight_tails::{FlightTails, TailCounts, TailLane};
 use crate::observers::lag_moments::{LagMoments, LagSums, MomentLane};
+use crate::scenes::Scene;
 use crate::scenes::sampling::stream;
 use crate::scenes::square::SquareScene;
 use crate::scenes::triangular::TriangularScene;
-use crate::scenes::Scene;
 use crate::theory::corridors::{self, CorridorJson, LatticeGas, Superdiffusion};
-use crate::Error;
 
 /// An infinite-horizon lattice, its parameter exactly as typed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

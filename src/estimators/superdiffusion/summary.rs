@@ -5,11 +5,11 @@
 use serde::Serialize;
 
 use super::{Batch, SuperdiffusionConfig};
+use crate::Error;
 use crate::observers::lag_moments::{HISTOGRAM_BINS, HISTOGRAM_RANGE};
 use crate::statistics::fits::weighted_line_fit;
 use crate::statistics::mean_se;
 use crate::theory::corridors::Superdiffusion;
-use crate::Error;
 
 /// The quartiles of N(0, 1) are ±0.6744897501960817.
 const NORMAL_QUARTILE: f64 = 0.674_489_750_196_081_7;

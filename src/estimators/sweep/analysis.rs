@@ -3,9 +3,10 @@
 //! crossing D = D_MZ, and polynomial χ².
 
 use super::{
-    Crossing, PolynomialChi2, SweepConfig, SweepPoint, SweepReport, SweepRow,
-    CROSSING_POINTS_PER_SIDE, MAX_POLYNOMIAL_DEGREE,
+    CROSSING_POINTS_PER_SIDE, Crossing, MAX_POLYNOMIAL_DEGREE, PolynomialChi2, SweepConfig,
+    SweepPoint, SweepReport, SweepRow,
 };
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::numbers::precision::Precision;
 use crate::scenes::triangular::geometry::Geometry;
@@ -13,7 +14,6 @@ use crate::statistics::f_p_value;
 use crate::statistics::fits::{
     weighted_line_fit, weighted_mean, weighted_polynomial_chi2, weighted_quadratic_fit,
 };
-use crate::Error;
 
 /// One point's D, its error from the batch errors inside the runs, and the runs' χ².
 fn combine(cfg: &SweepConfig, p: &SweepPoint) -> Result<SweepRow, Error> {

@@ -15,13 +15,13 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::numbers::exact::decimal_grid;
 use crate::numbers::precision::Precision;
 use crate::statistics::fits::{LineFit, WeightedMean};
-use crate::Error;
 
 /// What defines a sweep.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -5,10 +5,10 @@
 use std::path::{Path, PathBuf};
 
 use super::{RunValue, SweepConfig, SweepPoint};
+use crate::Error;
 use crate::engine::options::RunOptions;
 use crate::engine::resume::{difference, seal, unseal, write_atomically};
-use crate::estimators::diffusion::{run_many, DiffusionConfig};
-use crate::Error;
+use crate::estimators::diffusion::{DiffusionConfig, run_many};
 
 /// The file of point `i` in the sweep directory `dir`.
 pub fn point_path(dir: &Path, i: usize) -> PathBuf {

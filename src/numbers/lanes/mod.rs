@@ -147,11 +147,7 @@ impl Lanes for f64 {
     }
     #[inline(always)]
     fn select(m: bool, a: Self, b: Self) -> Self {
-        if m {
-            a
-        } else {
-            b
-        }
+        if m { a } else { b }
     }
     #[inline(always)]
     fn and(a: bool, b: bool) -> bool {

@@ -6,18 +6,18 @@ use std::path::Path;
 use serde::Serialize;
 use serde_json::json;
 
-use super::{plot, PlotSpec, Series};
+use super::{PlotSpec, Series, plot};
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::estimators::hops::backscatter::{self, BackscatterConfig};
-use crate::estimators::hops::{theory, HopsConfig};
+use crate::estimators::hops::{HopsConfig, theory};
 use crate::numbers::exact::decimal_grid;
 use crate::numbers::precision::Precision;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::single_trap::SingleTrap;
 use crate::scenes::symbols::Symbol;
-use crate::Error;
 
 /// Default injections of Fig. 5: enough points to show the backscattering regions' shape.
 pub const MAP_SAMPLES: u64 = 60_000;
@@ -364,7 +364,9 @@ type HierarchyRow = (f64, theory::TheoryReport, f64, f64);
 
 /// The CSV of [`hierarchy`]: one line per gap.
 fn hierarchy_csv(rows: &[HierarchyRow]) -> String {
-    let mut csv = String::from("w,D,D_err,D_MZ,D_cf,D_bs,D_1,D_2,D_3,walk_1,walk_2,walk_3,walk_4,p_cf,p_cf_err,p_cf_app_a,p_cf_app_a_printed\n");
+    let mut csv = String::from(
+        "w,D,D_err,D_MZ,D_cf,D_bs,D_1,D_2,D_3,walk_1,walk_2,walk_3,walk_4,p_cf,p_cf_err,p_cf_app_a,p_cf_app_a_printed\n",
+    );
     for (w, t, d, e) in rows {
         csv.push_str(&format!(
             "{w},{d},{e},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",

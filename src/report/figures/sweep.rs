@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use super::{plot, PlotSpec, Series};
-use crate::estimators::sweep::{SweepReport, SweepRow};
+use super::{PlotSpec, Series, plot};
 use crate::Error;
+use crate::estimators::sweep::{SweepReport, SweepRow};
 
 /// Writes `fig2-D-vs-w`, `fig7-boltzmann` and `fig8-residuals` (`.png`, `.svg`) into `dir`.
 ///

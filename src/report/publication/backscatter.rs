@@ -7,10 +7,10 @@ use super::diffusion::refused_config;
 use super::file::ResultFile;
 use super::same_bits::rerun_check;
 use super::{Checks, Ctx, SIGMAS};
+use crate::Error;
 use crate::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
 use crate::scenes::triangular::geometry::Geometry;
 use crate::statistics::normal_sigma_equivalent_t;
-use crate::Error;
 
 /// The file as a backscatter result whose configuration the command line would accept.
 pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<BackscatterReport, Error> {

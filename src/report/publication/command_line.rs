@@ -77,7 +77,9 @@ fn judge(
     if writes != Some(kind) {
         return (
             Verdict::Fail,
-            format!("the recorded command line runs `{command}`, which does not write this {kind} result"),
+            format!(
+                "the recorded command line runs `{command}`, which does not write this {kind} result"
+            ),
         );
     }
     let (Some(given), Some(config)) = (given, config) else {
@@ -89,7 +91,9 @@ fn judge(
     match crate::engine::resume::difference(config, &given) {
         None => (
             Verdict::Pass,
-            format!("the recorded `{command}` command line gives the file's configuration, field for field (parsed, not run)"),
+            format!(
+                "the recorded `{command}` command line gives the file's configuration, field for field (parsed, not run)"
+            ),
         ),
         Some(d) => (
             Verdict::Fail,

@@ -7,9 +7,9 @@ use super::diffusion::refused_config;
 use super::file::ResultFile;
 use super::same_bits::rerun_check;
 use super::{Checks, Ctx};
-use crate::estimators::escape::{self, EscapeConfig, EscapeReport, BATCHES_PER_WIDTH};
-use crate::scenes::triangular::geometry::Geometry;
 use crate::Error;
+use crate::estimators::escape::{self, BATCHES_PER_WIDTH, EscapeConfig, EscapeReport};
+use crate::scenes::triangular::geometry::Geometry;
 
 /// Smallest D/D_MZ over the diffusive range (0.89 near w = 0.055, README table): the expected
 /// lifetimes below are computed with D = this × D_MZ, so they do not underestimate.

@@ -9,8 +9,8 @@
 use std::io::Read;
 use std::path::Path;
 
-use serde::de::DeserializeOwned;
 use serde::Serialize;
+use serde::de::DeserializeOwned;
 use serde_json::Value;
 
 use crate::Error;
@@ -124,16 +124,20 @@ impl ResultFile {
                         "not a result that report audits: it has none of the keys that identify {} (results of other commands are not audited)",
                         Kind::list()
                     ),
-                ))
+                ));
             }
             _ => {
                 return Err(bad(
                     path,
                     format!(
                         "keys of several kinds of result ({}): not a result of lorentz",
-                        kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(", ")
+                        kinds
+                            .iter()
+                            .map(|k| k.name())
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ),
-                ))
+                ));
             }
         };
         Ok(ResultFile { sha, kind, value })
@@ -153,7 +157,9 @@ impl ResultFile {
         if let Some(key) = first_unknown_key(&self.value, &schema, "") {
             return Err(bad(
                 path,
-                format!("unknown key `{key}`: a {kind} result holds no such key, and the audit accepts no field it does not check"),
+                format!(
+                    "unknown key `{key}`: a {kind} result holds no such key, and the audit accepts no field it does not check"
+                ),
             ));
         }
         Ok(t)

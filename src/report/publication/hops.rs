@@ -7,12 +7,12 @@ use super::diffusion::refused_config;
 use super::file::{Kind, ResultFile};
 use super::same_bits::rerun_check;
 use super::{Checks, Ctx};
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::estimators::hops::lattice_walks::{self, LatticeWalkReport};
 use crate::estimators::hops::theory::{self, TheoryReport};
 use crate::estimators::hops::{self, HopsConfig, HopsReport};
 use crate::scenes::triangular::geometry::Geometry;
-use crate::Error;
 
 /// A result measured along lattice trajectories from a [`HopsConfig`].
 pub(super) enum HopsKind {

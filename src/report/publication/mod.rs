@@ -64,10 +64,10 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::metadata::RunMeta;
-use crate::engine::options::{RunOptions, MAX_AUDIT_BITS, MIN_AUDIT_BITS};
-use crate::numbers::precision::Precision;
 use crate::Error;
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::{MAX_AUDIT_BITS, MIN_AUDIT_BITS, RunOptions};
+use crate::numbers::precision::Precision;
 use file::{Kind, ResultFile};
 
 /// A check's outcome.
@@ -416,7 +416,11 @@ impl Ctx<'_> {
             "the re-run needs {:.3e} collisions (computed from the recorded configuration); the audit re-runs at most {:.3e} in all ({}), {:.3e} of them left: not re-run",
             n as f64,
             budget as f64,
-            if self.quick { "quick report" } else { "its bound" },
+            if self.quick {
+                "quick report"
+            } else {
+                "its bound"
+            },
             budget.saturating_sub(self.done.get()) as f64,
         ))
     }

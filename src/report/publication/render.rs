@@ -71,7 +71,10 @@ impl PublicationReport {
         let p = &self.provenance;
         let mut s = format!(
             "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Audit of {}</title>\n<style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:.3em .6em;vertical-align:top}}.PASS{{color:#060;font-weight:bold}}.FAIL{{color:#b00;font-weight:bold}}.SKIP{{color:#777;font-weight:bold}}</style></head><body>\n<h1>Audit of {}: <span class=\"{}\">{}</span></h1>\n<h2>Provenance</h2><table>\n",
-            esc(&p.result_file), esc(&p.result_file), self.verdict, self.verdict
+            esc(&p.result_file),
+            esc(&p.result_file),
+            self.verdict,
+            self.verdict
         );
         let mut row =
             |k: &str, v: &str| s += &format!("<tr><th>{k}</th><td>{}</td></tr>\n", esc(v));

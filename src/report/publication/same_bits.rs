@@ -4,9 +4,9 @@ use serde::Serialize;
 use serde_json::Value;
 
 use super::{Checks, Ctx};
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::Error;
 
 /// Fields of a result that legitimately differ between two runs of the same configuration: the
 /// process's metadata (compared apart: seed, batches and precision must agree) and timing.

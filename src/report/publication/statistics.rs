@@ -1,7 +1,7 @@
 //! The statistics of a diffusion result's batch values: between-group χ², the most extreme
 //! batch, and the batch error against the errors of blocks of batches.
 
-use super::{Checks, ALPHA};
+use super::{ALPHA, Checks};
 use crate::statistics::{mean_se, student_t_quantile};
 
 /// The between-group χ², the most extreme batch, and batch against block errors.

@@ -7,10 +7,10 @@ use std::path::Path;
 use super::diffusion::refused_config;
 use super::file::ResultFile;
 use super::same_bits::{differing, rerun_check};
-use super::{pick_from_digest, Checks, Ctx, ALPHA};
+use super::{ALPHA, Checks, Ctx, pick_from_digest};
+use crate::Error;
 use crate::estimators::sweep::analysis::analyse;
 use crate::estimators::sweep::{self, RunValue, SweepConfig, SweepPoint, SweepReport};
-use crate::Error;
 
 /// The file as a sweep result whose configuration the command line would accept.
 pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<SweepReport, Error> {
@@ -25,10 +25,11 @@ pub(super) fn reruns(r: &SweepReport, quick: bool) -> Vec<u64> {
     if quick {
         vec![c.collisions]
     } else {
-        vec![c
-            .collisions
-            .saturating_mul(u64::from(c.runs))
-            .saturating_mul(u64::from(c.steps))]
+        vec![
+            c.collisions
+                .saturating_mul(u64::from(c.runs))
+                .saturating_mul(u64::from(c.steps)),
+        ]
     }
 }
 

@@ -15,18 +15,18 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::estimators::diffusion::{run, DiffusionConfig};
+use crate::estimators::diffusion::{DiffusionConfig, run};
 use crate::estimators::sweep::{self, SweepConfig, SweepReport};
 use crate::numbers::precision::Precision;
 use crate::report::figures::paper;
 use crate::scenes::triangular::geometry::Geometry;
-use crate::Error;
 
 mod marker;
 
-use marker::{finished_step, Done};
+use marker::{Done, finished_step};
 
 /// How much statistics a reproduction uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -509,7 +509,9 @@ fn claims(
                     x.w, x.err_scaled
                 )
             }
-            None => md += "| D = D_MZ at w ≈ 0.1 | no sign change of D − D_MZ in the sweep | Fig. 2 sweep |\n",
+            None => {
+                md += "| D = D_MZ at w ≈ 0.1 | no sign change of D − D_MZ in the sweep | Fig. 2 sweep |\n"
+            }
         }
     }
     if let Some(f) = fine {
@@ -573,10 +575,10 @@ fn index_html(dir: &Path, r: &ReproduceReport) -> String {
             }
         );
         for f in &st.files {
-            if f.ends_with(".md") {
-                if let Ok(md) = crate::files::read_to_string(dir.join(f)) {
-                    s += &md_table_html(&md);
-                }
+            if f.ends_with(".md")
+                && let Ok(md) = crate::files::read_to_string(dir.join(f))
+            {
+                s += &md_table_html(&md);
             }
         }
         for f in st.files.iter().filter(|f| f.ends_with(".png")) {
@@ -605,7 +607,10 @@ mod tests {
     #[test]
     fn markdown_tables_become_html() {
         let h = md_table_html("| a | b<c |\n|---|---|\n| 1 | 2 |\n");
-        assert_eq!(h, "<table>\n<tr><th>a</th><th>b&lt;c</th></tr>\n<tr><td>1</td><td>2</td></tr>\n</table>\n");
+        assert_eq!(
+            h,
+            "<table>\n<tr><th>a</th><th>b&lt;c</th></tr>\n<tr><td>1</td><td>2</td></tr>\n</table>\n"
+        );
     }
 
     #[test]

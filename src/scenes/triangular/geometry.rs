@@ -21,8 +21,8 @@
 
 use rug::Float;
 
-use crate::numbers::real::Real;
 use crate::Error;
+use crate::numbers::real::Real;
 
 /// Closed-form quantities at one gap `w`, computed at the precision of `w`.
 ///

@@ -7,14 +7,14 @@ pub mod geometry;
 use rand::Rng;
 use rug::Rational;
 
-use super::lattice::{settle, CellIndex, LatticeState};
 use super::Scene;
+use super::lattice::{CellIndex, LatticeState, settle};
+use crate::Error;
 use crate::kernel::flight::Flight;
 use crate::kernel::trap::Trap;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
 use crate::scenes::triangular::geometry::Geometry;
-use crate::Error;
 
 /// The triangular Lorentz gas at gap w.
 #[derive(Debug, Clone)]

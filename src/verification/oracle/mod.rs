@@ -29,19 +29,19 @@
 
 use std::fmt;
 
-use rug::float::Constant;
 use rug::Float;
+use rug::float::Constant;
 
 use crate::kernel::cell::{CellKernel, ConvexCell};
 use crate::kernel::trap::Trap;
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{flight::Event, flight::EventKind, flight::Flight};
 use crate::numbers::real::Real;
+use crate::scenes::Scene;
 use crate::scenes::lattice::{CellIndex, LatticeState};
 use crate::scenes::square::SquareScene;
-use crate::scenes::triangular::geometry::Geometry;
 use crate::scenes::triangular::TriangularScene;
-use crate::scenes::Scene;
+use crate::scenes::triangular::geometry::Geometry;
 use crate::verification::error_model::{ENERGY_BAND_U, POST_EVENT_U, UNIT_ROUNDOFF, UNWRAP_EPS};
 use crate::verification::replay::check_event;
 

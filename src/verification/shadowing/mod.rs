@@ -31,15 +31,15 @@
 use rug::Float;
 use serde::Serialize;
 
+use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::parallel::par_batches;
 use crate::kernel::flight::EventKind;
 use crate::kernel::vec2::Vec2;
+use crate::scenes::Scene;
 use crate::scenes::lattice::LatticeState;
 use crate::scenes::sampling::stream;
-use crate::scenes::Scene;
-use crate::Error;
 
 mod linear;
 mod newton;

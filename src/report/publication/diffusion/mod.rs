@@ -6,18 +6,18 @@ use std::path::Path;
 
 use super::file::ResultFile;
 use super::statistics::batch_statistics;
-use super::{batch_from_digest, Checks, Ctx, Verdict, SIGMAS};
+use super::{Checks, Ctx, SIGMAS, Verdict, batch_from_digest};
+use crate::Error;
+use crate::engine::Engine;
 use crate::engine::options::AuditSpec;
 use crate::engine::parallel::share;
-use crate::engine::Engine;
 use crate::estimators::diffusion::{
-    batch_d, rerun_batches, BatchResult, DiffusionConfig, DiffusionReport,
+    BatchResult, DiffusionConfig, DiffusionReport, batch_d, rerun_batches,
 };
 use crate::numbers::precision::Precision;
-use crate::report::figures::{plot, PlotSpec, Series};
+use crate::report::figures::{PlotSpec, Series, plot};
 use crate::scenes::triangular::geometry::Geometry;
 use crate::statistics::{comparison, mean_se, normal_sigma_equivalent_t};
-use crate::Error;
 
 mod figures;
 mod verification;
