@@ -100,34 +100,13 @@ impl DiffusionConfig {
     pub fn validate(&self) -> Result<(), Error> {
         check_diffusive_gap(self.w)?;
         crate::numbers::exact::check_exact("w", self.w, self.w_exact.as_deref())?;
-        if self.collisions == 0 {
-            return Err(Error::Zero { what: "collisions" });
-        }
-        if self.batches == 0 {
-            return Err(Error::Zero { what: "batches" });
-        }
-        if self.batches < 2 {
-            return Err(Error::TooFew {
-                what: "batches",
-                min: 2,
-                got: self.batches as u64,
-            });
-        }
-        crate::engine::parallel::check_batches("batches", self.batches)?;
-        crate::engine::check_trajectory_length(self.collisions.div_ceil(self.batches as u64))?;
-        if let Precision::Bits(b) = self.precision {
-            <rug::Float as Real>::check_ctx(b)?;
-        }
-        if self.check_window == self.window {
-            return Err(Error::Invalid(format!(
-                "check_window = {0}:{1} is the fit window {0}:{1}: the check needs another \
-                 window, such as a later one ({2}:{3})",
-                self.window.lo,
-                self.window.hi,
-                2 * self.window.lo,
-                2 * self.window.hi
-            )));
-        }
+        check_run(
+            self.collisions,
+            self.batches,
+            self.precision,
+            &self.window,
+            &self.check_window,
+        )?;
         // Each batch must be long enough to reach the far end of the check window many times.
         let g = Geometry::new(self.w)?;
         let need_hops = (MIN_HOPS_PER_LAG * self.window.hi.max(self.check_window.hi)) as f64;
@@ -156,20 +135,76 @@ impl DiffusionConfig {
     /// The trajectories of this run: batch i follows the stream (seed, run, i) for its share of
     /// the collisions.
     pub(super) fn jobs(&self) -> impl Iterator<Item = Job> + '_ {
-        (0..self.batches).map(move |i| Job {
-            seed: self.seed,
-            run: self.run,
-            index: i,
-            collisions: crate::engine::parallel::share(self.collisions, self.batches, i),
-        })
+        jobs(self.seed, self.run, self.collisions, self.batches)
     }
 
     /// The lags (in units of τ) the MSD is accumulated at: those of both fit windows.
     pub fn lags(&self) -> Vec<usize> {
-        let mut l = self.window.lags();
-        l.extend(self.check_window.lags());
-        l.sort_unstable();
-        l.dedup();
-        l
+        lags(&self.window, &self.check_window)
     }
+}
+
+/// The checks every diffusion run shares, whatever its table: at least one collision and two
+/// batches (within the thread pool's and a trajectory's limits), a usable precision, and a check
+/// window that is not the fit window.
+pub(super) fn check_run(
+    collisions: u64,
+    batches: u32,
+    precision: Precision,
+    window: &Window,
+    check_window: &Window,
+) -> Result<(), Error> {
+    if collisions == 0 {
+        return Err(Error::Zero { what: "collisions" });
+    }
+    if batches == 0 {
+        return Err(Error::Zero { what: "batches" });
+    }
+    if batches < 2 {
+        return Err(Error::TooFew {
+            what: "batches",
+            min: 2,
+            got: batches as u64,
+        });
+    }
+    crate::engine::parallel::check_batches("batches", batches)?;
+    crate::engine::check_trajectory_length(collisions.div_ceil(batches as u64))?;
+    if let Precision::Bits(b) = precision {
+        <rug::Float as Real>::check_ctx(b)?;
+    }
+    if check_window == window {
+        return Err(Error::Invalid(format!(
+            "check_window = {0}:{1} is the fit window {0}:{1}: the check needs another \
+             window, such as a later one ({2}:{3})",
+            window.lo,
+            window.hi,
+            2 * window.lo,
+            2 * window.hi
+        )));
+    }
+    Ok(())
+}
+
+/// Batch i of a run follows the stream (seed, run, i) for its share of the collisions.
+pub(super) fn jobs(
+    seed: u64,
+    run: u64,
+    collisions: u64,
+    batches: u32,
+) -> impl Iterator<Item = Job> {
+    (0..batches).map(move |i| Job {
+        seed,
+        run,
+        index: i,
+        collisions: crate::engine::parallel::share(collisions, batches, i),
+    })
+}
+
+/// The lags (in time units) of both fit windows, sorted, each once.
+pub(super) fn lags(window: &Window, check_window: &Window) -> Vec<usize> {
+    let mut l = window.lags();
+    l.extend(check_window.lags());
+    l.sort_unstable();
+    l.dedup();
+    l
 }

@@ -88,24 +88,13 @@ impl SceneDiffusionConfig {
     /// equal windows.
     pub fn validate<S: Scene>(&self, scene: &S) -> Result<(), Error> {
         require_finite_horizon(scene)?;
-        if self.batches < 2 {
-            return Err(Error::TooFew {
-                what: "batches",
-                min: 2,
-                got: self.batches as u64,
-            });
-        }
-        crate::engine::parallel::check_batches("batches", self.batches)?;
-        crate::engine::check_trajectory_length(self.collisions.div_ceil(self.batches as u64))?;
-        if let Precision::Bits(b) = self.precision {
-            <rug::Float as Real>::check_ctx(b)?;
-        }
-        if self.check_window == self.window {
-            return Err(Error::Invalid(format!(
-                "check_window = {0}:{1} is the fit window: the check needs another window",
-                self.window.lo, self.window.hi
-            )));
-        }
+        super::config::check_run(
+            self.collisions,
+            self.batches,
+            self.precision,
+            &self.window,
+            &self.check_window,
+        )?;
         let (unit, mfp) = (time_unit(scene), scene.mean_free_path());
         if !(unit > 0.0 && mfp > 0.0 && unit.is_finite() && mfp.is_finite()) {
             return Err(Error::Invalid(format!(
@@ -127,22 +116,11 @@ impl SceneDiffusionConfig {
 
     /// The lags (in time units) the MSD is accumulated at: those of both fit windows.
     fn lags(&self) -> Vec<usize> {
-        let mut l = self.window.lags();
-        l.extend(self.check_window.lags());
-        l.sort_unstable();
-        l.dedup();
-        l
+        super::config::lags(&self.window, &self.check_window)
     }
 
     fn jobs(&self) -> Vec<Job> {
-        (0..self.batches)
-            .map(|i| Job {
-                seed: self.seed,
-                run: 0,
-                index: i,
-                collisions: crate::engine::parallel::share(self.collisions, self.batches, i),
-            })
-            .collect()
+        super::config::jobs(self.seed, 0, self.collisions, self.batches).collect()
     }
 }
 
@@ -277,14 +255,15 @@ pub fn run_on<S: Scene>(
     let mut done: Vec<BatchResult> = keep.finished().map(|(_, b)| b.clone()).collect();
     done.extend(new);
     done.sort_by_key(|b| b.index);
-    let mut rep = summarise(scene, cfg, &done, start.elapsed().as_secs_f64(), resumed)?;
-    rep.meta = RunMeta::new(
+    let meta = RunMeta::new(
         Some(cfg.seed),
         Some(cfg.batches as u64),
         cfg.precision,
         Some(options.threads),
     )
     .with_engine(Resolved::Scalar);
+    let seconds = start.elapsed().as_secs_f64();
+    let rep = summarise(scene, cfg, &done, seconds, resumed, meta)?;
     if (resumed > 0 || keep.in_flight_count() > 0)
         && let Some(i) = rep.identities.iter().find(|i| !i.agrees)
     {
@@ -379,6 +358,7 @@ fn summarise<S: Scene>(
     done: &[BatchResult],
     seconds: f64,
     resumed: u32,
+    meta: RunMeta,
 ) -> Result<SceneDiffusionReport, Error> {
     let tau = time_unit(scene);
     let ds: Vec<f64> = done
@@ -419,12 +399,7 @@ fn summarise<S: Scene>(
         batch_D: ds,
         batch_D_check: dc,
         config: cfg.clone(),
-        meta: RunMeta::new(
-            Some(cfg.seed),
-            Some(cfg.batches as u64),
-            cfg.precision,
-            None,
-        ),
+        meta,
     })
 }
 

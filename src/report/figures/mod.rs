@@ -88,83 +88,103 @@ where
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(80);
-    macro_rules! body {
-        ($chart:expr) => {{
-            let mut chart = $chart;
-            chart
-                .configure_mesh()
-                .x_desc(spec.x_label)
-                .y_desc(spec.y_label)
-                .label_style(("sans-serif", 14))
-                .draw()
-                .map_err(io)?;
-            for (i, s) in series.iter().enumerate() {
-                let c = Palette99::pick(i).to_rgba();
-                let joined: Vec<(f64, f64)> = if s.line {
-                    s.points.iter().map(|p| (p.0, p.1)).collect()
-                } else {
-                    Vec::new()
-                };
-                chart
-                    .draw_series(LineSeries::new(joined, c.stroke_width(2)))
-                    .map_err(io)?
-                    .label(s.label.clone())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
-                    });
-                if s.line || s.points.len() < 1000 {
-                    chart
-                        .draw_series(
-                            s.points
-                                .iter()
-                                .map(|p| Circle::new((p.0, p.1), 3, c.filled())),
-                        )
-                        .map_err(io)?;
-                } else {
-                    // Dense scatter (e.g. Fig. 5): single pixels.
-                    chart
-                        .draw_series(s.points.iter().map(|p| Pixel::new((p.0, p.1), c)))
-                        .map_err(io)?;
-                }
-                chart
-                    .draw_series(
-                        s.points
-                            .iter()
-                            .zip(&s.notes)
-                            .map(|(p, t)| Text::new(t.clone(), (p.0, p.1), ("sans-serif", 13))),
-                    )
-                    .map_err(io)?;
-                chart
-                    .draw_series(s.points.iter().filter(|p| p.2 > 0.0).map(|p| {
-                        ErrorBar::new_vertical(p.0, p.1 - p.2, p.1, p.1 + p.2, c.stroke_width(1), 6)
-                    }))
-                    .map_err(io)?;
-            }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 14))
-                .draw()
-                .map_err(io)?;
-        }};
-    }
     match (spec.log_x, spec.log_y) {
-        (true, true) => body!(
-            b.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-                .map_err(io)?
-        ),
-        (true, false) => body!(
-            b.build_cartesian_2d((x0..x1).log_scale(), y0..y1)
-                .map_err(io)?
-        ),
-        (false, true) => body!(
-            b.build_cartesian_2d(x0..x1, (y0..y1).log_scale())
-                .map_err(io)?
-        ),
-        (false, false) => body!(b.build_cartesian_2d(x0..x1, y0..y1).map_err(io)?),
+        (true, true) => chart_body(
+            &mut b
+                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                .map_err(io)?,
+            spec,
+            series,
+            &io,
+        )?,
+        (true, false) => chart_body(
+            &mut b
+                .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+                .map_err(io)?,
+            spec,
+            series,
+            &io,
+        )?,
+        (false, true) => chart_body(
+            &mut b
+                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                .map_err(io)?,
+            spec,
+            series,
+            &io,
+        )?,
+        (false, false) => chart_body(
+            &mut b.build_cartesian_2d(x0..x1, y0..y1).map_err(io)?,
+            spec,
+            series,
+            &io,
+        )?,
     }
     root.present().map_err(io)?;
+    Ok(())
+}
+
+/// The mesh, every series (line, points or pixels, notes, error bars) and the legend, on a chart
+/// of any axis scales.
+fn chart_body<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    spec: &PlotSpec,
+    series: &[Series],
+    io: &dyn Fn(plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>) -> Error,
+) -> Result<(), Error>
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    chart
+        .configure_mesh()
+        .x_desc(spec.x_label)
+        .y_desc(spec.y_label)
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(io)?;
+    for (i, s) in series.iter().enumerate() {
+        let c = Palette99::pick(i).to_rgba();
+        let joined: Vec<(f64, f64)> = if s.line {
+            s.points.iter().map(|p| (p.0, p.1)).collect()
+        } else {
+            Vec::new()
+        };
+        chart
+            .draw_series(LineSeries::new(joined, c.stroke_width(2)))
+            .map_err(io)?
+            .label(s.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
+        if s.line || s.points.len() < 1000 {
+            let dots = s
+                .points
+                .iter()
+                .map(|p| Circle::new((p.0, p.1), 3, c.filled()));
+            chart.draw_series(dots).map_err(io)?;
+        } else {
+            // Dense scatter (e.g. Fig. 5): single pixels.
+            let pixels = s.points.iter().map(|p| Pixel::new((p.0, p.1), c));
+            chart.draw_series(pixels).map_err(io)?;
+        }
+        let notes = s.points.iter().zip(&s.notes);
+        chart
+            .draw_series(notes.map(|(p, t)| Text::new(t.clone(), (p.0, p.1), ("sans-serif", 13))))
+            .map_err(io)?;
+        let bars =
+            s.points.iter().filter(|p| p.2 > 0.0).map(|p| {
+                ErrorBar::new_vertical(p.0, p.1 - p.2, p.1, p.1 + p.2, c.stroke_width(1), 6)
+            });
+        chart.draw_series(bars).map_err(io)?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()
+        .map_err(io)?;
     Ok(())
 }
 

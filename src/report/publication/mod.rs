@@ -5,8 +5,9 @@
 //! [`file::MAX_RESULT_BYTES`], every key checked against the schema of its kind), takes the
 //! recorded *configuration* (the `config` object), validates it exactly as the command line
 //! validates its input, and re-runs it through the library (`estimators::<kind>::run`). It never
-//! runs the recorded command line (`meta.command_line` is shown, never used) and never starts a
-//! process; the work of every re-run is computed from the validated configuration, and the
+//! runs the recorded command line and never starts a process: a front end that owns a
+//! command-line parser ([`run_with`]) has `meta.command_line` parsed, and provenance FAILs when
+//! it does not give the recorded configuration ([`command_line`]); the work of every re-run is computed from the validated configuration, and the
 //! report writes only inside [`AuditConfig::out`].
 //!
 //! For a `diffusion` result:
