@@ -39,10 +39,10 @@ pub enum Error {
         /// w∞ in f64.
         w_inf: f64,
     },
-    /// Precision below 53 bits (or above MPFR's maximum).
+    /// Precision below 53 bits or above [`crate::numbers::precision::MAX_RUN_BITS`].
     #[error(
         "precision {bits} bits is out of range: use 'f64' or a number of bits from 53 to {}",
-        rug::float::prec_max()
+        crate::numbers::precision::MAX_RUN_BITS
     )]
     Precision {
         /// The requested number of bits.
@@ -67,6 +67,17 @@ pub enum Error {
     /// Any other invalid argument, with the reason.
     #[error("{0}")]
     Invalid(String),
+    /// A path the crate will not read, write or replace: a symbolic link, a device, a FIFO, a
+    /// directory, or a file that is not one it made ([`crate::files`]).
+    #[error("{}: {found}: {why}", path.display())]
+    UnsafePath {
+        /// The path.
+        path: PathBuf,
+        /// What is there ("a symbolic link", "a FIFO", "not a lorentz journal (…)", …).
+        found: String,
+        /// What to do instead.
+        why: &'static str,
+    },
     /// A file or directory could not be read, created, written or renamed.
     #[error("cannot {op} {}: {source}", path.display())]
     Io {
@@ -85,6 +96,10 @@ pub enum Error {
     /// A verification ran and its verdict is FAIL (not bad input: exit status 1).
     #[error("{0}")]
     CheckFailed(String),
+    /// A verification ran, no check failed, but some were skipped: the result is not verified
+    /// (the message names where the report lists them).
+    #[error("{0}")]
+    Incomplete(String),
     /// A scene given another scene's parameter, or none: each front end names the parameters in
     /// its own terms (`--w`, `w=`).
     #[error("{}", scene_parameter_text(scene, parameter, needs, range, *missing, &|p| p.to_string()))]
@@ -158,6 +173,8 @@ pub enum ErrorKind {
     Failed,
     /// A verification's verdict is FAIL.
     CheckFailed,
+    /// A verification's verdict is INCOMPLETE: checks were skipped.
+    Incomplete,
     /// The run was asked to stop before it finished.
     Interrupted,
 }
@@ -215,6 +232,7 @@ impl Error {
             Error::Io { .. } => ErrorKind::Io,
             Error::Failed(_) => ErrorKind::Failed,
             Error::CheckFailed(_) => ErrorKind::CheckFailed,
+            Error::Incomplete(_) => ErrorKind::Incomplete,
             Error::Interrupted => ErrorKind::Interrupted,
             Error::NotFinite { .. }
             | Error::Trapped { .. }
@@ -224,6 +242,7 @@ impl Error {
             | Error::TooFew { .. }
             | Error::UnusedOption { .. }
             | Error::SceneParameter { .. }
+            | Error::UnsafePath { .. }
             | Error::Invalid(_) => ErrorKind::BadInput,
         }
     }

@@ -140,8 +140,28 @@ def _exact(name: str, v: Any) -> str:
     if isinstance(v, numbers.Integral):
         return str(int(v))
     if isinstance(v, numbers.Real):
+        _refuse_lossy(name, v)
         return repr(float(v))
     raise TypeError(f"{name} must be a str, float, int, Fraction or Decimal, not {type(v).__name__}")
+
+
+def _refuse_lossy(name: str, v: Any) -> None:
+    """Refuses a float narrower than a double (numpy.float32 0.1 is 0.100000001490116...: the
+    decimal meant is already lost) or one a double cannot hold (numpy.longdouble)."""
+    if isinstance(v, float):
+        return
+    size = getattr(getattr(v, "dtype", None), "itemsize", 8)
+    if size < 8:
+        raise ValueError(
+            f"{name} = {type(v).__name__}({v!r}) holds {float(v)!r}, not the decimal it was "
+            f"written as: a {8 * size}-bit float has lost it; pass a str such as '0.1', a Python "
+            "float, a Fraction or a Decimal"
+        )
+    if float(v) != v:
+        raise ValueError(
+            f"{name} = {type(v).__name__}({v!r}) is not a double: it would be rounded; pass a str, "
+            "a Fraction or a Decimal to give it exactly"
+        )
 
 
 def _optional_exact(name: str, v: Any) -> Optional[str]:
@@ -887,8 +907,10 @@ def report(
 ) -> ReportResult:
     """The publication audit of a result file (``lorentz report``): re-runs its recorded
     configuration, checks every identity and writes report.md, report.html and report.json to
-    ``out`` (default: next to the file). The verdict is the result's ``verdict``; a FAIL is
-    returned, not raised (``raise CheckFailedError`` yourself to stop a pipeline)."""
+    ``out`` (default: next to the file). The verdict is the result's ``verdict``: PASS, FAIL, or
+    INCOMPLETE when a check was skipped (re-runs beyond ``max_rerun_collisions``, by default
+    1e12 or 2e9 with ``quick``; too few batches to judge); it is returned, not raised (``raise
+    CheckFailedError`` yourself to stop a pipeline)."""
     with _Bar(progress, 0, "coll") as cb:
         text = _native.report(
             os.fspath(path),

@@ -250,7 +250,9 @@ class TrajectoryResult(Result):
 
 
 class ReportResult(Result):
-    """The publication audit of a result file: ``verdict`` (PASS, WARN or FAIL) and ``checks``."""
+    """The publication audit of a result file: ``verdict`` (PASS: every check that applies ran
+    and passed; FAIL: one failed; INCOMPLETE: none failed but some were skipped, so the result is
+    not verified) and ``checks`` (each PASS, FAIL, SKIP or N/A, with its reason)."""
 
     def _summary(self) -> str:
         d = self._data

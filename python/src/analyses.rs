@@ -158,7 +158,7 @@ fn hop_config(
     seed: &str,
 ) -> PyResult<HopsConfig> {
     Ok(HopsConfig {
-        w: exact("w", w)?.value,
+        w: inputs::diffusive_gap(w)?.value,
         collisions: count_u64("collisions", collisions)?,
         batches: count_u32("batches", batches)?,
         order: count_usize("order", order)?,
@@ -327,8 +327,7 @@ fn py_escape(
     checkpoint_every: f64,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
-    let w = exact("w", w)?.value;
-    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(w).map_err(crate::py_err)?;
+    let w = inputs::diffusive_gap(w)?.value;
     let cfg = EscapeConfig {
         w,
         widths: widths.unwrap_or_else(|| escape::default_widths(w)),

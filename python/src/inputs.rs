@@ -16,6 +16,18 @@ pub fn exact(name: &str, text: &str) -> PyResult<ExactInput> {
     ExactInput::parse(text).map_err(|e| PyValueError::new_err(format!("{name}: {e}")))
 }
 
+/// `w` = `text`: a gap at which D exists, decided on the exact text (0 < w < w_inf), as the
+/// command line's `--w` of the hop analyses decides it.
+pub fn diffusive_gap(text: &str) -> PyResult<ExactInput> {
+    let w = exact("w", text)?;
+    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap_exact(
+        w.value,
+        w.exact.is_some().then_some(w.text.as_str()),
+    )
+    .map_err(crate::py_err)?;
+    Ok(w)
+}
+
 /// `name` = `text`: a count (`2e9`, `2_000_000_000`), as the command line parses it.
 pub fn count_u64(name: &str, text: &str) -> PyResult<u64> {
     count::parse_count(text).map_err(|e| PyValueError::new_err(format!("{name}: {e}")))

@@ -38,7 +38,7 @@ pub(crate) fn py_err(e: Error) -> PyErr {
     match e.kind() {
         ErrorKind::BadInput => PyValueError::new_err(text),
         ErrorKind::Io => PyOSError::new_err(text),
-        ErrorKind::CheckFailed => CheckFailedError::new_err(text),
+        ErrorKind::CheckFailed | ErrorKind::Incomplete => CheckFailedError::new_err(text),
         ErrorKind::Interrupted => PyKeyboardInterrupt::new_err(text),
         ErrorKind::Failed => ComputationError::new_err(text),
     }

@@ -79,6 +79,30 @@ def test_exact_inputs_of_every_kind_give_one_gap():
     assert ws == ["1/10"] * 4
 
 
+def test_lossy_floats_are_refused_not_rounded():
+    np = pytest.importorskip("numpy")
+    # numpy.float32(0.1) is 0.100000001490116...: the run would be at another gap.
+    with pytest.raises(ValueError, match="32-bit float"):
+        lg.constants(np.float32(0.1))
+    assert lg.constants(np.float64(0.1)).to_dict()["w_exact"] == "1/10"
+
+
+def test_a_gap_beyond_w_inf_whose_double_lies_below_is_refused():
+    # The nearest double of 0.30940107675850306 lies below w_inf, the decimal above it.
+    for f in (lg.hops, lg.diffusion, lg.escape, lg.backscatter):
+        with pytest.raises(ValueError, match="exactly as typed"):
+            f(w="0.30940107675850306")
+
+
+def test_a_fifo_as_checkpoint_is_refused_at_once(tmp_path):
+    import os
+
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    with pytest.raises(ValueError, match="a FIFO"):
+        lg.diffusion(w=0.1, collisions=1e6, batches=2, checkpoint=fifo)
+
+
 def test_io_errors_raise_oserror_naming_the_path(tmp_path):
     bad = tmp_path / "file"
     bad.write_text("")

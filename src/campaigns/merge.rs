@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::shard::{Shard, ShardReport};
 use crate::Error;
 use crate::engine::options::RunOptions;
-use crate::engine::resume::{difference, seal, unseal, write_atomically};
+use crate::engine::resume::{difference, seal, unseal};
 use crate::estimators::sweep::analysis::analyse;
 use crate::estimators::sweep::points::{point_path, read_point};
 use crate::estimators::sweep::{SweepConfig, SweepPoint, SweepReport};
@@ -24,6 +24,50 @@ pub struct MergeConfig {
     /// Where the merged points go (`OUT/points/`, so that a sweep of the same configuration with
     /// this directory resumes all of them).
     pub out: PathBuf,
+}
+
+/// Refuses an output directory that is one of the parts or lies in one: merging into it would
+/// mix the merged points with a part's and break the next merge. (Parts inside the output
+/// directory, `OUT/shard-i`, are the Slurm campaign's layout.)
+fn refuse_input_as_output(dirs: &[PathBuf], out: &Path) -> Result<(), Error> {
+    let o = resolved(out);
+    for d in dirs {
+        let d = resolved(d);
+        if o.starts_with(&d) {
+            return Err(Error::Invalid(format!(
+                "the merge's output directory {} {} the part {}: merging into a part would mix its \
+                 points with the merged ones; choose a directory apart from every part",
+                out.display(),
+                if o == d { "is" } else { "lies in" },
+                d.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// `p` as the file system resolves it, so that `./a`, `a/`, a link to `a` and `a/new` (not yet
+/// made) compare as `a` and `a/new`: the longest existing ancestor canonicalised, the rest
+/// appended.
+fn resolved(p: &Path) -> PathBuf {
+    let mut rest = Vec::new();
+    let mut at = p;
+    loop {
+        if let Ok(c) = std::fs::canonicalize(if at.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            at
+        }) {
+            return rest.iter().rev().fold(c, |acc, name| acc.join(name));
+        }
+        match (at.parent(), at.file_name()) {
+            (Some(parent), Some(name)) => {
+                rest.push(name.to_os_string());
+                at = parent;
+            }
+            _ => return p.to_path_buf(),
+        }
+    }
 }
 
 /// Combines the directories `cfg.parts` of a sharded sweep into `cfg.out`: the points are copied
@@ -42,6 +86,7 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
             "merge needs at least one directory of sweep points".into(),
         ));
     }
+    refuse_input_as_output(dirs, out)?;
     let mut parts = Parts::default();
     for d in dirs {
         parts.read_manifest(d)?;
@@ -58,9 +103,10 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
     };
     sweep.validate()?;
     let points = parts.complete(&sweep)?;
-    crate::files::create_dir_all(out.join("points"))?;
+    crate::files::create_dir_all(out)?;
+    crate::files::create_subdir(out.join("points"))?;
     for p in &points {
-        write_atomically(&point_path(out, p.index as usize), seal(p)?.as_bytes())?;
+        crate::files::write(point_path(out, p.index as usize), seal(p)?.as_bytes())?;
     }
     let n = points.len() as u32;
     let mut report = analyse(&sweep, &points, n, options.threads)?;
@@ -105,8 +151,7 @@ impl Parts {
         if !manifest.exists() {
             return Ok(());
         }
-        let text = std::fs::read_to_string(&manifest)
-            .map_err(|e| crate::engine::resume::io_error("read", &manifest, e))?;
+        let text = crate::files::read_to_string(&manifest)?;
         let m: ShardReport = unseal(&manifest, &text, "shard manifest")?;
         self.same(&m.config, d)?;
         if let Some((s0, d0)) = self.shards.values().next()

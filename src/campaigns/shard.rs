@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
-use crate::engine::resume::{seal, write_atomically};
+use crate::engine::resume::seal;
 use crate::estimators::sweep::points::run_points;
 use crate::estimators::sweep::{MAX_SWEEP_POINTS, SweepConfig};
 use crate::numbers::precision::Precision;
@@ -149,6 +149,6 @@ pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<ShardReport, Error
         )
         .with_engine(resolved),
     };
-    write_atomically(&dir.join("shard.json"), seal(&report)?.as_bytes())?;
+    crate::files::write(dir.join("shard.json"), seal(&report)?.as_bytes())?;
     Ok(report)
 }

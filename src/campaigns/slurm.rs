@@ -105,6 +105,15 @@ impl SweepCampaign {
                     p.display()
                 )));
             }
+            // A newline would end an `#SBATCH` line (and start a command); no quoting survives
+            // Slurm's own reading of those lines, so control characters are refused.
+            if p.to_str().is_some_and(|t| t.chars().any(char::is_control)) {
+                return Err(Error::Invalid(format!(
+                    "{what} = {:?}: a path with a newline or another control character cannot go \
+                     into a batch script; choose a path without them",
+                    p.display().to_string()
+                )));
+            }
         }
         Ok(())
     }
@@ -203,7 +212,8 @@ impl SweepCampaign {
     pub fn write(&self) -> Result<Vec<PathBuf>, Error> {
         self.validate()?;
         let dir = self.out.join("slurm");
-        crate::files::create_dir_all(&dir)?;
+        crate::files::create_dir_all(&self.out)?;
+        crate::files::create_subdir(&dir)?;
         let mut written = Vec::new();
         for (name, text) in [
             ("sweep-array.sbatch", self.array_script()),
@@ -284,5 +294,23 @@ mod tests {
         c.cpus_per_task = 0;
         assert!(c.validate().is_err());
         assert!(campaign().validate().is_ok());
+    }
+
+    #[test]
+    fn newline_in_out_or_binary_is_refused_before_a_script_is_written() {
+        // A newline in the output directory would end the `#SBATCH --output` line and put a
+        // command into the script; every `#SBATCH` line after it would be ignored.
+        for (out, binary) in [
+            ("/scratch/x\nrm -rf ~\n#", "/opt/lorentz"),
+            ("/scratch/x", "/opt/lorentz\r"),
+            ("/scratch/\tx", "/opt/lorentz"),
+        ] {
+            let mut c = campaign();
+            c.out = PathBuf::from(out);
+            c.binary = PathBuf::from(binary);
+            let e = c.validate().unwrap_err().to_string();
+            assert!(e.contains("control character"), "{e}");
+            assert!(c.write().is_err());
+        }
     }
 }

@@ -19,12 +19,23 @@ pub fn parse_exact_arg(s: &str) -> Result<Exact, String> {
     Exact::parse(s).map_err(|e| e.to_string())
 }
 
+/// A gap at which D exists, decided on the exact text typed (0 < w < w_inf), before any work.
+pub fn parse_diffusive_gap(s: &str) -> Result<Exact, String> {
+    let e = Exact::parse(s).map_err(|e| e.to_string())?;
+    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap_exact(
+        e.value,
+        e.exact.is_some().then_some(e.text.as_str()),
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(e)
+}
+
 /// The gap between neighbouring disks.
 #[derive(Args, Debug, Clone)]
 pub struct GapArg {
     /// Gap w between neighbouring disks (radius 1), a decimal or a fraction such as 1/10:
     /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    #[arg(long = "w", value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    #[arg(long = "w", value_parser = parse_diffusive_gap, allow_hyphen_values = true)]
     pub gap: Exact,
 }
 
@@ -170,7 +181,7 @@ impl HopCommand {
             engine,
             threads: self.run.threads(),
             progress: &progress,
-            ..RunOptions::default()
+            ..super::signals::options()
         });
         let r = analysis(&cfg, &opts)?;
         drop(progress);
@@ -239,6 +250,9 @@ pub struct CheckpointArgs {
 impl CheckpointArgs {
     /// `options` resuming from and saving to the checkpoint at its interval.
     pub fn apply<'a>(&self, options: RunOptions<'a>) -> RunOptions<'a> {
+        if let Some(p) = &self.checkpoint {
+            super::signals::keeping(p);
+        }
         RunOptions {
             resume: self.checkpoint.clone(),
             checkpoint_every: self.every.checkpoint_every,

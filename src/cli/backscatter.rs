@@ -47,7 +47,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     let opts = RunOptions {
         threads: a.run.threads(),
         progress: &progress,
-        ..RunOptions::default()
+        ..super::signals::options()
     };
     let r = backscatter::run(&cfg, &opts)?;
     drop(progress);

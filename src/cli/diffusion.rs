@@ -83,7 +83,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         threads: a.run.threads(),
         progress: &progress,
         audit,
-        ..RunOptions::default()
+        ..super::signals::options()
     });
     let r = diffusion::run(&cfg, &opts)?;
     drop(progress);
@@ -116,10 +116,11 @@ fn print(r: &DiffusionReport) {
             a.audited, a.outside, a.time_error_over_bound.max
         );
     }
-    if r.resumed_batches > 0 {
+    if r.resumed_collisions > 0 {
         println!(
-            "({} batches resumed from the checkpoint)",
-            r.resumed_batches
+            "({} finished batches and {:.3e} collisions in all resumed from the checkpoint; the \
+             speed counts this run's collisions only)",
+            r.resumed_batches, r.resumed_collisions as f64
         );
     }
 }

@@ -31,7 +31,6 @@ pub struct Args {
 
 /// The configuration these options give (validated).
 pub fn config(a: &Args) -> Result<EscapeConfig, Error> {
-    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap(a.gap.w())?;
     let cfg = EscapeConfig {
         w: a.gap.w(),
         widths: a
@@ -56,7 +55,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     let opts = a.checkpoint.apply(RunOptions {
         threads: a.run.threads(),
         progress: &progress,
-        ..RunOptions::default()
+        ..super::signals::options()
     });
     let r = escape::run(&cfg, &opts)?;
     drop(progress);

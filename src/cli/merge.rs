@@ -33,7 +33,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     };
     let opts = RunOptions {
         threads: a.threads.threads(),
-        ..RunOptions::default()
+        ..super::signals::options()
     };
     let r = merge::run(&cfg, &opts)?;
     sweep::write_tables(&r, &out)?;

@@ -43,6 +43,7 @@ mod merge;
 mod report;
 mod reproduce;
 mod shadow;
+mod signals;
 mod slurm;
 mod superdiffusion;
 mod sweep;
@@ -55,6 +56,9 @@ use clap::{Parser, Subcommand};
 
 use lorentz_gas::{Error, ErrorKind};
 
+/// Exit status of a verification whose verdict is INCOMPLETE: no check failed, some were
+/// skipped (`lorentz report`).
+const EXIT_INCOMPLETE: u8 = 5;
 /// Exit status of every refused input (clap's convention for usage errors).
 const EXIT_BAD_INPUT: u8 = 2;
 /// Exit status of a verification whose verdict is FAIL (`lorentz report`).
@@ -65,7 +69,8 @@ const EXIT_IO: u8 = 3;
 /// Exit status of a computation that started and could not finish correctly (a re-run that
 /// fails, an identity violated during a run, a resumed run that fails its checks).
 const EXIT_FAILED: u8 = 4;
-/// Exit status of a run stopped before it finished (the shell's status for SIGINT).
+/// Exit status of a run stopped before it finished (the shell's status for SIGINT; a run
+/// stopped by SIGTERM or SIGHUP exits 143 or 129, [`signals::stopped`]).
 const EXIT_INTERRUPTED: u8 = 130;
 
 /// The exit status of each kind of error: the one table of the command line's statuses (the
@@ -73,6 +78,7 @@ const EXIT_INTERRUPTED: u8 = 130;
 fn exit_status(kind: ErrorKind) -> u8 {
     match kind {
         ErrorKind::CheckFailed => EXIT_CHECK_FAILED,
+        ErrorKind::Incomplete => EXIT_INCOMPLETE,
         ErrorKind::BadInput => EXIT_BAD_INPUT,
         ErrorKind::Io => EXIT_IO,
         ErrorKind::Failed => EXIT_FAILED,
@@ -162,6 +168,11 @@ pub fn main() -> ExitCode {
     };
     match run(cli.cmd) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.kind() == ErrorKind::Interrupted && signals::stopped().is_some() => {
+            let (status, message) = signals::stopped().unwrap_or_default();
+            eprintln!("{message}");
+            ExitCode::from(status)
+        }
         Err(e) => {
             eprintln!("error: {}", one_line(&e));
             ExitCode::from(exit_status(e.kind()))

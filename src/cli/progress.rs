@@ -56,7 +56,7 @@ impl Progress {
         RunOptions {
             threads,
             progress: &*self.inc,
-            ..RunOptions::default()
+            ..super::signals::options()
         }
     }
 }

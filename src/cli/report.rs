@@ -21,8 +21,8 @@ pub struct Args {
     /// diffusion result on 2 cores.
     #[arg(long)]
     quick: bool,
-    /// Most collisions re-run in all (computed from the recorded configuration); re-runs
-    /// beyond it are reported as SKIP.
+    /// Most collisions re-run in all (computed from the recorded configuration; default 1e12,
+    /// with --quick 2e9); re-runs beyond it are SKIP and the verdict INCOMPLETE (exit status 5).
     #[arg(long, value_parser = super::args::parse_count, allow_negative_numbers = true)]
     max_rerun_collisions: Option<u64>,
     /// MPFR precision of the references, in bits (128 or more): the shadow audit's replay and the
@@ -122,7 +122,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     let opts = RunOptions {
         threads: a.threads.threads(),
         progress: &progress,
-        ..RunOptions::default()
+        ..super::signals::options()
     };
     let r = publication::run_with(&cfg, &opts, Some(&read_command_line))?;
     drop(progress);
@@ -151,6 +151,23 @@ pub fn run(a: Args) -> Result<(), Error> {
         return Err(Error::CheckFailed(format!(
             "{}: the audit FAILED (see {}/report.md)",
             a.result.display(),
+            out.display()
+        )));
+    }
+    if r.verdict == Verdict::Incomplete {
+        let skipped: Vec<&str> = r
+            .checks
+            .iter()
+            .filter(|c| c.verdict == Verdict::Skip)
+            .map(|c| c.name.as_str())
+            .collect();
+        return Err(Error::Incomplete(format!(
+            "{}: the audit is INCOMPLETE, not a pass: {} check{} skipped ({}; the reasons are in \
+             {}/report.md)",
+            a.result.display(),
+            skipped.len(),
+            if skipped.len() == 1 { "" } else { "s" },
+            skipped.join("; "),
             out.display()
         )));
     }

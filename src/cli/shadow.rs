@@ -2,11 +2,9 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::scenes::triangular::geometry::Geometry;
 use lorentz_gas::verification::shadowing::{
     self as shadowing, MAX_SEGMENTS, ShadowConfig, check_request,
 };
-use rug::Float;
 
 use super::args::{
     Exact, OutputArgs, RunArgs, parse_count_u32, parse_count_usize, parse_exact_arg,
@@ -35,17 +33,14 @@ pub struct Args {
     output: OutputArgs,
 }
 
-/// The gap, exactly, refused outside (0, w_inf) with one line naming the range.
+/// The gap, exactly, refused outside (0, w_inf) with one line naming the range (decided on the
+/// exact text).
 fn gap(g: &Exact) -> Result<TriangularScene, Error> {
-    let w = g.rational("w")?;
-    let w_inf = Geometry::<Float>::w_inf(256);
-    if w <= 0 || Float::with_val(256, &w) >= w_inf {
-        return Err(Error::Invalid(format!(
-            "w = {} is out of range: use 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...",
-            g.value
-        )));
-    }
-    TriangularScene::exact(w)
+    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap_exact(
+        g.value,
+        g.exact.is_some().then_some(g.text.as_str()),
+    )?;
+    TriangularScene::exact(g.rational("w")?)
 }
 
 pub fn run(a: Args) -> Result<(), Error> {

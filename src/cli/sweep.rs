@@ -100,6 +100,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         .saturating_mul(points);
     let pb = Progress::new(total, "collisions", a.output.quiet);
     let progress = pb.callback();
+    super::signals::keeping(&out);
     let opts = RunOptions {
         engine: a.engine.engine,
         threads: a.run.threads(),
@@ -107,7 +108,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         resume: Some(out.clone()),
         audit: None,
         checkpoint_every: a.every.checkpoint_every,
-        stop: None,
+        stop: Some(super::signals::stop_flag()),
     };
     if let Some(s) = shard {
         let part = ShardConfig {

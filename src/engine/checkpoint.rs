@@ -117,8 +117,9 @@ where
         }
     }
 
-    /// The same keeper, looking at `stop` between segments (a run whose stop is requested ends
-    /// with [`Error::Interrupted`] within one segment, its journal as of its last save).
+    /// The same keeper, looking at `stop` between segments (a run whose stop is requested saves
+    /// its trajectories in flight at the end of the current segment and ends with
+    /// [`Error::Interrupted`]).
     pub fn watching(mut self, stop: Option<&StopFlag>) -> Self {
         self.stop = stop.cloned();
         self
@@ -257,6 +258,16 @@ where
         f + self.in_flight.values().map(|s| s.collisions).sum::<u64>()
     }
 
+    /// Collisions of the trajectories in flight that this run resumed (of run `run` only, if
+    /// given): work an earlier invocation did.
+    pub fn in_flight_collisions(&self, run: Option<u64>) -> u64 {
+        self.in_flight
+            .iter()
+            .filter(|((r, _), _)| run.is_none_or(|x| x == *r))
+            .map(|(_, s)| s.collisions)
+            .sum()
+    }
+
     /// The saved state of `job`'s trajectory, if it was in flight.
     pub fn resumed(&self, job: &Quota) -> Option<&InFlight<S>> {
         self.in_flight.get(&(job.run, job.index))
@@ -285,7 +296,7 @@ where
     }
 
     /// Saves the trajectories in flight that `states` yields if an interval has passed since
-    /// `last` (then resets it).
+    /// `last` (then resets it), or at once if a stop was requested.
     pub fn save_if_due(
         &self,
         last: &mut Instant,
@@ -294,7 +305,10 @@ where
         let (Some(j), Some(every)) = (&self.journal, self.every) else {
             return Ok(());
         };
-        if last.elapsed() < every {
+        // A requested stop saves at once: the run ends at the next look at the flag with
+        // nothing in flight lost.
+        let stopping = self.stop.as_ref().is_some_and(StopFlag::requested);
+        if last.elapsed() < every && !stopping {
             return Ok(());
         }
         for s in states() {

@@ -11,12 +11,14 @@
 
 pub mod bound;
 pub mod checkpoint;
+pub mod json;
 pub mod metadata;
 pub mod observe;
 pub mod options;
 pub mod parallel;
 pub mod resume;
 pub mod simd;
+pub mod work;
 
 use simd::BLOCK;
 

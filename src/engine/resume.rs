@@ -8,15 +8,16 @@
 //!   carries a SHA-256 digest (a record's salted with the header's), so an edited, repeated or
 //!   foreign line is refused naming the file and the line; only a last line torn by an
 //!   interruption is dropped (that record is simply computed again).
-//! * [`write_atomically`]: whole files (a sweep point, a part's manifest, a step's record) are
-//!   written to a temporary file in the same directory, synced, and renamed over the target, so
-//!   a reader sees the old file or the new one, never a mixture.
+//! * Whole files (a sweep point, a part's manifest, a step's record) are written by
+//!   [`crate::files::write`]: to a new temporary file in the same directory, synced, and renamed
+//!   over the target, so a reader sees the old file or the new one, never a mixture, and
+//!   nothing is written through a link.
 //! * [`seal`] / [`unseal`]: whole-file units of finished work carry a digest of their content,
 //!   checked before they are reused or merged.
 //! * [`difference`]: the first field in which two configurations differ, for those refusals.
 
 use std::collections::HashMap;
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::Write;
 use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
@@ -104,6 +105,8 @@ pub struct Journal<R> {
     salt: String,
     /// Open for appending (`None` only while the journal is first written).
     file: Mutex<Option<File>>,
+    /// Held while the journal is open: a second run on it is refused.
+    _lock: crate::files::Lock,
     records: PhantomData<fn(R)>,
 }
 
@@ -122,6 +125,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
         config: &C,
         meta: Option<RunMeta>,
     ) -> Result<(Self, Vec<R>), Error> {
+        let lock = crate::files::lock(path)?;
         let (header, salt, lines) = match read_journal(path, kind, config)? {
             Some(found) => found,
             None => {
@@ -152,6 +156,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
             header,
             salt,
             file: Mutex::new(None),
+            _lock: lock,
             records: PhantomData,
         };
         let text: String = lines.iter().map(|(_, l)| format!("{l}\n")).collect();
@@ -205,13 +210,8 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
         let mut f = self.file.lock().map_err(|_| {
             Error::Invalid(format!("{}: journal lock poisoned", self.path.display()))
         })?;
-        write_atomically(&self.path, format!("{}\n{body}", self.header).as_bytes())?;
-        *f = Some(
-            OpenOptions::new()
-                .append(true)
-                .open(&self.path)
-                .map_err(|e| io_error("open", &self.path, e))?,
-        );
+        crate::files::write(&self.path, format!("{}\n{body}", self.header))?;
+        *f = Some(crate::files::open_append(&self.path)?);
         Ok(())
     }
 
@@ -230,26 +230,32 @@ fn read_journal<C: Serialize>(
     kind: &str,
     config: &C,
 ) -> Result<Option<(String, String, Vec<(usize, Value)>)>, Error> {
-    let text = match std::fs::read_to_string(path) {
+    // Only a regular file is read or replaced: a link, a device or a FIFO is refused as it is.
+    if crate::files::check_writable(path)?.is_none() {
+        return Ok(None);
+    }
+    let not_journal = |why: &str| Error::UnsafePath {
+        path: path.to_path_buf(),
+        found: format!("not a lorentz journal ({why})"),
+        why: "a checkpoint file is one this tool wrote, or absent, or empty: use another file",
+    };
+    let text = match crate::files::read_to_string(path) {
         Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) if e.kind() == std::io::ErrorKind::InvalidData => {
-            return Err(Error::Invalid(format!(
-                "{} is not a lorentz journal (not UTF-8 text): use another file",
-                path.display()
-            )));
+        Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::InvalidData => {
+            return Err(not_journal("not UTF-8 text"));
         }
-        Err(e) => return Err(io_error("read", path, e)),
+        Err(e) => return Err(e),
     };
     if text.is_empty() {
         return Ok(None);
     }
     // A last line without its newline was cut short by an interruption: it is dropped (that
-    // record is computed again). Every complete line must be intact.
+    // record is computed again). Every complete line must be intact; the header is written
+    // whole (atomically), so a file without one complete line is not a journal.
     let complete = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
     let mut lines = complete.lines().enumerate().map(|(i, l)| (i + 1, l));
     let Some((_, first)) = lines.next() else {
-        return Ok(None);
+        return Err(not_journal("no complete line"));
     };
     let salt = check_header(path, first, kind, config)?;
     let mut seen: HashMap<String, usize> = HashMap::new();
@@ -281,7 +287,8 @@ fn check_header<C: Serialize>(
             path.display()
         ))
     };
-    let mut v: Value = serde_json::from_str(line).map_err(|e| not_journal(e.to_string()))?;
+    let mut v: Value =
+        super::json::parse_unique(line.as_bytes()).map_err(|e| not_journal(e.to_string()))?;
     let digest = match v.as_object_mut().and_then(|o| o.remove("digest")) {
         Some(Value::String(d)) => Some(d),
         _ => None,
@@ -323,7 +330,8 @@ fn check_record(path: &Path, n: usize, line: &str, salt: &str) -> Result<Value, 
             path.display()
         ))
     };
-    let v: Value = serde_json::from_str(line).map_err(|_| bad("not a journal record"))?;
+    let v: Value =
+        super::json::parse_unique(line.as_bytes()).map_err(|_| bad("not a journal record"))?;
     let (Some(Value::String(d)), Some(r)) = (v.get("digest"), v.get("record")) else {
         return Err(bad("not a journal record"));
     };
@@ -364,7 +372,8 @@ pub fn unseal<T: DeserializeOwned>(path: &Path, text: &str, what: &str) -> Resul
             path.display()
         ))
     };
-    let mut v: Value = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
+    let mut v: Value =
+        super::json::parse_unique(text.as_bytes()).map_err(|e| bad(e.to_string()))?;
     let d = match v.as_object_mut().and_then(|o| o.remove("digest")) {
         Some(Value::String(d)) => d,
         _ => return Err(bad("no digest".into())),
@@ -373,35 +382,6 @@ pub fn unseal<T: DeserializeOwned>(path: &Path, text: &str, what: &str) -> Resul
         return Err(bad("the content does not match its digest".into()));
     }
     serde_json::from_value(v).map_err(|e| bad(e.to_string()))
-}
-
-/// Writes `bytes` to `path` atomically: a temporary file in the same directory is written,
-/// synced and renamed over `path`, so a reader (or a resumed run) sees the old file or the new
-/// one, never a mixture.
-///
-/// # Errors
-/// An I/O error, naming the path and the operation.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Invalid(format!("{}: not a file path", path.display())))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(".tmp");
-    let tmp = path.with_file_name(tmp_name);
-    {
-        let mut f = File::create(&tmp).map_err(|e| io_error("create", &tmp, e))?;
-        f.write_all(bytes).map_err(|e| io_error("write", &tmp, e))?;
-        f.sync_all().map_err(|e| io_error("sync", &tmp, e))?;
-    }
-    std::fs::rename(&tmp, path).map_err(|e| io_error("rename into", path, e))?;
-    // The rename itself is durable once the directory is synced (where the platform allows it).
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
-        && let Ok(d) = File::open(dir)
-    {
-        let _ = d.sync_all();
-    }
-    Ok(())
 }
 
 /// The first field in which two configurations differ, as `field: a vs b` (`None` if equal).
@@ -513,6 +493,8 @@ mod tests {
         j.append(&9).unwrap();
         let (k, _) = Journal::<u32>::open(&q, "numbers", &b, None).unwrap();
         k.append(&5).unwrap();
+        // Closed (their locks released) before the files are reopened.
+        drop((j, k));
         let lines: Vec<String> = std::fs::read_to_string(&p)
             .unwrap()
             .lines()
@@ -567,12 +549,12 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("lorentz-atomic-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join("a.json");
-        write_atomically(&p, b"first").unwrap();
-        write_atomically(&p, b"second").unwrap();
+        crate::files::write(&p, b"first").unwrap();
+        crate::files::write(&p, b"second").unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"second");
         let names: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
         assert_eq!(names.len(), 1, "no temporary file is left behind");
-        let e = write_atomically(&dir.join("missing").join("b.json"), b"x").unwrap_err();
+        let e = crate::files::write(dir.join("missing").join("b.json"), b"x").unwrap_err();
         assert!(e.to_string().contains("missing"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);
     }

@@ -73,13 +73,6 @@ impl FromStr for Precision {
             ))
         })?;
         <Float as Real>::check_ctx(bits)?;
-        if bits > MAX_RUN_BITS {
-            return Err(Error::Invalid(format!(
-                "precision {bits} bits is out of range: use 'f64' or 53 to {MAX_RUN_BITS} bits \
-                 (one number would take {:.0} MiB)",
-                bits as f64 / 8.0 / (1u64 << 20) as f64
-            )));
-        }
         Ok(Precision::Bits(bits))
     }
 }

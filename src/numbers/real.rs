@@ -278,7 +278,7 @@ impl Real for Float {
         ctx
     }
     fn check_ctx(ctx: u32) -> Result<(), Error> {
-        if ctx < MIN_BITS || ctx > rug::float::prec_max() {
+        if !(MIN_BITS..=crate::numbers::precision::MAX_RUN_BITS).contains(&ctx) {
             return Err(Error::Precision { bits: ctx });
         }
         Ok(())

@@ -19,6 +19,7 @@ use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::RunOptions;
 use crate::engine::parallel::par_batches_watched;
+use crate::engine::work::{Work, crossings_per_collision};
 use crate::kernel::cell::ConvexCell;
 use crate::kernel::{cell::CellKernel, flight::EventKind};
 use crate::numbers::lanes::Lanes;
@@ -109,6 +110,12 @@ pub fn run<S: Scene>(
             got: batches as u64,
         });
     }
+    // With its transient, a batch is one trajectory: a count near 2^64 would wrap around.
+    crate::engine::check_trajectory_length(collisions_per_batch)?;
+    let collisions = batches as f64 * (collisions_per_batch + TANGENT_TRANSIENT) as f64;
+    Work::new("lyapunov", "collisions_per_batch or batches", collisions)
+        .crossing(crossings_per_collision(scene))
+        .check(threads)?;
     let lat = scene.lattice::<f64>(())?;
     let cell = lat.cell().clone();
     let per: Vec<(f64, f64)> = par_batches_watched(threads, batches, options.stop.as_ref(), |b| {

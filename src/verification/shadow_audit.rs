@@ -18,6 +18,7 @@ use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::{AuditSpec, RunOptions};
+use crate::engine::work::{Work, crossings_per_collision};
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
 use crate::scenes::Scene;
@@ -396,6 +397,10 @@ pub fn run<S: Scene>(
     if cfg.batches == 0 {
         return Err(Error::Zero { what: "batches" });
     }
+    crate::engine::parallel::check_batches("batches", cfg.batches)?;
+    Work::new("audit", "collisions", cfg.collisions as f64)
+        .crossing(crossings_per_collision(scene))
+        .check(threads)?;
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }

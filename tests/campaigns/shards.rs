@@ -68,6 +68,25 @@ fn refuse_resume(dir: &Path, p: &Path, edit: &dyn Fn(&str) -> String) {
     std::fs::write(p, text).unwrap();
 }
 
+/// Raises every run's D by 5 % in each point file of `points` and reseals it, as someone who
+/// knows the digest scheme could; returns the original files.
+fn forge_points(points: &Path) -> Vec<(PathBuf, String)> {
+    let mut originals = Vec::new();
+    for entry in std::fs::read_dir(points).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        v.as_object_mut().unwrap().remove("digest");
+        for run in v["runs"].as_array_mut().unwrap() {
+            run["D"] = serde_json::json!(run["D"].as_f64().unwrap() * 1.05);
+        }
+        std::fs::write(&path, lorentz_gas::engine::resume::seal(&v).unwrap()).unwrap();
+        originals.push((path, text));
+    }
+    assert!(!originals.is_empty());
+    originals
+}
+
 fn config(seed: u64) -> SweepConfig {
     SweepConfig {
         w_from: "0.2".into(),
@@ -224,6 +243,16 @@ fn merge_refuses_missing_duplicate_foreign_and_edited_parts() {
     std::fs::remove_file(&copy).unwrap();
     // A sweep resumed in a directory with an edited point refuses it too.
     refuse_resume(&b, &p, &run_d);
+    // Forged: every point's D raised by 5 % and its digest recomputed. The seals hold, but the
+    // resumed sweep computes one run of one point again (drawn at random) and stops.
+    let originals = forge_points(&b.join("points"));
+    let e = sweep::run(&config(1), &options(Engine::Auto, 2, &b))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("computed again from its seed"), "{e}");
+    for (path, text) in originals {
+        std::fs::write(path, text).unwrap();
+    }
     assert!(
         merge_into(&[a, b], &out).is_ok(),
         "the restored parts merge"

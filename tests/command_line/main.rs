@@ -9,5 +9,6 @@ mod common;
 mod checkpoints;
 mod commands;
 mod honest_numbers;
+mod hostile;
 mod report;
 mod result_keys;

@@ -75,6 +75,7 @@ pub fn physics_only(mut v: serde_json::Value) -> serde_json::Value {
             "seconds",
             "collisions_per_second",
             "resumed_batches",
+            "resumed_collisions",
             "resumed_points",
         ] {
             m.remove(k);

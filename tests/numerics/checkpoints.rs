@@ -145,20 +145,25 @@ fn escape_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
     );
 }
 
-/// The records of a checkpoint with their digests recomputed for a header edited from w = 0.1 to
-/// w = 0.2: what someone who knows the digest scheme could forge.
-fn forge(text: &str) -> String {
+/// The records of a checkpoint with their digests recomputed after `header` and `record` edited
+/// them: what someone who knows the digest scheme could forge.
+fn forge(
+    text: &str,
+    header: impl Fn(&mut serde_json::Value),
+    record: impl Fn(&mut serde_json::Value),
+) -> String {
     let digest = |salt: &str, v: &serde_json::Value| sha256_hex(format!("{salt}\n{v}").as_bytes());
     let mut lines = text.lines();
     let mut h: serde_json::Value = serde_json::from_str(lines.next().unwrap()).unwrap();
     let o = h.as_object_mut().unwrap();
     o.remove("digest");
-    o["config"]["w"] = serde_json::json!(0.2);
+    header(&mut h);
     let salt = digest("", &h);
     h["digest"] = serde_json::Value::String(salt.clone());
     let mut out = format!("{h}\n");
     for l in lines {
-        let v: serde_json::Value = serde_json::from_str(l).unwrap();
+        let mut v: serde_json::Value = serde_json::from_str(l).unwrap();
+        record(&mut v["record"]);
         let r = &v["record"];
         out.push_str(&format!(
             "{}\n",
@@ -168,9 +173,10 @@ fn forge(text: &str) -> String {
     out
 }
 
-/// An edited record is refused naming the file and the line; a forged checkpoint (batches of
-/// w = 0.1 under a header of w = 0.2, digests recomputed) passes the digests but fails the exact
-/// identities, and the resumed run stops with an error instead of reporting D(0.2).
+/// An edited record is refused naming the file and the line. A forged checkpoint passes the
+/// digests, but the resumed run computes one finished batch again (drawn at random) and stops
+/// with an error instead of reporting: batches of w = 0.1 under a header of w = 0.2, and every
+/// batch's MSD raised by 5 % (a D 5 % too high, which the identities cannot see).
 #[test]
 fn edited_and_forged_checkpoints_are_refused() {
     let tmp = crate::common::scratch();
@@ -195,13 +201,32 @@ fn edited_and_forged_checkpoints_are_refused() {
     let e = run(&cfg, &opts).unwrap_err().to_string();
     assert!(e.contains("c.jsonl line 3") && e.contains("digest"), "{e}");
     // Forged: the digests hold, the physics does not.
-    std::fs::write(&path, forge(&text)).unwrap();
-    let mut at_02 = cfg.clone();
-    at_02.w = 0.2;
-    let e = run(&at_02, &opts).unwrap_err();
+    let at_02 = |h: &mut serde_json::Value| h["config"]["w"] = serde_json::json!(0.2);
+    std::fs::write(&path, forge(&text, at_02, |_| {})).unwrap();
+    let mut cfg_02 = cfg.clone();
+    cfg_02.w = 0.2;
+    let e = run(&cfg_02, &opts).unwrap_err();
     assert!(matches!(e, Error::Failed(_)), "{e}");
     let e = e.to_string();
-    assert!(e.contains("c.jsonl") && e.contains("mean free path"), "{e}");
+    assert!(
+        e.contains("c.jsonl") && e.contains("computed again from its seed"),
+        "{e}"
+    );
+    let raised = |r: &mut serde_json::Value| {
+        if let Some(msd) = r
+            .pointer_mut("/finished/result/msd")
+            .and_then(|m| m.as_array_mut())
+        {
+            for x in msd.iter_mut() {
+                *x = serde_json::json!(x.as_f64().unwrap() * 1.05);
+            }
+        }
+    };
+    let forged = forge(&text, |_| {}, raised);
+    assert_ne!(forged, text);
+    std::fs::write(&path, forged).unwrap();
+    let e = run(&cfg, &opts).unwrap_err().to_string();
+    assert!(e.contains("computed again from its seed"), "{e}");
 }
 
 /// A stop request ends a run within about one segment with `Error::Interrupted`, keeping its

@@ -8,7 +8,7 @@ use super::execution::Job;
 use crate::Error;
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
-use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap};
+use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap_exact};
 
 /// A fit window in units of the mean hop time τ.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -98,8 +98,7 @@ impl DiffusionConfig {
 
     /// Checks every parameter; errors name the valid range.
     pub fn validate(&self) -> Result<(), Error> {
-        check_diffusive_gap(self.w)?;
-        crate::numbers::exact::check_exact("w", self.w, self.w_exact.as_deref())?;
+        check_diffusive_gap_exact(self.w, self.w_exact.as_deref())?;
         check_run(
             self.collisions,
             self.batches,

@@ -24,6 +24,7 @@ use crate::engine::Engine;
 use crate::engine::checkpoint::Quota;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOption, RunOptions};
+use crate::engine::work::Work;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
 use crate::observers::counters::Counters;
@@ -33,6 +34,7 @@ use crate::verification::shadow_audit::AuditSummary;
 
 mod config;
 mod execution;
+mod resumed;
 pub mod scene;
 mod summary;
 
@@ -152,6 +154,10 @@ pub struct DiffusionReport {
     pub collisions_per_second: f64,
     /// Batches reused from a checkpoint.
     pub resumed_batches: u32,
+    /// Collisions done by earlier invocations (finished batches and trajectories resumed in
+    /// flight); `collisions_per_second` counts only this invocation's.
+    #[serde(default)]
+    pub resumed_collisions: u64,
     /// The self-audit, if requested: events replayed, outside the model, error quantiles.
     pub audit: Option<crate::verification::shadow_audit::AuditSummary>,
     /// The configuration that produced the result (what `lorentz report` re-runs batches from).
@@ -253,27 +259,47 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
     options.validate()?;
     options.refuse_unused("diffusion", &RunOption::ALL)?;
     cfg.validate()?;
+    // Below w_inf a flight crosses at most a few traps: the collisions are the work.
+    Work::new("diffusion", "collisions", cfg.collisions as f64)
+        .simd()
+        .check(options.threads)?;
     check_audit(options, cfg.precision)?;
     let audit = options.audit;
     let (spec, g) = setup(cfg, options.engine, options.threads, audit)?;
     let (resolved, tau) = (spec.engine, spec.tau);
     let start = Instant::now();
     let jobs: Vec<Job> = cfg.jobs().collect();
+    // The header records the engine that runs, not the default.
     let meta = RunMeta::new(
         Some(cfg.seed),
         Some(cfg.batches as u64),
         cfg.precision,
         None,
-    );
+    )
+    .with_engine(resolved);
     let keep = open_keeper(options, CHECKPOINT_KIND, cfg, Some(meta), &jobs)?;
+    resumed::recheck_one_batch(
+        &keep,
+        &jobs,
+        std::slice::from_ref(cfg),
+        options.engine,
+        options.resume.as_deref(),
+    )?;
     let resumed = keep.finished().count() as u32;
     let todo: Vec<Job> = jobs
         .into_iter()
         .filter(|j| !keep.is_finished(&j.quota()))
         .collect();
     let new = execute(&todo, spec, &keep, options.progress)?;
-    let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
+    // The trajectories resumed in flight had made part of their collisions in earlier runs.
+    let earlier = keep.in_flight_collisions(None);
+    let run_now: u64 = new
+        .iter()
+        .map(|b| b.counters.collisions)
+        .sum::<u64>()
+        .saturating_sub(earlier);
     let mut done: Vec<BatchResult> = keep.finished().map(|(_, b)| b.clone()).collect();
+    let earlier = earlier + done.iter().map(|b| b.counters.collisions).sum::<u64>();
     done.extend(new);
     done.sort_by_key(|b| b.index);
     let seconds = start.elapsed().as_secs_f64();
@@ -288,6 +314,7 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
         run_now,
     )?;
     rep.meta = rep.meta.with_engine(resolved);
+    rep.resumed_collisions = earlier;
     if resumed > 0 || keep.in_flight_count() > 0 {
         check_resumed_identities(&rep, options.resume.as_deref())?;
     }
@@ -417,13 +444,24 @@ pub fn run_many(
     let start = Instant::now();
     let jobs: Vec<Job> = cfgs.iter().flat_map(DiffusionConfig::jobs).collect();
     let keep = open_keeper(options, PACKED_KIND, &cfgs, None, &jobs)?;
+    resumed::recheck_one_batch(
+        &keep,
+        &jobs,
+        cfgs,
+        options.engine,
+        options.resume.as_deref(),
+    )?;
     let todo: Vec<Job> = jobs
         .into_iter()
         .filter(|j| !keep.is_finished(&j.quota()))
         .collect();
     let new = execute(&todo, spec, &keep, options.progress)?;
     let seconds = start.elapsed().as_secs_f64();
-    let run_now: u64 = new.iter().map(|b| b.counters.collisions).sum();
+    let run_now: u64 = new
+        .iter()
+        .map(|b| b.counters.collisions)
+        .sum::<u64>()
+        .saturating_sub(keep.in_flight_collisions(None));
     let mut all: Vec<(u64, BatchResult)> = keep.finished().map(|(r, b)| (r, b.clone())).collect();
     all.extend(todo.iter().map(|j| j.run).zip(new));
     let mut out = Vec::with_capacity(cfgs.len());
@@ -438,6 +476,12 @@ pub fn run_many(
         let n: u64 = done.iter().map(|b| b.counters.collisions).sum();
         let mut rep = summarise(c, &g, tau, &done, options.threads, seconds, resumed, n)?;
         rep.collisions_per_second = run_now as f64 / seconds;
+        rep.resumed_collisions = keep.in_flight_collisions(Some(c.run))
+            + keep
+                .finished()
+                .filter(|(r, _)| *r == c.run)
+                .map(|(_, b)| b.counters.collisions)
+                .sum::<u64>();
         rep.meta = rep.meta.with_engine(resolved);
         if resumed > 0 || keep.in_flight_count() > 0 {
             check_resumed_identities(&rep, options.resume.as_deref())?;

@@ -25,6 +25,7 @@ use crate::Error;
 use crate::engine::checkpoint::drive_kept;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOption, RunOptions};
+use crate::engine::work::{Work, crossings_per_collision};
 use crate::engine::{Engine, Resolved};
 use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
@@ -225,6 +226,9 @@ pub fn run_on<S: Scene>(
     options.validate()?;
     options.refuse_unused("diffusion", &RunOption::ALL)?;
     cfg.validate(scene)?;
+    Work::new("diffusion", "collisions", cfg.collisions as f64)
+        .crossing(crossings_per_collision(scene))
+        .check(options.threads)?;
     if !matches!(options.engine, Engine::Auto | Engine::Scalar) {
         return Err(Error::Invalid(format!(
             "engine = {:?}: a scene's own kernel runs on the scalar engine (the SIMD engine runs \

@@ -112,6 +112,7 @@ pub(super) fn summarise(
         seconds,
         collisions_per_second: run_now as f64 / seconds,
         resumed_batches: resumed,
+        resumed_collisions: 0,
         audit,
         config: Some(cfg.clone()),
         batch_D: ds,

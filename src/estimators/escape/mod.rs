@@ -440,6 +440,19 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
     let scene = TriangularScene::new(cfg.w)?;
     let g = Geometry::new(cfg.w)?;
     let d_mz = g.d_mz();
+    // A particle started uniformly in a strip of width L leaves after L²/(12 D) on average,
+    // ⟨ℓ⟩ per collision (D ≈ D_MZ).
+    let per_particle: f64 = cfg
+        .widths
+        .iter()
+        .map(|&l| l * l / (12.0 * d_mz * g.mean_free_path()))
+        .sum();
+    crate::engine::work::Work::new(
+        "escape",
+        "particles_per_width or the widths (or raise w)",
+        cfg.particles_per_width as f64 * per_particle,
+    )
+    .check(threads)?;
     let pi2 = std::f64::consts::PI * std::f64::consts::PI;
     let strips: Vec<Strip> = cfg
         .widths

@@ -12,7 +12,7 @@ use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::single_trap::SingleTrap;
-use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap};
+use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap_exact};
 
 /// Injected visits between two calls of a progress callback: 2¹⁶, about 10⁶ collisions at w = 0.1
 /// (π/(3w) ≈ 10 collisions per visit).
@@ -58,8 +58,7 @@ impl BackscatterConfig {
 
     /// Checks every field before any work; errors name the valid range.
     pub fn validate(&self) -> Result<(), Error> {
-        check_diffusive_gap(self.w)?;
-        crate::numbers::exact::check_exact("w", self.w, self.w_exact.as_deref())?;
+        check_diffusive_gap_exact(self.w, self.w_exact.as_deref())?;
         if self.batches < 2 {
             return Err(Error::TooFew {
                 what: "batches",
@@ -179,6 +178,10 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
     cfg.validate()?;
     options.validate()?;
     options.refuse_unused("backscatter", &[])?;
+    // Each injected particle stays π/(3w) collisions in its trap on average.
+    let collisions = cfg.particles as f64 * Geometry::new(cfg.w)?.collisions_per_hop();
+    crate::engine::work::Work::new("backscatter", "particles (or raise w)", collisions)
+        .check(options.threads)?;
     let BackscatterConfig {
         w,
         ref w_exact,

@@ -224,6 +224,9 @@ fn run_with_batches(
 ) -> Result<(HopsReport, Vec<Hops>), Error> {
     cfg.validate()?;
     options.validate()?;
+    crate::engine::work::Work::new("hops", "collisions", cfg.collisions as f64)
+        .simd()
+        .check(options.threads)?;
     options.refuse_unused(
         "hops",
         &[

@@ -33,6 +33,7 @@ use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{check_batches, par_batches, share};
+use crate::engine::work::{Work, crossings_per_collision};
 use crate::numbers::exact::parse_exact;
 use crate::numbers::lanes::Lanes;
 use crate::observers::flight_tails::{FlightTails, TailCounts, TailLane};
@@ -347,6 +348,9 @@ fn run_on<S: Scene>(
             scene.label()
         )));
     }
+    Work::new("superdiffusion", "collisions", cfg.collisions as f64)
+        .crossing(crossings_per_collision(scene))
+        .check(options.threads)?;
     let ell = scene.mean_free_path();
     let steps = cfg.lag_steps();
     let times: Vec<f64> = steps.iter().map(|&m| m as f64 * ell).collect();

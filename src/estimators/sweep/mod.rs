@@ -225,6 +225,11 @@ impl SweepConfig {
             )));
         }
         crate::engine::parallel::check_batches("runs", self.runs)?;
+        // The ends exactly as typed: every point lies between them.
+        for end in [&self.w_from, &self.w_to] {
+            let w = crate::numbers::exact::ExactInput::parse(end)?.value;
+            crate::scenes::triangular::geometry::check_diffusive_gap_exact(w, Some(end))?;
+        }
         let points = self.points()?;
         if let Some(k) = points.windows(2).position(|p| p[0] == p[1]) {
             return Err(Error::Invalid(format!(
@@ -268,6 +273,10 @@ pub fn run(cfg: &SweepConfig, options: &RunOptions) -> Result<SweepReport, Error
             RunOption::CheckpointEvery,
         ],
     )?;
+    let collisions = cfg.steps as f64 * cfg.runs as f64 * cfg.collisions as f64;
+    crate::engine::work::Work::new("sweep", "steps, runs or collisions_per_run", collisions)
+        .simd()
+        .check(options.threads)?;
     let resolved = options.engine.resolve(true)?;
     let (points, resumed) = points::run_points(cfg, options, |_| true)?;
     let mut report = analysis::analyse(cfg, &points, resumed, options.threads)?;

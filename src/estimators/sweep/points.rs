@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use super::{RunValue, SweepConfig, SweepPoint};
 use crate::Error;
 use crate::engine::options::RunOptions;
-use crate::engine::resume::{difference, seal, unseal, write_atomically};
+use crate::engine::resume::{difference, seal, unseal};
 use crate::estimators::diffusion::{DiffusionConfig, run_many};
 
 /// The file of point `i` in the sweep directory `dir`.
@@ -25,7 +25,8 @@ pub(crate) fn run_points(
 ) -> Result<(Vec<SweepPoint>, u32), Error> {
     let dir = options.resume.as_deref();
     if let Some(d) = dir {
-        crate::files::create_dir_all(d.join("points"))?;
+        crate::files::create_dir_all(d)?;
+        crate::files::create_subdir(d.join("points"))?;
     }
     // Every point already on disk is checked before any work: an edited or foreign file stops
     // the sweep before it computes (or writes) anything.
@@ -42,6 +43,7 @@ pub(crate) fn run_points(
             None => None,
         });
     }
+    recheck_one_run(cfg, options, &found)?;
     let mut points = Vec::with_capacity(grid.len());
     let mut resumed = 0;
     for (&(i, w), old) in grid.iter().zip(found) {
@@ -57,6 +59,45 @@ pub(crate) fn run_points(
     Ok((points, resumed))
 }
 
+/// Computes one run of one reused point again, both drawn at random (operating-system entropy),
+/// and compares its D and error with the point file's to the bit: digests stop accidents, not an
+/// author who recomputes them (`proofs-notes/checkpoints.md`, claim 3).
+fn recheck_one_run(
+    cfg: &SweepConfig,
+    options: &RunOptions,
+    found: &[Option<SweepPoint>],
+) -> Result<(), Error> {
+    let reused: Vec<&SweepPoint> = found.iter().flatten().collect();
+    if reused.is_empty() {
+        return Ok(());
+    }
+    let p = reused[rand::random_range(0..reused.len())];
+    let r = rand::random_range(0..cfg.runs);
+    let opts = RunOptions {
+        resume: None,
+        audit: None,
+        progress: &|_| {},
+        ..options.clone()
+    };
+    let fresh = run_many(&[cfg.run_config(p.index, p.w, r)], &opts)?;
+    let recorded = p.runs.get(r as usize);
+    let same = match (fresh.first(), recorded) {
+        (Some(f), Some(x)) => {
+            f.D.to_bits() == x.D.to_bits() && f.D_err.to_bits() == x.D_err.to_bits()
+        }
+        _ => false,
+    };
+    if !same {
+        return Err(Error::Failed(format!(
+            "point {} (w = {}), run {r}, computed again from its seed to check the point file, does \
+             not give the recorded D: the file was edited (its digest recomputed); use another \
+             directory",
+            p.index, p.w
+        )));
+    }
+    Ok(())
+}
+
 /// Most bytes a point file may have: its configuration and a D ± error per run fit in far less.
 const MAX_POINT_BYTES: u64 = 16 << 20;
 
@@ -67,7 +108,9 @@ const MAX_POINT_BYTES: u64 = 16 << 20;
 /// # Errors
 /// As above, or an I/O error naming the path.
 pub fn read_point(path: &Path) -> Result<SweepPoint, Error> {
-    let len = std::fs::metadata(path)
+    let file = crate::files::open(path)?;
+    let len = file
+        .metadata()
         .map_err(|e| crate::engine::resume::io_error("read", path, e))?
         .len();
     if len > MAX_POINT_BYTES {
@@ -76,8 +119,12 @@ pub fn read_point(path: &Path) -> Result<SweepPoint, Error> {
             path.display()
         )));
     }
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| crate::engine::resume::io_error("read", path, e))?;
+    let mut text = String::new();
+    std::io::Read::read_to_string(
+        &mut std::io::Read::take(file, MAX_POINT_BYTES + 1),
+        &mut text,
+    )
+    .map_err(|e| crate::engine::resume::io_error("read", path, e))?;
     let p: SweepPoint = unseal(path, &text, "sweep point")?;
     let named = path.file_name().and_then(|n| n.to_str()).and_then(|n| {
         n.strip_prefix("point-")?
@@ -154,7 +201,7 @@ fn run_point(
         runs,
     };
     if let (Some(path), Some(journal)) = (path, journal) {
-        write_atomically(&path, seal(&p)?.as_bytes())?;
+        crate::files::write(&path, seal(&p)?.as_bytes())?;
         let _ = std::fs::remove_file(&journal);
     }
     Ok(p)

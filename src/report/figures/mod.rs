@@ -188,24 +188,40 @@ where
     Ok(())
 }
 
-/// Writes `stem.png` and `stem.svg` (800×600).
+/// Figure size in pixels.
+const SIZE: (u32, u32) = (800, 600);
+
+/// Writes `stem.png` and `stem.svg` (800×600). Both are drawn in memory and written by
+/// [`crate::files::write`], so a link found where a figure goes is refused, not followed.
 pub fn plot(stem: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), Error> {
     register_font();
     let png = stem.with_extension("png");
     let svg = stem.with_extension("svg");
+    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
     draw(
         &png,
-        BitMapBackend::new(&png, (800, 600)).into_drawing_area(),
+        BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(),
         spec,
         series,
     )?;
+    let mut encoded = Vec::new();
+    image::ImageEncoder::write_image(
+        image::codecs::png::PngEncoder::new(&mut encoded),
+        &rgb,
+        SIZE.0,
+        SIZE.1,
+        image::ColorType::Rgb8,
+    )
+    .map_err(|e| Error::io("encode", &png)(std::io::Error::other(e.to_string())))?;
+    crate::files::write(&png, encoded)?;
+    let mut text = String::new();
     draw(
         &svg,
-        SVGBackend::new(&svg, (800, 600)).into_drawing_area(),
+        SVGBackend::with_string(&mut text, SIZE).into_drawing_area(),
         spec,
         series,
     )?;
-    Ok(())
+    crate::files::write(&svg, text)
 }
 
 /// Text for HTML pages (reports, indexes): `&`, `<` and `>` escaped.

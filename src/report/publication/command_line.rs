@@ -46,12 +46,27 @@ pub(super) fn check(
 ) {
     let name = "recorded command line gives the recorded configuration";
     let shown = recorded.command_line.join(" ");
+    let program = recorded
+        .command_line
+        .first()
+        .and_then(|p| std::path::Path::new(p).file_stem())
+        .map(|s| s.to_string_lossy().to_string());
+    if program.as_deref() != Some("lorentz") {
+        let why = format!(
+            "recorded by `{}`, not by the lorentz command line: nothing to parse",
+            recorded.command_line.first().map_or("", String::as_str)
+        );
+        checks.add("provenance", name, Verdict::NotApplicable, why, &[]);
+        return;
+    }
     let (verdict, detail) = match reader.map(|r| r(&recorded.command_line)) {
         None => (
             Verdict::Skip,
-            "no command-line parser was given to the audit (a library or Python call)".into(),
+            "a lorentz command line, but no command-line parser was given to this audit (a \
+             library or Python call): the command line's own report parses it"
+                .into(),
         ),
-        Some(CommandLine::Foreign(why)) => (Verdict::Skip, why),
+        Some(CommandLine::Foreign(why)) => (Verdict::NotApplicable, why),
         Some(CommandLine::Refused(why)) => (
             Verdict::Fail,
             format!("`{shown}` is not a command line the parser accepts: {why}"),
@@ -84,7 +99,7 @@ fn judge(
     }
     let (Some(given), Some(config)) = (given, config) else {
         return (
-            Verdict::Skip,
+            Verdict::NotApplicable,
             format!("`{command}` takes its configuration from its inputs, not from its options"),
         );
     };
@@ -124,6 +139,6 @@ mod tests {
         assert_eq!(v, Verdict::Fail);
         assert!(why.contains("collisions"), "{why}");
         let merge = judge("sweep", Some(&cfg), "merge", Some("sweep"), None);
-        assert_eq!(merge.0, Verdict::Skip);
+        assert_eq!(merge.0, Verdict::NotApplicable);
     }
 }

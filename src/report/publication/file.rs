@@ -98,7 +98,7 @@ impl ResultFile {
     pub fn read(path: &Path) -> Result<Self, Error> {
         let bytes = read_bounded(path)?;
         let sha = crate::engine::resume::sha256_hex(&bytes);
-        let value: Value = serde_json::from_slice(&bytes).map_err(|e| {
+        let value: Value = crate::engine::json::parse_unique(&bytes).map_err(|e| {
             bad(
                 path,
                 format!(
@@ -169,11 +169,10 @@ impl ResultFile {
 /// Reads at most [`MAX_RESULT_BYTES`] of the regular file `path`, refusing larger ones (from the
 /// metadata, before reading) and anything that is not a regular file.
 fn read_bounded(path: &Path) -> Result<Vec<u8>, Error> {
-    let file = std::fs::File::open(path).map_err(Error::io("read", path))?;
+    // Opened without blocking (a FIFO would wait for a writer forever) and refused unless
+    // regular.
+    let file = crate::files::open(path)?;
     let meta = file.metadata().map_err(Error::io("read", path))?;
-    if !meta.is_file() {
-        return Err(bad(path, "not a regular file"));
-    }
     let too_big = |n: u64| {
         bad(
             path,

@@ -1,5 +1,6 @@
 //! The audit of a result file before publication (`lorentz report`): why a number from a run
-//! can be trusted, check by check, each PASS, FAIL or SKIP (with the reason) and its numbers.
+//! can be trusted, check by check, each PASS, FAIL, SKIP or N/A (with the reason) and its
+//! numbers; the whole report PASS, FAIL or INCOMPLETE.
 //!
 //! **The audit trusts nothing in the file.** It reads the file ([`mod@file`]: at most
 //! [`file::MAX_RESULT_BYTES`], every key checked against the schema of its kind), takes the
@@ -14,7 +15,8 @@
 //! - **reproducibility of the record** — D, D_err, D_check and MSD/(4t) recomputed from the
 //!   per-batch values in the file give the recorded bits (an edited summary number fails here, an
 //!   edited batch value in the re-run below);
-//! - **statistics** — the batches' between-group χ² (four groups of consecutive batches), the
+//! - **statistics** — the batches' between-group F (one-way analysis of variance of four groups
+//!   of consecutive batches), the
 //!   most extreme batch against a Bonferroni Student-t bound, the batch error against the errors of
 //!   blocks of 2 and 4 batches (F bounds), and the fit window: D against D_check (paired over
 //!   batches) with the local slope D(t) plotted with its error band;
@@ -39,9 +41,15 @@
 //!
 //! **Work.** Each re-run's collisions follow from the configuration (a batch, a run, the whole
 //! computation; expected collisions for injections and escape, from the closed forms). They are
-//! taken in order from one budget: [`QUICK_RERUN_COLLISIONS`] with `quick`,
-//! [`AuditConfig::max_rerun_collisions`] when set, else unbounded. A re-run that does not fit is a
-//! SKIP saying how many collisions it needs and how many remain — never a silent pass.
+//! taken in order from one budget, the auditor's and never the file's: [`QUICK_RERUN_COLLISIONS`]
+//! with `quick`, [`AuditConfig::max_rerun_collisions`] when set, else
+//! [`DEFAULT_RERUN_COLLISIONS`]. A re-run that does not fit is a SKIP saying how many collisions
+//! it needs and how many remain — never a silent pass.
+//!
+//! **Verdict.** FAIL if any check fails; else INCOMPLETE if any was skipped (the result is not
+//! verified, and the report says what was not checked and why); else PASS. A check that does
+//! not apply to the result (N/A: the command line of another program, the events of an MPFR
+//! run) is neither.
 //!
 //! Every result's provenance: this build (version, git commit, rustc), the CPU, the date, the
 //! recorded `meta` (version, seed, engine, SIMD path, threads, command line) and the SHA-256 of the
@@ -79,8 +87,15 @@ pub enum Verdict {
     Pass,
     /// The property fails: the result should not be published as it is.
     Fail,
-    /// Not checked, for the reason given (not a pass).
+    /// Not checked, for the reason given (not a pass: the report is then INCOMPLETE).
     Skip,
+    /// The property does not apply to this result, for the reason given (a command line of
+    /// another program, the events of an MPFR run): neither a pass nor a gap.
+    #[serde(rename = "N/A")]
+    NotApplicable,
+    /// The whole report only: no check failed, but at least one was skipped, so the result is
+    /// not verified; the report names each skipped check and why.
+    Incomplete,
 }
 
 impl std::fmt::Display for Verdict {
@@ -89,6 +104,8 @@ impl std::fmt::Display for Verdict {
             Verdict::Pass => "PASS",
             Verdict::Fail => "FAIL",
             Verdict::Skip => "SKIP",
+            Verdict::NotApplicable => "N/A",
+            Verdict::Incomplete => "INCOMPLETE",
         })
     }
 }
@@ -134,7 +151,8 @@ pub struct Provenance {
 /// The whole report.
 #[derive(Debug, Clone, Serialize)]
 pub struct PublicationReport {
-    /// FAIL if any check failed, else PASS (skipped checks are listed, not counted).
+    /// FAIL if any check failed, else INCOMPLETE if any was skipped, else PASS: a PASS means
+    /// that every check that applies ran and passed.
     pub verdict: Verdict,
     /// Provenance of the result and of the report.
     pub provenance: Provenance,
@@ -155,6 +173,11 @@ pub struct PublicationReport {
 /// Most collisions the quick report re-runs in all (about 20 s on 2 cores).
 pub const QUICK_RERUN_COLLISIONS: u64 = 2_000_000_000;
 
+/// Most collisions the full report re-runs in all unless the auditor sets a bound: about an
+/// hour and a half on 2 cores of the SIMD engine (Zen 4). A file that claims more work than
+/// this (or than the auditor's bound) gets its re-runs skipped, and so cannot PASS.
+pub const DEFAULT_RERUN_COLLISIONS: u64 = 1_000_000_000_000;
+
 /// What to audit, where the report goes, and how thoroughly.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -171,7 +194,8 @@ pub struct AuditConfig {
     /// [`MIN_AUDIT_BITS`] to [`MAX_AUDIT_BITS`].
     pub reference_bits: u32,
     /// Most collisions re-run in all (with `quick`, the smaller of this and
-    /// [`QUICK_RERUN_COLLISIONS`]); `None`: no bound but `quick`'s. Re-runs beyond it are SKIP.
+    /// [`QUICK_RERUN_COLLISIONS`]); `None`: [`QUICK_RERUN_COLLISIONS`] with `quick`, else
+    /// [`DEFAULT_RERUN_COLLISIONS`]. Re-runs beyond it are SKIP, and the report INCOMPLETE.
     #[serde(default)]
     pub max_rerun_collisions: Option<u64>,
 }
@@ -199,13 +223,14 @@ impl AuditConfig {
         Ok(())
     }
 
-    /// The budget of re-run collisions.
+    /// The budget of re-run collisions: the auditor's, never the file's.
     fn budget(&self) -> Option<u64> {
-        match (self.quick, self.max_rerun_collisions) {
-            (true, Some(m)) => Some(m.min(QUICK_RERUN_COLLISIONS)),
-            (true, None) => Some(QUICK_RERUN_COLLISIONS),
-            (false, m) => m,
-        }
+        Some(match (self.quick, self.max_rerun_collisions) {
+            (true, Some(m)) => m.min(QUICK_RERUN_COLLISIONS),
+            (true, None) => QUICK_RERUN_COLLISIONS,
+            (false, Some(m)) => m,
+            (false, None) => DEFAULT_RERUN_COLLISIONS,
+        })
     }
 }
 
@@ -352,11 +377,7 @@ pub fn run_with(
         Audited::Backscatter(r) => backscatter::checks(r, &ctx, &mut checks)?,
         Audited::Escape(r) => escape::checks(r, &ctx, &mut checks)?,
     }
-    let verdict = if checks.0.iter().any(|c| c.verdict == Verdict::Fail) {
-        Verdict::Fail
-    } else {
-        Verdict::Pass
-    };
+    let verdict = overall(&checks.0);
     let report = PublicationReport {
         verdict,
         provenance: provenance::provenance(
@@ -379,6 +400,17 @@ pub fn run_with(
     };
     report.write(&cfg.out)?;
     Ok(report)
+}
+
+/// FAIL if any check failed, else INCOMPLETE if any was skipped, else PASS.
+fn overall(checks: &[Check]) -> Verdict {
+    if checks.iter().any(|c| c.verdict == Verdict::Fail) {
+        Verdict::Fail
+    } else if checks.iter().any(|c| c.verdict == Verdict::Skip) {
+        Verdict::Incomplete
+    } else {
+        Verdict::Pass
+    }
 }
 
 /// What every check of one audit shares: the file's digest, where figures go, the settings, the

@@ -70,7 +70,7 @@ impl PublicationReport {
         let esc = crate::report::figures::html_escape;
         let p = &self.provenance;
         let mut s = format!(
-            "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Audit of {}</title>\n<style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:.3em .6em;vertical-align:top}}.PASS{{color:#060;font-weight:bold}}.FAIL{{color:#b00;font-weight:bold}}.SKIP{{color:#777;font-weight:bold}}</style></head><body>\n<h1>Audit of {}: <span class=\"{}\">{}</span></h1>\n<h2>Provenance</h2><table>\n",
+            "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Audit of {}</title>\n<style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:.3em .6em;vertical-align:top}}.PASS{{color:#060;font-weight:bold}}.FAIL{{color:#b00;font-weight:bold}}.SKIP{{color:#777;font-weight:bold}}.INCOMPLETE{{color:#b60;font-weight:bold}}</style></head><body>\n<h1>Audit of {}: <span class=\"{}\">{}</span></h1>\n<h2>Provenance</h2><table>\n",
             esc(&p.result_file),
             esc(&p.result_file),
             self.verdict,
@@ -116,7 +116,8 @@ impl PublicationReport {
         }
         s += "</table>\n";
         for f in &self.figures {
-            let svg = std::fs::read_to_string(dir.join(format!("{f}.svg"))).unwrap_or_default();
+            let svg =
+                crate::files::read_to_string(dir.join(format!("{f}.svg"))).unwrap_or_default();
             let svg = svg.trim_start_matches(|c| c != '<');
             let svg = svg
                 .strip_prefix("<?xml")

@@ -10,12 +10,13 @@ use crate::engine::options::RunOptions;
 
 /// Fields of a result that legitimately differ between two runs of the same configuration: the
 /// process's metadata (compared apart: seed, batches and precision must agree) and timing.
-const VOLATILE_FIELDS: [&str; 6] = [
+const VOLATILE_FIELDS: [&str; 7] = [
     "meta",
     "seconds",
     "collisions_per_second",
     "events_per_second",
     "resumed_batches",
+    "resumed_collisions",
     "resumed_points",
 ];
 

@@ -217,7 +217,7 @@ impl Reproduction<'_> {
                 files: d.files,
             });
         }
-        crate::files::create_dir_all(&sub)?;
+        crate::files::create_subdir(&sub)?;
         let t0 = std::time::Instant::now();
         self.compute(k, step, &sub)?;
         let files = list_files(self.dir, step.name());
@@ -230,7 +230,7 @@ impl Reproduction<'_> {
             files: files.clone(),
         };
         let sealed = crate::engine::resume::seal(&done)?;
-        crate::engine::resume::write_atomically(&marker, sealed.as_bytes())?;
+        crate::files::write(&marker, sealed.as_bytes())?;
         Ok(StepRecord {
             name: step.name().into(),
             title: step.title().into(),

@@ -191,6 +191,49 @@ pub fn check_diffusive_gap(w: f64) -> Result<(), Error> {
     Ok(())
 }
 
+/// Checks that D exists at the gap exactly as typed (`text`, a decimal or a fraction) and at
+/// its nearest double `w`: both must lie in 0 < w < w∞. The exact gap q is compared with
+/// w∞ = 4/√3 − 2 in rational arithmetic (q < w∞ ⟺ 3(q + 2)² < 16, as q + 2 > 0), so a gap typed
+/// just above w∞ whose nearest double lies below it (0.30940107675850306) is refused: the run
+/// would be on another table than the one asked for, and at MPFR precisions beyond the horizon.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::scenes::triangular::geometry::check_diffusive_gap_exact;
+/// assert!(check_diffusive_gap_exact(0.1, Some("1/10")).is_ok());
+/// // The nearest double lies below w_inf, the gap as typed above it.
+/// assert!(check_diffusive_gap_exact(0.30940107675850306, None).is_ok());
+/// assert!(check_diffusive_gap_exact(0.30940107675850306, Some("0.30940107675850306")).is_err());
+/// assert!(check_diffusive_gap_exact(0.309401076758503, Some("0.309401076758503")).is_ok());
+/// ```
+pub fn check_diffusive_gap_exact(w: f64, text: Option<&str>) -> Result<(), Error> {
+    check_diffusive_gap(w)?;
+    let Some(text) = text else { return Ok(()) };
+    crate::numbers::exact::check_exact("w", w, Some(text))?;
+    let q = crate::numbers::exact::parse_exact(text)?;
+    if q <= 0 {
+        return Err(Error::Trapped { w });
+    }
+    let s = rug::Rational::from(&q + 2u32);
+    if rug::Rational::from(&s * &s) * 3u32 >= 16u32 {
+        // w∞ to 22 decimals, truncated (w∞ is irrational, so "..." is honest).
+        let w_inf = Geometry::<Float>::w_inf(256);
+        let digits = (w_inf.clone() * rug::Integer::from(rug::Integer::u_pow_u(10, 22)))
+            .to_integer()
+            .map(|i| format!("0.{:0>22}", i.to_string()))
+            .unwrap_or_default();
+        return Err(Error::Invalid(format!(
+            "w = {text} (exactly as typed) is not < w_inf = 4/sqrt(3) - 2 = {digits}...: the \
+             horizon is infinite there and the diffusion coefficient does not exist, although \
+             the nearest double {w:?} lies below w_inf (valid range: 0 < w < {:.6}, decided \
+             exactly)",
+            w_inf.to_f64()
+        )));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -25,7 +25,7 @@ pub(super) fn shadow_audit_check(again: &[BatchResult], ctx: &Ctx<'_>, checks: &
         None => checks.add(
             "verification",
             "shadow audit of events of the same trajectories",
-            Verdict::Skip,
+            Verdict::NotApplicable,
             "the run is not f64: its events are MPFR already".into(),
             &[],
         ),
