@@ -31,7 +31,10 @@ Example
 from __future__ import annotations
 
 import decimal
+import difflib
 import fractions
+import functools
+import inspect
 import numbers
 import os
 from typing import Any, Callable, Optional, Sequence, Tuple, Union
@@ -957,3 +960,33 @@ def events(
     for name in EVENT_DTYPE.names:
         out[name] = cols[name]
     return out
+
+
+def _naming_the_close_match(f: Callable[..., Any]) -> Callable[..., Any]:
+    """``f`` refusing an unknown keyword with the ``TypeError`` Python raises, naming the
+    keyword ``f`` takes that is closest to it (``colisions=`` → ``collisions``)."""
+    sig = inspect.signature(f)
+    names = list(sig.parameters)
+
+    @functools.wraps(f)
+    def checked(*args: Any, **kwargs: Any) -> Any:
+        for k in kwargs:
+            if k not in sig.parameters:
+                close = difflib.get_close_matches(k, names, n=1)
+                hint = (
+                    f": did you mean {close[0]!r}?"
+                    if close
+                    else f"; it takes {', '.join(names)}"
+                )
+                raise TypeError(f"{f.__name__}() got an unexpected keyword argument {k!r}{hint}")
+        return f(*args, **kwargs)
+
+    return checked
+
+
+# Every analysis of the package names the keyword meant when one is misspelt.
+for _name in __all__:
+    _f = globals().get(_name)
+    if inspect.isfunction(_f) and _f.__module__ == __name__:
+        globals()[_name] = _naming_the_close_match(_f)
+del _name, _f

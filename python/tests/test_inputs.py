@@ -1,6 +1,7 @@
 """Bad input raises ValueError with the command line's one-line message; I/O names the path."""
 
 import fractions
+import inspect
 
 import pytest
 
@@ -77,6 +78,17 @@ def test_threads_engine_and_scene_are_checked():
 def test_exact_inputs_of_every_kind_give_one_gap():
     ws = [lg.constants(v).to_dict()["w_exact"] for v in ["0.1", "1/10", fractions.Fraction(1, 10), 0.1]]
     assert ws == ["1/10"] * 4
+
+
+def test_a_misspelt_keyword_is_refused_naming_the_close_match():
+    with pytest.raises(TypeError, match="'colisions'.*did you mean 'collisions'"):
+        lg.diffusion(w=0.1, colisions=1e6)
+    with pytest.raises(TypeError, match="did you mean 'checkpoint'"):
+        lg.hops(w=0.1, checkpiont="x")
+    with pytest.raises(TypeError, match="it takes"):
+        lg.constants(w=0.1, zzzzzz=1)
+    # The signatures (and so help() and the stubs test) are the functions' own.
+    assert "collisions" in inspect.signature(lg.diffusion).parameters
 
 
 def test_lossy_floats_are_refused_not_rounded():
