@@ -229,6 +229,40 @@ fn edited_and_forged_checkpoints_are_refused() {
     assert!(e.contains("computed again from its seed"), "{e}");
 }
 
+/// A hops checkpoint whose finished batches were edited (one more back-scattering count each) and
+/// whose digests were recomputed: the resumed run computes one batch again and refuses it.
+#[test]
+fn a_forged_hops_checkpoint_is_refused() {
+    let tmp = crate::common::scratch();
+    let path = tmp.path().join("h.jsonl");
+    let mut cfg = HopsConfig::new(0.1);
+    cfg.collisions = 2_000_000;
+    cfg.batches = 4;
+    let opts = RunOptions {
+        resume: Some(path.clone()),
+        ..crate::common::threads(2)
+    };
+    let clean = hops::run(&cfg, &opts).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let more = |r: &mut serde_json::Value| {
+        if let Some(v) = r.pointer_mut("/finished/result/visits") {
+            *v = serde_json::json!(v.as_u64().unwrap() + 1000);
+        }
+    };
+    let forged = forge(&text, |_| {}, more);
+    assert_ne!(forged, text);
+    std::fs::write(&path, forged).unwrap();
+    let e = hops::run(&cfg, &opts).unwrap_err().to_string();
+    assert!(
+        e.contains("h.jsonl") && e.contains("computed again from its seed"),
+        "{e}"
+    );
+    // The genuine checkpoint resumes to the same result.
+    std::fs::write(&path, &text).unwrap();
+    let again = hops::run(&cfg, &opts).unwrap();
+    assert_eq!(again.p_bs.to_bits(), clean.p_bs.to_bits());
+}
+
 /// A stop request ends a run within about one segment with `Error::Interrupted`, keeping its
 /// checkpoint, from which the rerun finishes to the uninterrupted bits; a flag that is never
 /// requested changes no bit (the run is only cut into segments). The segment is 2²⁰ collisions

@@ -352,6 +352,7 @@ fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolve
         &fits,
     )?
     .watching(options.stop.as_ref());
+    recheck_one_batch(&keep, &jobs, &lat, &start, order, options)?;
     progress(keep.collisions_done(&jobs));
     let todo: Vec<Quota> = jobs.into_iter().filter(|j| !keep.is_finished(j)).collect();
     let new: Vec<Hops> = match resolved {
@@ -380,6 +381,46 @@ fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolve
     all.extend(todo.iter().map(|j| j.index).zip(new));
     all.sort_by_key(|(i, _)| *i);
     Ok((all.into_iter().map(|(_, h)| h).collect(), resolved))
+}
+
+/// Computes one finished batch of `keep` again, drawn at random (operating-system entropy), on
+/// the scalar engine (the same bits as the SIMD one) and refuses the checkpoint unless its hop
+/// statistics are the recorded ones: digests stop accidents, not someone who recomputes them
+/// (`proofs-notes/checkpoints.md`, claim 3).
+fn recheck_one_batch(
+    keep: &Keeper<Hops, Hops>,
+    jobs: &[Quota],
+    lat: &TriangularLattice<f64>,
+    start: &dyn Fn(u32) -> crate::scenes::lattice::LatticeState<f64>,
+    order: usize,
+    options: &RunOptions,
+) -> Result<(), Error> {
+    let finished: Vec<(u32, Hops)> = keep.finished_by_index().collect();
+    if finished.is_empty() {
+        return Ok(());
+    }
+    let (index, recorded) = &finished[rand::random_range(0..finished.len())];
+    let job = jobs.iter().find(|j| j.index == *index);
+    let mut h = HopLanes::new(order, 1)?;
+    if let Some(j) = job {
+        let none = Keeper::<Hops, Hops>::none();
+        drive_kept(lat, (), j, || start(j.index), &mut h, &none, &|_| {})?;
+    }
+    let fresh = h.into_lanes().remove(0);
+    let same =
+        job.is_some() && serde_json::to_value(&fresh).ok() == serde_json::to_value(recorded).ok();
+    if !same {
+        return Err(Error::Failed(format!(
+            "{}: batch {index}, computed again from its seed to check the checkpoint, does not \
+             give the recorded hop statistics: the checkpoint was edited (its digests recomputed) \
+             or belongs to another configuration; use another file",
+            options
+                .resume
+                .as_deref()
+                .map_or_else(|| "the checkpoint".into(), |p| p.display().to_string())
+        )));
+    }
+    Ok(())
 }
 
 /// The sequence probabilities of every length 1 … `order` (batch means and errors by name), and
