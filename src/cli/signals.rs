@@ -75,8 +75,8 @@ pub fn stopped() -> Option<(u8, String)> {
             p.display()
         ),
         None => format!(
-            "stopped by {name}: this run kept no checkpoint, so its work is lost (--checkpoint \
-             keeps it)"
+            "stopped by {name}: this run kept no checkpoint, so its work is lost (the commands \
+             that take --checkpoint keep theirs)"
         ),
     };
     Some(((128 + sig).min(255) as u8, message))
