@@ -258,6 +258,20 @@ where
         f + self.in_flight.values().map(|s| s.collisions).sum::<u64>()
     }
 
+    /// One finished batch found at the start, `((run, index), result)`, drawn uniformly with
+    /// operating-system entropy, so that no one editing the checkpoint can know which: the batch
+    /// a resumed run computes again to check the checkpoint (`None` if none is finished).
+    pub fn random_finished(&self) -> Option<((u64, u32), &F)> {
+        let n = self.finished.len();
+        if n == 0 {
+            return None;
+        }
+        self.finished
+            .iter()
+            .nth(rand::random_range(0..n))
+            .map(|(k, f)| (*k, f))
+    }
+
     /// Collisions of the trajectories in flight that this run resumed (of run `run` only, if
     /// given): work an earlier invocation did.
     pub fn in_flight_collisions(&self, run: Option<u64>) -> u64 {
@@ -324,6 +338,17 @@ impl<S> InFlight<S> {
     pub fn state<T: Real>(&self, ctx: T::Ctx) -> Result<LatticeState<T>, Error> {
         LatticeState::from_exact(ctx, &self.state)
     }
+}
+
+/// The refusal of the checkpoint at `path` whose finished `batch`, computed again from its seed,
+/// did not give the recorded `values` ([`Keeper::random_finished`]).
+pub fn recomputed_differs(path: Option<&Path>, batch: &str, values: &str) -> Error {
+    Error::Failed(format!(
+        "{}: {batch}, computed again from its seed to check the checkpoint, does not give the \
+         recorded {values}: the checkpoint was edited (its digests recomputed) or belongs to \
+         another configuration; use another file",
+        path.map_or_else(|| "the checkpoint".into(), |p| p.display().to_string())
+    ))
 }
 
 /// Runs `job`'s trajectory on the scalar engine at precision `ctx` until it has made its

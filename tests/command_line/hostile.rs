@@ -205,17 +205,7 @@ fn a_second_run_on_one_journal_is_refused_while_the_first_runs() {
         "--checkpoint",
         "run.ckpt",
     ];
-    let mut first_run = Command::new(env!("CARGO_BIN_EXE_lorentz"))
-        .args(args)
-        .current_dir(dir)
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while !dir.join("run.ckpt").exists() && start.elapsed() < Duration::from_secs(30) {
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    let mut first_run = start_checkpointed(dir, &args, Stdio::null());
     let (code, _, err) = lorentz(dir, &args);
     first_run.kill().unwrap();
     first_run.wait().unwrap();
@@ -388,20 +378,27 @@ fn a_merge_into_one_of_its_parts_is_refused() {
     }
 }
 
-/// Sends `signal` to a checkpointed run once its journal exists and some work is done; returns
-/// the exit status.
-fn stop_with(dir: &Path, args: &[&str], signal: i32) -> i32 {
+/// Starts `lorentz args` in `dir` (stderr to `stderr`) and returns once its journal `run.ckpt`
+/// exists (or after 30 s).
+fn start_checkpointed(dir: &Path, args: &[&str], stderr: Stdio) -> std::process::Child {
     let child = Command::new(env!("CARGO_BIN_EXE_lorentz"))
         .args(args)
         .current_dir(dir)
         .stdout(Stdio::null())
-        .stderr(Stdio::piped())
+        .stderr(stderr)
         .spawn()
         .unwrap();
     let start = Instant::now();
     while !dir.join("run.ckpt").exists() && start.elapsed() < Duration::from_secs(30) {
         std::thread::sleep(Duration::from_millis(10));
     }
+    child
+}
+
+/// Sends `signal` to a checkpointed run once its journal exists and some work is done; returns
+/// the exit status.
+fn stop_with(dir: &Path, args: &[&str], signal: i32) -> i32 {
+    let child = start_checkpointed(dir, args, Stdio::piped());
     std::thread::sleep(Duration::from_millis(300));
     // SAFETY: `kill` takes a process id and a signal number; neither is a pointer.
     assert_eq!(unsafe { libc::kill(child.id() as i32, signal) }, 0);

@@ -8,6 +8,7 @@ use super::execution::{DiffusionKeeper, Job, execute, setup};
 use super::{BatchResult, DiffusionConfig};
 use crate::Error;
 use crate::engine::Engine;
+use crate::engine::checkpoint::recomputed_differs;
 
 /// Re-runs one finished batch of `keep`, drawn at random (operating-system entropy, so that no
 /// one editing the file can know which), and compares it with the record: the batch's event
@@ -22,11 +23,9 @@ pub(super) fn recheck_one_batch(
     engine: Engine,
     path: Option<&Path>,
 ) -> Result<(), Error> {
-    let finished: Vec<(u64, &BatchResult)> = keep.finished().collect();
-    if finished.is_empty() {
+    let Some(((run, _), recorded)) = keep.random_finished() else {
         return Ok(());
-    }
-    let (run, recorded) = finished[rand::random_range(0..finished.len())];
+    };
     let job = jobs
         .iter()
         .find(|j| j.run == run && j.index == recorded.index);
@@ -47,13 +46,8 @@ pub(super) fn recheck_one_batch(
     )?;
     let values = |b: &BatchResult| serde_json::to_value((&b.counters, &b.lags, &b.msd)).ok();
     if fresh.first().and_then(values) != values(recorded) || values(recorded).is_none() {
-        return Err(Error::Failed(format!(
-            "{}: batch {} of run {run}, computed again from its seed to check the checkpoint, does \
-             not give the recorded values: the checkpoint was edited (its digests recomputed) or \
-             belongs to another configuration; use another file",
-            shown(path),
-            recorded.index
-        )));
+        let batch = format!("batch {} of run {run}", recorded.index);
+        return Err(recomputed_differs(path, &batch, "values"));
     }
     Ok(())
 }

@@ -395,12 +395,10 @@ fn recheck_one_batch(
     order: usize,
     options: &RunOptions,
 ) -> Result<(), Error> {
-    let finished: Vec<(u32, Hops)> = keep.finished_by_index().collect();
-    if finished.is_empty() {
+    let Some(((_, index), recorded)) = keep.random_finished() else {
         return Ok(());
-    }
-    let (index, recorded) = &finished[rand::random_range(0..finished.len())];
-    let job = jobs.iter().find(|j| j.index == *index);
+    };
+    let job = jobs.iter().find(|j| j.index == index);
     let mut h = HopLanes::new(order, 1)?;
     if let Some(j) = job {
         let none = Keeper::<Hops, Hops>::none();
@@ -410,15 +408,11 @@ fn recheck_one_batch(
     let same =
         job.is_some() && serde_json::to_value(&fresh).ok() == serde_json::to_value(recorded).ok();
     if !same {
-        return Err(Error::Failed(format!(
-            "{}: batch {index}, computed again from its seed to check the checkpoint, does not \
-             give the recorded hop statistics: the checkpoint was edited (its digests recomputed) \
-             or belongs to another configuration; use another file",
-            options
-                .resume
-                .as_deref()
-                .map_or_else(|| "the checkpoint".into(), |p| p.display().to_string())
-        )));
+        return Err(crate::engine::checkpoint::recomputed_differs(
+            options.resume.as_deref(),
+            &format!("batch {index}"),
+            "hop statistics",
+        ));
     }
     Ok(())
 }
