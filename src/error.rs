@@ -64,6 +64,19 @@ pub enum Error {
         /// The value given.
         got: u64,
     },
+    /// A parameter outside its valid range, as data: the parameter (a configuration's field),
+    /// the value as given and the valid range. Each front end names the parameter in its own
+    /// terms ([`Error::presented`]: `--octaves 30` on the command line, `octaves=30` in Python).
+    #[error("{}", out_of_range_text(parameter, value, range, &|p| p.to_string()))]
+    OutOfRange {
+        /// The parameter, as the configuration spells it (`octaves`, `points_per_octave`).
+        parameter: &'static str,
+        /// The value given.
+        value: String,
+        /// The valid range, as advice (`use 1 to 20 (the longest lag is 2^octaves mean free
+        /// times)`).
+        range: String,
+    },
     /// Any other invalid argument, with the reason.
     #[error("{0}")]
     Invalid(String),
@@ -150,6 +163,44 @@ fn scene_parameter_text(
     }
 }
 
+/// `parameter` given `value`, spelled by `name`: `--octaves 30` for a flag, `octaves=30` for a
+/// keyword, `octaves = 30` otherwise.
+fn assignment(parameter: &str, value: &str, name: &dyn Fn(&str) -> String) -> String {
+    let n = name(parameter);
+    if n.ends_with('=') {
+        format!("{n}{value}")
+    } else if n.starts_with("--") {
+        format!("{n} {value}")
+    } else {
+        format!("{n} = {value}")
+    }
+}
+
+/// The message of [`Error::OutOfRange`], the parameter spelled by `name`.
+fn out_of_range_text(
+    parameter: &str,
+    value: &str,
+    range: &str,
+    name: &dyn Fn(&str) -> String,
+) -> String {
+    format!(
+        "{} is out of range: {range}",
+        assignment(parameter, value, name)
+    )
+}
+
+/// `parameter` spelled by `name` as the subject of a sentence: a keyword without its `=`
+/// (`threads`), a flag as it is (`--threads`).
+fn bare(parameter: &str, name: &dyn Fn(&str) -> String) -> String {
+    name(parameter).trim_end_matches('=').to_string()
+}
+
+/// Whether `what` names a parameter (a field name such as `threads`) rather than describing one
+/// in words: only a parameter is spelled in a front end's terms.
+fn is_parameter(what: &str) -> bool {
+    !what.is_empty() && what.bytes().all(|b| b.is_ascii_lowercase() || b == b'_')
+}
+
 /// The message of [`Error::UnusedOption`], the option spelled by `name`.
 fn unused_option_text(
     analysis: &str,
@@ -211,6 +262,10 @@ impl Error {
     /// assert_eq!(e.to_string(), "lyapunov does not take `resume`: leave it out");
     /// let flag = |p: &str| format!("--{}", p.replace('_', "-"));
     /// assert_eq!(e.presented(&flag), "lyapunov does not take --resume: leave it out");
+    /// let e = Error::OutOfRange { parameter: "points_per_octave", value: "17".into(), range: "use 1 to 16".into() };
+    /// assert_eq!(e.to_string(), "points_per_octave = 17 is out of range: use 1 to 16");
+    /// assert_eq!(e.presented(&flag), "--points-per-octave 17 is out of range: use 1 to 16");
+    /// assert_eq!(e.presented(&|p| format!("{p}=")), "points_per_octave=17 is out of range: use 1 to 16");
     /// ```
     pub fn presented(&self, name: &dyn Fn(&str) -> String) -> String {
         match self {
@@ -222,6 +277,21 @@ impl Error {
                 missing,
             } => scene_parameter_text(scene, parameter, needs, range, *missing, name),
             Error::UnusedOption { analysis, option } => unused_option_text(analysis, *option, name),
+            Error::OutOfRange {
+                parameter,
+                value,
+                range,
+            } => out_of_range_text(parameter, value, range, name),
+            Error::Zero { what } if is_parameter(what) => {
+                format!("{} must be at least 1", bare(what, name))
+            }
+            Error::TooFew { what, min, got } if is_parameter(what) => format!(
+                "{} is too small: at least {min} is needed",
+                assignment(what, &got.to_string(), name)
+            ),
+            Error::NotFinite { what } if is_parameter(what) => {
+                format!("{} must be a finite number", bare(what, name))
+            }
             other => other.to_string(),
         }
     }
@@ -240,10 +310,25 @@ impl Error {
             | Error::Precision { .. }
             | Error::Zero { .. }
             | Error::TooFew { .. }
+            | Error::OutOfRange { .. }
             | Error::UnusedOption { .. }
             | Error::SceneParameter { .. }
             | Error::UnsafePath { .. }
             | Error::Invalid(_) => ErrorKind::BadInput,
+        }
+    }
+
+    /// [`Error::OutOfRange`]: `parameter` (a configuration's field) given `value`, and the valid
+    /// range as advice (`"use 1 to 20"`).
+    pub fn out_of_range(
+        parameter: &'static str,
+        value: impl std::fmt::Display,
+        range: impl Into<String>,
+    ) -> Error {
+        Error::OutOfRange {
+            parameter,
+            value: value.to_string(),
+            range: range.into(),
         }
     }
 

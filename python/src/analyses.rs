@@ -15,13 +15,13 @@ use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, Window};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
-use lorentz_gas::estimators::superdiffusion::{self, Gas, SuperdiffusionConfig};
+use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
 use lorentz_gas::estimators::sweep::{self, SweepConfig};
 use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
 use lorentz_gas::scenes::Scene;
-use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsScene};
+use lorentz_gas::theory::constants::{self, ConstantsConfig};
 use lorentz_gas::verification::certify::{self, CertifyConfig};
 use lorentz_gas::verification::divergence::{self, Divergence, DivergenceConfig};
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
@@ -425,14 +425,7 @@ fn py_superdiffusion(
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     // The scene and its parameter checked as every analysis checks them, kept as typed.
-    let gas = match resolve(scene, w, radius)? {
-        SceneChoice::Square(_) => Gas::Square {
-            radius: inputs::exact("radius", radius.unwrap_or_default())?.text,
-        },
-        SceneChoice::Triangular(_) => Gas::Triangular {
-            w: inputs::exact("w", w.unwrap_or_default())?.text,
-        },
-    };
+    let scene = crate::scenes::spec(scene, w, radius)?;
     let every = interval(checkpoint_every)?;
     let cfg = SuperdiffusionConfig {
         collisions: count_u64("collisions", collisions)?,
@@ -443,7 +436,7 @@ fn py_superdiffusion(
         vacf_fit,
         msd_fit,
         seed: count_u64("seed", seed)?,
-        ..SuperdiffusionConfig::new(gas)
+        ..SuperdiffusionConfig::new(scene)
     };
     let threads = inputs::threads(threads)?;
     let r = compute(py, progress, |ctl| {
@@ -662,25 +655,13 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 #[pyfunction]
 #[pyo3(name = "constants", signature = (w, radius, precision))]
 fn py_constants(w: Option<&str>, radius: Option<&str>, precision: &str) -> PyResult<String> {
-    let scene = match (w, radius) {
-        (Some(w), None) => {
-            let w = exact("w", w)?;
-            ConstantsScene::Triangular {
-                w: w.value,
-                w_exact: w.exact_text(),
-            }
-        }
-        (None, Some(r)) => ConstantsScene::Square {
-            radius: exact("radius", r)?
-                .exact_text()
-                .ok_or_else(|| PyValueError::new_err("radius must be a finite number"))?,
-        },
-        _ => {
-            return Err(PyValueError::new_err(
-                "give w (the triangular scene, w > 0) or radius (the square scene, 0 < radius < 1/2), not both",
-            ));
-        }
+    // Either parameter names the scene; both, or neither, is refused by the scene's own check.
+    let name = if radius.is_some() && w.is_none() {
+        "square"
+    } else {
+        "triangular"
     };
+    let scene = crate::scenes::spec(name, w, radius)?;
     let r = constants::run(&ConstantsConfig {
         scene,
         precision: inputs::precision(precision)?,

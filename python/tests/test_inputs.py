@@ -152,6 +152,16 @@ def test_superdiffusion_refusals_are_the_command_lines_line(cli, kwargs, args):
     assert line.endswith(msg.split(": ", 1)[-1]) or line == "error: " + msg, (line, msg)
 
 
+def test_a_value_out_of_range_is_named_as_each_front_end_spells_it(cli):
+    # One typed error: Python names the keyword (points_per_octave=17), the command line the
+    # flag (--points-per-octave 17), and both give the same range.
+    with pytest.raises(ValueError) as e:
+        lg.superdiffusion(w=0.5, points_per_octave=17)
+    assert str(e.value) == "points_per_octave=17 is out of range: use 1 to 16"
+    line = cli_message(cli, "superdiffusion", "--w", "0.5", "--points-per-octave", "17")
+    assert line == "error: --points-per-octave 17 is out of range: use 1 to 16"
+
+
 def test_an_option_an_analysis_does_not_use_is_refused():
     # Lyapunov exponents keep no checkpoint: the keyword is not there to be ignored.
     with pytest.raises(TypeError, match="checkpoint"):

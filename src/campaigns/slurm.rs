@@ -71,10 +71,11 @@ impl SweepCampaign {
             )));
         }
         if self.cpus_per_task == 0 || self.cpus_per_task > MAX_CPUS_PER_TASK {
-            return Err(Error::Invalid(format!(
-                "cpus-per-task = {}: use 1 to {MAX_CPUS_PER_TASK}",
-                self.cpus_per_task
-            )));
+            return Err(Error::out_of_range(
+                "cpus_per_task",
+                self.cpus_per_task,
+                format!("use 1 to {MAX_CPUS_PER_TASK}"),
+            ));
         }
         if let Some(p) = &self.partition {
             checked(

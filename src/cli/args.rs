@@ -100,27 +100,12 @@ impl SceneArgs {
     pub fn resolve(&self) -> Result<SceneChoice, lorentz_gas::Error> {
         self.spec()?.resolve()
     }
-}
 
-impl SceneArgs {
-    /// The scene as an exact lattice for the analyses that take one (`superdiffusion`): checked
-    /// as [`SceneArgs::resolve`] checks it, the parameter kept as typed.
-    pub fn gas(&self) -> Result<lorentz_gas::estimators::superdiffusion::Gas, lorentz_gas::Error> {
-        use lorentz_gas::estimators::superdiffusion::Gas;
-        self.resolve()?;
-        let text = |e: &Option<Exact>, what| {
-            e.as_ref()
-                .and_then(|e| e.exact_text())
-                .ok_or(lorentz_gas::Error::NotFinite { what })
-        };
-        Ok(match self.scene {
-            SceneName::Triangular => Gas::Triangular {
-                w: text(&self.w, "w")?,
-            },
-            SceneName::Square => Gas::Square {
-                radius: text(&self.radius, "radius")?,
-            },
-        })
+    /// The scene's description, its parameter checked as [`SceneArgs::resolve`] checks it.
+    pub fn checked_spec(&self) -> Result<SceneSpec, lorentz_gas::Error> {
+        let spec = self.spec()?;
+        spec.resolve()?;
+        Ok(spec)
     }
 }
 

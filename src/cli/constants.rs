@@ -2,7 +2,8 @@
 //! the superdiffusion constants of an infinite horizon.
 
 use lorentz_gas::Error;
-use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsReport, ConstantsScene};
+use lorentz_gas::scenes::spec::SceneSpec;
+use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsReport};
 
 use super::args::{Exact, PrecisionArg, SceneName, parse_exact_arg};
 
@@ -27,25 +28,12 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let scene = match (a.scene, &a.w, &a.radius) {
-        (SceneName::Triangular, Some(w), None) => ConstantsScene::Triangular {
-            w: w.value,
-            w_exact: w.exact_text(),
-        },
-        (SceneName::Square, None, Some(r)) => ConstantsScene::Square {
-            radius: r.exact_text().ok_or(Error::NotFinite { what: "radius" })?,
-        },
-        (SceneName::Triangular, _, _) => {
-            return Err(Error::Invalid(
-                "the triangular scene takes --w (w > 0) and no --radius".into(),
-            ));
-        }
-        (SceneName::Square, _, _) => {
-            return Err(Error::Invalid(
-                "the square scene takes --radius (0 < radius < 1/2) and no --w".into(),
-            ));
-        }
+    let name = match a.scene {
+        SceneName::Triangular => "triangular",
+        SceneName::Square => "square",
     };
+    let text = |e: &Option<Exact>| e.as_ref().map(|e| e.text.clone());
+    let scene = SceneSpec::parse(name, text(&a.w).as_deref(), text(&a.radius).as_deref())?;
     let r = constants::run(&ConstantsConfig {
         scene,
         precision: a.precision.precision,

@@ -47,10 +47,11 @@ pub fn run(a: Args) -> Result<(), Error> {
     let scene = gap(&a.w)?;
     check_request(a.collisions_per_segment, a.reference_bits)?;
     if a.segments == 0 || a.segments > MAX_SEGMENTS {
-        return Err(Error::Invalid(format!(
-            "segments = {} is out of range: use 1 to {MAX_SEGMENTS}",
-            a.segments
-        )));
+        return Err(Error::out_of_range(
+            "segments",
+            a.segments,
+            format!("use 1 to {MAX_SEGMENTS}"),
+        ));
     }
     let pb = Progress::new(
         a.collisions_per_segment as u64 * a.segments as u64,

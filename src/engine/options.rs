@@ -53,14 +53,18 @@ impl AuditSpec {
     pub fn validate(&self) -> Result<(), Error> {
         let (rate, bits) = (self.rate, self.bits);
         if !(rate > 0.0 && rate <= 1.0) {
-            return Err(Error::Invalid(format!(
-                "audit sample rate {rate} must be in (0, 1]"
-            )));
+            return Err(Error::out_of_range(
+                "audit",
+                rate,
+                "use a sample rate in (0, 1]",
+            ));
         }
         if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&bits) {
-            return Err(Error::Invalid(format!(
-                "audit precision {bits} bits is out of range: use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} bits"
-            )));
+            return Err(Error::out_of_range(
+                "reference_bits",
+                bits,
+                format!("use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} bits for the audit's replay"),
+            ));
         }
         Ok(())
     }
@@ -272,11 +276,11 @@ impl RunOptions<'_> {
             a.validate()?;
         }
         if self.checkpoint_every > MAX_CHECKPOINT_EVERY {
-            return Err(Error::Invalid(format!(
-                "checkpoint interval {} s is out of range: use 0 to {} s",
+            return Err(Error::out_of_range(
+                "checkpoint_every",
                 self.checkpoint_every.as_secs_f64(),
-                MAX_CHECKPOINT_EVERY.as_secs()
-            )));
+                format!("use 0 to {} seconds", MAX_CHECKPOINT_EVERY.as_secs()),
+            ));
         }
         Ok(())
     }

@@ -11,12 +11,16 @@ use crate::Error;
 pub const MAX_BATCHES: u32 = 1 << 20;
 
 /// Refuses more than [`MAX_BATCHES`] batches, naming `what` and the valid range.
-pub fn check_batches(what: &str, n: u32) -> Result<(), Error> {
+pub fn check_batches(what: &'static str, n: u32) -> Result<(), Error> {
     if n > MAX_BATCHES {
-        return Err(Error::Invalid(format!(
-            "{what} = {n} is too many: use at most {MAX_BATCHES} (each keeps its result in memory \
-             until the end; error bars need dozens)"
-        )));
+        return Err(Error::out_of_range(
+            what,
+            n,
+            format!(
+                "use at most {MAX_BATCHES} (each keeps its result in memory until the end; \
+                 error bars need dozens)"
+            ),
+        ));
     }
     Ok(())
 }

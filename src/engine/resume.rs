@@ -181,12 +181,10 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
     /// An I/O error, naming the path.
     pub fn append(&self, record: &R) -> Result<(), Error> {
         let line = self.line(record)?;
-        let mut f = self.file.lock().map_err(|_| {
-            Error::Failed(format!("{}: journal lock poisoned", self.path.display()))
-        })?;
+        let mut f = self.file.lock().map_err(|_| self.poisoned())?;
         let f = f
             .as_mut()
-            .ok_or_else(|| Error::Invalid(format!("{}: journal not open", self.path.display())))?;
+            .ok_or_else(|| Error::Failed(format!("{}: journal not open", self.path.display())))?;
         f.write_all(line.as_bytes())
             .map_err(|e| io_error("write", &self.path, e))?;
         f.sync_data().map_err(|e| io_error("sync", &self.path, e))
@@ -205,11 +203,15 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
         self.replace_text(&text)
     }
 
+    /// A writer that panicked while it held the journal: a run-time failure (exit status 4), the
+    /// same wherever the journal is touched.
+    fn poisoned(&self) -> Error {
+        Error::Failed(format!("{}: journal lock poisoned", self.path.display()))
+    }
+
     /// Writes the header and `body` atomically and reopens the file for appending.
     fn replace_text(&self, body: &str) -> Result<(), Error> {
-        let mut f = self.file.lock().map_err(|_| {
-            Error::Invalid(format!("{}: journal lock poisoned", self.path.display()))
-        })?;
+        let mut f = self.file.lock().map_err(|_| self.poisoned())?;
         crate::files::write(&self.path, format!("{}\n{body}", self.header))?;
         *f = Some(crate::files::open_append(&self.path)?);
         Ok(())

@@ -348,9 +348,11 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         return Err(Error::Zero { what: "collisions" });
     }
     if reps == 0 || reps > MAX_REPETITIONS {
-        return Err(Error::Invalid(format!(
-            "repetitions = {reps}: use 1 to {MAX_REPETITIONS}"
-        )));
+        return Err(Error::out_of_range(
+            "repetitions",
+            reps,
+            format!("use 1 to {MAX_REPETITIONS}"),
+        ));
     }
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });

@@ -181,16 +181,18 @@ struct Run {
 /// time whose precision or estimated run time exceeds [`MAX_TRAJECTORY_BITS`] or [`MAX_SECONDS`].
 pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error> {
     if input.digits == 0 || input.digits > MAX_DIGITS {
-        return Err(Error::Invalid(format!(
-            "digits = {} is out of range: use 1 to {MAX_DIGITS}",
-            input.digits
-        )));
+        return Err(Error::out_of_range(
+            "digits",
+            input.digits,
+            format!("use 1 to {MAX_DIGITS}"),
+        ));
     }
     if input.time <= 0 {
-        return Err(Error::Invalid(format!(
-            "time = {} is out of range: use a time > 0",
-            crate::numbers::exact::nearest_f64(&input.time)
-        )));
+        return Err(Error::out_of_range(
+            "time",
+            crate::numbers::exact::nearest_f64(&input.time),
+            "use a time > 0",
+        ));
     }
     if input.dx == 0 && input.dy == 0 {
         return Err(Error::Invalid(
@@ -213,9 +215,13 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
     if !expected_events.is_finite()
         || estimated_seconds(MIN_TRAJECTORY_BITS as f64, expected_events) > MAX_SECONDS
     {
-        return Err(Error::Invalid(format!(
-            "time = {time:e} is out of range: it means about {expected_events:.2e} events, more than a certified run can afford in {MAX_SECONDS} s; use a shorter time"
-        )));
+        return Err(Error::out_of_range(
+            "time",
+            format!("{time:e}"),
+            format!(
+                "it means about {expected_events:.2e} events, more than a certified run can afford in {MAX_SECONDS} s; use a shorter time"
+            ),
+        ));
     }
     let lambda = lyapunov::run(
         scene,

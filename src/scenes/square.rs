@@ -47,10 +47,11 @@ impl SquareScene {
     /// ```
     pub fn exact(r: Rational) -> Result<Self, Error> {
         if r <= 0 || r >= Rational::from((1, 2)) {
-            return Err(Error::Invalid(format!(
-                "radius = {} is out of range: use 0 < radius < 1/2",
-                Float64(&r)
-            )));
+            return Err(Error::out_of_range(
+                "radius",
+                Float64(&r),
+                "use 0 < radius < 1/2",
+            ));
         }
         let r64 = <f64 as Real>::from_rational((), &r);
         Ok(SquareScene { r, r64 })

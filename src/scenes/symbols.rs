@@ -121,14 +121,18 @@ impl fmt::Display for Symbol {
 /// assert!(e.to_string().contains("1 <= order <= 7"), "{e}");
 /// assert!(check_order("order", 0).is_err());
 /// ```
-pub fn check_order(what: &str, k: usize) -> Result<(), Error> {
+pub fn check_order(what: &'static str, k: usize) -> Result<(), Error> {
     if (1..=MAX_ORDER).contains(&k) {
         Ok(())
     } else {
-        Err(Error::Invalid(format!(
-            "{what} = {k} is out of range: use 1 <= {what} <= {MAX_ORDER} (sequences of \
-             length k over z, l, r; the exact order-k walk needs a dense LU on 3^(k-1) histories)"
-        )))
+        Err(Error::out_of_range(
+            what,
+            k,
+            format!(
+                "use 1 to {MAX_ORDER} (sequences of length k over z, l, r; the exact order-k \
+                 walk needs a dense LU on 3^(k-1) histories)"
+            ),
+        ))
     }
 }
 
@@ -283,7 +287,12 @@ mod tests {
         assert!(check_order("order", MAX_ORDER).is_ok());
         for k in [0, MAX_ORDER + 1, 100] {
             let e = check_order("order", k).unwrap_err().to_string();
-            assert!(e.contains(&format!("1 <= order <= {MAX_ORDER}")), "{e}");
+            assert!(
+                e.starts_with(&format!(
+                    "order = {k} is out of range: use 1 to {MAX_ORDER} ("
+                )),
+                "{e}"
+            );
         }
     }
 }

@@ -10,9 +10,10 @@ use serde_json::value::RawValue;
 
 use crate::Error;
 use crate::engine::metadata::RunMeta;
-use crate::numbers::exact::{check_exact, parse_exact};
+use crate::numbers::exact::{ExactInput, parse_exact};
 use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
+use crate::scenes::spec::SceneSpec;
 use crate::scenes::triangular::geometry::Geometry;
 use crate::theory::corridors::{self, CorridorJson, LatticeGas, Superdiffusion};
 use rug::Rational;
@@ -20,28 +21,12 @@ use rug::Rational;
 /// The scene and the working precision.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ConstantsConfig {
-    /// The triangular gas at a gap, or the square lattice at a radius.
-    pub scene: ConstantsScene,
+    /// The triangular gas at a gap (any w > 0: beyond w_inf the corridors are listed), or the
+    /// square lattice at a radius, each exactly as typed: every closed form starts from it at
+    /// the working precision.
+    pub scene: SceneSpec,
     /// The working precision.
     pub precision: Precision,
-}
-
-/// The scene whose closed forms are tabulated.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ConstantsScene {
-    /// Disks of radius 1 at spacing 2 + w (any w > 0: beyond w_inf the corridors are listed).
-    Triangular {
-        /// The gap's nearest double.
-        w: f64,
-        /// The gap exactly as typed (a decimal or a fraction): every closed form starts from it
-        /// at the working precision (`None`: from `w`).
-        w_exact: Option<String>,
-    },
-    /// Disks of radius r (0 < r < 1/2, exact text) at the integer points.
-    Square {
-        /// The radius exactly as typed.
-        radius: String,
-    },
 }
 
 /// One closed form.
@@ -155,29 +140,28 @@ impl ConstantsReport {
 /// The closed forms of `cfg`'s scene at its precision.
 ///
 /// # Errors
-/// A gap or radius out of range, a `w_exact` that is not exact or not `w`.
+/// A gap or radius that is not a number or out of range.
 ///
 /// # Examples
 ///
 /// ```
 /// use lorentz_gas::numbers::precision::Precision;
-/// use lorentz_gas::theory::constants::{run, ConstantsConfig, ConstantsScene};
-/// let scene = ConstantsScene::Triangular { w: 0.2, w_exact: Some("1/5".into()) };
+/// use lorentz_gas::scenes::spec::SceneSpec;
+/// use lorentz_gas::theory::constants::{run, ConstantsConfig};
+/// let scene = SceneSpec::Triangular { w: "0.2".into() };
 /// let r = run(&ConstantsConfig { scene, precision: Precision::F64 }).unwrap();
 /// assert_eq!(r.w_exact.as_deref(), Some("1/5"));
 /// assert!(r.finite_horizon && r.superdiffusion.is_none());
-/// let scene = ConstantsScene::Square { radius: "1/4".into() };
+/// let scene = SceneSpec::Square { radius: "1/4".into() };
 /// let r = run(&ConstantsConfig { scene, precision: Precision::F64 }).unwrap();
 /// assert_eq!(r.superdiffusion.unwrap().corridors.len(), 4);
 /// ```
 pub fn run(cfg: &ConstantsConfig) -> Result<ConstantsReport, Error> {
     let table = match &cfg.scene {
-        ConstantsScene::Triangular { w, w_exact } => {
-            check_exact("w", *w, w_exact.as_deref())?;
-            let exact = w_exact.as_deref().map(parse_exact).transpose()?;
-            Table::Triangular { w: *w, exact }
-        }
-        ConstantsScene::Square { radius } => Table::Square {
+        SceneSpec::Triangular { w } => Table::Triangular {
+            w: ExactInput::parse(w)?.rational("w")?,
+        },
+        SceneSpec::Square { radius } => Table::Square {
             r: parse_exact(radius)?,
         },
     };
@@ -187,9 +171,9 @@ pub fn run(cfg: &ConstantsConfig) -> Result<ConstantsReport, Error> {
     })
 }
 
-/// A scene, with its parameter exactly where it was given exactly.
+/// A scene, its parameter exact.
 enum Table {
-    Triangular { w: f64, exact: Option<Rational> },
+    Triangular { w: Rational },
     Square { r: Rational },
 }
 
@@ -214,7 +198,7 @@ impl AtPrecision for Tabulate {
         let bits = T::bits(ctx);
         let meta = RunMeta::new(None, None, self.precision, None);
         match self.table {
-            Table::Triangular { w, exact } => triangular::<T>(ctx, w, exact, meta),
+            Table::Triangular { w } => triangular::<T>(ctx, w, meta),
             Table::Square { r } => {
                 let gas = LatticeGas::Square { r: r.clone() };
                 let sd = corridors::superdiffusion::<T>(ctx, &gas)?;
@@ -281,17 +265,13 @@ fn superdiffusion_rows<T: Real>(sd: &Superdiffusion<T>, bits: u32) -> Superdiffu
     }
 }
 
-/// The triangular gas's closed forms at gap `w` (exactly `exact` when typed so).
+/// The triangular gas's closed forms at the exact gap `exact`.
 fn triangular<T: Real>(
     ctx: T::Ctx,
-    w64: f64,
-    exact: Option<Rational>,
+    exact: Rational,
     meta: RunMeta,
 ) -> Result<ConstantsReport, Error> {
-    let w = match &exact {
-        Some(q) => T::from_rational(ctx, q),
-        None => T::from_f64(ctx, w64),
-    };
+    let w = T::from_rational(ctx, &exact);
     let g = Geometry::new(w)?;
     let bits = T::bits(ctx);
     let row = row::<T>(bits);
@@ -338,16 +318,13 @@ fn triangular<T: Real>(
     let superdiffusion = if finite_horizon {
         None
     } else {
-        let q = exact
-            .clone()
-            .or_else(|| Rational::from_f64(w64))
-            .ok_or(Error::NotFinite { what: "w" })?;
-        let sd = corridors::superdiffusion::<T>(ctx, &LatticeGas::Triangular { w: q })?;
+        let gas = LatticeGas::Triangular { w: exact.clone() };
+        let sd = corridors::superdiffusion::<T>(ctx, &gas)?;
         Some(superdiffusion_rows(&sd, bits))
     };
     Ok(ConstantsReport {
         rows,
-        w_exact: exact.as_ref().map(|q| q.to_string()),
+        w_exact: Some(exact.to_string()),
         radius_exact: None,
         superdiffusion,
         max_free_path_bound: bound,

@@ -20,7 +20,9 @@ use rug::{Integer, Rational};
 use serde::Serialize;
 
 use crate::Error;
+use crate::numbers::exact::parse_exact;
 use crate::numbers::real::Real;
+use crate::scenes::spec::SceneSpec;
 
 /// A lattice of disks, one per cell, given exactly.
 #[derive(Debug, Clone, PartialEq)]
@@ -110,15 +112,42 @@ pub const MAX_CORRIDORS: usize = 1 << 20;
 pub const MAX_NORM2: i64 = 1 << 20;
 
 impl LatticeGas {
+    /// The lattice of a scene description ([`SceneSpec`]), its parameter exact as typed and
+    /// checked.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::scenes::spec::SceneSpec;
+    /// use lorentz_gas::theory::corridors::LatticeGas;
+    /// let gas = LatticeGas::of(&SceneSpec::Square { radius: "1/4".into() }).unwrap();
+    /// assert_eq!(gas, LatticeGas::Square { r: rug::Rational::from((1, 4)) });
+    /// assert!(LatticeGas::of(&SceneSpec::Square { radius: "1/2".into() }).is_err());
+    /// ```
+    ///
+    /// # Errors
+    /// A parameter that is not a decimal or a fraction, or out of range.
+    pub fn of(scene: &SceneSpec) -> Result<Self, Error> {
+        let gas = match scene {
+            SceneSpec::Triangular { w } => LatticeGas::Triangular { w: parse_exact(w)? },
+            SceneSpec::Square { radius } => LatticeGas::Square {
+                r: parse_exact(radius)?,
+            },
+        };
+        gas.validate()?;
+        Ok(gas)
+    }
+
     /// Checks the radius or gap (exactly).
     pub fn validate(&self) -> Result<(), Error> {
         match self {
             LatticeGas::Square { r } => {
                 if *r <= 0 || *r >= Rational::from((1, 2)) {
-                    return Err(Error::Invalid(format!(
-                        "radius = {} is out of range: use 0 < radius < 1/2",
-                        r.to_f64()
-                    )));
+                    return Err(Error::out_of_range(
+                        "radius",
+                        r.to_f64(),
+                        "use 0 < radius < 1/2",
+                    ));
                 }
             }
             LatticeGas::Triangular { w } => {

@@ -143,7 +143,7 @@ impl CorrelatedWalk {
     }
 
     fn check_order(k: usize) -> Result<(), Error> {
-        crate::scenes::symbols::check_order("walk order k", k)
+        crate::scenes::symbols::check_order("order", k)
     }
 
     /// The order k (sequences of length k, memory of k − 1 symbols).

@@ -286,7 +286,7 @@ fn bad_orders_and_counts_are_refused_up_front() {
     let p = |n: u64| {
         work.fetch_add(n, Ordering::Relaxed);
     };
-    let range = format!("1 <= order <= {MAX_ORDER}");
+    let range = format!("is out of range: use 1 to {MAX_ORDER} (");
     for order in [0, MAX_ORDER + 1, 100] {
         let e =
             theory::run(&hop_cfg(0.1, 1_000_000_000, 8, order, 1), &two_threads(&p)).unwrap_err();

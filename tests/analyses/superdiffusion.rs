@@ -4,17 +4,18 @@
 
 use lorentz_gas::engine::drive;
 use lorentz_gas::engine::observe::{EventLanes, Observer};
-use lorentz_gas::estimators::superdiffusion::{self, Gas, SuperdiffusionConfig};
+use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
 use lorentz_gas::numbers::lanes::Lanes;
 use lorentz_gas::observers::flight_tails::FlightTails;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::sampling::stream;
+use lorentz_gas::scenes::spec::SceneSpec;
 use lorentz_gas::scenes::square::SquareScene;
 
 use crate::common::{t4, threads};
 
-fn square(radius: &str) -> Gas {
-    Gas::Square {
+fn square(radius: &str) -> SceneSpec {
+    SceneSpec::Square {
         radius: radius.into(),
     }
 }
@@ -169,7 +170,7 @@ fn thread_count_changes_no_bit() {
         // Too few long flights for the tail fits: they are left out (null), not refused.
         vacf_fit: [2.0, 16.0],
         msd_fit: [2.0, 16.0],
-        ..SuperdiffusionConfig::new(Gas::Triangular { w: "1/2".into() })
+        ..SuperdiffusionConfig::new(SceneSpec::Triangular { w: "1/2".into() })
     };
     let json = |t| {
         let r = superdiffusion::run(&cfg, &threads(t)).unwrap();
@@ -191,7 +192,7 @@ fn finite_horizons_and_bad_windows_are_refused() {
             .unwrap_err()
             .to_string()
     };
-    let tri = |w: &str| SuperdiffusionConfig::new(Gas::Triangular { w: w.into() });
+    let tri = |w: &str| SuperdiffusionConfig::new(SceneSpec::Triangular { w: w.into() });
     assert!(run(tri("0.2")).contains("lorentz diffusion"));
     assert!(
         run(SuperdiffusionConfig {

@@ -691,7 +691,10 @@ const BAD: &[(&[&str], &str)] = &[
     (&["lattice-walk", "--w", "0.1", "--order", "100"], "order"),
     // escape
     (&["escape", "--w", "0"], "trapped"),
-    (&["escape", "--w", "0.1", "--widths", "3,20,30"], "<= L <="),
+    (
+        &["escape", "--w", "0.1", "--widths", "3,20,30"],
+        "--widths 3 is out of range: use widths L from",
+    ),
     (&["escape", "--w", "0.1", "--widths", "20,30"], "3 distinct"),
     (
         &["escape", "--w", "0.1", "--particles-per-width", "0"],

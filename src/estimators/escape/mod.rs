@@ -119,12 +119,16 @@ impl EscapeConfig {
         let min = Self::min_width(self.w)?;
         for &l in &self.widths {
             if !(l.is_finite() && l >= min && l <= MAX_WIDTH) {
-                return Err(Error::Invalid(format!(
-                    "width L = {l} is out of range: use {min:.3} <= L <= {MAX_WIDTH} at w = {} \
-                     (at least {MIN_WIDTH_SPACINGS} lattice spacings and {MIN_WIDTH_FREE_PATHS} \
-                     mean free paths)",
-                    self.w
-                )));
+                return Err(Error::out_of_range(
+                    "widths",
+                    l,
+                    format!(
+                        "use widths L from {min:.3} to {MAX_WIDTH} at w = {} (at least \
+                         {MIN_WIDTH_SPACINGS} lattice spacings and {MIN_WIDTH_FREE_PATHS} mean \
+                         free paths)",
+                        self.w
+                    ),
+                ));
             }
         }
         let mut distinct = self.widths.clone();
@@ -141,11 +145,11 @@ impl EscapeConfig {
             return Err(Error::Invalid("widths must be distinct".into()));
         }
         if !(MIN_PARTICLES..=MAX_PARTICLES).contains(&self.particles_per_width) {
-            return Err(Error::Invalid(format!(
-                "particles_per_width = {} is out of range: use {MIN_PARTICLES} <= \
-                 particles_per_width <= {MAX_PARTICLES}",
-                self.particles_per_width
-            )));
+            return Err(Error::out_of_range(
+                "particles_per_width",
+                self.particles_per_width,
+                format!("use {MIN_PARTICLES} to {MAX_PARTICLES}"),
+            ));
         }
         Ok(())
     }

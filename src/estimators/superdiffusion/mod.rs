@@ -34,48 +34,15 @@ use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{check_batches, par_batches, share};
 use crate::engine::work::{Work, crossings_per_collision};
-use crate::numbers::exact::parse_exact;
 use crate::numbers::lanes::Lanes;
 use crate::observers::flight_tails::{FlightTails, TailCounts, TailLane};
 use crate::observers::lag_moments::{LagMoments, LagSums, MomentLane};
 use crate::scenes::Scene;
 use crate::scenes::sampling::stream;
+use crate::scenes::spec::SceneSpec;
 use crate::scenes::square::SquareScene;
 use crate::scenes::triangular::TriangularScene;
 use crate::theory::corridors::{self, CorridorJson, LatticeGas, Superdiffusion};
-
-/// An infinite-horizon lattice, its parameter exactly as typed.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Gas {
-    /// Disks of radius 1 at spacing 2 + w, w > w_inf = 4/√3 − 2.
-    Triangular {
-        /// The gap, a decimal or a fraction.
-        w: String,
-    },
-    /// Disks of radius r (0 < r < 1/2) at the integer points.
-    Square {
-        /// The radius, a decimal or a fraction.
-        radius: String,
-    },
-}
-
-impl Gas {
-    /// The lattice, exactly.
-    ///
-    /// # Errors
-    /// A parameter that is not a decimal or a fraction, or out of range.
-    pub fn lattice_gas(&self) -> Result<LatticeGas, Error> {
-        let gas = match self {
-            Gas::Triangular { w } => LatticeGas::Triangular { w: parse_exact(w)? },
-            Gas::Square { radius } => LatticeGas::Square {
-                r: parse_exact(radius)?,
-            },
-        };
-        gas.validate()?;
-        Ok(gas)
-    }
-}
 
 /// Longest lag grid: 2²⁰ mean free times (the ring of past samples holds 2²⁰ + 1 of 48 bytes).
 pub const MAX_OCTAVES: u32 = 20;
@@ -84,8 +51,8 @@ pub const MAX_OCTAVES: u32 = 20;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SuperdiffusionConfig {
-    /// The lattice.
-    pub gas: Gas,
+    /// The lattice (an infinite horizon: the triangular gas beyond w_inf, or the square one).
+    pub scene: SceneSpec,
     /// Collisions in all, shared between the batches.
     pub collisions: u64,
     /// Independent batches (one trajectory each), at least 16: the errors are over them.
@@ -110,12 +77,12 @@ pub struct SuperdiffusionConfig {
 pub const MIN_BATCHES: u32 = 16;
 
 impl SuperdiffusionConfig {
-    /// The command line's defaults for `gas`: 2·10⁸ collisions in 32 batches, lags to 2¹² ℓ at 4
+    /// The command line's defaults for `scene`: 2·10⁸ collisions in 32 batches, lags to 2¹² ℓ at 4
     /// per octave, the tail fits from 8ℓ, the VACF's plateau over [64ℓ, 256ℓ], the MSD's slope
     /// over [512ℓ, 4096ℓ], seed 1.
-    pub fn new(gas: Gas) -> Self {
+    pub fn new(scene: SceneSpec) -> Self {
         SuperdiffusionConfig {
-            gas,
+            scene,
             collisions: 200_000_000,
             batches: 32,
             octaves: 12,
@@ -134,29 +101,35 @@ impl SuperdiffusionConfig {
     pub fn validate(&self) -> Result<(), Error> {
         check_batches("batches", self.batches)?;
         if self.batches < MIN_BATCHES {
-            return Err(Error::Invalid(format!(
-                "batches = {}: use at least {MIN_BATCHES} (the errors of heavy-tailed means need a few dozen batches)",
-                self.batches
-            )));
+            return Err(Error::out_of_range(
+                "batches",
+                self.batches,
+                format!(
+                    "use at least {MIN_BATCHES} (the errors of heavy-tailed means need a few dozen batches)"
+                ),
+            ));
         }
         if !(1..=MAX_OCTAVES).contains(&self.octaves) {
-            return Err(Error::Invalid(format!(
-                "octaves = {}: use 1 to {MAX_OCTAVES} (the longest lag is 2^octaves mean free times)",
-                self.octaves
-            )));
+            return Err(Error::out_of_range(
+                "octaves",
+                self.octaves,
+                format!("use 1 to {MAX_OCTAVES} (the longest lag is 2^octaves mean free times)"),
+            ));
         }
         if !(1..=16).contains(&self.points_per_octave) {
-            return Err(Error::Invalid(format!(
-                "points per octave = {}: use 1 to 16",
-                self.points_per_octave
-            )));
+            return Err(Error::out_of_range(
+                "points_per_octave",
+                self.points_per_octave,
+                "use 1 to 16",
+            ));
         }
         let longest = (self.octaves as f64).exp2();
         if !(self.tail_fit_from >= 1.0 && self.tail_fit_from < longest) {
-            return Err(Error::Invalid(format!(
-                "tail fit from {} mean free times: use 1 <= from < 2^octaves = {longest}",
-                self.tail_fit_from
-            )));
+            return Err(Error::out_of_range(
+                "tail_fit_from",
+                self.tail_fit_from,
+                format!("use at least 1 and below 2^octaves = {longest} (mean free times)"),
+            ));
         }
         for (what, w) in [("VACF", self.vacf_fit), ("MSD", self.msd_fit)] {
             let on_grid = self
@@ -310,7 +283,7 @@ impl LaneCheckpoint for Watch {
     }
 }
 
-/// Measures superdiffusion on `cfg.gas` (which must have an infinite horizon). Of the options,
+/// Measures superdiffusion on `cfg.scene` (which must have an infinite horizon). Of the options,
 /// `threads`, `progress`, `stop`, `resume` (a checkpoint: finished batches, and every
 /// `checkpoint_every` each trajectory in flight with both observers' lanes) and
 /// `checkpoint_every` apply; it runs on the scalar `f64` kernel.
@@ -328,7 +301,7 @@ pub fn run(
         "superdiffusion",
         &[RunOption::Resume, RunOption::CheckpointEvery],
     )?;
-    let gas = cfg.gas.lattice_gas()?;
+    let gas = LatticeGas::of(&cfg.scene)?;
     let sd = corridors::superdiffusion::<f64>((), &gas)?;
     match gas {
         LatticeGas::Square { r } => run_on(&SquareScene::exact(r)?, cfg, &sd, options),

@@ -216,9 +216,13 @@ impl AuditConfig {
     pub fn validate(&self) -> Result<(), Error> {
         let bits = self.reference_bits;
         if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&bits) {
-            return Err(Error::Invalid(format!(
-                "reference bits = {bits}: use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} (the shadow audit needs at least {MIN_AUDIT_BITS})"
-            )));
+            return Err(Error::out_of_range(
+                "reference_bits",
+                bits,
+                format!(
+                    "use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} (the shadow audit needs at least {MIN_AUDIT_BITS})"
+                ),
+            ));
         }
         Ok(())
     }

@@ -322,14 +322,20 @@ pub fn shadow_pseudo_orbit<S: Scene>(
 /// Refuses a segment length or precision outside the supported ranges, naming them.
 pub fn check_request(n: usize, bits: u32) -> Result<(), Error> {
     if !(2..=MAX_COLLISIONS).contains(&n) {
-        return Err(Error::Invalid(format!(
-            "collisions = {n} is out of range: use 2 to {MAX_COLLISIONS} (a segment needs one step; longer segments: split them)"
-        )));
+        return Err(Error::out_of_range(
+            "collisions_per_segment",
+            n,
+            format!(
+                "use 2 to {MAX_COLLISIONS} (a segment needs one step; longer segments: split them)"
+            ),
+        ));
     }
     if !(MIN_SHADOW_BITS..=MAX_SHADOW_BITS).contains(&bits) {
-        return Err(Error::Invalid(format!(
-            "precision = {bits} bits is out of range: use {MIN_SHADOW_BITS} to {MAX_SHADOW_BITS}"
-        )));
+        return Err(Error::out_of_range(
+            "reference_bits",
+            bits,
+            format!("use {MIN_SHADOW_BITS} to {MAX_SHADOW_BITS} bits"),
+        ));
     }
     Ok(())
 }
@@ -481,9 +487,11 @@ pub fn run<S: Scene>(
     } = request;
     check_request(collisions, bits)?;
     if !(1..=MAX_SEGMENTS).contains(&segments) {
-        return Err(Error::Invalid(format!(
-            "segments = {segments} is out of range: use 1 to {MAX_SEGMENTS}"
-        )));
+        return Err(Error::out_of_range(
+            "segments",
+            segments,
+            format!("use 1 to {MAX_SEGMENTS}"),
+        ));
     }
     let out = par_batches(threads, segments, |k| {
         let start = scene.sample(&mut stream(seed, k as u64));
