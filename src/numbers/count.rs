@@ -100,3 +100,52 @@ pub fn parse_threads(s: &str) -> Result<usize, String> {
     }
     Ok(v as usize)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_as_physicists_type_them() {
+        for (s, v) in [
+            ("2000000000", 2_000_000_000u64),
+            ("2_000_000_000", 2_000_000_000),
+            ("2e9", 2_000_000_000),
+            ("2E9", 2_000_000_000),
+            ("2.5e8", 250_000_000),
+            ("1e+3", 1000),
+            ("0", 0),
+            ("18446744073709551615", u64::MAX),
+            ("1.8446744073709551615e19", u64::MAX),
+            ("1200e-2", 12),
+        ] {
+            assert_eq!(parse_count(s), Ok(v), "{s}");
+        }
+        for s in [
+            "",
+            "-1",
+            "1.5",
+            "2e-3",
+            "1e20",
+            "18446744073709551616",
+            "abc",
+            "1e",
+            "e9",
+            "_1",
+            "1__0",
+            "0x10",
+            "1e99999999999999999999",
+            "NaN",
+            "inf",
+        ] {
+            assert!(parse_count(s).is_err(), "{s} accepted");
+        }
+        assert!(parse_count_u32("5e9").is_err());
+        assert_eq!(parse_threads("2"), Ok(2));
+        assert!(parse_threads("0").is_err());
+        assert!(parse_threads("1e6").is_err());
+        let cores = cores();
+        assert_eq!(parse_threads(&(4 * cores).to_string()), Ok(4 * cores));
+        assert!(parse_threads(&(4 * cores + 1).to_string()).is_err());
+    }
+}

@@ -205,4 +205,30 @@ mod tests {
         let wide = SceneSpec::parse("square", None, Some("1/2")).unwrap();
         assert!(wide.resolve().is_err());
     }
+
+    /// The scene of `w = "1/10"` or `"0.1"` at 256 bits has w = 1/10 rounded once at 256 bits,
+    /// not the double nearest 0.1 (which differs from 1/10 by 5.6e-18); the same for the radius.
+    #[test]
+    fn scenes_keep_the_exact_gap_and_radius() {
+        use crate::scenes::Scene;
+        use rug::{Float, Rational};
+        let tenth = Float::with_val(256, Rational::from((1, 10)));
+        for typed in ["0.1", "1/10"] {
+            let spec = SceneSpec::parse("triangular", Some(typed), None).unwrap();
+            let Ok(SceneChoice::Triangular(s)) = spec.resolve() else {
+                panic!("a triangular scene")
+            };
+            let w = s.kernel::<Float>(256).unwrap().w;
+            assert_eq!(w, tenth, "w = {typed}");
+            assert_ne!(w, Float::with_val(256, 0.1f64), "w = {typed}");
+            // f64 runs use the double nearest 0.1.
+            assert_eq!(s.kernel::<f64>(()).unwrap().w, 0.1);
+        }
+        let spec = SceneSpec::parse("square", None, Some("1/3")).unwrap();
+        let Ok(SceneChoice::Square(s)) = spec.resolve() else {
+            panic!("a square scene")
+        };
+        let third = Float::with_val(256, Rational::from((1, 3)));
+        assert_eq!(*s.kernel::<Float>(256).unwrap().disks[0].radius(), third);
+    }
 }

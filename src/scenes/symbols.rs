@@ -118,7 +118,7 @@ impl fmt::Display for Symbol {
 /// use lorentz_gas::scenes::symbols::check_order;
 /// assert!(check_order("order", 4).is_ok());
 /// let e = check_order("order", 100).unwrap_err();
-/// assert!(e.to_string().contains("1 <= order <= 7"), "{e}");
+/// assert!(e.to_string().starts_with("order = 100 is out of range: use 1 to 7 ("), "{e}");
 /// assert!(check_order("order", 0).is_err());
 /// ```
 pub fn check_order(what: &'static str, k: usize) -> Result<(), Error> {
