@@ -189,18 +189,6 @@ fn out_of_range_text(
     )
 }
 
-/// `parameter` spelled by `name` as the subject of a sentence: a keyword without its `=`
-/// (`threads`), a flag as it is (`--threads`).
-fn bare(parameter: &str, name: &dyn Fn(&str) -> String) -> String {
-    name(parameter).trim_end_matches('=').to_string()
-}
-
-/// Whether `what` names a parameter (a field name such as `threads`) rather than describing one
-/// in words: only a parameter is spelled in a front end's terms.
-fn is_parameter(what: &str) -> bool {
-    !what.is_empty() && what.bytes().all(|b| b.is_ascii_lowercase() || b == b'_')
-}
-
 /// The message of [`Error::UnusedOption`], the option spelled by `name`.
 fn unused_option_text(
     analysis: &str,
@@ -282,16 +270,6 @@ impl Error {
                 value,
                 range,
             } => out_of_range_text(parameter, value, range, name),
-            Error::Zero { what } if is_parameter(what) => {
-                format!("{} must be at least 1", bare(what, name))
-            }
-            Error::TooFew { what, min, got } if is_parameter(what) => format!(
-                "{} is too small: at least {min} is needed",
-                assignment(what, &got.to_string(), name)
-            ),
-            Error::NotFinite { what } if is_parameter(what) => {
-                format!("{} must be a finite number", bare(what, name))
-            }
             other => other.to_string(),
         }
     }

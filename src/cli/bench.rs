@@ -86,7 +86,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         let cfg = ObserverCostsConfig {
             w: a.gap.w(),
             collisions_per_thread: a.collisions_per_thread,
-            rounds: a.repetitions,
+            repetitions: a.repetitions,
             seed: a.seed.seed,
         };
         return timed(

@@ -38,8 +38,8 @@ pub struct ObserverCostsConfig {
     pub w: f64,
     /// Collisions of each thread in each timed run.
     pub collisions_per_thread: u64,
-    /// Rounds, 1 to [`MAX_REPETITIONS`]; each times every set once.
-    pub rounds: usize,
+    /// Repetitions (rounds), 1 to [`MAX_REPETITIONS`]; each times every set once.
+    pub repetitions: usize,
     /// Seed of the equilibrium starts.
     pub seed: u64,
 }
@@ -50,27 +50,28 @@ impl ObserverCostsConfig {
         ObserverCostsConfig {
             w,
             collisions_per_thread: 20_000_000,
-            rounds: 7,
+            repetitions: 7,
             seed: 1,
         }
     }
 
-    /// Checks the gap, the collisions and the rounds.
+    /// Checks the gap, the collisions and the repetitions.
     ///
     /// # Errors
-    /// A gap that is not positive, no collisions, rounds out of range.
+    /// A gap that is not positive, no collisions, repetitions out of range.
     pub fn validate(&self) -> Result<(), Error> {
         Geometry::new(self.w)?;
         if self.collisions_per_thread == 0 {
             return Err(Error::Zero {
-                what: "collisions per thread",
+                what: "collisions_per_thread",
             });
         }
-        if self.rounds == 0 || self.rounds > MAX_REPETITIONS {
-            return Err(Error::Invalid(format!(
-                "rounds = {}: use 1 to {MAX_REPETITIONS}",
-                self.rounds
-            )));
+        if self.repetitions == 0 || self.repetitions > MAX_REPETITIONS {
+            return Err(Error::out_of_range(
+                "repetitions",
+                self.repetitions,
+                format!("use 1 to {MAX_REPETITIONS}"),
+            ));
         }
         Ok(())
     }
@@ -109,7 +110,7 @@ pub struct ObserverCosts {
     pub meta: RunMeta,
 }
 
-/// Times every set of [`SETS`] in `cfg.rounds` rounds (module documentation) on
+/// Times every set of [`SETS`] in `cfg.repetitions` rounds (module documentation) on
 /// `options.threads` threads and `options.engine`. `options.progress` receives finished rounds.
 ///
 /// # Errors
@@ -134,12 +135,12 @@ pub fn run(cfg: &ObserverCostsConfig, options: &RunOptions) -> Result<ObserverCo
         .iter()
         .map(|_| starts::<f64>((), &trap64, cfg.seed, threads, lanes))
         .collect();
-    let mut ns = vec![Vec::with_capacity(cfg.rounds); SETS.len()];
+    let mut ns = vec![Vec::with_capacity(cfg.repetitions); SETS.len()];
     let mut crossings = vec![0u64; SETS.len()];
     for (k, s) in SETS.iter().zip(&mut states) {
         go(*k, s, (n / 10).max(1))?; // untimed warm-up
     }
-    for r in 0..cfg.rounds {
+    for r in 0..cfg.repetitions {
         for i in (0..SETS.len()).map(|i| (i + r) % SETS.len()) {
             let t0 = Instant::now();
             crossings[i] += go(SETS[i], &mut states[i], n)?;
@@ -170,9 +171,9 @@ pub fn run(cfg: &ObserverCostsConfig, options: &RunOptions) -> Result<ObserverCo
     Ok(ObserverCosts {
         w: cfg.w,
         collisions_per_thread: n,
-        rounds: cfg.rounds,
+        rounds: cfg.repetitions,
         threads,
-        crossings_per_collision: crossings[0] as f64 / (per_run * cfg.rounds as u64) as f64,
+        crossings_per_collision: crossings[0] as f64 / (per_run * cfg.repetitions as u64) as f64,
         costs,
         meta: RunMeta::new(Some(cfg.seed), None, Precision::F64, Some(threads)).with_engine(engine),
     })

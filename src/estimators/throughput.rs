@@ -345,7 +345,9 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
     let (engine, threads, progress) = (options.engine, options.threads, options.progress);
     Geometry::new(w)?;
     if collisions == 0 {
-        return Err(Error::Zero { what: "collisions" });
+        return Err(Error::Zero {
+            what: "collisions_per_thread",
+        });
     }
     if reps == 0 || reps > MAX_REPETITIONS {
         return Err(Error::out_of_range(

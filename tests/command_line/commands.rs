@@ -740,7 +740,7 @@ const BAD: &[(&[&str], &str)] = &[
     (&["bench", "--w", "-1"], "trapped"),
     (
         &["bench", "--w", "0.1", "--repetitions", "0"],
-        "repetitions",
+        "--repetitions 0 is out of range: use 1 to",
     ),
     (&["bench", "--w", "0.1", "--threads", "0"], "threads"),
     (
@@ -752,7 +752,7 @@ const BAD: &[(&[&str], &str)] = &[
             "--repetitions",
             "0",
         ],
-        "rounds",
+        "--repetitions 0 is out of range: use 1 to",
     ),
     (
         &[

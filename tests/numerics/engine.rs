@@ -464,7 +464,7 @@ fn observer_sets_make_the_same_crossings_on_both_engines() {
     for engine in [Engine::Scalar, Engine::Simd] {
         let cfg = ObserverCostsConfig {
             collisions_per_thread: 160_000,
-            rounds: 2,
+            repetitions: 2,
             ..ObserverCostsConfig::new(0.2)
         };
         let r = observer_costs::run(

@@ -123,7 +123,16 @@ fn open_corridors_the_simd_engine_and_mpfr_audits_are_refused() {
         ..scalar(1)
     };
     let e = run_on(&two_radius(), &cfg, &simd).unwrap_err();
-    assert!(matches!(e, Error::Invalid(_)), "{e}");
+    assert!(
+        matches!(
+            e,
+            Error::OutOfRange {
+                parameter: "engine",
+                ..
+            }
+        ),
+        "{e}"
+    );
     let mpfr = SceneDiffusionConfig {
         precision: Precision::Bits(128),
         ..cfg.clone()

@@ -230,11 +230,12 @@ pub fn run_on<S: Scene>(
         .crossing(crossings_per_collision(scene))
         .check(options.threads)?;
     if !matches!(options.engine, Engine::Auto | Engine::Scalar) {
-        return Err(Error::Invalid(format!(
-            "engine = {:?}: a scene's own kernel runs on the scalar engine (the SIMD engine runs \
-             only the triangular trap's fused kernel); use engine auto or scalar",
-            options.engine
-        )));
+        return Err(Error::out_of_range(
+            "engine",
+            format!("{:?}", options.engine).to_lowercase(),
+            "use auto or scalar (a scene's own kernel runs on the scalar engine; the SIMD engine \
+             runs only the triangular trap's fused kernel)",
+        ));
     }
     super::check_audit(options, cfg.precision)?;
     let start = Instant::now();

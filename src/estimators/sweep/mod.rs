@@ -209,20 +209,15 @@ impl SweepConfig {
 
     /// Checks every parameter before anything runs or is written.
     pub fn validate(&self) -> Result<(), Error> {
-        if self.steps < 2 {
-            return Err(Error::Invalid(format!(
-                "steps = {}: a sweep needs at least 2 points",
-                self.steps
-            )));
+        if self.steps < 2 || self.steps > MAX_SWEEP_POINTS {
+            return Err(Error::out_of_range(
+                "steps",
+                self.steps,
+                format!("use 2 to {MAX_SWEEP_POINTS} points (a sweep needs at least 2)"),
+            ));
         }
         if self.runs == 0 {
             return Err(Error::Zero { what: "runs" });
-        }
-        if self.steps > MAX_SWEEP_POINTS {
-            return Err(Error::Invalid(format!(
-                "steps = {} is too many: use 2 to {MAX_SWEEP_POINTS} points",
-                self.steps
-            )));
         }
         crate::engine::parallel::check_batches("runs", self.runs)?;
         // The ends exactly as typed: every point lies between them.
