@@ -22,23 +22,30 @@ use super::vec2::Vec2;
 use crate::Error;
 use crate::numbers::real::Real;
 
-/// The canonical trap at gap `w`, all constants at the working precision.
+/// The canonical trap at gap `w`, all constants at the working precision. Every constant is
+/// derived from w by [`Trap::new`] and read through a method (`trap.a()`): no safe code outside
+/// the crate can make a trap inconsistent with its gap.
+///
+/// ```compile_fail
+/// let mut t = lorentz_gas::kernel::trap::Trap::new(0.1f64).unwrap();
+/// t.a = 3.0; // the spacing of another gap: refused, the field is the crate's
+/// ```
 #[derive(Debug, Clone)]
 pub struct Trap<T: Real> {
     /// Gap w.
-    pub w: T,
+    pub(crate) w: T,
     /// Spacing a = 2 + w.
-    pub a: T,
+    pub(crate) a: T,
     /// Height h = √3a/2.
-    pub h: T,
+    pub(crate) h: T,
     /// Disk centres P₀, P₁, P₂.
-    pub vertices: [Vec2<T>; 3],
+    pub(crate) vertices: [Vec2<T>; 3],
     /// Inward unit normals nₖ of the edges Eₖ (opposite Pₖ).
-    pub normals: [Vec2<T>; 3],
+    pub(crate) normals: [Vec2<T>; 3],
     /// Offsets oₖ: the signed distance to Eₖ is σₖ(p) = nₖ·p − oₖ (≥ 0 inside).
-    pub offsets: [T; 3],
+    pub(crate) offsets: [T; 3],
     /// Reflection centres cₖ = sum of the endpoints of Eₖ.
-    pub centres: [Vec2<T>; 3],
+    pub(crate) centres: [Vec2<T>; 3],
     /// How [`Trap::next_event_chosen`] (and the SIMD engine) choose before dividing: derived
     /// from w, read through [`Trap::choice`].
     choice: Choice<T>,
@@ -69,6 +76,41 @@ pub fn spacing<T: Real>(w: &T) -> Result<T, Error> {
 }
 
 impl<T: Real> Trap<T> {
+    /// Gap w.
+    pub fn w(&self) -> &T {
+        &self.w
+    }
+
+    /// Spacing a = 2 + w.
+    pub fn a(&self) -> &T {
+        &self.a
+    }
+
+    /// Height h = √3a/2.
+    pub fn h(&self) -> &T {
+        &self.h
+    }
+
+    /// Disk centres P₀, P₁, P₂.
+    pub fn vertices(&self) -> &[Vec2<T>; 3] {
+        &self.vertices
+    }
+
+    /// Inward unit normals nₖ of the edges Eₖ (opposite Pₖ).
+    pub fn normals(&self) -> &[Vec2<T>; 3] {
+        &self.normals
+    }
+
+    /// Offsets oₖ: the signed distance to Eₖ is σₖ(p) = nₖ·p − oₖ (≥ 0 inside).
+    pub fn offsets(&self) -> &[T; 3] {
+        &self.offsets
+    }
+
+    /// Reflection centres cₖ = sum of the endpoints of Eₖ.
+    pub fn centres(&self) -> &[Vec2<T>; 3] {
+        &self.centres
+    }
+
     /// How [`Trap::next_event_chosen`] and the SIMD engine choose before dividing.
     pub fn choice(&self) -> &Choice<T> {
         &self.choice
@@ -87,7 +129,8 @@ impl<T: Real> Trap<T> {
     /// ```
     /// use lorentz_gas::kernel::trap::Trap;
     /// let t = Trap::new(0.1f64).unwrap();
-    /// assert_eq!(t.vertices[1].x, 2.1);
+    /// assert_eq!(t.vertices()[1].x, 2.1);
+    /// assert_eq!(*t.a(), 2.1);
     /// ```
     pub fn new(w: T) -> Result<Self, Error> {
         let ctx = w.ctx();

@@ -41,7 +41,7 @@ fn state(cell: CellIndex, pos: (f64, f64), vel: (f64, f64)) -> LatticeState<f64>
 #[test]
 fn straight_flight_is_absorbed_at_the_exact_crossing_time() {
     let scene = TriangularScene::new(0.1).unwrap();
-    let (a, h) = (scene.trap64().a, scene.trap64().h);
+    let (a, h) = (*scene.trap64().a(), *scene.trap64().h());
     // Up trap (0, 0) from its centroid to the right: the disk P₁ is first met at
     // x = a − √(1 − (h/3)²) ≈ 1.305 > a/2 + 0.1, so the line x = L = a/2 + 0.1 comes first.
     let width = a / 2.0 + 0.1;
@@ -88,7 +88,7 @@ fn straight_flight_is_absorbed_at_the_exact_crossing_time() {
 fn absorption_time_agrees_with_a_brute_force_scan() {
     const DELTA: f64 = 1e-3;
     let scene = TriangularScene::new(0.2).unwrap();
-    let strip = Strip::new(&scene, 2.0 * scene.trap64().a).unwrap();
+    let strip = Strip::new(&scene, 2.0 * scene.trap64().a()).unwrap();
     let lat = strip.lattice();
     let b = lat.basis_f64();
     let mut rng = StreamKey::new(11, Purpose::Verification, 0).rng();
@@ -132,7 +132,7 @@ fn absorption_time_agrees_with_a_brute_force_scan() {
 #[test]
 fn strip_samples_are_uniform_on_the_free_region() {
     let scene = TriangularScene::new(0.15).unwrap();
-    let (a, h) = (scene.trap64().a, scene.trap64().h);
+    let (a, h) = (*scene.trap64().a(), *scene.trap64().h());
     let width = 8.0 * a;
     let strip = Strip::new(&scene, width).unwrap();
     let lat = strip.lattice();

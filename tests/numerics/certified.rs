@@ -99,15 +99,15 @@ fn aimed_starts_are_decided_exactly_or_deferred() {
 /// more than 53 bits the `f64` midpoints alone would order some of them wrongly.
 fn rim_crossing_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
     let mut out = Vec::new();
-    let centroid = Vec2::new(trap.a / 2.0, trap.h / 3.0);
+    let centroid = Vec2::new(trap.a() / 2.0, trap.h() / 3.0);
     for e in 0..3usize {
         let (i, j) = ((e + 1) % 3, (e + 2) % 3);
         for (from, to) in [(i, j), (j, i)] {
             let (c, d) = (
-                &trap.vertices[from],
-                trap.vertices[to].sub(&trap.vertices[from]),
+                &trap.vertices()[from],
+                trap.vertices()[to].sub(&trap.vertices()[from]),
             );
-            let along = Vec2::new(d.x / trap.a, d.y / trap.a);
+            let along = Vec2::new(d.x / trap.a(), d.y / trap.a());
             for k in -12..=12 {
                 let shift = k as f64 * 1e-14 * if k % 2 == 0 { 0.01 } else { 1.0 };
                 let r = 1.0 + shift;
@@ -149,14 +149,14 @@ fn zero_times_and_tangents_are_deferred_or_exact() {
     };
     let s = std::f64::consts::FRAC_1_SQRT_2;
     let mut starts = vec![
-        f(0.5, 0.5, -s, -s),            // inside disk 0, moving in
-        f(t64.a / 2.0, 0.0, 0.0, -1.0), // on edge 2, leaving
-        f(t64.a / 2.0, 0.0, 0.6, -0.8), // on edge 2, leaving at a slant
-        f(t64.a / 2.0, 2.0, -1.0, 0.0), // y = 2 … a horizontal flight
-        f(-1.0, 1.0 / 3.0, 1.0, 0.0),   // outside, aimed by the cell's tangent y = 1
-        f(t64.a / 2.0, 1.0, -1.0, 0.0), // tangent to disk 0 (|d × v| = 1 exactly)
+        f(0.5, 0.5, -s, -s),              // inside disk 0, moving in
+        f(t64.a() / 2.0, 0.0, 0.0, -1.0), // on edge 2, leaving
+        f(t64.a() / 2.0, 0.0, 0.6, -0.8), // on edge 2, leaving at a slant
+        f(t64.a() / 2.0, 2.0, -1.0, 0.0), // y = 2 … a horizontal flight
+        f(-1.0, 1.0 / 3.0, 1.0, 0.0),     // outside, aimed by the cell's tangent y = 1
+        f(t64.a() / 2.0, 1.0, -1.0, 0.0), // tangent to disk 0 (|d × v| = 1 exactly)
     ];
-    for c in &t64.vertices {
+    for c in t64.vertices() {
         for (vx, vy) in [(1.0, 0.0), (-s, s), (0.0, -1.0), (s, s)] {
             starts.push(f(c.x, c.y, vx, vy));
         }

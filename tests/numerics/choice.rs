@@ -46,7 +46,7 @@ pub(crate) fn free_start(trap: &Trap<f64>, rng: &mut Gen) -> Flight<f64> {
         } else {
             (u, v)
         };
-        let p = Vec2::new(trap.a * (u + v / 2.0), trap.h * v);
+        let p = Vec2::new(trap.a() * (u + v / 2.0), trap.h() * v);
         if trap.is_free(&p) {
             let phi = rng.random::<f64>() * std::f64::consts::TAU;
             return Flight::new(p, Vec2::new(phi.cos(), phi.sin()));
@@ -108,7 +108,7 @@ fn plus(a: &Vec2<f64>, k: f64, b: &Vec2<f64>) -> Vec2<f64> {
 fn two_disk_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
     let mut out = Vec::new();
     for (i, j) in [(0, 1), (1, 2), (2, 0), (1, 0), (2, 1), (0, 2)] {
-        let (ci, cj) = (&trap.vertices[i], &trap.vertices[j]);
+        let (ci, cj) = (&trap.vertices()[i], &trap.vertices()[j]);
         let d = cj.sub(ci);
         let dist = d.norm2().sqrt();
         let base = d.y.atan2(d.x);
@@ -136,8 +136,8 @@ fn two_disk_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
 /// edge through its gap, and rim starts leaving a disk at grazing angles.
 pub(crate) fn aimed_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
     let mut out = two_disk_starts(trap);
-    let centroid = Vec2::new(trap.a / 2.0, trap.h / 3.0);
-    for c in &trap.vertices {
+    let centroid = Vec2::new(trap.a() / 2.0, trap.h() / 3.0);
+    for c in trap.vertices() {
         for k in -8..=8 {
             let v = c.sub(&centroid);
             let phi = v.y.atan2(v.x) + k as f64 * 1e-9;
@@ -147,7 +147,7 @@ pub(crate) fn aimed_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
     for m in 0..3 {
         // Along edge m's gap, leaving through the corner disks at tiny angles.
         let (i, j) = ((m + 1) % 3, (m + 2) % 3);
-        let (ci, cj) = (&trap.vertices[i], &trap.vertices[j]);
+        let (ci, cj) = (&trap.vertices()[i], &trap.vertices()[j]);
         let mid = plus(ci, 0.5, &cj.sub(ci));
         let d = cj.sub(ci);
         let base = d.y.atan2(d.x);
@@ -161,7 +161,7 @@ pub(crate) fn aimed_starts(trap: &Trap<f64>) -> Vec<Flight<f64>> {
         }
     }
     for m in 0..3u8 {
-        let c = &trap.vertices[m as usize];
+        let c = &trap.vertices()[m as usize];
         for k in 0..64 {
             let theta = k as f64 * std::f64::consts::TAU / 64.0;
             let rim = plus(c, 1.0, &dir(theta));
@@ -189,7 +189,7 @@ fn closest_disk_pair(trap: &Trap<f64>, starts: &[Flight<f64>]) -> f64 {
         let mut t: Vec<f64> = (0..3u8)
             .filter(|&m| f.excluded_disk != Some(m))
             .filter_map(|m| {
-                let c = &trap.vertices[m as usize];
+                let c = &trap.vertices()[m as usize];
                 ray_circle_centred(f.pos.x - c.x, f.pos.y - c.y, &f.vel, &f.vel.norm2(), &1.0)
             })
             .collect();
@@ -272,7 +272,7 @@ fn undecided_edges_fall_back_to_the_quotients() {
         (1, Vec2::new(s, -s)),
         (2, Vec2::new(0.0, 1.0)),
     ] {
-        let mut f = Flight::new(trap.vertices[m as usize].clone(), v);
+        let mut f = Flight::new(trap.vertices()[m as usize].clone(), v);
         f.excluded_disk = Some(m);
         let ev = trap.cell().next_event(&f).unwrap();
         assert_eq!(ev.time, 0.0, "corner {m}");
@@ -310,7 +310,7 @@ fn undecided_edges_fall_back_to_the_quotients() {
 #[test]
 fn grazing_entry_times_are_within_the_notes_bound() {
     let trap = Trap::new(0.1).unwrap();
-    let c = trap.vertices[1].clone();
+    let c = trap.vertices()[1].clone();
     let eps = 28.0 * f64::EPSILON / 2.0;
     let rho2 = Float::with_val(256, 1.0 + eps).square();
     let (mut worst, mut n, mut misses) = (0.0f64, 0, 0);

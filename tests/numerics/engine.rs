@@ -150,7 +150,7 @@ fn hard_cases_and_grazing_starts_are_reproduced_on_every_available_path() {
         let mut total = 0;
         for w in [1e-6, 0.01, w0, 0.1, w_inf - 1e-9] {
             let trap = Trap::new(w).unwrap();
-            let (a, h) = (trap.a, trap.h);
+            let (a, h) = (trap.a(), trap.h());
             let unit = |x: f64, y: f64| {
                 let n = (x * x + y * y).sqrt();
                 Vec2::new(x / n, y / n)
@@ -176,7 +176,7 @@ fn hard_cases_and_grazing_starts_are_reproduced_on_every_available_path() {
             }
             // Tangent to each disk from the trap centre, turned by k·10⁻¹⁶ rad: grazing hits
             // and misses within a few ulps of tangency.
-            for (m, c) in trap.vertices.iter().enumerate() {
+            for (m, c) in trap.vertices().iter().enumerate() {
                 let d = c.sub(&centre);
                 let dist = d.norm2().sqrt();
                 let base = d.y.atan2(d.x) + (1.0 / dist).asin();

@@ -163,7 +163,7 @@ fn flight_along_a_gap_edge_is_an_exact_periodic_orbit() {
         let expect = if k % 2 == 0 { 1 } else { 0 };
         assert_eq!(ev.kind, EventKind::Collision(expect), "event {k}");
         assert!(
-            (ev.time - (trap.a - 2.0)).abs() <= 4.0 * f64::EPSILON,
+            (ev.time - (trap.a() - 2.0)).abs() <= 4.0 * f64::EPSILON,
             "flight {k}: {}",
             ev.time
         );
@@ -182,17 +182,17 @@ fn rays_through_the_gap_disk_corners_are_within_the_model() {
     for &w in &[0.01, 0.1, 0.3] {
         let t64 = Trap::new(w).unwrap();
         let tr = Trap::new(Float::with_val(256, w)).unwrap();
-        let c = t64.a / 2.0;
+        let c = t64.a() / 2.0;
         let corners = [
             Vec2::new(1.0, 0.0),
             Vec2::new(0.5, 3f64.sqrt() / 2.0),
-            Vec2::new(t64.a - 1.0, 0.0),
+            Vec2::new(t64.a() - 1.0, 0.0),
         ];
         for corner in corners {
             for k in 0..200 {
                 // From points on a small circle around the trap centre towards the corner.
                 let ang = k as f64 * 0.0314159;
-                let p = Vec2::new(c + 0.1 * ang.cos(), t64.h / 3.0 + 0.1 * ang.sin());
+                let p = Vec2::new(c + 0.1 * ang.cos(), t64.h() / 3.0 + 0.1 * ang.sin());
                 let d = corner.sub(&p);
                 let n = d.norm2().sqrt();
                 let f = Flight::new(p, Vec2::new(d.x / n, d.y / n));

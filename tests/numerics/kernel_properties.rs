@@ -32,7 +32,7 @@ fn start(w: f64, u1: f64, u2: f64, u3: f64) -> Option<Flight<f64>> {
             a = 1.0 - a;
             b = 1.0 - b;
         }
-        let p = Vec2::new(a * t.a + b * t.a * 0.5, b * t.h);
+        let p = Vec2::new(a * t.a() + b * t.a() * 0.5, b * t.h());
         t.is_free(&p).then_some(p)
     })?;
     let ang = 2.0 * std::f64::consts::PI * u3;
@@ -109,7 +109,7 @@ macro_rules! kernel_properties {
                                         (e2b.clone() - e2.clone()).to_f64() / u()
                                     );
                                 }
-                                for c in &trap.vertices {
+                                for c in trap.vertices() {
                                     // |x − c|² − 1 in T (as for the energy: 1 − 256u is 1 in f64).
                                     let d = f.pos.sub(c).norm2().add_f64(-1.0).to_f64();
                                     prop_assert!(d >= -tol, "inside a disk: |x-c|^2 - 1 = {d:e}");
@@ -117,7 +117,7 @@ macro_rules! kernel_properties {
                                 for k in 0..3 {
                                     let s = trap.edge_distance(k, &f.pos).to_f64();
                                     prop_assert!(
-                                        s >= -tol * trap.a.to_f64(),
+                                        s >= -tol * trap.a().to_f64(),
                                         "outside edge {k}: {s:e}"
                                     );
                                 }

@@ -127,7 +127,7 @@ fn horizon_threshold_w_inf() {
     let w_inf = Geometry::<f64>::w_inf(());
     for &w in &[w_inf + 1e-9, w_inf + 1e-3, 0.35, 0.5] {
         let lat = TriangularLattice::new(w).unwrap();
-        let (a, h) = (lat.trap().a, lat.trap().h);
+        let (a, h) = (lat.trap().a(), lat.trap().h());
         assert!(
             h / 2.0 - 1.0 > 1e6 * f64::EPSILON,
             "the corridor is resolvable at w = {w}"
@@ -162,7 +162,7 @@ fn horizon_threshold_w_inf() {
     for &w in &[0.01, 0.1, 0.2, 0.3, w_inf - 1e-6] {
         let lat = TriangularLattice::new(w).unwrap();
         let g = Geometry::new(w).unwrap();
-        let (a, h) = (lat.trap().a, lat.trap().h);
+        let (a, h) = (lat.trap().a(), lat.trap().h());
         let mut s = LatticeState {
             cell: CellIndex::default(),
             flight: Flight::new(Vec2::new(a / 2.0, h / 2.0), Vec2::new(1.0, 0.0)),
@@ -242,7 +242,7 @@ fn collisionless_flights_onset_w0() {
     // r = (a − 1 + 2/√3)/2, passes P₀ at distance r√3/2 > 1 for w > w₀.
     for &w in &[w0 + 1e-6, 0.2, 0.3] {
         let lat = TriangularLattice::new(w).unwrap();
-        let a = lat.trap().a;
+        let a = lat.trap().a();
         let r = 0.5 * (a - 1.0 + 2.0 / 3f64.sqrt());
         let mut f = Flight::new(Vec2::new(r, 0.0), Vec2::new(-0.5, 3f64.sqrt() / 2.0));
         f.excluded_edge = Some(2);

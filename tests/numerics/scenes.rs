@@ -98,8 +98,8 @@ fn generic_cell_kernel_reproduces_the_fused_trap_bit_for_bit_in_mpfr() {
 fn gap_disk_corners(t: &lorentz_gas::kernel::trap::Trap<f64>) -> Vec<(Vec2<f64>, Vec2<f64>)> {
     let mut out = Vec::new();
     for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-        let (p, q) = (&t.vertices[i], &t.vertices[j]);
-        let e = Vec2::new((q.x - p.x) / t.a, (q.y - p.y) / t.a);
+        let (p, q) = (&t.vertices()[i], &t.vertices()[j]);
+        let e = Vec2::new((q.x - p.x) / t.a(), (q.y - p.y) / t.a());
         out.push((Vec2::new(p.x + e.x, p.y + e.y), e.clone()));
         out.push((Vec2::new(q.x - e.x, q.y - e.y), Vec2::new(-e.x, -e.y)));
     }
@@ -121,9 +121,9 @@ fn generic_and_fused_agree_on_starts_aimed_at_the_gap_disk_corners() {
         let lat = TriangularLattice::new(w).unwrap();
         let generic = Lattice::from_kernel(lat.trap().cell().clone());
         let t = lat.trap().clone();
-        let centre = Vec2::new(t.a / 2.0, t.h / 3.0);
+        let centre = Vec2::new(t.a() / 2.0, t.h() / 3.0);
         // A fifth of the free radius a/√3 − 1 around the centre: every corner is in sight.
-        let rho = 0.2 * (t.a / 3f64.sqrt() - 1.0);
+        let rho = 0.2 * (t.a() / 3f64.sqrt() - 1.0);
         let (mut collisions, mut crossings, mut aimed) = (0, 0, 0);
         for (n, (corner, normal)) in gap_disk_corners(&t).into_iter().enumerate() {
             for o in 0..8 {
@@ -151,8 +151,8 @@ fn generic_and_fused_agree_on_starts_aimed_at_the_gap_disk_corners() {
                     // on the disk or the edge that is stretched by 1/cos of the angle of
                     // incidence (rays to a corner next to a narrow gap come in nearly tangent).
                     let dist = (corner.x - p.x).hypot(corner.y - p.y);
-                    let lateral =
-                        2.0 * (k.abs() as f64 * 1e-16 * dist + 16.0 * UNIT_ROUNDOFF * (t.a + dist));
+                    let lateral = 2.0
+                        * (k.abs() as f64 * 1e-16 * dist + 16.0 * UNIT_ROUNDOFF * (t.a() + dist));
                     let cos = (normal.x * dx + normal.y * dy)
                         .abs()
                         .min((normal.x * dy - normal.y * dx).abs());
@@ -195,8 +195,8 @@ fn generic_and_fused_agree_on_grazing_and_edge_starts() {
         for k in 1..53 {
             let b = 1.0 - (-(k as f64)).exp2() * if rng.random::<bool>() { 1.0 } else { -1.0 };
             // From the base-gap midpoint towards P₂ with impact parameter b.
-            let p = Vec2::new(t.a / 2.0, 0.0);
-            let to = Vec2::new(t.vertices[2].x - p.x, t.vertices[2].y - p.y);
+            let p = Vec2::new(t.a() / 2.0, 0.0);
+            let to = Vec2::new(t.vertices()[2].x - p.x, t.vertices()[2].y - p.y);
             let d = (to.x * to.x + to.y * to.y).sqrt();
             let alpha = (b / d).asin();
             let th = to.y.atan2(to.x) + alpha;
@@ -208,9 +208,9 @@ fn generic_and_fused_agree_on_grazing_and_edge_starts() {
         }
         for e in 0..3 {
             // On the gap of each edge, moving along the edge and across it.
-            let c = &t.centres[e];
+            let c = &t.centres()[e];
             let mid = Vec2::new(c.x / 2.0, c.y / 2.0);
-            let n = &t.normals[e];
+            let n = &t.normals()[e];
             for v in [
                 Vec2::new(-n.y, n.x),
                 Vec2::new(n.y, -n.x),

@@ -111,7 +111,7 @@ fn sin_phi_is_uniform_at_collisions() {
             while c < 250_000 {
                 if let EventKind::Collision(m) = lat.step(&mut s).unwrap().kind {
                     c += 1;
-                    let n = s.flight.pos.sub(&lat.trap().vertices[m as usize]);
+                    let n = s.flight.pos.sub(&lat.trap().vertices()[m as usize]);
                     let sin_phi = n.cross(&s.flight.vel);
                     let k = (((sin_phi + 1.0) / 2.0 * bins as f64) as usize).min(bins - 1);
                     hist[k] += 1;
