@@ -2,24 +2,14 @@
 //! the superdiffusion constants of an infinite horizon.
 
 use lorentz_gas::Error;
-use lorentz_gas::scenes::spec::SceneSpec;
 use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsReport};
 
-use super::args::{Exact, PrecisionArg, SceneName, parse_exact_arg};
+use super::args::{PrecisionArg, SceneArgs};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene: `triangular` (disks of radius 1 at spacing 2 + w, needs --w; any w > 0, the
-    /// corridors listed beyond w_inf) or `square` (disks of radius r at unit spacing, needs
-    /// --radius).
-    #[arg(long, default_value = "triangular")]
-    scene: SceneName,
-    /// Gap w of the triangular scene, a decimal or a fraction such as 1/10: w > 0.
-    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
-    w: Option<Exact>,
-    /// Disk radius of the square scene, a decimal or a fraction such as 1/3: 0 < r < 1/2.
-    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
-    radius: Option<Exact>,
+    #[command(flatten)]
+    scene: SceneArgs,
     #[command(flatten)]
     precision: PrecisionArg,
     /// Machine-readable output.
@@ -28,12 +18,8 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let name = match a.scene {
-        SceneName::Triangular => "triangular",
-        SceneName::Square => "square",
-    };
-    let text = |e: &Option<Exact>| e.as_ref().map(|e| e.text.clone());
-    let scene = SceneSpec::parse(name, text(&a.w).as_deref(), text(&a.radius).as_deref())?;
+    // Any w > 0: beyond w_inf the corridors and the superdiffusion constants are listed.
+    let scene = a.scene.spec()?;
     let r = constants::run(&ConstantsConfig {
         scene,
         precision: a.precision.precision,

@@ -67,10 +67,11 @@ fn parse_pair(flag: &str, s: &str) -> Result<(Rational, Rational), Error> {
 
 pub fn run(a: Args) -> Result<(), Error> {
     if a.digits == 0 || a.digits > MAX_DIGITS {
-        return Err(Error::Invalid(format!(
-            "digits = {} is out of range: use 1 to {MAX_DIGITS}",
-            a.digits
-        )));
+        return Err(Error::out_of_range(
+            "digits",
+            a.digits,
+            format!("use 1 to {MAX_DIGITS}"),
+        ));
     }
     let (x, y) = parse_pair("start", &a.start)?;
     let (dx, dy) = parse_pair("direction", &a.direction)?;
