@@ -25,6 +25,7 @@ CASES = {
     "backscatter": ["--w", "0.2", "--particles", "1e3", "--batches", "4"],
     "audit": ["--w", "0.2", "--collisions", "1e3", "--batches", "2"],
     "shadow": ["--w", "0.2", "--collisions-per-segment", "20", "--segments", "1"],
+    "escape": ["--w", "0.2", "--particles-per-width", "3200"],
 }
 
 # Config fields that are not parameters of the call, with the reason. Every entry must name a
