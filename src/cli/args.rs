@@ -100,13 +100,6 @@ impl SceneArgs {
     pub fn resolve(&self) -> Result<SceneChoice, lorentz_gas::Error> {
         self.spec()?.resolve()
     }
-
-    /// The scene's description, its parameter checked as [`SceneArgs::resolve`] checks it.
-    pub fn checked_spec(&self) -> Result<SceneSpec, lorentz_gas::Error> {
-        let spec = self.spec()?;
-        spec.resolve()?;
-        Ok(spec)
-    }
 }
 
 /// The measurement of hop statistics along lattice trajectories (`hops`, `theory`, `lattice-walk`).

@@ -68,7 +68,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         vacf_fit: a.vacf_fit,
         msd_fit: a.msd_fit,
         seed: a.run.seed(),
-        ..SuperdiffusionConfig::new(a.scene.checked_spec()?)
+        ..SuperdiffusionConfig::new(a.scene.spec()?)
     };
     cfg.validate()?;
     let pb = Progress::new(a.collisions, "collisions", a.output.quiet);

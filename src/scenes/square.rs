@@ -46,13 +46,7 @@ impl SquareScene {
     /// assert!(SquareScene::exact(rug::Rational::from((1, 2))).is_err());
     /// ```
     pub fn exact(r: Rational) -> Result<Self, Error> {
-        if r <= 0 || r >= Rational::from((1, 2)) {
-            return Err(Error::out_of_range(
-                "radius",
-                Float64(&r),
-                "use 0 < radius < 1/2",
-            ));
-        }
+        check_radius(&r)?;
         let r64 = <f64 as Real>::from_rational((), &r);
         Ok(SquareScene { r, r64 })
     }
@@ -68,6 +62,21 @@ impl SquareScene {
     pub fn radius(&self) -> f64 {
         self.r64
     }
+}
+
+/// Refuses a radius outside 0 < r < 1/2 (exactly): the disks of neighbouring cells would touch.
+///
+/// # Errors
+/// [`Error::OutOfRange`] naming `radius` and its range.
+pub fn check_radius(r: &Rational) -> Result<(), Error> {
+    if *r <= 0 || *r >= Rational::from((1, 2)) {
+        return Err(Error::out_of_range(
+            "radius",
+            Float64(r),
+            "use 0 < radius < 1/2",
+        ));
+    }
+    Ok(())
 }
 
 /// Displays a rational by its nearest double (for error messages).

@@ -141,15 +141,7 @@ impl LatticeGas {
     /// Checks the radius or gap (exactly).
     pub fn validate(&self) -> Result<(), Error> {
         match self {
-            LatticeGas::Square { r } => {
-                if *r <= 0 || *r >= Rational::from((1, 2)) {
-                    return Err(Error::out_of_range(
-                        "radius",
-                        r.to_f64(),
-                        "use 0 < radius < 1/2",
-                    ));
-                }
-            }
+            LatticeGas::Square { r } => crate::scenes::square::check_radius(r)?,
             LatticeGas::Triangular { w } => {
                 if *w <= 0 {
                     return Err(Error::Trapped { w: w.to_f64() });

@@ -25,6 +25,28 @@ fn small_result(dir: &Path) -> String {
 }
 
 /// The first line of stderr, which every refusal is.
+/// A sweep of `steps` points from w = 0.1 to 0.2 at tiny statistics, with `more` options, in `dir`.
+fn small_sweep(dir: &Path, steps: &str, more: &[&str]) -> (i32, String, String) {
+    let mut args = vec![
+        "sweep",
+        "--w-from",
+        "0.1",
+        "--w-to",
+        "0.2",
+        "--steps",
+        steps,
+        "--runs",
+        "2",
+        "--collisions-per-run",
+        "1e5",
+        "--batches-per-run",
+        "4",
+        "--quiet",
+    ];
+    args.extend_from_slice(more);
+    lorentz(dir, &args)
+}
+
 fn first(err: &str) -> &str {
     err.lines().next().unwrap_or("")
 }
@@ -35,29 +57,7 @@ fn links_in_an_output_directory_are_refused_and_their_targets_untouched() {
     let dir = tmp.path();
     std::fs::write(dir.join("victim"), "precious").unwrap();
     std::fs::create_dir(dir.join("elsewhere")).unwrap();
-    let sweep = |out: &str| {
-        lorentz(
-            dir,
-            &[
-                "sweep",
-                "--w-from",
-                "0.1",
-                "--w-to",
-                "0.2",
-                "--steps",
-                "3",
-                "--runs",
-                "2",
-                "--collisions-per-run",
-                "1e5",
-                "--batches-per-run",
-                "4",
-                "--out",
-                out,
-                "--quiet",
-            ],
-        )
-    };
+    let sweep = |out: &str| small_sweep(dir, "3", &["--out", out]);
     // A file the sweep writes, as a link to a file outside.
     std::fs::create_dir(dir.join("a")).unwrap();
     symlink(dir.join("victim"), dir.join("a/sweep.json")).unwrap();
@@ -347,29 +347,7 @@ fn a_newline_in_a_slurm_path_is_refused_before_a_script_is_written() {
 fn a_merge_into_one_of_its_parts_is_refused() {
     let tmp = scratch();
     let dir = tmp.path();
-    let (code, _, err) = lorentz(
-        dir,
-        &[
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--steps",
-            "2",
-            "--runs",
-            "2",
-            "--collisions-per-run",
-            "1e5",
-            "--batches-per-run",
-            "4",
-            "--shard",
-            "0/1",
-            "--out",
-            "part",
-            "--quiet",
-        ],
-    );
+    let (code, _, err) = small_sweep(dir, "2", &["--shard", "0/1", "--out", "part"]);
     assert_eq!(code, 0, "{err}");
     for out in ["part", "part/inner", "./part/"] {
         let (code, _, err) = lorentz(dir, &["merge", "part", "--out", out, "--quiet"]);

@@ -99,6 +99,12 @@ impl SuperdiffusionConfig {
     /// # Errors
     /// A value out of range, naming the range.
     pub fn validate(&self) -> Result<(), Error> {
+        self.lattice().map(drop)
+    }
+
+    /// The exact lattice of `scene`, every field checked ([`SuperdiffusionConfig::validate`]).
+    fn lattice(&self) -> Result<LatticeGas, Error> {
+        let gas = LatticeGas::of(&self.scene)?;
         check_batches("batches", self.batches)?;
         if self.batches < MIN_BATCHES {
             return Err(Error::out_of_range(
@@ -153,7 +159,7 @@ impl SuperdiffusionConfig {
             )));
         }
         crate::engine::check_trajectory_length(per_batch + 1)?;
-        Ok(())
+        Ok(gas)
     }
 
     /// The lags in mean free times: round(2^(k/points_per_octave)) for k = 0 … octaves·points,
@@ -295,13 +301,12 @@ pub fn run(
     cfg: &SuperdiffusionConfig,
     options: &RunOptions,
 ) -> Result<SuperdiffusionReport, Error> {
-    cfg.validate()?;
+    let gas = cfg.lattice()?;
     options.validate()?;
     options.refuse_unused(
         "superdiffusion",
         &[RunOption::Resume, RunOption::CheckpointEvery],
     )?;
-    let gas = LatticeGas::of(&cfg.scene)?;
     let sd = corridors::superdiffusion::<f64>((), &gas)?;
     match gas {
         LatticeGas::Square { r } => run_on(&SquareScene::exact(r)?, cfg, &sd, options),
