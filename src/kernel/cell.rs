@@ -108,6 +108,30 @@ impl<T: Real> Disk<T> {
     pub fn radius2(&self) -> &T {
         &self.radius2
     }
+
+    /// The specular reflection of `v` at the contact point `x`: v − 2(v·n)n/r², n = x − c.
+    #[inline]
+    pub fn reflect(&self, v: &mut Vec2<T>, x: &Vec2<T>) {
+        let n = x.sub(&self.centre);
+        let s = v.dot(&n).scale(2.0) / &self.radius2;
+        v.x -= &(n.x.clone() * &s);
+        v.y -= &(n.y * &s);
+    }
+}
+
+impl<T: Real> EdgeMap<T> {
+    /// The point `x` of this cell in the neighbour's frame, and `v` turned with it.
+    #[inline]
+    pub fn carry(&self, x: &Vec2<T>, v: &mut Vec2<T>) -> Vec2<T> {
+        match self {
+            EdgeMap::Translation(t) => x.sub(t),
+            EdgeMap::PointReflection(c) => {
+                v.x.neg_mut();
+                v.y.neg_mut();
+                c.sub(x)
+            }
+        }
+    }
 }
 
 /// A convex polygonal cell with disk obstacles, each of its own radius: everything the generic
@@ -216,12 +240,8 @@ impl<T: Real> ConvexCell<T> {
         let x = f.pos.along(&ev.time, &f.vel);
         match ev.kind {
             EventKind::Collision(m) => {
-                let d = &self.disks[m as usize];
-                let n = x.sub(&d.centre);
                 let k = (-f.vel.norm2()).add_f64(3.0).scale(0.5);
-                let s = f.vel.dot(&n).scale(2.0) / &d.radius2;
-                f.vel.x -= &(n.x.clone() * &s);
-                f.vel.y -= &(n.y * &s);
+                self.disks[m as usize].reflect(&mut f.vel, &x);
                 f.vel.x *= &k;
                 f.vel.y *= &k;
                 f.pos = x;
@@ -230,14 +250,7 @@ impl<T: Real> ConvexCell<T> {
             }
             EventKind::Crossing(k) => {
                 let e = &self.edges[k as usize];
-                match &e.map {
-                    EdgeMap::Translation(t) => f.pos = x.sub(t),
-                    EdgeMap::PointReflection(c) => {
-                        f.pos = c.sub(&x);
-                        f.vel.x.neg_mut();
-                        f.vel.y.neg_mut();
-                    }
-                }
+                f.pos = e.map.carry(&x, &mut f.vel);
                 f.excluded_disk = f.excluded_disk.and_then(|m| e.disks_after[m as usize]);
                 f.excluded_edge = Some(e.entered);
             }

@@ -10,14 +10,18 @@
 //! * [`flight`]: the state of a free flight and the events that end it (exclusions by identity).
 //! * [`cell`]: the generic cell kernel — next event and its execution in any convex polygonal
 //!   cell with disk obstacles, whose edges map exactly into the neighbouring cell.
+//! * [`arc`], [`field`]: flights in a uniform magnetic field — arc contacts by algebra alone,
+//!   ordered by their chords, and the generic cell kernel on arcs.
 //! * [`trap`]: the triangular lattice's trap (three disks, three edges, point reflections) with
 //!   its fused fast path, bit-identical to the generic kernel on the same cell.
 //!
 //! Scenes ([`crate::scenes`]) supply the cells; observables never touch this module.
 
+pub mod arc;
 pub mod cell;
 pub mod certified;
 pub mod choice;
+pub mod field;
 pub mod flight;
 pub mod ray_disk;
 pub mod trap;

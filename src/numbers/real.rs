@@ -121,6 +121,10 @@ pub trait Real:
     /// arctan (theory only, see [`Real::sin`]).
     fn atan(self) -> Self;
 
+    /// The angle of the vector (x, y) = (`x`, `self`) in (−π, π] (not correctly rounded for
+    /// `f64`: the flight time of an arc, for observables, never an event's choice).
+    fn atan2(self, x: &Self) -> Self;
+
     /// Zero.
     fn zero(ctx: Self::Ctx) -> Self {
         Self::from_f64(ctx, 0.0)
@@ -226,6 +230,9 @@ impl Real for f64 {
     fn atan(self) -> f64 {
         f64::atan(self)
     }
+    fn atan2(self, x: &f64) -> f64 {
+        f64::atan2(self, *x)
+    }
     #[inline(always)]
     fn square(&self) -> f64 {
         self * self
@@ -320,6 +327,9 @@ impl Real for Float {
     }
     fn atan(self) -> Float {
         Float::atan(self)
+    }
+    fn atan2(self, x: &Float) -> Float {
+        Float::atan2(self, x)
     }
     #[inline]
     fn square(&self) -> Float {

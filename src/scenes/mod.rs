@@ -13,6 +13,8 @@
 //!   on the trap's fused kernel.
 //! * [`square`]: disks of radius 0 < r < 1/2 on the unit square lattice (the Sinai billiard;
 //!   always infinite horizon), on the generic kernel.
+//! * [`magnetic`]: the lattice walked along arcs in a uniform magnetic field, and the disk array
+//!   the field's exact geometry needs.
 //! * [`single_trap`]: one trap of three disks and its gaps, for injection experiments.
 //! * [`strip`]: the triangular lattice between two absorbing vertical lines x = 0 and x = L, for
 //!   the escape-rate estimator of D.
@@ -20,6 +22,7 @@
 //! A new scene is one file implementing [`Scene`]; it never touches [`crate::kernel`].
 
 pub mod lattice;
+pub mod magnetic;
 pub mod sampling;
 pub mod single_trap;
 pub mod spec;
@@ -108,6 +111,13 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// samples the MSD on a grid of this unit and checks the measured τ against it. `None`
     /// (the default): the scene does not supply it, and time is measured in mean free times.
     fn crossing_time(&self) -> Option<f64> {
+        None
+    }
+
+    /// The scene's disks as one periodic array of equal disks (what a magnetic field's exact
+    /// geometry of pinned and skipping orbits needs: `crate::theory::magnetic`), or `None`
+    /// (the default) if the scene is not such an array.
+    fn disk_lattice(&self) -> Option<magnetic::DiskLattice> {
         None
     }
 }

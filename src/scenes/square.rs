@@ -183,4 +183,14 @@ impl Scene for SquareScene {
         let r = self.r64;
         Some(std::f64::consts::PI * (1.0 - std::f64::consts::PI * r * r) / 4.0)
     }
+
+    /// Disks of radius r on the unit square lattice.
+    fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
+        Some(super::magnetic::DiskLattice {
+            a: 1.0,
+            beta: 0.0,
+            h: 1.0,
+            radius: self.r64,
+        })
+    }
 }

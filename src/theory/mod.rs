@@ -11,6 +11,9 @@
 //! * [`markov`]: exact D of the order-k correlated walk (resolvent of the history chain).
 //! * [`lattice_walk`]: Monte Carlo of that walk (Fig. 6b), Einstein formula, batch errors.
 //! * [`green_kubo`]: hop-level Green–Kubo estimator from direction sequences.
+//! * [`magnetic`]: pinned and skipping orbits in a magnetic field — exact shares, the
+//!   classification of a phase point, Kac's mean free time of the diffusing part.
+//! * [`quadrature`]: adaptive Gauss–Legendre for those exact shares.
 //!
 //! The derivations are in `proofs-notes/` (index: `proofs-notes/theory-index.md`).
 
@@ -21,5 +24,7 @@ pub mod green_kubo;
 pub mod hierarchy;
 pub mod honeycomb;
 pub mod lattice_walk;
+pub mod magnetic;
 pub mod markov;
+pub mod quadrature;
 pub mod sequences;

@@ -13,6 +13,7 @@ mod certified;
 mod checkpoints;
 mod choice;
 mod engine;
+mod field;
 mod fuzz_oracle;
 mod hard_cases;
 mod kernel_properties;

@@ -138,6 +138,17 @@ impl Scene for TriangularScene {
     fn crossing_time(&self) -> Option<f64> {
         Geometry::new(self.w()).ok().map(|g| g.hop_time())
     }
+
+    /// Disks of radius 1 at spacing a = 2 + w (e₂ = (a/2, √3a/2)).
+    fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
+        let a = 2.0 + self.w();
+        Some(super::magnetic::DiskLattice {
+            a,
+            beta: 0.5,
+            h: a * 3f64.sqrt() / 2.0,
+            radius: 1.0,
+        })
+    }
 }
 
 /// A point uniform in the free part of the canonical trap.

@@ -1,0 +1,395 @@
+//! Flights in a uniform magnetic field: first contact of an arc with a circle and with a line,
+//! by algebra alone (no `acos`, no `atan2`, no nudging), and the order of contacts along the arc.
+//!
+//! A particle of speed 1 in the field B turns at the angular velocity ω = B: v̇ = ωJv, J the
+//! rotation by +90°, so B > 0 turns it counter-clockwise, on a cyclotron circle of radius
+//! 1/|B|. Since v − ωJp is conserved, the particle that has moved by the **chord** x from p has
+//! the velocity
+//!
+//! v(x) = v + ωJx,  and x is on the arc iff ω|x|² = 2 Jv·x.
+//!
+//! Everything below is written in the chord, relative to the current position, so that no large
+//! quantity (the cyclotron centre p + Jv/ω, up to 10⁶ away) is ever formed, and ω → 0 tends to
+//! the straight-line formulas (`proofs-notes/magnetic-arcs.md`):
+//!
+//! * [`Arc::circle`]: the chord to the entry into a circle |y − c| = r, with d = p − c,
+//!   β = d·v, q = d×v, γ = |d|² − r². The chord lies on the radical line x·m = −ωγ/2,
+//!   m = Jv + ωd; along it, x = x₀ + s·e with e = v − ωJd ⟂ m, |e|² = |m|² = M =
+//!   (1 − ωq)² + (ωβ)², and M s² + 2βs + γK/M = 0, K = 1 − ωq + ω²γ/4. Its discriminant is
+//!   the product Δ = ¼[(r + q)(2 + ω(r − q)) − ωβ²]·[(r − q)(2 − ω(r + q)) + ωβ²] (at |v| = 1;
+//!   [`Arc::circle`] has the general speed), which at ω = 0 is the straight kernel's r² − q²
+//!   (no cancellation of β² − γ near the surface). The
+//!   entry is s = (−β − √Δ)/M, taken as γK/(M(√Δ − β)) where β < 0 (Vieta: no subtraction of
+//!   nearly equal numbers either way);
+//! * [`arc_line`]: the chord to the exit through a line n·y = o (n the inward unit normal,
+//!   σ = n·p − o ≥ 0 inside): x = −σn + sJn with ωs = a + √D, a = n·v, b = n·Jv,
+//!   D = a² − ωσ(ωσ + 2b), taken as −σ(ωσ + 2b)/(√D − a) where a ≤ 0;
+//! * a start **on** the circle just left, or on the line just entered by, is on it by identity
+//!   (γ = 0, σ = 0): the contact is then the *other* intersection, s = −2β/M or ωs = 2a, which a
+//!   straight flight never has — an arc can come back to the disk it left;
+//! * [`earlier`]: contacts are ordered by the angle of their chord from v, which lies in the
+//!   half-plane on the turning side, compared by the sign of a cross product (the order of the
+//!   flight times, with no transcendental function);
+//! * [`velocity_after`]: the velocity at the end of the chord, the reflection of v in the chord,
+//!   2(v·x)x/|x|² − v (a reflection keeps |v| whatever the rounding of x);
+//! * [`arc_time`]: the flight time 2·atan2(ω|x|²/2, v·x)/ω, for observables only.
+//!
+//! Only correctly rounded operations (+ − × ÷ √) decide and carry out an event, so the `f64`
+//! kernel and MPFR at 53 bits agree event for event, bit for bit.
+
+use super::vec2::Vec2;
+use crate::numbers::real::Real;
+
+/// Jv: `v` turned by +90°.
+#[inline(always)]
+pub fn perp<T: Real>(v: &Vec2<T>) -> Vec2<T> {
+    Vec2::new(-v.y.clone(), v.x.clone())
+}
+
+/// `true` if both components of `x` are zero (a contact where the particle is).
+#[inline(always)]
+pub fn is_zero<T: Real>(x: &Vec2<T>) -> bool {
+    !x.x.gt0() && !x.x.lt0() && !x.y.gt0() && !x.y.lt0()
+}
+
+/// An arc about to be flown: the velocity `v`, its |v|² and |v| (the cyclotron radius is
+/// |v|/|ω|: every formula holds for the speed the rounded state has, so that a speed a few
+/// units of roundoff off 1 is a slightly larger circle, never an inconsistent one), and the
+/// field `w` ≠ 0. Built once per event and shared by every candidate.
+#[derive(Debug, Clone)]
+pub struct Arc<'a, T: Real> {
+    /// The velocity at the start.
+    pub v: &'a Vec2<T>,
+    /// The field ω.
+    pub w: &'a T,
+    vv: T,
+    speed: T,
+}
+
+impl<'a, T: Real> Arc<'a, T> {
+    /// The arc of velocity `v` in the field `w` (≠ 0).
+    pub fn new(v: &'a Vec2<T>, w: &'a T) -> Self {
+        let vv = v.norm2();
+        let speed = vv.clone().sqrt();
+        Arc { v, w, vv, speed }
+    }
+
+    /// The chord from the particle to its entry into the circle of radius `r` (`r2` = r²
+    /// rounded) whose centre is at −d from it (d = p − c = (`dx`, `dy`)); `None` if the arc
+    /// misses the circle. `on_surface`: the particle is on this circle by identity (it has just
+    /// left the disk): γ = 0, and the contact is the return, or `None` if it is not moving out
+    /// (β ≤ 0). A start numerically inside (γ ≤ 0) is treated as on the circle: entry now if
+    /// moving in, the return otherwise.
+    ///
+    /// With |v|² = V² not assumed 1, M = |m|² = M̃/V² with M̃ = (V² − ωq)² + (ωβ)²,
+    /// K = V² − ωq + ω²γ/4, and Δ = F₁F₂/(4V⁴) with F₁ = (Vr + q)(2V² + ω(Vr − q)) − ωβ²,
+    /// F₂ = (Vr − q)(2V² − ω(Vr + q)) + ωβ².
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::kernel::{arc::Arc, vec2::Vec2};
+    /// // Leaving the unit disk at (1, 0) radially in a field 1: the cyclotron circle of radius 1
+    /// // about (1, 1) returns to the disk at (0, 1) after a three-quarter turn: chord (−1, 1).
+    /// let v = Vec2::new(1.0f64, 0.0);
+    /// let x = Arc::new(&v, &1.0).circle(1.0, 0.0, &1.0, &1.0, true).unwrap();
+    /// assert!((x.x + 1.0).abs() < 1e-15 && (x.y - 1.0).abs() < 1e-15);
+    /// ```
+    pub fn circle(&self, dx: T, dy: T, r: &T, r2: &T, on_surface: bool) -> Option<Vec2<T>> {
+        let (v, w) = (self.v, self.w);
+        let ctx = w.ctx();
+        let d = Vec2::new(dx, dy);
+        let beta = d.dot(v);
+        let q = d.cross(v);
+        let vv_wq = self.vv.clone() - &(w.clone() * &q);
+        let wb = w.clone() * &beta;
+        // V²/M̃ = 1/M.
+        let inv = self.vv.clone() / &(vv_wq.square() + &wb.square());
+        // e = v − ωJd = (vₓ + ωd_y, v_y − ωdₓ).
+        let e = Vec2::new(
+            v.x.clone() + &(w.clone() * &d.y),
+            v.y.clone() - &(w.clone() * &d.x),
+        );
+        let gamma = if on_surface {
+            T::zero(ctx)
+        } else {
+            d.norm2() - r2
+        };
+        if !gamma.gt0() {
+            // On the circle: the roots are s = 0 (here) and s = −2β/M (the return).
+            if beta.gt0() {
+                let s = (beta * &T::from_f64(ctx, -2.0)) * &inv;
+                return Some(Vec2::new(e.x * &s, e.y * &s));
+            }
+            return (!on_surface).then(|| Vec2::new(T::zero(ctx), T::zero(ctx)));
+        }
+        let disc = self.discriminant(&q, &beta, r)?;
+        let root = disc.sqrt();
+        let s = if beta.lt0() {
+            let k = vv_wq + &(w.clone().square() * &gamma).scale(0.25);
+            (gamma.clone() * &k) / &(root - &beta) * &inv
+        } else {
+            -(beta + &root) * &inv
+        };
+        // x = x₀ + s·e, x₀ = −(ωγ/2)·m/M, m = Jv + ωd = (ωdₓ − v_y, ωd_y + vₓ).
+        let f = -(w.clone() * &gamma).scale(0.5) * &inv;
+        let mx = w.clone() * &d.x - &v.y;
+        let my = w.clone() * &d.y + &v.x;
+        Some(Vec2::new(
+            f.clone() * &mx + &(s.clone() * &e.x),
+            f * &my + &(s * &e.y),
+        ))
+    }
+
+    /// The discriminant Δ = F₁F₂/(4V⁴) of the arc–circle contact, if positive (the cyclotron
+    /// circle cuts the circle in two points).
+    #[inline(always)]
+    fn discriminant(&self, q: &T, beta: &T, r: &T) -> Option<T> {
+        let w = self.w;
+        let vr = self.speed.clone() * r;
+        let rp = vr.clone() + q;
+        let rm = vr - q;
+        let two_vv = self.vv.clone().scale(2.0);
+        let wbb = w.clone() * &beta.square();
+        let f1 = rp.clone() * &(two_vv.clone() + &(w.clone() * &rm)) - &wbb;
+        let f2 = rm * &(two_vv - &(w.clone() * &rp)) + &wbb;
+        let disc = (f1 * &f2).scale(0.25) / &self.vv.square();
+        disc.gt0().then_some(disc)
+    }
+
+    /// [`arc_line`] on this arc.
+    pub fn line(&self, n: &Vec2<T>, sigma: T, entered: bool) -> Option<Vec2<T>> {
+        arc_line(n, sigma, self.v, self.w, entered)
+    }
+
+    /// [`earlier`] on this arc.
+    pub fn earlier(&self, x1: &Vec2<T>, x2: &Vec2<T>) -> bool {
+        earlier(x1, x2, self.v, self.w)
+    }
+}
+
+/// The chord to the entry into a circle along the arc of velocity `v` in the field `w` (see
+/// [`Arc::circle`], which shares |v| between candidates).
+pub fn arc_circle<T: Real>(
+    d: (T, T),
+    v: &Vec2<T>,
+    w: &T,
+    r: &T,
+    r2: &T,
+    on_surface: bool,
+) -> Option<Vec2<T>> {
+    Arc::new(v, w).circle(d.0, d.1, r, r2, on_surface)
+}
+
+/// The chord from the particle to its exit through the line at signed distance `sigma` (> 0
+/// inside) with inward unit normal `n`, along the arc of velocity `v` in the field `w` ≠ 0;
+/// `None` if the arc never reaches the line. `entered`: the particle is on this line by identity
+/// (it has just crossed it inwards): σ = 0 and the exit is the return, or `None` if it is not
+/// moving in (n·v ≤ 0). A start numerically beyond the line (σ ≤ 0) is treated as on it: exit now
+/// if moving out, the return if moving in.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::kernel::{arc::arc_line, vec2::Vec2};
+/// // Entering the half-plane y ≥ 0 straight up in a field 1 (radius 1, turning left): back on
+/// // the line at (−2, 0) after half a turn.
+/// let n = Vec2::new(0.0f64, 1.0);
+/// let x = arc_line(&n, 0.0, &Vec2::new(0.0, 1.0), &1.0, true).unwrap();
+/// assert_eq!((x.x, x.y), (-2.0, 0.0));
+/// ```
+pub fn arc_line<T: Real>(
+    n: &Vec2<T>,
+    sigma: T,
+    v: &Vec2<T>,
+    w: &T,
+    entered: bool,
+) -> Option<Vec2<T>> {
+    let ctx = w.ctx();
+    let a = n.dot(v);
+    let jn = perp(n);
+    if entered || !sigma.gt0() {
+        // On the line: s = 0 (here, an exit if moving out) or ωs = 2a (the return, moving in).
+        if a.gt0() {
+            let s = a.scale(2.0) / w;
+            return Some(Vec2::new(jn.x * &s, jn.y * &s));
+        }
+        return (!entered && a.lt0()).then(|| Vec2::new(T::zero(ctx), T::zero(ctx)));
+    }
+    let b = n.dot(&perp(v));
+    let ws = w.clone() * &sigma;
+    let c = ws.clone() + &b.scale(2.0);
+    let disc = a.square() - &(ws * &c);
+    if !disc.gt0() {
+        return None;
+    }
+    let root = disc.sqrt();
+    let s = if a.gt0() {
+        (a + &root) / w
+    } else {
+        -(sigma.clone() * &c) / &(root - &a)
+    };
+    Some(Vec2::new(
+        s.clone() * &jn.x - &(sigma.clone() * &n.x),
+        s * &jn.y - &(sigma * &n.y),
+    ))
+}
+
+/// Where a chord lies on the way round, for [`earlier`]: at the start (zero, or numerically just
+/// behind it), on the open half-turn (the turning side of v), or numerically at the half-turn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Stage {
+    Start,
+    Turning,
+    HalfTurn,
+}
+
+#[inline(always)]
+fn stage<T: Real>(x: &Vec2<T>, v: &Vec2<T>, left: bool) -> Stage {
+    let side = v.cross(x);
+    let turning = if left { side.gt0() } else { side.lt0() };
+    if turning {
+        Stage::Turning
+    } else if is_zero(x) || v.dot(x).gt0() {
+        Stage::Start
+    } else {
+        Stage::HalfTurn
+    }
+}
+
+/// `true` if the contact at chord `x1` comes strictly before the one at chord `x2` on the arc of
+/// velocity `v` in the field `w` (≠ 0). Chords of an arc lie on the side it turns to, at the angle
+/// α ∈ [0, π) from v, and the flight time is 2α/|ω|: two chords on that side are ordered by the
+/// sign of x₁ × x₂. A chord numerically on the wrong side is at α ≈ 0 (ahead of v) or α ≈ π
+/// (behind), ordered there by its length.
+pub fn earlier<T: Real>(x1: &Vec2<T>, x2: &Vec2<T>, v: &Vec2<T>, w: &T) -> bool {
+    let left = w.gt0();
+    let (s1, s2) = (stage(x1, v, left), stage(x2, v, left));
+    if s1 != s2 {
+        return s1 < s2;
+    }
+    match s1 {
+        Stage::Turning => {
+            let c = x1.cross(x2);
+            if left { c.gt0() } else { c.lt0() }
+        }
+        Stage::Start => x1.norm2() < x2.norm2(),
+        Stage::HalfTurn => x1.norm2() > x2.norm2(),
+    }
+}
+
+/// The velocity at the end of the chord `x` of an arc that starts with velocity `v`: the
+/// reflection of v in the chord, 2(v·x)x/|x|² − v (v itself for a zero chord).
+pub fn velocity_after<T: Real>(v: &Vec2<T>, x: &Vec2<T>) -> Vec2<T> {
+    let xx = x.norm2();
+    if !xx.gt0() {
+        return v.clone();
+    }
+    let k = v.dot(x).scale(2.0) / &xx;
+    Vec2::new(k.clone() * &x.x - &v.x, k * &x.y - &v.y)
+}
+
+/// The flight time along the arc to the end of the chord `x` (velocity `v`, field `w` ≠ 0):
+/// 2α/ω with α = atan2(ω|x|²/2, v·x) the chord's angle from v. For observables only (not
+/// correctly rounded in `f64`; no event depends on it).
+pub fn arc_time<T: Real>(v: &Vec2<T>, x: &Vec2<T>, w: &T) -> T {
+    let y = (w.clone() * &x.norm2()).scale(0.5);
+    let alpha = y.atan2(&v.dot(x));
+    alpha.scale(2.0) / w
+}
+
+/// The chord of the arc of duration `t` (velocity `v`, field `w` ≠ 0): L·R(φ/2)v with φ = ωt and
+/// L = 2 sin(φ/2)/ω (where a sample falls inside a flight; observables only).
+pub fn chord_at<T: Real>(v: &Vec2<T>, t: &T, w: &T) -> Vec2<T> {
+    let half = (w.clone() * t).scale(0.5);
+    let (s, c) = (half.clone().sin(), half.cos());
+    let len = s.clone().scale(2.0) / w;
+    // R(φ/2)v = cos·v + sin·Jv.
+    let ux = c.clone() * &v.x - &(s.clone() * &v.y);
+    let uy = c * &v.y + &(s * &v.x);
+    Vec2::new(len.clone() * &ux, len * &uy)
+}
+
+/// The signed area ∫ x × dx swept by the chord of an arc of duration `t` in the field `w` ≠ 0:
+/// (φ − sin φ)/ω², φ = ωt (twice the area between the arc and its chord; the arc's part of the
+/// Lévy area of a trajectory). A series where φ is small, so that nothing cancels.
+pub fn arc_area(t: f64, w: f64) -> f64 {
+    let phi = w * t;
+    let excess = if phi.abs() < 0.25 {
+        // φ − sin φ = φ³/6 − φ⁵/120 + φ⁷/5040 − φ⁹/362880 + …
+        let p2 = phi * phi;
+        phi * p2 * (1.0 / 6.0 - p2 * (1.0 / 120.0 - p2 * (1.0 / 5040.0 - p2 / 362_880.0)))
+    } else {
+        phi - phi.sin()
+    };
+    excess / (w * w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_contact_lies_on_both_circles() {
+        // Aimed at the disk: the straight line hits it (|q| = 0.4), weak and moderate fields too.
+        let v = Vec2::new(1.0f64, 0.0);
+        let mut found = 0;
+        for w in [-3.0, -0.2, 0.01, 0.7, 5.0] {
+            let (dx, dy) = (-2.3, 0.4);
+            if let Some(x) = arc_circle((dx, dy), &v, &w, &1.0, &1.0, false) {
+                found += 1;
+                let cyc = w * x.norm2() - 2.0 * perp(&v).dot(&x);
+                let disk = (x.x + dx).powi(2) + (x.y + dy).powi(2) - 1.0;
+                assert!(
+                    cyc.abs() < 1e-14 && disk.abs() < 1e-14,
+                    "w={w}: {cyc} {disk}"
+                );
+                // Entering: the velocity there points into the disk.
+                let vx = velocity_after(&v, &x);
+                assert!(vx.dot(&Vec2::new(x.x + dx, x.y + dy)) < 0.0);
+            }
+        }
+        // Only B = −0.2 and 0.01 reach it (the others turn away within a radius of 1.4 or less;
+        // checked by brute force along the arc).
+        assert_eq!(found, 2);
+    }
+
+    #[test]
+    fn a_weak_field_bends_the_straight_contact_by_its_sagitta() {
+        // Straight: entry after t = 3 − √(1 − 0.25). In a field ω the contact moves by O(ωt²).
+        let v = Vec2::new(1.0f64, 0.0);
+        let t0 = 3.0 - 0.75f64.sqrt();
+        let x = arc_circle((-3.0, 0.5), &v, &1e-9, &1.0, &1.0, false).unwrap();
+        assert!((arc_time(&v, &x, &1e-9) - t0).abs() < 1e-8);
+        assert!((x.x - t0).abs() < 1e-8 && x.y.abs() < 1e-8);
+    }
+
+    #[test]
+    fn chords_are_ordered_by_their_flight_time() {
+        let v = Vec2::new(0.0f64, 1.0);
+        for w in [2.0f64, -2.0] {
+            let times = [0.1, 0.5, 1.2, 1.5];
+            let chords: Vec<_> = times.iter().map(|t| chord_at(&v, t, &w)).collect();
+            for i in 0..chords.len() {
+                assert!((arc_time(&v, &chords[i], &w) - times[i]).abs() < 1e-14);
+                for j in 0..chords.len() {
+                    assert_eq!(
+                        earlier(&chords[i], &chords[j], &v, &w),
+                        i < j,
+                        "{w} {i} {j}"
+                    );
+                }
+            }
+            let zero = Vec2::new(0.0, 0.0);
+            assert!(earlier(&zero, &chords[0], &v, &w));
+        }
+    }
+
+    #[test]
+    fn the_arc_area_series_joins_the_closed_form() {
+        let (t, w) = (0.25f64 - 1e-12, 1.0);
+        let closed = (t - t.sin()) / (w * w);
+        assert!(((arc_area(t, w) - closed) / closed).abs() < 1e-9);
+        assert!((arc_area(0.3, -1.0) + arc_area(0.3, 1.0)).abs() < 1e-18);
+    }
+}

@@ -1,0 +1,300 @@
+//! The orbits that never diffuse in a uniform magnetic field, by exact geometry
+//! (`proofs-notes/magnetic-localized.md`).
+//!
+//! A phase point (x, v) in the field B has the cyclotron centre z = x + Jv/B and radius
+//! ρ = 1/|B|. For every direction, (x, v) ↦ (z, v) is a translation, so the invariant measure
+//! (uniform in the free area |Q| of a cell and in the direction) is uniform in z too, and for a
+//! fixed z the particle is uniformly anywhere on its circle. Disks of radius r sit at the lattice
+//! points c, the nearest two A apart.
+//!
+//! * **Pinned**: the circle meets no disk: |z − c| ∉ [ρ − r, ρ + r] for every c. The set P of
+//!   such centres is periodic, every point of its circles is free, so the pinned share of phase
+//!   space is |P ∩ cell| / |Q|. It is computed as ∫ L(y) dy over one period of heights, L(y) the
+//!   free length of the line at height y (one period of x) left by the annuli of all lattice
+//!   points: a piecewise smooth integrand, integrated piece by piece (square-root ends at the
+//!   tangent heights) by [`super::quadrature`].
+//! * **Skipping**: the circle cuts one disk c (|ρ − r| < D = |z − c| < ρ + r) and stays within
+//!   reach of no other: D + ρ < A − r. Every return to c is the same arc turned about c, so the
+//!   orbit circles c for ever. For fixed z the share of the circle outside the disk is
+//!   1 − ψ/π, cos ψ = (D² + ρ² − r²)/(2Dρ), so the skipping share is
+//!   (2π/|Q|) ∫ D (1 − ψ(D)/π) dD over |ρ − r| < D < min(ρ + r, A − r − ρ). Where the
+//!   annulus reaches a neighbour (D + ρ > A − r) the turn per bounce is irrational for almost
+//!   every D, the arcs fill the annulus, and the orbit meets the neighbour: not localized.
+//! * **Kac's lemma** for the part that is neither (the diffusing part): its mean free time
+//!   between collisions is its phase volume over its boundary flux,
+//!   τ = 2π|Q|(1 − f_pinned − f_skipping) / (4πr − π|B|(D_hi² − D_lo²)); the skipping orbits at
+//!   distance D carry the flux 2π|B|D dD (phase volume over return time), the whole boundary 4πr.
+
+use std::f64::consts::PI;
+
+use super::quadrature::integrate;
+use crate::Error;
+use crate::scenes::magnetic::DiskLattice;
+
+/// What an orbit in the field does, decided from its cyclotron circle alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Orbit {
+    /// Its circle meets no disk: it never collides.
+    Pinned,
+    /// It circles one disk for ever, bouncing on it.
+    Skipping,
+    /// Neither: the part of phase space whose transport the estimators measure.
+    Diffusing,
+}
+
+/// The exact geometry of a disk lattice in the field `field` (≠ 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FieldGeometry {
+    lattice: DiskLattice,
+    field: f64,
+    rho: f64,
+}
+
+/// Absolute accuracy of the exact shares (quadrature tolerance per lattice cell area).
+pub const SHARE_TOLERANCE: f64 = 1e-12;
+
+impl FieldGeometry {
+    /// The geometry of `lattice` in the field `field`.
+    ///
+    /// # Errors
+    /// A field that is zero or not finite (B = 0 has no cyclotron circle).
+    pub fn new(lattice: DiskLattice, field: f64) -> Result<Self, Error> {
+        if !field.is_finite() || field == 0.0 {
+            return Err(Error::out_of_range(
+                "field",
+                field,
+                "a nonzero finite field has a cyclotron circle",
+            ));
+        }
+        Ok(FieldGeometry {
+            lattice,
+            field,
+            rho: 1.0 / field.abs(),
+        })
+    }
+
+    /// The cyclotron radius ρ = 1/|B|.
+    pub fn cyclotron_radius(&self) -> f64 {
+        self.rho
+    }
+
+    /// The range (D_lo, D_hi) of centre distances of the skipping orbits (empty if D_hi ≤ D_lo).
+    pub fn skipping_range(&self) -> (f64, f64) {
+        let (rho, r) = (self.rho, self.lattice.radius);
+        let reach = self.lattice.nearest_distance() - r - rho;
+        ((rho - r).abs(), (rho + r).min(reach))
+    }
+
+    /// What the orbit through the world point (x, y) with unit velocity (vx, vy) does.
+    pub fn classify(&self, x: f64, y: f64, vx: f64, vy: f64) -> Orbit {
+        let (zx, zy) = (x - vy / self.field, y + vx / self.field);
+        let (cx, cy) = self.lattice.nearest_point(zx, zy);
+        let d = (zx - cx).hypot(zy - cy);
+        let (lo, hi) = self.skipping_range();
+        if d > lo && d < hi {
+            return Orbit::Skipping;
+        }
+        if self.circle_meets_a_disk(zx, zy) {
+            Orbit::Diffusing
+        } else {
+            Orbit::Pinned
+        }
+    }
+
+    /// The lattice rows within ρ + r of the height `y`, from the outermost in (where a large
+    /// circle most often meets a disk): (dy, shift, xo, xi) — the height above the row, the x of
+    /// its lattice point 0, and the half-widths of the annulus ρ − r ≤ |z − c| ≤ ρ + r on the line
+    /// (xi = 0 where the inner circle does not reach it).
+    fn rows(&self, y: f64) -> impl Iterator<Item = (f64, f64, f64, f64)> + '_ {
+        let l = &self.lattice;
+        let (outer, inner) = (self.rho + l.radius, self.rho - l.radius);
+        let (j_lo, j_hi) = (((y - outer) / l.h).ceil(), ((y + outer) / l.h).floor());
+        let rows = ((j_hi - j_lo) as i64 + 1).max(0);
+        (0..rows).map(move |k| {
+            let j = if k % 2 == 0 {
+                j_hi - (k / 2) as f64
+            } else {
+                j_lo + (k / 2) as f64
+            };
+            let dy = y - l.h * j;
+            let xo = (outer * outer - dy * dy).max(0.0).sqrt();
+            let xi = if inner > 0.0 && dy.abs() < inner {
+                (inner * inner - dy * dy).sqrt()
+            } else {
+                0.0
+            };
+            (dy, l.beta * l.a * j, xo, xi)
+        })
+    }
+
+    /// `true` if the circle of radius ρ about (zx, zy) meets a disk: some lattice point at a
+    /// distance in [ρ − r, ρ + r]. Rows are scanned from the outermost in, where a large circle
+    /// most often meets one.
+    fn circle_meets_a_disk(&self, zx: f64, zy: f64) -> bool {
+        let l = &self.lattice;
+        let (outer, inner) = (self.rho + l.radius, self.rho - l.radius);
+        for (dy, shift, xo, xi) in self.rows(zy) {
+            for side in [-1.0, 1.0] {
+                // Lattice points at x = shift + i·a with |x − zx| in [xi, xo] on this side.
+                let (near, far) = (zx + side * xi, zx + side * xo);
+                let (lo, hi) = if side < 0.0 { (far, near) } else { (near, far) };
+                let first = ((lo - shift) / l.a).ceil();
+                let last = ((hi - shift) / l.a).floor();
+                let mut i = first;
+                while i <= last {
+                    let cx = shift + l.a * i;
+                    let dist = (zx - cx).hypot(dy);
+                    if dist <= outer && dist >= inner {
+                        return true;
+                    }
+                    i += 1.0;
+                }
+            }
+        }
+        false
+    }
+
+    /// The exact share of phase space in skipping orbits.
+    pub fn skipping_fraction(&self) -> f64 {
+        let (lo, hi) = self.skipping_range();
+        if hi <= lo {
+            return 0.0;
+        }
+        let (rho, r) = (self.rho, self.lattice.radius);
+        let outside = |d: f64| {
+            let c = ((d * d + rho * rho - r * r) / (2.0 * d * rho)).clamp(-1.0, 1.0);
+            2.0 * PI * d * (1.0 - c.acos() / PI)
+        };
+        integrate(&outside, lo, hi, SHARE_TOLERANCE) / self.lattice.free_area()
+    }
+
+    /// The exact share of phase space in pinned orbits.
+    pub fn pinned_fraction(&self) -> f64 {
+        let l = &self.lattice;
+        let mut cuts = vec![0.0, l.h];
+        for radius in [self.rho + l.radius, self.rho - l.radius] {
+            if radius > 0.0 {
+                // The height (mod h) where a circle of this radius about a lattice row is
+                // tangent to the line of integration.
+                for sign in [-1.0, 1.0] {
+                    let y = (sign * radius).rem_euclid(l.h);
+                    if y > 0.0 && y < l.h {
+                        cuts.push(y);
+                    }
+                }
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        let free = |y: f64| self.free_length(y);
+        let tol = SHARE_TOLERANCE * l.cell_area() / cuts.len() as f64;
+        let area: f64 = cuts
+            .windows(2)
+            .map(|p| integrate(&free, p[0], p[1], tol))
+            .sum();
+        area / l.free_area()
+    }
+
+    /// The localized share: pinned plus skipping.
+    pub fn localized_fraction(&self) -> f64 {
+        self.pinned_fraction() + self.skipping_fraction()
+    }
+
+    /// The free length, over one period a of x, of the line at height y left by the annuli
+    /// ρ − r ≤ |z − c| ≤ ρ + r of every lattice point (the pinned centres on that line).
+    fn free_length(&self, y: f64) -> f64 {
+        let l = &self.lattice;
+        let mut covered: Vec<(f64, f64)> = Vec::new();
+        for (_, shift, xo, xi) in self.rows(y) {
+            let pieces = if xi > 0.0 {
+                vec![(shift - xo, shift - xi), (shift + xi, shift + xo)]
+            } else {
+                vec![(shift - xo, shift + xo)]
+            };
+            for (lo, hi) in pieces {
+                if hi - lo >= l.a {
+                    return 0.0;
+                }
+                let start = lo.rem_euclid(l.a);
+                let end = start + (hi - lo);
+                if end > l.a {
+                    covered.push((start, l.a));
+                    covered.push((0.0, end - l.a));
+                } else {
+                    covered.push((start, end));
+                }
+            }
+        }
+        covered.sort_by(|p, q| p.0.total_cmp(&q.0));
+        let (mut total, mut reach) = (0.0, 0.0f64);
+        for (lo, hi) in covered {
+            let lo = lo.max(reach);
+            if hi > lo {
+                total += hi - lo;
+            }
+            reach = reach.max(hi);
+        }
+        (l.a - total).max(0.0)
+    }
+
+    /// The boundary flux of the skipping orbits per cell, π|B|(D_hi² − D_lo²) (0 if none).
+    pub fn skipping_flux(&self) -> f64 {
+        let (lo, hi) = self.skipping_range();
+        if hi <= lo {
+            return 0.0;
+        }
+        PI * self.field.abs() * (hi * hi - lo * lo)
+    }
+
+    /// Kac's mean free time between collisions of the diffusing part (see the module
+    /// documentation); infinite if nothing diffuses.
+    pub fn diffusing_mean_free_time(&self) -> f64 {
+        let l = &self.lattice;
+        let volume = 2.0 * PI * l.free_area() * (1.0 - self.localized_fraction());
+        let flux = 4.0 * PI * l.radius - self.skipping_flux();
+        if flux <= 0.0 || volume <= 0.0 {
+            return f64::INFINITY;
+        }
+        volume / flux
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triangular(w: f64) -> DiskLattice {
+        let a = 2.0 + w;
+        DiskLattice {
+            a,
+            beta: 0.5,
+            h: a * 3f64.sqrt() / 2.0,
+            radius: 1.0,
+        }
+    }
+
+    #[test]
+    fn a_weak_field_pins_and_skips_nothing_in_a_finite_horizon() {
+        let g = FieldGeometry::new(triangular(0.1), 0.1).unwrap();
+        assert_eq!(g.pinned_fraction(), 0.0);
+        assert_eq!(g.skipping_fraction(), 0.0);
+        assert!((g.diffusing_mean_free_time() - g.lattice.free_area() / 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_small_circle_between_disks_is_pinned_with_the_exact_area() {
+        // ρ = 0.01 at w = 0.3: the excluded centres are disks of radius 1.01 about the lattice
+        // points, disjoint (a = 2.3 > 2.02): |P| = ah − π·1.01².
+        let l = triangular(0.3);
+        let g = FieldGeometry::new(l, 100.0).unwrap();
+        let exact = (l.cell_area() - PI * 1.01 * 1.01) / l.free_area();
+        assert!(
+            (g.pinned_fraction() - exact).abs() < 1e-11,
+            "{}",
+            g.pinned_fraction()
+        );
+        // The skipping centres: 0.99 < D < 1.01 (A − r − ρ = 1.29 is no limit).
+        assert!(g.skipping_fraction() > 0.0);
+        let sum = g.localized_fraction();
+        assert!(sum > 0.0 && sum <= 1.0, "{sum}");
+    }
+}
