@@ -41,6 +41,15 @@ pub struct Args {
     audit: Option<f64>,
     #[command(flatten)]
     reference: ReferenceBitsArg,
+    /// A uniform magnetic field B perpendicular to the plane, an exact decimal or fraction like
+    /// --w: the velocity turns at the angular velocity B, counter-clockwise for B > 0, on a
+    /// cyclotron circle of radius 1/|B|. With a nonzero field the run measures the diffusion
+    /// tensor (D_xx and the Hall D_xy) and the localized orbits; 0 is the run without a field.
+    #[arg(long, allow_negative_numbers = true)]
+    field: Option<String>,
+    /// With --field: phase points classified for the sampled share of localized orbits.
+    #[arg(long, value_parser = parse_count, requires = "field")]
+    localization_samples: Option<u64>,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -72,6 +81,20 @@ pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let cfg = config(&a)?;
+    if let Some(b) = nonzero_field(&a)? {
+        let fc = super::field::config(cfg, &b, a.localization_samples)?;
+        let audit = a
+            .audit
+            .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
+            .transpose()?;
+        let opts = a.checkpoint.apply(RunOptions {
+            engine: a.engine.engine,
+            threads: a.run.threads(),
+            audit,
+            ..super::signals::options()
+        });
+        return super::field::run(&fc, opts, a.output.quiet, a.output.json);
+    }
     let audit = a
         .audit
         .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
@@ -89,6 +112,21 @@ pub fn run(a: Args) -> Result<(), Error> {
     drop(progress);
     drop(pb);
     emit(a.output.json, &r, print)
+}
+
+/// The field, unless absent or exactly zero (the run without a field, with its own bits).
+fn nonzero_field(a: &Args) -> Result<Option<String>, Error> {
+    match &a.field {
+        Some(b) if lorentz_gas::numbers::exact::parse_exact(b)? != 0 => Ok(Some(b.clone())),
+        _ => {
+            if a.localization_samples.is_some() {
+                return Err(Error::Invalid(
+                    "--localization-samples needs a nonzero --field: leave it out".into(),
+                ));
+            }
+            Ok(None)
+        }
+    }
 }
 
 fn print(r: &DiffusionReport) {

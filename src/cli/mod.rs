@@ -35,6 +35,7 @@ mod certify;
 mod constants;
 mod diffusion;
 mod escape;
+mod field;
 mod figure;
 mod hops;
 mod lattice_walk;

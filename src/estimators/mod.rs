@@ -1,6 +1,8 @@
 //! Estimators: the analyses, each a validated configuration and one entry point.
 //!
 //! * [`diffusion`]: D(w) by the Einstein formula (MSD slope) with batch errors.
+//! * [`field`]: the diffusion tensor in a magnetic field — D_xx, the Hall D_xy, pinned and
+//!   skipping orbits counted exactly.
 //! * [`hops`]: trap hopping — symbol sequences, backscattering, Green–Kubo, lattice walks.
 //! * [`sweep`]: D over a grid of gaps with a fit, in shards for campaigns.
 //! * [`escape`]: D from the escape rate out of an open strip (Gaspard–Baras).
@@ -15,6 +17,7 @@
 
 pub mod diffusion;
 pub mod escape;
+pub mod field;
 pub mod hops;
 pub mod observer_costs;
 pub mod superdiffusion;

@@ -28,6 +28,8 @@ pub enum Purpose {
     Verification,
     /// Initial conditions in the open strip of the escape-rate estimator.
     Escape,
+    /// Phase points classified as pinned, skipping or diffusing in a magnetic field.
+    Classification,
 }
 
 impl Purpose {
@@ -40,6 +42,7 @@ impl Purpose {
             Purpose::LatticeWalk => 4,
             Purpose::Verification => 5,
             Purpose::Escape => 6,
+            Purpose::Classification => 7,
         }
     }
 }

@@ -78,6 +78,12 @@ impl FieldGeometry {
         self.rho
     }
 
+    /// `true` if every orbit is localized: 2ρ ≤ A − 2r, so that every cyclotron circle that meets a
+    /// disk stays within A − r of its centre (it skips round it) and every other one is pinned.
+    pub fn all_localized(&self) -> bool {
+        2.0 * self.rho <= self.lattice.nearest_distance() - 2.0 * self.lattice.radius
+    }
+
     /// The range (D_lo, D_hi) of centre distances of the skipping orbits (empty if D_hi ≤ D_lo).
     pub fn skipping_range(&self) -> (f64, f64) {
         let (rho, r) = (self.rho, self.lattice.radius);

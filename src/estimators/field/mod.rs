@@ -1,0 +1,421 @@
+//! The diffusion tensor in a uniform magnetic field, with the orbits that never diffuse counted
+//! exactly (`proofs-notes/magnetic-transport.md`, `proofs-notes/magnetic-localized.md`).
+//!
+//! The run is a diffusion run ([`DiffusionConfig`]: gap, collisions, batches, seed, precision,
+//! fit windows in units of the zero-field hop time τ) plus the field B. Each batch is one
+//! trajectory started from the invariant measure restricted to the **diffusing** orbits (starts on
+//! pinned or skipping orbits, decided by exact geometry, are drawn again). Along it the
+//! displacement and the cumulative Lévy area are sampled every gτ, every sample a time origin,
+//! and per batch
+//!
+//! * D_xx, D_yy: half the least-squares slopes of ⟨Δx²⟩, ⟨Δy²⟩ over the fit window;
+//! * the symmetric off-diagonal part: half the slope of ⟨ΔxΔy⟩ (0 by the lattice's symmetry);
+//! * the Hall part D_xy = −D_yx: half the slope of the mean Lévy area ⟨A⟩ (Green–Kubo:
+//!   d⟨A⟩/dt → ∫ ⟨v_x(0)v_y(t) − v_y(0)v_x(t)⟩ dt = D_xy − D_yx).
+//!
+//! Errors are standard errors over batches. Over the whole phase space the localized orbits do not
+//! move, so the tensor is (1 − f_localized) times the diffusing part's, with the exact share; where
+//! every orbit is localized (2ρ ≤ A − 2r: each cyclotron circle either misses every disk or skips
+//! round one) the tensor is exactly 0 and no trajectory is run. The sampled share of localized
+//! phase points (binomial error) and Kac's mean free time of the diffusing part are measured
+//! beside their exact values.
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::diffusion::{DiffusionConfig, Window};
+use crate::Error;
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
+use crate::engine::parallel::{par_batches, par_batches_watched, share};
+use crate::numbers::exact::{nearest_f64, parse_exact};
+use crate::numbers::precision::Precision;
+use crate::numbers::real::Real;
+use crate::scenes::Scene;
+use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::scenes::triangular::TriangularScene;
+use crate::scenes::triangular::geometry::Geometry;
+use crate::statistics::{linear_fit, mean_se};
+use crate::theory::magnetic::FieldGeometry;
+
+mod track;
+
+use track::{Batch, Setup};
+
+/// The fields the transport analysis takes: 10⁻³ ≤ |B| ≤ 10³ (cyclotron radii from 10⁻³ to 10³;
+/// the kernel itself is tested from 10⁻⁶ to 10⁶).
+pub const FIELD_RANGE: (f64, f64) = (1e-3, 1e3);
+
+/// Default number of phase points classified for the sampled localized share.
+pub const DEFAULT_LOCALIZATION_SAMPLES: u64 = 1_000_000;
+
+/// Everything that defines a transport run in a field.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FieldConfig {
+    /// The run without the field: gap, collisions, batches, seed, precision and fit windows, with
+    /// diffusion's meaning and checks.
+    pub diffusion: DiffusionConfig,
+    /// The field B exactly as given (a decimal or a fraction): the velocity turns at the angular
+    /// velocity B, counter-clockwise for B > 0, on a cyclotron circle of radius 1/|B|.
+    pub field: String,
+    /// Phase points drawn from the invariant measure and classified, for the sampled share of
+    /// localized orbits.
+    pub localization_samples: u64,
+}
+
+impl FieldConfig {
+    /// The default run at gap `w` in the field `field` (a decimal or fraction).
+    pub fn new(w: f64, field: &str) -> Self {
+        FieldConfig {
+            diffusion: DiffusionConfig::new(w),
+            field: field.trim().to_string(),
+            localization_samples: DEFAULT_LOCALIZATION_SAMPLES,
+        }
+    }
+
+    /// The field as the nearest double, checked: nonzero and 10⁻³ ≤ |B| ≤ 10³.
+    ///
+    /// # Errors
+    /// A field that is not an exact decimal or fraction, zero (the straight-line run: leave the
+    /// field out), or outside [`FIELD_RANGE`].
+    pub fn field_value(&self) -> Result<f64, Error> {
+        let b = nearest_f64(&parse_exact(&self.field)?);
+        let (lo, hi) = FIELD_RANGE;
+        if b == 0.0 || !(lo..=hi).contains(&b.abs()) {
+            return Err(Error::out_of_range(
+                "field",
+                b,
+                format!(
+                    "use {lo:e} <= |field| <= {hi:e} (field = 0 is the zero-field run: leave \
+                     the field out)"
+                ),
+            ));
+        }
+        Ok(b)
+    }
+
+    /// Checks every parameter; errors name the valid range.
+    pub fn validate(&self) -> Result<(), Error> {
+        self.diffusion.validate()?;
+        self.field_value()?;
+        if !(1..=1_000_000_000).contains(&self.localization_samples) {
+            return Err(Error::out_of_range(
+                "localization_samples",
+                self.localization_samples,
+                "use 1 to 1e9",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Estimates with their standard errors over batches.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct Tensor {
+    /// D_xx: half the slope of ⟨Δx²⟩.
+    pub D_xx: f64,
+    /// Its standard error.
+    pub D_xx_err: f64,
+    /// D_yy: half the slope of ⟨Δy²⟩ (equal to D_xx by the lattice's symmetry).
+    pub D_yy: f64,
+    /// Its standard error.
+    pub D_yy_err: f64,
+    /// The Hall part D_xy = −D_yx: half the slope of the mean Lévy area.
+    pub D_xy: f64,
+    /// Its standard error.
+    pub D_xy_err: f64,
+    /// The symmetric off-diagonal part: half the slope of ⟨ΔxΔy⟩ (0 by symmetry).
+    pub D_xy_symmetric: f64,
+    /// Its standard error.
+    pub D_xy_symmetric_err: f64,
+}
+
+/// The result of a transport run in a field.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct FieldReport {
+    /// Gap w.
+    pub w: f64,
+    /// The field B (nearest double of the exact value in `config`).
+    pub field: f64,
+    /// Cyclotron radius 1/|B|.
+    pub cyclotron_radius: f64,
+    /// D_xx over the whole phase space: (1 − localized share) × the diffusing part's, the mean
+    /// of D_xx and D_yy.
+    pub D_xx: f64,
+    /// Its standard error.
+    pub D_xx_err: f64,
+    /// The Hall part D_xy over the whole phase space.
+    pub D_xy: f64,
+    /// Its standard error.
+    pub D_xy_err: f64,
+    /// The tensor of the diffusing part, over the fit window.
+    pub diffusing: Tensor,
+    /// The same over the later check window (the linear regime's check).
+    pub diffusing_check: Tensor,
+    /// Exact share of phase space in pinned orbits.
+    pub pinned_fraction_exact: f64,
+    /// Exact share in skipping orbits.
+    pub skipping_fraction_exact: f64,
+    /// Exact localized share (pinned + skipping).
+    pub localized_fraction_exact: f64,
+    /// The sampled localized share of `localization_samples` phase points.
+    pub localized_fraction: f64,
+    /// Its binomial standard error.
+    pub localized_fraction_err: f64,
+    /// Every orbit is localized (2ρ ≤ A − 2r): D = 0 exactly, no trajectory run.
+    pub all_localized: bool,
+    /// Mean free time between collisions of the diffusing part: the inverse of the collision rate
+    /// averaged over batches of equal duration.
+    pub mean_free_time: f64,
+    /// Its standard error (the rate's, propagated).
+    pub mean_free_time_err: f64,
+    /// Kac's closed form for it.
+    pub mean_free_time_exact: f64,
+    /// Localized starts drawn and set aside before the batches' diffusing starts.
+    pub rejected_starts: u64,
+    /// Fit window (units of the zero-field hop time τ).
+    pub window: Window,
+    /// Check window.
+    pub check_window: Window,
+    /// The time unit τ (the zero-field mean hop time πA/(3w)).
+    pub tau: f64,
+    /// Collisions in all.
+    pub collisions: u64,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+    /// Per-batch D_xx (mean of xx and yy) of the diffusing part.
+    pub batch_D_xx: Vec<f64>,
+    /// Per-batch Hall D_xy of the diffusing part.
+    pub batch_D_xy: Vec<f64>,
+    /// The configuration.
+    pub config: FieldConfig,
+    /// Provenance.
+    pub meta: RunMeta,
+}
+
+/// Runs the transport analysis in a field.
+///
+/// # Errors
+/// An invalid configuration, options the analysis does not use (a checkpoint, an audit, an
+/// engine other than the scalar one it runs on), or an interruption.
+pub fn run(cfg: &FieldConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
+    cfg.validate()?;
+    opts.validate()?;
+    opts.refuse_unused("diffusion in a field", &[])?;
+    let d = &cfg.diffusion;
+    let b = cfg.field_value()?;
+    let scene = match &d.w_exact {
+        Some(text) => TriangularScene::exact(parse_exact(text)?)?,
+        None => TriangularScene::new(d.w)?,
+    };
+    let geometry = FieldGeometry::new(scene.disk_lattice().expect("triangular disks"), b)?;
+    let started = Instant::now();
+    let (localized, samples) = classify(cfg, &scene, &geometry, opts)?;
+    let batches = if geometry.all_localized() {
+        Vec::new()
+    } else {
+        match d.precision {
+            Precision::F64 => batches::<f64>(cfg, &scene, &geometry, (), opts)?,
+            Precision::Bits(bits) => batches::<rug::Float>(cfg, &scene, &geometry, bits, opts)?,
+        }
+    };
+    let tau = Geometry::new(d.w)?.hop_time();
+    summarise(
+        cfg,
+        &geometry,
+        tau,
+        &batches,
+        (localized, samples),
+        started,
+        opts,
+    )
+}
+
+/// The sampled localized share: `localization_samples` phase points in 64 chunks of their own
+/// streams (the same bits at any thread count).
+fn classify(
+    cfg: &FieldConfig,
+    scene: &TriangularScene,
+    geometry: &FieldGeometry,
+    opts: &RunOptions,
+) -> Result<(u64, u64), Error> {
+    const CHUNKS: u32 = 64;
+    let n = cfg.localization_samples;
+    let d = &cfg.diffusion;
+    let counts = par_batches(opts.threads, CHUNKS, |c| {
+        let key = track::classification_key(d.seed, d.run, c as u64);
+        track::classify_chunk(scene, geometry, key, share(n, CHUNKS, c))
+    })?;
+    Ok((counts.iter().sum(), n))
+}
+
+/// Every batch at number type `T`.
+fn batches<T: Real>(
+    cfg: &FieldConfig,
+    scene: &TriangularScene,
+    geometry: &FieldGeometry,
+    ctx: T::Ctx,
+    opts: &RunOptions,
+) -> Result<Vec<Batch>, Error> {
+    let d = &cfg.diffusion;
+    let lattice = scene.lattice::<T>(ctx)?;
+    let exact = parse_exact(&cfg.field)?;
+    let field = T::from_rational(ctx, &exact);
+    let tau = Geometry::new(d.w)?.hop_time();
+    let (grid, steps) = track::grid(tau, &d.window, &d.check_window);
+    let setup = Setup {
+        scene,
+        lattice: &lattice,
+        geometry,
+        field: (&field, field.to_f64()),
+        ctx,
+        grid,
+        steps: &steps,
+        stop: opts.stop.as_ref(),
+        progress: opts.progress,
+    };
+    // Every batch flies the same time, its share of the collisions at Kac's mean free time.
+    let duration = (d.collisions / d.batches as u64) as f64 * geometry.diffusing_mean_free_time();
+    par_batches_watched(opts.threads, d.batches, opts.stop.as_ref(), |i| {
+        let key = StreamKey::new(d.seed, Purpose::Trajectory, i as u64).in_run(d.run);
+        track::batch(&setup, key, duration)
+    })
+}
+
+/// One batch's tensor over `win`: [D_xx, D_yy, D_xy (Hall), D_xy (symmetric)].
+fn tensor_of(b: &Batch, lags: &[usize], tau: f64, win: &Window) -> [f64; 4] {
+    let mut out = [0.0; 4];
+    for (k, o) in [(0, 0), (1, 1), (3, 2), (2, 3)] {
+        let (x, y): (Vec<f64>, Vec<f64>) = lags
+            .iter()
+            .zip(&b.means)
+            .filter(|(l, _)| **l >= win.lo && **l <= win.hi)
+            .map(|(l, m)| (*l as f64 * tau, m[k]))
+            .unzip();
+        out[o] = linear_fit(&x, &y).1 / 2.0;
+    }
+    out
+}
+
+/// The tensor over `win` from every batch, with standard errors.
+fn tensor(batches: &[Batch], lags: &[usize], tau: f64, win: &Window) -> Tensor {
+    let per: Vec<[f64; 4]> = batches
+        .iter()
+        .map(|b| tensor_of(b, lags, tau, win))
+        .collect();
+    let stat = |k: usize| mean_se(&per.iter().map(|t| t[k]).collect::<Vec<_>>());
+    let ((xx, xx_e), (yy, yy_e), (h, h_e), (s, s_e)) = (stat(0), stat(1), stat(2), stat(3));
+    Tensor {
+        D_xx: xx,
+        D_xx_err: xx_e,
+        D_yy: yy,
+        D_yy_err: yy_e,
+        D_xy: h,
+        D_xy_err: h_e,
+        D_xy_symmetric: s,
+        D_xy_symmetric_err: s_e,
+    }
+}
+
+/// The lags of both windows in units of τ, sorted, each once (the order of the batch means).
+fn all_lags(d: &DiffusionConfig) -> Vec<usize> {
+    let mut l = d.window.lags();
+    l.extend(d.check_window.lags());
+    l.sort_unstable();
+    l.dedup();
+    l
+}
+
+fn summarise(
+    cfg: &FieldConfig,
+    geometry: &FieldGeometry,
+    tau: f64,
+    batches: &[Batch],
+    (localized, samples): (u64, u64),
+    started: Instant,
+    opts: &RunOptions,
+) -> Result<FieldReport, Error> {
+    let d = &cfg.diffusion;
+    let lags = all_lags(d);
+    let zero = Tensor {
+        D_xx: 0.0,
+        D_xx_err: 0.0,
+        D_yy: 0.0,
+        D_yy_err: 0.0,
+        D_xy: 0.0,
+        D_xy_err: 0.0,
+        D_xy_symmetric: 0.0,
+        D_xy_symmetric_err: 0.0,
+    };
+    let (diffusing, check) = if batches.is_empty() {
+        (zero.clone(), zero)
+    } else {
+        (
+            tensor(batches, &lags, tau, &d.window),
+            tensor(batches, &lags, tau, &d.check_window),
+        )
+    };
+    let per: Vec<[f64; 4]> = batches
+        .iter()
+        .map(|b| tensor_of(b, &lags, tau, &d.window))
+        .collect();
+    let batch_xx: Vec<f64> = per.iter().map(|t| (t[0] + t[1]) / 2.0).collect();
+    let (xx, xx_err) = if per.is_empty() {
+        (0.0, 0.0)
+    } else {
+        mean_se(&batch_xx)
+    };
+    let keep = 1.0 - geometry.localized_fraction();
+    // Collision rates of equal durations average to Kac's 1/τ whatever the components.
+    let rates: Vec<f64> = batches
+        .iter()
+        .map(|b| b.collisions as f64 / b.time)
+        .collect();
+    let (mft, mft_err) = if rates.is_empty() {
+        (f64::INFINITY, 0.0)
+    } else {
+        let (r, e) = mean_se(&rates);
+        (1.0 / r, e / (r * r))
+    };
+    let f = localized as f64 / samples as f64;
+    let collisions: u64 = batches.iter().map(|b| b.collisions).sum();
+    let seconds = started.elapsed().as_secs_f64();
+    Ok(FieldReport {
+        w: d.w,
+        field: cfg.field_value()?,
+        cyclotron_radius: geometry.cyclotron_radius(),
+        D_xx: keep * xx,
+        D_xx_err: keep * xx_err,
+        D_xy: keep * diffusing.D_xy,
+        D_xy_err: keep * diffusing.D_xy_err,
+        diffusing,
+        diffusing_check: check,
+        pinned_fraction_exact: geometry.pinned_fraction(),
+        skipping_fraction_exact: geometry.skipping_fraction(),
+        localized_fraction_exact: geometry.localized_fraction(),
+        localized_fraction: f,
+        localized_fraction_err: (f * (1.0 - f) / samples as f64).sqrt(),
+        all_localized: geometry.all_localized(),
+        mean_free_time: mft,
+        mean_free_time_err: mft_err,
+        mean_free_time_exact: geometry.diffusing_mean_free_time(),
+        rejected_starts: batches.iter().map(|b| b.rejected).sum(),
+        window: d.window,
+        check_window: d.check_window,
+        tau,
+        collisions,
+        seconds,
+        batch_D_xx: batch_xx,
+        batch_D_xy: per.iter().map(|t| t[2]).collect(),
+        config: cfg.clone(),
+        meta: RunMeta::new(
+            Some(d.seed),
+            Some(d.batches as u64),
+            d.precision,
+            Some(opts.threads),
+        ),
+    })
+}

@@ -1,0 +1,249 @@
+//! One trajectory in the field: its unwrapped position and its cumulative Lévy area sampled on a
+//! fixed time grid, and the lag sums of the diffusion tensor accumulated from every sample as a
+//! time origin (`proofs-notes/magnetic-transport.md`).
+//!
+//! With X(t) the displacement from the start and C(t) = ∫₀ᵗ X × dX, the Lévy area of the window
+//! [t₀, t₁] is A = C(t₁) − C(t₀) − X(t₀) × (X(t₁) − X(t₀)), and ⟨A⟩ grows like (D_xy − D_yx)·t:
+//! twice the Hall part of the tensor, which no mean squared displacement sees.
+
+use super::super::diffusion::Window;
+use crate::Error;
+use crate::engine::options::StopFlag;
+use crate::kernel::arc::{arc_area, chord_at};
+use crate::kernel::flight::EventKind;
+use crate::kernel::trap::Trap;
+use crate::kernel::vec2::Vec2;
+use crate::numbers::real::Real;
+use crate::scenes::Scene;
+use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::scenes::triangular::TriangularScene;
+use crate::theory::magnetic::{FieldGeometry, Orbit};
+
+/// Most starts drawn for one batch before a diffusing one is found (the localized share would
+/// have to exceed 1 − 10⁻⁶ for this to be reached by chance even once in 10⁴ batches).
+pub const MAX_STARTS: u64 = 20_000_000;
+
+/// The lag sums of one trajectory: for each lag, Σ Δx², Σ Δy², Σ ΔxΔy, Σ A over every time origin.
+#[derive(Debug, Clone)]
+pub(super) struct LagSums {
+    /// Lags in grid steps.
+    steps: Vec<usize>,
+    ring: Vec<[f64; 3]>,
+    samples: u64,
+    sums: Vec<[f64; 4]>,
+    counts: Vec<u64>,
+}
+
+impl LagSums {
+    pub(super) fn new(steps: Vec<usize>) -> Self {
+        let n = steps.iter().copied().max().unwrap_or(0) + 1;
+        LagSums {
+            sums: vec![[0.0; 4]; steps.len()],
+            counts: vec![0; steps.len()],
+            steps,
+            ring: vec![[0.0; 3]; n],
+            samples: 0,
+        }
+    }
+
+    /// One sample: displacement (x, y) and cumulative area c.
+    pub(super) fn push(&mut self, x: f64, y: f64, c: f64) {
+        let n = self.ring.len() as u64;
+        let k = self.samples;
+        self.ring[(k % n) as usize] = [x, y, c];
+        for (i, &l) in self.steps.iter().enumerate() {
+            if k >= l as u64 {
+                let [x0, y0, c0] = self.ring[((k - l as u64) % n) as usize];
+                let (dx, dy) = (x - x0, y - y0);
+                let area = c - c0 - (x0 * dy - y0 * dx);
+                let s = &mut self.sums[i];
+                s[0] += dx * dx;
+                s[1] += dy * dy;
+                s[2] += dx * dy;
+                s[3] += area;
+                self.counts[i] += 1;
+            }
+        }
+        self.samples += 1;
+    }
+
+    /// The means per lag (NaN where a lag was never reached).
+    pub(super) fn means(&self) -> Vec<[f64; 4]> {
+        self.sums
+            .iter()
+            .zip(&self.counts)
+            .map(|(s, &c)| s.map(|v| v / c as f64))
+            .collect()
+    }
+}
+
+/// What one batch measured.
+#[derive(Debug, Clone)]
+pub(super) struct Batch {
+    /// ⟨Δx²⟩, ⟨Δy²⟩, ⟨ΔxΔy⟩, ⟨A⟩ at each lag.
+    pub means: Vec<[f64; 4]>,
+    /// Collisions within the batch's duration.
+    pub collisions: u64,
+    /// The duration (flight time).
+    pub time: f64,
+    /// Localized starts drawn (and set aside) before the diffusing one.
+    pub rejected: u64,
+}
+
+/// Where and how one batch runs.
+pub(super) struct Setup<'a, T: Real> {
+    pub scene: &'a TriangularScene,
+    pub lattice: &'a Lattice<T, Trap<T>>,
+    pub geometry: &'a FieldGeometry,
+    /// The field at the working precision and as a double (for observables).
+    pub field: (&'a T, f64),
+    pub ctx: T::Ctx,
+    /// Grid spacing (time units).
+    pub grid: f64,
+    pub steps: &'a [usize],
+    pub stop: Option<&'a StopFlag>,
+    pub progress: &'a (dyn Fn(u64) + Sync),
+}
+
+/// A start drawn from the invariant measure restricted to the diffusing orbits (rejection), and
+/// the number of localized starts set aside.
+pub(super) fn start(
+    scene: &TriangularScene,
+    geometry: &FieldGeometry,
+    key: StreamKey,
+) -> Result<(LatticeState<f64>, u64), Error> {
+    let lattice = scene.lattice::<f64>(())?;
+    let mut rng = key.rng();
+    for rejected in 0..MAX_STARTS {
+        let s = scene.sample(&mut rng);
+        let p = lattice.world(&s);
+        let sg = s.cell.sign();
+        let orbit = geometry.classify(p.x, p.y, sg * s.flight.vel.x, sg * s.flight.vel.y);
+        if orbit == Orbit::Diffusing {
+            return Ok((s, rejected));
+        }
+    }
+    Err(Error::Failed(format!(
+        "no diffusing start in {MAX_STARTS} draws: almost every orbit is localized at this field"
+    )))
+}
+
+/// Runs batch `index` for the flight time `duration` (the same for every batch, so that the
+/// collision rate averaged over batches is Kac's even where the diffusing part holds regular
+/// islands: `proofs-notes/magnetic-transport.md`).
+pub(super) fn batch<T: Real>(
+    su: &Setup<'_, T>,
+    key: StreamKey,
+    duration: f64,
+) -> Result<Batch, Error> {
+    let (s64, rejected) = start(su.scene, su.geometry, key)?;
+    let mut s = LatticeState::<T>::convert_from_f64(su.ctx, &s64);
+    s.flight.normalise_speed();
+    let (field, w) = su.field;
+    let lat = su.lattice;
+    let basis = lat.basis_f64();
+    let origin = lat.unwrapped(&s, 0.0);
+    let mut sums = LagSums::new(su.steps.to_vec());
+    sums.push(0.0, 0.0, 0.0);
+    let (mut t, mut area, mut next, mut done) = (0.0f64, 0.0f64, 1u64, 0u64);
+    while t < duration {
+        let r = lat.unwrapped(&s, 0.0).displacement_from(&origin, &basis);
+        let sg = s.cell.sign();
+        let v = Vec2::new(sg * s.flight.vel.x.to_f64(), sg * s.flight.vel.y.to_f64());
+        let step = lat.step_in_field(&mut s, field)?;
+        let end = t + step.time;
+        while next as f64 * su.grid <= end.min(duration) {
+            let tau = next as f64 * su.grid - t;
+            let x = chord_at(&v, &tau, &w);
+            let c = area + (r[0] * x.y - r[1] * x.x) + arc_area(tau, w);
+            sums.push(r[0] + x.x, r[1] + x.y, c);
+            next += 1;
+        }
+        area += (r[0] * step.chord[1] - r[1] * step.chord[0]) + step.area;
+        t = end;
+        if let (EventKind::Collision(_), true) = (step.kind, end <= duration) {
+            done += 1;
+            if done % (1 << 16) == 0 {
+                (su.progress)(1 << 16);
+                if let Some(stop) = su.stop {
+                    stop.check()?;
+                }
+            }
+        }
+    }
+    (su.progress)(done % (1 << 16));
+    Ok(Batch {
+        means: sums.means(),
+        collisions: done,
+        time: duration,
+        rejected,
+    })
+}
+
+/// The grid of a run: spacing g·τ (g the greatest common divisor of the fit lags in units of τ) and
+/// every lag of both windows in grid steps.
+pub(super) fn grid(tau: f64, window: &Window, check: &Window) -> (f64, Vec<usize>) {
+    let mut lags = window.lags();
+    lags.extend(check.lags());
+    lags.sort_unstable();
+    lags.dedup();
+    let g = lags.iter().fold(0, |a, &b| gcd(a, b)).max(1);
+    (g as f64 * tau, lags.iter().map(|l| l / g).collect())
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 { a } else { gcd(b, a % b) }
+}
+
+/// Classifies `n` phase points of stream `(seed, Classification, run, chunk)`: localized ones.
+pub(super) fn classify_chunk(
+    scene: &TriangularScene,
+    geometry: &FieldGeometry,
+    key: StreamKey,
+    n: u64,
+) -> Result<u64, Error> {
+    let lattice = scene.lattice::<f64>(())?;
+    let mut rng = key.rng();
+    let mut localized = 0;
+    for _ in 0..n {
+        let s = scene.sample(&mut rng);
+        let p = lattice.world(&s);
+        let sg = s.cell.sign();
+        if geometry.classify(p.x, p.y, sg * s.flight.vel.x, sg * s.flight.vel.y) != Orbit::Diffusing
+        {
+            localized += 1;
+        }
+    }
+    Ok(localized)
+}
+
+/// The key of classification chunk `chunk`.
+pub(super) fn classification_key(seed: u64, run: u64, chunk: u64) -> StreamKey {
+    StreamKey::new(seed, Purpose::Classification, chunk).in_run(run)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lag_sums_of_a_circle_give_its_area() {
+        // A square of side √2 walked counter-clockwise, C the polygon's ∫ x × dx: over the whole
+        // walk (lag 4) the displacement is 0 and the area twice the square's, 4.
+        let mut s = LagSums::new(vec![1, 4]);
+        let pts = [(0.0, 0.0), (1.0, 1.0), (0.0, 2.0), (-1.0, 1.0), (0.0, 0.0)];
+        let mut c = 0.0;
+        let mut prev: (f64, f64) = (0.0, 0.0);
+        for &(x, y) in &pts {
+            c += prev.0 * (y - prev.1) - prev.1 * (x - prev.0);
+            s.push(x, y, c);
+            prev = (x, y);
+        }
+        let m = s.means();
+        assert_eq!(m[1], [0.0, 0.0, 0.0, 4.0]);
+        // Lag 1: each side of the square, |Δ|² = 2, and no area of its own (straight sides).
+        assert_eq!(m[0][0] + m[0][1], 2.0);
+        assert_eq!(m[0][3], 0.0);
+    }
+}
