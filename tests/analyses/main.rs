@@ -10,6 +10,7 @@ mod common;
 mod corridors;
 mod derived_errors;
 mod escape;
+mod field;
 mod hopping;
 mod options;
 mod superdiffusion;

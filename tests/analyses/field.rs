@@ -1,0 +1,146 @@
+//! The diffusion tensor in a magnetic field (`estimators::field`), against symmetry, continuity
+//! and the exact geometry of its localized orbits:
+//!
+//! * Onsager–Casimir: D_xx(B) − D_xx(−B) and D_xy(B) + D_xy(−B) consistent with 0 (Welch 4σ);
+//! * B → 0 joins D(w) of the run without a field (Welch 4σ);
+//! * where every orbit is localized the tensor is exactly 0 and every sampled point is localized;
+//! * the symmetric off-diagonal part and D_xx − D_yy are 0 by the lattice's symmetry, Kac's mean
+//!   free time of the diffusing part holds (4σ);
+//! * the same seed gives the same bits on one thread and on two.
+
+use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
+use lorentz_gas::estimators::field::{self, FieldConfig, FieldReport};
+
+use crate::common::{physics_only, t4, t4_welch, threads};
+
+const BATCHES: u32 = 16;
+
+fn config(w: f64, b: &str, collisions: u64) -> FieldConfig {
+    FieldConfig {
+        diffusion: DiffusionConfig {
+            collisions,
+            batches: BATCHES,
+            seed: 11,
+            ..DiffusionConfig::new(w)
+        },
+        field: b.to_string(),
+        localization_samples: 100_000,
+    }
+}
+
+fn run(w: f64, b: &str, collisions: u64) -> FieldReport {
+    field::run(&config(w, b, collisions), &threads(2)).unwrap()
+}
+
+/// |x| within the Welch 4σ bound of two independent estimates' errors.
+fn consistent_with_zero(x: f64, ea: f64, eb: f64) -> bool {
+    x.abs() <= t4_welch(ea, BATCHES, eb, BATCHES) * (ea * ea + eb * eb).sqrt()
+}
+
+#[test]
+fn d_xx_is_even_and_the_hall_part_odd_in_the_field() {
+    for (w, b) in [(0.1, "0.5"), (0.1, "2"), (0.3, "1"), (0.3, "3")] {
+        let plus = run(w, b, 8_000_000);
+        let minus = run(w, &format!("-{b}"), 8_000_000);
+        assert!(
+            consistent_with_zero(plus.D_xx - minus.D_xx, plus.D_xx_err, minus.D_xx_err),
+            "w={w} B=±{b}: D_xx {} ± {} vs {} ± {}",
+            plus.D_xx,
+            plus.D_xx_err,
+            minus.D_xx,
+            minus.D_xx_err
+        );
+        assert!(
+            consistent_with_zero(plus.D_xy + minus.D_xy, plus.D_xy_err, minus.D_xy_err),
+            "w={w} B=±{b}: D_xy {} ± {} vs {} ± {}",
+            plus.D_xy,
+            plus.D_xy_err,
+            minus.D_xy,
+            minus.D_xy_err
+        );
+        // The Hall part is there (not 0 by accident of the estimator) and turns with the field.
+        assert!(
+            plus.D_xy.abs() > 4.0 * plus.D_xy_err,
+            "w={w} B={b}: {}",
+            plus.D_xy
+        );
+        for r in [&plus, &minus] {
+            let t = &r.diffusing;
+            let bound = t4(BATCHES);
+            assert!(
+                t.D_xy_symmetric.abs() <= bound * t.D_xy_symmetric_err,
+                "{t:?}"
+            );
+            assert!(
+                consistent_with_zero(t.D_xx - t.D_yy, t.D_xx_err, t.D_yy_err),
+                "{t:?}"
+            );
+            let kac = r.mean_free_time - r.mean_free_time_exact;
+            assert!(
+                kac.abs() <= bound * r.mean_free_time_err,
+                "w={w} B={}: Kac {kac:e}",
+                r.field
+            );
+            // The sampled localized share within the binomial 4σ bound of the exact one.
+            let f = r.localized_fraction_exact;
+            let n = r.config.localization_samples as f64;
+            let bin = 4.0 * (f * (1.0 - f) / n).sqrt() + 1.0 / n;
+            assert!(
+                (r.localized_fraction - f).abs() <= bin,
+                "{} vs {f}",
+                r.localized_fraction
+            );
+        }
+    }
+}
+
+#[test]
+fn a_weak_field_joins_d_of_w() {
+    let w = 0.2;
+    let weak = run(w, "1/1000", 8_000_000);
+    let cfg = DiffusionConfig {
+        collisions: 8_000_000,
+        batches: BATCHES,
+        seed: 11,
+        ..DiffusionConfig::new(w)
+    };
+    let zero = diffusion::run(&cfg, &threads(2)).unwrap();
+    assert_eq!(weak.localized_fraction_exact, 0.0);
+    assert!(
+        consistent_with_zero(weak.D_xx - zero.D, weak.D_xx_err, zero.D_err),
+        "D_xx(B = 0.001) = {} ± {}, D(w) = {} ± {}",
+        weak.D_xx,
+        weak.D_xx_err,
+        zero.D,
+        zero.D_err
+    );
+}
+
+#[test]
+fn where_every_orbit_is_localized_the_tensor_is_exactly_zero() {
+    // w = 0.1: every orbit is localized once 2ρ ≤ A − 2r = 0.1, i.e. B ≥ 20.
+    let r = run(0.1, "25", 8_000_000);
+    assert!(r.all_localized);
+    assert_eq!((r.D_xx, r.D_xy, r.collisions), (0.0, 0.0, 0));
+    assert_eq!(r.localized_fraction, 1.0);
+    assert!(
+        (r.localized_fraction_exact - 1.0).abs() < 1e-11,
+        "{}",
+        r.localized_fraction_exact
+    );
+    // Just below, some orbits diffuse.
+    let r = run(0.1, "19", 8_000_000);
+    assert!(
+        !r.all_localized && r.localized_fraction < 1.0 && r.D_xx > 0.0,
+        "{r:?}"
+    );
+}
+
+#[test]
+fn same_seed_same_bits_on_one_thread_and_two() {
+    let cfg = config(0.15, "-3/4", 2_000_000);
+    let one = field::run(&cfg, &threads(1)).unwrap();
+    let two = field::run(&cfg, &threads(2)).unwrap();
+    let json = |r: &FieldReport| physics_only(serde_json::to_value(r).unwrap());
+    assert_eq!(json(&one), json(&two));
+}
