@@ -49,6 +49,7 @@ from ._results import (
     CertifyResult,
     DiffusionResult,
     EscapeResult,
+    FieldResult,
     HopsResult,
     LatticeWalkResult,
     LyapunovResult,
@@ -84,6 +85,7 @@ __all__ = [
     "agreement_bound",
     "Result",
     "DiffusionResult",
+    "FieldResult",
     "HopsResult",
     "TheoryResult",
     "LatticeWalkResult",
@@ -253,9 +255,12 @@ def diffusion(
     checkpoint_every: float = 60.0,
     audit: Optional[float] = None,
     reference_bits: Count = 128,
+    field: Optional[Exact] = None,
+    localization_samples: Count = 1_000_000,
     progress: Progress = False,
-) -> DiffusionResult:
-    """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``).
+) -> Union[DiffusionResult, FieldResult]:
+    """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``), or with a
+    magnetic ``field`` the diffusion tensor (``lorentz diffusion --field``).
 
     Parameters
     ----------
@@ -284,6 +289,14 @@ def diffusion(
         Replay this fraction (0, 1] of the events in MPFR as the run goes (f64 runs).
     reference_bits : int
         MPFR precision of the audit's replay (128 to 65536 bits).
+    field : str, float, Fraction or Decimal, optional
+        A uniform magnetic field B (1/length at speed 1) perpendicular to the plane, taken
+        exactly like ``w``: the velocity turns at the angular velocity B, counter-clockwise for
+        B > 0, on a cyclotron circle of radius 1/|B|; 1e-3 <= |B| <= 1e3. ``None`` or 0: the
+        run without a field (its own bits). A field run takes no checkpoint or audit and runs
+        on the scalar engine.
+    localization_samples : int
+        With ``field``: phase points classified for the sampled share of localized orbits.
     progress : bool or callable
         Show a tqdm bar (if tqdm is installed), or call ``progress(n)`` with collisions done.
 
@@ -293,6 +306,11 @@ def diffusion(
         ``D``, ``D_err`` (length^2/time), ``D_check``, ``D_check_err``, ``mean_free_path``,
         ``mean_free_path_err``, ``mean_free_path_exact``, ``msd_times``, ``msd`` and
         ``batch_D`` (numpy arrays), ``meta``; ``to_dict()``, ``to_json()``.
+    FieldResult
+        With a nonzero ``field``: ``D_xx``, ``D_xy`` (the Hall part) with ``_err`` over the whole
+        phase space, ``diffusing`` (the tensor of the diffusing part), ``pinned_fraction_exact``,
+        ``localized_fraction_exact``, ``localized_fraction`` ± ``localized_fraction_err``,
+        ``mean_free_time`` against Kac's ``mean_free_time_exact``.
     """
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
         text = _native.diffusion(
@@ -309,8 +327,12 @@ def diffusion(
             float(checkpoint_every),
             None if audit is None else float(audit),
             _count("reference_bits", reference_bits),
+            None if field is None else _exact("field", field),
+            _count("localization_samples", localization_samples),
             cb,
         )
+    if '"D_xy"' in text:
+        return FieldResult(text)
     return DiffusionResult(text)
 
 

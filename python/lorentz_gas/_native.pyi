@@ -18,7 +18,7 @@ def diffusion(
     w: str, collisions: str, batches: str, seed: str, threads: Optional[str], engine: str,
     precision: str, window: Tuple[float, float], check_window: Tuple[float, float],
     checkpoint: Optional[str], checkpoint_every: float, audit: Optional[float],
-    reference_bits: str, progress: Progress,
+    reference_bits: str, field: Optional[str], localization_samples: str, progress: Progress,
 ) -> str: ...
 def hops(
     w: str, collisions: str, batches: str, order: str, seed: str, threads: Optional[str],

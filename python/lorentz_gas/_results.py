@@ -87,6 +87,21 @@ class DiffusionResult(Result):
         return f"D = {_pm(self.D, self.D_err)} at w = {self.w}"
 
 
+class FieldResult(Result):
+    """The diffusion tensor in a magnetic field ``field``: ``D_xx`` and the Hall part ``D_xy``
+    (length²/time, each with ``_err``) over the whole phase space, ``diffusing`` (a dict: the
+    tensor of the part that is neither pinned nor skipping), the exact shares
+    ``pinned_fraction_exact``, ``skipping_fraction_exact``, ``localized_fraction_exact`` and the
+    sampled ``localized_fraction`` ± ``localized_fraction_err``, ``mean_free_time`` against Kac's
+    ``mean_free_time_exact``, ``batch_D_xx`` and ``batch_D_xy``."""
+
+    def _summary(self) -> str:
+        return (
+            f"D_xx = {_pm(self.D_xx, self.D_xx_err)}, D_xy = {_pm(self.D_xy, self.D_xy_err)} "
+            f"at w = {self.w}, B = {self.field}"
+        )
+
+
 class HopsResult(Result):
     """Trap-hopping statistics: backscattering ``p_bs``, symbol-sequence probabilities
     ``pairs`` (with ``pairs_err``), the hop-level Green–Kubo ``D_GK`` against ``D_MZ``."""

@@ -13,6 +13,7 @@ use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::{AuditSpec, MAX_CHECKPOINT_EVERY, RunOptions};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, Window};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
+use lorentz_gas::estimators::field::{self, FieldConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
@@ -71,7 +72,7 @@ struct LyapunovJson {
 }
 
 #[pyfunction]
-#[pyo3(name = "diffusion", signature = (w, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, progress))]
+#[pyo3(name = "diffusion", signature = (w, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, field, localization_samples, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_diffusion(
     py: Python<'_>,
@@ -88,6 +89,8 @@ fn py_diffusion(
     checkpoint_every: f64,
     audit: Option<f64>,
     reference_bits: &str,
+    field: Option<&str>,
+    localization_samples: &str,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let w = exact("w", w)?;
@@ -112,6 +115,19 @@ fn py_diffusion(
     };
     let (threads, engine) = (inputs::threads(threads)?, inputs::engine(engine)?);
     let every = interval(checkpoint_every)?;
+    let samples = count_u64("localization_samples", localization_samples)?;
+    if let Some(fc) = field_config(&cfg, field, samples)? {
+        let r = compute(py, progress, |ctl| {
+            let opts = RunOptions {
+                resume: checkpoint,
+                audit,
+                checkpoint_every: every,
+                ..options(ctl, threads, engine)
+            };
+            field::run(&fc, &opts)
+        })?;
+        return json(&r);
+    }
     let r = compute(py, progress, |ctl| {
         let opts = RunOptions {
             resume: checkpoint,
@@ -122,6 +138,28 @@ fn py_diffusion(
         diffusion::run(&cfg, &opts)
     })?;
     json(&r)
+}
+
+/// The field run of a diffusion configuration, unless the field is absent or exactly zero (the
+/// run without a field, with its own bits).
+fn field_config(
+    cfg: &DiffusionConfig,
+    field: Option<&str>,
+    samples: u64,
+) -> PyResult<Option<FieldConfig>> {
+    let Some(b) = field else {
+        return Ok(None);
+    };
+    if lorentz_gas::numbers::exact::parse_exact(b).map_err(crate::py_err)? == 0 {
+        return Ok(None);
+    }
+    let fc = FieldConfig {
+        diffusion: cfg.clone(),
+        field: b.trim().to_string(),
+        localization_samples: samples,
+    };
+    fc.validate().map_err(crate::py_err)?;
+    Ok(Some(fc))
 }
 
 #[pyfunction]

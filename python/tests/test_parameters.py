@@ -19,6 +19,8 @@ STUBS = pathlib.Path(lg.__file__).with_name("_native.pyi")
 # A result of each analysis that records its configuration, at small statistics.
 CASES = {
     "diffusion": ["--w", "0.2", "--collisions", "1e6", "--batches", "4"],
+    "diffusion --field": ["--w", "0.2", "--collisions", "1e6", "--batches", "4", "--field", "1",
+                          "--localization-samples", "1000"],
     "hops": ["--w", "0.2", "--collisions", "1e6", "--batches", "4"],
     "theory": ["--w", "0.2", "--collisions", "1e6", "--batches", "4", "--order", "2"],
     "lattice_walk": ["--w", "0.2", "--collisions", "1e6", "--batches", "4", "--order", "2"],
@@ -34,6 +36,8 @@ NOT_PARAMETERS = {
     ("diffusion", "w_exact"): "the gap as typed: given as w",
     ("backscatter", "w_exact"): "the gap as typed: given as w",
     ("diffusion", "run"): "which run of a seed: set by sweeps, not by a caller",
+    ("diffusion --field", "w_exact"): "the gap as typed: given as w",
+    ("diffusion --field", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("hops", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("backscatter", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("theory", "run"): "which run of a seed: set by sweeps, not by a caller",
@@ -65,17 +69,18 @@ def compiled_parameters(name):
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_every_config_field_is_a_parameter_everywhere(cli_json, cli, name):
-    command = name.replace("_", "-")
+    function = name.split()[0]
+    command = function.replace("_", "-")
     config = cli_json(command, *CASES[name])["config"]
     fields = set(config)
     stale = {f for (n, f) in NOT_PARAMETERS if n == name} - fields
     assert not stale, f"{name}: NOT_PARAMETERS names fields the config does not have: {stale}"
     fields -= {f for (n, f) in NOT_PARAMETERS if n == name}
     options = cli_options(cli, command)
-    keywords = set(inspect.signature(getattr(lg, name)).parameters)
-    stub = set(stub_parameters()[name])
-    for where, have in [("the command line", options), ("lorentz_gas." + name, keywords),
-                        ("the stub _native." + name, stub)]:
+    keywords = set(inspect.signature(getattr(lg, function)).parameters)
+    stub = set(stub_parameters()[function])
+    for where, have in [("the command line", options), ("lorentz_gas." + function, keywords),
+                        ("the stub _native." + function, stub)]:
         missing = sorted(fields - have)
         assert not missing, f"{name}: config fields missing from {where}: {missing}"
 

@@ -37,6 +37,22 @@ def test_diffusion_bits_do_not_depend_on_threads_engine_or_how_w_is_written():
     assert a.D == b.D and list(a.batch_D) == list(b.batch_D)
 
 
+def test_a_field_run_has_the_command_lines_bits(cli_json):
+    py = lg.diffusion(w="0.2", field="-3/2", collisions=2e6, batches=4, seed=7,
+                      localization_samples=20000)
+    cl = cli_json("diffusion", "--w", "0.2", "--field", "-3/2", "--collisions", "2e6",
+                  "--batches", "4", "--seed", "7", "--localization-samples", "20000")
+    same(py.to_dict(), cl)
+    assert isinstance(py, lg.FieldResult) and "D_xy" in repr(py)
+    assert py.field == -1.5 and py.diffusing["D_xy"] == cl["diffusing"]["D_xy"]
+
+
+def test_a_zero_field_is_the_run_without_a_field():
+    a = lg.diffusion(w="0.1", collisions=2e6, batches=4, seed=3)
+    b = lg.diffusion(w="0.1", collisions=2e6, batches=4, seed=3, field="0")
+    assert isinstance(b, lg.DiffusionResult) and a.D == b.D and list(a.batch_D) == list(b.batch_D)
+
+
 def test_hops_has_the_command_lines_bits(cli_json):
     py = lg.hops(w=0.2, collisions=2e6, batches=4, order=3, seed=3)
     cl = cli_json("hops", "--w", "0.2", "--collisions", "2e6", "--batches", "4", "--order", "3", "--seed", "3")

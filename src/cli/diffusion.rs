@@ -48,8 +48,8 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     field: Option<String>,
     /// With --field: phase points classified for the sampled share of localized orbits.
-    #[arg(long, value_parser = parse_count, requires = "field")]
-    localization_samples: Option<u64>,
+    #[arg(long, default_value = "1e6", value_parser = parse_count, requires = "field")]
+    localization_samples: u64,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -118,14 +118,7 @@ pub fn run(a: Args) -> Result<(), Error> {
 fn nonzero_field(a: &Args) -> Result<Option<String>, Error> {
     match &a.field {
         Some(b) if lorentz_gas::numbers::exact::parse_exact(b)? != 0 => Ok(Some(b.clone())),
-        _ => {
-            if a.localization_samples.is_some() {
-                return Err(Error::Invalid(
-                    "--localization-samples needs a nonzero --field: leave it out".into(),
-                ));
-            }
-            Ok(None)
-        }
+        _ => Ok(None),
     }
 }
 

@@ -3,24 +3,18 @@
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::diffusion::DiffusionConfig;
-use lorentz_gas::estimators::field::{
-    self, DEFAULT_LOCALIZATION_SAMPLES, FieldConfig, FieldReport,
-};
+use lorentz_gas::estimators::field::{self, FieldConfig, FieldReport};
 use lorentz_gas::statistics::comparison;
 
 use super::output::{emit, sigmas};
 use super::progress::Progress;
 
 /// The field run of a diffusion configuration (validated).
-pub fn config(
-    diffusion: DiffusionConfig,
-    field: &str,
-    samples: Option<u64>,
-) -> Result<FieldConfig, Error> {
+pub fn config(diffusion: DiffusionConfig, field: &str, samples: u64) -> Result<FieldConfig, Error> {
     let cfg = FieldConfig {
         diffusion,
         field: field.trim().to_string(),
-        localization_samples: samples.unwrap_or(DEFAULT_LOCALIZATION_SAMPLES),
+        localization_samples: samples,
     };
     cfg.validate()?;
     Ok(cfg)

@@ -77,9 +77,10 @@ impl<'a, T: Real> Arc<'a, T> {
     /// The chord from the particle to its entry into the circle of radius `r` (`r2` = r²
     /// rounded) whose centre is at −d from it (d = p − c = (`dx`, `dy`)); `None` if the arc
     /// misses the circle. `on_surface`: the particle is on this circle by identity (it has just
-    /// left the disk): γ = 0, and the contact is the return, or `None` if it is not moving out
-    /// (β ≤ 0). A start numerically inside (γ ≤ 0) is treated as on the circle: entry now if
-    /// moving in, the return otherwise.
+    /// left the disk): γ = 0. On the circle (by identity, or numerically inside, γ ≤ 0) the
+    /// contact is the return (−2β/M) if moving out, now if moving in or along it turning in
+    /// (on the disk just left, that is the creeping limit: [`Arc::creeps`]), none if moving along
+    /// it turning away.
     ///
     /// With |v|² = V² not assumed 1, M = |m|² = M̃/V² with M̃ = (V² − ωq)² + (ωβ)²,
     /// K = V² − ωq + ω²γ/4, and Δ = F₁F₂/(4V⁴) with F₁ = (Vr + q)(2V² + ω(Vr − q)) − ωβ²,
@@ -121,7 +122,12 @@ impl<'a, T: Real> Arc<'a, T> {
                 let s = (beta * &T::from_f64(ctx, -2.0)) * &inv;
                 return Some(Vec2::new(e.x * &s, e.y * &s));
             }
-            return (!on_surface).then(|| Vec2::new(T::zero(ctx), T::zero(ctx)));
+            // Moving in (β < 0, also on the disk just left, by rounding after a grazing
+            // reflection): meets it now. Moving along it (β = 0): now if the arc turns in
+            // (ω Jv·d < 0), which on the disk just left is the creeping limit ([`Arc::creeps`]);
+            // else it touches it from outside, a measure-zero tangency that is no collision.
+            let inward = beta.lt0() || (w.clone() * &perp(v).dot(&d)).lt0();
+            return inward.then(|| Vec2::new(T::zero(ctx), T::zero(ctx)));
         }
         let disc = self.discriminant(&q, &beta, r)?;
         let root = disc.sqrt();
@@ -139,6 +145,17 @@ impl<'a, T: Real> Arc<'a, T> {
             f.clone() * &mx + &(s.clone() * &e.x),
             f * &my + &(s * &e.y),
         ))
+    }
+
+    /// `true` if the particle, on the circle of radius² `r2` at −d (d = p − c) by identity, moves
+    /// along it (β = 0 exactly) with the arc turning into it: the limit of ever shorter skips, a
+    /// slide along the surface that no sequence of collisions represents (a reflection leaves a
+    /// tangent velocity unchanged). Measure zero; the kernel reports no next event rather than
+    /// collide for ever in place.
+    pub fn creeps(&self, dx: &T, dy: &T) -> bool {
+        let d = Vec2::new(dx.clone(), dy.clone());
+        let beta = d.dot(self.v);
+        !beta.gt0() && !beta.lt0() && (self.w.clone() * &perp(self.v).dot(&d)).lt0()
     }
 
     /// The discriminant Δ = F₁F₂/(4V⁴) of the arc–circle contact, if positive (the cyclotron
@@ -184,9 +201,10 @@ pub fn arc_circle<T: Real>(
 /// The chord from the particle to its exit through the line at signed distance `sigma` (> 0
 /// inside) with inward unit normal `n`, along the arc of velocity `v` in the field `w` ≠ 0;
 /// `None` if the arc never reaches the line. `entered`: the particle is on this line by identity
-/// (it has just crossed it inwards): σ = 0 and the exit is the return, or `None` if it is not
-/// moving in (n·v ≤ 0). A start numerically beyond the line (σ ≤ 0) is treated as on it: exit now
-/// if moving out, the return if moving in.
+/// (it has just crossed it): σ = 0. On the line (by identity, or numerically beyond it, σ ≤ 0)
+/// the exit is the return (ωs = 2a) if moving in, now if moving out or along it turning out,
+/// none if moving along it turning in. The two sides of an edge see exactly opposite a and
+/// n·Jv, so an exit now is never followed by an exit back.
 ///
 /// # Examples
 ///
@@ -214,7 +232,11 @@ pub fn arc_line<T: Real>(
             let s = a.scale(2.0) / w;
             return Some(Vec2::new(jn.x * &s, jn.y * &s));
         }
-        return (!entered && a.lt0()).then(|| Vec2::new(T::zero(ctx), T::zero(ctx)));
+        // Moving out (a < 0; on the line just entered only by rounding of a tangent crossing,
+        // whose other side then sees a > 0 exactly: no return) or along it (a = 0) with the arc
+        // turning out of the cell (ω n·Jv < 0): out now.
+        let out = a.lt0() || (w.clone() * &n.dot(&perp(v))).lt0();
+        return out.then(|| Vec2::new(T::zero(ctx), T::zero(ctx)));
     }
     let b = n.dot(&perp(v));
     let ws = w.clone() * &sigma;

@@ -35,8 +35,9 @@ pub struct ArcEvent<T> {
 
 impl<T: Real> ConvexCell<T> {
     /// The next event of the flight `f` on its arc in the field `w` (≠ 0), or `None` if there is
-    /// none (a cyclotron circle inside the cell that meets no disk — a pinned orbit — or a zero
-    /// or non-finite velocity).
+    /// none: a cyclotron circle inside the cell that meets no disk (a pinned orbit), a particle
+    /// sliding along the disk it is on (the measure-zero creeping limit, [`Arc::creeps`]), or a
+    /// zero or non-finite velocity.
     ///
     /// # Examples
     ///
@@ -63,6 +64,9 @@ impl<T: Real> ConvexCell<T> {
             let c = &d.centre;
             let (dx, dy) = (p.x.clone() - &c.x, p.y.clone() - &c.y);
             let on = f.excluded_disk == Some(m);
+            if on && arc.creeps(&dx, &dy) {
+                return None;
+            }
             if let Some(x) = arc.circle(dx, dy, d.radius(), d.radius2(), on) {
                 offer(x, EventKind::Collision(m));
             }

@@ -54,7 +54,8 @@ pub const DEFAULT_LOCALIZATION_SAMPLES: u64 = 1_000_000;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FieldConfig {
     /// The run without the field: gap, collisions, batches, seed, precision and fit windows, with
-    /// diffusion's meaning and checks.
+    /// diffusion's meaning and checks (flattened into the same record).
+    #[serde(flatten)]
     pub diffusion: DiffusionConfig,
     /// The field B exactly as given (a decimal or a fraction): the velocity turns at the angular
     /// velocity B, counter-clockwise for B > 0, on a cyclotron circle of radius 1/|B|.

@@ -18,6 +18,8 @@
 //!   and the unwrapping continuity of `tests/numerics/physics.rs` are checked ([`step_lattice`], generic
 //!   over the scene).
 //!
+//! * [`arc_kernel`]: the same lattice states flown on arcs in a decoded magnetic field, MPFR-53
+//!   against `f64` bit for bit and the post-event invariants after every event.
 //! * [`decided_in_balls`]: the same decoded starts' events as the MPFR kernel decides them in
 //!   `f64` balls, against its full comparison, bit for bit (`proofs-notes/certified-filter.md`).
 //!
@@ -45,6 +47,7 @@ use crate::scenes::triangular::geometry::Geometry;
 use crate::verification::error_model::{ENERGY_BAND_U, POST_EVENT_U, UNIT_ROUNDOFF, UNWRAP_EPS};
 use crate::verification::replay::check_event;
 
+mod arcs;
 mod bytes;
 mod geo;
 mod starts;
@@ -55,6 +58,10 @@ use geo::*;
 
 // The decoders and the lattice stepper keep their one public path, `verification::oracle::…`
 // (their modules are private).
+pub use arcs::{
+    ARC_ENERGY_BAND_U, MAX_ARC_STEPS, NORMAL_FLOOR, arc_energy_band_of, arc_kernel, decode_field,
+    fly, in_domain,
+};
 pub use starts::{decode_primitive, decode_scene};
 pub use stepper::step_lattice;
 

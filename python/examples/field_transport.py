@@ -1,0 +1,87 @@
+"""The diffusion tensor in a magnetic field against the field (the README's figure).
+
+Usage:
+    python field_transport.py --collisions 2e7 --batches 16 --out field-transport.png \
+        --json field-transport.json
+
+Runs lg.diffusion(w, field=B) at w = 0.1, 0.2, 0.3 over a grid of fields and draws D_xx(B) over
+the whole phase space (with D(w) at B = 0 from the run without a field), the Hall part D_xy(B),
+and the exact localized share with the sampled one. Bars are batch standard errors; fields at
+which every orbit is localized (2/|B| <= w) have D = 0 exactly and are drawn as such.
+"""
+
+import argparse
+import json
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+FIELDS = ["1/20", "1/10", "1/5", "7/20", "1/2", "3/4", "1", "3/2", "2", "3", "4", "5", "7",
+          "10", "14", "20"]
+
+
+def measure(w, collisions, batches):
+    import lorentz_gas as lg
+
+    zero = lg.diffusion(w=w, collisions=collisions, batches=batches).to_dict()
+    rows = []
+    for b in FIELDS:
+        r = lg.diffusion(w=w, field=b, collisions=collisions, batches=batches,
+                         localization_samples=200_000).to_dict()
+        rows.append(r)
+        print(f"w = {w}, B = {b}: D_xx = {r['D_xx']:.5f} ± {r['D_xx_err']:.5f}, "
+              f"D_xy = {r['D_xy']:.5f} ± {r['D_xy_err']:.5f}, "
+              f"localized {r['localized_fraction_exact']:.4f}", flush=True)
+    return {"w": w, "zero": zero, "rows": rows}
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--collisions", default="2e7")
+    p.add_argument("--batches", type=int, default=16)
+    p.add_argument("--out", default="field-transport.png")
+    p.add_argument("--json", default=None, help="write the measurements here")
+    p.add_argument("--load", default=None, help="draw from a file --json wrote")
+    args = p.parse_args()
+    if args.load:
+        data = json.load(open(args.load))
+    else:
+        data = [measure(w, args.collisions, args.batches) for w in ("0.1", "0.2", "0.3")]
+        if args.json:
+            json.dump(data, open(args.json, "w"))
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
+    for d, colour in zip(data, ["C0", "C3", "C2"]):
+        b = np.array([r["field"] for r in d["rows"]])
+        get = lambda k: np.array([r[k] for r in d["rows"]])  # noqa: E731
+        label = f"w = {d['w']}"
+        ax[0].errorbar(b, get("D_xx"), yerr=get("D_xx_err"), fmt="o-", ms=3, color=colour,
+                       label=label, capsize=2)
+        ax[0].errorbar([0.02], [d["zero"]["D"]], yerr=[d["zero"]["D_err"]], fmt="s",
+                       color=colour, ms=5)
+        ax[1].errorbar(b, get("D_xy"), yerr=get("D_xy_err"), fmt="o-", ms=3, color=colour,
+                       label=label, capsize=2)
+        ax[2].plot(b, get("localized_fraction_exact"), "-", color=colour, label=f"{label} exact")
+        ax[2].errorbar(b, get("localized_fraction"), yerr=get("localized_fraction_err"), fmt="o",
+                       ms=3, color=colour, label=f"{label} sampled")
+    for a in ax:
+        a.set_xscale("log")
+        a.set_xlabel("field B (cyclotron radius 1/B)")
+        a.grid(alpha=0.3)
+    ax[0].set_ylabel("$D_{xx}$ (whole phase space)")
+    ax[0].set_title("$D_{xx}(B)$; squares: $D(w)$ without a field (drawn at B = 0.02)")
+    ax[1].set_ylabel("Hall part $D_{xy}$ (whole phase space)")
+    ax[1].set_title("$D_{xy}(B)$ from the Lévy area")
+    ax[2].set_ylabel("share of phase space")
+    ax[2].set_title("pinned + skipping orbits: exact (lines), sampled (dots)")
+    ax[0].legend(loc="lower left")
+    ax[1].legend(loc="upper left")
+    ax[2].legend(loc="upper left", fontsize=7)
+    fig.savefig(args.out, dpi=120)
+    print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,226 @@
+//! The arc kernel on decoded states: the lattice stepper's degenerate starts (grazing,
+//! near-surface, tangents, rim crossings, corners) flown on arcs in a field decoded from the
+//! last two bytes, |B| from 2⁻²⁰ to 2²⁰ (cyclotron radii about 10⁻⁶ to 10⁶), either sign.
+//!
+//! After every event: MPFR at 53 bits took the same event to the same bits (the kernel decides
+//! and moves with correctly rounded operations only, `proofs-notes/magnetic-arcs.md`); the `f64`
+//! state is finite, its speed within the energy band after *every* event (an arc changes the
+//! velocity on crossings too), outside every disk and inside every edge up to the post-event
+//! bound; the cell moved across the edge on a crossing and the obstacle met is the one excluded;
+//! and the state is still in the arc kernel's domain.
+//! A pinned orbit (no event) ends the run.
+//!
+//! **Domain.** The arc kernel orders contacts by cross products of chords and reflects in them,
+//! products of two coordinates: it is exact (and MPFR-53 ≡ `f64`, `proofs-notes/bit-for-bit.md`)
+//! for states whose coordinates are 0 or at least [`NORMAL_FLOOR`] = 2⁻⁵⁰⁰ in magnitude, far from
+//! the subnormals, where `f64` and MPFR round differently and a chord such as 2a/ω·Jn with
+//! a = 5·10⁻³²⁴ loses its direction. Sampled states are never closer (probability 2⁻⁵⁰⁰); the
+//! decoder's ulp-nudged axis velocities (5·10⁻³²⁴) are set to the axis exactly, itself a
+//! degenerate case (motion along an edge). Events keep states in the domain: a coordinate is a
+//! sum or difference of O(1) numbers, 0 or above 2⁻⁶⁰ — checked after every event.
+
+use super::stepper::EventBounds;
+use super::*;
+use crate::kernel::field::ArcEvent;
+
+/// The smallest nonzero magnitude of a state coordinate at which MPFR-53 and `f64` must agree
+/// bit for bit: products with fields down to 2⁻²⁰ and with other coordinates stay far above the
+/// subnormal range (2⁻¹⁰²²), where MPFR, which has none, rounds differently.
+pub const NORMAL_FLOOR: f64 = f64::from_bits((1023 - 500) << 52); // 2⁻⁵⁰⁰
+
+/// `true` if every coordinate of the state is 0 or at least [`NORMAL_FLOOR`] in magnitude.
+pub fn in_domain(s: &LatticeState<f64>) -> bool {
+    let f = &s.flight;
+    [f.pos.x, f.pos.y, f.vel.x, f.vel.y]
+        .iter()
+        .all(|x| *x == 0.0 || x.abs() >= NORMAL_FLOOR)
+}
+
+/// The state with every coordinate below [`NORMAL_FLOOR`] set to 0 (a velocity then lies along
+/// an axis exactly), and its exclusions made the arc kernel's: on an arc an excluded disk or edge
+/// is the one the particle is *on* (`proofs-notes/magnetic-arcs.md`), while the decoder, written
+/// for straight flights, also excludes the disk a particle moves away from at a distance; such an
+/// exclusion is dropped (one within the post-event bound of its obstacle is kept).
+fn into_domain(cell: &ConvexCell<f64>, mut s: LatticeState<f64>) -> LatticeState<f64> {
+    let f = &mut s.flight;
+    for x in [&mut f.pos.x, &mut f.pos.y, &mut f.vel.x, &mut f.vel.y] {
+        if x.abs() < NORMAL_FLOOR {
+            *x = 0.0;
+        }
+    }
+    let near = POST_EVENT_U * U * (1.0 + cell.extent());
+    if let Some(m) = f.excluded_disk {
+        let d = &cell.disks[m as usize];
+        if (f.pos.sub(&d.centre).norm2() - d.radius2()).abs() > near {
+            f.excluded_disk = None;
+        }
+    }
+    if let Some(k) = f.excluded_edge
+        && cell.edge_distance(k as usize, &f.pos).abs() > near
+    {
+        f.excluded_edge = None;
+    }
+    s
+}
+
+/// Most events one input flies (the stepper's count, capped: an arc input costs more).
+pub const MAX_ARC_STEPS: u32 = 256;
+
+/// The field of an input: its last two bytes, k and m, give
+/// B = ±(1 + m/256)·2^(k mod 41 − 20) (sign: the low bit of m).
+pub fn decode_field(data: &[u8]) -> f64 {
+    let n = data.len();
+    let (k, m) = match n {
+        0 => (20, 0),
+        1 => (data[0], 0),
+        _ => (data[n - 2], data[n - 1]),
+    };
+    let sign = if m & 1 == 1 { -1.0 } else { 1.0 };
+    sign * (1.0 + f64::from(m) / 256.0) * 2f64.powi(i32::from(k % 41) - 20)
+}
+
+/// Flies a decoded lattice state on arcs (see the module documentation).
+///
+/// # Errors
+/// A decoding failure or the first violation, with the state before the failing event.
+pub fn arc_kernel(data: &[u8]) -> Result<OracleReport, OracleFailure> {
+    let input = decode_scene(data)?;
+    let case = Some(input.primitive.case);
+    let start = LatticeState {
+        cell: input.cell,
+        flight: input.primitive.flight.clone(),
+    };
+    let b = decode_field(data);
+    let steps = input.steps.min(MAX_ARC_STEPS);
+    match input.primitive.scene {
+        SceneParams::Triangular { w } => fly(&triangular(w)?, case, &start, b, steps),
+        SceneParams::Square { r } => fly(&square(r)?, case, &start, b, steps),
+    }
+}
+
+/// Flies `start` of `scene` in the field `b` for up to `steps` events, checking every one.
+///
+/// # Errors
+/// The first violation.
+pub fn fly<S: Scene>(
+    scene: &S,
+    case: Option<PrimitiveCase>,
+    start: &LatticeState<f64>,
+    b: f64,
+    steps: u32,
+) -> Result<OracleReport, OracleFailure> {
+    let label = format!("{} B={b:e}", scene.label());
+    let fail_at = |event: Option<u64>, reason: String, state: String| OracleFailure {
+        case,
+        scene: label.clone(),
+        event,
+        reason,
+        state,
+    };
+    let lat = scene
+        .lattice::<f64>(())
+        .map_err(|e| fail_at(None, e.to_string(), String::new()))?;
+    let l53 = scene
+        .lattice::<Float>(53)
+        .map_err(|e| fail_at(None, e.to_string(), String::new()))?;
+    let bounds = EventBounds::new(lat.cell().clone());
+    let band = arc_energy_band(&bounds, b);
+    let b53 = Float::with_val(53, b);
+    let mut s = into_domain(lat.cell(), start.clone());
+    let mut m = LatticeState::<Float>::convert_from_f64(53, &s);
+    let mut rep = OracleReport::new(case, label.clone());
+    for n in 0..u64::from(steps) {
+        let before = s.clone();
+        let fail = |reason: String| fail_at(Some(n), reason, format!("{before:?}"));
+        let (ev, ev53) = (
+            lat.next_event_in_field(&s, &b),
+            l53.next_event_in_field(&m, &b53),
+        );
+        let (ev, ev53) = match (ev, ev53) {
+            (None, None) => break,
+            (Some(e), Some(e53)) => (e, e53),
+            (e, e53) => return Err(fail(format!("f64 event {e:?}, MPFR-53 event {e53:?}"))),
+        };
+        lat.apply_in_field(&mut s, &ev);
+        l53.apply_in_field(&mut m, &ev53);
+        if ev.kind != ev53.kind || m.to_f64() != s {
+            return Err(fail(format!(
+                "MPFR-53 {:?} to {:?}, f64 {:?} to {s:?}",
+                ev53.kind,
+                m.to_f64(),
+                ev.kind
+            )));
+        }
+        check(&bounds, band, &before, &ev, &s, &mut rep).map_err(fail)?;
+        if !in_domain(&s) {
+            return Err(fail(format!("left the arc kernel's domain: {s:?}")));
+        }
+        rep.events += 1;
+    }
+    Ok(rep)
+}
+
+/// ||v|² − 1| ≤ `ARC_ENERGY_BAND_U`·u·(1 + extent/r)²·(1 + |B|·extent) after every arc event
+/// (`proofs-notes/magnetic-arcs.md`). The speed error is 4(residual of the contact)/r² through
+/// the reflection, as for a straight flight. On an arc the residual is set by the discriminant
+/// Δ = F₁F₂/4V⁴ along the radical line: the small factor F₂ (a signed distance ≲ r) carries the
+/// absolute rounding of about six terms of size |d|(1 + |ω||d|), and it is multiplied by F₁ ≈ 2|q|,
+/// which, unlike a straight flight's r + |q|, is not bounded by the radius (an arc may meet a small
+/// disk with |q| ≫ r): residual ≈ 12u|q||d|(1 + |ω||d|)/M, M ≈ 1 away from concentric circles,
+/// hence the square of extent/r; 4·12 = 48 ≤ 64.
+pub const ARC_ENERGY_BAND_U: f64 = 64.0;
+
+/// The arc energy band of `cell` in the field `b`, in units of u.
+pub fn arc_energy_band_of(cell: &ConvexCell<f64>, b: f64) -> f64 {
+    let ratio = 1.0 + cell.extent() / cell.smallest_radius();
+    ARC_ENERGY_BAND_U * ratio * ratio * (1.0 + b.abs() * cell.extent())
+}
+
+fn arc_energy_band(bounds: &EventBounds, b: f64) -> f64 {
+    arc_energy_band_of(&bounds.cell, b)
+}
+
+/// The checks after one arc event.
+fn check(
+    bounds: &EventBounds,
+    band: f64,
+    before: &LatticeState<f64>,
+    ev: &ArcEvent<f64>,
+    after: &LatticeState<f64>,
+    rep: &mut OracleReport,
+) -> Result<(), String> {
+    let fl = &after.flight;
+    if ![fl.pos.x, fl.pos.y, fl.vel.x, fl.vel.y]
+        .iter()
+        .all(|x| x.is_finite())
+    {
+        return Err(format!("non-finite state after {:?}: {fl:?}", ev.kind));
+    }
+    let dev = (fl.vel.norm2() - 1.0).abs() / U;
+    rep.worst_energy_u = rep.worst_energy_u.max(dev);
+    if dev.is_nan() || dev > band {
+        return Err(format!(
+            "|v|^2 - 1 = {dev} u after {:?} (band {} u)",
+            ev.kind, band
+        ));
+    }
+    match ev.kind {
+        EventKind::Collision(m) => {
+            rep.collisions += 1;
+            if after.cell != before.cell
+                || fl.excluded_disk != Some(m)
+                || fl.excluded_edge.is_some()
+            {
+                return Err(format!("cell or exclusions after collision {m}: {after:?}"));
+            }
+        }
+        EventKind::Crossing(k) => {
+            rep.crossings += 1;
+            let edge = &bounds.cell.edges[k as usize];
+            if after.cell != before.cell.across(edge) || fl.excluded_edge != Some(edge.entered) {
+                return Err(format!("cell or exclusions after crossing {k}: {after:?}"));
+            }
+        }
+    }
+    bounds.check_position(fl, ev.kind)
+}
