@@ -87,6 +87,12 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
     let run = |line: &str| json_of(dir, &format!("{line} {q}"));
     let mut out = vec![
         (
+            "diffusion --field",
+            run(
+                "diffusion --w 0.2 --field 1 --collisions 1e6 --batches 4 --localization-samples 1000",
+            ),
+        ),
+        (
             "hops",
             run("hops --w 0.1 --collisions 1e6 --batches 4 --order 2"),
         ),

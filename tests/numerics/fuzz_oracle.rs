@@ -131,6 +131,23 @@ fn band_of(data: &[u8]) -> f64 {
     arc_energy_band_of(&cell, decode_field(data))
 }
 
+/// The fuzz target's first campaign: a tangent start 10⁻¹⁷ off a square-lattice disk of radius
+/// 0.068 in the field −2044 (cyclotron radius 4.9·10⁻⁴), where the discriminant as a product of
+/// two factors lost one (Vr + q = 0 exactly) and put the contact 0.16 away, on neither circle
+/// (|v|² − 1 = 10¹⁸ u). The input as libFuzzer wrote it (`fuzz/artifacts/arc_kernel/crash-6670…`).
+#[test]
+fn regression_arc_tangent_start_a_rounding_off_a_small_disk_in_a_strong_field() {
+    let data: [u8; 37] = [
+        2, 83, 255, 2, 2, 83, 83, 2, 235, 255, 169, 169, 169, 169, 169, 169, 169, 34, 249, 245, 52,
+        20, 20, 20, 2, 2, 20, 0, 166, 2, 29, 2, 83, 2, 235, 235, 255,
+    ];
+    let input = decode_scene(&data).unwrap();
+    assert!(matches!(input.primitive.scene, SceneParams::Square { .. }));
+    assert_eq!(decode_field(&data), -2044.0);
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.events >= 1, "{rep:?}");
+}
+
 /// The decoder's degenerate starts (grazing, near-surface, tangents, rim crossings, corners)
 /// through the MPFR kernel's balls: every decided event is the full comparison's. Most are
 /// decided (a filter that decided none would pass vacuously).

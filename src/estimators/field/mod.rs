@@ -112,7 +112,7 @@ impl FieldConfig {
 }
 
 /// Estimates with their standard errors over batches.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[allow(non_snake_case)]
 pub struct Tensor {
     /// D_xx: half the slope of ⟨Δx²⟩.
@@ -330,6 +330,20 @@ fn all_lags(d: &DiffusionConfig) -> Vec<usize> {
     l
 }
 
+/// The diffusing part's mean free time and its error: collision rates of batches of equal
+/// duration average to Kac's 1/τ whatever the components (infinite where nothing was run).
+fn mean_free_time(batches: &[Batch]) -> (f64, f64) {
+    let rates: Vec<f64> = batches
+        .iter()
+        .map(|b| b.collisions as f64 / b.time)
+        .collect();
+    if rates.is_empty() {
+        return (f64::INFINITY, 0.0);
+    }
+    let (r, e) = mean_se(&rates);
+    (1.0 / r, e / (r * r))
+}
+
 fn summarise(
     cfg: &FieldConfig,
     geometry: &FieldGeometry,
@@ -341,18 +355,8 @@ fn summarise(
 ) -> Result<FieldReport, Error> {
     let d = &cfg.diffusion;
     let lags = all_lags(d);
-    let zero = Tensor {
-        D_xx: 0.0,
-        D_xx_err: 0.0,
-        D_yy: 0.0,
-        D_yy_err: 0.0,
-        D_xy: 0.0,
-        D_xy_err: 0.0,
-        D_xy_symmetric: 0.0,
-        D_xy_symmetric_err: 0.0,
-    };
     let (diffusing, check) = if batches.is_empty() {
-        (zero.clone(), zero)
+        (Tensor::default(), Tensor::default())
     } else {
         (
             tensor(batches, &lags, tau, &d.window),
@@ -369,18 +373,13 @@ fn summarise(
     } else {
         mean_se(&batch_xx)
     };
-    let keep = 1.0 - geometry.localized_fraction();
-    // Collision rates of equal durations average to Kac's 1/τ whatever the components.
-    let rates: Vec<f64> = batches
-        .iter()
-        .map(|b| b.collisions as f64 / b.time)
-        .collect();
-    let (mft, mft_err) = if rates.is_empty() {
-        (f64::INFINITY, 0.0)
+    // The diffusing share (exactly 0 where every orbit is localized, never −0 from rounding).
+    let keep = if geometry.all_localized() {
+        0.0
     } else {
-        let (r, e) = mean_se(&rates);
-        (1.0 / r, e / (r * r))
+        (1.0 - geometry.localized_fraction()).max(0.0)
     };
+    let (mft, mft_err) = mean_free_time(batches);
     let f = localized as f64 / samples as f64;
     let collisions: u64 = batches.iter().map(|b| b.collisions).sum();
     let seconds = started.elapsed().as_secs_f64();

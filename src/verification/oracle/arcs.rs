@@ -151,7 +151,11 @@ pub fn fly<S: Scene>(
                 ev.kind
             )));
         }
-        check(&bounds, band, &before, &ev, &s, &mut rep).map_err(fail)?;
+        let kappa = concentricity(lat.cell(), &before.flight, &ev, b);
+        check(&bounds, band * kappa, &before, &ev, &s, &mut rep).map_err(fail)?;
+        bounds
+            .check_position_within(&s.flight, ev.kind, kappa)
+            .map_err(fail)?;
         if !in_domain(&s) {
             return Err(fail(format!("left the arc kernel's domain: {s:?}")));
         }
@@ -162,12 +166,11 @@ pub fn fly<S: Scene>(
 
 /// ||v|² − 1| ≤ `ARC_ENERGY_BAND_U`·u·(1 + extent/r)²·(1 + |B|·extent) after every arc event
 /// (`proofs-notes/magnetic-arcs.md`). The speed error is 4(residual of the contact)/r² through
-/// the reflection, as for a straight flight. On an arc the residual is set by the discriminant
-/// Δ = F₁F₂/4V⁴ along the radical line: the small factor F₂ (a signed distance ≲ r) carries the
-/// absolute rounding of about six terms of size |d|(1 + |ω||d|), and it is multiplied by F₁ ≈ 2|q|,
-/// which, unlike a straight flight's r + |q|, is not bounded by the radius (an arc may meet a small
-/// disk with |q| ≫ r): residual ≈ 12u|q||d|(1 + |ω||d|)/M, M ≈ 1 away from concentric circles,
-/// hence the square of extent/r; 4·12 = 48 ≤ 64.
+/// the reflection, as for a straight flight. On an arc the residual is the rounding of the
+/// discriminant Δ = (V²r² − q²) + ωγ(q − ωγ/4) over M, whose terms are of size q² and |ω||d|³:
+/// unlike a straight flight (|q| < r at a hit) an arc may meet a small disk with |q| ≫ r. A few
+/// roundings each: residual ≲ 12u|d|²(1 + |ω||d|)/M, M ≈ 1 away from concentric circles, hence
+/// the square of extent/r; 4·12 = 48 ≤ 64.
 pub const ARC_ENERGY_BAND_U: f64 = 64.0;
 
 /// The arc energy band of `cell` in the field `b`, in units of u.
@@ -178,6 +181,19 @@ pub fn arc_energy_band_of(cell: &ConvexCell<f64>, b: f64) -> f64 {
 
 fn arc_energy_band(bounds: &EventBounds, b: f64) -> f64 {
     arc_energy_band_of(&bounds.cell, b)
+}
+
+/// The conditioning of a collision's contact, 1/min(1, M) with M = |Jv + ωd|² the squared
+/// distance between the cyclotron centre and the disk centre times ω²: two nearly concentric
+/// circles of nearly equal radii cut at points that move by δ/M for a rounding δ, the arcs'
+/// counterpart of a graze (`proofs-notes/magnetic-arcs.md`). 1 for a crossing.
+fn concentricity(cell: &ConvexCell<f64>, f: &Flight<f64>, ev: &ArcEvent<f64>, b: f64) -> f64 {
+    let EventKind::Collision(m) = ev.kind else {
+        return 1.0;
+    };
+    let d = f.pos.sub(&cell.disks[m as usize].centre);
+    let (mx, my) = (b * d.x - f.vel.y, b * d.y + f.vel.x);
+    1.0 / (mx * mx + my * my).min(1.0)
 }
 
 /// The checks after one arc event.
@@ -222,5 +238,5 @@ fn check(
             }
         }
     }
-    bounds.check_position(fl, ev.kind)
+    Ok(())
 }

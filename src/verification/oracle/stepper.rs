@@ -171,10 +171,20 @@ impl EventBounds {
 
     /// After event `kind`: outside every disk and inside every edge, up to rounding.
     pub(super) fn check_position(&self, fl: &Flight<f64>, kind: EventKind) -> Result<(), String> {
+        self.check_position_within(fl, kind, 1.0)
+    }
+
+    /// [`Self::check_position`] with the disk bound times `kappa` (an arc's conditioning).
+    pub(super) fn check_position_within(
+        &self,
+        fl: &Flight<f64>,
+        kind: EventKind,
+        kappa: f64,
+    ) -> Result<(), String> {
         let cell = &self.cell;
         for (m, disk) in cell.disks.iter().enumerate() {
             let d = fl.pos.sub(&disk.centre).norm2() - disk.radius2();
-            if d.is_nan() || d < -POST_EVENT_U * U {
+            if d.is_nan() || d < -POST_EVENT_U * U * kappa {
                 return Err(format!(
                     "inside disk {m} after {kind:?}: |x-c|^2 - r^2 = {d:e}"
                 ));
