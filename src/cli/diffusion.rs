@@ -45,7 +45,7 @@ pub struct Args {
     /// --w: the velocity turns at the angular velocity B, counter-clockwise for B > 0, on a
     /// cyclotron circle of radius 1/|B|. With a nonzero field the run measures the diffusion
     /// tensor (D_xx and the Hall D_xy) and the localized orbits; 0 is the run without a field.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     field: Option<String>,
     /// With --field: phase points classified for the sampled share of localized orbits.
     #[arg(long, default_value = "1e6", value_parser = parse_count, requires = "field")]
