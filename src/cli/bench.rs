@@ -49,6 +49,10 @@ pub struct Args {
     /// (median of the paired ratios).
     #[arg(long, conflicts_with_all = ["report", "observe", "precision"])]
     observer_costs: bool,
+    /// A magnetic field B (like --field of diffusion): time the f64 arc kernel on the scalar
+    /// engine, bare (0: straight flights, the default).
+    #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs"])]
+    field: Option<String>,
     /// Output directory of --report (speed-vs-error.{md,json,png,svg}).
     #[arg(long, default_value = "results")]
     out: PathBuf,
@@ -104,6 +108,15 @@ pub fn run(a: Args) -> Result<(), Error> {
         collisions_per_thread: a.collisions_per_thread,
         repetitions: a.repetitions,
         seed: a.seed.seed,
+        field: a
+            .field
+            .as_deref()
+            .map(|b| {
+                Ok::<_, Error>(lorentz_gas::numbers::exact::nearest_f64(
+                    &lorentz_gas::numbers::exact::parse_exact(b)?,
+                ))
+            })
+            .transpose()?,
     };
     timed(
         &a,

@@ -273,6 +273,7 @@ impl Bench<'_> {
             collisions_per_thread: n,
             repetitions: REPORT_REPETITIONS,
             seed: self.seed,
+            field: None,
         };
         let one = RunOptions {
             threads: 1,

@@ -144,3 +144,42 @@ fn same_seed_same_bits_on_one_thread_and_two() {
     let json = |r: &FieldReport| physics_only(serde_json::to_value(r).unwrap());
     assert_eq!(json(&one), json(&two));
 }
+
+#[test]
+fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
+    use lorentz_gas::engine::Engine;
+    use lorentz_gas::engine::options::RunOptions;
+    use lorentz_gas::estimators::throughput::{self, Observe, ThroughputConfig};
+    use lorentz_gas::numbers::precision::Precision;
+    let cfg = ThroughputConfig {
+        collisions_per_thread: 20_000,
+        repetitions: 1,
+        field: Some(1.0),
+        ..ThroughputConfig::new(0.1)
+    };
+    let t = throughput::run(&cfg, &threads(1)).unwrap();
+    assert_eq!(t.field, Some(1.0));
+    assert_eq!(t.meta.engine, "scalar");
+    assert!(t.collisions_per_second > 0.0 && t.crossings_per_collision > 0.0);
+    let simd = RunOptions {
+        engine: Engine::Simd,
+        ..threads(1)
+    };
+    assert!(throughput::run(&cfg, &simd).is_err());
+    let mpfr = ThroughputConfig {
+        precision: Precision::Bits(128),
+        ..cfg
+    };
+    assert!(throughput::run(&mpfr, &threads(1)).is_err());
+    let observed = ThroughputConfig {
+        observe: Observe::Counters,
+        ..cfg
+    };
+    assert!(throughput::run(&observed, &threads(1)).is_err());
+    // A zero field is the straight benchmark.
+    let zero = ThroughputConfig {
+        field: Some(0.0),
+        ..cfg
+    };
+    assert_eq!(throughput::run(&zero, &threads(1)).unwrap().field, None);
+}

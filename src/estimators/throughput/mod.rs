@@ -1,5 +1,8 @@
 //! Engine throughput (the CLI's `bench`): events only, no observables. Each thread runs one
-//! trajectory (scalar engine) or one block of [`BLOCK`] trajectories (SIMD engine).
+//! trajectory (scalar engine) or one block of [`BLOCK`] trajectories (SIMD engine); in a
+//! magnetic field (`lorentz bench --field`) one trajectory on arcs.
+
+mod arcs;
 
 use std::time::Instant;
 
@@ -54,6 +57,9 @@ pub struct Throughput {
     /// The SIMD engine's floor on this machine, from its divide/square-root unit (null for the
     /// scalar engine and the portable path).
     pub divider_bound: Option<BoundReport>,
+    /// The field of an arc benchmark (absent for straight flights).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub field: Option<f64>,
     /// Version, seed, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -88,6 +94,7 @@ pub const MAX_REPETITIONS: usize = 1000;
 struct TimeRuns<'a> {
     engine: Resolved,
     observe: Observe,
+    field: Option<f64>,
     w: f64,
     seed: u64,
     collisions: u64,
@@ -102,15 +109,20 @@ impl AtPrecision for TimeRuns<'_> {
         let trap64 = Trap::new(self.w)?;
         let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
         let lanes = lanes(self.engine);
-        let mut states = starts::<T>(ctx, &trap64, self.seed, self.threads, lanes);
+        let mut states = match self.field {
+            Some(b) => arcs::starts::<T>(ctx, &trap64, self.seed, self.threads, b)?,
+            None => starts::<T>(ctx, &trap64, self.seed, self.threads, lanes),
+        };
         let pool = thread_pool(self.threads)?;
         let n = self.collisions;
         let engine = self.engine;
         let observe = self.observe;
+        let field = self.field.map(|b| T::from_f64(ctx, b));
         // Each trajectory makes ⌊n/lanes⌋ collisions per repetition.
         let per_rep = n / lanes as u64 * (lanes * self.threads) as u64;
-        let go = |states: &mut Vec<Vec<LatticeState<T>>>, n: u64| {
-            advance(&pool, engine, observe, &lat, &trap64, states, n)
+        let go = |states: &mut Vec<Vec<LatticeState<T>>>, n: u64| match &field {
+            Some(b) => arcs::advance(&pool, &lat, states, n, b),
+            None => advance(&pool, engine, observe, &lat, &trap64, states, n),
         };
         // One untimed warm-up of a tenth of the length.
         go(&mut states, (n / 10).max(1))?;
@@ -307,6 +319,10 @@ pub struct ThroughputConfig {
     pub repetitions: usize,
     /// Seed of the equilibrium starts.
     pub seed: u64,
+    /// A magnetic field B: the kernel then flies arcs (`f64`, scalar engine, no observers; starts
+    /// on pinned orbits are drawn again). `None` or 0: straight flights.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field: Option<f64>,
 }
 
 impl ThroughputConfig {
@@ -320,6 +336,7 @@ impl ThroughputConfig {
             collisions_per_thread: 20_000_000,
             repetitions: 7,
             seed: 1,
+            field: None,
         }
     }
 }
@@ -341,6 +358,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         collisions_per_thread: collisions,
         repetitions: reps,
         seed,
+        field: _,
     } = *cfg;
     let (engine, threads, progress) = (options.engine, options.threads, options.progress);
     Geometry::new(w)?;
@@ -359,11 +377,16 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
-    let resolved = engine.resolve(precision == Precision::F64)?;
+    let field = cfg.field.filter(|b| *b != 0.0);
+    let resolved = match field {
+        Some(b) => arcs::check(b, precision, observe, engine)?,
+        None => engine.resolve(precision == Precision::F64)?,
+    };
     let unit = resolved.simd().and_then(bound::measure);
     let (samples, cpc) = precision.dispatch(TimeRuns {
         engine: resolved,
         observe,
+        field,
         w,
         seed,
         collisions,
@@ -394,6 +417,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         samples,
         crossings_per_collision: cpc,
         divider_bound,
+        field,
         meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
     })
 }
