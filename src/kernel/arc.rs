@@ -16,9 +16,9 @@
 //!   β = d·v, q = d×v, γ = |d|² − r². The chord lies on the radical line x·m = −ωγ/2,
 //!   m = Jv + ωd; along it, x = x₀ + s·e with e = v − ωJd ⟂ m, |e|² = |m|² = M =
 //!   (1 − ωq)² + (ωβ)², and M s² + 2βs + γK/M = 0, K = 1 − ωq + ω²γ/4. Its discriminant
-//!   β² − γK is computed as Δ = (r² − q²) + ωγ(q − ωγ/4) (at |v| = 1; [`Arc::circle`] has the
-//!   general speed): the straight kernel's r² − q² (no cancellation of β² − γ near the surface)
-//!   plus the field's term, which carries γ as a factor. The
+//!   β² − γK is computed as the product Δ = (r + q − ωγ/2)(r − q + ωγ/2) (at |v| = 1;
+//!   [`Arc::circle`] has the general speed), whose small factor at a hit is a signed distance
+//!   (at ω = 0 the straight kernel's r ± q: no cancellation of β² − γ near the surface). The
 //!   entry is s = (−β − √Δ)/M, taken as γK/(M(√Δ − β)) where β < 0 (Vieta: no subtraction of
 //!   nearly equal numbers either way);
 //! * [`arc_line`]: the chord to the exit through a line n·y = o (n the inward unit normal,
@@ -52,7 +52,7 @@ pub fn is_zero<T: Real>(x: &Vec2<T>) -> bool {
     !x.x.gt0() && !x.x.lt0() && !x.y.gt0() && !x.y.lt0()
 }
 
-/// An arc about to be flown: the velocity `v` and its |v|² (the cyclotron radius is |v|/|ω|:
+/// An arc about to be flown: the velocity `v`, its |v|² and |v| (the cyclotron radius is |v|/|ω|:
 /// every formula holds for the speed the rounded state has, so that a speed a few units of
 /// roundoff off 1 is a slightly larger circle, never an inconsistent one), and the field `w` ≠ 0.
 /// Built once per event and shared by every candidate.
@@ -63,19 +63,18 @@ pub struct Arc<'a, T: Real> {
     /// The field ω.
     pub w: &'a T,
     vv: T,
+    speed: T,
 }
 
 impl<'a, T: Real> Arc<'a, T> {
     /// The arc of velocity `v` in the field `w` (≠ 0).
     pub fn new(v: &'a Vec2<T>, w: &'a T) -> Self {
-        Arc {
-            v,
-            w,
-            vv: v.norm2(),
-        }
+        let vv = v.norm2();
+        let speed = vv.clone().sqrt();
+        Arc { v, w, vv, speed }
     }
 
-    /// The chord from the particle to its entry into the circle of radius r (`r2` = r²
+    /// The chord from the particle to its entry into the circle of radius `r` (`r2` = r²
     /// rounded) whose centre is at −d from it (d = p − c = (`dx`, `dy`)); `None` if the arc
     /// misses the circle. `on_surface`: the particle is on this circle by identity (it has just
     /// left the disk): γ = 0. On the circle (by identity, or numerically inside, γ ≤ 0) the
@@ -84,7 +83,7 @@ impl<'a, T: Real> Arc<'a, T> {
     /// it turning away.
     ///
     /// With |v|² = V² not assumed 1, M = |m|² = M̃/V² with M̃ = (V² − ωq)² + (ωβ)²,
-    /// K = V² − ωq + ω²γ/4, and Δ = β² − γK = (V²r² − q²) + ωγ(q − ωγ/4).
+    /// K = V² − ωq + ω²γ/4, and Δ = β² − γK = (Vr + q − ωγ/2)(Vr − q + ωγ/2).
     ///
     /// # Examples
     ///
@@ -93,10 +92,10 @@ impl<'a, T: Real> Arc<'a, T> {
     /// // Leaving the unit disk at (1, 0) radially in a field 1: the cyclotron circle of radius 1
     /// // about (1, 1) returns to the disk at (0, 1) after a three-quarter turn: chord (−1, 1).
     /// let v = Vec2::new(1.0f64, 0.0);
-    /// let x = Arc::new(&v, &1.0).circle(1.0, 0.0, &1.0, true).unwrap();
+    /// let x = Arc::new(&v, &1.0).circle(1.0, 0.0, &1.0, &1.0, true).unwrap();
     /// assert!((x.x + 1.0).abs() < 1e-15 && (x.y - 1.0).abs() < 1e-15);
     /// ```
-    pub fn circle(&self, dx: T, dy: T, r2: &T, on_surface: bool) -> Option<Vec2<T>> {
+    pub fn circle(&self, dx: T, dy: T, r: &T, r2: &T, on_surface: bool) -> Option<Vec2<T>> {
         let (v, w) = (self.v, self.w);
         let ctx = w.ctx();
         let d = Vec2::new(dx, dy);
@@ -129,7 +128,7 @@ impl<'a, T: Real> Arc<'a, T> {
             let inward = beta.lt0() || (w.clone() * &perp(v).dot(&d)).lt0();
             return inward.then(|| Vec2::new(T::zero(ctx), T::zero(ctx)));
         }
-        let disc = self.discriminant(&q, &gamma, r2)?;
+        let disc = self.discriminant(&q, &gamma, r)?;
         let root = disc.sqrt();
         let s = if beta.lt0() {
             let k = vv_wq + &(w.clone().square() * &gamma).scale(0.25);
@@ -159,20 +158,22 @@ impl<'a, T: Real> Arc<'a, T> {
     }
 
     /// The discriminant Δ = β² − γK of the arc–circle contact, if positive (the cyclotron circle
-    /// cuts the circle in two points), computed as Δ = (V²r² − q²) + ωγ(q − ωγ/4): the straight
-    /// kernel's V²r² − q² (Lagrange: β² − V²γ, a difference of squares whose rounding floor u·r²
-    /// keeps a root's denominator away from 0) plus the field's term, which carries γ as a factor
-    /// and is therefore exact to its relative rounding near the surface. (A product of two
-    /// factors, (Vr + q)(…)·(Vr − q)(…), is the same number but can lose a factor to cancellation
-    /// entirely — Vr + q = 0 at a tangent start 10⁻¹⁷ off a disk — and the fuzz target found it.)
+    /// cuts the circle in two points), computed as the product
+    /// Δ = (Vr + q − ωγ/2)(Vr − q + ωγ/2): q − ωγ/2 = q − ω(|d|² − r²)/2 is, up to the factor
+    /// V/ω, the distance of the disk's centre from the cyclotron circle, so at a hit one factor is
+    /// a signed distance of size ≲ 2Vr formed with the absolute rounding u|d|(1 + |ω||d|) of its
+    /// terms — the error of Δ is linear in |d|/r, as a straight flight's V²r² − q² is. (Two other
+    /// forms of the same number are worse: (Vr + q)(2V² + ω(Vr − q)) − ωβ² times its partner
+    /// loses a factor entirely at a tangent start a rounding off a disk — the fuzz target found
+    /// it — and (V²r² − q²) + ωγ(q − ωγ/4) cancels terms of size q² ≫ r² at a small disk.) At ω = 0
+    /// the factors are the    /// straight kernel's Vr ± q.
     #[inline(always)]
-    fn discriminant(&self, q: &T, gamma: &T, r2: &T) -> Option<T> {
-        let w = self.w;
-        let mut disc = self.vv.clone() * r2;
-        disc -= &q.clone().square();
-        let wg = w.clone() * gamma;
-        let lever = q.clone() - &wg.clone().scale(0.25);
-        disc += &(wg * &lever);
+    fn discriminant(&self, q: &T, gamma: &T, r: &T) -> Option<T> {
+        let vr = self.speed.clone() * r;
+        let shift = q.clone() - &(self.w.clone() * gamma).scale(0.5);
+        let plus = vr.clone() + &shift;
+        let minus = vr - &shift;
+        let disc = plus * &minus;
         disc.gt0().then_some(disc)
     }
 
@@ -193,10 +194,11 @@ pub fn arc_circle<T: Real>(
     d: (T, T),
     v: &Vec2<T>,
     w: &T,
+    r: &T,
     r2: &T,
     on_surface: bool,
 ) -> Option<Vec2<T>> {
-    Arc::new(v, w).circle(d.0, d.1, r2, on_surface)
+    Arc::new(v, w).circle(d.0, d.1, r, r2, on_surface)
 }
 
 /// The chord from the particle to its exit through the line at signed distance `sigma` (> 0
@@ -359,7 +361,7 @@ mod tests {
         let mut found = 0;
         for w in [-3.0, -0.2, 0.01, 0.7, 5.0] {
             let (dx, dy) = (-2.3, 0.4);
-            if let Some(x) = arc_circle((dx, dy), &v, &w, &1.0, false) {
+            if let Some(x) = arc_circle((dx, dy), &v, &w, &1.0, &1.0, false) {
                 found += 1;
                 let cyc = w * x.norm2() - 2.0 * perp(&v).dot(&x);
                 let disk = (x.x + dx).powi(2) + (x.y + dy).powi(2) - 1.0;
@@ -382,7 +384,7 @@ mod tests {
         // Straight: entry after t = 3 − √(1 − 0.25). In a field ω the contact moves by O(ωt²).
         let v = Vec2::new(1.0f64, 0.0);
         let t0 = 3.0 - 0.75f64.sqrt();
-        let x = arc_circle((-3.0, 0.5), &v, &1e-9, &1.0, false).unwrap();
+        let x = arc_circle((-3.0, 0.5), &v, &1e-9, &1.0, &1.0, false).unwrap();
         assert!((arc_time(&v, &x, &1e-9) - t0).abs() < 1e-8);
         assert!((x.x - t0).abs() < 1e-8 && x.y.abs() < 1e-8);
     }

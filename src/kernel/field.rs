@@ -67,7 +67,7 @@ impl<T: Real> ConvexCell<T> {
             if on && arc.creeps(&dx, &dy) {
                 return None;
             }
-            if let Some(x) = arc.circle(dx, dy, d.radius2(), on) {
+            if let Some(x) = arc.circle(dx, dy, d.radius(), d.radius2(), on) {
                 offer(x, EventKind::Collision(m));
             }
         }

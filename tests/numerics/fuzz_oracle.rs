@@ -148,6 +148,28 @@ fn regression_arc_tangent_start_a_rounding_off_a_small_disk_in_a_strong_field() 
     assert!(rep.events >= 1, "{rep:?}");
 }
 
+/// The second libFuzzer campaign: a start half a radius off a square-lattice disk of radius
+/// 1.4·10⁻⁷, decoded with that disk excluded. On an arc "excluded" means "on it", and the oracle
+/// kept the exclusion because its test of "on it" was absolute (2.6·10⁻¹⁴ < 256u·1.5), larger
+/// than r² itself; the kernel, told the particle was on the disk, sent the speed to 3.4 within
+/// three events. The test is now relative to r (`fuzz/artifacts/arc_kernel/crash-d4f4…`).
+#[test]
+fn regression_arc_start_half_a_radius_off_a_tiny_disk_decoded_as_on_it() {
+    let data: [u8; 50] = [
+        2, 64, 126, 131, 2, 5, 126, 74, 12, 0, 223, 217, 217, 217, 217, 4, 0, 0, 217, 0, 0, 217,
+        217, 0, 0, 0, 217, 217, 217, 217, 217, 217, 217, 223, 0, 223, 223, 223, 223, 223, 223, 223,
+        223, 223, 20, 235, 22, 25, 235, 252,
+    ];
+    assert!(matches!(
+        decode_scene(&data).unwrap().primitive.scene,
+        SceneParams::Square { .. }
+    ));
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    // Off the disk and moving radially out, its cyclotron circle (radius 4.9·10⁻⁴) comes no
+    // closer to the centre than the start: a pinned orbit, no event.
+    assert_eq!(rep.events, 0, "{rep:?}");
+}
+
 /// The decoder's degenerate starts (grazing, near-surface, tangents, rim crossings, corners)
 /// through the MPFR kernel's balls: every decided event is the full comparison's. Most are
 /// decided (a filter that decided none would pass vacuously).

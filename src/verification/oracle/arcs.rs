@@ -48,13 +48,17 @@ fn into_domain(cell: &ConvexCell<f64>, mut s: LatticeState<f64>) -> LatticeState
             *x = 0.0;
         }
     }
-    let near = POST_EVENT_U * U * (1.0 + cell.extent());
     if let Some(m) = f.excluded_disk {
+        // On the disk: |p − c|² − r² within the rounding of a contact computed to u·extent,
+        // 2r·u·extent, with a wide factor — relative to r (an absolute bound would keep the
+        // exclusion of a particle half a radius off a disk of radius 10⁻⁷).
         let d = &cell.disks[m as usize];
+        let near = POST_EVENT_U * U * d.radius() * (d.radius() + cell.extent());
         if (f.pos.sub(&d.centre).norm2() - d.radius2()).abs() > near {
             f.excluded_disk = None;
         }
     }
+    let near = POST_EVENT_U * U * (1.0 + cell.extent());
     if let Some(k) = f.excluded_edge
         && cell.edge_distance(k as usize, &f.pos).abs() > near
     {
