@@ -170,6 +170,21 @@ fn regression_arc_start_half_a_radius_off_a_tiny_disk_decoded_as_on_it() {
     assert_eq!(rep.events, 0, "{rep:?}");
 }
 
+/// The third libFuzzer campaign: a flight aimed at a square cell's corner in the field
+/// −1.1·10⁻⁶, whose arc leaves through the bottom edge 7.9·10⁻¹² (in time) before the right one
+/// (checked at 50 digits). The chords to the two edges differ in direction by |ω|Δt/2 = 4·10⁻¹⁸,
+/// below rounding, so ordering them by the cross product chose the right edge and left the
+/// particle 5·10⁻¹² beyond the bottom one; within π/4 of v they are now ordered by length.
+#[test]
+fn regression_arc_weak_field_corner_near_tie_is_ordered_by_chord_length() {
+    let data: [u8; 43] = [
+        2, 172, 191, 255, 255, 2, 2, 1, 17, 26, 2, 255, 83, 235, 0, 0, 0, 0, 34, 0, 247, 0, 64, 0,
+        219, 4, 119, 0, 129, 0, 0, 0, 0, 0, 1, 231, 32, 9, 238, 255, 21, 0, 37,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.events >= 1, "{rep:?}");
+}
+
 /// The decoder's degenerate starts (grazing, near-surface, tangents, rim crossings, corners)
 /// through the MPFR kernel's balls: every decided event is the full comparison's. Most are
 /// decided (a filter that decided none would pass vacuously).
