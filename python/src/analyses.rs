@@ -116,18 +116,7 @@ fn py_diffusion(
     let (threads, engine) = (inputs::threads(threads)?, inputs::engine(engine)?);
     let every = interval(checkpoint_every)?;
     let samples = count_u64("localization_samples", localization_samples)?;
-    if let Some(fc) = field_config(&cfg, field, samples)? {
-        let r = compute(py, progress, |ctl| {
-            let opts = RunOptions {
-                resume: checkpoint,
-                audit,
-                checkpoint_every: every,
-                ..options(ctl, threads, engine)
-            };
-            field::run(&fc, &opts)
-        })?;
-        return json(&r);
-    }
+    let fc = field_config(&cfg, field, samples)?;
     let r = compute(py, progress, |ctl| {
         let opts = RunOptions {
             resume: checkpoint,
@@ -135,9 +124,21 @@ fn py_diffusion(
             checkpoint_every: every,
             ..options(ctl, threads, engine)
         };
-        diffusion::run(&cfg, &opts)
+        Ok(match &fc {
+            Some(fc) => Either::Field(field::run(fc, &opts)?),
+            None => Either::Plain(diffusion::run(&cfg, &opts)?),
+        })
     })?;
-    json(&r)
+    match r {
+        Either::Field(r) => json(&r),
+        Either::Plain(r) => json(&r),
+    }
+}
+
+/// A diffusion run's result: without a field, or in one.
+enum Either<P, F> {
+    Plain(P),
+    Field(F),
 }
 
 /// The field run of a diffusion configuration, unless the field is absent or exactly zero (the
