@@ -20,7 +20,9 @@
 //!   [`Arc::circle`] has the general speed), whose small factor at a hit is a signed distance
 //!   (at ω = 0 the straight kernel's r ± q: no cancellation of β² − γ near the surface). The
 //!   entry is s = (−β − √Δ)/M, taken as γK/(M(√Δ − β)) where β < 0 (Vieta: no subtraction of
-//!   nearly equal numbers either way);
+//!   nearly equal numbers either way). Where the cyclotron centre is within half a cyclotron
+//!   radius of the disk's centre the two circles can cut at a small angle, and the contact is
+//!   found in the disk's frame instead ([`Arc::contact`]: on the circle to a few u);
 //! * [`arc_line`]: the chord to the exit through a line n·y = o (n the inward unit normal,
 //!   σ = n·p − o ≥ 0 inside): x = −σn + sJn with ωs = a + √D, a = n·v, b = n·Jv,
 //!   D = a² − ωσ(ωσ + 2b), taken as −σ(ωσ + 2b)/(√D − a) where a ≤ 0;
@@ -31,7 +33,8 @@
 //!   half-plane on the turning side, compared by the sign of a cross product (the order of the
 //!   flight times, with no transcendental function);
 //! * [`velocity_after`]: the velocity at the end of the chord, the reflection of v in the chord,
-//!   2(v·x)x/|x|² − v (a reflection keeps |v| whatever the rounding of x);
+//!   2(v·x)x/|x|² − v (a reflection keeps |v| whatever the rounding of x), or
+//!   [`velocity_along`], v + ωJx, at a contact found in the disk's frame;
 //! * [`arc_time`]: the flight time 2·atan2(ω|x|²/2, v·x)/ω, for observables only.
 //!
 //! Only correctly rounded operations (+ − × ÷ √) decide and carry out an event, so the `f64`
@@ -50,6 +53,27 @@ pub fn perp<T: Real>(v: &Vec2<T>) -> Vec2<T> {
 #[inline(always)]
 pub fn is_zero<T: Real>(x: &Vec2<T>) -> bool {
     !x.x.gt0() && !x.x.lt0() && !x.y.gt0() && !x.y.lt0()
+}
+
+/// A contact of an arc with a circle: the chord to it, and whether it was found in the disk's
+/// frame (near-concentric circles, `proofs-notes/magnetic-arcs.md`), where the velocity at the
+/// contact is v + ωJx (no division by a chord whose direction carries the disk frame's absolute
+/// rounding).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contact<T> {
+    /// The chord from the particle to the contact.
+    pub chord: Vec2<T>,
+    /// Found in the disk's frame (near-concentric circles).
+    pub concentric: bool,
+}
+
+impl<T> Contact<T> {
+    fn radical(chord: Vec2<T>) -> Option<Self> {
+        Some(Contact {
+            chord,
+            concentric: false,
+        })
+    }
 }
 
 /// An arc about to be flown: the velocity `v`, its |v|² and |v| (the cyclotron radius is |v|/|ω|:
@@ -96,6 +120,14 @@ impl<'a, T: Real> Arc<'a, T> {
     /// assert!((x.x + 1.0).abs() < 1e-15 && (x.y - 1.0).abs() < 1e-15);
     /// ```
     pub fn circle(&self, dx: T, dy: T, r: &T, r2: &T, on_surface: bool) -> Option<Vec2<T>> {
+        self.contact(dx, dy, r, r2, on_surface).map(|c| c.chord)
+    }
+
+    /// [`Arc::circle`] with how the chord was found: near-concentric circles (the cyclotron
+    /// centre within ρ/2 of the disk's, `proofs-notes/magnetic-arcs.md`) give the contact in the
+    /// disk's frame, and the velocity there is then v + ωJx rather than the reflection of v in
+    /// the chord.
+    pub fn contact(&self, dx: T, dy: T, r: &T, r2: &T, on_surface: bool) -> Option<Contact<T>> {
         let (v, w) = (self.v, self.w);
         let ctx = w.ctx();
         let d = Vec2::new(dx, dy);
@@ -118,15 +150,24 @@ impl<'a, T: Real> Arc<'a, T> {
         if !gamma.gt0() {
             // On the circle: the roots are s = 0 (here) and s = −2β/M (the return).
             if beta.gt0() {
+                if let Some(c) = self.concentric(&d, r) {
+                    return c;
+                }
                 let s = (beta * &T::from_f64(ctx, -2.0)) * &inv;
-                return Some(Vec2::new(e.x * &s, e.y * &s));
+                return Contact::radical(Vec2::new(e.x * &s, e.y * &s));
             }
             // Moving in (β < 0, also on the disk just left, by rounding after a grazing
             // reflection): meets it now. Moving along it (β = 0): now if the arc turns in
             // (ω Jv·d < 0), which on the disk just left is the creeping limit ([`Arc::creeps`]);
             // else it touches it from outside, a measure-zero tangency that is no collision.
             let inward = beta.lt0() || (w.clone() * &perp(v).dot(&d)).lt0();
-            return inward.then(|| Vec2::new(T::zero(ctx), T::zero(ctx)));
+            return inward.then(|| Contact {
+                chord: Vec2::new(T::zero(ctx), T::zero(ctx)),
+                concentric: false,
+            });
+        }
+        if let Some(c) = self.concentric(&d, r) {
+            return c;
         }
         let disc = self.discriminant(&q, &gamma, r)?;
         let root = disc.sqrt();
@@ -140,10 +181,51 @@ impl<'a, T: Real> Arc<'a, T> {
         let f = -(w.clone() * &gamma).scale(0.5) * &inv;
         let mx = w.clone() * &d.x - &v.y;
         let my = w.clone() * &d.y + &v.x;
-        Some(Vec2::new(
+        Contact::radical(Vec2::new(
             f.clone() * &mx + &(s.clone() * &e.x),
             f * &my + &(s * &e.y),
         ))
+    }
+
+    /// The entry into the circle of radius `r` at −d when the cyclotron centre is within half a
+    /// cyclotron radius of its centre (M < V²/4), `None` otherwise; `Some(None)` if the circles
+    /// do not cut. Nearly concentric circles of nearly equal radii cut at a small angle, and the
+    /// radical-line form x₀ + s·e then carries its rounding along e, across both circles, by a
+    /// factor 1/M (the fourth libFuzzer campaign: 10⁸u off the disk at M = 2·10⁻⁹, and the
+    /// particle, hugging the disk, still inside it after the next crossing). In the disk's
+    /// frame the entry is y = (r cos φ·sgn ω·m + r sin φ·Jm)/√M with
+    /// r cos φ = ((|ω|r − V)(|ω|r + V) + M)/(2|ω|√M), the law of cosines with the centres
+    /// √M/|ω| apart, and r sin φ = √((r − r cos φ)(r + r cos φ)) ≥ 0 (Jm·y > 0 is the entry:
+    /// there the velocity ωJ(y − m/ω) points into the disk). |y| = r to a few u whatever M, and
+    /// the chord is y − d (`proofs-notes/magnetic-arcs.md`).
+    fn concentric(&self, d: &Vec2<T>, r: &T) -> Option<Option<Contact<T>>> {
+        let (v, w) = (self.v, self.w);
+        let m = Vec2::new(w.clone() * &d.x - &v.y, w.clone() * &d.y + &v.x);
+        let mm = m.norm2();
+        if !(self.vv.clone() - &mm.clone().scale(4.0)).gt0() {
+            return None;
+        }
+        if !mm.gt0() {
+            // Concentric: a circle of radius |d| about the disk's centre, off the surface.
+            return Some(None);
+        }
+        let aw = w.clone().abs();
+        let awr = aw.clone() * r;
+        let g = (awr.clone() - &self.speed) * &(awr + &self.speed) + &mm;
+        let sm = mm.sqrt();
+        let rc = g / &(aw.scale(2.0) * &sm);
+        let rs2 = (r.clone() - &rc) * &(r.clone() + &rc);
+        if !rs2.gt0() {
+            return Some(None);
+        }
+        let rs = rs2.sqrt();
+        let a = if w.gt0() { rc } else { -rc };
+        let yx = (a.clone() * &m.x - &(rs.clone() * &m.y)) / &sm;
+        let yy = (a * &m.y + &(rs * &m.x)) / &sm;
+        Some(Some(Contact {
+            chord: Vec2::new(yx - &d.x, yy - &d.y),
+            concentric: true,
+        }))
     }
 
     /// `true` if the particle, on the circle of radius² `r2` at −d (d = p − c) by identity, moves
@@ -326,6 +408,15 @@ pub fn velocity_after<T: Real>(v: &Vec2<T>, x: &Vec2<T>) -> Vec2<T> {
     }
     let k = v.dot(x).scale(2.0) / &xx;
     Vec2::new(k.clone() * &x.x - &v.x, k * &x.y - &v.y)
+}
+
+/// The velocity at the end of the chord `x` of the arc of velocity `v` in the field `w`,
+/// v + ωJx: exact on the arc, and free of any division by |x|.
+pub fn velocity_along<T: Real>(v: &Vec2<T>, x: &Vec2<T>, w: &T) -> Vec2<T> {
+    Vec2::new(
+        v.x.clone() - &(w.clone() * &x.y),
+        v.y.clone() + &(w.clone() * &x.x),
+    )
 }
 
 /// The flight time along the arc to the end of the chord `x` (velocity `v`, field `w` ≠ 0):

@@ -10,7 +10,8 @@
 //! carry over.
 //!
 //! Executing an event: the particle moves by the chord, its velocity becomes the reflection of v
-//! in the chord ([`velocity_after`]); a collision then reflects it specularly, a crossing maps
+//! in the chord ([`velocity_after`]), or v + ωJx ([`velocity_along`]) at a contact found in the
+//! disk's frame (near-concentric circles, [`Arc::contact`]); a collision then reflects it specularly, a crossing maps
 //! it into the neighbour's frame (a point reflection turns position and velocity by π and keeps
 //! the sense of rotation, so ω is the same in every cell). Every event ends with the Newton factor
 //! (3 − |v_in|²)/2 of the incoming speed, as the straight kernel's collisions
@@ -18,7 +19,7 @@
 //!
 //! The field ω = 0 is not an arc: callers run the straight kernel there, with its own bits.
 
-use super::arc::{Arc, is_zero, velocity_after};
+use super::arc::{Arc, is_zero, velocity_after, velocity_along};
 use super::cell::ConvexCell;
 use super::flight::{EventKind, Flight};
 use super::vec2::Vec2;
@@ -31,6 +32,9 @@ pub struct ArcEvent<T> {
     pub kind: EventKind,
     /// The displacement to the event, in the cell's frame.
     pub chord: Vec2<T>,
+    /// The velocity on arrival, before the event acts: the reflection of v in the chord, or
+    /// v + ωJx at a contact found in the disk's frame ([`Arc::contact`]).
+    pub velocity: Vec2<T>,
 }
 
 impl<T: Real> ConvexCell<T> {
@@ -53,10 +57,10 @@ impl<T: Real> ConvexCell<T> {
     pub fn next_event_in_field(&self, f: &Flight<T>, w: &T) -> Option<ArcEvent<T>> {
         let (p, v) = (&f.pos, &f.vel);
         let arc = Arc::new(v, w);
-        let mut best: Option<ArcEvent<T>> = None;
-        let mut offer = |chord: Vec2<T>, kind: EventKind| {
-            if best.as_ref().is_none_or(|b| arc.earlier(&chord, &b.chord)) {
-                best = Some(ArcEvent { kind, chord });
+        let mut best: Option<(EventKind, Vec2<T>, bool)> = None;
+        let mut offer = |chord: Vec2<T>, kind: EventKind, concentric: bool| {
+            if best.as_ref().is_none_or(|b| arc.earlier(&chord, &b.1)) {
+                best = Some((kind, chord, concentric));
             }
         };
         for (m, d) in self.disks.iter().enumerate() {
@@ -67,8 +71,8 @@ impl<T: Real> ConvexCell<T> {
             if on && arc.creeps(&dx, &dy) {
                 return None;
             }
-            if let Some(x) = arc.circle(dx, dy, d.radius(), d.radius2(), on) {
-                offer(x, EventKind::Collision(m));
+            if let Some(c) = arc.contact(dx, dy, d.radius(), d.radius2(), on) {
+                offer(c.chord, EventKind::Collision(m), c.concentric);
             }
         }
         for (k, e) in self.edges.iter().enumerate() {
@@ -76,16 +80,27 @@ impl<T: Real> ConvexCell<T> {
             let sigma = e.normal.dot(p) - &e.offset;
             let entered = f.excluded_edge == Some(k);
             if let Some(x) = arc.line(&e.normal, sigma, entered) {
-                offer(x, EventKind::Crossing(k));
+                offer(x, EventKind::Crossing(k), false);
             }
         }
-        best
+        best.map(|(kind, chord, concentric)| {
+            let velocity = if concentric {
+                velocity_along(v, &chord, w)
+            } else {
+                velocity_after(v, &chord)
+            };
+            ArcEvent {
+                kind,
+                chord,
+                velocity,
+            }
+        })
     }
 
     /// Moves along the arc to the event and carries it out (see the module documentation).
     pub fn apply_in_field(&self, f: &mut Flight<T>, ev: &ArcEvent<T>) {
         let newton = (-f.vel.norm2()).add_f64(3.0).scale(0.5);
-        let mut v = velocity_after(&f.vel, &ev.chord);
+        let mut v = ev.velocity.clone();
         let x = Vec2::new(f.pos.x.clone() + &ev.chord.x, f.pos.y.clone() + &ev.chord.y);
         let moved = !is_zero(&ev.chord);
         match ev.kind {

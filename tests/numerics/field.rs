@@ -22,6 +22,8 @@ use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::theory::magnetic::{FieldGeometry, Orbit};
 use lorentz_gas::verification::error_model::{ENERGY_BAND_U, POST_EVENT_U, UNIT_ROUNDOFF};
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus as Gen;
 use rug::Float;
 
 const FIELDS: [f64; 6] = [0.01, -0.3, 1.0, -2.5, 10.0, 100.0];
@@ -321,4 +323,70 @@ fn shares_agree<S: Scene>(scene: &S, b: f64, seed: u64) {
             scene.label()
         );
     }
+}
+
+/// Nearly concentric circles (the cyclotron centre 10⁻¹² to 0.4ρ from the disk's centre, radii
+/// within half that distance of each other, so they cut at an angle ~D/r): the contact is found
+/// in the disk's frame, and the point reached, d + x evaluated exactly from the `f64` chord, is
+/// on the disk to 16u(r + |d|) — |y| = r to about 6u, and the chord y − d and its sum with d
+/// add 2u(r + |d|) — and on the cyclotron circle to 16u(r + |d| + ρ): the disk frame's
+/// rounding along the circles, u(|ω||d| + V)/√M, times the angle √M/V at which they cut. The
+/// radical-line form missed the disk by u/M (10⁸u at M = 2·10⁻⁹, the fourth libFuzzer
+/// campaign). The velocity v + ωJx has |v|² = 1 to the same order.
+#[test]
+fn nearly_concentric_circles_meet_on_the_disk_to_a_few_u() {
+    use lorentz_gas::kernel::arc::{Arc, velocity_along};
+    let u = UNIT_ROUNDOFF;
+    let mut rng = Gen::seed_from_u64(33);
+    let (mut worst_disk, mut worst_cyc, mut tried) = (0.0f64, 0.0f64, 0);
+    for n in 0..20_000 {
+        let r: f64 = [1.0, 0.3, 2.5][n % 3];
+        let rho = r * (1.0 + rng.random_range(-0.3..0.3f64) * 10f64.powi(-(n as i32 % 7)));
+        let dist = (rho - r).abs() * 2.0 + r * 10f64.powf(rng.random_range(-12.0..-0.4f64));
+        let dist = dist.min(0.4 * rho);
+        if dist <= (rho - r).abs() * 1.5 {
+            continue;
+        }
+        let (a, b) = (rng.random_range(0.0..6.3f64), rng.random_range(0.0..6.3f64));
+        let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
+        let w = sign / rho;
+        // Cyclotron centre o (disk at the origin), particle at o + ρ(cos b, sin b); v = ωJ(p − o).
+        let o = (dist * a.cos(), dist * a.sin());
+        let d = Vec2::new(o.0 + rho * b.cos(), o.1 + rho * b.sin());
+        let v = Vec2::new(-w * (d.y - o.1), w * (d.x - o.0));
+        if d.norm2() <= r * r {
+            continue;
+        }
+        let arc = Arc::new(&v, &w);
+        let Some(c) = arc.contact(d.x, d.y, &r, &(r * r), false) else {
+            panic!("no contact: r {r} rho {rho} dist {dist}");
+        };
+        assert!(c.concentric, "{dist} {rho}");
+        let hi = |x: f64| Float::with_val(256, x);
+        let (yx, yy) = (hi(d.x) + hi(c.chord.x), hi(d.y) + hi(c.chord.y));
+        let on_disk = (Float::with_val(256, &yx * &yx + &yy * &yy).sqrt() - r)
+            .to_f64()
+            .abs();
+        // The cyclotron centre from the f64 state: p + Jv/ω.
+        let (ox, oy) = (hi(d.x) - hi(v.y) / hi(w), hi(d.y) + hi(v.x) / hi(w));
+        let (ex, ey) = (yx - ox, yy - oy);
+        let vv = hi(v.x) * hi(v.x) + hi(v.y) * hi(v.y);
+        let rho_exact = Float::with_val(256, vv.sqrt() / hi(w).abs());
+        let on_cyc = (Float::with_val(256, &ex * &ex + &ey * &ey).sqrt() - rho_exact)
+            .to_f64()
+            .abs();
+        let scale = r + d.norm2().sqrt();
+        tried += 1;
+        worst_disk = worst_disk.max(on_disk / (u * scale));
+        worst_cyc = worst_cyc.max(on_cyc / (u * (scale + rho)));
+        let vel = velocity_along(&v, &c.chord, &w);
+        assert!((vel.norm2() - v.norm2()).abs() < 16.0 * u * (1.0 + w.abs() * scale));
+    }
+    assert!(tried > 10_000, "{tried}");
+    assert!(worst_disk < 16.0, "on the disk to {worst_disk} u(r + |d|)");
+    assert!(
+        worst_cyc < 16.0,
+        "on the cyclotron circle to {worst_cyc} u(r + |d| + rho)"
+    );
+    println!("worst: disk {worst_disk:.2}, cyclotron circle {worst_cyc:.2}");
 }

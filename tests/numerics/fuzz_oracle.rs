@@ -549,3 +549,18 @@ fn regression_square_start_on_an_edge_moving_along_it() {
         }
     }
 }
+
+/// The fourth libFuzzer campaign: triangular w = 0.329, B = 1 (cyclotron radius = r), a
+/// particle near a disk whose cyclotron circle nearly coincides with it (M = 2.3·10⁻⁹). The
+/// radical-line contact missed the disk by u/M (2.3·10⁻⁸ inside it), and the particle, hugging
+/// the disk along its arc, was still 1.2·10⁻⁸ inside it after the next crossing. Such contacts
+/// are now found in the disk's frame, on the circle to a few u
+/// (`fuzz/artifacts/arc_kernel/crash-4b92…`).
+#[test]
+fn regression_arc_on_a_disk_whose_cyclotron_circle_nearly_coincides_with_it() {
+    let data: [u8; 22] = [
+        254, 249, 252, 0, 0, 0, 255, 122, 6, 250, 0, 0, 1, 221, 255, 4, 0, 3, 0, 255, 225, 0,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.events >= 1, "{rep:?}");
+}

@@ -187,17 +187,23 @@ fn arc_energy_band(bounds: &EventBounds, b: f64) -> f64 {
     arc_energy_band_of(&bounds.cell, b)
 }
 
-/// The conditioning of a collision's contact, 1/min(1, M) with M = |Jv + ωd|² the squared
-/// distance between the cyclotron centre and the disk centre times ω²: two nearly concentric
-/// circles of nearly equal radii cut at points that move by δ/M for a rounding δ, the arcs'
-/// counterpart of a graze (`proofs-notes/magnetic-arcs.md`). 1 for a crossing.
+/// The conditioning of a collision's contact found on the radical line, 1/min(1, M) with
+/// M = |Jv + ωd|² the squared distance between the cyclotron centre and the disk centre times
+/// ω²: there a rounding δ moves the contact across both circles by up to δ/M. The kernel takes
+/// that form only where 4M ≥ V² (so this is at most 4/V²); closer to concentric it finds the
+/// contact in the disk's frame, on the circle to a few u, and this is 1
+/// (`proofs-notes/magnetic-arcs.md`). 1 for a crossing.
 fn concentricity(cell: &ConvexCell<f64>, f: &Flight<f64>, ev: &ArcEvent<f64>, b: f64) -> f64 {
     let EventKind::Collision(m) = ev.kind else {
         return 1.0;
     };
     let d = f.pos.sub(&cell.disks[m as usize].centre);
     let (mx, my) = (b * d.x - f.vel.y, b * d.y + f.vel.x);
-    1.0 / (mx * mx + my * my).min(1.0)
+    let mm = mx * mx + my * my;
+    if f.vel.norm2() - 4.0 * mm > 0.0 {
+        return 1.0;
+    }
+    1.0 / mm.min(1.0)
 }
 
 /// The checks after one arc event.
