@@ -741,6 +741,7 @@ def audit(
     sample: float = 1.0,
     reference_bits: Count = 128,
     seed: Count = 1,
+    field: Optional[Exact] = None,
     threads: Optional[Count] = None,
     progress: Progress = False,
 ) -> AuditResult:
@@ -758,6 +759,10 @@ def audit(
         Fraction of the events replayed, in (0, 1].
     reference_bits : int
         MPFR precision of the replay, 128 to 65536 bits.
+    field : str, Fraction or float, optional
+        A uniform magnetic field B (inverse time; the cyclotron radius is 1/|B| in units of the
+        disk radius), exact like ``w``, 1e-6 <= |B| <= 1e6; ``None`` or 0: no field. The
+        replayed events are then arcs, judged by the arc kernel's running error bound.
     seed, threads, progress
         As in :func:`diffusion`.
 
@@ -777,6 +782,7 @@ def audit(
             float(sample),
             _count("reference_bits", reference_bits),
             _count("seed", seed),
+            _optional_exact("field", field),
             _threads(threads),
             cb,
         )

@@ -490,7 +490,7 @@ fn py_superdiffusion(
 }
 
 #[pyfunction]
-#[pyo3(name = "audit", signature = (scene, w, radius, collisions, batches, sample, reference_bits, seed, threads, progress))]
+#[pyo3(name = "audit", signature = (scene, w, radius, collisions, batches, sample, reference_bits, seed, field, threads, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_audit(
     py: Python<'_>,
@@ -502,6 +502,7 @@ fn py_audit(
     sample: f64,
     reference_bits: &str,
     seed: &str,
+    field: Option<&str>,
     threads: Option<&str>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
@@ -513,6 +514,7 @@ fn py_audit(
         sample,
         reference_bits: count_u32("reference_bits", reference_bits)?,
         seed: count_u64("seed", seed)?,
+        field: field.map(str::to_string),
     };
     let threads = inputs::threads(threads)?;
     let r = compute(py, progress, |ctl| {

@@ -23,6 +23,11 @@ pub struct Args {
     /// Fraction of events replayed, in (0, 1].
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     sample: f64,
+    /// A uniform magnetic field B perpendicular to the plane, an exact decimal or fraction like
+    /// --w (1e-6 <= |B| <= 1e6; 0 or absent: no field): the replayed events are arcs, judged by
+    /// the arc kernel's running error bound.
+    #[arg(long, allow_hyphen_values = true)]
+    field: Option<String>,
     /// MPFR precision of the replay, in bits (128 to 65536).
     #[arg(long, default_value = "128", value_parser = parse_count_u32, allow_negative_numbers = true)]
     reference_bits: u32,
@@ -42,6 +47,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         sample: a.sample,
         reference_bits: a.reference_bits,
         seed: a.run.seed(),
+        field: a.field.clone(),
     };
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
     let opts = pb.options(a.run.threads());
@@ -54,8 +60,14 @@ pub fn run(a: Args) -> Result<(), Error> {
 fn print(r: &AuditReport) {
     let s = &r.summary;
     let c = &r.config;
+    let field = match (&c.field, c.field_exact()) {
+        (Some(b), Ok(Some(_))) => {
+            format!(" in the field B = {b} (arcs, against their running error bound)")
+        }
+        _ => String::new(),
+    };
     println!(
-        "shadow audit, {}: {} events of {} ({} collisions, {} batches, seed {}) replayed at {} bits in {:.1} s",
+        "shadow audit, {}{field}: {} events of {} ({} collisions, {} batches, seed {}) replayed at {} bits in {:.1} s",
         c.scene, s.audited, r.events, c.collisions, c.batches, c.seed, c.reference_bits, r.seconds
     );
     println!(
@@ -69,7 +81,16 @@ fn print(r: &AuditReport) {
         ("contact point", q.position_error),
         ("velocity", q.velocity_error),
         ("time error / bound", q.time_error_over_bound),
-    ] {
+    ]
+    .into_iter()
+    .chain(
+        [
+            ("position error / bound", q.position_error_over_bound),
+            ("velocity error / bound", q.velocity_error_over_bound),
+        ]
+        .into_iter()
+        .filter_map(|(n, v)| v.map(|v| (n, v))),
+    ) {
         println!(
             "{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}",
             v.median, v.p99, v.max

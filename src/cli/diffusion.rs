@@ -117,7 +117,13 @@ pub fn run(a: Args) -> Result<(), Error> {
 /// The field, unless absent or exactly zero (the run without a field, with its own bits).
 fn nonzero_field(a: &Args) -> Result<Option<String>, Error> {
     match &a.field {
-        Some(b) if lorentz_gas::numbers::exact::parse_exact(b)? != 0 => Ok(Some(b.clone())),
+        Some(b)
+            if lorentz_gas::numbers::exact::parse_exact(b)
+                .map_err(|e| Error::Invalid(format!("field = {b}: {e}")))?
+                != 0 =>
+        {
+            Ok(Some(b.clone()))
+        }
         _ => Ok(None),
     }
 }

@@ -64,14 +64,14 @@ pub struct Contact<T> {
     /// The chord from the particle to the contact.
     pub chord: Vec2<T>,
     /// Found in the disk's frame (near-concentric circles).
-    pub concentric: bool,
+    pub disk_frame: bool,
 }
 
 impl<T> Contact<T> {
     fn radical(chord: Vec2<T>) -> Option<Self> {
         Some(Contact {
             chord,
-            concentric: false,
+            disk_frame: false,
         })
     }
 }
@@ -150,7 +150,7 @@ impl<'a, T: Real> Arc<'a, T> {
         if !gamma.gt0() {
             // On the circle: the roots are s = 0 (here) and s = −2β/M (the return).
             if beta.gt0() {
-                if let Some(c) = self.concentric(&d, r) {
+                if let Some(c) = self.disk_frame(&d, r) {
                     return c;
                 }
                 let s = (beta * &T::from_f64(ctx, -2.0)) * &inv;
@@ -163,10 +163,10 @@ impl<'a, T: Real> Arc<'a, T> {
             let inward = beta.lt0() || (w.clone() * &perp(v).dot(&d)).lt0();
             return inward.then(|| Contact {
                 chord: Vec2::new(T::zero(ctx), T::zero(ctx)),
-                concentric: false,
+                disk_frame: false,
             });
         }
-        if let Some(c) = self.concentric(&d, r) {
+        if let Some(c) = self.disk_frame(&d, r) {
             return c;
         }
         let disc = self.discriminant(&q, &gamma, r)?;
@@ -193,12 +193,15 @@ impl<'a, T: Real> Arc<'a, T> {
     /// radical-line form x₀ + s·e then carries its rounding along e, across both circles, by a
     /// factor 1/M (the fourth libFuzzer campaign: 10⁸u off the disk at M = 2·10⁻⁹, and the
     /// particle, hugging the disk, still inside it after the next crossing). In the disk's
-    /// frame the entry is y = (r cos φ·sgn ω·m + r sin φ·Jm)/√M with
-    /// r cos φ = ((|ω|r − V)(|ω|r + V) + M)/(2|ω|√M), the law of cosines with the centres
-    /// √M/|ω| apart, and r sin φ = √((r − r cos φ)(r + r cos φ)) ≥ 0 (Jm·y > 0 is the entry:
-    /// there the velocity ωJ(y − m/ω) points into the disk). |y| = r to a few u whatever M, and
-    /// the chord is y − d (`proofs-notes/magnetic-arcs.md`).
-    fn concentric(&self, d: &Vec2<T>, r: &T) -> Option<Option<Contact<T>>> {
+    /// frame the entry is y = (a·m + r sin φ·Jm)/√M with a = sgn ω·r cos φ =
+    /// ((|ω|r − V)(|ω|r + V) + M)/(2ω√M), the law of cosines with the centres √M/|ω| apart (ρ ≈ r
+    /// is the exact factor |ω|r − V, and M < V²/4 keeps M − V² from cancelling), and
+    /// r sin φ = √((r − a)(r + a)) ≥ 0 (Jm·y > 0 is the entry: there the velocity ωJ(y − m/ω)
+    /// points into the disk). |y| = r to a few u whatever M, and the chord is y − d
+    /// (`proofs-notes/magnetic-arcs.md`). Away from concentric circles this form would lose what
+    /// the radical line keeps: a short chord between nearly tangent circles (a ≈ ±r) has
+    /// r − a below the rounding of a.
+    fn disk_frame(&self, d: &Vec2<T>, r: &T) -> Option<Option<Contact<T>>> {
         let (v, w) = (self.v, self.w);
         let m = Vec2::new(w.clone() * &d.x - &v.y, w.clone() * &d.y + &v.x);
         let mm = m.norm2();
@@ -209,22 +212,20 @@ impl<'a, T: Real> Arc<'a, T> {
             // Concentric: a circle of radius |d| about the disk's centre, off the surface.
             return Some(None);
         }
-        let aw = w.clone().abs();
-        let awr = aw.clone() * r;
+        let sm = mm.clone().sqrt();
+        let awr = w.clone().abs() * r;
         let g = (awr.clone() - &self.speed) * &(awr + &self.speed) + &mm;
-        let sm = mm.sqrt();
-        let rc = g / &(aw.scale(2.0) * &sm);
-        let rs2 = (r.clone() - &rc) * &(r.clone() + &rc);
+        let a = g / &(w.clone().scale(2.0) * &sm);
+        let rs2 = (r.clone() - &a) * &(r.clone() + &a);
         if !rs2.gt0() {
             return Some(None);
         }
         let rs = rs2.sqrt();
-        let a = if w.gt0() { rc } else { -rc };
         let yx = (a.clone() * &m.x - &(rs.clone() * &m.y)) / &sm;
         let yy = (a * &m.y + &(rs * &m.x)) / &sm;
         Some(Some(Contact {
             chord: Vec2::new(yx - &d.x, yy - &d.y),
-            concentric: true,
+            disk_frame: true,
         }))
     }
 

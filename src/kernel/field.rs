@@ -58,9 +58,9 @@ impl<T: Real> ConvexCell<T> {
         let (p, v) = (&f.pos, &f.vel);
         let arc = Arc::new(v, w);
         let mut best: Option<(EventKind, Vec2<T>, bool)> = None;
-        let mut offer = |chord: Vec2<T>, kind: EventKind, concentric: bool| {
+        let mut offer = |chord: Vec2<T>, kind: EventKind, disk_frame: bool| {
             if best.as_ref().is_none_or(|b| arc.earlier(&chord, &b.1)) {
-                best = Some((kind, chord, concentric));
+                best = Some((kind, chord, disk_frame));
             }
         };
         for (m, d) in self.disks.iter().enumerate() {
@@ -72,7 +72,7 @@ impl<T: Real> ConvexCell<T> {
                 return None;
             }
             if let Some(c) = arc.contact(dx, dy, d.radius(), d.radius2(), on) {
-                offer(c.chord, EventKind::Collision(m), c.concentric);
+                offer(c.chord, EventKind::Collision(m), c.disk_frame);
             }
         }
         for (k, e) in self.edges.iter().enumerate() {
@@ -83,8 +83,8 @@ impl<T: Real> ConvexCell<T> {
                 offer(x, EventKind::Crossing(k), false);
             }
         }
-        best.map(|(kind, chord, concentric)| {
-            let velocity = if concentric {
+        best.map(|(kind, chord, disk_frame)| {
+            let velocity = if disk_frame {
                 velocity_along(v, &chord, w)
             } else {
                 velocity_after(v, &chord)

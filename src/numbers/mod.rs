@@ -7,6 +7,8 @@
 //! * [`precision`]: a run's precision (`f64` or MPFR bits) and instantiation at it.
 //! * [`ball`]: `f64` midpoint–radius enclosures of values computed at any precision ≥ 53 bits,
 //!   to decide signs and orders before computing them.
+//! * [`tracked`]: a value at 128 bits or more with a bound on the same computation's `f64`
+//!   error (running error analysis), and its ambiguous decisions: the arcs' shadow audit.
 //! * [`count`]: counts (`2e9`) and thread numbers as typed, parsed exactly and checked.
 //! * [`exact`]: exact decimals and fractions (`0.1`, `1/3`) parsed as rationals, and grids of them
 //!   rounded once.
@@ -17,3 +19,4 @@ pub mod exact;
 pub mod lanes;
 pub mod precision;
 pub mod real;
+pub mod tracked;

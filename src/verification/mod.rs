@@ -5,10 +5,12 @@
 //! * [`shadowing`]: true orbits near whole `f64` segments (Newton on the defects, GHYS).
 //! * [`reversibility`]: forward N collisions, reverse, N back.
 //! * [`birkhoff`]: the collision map in Birkhoff coordinates and its Jacobian.
-//! * [`shadow_audit`]: the MPFR shadow audit of a production run's own trajectories.
+//! * [`shadow_audit`]: the MPFR shadow audit of a production run's own trajectories;
+//!   [`arc_audit`]: its events in a magnetic field, judged by the kernel's running error bound.
 //! * [`lyapunov`], [`divergence`], [`certify`]: chaos, certified segments.
 //! * `oracle` (feature `oracle`): the fuzzing oracle (also run by `cargo test`).
 
+pub mod arc_audit;
 pub mod birkhoff;
 pub mod certify;
 pub mod divergence;

@@ -103,6 +103,24 @@ pub struct AuditedEvent {
     pub check: EventCheck,
 }
 
+impl AuditedEvent {
+    /// The event of the pre-event flight `f` in scene `scene`, with its verdict.
+    pub fn new(scene: &str, f: &Flight<f64>, check: &EventCheck) -> AuditedEvent {
+        AuditedEvent {
+            scene: scene.to_string(),
+            state_bits: [
+                f.pos.x.to_bits(),
+                f.pos.y.to_bits(),
+                f.vel.x.to_bits(),
+                f.vel.y.to_bits(),
+            ],
+            state: [f.pos.x, f.pos.y, f.vel.x, f.vel.y],
+            excluded: [f.excluded_disk, f.excluded_edge],
+            check: check.clone(),
+        }
+    }
+}
+
 /// What an audit found (mergeable across batches).
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct AuditSummary {
@@ -122,6 +140,12 @@ pub struct AuditSummary {
     pub velocity_error: LogHistogram,
     /// Time error as a fraction of its bound.
     pub time_error_over_bound: LogHistogram,
+    /// Position error as a fraction of its bound (arcs: the running bound of each event).
+    #[serde(default)]
+    pub position_error_over_bound: LogHistogram,
+    /// Velocity error as a fraction of its bound.
+    #[serde(default)]
+    pub velocity_error_over_bound: LogHistogram,
     /// The worst events by time error / bound (at most 10).
     pub worst: Vec<AuditedEvent>,
     /// Every event outside the model (at most 1000 kept).
@@ -139,6 +163,10 @@ impl AuditSummary {
         self.position_error.merge(&o.position_error);
         self.velocity_error.merge(&o.velocity_error);
         self.time_error_over_bound.merge(&o.time_error_over_bound);
+        self.position_error_over_bound
+            .merge(&o.position_error_over_bound);
+        self.velocity_error_over_bound
+            .merge(&o.velocity_error_over_bound);
         self.worst.extend(o.worst.iter().cloned());
         self.worst.sort_by(|a, b| ratio(b).total_cmp(&ratio(a)));
         self.worst.truncate(10);
@@ -217,7 +245,17 @@ impl<S: Scene> Auditor<S> {
             return Ok(());
         }
         let c = check_event(&self.t64, &self.tref, f)?;
-        let s = &mut self.summary;
+        let label = &self.label;
+        self.summary.add(&c, || AuditedEvent::new(label, f, &c));
+        Ok(())
+    }
+}
+
+impl AuditSummary {
+    /// Counts one replayed event; `record` describes it if it is kept (outside the model, or
+    /// among the worst by time error over bound).
+    pub fn add(&mut self, c: &EventCheck, record: impl Fn() -> AuditedEvent) {
+        let s = self;
         s.audited += 1;
         s.time_error.add(c.time_error);
         s.position_error.add(c.position_error);
@@ -228,36 +266,28 @@ impl<S: Scene> Auditor<S> {
             0.0
         };
         s.time_error_over_bound.add(r);
+        let over = |e: f64, b: f64| if b > 0.0 { e / b } else { 0.0 };
+        s.position_error_over_bound
+            .add(over(c.position_error, c.position_bound));
+        s.velocity_error_over_bound
+            .add(over(c.velocity_error, c.velocity_bound));
         if c.ambiguous {
             s.ambiguous += 1;
         }
         if c.kind_f64 != c.kind_ref {
             s.different_choice += 1;
         }
-        let record = |c: &EventCheck| AuditedEvent {
-            scene: self.label.clone(),
-            state_bits: [
-                f.pos.x.to_bits(),
-                f.pos.y.to_bits(),
-                f.vel.x.to_bits(),
-                f.vel.y.to_bits(),
-            ],
-            state: [f.pos.x, f.pos.y, f.vel.x, f.vel.y],
-            excluded: [f.excluded_disk, f.excluded_edge],
-            check: c.clone(),
-        };
         if !c.in_model {
             s.outside += 1;
             if s.outside_events.len() < 1000 {
-                s.outside_events.push(record(&c));
+                s.outside_events.push(record());
             }
         }
         if s.worst.len() < 10 || r > ratio(s.worst.last().expect("non-empty")) {
-            s.worst.push(record(&c));
+            s.worst.push(record());
             s.worst.sort_by(|a, b| ratio(b).total_cmp(&ratio(a)));
             s.worst.truncate(10);
         }
-        Ok(())
     }
 }
 
@@ -316,6 +346,41 @@ pub struct AuditConfig {
     pub reference_bits: u32,
     /// Seed.
     pub seed: u64,
+    /// A uniform magnetic field B, exactly as given (a decimal or a fraction; absent or 0: no
+    /// field): the events replayed are arcs, judged by the arc kernel's running error bound
+    /// ([`super::arc_audit`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field: Option<String>,
+}
+
+/// The fields an audit takes: 10⁻⁶ ≤ |B| ≤ 10⁶ (cyclotron radii from 10⁻⁶ to 10⁶ at speed 1).
+pub const AUDIT_FIELD_RANGE: (f64, f64) = (1e-6, 1e6);
+
+impl AuditConfig {
+    /// The field, exact, if there is one (`None` for an absent or zero field).
+    ///
+    /// # Errors
+    /// A field that is not an exact decimal or fraction, or outside [`AUDIT_FIELD_RANGE`].
+    pub fn field_exact(&self) -> Result<Option<rug::Rational>, Error> {
+        let Some(text) = &self.field else {
+            return Ok(None);
+        };
+        let q = crate::numbers::exact::parse_exact(text)
+            .map_err(|e| Error::Invalid(format!("field = {text}: {e}")))?;
+        if q.cmp0() == std::cmp::Ordering::Equal {
+            return Ok(None);
+        }
+        let b = q.to_f64().abs();
+        let (lo, hi) = AUDIT_FIELD_RANGE;
+        if !(lo..=hi).contains(&b) {
+            return Err(Error::OutOfRange {
+                parameter: "field",
+                value: text.clone(),
+                range: format!("use {lo:e} <= |field| <= {hi:e}, or 0 for no field"),
+            });
+        }
+        Ok(Some(q))
+    }
 }
 
 /// The result of [`run`] (the CLI's `audit --json`).
@@ -347,6 +412,12 @@ pub struct AuditQuantiles {
     pub velocity_error: Quantiles,
     /// Time error / bound.
     pub time_error_over_bound: Quantiles,
+    /// Position error / bound (absent in files written before it was recorded).
+    #[serde(default)]
+    pub position_error_over_bound: Option<Quantiles>,
+    /// Velocity error / bound (likewise).
+    #[serde(default)]
+    pub velocity_error_over_bound: Option<Quantiles>,
 }
 
 /// Median, 99th percentile and maximum of one error.
@@ -407,11 +478,15 @@ pub fn run<S: Scene>(
     AuditSpec::new(cfg.sample, cfg.reference_bits)?;
     let start = std::time::Instant::now();
     let lat = scene.lattice::<f64>(())?;
+    let field = cfg.field_exact()?;
     let parts: Vec<(AuditSummary, u64)> = crate::engine::parallel::par_batches_watched(
         threads,
         cfg.batches,
         options.stop.as_ref(),
         |b| {
+            if let Some(q) = &field {
+                return super::arc_audit::batch(scene, cfg, q, b, options);
+            }
             let n = crate::engine::parallel::share(cfg.collisions, cfg.batches, b);
             let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
             let a = Auditor::new(
@@ -454,6 +529,8 @@ pub fn run<S: Scene>(
         position_error: q3(&summary.position_error),
         velocity_error: q3(&summary.velocity_error),
         time_error_over_bound: q3(&summary.time_error_over_bound),
+        position_error_over_bound: Some(q3(&summary.position_error_over_bound)),
+        velocity_error_over_bound: Some(q3(&summary.velocity_error_over_bound)),
     };
     Ok(AuditReport {
         config: cfg.clone(),

@@ -139,6 +139,10 @@ const BAD: &[(&[&str], &str)] = &[
     (&["audit", "--w", "0.1", "--sample", "0"], "(0, 1]"),
     (&["audit", "--w", "0.1", "--sample", "1.5"], "(0, 1]"),
     (&["audit", "--w", "0.1", "--reference-bits", "64"], "128"),
+    (&["audit", "--w", "0.1", "--field", "1e7"], "1e6"),
+    (&["audit", "--w", "0.1", "--field", "-1e-7"], "1e-6"),
+    (&["audit", "--w", "0.1", "--field", "one"], "field"),
+    (&["diffusion", "--w", "0.1", "--field", "one"], "field"),
     (
         &["audit", "--w", "0.1", "--reference-bits", "4000000000"],
         "65536",

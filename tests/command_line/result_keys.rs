@@ -126,6 +126,10 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
         ),
         ("audit", run("audit --w 0.1 --collisions 2e3 --batches 2")),
         (
+            "audit --field",
+            run("audit --w 0.1 --field 1 --collisions 2e3 --batches 2"),
+        ),
+        (
             "lyapunov",
             run("lyapunov --w 0.1 --collisions-per-batch 2e4 --batches 2 --starts 2"),
         ),

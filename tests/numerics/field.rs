@@ -361,7 +361,7 @@ fn nearly_concentric_circles_meet_on_the_disk_to_a_few_u() {
         let Some(c) = arc.contact(d.x, d.y, &r, &(r * r), false) else {
             panic!("no contact: r {r} rho {rho} dist {dist}");
         };
-        assert!(c.concentric, "{dist} {rho}");
+        assert!(c.disk_frame, "{dist} {rho}");
         let hi = |x: f64| Float::with_val(256, x);
         let (yx, yy) = (hi(d.x) + hi(c.chord.x), hi(d.y) + hi(c.chord.y));
         let on_disk = (Float::with_val(256, &yx * &yx + &yy * &yy).sqrt() - r)

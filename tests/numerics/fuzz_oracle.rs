@@ -564,3 +564,20 @@ fn regression_arc_on_a_disk_whose_cyclotron_circle_nearly_coincides_with_it() {
     let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
     assert!(rep.events >= 1, "{rep:?}");
 }
+
+/// The fifth libFuzzer campaign: triangular w = 1.2·10⁻¹⁰, B = 244 (cyclotron radius 0.004), a
+/// particle in the cusp where two disks nearly touch, moving along disk 1 with the arc turning
+/// into it: every return is a hop shorter than an ulp, and the position, rounded after each,
+/// drifts into the disk by about u per hop (257u after 255 hops). A return is found from the
+/// position by identity (the other intersection, −2β/M), so along k consecutive returns the
+/// post-event bound is k + 1 times one event's; the drift is the pseudo-orbit's, not a wrong
+/// contact (`fuzz/artifacts/arc_kernel/crash-2afd…`, `proofs-notes/magnetic-arcs.md`).
+#[test]
+fn regression_arc_sub_ulp_hops_along_a_disk_in_a_cusp_drift_one_event_bound_per_hop() {
+    let data: [u8; 45] = [
+        0, 64, 83, 126, 2, 131, 2, 19, 2, 17, 26, 26, 235, 26, 26, 126, 235, 25, 60, 235, 235, 86,
+        255, 0, 0, 0, 0, 0, 0, 41, 0, 0, 0, 0, 0, 0, 232, 232, 45, 232, 232, 232, 229, 232, 232,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((rep.events, rep.collisions), (256, 256), "{rep:?}");
+}

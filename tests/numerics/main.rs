@@ -8,6 +8,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod arc_audit;
 mod bit_for_bit;
 mod certified;
 mod checkpoints;

@@ -317,6 +317,7 @@ fn shadow_audit_finds_nothing_outside_the_model() {
         sample: 1.0,
         reference_bits: 128,
         seed: 93,
+        field: None,
     };
     let two = crate::common::threads(2);
     let r = shadow_audit::run(&s, &cfg, &two).unwrap();

@@ -81,7 +81,10 @@ impl FieldConfig {
     /// A field that is not an exact decimal or fraction, zero (the straight-line run: leave the
     /// field out), or outside [`FIELD_RANGE`].
     pub fn field_value(&self) -> Result<f64, Error> {
-        let b = nearest_f64(&parse_exact(&self.field)?);
+        let b = nearest_f64(
+            &parse_exact(&self.field)
+                .map_err(|e| Error::Invalid(format!("field = {}: {e}", self.field)))?,
+        );
         let (lo, hi) = FIELD_RANGE;
         if b == 0.0 || !(lo..=hi).contains(&b.abs()) {
             return Err(Error::out_of_range(

@@ -133,6 +133,8 @@ pub fn fly<S: Scene>(
     let mut s = into_domain(lat.cell(), start.clone());
     let mut m = LatticeState::<Float>::convert_from_f64(53, &s);
     let mut rep = OracleReport::new(case, label.clone());
+    // Consecutive returns to the disk the particle is on (see `returns_after`).
+    let mut hops = 0.0;
     for n in 0..u64::from(steps) {
         let before = s.clone();
         let fail = |reason: String| fail_at(Some(n), reason, format!("{before:?}"));
@@ -157,8 +159,9 @@ pub fn fly<S: Scene>(
         }
         let kappa = concentricity(lat.cell(), &before.flight, &ev, b);
         check(&bounds, band * kappa, &before, &ev, &s, &mut rep).map_err(fail)?;
+        hops = returns_after(hops, &before.flight, &ev, &s.flight);
         bounds
-            .check_position_within(&s.flight, ev.kind, kappa)
+            .check_position_within(&s.flight, ev.kind, kappa * (1.0 + hops))
             .map_err(fail)?;
         if !in_domain(&s) {
             return Err(fail(format!("left the arc kernel's domain: {s:?}")));
@@ -204,6 +207,21 @@ fn concentricity(cell: &ConvexCell<f64>, f: &Flight<f64>, ev: &ArcEvent<f64>, b:
         return 1.0;
     }
     1.0 / mm.min(1.0)
+}
+
+/// The consecutive returns to the disk the particle is on, after `ev`: a return (a collision
+/// with the disk it was on by identity) is found from the position as the other intersection of
+/// the cyclotron circle, s = −2β/M, so it carries that position's distance from the disk and
+/// adds its own rounding: along k such hops the post-event bound is k + 1 times one event's
+/// (`proofs-notes/magnetic-arcs.md`; the fifth libFuzzer campaign: 255 hops shorter than an
+/// ulp in a cusp, 257u inside). A collision from off the disk is found from the disk itself
+/// (the count restarts), and so is every contact once the exclusion has lapsed.
+fn returns_after(hops: f64, before: &Flight<f64>, ev: &ArcEvent<f64>, after: &Flight<f64>) -> f64 {
+    match ev.kind {
+        EventKind::Collision(m) if before.excluded_disk == Some(m) => hops + 1.0,
+        EventKind::Crossing(_) if after.excluded_disk.is_some() => hops,
+        _ => 0.0,
+    }
 }
 
 /// The checks after one arc event.

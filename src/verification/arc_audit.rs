@@ -1,0 +1,272 @@
+//! Per-event shadow audit of arcs: each sampled `f64` event of a run in a magnetic field is
+//! replayed from its exact pre-event state by the same generic kernel on [`Tracked`] numbers,
+//! which gives the event at 128 bits or more *and*, operation by operation, a bound on how far
+//! the `f64` computation can be from it (the running error analysis of `numbers::tracked`).
+//!
+//! The verdict (`proofs-notes/magnetic-audit.md`): the `f64` event must be the reference's
+//! (same obstacle, same cell) with every coordinate of the post-event position and velocity
+//! within its bound, unless a decision on the way — a sign, a comparison of chords, the choice
+//! between the radical-line and the disk-frame contact — was within its bounds of the other
+//! outcome: such an event is *ambiguous* at `f64` resolution and inside the model whatever it
+//! chose. The bound is the `f64` computation's own, so unlike the straight audit's closed-form
+//! model it follows every formula of the arc kernel, near-concentric and grazing ones included,
+//! with no constant fitted to data. The flight time (an observable, computed with `atan2`) is
+//! judged the same way.
+
+use rand::Rng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+use super::replay::EventCheck;
+use super::shadow_audit::{AuditSummary, AuditedEvent};
+use crate::Error;
+use crate::kernel::arc::arc_time;
+use crate::kernel::cell::CellKernel;
+use crate::kernel::flight::EventKind;
+use crate::numbers::real::Real;
+use crate::numbers::tracked::{Tracked, take_ambiguous};
+use crate::scenes::Scene;
+use crate::scenes::lattice::{Lattice, LatticeState};
+
+fn label(k: EventKind) -> String {
+    match k {
+        EventKind::Collision(m) => format!("collision {m}"),
+        EventKind::Crossing(e) => format!("crossing {e}"),
+    }
+}
+
+/// |x₆₄ − x| and the bound of each coordinate pair, as Euclidean norms; `within` if every
+/// coordinate is inside its bound.
+fn compare(x64: [f64; 2], x: [&Tracked; 2]) -> (f64, f64, bool) {
+    let mut err2 = 0.0;
+    let mut bound2 = 0.0;
+    let mut within = true;
+    for (a, t) in x64.iter().zip(x) {
+        let d = (rug::Float::with_val(t.v.prec(), *a) - &t.v).to_f64().abs();
+        within &= d <= t.e;
+        err2 += d * d;
+        bound2 += t.e * t.e;
+    }
+    (err2.sqrt(), bound2.sqrt(), within)
+}
+
+/// Replays the next arc event of the `f64` state `s` in the field `b64` on tracked numbers
+/// (`lat_t`, field `b`: the exact field at the reference precision) and judges it.
+///
+/// # Errors
+/// If the `f64` state has no next event (a pinned orbit: the caller starts only colliding
+/// ones).
+pub fn check_arc_event<K64: CellKernel<f64>, KT: CellKernel<Tracked>>(
+    lat64: &Lattice<f64, K64>,
+    lat_t: &Lattice<Tracked, KT>,
+    s: &LatticeState<f64>,
+    b64: f64,
+    b: &Tracked,
+) -> Result<EventCheck, Error> {
+    let ev64 = lat64
+        .next_event_in_field(s, &b64)
+        .ok_or_else(|| Error::Failed("the f64 arc has no next event".into()))?;
+    let bits = b.v.prec();
+    take_ambiguous();
+    let mut st = LatticeState::<Tracked>::convert_from_f64(bits, s);
+    let evt = lat_t.next_event_in_field(&st, b);
+    let t64 = arc_time(&s.flight.vel, &ev64.chord, &b64);
+    let mut a64 = s.clone();
+    lat64.apply_in_field(&mut a64, &ev64);
+    let (kind_ref, time_t) = match &evt {
+        Some(e) => {
+            let t = arc_time(&st.flight.vel, &e.chord, b);
+            lat_t.apply_in_field(&mut st, e);
+            (label(e.kind), Some(t))
+        }
+        None => ("none".to_string(), None),
+    };
+    let ambiguous = take_ambiguous() > 0;
+    let same = evt.as_ref().is_some_and(|e| e.kind == ev64.kind) && st.cell == a64.cell;
+    let f = (&a64.flight, &st.flight);
+    let (position_error, position_bound, pos_ok) =
+        compare([f.0.pos.x, f.0.pos.y], [&f.1.pos.x, &f.1.pos.y]);
+    let (velocity_error, velocity_bound, vel_ok) =
+        compare([f.0.vel.x, f.0.vel.y], [&f.1.vel.x, &f.1.vel.y]);
+    let (time_error, time_bound, time_ok) = match &time_t {
+        Some(t) => {
+            let e = (rug::Float::with_val(bits, t64) - &t.v).to_f64().abs();
+            (e, t.e, e <= t.e)
+        }
+        None => (f64::INFINITY, 0.0, false),
+    };
+    let in_model = ambiguous || (same && pos_ok && vel_ok && time_ok);
+    Ok(EventCheck {
+        kind_f64: label(ev64.kind),
+        kind_ref,
+        time_error,
+        time_bound,
+        position_error,
+        velocity_error,
+        position_bound,
+        velocity_bound,
+        ambiguous,
+        in_model,
+    })
+}
+
+/// Audits a sample of the events of `f64` arc trajectories of scene `S` in one field.
+pub struct ArcAuditor<S: Scene> {
+    label: String,
+    lat64: Lattice<f64, S::Kernel<f64>>,
+    lat_t: Lattice<Tracked, S::Kernel<Tracked>>,
+    b64: f64,
+    b: Tracked,
+    rate: f64,
+    rng: Xoshiro256PlusPlus,
+    /// What was found so far.
+    pub summary: AuditSummary,
+}
+
+impl<S: Scene> ArcAuditor<S> {
+    /// An auditor of `scene` in the field `field` (exact), replaying a fraction `rate` of the
+    /// events at `bits` (≥ 128) with its own random stream.
+    pub fn new(
+        scene: &S,
+        field: &rug::Rational,
+        rate: f64,
+        bits: u32,
+        rng: Xoshiro256PlusPlus,
+    ) -> Result<Self, Error> {
+        let b = Tracked::from_rational(bits, field);
+        Ok(ArcAuditor {
+            label: scene.label(),
+            lat64: scene.lattice::<f64>(())?,
+            lat_t: scene.lattice::<Tracked>(bits)?,
+            b64: b.v.to_f64(),
+            b,
+            rate,
+            rng,
+            summary: AuditSummary::default(),
+        })
+    }
+
+    /// The field as the `f64` run uses it.
+    pub fn field(&self) -> f64 {
+        self.b64
+    }
+
+    /// The `f64` lattice the audited run flies on.
+    pub fn lattice(&self) -> &Lattice<f64, S::Kernel<f64>> {
+        &self.lat64
+    }
+
+    /// Called with the pre-event state of every event; replays a random sample of them.
+    pub fn observe(&mut self, s: &LatticeState<f64>) -> Result<(), Error> {
+        if self.rate < 1.0 && self.rng.random::<f64>() >= self.rate {
+            return Ok(());
+        }
+        let c = check_arc_event(&self.lat64, &self.lat_t, s, self.b64, &self.b)?;
+        let label = &self.label;
+        self.summary
+            .add(&c, || AuditedEvent::new(label, &s.flight, &c));
+        Ok(())
+    }
+}
+
+/// Batch `b` of an audit in the field `field`: its share of `cfg.collisions` from a start drawn
+/// from the invariant measure (stream (seed, b), as the straight audit's; pinned starts, which
+/// never collide, are drawn again), with every event offered to an [`ArcAuditor`] of stream
+/// (seed, Audit, b). Returns the summary and the number of events.
+pub(super) fn batch<S: Scene>(
+    scene: &S,
+    cfg: &super::shadow_audit::AuditConfig,
+    field: &rug::Rational,
+    b: u32,
+    options: &crate::engine::options::RunOptions,
+) -> Result<(AuditSummary, u64), Error> {
+    use crate::scenes::sampling::{Purpose, StreamKey, stream};
+    let n = crate::engine::parallel::share(cfg.collisions, cfg.batches, b);
+    let key = StreamKey::new(cfg.seed, Purpose::Audit, b as u64);
+    let mut a = ArcAuditor::new(scene, field, cfg.sample, cfg.reference_bits, key.rng())?;
+    let w = a.field();
+    let mut s = colliding_start(scene, a.lattice(), w, &mut stream(cfg.seed, b as u64))?;
+    let (mut collisions, mut events, mut since) = (0u64, 0u64, 0u64);
+    while collisions < n {
+        a.observe(&s)?;
+        let ev = a.lattice().next_event_in_field(&s, &w);
+        let ev = ev.filter(|_| since < MAX_CROSSINGS).ok_or_else(|| {
+            Error::Failed(format!(
+                "an orbit in the field {w:e} stopped colliding ({since} crossings since the last \
+                 collision)"
+            ))
+        })?;
+        a.lattice().apply_in_field(&mut s, &ev);
+        events += 1;
+        since += 1;
+        if let EventKind::Collision(_) = ev.kind {
+            (collisions, since) = (collisions + 1, 0);
+            if collisions % 4096 == 0 {
+                (options.progress)(4096);
+                if let Some(stop) = &options.stop {
+                    stop.check()?;
+                }
+            }
+        }
+    }
+    (options.progress)(collisions % 4096);
+    Ok((a.summary, events))
+}
+
+/// Draws before a batch gives up finding a start that collides (every orbit pinned).
+const MAX_DRAWS: u32 = 100_000;
+/// Crossings without a collision after which an orbit is taken to be pinned (a measure-zero
+/// start the exact classification did not see, e.g. on a scene without a disk lattice).
+const MAX_CROSSINGS: u64 = 1 << 20;
+
+/// A start from the invariant measure whose cyclotron circle meets a disk: a pinned circle
+/// (exact geometry, `theory::magnetic`, where the scene has a disk lattice) may cross cell
+/// edges for ever without a collision, and is drawn again.
+fn colliding_start<S: Scene>(
+    scene: &S,
+    lat: &Lattice<f64, S::Kernel<f64>>,
+    w: f64,
+    rng: &mut Xoshiro256PlusPlus,
+) -> Result<LatticeState<f64>, Error> {
+    use crate::theory::magnetic::{FieldGeometry, Orbit};
+    let geometry = match scene.disk_lattice() {
+        Some(d) => Some(FieldGeometry::new(d, w)?),
+        None => None,
+    };
+    for _ in 0..MAX_DRAWS {
+        let s = scene.sample(rng);
+        let pinned = match &geometry {
+            Some(g) => {
+                let (p, sg) = (lat.world(&s), s.cell.sign());
+                g.classify(p.x, p.y, sg * s.flight.vel.x, sg * s.flight.vel.y) == Orbit::Pinned
+            }
+            None => lat.next_event_in_field(&s, &w).is_none(),
+        };
+        if !pinned {
+            return Ok(s);
+        }
+    }
+    Err(Error::Failed(format!(
+        "no start in {MAX_DRAWS} draws meets a disk: every orbit is pinned in the field {w:e}"
+    )))
+}
+
+/// The pre-event state of a recorded event, from its exact bit patterns, in the cell (0, 0)
+/// (the kernel works in the cell's own frame: the cell index moves with the state and does not
+/// enter the event).
+pub fn recorded_state(e: &AuditedEvent) -> LatticeState<f64> {
+    let [x, y, vx, vy] = e.state_bits.map(f64::from_bits);
+    let mut flight = crate::kernel::flight::Flight::new(
+        crate::kernel::vec2::Vec2::new(x, y),
+        crate::kernel::vec2::Vec2::new(vx, vy),
+    );
+    flight.excluded_disk = e.excluded[0];
+    flight.excluded_edge = e.excluded[1];
+    LatticeState {
+        cell: crate::scenes::lattice::CellIndex {
+            i: 0,
+            j: 0,
+            down: false,
+        },
+        flight,
+    }
+}
