@@ -58,7 +58,8 @@ def superdiffusion(
 ) -> str: ...
 def audit(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
-    sample: float, reference_bits: str, seed: str, threads: Optional[str], progress: Progress,
+    sample: float, reference_bits: str, seed: str, field: Optional[str], threads: Optional[str],
+    progress: Progress,
 ) -> str: ...
 def shadow(
     w: str, collisions_per_segment: str, segments: str, reference_bits: str, seed: str,

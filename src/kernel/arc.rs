@@ -373,30 +373,33 @@ fn ahead<T: Real>(x: &Vec2<T>, v: &Vec2<T>) -> bool {
 
 /// `true` if the contact at chord `x1` comes strictly before the one at chord `x2` on the arc of
 /// velocity `v` in the field `w` (≠ 0). Chords of an arc lie on the side it turns to, at the angle
-/// α ∈ [0, π) from v, and the flight time is 2α/|ω|: two chords on that side are ordered by the
-/// sign of x₁ × x₂, or, both within π/4 of v, by their lengths (which grow with α there, and
-/// resolve a near-tie in a weak field that their directions cannot: the fuzz target's third
-/// finding, two edges 8·10⁻¹² apart in time at B = −1.1·10⁻⁶). A chord numerically on the wrong
-/// side is at α ≈ 0 (ahead of v) or α ≈ π (behind), ordered there by its length.
+/// α ∈ [0, π) from v, and the flight time is 2α/|ω|. Chords within π/4 of v — on the turning side,
+/// or numerically just behind v (α ≈ 0) — are ordered by their lengths, which grow with α there
+/// and resolve a near-tie in a weak field that their directions cannot (the fuzz target's third
+/// finding, two edges 8·10⁻¹² apart in time at B = −1.1·10⁻⁶; its sixth, a crossing 10⁻¹⁶ ahead
+/// whose chord rounded onto the turning side and a collision 6·10⁻¹¹ ahead whose chord rounded
+/// just behind v, which a side-first order took in the wrong order). They come before every other
+/// chord. Beyond π/4 two chords on the turning side are ordered by the sign of x₁ × x₂; a chord
+/// numerically behind v and not ahead of it is at α ≈ π, ordered there by its length.
 pub fn earlier<T: Real>(x1: &Vec2<T>, x2: &Vec2<T>, v: &Vec2<T>, w: &T) -> bool {
     let left = w.gt0();
     let (s1, s2) = (stage(x1, v, left), stage(x2, v, left));
+    let near = |s: Stage, x: &Vec2<T>| s == Stage::Start || (s == Stage::Turning && ahead(x, v));
+    match (near(s1, x1), near(s2, x2)) {
+        (true, true) => return x1.norm2() < x2.norm2(),
+        (true, false) => return true,
+        (false, true) => return false,
+        (false, false) => {}
+    }
     if s1 != s2 {
         return s1 < s2;
     }
     match s1 {
-        Stage::Turning => {
-            // Within α ≤ π/4 the chord's length 2|v| sin α/|ω| resolves the order far better
-            // than its direction: two contacts Δt apart differ by Δα = |ω|Δt/2 in angle, below
-            // the rounding of a direction in a weak field, but by |v|Δt·cos α in length.
-            if ahead(x1, v) && ahead(x2, v) {
-                return x1.norm2() < x2.norm2();
-            }
+        Stage::HalfTurn => x1.norm2() > x2.norm2(),
+        _ => {
             let c = x1.cross(x2);
             if left { c.gt0() } else { c.lt0() }
         }
-        Stage::Start => x1.norm2() < x2.norm2(),
-        Stage::HalfTurn => x1.norm2() > x2.norm2(),
     }
 }
 

@@ -581,3 +581,21 @@ fn regression_arc_sub_ulp_hops_along_a_disk_in_a_cusp_drift_one_event_bound_per_
     let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!((rep.events, rep.collisions), (256, 256), "{rep:?}");
 }
+
+/// The sixth libFuzzer campaign: triangular w = 2.9·10⁻¹¹, B = 3.8·10⁻⁶, a particle at the cusp
+/// of two nearly touching disks, on disk 0 and on edge 1 (σ = 10⁻¹⁶), leaving across the edge.
+/// The crossing is 10⁻¹⁶ ahead and disk 2 is 6·10⁻¹¹ ahead, both chords along v; rounding put
+/// the crossing's on the turning side and the collision's just behind v, and an order that ranked
+/// "just behind" before "turning" took the collision, leaving the particle 5·10⁻¹¹ beyond the
+/// edge. Chords within π/4 of v are now ordered by length whichever side they rounded to
+/// (`fuzz/artifacts/arc_kernel/crash-e847…`).
+#[test]
+fn regression_arc_cusp_crossing_and_collision_along_v_are_ordered_by_length() {
+    let data: [u8; 60] = [
+        63, 255, 255, 0, 0, 66, 214, 0, 0, 0, 2, 2, 3, 34, 83, 66, 0, 214, 0, 229, 255, 255, 255,
+        255, 255, 127, 0, 250, 64, 64, 1, 1, 247, 2, 83, 2, 47, 2, 2, 2, 3, 2, 83, 83, 247, 2, 83,
+        2, 83, 2, 47, 2, 2, 2, 3, 2, 83, 83, 2, 2,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.crossings >= 1, "{rep:?}");
+}
