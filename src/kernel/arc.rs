@@ -188,8 +188,8 @@ impl<'a, T: Real> Arc<'a, T> {
     }
 
     /// The entry into the circle of radius `r` at −d when the cyclotron centre is within half a
-    /// cyclotron radius of its centre (M < V²/4), `None` otherwise; `Some(None)` if the circles
-    /// do not cut. Nearly concentric circles of nearly equal radii cut at a small angle, and the
+    /// cyclotron radius of its centre (M < V²/4) and the circles cut, `None` otherwise;
+    /// `Some(None)` for exactly concentric circles (M = 0: no cut). Nearly concentric circles of nearly equal radii cut at a small angle, and the
     /// radical-line form x₀ + s·e then carries its rounding along e, across both circles, by a
     /// factor 1/M (the fourth libFuzzer campaign: 10⁸u off the disk at M = 2·10⁻⁹, and the
     /// particle, hugging the disk, still inside it after the next crossing). In the disk's
@@ -200,7 +200,7 @@ impl<'a, T: Real> Arc<'a, T> {
     /// points into the disk). |y| = r to a few u whatever M, and the chord is y − d
     /// (`proofs-notes/magnetic-arcs.md`). Away from concentric circles this form would lose what
     /// the radical line keeps: a short chord between nearly tangent circles (a ≈ ±r) has
-    /// r − a below the rounding of a.
+    /// r − a below the rounding of a. Where it finds no cut, the radical line decides (`None`).
     fn disk_frame(&self, d: &Vec2<T>, r: &T) -> Option<Option<Contact<T>>> {
         let (v, w) = (self.v, self.w);
         let m = Vec2::new(w.clone() * &d.x - &v.y, w.clone() * &d.y + &v.x);
@@ -218,7 +218,12 @@ impl<'a, T: Real> Arc<'a, T> {
         let a = g / &(w.clone().scale(2.0) * &sm);
         let rs2 = (r.clone() - &a) * &(r.clone() + &a);
         if !rs2.gt0() {
-            return Some(None);
+            // Nearly tangent circles (a ≈ ±r): whether they cut is the radical line's to decide,
+            // whose product discriminant keeps the small factor (the seventh libFuzzer campaign:
+            // a particle on a disk with its cyclotron circle inside it, tangent there, found "no
+            // cut" here and flew through the disk). There the radical line runs along both
+            // circles, so its rounding moves the contact along them, not off them.
+            return None;
         }
         let rs = rs2.sqrt();
         let yx = (a.clone() * &m.x - &(rs.clone() * &m.y)) / &sm;

@@ -39,7 +39,14 @@ fn consistent_with_zero(x: f64, ea: f64, eb: f64) -> bool {
 
 #[test]
 fn d_xx_is_even_and_the_hall_part_odd_in_the_field() {
-    for (w, b) in [(0.1, "0.5"), (0.1, "2"), (0.3, "1"), (0.3, "3")] {
+    for (w, b) in [
+        (0.1, "0.5"),
+        (0.1, "1"),
+        (0.1, "2"),
+        (0.3, "1/2"),
+        (0.3, "1"),
+        (0.3, "3"),
+    ] {
         let plus = run(w, b, 8_000_000);
         let minus = run(w, &format!("-{b}"), 8_000_000);
         assert!(

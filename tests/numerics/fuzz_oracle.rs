@@ -599,3 +599,19 @@ fn regression_arc_cusp_crossing_and_collision_along_v_are_ordered_by_length() {
     let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
     assert!(rep.crossings >= 1, "{rep:?}");
 }
+
+/// The seventh libFuzzer campaign: triangular w = 0.308, B = 1.40 (ρ = 0.715), a particle on
+/// disk 0 at (1, 0) moving along it (v = (−2·10⁻¹⁶, 1)) with its cyclotron circle inside the
+/// disk, tangent there: it meets the disk now. The disk frame (M = 0.16 < V²/4) computed r − a
+/// below its rounding, found "no cut", and the particle flew along the circle through the disk
+/// and 0.34 into the next one. Where the disk frame finds no cut, the radical line decides
+/// (`fuzz/artifacts/arc_kernel/crash-ace8…`).
+#[test]
+fn regression_arc_tangent_on_a_disk_with_the_cyclotron_circle_inside_it_collides_now() {
+    let data: [u8; 28] = [
+        255, 171, 0, 129, 0, 0, 0, 231, 0, 0, 2, 104, 1, 0, 254, 254, 254, 254, 254, 0, 235, 254,
+        254, 0, 0, 0, 225, 102,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.collisions >= 1, "{rep:?}");
+}
