@@ -615,3 +615,18 @@ fn regression_arc_tangent_on_a_disk_with_the_cyclotron_circle_inside_it_collides
     let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
     assert!(rep.collisions >= 1, "{rep:?}");
 }
+
+/// The eighth libFuzzer campaign: triangular w = 0.070, B = 1 (ρ = r), a particle on disk 2
+/// moving along it whose cyclotron centre is the disk's centre to rounding: its cyclotron circle
+/// is the disk. β rounded to a few u made it a return, and the disk frame, from an m of rounding
+/// size, put the contact at a random point of the disk with the speed 2 % off. Coincident circles
+/// are now the creeping slide: no event (`fuzz/artifacts/arc_kernel/crash-f67d…`).
+#[test]
+fn regression_arc_cyclotron_circle_that_is_the_disk_slides_without_an_event() {
+    let data: [u8; 35] = [
+        255, 255, 0, 127, 0, 255, 0, 0, 0, 255, 225, 102, 7, 0, 0, 0, 0, 58, 53, 53, 53, 50, 182,
+        129, 253, 172, 253, 20, 20, 16, 172, 253, 20, 20, 0,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.events >= 1, "{rep:?}");
+}
