@@ -630,3 +630,16 @@ fn regression_arc_cyclotron_circle_that_is_the_disk_slides_without_an_event() {
     let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
     assert!(rep.events >= 1, "{rep:?}");
 }
+
+/// The ninth libFuzzer campaign: triangular w = 0.064, B = 1 (ρ = r), a particle at the surface
+/// of disk 1 (not on it by identity) whose cyclotron circle is the disk to rounding: β of a few u
+/// made it a return, and the disk frame gave a random contact with the speed 150 % off. Circles
+/// concentric to rounding now do not cut: the particle slides (`fuzz/artifacts/arc_kernel/crash-47af…`).
+#[test]
+fn regression_arc_surface_start_on_a_coincident_cyclotron_circle_does_not_collide() {
+    let data: [u8; 34] = [
+        255, 255, 127, 0, 0, 0, 0, 2, 0, 0, 225, 102, 7, 0, 0, 53, 0, 53, 53, 16, 53, 53, 50, 182,
+        129, 253, 172, 45, 37, 20, 20, 16, 20, 0,
+    ];
+    arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+}
