@@ -452,9 +452,6 @@ pub fn run<S: Scene>(
     options.validate()?;
     options.refuse_unused("audit", &[])?;
     let (threads, progress) = (options.threads, options.progress);
-    use crate::engine::drive;
-    use crate::observers::counters::CounterLanes;
-    use crate::scenes::sampling::{Purpose, StreamKey, stream};
     if cfg.scene != scene.label() {
         return Err(Error::Invalid(format!(
             "audit configuration for scene `{}` run on `{}`",
@@ -487,35 +484,7 @@ pub fn run<S: Scene>(
             if let Some(q) = &field {
                 return super::arc_audit::batch(scene, cfg, q, b, options);
             }
-            let n = crate::engine::parallel::share(cfg.collisions, cfg.batches, b);
-            let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
-            let a = Auditor::new(
-                scene,
-                cfg.sample,
-                cfg.reference_bits,
-                StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),
-            )?;
-            let mut obs = (
-                AuditLanes {
-                    lanes: vec![Some(a)],
-                    error: None,
-                },
-                CounterLanes::new(1),
-            );
-            drive(&lat, &mut s, n, &mut obs, progress)?;
-            let (audit, counters) = obs;
-            if let Some(e) = audit.error {
-                return Err(e);
-            }
-            let a = audit
-                .lanes
-                .into_iter()
-                .next()
-                .flatten()
-                .expect("one auditor");
-            let c = counters.lane(0);
-            let events = c.collisions + c.crossings;
-            Ok((a.summary, events))
+            straight_batch(scene, &lat, cfg, b, progress)
         },
     )?;
     let mut summary = AuditSummary::default();
@@ -545,4 +514,47 @@ pub fn run<S: Scene>(
             Some(threads),
         ),
     })
+}
+
+/// Batch `b` of an audit without a field: its share of the collisions, every event offered to
+/// an [`Auditor`] watching the engine's trajectory. Returns the summary and the events.
+fn straight_batch<S: Scene>(
+    scene: &S,
+    lat: &crate::scenes::lattice::Lattice<f64, S::Kernel<f64>>,
+    cfg: &AuditConfig,
+    b: u32,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<(AuditSummary, u64), Error> {
+    use crate::engine::drive;
+    use crate::observers::counters::CounterLanes;
+    use crate::scenes::sampling::{Purpose, StreamKey, stream};
+    let n = crate::engine::parallel::share(cfg.collisions, cfg.batches, b);
+    let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
+    let a = Auditor::new(
+        scene,
+        cfg.sample,
+        cfg.reference_bits,
+        StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),
+    )?;
+    let mut obs = (
+        AuditLanes {
+            lanes: vec![Some(a)],
+            error: None,
+        },
+        CounterLanes::new(1),
+    );
+    drive(lat, &mut s, n, &mut obs, progress)?;
+    let (audit, counters) = obs;
+    if let Some(e) = audit.error {
+        return Err(e);
+    }
+    let a = audit
+        .lanes
+        .into_iter()
+        .next()
+        .flatten()
+        .expect("one auditor");
+    let c = counters.lane(0);
+    let events = c.collisions + c.crossings;
+    Ok((a.summary, events))
 }
