@@ -175,10 +175,12 @@ fn print(r: &Throughput) {
     );
     if let Some(b) = &r.divider_bound {
         println!(
-            "divider bound: {:.2} ns per division and {:.2} ns per square root of {} lanes; 1 root + 2 divisions per event = {:.2} ns/collision, {:.0} % of the engine's time",
+            "divider bound: {:.2} ns per division and {:.2} ns per square root of {} lanes; {} root(s) + {} divisions per event = {:.2} ns/collision, {:.0} % of the engine's time",
             b.unit.div_ns,
             b.unit.sqrt_ns,
             b.unit.lanes,
+            b.unit.roots,
+            b.unit.divisions,
             b.ns_per_collision,
             100.0 * b.fraction
         );

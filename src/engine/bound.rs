@@ -123,9 +123,23 @@ pub struct DividerBound {
     pub sqrt_ns: f64,
     /// Lanes per vector.
     pub lanes: usize,
-    /// The bound per lane-event: (t_√ + 2·t_÷)/lanes.
+    /// Square roots per lane-event: 1 on straight flights, [`ARC_ROOTS`] on arcs.
+    pub roots: u32,
+    /// Divisions per lane-event: 2 on straight flights, [`ARC_DIVISIONS`] on arcs.
+    pub divisions: u32,
+    /// The bound per lane-event: (roots·t_√ + divisions·t_÷)/lanes.
     pub ns_per_event: f64,
 }
+
+/// Square roots per lane-event of the arc engine ([`crate::engine::arcs`]) on its common path:
+/// |v|, one per disk (the root of Δ) and one per edge. The disk frame of nearly concentric
+/// circles adds two per disk where some lane of the block needs it.
+pub const ARC_ROOTS: u32 = 7;
+
+/// Divisions per lane-event of the arc engine on its common path: two per disk (1/M and the
+/// entry's quotient), one per edge, and the velocity at the contact (the reflection's division by
+/// r² = 1 is exact and skipped). The disk frame adds three per disk where needed.
+pub const ARC_DIVISIONS: u32 = 10;
 
 /// Median nanoseconds per instruction over `calls` timed calls (after one warm-up).
 fn instruction_ns(path: SimdPath, unit: Unit, calls: usize) -> Option<f64> {
@@ -141,9 +155,10 @@ fn instruction_ns(path: SimdPath, unit: Unit, calls: usize) -> Option<f64> {
     Some(t[calls / 2])
 }
 
-/// Measures the unit for `path` (about 20 ms: 101 calls of each instruction). `None` for the
-/// portable path or a path this CPU lacks.
-pub fn measure(path: SimdPath) -> Option<DividerBound> {
+/// Measures the unit for `path` (about 20 ms: 101 calls of each instruction) and the bound of
+/// `roots` square roots and `divisions` divisions per lane-event. `None` for the portable path
+/// or a path this CPU lacks.
+pub fn measure(path: SimdPath, roots: u32, divisions: u32) -> Option<DividerBound> {
     const CALLS: usize = 101;
     let div_ns = instruction_ns(path, Unit::Div, CALLS)?;
     let sqrt_ns = instruction_ns(path, Unit::Sqrt, CALLS)?;
@@ -155,6 +170,8 @@ pub fn measure(path: SimdPath) -> Option<DividerBound> {
         div_ns,
         sqrt_ns,
         lanes,
-        ns_per_event: (sqrt_ns + 2.0 * div_ns) / lanes as f64,
+        roots,
+        divisions,
+        ns_per_event: (f64::from(roots) * sqrt_ns + f64::from(divisions) * div_ns) / lanes as f64,
     })
 }

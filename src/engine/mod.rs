@@ -9,6 +9,7 @@
 //! Both feed the same [`Observer`]s, so an observable is written once and has the same bits on
 //! every engine, at any thread count (each trajectory's bits depend only on its start).
 
+pub mod arcs;
 pub mod bound;
 pub mod checkpoint;
 pub mod json;
@@ -30,11 +31,11 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::engine::observe::{EventLanes, NO_LABEL, Observer};
+use crate::engine::observe::{EventLanes, Observer};
 use crate::kernel::cell::CellKernel;
 use crate::kernel::trap::Trap;
 use crate::numbers::real::Real;
-use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
+use crate::scenes::lattice::{Lattice, LatticeState};
 
 /// Longest trajectory the engines accept, in collisions: 2⁵⁰ ≈ 1.1·10¹⁵ (months of one core).
 /// Cell indices and collision counts are held as exact integers in `f64` lanes; an event changes
@@ -310,16 +311,7 @@ pub fn run_block<O: Observer<BLOCK>>(
     let ring = &mut ring.0[..];
     let st = &mut ring[0];
     for (l, (s, &q)) in states.iter().zip(quotas).enumerate() {
-        let f = &s.flight;
-        st.pos[0][l] = f.pos.x;
-        st.pos[1][l] = f.pos.y;
-        st.vel[0][l] = f.vel.x;
-        st.vel[1][l] = f.vel.y;
-        st.excluded[0][l] = f.excluded_disk.map_or(NO_LABEL, f64::from);
-        st.excluded[1][l] = f.excluded_edge.map_or(NO_LABEL, f64::from);
-        st.cell[0][l] = s.cell.i as f64;
-        st.cell[1][l] = s.cell.j as f64;
-        st.cell[2][l] = s.cell.sign();
+        st.set_state(l, s);
         counts.quota[l] = q as f64;
     }
     let lost = match path {
@@ -332,20 +324,8 @@ pub fn run_block<O: Observer<BLOCK>>(
         // The portable path's lanes are scalar code: every root is cheaper there than the β choice.
         _ => simd::run_with::<lanes::Portable, O, false>(trap, &mut counts, ring, obs, progress),
     };
-    let st = &ring[0];
     for (l, s) in states.iter_mut().enumerate() {
-        let label = |c: f64| (c >= 0.0).then_some(c as u8);
-        s.flight.pos.x = st.pos[0][l];
-        s.flight.pos.y = st.pos[1][l];
-        s.flight.vel.x = st.vel[0][l];
-        s.flight.vel.y = st.vel[1][l];
-        s.flight.excluded_disk = label(st.excluded[0][l]);
-        s.flight.excluded_edge = label(st.excluded[1][l]);
-        s.cell = CellIndex {
-            i: st.cell[0][l] as i64,
-            j: st.cell[1][l] as i64,
-            down: st.cell[2][l] < 0.0,
-        };
+        *s = ring[0].state(l);
     }
     match lost {
         Some(l) => Err(Error::Failed(format!(

@@ -129,6 +129,20 @@ impl<const L: usize> EventLanes<L> {
         }
     }
 
+    /// Sets lane `l`'s state (position, velocity, exclusions, cell) to `s`.
+    pub fn set_state(&mut self, l: usize, s: &LatticeState<f64>) {
+        let f = &s.flight;
+        self.pos[0][l] = f.pos.x;
+        self.pos[1][l] = f.pos.y;
+        self.vel[0][l] = f.vel.x;
+        self.vel[1][l] = f.vel.y;
+        self.excluded[0][l] = label_code(f.excluded_disk);
+        self.excluded[1][l] = label_code(f.excluded_edge);
+        self.cell[0][l] = s.cell.i as f64;
+        self.cell[1][l] = s.cell.j as f64;
+        self.cell[2][l] = s.cell.sign();
+    }
+
     /// Lane `l`'s unwrapped world position after a further flight of `dt` from the state before
     /// the event: the same operations as [`crate::scenes::lattice::Lattice::unwrapped`].
     #[inline(always)]

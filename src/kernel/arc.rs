@@ -169,10 +169,10 @@ impl<'a, T: Real> Arc<'a, T> {
         if let Some(c) = self.disk_frame(&d, r) {
             return c;
         }
-        let disc = self.discriminant(&q, &gamma, r)?;
+        let k = vv_wq + &(w.clone().square() * &gamma).scale(0.25);
+        let disc = self.discriminant(&q, &gamma, r, &beta, &k)?;
         let root = disc.sqrt();
         let s = if beta.lt0() {
-            let k = vv_wq + &(w.clone().square() * &gamma).scale(0.25);
             (gamma.clone() * &k) / &(root - &beta) * &inv
         } else {
             -(beta + &root) * &inv
@@ -273,14 +273,29 @@ impl<'a, T: Real> Arc<'a, T> {
     /// loses a factor entirely at a tangent start a rounding off a disk — the fuzz target found
     /// it — and (V²r² − q²) + ωγ(q − ωγ/4) cancels terms of size q² ≫ r² at a small disk.) At ω = 0
     /// the factors are the    /// straight kernel's Vr ± q.
+    ///
+    /// Off the circle (γ > 0) with K < 0 (ωq > V² + ω²γ/4: an arc bending towards the disk faster
+    /// than the disk's own boundary near a tangency) the sum β² − γK of two non-negative terms is
+    /// positive exactly, so the circles cut. There a product that rounds to ≤ 0 is a cancellation, not a
+    /// miss (the tenth libFuzzer campaign: a particle an ulp off a disk, tangent to it, on a
+    /// cyclotron circle internally tangent to the disk — Vr + q − ωγ/2 ≈ 10⁻¹⁶ rounded to 0 —
+    /// flew 3·10⁻⁵ into it), and the sum, which cannot cancel, is taken instead. Where the
+    /// product is positive it stands, so no other event changes.
     #[inline(always)]
-    fn discriminant(&self, q: &T, gamma: &T, r: &T) -> Option<T> {
+    fn discriminant(&self, q: &T, gamma: &T, r: &T, beta: &T, k: &T) -> Option<T> {
         let vr = self.speed.clone() * r;
         let shift = q.clone() - &(self.w.clone() * gamma).scale(0.5);
         let plus = vr.clone() + &shift;
         let minus = vr - &shift;
         let disc = plus * &minus;
-        disc.gt0().then_some(disc)
+        if disc.gt0() {
+            return Some(disc);
+        }
+        if gamma.gt0() && k.lt0() {
+            let sum = beta.square() - &(gamma.clone() * k);
+            return sum.gt0().then_some(sum);
+        }
+        None
     }
 
     /// [`arc_line`] on this arc.

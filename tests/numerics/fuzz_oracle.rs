@@ -643,3 +643,17 @@ fn regression_arc_surface_start_on_a_coincident_cyclotron_circle_does_not_collid
     ];
     arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
 }
+
+/// The tenth libFuzzer campaign: triangular w = 0.064, B = −1.21 (ρ = 0.83 < r), a particle an
+/// ulp outside disk 1 and tangent to it, its cyclotron circle internally tangent to the disk:
+/// the product discriminant's factor Vr + q − ωγ/2 ≈ 10⁻¹⁶ rounded to ≤ 0, no contact was
+/// found, and the particle crossed an edge 3·10⁻⁵ deep inside the disk. Off the circle with
+/// K < 0, β² − γK > 0 exactly, and the kernel now takes that sum there: a collision 3·10⁻⁸ ahead.
+#[test]
+fn regression_arc_tangent_start_on_an_internally_tangent_cyclotron_circle_collides() {
+    let data: [u8; 35] = [
+        2, 0, 127, 0, 0, 0, 0, 0, 0, 2, 225, 102, 7, 0, 0, 53, 0, 53, 53, 16, 53, 53, 0, 50, 4, 0,
+        0, 0, 52, 253, 20, 20, 16, 20, 53,
+    ];
+    arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+}

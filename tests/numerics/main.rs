@@ -9,6 +9,7 @@
 mod common;
 
 mod arc_audit;
+mod arc_engine;
 mod bit_for_bit;
 mod certified;
 mod checkpoints;

@@ -6,6 +6,7 @@ use rayon::prelude::*;
 use crate::Error;
 use crate::engine::Engine;
 use crate::engine::Resolved;
+use crate::engine::arcs::run_arc_block;
 use crate::kernel::flight::EventKind;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
@@ -18,8 +19,8 @@ use crate::theory::magnetic::{FieldGeometry, Orbit};
 
 use super::Observe;
 
-/// Refuses what an arc benchmark cannot do yet: MPFR, observers, the SIMD engine. The engine
-/// that runs: the scalar one.
+/// Refuses what an arc benchmark cannot do yet: MPFR, observers. The engine that runs: the
+/// SIMD arc engine ([`crate::engine::arcs`]) where `engine` resolves to it, else the scalar one.
 pub(super) fn check(
     b: f64,
     precision: Precision,
@@ -39,21 +40,17 @@ pub(super) fn check(
             "bench with --field times the bare arc kernel: leave out --observe".into(),
         ));
     }
-    if engine == Engine::Simd {
-        return Err(Error::Invalid(
-            "the SIMD engine has no arcs yet: use --engine scalar (or auto) with --field".into(),
-        ));
-    }
-    Ok(Resolved::Scalar)
+    engine.resolve(true)
 }
 
-/// One start per thread from equilibrium (thread k: the seed's stream k), drawn again from the
-/// same stream while it is on a pinned orbit (which never collides).
+/// `lanes` starts per thread from equilibrium (thread k: the seed's stream k, in order), each
+/// drawn again from the same stream while it is on a pinned orbit (which never collides).
 pub(super) fn starts<T: Real>(
     ctx: T::Ctx,
     trap64: &Trap<f64>,
     seed: u64,
     threads: usize,
+    lanes: usize,
     b: f64,
 ) -> Result<Vec<Vec<LatticeState<T>>>, Error> {
     let a = trap64.a;
@@ -68,30 +65,37 @@ pub(super) fn starts<T: Real>(
     (0..threads)
         .map(|k| {
             let mut rng = stream(seed, k as u64);
-            for _ in 0..1_000_000 {
-                let s64 = equilibrium_state(trap64, &mut rng);
-                let p = lat64.world(&s64);
-                let sg = s64.cell.sign();
-                let (vx, vy) = (sg * s64.flight.vel.x, sg * s64.flight.vel.y);
-                if geometry.classify(p.x, p.y, vx, vy) != Orbit::Pinned {
-                    let mut s = LatticeState::convert_from_f64(ctx, &s64);
-                    s.flight.normalise_speed();
-                    return Ok(vec![s]);
-                }
-            }
-            Err(Error::Failed(
-                "no start off a pinned orbit in 10^6 draws: almost every orbit is pinned at this field"
-                    .into(),
-            ))
+            (0..lanes)
+                .map(|_| {
+                    for _ in 0..1_000_000 {
+                        let s64 = equilibrium_state(trap64, &mut rng);
+                        let p = lat64.world(&s64);
+                        let sg = s64.cell.sign();
+                        let (vx, vy) = (sg * s64.flight.vel.x, sg * s64.flight.vel.y);
+                        if geometry.classify(p.x, p.y, vx, vy) != Orbit::Pinned {
+                            let mut s = LatticeState::convert_from_f64(ctx, &s64);
+                            s.flight.normalise_speed();
+                            return Ok(s);
+                        }
+                    }
+                    Err(Error::Failed(
+                        "no start off a pinned orbit in 10^6 draws: almost every orbit is pinned at this field"
+                            .into(),
+                    ))
+                })
+                .collect()
         })
         .collect()
 }
 
-/// Every thread's trajectory continued by `n` collisions on arcs in the field `b`; returns the
-/// crossings made.
+/// Every thread's trajectories continued by `n` collisions between them (each of a thread's
+/// trajectories ⌊n/trajectories⌋) on arcs in the field `b`, on the scalar kernel or the SIMD
+/// arc engine; returns the crossings made.
 pub(super) fn advance<T: Real>(
     pool: &rayon::ThreadPool,
+    engine: Resolved,
     lat: &TriangularLattice<T>,
+    trap64: &Trap<f64>,
     states: &mut [Vec<LatticeState<T>>],
     n: u64,
     b: &T,
@@ -99,24 +103,51 @@ pub(super) fn advance<T: Real>(
     pool.install(|| {
         states
             .par_iter_mut()
-            .map(|block| {
-                let mut crossings = 0;
-                for s in block.iter_mut() {
-                    let mut done = 0;
-                    while done < n {
-                        let ev = lat.next_event_in_field(s, b).ok_or_else(|| {
-                            Error::Failed("a benchmark orbit has no next event".into())
-                        })?;
-                        lat.apply_in_field(s, &ev);
-                        match ev.kind {
-                            EventKind::Collision(_) => done += 1,
-                            EventKind::Crossing(_) => crossings += 1,
-                        }
-                    }
+            .map(|block| match engine {
+                Resolved::Scalar => {
+                    let each = n / block.len() as u64;
+                    scalar_block(lat, block, each, b)
                 }
-                Ok(crossings)
+                Resolved::Simd(path) => {
+                    // The SIMD engine runs f64 only (`Engine::resolve` with precision f64), so
+                    // the conversions are exact copies.
+                    let mut s64: Vec<LatticeState<f64>> =
+                        block.iter().map(|s| s.to_f64()).collect();
+                    let quotas = vec![n / block.len() as u64; block.len()];
+                    let cell = trap64.cell();
+                    let crossings =
+                        run_arc_block(path, cell, b.to_f64(), &mut s64, &quotas, u64::MAX)?;
+                    for (s, x) in block.iter_mut().zip(&s64) {
+                        *s = LatticeState::convert_from_f64(s.flight.pos.x.ctx(), x);
+                    }
+                    Ok(crossings.iter().sum())
+                }
             })
             .collect::<Result<Vec<u64>, Error>>()
             .map(|v| v.iter().sum())
     })
+}
+
+/// The scalar arc kernel: each trajectory of `block` continued by `n` collisions.
+fn scalar_block<T: Real>(
+    lat: &TriangularLattice<T>,
+    block: &mut [LatticeState<T>],
+    n: u64,
+    b: &T,
+) -> Result<u64, Error> {
+    let mut crossings = 0;
+    for s in block.iter_mut() {
+        let mut done = 0;
+        while done < n {
+            let ev = lat
+                .next_event_in_field(s, b)
+                .ok_or_else(|| Error::Failed("a benchmark orbit has no next event".into()))?;
+            lat.apply_in_field(s, &ev);
+            match ev.kind {
+                EventKind::Collision(_) => done += 1,
+                EventKind::Crossing(_) => crossings += 1,
+            }
+        }
+    }
+    Ok(crossings)
 }

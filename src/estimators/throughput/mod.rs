@@ -110,7 +110,7 @@ impl AtPrecision for TimeRuns<'_> {
         let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
         let lanes = lanes(self.engine);
         let mut states = match self.field {
-            Some(b) => arcs::starts::<T>(ctx, &trap64, self.seed, self.threads, b)?,
+            Some(b) => arcs::starts::<T>(ctx, &trap64, self.seed, self.threads, lanes, b)?,
             None => starts::<T>(ctx, &trap64, self.seed, self.threads, lanes),
         };
         let pool = thread_pool(self.threads)?;
@@ -121,7 +121,7 @@ impl AtPrecision for TimeRuns<'_> {
         // Each trajectory makes ⌊n/lanes⌋ collisions per repetition.
         let per_rep = n / lanes as u64 * (lanes * self.threads) as u64;
         let go = |states: &mut Vec<Vec<LatticeState<T>>>, n: u64| match &field {
-            Some(b) => arcs::advance(&pool, &lat, states, n, b),
+            Some(b) => arcs::advance(&pool, engine, &lat, &trap64, states, n, b),
             None => advance(&pool, engine, observe, &lat, &trap64, states, n),
         };
         // One untimed warm-up of a tenth of the length.
@@ -382,7 +382,13 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         Some(b) => arcs::check(b, precision, observe, engine)?,
         None => engine.resolve(precision == Precision::F64)?,
     };
-    let unit = resolved.simd().and_then(bound::measure);
+    let (roots, divisions) = match field {
+        Some(_) => (bound::ARC_ROOTS, bound::ARC_DIVISIONS),
+        None => (1, 2),
+    };
+    let unit = resolved
+        .simd()
+        .and_then(|p| bound::measure(p, roots, divisions));
     let (samples, cpc) = precision.dispatch(TimeRuns {
         engine: resolved,
         observe,
