@@ -963,6 +963,7 @@ def events(
     batch: Count = 0,
     scene: str = "triangular",
     radius: Optional[Exact] = None,
+    field: Optional[Exact] = None,
     progress: Progress = False,
 ) -> np.ndarray:
     """One trajectory's events, for your own observables.
@@ -972,8 +973,12 @@ def events(
     after the event), ``vx``, ``vy`` (velocity after it), ``collision`` (True for a disk,
     False for an edge crossing), ``obstacle`` (the disk or edge label), ``i``, ``j``, ``down``
     (the cell). The trajectory is batch ``batch`` of ``diffusion(w, seed=seed)`` (the same
-    start), on the f64 engine. Memory is checked first: ``MemoryError`` names the largest n
-    that fits."""
+    start), on the f64 engine. With ``field`` (the magnetic field B, an exact decimal or
+    fraction, 1e-3 <= |B| <= 1e3; triangular lattice) the flights are arcs of radius 1/|B|,
+    counter-clockwise for B > 0, and the trajectory is batch ``batch`` of
+    ``diffusion(w, field=B, seed=seed)`` (its start drawn from the diffusing orbits); ``t`` is
+    then the arc time and ``x``, ``y`` the event points; ``field=0`` is the run without a field.
+    Memory is checked first: ``MemoryError`` names the largest n that fits."""
     with _Bar(progress, _total(_count("n", n)), "ev") as cb:
         cols = _native.events(
             scene,
@@ -982,6 +987,7 @@ def events(
             _count("n", n),
             _count("seed", seed),
             _count("batch", batch),
+            _optional_exact("field", field),
             cb,
         )
     out = np.empty(len(cols["t"]), dtype=EVENT_DTYPE)

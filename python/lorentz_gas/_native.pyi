@@ -81,5 +81,5 @@ def constants(w: Optional[str], radius: Optional[str], precision: str) -> str: .
 def agreement_bound(dof: float) -> float: ...
 def events(
     scene: str, w: Optional[str], radius: Optional[str], n: str, seed: str, batch: str,
-    progress: Progress,
+    field: Optional[str], progress: Progress,
 ) -> Dict[str, np.ndarray]: ...

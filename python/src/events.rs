@@ -7,9 +7,13 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use lorentz_gas::Error;
+use lorentz_gas::estimators::field::FieldWalk;
 use lorentz_gas::kernel::flight::EventKind;
+use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::lattice::{LatticeState, Unwrapped};
 use lorentz_gas::scenes::sampling::stream;
+use lorentz_gas::scenes::spec::SceneChoice;
 
 use crate::inputs::{count_u32, count_u64};
 use crate::scenes::resolve;
@@ -42,6 +46,25 @@ struct Columns {
 }
 
 impl Columns {
+    /// One event: time `t`, world position `p` after it, the state after it and its kind.
+    fn push(&mut self, t: f64, p: [f64; 2], s: &LatticeState<f64>, kind: EventKind) {
+        let sg = s.cell.sign();
+        self.t.push(t);
+        self.x.push(p[0]);
+        self.y.push(p[1]);
+        self.vx.push(sg * s.flight.vel.x);
+        self.vy.push(sg * s.flight.vel.y);
+        let (col, label) = match kind {
+            EventKind::Collision(d) => (1, d),
+            EventKind::Crossing(e) => (0, e),
+        };
+        self.collision.push(col);
+        self.obstacle.push(label);
+        self.down.push(u8::from(s.cell.down));
+        self.i.push(s.cell.i);
+        self.j.push(s.cell.j);
+    }
+
     fn with_capacity(n: usize) -> Self {
         Columns {
             t: Vec::with_capacity(n),
@@ -88,6 +111,29 @@ fn check_memory(n: u64) -> PyResult<()> {
     Ok(())
 }
 
+/// `n` events, each appended by `event` (given the time so far, it returns the flight time to
+/// the event), in chunks between looks at the stop flag and progress reports.
+fn collect(
+    n: u64,
+    ctl: &Ctl<'_>,
+    mut event: impl FnMut(&mut Columns, f64) -> Result<f64, Error>,
+) -> Result<Columns, Error> {
+    let mut c = Columns::with_capacity(n as usize);
+    let mut t = 0.0f64;
+    let mut k = 0u64;
+    while k < n {
+        ctl.stop.check()?;
+        let end = (k + CHUNK).min(n);
+        for _ in k..end {
+            let dt = event(&mut c, t)?;
+            t += dt;
+        }
+        (ctl.progress)(end - k);
+        k = end;
+    }
+    Ok(c)
+}
+
 /// `n` events of the trajectory of batch `batch` with seed `seed` (its f64 start: the start of
 /// that batch of `diffusion`), on the scalar `f64` engine.
 fn record<S: Scene>(
@@ -101,42 +147,58 @@ fn record<S: Scene>(
     let basis = lat.basis_f64();
     let mut s = scene.sample(&mut stream(seed, batch as u64));
     s.flight.normalise_speed();
-    let origin = lorentz_gas::scenes::lattice::Unwrapped::default();
-    let mut c = Columns::with_capacity(n as usize);
-    let mut t = 0.0f64;
-    let mut k = 0u64;
-    while k < n {
-        ctl.stop.check()?;
-        let end = (k + CHUNK).min(n);
-        for _ in k..end {
-            let ev = lat.step(&mut s).map_err(|e| Error::Failed(e.to_string()))?;
-            t += ev.time;
-            let u = lat.unwrapped(&s, 0.0);
-            let [x, y] = u.displacement_from(&origin, &basis);
-            let sg = s.cell.sign();
-            c.t.push(t);
-            c.x.push(x);
-            c.y.push(y);
-            c.vx.push(sg * s.flight.vel.x);
-            c.vy.push(sg * s.flight.vel.y);
-            let (col, label) = match ev.kind {
-                EventKind::Collision(d) => (1, d),
-                EventKind::Crossing(e) => (0, e),
-            };
-            c.collision.push(col);
-            c.obstacle.push(label);
-            c.down.push(u8::from(s.cell.down));
-            c.i.push(s.cell.i);
-            c.j.push(s.cell.j);
-        }
-        (ctl.progress)(end - k);
-        k = end;
+    let origin = Unwrapped::default();
+    collect(n, ctl, |c, t| {
+        let ev = lat.step(&mut s).map_err(|e| Error::Failed(e.to_string()))?;
+        let p = lat.unwrapped(&s, 0.0).displacement_from(&origin, &basis);
+        c.push(t + ev.time, p, &s, ev.kind);
+        Ok(ev.time)
+    })
+}
+
+/// `n` events of the trajectory of batch `batch` of the field run with seed `seed` (its
+/// diffusing start), on the `f64` arc kernel.
+fn record_in_field(walk: &mut FieldWalk, n: u64, ctl: &Ctl<'_>) -> Result<Columns, Error> {
+    let lat = walk.lattice().clone();
+    let basis = lat.basis_f64();
+    let origin = Unwrapped::default();
+    collect(n, ctl, |c, t| {
+        let ev = walk.step()?;
+        let s = walk.state();
+        let p = lat.unwrapped(s, 0.0).displacement_from(&origin, &basis);
+        c.push(t + ev.time, p, s, ev.kind);
+        Ok(ev.time)
+    })
+}
+
+/// The walk of a nonzero field on the triangular lattice (`None` for no field or exactly 0: the
+/// events without a field, with their own bits).
+fn field_walk(
+    choice: &SceneChoice,
+    field: Option<&str>,
+    seed: u64,
+    batch: u32,
+) -> PyResult<Option<FieldWalk>> {
+    let Some(b) = field else {
+        return Ok(None);
+    };
+    let exact =
+        parse_exact(b).map_err(|e| PyValueError::new_err(format!("field = {}: {e}", b.trim())))?;
+    if exact == 0 {
+        return Ok(None);
     }
-    Ok(c)
+    let SceneChoice::Triangular(scene) = choice else {
+        return Err(PyValueError::new_err(
+            "events in a field run on the triangular lattice only: leave out scene and radius",
+        ));
+    };
+    FieldWalk::start(scene, b, seed, u64::from(batch))
+        .map(Some)
+        .map_err(crate::py_err)
 }
 
 #[pyfunction]
-#[pyo3(name = "events", signature = (scene, w, radius, n, seed, batch, progress))]
+#[pyo3(name = "events", signature = (scene, w, radius, n, seed, batch, field, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_events<'py>(
     py: Python<'py>,
@@ -146,6 +208,7 @@ fn py_events<'py>(
     n: &str,
     seed: &str,
     batch: &str,
+    field: Option<&str>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let choice = resolve(scene, w, radius)?;
@@ -153,8 +216,10 @@ fn py_events<'py>(
     let seed = count_u64("seed", seed)?;
     let batch = count_u32("batch", batch)?;
     check_memory(n)?;
-    let c = compute(py, progress, |ctl| {
-        with_scene!(&choice, |s| record(s, n, seed, batch, ctl))
+    let walk = field_walk(&choice, field, seed, batch)?;
+    let c = compute(py, progress, |ctl| match walk {
+        Some(mut walk) => record_in_field(&mut walk, n, ctl),
+        None => with_scene!(&choice, |s| record(s, n, seed, batch, ctl)),
     })?;
     let d = PyDict::new(py);
     let f = |v: Vec<f64>| -> Bound<'py, PyArray1<f64>> { v.into_pyarray(py) };

@@ -75,3 +75,44 @@ def test_events_beyond_the_horizon_fly_through_the_corridors():
     assert np.all(np.abs(dr - dt) < scale)
     flights = np.diff(ev["t"][ev["collision"]])
     assert flights.max() > 12 * 2.5
+
+
+def test_events_in_a_field_are_arcs_of_radius_one_over_b():
+    b = 1.5
+    ev = lg.events(w="0.2", n=20_000, seed=4, field="3/2")
+    dt = np.diff(ev["t"])
+    dr = np.hypot(np.diff(ev["x"]), np.diff(ev["y"]))
+    scale = 1e-12 * (1 + np.maximum(np.abs(ev["x"][1:]), np.abs(ev["y"][1:])))
+    # The chord of an arc of angle B·dt on a circle of radius 1/|B|.
+    assert np.all(np.abs(dr - 2 * np.sin(b * dt / 2) / b) < scale)
+    # Across an edge the velocity only turns: by B·dt, counter-clockwise for B > 0.
+    c, s = np.cos(b * dt), np.sin(b * dt)
+    vx, vy = ev["vx"][:-1], ev["vy"][:-1]
+    turned_x, turned_y = c * vx - s * vy, s * vx + c * vy
+    crossing = ~ev["collision"][1:]
+    assert crossing.sum() > 1000
+    assert np.allclose(turned_x[crossing], ev["vx"][1:][crossing], atol=1e-11)
+    assert np.allclose(turned_y[crossing], ev["vy"][1:][crossing], atol=1e-11)
+    assert np.allclose(np.hypot(ev["vx"], ev["vy"]), 1.0, atol=1e-13)
+    # Broken on purpose, the opposite sense of rotation does not fit.
+    assert not np.allclose(c * vx + s * vy, ev["vx"][1:], atol=1e-6)
+
+
+def test_events_with_field_zero_are_the_events_without_a_field():
+    a = lg.events(w="0.1", n=2000, seed=5)
+    b = lg.events(w="0.1", n=2000, seed=5, field=0)
+    assert a.tobytes() == b.tobytes()
+    c = lg.events(w="0.1", n=2000, seed=5, field="1/10")
+    assert c.tobytes() == lg.events(w="0.1", n=2000, seed=5, field=0.1).tobytes()
+    assert c.tobytes() != a.tobytes()
+
+
+def test_events_in_a_field_refuse_what_has_no_diffusing_orbit():
+    import pytest
+
+    with pytest.raises(ValueError, match="every orbit is localized"):
+        lg.events(w="0.3", n=10, field=10)
+    with pytest.raises(ValueError, match="triangular lattice only"):
+        lg.events(scene="square", radius="1/4", n=10, field=1)
+    with pytest.raises(ValueError, match="field"):
+        lg.events(w="0.1", n=10, field="1/0")

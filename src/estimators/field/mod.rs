@@ -40,6 +40,9 @@ use crate::statistics::{linear_fit, mean_se};
 use crate::theory::magnetic::FieldGeometry;
 
 mod track;
+mod walk;
+
+pub use walk::FieldWalk;
 
 use track::{Batch, Setup};
 
