@@ -79,10 +79,19 @@ pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
     Ok(cfg)
 }
 
+/// The field run the arguments ask for (validated), unless the field is absent or exactly zero.
+pub fn field_config(
+    a: &Args,
+) -> Result<Option<lorentz_gas::estimators::field::FieldConfig>, Error> {
+    match nonzero_field(a)? {
+        Some(b) => super::field::config(config(a)?, &b, a.localization_samples).map(Some),
+        None => Ok(None),
+    }
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
     let cfg = config(&a)?;
-    if let Some(b) = nonzero_field(&a)? {
-        let fc = super::field::config(cfg, &b, a.localization_samples)?;
+    if let Some(fc) = field_config(&a)? {
         let audit = a
             .audit
             .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))

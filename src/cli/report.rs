@@ -62,7 +62,11 @@ fn read_command_line(line: &[String]) -> CommandLine {
     use super::Cmd;
     let command = line.get(1).cloned().unwrap_or_default();
     let config = match &cli.cmd {
-        Cmd::Diffusion(a) => json(super::diffusion::config(a)),
+        Cmd::Diffusion(a) => match super::diffusion::field_config(a) {
+            Ok(Some(fc)) => json(Ok(fc)),
+            Ok(None) => json(super::diffusion::config(a)),
+            Err(e) => Err(e),
+        },
         Cmd::Hops(a) => json(Ok(a.hop.config())),
         Cmd::Theory(a) | Cmd::LatticeWalk(a) => json(Ok(a.config())),
         Cmd::Backscatter(a) => json(Ok(super::backscatter::config(a))),

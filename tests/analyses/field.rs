@@ -166,13 +166,27 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
     };
     let t = throughput::run(&cfg, &threads(1)).unwrap();
     assert_eq!(t.field, Some(1.0));
-    assert_eq!(t.meta.engine, "scalar");
+    // `auto`: the SIMD arc engine where the CPU has AVX2 or AVX-512, else the scalar kernel.
+    assert_eq!(t.meta.engine, Engine::Auto.resolve(true).unwrap().name());
     assert!(t.collisions_per_second > 0.0 && t.crossings_per_collision > 0.0);
+    let scalar = RunOptions {
+        engine: Engine::Scalar,
+        ..threads(1)
+    };
+    let s = throughput::run(&cfg, &scalar).unwrap();
+    assert_eq!(
+        (s.meta.engine.as_str(), s.trajectories_per_thread),
+        ("scalar", 1)
+    );
     let simd = RunOptions {
         engine: Engine::Simd,
         ..threads(1)
     };
-    assert!(throughput::run(&cfg, &simd).is_err());
+    let v = throughput::run(&cfg, &simd).unwrap();
+    assert_eq!(
+        (v.meta.engine.as_str(), v.trajectories_per_thread),
+        ("simd", 16)
+    );
     let mpfr = ThroughputConfig {
         precision: Precision::Bits(128),
         ..cfg

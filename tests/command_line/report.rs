@@ -552,3 +552,63 @@ fn the_fuzz_seeds_and_their_mutations_stay_inside_out() {
         assert!(outside.is_empty(), "input {i}: {outside:?}");
     }
 }
+
+#[test]
+fn a_field_result_is_audited_against_its_exact_geometry() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let args = [
+        "diffusion",
+        "--w",
+        "0.1",
+        "--field",
+        "1",
+        "--collisions",
+        "4e5",
+        "--batches",
+        "8",
+        "--json",
+        "--quiet",
+    ];
+    let (code, json, err) = lorentz(&dir, &args);
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(dir.join("f.json"), &json).unwrap();
+    let (code, out, err) = lorentz(&dir, &["report", "f.json", "--quick", "--quiet"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let c = checks(&dir, "f-report");
+    assert!(c.iter().all(|x| x.0 == "PASS"), "{c:?}");
+    assert!(
+        c.iter().any(|x| x.2.starts_with("sampled localized share")),
+        "{c:?}"
+    );
+    assert!(
+        c.iter()
+            .any(|x| x.2.starts_with("the recorded configuration re-run")),
+        "{c:?}"
+    );
+
+    // A sampled share moved by 10 of its binomial errors fails the identity (and the re-run).
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let (p, e) = (
+        v["localized_fraction"].as_f64().unwrap(),
+        v["localized_fraction_err"].as_f64().unwrap(),
+    );
+    let edited = json.replacen(
+        &format!("\"localized_fraction\": {p}"),
+        &format!("\"localized_fraction\": {}", p + 10.0 * e),
+        1,
+    );
+    assert_ne!(edited, json);
+    std::fs::write(dir.join("edited.json"), &edited).unwrap();
+    let (code, _, _) = lorentz(&dir, &["report", "edited.json", "--quick", "--quiet"]);
+    assert_eq!(code, 1);
+    let c = checks(&dir, "edited-report");
+    assert!(
+        c.iter()
+            .any(|x| x.0 == "FAIL" && x.2.starts_with("sampled localized share")),
+        "{c:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -39,12 +39,14 @@ pub enum Kind {
     Backscatter,
     /// `lorentz escape --json`.
     Escape,
+    /// `lorentz diffusion --field B --json`.
+    Field,
 }
 
 impl Kind {
     /// Every kind, each with the keys that identify it (all present; `bench --report` has `rows`
     /// too, but no `linear_fit`).
-    pub const ALL: [(Kind, &'static [&'static str]); 7] = [
+    pub const ALL: [(Kind, &'static [&'static str]); 8] = [
         (Kind::Diffusion, &["batch_D"]),
         (Kind::Sweep, &["rows", "linear_fit"]),
         (Kind::Hops, &["pairs"]),
@@ -52,6 +54,7 @@ impl Kind {
         (Kind::LatticeWalk, &["walks"]),
         (Kind::Backscatter, &["mean_visit_time"]),
         (Kind::Escape, &["D_escape"]),
+        (Kind::Field, &["batch_D_xx", "localized_fraction_exact"]),
     ];
 
     /// The command that writes it.
@@ -64,6 +67,7 @@ impl Kind {
             Kind::LatticeWalk => "lattice-walk",
             Kind::Backscatter => "backscatter",
             Kind::Escape => "escape",
+            Kind::Field => "diffusion",
         }
     }
 

@@ -59,6 +59,7 @@ mod backscatter;
 pub mod command_line;
 mod diffusion;
 mod escape;
+mod field;
 pub mod file;
 mod hops;
 mod provenance;
@@ -245,6 +246,7 @@ enum Audited {
     Hops(Box<hops::HopsKind>),
     Backscatter(Box<crate::estimators::hops::backscatter::BackscatterReport>),
     Escape(Box<crate::estimators::escape::EscapeReport>),
+    Field(Box<crate::estimators::field::FieldReport>),
 }
 
 impl Audited {
@@ -260,6 +262,7 @@ impl Audited {
             }
             Kind::Backscatter => Audited::Backscatter(Box::new(backscatter::parse(&file, path)?)),
             Kind::Escape => Audited::Escape(Box::new(escape::parse(&file, path)?)),
+            Kind::Field => Audited::Field(Box::new(field::parse(&file, path)?)),
         };
         Ok((file, a))
     }
@@ -272,6 +275,7 @@ impl Audited {
             Audited::Hops(h) => Ok(vec![h.config().collisions]),
             Audited::Backscatter(r) => Ok(vec![backscatter::collisions(&r.config)?]),
             Audited::Escape(r) => Ok(vec![escape::collisions(&r.config)?]),
+            Audited::Field(r) => Ok(vec![r.config.diffusion.collisions]),
         }
     }
 
@@ -282,6 +286,7 @@ impl Audited {
             Audited::Hops(h) => h.meta(),
             Audited::Backscatter(r) => &r.meta,
             Audited::Escape(r) => &r.meta,
+            Audited::Field(r) => &r.meta,
         }
     }
 }
@@ -380,6 +385,7 @@ pub fn run_with(
         Audited::Hops(h) => hops::checks(h, &ctx, &mut checks)?,
         Audited::Backscatter(r) => backscatter::checks(r, &ctx, &mut checks)?,
         Audited::Escape(r) => escape::checks(r, &ctx, &mut checks)?,
+        Audited::Field(r) => field::checks(r, &ctx, &mut checks)?,
     }
     let verdict = overall(&checks.0);
     let report = PublicationReport {

@@ -109,7 +109,8 @@ recorded!(
     crate::estimators::hops::theory::TheoryReport,
     crate::estimators::hops::lattice_walks::LatticeWalkReport,
     crate::estimators::hops::backscatter::BackscatterReport,
-    crate::estimators::escape::EscapeReport
+    crate::estimators::escape::EscapeReport,
+    crate::estimators::field::FieldReport
 );
 
 /// The re-run check of the result `recorded`, whose re-run reports progress in `units` units:

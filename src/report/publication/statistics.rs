@@ -4,8 +4,18 @@
 use super::{ALPHA, Checks};
 use crate::statistics::{mean_se, student_t_quantile};
 
-/// The between-group F, the most extreme batch, and batch against block errors.
+/// The between-group F, the most extreme batch, and batch against block errors; skipped below 8
+/// batches (four groups need two batches each).
 pub(super) fn batch_statistics(x: &[f64], checks: &mut Checks) {
+    let n = x.len();
+    if n < 8 {
+        checks.skip(
+            "statistics",
+            "batch statistics",
+            format!("{n} batches: the consistency checks need at least 8"),
+        );
+        return;
+    }
     between_groups_check(x, checks);
     outlier_check(x, checks);
     block_error_checks(x, checks);

@@ -1,0 +1,140 @@
+//! The audit of a `diffusion --field` result: the record against its configuration and the exact
+//! geometry of the localized orbits, the sampled localized share and Kac's mean free time against
+//! their closed forms, the symmetries of the tensor, and the configuration re-run through the
+//! library.
+
+use std::path::Path;
+
+use super::diffusion::refused_config;
+use super::file::ResultFile;
+use super::same_bits::rerun_check;
+use super::statistics::batch_statistics;
+use super::{Checks, Ctx, SIGMAS};
+use crate::Error;
+use crate::estimators::field::{self, FieldReport};
+use crate::numbers::exact::parse_exact;
+use crate::scenes::triangular::TriangularScene;
+use crate::statistics::normal_sigma_equivalent_t;
+use crate::theory::magnetic::FieldGeometry;
+
+/// The file as a field result whose configuration the command line would accept.
+pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<FieldReport, Error> {
+    let r: FieldReport = file.parse(path)?;
+    r.config.validate().map_err(|e| refused_config(path, e))?;
+    Ok(r)
+}
+
+/// The exact geometry of the recorded configuration.
+fn geometry(r: &FieldReport) -> Result<FieldGeometry, Error> {
+    let d = &r.config.diffusion;
+    let scene = match &d.w_exact {
+        Some(text) => TriangularScene::exact(parse_exact(text)?)?,
+        None => TriangularScene::new(d.w)?,
+    };
+    let disks = crate::scenes::Scene::disk_lattice(&scene)
+        .ok_or_else(|| Error::Invalid("the field audit needs the triangular lattice".into()))?;
+    FieldGeometry::new(disks, r.config.field_value()?)
+}
+
+/// The checks: the record, the localized share, Kac, the symmetries, the batches, the re-run.
+pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Result<(), Error> {
+    let cfg = &r.config;
+    let d = &cfg.diffusion;
+    let g = geometry(r)?;
+    let mut bad = super::meta_problems(
+        &r.meta,
+        Some(d.seed),
+        Some(u64::from(d.batches)),
+        &d.precision.to_string(),
+    );
+    let exact = [
+        (r.field, cfg.field_value()?),
+        (r.pinned_fraction_exact, g.pinned_fraction()),
+        (r.skipping_fraction_exact, g.skipping_fraction()),
+        (r.localized_fraction_exact, g.localized_fraction()),
+        (r.mean_free_time_exact, g.diffusing_mean_free_time()),
+    ];
+    if r.w.to_bits() != d.w.to_bits() || exact.iter().any(|(a, b)| a.to_bits() != b.to_bits()) {
+        bad.push("w, the field or a closed form differs from the configuration's".into());
+    }
+    if r.all_localized != g.all_localized() {
+        bad.push("all_localized is not the exact geometry's".into());
+    }
+    super::record_check(bad, checks);
+    localized_share(r, checks);
+    if r.all_localized {
+        let zero = r.D_xx == 0.0 && r.D_xy == 0.0 && r.batch_D_xx.is_empty();
+        checks.pass_if(
+            zero,
+            "identities",
+            "every orbit localized: D = 0 exactly",
+            format!(
+                "D_xx = {}, D_xy = {}, {} batches run",
+                r.D_xx,
+                r.D_xy,
+                r.batch_D_xx.len()
+            ),
+            &[("D_xx", r.D_xx), ("D_xy", r.D_xy)],
+        );
+    } else {
+        diffusing_checks(r, checks);
+        batch_statistics(&r.batch_D_xx, checks);
+    }
+    let what = format!(
+        "{} collisions in {} batches at field {} (seed {}, {})",
+        d.collisions, d.batches, cfg.field, d.seed, d.precision
+    );
+    rerun_check(r, d.collisions, &what, ctx, checks, |o| field::run(cfg, o))
+}
+
+/// The sampled localized share against the exact share p: binomial, with the error
+/// √(p(1 − p)/n) of n samples under p (4σ normal bound); a share of 0 or 1 must be sampled
+/// exactly.
+fn localized_share(r: &FieldReport, checks: &mut Checks) {
+    let (v, x) = (r.localized_fraction, r.localized_fraction_exact);
+    let n = r.config.localization_samples as f64;
+    let e = (x * (1.0 - x) / n).sqrt();
+    let (ok, z) = if e > 0.0 {
+        let z = (v - x) / e;
+        (z.abs() <= SIGMAS, z)
+    } else {
+        (v == x, 0.0)
+    };
+    checks.pass_if(
+        ok,
+        "identities",
+        "sampled localized share = the exact share of pinned and skipping orbits",
+        format!("{v} of {n} samples against exact {x} ({z:+.2}σ of {e:.1e}; bound {SIGMAS:.2}σ)"),
+        &[("value", v), ("err", e), ("exact", x)],
+    );
+}
+
+/// The diffusing part: Kac's mean free time, D_yy = D_xx and a vanishing symmetric off-diagonal
+/// part (the lattice's symmetry), each within the Student-t bound of its batches.
+fn diffusing_checks(r: &FieldReport, checks: &mut Checks) {
+    let bound = normal_sigma_equivalent_t(f64::from(r.config.diffusion.batches) - 1.0, SIGMAS);
+    let t = &r.diffusing;
+    for (name, v, e, x) in [
+        (
+            "mean free time of the diffusing part = Kac's",
+            r.mean_free_time,
+            r.mean_free_time_err,
+            r.mean_free_time_exact,
+        ),
+        (
+            "symmetric off-diagonal part of the tensor = 0 (lattice symmetry)",
+            t.D_xy_symmetric,
+            t.D_xy_symmetric_err,
+            0.0,
+        ),
+    ] {
+        let z = (v - x) / e;
+        checks.pass_if(
+            z.abs() <= bound,
+            "identities",
+            name,
+            format!("{v} ± {e:.1e} against {x} ({z:+.2}σ; bound {bound:.2}σ)"),
+            &[("value", v), ("err", e), ("exact", x)],
+        );
+    }
+}
