@@ -258,6 +258,17 @@ fn disk<V: Lanes>(
     } else {
         disk_frame(c, a, d, (dx, dy, dd), (mx, my, mm), ok)
     };
+    // Off the circle moving in, a disk-frame entry within its rounding of the particle is now.
+    let near = entry_now(
+        c,
+        a,
+        d,
+        (dd, mm),
+        (fx, fy),
+        V::and(V::and_not(some, onc), bneg),
+    );
+    let (fx, fy) = (V::select(near, z, fx), V::select(near, z, fy));
+    let frame = V::and_not(some, near);
     // On the circle, moving out: the return s = −2β/M.
     let s_ret = beta.mul(V::splat(-2.0)).mul(inv);
     // Off it: the entry.
@@ -295,7 +306,33 @@ fn disk<V: Lanes>(
         fy,
         V::select(ret, ey.mul(s_ret), V::select(now, z, ny)),
     );
-    (Cand::new(a, c.left, (x, y), some, has), stuck)
+    (Cand::new(a, c.left, (x, y), frame, has), stuck)
+}
+
+/// Where a disk-frame entry (chord `f`) of a particle off the circle moving in (`lanes`) lies
+/// within its own rounding of the particle ([`crate::kernel::arc::Arc`]'s `entry_now`): there
+/// the contact is now.
+#[inline(always)]
+fn entry_now<V: Lanes>(
+    c: &Consts<V>,
+    a: &ArcL<V>,
+    d: &DiskC<V>,
+    (dd, mm): (V, V),
+    (fx, fy): (V, V),
+    lanes: V::Mask,
+) -> V::Mask {
+    if V::bits(lanes) == 0 {
+        return lanes;
+    }
+    let dn = dd.sqrt();
+    let turn = d.r.mul(c.aw.mul(dn).add(a.speed)).div(mm.sqrt());
+    let four_u = V::splat(4.0 * f64::EPSILON / 2.0);
+    let bound = turn.add(d.r.add(dn).mul(V::splat(2.0))).mul(four_u);
+    let chord2 = fx.mul(fx).add(fy.mul(fy));
+    V::and(
+        lanes,
+        not::<V>(chord2.sub(bound.mul(bound)).gt(V::splat(0.0)), a.all),
+    )
 }
 
 /// Edge `e`'s exit in every lane ([`crate::kernel::arc::arc_line`]).

@@ -167,7 +167,7 @@ impl<'a, T: Real> Arc<'a, T> {
             });
         }
         if let Some(c) = self.disk_frame(&d, r) {
-            return c;
+            return c.map(|c| self.entry_now(c, &d, r, &beta));
         }
         let k = vv_wq + &(w.clone().square() * &gamma).scale(0.25);
         let disc = self.discriminant(&q, &gamma, r, &beta, &k)?;
@@ -237,6 +237,39 @@ impl<'a, T: Real> Arc<'a, T> {
             chord: Vec2::new(yx - &d.x, yy - &d.y),
             disk_frame: true,
         }))
+    }
+
+    /// A disk-frame entry `c` for a particle off the circle (γ > 0) moving into it (β < 0), taken
+    /// as *now* (chord 0, the velocity v) where it lies within its own rounding of the particle.
+    /// The disk frame finds the entry on the disk to a few u, but along the disk only to the
+    /// direction of m = Jv + ωd, whose components carry an absolute rounding of 2u(|ω||d| + V)
+    /// each: the entry turns about the disk's centre by up to 3u(|ω||d| + V)/√M, so it moves
+    /// along the disk by r times that, besides the few u(r + |d|) of its other operations. An
+    /// entry closer to the particle than E = 4u(r(|ω||d| + V)/√M + 2(r + |d|)) has no
+    /// determined side of v, and one rounded behind it was ordered as a chord at the half-turn,
+    /// after every other event (the eleventh libFuzzer campaign: a particle an ulp off a disk,
+    /// moving in at 5·10⁻⁵ rad, with its cyclotron circle 5·10⁻⁵ from the disk's, ρ = r: the
+    /// entry 2·10⁻¹² ahead came out 4·10⁻¹⁴ behind, and the particle flew 4·10⁻⁵ deep into the
+    /// disk). Moving in, the entry is ahead and as near as the particle is to the surface, so
+    /// within rounding it is now — as on the circle (γ ≤ 0, β < 0). Elsewhere `c` stands.
+    fn entry_now(&self, c: Contact<T>, d: &Vec2<T>, r: &T, beta: &T) -> Contact<T> {
+        if !beta.lt0() {
+            return c;
+        }
+        let (v, w) = (self.v, self.w);
+        let u = T::unit_roundoff(w.ctx());
+        let m = Vec2::new(w.clone() * &d.x - &v.y, w.clone() * &d.y + &v.x);
+        let dn = d.norm2().sqrt();
+        let turn = r.clone() * &(w.clone().abs() * &dn + &self.speed) / &m.norm2().sqrt();
+        let bound = (turn + &(r.clone() + &dn).scale(2.0)).scale(4.0 * u);
+        if (c.chord.norm2() - &bound.square()).gt0() {
+            return c;
+        }
+        let ctx = w.ctx();
+        Contact {
+            chord: Vec2::new(T::zero(ctx), T::zero(ctx)),
+            disk_frame: false,
+        }
     }
 
     /// `true` if the particle, on the circle of radius² `r2` at −d (d = p − c) by identity, moves

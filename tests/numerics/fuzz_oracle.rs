@@ -657,3 +657,18 @@ fn regression_arc_tangent_start_on_an_internally_tangent_cyclotron_circle_collid
     ];
     arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
 }
+
+/// The eleventh libFuzzer campaign: triangular w = 0.308, B = 1 (ρ = r), a particle an ulp off
+/// disk 0 moving into it at 5·10⁻⁵ rad, its cyclotron centre 5·10⁻⁵ from the disk's: the disk
+/// frame's entry, 2·10⁻¹² ahead, came out 4·10⁻¹⁴ behind v (its direction along the disk carries
+/// u/√M), was ordered at the half-turn after an edge crossing, and the particle flew 4·10⁻⁵ into
+/// the disk. Within its own rounding of the particle, moving in, the entry is now.
+#[test]
+fn regression_arc_disk_frame_entry_within_its_rounding_of_the_particle_is_now() {
+    let data: [u8; 29] = [
+        255, 255, 127, 0, 0, 64, 0, 0, 0, 2, 225, 102, 7, 0, 0, 255, 255, 254, 182, 48, 51, 255,
+        34, 49, 16, 0, 0, 20, 0,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.collisions >= 1, "{rep:?}");
+}
