@@ -49,8 +49,9 @@ pub struct Args {
     /// (median of the paired ratios).
     #[arg(long, conflicts_with_all = ["report", "observe", "precision"])]
     observer_costs: bool,
-    /// A magnetic field B (like --field of diffusion): time the f64 arc kernel on the scalar
-    /// engine, bare (0: straight flights, the default).
+    /// A magnetic field B (like --field of diffusion): time the f64 arc kernel, bare, on the
+    /// SIMD arc engine (or the scalar kernel with --engine scalar); 0: straight flights, the
+    /// default.
     #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs"])]
     field: Option<String>,
     /// Output directory of --report (speed-vs-error.{md,json,png,svg}).

@@ -319,8 +319,9 @@ pub struct ThroughputConfig {
     pub repetitions: usize,
     /// Seed of the equilibrium starts.
     pub seed: u64,
-    /// A magnetic field B: the kernel then flies arcs (`f64`, scalar engine, no observers; starts
-    /// on pinned orbits are drawn again). `None` or 0: straight flights.
+    /// A magnetic field B: the kernel then flies arcs (`f64`, no observers, on the SIMD arc
+    /// engine or the scalar kernel as the engine option resolves; starts on pinned orbits are
+    /// drawn again). `None` or 0: straight flights.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field: Option<f64>,
 }
