@@ -758,3 +758,64 @@ fn unload(st: &ArcLanes, states: &mut [LatticeState<f64>]) {
         *s = st.lanes.state(l);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::arc::earlier as scalar_earlier;
+    use crate::kernel::vec2::Vec2;
+    use rand::{Rng, SeedableRng};
+
+    /// A chord of the arc of velocity v in one of the places `earlier` tells apart: zero, just
+    /// behind or ahead of v, turning within or beyond π/4, or near the half-turn (short and
+    /// behind), at lengths from 10⁻¹⁸ to 2.
+    fn chord(rng: &mut impl Rng, v: (f64, f64), left: bool) -> (f64, f64) {
+        let side = if left { 1.0 } else { -1.0 };
+        let (jx, jy) = (-v.1 * side, v.0 * side);
+        let len = 10f64.powf(rng.random_range(-18.0..0.3));
+        let (a, b) = match rng.random_range(0..6) {
+            0 => return (0.0, 0.0),
+            1 => (1.0, -1e-3 * rng.random::<f64>()),
+            2 => (1.0, rng.random::<f64>()),
+            3 => (rng.random::<f64>(), 1.0),
+            4 => (-1.0, rng.random::<f64>() * 1e-3),
+            _ => (-1.0, -1e-3 * rng.random::<f64>()),
+        };
+        let n = (a * a + b * b).sqrt();
+        (len * (a * v.0 + b * jx) / n, len * (a * v.1 + b * jy) / n)
+    }
+
+    #[test]
+    fn the_lanes_order_of_chords_is_the_scalar_order() {
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+        let mut taken = [0u32; 2];
+        for k in 0..200_000 {
+            let phi = rng.random_range(0.0..std::f64::consts::TAU);
+            let v = (phi.cos(), phi.sin());
+            let w: f64 = if k % 2 == 0 { 1.5 } else { -0.7 };
+            let left = w > 0.0;
+            let (x1, x2) = (chord(&mut rng, v, left), chord(&mut rng, v, left));
+            let vv = v.0 * v.0 + v.1 * v.1;
+            let a = ArcL::<f64> {
+                vx: v.0,
+                vy: v.1,
+                vv,
+                speed: vv.sqrt(),
+                all: true,
+            };
+            let c1 = Cand::new(&a, left, x1, false, true);
+            let c2 = Cand::new(&a, left, x2, false, true);
+            let lanes = earlier(&a, left, &c1, &c2);
+            let scalar = scalar_earlier(
+                &Vec2::new(x1.0, x1.1),
+                &Vec2::new(x2.0, x2.1),
+                &Vec2::new(v.0, v.1),
+                &w,
+            );
+            assert_eq!(lanes, scalar, "v = {v:?}, w = {w}, x1 = {x1:?}, x2 = {x2:?}");
+            taken[usize::from(lanes)] += 1;
+        }
+        // Both answers are common: the comparison is not vacuous.
+        assert!(taken.iter().all(|&n| n > 50_000), "{taken:?}");
+    }
+}
