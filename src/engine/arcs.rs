@@ -812,7 +812,10 @@ mod tests {
                 &Vec2::new(v.0, v.1),
                 &w,
             );
-            assert_eq!(lanes, scalar, "v = {v:?}, w = {w}, x1 = {x1:?}, x2 = {x2:?}");
+            assert_eq!(
+                lanes, scalar,
+                "v = {v:?}, w = {w}, x1 = {x1:?}, x2 = {x2:?}"
+            );
             taken[usize::from(lanes)] += 1;
         }
         // Both answers are common: the comparison is not vacuous.
