@@ -155,6 +155,30 @@ pub fn read_to_string(path: impl AsRef<Path>) -> Result<String, Error> {
     Ok(s)
 }
 
+/// The text of the regular file `path` (see [`open`]), refused if it has more than `max` bytes
+/// (an untrusted file that should be small: the limit is checked before and while reading).
+///
+/// # Errors
+/// As [`read_to_string`], or a file over `max` bytes (naming the path and the limit).
+pub fn read_to_string_limited(path: impl AsRef<Path>, max: u64) -> Result<String, Error> {
+    let path = path.as_ref();
+    let file = open(path)?;
+    let len = file.metadata().map_err(Error::io("read", path))?.len();
+    let mut s = String::new();
+    if len <= max {
+        file.take(max + 1)
+            .read_to_string(&mut s)
+            .map_err(Error::io("read", path))?;
+    }
+    if len > max || s.len() as u64 > max {
+        return Err(Error::Invalid(format!(
+            "{}: more than {max} bytes is too large for this file",
+            path.display()
+        )));
+    }
+    Ok(s)
+}
+
 /// The bytes of the regular file `path` (see [`open`]).
 ///
 /// # Errors

@@ -58,6 +58,7 @@ from ._results import (
     ShadowResult,
     SuperdiffusionResult,
     SweepResult,
+    FieldSweepResult,
     TheoryResult,
     TrajectoryResult,
 )
@@ -92,6 +93,7 @@ __all__ = [
     "BackscatterResult",
     "SuperdiffusionResult",
     "SweepResult",
+    "FieldSweepResult",
     "EscapeResult",
     "LyapunovResult",
     "AuditResult",
@@ -504,10 +506,10 @@ def backscatter(
 
 
 def sweep(
-    w_from: Exact,
-    w_to: Exact,
+    w_from: Optional[Exact] = None,
+    w_to: Optional[Exact] = None,
     steps: Count = 11,
-    runs: Count = 10,
+    runs: Optional[Count] = None,
     collisions_per_run: Count = 2e8,
     batches_per_run: Count = 8,
     seed: Count = 1,
@@ -516,8 +518,14 @@ def sweep(
     out: Optional[PathLike] = None,
     checkpoint_every: float = 60.0,
     progress: Progress = False,
-) -> SweepResult:
-    """D(w) over a grid of gaps (``lorentz sweep``).
+    *,
+    w: Optional[Exact] = None,
+    field: Optional[Exact] = None,
+    fields: Optional[Sequence[Exact]] = None,
+    localization_samples: Count = 1e6,
+) -> Union[SweepResult, FieldSweepResult]:
+    """D(w) over a grid of gaps (``lorentz sweep``), or the diffusion tensor in a magnetic field
+    over gaps and fields (``lorentz sweep --field`` / ``--fields``).
 
     Parameters
     ----------
@@ -526,17 +534,28 @@ def sweep(
         (0.1 .. 0.2 in 3 steps has 0.15, not its nearest double's neighbour).
     steps : int
         Number of gaps, at least 2.
-    runs : int
-        Independent runs at each gap (their spread is checked against the batch errors).
+    runs : int, optional
+        Independent runs at each gap (default 10; their spread is checked against the batch
+        errors). Not used in a field: one run per point.
     collisions_per_run : int
         Collisions of each run, over its batches (a point costs runs x this).
     batches_per_run : int
         Independent batches of each run, at least 2.
     out : path, optional
         Keep finished points there (a rerun resumes) and write sweep.csv, sweep-runs.csv,
-        sweep.json and the figures.
+        sweep.json and the figures (in a field: field-sweep.csv and field-sweep.json).
     seed, threads, engine, checkpoint_every, progress
         As in :func:`diffusion`.
+    w : str, float, Fraction or Decimal, keyword only
+        The gap of a sweep over the field (with ``fields``), instead of ``w_from``/``w_to``.
+    field : exact number, keyword only
+        A fixed field B (angular velocity of the velocity, 1/time; cyclotron radius 1/|B|) for
+        a sweep over w.
+    fields : sequence of exact numbers, keyword only
+        The fields of a sweep over B (each nonzero, 1e-3 <= |B| <= 1e3); with B and -B both
+        given, Onsager-Casimir is checked.
+    localization_samples : int, keyword only
+        Phase points classified per point for the sampled localized share.
 
     Returns
     -------
@@ -544,7 +563,51 @@ def sweep(
         ``rows`` (numpy structured array, one record per gap: ``w``, ``D`` ± ``D_err`` in
         length^2/time, ``D_MZ``, ``D_Bo``, the runs' F test), the same fields as attributes,
         ``run_D`` (points x runs), ``linear_fit``; ``to_pandas()``.
+    FieldSweepResult
+        In a field: ``rows`` with ``w``, ``field``, ``D_xx`` ± ``D_xx_err``, the Hall ``D_xy`` ±
+        ``D_xy_err`` (length^2/time), the exact and sampled localized shares and Kac's mean free
+        time; ``onsager`` (the ±B checks) and ``onsager_agrees``; ``to_pandas()``.
     """
+    if field is not None or fields is not None:
+        if runs is not None:
+            raise ValueError(
+                "runs is not used by a sweep in a field (one run of collisions_per_run per point)"
+            )
+        if engine != "auto" or checkpoint_every != 60.0:
+            raise ValueError(
+                "engine and checkpoint_every are not used by a sweep in a field (the scalar arc "
+                "kernel; a sweep in a field resumes by point from out)"
+            )
+        if fields is not None and (isinstance(fields, (str, bytes)) or not fields):
+            raise ValueError("fields: give a non-empty sequence of exact numbers, e.g. [-1, 1]")
+        total = _total(_count("collisions_per_run", collisions_per_run))
+        total *= (1 if fields is None else len(fields)) * (
+            1 if w is not None else _total(_count("steps", steps))
+        )
+        with _Bar(progress, total, "coll") as cb:
+            text = _native.field_sweep(
+                None if w is None else _exact("w", w),
+                None if w_from is None else _exact("w_from", w_from),
+                None if w_to is None else _exact("w_to", w_to),
+                _count("steps", steps),
+                None if field is None else _exact("field", field),
+                [] if fields is None else [_exact("fields", b) for b in fields],
+                _count("collisions_per_run", collisions_per_run),
+                _count("batches_per_run", batches_per_run),
+                _count("seed", seed),
+                _threads(threads),
+                _count("localization_samples", localization_samples),
+                _path(out),
+                cb,
+            )
+        return FieldSweepResult(text)
+    if w is not None:
+        raise ValueError(
+            "w is the gap of a sweep over the field: give fields=[...] (a sweep over w: w_from, w_to)"
+        )
+    if w_from is None or w_to is None:
+        raise ValueError("a sweep over w needs w_from and w_to")
+    runs = 10 if runs is None else runs
     total = _total(_count("collisions_per_run", collisions_per_run)) * _total(
         _count("runs", runs)
     ) * _total(_count("steps", steps))
@@ -886,12 +949,15 @@ def trajectory(
     digits: Count = 30,
     events: bool = False,
     progress: Progress = False,
+    field: Optional[Exact] = None,
 ) -> TrajectoryResult:
     """One trajectory from exact initial conditions to certified digits (``lorentz
     trajectory``): ``start`` (x, y) in world coordinates outside every disk, ``direction``
     (dx, dy) nonzero, total ``time`` > 0, all exact. ``scene`` defaults to "triangular" with
-    ``w`` and "square" with ``radius``. The result's ``x``, ``y`` and ``distance`` are decimal
-    strings carrying exactly the certified digits (1 to 10000)."""
+    ``w`` and "square" with ``radius``. ``field`` (exact, 1/time) is a uniform magnetic field
+    B: flights are arcs turning counter-clockwise for B > 0 on circles of radius 1/|B|
+    (0 or None: straight; otherwise 1e-6 <= |B| <= 1e6). The result's ``x``, ``y`` and
+    ``distance`` are decimal strings carrying exactly the certified digits (1 to 10000)."""
     if scene is None:
         scene = "square" if radius is not None and w is None else "triangular"
     with _Bar(progress, 0, "coll") as cb:
@@ -904,6 +970,7 @@ def trajectory(
             _exact("time", time),
             _count("digits", digits),
             bool(events),
+            _optional_exact("field", field),
             cb,
         )
     return TrajectoryResult(text)

@@ -41,6 +41,12 @@ def sweep(
     batches_per_run: str, seed: str, threads: Optional[str], engine: str, out: Optional[str],
     checkpoint_every: float, progress: Progress,
 ) -> str: ...
+def field_sweep(
+    w: Optional[str], w_from: Optional[str], w_to: Optional[str], steps: str,
+    field: Optional[str], fields: List[str], collisions_per_run: str, batches_per_run: str,
+    seed: str, threads: Optional[str], localization_samples: str, out: Optional[str],
+    progress: Progress,
+) -> str: ...
 def escape(
     w: str, widths: Optional[List[float]], particles_per_width: str, seed: str,
     threads: Optional[str], checkpoint: Optional[str], checkpoint_every: float,
@@ -71,7 +77,8 @@ def certify(
 ) -> str: ...
 def trajectory(
     scene: str, w: Optional[str], radius: Optional[str], start: Tuple[str, str],
-    direction: Tuple[str, str], time: str, digits: str, events: bool, progress: Progress,
+    direction: Tuple[str, str], time: str, digits: str, events: bool, field: Optional[str],
+    progress: Progress,
 ) -> str: ...
 def report(
     result: str, out: Optional[str], quick: bool, reference_bits: str,

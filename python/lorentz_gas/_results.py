@@ -102,6 +102,42 @@ class FieldResult(Result):
         )
 
 
+class FieldSweepResult(Result):
+    """The diffusion tensor in a magnetic field over gaps and fields. ``rows`` is a numpy
+    structured array, one record per point (gap-major), with ``w``, ``field`` (B, 1/time),
+    ``cyclotron_radius``, ``D_xx``, ``D_xx_err``, ``D_xy``, ``D_xy_err`` (the Hall part;
+    length²/time), ``pinned_fraction_exact``, ``skipping_fraction_exact``,
+    ``localized_fraction_exact``, ``localized_fraction``, ``localized_fraction_err``,
+    ``all_localized``, ``mean_free_time`` ± ``mean_free_time_err`` and Kac's
+    ``mean_free_time_exact``; each field is also an attribute. ``onsager`` lists the ±B checks
+    (``d_xx_even``, ``d_xy_odd``: difference, err, z, bound) and ``onsager_agrees`` their
+    verdict; ``to_pandas()`` gives the table."""
+
+    def __init__(self, text: str):
+        super().__init__(text)
+        raw = self._data["rows"]
+        keys = list(raw[0].keys()) if raw else []
+        dtype = [(k, np.bool_ if isinstance(raw[0][k], bool) else np.float64) for k in keys]
+        self.rows = np.array([tuple(r[k] for k in keys) for r in raw], dtype=dtype)
+        for k in keys:
+            if k not in self._data:
+                setattr(self, k, self.rows[k])
+
+    def to_pandas(self):
+        """The rows as a ``pandas.DataFrame`` (one row per point; needs pandas)."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError("FieldSweepResult.to_pandas() needs pandas: pip install pandas") from e
+        return pd.DataFrame(self.rows)
+
+    def _summary(self) -> str:
+        n = len(self.rows)
+        verdict = "agree" if self.onsager_agrees else "DISAGREE"
+        checks = f", Onsager-Casimir at {len(self.onsager)} |B|: {verdict}" if self.onsager else ""
+        return f"{n} points in a field{checks}"
+
+
 class HopsResult(Result):
     """Trap-hopping statistics: backscattering ``p_bs``, symbol-sequence probabilities
     ``pairs`` (with ``pairs_err``), the hop-level Green–Kubo ``D_GK`` against ``D_MZ``."""

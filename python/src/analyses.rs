@@ -584,7 +584,7 @@ fn exact_q(name: &str, text: &str) -> PyResult<rug::Rational> {
 }
 
 #[pyfunction]
-#[pyo3(name = "trajectory", signature = (scene, w, radius, start, direction, time, digits, events, progress))]
+#[pyo3(name = "trajectory", signature = (scene, w, radius, start, direction, time, digits, events, field, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_trajectory(
     py: Python<'_>,
@@ -596,6 +596,7 @@ fn py_trajectory(
     time: &str,
     digits: &str,
     events: bool,
+    field: Option<&str>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let digits = count_u32("digits", digits)?;
@@ -612,6 +613,7 @@ fn py_trajectory(
         time: exact_q("time", time)?,
         digits,
         record_events: events,
+        field: field.map(|b| exact_q("field", b)).transpose()?,
     };
     // Any gap w > 0 (the trajectory is one orbit: no diffusive range is needed).
     let choice = match (scene, w) {

@@ -7,6 +7,7 @@
 
 mod analyses;
 mod events;
+mod field_sweep;
 mod inputs;
 mod scenes;
 mod watch;
@@ -59,5 +60,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     analyses::register(m)?;
     events::register(m)?;
+    field_sweep::register(m)?;
     Ok(())
 }

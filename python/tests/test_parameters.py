@@ -8,6 +8,7 @@ import ast
 import inspect
 import pathlib
 import re
+import tempfile
 
 import pytest
 
@@ -28,7 +29,13 @@ CASES = {
     "audit": ["--w", "0.2", "--collisions", "1e3", "--batches", "2"],
     "shadow": ["--w", "0.2", "--collisions-per-segment", "20", "--segments", "1"],
     "escape": ["--w", "0.2", "--particles-per-width", "3200"],
+    "sweep --fields": ["--w", "0.2", "--fields=-1,1", "--collisions-per-run", "1e6",
+                       "--batches-per-run", "4", "--localization-samples", "1000",
+                       "--out", tempfile.mkdtemp(prefix="lorentz-test-")],
 }
+
+# The compiled function behind a case, where it is not the Python function's own name.
+STUB_OF = {"sweep --fields": "field_sweep"}
 
 # Config fields that are not parameters of the call, with the reason. Every entry must name a
 # field the config has (a stale entry fails too).
@@ -43,6 +50,7 @@ NOT_PARAMETERS = {
     ("theory", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("lattice_walk", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("audit", "scene"): "the scene's label, from scene, w and radius",
+    ("sweep --fields", "gaps"): "the exact grid of gaps: from w, or w_from, w_to and steps",
 }
 
 
@@ -78,7 +86,7 @@ def test_every_config_field_is_a_parameter_everywhere(cli_json, cli, name):
     fields -= {f for (n, f) in NOT_PARAMETERS if n == name}
     options = cli_options(cli, command)
     keywords = set(inspect.signature(getattr(lg, function)).parameters)
-    stub = set(stub_parameters()[function])
+    stub = set(stub_parameters()[STUB_OF.get(name, function)])
     for where, have in [("the command line", options), ("lorentz_gas." + function, keywords),
                         ("the stub _native." + function, stub)]:
         missing = sorted(fields - have)

@@ -2,6 +2,8 @@
 
 import json
 
+import pytest
+
 import lorentz_gas as lg
 
 # Keys that say how long a run took or how it was launched: everything else must be equal.
@@ -77,6 +79,25 @@ def test_sweep_has_the_command_lines_bits(cli_json, tmp_path):
     )
     same(py.to_dict(), cl)
     assert list(py.D) == [r["D"] for r in cl["rows"]]
+
+
+def test_a_sweep_in_a_field_has_the_command_lines_bits(cli_json, tmp_path):
+    py = lg.sweep(w="0.1", fields=["-1", "1/2"], collisions_per_run=1e6, batches_per_run=4,
+                  seed=5, localization_samples=1000)
+    cl = cli_json(
+        "sweep", "--w", "0.1", "--fields=-1,1/2", "--collisions-per-run", "1e6",
+        "--batches-per-run", "4", "--seed", "5", "--localization-samples", "1000",
+        "--out", str(tmp_path / "sweep"),
+    )
+    same(py.to_dict(), cl)
+    assert list(py.field) == [-1.0, 0.5] and list(py.D_xx) == [r["D_xx"] for r in cl["rows"]]
+    assert py.to_pandas().shape[0] == 2 and "points in a field" in repr(py)
+    with pytest.raises(ValueError, match="runs is not used"):
+        lg.sweep(w="0.1", fields=[1], runs=2)
+    with pytest.raises(ValueError, match="not both"):
+        lg.sweep(w="0.1", w_from="0.1", w_to="0.2", field=1)
+    with pytest.raises(ValueError, match="field"):
+        lg.sweep(w="0.1", fields=[0, 1])
 
 
 def test_trajectory_has_the_command_lines_digits(cli_json):

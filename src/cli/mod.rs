@@ -36,6 +36,7 @@ mod constants;
 mod diffusion;
 mod escape;
 mod field;
+mod field_sweep;
 mod figure;
 mod hops;
 mod lattice_walk;

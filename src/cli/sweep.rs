@@ -19,33 +19,40 @@ use super::progress::Progress;
 pub struct GridArgs {
     /// First w, a decimal (the grid is computed exactly: 0.1 .. 0.2 in 3 steps gives 0.15).
     #[arg(long, allow_negative_numbers = true)]
-    w_from: String,
+    pub(super) w_from: Option<String>,
     /// Last w, a decimal.
     #[arg(long, allow_negative_numbers = true)]
-    w_to: String,
+    pub(super) w_to: Option<String>,
     /// Number of points (at least 2).
     #[arg(long, default_value = "11", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    steps: u32,
-    /// Independent runs at each point w (their spread is checked against the batch errors).
-    #[arg(long, default_value = "10", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    runs: u32,
+    pub(super) steps: u32,
+    /// Independent runs at each point w (their spread is checked against the batch errors)
+    /// [default: 10; a sweep in a field runs one per point]
+    #[arg(long, value_parser = parse_count_u32, allow_negative_numbers = true)]
+    pub(super) runs: Option<u32>,
     /// Collisions of each run, over its batches (a point costs runs x this).
     #[arg(long, default_value = "2e8", value_parser = parse_count, allow_negative_numbers = true)]
-    collisions_per_run: u64,
+    pub(super) collisions_per_run: u64,
     /// Independent batches of each run (at least 2): each run's error is the standard error over
     /// its batches.
     #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    batches_per_run: u32,
+    pub(super) batches_per_run: u32,
 }
 
 impl GridArgs {
     /// The sweep's configuration with `seed`, checked.
     pub fn config(&self, seed: u64) -> Result<SweepConfig, Error> {
+        let (Some(w_from), Some(w_to)) = (&self.w_from, &self.w_to) else {
+            return Err(Error::Invalid(
+                "a sweep over w needs --w-from and --w-to (a sweep over the field: --w W --fields B1,B2,...)"
+                    .into(),
+            ));
+        };
         let cfg = SweepConfig {
-            w_from: self.w_from.clone(),
-            w_to: self.w_to.clone(),
+            w_from: w_from.clone(),
+            w_to: w_to.clone(),
             steps: self.steps,
-            runs: self.runs,
+            runs: self.runs.unwrap_or(DEFAULT_RUNS),
             collisions: self.collisions_per_run,
             batches: self.batches_per_run,
             seed,
@@ -55,26 +62,50 @@ impl GridArgs {
     }
 }
 
+/// Runs per point of a sweep over w.
+const DEFAULT_RUNS: u32 = 10;
+
+/// A sweep of the diffusion tensor in a magnetic field.
+#[derive(clap::Args)]
+pub struct FieldArgs {
+    /// The gap of a sweep over the field (with --fields), an exact decimal or fraction.
+    #[arg(long, allow_negative_numbers = true)]
+    pub(super) w: Option<String>,
+    /// A fixed field B for a sweep over w (--w-from, --w-to, --steps): D_xx and the Hall D_xy at
+    /// each w. An exact decimal or fraction, 1e-3 <= |B| <= 1e3.
+    #[arg(long, allow_negative_numbers = true)]
+    pub(super) field: Option<String>,
+    /// The fields of a sweep over B, comma-separated exact decimals or fractions (with B and -B
+    /// both given, Onsager-Casimir is checked), e.g. --fields=-2,-1,1,2.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub(super) fields: Vec<String>,
+    /// Phase points classified at each point of a field sweep for the sampled localized share.
+    #[arg(long, default_value = "1e6", value_parser = parse_count, allow_negative_numbers = true)]
+    pub(super) localization_samples: u64,
+}
+
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    grid: GridArgs,
+    pub(super) grid: GridArgs,
+    #[command(flatten)]
+    pub(super) in_field: FieldArgs,
     /// Compute only part I of N (I = 0 .. N-1; point i belongs to part i mod N) into --out, for
     /// `lorentz merge`; as a Slurm array task: --shard $SLURM_ARRAY_TASK_ID/N.
     #[arg(long)]
-    shard: Option<String>,
+    pub(super) shard: Option<String>,
     #[command(flatten)]
-    run: RunArgs,
+    pub(super) run: RunArgs,
     #[command(flatten)]
-    engine: EngineArg,
+    pub(super) engine: EngineArg,
     /// Output directory: sweep.csv, sweep-runs.csv, sweep.json and the figures; finished points
     /// are kept in OUT/points/ and reused, the point in progress in OUT/points/*.partial.
     #[arg(long, default_value = "results/sweep")]
-    out: PathBuf,
+    pub(super) out: PathBuf,
     #[command(flatten)]
-    every: CheckpointEveryArg,
+    pub(super) every: CheckpointEveryArg,
     #[command(flatten)]
-    output: OutputArgs,
+    pub(super) output: OutputArgs,
 }
 
 /// The configuration of the whole sweep these options give (validated).
@@ -83,6 +114,14 @@ pub fn config(a: &Args) -> Result<lorentz_gas::estimators::sweep::SweepConfig, E
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
+    if a.in_field.field.is_some() || !a.in_field.fields.is_empty() {
+        return super::field_sweep::run(&a);
+    }
+    if a.in_field.w.is_some() {
+        return Err(Error::Invalid(
+            "--w is the gap of a sweep over the field: give --fields B1,B2,... (a sweep over w: --w-from and --w-to)".into(),
+        ));
+    }
     let cfg = config(&a)?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     if let Some(s) = shard {
@@ -96,7 +135,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     let total = a
         .grid
         .collisions_per_run
-        .saturating_mul(a.grid.runs as u64)
+        .saturating_mul(cfg.runs as u64)
         .saturating_mul(points);
     let pb = Progress::new(total, "collisions", a.output.quiet);
     let progress = pb.callback();

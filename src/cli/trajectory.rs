@@ -44,6 +44,11 @@ pub struct Args {
     /// Digits to certify, 1 to 10000.
     #[arg(long, default_value = "30", value_parser = parse_count_u32, allow_negative_numbers = true)]
     digits: u32,
+    /// A uniform magnetic field B, exact (such as 1 or -1/3): flights are arcs turning
+    /// counter-clockwise for B > 0 on circles of radius 1/|B|; 0 (the default) is straight.
+    /// 1e-6 <= |B| <= 1e6.
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    field: Option<Exact>,
     /// Write every event of the final run (kind, obstacle, world x, world y, time) to this CSV.
     #[arg(long)]
     events: Option<PathBuf>,
@@ -83,6 +88,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         time: parse_exact(&a.time)?,
         digits: a.digits,
         record_events: a.events.is_some(),
+        field: a.field.as_ref().map(|b| parse_exact(&b.text)).transpose()?,
     };
     let name = match a.scene {
         SceneName::Triangular => "triangular",

@@ -23,11 +23,12 @@ use serde::Serialize;
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
+use crate::kernel::arc::{arc_time, chord_at};
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{flight::EventKind, flight::Flight};
 use crate::numbers::real::Real;
 use crate::scenes::Scene;
-use crate::scenes::lattice::{CellIndex, LatticeState};
+use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
 use crate::verification::lyapunov::{self, LyapunovConfig};
 
 /// Most digits a trajectory may ask for: 10⁴ digits already need ≥ 33 000 bits before any
@@ -67,6 +68,10 @@ pub const MAX_SECONDS: f64 = 300.0;
 /// an orbit may collide more often, but not by this factor).
 pub const EVENT_SLACK: f64 = 100.0;
 
+/// The fields a trajectory takes besides 0: cyclotron radii from 10⁻⁶ to 10⁶, where the arc
+/// kernel is tested (`proofs-notes/magnetic-arcs.md`).
+pub const TRAJECTORY_FIELD_RANGE: (f64, f64) = (1e-6, 1e6);
+
 /// The exact input of one trajectory.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrajectoryInput {
@@ -84,6 +89,10 @@ pub struct TrajectoryInput {
     pub digits: u32,
     /// Keep every event of the final run in the report (`--events`).
     pub record_events: bool,
+    /// A uniform magnetic field B (exact; `None` or 0: straight flights with their own bits):
+    /// flights are arcs of the generic arc kernel at the working precision, turning
+    /// counter-clockwise for B > 0 on circles of radius 1/|B|.
+    pub field: Option<Rational>,
 }
 
 /// One event of the final run, for `--events`.
@@ -130,6 +139,9 @@ pub fn estimated_seconds(bits: f64, events: f64) -> f64 {
 pub struct TrajectoryReport {
     /// The scene ([`Scene::label`]).
     pub scene: String,
+    /// The magnetic field B as an exact fraction (absent without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub field: Option<String>,
     /// World x at time T, exactly `certified_digits` digits.
     pub x: String,
     /// World y at time T.
@@ -200,6 +212,19 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
         ));
     }
     crate::scenes::check_world_point(&input.x, &input.y)?;
+    if let Some(b) = field_of(input) {
+        let f = crate::numbers::exact::nearest_f64(b);
+        let (lo, hi) = TRAJECTORY_FIELD_RANGE;
+        if !(lo..=hi).contains(&f.abs()) {
+            return Err(Error::out_of_range(
+                "field",
+                f,
+                format!(
+                    "use 0 or {lo:e} <= |field| <= {hi:e} (cyclotron radii the arc kernel is tested at)"
+                ),
+            ));
+        }
+    }
     crate::scenes::check_world_point(&input.dx, &input.dy).map_err(|_| {
         Error::Invalid(format!(
             "direction components must lie from -{:e} to {:e} (only the direction matters: scale it down)",
@@ -279,6 +304,7 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
 ///     time: parse_exact("10").unwrap(),
 ///     digits: 30,
 ///     record_events: false,
+///     field: None,
 /// };
 /// let r = trajectory::run(&scene, &input, &RunOptions::default()).unwrap();
 /// assert!(r.distance.starts_with("0.99526"));
@@ -308,6 +334,7 @@ pub fn run<S: Scene>(
             let text = |k: usize| decimal(&hi.values[k], certified);
             return Ok(TrajectoryReport {
                 scene: scene.label(),
+                field: field_of(input).map(|b| b.to_string()),
                 x: text(0),
                 y: text(1),
                 distance: text(2),
@@ -389,20 +416,17 @@ fn run_at<S: Scene>(
     let (mut collisions, mut crossings) = (0u64, 0u64);
     let mut sequence = Vec::new();
     let mut events = Vec::new();
+    let field = field_of(input).map(|b| <Float as Real>::from_rational(bits, b));
     loop {
-        let ev = lat
-            .next_event(&s)
-            .ok_or_else(|| Error::Invalid("the flight has no next event (zero velocity)".into()))?;
-        let end = elapsed.clone() + &ev.time;
-        if end > total {
-            let rest = total.clone() - &elapsed;
-            s.flight.pos = s.flight.pos.along(&rest, &s.flight.vel);
+        let Some((kind, time)) = (match &field {
+            None => next_straight(&lat, &mut s, &elapsed, &total)?,
+            Some(b) => next_arc(&lat, &mut s, b, &elapsed, &total)?,
+        }) else {
             break;
-        }
-        lat.apply(&mut s, &ev);
-        elapsed = end;
-        sequence.push((ev.kind, s.cell));
-        let (kind, obstacle) = match ev.kind {
+        };
+        elapsed = time;
+        sequence.push((kind, s.cell));
+        let (kind, obstacle) = match kind {
             EventKind::Collision(m) => {
                 collisions += 1;
                 progress(1);
@@ -438,6 +462,69 @@ fn run_at<S: Scene>(
         sequence,
         events,
     })
+}
+
+/// The field of the input, if any and nonzero (B = 0 is the straight run, with its bits).
+fn field_of(input: &TrajectoryInput) -> Option<&Rational> {
+    input.field.as_ref().filter(|b| **b != 0)
+}
+
+/// The next straight event of `s` if it comes by time `total` (then carried out: its kind and
+/// the time after it); else `s` is moved to time `total` and `None` returned.
+fn next_straight(
+    lat: &Lattice<Float, impl crate::kernel::cell::CellKernel<Float>>,
+    s: &mut LatticeState<Float>,
+    elapsed: &Float,
+    total: &Float,
+) -> Result<Option<(EventKind, Float)>, Error> {
+    let ev = lat
+        .next_event(s)
+        .ok_or_else(|| Error::Invalid("the flight has no next event (zero velocity)".into()))?;
+    let end = elapsed.clone() + &ev.time;
+    if end > *total {
+        let rest = total.clone() - elapsed;
+        s.flight.pos = s.flight.pos.along(&rest, &s.flight.vel);
+        return Ok(None);
+    }
+    lat.apply(s, &ev);
+    Ok(Some((ev.kind, end)))
+}
+
+/// The same on arcs in the field `b`: the event's time is the arc's angle over ω
+/// ([`arc_time`]), and the last part-flight the arc's chord after the remaining time
+/// ([`chord_at`]). With no event at all the cyclotron circle meets no disk or edge (a pinned
+/// orbit): the particle circles for the remaining time. A particle sliding along the disk it is
+/// on (the kernel's creeping limit, measure zero) has no defined continuation and is refused.
+fn next_arc(
+    lat: &Lattice<Float, impl crate::kernel::cell::CellKernel<Float>>,
+    s: &mut LatticeState<Float>,
+    b: &Float,
+    elapsed: &Float,
+    total: &Float,
+) -> Result<Option<(EventKind, Float)>, Error> {
+    let rest = total.clone() - elapsed;
+    let Some(ev) = lat.next_event_in_field(s, b) else {
+        if s.flight.excluded_disk.is_some() {
+            return Err(Error::Invalid(
+                "the particle slides along the disk it is on (a tangent start turning into the disk): choose another direction".into(),
+            ));
+        }
+        finish_arc(s, &rest, b);
+        return Ok(None);
+    };
+    let end = elapsed.clone() + &arc_time(&s.flight.vel, &ev.chord, b);
+    if end > *total {
+        finish_arc(s, &rest, b);
+        return Ok(None);
+    }
+    lat.apply_in_field(s, &ev);
+    Ok(Some((ev.kind, end)))
+}
+
+/// Moves `s` along its arc for the time `t` (no event on the way).
+fn finish_arc(s: &mut LatticeState<Float>, t: &Float, b: &Float) {
+    let x = chord_at(&s.flight.vel, t, b);
+    s.flight.pos = Vec2::new(s.flight.pos.x.clone() + &x.x, s.flight.pos.y.clone() + &x.y);
 }
 
 /// Significant digits of the `--events` coordinates and times.

@@ -334,6 +334,73 @@ const BAD: &[(&[&str], &str)] = &[
         ],
         "0 to 86400",
     ),
+    // trajectory in a field
+    (
+        &[
+            "trajectory",
+            "--scene",
+            "triangular",
+            "--w",
+            "0.1",
+            "--start",
+            "1.05,0",
+            "--direction",
+            "0,1",
+            "--time",
+            "1",
+            "--field",
+            "2000000",
+        ],
+        "|field| <= 1e6",
+    ),
+    // sweep in a field
+    (
+        &["sweep", "--w", "0.1", "--fields=0,1", "--out", "out"],
+        "1e-3 <= |field| <= 1e3",
+    ),
+    (
+        &["sweep", "--w", "0.1", "--fields=1,1", "--out", "out"],
+        "appears twice",
+    ),
+    (
+        &[
+            "sweep",
+            "--w",
+            "0.1",
+            "--fields=1",
+            "--runs",
+            "2",
+            "--out",
+            "out",
+        ],
+        "--runs is not used",
+    ),
+    (
+        &[
+            "sweep", "--w", "0.1", "--w-from", "0.1", "--w-to", "0.2", "--field", "1",
+        ],
+        "not both",
+    ),
+    (&["sweep", "--w", "0.1", "--out", "out"], "--fields"),
+    (
+        &[
+            "sweep",
+            "--w",
+            "0.1",
+            "--field",
+            "1",
+            "--fields=2",
+            "--out",
+            "out",
+        ],
+        "not both",
+    ),
+    (
+        &[
+            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--field", "1", "--shard", "0/2",
+        ],
+        "resumes by point",
+    ),
     // sweep
     (
         &["sweep", "--w-from", "0.1", "--w-to", "0.5", "--out", "out"],

@@ -144,6 +144,7 @@ fn input(start: (&str, &str), dir: (&str, &str), t: &str, digits: u32) -> Trajec
         time: parse_exact(t).unwrap(),
         digits,
         record_events: false,
+        field: None,
     }
 }
 
@@ -377,4 +378,169 @@ fn a_start_on_a_cell_boundary_gives_the_same_trajectory_from_either_side() {
             );
         }
     }
+}
+
+/// `p` turned by the angle φ about `c`.
+fn turn((px, py): (&Float, &Float), (cx, cy): (&Float, &Float), phi: &Float) -> (Float, Float) {
+    let (s, c) = (phi.clone().sin(), phi.clone().cos());
+    let (ox, oy) = (px.clone() - cx, py.clone() - cy);
+    (
+        cx.clone() + c.clone() * &ox - s.clone() * &oy,
+        cy.clone() + s * &ox + c * &oy,
+    )
+}
+
+/// The reference flow in the field `b` (≠ 0): the particle turns at the angular velocity b about
+/// its cyclotron centre C = p + Jv/b; the next collision is the earliest point, along the
+/// circle, where it meets a disk's circle moving into the disk (the textbook intersection of two
+/// circles, angles by atan2); then specular reflection. No event: it circles until T.
+fn reference_arc(
+    disks: &Disks,
+    start: (&str, &str),
+    dir: (&str, &str),
+    t: &str,
+    b: &str,
+) -> ([Float; 3], u64) {
+    let f = |s: &str| Float::with_val(REF_BITS, &parse_exact(s).unwrap());
+    let (mut px, mut py) = (f(start.0), f(start.1));
+    let (dx, dy) = (f(dir.0), f(dir.1));
+    let norm = (dx.clone() * &dx + dy.clone() * &dy).sqrt();
+    let (mut vx, mut vy) = (dx / &norm, dy / &norm);
+    let (w, r) = (f(b), disks.radius());
+    let rho = Float::with_val(REF_BITS, 1u32) / w.clone().abs();
+    let tau = Float::with_val(REF_BITS, rug::float::Constant::Pi) * 2u32;
+    let mut remaining = f(t);
+    let mut collisions = 0;
+    loop {
+        let (cx, cy) = (px.clone() - vy.clone() / &w, py.clone() + vx.clone() / &w);
+        // Disks the arc can meet before T: within the remaining path (or the circle) of p.
+        let path = if remaining < rho.clone() * 2u32 {
+            remaining.clone()
+        } else {
+            rho.clone() * 2u32
+        };
+        let mut best: Option<(Float, Float, Float, Float, Float)> = None;
+        for (_, ex, ey) in disks.near(&px, &py, &(path + &r)) {
+            let (ux, uy) = (ex.clone() - &cx, ey.clone() - &cy);
+            let d = (ux.clone() * &ux + uy.clone() * &uy).sqrt();
+            let a = (rho.clone() * &rho - r.clone() * &r + d.clone() * &d) / (d.clone() * 2u32);
+            let h2 = rho.clone() * &rho - a.clone() * &a;
+            if h2 <= 0 {
+                continue;
+            }
+            let h = h2.sqrt();
+            let (ux, uy) = (ux / &d, uy / &d);
+            for sgn in [-1i32, 1] {
+                let qx = cx.clone() + a.clone() * &ux - h.clone() * &uy * sgn;
+                let qy = cy.clone() + a.clone() * &uy + h.clone() * &ux * sgn;
+                // The angle from p to q about C in the sense of the motion, in [0, 2π).
+                let (ox, oy) = (px.clone() - &cx, py.clone() - &cy);
+                let (qx0, qy0) = (qx.clone() - &cx, qy.clone() - &cy);
+                let cross = ox.clone() * &qy0 - oy.clone() * &qx0;
+                let dot = ox * &qx0 + oy * &qy0;
+                let mut theta = cross.atan2(&dot);
+                if w < 0 {
+                    theta = -theta;
+                }
+                if theta < 0 {
+                    theta += &tau;
+                }
+                let time = theta.clone() * &rho;
+                // Moving into the disk at q: (q − e)·v(q) < 0.
+                let (wx, wy) = turn(
+                    (&vx, &vy),
+                    (&Float::new(REF_BITS), &Float::new(REF_BITS)),
+                    &(w.clone() * &time),
+                );
+                let into = (qx.clone() - &ex) * &wx + (qy.clone() - &ey) * &wy;
+                if into >= 0 || time.is_zero() {
+                    continue;
+                }
+                if best.as_ref().is_none_or(|(bt, ..)| time < *bt) {
+                    best = Some((time, qx, qy, ex.clone(), ey.clone()));
+                }
+            }
+        }
+        match best {
+            Some((time, qx, qy, ex, ey)) if time <= remaining => {
+                let phi = w.clone() * &time;
+                let zero = Float::new(REF_BITS);
+                let (ux, uy) = turn((&vx, &vy), (&zero, &zero), &phi);
+                let (nx, ny) = ((qx.clone() - &ex) / &r, (qy.clone() - &ey) / &r);
+                let k = (ux.clone() * &nx + uy.clone() * &ny) * 2u32;
+                (vx, vy) = (ux - k.clone() * &nx, uy - k * &ny);
+                (px, py) = (qx, qy);
+                remaining -= &time;
+                collisions += 1;
+            }
+            _ => {
+                let (x, y) = turn((&px, &py), (&cx, &cy), &(w.clone() * &remaining));
+                let d = (x.clone() * &x + y.clone() * &y).sqrt();
+                return ([x, y, d], collisions);
+            }
+        }
+    }
+}
+
+#[test]
+fn trajectories_in_a_field_agree_with_the_circle_intersection_reference() {
+    type Case<'a> = (
+        &'a str,
+        &'a str,
+        (&'a str, &'a str),
+        (&'a str, &'a str),
+        &'a str,
+        &'a str,
+    );
+    let cases: [Case; 7] = [
+        ("triangular", "1/10", ("1.05", "0"), ("0", "1"), "10", "1"),
+        (
+            "triangular",
+            "0.3",
+            ("1.05", "0.6"),
+            ("1", "1/3"),
+            "12",
+            "-1/2",
+        ),
+        ("triangular", "0.2", ("1.1", "0.4"), ("-2", "1"), "6", "7/2"),
+        (
+            "triangular",
+            "0.1",
+            ("1.05", "0.6"),
+            ("1", "0"),
+            "8",
+            "1/1000",
+        ),
+        // A pinned orbit across the gap: radius 1/10 about the gap's middle, no collision.
+        ("triangular", "0.3", ("1.15", "-0.1"), ("1", "0"), "3", "10"),
+        ("square", "1/4", ("1/2", "1/3"), ("3", "4"), "9", "2/3"),
+        ("square", "0.2", ("0.3", "-0.45"), ("-1", "2"), "7", "-3"),
+    ];
+    let mut collided = Vec::new();
+    for (scene, p, start, dir, t, b) in cases {
+        let mut inp = input(start, dir, t, 30);
+        inp.field = Some(parse_exact(b).unwrap());
+        let (r, disks) = if scene == "square" {
+            let s = SquareScene::exact(parse_exact(p).unwrap()).unwrap();
+            (trajectory(&s, &inp, false).unwrap(), Disks::square(p))
+        } else {
+            let s = TriangularScene::exact(parse_exact(p).unwrap()).unwrap();
+            (trajectory(&s, &inp, false).unwrap(), Disks::triangular(p))
+        };
+        let what = format!("{scene} {p}, start {start:?}, direction {dir:?}, T = {t}, B = {b}");
+        let reference = reference_arc(&disks, start, dir, t, b);
+        check(&r, &reference, &what);
+        collided.push(reference.1);
+        assert_eq!(
+            r.field.as_deref(),
+            Some(parse_exact(b).unwrap().to_string().as_str())
+        );
+    }
+    // Collisions in every case but the pinned orbit: the reflections are compared too.
+    assert_eq!(
+        collided.iter().filter(|&&n| n == 0).count(),
+        1,
+        "{collided:?}"
+    );
+    assert!(collided.iter().sum::<u64>() >= 20, "{collided:?}");
 }

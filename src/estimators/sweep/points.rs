@@ -108,23 +108,7 @@ const MAX_POINT_BYTES: u64 = 16 << 20;
 /// # Errors
 /// As above, or an I/O error naming the path.
 pub fn read_point(path: &Path) -> Result<SweepPoint, Error> {
-    let file = crate::files::open(path)?;
-    let len = file
-        .metadata()
-        .map_err(|e| crate::engine::resume::io_error("read", path, e))?
-        .len();
-    if len > MAX_POINT_BYTES {
-        return Err(Error::Invalid(format!(
-            "{}: {len} bytes is too large for a sweep point (at most {MAX_POINT_BYTES})",
-            path.display()
-        )));
-    }
-    let mut text = String::new();
-    std::io::Read::read_to_string(
-        &mut std::io::Read::take(file, MAX_POINT_BYTES + 1),
-        &mut text,
-    )
-    .map_err(|e| crate::engine::resume::io_error("read", path, e))?;
+    let text = crate::files::read_to_string_limited(path, MAX_POINT_BYTES)?;
     let p: SweepPoint = unseal(path, &text, "sweep point")?;
     let named = path.file_name().and_then(|n| n.to_str()).and_then(|n| {
         n.strip_prefix("point-")?

@@ -6,6 +6,7 @@ use std::sync::Once;
 
 use plotters::prelude::*;
 
+pub mod field_sweep;
 pub mod paper;
 pub mod sweep;
 

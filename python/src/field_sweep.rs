@@ -1,0 +1,67 @@
+//! `sweep(w=..., fields=[...])` and `sweep(w_from=..., w_to=..., field=...)`: the diffusion tensor
+//! over a grid of gaps and fields (`estimators::field::sweep`).
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+
+use lorentz_gas::engine::Engine;
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig, grid_of};
+
+use crate::inputs::{self, count_u32, count_u64};
+use crate::watch::{compute, json};
+
+#[pyfunction]
+#[pyo3(name = "field_sweep", signature = (w, w_from, w_to, steps, field, fields, collisions_per_run, batches_per_run, seed, threads, localization_samples, out, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_field_sweep(
+    py: Python<'_>,
+    w: Option<&str>,
+    w_from: Option<&str>,
+    w_to: Option<&str>,
+    steps: &str,
+    field: Option<&str>,
+    fields: Vec<String>,
+    collisions_per_run: &str,
+    batches_per_run: &str,
+    seed: &str,
+    threads: Option<&str>,
+    localization_samples: &str,
+    out: Option<PathBuf>,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let steps = count_u32("steps", steps)?;
+    let (gaps, fields) =
+        grid_of(w, (w_from, w_to, steps), field, &fields).map_err(crate::py_err)?;
+    let cfg = FieldSweepConfig {
+        gaps,
+        fields,
+        collisions: count_u64("collisions_per_run", collisions_per_run)?,
+        batches: count_u32("batches_per_run", batches_per_run)?,
+        seed: count_u64("seed", seed)?,
+        localization_samples: count_u64("localization_samples", localization_samples)?,
+    };
+    cfg.validate().map_err(crate::py_err)?;
+    let threads = inputs::threads(threads)?;
+    let r = compute(py, progress, |ctl| {
+        let opts = RunOptions {
+            engine: Engine::Auto,
+            threads,
+            progress: ctl.progress,
+            stop: Some(ctl.stop.clone()),
+            resume: out.clone(),
+            ..RunOptions::default()
+        };
+        let r = sweep::run(&cfg, &opts)?;
+        if let Some(dir) = &out {
+            sweep::write_tables(&r, dir)?;
+        }
+        Ok(r)
+    })?;
+    json(&r)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(py_field_sweep, m)?)
+}

@@ -1,0 +1,107 @@
+//! The sweep in a field (`estimators::field::sweep`): every point is the transport run of its own
+//! configuration bit for bit, an interrupted sweep resumes to the same bits at another thread
+//! count, an edited point file is refused, and Onsager–Casimir holds over ±B.
+
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig, point_path};
+use lorentz_gas::estimators::field::{self};
+
+use crate::common::{scratch, threads};
+
+fn config() -> FieldSweepConfig {
+    FieldSweepConfig {
+        gaps: vec!["0.1".into()],
+        fields: vec!["-1".into(), "1".into(), "5/2".into()],
+        collisions: 1_000_000,
+        batches: 8,
+        seed: 5,
+        localization_samples: 20_000,
+    }
+}
+
+#[test]
+fn a_field_sweep_is_its_points_runs_and_resumes_to_the_same_bits() {
+    let cfg = config();
+    let tmp = scratch();
+    let dir = tmp.path().join("sweep");
+    let with_dir = |t: usize| RunOptions {
+        resume: Some(dir.clone()),
+        ..threads(t)
+    };
+    let full = sweep::run(&cfg, &with_dir(2)).unwrap();
+    assert_eq!(full.resumed_points, 0);
+    for (i, (g, f)) in cfg.grid().into_iter().enumerate() {
+        let alone = field::run(&cfg.point_config(i, g, f).unwrap(), &threads(1)).unwrap();
+        let row = &full.rows[i];
+        assert_eq!(
+            (
+                row.D_xx.to_bits(),
+                row.D_xy.to_bits(),
+                row.D_xx_err.to_bits()
+            ),
+            (
+                alone.D_xx.to_bits(),
+                alone.D_xy.to_bits(),
+                alone.D_xx_err.to_bits()
+            ),
+            "point {i}"
+        );
+        assert_eq!(row.localized_fraction, alone.localized_fraction);
+    }
+    // Distinct streams per point: ±B are independent runs, not one run mirrored.
+    assert_ne!(full.rows[0].D_xx, full.rows[1].D_xx);
+    // A point lost (killed mid-sweep) is recomputed, the others reused, on one thread.
+    std::fs::remove_file(point_path(&dir, 1)).unwrap();
+    let resumed = sweep::run(&cfg, &with_dir(1)).unwrap();
+    assert_eq!(resumed.resumed_points, 2);
+    assert_eq!(resumed.rows, full.rows);
+    // An edited point is refused, naming its file.
+    let p = point_path(&dir, 2);
+    let text = std::fs::read_to_string(&p).unwrap();
+    std::fs::write(&p, text.replacen("\"D_xx\": 0.", "\"D_xx\": 1.", 1)).unwrap();
+    let err = sweep::run(&cfg, &with_dir(1)).unwrap_err().to_string();
+    assert!(
+        err.contains("point-0002.json") && err.contains("digest"),
+        "{err}"
+    );
+    // A directory of another sweep is refused.
+    std::fs::write(&p, text).unwrap();
+    let other = FieldSweepConfig {
+        seed: 6,
+        ..cfg.clone()
+    };
+    let err = sweep::run(&other, &with_dir(1)).unwrap_err().to_string();
+    assert!(
+        err.contains("another sweep") && err.contains("seed"),
+        "{err}"
+    );
+}
+
+#[test]
+fn the_sweep_checks_onsager_casimir_over_plus_and_minus_b() {
+    let cfg = FieldSweepConfig {
+        gaps: vec!["0.1".into(), "0.3".into()],
+        fields: vec!["-1".into(), "1".into(), "1/2".into()],
+        collisions: 4_000_000,
+        batches: 16,
+        ..config()
+    };
+    let r = sweep::run(&cfg, &threads(2)).unwrap();
+    // One check per gap with ±1; 1/2 has no partner.
+    assert_eq!(r.onsager.len(), 2);
+    assert!(r.onsager_agrees, "{:#?}", r.onsager);
+    for o in &r.onsager {
+        assert_eq!(o.field, 1.0);
+        // The check has power: a sum that forgot the sign of B, D_xy(B) − D_xy(−B) ≈ 2D_xy,
+        // would be far outside the bound.
+        let row = r
+            .rows
+            .iter()
+            .find(|x| x.w == o.w && x.field == 1.0)
+            .unwrap();
+        assert!(
+            2.0 * row.D_xy.abs() > 3.0 * o.d_xy_odd.bound * o.d_xy_odd.err,
+            "{row:?}"
+        );
+    }
+}
