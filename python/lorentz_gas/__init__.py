@@ -681,10 +681,11 @@ def lyapunov(
     radius: Optional[Exact] = None,
     collisions_per_batch: Count = 2e6,
     batches: Count = 16,
-    starts: Count = 8,
+    starts: Optional[Count] = None,
     seed: Count = 1,
     threads: Optional[Count] = None,
     progress: Progress = False,
+    field: Optional[Exact] = None,
 ) -> LyapunovResult:
     """The largest Lyapunov exponent (``lorentz lyapunov``).
 
@@ -698,16 +699,26 @@ def lyapunov(
         Independent orbits, at least 2; the error bar is over them.
     starts : int
         Initial conditions of the divergence measurement from a 4096-bit reference: 0 (none) or
-        2 to 10000 (about a second each).
+        2 to 10000 (about a second each); default 8, none in a field.
     seed, threads, progress
         As in :func:`diffusion`.
+    field : exact number, optional
+        A magnetic field B (1/time; 1e-3 <= |B| <= 1e3, triangular scene): the tangent dynamics
+        of arcs on orbits started in the diffusing part of phase space; 0 or None: no field.
 
     Returns
     -------
     LyapunovResult
         ``tangent`` (``per_collision`` and ``per_time`` with errors: 1/collision, 1/time) and
-        ``divergence`` (one row per horizon).
+        ``divergence`` (one row per horizon); in a field ``field``, ``cyclotron_radius``,
+        ``localized_fraction_exact`` and ``rejected_starts`` instead of ``divergence``.
     """
+    if starts is None:
+        try:
+            no_field = field is None or fractions.Fraction(_exact("field", field)) == 0
+        except ValueError:
+            no_field = False  # not a number: the native call names the field's valid range
+        starts = 8 if no_field else 0
     with _Bar(progress, 0, "coll") as cb:
         text = _native.lyapunov(
             scene,
@@ -718,6 +729,7 @@ def lyapunov(
             _count("starts", starts),
             _count("seed", seed),
             _threads(threads),
+            _optional_exact("field", field),
             cb,
         )
     return LyapunovResult(text)

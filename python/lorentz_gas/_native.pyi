@@ -54,7 +54,8 @@ def escape(
 ) -> str: ...
 def lyapunov(
     scene: str, w: Optional[str], radius: Optional[str], collisions_per_batch: str,
-    batches: str, starts: str, seed: str, threads: Optional[str], progress: Progress,
+    batches: str, starts: str, seed: str, threads: Optional[str], field: Optional[str],
+    progress: Progress,
 ) -> str: ...
 def superdiffusion(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,

@@ -391,7 +391,7 @@ fn py_escape(
 const MAX_STARTS: u32 = 10_000;
 
 #[pyfunction]
-#[pyo3(name = "lyapunov", signature = (scene, w, radius, collisions_per_batch, batches, starts, seed, threads, progress))]
+#[pyo3(name = "lyapunov", signature = (scene, w, radius, collisions_per_batch, batches, starts, seed, threads, field, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_lyapunov(
     py: Python<'_>,
@@ -403,8 +403,18 @@ fn py_lyapunov(
     starts: &str,
     seed: &str,
     threads: Option<&str>,
+    field: Option<&str>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
+    if let Some(b) = field.filter(|b| parse_exact(b).is_ok_and(|q| q != 0)) {
+        return crate::field::lyapunov_in_field(
+            py,
+            (scene, w, radius),
+            (collisions_per_batch, batches, starts, seed, threads),
+            b,
+            progress,
+        );
+    }
     let starts = count_u32("starts", starts)?;
     if starts == 1 || starts > MAX_STARTS {
         return Err(PyValueError::new_err(format!(

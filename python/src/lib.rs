@@ -7,7 +7,7 @@
 
 mod analyses;
 mod events;
-mod field_sweep;
+mod field;
 mod inputs;
 mod scenes;
 mod watch;
@@ -60,6 +60,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     analyses::register(m)?;
     events::register(m)?;
-    field_sweep::register(m)?;
+    field::register(m)?;
     Ok(())
 }

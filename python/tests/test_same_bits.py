@@ -100,6 +100,21 @@ def test_a_sweep_in_a_field_has_the_command_lines_bits(cli_json, tmp_path):
         lg.sweep(w="0.1", fields=[0, 1])
 
 
+def test_lyapunov_and_trajectory_in_a_field_have_the_command_lines_bits(cli_json):
+    py = lg.lyapunov(w="0.1", field="1/2", collisions_per_batch=2e4, batches=4, seed=3)
+    cl = cli_json("lyapunov", "--scene", "triangular", "--w", "0.1", "--field", "1/2",
+                  "--collisions-per-batch", "2e4", "--batches", "4", "--seed", "3")
+    same(py.to_dict(), cl)
+    assert py.field == 0.5 and "per collision" in repr(py)
+    with pytest.raises(ValueError, match="not measured in a field"):
+        lg.lyapunov(w="0.1", field=1, starts=4)
+    py = lg.trajectory(start=("1.05", "0"), direction=(0, 1), time=10, w="0.1", field=1, digits=30)
+    cl = cli_json("trajectory", "--scene", "triangular", "--w", "0.1", "--start", "1.05,0",
+                  "--direction", "0,1", "--time", "10", "--field", "1", "--digits", "30")
+    same(py.to_dict(), cl)
+    assert py.x.startswith("-1.0118118113794999046328468617925") and py.field == "1"
+
+
 def test_trajectory_has_the_command_lines_digits(cli_json):
     py = lg.trajectory(start=("21/20", "3/5"), direction=(1, "1/3"), time=10, w="0.1", digits=25)
     cl = cli_json("trajectory", "--scene", "triangular", "--w", "0.1", "--start", "21/20,3/5",

@@ -3,6 +3,8 @@
 use serde::Serialize;
 
 use lorentz_gas::Error;
+use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
+use lorentz_gas::scenes::spec::SceneChoice;
 use lorentz_gas::statistics::{comparison, welch_dof};
 use lorentz_gas::verification::divergence::{
     self, DIVERGENCE_REFERENCE_BITS, Divergence, DivergenceConfig,
@@ -26,9 +28,13 @@ pub struct Args {
     #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
     /// Initial conditions of the divergence measurement (0 to skip it); its error bars are over
-    /// them.
-    #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
-    starts: u32,
+    /// them [default: 8; not in a field]
+    #[arg(long, value_parser = parse_count_u32, allow_negative_numbers = true)]
+    starts: Option<u32>,
+    /// A magnetic field B (exact, 1e-3 <= |B| <= 1e3; triangular scene): the tangent dynamics of
+    /// arcs, on orbits started in the diffusing part of phase space; 0 is the run without a field.
+    #[arg(long, allow_negative_numbers = true)]
+    field: Option<String>,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -41,15 +47,70 @@ struct Report {
     divergence: Vec<Divergence>,
 }
 
+/// Divergence starts by default.
+const DEFAULT_STARTS: u32 = 8;
+
+/// `true` for a field that is exactly zero (the run without a field).
+fn is_zero(b: &str) -> bool {
+    lorentz_gas::numbers::exact::parse_exact(b).is_ok_and(|q| q == 0)
+}
+
+/// `lorentz lyapunov --field B`: the tangent-space exponent on arcs.
+fn in_field(a: &Args, b: &str) -> Result<(), Error> {
+    if a.starts.is_some_and(|s| s > 0) {
+        return Err(Error::Invalid(
+            "--starts (the divergence of finite-precision orbits) is not measured in a field: leave it out or give 0".into(),
+        ));
+    }
+    let SceneChoice::Triangular(scene) = a.scene.resolve()? else {
+        return Err(Error::Invalid(
+            "--field runs on the triangular scene (--scene triangular --w W)".into(),
+        ));
+    };
+    let cfg = FieldLyapunovConfig {
+        collisions_per_batch: a.collisions_per_batch,
+        batches: a.batches,
+        seed: a.run.seed(),
+        field: b.trim().to_string(),
+    };
+    let total =
+        (a.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.batches as u64);
+    let pb = Progress::new(total, "collisions", a.output.quiet);
+    let opts = pb.options(a.run.threads());
+    let r = field_lyapunov::run(&scene, &cfg, &opts)?;
+    drop(opts);
+    drop(pb);
+    emit(a.output.json, &r, |r| {
+        let l = &r.tangent;
+        println!(
+            "{} (cyclotron radius {:.6}): largest Lyapunov exponent (tangent space of arcs, {} batches x {} collisions, diffusing starts; {:.6} of phase space is pinned or skipping, with exponent 0)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time{}",
+            l.scene,
+            r.cyclotron_radius,
+            l.batches,
+            l.collisions_per_batch,
+            r.localized_fraction_exact,
+            l.per_collision,
+            l.per_collision_err,
+            l.per_time,
+            l.per_time_err,
+            comparison::few_samples_note(l.batches as usize, "batches")
+        );
+    })
+}
+
 /// Most divergence starts: each costs about a second of MPFR work at 4096 bits.
 const MAX_STARTS: u32 = 10_000;
 
 pub fn run(a: Args) -> Result<(), Error> {
-    if a.starts == 1 || a.starts > MAX_STARTS {
+    if let Some(b) = a.field.as_deref().filter(|b| !is_zero(b)) {
+        return in_field(&a, b);
+    }
+    let starts = a.starts.unwrap_or(DEFAULT_STARTS);
+    if starts == 1 || starts > MAX_STARTS {
         return Err(Error::Invalid(format!(
             "starts = {}: use 0 (no divergence measurement) or 2 to {MAX_STARTS} (the error bars \
              are over the starts, reliable from 4; each costs about a second)",
-            a.starts
+            starts
         )));
     }
     let choice = a.scene.resolve()?;
@@ -65,10 +126,10 @@ pub fn run(a: Args) -> Result<(), Error> {
     let tangent = with_scene!(&choice, |s| lyapunov::run(s, &cfg, &opts))?;
     drop(opts);
     drop(pb);
-    let divergence = if a.starts > 0 {
-        let pb = Progress::new(a.starts as u64, "initial conditions", a.output.quiet);
+    let divergence = if starts > 0 {
+        let pb = Progress::new(starts as u64, "initial conditions", a.output.quiet);
         let cfg = DivergenceConfig {
-            starts: a.starts,
+            starts,
             seed: a.run.seed(),
             ..DivergenceConfig::new()
         };
@@ -102,8 +163,8 @@ pub fn run(a: Args) -> Result<(), Error> {
             if !r.divergence.is_empty() {
                 println!(
                     "divergence from a {DIVERGENCE_REFERENCE_BITS}-bit reference ({} initial conditions){}:",
-                    a.starts,
-                    comparison::few_samples_note(a.starts as usize, "starts")
+                    starts,
+                    comparison::few_samples_note(starts as usize, "starts")
                 );
                 println!(
                     "precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time   growth per collision against λ (independent runs, Welch dof)"
@@ -111,7 +172,7 @@ pub fn run(a: Args) -> Result<(), Error> {
                 for x in &r.divergence {
                     let dof = welch_dof(
                         x.rate_per_collision_err,
-                        a.starts as f64,
+                        starts as f64,
                         l.per_collision_err,
                         l.batches as f64,
                     );

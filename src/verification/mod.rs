@@ -11,6 +11,7 @@
 //! * `oracle` (feature `oracle`): the fuzzing oracle (also run by `cargo test`).
 
 pub mod arc_audit;
+pub mod arc_tangent;
 pub mod birkhoff;
 pub mod certify;
 pub mod divergence;

@@ -204,3 +204,45 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
     };
     assert_eq!(throughput::run(&zero, &threads(1)).unwrap().field, None);
 }
+
+/// The Lyapunov exponent in a field (`estimators::field::lyapunov`): even in B (the mirror
+/// y → −y maps the lattice to itself and B to −B), joining the exponent without a field as
+/// B → 0, and lower than it at B = 1 (cyclotron radius of the order of the lattice: focusing
+/// arcs), each by the Welch 4σ bound of independent orbits.
+#[test]
+fn the_lyapunov_exponent_is_even_in_b_and_joins_the_zero_field_one() {
+    use lorentz_gas::estimators::field::lyapunov::{self as fl, FieldLyapunovConfig};
+    use lorentz_gas::scenes::triangular::TriangularScene;
+    use lorentz_gas::verification::lyapunov::{self, LyapunovConfig};
+    const ORBITS: u32 = 8;
+    let scene = TriangularScene::new(0.1).unwrap();
+    let cfg = |b: &str, seed: u64| FieldLyapunovConfig {
+        collisions_per_batch: 200_000,
+        batches: ORBITS,
+        seed,
+        field: b.into(),
+    };
+    let run = |b: &str, seed: u64| fl::run(&scene, &cfg(b, seed), &threads(2)).unwrap().tangent;
+    let zero = lyapunov::run(
+        &scene,
+        &LyapunovConfig {
+            collisions_per_batch: 200_000,
+            batches: ORBITS,
+            seed: 3,
+        },
+        &threads(2),
+    )
+    .unwrap();
+    let agree = |a: &lorentz_gas::verification::lyapunov::LyapunovReport,
+                 b: &lorentz_gas::verification::lyapunov::LyapunovReport| {
+        let (ea, eb) = (a.per_collision_err, b.per_collision_err);
+        (a.per_collision - b.per_collision).abs() <= t4_welch(ea, ORBITS, eb, ORBITS) * ea.hypot(eb)
+    };
+    let weak = run("1/1000", 5);
+    assert!(agree(&weak, &zero), "{weak:?} vs {zero:?}");
+    let (plus, minus) = (run("1", 5), run("-1", 6));
+    assert!(agree(&plus, &minus), "{plus:?} vs {minus:?}");
+    // The field changes the exponent: B = 1 is not B = 0 (far outside the bound).
+    assert!(!agree(&plus, &zero), "{plus:?} vs {zero:?}");
+    assert!(plus.per_collision < zero.per_collision);
+}

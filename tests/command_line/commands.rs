@@ -334,6 +334,39 @@ const BAD: &[(&[&str], &str)] = &[
         ],
         "0 to 86400",
     ),
+    // lyapunov in a field
+    (
+        &[
+            "lyapunov", "--scene", "square", "--radius", "0.25", "--field", "1",
+        ],
+        "triangular scene",
+    ),
+    (
+        &[
+            "lyapunov",
+            "--scene",
+            "triangular",
+            "--w",
+            "0.1",
+            "--field",
+            "1",
+            "--starts",
+            "4",
+        ],
+        "not measured in a field",
+    ),
+    (
+        &[
+            "lyapunov",
+            "--scene",
+            "triangular",
+            "--w",
+            "0.1",
+            "--field",
+            "5000",
+        ],
+        "1e-3 <= |field| <= 1e3",
+    ),
     // trajectory in a field
     (
         &[

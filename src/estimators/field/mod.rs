@@ -39,6 +39,7 @@ use crate::scenes::triangular::geometry::Geometry;
 use crate::statistics::{linear_fit, mean_se};
 use crate::theory::magnetic::FieldGeometry;
 
+pub mod lyapunov;
 pub mod sweep;
 mod track;
 mod walk;

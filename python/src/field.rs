@@ -1,5 +1,6 @@
-//! `sweep(w=..., fields=[...])` and `sweep(w_from=..., w_to=..., field=...)`: the diffusion tensor
-//! over a grid of gaps and fields (`estimators::field::sweep`).
+//! Analyses in a magnetic field beside `diffusion(field=)`: `sweep(w=..., fields=[...])` and
+//! `sweep(w_from=..., w_to=..., field=...)` (the tensor over gaps and fields,
+//! `estimators::field::sweep`), and `lyapunov(field=)` (`estimators::field::lyapunov`).
 
 use std::path::PathBuf;
 
@@ -9,7 +10,12 @@ use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig, grid_of};
 
+use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
+use lorentz_gas::scenes::spec::SceneChoice;
+use pyo3::exceptions::PyValueError;
+
 use crate::inputs::{self, count_u32, count_u64};
+use crate::scenes::resolve;
 use crate::watch::{compute, json};
 
 #[pyfunction]
@@ -58,6 +64,46 @@ fn py_field_sweep(
             sweep::write_tables(&r, dir)?;
         }
         Ok(r)
+    })?;
+    json(&r)
+}
+
+/// `lyapunov(field=B)`: the tangent-space exponent on arcs (the command line's `--field`).
+pub fn lyapunov_in_field(
+    py: Python<'_>,
+    (scene, w, radius): (&str, Option<&str>, Option<&str>),
+    (collisions_per_batch, batches, starts, seed, threads): (&str, &str, &str, &str, Option<&str>),
+    field: &str,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    if count_u32("starts", starts)? > 0 {
+        return Err(PyValueError::new_err(
+            "starts (the divergence of finite-precision orbits) is not measured in a field: give starts=0",
+        ));
+    }
+    let SceneChoice::Triangular(s) = resolve(scene, w, radius)? else {
+        return Err(PyValueError::new_err(
+            "field runs on the triangular scene (give w)",
+        ));
+    };
+    let cfg = FieldLyapunovConfig {
+        collisions_per_batch: count_u64("collisions_per_batch", collisions_per_batch)?,
+        batches: count_u32("batches", batches)?,
+        seed: count_u64("seed", seed)?,
+        field: field.trim().to_string(),
+    };
+    let threads = inputs::threads(threads)?;
+    let r = compute(py, progress, |ctl| {
+        field_lyapunov::run(
+            &s,
+            &cfg,
+            &RunOptions {
+                threads,
+                progress: ctl.progress,
+                stop: Some(ctl.stop.clone()),
+                ..RunOptions::default()
+            },
+        )
     })?;
     json(&r)
 }
