@@ -113,8 +113,13 @@ pub fn config(a: &Args) -> Result<lorentz_gas::estimators::sweep::SweepConfig, E
     a.grid.config(a.run.seed())
 }
 
+/// A sweep in a field (`--field` or `--fields` given).
+pub fn in_field(a: &Args) -> bool {
+    a.in_field.field.is_some() || !a.in_field.fields.is_empty()
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
-    if a.in_field.field.is_some() || !a.in_field.fields.is_empty() {
+    if in_field(&a) {
         return super::field_sweep::run(&a);
     }
     if a.in_field.w.is_some() {

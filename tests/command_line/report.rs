@@ -612,3 +612,62 @@ fn a_field_result_is_audited_against_its_exact_geometry() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_field_sweep_is_audited_row_by_row_and_its_onsager_checks_recomputed() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
+    let args = [
+        "sweep",
+        "--w",
+        "0.1",
+        "--fields=-1,1,5/2",
+        "--collisions-per-run",
+        "4e5",
+        "--batches-per-run",
+        "8",
+        "--localization-samples",
+        "1e4",
+        "--out",
+        "fs",
+        "--quiet",
+    ];
+    let (code, out, err) = lorentz(&dir, &args);
+    assert_eq!(code, 0, "{out}{err}");
+    let (code, out, err) = lorentz(&dir, &["report", "fs/field-sweep.json", "--quiet"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let c = checks(&dir, "fs/field-sweep-report");
+    assert!(c.iter().all(|x| x.0 == "PASS"), "{c:?}");
+    for name in [
+        "recorded command line gives",
+        "the record agrees",
+        "Onsager-Casimir at w = 0.1, |B| = 1: D_xy(B) + D_xy(-B) = 0",
+        "every sampled localized share",
+        "every mean free time",
+        "the recorded configuration re-run",
+    ] {
+        assert!(c.iter().any(|x| x.2.starts_with(name)), "{name}: {c:?}");
+    }
+    // A Hall part made even in B (the sign of D_xy at B = -1 flipped) fails the recomputed
+    // Onsager-Casimir check and the record (the file's own checks no longer match its rows).
+    let json = std::fs::read_to_string(dir.join("fs/field-sweep.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let d = v["rows"][0]["D_xy"].as_f64().unwrap();
+    assert!(d < 0.0);
+    let edited = json.replacen(&format!("\"D_xy\": {d}"), &format!("\"D_xy\": {}", -d), 1);
+    assert_ne!(edited, json);
+    std::fs::write(dir.join("edited.json"), &edited).unwrap();
+    let (code, _, _) = lorentz(&dir, &["report", "edited.json", "--quick", "--quiet"]);
+    assert_eq!(code, 1);
+    let c = checks(&dir, "edited-report");
+    assert!(
+        c.iter()
+            .any(|x| x.0 == "FAIL" && x.2.starts_with("Onsager-Casimir at w = 0.1, |B| = 1: D_xy")),
+        "{c:?}"
+    );
+    assert!(
+        c.iter()
+            .any(|x| x.0 == "FAIL" && x.2.starts_with("the record agrees")),
+        "{c:?}"
+    );
+}

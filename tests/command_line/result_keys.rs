@@ -124,6 +124,16 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
                 "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1e6 --batches-per-run 4 --shard 0/2 --out part",
             ),
         ),
+        (
+            "sweep --fields",
+            run(
+                "sweep --w 0.1 --fields=-1,1 --collisions-per-run 4e5 --batches-per-run 4 --localization-samples 1000 --out fsw",
+            ),
+        ),
+        (
+            "lyapunov --field",
+            run("lyapunov --w 0.1 --field 1 --collisions-per-batch 2e4 --batches 2"),
+        ),
         ("audit", run("audit --w 0.1 --collisions 2e3 --batches 2")),
         (
             "audit --field",

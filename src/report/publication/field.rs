@@ -26,14 +26,19 @@ pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<FieldReport, Error
 
 /// The exact geometry of the recorded configuration.
 fn geometry(r: &FieldReport) -> Result<FieldGeometry, Error> {
-    let d = &r.config.diffusion;
+    geometry_of(&r.config)
+}
+
+/// The exact geometry of a field run's configuration.
+pub(super) fn geometry_of(cfg: &field::FieldConfig) -> Result<FieldGeometry, Error> {
+    let d = &cfg.diffusion;
     let scene = match &d.w_exact {
         Some(text) => TriangularScene::exact(parse_exact(text)?)?,
         None => TriangularScene::new(d.w)?,
     };
     let disks = crate::scenes::Scene::disk_lattice(&scene)
         .ok_or_else(|| Error::Invalid("the field audit needs the triangular lattice".into()))?;
-    FieldGeometry::new(disks, r.config.field_value()?)
+    FieldGeometry::new(disks, cfg.field_value()?)
 }
 
 /// The checks: the record, the localized share, Kac, the symmetries, the batches, the re-run.

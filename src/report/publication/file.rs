@@ -41,12 +41,14 @@ pub enum Kind {
     Escape,
     /// `lorentz diffusion --field B --json`.
     Field,
+    /// `lorentz sweep --fields …` or `--field B` (`field-sweep.json`, `--json`).
+    FieldSweep,
 }
 
 impl Kind {
     /// Every kind, each with the keys that identify it (all present; `bench --report` has `rows`
     /// too, but no `linear_fit`).
-    pub const ALL: [(Kind, &'static [&'static str]); 8] = [
+    pub const ALL: [(Kind, &'static [&'static str]); 9] = [
         (Kind::Diffusion, &["batch_D"]),
         (Kind::Sweep, &["rows", "linear_fit"]),
         (Kind::Hops, &["pairs"]),
@@ -55,6 +57,7 @@ impl Kind {
         (Kind::Backscatter, &["mean_visit_time"]),
         (Kind::Escape, &["D_escape"]),
         (Kind::Field, &["batch_D_xx", "localized_fraction_exact"]),
+        (Kind::FieldSweep, &["rows", "onsager"]),
     ];
 
     /// The command that writes it.
@@ -68,6 +71,7 @@ impl Kind {
             Kind::Backscatter => "backscatter",
             Kind::Escape => "escape",
             Kind::Field => "diffusion",
+            Kind::FieldSweep => "sweep",
         }
     }
 

@@ -60,6 +60,7 @@ pub mod command_line;
 mod diffusion;
 mod escape;
 mod field;
+mod field_sweep;
 pub mod file;
 mod hops;
 mod provenance;
@@ -247,6 +248,7 @@ enum Audited {
     Backscatter(Box<crate::estimators::hops::backscatter::BackscatterReport>),
     Escape(Box<crate::estimators::escape::EscapeReport>),
     Field(Box<crate::estimators::field::FieldReport>),
+    FieldSweep(Box<crate::estimators::field::sweep::FieldSweepReport>),
 }
 
 impl Audited {
@@ -263,6 +265,7 @@ impl Audited {
             Kind::Backscatter => Audited::Backscatter(Box::new(backscatter::parse(&file, path)?)),
             Kind::Escape => Audited::Escape(Box::new(escape::parse(&file, path)?)),
             Kind::Field => Audited::Field(Box::new(field::parse(&file, path)?)),
+            Kind::FieldSweep => Audited::FieldSweep(Box::new(field_sweep::parse(&file, path)?)),
         };
         Ok((file, a))
     }
@@ -276,6 +279,7 @@ impl Audited {
             Audited::Backscatter(r) => Ok(vec![backscatter::collisions(&r.config)?]),
             Audited::Escape(r) => Ok(vec![escape::collisions(&r.config)?]),
             Audited::Field(r) => Ok(vec![r.config.diffusion.collisions]),
+            Audited::FieldSweep(r) => Ok(vec![field_sweep::collisions(r)]),
         }
     }
 
@@ -287,6 +291,7 @@ impl Audited {
             Audited::Backscatter(r) => &r.meta,
             Audited::Escape(r) => &r.meta,
             Audited::Field(r) => &r.meta,
+            Audited::FieldSweep(r) => &r.meta,
         }
     }
 }
@@ -386,6 +391,7 @@ pub fn run_with(
         Audited::Backscatter(r) => backscatter::checks(r, &ctx, &mut checks)?,
         Audited::Escape(r) => escape::checks(r, &ctx, &mut checks)?,
         Audited::Field(r) => field::checks(r, &ctx, &mut checks)?,
+        Audited::FieldSweep(r) => field_sweep::checks(r, &ctx, &mut checks)?,
     }
     let verdict = overall(&checks.0);
     let report = PublicationReport {

@@ -110,7 +110,8 @@ recorded!(
     crate::estimators::hops::lattice_walks::LatticeWalkReport,
     crate::estimators::hops::backscatter::BackscatterReport,
     crate::estimators::escape::EscapeReport,
-    crate::estimators::field::FieldReport
+    crate::estimators::field::FieldReport,
+    crate::estimators::field::sweep::FieldSweepReport
 );
 
 /// The re-run check of the result `recorded`, whose re-run reports progress in `units` units:
