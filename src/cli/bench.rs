@@ -54,6 +54,10 @@ pub struct Args {
     /// default.
     #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs"])]
     field: Option<String>,
+    /// With --field: time straight flights too, each repetition right after the arcs' on the same
+    /// threads and engine, and report the arcs' speed against them (side by side in one run).
+    #[arg(long, requires = "field")]
+    straight_beside: bool,
     /// Output directory of --report (speed-vs-error.{md,json,png,svg}).
     #[arg(long, default_value = "results")]
     out: PathBuf,
@@ -118,6 +122,7 @@ pub fn run(a: Args) -> Result<(), Error> {
                 ))
             })
             .transpose()?,
+        straight_beside: a.straight_beside,
     };
     timed(
         &a,
@@ -184,6 +189,19 @@ fn print(r: &Throughput) {
             b.unit.divisions,
             b.ns_per_collision,
             100.0 * b.fraction
+        );
+    }
+    if let Some(s) = &r.straight {
+        println!(
+            "straight flights beside (same run, alternating): median {:.3e} collisions/s per thread (runs: {}); arcs / straight = {:.3} (median of the paired ratios {:.3})",
+            s.collisions_per_second_per_thread,
+            s.samples
+                .iter()
+                .map(|x| format!("{x:.3e}"))
+                .collect::<Vec<_>>()
+                .join(" "),
+            s.arcs_over_straight,
+            s.paired_ratio
         );
     }
 }

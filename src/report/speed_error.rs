@@ -274,6 +274,7 @@ impl Bench<'_> {
             repetitions: REPORT_REPETITIONS,
             seed: self.seed,
             field: None,
+            straight_beside: false,
         };
         let one = RunOptions {
             threads: 1,

@@ -203,6 +203,30 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
         ..cfg
     };
     assert_eq!(throughput::run(&zero, &threads(1)).unwrap().field, None);
+    // Side by side: a straight repetition after each arc repetition, and their ratios.
+    let beside = ThroughputConfig {
+        repetitions: 3,
+        straight_beside: true,
+        ..cfg
+    };
+    let b = throughput::run(&beside, &threads(1)).unwrap();
+    let s = b.straight.as_ref().unwrap();
+    assert_eq!(s.samples.len(), 3);
+    let median = |v: &[f64]| {
+        let mut v = v.to_vec();
+        v.sort_by(f64::total_cmp);
+        v[1]
+    };
+    assert_eq!(
+        s.arcs_over_straight,
+        median(&b.samples) / median(&s.samples)
+    );
+    assert!(s.paired_ratio > 0.0 && s.collisions_per_second_per_thread > 0.0);
+    let no_field = ThroughputConfig {
+        field: None,
+        ..beside
+    };
+    assert!(throughput::run(&no_field, &threads(1)).is_err());
 }
 
 /// The Lyapunov exponent in a field (`estimators::field::lyapunov`): even in B (the mirror

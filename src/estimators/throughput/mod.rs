@@ -60,8 +60,28 @@ pub struct Throughput {
     /// The field of an arc benchmark (absent for straight flights).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub field: Option<f64>,
+    /// With `straight_beside`: the straight engine timed in alternation with the arcs, in the
+    /// same run (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub straight: Option<Beside>,
     /// Version, seed, precision, engine, threads, command line.
     pub meta: RunMeta,
+}
+
+/// The straight engine timed beside an arc benchmark: repetition i of the straight flights runs
+/// right after repetition i of the arcs, on the same threads and engine, so that both see the
+/// same machine.
+#[derive(Debug, Clone, Serialize)]
+pub struct Beside {
+    /// Every straight repetition's collisions per second (all threads), in order.
+    pub samples: Vec<f64>,
+    /// Their median per thread.
+    pub collisions_per_second_per_thread: f64,
+    /// The arcs' median over the straight flights' (per thread).
+    pub arcs_over_straight: f64,
+    /// The median over repetitions of each pair's ratio (arcs over straight), less sensitive to
+    /// a machine whose speed drifts during the run.
+    pub paired_ratio: f64,
 }
 
 /// The divider's bound against the engine's measured time.
@@ -95,6 +115,7 @@ struct TimeRuns<'a> {
     engine: Resolved,
     observe: Observe,
     field: Option<f64>,
+    beside: bool,
     w: f64,
     seed: u64,
     collisions: u64,
@@ -104,7 +125,8 @@ struct TimeRuns<'a> {
 }
 
 impl AtPrecision for TimeRuns<'_> {
-    type Output = Result<(Vec<f64>, f64), Error>;
+    /// Each repetition's rate, crossings per collision, and the straight repetitions' rates.
+    type Output = Result<(Vec<f64>, f64, Vec<f64>), Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
         let trap64 = Trap::new(self.w)?;
         let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
@@ -124,17 +146,31 @@ impl AtPrecision for TimeRuns<'_> {
             Some(b) => arcs::advance(&pool, engine, &lat, &trap64, states, n, b),
             None => advance(&pool, engine, observe, &lat, &trap64, states, n),
         };
+        let mut straight = self
+            .beside
+            .then(|| starts::<T>(ctx, &trap64, self.seed, self.threads, lanes));
+        let plain = |states: &mut Vec<Vec<LatticeState<T>>>, n: u64| {
+            advance(&pool, engine, observe, &lat, &trap64, states, n)
+        };
         // One untimed warm-up of a tenth of the length.
         go(&mut states, (n / 10).max(1))?;
-        let mut out = Vec::with_capacity(self.reps);
+        if let Some(s) = straight.as_mut() {
+            plain(s, (n / 10).max(1))?;
+        }
+        let (mut out, mut beside) = (Vec::with_capacity(self.reps), Vec::new());
         let mut hops = 0;
         for _ in 0..self.reps {
             let t0 = Instant::now();
             hops = go(&mut states, n)?;
             out.push(per_rep as f64 / t0.elapsed().as_secs_f64());
+            if let Some(s) = straight.as_mut() {
+                let t0 = Instant::now();
+                plain(s, n)?;
+                beside.push(per_rep as f64 / t0.elapsed().as_secs_f64());
+            }
             (self.progress)(1);
         }
-        Ok((out, hops as f64 / per_rep as f64))
+        Ok((out, hops as f64 / per_rep as f64, beside))
     }
 }
 
@@ -324,6 +360,10 @@ pub struct ThroughputConfig {
     /// drawn again). `None` or 0: straight flights.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field: Option<f64>,
+    /// With a field: time the straight engine too, each repetition right after the arcs' (the
+    /// speed of arcs measured side by side with straight flights in one run).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub straight_beside: bool,
 }
 
 impl ThroughputConfig {
@@ -338,6 +378,7 @@ impl ThroughputConfig {
             repetitions: 7,
             seed: 1,
             field: None,
+            straight_beside: false,
         }
     }
 }
@@ -360,6 +401,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         repetitions: reps,
         seed,
         field: _,
+        straight_beside,
     } = *cfg;
     let (engine, threads, progress) = (options.engine, options.threads, options.progress);
     Geometry::new(w)?;
@@ -379,6 +421,11 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         return Err(Error::Zero { what: "threads" });
     }
     let field = cfg.field.filter(|b| *b != 0.0);
+    if straight_beside && field.is_none() {
+        return Err(Error::Invalid(
+            "straight_beside times straight flights beside arcs: give a nonzero field".into(),
+        ));
+    }
     let resolved = match field {
         Some(b) => arcs::check(b, precision, observe, engine)?,
         None => engine.resolve(precision == Precision::F64)?,
@@ -390,10 +437,11 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
     let unit = resolved
         .simd()
         .and_then(|p| bound::measure(p, roots, divisions));
-    let (samples, cpc) = precision.dispatch(TimeRuns {
+    let (samples, cpc, beside) = precision.dispatch(TimeRuns {
         engine: resolved,
         observe,
         field,
+        beside: straight_beside,
         w,
         seed,
         collisions,
@@ -402,6 +450,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         progress,
     })?;
     let m = median(&samples);
+    let straight = straight_beside.then(|| beside_report(&samples, beside, threads));
     let ns_per_collision = 1e9 * threads as f64 / m;
     let divider_bound = unit.map(|unit| {
         let per_collision = unit.ns_per_event * (1.0 + cpc);
@@ -425,6 +474,19 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         crossings_per_collision: cpc,
         divider_bound,
         field,
+        straight,
         meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
     })
+}
+
+/// The straight repetitions' summary against the arcs' `samples`.
+fn beside_report(samples: &[f64], straight: Vec<f64>, threads: usize) -> Beside {
+    let ratios: Vec<f64> = samples.iter().zip(&straight).map(|(a, s)| a / s).collect();
+    let m = median(&straight);
+    Beside {
+        collisions_per_second_per_thread: m / threads as f64,
+        arcs_over_straight: median(samples) / m,
+        paired_ratio: median(&ratios),
+        samples: straight,
+    }
 }
