@@ -7,7 +7,6 @@ use std::time::Duration;
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use serde::Serialize;
 
 use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::{AuditSpec, MAX_CHECKPOINT_EVERY, RunOptions};
@@ -18,25 +17,14 @@ use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
 use lorentz_gas::estimators::sweep::{self, SweepConfig};
-use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
-use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
-use lorentz_gas::scenes::Scene;
 use lorentz_gas::theory::constants::{self, ConstantsConfig};
-use lorentz_gas::verification::certify::{self, CertifyConfig};
-use lorentz_gas::verification::divergence::{self, Divergence, DivergenceConfig};
-use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
-use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
-use lorentz_gas::verification::shadowing::{self, ShadowConfig};
 
 use crate::inputs::{self, count_u32, count_u64, count_usize, exact};
-use crate::scenes::resolve;
 use crate::watch::{Ctl, compute, json};
-use lorentz_gas::scenes::spec::SceneChoice;
-use lorentz_gas::with_scene;
 
 /// The run options of a computation watched by `ctl`.
-fn options<'a>(ctl: &'a Ctl<'a>, threads: usize, engine: Engine) -> RunOptions<'a> {
+pub(crate) fn options<'a>(ctl: &'a Ctl<'a>, threads: usize, engine: Engine) -> RunOptions<'a> {
     RunOptions {
         engine,
         threads,
@@ -62,13 +50,6 @@ fn interval(seconds: f64) -> PyResult<Duration> {
         )));
     }
     Ok(Duration::from_secs_f64(seconds))
-}
-
-/// The Lyapunov result of the command line: the tangent-space exponent and the divergence rows.
-#[derive(Serialize)]
-struct LyapunovJson {
-    tangent: LyapunovReport,
-    divergence: Vec<Divergence>,
 }
 
 #[pyfunction]
@@ -387,71 +368,6 @@ fn py_escape(
     json(&r)
 }
 
-/// Most divergence starts: each costs about a second of MPFR work at 4096 bits.
-const MAX_STARTS: u32 = 10_000;
-
-#[pyfunction]
-#[pyo3(name = "lyapunov", signature = (scene, w, radius, collisions_per_batch, batches, starts, seed, threads, field, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_lyapunov(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions_per_batch: &str,
-    batches: &str,
-    starts: &str,
-    seed: &str,
-    threads: Option<&str>,
-    field: Option<&str>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    if let Some(b) = field.filter(|b| parse_exact(b).is_ok_and(|q| q != 0)) {
-        return crate::field::lyapunov_in_field(
-            py,
-            (scene, w, radius),
-            (collisions_per_batch, batches, starts, seed, threads),
-            b,
-            progress,
-        );
-    }
-    let starts = count_u32("starts", starts)?;
-    if starts == 1 || starts > MAX_STARTS {
-        return Err(PyValueError::new_err(format!(
-            "starts = {starts}: use 0 (no divergence measurement) or 2 to {MAX_STARTS} (the error \
-             bars are over the starts, reliable from 4; each costs about a second)"
-        )));
-    }
-    let choice = resolve(scene, w, radius)?;
-    let seed = count_u64("seed", seed)?;
-    let cfg = LyapunovConfig {
-        collisions_per_batch: count_u64("collisions_per_batch", collisions_per_batch)?,
-        batches: count_u32("batches", batches)?,
-        seed,
-    };
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, threads, Engine::Auto);
-        let tangent = with_scene!(&choice, |s| lyapunov::run(s, &cfg, &opts))?;
-        let divergence = if starts > 0 {
-            let d = DivergenceConfig {
-                starts,
-                seed,
-                ..DivergenceConfig::new()
-            };
-            let one = options(ctl, 1, Engine::Auto);
-            with_scene!(&choice, |s| divergence::run(s, &d, &one))?
-        } else {
-            Vec::new()
-        };
-        Ok(LyapunovJson {
-            tangent,
-            divergence,
-        })
-    })?;
-    json(&r)
-}
-
 #[pyfunction]
 #[pyo3(name = "superdiffusion", signature = (scene, w, radius, collisions, batches, octaves, points_per_octave, tail_fit_from, vacf_fit, msd_fit, seed, threads, checkpoint, checkpoint_every, progress))]
 #[allow(clippy::too_many_arguments)]
@@ -500,156 +416,6 @@ fn py_superdiffusion(
 }
 
 #[pyfunction]
-#[pyo3(name = "audit", signature = (scene, w, radius, collisions, batches, sample, reference_bits, seed, field, threads, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_audit(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions: &str,
-    batches: &str,
-    sample: f64,
-    reference_bits: &str,
-    seed: &str,
-    field: Option<&str>,
-    threads: Option<&str>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let choice = resolve(scene, w, radius)?;
-    let cfg = AuditConfig {
-        scene: with_scene!(&choice, |s| s.label()),
-        collisions: count_u64("collisions", collisions)?,
-        batches: count_u32("batches", batches)?,
-        sample,
-        reference_bits: count_u32("reference_bits", reference_bits)?,
-        seed: count_u64("seed", seed)?,
-        field: field.map(str::to_string),
-    };
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, threads, Engine::Auto);
-        with_scene!(&choice, |s| shadow_audit::run(s, &cfg, &opts))
-    })?;
-    json(&r)
-}
-
-#[pyfunction]
-#[pyo3(name = "shadow", signature = (w, collisions_per_segment, segments, reference_bits, seed, threads, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_shadow(
-    py: Python<'_>,
-    w: &str,
-    collisions_per_segment: &str,
-    segments: &str,
-    reference_bits: &str,
-    seed: &str,
-    threads: Option<&str>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let choice = resolve("triangular", Some(w), None)?;
-    let request = ShadowConfig {
-        collisions_per_segment: count_usize("collisions_per_segment", collisions_per_segment)?,
-        segments: count_u32("segments", segments)?,
-        seed: count_u64("seed", seed)?,
-        reference_bits: count_u32("reference_bits", reference_bits)?,
-    };
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, threads, Engine::Auto);
-        with_scene!(&choice, |s| shadowing::run(s, &request, &opts))
-    })?;
-    json(&r)
-}
-
-#[pyfunction]
-#[pyo3(name = "certify", signature = (scene, w, radius, collisions, digits, seed, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_certify(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions: &str,
-    digits: &str,
-    seed: &str,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let choice = resolve(scene, w, radius)?;
-    let cfg = CertifyConfig {
-        collisions: count_usize("collisions", collisions)?,
-        digits: count_u32("digits", digits)?,
-        seed: count_u64("seed", seed)?,
-    };
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, 1, Engine::Auto);
-        with_scene!(&choice, |s| certify::run(s, &cfg, &opts))
-    })?;
-    json(&r)
-}
-
-/// One exact number of a trajectory's input, named for its message.
-fn exact_q(name: &str, text: &str) -> PyResult<rug::Rational> {
-    parse_exact(text).map_err(|e| PyValueError::new_err(format!("{name}: {e}")))
-}
-
-#[pyfunction]
-#[pyo3(name = "trajectory", signature = (scene, w, radius, start, direction, time, digits, events, field, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_trajectory(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    start: (String, String),
-    direction: (String, String),
-    time: &str,
-    digits: &str,
-    events: bool,
-    field: Option<&str>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let digits = count_u32("digits", digits)?;
-    if digits == 0 || digits > MAX_DIGITS {
-        return Err(PyValueError::new_err(format!(
-            "digits = {digits} is out of range: use 1 to {MAX_DIGITS}"
-        )));
-    }
-    let input = TrajectoryInput {
-        x: exact_q("start", &start.0)?,
-        y: exact_q("start", &start.1)?,
-        dx: exact_q("direction", &direction.0)?,
-        dy: exact_q("direction", &direction.1)?,
-        time: exact_q("time", time)?,
-        digits,
-        record_events: events,
-        field: field.map(|b| exact_q("field", b)).transpose()?,
-    };
-    // Any gap w > 0 (the trajectory is one orbit: no diffusive range is needed).
-    let choice = match (scene, w) {
-        ("triangular", Some(w)) => {
-            let q = exact("w", w)?.rational("w").map_err(crate::py_err)?;
-            if q <= 0 {
-                return Err(PyValueError::new_err(format!(
-                    "w = {} is out of range: use w > 0 (at w <= 0 the disks touch)",
-                    lorentz_gas::numbers::exact::nearest_f64(&q)
-                )));
-            }
-            SceneChoice::Triangular(Box::new(
-                lorentz_gas::scenes::triangular::TriangularScene::exact(q)
-                    .map_err(crate::py_err)?,
-            ))
-        }
-        _ => resolve(scene, w, radius)?,
-    };
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, 1, Engine::Auto);
-        with_scene!(&choice, |s| trajectory::run(s, &input, &opts))
-    })?;
-    json(&r)
-}
-
-#[pyfunction]
 #[pyo3(name = "report", signature = (result, out, quick, reference_bits, max_rerun_collisions, threads, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_report(
@@ -693,12 +459,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(py_backscatter, m)?)?;
     m.add_function(wrap_pyfunction!(py_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(py_escape, m)?)?;
-    m.add_function(wrap_pyfunction!(py_lyapunov, m)?)?;
     m.add_function(wrap_pyfunction!(py_superdiffusion, m)?)?;
-    m.add_function(wrap_pyfunction!(py_audit, m)?)?;
-    m.add_function(wrap_pyfunction!(py_shadow, m)?)?;
-    m.add_function(wrap_pyfunction!(py_certify, m)?)?;
-    m.add_function(wrap_pyfunction!(py_trajectory, m)?)?;
     m.add_function(wrap_pyfunction!(py_report, m)?)?;
     m.add_function(wrap_pyfunction!(py_constants, m)?)?;
     m.add_function(wrap_pyfunction!(py_agreement_bound, m)?)?;

@@ -10,6 +10,7 @@ mod events;
 mod field;
 mod inputs;
 mod scenes;
+mod verification;
 mod watch;
 
 use pyo3::create_exception;
@@ -61,5 +62,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     analyses::register(m)?;
     events::register(m)?;
     field::register(m)?;
+    verification::register(m)?;
     Ok(())
 }

@@ -44,8 +44,7 @@ impl GridArgs {
     pub fn config(&self, seed: u64) -> Result<SweepConfig, Error> {
         let (Some(w_from), Some(w_to)) = (&self.w_from, &self.w_to) else {
             return Err(Error::Invalid(
-                "a sweep over w needs --w-from and --w-to (a sweep over the field: --w W --fields B1,B2,...)"
-                    .into(),
+                "a sweep over w needs --w-from and --w-to".into(),
             ));
         };
         let cfg = SweepConfig {
@@ -125,6 +124,11 @@ pub fn run(a: Args) -> Result<(), Error> {
     if a.in_field.w.is_some() {
         return Err(Error::Invalid(
             "--w is the gap of a sweep over the field: give --fields B1,B2,... (a sweep over w: --w-from and --w-to)".into(),
+        ));
+    }
+    if a.grid.w_from.is_none() || a.grid.w_to.is_none() {
+        return Err(Error::Invalid(
+            "a sweep over w needs --w-from and --w-to (a sweep over the field: --w W --fields B1,B2,...)".into(),
         ));
     }
     let cfg = config(&a)?;
