@@ -56,6 +56,7 @@
 //! file — so the report is bound to exactly the bytes it audited.
 
 mod backscatter;
+mod checks;
 pub mod command_line;
 mod diffusion;
 mod escape;
@@ -79,6 +80,7 @@ use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{MAX_AUDIT_BITS, MIN_AUDIT_BITS, RunOptions};
 use crate::numbers::precision::Precision;
+use checks::{Checks, batch_from_digest, meta_problems, pick_from_digest, record_check};
 use file::{Kind, ResultFile};
 
 /// A check's outcome.
@@ -506,102 +508,6 @@ use crate::statistics::comparison::SIGMAS;
 /// Significance of the statistical consistency checks (Bonferroni-corrected where several values
 /// are tested at once): a correct run fails one of them about once in a thousand reports.
 const ALPHA: f64 = 1e-3;
-
-struct Checks(Vec<Check>);
-
-impl Checks {
-    fn add(
-        &mut self,
-        group: &str,
-        name: &str,
-        verdict: Verdict,
-        detail: String,
-        numbers: &[(&str, f64)],
-    ) {
-        self.0.push(Check {
-            group: group.into(),
-            name: name.into(),
-            verdict,
-            detail,
-            numbers: numbers.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
-        });
-    }
-
-    fn pass_if(
-        &mut self,
-        ok: bool,
-        group: &str,
-        name: &str,
-        detail: String,
-        numbers: &[(&str, f64)],
-    ) {
-        let v = if ok { Verdict::Pass } else { Verdict::Fail };
-        self.add(group, name, v, detail, numbers);
-    }
-
-    /// A SKIP of `name` for `reason`.
-    fn skip(&mut self, group: &str, name: &str, reason: String) {
-        self.add(group, name, Verdict::Skip, reason, &[]);
-    }
-}
-
-/// What in a recorded `meta` block disagrees with the configuration: its seed, its number of
-/// batches, its precision.
-fn meta_problems(
-    meta: &RunMeta,
-    seed: Option<u64>,
-    batches: Option<u64>,
-    precision: &str,
-) -> Vec<String> {
-    let mut bad = Vec::new();
-    if meta.seed != seed {
-        bad.push(format!("meta.seed {:?}, configured {seed:?}", meta.seed));
-    }
-    if meta.batches != batches {
-        bad.push(format!(
-            "meta.batches {:?}, configured {batches:?}",
-            meta.batches
-        ));
-    }
-    if meta.precision != precision {
-        bad.push(format!(
-            "meta.precision {:?}, configured {precision:?}",
-            meta.precision
-        ));
-    }
-    bad
-}
-
-/// The check that the record agrees with its configuration (`bad` lists what does not).
-fn record_check(bad: Vec<String>, checks: &mut Checks) {
-    checks.pass_if(
-        bad.is_empty(),
-        "reproducibility",
-        "the record agrees with its configuration",
-        if bad.is_empty() {
-            "gap, work, seed, batches, precision and closed forms as configured".into()
-        } else {
-            bad.join("; ")
-        },
-        &[],
-    );
-}
-
-/// An index below `n` chosen by the file's digest: not known in advance to whoever edits the
-/// file.
-fn pick_from_digest(sha: &str, n: u64) -> u64 {
-    let head = sha
-        .get(..16)
-        .and_then(|h| u64::from_str_radix(h, 16).ok())
-        .unwrap_or(0);
-    head % n.max(1)
-}
-
-/// A batch index below `batches` chosen by the file's digest.
-fn batch_from_digest(sha: &str, batches: u32) -> u32 {
-    // Below `batches`, so it fits.
-    pick_from_digest(sha, u64::from(batches)) as u32
-}
 
 #[cfg(test)]
 mod tests {
