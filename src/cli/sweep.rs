@@ -76,7 +76,7 @@ pub struct FieldArgs {
     pub(super) field: Option<String>,
     /// The fields of a sweep over B, comma-separated exact decimals or fractions (with B and -B
     /// both given, Onsager-Casimir is checked), e.g. --fields=-2,-1,1,2.
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub(super) fields: Vec<String>,
     /// Phase points classified at each point of a field sweep for the sampled localized share.
     #[arg(long, default_value = "1e6", value_parser = parse_count, allow_negative_numbers = true)]
