@@ -870,6 +870,7 @@ def shadow(
     segments: Count = 8,
     reference_bits: Count = 128,
     seed: Count = 1,
+    field: Optional[Exact] = None,
     threads: Optional[Count] = None,
     progress: Progress = False,
 ) -> ShadowResult:
@@ -885,6 +886,11 @@ def shadow(
         Segments, from independent equilibrium starts.
     reference_bits : int
         MPFR precision of the Newton iteration, 128 bits or more.
+    field : str, Fraction or float, optional
+        A uniform magnetic field B (inverse time; the cyclotron radius is 1/|B| in units of the
+        disk radius), exact like ``w``, 1e-3 <= |B| <= 1e3; ``None`` or 0: no field. The
+        segments are f64 orbits on arcs from the diffusing starts of :func:`diffusion` in the
+        same field, and their shadows true orbits on arcs.
     seed, threads, progress
         As in :func:`diffusion`.
 
@@ -901,6 +907,7 @@ def shadow(
             _count("segments", segments),
             _count("reference_bits", reference_bits),
             _count("seed", seed),
+            _optional_exact("field", field),
             _threads(threads),
             cb,
         )

@@ -70,7 +70,7 @@ def audit(
 ) -> str: ...
 def shadow(
     w: str, collisions_per_segment: str, segments: str, reference_bits: str, seed: str,
-    threads: Optional[str], progress: Progress,
+    field: Optional[str], threads: Optional[str], progress: Progress,
 ) -> str: ...
 def certify(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, digits: str,

@@ -131,7 +131,7 @@ fn py_audit(
 }
 
 #[pyfunction]
-#[pyo3(name = "shadow", signature = (w, collisions_per_segment, segments, reference_bits, seed, threads, progress))]
+#[pyo3(name = "shadow", signature = (w, collisions_per_segment, segments, reference_bits, seed, field, threads, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_shadow(
     py: Python<'_>,
@@ -140,6 +140,7 @@ fn py_shadow(
     segments: &str,
     reference_bits: &str,
     seed: &str,
+    field: Option<&str>,
     threads: Option<&str>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
@@ -149,7 +150,9 @@ fn py_shadow(
         segments: count_u32("segments", segments)?,
         seed: count_u64("seed", seed)?,
         reference_bits: count_u32("reference_bits", reference_bits)?,
+        field: field.map(str::to_string),
     };
+    request.validate().map_err(crate::py_err)?;
     let threads = inputs::threads(threads)?;
     let r = compute(py, progress, |ctl| {
         let opts = options(ctl, threads, Engine::Auto);

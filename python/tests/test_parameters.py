@@ -28,6 +28,8 @@ CASES = {
     "backscatter": ["--w", "0.2", "--particles", "1e3", "--batches", "4"],
     "audit": ["--w", "0.2", "--collisions", "1e3", "--batches", "2"],
     "shadow": ["--w", "0.2", "--collisions-per-segment", "20", "--segments", "1"],
+    "shadow --field": ["--w", "0.2", "--collisions-per-segment", "20", "--segments", "1",
+                       "--field", "1"],
     "escape": ["--w", "0.2", "--particles-per-width", "3200"],
     "sweep --fields": ["--w", "0.2", "--fields=-1,1", "--collisions-per-run", "1e6",
                        "--batches-per-run", "4", "--localization-samples", "1000",

@@ -2,9 +2,7 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::verification::shadowing::{
-    self as shadowing, MAX_SEGMENTS, ShadowConfig, check_request,
-};
+use lorentz_gas::verification::shadowing::{self as shadowing, ShadowConfig};
 
 use super::args::{
     Exact, OutputArgs, RunArgs, parse_count_u32, parse_count_usize, parse_exact_arg,
@@ -27,6 +25,11 @@ pub struct Args {
     /// Segments (segment k starts from the equilibrium state of batch k of the seed), 1 to 10000.
     #[arg(long, default_value = "8", value_parser = parse_count_u32, allow_negative_numbers = true)]
     segments: u32,
+    /// A uniform magnetic field B perpendicular to the plane, an exact decimal or fraction like
+    /// --w (1e-3 <= |B| <= 1e3; 0 or absent: no field): segments on arcs from diffusing starts,
+    /// shadowed by true orbits on arcs.
+    #[arg(long, allow_hyphen_values = true)]
+    field: Option<String>,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -45,25 +48,19 @@ fn gap(g: &Exact) -> Result<TriangularScene, Error> {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let scene = gap(&a.w)?;
-    check_request(a.collisions_per_segment, a.reference_bits)?;
-    if a.segments == 0 || a.segments > MAX_SEGMENTS {
-        return Err(Error::out_of_range(
-            "segments",
-            a.segments,
-            format!("use 1 to {MAX_SEGMENTS}"),
-        ));
-    }
-    let pb = Progress::new(
-        a.collisions_per_segment as u64 * a.segments as u64,
-        "collisions",
-        a.output.quiet,
-    );
     let request = ShadowConfig {
         collisions_per_segment: a.collisions_per_segment,
         segments: a.segments,
         seed: a.run.seed(),
         reference_bits: a.reference_bits,
+        field: a.field.clone(),
     };
+    request.validate()?;
+    let pb = Progress::new(
+        a.collisions_per_segment as u64 * a.segments as u64,
+        "collisions",
+        a.output.quiet,
+    );
     let opts = pb.options(a.run.threads());
     let r = shadowing::run(&scene, &request, &opts)?;
     drop(opts);
@@ -71,8 +68,12 @@ pub fn run(a: Args) -> Result<(), Error> {
     let opt = |x: Option<f64>| x.map_or_else(|| "-".to_string(), |v| format!("{v:.2e}"));
     emit(a.output.json, &r, |r| {
         println!(
-            "{}: {} segments of {} collisions at {} bits: {} converged, {} certified; median delta {}, max {}",
+            "{}{}: {} segments of {} collisions at {} bits: {} converged, {} certified; median delta {}, max {}",
             r.scene,
+            match (&r.config.field, r.config.field_exact()) {
+                (Some(b), Ok(Some(_))) => format!(" in the field B = {b} (arcs)"),
+                _ => String::new(),
+            },
             r.segments.len(),
             r.config.collisions_per_segment,
             r.config.reference_bits,

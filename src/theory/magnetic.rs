@@ -29,6 +29,8 @@ use std::f64::consts::PI;
 
 use super::quadrature::integrate;
 use crate::Error;
+use crate::scenes::Scene;
+use crate::scenes::lattice::LatticeState;
 use crate::scenes::magnetic::DiskLattice;
 
 /// What an orbit in the field does, decided from its cyclotron circle alone.
@@ -71,6 +73,11 @@ impl FieldGeometry {
             field,
             rho: 1.0 / field.abs(),
         })
+    }
+
+    /// The field B.
+    pub fn field(&self) -> f64 {
+        self.field
     }
 
     /// The cyclotron radius ρ = 1/|B|.
@@ -262,7 +269,38 @@ impl FieldGeometry {
         }
         volume / flux
     }
+
+    /// A start of `scene` drawn from the invariant measure restricted to the diffusing orbits (by
+    /// rejection with `rng`: pinned and skipping starts are drawn again), and the number of
+    /// localized starts set aside. Every estimator in a field starts its trajectories here, so
+    /// batch k of a transport run, a Lyapunov orbit and a shadowed segment start alike.
+    ///
+    /// # Errors
+    /// No diffusing start in [`MAX_STARTS`] draws (almost every orbit localized), or a bad scene.
+    pub fn diffusing_start<S: Scene>(
+        &self,
+        scene: &S,
+        rng: &mut rand_xoshiro::Xoshiro256PlusPlus,
+    ) -> Result<(LatticeState<f64>, u64), Error> {
+        let lattice = scene.lattice::<f64>(())?;
+        for rejected in 0..MAX_STARTS {
+            let s = scene.sample(rng);
+            let p = lattice.world(&s);
+            let sg = s.cell.sign();
+            let orbit = self.classify(p.x, p.y, sg * s.flight.vel.x, sg * s.flight.vel.y);
+            if orbit == Orbit::Diffusing {
+                return Ok((s, rejected));
+            }
+        }
+        Err(Error::Failed(format!(
+            "no diffusing start in {MAX_STARTS} draws: almost every orbit is localized at this field"
+        )))
+    }
 }
+
+/// Most starts drawn for one trajectory before a diffusing one is found (the localized share
+/// would have to exceed 1 − 10⁻⁶ for this to be reached by chance even once in 10⁴ batches).
+pub const MAX_STARTS: u64 = 20_000_000;
 
 #[cfg(test)]
 mod tests {

@@ -2,7 +2,8 @@
 //!
 //! * [`error_model`]: the constants of the `f64` error model (the bounds the checks and the tests share).
 //! * [`replay`]: replays single `f64` events in MPFR from the same pre-event state.
-//! * [`shadowing`]: true orbits near whole `f64` segments (Newton on the defects, GHYS).
+//! * [`shadowing`]: true orbits near whole `f64` segments, straight or on arcs (Newton on the
+//!   defects, GHYS).
 //! * [`reversibility`]: forward N collisions, reverse, N back.
 //! * [`birkhoff`]: the collision map in Birkhoff coordinates and its Jacobian.
 //! * [`shadow_audit`]: the MPFR shadow audit of a production run's own trajectories;
@@ -23,3 +24,31 @@ pub mod replay;
 pub mod reversibility;
 pub mod shadow_audit;
 pub mod shadowing;
+
+/// A field given as text, exact, if there is one: `None` for an absent or zero field.
+///
+/// # Errors
+/// A field that is not an exact decimal or fraction, or with |B| outside `range` (the message
+/// names the range, and 0 for no field).
+pub fn exact_field(
+    text: Option<&str>,
+    range: (f64, f64),
+) -> Result<Option<rug::Rational>, crate::Error> {
+    let Some(text) = text else {
+        return Ok(None);
+    };
+    let q = crate::numbers::exact::parse_exact(text)
+        .map_err(|e| crate::Error::Invalid(format!("field = {text}: {e}")))?;
+    if q.cmp0() == std::cmp::Ordering::Equal {
+        return Ok(None);
+    }
+    let (lo, hi) = range;
+    if !(lo..=hi).contains(&q.to_f64().abs()) {
+        return Err(crate::Error::OutOfRange {
+            parameter: "field",
+            value: text.to_string(),
+            range: format!("use {lo:e} <= |field| <= {hi:e}, or 0 for no field"),
+        });
+    }
+    Ok(Some(q))
+}

@@ -362,24 +362,7 @@ impl AuditConfig {
     /// # Errors
     /// A field that is not an exact decimal or fraction, or outside [`AUDIT_FIELD_RANGE`].
     pub fn field_exact(&self) -> Result<Option<rug::Rational>, Error> {
-        let Some(text) = &self.field else {
-            return Ok(None);
-        };
-        let q = crate::numbers::exact::parse_exact(text)
-            .map_err(|e| Error::Invalid(format!("field = {text}: {e}")))?;
-        if q.cmp0() == std::cmp::Ordering::Equal {
-            return Ok(None);
-        }
-        let b = q.to_f64().abs();
-        let (lo, hi) = AUDIT_FIELD_RANGE;
-        if !(lo..=hi).contains(&b) {
-            return Err(Error::OutOfRange {
-                parameter: "field",
-                value: text.clone(),
-                range: format!("use {lo:e} <= |field| <= {hi:e}, or 0 for no field"),
-            });
-        }
-        Ok(Some(q))
+        super::exact_field(self.field.as_deref(), AUDIT_FIELD_RANGE)
     }
 }
 

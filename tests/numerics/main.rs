@@ -10,6 +10,7 @@ mod common;
 
 mod arc_audit;
 mod arc_engine;
+mod arc_shadowing;
 mod arc_tangent;
 mod bit_for_bit;
 mod certified;

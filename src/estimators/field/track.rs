@@ -20,10 +20,6 @@ use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::triangular::TriangularScene;
 use crate::theory::magnetic::{FieldGeometry, Orbit};
 
-/// Most starts drawn for one batch before a diffusing one is found (the localized share would
-/// have to exceed 1 − 10⁻⁶ for this to be reached by chance even once in 10⁴ batches).
-pub const MAX_STARTS: u64 = 20_000_000;
-
 /// The lag sums of one trajectory: for each lag, Σ Δx², Σ Δy², Σ ΔxΔy, Σ A over every time origin.
 #[derive(Debug, Clone)]
 pub(super) struct LagSums {
@@ -107,26 +103,13 @@ pub(super) struct Setup<'a, T: Real> {
 }
 
 /// A start drawn from the invariant measure restricted to the diffusing orbits (rejection), and
-/// the number of localized starts set aside.
+/// the number of localized starts set aside ([`FieldGeometry::diffusing_start`]).
 pub(super) fn start(
     scene: &TriangularScene,
     geometry: &FieldGeometry,
     key: StreamKey,
 ) -> Result<(LatticeState<f64>, u64), Error> {
-    let lattice = scene.lattice::<f64>(())?;
-    let mut rng = key.rng();
-    for rejected in 0..MAX_STARTS {
-        let s = scene.sample(&mut rng);
-        let p = lattice.world(&s);
-        let sg = s.cell.sign();
-        let orbit = geometry.classify(p.x, p.y, sg * s.flight.vel.x, sg * s.flight.vel.y);
-        if orbit == Orbit::Diffusing {
-            return Ok((s, rejected));
-        }
-    }
-    Err(Error::Failed(format!(
-        "no diffusing start in {MAX_STARTS} draws: almost every orbit is localized at this field"
-    )))
+    geometry.diffusing_start(scene, &mut key.rng())
 }
 
 /// Runs batch `index` for the flight time `duration` (the same for every batch, so that the

@@ -41,13 +41,21 @@ use crate::scenes::Scene;
 use crate::scenes::lattice::LatticeState;
 use crate::scenes::sampling::stream;
 
+mod arc;
+mod clearance;
 mod linear;
 mod newton;
+mod segment;
 mod table;
 
+use arc::*;
+use clearance::*;
 use linear::*;
 use newton::*;
+use segment::*;
 use table::*;
+
+pub use segment::{f64_segment, f64_segment_in_field};
 
 // The table keeps its one public path, `verification::shadowing::Table` (its module is private).
 pub use table::Table;
@@ -193,61 +201,6 @@ pub fn defects<S: Scene>(scene: &S, y: &[OrbitPoint], bits: u32) -> Result<Vec<f
     Ok(ev.f.iter().map(|v| norm2(v).to_f64()).collect())
 }
 
-/// Smallest clearance (distance − r) of the flights of `y` from every disk other than their
-/// endpoints' disks, and the first flight that passes through one (k, disk, clearance).
-fn clearance(
-    table: &Table,
-    y: &[OrbitPoint],
-    tau: &[Float],
-) -> (f64, Option<(usize, [i64; 2], f64)>) {
-    let (a, beta, h, r) = (
-        table.a.to_f64(),
-        table.beta.to_f64(),
-        table.h.to_f64(),
-        table.r.to_f64(),
-    );
-    let mut min = f64::INFINITY;
-    for k in 0..y.len() - 1 {
-        let Ok((x0, v)) = table.phase(&y[k]) else {
-            continue;
-        };
-        let x1 = x0.along(&tau[k], &v);
-        let (p0, p1) = (x0.to_f64(), x1.to_f64());
-        let (xmin, xmax) = (p0[0].min(p1[0]) - r, p0[0].max(p1[0]) + r);
-        let (ymin, ymax) = (p0[1].min(p1[1]) - r, p0[1].max(p1[1]) + r);
-        let (j0, j1) = ((ymin / h).floor() as i64 - 1, (ymax / h).ceil() as i64 + 1);
-        for j in j0..=j1 {
-            let sh = beta * j as f64;
-            let (i0, i1) = (
-                (xmin / a - sh).floor() as i64 - 1,
-                (xmax / a - sh).ceil() as i64 + 1,
-            );
-            for i in i0..=i1 {
-                let d = [i, j];
-                if d == y[k].disk || d == y[k + 1].disk {
-                    continue;
-                }
-                let c = table.centre(d);
-                let rel = c.sub(&x0);
-                let mut u = rel.dot(&v);
-                if u.is_sign_negative() {
-                    u = Float::with_val(table.bits, 0);
-                } else if u > tau[k] {
-                    u = tau[k].clone();
-                }
-                let q = x0.along(&u, &v);
-                let gap = c.sub(&q).norm2().sqrt() - &table.r;
-                let g = gap.to_f64();
-                if g <= 0.0 {
-                    return (g.min(min), Some((k, d, g)));
-                }
-                min = min.min(g);
-            }
-        }
-    }
-    (min, None)
-}
-
 /// Shadows the pseudo-orbit `orbit` (N ≥ 2 collision points with their disks) by a true orbit of
 /// `scene` with the same disk sequence, at `bits` ≥ [`MIN_SHADOW_BITS`] of precision.
 ///
@@ -261,9 +214,23 @@ pub fn shadow_pseudo_orbit<S: Scene>(
     orbit: &[OrbitPoint],
     bits: u32,
 ) -> Result<Shadow, Error> {
+    shadow_pseudo_orbit_in_field(scene, orbit, bits, None)
+}
+
+/// As [`shadow_pseudo_orbit`], in the field `field` (exact; `None` or zero: straight flights):
+/// the true orbit's flights are arcs of its cyclotron circles, with the same disk sequence.
+///
+/// # Errors
+/// As [`shadow_pseudo_orbit`].
+pub fn shadow_pseudo_orbit_in_field<S: Scene>(
+    scene: &S,
+    orbit: &[OrbitPoint],
+    bits: u32,
+    field: Option<&rug::Rational>,
+) -> Result<Shadow, Error> {
     check_request(orbit.len(), bits)?;
     let n = orbit.len();
-    let table = Table::new(scene, bits)?;
+    let table = Table::in_field(scene, bits, field)?;
     let lift = |x: &OrbitPoint| OrbitPoint {
         disk: x.disk,
         s: Float::with_val(bits, &x.s),
@@ -283,7 +250,7 @@ pub fn shadow_pseudo_orbit<S: Scene>(
     sh.failure = None;
     sh.converged = true;
     // The defect at twice the precision (the points are exact at 2P).
-    let table2 = Table::new(scene, 2 * bits)?;
+    let table2 = Table::in_field(scene, 2 * bits, field)?;
     let ev2 = match evaluate(&table2, &y) {
         Ok(ev) => ev,
         Err((k, e)) => {
@@ -297,7 +264,10 @@ pub fn shadow_pseudo_orbit<S: Scene>(
     sh.max_jacobian_norm = Some(amax);
     sh.min_cos_phi = Some(last.cos_min.0);
     sh.min_cos_phi_event = Some(last.cos_min.1);
-    let (gap, blocked) = clearance(&table, &y, &last.tau);
+    let (gap, blocked) = match &table.omega {
+        Some(omega) => arc_clearance(&table, &y, &last.tau, omega),
+        None => clearance(&table, &y, &last.tau),
+    };
     sh.min_clearance = Some(gap);
     if let Some((k, d, g)) = blocked {
         sh.converged = false;
@@ -340,80 +310,6 @@ pub fn check_request(n: usize, bits: u32) -> Result<(), Error> {
     Ok(())
 }
 
-/// Most events run by [`f64_segment`] per collision recorded before it gives up (a finite-horizon
-/// table has a collision every few events).
-const EVENTS_PER_COLLISION: usize = 1000;
-
-/// The first `n` collisions of the `f64` orbit from `start`, as Birkhoff points at `bits`: the
-/// disk's lattice indices from the f64 world centre (rounded to the lattice, checked to 10⁻⁶),
-/// s and p from the f64 contact point and velocity lifted exactly and the disk centre at `bits`
-/// (so the points are the f64 states projected to the exact table's phase space).
-///
-/// # Errors
-/// If a collision's disk is not a lattice point, or `n` collisions take more than 1000n events.
-pub fn f64_segment<S: Scene>(
-    scene: &S,
-    start: &LatticeState<f64>,
-    n: usize,
-    bits: u32,
-) -> Result<Vec<OrbitPoint>, Error> {
-    let lat = scene.lattice::<f64>(())?;
-    let latp = scene.lattice::<Float>(bits)?;
-    let basis = &lat.cell().lattice;
-    let mut st = start.clone();
-    let mut out = Vec::with_capacity(n);
-    let mut events = 0usize;
-    while out.len() < n {
-        let ev = lat.step(&mut st)?;
-        events += 1;
-        if events > EVENTS_PER_COLLISION * (n + 1) {
-            return Err(Error::Invalid(format!(
-                "no collision in {events} events: the table has an open corridor"
-            )));
-        }
-        let EventKind::Collision(m) = ev.kind else {
-            continue;
-        };
-        let f = &st.flight;
-        let c64 = &lat.cell().disks[m as usize].centre;
-        let cw = lat.world(&LatticeState {
-            cell: st.cell,
-            flight: crate::kernel::flight::Flight::new(c64.clone(), f.vel.clone()),
-        });
-        let j = (cw.y / basis.h).round();
-        let i = (cw.x / basis.a - basis.beta * j).round();
-        let (ex, ey) = (basis.a * (i + basis.beta * j) - cw.x, basis.h * j - cw.y);
-        if ex.hypot(ey) > 1e-6 * (1.0 + cw.x.abs() + cw.y.abs()) {
-            return Err(Error::Invalid(format!(
-                "disk centre ({}, {}) is not a lattice point",
-                cw.x, cw.y
-            )));
-        }
-        let cp = &latp.cell().disks[m as usize].centre;
-        let mut nx = Float::with_val(bits, f.pos.x) - &cp.x;
-        let mut ny = Float::with_val(bits, f.pos.y) - &cp.y;
-        let (vx, vy) = (
-            Float::with_val(bits, f.vel.x),
-            Float::with_val(bits, f.vel.y),
-        );
-        let norm = (nx.clone().square() + &ny.clone().square()).sqrt()
-            * &(vx.clone().square() + &vy.clone().square()).sqrt();
-        // n × v is invariant under the frame's point reflection (both flip); θ is not.
-        let p = (nx.clone() * &vy - &(ny.clone() * &vx)) / &norm;
-        if st.cell.down {
-            nx = -nx;
-            ny = -ny;
-        }
-        let s = Float::with_val(bits, ny.atan2_ref(&nx));
-        out.push(OrbitPoint {
-            disk: [i as i64, j as i64],
-            s,
-            p,
-        });
-    }
-    Ok(out)
-}
-
 /// Most segments per run: each keeps its result (and, while it runs, its orbit) in memory.
 pub const MAX_SEGMENTS: u32 = 10_000;
 
@@ -452,7 +348,7 @@ pub struct ShadowReport {
 }
 
 /// What [`run`] is asked for.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ShadowConfig {
     /// Collisions N of each segment, 2 to [`MAX_COLLISIONS`].
     pub collisions_per_segment: usize,
@@ -463,6 +359,72 @@ pub struct ShadowConfig {
     /// MPFR working precision P of the true orbit (bits), [`MIN_SHADOW_BITS`] to
     /// [`MAX_SHADOW_BITS`].
     pub reference_bits: u32,
+    /// A uniform field B perpendicular to the plane, an exact decimal or fraction,
+    /// 10⁻³ ≤ |B| ≤ 10³ (`None` or 0: no field): the segments are `f64` arc orbits started in the
+    /// diffusing part (segment k where batch k of the transport run in the field starts) and
+    /// their shadows true orbits on arcs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field: Option<String>,
+}
+
+/// The fields true shadowing takes: 10⁻³ ≤ |B| ≤ 10³, those of the transport runs whose segments
+/// it shadows.
+pub const SHADOW_FIELD_RANGE: (f64, f64) = (1e-3, 1e3);
+
+impl ShadowConfig {
+    /// The field, exact, if there is one (`None` for an absent or zero field).
+    ///
+    /// # Errors
+    /// A field that is not an exact decimal or fraction, or outside [`SHADOW_FIELD_RANGE`].
+    pub fn field_exact(&self) -> Result<Option<rug::Rational>, Error> {
+        super::exact_field(self.field.as_deref(), SHADOW_FIELD_RANGE)
+    }
+
+    /// Checks every parameter; errors name the valid range.
+    ///
+    /// # Errors
+    /// A segment length, precision, segment count or field out of range.
+    pub fn validate(&self) -> Result<(), Error> {
+        check_request(self.collisions_per_segment, self.reference_bits)?;
+        if !(1..=MAX_SEGMENTS).contains(&self.segments) {
+            return Err(Error::out_of_range(
+                "segments",
+                self.segments,
+                format!("use 1 to {MAX_SEGMENTS}"),
+            ));
+        }
+        self.field_exact()?;
+        Ok(())
+    }
+}
+
+/// The field of `config` with its exact geometry on `scene`.
+///
+/// # Errors
+/// A bad field, a scene without a disk lattice, or a field in which every orbit is localized.
+fn field_of<S: Scene>(
+    scene: &S,
+    config: &ShadowConfig,
+) -> Result<Option<(rug::Rational, crate::theory::magnetic::FieldGeometry)>, Error> {
+    let Some(q) = config.field_exact()? else {
+        return Ok(None);
+    };
+    let disks = scene.disk_lattice().ok_or_else(|| {
+        Error::Invalid(format!(
+            "{}: true shadowing in a field needs a scene of equal disks on a lattice",
+            scene.label()
+        ))
+    })?;
+    let geometry =
+        crate::theory::magnetic::FieldGeometry::new(disks, crate::numbers::exact::nearest_f64(&q))?;
+    if geometry.all_localized() {
+        return Err(Error::Invalid(format!(
+            "field = {}: every orbit is localized here (pinned or skipping), so no segment \
+             diffuses; use a weaker field",
+            config.field.as_deref().unwrap_or_default()
+        )));
+    }
+    Ok(Some((q, geometry)))
 }
 
 /// Shadows `segments` segments of `collisions_per_segment` collisions each; segment k starts from the
@@ -478,30 +440,23 @@ pub fn run<S: Scene>(
 ) -> Result<ShadowReport, Error> {
     options.validate()?;
     options.refuse_unused("shadow", &[])?;
+    request.validate()?;
     let (threads, progress) = (options.threads, options.progress);
-    let &ShadowConfig {
-        collisions_per_segment: collisions,
-        segments,
-        seed,
-        reference_bits: bits,
-    } = request;
-    check_request(collisions, bits)?;
-    if !(1..=MAX_SEGMENTS).contains(&segments) {
-        return Err(Error::out_of_range(
-            "segments",
-            segments,
-            format!("use 1 to {MAX_SEGMENTS}"),
-        ));
-    }
+    let (collisions, segments, bits) = (
+        request.collisions_per_segment,
+        request.segments,
+        request.reference_bits,
+    );
+    let field = field_of(scene, request)?;
+    let exact = field.as_ref().map(|f| &f.0);
     let out = par_batches(threads, segments, |k| {
-        let start = scene.sample(&mut stream(seed, k as u64));
-        let orbit = f64_segment(scene, &start, collisions, bits)?;
-        let mut shadow = shadow_pseudo_orbit(scene, &orbit, bits)?;
+        let orbit = seeded_segment(scene, request, field.as_ref(), k)?;
+        let mut shadow = shadow_pseudo_orbit_in_field(scene, &orbit, bits, exact)?;
         shadow.orbit = Vec::new();
         progress(collisions as u64);
         Ok(SegmentShadow {
             segment: k,
-            start_seed: seed,
+            start_seed: request.seed,
             shadow,
         })
     })?;
@@ -521,12 +476,17 @@ pub fn run<S: Scene>(
     });
     Ok(ShadowReport {
         scene: scene.label(),
-        config: *request,
+        config: request.clone(),
         converged: out.iter().filter(|s| s.shadow.converged).count() as u32,
         certified: out.iter().filter(|s| s.shadow.certified).count() as u32,
         median_delta,
         max_delta: deltas.last().copied(),
         segments: out,
-        meta: RunMeta::new(Some(seed), Some(segments as u64), bits, Some(threads)),
+        meta: RunMeta::new(
+            Some(request.seed),
+            Some(segments as u64),
+            bits,
+            Some(threads),
+        ),
     })
 }

@@ -11,6 +11,9 @@ pub struct Table {
     pub(super) h: Float,
     pub(super) r: Float,
     pub(super) bits: u32,
+    /// The field ω = B at the working precision (the velocity turns at the angular velocity ω,
+    /// counter-clockwise for ω > 0), or `None`: straight flights.
+    pub(super) omega: Option<Float>,
 }
 
 /// 2×2 matrix, row-major.
@@ -57,7 +60,25 @@ impl Table {
             h: c.lattice.h.clone(),
             r,
             bits,
+            omega: None,
         })
+    }
+
+    /// The table of `scene` at `bits` in the field `field` (exact, nonzero; `None` or zero:
+    /// no field, as [`Table::new`]): flights are arcs of the cyclotron circle.
+    ///
+    /// # Errors
+    /// As [`Table::new`].
+    pub fn in_field<S: Scene>(
+        scene: &S,
+        bits: u32,
+        field: Option<&rug::Rational>,
+    ) -> Result<Self, Error> {
+        let mut t = Table::new(scene, bits)?;
+        t.omega = field
+            .filter(|q| q.cmp0() != std::cmp::Ordering::Equal)
+            .map(|q| Float::with_val(bits, q));
+        Ok(t)
     }
 
     /// The working precision.
@@ -94,26 +115,13 @@ impl Table {
 
     /// Contact point and outgoing velocity of the collision state `x`.
     pub(super) fn phase(&self, x: &OrbitPoint) -> Result<(Vec2<Float>, Vec2<Float>), StepFailure> {
-        let b = self.bits;
-        let (s, p) = (Float::with_val(b, &x.s), Float::with_val(b, &x.p));
-        let c2 = Float::with_val(b, 1) - &p.clone().square();
-        if !c2.is_sign_positive() || c2.is_zero() {
-            return Err(StepFailure::Grazing(Float::with_val(b, 0)));
-        }
-        let cphi = c2.sqrt();
-        let (sn, cs) = s.sin_cos(Float::new(b));
-        let c = self.centre(x.disk);
-        let pos = Vec2::new(c.x + &(self.r.clone() * &cs), c.y + &(self.r.clone() * &sn));
-        let vel = Vec2::new(
-            cphi.clone() * &cs - &(p.clone() * &sn),
-            cphi * &sn + &(p * &cs),
-        );
-        Ok((pos, vel))
+        let d = self.departure(x)?;
+        Ok((d.x0, d.v))
     }
 
-    /// The billiard map from `x` to the disk `next` and its analytic Jacobian in (s, p)
-    /// (chain rule through the flight; `proofs-notes/shadowing.md`).
-    pub(super) fn step(&self, x: &OrbitPoint, next: [i64; 2]) -> Result<Step, StepFailure> {
+    /// The collision state `x` as a contact point and an outgoing velocity, with what the
+    /// Jacobians need; `Grazing` if |p| ≥ 1.
+    pub(super) fn departure(&self, x: &OrbitPoint) -> Result<Departure, StepFailure> {
         let b = self.bits;
         let s = Float::with_val(b, &x.s);
         let p = Float::with_val(b, &x.p);
@@ -129,11 +137,71 @@ impl Table {
             cphi.clone() * &n.x + &(p.clone() * &t.x),
             cphi.clone() * &n.y + &(p.clone() * &t.y),
         );
-        let c0 = self.centre(x.disk);
+        let x0 = self.centre(x.disk).along(&self.r, &n);
+        Ok(Departure {
+            n,
+            t,
+            v,
+            cphi,
+            p,
+            x0,
+        })
+    }
+
+    /// The tangent vector (δX, δv) of the departure along e_s (`dir` 0) or e_p (`dir` 1):
+    /// δn = t δs, δt = −n δs, δcos φ = −p δp / cos φ, δv = δcos φ n + cos φ δn + δp t + p δt,
+    /// δX = r δn.
+    pub(super) fn departure_tangent(
+        &self,
+        d: &Departure,
+        dir: usize,
+    ) -> (Vec2<Float>, Vec2<Float>) {
+        let (ds, dp) = if dir == 0 { (1.0, 0.0) } else { (0.0, 1.0) };
+        let (ds, dp) = (self.f(ds), self.f(dp));
+        let (n, t, p, cphi) = (&d.n, &d.t, &d.p, &d.cphi);
+        let dn = Vec2::new(t.x.clone() * &ds, t.y.clone() * &ds);
+        let dt = Vec2::new(-(n.x.clone() * &ds), -(n.y.clone() * &ds));
+        let dc = -(p.clone() * &dp) / cphi;
+        let dv = Vec2::new(
+            dc.clone() * &n.x
+                + &(cphi.clone() * &dn.x)
+                + &(dp.clone() * &t.x)
+                + &(p.clone() * &dt.x),
+            dc * &n.y + &(cphi.clone() * &dn.y) + &(dp * &t.y) + &(p.clone() * &dt.y),
+        );
+        let dx0 = Vec2::new(dn.x.clone() * &self.r, dn.y.clone() * &self.r);
+        (dx0, dv)
+    }
+
+    /// (δs′, δp′) at the arrival with the outward normal n′ (|n′|² = `nn`) and the incoming
+    /// velocity v⁻ from the contact point's δX′ and the velocity's δv⁻: δn′ = δX′/r,
+    /// δs′ = n′ × δn′/|n′|², δp′ = δn′ × v⁻ + n′ × δv⁻ (p′ = n′ × v⁻).
+    pub(super) fn arrival_tangent(
+        &self,
+        n1: &Vec2<Float>,
+        nn: &Float,
+        dx1: &Vec2<Float>,
+        vin: &Vec2<Float>,
+        dvin: &Vec2<Float>,
+    ) -> [Float; 2] {
+        let dn1 = Vec2::new(dx1.x.clone() / &self.r, dx1.y.clone() / &self.r);
+        [n1.cross(&dn1) / nn, dn1.cross(vin) + &n1.cross(dvin)]
+    }
+
+    /// The billiard map from `x` to the disk `next` and its analytic Jacobian in (s, p)
+    /// (chain rule through the flight; `proofs-notes/shadowing.md`): along a straight line, or
+    /// along an arc in a field ([`Table::arc_step`]).
+    pub(super) fn step(&self, x: &OrbitPoint, next: [i64; 2]) -> Result<Step, StepFailure> {
+        if let Some(omega) = &self.omega {
+            return self.arc_step(x, next, omega);
+        }
+        let b = self.bits;
+        let dep = self.departure(x)?;
+        let v = &dep.v;
         let c1 = self.centre(next);
-        let x0 = c0.along(&self.r, &n);
+        let x0 = &dep.x0;
         let d = x0.sub(&c1);
-        let beta = d.dot(&v);
+        let beta = d.dot(v);
         let gamma = d.norm2() - &self.r.clone().square();
         let disc = beta.clone().square() - &gamma;
         if !beta.is_sign_negative() || !disc.is_sign_positive() || disc.is_zero() {
@@ -142,33 +210,20 @@ impl Table {
         let sq = disc.clone().sqrt();
         // τ = −β − √Δ = γ/(√Δ − β), free of cancellation (β < 0, γ > 0).
         let tau = gamma / &(sq.clone() - &beta);
-        let x1 = x0.along(&tau, &v);
+        let x1 = x0.along(&tau, v);
         let n1 = Vec2::new(
             (x1.x.clone() - &c1.x) / &self.r,
             (x1.y.clone() - &c1.y) / &self.r,
         );
         let s1 = Float::with_val(b, n1.y.atan2_ref(&n1.x));
-        let p1 = n1.cross(&v);
+        let p1 = n1.cross(v);
         let cos_in = sq.clone() / &self.r;
         let nn = n1.norm2();
         // Directional derivatives along e_s and e_p.
         let mut jac: M2 = std::array::from_fn(|_| Float::new(b));
         for dir in 0..2 {
-            let (ds, dp) = if dir == 0 { (1.0, 0.0) } else { (0.0, 1.0) };
-            let (ds, dp) = (self.f(ds), self.f(dp));
-            // dn = t ds, dt = −n ds, dcφ = −p dp / cφ.
-            let dn = Vec2::new(t.x.clone() * &ds, t.y.clone() * &ds);
-            let dt = Vec2::new(-(n.x.clone() * &ds), -(n.y.clone() * &ds));
-            let dc = -(p.clone() * &dp) / &cphi;
-            let dv = Vec2::new(
-                dc.clone() * &n.x
-                    + &(cphi.clone() * &dn.x)
-                    + &(dp.clone() * &t.x)
-                    + &(p.clone() * &dt.x),
-                dc * &n.y + &(cphi.clone() * &dn.y) + &(dp * &t.y) + &(p.clone() * &dt.y),
-            );
-            let dx0 = Vec2::new(dn.x.clone() * &self.r, dn.y.clone() * &self.r);
-            let dbeta = dx0.dot(&v) + &d.dot(&dv);
+            let (dx0, dv) = self.departure_tangent(&dep, dir);
+            let dbeta = dx0.dot(v) + &d.dot(&dv);
             let dgamma = d.dot(&dx0) * 2u32;
             let ddisc = beta.clone() * &dbeta * 2u32 - &dgamma;
             let dtau = -dbeta - &(ddisc / &(sq.clone() * 2u32));
@@ -176,9 +231,7 @@ impl Table {
                 dx0.x.clone() + &(dtau.clone() * &v.x) + &(tau.clone() * &dv.x),
                 dx0.y.clone() + &(dtau * &v.y) + &(tau.clone() * &dv.y),
             );
-            let dn1 = Vec2::new(dx1.x / &self.r, dx1.y / &self.r);
-            jac[dir] = n1.cross(&dn1) / &nn;
-            jac[2 + dir] = dn1.cross(&v) + &n1.cross(&dv);
+            [jac[dir], jac[2 + dir]] = self.arrival_tangent(&n1, &nn, &dx1, v, &dv);
         }
         Ok(Step {
             s: s1,
@@ -188,4 +241,15 @@ impl Table {
             tau,
         })
     }
+}
+
+/// A collision state as the maps use it: the outward normal n and tangent t at the contact
+/// point X, the outgoing unit velocity v = cos φ n + p t.
+pub(super) struct Departure {
+    pub(super) n: Vec2<Float>,
+    pub(super) t: Vec2<Float>,
+    pub(super) v: Vec2<Float>,
+    pub(super) cphi: Float,
+    pub(super) p: Float,
+    pub(super) x0: Vec2<Float>,
 }
