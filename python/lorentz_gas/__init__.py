@@ -107,7 +107,7 @@ __all__ = [
 
 Exact = Union[str, float, int, fractions.Fraction, decimal.Decimal]
 Count = Union[int, float, str]
-Progress = Union[bool, Callable[[int], Any]]
+Progress = Union[None, bool, Callable[[int], Any]]
 PathLike = Union[str, "os.PathLike[str]"]
 
 #: The dtype of :func:`events`: one record per event.
@@ -208,12 +208,24 @@ def _path(v: Optional[PathLike]) -> Optional[str]:
     return None if v is None else os.fspath(v)
 
 
+def _in_notebook() -> bool:
+    """Whether the caller runs in a Jupyter kernel (where a bar is wanted by default)."""
+    try:
+        from IPython import get_ipython
+    except ImportError:
+        return False
+    shell = get_ipython()
+    return shell is not None and type(shell).__name__ == "ZMQInteractiveShell"
+
+
 class _Bar:
     """A tqdm bar fed by the run's progress (nothing when tqdm is missing)."""
 
     def __init__(self, progress: Progress, total: float, unit: str):
         self.bar = None
         self.callback: Optional[Callable[[int], Any]] = None
+        if progress is None:
+            progress = _in_notebook()
         if callable(progress):
             self.callback = progress
         elif progress:
@@ -259,7 +271,7 @@ def diffusion(
     reference_bits: Count = 128,
     field: Optional[Exact] = None,
     localization_samples: Count = 1_000_000,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> Union[DiffusionResult, FieldResult]:
     """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``), or with a
     magnetic ``field`` the diffusion tensor (``lorentz diffusion --field``).
@@ -299,8 +311,9 @@ def diffusion(
         on the scalar engine.
     localization_samples : int
         With ``field``: phase points classified for the sampled share of localized orbits.
-    progress : bool or callable
+    progress : bool, callable or None
         Show a tqdm bar (if tqdm is installed), or call ``progress(n)`` with collisions done.
+        ``None`` (the default): a bar in a Jupyter notebook, none in scripts; ``False``: none.
 
     Returns
     -------
@@ -348,7 +361,7 @@ def hops(
     engine: str = "auto",
     checkpoint: Optional[PathLike] = None,
     checkpoint_every: float = 60.0,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> HopsResult:
     """Trap-hopping statistics along lattice trajectories (``lorentz hops``).
 
@@ -398,7 +411,7 @@ def theory(
     threads: Optional[Count] = None,
     checkpoint: Optional[PathLike] = None,
     checkpoint_every: float = 60.0,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> TheoryResult:
     """The corrected Machta–Zwanzig hierarchy on measured hop statistics (``lorentz theory``).
 
@@ -428,7 +441,7 @@ def lattice_walk(
     threads: Optional[Count] = None,
     checkpoint: Optional[PathLike] = None,
     checkpoint_every: float = 60.0,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> LatticeWalkResult:
     """Correlated lattice walks driven by the measured symbol tables (``lorentz lattice-walk``,
     Fig. 6b): walks of order 1 to ``order`` simulated, next to their exact D.
@@ -471,7 +484,7 @@ def backscatter(
     seed: Count = 1,
     threads: Optional[Count] = None,
     precision: Union[str, int] = "f64",
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> BackscatterResult:
     """Backscattering by injection into one trap (``lorentz backscatter``).
 
@@ -517,7 +530,7 @@ def sweep(
     engine: str = "auto",
     out: Optional[PathLike] = None,
     checkpoint_every: float = 60.0,
-    progress: Progress = False,
+    progress: Progress = None,
     *,
     w: Optional[Exact] = None,
     field: Optional[Exact] = None,
@@ -637,7 +650,7 @@ def escape(
     threads: Optional[Count] = None,
     checkpoint: Optional[PathLike] = None,
     checkpoint_every: float = 60.0,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> EscapeResult:
     """D from the escape rate out of open strips (``lorentz escape``, Gaspard–Baras).
 
@@ -684,7 +697,7 @@ def lyapunov(
     starts: Optional[Count] = None,
     seed: Count = 1,
     threads: Optional[Count] = None,
-    progress: Progress = False,
+    progress: Progress = None,
     field: Optional[Exact] = None,
 ) -> LyapunovResult:
     """The largest Lyapunov exponent (``lorentz lyapunov``).
@@ -751,7 +764,7 @@ def superdiffusion(
     threads: Optional[Count] = None,
     checkpoint: Optional[PathLike] = None,
     checkpoint_every: float = 60,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> SuperdiffusionResult:
     """Superdiffusion beyond a finite horizon (``lorentz superdiffusion``): the free-flight
     tails, t·C_xx(t), ⟨Δx²⟩/t against ln t and the limit law of Δx/√(t ln t), each against
@@ -818,7 +831,7 @@ def audit(
     seed: Count = 1,
     field: Optional[Exact] = None,
     threads: Optional[Count] = None,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> AuditResult:
     """The shadow audit (``lorentz audit``): f64 events replayed in MPFR.
 
@@ -872,7 +885,7 @@ def shadow(
     seed: Count = 1,
     field: Optional[Exact] = None,
     threads: Optional[Count] = None,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> ShadowResult:
     """True orbits shadowing f64 segments of the triangular gas (``lorentz shadow``).
 
@@ -922,7 +935,7 @@ def certify(
     collisions: Count = 1000,
     digits: Count = 30,
     seed: Count = 1,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> CertifyResult:
     """A trajectory segment certified to its digits (``lorentz certify``).
 
@@ -967,7 +980,7 @@ def trajectory(
     radius: Optional[Exact] = None,
     digits: Count = 30,
     events: bool = False,
-    progress: Progress = False,
+    progress: Progress = None,
     field: Optional[Exact] = None,
 ) -> TrajectoryResult:
     """One trajectory from exact initial conditions to certified digits (``lorentz
@@ -1020,7 +1033,7 @@ def report(
     reference_bits: Count = 128,
     max_rerun_collisions: Optional[Count] = None,
     threads: Optional[Count] = None,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> ReportResult:
     """The publication audit of a result file (``lorentz report``): re-runs its recorded
     configuration, checks every identity and writes report.md, report.html and report.json to
@@ -1050,7 +1063,7 @@ def events(
     scene: str = "triangular",
     radius: Optional[Exact] = None,
     field: Optional[Exact] = None,
-    progress: Progress = False,
+    progress: Progress = None,
 ) -> np.ndarray:
     """One trajectory's events, for your own observables.
 

@@ -89,6 +89,17 @@ def test_progress_true_shows_a_tqdm_bar(capsys):
     assert "2.00M" in capsys.readouterr().err
 
 
+def test_the_default_progress_is_a_bar_in_a_notebook_and_silence_in_a_script(capsys, monkeypatch):
+    pytest.importorskip("tqdm")
+    lg.diffusion(w=0.2, collisions=2_000_000, batches=4)
+    assert capsys.readouterr().err == "", "a bar outside a notebook"
+    monkeypatch.setattr(lg, "_in_notebook", lambda: True)
+    lg.diffusion(w=0.2, collisions=2_000_000, batches=4)
+    assert "2.00M" in capsys.readouterr().err, "no bar in a notebook"
+    lg.diffusion(w=0.2, collisions=2_000_000, batches=4, progress=False)
+    assert capsys.readouterr().err == "", "progress=False showed a bar"
+
+
 def test_an_exception_in_the_progress_callback_stops_the_run():
     def boom(n):
         raise RuntimeError("from the callback")
