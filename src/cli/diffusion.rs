@@ -140,7 +140,7 @@ fn nonzero_field(a: &Args) -> Result<Option<String>, Error> {
 fn print(r: &DiffusionReport) {
     let m = &r.meta;
     println!(
-        "periodic Lorentz gas, w = {}  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {} threads, {:.1} s, {:.3e} collisions/s)",
+        "periodic Lorentz gas, w = {}  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {}, {:.1} s, {:.3e} collisions/s)",
         r.w,
         m.precision,
         match &m.simd {
@@ -150,7 +150,7 @@ fn print(r: &DiffusionReport) {
         m.seed.unwrap_or_default(),
         m.batches.unwrap_or_default(),
         r.collisions as f64,
-        m.threads.unwrap_or_default(),
+        lorentz_gas::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
         r.seconds,
         r.collisions_per_second
     );

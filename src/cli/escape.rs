@@ -66,11 +66,11 @@ pub fn run(a: Args) -> Result<(), Error> {
 fn print(r: &EscapeReport) {
     let m = &r.meta;
     println!(
-        "escape rate from open strips, w = {}  (seed {}, {} batches per width, {} threads, {:.3e} events, {:.1} s)",
+        "escape rate from open strips, w = {}  (seed {}, {} batches per width, {}, {:.3e} events, {:.1} s)",
         r.w,
         m.seed.unwrap_or_default(),
         r.batches_per_width,
-        m.threads.unwrap_or_default(),
+        lorentz_gas::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
         r.events as f64,
         r.seconds
     );

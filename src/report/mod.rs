@@ -10,3 +10,17 @@ pub mod figures;
 pub mod publication;
 pub mod reproduce;
 pub mod speed_error;
+
+/// `n` and the noun, plural unless n = 1: "1 thread", "2 threads".
+///
+/// ```
+/// assert_eq!(lorentz_gas::report::counted(1, "thread"), "1 thread");
+/// assert_eq!(lorentz_gas::report::counted(2, "thread"), "2 threads");
+/// ```
+pub fn counted(n: u64, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}

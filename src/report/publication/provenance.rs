@@ -74,14 +74,18 @@ pub(super) fn identification_check(checks: &mut Checks, kind: &str, sha: &str, r
         "result file identified",
         Verdict::Pass,
         format!(
-            "{kind} result, SHA-256 {sha}; recorded by lorentz {} ({} engine{}, {} threads, seed {})",
+            "{kind} result, SHA-256 {sha}; recorded by lorentz {} ({} engine{}, {}, seed {})",
             recorded.version,
             recorded.engine,
             recorded
                 .simd
                 .as_ref()
                 .map_or(String::new(), |s| format!(" {s}")),
-            recorded.threads.map_or("?".into(), |t| t.to_string()),
+            recorded
+                .threads
+                .map_or("? threads".into(), |t| crate::report::counted(
+                    t as u64, "thread"
+                )),
             recorded.seed.map_or("-".into(), |s| s.to_string()),
         ),
         &[],

@@ -555,12 +555,12 @@ fn md_table_html(md: &str) -> String {
 
 fn index_html(dir: &Path, r: &ReproduceReport) -> String {
     let mut s = format!(
-        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>lorentz reproduce ({})</title>\n<style>body{{font-family:sans-serif;max-width:75em;margin:2em auto}}table{{border-collapse:collapse;margin:1em 0}}td,th{{border:1px solid #ccc;padding:.25em .5em}}img{{max-width:48%;margin:.3em}}</style></head><body>\n<h1>Klages &amp; Dellago (2000), reproduced by lorentz {} — budget {}</h1>\n<p>seed {}, {} threads; every file in this folder was written by <code>lorentz reproduce</code>.</p>\n",
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>lorentz reproduce ({})</title>\n<style>body{{font-family:sans-serif;max-width:75em;margin:2em auto}}table{{border-collapse:collapse;margin:1em 0}}td,th{{border:1px solid #ccc;padding:.25em .5em}}img{{max-width:48%;margin:.3em}}</style></head><body>\n<h1>Klages &amp; Dellago (2000), reproduced by lorentz {} — budget {}</h1>\n<p>seed {}, {}; every file in this folder was written by <code>lorentz reproduce</code>.</p>\n",
         r.budget.name(),
         env!("CARGO_PKG_VERSION"),
         r.budget.name(),
         r.meta.seed.unwrap_or(0),
-        r.meta.threads.unwrap_or(0),
+        crate::report::counted(r.meta.threads.unwrap_or(0) as u64, "thread"),
     );
     for st in &r.steps {
         s += &format!(
