@@ -758,8 +758,8 @@ def superdiffusion(
     octaves: Count = 12,
     points_per_octave: Count = 4,
     tail_fit_from: float = 8,
-    vacf_fit: Tuple[float, float] = (64, 256),
-    msd_fit: Tuple[float, float] = (512, 4096),
+    vacf_fit: Optional[Tuple[float, float]] = None,
+    msd_fit: Optional[Tuple[float, float]] = None,
     seed: Count = 1,
     threads: Optional[Count] = None,
     checkpoint: Optional[PathLike] = None,
@@ -785,9 +785,11 @@ def superdiffusion(
     tail_fit_from : float
         The tail fits C + B/s use the times s from this many mean free times on (only those at
         which every batch saw 100 longer flights).
-    vacf_fit, msd_fit : (float, float)
+    vacf_fit, msd_fit : (float, float) or None
         The lags, in mean free times, of the plateau of t·C_xx(t) and of the fit
-        ⟨Δx²⟩/t = a ln t + b.
+        ⟨Δx²⟩/t = a ln t + b. ``None`` (the default): placed as at 12 octaves relative to the
+        longest lag, [2^(octaves−6), 2^(octaves−4)] and [2^(octaves−3), 2^octaves]
+        ((64, 256) and (512, 4096) at 12 octaves).
     seed, threads, checkpoint, checkpoint_every, progress
         As in :func:`diffusion` (a checkpoint keeps finished batches and, every
         ``checkpoint_every`` seconds, each trajectory in flight with its observers).
@@ -808,8 +810,8 @@ def superdiffusion(
             _count("octaves", octaves),
             _count("points_per_octave", points_per_octave),
             float(tail_fit_from),
-            _window("vacf_fit", vacf_fit),
-            _window("msd_fit", msd_fit),
+            None if vacf_fit is None else _window("vacf_fit", vacf_fit),
+            None if msd_fit is None else _window("msd_fit", msd_fit),
             _count("seed", seed),
             _threads(threads),
             _path(checkpoint),

@@ -59,8 +59,8 @@ def lyapunov(
 ) -> str: ...
 def superdiffusion(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
-    octaves: str, points_per_octave: str, tail_fit_from: float, vacf_fit: Tuple[float, float],
-    msd_fit: Tuple[float, float], seed: str, threads: Optional[str], checkpoint: Optional[str],
+    octaves: str, points_per_octave: str, tail_fit_from: float,
+    vacf_fit: Optional[Tuple[float, float]], msd_fit: Optional[Tuple[float, float]], seed: str, threads: Optional[str], checkpoint: Optional[str],
     checkpoint_every: float, progress: Progress,
 ) -> str: ...
 def audit(

@@ -381,8 +381,8 @@ fn py_superdiffusion(
     octaves: &str,
     points_per_octave: &str,
     tail_fit_from: f64,
-    vacf_fit: [f64; 2],
-    msd_fit: [f64; 2],
+    vacf_fit: Option<[f64; 2]>,
+    msd_fit: Option<[f64; 2]>,
     seed: &str,
     threads: Option<&str>,
     checkpoint: Option<PathBuf>,
@@ -392,16 +392,16 @@ fn py_superdiffusion(
     // The scene and its parameter checked as every analysis checks them, kept as typed.
     let scene = crate::scenes::spec(scene, w, radius)?;
     let every = interval(checkpoint_every)?;
+    let windows = SuperdiffusionConfig::new(scene).with_octaves(count_u32("octaves", octaves)?);
     let cfg = SuperdiffusionConfig {
         collisions: count_u64("collisions", collisions)?,
         batches: count_u32("batches", batches)?,
-        octaves: count_u32("octaves", octaves)?,
         points_per_octave: count_u32("points_per_octave", points_per_octave)?,
         tail_fit_from,
-        vacf_fit,
-        msd_fit,
+        vacf_fit: vacf_fit.unwrap_or(windows.vacf_fit),
+        msd_fit: msd_fit.unwrap_or(windows.msd_fit),
         seed: count_u64("seed", seed)?,
-        ..SuperdiffusionConfig::new(scene)
+        ..windows
     };
     let threads = inputs::threads(threads)?;
     let r = compute(py, progress, |ctl| {

@@ -43,3 +43,10 @@ pub fn sigmas(x: f64, err: f64, exact: f64, n: usize) -> String {
     let verdict = if c.agrees() { "agree" } else { "DISAGREE" };
     format!("{:+.1}σ, bound {:.1}σ: {verdict}", c.z, c.bound)
 }
+
+/// "+1.5σ; no verdict: …" for a value measured where its estimator has not converged (no
+/// agreement claimed, and no disagreement either: the distance is the approach's).
+pub fn sigmas_unconverged(x: f64, err: f64, exact: f64, n: usize, why: &str) -> String {
+    let c = comparison::of(x - exact, err, comparison::batch_dof(n));
+    format!("{:+.1}σ; no verdict: {why}", c.z)
+}

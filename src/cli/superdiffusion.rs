@@ -5,7 +5,7 @@ use lorentz_gas::Error;
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig, SuperdiffusionReport};
 
 use super::args::{CheckpointArgs, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32};
-use super::output::{emit, sigmas};
+use super::output::{emit, sigmas, sigmas_unconverged};
 use super::progress::Progress;
 
 #[derive(clap::Args)]
@@ -30,12 +30,14 @@ pub struct Args {
     /// this many mean free times on (where every batch saw 100 longer flights).
     #[arg(long, default_value = "8", allow_negative_numbers = true)]
     tail_fit_from: f64,
-    /// The lags of the plateau of t C(t), FROM:TO in mean free times.
-    #[arg(long, default_value = "64:256", value_parser = parse_window, allow_hyphen_values = true)]
-    vacf_fit: [f64; 2],
-    /// The lags of the fit of <dx^2>/t = a ln t + b, FROM:TO in mean free times.
-    #[arg(long, default_value = "512:4096", value_parser = parse_window, allow_hyphen_values = true)]
-    msd_fit: [f64; 2],
+    /// The lags of the plateau of t C(t), FROM:TO in mean free times [default: 2^(OCTAVES-6) to
+    /// 2^(OCTAVES-4), 64:256 at 12 octaves].
+    #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
+    vacf_fit: Option<[f64; 2]>,
+    /// The lags of the fit of <dx^2>/t = a ln t + b, FROM:TO in mean free times [default:
+    /// 2^(OCTAVES-3) to 2^OCTAVES, 512:4096 at 12 octaves].
+    #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
+    msd_fit: Option<[f64; 2]>,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -59,16 +61,16 @@ fn parse_window(text: &str) -> Result<[f64; 2], String> {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
+    let windows = SuperdiffusionConfig::new(a.scene.spec()?).with_octaves(a.octaves);
     let cfg = SuperdiffusionConfig {
         collisions: a.collisions,
         batches: a.batches,
-        octaves: a.octaves,
         points_per_octave: a.points_per_octave,
         tail_fit_from: a.tail_fit_from,
-        vacf_fit: a.vacf_fit,
-        msd_fit: a.msd_fit,
+        vacf_fit: a.vacf_fit.unwrap_or(windows.vacf_fit),
+        msd_fit: a.msd_fit.unwrap_or(windows.msd_fit),
         seed: a.run.seed(),
-        ..SuperdiffusionConfig::new(a.scene.spec()?)
+        ..windows
     };
     cfg.validate()?;
     let pb = Progress::new(a.collisions, "collisions", a.output.quiet);
@@ -107,14 +109,29 @@ fn print(r: &SuperdiffusionReport) {
 /// The fitted constants, each against its exact value.
 fn print_estimates(r: &SuperdiffusionReport, n: usize) {
     println!("measured, each against its exact value:");
-    let line = |what: &str, x: f64, e: f64, exact: f64, range: [f64; 2]| {
-        println!(
-            "  {what:<36} {x:.6e} ± {e:.1e}  over t in [{:.4}, {:.4}]  ({})",
-            range[0],
-            range[1],
+    let l = r.mean_free_path;
+    let line = |what: &str, x: f64, e: f64, exact: f64, range: [f64; 2], from: f64| {
+        let start = range[0] / l;
+        // The window's first lag is a grid time, rounded from the mean free times asked for.
+        let verdict = if start < from * (1.0 - 1e-9) {
+            let why = format!(
+                "the window starts at {}l, below the {from}l from which this estimator has converged",
+                if (start - start.round()).abs() < 1e-9 {
+                    format!("{start:.0}")
+                } else {
+                    format!("{start:.3}")
+                }
+            );
+            sigmas_unconverged(x, e, exact, n, &why)
+        } else {
             sigmas(x, e, exact, n)
+        };
+        println!(
+            "  {what:<36} {x:.6e} ± {e:.1e}  over t in [{:.4}, {:.4}]  ({verdict})",
+            range[0], range[1],
         )
     };
+    let from = superdiffusion::CONVERGED_FROM;
     match (
         r.c_flow_tail,
         r.c_flow_tail_err,
@@ -129,6 +146,7 @@ fn print_estimates(r: &SuperdiffusionReport, n: usize) {
                 fe,
                 r.c_flow_exact,
                 range,
+                from.tails,
             );
             line(
                 "C_map   (s^2 mu(tau > s) = C + B/s)",
@@ -136,6 +154,7 @@ fn print_estimates(r: &SuperdiffusionReport, n: usize) {
                 me,
                 r.c_map_exact,
                 range,
+                from.tails,
             );
         }
         _ => println!(
@@ -148,6 +167,7 @@ fn print_estimates(r: &SuperdiffusionReport, n: usize) {
         r.d_sup_vacf_err,
         r.d_sup_exact,
         r.vacf_fit,
+        from.vacf,
     );
     line(
         "2D_sup  (slope of <dx^2>/t in ln t)",
@@ -155,6 +175,7 @@ fn print_estimates(r: &SuperdiffusionReport, n: usize) {
         r.msd_log_slope_err,
         r.msd_log_slope_exact,
         r.msd_fit,
+        from.msd,
     );
     println!(
         "  intercept of <dx^2>/t in ln t      {:.6e} ± {:.1e}",

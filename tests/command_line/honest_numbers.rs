@@ -115,3 +115,52 @@ fn no_command_prints_nan_and_few_batches_are_labelled() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("is the fit window 10:40"), "{err}");
 }
+
+/// The fit windows follow `--octaves` (at 8 octaves the defaults sit where they sit at 12,
+/// relative to the longest lag: 4:16 and 32:256, instead of a refusal of 64:256 and 512:4096),
+/// and an estimate whose window starts before its estimator has converged
+/// (`superdiffusion::CONVERGED_FROM`) is given no verdict — neither "agree" nor "DISAGREE" —
+/// while the defaults at 12 octaves get one on every line. (Breaking it on purpose: with the
+/// old verdict the 8-octave MSD slope reads "+1.5σ … agree" though its window ends where the
+/// local slope is still 10 % high.)
+#[test]
+fn superdiffusion_windows_follow_the_octaves_and_unconverged_ones_get_no_verdict() {
+    let tmp = scratch();
+    let run = |octaves: &str| {
+        let (code, out, err) = lorentz_in(
+            tmp.path(),
+            &[
+                "superdiffusion",
+                "--scene",
+                "square",
+                "--radius",
+                "1/4",
+                "--collisions",
+                "2e7",
+                "--octaves",
+                octaves,
+                "--quiet",
+            ],
+        );
+        assert_eq!(code, 0, "{err}");
+        out
+    };
+    let line = |out: &str, what: &str| {
+        out.lines()
+            .find(|l| l.trim_start().starts_with(what))
+            .unwrap_or_else(|| panic!("no {what} line in {out}"))
+            .to_string()
+    };
+    let short = run("8");
+    for what in ["D_sup ", "2D_sup "] {
+        let l = line(&short, what);
+        assert!(l.contains("no verdict"), "{l}");
+        assert!(!l.contains("agree") && !l.contains("DISAGREE"), "{l}");
+    }
+    assert!(line(&short, "C_flow").contains("bound"), "{short}");
+    let full = run("12");
+    for what in ["C_flow", "C_map", "D_sup ", "2D_sup "] {
+        let l = line(&full, what);
+        assert!(!l.contains("no verdict") && l.contains("bound"), "{l}");
+    }
+}

@@ -76,6 +76,29 @@ pub struct SuperdiffusionConfig {
 /// (`proofs-notes/superdiffusion-estimators.md`).
 pub const MIN_BATCHES: u32 = 16;
 
+/// Where each estimator has converged, in mean free times: a fit window that starts earlier
+/// measures the approach, not the constant, and is given no verdict. From the convergence study
+/// at r = 1/4, the fastest scene measured (README, "Superdiffusion"; a scene of narrower
+/// corridors converges later still, so these are necessary, not sufficient): the tails are
+/// within their errors of C + B/s from s ≈ 10ℓ, t·C_xx(t) within 3 % of its plateau from ~64ℓ
+/// (1.07 there), the local slope of ⟨Δx²⟩/t in ln t 1.10 at 256ℓ and 1.01 at 724ℓ.
+pub const CONVERGED_FROM: Converged = Converged {
+    tails: 8.0,
+    vacf: 64.0,
+    msd: 512.0,
+};
+
+/// The lags (mean free times) from which each estimator has converged ([`CONVERGED_FROM`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Converged {
+    /// The tail fits C + B/s.
+    pub tails: f64,
+    /// The plateau of t·C_xx(t).
+    pub vacf: f64,
+    /// The slope of ⟨Δx²⟩/t in ln t.
+    pub msd: f64,
+}
+
 impl SuperdiffusionConfig {
     /// The command line's defaults for `scene`: 2·10⁸ collisions in 32 batches, lags to 2¹² ℓ at 4
     /// per octave, the tail fits from 8ℓ, the VACF's plateau over [64ℓ, 256ℓ], the MSD's slope
@@ -91,6 +114,34 @@ impl SuperdiffusionConfig {
             vacf_fit: [64.0, 256.0],
             msd_fit: [512.0, 4096.0],
             seed: 1,
+        }
+    }
+
+    /// The default fit windows for lags up to 2^`octaves` mean free times, the same place
+    /// relative to the longest lag as the defaults at 12 octaves: the VACF's plateau over
+    /// [2^(o−6), 2^(o−4)] and the MSD's slope over [2^(o−3), 2^o] (each end at least 1, the
+    /// VACF's at least 2, so a window is never empty).
+    ///
+    /// ```
+    /// use lorentz_gas::estimators::superdiffusion::SuperdiffusionConfig;
+    /// assert_eq!(SuperdiffusionConfig::default_windows(12), ([64.0, 256.0], [512.0, 4096.0]));
+    /// assert_eq!(SuperdiffusionConfig::default_windows(8), ([4.0, 16.0], [32.0, 256.0]));
+    /// ```
+    pub fn default_windows(octaves: u32) -> ([f64; 2], [f64; 2]) {
+        let o = octaves as i32;
+        let p = |k: i32| 2f64.powi(k.max(0));
+        ([p(o - 6), p(o - 4).max(2.0)], [p(o - 3), p(o).max(2.0)])
+    }
+
+    /// This configuration at `octaves`, with the fit windows that follow it
+    /// ([`SuperdiffusionConfig::default_windows`]).
+    pub fn with_octaves(self, octaves: u32) -> Self {
+        let (vacf_fit, msd_fit) = Self::default_windows(octaves);
+        SuperdiffusionConfig {
+            octaves,
+            vacf_fit,
+            msd_fit,
+            ..self
         }
     }
 
