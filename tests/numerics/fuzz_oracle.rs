@@ -672,3 +672,31 @@ fn regression_arc_disk_frame_entry_within_its_rounding_of_the_particle_is_now() 
     let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
     assert!(rep.collisions >= 1, "{rep:?}");
 }
+
+/// The fifteenth libFuzzer campaign: a particle an ulp off a disk (w = 0.064), moving into it at
+/// 4.8·10⁻⁵ rad on a cyclotron circle nearly internally tangent to it (B = −1.434, ρ = 0.70,
+/// cyclotron centre 0.30 from the disk's). The disk frame's entry, 1.2·10⁻¹² ahead (at 300 bits),
+/// came out 1.3·10⁻¹² behind v in `f64` — its error across the disk, a few u, moves it along the
+/// arc by 1/sin α — and was ordered after an edge crossing; the particle flew into the disk
+/// (`fuzz/artifacts/arc_kernel/crash-cb9d…`). Within E, which now carries that factor, the
+/// entry is now: a collision with disk 0 at once.
+#[test]
+fn regression_arc_entry_at_a_small_crossing_angle_within_its_rounding_is_now() {
+    let data: [u8; 30] = [
+        255, 255, 0, 127, 0, 255, 0, 0, 0, 245, 255, 102, 7, 0, 0, 0, 0, 53, 30, 0, 53, 0, 0, 0,
+        30, 255, 255, 255, 20, 111,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.events >= 1, "{rep:?}");
+    use lorentz_gas::kernel::arc::Arc;
+    use lorentz_gas::kernel::vec2::Vec2;
+    let (p, v, b) = (
+        (0.9924793053751814f64, 0.12241253368016532f64),
+        Vec2::new(0.12236495788464784f64, -0.992485172222683),
+        -1.43359375f64,
+    );
+    let c = Arc::new(&v, &b)
+        .contact(p.0, p.1, &1.0, &1.0, false)
+        .unwrap();
+    assert_eq!((c.chord.x, c.chord.y), (0.0, 0.0), "{c:?}");
+}

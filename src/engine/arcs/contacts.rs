@@ -99,7 +99,7 @@ pub(super) fn disk<V: Lanes>(
         c,
         a,
         d,
-        (dd, mm),
+        (dd, mm, beta),
         (fx, fy),
         V::and(V::and_not(some, onc), bneg),
     );
@@ -153,7 +153,7 @@ pub(super) fn entry_now<V: Lanes>(
     c: &Consts<V>,
     a: &ArcL<V>,
     d: &DiskC<V>,
-    (dd, mm): (V, V),
+    (dd, mm, beta): (V, V, V),
     (fx, fy): (V, V),
     lanes: V::Mask,
 ) -> V::Mask {
@@ -163,7 +163,11 @@ pub(super) fn entry_now<V: Lanes>(
     let dn = dd.sqrt();
     let turn = d.r.mul(c.aw.mul(dn).add(a.speed)).div(mm.sqrt());
     let four_u = V::splat(4.0 * f64::EPSILON / 2.0);
-    let bound = turn.add(d.r.add(dn).mul(V::splat(2.0))).mul(four_u);
+    // β < 0 in `lanes`; elsewhere the quotient may be infinite or NaN, and is masked out.
+    let across = dn.mul(a.speed).div(beta.abs()).add(V::splat(1.0));
+    let bound = turn
+        .add(d.r.add(dn).mul(V::splat(2.0)).mul(across))
+        .mul(four_u);
     let chord2 = fx.mul(fx).add(fy.mul(fy));
     V::and(
         lanes,
