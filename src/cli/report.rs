@@ -134,6 +134,12 @@ pub fn run(a: Args) -> Result<(), Error> {
     drop(bar);
     let out = &cfg.out;
     emit(a.output.json, &r, |r| {
+        let head: Vec<String> = r
+            .headline
+            .iter()
+            .map(|h| format!("{} = {}", h.name, h.value))
+            .collect();
+        println!("{}", head.join(", "));
         for c in &r.checks {
             println!("{}  {:<16} {}: {}", c.verdict, c.group, c.name, c.detail);
         }

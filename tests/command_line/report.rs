@@ -44,6 +44,7 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
     );
     assert_eq!(code, 0, "{err}");
     std::fs::write(dir.join("d.json"), &json).unwrap();
+    let v0: serde_json::Value = serde_json::from_str(&json).unwrap();
 
     let (code, out, err) = lorentz(&dir, &["report", "d.json", "--quick", "--quiet"]);
     assert_eq!(code, 0, "{out}{err}");
@@ -62,6 +63,22 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
     assert!(c.iter().any(|x| x.2.contains("shadowing")), "{c:?}");
     let html = std::fs::read_to_string(dir.join("d-report/report.html")).unwrap();
     assert_eq!(html.matches("<svg").count(), 2, "the two figures inlined");
+    // The headline first: the run and D ± its error to the place of the error, and the verdict.
+    let (d, e) = (v0["D"].as_f64().unwrap(), v0["D_err"].as_f64().unwrap());
+    let shown = lorentz_gas::report::publication::headline::with_error(d, e);
+    let head = &html[..html.find("<h2>Provenance").unwrap()];
+    for cell in [
+        "<td>0.3</td>",
+        "<td>4000000</td>",
+        "<td>16</td>",
+        &format!("<td>{shown}</td>"),
+    ] {
+        assert!(head.contains(cell), "{cell} not in the headline: {head}");
+    }
+    assert!(
+        head.contains("<th>verdict</th><td class=\"PASS\">PASS</td>"),
+        "{head}"
+    );
     for f in ["report.md", "local-slope.png", "batch-histogram.svg"] {
         assert!(dir.join("d-report").join(f).exists(), "{f}");
     }

@@ -63,6 +63,7 @@ mod escape;
 mod field;
 mod field_sweep;
 pub mod file;
+pub mod headline;
 mod hops;
 mod provenance;
 mod render;
@@ -158,6 +159,8 @@ pub struct PublicationReport {
     /// FAIL if any check failed, else INCOMPLETE if any was skipped, else PASS: a PASS means
     /// that every check that applies ran and passed.
     pub verdict: Verdict,
+    /// What was measured and what came out, from the result file ([`headline::headline`]).
+    pub headline: Vec<headline::HeadlineRow>,
     /// Provenance of the result and of the report.
     pub provenance: Provenance,
     /// The checks, in order.
@@ -398,6 +401,7 @@ pub fn run_with(
     let verdict = overall(&checks.0);
     let report = PublicationReport {
         verdict,
+        headline: headline::headline(kind, &file.value),
         provenance: provenance::provenance(
             cfg.result.display().to_string(),
             &file.sha,

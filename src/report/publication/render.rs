@@ -10,8 +10,15 @@ impl PublicationReport {
     pub fn markdown(&self) -> String {
         let p = &self.provenance;
         let mut s = format!(
-            "# Audit of {}: **{}**\n\n## Provenance\n\n| | |\n|---|---|\n",
+            "# Audit of {}: **{}**\n\n## Result\n\n| | |\n|---|---|\n",
             p.result_file, self.verdict
+        );
+        for h in &self.headline {
+            s += &format!("| {} | {} |\n", h.name, h.value.replace('|', "\\|"));
+        }
+        s += &format!(
+            "| verdict | **{}** |\n\n## Provenance\n\n| | |\n|---|---|\n",
+            self.verdict
         );
         let mut row = |k: &str, v: String| s += &format!("| {k} | {} |\n", v.replace('|', "\\|"));
         row("result file SHA-256", format!("`{}`", p.sha256));
@@ -70,11 +77,22 @@ impl PublicationReport {
         let esc = crate::report::figures::html_escape;
         let p = &self.provenance;
         let mut s = format!(
-            "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Audit of {}</title>\n<style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:.3em .6em;vertical-align:top}}.PASS{{color:#060;font-weight:bold}}.FAIL{{color:#b00;font-weight:bold}}.SKIP{{color:#777;font-weight:bold}}.INCOMPLETE{{color:#b60;font-weight:bold}}</style></head><body>\n<h1>Audit of {}: <span class=\"{}\">{}</span></h1>\n<h2>Provenance</h2><table>\n",
+            "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Audit of {}</title>\n<style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:.3em .6em;vertical-align:top}}.PASS{{color:#060;font-weight:bold}}.FAIL{{color:#b00;font-weight:bold}}.SKIP{{color:#777;font-weight:bold}}.INCOMPLETE{{color:#b60;font-weight:bold}}</style></head><body>\n<h1>Audit of {}: <span class=\"{}\">{}</span></h1>\n<h2>Result</h2><table>\n",
             esc(&p.result_file),
             esc(&p.result_file),
             self.verdict,
             self.verdict
+        );
+        for h in &self.headline {
+            s += &format!(
+                "<tr><th>{}</th><td>{}</td></tr>\n",
+                esc(&h.name),
+                esc(&h.value)
+            );
+        }
+        s += &format!(
+            "<tr><th>verdict</th><td class=\"{}\">{}</td></tr>\n</table>\n<h2>Provenance</h2><table>\n",
+            self.verdict, self.verdict
         );
         let mut row =
             |k: &str, v: &str| s += &format!("<tr><th>{k}</th><td>{}</td></tr>\n", esc(v));
