@@ -32,6 +32,35 @@ def _pm(x: Optional[float], err: Optional[float]) -> str:
     return f"{x:.6f} ± {err:.6f}"
 
 
+def _with_error(x: float, err: float) -> str:
+    """``x ± err`` with the error to two significant digits and the value to the same decimal
+    place (``0.15229 ± 0.00011``), as ``lorentz report``'s headline writes it."""
+    import math
+
+    if not (math.isfinite(x) and math.isfinite(err) and err > 0):
+        return f"{x} ± {err}"
+    place = math.floor(math.log10(err)) - 1
+    if not -6 <= place <= 6 or abs(x) >= 1e6:
+        return f"{x:.4e} ± {err:.1e}"
+    decimals = max(-place, 0)
+    return f"{x:.{decimals}f} ± {err:.{decimals}f}"
+
+
+def _scalars(data: Dict[str, Any]) -> List[tuple]:
+    """(key, text) for the result's top-level scalars, each estimate with its ``_err`` as one
+    ``x ± err`` entry (the ``_err`` key itself not repeated)."""
+    out = []
+    for k, v in data.items():
+        if k.endswith("_err") and k[: -len("_err")] in data:
+            continue
+        err = data.get(f"{k}_err")
+        if _is_number(v) and _is_number(err):
+            out.append((k, _with_error(float(v), float(err))))
+        elif _is_number(v) or isinstance(v, (str, bool)):
+            out.append((k, str(v)))
+    return out
+
+
 class Result:
     """A result: every key of the command line's ``--json`` output as an attribute (numeric
     lists as numpy arrays), ``meta`` (how it was computed) as a dict, ``to_dict()`` and
@@ -65,6 +94,66 @@ class Result:
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__}: {self._summary()}>"
+
+    def _meta_text(self) -> str:
+        m = self._data.get("meta") or {}
+        parts = [f"{k} {m[k]}" for k in ("seed", "batches", "precision", "engine", "threads")
+                 if m.get(k) is not None]
+        return ", ".join(parts)
+
+    def __str__(self) -> str:
+        """The summary line, every scalar of the result (estimates as ``x ± err`` to the place of
+        their error) and how it was computed."""
+        rows = _scalars(self._data)
+        width = max((len(k) for k, _ in rows), default=0)
+        lines = [f"{type(self).__name__}: {self._summary()}"]
+        lines += [f"  {k:<{width}}  {v}" for k, v in rows]
+        if self._meta_text():
+            lines.append(f"  ({self._meta_text()})")
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        """The same as a table, for notebooks."""
+        import html
+
+        cells = "".join(
+            f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
+            f"<td style='text-align:left'>{html.escape(v)}</td></tr>"
+            for k, v in _scalars(self._data)
+        )
+        meta = html.escape(self._meta_text())
+        return (
+            f"<div><b>{html.escape(type(self).__name__)}</b>: {html.escape(self._summary())}"
+            f"<table>{cells}</table><small>{meta}</small></div>"
+        )
+
+    def _tables(self) -> Dict[str, np.ndarray]:
+        """The result's tables: its numpy structured arrays, by attribute name."""
+        return {
+            k: v for k, v in vars(self).items()
+            if isinstance(v, np.ndarray) and v.dtype.names and not k.startswith("_")
+        }
+
+    def to_pandas(self, table: Optional[str] = None):
+        """A table of the result as a ``pandas.DataFrame`` (needs pandas): its one table
+        (``rows`` of a sweep, ...), the one named by ``table`` where there are several
+        (``lags`` or ``limit_law`` of superdiffusion), or, without any, one row of its scalars
+        (estimates and their errors as separate columns)."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError(f"{type(self).__name__}.to_pandas() needs pandas: pip install pandas") from e
+        tables = self._tables()
+        if table is not None:
+            if table not in tables:
+                raise ValueError(f"table={table!r}: this result's tables are {sorted(tables) or 'none'}")
+            return pd.DataFrame(tables[table])
+        if len(tables) == 1:
+            return pd.DataFrame(next(iter(tables.values())))
+        if len(tables) > 1:
+            raise ValueError(f"this result has several tables: name one with table= ({', '.join(sorted(tables))})")
+        return pd.DataFrame([{k: v for k, v in self._data.items()
+                              if _is_number(v) or isinstance(v, (str, bool))}])
 
 
 class DiffusionResult(Result):
@@ -122,14 +211,6 @@ class FieldSweepResult(Result):
         for k in keys:
             if k not in self._data:
                 setattr(self, k, self.rows[k])
-
-    def to_pandas(self):
-        """The rows as a ``pandas.DataFrame`` (one row per point; needs pandas)."""
-        try:
-            import pandas as pd
-        except ImportError as e:  # pragma: no cover - depends on the environment
-            raise ImportError("FieldSweepResult.to_pandas() needs pandas: pip install pandas") from e
-        return pd.DataFrame(self.rows)
 
     def _summary(self) -> str:
         n = len(self.rows)
@@ -194,14 +275,6 @@ class SweepResult(Result):
         for k in ("run_D", "run_D_err"):
             if raw and k in raw[0]:
                 setattr(self, k, np.array([r[k] for r in raw], dtype=np.float64))
-
-    def to_pandas(self):
-        """The rows as a ``pandas.DataFrame`` (one row per w; needs pandas)."""
-        try:
-            import pandas as pd
-        except ImportError as e:  # pragma: no cover - depends on the environment
-            raise ImportError("SweepResult.to_pandas() needs pandas: pip install pandas") from e
-        return pd.DataFrame(self.rows)
 
     def _summary(self) -> str:
         ws = self.rows["w"]

@@ -2,6 +2,7 @@
 `lorentz <command> --help`), so that a call with defaults and the bare command agree."""
 
 import inspect
+import json
 import re
 
 import pytest
@@ -69,8 +70,15 @@ def test_windows_default_to_the_command_lines(cli):
     for k in ["window", "check_window"]:
         lo, hi = sig[k].default
         assert f"{lo}:{hi}" == d[k]
+    # Superdiffusion's windows follow the octaves on both sides: no fixed default, and the same
+    # windows chosen at 6 octaves.
     d = cli_defaults(cli, "superdiffusion")
     sig = inspect.signature(lg.superdiffusion).parameters
     for k in ["vacf_fit", "msd_fit"]:
-        lo, hi = sig[k].default
-        assert f"{lo}:{hi}" == d[k]
+        assert sig[k].default is None and k not in d
+    py = lg.superdiffusion(radius="1/4", scene="square", collisions=3.2e6, batches=16, octaves=6)
+    code, out, err = cli("superdiffusion", "--scene", "square", "--radius", "1/4",
+                         "--collisions", "3.2e6", "--batches", "16", "--octaves", "6", "--json")
+    assert code == 0, err
+    cl = json.loads(out)
+    assert [py.vacf_fit.tolist(), py.msd_fit.tolist()] == [cl["vacf_fit"], cl["msd_fit"]]

@@ -49,6 +49,35 @@ def test_sweep_rows_as_arrays_and_pandas():
     assert isinstance(df, pd.DataFrame) and list(df["w"]) == [0.1, 0.2]
 
 
+def test_str_and_html_show_every_scalar_with_its_error_to_its_place(run):
+    text = str(run)
+    first, *rest = text.splitlines()
+    assert first == f"DiffusionResult: D = {run.D:.6f} ± {run.D_err:.6f} at w = 0.1"
+    d_line = next(l for l in rest if l.split()[0] == "D")
+    value, err = (float(x) for x in d_line.split()[1::2])
+    # The error to two significant digits, the value to the same place.
+    assert err == pytest.approx(run.D_err, rel=0.05) and value == pytest.approx(run.D, abs=err / 10)
+    digits = len(d_line.split()[1].split(".")[1])
+    assert digits == len(d_line.split()[3].split(".")[1])
+    assert not any(l.split()[0] == "D_err" for l in rest), "an error shown apart from its value"
+    assert "seed 1, batches 8" in rest[-1]
+    html = run._repr_html_()
+    assert html.count("<tr>") == len(rest) - 1 and "<th style='text-align:left'>D</th>" in html
+
+
+def test_to_pandas_on_every_result_with_a_table_or_its_scalars(run):
+    pd = pytest.importorskip("pandas")
+    one = run.to_pandas()
+    assert one.shape[0] == 1 and one["D"][0] == run.D and one["D_err"][0] == run.D_err
+    sd = lg.superdiffusion(radius="1/4", scene="square", collisions=3.2e6, batches=16, octaves=6)
+    with pytest.raises(ValueError, match="lags, limit_law"):
+        sd.to_pandas()
+    lags = sd.to_pandas(table="lags")
+    assert list(lags["t"]) == list(sd.lags["t"])
+    with pytest.raises(ValueError, match="tables are"):
+        run.to_pandas(table="lags")
+
+
 def test_help_explains_the_parameters():
     doc = lg.diffusion.__doc__
     for p in ["w :", "collisions :", "batches :", "seed :", "threads :", "engine :", "precision :"]:

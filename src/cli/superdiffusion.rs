@@ -30,12 +30,12 @@ pub struct Args {
     /// this many mean free times on (where every batch saw 100 longer flights).
     #[arg(long, default_value = "8", allow_negative_numbers = true)]
     tail_fit_from: f64,
-    /// The lags of the plateau of t C(t), FROM:TO in mean free times [default: 2^(OCTAVES-6) to
-    /// 2^(OCTAVES-4), 64:256 at 12 octaves].
+    /// The lags of the plateau of t C(t), FROM:TO in mean free times; by default 2^(OCTAVES-6)
+    /// to 2^(OCTAVES-4) (64:256 at 12 octaves).
     #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
     vacf_fit: Option<[f64; 2]>,
-    /// The lags of the fit of <dx^2>/t = a ln t + b, FROM:TO in mean free times [default:
-    /// 2^(OCTAVES-3) to 2^OCTAVES, 512:4096 at 12 octaves].
+    /// The lags of the fit of <dx^2>/t = a ln t + b, FROM:TO in mean free times; by default
+    /// 2^(OCTAVES-3) to 2^OCTAVES (512:4096 at 12 octaves).
     #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
     msd_fit: Option<[f64; 2]>,
     #[command(flatten)]
