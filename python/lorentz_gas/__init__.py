@@ -63,6 +63,8 @@ from ._results import (
     TrajectoryResult,
 )
 
+from ._drawing import draw_lattice, lattice_disks
+
 __version__ = _native.__version__
 
 __all__ = [
@@ -82,6 +84,8 @@ __all__ = [
     "constants",
     "report",
     "events",
+    "draw_lattice",
+    "lattice_disks",
     "EVENT_DTYPE",
     "agreement_bound",
     "Result",
