@@ -294,7 +294,7 @@ pub struct OutputArgs {
     /// Machine-readable output (JSON with a `meta` block) on stdout.
     #[arg(long)]
     pub json: bool,
-    /// No progress bar on stderr.
+    /// No progress on stderr (neither the bar on a terminal nor the lines printed to a file or pipe).
     #[arg(long)]
     pub quiet: bool,
 }

@@ -17,6 +17,7 @@ pub mod metadata;
 pub mod observe;
 pub mod options;
 pub mod parallel;
+pub mod progress_lines;
 pub mod resume;
 pub mod simd;
 pub mod work;
