@@ -20,9 +20,10 @@ use crate::scenes::resolve;
 use crate::watch::{Ctl, compute};
 use lorentz_gas::with_scene;
 
-/// Bytes per event: the columns here (5 `f64`, 2 `i64`, 3 `u8`) and the structured array the
-/// Python package builds from them (the same again, padded).
-pub const BYTES_PER_EVENT: u64 = 59 + 64;
+/// Bytes per event: the columns here (5 `f64`, 2 `i64`, 4 `u8`) and the structured array the
+/// Python package builds from them (the same, padded, with the kind as a name of up to 9
+/// characters).
+pub const BYTES_PER_EVENT: u64 = 60 + 100;
 
 /// Most events of one call: 2³² (about 500 GiB of events; memory refuses far fewer).
 pub const MAX_EVENTS: u64 = 1 << 32;
@@ -38,6 +39,7 @@ struct Columns {
     y: Vec<f64>,
     vx: Vec<f64>,
     vy: Vec<f64>,
+    kind: Vec<u8>,
     collision: Vec<u8>,
     obstacle: Vec<u8>,
     down: Vec<u8>,
@@ -45,20 +47,31 @@ struct Columns {
     j: Vec<i64>,
 }
 
+/// The `kind` codes: the start of the trajectory, a collision with a disk, an edge crossing
+/// (Python names them `"start"`, `"collision"`, `"crossing"`).
+const START: u8 = 0;
+const COLLISION: u8 = 1;
+const CROSSING: u8 = 2;
+/// The obstacle label of the start row (no obstacle).
+const NO_OBSTACLE: u8 = 255;
+
 impl Columns {
-    /// One event: time `t`, world position `p` after it, the state after it and its kind.
-    fn push(&mut self, t: f64, p: [f64; 2], s: &LatticeState<f64>, kind: EventKind) {
+    /// One event: time `t`, world position `p` after it, the state after it and its kind
+    /// (`None`: the start).
+    fn push(&mut self, t: f64, p: [f64; 2], s: &LatticeState<f64>, kind: Option<EventKind>) {
         let sg = s.cell.sign();
         self.t.push(t);
         self.x.push(p[0]);
         self.y.push(p[1]);
         self.vx.push(sg * s.flight.vel.x);
         self.vy.push(sg * s.flight.vel.y);
-        let (col, label) = match kind {
-            EventKind::Collision(d) => (1, d),
-            EventKind::Crossing(e) => (0, e),
+        let (code, label) = match kind {
+            None => (START, NO_OBSTACLE),
+            Some(EventKind::Collision(d)) => (COLLISION, d),
+            Some(EventKind::Crossing(e)) => (CROSSING, e),
         };
-        self.collision.push(col);
+        self.kind.push(code);
+        self.collision.push(u8::from(code == COLLISION));
         self.obstacle.push(label);
         self.down.push(u8::from(s.cell.down));
         self.i.push(s.cell.i);
@@ -72,6 +85,7 @@ impl Columns {
             y: Vec::with_capacity(n),
             vx: Vec::with_capacity(n),
             vy: Vec::with_capacity(n),
+            kind: Vec::with_capacity(n),
             collision: Vec::with_capacity(n),
             obstacle: Vec::with_capacity(n),
             down: Vec::with_capacity(n),
@@ -102,7 +116,7 @@ fn check_memory(n: u64) -> PyResult<()> {
     {
         return Err(PyMemoryError::new_err(format!(
             "n = {n} events need {:.2} GiB ({BYTES_PER_EVENT} bytes each), more than 80 % of \
-                 the {:.2} GiB available: ask for at most {} events, or several calls",
+                 the {:.2} GiB available: ask for at most {} events, and continue a Trajectory in chunks",
             need as f64 / 2f64.powi(30),
             avail as f64 / 2f64.powi(30),
             (0.8 * avail as f64 / BYTES_PER_EVENT as f64) as u64
@@ -112,14 +126,17 @@ fn check_memory(n: u64) -> PyResult<()> {
 }
 
 /// `n` events, each appended by `event` (given the time so far, it returns the flight time to
-/// the event), in chunks between looks at the stop flag and progress reports.
+/// the event), in chunks between looks at the stop flag and progress reports; the time starts at
+/// `t0` (the time of the previous call's last event: one running sum, so chunks have the bits of
+/// one call) and its final value is returned.
 fn collect(
     n: u64,
+    t0: f64,
     ctl: &Ctl<'_>,
     mut event: impl FnMut(&mut Columns, f64) -> Result<f64, Error>,
-) -> Result<Columns, Error> {
+) -> Result<(Columns, f64), Error> {
     let mut c = Columns::with_capacity(n as usize);
-    let mut t = 0.0f64;
+    let mut t = t0;
     let mut k = 0u64;
     while k < n {
         ctl.stop.check()?;
@@ -131,42 +148,44 @@ fn collect(
         (ctl.progress)(end - k);
         k = end;
     }
-    Ok(c)
+    Ok((c, t))
 }
 
-/// `n` events of the trajectory of batch `batch` with seed `seed` (its f64 start: the start of
-/// that batch of `diffusion`), on the scalar `f64` engine.
-fn record<S: Scene>(
+/// The next `n` events of the trajectory at `s` (time `t0` so far) of `scene`, on the scalar
+/// `f64` engine; the time at the last.
+fn advance<S: Scene>(
     scene: &S,
+    s: &mut LatticeState<f64>,
+    t0: f64,
     n: u64,
-    seed: u64,
-    batch: u32,
     ctl: &Ctl<'_>,
-) -> Result<Columns, Error> {
+) -> Result<(Columns, f64), Error> {
     let lat = scene.lattice::<f64>(())?;
     let basis = lat.basis_f64();
-    let mut s = scene.sample(&mut stream(seed, batch as u64));
-    s.flight.normalise_speed();
     let origin = Unwrapped::default();
-    collect(n, ctl, |c, t| {
-        let ev = lat.step(&mut s).map_err(|e| Error::Failed(e.to_string()))?;
-        let p = lat.unwrapped(&s, 0.0).displacement_from(&origin, &basis);
-        c.push(t + ev.time, p, &s, ev.kind);
+    collect(n, t0, ctl, |c, t| {
+        let ev = lat.step(s).map_err(|e| Error::Failed(e.to_string()))?;
+        let p = lat.unwrapped(s, 0.0).displacement_from(&origin, &basis);
+        c.push(t + ev.time, p, s, Some(ev.kind));
         Ok(ev.time)
     })
 }
 
-/// `n` events of the trajectory of batch `batch` of the field run with seed `seed` (its
-/// diffusing start), on the `f64` arc kernel.
-fn record_in_field(walk: &mut FieldWalk, n: u64, ctl: &Ctl<'_>) -> Result<Columns, Error> {
+/// The next `n` events of the field walk `walk` (time `t0` so far), on the `f64` arc kernel.
+fn advance_in_field(
+    walk: &mut FieldWalk,
+    t0: f64,
+    n: u64,
+    ctl: &Ctl<'_>,
+) -> Result<(Columns, f64), Error> {
     let lat = walk.lattice().clone();
     let basis = lat.basis_f64();
     let origin = Unwrapped::default();
-    collect(n, ctl, |c, t| {
+    collect(n, t0, ctl, |c, t| {
         let ev = walk.step()?;
         let s = walk.state();
         let p = lat.unwrapped(s, 0.0).displacement_from(&origin, &basis);
-        c.push(t + ev.time, p, s, ev.kind);
+        c.push(t + ev.time, p, s, Some(ev.kind));
         Ok(ev.time)
     })
 }
@@ -197,48 +216,117 @@ fn field_walk(
         .map_err(crate::py_err)
 }
 
-#[pyfunction]
-#[pyo3(name = "events", signature = (scene, w, radius, n, seed, batch, field, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_events<'py>(
-    py: Python<'py>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    n: &str,
-    seed: &str,
-    batch: &str,
-    field: Option<&str>,
-    progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let choice = resolve(scene, w, radius)?;
-    let n = count_u64("n", n)?;
-    let seed = count_u64("seed", seed)?;
-    let batch = count_u32("batch", batch)?;
-    check_memory(n)?;
-    let walk = field_walk(&choice, field, seed, batch)?;
-    let c = compute(py, progress, |ctl| match walk {
-        Some(mut walk) => record_in_field(&mut walk, n, ctl),
-        None => with_scene!(&choice, |s| record(s, n, seed, batch, ctl)),
-    })?;
-    let d = PyDict::new(py);
-    let f = |v: Vec<f64>| -> Bound<'py, PyArray1<f64>> { v.into_pyarray(py) };
-    d.set_item("t", f(c.t))?;
-    d.set_item("x", f(c.x))?;
-    d.set_item("y", f(c.y))?;
-    d.set_item("vx", f(c.vx))?;
-    d.set_item("vy", f(c.vy))?;
-    d.set_item("collision", c.collision.into_pyarray(py))?;
-    d.set_item("obstacle", c.obstacle.into_pyarray(py))?;
-    d.set_item("down", c.down.into_pyarray(py))?;
-    d.set_item("i", c.i.into_pyarray(py))?;
-    d.set_item("j", c.j.into_pyarray(py))?;
-    Ok(d)
+/// One trajectory's events, continued call after call: the trajectory of batch `batch` of
+/// `diffusion` (or of the field run) with seed `seed`, its state kept between calls, so events
+/// in chunks are the events of one call, bit for bit.
+#[pyclass(module = "lorentz_gas._native", name = "EventStream")]
+pub struct EventStream {
+    choice: SceneChoice,
+    state: LatticeState<f64>,
+    walk: Option<FieldWalk>,
+    /// The time of the last event so far (0 at the start).
+    t: f64,
 }
 
-/// Registers `events` in the module.
+impl EventStream {
+    fn state(&self) -> &LatticeState<f64> {
+        self.walk.as_ref().map_or(&self.state, FieldWalk::state)
+    }
+
+    /// The columns as numpy arrays.
+    fn dict<'py>(py: Python<'py>, c: Columns) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let f = |v: Vec<f64>| -> Bound<'py, PyArray1<f64>> { v.into_pyarray(py) };
+        d.set_item("t", f(c.t))?;
+        d.set_item("x", f(c.x))?;
+        d.set_item("y", f(c.y))?;
+        d.set_item("vx", f(c.vx))?;
+        d.set_item("vy", f(c.vy))?;
+        d.set_item("kind", c.kind.into_pyarray(py))?;
+        d.set_item("collision", c.collision.into_pyarray(py))?;
+        d.set_item("obstacle", c.obstacle.into_pyarray(py))?;
+        d.set_item("down", c.down.into_pyarray(py))?;
+        d.set_item("i", c.i.into_pyarray(py))?;
+        d.set_item("j", c.j.into_pyarray(py))?;
+        Ok(d)
+    }
+}
+
+#[pymethods]
+impl EventStream {
+    #[new]
+    #[pyo3(signature = (scene, w, radius, seed, batch, field))]
+    fn new(
+        scene: &str,
+        w: Option<&str>,
+        radius: Option<&str>,
+        seed: &str,
+        batch: &str,
+        field: Option<&str>,
+    ) -> PyResult<Self> {
+        let choice = resolve(scene, w, radius)?;
+        let seed = count_u64("seed", seed)?;
+        let batch = count_u32("batch", batch)?;
+        let walk = field_walk(&choice, field, seed, batch)?;
+        let state = match &walk {
+            Some(walk) => walk.state().clone(),
+            None => {
+                let mut s = with_scene!(&choice, |sc| sc.sample(&mut stream(seed, batch as u64)));
+                s.flight.normalise_speed();
+                s
+            }
+        };
+        Ok(EventStream {
+            choice,
+            state,
+            walk,
+            t: 0.0,
+        })
+    }
+
+    /// The start of the trajectory as one row (time 0, kind start).
+    fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.state();
+        let p = with_scene!(&self.choice, |sc| {
+            let lat = sc.lattice::<f64>(()).map_err(crate::py_err)?;
+            lat.unwrapped(s, 0.0)
+                .displacement_from(&Unwrapped::default(), &lat.basis_f64())
+        });
+        let mut c = Columns::with_capacity(1);
+        c.push(0.0, p, s, None);
+        Self::dict(py, c)
+    }
+
+    /// The next `n` events.
+    #[pyo3(signature = (n, progress))]
+    fn next<'py>(
+        &mut self,
+        py: Python<'py>,
+        n: &str,
+        progress: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let n = count_u64("n", n)?;
+        check_memory(n)?;
+        let t0 = self.t;
+        let (choice, state, walk) = (&self.choice, &mut self.state, &mut self.walk);
+        let (c, end) = compute(py, progress, |ctl| match walk {
+            Some(walk) => advance_in_field(walk, t0, n, ctl),
+            None => with_scene!(choice, |s| advance(s, state, t0, n, ctl)),
+        })?;
+        self.t = end;
+        Self::dict(py, c)
+    }
+
+    /// The time of the last event so far.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.t
+    }
+}
+
+/// Registers `EventStream` in the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(py_events, m)?)?;
+    m.add_class::<EventStream>()?;
     m.add("BYTES_PER_EVENT", BYTES_PER_EVENT)?;
     Ok(())
 }

@@ -4,16 +4,22 @@ Santaló's value."""
 import math
 
 import numpy as np
+import pytest
 
 import lorentz_gas as lg
 
 
 def test_events_dtype_shape_and_kinds():
     ev = lg.events(w="0.1", n=10_000, seed=3)
-    assert ev.dtype == lg.EVENT_DTYPE and ev.shape == (10_000,)
-    assert ev["collision"].any() and (~ev["collision"]).any()
-    assert set(np.unique(ev["obstacle"])) <= {0, 1, 2}
-    assert np.all(np.diff(ev["t"]) >= 0)
+    assert ev.dtype == lg.EVENT_DTYPE and ev.shape == (10_001,)
+    # Row 0 is the start: t = 0, no obstacle; then events named by kind.
+    start, rest = ev[0], ev[1:]
+    assert start["kind"] == "start" and start["t"] == 0 and start["obstacle"] == 255
+    assert not start["collision"]
+    assert set(np.unique(rest["kind"])) == {"collision", "crossing"}
+    assert np.array_equal(rest["kind"] == "collision", rest["collision"])
+    assert set(np.unique(rest["obstacle"])) <= {0, 1, 2}
+    assert np.all(np.diff(ev["t"]) >= 0) and np.all(rest["t"] > 0)
 
 
 def test_consecutive_events_are_a_straight_flight_at_unit_speed():
@@ -58,7 +64,7 @@ def test_the_mean_free_path_from_events_is_santalos():
 
 def test_square_scene_events():
     ev = lg.events(scene="square", radius="1/4", n=5000)
-    assert ev.shape == (5000,)
+    assert ev.shape == (5001,)
     # Every collision point lies on a disk of radius 1/4 about a lattice point.
     c = ev[ev["collision"]]
     d = np.hypot(c["x"] - np.round(c["x"]), c["y"] - np.round(c["y"]))
@@ -116,3 +122,19 @@ def test_events_in_a_field_refuse_what_has_no_diffusing_orbit():
         lg.events(scene="square", radius="1/4", n=10, field=1)
     with pytest.raises(ValueError, match="field"):
         lg.events(w="0.1", n=10, field="1/0")
+
+
+def test_a_trajectory_in_chunks_has_the_bits_of_one_call():
+    """Continued call after call, a trajectory gives the events of one call, time included (one
+    running sum), with and without a field and on the square lattice."""
+    for kw in [dict(w="0.1"), dict(w="0.2", field="-3/2"), dict(scene="square", radius="1/4")]:
+        whole = lg.events(n=5000, seed=7, batch=2, **kw)
+        tr = lg.Trajectory(seed=7, batch=2, **kw)
+        parts = [tr.start] + [tr.events(k) for k in (1, 999, 2500, 1500)]
+        chunked = np.concatenate(parts)
+        assert chunked.tobytes() == whole.tobytes(), kw
+        assert tr.time == whole["t"][-1]
+    # The start row of a trajectory is where its first flight begins: the first event is one
+    # flight away at unit speed.
+    ev = lg.events(w="0.2", n=1, seed=3)
+    assert np.hypot(ev["x"][1] - ev["x"][0], ev["y"][1] - ev["y"][0]) == pytest.approx(ev["t"][1], abs=1e-12)

@@ -63,12 +63,15 @@ def cli_options(cli, command):
 
 
 def stub_parameters():
+    """Each stub's parameters: a function's, or a class's constructor's (without self)."""
     tree = ast.parse(STUBS.read_text())
-    return {
-        f.name: [a.arg for a in f.args.args]
-        for f in tree.body
-        if isinstance(f, ast.FunctionDef)
-    }
+    out = {f.name: [a.arg for a in f.args.args] for f in tree.body if isinstance(f, ast.FunctionDef)}
+    for c in tree.body:
+        if isinstance(c, ast.ClassDef):
+            init = [f for f in c.body if isinstance(f, ast.FunctionDef) and f.name == "__init__"]
+            if init:
+                out[c.name] = [a.arg for a in init[0].args.args][1:]
+    return out
 
 
 def compiled_parameters(name):
