@@ -47,6 +47,8 @@ from ._results import (
     AuditResult,
     BackscatterResult,
     CertifyResult,
+    ConstantsResult,
+    ConstantsTable,
     DiffusionResult,
     EscapeResult,
     FieldResult,
@@ -90,6 +92,8 @@ __all__ = [
     "EVENT_DTYPE",
     "agreement_bound",
     "Result",
+    "ConstantsResult",
+    "ConstantsTable",
     "DiffusionResult",
     "FieldResult",
     "HopsResult",
@@ -1016,9 +1020,14 @@ def trajectory(
     return TrajectoryResult(text)
 
 
+def _many(v: Any) -> bool:
+    """Whether ``v`` is several values (a list, tuple or array), not one (text, a number)."""
+    return isinstance(v, (list, tuple, np.ndarray))
+
+
 def constants(
-    w: Optional[Exact] = None, precision: Union[str, int] = "f64", *, radius: Optional[Exact] = None
-) -> Result:
+    w: Any = None, precision: Union[str, int] = "f64", *, radius: Any = None
+) -> Union[ConstantsResult, ConstantsTable]:
     """Every closed form of a scene (``lorentz constants --json``) at the working ``precision``.
 
     ``w``: the triangular gas at gap w > 0 — lattice spacing, density, w_inf, w_0, trap area,
@@ -1028,8 +1037,18 @@ def constants(
     exact constants: ``C_flow`` (P(tau > s) ~ C_flow/s under the flow), ``C_map``
     (mu(tau > s) ~ C_map/s^2 under the billiard map), ``D_sup`` (dx/sqrt(t ln t) -> N(0, D_sup)),
     ``msd_x_t_ln_t`` = 2 D_sup and ``msd_r_t_ln_t`` = 2 C_flow (the coefficients of t ln t in
-    <dx^2> and <|dr|^2>). Values carry every digit of the working precision in ``to_json()``."""
-    return Result(
+    <dx^2> and <|dr|^2>). Values carry every digit of the working precision in ``to_json()``.
+
+    Given several gaps or radii (a list, tuple or numpy array) it returns a
+    :class:`ConstantsTable`: one :class:`ConstantsResult` per value, and each scalar constant as a
+    numpy array over them (``lg.constants(np.linspace(0.05, 0.3, 6)).D_MZ``)."""
+    if _many(w) or _many(radius):
+        if w is not None and radius is not None:
+            raise ValueError("give w (the triangular gas) or radius (the square lattice), not both")
+        values = w if w is not None else radius
+        key = "w" if w is not None else "radius"
+        return ConstantsTable([constants(**{key: v}, precision=precision) for v in values])
+    return ConstantsResult(
         _native.constants(_optional_exact("w", w), _optional_exact("radius", radius), str(precision))
     )
 

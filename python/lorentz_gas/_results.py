@@ -381,3 +381,43 @@ class ReportResult(Result):
     def _summary(self) -> str:
         d = self._data
         return f"{d['verdict']}: {len(d['checks'])} checks"
+
+
+class ConstantsResult(Result):
+    """The closed forms of one scene (``lorentz constants``): lengths in disk radii (triangular)
+    or lattice spacings (square), times at speed 1."""
+
+    def _summary(self) -> str:
+        d = self._data
+        where = f"w = {d['w']}" if "w" in d else f"radius = {d.get('radius')}"
+        mfp = d.get("mean_free_path")
+        return f"{where}: mean free path {mfp}" + (f", D_MZ = {d['D_MZ']}" if "D_MZ" in d else "")
+
+
+class ConstantsTable:
+    """The closed forms of several scenes: ``results`` (one :class:`ConstantsResult` each, in
+    order), every scalar constant they share as a numpy array attribute (``t.w``, ``t.D_MZ``,
+    ``t.mean_free_path``), ``rows`` (a numpy structured array of them) and ``to_pandas()``."""
+
+    def __init__(self, results: List[ConstantsResult]):
+        self.results = results
+        keys = [k for k, v in results[0].to_dict().items() if _is_number(v)] if results else []
+        keys = [k for k in keys if all(_is_number(r.to_dict().get(k)) for r in results)]
+        self.rows = np.array(
+            [tuple(r.to_dict()[k] for k in keys) for r in results],
+            dtype=[(k, np.float64) for k in keys],
+        )
+        for k in keys:
+            setattr(self, k, self.rows[k])
+
+    def __len__(self) -> int:
+        return len(self.results)
+
+    def to_pandas(self):
+        """``rows`` as a ``pandas.DataFrame`` (needs pandas)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.rows)
+
+    def __repr__(self) -> str:
+        return f"<ConstantsTable: {len(self)} scenes, {', '.join(self.rows.dtype.names or ())}>"

@@ -99,3 +99,22 @@ def test_a_python_result_file_passes_the_publication_audit(tmp_path):
     bad = tmp_path / "edited.json"
     bad.write_text(json.dumps(edited))
     assert lg.report(bad, quick=True).verdict == "FAIL"
+
+
+def test_constants_are_typed_and_vectorised_over_gaps():
+    one = lg.constants("0.1")
+    assert isinstance(one, lg.ConstantsResult) and "w = 0.1" in repr(one)
+    ws = ["0.05", "1/10", 0.2, "0.3"]
+    table = lg.constants(ws)
+    assert isinstance(table, lg.ConstantsTable) and len(table) == 4
+    # Each entry is the single call's result, digit for digit.
+    for w, r in zip(ws, table.results):
+        assert r.to_json() == lg.constants(w).to_json()
+    assert table.D_MZ.shape == (4,) and table.D_MZ[1] == one.D_MZ
+    assert np.all(np.diff(table.mean_free_path) > 0)
+    sq = lg.constants(radius=np.array([0.1, 0.25]))
+    assert list(sq.radius) == [0.1, 0.25] and "D_MZ" not in sq.rows.dtype.names
+    pd = pytest.importorskip("pandas")
+    assert list(table.to_pandas()["w"]) == [0.05, 0.1, 0.2, 0.3]
+    with pytest.raises(ValueError, match="not both"):
+        lg.constants(w=[0.1], radius=[0.2])
