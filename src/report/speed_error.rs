@@ -394,6 +394,7 @@ fn speed_plot(report: &SpeedReport, dir: &Path) -> Result<(), Error> {
             y_label: "ns per collision (one core)",
             log_x: false,
             log_y: true,
+            ..Default::default()
         },
         &[Series {
             label: "kernel (f64 and MPFR)".into(),

@@ -75,6 +75,7 @@ pub fn write_field_sweep_figures(r: &FieldSweepReport, dir: &Path) -> Result<(),
                 y_label,
                 log_x,
                 log_y: false,
+                ..Default::default()
             },
             &curves(y),
         )?;

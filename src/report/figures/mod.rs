@@ -35,7 +35,19 @@ pub struct Series {
     pub line: bool,
 }
 
+/// A shaded region under the series: an estimate's error band (`y` = value ± error over `x`)
+/// or a window of x over the whole height (`y` = `None`), with its legend label.
+pub struct Band {
+    /// Legend label.
+    pub label: String,
+    /// The x extent.
+    pub x: (f64, f64),
+    /// The y extent, or the whole axis.
+    pub y: Option<(f64, f64)>,
+}
+
 /// Axes of a simple scientific plot.
+#[derive(Default)]
 pub struct PlotSpec<'a> {
     /// Title.
     pub title: &'a str,
@@ -47,6 +59,37 @@ pub struct PlotSpec<'a> {
     pub log_x: bool,
     /// Logarithmic y axis.
     pub log_y: bool,
+    /// Shaded regions drawn under the series.
+    pub bands: &'a [Band],
+    /// The y axis counts things: integer tick labels only.
+    pub count_y: bool,
+}
+
+/// A tick label as people write it: integers without ".0", other values to six significant
+/// digits without trailing zeros, very large or small ones in scientific notation.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 {
+        "0".into()
+    } else if v.fract() == 0.0 && a < 1e7 {
+        format!("{v:.0}")
+    } else if (1e-4..1e7).contains(&a) {
+        let s = format!("{v:.6}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+/// Room at the top of the y range for `entries` legend lines, so the legend (upper right) never
+/// covers data: the data keep the lower part of a plot area about 470 px high.
+fn headroom((y0, y1): (f64, f64), entries: usize, log: bool) -> (f64, f64) {
+    let f = ((22 * entries + 24) as f64 / 470.0).min(0.45);
+    if log {
+        (y0, y0 * (y1 / y0).powf(1.0 / (1.0 - f)))
+    } else {
+        (y0, y0 + (y1 - y0) / (1.0 - f))
+    }
 }
 
 /// A plotting error while drawing `path` (the backends write the file when the figure is
@@ -79,11 +122,19 @@ where
     let io = |e: plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>| fail(&e);
     root.fill(&WHITE).map_err(io)?;
     let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
+    let xs = xs.chain(spec.bands.iter().flat_map(|b| [b.x.0, b.x.1]));
     let ys = series
         .iter()
         .flat_map(|s| s.points.iter().flat_map(|p| [p.1 - p.2, p.1 + p.2]));
+    let ys = ys.chain(
+        spec.bands
+            .iter()
+            .filter_map(|b| b.y)
+            .flat_map(|y| [y.0, y.1]),
+    );
     let (x0, x1) = range(xs, spec.log_x);
     let (y0, y1) = range(ys.filter(|y| !spec.log_y || *y > 0.0), spec.log_y);
+    let (y0, y1) = headroom((y0, y1), series.len() + spec.bands.len(), spec.log_y);
     let mut b = ChartBuilder::on(&root);
     b.caption(spec.title, ("sans-serif", 22))
         .margin(12)
@@ -96,6 +147,7 @@ where
                 .map_err(io)?,
             spec,
             series,
+            (y0, y1),
             &io,
         )?,
         (true, false) => chart_body(
@@ -104,6 +156,7 @@ where
                 .map_err(io)?,
             spec,
             series,
+            (y0, y1),
             &io,
         )?,
         (false, true) => chart_body(
@@ -112,12 +165,14 @@ where
                 .map_err(io)?,
             spec,
             series,
+            (y0, y1),
             &io,
         )?,
         (false, false) => chart_body(
             &mut b.build_cartesian_2d(x0..x1, y0..y1).map_err(io)?,
             spec,
             series,
+            (y0, y1),
             &io,
         )?,
     }
@@ -131,6 +186,7 @@ fn chart_body<'a, DB, X, Y>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
     spec: &PlotSpec,
     series: &[Series],
+    (y0, y1): (f64, f64),
     io: &dyn Fn(plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>) -> Error,
 ) -> Result<(), Error>
 where
@@ -139,13 +195,42 @@ where
     X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
 {
+    let count_tick = |v: &f64| {
+        if v.fract() == 0.0 {
+            tick(*v)
+        } else {
+            String::new()
+        }
+    };
+    let y_tick: &dyn Fn(&f64) -> String = if spec.count_y {
+        &count_tick
+    } else {
+        &|v: &f64| tick(*v)
+    };
     chart
         .configure_mesh()
         .x_desc(spec.x_label)
         .y_desc(spec.y_label)
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(y_tick)
         .label_style(("sans-serif", 14))
         .draw()
         .map_err(io)?;
+    for (k, b) in spec.bands.iter().enumerate() {
+        let c = Palette99::pick(series.len() + k).to_rgba();
+        let (lo, hi) = b.y.unwrap_or((y0, y1));
+        let fill = c.mix(0.18).filled();
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(b.x.0, lo), (b.x.1, hi)],
+                fill,
+            )))
+            .map_err(io)?
+            .label(b.label.clone())
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 6), (x + 18, y + 6)], c.mix(0.35).filled())
+            });
+    }
     for (i, s) in series.iter().enumerate() {
         let c = Palette99::pick(i).to_rgba();
         let joined: Vec<(f64, f64)> = if s.line {
@@ -181,6 +266,7 @@ where
     }
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .label_font(("sans-serif", 14))
@@ -236,4 +322,102 @@ pub fn html_escape(t: &str) -> String {
     t.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The number of attribute `name` in an SVG element's text.
+    fn attr(el: &str, name: &str) -> Option<f64> {
+        let key = format!(" {name}=\"");
+        let start = el.find(&key)? + key.len();
+        el[start..].split('"').next()?.parse().ok()
+    }
+
+    /// Renders series whose points crowd the upper right corner (where the legend goes) and
+    /// asserts on the SVG itself: the legend box covers no data point and no end of an error
+    /// bar; the band is drawn; count ticks are integers. (Broken on purpose — the headroom taken
+    /// out — the legend box sits on the top points and the test fails.)
+    #[test]
+    fn the_legend_covers_no_data_and_counts_tick_as_integers() {
+        register_font();
+        let points: Vec<(f64, f64, f64)> = (0..40)
+            .map(|k| (k as f64, (k as f64).sqrt(), 0.2))
+            .collect();
+        let bands = [Band {
+            label: "band".into(),
+            x: (0.0, 39.0),
+            y: Some((2.0, 3.0)),
+        }];
+        let spec = PlotSpec {
+            title: "t",
+            x_label: "x",
+            y_label: "count",
+            bands: &bands,
+            count_y: true,
+            ..Default::default()
+        };
+        let series: Vec<Series> = (0..4)
+            .map(|i| Series {
+                label: format!("a series with a long label {i}"),
+                points: points
+                    .iter()
+                    .map(|p| (p.0, p.1 + i as f64 * 0.01, p.2))
+                    .collect(),
+                notes: Vec::new(),
+                line: true,
+            })
+            .collect();
+        let mut svg = String::new();
+        draw(
+            Path::new("t.svg"),
+            SVGBackend::with_string(&mut svg, SIZE).into_drawing_area(),
+            &spec,
+            &series,
+        )
+        .unwrap();
+        let legend = svg
+            .split('<')
+            .find(|e| e.starts_with("rect") && e.contains("opacity=\"0.8\""))
+            .expect("a legend box");
+        let (x, y) = (attr(legend, "x").unwrap(), attr(legend, "y").unwrap());
+        let (w, h) = (
+            attr(legend, "width").unwrap(),
+            attr(legend, "height").unwrap(),
+        );
+        let inside = |px: f64, py: f64| px >= x && px <= x + w && py >= y && py <= y + h;
+        let circles: Vec<(f64, f64)> = svg
+            .split('<')
+            .filter(|e| e.starts_with("circle"))
+            .map(|e| (attr(e, "cx").unwrap(), attr(e, "cy").unwrap()))
+            .collect();
+        assert!(circles.len() >= 160, "every point drawn: {}", circles.len());
+        assert!(
+            circles.iter().all(|&(cx, cy)| !inside(cx, cy)),
+            "a data point under the legend box {legend}"
+        );
+        let ends = svg
+            .split('<')
+            .filter(|e| e.starts_with("line"))
+            .filter_map(|e| Some((attr(e, "x1")?, attr(e, "y1")?)));
+        assert!(ends.into_iter().all(|(bx, by)| !inside(bx, by)));
+        assert!(svg.contains("opacity=\"0.18\""), "the band is drawn");
+        // Count ticks: "0", "1", … and never a fraction.
+        let texts: Vec<&str> = svg
+            .split("<text")
+            .skip(1)
+            .filter_map(|t| Some(t.split_once('>')?.1.split('<').next()?.trim()))
+            .collect();
+        assert!(texts.contains(&"3"), "{texts:?}");
+        assert!(!texts.iter().any(|t| t.contains('.')), "{texts:?}");
+    }
+
+    #[test]
+    fn ticks_read_as_people_write_them() {
+        assert_eq!(tick(20.0), "20");
+        assert_eq!(tick(0.1695), "0.1695");
+        assert_eq!(tick(2.5e-9), "2.5e-9");
+        assert_eq!(tick(0.0), "0");
+    }
 }

@@ -118,6 +118,7 @@ pub fn backscatter_map(
             y_label: "sin(alpha)",
             log_x: false,
             log_y: false,
+            ..Default::default()
         },
         &[Series {
             label: format!("backscattered ({} of {particles})", pts.len()),
@@ -237,6 +238,7 @@ impl Curve<'_> {
                 y_label: "p_bs",
                 log_x: false,
                 log_y: false,
+                ..Default::default()
             },
             &[
                 Series {
@@ -404,6 +406,7 @@ fn hierarchy_plots(rows: &[HierarchyRow], dir: &Path) -> Result<(), Error> {
         y_label: y,
         log_x: false,
         log_y: false,
+        ..Default::default()
     };
     plot(
         &dir.join("fig3a-p-cf"),

@@ -27,6 +27,7 @@ pub fn write_sweep_figures(r: &SweepReport, dir: &Path) -> Result<(), Error> {
             y_label: "D",
             log_x: false,
             log_y: false,
+            ..Default::default()
         },
         &[
             s("D (Einstein, this crate)", pts(&|x| (x.w, x.D, x.D_err))),
@@ -42,6 +43,7 @@ pub fn write_sweep_figures(r: &SweepReport, dir: &Path) -> Result<(), Error> {
             y_label: "D",
             log_x: false,
             log_y: false,
+            ..Default::default()
         },
         &[
             s("D", pts(&|x| (x.inv_n, x.D, x.D_err))),
@@ -66,6 +68,7 @@ pub fn write_sweep_figures(r: &SweepReport, dir: &Path) -> Result<(), Error> {
             y_label: "D - linear fit",
             log_x: false,
             log_y: false,
+            ..Default::default()
         },
         &[
             s(

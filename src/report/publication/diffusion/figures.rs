@@ -12,15 +12,35 @@ pub(super) fn diffusion_figures(
     let slope_series = local_slopes(r);
     let t_first = r.msd_times.first().copied().unwrap_or(0.0);
     let t_last = r.msd_times.last().copied().unwrap_or(t_first);
+    let tau = r.tau_hop_exact;
+    let (lo, hi) = (r.window.lo as f64 * tau, r.window.hi as f64 * tau);
+    let shown = crate::report::publication::headline::with_error(r.D, r.D_err);
+    let bands = [
+        Band {
+            label: format!("D ± D_err = {shown}"),
+            x: (t_first, t_last),
+            y: Some((r.D - r.D_err, r.D + r.D_err)),
+        },
+        Band {
+            label: format!(
+                "fit window [{}τ, {}τ] (τ = {tau:.4})",
+                r.window.lo, r.window.hi
+            ),
+            x: (lo, hi),
+            y: None,
+        },
+    ];
     let stem = out.join("local-slope");
     plot(
         &stem,
         &PlotSpec {
             title: "Local slope D(t) = d MSD / (4 dt), with the recorded D",
-            x_label: "t",
+            x_label: "t (time; speed 1, lengths in disk radii)",
             y_label: "D(t)",
             log_x: false,
             log_y: false,
+            bands: &bands,
+            ..Default::default()
         },
         &[
             Series {
@@ -41,14 +61,8 @@ pub(super) fn diffusion_figures(
                 line: true,
             },
             Series {
-                label: format!("D + D_err = {:.6} + {:.6}", r.D, r.D_err),
-                points: vec![(t_first, r.D + r.D_err, 0.0), (t_last, r.D + r.D_err, 0.0)],
-                notes: Vec::new(),
-                line: true,
-            },
-            Series {
-                label: "D - D_err".into(),
-                points: vec![(t_first, r.D - r.D_err, 0.0), (t_last, r.D - r.D_err, 0.0)],
+                label: format!("D = {shown}"),
+                points: vec![(t_first, r.D, 0.0), (t_last, r.D, 0.0)],
                 notes: Vec::new(),
                 line: true,
             },
@@ -103,6 +117,8 @@ pub(super) fn histogram(x: &[f64], mean: f64, stem: &Path) -> Result<(), Error> 
             y_label: "batches",
             log_x: false,
             log_y: false,
+            count_y: true,
+            ..Default::default()
         },
         &[
             Series {

@@ -15,7 +15,7 @@ use crate::estimators::diffusion::{
     BatchResult, DiffusionConfig, DiffusionReport, batch_d, rerun_batches,
 };
 use crate::numbers::precision::Precision;
-use crate::report::figures::{PlotSpec, Series, plot};
+use crate::report::figures::{Band, PlotSpec, Series, plot};
 use crate::scenes::triangular::geometry::Geometry;
 use crate::statistics::{comparison, mean_se, normal_sigma_equivalent_t};
 
