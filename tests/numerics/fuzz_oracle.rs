@@ -700,3 +700,26 @@ fn regression_arc_entry_at_a_small_crossing_angle_within_its_rounding_is_now() {
         .unwrap();
     assert_eq!((c.chord.x, c.chord.y), (0.0, 0.0), "{c:?}");
 }
+
+/// The seventeenth libFuzzer campaign: square r = 0.49999999813735485 (disks 3.7·10⁻⁹ apart),
+/// B = 2 (ρ = 1/2), a particle on a cell edge 1.9·10⁻⁹ off disk 0 whose cyclotron centre is
+/// 1.9·10⁻⁹ from the disk's: the disk lies inside the cyclotron circle, 3.6·10⁻¹² from tangency
+/// (checked at 300 bits). The disk frame found rs² = −10⁻³, far beyond its rounding, and left the
+/// decision to the radical line, whose discriminant (true value −1.4·10⁻²⁰) rounded to
+/// +5.6·10⁻¹⁷ and whose 1/M = 7·10¹⁶ put a contact 0.16 off the disk, the speed 98 % off
+/// (`fuzz/artifacts/arc_kernel/crash-2f8c…`). A miss beyond the rounding of rs² is a miss.
+#[test]
+fn regression_arc_disk_inside_a_nearly_concentric_cyclotron_circle_is_missed() {
+    let data: [u8; 35] = [
+        2, 3, 1, 0, 255, 238, 30, 153, 248, 255, 1, 191, 1, 255, 127, 64, 8, 249, 0, 0, 36, 251,
+        64, 0, 0, 0, 64, 0, 0, 129, 45, 1, 93, 21, 0,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.events >= 8, "{rep:?}");
+    use lorentz_gas::kernel::arc::Arc;
+    use lorentz_gas::kernel::vec2::Vec2;
+    let r = 0.49999999813735485f64;
+    let v = Vec2::new(0.9999999999999992f64, 3.161013628627529e-8);
+    let c = Arc::new(&v, &2.0).contact(1.3946061083736083e-8, -0.5, &r, &(r * r), false);
+    assert_eq!(c, None);
+}

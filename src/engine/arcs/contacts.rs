@@ -48,11 +48,37 @@ pub(super) fn disk_frame<V: Lanes>(
     let g = awr.sub(a.speed).mul(awr.add(a.speed)).add(mm);
     let aa = g.div(c.w.mul(V::splat(2.0)).mul(sm));
     let rs2 = d.r.sub(aa).mul(d.r.add(aa));
-    let some = V::and(V::and_not(ok, conc), rs2.gt(z));
+    let cut = rs2.gt(z);
+    let some = V::and(V::and_not(ok, conc), cut);
+    let rest = V::and_not(V::and_not(ok, conc), cut);
+    let miss = if V::bits(rest) == 0 {
+        rest
+    } else {
+        let margin = miss_margin(c, a, d, (dd, aa, sm));
+        V::and(rest, rs2.neg().sub(margin).gt(z))
+    };
     let rs = rs2.sqrt();
     let yx = aa.mul(mx).sub(rs.mul(my)).div(sm);
     let yy = aa.mul(my).add(rs.mul(mx)).div(sm);
-    (conc, some, yx.sub(dx), yy.sub(dy))
+    (V::or(conc, miss), some, yx.sub(dx), yy.sub(dy))
+}
+
+/// The rounding of the disk frame's rs² ([`crate::kernel::arc::Arc`]'s `miss_margin`), in the
+/// same operations.
+#[inline(always)]
+fn miss_margin<V: Lanes>(c: &Consts<V>, a: &ArcL<V>, d: &DiskC<V>, (dd, aa, sm): (V, V, V)) -> V {
+    let u = f64::EPSILON / 2.0;
+    let wrv = c.aw.mul(d.r).add(a.speed);
+    let reach = c.aw.mul(dd.sqrt()).add(a.speed);
+    let abs_a = aa.abs();
+    let da = wrv
+        .mul(wrv)
+        .div(c.aw)
+        .add(abs_a.mul(reach))
+        .mul(V::splat(8.0 * u))
+        .div(sm);
+    let ra = d.r.add(abs_a);
+    ra.mul(da.mul(V::splat(2.0)).add(ra.mul(V::splat(3.0 * u))))
 }
 
 /// Disk `m`'s contact in every lane ([`crate::kernel::arc::Arc::contact`]), and where the
