@@ -316,7 +316,7 @@ def diffusion(
     field : str, float, Fraction or Decimal, optional
         A uniform magnetic field B (1/length at speed 1) perpendicular to the plane, taken
         exactly like ``w``: the velocity turns at the angular velocity B, counter-clockwise for
-        B > 0, on a cyclotron circle of radius 1/|B|; 1e-3 <= |B| <= 1e3. ``None`` or 0: the
+        B > 0, on a cyclotron circle of radius 1/abs(B); 1e-3 <= abs(B) <= 1e3. ``None`` or 0: the
         run without a field (its own bits). A field run takes no checkpoint or audit and runs
         on the scalar engine.
     localization_samples : int
@@ -572,10 +572,10 @@ def sweep(
     w : str, float, Fraction or Decimal, keyword only
         The gap of a sweep over the field (with ``fields``), instead of ``w_from``/``w_to``.
     field : exact number, keyword only
-        A fixed field B (angular velocity of the velocity, 1/time; cyclotron radius 1/|B|) for
+        A fixed field B (angular velocity of the velocity, 1/time; cyclotron radius 1/abs(B)) for
         a sweep over w.
     fields : sequence of exact numbers, keyword only
-        The fields of a sweep over B (each nonzero, 1e-3 <= |B| <= 1e3); with B and -B both
+        The fields of a sweep over B (each nonzero, 1e-3 <= abs(B) <= 1e3); with B and -B both
         given, Onsager-Casimir is checked.
     localization_samples : int, keyword only
         Phase points classified per point for the sampled localized share.
@@ -726,7 +726,7 @@ def lyapunov(
     seed, threads, progress
         As in :func:`diffusion`.
     field : exact number, optional
-        A magnetic field B (1/time; 1e-3 <= |B| <= 1e3, triangular scene): the tangent dynamics
+        A magnetic field B (1/time; 1e-3 <= abs(B) <= 1e3, triangular scene): the tangent dynamics
         of arcs on orbits started in the diffusing part of phase space; 0 or None: no field.
 
     Returns
@@ -860,8 +860,8 @@ def audit(
     reference_bits : int
         MPFR precision of the replay, 128 to 65536 bits.
     field : str, Fraction or float, optional
-        A uniform magnetic field B (inverse time; the cyclotron radius is 1/|B| in units of the
-        disk radius), exact like ``w``, 1e-6 <= |B| <= 1e6; ``None`` or 0: no field. The
+        A uniform magnetic field B (inverse time; the cyclotron radius is 1/abs(B) in units of the
+        disk radius), exact like ``w``, 1e-6 <= abs(B) <= 1e6; ``None`` or 0: no field. The
         replayed events are then arcs, judged by the arc kernel's running error bound.
     seed, threads, progress
         As in :func:`diffusion`.
@@ -912,8 +912,8 @@ def shadow(
     reference_bits : int
         MPFR precision of the Newton iteration, 128 bits or more.
     field : str, Fraction or float, optional
-        A uniform magnetic field B (inverse time; the cyclotron radius is 1/|B| in units of the
-        disk radius), exact like ``w``, 1e-3 <= |B| <= 1e3; ``None`` or 0: no field. The
+        A uniform magnetic field B (inverse time; the cyclotron radius is 1/abs(B) in units of the
+        disk radius), exact like ``w``, 1e-3 <= abs(B) <= 1e3; ``None`` or 0: no field. The
         segments are f64 orbits on arcs from the diffusing starts of :func:`diffusion` in the
         same field, and their shadows true orbits on arcs.
     seed, threads, progress
@@ -999,8 +999,8 @@ def trajectory(
     trajectory``): ``start`` (x, y) in world coordinates outside every disk, ``direction``
     (dx, dy) nonzero, total ``time`` > 0, all exact. ``scene`` defaults to "triangular" with
     ``w`` and "square" with ``radius``. ``field`` (exact, 1/time) is a uniform magnetic field
-    B: flights are arcs turning counter-clockwise for B > 0 on circles of radius 1/|B|
-    (0 or None: straight; otherwise 1e-6 <= |B| <= 1e6). The result's ``x``, ``y`` and
+    B: flights are arcs turning counter-clockwise for B > 0 on circles of radius 1/abs(B)
+    (0 or None: straight; otherwise 1e-6 <= abs(B) <= 1e6). The result's ``x``, ``y`` and
     ``distance`` are decimal strings carrying exactly the certified digits (1 to 10000)."""
     if scene is None:
         scene = "square" if radius is not None and w is None else "triangular"
@@ -1037,7 +1037,7 @@ def constants(
     exact constants: ``C_flow`` (P(tau > s) ~ C_flow/s under the flow), ``C_map``
     (mu(tau > s) ~ C_map/s^2 under the billiard map), ``D_sup`` (dx/sqrt(t ln t) -> N(0, D_sup)),
     ``msd_x_t_ln_t`` = 2 D_sup and ``msd_r_t_ln_t`` = 2 C_flow (the coefficients of t ln t in
-    <dx^2> and <|dr|^2>). Values carry every digit of the working precision in ``to_json()``.
+    <dx^2> and <dr^2>). Values carry every digit of the working precision in ``to_json()``.
 
     Given several gaps or radii (a list, tuple or numpy array) it returns a
     :class:`ConstantsTable`: one :class:`ConstantsResult` per value, and each scalar constant as a
@@ -1167,7 +1167,7 @@ def events(
     bool), ``obstacle`` (the disk or edge label), ``i``, ``j``, ``down`` (the cell). The
     trajectory is batch ``batch`` of ``diffusion(w, seed=seed)`` (the same start), on the f64
     engine. With ``field`` (the magnetic field B, an exact decimal or fraction,
-    1e-3 <= |B| <= 1e3; triangular lattice) the flights are arcs of radius 1/|B|,
+    1e-3 <= abs(B) <= 1e3; triangular lattice) the flights are arcs of radius 1/abs(B),
     counter-clockwise for B > 0, and the trajectory is batch ``batch`` of
     ``diffusion(w, field=B, seed=seed)`` (its start drawn from the diffusing orbits); ``t`` is
     then the arc time and ``x``, ``y`` the event points; ``field=0`` is the run without a field.

@@ -76,7 +76,7 @@ const EXIT_FAILED: u8 = 4;
 const EXIT_INTERRUPTED: u8 = 130;
 
 /// The exit status of each kind of error: the one table of the command line's statuses (the
-/// README's "Exit status" paragraph lists the same).
+/// "Exit status" paragraph of docs/reference/command-line.md lists the same).
 fn exit_status(kind: ErrorKind) -> u8 {
     match kind {
         ErrorKind::CheckFailed => EXIT_CHECK_FAILED,
@@ -123,7 +123,7 @@ enum Cmd {
     Sweep(sweep::Args),
     /// Audit a result file before publication: provenance, record, statistics, exact identities, shadow audit, precision independence, reproducibility (PASS/FAIL; Markdown, HTML, JSON).
     Report(report::Args),
-    /// Regenerate every figure (2-8) and table of the README, the paper's claims and speed against error into one folder with an index.html (resumable).
+    /// Regenerate every figure (2-8) and table of the user guide, the paper's claims and speed against error into one folder with an index.html (resumable).
     Reproduce(reproduce::Args),
     /// Combine the parts of a sweep run with --shard I/N into the whole sweep's CSV, JSON and figures (bit-identical).
     Merge(merge::Args),

@@ -1,4 +1,4 @@
-//! `lorentz reproduce`: every figure and table of the README into one folder with an index.html.
+//! `lorentz reproduce`: every figure and table of the user guide into one folder with an index.html.
 
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -12,7 +12,7 @@ use super::progress::Progress;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// quick (minutes on 2 cores) or paper (the README's statistics, Fig. 8 at 2e9 collisions per
+    /// quick (minutes on 2 cores) or paper (the user guide's statistics, Fig. 8 at 2e9 collisions per
     /// run: about an hour on 2 cores).
     #[arg(long, value_enum, default_value = "quick")]
     budget: Budget,

@@ -11,7 +11,7 @@
 //!
 //! The bound is a floor, not a forecast. On a CPU that executes 512-bit operations as two
 //! 256-bit halves, the engine's other vector instructions, about 200 per 8-lane vector and
-//! step, cost more than its three divider instructions (README, "The divider's bound").
+//! step, cost more than its three divider instructions (docs/performance.md, "The divider's bound").
 
 use std::time::Instant;
 

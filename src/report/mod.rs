@@ -3,7 +3,7 @@
 //! * [`publication`]: `lorentz report`, the publication audit of a result file (every check PASS,
 //!   FAIL or SKIP with its numbers; Markdown, HTML, JSON).
 //! * [`speed_error`]: speed against error across precisions (`lorentz bench --report`).
-//! * [`reproduce`]: every figure and table of the README into one folder (`lorentz reproduce`).
+//! * [`reproduce`]: every figure and table of the user guide into one folder (`lorentz reproduce`).
 //! * [`figures`]: the plotting backend and the paper's figures.
 
 pub mod figures;

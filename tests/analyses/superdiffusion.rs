@@ -63,7 +63,7 @@ fn flight_tails_count_what_the_list_of_flights_shows() {
     assert!(c.longer[3] > 0, "r = 0.1 has flights longer than 40");
 }
 
-/// At r = 1/4 the tails have converged by s ≈ 10ℓ and t·C(t) by t ≈ 64ℓ (README): the tail
+/// At r = 1/4 the tails have converged by s ≈ 10ℓ and t·C(t) by t ≈ 64ℓ (docs/guide/scenes.md): the tail
 /// constants and the VACF's plateau agree with the exact C_flow, C_map and D_sup within the
 /// Student-t 4σ-equivalent bound of their errors (31 dof), and the limit law's IQR variance
 /// falls towards 1 as t grows. (Breaking it on purpose: the VACF without its factor ½ — the

@@ -1,4 +1,5 @@
-//! The README's "Each result's keys" table is the schema of every result: each command's JSON
+//! The "Each result's keys" table of `docs/reference/results.md` is the schema of every
+//! result: each command's JSON
 //! has no top-level key the table does not name, and each key the table names on its own (a
 //! backticked identifier) occurs in that result.
 
@@ -10,10 +11,10 @@ use crate::common::{lorentz_in, scratch};
 /// The rows of the table: the result kinds (backticked words of the first column) and the text
 /// of the second.
 fn documented() -> Vec<(Vec<String>, String)> {
-    let readme = include_str!("../../README.md");
+    let readme = include_str!("../../docs/reference/results.md");
     let start = readme
         .find("**Each result's keys**")
-        .expect("the README's table of result keys");
+        .expect("the table of result keys in docs/reference/results.md");
     let table = &readme[start..];
     let table = &table[..table.find("\n## ").unwrap_or(table.len())];
     table
@@ -185,11 +186,11 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
     out
 }
 
-/// Breaking it on purpose: dropping `D_minus_D_check` from the README's diffusion row fails
-/// with "diffusion: top-level key D_minus_D_check is not in the README's row"; naming a key
-/// that no result has fails with "the README names `…`, the result has no such key".
+/// Breaking it on purpose: dropping `D_minus_D_check` from the schema's diffusion row fails
+/// with "diffusion: top-level key D_minus_D_check is not in the schema's row"; naming a key
+/// that no result has fails with "the schema names `…`, the result has no such key".
 #[test]
-fn every_result_has_exactly_the_keys_the_readme_documents() {
+fn every_result_has_exactly_the_keys_the_schema_documents() {
     let tmp = scratch();
     let rows = documented();
     let kinds: BTreeSet<String> = rows.iter().flat_map(|(k, _)| k.clone()).collect();
@@ -202,14 +203,14 @@ fn every_result_has_exactly_the_keys_the_readme_documents() {
                 let prefix = format!("{kind} ");
                 rows.iter().find(|(k, _)| k[0].starts_with(&prefix))
             })
-            .unwrap_or_else(|| panic!("no README row for {kind}"));
+            .unwrap_or_else(|| panic!("no schema row for {kind}"));
         let text = own_part(&row.1, kind, &row.0);
         let named = words(&spans(text));
         let top: Vec<&String> = v.as_object().expect("a JSON object").keys().collect();
         for k in top {
             if !documented_key(k, &named) {
                 failures.push(format!(
-                    "{kind}: top-level key {k} is not in the README's row"
+                    "{kind}: top-level key {k} is not in the schema's row"
                 ));
             }
         }
@@ -230,7 +231,7 @@ fn every_result_has_exactly_the_keys_the_readme_documents() {
                 && !present.contains(&s)
             {
                 failures.push(format!(
-                    "{kind}: the README names `{s}`, the result has no such key"
+                    "{kind}: the schema names `{s}`, the result has no such key"
                 ));
             }
         }

@@ -55,7 +55,7 @@ pub const BATCHES_PER_WIDTH: u32 = 32;
 pub const TAIL_START_SURVIVAL: f64 = 0.25;
 
 /// Cut-off time in e-folds of the Machta–Zwanzig guess of γ: D/D_MZ ≥ 0.89 on the whole diffusive
-/// range (README table; smallest near w = 0.055), so at most ≈ 0.81e^{−7.2} ≈ 0.06 % of the particles are censored, yet the MLE uses them.
+/// range (docs/guide/diffusion.md table; smallest near w = 0.055), so at most ≈ 0.81e^{−7.2} ≈ 0.06 % of the particles are censored, yet the MLE uses them.
 pub const T_MAX_E_FOLDS: f64 = 8.0;
 
 /// Narrowest strip, in lattice spacings a: a strip of fewer traps across has no diffusive regime.

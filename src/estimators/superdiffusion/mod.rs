@@ -78,7 +78,7 @@ pub const MIN_BATCHES: u32 = 16;
 
 /// Where each estimator has converged, in mean free times: a fit window that starts earlier
 /// measures the approach, not the constant, and is given no verdict. From the convergence study
-/// at r = 1/4, the fastest scene measured (README, "Superdiffusion"; a scene of narrower
+/// at r = 1/4, the fastest scene measured (docs/guide/scenes.md, "Superdiffusion"; a scene of narrower
 /// corridors converges later still, so these are necessary, not sufficient): the tails are
 /// within their errors of C + B/s from s ≈ 10ℓ, t·C_xx(t) within 3 % of its plateau from ~64ℓ
 /// (1.07 there), the local slope of ⟨Δx²⟩/t in ln t 1.10 at 256ℓ and 1.01 at 724ℓ.

@@ -11,7 +11,7 @@ use crate::Error;
 use crate::estimators::escape::{self, BATCHES_PER_WIDTH, EscapeConfig, EscapeReport};
 use crate::scenes::triangular::geometry::Geometry;
 
-/// Smallest D/D_MZ over the diffusive range (0.89 near w = 0.055, README table): the expected
+/// Smallest D/D_MZ over the diffusive range (0.89 near w = 0.055, docs/guide/diffusion.md table): the expected
 /// lifetimes below are computed with D = this × D_MZ, so they do not underestimate.
 const D_OVER_D_MZ_MIN: f64 = 0.85;
 

@@ -1,4 +1,4 @@
-//! `lorentz reproduce`: every figure and table of the README regenerated into one folder with an
+//! `lorentz reproduce`: every figure and table of the user guide regenerated into one folder with an
 //! `index.html` — the D(w) table, Figs. 2–8, the fine structure of Fig. 8, the paper's claims
 //! against this crate's numbers, and speed against error.
 //!
@@ -8,7 +8,7 @@
 //! flight. Every step's random streams come from one seed, each step's from its own runs.
 //!
 //! Budgets: `quick` (a few minutes on 2 cores: statistics an order of magnitude below the
-//! README's) and `paper` (the README's statistics, Fig. 8 at the paper's 2·10⁹ collisions per run:
+//! user guide's) and `paper` (the user guide's statistics, Fig. 8 at the paper's 2·10⁹ collisions per run:
 //! about an hour on 2 cores).
 
 use std::path::Path;
@@ -35,7 +35,7 @@ use marker::{Done, finished_step};
 pub enum Budget {
     /// Minutes on 2 cores.
     Quick,
-    /// The README's and the paper's statistics (about an hour on 2 cores).
+    /// The user guide's and the paper's statistics (about an hour on 2 cores).
     Paper,
 }
 
@@ -56,7 +56,7 @@ pub trait Reporter: Sync {
     fn advance(&self, n: u64);
 }
 
-/// The D(w) table's gaps (the README's).
+/// The D(w) table's gaps (the user guide's, docs/guide/diffusion.md).
 pub const TABLE_GAPS: [&str; 7] = ["0.02", "0.055", "0.1", "0.15", "0.2", "0.25", "0.3"];
 
 /// One step of a reproduction.
@@ -125,7 +125,7 @@ impl Step {
     /// What the step reproduces.
     fn title(self) -> &'static str {
         match self {
-            Step::DTable => "D(w) at seven gaps (the README's table)",
+            Step::DTable => "D(w) at seven gaps (the user guide's table)",
             Step::Sweep => "Figs. 2, 7, 8: D(w), the Boltzmann form, residuals over w = 0.02 … 0.3",
             Step::Fig8Fine => "Fig. 8's fine structure over w = 0.20 … 0.30",
             Step::Backscatter => {
@@ -352,7 +352,7 @@ impl SweepConfig {
 
 fn sweep_config(step: Step, budget: Budget, seed: u64) -> Result<SweepConfig, Error> {
     let (from, to, steps, runs, collisions, batches) = match (step, budget) {
-        // The README's Figs. 2, 7, 8.
+        // The user guide's Figs. 2, 7, 8.
         (Step::Sweep, Budget::Quick) => ("0.02", "0.3", 15, 4, 20_000_000, 8),
         (Step::Sweep, Budget::Paper) => ("0.02", "0.3", 15, 4, 50_000_000, 8),
         // Fig. 8 at the paper's statistics: ten runs of 2·10⁹ collisions per point.
