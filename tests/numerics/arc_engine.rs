@@ -112,7 +112,11 @@ fn every_arc_lane_reproduces_the_scalar_kernel_on_every_available_path() {
 }
 
 /// The inputs of the arc kernel's libFuzzer findings (`fuzz_oracle.rs`, `regression_arc_*`).
-const FINDINGS: [&[u8]; 12] = [
+const FINDINGS: [&[u8]; 13] = [
+    &[
+        255, 48, 127, 0, 0, 0, 0, 0, 0, 2, 225, 102, 7, 0, 0, 1, 64, 53, 49, 0, 51, 53, 83, 202, 0,
+        0, 0, 235, 172, 253, 20, 20, 20, 235, 22, 153, 153, 73, 213, 20, 50,
+    ],
     &[
         2, 3, 1, 0, 255, 238, 30, 153, 248, 255, 1, 191, 1, 255, 127, 64, 8, 249, 0, 0, 36, 251,
         64, 0, 0, 0, 64, 0, 0, 129, 45, 1, 93, 21, 0,

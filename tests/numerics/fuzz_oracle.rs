@@ -723,3 +723,21 @@ fn regression_arc_disk_inside_a_nearly_concentric_cyclotron_circle_is_missed() {
     let c = Arc::new(&v, &2.0).contact(1.3946061083736083e-8, -0.5, &r, &(r * r), false);
     assert_eq!(c, None);
 }
+
+/// The eighteenth libFuzzer campaign (on the fix of the seventeenth): triangular w = 0.064,
+/// B = 1.195 (ρ = 0.837), a particle on disk 0 by identity after 230 events, its position drifted
+/// 1.1·10⁻¹⁴ inside the disk by its returns (within the error model), moving along it (β a
+/// rounding, 2.9·10⁻⁹) with its cyclotron circle internally tangent — by the drift, inside the
+/// disk by 1.1·10⁻¹⁴. The disk frame's rs² = −1.150·10⁻¹³ just beyond its rounding
+/// E = 1.146·10⁻¹³ made it a miss, and the particle circled through the disk, 0.18 deep in the
+/// next. A particle on the circle keeps its return: the miss applies off the circle only
+/// (`fuzz/artifacts/arc_kernel/crash-9241…`).
+#[test]
+fn regression_arc_return_on_a_disk_is_kept_when_drift_puts_the_cyclotron_circle_inside() {
+    let data: [u8; 41] = [
+        255, 48, 127, 0, 0, 0, 0, 0, 0, 2, 225, 102, 7, 0, 0, 1, 64, 53, 49, 0, 51, 53, 83, 202, 0,
+        0, 0, 235, 172, 253, 20, 20, 20, 235, 22, 153, 153, 73, 213, 20, 50,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.events >= 231, "{rep:?}");
+}

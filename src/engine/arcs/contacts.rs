@@ -29,8 +29,9 @@ pub(super) fn coincident<V: Lanes>(
     )
 }
 
-/// The disk-frame contact ([`crate::kernel::arc::Arc`]'s `disk_frame`) where it decides:
-/// (no contact, a contact, chord x, chord y).
+/// The disk-frame contact ([`crate::kernel::arc::Arc`]'s `disk_frame`) where it decides, in
+/// the lanes `ok` (`off`: the particle is off the circle): (no contact, a contact, chord x,
+/// chord y).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn disk_frame<V: Lanes>(
@@ -39,7 +40,7 @@ pub(super) fn disk_frame<V: Lanes>(
     d: &DiskC<V>,
     (dx, dy, dd): (V, V, V),
     (mx, my, mm): (V, V, V),
-    ok: V::Mask,
+    (ok, off): (V::Mask, V::Mask),
 ) -> (V::Mask, V::Mask, V, V) {
     let z = V::splat(0.0);
     let conc = coincident(c, a, dd, mm, ok);
@@ -50,7 +51,8 @@ pub(super) fn disk_frame<V: Lanes>(
     let rs2 = d.r.sub(aa).mul(d.r.add(aa));
     let cut = rs2.gt(z);
     let some = V::and(V::and_not(ok, conc), cut);
-    let rest = V::and_not(V::and_not(ok, conc), cut);
+    // Off the circle only: a particle on it keeps its return ([`crate::kernel::arc::Arc`]).
+    let rest = V::and(off, V::and_not(V::and_not(ok, conc), cut));
     let miss = if V::bits(rest) == 0 {
         rest
     } else {
@@ -118,7 +120,8 @@ pub(super) fn disk<V: Lanes>(
     let (none, some, fx, fy) = if V::bits(ok) == 0 {
         (ok, ok, z, z)
     } else {
-        disk_frame(c, a, d, (dx, dy, dd), (mx, my, mm), ok)
+        let off = not::<V>(onc, all);
+        disk_frame(c, a, d, (dx, dy, dd), (mx, my, mm), (ok, off))
     };
     // Off the circle moving in, a disk-frame entry within its rounding of the particle is now.
     let near = entry_now(

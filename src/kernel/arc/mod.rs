@@ -152,7 +152,7 @@ impl<'a, T: Real> Arc<'a, T> {
         if !gamma.gt0() {
             // On the circle: the roots are s = 0 (here) and s = −2β/M (the return).
             if beta.gt0() {
-                if let Some(c) = self.disk_frame(&d, r) {
+                if let Some(c) = self.disk_frame(&d, r, false) {
                     return c;
                 }
                 let s = (beta * &T::from_f64(ctx, -2.0)) * &inv;
@@ -168,7 +168,7 @@ impl<'a, T: Real> Arc<'a, T> {
                 disk_frame: false,
             });
         }
-        if let Some(c) = self.disk_frame(&d, r) {
+        if let Some(c) = self.disk_frame(&d, r, true) {
             return c.map(|c| self.entry_now(c, &d, r, &beta));
         }
         let k = vv_wq + &(w.clone().square() * &gamma).scale(0.25);
