@@ -231,7 +231,7 @@ def _in_notebook() -> bool:
 class _Bar:
     """A tqdm bar fed by the run's progress (nothing when tqdm is missing)."""
 
-    def __init__(self, progress: Progress, total: float, unit: str):
+    def __init__(self, progress: Progress, total: Optional[float], unit: str):
         self.bar = None
         self.callback: Optional[Callable[[int], Any]] = None
         if progress is None:
@@ -247,7 +247,12 @@ class _Bar:
                     from tqdm import tqdm
                 except ImportError:
                     return
-            self.bar = tqdm(total=int(total), unit=unit, unit_scale=True, dynamic_ncols=True)
+            self.bar = tqdm(
+                total=None if total is None else int(total),
+                unit=unit,
+                unit_scale=True,
+                dynamic_ncols=True,
+            )
             self.callback = self.bar.update
 
     def __enter__(self) -> Optional[Callable[[int], Any]]:
@@ -267,7 +272,7 @@ def _total(v: Any) -> float:
 
 def diffusion(
     w: Exact,
-    collisions: Count = 2e9,
+    collisions: Optional[Count] = None,
     batches: Count = 32,
     seed: Count = 1,
     threads: Optional[Count] = None,
@@ -282,6 +287,8 @@ def diffusion(
     field: Optional[Exact] = None,
     localization_samples: Count = 1_000_000,
     progress: Progress = None,
+    *,
+    rel_err: Optional[float] = None,
 ) -> Union[DiffusionResult, FieldResult]:
     """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``), or with a
     magnetic ``field`` the diffusion tensor (``lorentz diffusion --field``).
@@ -290,8 +297,9 @@ def diffusion(
     ----------
     w : str, float, Fraction or Decimal
         Gap between neighbouring disks (radius 1): 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    collisions : int
-        Collisions in all, over every batch (at least 2 per batch).
+    collisions : int, optional
+        Collisions in all, over every batch (at least 2 per batch); default 2e9. With
+        ``rel_err``, the pilot's collisions (default 2e8).
     batches : int
         Independent trajectories, at least 2; ``D_err`` is their standard error.
     seed : int
@@ -324,6 +332,12 @@ def diffusion(
     progress : bool, callable or None
         Show a tqdm bar (if tqdm is installed), or call ``progress(n)`` with collisions done.
         ``None`` (the default): a bar in a Jupyter notebook, none in scripts; ``False``: none.
+    rel_err : float, optional
+        Stop at this relative error of D (``1e-4`` is 0.01 %, from 1e-7 to 0.5): a pilot of
+        ``collisions`` measures how the error falls with the collisions, then the run of the
+        size it plans runs (the bits of a plain run of that size, resumable with
+        ``checkpoint``); ``pilot`` in the result records the pilot. The error reached scatters
+        by about 13 % about the target with 32 batches (the pilot's error is itself estimated).
 
     Returns
     -------
@@ -337,10 +351,12 @@ def diffusion(
         ``localized_fraction_exact``, ``localized_fraction`` ± ``localized_fraction_err``,
         ``mean_free_time`` against Kac's ``mean_free_time_exact``.
     """
-    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+    # A planned run's size is known only after its pilot: a bar without a total.
+    total = None if rel_err is not None else _total(_count("collisions", 2e9 if collisions is None else collisions))
+    with _Bar(progress, total, "coll") as cb:
         text = _native.diffusion(
             _exact("w", w),
-            _count("collisions", collisions),
+            None if collisions is None else _count("collisions", collisions),
             _count("batches", batches),
             _count("seed", seed),
             _threads(threads),
@@ -355,6 +371,7 @@ def diffusion(
             None if field is None else _exact("field", field),
             _count("localization_samples", localization_samples),
             cb,
+            None if rel_err is None else float(rel_err),
         )
     if '"D_xy"' in text:
         return FieldResult(text)

@@ -15,10 +15,11 @@ class ComputationError(RuntimeError): ...
 Progress = Optional[Callable[[int], object]]
 
 def diffusion(
-    w: str, collisions: str, batches: str, seed: str, threads: Optional[str], engine: str,
-    precision: str, window: Tuple[float, float], check_window: Tuple[float, float],
+    w: str, collisions: Optional[str], batches: str, seed: str, threads: Optional[str],
+    engine: str, precision: str, window: Tuple[float, float], check_window: Tuple[float, float],
     checkpoint: Optional[str], checkpoint_every: float, audit: Optional[float],
     reference_bits: str, field: Optional[str], localization_samples: str, progress: Progress,
+    rel_err: Optional[float],
 ) -> str: ...
 def hops(
     w: str, collisions: str, batches: str, order: str, seed: str, threads: Optional[str],

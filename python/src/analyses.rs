@@ -53,12 +53,12 @@ fn interval(seconds: f64) -> PyResult<Duration> {
 }
 
 #[pyfunction]
-#[pyo3(name = "diffusion", signature = (w, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, field, localization_samples, progress))]
+#[pyo3(name = "diffusion", signature = (w, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, field, localization_samples, progress, rel_err))]
 #[allow(clippy::too_many_arguments)]
 fn py_diffusion(
     py: Python<'_>,
     w: &str,
-    collisions: &str,
+    collisions: Option<&str>,
     batches: &str,
     seed: &str,
     threads: Option<&str>,
@@ -73,18 +73,25 @@ fn py_diffusion(
     field: Option<&str>,
     localization_samples: &str,
     progress: Option<Bound<'_, PyAny>>,
+    rel_err: Option<f64>,
 ) -> PyResult<String> {
     let w = exact("w", w)?;
+    let collisions = match collisions {
+        Some(c) => count_u64("collisions", c)?,
+        None if rel_err.is_some() => diffusion::plan::DEFAULT_PILOT,
+        None => DiffusionConfig::new(w.value).collisions,
+    };
     let cfg = DiffusionConfig {
         w: w.value,
         w_exact: w.exact_text(),
-        collisions: count_u64("collisions", collisions)?,
+        collisions,
         batches: count_u32("batches", batches)?,
         seed: count_u64("seed", seed)?,
         run: 0,
         precision: inputs::precision(precision)?,
         window: self::window("window", window)?,
         check_window: self::window("check_window", check_window)?,
+        rel_err,
     };
     cfg.validate().map_err(crate::py_err)?;
     let audit = match audit {

@@ -188,3 +188,17 @@ def test_superdiffusion_has_the_command_lines_bits(cli_json):
     same(py.to_dict(), cl)
     assert list(py.lags["t_c"]) == [r["t_c"] for r in cl["lags"]]
     assert py.D_sup_exact == cl["D_sup_exact"] and len(py.corridors) == 4
+
+
+def test_a_planned_run_has_the_command_lines_bits_and_plan(cli_json):
+    py = lg.diffusion(w="0.2", rel_err=2e-3, collisions=4e6, batches=8, seed=3)
+    cl = cli_json("diffusion", "--w", "0.2", "--rel-err", "2e-3", "--collisions", "4e6",
+                  "--batches", "8", "--seed", "3")
+    same(py.to_dict(), cl)
+    assert py.pilot["rel_err_target"] == 2e-3 and py.collisions == py.pilot["planned_collisions"]
+    pilot = lg.diffusion(w="0.2", collisions=4e6, batches=8, seed=3)
+    # Python's planner is the library's: the pilot's own plan for the target is the run's size.
+    assert pilot.collisions_for(2e-3) == py.pilot["planned_collisions"] > 4e6
+    assert pilot.D_err / pilot.D == py.pilot["rel_err"]
+    with pytest.raises(ValueError, match=r"\[1e-7, 0.5\]"):
+        lg.diffusion(w="0.2", rel_err=0.0)

@@ -16,9 +16,15 @@ use super::progress::Progress;
 pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
-    /// Collisions in all, over every batch (2e9, 2_000_000_000 and 2000000000 all work).
-    #[arg(long, default_value = "2e9", value_parser = parse_count, allow_negative_numbers = true)]
-    collisions: u64,
+    /// Collisions in all, over every batch (2e9, 2_000_000_000 and 2000000000 all work) [default:
+    /// 2e9; with --rel-err the pilot's, 2e8].
+    #[arg(long, value_parser = parse_count, allow_negative_numbers = true)]
+    collisions: Option<u64>,
+    /// Stop at this relative error of D (1e-4 is 0.01 %): a pilot of --collisions measures how
+    /// the error falls with the collisions, then the run of the size it plans (the bits of a plain
+    /// run of that size; resumable with --checkpoint). From 1e-7 to 0.5.
+    #[arg(long, allow_negative_numbers = true)]
+    rel_err: Option<f64>,
     /// Independent batches (trajectories), at least 2; the error bar is their standard error.
     #[arg(long, default_value = "32", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
@@ -67,13 +73,18 @@ pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
     let cfg = DiffusionConfig {
         w,
         w_exact,
-        collisions: a.collisions,
+        collisions: a.collisions.unwrap_or(if a.rel_err.is_some() {
+            diffusion::plan::DEFAULT_PILOT
+        } else {
+            2_000_000_000
+        }),
         batches: a.batches,
         seed: a.run.seed(),
         run: 0,
         precision: a.precision.precision,
         window: a.window,
         check_window: a.check_window,
+        rel_err: a.rel_err,
     };
     cfg.validate()?;
     Ok(cfg)
@@ -108,19 +119,69 @@ pub fn run(a: Args) -> Result<(), Error> {
         .audit
         .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
         .transpose()?;
-    let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
-    let progress = pb.callback();
     let opts = a.checkpoint.apply(RunOptions {
         engine: a.engine.engine,
         threads: a.run.threads(),
-        progress: &progress,
         audit,
         ..super::signals::options()
     });
-    let r = diffusion::run(&cfg, &opts)?;
-    drop(progress);
-    drop(pb);
+    let r = if cfg.rel_err.is_some() {
+        run_planned(&cfg, &opts, a.output.quiet)?
+    } else {
+        with_progress(cfg.collisions, "collisions", a.output.quiet, &opts, |o| {
+            diffusion::run(&cfg, o)
+        })?
+    };
     emit(a.output.json, &r, print)
+}
+
+/// Runs `f` with a progress report over `total` units in its options.
+fn with_progress<T>(
+    total: u64,
+    unit: &str,
+    quiet: bool,
+    opts: &RunOptions,
+    f: impl FnOnce(&RunOptions) -> Result<T, Error>,
+) -> Result<T, Error> {
+    let pb = Progress::new(total, unit, quiet);
+    let progress = pb.callback();
+    f(&RunOptions {
+        progress: &progress,
+        ..opts.clone()
+    })
+}
+
+/// A run planned for a relative error: the pilot, the plan on stderr, then the planned run.
+fn run_planned(
+    cfg: &DiffusionConfig,
+    opts: &RunOptions,
+    quiet: bool,
+) -> Result<DiffusionReport, Error> {
+    let (first, pilot) = with_progress(cfg.collisions, "collisions (pilot)", quiet, opts, |o| {
+        diffusion::plan::pilot(cfg, o)
+    })?;
+    let full = diffusion::plan::planned_config(cfg, &pilot);
+    if !quiet {
+        let rate = first.collisions_per_second.max(f64::MIN_POSITIVE);
+        eprintln!(
+            "pilot: {:.3e} collisions gave a relative error of {:.3} %; {} % needs {:.2e} \
+             collisions, about {} here{}",
+            pilot.collisions as f64,
+            100.0 * pilot.rel_err,
+            100.0 * pilot.rel_err_target,
+            pilot.planned_collisions as f64,
+            lorentz_gas::engine::progress_lines::clock(pilot.planned_collisions as f64 / rate),
+            if full.is_none() {
+                ": the pilot is the run"
+            } else {
+                ""
+            }
+        );
+    }
+    let total = full.as_ref().map_or(0, |f| f.collisions);
+    with_progress(total, "collisions", quiet || full.is_none(), opts, |o| {
+        diffusion::plan::finish(cfg, first, pilot, o)
+    })
 }
 
 /// The field, unless absent or exactly zero (the run without a field, with its own bits).
@@ -156,6 +217,7 @@ fn print(r: &DiffusionReport) {
     );
     print_d(r);
     print_identities(r);
+    print_plan(r);
     if let Some(a) = &r.audit {
         println!(
             "self-audit     : {} events replayed in MPFR, {} outside the error model, worst time error / bound {:.2e}",
@@ -167,6 +229,28 @@ fn print(r: &DiffusionReport) {
             "({} finished batches and {:.3e} collisions in all resumed from the checkpoint; the \
              speed counts this run's collisions only)",
             r.resumed_batches, r.resumed_collisions as f64
+        );
+    }
+}
+
+/// The relative error this run reached against a planned one, and what the next decade needs.
+fn print_plan(r: &DiffusionReport) {
+    if let Some(p) = &r.pilot {
+        println!(
+            "planned run    : for {} % from a pilot of {:.3e} collisions ({:.3} %); reached {:.3} %",
+            100.0 * p.rel_err_target,
+            p.collisions as f64,
+            100.0 * p.rel_err,
+            100.0 * r.D_err / r.D.abs()
+        );
+    }
+    if let Some(p) = &r.plan {
+        println!(
+            "precision plan : {} % needs {:.2e} collisions, about {} here (the error falls as \
+             1/sqrt(collisions); --rel-err stops at a target)",
+            100.0 * p.rel_err,
+            p.collisions as f64,
+            lorentz_gas::engine::progress_lines::clock(p.seconds)
         );
     }
 }

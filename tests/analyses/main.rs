@@ -14,6 +14,7 @@ mod field;
 mod field_sweep;
 mod hopping;
 mod options;
+mod planning;
 mod superdiffusion;
 mod sweep;
 mod theory;

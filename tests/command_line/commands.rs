@@ -21,6 +21,22 @@ const BAD: &[(&[&str], &str)] = &[
         "more than any run",
     ),
     (&["diffusion", "--w", "0.1", "--precision", "52"], "53"),
+    (
+        &["diffusion", "--w", "0.1", "--rel-err", "0"],
+        "[1e-7, 0.5]",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--rel-err", "0.7"],
+        "[1e-7, 0.5]",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--rel-err", "NaN"],
+        "[1e-7, 0.5]",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--rel-err", "1e-9"],
+        "[1e-7, 0.5]",
+    ),
     (&["diffusion", "--w", "0.1", "--precision", "double"], "f64"),
     (
         &["diffusion", "--w", "0.1", "--collisions", "0"],

@@ -78,6 +78,11 @@ pub struct DiffusionConfig {
     pub window: Window,
     /// Later window, fitted as a check of the linear regime.
     pub check_window: Window,
+    /// Plan the run for this relative error D_err/D ([`super::plan`]): `collisions` is then the
+    /// size of a pilot run, and the result the plain run of the size the pilot plans (with the
+    /// pilot recorded), in the same batches. `None`: a plain run of `collisions`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rel_err: Option<f64>,
 }
 
 impl DiffusionConfig {
@@ -93,12 +98,16 @@ impl DiffusionConfig {
             precision: Precision::F64,
             window: Window { lo: 10, hi: 40 },
             check_window: Window { lo: 20, hi: 80 },
+            rel_err: None,
         }
     }
 
     /// Checks every parameter; errors name the valid range.
     pub fn validate(&self) -> Result<(), Error> {
         check_diffusive_gap_exact(self.w, self.w_exact.as_deref())?;
+        if let Some(r) = self.rel_err {
+            super::plan::check_rel_err(r)?;
+        }
         check_run(
             self.collisions,
             self.batches,

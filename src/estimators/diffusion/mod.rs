@@ -34,6 +34,7 @@ use crate::verification::shadow_audit::AuditSummary;
 
 mod config;
 mod execution;
+pub mod plan;
 mod resumed;
 pub mod scene;
 mod summary;
@@ -172,6 +173,13 @@ pub struct DiffusionReport {
     /// Each batch's MSD at `msd_times` (batch order).
     #[serde(default)]
     pub batch_msd: Vec<Vec<f64>>,
+    /// How many collisions the next decade of relative error needs, and how long they take at
+    /// this run's speed ([`plan::next_decade`]).
+    #[serde(default)]
+    pub plan: Option<plan::Plan>,
+    /// The pilot of a run planned for a relative error (`rel_err`), `None` for a plain run.
+    #[serde(default)]
+    pub pilot: Option<plan::Pilot>,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -259,6 +267,9 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
     options.validate()?;
     options.refuse_unused("diffusion", &RunOption::ALL)?;
     cfg.validate()?;
+    if cfg.rel_err.is_some() {
+        return plan::run(cfg, options);
+    }
     // Below w_inf a flight crosses at most a few traps: the collisions are the work.
     Work::new("diffusion", "collisions", cfg.collisions as f64)
         .simd()
@@ -315,6 +326,7 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
     )?;
     rep.meta = rep.meta.with_engine(resolved);
     rep.resumed_collisions = earlier;
+    rep.plan = plan::next_decade(&rep);
     if resumed > 0 || keep.in_flight_count() > 0 {
         check_resumed_identities(&rep, options.resume.as_deref())?;
     }

@@ -118,6 +118,8 @@ pub(super) fn summarise(
         batch_D: ds,
         batch_D_check: dc,
         batch_msd: done.iter().map(|b| b.msd.clone()).collect(),
+        plan: None,
+        pilot: None,
         meta: RunMeta::new(
             Some(cfg.seed),
             Some(cfg.batches as u64),
