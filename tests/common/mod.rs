@@ -66,14 +66,15 @@ pub fn threads(threads: usize) -> RunOptions<'static> {
     }
 }
 
-/// A result's JSON without what differs between runs of the same bits: timing, metadata, and how
-/// much was resumed from a checkpoint.
+/// A result's JSON without what differs between runs of the same bits: timing (with the precision
+/// plan, whose time is this run's speed), metadata, and how much was resumed from a checkpoint.
 pub fn physics_only(mut v: serde_json::Value) -> serde_json::Value {
     if let Some(m) = v.as_object_mut() {
         for k in [
             "meta",
             "seconds",
             "collisions_per_second",
+            "plan",
             "resumed_batches",
             "resumed_collisions",
             "resumed_points",
