@@ -46,6 +46,7 @@ from ._native import CheckFailedError, ComputationError
 from ._results import (
     AuditResult,
     BackscatterResult,
+    BenchResult,
     CertifyResult,
     ConstantsResult,
     ConstantsTable,
@@ -86,6 +87,7 @@ __all__ = [
     "constants",
     "report",
     "events",
+    "bench",
     "Trajectory",
     "draw_lattice",
     "lattice_disks",
@@ -109,6 +111,7 @@ __all__ = [
     "ShadowResult",
     "CertifyResult",
     "TrajectoryResult",
+    "BenchResult",
     "ReportResult",
     "CheckFailedError",
     "ComputationError",
@@ -1040,6 +1043,78 @@ def trajectory(
 def _many(v: Any) -> bool:
     """Whether ``v`` is several values (a list, tuple or array), not one (text, a number)."""
     return isinstance(v, (list, tuple, np.ndarray))
+
+
+def bench(
+    w: Exact = "0.1",
+    collisions_per_thread: Count = 2e7,
+    repetitions: Count = 7,
+    precision: Union[str, int] = "f64",
+    engine: str = "auto",
+    observe: str = "none",
+    seed: Count = 1,
+    threads: Count = 1,
+    field: Optional[Exact] = None,
+    straight_beside: bool = False,
+    progress: Progress = None,
+) -> BenchResult:
+    """The engine's speed on this machine (``lorentz bench``): ``repetitions`` runs of
+    ``collisions_per_thread`` collisions on each of ``threads`` threads, timed, the median
+    reported — what a run's time can be planned from
+    (:meth:`DiffusionResult.seconds_for`).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap between neighbouring disks (radius 1), w > 0.
+    collisions_per_thread : int
+        Collisions of each thread in each repetition (the SIMD engine shares them over its 16
+        trajectories).
+    repetitions : int
+        Timed repetitions, 1 to 1000; the median is reported.
+    precision : "f64" or int
+        The number type: f64, or MPFR with this many bits (53 or more).
+    engine : {"auto", "scalar", "simd"}
+        The engine timed.
+    observe : {"none", "counters", "msd", "diffusion", "hops"}
+        Observers run beside the engine: none (the bare engine), or those of an analysis
+        (``"diffusion"``: the counters and MSD of ``diffusion``).
+    seed : int
+        Seed of the equilibrium starts.
+    threads : int
+        Threads timed at once, one trajectory (or SIMD block) each, 1 to 4 per core; default 1,
+        the speed of one core.
+    field : str, float, Fraction or Decimal, optional
+        A magnetic field B (like ``diffusion``'s): time the f64 arc kernel, bare.
+    straight_beside : bool
+        With ``field``: time straight flights too, each repetition right after the arcs'.
+    progress : bool, callable or None
+        As in :func:`diffusion`, over repetitions.
+
+    Returns
+    -------
+    BenchResult
+        ``collisions_per_second`` (all threads) and ``collisions_per_second_per_thread``
+        (collisions/s), ``ns_per_collision`` (ns per collision per thread), ``samples`` (each
+        repetition's collisions/s), ``divider_bound`` (SIMD engine), ``meta``.
+
+    Timings depend on the machine and on what else runs on it: compare runs made side by side.
+    """
+    with _Bar(progress, _total(_count("repetitions", repetitions)), "rep") as cb:
+        text = _native.bench(
+            _exact("w", w),
+            _count("collisions_per_thread", collisions_per_thread),
+            _count("repetitions", repetitions),
+            str(precision),
+            str(engine),
+            str(observe),
+            _count("seed", seed),
+            _count("threads", threads),
+            None if field is None else _exact("field", field),
+            bool(straight_beside),
+            cb,
+        )
+    return BenchResult(text)
 
 
 def constants(

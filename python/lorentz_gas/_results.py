@@ -368,6 +368,20 @@ class AuditResult(Result):
         return f"{s['audited']} events replayed, {s['outside']} outside the error model"
 
 
+class BenchResult(Result):
+    """The engine's throughput here: ``collisions_per_second`` (median over the repetitions, all
+    threads), ``collisions_per_second_per_thread``, ``ns_per_collision`` (per thread), each
+    repetition's rate in ``samples``, and on the SIMD engine ``divider_bound`` (what the divide
+    and square-root unit alone allows)."""
+
+    def _summary(self) -> str:
+        d = self._data
+        return (
+            f"{d['collisions_per_second_per_thread']:.3e} collisions/s per thread "
+            f"({d['ns_per_collision']:.2f} ns/collision) on {d['threads']} thread(s)"
+        )
+
+
 class ShadowResult(Result):
     """True orbits shadowing f64 segments (Newton's method, certified by Kantorovich)."""
 

@@ -6,6 +6,7 @@
 //! (`python/lorentz_gas/`) wraps them in keyword functions and result objects.
 
 mod analyses;
+mod bench;
 mod events;
 mod field;
 mod inputs;
@@ -60,6 +61,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ComputationError", m.py().get_type::<ComputationError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     analyses::register(m)?;
+    bench::register(m)?;
     events::register(m)?;
     field::register(m)?;
     verification::register(m)?;

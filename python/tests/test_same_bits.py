@@ -202,3 +202,17 @@ def test_a_planned_run_has_the_command_lines_bits_and_plan(cli_json):
     assert pilot.D_err / pilot.D == py.pilot["rel_err"]
     with pytest.raises(ValueError, match=r"\[1e-7, 0.5\]"):
         lg.diffusion(w="0.2", rel_err=0.0)
+
+
+def test_bench_has_the_command_lines_keys_and_counts(cli_json):
+    py = lg.bench(w="0.2", collisions_per_thread=2e5, repetitions=3, progress=False)
+    cl = cli_json("bench", "--w", "0.2", "--collisions-per-thread", "2e5", "--repetitions", "3")
+    assert py.keys() == list(cl)
+    # The trajectories timed are the seed's: what they did is the same, only the time differs.
+    assert py.crossings_per_collision == cl["crossings_per_collision"]
+    assert len(py.samples) == 3 and py.threads == 1 and py.ns_per_collision > 0
+    assert isinstance(py, lg.BenchResult) and "collisions/s per thread" in repr(py)
+    with pytest.raises(ValueError, match="observe 'all' is not one of"):
+        lg.bench(observe="all")
+    with pytest.raises(ValueError, match="straight_beside"):
+        lg.bench(straight_beside=True)

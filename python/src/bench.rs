@@ -1,0 +1,62 @@
+//! `bench`: the engine's throughput on this machine (`lorentz bench`), bare or with the
+//! observers of an analysis, straight or in a magnetic field.
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use lorentz_gas::estimators::throughput::{self, Observe, ThroughputConfig};
+
+use crate::analyses::options;
+use crate::inputs::{self, count_u64, count_usize};
+use crate::watch::{compute, json};
+
+/// The observers, by the command line's names.
+fn observe(text: &str) -> PyResult<Observe> {
+    serde_json::from_value(serde_json::Value::String(text.into())).map_err(|_| {
+        PyValueError::new_err(format!(
+            "observe '{text}' is not one of 'none', 'counters', 'msd', 'diffusion', 'hops'"
+        ))
+    })
+}
+
+#[pyfunction]
+#[pyo3(name = "bench", signature = (w, collisions_per_thread, repetitions, precision, engine, observe, seed, threads, field, straight_beside, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_bench(
+    py: Python<'_>,
+    w: &str,
+    collisions_per_thread: &str,
+    repetitions: &str,
+    precision: &str,
+    engine: &str,
+    observe: &str,
+    seed: &str,
+    threads: &str,
+    field: Option<&str>,
+    straight_beside: bool,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let field = match field {
+        Some(b) => Some(inputs::exact("field", b)?.value).filter(|b| *b != 0.0),
+        None => None,
+    };
+    let cfg = ThroughputConfig {
+        w: inputs::exact("w", w)?.value,
+        precision: inputs::precision(precision)?,
+        observe: self::observe(observe)?,
+        collisions_per_thread: count_u64("collisions_per_thread", collisions_per_thread)?,
+        repetitions: count_usize("repetitions", repetitions)?,
+        seed: count_u64("seed", seed)?,
+        field,
+        straight_beside,
+    };
+    let (threads, engine) = (inputs::threads(Some(threads))?, inputs::engine(engine)?);
+    let r = compute(py, progress, |ctl| {
+        throughput::run(&cfg, &options(ctl, threads, engine))
+    })?;
+    json(&r)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(py_bench, m)?)
+}
