@@ -1233,7 +1233,13 @@ fn physics(mut v: serde_json::Value) -> serde_json::Value {
         if let Some(o) = v.as_object_mut() {
             // `w_exact` is the gap as typed: "0.1" and "1/10" are the same number; the precision
             // plan is timed at the run's speed.
-            for k in ["meta", "seconds", "collisions_per_second", "w_exact", "plan"] {
+            for k in [
+                "meta",
+                "seconds",
+                "collisions_per_second",
+                "w_exact",
+                "plan",
+            ] {
                 o.remove(k);
             }
             for x in o.values_mut() {
