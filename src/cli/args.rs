@@ -35,7 +35,7 @@ pub fn parse_diffusive_gap(s: &str) -> Result<Exact, String> {
 pub struct GapArg {
     /// Gap w between neighbouring disks (radius 1), a decimal or a fraction such as 1/10:
     /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    #[arg(long = "w", value_parser = parse_diffusive_gap, allow_hyphen_values = true)]
+    #[arg(long = "w", value_name = "W", value_parser = parse_diffusive_gap, allow_hyphen_values = true)]
     pub gap: Exact,
 }
 
