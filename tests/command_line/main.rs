@@ -10,5 +10,6 @@ mod checkpoints;
 mod commands;
 mod honest_numbers;
 mod hostile;
+mod planned;
 mod report;
 mod result_keys;

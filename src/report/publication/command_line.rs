@@ -36,11 +36,12 @@ pub enum CommandLine {
 pub type ReadCommandLine<'a> = &'a (dyn Fn(&[String]) -> CommandLine + Sync);
 
 /// The check that `recorded.command_line` gives the file's configuration `config` and writes a
-/// result of `kind`.
+/// result of `kind`; a command line planned for a relative error (`--rel-err`) gives the plain
+/// run its recorded `pilot` planned.
 pub(super) fn check(
     checks: &mut Checks,
     kind: &str,
-    config: Option<&Value>,
+    (config, pilot): (Option<&Value>, Option<&Value>),
     recorded: &RunMeta,
     reader: Option<ReadCommandLine>,
 ) {
@@ -75,9 +76,44 @@ pub(super) fn check(
             command,
             writes,
             config: c,
-        }) => judge(kind, config, &command, writes.as_deref(), c),
+        }) => match c.map(|c| planned(c, pilot)).transpose() {
+            Ok(c) => judge(kind, config, &command, writes.as_deref(), c),
+            Err(why) => (Verdict::Fail, why),
+        },
     };
     checks.add("provenance", name, verdict, detail, &[]);
+}
+
+/// The configuration a parsed command line gives once its plan is known: without `rel_err`, the
+/// parsed one; with it (its `collisions` the pilot's), the plain run of the recorded `pilot`'s
+/// planned size — the pilot's size and target must be the command line's.
+fn planned(mut given: Value, pilot: Option<&Value>) -> Result<Value, String> {
+    let Some(target) = given.get("rel_err").filter(|r| !r.is_null()).cloned() else {
+        return Ok(given);
+    };
+    let Some(p) = pilot.filter(|p| !p.is_null()) else {
+        return Err(
+            "the recorded command line plans for a relative error (--rel-err), but the file \
+             records no pilot"
+                .into(),
+        );
+    };
+    if p.get("collisions") != given.get("collisions") || p.get("rel_err_target") != Some(&target) {
+        return Err(format!(
+            "the recorded pilot ({} collisions for {}) is not the command line's ({} for {target})",
+            p.get("collisions").unwrap_or(&Value::Null),
+            p.get("rel_err_target").unwrap_or(&Value::Null),
+            given.get("collisions").unwrap_or(&Value::Null),
+        ));
+    }
+    if let Some(o) = given.as_object_mut() {
+        o.remove("rel_err");
+        o.insert(
+            "collisions".into(),
+            p.get("planned_collisions").cloned().unwrap_or(Value::Null),
+        );
+    }
+    Ok(given)
 }
 
 /// The verdict on a parsed command line of `command` giving `given` for a `kind` result whose
@@ -134,6 +170,19 @@ mod tests {
             judge("hops", Some(&cfg), "diffusion", d, Some(cfg.clone())).0,
             Verdict::Fail
         );
+        // A planned run: the pilot's size and target on the command line, the plan in the file.
+        let line = serde_json::json!({"w": 0.1, "collisions": 500, "rel_err": 0.01});
+        let pilot = serde_json::json!({"collisions": 500, "rel_err_target": 0.01,
+            "planned_collisions": 1000});
+        assert_eq!(planned(line.clone(), Some(&pilot)), Ok(cfg.clone()));
+        assert!(
+            planned(line.clone(), None)
+                .unwrap_err()
+                .contains("no pilot")
+        );
+        let other_pilot = serde_json::json!({"collisions": 400, "rel_err_target": 0.01,
+            "planned_collisions": 1000});
+        assert!(planned(line, Some(&other_pilot)).is_err());
         let other = serde_json::json!({"w": 0.1, "collisions": 2000});
         let (v, why) = judge("diffusion", Some(&cfg), "diffusion", d, Some(other));
         assert_eq!(v, Verdict::Fail);

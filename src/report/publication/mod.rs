@@ -387,8 +387,8 @@ pub fn run_with(
     let mut figures = Vec::new();
     let kind = file.kind.name();
     provenance::identification_check(&mut checks, kind, &file.sha, audited.meta());
-    let config = file.value.get("config");
-    command_line::check(&mut checks, kind, config, audited.meta(), reader);
+    let given = (file.value.get("config"), file.value.get("pilot"));
+    command_line::check(&mut checks, kind, given, audited.meta(), reader);
     match &audited {
         Audited::Diffusion(r) => diffusion::checks(r, &ctx, &mut checks, &mut figures)?,
         Audited::Sweep(r) => sweep::checks(r, &ctx, &mut checks)?,
