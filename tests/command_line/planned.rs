@@ -6,14 +6,10 @@ use crate::common::lorentz_in as lorentz;
 
 /// The verdict of the report's command-line check.
 fn command_line_verdict(dir: &std::path::Path, out: &str) -> String {
-    let text = std::fs::read_to_string(dir.join(out).join("report.json")).unwrap();
-    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    v["checks"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == "recorded command line gives the recorded configuration")
-        .map(|c| c["verdict"].as_str().unwrap().to_string())
+    crate::report::checks(dir, out)
+        .into_iter()
+        .find(|(_, _, name)| name == "recorded command line gives the recorded configuration")
+        .map(|(verdict, _, _)| verdict)
         .unwrap()
 }
 

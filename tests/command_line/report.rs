@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::common::lorentz_in as lorentz;
 
-fn checks(dir: &Path, report: &str) -> Vec<(String, String, String)> {
+pub(crate) fn checks(dir: &Path, report: &str) -> Vec<(String, String, String)> {
     let text = std::fs::read_to_string(dir.join(report).join("report.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["checks"]
