@@ -107,6 +107,13 @@ impl FieldConfig {
     /// Checks every parameter; errors name the valid range.
     pub fn validate(&self) -> Result<(), Error> {
         self.diffusion.validate()?;
+        if self.diffusion.rel_err.is_some() {
+            return Err(Error::Invalid(
+                "rel_err: a run in a magnetic field is not planned for a relative error (yet): \
+                 give its collisions, or plan them with a run without the field"
+                    .into(),
+            ));
+        }
         self.field_value()?;
         if !(1..=1_000_000_000).contains(&self.localization_samples) {
             return Err(Error::out_of_range(
