@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import copy
 import json
-import math
 from typing import Any, Dict, List, Optional
 
 import numpy as np
@@ -175,18 +174,16 @@ class DiffusionResult(Result):
 
     def collisions_for(self, rel_err: float) -> int:
         """The collisions (in this run's batches) that give the relative error ``rel_err`` of D
-        (``1e-4`` is 0.01 %): N·(r/rel_err)² for this run's N collisions and relative error r,
-        rounded up to two significant digits and to a multiple of the batches — the plan a
-        ``rel_err=`` run makes from its pilot. The error falls as 1/sqrt(collisions)."""
-        rel_err = float(rel_err)
-        if not 0.0 < rel_err < 1.0:
-            raise ValueError(f"rel_err = {rel_err!r}: a relative error between 0 and 1, such as 1e-4")
-        achieved = self.D_err / abs(self.D)
-        n = self.collisions * (achieved / rel_err) ** 2
-        unit = max(10.0 ** (math.floor(math.log10(n)) - 1), 1.0)
-        n = math.ceil(n / unit) * unit
+        (``1e-4`` is 0.01 %, from 1e-7 to 0.5): N·(r/rel_err)² for this run's N collisions and
+        relative error r, rounded up to two significant digits and to a multiple of the batches —
+        the library's planner, the one a ``rel_err=`` run applies to its pilot. The error falls
+        as 1/sqrt(collisions)."""
+        from . import _native
+
         batches = int(self.meta.get("batches") or 2)
-        return int(math.ceil(n / batches) * batches)
+        return _native.collisions_for(
+            int(self.collisions), batches, self.D_err / abs(self.D), float(rel_err)
+        )
 
     def seconds_for(self, rel_err: float) -> float:
         """How long :meth:`collisions_for` takes at this run's speed (seconds, on its threads)."""

@@ -78,8 +78,7 @@ fn py_diffusion(
     let w = exact("w", w)?;
     let collisions = match collisions {
         Some(c) => count_u64("collisions", c)?,
-        None if rel_err.is_some() => diffusion::plan::DEFAULT_PILOT,
-        None => DiffusionConfig::new(w.value).collisions,
+        None => diffusion::plan::default_collisions(rel_err),
     };
     let cfg = DiffusionConfig {
         w: w.value,

@@ -10,6 +10,7 @@ mod bench;
 mod events;
 mod field;
 mod inputs;
+mod plan;
 mod scenes;
 mod verification;
 mod watch;
@@ -62,6 +63,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     analyses::register(m)?;
     bench::register(m)?;
+    plan::register(m)?;
     events::register(m)?;
     field::register(m)?;
     verification::register(m)?;

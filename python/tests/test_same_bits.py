@@ -201,6 +201,8 @@ def test_a_planned_run_has_the_command_lines_bits_and_plan(cli_json):
     assert pilot.collisions_for(2e-3) == py.pilot["planned_collisions"] > 4e6
     assert pilot.D_err / pilot.D == py.pilot["rel_err"]
     with pytest.raises(ValueError, match=r"\[1e-7, 0.5\]"):
+        pilot.collisions_for(0.7)
+    with pytest.raises(ValueError, match=r"\[1e-7, 0.5\]"):
         lg.diffusion(w="0.2", rel_err=0.0)
 
 

@@ -73,11 +73,9 @@ pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
     let cfg = DiffusionConfig {
         w,
         w_exact,
-        collisions: a.collisions.unwrap_or(if a.rel_err.is_some() {
-            diffusion::plan::DEFAULT_PILOT
-        } else {
-            2_000_000_000
-        }),
+        collisions: a
+            .collisions
+            .unwrap_or_else(|| diffusion::plan::default_collisions(a.rel_err)),
         batches: a.batches,
         seed: a.run.seed(),
         run: 0,

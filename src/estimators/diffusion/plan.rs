@@ -24,6 +24,16 @@ use crate::engine::options::RunOptions;
 /// about 0.15 % in about 1.5 s on 2 cores.
 pub const DEFAULT_PILOT: u64 = 200_000_000;
 
+/// The collisions of a run whose collisions were not given: the pilot's ([`DEFAULT_PILOT`]) when
+/// it is planned for a relative error, else the plain run's default
+/// ([`DiffusionConfig::new`]'s 2·10⁹).
+pub fn default_collisions(rel_err: Option<f64>) -> u64 {
+    match rel_err {
+        Some(_) => DEFAULT_PILOT,
+        None => DiffusionConfig::new(1.0).collisions,
+    }
+}
+
 /// The relative errors a run can be planned for: below 10⁻⁷ no run finishes (10¹⁸ collisions
 /// and more at any gap); above 1/2 the error bar is as large as D.
 pub const REL_ERR_RANGE: (f64, f64) = (1e-7, 0.5);
