@@ -19,7 +19,7 @@ def diffusion(
     engine: str, precision: str, window: Tuple[float, float], check_window: Tuple[float, float],
     checkpoint: Optional[str], checkpoint_every: float, audit: Optional[float],
     reference_bits: str, field: Optional[str], localization_samples: str, progress: Progress,
-    rel_err: Optional[float],
+    rel_err: Optional[float], msd_grid: str = ...,
 ) -> str: ...
 def hops(
     w: str, collisions: str, batches: str, order: str, seed: str, threads: Optional[str],

@@ -160,7 +160,11 @@ class DiffusionResult(Result):
     """D(w) by the Einstein formula: ``D`` ± ``D_err`` (standard error over the batches, in
     units of length²/time with speed 1 and disk radius 1), the check window's ``D_check``, the
     mean free path against Santaló's ``mean_free_path_exact``, ``msd_times`` (time) and
-    ``msd`` (⟨Δr²⟩, length²) as numpy arrays, ``batch_D`` (one D per batch)."""
+    ``msd`` (⟨Δr²⟩, length²) as numpy arrays, ``batch_D`` (one D per batch). With
+    ``msd_grid="log"``: ``msd_curve``, a table (numpy structured array, ``to_pandas()``) of
+    ``times`` (time), ``msd`` (length²), ``vacf`` (⟨v(0)·v(t)⟩, 1 at t = 0) and ``green_kubo``
+    (½∫₀ᵗ⟨v(0)·v(s)⟩ds, length²/time), each with ``_err``, from an eighth of the mean free time
+    on; and ``D_green_kubo`` ± ``D_green_kubo_err`` with ``D_minus_D_green_kubo`` (paired)."""
 
     @property
     def msd(self) -> np.ndarray:
@@ -171,6 +175,18 @@ class DiffusionResult(Result):
     def msd_err(self) -> np.ndarray:
         """Standard error of ``msd`` over the batches."""
         return 4.0 * np.asarray(self.msd_times) * np.asarray(self.msd_over_4t_err)
+
+    def __init__(self, text: str):
+        super().__init__(text)
+        curve = self._data.get("msd_curve")
+        if isinstance(curve, dict):
+            # One record per time of the logarithmic grid (a table: ``to_pandas()``).
+            names = ["times", "msd", "msd_err", "vacf", "vacf_err", "green_kubo", "green_kubo_err"]
+            n = len(curve.get("times") or [])
+            table = np.zeros(n, dtype=[(k, np.float64) for k in names])
+            for k in names:
+                table[k] = [np.nan if x is None else x for x in curve.get(k) or []]
+            self.msd_curve = table
 
     def collisions_for(self, rel_err: float) -> int:
         """The collisions (in this run's batches) that give the relative error ``rel_err`` of D

@@ -53,7 +53,7 @@ fn interval(seconds: f64) -> PyResult<Duration> {
 }
 
 #[pyfunction]
-#[pyo3(name = "diffusion", signature = (w, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, field, localization_samples, progress, rel_err))]
+#[pyo3(name = "diffusion", signature = (w, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, field, localization_samples, progress, rel_err, msd_grid = "fit"))]
 #[allow(clippy::too_many_arguments)]
 fn py_diffusion(
     py: Python<'_>,
@@ -74,6 +74,7 @@ fn py_diffusion(
     localization_samples: &str,
     progress: Option<Bound<'_, PyAny>>,
     rel_err: Option<f64>,
+    msd_grid: &str,
 ) -> PyResult<String> {
     let w = exact("w", w)?;
     let collisions = match collisions {
@@ -91,6 +92,7 @@ fn py_diffusion(
         window: self::window("window", window)?,
         check_window: self::window("check_window", check_window)?,
         rel_err,
+        msd_grid: msd_grid.parse().map_err(crate::py_err)?,
     };
     cfg.validate().map_err(crate::py_err)?;
     let audit = match audit {

@@ -58,8 +58,8 @@ pub struct SceneArgs {
     /// (disks of radius r at unit spacing, needs --radius).
     #[arg(long, default_value = "triangular")]
     pub scene: SceneName,
-    /// Gap w of the triangular scene, a decimal or a fraction such as 1/10: w > 0 (finite
-    /// horizon below w_inf = 4/sqrt(3) - 2 = 0.3094..., where diffusion needs it).
+    /// Gap w of the triangular scene, a decimal or a fraction such as 1/10: w > 0 (the horizon is
+    /// finite below w_inf = 4/sqrt(3) - 2 = 0.3094..., infinite above).
     #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
     pub w: Option<Exact>,
     /// Disk radius of the square scene, a decimal or a fraction such as 1/3: 0 < r < 1/2.
@@ -111,7 +111,9 @@ pub struct HopArgs {
     /// Independent batches (trajectories), at least 2; every error bar is over them.
     #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
     pub batches: u32,
-    /// Longest symbol sequence counted, and highest order of the theory (1 to 7).
+    // The help of `hops`; `theory` and `lattice-walk` replace it with their own use of the order
+    // (`ORDER_HELP` of each module, applied in `Cmd`).
+    /// Longest symbol sequence counted (1 to 7).
     #[arg(long, default_value = "4", value_parser = parse_count_usize, allow_negative_numbers = true)]
     pub order: usize,
 }
@@ -171,7 +173,7 @@ impl HopCommand {
 /// The seed of a stochastic computation.
 #[derive(Args, Debug, Clone)]
 pub struct SeedArg {
-    /// Seed of the random streams (same seed, same bits, whatever --threads).
+    /// Seed of the random streams (same seed, same bits, on any number of threads).
     #[arg(long, default_value = "1", value_parser = parse_count, allow_negative_numbers = true)]
     pub seed: u64,
 }
@@ -216,9 +218,10 @@ impl RunArgs {
 /// trajectories in flight (`--checkpoint-every`), for every command that resumes.
 #[derive(Args, Debug, Clone)]
 pub struct CheckpointArgs {
+    // `escape`, which saves finished particles rather than trajectories in flight, replaces this
+    // help with its own (`escape::Args`).
     /// Keep the run's work in this file, saved as batches finish and every --checkpoint-every
-    /// (trajectories in flight; escape: each batch's finished particles); a rerun with the same
-    /// parameters resumes to the same bits.
+    /// (the trajectories in flight); a rerun with the same parameters resumes to the same bits.
     #[arg(long)]
     pub checkpoint: Option<std::path::PathBuf>,
     #[command(flatten)]
@@ -242,7 +245,9 @@ impl CheckpointArgs {
 /// How often a resumable run saves its trajectories in flight.
 #[derive(Args, Debug, Clone)]
 pub struct CheckpointEveryArg {
-    /// With a checkpoint: save the whole state of every trajectory in flight every SECONDS of
+    // `sweep` (no --checkpoint: its work is in --out) and `escape` (finished particles) replace
+    // this help with their own.
+    /// With --checkpoint: save the whole state of every trajectory in flight every SECONDS of
     /// wall time (0 to 86400; a kill loses at most about this much work). Finished batches are
     /// saved as they finish.
     #[arg(long, value_name = "SECONDS", default_value = "60", value_parser = parse_interval, allow_negative_numbers = true)]

@@ -49,9 +49,9 @@ pub struct Args {
     /// (median of the paired ratios).
     #[arg(long, conflicts_with_all = ["report", "observe", "precision"])]
     observer_costs: bool,
-    /// A magnetic field B (like --field of diffusion): time the f64 arc kernel, bare, on the
-    /// SIMD arc engine (or the scalar kernel with --engine scalar); 0: straight flights, the
-    /// default.
+    /// A uniform magnetic field B perpendicular to the plane, an exact decimal or fraction: time
+    /// the f64 arc kernel, bare, on the SIMD arc engine (or the scalar kernel with --engine
+    /// scalar); 0: straight flights, the default.
     #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs"])]
     field: Option<String>,
     /// With --field: time straight flights too, each repetition right after the arcs' on the same

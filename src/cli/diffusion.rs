@@ -2,7 +2,7 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
-use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport, Window};
+use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport, MsdGrid, Window};
 use lorentz_gas::statistics::comparison;
 
 use super::args::{
@@ -12,7 +12,12 @@ use super::args::{
 use super::output::{emit, sigmas};
 use super::progress::Progress;
 
+/// The gap diffusion needs (the shared help of `--w` gives the whole range w > 0).
+const GAP_HELP: &str = "Gap w of the triangular scene, a decimal or a fraction such as 1/10: \
+    0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094... (a finite horizon, where D exists)";
+
 #[derive(clap::Args)]
+#[command(mut_arg("w", |a| a.help(GAP_HELP)))]
 pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
@@ -37,9 +42,14 @@ pub struct Args {
     /// Fit window LO:HI for the MSD slope, in units of the mean hop time tau.
     #[arg(long, default_value = "10:40")]
     window: Window,
-    /// Second, later window fitted as a check of the linear regime.
+    /// Second, later window LO:HI fitted as a check of the linear regime, in units of tau.
     #[arg(long, default_value = "20:80")]
     check_window: Window,
+    /// Where the MSD is kept: fit (the fit windows' lags, which D is fitted from) or log (also a
+    /// logarithmic grid from an eighth of the mean free time on, four times per octave, with the
+    /// velocity autocorrelation and its running Green-Kubo integral; D keeps its bits; slower).
+    #[arg(long, default_value = "fit", value_name = "GRID")]
+    msd_grid: MsdGrid,
     #[command(flatten)]
     checkpoint: CheckpointArgs,
     /// Replay this fraction (0, 1] of the events in MPFR as the run goes (f64 runs).
@@ -83,6 +93,7 @@ pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
         window: a.window,
         check_window: a.check_window,
         rel_err: a.rel_err,
+        msd_grid: a.msd_grid,
     };
     cfg.validate()?;
     Ok(cfg)
@@ -215,6 +226,7 @@ fn print(r: &DiffusionReport) {
     );
     print_d(r);
     print_identities(r);
+    print_curve(r);
     print_plan(r);
     if let Some(a) = &r.audit {
         println!(
@@ -228,6 +240,45 @@ fn print(r: &DiffusionReport) {
              speed counts this run's collisions only)",
             r.resumed_batches, r.resumed_collisions as f64
         );
+    }
+}
+
+/// The MSD curve's extent and D by Green–Kubo against the Einstein D (runs on the log grid).
+fn print_curve(r: &DiffusionReport) {
+    let Some(c) = &r.msd_curve else {
+        return;
+    };
+    let (first, last) = (c.times.first().copied(), c.times.last().copied());
+    println!(
+        "MSD curve      : {} times from {:.4} to {:.4e} (MSD, velocity autocorrelation and \
+         Green-Kubo integral, in the --json result's msd_curve)",
+        c.times.len(),
+        first.unwrap_or(f64::NAN),
+        last.unwrap_or(f64::NAN)
+    );
+    let g = &r.green_kubo;
+    match (g.D_green_kubo, g.D_green_kubo_err) {
+        (Some(d), Some(e)) => {
+            let n = r.batch_D.len();
+            let diff = comparison::of(
+                g.D_minus_D_green_kubo.unwrap_or(f64::NAN),
+                g.D_minus_D_green_kubo_err.unwrap_or(f64::NAN),
+                comparison::batch_dof(n),
+            );
+            println!(
+                "D (Green-Kubo) = {d:.6} ± {e:.6}   (running integral over [{}τ, {}τ]; D − D_green_kubo = \
+                 {:+.6} ± {:.6}, {})",
+                r.window.lo,
+                r.window.hi,
+                diff.difference,
+                diff.err,
+                diff.describe(&format!("paired over {n} batches"))
+            );
+        }
+        _ => println!(
+            "D (Green-Kubo) : no grid time inside [{}τ, {}τ] (more collisions per batch reach it)",
+            r.window.lo, r.window.hi
+        ),
     }
 }
 

@@ -9,7 +9,20 @@ use super::args::{CheckpointArgs, GapArg, OutputArgs, RunArgs, parse_count};
 use super::output::emit;
 use super::progress::Progress;
 
+/// What a checkpoint of `escape` keeps: finished particles, not trajectories in flight (the
+/// shared help of `--checkpoint` and `--checkpoint-every` describes the latter).
+const CHECKPOINT_HELP: &str = "Keep the run's work in this file: each batch's finished particles, \
+    saved every --checkpoint-every and when the batch ends; a rerun with the same parameters \
+    resumes to the same bits";
+const CHECKPOINT_EVERY_HELP: &str = "With --checkpoint: save each batch's finished particles \
+    every SECONDS of wall time (0 to 86400; a kill loses about this much work and the particles \
+    in flight, each at most t_max long)";
+
 #[derive(clap::Args)]
+#[command(
+    mut_arg("checkpoint", |a| a.help(CHECKPOINT_HELP)),
+    mut_arg("checkpoint_every", |a| a.help(CHECKPOINT_EVERY_HELP))
+)]
 pub struct Args {
     #[command(flatten)]
     gap: GapArg,

@@ -10,6 +10,10 @@ use super::args::HopCommand;
 /// `lorentz lattice-walk` takes the shared hop-analysis options.
 pub type Args = HopCommand;
 
+/// The help of `--order` for `lorentz lattice-walk` (the shared text is `hops`'s).
+pub const ORDER_HELP: &str = "Highest order K of the correlated lattice walks simulated (orders 1 \
+    to K), and the longest symbol sequence counted for their tables (1 to 7)";
+
 pub fn run(a: Args) -> Result<(), Error> {
     a.run(Engine::Auto, lattice_walks::run, print)
 }

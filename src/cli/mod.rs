@@ -132,8 +132,10 @@ enum Cmd {
     /// Regenerate one of the paper's figures from this crate's numbers (PNG, SVG, CSV, JSON into --out).
     Figure(figure::Args),
     /// The corrected Machta-Zwanzig hierarchy (D_cf, D_bs, D_1, D_k), App. A p_cf, and the exact D of correlated lattice walks, on measured hop statistics.
+    #[command(mut_arg("order", |a| a.help(theory::ORDER_HELP)))]
     Theory(theory::Args),
     /// Fig. 6b by simulation: correlated lattice walks of order 1..K driven by the measured symbol tables, next to their exact D.
+    #[command(mut_arg("order", |a| a.help(lattice_walk::ORDER_HELP)))]
     LatticeWalk(lattice_walk::Args),
     /// Every closed-form quantity at gap w (geometry, Santalo, Machta-Zwanzig, Boltzmann).
     Constants(constants::Args),

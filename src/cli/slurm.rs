@@ -22,7 +22,12 @@ enum What {
     Sweep(SweepArgs),
 }
 
+/// `--runs` without the shared text's mention of a sweep in a field (`slurm sweep` runs none).
+const RUNS_HELP: &str = "Independent runs at each point w (their spread is checked against the \
+    batch errors) [default: 10]";
+
 #[derive(clap::Args)]
+#[command(mut_arg("runs", |a| a.help(RUNS_HELP)))]
 struct SweepArgs {
     #[command(flatten)]
     grid: GridArgs,

@@ -8,7 +8,12 @@ use super::args::{CheckpointArgs, OutputArgs, RunArgs, SceneArgs, parse_count, p
 use super::output::{emit, sigmas, sigmas_unconverged};
 use super::progress::Progress;
 
+/// The gap superdiffusion needs (the shared help of `--w` gives the whole range w > 0).
+const GAP_HELP: &str = "Gap w of the triangular scene, a decimal or a fraction such as 1/10: w > \
+    w_inf = 4/sqrt(3) - 2 = 0.3094... (an infinite horizon)";
+
 #[derive(clap::Args)]
+#[command(mut_arg("w", |a| a.help(GAP_HELP)))]
 pub struct Args {
     /// The scene (an infinite horizon: `--scene triangular --w W` with W > w_inf = 0.3094..., or
     /// `--scene square --radius R`).

@@ -83,7 +83,14 @@ pub struct FieldArgs {
     pub(super) localization_samples: u64,
 }
 
+/// What `--checkpoint-every` saves in a sweep, which has no `--checkpoint` file: its work is in
+/// `--out` (the shared help describes a checkpoint file).
+const CHECKPOINT_EVERY_HELP: &str = "Save the whole state of every trajectory in flight of the \
+    point in progress into OUT/points/*.partial every SECONDS of wall time (0 to 86400; a kill \
+    loses at most about this much work). Finished batches and points are saved as they finish";
+
 #[derive(clap::Args)]
+#[command(mut_arg("checkpoint_every", |a| a.help(CHECKPOINT_EVERY_HELP)))]
 pub struct Args {
     #[command(flatten)]
     pub(super) grid: GridArgs,

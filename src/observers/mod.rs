@@ -14,6 +14,8 @@
 //! * [`counters`]: collisions, crossings, total time (compensated), longest flight.
 //! * [`hops`]: trap-hopping symbols, collisionless visits, hop-direction correlations.
 //! * [`flight_tails`]: the tails of the free flights under the map and the flow.
+//! * [`msd_curve`]: the MSD, the velocity autocorrelation and its running Green–Kubo integral
+//!   on a multiple-τ logarithmic grid from inside the first flight (four times per octave).
 //! * [`lag_moments`]: ⟨|Δr|²⟩, ⟨v(0)·v(t)⟩ and the scaled displacement's histogram at lags on a
 //!   logarithmic grid.
 
@@ -23,3 +25,4 @@ pub mod hop_correlations;
 pub mod hops;
 pub mod lag_moments;
 pub mod msd;
+pub mod msd_curve;

@@ -13,6 +13,7 @@ mod escape;
 mod field;
 mod field_sweep;
 mod hopping;
+mod msd_curve;
 mod options;
 mod planning;
 mod superdiffusion;

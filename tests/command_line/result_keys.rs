@@ -81,7 +81,7 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
     let diffusion = json_of(
         dir,
         &format!(
-            "diffusion --w 0.2 --collisions 2e6 --batches 8 --window 2:8 --check-window 4:16 {q}"
+            "diffusion --w 0.2 --collisions 2e6 --batches 8 --window 2:8 --check-window 4:16 --msd-grid log {q}"
         ),
     );
     std::fs::write(dir.join("d.json"), diffusion.to_string()).unwrap();

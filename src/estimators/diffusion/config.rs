@@ -48,6 +48,51 @@ impl FromStr for Window {
     }
 }
 
+/// The lags at which the MSD is kept: those of the fit windows only (what D is fitted from), or
+/// those and a logarithmic grid from inside the first free flight on, with the velocity
+/// autocorrelation and its running Green–Kubo integral ([`crate::observers::msd_curve`]). D has
+/// the same bits on either grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MsdGrid {
+    /// The lags of the fit windows only.
+    #[default]
+    Fit,
+    /// The fit windows' lags and the logarithmic grid of the MSD curve.
+    Log,
+}
+
+impl MsdGrid {
+    /// True for the default, the fit grid (which a configuration's JSON leaves out).
+    pub fn is_fit(&self) -> bool {
+        *self == MsdGrid::Fit
+    }
+}
+
+impl FromStr for MsdGrid {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s {
+            "fit" => Ok(MsdGrid::Fit),
+            "log" => Ok(MsdGrid::Log),
+            _ => Err(Error::Invalid(format!(
+                "msd_grid = {s:?}: must be fit (the fit windows' lags) or log (also a \
+                 logarithmic grid from inside the first flight, with the velocity \
+                 autocorrelation and its Green-Kubo integral)"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for MsdGrid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            MsdGrid::Fit => "fit",
+            MsdGrid::Log => "log",
+        })
+    }
+}
+
 /// A batch must cover the end of the later fit window this many times (so that the MSD at the
 /// longest lag averages over many independent time origins).
 pub const MIN_HOPS_PER_LAG: usize = 20;
@@ -83,6 +128,10 @@ pub struct DiffusionConfig {
     /// pilot recorded), in the same batches. `None`: a plain run of `collisions`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rel_err: Option<f64>,
+    /// Where the MSD is kept: the fit windows' lags, or also the logarithmic grid of the MSD
+    /// curve ([`MsdGrid`]).
+    #[serde(default, skip_serializing_if = "MsdGrid::is_fit")]
+    pub msd_grid: MsdGrid,
 }
 
 impl DiffusionConfig {
@@ -99,6 +148,7 @@ impl DiffusionConfig {
             window: Window { lo: 10, hi: 40 },
             check_window: Window { lo: 20, hi: 80 },
             rel_err: None,
+            msd_grid: MsdGrid::Fit,
         }
     }
 

@@ -19,6 +19,7 @@ use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::observers::counters::{CounterLaneState, CounterLanes};
 use crate::observers::msd::{Msd, MsdLaneState};
+use crate::observers::msd_curve::{CurveGrid, CurveLaneState, MsdCurve};
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Basis64, LatticeState, TriangularLattice};
 use crate::scenes::sampling::{Purpose, StreamKey};
@@ -84,12 +85,22 @@ impl Job {
     }
 }
 
-/// What a diffusion run watches along each trajectory: counters, the MSD, and optionally the
-/// per-event shadow audit of the scene `S`.
+/// What a diffusion run watches along each trajectory: counters, the MSD, optionally the MSD
+/// curve on its logarithmic grid, and optionally the per-event shadow audit of the scene `S`.
 pub(super) struct BatchObservers<S: Scene = TriangularScene> {
     counters: CounterLanes,
     msd: Msd,
+    curve: Option<MsdCurve>,
     audit: Option<AuditLanes<S>>,
+}
+
+/// Where a run's trajectories are watched: τ, the fit windows' lags (in units of τ), and the
+/// grid of the MSD curve if the run keeps one.
+#[derive(Debug, Clone)]
+pub(super) struct Watch {
+    pub(super) tau: f64,
+    pub(super) lags: Vec<usize>,
+    pub(super) curve: Option<CurveGrid>,
 }
 
 impl<S: Scene> BatchObservers<S> {
@@ -98,8 +109,7 @@ impl<S: Scene> BatchObservers<S> {
         jobs: &[Job],
         lanes: usize,
         basis: Basis64,
-        tau: f64,
-        lags: &[usize],
+        watch: &Watch,
         audit: Option<(AuditSpec, &S)>,
     ) -> Result<Self, Error> {
         let audit = match audit {
@@ -118,7 +128,8 @@ impl<S: Scene> BatchObservers<S> {
         };
         Ok(BatchObservers {
             counters: CounterLanes::new(lanes),
-            msd: Msd::new(tau, lags, basis, lanes),
+            msd: Msd::new(watch.tau, &watch.lags, basis, lanes),
+            curve: watch.curve.map(|g| MsdCurve::new(g, basis, lanes)),
             audit,
         })
     }
@@ -137,6 +148,7 @@ impl<S: Scene> BatchObservers<S> {
                 counters: self.counters.lane(l),
                 lags: self.msd.lags().to_vec(),
                 msd: self.msd.values(l),
+                curve: self.curve.as_ref().map(|c| c.values(l)),
                 seconds,
                 audit: audits.as_mut().and_then(|a| a[l].take()).map(|a| a.summary),
             })
@@ -151,6 +163,9 @@ impl<S: Scene> BatchObservers<S> {
 pub(super) struct DiffusionLane {
     counters: CounterLaneState,
     msd: MsdLaneState,
+    /// The MSD curve's lane (runs that keep one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    curve: Option<CurveLaneState>,
 }
 
 /// The checkpoint of a diffusion run: finished batches and trajectories in flight.
@@ -162,11 +177,19 @@ impl<S: Scene> LaneCheckpoint for BatchObservers<S> {
         DiffusionLane {
             counters: self.counters.lane_state(l),
             msd: self.msd.lane_state(l),
+            curve: self.curve.as_ref().map(|c| c.lane_state(l)),
         }
     }
     fn restore_lane(&mut self, l: usize, saved: &DiffusionLane) -> Result<(), Error> {
         self.counters.set_lane_state(l, &saved.counters)?;
-        self.msd.set_lane_state(l, &saved.msd)
+        self.msd.set_lane_state(l, &saved.msd)?;
+        match (self.curve.as_mut(), &saved.curve) {
+            (Some(c), Some(s)) => c.set_lane_state(l, s),
+            (None, None) => Ok(()),
+            _ => Err(Error::Invalid(
+                "a saved trajectory kept another MSD grid than this run's".into(),
+            )),
+        }
     }
 }
 
@@ -175,6 +198,9 @@ impl<const L: usize, S: Scene> Observer<L> for BatchObservers<S> {
     fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
         self.counters.observe::<V>(steps);
         self.msd.observe::<V>(steps);
+        if let Some(c) = self.curve.as_mut() {
+            c.observe::<V>(steps);
+        }
         if let Some(a) = self.audit.as_mut() {
             a.observe::<V>(steps);
         }
@@ -195,7 +221,7 @@ pub(super) fn run_scalar<T: Real>(
     let ctx = lat.trap().a.ctx();
     let scene = audit_scene(trap64, x.audit)?;
     let audit = x.audit.zip(scene.as_ref());
-    let mut obs = BatchObservers::new(&[job], 1, lat.basis_f64(), x.tau, &x.lags, audit)?;
+    let mut obs = BatchObservers::new(&[job], 1, lat.basis_f64(), &x.watch, audit)?;
     let begin = || job.start::<T>(trap64, ctx);
     drive_kept(lat, ctx, &job.quota(), begin, &mut obs, keep, progress)?;
     let mut r = obs.results(&[job], start.elapsed().as_secs_f64())?;
@@ -218,7 +244,7 @@ pub(super) fn run_simd(
     let basis = TriangularLattice::from_kernel(trap64.clone()).basis_f64();
     let scene = audit_scene(trap64, x.audit)?;
     let audit = x.audit.zip(scene.as_ref());
-    let mut obs = BatchObservers::new(jobs, BLOCK, basis, x.tau, &x.lags, audit)?;
+    let mut obs = BatchObservers::new(jobs, BLOCK, basis, &x.watch, audit)?;
     let quotas: Vec<Quota> = jobs.iter().map(Job::quota).collect();
     let begin = |l: usize| jobs[l].start(trap64, ());
     run_block_kept(path, trap64, &quotas, begin, &mut obs, keep, progress)?;
@@ -254,8 +280,16 @@ pub(super) fn setup(
         precision: cfg.precision,
         engine: engine.resolve(cfg.precision == Precision::F64)?,
         threads,
-        tau: g.hop_time(),
-        lags: cfg.lags(),
+        watch: Watch {
+            tau: g.hop_time(),
+            lags: cfg.lags(),
+            curve: curve_grid(
+                cfg.msd_grid,
+                g.mean_free_path(),
+                cfg.collisions,
+                cfg.batches,
+            ),
+        },
         audit,
     };
     Ok((spec, g))
@@ -269,9 +303,25 @@ pub(super) struct ExecSpec {
     pub(super) precision: Precision,
     pub(super) engine: Resolved,
     pub(super) threads: usize,
-    pub(super) tau: f64,
-    pub(super) lags: Vec<usize>,
+    pub(super) watch: Watch,
     pub(super) audit: Option<AuditSpec>,
+}
+
+/// A batch's trajectory must cover the MSD curve's longest lag this many times.
+pub(super) const CURVE_WINDOWS: f64 = 100.0;
+
+/// The grid of the MSD curve of a run of `collisions` in `batches` at mean free path `ell`
+/// (`None` on the fit grid): from ⟨ℓ⟩/8, inside the first flight, on to a hundredth of a
+/// batch's trajectory.
+pub(super) fn curve_grid(
+    grid: super::MsdGrid,
+    ell: f64,
+    collisions: u64,
+    batches: u32,
+) -> Option<CurveGrid> {
+    let per_batch = collisions as f64 / f64::from(batches.max(1));
+    (grid == super::MsdGrid::Log)
+        .then(|| CurveGrid::reaching(ell / 8.0, per_batch * ell / CURVE_WINDOWS))
 }
 
 /// Runs `jobs` on `spec.threads` threads — one job per task on the scalar engine, blocks of

@@ -33,6 +33,7 @@ use crate::statistics::mean_se;
 use crate::verification::shadow_audit::AuditSummary;
 
 mod config;
+pub mod curve;
 mod execution;
 pub mod plan;
 mod resumed;
@@ -42,7 +43,7 @@ mod summary;
 use execution::{DiffusionKeeper, Job, execute, setup};
 
 // The configuration keeps its one public path, `estimators::diffusion::…` (its module is private).
-pub use config::{DiffusionConfig, MIN_HOPS_PER_LAG, Window};
+pub use config::{DiffusionConfig, MIN_HOPS_PER_LAG, MsdGrid, Window};
 
 /// Kind of the records of a diffusion checkpoint.
 const CHECKPOINT_KIND: &str = "diffusion trajectories";
@@ -78,6 +79,9 @@ pub struct BatchResult {
     pub lags: Vec<usize>,
     /// MSD at each lag.
     pub msd: Vec<f64>,
+    /// The MSD curve on its logarithmic grid (runs with [`MsdGrid::Log`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curve: Option<crate::observers::msd_curve::CurveValues>,
     /// Wall-clock seconds.
     pub seconds: f64,
     /// Per-event shadow audit of a sample of this batch's events (f64 runs with `--audit`).
@@ -145,6 +149,14 @@ pub struct DiffusionReport {
     pub msd_over_4t: Vec<f64>,
     /// Its standard errors, time by time.
     pub msd_over_4t_err: Vec<f64>,
+    /// The MSD, the velocity autocorrelation and the running Green–Kubo integral on the
+    /// logarithmic grid, with D by Green–Kubo (runs with [`MsdGrid::Log`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub msd_curve: Option<curve::MsdCurveReport>,
+    /// D by Green–Kubo from the MSD curve against the Einstein D (runs with
+    /// [`MsdGrid::Log`]).
+    #[serde(flatten)]
+    pub green_kubo: curve::GreenKuboD,
     /// Longest free path seen in the run.
     pub longest_free_path: f64,
     /// Total collisions.
@@ -277,7 +289,7 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
     check_audit(options, cfg.precision)?;
     let audit = options.audit;
     let (spec, g) = setup(cfg, options.engine, options.threads, audit)?;
-    let (resolved, tau) = (spec.engine, spec.tau);
+    let (resolved, tau) = (spec.engine, spec.watch.tau);
     let start = Instant::now();
     let jobs: Vec<Job> = cfg.jobs().collect();
     // The header records the engine that runs, not the default.
@@ -441,6 +453,11 @@ pub fn run_many(
     };
     for c in cfgs {
         c.validate()?;
+        if c.msd_grid != MsdGrid::Fit {
+            return Err(Error::Invalid(
+                "runs packed together keep the MSD on the fit grid only (msd_grid = fit)".into(),
+            ));
+        }
         if c.w != first.w
             || c.precision != first.precision
             || c.window != first.window
@@ -452,7 +469,7 @@ pub fn run_many(
         }
     }
     let (spec, g) = setup(first, options.engine, options.threads, None)?;
-    let (resolved, tau) = (spec.engine, spec.tau);
+    let (resolved, tau) = (spec.engine, spec.watch.tau);
     let start = Instant::now();
     let jobs: Vec<Job> = cfgs.iter().flat_map(DiffusionConfig::jobs).collect();
     let keep = open_keeper(options, PACKED_KIND, &cfgs, None, &jobs)?;

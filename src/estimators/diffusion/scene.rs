@@ -18,9 +18,9 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::execution::{BatchObservers, DiffusionKeeper, Job};
+use super::execution::{BatchObservers, DiffusionKeeper, Job, Watch, curve_grid};
 use super::summary::{d_of_batch, merged_audit, msd_over_4t};
-use super::{BatchResult, MIN_HOPS_PER_LAG, Window, open_keeper, require_finite_horizon};
+use super::{BatchResult, MIN_HOPS_PER_LAG, MsdGrid, Window, open_keeper, require_finite_horizon};
 use crate::Error;
 use crate::engine::checkpoint::drive_kept;
 use crate::engine::metadata::RunMeta;
@@ -55,6 +55,10 @@ pub struct SceneDiffusionConfig {
     pub window: Window,
     /// Later window, fitted as a check of the linear regime.
     pub check_window: Window,
+    /// Where the MSD is kept: the fit windows' lags, or also the logarithmic grid of the MSD
+    /// curve ([`MsdGrid`]).
+    #[serde(default, skip_serializing_if = "MsdGrid::is_fit")]
+    pub msd_grid: MsdGrid,
 }
 
 impl Default for SceneDiffusionConfig {
@@ -69,6 +73,7 @@ impl Default for SceneDiffusionConfig {
             precision: d.precision,
             window: d.window,
             check_window: d.check_window,
+            msd_grid: d.msd_grid,
         }
     }
 }
@@ -118,6 +123,20 @@ impl SceneDiffusionConfig {
     /// The lags (in time units) the MSD is accumulated at: those of both fit windows.
     fn lags(&self) -> Vec<usize> {
         super::config::lags(&self.window, &self.check_window)
+    }
+
+    /// Where the trajectories of a run on `scene` are watched.
+    fn watch<S: Scene>(&self, scene: &S) -> Watch {
+        Watch {
+            tau: time_unit(scene),
+            lags: self.lags(),
+            curve: curve_grid(
+                self.msd_grid,
+                scene.mean_free_path(),
+                self.collisions,
+                self.batches,
+            ),
+        }
     }
 
     fn jobs(&self) -> Vec<Job> {
@@ -176,6 +195,14 @@ pub struct SceneDiffusionReport {
     pub msd_over_4t: Vec<f64>,
     /// Its standard errors.
     pub msd_over_4t_err: Vec<f64>,
+    /// The MSD curve on its logarithmic grid, with D by Green–Kubo (runs with
+    /// [`MsdGrid::Log`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub msd_curve: Option<super::curve::MsdCurveReport>,
+    /// D by Green–Kubo from the MSD curve against the Einstein D (runs with
+    /// [`MsdGrid::Log`]).
+    #[serde(flatten)]
+    pub green_kubo: super::curve::GreenKuboD,
     /// Longest free path seen in the run.
     pub longest_free_path: f64,
     /// Total collisions.
@@ -298,8 +325,7 @@ fn execute_on<S: Scene>(
     cfg.precision.dispatch(OnScene {
         scene,
         jobs,
-        tau: time_unit(scene),
-        lags: cfg.lags(),
+        watch: cfg.watch(scene),
         audit: options.audit,
         pool: &pool,
         keep,
@@ -311,8 +337,7 @@ fn execute_on<S: Scene>(
 struct OnScene<'a, S: Scene> {
     scene: &'a S,
     jobs: &'a [Job],
-    tau: f64,
-    lags: Vec<usize>,
+    watch: Watch,
     audit: Option<AuditSpec>,
     pool: &'a rayon::ThreadPool,
     keep: &'a DiffusionKeeper,
@@ -346,8 +371,7 @@ impl<S: Scene> OnScene<'_, S> {
     ) -> Result<BatchResult, Error> {
         let start = Instant::now();
         let audit = self.audit.map(|a| (a, self.scene));
-        let mut obs =
-            BatchObservers::<S>::new(&[job], 1, lat.basis_f64(), self.tau, &self.lags, audit)?;
+        let mut obs = BatchObservers::<S>::new(&[job], 1, lat.basis_f64(), &self.watch, audit)?;
         let begin = || job.start_in::<S, T>(self.scene, ctx);
         let (keep, progress) = (self.keep, self.progress);
         drive_kept(lat, ctx, &job.quota(), begin, &mut obs, keep, progress)?;
@@ -378,6 +402,8 @@ fn summarise<S: Scene>(
     let (dcv, dce) = mean_se(&dc);
     let diff = crate::statistics::comparison::paired(&ds, &dc)?;
     let (msd_times, over) = msd_over_4t(done, tau);
+    let grid = cfg.watch(scene).curve;
+    let (msd_curve, green_kubo) = super::curve::summarise(grid, done, tau, &cfg.window, &ds)?;
     let audit = merged_audit(done);
     Ok(SceneDiffusionReport {
         scene: scene.label(),
@@ -393,6 +419,8 @@ fn summarise<S: Scene>(
         msd_times,
         msd_over_4t: over.iter().map(|e| e.value).collect(),
         msd_over_4t_err: over.iter().map(|e| e.err).collect(),
+        msd_curve,
+        green_kubo,
         longest_free_path: done
             .iter()
             .map(|b| b.counters.longest_free_path)

@@ -78,6 +78,13 @@ pub(super) fn summarise(
     let (th, th_e) = ratio(&|c| c.time / c.crossings as f64);
     let (cph, cph_e) = ratio(&|c| c.collisions as f64 / c.crossings as f64);
     let (msd_times, msd_over_4t) = msd_over_4t(done, tau);
+    let grid = super::execution::curve_grid(
+        cfg.msd_grid,
+        g.mean_free_path(),
+        cfg.collisions,
+        cfg.batches,
+    );
+    let (msd_curve, green_kubo) = super::curve::summarise(grid, done, tau, &cfg.window, &ds)?;
     let total: u64 = done.iter().map(|b| b.counters.collisions).sum();
     let audit = merged_audit(done);
     Ok(DiffusionReport {
@@ -104,6 +111,8 @@ pub(super) fn summarise(
         msd_times,
         msd_over_4t: msd_over_4t.iter().map(|e| e.value).collect(),
         msd_over_4t_err: msd_over_4t.iter().map(|e| e.err).collect(),
+        msd_curve,
+        green_kubo,
         longest_free_path: done
             .iter()
             .map(|b| b.counters.longest_free_path)

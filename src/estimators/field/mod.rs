@@ -114,6 +114,14 @@ impl FieldConfig {
                     .into(),
             ));
         }
+        if !self.diffusion.msd_grid.is_fit() {
+            return Err(Error::Invalid(
+                "msd_grid = log: a run in a magnetic field keeps its MSD at the fit windows' \
+                 lags only (the MSD curve, velocity autocorrelation and Green-Kubo integral are \
+                 measured without a field)"
+                    .into(),
+            ));
+        }
         self.field_value()?;
         if !(1..=1_000_000_000).contains(&self.localization_samples) {
             return Err(Error::out_of_range(

@@ -1,0 +1,570 @@
+"""The transport analyses: the diffusion coefficient (or tensor, in a field) and its sweeps,
+trap hopping and the hierarchy built on it, backscattering, escape rates and superdiffusion."""
+
+from __future__ import annotations
+
+import os  # noqa: F401  (the "os.PathLike[str]" of PathLike, for typing.get_type_hints)
+from typing import Optional, Sequence, Tuple, Union
+
+from . import _native
+from ._inputs import (
+    Count,
+    Exact,
+    PathLike,
+    Progress,
+    _count,
+    _exact,
+    _optional_exact,
+    _path,
+    _threads,
+    _total,
+    _window,
+)
+from ._keywords import public
+from ._progress import _Bar
+from ._results import (
+    BackscatterResult,
+    DiffusionResult,
+    EscapeResult,
+    FieldResult,
+    FieldSweepResult,
+    HopsResult,
+    LatticeWalkResult,
+    SuperdiffusionResult,
+    SweepResult,
+    TheoryResult,
+)
+
+
+@public
+def diffusion(
+    w: Exact,
+    collisions: Optional[Count] = None,
+    batches: Count = 32,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    engine: str = "auto",
+    precision: Union[str, int] = "f64",
+    window: Tuple[float, float] = (10, 40),
+    check_window: Tuple[float, float] = (20, 80),
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    audit: Optional[float] = None,
+    reference_bits: Count = 128,
+    field: Optional[Exact] = None,
+    localization_samples: Count = 1_000_000,
+    progress: Progress = None,
+    *,
+    rel_err: Optional[float] = None,
+    msd_grid: str = "fit",
+) -> Union[DiffusionResult, FieldResult]:
+    """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``), or with a
+    magnetic ``field`` the diffusion tensor (``lorentz diffusion --field``).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap between neighbouring disks (radius 1): 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+    collisions : int, optional
+        Collisions in all, over every batch (at least 2 per batch); default 2e9. With
+        ``rel_err``, the pilot's collisions (default 2e8).
+    batches : int
+        Independent trajectories, at least 2; ``D_err`` is their standard error.
+    seed : int
+        Seed of the random starts: the same seed gives the same bits on any thread count,
+        engine, or in the command line.
+    threads : int, optional
+        Worker threads, 1 to 4 per core (default: every core this process may use).
+    engine : {"auto", "scalar", "simd"}
+        The engine; every engine gives the same bits.
+    precision : "f64" or int
+        The number type: f64, or MPFR with this many bits (53 or more; much slower).
+    window, check_window : (lo, hi)
+        Fit windows of the MSD slope, in units of the mean hop time tau.
+    checkpoint : path, optional
+        Keep the work in this file; a rerun with the same parameters resumes to the same bits.
+    checkpoint_every : float
+        Seconds between saves of the trajectories in flight (0 to 86400).
+    audit : float, optional
+        Replay this fraction (0, 1] of the events in MPFR as the run goes (f64 runs).
+    reference_bits : int
+        MPFR precision of the audit's replay (128 to 65536 bits).
+    field : str, float, Fraction or Decimal, optional
+        A uniform magnetic field B (1/length at speed 1) perpendicular to the plane, taken
+        exactly like ``w``: the velocity turns at the angular velocity B, counter-clockwise for
+        B > 0, on a cyclotron circle of radius 1/abs(B); 1e-3 <= abs(B) <= 1e3. ``None`` or 0: the
+        run without a field (its own bits). A field run takes no checkpoint or audit and runs
+        on the scalar engine.
+    localization_samples : int
+        With ``field``: phase points classified for the sampled share of localized orbits.
+    progress : bool, callable or None
+        Show a tqdm bar (if tqdm is installed), or call ``progress(n)`` with collisions done.
+        ``None`` (the default): a bar in a Jupyter notebook, none in scripts; ``False``: none.
+    rel_err : float, optional
+        Stop at this relative error of D (``1e-4`` is 0.01 %, from 1e-7 to 0.5): a pilot of
+        ``collisions`` measures how the error falls with the collisions, then the run of the
+        size it plans runs (the bits of a plain run of that size, resumable with
+        ``checkpoint``); ``pilot`` in the result records the pilot. The error reached scatters
+        by about 13 % about the target with 32 batches (the pilot's error is itself estimated).
+    msd_grid : {"fit", "log"}
+        Where the MSD is kept: ``"fit"``, the fit windows' lags (which D is fitted from);
+        ``"log"``, also a logarithmic grid from an eighth of the mean free time on (four times
+        per octave), with the velocity autocorrelation and its running Green-Kubo integral:
+        ``msd_curve`` (a table: ``times``, ``msd``, ``vacf``, ``green_kubo``, each with
+        ``_err``) and ``D_green_kubo`` ± ``D_green_kubo_err`` in the result. D keeps its bits;
+        the run is about 20 times slower per collision.
+
+    Returns
+    -------
+    DiffusionResult
+        ``D``, ``D_err`` (length^2/time), ``D_check``, ``D_check_err``, ``mean_free_path``,
+        ``mean_free_path_err``, ``mean_free_path_exact``, ``msd_times``, ``msd`` and
+        ``batch_D`` (numpy arrays), ``meta``; ``to_dict()``, ``to_json()``.
+    FieldResult
+        With a nonzero ``field``: ``D_xx``, ``D_xy`` (the Hall part) with ``_err`` over the whole
+        phase space, ``diffusing`` (the tensor of the diffusing part), ``pinned_fraction_exact``,
+        ``localized_fraction_exact``, ``localized_fraction`` ± ``localized_fraction_err``,
+        ``mean_free_time`` against Kac's ``mean_free_time_exact``.
+    """
+    # A planned run's size is known only after its pilot: a bar without a total.
+    total = None if rel_err is not None else _total(_count("collisions", 2e9 if collisions is None else collisions))
+    with _Bar(progress, total, "coll") as cb:
+        text = _native.diffusion(
+            _exact("w", w),
+            None if collisions is None else _count("collisions", collisions),
+            _count("batches", batches),
+            _count("seed", seed),
+            _threads(threads),
+            str(engine),
+            str(precision),
+            (float(window[0]), float(window[1])),
+            (float(check_window[0]), float(check_window[1])),
+            _path(checkpoint),
+            float(checkpoint_every),
+            None if audit is None else float(audit),
+            _count("reference_bits", reference_bits),
+            None if field is None else _exact("field", field),
+            _count("localization_samples", localization_samples),
+            cb,
+            None if rel_err is None else float(rel_err),
+            str(msd_grid),
+        )
+    if '"D_xy"' in text:
+        return FieldResult(text)
+    return DiffusionResult(text)
+
+
+@public
+def hops(
+    w: Exact,
+    collisions: Count = 2e8,
+    batches: Count = 16,
+    order: Count = 4,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    engine: str = "auto",
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = None,
+) -> HopsResult:
+    """Trap-hopping statistics along lattice trajectories (``lorentz hops``).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap between neighbouring disks (radius 1): 0 < w < w_inf = 0.3094...
+    collisions : int
+        Lorentz-gas collisions in all, over every batch.
+    batches : int
+        Independent trajectories, at least 2; every error bar is over them.
+    order : int
+        Longest symbol sequence counted (1 to 7).
+    seed, threads, engine, checkpoint, checkpoint_every, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    HopsResult
+        ``p_bs`` (backscattering probability, dimensionless) ± ``p_bs_err``, the symbol-sequence
+        probabilities ``pairs`` with ``pairs_err``, the symmetry test (``symmetry_max_z``
+        against ``symmetry_bound``) and the hop-level Green–Kubo ``D_GK`` ± ``D_GK_err``
+        (length^2/time) against ``D_MZ``.
+    """
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.hops(
+            _exact("w", w),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            _count("order", order),
+            _count("seed", seed),
+            _threads(threads),
+            str(engine),
+            _path(checkpoint),
+            float(checkpoint_every),
+            cb,
+        )
+    return HopsResult(text)
+
+
+@public
+def theory(
+    w: Exact,
+    collisions: Count = 2e8,
+    batches: Count = 16,
+    order: Count = 4,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = None,
+) -> TheoryResult:
+    """The corrected Machta–Zwanzig hierarchy on measured hop statistics (``lorentz theory``).
+
+    Parameters
+    ----------
+    w, collisions, batches, seed, threads, checkpoint, checkpoint_every, progress
+        As in :func:`hops`.
+    order : int
+        Longest symbol sequence counted, and highest order of the hierarchy (1 to 7).
+
+    Returns
+    -------
+    TheoryResult
+        ``D_cf``, ``D_bs``, ``D_1`` and the orders ``D_k`` of the corrected hierarchy
+        (length^2/time, each with its error), App. A's ``p_cf``, against ``D_GK`` and ``D_MZ``.
+    """
+    return TheoryResult(_hop_analysis(_native.theory, w, collisions, batches, order, seed,
+                                      threads, checkpoint, checkpoint_every, progress))
+
+
+@public
+def lattice_walk(
+    w: Exact,
+    collisions: Count = 2e8,
+    batches: Count = 16,
+    order: Count = 4,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = None,
+) -> LatticeWalkResult:
+    """Correlated lattice walks driven by the measured symbol tables (``lorentz lattice-walk``,
+    Fig. 6b): walks of order 1 to ``order`` simulated, next to their exact D.
+
+    Parameters
+    ----------
+    w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every, progress
+        As in :func:`theory`.
+
+    Returns
+    -------
+    LatticeWalkResult
+        ``walks`` (one row per order: the simulated and the exact D, length^2/time) against the
+        hop-level ``D_GK`` and ``D_MZ``.
+    """
+    return LatticeWalkResult(_hop_analysis(_native.lattice_walk, w, collisions, batches, order,
+                                           seed, threads, checkpoint, checkpoint_every, progress))
+
+
+def _hop_analysis(native, w, collisions, batches, order, seed, threads, checkpoint,
+                  checkpoint_every, progress) -> str:
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        return native(
+            _exact("w", w),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            _count("order", order),
+            _count("seed", seed),
+            _threads(threads),
+            _path(checkpoint),
+            float(checkpoint_every),
+            cb,
+        )
+
+
+@public
+def backscatter(
+    w: Exact,
+    particles: Count = 1e7,
+    batches: Count = 32,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    precision: Union[str, int] = "f64",
+    progress: Progress = None,
+) -> BackscatterResult:
+    """Backscattering by injection into one trap (``lorentz backscatter``).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap, 0 < w < w_inf = 0.3094...
+    particles : int
+        Particles injected through the trap's openings with the invariant measure.
+    batches : int
+        Independent batches the particles are split into, at least 2 (the error bars).
+    seed, threads, precision, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    BackscatterResult
+        The exit probabilities (dimensionless) with their standard errors, the mean time and
+        collisions in the trap against their exact values.
+    """
+    with _Bar(progress, _total(_count("particles", particles)), "inj") as cb:
+        text = _native.backscatter(
+            _exact("w", w),
+            _count("particles", particles),
+            _count("batches", batches),
+            _count("seed", seed),
+            _threads(threads),
+            str(precision),
+            cb,
+        )
+    return BackscatterResult(text)
+
+
+@public
+def sweep(
+    w_from: Optional[Exact] = None,
+    w_to: Optional[Exact] = None,
+    steps: Count = 11,
+    runs: Optional[Count] = None,
+    collisions_per_run: Count = 2e8,
+    batches_per_run: Count = 8,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    engine: str = "auto",
+    out: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = None,
+    *,
+    w: Optional[Exact] = None,
+    field: Optional[Exact] = None,
+    fields: Optional[Sequence[Exact]] = None,
+    localization_samples: Count = 1e6,
+) -> Union[SweepResult, FieldSweepResult]:
+    """D(w) over a grid of gaps (``lorentz sweep``), or the diffusion tensor in a magnetic field
+    over gaps and fields (``lorentz sweep --field`` / ``--fields``).
+
+    Parameters
+    ----------
+    w_from, w_to : str, float, Fraction or Decimal
+        First and last gap, each in 0 < w < w_inf = 0.3094...; the grid is computed exactly
+        (0.1 .. 0.2 in 3 steps has 0.15, not its nearest double's neighbour).
+    steps : int
+        Number of gaps, at least 2.
+    runs : int, optional
+        Independent runs at each gap (default 10; their spread is checked against the batch
+        errors). Not used in a field: one run per point.
+    collisions_per_run : int
+        Collisions of each run, over its batches (a point costs runs x this).
+    batches_per_run : int
+        Independent batches of each run, at least 2.
+    out : path, optional
+        Keep finished points there (a rerun resumes) and write sweep.csv, sweep-runs.csv,
+        sweep.json and the figures (in a field: field-sweep.csv and field-sweep.json).
+    seed, threads, engine, checkpoint_every, progress
+        As in :func:`diffusion`.
+    w : str, float, Fraction or Decimal, keyword only
+        The gap of a sweep over the field (with ``fields``), instead of ``w_from``/``w_to``.
+    field : exact number, keyword only
+        A fixed field B (angular velocity of the velocity, 1/time; cyclotron radius 1/abs(B)) for
+        a sweep over w.
+    fields : sequence of exact numbers, keyword only
+        The fields of a sweep over B (each nonzero, 1e-3 <= abs(B) <= 1e3); with B and -B both
+        given, Onsager-Casimir is checked.
+    localization_samples : int, keyword only
+        Phase points classified per point for the sampled localized share.
+
+    Returns
+    -------
+    SweepResult
+        ``rows`` (numpy structured array, one record per gap: ``w``, ``D`` ± ``D_err`` in
+        length^2/time, ``D_MZ``, ``D_Bo``, the runs' F test), the same fields as attributes,
+        ``run_D`` (points x runs), ``linear_fit``; ``to_pandas()``.
+    FieldSweepResult
+        In a field: ``rows`` with ``w``, ``field``, ``D_xx`` ± ``D_xx_err``, the Hall ``D_xy`` ±
+        ``D_xy_err`` (length^2/time), the exact and sampled localized shares and Kac's mean free
+        time; ``onsager`` (the ±B checks) and ``onsager_agrees``; ``to_pandas()``.
+    """
+    if field is not None or fields is not None:
+        if runs is not None:
+            raise ValueError(
+                "runs is not used by a sweep in a field (one run of collisions_per_run per point)"
+            )
+        if engine != "auto" or checkpoint_every != 60.0:
+            raise ValueError(
+                "engine and checkpoint_every are not used by a sweep in a field (the scalar arc "
+                "kernel; a sweep in a field resumes by point from out)"
+            )
+        if fields is not None and (isinstance(fields, (str, bytes)) or not fields):
+            raise ValueError("fields: give a non-empty sequence of exact numbers, e.g. [-1, 1]")
+        total = _total(_count("collisions_per_run", collisions_per_run))
+        total *= (1 if fields is None else len(fields)) * (
+            1 if w is not None else _total(_count("steps", steps))
+        )
+        with _Bar(progress, total, "coll") as cb:
+            text = _native.field_sweep(
+                None if w is None else _exact("w", w),
+                None if w_from is None else _exact("w_from", w_from),
+                None if w_to is None else _exact("w_to", w_to),
+                _count("steps", steps),
+                None if field is None else _exact("field", field),
+                [] if fields is None else [_exact("fields", b) for b in fields],
+                _count("collisions_per_run", collisions_per_run),
+                _count("batches_per_run", batches_per_run),
+                _count("seed", seed),
+                _threads(threads),
+                _count("localization_samples", localization_samples),
+                _path(out),
+                cb,
+            )
+        return FieldSweepResult(text)
+    if w is not None:
+        raise ValueError(
+            "w is the gap of a sweep over the field: give fields=[...] (a sweep over w: w_from, w_to)"
+        )
+    if w_from is None or w_to is None:
+        raise ValueError("a sweep over w needs w_from and w_to")
+    runs = 10 if runs is None else runs
+    total = _total(_count("collisions_per_run", collisions_per_run)) * _total(
+        _count("runs", runs)
+    ) * _total(_count("steps", steps))
+    with _Bar(progress, total, "coll") as cb:
+        text = _native.sweep(
+            _exact("w_from", w_from),
+            _exact("w_to", w_to),
+            _count("steps", steps),
+            _count("runs", runs),
+            _count("collisions_per_run", collisions_per_run),
+            _count("batches_per_run", batches_per_run),
+            _count("seed", seed),
+            _threads(threads),
+            str(engine),
+            _path(out),
+            float(checkpoint_every),
+            cb,
+        )
+    return SweepResult(text)
+
+
+@public
+def escape(
+    w: Exact,
+    widths: Optional[Sequence[float]] = None,
+    particles_per_width: Count = 2e5,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60.0,
+    progress: Progress = None,
+) -> EscapeResult:
+    """D from the escape rate out of open strips (``lorentz escape``, Gaspard–Baras).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap, 0 < w < w_inf = 0.3094...
+    widths : sequence of float, optional
+        At least 3 distinct strip widths L (lengths; default 8a, 12a, 16a, 24a with a = 2 + w),
+        each at least max(4a, 10 mean free paths) and at most 2000.
+    particles_per_width : int
+        Particles injected into each strip, split into the batches the error bars are over.
+    seed, threads, checkpoint, checkpoint_every, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    EscapeResult
+        ``D_escape`` ± ``D_escape_err`` (length^2/time), extrapolated in 1/L, with the fit's
+        chi^2 and the per-width escape rates.
+    """
+    n = 4 if widths is None else len(widths)
+    with _Bar(progress, _total(_count("particles_per_width", particles_per_width)) * n, "part") as cb:
+        text = _native.escape(
+            _exact("w", w),
+            None if widths is None else [float(x) for x in widths],
+            _count("particles_per_width", particles_per_width),
+            _count("seed", seed),
+            _threads(threads),
+            _path(checkpoint),
+            float(checkpoint_every),
+            cb,
+        )
+    return EscapeResult(text)
+
+
+@public
+def superdiffusion(
+    w: Optional[Exact] = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    collisions: Count = 2e8,
+    batches: Count = 32,
+    octaves: Count = 12,
+    points_per_octave: Count = 4,
+    tail_fit_from: float = 8,
+    vacf_fit: Optional[Tuple[float, float]] = None,
+    msd_fit: Optional[Tuple[float, float]] = None,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: float = 60,
+    progress: Progress = None,
+) -> SuperdiffusionResult:
+    """Superdiffusion beyond a finite horizon (``lorentz superdiffusion``): the free-flight
+    tails, t·C_xx(t), ⟨Δx²⟩/t against ln t and the limit law of Δx/√(t ln t), each against
+    the exact corridor constants.
+
+    Parameters
+    ----------
+    w : gap of the triangular scene beyond w_inf = 4/√3 − 2 = 0.3094...; or ``scene="square"``
+        with ``radius`` (0 < radius < 1/2), exact as in :func:`diffusion`.
+    collisions : int
+        Collisions in all, shared between the batches (at least 4·2^octaves per batch).
+    batches : int
+        Independent trajectories, at least 16; the errors are over them.
+    octaves : int
+        The longest lag is 2^octaves mean free times ℓ (1 to 20).
+    points_per_octave : int
+        Lags per octave (1 to 16).
+    tail_fit_from : float
+        The tail fits C + B/s use the times s from this many mean free times on (only those at
+        which every batch saw 100 longer flights).
+    vacf_fit, msd_fit : (float, float) or None
+        The lags, in mean free times, of the plateau of t·C_xx(t) and of the fit
+        ⟨Δx²⟩/t = a ln t + b. ``None`` (the default): placed as at 12 octaves relative to the
+        longest lag, [2^(octaves−6), 2^(octaves−4)] and [2^(octaves−3), 2^octaves]
+        ((64, 256) and (512, 4096) at 12 octaves).
+    seed, threads, checkpoint, checkpoint_every, progress
+        As in :func:`diffusion` (a checkpoint keeps finished batches and, every
+        ``checkpoint_every`` seconds, each trajectory in flight with its observers).
+
+    Returns
+    -------
+    SuperdiffusionResult
+        The exact constants, the measured ones with errors, and the ``lags`` and ``limit_law``
+        tables as numpy structured arrays (times in units of length at speed 1).
+    """
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.superdiffusion(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            _count("octaves", octaves),
+            _count("points_per_octave", points_per_octave),
+            float(tail_fit_from),
+            None if vacf_fit is None else _window("vacf_fit", vacf_fit),
+            None if msd_fit is None else _window("msd_fit", msd_fit),
+            _count("seed", seed),
+            _threads(threads),
+            _path(checkpoint),
+            float(checkpoint_every),
+            cb,
+        )
+    return SuperdiffusionResult(text)

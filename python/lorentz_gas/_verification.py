@@ -1,0 +1,423 @@
+"""The analyses of single orbits and of how far the numbers can be trusted: the Lyapunov exponent,
+the shadow audit, true shadowing orbits, certified segments and trajectories; with the scene's
+closed forms, the engine's speed and the publication audit of a result file."""
+
+from __future__ import annotations
+
+import fractions
+import os
+from typing import Any, Optional, Tuple, Union
+
+from . import _native
+from ._inputs import (
+    Count,
+    Exact,
+    PathLike,
+    Progress,
+    _count,
+    _exact,
+    _many,
+    _optional_exact,
+    _path,
+    _threads,
+    _total,
+)
+from ._keywords import public
+from ._progress import _Bar
+from ._results import (
+    AuditResult,
+    BenchResult,
+    CertifyResult,
+    ConstantsResult,
+    ConstantsTable,
+    LyapunovResult,
+    ReportResult,
+    ShadowResult,
+    TrajectoryResult,
+)
+
+
+@public
+def lyapunov(
+    w: Optional[Exact] = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    collisions_per_batch: Count = 2e6,
+    batches: Count = 16,
+    starts: Optional[Count] = None,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    progress: Progress = None,
+    field: Optional[Exact] = None,
+) -> LyapunovResult:
+    """The largest Lyapunov exponent (``lorentz lyapunov``).
+
+    Parameters
+    ----------
+    w : gap of the triangular scene (0 < w < 0.3094...); or ``scene="square"`` with ``radius``
+        (0 < radius < 1/2), exact as in :func:`diffusion`.
+    collisions_per_batch : int
+        Collisions of each tangent-space orbit, after a transient.
+    batches : int
+        Independent orbits, at least 2; the error bar is over them.
+    starts : int
+        Initial conditions of the divergence measurement from a 4096-bit reference: 0 (none) or
+        2 to 10000 (about a second each); default 8, none in a field.
+    seed, threads, progress
+        As in :func:`diffusion`.
+    field : exact number, optional
+        A magnetic field B (1/time; 1e-3 <= abs(B) <= 1e3, triangular scene): the tangent dynamics
+        of arcs on orbits started in the diffusing part of phase space; 0 or None: no field.
+
+    Returns
+    -------
+    LyapunovResult
+        ``tangent`` (``per_collision`` and ``per_time`` with errors: 1/collision, 1/time) and
+        ``divergence`` (one row per horizon); in a field ``field``, ``cyclotron_radius``,
+        ``localized_fraction_exact`` and ``rejected_starts`` instead of ``divergence``.
+    """
+    if starts is None:
+        try:
+            no_field = field is None or fractions.Fraction(_exact("field", field)) == 0
+        except ValueError:
+            no_field = False  # not a number: the native call names the field's valid range
+        starts = 8 if no_field else 0
+    with _Bar(progress, 0, "coll") as cb:
+        text = _native.lyapunov(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("collisions_per_batch", collisions_per_batch),
+            _count("batches", batches),
+            _count("starts", starts),
+            _count("seed", seed),
+            _threads(threads),
+            _optional_exact("field", field),
+            cb,
+        )
+    return LyapunovResult(text)
+
+
+@public
+def audit(
+    w: Optional[Exact] = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    collisions: Count = 1e6,
+    batches: Count = 4,
+    sample: float = 1.0,
+    reference_bits: Count = 128,
+    seed: Count = 1,
+    field: Optional[Exact] = None,
+    threads: Optional[Count] = None,
+    progress: Progress = None,
+) -> AuditResult:
+    """The shadow audit (``lorentz audit``): f64 events replayed in MPFR.
+
+    Parameters
+    ----------
+    w, scene, radius
+        The scene, as in :func:`lyapunov`.
+    collisions : int
+        Collisions in all, over every batch.
+    batches : int
+        Independent trajectories, at least 1.
+    sample : float
+        Fraction of the events replayed, in (0, 1].
+    reference_bits : int
+        MPFR precision of the replay, 128 to 65536 bits.
+    field : str, Fraction or float, optional
+        A uniform magnetic field B (inverse time; the cyclotron radius is 1/abs(B) in units of the
+        disk radius), exact like ``w``, 1e-6 <= abs(B) <= 1e6; ``None`` or 0: no field. The
+        replayed events are then arcs, judged by the arc kernel's running error bound.
+    seed, threads, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    AuditResult
+        ``summary`` (events audited, ``outside`` the error model, ambiguous), the one-step error
+        ``quantiles`` (flight time, contact point, velocity).
+    """
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.audit(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            float(sample),
+            _count("reference_bits", reference_bits),
+            _count("seed", seed),
+            _optional_exact("field", field),
+            _threads(threads),
+            cb,
+        )
+    return AuditResult(text)
+
+
+@public
+def shadow(
+    w: Exact,
+    collisions_per_segment: Count = 1000,
+    segments: Count = 8,
+    reference_bits: Count = 128,
+    seed: Count = 1,
+    field: Optional[Exact] = None,
+    threads: Optional[Count] = None,
+    progress: Progress = None,
+) -> ShadowResult:
+    """True orbits shadowing f64 segments of the triangular gas (``lorentz shadow``).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap, 0 < w < 0.3094...
+    collisions_per_segment : int
+        Collisions of each f64 segment.
+    segments : int
+        Segments, from independent equilibrium starts.
+    reference_bits : int
+        MPFR precision of the Newton iteration, 128 bits or more.
+    field : str, Fraction or float, optional
+        A uniform magnetic field B (inverse time; the cyclotron radius is 1/abs(B) in units of the
+        disk radius), exact like ``w``, 1e-3 <= abs(B) <= 1e3; ``None`` or 0: no field. The
+        segments are f64 orbits on arcs from the diffusing starts of :func:`diffusion` in the
+        same field, and their shadows true orbits on arcs.
+    seed, threads, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    ShadowResult
+        Per segment: converged, certified (Kantorovich), the distance ``delta`` between the f64
+        segment and the true orbit.
+    """
+    with _Bar(progress, 0, "coll") as cb:
+        text = _native.shadow(
+            _exact("w", w),
+            _count("collisions_per_segment", collisions_per_segment),
+            _count("segments", segments),
+            _count("reference_bits", reference_bits),
+            _count("seed", seed),
+            _optional_exact("field", field),
+            _threads(threads),
+            cb,
+        )
+    return ShadowResult(text)
+
+
+@public
+def certify(
+    w: Optional[Exact] = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    collisions: Count = 1000,
+    digits: Count = 30,
+    seed: Count = 1,
+    progress: Progress = None,
+) -> CertifyResult:
+    """A trajectory segment certified to its digits (``lorentz certify``).
+
+    Parameters
+    ----------
+    w, scene, radius
+        The scene, as in :func:`lyapunov`.
+    collisions : int
+        Collisions in the segment, from the equilibrium start of batch 0 of
+        ``diffusion(seed=seed)``.
+    digits : int
+        Digits to certify (1 or more).
+    seed : int
+        Seed of the start.
+
+    Returns
+    -------
+    CertifyResult
+        ``digits_agreed`` (runs at P and 2P bits agree to that many digits), ``bits``, and how
+        long the f64 orbit stays within 1e-3 of it (``f64_faithful_collisions``).
+    """
+    with _Bar(progress, 3 * _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.certify(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("collisions", collisions),
+            _count("digits", digits),
+            _count("seed", seed),
+            cb,
+        )
+    return CertifyResult(text)
+
+
+@public
+def trajectory(
+    start: Tuple[Exact, Exact],
+    direction: Tuple[Exact, Exact],
+    time: Exact,
+    *,
+    w: Optional[Exact] = None,
+    scene: Optional[str] = None,
+    radius: Optional[Exact] = None,
+    digits: Count = 30,
+    events: bool = False,
+    progress: Progress = None,
+    field: Optional[Exact] = None,
+) -> TrajectoryResult:
+    """One trajectory from exact initial conditions to certified digits (``lorentz
+    trajectory``): ``start`` (x, y) in world coordinates outside every disk, ``direction``
+    (dx, dy) nonzero, total ``time`` > 0, all exact. ``scene`` defaults to "triangular" with
+    ``w`` and "square" with ``radius``. ``field`` (exact, 1/time) is a uniform magnetic field
+    B: flights are arcs turning counter-clockwise for B > 0 on circles of radius 1/abs(B)
+    (0 or None: straight; otherwise 1e-6 <= abs(B) <= 1e6). The result's ``x``, ``y`` and
+    ``distance`` are decimal strings carrying exactly the certified digits (1 to 10000)."""
+    if scene is None:
+        scene = "square" if radius is not None and w is None else "triangular"
+    with _Bar(progress, 0, "coll") as cb:
+        text = _native.trajectory(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            (_exact("start", start[0]), _exact("start", start[1])),
+            (_exact("direction", direction[0]), _exact("direction", direction[1])),
+            _exact("time", time),
+            _count("digits", digits),
+            bool(events),
+            _optional_exact("field", field),
+            cb,
+        )
+    return TrajectoryResult(text)
+
+
+@public
+def bench(
+    w: Exact = "0.1",
+    collisions_per_thread: Count = 2e7,
+    repetitions: Count = 7,
+    precision: Union[str, int] = "f64",
+    engine: str = "auto",
+    observe: str = "none",
+    seed: Count = 1,
+    threads: Count = 1,
+    field: Optional[Exact] = None,
+    straight_beside: bool = False,
+    progress: Progress = None,
+) -> BenchResult:
+    """The engine's speed on this machine (``lorentz bench``): ``repetitions`` runs of
+    ``collisions_per_thread`` collisions on each of ``threads`` threads, timed, the median
+    reported — what a run's time can be planned from
+    (:meth:`DiffusionResult.seconds_for`).
+
+    Parameters
+    ----------
+    w : str, float, Fraction or Decimal
+        Gap between neighbouring disks (radius 1), w > 0.
+    collisions_per_thread : int
+        Collisions of each thread in each repetition (the SIMD engine shares them over its 16
+        trajectories).
+    repetitions : int
+        Timed repetitions, 1 to 1000; the median is reported.
+    precision : "f64" or int
+        The number type: f64, or MPFR with this many bits (53 or more).
+    engine : {"auto", "scalar", "simd"}
+        The engine timed.
+    observe : {"none", "counters", "msd", "diffusion", "hops"}
+        Observers run beside the engine: none (the bare engine), or those of an analysis
+        (``"diffusion"``: the counters and MSD of ``diffusion``).
+    seed : int
+        Seed of the equilibrium starts.
+    threads : int
+        Threads timed at once, one trajectory (or SIMD block) each, 1 to 4 per core; default 1,
+        the speed of one core.
+    field : str, float, Fraction or Decimal, optional
+        A magnetic field B (like ``diffusion``'s): time the f64 arc kernel, bare.
+    straight_beside : bool
+        With ``field``: time straight flights too, each repetition right after the arcs'.
+    progress : bool, callable or None
+        As in :func:`diffusion`, over repetitions.
+
+    Returns
+    -------
+    BenchResult
+        ``collisions_per_second`` (all threads) and ``collisions_per_second_per_thread``
+        (collisions/s), ``ns_per_collision`` (ns per collision per thread), ``samples`` (each
+        repetition's collisions/s), ``divider_bound`` (SIMD engine), ``meta``.
+
+    Timings depend on the machine and on what else runs on it: compare runs made side by side.
+    """
+    with _Bar(progress, _total(_count("repetitions", repetitions)), "rep") as cb:
+        text = _native.bench(
+            _exact("w", w),
+            _count("collisions_per_thread", collisions_per_thread),
+            _count("repetitions", repetitions),
+            str(precision),
+            str(engine),
+            str(observe),
+            _count("seed", seed),
+            _count("threads", threads),
+            None if field is None else _exact("field", field),
+            bool(straight_beside),
+            cb,
+        )
+    return BenchResult(text)
+
+
+@public
+def constants(
+    w: Any = None, precision: Union[str, int] = "f64", *, radius: Any = None
+) -> Union[ConstantsResult, ConstantsTable]:
+    """Every closed form of a scene (``lorentz constants --json``) at the working ``precision``.
+
+    ``w``: the triangular gas at gap w > 0 — lattice spacing, density, w_inf, w_0, trap area,
+    Santaló's mean free path, hop time, D_MZ, D_Bo, the bound on free paths; or ``radius``:
+    the square lattice (0 < radius < 1/2). At an infinite horizon (w >= w_inf, every square
+    lattice) ``superdiffusion`` holds the corridors (direction, angle, period, width) and the
+    exact constants: ``C_flow`` (P(tau > s) ~ C_flow/s under the flow), ``C_map``
+    (mu(tau > s) ~ C_map/s^2 under the billiard map), ``D_sup`` (dx/sqrt(t ln t) -> N(0, D_sup)),
+    ``msd_x_t_ln_t`` = 2 D_sup and ``msd_r_t_ln_t`` = 2 C_flow (the coefficients of t ln t in
+    <dx^2> and <dr^2>). Values carry every digit of the working precision in ``to_json()``.
+
+    Given several gaps or radii (a list, tuple or numpy array) it returns a
+    :class:`ConstantsTable`: one :class:`ConstantsResult` per value, and each scalar constant as a
+    numpy array over them (``lg.constants(np.linspace(0.05, 0.3, 6)).D_MZ``)."""
+    if _many(w) or _many(radius):
+        if w is not None and radius is not None:
+            raise ValueError("give w (the triangular gas) or radius (the square lattice), not both")
+        values = w if w is not None else radius
+        key = "w" if w is not None else "radius"
+        return ConstantsTable([constants(**{key: v}, precision=precision) for v in values])
+    return ConstantsResult(
+        _native.constants(_optional_exact("w", w), _optional_exact("radius", radius), str(precision))
+    )
+
+
+@public
+def report(
+    path: PathLike,
+    out: Optional[PathLike] = None,
+    quick: bool = False,
+    reference_bits: Count = 128,
+    max_rerun_collisions: Optional[Count] = None,
+    threads: Optional[Count] = None,
+    progress: Progress = None,
+) -> ReportResult:
+    """The publication audit of a result file (``lorentz report``): re-runs its recorded
+    configuration, checks every identity and writes report.md, report.html and report.json to
+    ``out`` (default: next to the file). The verdict is the result's ``verdict``: PASS, FAIL, or
+    INCOMPLETE when a check was skipped (re-runs beyond ``max_rerun_collisions``, by default
+    1e12 or 2e9 with ``quick``; too few batches to judge); it is returned, not raised (``raise
+    CheckFailedError`` yourself to stop a pipeline)."""
+    with _Bar(progress, 0, "coll") as cb:
+        text = _native.report(
+            os.fspath(path),
+            _path(out),
+            bool(quick),
+            _count("reference_bits", reference_bits),
+            None if max_rerun_collisions is None else _count("max_rerun_collisions", max_rerun_collisions),
+            _threads(threads),
+            cb,
+        )
+    return ReportResult(text)
