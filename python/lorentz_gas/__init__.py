@@ -44,10 +44,12 @@ from ._results import (
     DiffusionResult,
     EscapeResult,
     FieldResult,
+    FigureResult,
     HopsResult,
     LatticeWalkResult,
     LyapunovResult,
     ReportResult,
+    ReproduceResult,
     Result,
     ShadowResult,
     SuperdiffusionResult,
@@ -85,6 +87,7 @@ from ._verification import (
     shadow,
     trajectory,
 )
+from ._figures import figure, reproduce
 from ._events import Trajectory, events
 from . import _events
 
@@ -110,6 +113,8 @@ __all__ = [
     "trajectory",
     "constants",
     "report",
+    "figure",
+    "reproduce",
     "events",
     "bench",
     "Trajectory",
@@ -137,6 +142,8 @@ __all__ = [
     "TrajectoryResult",
     "BenchResult",
     "ReportResult",
+    "FigureResult",
+    "ReproduceResult",
     "CheckFailedError",
     "ComputationError",
 ]

@@ -430,6 +430,45 @@ class ReportResult(Result):
         return f"{d['verdict']}: {len(d['checks'])} checks"
 
 
+class FigureResult(Result):
+    """A figure of the paper (``lorentz figure``): ``files``, the names written into ``out``
+    (PNG, SVG, CSV, JSON), and ``meta``."""
+
+    def __init__(self, text: str, out: str = "."):
+        super().__init__(text)
+        #: The folder the files were written into.
+        self.out = out
+
+    def paths(self) -> List[str]:
+        """The files' paths (``out`` joined with each name)."""
+        import os
+
+        return [os.path.join(self.out, f) for f in self._data.get("files", [])]
+
+    def _summary(self) -> str:
+        return f"{len(self._data.get('files', []))} files in {self.out}"
+
+
+class ReproduceResult(Result):
+    """A reproduction of the user guide (``lorentz reproduce``): ``steps`` (each with ``name``,
+    ``title``, ``seconds``, ``resumed``, ``files``), ``budget`` and ``meta``; ``index`` is the
+    path of its ``index.html``."""
+
+    def __init__(self, text: str, out: str = "."):
+        super().__init__(text)
+        import os
+
+        #: The folder of the reproduction.
+        self.out = out
+        #: Its front page.
+        self.index = os.path.join(out, "index.html")
+
+    def _summary(self) -> str:
+        steps = self._data.get("steps", [])
+        resumed = sum(1 for s in steps if s.get("resumed"))
+        return f"{len(steps)} steps ({resumed} resumed), {self.index}"
+
+
 class ConstantsResult(Result):
     """The closed forms of one scene (``lorentz constants``): lengths in disk radii (triangular)
     or lattice spacings (square), times at speed 1."""

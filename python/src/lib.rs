@@ -9,6 +9,7 @@ mod analyses;
 mod bench;
 mod events;
 mod field;
+mod figures;
 mod inputs;
 mod plan;
 mod scenes;
@@ -66,6 +67,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     plan::register(m)?;
     events::register(m)?;
     field::register(m)?;
+    figures::register(m)?;
     verification::register(m)?;
     Ok(())
 }

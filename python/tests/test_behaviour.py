@@ -3,6 +3,7 @@ progress reaches a callback."""
 
 import os
 import signal
+import tempfile
 import threading
 import time
 
@@ -26,6 +27,11 @@ RUNS = {
     "diffusion": lambda threads: lg.diffusion(w=0.1, collisions=2e11, batches=32, threads=threads),
     # 1e12 injections in 2^20 batches (about 0.4 s each on one core): stopped between batches.
     "backscatter": lambda threads: lg.backscatter(w=0.1, particles=1e12, batches=2**20, threads=threads),
+    # Fig. 5 at 1e9 injections (about an hour): stopped between chunks of 4096 injections.
+    "figure": lambda threads: lg.figure("backscatter-map", particles=1e9, threads=threads,
+                                        out=tempfile.mkdtemp()),
+    # The paper budget (about an hour): its first step's diffusion runs stop between segments.
+    "reproduce": lambda threads: lg.reproduce("paper", threads=threads, out=tempfile.mkdtemp()),
 }
 
 

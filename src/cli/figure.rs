@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use lorentz_gas::Error;
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::report::figures::paper;
 
 use super::args::{Exact, OutputArgs, RunArgs, parse_count, parse_exact_arg};
@@ -68,17 +69,27 @@ struct HierarchyArgs {
     common: Common,
 }
 
+/// The run options of a figure: its threads, `progress`, and Ctrl-C as a clean stop.
+fn options<'a>(run: &RunArgs, progress: &'a (dyn Fn(u64) + Sync)) -> RunOptions<'a> {
+    RunOptions {
+        threads: run.threads(),
+        progress,
+        ..super::signals::options()
+    }
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
     let (r, c) = match &a.kind {
         Kind::BackscatterMap(m) => {
             let c = &m.common;
             let pb = Progress::new(m.particles, "injections", c.output.quiet);
+            let cb = pb.callback();
             let r = paper::backscatter_map(
                 m.w.value,
                 m.particles,
                 c.run.seed(),
                 &c.out,
-                &pb.callback(),
+                &options(&c.run, &cb),
             )?;
             (r, c)
         }
@@ -90,8 +101,8 @@ pub fn run(a: Args) -> Result<(), Error> {
                 .map(|g| g.len() as u64)
                 .sum::<u64>();
             let pb = Progress::new(n.saturating_mul(points), "injections", c.output.quiet);
-            let r =
-                paper::backscatter_curve(n, c.run.seed(), c.run.threads(), &c.out, &pb.callback())?;
+            let cb = pb.callback();
+            let r = paper::backscatter_curve(n, c.run.seed(), &c.out, &options(&c.run, &cb))?;
             (r, c)
         }
         Kind::Hierarchy(h) => {
@@ -100,7 +111,8 @@ pub fn run(a: Args) -> Result<(), Error> {
             let points = paper::hierarchy_grid()?.len() as u64;
             // The hop statistics and the Einstein run each use n collisions per gap.
             let pb = Progress::new(n.saturating_mul(2 * points), "collisions", c.output.quiet);
-            let r = paper::hierarchy(n, c.run.seed(), c.run.threads(), &c.out, &pb.callback())?;
+            let cb = pb.callback();
+            let r = paper::hierarchy(n, c.run.seed(), &c.out, &options(&c.run, &cb))?;
             (r, c)
         }
     };

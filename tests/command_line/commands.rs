@@ -39,6 +39,14 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     (&["diffusion", "--w", "0.1", "--precision", "double"], "f64"),
     (
+        &["diffusion", "--w", "0.1", "--msd-grid", "fine"],
+        "fit (the fit windows' lags) or log",
+    ),
+    (
+        &["diffusion", "--w", "0.1", "--field", "1", "--msd-grid", "log"],
+        "measured without a field",
+    ),
+    (
         &["diffusion", "--w", "0.1", "--collisions", "0"],
         "collisions",
     ),

@@ -74,15 +74,17 @@ fn files(stem: &str) -> Vec<String> {
         .collect()
 }
 
-/// Fig. 5: injection conditions (2x/w, sin α) that backscatter at gap `w` (`particles` injected).
-/// `progress` receives injections done.
+/// Fig. 5: injection conditions (2x/w, sin α) that backscatter at gap `w` (`particles` injected),
+/// on one thread. `opts.progress` receives injections done; `opts.stop` ends it within a chunk
+/// of injections.
 pub fn backscatter_map(
     w: f64,
     particles: u64,
     seed: u64,
     dir: &Path,
-    progress: &(dyn Fn(u64) + Sync),
+    opts: &RunOptions,
 ) -> Result<FigureReport, Error> {
+    let progress = opts.progress;
     crate::scenes::triangular::geometry::check_diffusive_gap(w)?;
     if particles == 0 {
         return Err(Error::Zero { what: "particles" });
@@ -95,6 +97,9 @@ pub fn backscatter_map(
     for k in 1..=particles {
         if k % MAP_PROGRESS_CHUNK == 0 {
             progress(MAP_PROGRESS_CHUNK);
+            if let Some(stop) = &opts.stop {
+                stop.check()?;
+            }
         }
         let v = scene.random_visit(&mut rng)?;
         csv.push_str(&format!("{},{},{}\n", v.x, v.sin_alpha, v.exit));
@@ -135,14 +140,15 @@ pub fn backscatter_map(
 
 /// Fig. 4a: p_bs against w on [`backscatter_grids`] (the curve and the paper's inset), by
 /// injection of `particles_per_gap` particles at each gap. Point i of the curve is run i of `seed`, point j of
-/// the inset run (curve length + j): no two points share a stream. `progress` receives injections.
+/// the inset run (curve length + j): no two points share a stream. `opts`: threads, progress (in
+/// injections) and stop.
 pub fn backscatter_curve(
     particles_per_gap: u64,
     seed: u64,
-    threads: usize,
     dir: &Path,
-    progress: &(dyn Fn(u64) + Sync),
+    opts: &RunOptions,
 ) -> Result<FigureReport, Error> {
+    let threads = opts.threads;
     if particles_per_gap < CURVE_BATCHES as u64 {
         return Err(Error::TooFew {
             what: "particles per gap",
@@ -158,17 +164,12 @@ pub fn backscatter_curve(
         Precision::F64,
         Some(threads),
     );
-    let opts = RunOptions {
-        threads,
-        progress,
-        ..RunOptions::default()
-    };
     let curve = Curve {
         particles_per_gap,
         seed,
         dir,
         meta: &meta,
-        opts: &opts,
+        opts,
     };
     let mut written = Vec::new();
     for (name, ws, first_run) in [
@@ -263,15 +264,15 @@ impl Curve<'_> {
 /// flights (Fig. 6a) and the exact order-k lattice walks k = 1 … 4 (Fig. 6b). D is the Einstein value.
 ///
 /// On [`hierarchy_grid`], `collisions` per gap for the hop statistics (run i of `seed`) and again
-/// for D (run grid length + i). Every gap is checked before anything runs. `progress` receives
-/// collisions.
+/// for D (run grid length + i). Every gap is checked before anything runs. `opts`: threads,
+/// progress (in collisions) and stop.
 pub fn hierarchy(
     collisions: u64,
     seed: u64,
-    threads: usize,
     dir: &Path,
-    progress: &(dyn Fn(u64) + Sync),
+    opts: &RunOptions,
 ) -> Result<FigureReport, Error> {
+    let threads = opts.threads;
     use crate::estimators::diffusion::run;
     let grid = hierarchy_grid()?;
     let runs = HierarchyRuns {
@@ -283,16 +284,11 @@ pub fn hierarchy(
         runs.hops(i, w).validate()?;
         runs.einstein(i, w).validate()?;
     }
-    let opts = RunOptions {
-        threads,
-        progress,
-        ..RunOptions::default()
-    };
     crate::files::create_dir_all(dir)?;
     let mut rows = Vec::new();
     for (i, &w) in grid.iter().enumerate() {
-        let t = theory::run(&runs.hops(i, w), &opts)?;
-        let d = run(&runs.einstein(i, w), &opts)?;
+        let t = theory::run(&runs.hops(i, w), opts)?;
+        let d = run(&runs.einstein(i, w), opts)?;
         rows.push((w, t, d.D, d.D_err));
     }
     crate::files::write(dir.join("fig3-4b-6-hierarchy.csv"), hierarchy_csv(&rows))?;

@@ -17,7 +17,7 @@ use serde::Serialize;
 
 use crate::Error;
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOptions, StopFlag};
 use crate::estimators::diffusion::{DiffusionConfig, run};
 use crate::estimators::sweep::{self, SweepConfig, SweepReport};
 use crate::numbers::precision::Precision;
@@ -39,6 +39,20 @@ pub enum Budget {
     Paper,
 }
 
+impl std::str::FromStr for Budget {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s {
+            "quick" => Ok(Budget::Quick),
+            "paper" => Ok(Budget::Paper),
+            _ => Err(Error::Invalid(format!(
+                "budget = {s:?}: must be quick (minutes on 2 cores) or paper (the user guide's \
+                 statistics, about an hour on 2 cores)"
+            ))),
+        }
+    }
+}
+
 impl Budget {
     fn name(self) -> &'static str {
         match self {
@@ -54,6 +68,24 @@ pub trait Reporter: Sync {
     fn stage(&self, index: usize, count: usize, name: &str, total: u64, unit: &str);
     /// `n` more units done.
     fn advance(&self, n: u64);
+    /// The flag that stops the reproduction (within about a second; finished steps are kept).
+    fn stop(&self) -> Option<StopFlag> {
+        None
+    }
+}
+
+/// Run options on `threads` threads reporting to `reporter` (progress and stop).
+fn options<'a>(
+    threads: usize,
+    reporter: &dyn Reporter,
+    advance: &'a (dyn Fn(u64) + Sync),
+) -> RunOptions<'a> {
+    RunOptions {
+        threads,
+        progress: advance,
+        stop: reporter.stop(),
+        ..RunOptions::default()
+    }
 }
 
 /// The D(w) table's gaps (the user guide's, docs/guide/diffusion.md).
@@ -173,6 +205,9 @@ pub fn reproduce(
     };
     let mut steps = Vec::new();
     for (k, step) in Step::ALL.into_iter().enumerate() {
+        if let Some(stop) = reporter.stop() {
+            stop.check()?;
+        }
         steps.push(run.step(k, step)?);
     }
     let report = ReproduceReport {
@@ -305,8 +340,9 @@ impl Reproduction<'_> {
                     .sum();
                 stage(map + curve * points, "injections");
                 let adv = |n: u64| reporter.advance(n);
-                paper::backscatter_map(0.1, map, seed, sub, &adv)?;
-                paper::backscatter_curve(curve, seed, threads, sub, &adv)?;
+                let opts = options(threads, reporter, &adv);
+                paper::backscatter_map(0.1, map, seed, sub, &opts)?;
+                paper::backscatter_curve(curve, seed, sub, &opts)?;
             }
             Step::Hierarchy => {
                 let n = match budget {
@@ -315,7 +351,8 @@ impl Reproduction<'_> {
                 };
                 let points = paper::hierarchy_grid()?.len() as u64;
                 stage(2 * n * points, "collisions");
-                paper::hierarchy(n, seed, threads, sub, &|n| reporter.advance(n))?;
+                let adv = |n: u64| reporter.advance(n);
+                paper::hierarchy(n, seed, sub, &options(threads, reporter, &adv))?;
             }
             Step::Claims => {
                 stage(1, "tables");
@@ -330,12 +367,7 @@ impl Reproduction<'_> {
                     out: sub.to_path_buf(),
                 };
                 let advance = |n| reporter.advance(n);
-                let opts = RunOptions {
-                    threads,
-                    progress: &advance,
-                    ..RunOptions::default()
-                };
-                crate::report::speed_error::run(&cfg, &opts)?;
+                crate::report::speed_error::run(&cfg, &options(threads, reporter, &advance))?;
             }
         }
         Ok(())
@@ -384,10 +416,8 @@ fn run_sweep(
     let c = sweep_config(step, budget, seed)?;
     let advance = |n| reporter.advance(n);
     let opts = RunOptions {
-        threads,
-        progress: &advance,
         resume: Some(dir.to_path_buf()),
-        ..RunOptions::default()
+        ..options(threads, reporter, &advance)
     };
     let r = sweep::run(&c, &opts)?;
     sweep::write_tables(&r, dir)?;
@@ -426,12 +456,7 @@ fn d_table(
         c.seed = seed;
         c.run = i as u64;
         let advance = |n| reporter.advance(n);
-        let opts = RunOptions {
-            threads,
-            progress: &advance,
-            ..RunOptions::default()
-        };
-        let r = run(&c, &opts)?;
+        let r = run(&c, &options(threads, reporter, &advance))?;
         md += &format!(
             "| {w} | {:.5} ± {:.5} | {:.3} % | {:.5} ± {:.5} | {:.5} | {:.4} | {:+.1} | {:+.1} | {:.1} |\n",
             r.D,

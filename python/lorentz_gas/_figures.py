@@ -1,0 +1,109 @@
+"""The paper's figures and the whole reproduction of the user guide, from this crate's numbers."""
+
+from __future__ import annotations
+
+import os
+from typing import Optional
+
+from . import _native
+from ._inputs import Count, Exact, PathLike, Progress, _count, _exact, _threads
+from ._keywords import public
+from ._progress import _Bar
+from ._results import FigureResult, ReproduceResult
+
+
+@public
+def figure(
+    kind: str,
+    *,
+    w: Optional[Exact] = None,
+    particles: Optional[Count] = None,
+    particles_per_gap: Optional[Count] = None,
+    collisions_per_gap: Optional[Count] = None,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    out: PathLike = "results/figures",
+    progress: Progress = None,
+) -> FigureResult:
+    """One of the paper's figures from this crate's numbers (``lorentz figure KIND``): PNG, SVG,
+    CSV and JSON files written into ``out``.
+
+    Parameters
+    ----------
+    kind : {"backscatter-map", "backscatter", "hierarchy"}
+        ``"backscatter-map"``: Fig. 5, where injected particles backscatter, at one gap ``w``;
+        ``"backscatter"``: Fig. 4a and its inset, p_bs(w) by injection on the paper's grid;
+        ``"hierarchy"``: Figs. 3, 4b and 6, p_cf against App. A, D_cf, D_bs, the hierarchy and
+        the exact lattice walks. (Figs. 2, 7 and 8 come from :func:`sweep`.)
+    w : str, float, Fraction or Decimal, optional
+        ``"backscatter-map"`` only: the gap (default 0.1), 0 < w < w_inf = 0.3094...
+    particles : int, optional
+        ``"backscatter-map"`` only: particles injected in all (default 60 000).
+    particles_per_gap : int, optional
+        ``"backscatter"`` only: particles injected at each gap of the grid (default 200 000).
+    collisions_per_gap : int, optional
+        ``"hierarchy"`` only: collisions at each gap, for the hop statistics and again for the
+        Einstein D (default 2e7).
+    seed : int
+        Seed of the random streams (the same files for the same seed, on any number of threads).
+    threads : int, optional
+        Worker threads (default: every core this process may use).
+    out : path
+        Output directory (created if needed).
+    progress : bool, callable or None
+        As for :func:`diffusion`: units are injections or collisions.
+
+    A count given for another kind, or ``w`` for a figure on the paper's grid, raises
+    ``ValueError``. Returns a :class:`FigureResult`: ``files`` (the names written into ``out``)
+    and ``meta``.
+    """
+    with _Bar(progress, 0, "units") as cb:
+        text = _native.figure(
+            str(kind),
+            None if w is None else _exact("w", w),
+            None if particles is None else _count("particles", particles),
+            None if particles_per_gap is None else _count("particles_per_gap", particles_per_gap),
+            None if collisions_per_gap is None else _count("collisions_per_gap", collisions_per_gap),
+            _count("seed", seed),
+            _threads(threads),
+            os.fspath(out),
+            cb,
+        )
+    return FigureResult(text, os.fspath(out))
+
+
+@public
+def reproduce(
+    budget: str = "quick",
+    *,
+    seed: Count = 1,
+    threads: Optional[Count] = None,
+    out: PathLike = "results/reproduce",
+    progress: Progress = None,
+) -> ReproduceResult:
+    """Every figure and table of the user guide, the paper's claims and speed against error,
+    into ``out`` with an ``index.html`` (``lorentz reproduce``).
+
+    Parameters
+    ----------
+    budget : {"quick", "paper"}
+        ``"quick"``: minutes on 2 cores; ``"paper"``: the user guide's statistics (Fig. 8 at
+        2e9 collisions per run), about an hour on 2 cores.
+    seed : int
+        Seed of the random streams.
+    threads : int, optional
+        Worker threads (default: every core this process may use).
+    out : path
+        Output directory; steps finished earlier at the same budget are kept, not redone, so an
+        interrupted reproduction (Ctrl-C) continues where it stopped.
+    progress : bool, callable or None
+        As for :func:`diffusion`: units of work of each step (collisions, injections, steps).
+
+    Returns a :class:`ReproduceResult`: ``steps`` (each with ``name``, ``title``, ``seconds``,
+    ``resumed`` and ``files``), ``budget`` and ``meta``.
+    """
+    with _Bar(progress, 0, "units") as cb:
+        text = _native.reproduce(
+            str(budget), _count("seed", seed), _threads(threads), os.fspath(out), cb
+        )
+    return ReproduceResult(text, os.fspath(out))
