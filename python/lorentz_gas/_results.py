@@ -101,9 +101,19 @@ class Result:
                  if m.get(k) is not None]
         return ", ".join(parts)
 
+    #: The result kind whose command-line text the library renders (``None``: not yet).
+    _text_kind: Optional[str] = None
+
     def __str__(self) -> str:
-        """The summary line, every scalar of the result (estimates as ``x ± err`` to the place of
-        their error) and how it was computed."""
+        """The command line's text of this result (``lorentz <command>`` without ``--json``),
+        where the library renders it; otherwise the summary line, every scalar of the result
+        (estimates as ``x ± err`` to the place of their error) and how it was computed."""
+        if self._text_kind is not None:
+            from . import _native
+
+            text = _native.text(self._text_kind, self._json)
+            if text is not None:
+                return text.rstrip("\n")
         rows = _scalars(self._data)
         width = max((len(k) for k, _ in rows), default=0)
         lines = [f"{type(self).__name__}: {self._summary()}"]
@@ -164,7 +174,10 @@ class DiffusionResult(Result):
     ``msd_grid="log"``: ``msd_curve``, a table (numpy structured array, ``to_pandas()``) of
     ``times`` (time), ``msd`` (length²), ``vacf`` (⟨v(0)·v(t)⟩, 1 at t = 0) and ``green_kubo``
     (½∫₀ᵗ⟨v(0)·v(s)⟩ds, length²/time), each with ``_err``, from an eighth of the mean free time
-    on; and ``D_green_kubo`` ± ``D_green_kubo_err`` with ``D_minus_D_green_kubo`` (paired)."""
+    on; and ``D_green_kubo`` ± ``D_green_kubo_err`` with ``D_minus_D_green_kubo`` (paired).
+    ``print(r)`` shows the command line's text."""
+
+    _text_kind = "diffusion"
 
     @property
     def msd(self) -> np.ndarray:

@@ -13,6 +13,7 @@ mod figures;
 mod inputs;
 mod plan;
 mod scenes;
+mod text;
 mod verification;
 mod watch;
 
@@ -69,5 +70,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     field::register(m)?;
     figures::register(m)?;
     verification::register(m)?;
+    text::register(m)?;
     Ok(())
 }

@@ -49,20 +49,36 @@ def test_sweep_rows_as_arrays_and_pandas():
     assert isinstance(df, pd.DataFrame) and list(df["w"]) == [0.1, 0.2]
 
 
-def test_str_and_html_show_every_scalar_with_its_error_to_its_place(run):
+def _untimed(text):
+    """The text without what differs between two runs of the same bits: the wall time and speed
+    of the header and the time of the precision plan."""
+    text = re.sub(r"\d+ threads?, [\d.]+ s, [\d.e+]+ collisions/s", "TIME", text)
+    return re.sub(r"about .* here", "about TIME here", text)
+
+
+def test_str_is_the_command_lines_text(run, cli):
+    code, out, err = cli("diffusion", "--w", "0.1", "--collisions", "4e6", "--batches", "8", "--quiet")
+    assert code == 0, err
+    assert _untimed(str(run)) == _untimed(out.rstrip("\n"))
+    assert str(run).splitlines()[1].startswith("D              = ")
+
+
+def test_str_and_html_show_every_scalar_with_its_error_to_its_place():
+    # A result whose command-line text the library does not render: the generic table.
+    run = lg.hops(w=0.1, collisions=1e6, batches=4, order=2)
     text = str(run)
     first, *rest = text.splitlines()
-    assert first == f"DiffusionResult: D = {run.D:.6f} ± {run.D_err:.6f} at w = 0.1"
-    d_line = next(l for l in rest if l.split()[0] == "D")
+    assert first.startswith("HopsResult: ")
+    d_line = next(l for l in rest if l.split()[0] == "D_GK")
     value, err = (float(x) for x in d_line.split()[1::2])
     # The error to two significant digits, the value to the same place.
-    assert err == pytest.approx(run.D_err, rel=0.05) and value == pytest.approx(run.D, abs=err / 10)
+    assert err == pytest.approx(run.D_GK_err, rel=0.05) and value == pytest.approx(run.D_GK, abs=err / 10)
     digits = len(d_line.split()[1].split(".")[1])
     assert digits == len(d_line.split()[3].split(".")[1])
-    assert not any(l.split()[0] == "D_err" for l in rest), "an error shown apart from its value"
-    assert "seed 1, batches 8" in rest[-1]
+    assert not any(l.split()[0] == "D_GK_err" for l in rest), "an error shown apart from its value"
+    assert "seed 1, batches 4" in rest[-1]
     html = run._repr_html_()
-    assert html.count("<tr>") == len(rest) - 1 and "<th style='text-align:left'>D</th>" in html
+    assert html.count("<tr>") == len(rest) - 1 and "<th style='text-align:left'>D_GK</th>" in html
 
 
 def test_to_pandas_on_every_result_with_a_table_or_its_scalars(run):

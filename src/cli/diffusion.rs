@@ -9,7 +9,7 @@ use super::args::{
     CheckpointArgs, EngineArg, OutputArgs, PrecisionArg, ReferenceBitsArg, RunArgs, SceneArgs,
     SceneChoice, parse_count, parse_count_u32,
 };
-use super::output::{emit, sigmas};
+use super::output::emit;
 use super::progress::Progress;
 
 /// The gap diffusion needs (the shared help of `--w` gives the whole range w > 0).
@@ -207,130 +207,15 @@ fn nonzero_field(a: &Args) -> Result<Option<String>, Error> {
     }
 }
 
+/// The result's text (the library's, which Python's `str()` shows too), and on stderr a warning
+/// when the two fit windows disagree.
 fn print(r: &DiffusionReport) {
-    let m = &r.meta;
-    println!(
-        "periodic Lorentz gas, w = {}  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {}, {:.1} s, {:.3e} collisions/s)",
-        r.w,
-        m.precision,
-        match &m.simd {
-            Some(p) => format!("{} ({p})", m.engine),
-            None => m.engine.clone(),
-        },
-        m.seed.unwrap_or_default(),
-        m.batches.unwrap_or_default(),
-        r.collisions as f64,
-        lorentz_gas::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
-        r.seconds,
-        r.collisions_per_second
-    );
-    print_d(r);
-    print_identities(r);
-    print_curve(r);
-    print_plan(r);
-    if let Some(a) = &r.audit {
-        println!(
-            "self-audit     : {} events replayed in MPFR, {} outside the error model, worst time error / bound {:.2e}",
-            a.audited, a.outside, a.time_error_over_bound.max
-        );
-    }
-    if r.resumed_collisions > 0 {
-        println!(
-            "({} finished batches and {:.3e} collisions in all resumed from the checkpoint; the \
-             speed counts this run's collisions only)",
-            r.resumed_batches, r.resumed_collisions as f64
-        );
-    }
-}
-
-/// The MSD curve's extent and D by Green–Kubo against the Einstein D (runs on the log grid).
-fn print_curve(r: &DiffusionReport) {
-    let Some(c) = &r.msd_curve else {
-        return;
-    };
-    let (first, last) = (c.times.first().copied(), c.times.last().copied());
-    println!(
-        "MSD curve      : {} times from {:.4} to {:.4e} (MSD, velocity autocorrelation and \
-         Green-Kubo integral, in the --json result's msd_curve)",
-        c.times.len(),
-        first.unwrap_or(f64::NAN),
-        last.unwrap_or(f64::NAN)
-    );
-    let g = &r.green_kubo;
-    match (g.D_green_kubo, g.D_green_kubo_err) {
-        (Some(d), Some(e)) => {
-            let n = r.batch_D.len();
-            let diff = comparison::of(
-                g.D_minus_D_green_kubo.unwrap_or(f64::NAN),
-                g.D_minus_D_green_kubo_err.unwrap_or(f64::NAN),
-                comparison::batch_dof(n),
-            );
-            println!(
-                "D (Green-Kubo) = {d:.6} ± {e:.6}   (running integral over [{}τ, {}τ]; D − D_green_kubo = \
-                 {:+.6} ± {:.6}, {})",
-                r.window.lo,
-                r.window.hi,
-                diff.difference,
-                diff.err,
-                diff.describe(&format!("paired over {n} batches"))
-            );
-        }
-        _ => println!(
-            "D (Green-Kubo) : no grid time inside [{}τ, {}τ] (more collisions per batch reach it)",
-            r.window.lo, r.window.hi
-        ),
-    }
-}
-
-/// The relative error this run reached against a planned one, and what the next decade needs.
-fn print_plan(r: &DiffusionReport) {
-    if let Some(p) = &r.pilot {
-        println!(
-            "planned run    : for {} % from a pilot of {:.3e} collisions ({:.3} %); reached {:.3} %",
-            100.0 * p.rel_err_target,
-            p.collisions as f64,
-            100.0 * p.rel_err,
-            100.0 * r.D_err / r.D.abs()
-        );
-    }
-    if let Some(p) = &r.plan {
-        println!(
-            "precision plan : {} % needs {:.2e} collisions, about {} here (the error falls as \
-             1/sqrt(collisions); --rel-err stops at a target)",
-            100.0 * p.rel_err,
-            p.collisions as f64,
-            lorentz_gas::engine::progress_lines::clock(p.seconds)
-        );
-    }
-}
-
-/// D over both windows, their paired difference (a warning on stderr when they disagree), and
-/// the closed forms D_MZ and D_Bo.
-fn print_d(r: &DiffusionReport) {
-    println!(
-        "D              = {:.6} ± {:.6}   ({:.3} %, MSD slope over [{}τ, {}τ]){}",
-        r.D,
-        r.D_err,
-        100.0 * r.D_err / r.D,
-        r.window.lo,
-        r.window.hi,
-        comparison::few_samples_note(r.batch_D.len(), "batches")
-    );
+    print!("{}", lorentz_gas::report::text::diffusion::diffusion(r));
     let n = r.batch_D.len();
     let window_check = comparison::of(
         r.D_minus_D_check,
         r.D_minus_D_check_err,
         comparison::batch_dof(n),
-    );
-    println!(
-        "D (check)      = {:.6} ± {:.6}   (MSD slope over [{}τ, {}τ]; D − D_check = {:+.6} ± {:.6}, {})",
-        r.D_check,
-        r.D_check_err,
-        r.check_window.lo,
-        r.check_window.hi,
-        r.D_minus_D_check,
-        r.D_minus_D_check_err,
-        window_check.describe(&format!("paired over {n} batches"))
     );
     if !window_check.agrees() {
         eprintln!(
@@ -343,46 +228,4 @@ fn print_d(r: &DiffusionReport) {
             window_check.z.abs()
         );
     }
-    println!(
-        "D_MZ           = {:.6}           D/D_MZ = {:.4}",
-        r.D_MZ,
-        r.D / r.D_MZ
-    );
-    println!("D_Bo           = {:.6}", r.D_Bo);
-}
-
-/// The measured exact identities against their closed forms, each with its bound and verdict.
-fn print_identities(r: &DiffusionReport) {
-    let n = r.batch_D.len();
-    println!(
-        "mean free path = {:.7} ± {:.7}   exact {:.7}  ({})",
-        r.mean_free_path,
-        r.mean_free_path_err,
-        r.mean_free_path_exact,
-        sigmas(
-            r.mean_free_path,
-            r.mean_free_path_err,
-            r.mean_free_path_exact,
-            n
-        )
-    );
-    println!(
-        "mean hop time  = {:.6} ± {:.6}   exact {:.6}  ({})",
-        r.tau_hop,
-        r.tau_hop_err,
-        r.tau_hop_exact,
-        sigmas(r.tau_hop, r.tau_hop_err, r.tau_hop_exact, n)
-    );
-    println!(
-        "collisions/hop = {:.5} ± {:.5}   exact {:.5}  ({})",
-        r.collisions_per_hop,
-        r.collisions_per_hop_err,
-        r.collisions_per_hop_exact,
-        sigmas(
-            r.collisions_per_hop,
-            r.collisions_per_hop_err,
-            r.collisions_per_hop_exact,
-            n
-        )
-    );
 }

@@ -39,9 +39,7 @@ pub fn emit<T: Serialize>(json: bool, r: &T, text: impl FnOnce(&T)) -> Result<()
 /// "+0.4σ, bound 4.6σ: agree" for a measured value with an error from `n` batches against an
 /// exact one (the bound is the Student-t equivalent of 4σ with n − 1 dof).
 pub fn sigmas(x: f64, err: f64, exact: f64, n: usize) -> String {
-    let c = comparison::of(x - exact, err, comparison::batch_dof(n));
-    let verdict = if c.agrees() { "agree" } else { "DISAGREE" };
-    format!("{:+.1}σ, bound {:.1}σ: {verdict}", c.z, c.bound)
+    lorentz_gas::report::text::sigmas(x, err, exact, n)
 }
 
 /// "+1.5σ; no verdict: …" for a value measured where its estimator has not converged (no

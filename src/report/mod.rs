@@ -10,6 +10,7 @@ pub mod figures;
 pub mod publication;
 pub mod reproduce;
 pub mod speed_error;
+pub mod text;
 
 /// `n` and the noun, plural unless n = 1: "1 thread", "2 threads".
 ///

@@ -43,7 +43,15 @@ const BAD: &[(&[&str], &str)] = &[
         "fit (the fit windows' lags) or log",
     ),
     (
-        &["diffusion", "--w", "0.1", "--field", "1", "--msd-grid", "log"],
+        &[
+            "diffusion",
+            "--w",
+            "0.1",
+            "--field",
+            "1",
+            "--msd-grid",
+            "log",
+        ],
         "measured without a field",
     ),
     (
