@@ -53,9 +53,15 @@ def figure(
     progress : bool, callable or None
         As for :func:`diffusion`: units are injections or collisions.
 
-    A count given for another kind, or ``w`` for a figure on the paper's grid, raises
-    ``ValueError``. Returns a :class:`FigureResult`: ``files`` (the names written into ``out``)
-    and ``meta``.
+    Returns
+    -------
+    FigureResult
+        ``files`` (the names written into ``out``) and ``meta``.
+
+    Raises
+    ------
+    ValueError
+        A count given for another kind, or ``w`` for a figure on the paper's grid.
     """
     with _Bar(progress, 0, "units") as cb:
         text = _native.figure(
@@ -99,8 +105,11 @@ def reproduce(
     progress : bool, callable or None
         As for :func:`diffusion`: units of work of each step (collisions, injections, steps).
 
-    Returns a :class:`ReproduceResult`: ``steps`` (each with ``name``, ``title``, ``seconds``,
-    ``resumed`` and ``files``), ``budget`` and ``meta``.
+    Returns
+    -------
+    ReproduceResult
+        ``steps`` (each with ``name``, ``title``, ``seconds``, ``resumed`` and ``files``),
+        ``budget``, ``meta``, and ``index``, the path of its ``index.html``.
     """
     with _Bar(progress, 0, "units") as cb:
         text = _native.reproduce(
