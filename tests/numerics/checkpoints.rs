@@ -97,6 +97,19 @@ fn f64_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
     resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, (IN_FLIGHT, 8), engines, 6);
 }
 
+/// The same with the MSD curve on its logarithmic grid (`--msd-grid log`): its lanes are saved
+/// and restored exactly, so the curve, D by Green–Kubo and D keep the uninterrupted bits.
+#[test]
+fn runs_with_the_msd_curve_resume_from_any_moment_to_the_uninterrupted_bits() {
+    let mut cfg = DiffusionConfig::new(0.12);
+    cfg.collisions = 12_000_000;
+    cfg.batches = 4;
+    cfg.seed = 6;
+    cfg.msd_grid = lorentz_gas::estimators::diffusion::MsdGrid::Log;
+    let engines = [(Engine::Auto, 2), (Engine::Scalar, 1)];
+    resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, (IN_FLIGHT, 8), engines, 4);
+}
+
 /// MPFR: the saved states are exact rationals at the run's precision (segments of 2¹⁴
 /// collisions).
 #[test]
