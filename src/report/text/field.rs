@@ -41,6 +41,13 @@ pub fn field(r: &FieldReport) -> String {
         );
         return out;
     }
+    tensor(&mut out, r, n);
+    out
+}
+
+/// The tensor lines of a run that was not all localized: whole phase space, the diffusing
+/// part, the check window and the mean free time against Kac's.
+fn tensor(out: &mut String, r: &FieldReport, n: usize) {
     line!(
         out,
         "D_xx          = {:.6} ± {:.6}   (whole phase space; the diffusing part's × {:.6})",
@@ -94,7 +101,6 @@ pub fn field(r: &FieldReport) -> String {
             n
         )
     );
-    out
 }
 
 /// The sampled localized share against the exact one (binomial error).

@@ -42,34 +42,8 @@ pub fn superdiffusion(r: &SuperdiffusionReport) -> String {
 fn estimates(out: &mut String, r: &SuperdiffusionReport, n: usize) {
     line!(out, "measured, each against its exact value:");
     let l = r.mean_free_path;
-    let row = |out: &mut String,
-               what: &str,
-               x: f64,
-               e: f64,
-               exact: f64,
-               range: [f64; 2],
-               from: f64| {
-        let start = range[0] / l;
-        // The window's first lag is a grid time, rounded from the mean free times asked for.
-        let verdict = if start < from * (1.0 - 1e-9) {
-            let why = format!(
-                "the window starts at {}l, below the {from}l from which this estimator has converged",
-                if (start - start.round()).abs() < 1e-9 {
-                    format!("{start:.0}")
-                } else {
-                    format!("{start:.3}")
-                }
-            );
-            sigmas_unconverged(x, e, exact, n, &why)
-        } else {
-            sigmas(x, e, exact, n)
-        };
-        line!(
-            out,
-            "  {what:<36} {x:.6e} ± {e:.1e}  over t in [{:.4}, {:.4}]  ({verdict})",
-            range[0],
-            range[1],
-        )
+    let row = |out: &mut String, what: &str, x: f64, e: f64, exact: f64, range, from| {
+        out.push_str(&estimate(what, [x, e, exact], range, from, l, n));
     };
     let from = crate::estimators::superdiffusion::CONVERGED_FROM;
     match (
@@ -199,4 +173,39 @@ fn law(out: &mut String, r: &SuperdiffusionReport) {
             l.samples
         );
     }
+}
+
+/// One fitted constant against its exact value: `[x, err, exact]` over the lag window `range`,
+/// with a verdict only where the window starts at or after `from` mean free paths `l`.
+fn estimate(
+    what: &str,
+    [x, e, exact]: [f64; 3],
+    range: [f64; 2],
+    from: f64,
+    l: f64,
+    n: usize,
+) -> String {
+    let start = range[0] / l;
+    // The window's first lag is a grid time, rounded from the mean free times asked for.
+    let verdict = if start < from * (1.0 - 1e-9) {
+        let why = format!(
+            "the window starts at {}l, below the {from}l from which this estimator has converged",
+            if (start - start.round()).abs() < 1e-9 {
+                format!("{start:.0}")
+            } else {
+                format!("{start:.3}")
+            }
+        );
+        sigmas_unconverged(x, e, exact, n, &why)
+    } else {
+        sigmas(x, e, exact, n)
+    };
+    let mut out = String::new();
+    line!(
+        out,
+        "  {what:<36} {x:.6e} ± {e:.1e}  over t in [{:.4}, {:.4}]  ({verdict})",
+        range[0],
+        range[1],
+    );
+    out
 }
