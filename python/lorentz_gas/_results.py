@@ -111,7 +111,12 @@ class Result:
         if self._text_kind is not None:
             from . import _native
 
-            text = _native.text(self._text_kind, self._json)
+            try:
+                text = _native.text(self._text_kind, self._json)
+            except ValueError:
+                # JSON the text cannot be read back from (a value JSON writes as null, such
+                # as a NaN): the table below rather than no str() at all.
+                text = None
             if text is not None:
                 return text.rstrip("\n")
         rows = _scalars(self._data)
@@ -230,6 +235,8 @@ class FieldResult(Result):
     sampled ``localized_fraction`` ± ``localized_fraction_err``, ``mean_free_time`` against Kac's
     ``mean_free_time_exact``, ``batch_D_xx`` and ``batch_D_xy``."""
 
+    _text_kind = "field"
+
     def _summary(self) -> str:
         return (
             f"D_xx = {_pm(self.D_xx, self.D_xx_err)}, D_xy = {_pm(self.D_xy, self.D_xy_err)} "
@@ -269,6 +276,8 @@ class HopsResult(Result):
     """Trap-hopping statistics: backscattering ``p_bs``, symbol-sequence probabilities
     ``pairs`` (with ``pairs_err``), the hop-level Green–Kubo ``D_GK`` against ``D_MZ``."""
 
+    _text_kind = "hops"
+
     def _summary(self) -> str:
         return (
             f"p_bs = {_pm(self.p_bs, self.p_bs_err)}, D_GK = {_pm(self.D_GK, self.D_GK_err)} "
@@ -280,6 +289,8 @@ class TheoryResult(Result):
     """The corrected Machta–Zwanzig hierarchy: ``D_cf``, ``D_bs``, ``D_1`` and ``orders``
     (``D_k`` with errors) against the hop-level Green–Kubo ``D_GK`` and ``D_MZ``."""
 
+    _text_kind = "theory"
+
     def _summary(self) -> str:
         return f"D_1 = {_pm(self.D_1, self.D_1_err)}, D_GK = {_pm(self.D_GK, self.D_GK_err)} at w = {self.w}"
 
@@ -288,12 +299,16 @@ class LatticeWalkResult(Result):
     """Correlated lattice walks of each order: ``walks`` (simulated and exact D) against
     ``D_GK``."""
 
+    _text_kind = "lattice-walk"
+
     def _summary(self) -> str:
         return f"{len(self._data.get('walks', []))} walk orders, D_GK = {_pm(self.D_GK, self.D_GK_err)} at w = {self.w}"
 
 
 class BackscatterResult(Result):
     """Backscattering by injection into one trap."""
+
+    _text_kind = "backscatter"
 
     def _summary(self) -> str:
         p = self._data.get("p_bs")
@@ -329,6 +344,8 @@ class SweepResult(Result):
 
 class EscapeResult(Result):
     """Diffusion from the escape rate out of open strips (Gaspard–Baras)."""
+
+    _text_kind = "escape"
 
     def _summary(self) -> str:
         d = self._data
@@ -373,6 +390,8 @@ class SuperdiffusionResult(Result):
     per octave: ``t``, ``variance_ratio`` (→ 1), ``second_moment_ratio`` (→ 2), each with
     ``_err``, ``ks_distance``, ``samples``."""
 
+    _text_kind = "superdiffusion"
+
     def __init__(self, text: str):
         super().__init__(text)
         self.lags = _records(self._data["lags"])
@@ -388,6 +407,8 @@ class SuperdiffusionResult(Result):
 
 class AuditResult(Result):
     """A shadow audit: the events replayed in MPFR and how many fell outside the error model."""
+
+    _text_kind = "audit"
 
     def _summary(self) -> str:
         s = self._data["summary"]
@@ -411,6 +432,8 @@ class BenchResult(Result):
 class ShadowResult(Result):
     """True orbits shadowing f64 segments (Newton's method, certified by Kantorovich)."""
 
+    _text_kind = "shadow"
+
     def _summary(self) -> str:
         d = self._data
         return f"{len(d['segments'])} segments: {d['converged']} converged, {d['certified']} certified"
@@ -418,6 +441,8 @@ class ShadowResult(Result):
 
 class CertifyResult(Result):
     """A segment of an equilibrium trajectory certified to its digits."""
+
+    _text_kind = "certify"
 
     def _summary(self) -> str:
         d = self._data

@@ -56,6 +56,76 @@ def _untimed(text):
     return re.sub(r"about .* here", "about TIME here", text)
 
 
+def _unclocked(text):
+    """``_untimed`` and also every other wall time (``2.4 s)``, ``in 1.8 s``) and the thread
+    count beside it."""
+    text = re.sub(r"\d+ threads?, ", "THREADS, ", _untimed(text))
+    return re.sub(r"\b\d+\.\d s\b", "T s", text)
+
+
+# Each kind the library renders: (the Python call, the same run on the command line).
+_TEXT_KINDS = {
+    "field": (
+        lambda: lg.diffusion(w=0.1, collisions=4e5, batches=4, field="1/2", localization_samples=1e4),
+        ["diffusion", "--w", "0.1", "--collisions", "4e5", "--batches", "4", "--field", "1/2",
+         "--localization-samples", "1e4"],
+    ),
+    "field-localized": (
+        lambda: lg.diffusion(w=0.1, collisions=4e5, batches=4, field=100, localization_samples=1e4),
+        ["diffusion", "--w", "0.1", "--collisions", "4e5", "--batches", "4", "--field", "100",
+         "--localization-samples", "1e4"],
+    ),
+    "hops": (
+        lambda: lg.hops(w=0.1, collisions=1e6, batches=4, order=2),
+        ["hops", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2"],
+    ),
+    "theory": (
+        lambda: lg.theory(w=0.1, collisions=1e6, batches=4, order=2),
+        ["theory", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2"],
+    ),
+    "lattice-walk": (
+        lambda: lg.lattice_walk(w=0.1, collisions=1e6, batches=4, order=2),
+        ["lattice-walk", "--w", "0.1", "--collisions", "1e6", "--batches", "4", "--order", "2"],
+    ),
+    "backscatter": (
+        lambda: lg.backscatter(w=0.1, particles=1e5, batches=4),
+        ["backscatter", "--w", "0.1", "--particles", "1e5", "--batches", "4"],
+    ),
+    "escape": (
+        lambda: lg.escape(w=0.1, particles_per_width=3200),
+        ["escape", "--w", "0.1", "--particles-per-width", "3200"],
+    ),
+    "certify": (
+        lambda: lg.certify(w=0.1, collisions=50),
+        ["certify", "--w", "0.1", "--collisions", "50"],
+    ),
+    "shadow": (
+        lambda: lg.shadow(w=0.1, collisions_per_segment=100, segments=4),
+        ["shadow", "--w", "0.1", "--collisions-per-segment", "100", "--segments", "4"],
+    ),
+    "superdiffusion": (
+        lambda: lg.superdiffusion(radius="1/4", scene="square", collisions=3.2e6, batches=16, octaves=6),
+        ["superdiffusion", "--scene", "square", "--radius", "1/4", "--collisions", "3.2e6",
+         "--batches", "16", "--octaves", "6"],
+    ),
+    "audit": (
+        lambda: lg.audit(w=0.1, collisions=2e4, batches=2, field="1/2"),
+        ["audit", "--w", "0.1", "--collisions", "2e4", "--batches", "2", "--field", "1/2"],
+    ),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(_TEXT_KINDS))
+def test_str_of_each_kind_is_the_command_lines_text(kind, cli):
+    call, args = _TEXT_KINDS[kind]
+    result = call()
+    assert result._text_kind == kind.split("-localized")[0]
+    code, out, err = cli(*args, "--quiet")
+    assert code == 0, err
+    assert _unclocked(str(result)) == _unclocked(out.rstrip("\n"))
+    assert not str(result).startswith(type(result).__name__), "the generic table, not the text"
+
+
 def test_str_is_the_command_lines_text(run, cli):
     code, out, err = cli("diffusion", "--w", "0.1", "--collisions", "4e6", "--batches", "8", "--quiet")
     assert code == 0, err
@@ -64,11 +134,15 @@ def test_str_is_the_command_lines_text(run, cli):
 
 
 def test_str_and_html_show_every_scalar_with_its_error_to_its_place():
-    # A result whose command-line text the library does not render: the generic table.
-    run = lg.hops(w=0.1, collisions=1e6, batches=4, order=2)
+    # A result whose command-line text the library does not render: the generic table (here a
+    # hops result with its text turned off).
+    class PlainHops(lg.HopsResult):
+        _text_kind = None
+
+    run = PlainHops(lg.hops(w=0.1, collisions=1e6, batches=4, order=2).to_json())
     text = str(run)
     first, *rest = text.splitlines()
-    assert first.startswith("HopsResult: ")
+    assert first.startswith("PlainHops: ")
     d_line = next(l for l in rest if l.split()[0] == "D_GK")
     value, err = (float(x) for x in d_line.split()[1::2])
     # The error to two significant digits, the value to the same place.

@@ -58,48 +58,5 @@ pub fn run(a: Args) -> Result<(), Error> {
 }
 
 fn print(r: &AuditReport) {
-    let s = &r.summary;
-    let c = &r.config;
-    let field = match (&c.field, c.field_exact()) {
-        (Some(b), Ok(Some(_))) => {
-            format!(" in the field B = {b} (arcs, against their running error bound)")
-        }
-        _ => String::new(),
-    };
-    println!(
-        "shadow audit, {}{field}: {} events of {} ({} collisions, {} batches, seed {}) replayed at {} bits in {:.1} s",
-        c.scene, s.audited, r.events, c.collisions, c.batches, c.seed, c.reference_bits, r.seconds
-    );
-    println!(
-        "outside the error model: {}   ambiguous at f64 resolution: {}   f64 chose another obstacle: {}",
-        s.outside, s.ambiguous, s.different_choice
-    );
-    let q = &r.quantiles;
-    println!("one-step error            median      99%         max");
-    for (name, v) in [
-        ("flight time", q.time_error),
-        ("contact point", q.position_error),
-        ("velocity", q.velocity_error),
-        ("time error / bound", q.time_error_over_bound),
-    ]
-    .into_iter()
-    .chain(
-        [
-            ("position error / bound", q.position_error_over_bound),
-            ("velocity error / bound", q.velocity_error_over_bound),
-        ]
-        .into_iter()
-        .filter_map(|(n, v)| v.map(|v| (n, v))),
-    ) {
-        println!(
-            "{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}",
-            v.median, v.p99, v.max
-        );
-    }
-    for e in s.outside_events.iter().take(5) {
-        println!(
-            "outside: state bits {:x?} excluded {:?}: {:?}",
-            e.state_bits, e.excluded, e.check
-        );
-    }
+    print!("{}", lorentz_gas::report::text::audit::audit(r));
 }

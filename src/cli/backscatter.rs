@@ -3,10 +3,9 @@
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
-use lorentz_gas::statistics::comparison;
 
 use super::args::{GapArg, OutputArgs, PrecisionArg, RunArgs, parse_count, parse_count_u32};
-use super::output::{emit, sigmas};
+use super::output::emit;
 use super::progress::Progress;
 
 #[derive(clap::Args)]
@@ -56,41 +55,5 @@ pub fn run(a: Args) -> Result<(), Error> {
 }
 
 fn print(r: &BackscatterReport) {
-    let n = r.meta.batches.unwrap_or_default() as usize;
-    println!(
-        "injection into one trap, w = {} ({} particles, {} batches, seed {}){}",
-        r.w,
-        r.particles,
-        r.meta.batches.unwrap_or_default(),
-        r.meta.seed.unwrap_or_default(),
-        comparison::few_samples_note(n, "batches")
-    );
-    println!(
-        "p_bs = {:.5} ± {:.5}   p_l = {:.5} ± {:.5}   p_r = {:.5} ± {:.5}   p_cf = {:.5} ± {:.5}",
-        r.p_bs, r.p_bs_err, r.p_l, r.p_l_err, r.p_r, r.p_r_err, r.p_cf, r.p_cf_err
-    );
-    println!(
-        "mean visit time      = {:.5} ± {:.5}   Kac tau = {:.5}  ({})",
-        r.mean_visit_time,
-        r.mean_visit_time_err,
-        r.mean_visit_time_exact,
-        sigmas(
-            r.mean_visit_time,
-            r.mean_visit_time_err,
-            r.mean_visit_time_exact,
-            n
-        )
-    );
-    println!(
-        "collisions per visit = {:.4} ± {:.4}   Kac pi/(3w) = {:.4}  ({})",
-        r.mean_collisions_per_visit,
-        r.mean_collisions_per_visit_err,
-        r.mean_collisions_per_visit_exact,
-        sigmas(
-            r.mean_collisions_per_visit,
-            r.mean_collisions_per_visit_err,
-            r.mean_collisions_per_visit_exact,
-            n
-        )
-    );
+    print!("{}", lorentz_gas::report::text::backscatter::backscatter(r));
 }

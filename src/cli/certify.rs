@@ -40,16 +40,6 @@ pub fn run(a: Args) -> Result<(), Error> {
     drop(opts);
     drop(pb);
     emit(a.output.json, &c, |c| {
-        println!(
-            "{}: {} collisions from the seed-{} start certified to {:.1} digits (runs at {} and {} bits agree; tried {:?});\nthe f64 orbit from the same start stays within 1e-3 of it for {} collisions",
-            c.scene,
-            c.collisions,
-            a.seed,
-            c.digits_agreed,
-            c.bits,
-            2 * c.bits,
-            c.tried,
-            c.f64_faithful_collisions
-        );
+        print!("{}", lorentz_gas::report::text::certify::certify(c));
     })
 }

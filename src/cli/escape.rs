@@ -77,50 +77,5 @@ pub fn run(a: Args) -> Result<(), Error> {
 }
 
 fn print(r: &EscapeReport) {
-    let m = &r.meta;
-    println!(
-        "escape rate from open strips, w = {}  (seed {}, {} batches per width, {}, {:.3e} events, {:.1} s)",
-        r.w,
-        m.seed.unwrap_or_default(),
-        r.batches_per_width,
-        lorentz_gas::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
-        r.events as f64,
-        r.seconds
-    );
-    println!(
-        "{:>9} {:>6} {:>10} {:>10} {:>24} {:>22} {:>10}",
-        "L", "L/a", "particles", "tail t0", "gamma", "D_eff", "tail chk"
-    );
-    for w in &r.widths {
-        println!(
-            "{:>9.4} {:>6.1} {:>10} {:>10.1} {:>13.6e} ± {:>8.2e} {:>11.6} ± {:>8.6} {:>+8.1} σ",
-            w.L,
-            w.L_over_a,
-            w.particles,
-            w.tail_start,
-            w.gamma,
-            w.gamma_err,
-            w.D_eff,
-            w.D_eff_err,
-            w.tail_check_sigma
-        );
-    }
-    println!("fit: {}", r.finite_size_form);
-    println!(
-        "D_escape       = {:.6} ± {:.6}   (chi2/dof = {:.2} with {} dof{})",
-        r.D_escape,
-        r.D_escape_err,
-        r.chi2_per_dof,
-        r.dof,
-        if r.errors_scaled {
-            "; errors scaled by sqrt(chi2/dof)"
-        } else {
-            ""
-        }
-    );
-    println!(
-        "slope c        = {:.5} ± {:.5}   boundary shift b = {:.4} ± {:.4}",
-        r.slope, r.slope_err, r.boundary_shift, r.boundary_shift_err
-    );
-    println!("D_MZ           = {:.6}", r.D_MZ);
+    print!("{}", lorentz_gas::report::text::escape::escape(r));
 }

@@ -2,7 +2,6 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::estimators::hops::{self, HopsReport};
-use lorentz_gas::statistics::comparison;
 
 use super::args::{EngineArg, HopCommand};
 
@@ -20,43 +19,5 @@ pub fn run(a: Args) -> Result<(), Error> {
 }
 
 fn print(r: &HopsReport) {
-    println!(
-        "trap hopping along lattice trajectories, w = {} ({} visits, {:.2e} collisions, {} batches, seed {}, {} engine){}",
-        r.w,
-        r.visits,
-        r.collisions as f64,
-        r.meta.batches.unwrap_or_default(),
-        r.meta.seed.unwrap_or_default(),
-        r.meta.engine,
-        comparison::few_samples_note(r.meta.batches.unwrap_or_default() as usize, "batches")
-    );
-    println!(
-        "p_bs = {:.5} ± {:.5}   p_cf = {:.6} ± {:.6}",
-        r.p_bs, r.p_bs_err, r.p_cf, r.p_cf_err
-    );
-    let pairs: Vec<String> = r
-        .pairs
-        .iter()
-        .map(|(k, v)| format!("p({k}) = {v:.5} ± {:.5}", r.pairs_err[k]))
-        .collect();
-    for c in pairs.chunks(3) {
-        println!("{}", c.join("   "));
-    }
-    let verdict = if r.symmetry_max_z <= r.symmetry_bound {
-        "hold"
-    } else {
-        "VIOLATED"
-    };
-    println!(
-        "symmetries p(s) = p(mirror s) = p(reversed mirror s): largest |z| = {:.2} of {} paired comparisons (bound {:.2}: the 4σ-equivalent t with {} dof over {} comparisons): {verdict}",
-        r.symmetry_max_z,
-        r.symmetry_comparisons,
-        r.symmetry_bound,
-        r.meta.batches.unwrap_or(1).saturating_sub(1),
-        r.symmetry_comparisons
-    );
-    println!(
-        "hop-level Green-Kubo D = {:.6} ± {:.6}   (D_MZ = {:.6})",
-        r.D_GK, r.D_GK_err, r.D_MZ
-    );
+    print!("{}", lorentz_gas::report::text::hops::hops(r));
 }

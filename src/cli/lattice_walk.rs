@@ -3,7 +3,6 @@
 use lorentz_gas::Error;
 use lorentz_gas::engine::Engine;
 use lorentz_gas::estimators::hops::lattice_walks::{self, LatticeWalkReport};
-use lorentz_gas::statistics::comparison;
 
 use super::args::HopCommand;
 
@@ -19,29 +18,8 @@ pub fn run(a: Args) -> Result<(), Error> {
 }
 
 fn print(r: &LatticeWalkReport) {
-    println!(
-        "w = {}: D_MZ = {:.6}, hop-level Green-Kubo D of the Lorentz gas = {:.6} ± {:.6}{}",
-        r.w,
-        r.D_MZ,
-        r.D_GK,
-        r.D_GK_err,
-        comparison::few_samples_note(r.meta.batches.unwrap_or_default() as usize, "batches")
+    print!(
+        "{}",
+        lorentz_gas::report::text::lattice_walk::lattice_walk(r)
     );
-    for x in &r.walks {
-        let verdict = if x.simulated_z.abs() <= x.simulated_bound {
-            "agree"
-        } else {
-            "DISAGREE"
-        };
-        println!(
-            "order {}: simulated D = {:.6} ± {:.6}   exact D = {:.6} ± {:.6} (table's jackknife)   simulated − exact: {:+.1}σ of the walk's own noise, bound {:.1}σ: {verdict}",
-            x.order,
-            x.D_simulated,
-            x.D_simulated_err,
-            x.D_exact,
-            x.D_exact_err,
-            x.simulated_z,
-            x.simulated_bound
-        );
-    }
 }

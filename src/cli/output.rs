@@ -2,7 +2,6 @@
 
 use std::io::Write as _;
 
-use lorentz_gas::statistics::comparison;
 use serde::Serialize;
 
 use lorentz_gas::Error;
@@ -34,17 +33,4 @@ pub fn emit<T: Serialize>(json: bool, r: &T, text: impl FnOnce(&T)) -> Result<()
         text(r);
     }
     Ok(())
-}
-
-/// "+0.4σ, bound 4.6σ: agree" for a measured value with an error from `n` batches against an
-/// exact one (the bound is the Student-t equivalent of 4σ with n − 1 dof).
-pub fn sigmas(x: f64, err: f64, exact: f64, n: usize) -> String {
-    lorentz_gas::report::text::sigmas(x, err, exact, n)
-}
-
-/// "+1.5σ; no verdict: …" for a value measured where its estimator has not converged (no
-/// agreement claimed, and no disagreement either: the distance is the approach's).
-pub fn sigmas_unconverged(x: f64, err: f64, exact: f64, n: usize, why: &str) -> String {
-    let c = comparison::of(x - exact, err, comparison::batch_dof(n));
-    format!("{:+.1}σ; no verdict: {why}", c.z)
 }

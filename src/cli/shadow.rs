@@ -65,41 +65,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     let r = shadowing::run(&scene, &request, &opts)?;
     drop(opts);
     drop(pb);
-    let opt = |x: Option<f64>| x.map_or_else(|| "-".to_string(), |v| format!("{v:.2e}"));
     emit(a.output.json, &r, |r| {
-        println!(
-            "{}{}: {} segments of {} collisions at {} bits: {} converged, {} certified; median delta {}, max {}",
-            r.scene,
-            match (&r.config.field, r.config.field_exact()) {
-                (Some(b), Ok(Some(_))) => format!(" in the field B = {b} (arcs)"),
-                _ => String::new(),
-            },
-            r.segments.len(),
-            r.config.collisions_per_segment,
-            r.config.reference_bits,
-            r.converged,
-            r.certified,
-            opt(r.median_delta),
-            opt(r.max_delta)
-        );
-        println!(
-            "segment  conv  iter     delta  residual  2K|F(y0)|         K  2K*eps  min cos phi  failure"
-        );
-        for s in &r.segments {
-            let sh = &s.shadow;
-            println!(
-                "{:>7}  {:>4}  {:>4}  {:>8}  {:>8}  {:>9}  {:>8}  {:>6}  {:>11}  {}",
-                s.segment,
-                if sh.converged { "yes" } else { "no" },
-                sh.iterations,
-                opt(sh.delta),
-                opt(sh.residual),
-                opt(sh.a_priori_bound),
-                opt(sh.inverse_bound),
-                opt(sh.correction_bound),
-                opt(sh.min_cos_phi),
-                sh.failure.as_deref().unwrap_or("")
-            );
-        }
+        print!("{}", lorentz_gas::report::text::shadow::shadow(r));
     })
 }

@@ -17,7 +17,7 @@
 //!   ⟨|Δr|²⟩ ≈ 2C_flow·t ln t: the mean squared displacement is twice the limit law's variance.
 
 use rug::{Integer, Rational};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::numbers::exact::parse_exact;
@@ -55,7 +55,7 @@ pub struct Corridor<T> {
 }
 
 /// A corridor as the JSON of `lorentz constants` and `lorentz superdiffusion` shows it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CorridorJson {
     /// The primitive lattice vector (m, n).
     pub direction: [i64; 2],

@@ -34,7 +34,7 @@ pub const MAX_CERTIFY_BITS: u32 = 1 << 20;
 pub const MAX_MEMORY_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 
 /// A certified segment.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Certificate {
     /// The scene ([`Scene::label`]).
     pub scene: String,

@@ -193,10 +193,13 @@ pub struct FieldReport {
     pub all_localized: bool,
     /// Mean free time between collisions of the diffusing part: the inverse of the collision rate
     /// averaged over batches of equal duration.
+    #[serde(deserialize_with = "nan_if_null")]
     pub mean_free_time: f64,
     /// Its standard error (the rate's, propagated).
+    #[serde(deserialize_with = "nan_if_null")]
     pub mean_free_time_err: f64,
     /// Kac's closed form for it.
+    #[serde(deserialize_with = "nan_if_null")]
     pub mean_free_time_exact: f64,
     /// Localized starts drawn and set aside before the batches' diffusing starts.
     pub rejected_starts: u64,
@@ -351,6 +354,12 @@ fn all_lags(d: &DiffusionConfig) -> Vec<usize> {
     l.sort_unstable();
     l.dedup();
     l
+}
+
+/// A number of the JSON where `null` stands for what JSON cannot write (the NaN or infinity of a
+/// mean free time where every orbit is localized and nothing was run), read back as NaN.
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// The diffusing part's mean free time and its error: collision rates of batches of equal

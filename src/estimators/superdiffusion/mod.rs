@@ -226,7 +226,7 @@ impl SuperdiffusionConfig {
 }
 
 /// A superdiffusion measurement against the exact constants.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SuperdiffusionReport {
     /// The scene ([`Scene::label`]).
     pub scene: String,

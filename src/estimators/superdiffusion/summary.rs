@@ -2,7 +2,7 @@
 //! fits (tails C + B/s, the VACF's plateau, the MSD's slope in ln t) and the limit law's
 //! quartiles.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::{Batch, SuperdiffusionConfig};
 use crate::Error;
@@ -19,7 +19,7 @@ const NORMAL_QUARTILE: f64 = 0.674_489_750_196_081_7;
 pub const TAIL_MIN_FLIGHTS: u64 = 100;
 
 /// One lag t (a tail time s = t).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LagRow {
     /// The lag (and tail time) t.
     pub t: f64,
@@ -58,7 +58,7 @@ pub struct LagRow {
 }
 
 /// The scaled displacement u = Δx/√(D_sup t ln t) at one lag (u → N(0, 1)).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LawRow {
     /// The lag t.
     pub t: f64,

@@ -29,7 +29,7 @@
 //! (s, p)) is then the distance from the `f64` segment to a true orbit up to 2Kε.
 
 use rug::Float;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::engine::metadata::RunMeta;
@@ -94,7 +94,7 @@ pub struct OrbitPoint {
 ///
 /// Norms: a collision point is x = (s, p) ∈ ℝ² with the Euclidean norm (s reduced mod 2π);
 /// a segment lives in ℝ^{2N} with the ℓ² norm, F in ℝ^{2(N−1)} likewise.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Shadow {
     /// Collisions N in the segment.
     pub collisions: usize,
@@ -314,7 +314,7 @@ pub fn check_request(n: usize, bits: u32) -> Result<(), Error> {
 pub const MAX_SEGMENTS: u32 = 10_000;
 
 /// One shadowed segment of a seeded run.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SegmentShadow {
     /// Segment index k: its start is the equilibrium state of `sampling::stream(seed, k)` (the
     /// start of batch k of `lorentz diffusion --seed SEED`), run to its first collision.
@@ -327,7 +327,7 @@ pub struct SegmentShadow {
 }
 
 /// Shadows of `segments` seeded segments, with a summary.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ShadowReport {
     /// The scene ([`Scene::label`]).
     pub scene: String,
@@ -348,7 +348,7 @@ pub struct ShadowReport {
 }
 
 /// What [`run`] is asked for.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ShadowConfig {
     /// Collisions N of each segment, 2 to [`MAX_COLLISIONS`].
     pub collisions_per_segment: usize,

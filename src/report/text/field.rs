@@ -1,0 +1,118 @@
+//! The text `lorentz diffusion --field B` prints (the diffusion tensor in a magnetic field): the
+//! command line writes it to stdout, and Python's `str()` of the result is the same text.
+
+use super::{line, sigmas};
+use crate::estimators::field::FieldReport;
+use crate::statistics::comparison;
+use crate::theory::magnetic::SHARE_TOLERANCE;
+
+/// The text of a diffusion result in a field, line by line as the command line prints it.
+pub fn field(r: &FieldReport) -> String {
+    let mut out = String::new();
+    let m = &r.meta;
+    line!(
+        out,
+        "periodic Lorentz gas in a magnetic field, w = {}, B = {} (cyclotron radius {:.6})  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {:.1} s)",
+        r.w,
+        r.config.field,
+        r.cyclotron_radius,
+        m.precision,
+        m.engine,
+        m.seed.unwrap_or_default(),
+        m.batches.unwrap_or_default(),
+        r.collisions as f64,
+        r.seconds
+    );
+    let n = r.batch_D_xx.len();
+    line!(
+        out,
+        "localized share = {:.6} ± {:.6}   exact {:.6} (pinned {:.6}, skipping {:.6}; {})",
+        r.localized_fraction,
+        r.localized_fraction_err,
+        r.localized_fraction_exact,
+        r.pinned_fraction_exact,
+        r.skipping_fraction_exact,
+        binomial(r)
+    );
+    if r.all_localized {
+        line!(
+            out,
+            "every orbit is localized (2ρ ≤ A − 2r): D_xx = D_xy = 0 exactly, no trajectory run"
+        );
+        return out;
+    }
+    tensor(&mut out, r, n);
+    out
+}
+
+/// The tensor lines of a run that was not all localized: whole phase space, the diffusing
+/// part, the check window and the mean free time against Kac's.
+fn tensor(out: &mut String, r: &FieldReport, n: usize) {
+    line!(
+        out,
+        "D_xx          = {:.6} ± {:.6}   (whole phase space; the diffusing part's × {:.6})",
+        r.D_xx,
+        r.D_xx_err,
+        1.0 - r.localized_fraction_exact
+    );
+    line!(
+        out,
+        "D_xy (Hall)   = {:.6} ± {:.6}   (from the Lévy area; whole phase space)",
+        r.D_xy,
+        r.D_xy_err
+    );
+    let t = &r.diffusing;
+    let c = &r.diffusing_check;
+    line!(
+        out,
+        "diffusing part: D_xx {:.6} ± {:.6}, D_yy {:.6} ± {:.6}, Hall D_xy {:.6} ± {:.6}, symmetric D_xy {:.6} ± {:.6}   (MSD slopes over [{}τ, {}τ], τ = {:.4})",
+        t.D_xx,
+        t.D_xx_err,
+        t.D_yy,
+        t.D_yy_err,
+        t.D_xy,
+        t.D_xy_err,
+        t.D_xy_symmetric,
+        t.D_xy_symmetric_err,
+        r.window.lo,
+        r.window.hi,
+        r.tau
+    );
+    line!(
+        out,
+        "check window  : D_xx {:.6} ± {:.6}, Hall D_xy {:.6} ± {:.6}   (over [{}τ, {}τ])",
+        c.D_xx,
+        c.D_xx_err,
+        c.D_xy,
+        c.D_xy_err,
+        r.check_window.lo,
+        r.check_window.hi
+    );
+    line!(
+        out,
+        "mean free time = {:.6} ± {:.6}   Kac {:.6}  ({})",
+        r.mean_free_time,
+        r.mean_free_time_err,
+        r.mean_free_time_exact,
+        sigmas(
+            r.mean_free_time,
+            r.mean_free_time_err,
+            r.mean_free_time_exact,
+            n
+        )
+    );
+}
+
+/// The sampled localized share against the exact one (binomial error).
+fn binomial(r: &FieldReport) -> String {
+    let f = r.localized_fraction_exact;
+    let n = r.config.localization_samples as f64;
+    let err = (f * (1.0 - f)).max(0.0).sqrt() / n.sqrt() + SHARE_TOLERANCE;
+    let c = comparison::of(r.localized_fraction - f, err, f64::INFINITY);
+    format!(
+        "{:+.1}σ, bound {:.1}σ: {}",
+        c.z,
+        c.bound,
+        if c.agrees() { "agree" } else { "DISAGREE" }
+    )
+}
