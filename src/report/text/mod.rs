@@ -47,22 +47,30 @@ pub fn sigmas_unconverged(x: f64, err: f64, exact: f64, n: usize, why: &str) -> 
 /// # Errors
 /// JSON that is not a result of that kind.
 pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
-    let bad = |e: serde_json::Error| Error::Invalid(format!("a {kind} result: {e}"));
     let text = match kind {
-        "diffusion" => diffusion::diffusion(&serde_json::from_str(json).map_err(bad)?),
-        "field" => field::field(&serde_json::from_str(json).map_err(bad)?),
-        "hops" => hops::hops(&serde_json::from_str(json).map_err(bad)?),
-        "theory" => theory::theory(&serde_json::from_str(json).map_err(bad)?),
-        "lattice-walk" => lattice_walk::lattice_walk(&serde_json::from_str(json).map_err(bad)?),
-        "backscatter" => backscatter::backscatter(&serde_json::from_str(json).map_err(bad)?),
-        "escape" => escape::escape(&serde_json::from_str(json).map_err(bad)?),
-        "superdiffusion" => {
-            superdiffusion::superdiffusion(&serde_json::from_str(json).map_err(bad)?)
-        }
-        "shadow" => shadow::shadow(&serde_json::from_str(json).map_err(bad)?),
-        "certify" => certify::certify(&serde_json::from_str(json).map_err(bad)?),
-        "audit" => audit::audit(&serde_json::from_str(json).map_err(bad)?),
+        "diffusion" => render(kind, json, diffusion::diffusion)?,
+        "field" => render(kind, json, field::field)?,
+        "hops" => render(kind, json, hops::hops)?,
+        "theory" => render(kind, json, theory::theory)?,
+        "lattice-walk" => render(kind, json, lattice_walk::lattice_walk)?,
+        "backscatter" => render(kind, json, backscatter::backscatter)?,
+        "escape" => render(kind, json, escape::escape)?,
+        "superdiffusion" => render(kind, json, superdiffusion::superdiffusion)?,
+        "shadow" => render(kind, json, shadow::shadow)?,
+        "certify" => render(kind, json, certify::certify)?,
+        "audit" => render(kind, json, audit::audit)?,
         _ => return Ok(None),
     };
     Ok(Some(text))
+}
+
+/// `text` of the result `json` of kind `kind`, read back into its report type.
+fn render<R: serde::de::DeserializeOwned>(
+    kind: &str,
+    json: &str,
+    text: fn(&R) -> String,
+) -> Result<String, Error> {
+    let r =
+        serde_json::from_str(json).map_err(|e| Error::Invalid(format!("a {kind} result: {e}")))?;
+    Ok(text(&r))
 }
