@@ -741,3 +741,33 @@ fn regression_arc_return_on_a_disk_is_kept_when_drift_puts_the_cyclotron_circle_
     let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
     assert!(rep.events >= 231, "{rep:?}");
 }
+
+/// The twenty-first libFuzzer campaign: square lattice, r = 0.4999999999997726 (the disks
+/// 4.5·10⁻¹³ apart), B = 2 (ρ = 1/2): a particle 1.8·10⁻¹⁶ off disk 0, moving along it, its
+/// cyclotron circle 2.3·10⁻¹³ from concentric with the disk and tangent to it within 1.6u — the
+/// disk inside the circle. The disk frame left the tangency to the radical line, whose 1/M
+/// (M = 2·10⁻²⁵) placed the contact 10⁻⁹ off the disk: the speed after it was off by 9.4·10⁷u.
+/// Now the disk inside the cyclotron circle is missed, its orbit entering it by less than the
+/// rounding (`fuzz/artifacts/arc_kernel/crash-eea82b92…`).
+#[test]
+fn regression_arc_disk_inside_a_concentric_cyclotron_circle_tangent_within_rounding_is_missed() {
+    let data: [u8; 49] = [
+        255, 255, 134, 255, 1, 163, 0, 0, 122, 25, 134, 255, 1, 163, 0, 0, 122, 25, 1, 170, 170,
+        170, 170, 170, 170, 170, 255, 255, 255, 255, 255, 255, 1, 170, 170, 170, 170, 170, 170,
+        170, 255, 255, 255, 255, 255, 255, 40, 185, 0,
+    ];
+    let rep = arc_kernel(&data).unwrap_or_else(|e| panic!("{e}"));
+    assert!(rep.events >= 1, "{rep:?}");
+    use lorentz_gas::kernel::arc::Arc;
+    use lorentz_gas::kernel::vec2::Vec2;
+    let r = 0.4999999999997726f64;
+    let v = Vec2::new(0.8660254037844387f64, -0.5000000000000002);
+    let c = Arc::new(&v, &2.0).contact(
+        -0.2499999999998866,
+        -0.43301270189202246,
+        &r,
+        &(r * r),
+        false,
+    );
+    assert_eq!(c, None);
+}

@@ -11,6 +11,7 @@ mod common;
 mod arc_audit;
 mod arc_engine;
 mod arc_shadowing;
+mod arc_tangency_band;
 mod arc_tangent;
 mod bit_for_bit;
 mod certified;

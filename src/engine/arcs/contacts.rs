@@ -30,8 +30,8 @@ pub(super) fn coincident<V: Lanes>(
 }
 
 /// The disk-frame contact ([`crate::kernel::arc::Arc`]'s `disk_frame`) where it decides, in
-/// the lanes `ok` (`off`: the particle is off the circle): (no contact, a contact, chord x,
-/// chord y).
+/// the lanes `ok` (`off`: the particle is off the circle): (no contact, a contact, contact as on
+/// the circle, chord x, chord y).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn disk_frame<V: Lanes>(
@@ -41,46 +41,27 @@ pub(super) fn disk_frame<V: Lanes>(
     (dx, dy, dd): (V, V, V),
     (mx, my, mm): (V, V, V),
     (ok, off): (V::Mask, V::Mask),
-) -> (V::Mask, V::Mask, V, V) {
+) -> (V::Mask, V::Mask, V::Mask, V, V) {
     let z = V::splat(0.0);
     let conc = coincident(c, a, dd, mm, ok);
     let sm = mm.sqrt();
     let awr = c.aw.mul(d.r);
-    let g = awr.sub(a.speed).mul(awr.add(a.speed)).add(mm);
+    let small = awr.sub(a.speed);
+    let wider = small.lt(z);
+    let g = small.mul(awr.add(a.speed)).add(mm);
     let aa = g.div(c.w.mul(V::splat(2.0)).mul(sm));
     let rs2 = d.r.sub(aa).mul(d.r.add(aa));
     let cut = rs2.gt(z);
     let some = V::and(V::and_not(ok, conc), cut);
-    // Off the circle only: a particle on it keeps its return ([`crate::kernel::arc::Arc`]).
+    // Off the circle without a cut: a disk inside the cyclotron circle is missed, a particle
+    // whose circle is inside the disk is on it ([`crate::kernel::arc::Arc`]).
     let rest = V::and(off, V::and_not(V::and_not(ok, conc), cut));
-    let miss = if V::bits(rest) == 0 {
-        rest
-    } else {
-        let margin = miss_margin(c, a, d, (dd, aa, sm));
-        V::and(rest, rs2.neg().sub(margin).gt(z))
-    };
+    let miss = V::and(rest, wider);
+    let as_on = V::and_not(rest, wider);
     let rs = rs2.sqrt();
     let yx = aa.mul(mx).sub(rs.mul(my)).div(sm);
     let yy = aa.mul(my).add(rs.mul(mx)).div(sm);
-    (V::or(conc, miss), some, yx.sub(dx), yy.sub(dy))
-}
-
-/// The rounding of the disk frame's rs² ([`crate::kernel::arc::Arc`]'s `miss_margin`), in the
-/// same operations.
-#[inline(always)]
-fn miss_margin<V: Lanes>(c: &Consts<V>, a: &ArcL<V>, d: &DiskC<V>, (dd, aa, sm): (V, V, V)) -> V {
-    let u = f64::EPSILON / 2.0;
-    let wrv = c.aw.mul(d.r).add(a.speed);
-    let reach = c.aw.mul(dd.sqrt()).add(a.speed);
-    let abs_a = aa.abs();
-    let da = wrv
-        .mul(wrv)
-        .div(c.aw)
-        .add(abs_a.mul(reach))
-        .mul(V::splat(8.0 * u))
-        .div(sm);
-    let ra = d.r.add(abs_a);
-    ra.mul(da.mul(V::splat(2.0)).add(ra.mul(V::splat(3.0 * u))))
+    (V::or(conc, miss), some, as_on, yx.sub(dx), yy.sub(dy))
 }
 
 /// Disk `m`'s contact in every lane ([`crate::kernel::arc::Arc::contact`]), and where the
@@ -117,8 +98,8 @@ pub(super) fn disk<V: Lanes>(
         a.vv.sub(mm.mul(V::splat(4.0))).gt(z),
         V::or(not::<V>(onc, all), V::and(onc, bpos)),
     );
-    let (none, some, fx, fy) = if V::bits(ok) == 0 {
-        (ok, ok, z, z)
+    let (none, some, as_on, fx, fy) = if V::bits(ok) == 0 {
+        (ok, ok, ok, z, z)
     } else {
         let off = not::<V>(onc, all);
         disk_frame(c, a, d, (dx, dy, dd), (mx, my, mm), (ok, off))
@@ -128,7 +109,7 @@ pub(super) fn disk<V: Lanes>(
         c,
         a,
         d,
-        (dd, mm, beta),
+        (dd, mm, beta, gamma),
         (fx, fy),
         V::and(V::and_not(some, onc), bneg),
     );
@@ -153,6 +134,8 @@ pub(super) fn disk<V: Lanes>(
     );
     let f = w.mul(gamma).mul(V::splat(0.5)).neg().mul(inv);
     let (nx, ny) = (f.mul(mx).add(s_in.mul(ex)), f.mul(my).add(s_in.mul(ey)));
+    // A particle off the circle that the disk frame puts on it has the contact of one on it.
+    let onc = V::or(onc, as_on);
     let ret = V::and(onc, bpos);
     let now = V::and(V::and_not(onc, bpos), V::or(bneg, turn_in));
     let decided = V::or(none, some);
@@ -182,7 +165,7 @@ pub(super) fn entry_now<V: Lanes>(
     c: &Consts<V>,
     a: &ArcL<V>,
     d: &DiskC<V>,
-    (dd, mm, beta): (V, V, V),
+    (dd, mm, beta, gamma): (V, V, V, V),
     (fx, fy): (V, V),
     lanes: V::Mask,
 ) -> V::Mask {
@@ -198,10 +181,15 @@ pub(super) fn entry_now<V: Lanes>(
         .add(d.r.add(dn).mul(V::splat(2.0)).mul(across))
         .mul(four_u);
     let chord2 = fx.mul(fx).add(fy.mul(fy));
-    V::and(
-        lanes,
-        not::<V>(chord2.sub(bound.mul(bound)).gt(V::splat(0.0)), a.all),
-    )
+    let within = not::<V>(chord2.sub(bound.mul(bound)).gt(V::splat(0.0)), a.all);
+    // The premise: the particle within reach × sin α of the surface, or within γ's rounding.
+    let sin = beta.abs().div(dn.mul(a.speed));
+    let depth = bound
+        .mul(sin)
+        .mul(dn.add(d.r))
+        .add(dd.add(d.r.mul(d.r)).mul(V::splat(4.0 * f64::EPSILON / 2.0)));
+    let close = not::<V>(gamma.sub(depth).gt(V::splat(0.0)), a.all);
+    V::and(lanes, V::and(within, close))
 }
 
 /// Edge `e`'s exit in every lane ([`crate::kernel::arc::arc_line`]).

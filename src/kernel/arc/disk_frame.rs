@@ -6,30 +6,50 @@ use super::{Arc, Contact};
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
 
+/// What the disk frame decided about a disk ([`Arc`]'s `disk_frame`).
+pub(super) enum Frame<T> {
+    /// The contact, or that there is none.
+    Decided(Option<Contact<T>>),
+    /// The particle, off the circle, is on it within the rounding: its contact is the one of a
+    /// particle on the circle (γ = 0).
+    OnCircle,
+    /// The radical line decides.
+    Radical,
+}
+
 impl<T: Real> Arc<'_, T> {
     /// The entry into the circle of radius `r` at −d when the cyclotron centre is within half a
-    /// cyclotron radius of its centre (M < V²/4) and the circles cut, `None` otherwise;
-    /// `Some(None)` for exactly concentric circles (M = 0: no cut). Nearly concentric circles of nearly equal radii cut at a small angle, and the
-    /// radical-line form x₀ + s·e then carries its rounding along e, across both circles, by a
-    /// factor 1/M (the fourth libFuzzer campaign: 10⁸u off the disk at M = 2·10⁻⁹, and the
-    /// particle, hugging the disk, still inside it after the next crossing). In the disk's
-    /// frame the entry is y = (a·m + r sin φ·Jm)/√M with a = sgn ω·r cos φ =
+    /// cyclotron radius of its centre (M < V²/4) and the circles cut; a decision without one
+    /// where they do not. Nearly concentric circles of nearly equal radii cut at a small angle,
+    /// and the radical-line form x₀ + s·e then carries its rounding along e, across both
+    /// circles, by a factor 1/M (the fourth libFuzzer campaign: 10⁸u off the disk at
+    /// M = 2·10⁻⁹, and the particle, hugging the disk, still inside it after the next crossing).
+    /// In the disk's frame the entry is y = (a·m + r sin φ·Jm)/√M with a = sgn ω·r cos φ =
     /// ((|ω|r − V)(|ω|r + V) + M)/(2ω√M), the law of cosines with the centres √M/|ω| apart (ρ ≈ r
     /// is the exact factor |ω|r − V, and M < V²/4 keeps M − V² from cancelling), and
     /// r sin φ = √((r − a)(r + a)) ≥ 0 (Jm·y > 0 is the entry: there the velocity ωJ(y − m/ω)
     /// points into the disk). |y| = r to a few u whatever M, and the chord is y − d
-    /// (`proofs-notes/magnetic-arcs.md`). Away from concentric circles this form would lose what
-    /// the radical line keeps: a short chord between nearly tangent circles (a ≈ ±r) has
-    /// r − a below the rounding of a. For a particle off the circle (`off`: γ > 0), where the
-    /// circles miss beyond the rounding of rs² it finds no contact (`Some(None)`); where they are
-    /// tangent within it, and always for a particle on the circle, the radical line decides
-    /// (`None`).
-    pub(super) fn disk_frame(&self, d: &Vec2<T>, r: &T, off: bool) -> Option<Option<Contact<T>>> {
+    /// (`proofs-notes/magnetic-arcs.md`).
+    ///
+    /// Where they do not cut (rs² ≤ 0), one circle is inside the other to within the rounding
+    /// (D < ρ/2 rules out circles apart). For a particle off the circle (`off`: γ > 0): a disk
+    /// inside the cyclotron circle (ρ > r) is missed, and the orbit enters it by no more than the
+    /// rounding of a tangency, r + D − ρ ≲ 32u(r + ρ); a cyclotron circle inside the disk
+    /// (ρ ≤ r) puts the particle on the surface within that rounding, and its contact is the
+    /// one on the circle ([`Frame::OnCircle`]: now, or the return, which lands exactly as far
+    /// from the disk as the particle is). The radical line, with its 1/M, is not consulted there
+    /// (the seventeenth and twenty-first libFuzzer campaigns: contacts 0.16 and 10⁻⁹ off the
+    /// disk). For a particle on the circle the radical line decides its return: on both
+    /// circles, a position drifted inside the disk by its returns can put its whole cyclotron
+    /// circle inside the disk, and "no contact" then flies it through the disk (the eighteenth
+    /// campaign); near tangency the radical line runs along both circles, so its rounding moves
+    /// the return along them, not off them.
+    pub(super) fn disk_frame(&self, d: &Vec2<T>, r: &T, off: bool) -> Frame<T> {
         let (v, w) = (self.v, self.w);
         let m = Vec2::new(w.clone() * &d.x - &v.y, w.clone() * &d.y + &v.x);
         let mm = m.norm2();
         if !(self.vv.clone() - &mm.clone().scale(4.0)).gt0() {
-            return None;
+            return Frame::Radical;
         }
         let u = T::unit_roundoff(w.ctx());
         let noise = (w.clone().abs() * &d.norm2().sqrt() + &self.speed).scale(8.0 * u);
@@ -38,56 +58,33 @@ impl<T: Real> Arc<'_, T> {
             // meets it nowhere; on it the disk's own circle, the slide of [`Arc::creeps`]
             // (the ninth libFuzzer campaign: not on it by identity, β a rounding, a random
             // contact and the speed off by 150 %).
-            return Some(None);
+            return Frame::Decided(None);
         }
         let sm = mm.clone().sqrt();
         let awr = w.clone().abs() * r;
-        let g = (awr.clone() - &self.speed) * &(awr + &self.speed) + &mm;
+        let small = awr.clone() - &self.speed;
+        let g = small.clone() * &(awr + &self.speed) + &mm;
         let a = g / &(w.clone().scale(2.0) * &sm);
         let rs2 = (r.clone() - &a) * &(r.clone() + &a);
         if !rs2.gt0() {
-            if off && (-rs2 - &self.miss_margin(&a, d, r, &sm)).gt0() {
-                // Beyond its rounding: the circles do not cut (the seventeenth libFuzzer
-                // campaign: centres 1.9·10⁻⁹ apart, the disk inside the cyclotron circle and
-                // 3.6·10⁻¹² from tangency; the radical line's discriminant, of size M·h², came
-                // out as its rounding u·Vr, and its 1/M put a contact 0.16 off the disk). Not
-                // for a particle on the circle, which is on both circles: a position drifted
-                // inside the disk by its returns (within the error model) can put its whole
-                // cyclotron circle inside the disk, and "no contact" then flies it through the
-                // disk (the eighteenth campaign: 1.1·10⁻¹⁴ inside after 230 events, a tangent
-                // velocity, the circle inside the disk by as much); the return stands there.
-                return Some(None);
+            if !off {
+                return Frame::Radical;
             }
-            // Tangent to within rounding (a ≈ ±r): whether they cut is the radical line's to
-            // decide, whose product discriminant keeps the small factor (the seventh libFuzzer
-            // campaign: a particle on a disk with its cyclotron circle inside it, tangent there,
-            // found "no cut" here and flew through the disk). There the radical line runs along
-            // both circles, so its rounding moves the contact along them, not off them.
-            return None;
+            // |ω|r − V < 0: the cyclotron radius exceeds the disk's (ρ > r). A sign taken only
+            // here, where it decides (the audit counts every sign within its rounding).
+            return if small.lt0() {
+                Frame::Decided(None)
+            } else {
+                Frame::OnCircle
+            };
         }
         let rs = rs2.sqrt();
         let yx = (a.clone() * &m.x - &(rs.clone() * &m.y)) / &sm;
         let yy = (a * &m.y + &(rs * &m.x)) / &sm;
-        Some(Some(Contact {
+        Frame::Decided(Some(Contact {
             chord: Vec2::new(yx - &d.x, yy - &d.y),
             disk_frame: true,
         }))
-    }
-
-    /// The rounding of the disk frame's rs² = (r − a)(r + a), E = (r + |a|)(2δa + 3u(r + |a|)),
-    /// with δa = 8u((|ω|r + V)²/|ω| + |a|(|ω||d| + V))/|m| the rounding of a = g/(2ω|m|): g's
-    /// terms are of size (|ω|r + V)² and V², m's components carry 2u(|ω||d| + V) each, |m| < V/2
-    /// and |ω||d| ≤ 3V/2 in the disk frame (`proofs-notes/magnetic-arcs.md`). An rs² below −E
-    /// is a miss; the band |rs²| ≤ E is a tangency within about 8uρ, whatever M.
-    fn miss_margin(&self, a: &T, d: &Vec2<T>, r: &T, sm: &T) -> T {
-        let w = self.w.clone().abs();
-        let u = T::unit_roundoff(self.w.ctx());
-        let wrv = w.clone() * r + &self.speed;
-        let reach = w.clone() * &d.norm2().sqrt() + &self.speed;
-        let aa = a.clone().abs();
-        let da = (wrv.square() / &w + &(aa.clone() * &reach)).scale(8.0 * u) / sm;
-        let ra = r.clone() + &aa;
-        ra.clone() * &(da.scale(2.0) + &ra.scale(3.0 * u))
     }
 
     /// A disk-frame entry `c` for a particle off the circle (γ > 0) moving into it (β < 0), taken
@@ -113,7 +110,21 @@ impl<T: Real> Arc<'_, T> {
     /// after a crossing, and the particle flew into the disk). An entry within that reach of the
     /// particle is within the rounding of the surface across it (reach × sin α), so taking it
     /// now moves no contact off the disk by more than the rounding any contact has.
-    pub(super) fn entry_now(&self, c: Contact<T>, d: &Vec2<T>, r: &T, beta: &T) -> Contact<T> {
+    ///
+    /// That premise is checked, not assumed: the particle must be within reach × sin α of the
+    /// surface, γ = |d|² − r² ≤ reach·|β|(|d| + r)/(|d|V), or within the rounding of γ,
+    /// 4u(|d|² + r²). Along an arc the angle to the surface changes, and a far entry of a
+    /// particle moving in at a rounding-level angle has a reach of the whole circle (the
+    /// twenty-first libFuzzer campaign: a particle 1.3·10⁻¹³ off a disk of radius 1/2 at the far
+    /// side of a cyclotron circle 6·10⁻¹⁴ from concentric, taken now and reflected there, the
+    /// speed then off by 10³u).
+    pub(super) fn entry_now(
+        &self,
+        c: Contact<T>,
+        d: &Vec2<T>,
+        (r, gamma): (&T, &T),
+        beta: &T,
+    ) -> Contact<T> {
         if !beta.lt0() {
             return c;
         }
@@ -125,6 +136,12 @@ impl<T: Real> Arc<'_, T> {
         let across = (dn.clone() * &self.speed / &beta.clone().abs()).add_f64(1.0);
         let bound = (turn + &((r.clone() + &dn).scale(2.0) * &across)).scale(4.0 * u);
         if (c.chord.norm2() - &bound.square()).gt0() {
+            return c;
+        }
+        let dd = d.norm2();
+        let sin = beta.clone().abs() / &(dn.clone() * &self.speed);
+        let depth = bound * &sin * &(dn + r) + &(dd + &r.clone().square()).scale(4.0 * u);
+        if (gamma.clone() - &depth).gt0() {
             return c;
         }
         let ctx = w.ctx();

@@ -41,6 +41,7 @@
 //! kernel and MPFR at 53 bits agree event for event, bit for bit.
 
 mod disk_frame;
+use disk_frame::Frame;
 
 use super::vec2::Vec2;
 use crate::numbers::real::Real;
@@ -149,10 +150,18 @@ impl<'a, T: Real> Arc<'a, T> {
         } else {
             d.norm2() - r2
         };
-        if !gamma.gt0() {
+        let mut on = !gamma.gt0();
+        if !on {
+            match self.disk_frame(&d, r, true) {
+                Frame::Decided(c) => return c.map(|c| self.entry_now(c, &d, (r, &gamma), &beta)),
+                Frame::OnCircle => on = true,
+                Frame::Radical => {}
+            }
+        }
+        if on {
             // On the circle: the roots are s = 0 (here) and s = −2β/M (the return).
             if beta.gt0() {
-                if let Some(c) = self.disk_frame(&d, r, false) {
+                if let Frame::Decided(c) = self.disk_frame(&d, r, false) {
                     return c;
                 }
                 let s = (beta * &T::from_f64(ctx, -2.0)) * &inv;
@@ -167,9 +176,6 @@ impl<'a, T: Real> Arc<'a, T> {
                 chord: Vec2::new(T::zero(ctx), T::zero(ctx)),
                 disk_frame: false,
             });
-        }
-        if let Some(c) = self.disk_frame(&d, r, true) {
-            return c.map(|c| self.entry_now(c, &d, r, &beta));
         }
         let k = vv_wq + &(w.clone().square() * &gamma).scale(0.25);
         let disc = self.discriminant(&q, &gamma, r, &beta, &k)?;
