@@ -56,7 +56,7 @@ def escape(
 def lyapunov(
     scene: str, w: Optional[str], radius: Optional[str], collisions_per_batch: str,
     batches: str, starts: str, seed: str, threads: Optional[str], field: Optional[str],
-    progress: Progress,
+    flights: str, progress: Progress,
 ) -> str: ...
 def superdiffusion(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,

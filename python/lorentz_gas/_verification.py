@@ -50,6 +50,7 @@ def lyapunov(
     threads: Optional[Count] = None,
     progress: Progress = None,
     field: Optional[Exact] = None,
+    flights: str = "auto",
 ) -> LyapunovResult:
     """The largest Lyapunov exponent (``lorentz lyapunov``).
 
@@ -69,6 +70,11 @@ def lyapunov(
     field : exact number, optional
         A magnetic field B (1/time; 1e-3 <= abs(B) <= 1e3, triangular scene): the tangent dynamics
         of arcs on orbits started in the diffusing part of phase space; 0 or None: no field.
+    flights : {"auto", "walk", "jump"}
+        How straight flights cross the lattice: ``"jump"`` straight to the cell of the first disk
+        they can meet (the square scene with 2**-32 <= radius <= 1/4; a collision then costs the same
+        whatever the flight's length), ``"walk"`` cell by cell (the reference), ``"auto"`` jump
+        where it applies. Recorded as ``tangent["flights"]``.
 
     Returns
     -------
@@ -94,6 +100,7 @@ def lyapunov(
             _count("seed", seed),
             _threads(threads),
             _optional_exact("field", field),
+            flights,
             cb,
         )
     return LyapunovResult(text)

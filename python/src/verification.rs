@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use serde::Serialize;
 
 use lorentz_gas::engine::Engine;
+use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::Scene;
@@ -34,7 +35,7 @@ struct LyapunovJson {
 }
 
 #[pyfunction]
-#[pyo3(name = "lyapunov", signature = (scene, w, radius, collisions_per_batch, batches, starts, seed, threads, field, progress))]
+#[pyo3(name = "lyapunov", signature = (scene, w, radius, collisions_per_batch, batches, starts, seed, threads, field, flights, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_lyapunov(
     py: Python<'_>,
@@ -47,9 +48,18 @@ fn py_lyapunov(
     seed: &str,
     threads: Option<&str>,
     field: Option<&str>,
+    flights: &str,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
+    let flights: Flights = flights
+        .parse()
+        .map_err(|e: lorentz_gas::Error| PyValueError::new_err(e.to_string()))?;
     if let Some(b) = field.filter(|b| parse_exact(b).is_ok_and(|q| q != 0)) {
+        if flights == Flights::Jump {
+            return Err(PyValueError::new_err(
+                "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto",
+            ));
+        }
         return crate::field::lyapunov_in_field(
             py,
             (scene, w, radius),
@@ -71,6 +81,7 @@ fn py_lyapunov(
         collisions_per_batch: count_u64("collisions_per_batch", collisions_per_batch)?,
         batches: count_u32("batches", batches)?,
         seed,
+        flights,
     };
     let threads = inputs::threads(threads)?;
     let r = compute(py, progress, |ctl| {

@@ -3,6 +3,7 @@
 use serde::Serialize;
 
 use lorentz_gas::Error;
+use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
 use lorentz_gas::scenes::spec::SceneChoice;
 use lorentz_gas::statistics::{comparison, welch_dof};
@@ -35,6 +36,11 @@ pub struct Args {
     /// arcs, on orbits started in the diffusing part of phase space; 0 is the run without a field.
     #[arg(long, allow_negative_numbers = true)]
     field: Option<String>,
+    /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
+    /// can meet; the square scene with 2^-32 <= radius <= 1/4), walk (cell by cell, the reference), or auto
+    /// (jump where it applies). Recorded in the result as `flights`.
+    #[arg(long, default_value = "auto")]
+    flights: Flights,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -57,6 +63,12 @@ fn is_zero(b: &str) -> bool {
 
 /// `lorentz lyapunov --field B`: the tangent-space exponent on arcs.
 fn in_field(a: &Args, b: &str) -> Result<(), Error> {
+    if a.flights == Flights::Jump {
+        return Err(Error::Invalid(
+            "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto"
+                .into(),
+        ));
+    }
     if a.starts.is_some_and(|s| s > 0) {
         return Err(Error::Invalid(
             "--starts (the divergence of finite-precision orbits) is not measured in a field: leave it out or give 0".into(),
@@ -121,6 +133,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         collisions_per_batch: a.collisions_per_batch,
         batches: a.batches,
         seed: a.run.seed(),
+        flights: a.flights,
     };
     let opts = pb.options(a.run.threads());
     let tangent = with_scene!(&choice, |s| lyapunov::run(s, &cfg, &opts))?;
@@ -150,10 +163,15 @@ pub fn run(a: Args) -> Result<(), Error> {
         |r| {
             let l = &r.tangent;
             println!(
-                "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions)\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time{}",
+                "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions{})\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time{}",
                 l.scene,
                 l.batches,
                 l.collisions_per_batch,
+                if l.flights == Flights::Jump {
+                    ", long flights jumped"
+                } else {
+                    ""
+                },
                 l.per_collision,
                 l.per_collision_err,
                 l.per_time,

@@ -13,6 +13,7 @@ pub mod arcs;
 pub mod bound;
 pub mod checkpoint;
 pub mod json;
+pub mod long_flight;
 pub mod metadata;
 pub mod observe;
 pub mod options;
@@ -242,6 +243,28 @@ pub fn drive<T: Real, K: CellKernel<T>, O: Observer<1>>(
     obs: &mut O,
     progress: &dyn Fn(u64),
 ) -> Result<(), Error> {
+    drive_with(lat, s, collisions, obs, progress, |_, _, _| Ok(false))
+}
+
+/// [`drive`] with a hook that may carry out an event itself (and show it to the observer): it
+/// returns `true` if it did, and the event is then neither shown nor applied again. The long
+/// flights' jumps ([`long_flight::drive_jumps`]) are such a hook.
+///
+/// # Errors
+/// If the state loses its next event, or the hook fails.
+#[inline(always)]
+pub(crate) fn drive_with<T: Real, K: CellKernel<T>, O: Observer<1>>(
+    lat: &Lattice<T, K>,
+    s: &mut LatticeState<T>,
+    collisions: u64,
+    obs: &mut O,
+    progress: &dyn Fn(u64),
+    mut hook: impl FnMut(
+        &mut LatticeState<T>,
+        &crate::kernel::flight::Event<T>,
+        &mut O,
+    ) -> Result<bool, Error>,
+) -> Result<(), Error> {
     const CHUNK: u64 = 1 << 20;
     let mut c = 0u64;
     let mut next_report = CHUNK;
@@ -249,6 +272,9 @@ pub fn drive<T: Real, K: CellKernel<T>, O: Observer<1>>(
         let ev = lat
             .next_event(s)
             .ok_or_else(|| Error::Failed("trajectory lost its next event".into()))?;
+        if hook(s, &ev, obs)? {
+            continue;
+        }
         obs.observe::<f64>(std::slice::from_ref(&EventLanes::single(s, &ev)));
         if let crate::kernel::flight::EventKind::Collision(_) = ev.kind {
             c += 1;

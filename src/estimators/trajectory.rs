@@ -254,6 +254,8 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
             collisions_per_batch: PLAN_LAMBDA_COLLISIONS,
             batches: PLAN_LAMBDA_ORBITS,
             seed: PLAN_LAMBDA_SEED,
+            // The plan keeps its bits: the walk, as before long flights.
+            flights: crate::engine::long_flight::Flights::Walk,
         },
         &RunOptions {
             threads: 1,

@@ -9,6 +9,8 @@
 //!   to decide signs and orders before computing them.
 //! * [`tracked`]: a value at 128 bits or more with a bound on the same computation's `f64`
 //!   error (running error analysis), and its ambiguous decisions: the arcs' shadow audit.
+//! * [`rotation`]: the first entry of an integer rotation into a window, in exact integers (the
+//!   first disk a long straight flight meets in a lattice).
 //! * [`count`]: counts (`2e9`) and thread numbers as typed, parsed exactly and checked.
 //! * [`exact`]: exact decimals and fractions (`0.1`, `1/3`) parsed as rationals, and grids of them
 //!   rounded once.
@@ -19,4 +21,5 @@ pub mod exact;
 pub mod lanes;
 pub mod precision;
 pub mod real;
+pub mod rotation;
 pub mod tracked;

@@ -22,6 +22,7 @@
 //! A new scene is one file implementing [`Scene`]; it never touches [`crate::kernel`].
 
 pub mod lattice;
+pub mod long_flight;
 pub mod magnetic;
 pub mod sampling;
 pub mod single_trap;
@@ -118,6 +119,13 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// geometry of pinned and skipping orbits needs: `crate::theory::magnetic`), or `None`
     /// (the default) if the scene is not such an array.
     fn disk_lattice(&self) -> Option<magnetic::DiskLattice> {
+        None
+    }
+
+    /// The radius of the scene's disks if its straight flights can go straight to the first disk
+    /// they can meet ([`long_flight::jump`]: disks at the integer points, r ≤
+    /// [`long_flight::MAX_RADIUS`]), or `None` (the default): flights walk cell by cell.
+    fn long_flight_radius(&self) -> Option<f64> {
         None
     }
 }

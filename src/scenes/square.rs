@@ -184,6 +184,14 @@ impl Scene for SquareScene {
         Some(std::f64::consts::PI * (1.0 - std::f64::consts::PI * r * r) / 4.0)
     }
 
+    /// Jumps for 2⁻³² ≤ r ≤ 1/4 (`proofs-notes/long-flights.md`).
+    fn long_flight_radius(&self) -> Option<f64> {
+        use super::long_flight::{MAX_RADIUS, MIN_RADIUS};
+        (MIN_RADIUS..=MAX_RADIUS)
+            .contains(&self.r64)
+            .then_some(self.r64)
+    }
+
     /// Disks of radius r on the unit square lattice.
     fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
         Some(super::magnetic::DiskLattice {

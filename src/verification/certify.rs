@@ -205,6 +205,8 @@ fn certify_with_meta<S: Scene>(
             collisions_per_batch: CERTIFY_LAMBDA_COLLISIONS,
             batches: CERTIFY_LAMBDA_ORBITS,
             seed: CERTIFY_LAMBDA_SEED,
+            // The plan keeps its bits: the walk, as before long flights.
+            flights: crate::engine::long_flight::Flights::Walk,
         },
         &RunOptions {
             threads: 1,

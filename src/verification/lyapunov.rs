@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::engine::drive;
+use crate::engine::long_flight::{Flights, drive_jumps};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::RunOptions;
@@ -49,6 +50,8 @@ pub struct LyapunovReport {
     pub per_time_err: f64,
     /// Collisions of each batch (one orbit each), after a transient of 1000.
     pub collisions_per_batch: u64,
+    /// How the flights crossed the lattice: `walk` or `jump`.
+    pub flights: Flights,
     /// Independent batches (tangent-space orbits).
     pub batches: u32,
     /// Version, seed, batches, precision, engine, threads, command line.
@@ -65,6 +68,9 @@ pub struct LyapunovConfig {
     pub batches: u32,
     /// Seed: orbit b starts from stream (seed, b).
     pub seed: u64,
+    /// How flights cross the lattice ([`Flights`]): `auto` (jumps where the scene supplies them).
+    #[serde(default)]
+    pub flights: Flights,
 }
 
 impl LyapunovConfig {
@@ -74,6 +80,7 @@ impl LyapunovConfig {
             collisions_per_batch: 2_000_000,
             batches: 16,
             seed: 1,
+            flights: Flights::Auto,
         }
     }
 }
@@ -101,7 +108,12 @@ pub fn run<S: Scene>(
         collisions_per_batch,
         batches,
         seed,
+        flights,
     } = *cfg;
+    let flights = flights.resolve(scene)?;
+    let radius = scene
+        .long_flight_radius()
+        .filter(|_| flights == Flights::Jump);
     let (threads, progress) = (options.threads, options.progress);
     if collisions_per_batch == 0 || batches < 2 || threads == 0 {
         return Err(Error::TooFew {
@@ -113,8 +125,13 @@ pub fn run<S: Scene>(
     // With its transient, a batch is one trajectory: a count near 2^64 would wrap around.
     crate::engine::check_trajectory_length(collisions_per_batch)?;
     let collisions = batches as f64 * (collisions_per_batch + TANGENT_TRANSIENT) as f64;
+    let crossings = if radius.is_some() {
+        0.0
+    } else {
+        crossings_per_collision(scene)
+    };
     Work::new("lyapunov", "collisions_per_batch or batches", collisions)
-        .crossing(crossings_per_collision(scene))
+        .crossing(crossings)
         .check(threads)?;
     let lat = scene.lattice::<f64>(())?;
     let cell = lat.cell().clone();
@@ -130,13 +147,11 @@ pub fn run<S: Scene>(
             logsum: 0.0,
             time: 0.0,
         };
-        drive(
-            &lat,
-            &mut s,
-            collisions_per_batch + TANGENT_TRANSIENT,
-            &mut tangent,
-            progress,
-        )?;
+        let n = collisions_per_batch + TANGENT_TRANSIENT;
+        match radius {
+            Some(r) => drive_jumps(&lat, r, &mut s, n, &mut tangent, progress)?,
+            None => drive(&lat, &mut s, n, &mut tangent, progress)?,
+        }
         let (logsum, time) = (tangent.logsum, tangent.time);
         Ok((logsum / collisions_per_batch as f64, logsum / time))
     })?;
@@ -149,6 +164,7 @@ pub fn run<S: Scene>(
         per_time: pt,
         per_time_err: pte,
         collisions_per_batch,
+        flights,
         batches,
         meta: RunMeta::new(Some(seed), Some(batches as u64), "f64", Some(threads)),
     })

@@ -253,6 +253,7 @@ fn the_lyapunov_exponent_is_even_in_b_and_joins_the_zero_field_one() {
             collisions_per_batch: 200_000,
             batches: ORBITS,
             seed: 3,
+            ..LyapunovConfig::new()
         },
         &threads(2),
     )

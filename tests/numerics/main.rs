@@ -22,6 +22,7 @@ mod field;
 mod fuzz_oracle;
 mod hard_cases;
 mod kernel_properties;
+mod long_flight;
 mod physics;
 mod scene_diffusion;
 mod scenes;

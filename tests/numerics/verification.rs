@@ -283,6 +283,7 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
             collisions_per_batch: 200_000,
             batches: 8,
             seed: 3,
+            ..LyapunovConfig::new()
         };
         let l = lyapunov::run(&scene, &cfg, &two).unwrap();
         let cfg = DivergenceConfig {
@@ -383,6 +384,7 @@ fn precision_doubling_certifies_a_segment() {
             collisions_per_batch: 100_000,
             batches: 4,
             seed: 3,
+            ..LyapunovConfig::new()
         },
         &RunOptions::default(),
     )

@@ -104,6 +104,8 @@ pub fn run(
             per_time: pt,
             per_time_err: pte,
             collisions_per_batch: cfg.collisions_per_batch,
+            // Arcs cross the lattice cell by cell.
+            flights: crate::engine::long_flight::Flights::Walk,
             batches: cfg.batches,
             meta: RunMeta::new(
                 Some(cfg.seed),

@@ -1,0 +1,27 @@
+"""Long flights (`flights=`): the jumps give the command line's bits, say so, and are refused
+where they do not apply."""
+
+import pytest
+
+import lorentz_gas as lg
+
+
+def test_lyapunov_with_jumps_has_the_command_lines_bits(cli_json):
+    args = dict(scene="square", radius="1/1000", collisions_per_batch=1e5, batches=4, starts=0)
+    r = lg.lyapunov(**args, progress=False)
+    c = cli_json("lyapunov", "--scene", "square", "--radius", "1/1000",
+                 "--collisions-per-batch", "1e5", "--batches", "4", "--starts", "0")
+    assert r.tangent["flights"] == c["tangent"]["flights"] == "jump"
+    assert r.tangent["per_collision"] == c["tangent"]["per_collision"]
+    walk = lg.lyapunov(**args, flights="walk", progress=False)
+    assert walk.tangent["flights"] == "walk"
+
+
+@pytest.mark.parametrize("kw, says", [
+    (dict(w=0.1, flights="jump"), "has no long flights"),
+    (dict(w=0.1, flights="hop"), "use auto, walk or jump"),
+    (dict(w=0.1, field=1, flights="jump"), "cell by cell"),
+])
+def test_jumps_where_they_do_not_apply_are_a_value_error(kw, says):
+    with pytest.raises(ValueError, match=says):
+        lg.lyapunov(**kw, starts=0, progress=False)

@@ -1,0 +1,113 @@
+//! The scalar engine with long flights: in a scene that supplies them
+//! ([`Scene::long_flight_radius`]), a flight leaving its cell through the edge it faces along its
+//! major axis goes straight to the cell of the first disk it can meet
+//! ([`crate::scenes::long_flight::jump`]), so a collision costs the same whatever the flight's
+//! length (`proofs-notes/long-flights.md`). The cell walk stays the reference.
+
+use serde::{Deserialize, Serialize};
+
+use super::drive_with;
+use super::observe::{EventLanes, Observer};
+use crate::Error;
+use crate::kernel::cell::CellKernel;
+use crate::kernel::flight::{Event, EventKind, Flight};
+use crate::scenes::Scene;
+use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::scenes::long_flight::{jump, major_edge};
+
+/// How free flights cross the lattice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Flights {
+    /// Jumps wherever the scene supplies them (the square lattice with 2⁻³² ≤ r ≤ 1/4, where a jump
+    /// costs no more than the crossings it saves: `proofs-notes/long-flights.md`), else the walk.
+    #[default]
+    Auto,
+    /// Cell by cell (the reference: every edge crossing is an event).
+    Walk,
+    /// Jumps; refused where the scene does not supply them.
+    Jump,
+}
+
+impl Flights {
+    /// The engine that runs for `scene`: `Walk` or `Jump`.
+    ///
+    /// # Errors
+    /// `Jump` in a scene without long flights.
+    pub fn resolve<S: Scene>(self, scene: &S) -> Result<Flights, Error> {
+        match (self, scene.long_flight_radius()) {
+            (Flights::Walk, _) | (Flights::Auto, None) => Ok(Flights::Walk),
+            (_, Some(_)) => Ok(Flights::Jump),
+            (Flights::Jump, None) => Err(Error::Invalid(format!(
+                "flights = jump: {} has no long flights (the square lattice with 2^-32 <= radius \
+                 <= 1/4 has); use walk or auto",
+                scene.label()
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for Flights {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Flights::Auto => "auto",
+            Flights::Walk => "walk",
+            Flights::Jump => "jump",
+        })
+    }
+}
+
+impl std::str::FromStr for Flights {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s {
+            "auto" => Ok(Flights::Auto),
+            "walk" => Ok(Flights::Walk),
+            "jump" => Ok(Flights::Jump),
+            _ => Err(Error::Invalid(format!(
+                "flights = {s}: use auto, walk or jump"
+            ))),
+        }
+    }
+}
+
+/// [`super::drive`] with jumps in a lattice of disks of radius `r` at the integer points: the
+/// observer sees a jump as the crossing of the edge it leaves by, with the jump's flight time (the
+/// free flight is one straight segment whichever cells it crosses), and the state then stands on
+/// the entered edge of the candidate disk's cell.
+///
+/// # Errors
+/// If the state loses its next event, or flies along a corridor that meets no disk.
+pub fn drive_jumps<K: CellKernel<f64>, O: Observer<1>>(
+    lat: &Lattice<f64, K>,
+    r: f64,
+    s: &mut LatticeState<f64>,
+    collisions: u64,
+    obs: &mut O,
+    progress: &dyn Fn(u64),
+) -> Result<(), Error> {
+    drive_with(lat, s, collisions, obs, progress, |s, ev, obs| {
+        let EventKind::Crossing(k) = ev.kind else {
+            return Ok(false);
+        };
+        if k != major_edge(&s.flight.vel) {
+            return Ok(false);
+        }
+        let j = jump(&s.flight.pos, &s.flight.vel, r)
+            .ok_or_else(|| Error::Failed("a free flight along a corridor meets no disk".into()))?;
+        let seen = Event {
+            kind: ev.kind,
+            time: j.time,
+        };
+        obs.observe::<f64>(std::slice::from_ref(&EventLanes::single(s, &seen)));
+        s.cell.i += j.cells[0];
+        s.cell.j += j.cells[1];
+        s.flight = Flight {
+            pos: j.pos,
+            vel: s.flight.vel.clone(),
+            excluded_disk: None,
+            excluded_edge: Some(j.entered),
+        };
+        Ok(true)
+    })
+}
