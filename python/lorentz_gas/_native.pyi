@@ -55,7 +55,7 @@ def escape(
 ) -> str: ...
 def lyapunov(
     scene: str, w: Optional[str], radius: Optional[str], collisions_per_batch: str,
-    batches: str, starts: str, seed: str, threads: Optional[str], field: Optional[str],
+    batches: str, starts: Optional[str], seed: str, threads: Optional[str], field: Optional[str],
     flights: str, progress: Progress,
 ) -> str: ...
 def superdiffusion(

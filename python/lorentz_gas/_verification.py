@@ -4,7 +4,6 @@ closed forms, the engine's speed and the publication audit of a result file."""
 
 from __future__ import annotations
 
-import fractions
 import os
 from typing import Any, Optional, Tuple, Union
 
@@ -64,7 +63,8 @@ def lyapunov(
         Independent orbits, at least 2; the error bar is over them.
     starts : int
         Initial conditions of the divergence measurement from a 4096-bit reference: 0 (none) or
-        2 to 10000 (about a second each); default 8, none in a field.
+        2 to 10000 (about a second each); default 8, none in a field nor where long flights
+        jump (it replays the cell walk at up to 4096 bits).
     seed, threads, progress
         As in :func:`diffusion`.
     field : exact number, optional
@@ -83,12 +83,6 @@ def lyapunov(
         ``divergence`` (one row per horizon); in a field ``field``, ``cyclotron_radius``,
         ``localized_fraction_exact`` and ``rejected_starts`` instead of ``divergence``.
     """
-    if starts is None:
-        try:
-            no_field = field is None or fractions.Fraction(_exact("field", field)) == 0
-        except ValueError:
-            no_field = False  # not a number: the native call names the field's valid range
-        starts = 8 if no_field else 0
     with _Bar(progress, 0, "coll") as cb:
         text = _native.lyapunov(
             scene,
@@ -96,7 +90,7 @@ def lyapunov(
             _optional_exact("radius", radius),
             _count("collisions_per_batch", collisions_per_batch),
             _count("batches", batches),
-            _count("starts", starts),
+            None if starts is None else _count("starts", starts),
             _count("seed", seed),
             _threads(threads),
             _optional_exact("field", field),

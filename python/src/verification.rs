@@ -44,7 +44,7 @@ fn py_lyapunov(
     radius: Option<&str>,
     collisions_per_batch: &str,
     batches: &str,
-    starts: &str,
+    starts: Option<&str>,
     seed: &str,
     threads: Option<&str>,
     field: Option<&str>,
@@ -63,19 +63,29 @@ fn py_lyapunov(
         return crate::field::lyapunov_in_field(
             py,
             (scene, w, radius),
-            (collisions_per_batch, batches, starts, seed, threads),
+            (
+                collisions_per_batch,
+                batches,
+                starts.unwrap_or("0"),
+                seed,
+                threads,
+            ),
             b,
             progress,
         );
     }
-    let starts = count_u32("starts", starts)?;
+    let choice = resolve(scene, w, radius)?;
+    let starts = match starts {
+        Some(s) => count_u32("starts", s)?,
+        None => with_scene!(&choice, |s| divergence::default_starts(s, flights))
+            .map_err(|e| PyValueError::new_err(e.to_string()))?,
+    };
     if starts == 1 || starts > MAX_STARTS {
         return Err(PyValueError::new_err(format!(
             "starts = {starts}: use 0 (no divergence measurement) or 2 to {MAX_STARTS} (the error \
              bars are over the starts, reliable from 4; each costs about a second)"
         )));
     }
-    let choice = resolve(scene, w, radius)?;
     let seed = count_u64("seed", seed)?;
     let cfg = LyapunovConfig {
         collisions_per_batch: count_u64("collisions_per_batch", collisions_per_batch)?,

@@ -29,7 +29,8 @@ pub struct Args {
     #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
     /// Initial conditions of the divergence measurement (0 to skip it); its error bars are over
-    /// them [default: 8; not in a field]
+    /// them [default: 8; none in a field, nor where long flights jump: it replays the cell walk at
+    /// up to 4096 bits]
     #[arg(long, value_parser = parse_count_u32, allow_negative_numbers = true)]
     starts: Option<u32>,
     /// A magnetic field B (exact, 1e-3 <= |B| <= 1e3; triangular scene): the tangent dynamics of
@@ -52,9 +53,6 @@ struct Report {
     tangent: LyapunovReport,
     divergence: Vec<Divergence>,
 }
-
-/// Divergence starts by default.
-const DEFAULT_STARTS: u32 = 8;
 
 /// `true` for a field that is exactly zero (the run without a field).
 fn is_zero(b: &str) -> bool {
@@ -117,7 +115,11 @@ pub fn run(a: Args) -> Result<(), Error> {
     if let Some(b) = a.field.as_deref().filter(|b| !is_zero(b)) {
         return in_field(&a, b);
     }
-    let starts = a.starts.unwrap_or(DEFAULT_STARTS);
+    let choice = a.scene.resolve()?;
+    let starts = match a.starts {
+        Some(s) => s,
+        None => with_scene!(&choice, |s| divergence::default_starts(s, a.flights))?,
+    };
     if starts == 1 || starts > MAX_STARTS {
         return Err(Error::Invalid(format!(
             "starts = {}: use 0 (no divergence measurement) or 2 to {MAX_STARTS} (the error bars \
@@ -125,7 +127,6 @@ pub fn run(a: Args) -> Result<(), Error> {
             starts
         )));
     }
-    let choice = a.scene.resolve()?;
     let total =
         (a.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.batches as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);

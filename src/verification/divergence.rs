@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::lyapunov::collision_track;
 use crate::Error;
+use crate::engine::long_flight::Flights;
 use crate::engine::options::RunOptions;
 use crate::scenes::Scene;
 use crate::scenes::lattice::LatticeState;
@@ -25,6 +26,20 @@ pub const DIVERGENCE_REFERENCE_BITS: u32 = 4096;
 /// Collisions followed in the divergence measurement: beyond the 1024-bit horizon (~785
 /// collisions at w = 0.1) with a margin.
 pub const DIVERGENCE_COLLISIONS: usize = 900;
+
+/// Starts of the divergence measurement when none are asked for: 8, or 0 where long flights jump
+/// ([`Flights::resolve`]): the measurement replays the cell walk at up to 4096 bits, whose cost
+/// grows with the flight's length (at r = 10⁻⁴ some 5000 cells a collision), which would turn a
+/// run of seconds into hours.
+///
+/// # Errors
+/// `flights` refused for `scene`.
+pub fn default_starts<S: Scene>(scene: &S, flights: Flights) -> Result<u32, Error> {
+    Ok(match flights.resolve(scene)? {
+        Flights::Jump => 0,
+        _ => 8,
+    })
+}
 
 /// The divergence of one precision from the reference.
 #[derive(Debug, Clone, Serialize)]
