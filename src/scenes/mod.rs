@@ -123,7 +123,7 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     }
 
     /// The radius of the scene's disks if its straight flights can go straight to the first disk
-    /// they can meet ([`long_flight::jump`]: disks at the integer points, r ≤
+    /// they can meet ([`long_flight::jump`]: disks at the integer points, [`long_flight::MIN_RADIUS`] ≤ r ≤
     /// [`long_flight::MAX_RADIUS`]), or `None` (the default): flights walk cell by cell.
     fn long_flight_radius(&self) -> Option<f64> {
         None
