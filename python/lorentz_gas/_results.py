@@ -412,7 +412,11 @@ class AuditResult(Result):
 
     def _summary(self) -> str:
         s = self._data["summary"]
-        return f"{s['audited']} events replayed, {s['outside']} outside the error model"
+        out = f"{s['audited']} events replayed, {s['outside']} outside the error model"
+        j = s.get("jumps") or {}
+        if j.get("audited"):
+            out += f"; {j['audited']} jumps replayed, {j['outside']} outside their model"
+        return out
 
 
 class BenchResult(Result):

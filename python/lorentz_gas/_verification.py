@@ -112,6 +112,7 @@ def audit(
     reference_bits: Count = 128,
     seed: Count = 1,
     field: Optional[Exact] = None,
+    flights: str = "auto",
     threads: Optional[Count] = None,
     progress: Progress = None,
 ) -> AuditResult:
@@ -133,6 +134,11 @@ def audit(
         A uniform magnetic field B (inverse time; the cyclotron radius is 1/abs(B) in units of the
         disk radius), exact like ``w``, 1e-6 <= abs(B) <= 1e6; ``None`` or 0: no field. The
         replayed events are then arcs, judged by the arc kernel's running error bound.
+    flights : {"auto", "walk", "jump"}
+        How straight flights cross the lattice, as in :func:`lyapunov`: with ``"jump"`` each long
+        flight is replayed as a whole against the exact column walk (``summary["jumps"]``);
+        ``"walk"`` replays every cell crossing; ``"auto"`` jumps where it applies (not in a
+        field). Recorded as ``flights``.
     seed, threads, progress
         As in :func:`diffusion`.
 
@@ -153,6 +159,7 @@ def audit(
             _count("reference_bits", reference_bits),
             _count("seed", seed),
             _optional_exact("field", field),
+            str(flights),
             _threads(threads),
             cb,
         )

@@ -117,7 +117,7 @@ fn py_lyapunov(
 }
 
 #[pyfunction]
-#[pyo3(name = "audit", signature = (scene, w, radius, collisions, batches, sample, reference_bits, seed, field, threads, progress))]
+#[pyo3(name = "audit", signature = (scene, w, radius, collisions, batches, sample, reference_bits, seed, field, flights, threads, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_audit(
     py: Python<'_>,
@@ -130,10 +130,14 @@ fn py_audit(
     reference_bits: &str,
     seed: &str,
     field: Option<&str>,
+    flights: &str,
     threads: Option<&str>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let choice = resolve(scene, w, radius)?;
+    let flights: Flights = flights
+        .parse()
+        .map_err(|e: lorentz_gas::Error| PyValueError::new_err(e.to_string()))?;
     let cfg = AuditConfig {
         scene: with_scene!(&choice, |s| s.label()),
         collisions: count_u64("collisions", collisions)?,
@@ -142,6 +146,7 @@ fn py_audit(
         reference_bits: count_u32("reference_bits", reference_bits)?,
         seed: count_u64("seed", seed)?,
         field: field.map(str::to_string),
+        flights,
     };
     let threads = inputs::threads(threads)?;
     let r = compute(py, progress, |ctl| {

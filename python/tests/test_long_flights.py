@@ -25,3 +25,19 @@ def test_lyapunov_with_jumps_has_the_command_lines_bits(cli_json):
 def test_jumps_where_they_do_not_apply_are_a_value_error(kw, says):
     with pytest.raises(ValueError, match=says):
         lg.lyapunov(**kw, starts=0, progress=False)
+
+
+def test_audit_replays_the_jumps_with_the_command_lines_bits(cli_json):
+    args = dict(scene="square", radius="1/1000", collisions=4000, batches=2)
+    r = lg.audit(**args, progress=False)
+    c = cli_json("audit", "--scene", "square", "--radius", "1/1000",
+                 "--collisions", "4000", "--batches", "2")
+    j = r.summary["jumps"]
+    assert r.flights == c["flights"] == "jump"
+    assert j["audited"] >= 3900 and j["outside"] == 0
+    assert j["columns"] == c["summary"]["jumps"]["columns"]
+    assert "jumps replayed, 0 outside" in repr(r)
+    walk = lg.audit(**args, flights="walk", progress=False)
+    assert walk.flights == "walk" and walk.summary["jumps"]["audited"] == 0
+    with pytest.raises(ValueError, match="cell by cell"):
+        lg.audit(**args, field=1, flights="jump", progress=False)

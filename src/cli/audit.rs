@@ -1,6 +1,7 @@
 //! `lorentz audit`: replay f64 events in MPFR and judge them against the one-step error model.
 
 use lorentz_gas::Error;
+use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
 
 use lorentz_gas::scenes::Scene;
@@ -28,6 +29,12 @@ pub struct Args {
     /// the arc kernel's running error bound.
     #[arg(long, allow_hyphen_values = true)]
     field: Option<String>,
+    /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
+    /// can meet, each jump replayed as a whole against the exact column walk; the square scene
+    /// with 2^-32 <= radius <= 1/4), walk (cell by cell, every crossing replayed), or auto (jump
+    /// where it applies, walk in a field). Recorded in the result as `flights`.
+    #[arg(long, default_value = "auto")]
+    flights: Flights,
     /// MPFR precision of the replay, in bits (128 to 65536).
     #[arg(long, default_value = "128", value_parser = parse_count_u32, allow_negative_numbers = true)]
     reference_bits: u32,
@@ -48,6 +55,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         reference_bits: a.reference_bits,
         seed: a.run.seed(),
         field: a.field.clone(),
+        flights: a.flights,
     };
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);
     let opts = pb.options(a.run.threads());

@@ -54,8 +54,7 @@ pub fn jump(pos: &Vec2<f64>, vel: &Vec2<f64>, r: f64) -> Option<Jump> {
     let frame = Frame::of(vel);
     let (x, y) = frame.to(pos.x, pos.y);
     let (vx, vy) = frame.to(vel.x, vel.y);
-    let nv = (vx * vx + vy * vy).sqrt();
-    let window = r * nv * (1.0 + f64::powi(2.0, -40)) + f64::powi(2.0, -48);
+    let window = window(vx, vy, r);
     let line = Line { x, y, vx, vy };
     let (k, l, d) = match line.fast(window) {
         Ok(found) => found?,
@@ -79,6 +78,14 @@ pub fn jump(pos: &Vec2<f64>, vel: &Vec2<f64>, r: f64) -> Option<Jump> {
         entered: frame.edge(left),
         time,
     })
+}
+
+/// The half-width W of the search's window for a flight of velocity (v_x, v_y) among disks of
+/// radius `r`: r|v|(1 + 2⁻⁴⁰) + 2⁻⁴⁸, so every disk the exact line or the cell kernel can meet
+/// is within W of the line (`proofs-notes/long-flights.md`).
+pub(crate) fn window(vx: f64, vy: f64, r: f64) -> f64 {
+    let nv = (vx * vx + vy * vy).sqrt();
+    r * nv * (1.0 + f64::powi(2.0, -40)) + f64::powi(2.0, -48)
 }
 
 /// The flight in the turned frame: position and velocity.
@@ -159,14 +166,15 @@ impl Line {
 /// The turn of the plane that puts the flight along +x with 0 ≤ v_y ≤ v_x: an exchange of the
 /// axes and two signs, exact on every coordinate.
 #[derive(Debug, Clone, Copy)]
-struct Frame {
+pub(crate) struct Frame {
     swap: bool,
     sx: f64,
     sy: f64,
 }
 
 impl Frame {
-    fn of(v: &Vec2<f64>) -> Self {
+    /// The frame of a flight with velocity `v`.
+    pub(crate) fn of(v: &Vec2<f64>) -> Self {
         let swap = v.y.abs() > v.x.abs();
         let (a, b) = if swap { (v.y, v.x) } else { (v.x, v.y) };
         Frame {
@@ -176,17 +184,20 @@ impl Frame {
         }
     }
 
-    fn to(&self, x: f64, y: f64) -> (f64, f64) {
+    /// A point or vector of the cell's frame in the turned frame.
+    pub(crate) fn to(&self, x: f64, y: f64) -> (f64, f64) {
         let (a, b) = if self.swap { (y, x) } else { (x, y) };
         (self.sx * a, self.sy * b)
     }
 
-    fn from(&self, a: f64, b: f64) -> (f64, f64) {
+    /// A point or vector of the turned frame in the cell's frame.
+    pub(crate) fn from(&self, a: f64, b: f64) -> (f64, f64) {
         let (a, b) = (self.sx * a, self.sy * b);
         if self.swap { (b, a) } else { (a, b) }
     }
 
-    fn cells(&self, k: i64, l: i64) -> (i64, i64) {
+    /// The cell (column k, row l) of the turned frame in the lattice's frame.
+    pub(crate) fn cells(&self, k: i64, l: i64) -> (i64, i64) {
         let (a, b) = (
             if self.sx < 0.0 { -k } else { k },
             if self.sy < 0.0 { -l } else { l },
@@ -194,8 +205,18 @@ impl Frame {
         if self.swap { (b, a) } else { (a, b) }
     }
 
+    /// The cell of the lattice's frame as (column, row) of the turned frame: the inverse of
+    /// [`Frame::cells`].
+    pub(crate) fn uncells(&self, i: i64, j: i64) -> (i64, i64) {
+        let (a, b) = if self.swap { (j, i) } else { (i, j) };
+        (
+            if self.sx < 0.0 { -a } else { a },
+            if self.sy < 0.0 { -b } else { b },
+        )
+    }
+
     /// The square cell's edge that is the turned frame's left edge (`left`) or bottom edge.
-    fn edge(&self, left: bool) -> u8 {
+    pub(crate) fn edge(&self, left: bool) -> u8 {
         // In the turned frame the left edge faces −x, the bottom edge −y; back in the cell's
         // frame an axis may be exchanged and reversed. Edges: 0 +x, 1 +y, 2 −x, 3 −y.
         let (axis_is_x, negative) = if left {
@@ -213,12 +234,14 @@ impl Frame {
 }
 
 /// A power of two 2^bits that makes every given double and product of two doubles an integer.
-struct Scale {
-    bits: u32,
+pub(crate) struct Scale {
+    /// The exponent.
+    pub(crate) bits: u32,
 }
 
 impl Scale {
-    fn of(singles: &[f64], products: &[(f64, f64)]) -> Self {
+    /// The least power covering `singles` and the products of `products`.
+    pub(crate) fn of(singles: &[f64], products: &[(f64, f64)]) -> Self {
         let exp = |x: f64| -> i64 {
             if x == 0.0 {
                 i64::MAX
@@ -242,7 +265,7 @@ impl Scale {
     }
 
     /// x·2^bits, exact.
-    fn int(&self, x: f64) -> Integer {
+    pub(crate) fn int(&self, x: f64) -> Integer {
         let (m, e) = decode(x);
         shift(Integer::from(m), i64::from(e) + i64::from(self.bits))
     }
@@ -254,7 +277,7 @@ impl Scale {
     }
 
     /// x·y·2^bits, exact.
-    fn prod(&self, x: f64, y: f64) -> Integer {
+    pub(crate) fn prod(&self, x: f64, y: f64) -> Integer {
         let ((mx, ex), (my, ey)) = (decode(x), decode(y));
         let p = Integer::from(mx) * Integer::from(my);
         shift(p, i64::from(ex) + i64::from(ey) + i64::from(self.bits))

@@ -17,6 +17,7 @@ pub mod birkhoff;
 pub mod certify;
 pub mod divergence;
 pub mod error_model;
+pub mod jump_audit;
 pub mod lyapunov;
 #[cfg(feature = "oracle")]
 pub mod oracle;

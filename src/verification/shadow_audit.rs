@@ -15,13 +15,15 @@ use serde::{Deserialize, Serialize};
 
 use super::replay::{EventCheck, check_event};
 use crate::Error;
+use crate::engine::long_flight::{Flights, drive_jumps};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::{AuditSpec, RunOptions};
 use crate::engine::work::{Work, crossings_per_collision};
-use crate::kernel::flight::Flight;
+use crate::kernel::flight::{EventKind, Flight};
 use crate::kernel::vec2::Vec2;
 use crate::scenes::Scene;
+use crate::scenes::long_flight::major_edge;
 
 /// Log-histogram of positive values: bins of 0.1 decade from 10⁻³⁰ to 10¹⁰, plus zeros.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -150,6 +152,10 @@ pub struct AuditSummary {
     pub worst: Vec<AuditedEvent>,
     /// Every event outside the model (at most 1000 kept).
     pub outside_events: Vec<AuditedEvent>,
+    /// The long flights jumped, each replayed as a whole (`jump_audit`); empty where flights
+    /// walk.
+    #[serde(default)]
+    pub jumps: super::jump_audit::JumpSummary,
 }
 
 impl AuditSummary {
@@ -172,6 +178,7 @@ impl AuditSummary {
         self.worst.truncate(10);
         self.outside_events.extend(o.outside_events.iter().cloned());
         self.outside_events.truncate(1000);
+        self.jumps.merge(&o.jumps);
     }
 }
 
@@ -200,7 +207,7 @@ impl<const L: usize, S: Scene> Observer<L> for AuditLanes<S> {
             }
             for (l, a) in self.lanes.iter_mut().enumerate() {
                 if let (true, Some(a)) = (e.is_live(l), a.as_mut())
-                    && let Err(err) = a.observe(&e.state(l).flight)
+                    && let Err(err) = a.observe_event(&e.state(l).flight, e.event(l).kind)
                 {
                     self.error = Some(err);
                     return;
@@ -216,7 +223,10 @@ pub struct Auditor<S: Scene> {
     t64: S::Kernel<f64>,
     tref: S::Kernel<Float>,
     rate: f64,
+    bits: u32,
     rng: Xoshiro256PlusPlus,
+    /// The disks' radius where the run jumps long flights ([`Auditor::with_jumps`]).
+    jumps: Option<f64>,
     /// What was found so far.
     pub summary: AuditSummary,
 }
@@ -233,9 +243,39 @@ impl<S: Scene> Auditor<S> {
             t64: scene.kernel::<f64>(())?,
             tref: scene.kernel::<Float>(bits)?,
             rate,
+            bits,
             rng,
+            jumps: None,
             summary: AuditSummary::default(),
         })
+    }
+
+    /// The auditor of a run whose long flights jump among disks of radius `r`
+    /// ([`crate::engine::long_flight::drive_jumps`]): every crossing of the edge a flight faces
+    /// along its major axis is a jump, replayed by [`super::jump_audit::check_jump`].
+    pub fn with_jumps(mut self, r: f64) -> Self {
+        self.jumps = Some(r);
+        self
+    }
+
+    /// Called with the pre-event state and the kind of every event: a jump where the run jumps,
+    /// else one event ([`Auditor::observe`]).
+    #[inline]
+    pub fn observe_event(&mut self, f: &Flight<f64>, kind: EventKind) -> Result<(), Error> {
+        match self.jumps {
+            Some(r) if kind == EventKind::Crossing(major_edge(&f.vel)) => self.observe_jump(f, r),
+            _ => self.observe(f),
+        }
+    }
+
+    fn observe_jump(&mut self, f: &Flight<f64>, r: f64) -> Result<(), Error> {
+        if self.rate < 1.0 && self.rng.random::<f64>() >= self.rate {
+            return Ok(());
+        }
+        let c = super::jump_audit::check_jump(f, r, self.bits)
+            .ok_or_else(|| Error::Failed("a free flight along a corridor meets no disk".into()))?;
+        self.summary.jumps.add(f, &c);
+        Ok(())
     }
 
     /// Called with the pre-event state of every event; replays a random sample of them.
@@ -351,6 +391,10 @@ pub struct AuditConfig {
     /// ([`super::arc_audit`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field: Option<String>,
+    /// How straight flights cross the lattice ([`Flights`]): `auto` jumps where the scene
+    /// supplies long flights and there is no field.
+    #[serde(default)]
+    pub flights: Flights,
 }
 
 /// The fields an audit takes: 10⁻⁶ ≤ |B| ≤ 10⁶ (cyclotron radii from 10⁻⁶ to 10⁶ at speed 1).
@@ -380,8 +424,16 @@ pub struct AuditReport {
     pub summary: AuditSummary,
     /// Wall-clock seconds.
     pub seconds: f64,
+    /// How the flights crossed the lattice: `walk` or `jump` (files written before jumps
+    /// existed: `walk`).
+    #[serde(default = "walked")]
+    pub flights: Flights,
     /// Version, seed, batches, reference precision, engine, threads, command line.
     pub meta: RunMeta,
+}
+
+fn walked() -> Flights {
+    Flights::Walk
 }
 
 /// Median, 99th percentile and maximum of each one-step error.
@@ -449,8 +501,14 @@ pub fn run<S: Scene>(
         return Err(Error::Zero { what: "batches" });
     }
     crate::engine::parallel::check_batches("batches", cfg.batches)?;
+    let field = cfg.field_exact()?;
+    let flights = audit_flights(scene, cfg.flights, field.is_some())?;
+    let crossings = match flights {
+        Flights::Jump => 0.0,
+        _ => crossings_per_collision(scene),
+    };
     Work::new("audit", "collisions", cfg.collisions as f64)
-        .crossing(crossings_per_collision(scene))
+        .crossing(crossings)
         .check(threads)?;
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
@@ -458,7 +516,6 @@ pub fn run<S: Scene>(
     AuditSpec::new(cfg.sample, cfg.reference_bits)?;
     let start = std::time::Instant::now();
     let lat = scene.lattice::<f64>(())?;
-    let field = cfg.field_exact()?;
     let parts: Vec<(AuditSummary, u64)> = crate::engine::parallel::par_batches_watched(
         threads,
         cfg.batches,
@@ -467,7 +524,7 @@ pub fn run<S: Scene>(
             if let Some(q) = &field {
                 return super::arc_audit::batch(scene, cfg, q, b, options);
             }
-            straight_batch(scene, &lat, cfg, b, progress)
+            straight_batch(scene, &lat, cfg, flights, b, progress)
         },
     )?;
     let mut summary = AuditSummary::default();
@@ -490,6 +547,7 @@ pub fn run<S: Scene>(
         quantiles,
         summary,
         seconds: start.elapsed().as_secs_f64(),
+        flights,
         meta: RunMeta::new(
             Some(cfg.seed),
             Some(cfg.batches as u64),
@@ -499,12 +557,30 @@ pub fn run<S: Scene>(
     })
 }
 
+/// The engine an audit runs: `walk` in a field (arcs cross cell by cell), else `flights`
+/// resolved for the scene.
+///
+/// # Errors
+/// `jump` in a field or in a scene without long flights.
+fn audit_flights<S: Scene>(scene: &S, flights: Flights, field: bool) -> Result<Flights, Error> {
+    match (flights, field) {
+        (Flights::Jump, true) => Err(Error::Invalid(
+            "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto"
+                .into(),
+        )),
+        (_, true) => Ok(Flights::Walk),
+        (f, false) => f.resolve(scene),
+    }
+}
+
 /// Batch `b` of an audit without a field: its share of the collisions, every event offered to
-/// an [`Auditor`] watching the engine's trajectory. Returns the summary and the events.
+/// an [`Auditor`] watching the engine's trajectory (long flights jumped where `flights` says
+/// so, each jump replayed as a whole). Returns the summary and the events.
 fn straight_batch<S: Scene>(
     scene: &S,
     lat: &crate::scenes::lattice::Lattice<f64, S::Kernel<f64>>,
     cfg: &AuditConfig,
+    flights: Flights,
     b: u32,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(AuditSummary, u64), Error> {
@@ -513,12 +589,18 @@ fn straight_batch<S: Scene>(
     use crate::scenes::sampling::{Purpose, StreamKey, stream};
     let n = crate::engine::parallel::share(cfg.collisions, cfg.batches, b);
     let mut s = scene.sample(&mut stream(cfg.seed, b as u64));
-    let a = Auditor::new(
+    let mut a = Auditor::new(
         scene,
         cfg.sample,
         cfg.reference_bits,
         StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),
     )?;
+    let radius = scene
+        .long_flight_radius()
+        .filter(|_| flights == Flights::Jump);
+    if let Some(r) = radius {
+        a = a.with_jumps(r);
+    }
     let mut obs = (
         AuditLanes {
             lanes: vec![Some(a)],
@@ -526,7 +608,10 @@ fn straight_batch<S: Scene>(
         },
         CounterLanes::new(1),
     );
-    drive(lat, &mut s, n, &mut obs, progress)?;
+    match radius {
+        Some(r) => drive_jumps(lat, r, &mut s, n, &mut obs, progress)?,
+        None => drive(lat, &mut s, n, &mut obs, progress)?,
+    }
     let (audit, counters) = obs;
     if let Some(e) = audit.error {
         return Err(e);

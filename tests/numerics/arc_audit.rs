@@ -26,6 +26,7 @@ fn audit<S: Scene>(scene: &S, field: &str, collisions: u64, seed: u64) -> AuditR
         reference_bits: 128,
         seed,
         field: Some(field.into()),
+        flights: Default::default(),
     };
     shadow_audit::run(scene, &cfg, &crate::common::threads(2)).unwrap()
 }

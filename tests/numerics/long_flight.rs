@@ -29,18 +29,22 @@ fn by_walk(scene: &SquareScene, start: &LatticeState<f64>) -> (CellIndex, Lattic
 }
 
 /// The first collision with jumps: the cell kernel in each cell, and a jump wherever it leaves
-/// through the edge it faces along its major axis. Its cell, the state on entering that cell, and
-/// the jumps.
-fn by_jumps(scene: &SquareScene, start: &LatticeState<f64>) -> (CellIndex, LatticeState<f64>, u64) {
+/// through the edge it faces along its major axis. Its cell, the state on entering that cell, the
+/// jumps, and the pre-jump flight of the jump that entered the cell (if one did).
+pub(crate) fn by_jumps(
+    scene: &SquareScene,
+    start: &LatticeState<f64>,
+) -> (CellIndex, LatticeState<f64>, u64, Option<Flight<f64>>) {
     let lat = scene.lattice::<f64>(()).unwrap();
     let mut s = start.clone();
-    let mut jumps = 0;
+    let (mut jumps, mut last) = (0, None);
     loop {
         let ev = lat.next_event(&s).expect("an event");
         match ev.kind {
-            EventKind::Collision(_) => return (s.cell, s, jumps),
+            EventKind::Collision(_) => return (s.cell, s, jumps, last),
             EventKind::Crossing(k) if k == major_edge(&s.flight.vel) => {
                 let j = jump(&s.flight.pos, &s.flight.vel, scene.radius()).expect("a disk ahead");
+                last = Some(s.flight.clone());
                 s.cell.i += j.cells[0];
                 s.cell.j += j.cells[1];
                 s.flight = Flight {
@@ -51,7 +55,10 @@ fn by_jumps(scene: &SquareScene, start: &LatticeState<f64>) -> (CellIndex, Latti
                 };
                 jumps += 1;
             }
-            EventKind::Crossing(_) => lat.apply(&mut s, &ev),
+            EventKind::Crossing(_) => {
+                lat.apply(&mut s, &ev);
+                last = None;
+            }
         }
     }
 }
@@ -68,7 +75,7 @@ fn jumps_meet_the_disk_the_cell_walk_meets() {
         for b in 0..2000u64 {
             let start = scene.sample(&mut stream(34, b));
             let (cw, sw, crossings) = by_walk(&scene, &start);
-            let (cj, sj, _) = by_jumps(&scene, &start);
+            let (cj, sj, _, _) = by_jumps(&scene, &start);
             assert_eq!(
                 cw, cj,
                 "r = {r}, start {b}: the walk's cell against the jump's"

@@ -23,6 +23,7 @@ mod fuzz_oracle;
 mod hard_cases;
 mod kernel_properties;
 mod long_flight;
+mod long_flight_audit;
 mod physics;
 mod scene_diffusion;
 mod scenes;

@@ -318,6 +318,7 @@ fn shadow_audit_finds_nothing_outside_the_model() {
         reference_bits: 128,
         seed: 93,
         field: None,
+        flights: Default::default(),
     };
     let two = crate::common::threads(2);
     let r = shadow_audit::run(&s, &cfg, &two).unwrap();

@@ -197,6 +197,7 @@ fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
             reference_bits: 128,
             seed: 7,
             field: None,
+            flights: Default::default(),
         };
         let two = crate::common::threads(2);
         let r = shadow_audit::run(&scene, &cfg, &two).unwrap();

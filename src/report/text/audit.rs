@@ -59,6 +59,7 @@ pub fn audit(r: &AuditReport) -> String {
             v.max
         );
     }
+    jumps(&mut out, r);
     for e in s.outside_events.iter().take(5) {
         line!(
             out,
@@ -69,4 +70,43 @@ pub fn audit(r: &AuditReport) -> String {
         );
     }
     out
+}
+
+/// The lines on the long flights jumped, where the run jumped them.
+fn jumps(out: &mut String, r: &AuditReport) {
+    let j = &r.summary.jumps;
+    if j.audited == 0 {
+        return;
+    }
+    line!(
+        out,
+        "long flights jumped: {} replayed against the exact column walk ({} columns, longest {}); \
+         outside the model: {}   corner ties: {}",
+        j.audited,
+        j.columns,
+        j.longest,
+        j.outside,
+        j.ambiguous
+    );
+    for (name, h) in [
+        ("jump time error / bound", &j.time_error_over_bound),
+        ("entry error / bound", &j.position_error_over_bound),
+        ("candidate |D| / window", &j.candidate_over_window),
+    ] {
+        line!(
+            out,
+            "{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}",
+            h.quantile(0.5),
+            h.quantile(0.99),
+            h.max
+        );
+    }
+    for e in j.outside_jumps.iter().take(5) {
+        line!(
+            out,
+            "outside: jump from state bits {:x?}: {:?}",
+            e.state_bits,
+            e.check
+        );
+    }
 }
