@@ -510,6 +510,7 @@ def superdiffusion(
     vacf_fit: Optional[Tuple[float, float]] = None,
     msd_fit: Optional[Tuple[float, float]] = None,
     seed: Count = 1,
+    flights: str = "auto",
     threads: Optional[Count] = None,
     checkpoint: Optional[PathLike] = None,
     checkpoint_every: float = 60,
@@ -539,6 +540,10 @@ def superdiffusion(
         ⟨Δx²⟩/t = a ln t + b. ``None`` (the default): placed as at 12 octaves relative to the
         longest lag, [2^(octaves−6), 2^(octaves−4)] and [2^(octaves−3), 2^octaves]
         ((64, 256) and (512, 4096) at 12 octaves).
+    flights : {"auto", "walk", "jump"}
+        How flights cross the lattice, as in :func:`lyapunov`: ``"auto"`` jumps the long flights
+        of the square scene (2**-32 <= radius <= 1/4) to the cell of the first disk they can
+        meet; ``"walk"`` crosses cell by cell. Recorded as ``flights``.
     seed, threads, checkpoint, checkpoint_every, progress
         As in :func:`diffusion` (a checkpoint keeps finished batches and, every
         ``checkpoint_every`` seconds, each trajectory in flight with its observers).
@@ -562,6 +567,7 @@ def superdiffusion(
             None if vacf_fit is None else _window("vacf_fit", vacf_fit),
             None if msd_fit is None else _window("msd_fit", msd_fit),
             _count("seed", seed),
+            str(flights),
             _threads(threads),
             _path(checkpoint),
             float(checkpoint_every),

@@ -377,7 +377,7 @@ fn py_escape(
 }
 
 #[pyfunction]
-#[pyo3(name = "superdiffusion", signature = (scene, w, radius, collisions, batches, octaves, points_per_octave, tail_fit_from, vacf_fit, msd_fit, seed, threads, checkpoint, checkpoint_every, progress))]
+#[pyo3(name = "superdiffusion", signature = (scene, w, radius, collisions, batches, octaves, points_per_octave, tail_fit_from, vacf_fit, msd_fit, seed, flights, threads, checkpoint, checkpoint_every, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_superdiffusion(
     py: Python<'_>,
@@ -392,6 +392,7 @@ fn py_superdiffusion(
     vacf_fit: Option<[f64; 2]>,
     msd_fit: Option<[f64; 2]>,
     seed: &str,
+    flights: &str,
     threads: Option<&str>,
     checkpoint: Option<PathBuf>,
     checkpoint_every: f64,
@@ -409,6 +410,9 @@ fn py_superdiffusion(
         vacf_fit: vacf_fit.unwrap_or(windows.vacf_fit),
         msd_fit: msd_fit.unwrap_or(windows.msd_fit),
         seed: count_u64("seed", seed)?,
+        flights: flights
+            .parse()
+            .map_err(|e: lorentz_gas::Error| PyValueError::new_err(e.to_string()))?,
         ..windows
     };
     let threads = inputs::threads(threads)?;

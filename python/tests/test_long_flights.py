@@ -41,3 +41,17 @@ def test_audit_replays_the_jumps_with_the_command_lines_bits(cli_json):
     assert walk.flights == "walk" and walk.summary["jumps"]["audited"] == 0
     with pytest.raises(ValueError, match="cell by cell"):
         lg.audit(**args, field=1, flights="jump", progress=False)
+
+
+def test_superdiffusion_jumps_by_default_with_the_command_lines_bits(cli_json):
+    args = dict(scene="square", radius="1/100", collisions=32000, batches=16, octaves=4)
+    r = lg.superdiffusion(**args, progress=False)
+    c = cli_json("superdiffusion", "--scene", "square", "--radius", "1/100",
+                 "--collisions", "32000", "--batches", "16", "--octaves", "4")
+    assert r.flights == c["flights"] == "jump"
+    assert r.longest_flight == c["longest_flight"]
+    walk = lg.superdiffusion(**args, flights="walk", progress=False)
+    assert walk.flights == "walk"
+    with pytest.raises(ValueError, match="has no long flights"):
+        lg.superdiffusion(w=0.5, collisions=32000, batches=16, octaves=4, flights="jump",
+                          progress=False)

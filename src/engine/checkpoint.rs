@@ -373,6 +373,29 @@ where
     O: Observer<1> + LaneCheckpoint,
     F: Serialize + DeserializeOwned + Clone,
 {
+    let step = |s: &mut LatticeState<T>, q: u64, obs: &mut O| drive(lat, s, q, obs, progress);
+    drive_kept_with(ctx, job, start, obs, keep, step)
+}
+
+/// [`drive_kept`] with the engine given as `step(state, collisions, observer)`: the scalar
+/// engine, or the one with long flights ([`super::long_flight::drive_jumps`]). A run resumed from
+/// a checkpoint continues with the same engine, so the same bits as `step` in one piece.
+///
+/// # Errors
+/// As [`drive_kept`].
+pub fn drive_kept_with<T, O, F>(
+    ctx: T::Ctx,
+    job: &Quota,
+    start: impl FnOnce() -> LatticeState<T>,
+    obs: &mut O,
+    keep: &Keeper<F, O::Lane>,
+    mut step: impl FnMut(&mut LatticeState<T>, u64, &mut O) -> Result<(), Error>,
+) -> Result<LatticeState<T>, Error>
+where
+    T: Real,
+    O: Observer<1> + LaneCheckpoint,
+    F: Serialize + DeserializeOwned + Clone,
+{
     let (mut s, mut done) = match keep.resumed(job) {
         Some(f) => {
             obs.restore_lane(0, &f.observers)?;
@@ -385,7 +408,7 @@ where
     while done < job.collisions {
         let q = (job.collisions - done).min(segment);
         keep.check_stop()?;
-        drive(lat, &mut s, q, obs, progress)?;
+        step(&mut s, q, obs)?;
         done += q;
         if done < job.collisions {
             keep.save_if_due(&mut last, || vec![in_flight(job, done, &s, obs, 0)])?;

@@ -275,3 +275,34 @@ fn a_stopped_run_resumes_from_its_checkpoint_to_the_uninterrupted_bits() {
     let other = SuperdiffusionConfig { seed: 13, ..cfg };
     assert!(superdiffusion::run(&other, &resumed).is_err());
 }
+
+/// At r = 1/1000 (238 748 corridors, mean free path ≈ 500) long flights jump
+/// (`proofs-notes/long-flights.md`): 8·10⁶ collisions take seconds, where the cell walk would cross
+/// about 500 cells a collision. The tail constants agree with the exact C_flow and C_map within
+/// the Student-t 4σ-equivalent bound, and the engine is recorded. (Breaking it on purpose: the
+/// observers shown the jump's flight time halved gave C_flow −21.3σ.)
+#[test]
+fn the_tail_constants_at_small_radius_are_the_exact_corridor_constants() {
+    use lorentz_gas::engine::long_flight::Flights;
+    let cfg = SuperdiffusionConfig {
+        collisions: 8_000_000,
+        batches: 16,
+        octaves: 8,
+        seed: 21,
+        ..SuperdiffusionConfig::new(square("1/1000"))
+    }
+    .with_octaves(8);
+    let r = superdiffusion::run(&cfg, &threads(2)).unwrap();
+    assert_eq!(r.flights, Flights::Jump);
+    let bound = t4(cfg.batches);
+    for (name, x, e, exact) in [
+        ("C_flow", r.c_flow_tail, r.c_flow_tail_err, r.c_flow_exact),
+        ("C_map", r.c_map_tail, r.c_map_tail_err, r.c_map_exact),
+    ] {
+        let (x, e) = (x.unwrap(), e.unwrap());
+        let z = (x - exact) / e;
+        eprintln!("{name}: {x:.6} ± {e:.6} against {exact:.6}: {z:+.2}σ");
+        assert!(z.abs() <= bound, "{name}: {z:+.2}σ beyond {bound:.2}σ");
+        assert!(e < 0.1 * exact, "{name}: an error of {e}");
+    }
+}

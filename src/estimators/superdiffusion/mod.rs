@@ -28,7 +28,9 @@ mod summary;
 pub use summary::{LagRow, LawRow};
 
 use crate::Error;
-use crate::engine::checkpoint::{Keeper, LaneCheckpoint, Quota, drive_kept};
+use crate::engine::checkpoint::{Keeper, LaneCheckpoint, Quota, drive_kept_with};
+use crate::engine::drive;
+use crate::engine::long_flight::{Flights, drive_jumps};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::{RunOption, RunOptions};
@@ -38,6 +40,7 @@ use crate::numbers::lanes::Lanes;
 use crate::observers::flight_tails::{FlightTails, TailCounts, TailLane};
 use crate::observers::lag_moments::{LagMoments, LagSums, MomentLane};
 use crate::scenes::Scene;
+use crate::scenes::lattice::LatticeState;
 use crate::scenes::sampling::stream;
 use crate::scenes::spec::SceneSpec;
 use crate::scenes::square::SquareScene;
@@ -70,6 +73,10 @@ pub struct SuperdiffusionConfig {
     pub msd_fit: [f64; 2],
     /// Seed: batch b starts from stream (seed, b).
     pub seed: u64,
+    /// How flights cross the lattice ([`Flights`]): `auto` jumps long flights where the scene
+    /// supplies them (the square lattice, 2⁻³² ≤ r ≤ 1/4).
+    #[serde(default)]
+    pub flights: Flights,
 }
 
 /// Fewest batches: the errors of heavy-tailed batch means need a few dozen
@@ -114,6 +121,7 @@ impl SuperdiffusionConfig {
             vacf_fit: [64.0, 256.0],
             msd_fit: [512.0, 4096.0],
             seed: 1,
+            flights: Flights::Auto,
         }
     }
 
@@ -300,6 +308,10 @@ pub struct SuperdiffusionReport {
     pub collisions: u64,
     /// Collisions of each batch (the first batches take one more when they do not divide).
     pub collisions_per_batch: u64,
+    /// How the flights crossed the lattice: `walk` or `jump` (files written before jumps
+    /// existed: `walk`).
+    #[serde(default = "walked")]
+    pub flights: Flights,
     /// Version, seed, batches, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -377,8 +389,13 @@ fn run_on<S: Scene>(
             scene.label()
         )));
     }
+    let flights = cfg.flights.resolve(scene)?;
+    let crossings = match flights {
+        Flights::Jump => 0.0,
+        _ => crossings_per_collision(scene),
+    };
     Work::new("superdiffusion", "collisions", cfg.collisions as f64)
-        .crossing(crossings_per_collision(scene))
+        .crossing(crossings)
         .check(options.threads)?;
     let ell = scene.mean_free_path();
     let steps = cfg.lag_steps();
@@ -400,9 +417,14 @@ fn run_on<S: Scene>(
         "f64",
         Some(options.threads),
     );
-    let batches = run_batches(scene, &input, &meta, options)?;
+    let radius = scene
+        .long_flight_radius()
+        .filter(|_| flights == Flights::Jump);
+    let batches = run_batches(scene, &input, &meta, radius, options)?;
     let s = summary::summarise(&input, &batches)?;
-    Ok(report(scene.label(), &input, s, meta))
+    let mut r = report(scene.label(), &input, s, meta);
+    r.flights = flights;
+    Ok(r)
 }
 
 /// Every batch's trajectory, in batch order: those a checkpoint holds finished, the others run
@@ -411,6 +433,7 @@ fn run_batches<S: Scene>(
     scene: &S,
     inp: &summary::Input,
     meta: &RunMeta,
+    jumps: Option<f64>,
     options: &RunOptions,
 ) -> Result<Vec<Batch>, Error> {
     let cfg = inp.cfg;
@@ -451,7 +474,11 @@ fn run_batches<S: Scene>(
             ),
         };
         let start = || scene.sample(&mut stream(cfg.seed, j.index as u64));
-        drive_kept(&lat, (), j, start, &mut obs, &keep, options.progress)?;
+        let step = |s: &mut LatticeState<f64>, q: u64, obs: &mut Watch| match jumps {
+            Some(r) => drive_jumps(&lat, r, s, q, obs, options.progress),
+            None => drive(&lat, s, q, obs, options.progress),
+        };
+        drive_kept_with((), j, start, &mut obs, &keep, step)?;
         let b = Batch {
             tails: obs.tails.counts(0).clone(),
             lags: obs.moments.sums(0).clone(),
@@ -503,6 +530,11 @@ fn report(
         limit_law: s.law,
         collisions: cfg.collisions,
         collisions_per_batch: cfg.collisions / cfg.batches as u64,
+        flights: Flights::Walk,
         meta,
     }
+}
+
+fn walked() -> Flights {
+    Flights::Walk
 }

@@ -5,23 +5,36 @@
 use super::{line, sigmas, sigmas_unconverged};
 use crate::estimators::superdiffusion::SuperdiffusionReport;
 
+/// Corridor widths the text lists (the result file has them all).
+const WIDTHS_SHOWN: usize = 8;
+
 /// The text of a `superdiffusion` result, line by line as the command line prints it.
 pub fn superdiffusion(r: &SuperdiffusionReport) -> String {
     let mut out = String::new();
     let n = r.meta.batches.unwrap_or(2) as usize;
     line!(
         out,
-        "{}: superdiffusion ({} batches x {} collisions, mean free path l = {:.6})",
+        "{}: superdiffusion ({} batches x {} collisions, mean free path l = {:.6}{})",
         r.scene,
         n,
         r.collisions_per_batch,
-        r.mean_free_path
+        r.mean_free_path,
+        if r.flights == crate::engine::long_flight::Flights::Jump {
+            ", long flights jumped"
+        } else {
+            ""
+        }
     );
-    let widths: Vec<String> = r
+    // The widest few: at small radii there are thousands (2388 at r = 1/100).
+    let mut widths: Vec<String> = r
         .corridors
         .iter()
+        .take(WIDTHS_SHOWN)
         .map(|c| format!("{:.6}", c.width))
         .collect();
+    if r.corridors.len() > WIDTHS_SHOWN {
+        widths.push("...".into());
+    }
     line!(
         out,
         "exact ({} corridors, widths {}): D_sup = {:.6e}  C_flow = {:.6e}  C_map = {:.6e}  <dx^2> ~ {:.6e} t ln t",
