@@ -61,12 +61,13 @@ def lyapunov(
 def superdiffusion(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
     octaves: str, points_per_octave: str, tail_fit_from: float,
-    vacf_fit: Optional[Tuple[float, float]], msd_fit: Optional[Tuple[float, float]], seed: str, threads: Optional[str], checkpoint: Optional[str],
+    vacf_fit: Optional[Tuple[float, float]], msd_fit: Optional[Tuple[float, float]], seed: str, flights: str,
+    threads: Optional[str], checkpoint: Optional[str],
     checkpoint_every: float, progress: Progress,
 ) -> str: ...
 def audit(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
-    sample: float, reference_bits: str, seed: str, field: Optional[str], threads: Optional[str],
+    sample: float, reference_bits: str, seed: str, field: Optional[str], flights: str, threads: Optional[str],
     progress: Progress,
 ) -> str: ...
 def shadow(

@@ -74,7 +74,7 @@ def lyapunov(
         How straight flights cross the lattice: ``"jump"`` straight to the cell of the first disk
         they can meet (the square scene with 2**-32 <= radius <= 1/4; a collision then costs the same
         whatever the flight's length), ``"walk"`` cell by cell (the reference), ``"auto"`` jump
-        where it applies. Recorded as ``tangent["flights"]``.
+        with 2**-32 <= radius <= 1/8, where jumps are faster. Recorded as ``tangent["flights"]``.
 
     Returns
     -------
@@ -137,8 +137,8 @@ def audit(
     flights : {"auto", "walk", "jump"}
         How straight flights cross the lattice, as in :func:`lyapunov`: with ``"jump"`` each long
         flight is replayed as a whole against the exact column walk (``summary["jumps"]``);
-        ``"walk"`` replays every cell crossing; ``"auto"`` jumps where it applies (not in a
-        field). Recorded as ``flights``.
+        ``"walk"`` replays every cell crossing; ``"auto"`` jumps with 2**-32 <= radius <= 1/8,
+        where jumps are faster (not in a field). Recorded as ``flights``.
     seed, threads, progress
         As in :func:`diffusion`.
 

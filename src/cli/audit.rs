@@ -32,7 +32,7 @@ pub struct Args {
     /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
     /// can meet, each jump replayed as a whole against the exact column walk; the square scene
     /// with 2^-32 <= radius <= 1/4), walk (cell by cell, every crossing replayed), or auto (jump
-    /// where it applies, walk in a field). Recorded in the result as `flights`.
+    /// with 2^-32 <= radius <= 1/8, where jumps are faster; walk in a field). Recorded in the result as `flights`.
     #[arg(long, default_value = "auto")]
     flights: Flights,
     /// MPFR precision of the replay, in bits (128 to 65536).

@@ -6,20 +6,38 @@ use lorentz_gas::Error;
 use lorentz_gas::engine::metadata::RunMeta;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::observer_costs::{self, ObserverCosts, ObserverCostsConfig};
+use lorentz_gas::estimators::throughput::long_flights::{
+    self, LongFlightBench, LongFlightBenchConfig,
+};
 use lorentz_gas::estimators::throughput::{self, Throughput, ThroughputConfig};
+
 use lorentz_gas::report::speed_error::{self, REPORT_STEPS, SpeedErrorConfig};
 
 use super::args::{
-    EngineArg, GapArg, OutputArgs, PrecisionArg, SeedArg, ThreadsArg, parse_count,
-    parse_count_usize, parse_threads,
+    EngineArg, Exact, OutputArgs, PrecisionArg, SeedArg, ThreadsArg, parse_count,
+    parse_count_usize, parse_diffusive_gap, parse_threads,
 };
 use super::output::{emit, to_json};
 use super::progress::Progress;
 
 #[derive(clap::Args)]
 pub struct Args {
-    #[command(flatten)]
-    gap: GapArg,
+    /// Gap w between neighbouring disks (radius 1), a decimal or a fraction such as 1/10:
+    /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094... (every bench but --long-flights).
+    #[arg(long = "w", value_name = "W", value_parser = parse_diffusive_gap, allow_hyphen_values = true, required_unless_present = "long_flights")]
+    gap: Option<Exact>,
+    /// Time a collision against the length of its flight: the square scene at these radii
+    /// (exact, comma-separated, each 2^-32 <= r <= 1/4), long flights jumped, each radius in
+    /// turn on one thread in one run, with --walk-collisions of the cell walk beside; reports ns
+    /// per collision and each radius over the first (median of the paired ratios).
+    #[arg(long, value_name = "RADII", value_delimiter = ',', conflicts_with_all = ["gap", "report", "observer_costs", "field", "observe", "precision", "threads", "collisions_per_thread"])]
+    long_flights: Option<Vec<String>>,
+    /// With --long-flights: collisions of each timed run with jumps, per radius and repetition.
+    #[arg(long, default_value = "1e6", value_parser = parse_count, allow_negative_numbers = true, requires = "long_flights")]
+    collisions_per_radius: u64,
+    /// With --long-flights: collisions of each timed walk cell by cell (0: not timed).
+    #[arg(long, default_value = "1e4", value_parser = parse_count, allow_negative_numbers = true, requires = "long_flights")]
+    walk_collisions: u64,
     /// Collisions of each thread in each repetition (the SIMD engine shares them out over the
     /// thread's 16 trajectories).
     #[arg(long, default_value = "2e7", value_parser = parse_count, allow_negative_numbers = true)]
@@ -65,13 +83,38 @@ pub struct Args {
     output: OutputArgs,
 }
 
+impl Args {
+    /// The gap as its nearest double (present wherever it is used: clap requires it without
+    /// --long-flights).
+    fn w(&self) -> f64 {
+        self.gap.as_ref().map_or(f64::NAN, |g| g.value)
+    }
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
     let threads = a.threads.unwrap_or(1);
+    if let Some(radii) = &a.long_flights {
+        let cfg = LongFlightBenchConfig {
+            radii: radii.clone(),
+            collisions: a.collisions_per_radius,
+            walk_collisions: a.walk_collisions,
+            repetitions: a.repetitions,
+            seed: a.seed.seed,
+        };
+        cfg.scenes()?;
+        return timed(
+            &a,
+            1,
+            "repetitions",
+            |o| long_flights::run(&cfg, o),
+            print_long,
+        );
+    }
     if a.report {
         let out = a.out.clone();
         let pb = Progress::new(REPORT_STEPS, "steps", a.output.quiet);
         let cfg = SpeedErrorConfig {
-            w: a.gap.w(),
+            w: a.w(),
             seed: a.seed.seed,
             out: out.clone(),
         };
@@ -93,7 +136,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     }
     if a.observer_costs {
         let cfg = ObserverCostsConfig {
-            w: a.gap.w(),
+            w: a.w(),
             collisions_per_thread: a.collisions_per_thread,
             repetitions: a.repetitions,
             seed: a.seed.seed,
@@ -107,7 +150,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         );
     }
     let cfg = ThroughputConfig {
-        w: a.gap.w(),
+        w: a.w(),
         precision: a.precision.precision,
         observe: a.observe,
         collisions_per_thread: a.collisions_per_thread,
@@ -222,6 +265,27 @@ fn print_costs(r: &ObserverCosts) {
             format!("{:?}", c.observe).to_lowercase(),
             c.ns_per_collision,
             100.0 * c.over_bare
+        );
+    }
+}
+
+fn print_long(r: &LongFlightBench) {
+    let c = &r.config;
+    println!(
+        "long flights, square lattice, 1 thread: {} collisions jumping and {} walking per radius x {} repetitions (radii in turns), seed {}",
+        c.collisions, c.walk_collisions, c.repetitions, c.seed
+    );
+    println!(
+        "radius        mean free path  ns/collision  over the first  walking ns/collision  walk/jump"
+    );
+    for row in &r.rows {
+        let (walk, ratio) = match (row.walk_ns_per_collision, row.walk_over_jump) {
+            (Some(w), Some(q)) => (format!("{w:.1}"), format!("{q:.2}")),
+            _ => ("-".into(), "-".into()),
+        };
+        println!(
+            "{:<12}  {:>14.2}  {:>12.1}  {:>14.3}  {:>20}  {:>9}",
+            row.radius, row.mean_free_path, row.ns_per_collision, row.over_first, walk, ratio
         );
     }
 }

@@ -39,7 +39,7 @@ pub struct Args {
     field: Option<String>,
     /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
     /// can meet; the square scene with 2^-32 <= radius <= 1/4), walk (cell by cell, the reference), or auto
-    /// (jump where it applies). Recorded in the result as `flights`.
+    /// (jump on the square scene with 2^-32 <= radius <= 1/8, where jumps are faster; walk elsewhere). Recorded in the result as `flights`.
     #[arg(long, default_value = "auto")]
     flights: Flights,
     #[command(flatten)]

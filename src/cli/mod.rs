@@ -155,10 +155,20 @@ pub fn main() -> ExitCode {
             // are left to --help.
             let text = e.to_string();
             let first = text.lines().next().unwrap_or("error: invalid arguments");
-            // An invalid choice names the valid ones on the same line.
-            match e.get(clap::error::ContextKind::ValidValue) {
-                Some(clap::error::ContextValue::Strings(v)) if !v.is_empty() => {
-                    eprintln!("{first}: use one of {}", v.join(", "))
+            // An invalid choice names the valid ones on the same line, a missing argument
+            // itself (clap lists it on the next line).
+            use clap::error::{ContextKind, ContextValue};
+            let listed = |k| match e.get(k) {
+                Some(ContextValue::Strings(v)) if !v.is_empty() => Some(v.join(", ")),
+                _ => None,
+            };
+            match (
+                listed(ContextKind::ValidValue),
+                listed(ContextKind::InvalidArg),
+            ) {
+                (Some(v), _) => eprintln!("{first}: use one of {v}"),
+                (None, Some(a)) if e.kind() == clap::error::ErrorKind::MissingRequiredArgument => {
+                    eprintln!("{first} {a}")
                 }
                 _ => eprintln!("{first}"),
             }

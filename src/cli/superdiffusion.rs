@@ -46,7 +46,8 @@ pub struct Args {
     msd_fit: Option<[f64; 2]>,
     /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
     /// can meet; the square scene with 2^-32 <= radius <= 1/4), walk (cell by cell, the
-    /// reference), or auto (jump where it applies). Recorded in the result as `flights`.
+    /// reference), or auto (jump with 2^-32 <= radius <= 1/8, where jumps are faster). Recorded in
+    /// the result as `flights`.
     #[arg(long, default_value = "auto")]
     flights: Flights,
     #[command(flatten)]

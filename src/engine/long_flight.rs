@@ -19,8 +19,8 @@ use crate::scenes::long_flight::{jump, major_edge};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Flights {
-    /// Jumps wherever the scene supplies them (the square lattice with 2⁻³² ≤ r ≤ 1/4, where a jump
-    /// costs no more than the crossings it saves: `proofs-notes/long-flights.md`), else the walk.
+    /// Jumps where the scene supplies them and they are the faster engine (the square lattice with
+    /// 2⁻³² ≤ r ≤ [`AUTO_MAX_RADIUS`]), else the walk.
     #[default]
     Auto,
     /// Cell by cell (the reference: every edge crossing is an event).
@@ -28,6 +28,13 @@ pub enum Flights {
     /// Jumps; refused where the scene does not supply them.
     Jump,
 }
+
+/// The largest radius at which `auto` jumps, 1/8: above it a jump replaces one or two crossings
+/// and costs more than they do. `lorentz bench --long-flights 1/4,1/6,1/8,1/10,1/12,1/16
+/// --collisions-per-radius 5e5 --walk-collisions 5e5 --repetitions 5` (the bare engine, one thread):
+/// walk/jump = 0.74 at r = 1/4, 0.95 at 1/6, 1.11 at 1/8, 1.26 at 1/10, 1.79 at 1/16
+/// (`proofs-notes/long-flights.md`, "Cost").
+pub const AUTO_MAX_RADIUS: f64 = 0.125;
 
 impl Flights {
     /// The engine that runs for `scene`: `Walk` or `Jump`.
@@ -37,6 +44,7 @@ impl Flights {
     pub fn resolve<S: Scene>(self, scene: &S) -> Result<Flights, Error> {
         match (self, scene.long_flight_radius()) {
             (Flights::Walk, _) | (Flights::Auto, None) => Ok(Flights::Walk),
+            (Flights::Auto, Some(r)) if r > AUTO_MAX_RADIUS => Ok(Flights::Walk),
             (_, Some(_)) => Ok(Flights::Jump),
             (Flights::Jump, None) => Err(Error::Invalid(format!(
                 "flights = jump: {} has no long flights (the square lattice with 2^-32 <= radius \

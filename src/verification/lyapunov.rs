@@ -68,7 +68,7 @@ pub struct LyapunovConfig {
     pub batches: u32,
     /// Seed: orbit b starts from stream (seed, b).
     pub seed: u64,
-    /// How flights cross the lattice ([`Flights`]): `auto` (jumps where the scene supplies them).
+    /// How flights cross the lattice ([`Flights`]): `auto` (jumps where the scene supplies them and they are faster, [`crate::engine::long_flight::AUTO_MAX_RADIUS`]).
     #[serde(default)]
     pub flights: Flights,
 }

@@ -901,6 +901,21 @@ const BAD: &[(&[&str], &str)] = &[
         ],
         "cannot be used with",
     ),
+    (
+        &["bench", "--long-flights", "1/4,1/3"],
+        "use 2^-32 <= radius <= 1/4",
+    ),
+    (&["bench", "--long-flights", "1/4,r"], "radius = r"),
+    (
+        &["bench", "--long-flights", "1/4", "--threads", "2"],
+        "cannot be used with",
+    ),
+    (
+        &["bench", "--long-flights", "1/4", "--w", "0.1"],
+        "cannot be used with",
+    ),
+    (&["bench", "--walk-collisions", "10"], "--long-flights"),
+    (&["bench"], "--w"),
 ];
 
 #[test]

@@ -174,6 +174,12 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
             "bench --observer-costs",
             run("bench --w 0.1 --observer-costs --collisions-per-thread 1e5 --repetitions 1"),
         ),
+        (
+            "bench --long-flights",
+            run(
+                "bench --long-flights 1/4,1/100 --collisions-per-radius 1e4 --repetitions 1 --walk-collisions 100",
+            ),
+        ),
     ];
     run("figure backscatter-map --particles 1e3 --out fig");
     out.push((

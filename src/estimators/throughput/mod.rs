@@ -3,6 +3,7 @@
 //! magnetic field (`lorentz bench --field`) one trajectory on arcs.
 
 mod arcs;
+pub mod long_flights;
 
 use std::time::Instant;
 
