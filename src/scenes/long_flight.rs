@@ -123,7 +123,10 @@ impl Line {
         let offset = (p - q + window) * scale;
         // Rounding of p − q + w and of the scaled window, in units of 2^−s, and one for floor/ceil.
         let g = (8.0 * f64::EPSILON * (p.abs() + q.abs() + window) * scale).ceil() + 2.0;
-        let b0 = offset.floor() as i128 - g as i128;
+        // Raised by g: B₀ + g ≥ the exact B₀, so the window [0, c) with c = 2W + 2g holds every
+        // exact candidate (raised by −g, the first version lost candidates at D ≈ −W: the
+        // long-flight fuzz oracle's first finding).
+        let b0 = offset.floor() as i128 + g as i128;
         let c = (2.0 * window * scale).ceil() + 2.0 * g;
         if !(offset.abs() < 2f64.powi(120) && c < 2f64.powi(63)) {
             return Err(Overflow);
@@ -367,5 +370,28 @@ mod tests {
             same > 10_000 && declined > 500,
             "{same} same, {earlier} earlier, {declined} declined"
         );
+    }
+
+    /// The long-flight oracle's first finding (r = 1.6657·10⁻⁵, slope 2⁻⁹): the disk of column
+    /// 54 370 lies at D = −1.6656931878946·10⁻⁵, within 10⁻¹⁶ of the window's lower edge −W.
+    /// The machine search had lowered its offset by its rounding bound where it must raise it,
+    /// and went on to column 65 156, skipping the candidate (a near miss by 2⁻⁴⁰r + 2⁻⁴⁸, which
+    /// the kernel would have missed too, but outside the model's claim). Now both searches find it.
+    #[test]
+    fn regression_fast_search_skipped_a_candidate_at_the_lower_edge_of_its_window() {
+        let line = Line {
+            x: -0.2131303883421073,
+            y: 0.1428473334859236,
+            vx: 0.9999981046606534,
+            vy: 0.0019469656136990674,
+        };
+        let w = window(line.vx, line.vy, 0.00001665693187544487);
+        let exact = line.exact(w).expect("a disk ahead");
+        let fast = line
+            .fast(w)
+            .expect("a machine-integer answer")
+            .expect("a disk");
+        assert_eq!((exact.0, exact.1), (54_370, 106));
+        assert_eq!((fast.0, fast.1), (exact.0, exact.1));
     }
 }

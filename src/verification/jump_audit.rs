@@ -248,9 +248,9 @@ where
     Z: PartialOrd + for<'a> AddAssign<&'a Z> + for<'a> SubAssign<&'a Z>,
 {
     /// From N at column 1 to column `last`: (the first column before `last` inside the window,
-    /// rows moved, N at `last`). Stops at a skipped column.
+    /// rows moved, N at `last`).
     fn walk(&self, mut n: Z, last: u64) -> (Option<u64>, i64, Z) {
-        let mut rows = 0i64;
+        let (mut rows, mut skipped) = (0i64, None);
         for k in 1..=last {
             if k > 1 {
                 n += &self.a;
@@ -259,11 +259,11 @@ where
                     rows += 1;
                 }
             }
-            if k < last && n < self.w && n > self.neg_w {
-                return (Some(k), rows, n);
+            if skipped.is_none() && k < last && n < self.w && n > self.neg_w {
+                skipped = Some(k);
             }
         }
-        (None, rows, n)
+        (skipped, rows, n)
     }
 }
 

@@ -97,3 +97,36 @@ fn audits_with_jumps_find_nothing_outside_the_model() {
     let r = run(100, 2_000, Flights::Walk);
     assert_eq!((r.flights, r.summary.jumps.audited), (Flights::Walk, 0));
 }
+
+/// The long-flight fuzz oracle (`verification::oracle::long_flight`, the `long_flight` fuzz
+/// target) on 100 000 random inputs: near misses of far disks (r(1 ± 2^−e) from a disk up to
+/// 65 536 columns away), lines along and near small rational directions, and any direction, at
+/// radii 2⁻³² to 1/4. Every jump walked is inside its model; the families reach the window's edge
+/// (candidates at |D|/W > 0.999) and long corridors. (Breaking it on purpose: the search's window
+/// at 0.9r made the oracle fail on skipped disks.)
+#[test]
+fn the_long_flight_oracle_finds_every_jump_inside_its_model() {
+    use lorentz_gas::verification::oracle::long_flight;
+    use rand::{RngCore, SeedableRng};
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(38);
+    let (mut checked, mut skipped, mut edge, mut columns) = (0u64, 0u64, 0u64, 0u64);
+    for _ in 0..100_000 {
+        let mut data = [0u8; 24];
+        rng.fill_bytes(&mut data);
+        let r = long_flight(&data).unwrap_or_else(|e| panic!("{data:?}: {e}"));
+        checked += u64::from(r.checked);
+        skipped += u64::from(r.skipped);
+        if let Some(c) = r.check {
+            edge += u64::from(c.candidate_over_window > 0.999);
+            columns = columns.max(c.columns);
+        }
+    }
+    println!(
+        "{checked} jumps checked, {skipped} skipped, {edge} at the window's edge, longest {columns}"
+    );
+    // About a sixth meet no disk within the walked length (corridors) or are too long to walk.
+    assert!(
+        checked > 75_000 && edge > 1_000 && columns > 1 << 20,
+        "{checked} {edge} {columns}"
+    );
+}

@@ -50,6 +50,7 @@ use crate::verification::replay::check_event;
 mod arcs;
 mod bytes;
 mod geo;
+mod long_flight;
 mod starts;
 mod stepper;
 
@@ -62,6 +63,7 @@ pub use arcs::{
     ARC_ENERGY_BAND_U, MAX_ARC_STEPS, NORMAL_FLOOR, arc_energy_band_of, arc_kernel, decode_field,
     fly, in_domain,
 };
+pub use long_flight::{LongFlightReport, MAX_COLUMNS, long_flight};
 pub use starts::{decode_primitive, decode_scene};
 pub use stepper::step_lattice;
 
