@@ -88,6 +88,23 @@ pub(crate) fn window(vx: f64, vy: f64, r: f64) -> f64 {
     r * nv * (1.0 + f64::powi(2.0, -40)) + f64::powi(2.0, -48)
 }
 
+/// The machine search's bound g on the rounding of its offset, in units of 2^−s (scale = 2^s):
+/// the rounding of p − q + W and of the scaled window, and two for floor and ceiling.
+fn rounding_units(p: f64, q: f64, window: f64, scale: f64) -> f64 {
+    (8.0 * f64::EPSILON * (p.abs() + q.abs() + window) * scale).ceil() + 2.0
+}
+
+/// How far beyond the window W the machine search may take a candidate, 2g·2^−s, for a flight at
+/// (x, y) with velocity (v_x, v_y) in the turned frame: its window [0, 2W + 2g) is raised by up
+/// to 2g against the exact one (`proofs-notes/long-flights.md`). An upper bound wherever the
+/// search answers (it declines where the slope needs more than 63 bits).
+pub(crate) fn widening(x: f64, y: f64, vx: f64, vy: f64, window: f64) -> f64 {
+    let (ex, ey) = (decode(vx).1, decode(vy).1);
+    let bits = -(if vy == 0.0 { ex } else { ex.min(ey) });
+    let scale = f64::powi(2.0, bits);
+    2.0 * rounding_units(y * vx, x * vy, window, scale) / scale
+}
+
 /// The flight in the turned frame: position and velocity.
 struct Line {
     x: f64,
@@ -121,8 +138,7 @@ impl Line {
         let scale = f64::powi(2.0, bits);
         let (p, q) = (y * vx, x * vy);
         let offset = (p - q + window) * scale;
-        // Rounding of p − q + w and of the scaled window, in units of 2^−s, and one for floor/ceil.
-        let g = (8.0 * f64::EPSILON * (p.abs() + q.abs() + window) * scale).ceil() + 2.0;
+        let g = rounding_units(p, q, window, scale);
         // Raised by g: B₀ + g ≥ the exact B₀, so the window [0, c) with c = 2W + 2g holds every
         // exact candidate (raised by −g, the first version lost candidates at D ≈ −W: the
         // long-flight fuzz oracle's first finding).

@@ -21,7 +21,7 @@ use super::error_model::UNIT_ROUNDOFF as U;
 use super::shadow_audit::LogHistogram;
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
-use crate::scenes::long_flight::{Frame, Jump, Scale, jump, window};
+use crate::scenes::long_flight::{Frame, Jump, Scale, jump, widening, window};
 
 /// The verdict on one replayed jump.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -117,7 +117,8 @@ fn judge(f: &Flight<f64>, r: f64, bits: u32, j: &Jump) -> JumpCheck {
     let d = Float::with_val(bits, &walk.n) >> e.scale.bits;
     let d64 = d.to_f64();
     let pq = (e.y * e.vx).abs() + (e.x * e.vy).abs();
-    let widened = e.w + 16.0 * f64::EPSILON * (pq + e.w);
+    // The machine search's widening, or the exact search's rounding of D to a double.
+    let widened = e.w + widening(e.x, e.y, e.vx, e.vy, e.w).max(4.0 * U * e.w) + 4.0 * U * pq;
     let left_ref = {
         let c = Integer::from(&walk.n * 2u32) - &e.a + &e.m;
         c >= 0
@@ -456,5 +457,20 @@ mod tests {
         }
         // About a tenth of the first disks met lie at 0.9r ≤ |D| < r.
         assert!(shrunk_caught > 20, "{shrunk_caught}");
+    }
+
+    /// The long-flight fuzz target's first finding: a candidate 2·10⁻¹⁶ beyond the window W
+    /// (|D|/W = 1 + 8.6·10⁻¹²), which the machine search may take (its window is up to 2g·2^−s
+    /// wider, 6.7·10⁻¹⁶ here) but the audit's first bound (16ε(|y v_x| + |x v_y| + W) = 5·10⁻¹⁷)
+    /// called outside the model.
+    #[test]
+    fn regression_a_candidate_within_the_searchs_widening_is_inside_the_model() {
+        let f = Flight::new(
+            Vec2::new(7.629510948348184e-6, -0.023430228122377328),
+            Vec2::new(0.6183688865891823, 0.7858879819022906),
+        );
+        let c = check_jump(&f, 0.000023140675651833966, 128).expect("a disk ahead");
+        assert!(c.candidate_over_window > 1.0, "{c:?}");
+        assert!(c.in_model, "{c:?}");
     }
 }
