@@ -94,13 +94,18 @@ fn rounding_units(p: f64, q: f64, window: f64, scale: f64) -> f64 {
     (8.0 * f64::EPSILON * (p.abs() + q.abs() + window) * scale).ceil() + 2.0
 }
 
+/// The machine search's scale exponent s: 2^s makes v_x and v_y (binary exponents `ex`, `ey`)
+/// integers.
+fn slope_bits(ex: i32, ey: i32, vy: f64) -> i32 {
+    -(if vy == 0.0 { ex } else { ex.min(ey) })
+}
+
 /// How far beyond the window W the machine search may take a candidate, 2g·2^−s, for a flight at
 /// (x, y) with velocity (v_x, v_y) in the turned frame: its window [0, 2W + 2g) is raised by up
 /// to 2g against the exact one (`proofs-notes/long-flights.md`). An upper bound wherever the
 /// search answers (it declines where the slope needs more than 63 bits).
 pub(crate) fn widening(x: f64, y: f64, vx: f64, vy: f64, window: f64) -> f64 {
-    let (ex, ey) = (decode(vx).1, decode(vy).1);
-    let bits = -(if vy == 0.0 { ex } else { ex.min(ey) });
+    let bits = slope_bits(decode(vx).1, decode(vy).1, vy);
     let scale = f64::powi(2.0, bits);
     2.0 * rounding_units(y * vx, x * vy, window, scale) / scale
 }
@@ -125,7 +130,7 @@ impl Line {
     fn fast(&self, window: f64) -> Result<Option<(i64, i64, f64)>, Overflow> {
         let Line { x, y, vx, vy } = *self;
         let ((mx, ex), (my, ey)) = (decode(vx), decode(vy));
-        let bits = -(if vy == 0.0 { ex } else { ex.min(ey) });
+        let bits = slope_bits(ex, ey, vy);
         if !(0..=63).contains(&bits) || mx <= 0 || my < 0 {
             return Err(Overflow);
         }

@@ -422,9 +422,7 @@ fn run_on<S: Scene>(
         .filter(|_| flights == Flights::Jump);
     let batches = run_batches(scene, &input, &meta, radius, options)?;
     let s = summary::summarise(&input, &batches)?;
-    let mut r = report(scene.label(), &input, s, meta);
-    r.flights = flights;
-    Ok(r)
+    Ok(report(scene.label(), &input, s, flights, meta))
 }
 
 /// Every batch's trajectory, in batch order: those a checkpoint holds finished, the others run
@@ -497,6 +495,7 @@ fn report(
     scene: String,
     inp: &summary::Input,
     s: summary::Summary,
+    flights: Flights,
     meta: RunMeta,
 ) -> SuperdiffusionReport {
     let (cfg, sd) = (inp.cfg, inp.sd);
@@ -530,7 +529,7 @@ fn report(
         limit_law: s.law,
         collisions: cfg.collisions,
         collisions_per_batch: cfg.collisions / cfg.batches as u64,
-        flights: Flights::Walk,
+        flights,
         meta,
     }
 }
