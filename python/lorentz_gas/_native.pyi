@@ -65,6 +65,10 @@ def superdiffusion(
     threads: Optional[str], checkpoint: Optional[str],
     checkpoint_every: float, progress: Progress,
 ) -> str: ...
+def free_paths(
+    scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
+    seed: str, flights: str, threads: Optional[str], progress: Progress,
+) -> str: ...
 def audit(
     scene: str, w: Optional[str], radius: Optional[str], collisions: str, batches: str,
     sample: float, reference_bits: str, seed: str, field: Optional[str], flights: str, threads: Optional[str],

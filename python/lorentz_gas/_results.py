@@ -405,6 +405,30 @@ class SuperdiffusionResult(Result):
         )
 
 
+class FreePathResult(Result):
+    """The free path between collisions, ξ = τ/ℓ (ℓ Santaló's mean free path, dimensionless),
+    against the Boltzmann–Grad limit law of small disks.
+
+    ``mean`` (exactly 1 at every radius; ``mean_check`` its comparison), ``ln_mean`` against
+    ``ln_mean_limit`` = 27ζ(3)/(2π²) − 3 ln 2, each with ``_err``; ``longest`` ξ;
+    ``max_z`` over the bins against ``max_z_bound``. ``bins`` is a numpy structured
+    array, one record per bin of ξ: ``lo``, ``hi`` (NaN for the open last bin),
+    ``probability`` ± ``probability_err``, the limit law's ``limit`` and ``z``."""
+
+    _text_kind = "free-paths"
+
+    def __init__(self, text: str):
+        super().__init__(text)
+        self.bins = _records(self._data["bins"])
+
+    def _summary(self) -> str:
+        d = self._data
+        return (
+            f"<xi> = {_pm(d['mean'], d['mean_err'])} (exact 1), <ln xi> = "
+            f"{_pm(d['ln_mean'], d['ln_mean_err'])} (limit {d['ln_mean_limit']:.6f}) on {d['scene']}"
+        )
+
+
 class AuditResult(Result):
     """A shadow audit: the events replayed in MPFR and how many fell outside the error model."""
 

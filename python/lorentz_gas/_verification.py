@@ -28,6 +28,7 @@ from ._results import (
     BenchResult,
     CertifyResult,
     ConstantsResult,
+    FreePathResult,
     ConstantsTable,
     LyapunovResult,
     ReportResult,
@@ -98,6 +99,59 @@ def lyapunov(
             cb,
         )
     return LyapunovResult(text)
+
+
+@public
+def free_paths(
+    w: Optional[Exact] = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
+    collisions: Count = 1.6e7,
+    batches: Count = 16,
+    seed: Count = 1,
+    flights: str = "auto",
+    threads: Optional[Count] = None,
+    progress: Progress = None,
+) -> FreePathResult:
+    """The free path between collisions against its Boltzmann–Grad limit law
+    (``lorentz free-paths``): the histogram of ξ = τ/ℓ (τ the flight from one collision to the
+    next, ℓ Santaló's mean free path), ⟨ξ⟩ (exactly 1) and ⟨ln ξ⟩, against the law of r → 0
+    that every lattice of small disks approaches.
+
+    Parameters
+    ----------
+    w : gap of the triangular scene (w > 0); or ``scene="square"`` with ``radius``
+        (0 < radius < 1/2; small radii are the limit's regime), exact as in :func:`diffusion`.
+    collisions : int
+        Collisions in all, shared between the batches (at least 1001 per batch; each batch's
+        first, partial flight is not counted).
+    batches : int
+        Independent trajectories, at least 2; the errors are over them.
+    flights : {"auto", "walk", "jump"}
+        How flights cross the lattice, as in :func:`lyapunov`. Recorded as ``flights``.
+    seed, threads, progress
+        As in :func:`diffusion`.
+
+    Returns
+    -------
+    FreePathResult
+        ``mean``, ``ln_mean`` with errors and limits, and the ``bins`` table (probabilities of
+        ξ, dimensionless, against the limit law, with z-scores).
+    """
+    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
+        text = _native.free_paths(
+            scene,
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
+            _count("collisions", collisions),
+            _count("batches", batches),
+            _count("seed", seed),
+            str(flights),
+            _threads(threads),
+            cb,
+        )
+    return FreePathResult(text)
 
 
 @public

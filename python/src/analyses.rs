@@ -13,6 +13,7 @@ use lorentz_gas::engine::options::{AuditSpec, MAX_CHECKPOINT_EVERY, RunOptions};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, Window};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::field::{self, FieldConfig};
+use lorentz_gas::estimators::free_paths::{self, FreePathConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
@@ -428,6 +429,37 @@ fn py_superdiffusion(
 }
 
 #[pyfunction]
+#[pyo3(name = "free_paths", signature = (scene, w, radius, collisions, batches, seed, flights, threads, progress))]
+#[allow(clippy::too_many_arguments)]
+fn py_free_paths(
+    py: Python<'_>,
+    scene: &str,
+    w: Option<&str>,
+    radius: Option<&str>,
+    collisions: &str,
+    batches: &str,
+    seed: &str,
+    flights: &str,
+    threads: Option<&str>,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let cfg = FreePathConfig {
+        collisions: count_u64("collisions", collisions)?,
+        batches: count_u32("batches", batches)?,
+        seed: count_u64("seed", seed)?,
+        flights: flights
+            .parse()
+            .map_err(|e: lorentz_gas::Error| PyValueError::new_err(e.to_string()))?,
+        ..FreePathConfig::new(crate::scenes::spec(scene, w, radius)?)
+    };
+    let threads = inputs::threads(threads)?;
+    let r = compute(py, progress, |ctl| {
+        free_paths::run(&cfg, &options(ctl, threads, Engine::Auto))
+    })?;
+    json(&r)
+}
+
+#[pyfunction]
 #[pyo3(name = "report", signature = (result, out, quick, reference_bits, max_rerun_collisions, threads, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_report(
@@ -472,6 +504,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(py_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(py_escape, m)?)?;
     m.add_function(wrap_pyfunction!(py_superdiffusion, m)?)?;
+    m.add_function(wrap_pyfunction!(py_free_paths, m)?)?;
     m.add_function(wrap_pyfunction!(py_report, m)?)?;
     m.add_function(wrap_pyfunction!(py_constants, m)?)?;
     m.add_function(wrap_pyfunction!(py_agreement_bound, m)?)?;

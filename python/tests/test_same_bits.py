@@ -2,6 +2,8 @@
 
 import json
 
+import numpy as np
+
 import pytest
 
 import lorentz_gas as lg
@@ -218,3 +220,13 @@ def test_bench_has_the_command_lines_keys_and_counts(cli_json):
         lg.bench(observe="all")
     with pytest.raises(ValueError, match="straight_beside"):
         lg.bench(straight_beside=True)
+
+
+def test_free_paths_have_the_command_lines_bits(cli_json):
+    py = lg.free_paths(scene="square", radius="1/1000", collisions=6.4e4, batches=4, seed=3)
+    cl = cli_json("free-paths", "--scene", "square", "--radius", "1/1000", "--collisions", "6.4e4",
+                  "--batches", "4", "--seed", "3")
+    same(py.to_dict(), cl)
+    assert list(py.bins["probability"]) == [b["probability"] for b in cl["bins"]]
+    assert np.isnan(py.bins["hi"][-1]) and cl["bins"][-1]["hi"] is None
+    assert py.flights == "jump" and "long flights jumped" in str(py)

@@ -38,6 +38,7 @@ mod escape;
 mod field;
 mod field_sweep;
 mod figure;
+mod free_paths;
 mod hops;
 mod lattice_walk;
 mod lyapunov;
@@ -115,6 +116,8 @@ enum Cmd {
     Shadow(shadow::Args),
     /// Superdiffusion beyond a finite horizon: flight tails, t*C(t), <dx^2>/t against ln t and the limit law, against the exact corridor constants.
     Superdiffusion(superdiffusion::Args),
+    /// Free paths between collisions, tau over the mean free path, against the Boltzmann-Grad limit law of small disks.
+    FreePaths(free_paths::Args),
     /// Backscattering by injection into a single trap from the invariant flux (Kac's lemma checks included).
     Backscatter(backscatter::Args),
     /// Trap-hopping statistics along lattice trajectories: p_bs, p_cf, symbol sequences, hop-level Green-Kubo D.
@@ -218,6 +221,7 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::Certify(a) => certify::run(a),
         Cmd::Shadow(a) => shadow::run(a),
         Cmd::Superdiffusion(a) => superdiffusion::run(a),
+        Cmd::FreePaths(a) => free_paths::run(a),
         Cmd::Backscatter(a) => backscatter::run(a),
         Cmd::Hops(a) => hops::run(a),
         Cmd::Sweep(a) => sweep::run(a),

@@ -6,6 +6,7 @@
 //! * [`hops`]: trap hopping — symbol sequences, backscattering, Green–Kubo, lattice walks.
 //! * [`sweep`]: D over a grid of gaps with a fit, in shards for campaigns.
 //! * [`escape`]: D from the escape rate out of an open strip (Gaspard–Baras).
+//! * [`free_paths`]: the free path between collisions against its Boltzmann–Grad limit law.
 //! * [`superdiffusion`]: an infinite horizon's t ln t growth, flight tails and limit law against
 //!   the exact corridor constants.
 //! * [`trajectory`]: one trajectory from exact initial conditions to certified digits.
@@ -18,6 +19,7 @@
 pub mod diffusion;
 pub mod escape;
 pub mod field;
+pub mod free_paths;
 pub mod hops;
 pub mod observer_costs;
 pub mod superdiffusion;

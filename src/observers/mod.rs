@@ -14,6 +14,7 @@
 //! * [`counters`]: collisions, crossings, total time (compensated), longest flight.
 //! * [`hops`]: trap-hopping symbols, collisionless visits, hop-direction correlations.
 //! * [`flight_tails`]: the tails of the free flights under the map and the flow.
+//! * [`free_paths`]: the free paths between collisions in units of the mean free path, histogrammed.
 //! * [`msd_curve`]: the MSD, the velocity autocorrelation and its running Green–Kubo integral
 //!   on a multiple-τ logarithmic grid from inside the first flight (four times per octave).
 //! * [`lag_moments`]: ⟨|Δr|²⟩, ⟨v(0)·v(t)⟩ and the scaled displacement's histogram at lags on a
@@ -21,6 +22,7 @@
 
 pub mod counters;
 pub mod flight_tails;
+pub mod free_paths;
 pub mod hop_correlations;
 pub mod hops;
 pub mod lag_moments;

@@ -6,6 +6,7 @@
 //! * [`sequences`]: validated tables of symbol-sequence probabilities.
 //! * [`hierarchy`]: D_cf, D_bs, D₁ (eqs. 4–6) and D_k (App. B, corrected).
 //! * [`corridors`]: the corridors of an infinite horizon and the superdiffusion constants.
+//! * [`free_paths`]: the Boltzmann–Grad limit law of free paths between collisions.
 //! * [`constants`]: every closed form at gap w, at any precision (`lorentz constants`).
 //! * [`appendix_a`]: the analytic p_cf (eqs. A4–A8), with the printed slip.
 //! * [`markov`]: exact D of the order-k correlated walk (resolvent of the history chain).
@@ -20,6 +21,7 @@
 pub mod appendix_a;
 pub mod constants;
 pub mod corridors;
+pub mod free_paths;
 pub mod green_kubo;
 pub mod hierarchy;
 pub mod honeycomb;

@@ -12,6 +12,7 @@ mod derived_errors;
 mod escape;
 mod field;
 mod field_sweep;
+mod free_paths;
 mod hopping;
 mod msd_curve;
 mod options;

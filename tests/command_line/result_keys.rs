@@ -167,6 +167,10 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
             ),
         ),
         (
+            "free-paths",
+            run("free-paths --scene square --radius 1/1000 --collisions 4e4 --batches 4"),
+        ),
+        (
             "bench",
             run("bench --w 0.1 --collisions-per-thread 1e5 --repetitions 1"),
         ),

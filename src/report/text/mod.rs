@@ -11,6 +11,7 @@ pub mod certify;
 pub mod diffusion;
 pub mod escape;
 pub mod field;
+pub mod free_paths;
 pub mod hops;
 pub mod lattice_walk;
 pub mod shadow;
@@ -56,6 +57,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "backscatter" => render(kind, json, backscatter::backscatter)?,
         "escape" => render(kind, json, escape::escape)?,
         "superdiffusion" => render(kind, json, superdiffusion::superdiffusion)?,
+        "free-paths" => render(kind, json, free_paths::free_paths)?,
         "shadow" => render(kind, json, shadow::shadow)?,
         "certify" => render(kind, json, certify::certify)?,
         "audit" => render(kind, json, audit::audit)?,
