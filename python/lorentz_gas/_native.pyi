@@ -107,6 +107,10 @@ def bench(
     observe: str, seed: str, threads: str, field: Optional[str], straight_beside: bool,
     progress: Progress,
 ) -> str: ...
+def bench_long_flights(
+    radii: List[str], collisions_per_radius: str, walk_collisions: str, repetitions: str,
+    seed: str, progress: Progress,
+) -> str: ...
 def collisions_for(collisions: int, batches: int, achieved: float, target: float) -> int: ...
 def figure(
     kind: str, w: Optional[str], particles: Optional[str], particles_per_gap: Optional[str],

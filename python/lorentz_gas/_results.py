@@ -364,12 +364,14 @@ class LyapunovResult(Result):
 
 
 def _records(raw: List[Dict[str, Any]]) -> np.ndarray:
-    """Rows of numbers (``None`` as NaN) as a numpy structured array."""
+    """Rows of numbers (``None`` as NaN) and texts as a numpy structured array."""
     if not raw:
         return np.zeros(0)
     keys = list(raw[0])
     ints = [k for k in keys if all(isinstance(r[k], int) and not isinstance(r[k], bool) for r in raw)]
-    dtype = [(k, np.int64 if k in ints else np.float64) for k in keys]
+    texts = {k: max(len(r[k]) for r in raw) for k in keys if all(isinstance(r[k], str) for r in raw)}
+    dtype = [(k, f"U{texts[k]}" if k in texts else np.int64 if k in ints else np.float64)
+             for k in keys]
     return np.array(
         [tuple(np.nan if r[k] is None else r[k] for k in keys) for r in raw], dtype=dtype
     )
@@ -449,8 +451,19 @@ class BenchResult(Result):
     repetition's rate in ``samples``, and on the SIMD engine ``divider_bound`` (what the divide
     and square-root unit alone allows)."""
 
+    def __init__(self, text: str):
+        super().__init__(text)
+        if "rows" in self._data:
+            # One record per radius; each repetition's timings stay in ``to_dict()["rows"]``.
+            self.rows = _records([{k: v for k, v in r.items() if not isinstance(v, list)}
+                                  for r in self._data["rows"]])
+
     def _summary(self) -> str:
         d = self._data
+        if "rows" in d:
+            return ", ".join(
+                f"r = {r['radius']}: {r['ns_per_collision']:.1f} ns/collision" for r in d["rows"]
+            ) + " (long flights jumped, one thread)"
         return (
             f"{d['collisions_per_second_per_thread']:.3e} collisions/s per thread "
             f"({d['ns_per_collision']:.2f} ns/collision) on {d['threads']} thread(s)"

@@ -4,6 +4,7 @@
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+use lorentz_gas::estimators::throughput::long_flights::{self, LongFlightBenchConfig};
 use lorentz_gas::estimators::throughput::{self, Observe, ThroughputConfig};
 
 use crate::analyses::options;
@@ -57,6 +58,35 @@ fn py_bench(
     json(&r)
 }
 
+/// `bench(long_flights=...)`: a collision's cost against its flight's length on the square
+/// scene (the command line's `--long-flights`), one thread.
+#[pyfunction]
+#[pyo3(name = "bench_long_flights", signature = (radii, collisions_per_radius, walk_collisions, repetitions, seed, progress))]
+fn py_bench_long_flights(
+    py: Python<'_>,
+    radii: Vec<String>,
+    collisions_per_radius: &str,
+    walk_collisions: &str,
+    repetitions: &str,
+    seed: &str,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let cfg = LongFlightBenchConfig {
+        radii,
+        collisions: count_u64("collisions_per_radius", collisions_per_radius)?,
+        walk_collisions: count_u64("walk_collisions", walk_collisions)?,
+        repetitions: count_usize("repetitions", repetitions)?,
+        seed: count_u64("seed", seed)?,
+    };
+    cfg.scenes()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let r = compute(py, progress, |ctl| {
+        long_flights::run(&cfg, &options(ctl, 1, lorentz_gas::engine::Engine::Auto))
+    })?;
+    json(&r)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(py_bench, m)?)
+    m.add_function(wrap_pyfunction!(py_bench, m)?)?;
+    m.add_function(wrap_pyfunction!(py_bench_long_flights, m)?)
 }

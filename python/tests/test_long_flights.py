@@ -1,6 +1,9 @@
 """Long flights (`flights=`): the jumps give the command line's bits, say so, and are refused
 where they do not apply."""
 
+from fractions import Fraction
+
+import numpy as np
 import pytest
 
 import lorentz_gas as lg
@@ -55,3 +58,17 @@ def test_superdiffusion_jumps_by_default_with_the_command_lines_bits(cli_json):
     with pytest.raises(ValueError, match="has no long flights"):
         lg.superdiffusion(w=0.5, collisions=32000, batches=16, octaves=4, flights="jump",
                           progress=False)
+
+
+def test_bench_times_long_flights_like_the_command_line():
+    r = lg.bench(long_flights=["1/4", Fraction(1, 100)], collisions_per_radius=2e4,
+                 walk_collisions=200, repetitions=1, progress=False)
+    assert list(r.rows["radius"]) == ["1/4", "1/100"]
+    assert r.rows["over_first"][0] == 1.0 and np.all(r.rows["ns_per_collision"] > 0)
+    assert np.all(r.rows["walk_over_jump"] > 0) and "long flights jumped" in repr(r)
+    with pytest.raises(ValueError, match="threads"):
+        lg.bench(long_flights=["1/4"], threads=2)
+    with pytest.raises(ValueError, match="2\\^-32 <= r <= 1/4|radius"):
+        lg.bench(long_flights=["1/2"])
+    with pytest.raises(ValueError, match="long_flights= only"):
+        lg.bench(w="0.1", walk_collisions=10)
