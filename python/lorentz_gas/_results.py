@@ -355,6 +355,8 @@ class EscapeResult(Result):
 class LyapunovResult(Result):
     """The largest Lyapunov exponent (``tangent``) and the divergence rows (``divergence``)."""
 
+    _text_kind = "lyapunov"
+
     def _summary(self) -> str:
         t = self._data["tangent"]
         return (

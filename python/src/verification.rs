@@ -3,16 +3,16 @@
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use serde::Serialize;
 
 use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
 use lorentz_gas::numbers::exact::parse_exact;
+use lorentz_gas::report::text::lyapunov::LyapunovResult;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::verification::certify::{self, CertifyConfig};
-use lorentz_gas::verification::divergence::{self, Divergence, DivergenceConfig};
-use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
+use lorentz_gas::verification::divergence::{self, DivergenceConfig};
+use lorentz_gas::verification::lyapunov::{self, LyapunovConfig};
 use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
 use lorentz_gas::verification::shadowing::{self, ShadowConfig};
 
@@ -26,13 +26,6 @@ use crate::analyses::options;
 
 /// Most divergence starts: each costs about a second of MPFR work at 4096 bits.
 const MAX_STARTS: u32 = 10_000;
-
-/// The Lyapunov result of the command line: the tangent-space exponent and the divergence rows.
-#[derive(Serialize)]
-struct LyapunovJson {
-    tangent: LyapunovReport,
-    divergence: Vec<Divergence>,
-}
 
 #[pyfunction]
 #[pyo3(name = "lyapunov", signature = (scene, w, radius, collisions_per_batch, batches, starts, seed, threads, field, flights, progress))]
@@ -108,7 +101,7 @@ fn py_lyapunov(
         } else {
             Vec::new()
         };
-        Ok(LyapunovJson {
+        Ok(LyapunovResult {
             tangent,
             divergence,
         })

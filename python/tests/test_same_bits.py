@@ -230,3 +230,17 @@ def test_free_paths_have_the_command_lines_bits(cli_json):
     assert list(py.bins["probability"]) == [b["probability"] for b in cl["bins"]]
     assert np.isnan(py.bins["hi"][-1]) and cl["bins"][-1]["hi"] is None
     assert py.flights == "jump" and "long flights jumped" in str(py)
+
+
+def test_str_of_lyapunov_and_free_paths_is_the_command_lines_text(cli):
+    for py, args in [
+        (lambda: lg.lyapunov(w="0.1", collisions_per_batch=2e4, batches=4, starts=2, seed=3),
+         ["lyapunov", "--w", "0.1", "--collisions-per-batch", "2e4", "--batches", "4",
+          "--starts", "2", "--seed", "3"]),
+        (lambda: lg.free_paths(scene="square", radius="1/100", collisions=3.2e4, batches=4),
+         ["free-paths", "--scene", "square", "--radius", "1/100", "--collisions", "3.2e4",
+          "--batches", "4"]),
+    ]:
+        code, out, err = cli(*args, "--quiet")
+        assert code == 0, err
+        assert str(py()) == out.rstrip("\n")

@@ -1,18 +1,13 @@
 //! `lorentz lyapunov`: the largest Lyapunov exponent and the divergence of finite-precision orbits.
 
-use serde::Serialize;
-
 use lorentz_gas::Error;
 use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
+use lorentz_gas::report::text::lyapunov::{self as text, LyapunovResult};
 use lorentz_gas::scenes::spec::SceneChoice;
-use lorentz_gas::statistics::{comparison, welch_dof};
-use lorentz_gas::verification::divergence::{
-    self, DIVERGENCE_REFERENCE_BITS, Divergence, DivergenceConfig,
-};
-use lorentz_gas::verification::lyapunov::{
-    self, LyapunovConfig, LyapunovReport, TANGENT_TRANSIENT,
-};
+use lorentz_gas::statistics::comparison;
+use lorentz_gas::verification::divergence::{self, DivergenceConfig};
+use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, TANGENT_TRANSIENT};
 
 use super::args::{OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32, with_scene};
 use super::output::emit;
@@ -46,12 +41,6 @@ pub struct Args {
     run: RunArgs,
     #[command(flatten)]
     output: OutputArgs,
-}
-
-#[derive(Serialize)]
-struct Report {
-    tangent: LyapunovReport,
-    divergence: Vec<Divergence>,
 }
 
 /// `true` for a field that is exactly zero (the run without a field).
@@ -157,62 +146,10 @@ pub fn run(a: Args) -> Result<(), Error> {
     };
     emit(
         a.output.json,
-        &Report {
+        &LyapunovResult {
             tangent,
             divergence,
         },
-        |r| print_text(r, starts),
+        |r| print!("{}", text::lyapunov(r)),
     )
-}
-
-/// The text of a run without a field: the tangent-space exponent and the divergence table.
-fn print_text(r: &Report, starts: u32) {
-    let l = &r.tangent;
-    println!(
-        "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions{})\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time{}",
-        l.scene,
-        l.batches,
-        l.collisions_per_batch,
-        if l.flights == Flights::Jump {
-            ", long flights jumped"
-        } else {
-            ""
-        },
-        l.per_collision,
-        l.per_collision_err,
-        l.per_time,
-        l.per_time_err,
-        comparison::few_samples_note(l.batches as usize, "batches")
-    );
-    if !r.divergence.is_empty() {
-        println!(
-            "divergence from a {DIVERGENCE_REFERENCE_BITS}-bit reference ({} initial conditions){}:",
-            starts,
-            comparison::few_samples_note(starts as usize, "starts")
-        );
-        println!(
-            "precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time   growth per collision against λ (independent runs, Welch dof)"
-        );
-        for x in &r.divergence {
-            let dof = welch_dof(
-                x.rate_per_collision_err,
-                starts as f64,
-                l.per_collision_err,
-                l.batches as f64,
-            );
-            let e = x.rate_per_collision_err.hypot(l.per_collision_err);
-            let against = comparison::of(x.rate_per_collision - l.per_collision, e, dof);
-            println!(
-                "{:>9}  {:>12.1} ± {:<8.1}       {:.4} ± {:.4}        {:.4} ± {:.4}        {}",
-                x.precision,
-                x.horizon,
-                x.horizon_err,
-                x.rate_per_collision,
-                x.rate_per_collision_err,
-                x.rate_per_time,
-                x.rate_per_time_err,
-                against.describe("Welch")
-            );
-        }
-    }
 }

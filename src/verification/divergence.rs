@@ -42,10 +42,12 @@ pub fn default_starts<S: Scene>(scene: &S, flights: Flights) -> Result<u32, Erro
 }
 
 /// The divergence of one precision from the reference.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Divergence {
     /// "f64" or bits.
     pub precision: String,
+    /// Initial conditions measured (the errors are over them).
+    pub starts: u32,
     /// Collisions until the deviation first exceeds 10⁻³ (mean over initial conditions).
     pub horizon: f64,
     /// Its standard error over the starts (NaN for one start: no spread to estimate it from).
@@ -203,6 +205,7 @@ pub fn run<S: Scene>(
             let (tm, te) = mean_se(&rt);
             Divergence {
                 precision: p.map(|b| b.to_string()).unwrap_or_else(|| "f64".into()),
+                starts: cfg.starts,
                 horizon: hm,
                 horizon_err: he,
                 rate_per_collision: cm,

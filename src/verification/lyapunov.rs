@@ -36,7 +36,7 @@ use crate::statistics::mean_se;
 pub const TANGENT_TRANSIENT: u64 = 1000;
 
 /// Largest Lyapunov exponent with its standard error.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LyapunovReport {
     /// The scene ([`Scene::label`]).
     pub scene: String,

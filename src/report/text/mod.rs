@@ -14,6 +14,7 @@ pub mod field;
 pub mod free_paths;
 pub mod hops;
 pub mod lattice_walk;
+pub mod lyapunov;
 pub mod shadow;
 pub mod superdiffusion;
 pub mod theory;
@@ -58,6 +59,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "escape" => render(kind, json, escape::escape)?,
         "superdiffusion" => render(kind, json, superdiffusion::superdiffusion)?,
         "free-paths" => render(kind, json, free_paths::free_paths)?,
+        "lyapunov" => render(kind, json, lyapunov::lyapunov)?,
         "shadow" => render(kind, json, shadow::shadow)?,
         "certify" => render(kind, json, certify::certify)?,
         "audit" => render(kind, json, audit::audit)?,
