@@ -453,9 +453,12 @@ class BenchResult(Result):
     repetition's rate in ``samples``, and on the SIMD engine ``divider_bound`` (what the divide
     and square-root unit alone allows)."""
 
+    _text_kind = "bench"
+
     def __init__(self, text: str):
         super().__init__(text)
         if "rows" in self._data:
+            self._text_kind = "bench-long-flights"
             # One record per radius; each repetition's timings stay in ``to_dict()["rows"]``.
             self.rows = _records([{k: v for k, v in r.items() if not isinstance(v, list)}
                                   for r in self._data["rows"]])

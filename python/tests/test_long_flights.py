@@ -72,3 +72,13 @@ def test_bench_times_long_flights_like_the_command_line():
         lg.bench(long_flights=["1/2"])
     with pytest.raises(ValueError, match="long_flights= only"):
         lg.bench(w="0.1", walk_collisions=10)
+
+
+def test_str_of_a_bench_is_the_command_lines_text_shape():
+    r = lg.bench(long_flights=["1/4", "1/100"], collisions_per_radius=1e4, walk_collisions=100,
+                 repetitions=1, progress=False)
+    lines = str(r).splitlines()
+    assert lines[0].startswith("long flights, square lattice, 1 thread: 10000 collisions jumping")
+    assert lines[2].startswith("1/4 ") and lines[3].startswith("1/100 ")
+    b = lg.bench(w="0.1", collisions_per_thread=1e4, repetitions=1, progress=False)
+    assert str(b).startswith("w = 0.1  precision f64  engine ")

@@ -3,13 +3,11 @@
 use std::path::PathBuf;
 
 use lorentz_gas::Error;
-use lorentz_gas::engine::metadata::RunMeta;
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::observer_costs::{self, ObserverCosts, ObserverCostsConfig};
-use lorentz_gas::estimators::throughput::long_flights::{
-    self, LongFlightBench, LongFlightBenchConfig,
-};
-use lorentz_gas::estimators::throughput::{self, Throughput, ThroughputConfig};
+use lorentz_gas::estimators::observer_costs::{self, ObserverCostsConfig};
+use lorentz_gas::estimators::throughput::long_flights::{self, LongFlightBenchConfig};
+use lorentz_gas::estimators::throughput::{self, ThroughputConfig};
+use lorentz_gas::report::text::bench as text;
 
 use lorentz_gas::report::speed_error::{self, REPORT_STEPS, SpeedErrorConfig};
 
@@ -107,7 +105,7 @@ pub fn run(a: Args) -> Result<(), Error> {
             1,
             "repetitions",
             |o| long_flights::run(&cfg, o),
-            print_long,
+            |r| print!("{}", text::long_flights(r)),
         );
     }
     if a.report {
@@ -146,7 +144,7 @@ pub fn run(a: Args) -> Result<(), Error> {
             threads,
             "rounds",
             |o| observer_costs::run(&cfg, o),
-            print_costs,
+            |r| print!("{}", text::observer_costs(r)),
         );
     }
     let cfg = ThroughputConfig {
@@ -172,7 +170,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         threads,
         "repetitions",
         |o| throughput::run(&cfg, o),
-        print,
+        |r| print!("{}", text::throughput(r)),
     )
 }
 
@@ -194,98 +192,4 @@ fn timed<R: serde::Serialize>(
     drop(opts);
     drop(pb);
     emit(a.output.json, &r, text)
-}
-
-/// The engine that ran, with its SIMD path if any.
-fn engine(m: &RunMeta) -> String {
-    match &m.simd {
-        Some(p) => format!("{} ({p})", m.engine),
-        None => m.engine.clone(),
-    }
-}
-
-fn print(r: &Throughput) {
-    println!(
-        "w = {}  precision {}  engine {}  {} collisions per thread x {} repetitions on {} thread(s)\nmedian {:.3e} collisions/s ({:.3e} per thread) = {:.2} ns/collision per thread  (runs: {})",
-        r.w,
-        r.meta.precision,
-        engine(&r.meta),
-        r.collisions_per_thread,
-        r.repetitions,
-        r.threads,
-        r.collisions_per_second,
-        r.collisions_per_second_per_thread,
-        r.ns_per_collision,
-        r.samples
-            .iter()
-            .map(|s| format!("{s:.3e}"))
-            .collect::<Vec<_>>()
-            .join(" ")
-    );
-    if let Some(b) = &r.divider_bound {
-        println!(
-            "divider bound: {:.2} ns per division and {:.2} ns per square root of {} lanes; {} root(s) + {} divisions per event = {:.2} ns/collision, {:.0} % of the engine's time",
-            b.unit.div_ns,
-            b.unit.sqrt_ns,
-            b.unit.lanes,
-            b.unit.roots,
-            b.unit.divisions,
-            b.ns_per_collision,
-            100.0 * b.fraction
-        );
-    }
-    if let Some(s) = &r.straight {
-        println!(
-            "straight flights beside (same run, alternating): median {:.3e} collisions/s per thread (runs: {}); arcs / straight = {:.3} (median of the paired ratios {:.3})",
-            s.collisions_per_second_per_thread,
-            s.samples
-                .iter()
-                .map(|x| format!("{x:.3e}"))
-                .collect::<Vec<_>>()
-                .join(" "),
-            s.arcs_over_straight,
-            s.paired_ratio
-        );
-    }
-}
-
-fn print_costs(r: &ObserverCosts) {
-    println!(
-        "w = {}  engine {}  {} collisions per thread x {} rounds on {} thread(s), sets in turns",
-        r.w,
-        engine(&r.meta),
-        r.collisions_per_thread,
-        r.rounds,
-        r.threads,
-    );
-    println!("observe     ns/collision  over bare (median of paired ratios)");
-    for c in &r.costs {
-        println!(
-            "{:<10}  {:>12.2}  {:>+8.1} %",
-            format!("{:?}", c.observe).to_lowercase(),
-            c.ns_per_collision,
-            100.0 * c.over_bare
-        );
-    }
-}
-
-fn print_long(r: &LongFlightBench) {
-    let c = &r.config;
-    println!(
-        "long flights, square lattice, 1 thread: {} collisions jumping and {} walking per radius x {} repetitions (radii in turns), seed {}",
-        c.collisions, c.walk_collisions, c.repetitions, c.seed
-    );
-    println!(
-        "radius        mean free path  ns/collision  over the first  walking ns/collision  walk/jump"
-    );
-    for row in &r.rows {
-        let (walk, ratio) = match (row.walk_ns_per_collision, row.walk_over_jump) {
-            (Some(w), Some(q)) => (format!("{w:.1}"), format!("{q:.2}")),
-            _ => ("-".into(), "-".into()),
-        };
-        println!(
-            "{:<12}  {:>14.2}  {:>12.1}  {:>14.3}  {:>20}  {:>9}",
-            row.radius, row.mean_free_path, row.ns_per_collision, row.over_first, walk, ratio
-        );
-    }
 }

@@ -115,7 +115,7 @@ pub fn run_chains(path: SimdPath, unit: Unit) -> Option<f64> {
 }
 
 /// The unit's figures on this machine.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct DividerBound {
     /// Nanoseconds per vector division (median of the timed calls).
     pub div_ns: f64,

@@ -31,7 +31,7 @@ use crate::scenes::triangular::equilibrium_state;
 use crate::scenes::triangular::geometry::Geometry;
 
 /// Throughput measurement: the median of several timed repetitions.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Throughput {
     /// Gap w.
     pub w: f64,
@@ -72,7 +72,7 @@ pub struct Throughput {
 /// The straight engine timed beside an arc benchmark: repetition i of the straight flights runs
 /// right after repetition i of the arcs, on the same threads and engine, so that both see the
 /// same machine.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Beside {
     /// Every straight repetition's collisions per second (all threads), in order.
     pub samples: Vec<f64>,
@@ -86,7 +86,7 @@ pub struct Beside {
 }
 
 /// The divider's bound against the engine's measured time.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BoundReport {
     /// The unit's figures, measured at start-up ([`crate::engine::bound::measure`]).
     #[serde(flatten)]

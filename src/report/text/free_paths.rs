@@ -3,7 +3,6 @@
 //! result is the same text.
 
 use super::{line, sigmas};
-use crate::engine::long_flight::Flights;
 use crate::estimators::free_paths::FreePathReport;
 
 /// The text of a `free-paths` result, line by line as the command line prints it.
@@ -17,11 +16,7 @@ pub fn free_paths(r: &FreePathReport) -> String {
         r.mean_free_path,
         n,
         r.samples,
-        if r.flights == Flights::Jump {
-            ", long flights jumped"
-        } else {
-            ""
-        }
+        super::jumped(r.flights)
     );
     line!(
         out,

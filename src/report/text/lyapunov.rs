@@ -5,7 +5,6 @@
 use serde::{Deserialize, Serialize};
 
 use super::line;
-use crate::engine::long_flight::Flights;
 use crate::statistics::{comparison, welch_dof};
 use crate::verification::divergence::{DIVERGENCE_REFERENCE_BITS, Divergence};
 use crate::verification::lyapunov::LyapunovReport;
@@ -30,11 +29,7 @@ pub fn lyapunov(r: &LyapunovResult) -> String {
         l.scene,
         l.batches,
         l.collisions_per_batch,
-        if l.flights == Flights::Jump {
-            ", long flights jumped"
-        } else {
-            ""
-        },
+        super::jumped(l.flights),
         l.per_collision,
         l.per_collision_err,
         l.per_time,

@@ -7,6 +7,7 @@ use crate::statistics::comparison;
 
 pub mod audit;
 pub mod backscatter;
+pub mod bench;
 pub mod certify;
 pub mod diffusion;
 pub mod escape;
@@ -27,6 +28,16 @@ macro_rules! line {
     }};
 }
 pub(crate) use line;
+
+/// ", long flights jumped" where the run jumped them (the title lines of `lyapunov`,
+/// `superdiffusion` and `free-paths`), else nothing.
+pub fn jumped(flights: crate::engine::long_flight::Flights) -> &'static str {
+    if flights == crate::engine::long_flight::Flights::Jump {
+        ", long flights jumped"
+    } else {
+        ""
+    }
+}
 
 /// "+1.5σ, bound 4.6σ: agree" for a value against its exact one, with the Student-t bound of `n`
 /// batches.
@@ -60,6 +71,8 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "superdiffusion" => render(kind, json, superdiffusion::superdiffusion)?,
         "free-paths" => render(kind, json, free_paths::free_paths)?,
         "lyapunov" => render(kind, json, lyapunov::lyapunov)?,
+        "bench" => render(kind, json, bench::throughput)?,
+        "bench-long-flights" => render(kind, json, bench::long_flights)?,
         "shadow" => render(kind, json, shadow::shadow)?,
         "certify" => render(kind, json, certify::certify)?,
         "audit" => render(kind, json, audit::audit)?,

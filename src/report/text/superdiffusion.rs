@@ -19,11 +19,7 @@ pub fn superdiffusion(r: &SuperdiffusionReport) -> String {
         n,
         r.collisions_per_batch,
         r.mean_free_path,
-        if r.flights == crate::engine::long_flight::Flights::Jump {
-            ", long flights jumped"
-        } else {
-            ""
-        }
+        super::jumped(r.flights)
     );
     // The widest few: at small radii there are thousands (2388 at r = 1/100).
     let mut widths: Vec<String> = r

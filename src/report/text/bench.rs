@@ -1,0 +1,130 @@
+//! The text `lorentz bench` prints (throughput, observer costs, long flights): the command line
+//! writes it to stdout, and Python's `str()` of a bench result is the same text.
+
+use super::line;
+use crate::engine::metadata::RunMeta;
+use crate::estimators::observer_costs::ObserverCosts;
+use crate::estimators::throughput::Throughput;
+use crate::estimators::throughput::long_flights::LongFlightBench;
+
+/// The engine that ran, with its SIMD path if any.
+fn engine(m: &RunMeta) -> String {
+    match &m.simd {
+        Some(p) => format!("{} ({p})", m.engine),
+        None => m.engine.clone(),
+    }
+}
+
+/// The text of a throughput result (`lorentz bench`).
+pub fn throughput(r: &Throughput) -> String {
+    let mut out = String::new();
+    line!(
+        out,
+        "w = {}  precision {}  engine {}  {} collisions per thread x {} repetitions on {} thread(s)\nmedian {:.3e} collisions/s ({:.3e} per thread) = {:.2} ns/collision per thread  (runs: {})",
+        r.w,
+        r.meta.precision,
+        engine(&r.meta),
+        r.collisions_per_thread,
+        r.repetitions,
+        r.threads,
+        r.collisions_per_second,
+        r.collisions_per_second_per_thread,
+        r.ns_per_collision,
+        r.samples
+            .iter()
+            .map(|s| format!("{s:.3e}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    if let Some(b) = &r.divider_bound {
+        line!(
+            out,
+            "divider bound: {:.2} ns per division and {:.2} ns per square root of {} lanes; {} root(s) + {} divisions per event = {:.2} ns/collision, {:.0} % of the engine's time",
+            b.unit.div_ns,
+            b.unit.sqrt_ns,
+            b.unit.lanes,
+            b.unit.roots,
+            b.unit.divisions,
+            b.ns_per_collision,
+            100.0 * b.fraction
+        );
+    }
+    if let Some(s) = &r.straight {
+        line!(
+            out,
+            "straight flights beside (same run, alternating): median {:.3e} collisions/s per thread (runs: {}); arcs / straight = {:.3} (median of the paired ratios {:.3})",
+            s.collisions_per_second_per_thread,
+            s.samples
+                .iter()
+                .map(|x| format!("{x:.3e}"))
+                .collect::<Vec<_>>()
+                .join(" "),
+            s.arcs_over_straight,
+            s.paired_ratio
+        );
+    }
+    out
+}
+
+/// The text of an observer-cost result (`lorentz bench --observer-costs`).
+pub fn observer_costs(r: &ObserverCosts) -> String {
+    let mut out = String::new();
+    line!(
+        out,
+        "w = {}  engine {}  {} collisions per thread x {} rounds on {} thread(s), sets in turns",
+        r.w,
+        engine(&r.meta),
+        r.collisions_per_thread,
+        r.rounds,
+        r.threads,
+    );
+    line!(
+        out,
+        "observe     ns/collision  over bare (median of paired ratios)"
+    );
+    for c in &r.costs {
+        line!(
+            out,
+            "{:<10}  {:>12.2}  {:>+8.1} %",
+            format!("{:?}", c.observe).to_lowercase(),
+            c.ns_per_collision,
+            100.0 * c.over_bare
+        );
+    }
+    out
+}
+
+/// The text of a long-flight result (`lorentz bench --long-flights`).
+pub fn long_flights(r: &LongFlightBench) -> String {
+    let mut out = String::new();
+    let c = &r.config;
+    line!(
+        out,
+        "long flights, square lattice, 1 thread: {} collisions jumping and {} walking per radius x {} repetitions (radii in turns), seed {}",
+        c.collisions,
+        c.walk_collisions,
+        c.repetitions,
+        c.seed
+    );
+    line!(
+        out,
+        "radius        mean free path  ns/collision  over the first  walking ns/collision  walk/jump"
+    );
+    for row in &r.rows {
+        let (walk, ratio) = match (row.walk_ns_per_collision, row.walk_over_jump) {
+            (Some(w), Some(q)) => (format!("{w:.1}"), format!("{q:.2}")),
+            _ => ("-".into(), "-".into()),
+        };
+        line!(
+            out,
+            "{:<12}  {:>14.2}  {:>12.1}  {:>14.3}  {:>20}  {:>9}",
+            row.radius,
+            row.mean_free_path,
+            row.ns_per_collision,
+            row.over_first,
+            walk,
+            ratio
+        );
+    }
+    out
+}
