@@ -324,6 +324,8 @@ class SweepResult(Result):
     each field is also an attribute (``s.D``, ``s.w``); ``run_D`` and ``run_D_err`` are
     (points × runs) arrays; ``to_pandas()`` gives the table."""
 
+    _text_kind = "sweep"
+
     def __init__(self, text: str):
         super().__init__(text)
         raw = self._data["rows"]

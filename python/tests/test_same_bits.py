@@ -244,3 +244,16 @@ def test_str_of_lyapunov_and_free_paths_is_the_command_lines_text(cli):
         code, out, err = cli(*args, "--quiet")
         assert code == 0, err
         assert str(py()) == out.rstrip("\n")
+
+
+def test_str_of_a_sweep_is_the_command_lines_table(cli, tmp_path):
+    py = lg.sweep(w_from="0.1", w_to="0.2", steps=2, runs=2, collisions_per_run=1e6,
+                  batches_per_run=2, seed=5)
+    code, out, err = cli("sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "2", "--runs", "2",
+                         "--collisions-per-run", "1e6", "--batches-per-run", "2", "--seed", "5",
+                         "--out", str(tmp_path / "sweep"), "--quiet")
+    assert code == 0, err
+    # The command line then lists the files it wrote; the rest is the same text.
+    table = out.rstrip("\n").rsplit("\n", 1)[0]
+    assert out.rstrip("\n").rsplit("\n", 1)[1].startswith("written: ")
+    assert str(py) == table

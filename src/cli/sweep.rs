@@ -4,6 +4,7 @@ use lorentz_gas::Error;
 use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepReport};
+use lorentz_gas::report::text::sweep as text;
 
 use std::path::PathBuf;
 
@@ -199,62 +200,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     })
 }
 
-/// The sweep's table and fits, as text.
+/// The sweep's table and fits, as text ([`text::sweep`]).
 pub fn print(r: &SweepReport) {
-    let c = &r.config;
-    println!(
-        "sweep w = {} .. {}, {} points x {} runs x {} collisions in {} batches per run ({} points resumed)",
-        c.w_from, c.w_to, c.steps, c.runs, c.collisions, c.batches, r.resumed_points
-    );
-    println!(
-        "error of D: from the batches inside the runs (dof = runs x (batches - 1)); runs F (p): spread of the runs against those errors, F(runs - 1, dof)"
-    );
-    println!(
-        "       w         D            +-       dof   runs F     (p)     D_MZ       D_Bo      residual"
-    );
-    for x in &r.rows {
-        // One run per point has no spread to test: say so rather than print NaN.
-        let f_test = if x.runs_f.is_finite() {
-            format!("{:>6.2}  ({:.3})", x.runs_f, x.runs_p_value)
-        } else {
-            format!("{:>15}", "n/a (1 run)")
-        };
-        println!(
-            "{:>8}  {:.6}  {:.6}  {:>6}   {f_test}   {:.6}  {:.6}  {:+.2e}",
-            x.w, x.D, x.D_err, x.D_err_dof, x.D_MZ, x.D_Bo, x.residual
-        );
-    }
-    let l = &r.linear_fit;
-    println!(
-        "straight line D = {:.6} + {:.6} w: chi2/dof = {:.2}/{} (residuals: Fig. 8)",
-        l.intercept, l.slope, l.chi2, l.dof
-    );
-    println!(
-        "polynomials in w, chi2/dof by degree: {}",
-        r.polynomial_chi2
-            .iter()
-            .map(|p| format!("{}: {:.1}/{}", p.degree, p.chi2, p.dof))
-            .collect::<Vec<_>>()
-            .join("  ")
-    );
-    let b = &r.boltzmann_offset;
-    println!(
-        "Boltzmann offset (slope 3/16): Delta D = {:.5} ± {:.5} (chi2/dof = {:.1}/{}; error scaled by sqrt(chi2/dof) when above 1: ± {:.5})",
-        b.mean, b.err, b.chi2, b.dof, r.boltzmann_offset_err_scaled
-    );
-    let f = &r.boltzmann_free_fit;
-    println!(
-        "free slope of D against 1/n = {:.5} ± {:.5} (3/16 = 0.1875; chi2/dof = {:.1}/{})",
-        f.slope,
-        f.var_slope.sqrt(),
-        f.chi2,
-        f.dof
-    );
-    match &r.mz_crossing {
-        Some(x) => println!(
-            "D = D_MZ at w = {:.4} ± {:.4} (local weighted quadratic through {} points, chi2/dof = {:.2}/{}; error scaled by sqrt(chi2/dof) when above 1: ± {:.4})",
-            x.w, x.err, x.points, x.chi2, x.dof, x.err_scaled
-        ),
-        None => println!("D - D_MZ does not change sign in this range"),
-    }
+    print!("{}", text::sweep(r));
 }

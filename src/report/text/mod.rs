@@ -18,6 +18,7 @@ pub mod lattice_walk;
 pub mod lyapunov;
 pub mod shadow;
 pub mod superdiffusion;
+pub mod sweep;
 pub mod theory;
 
 /// `writeln!` into a `String` (which cannot fail).
@@ -71,6 +72,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "superdiffusion" => render(kind, json, superdiffusion::superdiffusion)?,
         "free-paths" => render(kind, json, free_paths::free_paths)?,
         "lyapunov" => render(kind, json, lyapunov::lyapunov)?,
+        "sweep" => render(kind, json, sweep::sweep)?,
         "bench" => render(kind, json, bench::throughput)?,
         "bench-long-flights" => render(kind, json, bench::long_flights)?,
         "shadow" => render(kind, json, shadow::shadow)?,
