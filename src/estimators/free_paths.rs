@@ -83,9 +83,12 @@ impl FreePathConfig {
     /// Checks the counts.
     ///
     /// # Errors
-    /// Fewer than 2 batches, too many, or fewer than [`MIN_FLIGHTS_PER_BATCH`] collisions per batch.
+    /// Fewer than 2 batches, too many, fewer than [`MIN_FLIGHTS_PER_BATCH`] collisions per batch,
+    /// or more than [`crate::engine::MAX_COLLISIONS_PER_TRAJECTORY`] in one.
     pub fn validate(&self) -> Result<(), Error> {
         check_batches("batches", self.batches)?;
+        // A batch is one trajectory: a count near 2^64 would wrap around its cell index.
+        crate::engine::check_trajectory_length(share(self.collisions, self.batches.max(1), 0))?;
         if self.batches < 2 {
             return Err(Error::TooFew {
                 what: "batches",
