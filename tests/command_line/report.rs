@@ -136,6 +136,55 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A run on the logarithmic grid is also checked by Green–Kubo: D by the integral of the
+/// velocity autocorrelation against D, paired over the batches. Broken on purpose (the recorded
+/// difference made 10 errors wide): that check fails and the report exits 1.
+#[test]
+fn a_log_grid_result_is_checked_by_green_kubo() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
+    let args = [
+        "diffusion",
+        "--w",
+        "0.3",
+        "--collisions",
+        "4e6",
+        "--batches",
+        "16",
+        "--msd-grid",
+        "log",
+        "--json",
+        "--quiet",
+    ];
+    let (code, json, err) = lorentz(&dir, &args);
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(dir.join("g.json"), &json).unwrap();
+    let (code, out, err) = lorentz(&dir, &["report", "g.json", "--quick", "--quiet"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let c = checks(&dir, "g-report");
+    let gk: Vec<_> = c.iter().filter(|x| x.2.contains("Green–Kubo")).collect();
+    assert_eq!(gk.len(), 1, "{c:?}");
+    assert_eq!(gk[0].0, "PASS", "{gk:?}");
+
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let (d, e) = (
+        v["D_minus_D_green_kubo"].as_f64().unwrap(),
+        v["D_minus_D_green_kubo_err"].as_f64().unwrap(),
+    );
+    let edited = json.replacen(
+        &format!("\"D_minus_D_green_kubo\": {d}"),
+        &format!("\"D_minus_D_green_kubo\": {}", 10.0 * e),
+        1,
+    );
+    assert_ne!(edited, json);
+    std::fs::write(dir.join("e.json"), &edited).unwrap();
+    let (code, _, err) = lorentz(&dir, &["report", "e.json", "--quick", "--quiet"]);
+    assert_eq!(code, 1, "{err}");
+    let c = checks(&dir, "e-report");
+    let gk = c.iter().find(|x| x.2.contains("Green–Kubo")).unwrap();
+    assert_eq!(gk.0, "FAIL", "{c:?}");
+}
+
 /// The whole quick reproduction (about 1.5 minutes on 2 cores): every step, the index, and a
 /// rerun that resumes everything. `cargo test --release -- --ignored`.
 #[test]

@@ -101,6 +101,7 @@ pub(super) fn checks(
     record_check(r, cfg, checks);
     batch_statistics(&r.batch_D, checks);
     fit_window_check(r, checks);
+    green_kubo_check(r, checks);
     diffusion_figures(r, ctx.out, figures)?;
     identity_checks(r, &g, checks);
     reruns_checks(r, cfg, &g, ctx, checks)
@@ -364,6 +365,26 @@ fn fit_window_check(r: &DiffusionReport, checks: &mut Checks) {
             r.window.lo, r.window.hi, r.check_window.lo, r.check_window.hi, c.difference, c.err, c.z, c.bound, c.dof
         ),
         &[("difference", c.difference), ("difference_err", c.err)],
+    );
+}
+
+/// A run on the logarithmic grid (`--msd-grid log`): D by the running Green–Kubo integral against
+/// the Einstein D, paired over the batches (its recorded difference and error).
+fn green_kubo_check(r: &DiffusionReport, checks: &mut Checks) {
+    let g = &r.green_kubo;
+    let (Some(d), Some(e)) = (g.D_minus_D_green_kubo, g.D_minus_D_green_kubo_err) else {
+        return;
+    };
+    let c = comparison::of(d, e, comparison::batch_dof(r.batch_D.len()));
+    checks.pass_if(
+        c.agrees(),
+        "statistics",
+        "Green–Kubo: D by the integral of the velocity autocorrelation agrees with D",
+        format!(
+            "D − D_green_kubo = {:.3e} ± {:.1e} ({:+.1}σ; paired over batches; bound {:.2}σ, t with {} dof)",
+            c.difference, c.err, c.z, c.bound, c.dof
+        ),
+        &[("difference", d), ("difference_err", e)],
     );
 }
 
