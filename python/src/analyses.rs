@@ -411,9 +411,7 @@ fn py_superdiffusion(
         vacf_fit: vacf_fit.unwrap_or(windows.vacf_fit),
         msd_fit: msd_fit.unwrap_or(windows.msd_fit),
         seed: count_u64("seed", seed)?,
-        flights: flights
-            .parse()
-            .map_err(|e: lorentz_gas::Error| PyValueError::new_err(e.to_string()))?,
+        flights: inputs::flights(flights)?,
         ..windows
     };
     let threads = inputs::threads(threads)?;
@@ -447,9 +445,7 @@ fn py_free_paths(
         collisions: count_u64("collisions", collisions)?,
         batches: count_u32("batches", batches)?,
         seed: count_u64("seed", seed)?,
-        flights: flights
-            .parse()
-            .map_err(|e: lorentz_gas::Error| PyValueError::new_err(e.to_string()))?,
+        flights: inputs::flights(flights)?,
         ..FreePathConfig::new(crate::scenes::spec(scene, w, radius)?)
     };
     let threads = inputs::threads(threads)?;

@@ -65,6 +65,11 @@ pub fn engine(text: &str) -> PyResult<Engine> {
     }
 }
 
+/// `auto`, `walk` or `jump`: how straight flights cross the lattice.
+pub fn flights(text: &str) -> PyResult<lorentz_gas::engine::long_flight::Flights> {
+    text.parse().map_err(py_err)
+}
+
 /// `f64` or a number of MPFR bits (53 or more).
 pub fn precision(text: &str) -> PyResult<Precision> {
     text.parse::<Precision>().map_err(py_err)

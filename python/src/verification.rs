@@ -44,9 +44,7 @@ fn py_lyapunov(
     flights: &str,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
-    let flights: Flights = flights
-        .parse()
-        .map_err(|e: lorentz_gas::Error| PyValueError::new_err(e.to_string()))?;
+    let flights = inputs::flights(flights)?;
     if let Some(b) = field.filter(|b| parse_exact(b).is_ok_and(|q| q != 0)) {
         if flights == Flights::Jump {
             return Err(PyValueError::new_err(
@@ -128,9 +126,7 @@ fn py_audit(
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let choice = resolve(scene, w, radius)?;
-    let flights: Flights = flights
-        .parse()
-        .map_err(|e: lorentz_gas::Error| PyValueError::new_err(e.to_string()))?;
+    let flights = inputs::flights(flights)?;
     let cfg = AuditConfig {
         scene: with_scene!(&choice, |s| s.label()),
         collisions: count_u64("collisions", collisions)?,

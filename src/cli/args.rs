@@ -267,6 +267,18 @@ fn parse_interval(text: &str) -> Result<std::time::Duration, String> {
     Ok(std::time::Duration::from_secs_f64(s))
 }
 
+/// How straight flights cross the lattice (`lyapunov`, `superdiffusion`, `free-paths`; `audit`
+/// says how each kind is replayed in its own words).
+#[derive(Args, Debug, Clone)]
+pub struct FlightsArg {
+    /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
+    /// can meet; the square scene with 2^-32 <= radius <= 1/4), walk (cell by cell, the
+    /// reference), or auto (jump with 2^-32 <= radius <= 1/8, where jumps are faster; walk
+    /// elsewhere). Recorded in the result as `flights`.
+    #[arg(long, default_value = "auto")]
+    pub flights: lorentz_gas::engine::long_flight::Flights,
+}
+
 /// Engine choice.
 #[derive(Args, Debug, Clone)]
 pub struct EngineArg {

@@ -1,10 +1,9 @@
 //! `lorentz free-paths`: the free path between collisions against its Boltzmann–Grad limit law.
 
 use lorentz_gas::Error;
-use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::estimators::free_paths::{self, FreePathConfig, FreePathReport};
 
-use super::args::{OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32};
+use super::args::{FlightsArg, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -19,12 +18,8 @@ pub struct Args {
     /// Independent batches (one trajectory each), at least 2; the error bars are over them.
     #[arg(long, default_value = "16", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
-    /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
-    /// can meet; the square scene with 2^-32 <= radius <= 1/4), walk (cell by cell, the
-    /// reference), or auto (jump with 2^-32 <= radius <= 1/8, where jumps are faster). Recorded in
-    /// the result as `flights`.
-    #[arg(long, default_value = "auto")]
-    flights: Flights,
+    #[command(flatten)]
+    flights: FlightsArg,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -36,7 +31,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         collisions: a.collisions,
         batches: a.batches,
         seed: a.run.seed(),
-        flights: a.flights,
+        flights: a.flights.flights,
         ..FreePathConfig::new(a.scene.spec()?)
     };
     cfg.validate()?;

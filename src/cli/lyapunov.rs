@@ -9,7 +9,9 @@ use lorentz_gas::statistics::comparison;
 use lorentz_gas::verification::divergence::{self, DivergenceConfig};
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, TANGENT_TRANSIENT};
 
-use super::args::{OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32, with_scene};
+use super::args::{
+    FlightsArg, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32, with_scene,
+};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -32,11 +34,8 @@ pub struct Args {
     /// arcs, on orbits started in the diffusing part of phase space; 0 is the run without a field.
     #[arg(long, allow_negative_numbers = true)]
     field: Option<String>,
-    /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
-    /// can meet; the square scene with 2^-32 <= radius <= 1/4), walk (cell by cell, the reference), or auto
-    /// (jump on the square scene with 2^-32 <= radius <= 1/8, where jumps are faster; walk elsewhere). Recorded in the result as `flights`.
-    #[arg(long, default_value = "auto")]
-    flights: Flights,
+    #[command(flatten)]
+    flights: FlightsArg,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -50,7 +49,7 @@ fn is_zero(b: &str) -> bool {
 
 /// `lorentz lyapunov --field B`: the tangent-space exponent on arcs.
 fn in_field(a: &Args, b: &str) -> Result<(), Error> {
-    if a.flights == Flights::Jump {
+    if a.flights.flights == Flights::Jump {
         return Err(Error::Invalid(
             "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto"
                 .into(),
@@ -107,7 +106,10 @@ pub fn run(a: Args) -> Result<(), Error> {
     let choice = a.scene.resolve()?;
     let starts = match a.starts {
         Some(s) => s,
-        None => with_scene!(&choice, |s| divergence::default_starts(s, a.flights))?,
+        None => with_scene!(&choice, |s| divergence::default_starts(
+            s,
+            a.flights.flights
+        ))?,
     };
     if starts == 1 || starts > MAX_STARTS {
         return Err(Error::Invalid(format!(
@@ -123,7 +125,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         collisions_per_batch: a.collisions_per_batch,
         batches: a.batches,
         seed: a.run.seed(),
-        flights: a.flights,
+        flights: a.flights.flights,
     };
     let opts = pb.options(a.run.threads());
     let tangent = with_scene!(&choice, |s| lyapunov::run(s, &cfg, &opts))?;

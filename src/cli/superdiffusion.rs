@@ -2,10 +2,11 @@
 //! growth and limit law, each against the exact corridor constants.
 
 use lorentz_gas::Error;
-use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig, SuperdiffusionReport};
 
-use super::args::{CheckpointArgs, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32};
+use super::args::{
+    CheckpointArgs, FlightsArg, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32,
+};
 use super::output::emit;
 use super::progress::Progress;
 
@@ -44,12 +45,8 @@ pub struct Args {
     /// 2^(OCTAVES-3) to 2^OCTAVES (512:4096 at 12 octaves).
     #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
     msd_fit: Option<[f64; 2]>,
-    /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
-    /// can meet; the square scene with 2^-32 <= radius <= 1/4), walk (cell by cell, the
-    /// reference), or auto (jump with 2^-32 <= radius <= 1/8, where jumps are faster). Recorded in
-    /// the result as `flights`.
-    #[arg(long, default_value = "auto")]
-    flights: Flights,
+    #[command(flatten)]
+    flights: FlightsArg,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -82,7 +79,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         vacf_fit: a.vacf_fit.unwrap_or(windows.vacf_fit),
         msd_fit: a.msd_fit.unwrap_or(windows.msd_fit),
         seed: a.run.seed(),
-        flights: a.flights,
+        flights: a.flights.flights,
         ..windows
     };
     cfg.validate()?;

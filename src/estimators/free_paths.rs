@@ -213,17 +213,20 @@ fn run_on<S: Scene>(
             }
             Ok(obs.counts().clone())
         })?;
-    let mut report = summarize(&per, cfg, flights, options.threads);
-    report.scene = scene.label();
-    report.mean_free_path = ell;
-    Ok(report)
+    Ok(summarize(
+        &per,
+        cfg,
+        (scene.label(), ell, flights),
+        options.threads,
+    ))
 }
 
-/// The batch means against the limit law.
+/// The batch means against the limit law, on the scene `scene` of mean free path
+/// `mean_free_path`.
 fn summarize(
     per: &[FreePathCounts],
     cfg: &FreePathConfig,
-    flights: Flights,
+    (scene, mean_free_path, flights): (String, f64, Flights),
     threads: usize,
 ) -> FreePathReport {
     let of = |f: &dyn Fn(&FreePathCounts) -> f64| mean_se(&per.iter().map(f).collect::<Vec<_>>());
@@ -253,8 +256,8 @@ fn summarize(
         .map(f64::abs)
         .fold(0.0, f64::max);
     FreePathReport {
-        scene: String::new(),
-        mean_free_path: f64::NAN,
+        scene,
+        mean_free_path,
         samples: per.iter().map(|c| c.flights).sum(),
         collisions: cfg.collisions,
         batches: cfg.batches,
