@@ -15,7 +15,7 @@ class ComputationError(RuntimeError): ...
 Progress = Optional[Callable[[int], object]]
 
 def diffusion(
-    w: str, collisions: Optional[str], batches: str, seed: str, threads: Optional[str],
+    scene: str, w: Optional[str], radius: Optional[str], collisions: Optional[str], batches: str, seed: str, threads: Optional[str],
     engine: str, precision: str, window: Tuple[float, float], check_window: Tuple[float, float],
     checkpoint: Optional[str], checkpoint_every: float, audit: Optional[float],
     reference_bits: str, field: Optional[str], localization_samples: str, progress: Progress,

@@ -240,8 +240,13 @@ class FieldResult(Result):
     def _summary(self) -> str:
         return (
             f"D_xx = {_pm(self.D_xx, self.D_xx_err)}, D_xy = {_pm(self.D_xy, self.D_xy_err)} "
-            f"at w = {self.w}, B = {self.field}"
+            f"at {_scene_parameter(self._data)}, B = {self.field}"
         )
+
+
+def _scene_parameter(d: dict) -> str:
+    """``w = …`` of the triangular scene, ``radius = …`` of the square one."""
+    return f"w = {d['w']}" if "w" in d else f"radius = {d.get('radius')}"
 
 
 class FieldSweepResult(Result):
@@ -561,7 +566,7 @@ class ConstantsResult(Result):
 
     def _summary(self) -> str:
         d = self._data
-        where = f"w = {d['w']}" if "w" in d else f"radius = {d.get('radius')}"
+        where = _scene_parameter(d)
         mfp = d.get("mean_free_path")
         return f"{where}: mean free path {mfp}" + (f", D_MZ = {d['D_MZ']}" if "D_MZ" in d else "")
 

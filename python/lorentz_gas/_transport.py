@@ -38,7 +38,7 @@ from ._results import (
 
 @public
 def diffusion(
-    w: Exact,
+    w: Optional[Exact] = None,
     collisions: Optional[Count] = None,
     batches: Count = 32,
     seed: Count = 1,
@@ -57,6 +57,8 @@ def diffusion(
     *,
     rel_err: Optional[float] = None,
     msd_grid: str = "fit",
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
 ) -> Union[DiffusionResult, FieldResult]:
     """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``), or with a
     magnetic ``field`` the diffusion tensor (``lorentz diffusion --field``).
@@ -64,7 +66,8 @@ def diffusion(
     Parameters
     ----------
     w : str, float, Fraction or Decimal
-        Gap between neighbouring disks (radius 1): 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
+        Gap between neighbouring disks (radius 1) of the triangular scene: 0 < w < w_inf =
+        4/sqrt(3) - 2 = 0.3094... (a finite horizon, where D exists); with a ``field`` any w > 0.
     collisions : int, optional
         Collisions in all, over every batch (at least 2 per batch); default 2e9. With
         ``rel_err``, the pilot's collisions (default 2e8).
@@ -113,6 +116,12 @@ def diffusion(
         ``msd_curve`` (a table: ``times``, ``msd``, ``vacf``, ``green_kubo``, each with
         ``_err``) and ``D_green_kubo`` ± ``D_green_kubo_err`` in the result. D keeps its bits;
         the run is about 20 times slower per collision.
+    scene : {"triangular", "square"}
+        The lattice: ``"triangular"`` (the paper's, needs ``w``) or ``"square"`` (disks of
+        ``radius`` at unit spacing). The square scene has corridors, so only a run in a
+        ``field`` (which bounds every flight) has a diffusion coefficient there.
+    radius : str, float, Fraction or Decimal, optional
+        Disk radius of the square scene, 0 < radius < 1/2, taken exactly like ``w``.
 
     Returns
     -------
@@ -130,7 +139,9 @@ def diffusion(
     total = None if rel_err is not None else _total(_count("collisions", 2e9 if collisions is None else collisions))
     with _Bar(progress, total, "coll") as cb:
         text = _native.diffusion(
-            _exact("w", w),
+            str(scene),
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
             None if collisions is None else _count("collisions", collisions),
             _count("batches", batches),
             _count("seed", seed),

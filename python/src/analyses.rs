@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 
 use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::{AuditSpec, MAX_CHECKPOINT_EVERY, RunOptions};
+use lorentz_gas::estimators::diffusion::scene::SceneDiffusionConfig;
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, Window};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::field::{self, FieldConfig};
@@ -19,6 +20,7 @@ use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
 use lorentz_gas::estimators::sweep::{self, SweepConfig};
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
+use lorentz_gas::scenes::spec::SceneSpec;
 use lorentz_gas::theory::constants::{self, ConstantsConfig};
 
 use crate::inputs::{self, count_u32, count_u64, count_usize, exact};
@@ -54,11 +56,13 @@ fn interval(seconds: f64) -> PyResult<Duration> {
 }
 
 #[pyfunction]
-#[pyo3(name = "diffusion", signature = (w, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, field, localization_samples, progress, rel_err, msd_grid = "fit"))]
+#[pyo3(name = "diffusion", signature = (scene, w, radius, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, field, localization_samples, progress, rel_err, msd_grid = "fit"))]
 #[allow(clippy::too_many_arguments)]
 fn py_diffusion(
     py: Python<'_>,
-    w: &str,
+    scene: &str,
+    w: Option<&str>,
+    radius: Option<&str>,
     collisions: Option<&str>,
     batches: &str,
     seed: &str,
@@ -77,25 +81,23 @@ fn py_diffusion(
     rel_err: Option<f64>,
     msd_grid: &str,
 ) -> PyResult<String> {
-    let w = exact("w", w)?;
-    let collisions = match collisions {
-        Some(c) => count_u64("collisions", c)?,
-        None => diffusion::plan::default_collisions(rel_err),
-    };
-    let cfg = DiffusionConfig {
-        w: w.value,
-        w_exact: w.exact_text(),
-        collisions,
+    let spec = crate::scenes::spec(scene, w, radius)?;
+    let plain = DiffusionConfig {
+        collisions: match collisions {
+            Some(c) => count_u64("collisions", c)?,
+            None => diffusion::plan::default_collisions(rel_err),
+        },
         batches: count_u32("batches", batches)?,
         seed: count_u64("seed", seed)?,
-        run: 0,
         precision: inputs::precision(precision)?,
         window: self::window("window", window)?,
         check_window: self::window("check_window", check_window)?,
         rel_err,
         msd_grid: msd_grid.parse().map_err(crate::py_err)?,
+        ..DiffusionConfig::new(0.1)
     };
-    cfg.validate().map_err(crate::py_err)?;
+    let samples = count_u64("localization_samples", localization_samples)?;
+    let cfg = configs(spec, plain, field, samples)?;
     let audit = match audit {
         Some(rate) => Some(
             AuditSpec::new(rate, count_u32("reference_bits", reference_bits)?)
@@ -105,8 +107,6 @@ fn py_diffusion(
     };
     let (threads, engine) = (inputs::threads(threads)?, inputs::engine(engine)?);
     let every = interval(checkpoint_every)?;
-    let samples = count_u64("localization_samples", localization_samples)?;
-    let fc = field_config(&cfg, field, samples)?;
     let r = compute(py, progress, |ctl| {
         let opts = RunOptions {
             resume: checkpoint,
@@ -114,9 +114,9 @@ fn py_diffusion(
             checkpoint_every: every,
             ..options(ctl, threads, engine)
         };
-        Ok(match &fc {
-            Some(fc) => Either::Field(field::run(fc, &opts)?),
-            None => Either::Plain(diffusion::run(&cfg, &opts)?),
+        Ok(match &cfg {
+            Either::Field(fc) => Either::Field(field::run(fc, &opts)?),
+            Either::Plain(c) => Either::Plain(diffusion::run(c, &opts)?),
         })
     })?;
     match r {
@@ -131,26 +131,57 @@ enum Either<P, F> {
     Field(F),
 }
 
-/// The field run of a diffusion configuration, unless the field is absent or exactly zero (the
-/// run without a field, with its own bits).
-fn field_config(
-    cfg: &DiffusionConfig,
+/// The run of `scene` the statistics of `plain` ask for (validated): in the field, unless it is
+/// absent or exactly zero, on either scene; else the run without a field, on the triangular
+/// scene below w_inf (elsewhere the diffusion coefficient does not exist).
+fn configs(
+    scene: SceneSpec,
+    plain: DiffusionConfig,
     field: Option<&str>,
     samples: u64,
-) -> PyResult<Option<FieldConfig>> {
-    let Some(b) = field else {
-        return Ok(None);
+) -> PyResult<Either<DiffusionConfig, FieldConfig>> {
+    let b = match field {
+        Some(b) if lorentz_gas::numbers::exact::parse_exact(b).map_err(crate::py_err)? != 0 => b,
+        _ => return plain_config(&scene, plain).map(Either::Plain),
     };
-    if lorentz_gas::numbers::exact::parse_exact(b).map_err(crate::py_err)? == 0 {
-        return Ok(None);
-    }
+    field::refuse_zero_field_options(plain.rel_err, plain.msd_grid).map_err(crate::py_err)?;
     let fc = FieldConfig {
-        diffusion: cfg.clone(),
-        field: b.trim().to_string(),
+        statistics: SceneDiffusionConfig {
+            collisions: plain.collisions,
+            batches: plain.batches,
+            seed: plain.seed,
+            precision: plain.precision,
+            window: plain.window,
+            check_window: plain.check_window,
+            msd_grid: plain.msd_grid,
+        },
         localization_samples: samples,
+        ..FieldConfig::new(scene, b)
     };
     fc.validate().map_err(crate::py_err)?;
-    Ok(Some(fc))
+    Ok(Either::Field(fc))
+}
+
+/// The run without a field: the triangular scene's gap checked for a finite horizon.
+fn plain_config(scene: &SceneSpec, plain: DiffusionConfig) -> PyResult<DiffusionConfig> {
+    let w = match scene {
+        SceneSpec::Triangular { w } => inputs::diffusive_gap(w)?,
+        SceneSpec::Square { .. } => {
+            let choice = scene.resolve().map_err(crate::py_err)?;
+            lorentz_gas::with_scene!(&choice, |s| diffusion::require_finite_horizon(s))
+                .map_err(crate::py_err)?;
+            return Err(PyValueError::new_err(
+                "the square scene has no diffusion coefficient without a field",
+            ));
+        }
+    };
+    let cfg = DiffusionConfig {
+        w: w.value,
+        w_exact: w.exact_text(),
+        ..plain
+    };
+    cfg.validate().map_err(crate::py_err)?;
+    Ok(cfg)
 }
 
 #[pyfunction]

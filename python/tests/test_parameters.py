@@ -45,7 +45,6 @@ NOT_PARAMETERS = {
     ("diffusion", "w_exact"): "the gap as typed: given as w",
     ("backscatter", "w_exact"): "the gap as typed: given as w",
     ("diffusion", "run"): "which run of a seed: set by sweeps, not by a caller",
-    ("diffusion --field", "w_exact"): "the gap as typed: given as w",
     ("diffusion --field", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("hops", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("backscatter", "run"): "which run of a seed: set by sweeps, not by a caller",

@@ -3,7 +3,6 @@
 import json
 
 import numpy as np
-
 import pytest
 
 import lorentz_gas as lg
@@ -49,6 +48,18 @@ def test_a_field_run_has_the_command_lines_bits(cli_json):
     same(py.to_dict(), cl)
     assert isinstance(py, lg.FieldResult) and "D_xy" in repr(py)
     assert py.field == -1.5 and py.diffusing["D_xy"] == cl["diffusing"]["D_xy"]
+
+
+def test_the_square_lattice_in_a_field_has_the_command_lines_bits(cli_json):
+    py = lg.diffusion(scene="square", radius="1/4", field="1", collisions=1e6, batches=4,
+                      localization_samples=20000)
+    cl = cli_json("diffusion", "--scene", "square", "--radius", "1/4", "--field", "1",
+                  "--collisions", "1e6", "--batches", "4", "--localization-samples", "20000")
+    same(py.to_dict(), cl)
+    assert py.radius == 0.25 and "w" not in py.to_dict() and "radius = 0.25" in repr(py)
+    # Without a field the square lattice's corridors leave no diffusion coefficient.
+    with pytest.raises(ValueError, match="in a magnetic field every scene has a finite horizon"):
+        lg.diffusion(scene="square", radius="1/4", collisions=1e6, batches=4)
 
 
 def test_a_zero_field_is_the_run_without_a_field():

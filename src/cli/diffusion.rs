@@ -2,7 +2,9 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
+use lorentz_gas::estimators::diffusion::scene::SceneDiffusionConfig;
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport, MsdGrid, Window};
+use lorentz_gas::estimators::field;
 use lorentz_gas::statistics::comparison;
 
 use super::args::{
@@ -14,7 +16,8 @@ use super::progress::Progress;
 
 /// The gap diffusion needs (the shared help of `--w` gives the whole range w > 0).
 const GAP_HELP: &str = "Gap w of the triangular scene, a decimal or a fraction such as 1/10: \
-    0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094... (a finite horizon, where D exists)";
+    0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094... (a finite horizon, where D exists); with --field \
+    any w > 0 (a field bounds every flight)";
 
 #[derive(clap::Args)]
 #[command(mut_arg("w", |a| a.help(GAP_HELP)))]
@@ -99,18 +102,35 @@ pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
     Ok(cfg)
 }
 
-/// The field run the arguments ask for (validated), unless the field is absent or exactly zero.
+/// The field run the arguments ask for (validated), unless the field is absent or exactly zero:
+/// on either scene (in a field every scene has a finite horizon).
 pub fn field_config(
     a: &Args,
 ) -> Result<Option<lorentz_gas::estimators::field::FieldConfig>, Error> {
-    match nonzero_field(a)? {
-        Some(b) => super::field::config(config(a)?, &b, a.localization_samples).map(Some),
-        None => Ok(None),
-    }
+    let Some(b) = nonzero_field(a)? else {
+        return Ok(None);
+    };
+    field::refuse_zero_field_options(a.rel_err, a.msd_grid)?;
+    let cfg = field::FieldConfig {
+        statistics: SceneDiffusionConfig {
+            collisions: a
+                .collisions
+                .unwrap_or_else(|| diffusion::plan::default_collisions(None)),
+            batches: a.batches,
+            seed: a.run.seed(),
+            precision: a.precision.precision,
+            window: a.window,
+            check_window: a.check_window,
+            msd_grid: a.msd_grid,
+        },
+        localization_samples: a.localization_samples,
+        ..field::FieldConfig::new(a.scene.spec()?, &b)
+    };
+    cfg.validate()?;
+    Ok(Some(cfg))
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let cfg = config(&a)?;
     if let Some(fc) = field_config(&a)? {
         let audit = a
             .audit
@@ -124,6 +144,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         });
         return super::field::run(&fc, opts, a.output.quiet, a.output.json);
     }
+    let cfg = config(&a)?;
     let audit = a
         .audit
         .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))

@@ -2,27 +2,15 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::diffusion::DiffusionConfig;
 use lorentz_gas::estimators::field::{self, FieldConfig, FieldReport};
 use lorentz_gas::statistics::comparison;
 
 use super::output::emit;
 use super::progress::Progress;
 
-/// The field run of a diffusion configuration (validated).
-pub fn config(diffusion: DiffusionConfig, field: &str, samples: u64) -> Result<FieldConfig, Error> {
-    let cfg = FieldConfig {
-        diffusion,
-        field: field.trim().to_string(),
-        localization_samples: samples,
-    };
-    cfg.validate()?;
-    Ok(cfg)
-}
-
 /// Runs it with the options the command line gave and prints or writes the report.
 pub fn run(cfg: &FieldConfig, opts: RunOptions, quiet: bool, json: bool) -> Result<(), Error> {
-    let pb = Progress::new(cfg.diffusion.collisions, "collisions", quiet);
+    let pb = Progress::new(cfg.statistics.collisions, "collisions", quiet);
     let progress = pb.callback();
     let opts = RunOptions {
         progress: &progress,

@@ -10,26 +10,40 @@
 
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
 use lorentz_gas::estimators::field::{self, FieldConfig, FieldReport};
+use lorentz_gas::scenes::spec::SceneSpec;
 
 use crate::common::{physics_only, t4, t4_welch, threads};
 
 const BATCHES: u32 = 16;
 
 fn config(w: f64, b: &str, collisions: u64) -> FieldConfig {
-    FieldConfig {
-        diffusion: DiffusionConfig {
-            collisions,
-            batches: BATCHES,
-            seed: 11,
-            ..DiffusionConfig::new(w)
+    scene_config(
+        SceneSpec::Triangular {
+            w: format!("{w:?}"),
         },
-        field: b.to_string(),
+        b,
+        collisions,
+    )
+}
+
+fn scene_config(scene: SceneSpec, b: &str, collisions: u64) -> FieldConfig {
+    let mut cfg = FieldConfig {
         localization_samples: 100_000,
-    }
+        ..FieldConfig::new(scene, b)
+    };
+    let s = &mut cfg.statistics;
+    (s.collisions, s.batches, s.seed) = (collisions, BATCHES, 11);
+    cfg
 }
 
 fn run(w: f64, b: &str, collisions: u64) -> FieldReport {
     field::run(&config(w, b, collisions), &threads(2)).unwrap()
+}
+
+fn square(radius: &str) -> SceneSpec {
+    SceneSpec::Square {
+        radius: radius.into(),
+    }
 }
 
 /// |x| within the Welch 4σ bound of two independent estimates' errors.
@@ -47,58 +61,85 @@ fn d_xx_is_even_and_the_hall_part_odd_in_the_field() {
         (0.3, "1"),
         (0.3, "3"),
     ] {
-        let plus = run(w, b, 8_000_000);
-        let minus = run(w, &format!("-{b}"), 8_000_000);
-        assert!(
-            consistent_with_zero(plus.D_xx - minus.D_xx, plus.D_xx_err, minus.D_xx_err),
-            "w={w} B=±{b}: D_xx {} ± {} vs {} ± {}",
-            plus.D_xx,
-            plus.D_xx_err,
-            minus.D_xx,
-            minus.D_xx_err
-        );
-        assert!(
-            consistent_with_zero(plus.D_xy + minus.D_xy, plus.D_xy_err, minus.D_xy_err),
-            "w={w} B=±{b}: D_xy {} ± {} vs {} ± {}",
-            plus.D_xy,
-            plus.D_xy_err,
-            minus.D_xy,
-            minus.D_xy_err
-        );
-        // The Hall part is there (not 0 by accident of the estimator) and turns with the field.
-        assert!(
-            plus.D_xy.abs() > 4.0 * plus.D_xy_err,
-            "w={w} B={b}: {}",
-            plus.D_xy
-        );
-        for r in [&plus, &minus] {
-            let t = &r.diffusing;
-            let bound = t4(BATCHES);
-            assert!(
-                t.D_xy_symmetric.abs() <= bound * t.D_xy_symmetric_err,
-                "{t:?}"
-            );
-            assert!(
-                consistent_with_zero(t.D_xx - t.D_yy, t.D_xx_err, t.D_yy_err),
-                "{t:?}"
-            );
-            let kac = r.mean_free_time - r.mean_free_time_exact;
-            assert!(
-                kac.abs() <= bound * r.mean_free_time_err,
-                "w={w} B={}: Kac {kac:e}",
-                r.field
-            );
-            // The sampled localized share within the binomial 4σ bound of the exact one.
-            let f = r.localized_fraction_exact;
-            let n = r.config.localization_samples as f64;
-            let bin = 4.0 * (f * (1.0 - f) / n).sqrt() + 1.0 / n;
-            assert!(
-                (r.localized_fraction - f).abs() <= bin,
-                "{} vs {f}",
-                r.localized_fraction
-            );
-        }
+        let tri = SceneSpec::Triangular {
+            w: format!("{w:?}"),
+        };
+        onsager_casimir(&tri, b, 8_000_000);
     }
+}
+
+/// Every scene has a finite horizon in a field: the square lattice, whose corridors make D
+/// infinite without one, and the triangular lattice beyond w_inf have a tensor with the
+/// symmetries, Kac's mean free time and the exact localized share.
+#[test]
+fn scenes_with_corridors_diffuse_in_a_field_with_the_symmetries() {
+    for (scene, b) in [
+        (square("1/4"), "1"),
+        (square("1/4"), "1/2"),
+        (square("2/5"), "1"),
+        (SceneSpec::Triangular { w: "1/2".into() }, "1"),
+    ] {
+        onsager_casimir(&scene, b, 4_000_000);
+    }
+}
+
+/// D_xx(B) − D_xx(−B) and D_xy(B) + D_xy(−B) consistent with 0, a Hall part that is there,
+/// the lattice's symmetries, Kac's mean free time and the sampled localized share.
+fn onsager_casimir(scene: &SceneSpec, b: &str, collisions: u64) {
+    let run =
+        |b: &str| field::run(&scene_config(scene.clone(), b, collisions), &threads(2)).unwrap();
+    let (plus, minus) = (run(b), run(&format!("-{b}")));
+    let at = format!("{scene:?} B=±{b}");
+    assert!(
+        consistent_with_zero(plus.D_xx - minus.D_xx, plus.D_xx_err, minus.D_xx_err),
+        "{at}: D_xx {} ± {} vs {} ± {}",
+        plus.D_xx,
+        plus.D_xx_err,
+        minus.D_xx,
+        minus.D_xx_err
+    );
+    assert!(
+        consistent_with_zero(plus.D_xy + minus.D_xy, plus.D_xy_err, minus.D_xy_err),
+        "{at}: D_xy {} ± {} vs {} ± {}",
+        plus.D_xy,
+        plus.D_xy_err,
+        minus.D_xy,
+        minus.D_xy_err
+    );
+    // The Hall part is there (not 0 by accident of the estimator) and turns with the field.
+    assert!(plus.D_xy.abs() > 4.0 * plus.D_xy_err, "{at}: {}", plus.D_xy);
+    for r in [&plus, &minus] {
+        symmetric_and_kac(r, &at);
+    }
+}
+
+/// The symmetric off-diagonal part and D_xx − D_yy are 0 by the lattice's symmetry, Kac's mean
+/// free time holds, and the sampled localized share is the exact one (binomial 4σ).
+fn symmetric_and_kac(r: &FieldReport, at: &str) {
+    let t = &r.diffusing;
+    let bound = t4(BATCHES);
+    assert!(
+        t.D_xy_symmetric.abs() <= bound * t.D_xy_symmetric_err,
+        "{at}: {t:?}"
+    );
+    assert!(
+        consistent_with_zero(t.D_xx - t.D_yy, t.D_xx_err, t.D_yy_err),
+        "{at}: {t:?}"
+    );
+    let kac = r.mean_free_time - r.mean_free_time_exact;
+    assert!(
+        kac.abs() <= bound * r.mean_free_time_err,
+        "{at} B={}: Kac {kac:e}",
+        r.field
+    );
+    let f = r.localized_fraction_exact;
+    let n = r.config.localization_samples as f64;
+    let bin = 4.0 * (f * (1.0 - f) / n).sqrt() + 1.0 / n;
+    assert!(
+        (r.localized_fraction - f).abs() <= bin,
+        "{at}: {} vs {f}",
+        r.localized_fraction
+    );
 }
 
 #[test]
@@ -144,12 +185,33 @@ fn where_every_orbit_is_localized_the_tensor_is_exactly_zero() {
 }
 
 #[test]
+fn on_the_square_lattice_every_orbit_is_localized_once_2rho_reaches_1_minus_2r() {
+    // r = 1/4 at unit spacing: every orbit is localized once 2ρ ≤ 1 − 2r = 1/2, i.e. B ≥ 4.
+    let cfg = |b: &str| scene_config(square("1/4"), b, 4_000_000);
+    let r = field::run(&cfg("4"), &threads(2)).unwrap();
+    assert!(r.all_localized);
+    assert_eq!((r.D_xx, r.D_xy, r.collisions), (0.0, 0.0, 0));
+    assert_eq!(
+        (r.localized_fraction, r.radius, r.w),
+        (1.0, Some(0.25), None)
+    );
+    // Just below, some orbits diffuse, and the share is still the exact one.
+    let r = field::run(&cfg("7/2"), &threads(2)).unwrap();
+    assert!(!r.all_localized && r.D_xx > 0.0, "{r:?}");
+    symmetric_and_kac(&r, "square r=1/4 B=7/2");
+}
+
+#[test]
 fn same_seed_same_bits_on_one_thread_and_two() {
-    let cfg = config(0.15, "-3/4", 2_000_000);
-    let one = field::run(&cfg, &threads(1)).unwrap();
-    let two = field::run(&cfg, &threads(2)).unwrap();
-    let json = |r: &FieldReport| physics_only(serde_json::to_value(r).unwrap());
-    assert_eq!(json(&one), json(&two));
+    for cfg in [
+        config(0.15, "-3/4", 2_000_000),
+        scene_config(square("1/3"), "3/2", 1_000_000),
+    ] {
+        let one = field::run(&cfg, &threads(1)).unwrap();
+        let two = field::run(&cfg, &threads(2)).unwrap();
+        let json = |r: &FieldReport| physics_only(serde_json::to_value(r).unwrap());
+        assert_eq!(json(&one), json(&two));
+    }
 }
 
 #[test]

@@ -243,7 +243,21 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     (
         &["diffusion", "--scene", "square", "--radius", "1/3"],
-        "infinite horizon",
+        "in a magnetic field every scene has a finite horizon",
+    ),
+    (
+        &[
+            "diffusion",
+            "--scene",
+            "square",
+            "--radius",
+            "1/3",
+            "--field",
+            "1",
+            "--rel-err",
+            "1e-3",
+        ],
+        "not planned for a relative error",
     ),
     (&["diffusion", "--collisions", "1e6"], "needs --w"),
     // superdiffusion

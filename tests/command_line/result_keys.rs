@@ -94,6 +94,12 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
             ),
         ),
         (
+            "diffusion --field",
+            run(
+                "diffusion --scene square --radius 1/4 --field 1 --collisions 1e6 --batches 4 --localization-samples 1000",
+            ),
+        ),
+        (
             "hops",
             run("hops --w 0.1 --collisions 1e6 --batches 4 --order 2"),
         ),

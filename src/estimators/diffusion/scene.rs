@@ -94,6 +94,16 @@ impl SceneDiffusionConfig {
     /// equal windows.
     pub fn validate<S: Scene>(&self, scene: &S) -> Result<(), Error> {
         require_finite_horizon(scene)?;
+        self.check_statistics(scene)
+    }
+
+    /// The checks of [`Self::validate`] but the horizon's: batches, collisions (enough for the
+    /// windows at the scene's time unit), precision and windows. A run in a magnetic field, whose
+    /// horizon is finite on every scene, takes these.
+    ///
+    /// # Errors
+    /// Too few batches or collisions, a precision out of range, or equal windows.
+    pub fn check_statistics<S: Scene>(&self, scene: &S) -> Result<(), Error> {
         super::config::check_run(
             self.collisions,
             self.batches,

@@ -9,7 +9,7 @@
 use nalgebra::Vector4;
 use serde::{Deserialize, Serialize};
 
-use super::{FieldConfig, FieldWalk};
+use super::FieldWalk;
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
@@ -68,8 +68,7 @@ pub fn run(
 ) -> Result<FieldLyapunovReport, Error> {
     opts.validate()?;
     opts.refuse_unused("lyapunov in a field", &[])?;
-    let w = scene.lattice::<f64>(())?.trap().w;
-    let b = FieldConfig::new(w, &cfg.field).field_value()?;
+    let b = super::field_value(&cfg.field)?;
     if cfg.collisions_per_batch == 0 || cfg.batches < 2 {
         return Err(Error::TooFew {
             what: "collisions_per_batch, batches (>= 2)",

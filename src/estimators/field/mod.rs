@@ -1,8 +1,10 @@
 //! The diffusion tensor in a uniform magnetic field, with the orbits that never diffuse counted
 //! exactly (`proofs-notes/magnetic-transport.md`, `proofs-notes/magnetic-localized.md`).
 //!
-//! The run is a diffusion run ([`DiffusionConfig`]: gap, collisions, batches, seed, precision,
-//! fit windows in units of the zero-field hop time τ) plus the field B. Each batch is one
+//! The run is a diffusion run on any scene of equal disks (the triangular lattice at any gap,
+//! the square one at any radius: in a field the horizon is finite, corridors or not), with
+//! collisions, batches, seed, precision and fit windows in units of the scene's crossing time τ
+//! as for [`SceneDiffusionConfig`], plus the field B. Each batch is one
 //! trajectory started from the invariant measure restricted to the **diffusing** orbits (starts on
 //! pinned or skipping orbits, decided by exact geometry, are drawn again). Along it the
 //! displacement and the cumulative Lévy area are sampled every gτ, every sample a time origin,
@@ -24,7 +26,8 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::diffusion::{DiffusionConfig, Window};
+use super::diffusion::scene::{SceneDiffusionConfig, time_unit};
+use super::diffusion::{MsdGrid, Window};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
@@ -34,8 +37,7 @@ use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
 use crate::scenes::Scene;
 use crate::scenes::sampling::{Purpose, StreamKey};
-use crate::scenes::triangular::TriangularScene;
-use crate::scenes::triangular::geometry::Geometry;
+use crate::scenes::spec::SceneSpec;
 use crate::statistics::{linear_fit, mean_se};
 use crate::theory::magnetic::FieldGeometry;
 
@@ -58,10 +60,20 @@ pub const DEFAULT_LOCALIZATION_SAMPLES: u64 = 1_000_000;
 /// Everything that defines a transport run in a field.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FieldConfig {
-    /// The run without the field: gap, collisions, batches, seed, precision and fit windows, with
-    /// diffusion's meaning and checks (flattened into the same record).
+    /// The scene: the triangular lattice at any gap w > 0 or the square one at any radius
+    /// 0 < r < 1/2. In a field every orbit that collides meets a disk within one turn of its
+    /// cyclotron circle, so the horizon is finite on every scene, corridors or not.
+    pub scene: SceneSpec,
+    /// Collisions, batches, seed, precision and fit windows, as in a diffusion run on a scene
+    /// (flattened into the same record; the windows in units of the scene's crossing time τ,
+    /// [`time_unit`]; the MSD kept at their lags only). Each batch flies the same time: its share
+    /// of the collisions at Kac's mean free time of the diffusing part.
     #[serde(flatten)]
-    pub diffusion: DiffusionConfig,
+    pub statistics: SceneDiffusionConfig,
+    /// Which run of this seed (point i of a field sweep is run i): batch b flies the trajectory
+    /// stream `(seed, run, b)`.
+    #[serde(default)]
+    pub run: u64,
     /// The field B exactly as given (a decimal or a fraction): the velocity turns at the angular
     /// velocity B, counter-clockwise for B > 0, on a cyclotron circle of radius 1/|B|.
     pub field: String,
@@ -70,58 +82,73 @@ pub struct FieldConfig {
     pub localization_samples: u64,
 }
 
+/// The field B of `text` as the nearest double, checked: nonzero and 10⁻³ ≤ |B| ≤ 10³.
+///
+/// # Errors
+/// A field that is not an exact decimal or fraction, zero (the straight-line run: leave the
+/// field out), or outside [`FIELD_RANGE`].
+pub fn field_value(text: &str) -> Result<f64, Error> {
+    let b = nearest_f64(
+        &parse_exact(text).map_err(|e| Error::Invalid(format!("field = {text}: {e}")))?,
+    );
+    let (lo, hi) = FIELD_RANGE;
+    if b == 0.0 || !(lo..=hi).contains(&b.abs()) {
+        return Err(Error::out_of_range(
+            "field",
+            b,
+            format!(
+                "use {lo:e} <= |field| <= {hi:e} (field = 0 is the zero-field run: leave \
+                 the field out)"
+            ),
+        ));
+    }
+    Ok(b)
+}
+
 impl FieldConfig {
-    /// The default run at gap `w` in the field `field` (a decimal or fraction).
-    pub fn new(w: f64, field: &str) -> Self {
+    /// The default run of `scene` in the field `field` (a decimal or fraction): 2·10⁹ collisions
+    /// in 32 batches, seed 1, windows [10τ, 40τ] and [20τ, 80τ], 10⁶ classified points.
+    pub fn new(scene: SceneSpec, field: &str) -> Self {
         FieldConfig {
-            diffusion: DiffusionConfig::new(w),
+            scene,
+            statistics: SceneDiffusionConfig::default(),
+            run: 0,
             field: field.trim().to_string(),
             localization_samples: DEFAULT_LOCALIZATION_SAMPLES,
         }
     }
 
-    /// The field as the nearest double, checked: nonzero and 10⁻³ ≤ |B| ≤ 10³.
+    /// The gap of a triangular scene or the radius of a square one, as the nearest doubles.
     ///
     /// # Errors
-    /// A field that is not an exact decimal or fraction, zero (the straight-line run: leave the
-    /// field out), or outside [`FIELD_RANGE`].
+    /// A parameter that is not an exact decimal or fraction.
+    pub fn scene_parameters(&self) -> Result<(Option<f64>, Option<f64>), Error> {
+        Ok(match &self.scene {
+            SceneSpec::Triangular { w } => (Some(nearest_f64(&parse_exact(w)?)), None),
+            SceneSpec::Square { radius } => (None, Some(nearest_f64(&parse_exact(radius)?))),
+        })
+    }
+
+    /// The exact geometry of the localized orbits of the scene in the field.
+    ///
+    /// # Errors
+    /// A bad scene or field, or a scene that is not an array of equal disks.
+    pub fn geometry(&self) -> Result<FieldGeometry, Error> {
+        let scene = self.scene.resolve()?;
+        crate::with_scene!(&scene, |s| geometry_of(s, self.field_value()?))
+    }
+
+    /// The field as the nearest double, checked ([`field_value`]).
+    ///
+    /// # Errors
+    /// As [`field_value`].
     pub fn field_value(&self) -> Result<f64, Error> {
-        let b = nearest_f64(
-            &parse_exact(&self.field)
-                .map_err(|e| Error::Invalid(format!("field = {}: {e}", self.field)))?,
-        );
-        let (lo, hi) = FIELD_RANGE;
-        if b == 0.0 || !(lo..=hi).contains(&b.abs()) {
-            return Err(Error::out_of_range(
-                "field",
-                b,
-                format!(
-                    "use {lo:e} <= |field| <= {hi:e} (field = 0 is the zero-field run: leave \
-                     the field out)"
-                ),
-            ));
-        }
-        Ok(b)
+        field_value(&self.field)
     }
 
     /// Checks every parameter; errors name the valid range.
     pub fn validate(&self) -> Result<(), Error> {
-        self.diffusion.validate()?;
-        if self.diffusion.rel_err.is_some() {
-            return Err(Error::Invalid(
-                "rel_err: a run in a magnetic field is not planned for a relative error (yet): \
-                 give its collisions, or plan them with a run without the field"
-                    .into(),
-            ));
-        }
-        if !self.diffusion.msd_grid.is_fit() {
-            return Err(Error::Invalid(
-                "msd_grid = log: a run in a magnetic field keeps its MSD at the fit windows' \
-                 lags only (the MSD curve, velocity autocorrelation and Green-Kubo integral are \
-                 measured without a field)"
-                    .into(),
-            ));
-        }
+        refuse_zero_field_options(None, self.statistics.msd_grid)?;
         self.field_value()?;
         if !(1..=1_000_000_000).contains(&self.localization_samples) {
             return Err(Error::out_of_range(
@@ -130,8 +157,33 @@ impl FieldConfig {
                 "use 1 to 1e9",
             ));
         }
-        Ok(())
+        let scene = self.scene.resolve()?;
+        crate::with_scene!(&scene, |s| self.statistics.check_statistics(s))
     }
+}
+
+/// Refuses what only a run without a field has: a plan for a relative error, the logarithmic
+/// MSD grid.
+///
+/// # Errors
+/// Either of them asked for.
+pub fn refuse_zero_field_options(rel_err: Option<f64>, grid: MsdGrid) -> Result<(), Error> {
+    if rel_err.is_some() {
+        return Err(Error::Invalid(
+            "rel_err: a run in a magnetic field is not planned for a relative error (yet): \
+             give its collisions, or plan them with a run without the field"
+                .into(),
+        ));
+    }
+    if !grid.is_fit() {
+        return Err(Error::Invalid(
+            "msd_grid = log: a run in a magnetic field keeps its MSD at the fit windows' \
+             lags only (the MSD curve, velocity autocorrelation and Green-Kubo integral are \
+             measured without a field)"
+                .into(),
+        ));
+    }
+    Ok(())
 }
 
 /// Estimates with their standard errors over batches.
@@ -160,8 +212,14 @@ pub struct Tensor {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[allow(non_snake_case)]
 pub struct FieldReport {
-    /// Gap w.
-    pub w: f64,
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
+    /// Gap w of the triangular scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub w: Option<f64>,
+    /// Disk radius of the square scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
     /// The field B (nearest double of the exact value in `config`).
     pub field: f64,
     /// Cyclotron radius 1/|B|.
@@ -203,11 +261,12 @@ pub struct FieldReport {
     pub mean_free_time_exact: f64,
     /// Localized starts drawn and set aside before the batches' diffusing starts.
     pub rejected_starts: u64,
-    /// Fit window (units of the zero-field hop time τ).
+    /// Fit window (units of the scene's crossing time τ).
     pub window: Window,
     /// Check window.
     pub check_window: Window,
-    /// The time unit τ (the zero-field mean hop time πA/(3w)).
+    /// The time unit τ: the scene's crossing time ([`Scene::crossing_time`]; the zero-field
+    /// mean hop time πA/(3w) of the triangular scene).
     pub tau: f64,
     /// Collisions in all.
     pub collisions: u64,
@@ -232,27 +291,27 @@ pub fn run(cfg: &FieldConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
     cfg.validate()?;
     opts.validate()?;
     opts.refuse_unused("diffusion in a field", &[])?;
-    let d = &cfg.diffusion;
-    let b = cfg.field_value()?;
-    let scene = match &d.w_exact {
-        Some(text) => TriangularScene::exact(parse_exact(text)?)?,
-        None => TriangularScene::new(d.w)?,
-    };
-    let geometry = FieldGeometry::new(scene.disk_lattice().expect("triangular disks"), b)?;
+    let scene = cfg.scene.resolve()?;
+    crate::with_scene!(&scene, |s| run_on(s, cfg, opts))
+}
+
+/// The run on the resolved scene.
+fn run_on<S: Scene>(scene: &S, cfg: &FieldConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
+    let geometry = geometry_of(scene, cfg.field_value()?)?;
     let started = Instant::now();
-    let (localized, samples) = classify(cfg, &scene, &geometry, opts)?;
+    let (localized, samples) = classify(cfg, scene, &geometry, opts)?;
     let batches = if geometry.all_localized() {
         Vec::new()
     } else {
-        match d.precision {
-            Precision::F64 => batches::<f64>(cfg, &scene, &geometry, (), opts)?,
-            Precision::Bits(bits) => batches::<rug::Float>(cfg, &scene, &geometry, bits, opts)?,
+        match cfg.statistics.precision {
+            Precision::F64 => batches::<f64, S>(cfg, scene, &geometry, (), opts)?,
+            Precision::Bits(bits) => batches::<rug::Float, S>(cfg, scene, &geometry, bits, opts)?,
         }
     };
-    let tau = Geometry::new(d.w)?.hop_time();
+    let tau = time_unit(scene);
     summarise(
         cfg,
-        &geometry,
+        (scene, &geometry),
         tau,
         &batches,
         (localized, samples),
@@ -261,38 +320,47 @@ pub fn run(cfg: &FieldConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
     )
 }
 
+/// The exact geometry of `scene` in the field `b`.
+fn geometry_of<S: Scene>(scene: &S, b: f64) -> Result<FieldGeometry, Error> {
+    let disks = scene.disk_lattice().ok_or_else(|| {
+        Error::Invalid(format!(
+            "{} is not a periodic array of equal disks, which the field's exact geometry needs",
+            scene.label()
+        ))
+    })?;
+    FieldGeometry::new(disks, b)
+}
+
 /// The sampled localized share: `localization_samples` phase points in 64 chunks of their own
 /// streams (the same bits at any thread count).
-fn classify(
+fn classify<S: Scene>(
     cfg: &FieldConfig,
-    scene: &TriangularScene,
+    scene: &S,
     geometry: &FieldGeometry,
     opts: &RunOptions,
 ) -> Result<(u64, u64), Error> {
     const CHUNKS: u32 = 64;
     let n = cfg.localization_samples;
-    let d = &cfg.diffusion;
     let counts = par_batches(opts.threads, CHUNKS, |c| {
-        let key = track::classification_key(d.seed, d.run, c as u64);
+        let key = track::classification_key(cfg.statistics.seed, cfg.run, c as u64);
         track::classify_chunk(scene, geometry, key, share(n, CHUNKS, c))
     })?;
     Ok((counts.iter().sum(), n))
 }
 
 /// Every batch at number type `T`.
-fn batches<T: Real>(
+fn batches<T: Real, S: Scene>(
     cfg: &FieldConfig,
-    scene: &TriangularScene,
+    scene: &S,
     geometry: &FieldGeometry,
     ctx: T::Ctx,
     opts: &RunOptions,
 ) -> Result<Vec<Batch>, Error> {
-    let d = &cfg.diffusion;
     let lattice = scene.lattice::<T>(ctx)?;
     let exact = parse_exact(&cfg.field)?;
     let field = T::from_rational(ctx, &exact);
-    let tau = Geometry::new(d.w)?.hop_time();
-    let (grid, steps) = track::grid(tau, &d.window, &d.check_window);
+    let tau = time_unit(scene);
+    let (grid, steps) = track::grid(tau, &cfg.statistics.window, &cfg.statistics.check_window);
     let setup = Setup {
         scene,
         lattice: &lattice,
@@ -305,11 +373,18 @@ fn batches<T: Real>(
         progress: opts.progress,
     };
     // Every batch flies the same time, its share of the collisions at Kac's mean free time.
-    let duration = (d.collisions / d.batches as u64) as f64 * geometry.diffusing_mean_free_time();
-    par_batches_watched(opts.threads, d.batches, opts.stop.as_ref(), |i| {
-        let key = StreamKey::new(d.seed, Purpose::Trajectory, i as u64).in_run(d.run);
-        track::batch(&setup, key, duration)
-    })
+    let duration = (cfg.statistics.collisions / cfg.statistics.batches as u64) as f64
+        * geometry.diffusing_mean_free_time();
+    par_batches_watched(
+        opts.threads,
+        cfg.statistics.batches,
+        opts.stop.as_ref(),
+        |i| {
+            let key =
+                StreamKey::new(cfg.statistics.seed, Purpose::Trajectory, i as u64).in_run(cfg.run);
+            track::batch(&setup, key, duration)
+        },
+    )
 }
 
 /// One batch's tensor over `win`: [D_xx, D_yy, D_xy (Hall), D_xy (symmetric)].
@@ -348,9 +423,9 @@ fn tensor(batches: &[Batch], lags: &[usize], tau: f64, win: &Window) -> Tensor {
 }
 
 /// The lags of both windows in units of τ, sorted, each once (the order of the batch means).
-fn all_lags(d: &DiffusionConfig) -> Vec<usize> {
-    let mut l = d.window.lags();
-    l.extend(d.check_window.lags());
+fn all_lags(cfg: &FieldConfig) -> Vec<usize> {
+    let mut l = cfg.statistics.window.lags();
+    l.extend(cfg.statistics.check_window.lags());
     l.sort_unstable();
     l.dedup();
     l
@@ -376,17 +451,17 @@ fn mean_free_time(batches: &[Batch]) -> (f64, f64) {
     (1.0 / r, e / (r * r))
 }
 
-fn summarise(
+fn summarise<S: Scene>(
     cfg: &FieldConfig,
-    geometry: &FieldGeometry,
+    (scene, geometry): (&S, &FieldGeometry),
     tau: f64,
     batches: &[Batch],
     (localized, samples): (u64, u64),
     started: Instant,
     opts: &RunOptions,
 ) -> Result<FieldReport, Error> {
-    let d = &cfg.diffusion;
-    let lags = all_lags(d);
+    let d = &cfg.statistics;
+    let lags = all_lags(cfg);
     let (diffusing, check) = if batches.is_empty() {
         (Tensor::default(), Tensor::default())
     } else {
@@ -415,8 +490,11 @@ fn summarise(
     let f = localized as f64 / samples as f64;
     let collisions: u64 = batches.iter().map(|b| b.collisions).sum();
     let seconds = started.elapsed().as_secs_f64();
+    let (w, radius) = cfg.scene_parameters()?;
     Ok(FieldReport {
-        w: d.w,
+        scene: scene.label(),
+        w,
+        radius,
         field: cfg.field_value()?,
         cyclotron_radius: geometry.cyclotron_radius(),
         D_xx: keep * xx,

@@ -21,8 +21,8 @@ use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::resume::{difference, seal, unseal};
-use crate::estimators::diffusion::DiffusionConfig;
-use crate::numbers::exact::{nearest_f64, parse_exact};
+use crate::numbers::exact::parse_exact;
+use crate::scenes::spec::SceneSpec;
 use crate::statistics::comparison::{self, Comparison, largest_of_bound};
 use crate::statistics::welch_dof;
 
@@ -102,19 +102,15 @@ impl FieldSweepConfig {
     /// # Errors
     /// A gap that is not an exact decimal or fraction.
     pub fn point_config(&self, i: usize, gap: &str, field: &str) -> Result<FieldConfig, Error> {
-        let w = nearest_f64(&parse_exact(gap)?);
-        Ok(FieldConfig {
-            diffusion: DiffusionConfig {
-                w_exact: Some(gap.to_string()),
-                collisions: self.collisions,
-                batches: self.batches,
-                seed: self.seed,
-                run: i as u64,
-                ..DiffusionConfig::new(w)
-            },
-            field: field.to_string(),
+        let scene = SceneSpec::parse("triangular", Some(gap), None)?;
+        let mut cfg = FieldConfig {
+            run: i as u64,
             localization_samples: self.localization_samples,
-        })
+            ..FieldConfig::new(scene, field)
+        };
+        let s = &mut cfg.statistics;
+        (s.collisions, s.batches, s.seed) = (self.collisions, self.batches, self.seed);
+        Ok(cfg)
     }
 
     /// Checks every parameter (every point's run) before anything runs or is written.
@@ -139,7 +135,8 @@ impl FieldSweepConfig {
         for (i, (g, f)) in self.grid().into_iter().enumerate() {
             let c = self.point_config(i, g, f)?;
             c.validate()?;
-            let key = (c.diffusion.w.to_bits(), c.field_value()?.to_bits());
+            let w = c.scene_parameters()?.0.unwrap_or(f64::NAN);
+            let key = (w.to_bits(), c.field_value()?.to_bits());
             if seen.contains(&key) {
                 return Err(Error::Invalid(format!(
                     "w = {g}, B = {f} appears twice in the grid: give each gap and field once"
@@ -304,7 +301,7 @@ pub fn run(cfg: &FieldSweepConfig, opts: &RunOptions) -> Result<FieldSweepReport
 /// The row of a point's report.
 fn row_of(r: &FieldReport) -> FieldSweepRow {
     FieldSweepRow {
-        w: r.w,
+        w: r.w.unwrap_or(f64::NAN),
         field: r.field,
         cyclotron_radius: r.cyclotron_radius,
         D_xx: r.D_xx,

@@ -11,13 +11,11 @@ use crate::Error;
 use crate::engine::options::StopFlag;
 use crate::kernel::arc::{arc_area, chord_at};
 use crate::kernel::flight::EventKind;
-use crate::kernel::trap::Trap;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Lattice, LatticeState};
 use crate::scenes::sampling::{Purpose, StreamKey};
-use crate::scenes::triangular::TriangularScene;
 use crate::theory::magnetic::{FieldGeometry, Orbit};
 
 /// The lag sums of one trajectory: for each lag, Σ Δx², Σ Δy², Σ ΔxΔy, Σ A over every time origin.
@@ -88,9 +86,9 @@ pub(super) struct Batch {
 }
 
 /// Where and how one batch runs.
-pub(super) struct Setup<'a, T: Real> {
-    pub scene: &'a TriangularScene,
-    pub lattice: &'a Lattice<T, Trap<T>>,
+pub(super) struct Setup<'a, T: Real, S: Scene> {
+    pub scene: &'a S,
+    pub lattice: &'a Lattice<T, S::Kernel<T>>,
     pub geometry: &'a FieldGeometry,
     /// The field at the working precision and as a double (for observables).
     pub field: (&'a T, f64),
@@ -104,8 +102,8 @@ pub(super) struct Setup<'a, T: Real> {
 
 /// A start drawn from the invariant measure restricted to the diffusing orbits (rejection), and
 /// the number of localized starts set aside ([`FieldGeometry::diffusing_start`]).
-pub(super) fn start(
-    scene: &TriangularScene,
+pub(super) fn start<S: Scene>(
+    scene: &S,
     geometry: &FieldGeometry,
     key: StreamKey,
 ) -> Result<(LatticeState<f64>, u64), Error> {
@@ -115,8 +113,8 @@ pub(super) fn start(
 /// Runs batch `index` for the flight time `duration` (the same for every batch, so that the
 /// collision rate averaged over batches is Kac's even where the diffusing part holds regular
 /// islands: `proofs-notes/magnetic-transport.md`).
-pub(super) fn batch<T: Real>(
-    su: &Setup<'_, T>,
+pub(super) fn batch<T: Real, S: Scene>(
+    su: &Setup<'_, T, S>,
     key: StreamKey,
     duration: f64,
 ) -> Result<Batch, Error> {
@@ -180,8 +178,8 @@ fn gcd(a: usize, b: usize) -> usize {
 }
 
 /// Classifies `n` phase points of stream `(seed, Classification, run, chunk)`: localized ones.
-pub(super) fn classify_chunk(
-    scene: &TriangularScene,
+pub(super) fn classify_chunk<S: Scene>(
+    scene: &S,
     geometry: &FieldGeometry,
     key: StreamKey,
     n: u64,

@@ -1,7 +1,6 @@
 //! One trajectory in the field, event by event, for a user's own observables (Python
 //! `events(field=…)`): the start of a batch of [`super::run`] and the arc kernel's steps.
 
-use super::FieldConfig;
 use super::track;
 use crate::Error;
 use crate::kernel::trap::Trap;
@@ -28,7 +27,7 @@ impl FieldWalk {
     ///
     /// # Errors
     /// A field that is not an exact decimal or fraction, zero or out of range (as for
-    /// [`FieldConfig::field_value`]), a field in which every orbit is localized (nothing
+    /// [`super::field_value`]), a field in which every orbit is localized (nothing
     /// diffuses: the start would never be found), or a bad scene.
     pub fn start(
         scene: &TriangularScene,
@@ -37,7 +36,7 @@ impl FieldWalk {
         batch: u64,
     ) -> Result<Self, Error> {
         let w = scene.lattice::<f64>(())?.trap().w;
-        let b = FieldConfig::new(w, field).field_value()?;
+        let b = super::field_value(field)?;
         let disks = scene.disk_lattice().ok_or_else(|| {
             Error::Invalid("the field needs the triangular lattice's disks".into())
         })?;

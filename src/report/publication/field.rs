@@ -12,8 +12,6 @@ use super::statistics::batch_statistics;
 use super::{Checks, Ctx, SIGMAS};
 use crate::Error;
 use crate::estimators::field::{self, FieldReport};
-use crate::numbers::exact::parse_exact;
-use crate::scenes::triangular::TriangularScene;
 use crate::statistics::normal_sigma_equivalent_t;
 use crate::theory::magnetic::FieldGeometry;
 
@@ -31,20 +29,13 @@ fn geometry(r: &FieldReport) -> Result<FieldGeometry, Error> {
 
 /// The exact geometry of a field run's configuration.
 pub(super) fn geometry_of(cfg: &field::FieldConfig) -> Result<FieldGeometry, Error> {
-    let d = &cfg.diffusion;
-    let scene = match &d.w_exact {
-        Some(text) => TriangularScene::exact(parse_exact(text)?)?,
-        None => TriangularScene::new(d.w)?,
-    };
-    let disks = crate::scenes::Scene::disk_lattice(&scene)
-        .ok_or_else(|| Error::Invalid("the field audit needs the triangular lattice".into()))?;
-    FieldGeometry::new(disks, cfg.field_value()?)
+    cfg.geometry()
 }
 
 /// The checks: the record, the localized share, Kac, the symmetries, the batches, the re-run.
 pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Result<(), Error> {
     let cfg = &r.config;
-    let d = &cfg.diffusion;
+    let d = &cfg.statistics;
     let g = geometry(r)?;
     let mut bad = super::meta_problems(
         &r.meta,
@@ -59,8 +50,15 @@ pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
         (r.localized_fraction_exact, g.localized_fraction()),
         (r.mean_free_time_exact, g.diffusing_mean_free_time()),
     ];
-    if r.w.to_bits() != d.w.to_bits() || exact.iter().any(|(a, b)| a.to_bits() != b.to_bits()) {
-        bad.push("w, the field or a closed form differs from the configuration's".into());
+    let (w, radius) = cfg.scene_parameters()?;
+    let same = |a: Option<f64>, b: Option<f64>| a.map(f64::to_bits) == b.map(f64::to_bits);
+    if !same(r.w, w)
+        || !same(r.radius, radius)
+        || exact.iter().any(|(a, b)| a.to_bits() != b.to_bits())
+    {
+        bad.push(
+            "w, the radius, the field or a closed form differs from the configuration's".into(),
+        );
     }
     if r.all_localized != g.all_localized() {
         bad.push("all_localized is not the exact geometry's".into());
@@ -117,7 +115,7 @@ fn localized_share(r: &FieldReport, checks: &mut Checks) {
 /// The diffusing part: Kac's mean free time, D_yy = D_xx and a vanishing symmetric off-diagonal
 /// part (the lattice's symmetry), each within the Student-t bound of its batches.
 fn diffusing_checks(r: &FieldReport, checks: &mut Checks) {
-    let bound = normal_sigma_equivalent_t(f64::from(r.config.diffusion.batches) - 1.0, SIGMAS);
+    let bound = normal_sigma_equivalent_t(f64::from(r.config.statistics.batches) - 1.0, SIGMAS);
     let t = &r.diffusing;
     for (name, v, e, x) in [
         (

@@ -93,7 +93,7 @@ fn row_problems(r: &FieldSweepReport) -> Result<Vec<String>, Error> {
         let pc = cfg.point_config(i, g, f)?;
         let geo = geometry_of(&pc)?;
         let exact = [
-            (row.w, pc.diffusion.w),
+            (row.w, pc.scene_parameters()?.0.unwrap_or(f64::NAN)),
             (row.field, pc.field_value()?),
             (row.cyclotron_radius, geo.cyclotron_radius()),
             (row.pinned_fraction_exact, geo.pinned_fraction()),

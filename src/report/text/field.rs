@@ -12,8 +12,8 @@ pub fn field(r: &FieldReport) -> String {
     let m = &r.meta;
     line!(
         out,
-        "periodic Lorentz gas in a magnetic field, w = {}, B = {} (cyclotron radius {:.6})  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {:.1} s)",
-        r.w,
+        "periodic Lorentz gas in a magnetic field, {}, B = {} (cyclotron radius {:.6})  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {:.1} s)",
+        scene(r),
         r.config.field,
         r.cyclotron_radius,
         m.precision,
@@ -43,6 +43,15 @@ pub fn field(r: &FieldReport) -> String {
     }
     tensor(&mut out, r, n);
     out
+}
+
+/// The scene: the triangular one by its gap, the square one by its radius.
+fn scene(r: &FieldReport) -> String {
+    match (r.w, r.radius) {
+        (Some(w), _) => format!("w = {w}"),
+        (None, Some(radius)) => format!("square lattice, r = {radius}"),
+        (None, None) => r.scene.clone(),
+    }
 }
 
 /// The tensor lines of a run that was not all localized: whole phase space, the diffusing
