@@ -43,7 +43,7 @@ def sweep(
     checkpoint_every: float, progress: Progress,
 ) -> str: ...
 def field_sweep(
-    w: Optional[str], w_from: Optional[str], w_to: Optional[str], steps: str,
+    scene: str, w: Optional[str], radius: Optional[str], w_from: Optional[str], w_to: Optional[str], steps: str,
     field: Optional[str], fields: List[str], collisions_per_run: str, batches_per_run: str,
     seed: str, threads: Optional[str], localization_samples: str, out: Optional[str],
     progress: Progress,

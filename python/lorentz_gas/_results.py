@@ -251,7 +251,8 @@ def _scene_parameter(d: dict) -> str:
 
 class FieldSweepResult(Result):
     """The diffusion tensor in a magnetic field over gaps and fields. ``rows`` is a numpy
-    structured array, one record per point (gap-major), with ``w``, ``field`` (B, 1/time),
+    structured array, one record per point (gap-major), with ``w`` (``radius`` on the square
+    lattice), ``field`` (B, 1/time),
     ``cyclotron_radius``, ``D_xx``, ``D_xx_err``, ``D_xy``, ``D_xy_err`` (the Hall part;
     length²/time), ``pinned_fraction_exact``, ``skipping_fraction_exact``,
     ``localized_fraction_exact``, ``localized_fraction``, ``localized_fraction_err``,

@@ -355,6 +355,8 @@ def sweep(
     field: Optional[Exact] = None,
     fields: Optional[Sequence[Exact]] = None,
     localization_samples: Count = 1e6,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
 ) -> Union[SweepResult, FieldSweepResult]:
     """D(w) over a grid of gaps (``lorentz sweep``), or the diffusion tensor in a magnetic field
     over gaps and fields (``lorentz sweep --field`` / ``--fields``).
@@ -388,6 +390,12 @@ def sweep(
         given, Onsager-Casimir is checked.
     localization_samples : int, keyword only
         Phase points classified per point for the sampled localized share.
+    scene : {"triangular", "square"}, keyword only
+        The lattice of a sweep in a field: the triangular one (at ``w`` or over ``w_from`` ..
+        ``w_to``) or the square one at ``radius`` (a sweep over ``fields``: in a field its
+        corridors close). A sweep over w without a field is the triangular scene's.
+    radius : str, float, Fraction or Decimal, keyword only
+        Disk radius of the square scene, 0 < radius < 1/2, taken exactly like ``w``.
 
     Returns
     -------
@@ -396,7 +404,7 @@ def sweep(
         length^2/time, ``D_MZ``, ``D_Bo``, the runs' F test), the same fields as attributes,
         ``run_D`` (points x runs), ``linear_fit``; ``to_pandas()``.
     FieldSweepResult
-        In a field: ``rows`` with ``w``, ``field``, ``D_xx`` ± ``D_xx_err``, the Hall ``D_xy`` ±
+        In a field: ``rows`` with ``w`` (or ``radius`` on the square lattice), ``field``, ``D_xx`` ± ``D_xx_err``, the Hall ``D_xy`` ±
         ``D_xy_err`` (length^2/time), the exact and sampled localized shares and Kac's mean free
         time; ``onsager`` (the ±B checks) and ``onsager_agrees``; ``to_pandas()``.
     """
@@ -414,11 +422,13 @@ def sweep(
             raise ValueError("fields: give a non-empty sequence of exact numbers, e.g. [-1, 1]")
         total = _total(_count("collisions_per_run", collisions_per_run))
         total *= (1 if fields is None else len(fields)) * (
-            1 if w is not None else _total(_count("steps", steps))
+            1 if w is not None or radius is not None else _total(_count("steps", steps))
         )
         with _Bar(progress, total, "coll") as cb:
             text = _native.field_sweep(
+                str(scene),
                 None if w is None else _exact("w", w),
+                _optional_exact("radius", radius),
                 None if w_from is None else _exact("w_from", w_from),
                 None if w_to is None else _exact("w_to", w_to),
                 _count("steps", steps),
@@ -436,6 +446,11 @@ def sweep(
     if w is not None:
         raise ValueError(
             "w is the gap of a sweep over the field: give fields=[...] (a sweep over w: w_from, w_to)"
+        )
+    if scene != "triangular" or radius is not None:
+        raise ValueError(
+            "a sweep over w without a field is the triangular scene's: scene and radius are for a "
+            "sweep over the field (fields=[...])"
         )
     if w_from is None or w_to is None:
         raise ValueError("a sweep over w needs w_from and w_to")

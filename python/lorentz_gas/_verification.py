@@ -69,7 +69,7 @@ def lyapunov(
     seed, threads, progress
         As in :func:`diffusion`.
     field : exact number, optional
-        A magnetic field B (1/time; 1e-3 <= abs(B) <= 1e3, triangular scene): the tangent dynamics
+        A magnetic field B (1/time; 1e-3 <= abs(B) <= 1e3, either scene): the tangent dynamics
         of arcs on orbits started in the diffusing part of phase space; 0 or None: no field.
     flights : {"auto", "walk", "jump"}
         How straight flights cross the lattice: ``"jump"`` straight to the cell of the first disk

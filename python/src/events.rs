@@ -211,7 +211,7 @@ fn field_walk(
             "events in a field run on the triangular lattice only: leave out scene and radius",
         ));
     };
-    FieldWalk::start(scene, b, seed, u64::from(batch))
+    FieldWalk::start(scene.as_ref(), b, seed, u64::from(batch))
         .map(Some)
         .map_err(crate::py_err)
 }

@@ -8,10 +8,9 @@ use pyo3::prelude::*;
 
 use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig, grid_of};
+use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig};
 
 use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
-use lorentz_gas::scenes::spec::SceneChoice;
 use pyo3::exceptions::PyValueError;
 
 use crate::inputs::{self, count_u32, count_u64};
@@ -19,11 +18,13 @@ use crate::scenes::resolve;
 use crate::watch::{compute, json};
 
 #[pyfunction]
-#[pyo3(name = "field_sweep", signature = (w, w_from, w_to, steps, field, fields, collisions_per_run, batches_per_run, seed, threads, localization_samples, out, progress))]
+#[pyo3(name = "field_sweep", signature = (scene, w, radius, w_from, w_to, steps, field, fields, collisions_per_run, batches_per_run, seed, threads, localization_samples, out, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_field_sweep(
     py: Python<'_>,
+    scene: &str,
     w: Option<&str>,
+    radius: Option<&str>,
     w_from: Option<&str>,
     w_to: Option<&str>,
     steps: &str,
@@ -38,10 +39,15 @@ fn py_field_sweep(
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let steps = count_u32("steps", steps)?;
-    let (gaps, fields) =
-        grid_of(w, (w_from, w_to, steps), field, &fields).map_err(crate::py_err)?;
+    let sweep::SweepGrid {
+        gaps,
+        radius,
+        fields,
+    } = sweep::scene_grid(scene, (w, radius), (w_from, w_to, steps), field, &fields)
+        .map_err(crate::py_err)?;
     let cfg = FieldSweepConfig {
         gaps,
+        radius,
         fields,
         collisions: count_u64("collisions_per_run", collisions_per_run)?,
         batches: count_u32("batches_per_run", batches_per_run)?,
@@ -81,11 +87,7 @@ pub fn lyapunov_in_field(
             "starts (the divergence of finite-precision orbits) is not measured in a field: give starts=0",
         ));
     }
-    let SceneChoice::Triangular(s) = resolve(scene, w, radius)? else {
-        return Err(PyValueError::new_err(
-            "field runs on the triangular scene (give w)",
-        ));
-    };
+    let choice = resolve(scene, w, radius)?;
     let cfg = FieldLyapunovConfig {
         collisions_per_batch: count_u64("collisions_per_batch", collisions_per_batch)?,
         batches: count_u32("batches", batches)?,
@@ -94,16 +96,13 @@ pub fn lyapunov_in_field(
     };
     let threads = inputs::threads(threads)?;
     let r = compute(py, progress, |ctl| {
-        field_lyapunov::run(
-            &s,
-            &cfg,
-            &RunOptions {
-                threads,
-                progress: ctl.progress,
-                stop: Some(ctl.stop.clone()),
-                ..RunOptions::default()
-            },
-        )
+        let opts = RunOptions {
+            threads,
+            progress: ctl.progress,
+            stop: Some(ctl.stop.clone()),
+            ..RunOptions::default()
+        };
+        lorentz_gas::with_scene!(&choice, |s| field_lyapunov::run(s, &cfg, &opts))
     })?;
     json(&r)
 }

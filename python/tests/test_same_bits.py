@@ -94,6 +94,24 @@ def test_sweep_has_the_command_lines_bits(cli_json, tmp_path):
     assert list(py.D) == [r["D"] for r in cl["rows"]]
 
 
+def test_a_square_lattice_sweep_over_b_has_the_command_lines_bits(cli_json, tmp_path):
+    py = lg.sweep(scene="square", radius="1/4", fields=["-1", "1", "4"], collisions_per_run=4e5,
+                  batches_per_run=4, localization_samples=1000)
+    cl = cli_json(
+        "sweep", "--scene", "square", "--radius", "1/4", "--fields=-1,1,4",
+        "--collisions-per-run", "4e5", "--batches-per-run", "4", "--localization-samples", "1000",
+        "--out", str(tmp_path / "sweep"),
+    )
+    same(py.to_dict(), cl)
+    assert list(py.radius) == [0.25] * 3 and "w" not in py.rows.dtype.names
+    # B = 4: every orbit localized (2/B <= 1 - 2r), D = 0 and no collision (mean free time inf).
+    assert bool(py.all_localized[2]) and py.D_xx[2] == 0.0 and np.isnan(py.mean_free_time[2])
+    with pytest.raises(ValueError, match="triangular scene's"):
+        lg.sweep(w_from="0.1", w_to="0.2", scene="square", radius="1/4")
+    with pytest.raises(ValueError, match="needs its radius"):
+        lg.sweep(scene="square", fields=[1])
+
+
 def test_a_sweep_in_a_field_has_the_command_lines_bits(cli_json, tmp_path):
     py = lg.sweep(w="0.1", fields=["-1", "1/2"], collisions_per_run=1e6, batches_per_run=4,
                   seed=5, localization_samples=1000)

@@ -3,7 +3,7 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig, FieldSweepReport, grid_of};
+use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig, FieldSweepReport};
 
 use super::output::emit;
 use super::progress::Progress;
@@ -17,14 +17,24 @@ pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
             "--runs is not used by a sweep in a field (one run of --collisions-per-run per point; its error is over --batches-per-run)".into(),
         ));
     }
-    let (gaps, fields) = grid_of(
-        f.w.as_deref(),
+    let scene = match f.scene {
+        super::args::SceneName::Triangular => "triangular",
+        super::args::SceneName::Square => "square",
+    };
+    let sweep::SweepGrid {
+        gaps,
+        radius,
+        fields,
+    } = sweep::scene_grid(
+        scene,
+        (f.w.as_deref(), f.radius.as_deref()),
         (g.w_from.as_deref(), g.w_to.as_deref(), g.steps),
         f.field.as_deref(),
         &f.fields,
     )?;
     let cfg = FieldSweepConfig {
         gaps,
+        radius,
         fields,
         collisions: g.collisions_per_run,
         batches: g.batches_per_run,
@@ -86,9 +96,12 @@ pub fn run(a: &Args) -> Result<(), Error> {
 /// The sweep's table and its Onsager–Casimir checks, as text.
 fn print(r: &FieldSweepReport) {
     let c = &r.config;
+    let (place, scenes) = match &c.radius {
+        Some(r) => ("radius", format!("square lattice, r = {r}")),
+        None => ("w", format!("{} gap(s)", c.gaps.len())),
+    };
     println!(
-        "sweep in a magnetic field: {} gap(s) x {} field(s), {} collisions in {} batches per point, seed {} ({} points resumed)",
-        c.gaps.len(),
+        "sweep in a magnetic field: {scenes} x {} field(s), {} collisions in {} batches per point, seed {} ({} points resumed)",
         c.fields.len(),
         c.collisions,
         c.batches,
@@ -96,12 +109,12 @@ fn print(r: &FieldSweepReport) {
         r.resumed_points
     );
     println!(
-        "       w          B      D_xx         +-        D_xy (Hall)  +-        localized exact  sampled +-"
+        "{place:>8}          B      D_xx         +-        D_xy (Hall)  +-        localized exact  sampled +-"
     );
     for x in &r.rows {
         println!(
             "{:>8}  {:>9}  {:.6}  {:.6}  {:+.6}  {:.6}  {:.6}         {:.6} {:.6}{}",
-            x.w,
+            x.place(),
             x.field,
             x.D_xx,
             x.D_xx_err,
@@ -119,8 +132,8 @@ fn print(r: &FieldSweepReport) {
     }
     for o in &r.onsager {
         println!(
-            "Onsager-Casimir at w = {}, |B| = {}: D_xx(B) - D_xx(-B) = {:+.6} {}; D_xy(B) + D_xy(-B) = {:+.6} {}",
-            o.w,
+            "Onsager-Casimir at {place} = {}, |B| = {}: D_xx(B) - D_xx(-B) = {:+.6} {}; D_xy(B) + D_xy(-B) = {:+.6} {}",
+            o.w.or(o.radius).unwrap_or(f64::NAN),
             o.field,
             o.d_xx_even.difference,
             o.d_xx_even.describe("Welch"),

@@ -4,7 +4,6 @@ use lorentz_gas::Error;
 use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
 use lorentz_gas::report::text::lyapunov::{self as text, LyapunovResult};
-use lorentz_gas::scenes::spec::SceneChoice;
 use lorentz_gas::statistics::comparison;
 use lorentz_gas::verification::divergence::{self, DivergenceConfig};
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, TANGENT_TRANSIENT};
@@ -30,7 +29,7 @@ pub struct Args {
     /// up to 4096 bits]
     #[arg(long, value_parser = parse_count_u32, allow_negative_numbers = true)]
     starts: Option<u32>,
-    /// A magnetic field B (exact, 1e-3 <= |B| <= 1e3; triangular scene): the tangent dynamics of
+    /// A magnetic field B (exact, 1e-3 <= |B| <= 1e3; either scene): the tangent dynamics of
     /// arcs, on orbits started in the diffusing part of phase space; 0 is the run without a field.
     #[arg(long, allow_negative_numbers = true)]
     field: Option<String>,
@@ -60,11 +59,7 @@ fn in_field(a: &Args, b: &str) -> Result<(), Error> {
             "--starts (the divergence of finite-precision orbits) is not measured in a field: leave it out or give 0".into(),
         ));
     }
-    let SceneChoice::Triangular(scene) = a.scene.resolve()? else {
-        return Err(Error::Invalid(
-            "--field runs on the triangular scene (--scene triangular --w W)".into(),
-        ));
-    };
+    let scene = a.scene.resolve()?;
     let cfg = FieldLyapunovConfig {
         collisions_per_batch: a.collisions_per_batch,
         batches: a.batches,
@@ -75,7 +70,7 @@ fn in_field(a: &Args, b: &str) -> Result<(), Error> {
         (a.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.batches as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
     let opts = pb.options(a.run.threads());
-    let r = field_lyapunov::run(&scene, &cfg, &opts)?;
+    let r = with_scene!(&scene, |s| field_lyapunov::run(s, &cfg, &opts))?;
     drop(opts);
     drop(pb);
     emit(a.output.json, &r, |r| {

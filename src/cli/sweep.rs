@@ -79,6 +79,13 @@ pub struct FieldArgs {
     /// both given, Onsager-Casimir is checked), e.g. --fields=-2,-1,1,2.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub(super) fields: Vec<String>,
+    /// The scene of a sweep over the field: `triangular` (at --w) or `square` (at --radius; in a
+    /// field its corridors close). A sweep over w is the triangular scene's.
+    #[arg(long, default_value = "triangular")]
+    pub(super) scene: super::args::SceneName,
+    /// With --scene square: the disk radius, an exact decimal or fraction, 0 < r < 1/2.
+    #[arg(long, allow_negative_numbers = true)]
+    pub(super) radius: Option<String>,
     /// Phase points classified at each point of a field sweep for the sampled localized share.
     #[arg(long, default_value = "1e6", value_parser = parse_count, allow_negative_numbers = true)]
     pub(super) localization_samples: u64,

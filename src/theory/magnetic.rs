@@ -55,6 +55,13 @@ pub struct FieldGeometry {
 /// Absolute accuracy of the exact shares (quadrature tolerance per lattice cell area).
 pub const SHARE_TOLERANCE: f64 = 1e-12;
 
+/// The error of a share sampled from `samples` phase points against the exact share `exact`:
+/// the binomial standard error plus the exact share's own tolerance ([`SHARE_TOLERANCE`]; an
+/// exact share of 1 may round to 1 + 2⁻⁵², where the binomial variance would be negative).
+pub fn sampled_share_err(exact: f64, samples: f64) -> f64 {
+    (exact * (1.0 - exact)).max(0.0).sqrt() / samples.sqrt() + SHARE_TOLERANCE
+}
+
 impl FieldGeometry {
     /// The geometry of `lattice` in the field `field`.
     ///

@@ -333,3 +333,39 @@ fn the_lyapunov_exponent_is_even_in_b_and_joins_the_zero_field_one() {
     assert!(!agree(&plus, &zero), "{plus:?} vs {zero:?}");
     assert!(plus.per_collision < zero.per_collision);
 }
+
+/// The exponent in a field on the square lattice, whose corridors the field closes: even in B (the
+/// mirror y → −y maps the square lattice to itself) and far from the exponent without a field
+/// at B = 1, each by the Welch 4σ bound of independent orbits.
+#[test]
+fn on_the_square_lattice_the_field_exponent_is_even_in_b() {
+    use lorentz_gas::estimators::field::lyapunov::{self as fl, FieldLyapunovConfig};
+    use lorentz_gas::scenes::square::SquareScene;
+    use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
+    const ORBITS: u32 = 8;
+    let scene = SquareScene::new(0.25).unwrap();
+    let run = |b: &str, seed: u64| {
+        let cfg = FieldLyapunovConfig {
+            collisions_per_batch: 100_000,
+            batches: ORBITS,
+            seed,
+            field: b.into(),
+        };
+        fl::run(&scene, &cfg, &threads(2)).unwrap().tangent
+    };
+    let zero = LyapunovConfig {
+        collisions_per_batch: 100_000,
+        batches: ORBITS,
+        seed: 3,
+        ..LyapunovConfig::new()
+    };
+    let zero = lyapunov::run(&scene, &zero, &threads(2)).unwrap();
+    let agree = |a: &LyapunovReport, b: &LyapunovReport| {
+        let (ea, eb) = (a.per_collision_err, b.per_collision_err);
+        (a.per_collision - b.per_collision).abs() <= t4_welch(ea, ORBITS, eb, ORBITS) * ea.hypot(eb)
+    };
+    let (plus, minus) = (run("1", 5), run("-1", 6));
+    assert!(plus.scene.starts_with("square"), "{}", plus.scene);
+    assert!(agree(&plus, &minus), "{plus:?} vs {minus:?}");
+    assert!(!agree(&plus, &zero), "{plus:?} vs {zero:?}");
+}

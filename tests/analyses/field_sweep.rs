@@ -11,6 +11,7 @@ use crate::common::{scratch, threads};
 fn config() -> FieldSweepConfig {
     FieldSweepConfig {
         gaps: vec!["0.1".into()],
+        radius: None,
         fields: vec!["-1".into(), "1".into(), "5/2".into()],
         collisions: 1_000_000,
         batches: 8,

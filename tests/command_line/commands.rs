@@ -383,12 +383,6 @@ const BAD: &[(&[&str], &str)] = &[
     // lyapunov in a field
     (
         &[
-            "lyapunov", "--scene", "square", "--radius", "0.25", "--field", "1",
-        ],
-        "triangular scene",
-    ),
-    (
-        &[
             "lyapunov",
             "--scene",
             "triangular",

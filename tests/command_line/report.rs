@@ -737,3 +737,48 @@ fn a_field_sweep_is_audited_row_by_row_and_its_onsager_checks_recomputed() {
         "{c:?}"
     );
 }
+
+/// Regression: where every orbit is localized the mean free time is infinite (`null` in JSON)
+/// and the exact localized share rounds to 1 + 2⁻⁵². A sweep holding such a point could not be
+/// resumed (its point file did not read back) and the audit failed every such result (a NaN
+/// binomial error, a NaN mean free time against Kac's infinity). Also the square lattice's sweep
+/// over B: audited row by row, Onsager–Casimir at its radius.
+#[test]
+fn where_every_orbit_is_localized_a_result_and_a_resumed_square_sweep_pass_the_audit() {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
+    let args = "diffusion --w 0.1 --field 25 --collisions 4e5 --batches 4 --json --quiet";
+    let (code, json, err) = lorentz(&dir, &args.split(' ').collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    assert!(json.contains("\"mean_free_time\": null"), "{json}");
+    std::fs::write(dir.join("loc.json"), &json).unwrap();
+    let (code, out, err) = lorentz(&dir, &["report", "loc.json", "--quick", "--quiet"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(checks(&dir, "loc-report").iter().all(|x| x.0 == "PASS"));
+    let sweep = "sweep --scene square --radius 1/4 --fields=-1,1,4 --collisions-per-run 4e5 \
+                 --batches-per-run 8 --localization-samples 1e4 --out sq --json --quiet";
+    let sweep: Vec<&str> = sweep.split_whitespace().collect();
+    let (code, first, err) = lorentz(&dir, &sweep);
+    assert_eq!(code, 0, "{err}");
+    let (code, again, err) = lorentz(&dir, &sweep);
+    assert_eq!(code, 0, "{err}");
+    let rows = |text: &str| {
+        let v: serde_json::Value = serde_json::from_str(text).unwrap();
+        (v["rows"].clone(), v["resumed_points"].as_u64())
+    };
+    assert_eq!(rows(&again), (rows(&first).0, Some(3)));
+    assert_eq!(rows(&first).0[2]["all_localized"], true);
+    assert_eq!(rows(&first).0[2]["radius"], 0.25);
+    let (code, out, err) = lorentz(
+        &dir,
+        &["report", "sq/field-sweep.json", "--quick", "--quiet"],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    let c = checks(&dir, "sq/field-sweep-report");
+    assert!(c.iter().all(|x| x.0 == "PASS"), "{c:?}");
+    assert!(
+        c.iter()
+            .any(|x| x.2.starts_with("Onsager-Casimir at r = 0.25, |B| = 1")),
+        "{c:?}"
+    );
+}

@@ -15,11 +15,10 @@ use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::parallel::par_batches_watched;
 use crate::kernel::arc::arc_time;
+use crate::kernel::cell::CellKernel;
 use crate::kernel::flight::EventKind;
-use crate::kernel::trap::Trap;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Lattice, LatticeState};
-use crate::scenes::triangular::TriangularScene;
 use crate::statistics::mean_se;
 use crate::theory::magnetic::FieldGeometry;
 use crate::verification::arc_tangent::{arc_flight, arc_tangent_step};
@@ -61,8 +60,8 @@ pub struct FieldLyapunovReport {
 /// # Errors
 /// An invalid field, fewer than 2 batches or no collisions, a field in which every orbit is
 /// localized, options the analysis does not use, or an interruption.
-pub fn run(
-    scene: &TriangularScene,
+pub fn run<S: Scene>(
+    scene: &S,
     cfg: &FieldLyapunovConfig,
     opts: &RunOptions,
 ) -> Result<FieldLyapunovReport, Error> {
@@ -78,9 +77,9 @@ pub fn run(
     }
     crate::engine::check_trajectory_length(cfg.collisions_per_batch)?;
     let geometry = FieldGeometry::new(
-        scene
-            .disk_lattice()
-            .ok_or_else(|| Error::Invalid("the field needs the triangular lattice".into()))?,
+        scene.disk_lattice().ok_or_else(|| {
+            Error::Invalid(format!("{} is not an array of equal disks", scene.label()))
+        })?,
         b,
     )?;
     let per = par_batches_watched(opts.threads, cfg.batches, opts.stop.as_ref(), |i| {
@@ -122,8 +121,8 @@ pub fn run(
 }
 
 /// One orbit in the field with its tangent vector.
-pub struct Orbit<'a> {
-    lattice: &'a Lattice<f64, Trap<f64>>,
+pub struct Orbit<'a, K: CellKernel<f64>> {
+    lattice: &'a Lattice<f64, K>,
     /// The state.
     pub state: LatticeState<f64>,
     /// The tangent vector (δq, δv) in the state's cell frame.
@@ -131,10 +130,10 @@ pub struct Orbit<'a> {
     field: f64,
 }
 
-impl<'a> Orbit<'a> {
+impl<'a, K: CellKernel<f64>> Orbit<'a, K> {
     /// The orbit from `state` with the tangent vector (Jv, 0.3·Jv): transverse to the flow and on
     /// the energy shell.
-    pub fn new(lattice: &'a Lattice<f64, Trap<f64>>, state: LatticeState<f64>, field: f64) -> Self {
+    pub fn new(lattice: &'a Lattice<f64, K>, state: LatticeState<f64>, field: f64) -> Self {
         let v = &state.flight.vel;
         let tangent = Vector4::new(-v.y, v.x, -0.3 * v.y, 0.3 * v.x);
         Orbit {

@@ -41,6 +41,7 @@ use crate::scenes::spec::SceneSpec;
 use crate::statistics::{linear_fit, mean_se};
 use crate::theory::magnetic::FieldGeometry;
 
+pub mod grid;
 pub mod lyapunov;
 pub mod sweep;
 mod track;
@@ -250,14 +251,14 @@ pub struct FieldReport {
     /// Every orbit is localized (2ρ ≤ A − 2r): D = 0 exactly, no trajectory run.
     pub all_localized: bool,
     /// Mean free time between collisions of the diffusing part: the inverse of the collision rate
-    /// averaged over batches of equal duration.
-    #[serde(deserialize_with = "nan_if_null")]
+    /// averaged over batches of equal duration (infinite where every orbit is localized).
+    #[serde(deserialize_with = "infinite_if_null")]
     pub mean_free_time: f64,
     /// Its standard error (the rate's, propagated).
     #[serde(deserialize_with = "nan_if_null")]
     pub mean_free_time_err: f64,
-    /// Kac's closed form for it.
-    #[serde(deserialize_with = "nan_if_null")]
+    /// Kac's closed form for it (infinite where every orbit is localized).
+    #[serde(deserialize_with = "infinite_if_null")]
     pub mean_free_time_exact: f64,
     /// Localized starts drawn and set aside before the batches' diffusing starts.
     pub rejected_starts: u64,
@@ -431,10 +432,16 @@ fn all_lags(cfg: &FieldConfig) -> Vec<usize> {
     l
 }
 
-/// A number of the JSON where `null` stands for what JSON cannot write (the NaN or infinity of a
-/// mean free time where every orbit is localized and nothing was run), read back as NaN.
-fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+/// A number of the JSON where `null` stands for what JSON cannot write, read back as NaN.
+pub(super) fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// A mean free time of the JSON where `null` stands for the infinity JSON cannot write: where
+/// every orbit is localized nothing collides, measured or exact. Read back as infinity, so a
+/// record re-read has the bits it was written with.
+pub(super) fn infinite_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 
 /// The diffusing part's mean free time and its error: collision rates of batches of equal

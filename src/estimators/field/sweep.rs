@@ -13,15 +13,14 @@
 
 use std::path::{Path, PathBuf};
 
-use rug::{Integer, Rational};
 use serde::{Deserialize, Serialize};
 
+pub use super::grid::{SweepGrid, exact_grid, fields_of, grid_of, scene_grid};
 use super::{FieldConfig, FieldReport};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::resume::{difference, seal, unseal};
-use crate::numbers::exact::parse_exact;
 use crate::scenes::spec::SceneSpec;
 use crate::statistics::comparison::{self, Comparison, largest_of_bound};
 use crate::statistics::welch_dof;
@@ -32,8 +31,13 @@ pub const MAX_FIELD_SWEEP_POINTS: usize = 1_000;
 /// What defines a sweep of the diffusion tensor over gaps and fields.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FieldSweepConfig {
-    /// The gaps, each an exact decimal or fraction as given (one gap: a sweep over B).
+    /// The gaps of the triangular scene, each an exact decimal or fraction as given (one gap: a
+    /// sweep over B); empty with `radius`.
     pub gaps: Vec<String>,
+    /// The square lattice at this radius (exact, as given) instead of the triangular one: a
+    /// sweep over B on it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<String>,
     /// The fields, each an exact decimal or fraction as given, nonzero, 10⁻³ ≤ |B| ≤ 10³ (one
     /// field: a sweep over w).
     pub fields: Vec<String>,
@@ -51,58 +55,39 @@ pub struct FieldSweepConfig {
     pub localization_samples: u64,
 }
 
-/// The grid of a field sweep as the command line and Python give it: one gap `w` (a sweep over
-/// the field) or the exact grid `w_from` … `w_to` in `steps` points (a sweep over w); one `field`
-/// or a list `fields`. Returns (gaps, fields) as exact texts.
-///
-/// # Errors
-/// Neither or both of `w` and the range, neither or both of `field` and `fields`, or an end of
-/// the range that is not exact.
-pub fn grid_of(
-    w: Option<&str>,
-    range: (Option<&str>, Option<&str>, u32),
-    field: Option<&str>,
-    fields: &[String],
-) -> Result<(Vec<String>, Vec<String>), Error> {
-    let gaps = match (w, range) {
-        (Some(w), (None, None, _)) => vec![w.trim().to_string()],
-        (None, (Some(from), Some(to), steps)) => exact_grid(from, to, steps)?,
-        _ => {
-            return Err(Error::Invalid(
-                "a sweep in a field needs either w (a sweep over the field) or w_from and w_to \
-                 (a sweep over w), not both"
-                    .into(),
-            ));
-        }
-    };
-    let fields = match (field, fields.is_empty()) {
-        (Some(b), true) => vec![b.trim().to_string()],
-        (None, false) => fields.iter().map(|b| b.trim().to_string()).collect(),
-        _ => {
-            return Err(Error::Invalid(
-                "give either field (a sweep over w) or fields (a sweep over the field), not both"
-                    .into(),
-            ));
-        }
-    };
-    Ok((gaps, fields))
-}
-
 impl FieldSweepConfig {
-    /// The points in order, gap-major: point i = (gap i / F, field i mod F) for F fields.
-    pub fn grid(&self) -> Vec<(&str, &str)> {
-        self.gaps
-            .iter()
-            .flat_map(|g| self.fields.iter().map(move |f| (g.as_str(), f.as_str())))
+    /// The scenes of the grid: the triangular one at each gap, or the square one at `radius`.
+    pub fn scenes(&self) -> Vec<SceneSpec> {
+        match &self.radius {
+            Some(r) => vec![SceneSpec::Square { radius: r.clone() }],
+            None => (self.gaps.iter())
+                .map(|g| SceneSpec::Triangular { w: g.clone() })
+                .collect(),
+        }
+    }
+
+    /// The points in order, scene-major: point i = (scene i / F, field i mod F) for F fields.
+    pub fn grid(&self) -> Vec<(SceneSpec, &str)> {
+        self.scenes()
+            .into_iter()
+            .flat_map(|s| self.fields.iter().map(move |f| (s.clone(), f.as_str())))
             .collect()
     }
 
-    /// The transport run of point `i` at gap `gap` and field `field`.
+    /// The transport run of point `i` on `scene` in the field `field`.
     ///
     /// # Errors
-    /// A gap that is not an exact decimal or fraction.
-    pub fn point_config(&self, i: usize, gap: &str, field: &str) -> Result<FieldConfig, Error> {
-        let scene = SceneSpec::parse("triangular", Some(gap), None)?;
+    /// A scene parameter that is not an exact decimal or fraction.
+    pub fn point_config(
+        &self,
+        i: usize,
+        scene: SceneSpec,
+        field: &str,
+    ) -> Result<FieldConfig, Error> {
+        let scene = match scene {
+            SceneSpec::Triangular { w } => SceneSpec::parse("triangular", Some(&w), None)?,
+            SceneSpec::Square { radius } => SceneSpec::parse("square", None, Some(&radius))?,
+        };
         let mut cfg = FieldConfig {
             run: i as u64,
             localization_samples: self.localization_samples,
@@ -118,12 +103,14 @@ impl FieldSweepConfig {
     /// # Errors
     /// An empty or oversized grid, a point repeated, or a point's invalid run (naming the range).
     pub fn validate(&self) -> Result<(), Error> {
-        if self.gaps.is_empty() || self.fields.is_empty() {
+        if self.radius.is_some() != self.gaps.is_empty() || self.fields.is_empty() {
             return Err(Error::Invalid(
-                "a field sweep needs at least one gap and one field".into(),
+                "a field sweep needs at least one field and either gaps (the triangular scene) \
+                 or a radius (the square one)"
+                    .into(),
             ));
         }
-        let n = self.gaps.len() * self.fields.len();
+        let n = self.scenes().len() * self.fields.len();
         if n > MAX_FIELD_SWEEP_POINTS {
             return Err(Error::out_of_range(
                 "points",
@@ -133,13 +120,17 @@ impl FieldSweepConfig {
         }
         let mut seen = Vec::with_capacity(n);
         for (i, (g, f)) in self.grid().into_iter().enumerate() {
-            let c = self.point_config(i, g, f)?;
+            let c = self.point_config(i, g.clone(), f)?;
             c.validate()?;
-            let w = c.scene_parameters()?.0.unwrap_or(f64::NAN);
-            let key = (w.to_bits(), c.field_value()?.to_bits());
+            let (w, r) = c.scene_parameters()?;
+            let key = (
+                w.map(f64::to_bits),
+                r.map(f64::to_bits),
+                c.field_value()?.to_bits(),
+            );
             if seen.contains(&key) {
                 return Err(Error::Invalid(format!(
-                    "w = {g}, B = {f} appears twice in the grid: give each gap and field once"
+                    "{g:?}, B = {f} appears twice in the grid: give each gap and field once"
                 )));
             }
             seen.push(key);
@@ -152,8 +143,12 @@ impl FieldSweepConfig {
 #[allow(non_snake_case)]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FieldSweepRow {
-    /// Gap.
-    pub w: f64,
+    /// Gap of the triangular scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub w: Option<f64>,
+    /// Disk radius of the square scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
     /// Field B.
     pub field: f64,
     /// Cyclotron radius 1/|B|.
@@ -178,19 +173,34 @@ pub struct FieldSweepRow {
     pub localized_fraction_err: f64,
     /// Every orbit is localized: D = 0 exactly.
     pub all_localized: bool,
-    /// Mean free time of the diffusing part, measured.
+    /// Mean free time of the diffusing part, measured (infinite where every orbit is localized:
+    /// `null` in JSON).
+    #[serde(deserialize_with = "super::infinite_if_null")]
     pub mean_free_time: f64,
     /// Its standard error.
+    #[serde(deserialize_with = "super::nan_if_null")]
     pub mean_free_time_err: f64,
-    /// Kac's closed form for it.
+    /// Kac's closed form for it (infinite where every orbit is localized).
+    #[serde(deserialize_with = "super::infinite_if_null")]
     pub mean_free_time_exact: f64,
 }
 
-/// Onsager–Casimir at one gap and one |B|.
+impl FieldSweepRow {
+    /// The point's scene parameter: its gap w, or its radius on the square lattice.
+    pub fn place(&self) -> f64 {
+        self.w.or(self.radius).unwrap_or(f64::NAN)
+    }
+}
+
+/// Onsager–Casimir at one gap (or radius) and one |B|.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct OnsagerCheck {
-    /// Gap.
-    pub w: f64,
+    /// Gap of the triangular scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub w: Option<f64>,
+    /// Disk radius of the square scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
     /// |B|.
     pub field: f64,
     /// D_xx(B) − D_xx(−B), expected 0.
@@ -301,7 +311,8 @@ pub fn run(cfg: &FieldSweepConfig, opts: &RunOptions) -> Result<FieldSweepReport
 /// The row of a point's report.
 fn row_of(r: &FieldReport) -> FieldSweepRow {
     FieldSweepRow {
-        w: r.w.unwrap_or(f64::NAN),
+        w: r.w,
+        radius: r.radius,
         field: r.field,
         cyclotron_radius: r.cyclotron_radius,
         D_xx: r.D_xx,
@@ -329,7 +340,7 @@ pub fn onsager(rows: &[FieldSweepRow], batches: u32) -> Vec<OnsagerCheck> {
         .filter(|p| p.field > 0.0)
         .filter_map(|p| {
             rows.iter()
-                .find(|m| m.w == p.w && m.field == -p.field)
+                .find(|m| (m.w, m.radius) == (p.w, p.radius) && m.field == -p.field)
                 .map(|m| (p, m))
         })
         .collect();
@@ -351,6 +362,7 @@ pub fn onsager(rows: &[FieldSweepRow], batches: u32) -> Vec<OnsagerCheck> {
         .into_iter()
         .map(|(p, q)| OnsagerCheck {
             w: p.w,
+            radius: p.radius,
             field: p.field,
             d_xx_even: compare(p.D_xx - q.D_xx, p.D_xx_err, q.D_xx_err),
             d_xy_odd: compare(p.D_xy + q.D_xy, p.D_xy_err, q.D_xy_err),
@@ -391,75 +403,27 @@ fn reuse(cfg: &FieldSweepConfig, path: &Path, i: usize) -> Result<Option<FieldSw
     Ok(Some(p.row))
 }
 
-/// The exact points `from + (to − from)·k/(steps − 1)`, k = 0 … steps − 1, as exact texts: a
-/// terminating decimal where there is one, else a fraction `p/q` (both parse back to the same
-/// rational).
-///
-/// # Examples
-///
-/// ```
-/// use lorentz_gas::estimators::field::sweep::exact_grid;
-/// assert_eq!(exact_grid("0.1", "0.2", 3).unwrap(), ["0.1", "0.15", "0.2"]);
-/// assert_eq!(exact_grid("0", "1", 4).unwrap(), ["0", "1/3", "2/3", "1"]);
-/// ```
-///
-/// # Errors
-/// Fewer than 2 steps, or an end that is not an exact decimal or fraction.
-pub fn exact_grid(from: &str, to: &str, steps: u32) -> Result<Vec<String>, Error> {
-    if steps < 2 {
-        return Err(Error::out_of_range("steps", steps, "use at least 2 points"));
-    }
-    let (a, b) = (parse_exact(from)?, parse_exact(to)?);
-    let span = Rational::from(&b - &a);
-    Ok((0..steps)
-        .map(|k| exact_text(&(a.clone() + span.clone() * Rational::from((k, steps - 1)))))
-        .collect())
-}
-
-/// A rational as a terminating decimal if it is one (denominator 2ᵃ5ᵇ), else as `p/q`.
-fn exact_text(x: &Rational) -> String {
-    let mut den = x.denom().clone();
-    let (mut twos, mut fives) = (0u32, 0u32);
-    while den.is_divisible_u(2) {
-        den /= 2;
-        twos += 1;
-    }
-    while den.is_divisible_u(5) {
-        den /= 5;
-        fives += 1;
-    }
-    if den != 1 {
-        return x.to_string();
-    }
-    let places = twos.max(fives);
-    let scaled = (x.numer() * Integer::from(Integer::u_pow_u(10, places))) / x.denom().clone();
-    let digits = scaled.clone().abs().to_string();
-    let sign = if scaled < 0 { "-" } else { "" };
-    if places == 0 {
-        return format!("{sign}{digits}");
-    }
-    let p = places as usize;
-    let padded = format!("{digits:0>width$}", width = p + 1);
-    let (int, frac) = padded.split_at(padded.len() - p);
-    format!("{sign}{int}.{frac}")
-}
-
 /// Writes `field-sweep.csv` (one line per point; its columns are the keys of the JSON rows) and
 /// `field-sweep.json` (the whole report) into `dir`.
 ///
 /// # Errors
 /// An I/O error naming the path.
 pub fn write_tables(r: &FieldSweepReport, dir: &Path) -> Result<(), Error> {
-    let mut csv = String::from(
-        "w,field,cyclotron_radius,D_xx,D_xx_err,D_xy,D_xy_err,pinned_fraction_exact,\
+    let place = if r.config.radius.is_some() {
+        "radius"
+    } else {
+        "w"
+    };
+    let mut csv = format!(
+        "{place},field,cyclotron_radius,D_xx,D_xx_err,D_xy,D_xy_err,pinned_fraction_exact,\
          skipping_fraction_exact,localized_fraction_exact,localized_fraction,\
          localized_fraction_err,all_localized,mean_free_time,mean_free_time_err,\
-         mean_free_time_exact\n",
+         mean_free_time_exact\n"
     );
     for x in &r.rows {
         csv.push_str(&format!(
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            x.w,
+            x.place(),
             x.field,
             x.cyclotron_radius,
             x.D_xx,
@@ -490,7 +454,8 @@ mod tests {
 
     fn row(w: f64, field: f64, d_xx: f64, d_xy: f64, err: f64) -> FieldSweepRow {
         FieldSweepRow {
-            w,
+            w: Some(w),
+            radius: None,
             field,
             cyclotron_radius: 1.0 / field.abs(),
             D_xx: d_xx,
@@ -519,7 +484,7 @@ mod tests {
         ];
         let c = onsager(&rows, 16);
         assert_eq!(c.len(), 1);
-        assert_eq!((c[0].w, c[0].field), (0.1, 1.0));
+        assert_eq!((c[0].w, c[0].field), (Some(0.1), 1.0));
         assert!((c[0].d_xx_even.difference + 0.0005).abs() < 1e-15);
         assert!((c[0].d_xy_odd.difference - 0.0005).abs() < 1e-15);
         assert!((c[0].d_xx_even.err - 0.001 * 2f64.sqrt()).abs() < 1e-15);
@@ -531,15 +496,5 @@ mod tests {
         ];
         let c = onsager(&even, 16);
         assert!(c[0].d_xx_even.agrees() && !c[0].d_xy_odd.agrees(), "{c:?}");
-    }
-
-    #[test]
-    fn exact_grid_texts_parse_back_to_the_grid() {
-        let g = exact_grid("-0.25", "1/3", 5).unwrap();
-        assert_eq!(g, ["-0.25", "-5/48", "1/24", "0.1875", "1/3"]);
-        let f = exact_grid("0.1", "0.3", 21).unwrap();
-        assert_eq!(f[1], "0.11");
-        assert_eq!(exact_grid("0.001", "0.002", 2).unwrap(), ["0.001", "0.002"]);
-        assert!(exact_grid("0.1", "0.2", 1).is_err());
     }
 }

@@ -3,7 +3,6 @@
 
 use super::track;
 use crate::Error;
-use crate::kernel::trap::Trap;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Lattice, LatticeState};
 use crate::scenes::magnetic::ArcStep;
@@ -11,16 +10,17 @@ use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::triangular::TriangularScene;
 use crate::theory::magnetic::FieldGeometry;
 
-/// A trajectory of the triangular lattice in a field, on the `f64` arc kernel.
+/// A trajectory of a scene (the triangular lattice unless named) in a field, on the `f64` arc
+/// kernel.
 #[derive(Debug, Clone)]
-pub struct FieldWalk {
-    lattice: Lattice<f64, Trap<f64>>,
+pub struct FieldWalk<S: Scene = TriangularScene> {
+    lattice: Lattice<f64, S::Kernel<f64>>,
     state: LatticeState<f64>,
     field: f64,
     rejected: u64,
 }
 
-impl FieldWalk {
+impl<S: Scene> FieldWalk<S> {
     /// The trajectory of batch `batch` of `diffusion(w, field=field, seed=seed)` (run 0): the
     /// same diffusing start, drawn from the invariant measure with the localized orbits set
     /// aside (`proofs-notes/magnetic-localized.md`).
@@ -29,22 +29,17 @@ impl FieldWalk {
     /// A field that is not an exact decimal or fraction, zero or out of range (as for
     /// [`super::field_value`]), a field in which every orbit is localized (nothing
     /// diffuses: the start would never be found), or a bad scene.
-    pub fn start(
-        scene: &TriangularScene,
-        field: &str,
-        seed: u64,
-        batch: u64,
-    ) -> Result<Self, Error> {
-        let w = scene.lattice::<f64>(())?.trap().w;
+    pub fn start(scene: &S, field: &str, seed: u64, batch: u64) -> Result<Self, Error> {
         let b = super::field_value(field)?;
         let disks = scene.disk_lattice().ok_or_else(|| {
-            Error::Invalid("the field needs the triangular lattice's disks".into())
+            Error::Invalid(format!("{} is not an array of equal disks", scene.label()))
         })?;
         let geometry = FieldGeometry::new(disks, b)?;
         if geometry.all_localized() {
             return Err(Error::Invalid(format!(
-                "field = {field}: every orbit is localized at w = {w} (pinned or skipping), so no \
-                 trajectory diffuses; use a weaker field"
+                "field = {field}: every orbit is localized on {} (pinned or skipping), so no \
+                 trajectory diffuses; use a weaker field",
+                scene.label()
             )));
         }
         let key = StreamKey::new(seed, Purpose::Trajectory, batch);
@@ -73,7 +68,7 @@ impl FieldWalk {
     }
 
     /// The lattice.
-    pub fn lattice(&self) -> &Lattice<f64, Trap<f64>> {
+    pub fn lattice(&self) -> &Lattice<f64, S::Kernel<f64>> {
         &self.lattice
     }
 

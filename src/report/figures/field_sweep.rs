@@ -1,4 +1,4 @@
-//! The figures of a field sweep: D_xx and the Hall D_xy against B, one curve per gap (or against w,
+//! The figures of a field sweep: D_xx and the Hall D_xy against B, one curve per gap or radius (or against w,
 //! one curve per field, for a sweep over w at a fixed field), with the standard errors as bars.
 
 use std::path::Path;
@@ -13,16 +13,17 @@ use crate::estimators::field::sweep::{FieldSweepReport, FieldSweepRow};
 /// If a file cannot be written.
 pub fn write_field_sweep_figures(r: &FieldSweepReport, dir: &Path) -> Result<(), Error> {
     let over_fields = r.config.fields.len() > 1;
-    let x_of = |row: &FieldSweepRow| if over_fields { row.field } else { row.w };
+    let x_of = |row: &FieldSweepRow| if over_fields { row.field } else { row.place() };
     let xs: Vec<f64> = r.rows.iter().map(x_of).collect();
     let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let log_x = lo > 0.0 && hi >= 20.0 * lo;
     let x_label = if over_fields { "field B" } else { "gap w" };
+    let place = if r.config.radius.is_some() { "r" } else { "w" };
     let curves = |y: &dyn Fn(&FieldSweepRow) -> (f64, f64)| -> Vec<Series> {
         let mut keys: Vec<f64> = Vec::new();
         for row in &r.rows {
-            let k = if over_fields { row.w } else { row.field };
+            let k = if over_fields { row.place() } else { row.field };
             if !keys.contains(&k) {
                 keys.push(k);
             }
@@ -32,7 +33,7 @@ pub fn write_field_sweep_figures(r: &FieldSweepReport, dir: &Path) -> Result<(),
                 let mut points: Vec<(f64, f64, f64)> = r
                     .rows
                     .iter()
-                    .filter(|row| (if over_fields { row.w } else { row.field }) == k)
+                    .filter(|row| (if over_fields { row.place() } else { row.field }) == k)
                     .map(|row| {
                         let (v, e) = y(row);
                         (x_of(row), v, e)
@@ -41,7 +42,7 @@ pub fn write_field_sweep_figures(r: &FieldSweepReport, dir: &Path) -> Result<(),
                 points.sort_by(|a, b| a.0.total_cmp(&b.0));
                 Series {
                     label: if over_fields {
-                        format!("w = {k}")
+                        format!("{place} = {k}")
                     } else {
                         format!("B = {k}")
                     },

@@ -13,7 +13,7 @@ use super::{Checks, Ctx, SIGMAS};
 use crate::Error;
 use crate::estimators::field::{self, FieldReport};
 use crate::statistics::normal_sigma_equivalent_t;
-use crate::theory::magnetic::FieldGeometry;
+use crate::theory::magnetic::{FieldGeometry, sampled_share_err};
 
 /// The file as a field result whose configuration the command line would accept.
 pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<FieldReport, Error> {
@@ -96,13 +96,9 @@ pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
 fn localized_share(r: &FieldReport, checks: &mut Checks) {
     let (v, x) = (r.localized_fraction, r.localized_fraction_exact);
     let n = r.config.localization_samples as f64;
-    let e = (x * (1.0 - x) / n).sqrt();
-    let (ok, z) = if e > 0.0 {
-        let z = (v - x) / e;
-        (z.abs() <= SIGMAS, z)
-    } else {
-        (v == x, 0.0)
-    };
+    let e = sampled_share_err(x, n);
+    let z = (v - x) / e;
+    let ok = z.abs() <= SIGMAS;
     checks.pass_if(
         ok,
         "identities",

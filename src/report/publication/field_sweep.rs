@@ -13,6 +13,7 @@ use super::{Checks, Ctx};
 use crate::Error;
 use crate::estimators::field::sweep::{self, FieldSweepReport, FieldSweepRow, onsager};
 use crate::statistics::comparison::largest_of_bound;
+use crate::theory::magnetic::sampled_share_err;
 
 /// The file as a field sweep whose configuration the command line would accept.
 pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<FieldSweepReport, Error> {
@@ -23,7 +24,7 @@ pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<FieldSweepReport, 
 
 /// Collisions the re-run takes.
 pub(super) fn collisions(r: &FieldSweepReport) -> u64 {
-    let points = (r.config.gaps.len() * r.config.fields.len()) as u64;
+    let points = r.config.grid().len() as u64;
     r.config.collisions.saturating_mul(points)
 }
 
@@ -54,7 +55,14 @@ pub(super) fn checks(
             checks.pass_if(
                 c.agrees(),
                 "identities",
-                &format!("Onsager-Casimir at w = {}, |B| = {}: {name}", o.w, o.field),
+                &format!(
+                    "Onsager-Casimir at {}, |B| = {}: {name}",
+                    match (o.w, o.radius) {
+                        (Some(w), _) => format!("w = {w}"),
+                        (None, r) => format!("r = {}", r.unwrap_or(f64::NAN)),
+                    },
+                    o.field
+                ),
                 c.describe("Welch, Bonferroni over the pairs"),
                 &[("value", c.difference), ("err", c.err), ("exact", 0.0)],
             );
@@ -90,10 +98,12 @@ fn row_problems(r: &FieldSweepReport) -> Result<Vec<String>, Error> {
     }
     let mut bad = Vec::new();
     for (i, ((g, f), row)) in grid.into_iter().zip(&r.rows).enumerate() {
+        let at = format!("{g:?}");
         let pc = cfg.point_config(i, g, f)?;
         let geo = geometry_of(&pc)?;
+        let (w, radius) = pc.scene_parameters()?;
+        let same = |a: Option<f64>, b: Option<f64>| a.map(f64::to_bits) == b.map(f64::to_bits);
         let exact = [
-            (row.w, pc.scene_parameters()?.0.unwrap_or(f64::NAN)),
             (row.field, pc.field_value()?),
             (row.cyclotron_radius, geo.cyclotron_radius()),
             (row.pinned_fraction_exact, geo.pinned_fraction()),
@@ -103,11 +113,13 @@ fn row_problems(r: &FieldSweepReport) -> Result<Vec<String>, Error> {
         ];
         let zero = !geo.all_localized() || (row.D_xx == 0.0 && row.D_xy == 0.0);
         if exact.iter().any(|(a, b)| a.to_bits() != b.to_bits())
+            || !same(row.w, w)
+            || !same(row.radius, radius)
             || row.all_localized != geo.all_localized()
             || !zero
         {
             bad.push(format!(
-                "row {i} (w = {g}, B = {f}) is not its point's exact geometry"
+                "row {i} ({at}, B = {f}) is not its point's exact geometry"
             ));
         }
     }
@@ -133,7 +145,7 @@ fn shares_and_kac(r: &FieldSweepReport, checks: &mut Checks) {
             row.localized_fraction_exact,
             r.config.localization_samples as f64,
         );
-        z_of(row.localized_fraction, (x * (1.0 - x) / m).sqrt(), x)
+        z_of(row.localized_fraction, sampled_share_err(x, m), x)
     };
     let kac = |row: &FieldSweepRow| {
         z_of(

@@ -4,7 +4,7 @@
 use super::{line, sigmas};
 use crate::estimators::field::FieldReport;
 use crate::statistics::comparison;
-use crate::theory::magnetic::SHARE_TOLERANCE;
+use crate::theory::magnetic::sampled_share_err;
 
 /// The text of a diffusion result in a field, line by line as the command line prints it.
 pub fn field(r: &FieldReport) -> String {
@@ -116,7 +116,7 @@ fn tensor(out: &mut String, r: &FieldReport, n: usize) {
 fn binomial(r: &FieldReport) -> String {
     let f = r.localized_fraction_exact;
     let n = r.config.localization_samples as f64;
-    let err = (f * (1.0 - f)).max(0.0).sqrt() / n.sqrt() + SHARE_TOLERANCE;
+    let err = sampled_share_err(f, n);
     let c = comparison::of(r.localized_fraction - f, err, f64::INFINITY);
     format!(
         "{:+.1}σ, bound {:.1}σ: {}",
