@@ -139,6 +139,12 @@ def test_lyapunov_and_trajectory_in_a_field_have_the_command_lines_bits(cli_json
     assert py.field == 0.5 and "per collision" in repr(py)
     with pytest.raises(ValueError, match="not measured in a field"):
         lg.lyapunov(w="0.1", field=1, starts=4)
+    py = lg.lyapunov(scene="square", radius="1/4", field="-1", collisions_per_batch=2e4,
+                     batches=4, seed=3)
+    cl = cli_json("lyapunov", "--scene", "square", "--radius", "1/4", "--field", "-1",
+                  "--collisions-per-batch", "2e4", "--batches", "4", "--seed", "3")
+    same(py.to_dict(), cl)
+    assert py.to_dict()["tangent"]["scene"].startswith("square")
     py = lg.trajectory(start=("1.05", "0"), direction=(0, 1), time=10, w="0.1", field=1, digits=30)
     cl = cli_json("trajectory", "--scene", "triangular", "--w", "0.1", "--start", "1.05,0",
                   "--direction", "0,1", "--time", "10", "--field", "1", "--digits", "30")
