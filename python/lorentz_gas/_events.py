@@ -117,7 +117,7 @@ def events(
     bool), ``obstacle`` (the disk or edge label), ``i``, ``j``, ``down`` (the cell). The
     trajectory is batch ``batch`` of ``diffusion(w, seed=seed)`` (the same start), on the f64
     engine. With ``field`` (the magnetic field B, an exact decimal or fraction,
-    1e-3 <= abs(B) <= 1e3; triangular lattice) the flights are arcs of radius 1/abs(B),
+    1e-3 <= abs(B) <= 1e3; either lattice) the flights are arcs of radius 1/abs(B),
     counter-clockwise for B > 0, and the trajectory is batch ``batch`` of
     ``diffusion(w, field=B, seed=seed)`` (its start drawn from the diffusing orbits); ``t`` is
     then the arc time and ``x``, ``y`` the event points; ``field=0`` is the run without a field.

@@ -14,6 +14,8 @@ use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::{LatticeState, Unwrapped};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::spec::SceneChoice;
+use lorentz_gas::scenes::square::SquareScene;
+use lorentz_gas::scenes::triangular::TriangularScene;
 
 use crate::inputs::{count_u32, count_u64};
 use crate::scenes::resolve;
@@ -172,8 +174,8 @@ fn advance<S: Scene>(
 }
 
 /// The next `n` events of the field walk `walk` (time `t0` so far), on the `f64` arc kernel.
-fn advance_in_field(
-    walk: &mut FieldWalk,
+fn advance_in_field<S: Scene>(
+    walk: &mut FieldWalk<S>,
     t0: f64,
     n: u64,
     ctl: &Ctl<'_>,
@@ -190,14 +192,37 @@ fn advance_in_field(
     })
 }
 
-/// The walk of a nonzero field on the triangular lattice (`None` for no field or exactly 0: the
-/// events without a field, with their own bits).
+/// A walk in a field on either lattice.
+enum AnyFieldWalk {
+    Triangular(Box<FieldWalk<TriangularScene>>),
+    Square(FieldWalk<SquareScene>),
+}
+
+impl AnyFieldWalk {
+    fn state(&self) -> &LatticeState<f64> {
+        match self {
+            AnyFieldWalk::Triangular(w) => w.state(),
+            AnyFieldWalk::Square(w) => w.state(),
+        }
+    }
+
+    /// The next `n` events (time `t0` so far).
+    fn advance(&mut self, t0: f64, n: u64, ctl: &Ctl<'_>) -> Result<(Columns, f64), Error> {
+        match self {
+            AnyFieldWalk::Triangular(w) => advance_in_field(w, t0, n, ctl),
+            AnyFieldWalk::Square(w) => advance_in_field(w, t0, n, ctl),
+        }
+    }
+}
+
+/// The walk of a nonzero field (`None` for no field or exactly 0: the events without a field,
+/// with their own bits).
 fn field_walk(
     choice: &SceneChoice,
     field: Option<&str>,
     seed: u64,
     batch: u32,
-) -> PyResult<Option<FieldWalk>> {
+) -> PyResult<Option<AnyFieldWalk>> {
     let Some(b) = field else {
         return Ok(None);
     };
@@ -206,14 +231,14 @@ fn field_walk(
     if exact == 0 {
         return Ok(None);
     }
-    let SceneChoice::Triangular(scene) = choice else {
-        return Err(PyValueError::new_err(
-            "events in a field run on the triangular lattice only: leave out scene and radius",
-        ));
-    };
-    FieldWalk::start(scene.as_ref(), b, seed, u64::from(batch))
-        .map(Some)
-        .map_err(crate::py_err)
+    let batch = u64::from(batch);
+    match choice {
+        SceneChoice::Triangular(s) => FieldWalk::start(s.as_ref(), b, seed, batch)
+            .map(|w| AnyFieldWalk::Triangular(Box::new(w))),
+        SceneChoice::Square(s) => FieldWalk::start(s, b, seed, batch).map(AnyFieldWalk::Square),
+    }
+    .map(Some)
+    .map_err(crate::py_err)
 }
 
 /// One trajectory's events, continued call after call: the trajectory of batch `batch` of
@@ -223,14 +248,14 @@ fn field_walk(
 pub struct EventStream {
     choice: SceneChoice,
     state: LatticeState<f64>,
-    walk: Option<FieldWalk>,
+    walk: Option<AnyFieldWalk>,
     /// The time of the last event so far (0 at the start).
     t: f64,
 }
 
 impl EventStream {
     fn state(&self) -> &LatticeState<f64> {
-        self.walk.as_ref().map_or(&self.state, FieldWalk::state)
+        self.walk.as_ref().map_or(&self.state, AnyFieldWalk::state)
     }
 
     /// The columns as numpy arrays.
@@ -310,7 +335,7 @@ impl EventStream {
         let t0 = self.t;
         let (choice, state, walk) = (&self.choice, &mut self.state, &mut self.walk);
         let (c, end) = compute(py, progress, |ctl| match walk {
-            Some(walk) => advance_in_field(walk, t0, n, ctl),
+            Some(walk) => walk.advance(t0, n, ctl),
             None => with_scene!(choice, |s| advance(s, state, t0, n, ctl)),
         })?;
         self.t = end;

@@ -104,6 +104,18 @@ def test_events_in_a_field_are_arcs_of_radius_one_over_b():
     assert not np.allclose(c * vx + s * vy, ev["vx"][1:], atol=1e-6)
 
 
+def test_events_in_a_field_on_the_square_lattice_are_arcs_of_radius_one_over_b():
+    b = 1.0
+    ev = lg.events(scene="square", radius="1/4", n=20_000, seed=4, field="1")
+    dt = np.diff(ev["t"])
+    dr = np.hypot(np.diff(ev["x"]), np.diff(ev["y"]))
+    scale = 1e-12 * (1 + np.maximum(np.abs(ev["x"][1:]), np.abs(ev["y"][1:])))
+    assert np.all(np.abs(dr - 2 * np.sin(b * dt / 2) / b) < scale)
+    assert np.allclose(np.hypot(ev["vx"], ev["vy"]), 1.0, atol=1e-13)
+    # The start is on a diffusing orbit: the walk leaves its cell (a pinned circle would not).
+    assert np.hypot(ev["x"][-1], ev["y"][-1]) > 2
+
+
 def test_events_with_field_zero_are_the_events_without_a_field():
     a = lg.events(w="0.1", n=2000, seed=5)
     b = lg.events(w="0.1", n=2000, seed=5, field=0)
@@ -118,8 +130,8 @@ def test_events_in_a_field_refuse_what_has_no_diffusing_orbit():
 
     with pytest.raises(ValueError, match="every orbit is localized"):
         lg.events(w="0.3", n=10, field=10)
-    with pytest.raises(ValueError, match="triangular lattice only"):
-        lg.events(scene="square", radius="1/4", n=10, field=1)
+    with pytest.raises(ValueError, match="every orbit is localized"):
+        lg.events(scene="square", radius="1/4", n=10, field=4)
     with pytest.raises(ValueError, match="field"):
         lg.events(w="0.1", n=10, field="1/0")
 
@@ -127,7 +139,8 @@ def test_events_in_a_field_refuse_what_has_no_diffusing_orbit():
 def test_a_trajectory_in_chunks_has_the_bits_of_one_call():
     """Continued call after call, a trajectory gives the events of one call, time included (one
     running sum), with and without a field and on the square lattice."""
-    for kw in [dict(w="0.1"), dict(w="0.2", field="-3/2"), dict(scene="square", radius="1/4")]:
+    for kw in [dict(w="0.1"), dict(w="0.2", field="-3/2"), dict(scene="square", radius="1/4"),
+               dict(scene="square", radius="1/4", field="1")]:
         whole = lg.events(n=5000, seed=7, batch=2, **kw)
         tr = lg.Trajectory(seed=7, batch=2, **kw)
         parts = [tr.start] + [tr.events(k) for k in (1, 999, 2500, 1500)]
