@@ -75,7 +75,7 @@ def audit(
     progress: Progress,
 ) -> str: ...
 def shadow(
-    w: str, collisions_per_segment: str, segments: str, reference_bits: str, seed: str,
+    scene: str, w: Optional[str], radius: Optional[str], collisions_per_segment: str, segments: str, reference_bits: str, seed: str,
     field: Optional[str], threads: Optional[str], progress: Progress,
 ) -> str: ...
 def certify(

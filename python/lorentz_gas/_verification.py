@@ -222,7 +222,7 @@ def audit(
 
 @public
 def shadow(
-    w: Exact,
+    w: Optional[Exact] = None,
     collisions_per_segment: Count = 1000,
     segments: Count = 8,
     reference_bits: Count = 128,
@@ -230,13 +230,17 @@ def shadow(
     field: Optional[Exact] = None,
     threads: Optional[Count] = None,
     progress: Progress = None,
+    *,
+    scene: str = "triangular",
+    radius: Optional[Exact] = None,
 ) -> ShadowResult:
-    """True orbits shadowing f64 segments of the triangular gas (``lorentz shadow``).
+    """True orbits shadowing f64 segments (``lorentz shadow``).
 
     Parameters
     ----------
     w : str, float, Fraction or Decimal
-        Gap, 0 < w < 0.3094...
+        Gap of the triangular scene, 0 < w < 0.3094...; or ``scene="square"`` with ``radius``
+        (0 < radius < 1/2, exact like ``w``).
     collisions_per_segment : int
         Collisions of each f64 segment.
     segments : int
@@ -259,7 +263,9 @@ def shadow(
     """
     with _Bar(progress, 0, "coll") as cb:
         text = _native.shadow(
-            _exact("w", w),
+            str(scene),
+            _optional_exact("w", w),
+            _optional_exact("radius", radius),
             _count("collisions_per_segment", collisions_per_segment),
             _count("segments", segments),
             _count("reference_bits", reference_bits),

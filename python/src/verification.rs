@@ -146,11 +146,13 @@ fn py_audit(
 }
 
 #[pyfunction]
-#[pyo3(name = "shadow", signature = (w, collisions_per_segment, segments, reference_bits, seed, field, threads, progress))]
+#[pyo3(name = "shadow", signature = (scene, w, radius, collisions_per_segment, segments, reference_bits, seed, field, threads, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_shadow(
     py: Python<'_>,
-    w: &str,
+    scene: &str,
+    w: Option<&str>,
+    radius: Option<&str>,
     collisions_per_segment: &str,
     segments: &str,
     reference_bits: &str,
@@ -159,7 +161,11 @@ fn py_shadow(
     threads: Option<&str>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
-    let choice = resolve("triangular", Some(w), None)?;
+    // The triangular scene's gap as the command line's `shadow --w` takes it: 0 < w < w_inf.
+    if let (Some(w), "triangular") = (w, scene) {
+        inputs::diffusive_gap(w)?;
+    }
+    let choice = resolve(scene, w, radius)?;
     let request = ShadowConfig {
         collisions_per_segment: count_usize("collisions_per_segment", collisions_per_segment)?,
         segments: count_u32("segments", segments)?,

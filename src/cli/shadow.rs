@@ -1,20 +1,23 @@
 //! `lorentz shadow`: true orbits near f64 segments (Newton on the whole segment in MPFR).
 
 use lorentz_gas::Error;
-use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::verification::shadowing::{self as shadowing, ShadowConfig};
 
 use super::args::{
-    Exact, OutputArgs, RunArgs, parse_count_u32, parse_count_usize, parse_exact_arg,
+    OutputArgs, RunArgs, SceneArgs, SceneChoice, parse_count_u32, parse_count_usize, with_scene,
 };
 use super::output::emit;
 use super::progress::Progress;
 
+/// The gap of the triangular scene shadow takes.
+const GAP_HELP: &str = "Gap w of the triangular scene, a decimal or a fraction such as 1/10: \
+    0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...";
+
 #[derive(clap::Args)]
+#[command(mut_arg("w", |a| a.help(GAP_HELP)))]
 pub struct Args {
-    /// Gap w, a decimal or a fraction such as 1/10: 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...
-    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
-    w: Exact,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// Collisions of each segment, 2 to 10000.
     #[arg(long, default_value = "1000", value_parser = parse_count_usize, allow_negative_numbers = true)]
     collisions_per_segment: usize,
@@ -36,18 +39,20 @@ pub struct Args {
     output: OutputArgs,
 }
 
-/// The gap, exactly, refused outside (0, w_inf) with one line naming the range (decided on the
-/// exact text).
-fn gap(g: &Exact) -> Result<TriangularScene, Error> {
-    lorentz_gas::scenes::triangular::geometry::check_diffusive_gap_exact(
-        g.value,
-        g.exact.is_some().then_some(g.text.as_str()),
-    )?;
-    TriangularScene::exact(g.rational("w")?)
+/// The scene: the square one at any radius, the triangular one with its gap refused outside
+/// (0, w_inf) with one line naming the range (decided on the exact text).
+fn scene(a: &SceneArgs) -> Result<SceneChoice, Error> {
+    if let Some(g) = &a.w {
+        lorentz_gas::scenes::triangular::geometry::check_diffusive_gap_exact(
+            g.value,
+            g.exact.is_some().then_some(g.text.as_str()),
+        )?;
+    }
+    a.resolve()
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    let scene = gap(&a.w)?;
+    let scene = scene(&a.scene)?;
     let request = ShadowConfig {
         collisions_per_segment: a.collisions_per_segment,
         segments: a.segments,
@@ -62,7 +67,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         a.output.quiet,
     );
     let opts = pb.options(a.run.threads());
-    let r = shadowing::run(&scene, &request, &opts)?;
+    let r = with_scene!(&scene, |s| shadowing::run(s, &request, &opts))?;
     drop(opts);
     drop(pb);
     emit(a.output.json, &r, |r| {

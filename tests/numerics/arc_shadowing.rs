@@ -271,3 +271,27 @@ fn brute_force(
         None
     }
 }
+
+/// The square lattice, with and without a field (its corridors give long flights without one):
+/// every f64 segment is shadowed by a certified true orbit, Newton converging quadratically, as
+/// on the triangular lattice (`lorentz shadow --scene square --radius R [--field B]`).
+#[test]
+fn f64_segments_of_the_square_lattice_are_shadowed_with_and_without_a_field() {
+    let sc = lorentz_gas::scenes::square::SquareScene::exact(parse_exact("1/4").unwrap()).unwrap();
+    for field in [None, Some("1"), Some("-1/2")] {
+        let request = ShadowConfig {
+            collisions_per_segment: 300,
+            segments: 3,
+            seed: 1,
+            reference_bits: BITS,
+            field: field.map(str::to_string),
+        };
+        let r = shadowing::run(&sc, &request, &crate::common::threads(1)).unwrap();
+        assert!(r.scene.starts_with("square"), "{}", r.scene);
+        for s in &r.segments {
+            let what = format!("square r = 1/4, B = {field:?}, segment {}", s.segment);
+            assert_clean(&s.shadow, &what);
+            assert!(s.shadow.iterations <= 4, "{what}: quadratic convergence");
+        }
+    }
+}
