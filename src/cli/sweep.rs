@@ -141,6 +141,11 @@ pub fn run(a: Args) -> Result<(), Error> {
             "--w is the gap of a sweep over the field: give --fields B1,B2,... (a sweep over w: --w-from and --w-to)".into(),
         ));
     }
+    if a.in_field.scene != super::args::SceneName::Triangular || a.in_field.radius.is_some() {
+        return Err(Error::Invalid(
+            "--scene and --radius are for a sweep over the field (--fields B1,B2,...): a sweep over w without a field is the triangular scene's".into(),
+        ));
+    }
     if a.grid.w_from.is_none() || a.grid.w_to.is_none() {
         return Err(Error::Invalid(
             "a sweep over w needs --w-from and --w-to (a sweep over the field: --w W --fields B1,B2,...)".into(),

@@ -260,6 +260,16 @@ const BAD: &[(&[&str], &str)] = &[
         "not planned for a relative error",
     ),
     (&["diffusion", "--collisions", "1e6"], "needs --w"),
+    (
+        &[
+            "sweep", "--scene", "square", "--radius", "1/4", "--w-from", "0.1", "--w-to", "0.2",
+        ],
+        "sweep over w without a field is the triangular scene's",
+    ),
+    (
+        &["sweep", "--scene", "square", "--fields=1,2"],
+        "needs its radius",
+    ),
     // superdiffusion
     (&["superdiffusion", "--w", "0.1"], "finite horizon"),
     (
