@@ -22,6 +22,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from _field_panels import draw_rows, label_axes  # noqa: E402
 
 FIELDS = ["1/1000", "1/300", "1/100", "1/30", "1/10", "1/4", "1/2", "3/4", "1", "3/2", "2",
           "3", "4", "6"]
@@ -54,31 +55,13 @@ def measure(radius, collisions, batches):
 def draw(data, out):
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
     for d, colour in zip(data, ["C0", "C3"]):
-        b = np.array([r["field"] for r in d["rows"]])
-        get = lambda k: np.array([r[k] for r in d["rows"]])  # noqa: E731
-        label = f"r = {d['radius']}"
-        ax[0].errorbar(b, get("D_xx"), yerr=get("D_xx_err"), fmt="o-", ms=3, color=colour,
-                       label=label, capsize=2)
+        b, get = draw_rows(ax, d["rows"], f"r = {d['radius']}", colour)
         weak = b <= 0.1
         anchor = np.mean(get("D_xx")[weak] + d["D_sup"] * np.log(b[weak]))
         ax[0].plot(b[weak], anchor - d["D_sup"] * np.log(b[weak]), "--", color=colour, lw=1,
                    label=f"slope $D_{{sup}}$ = {d['D_sup']:.4f} per e-fold")
-        ax[1].errorbar(b, get("D_xy"), yerr=get("D_xy_err"), fmt="o-", ms=3, color=colour,
-                       label=label, capsize=2)
-        ax[2].plot(b, get("localized_fraction_exact"), "-", color=colour, label=f"{label} exact")
-        ax[2].errorbar(b, get("localized_fraction"), yerr=get("localized_fraction_err"), fmt="o",
-                       ms=3, color=colour, label=f"{label} sampled")
-    for a in ax:
-        a.set_xscale("log")
-        a.set_xlabel("field B (cyclotron radius 1/B)")
-        a.grid(alpha=0.3)
-    ax[0].set_ylabel("$D_{xx}$ (whole phase space)")
-    ax[0].set_title("$D_{xx}(B)$: no limit as $B \\to 0$ (corridors reopen)", fontsize=10)
+    label_axes(ax, "$D_{xx}(B)$: no limit as $B \\to 0$ (corridors reopen)")
     ax[1].axhline(0, color="k", lw=0.5)
-    ax[1].set_ylabel("Hall part $D_{xy}$ (whole phase space)")
-    ax[1].set_title("$D_{xy}(B)$ from the Lévy area")
-    ax[2].set_ylabel("share of phase space")
-    ax[2].set_title("pinned + skipping share: exact (lines), sampled (dots)", fontsize=10)
     ax[0].legend(loc="upper right", fontsize=8)
     ax[1].legend(loc="upper left")
     ax[2].legend(loc="upper left", fontsize=7)

@@ -143,25 +143,10 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
 fn a_log_grid_result_is_checked_by_green_kubo() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
-    let args = [
-        "diffusion",
-        "--w",
-        "0.3",
-        "--collisions",
-        "4e6",
-        "--batches",
-        "16",
-        "--msd-grid",
-        "log",
-        "--json",
-        "--quiet",
-    ];
-    let (code, json, err) = lorentz(&dir, &args);
-    assert_eq!(code, 0, "{err}");
-    std::fs::write(dir.join("g.json"), &json).unwrap();
-    let (code, out, err) = lorentz(&dir, &["report", "g.json", "--quick", "--quiet"]);
-    assert_eq!(code, 0, "{out}{err}");
-    let c = checks(&dir, "g-report");
+    let args = "diffusion --w 0.3 --collisions 4e6 --batches 16 --msd-grid log";
+    let json = result_text_in(&dir, "g.json", &args.split(' ').collect::<Vec<_>>());
+    let (code, printed, c) = quick_report(&dir, "g.json");
+    assert_eq!(code, 0, "{printed}");
     let gk: Vec<_> = c.iter().filter(|x| x.2.contains("Green–Kubo")).collect();
     assert_eq!(gk.len(), 1, "{c:?}");
     assert_eq!(gk[0].0, "PASS", "{gk:?}");
@@ -178,9 +163,8 @@ fn a_log_grid_result_is_checked_by_green_kubo() {
     );
     assert_ne!(edited, json);
     std::fs::write(dir.join("e.json"), &edited).unwrap();
-    let (code, _, err) = lorentz(&dir, &["report", "e.json", "--quick", "--quiet"]);
-    assert_eq!(code, 1, "{err}");
-    let c = checks(&dir, "e-report");
+    let (code, printed, c) = quick_report(&dir, "e.json");
+    assert_eq!(code, 1, "{printed}");
     let gk = c.iter().find(|x| x.2.contains("Green–Kubo")).unwrap();
     assert_eq!(gk.0, "FAIL", "{c:?}");
 }
@@ -313,12 +297,29 @@ fn written_outside(dir: &Path, before: &BTreeSet<PathBuf>, out: &str) -> Vec<Pat
 
 /// A small `lorentz NAME … --json` result in `dir/file` (checked to exit 0), as JSON.
 fn result_in(dir: &Path, file: &str, args: &[&str]) -> serde_json::Value {
+    serde_json::from_str(&result_text_in(dir, file, args)).unwrap()
+}
+
+/// As [`result_in`], the text of the result.
+fn result_text_in(dir: &Path, file: &str, args: &[&str]) -> String {
     let mut all = args.to_vec();
     all.extend(["--json", "--quiet"]);
     let (code, json, err) = lorentz(dir, &all);
     assert_eq!(code, 0, "{err}");
     std::fs::write(dir.join(file), &json).unwrap();
-    serde_json::from_str(&json).unwrap()
+    json
+}
+
+/// `lorentz report FILE --quick --quiet` in `dir`: its exit status, what it printed, and the
+/// checks of the report it wrote (next to FILE, named after its stem).
+fn quick_report(dir: &Path, file: &str) -> (i32, String, Vec<(String, String, String)>) {
+    let (code, out, err) = lorentz(dir, &["report", file, "--quick", "--quiet"]);
+    let stem = file.strip_suffix(".json").unwrap_or(file);
+    (
+        code,
+        format!("{out}{err}"),
+        checks(dir, &format!("{stem}-report")),
+    )
 }
 
 const HOPS: [&str; 9] = [
@@ -625,25 +626,10 @@ fn a_field_result_is_audited_against_its_exact_geometry() {
     let dir = tmp.path().to_path_buf();
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let args = [
-        "diffusion",
-        "--w",
-        "0.1",
-        "--field",
-        "1",
-        "--collisions",
-        "4e5",
-        "--batches",
-        "8",
-        "--json",
-        "--quiet",
-    ];
-    let (code, json, err) = lorentz(&dir, &args);
-    assert_eq!(code, 0, "{err}");
-    std::fs::write(dir.join("f.json"), &json).unwrap();
-    let (code, out, err) = lorentz(&dir, &["report", "f.json", "--quick", "--quiet"]);
-    assert_eq!(code, 0, "{out}{err}");
-    let c = checks(&dir, "f-report");
+    let args = "diffusion --w 0.1 --field 1 --collisions 4e5 --batches 8";
+    let json = result_text_in(&dir, "f.json", &args.split(' ').collect::<Vec<_>>());
+    let (code, printed, c) = quick_report(&dir, "f.json");
+    assert_eq!(code, 0, "{printed}");
     assert!(c.iter().all(|x| x.0 == "PASS"), "{c:?}");
     assert!(
         c.iter().any(|x| x.2.starts_with("sampled localized share")),
@@ -747,14 +733,12 @@ fn a_field_sweep_is_audited_row_by_row_and_its_onsager_checks_recomputed() {
 fn where_every_orbit_is_localized_a_result_and_a_resumed_square_sweep_pass_the_audit() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
-    let args = "diffusion --w 0.1 --field 25 --collisions 4e5 --batches 4 --json --quiet";
-    let (code, json, err) = lorentz(&dir, &args.split(' ').collect::<Vec<_>>());
-    assert_eq!(code, 0, "{err}");
+    let args = "diffusion --w 0.1 --field 25 --collisions 4e5 --batches 4";
+    let json = result_text_in(&dir, "loc.json", &args.split(' ').collect::<Vec<_>>());
     assert!(json.contains("\"mean_free_time\": null"), "{json}");
-    std::fs::write(dir.join("loc.json"), &json).unwrap();
-    let (code, out, err) = lorentz(&dir, &["report", "loc.json", "--quick", "--quiet"]);
-    assert_eq!(code, 0, "{out}{err}");
-    assert!(checks(&dir, "loc-report").iter().all(|x| x.0 == "PASS"));
+    let (code, printed, c) = quick_report(&dir, "loc.json");
+    assert_eq!(code, 0, "{printed}");
+    assert!(c.iter().all(|x| x.0 == "PASS"));
     let sweep = "sweep --scene square --radius 1/4 --fields=-1,1,4 --collisions-per-run 4e5 \
                  --batches-per-run 8 --localization-samples 1e4 --out sq --json --quiet";
     let sweep: Vec<&str> = sweep.split_whitespace().collect();
@@ -769,12 +753,8 @@ fn where_every_orbit_is_localized_a_result_and_a_resumed_square_sweep_pass_the_a
     assert_eq!(rows(&again), (rows(&first).0, Some(3)));
     assert_eq!(rows(&first).0[2]["all_localized"], true);
     assert_eq!(rows(&first).0[2]["radius"], 0.25);
-    let (code, out, err) = lorentz(
-        &dir,
-        &["report", "sq/field-sweep.json", "--quick", "--quiet"],
-    );
-    assert_eq!(code, 0, "{out}{err}");
-    let c = checks(&dir, "sq/field-sweep-report");
+    let (code, printed, c) = quick_report(&dir, "sq/field-sweep.json");
+    assert_eq!(code, 0, "{printed}");
     assert!(c.iter().all(|x| x.0 == "PASS"), "{c:?}");
     assert!(
         c.iter()
