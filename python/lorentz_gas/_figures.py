@@ -64,7 +64,7 @@ def figure(
         A count given for another kind, or ``w`` for a figure on the paper's grid.
     """
     with _Bar(progress, 0, "units") as cb:
-        text = _native.figure(
+        text, printed = _native.figure(
             str(kind),
             None if w is None else _exact("w", w),
             None if particles is None else _count("particles", particles),
@@ -75,7 +75,7 @@ def figure(
             os.fspath(out),
             cb,
         )
-    return FigureResult(text, os.fspath(out))
+    return FigureResult(text, os.fspath(out), printed=printed)
 
 
 @public
@@ -112,7 +112,7 @@ def reproduce(
         ``budget``, ``meta``, and ``index``, the path of its ``index.html``.
     """
     with _Bar(progress, 0, "units") as cb:
-        text = _native.reproduce(
+        text, printed = _native.reproduce(
             str(budget), _count("seed", seed), _threads(threads), os.fspath(out), cb
         )
-    return ReproduceResult(text, os.fspath(out))
+    return ReproduceResult(text, os.fspath(out), printed=printed)

@@ -68,8 +68,10 @@ class Result:
 
     _kind = "result"
 
-    def __init__(self, text: str):
+    def __init__(self, text: str, *, printed: Optional[str] = None):
         self._json = text
+        #: The command line's text of this result, where the call that made it rendered it.
+        self._printed = printed
         self._data: Dict[str, Any] = json.loads(text)
         for k, v in self._data.items():
             setattr(self, k, _array(v))
@@ -108,6 +110,8 @@ class Result:
         """The command line's text of this result (``lorentz <command>`` without ``--json``),
         where the library renders it; otherwise the summary line, every scalar of the result
         (estimates as ``x ± err`` to the place of their error) and how it was computed."""
+        if self._printed is not None:
+            return self._printed.rstrip("\n")
         if self._text_kind is not None:
             from . import _native
 
@@ -260,6 +264,8 @@ class FieldSweepResult(Result):
     ``mean_free_time_exact``; each field is also an attribute. ``onsager`` lists the ±B checks
     (``d_xx_even``, ``d_xy_odd``: difference, err, z, bound) and ``onsager_agrees`` their
     verdict; ``to_pandas()`` gives the table."""
+
+    _text_kind = "field-sweep"
 
     def __init__(self, text: str):
         super().__init__(text)
@@ -526,8 +532,8 @@ class FigureResult(Result):
     """A figure of the paper (``lorentz figure``): ``files``, the names written into ``out``
     (PNG, SVG, CSV, JSON), and ``meta``."""
 
-    def __init__(self, text: str, out: str = "."):
-        super().__init__(text)
+    def __init__(self, text: str, out: str = ".", *, printed: Optional[str] = None):
+        super().__init__(text, printed=printed)
         #: The folder the files were written into.
         self.out = out
 
@@ -546,8 +552,8 @@ class ReproduceResult(Result):
     ``title``, ``seconds``, ``resumed``, ``files``), ``budget`` and ``meta``; ``index`` is the
     path of its ``index.html``."""
 
-    def __init__(self, text: str, out: str = "."):
-        super().__init__(text)
+    def __init__(self, text: str, out: str = ".", *, printed: Optional[str] = None):
+        super().__init__(text, printed=printed)
         import os
 
         #: The folder of the reproduction.

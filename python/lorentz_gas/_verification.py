@@ -345,7 +345,7 @@ def trajectory(
     if scene is None:
         scene = "square" if radius is not None and w is None else "triangular"
     with _Bar(progress, 0, "coll") as cb:
-        text = _native.trajectory(
+        text, printed = _native.trajectory(
             scene,
             _optional_exact("w", w),
             _optional_exact("radius", radius),
@@ -357,7 +357,7 @@ def trajectory(
             _optional_exact("field", field),
             cb,
         )
-    return TrajectoryResult(text)
+    return TrajectoryResult(text, printed=printed)
 
 
 @public
@@ -504,9 +504,10 @@ def constants(
         values = w if w is not None else radius
         key = "w" if w is not None else "radius"
         return ConstantsTable([constants(**{key: v}, precision=precision) for v in values])
-    return ConstantsResult(
-        _native.constants(_optional_exact("w", w), _optional_exact("radius", radius), str(precision))
+    text, printed = _native.constants(
+        _optional_exact("w", w), _optional_exact("radius", radius), str(precision)
     )
+    return ConstantsResult(text, printed=printed)
 
 
 @public
@@ -526,7 +527,7 @@ def report(
     1e12 or 2e9 with ``quick``; too few batches to judge); it is returned, not raised (``raise
     CheckFailedError`` yourself to stop a pipeline)."""
     with _Bar(progress, 0, "coll") as cb:
-        text = _native.report(
+        text, printed = _native.report(
             os.fspath(path),
             _path(out),
             bool(quick),
@@ -535,4 +536,4 @@ def report(
             _threads(threads),
             cb,
         )
-    return ReportResult(text)
+    return ReportResult(text, printed=printed)

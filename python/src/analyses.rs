@@ -498,7 +498,7 @@ fn py_report(
     max_rerun_collisions: Option<&str>,
     threads: Option<&str>,
     progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
+) -> PyResult<(String, String)> {
     let out = out.unwrap_or_else(|| {
         let stem = result
             .file_stem()
@@ -507,7 +507,7 @@ fn py_report(
     });
     let cfg = PublicationConfig {
         result,
-        out,
+        out: out.clone(),
         quick,
         reference_bits: count_u32("reference_bits", reference_bits)?,
         max_rerun_collisions: max_rerun_collisions
@@ -518,7 +518,10 @@ fn py_report(
     let r = compute(py, progress, |ctl| {
         publication::run(&cfg, &options(ctl, threads, Engine::Auto))
     })?;
-    json(&r)
+    Ok((
+        json(&r)?,
+        lorentz_gas::report::text::publication::publication(&r, &out),
+    ))
 }
 
 /// Registers the analyses in the module.
@@ -540,7 +543,11 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 
 #[pyfunction]
 #[pyo3(name = "constants", signature = (w, radius, precision))]
-fn py_constants(w: Option<&str>, radius: Option<&str>, precision: &str) -> PyResult<String> {
+fn py_constants(
+    w: Option<&str>,
+    radius: Option<&str>,
+    precision: &str,
+) -> PyResult<(String, String)> {
     // Either parameter names the scene; both, or neither, is refused by the scene's own check.
     let name = if radius.is_some() && w.is_none() {
         "square"
@@ -553,7 +560,10 @@ fn py_constants(w: Option<&str>, radius: Option<&str>, precision: &str) -> PyRes
         precision: inputs::precision(precision)?,
     })
     .map_err(crate::py_err)?;
-    r.to_json().map_err(crate::py_err)
+    Ok((
+        r.to_json().map_err(crate::py_err)?,
+        lorentz_gas::report::text::constants::constants(&r),
+    ))
 }
 
 /// The crate's agreement bound: the Student-t quantile with `dof` degrees of freedom whose

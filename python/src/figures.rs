@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use lorentz_gas::engine::options::{RunOptions, StopFlag};
 use lorentz_gas::report::figures::paper;
 use lorentz_gas::report::reproduce::{self, Budget, Reporter};
+use lorentz_gas::report::text;
 
 use crate::inputs::{self, count_u64};
 use crate::watch::{Ctl, compute, json};
@@ -72,7 +73,7 @@ fn py_figure(
     threads: Option<&str>,
     out: PathBuf,
     progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
+) -> PyResult<(String, String)> {
     let n = the_count(
         kind,
         w,
@@ -98,7 +99,7 @@ fn py_figure(
             _ => paper::hierarchy(n.unwrap_or(paper::HIERARCHY_COLLISIONS), seed, &out, &opts),
         }
     })?;
-    json(&r)
+    Ok((json(&r)?, text::figure::figure(&r, &out)))
 }
 
 /// A reproduction's reporter for Python: units to the progress sink, Ctrl-C as its stop flag.
@@ -126,7 +127,7 @@ fn py_reproduce(
     threads: Option<&str>,
     out: PathBuf,
     progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
+) -> PyResult<(String, String)> {
     let budget: Budget = budget.parse().map_err(crate::py_err)?;
     let seed = count_u64("seed", seed)?;
     let threads = inputs::threads(threads)?;
@@ -137,7 +138,7 @@ fn py_reproduce(
         };
         reproduce::reproduce(budget, &out, seed, threads, &watched)
     })?;
-    json(&r)
+    Ok((json(&r)?, text::reproduce::reproduce(&r, &out)))
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -228,7 +228,7 @@ fn py_trajectory(
     events: bool,
     field: Option<&str>,
     progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
+) -> PyResult<(String, String)> {
     let digits = count_u32("digits", digits)?;
     if digits == 0 || digits > MAX_DIGITS {
         return Err(PyValueError::new_err(format!(
@@ -266,7 +266,10 @@ fn py_trajectory(
         let opts = options(ctl, 1, Engine::Auto);
         with_scene!(&choice, |s| trajectory::run(s, &input, &opts))
     })?;
-    json(&r)
+    Ok((
+        json(&r)?,
+        lorentz_gas::report::text::trajectory::trajectory(&r, time),
+    ))
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -126,6 +126,74 @@ def test_str_of_each_kind_is_the_command_lines_text(kind, cli):
     assert not str(result).startswith(type(result).__name__), "the generic table, not the text"
 
 
+# Kinds whose text the call that made them renders (it needs what the JSON does not hold: the
+# time as typed, the formulas, the folder written into). Each: (the Python call given a folder,
+# the command line given the same folder).
+_PRINTED_KINDS = {
+    "trajectory": (
+        lambda out: lg.trajectory(("1/2", "1/10"), ("1", "1/3"), "1/3", radius="1/4", digits=20),
+        lambda out: ["trajectory", "--scene", "square", "--radius", "1/4", "--start", "1/2,1/10",
+                     "--direction", "1,1/3", "--time", "1/3", "--digits", "20"],
+    ),
+    "trajectory-field": (
+        lambda out: lg.trajectory(("21/20", "3/5"), ("1", "0"), "5", w="1/10", field="1/2"),
+        lambda out: ["trajectory", "--scene", "triangular", "--w", "1/10", "--start", "21/20,3/5",
+                     "--direction", "1,0", "--time", "5", "--field", "1/2"],
+    ),
+    "constants-square": (
+        lambda out: lg.constants(radius="1/4"),
+        lambda out: ["constants", "--scene", "square", "--radius", "1/4"],
+    ),
+    "constants-triangular": (
+        lambda out: lg.constants(w="1/10", precision=128),
+        lambda out: ["constants", "--scene", "triangular", "--w", "1/10", "--precision", "128"],
+    ),
+    "figure": (
+        lambda out: lg.figure("backscatter-map", particles=2000, out=out),
+        lambda out: ["figure", "backscatter-map", "--particles", "2000", "--out", out],
+    ),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(_PRINTED_KINDS))
+def test_str_of_a_kind_the_call_renders_is_the_command_lines_text(kind, cli, tmp_path):
+    call, args = _PRINTED_KINDS[kind]
+    result = call(str(tmp_path / "py"))
+    # `constants` computes at once: it has no progress to quieten.
+    quiet = [] if kind.startswith("constants") else ["--quiet"]
+    code, out, err = cli(*args(str(tmp_path / "py")), *quiet)
+    assert code == 0, err
+    assert str(result) == out.rstrip("\n")
+    assert not str(result).startswith(type(result).__name__), "the generic table, not the text"
+
+
+def test_str_of_a_report_is_the_command_lines_text(cli, tmp_path):
+    # A result made in Python: no command line is recorded, so both audits judge the same
+    # checks (the command line's own report parses a recorded command line; Python cannot).
+    d = lg.diffusion(w=0.1, collisions=1.6e6, batches=16)
+    (tmp_path / "d.json").write_text(d.to_json())
+    result = lg.report(tmp_path / "d.json", out=tmp_path / "r", quick=True)
+    code, out, err = cli("report", str(tmp_path / "d.json"), "--quick", "--out",
+                         str(tmp_path / "r"), "--quiet")
+    assert code == 0, err
+    assert _unclocked(str(result)) == _unclocked(out.rstrip("\n"))
+    assert str(result).splitlines()[-1].endswith(f"written: {tmp_path / 'r'}/report.{{md,html,json}}")
+    assert "PASS" in str(result).splitlines()[-1]
+
+
+def test_str_of_a_sweep_in_a_field_is_the_command_lines_text_before_its_files(cli, tmp_path):
+    result = lg.sweep(scene="square", radius="1/4", fields=["1", "-1"], collisions_per_run=2e5,
+                      batches_per_run=4)
+    code, out, err = cli("sweep", "--scene", "square", "--radius", "1/4", "--fields", "1,-1",
+                         "--collisions-per-run", "2e5", "--batches-per-run", "4",
+                         "--out", str(tmp_path / "s"), "--quiet")
+    assert code == 0, err
+    *table, written = out.rstrip("\n").splitlines()
+    assert written.startswith(f"written: {tmp_path / 's'}/field-sweep.")
+    assert str(result) == "\n".join(table)
+    assert str(result).splitlines()[-1].startswith("Onsager-Casimir at radius = 0.25, |B| = 1:")
+
+
 def test_str_is_the_command_lines_text(run, cli):
     code, out, err = cli("diffusion", "--w", "0.1", "--collisions", "4e6", "--batches", "8", "--quiet")
     assert code == 0, err

@@ -2,7 +2,7 @@
 //! the superdiffusion constants of an infinite horizon.
 
 use lorentz_gas::Error;
-use lorentz_gas::theory::constants::{self, ConstantsConfig, ConstantsReport};
+use lorentz_gas::theory::constants::{self, ConstantsConfig};
 
 use super::args::{PrecisionArg, SceneArgs};
 
@@ -27,40 +27,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     if a.json {
         println!("{}", r.to_json()?);
     } else {
-        print(&r);
+        print!("{}", lorentz_gas::report::text::constants::constants(&r));
     }
     Ok(())
-}
-
-/// Text shows the digits the working precision guarantees; JSON carries every digit.
-fn print(r: &ConstantsReport) {
-    if let Some(q) = &r.w_exact {
-        println!("{:<20} {:<45} gap as typed, exactly", "w_exact", q);
-    }
-    if let Some(q) = &r.radius_exact {
-        println!("{:<20} {:<45} radius as typed, exactly", "radius_exact", q);
-    }
-    for c in &r.rows {
-        println!("{:<20} {:<45} {}", c.name, c.shown, c.formula);
-    }
-    match (&r.max_free_path_bound, &r.superdiffusion) {
-        (Some(c), _) => println!("{:<20} {:<45} {}", c.name, c.shown, c.formula),
-        (None, Some(sd)) => {
-            println!(
-                "infinite horizon: free paths are unbounded, D does not exist; {} corridors and the superdiffusion constants (proofs-notes/corridors.md):",
-                sd.corridors.len()
-            );
-            for c in &sd.rows {
-                println!("{:<20} {:<45} {}", c.name, c.shown, c.formula);
-            }
-            println!("corridor (m, n)      angle (deg)     period          width");
-            for c in &sd.corridors {
-                println!(
-                    "({:>4}, {:>4})         {:>10.4}      {:<15.10} {:.10}",
-                    c.direction[0], c.direction[1], c.angle_degrees, c.period, c.width
-                );
-            }
-        }
-        (None, None) => {}
-    }
 }

@@ -3,7 +3,7 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig, FieldSweepReport};
+use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig};
 
 use super::output::emit;
 use super::progress::Progress;
@@ -76,7 +76,7 @@ pub fn run(a: &Args) -> Result<(), Error> {
     sweep::write_tables(&r, &out)?;
     lorentz_gas::report::figures::field_sweep::write_field_sweep_figures(&r, &out)?;
     emit(a.output.json, &r, |r| {
-        print(r);
+        print!("{}", lorentz_gas::report::text::field_sweep::field_sweep(r));
         println!(
             "written: {}/field-sweep.{{csv,json}}, field-D_xx, field-D_xy (.png, .svg); points in {}/field-points",
             out.display(),
@@ -90,55 +90,5 @@ pub fn run(a: &Args) -> Result<(), Error> {
             "Onsager-Casimir: D_xx(B) - D_xx(-B) or D_xy(B) + D_xy(-B) is not consistent with 0"
                 .into(),
         ))
-    }
-}
-
-/// The sweep's table and its Onsager–Casimir checks, as text.
-fn print(r: &FieldSweepReport) {
-    let c = &r.config;
-    let (place, scenes) = match &c.radius {
-        Some(r) => ("radius", format!("square lattice, r = {r}")),
-        None => ("w", format!("{} gap(s)", c.gaps.len())),
-    };
-    println!(
-        "sweep in a magnetic field: {scenes} x {} field(s), {} collisions in {} batches per point, seed {} ({} points resumed)",
-        c.fields.len(),
-        c.collisions,
-        c.batches,
-        c.seed,
-        r.resumed_points
-    );
-    println!(
-        "{place:>8}          B      D_xx         +-        D_xy (Hall)  +-        localized exact  sampled +-"
-    );
-    for x in &r.rows {
-        println!(
-            "{:>8}  {:>9}  {:.6}  {:.6}  {:+.6}  {:.6}  {:.6}         {:.6} {:.6}{}",
-            x.place(),
-            x.field,
-            x.D_xx,
-            x.D_xx_err,
-            x.D_xy,
-            x.D_xy_err,
-            x.localized_fraction_exact,
-            x.localized_fraction,
-            x.localized_fraction_err,
-            if x.all_localized {
-                "  (every orbit localized: D = 0 exactly)"
-            } else {
-                ""
-            }
-        );
-    }
-    for o in &r.onsager {
-        println!(
-            "Onsager-Casimir at {place} = {}, |B| = {}: D_xx(B) - D_xx(-B) = {:+.6} {}; D_xy(B) + D_xy(-B) = {:+.6} {}",
-            o.w.or(o.radius).unwrap_or(f64::NAN),
-            o.field,
-            o.d_xx_even.difference,
-            o.d_xx_even.describe("Welch"),
-            o.d_xy_odd.difference,
-            o.d_xy_odd.describe("Welch")
-        );
     }
 }

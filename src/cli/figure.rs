@@ -117,6 +117,6 @@ pub fn run(a: Args) -> Result<(), Error> {
         }
     };
     emit(c.output.json, &r, |r| {
-        println!("written into {}: {}", c.out.display(), r.files.join(", "));
+        print!("{}", lorentz_gas::report::text::figure::figure(r, &c.out));
     })
 }

@@ -134,28 +134,9 @@ pub fn run(a: Args) -> Result<(), Error> {
     drop(bar);
     let out = &cfg.out;
     emit(a.output.json, &r, |r| {
-        let head: Vec<String> = r
-            .headline
-            .iter()
-            .map(|h| format!("{} = {}", h.name, h.value))
-            .collect();
-        println!("{}", head.join(", "));
-        for c in &r.checks {
-            println!("{}  {:<16} {}: {}", c.verdict, c.group, c.name, c.detail);
-        }
-        let skipped = r
-            .checks
-            .iter()
-            .filter(|c| c.verdict == Verdict::Skip)
-            .count();
-        println!(
-            "{}: {} ({} checks, {skipped} skipped; {:.3e} collisions re-run, {:.1} s); written: {}/report.{{md,html,json}}",
-            r.provenance.result_file,
-            r.verdict,
-            r.checks.len(),
-            r.rerun_collisions as f64,
-            r.seconds,
-            out.display()
+        print!(
+            "{}",
+            lorentz_gas::report::text::publication::publication(r, out)
         );
     })?;
     if r.verdict == Verdict::Fail {

@@ -60,15 +60,9 @@ pub fn run(a: Args) -> Result<(), Error> {
     let r = reproduce(a.budget, &out, a.run.seed(), a.run.threads(), &bars)?;
     drop(bars);
     emit(a.output.json, &r, |r| {
-        for s in &r.steps {
-            println!(
-                "{:<12} {:>8.1} s{}  {}",
-                s.name,
-                s.seconds,
-                if s.resumed { " (resumed)" } else { "" },
-                s.title
-            );
-        }
-        println!("written: {}/index.html", out.display());
+        print!(
+            "{}",
+            lorentz_gas::report::text::reproduce::reproduce(r, &out)
+        );
     })
 }

@@ -99,20 +99,9 @@ pub fn run(a: Args) -> Result<(), Error> {
     let choice = spec.resolve()?;
     let report = with_scene!(&choice, |s| run_scene(s, &input, &a))?;
     emit(a.output.json, &report, |r| {
-        println!(
-            "{}, t = {}: {} collisions, {} crossings",
-            r.scene, a.time, r.collisions, r.crossings
-        );
-        println!("x        = {}", r.x);
-        println!("y        = {}", r.y);
-        println!("distance = {}", r.distance);
-        println!(
-            "{} digits certified (runs at {} and {} bits agree to {:.1} digits and go through the same events; tried {:?})",
-            r.certified_digits,
-            r.precision_bits,
-            2 * r.precision_bits,
-            r.digits_agreed,
-            r.tried
+        print!(
+            "{}",
+            lorentz_gas::report::text::trajectory::trajectory(r, &a.time)
         );
     })
 }

@@ -9,17 +9,23 @@ pub mod audit;
 pub mod backscatter;
 pub mod bench;
 pub mod certify;
+pub mod constants;
 pub mod diffusion;
 pub mod escape;
 pub mod field;
+pub mod field_sweep;
+pub mod figure;
 pub mod free_paths;
 pub mod hops;
 pub mod lattice_walk;
 pub mod lyapunov;
+pub mod publication;
+pub mod reproduce;
 pub mod shadow;
 pub mod superdiffusion;
 pub mod sweep;
 pub mod theory;
+pub mod trajectory;
 
 /// `writeln!` into a `String` (which cannot fail).
 macro_rules! line {
@@ -73,6 +79,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "free-paths" => render(kind, json, free_paths::free_paths)?,
         "lyapunov" => render(kind, json, lyapunov::lyapunov)?,
         "sweep" => render(kind, json, sweep::sweep)?,
+        "field-sweep" => render(kind, json, field_sweep::field_sweep)?,
         "bench" => render(kind, json, bench::throughput)?,
         "bench-long-flights" => render(kind, json, bench::long_flights)?,
         "shadow" => render(kind, json, shadow::shadow)?,
