@@ -568,8 +568,9 @@ def superdiffusion(
         ((64, 256) and (512, 4096) at 12 octaves).
     flights : {"auto", "walk", "jump"}
         How flights cross the lattice, as in :func:`lyapunov`: ``"auto"`` jumps the long flights
-        of the square scene (2**-32 <= radius <= 1/8, where jumps are faster) to the cell of the
-        first disk they can meet; ``"walk"`` crosses cell by cell. Recorded as ``flights``.
+        of the square scene (2**-32 <= radius <= 1/8) and of the triangular one (w >= 6), where
+        jumps are faster, to the cell of the first disk they can meet; ``"walk"`` crosses cell by
+        cell. Recorded as ``flights``.
     seed, threads, checkpoint, checkpoint_every, progress
         As in :func:`diffusion` (a checkpoint keeps finished batches and, every
         ``checkpoint_every`` seconds, each trajectory in flight with its observers).

@@ -73,9 +73,10 @@ def lyapunov(
         of arcs on orbits started in the diffusing part of phase space; 0 or None: no field.
     flights : {"auto", "walk", "jump"}
         How straight flights cross the lattice: ``"jump"`` straight to the cell of the first disk
-        they can meet (the square scene with 2**-32 <= radius <= 1/4; a collision then costs the same
-        whatever the flight's length), ``"walk"`` cell by cell (the reference), ``"auto"`` jump
-        with 2**-32 <= radius <= 1/8, where jumps are faster. Recorded as ``tangent["flights"]``.
+        they can meet (the square scene with 2**-32 <= radius <= 1/4, the triangular one with
+        w_inf < w <= 2**20 - 2; a collision then costs the same whatever the flight's length),
+        ``"walk"`` cell by cell (the reference), ``"auto"`` jump with 2**-32 <= radius <= 1/8 and
+        w >= 6, where jumps are faster. Recorded as ``tangent["flights"]``.
 
     Returns
     -------
@@ -190,9 +191,11 @@ def audit(
         replayed events are then arcs, judged by the arc kernel's running error bound.
     flights : {"auto", "walk", "jump"}
         How straight flights cross the lattice, as in :func:`lyapunov`: with ``"jump"`` each long
-        flight is replayed as a whole against the exact column walk (``summary["jumps"]``);
-        ``"walk"`` replays every cell crossing; ``"auto"`` jumps with 2**-32 <= radius <= 1/8,
-        where jumps are faster (not in a field). Recorded as ``flights``.
+        flight is replayed as a whole, against the exact column walk on the square lattice
+        (``summary["jumps"]``), by the MPFR trap walk on the triangular one
+        (``summary["triangular_jumps"]``); ``"walk"`` replays every cell crossing; ``"auto"``
+        jumps with 2**-32 <= radius <= 1/8 and w >= 6, where jumps are faster (not in a field).
+        Recorded as ``flights``.
     seed, threads, progress
         As in :func:`diffusion`.
 

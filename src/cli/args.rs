@@ -272,9 +272,10 @@ fn parse_interval(text: &str) -> Result<std::time::Duration, String> {
 #[derive(Args, Debug, Clone)]
 pub struct FlightsArg {
     /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
-    /// can meet; the square scene with 2^-32 <= radius <= 1/4), walk (cell by cell, the
-    /// reference), or auto (jump with 2^-32 <= radius <= 1/8, where jumps are faster; walk
-    /// elsewhere). Recorded in the result as `flights`.
+    /// can meet; the square scene with 2^-32 <= radius <= 1/4, the triangular one with
+    /// w_inf < w <= 2^20 - 2), walk (cell by cell, the reference), or auto (jump with
+    /// 2^-32 <= radius <= 1/8 and w >= 6, where jumps are faster; walk elsewhere). Recorded in
+    /// the result as `flights`.
     #[arg(long, default_value = "auto")]
     pub flights: lorentz_gas::engine::long_flight::Flights,
 }

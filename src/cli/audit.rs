@@ -30,9 +30,11 @@ pub struct Args {
     #[arg(long, allow_hyphen_values = true)]
     field: Option<String>,
     /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
-    /// can meet, each jump replayed as a whole against the exact column walk; the square scene
-    /// with 2^-32 <= radius <= 1/4), walk (cell by cell, every crossing replayed), or auto (jump
-    /// with 2^-32 <= radius <= 1/8, where jumps are faster; walk in a field). Recorded in the result as `flights`.
+    /// can meet, each jump replayed as a whole: against the exact column walk on the square
+    /// scene with 2^-32 <= radius <= 1/4, by the MPFR trap walk on the triangular one with
+    /// w_inf < w <= 2^20 - 2), walk (cell by cell, every crossing replayed), or auto (jump with
+    /// 2^-32 <= radius <= 1/8 and w >= 6, where jumps are faster; walk in a field). Recorded in
+    /// the result as `flights`.
     #[arg(long, default_value = "auto")]
     flights: Flights,
     /// MPFR precision of the replay, in bits (128 to 65536).

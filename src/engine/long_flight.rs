@@ -10,10 +10,10 @@ use super::drive_with;
 use super::observe::{EventLanes, Observer};
 use crate::Error;
 use crate::kernel::cell::CellKernel;
-use crate::kernel::flight::{Event, EventKind, Flight};
+use crate::kernel::flight::{Event, EventKind};
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Lattice, LatticeState};
-use crate::scenes::long_flight::{jump, major_edge};
+use crate::scenes::long_flight::LongFlights;
 
 /// How free flights cross the lattice.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -42,18 +42,41 @@ impl Flights {
     /// # Errors
     /// `Jump` in a scene without long flights.
     pub fn resolve<S: Scene>(self, scene: &S) -> Result<Flights, Error> {
-        match (self, scene.long_flight_radius()) {
+        match (self, scene.long_flights()) {
             (Flights::Walk, _) | (Flights::Auto, None) => Ok(Flights::Walk),
-            (Flights::Auto, Some(r)) if r > AUTO_MAX_RADIUS => Ok(Flights::Walk),
+            (Flights::Auto, Some(f)) if !auto_jumps(&f) => Ok(Flights::Walk),
             (_, Some(_)) => Ok(Flights::Jump),
             (Flights::Jump, None) => Err(Error::Invalid(format!(
                 "flights = jump: {} has no long flights (the square lattice with 2^-32 <= radius \
-                 <= 1/4 has); use walk or auto",
+                 <= 1/4 and the triangular one beyond w_inf = 4/sqrt(3) - 2 have); use walk or auto",
                 scene.label()
             ))),
         }
     }
+
+    /// The long flights `scene` runs with: `Some` where this engine jumps there.
+    ///
+    /// # Errors
+    /// As [`Flights::resolve`].
+    pub fn of<S: Scene>(self, scene: &S) -> Result<Option<LongFlights>, Error> {
+        let jump = self.resolve(scene)? == Flights::Jump;
+        Ok(scene.long_flights().filter(|_| jump))
+    }
 }
+
+/// Where `auto` jumps: the square lattice at r ≤ [`AUTO_MAX_RADIUS`], the triangular one at
+/// spacings a ≥ [`AUTO_MIN_SPACING`].
+fn auto_jumps(f: &LongFlights) -> bool {
+    match f {
+        LongFlights::Square { radius } => *radius <= AUTO_MAX_RADIUS,
+        LongFlights::Triangular(t) => t.a >= AUTO_MIN_SPACING,
+    }
+}
+
+/// The smallest spacing a = 2 + w of the triangular lattice at which `auto` jumps: below it a jump
+/// replaces a few trap crossings and costs more than they do (`proofs-notes/long-flights.md`,
+/// "Cost").
+pub const AUTO_MIN_SPACING: f64 = 8.0;
 
 impl std::fmt::Display for Flights {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -79,16 +102,16 @@ impl std::str::FromStr for Flights {
     }
 }
 
-/// [`super::drive`] with jumps in a lattice of disks of radius `r` at the integer points: the
-/// observer sees a jump as the crossing of the edge it leaves by, with the jump's flight time (the
-/// free flight is one straight segment whichever cells it crosses), and the state then stands on
-/// the entered edge of the candidate disk's cell.
+/// [`super::drive`] with jumps ([`LongFlights`]): the observer sees a jump as the crossing of the
+/// edge it leaves by, with the jump's flight time (the free flight is one straight segment
+/// whichever cells it crosses), and the state then stands on the entered edge of the cell it
+/// lands in. Where the search finds its first candidate within a cell or two, the flight walks.
 ///
 /// # Errors
 /// If the state loses its next event, or flies along a corridor that meets no disk.
 pub fn drive_jumps<K: CellKernel<f64>, O: Observer<1>>(
     lat: &Lattice<f64, K>,
-    r: f64,
+    flights: &LongFlights,
     s: &mut LatticeState<f64>,
     collisions: u64,
     obs: &mut O,
@@ -98,24 +121,19 @@ pub fn drive_jumps<K: CellKernel<f64>, O: Observer<1>>(
         let EventKind::Crossing(k) = ev.kind else {
             return Ok(false);
         };
-        if k != major_edge(&s.flight.vel) {
+        if k != flights.trigger(&s.flight.vel) {
             return Ok(false);
         }
-        let j = jump(&s.flight.pos, &s.flight.vel, r)
-            .ok_or_else(|| Error::Failed("a free flight along a corridor meets no disk".into()))?;
+        let Some(landing) = flights.land(s)? else {
+            return Ok(false);
+        };
         let seen = Event {
             kind: ev.kind,
-            time: j.time,
+            time: landing.time,
         };
         obs.observe::<f64>(std::slice::from_ref(&EventLanes::single(s, &seen)));
-        s.cell.i += j.cells[0];
-        s.cell.j += j.cells[1];
-        s.flight = Flight {
-            pos: j.pos,
-            vel: s.flight.vel.clone(),
-            excluded_disk: None,
-            excluded_edge: Some(j.entered),
-        };
+        s.cell = landing.cell;
+        s.flight = landing.flight;
         Ok(true)
     })
 }

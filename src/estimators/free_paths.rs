@@ -187,9 +187,7 @@ fn run_on<S: Scene>(
     options: &RunOptions,
 ) -> Result<FreePathReport, Error> {
     let flights = cfg.flights.resolve(scene)?;
-    let radius = scene
-        .long_flight_radius()
-        .filter(|_| flights == Flights::Jump);
+    let radius = scene.long_flights().filter(|_| flights == Flights::Jump);
     let crossings = if radius.is_some() {
         0.0
     } else {
@@ -208,7 +206,7 @@ fn run_on<S: Scene>(
             let mut obs = FreePaths::new(ell, &EDGES);
             let n = share(cfg.collisions, cfg.batches, b);
             match radius {
-                Some(r) => drive_jumps(&lat, r, &mut s, n, &mut obs, progress)?,
+                Some(r) => drive_jumps(&lat, &r, &mut s, n, &mut obs, progress)?,
                 None => drive(&lat, &mut s, n, &mut obs, progress)?,
             }
             Ok(obs.counts().clone())

@@ -128,4 +128,11 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     fn long_flight_radius(&self) -> Option<f64> {
         None
     }
+
+    /// The long flights the scene admits ([`long_flight::LongFlights`]): by default the square
+    /// search at [`Scene::long_flight_radius`], if any.
+    fn long_flights(&self) -> Option<long_flight::LongFlights> {
+        self.long_flight_radius()
+            .map(|radius| long_flight::LongFlights::Square { radius })
+    }
 }

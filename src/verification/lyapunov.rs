@@ -111,9 +111,7 @@ pub fn run<S: Scene>(
         flights,
     } = *cfg;
     let flights = flights.resolve(scene)?;
-    let radius = scene
-        .long_flight_radius()
-        .filter(|_| flights == Flights::Jump);
+    let radius = scene.long_flights().filter(|_| flights == Flights::Jump);
     let (threads, progress) = (options.threads, options.progress);
     if collisions_per_batch == 0 || batches < 2 || threads == 0 {
         return Err(Error::TooFew {
@@ -149,7 +147,7 @@ pub fn run<S: Scene>(
         };
         let n = collisions_per_batch + TANGENT_TRANSIENT;
         match radius {
-            Some(r) => drive_jumps(&lat, r, &mut s, n, &mut tangent, progress)?,
+            Some(r) => drive_jumps(&lat, &r, &mut s, n, &mut tangent, progress)?,
             None => drive(&lat, &mut s, n, &mut tangent, progress)?,
         }
         let (logsum, time) = (tangent.logsum, tangent.time);

@@ -18,6 +18,7 @@ pub mod certify;
 pub mod divergence;
 pub mod error_model;
 pub mod jump_audit;
+pub mod jump_audit_triangular;
 pub mod log_histogram;
 pub mod lyapunov;
 #[cfg(feature = "oracle")]

@@ -24,7 +24,9 @@ use crate::engine::work::{Work, crossings_per_collision};
 use crate::kernel::flight::{EventKind, Flight};
 use crate::kernel::vec2::Vec2;
 use crate::scenes::Scene;
-use crate::scenes::long_flight::major_edge;
+use crate::scenes::lattice::CellIndex;
+use crate::scenes::long_flight::triangular::{Search, TriangularFlights, trigger};
+use crate::scenes::long_flight::{Landing, LongFlights, major_edge};
 
 /// An audited event with its exact f64 pre-event state (bit patterns, for replay).
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -92,6 +94,10 @@ pub struct AuditSummary {
     /// walk.
     #[serde(default)]
     pub jumps: super::jump_audit::JumpSummary,
+    /// The long flights jumped on the triangular lattice, each replayed by the MPFR cell walk
+    /// (`jump_audit_triangular`); empty elsewhere.
+    #[serde(default)]
+    pub triangular_jumps: super::jump_audit_triangular::TriangularJumpSummary,
 }
 
 impl AuditSummary {
@@ -115,6 +121,7 @@ impl AuditSummary {
         self.outside_events.extend(o.outside_events.iter().cloned());
         self.outside_events.truncate(1000);
         self.jumps.merge(&o.jumps);
+        self.triangular_jumps.merge(&o.triangular_jumps);
     }
 }
 
@@ -161,8 +168,8 @@ pub struct Auditor<S: Scene> {
     rate: f64,
     bits: u32,
     rng: Xoshiro256PlusPlus,
-    /// The disks' radius where the run jumps long flights ([`Auditor::with_jumps`]).
-    jumps: Option<f64>,
+    /// The long flights where the run jumps them ([`Auditor::with_jumps`]).
+    jumps: Option<LongFlights>,
     /// What was found so far.
     pub summary: AuditSummary,
 }
@@ -186,11 +193,12 @@ impl<S: Scene> Auditor<S> {
         })
     }
 
-    /// The auditor of a run whose long flights jump among disks of radius `r`
-    /// ([`crate::engine::long_flight::drive_jumps`]): every crossing of the edge a flight faces
-    /// along its major axis is a jump, replayed by [`super::jump_audit::check_jump`].
-    pub fn with_jumps(mut self, r: f64) -> Self {
-        self.jumps = Some(r);
+    /// The auditor of a run whose long flights jump ([`crate::engine::long_flight::drive_jumps`]):
+    /// every crossing of the edge that hands a flight to the search and lands it is a jump,
+    /// replayed by [`super::jump_audit::check_jump`] (square) or
+    /// [`super::jump_audit_triangular::check_jump`] (triangular).
+    pub fn with_jumps(mut self, flights: LongFlights) -> Self {
+        self.jumps = Some(flights);
         self
     }
 
@@ -199,9 +207,33 @@ impl<S: Scene> Auditor<S> {
     #[inline]
     pub fn observe_event(&mut self, f: &Flight<f64>, kind: EventKind) -> Result<(), Error> {
         match self.jumps {
-            Some(r) if kind == EventKind::Crossing(major_edge(&f.vel)) => self.observe_jump(f, r),
+            Some(LongFlights::Square { radius })
+                if kind == EventKind::Crossing(major_edge(&f.vel)) =>
+            {
+                self.observe_jump(f, radius)
+            }
+            Some(LongFlights::Triangular(t)) if kind == EventKind::Crossing(trigger(&f.vel)) => {
+                match t.jump(CellIndex::default(), f) {
+                    Search::Land(l) => self.observe_triangular_jump(f, &t, &l),
+                    _ => self.observe(f),
+                }
+            }
             _ => self.observe(f),
         }
+    }
+
+    fn observe_triangular_jump(
+        &mut self,
+        f: &Flight<f64>,
+        t: &TriangularFlights,
+        landing: &Landing,
+    ) -> Result<(), Error> {
+        if self.rate < 1.0 && self.rng.random::<f64>() >= self.rate {
+            return Ok(());
+        }
+        let c = super::jump_audit_triangular::check_jump(&self.tref, t, f, landing)?;
+        self.summary.triangular_jumps.add(f, &c);
+        Ok(())
     }
 
     fn observe_jump(&mut self, f: &Flight<f64>, r: f64) -> Result<(), Error> {
@@ -512,9 +544,7 @@ fn straight_batch<S: Scene>(
         cfg.reference_bits,
         StreamKey::new(cfg.seed, Purpose::Audit, b as u64).rng(),
     )?;
-    let radius = scene
-        .long_flight_radius()
-        .filter(|_| flights == Flights::Jump);
+    let radius = scene.long_flights().filter(|_| flights == Flights::Jump);
     if let Some(r) = radius {
         a = a.with_jumps(r);
     }
@@ -526,7 +556,7 @@ fn straight_batch<S: Scene>(
         CounterLanes::new(1),
     );
     match radius {
-        Some(r) => drive_jumps(lat, r, &mut s, n, &mut obs, progress)?,
+        Some(r) => drive_jumps(lat, &r, &mut s, n, &mut obs, progress)?,
         None => drive(lat, &mut s, n, &mut obs, progress)?,
     }
     let (audit, counters) = obs;

@@ -75,6 +75,10 @@ fn no_command_prints_nan_and_few_batches_are_labelled() {
     let commands = [
         "diffusion --w 0.1 --collisions 1e6 --batches 2 --window 2:8 --check-window 4:16",
         "lyapunov --w 0.1 --collisions-per-batch 2e4 --batches 2 --starts 2",
+        // λ ≈ 4.8 per collision: an f64 start grows from 10⁴u to 10⁻³ in fewer collisions than
+        // its fit needs, and the row had no error (it panicked on the NaN).
+        "lyapunov --scene triangular --w 10 --flights walk --collisions-per-batch 2e4 --batches 2 \
+         --starts 2",
         "sweep --w-from 0.1 --w-to 0.2 --steps 2 --runs 1 --collisions-per-run 2e6 \
          --batches-per-run 4 --out sw",
         "hops --w 0.1 --collisions 1e6 --batches 2 --order 2",

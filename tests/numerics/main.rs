@@ -24,6 +24,7 @@ mod hard_cases;
 mod kernel_properties;
 mod long_flight;
 mod long_flight_audit;
+mod long_flight_triangular;
 mod physics;
 mod scene_diffusion;
 mod scenes;

@@ -417,9 +417,7 @@ fn run_on<S: Scene>(
         "f64",
         Some(options.threads),
     );
-    let radius = scene
-        .long_flight_radius()
-        .filter(|_| flights == Flights::Jump);
+    let radius = scene.long_flights().filter(|_| flights == Flights::Jump);
     let batches = run_batches(scene, &input, &meta, radius, options)?;
     let s = summary::summarise(&input, &batches)?;
     Ok(report(scene.label(), &input, s, flights, meta))
@@ -431,7 +429,7 @@ fn run_batches<S: Scene>(
     scene: &S,
     inp: &summary::Input,
     meta: &RunMeta,
-    jumps: Option<f64>,
+    jumps: Option<crate::scenes::long_flight::LongFlights>,
     options: &RunOptions,
 ) -> Result<Vec<Batch>, Error> {
     let cfg = inp.cfg;
@@ -473,7 +471,7 @@ fn run_batches<S: Scene>(
         };
         let start = || scene.sample(&mut stream(cfg.seed, j.index as u64));
         let step = |s: &mut LatticeState<f64>, q: u64, obs: &mut Watch| match jumps {
-            Some(r) => drive_jumps(&lat, r, s, q, obs, options.progress),
+            Some(r) => drive_jumps(&lat, &r, s, q, obs, options.progress),
             None => drive(&lat, s, q, obs, options.progress),
         };
         drive_kept_with((), j, start, &mut obs, &keep, step)?;

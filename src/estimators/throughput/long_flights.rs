@@ -214,7 +214,7 @@ fn row(
 /// run to run.
 struct Runner {
     lat: Lattice<f64, <SquareScene as Scene>::Kernel<f64>>,
-    r: f64,
+    flights: crate::scenes::long_flight::LongFlights,
     jumping: LatticeState<f64>,
     walking: LatticeState<f64>,
 }
@@ -224,9 +224,7 @@ impl Runner {
         let start = scene.sample(&mut stream(seed, k));
         Ok(Runner {
             lat: scene.lattice::<f64>(())?,
-            r: scene
-                .long_flight_radius()
-                .expect("checked where flights jump"),
+            flights: scene.long_flights().expect("checked where flights jump"),
             jumping: start.clone(),
             walking: start,
         })
@@ -238,7 +236,7 @@ impl Runner {
         if jumps {
             drive_jumps(
                 &self.lat,
-                self.r,
+                &self.flights,
                 &mut self.jumping,
                 collisions,
                 &mut Nothing,

@@ -72,8 +72,52 @@ pub fn audit(r: &AuditReport) -> String {
     out
 }
 
+/// One line per histogram: median, 99 % and maximum.
+fn quantile_lines(
+    out: &mut String,
+    rows: &[(&str, &crate::verification::log_histogram::LogHistogram)],
+) {
+    for (name, h) in rows {
+        line!(
+            out,
+            "{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}",
+            h.quantile(0.5),
+            h.quantile(0.99),
+            h.max
+        );
+    }
+}
+
+/// The lines on the long flights jumped on the triangular lattice, where the run jumped them.
+fn triangular_jumps(out: &mut String, r: &AuditReport) {
+    let j = &r.summary.triangular_jumps;
+    if j.audited == 0 {
+        return;
+    }
+    line!(
+        out,
+        "long flights jumped: {} replayed by the MPFR trap walk ({} crossings, longest {}); \
+         outside the model: {}",
+        j.audited,
+        j.crossings,
+        j.longest,
+        j.outside
+    );
+    quantile_lines(
+        out,
+        &[
+            ("jump time error / bound", &j.time_error_over_bound),
+            ("landing error / bound", &j.position_error_over_bound),
+        ],
+    );
+    for (bits, c) in j.outside_jumps.iter().take(5) {
+        line!(out, "outside: jump from state bits {bits:x?}: {c:?}");
+    }
+}
+
 /// The lines on the long flights jumped, where the run jumped them.
 fn jumps(out: &mut String, r: &AuditReport) {
+    triangular_jumps(out, r);
     let j = &r.summary.jumps;
     if j.audited == 0 {
         return;
@@ -88,19 +132,14 @@ fn jumps(out: &mut String, r: &AuditReport) {
         j.outside,
         j.ambiguous
     );
-    for (name, h) in [
-        ("jump time error / bound", &j.time_error_over_bound),
-        ("entry error / bound", &j.position_error_over_bound),
-        ("candidate |D| / window", &j.candidate_over_window),
-    ] {
-        line!(
-            out,
-            "{name:<22} {:>10.2e} {:>10.2e} {:>10.2e}",
-            h.quantile(0.5),
-            h.quantile(0.99),
-            h.max
-        );
-    }
+    quantile_lines(
+        out,
+        &[
+            ("jump time error / bound", &j.time_error_over_bound),
+            ("entry error / bound", &j.position_error_over_bound),
+            ("candidate |D| / window", &j.candidate_over_window),
+        ],
+    );
     for e in j.outside_jumps.iter().take(5) {
         line!(
             out,

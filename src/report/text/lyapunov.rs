@@ -19,21 +19,30 @@ pub struct LyapunovResult {
     pub divergence: Vec<Divergence>,
 }
 
+/// The exponent per unit time to 5 decimals, or to 5 significant digits below 10⁻³ (small disks:
+/// free flights of thousands of time units).
+fn per_time(x: f64, err: f64) -> String {
+    if x.abs() >= 1e-3 || x == 0.0 {
+        format!("{x:.5} ± {err:.5}")
+    } else {
+        format!("{x:.4e} ± {err:.1e}")
+    }
+}
+
 /// The text of a `lyapunov` result, line by line as the command line prints it.
 pub fn lyapunov(r: &LyapunovResult) -> String {
     let mut out = String::new();
     let l = &r.tangent;
     line!(
         out,
-        "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions{})\n  {:.5} ± {:.5} per collision, {:.5} ± {:.5} per unit time{}",
+        "{}: largest Lyapunov exponent (tangent space, {} batches x {} collisions{})\n  {:.5} ± {:.5} per collision, {} per unit time{}",
         l.scene,
         l.batches,
         l.collisions_per_batch,
         super::jumped(l.flights),
         l.per_collision,
         l.per_collision_err,
-        l.per_time,
-        l.per_time_err,
+        per_time(l.per_time, l.per_time_err),
         comparison::few_samples_note(l.batches as usize, "batches")
     );
     let Some(first) = r.divergence.first() else {
@@ -50,25 +59,40 @@ pub fn lyapunov(r: &LyapunovResult) -> String {
         "precision  horizon (collisions to 1e-3)   growth per collision   growth per unit time   growth per collision against λ (independent runs, Welch dof)"
     );
     for x in &r.divergence {
-        let dof = welch_dof(
-            x.rate_per_collision_err,
-            starts as f64,
-            l.per_collision_err,
-            l.batches as f64,
-        );
-        let e = x.rate_per_collision_err.hypot(l.per_collision_err);
-        let against = comparison::of(x.rate_per_collision - l.per_collision, e, dof);
+        // Where λ is large the growth from 10⁴u to 10⁻³ takes fewer than the 5 collisions a
+        // start's fit needs, and fewer than 2 starts give a rate: no error, no comparison.
+        let against = if x.rate_per_collision_err.is_finite() && x.rate_per_collision_err > 0.0 {
+            let dof = welch_dof(
+                x.rate_per_collision_err,
+                starts as f64,
+                l.per_collision_err,
+                l.batches as f64,
+            );
+            let e = x.rate_per_collision_err.hypot(l.per_collision_err);
+            comparison::of(x.rate_per_collision - l.per_collision, e, dof).describe("Welch")
+        } else {
+            "no comparison: fewer than 2 starts grew through 5 collisions between 1e4 u and 1e-3"
+                .to_string()
+        };
+        // A rate of no start, or the error of fewer than 2, is "-", not NaN.
+        let num = |e: f64| {
+            if e.is_finite() {
+                format!("{e:.4}")
+            } else {
+                "-".into()
+            }
+        };
         line!(
             out,
-            "{:>9}  {:>12.1} ± {:<8.1}       {:.4} ± {:.4}        {:.4} ± {:.4}        {}",
+            "{:>9}  {:>12.1} ± {:<8.1}       {:>6} ± {:<6}        {:>6} ± {:<6}        {}",
             x.precision,
             x.horizon,
             x.horizon_err,
-            x.rate_per_collision,
-            x.rate_per_collision_err,
-            x.rate_per_time,
-            x.rate_per_time_err,
-            against.describe("Welch")
+            num(x.rate_per_collision),
+            num(x.rate_per_collision_err),
+            num(x.rate_per_time),
+            num(x.rate_per_time_err),
+            against
         );
     }
     out

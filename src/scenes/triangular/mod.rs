@@ -139,6 +139,20 @@ impl Scene for TriangularScene {
         Geometry::new(self.w()).ok().map(|g| g.hop_time())
     }
 
+    /// Jumps beyond w∞ up to a = [`super::long_flight::triangular::MAX_SPACING`], on the trap
+    /// kernel's own a and h ([`super::long_flight::triangular`]).
+    fn long_flights(&self) -> Option<super::long_flight::LongFlights> {
+        use super::long_flight::triangular::MAX_SPACING;
+        (!self.finite_horizon() && self.trap64.a <= MAX_SPACING).then_some(
+            super::long_flight::LongFlights::Triangular(
+                super::long_flight::triangular::TriangularFlights {
+                    a: self.trap64.a,
+                    h: self.trap64.h,
+                },
+            ),
+        )
+    }
+
     /// Disks of radius 1 at spacing a = 2 + w (e₂ = (a/2, √3a/2)).
     fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
         let a = 2.0 + self.w();

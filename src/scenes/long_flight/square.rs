@@ -295,7 +295,7 @@ impl Scale {
     }
 
     /// z·2^−bits, rounded.
-    fn to_f64(&self, z: &Integer) -> f64 {
+    pub(crate) fn to_f64(&self, z: &Integer) -> f64 {
         let (m, e) = z.to_f64_exp();
         m * f64::powi(2.0, e as i32 - self.bits as i32)
     }
@@ -318,7 +318,7 @@ fn shift(z: Integer, e: i64) -> Integer {
 }
 
 /// x = m·2^e exactly, m an integer (0 for x = 0).
-fn decode(x: f64) -> (i64, i32) {
+pub(crate) fn decode(x: f64) -> (i64, i32) {
     if x == 0.0 {
         return (0, 0);
     }
