@@ -176,3 +176,29 @@ fn at_small_disks_the_triangular_exponent_has_the_square_lattices_constant() {
         l.per_collision_err
     );
 }
+
+/// The triangular long-flight fuzz oracle (`verification::oracle::long_flight_triangular`, the
+/// `long_flight_triangular` fuzz target) on 3 000 random inputs: near misses of far disks (1 ± 2^−e
+/// from a disk up to 1 024 lattice steps away), lattice directions turned by 2^−e, any direction,
+/// from just beyond w∞ to a = 2²⁰. Every jump replayed is inside its model, and most inputs jump.
+/// (Breaking it on purpose: the search's window at 0.99|v| made it fail on skipped disks.)
+#[test]
+fn the_triangular_long_flight_oracle_finds_every_jump_inside_its_model() {
+    use lorentz_gas::verification::oracle::long_flight_triangular;
+    use rand::{RngCore, SeedableRng};
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(44);
+    let (mut checked, mut skipped, mut longest) = (0u64, 0u64, 0u64);
+    for _ in 0..3_000 {
+        let mut data = [0u8; 24];
+        rng.fill_bytes(&mut data);
+        let r = long_flight_triangular(&data).unwrap_or_else(|e| panic!("{data:?}: {e}"));
+        checked += u64::from(r.checked);
+        skipped += u64::from(r.skipped);
+        longest = longest.max(r.check.map_or(0, |c| c.crossings));
+    }
+    println!("{checked} jumps checked, {skipped} skipped, longest {longest} crossings");
+    assert!(
+        checked > 1_500 && longest > 1_000,
+        "{checked} {skipped} {longest}"
+    );
+}

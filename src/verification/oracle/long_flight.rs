@@ -127,7 +127,7 @@ fn point(b: &mut Bytes, r: f64) -> Vec2<f64> {
 }
 
 /// ±2^−e for e from 10 to 60, or 0.
-fn tiny(b: &mut Bytes) -> f64 {
+pub(super) fn tiny(b: &mut Bytes) -> f64 {
     let x = b.u8();
     let e = x % 64;
     if e < 10 {
@@ -137,7 +137,7 @@ fn tiny(b: &mut Bytes) -> f64 {
     s * 2f64.powi(-i32::from(e))
 }
 
-fn unit(a: f64) -> Vec2<f64> {
+pub(super) fn unit(a: f64) -> Vec2<f64> {
     Vec2::new(a.cos(), a.sin())
 }
 

@@ -51,6 +51,7 @@ mod arcs;
 mod bytes;
 mod geo;
 mod long_flight;
+mod long_flight_triangular;
 mod starts;
 mod stepper;
 
@@ -64,6 +65,7 @@ pub use arcs::{
     fly, in_domain,
 };
 pub use long_flight::{LongFlightReport, MAX_COLUMNS, long_flight};
+pub use long_flight_triangular::{MAX_SPAN, TriangularFlightReport, long_flight_triangular};
 pub use starts::{decode_primitive, decode_scene};
 pub use stepper::step_lattice;
 
