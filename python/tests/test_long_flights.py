@@ -20,6 +20,17 @@ def test_lyapunov_with_jumps_has_the_command_lines_bits(cli_json):
     assert walk.tangent["flights"] == "walk"
 
 
+def test_triangular_jumps_beyond_w_inf_have_the_command_lines_bits(cli_json):
+    r = lg.lyapunov(w=100, collisions_per_batch=1e4, batches=4, starts=0, progress=False)
+    c = cli_json("lyapunov", "--w", "100", "--collisions-per-batch", "1e4", "--batches", "4",
+                 "--starts", "0")
+    assert r.tangent["flights"] == c["tangent"]["flights"] == "jump"
+    assert r.tangent["per_collision"] == c["tangent"]["per_collision"]
+    a = lg.audit(w=100, collisions=400, batches=2, progress=False)
+    t = a.summary["triangular_jumps"]
+    assert a.flights == "jump" and t["audited"] >= 300 and t["outside"] == 0
+
+
 @pytest.mark.parametrize("kw, says", [
     (dict(w=0.1, flights="jump"), "has no long flights"),
     (dict(w=0.1, flights="hop"), "use auto, walk or jump"),
