@@ -21,7 +21,7 @@ pub enum LongFlights {
         /// The disks' radius, 2⁻³² ≤ r ≤ 1/4.
         radius: f64,
     },
-    /// Disks of radius 1 on the triangular lattice of spacing a beyond w∞ ([`triangular::jump`]).
+    /// Disks of radius 1 on the triangular lattice of spacing a beyond w∞ ([`triangular::TriangularFlights::jump`]).
     Triangular(triangular::TriangularFlights),
 }
 
