@@ -48,7 +48,7 @@ impl Flights {
             (_, Some(_)) => Ok(Flights::Jump),
             (Flights::Jump, None) => Err(Error::Invalid(format!(
                 "flights = jump: {} has no long flights (the square lattice with 2^-32 <= radius \
-                 <= 1/4 and the triangular one beyond w_inf = 4/sqrt(3) - 2 have); use walk or auto",
+                 <= 1/4 and the triangular one with w_inf = 4/sqrt(3) - 2 < w <= 2^20 - 2 have); use walk or auto",
                 scene.label()
             ))),
         }
