@@ -98,9 +98,14 @@ fn judge(f: &Flight<f64>, r: f64) -> Result<LongFlightReport, OracleFailure> {
 }
 
 fn failure(r: f64, reason: String, state: &str) -> OracleFailure {
+    jump_failure(format!("square r={r}"), reason, state)
+}
+
+/// A long flight's failure in `scene`: at its one jump, from the pre-jump `state`.
+pub(super) fn jump_failure(scene: String, reason: String, state: &str) -> OracleFailure {
     OracleFailure {
         case: None,
-        scene: format!("square r={r}"),
+        scene,
         event: Some(0),
         reason,
         state: state.to_string(),

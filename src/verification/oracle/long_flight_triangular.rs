@@ -16,7 +16,7 @@
 //! steps away is counted, not walked.
 
 use super::bytes::Bytes;
-use super::long_flight::{tiny, unit};
+use super::long_flight::{jump_failure, tiny, unit};
 use super::*;
 use crate::scenes::long_flight::LongFlights;
 use crate::scenes::long_flight::triangular::{MAX_SPACING, Search, trigger};
@@ -113,13 +113,7 @@ fn judge(
 }
 
 fn failure(w: f64, reason: String, state: &str) -> OracleFailure {
-    OracleFailure {
-        case: None,
-        scene: format!("triangular w={w}"),
-        event: Some(0),
-        reason,
-        state: state.to_string(),
-    }
+    jump_failure(format!("triangular w={w}"), reason, state)
 }
 
 /// Just beyond w∞, the largest spacing, or a spacing log-uniform between 2.32 and 2²⁰.
