@@ -181,6 +181,22 @@ def test_str_of_a_report_is_the_command_lines_text(cli, tmp_path):
     assert "PASS" in str(result).splitlines()[-1]
 
 
+def test_str_of_a_reproduction_is_the_command_lines_text_and_its_steps_resume_there(cli, tmp_path):
+    # One reproduction (about 100 s on 2 cores), made in Python; the command line then finds
+    # every step finished in the same folder and prints the same lines, each marked resumed
+    # (a resumed step keeps the seconds it took).
+    out = tmp_path / "rq"
+    result = lg.reproduce("quick", out=out, progress=False)
+    assert not any(s["resumed"] for s in result.steps)
+    code, printed, err = cli("reproduce", "--budget", "quick", "--out", str(out), "--quiet")
+    assert code == 0, err
+    lines = printed.rstrip("\n").splitlines()
+    assert len(lines) == len(result.steps) + 1
+    assert all(" s (resumed)  " in line for line in lines[:-1])
+    assert str(result) == printed.rstrip("\n").replace(" s (resumed)  ", " s  ")
+    assert str(result).splitlines()[-1] == f"written: {out}/index.html"
+
+
 def test_str_of_a_sweep_in_a_field_is_the_command_lines_text_before_its_files(cli, tmp_path):
     result = lg.sweep(scene="square", radius="1/4", fields=["1", "-1"], collisions_per_run=2e5,
                       batches_per_run=4)
