@@ -20,7 +20,7 @@ EVENT_DTYPE = np.dtype(
         ("y", np.float64),
         ("vx", np.float64),  # velocity after the event (unit length)
         ("vy", np.float64),
-        ("kind", "U9"),  # "start" (the first row), "collision" (with a disk) or "crossing" (an edge)
+        ("kind", "U9"),  # "start" (the first row), "collision" (a disk), "crossing" (an edge), "jump"
         ("collision", np.bool_),  # True: a collision with a disk; False: a crossing or the start
         ("obstacle", np.uint8),  # the disk (collision) or edge (crossing) label; 255 at the start
         ("i", np.int64),  # cell indices along the lattice vectors e1, e2
@@ -29,7 +29,7 @@ EVENT_DTYPE = np.dtype(
     ]
 )
 
-_KINDS = np.array(["start", "collision", "crossing"])
+_KINDS = np.array(["start", "collision", "crossing", "jump"])
 
 
 def _event_array(cols: Dict[str, Any]) -> np.ndarray:
@@ -50,6 +50,15 @@ class Trajectory:
     same bits as one call for all of them (the state and the running time are kept between
     calls). ``time`` is the time of the last event so far.
 
+    ``flights`` chooses how straight flights cross the lattice, as in :func:`lyapunov`:
+    ``"walk"`` cell by cell, every edge crossing a row; ``"jump"`` a long flight straight to the
+    cell of the first disk it can meet (the square lattice with 2**-32 <= radius <= 1/4, the
+    triangular one beyond w_inf), one row of kind "jump" at the landing (the entered edge as its
+    ``obstacle``) in place of the crossings it skips; ``"auto"`` jumps where that is faster
+    (radius <= 1/8, w >= 6). The collisions are the walk's within the long-flight error model
+    (``proofs-notes/long-flights.md``), not bit for bit; the attribute ``flights`` says which
+    engine runs ("walk" or "jump"). A field's arcs always walk.
+
     >>> tr = Trajectory(w="0.1", seed=3)
     >>> a, b = tr.events(1000), tr.events(1000)
     >>> whole = Trajectory(w="0.1", seed=3).events(2000)
@@ -66,6 +75,7 @@ class Trajectory:
         scene: str = "triangular",
         radius: Optional[Exact] = None,
         field: Optional[Exact] = None,
+        flights: str = "auto",
     ):
         self._stream = _native.EventStream(
             scene,
@@ -74,12 +84,18 @@ class Trajectory:
             _count("seed", seed),
             _count("batch", batch),
             _optional_exact("field", field),
+            str(flights),
         )
 
     @property
     def start(self) -> np.ndarray:
         """The start as a one-row array of dtype :data:`EVENT_DTYPE` (t = 0, kind "start")."""
         return _event_array(self._stream.start())
+
+    @property
+    def flights(self) -> str:
+        """The engine that runs: ``"jump"`` (long flights jumped) or ``"walk"``."""
+        return self._stream.flights
 
     @property
     def time(self) -> float:
@@ -93,7 +109,7 @@ class Trajectory:
             return _event_array(self._stream.next(_count("n", n), cb))
 
     def __repr__(self) -> str:
-        return f"<Trajectory at t = {self.time}>"
+        return f"<Trajectory at t = {self.time}, flights {self.flights}>"
 
 
 @public
@@ -106,6 +122,7 @@ def events(
     scene: str = "triangular",
     radius: Optional[Exact] = None,
     field: Optional[Exact] = None,
+    flights: str = "auto",
     progress: Progress = None,
 ) -> np.ndarray:
     """One trajectory's start and its next ``n`` events, for your own observables.
@@ -113,15 +130,18 @@ def events(
     A numpy structured array of dtype :data:`EVENT_DTYPE` with ``n + 1`` rows: the start (row 0,
     ``kind`` "start", t = 0) and ``n`` consecutive events, each with ``t`` (time since the start),
     ``x``, ``y`` (unwrapped world position after the event), ``vx``, ``vy`` (velocity after it),
-    ``kind`` ("collision" with a disk or "crossing" of a cell edge; ``collision`` the same as a
-    bool), ``obstacle`` (the disk or edge label), ``i``, ``j``, ``down`` (the cell). The
+    ``kind`` ("collision" with a disk, "crossing" of a cell edge, or "jump", the landing of a
+    long flight; ``collision`` the same as a bool), ``obstacle`` (the disk or edge label), ``i``, ``j``, ``down`` (the cell). The
     trajectory is batch ``batch`` of ``diffusion(w, seed=seed)`` (the same start), on the f64
     engine. With ``field`` (the magnetic field B, an exact decimal or fraction,
     1e-3 <= abs(B) <= 1e3; either lattice) the flights are arcs of radius 1/abs(B),
     counter-clockwise for B > 0, and the trajectory is batch ``batch`` of
     ``diffusion(w, field=B, seed=seed)`` (its start drawn from the diffusing orbits); ``t`` is
     then the arc time and ``x``, ``y`` the event points; ``field=0`` is the run without a field.
-    Memory is checked first: ``MemoryError`` names the largest n that fits; for more, continue
-    one :class:`Trajectory` in chunks (the same bits)."""
-    tr = Trajectory(w, seed=seed, batch=batch, scene=scene, radius=radius, field=field)
+    ``flights`` (``"auto"``, ``"walk"``, ``"jump"``): how straight flights cross the lattice, as
+    for :class:`Trajectory`; ``"walk"`` gives every crossing. Memory is checked first:
+    ``MemoryError`` names the largest n that fits; for more, continue one :class:`Trajectory` in
+    chunks (the same bits)."""
+    tr = Trajectory(w, seed=seed, batch=batch, scene=scene, radius=radius, field=field,
+                    flights=flights)
     return np.concatenate([tr.start, tr.events(n, progress)])

@@ -473,7 +473,8 @@ class BenchResult(Result):
         super().__init__(text)
         if "rows" in self._data:
             self._text_kind = "bench-long-flights"
-            # One record per radius; each repetition's timings stay in ``to_dict()["rows"]``.
+            # One record per radius (or gap); each repetition's timings stay in
+            # ``to_dict()["rows"]``.
             self.rows = _records([{k: v for k, v in r.items() if not isinstance(v, list)}
                                   for r in self._data["rows"]])
 
@@ -481,7 +482,9 @@ class BenchResult(Result):
         d = self._data
         if "rows" in d:
             return ", ".join(
-                f"r = {r['radius']}: {r['ns_per_collision']:.1f} ns/collision" for r in d["rows"]
+                (f"r = {r['radius']}" if "radius" in r else f"w = {r['w']}")
+                + f": {r['ns_per_collision']:.1f} ns/collision"
+                for r in d["rows"]
             ) + " (long flights jumped, one thread)"
         return (
             f"{d['collisions_per_second_per_thread']:.3e} collisions/s per thread "

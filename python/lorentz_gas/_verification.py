@@ -376,6 +376,7 @@ def bench(
     field: Optional[Exact] = None,
     straight_beside: bool = False,
     long_flights: Optional[Any] = None,
+    scene: str = "square",
     collisions_per_radius: Count = 1e6,
     walk_collisions: Count = 1e4,
     progress: Progress = None,
@@ -411,12 +412,17 @@ def bench(
     straight_beside : bool
         With ``field``: time straight flights too, each repetition right after the arcs'.
     long_flights : list of exact numbers, optional
-        Radii of the square scene (each 2**-32 <= r <= 1/4; the first is the reference): time a
-        collision against the length of its flight, long flights jumped, the radii in turns on
+        Radii of the square scene (each 2**-32 <= r <= 1/4; the first is the reference), or with
+        ``scene="triangular"`` gaps w of the triangular one (w_inf < w <= 2**20 - 2): time a
+        collision against the length of its flight, long flights jumped, the values in turns on
         one thread, with ``walk_collisions`` of the cell walk beside (``lorentz bench
-        --long-flights``). Only ``repetitions``, ``seed`` and ``progress`` apply with it.
+        --long-flights``). Only ``scene``, ``repetitions``, ``seed``, ``collisions_per_radius``,
+        ``walk_collisions`` and ``progress`` apply with it.
+    scene : {"square", "triangular"}
+        With ``long_flights``: the lattice timed (square by default: its values are radii).
     collisions_per_radius : int
-        With ``long_flights``: collisions of each timed run with jumps, per radius and repetition.
+        With ``long_flights``: collisions of each timed run with jumps, per radius (or gap) and
+        repetition.
     walk_collisions : int
         With ``long_flights``: collisions of each timed walk cell by cell (0: not timed).
     progress : bool, callable or None
@@ -429,21 +435,24 @@ def bench(
         (collisions/s), ``ns_per_collision`` (ns per collision per thread), ``samples`` (each
         repetition's collisions/s), ``divider_bound`` (SIMD engine), ``meta``. With
         ``long_flights``: ``config`` and ``rows``, a numpy structured array with one record per
-        radius (``radius``, ``mean_free_path``, ``ns_per_collision``, ``over_first``,
+        radius or gap (``radius`` or ``w``, ``mean_free_path``, ``ns_per_collision``, ``over_first``,
         ``walk_ns_per_collision``, ``walk_over_jump``; NaN where the walk was not timed).
 
     Timings depend on the machine and on what else runs on it: compare runs made side by side.
     """
     if long_flights is not None:
         return _bench_long_flights(
-            long_flights, collisions_per_radius, walk_collisions, repetitions, seed, progress,
+            scene, long_flights, collisions_per_radius, walk_collisions, repetitions, seed,
+            progress,
             unused={"w": w != "0.1", "collisions_per_thread": collisions_per_thread != 2e7,
                     "precision": str(precision) != "f64", "engine": engine != "auto",
                     "observe": observe != "none", "threads": threads != 1,
                     "field": field is not None, "straight_beside": bool(straight_beside)},
         )
-    if collisions_per_radius != 1e6 or walk_collisions != 1e4:
-        raise ValueError("collisions_per_radius and walk_collisions apply with long_flights= only")
+    if collisions_per_radius != 1e6 or walk_collisions != 1e4 or scene != "square":
+        raise ValueError(
+            "scene, collisions_per_radius and walk_collisions apply with long_flights= only"
+        )
     with _Bar(progress, _total(_count("repetitions", repetitions)), "rep") as cb:
         text = _native.bench(
             _exact("w", w),
@@ -461,19 +470,20 @@ def bench(
     return BenchResult(text)
 
 
-def _bench_long_flights(radii, collisions_per_radius, walk_collisions, repetitions, seed,
-                        progress, unused):
+def _bench_long_flights(scene, values, collisions_per_radius, walk_collisions, repetitions,
+                        seed, progress, unused):
     """``bench(long_flights=...)``: refuses the keywords that do not apply, then times."""
     given = [k for k, v in unused.items() if v]
     if given:
         raise ValueError(
-            f"{', '.join(given)}: long_flights= times the square scene on one thread; "
-            "only repetitions, seed, collisions_per_radius and walk_collisions apply"
+            f"{', '.join(given)}: long_flights= times one lattice on one thread; only scene, "
+            "repetitions, seed, collisions_per_radius and walk_collisions apply"
         )
-    radii = [_exact("long_flights", r) for r in (radii if _many(radii) else [radii])]
+    values = [_exact("long_flights", r) for r in (values if _many(values) else [values])]
     with _Bar(progress, _total(_count("repetitions", repetitions)), "rep") as cb:
         text = _native.bench_long_flights(
-            radii,
+            str(scene),
+            values,
             _count("collisions_per_radius", collisions_per_radius),
             _count("walk_collisions", walk_collisions),
             _count("repetitions", repetitions),

@@ -61,18 +61,30 @@ fn py_bench(
 /// `bench(long_flights=...)`: a collision's cost against its flight's length on the square
 /// scene (the command line's `--long-flights`), one thread.
 #[pyfunction]
-#[pyo3(name = "bench_long_flights", signature = (radii, collisions_per_radius, walk_collisions, repetitions, seed, progress))]
+#[pyo3(name = "bench_long_flights", signature = (scene, values, collisions_per_radius, walk_collisions, repetitions, seed, progress))]
+#[allow(clippy::too_many_arguments)]
 fn py_bench_long_flights(
     py: Python<'_>,
-    radii: Vec<String>,
+    scene: &str,
+    values: Vec<String>,
     collisions_per_radius: &str,
     walk_collisions: &str,
     repetitions: &str,
     seed: &str,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
+    let (radii, gaps) = match scene {
+        "square" => (values, Vec::new()),
+        "triangular" => (Vec::new(), values),
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "scene = {scene}: use square or triangular"
+            )));
+        }
+    };
     let cfg = LongFlightBenchConfig {
         radii,
+        gaps,
         collisions: count_u64("collisions_per_radius", collisions_per_radius)?,
         walk_collisions: count_u64("walk_collisions", walk_collisions)?,
         repetitions: count_usize("repetitions", repetitions)?,

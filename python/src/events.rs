@@ -7,11 +7,13 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use lorentz_gas::Error;
+use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::estimators::field::FieldWalk;
 use lorentz_gas::kernel::flight::EventKind;
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::{LatticeState, Unwrapped};
+use lorentz_gas::scenes::long_flight::LongFlights;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::spec::SceneChoice;
 use lorentz_gas::scenes::square::SquareScene;
@@ -49,11 +51,12 @@ struct Columns {
     j: Vec<i64>,
 }
 
-/// The `kind` codes: the start of the trajectory, a collision with a disk, an edge crossing
-/// (Python names them `"start"`, `"collision"`, `"crossing"`).
+/// The `kind` codes: the start of the trajectory, a collision with a disk, an edge crossing, and
+/// a long flight's landing (Python names them `"start"`, `"collision"`, `"crossing"`, `"jump"`).
 const START: u8 = 0;
 const COLLISION: u8 = 1;
 const CROSSING: u8 = 2;
+const JUMP: u8 = 3;
 /// The obstacle label of the start row (no obstacle).
 const NO_OBSTACLE: u8 = 255;
 
@@ -61,17 +64,22 @@ impl Columns {
     /// One event: time `t`, world position `p` after it, the state after it and its kind
     /// (`None`: the start).
     fn push(&mut self, t: f64, p: [f64; 2], s: &LatticeState<f64>, kind: Option<EventKind>) {
+        let (code, label) = match kind {
+            None => (START, NO_OBSTACLE),
+            Some(EventKind::Collision(d)) => (COLLISION, d),
+            Some(EventKind::Crossing(e)) => (CROSSING, e),
+        };
+        self.push_coded(t, p, s, code, label);
+    }
+
+    /// One event of kind `code` at obstacle `label` (time `t`, position `p`, state `s` after it).
+    fn push_coded(&mut self, t: f64, p: [f64; 2], s: &LatticeState<f64>, code: u8, label: u8) {
         let sg = s.cell.sign();
         self.t.push(t);
         self.x.push(p[0]);
         self.y.push(p[1]);
         self.vx.push(sg * s.flight.vel.x);
         self.vy.push(sg * s.flight.vel.y);
-        let (code, label) = match kind {
-            None => (START, NO_OBSTACLE),
-            Some(EventKind::Collision(d)) => (COLLISION, d),
-            Some(EventKind::Crossing(e)) => (CROSSING, e),
-        };
         self.kind.push(code);
         self.collision.push(u8::from(code == COLLISION));
         self.obstacle.push(label);
@@ -154,9 +162,16 @@ fn collect(
 }
 
 /// The next `n` events of the trajectory at `s` (time `t0` so far) of `scene`, on the scalar
-/// `f64` engine; the time at the last.
+/// `f64` engine, with the long flights `flights` jumped (`None`: the cell walk, every crossing an
+/// event); the time at the last.
+///
+/// A jump is the engine's ([`lorentz_gas::engine::long_flight::drive_jumps`]): at the crossing of
+/// the trigger edge the search finds the landing, and the row is the landing (kind `jump`, the
+/// entered edge as its obstacle, the flight time from the pre-jump position); the crossings it
+/// skips are not rows. Where the search walks, the crossing is an ordinary row.
 fn advance<S: Scene>(
     scene: &S,
+    flights: Option<&LongFlights>,
     s: &mut LatticeState<f64>,
     t0: f64,
     n: u64,
@@ -166,7 +181,21 @@ fn advance<S: Scene>(
     let basis = lat.basis_f64();
     let origin = Unwrapped::default();
     collect(n, t0, ctl, |c, t| {
-        let ev = lat.step(s).map_err(|e| Error::Failed(e.to_string()))?;
+        let ev = lat
+            .next_event(s)
+            .ok_or_else(|| Error::Failed("trajectory lost its next event".into()))?;
+        if let (Some(f), EventKind::Crossing(k)) = (flights, ev.kind)
+            && k == f.trigger(&s.flight.vel)
+            && let Some(landing) = f.land(s)?
+        {
+            s.cell = landing.cell;
+            s.flight = landing.flight;
+            let p = lat.unwrapped(s, 0.0).displacement_from(&origin, &basis);
+            let entered = s.flight.excluded_edge.unwrap_or(NO_OBSTACLE);
+            c.push_coded(t + landing.time, p, s, JUMP, entered);
+            return Ok(landing.time);
+        }
+        lat.apply(s, &ev);
         let p = lat.unwrapped(s, 0.0).displacement_from(&origin, &basis);
         c.push(t + ev.time, p, s, Some(ev.kind));
         Ok(ev.time)
@@ -247,6 +276,8 @@ fn field_walk(
 #[pyclass(module = "lorentz_gas._native", name = "EventStream")]
 pub struct EventStream {
     choice: SceneChoice,
+    /// The long flights jumped (`None`: the walk, or a field).
+    flights: Option<LongFlights>,
     state: LatticeState<f64>,
     walk: Option<AnyFieldWalk>,
     /// The time of the last event so far (0 at the start).
@@ -280,7 +311,7 @@ impl EventStream {
 #[pymethods]
 impl EventStream {
     #[new]
-    #[pyo3(signature = (scene, w, radius, seed, batch, field))]
+    #[pyo3(signature = (scene, w, radius, seed, batch, field, flights))]
     fn new(
         scene: &str,
         w: Option<&str>,
@@ -288,11 +319,13 @@ impl EventStream {
         seed: &str,
         batch: &str,
         field: Option<&str>,
+        flights: &str,
     ) -> PyResult<Self> {
         let choice = resolve(scene, w, radius)?;
         let seed = count_u64("seed", seed)?;
         let batch = count_u32("batch", batch)?;
         let walk = field_walk(&choice, field, seed, batch)?;
+        let flights = long_flights(&choice, flights, walk.is_some())?;
         let state = match &walk {
             Some(walk) => walk.state().clone(),
             None => {
@@ -303,6 +336,7 @@ impl EventStream {
         };
         Ok(EventStream {
             choice,
+            flights,
             state,
             walk,
             t: 0.0,
@@ -334,9 +368,10 @@ impl EventStream {
         check_memory(n)?;
         let t0 = self.t;
         let (choice, state, walk) = (&self.choice, &mut self.state, &mut self.walk);
+        let flights = self.flights.as_ref();
         let (c, end) = compute(py, progress, |ctl| match walk {
             Some(walk) => walk.advance(t0, n, ctl),
-            None => with_scene!(choice, |s| advance(s, state, t0, n, ctl)),
+            None => with_scene!(choice, |s| advance(s, flights, state, t0, n, ctl)),
         })?;
         self.t = end;
         Self::dict(py, c)
@@ -347,6 +382,35 @@ impl EventStream {
     fn time(&self) -> f64 {
         self.t
     }
+
+    /// How the flights cross the lattice: `"jump"` or `"walk"` (the engine `flights` chose).
+    #[getter]
+    fn flights(&self) -> &'static str {
+        if self.flights.is_some() {
+            "jump"
+        } else {
+            "walk"
+        }
+    }
+}
+
+/// The long flights of the choice `flights` (`auto`, `walk`, `jump`) in `choice`: `None` for the
+/// walk. A field's arcs walk: `jump` is refused there, `auto` walks.
+fn long_flights(
+    choice: &SceneChoice,
+    flights: &str,
+    in_field: bool,
+) -> PyResult<Option<LongFlights>> {
+    let flights: Flights = flights.parse().map_err(crate::py_err)?;
+    if in_field {
+        return match flights {
+            Flights::Jump => Err(PyValueError::new_err(
+                "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto",
+            )),
+            _ => Ok(None),
+        };
+    }
+    with_scene!(choice, |s| flights.of(s)).map_err(crate::py_err)
 }
 
 /// Registers `EventStream` in the module.

@@ -140,7 +140,8 @@ def test_a_trajectory_in_chunks_has_the_bits_of_one_call():
     """Continued call after call, a trajectory gives the events of one call, time included (one
     running sum), with and without a field and on the square lattice."""
     for kw in [dict(w="0.1"), dict(w="0.2", field="-3/2"), dict(scene="square", radius="1/4"),
-               dict(scene="square", radius="1/4", field="1")]:
+               dict(scene="square", radius="1/4", field="1"),
+               dict(scene="square", radius="1/1000"), dict(w="10")]:
         whole = lg.events(n=5000, seed=7, batch=2, **kw)
         tr = lg.Trajectory(seed=7, batch=2, **kw)
         parts = [tr.start] + [tr.events(k) for k in (1, 999, 2500, 1500)]
@@ -151,3 +152,62 @@ def test_a_trajectory_in_chunks_has_the_bits_of_one_call():
     # flight away at unit speed.
     ev = lg.events(w="0.2", n=1, seed=3)
     assert np.hypot(ev["x"][1] - ev["x"][0], ev["y"][1] - ev["y"][0]) == pytest.approx(ev["t"][1], abs=1e-12)
+
+
+def test_jumped_events_meet_the_disk_the_walk_meets_first():
+    """Square lattice, r = 1/1000 (flights of ~500 cells): from the same start, the jumping
+    trajectory's first collision is the walk's — same cell, same disk — at the same time. The
+    walk's time sums ~700 crossings, each rounded (≤ 700 · 4u · t ≈ 3e-13 t), the jump's is
+    within 2.02u t (`proofs-notes/long-flights.md`); both then meet the disk from entry points
+    ~1e-13 apart, an offset the collision time sees divided by the cosine of the incidence
+    angle. 1e-9 t leaves that cosine down to ~3e-4 (a chance of ~1e-7 per start)."""
+    kw = dict(scene="square", radius="1/1000", seed=5)
+    for b in range(12):
+        walk = lg.events(n=4000, batch=b, flights="walk", **kw)
+        jump = lg.events(n=40, batch=b, flights="jump", **kw)
+        assert "jump" not in set(walk["kind"]) and "jump" in set(jump["kind"][1:])
+        w, j = walk[walk["collision"]][0], jump[jump["collision"]][0]
+        assert (w["i"], w["j"], w["obstacle"]) == (j["i"], j["j"], j["obstacle"]), b
+        assert abs(w["t"] - j["t"]) <= 1e-9 * w["t"], (b, w["t"], j["t"])
+        assert abs(w["x"] - j["x"]) <= 1e-9 * w["t"] and abs(w["y"] - j["y"]) <= 1e-9 * w["t"]
+
+
+def test_jumped_events_are_straight_flights_and_give_santalos_mean_free_path():
+    batches, n, kw = 16, 20_000, dict(scene="square", radius="1/1000", seed=11)
+    per_batch = []
+    for b in range(batches):
+        ev = lg.events(n=n, batch=b, **kw)
+        # A jump row is a straight flight from the row before, like any other: the displacement
+        # is the velocity times the flight time. The speed is 1 only within the reflections'
+        # rounding, ~u/r per collision (here |v| - 1 reaches ~1e-12, 4e-10 over a flight of
+        # ~500), so the time is compared with the distance over |v|. Positions of size
+        # |x| ~ 10^4 carry a few ulps of it; t ~ 10^7, a few ulps of its own.
+        dt = np.diff(ev["t"])
+        dr = np.hypot(np.diff(ev["x"]), np.diff(ev["y"]))
+        speed = np.hypot(ev["vx"], ev["vy"])[:-1]
+        scale = 1e-12 * (1 + np.maximum(np.abs(ev["x"][1:]), np.abs(ev["y"][1:])))
+        assert np.all(np.abs(dr / speed - dt) < scale + 1e-15 * ev["t"][1:])
+        jumps = ev[ev["kind"] == "jump"]
+        assert len(jumps) > 0 and set(np.unique(jumps["obstacle"])) <= {0, 1, 2, 3}
+        per_batch.append(np.diff(ev["t"][ev["collision"]]).mean())
+    per_batch = np.array(per_batch)
+    mean, se = per_batch.mean(), per_batch.std(ddof=1) / math.sqrt(batches)
+    exact = lg.constants(radius="1/1000").to_dict()["mean_free_path"]
+    assert abs(mean - exact) < lg.agreement_bound(batches - 1) * se, (mean, se, exact)
+    assert se < 2e-2 * exact
+
+
+def test_which_engine_the_events_run_follows_the_auto_rule():
+    assert lg.Trajectory(scene="square", radius="1/4").flights == "walk"
+    assert lg.Trajectory(scene="square", radius="1/8").flights == "jump"
+    assert lg.Trajectory(scene="square", radius="1/8", flights="walk").flights == "walk"
+    assert lg.Trajectory(scene="square", radius="1/4", flights="jump").flights == "jump"
+    assert lg.Trajectory(w="4").flights == "walk" and lg.Trajectory(w="6").flights == "jump"
+    assert lg.Trajectory(w="0.1").flights == "walk"
+    assert lg.Trajectory(scene="square", radius="1/1000", field="1").flights == "walk"
+    assert "flights jump" in repr(lg.Trajectory(w="10"))
+    for kw, says in [(dict(w="0.1", flights="jump"), "has no long flights"),
+                     (dict(w="10", flights="hop"), "use auto, walk or jump"),
+                     (dict(w="10", field="1/100", flights="jump"), "cell by cell")]:
+        with pytest.raises(ValueError, match=says):
+            lg.events(n=10, **kw)

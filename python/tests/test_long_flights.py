@@ -84,6 +84,27 @@ def test_bench_times_long_flights_like_the_command_line():
         lg.bench(long_flights=["1/2"])
     with pytest.raises(ValueError, match="long_flights= only"):
         lg.bench(w="0.1", walk_collisions=10)
+    with pytest.raises(ValueError, match="long_flights= only"):
+        lg.bench(w="0.1", scene="triangular")
+
+
+def test_bench_times_triangular_long_flights_beyond_w_inf(cli_json):
+    args = dict(collisions_per_radius=2e4, walk_collisions=200, repetitions=1, progress=False)
+    r = lg.bench(long_flights=["10", 100], scene="triangular", **args)
+    assert list(r.rows["w"]) == ["10", "100"] and "radius" not in r.rows.dtype.names
+    assert r.to_dict()["config"]["gaps"] == ["10", "100"]
+    # Santaló's mean free path in disk radii, as `constants` gives it.
+    assert r.rows["mean_free_path"][1] == lg.constants(w=100).to_dict()["mean_free_path"]
+    assert str(r).splitlines()[0].startswith("long flights, triangular lattice, 1 thread:")
+    assert str(r).splitlines()[1].startswith("w ") and "w = 10:" in repr(r)
+    c = cli_json("bench", "--scene", "triangular", "--long-flights", "10,100",
+                 "--collisions-per-radius", "2e4", "--walk-collisions", "200", "--repetitions", "1")
+    assert c["config"] == r.to_dict()["config"]
+    assert [row["w"] for row in c["rows"]] == ["10", "100"]
+    with pytest.raises(ValueError, match="w_inf = 4/sqrt\\(3\\) - 2 < w"):
+        lg.bench(long_flights=["0.2"], scene="triangular")
+    with pytest.raises(ValueError, match="use square or triangular"):
+        lg.bench(long_flights=["1/4"], scene="hexagonal")
 
 
 def test_str_of_a_bench_is_the_command_lines_text_shape():

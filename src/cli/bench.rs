@@ -12,7 +12,7 @@ use lorentz_gas::report::text::bench as text;
 use lorentz_gas::report::speed_error::{self, REPORT_STEPS, SpeedErrorConfig};
 
 use super::args::{
-    EngineArg, Exact, OutputArgs, PrecisionArg, SeedArg, ThreadsArg, parse_count,
+    EngineArg, Exact, OutputArgs, PrecisionArg, SceneName, SeedArg, ThreadsArg, parse_count,
     parse_count_usize, parse_diffusive_gap, parse_threads,
 };
 use super::output::{emit, to_json};
@@ -25,17 +25,24 @@ pub struct Args {
     #[arg(long = "w", value_name = "W", value_parser = parse_diffusive_gap, allow_hyphen_values = true, required_unless_present = "long_flights")]
     gap: Option<Exact>,
     /// Time a collision against the length of its flight: the square scene at these radii
-    /// (exact, comma-separated, each 2^-32 <= r <= 1/4), long flights jumped, each radius in
-    /// turn on one thread in one run, with --walk-collisions of the cell walk beside; reports ns
-    /// per collision and each radius over the first (median of the paired ratios).
+    /// (exact, comma-separated, each 2^-32 <= r <= 1/4), or with --scene triangular the
+    /// triangular one at these gaps (w_inf < w <= 2^20 - 2), long flights jumped, each in turn on
+    /// one thread in one run, with --walk-collisions of the cell walk beside; reports ns per
+    /// collision and each over the first (median of the paired ratios).
     #[arg(long, value_name = "RADII", value_delimiter = ',', conflicts_with_all = ["gap", "report", "observer_costs", "field", "observe", "precision", "threads", "collisions_per_thread"])]
     long_flights: Option<Vec<String>>,
-    /// With --long-flights: collisions of each timed run with jumps, per radius and repetition.
-    #[arg(long, default_value = "1e6", value_parser = parse_count, allow_negative_numbers = true, requires = "long_flights")]
-    collisions_per_radius: u64,
-    /// With --long-flights: collisions of each timed walk cell by cell (0: not timed).
-    #[arg(long, default_value = "1e4", value_parser = parse_count, allow_negative_numbers = true, requires = "long_flights")]
-    walk_collisions: u64,
+    /// With --long-flights: the lattice timed, square (its values radii; the default) or
+    /// triangular (its values gaps w).
+    #[arg(long, value_enum)]
+    scene: Option<SceneName>,
+    /// With --long-flights: collisions of each timed run with jumps, per radius (or gap) and
+    /// repetition [default: 1e6].
+    #[arg(long, value_parser = parse_count, allow_negative_numbers = true)]
+    collisions_per_radius: Option<u64>,
+    /// With --long-flights: collisions of each timed walk cell by cell (0: not timed)
+    /// [default: 1e4].
+    #[arg(long, value_parser = parse_count, allow_negative_numbers = true)]
+    walk_collisions: Option<u64>,
     /// Collisions of each thread in each repetition (the SIMD engine shares them out over the
     /// thread's 16 trajectories).
     #[arg(long, default_value = "2e7", value_parser = parse_count, allow_negative_numbers = true)]
@@ -89,13 +96,40 @@ impl Args {
     }
 }
 
+/// The options that apply with --long-flights only, refused without it (clap's `requires` is
+/// not enforced on these, clap-rs/clap#3076).
+fn refuse_long_flight_options(a: &Args) -> Result<(), Error> {
+    let given = [
+        ("--scene", a.scene.is_some()),
+        ("--collisions-per-radius", a.collisions_per_radius.is_some()),
+        ("--walk-collisions", a.walk_collisions.is_some()),
+    ];
+    match given.iter().find(|(_, g)| *g) {
+        Some((name, _)) => Err(Error::Invalid(format!(
+            "{name} applies with --long-flights only (bench --w W times the triangular engine)"
+        ))),
+        None => Ok(()),
+    }
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
     let threads = a.threads.unwrap_or(1);
-    if let Some(radii) = &a.long_flights {
+    if let Some(values) = &a.long_flights {
+        let triangular = a.scene == Some(SceneName::Triangular);
+        let defaults = LongFlightBenchConfig::new();
         let cfg = LongFlightBenchConfig {
-            radii: radii.clone(),
-            collisions: a.collisions_per_radius,
-            walk_collisions: a.walk_collisions,
+            radii: if triangular {
+                Vec::new()
+            } else {
+                values.clone()
+            },
+            gaps: if triangular {
+                values.clone()
+            } else {
+                Vec::new()
+            },
+            collisions: a.collisions_per_radius.unwrap_or(defaults.collisions),
+            walk_collisions: a.walk_collisions.unwrap_or(defaults.walk_collisions),
             repetitions: a.repetitions,
             seed: a.seed.seed,
         };
@@ -108,6 +142,7 @@ pub fn run(a: Args) -> Result<(), Error> {
             |r| print!("{}", text::long_flights(r)),
         );
     }
+    refuse_long_flight_options(&a)?;
     if a.report {
         let out = a.out.clone();
         let pb = Progress::new(REPORT_STEPS, "steps", a.output.quiet);

@@ -932,7 +932,18 @@ const BAD: &[(&[&str], &str)] = &[
         &["bench", "--long-flights", "1/4", "--w", "0.1"],
         "cannot be used with",
     ),
-    (&["bench", "--walk-collisions", "10"], "--long-flights"),
+    (
+        &["bench", "--walk-collisions", "10", "--w", "0.1"],
+        "--walk-collisions applies with --long-flights only",
+    ),
+    (
+        &["bench", "--scene", "square", "--w", "0.1"],
+        "--scene applies with --long-flights only",
+    ),
+    (
+        &["bench", "--scene", "triangular", "--long-flights", "10,0.2"],
+        "use w_inf = 4/sqrt(3) - 2 < w <= 2^20 - 2",
+    ),
     (&["bench"], "--w"),
 ];
 

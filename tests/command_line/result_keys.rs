@@ -190,6 +190,12 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
                 "bench --long-flights 1/4,1/100 --collisions-per-radius 1e4 --repetitions 1 --walk-collisions 100",
             ),
         ),
+        (
+            "bench --long-flights --scene triangular",
+            run(
+                "bench --scene triangular --long-flights 10,100 --collisions-per-radius 1e4 --repetitions 1 --walk-collisions 100",
+            ),
+        ),
     ];
     run("figure backscatter-map --particles 1e3 --out fig");
     out.push((

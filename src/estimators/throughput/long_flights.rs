@@ -1,11 +1,12 @@
 //! What a collision costs against the length of its flight (`lorentz bench --long-flights`): the
-//! square lattice at several radii, its long flights jumped ([`drive_jumps`]) and, beside them,
-//! walked cell by cell ([`drive`]), timed in turns on one thread in one run, so that a drift of
-//! the machine's speed moves every radius alike. Each radius and engine continues its own
-//! trajectory from an invariant-measure start from one repetition to the next.
+//! square lattice at several radii, or the triangular one at several gaps beyond w∞, its long
+//! flights jumped ([`drive_jumps`]) and, beside them, walked cell by cell ([`drive`]), timed in
+//! turns on one thread in one run, so that a drift of the machine's speed moves every scene
+//! alike. Each scene and engine continues its own trajectory from an invariant-measure start from
+//! one repetition to the next.
 //!
-//! A repetition times every radius once with jumps (and then walking, where asked), in an order
-//! rotated by one radius per repetition; a radius's cost relative to the first is the median over
+//! A repetition times every scene once with jumps (and then walking, where asked), in an order
+//! rotated by one scene per repetition; a scene's cost relative to the first is the median over
 //! repetitions of the paired ratio of their times per collision.
 
 use std::time::Instant;
@@ -25,14 +26,21 @@ use crate::scenes::Scene;
 use crate::scenes::lattice::{Lattice, LatticeState};
 use crate::scenes::sampling::stream;
 use crate::scenes::square::SquareScene;
+use crate::scenes::triangular::TriangularScene;
 
 /// What a long-flight benchmark times.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LongFlightBenchConfig {
     /// Radii of the square scene, exact as typed (`"1/4"`), each where flights jump
-    /// (2⁻³² ≤ r ≤ 1/4); the first is the reference of the ratios. 1 to 16 of them.
+    /// (2⁻³² ≤ r ≤ 1/4); the first is the reference of the ratios. 1 to 16 of them, or none
+    /// with `gaps`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub radii: Vec<String>,
+    /// Gaps w of the triangular scene instead, exact as typed, each where flights jump
+    /// (w∞ < w ≤ 2²⁰ − 2); the first is the reference. 1 to 16 of them, or none with `radii`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub gaps: Vec<String>,
     /// Collisions of each timed run with jumps.
     pub collisions: u64,
     /// Collisions of each timed run walking cell by cell (0: the walk is not timed). A walked
@@ -53,6 +61,7 @@ impl LongFlightBenchConfig {
     pub fn new() -> Self {
         LongFlightBenchConfig {
             radii: ["1/4", "1/1000", "1/10000"].map(String::from).to_vec(),
+            gaps: Vec::new(),
             collisions: 1_000_000,
             walk_collisions: 10_000,
             repetitions: 7,
@@ -63,13 +72,22 @@ impl LongFlightBenchConfig {
     /// The scenes, each checked.
     ///
     /// # Errors
-    /// No radius or too many, a radius that is not an exact decimal or fraction, or one where
-    /// flights do not jump; no collisions; repetitions out of range.
-    pub fn scenes(&self) -> Result<Vec<SquareScene>, Error> {
-        if self.radii.is_empty() || self.radii.len() > MAX_RADII {
+    /// No radius or gap, or too many, or both radii and gaps; a value that is not an exact
+    /// decimal or fraction, or one where flights do not jump; no collisions; repetitions out of
+    /// range.
+    pub fn scenes(&self) -> Result<BenchScenes, Error> {
+        let (n, what) = match (self.radii.len(), self.gaps.len()) {
+            (r, 0) => (r, "radii"),
+            (0, g) => (g, "gaps"),
+            _ => {
+                return Err(Error::Invalid(
+                    "long_flights: radii (square) and gaps (triangular) at once; time one lattice per run".into(),
+                ));
+            }
+        };
+        if n == 0 || n > MAX_RADII {
             return Err(Error::Invalid(format!(
-                "long_flights: {} radii; give 1 to {MAX_RADII}",
-                self.radii.len()
+                "long_flights: {n} {what}; give 1 to {MAX_RADII}"
             )));
         }
         if self.collisions == 0 {
@@ -81,8 +99,32 @@ impl LongFlightBenchConfig {
                 self.repetitions
             )));
         }
-        self.radii.iter().map(|t| jumping_scene(t)).collect()
+        if self.gaps.is_empty() {
+            let s = self.radii.iter().map(|t| jumping_square(t));
+            Ok(BenchScenes::Square(s.collect::<Result<_, _>>()?))
+        } else {
+            let s = self.gaps.iter().map(|t| jumping_triangular(t));
+            Ok(BenchScenes::Triangular(s.collect::<Result<_, _>>()?))
+        }
     }
+
+    /// The values as typed, radii or gaps.
+    fn values(&self) -> &[String] {
+        if self.gaps.is_empty() {
+            &self.radii
+        } else {
+            &self.gaps
+        }
+    }
+}
+
+/// The scenes of one benchmark: one lattice.
+#[derive(Debug, Clone)]
+pub enum BenchScenes {
+    /// The square lattice at its radii.
+    Square(Vec<SquareScene>),
+    /// The triangular lattice at its gaps.
+    Triangular(Vec<TriangularScene>),
 }
 
 impl Default for LongFlightBenchConfig {
@@ -91,8 +133,22 @@ impl Default for LongFlightBenchConfig {
     }
 }
 
+/// The triangular scene of gap `text`, where its flights jump.
+fn jumping_triangular(text: &str) -> Result<TriangularScene, Error> {
+    let w: Rational = parse_exact(text).map_err(|e| Error::Invalid(format!("w = {text}: {e}")))?;
+    let s = TriangularScene::exact(w)?;
+    if s.long_flights().is_none() {
+        return Err(Error::OutOfRange {
+            parameter: "w",
+            value: text.to_string(),
+            range: "use w_inf = 4/sqrt(3) - 2 < w <= 2^20 - 2, where long flights jump".into(),
+        });
+    }
+    Ok(s)
+}
+
 /// The square scene of radius `text`, where its flights jump.
-fn jumping_scene(text: &str) -> Result<SquareScene, Error> {
+fn jumping_square(text: &str) -> Result<SquareScene, Error> {
     let r: Rational =
         parse_exact(text).map_err(|e| Error::Invalid(format!("radius = {text}: {e}")))?;
     let s = SquareScene::exact(r)?;
@@ -106,12 +162,17 @@ fn jumping_scene(text: &str) -> Result<SquareScene, Error> {
     Ok(s)
 }
 
-/// One radius's times.
+/// One scene's times.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LongFlightRow {
-    /// The radius as typed.
-    pub radius: String,
-    /// Santaló's mean free path (1 − πr²)/(2r).
+    /// The radius as typed (square lattice).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<String>,
+    /// The gap as typed (triangular lattice).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub w: Option<String>,
+    /// Santaló's mean free path: (1 − πr²)/(2r) in lattice spacings (square), in disk radii
+    /// (triangular).
     pub mean_free_path: f64,
     /// Median nanoseconds per collision with jumps.
     pub ns_per_collision: f64,
@@ -132,7 +193,7 @@ pub struct LongFlightRow {
 pub struct LongFlightBench {
     /// What was timed.
     pub config: LongFlightBenchConfig,
-    /// One row per radius, in the configuration's order.
+    /// One row per scene, in the configuration's order.
     pub rows: Vec<LongFlightRow>,
     /// Version, seed, engine, threads (1), command line.
     pub meta: RunMeta,
@@ -152,7 +213,42 @@ pub fn run(cfg: &LongFlightBenchConfig, options: &RunOptions) -> Result<LongFlig
             options.threads
         )));
     }
-    let scenes = cfg.scenes()?;
+    let (jump, walk, mfp) = match cfg.scenes()? {
+        BenchScenes::Square(s) => time_all(&s, cfg, options)?,
+        BenchScenes::Triangular(s) => time_all(&s, cfg, options)?,
+    };
+    let square = cfg.gaps.is_empty();
+    let rows = cfg
+        .values()
+        .iter()
+        .enumerate()
+        .map(|(k, text)| {
+            let mut r = row(mfp[k], &jump[k], &jump[0], &walk[k], cfg);
+            if square {
+                r.radius = Some(text.clone());
+            } else {
+                r.w = Some(text.clone());
+            }
+            r
+        })
+        .collect();
+    Ok(LongFlightBench {
+        config: cfg.clone(),
+        rows,
+        meta: RunMeta::new(Some(cfg.seed), None, "f64", Some(1)),
+    })
+}
+
+/// Each scene's nanoseconds per collision jumping and walking, per repetition, and its mean
+/// free path.
+type Timings = (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<f64>);
+
+/// Times every scene of `scenes` in turns, `cfg.repetitions` times.
+fn time_all<S: Scene>(
+    scenes: &[S],
+    cfg: &LongFlightBenchConfig,
+    options: &RunOptions,
+) -> Result<Timings, Error> {
     let mut runs = scenes
         .iter()
         .enumerate()
@@ -174,22 +270,16 @@ pub fn run(cfg: &LongFlightBenchConfig, options: &RunOptions) -> Result<LongFlig
         }
         (options.progress)(1);
     }
-    let rows = scenes
-        .iter()
-        .zip(&cfg.radii)
-        .enumerate()
-        .map(|(k, (s, text))| row(text, s, &jump[k], &jump[0], &walk[k], cfg))
-        .collect();
-    Ok(LongFlightBench {
-        config: cfg.clone(),
-        rows,
-        meta: RunMeta::new(Some(cfg.seed), None, "f64", Some(1)),
-    })
+    Ok((
+        jump,
+        walk,
+        scenes.iter().map(|s| s.mean_free_path()).collect(),
+    ))
 }
 
+/// A row without its scene's value (the caller names it).
 fn row(
-    text: &str,
-    s: &SquareScene,
+    mean_free_path: f64,
     jump: &[f64],
     first: &[f64],
     walk: &[f64],
@@ -199,8 +289,9 @@ fn row(
         |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x / y).collect() };
     let walked = cfg.walk_collisions > 0;
     LongFlightRow {
-        radius: text.to_string(),
-        mean_free_path: s.mean_free_path(),
+        radius: None,
+        w: None,
+        mean_free_path,
         ns_per_collision: median(jump),
         samples: jump.to_vec(),
         over_first: median(&ratios(jump, first)),
@@ -210,17 +301,17 @@ fn row(
     }
 }
 
-/// One radius's lattice and its two trajectories (jumping and walking), each continued from
+/// One scene's lattice and its two trajectories (jumping and walking), each continued from
 /// run to run.
-struct Runner {
-    lat: Lattice<f64, <SquareScene as Scene>::Kernel<f64>>,
+struct Runner<S: Scene> {
+    lat: Lattice<f64, S::Kernel<f64>>,
     flights: crate::scenes::long_flight::LongFlights,
     jumping: LatticeState<f64>,
     walking: LatticeState<f64>,
 }
 
-impl Runner {
-    fn new(scene: &SquareScene, seed: u64, k: u64) -> Result<Self, Error> {
+impl<S: Scene> Runner<S> {
+    fn new(scene: &S, seed: u64, k: u64) -> Result<Self, Error> {
         let start = scene.sample(&mut stream(seed, k));
         Ok(Runner {
             lat: scene.lattice::<f64>(())?,

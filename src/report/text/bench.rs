@@ -98,9 +98,14 @@ pub fn observer_costs(r: &ObserverCosts) -> String {
 pub fn long_flights(r: &LongFlightBench) -> String {
     let mut out = String::new();
     let c = &r.config;
+    let (lattice, per, plural, column) = if c.gaps.is_empty() {
+        ("square", "radius", "radii", "radius")
+    } else {
+        ("triangular", "gap", "gaps", "w")
+    };
     line!(
         out,
-        "long flights, square lattice, 1 thread: {} collisions jumping and {} walking per radius x {} repetitions (radii in turns), seed {}",
+        "long flights, {lattice} lattice, 1 thread: {} collisions jumping and {} walking per {per} x {} repetitions ({plural} in turns), seed {}",
         c.collisions,
         c.walk_collisions,
         c.repetitions,
@@ -108,17 +113,18 @@ pub fn long_flights(r: &LongFlightBench) -> String {
     );
     line!(
         out,
-        "radius        mean free path  ns/collision  over the first  walking ns/collision  walk/jump"
+        "{column:<12}  mean free path  ns/collision  over the first  walking ns/collision  walk/jump"
     );
     for row in &r.rows {
         let (walk, ratio) = match (row.walk_ns_per_collision, row.walk_over_jump) {
             (Some(w), Some(q)) => (format!("{w:.1}"), format!("{q:.2}")),
             _ => ("-".into(), "-".into()),
         };
+        let value = row.radius.as_deref().or(row.w.as_deref()).unwrap_or("-");
         line!(
             out,
             "{:<12}  {:>14.2}  {:>12.1}  {:>14.3}  {:>20}  {:>9}",
-            row.radius,
+            value,
             row.mean_free_path,
             row.ns_per_collision,
             row.over_first,
