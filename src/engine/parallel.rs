@@ -103,3 +103,33 @@ pub fn par_batches_watched<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send
     };
     pool.install(|| (0..n).into_par_iter().map(watched).collect())
 }
+
+/// Collisions of a scalar trajectory between two looks at the stop flag ([`in_legs`]): about a
+/// second of walking at w = 0.1, less with jumps.
+pub const STOP_EVERY: u64 = 1 << 20;
+
+/// Drives one trajectory of `collisions` collisions as legs of at most `every` collisions,
+/// `leg(k)` each, looking at `stop` before each leg, so that a stop requested mid-batch ends it
+/// within a leg. The scalar drives keep nothing between calls but the state and the observer, so
+/// the legs have the bits of one drive (`tests/numerics`' `a_trajectory_in_legs_has_the_bits_of_one_drive`).
+///
+/// # Errors
+/// [`Error::Interrupted`] once a stop is requested, or `leg`'s error.
+pub fn in_legs(
+    stop: Option<&StopFlag>,
+    collisions: u64,
+    every: u64,
+    mut leg: impl FnMut(u64) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let every = every.max(1);
+    let mut done = 0u64;
+    while done < collisions {
+        if let Some(s) = stop {
+            s.check()?;
+        }
+        let k = every.min(collisions - done);
+        leg(k)?;
+        done += k;
+    }
+    Ok(())
+}

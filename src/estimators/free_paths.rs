@@ -16,7 +16,7 @@ use crate::engine::drive;
 use crate::engine::long_flight::{Flights, drive_jumps};
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::engine::parallel::{check_batches, par_batches_watched, share};
+use crate::engine::parallel::{STOP_EVERY, check_batches, in_legs, par_batches_watched, share};
 use crate::engine::work::{Work, crossings_per_collision};
 use crate::observers::free_paths::{FreePathCounts, FreePaths};
 use crate::scenes::Scene;
@@ -205,10 +205,10 @@ fn run_on<S: Scene>(
             let mut s = scene.sample(&mut rng);
             let mut obs = FreePaths::new(ell, &EDGES);
             let n = share(cfg.collisions, cfg.batches, b);
-            match radius {
-                Some(r) => drive_jumps(&lat, &r, &mut s, n, &mut obs, progress)?,
-                None => drive(&lat, &mut s, n, &mut obs, progress)?,
-            }
+            in_legs(options.stop.as_ref(), n, STOP_EVERY, |k| match radius {
+                Some(r) => drive_jumps(&lat, &r, &mut s, k, &mut obs, progress),
+                None => drive(&lat, &mut s, k, &mut obs, progress),
+            })?;
             Ok(obs.counts().clone())
         })?;
     Ok(summarize(

@@ -19,7 +19,7 @@ use crate::engine::long_flight::{Flights, drive_jumps};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{EventLanes, Observer};
 use crate::engine::options::RunOptions;
-use crate::engine::parallel::par_batches_watched;
+use crate::engine::parallel::{STOP_EVERY, in_legs, par_batches_watched};
 use crate::engine::work::{Work, crossings_per_collision};
 use crate::kernel::cell::ConvexCell;
 use crate::kernel::{cell::CellKernel, flight::EventKind};
@@ -146,10 +146,10 @@ pub fn run<S: Scene>(
             time: 0.0,
         };
         let n = collisions_per_batch + TANGENT_TRANSIENT;
-        match radius {
-            Some(r) => drive_jumps(&lat, &r, &mut s, n, &mut tangent, progress)?,
-            None => drive(&lat, &mut s, n, &mut tangent, progress)?,
-        }
+        in_legs(options.stop.as_ref(), n, STOP_EVERY, |k| match radius {
+            Some(r) => drive_jumps(&lat, &r, &mut s, k, &mut tangent, progress),
+            None => drive(&lat, &mut s, k, &mut tangent, progress),
+        })?;
         let (logsum, time) = (tangent.logsum, tangent.time);
         Ok((logsum / collisions_per_batch as f64, logsum / time))
     })?;

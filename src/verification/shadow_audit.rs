@@ -473,7 +473,14 @@ pub fn run<S: Scene>(
             if let Some(q) = &field {
                 return super::arc_audit::batch(scene, cfg, q, b, options);
             }
-            straight_batch(scene, &lat, cfg, flights, b, progress)
+            straight_batch(
+                scene,
+                &lat,
+                cfg,
+                flights,
+                b,
+                (progress, options.stop.as_ref()),
+            )
         },
     )?;
     let mut summary = AuditSummary::default();
@@ -522,16 +529,26 @@ fn audit_flights<S: Scene>(scene: &S, flights: Flights, field: bool) -> Result<F
     }
 }
 
+/// Collisions of an audited trajectory between two looks at the stop flag: each event may be
+/// replayed in MPFR, so a leg takes about as long as the scalar engine's [`STOP_EVERY`] legs.
+///
+/// [`STOP_EVERY`]: crate::engine::parallel::STOP_EVERY
+const AUDIT_STOP_EVERY: u64 = 1 << 14;
+
 /// Batch `b` of an audit without a field: its share of the collisions, every event offered to
 /// an [`Auditor`] watching the engine's trajectory (long flights jumped where `flights` says
-/// so, each jump replayed as a whole). Returns the summary and the events.
+/// so, each jump replayed as a whole), looking at `stop` every [`AUDIT_STOP_EVERY`] collisions.
+/// Returns the summary and the events.
 fn straight_batch<S: Scene>(
     scene: &S,
     lat: &crate::scenes::lattice::Lattice<f64, S::Kernel<f64>>,
     cfg: &AuditConfig,
     flights: Flights,
     b: u32,
-    progress: &(dyn Fn(u64) + Sync),
+    (progress, stop): (
+        &(dyn Fn(u64) + Sync),
+        Option<&crate::engine::options::StopFlag>,
+    ),
 ) -> Result<(AuditSummary, u64), Error> {
     use crate::engine::drive;
     use crate::observers::counters::CounterLanes;
@@ -555,10 +572,10 @@ fn straight_batch<S: Scene>(
         },
         CounterLanes::new(1),
     );
-    match radius {
-        Some(r) => drive_jumps(lat, &r, &mut s, n, &mut obs, progress)?,
-        None => drive(lat, &mut s, n, &mut obs, progress)?,
-    }
+    crate::engine::parallel::in_legs(stop, n, AUDIT_STOP_EVERY, |k| match radius {
+        Some(r) => drive_jumps(lat, &r, &mut s, k, &mut obs, progress),
+        None => drive(lat, &mut s, k, &mut obs, progress),
+    })?;
     let (audit, counters) = obs;
     if let Some(e) = audit.error {
         return Err(e);

@@ -17,6 +17,7 @@ mod hopping;
 mod msd_curve;
 mod options;
 mod planning;
+mod stops;
 mod superdiffusion;
 mod sweep;
 mod theory;
