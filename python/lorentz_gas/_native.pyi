@@ -45,8 +45,8 @@ def sweep(
 def field_sweep(
     scene: str, w: Optional[str], radius: Optional[str], w_from: Optional[str], w_to: Optional[str], steps: str,
     field: Optional[str], fields: List[str], collisions_per_run: str, batches_per_run: str,
-    seed: str, threads: Optional[str], localization_samples: str, out: Optional[str],
-    progress: Progress,
+    seed: str, threads: Optional[str], engine: str, localization_samples: str,
+    out: Optional[str], progress: Progress,
 ) -> str: ...
 def escape(
     w: str, widths: Optional[List[float]], particles_per_width: str, seed: str,

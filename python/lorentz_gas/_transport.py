@@ -96,8 +96,9 @@ def diffusion(
         A uniform magnetic field B (1/length at speed 1) perpendicular to the plane, taken
         exactly like ``w``: the velocity turns at the angular velocity B, counter-clockwise for
         B > 0, on a cyclotron circle of radius 1/abs(B); 1e-3 <= abs(B) <= 1e3. ``None`` or 0: the
-        run without a field (its own bits). A field run takes no checkpoint or audit and runs
-        on the scalar engine.
+        run without a field (its own bits). A field run takes no checkpoint or audit; at
+        f64 its trajectories fly on the SIMD arc engine (``engine="auto"``), with the scalar
+        kernel's bits.
     localization_samples : int
         With ``field``: phase points classified for the sampled share of localized orbits.
     progress : bool, callable or None
@@ -413,10 +414,9 @@ def sweep(
             raise ValueError(
                 "runs is not used by a sweep in a field (one run of collisions_per_run per point)"
             )
-        if engine != "auto" or checkpoint_every != 60.0:
+        if checkpoint_every != 60.0:
             raise ValueError(
-                "engine and checkpoint_every are not used by a sweep in a field (the scalar arc "
-                "kernel; a sweep in a field resumes by point from out)"
+                "checkpoint_every is not used by a sweep in a field (it resumes by point from out)"
             )
         if fields is not None and (isinstance(fields, (str, bytes)) or not fields):
             raise ValueError("fields: give a non-empty sequence of exact numbers, e.g. [-1, 1]")
@@ -438,6 +438,7 @@ def sweep(
                 _count("batches_per_run", batches_per_run),
                 _count("seed", seed),
                 _threads(threads),
+                str(engine),
                 _count("localization_samples", localization_samples),
                 _path(out),
                 cb,

@@ -6,7 +6,6 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 
-use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig};
 
@@ -18,7 +17,7 @@ use crate::scenes::resolve;
 use crate::watch::{compute, json};
 
 #[pyfunction]
-#[pyo3(name = "field_sweep", signature = (scene, w, radius, w_from, w_to, steps, field, fields, collisions_per_run, batches_per_run, seed, threads, localization_samples, out, progress))]
+#[pyo3(name = "field_sweep", signature = (scene, w, radius, w_from, w_to, steps, field, fields, collisions_per_run, batches_per_run, seed, threads, engine, localization_samples, out, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_field_sweep(
     py: Python<'_>,
@@ -34,6 +33,7 @@ fn py_field_sweep(
     batches_per_run: &str,
     seed: &str,
     threads: Option<&str>,
+    engine: &str,
     localization_samples: &str,
     out: Option<PathBuf>,
     progress: Option<Bound<'_, PyAny>>,
@@ -56,9 +56,10 @@ fn py_field_sweep(
     };
     cfg.validate().map_err(crate::py_err)?;
     let threads = inputs::threads(threads)?;
+    let engine = inputs::engine(engine)?;
     let r = compute(py, progress, |ctl| {
         let opts = RunOptions {
-            engine: Engine::Auto,
+            engine,
             threads,
             progress: ctl.progress,
             stop: Some(ctl.stop.clone()),

@@ -13,6 +13,7 @@ use crate::kernel::arc::{arc_area, arc_time};
 use crate::kernel::cell::CellKernel;
 use crate::kernel::field::ArcEvent;
 use crate::kernel::flight::EventKind;
+use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
 
 /// A periodic array of equal disks of radius `radius` at the points i·e₁ + j·e₂,
@@ -67,7 +68,9 @@ impl DiskLattice {
             for di in -1..=1 {
                 let cx = self.a * (i + di as f64 + self.beta * j);
                 let cy = self.h * j;
-                let d = (x - cx).hypot(y - cy);
+                // The squared distance orders the nine points as the distance does (up to
+                // the rounding ties the documentation allows), without nine `hypot` calls.
+                let d = (x - cx) * (x - cx) + (y - cy) * (y - cy);
                 if d < best.0 {
                     best = (d, cx, cy);
                 }
@@ -90,6 +93,21 @@ pub struct ArcStep {
     pub chord: [f64; 2],
     /// ∫ x × dx over the flight, x measured from the flight's start: (φ − sin φ)/ω².
     pub area: f64,
+}
+
+impl ArcStep {
+    /// The event `kind` at the end of the chord `chord` of the arc of velocity `vel` in the field
+    /// `w` (both in the frame of a cell of orientation `sign`), described in world coordinates:
+    /// the one description of an event whichever engine found it.
+    pub fn new<T: Real>(kind: EventKind, vel: &Vec2<T>, chord: &Vec2<T>, sign: f64, w: &T) -> Self {
+        let time = arc_time(vel, chord, w).to_f64();
+        ArcStep {
+            kind,
+            time,
+            chord: [sign * chord.x.to_f64(), sign * chord.y.to_f64()],
+            area: arc_area(time, w.to_f64()),
+        }
+    }
 }
 
 impl<T: Real, K: CellKernel<T>> Lattice<T, K> {
@@ -122,16 +140,8 @@ impl<T: Real, K: CellKernel<T>> Lattice<T, K> {
                 s.flight.vel.to_f64()
             ))
         })?;
-        let time = arc_time(&s.flight.vel, &ev.chord, w).to_f64();
-        let sg = s.cell.sign();
-        let chord = [sg * ev.chord.x.to_f64(), sg * ev.chord.y.to_f64()];
-        let area = arc_area(time, w.to_f64());
+        let step = ArcStep::new(ev.kind, &s.flight.vel, &ev.chord, s.cell.sign(), w);
         self.apply_in_field(s, &ev);
-        Ok(ArcStep {
-            kind: ev.kind,
-            time,
-            chord,
-            area,
-        })
+        Ok(step)
     }
 }

@@ -6,7 +6,8 @@
 //! * where every orbit is localized the tensor is exactly 0 and every sampled point is localized;
 //! * the symmetric off-diagonal part and D_xx − D_yy are 0 by the lattice's symmetry, Kac's mean
 //!   free time of the diffusing part holds (4σ);
-//! * the same seed gives the same bits on one thread and on two.
+//! * the same seed gives the same bits on one thread and on two, on the scalar kernel and on
+//!   the SIMD arc engine.
 
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
 use lorentz_gas::estimators::field::{self, FieldConfig, FieldReport};
@@ -202,14 +203,28 @@ fn on_the_square_lattice_every_orbit_is_localized_once_2rho_reaches_1_minus_2r()
 }
 
 #[test]
-fn same_seed_same_bits_on_one_thread_and_two() {
+fn same_seed_same_bits_on_every_engine_and_thread_count() {
+    use lorentz_gas::engine::Engine;
+    use lorentz_gas::engine::options::RunOptions;
+    let on = |engine, threads| RunOptions {
+        engine,
+        threads,
+        ..RunOptions::default()
+    };
     for cfg in [
         config(0.15, "-3/4", 2_000_000),
         scene_config(square("1/3"), "3/2", 1_000_000),
     ] {
-        let one = field::run(&cfg, &threads(1)).unwrap();
-        let two = field::run(&cfg, &threads(2)).unwrap();
+        let one = field::run(&cfg, &on(Engine::Scalar, 1)).unwrap();
         let json = |r: &FieldReport| physics_only(serde_json::to_value(r).unwrap());
+        // The SIMD arc engine in blocks of 16, and of 6, 6 and 4 batches (three threads): every
+        // batch has the scalar kernel's bits, whichever lanes it flies in.
+        for threads in [1, 2, 3] {
+            let simd = field::run(&cfg, &on(Engine::Simd, threads)).unwrap();
+            assert_eq!(simd.meta.engine, "simd");
+            assert_eq!(json(&one), json(&simd), "{threads} threads");
+        }
+        let two = field::run(&cfg, &on(Engine::Scalar, 2)).unwrap();
         assert_eq!(json(&one), json(&two));
     }
 }

@@ -239,3 +239,54 @@ fn degenerate_decoded_starts_are_reproduced_on_every_available_path() {
         }
     }
 }
+
+#[test]
+fn a_recording_block_records_the_scalar_kernels_events_and_a_retired_lane_makes_none() {
+    use lorentz_gas::engine::arcs::{ArcBlock, ArcRecord};
+    let scene = TriangularScene::new(0.2).unwrap();
+    let lat = scene.lattice::<f64>(()).unwrap();
+    let b = 1.5;
+    // Fewer trajectories than lanes: the lanes beyond them make no event.
+    let states: Vec<_> = (0..)
+        .map(|l| scene.sample(&mut stream(77, l)))
+        .filter(|s| lat.next_event_in_field(s, &b).is_some())
+        .take(BLOCK - 3)
+        .collect();
+    for &p in &available_paths("recording arc block") {
+        let mut block = ArcBlock::new(p, lat.cell(), b, &states).unwrap();
+        let mut scalar_states = states.clone();
+        let mut ring = vec![ArcRecord::default(); 7];
+        let mut events = vec![0u32; states.len()];
+        for round in 0..30 {
+            if round == 10 {
+                block.retire(2);
+            }
+            assert_eq!(block.advance(&mut ring), None, "{p}");
+            for rec in &ring {
+                for l in BLOCK - 3..BLOCK {
+                    assert!(rec.event(l).is_none(), "{p}: lane {l} beyond the states");
+                }
+                for (l, s) in scalar_states.iter_mut().enumerate() {
+                    let Some((before, kind, chord)) = rec.event(l) else {
+                        assert!(l == 2 && round >= 10, "{p}: lane {l} made no event");
+                        continue;
+                    };
+                    assert!(!(l == 2 && round >= 10), "{p}: a retired lane moved");
+                    let ev = lat.next_event_in_field(s, &b).unwrap();
+                    assert_eq!(
+                        (&before, kind, &chord),
+                        (&*s, ev.kind, &ev.chord),
+                        "{p}: {l}"
+                    );
+                    lat.apply_in_field(s, &ev);
+                    events[l] += 1;
+                }
+            }
+        }
+        for (l, s) in scalar_states.iter().enumerate() {
+            assert_eq!(&block.state(l), s, "{p}: lane {l} after its events");
+        }
+        assert_eq!(events[2], 70, "{p}");
+        assert!(events.iter().enumerate().all(|(l, &n)| l == 2 || n == 210));
+    }
+}

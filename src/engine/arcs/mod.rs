@@ -20,15 +20,18 @@
 //! the block, and the lane is reported, as the scalar engine reports it.
 //! `tests/numerics/arc_engine.rs` checks every path against the scalar kernel.
 
+mod block;
 mod contacts;
 mod order;
+
+pub use block::{ArcBlock, ArcRecord};
 
 use contacts::{disk, edge};
 use order::{Cand, offer};
 
 use crate::Error;
 use crate::engine::SimdPath;
-use crate::engine::observe::{CROSSING_CODE, EventLanes, NO_LABEL};
+use crate::engine::observe::{CROSSING_CODE, EventLanes, NO_EVENT, NO_LABEL};
 use crate::engine::simd::BLOCK;
 use crate::kernel::cell::{ConvexCell, EdgeMap};
 use crate::numbers::lanes::{self, Lanes};
@@ -266,10 +269,15 @@ fn cross<V: Lanes>(
     out
 }
 
-/// One event for the `V::WIDTH` lanes at `o`: returns the lanes that lost their next event and
-/// those still running, as bits of the block.
+/// One event for the `V::WIDTH` lanes at `o`, recorded in `rec` if given: returns the lanes
+/// that lost their next event and those still running, as bits of the block.
 #[inline(always)]
-fn step<V: Lanes>(c: &Consts<V>, st: &mut ArcLanes, o: usize) -> (u64, u64) {
+fn step<V: Lanes>(
+    c: &Consts<V>,
+    st: &mut ArcLanes,
+    o: usize,
+    rec: Option<&mut ArcRecord>,
+) -> (u64, u64) {
     let z = V::splat(0.0);
     let count = V::load(&st.collisions[o..]);
     let live = count.lt(V::load(&st.quota[o..]));
@@ -317,6 +325,15 @@ fn step<V: Lanes>(c: &Consts<V>, st: &mut ArcLanes, o: usize) -> (u64, u64) {
     n.ed = V::select(hit, code, n.ed);
     n.ee = V::select(hit, V::splat(NO_LABEL), n.ee);
     let (nvx, nvy) = (n.v.0.mul(newton), n.v.1.mul(newton));
+    if let Some(r) = rec {
+        record(
+            r,
+            o,
+            &s,
+            V::select(go, code, V::splat(NO_EVENT)),
+            (best.x, best.y),
+        );
+    }
     V::select(go, n.p.0, s.p.0).store(&mut st.lanes.pos[0][o..]);
     V::select(go, n.p.1, s.p.1).store(&mut st.lanes.pos[1][o..]);
     V::select(go, nvx, vx).store(&mut st.lanes.vel[0][o..]);
@@ -333,19 +350,68 @@ fn step<V: Lanes>(c: &Consts<V>, st: &mut ArcLanes, o: usize) -> (u64, u64) {
     (V::bits(lost) << o, V::bits(live) << o)
 }
 
-/// Runs the block for at most `limit` steps, until every lane has its quota of collisions;
-/// returns a lane that lost its next event, if any (the block stops there).
+/// The state of the lanes at `o` before their event, the event's code ([`NO_EVENT`] in a lane
+/// that made none) and its chord.
 #[inline(always)]
-fn run<V: Lanes>(cell: &ConvexCell<f64>, w: f64, st: &mut ArcLanes, limit: u64) -> Option<usize> {
+fn record<V: Lanes>(r: &mut ArcRecord, o: usize, s: &Loaded<V>, code: V, (x, y): (V, V)) {
+    let b = &mut r.before;
+    s.p.0.store(&mut b.pos[0][o..]);
+    s.p.1.store(&mut b.pos[1][o..]);
+    s.v.0.store(&mut b.vel[0][o..]);
+    s.v.1.store(&mut b.vel[1][o..]);
+    s.ed.store(&mut b.excluded[0][o..]);
+    s.ee.store(&mut b.excluded[1][o..]);
+    for k in 0..3 {
+        s.cell[k].store(&mut b.cell[k][o..]);
+    }
+    code.store(&mut b.code[o..]);
+    x.store(&mut r.chord[0][o..]);
+    y.store(&mut r.chord[1][o..]);
+}
+
+/// Runs the block for at most `limit` steps, until every lane has its quota of collisions, or
+/// (a non-empty `ring`) for `ring.len()` steps, each recorded in its entry; returns a lane that
+/// lost its next event, if any (the block stops there).
+#[inline(always)]
+fn run<V: Lanes>(
+    cell: &ConvexCell<f64>,
+    w: f64,
+    st: &mut ArcLanes,
+    limit: u64,
+    ring: &mut [ArcRecord],
+) -> Option<usize> {
     let c = Consts::<V>::new(cell, w);
-    for _ in 0..limit {
+    if ring.is_empty() {
+        steps::<V, false>(&c, st, limit, ring)
+    } else {
+        steps::<V, true>(&c, st, ring.len() as u64, ring)
+    }
+}
+
+/// [`run`]'s steps, recorded (`RECORD`) or not (then `ring` is unused, and the step stores
+/// nothing else).
+#[inline(always)]
+fn steps<V: Lanes, const RECORD: bool>(
+    c: &Consts<V>,
+    st: &mut ArcLanes,
+    limit: u64,
+    ring: &mut [ArcRecord],
+) -> Option<usize> {
+    for k in 0..limit as usize {
         let (mut lost, mut live) = (0u64, 0u64);
         let mut o = 0;
         while o < BLOCK {
-            let (l, v) = step::<V>(&c, st, o);
+            let rec = if RECORD { ring.get_mut(k) } else { None };
+            let (l, v) = step::<V>(c, st, o, rec);
             lost |= l;
             live |= v;
             o += V::WIDTH;
+        }
+        if let Some(r) = ring.get_mut(k) {
+            r.before.live_bits = live & !lost;
+            if live == 0 {
+                r.before.code = [NO_EVENT; BLOCK];
+            }
         }
         if lost != 0 {
             return Some(lost.trailing_zeros() as usize);
@@ -359,7 +425,9 @@ fn run<V: Lanes>(cell: &ConvexCell<f64>, w: f64, st: &mut ArcLanes, limit: u64) 
 
 /// One `zmm` vector at a time: a step of the arc engine keeps far more values live than the
 /// straight engine's, and a pair of vectors spilled them (0.94 of the pair's time per
-/// collision, w = 0.1, B = 1, paired runs).
+/// collision, w = 0.1, B = 1, paired runs); two vectors interleaved candidate by candidate were
+/// slower still (77 against 56 ns per collision): the step is bound by the issue of its vector
+/// instructions, not by their latency (`docs/guide/field.md`, "Speed").
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 unsafe fn run_avx512(
@@ -367,14 +435,21 @@ unsafe fn run_avx512(
     w: f64,
     st: &mut ArcLanes,
     limit: u64,
+    ring: &mut [ArcRecord],
 ) -> Option<usize> {
-    run::<lanes::Avx512>(cell, w, st, limit)
+    run::<lanes::Avx512>(cell, w, st, limit, ring)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn run_avx2(cell: &ConvexCell<f64>, w: f64, st: &mut ArcLanes, limit: u64) -> Option<usize> {
-    run::<lanes::Pair<lanes::Avx2>>(cell, w, st, limit)
+unsafe fn run_avx2(
+    cell: &ConvexCell<f64>,
+    w: f64,
+    st: &mut ArcLanes,
+    limit: u64,
+    ring: &mut [ArcRecord],
+) -> Option<usize> {
+    run::<lanes::Pair<lanes::Avx2>>(cell, w, st, limit, ring)
 }
 
 /// The arc engine: advances up to [`BLOCK`] trajectories `states` of a lattice with cell `cell`
@@ -393,11 +468,35 @@ pub fn run_arc_block(
     quotas: &[u64],
     limit: u64,
 ) -> Result<Vec<u64>, Error> {
-    if states.len() > BLOCK || quotas.len() != states.len() {
+    if quotas.len() != states.len() {
         return Err(Error::Invalid(format!(
-            "an arc block runs 1 to {BLOCK} trajectories with one quota each (got {} states, {} quotas)",
+            "an arc block runs its trajectories with one quota each (got {} states, {} quotas)",
             states.len(),
             quotas.len()
+        )));
+    }
+    check(path, cell, w, states.len())?;
+    for &q in quotas {
+        super::check_trajectory_length(q)?;
+    }
+    let mut st = load(states, quotas);
+    let lost = dispatch(path, cell, w, &mut st, limit, &mut []);
+    unload(&st, states);
+    if let Some(l) = lost {
+        return Err(no_next_event(l, &states[l]));
+    }
+    Ok(st.crossings[..states.len()]
+        .iter()
+        .map(|&c| c as u64)
+        .collect())
+}
+
+/// Refuses a block the engine cannot run: more than [`BLOCK`] trajectories, a zero or
+/// non-finite field, a path this CPU lacks, a cell without disks.
+fn check(path: SimdPath, cell: &ConvexCell<f64>, w: f64, n: usize) -> Result<(), Error> {
+    if n > BLOCK {
+        return Err(Error::Invalid(format!(
+            "an arc block runs 1 to {BLOCK} trajectories (got {n})"
         )));
     }
     if !(w.is_finite() && w != 0.0) {
@@ -415,30 +514,35 @@ pub fn run_arc_block(
             "the arc engine needs a cell with disks".into(),
         ));
     }
-    for &q in quotas {
-        super::check_trajectory_length(q)?;
-    }
-    let mut st = load(states, quotas);
-    let lost = match path {
+    Ok(())
+}
+
+/// [`run`] on `path` (checked available by [`check`]).
+fn dispatch(
+    path: SimdPath,
+    cell: &ConvexCell<f64>,
+    w: f64,
+    st: &mut ArcLanes,
+    limit: u64,
+    ring: &mut [ArcRecord],
+) -> Option<usize> {
+    match path {
         #[cfg(target_arch = "x86_64")]
-        // SAFETY: `path.available()` checked the CPU feature above.
-        SimdPath::Avx512 => unsafe { run_avx512(cell, w, &mut st, limit) },
+        // SAFETY: `check` made sure that this CPU has the feature.
+        SimdPath::Avx512 => unsafe { run_avx512(cell, w, st, limit, ring) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        SimdPath::Avx2 => unsafe { run_avx2(cell, w, &mut st, limit) },
-        _ => run::<lanes::Portable>(cell, w, &mut st, limit),
-    };
-    unload(&st, states);
-    match lost {
-        Some(l) => Err(Error::Failed(format!(
-            "trajectory {l} of the arc block has no next event (a pinned or creeping orbit, or velocity {:?})",
-            [states[l].flight.vel.x, states[l].flight.vel.y]
-        ))),
-        None => Ok(st.crossings[..states.len()]
-            .iter()
-            .map(|&c| c as u64)
-            .collect()),
+        SimdPath::Avx2 => unsafe { run_avx2(cell, w, st, limit, ring) },
+        _ => run::<lanes::Portable>(cell, w, st, limit, ring),
     }
+}
+
+/// The error of a trajectory `l` that has no next event.
+fn no_next_event(l: usize, s: &LatticeState<f64>) -> Error {
+    Error::Failed(format!(
+        "trajectory {l} of the arc block has no next event (a pinned or creeping orbit, or velocity {:?})",
+        [s.flight.vel.x, s.flight.vel.y]
+    ))
 }
 
 /// The lanes of `states` (lanes beyond them have quota 0: never live).

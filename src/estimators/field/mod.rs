@@ -29,8 +29,9 @@ use serde::{Deserialize, Serialize};
 use super::diffusion::scene::{SceneDiffusionConfig, time_unit};
 use super::diffusion::{MsdGrid, Window};
 use crate::Error;
+use crate::engine::Resolved;
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{par_batches, par_batches_watched, share};
 use crate::numbers::exact::{nearest_f64, parse_exact};
 use crate::numbers::precision::Precision;
@@ -42,6 +43,7 @@ use crate::statistics::{linear_fit, mean_se};
 use crate::theory::magnetic::FieldGeometry;
 
 pub mod grid;
+mod lanes;
 pub mod lyapunov;
 pub mod sweep;
 mod track;
@@ -291,7 +293,7 @@ pub struct FieldReport {
 pub fn run(cfg: &FieldConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
     cfg.validate()?;
     opts.validate()?;
-    opts.refuse_unused("diffusion in a field", &[])?;
+    opts.refuse_unused("diffusion in a field", &[RunOption::Engine])?;
     let scene = cfg.scene.resolve()?;
     crate::with_scene!(&scene, |s| run_on(s, cfg, opts))
 }
@@ -301,16 +303,25 @@ fn run_on<S: Scene>(scene: &S, cfg: &FieldConfig, opts: &RunOptions) -> Result<F
     let geometry = geometry_of(scene, cfg.field_value()?)?;
     let started = Instant::now();
     let (localized, samples) = classify(cfg, scene, &geometry, opts)?;
+    let f64_run = cfg.statistics.precision == Precision::F64;
+    let engine = opts.engine.resolve(f64_run)?;
     let batches = if geometry.all_localized() {
         Vec::new()
     } else {
-        match cfg.statistics.precision {
-            Precision::F64 => batches::<f64, S>(cfg, scene, &geometry, (), opts)?,
-            Precision::Bits(bits) => batches::<rug::Float, S>(cfg, scene, &geometry, bits, opts)?,
+        match (cfg.statistics.precision, engine) {
+            (Precision::F64, Resolved::Simd(path)) => {
+                with_setup::<f64, S, _>(cfg, scene, &geometry, (), opts, |su, keys, d| {
+                    lanes::batches(su, path, keys, d, opts.threads)
+                })?
+            }
+            (Precision::F64, _) => scalar_batches::<f64, S>(cfg, scene, &geometry, (), opts)?,
+            (Precision::Bits(bits), _) => {
+                scalar_batches::<rug::Float, S>(cfg, scene, &geometry, bits, opts)?
+            }
         }
     };
     let tau = time_unit(scene);
-    summarise(
+    let mut report = summarise(
         cfg,
         (scene, &geometry),
         tau,
@@ -318,7 +329,9 @@ fn run_on<S: Scene>(scene: &S, cfg: &FieldConfig, opts: &RunOptions) -> Result<F
         (localized, samples),
         started,
         opts,
-    )
+    )?;
+    report.meta = report.meta.with_engine(engine);
+    Ok(report)
 }
 
 /// The exact geometry of `scene` in the field `b`.
@@ -349,14 +362,17 @@ fn classify<S: Scene>(
     Ok((counts.iter().sum(), n))
 }
 
-/// Every batch at number type `T`.
-fn batches<T: Real, S: Scene>(
+/// Calls `f` with the setup of the batches at number type `T`, every batch's stream and their
+/// duration: every batch flies the same time, its share of the collisions at Kac's mean free
+/// time.
+fn with_setup<T: Real, S: Scene, R>(
     cfg: &FieldConfig,
     scene: &S,
     geometry: &FieldGeometry,
     ctx: T::Ctx,
     opts: &RunOptions,
-) -> Result<Vec<Batch>, Error> {
+    f: impl FnOnce(&Setup<'_, T, S>, &[StreamKey], f64) -> Result<R, Error>,
+) -> Result<R, Error> {
     let lattice = scene.lattice::<T>(ctx)?;
     let exact = parse_exact(&cfg.field)?;
     let field = T::from_rational(ctx, &exact);
@@ -373,19 +389,27 @@ fn batches<T: Real, S: Scene>(
         stop: opts.stop.as_ref(),
         progress: opts.progress,
     };
-    // Every batch flies the same time, its share of the collisions at Kac's mean free time.
     let duration = (cfg.statistics.collisions / cfg.statistics.batches as u64) as f64
         * geometry.diffusing_mean_free_time();
-    par_batches_watched(
-        opts.threads,
-        cfg.statistics.batches,
-        opts.stop.as_ref(),
-        |i| {
-            let key =
-                StreamKey::new(cfg.statistics.seed, Purpose::Trajectory, i as u64).in_run(cfg.run);
-            track::batch(&setup, key, duration)
-        },
-    )
+    let keys: Vec<StreamKey> = (0..cfg.statistics.batches)
+        .map(|i| StreamKey::new(cfg.statistics.seed, Purpose::Trajectory, i as u64).in_run(cfg.run))
+        .collect();
+    f(&setup, &keys, duration)
+}
+
+/// Every batch at number type `T` on the scalar kernel, one per task.
+fn scalar_batches<T: Real, S: Scene>(
+    cfg: &FieldConfig,
+    scene: &S,
+    geometry: &FieldGeometry,
+    ctx: T::Ctx,
+    opts: &RunOptions,
+) -> Result<Vec<Batch>, Error> {
+    with_setup::<T, S, _>(cfg, scene, geometry, ctx, opts, |setup, keys, duration| {
+        par_batches_watched(opts.threads, keys.len() as u32, opts.stop.as_ref(), |i| {
+            track::batch(setup, keys[i as usize], duration)
+        })
+    })
 }
 
 /// One batch's tensor over `win`: [D_xx, D_yy, D_xy (Hall), D_xy (symmetric)].

@@ -19,7 +19,7 @@ pub use super::grid::{SweepGrid, exact_grid, fields_of, grid_of, scene_grid};
 use super::{FieldConfig, FieldReport};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
+use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::resume::{difference, seal, unseal};
 use crate::scenes::spec::SceneSpec;
 use crate::statistics::comparison::{self, Comparison, largest_of_bound};
@@ -252,7 +252,7 @@ pub fn run(cfg: &FieldSweepConfig, opts: &RunOptions) -> Result<FieldSweepReport
         resume: None,
         ..opts.clone()
     };
-    point_opts.refuse_unused("a field sweep", &[])?;
+    point_opts.refuse_unused("a field sweep", &[RunOption::Engine])?;
     if let Some(d) = dir {
         crate::files::create_dir_all(d)?;
         crate::files::create_subdir(d.join("field-points"))?;

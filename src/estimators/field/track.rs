@@ -14,7 +14,8 @@ use crate::kernel::flight::EventKind;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
 use crate::scenes::Scene;
-use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::scenes::lattice::{Basis64, Lattice, LatticeState, Unwrapped};
+use crate::scenes::magnetic::ArcStep;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::theory::magnetic::{FieldGeometry, Orbit};
 
@@ -110,9 +111,94 @@ pub(super) fn start<S: Scene>(
     geometry.diffusing_start(scene, &mut key.rng())
 }
 
-/// Runs batch `index` for the flight time `duration` (the same for every batch, so that the
-/// collision rate averaged over batches is Kac's even where the diffusing part holds regular
-/// islands: `proofs-notes/magnetic-transport.md`).
+/// One trajectory's observer: the samples of its unwrapped position and cumulative Lévy area on
+/// the time grid, fed event by event until the flight time `duration` (whichever engine finds
+/// the events: the same operations on the same event give the same bits).
+pub(super) struct Track {
+    sums: LagSums,
+    origin: Unwrapped,
+    basis: Basis64,
+    grid: f64,
+    w: f64,
+    duration: f64,
+    t: f64,
+    area: f64,
+    next: u64,
+    /// Collisions within the duration.
+    pub(super) done: u64,
+}
+
+impl Track {
+    /// The observer of a trajectory that starts at `origin`.
+    pub(super) fn new<T: Real, S: Scene>(
+        su: &Setup<'_, T, S>,
+        origin: Unwrapped,
+        duration: f64,
+    ) -> Self {
+        let mut sums = LagSums::new(su.steps.to_vec());
+        sums.push(0.0, 0.0, 0.0);
+        Track {
+            sums,
+            origin,
+            basis: su.lattice.basis_f64(),
+            grid: su.grid,
+            w: su.field.1,
+            duration,
+            t: 0.0,
+            area: 0.0,
+            next: 1,
+            done: 0,
+        }
+    }
+
+    /// `true` while the trajectory has not flown its duration.
+    pub(super) fn running(&self) -> bool {
+        self.t < self.duration
+    }
+
+    /// The event `step` of the flight that starts at `start` (unwrapped) with the world velocity
+    /// `v`; returns `true` where it is a collision within the duration.
+    pub(super) fn event(&mut self, start: &Unwrapped, v: &Vec2<f64>, step: &ArcStep) -> bool {
+        let r = start.displacement_from(&self.origin, &self.basis);
+        let (t, w) = (self.t, self.w);
+        let end = t + step.time;
+        while self.next as f64 * self.grid <= end.min(self.duration) {
+            let tau = self.next as f64 * self.grid - t;
+            let x = chord_at(v, &tau, &w);
+            let c = self.area + (r[0] * x.y - r[1] * x.x) + arc_area(tau, w);
+            self.sums.push(r[0] + x.x, r[1] + x.y, c);
+            self.next += 1;
+        }
+        self.area += (r[0] * step.chord[1] - r[1] * step.chord[0]) + step.area;
+        self.t = end;
+        let counted = matches!(step.kind, EventKind::Collision(_)) && end <= self.duration;
+        self.done += u64::from(counted);
+        counted
+    }
+
+    /// What the batch measured.
+    pub(super) fn finish(self, rejected: u64) -> Batch {
+        Batch {
+            means: self.sums.means(),
+            collisions: self.done,
+            time: self.duration,
+            rejected,
+        }
+    }
+}
+
+/// The world velocity of a state (its cell frame turned by the cell's orientation).
+pub(super) fn world_velocity<T: Real>(s: &LatticeState<T>) -> Vec2<f64> {
+    let sg = s.cell.sign();
+    Vec2::new(sg * s.flight.vel.x.to_f64(), sg * s.flight.vel.y.to_f64())
+}
+
+/// Collisions between two looks at the progress and the stop flag.
+pub(super) const LOOK_EVERY: u64 = 1 << 16;
+
+/// Runs batch `index` on the scalar kernel for the flight time `duration` (the same for every
+/// batch, so that the collision rate averaged over batches is Kac's even where the diffusing
+/// part holds regular islands: `proofs-notes/magnetic-transport.md`).
 pub(super) fn batch<T: Real, S: Scene>(
     su: &Setup<'_, T, S>,
     key: StreamKey,
@@ -121,45 +207,21 @@ pub(super) fn batch<T: Real, S: Scene>(
     let (s64, rejected) = start(su.scene, su.geometry, key)?;
     let mut s = LatticeState::<T>::convert_from_f64(su.ctx, &s64);
     s.flight.normalise_speed();
-    let (field, w) = su.field;
     let lat = su.lattice;
-    let basis = lat.basis_f64();
-    let origin = lat.unwrapped(&s, 0.0);
-    let mut sums = LagSums::new(su.steps.to_vec());
-    sums.push(0.0, 0.0, 0.0);
-    let (mut t, mut area, mut next, mut done) = (0.0f64, 0.0f64, 1u64, 0u64);
-    while t < duration {
-        let r = lat.unwrapped(&s, 0.0).displacement_from(&origin, &basis);
-        let sg = s.cell.sign();
-        let v = Vec2::new(sg * s.flight.vel.x.to_f64(), sg * s.flight.vel.y.to_f64());
-        let step = lat.step_in_field(&mut s, field)?;
-        let end = t + step.time;
-        while next as f64 * su.grid <= end.min(duration) {
-            let tau = next as f64 * su.grid - t;
-            let x = chord_at(&v, &tau, &w);
-            let c = area + (r[0] * x.y - r[1] * x.x) + arc_area(tau, w);
-            sums.push(r[0] + x.x, r[1] + x.y, c);
-            next += 1;
-        }
-        area += (r[0] * step.chord[1] - r[1] * step.chord[0]) + step.area;
-        t = end;
-        if let (EventKind::Collision(_), true) = (step.kind, end <= duration) {
-            done += 1;
-            if done % (1 << 16) == 0 {
-                (su.progress)(1 << 16);
-                if let Some(stop) = su.stop {
-                    stop.check()?;
-                }
+    let mut track = Track::new(su, lat.unwrapped(&s, 0.0), duration);
+    while track.running() {
+        let here = lat.unwrapped(&s, 0.0);
+        let v = world_velocity(&s);
+        let step = lat.step_in_field(&mut s, su.field.0)?;
+        if track.event(&here, &v, &step) && track.done.is_multiple_of(LOOK_EVERY) {
+            (su.progress)(LOOK_EVERY);
+            if let Some(stop) = su.stop {
+                stop.check()?;
             }
         }
     }
-    (su.progress)(done % (1 << 16));
-    Ok(Batch {
-        means: sums.means(),
-        collisions: done,
-        time: duration,
-        rejected,
-    })
+    (su.progress)(track.done % LOOK_EVERY);
+    Ok(track.finish(rejected))
 }
 
 /// The grid of a run: spacing g·τ (g the greatest common divisor of the fit lags in units of τ) and

@@ -1,0 +1,132 @@
+//! The batches of a run in a field on the SIMD arc engine ([`crate::engine::arcs::ArcBlock`]):
+//! up to [`BLOCK`] batches fly in the lanes of one block, and every event a lane records is fed
+//! to that batch's [`Track`] with the very operations of the scalar driver ([`track::batch`]),
+//! so each batch has the scalar kernel's bits (`tests/analyses/field.rs`).
+//!
+//! A lane runs on a few events past its batch's duration before it is retired; those events are
+//! not observed, and a lane that loses its next event there (a measure-zero creeping slide) is
+//! retired too, where the scalar driver would never have flown it.
+
+use super::track::{self, LOOK_EVERY, Setup, Track, world_velocity};
+use crate::Error;
+use crate::engine::SimdPath;
+use crate::engine::arcs::{ArcBlock, ArcRecord};
+use crate::engine::parallel::par_batches_watched;
+use crate::engine::simd::BLOCK;
+use crate::scenes::Scene;
+use crate::scenes::lattice::LatticeState;
+use crate::scenes::magnetic::ArcStep;
+use crate::scenes::sampling::StreamKey;
+
+use super::track::Batch;
+
+/// Events per lane between two looks at the recorded events.
+const RING: usize = 64;
+
+/// Every batch (`keys[i]` the stream of batch i) on the SIMD path `path`, in blocks of at most
+/// [`BLOCK`] batches spread over `threads` threads; the batches in their order.
+///
+/// # Errors
+/// A start that cannot be drawn, an orbit of a batch without a next event within its duration,
+/// or an interruption.
+pub(super) fn batches<S: Scene>(
+    su: &Setup<'_, f64, S>,
+    path: SimdPath,
+    keys: &[StreamKey],
+    duration: f64,
+    threads: usize,
+) -> Result<Vec<Batch>, Error> {
+    let per = keys.len().div_ceil(threads).clamp(1, BLOCK);
+    let blocks = keys.len().div_ceil(per) as u32;
+    let done = par_batches_watched(threads, blocks, su.stop, |b| {
+        let from = b as usize * per;
+        let to = (from + per).min(keys.len());
+        block(su, path, &keys[from..to], duration)
+    })?;
+    Ok(done.into_iter().flatten().collect())
+}
+
+/// The batches of `keys` in the lanes of one block.
+fn block<S: Scene>(
+    su: &Setup<'_, f64, S>,
+    path: SimdPath,
+    keys: &[StreamKey],
+    duration: f64,
+) -> Result<Vec<Batch>, Error> {
+    let (mut states, mut rejected) = (Vec::new(), Vec::new());
+    for &key in keys {
+        let (mut s, r) = track::start(su.scene, su.geometry, key)?;
+        s.flight.normalise_speed();
+        states.push(s);
+        rejected.push(r);
+    }
+    let lat = su.lattice;
+    let mut tracks: Vec<Track> = states
+        .iter()
+        .map(|s| Track::new(su, lat.unwrapped(s, 0.0), duration))
+        .collect();
+    let mut lanes = ArcBlock::new(path, lat.cell(), *su.field.0, &states)?;
+    let mut ring = vec![ArcRecord::default(); RING];
+    let mut unreported = 0;
+    while tracks.iter().any(Track::running) {
+        let lost = lanes.advance(&mut ring);
+        unreported += observe(su, &ring, &mut tracks, &mut lanes);
+        if let Some(l) = lost {
+            if tracks[l].running() {
+                return Err(no_next_event(&lanes.state(l)));
+            }
+            lanes.retire(l);
+        }
+        if unreported >= LOOK_EVERY {
+            (su.progress)(unreported);
+            unreported = 0;
+            if let Some(stop) = su.stop {
+                stop.check()?;
+            }
+        }
+    }
+    (su.progress)(unreported);
+    Ok(tracks
+        .into_iter()
+        .zip(rejected)
+        .map(|(t, r)| t.finish(r))
+        .collect())
+}
+
+/// Feeds the recorded events of every lane still running to its track, in order, and retires
+/// the lanes whose batch has flown its duration; returns the collisions counted.
+fn observe<S: Scene>(
+    su: &Setup<'_, f64, S>,
+    ring: &[ArcRecord],
+    tracks: &mut [Track],
+    lanes: &mut ArcBlock,
+) -> u64 {
+    let (lat, w) = (su.lattice, su.field.0);
+    let mut counted = 0;
+    for rec in ring {
+        for (l, t) in tracks.iter_mut().enumerate() {
+            if !t.running() {
+                continue;
+            }
+            let Some((before, kind, chord)) = rec.event(l) else {
+                continue;
+            };
+            let step = ArcStep::new(kind, &before.flight.vel, &chord, before.cell.sign(), w);
+            let here = lat.unwrapped(&before, 0.0);
+            counted += u64::from(t.event(&here, &world_velocity(&before), &step));
+            if !t.running() {
+                lanes.retire(l);
+            }
+        }
+    }
+    counted
+}
+
+/// The error of an orbit that has no next event within its batch's duration (as the scalar
+/// kernel's [`crate::scenes::lattice::Lattice::step_in_field`] reports it).
+fn no_next_event(s: &LatticeState<f64>) -> Error {
+    Error::Failed(format!(
+        "an orbit in the field has no next event (a pinned orbit, or velocity {:?})",
+        [s.flight.vel.x, s.flight.vel.y]
+    ))
+}
