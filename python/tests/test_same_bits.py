@@ -50,6 +50,18 @@ def test_a_field_run_has_the_command_lines_bits(cli_json):
     assert py.field == -1.5 and py.diffusing["D_xy"] == cl["diffusing"]["D_xy"]
 
 
+def test_a_field_runs_bits_do_not_depend_on_the_engine_or_threads(cli_json):
+    # Python on the scalar arc kernel against the command line on the SIMD arc engine (three
+    # threads: blocks of 2, 2 and 1 batches).
+    py = lg.diffusion(w="0.3", field="7/4", collisions=1e6, batches=5, seed=3, threads=1,
+                      engine="scalar", localization_samples=20000)
+    cl = cli_json("diffusion", "--w", "0.3", "--field", "7/4", "--collisions", "1e6",
+                  "--batches", "5", "--seed", "3", "--threads", "3", "--engine", "simd",
+                  "--localization-samples", "20000")
+    same(py.to_dict(), cl)
+    assert py.to_dict()["meta"]["engine"] == "scalar" and cl["meta"]["engine"] == "simd"
+
+
 def test_the_square_lattice_in_a_field_has_the_command_lines_bits(cli_json):
     py = lg.diffusion(scene="square", radius="1/4", field="1", collisions=1e6, batches=4,
                       localization_samples=20000)
