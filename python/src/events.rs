@@ -184,9 +184,8 @@ fn advance<S: Scene>(
         let ev = lat
             .next_event(s)
             .ok_or_else(|| Error::Failed("trajectory lost its next event".into()))?;
-        if let (Some(f), EventKind::Crossing(k)) = (flights, ev.kind)
-            && k == f.trigger(&s.flight.vel)
-            && let Some(landing) = f.land(s)?
+        if let Some(f) = flights
+            && let Some(landing) = f.landing_at(s, ev.kind)?
         {
             s.cell = landing.cell;
             s.flight = landing.flight;

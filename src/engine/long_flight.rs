@@ -10,7 +10,7 @@ use super::drive_with;
 use super::observe::{EventLanes, Observer};
 use crate::Error;
 use crate::kernel::cell::CellKernel;
-use crate::kernel::flight::{Event, EventKind};
+use crate::kernel::flight::Event;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Lattice, LatticeState};
 use crate::scenes::long_flight::LongFlights;
@@ -118,13 +118,7 @@ pub fn drive_jumps<K: CellKernel<f64>, O: Observer<1>>(
     progress: &dyn Fn(u64),
 ) -> Result<(), Error> {
     drive_with(lat, s, collisions, obs, progress, |s, ev, obs| {
-        let EventKind::Crossing(k) = ev.kind else {
-            return Ok(false);
-        };
-        if k != flights.trigger(&s.flight.vel) {
-            return Ok(false);
-        }
-        let Some(landing) = flights.land(s)? else {
+        let Some(landing) = flights.landing_at(s, ev.kind)? else {
             return Ok(false);
         };
         let seen = Event {

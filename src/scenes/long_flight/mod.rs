@@ -10,7 +10,7 @@ pub(crate) use square::{Frame, Scale, widening, window};
 pub use square::{Jump, MAX_RADIUS, MIN_RADIUS, jump, major_edge};
 
 use crate::Error;
-use crate::kernel::flight::Flight;
+use crate::kernel::flight::{EventKind, Flight};
 use crate::scenes::lattice::{CellIndex, LatticeState};
 
 /// The long flights a scene admits: the lattice arithmetic of its search.
@@ -45,6 +45,23 @@ impl LongFlights {
         match self {
             LongFlights::Square { .. } => major_edge(vel),
             LongFlights::Triangular(_) => triangular::trigger(vel),
+        }
+    }
+
+    /// The landing of the state `s` whose next event is `kind`, if that event hands the flight to
+    /// the search (the crossing of its [`LongFlights::trigger`] edge) and the search lands
+    /// ([`LongFlights::land`]): the one rule of every engine that jumps.
+    ///
+    /// # Errors
+    /// As [`LongFlights::land`].
+    pub fn landing_at(
+        &self,
+        s: &LatticeState<f64>,
+        kind: EventKind,
+    ) -> Result<Option<Landing>, Error> {
+        match kind {
+            EventKind::Crossing(k) if k == self.trigger(&s.flight.vel) => self.land(s),
+            _ => Ok(None),
         }
     }
 
