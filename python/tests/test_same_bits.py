@@ -125,12 +125,13 @@ def test_a_square_lattice_sweep_over_b_has_the_command_lines_bits(cli_json, tmp_
 
 
 def test_a_sweep_in_a_field_has_the_command_lines_bits(cli_json, tmp_path):
+    # Python on the scalar arc kernel, the command line on the SIMD arc engine.
     py = lg.sweep(w="0.1", fields=["-1", "1/2"], collisions_per_run=1e6, batches_per_run=4,
-                  seed=5, localization_samples=1000)
+                  seed=5, localization_samples=1000, engine="scalar")
     cl = cli_json(
         "sweep", "--w", "0.1", "--fields=-1,1/2", "--collisions-per-run", "1e6",
         "--batches-per-run", "4", "--seed", "5", "--localization-samples", "1000",
-        "--out", str(tmp_path / "sweep"),
+        "--out", str(tmp_path / "sweep"), "--engine", "simd",
     )
     same(py.to_dict(), cl)
     assert list(py.field) == [-1.0, 0.5] and list(py.D_xx) == [r["D_xx"] for r in cl["rows"]]
