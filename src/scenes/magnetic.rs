@@ -134,14 +134,19 @@ impl<T: Real, K: CellKernel<T>> Lattice<T, K> {
     /// [`Error::Failed`] if the orbit has no next event (a pinned orbit: callers start only
     /// orbits that collide, `crate::theory::magnetic::classify`).
     pub fn step_in_field(&self, s: &mut LatticeState<T>, w: &T) -> Result<ArcStep, Error> {
-        let ev = self.next_event_in_field(s, w).ok_or_else(|| {
-            Error::Failed(format!(
-                "an orbit in the field has no next event (a pinned orbit, or velocity {:?})",
-                s.flight.vel.to_f64()
-            ))
-        })?;
+        let ev = self
+            .next_event_in_field(s, w)
+            .ok_or_else(|| no_next_event(s.flight.vel.to_f64()))?;
         let step = ArcStep::new(ev.kind, &s.flight.vel, &ev.chord, s.cell.sign(), w);
         self.apply_in_field(s, &ev);
         Ok(step)
     }
+}
+
+/// The error of an orbit in a field that has no next event, with its velocity `vel`: the one
+/// message whichever engine flew it.
+pub fn no_next_event(vel: [f64; 2]) -> Error {
+    Error::Failed(format!(
+        "an orbit in the field has no next event (a pinned orbit, or velocity {vel:?})"
+    ))
 }

@@ -7,7 +7,7 @@
 use super::{ArcLanes, check, dispatch, load};
 use crate::Error;
 use crate::engine::SimdPath;
-use crate::engine::observe::{CROSSING_CODE, EventLanes};
+use crate::engine::observe::EventLanes;
 use crate::engine::simd::BLOCK;
 use crate::kernel::cell::ConvexCell;
 use crate::kernel::flight::EventKind;
@@ -37,17 +37,11 @@ impl Default for ArcRecord {
 impl ArcRecord {
     /// Lane `l`'s event, if it made one: its state before, what ended the flight and the chord.
     pub fn event(&self, l: usize) -> Option<(LatticeState<f64>, EventKind, Vec2<f64>)> {
-        if self.before.live_bits >> l & 1 == 0 {
-            return None;
-        }
-        let code = self.before.code[l];
-        let kind = if code < CROSSING_CODE {
-            EventKind::Collision(code as u8)
-        } else {
-            EventKind::Crossing((code - CROSSING_CODE) as u8)
-        };
-        let chord = Vec2::new(self.chord[0][l], self.chord[1][l]);
-        Some((self.before.state(l), kind, chord))
+        let b = &self.before;
+        b.is_live(l).then(|| {
+            let chord = Vec2::new(self.chord[0][l], self.chord[1][l]);
+            (b.state(l), b.event(l).kind, chord)
+        })
     }
 }
 

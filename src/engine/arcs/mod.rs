@@ -409,9 +409,6 @@ fn steps<V: Lanes, const RECORD: bool>(
         }
         if let Some(r) = ring.get_mut(k) {
             r.before.live_bits = live & !lost;
-            if live == 0 {
-                r.before.code = [NO_EVENT; BLOCK];
-            }
         }
         if lost != 0 {
             return Some(lost.trailing_zeros() as usize);

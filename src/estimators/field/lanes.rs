@@ -7,18 +7,15 @@
 //! not observed, and a lane that loses its next event there (a measure-zero creeping slide) is
 //! retired too, where the scalar driver would never have flown it.
 
-use super::track::{self, LOOK_EVERY, Setup, Track, world_velocity};
+use super::track::{self, Batch, LOOK_EVERY, Setup, Track, world_velocity};
 use crate::Error;
 use crate::engine::SimdPath;
 use crate::engine::arcs::{ArcBlock, ArcRecord};
 use crate::engine::parallel::par_batches_watched;
 use crate::engine::simd::BLOCK;
 use crate::scenes::Scene;
-use crate::scenes::lattice::LatticeState;
-use crate::scenes::magnetic::ArcStep;
+use crate::scenes::magnetic::{ArcStep, no_next_event};
 use crate::scenes::sampling::StreamKey;
-
-use super::track::Batch;
 
 /// Events per lane between two looks at the recorded events.
 const RING: usize = 64;
@@ -73,7 +70,7 @@ fn block<S: Scene>(
         unreported += observe(su, &ring, &mut tracks, &mut lanes);
         if let Some(l) = lost {
             if tracks[l].running() {
-                return Err(no_next_event(&lanes.state(l)));
+                return Err(no_next_event(lanes.state(l).flight.vel.to_f64()));
             }
             lanes.retire(l);
         }
@@ -120,13 +117,4 @@ fn observe<S: Scene>(
         }
     }
     counted
-}
-
-/// The error of an orbit that has no next event within its batch's duration (as the scalar
-/// kernel's [`crate::scenes::lattice::Lattice::step_in_field`] reports it).
-fn no_next_event(s: &LatticeState<f64>) -> Error {
-    Error::Failed(format!(
-        "an orbit in the field has no next event (a pinned orbit, or velocity {:?})",
-        [s.flight.vel.x, s.flight.vel.y]
-    ))
 }
