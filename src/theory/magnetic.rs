@@ -50,6 +50,9 @@ pub struct FieldGeometry {
     lattice: DiskLattice,
     field: f64,
     rho: f64,
+    /// A, the distance between nearest lattice points (found once: every classification
+    /// needs it).
+    nearest: f64,
 }
 
 /// Absolute accuracy of the exact shares (quadrature tolerance per lattice cell area).
@@ -79,6 +82,7 @@ impl FieldGeometry {
             lattice,
             field,
             rho: 1.0 / field.abs(),
+            nearest: lattice.nearest_distance(),
         })
     }
 
@@ -95,13 +99,13 @@ impl FieldGeometry {
     /// `true` if every orbit is localized: 2ρ ≤ A − 2r, so that every cyclotron circle that meets a
     /// disk stays within A − r of its centre (it skips round it) and every other one is pinned.
     pub fn all_localized(&self) -> bool {
-        2.0 * self.rho <= self.lattice.nearest_distance() - 2.0 * self.lattice.radius
+        2.0 * self.rho <= self.nearest - 2.0 * self.lattice.radius
     }
 
     /// The range (D_lo, D_hi) of centre distances of the skipping orbits (empty if D_hi ≤ D_lo).
     pub fn skipping_range(&self) -> (f64, f64) {
         let (rho, r) = (self.rho, self.lattice.radius);
-        let reach = self.lattice.nearest_distance() - r - rho;
+        let reach = self.nearest - r - rho;
         ((rho - r).abs(), (rho + r).min(reach))
     }
 
@@ -109,9 +113,11 @@ impl FieldGeometry {
     pub fn classify(&self, x: f64, y: f64, vx: f64, vy: f64) -> Orbit {
         let (zx, zy) = (x - vy / self.field, y + vx / self.field);
         let (cx, cy) = self.lattice.nearest_point(zx, zy);
-        let d = (zx - cx).hypot(zy - cy);
+        // Squared distances (lo ≥ 0, and an empty range has hi ≤ lo) order as the distances do,
+        // up to rounding ties, without a `hypot` per point.
+        let d2 = (zx - cx) * (zx - cx) + (zy - cy) * (zy - cy);
         let (lo, hi) = self.skipping_range();
-        if d > lo && d < hi {
+        if hi > lo && d2 > lo * lo && d2 < hi * hi {
             return Orbit::Skipping;
         }
         if self.circle_meets_a_disk(zx, zy) {
@@ -163,8 +169,9 @@ impl FieldGeometry {
                 let mut i = first;
                 while i <= last {
                     let cx = shift + l.a * i;
-                    let dist = (zx - cx).hypot(dy);
-                    if dist <= outer && dist >= inner {
+                    // As squares (inner < 0 where ρ < r: every distance is beyond it).
+                    let dist2 = (zx - cx) * (zx - cx) + dy * dy;
+                    if dist2 <= outer * outer && (inner <= 0.0 || dist2 >= inner * inner) {
                         return true;
                     }
                     i += 1.0;
