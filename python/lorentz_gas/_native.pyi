@@ -107,7 +107,7 @@ class EventStream:
 def bench(
     w: str, collisions_per_thread: str, repetitions: str, precision: str, engine: str,
     observe: str, seed: str, threads: str, field: Optional[str], straight_beside: bool,
-    progress: Progress,
+    oracle_floor: bool, progress: Progress,
 ) -> str: ...
 def bench_long_flights(
     scene: str, values: List[str], collisions_per_radius: str, walk_collisions: str, repetitions: str,

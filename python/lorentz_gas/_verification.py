@@ -375,6 +375,7 @@ def bench(
     threads: Count = 1,
     field: Optional[Exact] = None,
     straight_beside: bool = False,
+    oracle_floor: bool = False,
     long_flights: Optional[Any] = None,
     scene: str = "square",
     collisions_per_radius: Count = 1e6,
@@ -411,6 +412,11 @@ def bench(
         A magnetic field B (like ``diffusion``'s): time the f64 arc kernel, bare.
     straight_beside : bool
         With ``field``: time straight flights too, each repetition right after the arcs'.
+    oracle_floor : bool
+        With ``field`` on the SIMD engine: also time the arc engine fed each event's winner from
+        a tape of its own run (only that disk and edge computed, the same bits) beside the full
+        engine on the same tape, one thread: the speed no choice of the next event in advance
+        can beat with this kernel's arithmetic, on this CPU (``oracle`` in the result).
     long_flights : list of exact numbers, optional
         Radii of the square scene (each 2**-32 <= r <= 1/4; the first is the reference), or with
         ``scene="triangular"`` gaps w of the triangular one (w_inf < w <= 2**20 - 2): time a
@@ -433,7 +439,11 @@ def bench(
     BenchResult
         ``collisions_per_second`` (all threads) and ``collisions_per_second_per_thread``
         (collisions/s), ``ns_per_collision`` (ns per collision per thread), ``samples`` (each
-        repetition's collisions/s), ``divider_bound`` (SIMD engine), ``meta``. With
+        repetition's collisions/s), ``divider_bound`` (SIMD engine), ``meta``; with
+        ``straight_beside``: ``straight``; with ``oracle_floor``: ``oracle``, a dict (``steps``,
+        ``collisions`` and ``events`` over the tape, ``full_ns_per_collision`` and
+        ``floor_ns_per_collision`` in ns, ``floor_collisions_per_second`` in collisions/s, and
+        ``paired_ratio``, the median of floor over full time). With
         ``long_flights``: ``config`` and ``rows``, a numpy structured array with one record per
         radius or gap (``radius`` or ``w``, ``mean_free_path``, ``ns_per_collision``, ``over_first``,
         ``walk_ns_per_collision``, ``walk_over_jump``; NaN where the walk was not timed).
@@ -447,7 +457,8 @@ def bench(
             unused={"w": w != "0.1", "collisions_per_thread": collisions_per_thread != 2e7,
                     "precision": str(precision) != "f64", "engine": engine != "auto",
                     "observe": observe != "none", "threads": threads != 1,
-                    "field": field is not None, "straight_beside": bool(straight_beside)},
+                    "field": field is not None, "straight_beside": bool(straight_beside),
+                    "oracle_floor": bool(oracle_floor)},
         )
     if collisions_per_radius != 1e6 or walk_collisions != 1e4 or scene != "square":
         raise ValueError(
@@ -465,6 +476,7 @@ def bench(
             _count("threads", threads),
             None if field is None else _exact("field", field),
             bool(straight_beside),
+            bool(oracle_floor),
             cb,
         )
     return BenchResult(text)

@@ -21,7 +21,7 @@ fn observe(text: &str) -> PyResult<Observe> {
 }
 
 #[pyfunction]
-#[pyo3(name = "bench", signature = (w, collisions_per_thread, repetitions, precision, engine, observe, seed, threads, field, straight_beside, progress))]
+#[pyo3(name = "bench", signature = (w, collisions_per_thread, repetitions, precision, engine, observe, seed, threads, field, straight_beside, oracle_floor, progress))]
 #[allow(clippy::too_many_arguments)]
 fn py_bench(
     py: Python<'_>,
@@ -35,6 +35,7 @@ fn py_bench(
     threads: &str,
     field: Option<&str>,
     straight_beside: bool,
+    oracle_floor: bool,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let field = match field {
@@ -50,6 +51,7 @@ fn py_bench(
         seed: count_u64("seed", seed)?,
         field,
         straight_beside,
+        oracle_floor,
     };
     let (threads, engine) = (inputs::threads(Some(threads))?, inputs::engine(engine)?);
     let r = compute(py, progress, |ctl| {

@@ -272,6 +272,26 @@ def test_bench_has_the_command_lines_keys_and_counts(cli_json):
         lg.bench(observe="all")
     with pytest.raises(ValueError, match="straight_beside"):
         lg.bench(straight_beside=True)
+    with pytest.raises(ValueError, match="oracle_floor .* nonzero field"):
+        lg.bench(oracle_floor=True)
+
+
+def test_the_arc_engines_winner_only_floor_runs_on_a_tape_of_its_own_events(cli_json):
+    args = dict(w="0.1", field="1", collisions_per_thread=3.2e4, repetitions=3)
+    py = lg.bench(oracle_floor=True, **args)
+    if py.meta["engine"] != "simd":
+        pytest.skip("no SIMD arc engine on this CPU")
+    o = py.oracle
+    # A tape of collisions/16 steps, an event of every one of the 16 lanes per step.
+    assert o["steps"] == 2000 and o["events"] == 16 * 2000
+    assert 0.5 * o["events"] < o["collisions"] < o["events"]
+    assert o["floor_collisions_per_second"] == pytest.approx(1e9 / o["floor_ns_per_collision"])
+    # The tape is the seed's: the command line records the same events.
+    cl = cli_json("bench", "--w", "0.1", "--field", "1", "--collisions-per-thread", "3.2e4",
+                  "--repetitions", "3", "--oracle-floor")
+    assert cl["oracle"]["collisions"] == o["collisions"]
+    with pytest.raises(ValueError, match="oracle_floor"):
+        lg.bench(oracle_floor=True, engine="scalar", **args)
 
 
 def test_free_paths_have_the_command_lines_bits(cli_json):

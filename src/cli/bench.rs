@@ -81,6 +81,12 @@ pub struct Args {
     /// threads and engine, and report the arcs' speed against them (side by side in one run).
     #[arg(long, requires = "field")]
     straight_beside: bool,
+    /// With --field on the SIMD engine: also time the arc engine fed each event's winner from a
+    /// tape of its own run (only that disk and edge computed, the same bits) beside the full
+    /// engine on the same tape, one thread: the speed no choice of the next event in advance
+    /// can beat with this kernel's arithmetic, on this CPU.
+    #[arg(long, requires = "field")]
+    oracle_floor: bool,
     /// Output directory of --report (speed-vs-error.{md,json,png,svg}).
     #[arg(long, default_value = "results")]
     out: PathBuf,
@@ -199,6 +205,7 @@ pub fn run(a: Args) -> Result<(), Error> {
             })
             .transpose()?,
         straight_beside: a.straight_beside,
+        oracle_floor: a.oracle_floor,
     };
     timed(
         &a,

@@ -275,6 +275,7 @@ impl Bench<'_> {
             seed: self.seed,
             field: None,
             straight_beside: false,
+            oracle_floor: false,
         };
         let one = RunOptions {
             threads: 1,

@@ -304,6 +304,34 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
         ..beside
     };
     assert!(throughput::run(&no_field, &threads(1)).is_err());
+    // The winner-only floor: one tape of the engine's own events (⌊collisions/16⌋ steps, every
+    // lane an event per step), timed on both engines (the fed one checked bit for bit); refused
+    // without a field or on the scalar engine.
+    let oracle = ThroughputConfig {
+        repetitions: 3,
+        oracle_floor: true,
+        ..cfg
+    };
+    if Engine::Auto.resolve(true).unwrap().simd().is_some() {
+        let o = throughput::run(&oracle, &threads(1))
+            .unwrap()
+            .oracle
+            .unwrap();
+        assert_eq!(o.steps as u64, cfg.collisions_per_thread / 16);
+        assert_eq!(o.events, 16.0 * o.steps as f64);
+        assert!(o.collisions > 0.5 * o.events && o.collisions < o.events);
+        assert_eq!(
+            o.floor_collisions_per_second,
+            1e9 / o.floor_ns_per_collision
+        );
+        assert!(o.paired_ratio > 0.0 && o.full_ns_per_collision > 0.0);
+    }
+    assert!(throughput::run(&oracle, &scalar).is_err());
+    let no_field = ThroughputConfig {
+        field: None,
+        ..oracle
+    };
+    assert!(throughput::run(&no_field, &threads(1)).is_err());
 }
 
 /// The Lyapunov exponent in a field (`estimators::field::lyapunov`): even in B (the mirror

@@ -4,7 +4,7 @@
 //! compute the flight time, the samples on its time grid and the Lévy area exactly as it does on
 //! the scalar kernel ([`crate::scenes::lattice::Lattice::step_in_field`]).
 
-use super::{ArcLanes, check, dispatch, load};
+use super::{ArcLanes, Mode, check, dispatch, load};
 use crate::Error;
 use crate::engine::SimdPath;
 use crate::engine::observe::EventLanes;
@@ -49,10 +49,10 @@ impl ArcRecord {
 /// kernel bit for bit (`tests/numerics/arc_engine.rs`), running until the caller retires it.
 #[derive(Debug, Clone)]
 pub struct ArcBlock {
-    path: SimdPath,
-    cell: ConvexCell<f64>,
-    w: f64,
-    st: ArcLanes,
+    pub(super) path: SimdPath,
+    pub(super) cell: ConvexCell<f64>,
+    pub(super) w: f64,
+    pub(super) st: ArcLanes,
     n: usize,
 }
 
@@ -89,7 +89,14 @@ impl ArcBlock {
         if ring.is_empty() {
             return None;
         }
-        dispatch(self.path, &self.cell, self.w, &mut self.st, 0, ring)
+        dispatch(
+            self.path,
+            &self.cell,
+            self.w,
+            &mut self.st,
+            0,
+            Mode::Record(ring),
+        )
     }
 
     /// Lane `l` runs no further.

@@ -3,7 +3,7 @@
 //! every branch of the scalar code computed and blended by masks.
 
 use super::order::Cand;
-use super::{ArcL, Consts, DiskC, EdgeC, not};
+use super::{ArcL, Consts, DiskC, Line, not};
 use crate::numbers::lanes::Lanes;
 
 /// `!(mm − noise² > 0)` with noise = (|ω|·√|d|² + V)·8u ([`crate::kernel::arc::Arc::creeps`]),
@@ -197,7 +197,7 @@ pub(super) fn entry_now<V: Lanes>(
 pub(super) fn edge<V: Lanes>(
     c: &Consts<V>,
     a: &ArcL<V>,
-    e: &EdgeC<V>,
+    e: &Line<V>,
     (px, py): (V, V),
     entered: V::Mask,
 ) -> Cand<V> {

@@ -22,9 +22,11 @@
 
 mod block;
 mod contacts;
+mod oracle;
 mod order;
 
 pub use block::{ArcBlock, ArcRecord};
+pub use oracle::{OracleTiming, WinnerTape};
 
 use contacts::{disk, edge};
 use order::{Cand, offer};
@@ -59,13 +61,18 @@ pub(super) struct DiskC<V> {
     r2: V,
 }
 
-/// An edge's constants: inward normal, offset, its map (a translation by t or the point
-/// reflection about c, with `flips`), the label entered by, the disk exclusions carried across
-/// (as codes, one per disk), and the cell step.
-pub(super) struct EdgeC<V> {
+/// An edge's line: inward normal and offset.
+pub(super) struct Line<V> {
     nx: V,
     ny: V,
     off: V,
+}
+
+/// An edge's constants: its line, its map (a translation by t or the point reflection about c,
+/// with `flips`), the label entered by, the disk exclusions carried across (as codes, one per
+/// disk), and the cell step.
+pub(super) struct EdgeC<V> {
+    line: Line<V>,
     map: [V; 2],
     flips: bool,
     entered: V,
@@ -105,9 +112,11 @@ impl<V: Lanes> Consts<V> {
                     EdgeMap::PointReflection(c) => (c, true),
                 };
                 EdgeC {
-                    nx: V::splat(e.normal.x),
-                    ny: V::splat(e.normal.y),
-                    off: V::splat(e.offset),
+                    line: Line {
+                        nx: V::splat(e.normal.x),
+                        ny: V::splat(e.normal.y),
+                        off: V::splat(e.offset),
+                    },
                     map: [V::splat(m.x), V::splat(m.y)],
                     flips,
                     entered: V::splat(f64::from(e.entered)),
@@ -180,7 +189,7 @@ fn choose<V: Lanes>(c: &Consts<V>, a: &ArcL<V>, s: &Loaded<V>) -> (Cand<V>, V, V
         code = V::select(take, label, code);
     }
     for (k, e) in c.edges.iter().enumerate() {
-        let cand = edge(c, a, e, s.p, s.ee.eq(V::splat(k as f64)));
+        let cand = edge(c, a, &e.line, s.p, s.ee.eq(V::splat(k as f64)));
         let (b, take) = offer(a, c.left, best, cand);
         best = b;
         code = V::select(take, V::splat(CROSSING_CODE + k as f64), code);
@@ -269,14 +278,16 @@ fn cross<V: Lanes>(
     out
 }
 
-/// One event for the `V::WIDTH` lanes at `o`, recorded in `rec` if given: returns the lanes
-/// that lost their next event and those still running, as bits of the block.
+/// One event for the `V::WIDTH` lanes at `o`, recorded in `rec` if given, its winner read from
+/// `winners` if given ([`oracle`]): returns the lanes that lost their next event and those still
+/// running, as bits of the block.
 #[inline(always)]
 fn step<V: Lanes>(
     c: &Consts<V>,
     st: &mut ArcLanes,
     o: usize,
     rec: Option<&mut ArcRecord>,
+    winners: Option<&[f64; BLOCK]>,
 ) -> (u64, u64) {
     let z = V::splat(0.0);
     let count = V::load(&st.collisions[o..]);
@@ -310,7 +321,10 @@ fn step<V: Lanes>(
         speed: vv.sqrt(),
         all: V::eq(z, z),
     };
-    let (best, code, lost) = choose(c, &a, &s);
+    let (best, code, lost) = match winners {
+        Some(codes) => oracle::choose(c, &a, &s, V::load(&codes[o..])),
+        None => choose(c, &a, &s),
+    };
     let lost = V::and(live, lost);
     let go = V::and_not(live, lost);
     let u = arrival(c, &a, &best);
@@ -369,22 +383,31 @@ fn record<V: Lanes>(r: &mut ArcRecord, o: usize, s: &Loaded<V>, code: V, (x, y):
     y.store(&mut r.chord[1][o..]);
 }
 
-/// Runs the block for at most `limit` steps, until every lane has its quota of collisions, or
-/// (a non-empty `ring`) for `ring.len()` steps, each recorded in its entry; returns a lane that
-/// lost its next event, if any (the block stops there).
+/// How [`run`] steps the block.
+enum Mode<'a> {
+    /// At most `limit` steps, until every lane has its quota of collisions.
+    Free,
+    /// `ring.len()` steps, each recorded in its entry.
+    Record(&'a mut [ArcRecord]),
+    /// One step per entry of the tape, each lane's winner read from it ([`oracle`]).
+    Oracle(&'a [[f64; BLOCK]]),
+}
+
+/// Runs the block as `mode` says; returns a lane that lost its next event, if any (the block
+/// stops there).
 #[inline(always)]
 fn run<V: Lanes>(
     cell: &ConvexCell<f64>,
     w: f64,
     st: &mut ArcLanes,
     limit: u64,
-    ring: &mut [ArcRecord],
+    mode: Mode<'_>,
 ) -> Option<usize> {
     let c = Consts::<V>::new(cell, w);
-    if ring.is_empty() {
-        steps::<V, false>(&c, st, limit, ring)
-    } else {
-        steps::<V, true>(&c, st, ring.len() as u64, ring)
+    match mode {
+        Mode::Free => steps::<V, false>(&c, st, limit, &mut []),
+        Mode::Record(ring) => steps::<V, true>(&c, st, ring.len() as u64, ring),
+        Mode::Oracle(tape) => oracle::steps::<V>(&c, st, tape),
     }
 }
 
@@ -402,7 +425,7 @@ fn steps<V: Lanes, const RECORD: bool>(
         let mut o = 0;
         while o < BLOCK {
             let rec = if RECORD { ring.get_mut(k) } else { None };
-            let (l, v) = step::<V>(c, st, o, rec);
+            let (l, v) = step::<V>(c, st, o, rec, None);
             lost |= l;
             live |= v;
             o += V::WIDTH;
@@ -432,9 +455,9 @@ unsafe fn run_avx512(
     w: f64,
     st: &mut ArcLanes,
     limit: u64,
-    ring: &mut [ArcRecord],
+    mode: Mode<'_>,
 ) -> Option<usize> {
-    run::<lanes::Avx512>(cell, w, st, limit, ring)
+    run::<lanes::Avx512>(cell, w, st, limit, mode)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -444,9 +467,9 @@ unsafe fn run_avx2(
     w: f64,
     st: &mut ArcLanes,
     limit: u64,
-    ring: &mut [ArcRecord],
+    mode: Mode<'_>,
 ) -> Option<usize> {
-    run::<lanes::Pair<lanes::Avx2>>(cell, w, st, limit, ring)
+    run::<lanes::Pair<lanes::Avx2>>(cell, w, st, limit, mode)
 }
 
 /// The arc engine: advances up to [`BLOCK`] trajectories `states` of a lattice with cell `cell`
@@ -477,7 +500,7 @@ pub fn run_arc_block(
         super::check_trajectory_length(q)?;
     }
     let mut st = load(states, quotas);
-    let lost = dispatch(path, cell, w, &mut st, limit, &mut []);
+    let lost = dispatch(path, cell, w, &mut st, limit, Mode::Free);
     unload(&st, states);
     if let Some(l) = lost {
         return Err(no_next_event(l, &states[l]));
@@ -521,16 +544,16 @@ fn dispatch(
     w: f64,
     st: &mut ArcLanes,
     limit: u64,
-    ring: &mut [ArcRecord],
+    mode: Mode<'_>,
 ) -> Option<usize> {
     match path {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `check` made sure that this CPU has the feature.
-        SimdPath::Avx512 => unsafe { run_avx512(cell, w, st, limit, ring) },
+        SimdPath::Avx512 => unsafe { run_avx512(cell, w, st, limit, mode) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        SimdPath::Avx2 => unsafe { run_avx2(cell, w, st, limit, ring) },
-        _ => run::<lanes::Portable>(cell, w, st, limit, ring),
+        SimdPath::Avx2 => unsafe { run_avx2(cell, w, st, limit, mode) },
+        _ => run::<lanes::Portable>(cell, w, st, limit, mode),
     }
 }
 

@@ -6,7 +6,9 @@ use rayon::prelude::*;
 use crate::Error;
 use crate::engine::Engine;
 use crate::engine::Resolved;
-use crate::engine::arcs::run_arc_block;
+use crate::engine::SimdPath;
+use crate::engine::arcs::{ArcBlock, WinnerTape, run_arc_block};
+use crate::engine::simd::BLOCK;
 use crate::kernel::flight::EventKind;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
@@ -17,7 +19,65 @@ use crate::scenes::sampling::stream;
 use crate::scenes::triangular::equilibrium_state;
 use crate::theory::magnetic::{FieldGeometry, Orbit};
 
-use super::Observe;
+use super::{Observe, median};
+
+/// The longest tape of `--oracle-floor`, in steps (a step is one event of each of the [`BLOCK`]
+/// lanes; the tape holds 8 bytes per lane and step: 32 MiB at most).
+pub const MAX_TAPE_STEPS: usize = 1 << 18;
+
+/// The SIMD arc engine against its winner-only floor ([`WinnerTape`]): one block of thread 0's
+/// starts, one tape of its events, both engines run over it in turns, one thread.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct OracleFloor {
+    /// Steps on the tape (one event of every lane each).
+    pub steps: usize,
+    /// Collisions over the tape (all lanes).
+    pub collisions: f64,
+    /// Events (collisions and crossings) over the tape (all lanes).
+    pub events: f64,
+    /// The full engine's median nanoseconds per collision over the tape.
+    pub full_ns_per_collision: f64,
+    /// The median nanoseconds per collision of the engine fed each event's winner.
+    pub floor_ns_per_collision: f64,
+    /// Its collisions per second (one thread): 10⁹ / `floor_ns_per_collision`.
+    pub floor_collisions_per_second: f64,
+    /// The median over repetitions of each pair's ratio, floor over full time.
+    pub paired_ratio: f64,
+}
+
+/// [`OracleFloor`] at gap `w` in the field `b` on `path`: a tape of ⌊`collisions`/[`BLOCK`]⌋
+/// steps (1 to [`MAX_TAPE_STEPS`]) timed `reps` times; the fed engine's events are checked to
+/// be the full engine's, bit for bit, on every repetition.
+pub(super) fn oracle_floor(
+    path: SimdPath,
+    w: f64,
+    b: f64,
+    seed: u64,
+    collisions: u64,
+    reps: usize,
+) -> Result<OracleFloor, Error> {
+    let trap = Trap::<f64>::new(w)?;
+    let states = starts::<f64>((), &trap, seed, 1, BLOCK, b)?.remove(0);
+    let steps = (collisions / BLOCK as u64).clamp(1, MAX_TAPE_STEPS as u64) as usize;
+    let tape = WinnerTape::record(&ArcBlock::new(path, trap.cell(), b, &states)?, steps)?;
+    let (mut full, mut floor, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..reps {
+        let t = tape.time()?;
+        full.push(1e9 * t.full / tape.collisions());
+        floor.push(1e9 * t.oracle / tape.collisions());
+        ratio.push(t.oracle / t.full);
+    }
+    let floor_ns = median(&floor);
+    Ok(OracleFloor {
+        steps,
+        collisions: tape.collisions(),
+        events: tape.events(),
+        full_ns_per_collision: median(&full),
+        floor_ns_per_collision: floor_ns,
+        floor_collisions_per_second: 1e9 / floor_ns,
+        paired_ratio: median(&ratio),
+    })
+}
 
 /// Refuses what an arc benchmark cannot do yet: MPFR, observers. The engine that runs: the
 /// SIMD arc engine ([`crate::engine::arcs`]) where `engine` resolves to it, else the scalar one.

@@ -5,6 +5,8 @@
 mod arcs;
 pub mod long_flights;
 
+pub use arcs::OracleFloor;
+
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -65,6 +67,10 @@ pub struct Throughput {
     /// same run (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub straight: Option<Beside>,
+    /// With `oracle_floor`: the SIMD arc engine against its winner-only floor (absent
+    /// otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub oracle: Option<OracleFloor>,
     /// Version, seed, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -365,6 +371,12 @@ pub struct ThroughputConfig {
     /// speed of arcs measured side by side with straight flights in one run).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub straight_beside: bool,
+    /// With a field on the SIMD engine: time the arc engine fed each event's winner from a tape
+    /// of its own run (computing only that disk and that edge) beside the full engine on the
+    /// same tape, one thread — the speed no choice of the next event in advance can beat with
+    /// this kernel's arithmetic ([`OracleFloor`]).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub oracle_floor: bool,
 }
 
 impl ThroughputConfig {
@@ -380,6 +392,7 @@ impl ThroughputConfig {
             seed: 1,
             field: None,
             straight_beside: false,
+            oracle_floor: false,
         }
     }
 }
@@ -403,6 +416,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         seed,
         field: _,
         straight_beside,
+        oracle_floor,
     } = *cfg;
     let (engine, threads, progress) = (options.engine, options.threads, options.progress);
     Geometry::new(w)?;
@@ -431,6 +445,15 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         Some(b) => arcs::check(b, precision, observe, engine)?,
         None => engine.resolve(precision == Precision::F64)?,
     };
+    let oracle_path = match (oracle_floor, field, resolved.simd()) {
+        (false, ..) => None,
+        (true, Some(b), Some(path)) => Some((b, path)),
+        _ => {
+            return Err(Error::Invalid(
+                "oracle_floor times the SIMD arc engine against its winner-only floor: give a nonzero field and a SIMD engine".into(),
+            ));
+        }
+    };
     let (roots, divisions) = match field {
         Some(_) => (bound::ARC_ROOTS, bound::ARC_DIVISIONS),
         None => (1, 2),
@@ -452,6 +475,9 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
     })?;
     let m = median(&samples);
     let straight = straight_beside.then(|| beside_report(&samples, beside, threads));
+    let oracle = oracle_path
+        .map(|(b, path)| arcs::oracle_floor(path, w, b, seed, collisions, reps))
+        .transpose()?;
     let ns_per_collision = 1e9 * threads as f64 / m;
     let divider_bound = unit.map(|unit| {
         let per_collision = unit.ns_per_event * (1.0 + cpc);
@@ -476,6 +502,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         divider_bound,
         field,
         straight,
+        oracle,
         meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
     })
 }

@@ -63,6 +63,17 @@ pub fn throughput(r: &Throughput) -> String {
             s.paired_ratio
         );
     }
+    if let Some(o) = &r.oracle {
+        line!(
+            out,
+            "winner-only floor (one thread; each event's winner read from a tape of {} steps of this engine's own run, only that disk and edge computed, the same bits): {:.3e} collisions/s = {:.2} ns/collision against the full engine's {:.2} on the same tape; floor / full = {:.3} (median of the paired ratios)",
+            o.steps,
+            o.floor_collisions_per_second,
+            o.floor_ns_per_collision,
+            o.full_ns_per_collision,
+            o.paired_ratio
+        );
+    }
     out
 }
 
