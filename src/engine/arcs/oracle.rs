@@ -139,13 +139,19 @@ impl WinnerTape {
         // The lanes after the tape's last step: the full engine's, replayed to count its events.
         let mut end = start.clone();
         dispatch(path, cell, w, &mut end, steps as u64, Mode::Free);
+        // Counts since the start (a block that has run before has counted its earlier events).
+        let count = |x: &ArcLanes| -> (f64, f64) {
+            let c: f64 = x.collisions.iter().sum();
+            (c, c + x.crossings.iter().sum::<f64>())
+        };
+        let ((c1, e1), (c0, e0)) = (count(&end), count(&start));
         Ok(WinnerTape {
             path,
             cell: cell.clone(),
             w,
             codes,
-            collisions: end.collisions.iter().sum(),
-            events: end.collisions.iter().chain(&end.crossings).sum(),
+            collisions: c1 - c0,
+            events: e1 - e0,
             start,
         })
     }
@@ -249,6 +255,28 @@ mod tests {
             assert!(t.collisions() > 0.5 * t.events(), "w = {w}, B = {b}");
             t.time().unwrap();
         }
+    }
+
+    #[test]
+    fn a_tape_counts_only_its_own_events() {
+        let trap = Trap::<f64>::new(0.1).unwrap();
+        let mut rng = stream(6, 0);
+        let states: Vec<_> = (0..16)
+            .map(|_| {
+                let mut s = equilibrium_state(&trap, &mut rng);
+                s.flight.normalise_speed();
+                s
+            })
+            .collect();
+        let mut block = ArcBlock::new(SimdPath::best(), trap.cell(), 1.0, &states).unwrap();
+        assert!(
+            block
+                .advance(&mut vec![ArcRecord::default(); 100])
+                .is_none()
+        );
+        let t = WinnerTape::record(&block, 500).unwrap();
+        assert_eq!(t.events(), 16.0 * 500.0);
+        t.time().unwrap();
     }
 
     #[test]
