@@ -140,6 +140,28 @@ impl<V: Lanes> Consts<V> {
     }
 }
 
+impl<V: Lanes> Consts<V> {
+    /// Disk `code`'s constants in each lane (disk 0's where the code names no disk).
+    #[inline(always)]
+    fn disk(&self, code: V) -> DiskC<V> {
+        let d0 = &self.disks[0];
+        let mut d = DiskC {
+            cx: d0.cx,
+            cy: d0.cy,
+            r: d0.r,
+            r2: d0.r2,
+        };
+        for (m, dm) in self.disks.iter().enumerate().skip(1) {
+            let here = code.eq(V::splat(m as f64));
+            d.cx = V::select(here, dm.cx, d.cx);
+            d.cy = V::select(here, dm.cy, d.cy);
+            d.r = V::select(here, dm.r, d.r);
+            d.r2 = V::select(here, dm.r2, d.r2);
+        }
+        d
+    }
+}
+
 /// The arc of every lane: velocity, |v|², |v|, and the all-true mask.
 #[derive(Clone, Copy)]
 pub(super) struct ArcL<V: Lanes> {
@@ -216,14 +238,7 @@ fn arrival<V: Lanes>(c: &Consts<V>, a: &ArcL<V>, b: &Cand<V>) -> (V, V) {
 /// The state after a collision with the disk `code` at x, arriving with velocity u.
 #[inline(always)]
 fn collide<V: Lanes>(c: &Consts<V>, code: V, (x, y): (V, V), (ux, uy): (V, V)) -> (V, V) {
-    let d0 = &c.disks[0];
-    let (mut cx, mut cy, mut r2) = (d0.cx, d0.cy, d0.r2);
-    for (m, d) in c.disks.iter().enumerate().skip(1) {
-        let here = code.eq(V::splat(m as f64));
-        cx = V::select(here, d.cx, cx);
-        cy = V::select(here, d.cy, cy);
-        r2 = V::select(here, d.r2, r2);
-    }
+    let DiskC { cx, cy, r2, .. } = c.disk(code);
     let (nx, ny) = (x.sub(cx), y.sub(cy));
     let twice = ux.mul(nx).add(uy.mul(ny)).mul(V::splat(2.0));
     // x/1 = x exactly in IEEE arithmetic: unit disks skip the division.

@@ -11,8 +11,7 @@ use std::time::Instant;
 use super::contacts::{disk, edge};
 use super::order::{Cand, blend};
 use super::{
-    ArcBlock, ArcL, ArcLanes, ArcRecord, Consts, DiskC, Line, Loaded, Mode, dispatch,
-    no_next_event, step,
+    ArcBlock, ArcL, ArcLanes, ArcRecord, Consts, Line, Loaded, Mode, dispatch, no_next_event, step,
 };
 use crate::Error;
 use crate::engine::SimdPath;
@@ -33,21 +32,7 @@ pub(super) fn choose<V: Lanes>(
     s: &Loaded<V>,
     code: V,
 ) -> (Cand<V>, V, V::Mask) {
-    let d0 = &c.disks[0];
-    let mut d = DiskC {
-        cx: d0.cx,
-        cy: d0.cy,
-        r: d0.r,
-        r2: d0.r2,
-    };
-    for (m, dm) in c.disks.iter().enumerate().skip(1) {
-        let here = code.eq(V::splat(m as f64));
-        d.cx = V::select(here, dm.cx, d.cx);
-        d.cy = V::select(here, dm.cy, d.cy);
-        d.r = V::select(here, dm.r, d.r);
-        d.r2 = V::select(here, dm.r2, d.r2);
-    }
-    let (dc, _) = disk(c, a, &d, s.p, s.ed.eq(code));
+    let (dc, _) = disk(c, a, &c.disk(code), s.p, s.ed.eq(code));
     let k = code.sub(V::splat(CROSSING_CODE));
     let l0 = &c.edges[0].line;
     let mut l = Line {
@@ -128,23 +113,21 @@ impl WinnerTape {
         let start = block.st.clone();
         let mut b = block.clone();
         let mut ring = vec![ArcRecord::default(); RING];
-        let mut codes = Vec::with_capacity(steps + RING);
+        let mut codes = Vec::with_capacity(steps);
         while codes.len() < steps {
-            if let Some(l) = b.advance(&mut ring) {
+            let n = (steps - codes.len()).min(RING);
+            if let Some(l) = b.advance(&mut ring[..n]) {
                 return Err(no_next_event(l, &b.state(l)));
             }
-            codes.extend(ring.iter().map(|r| r.before.code));
+            codes.extend(ring[..n].iter().map(|r| r.before.code));
         }
-        codes.truncate(steps);
-        // The lanes after the tape's last step: the full engine's, replayed to count its events.
-        let mut end = start.clone();
-        dispatch(path, cell, w, &mut end, steps as u64, Mode::Free);
+        let end = &b.st;
         // Counts since the start (a block that has run before has counted its earlier events).
         let count = |x: &ArcLanes| -> (f64, f64) {
             let c: f64 = x.collisions.iter().sum();
             (c, c + x.crossings.iter().sum::<f64>())
         };
-        let ((c1, e1), (c0, e0)) = (count(&end), count(&start));
+        let ((c1, e1), (c0, e0)) = (count(end), count(&start));
         Ok(WinnerTape {
             path,
             cell: cell.clone(),
@@ -231,9 +214,10 @@ mod tests {
     use crate::scenes::sampling::stream;
     use crate::scenes::triangular::equilibrium_state;
 
-    fn tape(w: f64, b: f64, lanes: usize) -> WinnerTape {
+    /// A block of `lanes` equilibrium starts (seed `seed`) at gap `w` in the field `b`.
+    fn block(w: f64, b: f64, lanes: usize, seed: u64) -> ArcBlock {
         let trap = Trap::<f64>::new(w).unwrap();
-        let mut rng = stream(5, 0);
+        let mut rng = stream(seed, 0);
         let states: Vec<_> = (0..lanes)
             .map(|_| {
                 let mut s = equilibrium_state(&trap, &mut rng);
@@ -241,8 +225,11 @@ mod tests {
                 s
             })
             .collect();
-        let block = ArcBlock::new(SimdPath::best(), trap.cell(), b, &states).unwrap();
-        WinnerTape::record(&block, 3000).unwrap()
+        ArcBlock::new(SimdPath::best(), trap.cell(), b, &states).unwrap()
+    }
+
+    fn tape(w: f64, b: f64, lanes: usize) -> WinnerTape {
+        WinnerTape::record(&block(w, b, lanes, 5), 3000).unwrap()
     }
 
     #[test]
@@ -259,16 +246,7 @@ mod tests {
 
     #[test]
     fn a_tape_counts_only_its_own_events() {
-        let trap = Trap::<f64>::new(0.1).unwrap();
-        let mut rng = stream(6, 0);
-        let states: Vec<_> = (0..16)
-            .map(|_| {
-                let mut s = equilibrium_state(&trap, &mut rng);
-                s.flight.normalise_speed();
-                s
-            })
-            .collect();
-        let mut block = ArcBlock::new(SimdPath::best(), trap.cell(), 1.0, &states).unwrap();
+        let mut block = block(0.1, 1.0, 16, 6);
         assert!(
             block
                 .advance(&mut vec![ArcRecord::default(); 100])

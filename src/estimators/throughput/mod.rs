@@ -18,7 +18,7 @@ use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{CROSSING_CODE, EventLanes, Nothing, Observer};
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::simd::BLOCK;
-use crate::engine::{Resolved, drive, run_block};
+use crate::engine::{Resolved, SimdPath, drive, run_block};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::kernel::trap::Trap;
 use crate::numbers::lanes::Lanes;
@@ -405,8 +405,11 @@ impl ThroughputConfig {
 /// # Errors
 /// A gap that is not positive, no collisions, repetitions out of range, or invalid options.
 pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, Error> {
-    options.validate()?;
-    options.refuse_unused("throughput", &[RunOption::Engine])?;
+    let Checked {
+        field,
+        resolved,
+        oracle: oracle_path,
+    } = check(cfg, options)?;
     let ThroughputConfig {
         w,
         precision,
@@ -414,46 +417,10 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         collisions_per_thread: collisions,
         repetitions: reps,
         seed,
-        field: _,
         straight_beside,
-        oracle_floor,
+        ..
     } = *cfg;
-    let (engine, threads, progress) = (options.engine, options.threads, options.progress);
-    Geometry::new(w)?;
-    if collisions == 0 {
-        return Err(Error::Zero {
-            what: "collisions_per_thread",
-        });
-    }
-    if reps == 0 || reps > MAX_REPETITIONS {
-        return Err(Error::out_of_range(
-            "repetitions",
-            reps,
-            format!("use 1 to {MAX_REPETITIONS}"),
-        ));
-    }
-    if threads == 0 {
-        return Err(Error::Zero { what: "threads" });
-    }
-    let field = cfg.field.filter(|b| *b != 0.0);
-    if straight_beside && field.is_none() {
-        return Err(Error::Invalid(
-            "straight_beside times straight flights beside arcs: give a nonzero field".into(),
-        ));
-    }
-    let resolved = match field {
-        Some(b) => arcs::check(b, precision, observe, engine)?,
-        None => engine.resolve(precision == Precision::F64)?,
-    };
-    let oracle_path = match (oracle_floor, field, resolved.simd()) {
-        (false, ..) => None,
-        (true, Some(b), Some(path)) => Some((b, path)),
-        _ => {
-            return Err(Error::Invalid(
-                "oracle_floor times the SIMD arc engine against its winner-only floor: give a nonzero field and a SIMD engine".into(),
-            ));
-        }
-    };
+    let (threads, progress) = (options.threads, options.progress);
     let (roots, divisions) = match field {
         Some(_) => (bound::ARC_ROOTS, bound::ARC_DIVISIONS),
         None => (1, 2),
@@ -504,6 +471,64 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         straight,
         oracle,
         meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
+    })
+}
+
+/// What [`check`] found a measurement to be.
+struct Checked {
+    /// The field (`None` for straight flights).
+    field: Option<f64>,
+    /// The engine that runs.
+    resolved: Resolved,
+    /// With `oracle_floor`: the field and SIMD path of the winner-only floor.
+    oracle: Option<(f64, SimdPath)>,
+}
+
+/// Refuses what [`run`] cannot time.
+fn check(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Checked, Error> {
+    options.validate()?;
+    options.refuse_unused("throughput", &[RunOption::Engine])?;
+    Geometry::new(cfg.w)?;
+    if cfg.collisions_per_thread == 0 {
+        return Err(Error::Zero {
+            what: "collisions_per_thread",
+        });
+    }
+    let reps = cfg.repetitions;
+    if reps == 0 || reps > MAX_REPETITIONS {
+        return Err(Error::out_of_range(
+            "repetitions",
+            reps,
+            format!("use 1 to {MAX_REPETITIONS}"),
+        ));
+    }
+    if options.threads == 0 {
+        return Err(Error::Zero { what: "threads" });
+    }
+    let field = cfg.field.filter(|b| *b != 0.0);
+    if cfg.straight_beside && field.is_none() {
+        return Err(Error::Invalid(
+            "straight_beside times straight flights beside arcs: give a nonzero field".into(),
+        ));
+    }
+    let (precision, engine) = (cfg.precision, options.engine);
+    let resolved = match field {
+        Some(b) => arcs::check(b, precision, cfg.observe, engine)?,
+        None => engine.resolve(precision == Precision::F64)?,
+    };
+    let oracle_path = match (cfg.oracle_floor, field, resolved.simd()) {
+        (false, ..) => None,
+        (true, Some(b), Some(path)) => Some((b, path)),
+        _ => {
+            return Err(Error::Invalid(
+                "oracle_floor times the SIMD arc engine against its winner-only floor: give a nonzero field and a SIMD engine".into(),
+            ));
+        }
+    };
+    Ok(Checked {
+        field,
+        resolved,
+        oracle: oracle_path,
     })
 }
 
