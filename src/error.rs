@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 /// Everything that can go wrong. Never a panic, never a silent NaN.
 #[derive(Debug, Clone, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// The gap `w` is NaN or infinite.
     #[error("{what} must be a finite number")]
@@ -77,6 +78,33 @@ pub enum Error {
         /// times)`).
         range: String,
     },
+    /// A table given as data that is not a valid table ([`crate::scenes::table::TableError`]:
+    /// the disks that overlap, the radius, the basis).
+    #[error("{0}")]
+    Table(crate::scenes::table::TableError),
+    /// A scene whose horizon is infinite, given to an analysis that needs a finite one, with the
+    /// widest corridor that makes it so.
+    #[error(
+        "{scene} has an infinite horizon: {corridor} is free of disks, so free flights are \
+         unbounded and the diffusion coefficient does not exist (a finite horizon needs every \
+         corridor closed; in a magnetic field every table has a finite horizon)"
+    )]
+    OpenCorridor {
+        /// The scene's label.
+        scene: String,
+        /// Its widest corridor.
+        corridor: crate::scenes::table::horizon::Corridor,
+    },
+    /// An analysis given a scene that lacks what it needs ([`Capability`]).
+    #[error("{scene} lacks {capability}, which the {analysis} analysis needs")]
+    Lacks {
+        /// The scene (its name).
+        scene: String,
+        /// What it lacks.
+        capability: Capability,
+        /// The analysis that needs it.
+        analysis: &'static str,
+    },
     /// Any other invalid argument, with the reason.
     #[error("{0}")]
     Invalid(String),
@@ -141,6 +169,35 @@ pub enum Error {
     /// a checkpoint, if the run kept one, holds the work up to its last save.
     #[error("interrupted: the run was stopped before it finished")]
     Interrupted,
+}
+
+/// What only some scenes have, and some analyses need ([`Error::Lacks`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Capability {
+    /// Every closed form of `lorentz constants` (the triangular and square scenes).
+    ClosedForms,
+    /// One disk per cell, all of one radius (the exact corridor constants, the field's exact
+    /// geometry of localized orbits).
+    OneDiskPerCell,
+    /// Trap symbols and the paper's hierarchy (the triangular scene).
+    TrapSymbols,
+    /// Long flights sent straight to the first disk they can meet.
+    LongFlights,
+    /// A finite horizon.
+    FiniteHorizon,
+}
+
+impl std::fmt::Display for Capability {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Capability::ClosedForms => "the closed forms of the shipped scenes",
+            Capability::OneDiskPerCell => "one disk per cell (a lattice of equal disks)",
+            Capability::TrapSymbols => "trap symbols (the triangular scene's)",
+            Capability::LongFlights => "long flights",
+            Capability::FiniteHorizon => "a finite horizon",
+        })
+    }
 }
 
 /// The message of [`Error::SceneParameter`], the parameters spelled by `name`.
@@ -291,6 +348,9 @@ impl Error {
             | Error::OutOfRange { .. }
             | Error::UnusedOption { .. }
             | Error::SceneParameter { .. }
+            | Error::Table(_)
+            | Error::OpenCorridor { .. }
+            | Error::Lacks { .. }
             | Error::UnsafePath { .. }
             | Error::Invalid(_) => ErrorKind::BadInput,
         }

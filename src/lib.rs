@@ -57,4 +57,4 @@ pub mod statistics;
 pub mod theory;
 pub mod verification;
 
-pub use error::{Error, ErrorKind};
+pub use error::{Capability, Error, ErrorKind};

@@ -65,6 +65,11 @@ pub struct SceneArgs {
     /// Disk radius of the square scene, a decimal or a fraction such as 1/3: 0 < r < 1/2.
     #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
     pub radius: Option<Exact>,
+    /// Any periodic table of disks, from a TOML file: [lattice] e1 = ["a", "0"], e2 = ["b",
+    /// "h"] (h > 0) and [[disks]] centre = ["x", "y"], radius = "r", every number exact text
+    /// (examples/tables/). Instead of --scene, --w and --radius.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "w", "radius"])]
+    pub table: Option<std::path::PathBuf>,
 }
 
 /// The scenes a command can run on.
@@ -82,6 +87,10 @@ pub(crate) use lorentz_gas::with_scene;
 impl SceneArgs {
     /// The scene the options describe ([`SceneSpec`]), the parameter kept exactly as typed.
     pub fn spec(&self) -> Result<SceneSpec, lorentz_gas::Error> {
+        if let Some(path) = &self.table {
+            let table = lorentz_gas::scenes::table::spec::TableSpec::read(path)?;
+            return Ok(SceneSpec::Table(table));
+        }
         let name = match self.scene {
             SceneName::Triangular => "triangular",
             SceneName::Square => "square",

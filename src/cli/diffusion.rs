@@ -82,6 +82,14 @@ pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
             diffusion::require_finite_horizon(&s)?;
             unreachable!("the square scene has an infinite horizon")
         }
+        SceneChoice::Table(t) => {
+            diffusion::require_finite_horizon(&*t)?;
+            return Err(Error::Lacks {
+                scene: t.spec().title().to_string(),
+                capability: lorentz_gas::Capability::TrapSymbols,
+                analysis: "triangular diffusion",
+            });
+        }
     };
     let cfg = DiffusionConfig {
         w,
@@ -144,6 +152,9 @@ pub fn run(a: Args) -> Result<(), Error> {
         });
         return super::field::run(&fc, opts, a.output.quiet, a.output.json);
     }
+    if a.scene.table.is_some() {
+        return run_table(&a);
+    }
     let cfg = config(&a)?;
     let audit = a
         .audit
@@ -163,6 +174,58 @@ pub fn run(a: Args) -> Result<(), Error> {
         })?
     };
     emit(a.output.json, &r, print)
+}
+
+/// The statistics of a run on any table (validated against it).
+fn table_config(
+    a: &Args,
+    table: &lorentz_gas::scenes::table::PeriodicTable,
+) -> Result<SceneDiffusionConfig, Error> {
+    if a.rel_err.is_some() {
+        return Err(Error::Invalid(
+            "--rel-err does not run on a --table yet: give --collisions".into(),
+        ));
+    }
+    let cfg = SceneDiffusionConfig {
+        collisions: a
+            .collisions
+            .unwrap_or_else(|| diffusion::plan::default_collisions(None)),
+        batches: a.batches,
+        seed: a.run.seed(),
+        precision: a.precision.precision,
+        window: a.window,
+        check_window: a.check_window,
+        msd_grid: a.msd_grid,
+    };
+    cfg.validate(table)?;
+    Ok(cfg)
+}
+
+/// D on a table given as data (`--table FILE`), on the scalar engine at any precision.
+fn run_table(a: &Args) -> Result<(), Error> {
+    let SceneChoice::Table(table) = a.scene.resolve()? else {
+        unreachable!("--table resolves to a table")
+    };
+    let cfg = table_config(a, &table)?;
+    let audit = a
+        .audit
+        .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
+        .transpose()?;
+    let opts = a.checkpoint.apply(RunOptions {
+        engine: a.engine.engine,
+        threads: a.run.threads(),
+        audit,
+        ..super::signals::options()
+    });
+    let r = with_progress(cfg.collisions, "collisions", a.output.quiet, &opts, |o| {
+        diffusion::scene::run_on(&*table, &cfg, o)
+    })?;
+    emit(a.output.json, &r, |r| {
+        print!(
+            "{}",
+            lorentz_gas::report::text::scene_diffusion::scene_diffusion(r)
+        )
+    })
 }
 
 /// Runs `f` with a progress report over `total` units in its options.

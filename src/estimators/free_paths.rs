@@ -178,6 +178,7 @@ pub fn run(cfg: &FreePathConfig, options: &RunOptions) -> Result<FreePathReport,
     match cfg.scene.resolve()? {
         SceneChoice::Triangular(s) => run_on(&*s, cfg, options),
         SceneChoice::Square(s) => run_on(&s, cfg, options),
+        SceneChoice::Table(s) => run_on(&*s, cfg, options),
     }
 }
 

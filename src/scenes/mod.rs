@@ -16,6 +16,8 @@
 //! * [`magnetic`]: the lattice walked along arcs in a uniform magnetic field, and the disk array
 //!   the field's exact geometry needs.
 //! * [`single_trap`]: one trap of three disks and its gaps, for injection experiments.
+//! * [`table`]: any periodic table of disks given as data (a lattice by exact basis vectors,
+//!   disks by exact centres and radii), validated exactly, on the generic kernel.
 //! * [`strip`]: the triangular lattice between two absorbing vertical lines x = 0 and x = L, for
 //!   the escape-rate estimator of D.
 //!
@@ -30,6 +32,7 @@ pub mod spec;
 pub mod square;
 pub mod strip;
 pub mod symbols;
+pub mod table;
 pub mod triangular;
 
 use rand::Rng;
@@ -112,6 +115,12 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// samples the MSD on a grid of this unit and checks the measured τ against it. `None`
     /// (the default): the scene does not supply it, and time is measured in mean free times.
     fn crossing_time(&self) -> Option<f64> {
+        None
+    }
+
+    /// The widest collision-free corridor of an infinite horizon, where the scene names it (a
+    /// table given as data decides it exactly: [`table::horizon`]), or `None` (the default).
+    fn widest_corridor(&self) -> Option<table::horizon::Corridor> {
         None
     }
 

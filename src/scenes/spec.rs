@@ -10,6 +10,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::square::SquareScene;
+use super::table::PeriodicTable;
+use super::table::spec::TableSpec;
 use super::triangular::TriangularScene;
 use crate::Error;
 use crate::numbers::exact::ExactInput;
@@ -41,6 +43,9 @@ pub enum SceneSpec {
         /// The radius, as typed.
         radius: String,
     },
+    /// Any periodic table of disks given as data (a `--table` file, a Python dict), every
+    /// number as written.
+    Table(TableSpec),
 }
 
 /// A scene resolved from its [`SceneSpec`], for the scene-generic analyses (one monomorphic
@@ -51,6 +56,8 @@ pub enum SceneChoice {
     Triangular(Box<TriangularScene>),
     /// The square lattice.
     Square(SquareScene),
+    /// A table given as data.
+    Table(Box<PeriodicTable>),
 }
 
 /// What a scene takes and what its parameter's range is, for the refusals.
@@ -121,15 +128,18 @@ impl SceneSpec {
         match self {
             SceneSpec::Triangular { .. } => "triangular",
             SceneSpec::Square { .. } => "square",
+            SceneSpec::Table(_) => "table",
         }
     }
 
     /// The scene itself, its parameter checked and kept exact.
     ///
     /// # Errors
-    /// A gap that is not finite or not positive, a radius outside (0, 1/2).
+    /// A gap that is not finite or not positive, a radius outside (0, 1/2), a table that is not
+    /// one ([`Error::Table`]).
     pub fn resolve(&self) -> Result<SceneChoice, Error> {
         match self {
+            SceneSpec::Table(t) => Ok(SceneChoice::Table(Box::new(PeriodicTable::new(t)?))),
             SceneSpec::Square { radius } => {
                 let r = ExactInput::parse(radius)?.rational("radius")?;
                 Ok(SceneChoice::Square(SquareScene::exact(r)?))
@@ -161,6 +171,10 @@ macro_rules! with_scene {
             }
             $crate::scenes::spec::SceneChoice::Square($s) => {
                 let $s: &$crate::scenes::square::SquareScene = $s;
+                $body
+            }
+            $crate::scenes::spec::SceneChoice::Table($s) => {
+                let $s: &$crate::scenes::table::PeriodicTable = $s;
                 $body
             }
         }

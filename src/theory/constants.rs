@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 use serde_json::value::RawValue;
 
+use crate::Capability;
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::numbers::exact::{ExactInput, parse_exact};
@@ -164,6 +165,13 @@ pub fn run(cfg: &ConstantsConfig) -> Result<ConstantsReport, Error> {
         SceneSpec::Square { radius } => Table::Square {
             r: parse_exact(radius)?,
         },
+        SceneSpec::Table(t) => {
+            return Err(Error::Lacks {
+                scene: t.title().to_string(),
+                capability: Capability::ClosedForms,
+                analysis: "constants",
+            });
+        }
     };
     cfg.precision.dispatch(Tabulate {
         table,

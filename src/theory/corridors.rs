@@ -133,6 +133,13 @@ impl LatticeGas {
             SceneSpec::Square { radius } => LatticeGas::Square {
                 r: parse_exact(radius)?,
             },
+            SceneSpec::Table(t) => {
+                return Err(Error::Lacks {
+                    scene: t.title().to_string(),
+                    capability: crate::Capability::OneDiskPerCell,
+                    analysis: "superdiffusion",
+                });
+            }
         };
         gas.validate()?;
         Ok(gas)

@@ -62,6 +62,12 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
     if scene.finite_horizon() {
         return Ok(());
     }
+    if let Some(corridor) = scene.widest_corridor() {
+        return Err(Error::OpenCorridor {
+            scene: scene.label(),
+            corridor,
+        });
+    }
     Err(Error::Invalid(format!(
         "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use a finite-horizon scene (the triangular one with 0 < w < w_inf = 0.3094...), or the superdiffusion analysis, which measures the t ln t growth against the exact corridor constants (the constants analysis lists them); in a magnetic field every scene has a finite horizon (--field, Python field=)",
         scene.label()

@@ -129,6 +129,7 @@ impl FieldConfig {
         Ok(match &self.scene {
             SceneSpec::Triangular { w } => (Some(nearest_f64(&parse_exact(w)?)), None),
             SceneSpec::Square { radius } => (None, Some(nearest_f64(&parse_exact(radius)?))),
+            SceneSpec::Table(_) => (None, None),
         })
     }
 

@@ -87,6 +87,7 @@ impl FieldSweepConfig {
         let scene = match scene {
             SceneSpec::Triangular { w } => SceneSpec::parse("triangular", Some(&w), None)?,
             SceneSpec::Square { radius } => SceneSpec::parse("square", None, Some(&radius))?,
+            table @ SceneSpec::Table(_) => table,
         };
         let mut cfg = FieldConfig {
             run: i as u64,

@@ -21,6 +21,7 @@ pub mod lattice_walk;
 pub mod lyapunov;
 pub mod publication;
 pub mod reproduce;
+pub mod scene_diffusion;
 pub mod shadow;
 pub mod superdiffusion;
 pub mod sweep;

@@ -1,0 +1,77 @@
+//! The text of D on any table (`lorentz diffusion --table FILE`; Python's `str()` of the result).
+
+use super::line;
+use crate::estimators::diffusion::scene::SceneDiffusionReport;
+use crate::statistics::comparison;
+
+/// The text of a diffusion result on a table, line by line as the command line prints it.
+pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
+    let mut out = String::new();
+    let m = &r.meta;
+    line!(
+        out,
+        "{}  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {}, {:.1} s)",
+        r.scene,
+        m.precision,
+        m.engine,
+        m.seed.unwrap_or_default(),
+        m.batches.unwrap_or_default(),
+        r.collisions as f64,
+        crate::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
+        r.seconds,
+    );
+    let unit = if r.time_unit_is_crossing_time {
+        "the mean crossing time tau"
+    } else {
+        "the mean free time"
+    };
+    let w = &r.config.window;
+    line!(
+        out,
+        "D              = {:.6} ± {:.6}   (MSD slope over [{}, {}] x {unit} = {:.6})",
+        r.D,
+        r.D_err,
+        w.lo,
+        w.hi,
+        r.time_unit
+    );
+    let check = comparison::of(
+        r.D_minus_D_check,
+        r.D_minus_D_check_err,
+        comparison::batch_dof(r.batch_D.len()),
+    );
+    line!(
+        out,
+        "D (check)      = {:.6} ± {:.6}   (over [{}, {}]; D − D_check = {:+.6} ± {:.6}, {:+.1}σ: {})",
+        r.D_check,
+        r.D_check_err,
+        r.config.check_window.lo,
+        r.config.check_window.hi,
+        r.D_minus_D_check,
+        r.D_minus_D_check_err,
+        check.z,
+        if check.agrees() { "agree" } else { "DISAGREE" }
+    );
+    for i in &r.identities {
+        line!(
+            out,
+            "{:<15}= {:.7} ± {:.7}   exact {:.7}  ({:+.1}σ, bound {:.1}σ: {})",
+            i.name,
+            i.measured,
+            i.err,
+            i.exact,
+            i.t,
+            i.bound,
+            if i.agrees { "agree" } else { "DISAGREE" }
+        );
+    }
+    if let Some(a) = &r.audit {
+        line!(
+            out,
+            "self-audit     : {} events replayed in MPFR, {} outside the error model",
+            a.audited,
+            a.outside
+        );
+    }
+    out
+}
