@@ -1,4 +1,4 @@
-//! `cargo bench --bench divider`: the throughput of the vector divide and square-root unit on this
+//! `cargo bench -p lorentz-gas-benches --bench divider`: the throughput of the vector divide and square-root unit on this
 //! CPU, the resource that bounds the SIMD engine (issue "the engine at the hardware's bound").
 //!
 //! One 16-lane step of the AVX-512 engine (two 8-lane vectors) issues 4 `vdivpd zmm` and 2

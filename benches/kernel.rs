@@ -1,4 +1,4 @@
-//! `cargo bench`: cost per collision of the engines side by side in one run (divan reports
+//! `cargo bench -p lorentz-gas-benches --bench kernel`: cost per collision of the engines side by side in one run (divan reports
 //! medians): the scalar engine in f64 and MPFR, and the SIMD engine (16 trajectories in vector
 //! lanes) on every instruction path this CPU has, bare, with the observers of `lorentz
 //! diffusion` and with those of `lorentz hops` (order 3). The CLI's `lorentz bench` gives the

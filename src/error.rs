@@ -81,7 +81,7 @@ pub enum Error {
     /// A table given as data that is not a valid table ([`crate::scenes::table::TableError`]:
     /// the disks that overlap, the radius, the basis).
     #[error("{0}")]
-    Table(crate::scenes::table::TableError),
+    Table(Box<crate::scenes::table::TableError>),
     /// A scene whose horizon is infinite, given to an analysis that needs a finite one, with the
     /// widest corridor that makes it so.
     #[error(
@@ -93,7 +93,7 @@ pub enum Error {
         /// The scene's label.
         scene: String,
         /// Its widest corridor.
-        corridor: crate::scenes::table::horizon::Corridor,
+        corridor: Box<crate::scenes::table::horizon::Corridor>,
     },
     /// An analysis given a scene that lacks what it needs ([`Capability`]).
     #[error("{scene} lacks {capability}, which the {analysis} analysis needs")]

@@ -56,6 +56,7 @@ from ._results import (
     SuperdiffusionResult,
     SweepResult,
     FieldSweepResult,
+    TableDiffusionResult,
     TheoryResult,
     TrajectoryResult,
 )
@@ -129,6 +130,7 @@ __all__ = [
     "ConstantsResult",
     "ConstantsTable",
     "DiffusionResult",
+    "TableDiffusionResult",
     "FieldResult",
     "HopsResult",
     "TheoryResult",

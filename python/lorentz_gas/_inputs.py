@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import decimal
 import fractions
+import json
 import numbers
 import os
 from typing import Any, Callable, Optional, Tuple, Union
@@ -63,6 +64,56 @@ def _refuse_lossy(name: str, v: Any) -> None:
             f"{name} = {type(v).__name__}({v!r}) is not a double: it would be rounded; pass a str, "
             "a Fraction or a Decimal to give it exactly"
         )
+
+
+Table = Union[str, "os.PathLike[str]", dict]
+
+
+def _scene(scene: str, table: Optional[Table], **given: Any) -> str:
+    """The scene as the compiled functions take it: its name, or a table given as data (a dict,
+    or the path of a TOML table file) as the table's JSON, every number as its exact text."""
+    if table is None:
+        return str(scene)
+    extra = [k for k, v in given.items() if v is not None]
+    if scene != "triangular" or extra:
+        raise ValueError(
+            f"table= gives the whole table: leave out {', '.join(['scene='] * (scene != 'triangular') + [k + '=' for k in extra])}"
+        )
+    if isinstance(table, dict):
+        return json.dumps(_table_numbers(table))
+    if isinstance(table, (str, os.PathLike)):
+        return _native.read_table(os.fspath(table))
+    raise TypeError(f"table must be a dict or the path of a TOML table file, not {type(table).__name__}")
+
+
+def _table_numbers(table: dict) -> dict:
+    """The dict with every number of its lattice and disks as exact text (what a table file
+    holds); anything else is left for the library to refuse."""
+    out = dict(table)
+    lattice = out.get("lattice")
+    if isinstance(lattice, dict):
+        out["lattice"] = {k: _pair(f"lattice.{k}", v) for k, v in lattice.items()}
+    disks = out.get("disks")
+    if isinstance(disks, (list, tuple)):
+        out["disks"] = [_disk(i, d) for i, d in enumerate(disks)]
+    return out
+
+
+def _pair(name: str, v: Any) -> Any:
+    if isinstance(v, (list, tuple)) and len(v) == 2:
+        return [_exact(name, v[0]), _exact(name, v[1])]
+    return v
+
+
+def _disk(i: int, d: Any) -> Any:
+    if not isinstance(d, dict):
+        return d
+    out = dict(d)
+    if "centre" in out:
+        out["centre"] = _pair(f"disks[{i}].centre", out["centre"])
+    if "radius" in out and not isinstance(out["radius"], (list, dict)):
+        out["radius"] = _exact(f"disks[{i}].radius", out["radius"])
+    return out
 
 
 def _optional_exact(name: str, v: Any) -> Optional[str]:

@@ -231,6 +231,19 @@ class DiffusionResult(Result):
         return f"D = {_pm(self.D, self.D_err)} at w = {self.w}"
 
 
+class TableDiffusionResult(Result):
+    """D on a table given as data (``diffusion(table=...)``): ``D`` ± ``D_err`` (length²/time,
+    the table's own lengths, speed 1), the check window's ``D_check``, ``identities`` (the mean
+    free path against Santaló's closed form and the crossing time against pi|Q|/L, each with its
+    Student-t statistic ``t``, its ``bound`` and ``agrees``), ``msd_times`` (time) and
+    ``batch_D``. ``print(r)`` shows the command line's text."""
+
+    _text_kind = "table-diffusion"
+
+    def _summary(self) -> str:
+        return f"D = {_pm(self.D, self.D_err)} on {self.scene}"
+
+
 class FieldResult(Result):
     """The diffusion tensor in a magnetic field ``field``: ``D_xx`` and the Hall part ``D_xy``
     (length²/time, each with ``_err``) over the whole phase space, ``diffusing`` (a dict: the

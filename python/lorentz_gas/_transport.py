@@ -14,7 +14,9 @@ from ._inputs import (
     Progress,
     _count,
     _exact,
+    Table,
     _optional_exact,
+    _scene,
     _path,
     _threads,
     _total,
@@ -23,6 +25,7 @@ from ._inputs import (
 from ._keywords import public
 from ._progress import _Bar
 from ._results import (
+    TableDiffusionResult,
     BackscatterResult,
     DiffusionResult,
     EscapeResult,
@@ -59,7 +62,8 @@ def diffusion(
     msd_grid: str = "fit",
     scene: str = "triangular",
     radius: Optional[Exact] = None,
-) -> Union[DiffusionResult, FieldResult]:
+    table: Optional[Table] = None,
+) -> Union[DiffusionResult, FieldResult, TableDiffusionResult]:
     """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``), or with a
     magnetic ``field`` the diffusion tensor (``lorentz diffusion --field``).
 
@@ -123,6 +127,12 @@ def diffusion(
         ``field`` (which bounds every flight) has a diffusion coefficient there.
     radius : str, float, Fraction or Decimal, optional
         Disk radius of the square scene, 0 < radius < 1/2, taken exactly like ``w``.
+    table : dict or path, optional
+        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``: a dict
+        ``{"lattice": {"e1": [a, 0], "e2": [b, h]}, "disks": [{"centre": [x, y], "radius": r},
+        ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
+        file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
+        the open corridor where the analysis needs a finite horizon.
 
     Returns
     -------
@@ -140,7 +150,7 @@ def diffusion(
     total = None if rel_err is not None else _total(_count("collisions", 2e9 if collisions is None else collisions))
     with _Bar(progress, total, "coll") as cb:
         text = _native.diffusion(
-            str(scene),
+            _scene(scene, table, w=w, radius=radius),
             _optional_exact("w", w),
             _optional_exact("radius", radius),
             None if collisions is None else _count("collisions", collisions),
@@ -163,6 +173,8 @@ def diffusion(
         )
     if '"D_xy"' in text:
         return FieldResult(text)
+    if '"identities"' in text:
+        return TableDiffusionResult(text)
     return DiffusionResult(text)
 
 

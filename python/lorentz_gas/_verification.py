@@ -16,7 +16,9 @@ from ._inputs import (
     _count,
     _exact,
     _many,
+    Table,
     _optional_exact,
+    _scene,
     _path,
     _threads,
     _total,
@@ -43,6 +45,7 @@ def lyapunov(
     *,
     scene: str = "triangular",
     radius: Optional[Exact] = None,
+    table: Optional[Table] = None,
     collisions_per_batch: Count = 2e6,
     batches: Count = 16,
     starts: Optional[Count] = None,
@@ -77,6 +80,12 @@ def lyapunov(
         w_inf < w <= 2**20 - 2; a collision then costs the same whatever the flight's length),
         ``"walk"`` cell by cell (the reference), ``"auto"`` jump with 2**-32 <= radius <= 1/8 and
         w >= 6, where jumps are faster. Recorded as ``tangent["flights"]``.
+    table : dict or path, optional
+        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``: a dict
+        ``{"lattice": {"e1": [a, 0], "e2": [b, h]}, "disks": [{"centre": [x, y], "radius": r},
+        ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
+        file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
+        the open corridor where the analysis needs a finite horizon.
 
     Returns
     -------
@@ -87,7 +96,7 @@ def lyapunov(
     """
     with _Bar(progress, 0, "coll") as cb:
         text = _native.lyapunov(
-            scene,
+            _scene(scene, table, w=w, radius=radius),
             _optional_exact("w", w),
             _optional_exact("radius", radius),
             _count("collisions_per_batch", collisions_per_batch),
@@ -108,6 +117,7 @@ def free_paths(
     *,
     scene: str = "triangular",
     radius: Optional[Exact] = None,
+    table: Optional[Table] = None,
     collisions: Count = 1.6e7,
     batches: Count = 16,
     seed: Count = 1,
@@ -133,6 +143,12 @@ def free_paths(
         How flights cross the lattice, as in :func:`lyapunov`. Recorded as ``flights``.
     seed, threads, progress
         As in :func:`diffusion`.
+    table : dict or path, optional
+        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``: a dict
+        ``{"lattice": {"e1": [a, 0], "e2": [b, h]}, "disks": [{"centre": [x, y], "radius": r},
+        ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
+        file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
+        the open corridor where the analysis needs a finite horizon.
 
     Returns
     -------
@@ -142,7 +158,7 @@ def free_paths(
     """
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
         text = _native.free_paths(
-            scene,
+            _scene(scene, table, w=w, radius=radius),
             _optional_exact("w", w),
             _optional_exact("radius", radius),
             _count("collisions", collisions),
@@ -161,6 +177,7 @@ def audit(
     *,
     scene: str = "triangular",
     radius: Optional[Exact] = None,
+    table: Optional[Table] = None,
     collisions: Count = 1e6,
     batches: Count = 4,
     sample: float = 1.0,
@@ -198,6 +215,12 @@ def audit(
         Recorded as ``flights``.
     seed, threads, progress
         As in :func:`diffusion`.
+    table : dict or path, optional
+        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``: a dict
+        ``{"lattice": {"e1": [a, 0], "e2": [b, h]}, "disks": [{"centre": [x, y], "radius": r},
+        ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
+        file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
+        the open corridor where the analysis needs a finite horizon.
 
     Returns
     -------
@@ -207,7 +230,7 @@ def audit(
     """
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
         text = _native.audit(
-            scene,
+            _scene(scene, table, w=w, radius=radius),
             _optional_exact("w", w),
             _optional_exact("radius", radius),
             _count("collisions", collisions),
@@ -286,6 +309,7 @@ def certify(
     *,
     scene: str = "triangular",
     radius: Optional[Exact] = None,
+    table: Optional[Table] = None,
     collisions: Count = 1000,
     digits: Count = 30,
     seed: Count = 1,
@@ -304,6 +328,12 @@ def certify(
         Digits to certify (1 or more).
     seed : int
         Seed of the start.
+    table : dict or path, optional
+        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``: a dict
+        ``{"lattice": {"e1": [a, 0], "e2": [b, h]}, "disks": [{"centre": [x, y], "radius": r},
+        ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
+        file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
+        the open corridor where the analysis needs a finite horizon.
 
     Returns
     -------
@@ -313,7 +343,7 @@ def certify(
     """
     with _Bar(progress, 3 * _total(_count("collisions", collisions)), "coll") as cb:
         text = _native.certify(
-            scene,
+            _scene(scene, table, w=w, radius=radius),
             _optional_exact("w", w),
             _optional_exact("radius", radius),
             _count("collisions", collisions),

@@ -20,7 +20,8 @@ use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
 use lorentz_gas::estimators::sweep::{self, SweepConfig};
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
-use lorentz_gas::scenes::spec::SceneSpec;
+use lorentz_gas::scenes::spec::{SceneChoice, SceneSpec};
+use lorentz_gas::scenes::table::PeriodicTable;
 use lorentz_gas::theory::constants::{self, ConstantsConfig};
 
 use crate::inputs::{self, count_u32, count_u64, count_usize, exact};
@@ -117,19 +118,25 @@ fn py_diffusion(
         Ok(match &cfg {
             Either::Field(fc) => Either::Field(field::run(fc, &opts)?),
             Either::Plain(c) => Either::Plain(diffusion::run(c, &opts)?),
+            Either::Table(c, t) => Either::Table(diffusion::scene::run_on(&**t, c, &opts)?, ()),
         })
     })?;
     match r {
         Either::Field(r) => json(&r),
         Either::Plain(r) => json(&r),
+        Either::Table(r, ()) => json(&r),
     }
 }
 
-/// A diffusion run's result: without a field, or in one.
-enum Either<P, F> {
+/// A diffusion run's result: without a field, in one, or on a table given as data.
+enum Either<P, F, S, T> {
     Plain(P),
     Field(F),
+    Table(S, T),
 }
+
+/// The configurations of a diffusion run.
+type Configs = Either<DiffusionConfig, FieldConfig, SceneDiffusionConfig, Box<PeriodicTable>>;
 
 /// The run of `scene` the statistics of `plain` ask for (validated): in the field, unless it is
 /// absent or exactly zero, on either scene; else the run without a field, on the triangular
@@ -139,22 +146,34 @@ fn configs(
     plain: DiffusionConfig,
     field: Option<&str>,
     samples: u64,
-) -> PyResult<Either<DiffusionConfig, FieldConfig>> {
+) -> PyResult<Configs> {
+    let statistics = SceneDiffusionConfig {
+        collisions: plain.collisions,
+        batches: plain.batches,
+        seed: plain.seed,
+        precision: plain.precision,
+        window: plain.window,
+        check_window: plain.check_window,
+        msd_grid: plain.msd_grid,
+    };
     let b = match field {
         Some(b) if lorentz_gas::numbers::exact::parse_exact(b).map_err(crate::py_err)? != 0 => b,
-        _ => return plain_config(&scene, plain).map(Either::Plain),
+        _ => {
+            if let SceneChoice::Table(t) = scene.resolve().map_err(crate::py_err)? {
+                if plain.rel_err.is_some() {
+                    return Err(PyValueError::new_err(
+                        "rel_err= does not run on a table= yet: give collisions=",
+                    ));
+                }
+                statistics.validate(&*t).map_err(crate::py_err)?;
+                return Ok(Either::Table(statistics, t));
+            }
+            return plain_config(&scene, plain).map(Either::Plain);
+        }
     };
     field::refuse_zero_field_options(plain.rel_err, plain.msd_grid).map_err(crate::py_err)?;
     let fc = FieldConfig {
-        statistics: SceneDiffusionConfig {
-            collisions: plain.collisions,
-            batches: plain.batches,
-            seed: plain.seed,
-            precision: plain.precision,
-            window: plain.window,
-            check_window: plain.check_window,
-            msd_grid: plain.msd_grid,
-        },
+        statistics,
         localization_samples: samples,
         ..FieldConfig::new(scene, b)
     };
@@ -166,7 +185,7 @@ fn configs(
 fn plain_config(scene: &SceneSpec, plain: DiffusionConfig) -> PyResult<DiffusionConfig> {
     let w = match scene {
         SceneSpec::Triangular { w } => inputs::diffusive_gap(w)?,
-        SceneSpec::Square { .. } => {
+        SceneSpec::Square { .. } | SceneSpec::Table(_) => {
             let choice = scene.resolve().map_err(crate::py_err)?;
             lorentz_gas::with_scene!(&choice, |s| diffusion::require_finite_horizon(s))
                 .map_err(crate::py_err)?;

@@ -17,6 +17,7 @@ use lorentz_gas::scenes::long_flight::LongFlights;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::spec::SceneChoice;
 use lorentz_gas::scenes::square::SquareScene;
+use lorentz_gas::scenes::table::PeriodicTable;
 use lorentz_gas::scenes::triangular::TriangularScene;
 
 use crate::inputs::{count_u32, count_u64};
@@ -224,6 +225,7 @@ fn advance_in_field<S: Scene>(
 enum AnyFieldWalk {
     Triangular(Box<FieldWalk<TriangularScene>>),
     Square(FieldWalk<SquareScene>),
+    Table(Box<FieldWalk<PeriodicTable>>),
 }
 
 impl AnyFieldWalk {
@@ -231,6 +233,7 @@ impl AnyFieldWalk {
         match self {
             AnyFieldWalk::Triangular(w) => w.state(),
             AnyFieldWalk::Square(w) => w.state(),
+            AnyFieldWalk::Table(w) => w.state(),
         }
     }
 
@@ -239,6 +242,7 @@ impl AnyFieldWalk {
         match self {
             AnyFieldWalk::Triangular(w) => advance_in_field(w, t0, n, ctl),
             AnyFieldWalk::Square(w) => advance_in_field(w, t0, n, ctl),
+            AnyFieldWalk::Table(w) => advance_in_field(w, t0, n, ctl),
         }
     }
 }
@@ -264,6 +268,8 @@ fn field_walk(
         SceneChoice::Triangular(s) => FieldWalk::start(s.as_ref(), b, seed, batch)
             .map(|w| AnyFieldWalk::Triangular(Box::new(w))),
         SceneChoice::Square(s) => FieldWalk::start(s, b, seed, batch).map(AnyFieldWalk::Square),
+        SceneChoice::Table(s) => FieldWalk::start(s.as_ref(), b, seed, batch)
+            .map(|w| AnyFieldWalk::Table(Box::new(w))),
     }
     .map(Some)
     .map_err(crate::py_err)

@@ -71,5 +71,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     figures::register(m)?;
     verification::register(m)?;
     text::register(m)?;
+    m.add_function(wrap_pyfunction!(scenes::read_table, m)?)?;
     Ok(())
 }

@@ -6,7 +6,7 @@
 //! unit's throughput per vector instruction and W the lanes per vector (8 for AVX-512, 4 for
 //! AVX2). [`measure`] times the instructions at run time: [`CHAINS`] independent chains, so the
 //! figure is throughput, not latency. 12 chains gave the same figures as 24. `lorentz bench`
-//! prints the bound next to the engine's time per collision. `cargo bench --bench divider` runs
+//! prints the bound next to the engine's time per collision. `cargo bench -p lorentz-gas-benches --bench divider` runs
 //! the same chains under divan.
 //!
 //! The bound is a floor, not a forecast. On a CPU that executes 512-bit operations as two

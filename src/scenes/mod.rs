@@ -62,6 +62,22 @@ pub fn check_world_point(x: &Rational, y: &Rational) -> Result<(), Error> {
     Ok(())
 }
 
+/// The scene's disks as one periodic array of equal disks ([`Scene::disk_lattice`]), which
+/// `analysis` needs.
+///
+/// # Errors
+/// [`Error::Lacks`] naming the capability, for a scene that is not such an array.
+pub fn require_disk_lattice<S: Scene>(
+    scene: &S,
+    analysis: &'static str,
+) -> Result<magnetic::DiskLattice, Error> {
+    scene.disk_lattice().ok_or_else(|| Error::Lacks {
+        scene: scene.label(),
+        capability: crate::Capability::OneDiskPerCell,
+        analysis,
+    })
+}
+
 /// A billiard table made of congruent convex cells.
 pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// The kernel that runs the scene's cell at number type `T` (the generic

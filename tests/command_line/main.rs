@@ -13,3 +13,4 @@ mod hostile;
 mod planned;
 mod report;
 mod result_keys;
+mod tables;

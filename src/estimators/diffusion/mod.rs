@@ -65,7 +65,7 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
     if let Some(corridor) = scene.widest_corridor() {
         return Err(Error::OpenCorridor {
             scene: scene.label(),
-            corridor,
+            corridor: Box::new(corridor),
         });
     }
     Err(Error::Invalid(format!(

@@ -77,9 +77,7 @@ pub fn run<S: Scene>(
     }
     crate::engine::check_trajectory_length(cfg.collisions_per_batch)?;
     let geometry = FieldGeometry::new(
-        scene.disk_lattice().ok_or_else(|| {
-            Error::Invalid(format!("{} is not an array of equal disks", scene.label()))
-        })?,
+        crate::scenes::require_disk_lattice(scene, "Lyapunov in a field")?,
         b,
     )?;
     let per = par_batches_watched(opts.threads, cfg.batches, opts.stop.as_ref(), |i| {

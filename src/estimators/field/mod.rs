@@ -337,12 +337,7 @@ fn run_on<S: Scene>(scene: &S, cfg: &FieldConfig, opts: &RunOptions) -> Result<F
 
 /// The exact geometry of `scene` in the field `b`.
 fn geometry_of<S: Scene>(scene: &S, b: f64) -> Result<FieldGeometry, Error> {
-    let disks = scene.disk_lattice().ok_or_else(|| {
-        Error::Invalid(format!(
-            "{} is not a periodic array of equal disks, which the field's exact geometry needs",
-            scene.label()
-        ))
-    })?;
+    let disks = crate::scenes::require_disk_lattice(scene, "field")?;
     FieldGeometry::new(disks, b)
 }
 

@@ -31,9 +31,7 @@ impl<S: Scene> FieldWalk<S> {
     /// diffuses: the start would never be found), or a bad scene.
     pub fn start(scene: &S, field: &str, seed: u64, batch: u64) -> Result<Self, Error> {
         let b = super::field_value(field)?;
-        let disks = scene.disk_lattice().ok_or_else(|| {
-            Error::Invalid(format!("{} is not an array of equal disks", scene.label()))
-        })?;
+        let disks = crate::scenes::require_disk_lattice(scene, "field")?;
         let geometry = FieldGeometry::new(disks, b)?;
         if geometry.all_localized() {
             return Err(Error::Invalid(format!(

@@ -71,6 +71,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
     let text = match kind {
         "diffusion" => render(kind, json, diffusion::diffusion)?,
         "field" => render(kind, json, field::field)?,
+        "table-diffusion" => render(kind, json, scene_diffusion::scene_diffusion)?,
         "hops" => render(kind, json, hops::hops)?,
         "theory" => render(kind, json, theory::theory)?,
         "lattice-walk" => render(kind, json, lattice_walk::lattice_walk)?,

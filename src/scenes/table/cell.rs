@@ -223,6 +223,20 @@ impl Scene for PeriodicTable {
         (length > 0.0).then(|| PI * self.free_area_and_boundary().0 / length)
     }
 
+    /// One disk at the lattice points (its centre exactly at the origin): the field's exact
+    /// geometry applies.
+    fn disk_lattice(&self) -> Option<crate::scenes::magnetic::DiskLattice> {
+        let [(c, r)] = self.disks.as_slice() else {
+            return None;
+        };
+        (c[0] == 0 && c[1] == 0).then(|| crate::scenes::magnetic::DiskLattice {
+            a: self.a.to_f64(),
+            beta: (self.b.clone() / &self.a).to_f64(),
+            h: self.h.to_f64(),
+            radius: r.to_f64(),
+        })
+    }
+
     fn widest_corridor(&self) -> Option<super::horizon::Corridor> {
         self.corridor.clone()
     }

@@ -306,7 +306,7 @@ mod tests {
         assert!((c.width - (0.5 - 0.4 - 1.0 / 11.0)).abs() < 1e-15, "{c:?}");
         // Small disks: the diagonal 1/√2 − 2·(1/5) beats the axes 1/2 − 1/5 − 1/10.
         let c = two(q(1, 5), q(1, 10)).unwrap();
-        assert_eq!(c.direction, [1, 1]);
+        assert!(c.direction == [1, 1] || c.direction == [-1, 1], "{c:?}");
         assert!((c.width - (0.5f64.sqrt() - 0.4)).abs() < 1e-15, "{c:?}");
     }
 

@@ -17,6 +17,8 @@
 mod cell;
 pub mod horizon;
 pub mod spec;
+#[cfg(test)]
+mod tests;
 
 use rug::Rational;
 
@@ -104,7 +106,7 @@ pub enum TableError {
 
 impl From<TableError> for Error {
     fn from(e: TableError) -> Error {
-        Error::Table(e)
+        Error::Table(Box::new(e))
     }
 }
 

@@ -120,7 +120,8 @@ pub struct TableSpec {
     pub name: Option<String>,
     /// The lattice.
     pub lattice: LatticeSpec,
-    /// The disks of one cell, each once.
+    /// The disks of one cell, each once (none is refused by the validation, naming the count).
+    #[serde(default)]
     pub disks: Vec<DiskSpec>,
 }
 

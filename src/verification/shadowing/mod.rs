@@ -409,12 +409,7 @@ fn field_of<S: Scene>(
     let Some(q) = config.field_exact()? else {
         return Ok(None);
     };
-    let disks = scene.disk_lattice().ok_or_else(|| {
-        Error::Invalid(format!(
-            "{}: true shadowing in a field needs a scene of equal disks on a lattice",
-            scene.label()
-        ))
-    })?;
+    let disks = crate::scenes::require_disk_lattice(scene, "shadow")?;
     let geometry =
         crate::theory::magnetic::FieldGeometry::new(disks, crate::numbers::exact::nearest_f64(&q))?;
     if geometry.all_localized() {
@@ -447,6 +442,9 @@ pub fn run<S: Scene>(
         request.segments,
         request.reference_bits,
     );
+    // Straight flights are shadowed about the disks at the lattice points, arcs by the field's
+    // exact geometry: either way the disks are one lattice of equal disks.
+    crate::scenes::require_disk_lattice(scene, "shadow")?;
     let field = field_of(scene, request)?;
     let exact = field.as_ref().map(|f| &f.0);
     let out = par_batches(threads, segments, |k| {

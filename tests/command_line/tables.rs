@@ -1,0 +1,84 @@
+//! `--table FILE`: a periodic table given as data, from the command line. A finite-horizon table
+//! runs and meets Santaló's mean free path; an open corridor and overlapping disks are refused
+//! with exit status 2 and one line naming the corridor or the two disks.
+
+use crate::common::lorentz_in;
+
+const EXAMPLE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/examples/tables/two-radius-square.toml"
+);
+
+fn table(dir: &std::path::Path, name: &str, centre_radius: &str) -> String {
+    let text = format!(
+        "[lattice]\ne1 = [\"1\", \"0\"]\ne2 = [\"0\", \"1\"]\n[[disks]]\ncentre = [\"0\", \"0\"]\n\
+         radius = \"2/5\"\n[[disks]]\ncentre = [\"1/2\", \"1/2\"]\nradius = \"{centre_radius}\"\n"
+    );
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn a_table_file_runs_diffusion_and_meets_santalos_mean_free_path() {
+    let dir = crate::common::scratch();
+    let args = [
+        "diffusion",
+        "--table",
+        EXAMPLE,
+        "--collisions",
+        "4e6",
+        "--batches",
+        "8",
+        "--json",
+    ];
+    let (code, out, err) = lorentz_in(dir.path(), &args);
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(
+        r["scene"]
+            .as_str()
+            .unwrap()
+            .starts_with("two-radius square"),
+        "{out}"
+    );
+    let ids = r["identities"].as_array().unwrap();
+    let mfp = ids.iter().find(|i| i["name"] == "mean free path").unwrap();
+    // Santaló: π|Q|/|∂Q| = (1 − π/5)/(6/5), to the double.
+    let exact = (1.0 - std::f64::consts::PI / 5.0) / 1.2;
+    assert!((mfp["exact"].as_f64().unwrap() - exact).abs() < 1e-15);
+    assert!(mfp["agrees"].as_bool().unwrap(), "{mfp}");
+    let d = r["D"].as_f64().unwrap();
+    assert!(d > 0.0 && r["D_err"].as_f64().unwrap() < 0.05 * d, "{out}");
+}
+
+#[test]
+fn an_open_corridor_and_overlapping_disks_exit_2_with_one_line_naming_them() {
+    let dir = crate::common::scratch();
+    let open = table(dir.path(), "open.toml", "1/20");
+    let (code, _, err) = lorentz_in(dir.path(), &["diffusion", "--table", &open]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("infinite horizon") && err.contains("1 e1 + 0 e2"),
+        "{err}"
+    );
+    let overlap = table(dir.path(), "overlap.toml", "0.31");
+    for command in ["diffusion", "lyapunov", "audit"] {
+        let (code, _, err) = lorentz_in(dir.path(), &[command, "--table", &overlap]);
+        assert_eq!(code, 2, "{command}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains("disk 1 (centre (0, 0), radius 2/5)"), "{err}");
+        assert!(
+            err.contains("disk 2 (centre (1/2, 1/2), radius 0.31)"),
+            "{err}"
+        );
+    }
+    // A table replaces the scene and its parameter.
+    let (code, _, err) = lorentz_in(dir.path(), &["diffusion", "--table", EXAMPLE, "--w", "0.1"]);
+    assert_eq!(code, 2, "{err}");
+    // A missing file names its path.
+    let (code, _, err) = lorentz_in(dir.path(), &["diffusion", "--table", "no-such.toml"]);
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("no-such.toml"), "{err}");
+}
