@@ -7,7 +7,7 @@ from typing import Any, Dict, Optional
 import numpy as np
 
 from . import _native
-from ._inputs import Count, Exact, Progress, _count, _optional_exact, _total
+from ._inputs import Count, Exact, Progress, Table, _count, _optional_exact, _scene, _total
 from ._keywords import in_package, public
 from ._progress import _Bar
 
@@ -45,7 +45,8 @@ class Trajectory:
 
     ``Trajectory(w, seed=..., batch=b)`` is the trajectory of batch ``b`` of
     ``diffusion(w, seed=...)`` (with ``field``, of the field run: its start drawn from the
-    diffusing orbits; ``scene="square", radius=r`` for the square lattice); ``start`` is its
+    diffusing orbits; ``scene="square", radius=r`` for the square lattice, ``table=`` for any
+    periodic table given as data); ``start`` is its
     first row (``kind`` "start", t = 0) and each ``events(n)`` the next ``n`` events, with the
     same bits as one call for all of them (the state and the running time are kept between
     calls). ``time`` is the time of the last event so far.
@@ -74,11 +75,12 @@ class Trajectory:
         batch: Count = 0,
         scene: str = "triangular",
         radius: Optional[Exact] = None,
+        table: Optional[Table] = None,
         field: Optional[Exact] = None,
         flights: str = "auto",
     ):
         self._stream = _native.EventStream(
-            scene,
+            _scene(scene, table, w=w, radius=radius),
             _optional_exact("w", w),
             _optional_exact("radius", radius),
             _count("seed", seed),
@@ -121,6 +123,7 @@ def events(
     batch: Count = 0,
     scene: str = "triangular",
     radius: Optional[Exact] = None,
+    table: Optional[Table] = None,
     field: Optional[Exact] = None,
     flights: str = "auto",
     progress: Progress = None,
@@ -138,10 +141,12 @@ def events(
     counter-clockwise for B > 0, and the trajectory is batch ``batch`` of
     ``diffusion(w, field=B, seed=seed)`` (its start drawn from the diffusing orbits); ``t`` is
     then the arc time and ``x``, ``y`` the event points; ``field=0`` is the run without a field.
+    ``table`` (a dict or the path of a TOML table file, as in :func:`diffusion`): any periodic
+    table of disks instead of ``scene``, ``w`` and ``radius``.
     ``flights`` (``"auto"``, ``"walk"``, ``"jump"``): how straight flights cross the lattice, as
     for :class:`Trajectory`; ``"walk"`` gives every crossing. Memory is checked first:
     ``MemoryError`` names the largest n that fits; for more, continue one :class:`Trajectory` in
     chunks (the same bits)."""
-    tr = Trajectory(w, seed=seed, batch=batch, scene=scene, radius=radius, field=field,
-                    flights=flights)
+    tr = Trajectory(w, seed=seed, batch=batch, scene=scene, radius=radius, table=table,
+                    field=field, flights=flights)
     return np.concatenate([tr.start, tr.events(n, progress)])

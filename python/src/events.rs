@@ -268,8 +268,9 @@ fn field_walk(
         SceneChoice::Triangular(s) => FieldWalk::start(s.as_ref(), b, seed, batch)
             .map(|w| AnyFieldWalk::Triangular(Box::new(w))),
         SceneChoice::Square(s) => FieldWalk::start(s, b, seed, batch).map(AnyFieldWalk::Square),
-        SceneChoice::Table(s) => FieldWalk::start(s.as_ref(), b, seed, batch)
-            .map(|w| AnyFieldWalk::Table(Box::new(w))),
+        SceneChoice::Table(s) => {
+            FieldWalk::start(s.as_ref(), b, seed, batch).map(|w| AnyFieldWalk::Table(Box::new(w)))
+        }
     }
     .map(Some)
     .map_err(crate::py_err)

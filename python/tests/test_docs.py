@@ -5,7 +5,7 @@ The convention the pages follow:
 * ``python`` blocks run, a page's blocks in order in one namespace (as in a notebook), with
   matplotlib drawing off screen; a block that raises fails the test.
 * ``console`` blocks run: each ``$ lorentz ...`` line is the command line binary (the one the
-  other tests compare with), which must exit 0 unless the block's next line says
+  other tests compare with), in a fresh directory holding ``examples/tables/``, which must exit 0 unless the block's next line says
   ``(exit N)``; every line shown after it must be a line of the real output (stdout or
   stderr), character for character, where ``…`` stands for any text (a wall time, a rate, digits
   left out) — same seed, same bits, so an example whose numbers went stale fails here.
@@ -13,12 +13,15 @@ The convention the pages follow:
   fuzz campaign); ``rust`` blocks are the library's examples, run as doctests in ``cargo test``
   where they appear in the crate's documentation; ``text`` blocks are output only. A block in
   any other language fails the test, so that none is left unchecked by accident.
+* ``toml`` blocks are table files (``--table FILE``): each is read as one and must be the table
+  of a file in ``examples/tables/`` (the one the pages' commands run).
 """
 
 import os
 import pathlib
 import re
 import shlex
+import shutil
 import subprocess
 
 import pytest
@@ -43,9 +46,21 @@ def test_every_block_has_a_language_the_convention_knows():
         f"{p.relative_to(REPO)}: ```{lang}"
         for p in PAGES
         for lang, _ in blocks(p)
-        if lang not in SHOWN_ONLY | {"python", "console"}
+        if lang not in SHOWN_ONLY | {"python", "console", "toml"}
     ]
     assert not unknown, unknown
+
+
+def test_toml_blocks_are_the_example_tables(tmp_path):
+    from lorentz_gas import _native
+
+    examples = {_native.read_table(str(p)) for p in (REPO / "examples" / "tables").glob("*.toml")}
+    shown = [body for p in PAGES for lang, body in blocks(p) if lang == "toml"]
+    assert shown, "no toml block"
+    for k, body in enumerate(shown):
+        path = tmp_path / f"block{k}.toml"
+        path.write_text(body, encoding="utf-8")
+        assert _native.read_table(str(path)) in examples, body
 
 
 def test_the_pages_have_blocks_that_run():
@@ -108,6 +123,9 @@ def test_console_blocks_print_what_they_show(page, block, command, tmp_path):
     line, status, shown = command
     args = shlex.split(line)
     assert args[0] == "lorentz", f"{page.name}: a console block runs `lorentz`, not {args[0]}"
+    # The commands run in a fresh directory that holds the repository's example tables, as a
+    # reader's checkout does.
+    shutil.copytree(REPO / "examples" / "tables", tmp_path / "examples" / "tables")
     p = subprocess.run(
         [str(_binary()), *args[1:]],
         capture_output=True,

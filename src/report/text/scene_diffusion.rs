@@ -28,7 +28,8 @@ pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
     let w = &r.config.window;
     line!(
         out,
-        "D              = {:.6} ± {:.6}   (MSD slope over [{}, {}] x {unit} = {:.6})",
+        "{:<24} = {:.6} ± {:.6}   (MSD slope over [{}, {}] x {unit} = {:.6})",
+        "D",
         r.D,
         r.D_err,
         w.lo,
@@ -42,7 +43,8 @@ pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
     );
     line!(
         out,
-        "D (check)      = {:.6} ± {:.6}   (over [{}, {}]; D − D_check = {:+.6} ± {:.6}, {:+.1}σ: {})",
+        "{:<24} = {:.6} ± {:.6}   (over [{}, {}]; D − D_check = {:+.6} ± {:.6}, {:+.1}σ: {})",
+        "D (check)",
         r.D_check,
         r.D_check_err,
         r.config.check_window.lo,
@@ -55,7 +57,7 @@ pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
     for i in &r.identities {
         line!(
             out,
-            "{:<15}= {:.7} ± {:.7}   exact {:.7}  ({:+.1}σ, bound {:.1}σ: {})",
+            "{:<24} = {:.7} ± {:.7}   exact {:.7}  ({:+.1}σ, bound {:.1}σ: {})",
             i.name,
             i.measured,
             i.err,
@@ -68,7 +70,8 @@ pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
     if let Some(a) = &r.audit {
         line!(
             out,
-            "self-audit     : {} events replayed in MPFR, {} outside the error model",
+            "{:<24} : {} events replayed in MPFR, {} outside the error model",
+            "self-audit",
             a.audited,
             a.outside
         );

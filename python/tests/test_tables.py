@@ -1,0 +1,72 @@
+"""Any periodic table given as data (``table=``): a TOML file or a dict, the same bits as the
+command line's ``--table``, its refusals as ``ValueError`` naming the disks or the corridor."""
+
+import copy
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+import lorentz_gas as lg
+from conftest import REPO
+
+TABLE = REPO / "examples" / "tables" / "two-radius-square.toml"
+
+TWO_RADII = {
+    "name": "two-radius square",
+    "lattice": {"e1": [1, 0], "e2": ["0", "1"]},
+    "disks": [
+        {"centre": [0, 0], "radius": Fraction(2, 5)},
+        {"centre": ["1/2", "0.5"], "radius": "1/5"},
+    ],
+}
+
+
+def _physics(d):
+    return {k: d[k] for k in ("D", "D_err", "D_check", "batch_D", "identities")}
+
+
+def test_a_table_file_and_a_dict_give_the_command_lines_bits(cli_json):
+    args = dict(collisions=2e6, batches=4, seed=5)
+    from_file = lg.diffusion(table=TABLE, **args)
+    assert isinstance(from_file, lg.TableDiffusionResult)
+    from_dict = lg.diffusion(table=TWO_RADII, **args)
+    cli = cli_json("diffusion", "--table", str(TABLE), "--collisions", "2e6", "--batches", "4",
+                   "--seed", "5")
+    assert _physics(from_file.to_dict()) == _physics(cli)
+    # The dict writes one centre as 0.5 instead of 1/2: the same exact table, the same bits.
+    assert _physics(from_dict.to_dict())["batch_D"] == cli["batch_D"]
+    mfp = next(i for i in from_file.identities if i["name"] == "mean free path")
+    assert mfp["agrees"], mfp
+    assert "two-radius square" in str(from_file) and "mean free path" in str(from_file)
+
+
+def test_open_corridors_and_overlaps_are_value_errors_naming_them():
+    open_table = copy.deepcopy(TWO_RADII)
+    open_table["disks"][1]["radius"] = "1/20"
+    with pytest.raises(ValueError, match=r"infinite horizon: the corridor along 1 e1 \+ 0 e2"):
+        lg.diffusion(table=open_table, collisions=1e6, batches=4)
+    overlap = copy.deepcopy(TWO_RADII)
+    overlap["disks"][1]["radius"] = "0.31"
+    for call in (lg.diffusion, lg.lyapunov, lg.audit):
+        with pytest.raises(ValueError, match=r"disk 1 \(centre \(0, 0\), radius 2/5\) and disk 2"):
+            call(table=overlap)
+    with pytest.raises(ValueError, match="table= gives the whole table"):
+        lg.diffusion(w="0.1", table=TABLE)
+    with pytest.raises(ValueError, match="not a table"):
+        lg.diffusion(table={"lattice": {"e1": [1, 0], "e2": [0, 1]}, "disk": []})
+    with pytest.raises(OSError, match="no-such-table.toml"):
+        lg.diffusion(table="no-such-table.toml")
+
+
+def test_the_orbit_analyses_take_a_table():
+    ly = lg.lyapunov(table=TABLE, collisions_per_batch=2e4, batches=4, starts=2)
+    assert ly.tangent["per_collision"] > 0
+    au = lg.audit(table=TABLE, collisions=2e4, batches=2)
+    assert au.summary["outside"] == 0 and au.summary["audited"] > 0
+    ev = lg.events(table=TABLE, n=500, seed=2)
+    assert len(ev) == 501 and np.all(np.diff(ev["t"]) >= 0)
+    # The same orbit in chunks.
+    tr = lg.Trajectory(table=TWO_RADII, seed=2)
+    chunks = np.concatenate([tr.start, tr.events(200), tr.events(300)])
+    assert (chunks == ev).all()
