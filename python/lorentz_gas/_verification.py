@@ -81,11 +81,8 @@ def lyapunov(
         ``"walk"`` cell by cell (the reference), ``"auto"`` jump with 2**-32 <= radius <= 1/8 and
         w >= 6, where jumps are faster. Recorded as ``tangent["flights"]``.
     table : dict or path, optional
-        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``: a dict
-        ``{"lattice": {"e1": [a, 0], "e2": [b, h]}, "disks": [{"centre": [x, y], "radius": r},
-        ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
-        file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
-        the open corridor where the analysis needs a finite horizon.
+        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``, as in
+        :func:`diffusion`.
 
     Returns
     -------
@@ -144,11 +141,8 @@ def free_paths(
     seed, threads, progress
         As in :func:`diffusion`.
     table : dict or path, optional
-        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``: a dict
-        ``{"lattice": {"e1": [a, 0], "e2": [b, h]}, "disks": [{"centre": [x, y], "radius": r},
-        ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
-        file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
-        the open corridor where the analysis needs a finite horizon.
+        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``, as in
+        :func:`diffusion`.
 
     Returns
     -------
@@ -216,11 +210,8 @@ def audit(
     seed, threads, progress
         As in :func:`diffusion`.
     table : dict or path, optional
-        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``: a dict
-        ``{"lattice": {"e1": [a, 0], "e2": [b, h]}, "disks": [{"centre": [x, y], "radius": r},
-        ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
-        file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
-        the open corridor where the analysis needs a finite horizon.
+        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``, as in
+        :func:`diffusion`.
 
     Returns
     -------
@@ -329,11 +320,8 @@ def certify(
     seed : int
         Seed of the start.
     table : dict or path, optional
-        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``: a dict
-        ``{"lattice": {"e1": [a, 0], "e2": [b, h]}, "disks": [{"centre": [x, y], "radius": r},
-        ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
-        file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
-        the open corridor where the analysis needs a finite horizon.
+        Any periodic table of disks instead of ``scene``, ``w`` and ``radius``, as in
+        :func:`diffusion`.
 
     Returns
     -------

@@ -120,17 +120,7 @@ pub fn field_config(
     };
     field::refuse_zero_field_options(a.rel_err, a.msd_grid)?;
     let cfg = field::FieldConfig {
-        statistics: SceneDiffusionConfig {
-            collisions: a
-                .collisions
-                .unwrap_or_else(|| diffusion::plan::default_collisions(None)),
-            batches: a.batches,
-            seed: a.run.seed(),
-            precision: a.precision.precision,
-            window: a.window,
-            check_window: a.check_window,
-            msd_grid: a.msd_grid,
-        },
+        statistics: statistics(a),
         localization_samples: a.localization_samples,
         ..field::FieldConfig::new(a.scene.spec()?, &b)
     };
@@ -140,32 +130,13 @@ pub fn field_config(
 
 pub fn run(a: Args) -> Result<(), Error> {
     if let Some(fc) = field_config(&a)? {
-        let audit = a
-            .audit
-            .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
-            .transpose()?;
-        let opts = a.checkpoint.apply(RunOptions {
-            engine: a.engine.engine,
-            threads: a.run.threads(),
-            audit,
-            ..super::signals::options()
-        });
-        return super::field::run(&fc, opts, a.output.quiet, a.output.json);
+        return super::field::run(&fc, options(&a)?, a.output.quiet, a.output.json);
     }
     if a.scene.table.is_some() {
         return run_table(&a);
     }
     let cfg = config(&a)?;
-    let audit = a
-        .audit
-        .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
-        .transpose()?;
-    let opts = a.checkpoint.apply(RunOptions {
-        engine: a.engine.engine,
-        threads: a.run.threads(),
-        audit,
-        ..super::signals::options()
-    });
+    let opts = options(&a)?;
     let r = if cfg.rel_err.is_some() {
         run_planned(&cfg, &opts, a.output.quiet)?
     } else {
@@ -186,7 +157,14 @@ fn table_config(
             "--rel-err does not run on a --table yet: give --collisions".into(),
         ));
     }
-    let cfg = SceneDiffusionConfig {
+    let cfg = statistics(a);
+    cfg.validate(table)?;
+    Ok(cfg)
+}
+
+/// The statistics of a run on any scene (in a field, or on a table given as data).
+fn statistics(a: &Args) -> SceneDiffusionConfig {
+    SceneDiffusionConfig {
         collisions: a
             .collisions
             .unwrap_or_else(|| diffusion::plan::default_collisions(None)),
@@ -196,9 +174,21 @@ fn table_config(
         window: a.window,
         check_window: a.check_window,
         msd_grid: a.msd_grid,
-    };
-    cfg.validate(table)?;
-    Ok(cfg)
+    }
+}
+
+/// How the run goes: engine, threads, the self-audit, the checkpoint, the stop on a signal.
+fn options(a: &Args) -> Result<RunOptions<'static>, Error> {
+    let audit = a
+        .audit
+        .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
+        .transpose()?;
+    Ok(a.checkpoint.apply(RunOptions {
+        engine: a.engine.engine,
+        threads: a.run.threads(),
+        audit,
+        ..super::signals::options()
+    }))
 }
 
 /// D on a table given as data (`--table FILE`), on the scalar engine at any precision.
@@ -207,16 +197,7 @@ fn run_table(a: &Args) -> Result<(), Error> {
         unreachable!("--table resolves to a table")
     };
     let cfg = table_config(a, &table)?;
-    let audit = a
-        .audit
-        .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
-        .transpose()?;
-    let opts = a.checkpoint.apply(RunOptions {
-        engine: a.engine.engine,
-        threads: a.run.threads(),
-        audit,
-        ..super::signals::options()
-    });
+    let opts = options(a)?;
     let r = with_progress(cfg.collisions, "collisions", a.output.quiet, &opts, |o| {
         diffusion::scene::run_on(&*table, &cfg, o)
     })?;

@@ -30,5 +30,6 @@ mod scene_diffusion;
 mod scenes;
 mod shadowing;
 mod square;
+mod tables;
 mod trajectory;
 mod verification;

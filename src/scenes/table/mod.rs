@@ -198,8 +198,10 @@ impl PeriodicTable {
     /// The cell (i, j) holding the world point (x, y) and the point in its frame, exactly
     /// (0 ≤ fractional coordinates < 1).
     fn reduce(&self, x: &Rational, y: &Rational) -> ([i64; 2], [Rational; 2]) {
-        let j = (y.clone() / &self.h).floor();
-        let i = ((x.clone() - self.b.clone() * &j) / &self.a).floor();
+        // The fractional coordinates: p = u e₁ + v e₂ with v = y/h, u = (x − b v)/a.
+        let v = y.clone() / &self.h;
+        let i = ((x.clone() - self.b.clone() * &v) / &self.a).floor();
+        let j = v.floor();
         let to = |q: &Rational| q.numer().to_i64().unwrap_or(0);
         let (i, j) = (to(&i), to(&j));
         let [sx, sy] = self.shift(i, j);

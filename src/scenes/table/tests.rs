@@ -152,8 +152,16 @@ fn a_point_is_located_in_its_cell_exactly() {
     let (cell, p) = t
         .locate::<f64>((), &Rational::from((7, 3)), &Rational::from((-1, 2)))
         .unwrap();
-    // y = −1/2 lies in row j = −1; x − b·j = 7/3 + 1/3 = 8/3 in column i = 2; the offset
+    // v = y/h = −1/2 in row j = −1; u = x − b·v = 7/3 + 1/6 = 5/2 in column i = 2; the offset
     // (7/3 − 2 − 1/3·(−1), 1/2) = (2/3, 1/2), rounded once.
     assert_eq!((cell.i, cell.j), (2, -1));
     assert_eq!((p.x, p.y), (2.0 / 3.0, 0.5));
+    // A point whose column differs from the one its row's corner gives: (0.95, 0.9) on
+    // e2 = (1/3, 1) has u = 0.95 − 0.3 = 0.65 (cell (0, 0)); x − b·⌊v⌋ = 0.95 would say the same,
+    // but (1.05, 0.9) has u = 0.75, in cell (0, 0), where x − b·⌊v⌋ = 1.05 says column 1.
+    let (cell, p) = t
+        .locate::<f64>((), &Rational::from((21, 20)), &Rational::from((9, 10)))
+        .unwrap();
+    assert_eq!((cell.i, cell.j), (0, 0));
+    assert_eq!((p.x, p.y), (1.05, 0.9));
 }
