@@ -78,6 +78,9 @@ pub fn require_disk_lattice<S: Scene>(
     })
 }
 
+/// Where [`Scene::locate`] puts a world point: its cell, and the point in that cell's frame.
+pub type Located<T> = Result<(CellIndex, Vec2<T>), Error>;
+
 /// A billiard table made of congruent convex cells.
 pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// The kernel that runs the scene's cell at number type `T` (the generic
@@ -101,12 +104,7 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     ///
     /// # Errors
     /// If a coordinate exceeds ±[`MAX_WORLD_COORDINATE`].
-    fn locate<T: Real>(
-        &self,
-        ctx: T::Ctx,
-        x: &Rational,
-        y: &Rational,
-    ) -> Result<(CellIndex, Vec2<T>), Error>;
+    fn locate<T: Real>(&self, ctx: T::Ctx, x: &Rational, y: &Rational) -> Located<T>;
 
     /// The periodic lattice of the scene's cells at precision `ctx`.
     fn lattice<T: Real>(&self, ctx: T::Ctx) -> Result<Lattice<T, Self::Kernel<T>>, Error> {

@@ -12,8 +12,8 @@
 use rand::Rng;
 use rug::Rational;
 
-use super::Scene;
 use super::lattice::{CellIndex, LatticeState};
+use super::{Located, Scene};
 use crate::Error;
 use crate::kernel::cell::{ConvexCell, Disk, Edge, EdgeMap, LatticeBasis};
 use crate::kernel::flight::Flight;
@@ -131,12 +131,7 @@ impl Scene for SquareScene {
 
     /// Exact: i = round(x), j = round(y) in rationals (halves round away from zero, so a point
     /// on a cell edge goes to the outer cell), offset (x − i, y − j) exact and rounded once.
-    fn locate<T: Real>(
-        &self,
-        ctx: T::Ctx,
-        x: &Rational,
-        y: &Rational,
-    ) -> Result<(CellIndex, Vec2<T>), Error> {
+    fn locate<T: Real>(&self, ctx: T::Ctx, x: &Rational, y: &Rational) -> Located<T> {
         T::check_ctx(ctx)?;
         super::check_world_point(x, y)?;
         let split = |q: &Rational| -> (i64, Rational) {

@@ -1,6 +1,6 @@
 //! D on any scene (`estimators::diffusion::scene::run_on`): on the triangular scene it gives the
 //! bits of `diffusion::run` on the scalar engine, at `f64` and at an MPFR precision; on a table
-//! defined outside the crate (the two-radius square of `examples/custom_scene.rs`) its exact
+//! the crate does not ship (the two-radius square of `examples/tables/`, given as data) its exact
 //! identities hold within their Student-t bounds and its audited events stay inside the error
 //! model; infinite horizons, the SIMD engine and MPFR audits are refused; a checkpoint resumes
 //! to the uninterrupted bits and refuses another scene's.
@@ -15,10 +15,8 @@ use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use rug::Rational;
 
-#[path = "../../examples/custom_scene.rs"]
-#[allow(dead_code)]
-mod custom_scene;
-use custom_scene::TwoRadiusSquare;
+use lorentz_gas::scenes::table::PeriodicTable;
+use lorentz_gas::scenes::table::spec::TableSpec;
 
 fn scalar(threads: usize) -> RunOptions<'static> {
     RunOptions {
@@ -71,12 +69,26 @@ fn triangular_scene_gives_the_bits_of_the_triangular_estimator() {
     same_bits_as_the_triangular_estimator("0.25", Precision::Bits(128), 40_000);
 }
 
-fn two_radius() -> TwoRadiusSquare {
-    TwoRadiusSquare::new(Rational::from((2, 5)), Rational::from((1, 5))).unwrap()
+/// The unit square lattice with disks of radius `rc` at the corners and `rm` at the centres.
+fn two_radii(rc: &str, rm: &str) -> PeriodicTable {
+    let text = format!(
+        "[lattice]\ne1 = [1, 0]\ne2 = [0, 1]\n[[disks]]\ncentre = [0, 0]\nradius = \"{rc}\"\n\
+         [[disks]]\ncentre = [\"1/2\", \"1/2\"]\nradius = \"{rm}\"\n"
+    );
+    PeriodicTable::new(&TableSpec::from_toml(&text).unwrap()).unwrap()
+}
+
+/// The two-radius square of `examples/tables/two-radius-square.toml`.
+fn two_radius() -> PeriodicTable {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/tables/two-radius-square.toml"
+    );
+    PeriodicTable::new(&TableSpec::read(path.as_ref()).unwrap()).unwrap()
 }
 
 #[test]
-fn a_scene_defined_outside_the_crate_meets_its_identities_and_its_error_model() {
+fn a_table_the_crate_does_not_ship_meets_its_identities_and_its_error_model() {
     let cfg = SceneDiffusionConfig {
         collisions: 4_000_000,
         batches: 8,
@@ -117,7 +129,7 @@ fn open_corridors_the_simd_engine_and_mpfr_audits_are_refused() {
     let e = run_on(&square, &cfg, &scalar(1)).unwrap_err();
     assert!(e.to_string().contains("infinite horizon"), "{e}");
     // Corner radius 1/3 leaves the (1, 1) corridors open (2rc < 1/√2).
-    let open = TwoRadiusSquare::new(Rational::from((1, 3)), Rational::from((1, 5))).unwrap();
+    let open = two_radii("1/3", "1/5");
     assert!(run_on(&open, &cfg, &scalar(1)).is_err());
     let simd = RunOptions {
         engine: Engine::Simd,
@@ -171,82 +183,7 @@ fn a_checkpoint_resumes_to_the_same_bits_and_refuses_another_scene() {
     let resumed = run_on(&two_radius(), &cfg, &kept).unwrap();
     assert_eq!(resumed.resumed_batches, 4);
     assert_eq!(resumed.D.to_bits(), plain.D.to_bits());
-    let other = TwoRadiusSquare::new(Rational::from((2, 5)), Rational::from((3, 20))).unwrap();
+    let other = two_radii("2/5", "3/20");
     let e = run_on(&other, &cfg, &kept).unwrap_err();
     assert!(e.to_string().contains("scene"), "{e}");
-}
-
-/// The table file `examples/tables/two-radius-square.toml` is the hand-written scene of
-/// `examples/custom_scene.rs` as data: the same cell, edges and disks (in another order), so the
-/// same starts and the same events bit for bit at `f64` and at 96 bits, and the same horizon. (D
-/// itself differs in its last bits: the closed forms of the time unit are rounded in another
-/// order.)
-#[test]
-fn the_two_radius_table_file_flies_the_hand_written_scenes_orbits_bit_for_bit() {
-    use lorentz_gas::numbers::real::Real;
-    use lorentz_gas::scenes::Scene;
-    use lorentz_gas::scenes::lattice::{Lattice, LatticeState};
-    use lorentz_gas::scenes::table::PeriodicTable;
-    use lorentz_gas::scenes::table::spec::TableSpec;
-    use rand::SeedableRng;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples/tables/two-radius-square.toml");
-    let table = PeriodicTable::new(&TableSpec::read(&path).unwrap()).unwrap();
-    let hand = two_radius();
-    assert_eq!(table.finite_horizon(), hand.finite_horizon());
-    let (a, b) = (table.mean_free_path(), hand.mean_free_path());
-    assert!((a - b).abs() <= 4.0 * f64::EPSILON * b, "{a} {b}");
-    fn orbit<T: Real, S: Scene>(scene: &S, ctx: T::Ctx, seed: u64, n: usize) -> Vec<[f64; 4]> {
-        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
-        let lat = Lattice::from_kernel(scene.kernel::<T>(ctx).unwrap());
-        let mut s = LatticeState::<T>::convert_from_f64(ctx, &scene.sample(&mut rng));
-        (0..n)
-            .map(|_| {
-                lat.step(&mut s).unwrap();
-                let p = lat.world(&s);
-                [
-                    p.x.to_f64(),
-                    p.y.to_f64(),
-                    s.flight.vel.x.to_f64(),
-                    s.flight.vel.y.to_f64(),
-                ]
-            })
-            .collect()
-    }
-    for seed in 0..8 {
-        let (x, y) = (
-            orbit::<f64, _>(&table, (), seed, 20_000),
-            orbit::<f64, _>(&hand, (), seed, 20_000),
-        );
-        assert!(
-            x.iter()
-                .zip(&y)
-                .all(|(p, q)| p.map(f64::to_bits) == q.map(f64::to_bits)),
-            "seed {seed}"
-        );
-        let (x, y) = (
-            orbit::<rug::Float, _>(&table, 96, seed, 2_000),
-            orbit::<rug::Float, _>(&hand, 96, seed, 2_000),
-        );
-        assert!(
-            x.iter()
-                .zip(&y)
-                .all(|(p, q)| p.map(f64::to_bits) == q.map(f64::to_bits)),
-            "seed {seed} at 96 bits"
-        );
-    }
-    // A run's batches agree to the rounding of its time unit.
-    let cfg = SceneDiffusionConfig {
-        collisions: 400_000,
-        batches: 4,
-        seed: 11,
-        ..SceneDiffusionConfig::default()
-    };
-    let (ra, rb) = (
-        run_on(&table, &cfg, &scalar(2)).unwrap(),
-        run_on(&hand, &cfg, &scalar(1)).unwrap(),
-    );
-    for (x, y) in ra.batch_D.iter().zip(&rb.batch_D) {
-        assert!((x - y).abs() <= 1e-12 * y.abs(), "{x} {y}");
-    }
 }

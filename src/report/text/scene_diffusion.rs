@@ -6,18 +6,16 @@ use crate::statistics::comparison;
 
 /// The text of a diffusion result on a table, line by line as the command line prints it.
 pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
-    let mut out = String::new();
     let m = &r.meta;
-    line!(
-        out,
-        "{}  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {}, {:.1} s)",
+    let threads = crate::report::counted(m.threads.unwrap_or_default() as u64, "thread");
+    let mut out = format!(
+        "{}  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {threads}, {:.1} s)\n",
         r.scene,
         m.precision,
         m.engine,
         m.seed.unwrap_or_default(),
         m.batches.unwrap_or_default(),
         r.collisions as f64,
-        crate::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
         r.seconds,
     );
     let unit = if r.time_unit_is_crossing_time {

@@ -12,9 +12,9 @@ use crate::kernel::cell::{ConvexCell, Disk, Edge, EdgeMap, LatticeBasis};
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
-use crate::scenes::Scene;
 use crate::scenes::lattice::{CellIndex, LatticeState};
 use crate::scenes::sampling::direction;
+use crate::scenes::{Located, Scene};
 
 /// The four edges: (lattice step (i, j) across it, the edge entered in the neighbour). Edge k
 /// runs from corner k to corner k + 1 (bottom, right, top, left).
@@ -174,12 +174,7 @@ impl Scene for PeriodicTable {
     }
 
     /// The cell and the offset exactly in rationals, the offset rounded once at `ctx`.
-    fn locate<T: Real>(
-        &self,
-        ctx: T::Ctx,
-        x: &Rational,
-        y: &Rational,
-    ) -> Result<(CellIndex, Vec2<T>), Error> {
+    fn locate<T: Real>(&self, ctx: T::Ctx, x: &Rational, y: &Rational) -> Located<T> {
         crate::scenes::check_world_point(x, y)?;
         let ([i, j], p) = self.reduce(x, y);
         let at = |r: &Rational| T::from_rational(ctx, r);

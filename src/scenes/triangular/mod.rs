@@ -7,8 +7,8 @@ pub mod geometry;
 use rand::Rng;
 use rug::Rational;
 
-use super::Scene;
 use super::lattice::{CellIndex, LatticeState, settle};
+use super::{Located, Scene};
 use crate::Error;
 use crate::kernel::flight::Flight;
 use crate::kernel::trap::Trap;
@@ -76,12 +76,7 @@ impl Scene for TriangularScene {
     /// down trap (⌊u⌋ + 1, ⌊v⌋ + 1). This first guess is taken in `f64`; the offset is then
     /// computed at the working precision from the exact (x, y) and moved across any edge it is
     /// beyond, decided at the working precision ([`settle`]).
-    fn locate<T: Real>(
-        &self,
-        ctx: T::Ctx,
-        x: &Rational,
-        y: &Rational,
-    ) -> Result<(CellIndex, Vec2<T>), Error> {
+    fn locate<T: Real>(&self, ctx: T::Ctx, x: &Rational, y: &Rational) -> Located<T> {
         super::check_world_point(x, y)?;
         let trap = self.kernel::<T>(ctx)?;
         let (x64, y64) = (
