@@ -53,7 +53,8 @@ fn consistent_with_zero(x: f64, ea: f64, eb: f64) -> bool {
 }
 
 #[test]
-fn d_xx_is_even_and_the_hall_part_odd_in_the_field() {
+#[ignore = "slow tier: CI runs it with `cargo test --release --test analyses slow_tier -- --ignored`"]
+fn slow_tier_d_xx_is_even_and_the_hall_part_odd_in_the_field() {
     for (w, b) in [
         (0.1, "0.5"),
         (0.1, "1"),

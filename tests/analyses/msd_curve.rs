@@ -140,7 +140,8 @@ fn the_curve_is_ballistic_inside_the_first_flight_and_linear_in_the_fit_window()
 /// same batches, paired, within the Student-t 4σ equivalent, at w = 0.1 and 0.3 (near w∞, where
 /// correlations decay slowest).
 #[test]
-fn green_kubo_agrees_with_einstein_at_w_0_1_and_0_3() {
+#[ignore = "slow tier: CI runs it with `cargo test --release --test analyses slow_tier -- --ignored`"]
+fn slow_tier_green_kubo_agrees_with_einstein_at_w_0_1_and_0_3() {
     for (w, collisions) in [(0.1, 40_000_000), (0.3, 20_000_000)] {
         let r = run_on(&log_grid(w, collisions, 16), Engine::Auto);
         let g = &r.green_kubo;

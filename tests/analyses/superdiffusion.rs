@@ -70,7 +70,8 @@ fn flight_tails_count_what_the_list_of_flights_shows() {
 /// per-component correlation taken as the vector one — gave D_sup_vacf = 0.258 against 0.123,
 /// +9.6σ, and the test failed.)
 #[test]
-fn the_estimators_converge_to_the_exact_constants_where_sampled() {
+#[ignore = "slow tier: CI runs it with `cargo test --release --test analyses slow_tier -- --ignored`"]
+fn slow_tier_the_estimators_converge_to_the_exact_constants_where_sampled() {
     let cfg = SuperdiffusionConfig {
         collisions: 96_000_000,
         batches: 32,
@@ -125,7 +126,8 @@ fn the_estimators_converge_to_the_exact_constants_where_sampled() {
 /// C_map, and the test failed;
 /// with 16 runs of twice the collisions it had passed at P = 1.7·10⁻⁵, so the runs are 32.)
 #[test]
-fn msd_slope_errors_match_the_spread_of_independent_runs() {
+#[ignore = "slow tier: CI runs it with `cargo test --release --test analyses slow_tier -- --ignored`"]
+fn slow_tier_msd_slope_errors_match_the_spread_of_independent_runs() {
     const RUNS: u64 = 32;
     let reports: Vec<_> = (0..RUNS)
         .map(|seed| {
