@@ -132,6 +132,12 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
         None
     }
 
+    /// The table as written, for a table given as data (results record it, so that a run can be
+    /// repeated from its result), or `None` (the default: the scene's label says it all).
+    fn table_spec(&self) -> Option<&table::spec::TableSpec> {
+        None
+    }
+
     /// The widest collision-free corridor of an infinite horizon, where the scene names it (a
     /// table given as data decides it exactly: [`table::horizon`]), or `None` (the default).
     fn widest_corridor(&self) -> Option<table::horizon::Corridor> {

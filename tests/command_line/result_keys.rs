@@ -86,7 +86,17 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
     );
     std::fs::write(dir.join("d.json"), diffusion.to_string()).unwrap();
     let run = |line: &str| json_of(dir, &format!("{line} {q}"));
+    let table = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/tables/two-radius-square.toml"
+    );
     let mut out = vec![
+        (
+            "diffusion --table",
+            run(&format!(
+                "diffusion --table {table} --collisions 1e6 --batches 4"
+            )),
+        ),
         (
             "diffusion --field",
             run(

@@ -180,6 +180,9 @@ pub struct Identity {
 pub struct SceneDiffusionReport {
     /// The scene's label.
     pub scene: String,
+    /// The table as written, for a table given as data ([`Scene::table_spec`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<crate::scenes::table::spec::TableSpec>,
     /// The time unit of the windows and the MSD grid (τ, or ⟨ℓ⟩ without one).
     pub time_unit: f64,
     /// `true` if the time unit is the scene's crossing time τ, `false` the mean free time.
@@ -417,6 +420,7 @@ fn summarise<S: Scene>(
     let audit = merged_audit(done);
     Ok(SceneDiffusionReport {
         scene: scene.label(),
+        table: scene.table_spec().cloned(),
         time_unit: tau,
         time_unit_is_crossing_time: scene.crossing_time().is_some(),
         D: d,

@@ -232,6 +232,10 @@ impl Scene for PeriodicTable {
         })
     }
 
+    fn table_spec(&self) -> Option<&super::spec::TableSpec> {
+        Some(&self.spec)
+    }
+
     fn widest_corridor(&self) -> Option<super::horizon::Corridor> {
         self.corridor.clone()
     }
