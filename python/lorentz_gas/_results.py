@@ -236,7 +236,7 @@ class TableDiffusionResult(Result):
     the table's own lengths, speed 1), the check window's ``D_check``, ``identities`` (the mean
     free path against Santaló's closed form and the crossing time against pi|Q|/L, each with its
     Student-t statistic ``t``, its ``bound`` and ``agrees``), ``msd_times`` (time) and
-    ``batch_D``. ``print(r)`` shows the command line's text."""
+    ``batch_D``; ``table``, the table as written. ``print(r)`` shows the command line's text."""
 
     _text_kind = "table-diffusion"
 

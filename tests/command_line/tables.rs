@@ -50,6 +50,16 @@ fn a_table_file_runs_diffusion_and_meets_santalos_mean_free_path() {
     assert!(mfp["agrees"].as_bool().unwrap(), "{mfp}");
     let d = r["D"].as_f64().unwrap();
     assert!(d > 0.0 && r["D_err"].as_f64().unwrap() < 0.05 * d, "{out}");
+    // The result records the table as written.
+    assert_eq!(r["table"]["disks"][1]["radius"], "1/5", "{out}");
+    // The publication audit does not re-run tables yet, and says so (bad input, one line).
+    std::fs::write(dir.path().join("t.json"), &out).unwrap();
+    let (code, _, err) = lorentz_in(dir.path(), &["report", "t.json", "--out", "rr"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("table given as data") && err.contains("not audit yet"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -185,8 +185,8 @@ pub struct SceneDiffusionReport {
     pub table: Option<crate::scenes::table::spec::TableSpec>,
     /// The time unit of the windows and the MSD grid (τ, or ⟨ℓ⟩ without one).
     pub time_unit: f64,
-    /// `true` if the time unit is the scene's crossing time τ, `false` the mean free time.
-    pub time_unit_is_crossing_time: bool,
+    /// What the time unit is: `"mean crossing time tau"` (the scene's τ) or `"mean free time"`.
+    pub time_unit_name: String,
     /// Diffusion coefficient (fit window `config.window`).
     pub D: f64,
     /// Its standard error over batches.
@@ -422,7 +422,11 @@ fn summarise<S: Scene>(
         scene: scene.label(),
         table: scene.table_spec().cloned(),
         time_unit: tau,
-        time_unit_is_crossing_time: scene.crossing_time().is_some(),
+        time_unit_name: match scene.crossing_time() {
+            Some(_) => "mean crossing time tau",
+            None => "mean free time",
+        }
+        .to_string(),
         D: d,
         D_err: d_err,
         D_check: dcv,

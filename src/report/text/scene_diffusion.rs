@@ -18,11 +18,7 @@ pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
         r.collisions as f64,
         r.seconds,
     );
-    let unit = if r.time_unit_is_crossing_time {
-        "the mean crossing time tau"
-    } else {
-        "the mean free time"
-    };
+    let unit = format!("the {}", r.time_unit_name);
     let w = &r.config.window;
     line!(
         out,
