@@ -250,6 +250,7 @@ def shadow(
     *,
     scene: str = "triangular",
     radius: Optional[Exact] = None,
+    table: Optional[Table] = None,
 ) -> ShadowResult:
     """True orbits shadowing f64 segments (``lorentz shadow``).
 
@@ -271,6 +272,9 @@ def shadow(
         same field, and their shadows true orbits on arcs.
     seed, threads, progress
         As in :func:`diffusion`.
+    table : dict or path, optional
+        A table given as data, as in :func:`diffusion`: one disk per cell at the lattice points
+        (true shadowing is written for a lattice of equal disks); another is refused naming that.
 
     Returns
     -------
@@ -280,7 +284,7 @@ def shadow(
     """
     with _Bar(progress, 0, "coll") as cb:
         text = _native.shadow(
-            str(scene),
+            _scene(scene, table, w=w, radius=radius),
             _optional_exact("w", w),
             _optional_exact("radius", radius),
             _count("collisions_per_segment", collisions_per_segment),
