@@ -65,8 +65,8 @@ pub struct SceneArgs {
     /// Disk radius of the square scene, a decimal or a fraction such as 1/3: 0 < r < 1/2.
     #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
     pub radius: Option<Exact>,
-    /// Any periodic table of disks, from a TOML file: [lattice] e1 = ["a", "0"], e2 = ["b",
-    /// "h"] (h > 0) and [[disks]] centre = ["x", "y"], radius = "r", every number exact text
+    /// Any periodic table of disks, from a TOML file: a `[lattice]` with e1 = (a, 0) and e2 =
+    /// (b, h), h > 0, and `[[disks]]` each with a centre and a radius, every number exact text
     /// (examples/tables/). Instead of --scene, --w and --radius.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "w", "radius"])]
     pub table: Option<std::path::PathBuf>,

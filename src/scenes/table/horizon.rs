@@ -7,9 +7,9 @@
 //! area: v × w over the lattice vectors w takes every multiple of A because v is primitive), and
 //! the disk covers [U − r|v|, U + r|v|]. A corridor along v is a gap of positive width in the
 //! union of these intervals modulo A; its width is the gap divided by |v|. Every endpoint is
-//! p + q·√N with p, q rational and N = |v|², so each comparison is decided exactly
-//! ([`Surd::cmp`]). A direction with 2 r_max |v| ≥ A is closed by its largest disk alone, so only
-//! the finitely many vectors with |v| < A/(2 r_max) are candidates; they are visited by shells of
+//! p + q·√N with p, q rational and N = |v|², so each comparison is decided exactly (the sign of
+//! a quadratic surd). A direction with 2 r_max |v| ≥ A is closed by its largest disk alone, so
+//! only the finitely many vectors with |v| < A/(2 r_max) are candidates; they are visited by shells of
 //! growing |v|, and the search stops once no longer vector can hold a corridor wider than the
 //! widest found (a gap is at most A/|v| wide).
 
