@@ -160,11 +160,7 @@ fn configs(
         Some(b) if lorentz_gas::numbers::exact::parse_exact(b).map_err(crate::py_err)? != 0 => b,
         _ => {
             if let SceneChoice::Table(t) = scene.resolve().map_err(crate::py_err)? {
-                if plain.rel_err.is_some() {
-                    return Err(PyValueError::new_err(
-                        "rel_err= does not run on a table= yet: give collisions=",
-                    ));
-                }
+                diffusion::scene::refuse_rel_err(plain.rel_err).map_err(crate::py_err)?;
                 statistics.validate(&*t).map_err(crate::py_err)?;
                 return Ok(Either::Table(statistics, t));
             }

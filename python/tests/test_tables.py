@@ -54,6 +54,8 @@ def test_open_corridors_and_overlaps_are_value_errors_naming_them():
     # What a table lacks is named: true shadowing needs one disk per cell at the lattice points.
     with pytest.raises(ValueError, match=r"lacks one disk per cell .*, which the shadow analysis"):
         lg.shadow(table=TABLE, segments=1, collisions_per_segment=20)
+    with pytest.raises(ValueError, match=r"rel_err=0\.001 is out of range"):
+        lg.diffusion(table=TABLE, rel_err=1e-3)
     with pytest.raises(ValueError, match="table= gives the whole table"):
         lg.diffusion(w="0.1", table=TABLE)
     with pytest.raises(ValueError, match="not a table"):

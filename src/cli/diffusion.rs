@@ -152,11 +152,7 @@ fn table_config(
     a: &Args,
     table: &lorentz_gas::scenes::table::PeriodicTable,
 ) -> Result<SceneDiffusionConfig, Error> {
-    if a.rel_err.is_some() {
-        return Err(Error::Invalid(
-            "--rel-err does not run on a --table yet: give --collisions".into(),
-        ));
-    }
+    diffusion::scene::refuse_rel_err(a.rel_err)?;
     let cfg = statistics(a);
     cfg.validate(table)?;
     Ok(cfg)

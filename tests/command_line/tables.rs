@@ -84,6 +84,13 @@ fn an_open_corridor_and_overlapping_disks_exit_2_with_one_line_naming_them() {
             "{err}"
         );
     }
+    // The relative-error planner runs the triangular estimator only: refused in the flag's terms.
+    let (code, _, err) = lorentz_in(
+        dir.path(),
+        &["diffusion", "--table", EXAMPLE, "--rel-err", "1e-3"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--rel-err 0.001 is out of range"), "{err}");
     // A table replaces the scene and its parameter.
     let (code, _, err) = lorentz_in(dir.path(), &["diffusion", "--table", EXAMPLE, "--w", "0.1"]);
     assert_eq!(code, 2, "{err}");

@@ -86,6 +86,19 @@ pub fn time_unit<S: Scene>(scene: &S) -> f64 {
         .unwrap_or_else(|| scene.mean_free_path())
 }
 
+/// A relative-error target on a scene the planner does not run on yet (`rel_err` plans the
+/// triangular estimator's runs): the one refusal both front ends present in their terms.
+pub fn refuse_rel_err(rel_err: Option<f64>) -> Result<(), Error> {
+    match rel_err {
+        Some(r) => Err(Error::out_of_range(
+            "rel_err",
+            r,
+            "not on a table given as data yet: give the collisions instead",
+        )),
+        None => Ok(()),
+    }
+}
+
 impl SceneDiffusionConfig {
     /// Checks every parameter against `scene`; errors name the valid range.
     ///

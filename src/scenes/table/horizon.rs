@@ -243,10 +243,7 @@ impl Geometry<'_> {
 }
 
 fn too_fine(work: f64) -> Error {
-    Error::Invalid(format!(
-        "the horizon of this table needs about {work:.1e} direction checks (more than {MAX_WORK:e}): \
-         its disks are too small against its cell to decide the horizon exactly"
-    ))
+    super::TableError::TooFine { work }.into()
 }
 
 fn gcd(mut a: u64, mut b: u64) -> u64 {

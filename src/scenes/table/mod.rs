@@ -94,6 +94,15 @@ pub enum TableError {
         /// The distance of the centres (nearest double).
         distance: f64,
     },
+    /// Deciding the horizon would check more than [`horizon::MAX_WORK`] directions times disks.
+    #[error(
+        "the horizon of this table needs about {work:.1e} direction checks (more than {}): its disks are too small against its cell to decide it exactly",
+        horizon::MAX_WORK
+    )]
+    TooFine {
+        /// The estimated checks.
+        work: f64,
+    },
     /// The cell would hold more than [`MAX_IMAGES`] disk images.
     #[error(
         "the cell reaches {images} disk images (at most {MAX_IMAGES}): the disks are too large against the cell"
