@@ -42,7 +42,7 @@ impl std::fmt::Display for Corridor {
 
 /// The largest number of candidate directions visited (times disks): a table finer than this is
 /// refused rather than decided slowly.
-pub const MAX_WORK: u64 = 50_000_000;
+pub const MAX_WORK: u64 = 2_000_000;
 
 /// The value p + q·√N (N > 0 the shared radicand).
 #[derive(Debug, Clone)]

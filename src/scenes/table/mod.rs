@@ -30,6 +30,9 @@ use spec::TableSpec;
 pub const MAX_DISKS: usize = 32;
 /// The most disk images the cell kernel may hold (its labels are bytes).
 pub const MAX_IMAGES: usize = 200;
+/// The most lattice shifts tried around a disk when validating (a disk whose reach needs more
+/// is too large against the cell: it overlaps its own images long before).
+pub const MAX_SHIFTS: f64 = 1e6;
 
 /// A periodic table of disks, validated (see the module documentation).
 #[derive(Debug, Clone)]
@@ -147,6 +150,9 @@ impl PeriodicTable {
             }
             .into());
         }
+        // The same lattice with e₂'s shear reduced into [−a/2, a/2] (b − a·round(b/a)): the
+        // cell stays within a bounded number of neighbours of every point, however e₂ was written.
+        let b = b.clone() - (b / &ax).round() * &ax;
         let mut table = PeriodicTable {
             spec: spec.clone(),
             a: ax,
@@ -168,6 +174,7 @@ impl PeriodicTable {
             let c = table.reduce(&d.centre[0].value(), &d.centre[1].value()).1;
             table.disks.push((c, r));
         }
+        table.refuse_out_of_scale()?;
         table.refuse_overlaps()?;
         table.images = table.find_images();
         if table.images.len() > MAX_IMAGES {
@@ -225,6 +232,28 @@ impl PeriodicTable {
             self.shift(1, 1),
             self.shift(0, 1),
         ]
+    }
+
+    /// Refuses disks so large against the cell that the lattice shifts within their reach could
+    /// not be enumerated (more than [`MAX_SHIFTS`], or beyond the doubles): before any
+    /// enumeration, so that no input makes validation slow.
+    fn refuse_out_of_scale(&self) -> Result<(), Error> {
+        let rmax = self.disks.iter().map(|d| d.1.to_f64()).fold(0.0, f64::max);
+        let (a, h) = (self.a.to_f64(), self.h.to_f64());
+        let rows = 2.0 * ((2.0 * rmax / h).ceil() + 1.0) + 1.0;
+        let columns = 2.0 * (2.0 * rmax + a + a / 2.0 * (rows + 1.0)) / a + 5.0;
+        let shifts = rows * columns;
+        if shifts.is_finite() && shifts <= MAX_SHIFTS && a.is_finite() && h > 0.0 {
+            return Ok(());
+        }
+        Err(TableError::Images {
+            images: if shifts.is_finite() {
+                shifts as usize
+            } else {
+                usize::MAX
+            },
+        }
+        .into())
     }
 
     /// Every pair of disks (and every disk with its images) at a distance of at most the sum of

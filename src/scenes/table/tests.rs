@@ -165,3 +165,21 @@ fn a_point_is_located_in_its_cell_exactly() {
     assert_eq!((cell.i, cell.j), (0, 0));
     assert_eq!((p.x, p.y), (1.05, 0.9));
 }
+
+/// Hostile numbers are refused before any enumeration (the test would hang otherwise): a radius of 10⁹ on the unit lattice,
+/// a cell 10⁻⁹ high, a shear of 10⁹ (the same lattice as no shear: accepted, reduced).
+#[test]
+fn hostile_scales_are_refused_or_reduced_at_once() {
+    assert!(matches!(
+        refusal(table("0", "1", &[("0", "0", "1e9")])),
+        TableError::Images { .. }
+    ));
+    assert!(matches!(
+        refusal(table("0", "1e-9", &[("0", "0", "1/4")])),
+        TableError::Images { .. }
+    ));
+    let sheared = table("1000000000", "1", &[("0", "0", "1/4")]).unwrap();
+    let plain = table("0", "1", &[("0", "0", "1/4")]).unwrap();
+    assert_eq!(sheared.images, plain.images);
+    assert_eq!(sheared.corridor(), plain.corridor());
+}
