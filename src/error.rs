@@ -182,10 +182,6 @@ pub enum Capability {
     OneDiskPerCell,
     /// Trap symbols and the paper's hierarchy (the triangular scene).
     TrapSymbols,
-    /// Long flights sent straight to the first disk they can meet.
-    LongFlights,
-    /// A finite horizon.
-    FiniteHorizon,
 }
 
 impl std::fmt::Display for Capability {
@@ -194,8 +190,6 @@ impl std::fmt::Display for Capability {
             Capability::ClosedForms => "the closed forms of the shipped scenes",
             Capability::OneDiskPerCell => "one disk per cell (a lattice of equal disks)",
             Capability::TrapSymbols => "trap symbols (the triangular scene's)",
-            Capability::LongFlights => "long flights",
-            Capability::FiniteHorizon => "a finite horizon",
         })
     }
 }

@@ -175,8 +175,11 @@ impl Scene for PeriodicTable {
 
     /// The cell and the offset exactly in rationals, the offset rounded once at `ctx`.
     fn locate<T: Real>(&self, ctx: T::Ctx, x: &Rational, y: &Rational) -> Located<T> {
+        T::check_ctx(ctx)?;
         crate::scenes::check_world_point(x, y)?;
-        let ([i, j], p) = self.reduce(x, y);
+        let ([i, j], p) = self
+            .reduce(x, y)
+            .ok_or_else(|| Error::Failed("a checked world point outside the i64 cells".into()))?;
         let at = |r: &Rational| T::from_rational(ctx, r);
         Ok((
             CellIndex { i, j, down: false },

@@ -171,7 +171,9 @@ impl PeriodicTable {
                 }
                 .into());
             }
-            let c = table.reduce(&d.centre[0].value(), &d.centre[1].value()).1;
+            let c = table
+                .reduce_exact(&d.centre[0].value(), &d.centre[1].value())
+                .1;
             table.disks.push((c, r));
         }
         table.refuse_out_of_scale()?;
@@ -211,17 +213,23 @@ impl PeriodicTable {
         ]
     }
 
-    /// The cell (i, j) holding the world point (x, y) and the point in its frame, exactly
-    /// (0 ≤ fractional coordinates < 1).
-    fn reduce(&self, x: &Rational, y: &Rational) -> ([i64; 2], [Rational; 2]) {
+    /// The cell (i, j) holding the world point (x, y), as exact integers, and the point in its
+    /// frame, exactly (0 ≤ fractional coordinates < 1): no coordinate is too large for it.
+    fn reduce_exact(&self, x: &Rational, y: &Rational) -> ([Rational; 2], [Rational; 2]) {
         // The fractional coordinates: p = u e₁ + v e₂ with v = y/h, u = (x − b v)/a.
         let v = y.clone() / &self.h;
         let i = ((x.clone() - self.b.clone() * &v) / &self.a).floor();
         let j = v.floor();
-        let to = |q: &Rational| q.numer().to_i64().unwrap_or(0);
-        let (i, j) = (to(&i), to(&j));
-        let [sx, sy] = self.shift(i, j);
+        let sx = i.clone() * &self.a + j.clone() * &self.b;
+        let sy = j.clone() * &self.h;
         ([i, j], [x.clone() - sx, y.clone() - sy])
+    }
+
+    /// [`Self::reduce_exact`] with the cell index as `i64`, for points within
+    /// ±[`crate::scenes::MAX_WORLD_COORDINATE`] (checked by the caller), and `None` beyond.
+    fn reduce(&self, x: &Rational, y: &Rational) -> Option<([i64; 2], [Rational; 2])> {
+        let ([i, j], p) = self.reduce_exact(x, y);
+        Some(([i.numer().to_i64()?, j.numer().to_i64()?], p))
     }
 
     /// The cell's corners 0, e₁, e₁ + e₂, e₂ (counter-clockwise).
@@ -310,7 +318,7 @@ impl PeriodicTable {
 
     /// The squared distance from `p` to the closed cell, exactly.
     fn distance2_to_cell(&self, p: &[Rational; 2]) -> Rational {
-        if self.reduce(&p[0], &p[1]).0 == [0, 0] {
+        if self.reduce_exact(&p[0], &p[1]).0.iter().all(|k| *k == 0) {
             return Rational::new();
         }
         let corners = self.corners();

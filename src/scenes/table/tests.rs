@@ -117,6 +117,17 @@ fn centres_are_reduced_into_the_cell_exactly() {
     let b = table("0", "1", &[("-3", "7", "2/5"), ("5/2", "-1/2", "1/5")]).unwrap();
     assert_eq!(a.images, b.images);
     assert_eq!(a.disks, b.disks);
+    // Centres beyond any machine integer reduce exactly too (no index is converted on the way).
+    let c = table(
+        "0",
+        "1",
+        &[
+            ("1000000000000000000000000000000", "-1e40", "2/5"),
+            ("1000000000000000000000000000000.5", "0.5", "1/5"),
+        ],
+    )
+    .unwrap();
+    assert_eq!(a.images, c.images);
 }
 
 /// A sheared lattice (e2 = (1/3, 1)) with one disk: the kernel's cell holds every image that
