@@ -177,8 +177,8 @@ pub enum Error {
 pub enum Capability {
     /// Every closed form of `lorentz constants` (the triangular and square scenes).
     ClosedForms,
-    /// One disk per cell, all of one radius (the exact corridor constants, the field's exact
-    /// geometry of localized orbits).
+    /// One disk per cell, at the lattice points (the exact corridor constants; true shadowing,
+    /// which labels a disk by its lattice point).
     OneDiskPerCell,
     /// Trap symbols and the paper's hierarchy (the triangular scene).
     TrapSymbols,
@@ -188,7 +188,7 @@ impl std::fmt::Display for Capability {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
             Capability::ClosedForms => "the closed forms of the shipped scenes",
-            Capability::OneDiskPerCell => "one disk per cell (a lattice of equal disks)",
+            Capability::OneDiskPerCell => "one disk per cell, at the lattice points",
             Capability::TrapSymbols => "trap symbols (the triangular scene's)",
         })
     }

@@ -16,10 +16,21 @@ use crate::kernel::flight::EventKind;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
 
-/// A periodic array of equal disks of radius `radius` at the points i·e₁ + j·e₂,
-/// e₁ = (a, 0), e₂ = (βa, h), as `f64` (the exact geometry of the field's localized orbits is
-/// evaluated in `f64`: `crate::theory::magnetic`).
+/// One disk of a [`DiskLattice`]'s cell: its centre (world coordinates, relative to the lattice
+/// point i·e₁ + j·e₂ of its cell) and radius.
 #[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LatticeDisk {
+    /// The centre's offset from the lattice point.
+    pub centre: [f64; 2],
+    /// The radius.
+    pub radius: f64,
+}
+
+/// A periodic array of disks: each disk of one cell repeated at the points i·e₁ + j·e₂,
+/// e₁ = (a, 0), e₂ = (βa, h), as `f64` (the exact geometry of the field's localized orbits is
+/// evaluated in `f64`: `crate::theory::magnetic`). The presets have one disk at the lattice
+/// points ([`DiskLattice::equal`]); a table given as data has any disks.
+#[derive(Debug, Clone, PartialEq)]
 pub struct DiskLattice {
     /// |e₁|.
     pub a: f64,
@@ -27,56 +38,91 @@ pub struct DiskLattice {
     pub beta: f64,
     /// The height of e₂.
     pub h: f64,
-    /// The disk radius.
-    pub radius: f64,
+    /// The disks of one cell (none overlapping, each other's images included).
+    pub disks: Vec<LatticeDisk>,
 }
 
 impl DiskLattice {
+    /// One disk of radius `radius` at every lattice point.
+    pub fn equal(a: f64, beta: f64, h: f64, radius: f64) -> Self {
+        DiskLattice {
+            a,
+            beta,
+            h,
+            disks: vec![LatticeDisk {
+                centre: [0.0, 0.0],
+                radius,
+            }],
+        }
+    }
+
     /// The area of one lattice cell, a·h.
     pub fn cell_area(&self) -> f64 {
         self.a * self.h
     }
 
-    /// The free area |Q| of one cell (its disk removed), a·h − πr².
+    /// The free area |Q| of one cell (its disks removed), a·h − πΣr².
     pub fn free_area(&self) -> f64 {
-        self.cell_area() - std::f64::consts::PI * self.radius * self.radius
+        let covered: f64 = self
+            .disks
+            .iter()
+            .map(|d| std::f64::consts::PI * d.radius * d.radius)
+            .sum();
+        self.cell_area() - covered
     }
 
-    /// The distance between nearest lattice points (the shortest of ±e₁ ± e₂ combinations
-    /// with small coefficients: enough for the reduced bases of the scenes).
-    pub fn nearest_distance(&self) -> f64 {
-        let mut best = f64::INFINITY;
-        for i in -2i32..=2 {
-            for j in -2i32..=2 {
-                if (i, j) != (0, 0) {
-                    let x = self.a * (i as f64 + self.beta * j as f64);
-                    let y = self.h * j as f64;
-                    best = best.min(x.hypot(y));
-                }
+    /// Σr over the disks of one cell (the boundary length over 2π).
+    pub fn radius_sum(&self) -> f64 {
+        self.disks.iter().map(|d| d.radius).sum()
+    }
+
+    /// The lattice point i·e₁ + j·e₂ as world coordinates.
+    pub fn point(&self, i: f64, j: f64) -> (f64, f64) {
+        (self.a * (i + self.beta * j), self.h * j)
+    }
+
+    /// Calls `f(i, j)` for every lattice point i·e₁ + j·e₂ within `reach` of (x, y), and a few
+    /// beyond (the window is widened by one row and column against rounding).
+    pub fn points_near(&self, (x, y): (f64, f64), reach: f64, mut f: impl FnMut(f64, f64)) {
+        let (j_lo, j_hi) = (
+            ((y - reach) / self.h).ceil(),
+            ((y + reach) / self.h).floor(),
+        );
+        let mut j = j_lo - 1.0;
+        while j <= j_hi + 1.0 {
+            let x0 = x - self.beta * self.a * j;
+            let (i_lo, i_hi) = (
+                ((x0 - reach) / self.a).ceil(),
+                ((x0 + reach) / self.a).floor(),
+            );
+            let mut i = i_lo - 1.0;
+            while i <= i_hi + 1.0 {
+                f(i, j);
+                i += 1.0;
             }
+            j += 1.0;
+        }
+    }
+
+    /// For disk `m`: the smallest distance from its centre to the edge of any other disk of the
+    /// array, min |c − c'| − r' over every other disk c' (its own images included).
+    pub fn reach(&self, m: usize) -> f64 {
+        let me = &self.disks[m];
+        let widest = self.disks.iter().map(|d| d.radius).fold(0.0, f64::max);
+        // Its own image at e₁ bounds the answer; a nearer edge is within that bound + r_max.
+        let mut best = self.a - me.radius;
+        for (k, d) in self.disks.iter().enumerate() {
+            let offset = (d.centre[0] - me.centre[0], d.centre[1] - me.centre[1]);
+            self.points_near((-offset.0, -offset.1), best + widest, |i, j| {
+                if k == m && i == 0.0 && j == 0.0 {
+                    return;
+                }
+                let (px, py) = self.point(i, j);
+                let (dx, dy) = (offset.0 + px, offset.1 + py);
+                best = best.min(dx.hypot(dy) - d.radius);
+            });
         }
         best
-    }
-
-    /// The lattice point nearest to (x, y) (up to rounding ties), as world coordinates.
-    pub fn nearest_point(&self, x: f64, y: f64) -> (f64, f64) {
-        let mut best = (f64::INFINITY, 0.0, 0.0);
-        let j0 = (y / self.h).round();
-        for dj in -1..=1 {
-            let j = j0 + dj as f64;
-            let i = ((x - self.beta * self.a * j) / self.a).round();
-            for di in -1..=1 {
-                let cx = self.a * (i + di as f64 + self.beta * j);
-                let cy = self.h * j;
-                // The squared distance orders the nine points as the distance does (up to
-                // the rounding ties the documentation allows), without nine `hypot` calls.
-                let d = (x - cx) * (x - cx) + (y - cy) * (y - cy);
-                if d < best.0 {
-                    best = (d, cx, cy);
-                }
-            }
-        }
-        (best.1, best.2)
     }
 }
 

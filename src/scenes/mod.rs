@@ -62,8 +62,7 @@ pub fn check_world_point(x: &Rational, y: &Rational) -> Result<(), Error> {
     Ok(())
 }
 
-/// The scene's disks as one periodic array of equal disks ([`Scene::disk_lattice`]), which
-/// `analysis` needs.
+/// The scene's disks as a periodic array ([`Scene::disk_lattice`]), which `analysis` needs.
 ///
 /// # Errors
 /// [`Error::Lacks`] naming the capability, for a scene that is not such an array.
@@ -71,11 +70,33 @@ pub fn require_disk_lattice<S: Scene>(
     scene: &S,
     analysis: &'static str,
 ) -> Result<magnetic::DiskLattice, Error> {
-    scene.disk_lattice().ok_or_else(|| Error::Lacks {
+    let lacks = || Error::Lacks {
         scene: scene.label(),
         capability: crate::Capability::OneDiskPerCell,
         analysis,
-    })
+    };
+    scene.disk_lattice().ok_or_else(lacks)
+}
+
+/// The scene's disks as one disk at every lattice point, which `analysis` needs (true
+/// shadowing labels a disk by its lattice point).
+///
+/// # Errors
+/// [`Error::Lacks`] naming the capability, for a scene with several disks per cell or its disk
+/// off the lattice points.
+pub fn require_one_disk_per_cell<S: Scene>(
+    scene: &S,
+    analysis: &'static str,
+) -> Result<magnetic::DiskLattice, Error> {
+    let disks = require_disk_lattice(scene, analysis)?;
+    match disks.disks.as_slice() {
+        [d] if d.centre == [0.0, 0.0] => Ok(disks),
+        _ => Err(Error::Lacks {
+            scene: scene.label(),
+            capability: crate::Capability::OneDiskPerCell,
+            analysis,
+        }),
+    }
 }
 
 /// Where [`Scene::locate`] puts a world point: its cell, and the point in that cell's frame.
@@ -144,9 +165,9 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
         None
     }
 
-    /// The scene's disks as one periodic array of equal disks (what a magnetic field's exact
-    /// geometry of pinned and skipping orbits needs: `crate::theory::magnetic`), or `None`
-    /// (the default) if the scene is not such an array.
+    /// The scene's disks as a periodic array (what a magnetic field's exact geometry of pinned
+    /// and skipping orbits needs: `crate::theory::magnetic`), or `None` (the default) if the
+    /// scene is not such an array.
     fn disk_lattice(&self) -> Option<magnetic::DiskLattice> {
         None
     }

@@ -189,11 +189,6 @@ impl Scene for SquareScene {
 
     /// Disks of radius r on the unit square lattice.
     fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
-        Some(super::magnetic::DiskLattice {
-            a: 1.0,
-            beta: 0.0,
-            h: 1.0,
-            radius: self.r64,
-        })
+        Some(super::magnetic::DiskLattice::equal(1.0, 0.0, 1.0, self.r64))
     }
 }

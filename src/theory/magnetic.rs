@@ -4,26 +4,28 @@
 //! A phase point (x, v) in the field B has the cyclotron centre z = x + Jv/B and radius
 //! ρ = 1/|B|. For every direction, (x, v) ↦ (z, v) is a translation, so the invariant measure
 //! (uniform in the free area |Q| of a cell and in the direction) is uniform in z too, and for a
-//! fixed z the particle is uniformly anywhere on its circle. Disks of radius r sit at the lattice
-//! points c, the nearest two A apart.
+//! fixed z the particle is uniformly anywhere on its circle. The disks of a cell (radius r_m at
+//! c_m) repeat on a lattice; the **reach** of disk m is R_m = min |c_m − c'| − r' over every other
+//! disk c' (its own images included: A − r for equal disks A apart).
 //!
-//! * **Pinned**: the circle meets no disk: |z − c| ∉ [ρ − r, ρ + r] for every c. The set P of
-//!   such centres is periodic, every point of its circles is free, so the pinned share of phase
-//!   space is |P ∩ cell| / |Q|. It is computed as ∫ L(y) dy over one period of heights, L(y) the
-//!   free length of the line at height y (one period of x) left by the annuli of all lattice
-//!   points: a piecewise smooth integrand, integrated piece by piece (square-root ends at the
+//! * **Pinned**: the circle meets no disk: |z − c| ∉ [ρ − r, ρ + r] for every disk. The set P
+//!   of such centres is periodic, every point of its circles is free, so the pinned share of
+//!   phase space is |P ∩ cell| / |Q|. It is computed as ∫ L(y) dy over one period of heights,
+//!   L(y) the free length of the line at height y (one period of x) left by the annuli of all
+//!   disks: a piecewise smooth integrand, integrated piece by piece (square-root ends at the
 //!   tangent heights) by [`super::quadrature`].
-//! * **Skipping**: the circle cuts one disk c (|ρ − r| < D = |z − c| < ρ + r) and stays within
-//!   reach of no other: D + ρ < A − r. Every return to c is the same arc turned about c, so the
-//!   orbit circles c for ever. For fixed z the share of the circle outside the disk is
-//!   1 − ψ/π, cos ψ = (D² + ρ² − r²)/(2Dρ), so the skipping share is
-//!   (2π/|Q|) ∫ D (1 − ψ(D)/π) dD over |ρ − r| < D < min(ρ + r, A − r − ρ). Where the
-//!   annulus reaches a neighbour (D + ρ > A − r) the turn per bounce is irrational for almost
-//!   every D, the arcs fill the annulus, and the orbit meets the neighbour: not localized.
+//! * **Skipping**: the circle cuts one disk c (|ρ − r| < D = |z − c| < ρ + r) and its orbit
+//!   stays out of reach of every other: D + ρ < R. Every return to c is the same arc turned about
+//!   c, so the orbit circles c for ever within the annulus D + ρ about it. For fixed z the share
+//!   of the circle outside the disk is 1 − ψ/π, cos ψ = (D² + ρ² − r²)/(2Dρ), so the skipping
+//!   share is Σ_m (2π/|Q|) ∫ D (1 − ψ(D)/π) dD over |ρ − r_m| < D < min(ρ + r_m, R_m − ρ). Where
+//!   the annulus reaches another disk (D + ρ > R) the turn per bounce is irrational for almost
+//!   every D, the arcs fill the annulus, and the orbit meets it: not localized.
 //! * **Kac's lemma** for the part that is neither (the diffusing part): its mean free time
 //!   between collisions is its phase volume over its boundary flux,
-//!   τ = 2π|Q|(1 − f_pinned − f_skipping) / (4πr − π|B|(D_hi² − D_lo²)); the skipping orbits at
-//!   distance D carry the flux 2π|B|D dD (phase volume over return time), the whole boundary 4πr.
+//!   τ = 2π|Q|(1 − f_pinned − f_skipping) / (4πΣr − Σ π|B|(D_hi² − D_lo²)); the skipping orbits
+//!   at distance D carry the flux 2π|B|D dD (phase volume over return time), the whole boundary
+//!   4πΣr.
 
 use std::f64::consts::PI;
 
@@ -45,14 +47,14 @@ pub enum Orbit {
 }
 
 /// The exact geometry of a disk lattice in the field `field` (≠ 0).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct FieldGeometry {
     lattice: DiskLattice,
     field: f64,
     rho: f64,
-    /// A, the distance between nearest lattice points (found once: every classification
-    /// needs it).
-    nearest: f64,
+    /// For each disk m, its reach min |c − c'| − r' ([`DiskLattice::reach`], found once: every
+    /// classification needs it).
+    reach: Vec<f64>,
 }
 
 /// Absolute accuracy of the exact shares (quadrature tolerance per lattice cell area).
@@ -78,11 +80,12 @@ impl FieldGeometry {
                 "a nonzero finite field has a cyclotron circle",
             ));
         }
+        let reach = (0..lattice.disks.len()).map(|m| lattice.reach(m)).collect();
         Ok(FieldGeometry {
             lattice,
             field,
             rho: 1.0 / field.abs(),
-            nearest: lattice.nearest_distance(),
+            reach,
         })
     }
 
@@ -96,28 +99,34 @@ impl FieldGeometry {
         self.rho
     }
 
-    /// `true` if every orbit is localized: 2ρ ≤ A − 2r, so that every cyclotron circle that meets a
-    /// disk stays within A − r of its centre (it skips round it) and every other one is pinned.
-    pub fn all_localized(&self) -> bool {
-        2.0 * self.rho <= self.nearest - 2.0 * self.lattice.radius
+    /// The disk array.
+    pub fn lattice(&self) -> &DiskLattice {
+        &self.lattice
     }
 
-    /// The range (D_lo, D_hi) of centre distances of the skipping orbits (empty if D_hi ≤ D_lo).
-    pub fn skipping_range(&self) -> (f64, f64) {
-        let (rho, r) = (self.rho, self.lattice.radius);
-        let reach = self.nearest - r - rho;
+    /// `true` if every orbit is localized: 2ρ ≤ reach − r for every disk (A − 2r for equal disks
+    /// A apart), so that every cyclotron circle that meets a disk stays out of reach of the others
+    /// (it skips round it) and every other one is pinned.
+    pub fn all_localized(&self) -> bool {
+        self.lattice
+            .disks
+            .iter()
+            .zip(&self.reach)
+            .all(|(d, reach)| 2.0 * self.rho <= reach - d.radius)
+    }
+
+    /// The range (D_lo, D_hi) of centre distances of the orbits skipping round disk `m` (empty
+    /// if D_hi ≤ D_lo).
+    pub fn skipping_range(&self, m: usize) -> (f64, f64) {
+        let (rho, r) = (self.rho, self.lattice.disks[m].radius);
+        let reach = self.reach[m] - rho;
         ((rho - r).abs(), (rho + r).min(reach))
     }
 
     /// What the orbit through the world point (x, y) with unit velocity (vx, vy) does.
     pub fn classify(&self, x: f64, y: f64, vx: f64, vy: f64) -> Orbit {
         let (zx, zy) = (x - vy / self.field, y + vx / self.field);
-        let (cx, cy) = self.lattice.nearest_point(zx, zy);
-        // Squared distances (lo ≥ 0, and an empty range has hi ≤ lo) order as the distances do,
-        // up to rounding ties, without a `hypot` per point.
-        let d2 = (zx - cx) * (zx - cx) + (zy - cy) * (zy - cy);
-        let (lo, hi) = self.skipping_range();
-        if hi > lo && d2 > lo * lo && d2 < hi * hi {
+        if self.skips(zx, zy) {
             return Orbit::Skipping;
         }
         if self.circle_meets_a_disk(zx, zy) {
@@ -127,13 +136,36 @@ impl FieldGeometry {
         }
     }
 
-    /// The lattice rows within ρ + r of the height `y`, from the outermost in (where a large
-    /// circle most often meets a disk): (dy, shift, xo, xi) — the height above the row, the x of
-    /// its lattice point 0, and the half-widths of the annulus ρ − r ≤ |z − c| ≤ ρ + r on the line
-    /// (xi = 0 where the inner circle does not reach it).
-    fn rows(&self, y: f64) -> impl Iterator<Item = (f64, f64, f64, f64)> + '_ {
+    /// `true` if the circle about (zx, zy) skips round a disk: its centre at a distance in the
+    /// disk's skipping range. Such a disk is the nearest of its own lattice (D_hi is at most half
+    /// their distance), so only the points within D_hi are looked at.
+    fn skips(&self, zx: f64, zy: f64) -> bool {
+        let mut skips = false;
+        for (m, d) in self.lattice.disks.iter().enumerate() {
+            let (lo, hi) = self.skipping_range(m);
+            if hi <= lo {
+                continue;
+            }
+            let (x, y) = (zx - d.centre[0], zy - d.centre[1]);
+            self.lattice.points_near((x, y), hi, |i, j| {
+                let (cx, cy) = self.lattice.point(i, j);
+                // Squared distances (lo ≥ 0) order as the distances do, up to rounding ties,
+                // without a `hypot` per point.
+                let d2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+                skips |= d2 > lo * lo && d2 < hi * hi;
+            });
+        }
+        skips
+    }
+
+    /// The lattice rows within ρ + r of the height `y` for a disk of radius `r` at the lattice
+    /// points, from the outermost in (where a large circle most often meets a disk): (dy, shift,
+    /// xo, xi) — the height above the row, the x of its lattice point 0, and the half-widths of
+    /// the annulus ρ − r ≤ |z − c| ≤ ρ + r on the line (xi = 0 where the inner circle does not
+    /// reach it).
+    fn rows(&self, y: f64, r: f64) -> impl Iterator<Item = (f64, f64, f64, f64)> + '_ {
         let l = &self.lattice;
-        let (outer, inner) = (self.rho + l.radius, self.rho - l.radius);
+        let (outer, inner) = (self.rho + r, self.rho - r);
         let (j_lo, j_hi) = (((y - outer) / l.h).ceil(), ((y + outer) / l.h).floor());
         let rows = ((j_hi - j_lo) as i64 + 1).max(0);
         (0..rows).map(move |k| {
@@ -153,13 +185,21 @@ impl FieldGeometry {
         })
     }
 
-    /// `true` if the circle of radius ρ about (zx, zy) meets a disk: some lattice point at a
-    /// distance in [ρ − r, ρ + r]. Rows are scanned from the outermost in, where a large circle
-    /// most often meets one.
+    /// `true` if the circle of radius ρ about (zx, zy) meets a disk: for some disk of the cell, a
+    /// point of its lattice at a distance in [ρ − r, ρ + r].
     fn circle_meets_a_disk(&self, zx: f64, zy: f64) -> bool {
+        self.lattice
+            .disks
+            .iter()
+            .any(|d| self.meets_one(zx - d.centre[0], zy - d.centre[1], d.radius))
+    }
+
+    /// `true` if the circle of radius ρ about (zx, zy) meets a disk of radius `r` at a lattice
+    /// point. Rows are scanned from the outermost in, where a large circle most often meets one.
+    fn meets_one(&self, zx: f64, zy: f64, r: f64) -> bool {
         let l = &self.lattice;
-        let (outer, inner) = (self.rho + l.radius, self.rho - l.radius);
-        for (dy, shift, xo, xi) in self.rows(zy) {
+        let (outer, inner) = (self.rho + r, self.rho - r);
+        for (dy, shift, xo, xi) in self.rows(zy, r) {
             for side in [-1.0, 1.0] {
                 // Lattice points at x = shift + i·a with |x − zx| in [xi, xo] on this side.
                 let (near, far) = (zx + side * xi, zx + side * xo);
@@ -183,30 +223,37 @@ impl FieldGeometry {
 
     /// The exact share of phase space in skipping orbits.
     pub fn skipping_fraction(&self) -> f64 {
-        let (lo, hi) = self.skipping_range();
-        if hi <= lo {
-            return 0.0;
+        let rho = self.rho;
+        let mut total = 0.0;
+        for (m, d) in self.lattice.disks.iter().enumerate() {
+            let (lo, hi) = self.skipping_range(m);
+            if hi <= lo {
+                continue;
+            }
+            let r = d.radius;
+            let outside = |d: f64| {
+                let c = ((d * d + rho * rho - r * r) / (2.0 * d * rho)).clamp(-1.0, 1.0);
+                2.0 * PI * d * (1.0 - c.acos() / PI)
+            };
+            total += integrate(&outside, lo, hi, SHARE_TOLERANCE);
         }
-        let (rho, r) = (self.rho, self.lattice.radius);
-        let outside = |d: f64| {
-            let c = ((d * d + rho * rho - r * r) / (2.0 * d * rho)).clamp(-1.0, 1.0);
-            2.0 * PI * d * (1.0 - c.acos() / PI)
-        };
-        integrate(&outside, lo, hi, SHARE_TOLERANCE) / self.lattice.free_area()
+        total / self.lattice.free_area()
     }
 
     /// The exact share of phase space in pinned orbits.
     pub fn pinned_fraction(&self) -> f64 {
         let l = &self.lattice;
         let mut cuts = vec![0.0, l.h];
-        for radius in [self.rho + l.radius, self.rho - l.radius] {
-            if radius > 0.0 {
-                // The height (mod h) where a circle of this radius about a lattice row is
-                // tangent to the line of integration.
-                for sign in [-1.0, 1.0] {
-                    let y = (sign * radius).rem_euclid(l.h);
-                    if y > 0.0 && y < l.h {
-                        cuts.push(y);
+        for d in &l.disks {
+            for radius in [self.rho + d.radius, self.rho - d.radius] {
+                if radius > 0.0 {
+                    // The height (mod h) where a circle of this radius about a row of the disk's
+                    // lattice is tangent to the line of integration.
+                    for sign in [-1.0, 1.0] {
+                        let y = (d.centre[1] + sign * radius).rem_euclid(l.h);
+                        if y > 0.0 && y < l.h {
+                            cuts.push(y);
+                        }
                     }
                 }
             }
@@ -227,27 +274,30 @@ impl FieldGeometry {
     }
 
     /// The free length, over one period a of x, of the line at height y left by the annuli
-    /// ρ − r ≤ |z − c| ≤ ρ + r of every lattice point (the pinned centres on that line).
+    /// ρ − r ≤ |z − c| ≤ ρ + r of every disk (the pinned centres on that line).
     fn free_length(&self, y: f64) -> f64 {
         let l = &self.lattice;
         let mut covered: Vec<(f64, f64)> = Vec::new();
-        for (_, shift, xo, xi) in self.rows(y) {
-            let pieces = if xi > 0.0 {
-                vec![(shift - xo, shift - xi), (shift + xi, shift + xo)]
-            } else {
-                vec![(shift - xo, shift + xo)]
-            };
-            for (lo, hi) in pieces {
-                if hi - lo >= l.a {
-                    return 0.0;
-                }
-                let start = lo.rem_euclid(l.a);
-                let end = start + (hi - lo);
-                if end > l.a {
-                    covered.push((start, l.a));
-                    covered.push((0.0, end - l.a));
+        for d in &l.disks {
+            for (_, shift, xo, xi) in self.rows(y - d.centre[1], d.radius) {
+                let shift = d.centre[0] + shift;
+                let pieces = if xi > 0.0 {
+                    vec![(shift - xo, shift - xi), (shift + xi, shift + xo)]
                 } else {
-                    covered.push((start, end));
+                    vec![(shift - xo, shift + xo)]
+                };
+                for (lo, hi) in pieces {
+                    if hi - lo >= l.a {
+                        return 0.0;
+                    }
+                    let start = lo.rem_euclid(l.a);
+                    let end = start + (hi - lo);
+                    if end > l.a {
+                        covered.push((start, l.a));
+                        covered.push((0.0, end - l.a));
+                    } else {
+                        covered.push((start, end));
+                    }
                 }
             }
         }
@@ -263,13 +313,17 @@ impl FieldGeometry {
         (l.a - total).max(0.0)
     }
 
-    /// The boundary flux of the skipping orbits per cell, π|B|(D_hi² − D_lo²) (0 if none).
+    /// The boundary flux of the skipping orbits per cell, Σ π|B|(D_hi² − D_lo²) over the disks
+    /// (0 if none).
     pub fn skipping_flux(&self) -> f64 {
-        let (lo, hi) = self.skipping_range();
-        if hi <= lo {
-            return 0.0;
+        let mut flux = 0.0;
+        for m in 0..self.lattice.disks.len() {
+            let (lo, hi) = self.skipping_range(m);
+            if hi > lo {
+                flux += PI * self.field.abs() * (hi * hi - lo * lo);
+            }
         }
-        PI * self.field.abs() * (hi * hi - lo * lo)
+        flux
     }
 
     /// Kac's mean free time between collisions of the diffusing part (see the module
@@ -277,7 +331,7 @@ impl FieldGeometry {
     pub fn diffusing_mean_free_time(&self) -> f64 {
         let l = &self.lattice;
         let volume = 2.0 * PI * l.free_area() * (1.0 - self.localized_fraction());
-        let flux = 4.0 * PI * l.radius - self.skipping_flux();
+        let flux = 4.0 * PI * l.radius_sum() - self.skipping_flux();
         if flux <= 0.0 || volume <= 0.0 {
             return f64::INFINITY;
         }
@@ -322,12 +376,7 @@ mod tests {
 
     fn triangular(w: f64) -> DiskLattice {
         let a = 2.0 + w;
-        DiskLattice {
-            a,
-            beta: 0.5,
-            h: a * 3f64.sqrt() / 2.0,
-            radius: 1.0,
-        }
+        DiskLattice::equal(a, 0.5, a * 3f64.sqrt() / 2.0, 1.0)
     }
 
     #[test]
@@ -343,7 +392,7 @@ mod tests {
         // ρ = 0.01 at w = 0.3: the excluded centres are disks of radius 1.01 about the lattice
         // points, disjoint (a = 2.3 > 2.02): |P| = ah − π·1.01².
         let l = triangular(0.3);
-        let g = FieldGeometry::new(l, 100.0).unwrap();
+        let g = FieldGeometry::new(l.clone(), 100.0).unwrap();
         let exact = (l.cell_area() - PI * 1.01 * 1.01) / l.free_area();
         assert!(
             (g.pinned_fraction() - exact).abs() < 1e-11,

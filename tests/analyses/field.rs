@@ -41,6 +41,17 @@ fn run(w: f64, b: &str, collisions: u64) -> FieldReport {
     field::run(&config(w, b, collisions), &threads(2)).unwrap()
 }
 
+/// The shipped table: the unit square lattice, radius 2/5 at the corners and 1/5 at the centre
+/// (the square's symmetry: D_xx = D_yy, no symmetric off-diagonal part).
+fn two_radius() -> SceneSpec {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/tables/two-radius-square.toml"
+    ))
+    .unwrap();
+    SceneSpec::Table(lorentz_gas::scenes::table::spec::TableSpec::from_toml(&text).unwrap())
+}
+
 fn square(radius: &str) -> SceneSpec {
     SceneSpec::Square {
         radius: radius.into(),
@@ -72,7 +83,8 @@ fn slow_tier_d_xx_is_even_and_the_hall_part_odd_in_the_field() {
 
 /// Every scene has a finite horizon in a field: the square lattice, whose corridors make D
 /// infinite without one, and the triangular lattice beyond w_inf have a tensor with the
-/// symmetries, Kac's mean free time and the exact localized share.
+/// symmetries, Kac's mean free time and the exact localized share; so has a table of two radii
+/// given as data (at B = 3 an eighth of its phase space skips round its disks).
 #[test]
 fn scenes_with_corridors_diffuse_in_a_field_with_the_symmetries() {
     for (scene, b) in [
@@ -80,6 +92,8 @@ fn scenes_with_corridors_diffuse_in_a_field_with_the_symmetries() {
         (square("1/4"), "1/2"),
         (square("2/5"), "1"),
         (SceneSpec::Triangular { w: "1/2".into() }, "1"),
+        (two_radius(), "1"),
+        (two_radius(), "3"),
     ] {
         onsager_casimir(&scene, b, 4_000_000);
     }
@@ -215,6 +229,7 @@ fn same_seed_same_bits_on_every_engine_and_thread_count() {
     for cfg in [
         config(0.15, "-3/4", 2_000_000),
         scene_config(square("1/3"), "3/2", 1_000_000),
+        scene_config(two_radius(), "-5/2", 1_000_000),
     ] {
         let one = field::run(&cfg, &on(Engine::Scalar, 1)).unwrap();
         let json = |r: &FieldReport| physics_only(serde_json::to_value(r).unwrap());

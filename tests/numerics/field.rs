@@ -295,7 +295,7 @@ fn sampled_localized_shares_agree_with_the_exact_ones() {
     }
 }
 
-fn shares_agree<S: Scene>(scene: &S, b: f64, seed: u64) {
+pub(super) fn shares_agree<S: Scene>(scene: &S, b: f64, seed: u64) {
     let lat = scene.lattice::<f64>(()).unwrap();
     let geo = FieldGeometry::new(scene.disk_lattice().unwrap(), b).unwrap();
     let n = 200_000u64;

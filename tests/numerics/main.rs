@@ -30,6 +30,7 @@ mod scene_diffusion;
 mod scenes;
 mod shadowing;
 mod square;
+mod table_field;
 mod tables;
 mod trajectory;
 mod verification;

@@ -15,11 +15,11 @@ use rug::{Float, Rational};
 const BITS: u32 = 192;
 
 /// A disk of a table: its centre and radius, exactly.
-type Disk = ([Rational; 2], Rational);
+pub(super) type Disk = ([Rational; 2], Rational);
 
 /// A random table: e1 = (1, 0), e2 = (b, h), up to three disks at fractional coordinates (u, v)
 /// of the cell, every number a multiple of 1/64; `None` where the disks overlap.
-fn random_table(rng: &mut impl Rng) -> Option<(PeriodicTable, Vec<Disk>)> {
+pub(super) fn random_table(rng: &mut impl Rng) -> Option<(PeriodicTable, Vec<Disk>)> {
     let q = |n: i64| Rational::from((n, 64));
     let (b, h) = (q(rng.random_range(-32..=32)), q(rng.random_range(40..=96)));
     let mut text = format!("[lattice]\ne1 = [\"1\", \"0\"]\ne2 = [\"{b}\", \"{h}\"]\n");

@@ -114,12 +114,7 @@ pub(super) fn starts<T: Real>(
     b: f64,
 ) -> Result<Vec<Vec<LatticeState<T>>>, Error> {
     let a = trap64.a;
-    let lattice = DiskLattice {
-        a,
-        beta: 0.5,
-        h: trap64.h,
-        radius: 1.0,
-    };
+    let lattice = DiskLattice::equal(a, 0.5, trap64.h, 1.0);
     let geometry = FieldGeometry::new(lattice, b)?;
     let lat64 = Lattice::from_kernel(trap64.clone());
     (0..threads)

@@ -221,17 +221,22 @@ impl Scene for PeriodicTable {
         (length > 0.0).then(|| PI * self.free_area_and_boundary().0 / length)
     }
 
-    /// One disk at the lattice points (its centre exactly at the origin): the field's exact
-    /// geometry applies.
+    /// The disks of the cell at their (reduced) centres: the field's exact geometry of pinned
+    /// and skipping orbits.
     fn disk_lattice(&self) -> Option<crate::scenes::magnetic::DiskLattice> {
-        let [(c, r)] = self.disks.as_slice() else {
-            return None;
-        };
-        (c[0] == 0 && c[1] == 0).then(|| crate::scenes::magnetic::DiskLattice {
+        use crate::scenes::magnetic::{DiskLattice, LatticeDisk};
+        Some(DiskLattice {
             a: self.a.to_f64(),
             beta: (self.b.clone() / &self.a).to_f64(),
             h: self.h.to_f64(),
-            radius: r.to_f64(),
+            disks: self
+                .disks
+                .iter()
+                .map(|(c, r)| LatticeDisk {
+                    centre: [c[0].to_f64(), c[1].to_f64()],
+                    radius: r.to_f64(),
+                })
+                .collect(),
         })
     }
 

@@ -151,12 +151,12 @@ impl Scene for TriangularScene {
     /// Disks of radius 1 at spacing a = 2 + w (e₂ = (a/2, √3a/2)).
     fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
         let a = 2.0 + self.w();
-        Some(super::magnetic::DiskLattice {
+        Some(super::magnetic::DiskLattice::equal(
             a,
-            beta: 0.5,
-            h: a * 3f64.sqrt() / 2.0,
-            radius: 1.0,
-        })
+            0.5,
+            a * 3f64.sqrt() / 2.0,
+            1.0,
+        ))
     }
 }
 

@@ -409,7 +409,7 @@ fn field_of<S: Scene>(
     let Some(q) = config.field_exact()? else {
         return Ok(None);
     };
-    let disks = crate::scenes::require_disk_lattice(scene, "shadow")?;
+    let disks = crate::scenes::require_one_disk_per_cell(scene, "shadow")?;
     let geometry =
         crate::theory::magnetic::FieldGeometry::new(disks, crate::numbers::exact::nearest_f64(&q))?;
     if geometry.all_localized() {
@@ -443,8 +443,8 @@ pub fn run<S: Scene>(
         request.reference_bits,
     );
     // Straight flights are shadowed about the disks at the lattice points, arcs by the field's
-    // exact geometry: either way the disks are one lattice of equal disks.
-    crate::scenes::require_disk_lattice(scene, "shadow")?;
+    // exact geometry: either way a disk is labelled by its lattice point.
+    crate::scenes::require_one_disk_per_cell(scene, "shadow")?;
     let field = field_of(scene, request)?;
     let exact = field.as_ref().map(|f| &f.0);
     let out = par_batches(threads, segments, |k| {
