@@ -147,6 +147,18 @@ pub fn run(a: Args) -> Result<(), Error> {
     emit(a.output.json, &r, print)
 }
 
+/// The configuration of a field-free run on a table given as data (`--table FILE` without
+/// `--field`), or `None` for another run.
+pub fn table_run_config(a: &Args) -> Result<Option<SceneDiffusionConfig>, Error> {
+    if a.scene.table.is_none() || nonzero_field(a)?.is_some() {
+        return Ok(None);
+    }
+    let SceneChoice::Table(table) = a.scene.resolve()? else {
+        return Ok(None);
+    };
+    table_config(a, &table).map(Some)
+}
+
 /// The statistics of a run on any table (validated against it).
 fn table_config(
     a: &Args,

@@ -159,6 +159,15 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
         None
     }
 
+    /// `true` if the scene's symmetry makes every symmetric tensor of its transport isotropic
+    /// (D_xx = D_yy, no symmetric off-diagonal part): a rotation of order above 2 maps it onto
+    /// itself. The triangular and square scenes are; a table given as data is if a quarter turn
+    /// maps it onto itself ([`table::PeriodicTable::quarter_turn_symmetric`]). `false` (the
+    /// default) claims nothing.
+    fn isotropic(&self) -> bool {
+        false
+    }
+
     /// The widest collision-free corridor of an infinite horizon, where the scene names it (a
     /// table given as data decides it exactly: [`table::horizon`]), or `None` (the default).
     fn widest_corridor(&self) -> Option<table::horizon::Corridor> {

@@ -187,6 +187,10 @@ impl Scene for SquareScene {
             .then_some(self.r64)
     }
 
+    fn isotropic(&self) -> bool {
+        true
+    }
+
     /// Disks of radius r on the unit square lattice.
     fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
         Some(super::magnetic::DiskLattice::equal(1.0, 0.0, 1.0, self.r64))

@@ -1,5 +1,5 @@
 //! `--table FILE`: a periodic table given as data, from the command line. A finite-horizon table
-//! runs and meets Santaló's mean free path; an open corridor and overlapping disks are refused
+//! runs, meets Santaló's mean free path and PASSes `lorentz report`; an open corridor and overlapping disks are refused
 //! with exit status 2 and one line naming the corridor or the two disks.
 
 use crate::common::lorentz_in;
@@ -52,14 +52,32 @@ fn a_table_file_runs_diffusion_and_meets_santalos_mean_free_path() {
     assert!(d > 0.0 && r["D_err"].as_f64().unwrap() < 0.05 * d, "{out}");
     // The result records the table as written.
     assert_eq!(r["table"]["disks"][1]["radius"], "1/5", "{out}");
-    // The publication audit does not re-run tables yet, and says so (bad input, one line).
+    // The publication audit re-runs it and PASSes; an edited D FAILs the record (exit 1), a
+    // table edited to overlapping disks is refused as bad input naming the disks (exit 2).
     std::fs::write(dir.path().join("t.json"), &out).unwrap();
-    let (code, _, err) = lorentz_in(dir.path(), &["report", "t.json", "--out", "rr"]);
-    assert_eq!(code, 2, "{err}");
+    let (code, report, err) = lorentz_in(dir.path(), &["report", "t.json", "--out", "rr"]);
+    assert_eq!(code, 0, "{report}{err}");
+    for check in [
+        "mean free path = its closed form",
+        "re-run gives the same bits",
+    ] {
+        assert!(report.contains(check), "{report}");
+    }
+    let mut edited = r.clone();
+    edited["D"] = serde_json::json!(d * 1.001);
+    std::fs::write(dir.path().join("d.json"), edited.to_string()).unwrap();
+    let (code, report, err) = lorentz_in(dir.path(), &["report", "d.json", "--out", "rd"]);
+    assert_eq!(code, 1, "{report}{err}");
     assert!(
-        err.contains("table given as data") && err.contains("not audit yet"),
-        "{err}"
+        report.contains("FAIL  reproducibility  the record"),
+        "{report}"
     );
+    let mut edited = r.clone();
+    edited["table"]["disks"][1]["radius"] = serde_json::json!("2/5");
+    std::fs::write(dir.path().join("o.json"), edited.to_string()).unwrap();
+    let (code, _, err) = lorentz_in(dir.path(), &["report", "o.json", "--out", "ro"]);
+    assert_eq!((code, err.lines().count()), (2, 1), "{err}");
+    assert!(err.contains("overlap"), "{err}");
 }
 
 #[test]

@@ -229,7 +229,9 @@ pub struct FieldReport {
     /// Cyclotron radius 1/|B|.
     pub cyclotron_radius: f64,
     /// D_xx over the whole phase space: (1 − localized share) × the diffusing part's, the mean
-    /// of D_xx and D_yy.
+    /// of D_xx and D_yy — the isotropic D where the scene's symmetry makes the tensor isotropic
+    /// ([`Scene::isotropic`]: the presets, a table a quarter turn maps onto itself), half its
+    /// trace otherwise (`diffusing` has each).
     pub D_xx: f64,
     /// Its standard error.
     pub D_xx_err: f64,

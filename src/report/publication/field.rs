@@ -80,7 +80,9 @@ pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
             &[("D_xx", r.D_xx), ("D_xy", r.D_xy)],
         );
     } else {
-        diffusing_checks(r, checks);
+        let scene = cfg.scene.resolve()?;
+        let isotropic = crate::with_scene!(&scene, |s| crate::scenes::Scene::isotropic(s));
+        diffusing_checks(r, isotropic, checks);
         batch_statistics(&r.batch_D_xx, checks);
     }
     let what = format!(
@@ -108,25 +110,34 @@ fn localized_share(r: &FieldReport, checks: &mut Checks) {
     );
 }
 
-/// The diffusing part: Kac's mean free time, D_yy = D_xx and a vanishing symmetric off-diagonal
-/// part (the lattice's symmetry), each within the Student-t bound of its batches.
-fn diffusing_checks(r: &FieldReport, checks: &mut Checks) {
+/// The diffusing part: Kac's mean free time and, where the scene's symmetry implies it
+/// ([`crate::scenes::Scene::isotropic`]), a vanishing symmetric off-diagonal part, each within
+/// the Student-t bound of its batches.
+fn diffusing_checks(r: &FieldReport, isotropic: bool, checks: &mut Checks) {
     let bound = normal_sigma_equivalent_t(f64::from(r.config.statistics.batches) - 1.0, SIGMAS);
     let t = &r.diffusing;
-    for (name, v, e, x) in [
-        (
-            "mean free time of the diffusing part = Kac's",
-            r.mean_free_time,
-            r.mean_free_time_err,
-            r.mean_free_time_exact,
-        ),
-        (
-            "symmetric off-diagonal part of the tensor = 0 (lattice symmetry)",
-            t.D_xy_symmetric,
-            t.D_xy_symmetric_err,
-            0.0,
-        ),
-    ] {
+    let symmetric = "symmetric off-diagonal part of the tensor = 0 (lattice symmetry)";
+    if !isotropic {
+        checks.add(
+            "identities",
+            symmetric,
+            super::Verdict::NotApplicable,
+            "no rotation of order above 2 maps this table onto itself: the tensor's symmetric \
+             part need not be isotropic"
+                .into(),
+            &[],
+        );
+    }
+    let mut cases = vec![(
+        "mean free time of the diffusing part = Kac's",
+        r.mean_free_time,
+        r.mean_free_time_err,
+        r.mean_free_time_exact,
+    )];
+    if isotropic {
+        cases.push((symmetric, t.D_xy_symmetric, t.D_xy_symmetric_err, 0.0));
+    }
+    for (name, v, e, x) in cases {
         let z = (v - x) / e;
         checks.pass_if(
             z.abs() <= bound,

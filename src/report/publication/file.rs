@@ -43,12 +43,14 @@ pub enum Kind {
     Field,
     /// `lorentz sweep --fields …` or `--field B` (`field-sweep.json`, `--json`).
     FieldSweep,
+    /// `lorentz diffusion --table FILE --json` (D on a table given as data).
+    TableDiffusion,
 }
 
 impl Kind {
     /// Every kind, each with the keys that identify it (all present; `bench --report` has `rows`
     /// too, but no `linear_fit`).
-    pub const ALL: [(Kind, &'static [&'static str]); 9] = [
+    pub const ALL: [(Kind, &'static [&'static str]); 10] = [
         (Kind::Diffusion, &["batch_D"]),
         (Kind::Sweep, &["rows", "linear_fit"]),
         (Kind::Hops, &["pairs"]),
@@ -58,6 +60,7 @@ impl Kind {
         (Kind::Escape, &["D_escape"]),
         (Kind::Field, &["batch_D_xx", "localized_fraction_exact"]),
         (Kind::FieldSweep, &["rows", "onsager"]),
+        (Kind::TableDiffusion, &["batch_D", "identities", "table"]),
     ];
 
     /// The command that writes it.
@@ -72,6 +75,7 @@ impl Kind {
             Kind::Escape => "escape",
             Kind::Field => "diffusion",
             Kind::FieldSweep => "sweep",
+            Kind::TableDiffusion => "diffusion",
         }
     }
 
@@ -118,20 +122,15 @@ impl ResultFile {
         let Some(object) = value.as_object() else {
             return Err(bad(path, "not a JSON object: not a result of lorentz"));
         };
-        if object.contains_key("identities") && object.contains_key("time_unit") {
-            return Err(bad(
-                path,
-                format!(
-                    "D on a table given as data, which report does not audit yet (it audits {})",
-                    Kind::list()
-                ),
-            ));
-        }
-        let kinds: Vec<Kind> = Kind::ALL
+        let mut kinds: Vec<Kind> = Kind::ALL
             .iter()
             .filter(|(_, keys)| keys.iter().all(|k| object.contains_key(*k)))
             .map(|(k, _)| *k)
             .collect();
+        // D on a table has the batch values of any diffusion result, and its table besides.
+        if kinds.contains(&Kind::TableDiffusion) {
+            kinds.retain(|k| *k != Kind::Diffusion);
+        }
         let kind = match kinds[..] {
             [k] => k,
             [] => {

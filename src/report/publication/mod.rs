@@ -70,6 +70,7 @@ mod render;
 mod same_bits;
 mod statistics;
 mod sweep;
+mod table;
 
 use std::cell::Cell;
 use std::collections::BTreeMap;
@@ -254,6 +255,12 @@ enum Audited {
     Escape(Box<crate::estimators::escape::EscapeReport>),
     Field(Box<crate::estimators::field::FieldReport>),
     FieldSweep(Box<crate::estimators::field::sweep::FieldSweepReport>),
+    Table(
+        Box<(
+            crate::estimators::diffusion::scene::SceneDiffusionReport,
+            crate::scenes::table::PeriodicTable,
+        )>,
+    ),
 }
 
 impl Audited {
@@ -271,6 +278,7 @@ impl Audited {
             Kind::Escape => Audited::Escape(Box::new(escape::parse(&file, path)?)),
             Kind::Field => Audited::Field(Box::new(field::parse(&file, path)?)),
             Kind::FieldSweep => Audited::FieldSweep(Box::new(field_sweep::parse(&file, path)?)),
+            Kind::TableDiffusion => Audited::Table(Box::new(table::parse(&file, path)?)),
         };
         Ok((file, a))
     }
@@ -285,6 +293,7 @@ impl Audited {
             Audited::Escape(r) => Ok(vec![escape::collisions(&r.config)?]),
             Audited::Field(r) => Ok(vec![r.config.statistics.collisions]),
             Audited::FieldSweep(r) => Ok(vec![field_sweep::collisions(r)]),
+            Audited::Table(t) => Ok(vec![t.0.config.collisions]),
         }
     }
 
@@ -297,6 +306,7 @@ impl Audited {
             Audited::Escape(r) => &r.meta,
             Audited::Field(r) => &r.meta,
             Audited::FieldSweep(r) => &r.meta,
+            Audited::Table(t) => &t.0.meta,
         }
     }
 }
@@ -397,6 +407,7 @@ pub fn run_with(
         Audited::Escape(r) => escape::checks(r, &ctx, &mut checks)?,
         Audited::Field(r) => field::checks(r, &ctx, &mut checks)?,
         Audited::FieldSweep(r) => field_sweep::checks(r, &ctx, &mut checks)?,
+        Audited::Table(t) => table::checks((&t.0, &t.1), &ctx, &mut checks)?,
     }
     let verdict = overall(&checks.0);
     let report = PublicationReport {

@@ -111,7 +111,8 @@ recorded!(
     crate::estimators::hops::backscatter::BackscatterReport,
     crate::estimators::escape::EscapeReport,
     crate::estimators::field::FieldReport,
-    crate::estimators::field::sweep::FieldSweepReport
+    crate::estimators::field::sweep::FieldSweepReport,
+    crate::estimators::diffusion::scene::SceneDiffusionReport
 );
 
 /// The re-run check of the result `recorded`, whose re-run reports progress in `units` units:

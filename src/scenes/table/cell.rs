@@ -240,6 +240,10 @@ impl Scene for PeriodicTable {
         })
     }
 
+    fn isotropic(&self) -> bool {
+        self.quarter_turn_symmetric()
+    }
+
     fn table_spec(&self) -> Option<&super::spec::TableSpec> {
         Some(&self.spec)
     }

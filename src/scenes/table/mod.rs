@@ -17,6 +17,7 @@
 mod cell;
 pub mod horizon;
 pub mod spec;
+mod symmetry;
 #[cfg(test)]
 mod tests;
 

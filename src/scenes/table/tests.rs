@@ -194,3 +194,33 @@ fn hostile_scales_are_refused_or_reduced_at_once() {
     assert_eq!(sheared.images, plain.images);
     assert_eq!(sheared.corridor(), plain.corridor());
 }
+
+/// The quarter-turn symmetry, exactly: the shipped table, a pinwheel of four equal disks about
+/// the cell's centre, and the same written with a sheared e₂ have it; a disk moved off its
+/// place, unequal radii in the pinwheel and a rectangular lattice do not.
+#[test]
+fn a_quarter_turn_is_found_exactly_and_only_where_it_is() {
+    let pinwheel = |r4: &str| {
+        table(
+            "0",
+            "1",
+            &[
+                ("1/4", "1/2", "1/10"),
+                ("1/2", "1/4", "1/10"),
+                ("3/4", "1/2", "1/10"),
+                ("1/2", "3/4", r4),
+            ],
+        )
+        .unwrap()
+    };
+    assert!(two_radii("1/5").unwrap().isotropic());
+    assert!(pinwheel("1/10").isotropic());
+    assert!(!pinwheel("1/11").isotropic());
+    assert!(table("1", "1", &[("0", "0", "1/4")]).unwrap().isotropic());
+    assert!(
+        !table("0", "1", &[("0", "0", "2/5"), ("1/2", "2/5", "1/5")])
+            .unwrap()
+            .isotropic()
+    );
+    assert!(!table("0", "2", &[("0", "0", "1/4")]).unwrap().isotropic());
+}

@@ -148,6 +148,10 @@ impl Scene for TriangularScene {
         )
     }
 
+    fn isotropic(&self) -> bool {
+        true
+    }
+
     /// Disks of radius 1 at spacing a = 2 + w (e₂ = (a/2, √3a/2)).
     fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
         let a = 2.0 + self.w();
