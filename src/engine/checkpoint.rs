@@ -22,7 +22,6 @@ use super::simd::BLOCK;
 use super::{SimdPath, drive, run_block};
 use crate::Error;
 use crate::kernel::cell::CellKernel;
-use crate::kernel::trap::Trap;
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{ExactState, Lattice, LatticeState};
 
@@ -417,16 +416,17 @@ where
     Ok(s)
 }
 
-/// Runs up to [`BLOCK`] trajectories `jobs` together on the SIMD engine's `path` until each has
+/// Runs up to [`BLOCK`] trajectories `jobs` together on the SIMD engine's `path` (the lanes of
+/// `kernel`: the triangular trap or a convex cell) until each has
 /// made its collisions — lane l from `start(l)`, or from its saved state if it was in flight
 /// (with `obs`'s lane put back) — in segments, saving them at `keep`'s interval. Returns the
 /// final states. The same bits as [`run_block`] in one piece.
 ///
 /// # Errors
 /// As [`run_block`], a saved state that does not fit, or an I/O error of the journal.
-pub fn run_block_kept<O, F>(
+pub fn run_block_kept<O, F, K>(
     path: SimdPath,
-    trap: &Trap<f64>,
+    kernel: &K,
     jobs: &[Quota],
     start: impl Fn(usize) -> LatticeState<f64>,
     obs: &mut O,
@@ -436,6 +436,7 @@ pub fn run_block_kept<O, F>(
 where
     O: Observer<BLOCK> + LaneCheckpoint,
     F: Serialize + DeserializeOwned + Clone,
+    K: super::BlockKernel,
 {
     let mut states = Vec::with_capacity(jobs.len());
     let mut done = vec![0u64; jobs.len()];
@@ -461,7 +462,7 @@ where
             return Ok(states);
         }
         keep.check_stop()?;
-        run_block(path, trap, &mut states, &quotas, obs, progress)?;
+        run_block(path, kernel, &mut states, &quotas, obs, progress)?;
         done.iter_mut().zip(&quotas).for_each(|(d, q)| *d += q);
         keep.save_if_due(&mut last, || {
             (0..jobs.len())

@@ -11,6 +11,7 @@
 
 pub mod arcs;
 pub mod bound;
+pub mod cells;
 pub mod checkpoint;
 pub mod json;
 pub mod long_flight;
@@ -299,17 +300,104 @@ pub(crate) fn drive_with<T: Real, K: CellKernel<T>, O: Observer<1>>(
 #[repr(C, align(4096))]
 struct Ring([EventLanes<BLOCK>; simd::OBSERVE_EVERY + 1]);
 
-/// The SIMD engine: advances up to [`BLOCK`] trajectories `states` of the triangular lattice
-/// with trap `trap`, lane l until it has made `quotas[l]` collisions, showing every step to
-/// `obs` (built for [`BLOCK`] lanes; lanes beyond `states.len()` are never live). The states are
-/// left where the scalar engine would leave them.
+/// What the lane skeleton runs: the triangular trap's fused step ([`simd`]) or any convex cell's
+/// generic one ([`cells`]). Each method runs a whole block at the vector type of its path
+/// (the caller has checked that the CPU has it).
+pub trait BlockKernel {
+    /// Refuses a kernel the lane engines cannot run (a cell with too many disks or edges).
+    ///
+    /// # Errors
+    /// The reason, naming the limit.
+    fn check_lanes(&self) -> Result<(), Error> {
+        Ok(())
+    }
+
+    /// The block on AVX-512 vectors (`#[inline(always)]`: it is inlined into the function that
+    /// enables the feature).
+    #[cfg(target_arch = "x86_64")]
+    fn avx512<O: Observer<BLOCK>>(&self, run: BlockRun<'_, O>) -> Option<usize>;
+
+    /// The block on AVX2 vectors (as [`BlockKernel::avx512`]).
+    #[cfg(target_arch = "x86_64")]
+    fn avx2<O: Observer<BLOCK>>(&self, run: BlockRun<'_, O>) -> Option<usize>;
+
+    /// The block on the portable path.
+    fn portable<O: Observer<BLOCK>>(&self, run: BlockRun<'_, O>) -> Option<usize>;
+}
+
+/// What one block runs on: its counts, its event ring (the starting states in `ring[0]`), its
+/// observers and its progress callback.
+pub struct BlockRun<'a, O> {
+    counts: &'a mut simd::BlockCounts,
+    ring: &'a mut [EventLanes<BLOCK>],
+    obs: &'a mut O,
+    progress: &'a dyn Fn(u64),
+}
+
+impl BlockKernel for Trap<f64> {
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn avx512<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
+        simd::run::<lanes::Pair<lanes::Avx512>, O>(self, r.counts, r.ring, r.obs, r.progress)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn avx2<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
+        simd::run::<lanes::Pair<lanes::Avx2>, O>(self, r.counts, r.ring, r.obs, r.progress)
+    }
+
+    /// The portable path's lanes are scalar code: every root is cheaper there than the β choice.
+    fn portable<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
+        simd::run_with::<lanes::Portable, O, false>(self, r.counts, r.ring, r.obs, r.progress)
+    }
+}
+
+impl BlockKernel for crate::kernel::cell::ConvexCell<f64> {
+    fn check_lanes(&self) -> Result<(), Error> {
+        if cells::fits(self) {
+            return Ok(());
+        }
+        Err(Error::Invalid(format!(
+            "a cell of {} disks and {} edges: the lane engines run 1 to {} disks and at most {} \
+             edges (use the scalar engine)",
+            self.disks.len(),
+            self.edges.len(),
+            cells::MAX_LANE_DISKS,
+            cells::MAX_LANE_EDGES
+        )))
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn avx512<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
+        cells::run::<lanes::Avx512, O>(self, r.counts, r.ring, r.obs, r.progress)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn avx2<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
+        cells::run::<lanes::Pair<lanes::Avx2>, O>(self, r.counts, r.ring, r.obs, r.progress)
+    }
+
+    fn portable<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
+        cells::run::<lanes::Portable, O>(self, r.counts, r.ring, r.obs, r.progress)
+    }
+}
+
+/// The SIMD engine: advances up to [`BLOCK`] trajectories `states` of a lattice whose cell
+/// kernel is `kernel` (the triangular trap, or any convex cell of the generic kernel), lane l
+/// until it has made `quotas[l]` collisions, showing every step to `obs` (built for [`BLOCK`]
+/// lanes; lanes beyond `states.len()` are never live). The states are left where the scalar
+/// engine would leave them.
 ///
 /// # Errors
 /// If more than [`BLOCK`] states are given, quotas and states differ in number, a quota exceeds
-/// [`MAX_COLLISIONS_PER_TRAJECTORY`], or a trajectory loses its next event.
-pub fn run_block<O: Observer<BLOCK>>(
+/// [`MAX_COLLISIONS_PER_TRAJECTORY`], the kernel does not fit the lanes, or a trajectory loses
+/// its next event.
+pub fn run_block<O: Observer<BLOCK>, K: BlockKernel>(
     path: SimdPath,
-    trap: &Trap<f64>,
+    kernel: &K,
     states: &mut [LatticeState<f64>],
     quotas: &[u64],
     obs: &mut O,
@@ -327,6 +415,7 @@ pub fn run_block<O: Observer<BLOCK>>(
             "this CPU cannot run the {path} path"
         )));
     }
+    kernel.check_lanes()?;
     for &q in quotas {
         check_trajectory_length(q)?;
     }
@@ -341,15 +430,20 @@ pub fn run_block<O: Observer<BLOCK>>(
         st.set_state(l, s);
         counts.quota[l] = q as f64;
     }
+    let run = BlockRun {
+        counts: &mut counts,
+        ring: &mut *ring,
+        obs,
+        progress,
+    };
     let lost = match path {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `path.available()` checked the CPU feature above.
-        SimdPath::Avx512 => unsafe { run_avx512(trap, &mut counts, ring, obs, progress) },
+        SimdPath::Avx512 => unsafe { run_avx512(kernel, run) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        SimdPath::Avx2 => unsafe { run_avx2(trap, &mut counts, ring, obs, progress) },
-        // The portable path's lanes are scalar code: every root is cheaper there than the β choice.
-        _ => simd::run_with::<lanes::Portable, O, false>(trap, &mut counts, ring, obs, progress),
+        SimdPath::Avx2 => unsafe { run_avx2(kernel, run) },
+        _ => kernel.portable(run),
     };
     for (l, s) in states.iter_mut().enumerate() {
         *s = ring[0].state(l);
@@ -365,24 +459,18 @@ pub fn run_block<O: Observer<BLOCK>>(
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-unsafe fn run_avx512<O: Observer<BLOCK>>(
-    trap: &Trap<f64>,
-    counts: &mut simd::BlockCounts,
-    ring: &mut [EventLanes<BLOCK>],
-    obs: &mut O,
-    progress: &dyn Fn(u64),
+unsafe fn run_avx512<O: Observer<BLOCK>, K: BlockKernel>(
+    kernel: &K,
+    run: BlockRun<'_, O>,
 ) -> Option<usize> {
-    simd::run::<lanes::Pair<lanes::Avx512>, O>(trap, counts, ring, obs, progress)
+    kernel.avx512(run)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn run_avx2<O: Observer<BLOCK>>(
-    trap: &Trap<f64>,
-    counts: &mut simd::BlockCounts,
-    ring: &mut [EventLanes<BLOCK>],
-    obs: &mut O,
-    progress: &dyn Fn(u64),
+unsafe fn run_avx2<O: Observer<BLOCK>, K: BlockKernel>(
+    kernel: &K,
+    run: BlockRun<'_, O>,
 ) -> Option<usize> {
-    simd::run::<lanes::Pair<lanes::Avx2>, O>(trap, counts, ring, obs, progress)
+    kernel.avx2(run)
 }

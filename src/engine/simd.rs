@@ -1,6 +1,8 @@
 //! The multi-trajectory engine of the triangular lattice: [`BLOCK`] independent trajectories
 //! advance one event per step in vector lanes, branch-free but for one rare branch (an undecided
-//! edge choice).
+//! edge choice). The loop that steps a block and shows its events to the observers
+//! ([`run_steps`]) is the lane skeleton every straight-flight kernel shares: a kernel supplies
+//! its step ([`LaneStep`]), the trap's fused one here, any convex cell's in [`super::cells`].
 //!
 //! No closures in this file's hot code: a closure does not inherit the target features of the
 //! function it is written in, so its vector operations would be calls rather than instructions.
@@ -445,6 +447,38 @@ const PROGRESS_STEPS: u64 = 1 << 14;
 /// keeps the engine's loop free of unpredictable branches (8 steps of 16 lanes: 14 KiB, in L1).
 pub const OBSERVE_EVERY: usize = 8;
 
+/// One step of the `V::WIDTH` lanes at `o` of a block: the event of each live lane recorded in
+/// `out` (whose state is the one before it) and carried out into `next`; returns the bits (at
+/// their block positions) of the live lanes that had no next event and of the live lanes. The
+/// one thing a kernel supplies to the lane skeleton ([`run_steps`]): the trap's fused step here,
+/// any convex cell's in [`super::cells`].
+pub trait LaneStep<V: Lanes> {
+    /// The step (see the trait documentation).
+    fn advance<const L: usize>(
+        &self,
+        counts: &mut BlockCounts,
+        out: &mut EventLanes<L>,
+        next: &mut EventLanes<L>,
+        o: usize,
+    ) -> (u64, u64);
+}
+
+/// The trap's step, its disk rule fixed at compile time: by β (`BY_BETA`), or by every root.
+struct TrapStep<V, const BY_BETA: bool>(Consts<V>);
+
+impl<V: Lanes, const BY_BETA: bool> LaneStep<V> for TrapStep<V, BY_BETA> {
+    #[inline(always)]
+    fn advance<const L: usize>(
+        &self,
+        counts: &mut BlockCounts,
+        out: &mut EventLanes<L>,
+        next: &mut EventLanes<L>,
+        o: usize,
+    ) -> (u64, u64) {
+        advance::<V, L, BY_BETA>(&self.0, counts, out, next, o)
+    }
+}
+
 /// Runs the block until every lane has its quota of collisions, showing each step to `obs`.
 /// `ring[0]` holds the starting states (the other fields are ignored) and, on return, the final
 /// ones. Returns the index of a lane that lost its next event, if any (the run stops there,
@@ -475,8 +509,23 @@ pub(super) fn run_with<V: Lanes, O: Observer<BLOCK>, const BY_BETA: bool>(
     obs: &mut O,
     progress: &dyn Fn(u64),
 ) -> Option<usize> {
+    let step = TrapStep::<V, BY_BETA>(Consts::<V>::new(trap));
+    run_steps::<V, O, _>(&step, counts, ring, obs, progress)
+}
+
+/// The lane skeleton: steps the block with `step` until every lane has its quota of
+/// collisions, [`OBSERVE_EVERY`] steps at a time shown to `obs`, with progress every
+/// [`PROGRESS_STEPS`]. `ring[0]` holds the starting states and, on return, the final ones;
+/// returns a lane that lost its next event, if any.
+#[inline(always)]
+pub(super) fn run_steps<V: Lanes, O: Observer<BLOCK>, S: LaneStep<V>>(
+    step: &S,
+    counts: &mut BlockCounts,
+    ring: &mut [EventLanes<BLOCK>],
+    obs: &mut O,
+    progress: &dyn Fn(u64),
+) -> Option<usize> {
     debug_assert_eq!(ring.len(), OBSERVE_EVERY + 1);
-    let c = Consts::<V>::new(trap);
     let mut reported = counts.collisions.iter().sum::<f64>();
     let mut steps = 0u64;
     loop {
@@ -489,7 +538,7 @@ pub(super) fn run_with<V: Lanes, O: Observer<BLOCK>, const BY_BETA: bool>(
             let mut live = 0u64;
             let mut o = 0;
             while o < BLOCK {
-                let (lo, li) = advance::<V, BLOCK, BY_BETA>(&c, counts, out, next, o);
+                let (lo, li) = step.advance::<BLOCK>(counts, out, next, o);
                 lost |= lo;
                 live |= li;
                 o += V::WIDTH;

@@ -106,7 +106,7 @@ pub type Located<T> = Result<(CellIndex, Vec2<T>), Error>;
 pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// The kernel that runs the scene's cell at number type `T` (the generic
     /// [`ConvexCell`](crate::kernel::cell::ConvexCell) or a bit-identical fused path).
-    type Kernel<T: Real>: CellKernel<T>;
+    type Kernel<T: Real>: CellKernel<T> + 'static;
 
     /// A short description with the parameters, e.g. `triangular w=0.1`.
     fn label(&self) -> String;

@@ -1,9 +1,10 @@
 //! D on any table: the Einstein estimator of [`super`] for a billiard given as a [`Scene`], a
 //! scene of the crate's or one defined outside it.
 //!
-//! The same batches, streams, observers, checkpoints and per-event audit as [`super::run`], on
-//! the scalar engine (the SIMD engine runs only the triangular trap's fused kernel) at any
-//! precision. The MSD's time grid is in units of the scene's crossing time τ = π|Q|/L
+//! The same batches, streams, observers, checkpoints and per-event audit as [`super::run`], at
+//! any precision on the scalar engine, and in `f64` on the SIMD lanes where the scene's kernel is
+//! the generic convex-cell kernel (a table given as data: [`crate::engine::cells`], the scalar
+//! kernel's bits in every lane). The MSD's time grid is in units of the scene's crossing time τ = π|Q|/L
 //! ([`Scene::crossing_time`]), or of the mean free time ⟨ℓ⟩ for a scene that does not supply
 //! it. For the triangular scene τ is the paper's hop time, and the batches have the bits of
 //! [`super::run`] on the scalar engine (`tests/numerics/scene_diffusion.rs`).
@@ -22,11 +23,13 @@ use super::execution::{BatchObservers, DiffusionKeeper, Job, Watch, curve_grid};
 use super::summary::{d_of_batch, merged_audit, msd_over_4t};
 use super::{BatchResult, MIN_HOPS_PER_LAG, MsdGrid, Window, open_keeper, require_finite_horizon};
 use crate::Error;
-use crate::engine::checkpoint::drive_kept;
+use crate::engine::checkpoint::{drive_kept, run_block_kept};
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOption, RunOptions};
 use crate::engine::work::{Work, crossings_per_collision};
-use crate::engine::{Engine, Resolved};
+use crate::engine::simd::BLOCK;
+use crate::engine::{Engine, Resolved, SimdPath};
+use crate::kernel::cell::ConvexCell;
 use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::observers::counters::Counters;
@@ -282,14 +285,7 @@ pub fn run_on<S: Scene>(
     Work::new("diffusion", "collisions", cfg.collisions as f64)
         .crossing(crossings_per_collision(scene))
         .check(options.threads)?;
-    if !matches!(options.engine, Engine::Auto | Engine::Scalar) {
-        return Err(Error::out_of_range(
-            "engine",
-            format!("{:?}", options.engine).to_lowercase(),
-            "use auto or scalar (a scene's own kernel runs on the scalar engine; the SIMD engine \
-             runs only the triangular trap's fused kernel)",
-        ));
-    }
+    let engine = engine_on(scene, cfg.precision, options.engine)?;
     super::check_audit(options, cfg.precision)?;
     let start = Instant::now();
     let jobs = cfg.jobs();
@@ -309,7 +305,10 @@ pub fn run_on<S: Scene>(
         .into_iter()
         .filter(|j| !keep.is_finished(&j.quota()))
         .collect();
-    let new = execute_on(scene, cfg, &todo, options, &keep)?;
+    let new = match engine {
+        Resolved::Simd(path) => lanes_on(scene, cfg, &todo, (path, options), &keep)?,
+        Resolved::Scalar => execute_on(scene, cfg, &todo, options, &keep)?,
+    };
     let mut done: Vec<BatchResult> = keep.finished().map(|(_, b)| b.clone()).collect();
     done.extend(new);
     done.sort_by_key(|b| b.index);
@@ -319,7 +318,7 @@ pub fn run_on<S: Scene>(
         cfg.precision,
         Some(options.threads),
     )
-    .with_engine(Resolved::Scalar);
+    .with_engine(engine);
     let seconds = start.elapsed().as_secs_f64();
     let rep = summarise(scene, cfg, &done, seconds, resumed, meta)?;
     if (resumed > 0 || keep.in_flight_count() > 0)
@@ -333,6 +332,81 @@ pub fn run_on<S: Scene>(
         )));
     }
     Ok(rep)
+}
+
+/// The engine of a run on `scene`: the SIMD lanes where the scene's `f64` kernel is the generic
+/// convex-cell kernel itself (a table given as data, the square cell), which they reproduce bit
+/// for bit ([`crate::engine::cells`]), and the cell fits them; the scalar engine otherwise, and
+/// at MPFR precision. `engine = simd` on a scene without them is refused.
+///
+/// # Errors
+/// The SIMD engine asked for where it cannot run, or a SIMD path this CPU lacks.
+fn engine_on<S: Scene>(scene: &S, precision: Precision, engine: Engine) -> Result<Resolved, Error> {
+    let f64_run = precision == Precision::F64;
+    let lanes = f64_run && lane_cell(scene)?.is_some();
+    match engine {
+        Engine::Simd if !lanes => Err(Error::out_of_range(
+            "engine",
+            "simd",
+            "use auto or scalar: the SIMD engine runs f64 trajectories of the triangular trap and \
+             of a convex cell of the generic kernel with at most 16 disks (a table given as data)",
+        )),
+        Engine::Auto if !lanes => Ok(Resolved::Scalar),
+        e => e.resolve(f64_run),
+    }
+}
+
+/// The `f64` cell of `scene` if the lanes reproduce its kernel: its kernel type is the generic
+/// [`ConvexCell`] (decided by type identity, never by a flag) and the cell fits the lanes.
+///
+/// # Errors
+/// A scene whose `f64` lattice cannot be built.
+fn lane_cell<S: Scene>(scene: &S) -> Result<Option<ConvexCell<f64>>, Error> {
+    use std::any::TypeId;
+    if TypeId::of::<S::Kernel<f64>>() != TypeId::of::<ConvexCell<f64>>() {
+        return Ok(None);
+    }
+    let cell = scene.lattice::<f64>(())?.cell().clone();
+    Ok(crate::engine::cells::fits(&cell).then_some(cell))
+}
+
+/// Runs `jobs` in blocks of [`BLOCK`] on the SIMD lanes of `scene`'s cell (`f64`, every lane the
+/// scalar kernel's bits), in parallel, handing each finished batch to `keep`.
+fn lanes_on<S: Scene>(
+    scene: &S,
+    cfg: &SceneDiffusionConfig,
+    jobs: &[Job],
+    (path, options): (SimdPath, &RunOptions),
+    keep: &DiffusionKeeper,
+) -> Result<Vec<BatchResult>, Error> {
+    let cell = lane_cell(scene)?.ok_or_else(|| Error::Failed("a lane cell vanished".into()))?;
+    let basis = scene.lattice::<f64>(())?.basis_f64();
+    let watch = cfg.watch(scene);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads)
+        .build()
+        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
+    let blocks: Vec<&[Job]> = jobs.chunks(BLOCK).collect();
+    let out: Vec<Vec<BatchResult>> = pool.install(|| {
+        blocks
+            .par_iter()
+            .map(|b| {
+                let start = Instant::now();
+                let audit = options.audit.map(|a| (a, scene));
+                let mut obs = BatchObservers::<S>::new(b, BLOCK, basis, &watch, audit)?;
+                let quotas: Vec<_> = b.iter().map(Job::quota).collect();
+                let begin = |l: usize| b[l].start_in::<S, f64>(scene, ());
+                run_block_kept(path, &cell, &quotas, begin, &mut obs, keep, options.progress)?;
+                let seconds = start.elapsed().as_secs_f64() / b.len() as f64;
+                let r = obs.results(b, seconds)?;
+                for (j, x) in b.iter().zip(&r) {
+                    keep.finish(&j.quota(), x)?;
+                }
+                Ok(r)
+            })
+            .collect::<Result<_, Error>>()
+    })?;
+    Ok(out.into_iter().flatten().collect())
 }
 
 /// Runs `jobs` on the scalar engine at the configured precision, in parallel, handing each
