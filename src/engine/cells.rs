@@ -226,7 +226,13 @@ fn after<V: Lanes>(c: &CellC<V>, s: &Before<V>, t: V, code: V) -> Before<V> {
     for (e_k, e) in c.edges.iter().enumerate() {
         let here = code.eq(V::splat(CROSSING_CODE + e_k as f64));
         let (qx, qy, ux, uy, sg) = if e.flips {
-            (e.map[0].sub(x), e.map[1].sub(y), vx.neg(), vy.neg(), s.cell[2].neg())
+            (
+                e.map[0].sub(x),
+                e.map[1].sub(y),
+                vx.neg(),
+                vy.neg(),
+                s.cell[2].neg(),
+            )
         } else {
             (x.sub(e.map[0]), y.sub(e.map[1]), vx, vy, s.cell[2])
         };

@@ -6,11 +6,12 @@
 use lorentz_gas::engine::observe::{EventLanes, Observer};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::simd::BLOCK;
-use lorentz_gas::engine::{SimdPath, run_block};
+use lorentz_gas::engine::{BlockKernel, SimdPath, run_block};
+use lorentz_gas::kernel::cell::CellKernel;
 use lorentz_gas::kernel::trap::Trap;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::Event, flight::Flight};
-use lorentz_gas::scenes::lattice::{CellIndex, LatticeState, TriangularLattice};
+use lorentz_gas::scenes::lattice::{CellIndex, Lattice, LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::equilibrium_state;
 
@@ -23,7 +24,7 @@ fn bits(s: &LatticeState<f64>, e: &Event<f64>) -> [u64; 9] {
     let f = &s.flight;
     let code = match e.kind {
         lorentz_gas::kernel::flight::EventKind::Collision(m) => m as u64,
-        lorentz_gas::kernel::flight::EventKind::Crossing(k) => 3 + k as u64,
+        lorentz_gas::kernel::flight::EventKind::Crossing(k) => 64 + k as u64,
     };
     [
         e.time.to_bits(),
@@ -58,11 +59,23 @@ pub(crate) fn compare(
     quotas: &[u64],
 ) -> usize {
     let lat = TriangularLattice::new(w).unwrap();
+    compare_on(path, (&lat, lat.trap()), starts, quotas, &format!("w={w}"))
+}
+
+/// Runs `starts` on the scalar kernel of `lat` and on the lanes of `kernel` (the same kernel) on
+/// `path`, comparing every event and the final states; `what` names the case.
+pub(crate) fn compare_on<K: CellKernel<f64>, B: BlockKernel>(
+    path: SimdPath,
+    (lat, kernel): (&Lattice<f64, K>, &B),
+    starts: &[LatticeState<f64>],
+    quotas: &[u64],
+    what: &str,
+) -> usize {
     let mut rec = Record {
         events: vec![Vec::new(); BLOCK],
     };
     let mut states = starts.to_vec();
-    run_block(path, lat.trap(), &mut states, quotas, &mut rec, &|_| {}).unwrap();
+    run_block(path, kernel, &mut states, quotas, &mut rec, &|_| {}).unwrap();
     let mut n = 0;
     for (l, s0) in starts.iter().enumerate() {
         let mut s = s0.clone();
@@ -74,7 +87,7 @@ pub(crate) fn compare(
             assert_eq!(
                 rec.events[l].get(k),
                 Some(&want),
-                "{path} w={w} lane {l} event {k}"
+                "{path} {what} lane {l} event {k}"
             );
             if let lorentz_gas::kernel::flight::EventKind::Collision(_) = ev.kind {
                 c += 1;
@@ -82,8 +95,12 @@ pub(crate) fn compare(
             lat.apply(&mut s, &ev);
             k += 1;
         }
-        assert_eq!(rec.events[l].len(), k, "{path} lane {l}: extra events");
-        assert_eq!(states[l], s, "{path} lane {l}: final state");
+        assert_eq!(
+            rec.events[l].len(),
+            k,
+            "{path} {what} lane {l}: extra events"
+        );
+        assert_eq!(states[l], s, "{path} {what} lane {l}: final state");
         n += k;
     }
     n

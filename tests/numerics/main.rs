@@ -14,6 +14,7 @@ mod arc_shadowing;
 mod arc_tangency_band;
 mod arc_tangent;
 mod bit_for_bit;
+mod cell_engine;
 mod certified;
 mod checkpoints;
 mod choice;

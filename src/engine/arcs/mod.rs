@@ -35,7 +35,7 @@ use crate::Error;
 use crate::engine::SimdPath;
 use crate::engine::observe::{CROSSING_CODE, EventLanes, NO_EVENT, NO_LABEL};
 use crate::engine::simd::BLOCK;
-use crate::kernel::cell::{ConvexCell, EdgeMap};
+use crate::kernel::cell::ConvexCell;
 use crate::numbers::lanes::{self, Lanes};
 use crate::scenes::lattice::LatticeState;
 
@@ -53,37 +53,11 @@ pub struct ArcLanes {
     pub crossings: [f64; BLOCK],
 }
 
-/// A disk's constants: centre, radius, radius² (the cell's own rounded r²).
-pub(super) struct DiskC<V> {
-    cx: V,
-    cy: V,
-    r: V,
-    r2: V,
-}
-
-/// An edge's line: inward normal and offset.
-pub(super) struct Line<V> {
-    nx: V,
-    ny: V,
-    off: V,
-}
-
-/// An edge's constants: its line, its map (a translation by t or the point reflection about c,
-/// with `flips`), the label entered by, the disk exclusions carried across (as codes, one per
-/// disk), and the cell step.
-pub(super) struct EdgeC<V> {
-    line: Line<V>,
-    map: [V; 2],
-    flips: bool,
-    entered: V,
-    disks_after: Vec<V>,
-    step: [V; 2],
-}
+pub(super) use super::cells::{CellC, DiskC, Line};
 
 /// The block's constants, splatted.
 pub(super) struct Consts<V> {
-    disks: Vec<DiskC<V>>,
-    edges: Vec<EdgeC<V>>,
+    cell: CellC<V>,
     w: V,
     aw: V,
     left: bool,
@@ -93,72 +67,13 @@ pub(super) struct Consts<V> {
 impl<V: Lanes> Consts<V> {
     #[inline(always)]
     fn new(cell: &ConvexCell<f64>, w: f64) -> Self {
-        let disks = cell
-            .disks
-            .iter()
-            .map(|d| DiskC {
-                cx: V::splat(d.centre.x),
-                cy: V::splat(d.centre.y),
-                r: V::splat(*d.radius()),
-                r2: V::splat(*d.radius2()),
-            })
-            .collect();
-        let edges = cell
-            .edges
-            .iter()
-            .map(|e| {
-                let (m, flips) = match &e.map {
-                    EdgeMap::Translation(t) => (t, false),
-                    EdgeMap::PointReflection(c) => (c, true),
-                };
-                EdgeC {
-                    line: Line {
-                        nx: V::splat(e.normal.x),
-                        ny: V::splat(e.normal.y),
-                        off: V::splat(e.offset),
-                    },
-                    map: [V::splat(m.x), V::splat(m.y)],
-                    flips,
-                    entered: V::splat(f64::from(e.entered)),
-                    disks_after: e
-                        .disks_after
-                        .iter()
-                        .map(|a| V::splat(a.map_or(NO_LABEL, f64::from)))
-                        .collect(),
-                    step: [V::splat(e.step[0] as f64), V::splat(e.step[1] as f64)],
-                }
-            })
-            .collect();
         Consts {
-            disks,
-            edges,
+            cell: CellC::new(cell),
             w: V::splat(w),
             aw: V::splat(w.abs()),
             left: w > 0.0,
             unit_disks: cell.disks.iter().all(|d| *d.radius2() == 1.0),
         }
-    }
-}
-
-impl<V: Lanes> Consts<V> {
-    /// Disk `code`'s constants in each lane (disk 0's where the code names no disk).
-    #[inline(always)]
-    fn disk(&self, code: V) -> DiskC<V> {
-        let d0 = &self.disks[0];
-        let mut d = DiskC {
-            cx: d0.cx,
-            cy: d0.cy,
-            r: d0.r,
-            r2: d0.r2,
-        };
-        for (m, dm) in self.disks.iter().enumerate().skip(1) {
-            let here = code.eq(V::splat(m as f64));
-            d.cx = V::select(here, dm.cx, d.cx);
-            d.cy = V::select(here, dm.cy, d.cy);
-            d.r = V::select(here, dm.r, d.r);
-            d.r2 = V::select(here, dm.r2, d.r2);
-        }
-        d
     }
 }
 
@@ -200,9 +115,9 @@ struct Loaded<V: Lanes> {
 fn choose<V: Lanes>(c: &Consts<V>, a: &ArcL<V>, s: &Loaded<V>) -> (Cand<V>, V, V::Mask) {
     let z = V::splat(0.0);
     // The first offer has nothing to beat (the scalar `offer`'s `is_none_or`).
-    let (mut best, mut stuck) = disk(c, a, &c.disks[0], s.p, s.ed.eq(z));
+    let (mut best, mut stuck) = disk(c, a, &c.cell.disks[0], s.p, s.ed.eq(z));
     let mut code = z;
-    for (m, d) in c.disks.iter().enumerate().skip(1) {
+    for (m, d) in c.cell.disks.iter().enumerate().skip(1) {
         let label = V::splat(m as f64);
         let (cand, slides) = disk(c, a, d, s.p, s.ed.eq(label));
         stuck = V::or(stuck, slides);
@@ -210,7 +125,7 @@ fn choose<V: Lanes>(c: &Consts<V>, a: &ArcL<V>, s: &Loaded<V>) -> (Cand<V>, V, V
         best = b;
         code = V::select(take, label, code);
     }
-    for (k, e) in c.edges.iter().enumerate() {
+    for (k, e) in c.cell.edges.iter().enumerate() {
         let cand = edge(c, a, &e.line, s.p, s.ee.eq(V::splat(k as f64)));
         let (b, take) = offer(a, c.left, best, cand);
         best = b;
@@ -238,7 +153,7 @@ fn arrival<V: Lanes>(c: &Consts<V>, a: &ArcL<V>, b: &Cand<V>) -> (V, V) {
 /// The state after a collision with the disk `code` at x, arriving with velocity u.
 #[inline(always)]
 fn collide<V: Lanes>(c: &Consts<V>, code: V, (x, y): (V, V), (ux, uy): (V, V)) -> (V, V) {
-    let DiskC { cx, cy, r2, .. } = c.disk(code);
+    let DiskC { cx, cy, r2, .. } = c.cell.disk(code);
     let (nx, ny) = (x.sub(cx), y.sub(cy));
     let twice = ux.mul(nx).add(uy.mul(ny)).mul(V::splat(2.0));
     // x/1 = x exactly in IEEE arithmetic: unit disks skip the division.
@@ -265,7 +180,7 @@ fn cross<V: Lanes>(
         cell: s.cell,
     };
     let no = V::splat(NO_LABEL);
-    for (k, e) in c.edges.iter().enumerate() {
+    for (k, e) in c.cell.edges.iter().enumerate() {
         let here = code.eq(V::splat(CROSSING_CODE + k as f64));
         let (px, py, vx, vy, sg) = if e.flips {
             let (px, py) = (e.map[0].sub(x), e.map[1].sub(y));

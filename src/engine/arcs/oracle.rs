@@ -32,15 +32,15 @@ pub(super) fn choose<V: Lanes>(
     s: &Loaded<V>,
     code: V,
 ) -> (Cand<V>, V, V::Mask) {
-    let (dc, _) = disk(c, a, &c.disk(code), s.p, s.ed.eq(code));
+    let (dc, _) = disk(c, a, &c.cell.disk(code), s.p, s.ed.eq(code));
     let k = code.sub(V::splat(CROSSING_CODE));
-    let l0 = &c.edges[0].line;
+    let l0 = &c.cell.edges[0].line;
     let mut l = Line {
         nx: l0.nx,
         ny: l0.ny,
         off: l0.off,
     };
-    for (j, e) in c.edges.iter().enumerate().skip(1) {
+    for (j, e) in c.cell.edges.iter().enumerate().skip(1) {
         let here = k.eq(V::splat(j as f64));
         l.nx = V::select(here, e.line.nx, l.nx);
         l.ny = V::select(here, e.line.ny, l.ny);

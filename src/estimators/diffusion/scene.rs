@@ -26,8 +26,8 @@ use crate::Error;
 use crate::engine::checkpoint::{drive_kept, run_block_kept};
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOption, RunOptions};
-use crate::engine::work::{Work, crossings_per_collision};
 use crate::engine::simd::BLOCK;
+use crate::engine::work::{Work, crossings_per_collision};
 use crate::engine::{Engine, Resolved, SimdPath};
 use crate::kernel::cell::ConvexCell;
 use crate::numbers::precision::{AtPrecision, Precision};
@@ -396,7 +396,15 @@ fn lanes_on<S: Scene>(
                 let mut obs = BatchObservers::<S>::new(b, BLOCK, basis, &watch, audit)?;
                 let quotas: Vec<_> = b.iter().map(Job::quota).collect();
                 let begin = |l: usize| b[l].start_in::<S, f64>(scene, ());
-                run_block_kept(path, &cell, &quotas, begin, &mut obs, keep, options.progress)?;
+                run_block_kept(
+                    path,
+                    &cell,
+                    &quotas,
+                    begin,
+                    &mut obs,
+                    keep,
+                    options.progress,
+                )?;
                 let seconds = start.elapsed().as_secs_f64() / b.len() as f64;
                 let r = obs.results(b, seconds)?;
                 for (j, x) in b.iter().zip(&r) {
