@@ -52,6 +52,7 @@ fn py_bench(
         field,
         straight_beside,
         oracle_floor,
+        table: None,
     };
     let (threads, engine) = (inputs::threads(Some(threads))?, inputs::engine(engine)?);
     let r = compute(py, progress, |ctl| {

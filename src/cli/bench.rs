@@ -87,6 +87,11 @@ pub struct Args {
     /// can beat with this kernel's arithmetic, on this CPU.
     #[arg(long, requires = "field")]
     oracle_floor: bool,
+    /// Time this table (a TOML file, as `diffusion --table` reads) beside the triangular gas at
+    /// --w: each repetition right after the triangular one, on the same threads and engine (its
+    /// cell on the SIMD lanes), and report its speed against the triangular gas's
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["report", "observer_costs", "field", "observe"])]
+    table: Option<PathBuf>,
     /// Output directory of --report (speed-vs-error.{md,json,png,svg}).
     #[arg(long, default_value = "results")]
     out: PathBuf,
@@ -206,6 +211,11 @@ pub fn run(a: Args) -> Result<(), Error> {
             .transpose()?,
         straight_beside: a.straight_beside,
         oracle_floor: a.oracle_floor,
+        table: a
+            .table
+            .as_deref()
+            .map(lorentz_gas::scenes::table::spec::TableSpec::read)
+            .transpose()?,
     };
     timed(
         &a,

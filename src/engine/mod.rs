@@ -2,9 +2,13 @@
 //!
 //! * The **scalar** engine runs one trajectory at a time on the scene's kernel at any precision
 //!   (`f64` or MPFR): [`drive`].
-//! * The **SIMD** engine ([`simd`]) runs [`BLOCK`] trajectories of the triangular lattice in
-//!   `f64` vector lanes, every lane bit-identical to the scalar kernel: [`run_block`]. The vector
-//!   instructions are chosen at run time ([`SimdPath`]): AVX-512, AVX2, or a portable path.
+//! * The **SIMD** engine runs [`BLOCK`] trajectories in `f64` vector lanes, every lane
+//!   bit-identical to the scalar kernel: [`run_block`]. One lane skeleton
+//!   ([`simd::run_steps`]) steps a block for any kernel that supplies its step
+//!   ([`BlockKernel`]): the triangular trap's fused one ([`simd`]) or any convex cell's generic
+//!   one ([`cells`]: a table given as data). In a field the arc engine ([`arcs`]) runs the same
+//!   cells on arcs. The vector instructions are chosen at run time ([`SimdPath`]): AVX-512,
+//!   AVX2, or a portable path.
 //!
 //! Both feed the same [`Observer`]s, so an observable is written once and has the same bits on
 //! every engine, at any thread count (each trajectory's bits depend only on its start).
@@ -51,8 +55,8 @@ pub const MAX_COLLISIONS_PER_TRAJECTORY: u64 = 1 << 50;
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Engine {
-    /// SIMD for `f64` runs of the triangular lattice on a CPU with AVX2 or AVX-512, scalar
-    /// otherwise.
+    /// SIMD for `f64` runs of the triangular lattice and of tables given as data (in a field
+    /// too) on a CPU with AVX2 or AVX-512, scalar otherwise.
     #[default]
     Auto,
     /// One trajectory at a time on the generic kernel (any precision).
@@ -371,7 +375,7 @@ impl BlockKernel for crate::kernel::cell::ConvexCell<f64> {
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn avx512<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
-        cells::run::<lanes::Avx512, O>(self, r.counts, r.ring, r.obs, r.progress)
+        cells::run::<lanes::Pair<lanes::Avx512>, O>(self, r.counts, r.ring, r.obs, r.progress)
     }
 
     #[cfg(target_arch = "x86_64")]

@@ -276,6 +276,7 @@ impl Bench<'_> {
             field: None,
             straight_beside: false,
             oracle_floor: false,
+            table: None,
         };
         let one = RunOptions {
             threads: 1,

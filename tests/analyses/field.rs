@@ -282,25 +282,25 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
     );
     let mpfr = ThroughputConfig {
         precision: Precision::Bits(128),
-        ..cfg
+        ..cfg.clone()
     };
     assert!(throughput::run(&mpfr, &threads(1)).is_err());
     let observed = ThroughputConfig {
         observe: Observe::Counters,
-        ..cfg
+        ..cfg.clone()
     };
     assert!(throughput::run(&observed, &threads(1)).is_err());
     // A zero field is the straight benchmark.
     let zero = ThroughputConfig {
         field: Some(0.0),
-        ..cfg
+        ..cfg.clone()
     };
     assert_eq!(throughput::run(&zero, &threads(1)).unwrap().field, None);
     // Side by side: a straight repetition after each arc repetition, and their ratios.
     let beside = ThroughputConfig {
         repetitions: 3,
         straight_beside: true,
-        ..cfg
+        ..cfg.clone()
     };
     let b = throughput::run(&beside, &threads(1)).unwrap();
     let s = b.straight.as_ref().unwrap();
@@ -326,7 +326,7 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
     let oracle = ThroughputConfig {
         repetitions: 3,
         oracle_floor: true,
-        ..cfg
+        ..cfg.clone()
     };
     if Engine::Auto.resolve(true).unwrap().simd().is_some() {
         let o = throughput::run(&oracle, &threads(1))

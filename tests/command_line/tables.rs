@@ -117,3 +117,46 @@ fn an_open_corridor_and_overlapping_disks_exit_2_with_one_line_naming_them() {
     assert_eq!(code, 3, "{err}");
     assert!(err.contains("no-such.toml"), "{err}");
 }
+
+/// `bench --table`: the table timed beside the triangular gas in one run, on the same engine
+/// (its cell on the SIMD lanes where the CPU has them); a field or an MPFR precision beside a
+/// table is refused in one line. (Speeds are not asserted here: they are measured by the
+/// benchmark itself, never by a timed test.)
+#[test]
+fn bench_times_a_table_beside_the_triangular_gas() {
+    let dir = crate::common::scratch();
+    let args = [
+        "bench",
+        "--w",
+        "0.1",
+        "--table",
+        EXAMPLE,
+        "--collisions-per-thread",
+        "2e5",
+        "--repetitions",
+        "2",
+        "--json",
+    ];
+    let (code, out, err) = lorentz_in(dir.path(), &args);
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let t = &r["table"];
+    assert!(
+        t["table"]
+            .as_str()
+            .unwrap()
+            .starts_with("two-radius square"),
+        "{out}"
+    );
+    assert_eq!(t["samples"].as_array().unwrap().len(), 2, "{out}");
+    assert!(t["over_triangular"].as_f64().unwrap() > 0.0, "{out}");
+    // About 0.21 crossings per collision (τ/ℓ = 4.71 collisions per crossing).
+    let cpc = t["crossings_per_collision"].as_f64().unwrap();
+    assert!((cpc - 1.0 / 4.712).abs() < 0.02, "{cpc}");
+    for extra in [["--precision", "128"], ["--field", "1"]] {
+        let mut bad = args.to_vec();
+        bad.extend(extra);
+        let (code, _, err) = lorentz_in(dir.path(), &bad);
+        assert_eq!((code, err.lines().count()), (2, 1), "{extra:?}: {err}");
+    }
+}

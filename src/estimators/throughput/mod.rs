@@ -4,8 +4,10 @@
 
 mod arcs;
 pub mod long_flights;
+mod tables;
 
 pub use arcs::OracleFloor;
+pub use tables::TableBench;
 
 use std::time::Instant;
 
@@ -71,6 +73,10 @@ pub struct Throughput {
     /// otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub oracle: Option<OracleFloor>,
+    /// With a table given as data: its straight flights timed beside the triangular gas's, in
+    /// the same run (absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<TableBench>,
     /// Version, seed, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -129,6 +135,8 @@ struct TimeRuns<'a> {
     reps: usize,
     threads: usize,
     progress: &'a (dyn Fn(u64) + Sync),
+    /// A table timed beside (`f64`): its runs, and its repetitions' rates and crossings.
+    table: Option<&'a mut (tables::TableRuns, Vec<f64>, u64)>,
 }
 
 impl AtPrecision for TimeRuns<'_> {
@@ -164,6 +172,10 @@ impl AtPrecision for TimeRuns<'_> {
         if let Some(s) = straight.as_mut() {
             plain(s, (n / 10).max(1))?;
         }
+        let mut table = self.table;
+        if let Some(t) = table.as_mut() {
+            t.0.advance(&pool, (n / 10).max(1))?;
+        }
         let (mut out, mut beside) = (Vec::with_capacity(self.reps), Vec::new());
         let mut hops = 0;
         for _ in 0..self.reps {
@@ -174,6 +186,11 @@ impl AtPrecision for TimeRuns<'_> {
                 let t0 = Instant::now();
                 plain(s, n)?;
                 beside.push(per_rep as f64 / t0.elapsed().as_secs_f64());
+            }
+            if let Some(t) = table.as_mut() {
+                let t0 = Instant::now();
+                t.2 = t.0.advance(&pool, n)?;
+                t.1.push(per_rep as f64 / t0.elapsed().as_secs_f64());
             }
             (self.progress)(1);
         }
@@ -347,7 +364,7 @@ impl<const L: usize> Observer<L> for CrossingCount {
 }
 
 /// What a throughput measurement times.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ThroughputConfig {
     /// Gap w > 0.
@@ -377,6 +394,10 @@ pub struct ThroughputConfig {
     /// this kernel's arithmetic ([`OracleFloor`]).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub oracle_floor: bool,
+    /// A table given as data, timed beside the triangular gas at `w` (straight flights, `f64`,
+    /// no observers; the same engine, its cell on the SIMD lanes): [`TableBench`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<crate::scenes::table::spec::TableSpec>,
 }
 
 impl ThroughputConfig {
@@ -393,6 +414,7 @@ impl ThroughputConfig {
             field: None,
             straight_beside: false,
             oracle_floor: false,
+            table: None,
         }
     }
 }
@@ -420,6 +442,15 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         straight_beside,
         ..
     } = *cfg;
+    let mut table = cfg
+        .table
+        .as_ref()
+        .map(|spec| {
+            let runs =
+                tables::TableRuns::new(spec, resolved, seed, (options.threads, lanes(resolved)))?;
+            Ok::<_, Error>((runs, Vec::new(), 0))
+        })
+        .transpose()?;
     let (threads, progress) = (options.threads, options.progress);
     let (roots, divisions) = match field {
         Some(_) => (bound::ARC_ROOTS, bound::ARC_DIVISIONS),
@@ -439,8 +470,13 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         reps,
         threads,
         progress,
+        table: table.as_mut(),
     })?;
     let m = median(&samples);
+    let per_rep = collisions / lanes(resolved) as u64 * (lanes(resolved) * threads) as u64;
+    let table = table.map(|(runs, rates, crossings)| {
+        runs.report(rates, &samples, threads, crossings as f64 / per_rep as f64)
+    });
     let straight = straight_beside.then(|| beside_report(&samples, beside, threads));
     let oracle = oracle_path
         .map(|(b, path)| arcs::oracle_floor(path, w, b, seed, collisions, reps))
@@ -470,6 +506,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         field,
         straight,
         oracle,
+        table,
         meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
     })
 }
@@ -509,6 +546,18 @@ fn check(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Checked, Error>
     if cfg.straight_beside && field.is_none() {
         return Err(Error::Invalid(
             "straight_beside times straight flights beside arcs: give a nonzero field".into(),
+        ));
+    }
+    if cfg.table.is_some() && (field.is_some() || cfg.observe != Observe::None) {
+        return Err(Error::Invalid(
+            "table times a table's bare straight flights beside the triangular gas: leave out the field and the observers".into(),
+        ));
+    }
+    if cfg.table.is_some() && cfg.precision != Precision::F64 {
+        return Err(Error::out_of_range(
+            "precision",
+            cfg.precision.to_string(),
+            "use f64 with a table timed beside the triangular gas",
         ));
     }
     let (precision, engine) = (cfg.precision, options.engine);

@@ -63,6 +63,22 @@ pub fn throughput(r: &Throughput) -> String {
             s.paired_ratio
         );
     }
+    if let Some(t) = &r.table {
+        line!(
+            out,
+            "table beside (same run, alternating): {}: median {:.3e} collisions/s per thread (runs: {}; {:.3} crossings per collision); table / triangular = {:.3} (median of the paired ratios {:.3})",
+            t.table,
+            t.collisions_per_second_per_thread,
+            t.samples
+                .iter()
+                .map(|x| format!("{x:.3e}"))
+                .collect::<Vec<_>>()
+                .join(" "),
+            t.crossings_per_collision,
+            t.over_triangular,
+            t.paired_ratio
+        );
+    }
     if let Some(o) = &r.oracle {
         line!(
             out,
