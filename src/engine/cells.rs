@@ -131,14 +131,106 @@ pub fn fits(cell: &ConvexCell<f64>) -> bool {
         && cell.edges.len() <= MAX_LANE_EDGES
 }
 
-/// A lane's state before its event.
-struct Before<V: Lanes> {
-    p: (V, V),
-    v: (V, V),
-    vv: V,
-    ed: V,
-    ee: V,
-    cell: [V; 3],
+/// The states of the `V::WIDTH` lanes at one offset: position and velocity in the cell's
+/// frame, exclusions (disk, edge) and cell index (i, j, s), as the lane engines load them from
+/// and store them into [`EventLanes`].
+#[derive(Clone, Copy)]
+pub(super) struct LaneState<V: Lanes> {
+    pub(super) p: (V, V),
+    pub(super) v: (V, V),
+    pub(super) ed: V,
+    pub(super) ee: V,
+    pub(super) cell: [V; 3],
+}
+
+impl<V: Lanes> LaneState<V> {
+    /// The lanes at `o` of `e`.
+    #[inline(always)]
+    pub(super) fn load<const L: usize>(e: &EventLanes<L>, o: usize) -> Self {
+        LaneState {
+            p: (V::load(&e.pos[0][o..]), V::load(&e.pos[1][o..])),
+            v: (V::load(&e.vel[0][o..]), V::load(&e.vel[1][o..])),
+            ed: V::load(&e.excluded[0][o..]),
+            ee: V::load(&e.excluded[1][o..]),
+            cell: [
+                V::load(&e.cell[0][o..]),
+                V::load(&e.cell[1][o..]),
+                V::load(&e.cell[2][o..]),
+            ],
+        }
+    }
+
+    /// Stores `self` into the lanes at `o` of `e` where `go`, `old` elsewhere.
+    #[inline(always)]
+    pub(super) fn store_where<const L: usize>(
+        &self,
+        go: V::Mask,
+        old: &Self,
+        e: &mut EventLanes<L>,
+        o: usize,
+    ) {
+        V::select(go, self.p.0, old.p.0).store(&mut e.pos[0][o..]);
+        V::select(go, self.p.1, old.p.1).store(&mut e.pos[1][o..]);
+        V::select(go, self.v.0, old.v.0).store(&mut e.vel[0][o..]);
+        V::select(go, self.v.1, old.v.1).store(&mut e.vel[1][o..]);
+        V::select(go, self.ed, old.ed).store(&mut e.excluded[0][o..]);
+        V::select(go, self.ee, old.ee).store(&mut e.excluded[1][o..]);
+        for k in 0..3 {
+            V::select(go, self.cell[k], old.cell[k]).store(&mut e.cell[k][o..]);
+        }
+    }
+}
+
+/// Where each lane is after crossing the edge `code` of `c` at x with velocity u: the
+/// neighbour's position and velocity (translated, or point-reflected with v ↦ −v and the
+/// orientation flipped), the disk exclusion carried across where `carry` (none elsewhere), the
+/// edge entered by, the neighbour's index. Lanes whose code is no edge keep x, u and `s`'s labels.
+#[inline(always)]
+pub(super) fn cross<V: Lanes>(
+    c: &CellC<V>,
+    s: &LaneState<V>,
+    code: V,
+    (x, y): (V, V),
+    (ux, uy): (V, V),
+    carry: V::Mask,
+) -> LaneState<V> {
+    let mut out = LaneState {
+        p: (x, y),
+        v: (ux, uy),
+        ..*s
+    };
+    let no = V::splat(NO_LABEL);
+    for (k, e) in c.edges.iter().enumerate() {
+        let here = code.eq(V::splat(CROSSING_CODE + k as f64));
+        let (px, py, vx, vy, sg) = if e.flips {
+            (
+                e.map[0].sub(x),
+                e.map[1].sub(y),
+                ux.neg(),
+                uy.neg(),
+                s.cell[2].neg(),
+            )
+        } else {
+            (x.sub(e.map[0]), y.sub(e.map[1]), ux, uy, s.cell[2])
+        };
+        let mut ed = no;
+        for (m, after) in e.disks_after.iter().enumerate() {
+            ed = V::select(s.ed.eq(V::splat(m as f64)), *after, ed);
+        }
+        let ed = V::select(carry, ed, no);
+        let i = s.cell[0].add(s.cell[2].mul(e.step[0]));
+        let j = s.cell[1].add(s.cell[2].mul(e.step[1]));
+        out.p = (V::select(here, px, out.p.0), V::select(here, py, out.p.1));
+        out.v = (V::select(here, vx, out.v.0), V::select(here, vy, out.v.1));
+        out.ed = V::select(here, ed, out.ed);
+        out.ee = V::select(here, e.entered, out.ee);
+        out.cell = [
+            V::select(here, i, out.cell[0]),
+            V::select(here, j, out.cell[1]),
+            V::select(here, sg, out.cell[2]),
+        ];
+    }
+    out
 }
 
 /// The best candidate so far of every lane: time, code, and whether there is one.
@@ -163,7 +255,7 @@ impl<V: Lanes> Best<V> {
 
 /// The earliest candidate of every lane: time, code, and whether there is one.
 #[inline(always)]
-fn earliest<V: Lanes>(c: &CellC<V>, s: &Before<V>) -> Best<V> {
+fn earliest<V: Lanes>(c: &CellC<V>, s: &LaneState<V>, vv: V) -> Best<V> {
     let zero = V::splat(0.0);
     let ((px, py), (vx, vy)) = (s.p, s.v);
     let mut best = Best {
@@ -175,7 +267,7 @@ fn earliest<V: Lanes>(c: &CellC<V>, s: &Before<V>) -> Best<V> {
         let (dx, dy) = (px.sub(d.cx), py.sub(d.cy));
         let beta = dx.mul(vx).add(dy.mul(vy));
         let q = dx.mul(vy).sub(dy.mul(vx));
-        let disc = vv_r2(s.vv, d.r2).sub(q.mul(q));
+        let disc = vv_r2(vv, d.r2).sub(q.mul(q));
         let gamma = dx.mul(dx).add(dy.mul(dy)).sub(d.r2);
         let root = gamma.div(disc.sqrt().sub(beta));
         let ok = V::and(V::and(beta.lt(zero), disc.gt(zero)), not_label(s.ed, m));
@@ -206,52 +298,24 @@ fn not_label<V: Lanes>(label: V, m: usize) -> V::Mask {
 }
 
 /// The state after each lane's event at time `t` with code `code`: a collision's reflection with
-/// the Newton factor, or a crossing's map, relabelled exclusions and the neighbour's index.
+/// the Newton factor (|v|² = `vv`), or a crossing's map, relabelled exclusions and the
+/// neighbour's index.
 #[inline(always)]
-fn after<V: Lanes>(c: &CellC<V>, s: &Before<V>, t: V, code: V) -> Before<V> {
+fn after<V: Lanes>(c: &CellC<V>, s: &LaneState<V>, vv: V, (t, code): (V, V)) -> LaneState<V> {
     let ((px, py), (vx, vy)) = (s.p, s.v);
     let (x, y) = (px.add(vx.mul(t)), py.add(vy.mul(t)));
+    let z = V::splat(0.0);
+    let mut out = cross(c, s, code, (x, y), (vx, vy), V::eq(z, z));
     let d = c.disk(code);
     let (nx, ny) = (x.sub(d.cx), y.sub(d.cy));
-    let k = s.vv.neg().add(V::splat(3.0)).mul(V::splat(0.5));
+    let k = vv.neg().add(V::splat(3.0)).mul(V::splat(0.5));
     let sc = vx.mul(nx).add(vy.mul(ny)).mul(V::splat(2.0)).div(d.r2);
-    let mut out = Before {
-        p: (x, y),
-        v: (vx.sub(nx.mul(sc)).mul(k), vy.sub(ny.mul(sc)).mul(k)),
-        vv: s.vv,
-        ed: code,
-        ee: V::splat(NO_LABEL),
-        cell: s.cell,
-    };
-    for (e_k, e) in c.edges.iter().enumerate() {
-        let here = code.eq(V::splat(CROSSING_CODE + e_k as f64));
-        let (qx, qy, ux, uy, sg) = if e.flips {
-            (
-                e.map[0].sub(x),
-                e.map[1].sub(y),
-                vx.neg(),
-                vy.neg(),
-                s.cell[2].neg(),
-            )
-        } else {
-            (x.sub(e.map[0]), y.sub(e.map[1]), vx, vy, s.cell[2])
-        };
-        let mut ed = V::splat(NO_LABEL);
-        for (m, a) in e.disks_after.iter().enumerate() {
-            ed = V::select(s.ed.eq(V::splat(m as f64)), *a, ed);
-        }
-        let i = s.cell[0].add(s.cell[2].mul(e.step[0]));
-        let j = s.cell[1].add(s.cell[2].mul(e.step[1]));
-        out.p = (V::select(here, qx, out.p.0), V::select(here, qy, out.p.1));
-        out.v = (V::select(here, ux, out.v.0), V::select(here, uy, out.v.1));
-        out.ed = V::select(here, ed, out.ed);
-        out.ee = V::select(here, e.entered, out.ee);
-        out.cell = [
-            V::select(here, i, out.cell[0]),
-            V::select(here, j, out.cell[1]),
-            V::select(here, sg, out.cell[2]),
-        ];
-    }
+    let hit = code.lt(V::splat(CROSSING_CODE));
+    let (rx, ry) = (vx.sub(nx.mul(sc)).mul(k), vy.sub(ny.mul(sc)).mul(k));
+    out.p = (V::select(hit, x, out.p.0), V::select(hit, y, out.p.1));
+    out.v = (V::select(hit, rx, out.v.0), V::select(hit, ry, out.v.1));
+    out.ed = V::select(hit, code, out.ed);
+    out.ee = V::select(hit, V::splat(NO_LABEL), out.ee);
     out
 }
 
@@ -270,35 +334,16 @@ impl<V: Lanes> LaneStep<V> for CellStep<V> {
         let zero = V::splat(0.0);
         let count = V::load(&counts.collisions[o..]);
         let live = count.lt(V::load(&counts.quota[o..]));
-        let (vx, vy) = (V::load(&out.vel[0][o..]), V::load(&out.vel[1][o..]));
-        let s = Before {
-            p: (V::load(&out.pos[0][o..]), V::load(&out.pos[1][o..])),
-            v: (vx, vy),
-            vv: vx.mul(vx).add(vy.mul(vy)),
-            ed: V::load(&out.excluded[0][o..]),
-            ee: V::load(&out.excluded[1][o..]),
-            cell: [
-                V::load(&out.cell[0][o..]),
-                V::load(&out.cell[1][o..]),
-                V::load(&out.cell[2][o..]),
-            ],
-        };
-        let Best { t, code, has } = earliest(&self.0, &s);
+        let s = LaneState::<V>::load(out, o);
+        let (vx, vy) = s.v;
+        let vv = vx.mul(vx).add(vy.mul(vy));
+        let Best { t, code, has } = earliest(&self.0, &s, vv);
         let lost = V::bits(V::and_not(live, has));
         let go = V::and(live, has);
         V::select(live, t, zero).store(&mut out.time[o..]);
         V::select(live, code, V::splat(NO_EVENT)).store(&mut out.code[o..]);
-        let n = after(&self.0, &s, t, code);
+        after(&self.0, &s, vv, (t, code)).store_where(go, &s, next, o);
         let coll = code.lt(V::splat(CROSSING_CODE));
-        V::select(go, n.p.0, s.p.0).store(&mut next.pos[0][o..]);
-        V::select(go, n.p.1, s.p.1).store(&mut next.pos[1][o..]);
-        V::select(go, n.v.0, s.v.0).store(&mut next.vel[0][o..]);
-        V::select(go, n.v.1, s.v.1).store(&mut next.vel[1][o..]);
-        V::select(go, n.ed, s.ed).store(&mut next.excluded[0][o..]);
-        V::select(go, n.ee, s.ee).store(&mut next.excluded[1][o..]);
-        for k in 0..3 {
-            V::select(go, n.cell[k], s.cell[k]).store(&mut next.cell[k][o..]);
-        }
         let counted = count.add(V::select(coll, V::splat(1.0), zero));
         V::select(go, counted, count).store(&mut counts.collisions[o..]);
         (lost << o, V::bits(live) << o)

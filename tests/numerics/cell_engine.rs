@@ -13,19 +13,10 @@ use lorentz_gas::estimators::diffusion::scene::{SceneDiffusionConfig, run_on};
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::table::PeriodicTable;
-use lorentz_gas::scenes::table::spec::TableSpec;
 
 use super::engine::{available_paths, compare_on};
+use super::scene_diffusion::two_radius;
 use super::tables::random_table;
-
-fn two_radius() -> PeriodicTable {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/examples/tables/two-radius-square.toml"
-    ))
-    .unwrap();
-    PeriodicTable::new(&TableSpec::from_toml(&text).unwrap()).unwrap()
-}
 
 /// Every event of `BLOCK` lanes of `table` on `path` against the scalar kernel.
 fn lanes_of(path: SimdPath, table: &PeriodicTable, seed: u64, quota: u64) -> usize {

@@ -79,7 +79,7 @@ fn two_radii(rc: &str, rm: &str) -> PeriodicTable {
 }
 
 /// The two-radius square of `examples/tables/two-radius-square.toml`.
-fn two_radius() -> PeriodicTable {
+pub(super) fn two_radius() -> PeriodicTable {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/examples/tables/two-radius-square.toml"

@@ -8,22 +8,11 @@ use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::LatticeState;
 use lorentz_gas::scenes::sampling::stream;
-use lorentz_gas::scenes::table::PeriodicTable;
-use lorentz_gas::scenes::table::spec::TableSpec;
 use lorentz_gas::theory::magnetic::{FieldGeometry, Orbit};
 
 use super::field::shares_agree;
+use super::scene_diffusion::two_radius;
 use super::tables::random_table;
-
-/// The shipped table: the unit square lattice, radius 2/5 at the corners and 1/5 at the centre.
-fn two_radius() -> PeriodicTable {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/examples/tables/two-radius-square.toml"
-    ))
-    .unwrap();
-    PeriodicTable::new(&TableSpec::from_toml(&text).unwrap()).unwrap()
-}
 
 /// Binomial 4σ bounds (`shares_agree`, n = 2·10⁵ per case): the shipped table where only
 /// skipping orbits are localized (B = 3) and where both kinds are (B = 10), and four random

@@ -53,7 +53,7 @@ pub struct ArcLanes {
     pub crossings: [f64; BLOCK],
 }
 
-pub(super) use super::cells::{CellC, DiskC, Line};
+pub(super) use super::cells::{CellC, DiskC, Line, cross};
 
 /// The block's constants, splatted.
 pub(super) struct Consts<V> {
@@ -101,13 +101,7 @@ pub(super) fn is_zero<V: Lanes>(x: V, y: V, all: V::Mask) -> V::Mask {
 }
 
 /// A lane's loaded state.
-struct Loaded<V: Lanes> {
-    p: (V, V),
-    v: (V, V),
-    ed: V,
-    ee: V,
-    cell: [V; 3],
-}
+pub(super) use super::cells::LaneState as Loaded;
 
 /// The earliest candidate of every lane and its code (disk m, or [`CROSSING_CODE`] + edge k),
 /// and where the scalar kernel has no event.
@@ -161,53 +155,6 @@ fn collide<V: Lanes>(c: &Consts<V>, code: V, (x, y): (V, V), (ux, uy): (V, V)) -
     (ux.sub(nx.mul(s)), uy.sub(ny.mul(s)))
 }
 
-/// Where each lane is after crossing the edge `code` at x with velocity u: position,
-/// velocity, exclusions, cell (the carried exclusion only if the particle did not move).
-#[inline(always)]
-fn cross<V: Lanes>(
-    c: &Consts<V>,
-    s: &Loaded<V>,
-    code: V,
-    (x, y): (V, V),
-    (ux, uy): (V, V),
-    moved: V::Mask,
-) -> Loaded<V> {
-    let mut out = Loaded {
-        p: (x, y),
-        v: (ux, uy),
-        ed: s.ed,
-        ee: s.ee,
-        cell: s.cell,
-    };
-    let no = V::splat(NO_LABEL);
-    for (k, e) in c.cell.edges.iter().enumerate() {
-        let here = code.eq(V::splat(CROSSING_CODE + k as f64));
-        let (px, py, vx, vy, sg) = if e.flips {
-            let (px, py) = (e.map[0].sub(x), e.map[1].sub(y));
-            (px, py, ux.neg(), uy.neg(), s.cell[2].neg())
-        } else {
-            (x.sub(e.map[0]), y.sub(e.map[1]), ux, uy, s.cell[2])
-        };
-        let mut ed = no;
-        for (m, after) in e.disks_after.iter().enumerate() {
-            ed = V::select(s.ed.eq(V::splat(m as f64)), *after, ed);
-        }
-        let ed = V::select(moved, no, ed);
-        let i = s.cell[0].add(s.cell[2].mul(e.step[0]));
-        let j = s.cell[1].add(s.cell[2].mul(e.step[1]));
-        out.p = (V::select(here, px, out.p.0), V::select(here, py, out.p.1));
-        out.v = (V::select(here, vx, out.v.0), V::select(here, vy, out.v.1));
-        out.ed = V::select(here, ed, out.ed);
-        out.ee = V::select(here, e.entered, out.ee);
-        out.cell = [
-            V::select(here, i, out.cell[0]),
-            V::select(here, j, out.cell[1]),
-            V::select(here, sg, out.cell[2]),
-        ];
-    }
-    out
-}
-
 /// One event for the `V::WIDTH` lanes at `o`, recorded in `rec` if given, its winner read from
 /// `winners` if given ([`oracle`]): returns the lanes that lost their next event and those still
 /// running, as bits of the block.
@@ -225,23 +172,7 @@ fn step<V: Lanes>(
     if V::bits(live) == 0 {
         return (0, 0);
     }
-    let s = Loaded {
-        p: (
-            V::load(&st.lanes.pos[0][o..]),
-            V::load(&st.lanes.pos[1][o..]),
-        ),
-        v: (
-            V::load(&st.lanes.vel[0][o..]),
-            V::load(&st.lanes.vel[1][o..]),
-        ),
-        ed: V::load(&st.lanes.excluded[0][o..]),
-        ee: V::load(&st.lanes.excluded[1][o..]),
-        cell: [
-            V::load(&st.lanes.cell[0][o..]),
-            V::load(&st.lanes.cell[1][o..]),
-            V::load(&st.lanes.cell[2][o..]),
-        ],
-    };
+    let s = Loaded::<V>::load(&st.lanes, o);
     let (vx, vy) = s.v;
     let vv = vx.mul(vx).add(vy.mul(vy));
     let a = ArcL {
@@ -260,15 +191,16 @@ fn step<V: Lanes>(
     let u = arrival(c, &a, &best);
     let newton = vv.neg().add(V::splat(3.0)).mul(V::splat(0.5));
     let x = (s.p.0.add(best.x), s.p.1.add(best.y));
-    let moved = V::and_not(a.all, is_zero::<V>(best.x, best.y, a.all));
+    // The disk left is carried across only by a particle that has not moved.
+    let still = is_zero::<V>(best.x, best.y, a.all);
     let hit = code.lt(V::splat(CROSSING_CODE));
     let r = collide(c, code, x, u);
-    let mut n = cross(c, &s, code, x, u, moved);
+    let mut n = cross(&c.cell, &s, code, x, u, still);
     n.p = (V::select(hit, x.0, n.p.0), V::select(hit, x.1, n.p.1));
     n.v = (V::select(hit, r.0, n.v.0), V::select(hit, r.1, n.v.1));
     n.ed = V::select(hit, code, n.ed);
     n.ee = V::select(hit, V::splat(NO_LABEL), n.ee);
-    let (nvx, nvy) = (n.v.0.mul(newton), n.v.1.mul(newton));
+    n.v = (n.v.0.mul(newton), n.v.1.mul(newton));
     if let Some(r) = rec {
         record(
             r,
@@ -278,15 +210,7 @@ fn step<V: Lanes>(
             (best.x, best.y),
         );
     }
-    V::select(go, n.p.0, s.p.0).store(&mut st.lanes.pos[0][o..]);
-    V::select(go, n.p.1, s.p.1).store(&mut st.lanes.pos[1][o..]);
-    V::select(go, nvx, vx).store(&mut st.lanes.vel[0][o..]);
-    V::select(go, nvy, vy).store(&mut st.lanes.vel[1][o..]);
-    V::select(go, n.ed, s.ed).store(&mut st.lanes.excluded[0][o..]);
-    V::select(go, n.ee, s.ee).store(&mut st.lanes.excluded[1][o..]);
-    for k in 0..3 {
-        V::select(go, n.cell[k], s.cell[k]).store(&mut st.lanes.cell[k][o..]);
-    }
+    n.store_where(go, &s, &mut st.lanes, o);
     let one = V::splat(1.0);
     let crossings = V::load(&st.crossings[o..]);
     V::select(V::and(go, hit), count.add(one), count).store(&mut st.collisions[o..]);
@@ -298,17 +222,9 @@ fn step<V: Lanes>(
 /// that made none) and its chord.
 #[inline(always)]
 fn record<V: Lanes>(r: &mut ArcRecord, o: usize, s: &Loaded<V>, code: V, (x, y): (V, V)) {
-    let b = &mut r.before;
-    s.p.0.store(&mut b.pos[0][o..]);
-    s.p.1.store(&mut b.pos[1][o..]);
-    s.v.0.store(&mut b.vel[0][o..]);
-    s.v.1.store(&mut b.vel[1][o..]);
-    s.ed.store(&mut b.excluded[0][o..]);
-    s.ee.store(&mut b.excluded[1][o..]);
-    for k in 0..3 {
-        s.cell[k].store(&mut b.cell[k][o..]);
-    }
-    code.store(&mut b.code[o..]);
+    let z = V::splat(0.0);
+    s.store_where(V::eq(z, z), s, &mut r.before, o);
+    code.store(&mut r.before.code[o..]);
     x.store(&mut r.chord[0][o..]);
     y.store(&mut r.chord[1][o..]);
 }

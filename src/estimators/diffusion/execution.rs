@@ -324,6 +324,30 @@ pub(super) fn curve_grid(
         .then(|| CurveGrid::reaching(ell / 8.0, per_batch * ell / CURVE_WINDOWS))
 }
 
+/// Runs `jobs` in blocks of [`BLOCK`] on `pool`, each block by `run` (the SIMD engine's lanes),
+/// handing each finished batch to `keep` at once; results in job order.
+pub(super) fn in_blocks(
+    pool: &rayon::ThreadPool,
+    jobs: &[Job],
+    keep: &DiffusionKeeper,
+    run: impl Fn(&[Job]) -> Result<Vec<BatchResult>, Error> + Sync,
+) -> Result<Vec<BatchResult>, Error> {
+    let blocks: Vec<&[Job]> = jobs.chunks(BLOCK).collect();
+    let out: Vec<Vec<BatchResult>> = pool.install(|| {
+        blocks
+            .par_iter()
+            .map(|b| {
+                let r = run(b)?;
+                for (j, x) in b.iter().zip(&r) {
+                    keep.finish(&j.quota(), x)?;
+                }
+                Ok(r)
+            })
+            .collect::<Result<_, Error>>()
+    })?;
+    Ok(out.into_iter().flatten().collect())
+}
+
 /// Runs `jobs` on `spec.threads` threads — one job per task on the scalar engine, blocks of
 /// [`BLOCK`] jobs on the SIMD engine — handing each finished result to `keep` at once (and the
 /// trajectories in flight at its interval). Results come back in job order.
@@ -342,22 +366,9 @@ pub(super) fn execute(
         .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
     let trap64 = Trap::new(spec.w)?;
     match spec.engine {
-        Resolved::Simd(path) => {
-            let blocks: Vec<&[Job]> = jobs.chunks(BLOCK).collect();
-            let out: Vec<Vec<BatchResult>> = pool.install(|| {
-                blocks
-                    .par_iter()
-                    .map(|b| {
-                        let r = run_simd(path, &trap64, b, &spec, keep, progress)?;
-                        for (j, x) in b.iter().zip(&r) {
-                            keep.finish(&j.quota(), x)?;
-                        }
-                        Ok(r)
-                    })
-                    .collect::<Result<_, Error>>()
-            })?;
-            Ok(out.into_iter().flatten().collect())
-        }
+        Resolved::Simd(path) => in_blocks(&pool, jobs, keep, |b| {
+            run_simd(path, &trap64, b, &spec, keep, progress)
+        }),
         Resolved::Scalar => spec.precision.dispatch(RunScalar {
             jobs,
             spec: &spec,

@@ -19,7 +19,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::execution::{BatchObservers, DiffusionKeeper, Job, Watch, curve_grid};
+use super::execution::{BatchObservers, DiffusionKeeper, Job, Watch, curve_grid, in_blocks};
 use super::summary::{d_of_batch, merged_audit, msd_over_4t};
 use super::{BatchResult, MIN_HOPS_PER_LAG, MsdGrid, Window, open_keeper, require_finite_horizon};
 use crate::Error;
@@ -386,35 +386,23 @@ fn lanes_on<S: Scene>(
         .num_threads(options.threads)
         .build()
         .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
-    let blocks: Vec<&[Job]> = jobs.chunks(BLOCK).collect();
-    let out: Vec<Vec<BatchResult>> = pool.install(|| {
-        blocks
-            .par_iter()
-            .map(|b| {
-                let start = Instant::now();
-                let audit = options.audit.map(|a| (a, scene));
-                let mut obs = BatchObservers::<S>::new(b, BLOCK, basis, &watch, audit)?;
-                let quotas: Vec<_> = b.iter().map(Job::quota).collect();
-                let begin = |l: usize| b[l].start_in::<S, f64>(scene, ());
-                run_block_kept(
-                    path,
-                    &cell,
-                    &quotas,
-                    begin,
-                    &mut obs,
-                    keep,
-                    options.progress,
-                )?;
-                let seconds = start.elapsed().as_secs_f64() / b.len() as f64;
-                let r = obs.results(b, seconds)?;
-                for (j, x) in b.iter().zip(&r) {
-                    keep.finish(&j.quota(), x)?;
-                }
-                Ok(r)
-            })
-            .collect::<Result<_, Error>>()
-    })?;
-    Ok(out.into_iter().flatten().collect())
+    in_blocks(&pool, jobs, keep, |b| {
+        let start = Instant::now();
+        let audit = options.audit.map(|a| (a, scene));
+        let mut obs = BatchObservers::<S>::new(b, BLOCK, basis, &watch, audit)?;
+        let quotas: Vec<_> = b.iter().map(Job::quota).collect();
+        let begin = |l: usize| b[l].start_in::<S, f64>(scene, ());
+        run_block_kept(
+            path,
+            &cell,
+            &quotas,
+            begin,
+            &mut obs,
+            keep,
+            options.progress,
+        )?;
+        obs.results(b, start.elapsed().as_secs_f64() / b.len() as f64)
+    })
 }
 
 /// Runs `jobs` on the scalar engine at the configured precision, in parallel, handing each
@@ -534,10 +522,7 @@ fn summarise<S: Scene>(
         msd_over_4t_err: over.iter().map(|e| e.err).collect(),
         msd_curve,
         green_kubo,
-        longest_free_path: done
-            .iter()
-            .map(|b| b.counters.longest_free_path)
-            .fold(0.0, f64::max),
+        longest_free_path: super::summary::longest_free_path(done),
         collisions: done.iter().map(|b| b.counters.collisions).sum(),
         seconds,
         resumed_batches: resumed,

@@ -113,10 +113,7 @@ pub(super) fn summarise(
         msd_over_4t_err: msd_over_4t.iter().map(|e| e.err).collect(),
         msd_curve,
         green_kubo,
-        longest_free_path: done
-            .iter()
-            .map(|b| b.counters.longest_free_path)
-            .fold(0.0, f64::max),
+        longest_free_path: longest_free_path(done),
         collisions: total,
         seconds,
         collisions_per_second: run_now as f64 / seconds,
@@ -136,4 +133,11 @@ pub(super) fn summarise(
             Some(threads),
         ),
     })
+}
+
+/// The longest free path of any batch.
+pub(super) fn longest_free_path(done: &[BatchResult]) -> f64 {
+    done.iter()
+        .map(|b| b.counters.longest_free_path)
+        .fold(0.0, f64::max)
 }
