@@ -16,8 +16,10 @@
 //! ([`super::arcs`]). `tests/numerics/cell_engine.rs` checks every event of every lane against
 //! the scalar kernel.
 
+use super::BlockRun;
+use super::observe::Observer;
 use super::observe::{CROSSING_CODE, EventLanes, NO_EVENT, NO_LABEL};
-use super::simd::{BLOCK, BlockCounts, LaneStep};
+use super::simd::{BLOCK, LaneStep, StepBuffers};
 use crate::kernel::cell::{ConvexCell, EdgeMap};
 use crate::numbers::lanes::Lanes;
 
@@ -326,9 +328,7 @@ impl<V: Lanes> LaneStep<V> for CellStep<V> {
     #[inline(always)]
     fn advance<const L: usize>(
         &self,
-        counts: &mut BlockCounts,
-        out: &mut EventLanes<L>,
-        next: &mut EventLanes<L>,
+        (counts, out, next): StepBuffers<'_, L>,
         o: usize,
     ) -> (u64, u64) {
         let zero = V::splat(0.0);
@@ -352,13 +352,10 @@ impl<V: Lanes> LaneStep<V> for CellStep<V> {
 
 /// The lane engine's block of [`BLOCK`] lanes on `cell`, at vector type `V`.
 #[inline(always)]
-pub(super) fn run<V: Lanes, O: super::observe::Observer<BLOCK>>(
+pub(super) fn run<V: Lanes, O: Observer<BLOCK>>(
     cell: &ConvexCell<f64>,
-    counts: &mut BlockCounts,
-    ring: &mut [EventLanes<BLOCK>],
-    obs: &mut O,
-    progress: &dyn Fn(u64),
+    r: BlockRun<'_, O>,
 ) -> Option<usize> {
     let step = CellStep::<V>(CellC::new(cell));
-    super::simd::run_steps::<V, O, _>(&step, counts, ring, obs, progress)
+    super::simd::run_steps::<V, O, _>(&step, r.counts, r.ring, r.obs, r.progress)
 }

@@ -375,17 +375,17 @@ impl BlockKernel for crate::kernel::cell::ConvexCell<f64> {
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn avx512<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
-        cells::run::<lanes::Pair<lanes::Avx512>, O>(self, r.counts, r.ring, r.obs, r.progress)
+        cells::run::<lanes::Pair<lanes::Avx512>, O>(self, r)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn avx2<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
-        cells::run::<lanes::Pair<lanes::Avx2>, O>(self, r.counts, r.ring, r.obs, r.progress)
+        cells::run::<lanes::Pair<lanes::Avx2>, O>(self, r)
     }
 
     fn portable<O: Observer<BLOCK>>(&self, r: BlockRun<'_, O>) -> Option<usize> {
-        cells::run::<lanes::Portable, O>(self, r.counts, r.ring, r.obs, r.progress)
+        cells::run::<lanes::Portable, O>(self, r)
     }
 }
 

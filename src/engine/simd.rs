@@ -454,28 +454,24 @@ pub const OBSERVE_EVERY: usize = 8;
 /// any convex cell's in [`super::cells`].
 pub trait LaneStep<V: Lanes> {
     /// The step (see the trait documentation).
-    fn advance<const L: usize>(
-        &self,
-        counts: &mut BlockCounts,
-        out: &mut EventLanes<L>,
-        next: &mut EventLanes<L>,
-        o: usize,
-    ) -> (u64, u64);
+    fn advance<const L: usize>(&self, buffers: StepBuffers<'_, L>, o: usize) -> (u64, u64);
 }
+
+/// What a step works on: the block's counts, the event buffer whose state is the one before the
+/// step (its event recorded there), and the buffer of the state after it.
+pub type StepBuffers<'a, const L: usize> = (
+    &'a mut BlockCounts,
+    &'a mut EventLanes<L>,
+    &'a mut EventLanes<L>,
+);
 
 /// The trap's step, its disk rule fixed at compile time: by β (`BY_BETA`), or by every root.
 struct TrapStep<V, const BY_BETA: bool>(Consts<V>);
 
 impl<V: Lanes, const BY_BETA: bool> LaneStep<V> for TrapStep<V, BY_BETA> {
     #[inline(always)]
-    fn advance<const L: usize>(
-        &self,
-        counts: &mut BlockCounts,
-        out: &mut EventLanes<L>,
-        next: &mut EventLanes<L>,
-        o: usize,
-    ) -> (u64, u64) {
-        advance::<V, L, BY_BETA>(&self.0, counts, out, next, o)
+    fn advance<const L: usize>(&self, (c, out, next): StepBuffers<'_, L>, o: usize) -> (u64, u64) {
+        advance::<V, L, BY_BETA>(&self.0, c, out, next, o)
     }
 }
 
@@ -538,7 +534,7 @@ pub(super) fn run_steps<V: Lanes, O: Observer<BLOCK>, S: LaneStep<V>>(
             let mut live = 0u64;
             let mut o = 0;
             while o < BLOCK {
-                let (lo, li) = step.advance::<BLOCK>(counts, out, next, o);
+                let (lo, li) = step.advance::<BLOCK>((&mut *counts, &mut *out, &mut *next), o);
                 lost |= lo;
                 live |= li;
                 o += V::WIDTH;

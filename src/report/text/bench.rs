@@ -15,6 +15,12 @@ fn engine(m: &RunMeta) -> String {
     }
 }
 
+/// Repetition rates, as the text shows them.
+fn runs(samples: &[f64]) -> String {
+    let shown: Vec<String> = samples.iter().map(|s| format!("{s:.3e}")).collect();
+    shown.join(" ")
+}
+
 /// The text of a throughput result (`lorentz bench`).
 pub fn throughput(r: &Throughput) -> String {
     let mut out = String::new();
@@ -30,11 +36,7 @@ pub fn throughput(r: &Throughput) -> String {
         r.collisions_per_second,
         r.collisions_per_second_per_thread,
         r.ns_per_collision,
-        r.samples
-            .iter()
-            .map(|s| format!("{s:.3e}"))
-            .collect::<Vec<_>>()
-            .join(" ")
+        runs(&r.samples)
     );
     if let Some(b) = &r.divider_bound {
         line!(
@@ -54,11 +56,7 @@ pub fn throughput(r: &Throughput) -> String {
             out,
             "straight flights beside (same run, alternating): median {:.3e} collisions/s per thread (runs: {}); arcs / straight = {:.3} (median of the paired ratios {:.3})",
             s.collisions_per_second_per_thread,
-            s.samples
-                .iter()
-                .map(|x| format!("{x:.3e}"))
-                .collect::<Vec<_>>()
-                .join(" "),
+            runs(&s.samples),
             s.arcs_over_straight,
             s.paired_ratio
         );
@@ -69,11 +67,7 @@ pub fn throughput(r: &Throughput) -> String {
             "table beside (same run, alternating): {}: median {:.3e} collisions/s per thread (runs: {}; {:.3} crossings per collision); table / triangular = {:.3} (median of the paired ratios {:.3})",
             t.table,
             t.collisions_per_second_per_thread,
-            t.samples
-                .iter()
-                .map(|x| format!("{x:.3e}"))
-                .collect::<Vec<_>>()
-                .join(" "),
+            runs(&t.samples),
             t.crossings_per_collision,
             t.over_triangular,
             t.paired_ratio
