@@ -53,6 +53,7 @@ fn py_field_sweep(
         batches: count_u32("batches_per_run", batches_per_run)?,
         seed: count_u64("seed", seed)?,
         localization_samples: count_u64("localization_samples", localization_samples)?,
+        table: None,
     };
     cfg.validate().map_err(crate::py_err)?;
     let threads = inputs::threads(threads)?;

@@ -29,7 +29,7 @@ pub struct MergeConfig {
 /// Refuses an output directory that is one of the parts or lies in one: merging into it would
 /// mix the merged points with a part's and break the next merge. (Parts inside the output
 /// directory, `OUT/shard-i`, are the Slurm campaign's layout.)
-fn refuse_input_as_output(dirs: &[PathBuf], out: &Path) -> Result<(), Error> {
+pub(crate) fn refuse_input_as_output(dirs: &[PathBuf], out: &Path) -> Result<(), Error> {
     let o = resolved(out);
     for d in dirs {
         let d = resolved(d);

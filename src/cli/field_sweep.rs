@@ -17,21 +17,39 @@ pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
             "--runs is not used by a sweep in a field (one run of --collisions-per-run per point; its error is over --batches-per-run)".into(),
         ));
     }
-    let scene = match f.scene {
-        super::args::SceneName::Triangular => "triangular",
-        super::args::SceneName::Square => "square",
+    let table = f
+        .table
+        .as_deref()
+        .map(lorentz_gas::scenes::table::spec::TableSpec::read)
+        .transpose()?;
+    let scene = match (&table, f.scene) {
+        (Some(_), _) => "table",
+        (None, super::args::SceneName::Triangular) => "triangular",
+        (None, super::args::SceneName::Square) => "square",
     };
+    if table.is_some() && (g.w_from.is_some() || g.w_to.is_some()) {
+        return Err(Error::Invalid(
+            "--w-from and --w-to sweep the triangular scene's gap: a table sweeps the field (--fields)".into(),
+        ));
+    }
     let sweep::SweepGrid {
         gaps,
         radius,
         fields,
-    } = sweep::scene_grid(
-        scene,
-        (f.w.as_deref(), f.radius.as_deref()),
-        (g.w_from.as_deref(), g.w_to.as_deref(), g.steps),
-        f.field.as_deref(),
-        &f.fields,
-    )?;
+    } = match &table {
+        Some(_) => sweep::SweepGrid {
+            gaps: Vec::new(),
+            radius: None,
+            fields: sweep::fields_of(f.field.as_deref(), &f.fields)?,
+        },
+        None => sweep::scene_grid(
+            scene,
+            (f.w.as_deref(), f.radius.as_deref()),
+            (g.w_from.as_deref(), g.w_to.as_deref(), g.steps),
+            f.field.as_deref(),
+            &f.fields,
+        )?,
+    };
     let cfg = FieldSweepConfig {
         gaps,
         radius,
@@ -40,6 +58,7 @@ pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
         batches: g.batches_per_run,
         seed: a.run.seed(),
         localization_samples: f.localization_samples,
+        table,
     };
     cfg.validate()?;
     Ok(cfg)
@@ -49,15 +68,17 @@ pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
 /// disagreement is a FAIL (exit 1) after everything is written.
 pub fn run(a: &Args) -> Result<(), Error> {
     let cfg = config(a)?;
-    if a.shard.is_some() {
-        return Err(Error::Invalid(
-            "--shard splits a sweep over w without a field; a sweep in a field resumes by point from --out".into(),
-        ));
-    }
     let out = a.out.clone();
-    let total = cfg
-        .collisions
-        .saturating_mul((cfg.gaps.len() * cfg.fields.len()) as u64);
+    let shard = a
+        .shard
+        .as_deref()
+        .map(lorentz_gas::campaigns::shard::Shard::parse)
+        .transpose()?;
+    let points = match shard {
+        Some(s) => (0..cfg.grid().len() as u32).filter(|&i| s.owns(i)).count(),
+        None => cfg.grid().len(),
+    };
+    let total = cfg.collisions.saturating_mul(points as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
     let progress = pb.callback();
     super::signals::keeping(&out);
@@ -70,12 +91,32 @@ pub fn run(a: &Args) -> Result<(), Error> {
         checkpoint_every: a.every.checkpoint_every,
         stop: Some(super::signals::stop_flag()),
     };
+    if let Some(s) = shard {
+        let part = lorentz_gas::estimators::field::parts::run_part(&cfg, s, &opts)?;
+        drop(progress);
+        drop(pb);
+        return emit(a.output.json, &part, |p| {
+            println!(
+                "part {} of the field sweep: points {:?} in {}/field-points ({} reused); merge every part with `lorentz merge`",
+                p.shard,
+                p.points,
+                out.display(),
+                p.resumed_points
+            )
+        });
+    }
     let r = sweep::run(&cfg, &opts)?;
     drop(progress);
     drop(pb);
-    sweep::write_tables(&r, &out)?;
-    lorentz_gas::report::figures::field_sweep::write_field_sweep_figures(&r, &out)?;
-    emit(a.output.json, &r, |r| {
+    finish(&r, &out, a.output.json)
+}
+
+/// Writes the tables and figures of a finished field sweep into `out`, prints it, and judges
+/// Onsager–Casimir (a FAIL, exit 1, after everything is written).
+pub fn finish(r: &sweep::FieldSweepReport, out: &std::path::Path, json: bool) -> Result<(), Error> {
+    sweep::write_tables(r, out)?;
+    lorentz_gas::report::figures::field_sweep::write_field_sweep_figures(r, out)?;
+    emit(json, r, |r| {
         print!("{}", lorentz_gas::report::text::field_sweep::field_sweep(r));
         println!(
             "written: {}/field-sweep.{{csv,json}}, field-D_xx, field-D_xy (.png, .svg); points in {}/field-points",

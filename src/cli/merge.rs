@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use lorentz_gas::Error;
 use lorentz_gas::campaigns::merge::{self, MergeConfig};
 use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::field::parts;
 use lorentz_gas::estimators::sweep;
 
 use super::args::{OutputArgs, ThreadsArg};
@@ -12,7 +13,8 @@ use super::output::emit;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Directories written by `lorentz sweep --shard I/N` (all N parts of one sweep).
+    /// Directories written by `lorentz sweep --shard I/N` (all N parts of one sweep, over w or
+    /// in a field).
     #[arg(required = true)]
     dirs: Vec<PathBuf>,
     /// Output directory: sweep.csv, sweep-runs.csv, sweep.json, the figures, and every point in
@@ -35,6 +37,10 @@ pub fn run(a: Args) -> Result<(), Error> {
         threads: a.threads.threads(),
         ..super::signals::options()
     };
+    if a.dirs.iter().any(|d| parts::is_field_part(d)) {
+        let r = parts::merge(&a.dirs, &out, &opts)?;
+        return super::field_sweep::finish(&r, &out, a.output.json);
+    }
     let r = merge::run(&cfg, &opts)?;
     sweep::write_tables(&r, &out)?;
     lorentz_gas::report::figures::sweep::write_sweep_figures(&r, &out)?;

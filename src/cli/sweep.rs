@@ -86,6 +86,10 @@ pub struct FieldArgs {
     /// With --scene square: the disk radius, an exact decimal or fraction, 0 < r < 1/2.
     #[arg(long, allow_negative_numbers = true)]
     pub(super) radius: Option<String>,
+    /// A table given as data (a TOML file, as `diffusion --table` reads) for a sweep over the
+    /// field (with --fields) instead of --scene.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["w", "radius"])]
+    pub(super) table: Option<std::path::PathBuf>,
     /// Phase points classified at each point of a field sweep for the sampled localized share.
     #[arg(long, default_value = "1e6", value_parser = parse_count, allow_negative_numbers = true)]
     pub(super) localization_samples: u64,

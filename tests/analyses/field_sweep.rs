@@ -17,6 +17,7 @@ fn config() -> FieldSweepConfig {
         batches: 8,
         seed: 5,
         localization_samples: 20_000,
+        table: None,
     }
 }
 

@@ -480,9 +480,9 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     (
         &[
-            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--field", "1", "--shard", "0/2",
+            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--field", "1", "--shard", "0/2000",
         ],
-        "resumes by point",
+        "has parts 0 to N-1",
     ),
     // sweep
     (

@@ -160,3 +160,52 @@ fn bench_times_a_table_beside_the_triangular_gas() {
         assert_eq!((code, err.lines().count()), (2, 1), "{extra:?}: {err}");
     }
 }
+
+/// A sweep over the field of a table in two parts (`--shard`), merged: the rows of the sweep run
+/// in one piece, bit for bit, and `lorentz report` PASSes the merged result; a merge with a part
+/// missing is refused naming the first missing point and its part (exit 2, before anything is
+/// written).
+#[test]
+fn a_field_sweep_of_a_table_in_parts_merges_to_the_whole_sweep() {
+    let dir = crate::common::scratch();
+    let sweep = |extra: &[&str]| {
+        let mut args = vec![
+            "sweep",
+            "--table",
+            EXAMPLE,
+            "--fields=-3,-1,1,3",
+            "--collisions-per-run",
+            "2e5",
+            "--batches-per-run",
+            "8",
+            "--localization-samples",
+            "1e5",
+            "--quiet",
+        ];
+        args.extend(extra);
+        let (code, out, err) = lorentz_in(dir.path(), &args);
+        assert_eq!(code, 0, "{extra:?}: {out}{err}");
+    };
+    sweep(&["--shard", "0/2", "--out", "p0"]);
+    sweep(&["--shard", "1/2", "--out", "p1"]);
+    sweep(&["--out", "whole"]);
+    let (code, _, err) = lorentz_in(dir.path(), &["merge", "p0", "--out", "half"]);
+    assert_eq!((code, err.lines().count()), (2, 1), "{err}");
+    assert!(err.contains("point 1, belongs to part 1/2"), "{err}");
+    assert!(
+        !dir.path().join("half").exists(),
+        "a refused merge wrote {err}"
+    );
+    let (code, out, err) = lorentz_in(dir.path(), &["merge", "p0", "p1", "--out", "merged"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let rows = |d: &str| {
+        let text = std::fs::read_to_string(dir.path().join(d).join("field-sweep.json")).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()["rows"].clone()
+    };
+    assert_eq!(rows("merged"), rows("whole"));
+    let (code, report, err) = lorentz_in(
+        dir.path(),
+        &["report", "merged/field-sweep.json", "--out", "rm"],
+    );
+    assert_eq!(code, 0, "{report}{err}");
+}

@@ -45,6 +45,7 @@ use crate::theory::magnetic::FieldGeometry;
 pub mod grid;
 mod lanes;
 pub mod lyapunov;
+pub mod parts;
 pub mod sweep;
 mod track;
 mod walk;

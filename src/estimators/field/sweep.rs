@@ -53,14 +53,20 @@ pub struct FieldSweepConfig {
     pub seed: u64,
     /// Phase points classified per point for the sampled localized share.
     pub localization_samples: u64,
+    /// A table given as data instead of the triangular or square scene: a sweep over B on it
+    /// (`gaps` empty, no `radius`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<crate::scenes::table::spec::TableSpec>,
 }
 
 impl FieldSweepConfig {
-    /// The scenes of the grid: the triangular one at each gap, or the square one at `radius`.
+    /// The scenes of the grid: the triangular one at each gap, the square one at `radius`, or the
+    /// table.
     pub fn scenes(&self) -> Vec<SceneSpec> {
-        match &self.radius {
-            Some(r) => vec![SceneSpec::Square { radius: r.clone() }],
-            None => (self.gaps.iter())
+        match (&self.table, &self.radius) {
+            (Some(t), _) => vec![SceneSpec::Table(t.clone())],
+            (None, Some(r)) => vec![SceneSpec::Square { radius: r.clone() }],
+            (None, None) => (self.gaps.iter())
                 .map(|g| SceneSpec::Triangular { w: g.clone() })
                 .collect(),
         }
@@ -104,10 +110,15 @@ impl FieldSweepConfig {
     /// # Errors
     /// An empty or oversized grid, a point repeated, or a point's invalid run (naming the range).
     pub fn validate(&self) -> Result<(), Error> {
-        if self.radius.is_some() != self.gaps.is_empty() || self.fields.is_empty() {
+        let places = [
+            !self.gaps.is_empty(),
+            self.radius.is_some(),
+            self.table.is_some(),
+        ];
+        if places.iter().filter(|p| **p).count() != 1 || self.fields.is_empty() {
             return Err(Error::Invalid(
-                "a field sweep needs at least one field and either gaps (the triangular scene) \
-                 or a radius (the square one)"
+                "a field sweep needs at least one field and one of: gaps (the triangular scene), \
+                 a radius (the square one), a table"
                     .into(),
             ));
         }
@@ -187,9 +198,10 @@ pub struct FieldSweepRow {
 }
 
 impl FieldSweepRow {
-    /// The point's scene parameter: its gap w, or its radius on the square lattice.
+    /// The point's scene parameter: its gap w, or its radius on the square lattice (0 on a
+    /// table, which has none).
     pub fn place(&self) -> f64 {
-        self.w.or(self.radius).unwrap_or(f64::NAN)
+        self.w.or(self.radius).unwrap_or(0.0)
     }
 }
 
@@ -245,6 +257,36 @@ pub struct FieldSweepPoint {
 /// An invalid configuration or options (before any work or file), a directory holding another
 /// sweep's points or an edited one, an I/O error, or an interruption.
 pub fn run(cfg: &FieldSweepConfig, opts: &RunOptions) -> Result<FieldSweepReport, Error> {
+    let (rows, resumed) = run_points(cfg, opts, &|_| true)?;
+    let rows: Vec<FieldSweepRow> = rows.into_iter().flatten().collect();
+    let onsager = onsager(&rows, cfg.batches);
+    Ok(FieldSweepReport {
+        onsager_agrees: onsager
+            .iter()
+            .all(|c| c.d_xx_even.agrees() && c.d_xy_odd.agrees()),
+        onsager,
+        rows,
+        resumed_points: resumed,
+        config: cfg.clone(),
+        meta: RunMeta::new(
+            Some(cfg.seed),
+            Some(cfg.batches as u64),
+            crate::numbers::precision::Precision::F64,
+            Some(opts.threads),
+        ),
+    })
+}
+
+/// The points `owns` selects, each reused from `options.resume` (a directory) or run and sealed
+/// there: every point's row (`None` for a point not selected) and how many were reused.
+///
+/// # Errors
+/// As [`run`].
+pub(super) fn run_points(
+    cfg: &FieldSweepConfig,
+    opts: &RunOptions,
+    owns: &dyn Fn(usize) -> bool,
+) -> Result<(Vec<Option<FieldSweepRow>>, u32), Error> {
     cfg.validate()?;
     opts.validate()?;
     let dir = opts.resume.as_deref();
@@ -263,18 +305,19 @@ pub fn run(cfg: &FieldSweepConfig, opts: &RunOptions) -> Result<FieldSweepReport
     let mut found = Vec::with_capacity(grid.len());
     for i in 0..grid.len() {
         found.push(match dir {
-            Some(d) => reuse(cfg, &point_path(d, i), i)?,
-            None => None,
+            Some(d) if owns(i) => reuse(cfg, &point_path(d, i), i)?,
+            _ => None,
         });
     }
     let mut rows = Vec::with_capacity(grid.len());
     let mut resumed = 0;
     for (i, ((g, f), old)) in grid.into_iter().zip(found).enumerate() {
         let row = match old {
+            _ if !owns(i) => None,
             Some(row) => {
                 (opts.progress)(cfg.collisions);
                 resumed += 1;
-                row
+                Some(row)
             }
             None => {
                 let row = row_of(&super::run(&cfg.point_config(i, g, f)?, &point_opts)?);
@@ -286,27 +329,12 @@ pub fn run(cfg: &FieldSweepConfig, opts: &RunOptions) -> Result<FieldSweepReport
                     };
                     crate::files::write(point_path(d, i), seal(&p)?.as_bytes())?;
                 }
-                row
+                Some(row)
             }
         };
         rows.push(row);
     }
-    let onsager = onsager(&rows, cfg.batches);
-    Ok(FieldSweepReport {
-        onsager_agrees: onsager
-            .iter()
-            .all(|c| c.d_xx_even.agrees() && c.d_xy_odd.agrees()),
-        onsager,
-        rows,
-        resumed_points: resumed,
-        config: cfg.clone(),
-        meta: RunMeta::new(
-            Some(cfg.seed),
-            Some(cfg.batches as u64),
-            crate::numbers::precision::Precision::F64,
-            Some(opts.threads),
-        ),
-    })
+    Ok((rows, resumed))
 }
 
 /// The row of a point's report.
@@ -381,7 +409,11 @@ const MAX_POINT_BYTES: u64 = 1 << 20;
 
 /// The finished row of point `i` at `path`, if there is one of this sweep; a file of another
 /// sweep, an edited, renamed or oversized one is an error naming the path.
-fn reuse(cfg: &FieldSweepConfig, path: &Path, i: usize) -> Result<Option<FieldSweepRow>, Error> {
+pub(super) fn reuse(
+    cfg: &FieldSweepConfig,
+    path: &Path,
+    i: usize,
+) -> Result<Option<FieldSweepRow>, Error> {
     if !path.exists() {
         return Ok(None);
     }
@@ -410,21 +442,26 @@ fn reuse(cfg: &FieldSweepConfig, path: &Path, i: usize) -> Result<Option<FieldSw
 /// # Errors
 /// An I/O error naming the path.
 pub fn write_tables(r: &FieldSweepReport, dir: &Path) -> Result<(), Error> {
-    let place = if r.config.radius.is_some() {
-        "radius"
-    } else {
-        "w"
+    // A table's rows have no scene parameter: no such column.
+    let place = match (&r.config.table, &r.config.radius) {
+        (Some(_), _) => "",
+        (None, Some(_)) => "radius,",
+        (None, None) => "w,",
     };
     let mut csv = format!(
-        "{place},field,cyclotron_radius,D_xx,D_xx_err,D_xy,D_xy_err,pinned_fraction_exact,\
+        "{place}field,cyclotron_radius,D_xx,D_xx_err,D_xy,D_xy_err,pinned_fraction_exact,\
          skipping_fraction_exact,localized_fraction_exact,localized_fraction,\
          localized_fraction_err,all_localized,mean_free_time,mean_free_time_err,\
          mean_free_time_exact\n"
     );
     for x in &r.rows {
         csv.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            x.place(),
+            "{}{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            if place.is_empty() {
+                String::new()
+            } else {
+                format!("{},", x.place())
+            },
             x.field,
             x.cyclotron_radius,
             x.D_xx,

@@ -20,6 +20,7 @@ pub fn write_field_sweep_figures(r: &FieldSweepReport, dir: &Path) -> Result<(),
     let log_x = lo > 0.0 && hi >= 20.0 * lo;
     let x_label = if over_fields { "field B" } else { "gap w" };
     let place = if r.config.radius.is_some() { "r" } else { "w" };
+    let table = r.config.table.as_ref().map(|t| t.title().to_string());
     let curves = |y: &dyn Fn(&FieldSweepRow) -> (f64, f64)| -> Vec<Series> {
         let mut keys: Vec<f64> = Vec::new();
         for row in &r.rows {
@@ -41,7 +42,9 @@ pub fn write_field_sweep_figures(r: &FieldSweepReport, dir: &Path) -> Result<(),
                     .collect();
                 points.sort_by(|a, b| a.0.total_cmp(&b.0));
                 Series {
-                    label: if over_fields {
+                    label: if let Some(t) = &table {
+                        t.clone()
+                    } else if over_fields {
                         format!("{place} = {k}")
                     } else {
                         format!("B = {k}")

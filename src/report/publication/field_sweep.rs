@@ -56,10 +56,11 @@ pub(super) fn checks(
                 c.agrees(),
                 "identities",
                 &format!(
-                    "Onsager-Casimir at {}, |B| = {}: {name}",
+                    "Onsager-Casimir at {}|B| = {}: {name}",
                     match (o.w, o.radius) {
-                        (Some(w), _) => format!("w = {w}"),
-                        (None, r) => format!("r = {}", r.unwrap_or(f64::NAN)),
+                        (Some(w), _) => format!("w = {w}, "),
+                        (None, Some(r)) => format!("r = {r}, "),
+                        (None, None) => String::new(),
                     },
                     o.field
                 ),

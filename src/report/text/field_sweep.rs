@@ -9,9 +9,18 @@ use crate::estimators::field::sweep::FieldSweepReport;
 pub fn field_sweep(r: &FieldSweepReport) -> String {
     let mut out = String::new();
     let c = &r.config;
-    let (place, scenes) = match &c.radius {
-        Some(r) => ("radius", format!("square lattice, r = {r}")),
-        None => ("w", format!("{} gap(s)", c.gaps.len())),
+    let (place, scenes) = match (&c.table, &c.radius) {
+        (Some(t), _) => ("", t.title().to_string()),
+        (None, Some(r)) => ("radius", format!("square lattice, r = {r}")),
+        (None, None) => ("w", format!("{} gap(s)", c.gaps.len())),
+    };
+    // A table has no scene parameter: its rows and checks name the field only.
+    let at = |v: f64| {
+        if place.is_empty() {
+            String::new()
+        } else {
+            format!("{place} = {v}, ")
+        }
     };
     line!(
         out,
@@ -30,7 +39,11 @@ pub fn field_sweep(r: &FieldSweepReport) -> String {
         line!(
             out,
             "{:>8}  {:>9}  {:.6}  {:.6}  {:+.6}  {:.6}  {:.6}         {:.6} {:.6}{}",
-            x.place(),
+            if place.is_empty() {
+                String::new()
+            } else {
+                x.place().to_string()
+            },
             x.field,
             x.D_xx,
             x.D_xx_err,
@@ -49,8 +62,8 @@ pub fn field_sweep(r: &FieldSweepReport) -> String {
     for o in &r.onsager {
         line!(
             out,
-            "Onsager-Casimir at {place} = {}, |B| = {}: D_xx(B) - D_xx(-B) = {:+.6} {}; D_xy(B) + D_xy(-B) = {:+.6} {}",
-            o.w.or(o.radius).unwrap_or(f64::NAN),
+            "Onsager-Casimir at {}|B| = {}: D_xx(B) - D_xx(-B) = {:+.6} {}; D_xy(B) + D_xy(-B) = {:+.6} {}",
+            at(o.w.or(o.radius).unwrap_or(0.0)),
             o.field,
             o.d_xx_even.difference,
             o.d_xx_even.describe("Welch"),
