@@ -1,6 +1,6 @@
 //! The multi-trajectory engine on straight flights in any convex cell ([`ConvexCell`]: a table
 //! given as data, the square cell): [`BLOCK`] trajectories advance one event per step in vector
-//! lanes on the lane skeleton of [`super::simd::run_steps`], every lane executing exactly the
+//! lanes on the lane skeleton of `simd::run_steps`, every lane executing exactly the
 //! correctly rounded operations of the generic kernel ([`ConvexCell::next_event`] and
 //! [`ConvexCell::apply`], with [`crate::kernel::ray_disk::approach`] and
 //! [`crate::kernel::ray_disk::Approach::entry`] for each disk) in the same order, on the same
@@ -12,7 +12,7 @@
 //! then edges), a later one winning only where strictly earlier, as the scalar `offer`. A
 //! collision's reflection (with its Newton speed factor) and a crossing's map are both computed
 //! and blended by the event; exclusions and the cell index (i, j, s) are updated as exact small
-//! integers. The constants of the cell ([`CellC`]) are shared with the arc engine
+//! integers. The constants of the cell (`CellC`) are shared with the arc engine
 //! ([`super::arcs`]). `tests/numerics/cell_engine.rs` checks every event of every lane against
 //! the scalar kernel.
 

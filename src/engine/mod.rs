@@ -4,7 +4,7 @@
 //!   (`f64` or MPFR): [`drive`].
 //! * The **SIMD** engine runs [`BLOCK`] trajectories in `f64` vector lanes, every lane
 //!   bit-identical to the scalar kernel: [`run_block`]. One lane skeleton
-//!   ([`simd::run_steps`]) steps a block for any kernel that supplies its step
+//!   (`simd::run_steps`) steps a block for any kernel that supplies its step
 //!   ([`BlockKernel`]): the triangular trap's fused one ([`simd`]) or any convex cell's generic
 //!   one ([`cells`]: a table given as data). In a field the arc engine ([`arcs`]) runs the same
 //!   cells on arcs. The vector instructions are chosen at run time ([`SimdPath`]): AVX-512,

@@ -1,7 +1,7 @@
 //! The multi-trajectory engine of the triangular lattice: [`BLOCK`] independent trajectories
 //! advance one event per step in vector lanes, branch-free but for one rare branch (an undecided
 //! edge choice). The loop that steps a block and shows its events to the observers
-//! ([`run_steps`]) is the lane skeleton every straight-flight kernel shares: a kernel supplies
+//! (`run_steps`) is the lane skeleton every straight-flight kernel shares: a kernel supplies
 //! its step ([`LaneStep`]), the trap's fused one here, any convex cell's in [`super::cells`].
 //!
 //! No closures in this file's hot code: a closure does not inherit the target features of the
@@ -450,7 +450,7 @@ pub const OBSERVE_EVERY: usize = 8;
 /// One step of the `V::WIDTH` lanes at `o` of a block: the event of each live lane recorded in
 /// `out` (whose state is the one before it) and carried out into `next`; returns the bits (at
 /// their block positions) of the live lanes that had no next event and of the live lanes. The
-/// one thing a kernel supplies to the lane skeleton ([`run_steps`]): the trap's fused step here,
+/// one thing a kernel supplies to the lane skeleton (`run_steps`): the trap's fused step here,
 /// any convex cell's in [`super::cells`].
 pub trait LaneStep<V: Lanes> {
     /// The step (see the trait documentation).
