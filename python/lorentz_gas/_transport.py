@@ -370,6 +370,7 @@ def sweep(
     localization_samples: Count = 1e6,
     scene: str = "triangular",
     radius: Optional[Exact] = None,
+    table: Optional[Table] = None,
 ) -> Union[SweepResult, FieldSweepResult]:
     """D(w) over a grid of gaps (``lorentz sweep``), or the diffusion tensor in a magnetic field
     over gaps and fields (``lorentz sweep --field`` / ``--fields``).
@@ -409,6 +410,9 @@ def sweep(
         corridors close). A sweep over w without a field is the triangular scene's.
     radius : str, float, Fraction or Decimal, keyword only
         Disk radius of the square scene, 0 < radius < 1/2, taken exactly like ``w``.
+    table : dict or path, keyword only
+        A table given as data (as in :func:`diffusion`) for a sweep over ``fields`` on it, instead
+        of ``scene``, ``w`` and ``radius``.
 
     Returns
     -------
@@ -432,13 +436,15 @@ def sweep(
             )
         if fields is not None and (isinstance(fields, (str, bytes)) or not fields):
             raise ValueError("fields: give a non-empty sequence of exact numbers, e.g. [-1, 1]")
+        where = _scene(scene, table, w=w, radius=radius, w_from=w_from, w_to=w_to)
         total = _total(_count("collisions_per_run", collisions_per_run))
+        one_place = w is not None or radius is not None or table is not None
         total *= (1 if fields is None else len(fields)) * (
-            1 if w is not None or radius is not None else _total(_count("steps", steps))
+            1 if one_place else _total(_count("steps", steps))
         )
         with _Bar(progress, total, "coll") as cb:
             text = _native.field_sweep(
-                str(scene),
+                where,
                 None if w is None else _exact("w", w),
                 _optional_exact("radius", radius),
                 None if w_from is None else _exact("w_from", w_from),
@@ -460,10 +466,10 @@ def sweep(
         raise ValueError(
             "w is the gap of a sweep over the field: give fields=[...] (a sweep over w: w_from, w_to)"
         )
-    if scene != "triangular" or radius is not None:
+    if scene != "triangular" or radius is not None or table is not None:
         raise ValueError(
-            "a sweep over w without a field is the triangular scene's: scene and radius are for a "
-            "sweep over the field (fields=[...])"
+            "a sweep over w without a field is the triangular scene's: scene, radius and table are "
+            "for a sweep over the field (fields=[...])"
         )
     if w_from is None or w_to is None:
         raise ValueError("a sweep over w needs w_from and w_to")

@@ -39,12 +39,30 @@ fn py_field_sweep(
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let steps = count_u32("steps", steps)?;
+    // A table given as data arrives as its JSON in place of the scene's name (`table=`).
+    let table = if scene.trim_start().starts_with('{') {
+        if [w, radius, w_from, w_to].iter().any(Option::is_some) {
+            return Err(PyValueError::new_err(
+                "table= gives the whole table: a sweep over its fields takes no w=, radius=, w_from= or w_to=",
+            ));
+        }
+        Some(lorentz_gas::scenes::table::spec::TableSpec::from_json(scene).map_err(crate::py_err)?)
+    } else {
+        None
+    };
     let sweep::SweepGrid {
         gaps,
         radius,
         fields,
-    } = sweep::scene_grid(scene, (w, radius), (w_from, w_to, steps), field, &fields)
-        .map_err(crate::py_err)?;
+    } = match &table {
+        Some(_) => sweep::SweepGrid {
+            gaps: Vec::new(),
+            radius: None,
+            fields: sweep::fields_of(field, &fields).map_err(crate::py_err)?,
+        },
+        None => sweep::scene_grid(scene, (w, radius), (w_from, w_to, steps), field, &fields)
+            .map_err(crate::py_err)?,
+    };
     let cfg = FieldSweepConfig {
         gaps,
         radius,
@@ -53,7 +71,7 @@ fn py_field_sweep(
         batches: count_u32("batches_per_run", batches_per_run)?,
         seed: count_u64("seed", seed)?,
         localization_samples: count_u64("localization_samples", localization_samples)?,
-        table: None,
+        table,
     };
     cfg.validate().map_err(crate::py_err)?;
     let threads = inputs::threads(threads)?;

@@ -94,3 +94,17 @@ def test_a_table_in_a_field_runs_on_the_simd_engine_and_its_results_pass_the_aud
         path.write_text(r.to_json())
         report = lg.report(path, out=tmp_path / f"{id(r)}-report")
         assert report.verdict == "PASS", str(report)
+
+
+def test_a_sweep_over_the_field_of_a_table_has_the_command_lines_bits(tmp_path, cli_json):
+    r = lg.sweep(table=TABLE, fields=[-3, 3], collisions_per_run=2e5, batches_per_run=8,
+                 localization_samples=1e5)
+    cli = cli_json("sweep", "--table", str(TABLE), "--fields=-3,3", "--collisions-per-run", "2e5",
+                   "--batches-per-run", "8", "--localization-samples", "1e5", "--out",
+                   str(tmp_path / "cli"))
+    assert list(r.to_dict()["rows"]) == list(cli["rows"])
+    assert r.onsager_agrees and "w" not in r.to_dict()["rows"][0]
+    with pytest.raises(ValueError, match="table= gives the whole table"):
+        lg.sweep(table=TABLE, w="0.1", fields=[1])
+    with pytest.raises(ValueError, match="scene, radius and table are for a sweep over the field"):
+        lg.sweep(table=TABLE, w_from="0.1", w_to="0.2", steps=2)
