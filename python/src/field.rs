@@ -41,28 +41,17 @@ fn py_field_sweep(
     let steps = count_u32("steps", steps)?;
     // A table given as data arrives as its JSON in place of the scene's name (`table=`).
     let table = if scene.trim_start().starts_with('{') {
-        if [w, radius, w_from, w_to].iter().any(Option::is_some) {
-            return Err(PyValueError::new_err(
-                "table= gives the whole table: a sweep over its fields takes no w=, radius=, w_from= or w_to=",
-            ));
-        }
         Some(lorentz_gas::scenes::table::spec::TableSpec::from_json(scene).map_err(crate::py_err)?)
     } else {
         None
     };
+    let name = if table.is_some() { "table" } else { scene };
     let sweep::SweepGrid {
         gaps,
         radius,
         fields,
-    } = match &table {
-        Some(_) => sweep::SweepGrid {
-            gaps: Vec::new(),
-            radius: None,
-            fields: sweep::fields_of(field, &fields).map_err(crate::py_err)?,
-        },
-        None => sweep::scene_grid(scene, (w, radius), (w_from, w_to, steps), field, &fields)
-            .map_err(crate::py_err)?,
-    };
+    } = sweep::scene_grid(name, (w, radius), (w_from, w_to, steps), field, &fields)
+        .map_err(crate::py_err)?;
     let cfg = FieldSweepConfig {
         gaps,
         radius,

@@ -27,29 +27,17 @@ pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
         (None, super::args::SceneName::Triangular) => "triangular",
         (None, super::args::SceneName::Square) => "square",
     };
-    if table.is_some() && (g.w_from.is_some() || g.w_to.is_some()) {
-        return Err(Error::Invalid(
-            "--w-from and --w-to sweep the triangular scene's gap: a table sweeps the field (--fields)".into(),
-        ));
-    }
     let sweep::SweepGrid {
         gaps,
         radius,
         fields,
-    } = match &table {
-        Some(_) => sweep::SweepGrid {
-            gaps: Vec::new(),
-            radius: None,
-            fields: sweep::fields_of(f.field.as_deref(), &f.fields)?,
-        },
-        None => sweep::scene_grid(
-            scene,
-            (f.w.as_deref(), f.radius.as_deref()),
-            (g.w_from.as_deref(), g.w_to.as_deref(), g.steps),
-            f.field.as_deref(),
-            &f.fields,
-        )?,
-    };
+    } = sweep::scene_grid(
+        scene,
+        (f.w.as_deref(), f.radius.as_deref()),
+        (g.w_from.as_deref(), g.w_to.as_deref(), g.steps),
+        f.field.as_deref(),
+        &f.fields,
+    )?;
     let cfg = FieldSweepConfig {
         gaps,
         radius,

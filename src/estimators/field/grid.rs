@@ -93,8 +93,22 @@ pub fn scene_grid(
                 fields,
             })
         }
+        "table" => {
+            if [w, radius, range.0, range.1].iter().any(Option::is_some) {
+                return Err(Error::Invalid(
+                    "a table given as data sweeps its field: w, radius, w_from and w_to are the \
+                     shipped scenes'"
+                        .into(),
+                ));
+            }
+            Ok(SweepGrid {
+                gaps: Vec::new(),
+                radius: None,
+                fields: fields_of(field, fields)?,
+            })
+        }
         other => Err(Error::Invalid(format!(
-            "scene '{other}' is not one of triangular, square"
+            "scene '{other}' is not one of triangular, square, table"
         ))),
     }
 }
