@@ -193,7 +193,21 @@ pub fn run(a: Args) -> Result<(), Error> {
             |r| print!("{}", text::observer_costs(r)),
         );
     }
-    let cfg = ThroughputConfig {
+    let cfg = throughput_config(&a)?;
+    timed(
+        &a,
+        threads,
+        "repetitions",
+        |o| throughput::run(&cfg, o),
+        |r| print!("{}", text::throughput(r)),
+    )
+}
+
+/// Runs `measure` with a progress bar of --repetitions `unit` on `threads` threads and the
+/// engine asked for, then prints its result (JSON or `text`).
+/// The throughput measurement these options ask for (the field parsed exactly, the table read).
+fn throughput_config(a: &Args) -> Result<ThroughputConfig, Error> {
+    Ok(ThroughputConfig {
         w: a.w(),
         precision: a.precision.precision,
         observe: a.observe,
@@ -216,18 +230,9 @@ pub fn run(a: Args) -> Result<(), Error> {
             .as_deref()
             .map(lorentz_gas::scenes::table::spec::TableSpec::read)
             .transpose()?,
-    };
-    timed(
-        &a,
-        threads,
-        "repetitions",
-        |o| throughput::run(&cfg, o),
-        |r| print!("{}", text::throughput(r)),
-    )
+    })
 }
 
-/// Runs `measure` with a progress bar of --repetitions `unit` on `threads` threads and the
-/// engine asked for, then prints its result (JSON or `text`).
 fn timed<R: serde::Serialize>(
     a: &Args,
     threads: usize,

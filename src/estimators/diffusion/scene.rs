@@ -343,7 +343,7 @@ pub fn run_on<S: Scene>(
 /// The SIMD engine asked for where it cannot run, or a SIMD path this CPU lacks.
 fn engine_on<S: Scene>(scene: &S, precision: Precision, engine: Engine) -> Result<Resolved, Error> {
     let f64_run = precision == Precision::F64;
-    let lanes = f64_run && lane_cell(scene)?.is_some();
+    let lanes = f64_run && lanes_run(scene)?;
     match engine {
         Engine::Simd if !lanes => Err(Error::out_of_range(
             "engine",
@@ -356,18 +356,17 @@ fn engine_on<S: Scene>(scene: &S, precision: Precision, engine: Engine) -> Resul
     }
 }
 
-/// The `f64` cell of `scene` if the lanes reproduce its kernel: its kernel type is the generic
+/// `true` if the lanes reproduce `scene`'s kernel: its kernel type is the generic
 /// [`ConvexCell`] (decided by type identity, never by a flag) and the cell fits the lanes.
 ///
 /// # Errors
 /// A scene whose `f64` lattice cannot be built.
-fn lane_cell<S: Scene>(scene: &S) -> Result<Option<ConvexCell<f64>>, Error> {
+fn lanes_run<S: Scene>(scene: &S) -> Result<bool, Error> {
     use std::any::TypeId;
     if TypeId::of::<S::Kernel<f64>>() != TypeId::of::<ConvexCell<f64>>() {
-        return Ok(None);
+        return Ok(false);
     }
-    let cell = scene.lattice::<f64>(())?.cell().clone();
-    Ok(crate::engine::cells::fits(&cell).then_some(cell))
+    Ok(crate::engine::cells::fits(scene.lattice::<f64>(())?.cell()))
 }
 
 /// Runs `jobs` in blocks of [`BLOCK`] on the SIMD lanes of `scene`'s cell (`f64`, every lane the
@@ -379,8 +378,9 @@ fn lanes_on<S: Scene>(
     (path, options): (SimdPath, &RunOptions),
     keep: &DiffusionKeeper,
 ) -> Result<Vec<BatchResult>, Error> {
-    let cell = lane_cell(scene)?.ok_or_else(|| Error::Failed("a lane cell vanished".into()))?;
-    let basis = scene.lattice::<f64>(())?.basis_f64();
+    // `engine_on` chose the lanes: the kernel is the generic cell's and the cell fits them.
+    let lat = scene.lattice::<f64>(())?;
+    let (cell, basis) = (lat.cell(), lat.basis_f64());
     let watch = cfg.watch(scene);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads)
@@ -392,15 +392,7 @@ fn lanes_on<S: Scene>(
         let mut obs = BatchObservers::<S>::new(b, BLOCK, basis, &watch, audit)?;
         let quotas: Vec<_> = b.iter().map(Job::quota).collect();
         let begin = |l: usize| b[l].start_in::<S, f64>(scene, ());
-        run_block_kept(
-            path,
-            &cell,
-            &quotas,
-            begin,
-            &mut obs,
-            keep,
-            options.progress,
-        )?;
+        run_block_kept(path, cell, &quotas, begin, &mut obs, keep, options.progress)?;
         obs.results(b, start.elapsed().as_secs_f64() / b.len() as f64)
     })
 }
