@@ -1,8 +1,9 @@
 //! The diffusion tensor in a uniform magnetic field, with the orbits that never diffuse counted
 //! exactly (`proofs-notes/magnetic-transport.md`, `proofs-notes/magnetic-localized.md`).
 //!
-//! The run is a diffusion run on any scene of equal disks (the triangular lattice at any gap,
-//! the square one at any radius: in a field the horizon is finite, corridors or not), with
+//! The run is a diffusion run on any periodic array of disks (the triangular lattice at any gap,
+//! the square one at any radius, a table given as data: in a field the horizon is finite,
+//! corridors or not), with
 //! collisions, batches, seed, precision and fit windows in units of the scene's crossing time τ
 //! as for [`SceneDiffusionConfig`], plus the field B. Each batch is one
 //! trajectory started from the invariant measure restricted to the **diffusing** orbits (starts on
@@ -137,7 +138,7 @@ impl FieldConfig {
     /// The exact geometry of the localized orbits of the scene in the field.
     ///
     /// # Errors
-    /// A bad scene or field, or a scene that is not an array of equal disks.
+    /// A bad scene or field, or a scene that is not a periodic array of disks.
     pub fn geometry(&self) -> Result<FieldGeometry, Error> {
         let scene = self.scene.resolve()?;
         crate::with_scene!(&scene, |s| geometry_of(s, self.field_value()?))
