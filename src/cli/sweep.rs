@@ -136,10 +136,9 @@ pub fn in_field(a: &Args) -> bool {
     a.in_field.field.is_some() || !a.in_field.fields.is_empty()
 }
 
+/// Runs a sweep over w without a field (the field sweep runs those in a field: the command
+/// picks by [`in_field`]).
 pub fn run(a: Args) -> Result<(), Error> {
-    if in_field(&a) {
-        return super::field_sweep::run(&a);
-    }
     if a.in_field.w.is_some() {
         return Err(Error::Invalid(
             "--w is the gap of a sweep over the field: give --fields B1,B2,... (a sweep over w: --w-from and --w-to)".into(),

@@ -31,10 +31,7 @@ impl std::fmt::Display for Precision {
     }
 }
 
-/// Most bits a run may ask for: at 2²⁰ bits (128 KiB per number) one collision already costs
-/// about a millisecond, and MPFR would accept up to 2³¹ bits — 256 MiB per number, far more than a
-/// machine holds for the few hundred numbers a lattice, a trajectory and its observers keep.
-pub const MAX_RUN_BITS: u32 = 1 << 20;
+pub use crate::numbers::real::MAX_RUN_BITS;
 
 impl Serialize for Precision {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {

@@ -28,6 +28,11 @@ use crate::Error;
 /// precise than the `f64` run it audits.
 pub const MIN_BITS: u32 = 53;
 
+/// Most bits a run may ask for: at 2²⁰ bits (128 KiB per number) one collision already costs
+/// about a millisecond, and MPFR would accept up to 2³¹ bits — 256 MiB per number, far more than a
+/// machine holds for the few hundred numbers a lattice, a trajectory and its observers keep.
+pub const MAX_RUN_BITS: u32 = 1 << 20;
+
 /// A real number type the generic kernel can run on.
 ///
 /// # Examples
@@ -285,7 +290,7 @@ impl Real for Float {
         ctx
     }
     fn check_ctx(ctx: u32) -> Result<(), Error> {
-        if !(MIN_BITS..=crate::numbers::precision::MAX_RUN_BITS).contains(&ctx) {
+        if !(MIN_BITS..=MAX_RUN_BITS).contains(&ctx) {
             return Err(Error::Precision { bits: ctx });
         }
         Ok(())

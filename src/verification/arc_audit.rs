@@ -16,8 +16,8 @@
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+use super::audited::{AuditConfig, AuditSummary, AuditedEvent};
 use super::replay::EventCheck;
-use super::shadow_audit::{AuditSummary, AuditedEvent};
 use crate::Error;
 use crate::kernel::arc::arc_time;
 use crate::kernel::cell::CellKernel;
@@ -174,7 +174,7 @@ impl<S: Scene> ArcAuditor<S> {
 /// (seed, Audit, b). Returns the summary and the number of events.
 pub(super) fn batch<S: Scene>(
     scene: &S,
-    cfg: &super::shadow_audit::AuditConfig,
+    cfg: &AuditConfig,
     field: &rug::Rational,
     b: u32,
     options: &crate::engine::options::RunOptions,

@@ -18,7 +18,7 @@ use rug::{Float, Integer};
 use serde::{Deserialize, Serialize};
 
 use super::error_model::UNIT_ROUNDOFF as U;
-use super::shadow_audit::LogHistogram;
+use super::log_histogram::LogHistogram;
 use crate::kernel::flight::Flight;
 use crate::kernel::vec2::Vec2;
 use crate::scenes::long_flight::{Frame, Jump, Scale, jump, widening, window};

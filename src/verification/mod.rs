@@ -13,6 +13,7 @@
 
 pub mod arc_audit;
 pub mod arc_tangent;
+pub mod audited;
 pub mod birkhoff;
 pub mod certify;
 pub mod divergence;
