@@ -104,6 +104,30 @@ pub fn par_batches_watched<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send
     pool.install(|| (0..n).into_par_iter().map(watched).collect())
 }
 
+/// The `items` in blocks of at most [`super::simd::BLOCK`] (one SIMD engine block each), as few
+/// per block as spreads them over `threads` threads, each block run by `f` with `stop` looked at
+/// before it ([`par_batches_watched`]); the results of all blocks in the items' order.
+///
+/// # Errors
+/// Whatever `f` returns, no threads, or an interruption.
+pub fn par_lane_blocks<T: Sync, R: Send>(
+    threads: usize,
+    items: &[T],
+    stop: Option<&StopFlag>,
+    f: impl Fn(&[T]) -> Result<Vec<R>, Error> + Sync + Send,
+) -> Result<Vec<R>, Error> {
+    let per = items
+        .len()
+        .div_ceil(threads.max(1))
+        .clamp(1, super::simd::BLOCK);
+    let blocks = items.len().div_ceil(per) as u32;
+    let done = par_batches_watched(threads, blocks, stop, |b| {
+        let from = b as usize * per;
+        f(&items[from..(from + per).min(items.len())])
+    })?;
+    Ok(done.into_iter().flatten().collect())
+}
+
 /// Collisions of a scalar trajectory between two looks at the stop flag ([`in_legs`]): about a
 /// second of walking at w = 0.1, less with jumps.
 pub const STOP_EVERY: u64 = 1 << 20;

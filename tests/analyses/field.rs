@@ -428,3 +428,56 @@ fn on_the_square_lattice_the_field_exponent_is_even_in_b() {
     assert!(agree(&plus, &minus), "{plus:?} vs {minus:?}");
     assert!(!agree(&plus, &zero), "{plus:?} vs {zero:?}");
 }
+
+/// The exponent in a field on the SIMD arc engine (blocks of 16, and of 6, 6 and 4 orbits on
+/// three threads) has the scalar kernel's bits on the triangular and square lattices and a table
+/// of two radii: every orbit is fed the same events with the same arrival velocities.
+#[test]
+fn the_field_exponent_has_the_same_bits_on_every_engine_and_thread_count() {
+    use lorentz_gas::engine::Engine;
+    use lorentz_gas::engine::options::RunOptions;
+    use lorentz_gas::estimators::field::lyapunov::{self as fl, FieldLyapunovConfig};
+    let on = |engine, threads| RunOptions {
+        engine,
+        threads,
+        ..RunOptions::default()
+    };
+    let triangular = SceneSpec::Triangular { w: "0.15".into() };
+    for (scene, b) in [
+        (triangular, "-3/4"),
+        (square("1/3"), "3/2"),
+        (two_radius(), "1"),
+    ] {
+        let cfg = FieldLyapunovConfig {
+            collisions_per_batch: 20_000,
+            batches: 16,
+            seed: 7,
+            field: b.into(),
+        };
+        let choice = scene.resolve().unwrap();
+        let run =
+            |o: &RunOptions| lorentz_gas::with_scene!(&choice, |s| fl::run(s, &cfg, o)).unwrap();
+        let one = run(&on(Engine::Scalar, 1));
+        assert_eq!(one.tangent.meta.engine, "scalar");
+        let bits = |r: &fl::FieldLyapunovReport| {
+            let t = &r.tangent;
+            [
+                t.per_collision,
+                t.per_collision_err,
+                t.per_time,
+                t.per_time_err,
+            ]
+            .map(f64::to_bits)
+        };
+        for threads in [1, 2, 3] {
+            let simd = run(&on(Engine::Simd, threads));
+            assert_eq!(simd.tangent.meta.engine, "simd");
+            assert_eq!(
+                bits(&one),
+                bits(&simd),
+                "{scene:?} B={b}, {threads} threads"
+            );
+            assert_eq!(one.rejected_starts, simd.rejected_starts);
+        }
+    }
+}

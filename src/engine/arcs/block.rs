@@ -10,19 +10,22 @@ use crate::engine::SimdPath;
 use crate::engine::observe::EventLanes;
 use crate::engine::simd::BLOCK;
 use crate::kernel::cell::ConvexCell;
-use crate::kernel::flight::EventKind;
+use crate::kernel::field::ArcEvent;
 use crate::kernel::vec2::Vec2;
 use crate::scenes::lattice::LatticeState;
 
 /// One recorded step of a block: every lane's state before its event (`before`, whose `code` is
 /// the event's, [`crate::engine::observe::NO_EVENT`] where the lane made none, and whose
-/// `live_bits` are the lanes that made one) and the event's chord in the cell's frame.
+/// `live_bits` are the lanes that made one), the event's chord in the cell's frame and the
+/// velocity on arrival, before the event acts.
 #[derive(Debug, Clone)]
 pub struct ArcRecord {
     /// The states before the event and the events' codes (flight times unused: 0).
     pub before: EventLanes<BLOCK>,
     /// The chord to the event, x and y, in the cell's frame.
     pub chord: [[f64; BLOCK]; 2],
+    /// The velocity on arrival, x and y ([`ArcEvent::velocity`]).
+    pub arrival: [[f64; BLOCK]; 2],
 }
 
 impl Default for ArcRecord {
@@ -30,17 +33,23 @@ impl Default for ArcRecord {
         ArcRecord {
             before: EventLanes::default(),
             chord: [[0.0; BLOCK]; 2],
+            arrival: [[0.0; BLOCK]; 2],
         }
     }
 }
 
 impl ArcRecord {
-    /// Lane `l`'s event, if it made one: its state before, what ended the flight and the chord.
-    pub fn event(&self, l: usize) -> Option<(LatticeState<f64>, EventKind, Vec2<f64>)> {
+    /// Lane `l`'s event, if it made one: its state before and the event, as the scalar arc
+    /// kernel's [`crate::kernel::cell::ConvexCell::next_event_in_field`] gives it.
+    pub fn event(&self, l: usize) -> Option<(LatticeState<f64>, ArcEvent<f64>)> {
         let b = &self.before;
         b.is_live(l).then(|| {
-            let chord = Vec2::new(self.chord[0][l], self.chord[1][l]);
-            (b.state(l), b.event(l).kind, chord)
+            let ev = ArcEvent {
+                kind: b.event(l).kind,
+                chord: Vec2::new(self.chord[0][l], self.chord[1][l]),
+                velocity: Vec2::new(self.arrival[0][l], self.arrival[1][l]),
+            };
+            (b.state(l), ev)
         })
     }
 }

@@ -202,13 +202,8 @@ fn step<V: Lanes>(
     n.ee = V::select(hit, V::splat(NO_LABEL), n.ee);
     n.v = (n.v.0.mul(newton), n.v.1.mul(newton));
     if let Some(r) = rec {
-        record(
-            r,
-            o,
-            &s,
-            V::select(go, code, V::splat(NO_EVENT)),
-            (best.x, best.y),
-        );
+        let code = V::select(go, code, V::splat(NO_EVENT));
+        record(r, o, &s, code, (best.x, best.y), u);
     }
     n.store_where(go, &s, &mut st.lanes, o);
     let one = V::splat(1.0);
@@ -219,14 +214,23 @@ fn step<V: Lanes>(
 }
 
 /// The state of the lanes at `o` before their event, the event's code ([`NO_EVENT`] in a lane
-/// that made none) and its chord.
+/// that made none), its chord and the velocity on arrival.
 #[inline(always)]
-fn record<V: Lanes>(r: &mut ArcRecord, o: usize, s: &Loaded<V>, code: V, (x, y): (V, V)) {
+fn record<V: Lanes>(
+    r: &mut ArcRecord,
+    o: usize,
+    s: &Loaded<V>,
+    code: V,
+    (x, y): (V, V),
+    (ux, uy): (V, V),
+) {
     let z = V::splat(0.0);
     s.store_where(V::eq(z, z), s, &mut r.before, o);
     code.store(&mut r.before.code[o..]);
     x.store(&mut r.chord[0][o..]);
     y.store(&mut r.chord[1][o..]);
+    ux.store(&mut r.arrival[0][o..]);
+    uy.store(&mut r.arrival[1][o..]);
 }
 
 /// How [`run`] steps the block.

@@ -1,5 +1,5 @@
 //! The batches of a run in a field on the SIMD arc engine ([`crate::engine::arcs::ArcBlock`]):
-//! up to [`BLOCK`] batches fly in the lanes of one block, and every event a lane records is fed
+//! up to [`BLOCK`](crate::engine::simd::BLOCK) batches fly in the lanes of one block, and every event a lane records is fed
 //! to that batch's [`Track`] with the very operations of the scalar driver ([`track::batch`]),
 //! so each batch has the scalar kernel's bits (`tests/analyses/field.rs`).
 //!
@@ -11,17 +11,16 @@ use super::track::{self, Batch, LOOK_EVERY, Setup, Track, world_velocity};
 use crate::Error;
 use crate::engine::SimdPath;
 use crate::engine::arcs::{ArcBlock, ArcRecord};
-use crate::engine::parallel::par_batches_watched;
-use crate::engine::simd::BLOCK;
+use crate::engine::parallel::par_lane_blocks;
 use crate::scenes::Scene;
 use crate::scenes::magnetic::{ArcStep, no_next_event};
 use crate::scenes::sampling::StreamKey;
 
 /// Events per lane between two looks at the recorded events.
-const RING: usize = 64;
+pub(super) const RING: usize = 64;
 
 /// Every batch (`keys[i]` the stream of batch i) on the SIMD path `path`, in blocks of at most
-/// [`BLOCK`] batches spread over `threads` threads; the batches in their order.
+/// [`BLOCK`](crate::engine::simd::BLOCK) batches spread over `threads` threads; the batches in their order.
 ///
 /// # Errors
 /// A start that cannot be drawn, an orbit of a batch without a next event within its duration,
@@ -33,14 +32,9 @@ pub(super) fn batches<S: Scene>(
     duration: f64,
     threads: usize,
 ) -> Result<Vec<Batch>, Error> {
-    let per = keys.len().div_ceil(threads).clamp(1, BLOCK);
-    let blocks = keys.len().div_ceil(per) as u32;
-    let done = par_batches_watched(threads, blocks, su.stop, |b| {
-        let from = b as usize * per;
-        let to = (from + per).min(keys.len());
-        block(su, path, &keys[from..to], duration)
-    })?;
-    Ok(done.into_iter().flatten().collect())
+    par_lane_blocks(threads, keys, su.stop, |keys| {
+        block(su, path, keys, duration)
+    })
 }
 
 /// The batches of `keys` in the lanes of one block.
@@ -105,10 +99,11 @@ fn observe<S: Scene>(
             if !t.running() {
                 continue;
             }
-            let Some((before, kind, chord)) = rec.event(l) else {
+            let Some((before, ev)) = rec.event(l) else {
                 continue;
             };
-            let step = ArcStep::new(kind, &before.flight.vel, &chord, before.cell.sign(), w);
+            let (v, sign) = (&before.flight.vel, before.cell.sign());
+            let step = ArcStep::new(ev.kind, v, &ev.chord, sign, w);
             let here = lat.unwrapped(&before, 0.0);
             counted += u64::from(t.event(&here, &world_velocity(&before), &step));
             if !t.running() {

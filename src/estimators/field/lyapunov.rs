@@ -10,18 +10,22 @@ use nalgebra::Vector4;
 use serde::{Deserialize, Serialize};
 
 use super::FieldWalk;
+use super::lanes::RING;
 use crate::Error;
+use crate::engine::arcs::{ArcBlock, ArcRecord};
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::RunOptions;
-use crate::engine::parallel::par_batches_watched;
+use crate::engine::options::{RunOption, RunOptions};
+use crate::engine::parallel::{par_batches_watched, par_lane_blocks};
+use crate::engine::{Resolved, SimdPath};
 use crate::kernel::arc::arc_time;
-use crate::kernel::cell::CellKernel;
-use crate::kernel::flight::EventKind;
+use crate::kernel::cell::ConvexCell;
+use crate::kernel::field::ArcEvent;
+use crate::kernel::flight::{EventKind, Flight};
 use crate::scenes::Scene;
-use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::scenes::magnetic::no_next_event;
 use crate::statistics::mean_se;
 use crate::theory::magnetic::FieldGeometry;
-use crate::verification::arc_tangent::{arc_flight, arc_tangent_step};
+use crate::verification::arc_tangent::arc_tangent_step;
 use crate::verification::lyapunov::{LyapunovConfig, LyapunovReport, TANGENT_TRANSIENT};
 
 /// What a Lyapunov measurement in a field runs: the orbits of [`LyapunovConfig`] in the field B.
@@ -55,7 +59,9 @@ pub struct FieldLyapunovReport {
     pub config: FieldLyapunovConfig,
 }
 
-/// Runs the measurement (see the module documentation).
+/// Runs the measurement (see the module documentation) on the engine `opts` names: the SIMD
+/// arc engine's lanes (`auto` on a CPU with AVX2 or AVX-512) or the scalar arc kernel, with the
+/// same bits.
 ///
 /// # Errors
 /// An invalid field, fewer than 2 batches or no collisions, a field in which every orbit is
@@ -66,7 +72,7 @@ pub fn run<S: Scene>(
     opts: &RunOptions,
 ) -> Result<FieldLyapunovReport, Error> {
     opts.validate()?;
-    opts.refuse_unused("lyapunov in a field", &[])?;
+    opts.refuse_unused("lyapunov in a field", &[RunOption::Engine])?;
     let b = super::field_value(&cfg.field)?;
     if cfg.collisions_per_batch == 0 || cfg.batches < 2 {
         return Err(Error::TooFew {
@@ -80,19 +86,48 @@ pub fn run<S: Scene>(
         crate::scenes::require_disk_lattice(scene, "Lyapunov in a field")?,
         b,
     )?;
-    let per = par_batches_watched(opts.threads, cfg.batches, opts.stop.as_ref(), |i| {
-        let walk = FieldWalk::start(scene, &cfg.field, cfg.seed, i as u64)?;
-        let orbit = Orbit::new(walk.lattice(), walk.state().clone(), b);
-        let (logsum, time) = orbit.run(cfg.collisions_per_batch, opts)?;
-        Ok((
-            logsum / cfg.collisions_per_batch as f64,
-            logsum / time,
-            walk.rejected(),
-        ))
-    })?;
-    let (pc, pce) = mean_se(&per.iter().map(|p| p.0).collect::<Vec<_>>());
-    let (pt, pte) = mean_se(&per.iter().map(|p| p.1).collect::<Vec<_>>());
-    Ok(FieldLyapunovReport {
+    let engine = opts.engine.resolve(true)?;
+    let start = |i: u32| FieldWalk::start(scene, &cfg.field, cfg.seed, i as u64);
+    let target = cfg.collisions_per_batch + TANGENT_TRANSIENT;
+    let orbits = match engine {
+        Resolved::Simd(path) => {
+            let batches: Vec<u32> = (0..cfg.batches).collect();
+            par_lane_blocks(opts.threads, &batches, opts.stop.as_ref(), |block| {
+                let walks = block
+                    .iter()
+                    .map(|&i| start(i))
+                    .collect::<Result<Vec<_>, _>>()?;
+                lanes(path, &walks, target, opts)
+            })?
+        }
+        Resolved::Scalar => {
+            par_batches_watched(opts.threads, cfg.batches, opts.stop.as_ref(), |i| {
+                scalar(&start(i)?, target, opts)
+            })?
+        }
+    };
+    Ok(report(scene, cfg, &geometry, engine, &orbits, opts))
+}
+
+/// The report of the finished `orbits`.
+fn report<S: Scene>(
+    scene: &S,
+    cfg: &FieldLyapunovConfig,
+    geometry: &FieldGeometry,
+    engine: Resolved,
+    orbits: &[Tangent],
+    opts: &RunOptions,
+) -> FieldLyapunovReport {
+    let n = cfg.collisions_per_batch as f64;
+    let (pc, pce) = mean_se(&orbits.iter().map(|o| o.logsum / n).collect::<Vec<_>>());
+    let (pt, pte) = mean_se(&orbits.iter().map(|o| o.logsum / o.time).collect::<Vec<_>>());
+    let meta = RunMeta::new(
+        Some(cfg.seed),
+        Some(cfg.batches as u64),
+        "f64",
+        Some(opts.threads),
+    );
+    FieldLyapunovReport {
         tangent: LyapunovReport {
             scene: format!("{} B={}", scene.label(), cfg.field),
             per_collision: pc,
@@ -103,95 +138,143 @@ pub fn run<S: Scene>(
             // Arcs cross the lattice cell by cell.
             flights: crate::engine::long_flight::Flights::Walk,
             batches: cfg.batches,
-            meta: RunMeta::new(
-                Some(cfg.seed),
-                Some(cfg.batches as u64),
-                "f64",
-                Some(opts.threads),
-            ),
+            meta: meta.with_engine(engine),
         },
-        field: b,
+        field: geometry.field(),
         cyclotron_radius: geometry.cyclotron_radius(),
         localized_fraction_exact: geometry.localized_fraction(),
-        rejected_starts: per.iter().map(|p| p.2).sum(),
+        rejected_starts: orbits.iter().map(|o| o.rejected).sum(),
         config: cfg.clone(),
-    })
+    }
 }
 
-/// One orbit in the field with its tangent vector.
-pub struct Orbit<'a, K: CellKernel<f64>> {
-    lattice: &'a Lattice<f64, K>,
-    /// The state.
-    pub state: LatticeState<f64>,
-    /// The tangent vector (δq, δv) in the state's cell frame.
-    pub tangent: Vector4<f64>,
-    field: f64,
+/// Collisions between two reports of progress (and looks at the stop flag) by one orbit.
+const REPORT_EVERY: u64 = 1 << 16;
+
+/// The tangent vector (δq, δv) of one orbit, in its state's cell frame, and its sums: every
+/// event carries it on ([`arc_tangent_step`]), every collision renormalises it, and after
+/// [`TANGENT_TRANSIENT`] collisions the logarithms of its growth and the flight time add up.
+/// The scalar and the lane drivers feed it the same events, so they give the same bits.
+struct Tangent {
+    vector: Vector4<f64>,
+    collisions: u64,
+    target: u64,
+    logsum: f64,
+    time: f64,
+    rejected: u64,
 }
 
-impl<'a, K: CellKernel<f64>> Orbit<'a, K> {
-    /// The orbit from `state` with the tangent vector (Jv, 0.3·Jv): transverse to the flow and on
-    /// the energy shell.
-    pub fn new(lattice: &'a Lattice<f64, K>, state: LatticeState<f64>, field: f64) -> Self {
-        let v = &state.flight.vel;
-        let tangent = Vector4::new(-v.y, v.x, -0.3 * v.y, 0.3 * v.x);
-        Orbit {
-            lattice,
-            state,
-            tangent,
-            field,
+impl Tangent {
+    /// The orbit of `walk`, its tangent vector (Jv, 0.3·Jv) (transverse to the flow and on the
+    /// energy shell), to run to `target` collisions.
+    fn new(walk: &FieldWalk<impl Scene>, target: u64) -> Self {
+        let v = &walk.state().flight.vel;
+        Tangent {
+            vector: Vector4::new(-v.y, v.x, -0.3 * v.y, 0.3 * v.x),
+            collisions: 0,
+            target,
+            logsum: 0.0,
+            time: 0.0,
+            rejected: walk.rejected(),
         }
     }
 
-    /// The next event of the arc kernel with its flight time, carried out on the state and the
-    /// tangent vector.
-    ///
-    /// # Errors
-    /// No next event (a pinned orbit or a creeping slide).
-    pub fn step(&mut self) -> Result<(EventKind, f64), Error> {
-        let w = self.field;
-        let ev = self
-            .lattice
-            .next_event_in_field(&self.state, &w)
-            .ok_or_else(|| Error::Failed("an orbit in the field has no next event".into()))?;
-        let time = arc_time(&self.state.flight.vel, &ev.chord, &w);
-        let cell = self.lattice.cell();
-        arc_tangent_step(&mut self.tangent, &self.state.flight, &ev, time, cell, w);
-        self.lattice.apply_in_field(&mut self.state, &ev);
-        Ok((ev.kind, time))
+    /// `true` while the orbit has collisions to make.
+    fn running(&self) -> bool {
+        self.collisions < self.target
     }
 
-    /// Moves the tangent vector on by the free flight `time` (no event on the way).
-    pub fn drift(&mut self, time: f64) {
-        arc_flight(&mut self.tangent, time, self.field);
+    /// The event `ev` of the flight `f` (cell `cell`, field `w`); `true` for a collision.
+    fn event(
+        &mut self,
+        f: &Flight<f64>,
+        ev: &ArcEvent<f64>,
+        cell: &ConvexCell<f64>,
+        w: f64,
+    ) -> bool {
+        let time = arc_time(&f.vel, &ev.chord, &w);
+        arc_tangent_step(&mut self.vector, f, ev, time, cell, w);
+        if self.collisions >= TANGENT_TRANSIENT {
+            self.time += time;
+        }
+        let EventKind::Collision(_) = ev.kind else {
+            return false;
+        };
+        self.collisions += 1;
+        let g = self.vector.norm();
+        self.vector /= g;
+        if self.collisions > TANGENT_TRANSIENT {
+            self.logsum += g.ln();
+        }
+        true
     }
+}
 
-    /// Runs `collisions` collisions after [`TANGENT_TRANSIENT`], renormalising at every one:
-    /// (Σ ln growth, flight time) over the counted collisions.
-    fn run(mut self, collisions: u64, opts: &RunOptions) -> Result<(f64, f64), Error> {
-        let (mut n, mut logsum, mut time) = (0u64, 0.0, 0.0);
-        while n < collisions + TANGENT_TRANSIENT {
-            let (kind, t) = self.step()?;
-            if n >= TANGENT_TRANSIENT {
-                time += t;
+/// One orbit on the scalar arc kernel.
+fn scalar<S: Scene>(walk: &FieldWalk<S>, target: u64, opts: &RunOptions) -> Result<Tangent, Error> {
+    let (lattice, w) = (walk.lattice(), walk.field());
+    let mut state = walk.state().clone();
+    let mut t = Tangent::new(walk, target);
+    while t.running() {
+        let ev = lattice
+            .next_event_in_field(&state, &w)
+            .ok_or_else(|| no_next_event(state.flight.vel.to_f64()))?;
+        if t.event(&state.flight, &ev, lattice.cell(), w) && t.collisions % REPORT_EVERY == 0 {
+            (opts.progress)(REPORT_EVERY);
+            if let Some(stop) = &opts.stop {
+                stop.check()?;
             }
-            if let EventKind::Collision(_) = kind {
-                n += 1;
-                let g = self.tangent.norm();
-                self.tangent /= g;
-                if n > TANGENT_TRANSIENT {
-                    logsum += g.ln();
-                }
-                if n % (1 << 16) == 0 {
-                    (opts.progress)(1 << 16);
-                    if let Some(stop) = &opts.stop {
-                        stop.check()?;
-                    }
+        }
+        lattice.apply_in_field(&mut state, &ev);
+    }
+    (opts.progress)(t.collisions % REPORT_EVERY);
+    Ok(t)
+}
+
+/// The orbits of `walks` (at most [`crate::engine::simd::BLOCK`]) in the lanes of one block of
+/// the SIMD arc engine, each lane the scalar kernel bit for bit and each recorded event fed to
+/// its orbit's [`Tangent`] as [`scalar`] feeds it.
+fn lanes<S: Scene>(
+    path: SimdPath,
+    walks: &[FieldWalk<S>],
+    target: u64,
+    opts: &RunOptions,
+) -> Result<Vec<Tangent>, Error> {
+    let Some(first) = walks.first() else {
+        return Ok(Vec::new());
+    };
+    let (cell, w) = (first.lattice().cell(), first.field());
+    let states: Vec<_> = walks.iter().map(|o| o.state().clone()).collect();
+    let mut block = ArcBlock::new(path, cell, w, &states)?;
+    let mut orbits: Vec<Tangent> = walks.iter().map(|o| Tangent::new(o, target)).collect();
+    let mut ring = vec![ArcRecord::default(); RING];
+    let mut unreported = 0;
+    while orbits.iter().any(Tangent::running) {
+        let lost = block.advance(&mut ring);
+        for rec in &ring {
+            for (l, t) in orbits.iter_mut().enumerate() {
+                let Some((before, ev)) = rec.event(l).filter(|_| t.running()) else {
+                    continue;
+                };
+                unreported += u64::from(t.event(&before.flight, &ev, cell, w));
+                if !t.running() {
+                    block.retire(l);
                 }
             }
         }
-        (opts.progress)(n % (1 << 16));
-        Ok((logsum, time))
+        if let Some(l) = lost.filter(|&l| orbits[l].running()) {
+            return Err(no_next_event(block.state(l).flight.vel.to_f64()));
+        }
+        if unreported >= REPORT_EVERY {
+            (opts.progress)(unreported);
+            unreported = 0;
+            if let Some(stop) = &opts.stop {
+                stop.check()?;
+            }
+        }
     }
+    (opts.progress)(unreported);
+    Ok(orbits)
 }
 
 /// The defaults of [`LyapunovConfig`] in the field `field`.
