@@ -2,6 +2,7 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::long_flight::Flights;
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
 use lorentz_gas::report::text::lyapunov::{self as text, LyapunovResult};
 use lorentz_gas::statistics::comparison;
@@ -9,7 +10,7 @@ use lorentz_gas::verification::divergence::{self, DivergenceConfig};
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, TANGENT_TRANSIENT};
 
 use super::args::{
-    FlightsArg, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32, with_scene,
+    EngineArg, FlightsArg, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32, with_scene,
 };
 use super::output::emit;
 use super::progress::Progress;
@@ -35,6 +36,8 @@ pub struct Args {
     field: Option<String>,
     #[command(flatten)]
     flights: FlightsArg,
+    #[command(flatten)]
+    engine: EngineArg,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -69,7 +72,10 @@ fn in_field(a: &Args, b: &str) -> Result<(), Error> {
     let total =
         (a.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.batches as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
-    let opts = pb.options(a.run.threads());
+    let opts = RunOptions {
+        engine: a.engine.engine,
+        ..pb.options(a.run.threads())
+    };
     let r = with_scene!(&scene, |s| field_lyapunov::run(s, &cfg, &opts))?;
     drop(opts);
     drop(pb);
@@ -122,7 +128,10 @@ pub fn run(a: Args) -> Result<(), Error> {
         seed: a.run.seed(),
         flights: a.flights.flights,
     };
-    let opts = pb.options(a.run.threads());
+    let opts = RunOptions {
+        engine: a.engine.engine,
+        ..pb.options(a.run.threads())
+    };
     let tangent = with_scene!(&choice, |s| lyapunov::run(s, &cfg, &opts))?;
     drop(opts);
     drop(pb);
