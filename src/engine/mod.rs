@@ -461,6 +461,49 @@ pub fn run_block<O: Observer<BLOCK>, K: BlockKernel>(
     }
 }
 
+/// Work written once over the lane width ([`Lanes`](crate::numbers::lanes::Lanes)), for
+/// [`on_path`]: its `run` must be `#[inline(always)]`, so that it is compiled with the path's
+/// instructions.
+pub trait LaneWork {
+    /// The work at lane type `V`.
+    fn run<V: crate::numbers::lanes::Lanes>(&mut self);
+}
+
+/// Runs `work` with the vector instructions of `path` (AVX-512, two AVX2 vectors, or the
+/// portable lanes): the same operations, so the same bits, on every path.
+///
+/// # Errors
+/// A path this CPU lacks.
+pub fn on_path<W: LaneWork>(path: SimdPath, work: &mut W) -> Result<(), Error> {
+    if !path.available() {
+        return Err(Error::Failed(format!(
+            "this CPU cannot run the {path} path"
+        )));
+    }
+    match path {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: the CPU has AVX-512F (checked above).
+        SimdPath::Avx512 => unsafe { work_avx512(work) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: the CPU has AVX2 (checked above).
+        SimdPath::Avx2 => unsafe { work_avx2(work) },
+        _ => work.run::<crate::numbers::lanes::Portable>(),
+    }
+    Ok(())
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn work_avx512<W: LaneWork>(work: &mut W) {
+    work.run::<crate::numbers::lanes::Avx512>()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn work_avx2<W: LaneWork>(work: &mut W) {
+    work.run::<crate::numbers::lanes::Pair<crate::numbers::lanes::Avx2>>()
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 unsafe fn run_avx512<O: Observer<BLOCK>, K: BlockKernel>(

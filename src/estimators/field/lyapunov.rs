@@ -16,16 +16,17 @@ use crate::engine::arcs::{ArcBlock, ArcRecord};
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{par_batches_watched, par_lane_blocks};
-use crate::engine::{Resolved, SimdPath};
-use crate::kernel::arc::arc_time;
+use crate::engine::simd::BLOCK;
+use crate::engine::{LaneWork, Resolved, SimdPath, on_path};
 use crate::kernel::cell::ConvexCell;
-use crate::kernel::field::ArcEvent;
-use crate::kernel::flight::{EventKind, Flight};
+use crate::numbers::lanes::Lanes;
 use crate::scenes::Scene;
 use crate::scenes::magnetic::no_next_event;
 use crate::statistics::mean_se;
 use crate::theory::magnetic::FieldGeometry;
-use crate::verification::arc_tangent::arc_tangent_step;
+use crate::verification::arc_tangent::{
+    CollisionTangent, LaneEvent, TangentBlock, TangentCell, TangentLane, half_angle_time,
+};
 use crate::verification::lyapunov::{LyapunovConfig, LyapunovReport, TANGENT_TRANSIENT};
 
 /// What a Lyapunov measurement in a field runs: the orbits of [`LyapunovConfig`] in the field B.
@@ -148,15 +149,12 @@ fn report<S: Scene>(
     }
 }
 
-/// Collisions between two reports of progress (and looks at the stop flag) by one orbit.
-const REPORT_EVERY: u64 = 1 << 16;
-
-/// The tangent vector (δq, δv) of one orbit, in its state's cell frame, and its sums: every
-/// event carries it on ([`arc_tangent_step`]), every collision renormalises it, and after
-/// [`TANGENT_TRANSIENT`] collisions the logarithms of its growth and the flight time add up.
-/// The scalar and the lane drivers feed it the same events, so they give the same bits.
+/// One orbit's sums: after [`TANGENT_TRANSIENT`] collisions, the logarithms of its tangent
+/// vector's growth and the arcs' flight times. The scalar and the lane drivers carry the vector
+/// with the same operations ([`TangentLane`]) and give each collision's growth and time here in
+/// the same order, so they give the same bits.
+#[derive(Debug, Clone, Copy)]
 struct Tangent {
-    vector: Vector4<f64>,
     collisions: u64,
     target: u64,
     logsum: f64,
@@ -165,12 +163,9 @@ struct Tangent {
 }
 
 impl Tangent {
-    /// The orbit of `walk`, its tangent vector (Jv, 0.3·Jv) (transverse to the flow and on the
-    /// energy shell), to run to `target` collisions.
+    /// The orbit of `walk`, to run to `target` collisions.
     fn new(walk: &FieldWalk<impl Scene>, target: u64) -> Self {
-        let v = &walk.state().flight.vel;
         Tangent {
-            vector: Vector4::new(-v.y, v.x, -0.3 * v.y, 0.3 * v.x),
             collisions: 0,
             target,
             logsum: 0.0,
@@ -184,45 +179,46 @@ impl Tangent {
         self.collisions < self.target
     }
 
-    /// The event `ev` of the flight `f` (cell `cell`, field `w`); `true` for a collision.
-    fn event(
-        &mut self,
-        f: &Flight<f64>,
-        ev: &ArcEvent<f64>,
-        cell: &ConvexCell<f64>,
-        w: f64,
-    ) -> bool {
-        let time = arc_time(&f.vel, &ev.chord, &w);
-        arc_tangent_step(&mut self.vector, f, ev, time, cell, w);
+    /// A collision: the vector grew by `growth` over the arc of duration `time` that ended there.
+    fn collision(&mut self, growth: f64, time: f64) {
         if self.collisions >= TANGENT_TRANSIENT {
             self.time += time;
         }
-        let EventKind::Collision(_) = ev.kind else {
-            return false;
-        };
         self.collisions += 1;
-        let g = self.vector.norm();
-        self.vector /= g;
         if self.collisions > TANGENT_TRANSIENT {
-            self.logsum += g.ln();
+            self.logsum += growth.ln();
         }
-        true
     }
 }
+
+/// The tangent vector an orbit starts with: (Jv, 0.3·Jv), transverse to the flow and on the
+/// energy shell.
+fn first_vector(walk: &FieldWalk<impl Scene>) -> Vector4<f64> {
+    let v = &walk.state().flight.vel;
+    Vector4::new(-v.y, v.x, -0.3 * v.y, 0.3 * v.x)
+}
+
+/// Collisions between two reports of progress (and looks at the stop flag).
+const REPORT_EVERY: u64 = 1 << 16;
 
 /// One orbit on the scalar arc kernel.
 fn scalar<S: Scene>(walk: &FieldWalk<S>, target: u64, opts: &RunOptions) -> Result<Tangent, Error> {
     let (lattice, w) = (walk.lattice(), walk.field());
+    let cell = TangentCell::new(lattice.cell(), w);
     let mut state = walk.state().clone();
+    let mut carried = CollisionTangent::new(first_vector(walk));
     let mut t = Tangent::new(walk, target);
     while t.running() {
         let ev = lattice
             .next_event_in_field(&state, &w)
             .ok_or_else(|| no_next_event(state.flight.vel.to_f64()))?;
-        if t.event(&state.flight, &ev, lattice.cell(), w) && t.collisions % REPORT_EVERY == 0 {
-            (opts.progress)(REPORT_EVERY);
-            if let Some(stop) = &opts.stop {
-                stop.check()?;
+        if let Some((growth, time)) = carried.event(&state.flight, &ev, &cell, w) {
+            t.collision(growth, time);
+            if t.collisions % REPORT_EVERY == 0 {
+                (opts.progress)(REPORT_EVERY);
+                if let Some(stop) = &opts.stop {
+                    stop.check()?;
+                }
             }
         }
         lattice.apply_in_field(&mut state, &ev);
@@ -231,9 +227,9 @@ fn scalar<S: Scene>(walk: &FieldWalk<S>, target: u64, opts: &RunOptions) -> Resu
     Ok(t)
 }
 
-/// The orbits of `walks` (at most [`crate::engine::simd::BLOCK`]) in the lanes of one block of
-/// the SIMD arc engine, each lane the scalar kernel bit for bit and each recorded event fed to
-/// its orbit's [`Tangent`] as [`scalar`] feeds it.
+/// The orbits of `walks` (at most [`BLOCK`]) in the lanes of one block of the SIMD arc engine,
+/// each lane the scalar kernel bit for bit, their tangent vectors carried in vector lanes too
+/// ([`RingTangents`]).
 fn lanes<S: Scene>(
     path: SimdPath,
     walks: &[FieldWalk<S>],
@@ -247,20 +243,23 @@ fn lanes<S: Scene>(
     let states: Vec<_> = walks.iter().map(|o| o.state().clone()).collect();
     let mut block = ArcBlock::new(path, cell, w, &states)?;
     let mut orbits: Vec<Tangent> = walks.iter().map(|o| Tangent::new(o, target)).collect();
-    let mut ring = vec![ArcRecord::default(); RING];
+    let vectors: Vec<_> = walks.iter().map(first_vector).collect();
+    let mut work = RingTangents {
+        cell,
+        w,
+        ring: vec![ArcRecord::default(); RING],
+        tangents: TangentBlock::new(&vectors),
+        left: std::array::from_fn(|l| if l < walks.len() { target as f64 } else { 0.0 }),
+        hits: vec![Hits::default(); RING],
+    };
     let mut unreported = 0;
     while orbits.iter().any(Tangent::running) {
-        let lost = block.advance(&mut ring);
-        for rec in &ring {
-            for (l, t) in orbits.iter_mut().enumerate() {
-                let Some((before, ev)) = rec.event(l).filter(|_| t.running()) else {
-                    continue;
-                };
-                unreported += u64::from(t.event(&before.flight, &ev, cell, w));
-                if !t.running() {
-                    block.retire(l);
-                }
-            }
+        let lost = block.advance(&mut work.ring);
+        on_path(path, &mut work)?;
+        unreported += work.count(&mut orbits, w);
+        for (l, t) in orbits.iter().enumerate().filter(|(_, t)| !t.running()) {
+            block.retire(l);
+            debug_assert_eq!(t.collisions, target);
         }
         if let Some(l) = lost.filter(|&l| orbits[l].running()) {
             return Err(no_next_event(block.state(l).flight.vel.to_f64()));
@@ -275,6 +274,77 @@ fn lanes<S: Scene>(
     }
     (opts.progress)(unreported);
     Ok(orbits)
+}
+
+/// The collisions of one ring entry: the lanes that collided, their vectors' growths and their
+/// arcs' half-angle arguments ([`half_angle_time`]).
+#[derive(Debug, Clone, Default)]
+struct Hits {
+    lanes: u64,
+    growth: [f64; BLOCK],
+    y: [f64; BLOCK],
+    x: [f64; BLOCK],
+}
+
+/// The tangent vectors of a block's orbits carried through the events of a ring in vector lanes
+/// (each orbit until it has made its collisions: `left`).
+struct RingTangents<'a> {
+    cell: &'a ConvexCell<f64>,
+    w: f64,
+    ring: Vec<ArcRecord>,
+    tangents: TangentBlock,
+    left: [f64; BLOCK],
+    hits: Vec<Hits>,
+}
+
+impl RingTangents<'_> {
+    /// Gives every collision of the ring, in order, to its orbit; returns how many there were.
+    fn count(&self, orbits: &mut [Tangent], w: f64) -> u64 {
+        let mut n = 0;
+        for h in &self.hits {
+            for (l, t) in orbits.iter_mut().enumerate() {
+                if h.lanes >> l & 1 == 1 {
+                    t.collision(h.growth[l], half_angle_time(h.y[l], h.x[l], w));
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+}
+
+impl LaneWork for RingTangents<'_> {
+    #[inline(always)]
+    fn run<V: Lanes>(&mut self) {
+        let cell = TangentCell::<V>::new(self.cell, self.w);
+        for h in &mut self.hits {
+            h.lanes = 0;
+        }
+        for o in (0..BLOCK).step_by(V::WIDTH) {
+            let mut t = TangentLane::<V>::load(&self.tangents, o);
+            let mut left = V::load(&self.left[o..]);
+            for (rec, h) in self.ring.iter().zip(&mut self.hits) {
+                let b = &rec.before;
+                let live = V::and(V::from_bits(b.live_bits >> o), left.gt(V::splat(0.0)));
+                let at = |a: &[f64; BLOCK]| V::load(&a[o..]);
+                let e = LaneEvent {
+                    code: at(&b.code),
+                    pos: [at(&b.pos[0]), at(&b.pos[1])],
+                    vel: [at(&b.vel[0]), at(&b.vel[1])],
+                    chord: [at(&rec.chord[0]), at(&rec.chord[1])],
+                    arrival: [at(&rec.arrival[0]), at(&rec.arrival[1])],
+                };
+                let c = t.event(&cell, live, &e);
+                left = V::select(c.lanes, left.sub(V::splat(1.0)), left);
+                c.growth.store(&mut h.growth[o..]);
+                c.y.store(&mut h.y[o..]);
+                c.x.store(&mut h.x[o..]);
+                h.lanes |= V::bits(c.lanes) << o;
+            }
+            t.store(&mut self.tangents, o);
+            left.store(&mut self.left[o..]);
+        }
+    }
 }
 
 /// The defaults of [`LyapunovConfig`] in the field `field`.
