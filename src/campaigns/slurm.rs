@@ -3,24 +3,31 @@
 //! succeeded (`--dependency=afterok`). This module only writes the batch scripts; Slurm runs them.
 //!
 //! Each array task runs `lorentz sweep … --shard $SLURM_ARRAY_TASK_ID/N --out OUT/shard-$ID`
-//! (resumable: a requeued or resubmitted task reuses its finished points), and the merge job runs
-//! `lorentz merge OUT/shard-0 … OUT/shard-(N−1) --out OUT`, which writes the same `sweep.csv`,
-//! `sweep.json` and figures as the sweep run in one piece ([`crate::campaigns::merge::run`]).
+//! (resumable: a requeued or resubmitted task reuses its finished points) — a sweep over w with
+//! its flags, a sweep in a field with `--config OUT/slurm/sweep-config.json`, the validated
+//! configuration written beside the scripts ([`super::sweeps`]; a table given as data travels in
+//! it) — and the merge job runs `lorentz merge OUT/shard-0 … OUT/shard-(N−1) --out OUT`, which
+//! writes the same tables, JSON and figures as the sweep run in one piece
+//! ([`crate::campaigns::merge::run`], [`crate::estimators::field::parts`]).
 //!
 //! Slurm's default `MaxArraySize` is 1001 (tasks 0 … 1000); a site may set it lower or higher.
 
 use std::path::{Path, PathBuf};
 
+use super::sweeps::Sweep;
 use crate::Error;
 use crate::engine::Engine;
-use crate::estimators::sweep::{MAX_SWEEP_POINTS, SweepConfig};
+use crate::estimators::sweep::SweepConfig;
+
+/// The configuration file of a sweep in a field, in `OUT/slurm/`.
+pub const CONFIG_FILE: &str = "sweep-config.json";
 
 /// A sweep as a Slurm campaign: the job array of its parts and the dependent merge job.
 #[derive(Debug, Clone)]
 pub struct SweepCampaign {
     /// The whole sweep.
-    pub config: SweepConfig,
-    /// Parts (array tasks), 1 … steps.
+    pub sweep: Sweep,
+    /// Parts (array tasks), 1 … the sweep's points.
     pub parts: u32,
     /// Output directory of the merged sweep; part i writes `OUT/shard-i`, the scripts and the
     /// jobs' logs go to `OUT/slurm`. Absolute: the jobs may start in another directory.
@@ -63,11 +70,13 @@ fn checked(what: &str, value: &str, allowed: &str, ok: impl Fn(char) -> bool) ->
 impl SweepCampaign {
     /// Checks the campaign before anything is written.
     pub fn validate(&self) -> Result<(), Error> {
-        self.config.validate()?;
-        if self.parts == 0 || self.parts > self.config.steps.min(MAX_SWEEP_POINTS) {
+        self.sweep.validate()?;
+        let points = self.sweep.points();
+        if self.parts == 0 || self.parts > points {
             return Err(Error::Invalid(format!(
-                "array = {}: use 1 to {} parts (the sweep has {} points; every part needs one)",
-                self.parts, self.config.steps, self.config.steps
+                "array = {}: use 1 to {points} parts (the sweep has {points} points; every part \
+                 needs one)",
+                self.parts
             )));
         }
         if self.cpus_per_task == 0 || self.cpus_per_task > MAX_CPUS_PER_TASK {
@@ -139,7 +148,6 @@ impl SweepCampaign {
 
     /// The job array: task i computes part i/N of the sweep into `OUT/shard-i`.
     pub fn array_script(&self) -> String {
-        let c = &self.config;
         let n = self.parts;
         let mut s = self.header("lorentz-sweep", "sweep-%A_%a.out");
         s += &format!(
@@ -148,29 +156,36 @@ impl SweepCampaign {
             self.cpus_per_task
         );
         s += &format!(
-            "# Part $SLURM_ARRAY_TASK_ID of {n} of the sweep w = {} .. {} ({} points x {} runs x {} collisions per run).\n\
+            "# Part $SLURM_ARRAY_TASK_ID of {n} of {}.\n\
              # Resumable: a requeued or resubmitted task reuses the part's finished points.\n\
              set -euo pipefail\n",
-            c.w_from, c.w_to, c.steps, c.runs, c.collisions
+            self.sweep.describe()
         );
         s += &format!(
-            "exec {} sweep --w-from {} --w-to {} --steps {} --runs {} --collisions-per-run {} \\\n  \
-             --batches-per-run {} --seed {} \\\n  \
+            "exec {} sweep {} \\\n  \
              --engine {} --threads \"${{SLURM_CPUS_PER_TASK:-{}}}\" --shard \"$SLURM_ARRAY_TASK_ID/{n}\" \\\n  \
              --out {}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet\n",
             Self::q(&self.binary),
-            shell_quote(&c.w_from),
-            shell_quote(&c.w_to),
-            c.steps,
-            c.runs,
-            c.collisions,
-            c.batches,
-            c.seed,
+            self.sweep_arguments(),
             self.engine.name(),
             self.cpus_per_task,
             Self::q(&self.out),
         );
         s
+    }
+
+    /// What the parts' `lorentz sweep` is given for the sweep: the flags of a sweep over w, the
+    /// configuration file of a sweep in a field.
+    fn sweep_arguments(&self) -> String {
+        match &self.sweep {
+            Sweep::OverW(c) => over_w_arguments(c),
+            Sweep::InField(_) => {
+                format!(
+                    "--config {}",
+                    Self::q(&self.out.join("slurm").join(CONFIG_FILE))
+                )
+            }
+        }
     }
 
     /// The merge job: combines the parts into `OUT` (submitted with `--dependency=afterok` on
@@ -216,11 +231,15 @@ impl SweepCampaign {
         crate::files::create_dir_all(&self.out)?;
         crate::files::create_subdir(&dir)?;
         let mut written = Vec::new();
-        for (name, text) in [
+        let mut files = vec![
             ("sweep-array.sbatch", self.array_script()),
             ("merge.sbatch", self.merge_script()),
             ("submit.sh", self.submit_script()),
-        ] {
+        ];
+        if let Sweep::InField(_) = &self.sweep {
+            files.push((CONFIG_FILE, self.sweep.to_json()?));
+        }
+        for (name, text) in files {
             let path = dir.join(name);
             crate::files::write(&path, text)?;
             written.push(path);
@@ -229,13 +248,28 @@ impl SweepCampaign {
     }
 }
 
+/// The flags of a sweep over w, for its parts.
+fn over_w_arguments(c: &SweepConfig) -> String {
+    format!(
+        "--w-from {} --w-to {} --steps {} --runs {} --collisions-per-run {} \\\n  \
+         --batches-per-run {} --seed {}",
+        shell_quote(&c.w_from),
+        shell_quote(&c.w_to),
+        c.steps,
+        c.runs,
+        c.collisions,
+        c.batches,
+        c.seed,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn campaign() -> SweepCampaign {
         SweepCampaign {
-            config: SweepConfig {
+            sweep: Sweep::OverW(SweepConfig {
                 w_from: "0.2".into(),
                 w_to: "0.3".into(),
                 steps: 21,
@@ -243,7 +277,7 @@ mod tests {
                 collisions: 2_000_000_000,
                 batches: 16,
                 seed: 5,
-            },
+            }),
             parts: 7,
             out: PathBuf::from("/scratch/it's here"),
             binary: PathBuf::from("/opt/lorentz/bin/lorentz"),
@@ -268,6 +302,39 @@ mod tests {
             s.contains("--out '/scratch/it'\\''s here'/shard-\"$SLURM_ARRAY_TASK_ID\""),
             "{s}"
         );
+    }
+
+    #[test]
+    fn a_field_sweeps_parts_read_its_configuration_beside_the_scripts() {
+        use crate::estimators::field::sweep::FieldSweepConfig;
+        let field = FieldSweepConfig {
+            gaps: Vec::new(),
+            radius: Some("1/4".into()),
+            fields: ["-1", "1", "2"].map(String::from).to_vec(),
+            collisions: 1_000_000,
+            batches: 8,
+            seed: 3,
+            localization_samples: 1000,
+            table: None,
+        };
+        let c = SweepCampaign {
+            sweep: Sweep::InField(field),
+            parts: 3,
+            ..campaign()
+        };
+        assert!(c.validate().is_ok());
+        let s = c.array_script();
+        assert!(
+            s.contains("sweep --config '/scratch/it'\\''s here/slurm/sweep-config.json' \\\n"),
+            "{s}"
+        );
+        assert!(
+            s.contains("square lattice at radius 1/4 (fields -1, 1, 2; 3 points"),
+            "{s}"
+        );
+        assert!(!s.contains("--w-from"), "{s}");
+        // Three points: at most three parts.
+        assert!(SweepCampaign { parts: 4, ..c }.validate().is_err());
     }
 
     #[test]

@@ -7,11 +7,24 @@ use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig};
 
 use super::output::emit;
 use super::progress::Progress;
-use super::sweep::Args;
+use super::sweep::{Args, FieldArgs, GridArgs};
+use lorentz_gas::campaigns::sweeps::Sweep;
 
-/// The field sweep these options give (validated).
+/// The field sweep these options give (validated): its configuration file (`--config`), or
+/// its flags.
 pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
-    let (g, f) = (&a.grid, &a.in_field);
+    match a.config.as_deref().map(Sweep::read).transpose()? {
+        Some(Sweep::InField(c)) => Ok(c),
+        Some(Sweep::OverW(_)) => Err(Error::Invalid(
+            "the configuration is a sweep over w without a field".into(),
+        )),
+        None => config_of(&a.grid, &a.in_field, a.run.seed()),
+    }
+}
+
+/// The field sweep of the grid `g` and field options `f` with `seed` (validated; shared with
+/// `lorentz slurm sweep`).
+pub fn config_of(g: &GridArgs, f: &FieldArgs, seed: u64) -> Result<FieldSweepConfig, Error> {
     if g.runs.is_some() {
         return Err(Error::Invalid(
             "--runs is not used by a sweep in a field (one run of --collisions-per-run per point; its error is over --batches-per-run)".into(),
@@ -44,7 +57,7 @@ pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
         fields,
         collisions: g.collisions_per_run,
         batches: g.batches_per_run,
-        seed: a.run.seed(),
+        seed,
         localization_samples: f.localization_samples,
         table,
     };

@@ -5,10 +5,11 @@ use std::path::PathBuf;
 
 use lorentz_gas::Error;
 use lorentz_gas::campaigns::slurm::SweepCampaign;
+use lorentz_gas::campaigns::sweeps::Sweep;
 
 use super::args::{EngineArg, OutputArgs, SeedArg, parse_count_u32};
 use super::output::emit;
-use super::sweep::GridArgs;
+use super::sweep::{FieldArgs, GridArgs};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -18,19 +19,18 @@ pub struct Args {
 
 #[derive(clap::Subcommand)]
 enum What {
-    /// A sweep as a job array of N parts and a merge job that runs when all have succeeded.
+    /// A sweep as a job array of N parts and a merge job that runs when all have succeeded: over
+    /// w (--w-from, --w-to), or in a field (--fields at --w, --scene square --radius or --table;
+    /// or --field over w), as `lorentz sweep` takes them.
     Sweep(SweepArgs),
 }
 
-/// `--runs` without the shared text's mention of a sweep in a field (`slurm sweep` runs none).
-const RUNS_HELP: &str = "Independent runs at each point w (their spread is checked against the \
-    batch errors) [default: 10]";
-
 #[derive(clap::Args)]
-#[command(mut_arg("runs", |a| a.help(RUNS_HELP)))]
 struct SweepArgs {
     #[command(flatten)]
     grid: GridArgs,
+    #[command(flatten)]
+    in_field: FieldArgs,
     /// Parts of the sweep: array tasks 0 .. N-1 (1 to the number of points).
     #[arg(long, value_parser = parse_count_u32, allow_negative_numbers = true)]
     array: u32,
@@ -68,7 +68,15 @@ struct Written {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let What::Sweep(a) = a.what;
-    let config = a.grid.config(a.seed.seed)?;
+    let sweep = if a.in_field.in_field() {
+        Sweep::InField(super::field_sweep::config_of(
+            &a.grid,
+            &a.in_field,
+            a.seed.seed,
+        )?)
+    } else {
+        Sweep::OverW(a.grid.config(a.seed.seed)?)
+    };
     let absolute = |p: PathBuf| -> Result<PathBuf, Error> {
         if p.is_absolute() {
             Ok(p)
@@ -83,7 +91,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         None => std::env::current_exe().map_err(Error::io("locate", "this program"))?,
     };
     let c = SweepCampaign {
-        config,
+        sweep,
         parts: a.array,
         out: absolute(a.out)?,
         binary,
@@ -96,8 +104,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         files: c.write()?,
         submit: format!("sh {}", c.out.join("slurm").join("submit.sh").display()),
         meta: lorentz_gas::engine::metadata::RunMeta::new(
-            Some(c.config.seed),
-            Some(c.config.runs as u64 * c.config.batches as u64),
+            Some(c.sweep.seed()),
+            Some(c.sweep.batches()),
             lorentz_gas::numbers::precision::Precision::F64,
             Some(c.cpus_per_task as usize),
         ),

@@ -2,6 +2,7 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig};
+use lorentz_gas::campaigns::sweeps::Sweep;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepReport};
 use lorentz_gas::report::text::sweep as text;
@@ -108,6 +109,13 @@ pub struct Args {
     pub(super) grid: GridArgs,
     #[command(flatten)]
     pub(super) in_field: FieldArgs,
+    /// The sweep's configuration as JSON (as `lorentz slurm sweep` writes it, or a result's
+    /// `config`), instead of the flags that describe a sweep: over w, or in a field on any table.
+    #[arg(long, value_name = "FILE", conflicts_with_all = [
+        "w_from", "w_to", "steps", "runs", "collisions_per_run", "batches_per_run", "w", "field",
+        "fields", "scene", "radius", "table", "localization_samples", "seed",
+    ])]
+    pub(super) config: Option<PathBuf>,
     /// Compute only part I of N (I = 0 .. N-1; point i belongs to part i mod N) into --out, for
     /// `lorentz merge`; as a Slurm array task: --shard $SLURM_ARRAY_TASK_ID/N.
     #[arg(long)]
@@ -126,14 +134,31 @@ pub struct Args {
     pub(super) output: OutputArgs,
 }
 
-/// The configuration of the whole sweep these options give (validated).
+/// The configuration of the whole sweep these options give (validated): its configuration file
+/// (`--config`), or its flags.
 pub fn config(a: &Args) -> Result<lorentz_gas::estimators::sweep::SweepConfig, Error> {
-    a.grid.config(a.run.seed())
+    match a.config.as_deref().map(Sweep::read).transpose()? {
+        Some(Sweep::OverW(c)) => Ok(c),
+        Some(Sweep::InField(_)) => Err(Error::Invalid(
+            "the configuration is a sweep in a field".into(),
+        )),
+        None => a.grid.config(a.run.seed()),
+    }
 }
 
-/// A sweep in a field (`--field` or `--fields` given).
+/// A sweep in a field (`--field` or `--fields` given, or a configuration file of one).
 pub fn in_field(a: &Args) -> bool {
-    a.in_field.field.is_some() || !a.in_field.fields.is_empty()
+    match a.config.as_deref() {
+        Some(p) => matches!(Sweep::read(p), Ok(Sweep::InField(_)) | Err(_)),
+        None => a.in_field.in_field(),
+    }
+}
+
+impl FieldArgs {
+    /// `--field` or `--fields` given.
+    pub fn in_field(&self) -> bool {
+        self.field.is_some() || !self.fields.is_empty()
+    }
 }
 
 /// Runs a sweep over w without a field (the field sweep runs those in a field: the command
@@ -149,7 +174,7 @@ pub fn run(a: Args) -> Result<(), Error> {
             "--scene and --radius are for a sweep over the field (--fields B1,B2,...): a sweep over w without a field is the triangular scene's".into(),
         ));
     }
-    if a.grid.w_from.is_none() || a.grid.w_to.is_none() {
+    if a.config.is_none() && (a.grid.w_from.is_none() || a.grid.w_to.is_none()) {
         return Err(Error::Invalid(
             "a sweep over w needs --w-from and --w-to (a sweep over the field: --w W --fields B1,B2,...)".into(),
         ));
@@ -164,9 +189,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         Some(s) => (0..cfg.steps).filter(|&i| s.owns(i)).count() as u64,
         None => cfg.steps as u64,
     };
-    let total = a
-        .grid
-        .collisions_per_run
+    let total = cfg
+        .collisions
         .saturating_mul(cfg.runs as u64)
         .saturating_mul(points);
     let pb = Progress::new(total, "collisions", a.output.quiet);

@@ -86,9 +86,106 @@ fn lorentz(args: &[&str]) {
     );
 }
 
+/// Writes the campaign of `lorentz slurm sweep ARGS --array PARTS --out OUT`, submits it and
+/// waits until its merge job has completed (failing on any other end, with the jobs' logs).
+fn run_campaign(conf: &Path, args: &[&str], parts: &str, out: &Path) {
+    let mut all = vec!["slurm", "sweep"];
+    all.extend(args);
+    all.extend(["--array", parts, "--out", out.to_str().unwrap()]);
+    lorentz(&all);
+    let submit = Command::new("sh")
+        .arg(out.join("slurm/submit.sh"))
+        .env("SLURM_CONF", conf)
+        .output()
+        .expect("submit");
+    let said = String::from_utf8_lossy(&submit.stdout).to_string();
+    assert!(
+        submit.status.success(),
+        "submit.sh: {said} {}",
+        String::from_utf8_lossy(&submit.stderr)
+    );
+    let words: Vec<&str> = said.split_whitespace().collect();
+    let (array, merge) = match words[..] {
+        ["array", a, "merge", m] => (a.to_string(), m.to_string()),
+        _ => panic!("submit.sh printed {said:?}"),
+    };
+    let logs = || {
+        std::fs::read_dir(out.join("slurm"))
+            .map(|d| {
+                d.flatten()
+                    .filter(|e| e.path().extension().is_some_and(|x| x == "out"))
+                    .map(|e| std::fs::read_to_string(e.path()).unwrap_or_default())
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            })
+            .unwrap_or_default()
+    };
+    let t0 = Instant::now();
+    loop {
+        let m = job_state(conf, &merge);
+        if m == "COMPLETED" {
+            break;
+        }
+        let ended = [
+            "FAILED",
+            "CANCELLED",
+            "TIMEOUT",
+            "NODE_FAIL",
+            "OUT_OF_MEMORY",
+        ];
+        assert!(
+            !ended.contains(&m.as_str()),
+            "merge job {merge} ended {m} (array {array}: {}); logs:\n{}",
+            job_state(conf, &array),
+            logs()
+        );
+        assert!(
+            t0.elapsed() < CAMPAIGN_TIMEOUT,
+            "the campaign did not finish in {CAMPAIGN_TIMEOUT:?}: merge {m}, array {}; logs:\n{}",
+            job_state(conf, &array),
+            logs()
+        );
+        std::thread::sleep(Duration::from_millis(250));
+    }
+    assert_eq!(job_state(conf, &array), "COMPLETED");
+    eprintln!(
+        "Slurm campaign ({parts} array tasks + merge) finished {:.1} s after submission",
+        t0.elapsed().as_secs_f64()
+    );
+}
+
+/// The files `files` of `a` and `b` are equal byte for byte, and so are their JSON results
+/// `json` without what depends on where and how they ran.
+fn same_results(a: &Path, b: &Path, files: &[&str], json: &str) {
+    for f in files {
+        assert!(
+            std::fs::read(a.join(f)).unwrap() == std::fs::read(b.join(f)).unwrap(),
+            "{f} differs between the Slurm campaign and the sweep in one piece"
+        );
+    }
+    let science = |d: &Path| {
+        let text = std::fs::read_to_string(d.join(json)).unwrap();
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let o = v.as_object_mut().unwrap();
+        for k in ["meta", "resumed_points", "seconds"] {
+            o.remove(k);
+        }
+        v
+    };
+    assert_eq!(science(a), science(b));
+}
+
+/// `lorentz sweep ARGS --threads 1 --quiet --out OUT`: the sweep in one piece.
+fn in_one_piece(args: &[&str], out: &Path) {
+    let mut all = vec!["sweep"];
+    all.extend(args);
+    all.extend(["--threads", "1", "--quiet", "--out", out.to_str().unwrap()]);
+    lorentz(&all);
+}
+
 #[test]
 #[ignore = "needs a local Slurm (scripts/slurm-local.sh); CI runs it with --ignored"]
-fn sweep_sharded_over_a_real_slurm_cluster_equals_the_sweep_in_one_piece() {
+fn sweeps_sharded_over_a_real_slurm_cluster_equal_the_sweeps_in_one_piece() {
     if let Err(why) = slurm_available() {
         panic!(
             "no Slurm here: {why}; this test needs Debian's munge, slurmctld and slurmd, run as \
@@ -114,6 +211,7 @@ fn sweep_sharded_over_a_real_slurm_cluster_equals_the_sweep_in_one_piece() {
     );
     let conf = cluster.dir.join("slurm.conf");
 
+    // A sweep over w.
     let sweep = [
         "--w-from",
         "0.2",
@@ -130,106 +228,49 @@ fn sweep_sharded_over_a_real_slurm_cluster_equals_the_sweep_in_one_piece() {
         "--seed",
         "11",
     ];
-    let campaign = root.join("campaign");
-    let whole = root.join("whole");
-    let mut args = vec!["slurm", "sweep"];
-    args.extend(sweep);
-    args.extend(["--array", "4", "--out", campaign.to_str().unwrap()]);
-    lorentz(&args);
-
-    let submit = Command::new("sh")
-        .arg(campaign.join("slurm/submit.sh"))
-        .env("SLURM_CONF", &conf)
-        .output()
-        .expect("submit");
-    let said = String::from_utf8_lossy(&submit.stdout).to_string();
-    assert!(
-        submit.status.success(),
-        "submit.sh: {said} {}",
-        String::from_utf8_lossy(&submit.stderr)
-    );
-    let words: Vec<&str> = said.split_whitespace().collect();
-    let (array, merge) = match words[..] {
-        ["array", a, "merge", m] => (a.to_string(), m.to_string()),
-        _ => panic!("submit.sh printed {said:?}"),
-    };
-
-    // Meanwhile, the same sweep in one piece, here.
-    let mut args = vec!["sweep"];
-    args.extend(sweep);
-    args.extend([
-        "--threads",
-        "1",
-        "--quiet",
-        "--out",
-        whole.to_str().unwrap(),
-    ]);
-    lorentz(&args);
-
-    let t0 = Instant::now();
-    loop {
-        let m = job_state(&conf, &merge);
-        if m == "COMPLETED" {
-            break;
-        }
-        let logs = || {
-            std::fs::read_dir(campaign.join("slurm"))
-                .map(|d| {
-                    d.flatten()
-                        .filter(|e| e.path().extension().is_some_and(|x| x == "out"))
-                        .map(|e| std::fs::read_to_string(e.path()).unwrap_or_default())
-                        .collect::<Vec<_>>()
-                        .join("\n")
-                })
-                .unwrap_or_default()
-        };
-        assert!(
-            ![
-                "FAILED",
-                "CANCELLED",
-                "TIMEOUT",
-                "NODE_FAIL",
-                "OUT_OF_MEMORY"
-            ]
-            .contains(&m.as_str()),
-            "merge job {merge} ended {m} (array {array}: {}); logs:\n{}",
-            job_state(&conf, &array),
-            logs()
-        );
-        assert!(
-            t0.elapsed() < CAMPAIGN_TIMEOUT,
-            "the campaign did not finish in {CAMPAIGN_TIMEOUT:?}: merge {m}, array {}; logs:\n{}",
-            job_state(&conf, &array),
-            logs()
-        );
-        std::thread::sleep(Duration::from_millis(250));
-    }
-    assert_eq!(job_state(&conf, &array), "COMPLETED");
-    eprintln!(
-        "Slurm campaign (4 array tasks + merge) finished {:.1} s after submission",
-        t0.elapsed().as_secs_f64()
-    );
-
-    for f in [
+    run_campaign(&conf, &sweep, "4", &root.join("campaign"));
+    in_one_piece(&sweep, &root.join("whole"));
+    let figures = [
         "sweep.csv",
         "fig2-D-vs-w.svg",
         "fig7-boltzmann.svg",
         "fig8-residuals.svg",
-    ] {
-        assert!(
-            std::fs::read(whole.join(f)).unwrap() == std::fs::read(campaign.join(f)).unwrap(),
-            "{f} differs between the Slurm campaign and the sweep in one piece"
-        );
-    }
-    let science = |d: &Path| {
-        let mut v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(d.join("sweep.json")).unwrap()).unwrap();
-        let o = v.as_object_mut().unwrap();
-        o.remove("meta");
-        o.remove("resumed_points");
-        v
-    };
-    assert_eq!(science(&whole), science(&campaign));
+    ];
+    same_results(
+        &root.join("whole"),
+        &root.join("campaign"),
+        &figures,
+        "sweep.json",
+    );
+
+    // A sweep over the field of a table given as data: its configuration travels beside the
+    // scripts.
+    let table = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/tables/two-radius-square.toml"
+    );
+    let field = [
+        "--table",
+        table,
+        "--fields=-1,1,2",
+        "--collisions-per-run",
+        "2e5",
+        "--batches-per-run",
+        "4",
+        "--localization-samples",
+        "1e4",
+        "--seed",
+        "11",
+    ];
+    run_campaign(&conf, &field, "2", &root.join("field-campaign"));
+    in_one_piece(&field, &root.join("field-whole"));
+    let files = ["field-sweep.csv", "field-D_xx.svg", "field-D_xy.svg"];
+    same_results(
+        &root.join("field-whole"),
+        &root.join("field-campaign"),
+        &files,
+        "field-sweep.json",
+    );
     drop(cluster);
     let _ = std::fs::remove_dir_all(&root);
 }
