@@ -7,6 +7,8 @@
 //! scene is a translation or a point reflection — both keep the sense of rotation — so the same ω
 //! holds in every cell's frame. B = 0 is the straight kernel, never an arc.
 
+use rug::Rational;
+
 use super::lattice::{Lattice, LatticeState};
 use crate::Error;
 use crate::kernel::arc::{arc_area, arc_time};
@@ -28,8 +30,10 @@ pub struct LatticeDisk {
 
 /// A periodic array of disks: each disk of one cell repeated at the points i·e₁ + j·e₂,
 /// e₁ = (a, 0), e₂ = (βa, h), as `f64` (the exact geometry of the field's localized orbits is
-/// evaluated in `f64`: `crate::theory::magnetic`). The presets have one disk at the lattice
-/// points ([`DiskLattice::equal`]); a table given as data has any disks.
+/// evaluated in `f64`: `crate::theory::magnetic`), and exactly where the scene knows it
+/// ([`ExactDisks`]: for the decisions that rounding could turn, such as whether every orbit is
+/// localized). The presets have one disk at the lattice points ([`DiskLattice::equal`]); a
+/// table given as data has any disks.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DiskLattice {
     /// |e₁|.
@@ -40,6 +44,44 @@ pub struct DiskLattice {
     pub h: f64,
     /// The disks of one cell (none overlapping, each other's images included).
     pub disks: Vec<LatticeDisk>,
+    /// The same array exactly, if the scene knows it.
+    pub exact: Option<ExactDisks>,
+}
+
+/// A disk array exactly: e₁ = (a, 0), e₂ = (b, h) with h² rational (h itself where it is
+/// rational), and the disks' centre offsets and radii. Every squared distance between two disks'
+/// centres is rational when h is, or when the two centres are at one height (the triangular
+/// lattice, h = a√3/2, has one disk per cell).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExactDisks {
+    /// |e₁|.
+    pub a: Rational,
+    /// The x part of e₂.
+    pub b: Rational,
+    /// h², the square of e₂'s height.
+    pub h2: Rational,
+    /// h, where it is rational.
+    pub h: Option<Rational>,
+    /// Each disk's centre offset from its lattice point, and its radius.
+    pub disks: Vec<([Rational; 2], Rational)>,
+}
+
+impl ExactDisks {
+    /// |c_k + i·e₁ + j·e₂ − c_m|², if it is rational here.
+    fn distance2(&self, m: usize, k: usize, i: i64, j: i64) -> Option<Rational> {
+        let (cm, ck) = (&self.disks[m].0, &self.disks[k].0);
+        let dx = Rational::from(&ck[0] - &cm[0])
+            + Rational::from(i) * &self.a
+            + Rational::from(j) * &self.b;
+        let dy = Rational::from(&ck[1] - &cm[1]);
+        let dy2 = if dy == 0 {
+            Rational::from(j * j) * &self.h2
+        } else {
+            let y = dy + Rational::from(j) * self.h.as_ref()?;
+            Rational::from(&y * &y)
+        };
+        Some(Rational::from(&dx * &dx) + dy2)
+    }
 }
 
 impl DiskLattice {
@@ -53,7 +95,41 @@ impl DiskLattice {
                 centre: [0.0, 0.0],
                 radius,
             }],
+            exact: None,
         }
+    }
+
+    /// The same array, known exactly as `exact`.
+    pub fn with_exact(self, exact: ExactDisks) -> Self {
+        DiskLattice {
+            exact: Some(exact),
+            ..self
+        }
+    }
+
+    /// Whether every other disk of the array (disk `m`'s own images included) keeps its edge at
+    /// least `d` from disk m's centre, |c_m − c'| − r' ≥ d, decided exactly: `None` where the
+    /// array is not known exactly (then [`DiskLattice::reach`] in `f64` is all there is).
+    pub fn reaches_at_least(&self, m: usize, d: &Rational) -> Option<bool> {
+        let exact = self.exact.as_ref()?;
+        let widest = self.disks.iter().map(|x| x.radius).fold(0.0, f64::max);
+        let me = self.disks[m].centre;
+        let mut far = Some(true);
+        for (k, (disk, (_, r))) in self.disks.iter().zip(&exact.disks).enumerate() {
+            let offset = (disk.centre[0] - me[0], disk.centre[1] - me[1]);
+            // Every image nearer than d + r' lies within d + widest (the window is widened by a
+            // row and a column against the rounding of the f64 bound).
+            self.points_near((-offset.0, -offset.1), d.to_f64() + widest, |i, j| {
+                if k == m && i == 0.0 && j == 0.0 || far != Some(true) {
+                    return;
+                }
+                let need = Rational::from(d + r);
+                far = exact
+                    .distance2(m, k, i as i64, j as i64)
+                    .map(|d2| d2 >= Rational::from(&need * &need));
+            });
+        }
+        far
     }
 
     /// The area of one lattice cell, a·h.

@@ -193,6 +193,14 @@ impl Scene for SquareScene {
 
     /// Disks of radius r on the unit square lattice.
     fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
-        Some(super::magnetic::DiskLattice::equal(1.0, 0.0, 1.0, self.r64))
+        let one = || Rational::from(1);
+        let exact = super::magnetic::ExactDisks {
+            a: one(),
+            b: Rational::new(),
+            h2: one(),
+            h: Some(one()),
+            disks: vec![([Rational::new(), Rational::new()], self.r.clone())],
+        };
+        Some(super::magnetic::DiskLattice::equal(1.0, 0.0, 1.0, self.r64).with_exact(exact))
     }
 }

@@ -55,6 +55,22 @@ pub struct FieldGeometry {
     /// For each disk m, its reach min |c − c'| − r' ([`DiskLattice::reach`], found once: every
     /// classification needs it).
     reach: Vec<f64>,
+    /// Every orbit is localized ([`FieldGeometry::all_localized`]), decided once.
+    all_localized: bool,
+}
+
+/// Whether 2ρ ≤ R_m − r_m for every disk m: exactly, with ρ = 1/|B| for the double B the run
+/// uses, where the array is known exactly (so that a boundary such as 2ρ = A − 2r, where every
+/// orbit is localized, is not turned by rounding); in `f64` otherwise.
+fn all_localized(lattice: &DiskLattice, reach: &[f64], field: f64, rho: f64) -> bool {
+    let exact = |m: usize| {
+        let b = rug::Rational::from_f64(field.abs())?;
+        let r = &lattice.exact.as_ref()?.disks[m].1;
+        let d = rug::Rational::from(2) / b + r;
+        lattice.reaches_at_least(m, &d)
+    };
+    (lattice.disks.iter().zip(reach).enumerate())
+        .all(|(m, (d, reach))| exact(m).unwrap_or(2.0 * rho <= reach - d.radius))
 }
 
 /// Absolute accuracy of the exact shares (quadrature tolerance per lattice cell area).
@@ -80,12 +96,15 @@ impl FieldGeometry {
                 "a nonzero finite field has a cyclotron circle",
             ));
         }
-        let reach = (0..lattice.disks.len()).map(|m| lattice.reach(m)).collect();
+        let reach: Vec<f64> = (0..lattice.disks.len()).map(|m| lattice.reach(m)).collect();
+        let rho = 1.0 / field.abs();
+        let all_localized = all_localized(&lattice, &reach, field, rho);
         Ok(FieldGeometry {
             lattice,
             field,
-            rho: 1.0 / field.abs(),
+            rho,
             reach,
+            all_localized,
         })
     }
 
@@ -108,11 +127,7 @@ impl FieldGeometry {
     /// A apart), so that every cyclotron circle that meets a disk stays out of reach of the others
     /// (it skips round it) and every other one is pinned.
     pub fn all_localized(&self) -> bool {
-        self.lattice
-            .disks
-            .iter()
-            .zip(&self.reach)
-            .all(|(d, reach)| 2.0 * self.rho <= reach - d.radius)
+        self.all_localized
     }
 
     /// The range (D_lo, D_hi) of centre distances of the orbits skipping round disk `m` (empty
@@ -372,6 +387,40 @@ pub const MAX_STARTS: u64 = 20_000_000;
 
 #[cfg(test)]
 mod tests {
+
+    /// At 2ρ = A − 2r exactly every orbit is localized (a skipping annulus just touches the next
+    /// disk): square r = 2/5 at B = 10 and the triangular gap w = 1/5 at B = 10, where the f64
+    /// comparison (0.2 ≤ 1 − 0.8 = 0.19999999999999996) would say otherwise. A field one part in
+    /// 10³ weaker is not all localized.
+    #[test]
+    fn every_orbit_is_localized_at_the_exact_boundary_2rho_equal_to_a_minus_2r() {
+        use crate::scenes::square::SquareScene;
+        use crate::scenes::triangular::TriangularScene;
+        let q = |s: &str| crate::numbers::exact::parse_exact(s).unwrap();
+        let square = SquareScene::exact(q("2/5"))
+            .unwrap()
+            .disk_lattice()
+            .unwrap();
+        let tri = TriangularScene::exact(q("1/5"))
+            .unwrap()
+            .disk_lattice()
+            .unwrap();
+        // Without the exact array, rounding decides the square's boundary the other way.
+        let rounded = DiskLattice {
+            exact: None,
+            ..square.clone()
+        };
+        assert!(!FieldGeometry::new(rounded, 10.0).unwrap().all_localized());
+        for lattice in [square, tri] {
+            let at = |b: f64| {
+                FieldGeometry::new(lattice.clone(), b)
+                    .unwrap()
+                    .all_localized()
+            };
+            assert!(at(10.0) && at(-10.0), "{lattice:?}");
+            assert!(!at(9.99), "{lattice:?}");
+        }
+    }
     use super::*;
 
     fn triangular(w: f64) -> DiskLattice {

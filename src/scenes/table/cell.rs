@@ -224,7 +224,14 @@ impl Scene for PeriodicTable {
     /// The disks of the cell at their (reduced) centres: the field's exact geometry of pinned
     /// and skipping orbits.
     fn disk_lattice(&self) -> Option<crate::scenes::magnetic::DiskLattice> {
-        use crate::scenes::magnetic::{DiskLattice, LatticeDisk};
+        use crate::scenes::magnetic::{DiskLattice, ExactDisks, LatticeDisk};
+        let exact = ExactDisks {
+            a: self.a.clone(),
+            b: self.b.clone(),
+            h2: Rational::from(&self.h * &self.h),
+            h: Some(self.h.clone()),
+            disks: self.disks.clone(),
+        };
         Some(DiskLattice {
             a: self.a.to_f64(),
             beta: (self.b.clone() / &self.a).to_f64(),
@@ -237,6 +244,7 @@ impl Scene for PeriodicTable {
                     radius: r.to_f64(),
                 })
                 .collect(),
+            exact: Some(exact),
         })
     }
 

@@ -155,12 +155,17 @@ impl Scene for TriangularScene {
     /// Disks of radius 1 at spacing a = 2 + w (e₂ = (a/2, √3a/2)).
     fn disk_lattice(&self) -> Option<super::magnetic::DiskLattice> {
         let a = 2.0 + self.w();
-        Some(super::magnetic::DiskLattice::equal(
-            a,
-            0.5,
-            a * 3f64.sqrt() / 2.0,
-            1.0,
-        ))
+        // e₂ = (a/2, a√3/2): h² = 3a²/4 is rational, h is not (one disk per cell).
+        let ax = Rational::from(&self.w + 2u32);
+        let exact = super::magnetic::ExactDisks {
+            b: Rational::from(&ax / 2u32),
+            h2: Rational::from(&ax * &ax) * 3u32 / 4u32,
+            h: None,
+            disks: vec![([Rational::new(), Rational::new()], Rational::from(1))],
+            a: ax,
+        };
+        let lattice = super::magnetic::DiskLattice::equal(a, 0.5, a * 3f64.sqrt() / 2.0, 1.0);
+        Some(lattice.with_exact(exact))
     }
 }
 
