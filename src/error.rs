@@ -105,9 +105,53 @@ pub enum Error {
         /// The analysis that needs it.
         analysis: &'static str,
     },
-    /// Any other invalid argument, with the reason.
+    /// A parameter (a configuration's field) whose value is not accepted here, with the reason
+    /// and what to give instead. Each front end names the parameter in its own terms
+    /// ([`Error::presented`]: `--flights jump` on the command line, `flights=jump` in Python).
+    #[error("{}", parameter_text(parameter, value, why, &|p| p.to_string()))]
+    Parameter {
+        /// The parameter, as the configuration spells it (`flights`, `threads`, `field`).
+        parameter: &'static str,
+        /// The value given.
+        value: String,
+        /// Why it is not accepted here, as advice (`arcs in a field cross the lattice cell by
+        /// cell; use walk or auto`).
+        why: String,
+    },
+    /// A file whose contents are not what they should be: an edited, damaged or foreign file,
+    /// or one of another kind or version.
+    #[error("{}: {why}", path.display())]
+    Malformed {
+        /// The file (or directory).
+        path: PathBuf,
+        /// What is wrong with it, and what to do.
+        why: String,
+    },
+    /// Data read back without a path at hand that is not what it should be: a checkpoint's or
+    /// journal's saved state that does not fit the run, a result's contents.
     #[error("{0}")]
     Invalid(String),
+    /// An environment variable whose value is not accepted (`LORENTZ_SIMD=avx9`).
+    #[error("{variable}={value}: {why}")]
+    Environment {
+        /// The variable.
+        variable: &'static str,
+        /// Its value.
+        value: String,
+        /// Why it is not accepted, as advice.
+        why: String,
+    },
+    /// A run whose estimated work is beyond the limit ([`crate::engine::work`]), with the
+    /// parameters that set it; each front end names them in its own terms.
+    #[error("{}", too_much_work_text(estimate, lower, *raise, &|p| p.to_string()))]
+    TooMuchWork {
+        /// What the run would compute, and how long it would take.
+        estimate: String,
+        /// The parameters to lower (their configuration's fields).
+        lower: &'static [&'static str],
+        /// A parameter to raise instead, if any.
+        raise: Option<&'static str>,
+    },
     /// A path the crate will not read, write or replace: a symbolic link, a device, a FIFO, a
     /// directory, or a file that is not one it made ([`crate::files`]).
     #[error("{}: {found}: {why}", path.display())]
@@ -240,6 +284,33 @@ fn out_of_range_text(
     )
 }
 
+/// The message of [`Error::Parameter`], the parameter spelled by `name`.
+fn parameter_text(
+    parameter: &str,
+    value: &str,
+    why: &str,
+    name: &dyn Fn(&str) -> String,
+) -> String {
+    format!("{}: {why}", assignment(parameter, value, name))
+}
+
+/// The message of [`Error::TooMuchWork`], the parameters spelled by `name`.
+fn too_much_work_text(
+    estimate: &str,
+    lower: &[&str],
+    raise: Option<&str>,
+    name: &dyn Fn(&str) -> String,
+) -> String {
+    let names: Vec<String> = lower.iter().map(|p| name(p)).collect();
+    let list = match names.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => "the run's counts".into(),
+    };
+    let raise = raise.map_or(String::new(), |p| format!(" (or raise {})", name(p)));
+    format!("{estimate}; lower {list}{raise}")
+}
+
 /// The message of [`Error::UnusedOption`], the option spelled by `name`.
 fn unused_option_text(
     analysis: &str,
@@ -305,6 +376,10 @@ impl Error {
     /// assert_eq!(e.to_string(), "points_per_octave = 17 is out of range: use 1 to 16");
     /// assert_eq!(e.presented(&flag), "--points-per-octave 17 is out of range: use 1 to 16");
     /// assert_eq!(e.presented(&|p| format!("{p}=")), "points_per_octave=17 is out of range: use 1 to 16");
+    /// let e = Error::parameter("flights", "jump", "arcs in a field cross the lattice cell by cell; use walk or auto");
+    /// assert_eq!(e.to_string(), "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto");
+    /// assert_eq!(e.presented(&flag), "--flights jump: arcs in a field cross the lattice cell by cell; use walk or auto");
+    /// assert_eq!(e.presented(&|p| format!("{p}=")), "flights=jump: arcs in a field cross the lattice cell by cell; use walk or auto");
     /// ```
     pub fn presented(&self, name: &dyn Fn(&str) -> String) -> String {
         match self {
@@ -321,6 +396,16 @@ impl Error {
                 value,
                 range,
             } => out_of_range_text(parameter, value, range, name),
+            Error::Parameter {
+                parameter,
+                value,
+                why,
+            } => parameter_text(parameter, value, why, name),
+            Error::TooMuchWork {
+                estimate,
+                lower,
+                raise,
+            } => too_much_work_text(estimate, lower, *raise, name),
             other => other.to_string(),
         }
     }
@@ -340,6 +425,10 @@ impl Error {
             | Error::Zero { .. }
             | Error::TooFew { .. }
             | Error::OutOfRange { .. }
+            | Error::Parameter { .. }
+            | Error::Malformed { .. }
+            | Error::TooMuchWork { .. }
+            | Error::Environment { .. }
             | Error::UnusedOption { .. }
             | Error::SceneParameter { .. }
             | Error::Table(_)
@@ -364,13 +453,40 @@ impl Error {
         }
     }
 
+    /// [`Error::Parameter`]: `parameter` (a configuration's field) given `value`, and why it is
+    /// not accepted here, as advice.
+    pub fn parameter(
+        parameter: &'static str,
+        value: impl std::fmt::Display,
+        why: impl Into<String>,
+    ) -> Error {
+        Error::Parameter {
+            parameter,
+            value: value.to_string(),
+            why: why.into(),
+        }
+    }
+
     /// A result that could not be encoded as JSON (a run-time failure: results are plain data).
     pub fn encode(e: serde_json::Error) -> Error {
         Error::Failed(format!("cannot encode the result as JSON: {e}"))
     }
 
-    /// A file whose contents are not what they should be (bad input naming the file).
+    /// [`Error::Malformed`]: a file whose contents are not what they should be (bad input
+    /// naming the file).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::{Error, ErrorKind};
+    /// let e = Error::malformed("points/point-0003.json".as_ref(), "a damaged point file");
+    /// assert_eq!(e.to_string(), "points/point-0003.json: a damaged point file");
+    /// assert_eq!(e.kind(), ErrorKind::BadInput);
+    /// ```
     pub fn malformed(path: &Path, why: impl std::fmt::Display) -> Error {
-        Error::Invalid(format!("{}: {why}", path.display()))
+        Error::Malformed {
+            path: path.to_path_buf(),
+            why: why.to_string(),
+        }
     }
 }

@@ -456,7 +456,7 @@ pub fn run<S: Scene>(
         Flights::Jump => 0.0,
         _ => crossings_per_collision(scene),
     };
-    Work::new("audit", "collisions", cfg.collisions as f64)
+    Work::new("audit", &["collisions"], cfg.collisions as f64)
         .crossing(crossings)
         .check(threads)?;
     if threads == 0 {

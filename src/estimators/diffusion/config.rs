@@ -226,7 +226,11 @@ pub(super) fn check_run(
         });
     }
     crate::engine::parallel::check_batches("batches", batches)?;
-    crate::engine::check_trajectory_length(collisions.div_ceil(batches as u64))?;
+    crate::engine::check_trajectory_length(
+        collisions.div_ceil(batches as u64),
+        "batches",
+        batches,
+    )?;
     if let Precision::Bits(b) = precision {
         <rug::Float as Real>::check_ctx(b)?;
     }

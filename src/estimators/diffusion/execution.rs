@@ -357,9 +357,8 @@ pub(super) fn execute(
     keep: &DiffusionKeeper,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<BatchResult>, Error> {
-    for j in jobs {
-        crate::engine::check_trajectory_length(j.collisions)?;
-    }
+    let quotas: Vec<u64> = jobs.iter().map(|j| j.collisions).collect();
+    crate::engine::check_quotas(&quotas)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(spec.threads)
         .build()

@@ -289,7 +289,7 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
         return plan::run(cfg, options);
     }
     // Below w_inf a flight crosses at most a few traps: the collisions are the work.
-    Work::new("diffusion", "collisions", cfg.collisions as f64)
+    Work::new("diffusion", &["collisions"], cfg.collisions as f64)
         .simd()
         .check(options.threads)?;
     check_audit(options, cfg.precision)?;

@@ -282,7 +282,7 @@ pub fn run_on<S: Scene>(
     options.validate()?;
     options.refuse_unused("diffusion", &RunOption::ALL)?;
     cfg.validate(scene)?;
-    Work::new("diffusion", "collisions", cfg.collisions as f64)
+    Work::new("diffusion", &["collisions"], cfg.collisions as f64)
         .crossing(crossings_per_collision(scene))
         .check(options.threads)?;
     let engine = engine_on(scene, cfg.precision, options.engine)?;

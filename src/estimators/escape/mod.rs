@@ -453,9 +453,10 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
         .sum();
     crate::engine::work::Work::new(
         "escape",
-        "particles_per_width or the widths (or raise w)",
+        &["particles_per_width", "widths"],
         cfg.particles_per_width as f64 * per_particle,
     )
+    .or_raise("w")
     .check(threads)?;
     let pi2 = std::f64::consts::PI * std::f64::consts::PI;
     let strips: Vec<Strip> = cfg

@@ -43,19 +43,8 @@ pub fn run_part(
     options: &RunOptions,
 ) -> Result<FieldSweepPart, Error> {
     cfg.validate()?;
-    let n = cfg.grid().len();
-    if shard.count as usize > n {
-        return Err(Error::out_of_range(
-            "shard",
-            shard.to_string(),
-            format!("a sweep of {n} points has parts 0 to N-1 with N from 1 to {n}"),
-        ));
-    }
-    let Some(dir) = options.resume.as_deref() else {
-        return Err(Error::Invalid(
-            "a sweep part is written to a directory: give one (the run options' `resume`)".into(),
-        ));
-    };
+    shard.fits(cfg.grid().len())?;
+    let dir = crate::campaigns::shard::part_directory(options)?;
     let (rows, resumed) = sweep::run_points(cfg, options, &|i| shard.owns(i as u32))?;
     let part = FieldSweepPart {
         config: cfg.clone(),

@@ -107,7 +107,11 @@ impl HopsConfig {
                 min.saturating_mul(batches as u64)
             )));
         }
-        crate::engine::check_trajectory_length(collisions.div_ceil(batches as u64))?;
+        crate::engine::check_trajectory_length(
+            collisions.div_ceil(batches as u64),
+            "batches",
+            batches,
+        )?;
         crate::engine::parallel::check_batches("batches", batches)
     }
 }
@@ -224,7 +228,7 @@ fn run_with_batches(
 ) -> Result<(HopsReport, Vec<Hops>), Error> {
     cfg.validate()?;
     options.validate()?;
-    crate::engine::work::Work::new("hops", "collisions", cfg.collisions as f64)
+    crate::engine::work::Work::new("hops", &["collisions"], cfg.collisions as f64)
         .simd()
         .check(options.threads)?;
     options.refuse_unused(

@@ -217,7 +217,7 @@ impl SuperdiffusionConfig {
                 self.collisions, self.batches, needed, self.octaves
             )));
         }
-        crate::engine::check_trajectory_length(per_batch + 1)?;
+        crate::engine::check_trajectory_length(per_batch + 1, "batches", self.batches)?;
         Ok(gas)
     }
 
@@ -394,7 +394,7 @@ fn run_on<S: Scene>(
         Flights::Jump => 0.0,
         _ => crossings_per_collision(scene),
     };
-    Work::new("superdiffusion", "collisions", cfg.collisions as f64)
+    Work::new("superdiffusion", &["collisions"], cfg.collisions as f64)
         .crossing(crossings)
         .check(options.threads)?;
     let ell = scene.mean_free_path();

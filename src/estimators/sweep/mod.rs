@@ -269,9 +269,13 @@ pub fn run(cfg: &SweepConfig, options: &RunOptions) -> Result<SweepReport, Error
         ],
     )?;
     let collisions = cfg.steps as f64 * cfg.runs as f64 * cfg.collisions as f64;
-    crate::engine::work::Work::new("sweep", "steps, runs or collisions_per_run", collisions)
-        .simd()
-        .check(options.threads)?;
+    crate::engine::work::Work::new(
+        "sweep",
+        &["steps", "runs", "collisions_per_run"],
+        collisions,
+    )
+    .simd()
+    .check(options.threads)?;
     let resolved = options.engine.resolve(true)?;
     let (points, resumed) = points::run_points(cfg, options, |_| true)?;
     let mut report = analysis::analyse(cfg, &points, resumed, options.threads)?;
