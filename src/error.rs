@@ -105,6 +105,15 @@ pub enum Error {
         /// The analysis that needs it.
         analysis: &'static str,
     },
+    /// Text that is not an exact number (a decimal or a fraction), before it is known which
+    /// parameter it is: [`Error::named`] makes it an [`Error::Parameter`].
+    #[error("'{text}' {why}")]
+    NotANumber {
+        /// The text.
+        text: String,
+        /// Why it is not a number, as advice (`is not a decimal number (such as 0.15)`).
+        why: &'static str,
+    },
     /// A parameter (a configuration's field) whose value is not accepted here, with the reason
     /// and what to give instead. Each front end names the parameter in its own terms
     /// ([`Error::presented`]: `--flights jump` on the command line, `flights=jump` in Python).
@@ -226,6 +235,13 @@ pub enum Capability {
     OneDiskPerCell,
     /// Trap symbols and the paper's hierarchy (the triangular scene).
     TrapSymbols,
+    /// A finite horizon: no collision-free corridor (the diffusion coefficient exists).
+    FiniteHorizon,
+    /// An infinite horizon: open corridors, along which the mean squared displacement grows
+    /// like t ln t (the triangular scene above w∞, the square one).
+    InfiniteHorizon,
+    /// Disks of one radius (true shadowing's).
+    OneRadius,
 }
 
 impl std::fmt::Display for Capability {
@@ -234,6 +250,20 @@ impl std::fmt::Display for Capability {
             Capability::ClosedForms => "the closed forms of the shipped scenes",
             Capability::OneDiskPerCell => "one disk per cell, at the lattice points",
             Capability::TrapSymbols => "trap symbols (the triangular scene's)",
+            Capability::FiniteHorizon => {
+                "a finite horizon (along collision-free corridors the mean squared displacement \
+                 grows like t ln t and the diffusion coefficient does not exist: use a \
+                 finite-horizon scene, such as the triangular one with 0 < w < w_inf = \
+                 0.3094..., or the superdiffusion analysis, which measures the t ln t growth \
+                 against the exact corridor constants that the constants analysis lists; in a \
+                 magnetic field every scene has a finite horizon)"
+            }
+            Capability::InfiniteHorizon => {
+                "an infinite horizon (where the horizon is finite the mean squared displacement \
+                 grows like t and the diffusion analysis measures D; superdiffusion needs \
+                 w > w_inf = 0.3094... or the square scene)"
+            }
+            Capability::OneRadius => "disks of one radius",
         })
     }
 }
@@ -426,6 +456,7 @@ impl Error {
             | Error::TooFew { .. }
             | Error::OutOfRange { .. }
             | Error::Parameter { .. }
+            | Error::NotANumber { .. }
             | Error::Malformed { .. }
             | Error::TooMuchWork { .. }
             | Error::Environment { .. }
@@ -464,6 +495,31 @@ impl Error {
             parameter,
             value: value.to_string(),
             why: why.into(),
+        }
+    }
+
+    /// This error as a refusal of `parameter`: text that is not a number
+    /// ([`Error::NotANumber`]) becomes [`Error::Parameter`] naming it; any other error is
+    /// unchanged.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::Error;
+    /// let e = lorentz_gas::numbers::exact::parse_exact("1/0").unwrap_err().named("field");
+    /// assert_eq!(
+    ///     e.presented(&|p| format!("{p}=")),
+    ///     "field=1/0: '1/0' divides by zero: use a decimal such as 0.25 or a fraction such as 1/3"
+    /// );
+    /// ```
+    pub fn named(self, parameter: &'static str) -> Error {
+        match self {
+            Error::NotANumber { ref text, .. } => Error::Parameter {
+                parameter,
+                value: text.clone(),
+                why: self.to_string(),
+            },
+            other => other,
         }
     }
 

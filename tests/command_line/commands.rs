@@ -268,7 +268,7 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     (
         &["sweep", "--scene", "square", "--fields=1,2"],
-        "needs its radius",
+        "the square scene needs --radius",
     ),
     // superdiffusion
     (&["superdiffusion", "--w", "0.1"], "finite horizon"),

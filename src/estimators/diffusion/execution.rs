@@ -359,10 +359,7 @@ pub(super) fn execute(
 ) -> Result<Vec<BatchResult>, Error> {
     let quotas: Vec<u64> = jobs.iter().map(|j| j.collisions).collect();
     crate::engine::check_quotas(&quotas)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(spec.threads)
-        .build()
-        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
+    let pool = crate::engine::parallel::thread_pool(spec.threads)?;
     let trap64 = Trap::new(spec.w)?;
     match spec.engine {
         Resolved::Simd(path) => in_blocks(&pool, jobs, keep, |b| {

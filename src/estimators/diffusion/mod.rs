@@ -68,10 +68,11 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
             corridor: Box::new(corridor),
         });
     }
-    Err(Error::Invalid(format!(
-        "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use a finite-horizon scene (the triangular one with 0 < w < w_inf = 0.3094...), or the superdiffusion analysis, which measures the t ln t growth against the exact corridor constants (the constants analysis lists them); in a magnetic field every scene has a finite horizon (--field, Python field=)",
-        scene.label()
-    )))
+    Err(Error::Lacks {
+        scene: scene.label(),
+        capability: crate::error::Capability::FiniteHorizon,
+        analysis: "diffusion",
+    })
 }
 
 /// What one batch produced (also the unit of checkpointing).
@@ -231,7 +232,7 @@ pub fn rerun_batches(
     let (spec, _) = setup(cfg, engine, threads, audit)?;
     for &i in indices {
         if i >= cfg.batches {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "batch {i}: the run has batches 0 to {}",
                 cfg.batches - 1
             )));
@@ -354,8 +355,10 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
 /// Refuses a per-event audit of an MPFR run (the audit replays `f64` events in MPFR).
 fn check_audit(options: &RunOptions, precision: Precision) -> Result<(), Error> {
     if options.audit.is_some() && precision != Precision::F64 {
-        return Err(Error::Invalid(
-            "the per-event audit replays f64 events in MPFR: it applies to f64 runs only".into(),
+        return Err(Error::parameter(
+            "precision",
+            precision,
+            "the per-event audit replays f64 events in MPFR: it applies to f64 runs only",
         ));
     }
     Ok(())
@@ -460,17 +463,35 @@ pub fn run_many(
     for c in cfgs {
         c.validate()?;
         if c.msd_grid != MsdGrid::Fit {
-            return Err(Error::Invalid(
-                "runs packed together keep the MSD on the fit grid only (msd_grid = fit)".into(),
+            return Err(Error::parameter(
+                "msd_grid",
+                c.msd_grid,
+                "runs packed together keep the MSD on the fit grid only: use fit",
             ));
         }
-        if c.w != first.w
-            || c.precision != first.precision
-            || c.window != first.window
-            || c.check_window != first.check_window
-        {
-            return Err(Error::Invalid(
-                "runs packed together must share w, precision and fit windows".into(),
+        let differs = [
+            ("w", c.w != first.w, format!("{:?}", c.w)),
+            (
+                "precision",
+                c.precision != first.precision,
+                c.precision.to_string(),
+            ),
+            (
+                "window",
+                c.window != first.window,
+                format!("{}:{}", c.window.lo, c.window.hi),
+            ),
+            (
+                "check_window",
+                c.check_window != first.check_window,
+                format!("{}:{}", c.check_window.lo, c.check_window.hi),
+            ),
+        ];
+        if let Some((parameter, _, value)) = differs.into_iter().find(|d| d.1) {
+            return Err(Error::parameter(
+                parameter,
+                value,
+                "runs packed together must share w, precision and fit windows",
             ));
         }
     }

@@ -227,15 +227,18 @@ impl SweepConfig {
         }
         let points = self.points()?;
         if let Some(k) = points.windows(2).position(|p| p[0] == p[1]) {
-            return Err(Error::Invalid(format!(
-                "w_from = {} to w_to = {} in {} steps gives w = {} at points {k} and {}: the fits \
-                 need distinct w, use ends that differ by more than the steps resolve",
-                self.w_from,
-                self.w_to,
+            return Err(Error::parameter(
+                "steps",
                 self.steps,
-                points[k],
-                k + 1
-            )));
+                format!(
+                    "from w_from = {} to w_to = {} gives w = {} at points {k} and {}: the fits \
+                     need distinct w, use ends that differ by more than the steps resolve",
+                    self.w_from,
+                    self.w_to,
+                    points[k],
+                    k + 1
+                ),
+            ));
         }
         for (i, w) in points.into_iter().enumerate() {
             self.run_config(i as u32, w, 0).validate()?;

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use super::{RunValue, SweepConfig, SweepPoint};
 use crate::Error;
 use crate::engine::options::RunOptions;
-use crate::engine::resume::{difference, seal, unseal};
+use crate::engine::resume::{renamed_point, same_sweep, seal, unseal};
 use crate::estimators::diffusion::{DiffusionConfig, run_many};
 
 /// The file of point `i` in the sweep directory `dir`.
@@ -117,11 +117,7 @@ pub fn read_point(path: &Path) -> Result<SweepPoint, Error> {
             .ok()
     });
     if named != Some(p.index) {
-        return Err(Error::Invalid(format!(
-            "{} holds point {}: a renamed or copied point file (point i lives in point-iiii.json)",
-            path.display(),
-            p.index
-        )));
+        return Err(renamed_point(path, p.index));
     }
     Ok(p)
 }
@@ -133,20 +129,15 @@ fn reuse(cfg: &SweepConfig, path: &Path, i: usize, w: f64) -> Result<Option<Swee
         return Ok(None);
     }
     let p = read_point(path)?;
-    if p.config != *cfg {
-        return Err(Error::Invalid(format!(
-            "{} belongs to another sweep ({}): use another directory",
-            path.display(),
-            difference(&p.config, cfg).unwrap_or_else(|| "another configuration".into())
-        )));
-    }
+    same_sweep(path, &p.config, cfg)?;
     if p.w != w || p.index as usize != i {
-        return Err(Error::Invalid(format!(
-            "{} is point {} at w = {}, not point {i} at w = {w}: a damaged point file",
-            path.display(),
-            p.index,
-            p.w
-        )));
+        return Err(Error::malformed(
+            path,
+            format!(
+                "is point {} at w = {}, not point {i} at w = {w}: a damaged point file",
+                p.index, p.w
+            ),
+        ));
     }
     Ok(Some(p))
 }
