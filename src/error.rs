@@ -121,7 +121,7 @@ pub enum Error {
     Parameter {
         /// The parameter, as the configuration spells it (`flights`, `threads`, `field`).
         parameter: &'static str,
-        /// The value given.
+        /// The value given (empty: none was given, [`Error::missing`]).
         value: String,
         /// Why it is not accepted here, as advice (`arcs in a field cross the lattice cell by
         /// cell; use walk or auto`).
@@ -314,14 +314,20 @@ fn out_of_range_text(
     )
 }
 
-/// The message of [`Error::Parameter`], the parameter spelled by `name`.
+/// The message of [`Error::Parameter`], the parameter spelled by `name` (without a value: the
+/// parameter is missing).
 fn parameter_text(
     parameter: &str,
     value: &str,
     why: &str,
     name: &dyn Fn(&str) -> String,
 ) -> String {
-    format!("{}: {why}", assignment(parameter, value, name))
+    if value.is_empty() {
+        let n = name(parameter);
+        format!("{} is missing: {why}", n.trim_end_matches('='))
+    } else {
+        format!("{}: {why}", assignment(parameter, value, name))
+    }
 }
 
 /// The message of [`Error::TooMuchWork`], the parameters spelled by `name`.
@@ -521,6 +527,22 @@ impl Error {
             },
             other => other,
         }
+    }
+
+    /// [`Error::Parameter`] without a value: `parameter` is missing, and `why` it is needed.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::Error;
+    /// let e = Error::missing("w_from", "a sweep over w needs both ends");
+    /// assert_eq!(e.to_string(), "w_from is missing: a sweep over w needs both ends");
+    /// let flag = |p: &str| format!("--{}", p.replace('_', "-"));
+    /// assert_eq!(e.presented(&flag), "--w-from is missing: a sweep over w needs both ends");
+    /// assert_eq!(e.presented(&|p| format!("{p}=")), "w_from is missing: a sweep over w needs both ends");
+    /// ```
+    pub fn missing(parameter: &'static str, why: impl Into<String>) -> Error {
+        Error::parameter(parameter, "", why)
     }
 
     /// A result that could not be encoded as JSON (a run-time failure: results are plain data).

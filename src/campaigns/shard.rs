@@ -85,13 +85,10 @@ impl Shard {
 
 /// The directory a sweep part is written to: the run options' `resume`.
 pub fn part_directory<'a>(options: &'a RunOptions<'_>) -> Result<&'a std::path::Path, Error> {
-    options.resume.as_deref().ok_or_else(|| {
-        Error::parameter(
-            "resume",
-            "none",
-            "a sweep part is written to a directory: give one",
-        )
-    })
+    options
+        .resume
+        .as_deref()
+        .ok_or_else(|| Error::missing("resume", "a sweep part is written to a directory: give one"))
 }
 
 impl std::fmt::Display for Shard {

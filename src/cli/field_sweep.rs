@@ -12,9 +12,12 @@ use super::sweep::Args;
 /// The field sweep these options give (validated).
 pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
     let (g, f) = (&a.grid, &a.in_field);
-    if g.runs.is_some() {
-        return Err(Error::Invalid(
-            "--runs is not used by a sweep in a field (one run of --collisions-per-run per point; its error is over --batches-per-run)".into(),
+    if let Some(runs) = g.runs {
+        return Err(Error::parameter(
+            "runs",
+            runs,
+            "not used by a sweep in a field (one run of --collisions-per-run per point; its \
+             error is over --batches-per-run)",
         ));
     }
     let table = f

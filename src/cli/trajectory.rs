@@ -57,11 +57,13 @@ pub struct Args {
 }
 
 /// A pair `x,y` of exact numbers.
-fn parse_pair(flag: &str, s: &str) -> Result<(Rational, Rational), Error> {
+fn parse_pair(parameter: &'static str, s: &str) -> Result<(Rational, Rational), Error> {
     let bad = || {
-        Error::Invalid(format!(
-            "--{flag} '{s}' is not a pair: use two exact numbers separated by a comma, such as 0.5,0.1 or 1/2,1/10"
-        ))
+        Error::parameter(
+            parameter,
+            format!("'{s}'"),
+            "not a pair: use two exact numbers separated by a comma, such as 0.5,0.1 or 1/2,1/10",
+        )
     };
     let (a, b) = s.split_once(',').ok_or_else(bad)?;
     if b.contains(',') {

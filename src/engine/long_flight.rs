@@ -59,6 +59,21 @@ impl Flights {
         }
     }
 
+    /// The engine that runs in a magnetic field: `Walk` (arcs cross the lattice cell by cell).
+    ///
+    /// # Errors
+    /// `Jump`.
+    pub fn in_field(self) -> Result<Flights, Error> {
+        match self {
+            Flights::Jump => Err(Error::parameter(
+                "flights",
+                self,
+                "arcs in a field cross the lattice cell by cell; use walk or auto",
+            )),
+            _ => Ok(Flights::Walk),
+        }
+    }
+
     /// The long flights `scene` runs with: `Some` where this engine jumps there.
     ///
     /// # Errors

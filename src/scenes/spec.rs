@@ -84,10 +84,11 @@ impl SceneSpec {
     /// or a value that is not a number.
     pub fn parse(name: &str, w: Option<&str>, radius: Option<&str>) -> Result<Self, Error> {
         let Some((needs, range)) = parameter_of(name) else {
-            return Err(Error::Invalid(format!(
-                "scene '{name}' is not one of {}",
-                Self::NAMES.join(", ")
-            )));
+            return Err(Error::out_of_range(
+                "scene",
+                name,
+                format!("use one of {}", Self::NAMES.join(", ")),
+            ));
         };
         let scene = if name == "square" {
             "square"

@@ -122,13 +122,9 @@ pub fn pilot(
     cfg: &DiffusionConfig,
     options: &RunOptions,
 ) -> Result<(DiffusionReport, Pilot), Error> {
-    let target = cfg.rel_err.ok_or_else(|| {
-        Error::parameter(
-            "rel_err",
-            "none",
-            "a pilot needs the relative error to plan for",
-        )
-    })?;
+    let target = cfg
+        .rel_err
+        .ok_or_else(|| Error::missing("rel_err", "a pilot needs the relative error to plan for"))?;
     check_rel_err(target)?;
     let plain = DiffusionConfig {
         rel_err: None,

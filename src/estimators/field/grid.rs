@@ -159,9 +159,8 @@ pub fn fields_of(field: Option<&str>, fields: &[String]) -> Result<Vec<String>, 
             "give either one field (a sweep over w) or a list of fields (a sweep over the \
              field), not both",
         )),
-        (None, true) => Err(Error::parameter(
+        (None, true) => Err(Error::missing(
             "fields",
-            "none",
             "give either one field (a sweep over w) or a list of fields (a sweep over the field)",
         )),
     }

@@ -149,9 +149,8 @@ impl FieldSweepConfig {
     fn check_places(&self) -> Result<(), Error> {
         const PLACES: &str = "a field sweep needs one of: gaps (the triangular scene), a radius (the square one), a table";
         if self.fields.is_empty() {
-            return Err(Error::parameter(
+            return Err(Error::missing(
                 "fields",
-                "none",
                 "a field sweep needs at least one field",
             ));
         }
@@ -165,7 +164,7 @@ impl FieldSweepConfig {
         .collect();
         match given.as_slice() {
             [_] => Ok(()),
-            [] => Err(Error::parameter("gaps", "none", PLACES)),
+            [] => Err(Error::missing("gaps", PLACES)),
             [_, (p, v), ..] => Err(Error::parameter(p, v, format!("{PLACES}, not several"))),
         }
     }

@@ -144,7 +144,7 @@ impl Default for LongFlightBenchConfig {
 
 /// The triangular scene of gap `text`, where its flights jump.
 fn jumping_triangular(text: &str) -> Result<TriangularScene, Error> {
-    let w: Rational = parse_exact(text).map_err(|e| e.named("w"))?;
+    let w: Rational = parse_exact(text).map_err(|e| e.named("long_flights"))?;
     let s = TriangularScene::exact(w)?;
     if s.long_flights().is_none() {
         return Err(Error::OutOfRange {
@@ -158,7 +158,7 @@ fn jumping_triangular(text: &str) -> Result<TriangularScene, Error> {
 
 /// The square scene of radius `text`, where its flights jump.
 fn jumping_square(text: &str) -> Result<SquareScene, Error> {
-    let r: Rational = parse_exact(text).map_err(|e| e.named("radius"))?;
+    let r: Rational = parse_exact(text).map_err(|e| e.named("long_flights"))?;
     let s = SquareScene::exact(r)?;
     if s.long_flight_radius().is_none() {
         return Err(Error::OutOfRange {

@@ -197,7 +197,7 @@ pub fn defects<S: Scene>(scene: &S, y: &[OrbitPoint], bits: u32) -> Result<Vec<f
         });
     }
     let table = Table::new(scene, bits)?;
-    let ev = evaluate(&table, y).map_err(|(k, e)| Error::Invalid(describe(k, &e, y)))?;
+    let ev = evaluate(&table, y).map_err(|(k, e)| Error::Failed(describe(k, &e, y)))?;
     Ok(ev.f.iter().map(|v| norm2(v).to_f64()).collect())
 }
 
