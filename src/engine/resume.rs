@@ -542,7 +542,7 @@ mod tests {
         let edited = lines[2].replace("\"record\":9", "\"record\":8");
         assert_ne!(edited, lines[2]);
         let e = refusal(&p, &[lines[0].clone(), lines[1].clone(), edited], &a);
-        assert!(e.contains("a.jsonl line 3") && e.contains("digest"), "{e}");
+        assert!(e.contains("a.jsonl: line 3") && e.contains("digest"), "{e}");
         let e = refusal(
             &p,
             &[lines[0].clone(), lines[1].clone(), lines[1].clone()],

@@ -286,7 +286,10 @@ mod tests {
         assert!(e(green_kubo(&[], Truncation::Fixed(1))).contains("at least 2"));
         let two = |s: Vec<u8>| vec![s.clone(), s];
         assert!(e(green_kubo(&[vec![0; 100]], Truncation::Fixed(1))).contains("at least 2"));
-        assert!(e(green_kubo(&two(vec![0, 7, 0, 1]), Truncation::Fixed(1))).contains("0..6"));
+        assert!(
+            e(green_kubo(&two(vec![0, 7, 0, 1]), Truncation::Fixed(1)))
+                .contains("sequences = 7 is out of range: use hop direction indices 0 to 5")
+        );
         assert!(e(green_kubo(&two(vec![0; 100]), Truncation::Fixed(30))).contains("4 ×"));
         assert!(green_kubo(&two(vec![0; 100]), Truncation::Automatic { c: -1.0 }).is_err());
         assert!(green_kubo(&two(vec![0; 7]), Truncation::Fixed(2)).is_err());
