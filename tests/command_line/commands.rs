@@ -627,7 +627,7 @@ const BAD: &[(&[&str], &str)] = &[
             "--time",
             "1",
         ],
-        "is not a pair",
+        "--start '1/2': not a pair",
     ),
     (
         &[
