@@ -224,7 +224,7 @@ fn throughput_config(a: &Args) -> Result<ThroughputConfig, Error> {
             .as_deref()
             .map(|b| {
                 Ok::<_, Error>(lorentz_gas::numbers::exact::nearest_f64(
-                    &lorentz_gas::numbers::exact::parse_exact(b)?,
+                    &lorentz_gas::numbers::exact::parse_exact(b).map_err(|e| e.named("field"))?,
                 ))
             })
             .transpose()?,

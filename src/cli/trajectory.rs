@@ -69,7 +69,8 @@ fn parse_pair(parameter: &'static str, s: &str) -> Result<(Rational, Rational), 
     if b.contains(',') {
         return Err(bad());
     }
-    Ok((parse_exact(a)?, parse_exact(b)?))
+    let number = |t: &str| parse_exact(t).map_err(|e| e.named(parameter));
+    Ok((number(a)?, number(b)?))
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
@@ -87,10 +88,12 @@ pub fn run(a: Args) -> Result<(), Error> {
         y,
         dx,
         dy,
-        time: parse_exact(&a.time)?,
+        time: parse_exact(&a.time).map_err(|e| e.named("time"))?,
         digits: a.digits,
         record_events: a.events.is_some(),
-        field: a.field.as_ref().map(|b| parse_exact(&b.text)).transpose()?,
+        field: (a.field.as_ref())
+            .map(|b| parse_exact(&b.text).map_err(|e| e.named("field")))
+            .transpose()?,
     };
     let name = match a.scene {
         SceneName::Triangular => "triangular",

@@ -117,7 +117,7 @@ impl SceneSpec {
                 missing: true,
             });
         };
-        let text = ExactInput::parse(text)?.text;
+        let text = ExactInput::parse(text).map_err(|e| e.named(needs))?.text;
         Ok(match scene {
             "square" => SceneSpec::Square { radius: text },
             _ => SceneSpec::Triangular { w: text },
@@ -142,11 +142,12 @@ impl SceneSpec {
         match self {
             SceneSpec::Table(t) => Ok(SceneChoice::Table(Box::new(PeriodicTable::new(t)?))),
             SceneSpec::Square { radius } => {
-                let r = ExactInput::parse(radius)?.rational("radius")?;
+                let r = (ExactInput::parse(radius).map_err(|e| e.named("radius"))?)
+                    .rational("radius")?;
                 Ok(SceneChoice::Square(SquareScene::exact(r)?))
             }
             SceneSpec::Triangular { w } => {
-                let w = ExactInput::parse(w)?;
+                let w = ExactInput::parse(w).map_err(|e| e.named("w"))?;
                 if !w.value.is_finite() {
                     return Err(Error::NotFinite { what: "w" });
                 }

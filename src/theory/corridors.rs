@@ -129,9 +129,11 @@ impl LatticeGas {
     /// A parameter that is not a decimal or a fraction, or out of range.
     pub fn of(scene: &SceneSpec) -> Result<Self, Error> {
         let gas = match scene {
-            SceneSpec::Triangular { w } => LatticeGas::Triangular { w: parse_exact(w)? },
+            SceneSpec::Triangular { w } => LatticeGas::Triangular {
+                w: parse_exact(w).map_err(|e| e.named("w"))?,
+            },
             SceneSpec::Square { radius } => LatticeGas::Square {
-                r: parse_exact(radius)?,
+                r: parse_exact(radius).map_err(|e| e.named("radius"))?,
             },
             SceneSpec::Table(t) => {
                 return Err(Error::Lacks {

@@ -179,12 +179,20 @@ pub fn fields_of(field: Option<&str>, fields: &[String]) -> Result<Vec<String>, 
 /// ```
 ///
 /// # Errors
-/// Fewer than 2 steps, or an end that is not an exact decimal or fraction.
+/// Fewer than 2 steps, an end that is not an exact decimal or fraction, or equal ends.
 pub fn exact_grid(from: &str, to: &str, steps: u32) -> Result<Vec<String>, Error> {
     if steps < 2 {
         return Err(Error::out_of_range("steps", steps, "use at least 2 points"));
     }
-    let (a, b) = (parse_exact(from)?, parse_exact(to)?);
+    let a = parse_exact(from).map_err(|e| e.named("w_from"))?;
+    let b = parse_exact(to).map_err(|e| e.named("w_to"))?;
+    if a == b {
+        return Err(Error::parameter(
+            "w_to",
+            to,
+            "the same gap as w_from: a range of gaps needs two different ends",
+        ));
+    }
     let span = Rational::from(&b - &a);
     Ok((0..steps)
         .map(|k| exact_text(&(a.clone() + span.clone() * Rational::from((k, steps - 1)))))

@@ -127,8 +127,14 @@ impl FieldConfig {
     /// A parameter that is not an exact decimal or fraction.
     pub fn scene_parameters(&self) -> Result<(Option<f64>, Option<f64>), Error> {
         Ok(match &self.scene {
-            SceneSpec::Triangular { w } => (Some(nearest_f64(&parse_exact(w)?)), None),
-            SceneSpec::Square { radius } => (None, Some(nearest_f64(&parse_exact(radius)?))),
+            SceneSpec::Triangular { w } => {
+                let w = parse_exact(w).map_err(|e| e.named("w"))?;
+                (Some(nearest_f64(&w)), None)
+            }
+            SceneSpec::Square { radius } => {
+                let r = parse_exact(radius).map_err(|e| e.named("radius"))?;
+                (None, Some(nearest_f64(&r)))
+            }
             SceneSpec::Table(_) => (None, None),
         })
     }
@@ -374,7 +380,7 @@ fn with_setup<T: Real, S: Scene, R>(
     f: impl FnOnce(&Setup<'_, T, S>, &[StreamKey], f64) -> Result<R, Error>,
 ) -> Result<R, Error> {
     let lattice = scene.lattice::<T>(ctx)?;
-    let exact = parse_exact(&cfg.field)?;
+    let exact = parse_exact(&cfg.field).map_err(|e| e.named("field"))?;
     let field = T::from_rational(ctx, &exact);
     let tau = time_unit(scene);
     let (grid, steps) = track::grid(tau, &cfg.statistics.window, &cfg.statistics.check_window);

@@ -221,8 +221,10 @@ impl SweepConfig {
         }
         crate::engine::parallel::check_batches("runs", self.runs)?;
         // The ends exactly as typed: every point lies between them.
-        for end in [&self.w_from, &self.w_to] {
-            let w = crate::numbers::exact::ExactInput::parse(end)?.value;
+        for (name, end) in [("w_from", &self.w_from), ("w_to", &self.w_to)] {
+            let w = (crate::numbers::exact::ExactInput::parse(end))
+                .map_err(|e| e.named(name))?
+                .value;
             crate::scenes::triangular::geometry::check_diffusive_gap_exact(w, Some(end))?;
         }
         let points = self.points()?;
