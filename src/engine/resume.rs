@@ -393,31 +393,6 @@ pub fn unseal<T: DeserializeOwned>(path: &Path, text: &str, what: &str) -> Resul
     serde_json::from_value(v).map_err(|e| bad(e.to_string()))
 }
 
-/// Refuses the point file at `path` whose sweep `found` is not this one (`want`), naming the
-/// first difference.
-pub fn same_sweep<C: Serialize + PartialEq>(path: &Path, found: &C, want: &C) -> Result<(), Error> {
-    if found == want {
-        return Ok(());
-    }
-    Err(Error::malformed(
-        path,
-        format!(
-            "belongs to another sweep ({}): use another directory",
-            difference(found, want).unwrap_or_else(|| "another configuration".into())
-        ),
-    ))
-}
-
-/// Refuses the point file at `path`, which holds point `held` under another point's name.
-pub fn renamed_point(path: &Path, held: impl std::fmt::Display) -> Error {
-    Error::malformed(
-        path,
-        format!(
-            "holds point {held}: a renamed or copied point file (point i lives in point-iiii.json)"
-        ),
-    )
-}
-
 /// The first field in which two configurations differ, as `field: a vs b` (`None` if equal).
 pub fn difference<C: Serialize>(a: &C, b: &C) -> Option<String> {
     let (a, b) = (serde_json::to_value(a).ok()?, serde_json::to_value(b).ok()?);

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use super::{RunValue, SweepConfig, SweepPoint};
 use crate::Error;
 use crate::engine::options::RunOptions;
-use crate::engine::resume::{renamed_point, same_sweep, seal, unseal};
+use crate::engine::resume::{difference, seal, unseal};
 use crate::estimators::diffusion::{DiffusionConfig, run_many};
 
 /// The file of point `i` in the sweep directory `dir`.
@@ -96,6 +96,35 @@ fn recheck_one_run(
         )));
     }
     Ok(())
+}
+
+/// Refuses the point file at `path` whose sweep `found` is not this one (`want`), naming the
+/// first difference.
+pub(crate) fn same_sweep<C: serde::Serialize + PartialEq>(
+    path: &Path,
+    found: &C,
+    want: &C,
+) -> Result<(), Error> {
+    if found == want {
+        return Ok(());
+    }
+    Err(Error::malformed(
+        path,
+        format!(
+            "belongs to another sweep ({}): use another directory",
+            difference(found, want).unwrap_or_else(|| "another configuration".into())
+        ),
+    ))
+}
+
+/// Refuses the point file at `path`, which holds point `held` under another point's name.
+pub(crate) fn renamed_point(path: &Path, held: impl std::fmt::Display) -> Error {
+    Error::malformed(
+        path,
+        format!(
+            "holds point {held}: a renamed or copied point file (point i lives in point-iiii.json)"
+        ),
+    )
 }
 
 /// Most bytes a point file may have: its configuration and a D ± error per run fit in far less.
