@@ -143,10 +143,8 @@ pub fn in_field(a: &Args) -> bool {
     a.in_field.field.is_some() || !a.in_field.fields.is_empty()
 }
 
-pub fn run(a: Args) -> Result<(), Error> {
-    if in_field(&a) {
-        return super::field_sweep::run(&a);
-    }
+/// Refuses the options of a sweep over the field in a sweep over w.
+fn refuse_field_options(a: &Args) -> Result<(), Error> {
     if let Some(w) = &a.in_field.w {
         return Err(Error::parameter(
             "w",
@@ -166,6 +164,14 @@ pub fn run(a: Args) -> Result<(), Error> {
     if a.grid.w_from.is_none() || a.grid.w_to.is_none() {
         return Err(missing_end(&a.grid));
     }
+    Ok(())
+}
+
+pub fn run(a: Args) -> Result<(), Error> {
+    if in_field(&a) {
+        return super::field_sweep::run(&a);
+    }
+    refuse_field_options(&a)?;
     let cfg = config(&a)?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     if let Some(s) = shard {

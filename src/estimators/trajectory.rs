@@ -185,13 +185,9 @@ struct Run {
     events: Vec<EventRecord>,
 }
 
-/// Checks the input and makes the plan: Lyapunov estimate, expected events, starting precision,
-/// and the resource check (bits × events) — before anything large is allocated.
-///
-/// # Errors
-/// Digits outside 1..=[`MAX_DIGITS`], a time ≤ 0, a zero direction, a start too far out, or a
-/// time whose precision or estimated run time exceeds [`MAX_TRAJECTORY_BITS`] or [`MAX_SECONDS`].
-pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error> {
+/// Refuses digits outside 1..=[`MAX_DIGITS`], a time ≤ 0, a zero direction, a start or
+/// direction too far out, or a field outside [`TRAJECTORY_FIELD_RANGE`].
+fn check_input(input: &TrajectoryInput) -> Result<(), Error> {
     if input.digits == 0 || input.digits > MAX_DIGITS {
         return Err(Error::out_of_range(
             "digits",
@@ -233,6 +229,17 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
         &input.dy,
         "components (only the direction matters: scale it down)",
     )?;
+    Ok(())
+}
+
+/// Checks the input and makes the plan: Lyapunov estimate, expected events, starting precision,
+/// and the resource check (bits × events) — before anything large is allocated.
+///
+/// # Errors
+/// Digits outside 1..=[`MAX_DIGITS`], a time ≤ 0, a zero direction, a start too far out, or a
+/// time whose precision or estimated run time exceeds [`MAX_TRAJECTORY_BITS`] or [`MAX_SECONDS`].
+pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error> {
+    check_input(input)?;
     let mean_free_path = scene.mean_free_path();
     let time = crate::numbers::exact::nearest_f64(&input.time);
     let expected_collisions = time / mean_free_path;
@@ -378,6 +385,21 @@ pub fn run<S: Scene>(
     }
 }
 
+/// The refusal of a start inside the disk of radius `radius` centred at `centre`.
+fn inside_disk(input: &TrajectoryInput, centre: &Vec2<Float>, radius: f64) -> Error {
+    let near = crate::numbers::exact::nearest_f64;
+    Error::parameter(
+        "start",
+        format!("{},{}", near(&input.x), near(&input.y)),
+        format!(
+            "inside the disk at ({}, {}) of radius {radius}: choose a start at distance >= the \
+             radius from every disk centre",
+            centre.x.to_f64(),
+            centre.y.to_f64()
+        ),
+    )
+}
+
 /// The run at `bits` bits.
 fn run_at<S: Scene>(
     scene: &S,
@@ -397,21 +419,7 @@ fn run_at<S: Scene>(
                 cell,
                 flight: Flight::new(c.clone(), c.clone()),
             });
-            return Err(Error::parameter(
-                "start",
-                format!(
-                    "{},{}",
-                    crate::numbers::exact::nearest_f64(&input.x),
-                    crate::numbers::exact::nearest_f64(&input.y)
-                ),
-                format!(
-                    "inside the disk at ({}, {}) of radius {}: choose a start at distance >= the \
-                     radius from every disk centre",
-                    centre.x.to_f64(),
-                    centre.y.to_f64(),
-                    d.radius().to_f64()
-                ),
-            ));
+            return Err(inside_disk(input, &centre, d.radius().to_f64()));
         }
     }
     let (dx, dy) = (

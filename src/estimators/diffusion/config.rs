@@ -30,6 +30,12 @@ impl Window {
     }
 }
 
+impl std::fmt::Display for Window {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}", self.lo, self.hi)
+    }
+}
+
 impl FromStr for Window {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self, Error> {
@@ -241,7 +247,7 @@ pub(super) fn check_run(
     if check_window == window {
         return Err(Error::parameter(
             "check_window",
-            format!("{}:{}", window.lo, window.hi),
+            window,
             format!(
                 "this is the fit window {}:{}: the check needs another window, such as a later \
                  one ({}:{})",

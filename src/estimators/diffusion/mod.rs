@@ -352,6 +352,40 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
     Ok(rep)
 }
 
+/// Refuses a run `c` that cannot be packed with `first`: another MSD grid than the fit one, or
+/// another w, precision or fit windows.
+fn check_packable(first: &DiffusionConfig, c: &DiffusionConfig) -> Result<(), Error> {
+    if c.msd_grid != MsdGrid::Fit {
+        return Err(Error::parameter(
+            "msd_grid",
+            c.msd_grid,
+            "runs packed together keep the MSD on the fit grid only: use fit",
+        ));
+    }
+    let differs = [
+        ("w", c.w != first.w, format!("{:?}", c.w)),
+        (
+            "precision",
+            c.precision != first.precision,
+            c.precision.to_string(),
+        ),
+        ("window", c.window != first.window, c.window.to_string()),
+        (
+            "check_window",
+            c.check_window != first.check_window,
+            c.check_window.to_string(),
+        ),
+    ];
+    match differs.into_iter().find(|d| d.1) {
+        Some((parameter, _, value)) => Err(Error::parameter(
+            parameter,
+            value,
+            "runs packed together must share w, precision and fit windows",
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Refuses a per-event audit of an MPFR run (the audit replays `f64` events in MPFR).
 fn check_audit(options: &RunOptions, precision: Precision) -> Result<(), Error> {
     if options.audit.is_some() && precision != Precision::F64 {
@@ -462,38 +496,7 @@ pub fn run_many(
     };
     for c in cfgs {
         c.validate()?;
-        if c.msd_grid != MsdGrid::Fit {
-            return Err(Error::parameter(
-                "msd_grid",
-                c.msd_grid,
-                "runs packed together keep the MSD on the fit grid only: use fit",
-            ));
-        }
-        let differs = [
-            ("w", c.w != first.w, format!("{:?}", c.w)),
-            (
-                "precision",
-                c.precision != first.precision,
-                c.precision.to_string(),
-            ),
-            (
-                "window",
-                c.window != first.window,
-                format!("{}:{}", c.window.lo, c.window.hi),
-            ),
-            (
-                "check_window",
-                c.check_window != first.check_window,
-                format!("{}:{}", c.check_window.lo, c.check_window.hi),
-            ),
-        ];
-        if let Some((parameter, _, value)) = differs.into_iter().find(|d| d.1) {
-            return Err(Error::parameter(
-                parameter,
-                value,
-                "runs packed together must share w, precision and fit windows",
-            ));
-        }
+        check_packable(first, c)?;
     }
     let (spec, g) = setup(first, options.engine, options.threads, None)?;
     let (resolved, tau) = (spec.engine, spec.watch.tau);
