@@ -105,9 +105,62 @@ pub enum Error {
         /// The analysis that needs it.
         analysis: &'static str,
     },
-    /// Any other invalid argument, with the reason.
+    /// Text that is not an exact number (a decimal or a fraction), before it is known which
+    /// parameter it is: [`Error::named`] makes it an [`Error::Parameter`].
+    #[error("'{text}' {why}")]
+    NotANumber {
+        /// The text.
+        text: String,
+        /// Why it is not a number, as advice (`is not a decimal number (such as 0.15)`).
+        why: &'static str,
+    },
+    /// A parameter (a configuration's field) whose value is not accepted here, with the reason
+    /// and what to give instead. Each front end names the parameter in its own terms
+    /// ([`Error::presented`]: `--flights jump` on the command line, `flights=jump` in Python).
+    #[error("{}", parameter_text(parameter, value, why, &|p| p.to_string()))]
+    Parameter {
+        /// The parameter, as the configuration spells it (`flights`, `threads`, `field`).
+        parameter: &'static str,
+        /// The value given (empty: none was given, [`Error::missing`]).
+        value: String,
+        /// Why it is not accepted here, as advice (`arcs in a field cross the lattice cell by
+        /// cell; use walk or auto`).
+        why: String,
+    },
+    /// A file whose contents are not what they should be: an edited, damaged or foreign file,
+    /// or one of another kind or version.
+    #[error("{}: {why}", path.display())]
+    Malformed {
+        /// The file (or directory).
+        path: PathBuf,
+        /// What is wrong with it, and what to do.
+        why: String,
+    },
+    /// Data read back without a path at hand that is not what it should be: a checkpoint's or
+    /// journal's saved state that does not fit the run, a result's contents.
     #[error("{0}")]
     Invalid(String),
+    /// An environment variable whose value is not accepted (`LORENTZ_SIMD=avx9`).
+    #[error("{variable}={value}: {why}")]
+    Environment {
+        /// The variable.
+        variable: &'static str,
+        /// Its value.
+        value: String,
+        /// Why it is not accepted, as advice.
+        why: String,
+    },
+    /// A run whose estimated work is beyond the limit ([`crate::engine::work`]), with the
+    /// parameters that set it; each front end names them in its own terms.
+    #[error("{}", too_much_work_text(estimate, lower, *raise, &|p| p.to_string()))]
+    TooMuchWork {
+        /// What the run would compute, and how long it would take.
+        estimate: String,
+        /// The parameters to lower (their configuration's fields).
+        lower: &'static [&'static str],
+        /// A parameter to raise instead, if any.
+        raise: Option<&'static str>,
+    },
     /// A path the crate will not read, write or replace: a symbolic link, a device, a FIFO, a
     /// directory, or a file that is not one it made ([`crate::files`]).
     #[error("{}: {found}: {why}", path.display())]
@@ -182,6 +235,13 @@ pub enum Capability {
     OneDiskPerCell,
     /// Trap symbols and the paper's hierarchy (the triangular scene).
     TrapSymbols,
+    /// A finite horizon: no collision-free corridor (the diffusion coefficient exists).
+    FiniteHorizon,
+    /// An infinite horizon: open corridors, along which the mean squared displacement grows
+    /// like t ln t (the triangular scene above w∞, the square one).
+    InfiniteHorizon,
+    /// Disks of one radius (true shadowing's).
+    OneRadius,
 }
 
 impl std::fmt::Display for Capability {
@@ -190,6 +250,20 @@ impl std::fmt::Display for Capability {
             Capability::ClosedForms => "the closed forms of the shipped scenes",
             Capability::OneDiskPerCell => "one disk per cell, at the lattice points",
             Capability::TrapSymbols => "trap symbols (the triangular scene's)",
+            Capability::FiniteHorizon => {
+                "a finite horizon (along collision-free corridors the mean squared displacement \
+                 grows like t ln t and the diffusion coefficient does not exist: use a \
+                 finite-horizon scene, such as the triangular one with 0 < w < w_inf = \
+                 0.3094..., or the superdiffusion analysis, which measures the t ln t growth \
+                 against the exact corridor constants that the constants analysis lists; in a \
+                 magnetic field every scene has a finite horizon)"
+            }
+            Capability::InfiniteHorizon => {
+                "an infinite horizon (where the horizon is finite the mean squared displacement \
+                 grows like t and the diffusion analysis measures D; superdiffusion needs \
+                 w > w_inf = 0.3094... or the square scene)"
+            }
+            Capability::OneRadius => "disks of one radius",
         })
     }
 }
@@ -238,6 +312,39 @@ fn out_of_range_text(
         "{} is out of range: {range}",
         assignment(parameter, value, name)
     )
+}
+
+/// The message of [`Error::Parameter`], the parameter spelled by `name` (without a value: the
+/// parameter is missing).
+fn parameter_text(
+    parameter: &str,
+    value: &str,
+    why: &str,
+    name: &dyn Fn(&str) -> String,
+) -> String {
+    if value.is_empty() {
+        let n = name(parameter);
+        format!("{} is missing: {why}", n.trim_end_matches('='))
+    } else {
+        format!("{}: {why}", assignment(parameter, value, name))
+    }
+}
+
+/// The message of [`Error::TooMuchWork`], the parameters spelled by `name`.
+fn too_much_work_text(
+    estimate: &str,
+    lower: &[&str],
+    raise: Option<&str>,
+    name: &dyn Fn(&str) -> String,
+) -> String {
+    let names: Vec<String> = lower.iter().map(|p| name(p)).collect();
+    let list = match names.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => "the run's counts".into(),
+    };
+    let raise = raise.map_or(String::new(), |p| format!(" (or raise {})", name(p)));
+    format!("{estimate}; lower {list}{raise}")
 }
 
 /// The message of [`Error::UnusedOption`], the option spelled by `name`.
@@ -305,6 +412,10 @@ impl Error {
     /// assert_eq!(e.to_string(), "points_per_octave = 17 is out of range: use 1 to 16");
     /// assert_eq!(e.presented(&flag), "--points-per-octave 17 is out of range: use 1 to 16");
     /// assert_eq!(e.presented(&|p| format!("{p}=")), "points_per_octave=17 is out of range: use 1 to 16");
+    /// let e = Error::parameter("flights", "jump", "arcs in a field cross the lattice cell by cell; use walk or auto");
+    /// assert_eq!(e.to_string(), "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto");
+    /// assert_eq!(e.presented(&flag), "--flights jump: arcs in a field cross the lattice cell by cell; use walk or auto");
+    /// assert_eq!(e.presented(&|p| format!("{p}=")), "flights=jump: arcs in a field cross the lattice cell by cell; use walk or auto");
     /// ```
     pub fn presented(&self, name: &dyn Fn(&str) -> String) -> String {
         match self {
@@ -321,6 +432,16 @@ impl Error {
                 value,
                 range,
             } => out_of_range_text(parameter, value, range, name),
+            Error::Parameter {
+                parameter,
+                value,
+                why,
+            } => parameter_text(parameter, value, why, name),
+            Error::TooMuchWork {
+                estimate,
+                lower,
+                raise,
+            } => too_much_work_text(estimate, lower, *raise, name),
             other => other.to_string(),
         }
     }
@@ -340,6 +461,11 @@ impl Error {
             | Error::Zero { .. }
             | Error::TooFew { .. }
             | Error::OutOfRange { .. }
+            | Error::Parameter { .. }
+            | Error::NotANumber { .. }
+            | Error::Malformed { .. }
+            | Error::TooMuchWork { .. }
+            | Error::Environment { .. }
             | Error::UnusedOption { .. }
             | Error::SceneParameter { .. }
             | Error::Table(_)
@@ -364,13 +490,81 @@ impl Error {
         }
     }
 
+    /// [`Error::Parameter`]: `parameter` (a configuration's field) given `value`, and why it is
+    /// not accepted here, as advice.
+    pub fn parameter(
+        parameter: &'static str,
+        value: impl std::fmt::Display,
+        why: impl Into<String>,
+    ) -> Error {
+        Error::Parameter {
+            parameter,
+            value: value.to_string(),
+            why: why.into(),
+        }
+    }
+
+    /// This error as a refusal of `parameter`: text that is not a number
+    /// ([`Error::NotANumber`]) becomes [`Error::Parameter`] naming it; any other error is
+    /// unchanged.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::Error;
+    /// let e = lorentz_gas::numbers::exact::parse_exact("1/0").unwrap_err().named("field");
+    /// assert_eq!(
+    ///     e.presented(&|p| format!("{p}=")),
+    ///     "field=1/0: '1/0' divides by zero: use a decimal such as 0.25 or a fraction such as 1/3"
+    /// );
+    /// ```
+    pub fn named(self, parameter: &'static str) -> Error {
+        match self {
+            Error::NotANumber { ref text, .. } => Error::Parameter {
+                parameter,
+                value: text.clone(),
+                why: self.to_string(),
+            },
+            other => other,
+        }
+    }
+
+    /// [`Error::Parameter`] without a value: `parameter` is missing, and `why` it is needed.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::Error;
+    /// let e = Error::missing("w_from", "a sweep over w needs both ends");
+    /// assert_eq!(e.to_string(), "w_from is missing: a sweep over w needs both ends");
+    /// let flag = |p: &str| format!("--{}", p.replace('_', "-"));
+    /// assert_eq!(e.presented(&flag), "--w-from is missing: a sweep over w needs both ends");
+    /// assert_eq!(e.presented(&|p| format!("{p}=")), "w_from is missing: a sweep over w needs both ends");
+    /// ```
+    pub fn missing(parameter: &'static str, why: impl Into<String>) -> Error {
+        Error::parameter(parameter, "", why)
+    }
+
     /// A result that could not be encoded as JSON (a run-time failure: results are plain data).
     pub fn encode(e: serde_json::Error) -> Error {
         Error::Failed(format!("cannot encode the result as JSON: {e}"))
     }
 
-    /// A file whose contents are not what they should be (bad input naming the file).
+    /// [`Error::Malformed`]: a file whose contents are not what they should be (bad input
+    /// naming the file).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::{Error, ErrorKind};
+    /// let e = Error::malformed("points/point-0003.json".as_ref(), "a damaged point file");
+    /// assert_eq!(e.to_string(), "points/point-0003.json: a damaged point file");
+    /// assert_eq!(e.kind(), ErrorKind::BadInput);
+    /// ```
     pub fn malformed(path: &Path, why: impl std::fmt::Display) -> Error {
-        Error::Invalid(format!("{}: {why}", path.display()))
+        Error::Malformed {
+            path: path.to_path_buf(),
+            why: why.to_string(),
+        }
     }
 }

@@ -171,10 +171,10 @@ pub fn read_to_string_limited(path: impl AsRef<Path>, max: u64) -> Result<String
             .map_err(Error::io("read", path))?;
     }
     if len > max || s.len() as u64 > max {
-        return Err(Error::Invalid(format!(
-            "{}: more than {max} bytes is too large for this file",
-            path.display()
-        )));
+        return Err(Error::malformed(
+            path,
+            format!("more than {max} bytes is too large for this file"),
+        ));
     }
     Ok(s)
 }

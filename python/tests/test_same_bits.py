@@ -120,7 +120,7 @@ def test_a_square_lattice_sweep_over_b_has_the_command_lines_bits(cli_json, tmp_
     assert bool(py.all_localized[2]) and py.D_xx[2] == 0.0 and np.isnan(py.mean_free_time[2])
     with pytest.raises(ValueError, match="triangular scene's"):
         lg.sweep(w_from="0.1", w_to="0.2", scene="square", radius="1/4")
-    with pytest.raises(ValueError, match="needs its radius"):
+    with pytest.raises(ValueError, match="the square scene needs radius="):
         lg.sweep(scene="square", fields=[1])
 
 

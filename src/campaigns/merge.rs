@@ -34,13 +34,16 @@ pub(crate) fn refuse_input_as_output(dirs: &[PathBuf], out: &Path) -> Result<(),
     for d in dirs {
         let d = resolved(d);
         if o.starts_with(&d) {
-            return Err(Error::Invalid(format!(
-                "the merge's output directory {} {} the part {}: merging into a part would mix its \
-                 points with the merged ones; choose a directory apart from every part",
+            return Err(Error::parameter(
+                "out",
                 out.display(),
-                if o == d { "is" } else { "lies in" },
-                d.display()
-            )));
+                format!(
+                    "the merge's output directory {} the part {}: merging into a part would mix \
+                     its points with the merged ones; choose a directory apart from every part",
+                    if o == d { "is" } else { "lies in" },
+                    d.display()
+                ),
+            ));
         }
     }
     Ok(())
@@ -82,9 +85,7 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
     options.refuse_unused("merge", &[])?;
     let (dirs, out) = (&cfg.parts, cfg.out.as_path());
     if dirs.is_empty() {
-        return Err(Error::Invalid(
-            "merge needs at least one directory of sweep points".into(),
-        ));
+        return Err(Error::Zero { what: "parts" });
     }
     refuse_input_as_output(dirs, out)?;
     let mut parts = Parts::default();
@@ -93,13 +94,15 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<SweepReport, Error
         parts.read_points(d)?;
     }
     let Some((sweep, _)) = parts.config.clone() else {
-        return Err(Error::Invalid(format!(
-            "no sweep points in {}",
-            dirs.iter()
-                .map(|d| d.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        )));
+        let others = match dirs.len() - 1 {
+            0 => String::new(),
+            1 => " nor in the other directory given".into(),
+            n => format!(" nor in the {n} other directories given"),
+        };
+        return Err(Error::malformed(
+            &dirs[0],
+            format!("no sweep points here{others}"),
+        ));
     };
     sweep.validate()?;
     let points = parts.complete(&sweep)?;
@@ -135,12 +138,15 @@ impl Parts {
                 self.config = Some((c.clone(), d.to_path_buf()));
                 Ok(())
             }
-            Some((c0, d0)) if c0 != c => Err(Error::Invalid(format!(
-                "{} and {} hold different sweeps ({}): merge only parts of one sweep",
-                d0.display(),
-                d.display(),
-                difference(c0, c).unwrap_or_else(|| "their configurations differ".into())
-            ))),
+            Some((c0, d0)) if c0 != c => Err(Error::malformed(
+                d,
+                format!(
+                    "{} and this directory hold different sweeps ({}): merge only parts of one \
+                     sweep",
+                    d0.display(),
+                    difference(c0, c).unwrap_or_else(|| "their configurations differ".into())
+                ),
+            )),
             Some(_) => Ok(()),
         }
     }
@@ -157,21 +163,20 @@ impl Parts {
         if let Some((s0, d0)) = self.shards.values().next()
             && s0.count != m.shard.count
         {
-            return Err(Error::Invalid(format!(
-                "{} is part {} but {} is part {}: merge parts of one split",
-                d0.display(),
-                s0,
-                d.display(),
-                m.shard
-            )));
+            return Err(Error::malformed(
+                d,
+                format!(
+                    "is part {} but {} is part {s0}: merge parts of one split",
+                    m.shard,
+                    d0.display()
+                ),
+            ));
         }
         if let Some((_, d0)) = self.shards.get(&m.shard.index) {
-            return Err(Error::Invalid(format!(
-                "part {} is in both {} and {}",
-                m.shard,
-                d0.display(),
-                d.display()
-            )));
+            return Err(Error::malformed(
+                d,
+                format!("part {} is in both {} and here", m.shard, d0.display()),
+            ));
         }
         self.shards
             .insert(m.shard.index, (m.shard, d.to_path_buf()));
@@ -186,10 +191,13 @@ impl Parts {
     fn read_points(&mut self, d: &Path) -> Result<(), Error> {
         let pdir = d.join("points");
         let entries = std::fs::read_dir(&pdir).map_err(|e| {
-            Error::Invalid(format!(
-                "{}: no sweep points here ({e}); give the directories the sweep's parts were written to",
-                d.display()
-            ))
+            Error::malformed(
+                d,
+                format!(
+                    "no sweep points here ({e}); give the directories the sweep's parts were \
+                     written to"
+                ),
+            )
         })?;
         let mut names: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
@@ -200,13 +208,15 @@ impl Parts {
             let p = read_point(&path)?;
             self.same(&p.config, d)?;
             if let Some((_, d0)) = self.found.get(&p.index) {
-                return Err(Error::Invalid(format!(
-                    "point {} (w = {}) is in both {} and {}",
-                    p.index,
-                    p.w,
-                    d0.display(),
-                    d.display()
-                )));
+                return Err(Error::malformed(
+                    d,
+                    format!(
+                        "point {} (w = {}) is in both {} and here",
+                        p.index,
+                        p.w,
+                        d0.display()
+                    ),
+                ));
             }
             self.found.insert(p.index, (p, d.to_path_buf()));
         }
@@ -239,12 +249,15 @@ impl Parts {
             )));
         }
         let mut points = Vec::with_capacity(self.found.len());
-        for (&i, (p, _)) in &self.found {
+        for (&i, (p, d)) in &self.found {
             if p.w != grid[i as usize] {
-                return Err(Error::Invalid(format!(
-                    "point {i} has w = {} but the grid has {}: a damaged point file",
-                    p.w, grid[i as usize]
-                )));
+                return Err(Error::malformed(
+                    d,
+                    format!(
+                        "point {i} has w = {} but the grid has {}: a damaged point file",
+                        p.w, grid[i as usize]
+                    ),
+                ));
             }
             points.push(p.clone());
         }

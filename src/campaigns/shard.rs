@@ -39,9 +39,14 @@ impl Shard {
     /// ```
     pub fn parse(text: &str) -> Result<Shard, Error> {
         let bad = || {
-            Error::Invalid(format!(
-                "shard = {text:?}: expected I/N with N from 1 to {MAX_SWEEP_POINTS} and I from 0 to N-1 (under Slurm, I is the array task id of an array 0 to N-1)"
-            ))
+            Error::parameter(
+                "shard",
+                format!("{text:?}"),
+                format!(
+                    "expected I/N with N from 1 to {MAX_SWEEP_POINTS} and I from 0 to N-1 (under \
+                     Slurm, I is the array task id of an array 0 to N-1)"
+                ),
+            )
         };
         let (i, n) = text.trim().split_once('/').ok_or_else(bad)?;
         let index: u32 = i.trim().parse().map_err(|_| bad())?;
@@ -59,14 +64,31 @@ impl Shard {
 
     /// Checks that every part of `cfg`'s points gets at least one point.
     pub fn validate(&self, cfg: &SweepConfig) -> Result<(), Error> {
-        if self.count > cfg.steps || self.index >= self.count {
-            return Err(Error::Invalid(format!(
-                "shard = {}/{}: a sweep of {} points has parts 0 to N-1 with N from 1 to {} (every part needs a point)",
-                self.index, self.count, cfg.steps, cfg.steps
-            )));
+        self.fits(cfg.steps as usize)
+    }
+
+    /// Checks that every part of a sweep of `points` points gets at least one point.
+    pub fn fits(&self, points: usize) -> Result<(), Error> {
+        if self.count as usize > points || self.index >= self.count {
+            return Err(Error::out_of_range(
+                "shard",
+                self,
+                format!(
+                    "a sweep of {points} points has parts 0 to N-1 with N from 1 to {points} \
+                     (every part needs a point)"
+                ),
+            ));
         }
         Ok(())
     }
+}
+
+/// The directory a sweep part is written to: the run options' `resume`.
+pub fn part_directory<'a>(options: &'a RunOptions<'_>) -> Result<&'a std::path::Path, Error> {
+    options
+        .resume
+        .as_deref()
+        .ok_or_else(|| Error::missing("resume", "a sweep part is written to a directory: give one"))
 }
 
 impl std::fmt::Display for Shard {
@@ -128,11 +150,7 @@ pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<ShardReport, Error
             RunOption::CheckpointEvery,
         ],
     )?;
-    let Some(dir) = options.resume.as_deref() else {
-        return Err(Error::Invalid(
-            "a sweep part is written to a directory: give one (the run options' `resume`)".into(),
-        ));
-    };
+    let dir = part_directory(options)?;
     let (sweep, shard) = (&cfg.sweep, cfg.shard);
     let resolved = options.engine.resolve(true)?;
     let (points, resumed) = run_points(sweep, options, |i| shard.owns(i))?;

@@ -60,9 +60,18 @@ pub fn shell_quote(s: &str) -> String {
     format!("'{}'", s.replace('\'', "'\\''"))
 }
 
-fn checked(what: &str, value: &str, allowed: &str, ok: impl Fn(char) -> bool) -> Result<(), Error> {
+fn checked(
+    what: &'static str,
+    value: &str,
+    allowed: &str,
+    ok: impl Fn(char) -> bool,
+) -> Result<(), Error> {
     if value.is_empty() || !value.chars().all(ok) {
-        return Err(Error::Invalid(format!("{what} = {value:?}: use {allowed}")));
+        return Err(Error::parameter(
+            what,
+            format!("{value:?}"),
+            format!("use {allowed}"),
+        ));
     }
     Ok(())
 }
@@ -73,11 +82,13 @@ impl SweepCampaign {
         self.sweep.validate()?;
         let points = self.sweep.points();
         if self.parts == 0 || self.parts > points {
-            return Err(Error::Invalid(format!(
-                "array = {}: use 1 to {points} parts (the sweep has {points} points; every part \
-                 needs one)",
-                self.parts
-            )));
+            return Err(Error::out_of_range(
+                "array",
+                self.parts,
+                format!(
+                    "use 1 to {points} parts (the sweep has {points} points; every part needs one)"
+                ),
+            ));
         }
         if self.cpus_per_task == 0 || self.cpus_per_task > MAX_CPUS_PER_TASK {
             return Err(Error::out_of_range(
@@ -104,25 +115,28 @@ impl SweepCampaign {
         }
         for (what, p) in [("out", &self.out), ("binary", &self.binary)] {
             if !p.is_absolute() {
-                return Err(Error::Invalid(format!(
-                    "{what} = {}: must be an absolute path (the jobs start elsewhere)",
-                    p.display()
-                )));
+                return Err(Error::parameter(
+                    what,
+                    p.display(),
+                    "must be an absolute path (the jobs start elsewhere)",
+                ));
             }
             if p.to_str().is_none() {
-                return Err(Error::Invalid(format!(
-                    "{what} = {}: must be valid UTF-8 to go into a batch script",
-                    p.display()
-                )));
+                return Err(Error::parameter(
+                    what,
+                    p.display(),
+                    "must be valid UTF-8 to go into a batch script",
+                ));
             }
             // A newline would end an `#SBATCH` line (and start a command); no quoting survives
             // Slurm's own reading of those lines, so control characters are refused.
             if p.to_str().is_some_and(|t| t.chars().any(char::is_control)) {
-                return Err(Error::Invalid(format!(
-                    "{what} = {:?}: a path with a newline or another control character cannot go \
-                     into a batch script; choose a path without them",
-                    p.display().to_string()
-                )));
+                return Err(Error::parameter(
+                    what,
+                    format!("{:?}", p.display().to_string()),
+                    "a path with a newline or another control character cannot go into a batch \
+                     script; choose a path without them",
+                ));
             }
         }
         Ok(())

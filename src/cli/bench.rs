@@ -111,14 +111,19 @@ impl Args {
 /// not enforced on these, clap-rs/clap#3076).
 fn refuse_long_flight_options(a: &Args) -> Result<(), Error> {
     let given = [
-        ("--scene", a.scene.is_some()),
-        ("--collisions-per-radius", a.collisions_per_radius.is_some()),
-        ("--walk-collisions", a.walk_collisions.is_some()),
+        ("scene", a.scene.map(|s| format!("{s:?}").to_lowercase())),
+        (
+            "collisions_per_radius",
+            a.collisions_per_radius.map(|n| n.to_string()),
+        ),
+        ("walk_collisions", a.walk_collisions.map(|n| n.to_string())),
     ];
-    match given.iter().find(|(_, g)| *g) {
-        Some((name, _)) => Err(Error::Invalid(format!(
-            "{name} applies with --long-flights only (bench --w W times the triangular engine)"
-        ))),
+    match given.into_iter().find_map(|(name, v)| Some((name, v?))) {
+        Some((name, value)) => Err(Error::parameter(
+            name,
+            value,
+            "applies with --long-flights only (bench --w W times the triangular engine)",
+        )),
         None => Ok(()),
     }
 }
@@ -219,7 +224,7 @@ fn throughput_config(a: &Args) -> Result<ThroughputConfig, Error> {
             .as_deref()
             .map(|b| {
                 Ok::<_, Error>(lorentz_gas::numbers::exact::nearest_f64(
-                    &lorentz_gas::numbers::exact::parse_exact(b)?,
+                    &lorentz_gas::numbers::exact::parse_exact(b).map_err(|e| e.named("field"))?,
                 ))
             })
             .transpose()?,

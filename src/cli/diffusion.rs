@@ -270,9 +270,7 @@ fn run_planned(
 fn nonzero_field(a: &Args) -> Result<Option<String>, Error> {
     match &a.field {
         Some(b)
-            if lorentz_gas::numbers::exact::parse_exact(b)
-                .map_err(|e| Error::Invalid(format!("field = {b}: {e}")))?
-                != 0 =>
+            if lorentz_gas::numbers::exact::parse_exact(b).map_err(|e| e.named("field"))? != 0 =>
         {
             Ok(Some(b.clone()))
         }

@@ -15,19 +15,30 @@ use lorentz_gas::campaigns::sweeps::Sweep;
 pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
     match a.config.as_deref().map(Sweep::read).transpose()? {
         Some(Sweep::InField(c)) => Ok(c),
-        Some(Sweep::OverW(_)) => Err(Error::Invalid(
-            "the configuration is a sweep over w without a field".into(),
-        )),
+        Some(Sweep::OverW(_)) => Err(not_in_a_field(a)),
         None => config_of(&a.grid, &a.in_field, a.run.seed()),
     }
+}
+
+/// The refusal of a configuration file of a sweep over w where a sweep in a field is read.
+fn not_in_a_field(a: &Args) -> Error {
+    let path = a.config.as_deref().map(|p| p.display().to_string());
+    Error::parameter(
+        "config",
+        path.unwrap_or_default(),
+        "a sweep over w without a field",
+    )
 }
 
 /// The field sweep of the grid `g` and field options `f` with `seed` (validated; shared with
 /// `lorentz slurm sweep`).
 pub fn config_of(g: &GridArgs, f: &FieldArgs, seed: u64) -> Result<FieldSweepConfig, Error> {
-    if g.runs.is_some() {
-        return Err(Error::Invalid(
-            "--runs is not used by a sweep in a field (one run of --collisions-per-run per point; its error is over --batches-per-run)".into(),
+    if let Some(runs) = g.runs {
+        return Err(Error::parameter(
+            "runs",
+            runs,
+            "not used by a sweep in a field (one run of --collisions-per-run per point; its \
+             error is over --batches-per-run)",
         ));
     }
     let table = f

@@ -1,7 +1,6 @@
 //! `lorentz lyapunov`: the largest Lyapunov exponent and the divergence of finite-precision orbits.
 
 use lorentz_gas::Error;
-use lorentz_gas::engine::long_flight::Flights;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
 use lorentz_gas::report::text::lyapunov::{self as text, LyapunovResult};
@@ -51,15 +50,13 @@ fn is_zero(b: &str) -> bool {
 
 /// `lorentz lyapunov --field B`: the tangent-space exponent on arcs.
 fn in_field(a: &Args, b: &str) -> Result<(), Error> {
-    if a.flights.flights == Flights::Jump {
-        return Err(Error::Invalid(
-            "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto"
-                .into(),
-        ));
-    }
-    if a.starts.is_some_and(|s| s > 0) {
-        return Err(Error::Invalid(
-            "--starts (the divergence of finite-precision orbits) is not measured in a field: leave it out or give 0".into(),
+    a.flights.flights.in_field()?;
+    if let Some(starts) = a.starts.filter(|&s| s > 0) {
+        return Err(Error::parameter(
+            "starts",
+            starts,
+            "the divergence of finite-precision orbits is not measured in a field: leave it out \
+             or give 0",
         ));
     }
     let scene = a.scene.resolve()?;
@@ -113,11 +110,14 @@ pub fn run(a: Args) -> Result<(), Error> {
         ))?,
     };
     if starts == 1 || starts > MAX_STARTS {
-        return Err(Error::Invalid(format!(
-            "starts = {}: use 0 (no divergence measurement) or 2 to {MAX_STARTS} (the error bars \
-             are over the starts, reliable from 4; each costs about a second)",
-            starts
-        )));
+        return Err(Error::out_of_range(
+            "starts",
+            starts,
+            format!(
+                "use 0 (no divergence measurement) or 2 to {MAX_STARTS} (the error bars are over \
+                 the starts, reliable from 4; each costs about a second)"
+            ),
+        ));
     }
     let total =
         (a.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.batches as u64);

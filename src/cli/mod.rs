@@ -204,10 +204,12 @@ fn one_line(e: &Error) -> String {
     text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-/// The flag of a parameter the library names (`resume` is `--checkpoint` here).
+/// The flag of a parameter the library names (`resume` is `--checkpoint` here, a Slurm
+/// campaign's `binary` `--lorentz`).
 fn flag(parameter: &str) -> String {
     match parameter {
         "resume" => "--checkpoint".into(),
+        "binary" => "--lorentz".into(),
         p => format!("--{}", p.replace('_', "-")),
     }
 }

@@ -41,13 +41,20 @@ pub struct GridArgs {
     pub(super) batches_per_run: u32,
 }
 
+/// The refusal of a sweep over w without one of its ends.
+fn missing_end(g: &GridArgs) -> Error {
+    Error::missing(
+        if g.w_from.is_none() { "w_from" } else { "w_to" },
+        "a sweep over w needs --w-from and --w-to (a sweep over the field: --w W --fields \
+         B1,B2,...)",
+    )
+}
+
 impl GridArgs {
     /// The sweep's configuration with `seed`, checked.
     pub fn config(&self, seed: u64) -> Result<SweepConfig, Error> {
         let (Some(w_from), Some(w_to)) = (&self.w_from, &self.w_to) else {
-            return Err(Error::Invalid(
-                "a sweep over w needs --w-from and --w-to".into(),
-            ));
+            return Err(missing_end(self));
         };
         let cfg = SweepConfig {
             w_from: w_from.clone(),
@@ -139,9 +146,14 @@ pub struct Args {
 pub fn config(a: &Args) -> Result<lorentz_gas::estimators::sweep::SweepConfig, Error> {
     match a.config.as_deref().map(Sweep::read).transpose()? {
         Some(Sweep::OverW(c)) => Ok(c),
-        Some(Sweep::InField(_)) => Err(Error::Invalid(
-            "the configuration is a sweep in a field".into(),
-        )),
+        Some(Sweep::InField(_)) => {
+            let path = a.config.as_deref().map(|p| p.display().to_string());
+            Err(Error::parameter(
+                "config",
+                path.unwrap_or_default(),
+                "a sweep in a field",
+            ))
+        }
         None => a.grid.config(a.run.seed()),
     }
 }
@@ -161,24 +173,34 @@ impl FieldArgs {
     }
 }
 
+/// Refuses the options of a sweep over the field in a sweep over w.
+fn refuse_field_options(a: &Args) -> Result<(), Error> {
+    if let Some(w) = &a.in_field.w {
+        return Err(Error::parameter(
+            "w",
+            w,
+            "the gap of a sweep over the field: give --fields B1,B2,... (a sweep over w: \
+             --w-from and --w-to)",
+        ));
+    }
+    const FIELD_ONLY: &str = "for a sweep over the field (--fields B1,B2,...): a sweep over w \
+                              without a field is the triangular scene's";
+    if let Some(r) = &a.in_field.radius {
+        return Err(Error::parameter("radius", r, FIELD_ONLY));
+    }
+    if a.in_field.scene != super::args::SceneName::Triangular {
+        return Err(Error::parameter("scene", "square", FIELD_ONLY));
+    }
+    if a.config.is_none() && (a.grid.w_from.is_none() || a.grid.w_to.is_none()) {
+        return Err(missing_end(&a.grid));
+    }
+    Ok(())
+}
+
 /// Runs a sweep over w without a field (the field sweep runs those in a field: the command
 /// picks by [`in_field`]).
 pub fn run(a: Args) -> Result<(), Error> {
-    if a.in_field.w.is_some() {
-        return Err(Error::Invalid(
-            "--w is the gap of a sweep over the field: give --fields B1,B2,... (a sweep over w: --w-from and --w-to)".into(),
-        ));
-    }
-    if a.in_field.scene != super::args::SceneName::Triangular || a.in_field.radius.is_some() {
-        return Err(Error::Invalid(
-            "--scene and --radius are for a sweep over the field (--fields B1,B2,...): a sweep over w without a field is the triangular scene's".into(),
-        ));
-    }
-    if a.config.is_none() && (a.grid.w_from.is_none() || a.grid.w_to.is_none()) {
-        return Err(Error::Invalid(
-            "a sweep over w needs --w-from and --w-to (a sweep over the field: --w W --fields B1,B2,...)".into(),
-        ));
-    }
+    refuse_field_options(&a)?;
     let cfg = config(&a)?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     if let Some(s) = shard {

@@ -57,17 +57,20 @@ pub struct Args {
 }
 
 /// A pair `x,y` of exact numbers.
-fn parse_pair(flag: &str, s: &str) -> Result<(Rational, Rational), Error> {
+fn parse_pair(parameter: &'static str, s: &str) -> Result<(Rational, Rational), Error> {
     let bad = || {
-        Error::Invalid(format!(
-            "--{flag} '{s}' is not a pair: use two exact numbers separated by a comma, such as 0.5,0.1 or 1/2,1/10"
-        ))
+        Error::parameter(
+            parameter,
+            format!("'{s}'"),
+            "not a pair: use two exact numbers separated by a comma, such as 0.5,0.1 or 1/2,1/10",
+        )
     };
     let (a, b) = s.split_once(',').ok_or_else(bad)?;
     if b.contains(',') {
         return Err(bad());
     }
-    Ok((parse_exact(a)?, parse_exact(b)?))
+    let number = |t: &str| parse_exact(t).map_err(|e| e.named(parameter));
+    Ok((number(a)?, number(b)?))
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
@@ -85,10 +88,12 @@ pub fn run(a: Args) -> Result<(), Error> {
         y,
         dx,
         dy,
-        time: parse_exact(&a.time)?,
+        time: parse_exact(&a.time).map_err(|e| e.named("time"))?,
         digits: a.digits,
         record_events: a.events.is_some(),
-        field: a.field.as_ref().map(|b| parse_exact(&b.text)).transpose()?,
+        field: (a.field.as_ref())
+            .map(|b| parse_exact(&b.text).map_err(|e| e.named("field")))
+            .transpose()?,
     };
     let name = match a.scene {
         SceneName::Triangular => "triangular",

@@ -191,10 +191,13 @@ where
         fits: &dyn Fn(&Quota, &F) -> bool,
     ) -> Result<(), Error> {
         let foreign = |run: u64, index: u32, why: &str| {
-            Error::Invalid(format!(
-                "{}: the record of run {run}, batch {index} {why}: an edited or foreign checkpoint (use another file)",
-                p.display()
-            ))
+            Error::malformed(
+                p,
+                format!(
+                    "the record of run {run}, batch {index} {why}: an edited or foreign \
+                     checkpoint (use another file)"
+                ),
+            )
         };
         match r {
             Record::Finished { run, index, result } => {

@@ -46,11 +46,31 @@ impl Flights {
             (Flights::Walk, _) | (Flights::Auto, None) => Ok(Flights::Walk),
             (Flights::Auto, Some(f)) if !auto_jumps(&f) => Ok(Flights::Walk),
             (_, Some(_)) => Ok(Flights::Jump),
-            (Flights::Jump, None) => Err(Error::Invalid(format!(
-                "flights = jump: {} has no long flights (the square lattice with 2^-32 <= radius \
-                 <= 1/4 and the triangular one with w_inf = 4/sqrt(3) - 2 < w <= 2^20 - 2 have); use walk or auto",
-                scene.label()
-            ))),
+            (Flights::Jump, None) => Err(Error::parameter(
+                "flights",
+                self,
+                format!(
+                    "{} has no long flights (the square lattice with 2^-32 <= radius <= 1/4 and \
+                     the triangular one with w_inf = 4/sqrt(3) - 2 < w <= 2^20 - 2 have); use \
+                     walk or auto",
+                    scene.label()
+                ),
+            )),
+        }
+    }
+
+    /// The engine that runs in a magnetic field: `Walk` (arcs cross the lattice cell by cell).
+    ///
+    /// # Errors
+    /// `Jump`.
+    pub fn in_field(self) -> Result<Flights, Error> {
+        match self {
+            Flights::Jump => Err(Error::parameter(
+                "flights",
+                self,
+                "arcs in a field cross the lattice cell by cell; use walk or auto",
+            )),
+            _ => Ok(Flights::Walk),
         }
     }
 
@@ -95,9 +115,7 @@ impl std::str::FromStr for Flights {
             "auto" => Ok(Flights::Auto),
             "walk" => Ok(Flights::Walk),
             "jump" => Ok(Flights::Jump),
-            _ => Err(Error::Invalid(format!(
-                "flights = {s}: use auto, walk or jump"
-            ))),
+            _ => Err(Error::parameter("flights", s, "use auto, walk or jump")),
         }
     }
 }

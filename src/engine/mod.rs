@@ -93,9 +93,11 @@ impl Engine {
                 }
             }
             (Engine::Simd, true) => Ok(Resolved::Simd(SimdPath::select()?)),
-            (Engine::Simd, false) => Err(Error::Invalid(
-                "the SIMD engine runs f64 only: use the scalar engine (or auto) with an MPFR precision"
-                    .into(),
+            (Engine::Simd, false) => Err(Error::parameter(
+                "engine",
+                "simd",
+                "the SIMD engine runs f64 only: use the scalar engine (or auto) with an MPFR \
+                 precision",
             )),
         }
     }
@@ -168,6 +170,18 @@ impl SimdPath {
             .unwrap_or(SimdPath::Portable)
     }
 
+    /// Refuses a path this CPU cannot run (a caller's error: [`SimdPath::select`] picks one it
+    /// can).
+    pub fn check_available(self) -> Result<(), Error> {
+        if self.available() {
+            Ok(())
+        } else {
+            Err(Error::Failed(format!(
+                "this CPU cannot run the {self} path"
+            )))
+        }
+    }
+
     /// `true` if [`SIMD_ENV`] names a path.
     pub fn forced() -> bool {
         std::env::var(SIMD_ENV).is_ok_and(|v| !v.is_empty())
@@ -182,15 +196,19 @@ impl SimdPath {
             Ok(v) if !v.is_empty() => {
                 let p: SimdPath = v.parse()?;
                 if !p.available() {
-                    return Err(Error::Invalid(format!(
-                        "{SIMD_ENV}={v}: this CPU does not have {v}; available: {}",
-                        Self::ALL
-                            .iter()
-                            .filter(|p| p.available())
-                            .map(|p| p.to_string())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    )));
+                    return Err(Error::Environment {
+                        variable: SIMD_ENV,
+                        why: format!(
+                            "this CPU does not have {v}; available: {}",
+                            Self::ALL
+                                .iter()
+                                .filter(|p| p.available())
+                                .map(|p| p.to_string())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                        value: v,
+                    });
                 }
                 Ok(p)
             }
@@ -216,19 +234,42 @@ impl FromStr for SimdPath {
             "avx512" => Ok(SimdPath::Avx512),
             "avx2" => Ok(SimdPath::Avx2),
             "portable" => Ok(SimdPath::Portable),
-            _ => Err(Error::Invalid(format!(
-                "SIMD path '{s}': use avx512, avx2 or portable"
-            ))),
+            _ => Err(Error::Environment {
+                variable: SIMD_ENV,
+                value: s.into(),
+                why: "use avx512, avx2 or portable".into(),
+            }),
         }
     }
 }
 
-/// Refuses a trajectory longer than [`MAX_COLLISIONS_PER_TRAJECTORY`].
-pub fn check_trajectory_length(collisions: u64) -> Result<(), Error> {
+/// Refuses a trajectory of `collisions` collisions, longer than
+/// [`MAX_COLLISIONS_PER_TRAJECTORY`], naming the `parameter` (given `value`) that sets it.
+pub fn check_trajectory_length(
+    collisions: u64,
+    parameter: &'static str,
+    value: impl fmt::Display,
+) -> Result<(), Error> {
     if collisions > MAX_COLLISIONS_PER_TRAJECTORY {
-        return Err(Error::Invalid(format!(
-            "{collisions} collisions in one trajectory: use at most 2^50 = \
-             {MAX_COLLISIONS_PER_TRAJECTORY} per trajectory (more batches for more collisions)"
+        return Err(Error::parameter(
+            parameter,
+            value,
+            format!(
+                "{collisions} collisions in one trajectory: use at most 2^50 = \
+                 {MAX_COLLISIONS_PER_TRAJECTORY} per trajectory (more batches for more collisions)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Refuses a quota beyond [`MAX_COLLISIONS_PER_TRAJECTORY`] given to an engine directly (the
+/// analyses refuse such a run first, naming their parameters: here it is a caller's error).
+pub(crate) fn check_quotas(quotas: &[u64]) -> Result<(), Error> {
+    if let Some(q) = quotas.iter().find(|&&q| q > MAX_COLLISIONS_PER_TRAJECTORY) {
+        return Err(Error::Failed(format!(
+            "a quota of {q} collisions: an engine runs at most 2^50 = \
+             {MAX_COLLISIONS_PER_TRAJECTORY} per trajectory"
         )));
     }
     Ok(())
@@ -362,7 +403,7 @@ impl BlockKernel for crate::kernel::cell::ConvexCell<f64> {
         if cells::fits(self) {
             return Ok(());
         }
-        Err(Error::Invalid(format!(
+        Err(Error::Failed(format!(
             "a cell of {} disks and {} edges: the lane engines run 1 to {} disks and at most {} \
              edges (use the scalar engine)",
             self.disks.len(),
@@ -408,21 +449,15 @@ pub fn run_block<O: Observer<BLOCK>, K: BlockKernel>(
     progress: &dyn Fn(u64),
 ) -> Result<(), Error> {
     if states.len() > BLOCK || quotas.len() != states.len() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "a SIMD block runs 1 to {BLOCK} trajectories with one quota each (got {} states, {} quotas)",
             states.len(),
             quotas.len()
         )));
     }
-    if !path.available() {
-        return Err(Error::Invalid(format!(
-            "this CPU cannot run the {path} path"
-        )));
-    }
+    path.check_available()?;
     kernel.check_lanes()?;
-    for &q in quotas {
-        check_trajectory_length(q)?;
-    }
+    check_quotas(quotas)?;
     let mut counts = simd::BlockCounts {
         collisions: [0.0; BLOCK],
         quota: [0.0; BLOCK],

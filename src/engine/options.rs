@@ -266,8 +266,16 @@ impl RunOptions<'_> {
 
     /// Checks the thread count and the audit before any work.
     pub fn validate(&self) -> Result<(), Error> {
-        if cfg!(not(feature = "checkpoints")) && self.resume.is_some() {
-            return Err(Error::Invalid(super::resume::NO_CHECKPOINTS.into()));
+        if let Some(path) = self
+            .resume
+            .as_ref()
+            .filter(|_| cfg!(not(feature = "checkpoints")))
+        {
+            return Err(Error::parameter(
+                "resume",
+                path.display(),
+                super::resume::NO_CHECKPOINTS,
+            ));
         }
         if self.threads == 0 {
             return Err(Error::Zero { what: "threads" });

@@ -25,6 +25,14 @@ pub fn check_batches(what: &'static str, n: u32) -> Result<(), Error> {
     Ok(())
 }
 
+/// A pool of `threads` workers (a pool the system cannot start is a failure of the run).
+pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, Error> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Failed(format!("thread pool: {e}")))
+}
+
 /// The share of batch `b` when `total` units (collisions, visits) are split over `batches`:
 /// ⌊total/batches⌋, plus one for the first `total mod batches` batches — `total` in all, exactly.
 ///
@@ -53,10 +61,7 @@ pub fn par_chunks<R: Send, F: Fn(std::ops::Range<usize>) -> Result<Vec<R>, Error
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
+    let pool = thread_pool(threads)?;
     let ranges: Vec<std::ops::Range<usize>> = (0..n)
         .step_by(chunk.max(1))
         .map(|a| a..(a + chunk.max(1)).min(n))
@@ -91,10 +96,7 @@ pub fn par_batches_watched<R: Send, F: Fn(u32) -> Result<R, Error> + Sync + Send
         return Err(Error::Zero { what: "threads" });
     }
     check_batches("batches", n)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
+    let pool = thread_pool(threads)?;
     let watched = |b: u32| {
         if let Some(s) = stop {
             s.check()?;

@@ -69,7 +69,7 @@ fn digest_of(salt: &str, v: &Value) -> Result<String, Error> {
 /// refused (and [`super::options::RunOptions::validate`] refuses `resume` before any work).
 #[cfg(not(feature = "checkpoints"))]
 fn digest_of(_salt: &str, _v: &Value) -> Result<String, Error> {
-    Err(Error::Invalid(NO_CHECKPOINTS.into()))
+    Err(Error::Failed(NO_CHECKPOINTS.into()))
 }
 
 /// Why a build without the `checkpoints` feature refuses to keep or resume work.
@@ -135,7 +135,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
                     config,
                     meta,
                 })
-                .map_err(|e| Error::Invalid(format!("journal header: {e}")))?;
+                .map_err(Error::encode)?;
                 let salt = digest_of("", &h)?;
                 h["digest"] = Value::String(salt.clone());
                 (h.to_string(), salt, Vec::new())
@@ -144,10 +144,13 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
         let mut records = Vec::with_capacity(lines.len());
         for (n, line) in &lines {
             let r = serde_json::from_value::<R>(line["record"].clone()).map_err(|e| {
-                Error::Invalid(format!(
-                    "{} line {n}: a record of the right digest but not a {kind} record ({e}): use another file",
-                    path.display()
-                ))
+                Error::malformed(
+                    path,
+                    format!(
+                        "line {n}: a record of the right digest but not a {kind} record ({e}): \
+                         use another file"
+                    ),
+                )
             })?;
             records.push(r);
         }
@@ -166,8 +169,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
 
     /// The line of `record`, with its digest and the newline.
     fn line(&self, record: &R) -> Result<String, Error> {
-        let v = serde_json::to_value(record)
-            .map_err(|e| Error::Invalid(format!("journal record: {e}")))?;
+        let v = serde_json::to_value(record).map_err(Error::encode)?;
         let digest = digest_of(&self.salt, &v)?;
         let mut line = serde_json::json!({ "digest": digest, "record": v }).to_string();
         line.push('\n');
@@ -266,10 +268,10 @@ fn read_journal<C: Serialize>(
         let v = check_record(path, n, line, &salt)?;
         let d = v["digest"].as_str().unwrap_or_default().to_string();
         if let Some(m) = seen.insert(d, n) {
-            return Err(Error::Invalid(format!(
-                "{} line {n} repeats line {m}: an edited journal (use another file)",
-                path.display()
-            )));
+            return Err(Error::malformed(
+                path,
+                format!("line {n} repeats line {m}: an edited journal (use another file)"),
+            ));
         }
         out.push((n, v));
     }
@@ -284,10 +286,10 @@ fn check_header<C: Serialize>(
     config: &C,
 ) -> Result<String, Error> {
     let not_journal = |why: String| {
-        Error::Invalid(format!(
-            "{} is not a lorentz journal ({why}): use another file",
-            path.display()
-        ))
+        Error::malformed(
+            path,
+            format!("not a lorentz journal ({why}): use another file"),
+        )
     };
     let mut v: Value =
         super::json::parse_unique(line.as_bytes()).map_err(|e| not_journal(e.to_string()))?;
@@ -298,28 +300,33 @@ fn check_header<C: Serialize>(
     let h: Header<Value> =
         serde_json::from_value(v.clone()).map_err(|e| not_journal(e.to_string()))?;
     if h.format != FORMAT || h.kind != kind {
-        return Err(Error::Invalid(format!(
-            "{} holds {} of format {} (this version resumes {kind} of format {FORMAT}): use another file",
-            path.display(),
-            if h.kind.is_empty() { "work" } else { &h.kind },
-            h.format
-        )));
+        return Err(Error::malformed(
+            path,
+            format!(
+                "holds {} of format {} (this version resumes {kind} of format {FORMAT}): use \
+                 another file",
+                if h.kind.is_empty() { "work" } else { &h.kind },
+                h.format
+            ),
+        ));
     }
     let salt = digest_of("", &v)?;
     if digest.as_deref() != Some(salt.as_str()) {
-        return Err(Error::Invalid(format!(
-            "{} line 1: the header does not match its digest (edited): use another file",
-            path.display()
-        )));
+        return Err(Error::malformed(
+            path,
+            "line 1: the header does not match its digest (edited): use another file",
+        ));
     }
     let want = serde_json::to_value(config).map_err(Error::encode)?;
     if h.config != want {
-        return Err(Error::Invalid(format!(
-            "{} belongs to another configuration ({}): use another file or the same parameters",
-            path.display(),
-            value_difference(&h.config, &want, "")
-                .unwrap_or_else(|| "the configurations differ".into())
-        )));
+        return Err(Error::malformed(
+            path,
+            format!(
+                "belongs to another configuration ({}): use another file or the same parameters",
+                value_difference(&h.config, &want, "")
+                    .unwrap_or_else(|| "the configurations differ".into())
+            ),
+        ));
     }
     Ok(salt)
 }
@@ -327,10 +334,10 @@ fn check_header<C: Serialize>(
 /// Checks record line `n` against its digest (salted with the header's).
 fn check_record(path: &Path, n: usize, line: &str, salt: &str) -> Result<Value, Error> {
     let bad = |why: &str| {
-        Error::Invalid(format!(
-            "{} line {n}: {why}: an edited, damaged or foreign journal (use another file)",
-            path.display()
-        ))
+        Error::malformed(
+            path,
+            format!("line {n}: {why}: an edited, damaged or foreign journal (use another file)"),
+        )
     };
     let v: Value =
         super::json::parse_unique(line.as_bytes()).map_err(|_| bad("not a journal record"))?;
@@ -353,13 +360,13 @@ fn check_record(path: &Path, n: usize, line: &str, salt: &str) -> Result<Value, 
 /// # Errors
 /// If `x` is not a JSON object.
 pub fn seal<T: Serialize>(x: &T) -> Result<String, Error> {
-    let mut v = serde_json::to_value(x).map_err(|e| Error::Invalid(format!("{e}")))?;
+    let mut v = serde_json::to_value(x).map_err(Error::encode)?;
     let d = digest_of("", &v)?;
     let Some(o) = v.as_object_mut() else {
-        return Err(Error::Invalid("only a JSON object can be sealed".into()));
+        return Err(Error::Failed("only a JSON object can be sealed".into()));
     };
     o.insert("digest".into(), Value::String(d));
-    serde_json::to_string_pretty(&v).map_err(|e| Error::Invalid(format!("{e}")))
+    serde_json::to_string_pretty(&v).map_err(Error::encode)
 }
 
 /// The value of a file written by [`seal`], its digest checked: an edited, truncated or
@@ -369,10 +376,10 @@ pub fn seal<T: Serialize>(x: &T) -> Result<String, Error> {
 /// As above.
 pub fn unseal<T: DeserializeOwned>(path: &Path, text: &str, what: &str) -> Result<T, Error> {
     let bad = |why: String| {
-        Error::Invalid(format!(
-            "{}: {why}: not an intact {what} (edited, damaged or of another version)",
-            path.display()
-        ))
+        Error::malformed(
+            path,
+            format!("{why}: not an intact {what} (edited, damaged or of another version)"),
+        )
     };
     let mut v: Value =
         super::json::parse_unique(text.as_bytes()).map_err(|e| bad(e.to_string()))?;
@@ -510,7 +517,7 @@ mod tests {
         let edited = lines[2].replace("\"record\":9", "\"record\":8");
         assert_ne!(edited, lines[2]);
         let e = refusal(&p, &[lines[0].clone(), lines[1].clone(), edited], &a);
-        assert!(e.contains("a.jsonl line 3") && e.contains("digest"), "{e}");
+        assert!(e.contains("a.jsonl: line 3") && e.contains("digest"), "{e}");
         let e = refusal(
             &p,
             &[lines[0].clone(), lines[1].clone(), lines[1].clone()],

@@ -44,8 +44,10 @@ pub fn crossings_per_collision<S: Scene>(scene: &S) -> f64 {
 pub struct Work<'a> {
     /// The analysis, for the refusal.
     pub analysis: &'a str,
-    /// The inputs to lower (or raise), in the library's terms.
-    pub lower: &'a str,
+    /// The parameters to lower, in the library's terms (their configuration's fields).
+    pub lower: &'static [&'static str],
+    /// A parameter to raise instead, if any (a gap: fewer collisions per hop).
+    pub raise: Option<&'static str>,
     /// Collisions the run computes (as a double: the product of counts can overflow `u64`).
     pub collisions: f64,
     /// Cell edges crossed per collision ([`crossings_per_collision`]).
@@ -57,13 +59,22 @@ pub struct Work<'a> {
 impl<'a> Work<'a> {
     /// `collisions` collisions on the scalar engine, with no crossings to speak of (the
     /// triangular scene below w∞).
-    pub fn new(analysis: &'a str, lower: &'a str, collisions: f64) -> Self {
+    pub fn new(analysis: &'a str, lower: &'static [&'static str], collisions: f64) -> Self {
         Work {
             analysis,
             lower,
+            raise: None,
             collisions,
             crossings: 0.0,
             per_collision: SCALAR_SECONDS_PER_COLLISION,
+        }
+    }
+
+    /// The same work, refused with `raise` as the parameter to raise instead.
+    pub fn or_raise(self, raise: &'static str) -> Self {
+        Work {
+            raise: Some(raise),
+            ..self
         }
     }
 
@@ -87,14 +98,18 @@ impl<'a> Work<'a> {
     ///
     /// ```
     /// use lorentz_gas::engine::work::Work;
-    /// assert!(Work::new("diffusion", "collisions", 1e12).simd().check(2).is_ok());
-    /// let e = Work::new("lyapunov", "collisions_per_batch", 3.7e19).check(2).unwrap_err();
+    /// assert!(Work::new("diffusion", &["collisions"], 1e12).simd().check(2).is_ok());
+    /// let e = Work::new("lyapunov", &["collisions_per_batch", "batches"], 3.7e19).check(2).unwrap_err();
     /// assert!(e.to_string().contains("a week"), "{e}");
-    /// assert!(Work::new("audit", "w", 1e6).crossing(f64::INFINITY).check(2).is_err());
+    /// assert!(e.to_string().ends_with("; lower collisions_per_batch or batches"), "{e}");
+    /// let flag = |p: &str| format!("--{}", p.replace('_', "-"));
+    /// assert!(e.presented(&flag).ends_with("; lower --collisions-per-batch or --batches"), "{e}");
+    /// assert!(Work::new("audit", &["collisions"], 1e6).crossing(f64::INFINITY).check(2).is_err());
     /// ```
     ///
     /// # Errors
-    /// [`Error::Invalid`] naming the estimate, the floor and the limit.
+    /// [`Error::TooMuchWork`] naming the estimate, the floor, the limit and the parameters to
+    /// lower.
     pub fn check(&self, threads: usize) -> Result<(), Error> {
         let crossings = self.crossings.max(0.0);
         let per = self.per_collision + crossings * SECONDS_PER_CROSSING;
@@ -102,7 +117,7 @@ impl<'a> Work<'a> {
         if seconds <= MAX_SECONDS {
             return Ok(());
         }
-        let (analysis, collisions, lower) = (self.analysis, self.collisions, self.lower);
+        let (analysis, collisions) = (self.analysis, self.collisions);
         let flights = if crossings.is_infinite() {
             ", each flight crossing more cells between collisions than a double can count"
                 .to_string()
@@ -111,14 +126,18 @@ impl<'a> Work<'a> {
         } else {
             String::new()
         };
-        Err(Error::Invalid(format!(
-            "{analysis} would compute about {collisions:.1e} collisions{flights}: {} on {threads} \
-             thread{} at {} per collision or more, beyond the limit of a week of the run's \
-             threads; lower {lower}",
-            duration(seconds),
-            if threads == 1 { "" } else { "s" },
-            nanoseconds(per),
-        )))
+        Err(Error::TooMuchWork {
+            estimate: format!(
+                "{analysis} would compute about {collisions:.1e} collisions{flights}: {} on \
+                 {threads} thread{} at {} per collision or more, beyond the limit of a week of \
+                 the run's threads",
+                duration(seconds),
+                if threads == 1 { "" } else { "s" },
+                nanoseconds(per),
+            ),
+            lower: self.lower,
+            raise: self.raise,
+        })
     }
 }
 

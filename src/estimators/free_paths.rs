@@ -88,7 +88,11 @@ impl FreePathConfig {
     pub fn validate(&self) -> Result<(), Error> {
         check_batches("batches", self.batches)?;
         // A batch is one trajectory: a count near 2^64 would wrap around its cell index.
-        crate::engine::check_trajectory_length(share(self.collisions, self.batches.max(1), 0))?;
+        crate::engine::check_trajectory_length(
+            share(self.collisions, self.batches.max(1), 0),
+            "batches",
+            self.batches,
+        )?;
         if self.batches < 2 {
             return Err(Error::TooFew {
                 what: "batches",
@@ -194,7 +198,7 @@ fn run_on<S: Scene>(
     } else {
         crossings_per_collision(scene)
     };
-    Work::new("free_paths", "collisions", cfg.collisions as f64)
+    Work::new("free_paths", &["collisions"], cfg.collisions as f64)
         .crossing(crossings)
         .check(options.threads)?;
     let ell = scene.mean_free_path();

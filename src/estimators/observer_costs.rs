@@ -12,10 +12,11 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::throughput::{MAX_REPETITIONS, Observe, advance, lanes, median, starts, thread_pool};
+use super::throughput::{MAX_REPETITIONS, Observe, advance, lanes, median, starts};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
+use crate::engine::parallel::thread_pool;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};

@@ -185,13 +185,9 @@ struct Run {
     events: Vec<EventRecord>,
 }
 
-/// Checks the input and makes the plan: Lyapunov estimate, expected events, starting precision,
-/// and the resource check (bits × events) — before anything large is allocated.
-///
-/// # Errors
-/// Digits outside 1..=[`MAX_DIGITS`], a time ≤ 0, a zero direction, a start too far out, or a
-/// time whose precision or estimated run time exceeds [`MAX_TRAJECTORY_BITS`] or [`MAX_SECONDS`].
-pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error> {
+/// Refuses digits outside 1..=[`MAX_DIGITS`], a time ≤ 0, a zero direction, a start or
+/// direction too far out, or a field outside [`TRAJECTORY_FIELD_RANGE`].
+fn check_input(input: &TrajectoryInput) -> Result<(), Error> {
     if input.digits == 0 || input.digits > MAX_DIGITS {
         return Err(Error::out_of_range(
             "digits",
@@ -207,8 +203,10 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
         ));
     }
     if input.dx == 0 && input.dy == 0 {
-        return Err(Error::Invalid(
-            "direction (0, 0) is zero: use a nonzero direction such as 1,0".into(),
+        return Err(Error::parameter(
+            "direction",
+            "0,0",
+            "a zero direction: use a nonzero direction such as 1,0",
         ));
     }
     crate::scenes::check_world_point(&input.x, &input.y)?;
@@ -225,13 +223,23 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
             ));
         }
     }
-    crate::scenes::check_world_point(&input.dx, &input.dy).map_err(|_| {
-        Error::Invalid(format!(
-            "direction components must lie from -{:e} to {:e} (only the direction matters: scale it down)",
-            crate::scenes::MAX_WORLD_COORDINATE,
-            crate::scenes::MAX_WORLD_COORDINATE
-        ))
-    })?;
+    crate::scenes::check_pair(
+        "direction",
+        &input.dx,
+        &input.dy,
+        "components (only the direction matters: scale it down)",
+    )?;
+    Ok(())
+}
+
+/// Checks the input and makes the plan: Lyapunov estimate, expected events, starting precision,
+/// and the resource check (bits × events) — before anything large is allocated.
+///
+/// # Errors
+/// Digits outside 1..=[`MAX_DIGITS`], a time ≤ 0, a zero direction, a start too far out, or a
+/// time whose precision or estimated run time exceeds [`MAX_TRAJECTORY_BITS`] or [`MAX_SECONDS`].
+pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error> {
+    check_input(input)?;
     let mean_free_path = scene.mean_free_path();
     let time = crate::numbers::exact::nearest_f64(&input.time);
     let expected_collisions = time / mean_free_path;
@@ -267,10 +275,17 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
     let bits = (need.ceil() + TRAJECTORY_GUARD_BITS as f64).max(MIN_TRAJECTORY_BITS as f64);
     let seconds = estimated_seconds(bits, expected_events);
     if bits > MAX_TRAJECTORY_BITS as f64 || seconds > MAX_SECONDS {
-        return Err(Error::Invalid(format!(
-            "time = {time} to {} digits needs about {bits:.0} bits over {expected_events:.0} events (lambda = {lambda:.3} per collision, {expected_collisions:.0} collisions), about {seconds:.0} s, beyond the limits of {MAX_TRAJECTORY_BITS} bits and {MAX_SECONDS} s: use a shorter time or fewer digits",
-            input.digits
-        )));
+        return Err(Error::parameter(
+            "time",
+            time,
+            format!(
+                "to {} digits needs about {bits:.0} bits over {expected_events:.0} events \
+                 (lambda = {lambda:.3} per collision, {expected_collisions:.0} collisions), about \
+                 {seconds:.0} s, beyond the limits of {MAX_TRAJECTORY_BITS} bits and \
+                 {MAX_SECONDS} s: use a shorter time or fewer digits",
+                input.digits
+            ),
+        ));
     }
     Ok(Plan {
         lambda_per_collision: lambda,
@@ -354,7 +369,7 @@ pub fn run<S: Scene>(
             });
         }
         if 2 * bits > MAX_TRAJECTORY_BITS {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "could not certify {} digits within {MAX_TRAJECTORY_BITS} bits: the runs at {bits} and {} bits {} (agreement {agreed:.1} digits); use a shorter time or fewer digits",
                 input.digits,
                 2 * bits,
@@ -368,6 +383,21 @@ pub fn run<S: Scene>(
         bits *= 2;
         lo = hi;
     }
+}
+
+/// The refusal of a start inside the disk of radius `radius` centred at `centre`.
+fn inside_disk(input: &TrajectoryInput, centre: &Vec2<Float>, radius: f64) -> Error {
+    let near = crate::numbers::exact::nearest_f64;
+    Error::parameter(
+        "start",
+        format!("{},{}", near(&input.x), near(&input.y)),
+        format!(
+            "inside the disk at ({}, {}) of radius {radius}: choose a start at distance >= the \
+             radius from every disk centre",
+            centre.x.to_f64(),
+            centre.y.to_f64()
+        ),
+    )
 }
 
 /// The run at `bits` bits.
@@ -389,14 +419,7 @@ fn run_at<S: Scene>(
                 cell,
                 flight: Flight::new(c.clone(), c.clone()),
             });
-            return Err(Error::Invalid(format!(
-                "start ({}, {}) is inside the disk at ({}, {}) of radius {}: choose a start at distance >= the radius from every disk centre",
-                crate::numbers::exact::nearest_f64(&input.x),
-                crate::numbers::exact::nearest_f64(&input.y),
-                centre.x.to_f64(),
-                centre.y.to_f64(),
-                d.radius().to_f64()
-            )));
+            return Err(inside_disk(input, &centre, d.radius().to_f64()));
         }
     }
     let (dx, dy) = (
@@ -450,7 +473,7 @@ fn run_at<S: Scene>(
             });
         }
         if (sequence.len() as u64) > max_events {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "the run passed {max_events} events before time T, far beyond the estimate: use a shorter time"
             )));
         }
@@ -481,7 +504,7 @@ fn next_straight(
 ) -> Result<Option<(EventKind, Float)>, Error> {
     let ev = lat
         .next_event(s)
-        .ok_or_else(|| Error::Invalid("the flight has no next event (zero velocity)".into()))?;
+        .ok_or_else(|| Error::Failed("the flight has no next event (zero velocity)".into()))?;
     let end = elapsed.clone() + &ev.time;
     if end > *total {
         let rest = total.clone() - elapsed;
@@ -507,7 +530,7 @@ fn next_arc(
     let rest = total.clone() - elapsed;
     let Some(ev) = lat.next_event_in_field(s, b) else {
         if s.flight.excluded_disk.is_some() {
-            return Err(Error::Invalid(
+            return Err(Error::Failed(
                 "the particle slides along the disk it is on (a tangent start turning into the disk): choose another direction".into(),
             ));
         }

@@ -22,10 +22,9 @@ const MAX_DECIMAL_DIGITS: usize = 40;
 /// assert!(parse_decimal("0x1p-3").is_err());
 /// ```
 pub fn parse_decimal(s: &str) -> Result<Rational, Error> {
-    let bad = || {
-        Error::Invalid(format!(
-            "'{s}' is not a decimal number (such as 0.15 or 1.5e-1)"
-        ))
+    let bad = || Error::NotANumber {
+        text: s.to_string(),
+        why: "is not a decimal number (such as 0.15 or 1.5e-1)",
     };
     let t = s.trim();
     let (neg, t) = match t.strip_prefix('-') {
@@ -78,9 +77,10 @@ pub fn parse_exact(s: &str) -> Result<Rational, Error> {
         Some((n, d)) => {
             let (n, d) = (parse_decimal(n)?, parse_decimal(d)?);
             if d == 0 {
-                return Err(Error::Invalid(format!(
-                    "'{s}' divides by zero: use a decimal such as 0.25 or a fraction such as 1/3"
-                )));
+                return Err(Error::NotANumber {
+                    text: s.to_string(),
+                    why: "divides by zero: use a decimal such as 0.25 or a fraction such as 1/3",
+                });
             }
             Ok(n / d)
         }
@@ -117,26 +117,39 @@ pub fn param_at<T: Real>(ctx: T::Ctx, value: f64, exact: Option<&str>) -> Result
 }
 
 /// Checks that `exact`, when given, is a decimal or fraction whose nearest double is `value`: a
-/// configuration carries a parameter both ways, and the two must name the same number.
+/// configuration carries a parameter both ways (`what`, and `exact_field` as typed), and the two
+/// must name the same number.
 ///
 /// # Examples
 ///
 /// ```
 /// use lorentz_gas::numbers::exact::check_exact;
-/// assert!(check_exact("w", 0.1, Some("1/10")).is_ok());
-/// assert!(check_exact("w", 0.1, None).is_ok());
-/// assert!(check_exact("w", 0.2, Some("1/10")).is_err());
-/// assert!(check_exact("w", 0.1, Some("one tenth")).is_err());
+/// assert!(check_exact(("w", "w_exact"), 0.1, Some("1/10")).is_ok());
+/// assert!(check_exact(("w", "w_exact"), 0.1, None).is_ok());
+/// let e = check_exact(("w", "w_exact"), 0.2, Some("1/10")).unwrap_err();
+/// assert_eq!(
+///     e.to_string(),
+///     "w_exact = '1/10': not w = 0.2 (its nearest double is 0.1): give the same number in both"
+/// );
+/// assert!(check_exact(("w", "w_exact"), 0.1, Some("one tenth")).is_err());
 /// ```
-pub fn check_exact(what: &'static str, value: f64, exact: Option<&str>) -> Result<(), Error> {
+pub fn check_exact(
+    (what, exact_field): (&str, &'static str),
+    value: f64,
+    exact: Option<&str>,
+) -> Result<(), Error> {
     let Some(text) = exact else { return Ok(()) };
-    let q = parse_exact(text)?;
+    let q = parse_exact(text).map_err(|e| e.named(exact_field))?;
     let near = nearest_f64(&q);
     if near.to_bits() != value.to_bits() {
-        return Err(Error::Invalid(format!(
-            "{what}_exact = '{text}' is not {what} = {value:?} (its nearest double is {near:?}): \
-             give the same number in both"
-        )));
+        return Err(Error::parameter(
+            exact_field,
+            format!("'{text}'"),
+            format!(
+                "not {what} = {value:?} (its nearest double is {near:?}): give the same number \
+                 in both"
+            ),
+        ));
     }
     Ok(())
 }
@@ -154,9 +167,11 @@ pub fn check_exact(what: &'static str, value: f64, exact: Option<&str>) -> Resul
 /// ```
 pub fn decimal_grid(from: &str, to: &str, steps: u32) -> Result<Vec<f64>, Error> {
     if steps < 2 {
-        return Err(Error::Invalid(format!(
-            "a grid needs at least 2 points (got {steps})"
-        )));
+        return Err(Error::TooFew {
+            what: "steps",
+            min: 2,
+            got: steps.into(),
+        });
     }
     let a = parse_exact(from)?;
     let b = parse_exact(to)?;

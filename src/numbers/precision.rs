@@ -65,9 +65,11 @@ impl FromStr for Precision {
             return Ok(Precision::F64);
         }
         let bits: u32 = s.parse().map_err(|_| {
-            Error::Invalid(format!(
-                "precision '{s}' is not 'f64' or a number of bits from 53 to {MAX_RUN_BITS}"
-            ))
+            Error::out_of_range(
+                "precision",
+                format!("'{s}'"),
+                format!("use 'f64' or a number of bits from 53 to {MAX_RUN_BITS}"),
+            )
         })?;
         <Float as Real>::check_ctx(bits)?;
         Ok(Precision::Bits(bits))

@@ -152,7 +152,7 @@ impl HopLanes {
     pub fn new(order: usize, lanes: usize) -> Result<Self, Error> {
         let h = Hops::new(order)?;
         if lanes > 64 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "hop statistics of {lanes} lanes: at most 64 are observed together"
             )));
         }

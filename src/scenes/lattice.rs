@@ -275,7 +275,7 @@ impl<T: Real, K: CellKernel<T>> Lattice<T, K> {
     #[inline(always)]
     pub fn step(&self, s: &mut LatticeState<T>) -> Result<Event<T>, Error> {
         let ev = self.next_event(s).ok_or_else(|| {
-            Error::Invalid(format!(
+            Error::Failed(format!(
                 "state has no next event (velocity {:?})",
                 s.flight.vel.to_f64()
             ))
@@ -349,7 +349,7 @@ pub fn settle<T: Real>(
         };
         index = index.across(e);
     }
-    Err(Error::Invalid(format!(
+    Err(Error::Failed(format!(
         "could not place the point {:?} in a cell within {MAX_SETTLE_STEPS} crossings",
         p.to_f64()
     )))

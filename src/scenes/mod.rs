@@ -49,15 +49,31 @@ use lattice::{CellIndex, Lattice, LatticeState};
 /// (|x|·2⁻ᴾ) stays negligible.
 pub const MAX_WORLD_COORDINATE: f64 = 1e12;
 
-/// Refuses a world point with a coordinate beyond ±[`MAX_WORLD_COORDINATE`].
+/// Refuses a world point with a coordinate beyond ±[`MAX_WORLD_COORDINATE`] (a start: the one
+/// point a user gives).
 pub fn check_world_point(x: &Rational, y: &Rational) -> Result<(), Error> {
+    check_pair("start", x, y, "coordinates")
+}
+
+/// Refuses the pair `(x, y)` given as `parameter` with a component beyond
+/// ±[`MAX_WORLD_COORDINATE`] (`what`: what its components are, for the range).
+pub fn check_pair(
+    parameter: &'static str,
+    x: &Rational,
+    y: &Rational,
+    what: &str,
+) -> Result<(), Error> {
     let limit = Rational::from_f64(MAX_WORLD_COORDINATE).expect("finite constant");
     if x.clone().abs() > limit || y.clone().abs() > limit {
-        return Err(Error::Invalid(format!(
-            "the point ({}, {}) is too far out: use coordinates from -{MAX_WORLD_COORDINATE:e} to {MAX_WORLD_COORDINATE:e}",
-            crate::numbers::exact::nearest_f64(x),
-            crate::numbers::exact::nearest_f64(y)
-        )));
+        return Err(Error::out_of_range(
+            parameter,
+            format!(
+                "{},{}",
+                crate::numbers::exact::nearest_f64(x),
+                crate::numbers::exact::nearest_f64(y)
+            ),
+            format!("use {what} from -{MAX_WORLD_COORDINATE:e} to {MAX_WORLD_COORDINATE:e}"),
+        ));
     }
     Ok(())
 }

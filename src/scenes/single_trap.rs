@@ -101,7 +101,7 @@ impl<T: Real> SingleTrap<T> {
                 }
             }
         }
-        Err(Error::Invalid(format!(
+        Err(Error::Failed(format!(
             "particle injected at 2x/w = {x}, sin a = {sin_alpha} did not leave within {max_events} events"
         )))
     }

@@ -84,10 +84,11 @@ impl SceneSpec {
     /// or a value that is not a number.
     pub fn parse(name: &str, w: Option<&str>, radius: Option<&str>) -> Result<Self, Error> {
         let Some((needs, range)) = parameter_of(name) else {
-            return Err(Error::Invalid(format!(
-                "scene '{name}' is not one of {}",
-                Self::NAMES.join(", ")
-            )));
+            return Err(Error::out_of_range(
+                "scene",
+                name,
+                format!("use one of {}", Self::NAMES.join(", ")),
+            ));
         };
         let scene = if name == "square" {
             "square"
@@ -116,7 +117,7 @@ impl SceneSpec {
                 missing: true,
             });
         };
-        let text = ExactInput::parse(text)?.text;
+        let text = ExactInput::parse(text).map_err(|e| e.named(needs))?.text;
         Ok(match scene {
             "square" => SceneSpec::Square { radius: text },
             _ => SceneSpec::Triangular { w: text },
@@ -141,11 +142,12 @@ impl SceneSpec {
         match self {
             SceneSpec::Table(t) => Ok(SceneChoice::Table(Box::new(PeriodicTable::new(t)?))),
             SceneSpec::Square { radius } => {
-                let r = ExactInput::parse(radius)?.rational("radius")?;
+                let r = (ExactInput::parse(radius).map_err(|e| e.named("radius"))?)
+                    .rational("radius")?;
                 Ok(SceneChoice::Square(SquareScene::exact(r)?))
             }
             SceneSpec::Triangular { w } => {
-                let w = ExactInput::parse(w)?;
+                let w = ExactInput::parse(w).map_err(|e| e.named("w"))?;
                 if !w.value.is_finite() {
                     return Err(Error::NotFinite { what: "w" });
                 }

@@ -53,8 +53,7 @@ impl SquareScene {
 
     /// The scene at the double `r` (taken exactly as that binary number).
     pub fn new(r: f64) -> Result<Self, Error> {
-        let q = Rational::from_f64(r)
-            .ok_or_else(|| Error::Invalid(format!("radius = {r} is not a finite number")))?;
+        let q = Rational::from_f64(r).ok_or(Error::NotFinite { what: "radius" })?;
         Self::exact(q)
     }
 

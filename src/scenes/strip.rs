@@ -68,9 +68,11 @@ impl Strip {
     /// If `width` is not positive and finite.
     pub fn new(scene: &TriangularScene, width: f64) -> Result<Self, Error> {
         if !(width.is_finite() && width > 0.0) {
-            return Err(Error::Invalid(format!(
-                "strip width L = {width} must be a positive finite length"
-            )));
+            return Err(Error::out_of_range(
+                "widths",
+                width,
+                "use strip widths L that are positive finite lengths",
+            ));
         }
         let lattice: TriangularLattice<f64> = scene.lattice(())?;
         let basis = lattice.basis_f64();
@@ -145,13 +147,13 @@ impl Strip {
     /// loses its next event.
     pub fn follow(&self, mut state: LatticeState<f64>, t_max: f64) -> Result<Outcome, Error> {
         if !(t_max.is_finite() && t_max > 0.0) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "cut-off time t_max = {t_max} must be positive and finite"
             )));
         }
         let x_start = self.world_x(&state);
         if !self.contains(x_start) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "a particle must start inside the strip [0, {}], not at x = {x_start}",
                 self.width
             )));

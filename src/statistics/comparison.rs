@@ -102,7 +102,7 @@ impl Comparison {
 /// ```
 pub fn paired(a: &[f64], b: &[f64]) -> Result<Comparison, Error> {
     if a.len() != b.len() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "a paired comparison needs the same batches: {} values against {}",
             a.len(),
             b.len()

@@ -1,5 +1,7 @@
 //! Weighted least squares with χ²: lines, quadratics and polynomials through values with
 //! standard errors, and the weighted mean (the sweep's fits and the escape-rate extrapolation).
+//! Their data are what a run computed (the analyses refuse too few points first, naming their
+//! parameters), so data a fit cannot take is a failure of the run ([`Error::Failed`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -8,7 +10,7 @@ use crate::Error;
 /// Weights 1/σ², refusing errors that are zero, negative or not finite.
 fn weights(sigma: &[f64]) -> Result<Vec<f64>, Error> {
     if let Some(s) = sigma.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "a weighted fit needs positive finite errors (got {s})"
         )));
     }
@@ -74,7 +76,7 @@ impl LineFit {
 /// ```
 pub fn weighted_line_fit(x: &[f64], y: &[f64], sigma: &[f64]) -> Result<LineFit, Error> {
     if x.len() != y.len() || x.len() != sigma.len() || x.len() < 2 {
-        return Err(Error::Invalid(
+        return Err(Error::Failed(
             "a straight-line fit needs at least two points, each with x, y and an error".into(),
         ));
     }
@@ -84,7 +86,7 @@ pub fn weighted_line_fit(x: &[f64], y: &[f64], sigma: &[f64]) -> Result<LineFit,
     let ym = w.iter().zip(y).map(|(w, y)| w * y).sum::<f64>() / sw;
     let stt: f64 = w.iter().zip(x).map(|(w, x)| w * (x - xm).powi(2)).sum();
     if stt.is_nan() || stt <= 0.0 {
-        return Err(Error::Invalid(
+        return Err(Error::Failed(
             "a straight-line fit needs at least two distinct x".into(),
         ));
     }
@@ -182,7 +184,7 @@ pub fn weighted_polynomial_chi2(
 ) -> Result<(f64, usize), Error> {
     let n = x.len();
     if y.len() != n || sigma.len() != n || n < degree + 2 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "a degree-{degree} fit with a χ² needs at least {} points, each with x, y and an error",
             degree + 2
         )));
@@ -202,7 +204,7 @@ pub fn weighted_polynomial_chi2(
         .clone()
         .svd(true, true)
         .solve(&b, 1e-14)
-        .map_err(|e| Error::Invalid(format!("polynomial fit: {e}")))?;
+        .map_err(|e| Error::Failed(format!("polynomial fit: {e}")))?;
     let r = a * c - b;
     Ok((r.norm_squared(), n - degree - 1))
 }
@@ -228,7 +230,7 @@ pub fn weighted_quadratic_fit(
     x0: f64,
 ) -> Result<QuadraticFit, Error> {
     if x.len() != y.len() || x.len() != sigma.len() || x.len() < 3 {
-        return Err(Error::Invalid(
+        return Err(Error::Failed(
             "a quadratic fit needs at least three points, each with x, y and an error".into(),
         ));
     }
@@ -243,7 +245,7 @@ pub fn weighted_quadratic_fit(
     }
     let inv = n
         .try_inverse()
-        .ok_or_else(|| Error::Invalid("a quadratic fit needs at least three distinct x".into()))?;
+        .ok_or_else(|| Error::Failed("a quadratic fit needs at least three distinct x".into()))?;
     let c = inv * b;
     let chi2 = (0..x.len())
         .map(|i| {
@@ -292,7 +294,7 @@ pub struct WeightedMean {
 /// ```
 pub fn weighted_mean(x: &[f64], sigma: &[f64]) -> Result<WeightedMean, Error> {
     if x.len() != sigma.len() || x.is_empty() {
-        return Err(Error::Invalid(
+        return Err(Error::Failed(
             "a weighted mean needs values with errors".into(),
         ));
     }

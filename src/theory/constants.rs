@@ -160,10 +160,10 @@ impl ConstantsReport {
 pub fn run(cfg: &ConstantsConfig) -> Result<ConstantsReport, Error> {
     let table = match &cfg.scene {
         SceneSpec::Triangular { w } => Table::Triangular {
-            w: ExactInput::parse(w)?.rational("w")?,
+            w: (ExactInput::parse(w).map_err(|e| e.named("w"))?).rational("w")?,
         },
         SceneSpec::Square { radius } => Table::Square {
-            r: parse_exact(radius)?,
+            r: parse_exact(radius).map_err(|e| e.named("radius"))?,
         },
         SceneSpec::Table(t) => {
             return Err(Error::Lacks {

@@ -129,9 +129,11 @@ impl LatticeGas {
     /// A parameter that is not a decimal or a fraction, or out of range.
     pub fn of(scene: &SceneSpec) -> Result<Self, Error> {
         let gas = match scene {
-            SceneSpec::Triangular { w } => LatticeGas::Triangular { w: parse_exact(w)? },
+            SceneSpec::Triangular { w } => LatticeGas::Triangular {
+                w: parse_exact(w).map_err(|e| e.named("w"))?,
+            },
             SceneSpec::Square { radius } => LatticeGas::Square {
-                r: parse_exact(radius)?,
+                r: parse_exact(radius).map_err(|e| e.named("radius"))?,
             },
             SceneSpec::Table(t) => {
                 return Err(Error::Lacks {
@@ -143,6 +145,14 @@ impl LatticeGas {
         };
         gas.validate()?;
         Ok(gas)
+    }
+
+    /// The refusal of this lattice's radius or gap, `why`.
+    fn refuse(&self, why: String) -> Error {
+        match self {
+            LatticeGas::Square { r } => Error::parameter("radius", r, why),
+            LatticeGas::Triangular { w } => Error::parameter("w", w, why),
+        }
     }
 
     /// Checks the radius or gap (exactly).
@@ -183,7 +193,7 @@ impl LatticeGas {
         };
         let nmax = nmax.ceil().numer().to_i64().filter(|&n| n <= MAX_NORM2);
         let Some(nmax) = nmax else {
-            return Err(Error::Invalid(format!(
+            return Err(self.refuse(format!(
                 "the radius is too small (or the gap too large) to list every corridor (about \
                  a million or more): use radius >= 1/2048 on the square lattice, w <= 2362 on \
                  the triangular one (corridors up to |v|^2 = {MAX_NORM2} lattice spacings^2)"
@@ -228,7 +238,7 @@ pub fn superdiffusion<T: Real>(ctx: T::Ctx, gas: &LatticeGas) -> Result<Superdif
             if norm2 <= nmax && gas.open(norm2) {
                 dirs.push(([m, n], norm2));
                 if dirs.len() > MAX_CORRIDORS {
-                    return Err(Error::Invalid(format!(
+                    return Err(gas.refuse(format!(
                         "more than {MAX_CORRIDORS} corridors: use a larger radius (or a smaller gap)"
                     )));
                 }

@@ -116,7 +116,7 @@ pub fn estimate(batches: &[HopCorrelations], truncation: Truncation) -> Result<G
     }
     let j_max = batches[0].max_lag();
     if batches.iter().any(|b| b.max_lag() != j_max) {
-        return Err(Error::Invalid(
+        return Err(Error::Failed(
             "hop sequences accumulated with different maximum lags".into(),
         ));
     }
@@ -131,17 +131,21 @@ pub fn estimate(batches: &[HopCorrelations], truncation: Truncation) -> Result<G
     let j = match truncation {
         Truncation::Fixed(j) => {
             if j == 0 || j > j_max {
-                return Err(Error::Invalid(format!(
-                    "truncation J = {j} must be in 1..={j_max} (the largest lag accumulated)"
-                )));
+                return Err(Error::out_of_range(
+                    "truncation",
+                    j,
+                    format!("use J from 1 to {j_max} (the largest lag accumulated)"),
+                ));
             }
             j
         }
         Truncation::Automatic { c } => {
             if c.is_nan() || c <= 0.0 {
-                return Err(Error::Invalid(format!(
-                    "window constant c = {c} must be > 0"
-                )));
+                return Err(Error::out_of_range(
+                    "truncation",
+                    c,
+                    "use a window constant c > 0",
+                ));
             }
             let mut tau = 1.0;
             let mut found = None;
@@ -153,7 +157,7 @@ pub fn estimate(batches: &[HopCorrelations], truncation: Truncation) -> Result<G
                 }
             }
             found.ok_or_else(|| {
-                Error::Invalid(format!(
+                Error::Failed(format!(
                     "no truncation J ≤ {j_max} satisfies J ≥ {c}·τ̂(J): the hop correlations \
                      are too long for the lags accumulated"
                 ))
@@ -186,9 +190,11 @@ pub fn estimate(batches: &[HopCorrelations], truncation: Truncation) -> Result<G
 /// ```
 pub fn green_kubo(sequences: &[Vec<u8>], truncation: Truncation) -> Result<GreenKubo, Error> {
     if let Some(bad) = sequences.iter().flatten().find(|&&d| d >= 6) {
-        return Err(Error::Invalid(format!(
-            "hop direction index {bad} is not in 0..6"
-        )));
+        return Err(Error::out_of_range(
+            "sequences",
+            bad,
+            "use hop direction indices 0 to 5",
+        ));
     }
     let shortest = sequences.iter().map(|s| s.len()).min().unwrap_or(0);
     let j_max = match truncation {
@@ -280,7 +286,10 @@ mod tests {
         assert!(e(green_kubo(&[], Truncation::Fixed(1))).contains("at least 2"));
         let two = |s: Vec<u8>| vec![s.clone(), s];
         assert!(e(green_kubo(&[vec![0; 100]], Truncation::Fixed(1))).contains("at least 2"));
-        assert!(e(green_kubo(&two(vec![0, 7, 0, 1]), Truncation::Fixed(1))).contains("0..6"));
+        assert!(
+            e(green_kubo(&two(vec![0, 7, 0, 1]), Truncation::Fixed(1)))
+                .contains("sequences = 7 is out of range: use hop direction indices 0 to 5")
+        );
         assert!(e(green_kubo(&two(vec![0; 100]), Truncation::Fixed(30))).contains("4 ×"));
         assert!(green_kubo(&two(vec![0; 100]), Truncation::Automatic { c: -1.0 }).is_err());
         assert!(green_kubo(&two(vec![0; 7]), Truncation::Fixed(2)).is_err());

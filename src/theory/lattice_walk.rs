@@ -74,10 +74,15 @@ impl LatticeWalkConfig {
             return Err(Error::Zero { what: "walkers" });
         }
         if self.fit_from == 0 || self.fit_from + 2 > self.hops {
-            return Err(Error::Invalid(format!(
-                "fit window {}..={} must start at ≥ 1 hop and contain at least 3 times",
-                self.fit_from, self.hops
-            )));
+            return Err(Error::out_of_range(
+                "fit_from",
+                self.fit_from,
+                format!(
+                    "the fit window fit_from..={} must start at >= 1 hop and contain at least 3 \
+                     times",
+                    self.hops
+                ),
+            ));
         }
         Ok(())
     }

@@ -113,25 +113,32 @@ impl CorrelatedWalk {
         Self::check_order(k)?;
         let n = 3usize.pow(k as u32 - 1);
         if cond.len() != n {
-            return Err(Error::Invalid(format!(
-                "an order-{k} walk needs conditional probabilities for 3^{} = {n} histories, got {}",
-                k - 1,
-                cond.len()
-            )));
+            return Err(Error::parameter(
+                "cond",
+                format!("{} rows", cond.len()),
+                format!(
+                    "an order-{k} walk needs conditional probabilities for 3^{} = {n} histories",
+                    k - 1
+                ),
+            ));
         }
         for (h, row) in cond.iter().enumerate() {
             let hist = word(&sequence_from_index(k - 1, h));
             if row.iter().any(|x| !x.is_finite() || *x < 0.0) {
-                return Err(Error::Invalid(format!(
-                    "p(·|\"{hist}\") = {row:?}: conditional probabilities must be finite and ≥ 0"
-                )));
+                return Err(Error::parameter(
+                    "cond",
+                    format!("p(·|\"{hist}\") = {row:?}"),
+                    "conditional probabilities must be finite and ≥ 0",
+                ));
             }
             // A row given as three correctly rounded values sums to 1 within 3u (+u for the sum).
             let s = row[0] + row[1] + row[2];
             if (s - 1.0).abs() > 4.0 * f64::EPSILON / 2.0 {
-                return Err(Error::Invalid(format!(
-                    "p(·|\"{hist}\") = {row:?} sums to {s}, not 1"
-                )));
+                return Err(Error::parameter(
+                    "cond",
+                    format!("p(·|\"{hist}\") = {row:?}"),
+                    format!("sums to {s}, not 1"),
+                ));
             }
         }
         let stationary = stationary_distribution(k, &cond)?;
@@ -177,10 +184,14 @@ impl CorrelatedWalk {
         let m = self.k - 1;
         let full = len.max(m).max(1);
         if full > SequenceProbabilities::MAX_LEN {
-            return Err(Error::Invalid(format!(
-                "sequence length {full} exceeds {}",
-                SequenceProbabilities::MAX_LEN
-            )));
+            return Err(Error::out_of_range(
+                "len",
+                len,
+                format!(
+                    "use at most {} (the longer of it and the order's histories)",
+                    SequenceProbabilities::MAX_LEN
+                ),
+            ));
         }
         let nh = self.cond.len();
         let w: Vec<f64> = (0..3usize.pow(full as u32))
@@ -252,7 +263,7 @@ impl CorrelatedWalk {
         let (q, q1) = self.q_matrix();
         let a = DMatrix::<Complex<f64>>::identity(n, n) - q;
         let ballistic = || {
-            Error::Invalid(format!(
+            Error::Failed(format!(
                 "the order-{} walk has a ballistic component (I − Q is singular): D is infinite",
                 self.k
             ))
@@ -297,7 +308,7 @@ fn stationary_distribution(k: usize, cond: &[[f64; 3]]) -> Result<Vec<f64>, Erro
     let mut b = DVector::<f64>::zeros(n);
     b[n - 1] = 1.0;
     let not_unique = || {
-        Error::Invalid(format!(
+        Error::Failed(format!(
             "the chain of order-{k} symbol histories has no unique stationary distribution \
              (it is reducible): D depends on the initial history"
         ))

@@ -50,10 +50,14 @@ impl SequenceProbabilities {
         let sum = s.value();
         let tol = 2.0 * n as f64 * f64::EPSILON / 2.0;
         if (sum - 1.0).abs() > tol {
-            return Err(Error::Invalid(format!(
-                "sequence probabilities of length {k} sum to {sum:.17}, not 1 (allowed rounding \
-                 error {tol:.1e}); use SequenceProbabilities::from_weights to normalise"
-            )));
+            return Err(Error::parameter(
+                "p",
+                format!("probabilities summing to {sum:.17}"),
+                format!(
+                    "sequence probabilities of length {k} sum to 1 (allowed rounding error \
+                     {tol:.1e}); use SequenceProbabilities::from_weights to normalise"
+                ),
+            ));
         }
         Ok(SequenceProbabilities { k, p })
     }
@@ -68,9 +72,11 @@ impl SequenceProbabilities {
         }
         let total = s.value();
         if total.is_nan() || total <= 0.0 || !total.is_finite() {
-            return Err(Error::Invalid(format!(
-                "sequence weights must have a positive finite sum, got {total}"
-            )));
+            return Err(Error::parameter(
+                "w",
+                format!("weights summing to {total}"),
+                "sequence weights must have a positive finite sum",
+            ));
         }
         let p = w.into_iter().map(|x| x / total).collect();
         Self::new(k, p)
@@ -85,9 +91,11 @@ impl SequenceProbabilities {
     /// p(l) = p(r) = (1 − p_bs)/2 (the first-order symbolic dynamics of the paper).
     pub fn memoryless(k: usize, p_bs: f64) -> Result<Self, Error> {
         if !(0.0..=1.0).contains(&p_bs) {
-            return Err(Error::Invalid(format!(
-                "backscattering probability p_bs = {p_bs} is not in [0, 1]"
-            )));
+            return Err(Error::out_of_range(
+                "p_bs",
+                p_bs,
+                "use a backscattering probability from 0 to 1",
+            ));
         }
         let q = (1.0 - p_bs) / 2.0;
         let one = [p_bs, q, q];
@@ -107,16 +115,19 @@ impl SequenceProbabilities {
 
     fn check_shape(k: usize, len: usize) -> Result<usize, Error> {
         if k == 0 || k > Self::MAX_LEN {
-            return Err(Error::Invalid(format!(
-                "sequence length k = {k} is out of range: use 1 ≤ k ≤ {}",
-                Self::MAX_LEN
-            )));
+            return Err(Error::out_of_range(
+                "k",
+                k,
+                format!("use 1 ≤ k ≤ {} (the sequence length)", Self::MAX_LEN),
+            ));
         }
         let n = 3usize.pow(k as u32);
         if len != n {
-            return Err(Error::Invalid(format!(
-                "a table of sequences of length {k} needs 3^{k} = {n} probabilities, got {len}"
-            )));
+            return Err(Error::parameter(
+                "p",
+                format!("{len} probabilities"),
+                format!("a table of sequences of length {k} needs 3^{k} = {n}"),
+            ));
         }
         Ok(n)
     }
@@ -125,10 +136,11 @@ impl SequenceProbabilities {
         for (i, &x) in p.iter().enumerate() {
             if !x.is_finite() || x < 0.0 {
                 let w = word(&sequence_from_index(k, i));
-                return Err(Error::Invalid(format!(
-                    "probability of sequence \"{w}\" is {x}: every probability must be finite \
-                     and ≥ 0"
-                )));
+                return Err(Error::parameter(
+                    "p",
+                    format!("{x} for the sequence \"{w}\""),
+                    "every probability must be finite and ≥ 0",
+                ));
             }
         }
         Ok(())
@@ -158,10 +170,11 @@ impl SequenceProbabilities {
     /// The marginal table of the first `j ≤ k` symbols: p(s₁…s_j) = Σ p(s₁…s_k).
     pub fn prefix_marginal(&self, j: usize) -> Result<Self, Error> {
         if j == 0 || j > self.k {
-            return Err(Error::Invalid(format!(
-                "prefix length {j} is not in 1..={}",
-                self.k
-            )));
+            return Err(Error::out_of_range(
+                "j",
+                j,
+                format!("use a prefix length from 1 to {}", self.k),
+            ));
         }
         let block = 3usize.pow((self.k - j) as u32);
         let w = self.p.chunks(block).map(|c| c.iter().sum()).collect();

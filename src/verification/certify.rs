@@ -120,14 +120,22 @@ pub fn starting_bits(lambda: f64, n: usize, digits: u32) -> Result<u32, Error> {
         over(bits, memory)
     );
     if lo < 1.0 {
-        return Err(Error::Invalid(format!("{needed}: use fewer digits")));
+        return Err(Error::parameter(
+            "digits",
+            digits,
+            format!("{needed}: use fewer digits"),
+        ));
     }
     // The limit that stops the next collision beyond the longest segment that fits.
     let (b1, m1) = needs(lambda, lo + 1.0, digits);
-    Err(Error::Invalid(format!(
-        "{needed}: use at most {lo:.0} collisions (where {} binds)",
-        over(b1, m1)
-    )))
+    Err(Error::parameter(
+        "collisions",
+        n,
+        format!(
+            "{needed}: use at most {lo:.0} collisions (where {} binds)",
+            over(b1, m1)
+        ),
+    ))
 }
 
 /// What a certification runs: `collisions` collisions from the start of trajectory 0 of seed

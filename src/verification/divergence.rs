@@ -137,9 +137,11 @@ pub fn run<S: Scene>(
     );
     let progress = options.progress;
     if let Some(&b) = bits.iter().find(|&&b| b >= ref_bits) {
-        return Err(Error::Invalid(format!(
-            "divergence: precision {b} bits must be below the reference's {ref_bits} bits"
-        )));
+        return Err(Error::parameter(
+            "reference_bits",
+            ref_bits,
+            format!("the divergence's precisions must lie below the reference's ({b} bits given)"),
+        ));
     }
     let l64 = scene.lattice::<f64>(())?;
     let lref = scene.lattice::<Float>(ref_bits)?;

@@ -121,14 +121,18 @@ pub fn run<S: Scene>(
         });
     }
     // With its transient, a batch is one trajectory: a count near 2^64 would wrap around.
-    crate::engine::check_trajectory_length(collisions_per_batch)?;
+    crate::engine::check_trajectory_length(
+        collisions_per_batch,
+        "collisions_per_batch",
+        collisions_per_batch,
+    )?;
     let collisions = batches as f64 * (collisions_per_batch + TANGENT_TRANSIENT) as f64;
     let crossings = if radius.is_some() {
         0.0
     } else {
         crossings_per_collision(scene)
     };
-    Work::new("lyapunov", "collisions_per_batch or batches", collisions)
+    Work::new("lyapunov", &["collisions_per_batch", "batches"], collisions)
         .crossing(crossings)
         .check(threads)?;
     let lat = scene.lattice::<f64>(())?;

@@ -41,8 +41,7 @@ pub fn exact_field(
     let Some(text) = text else {
         return Ok(None);
     };
-    let q = crate::numbers::exact::parse_exact(text)
-        .map_err(|e| crate::Error::Invalid(format!("field = {text}: {e}")))?;
+    let q = crate::numbers::exact::parse_exact(text).map_err(|e| e.named("field"))?;
     if q.cmp0() == std::cmp::Ordering::Equal {
         return Ok(None);
     }

@@ -253,7 +253,7 @@ pub fn run<S: Scene>(
     options.refuse_unused("audit", &[])?;
     let (threads, progress) = (options.threads, options.progress);
     if cfg.scene != scene.label() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "audit configuration for scene `{}` run on `{}`",
             cfg.scene,
             scene.label()
@@ -272,7 +272,7 @@ pub fn run<S: Scene>(
         Flights::Jump => 0.0,
         _ => crossings_per_collision(scene),
     };
-    Work::new("audit", "collisions", cfg.collisions as f64)
+    Work::new("audit", &["collisions"], cfg.collisions as f64)
         .crossing(crossings)
         .check(threads)?;
     if threads == 0 {
@@ -335,13 +335,10 @@ pub fn run<S: Scene>(
 /// # Errors
 /// `jump` in a field or in a scene without long flights.
 fn audit_flights<S: Scene>(scene: &S, flights: Flights, field: bool) -> Result<Flights, Error> {
-    match (flights, field) {
-        (Flights::Jump, true) => Err(Error::Invalid(
-            "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto"
-                .into(),
-        )),
-        (_, true) => Ok(Flights::Walk),
-        (f, false) => f.resolve(scene),
+    if field {
+        flights.in_field()
+    } else {
+        flights.resolve(scene)
     }
 }
 

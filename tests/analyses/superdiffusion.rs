@@ -195,7 +195,12 @@ fn finite_horizons_and_bad_windows_are_refused() {
             .to_string()
     };
     let tri = |w: &str| SuperdiffusionConfig::new(SceneSpec::Triangular { w: w.into() });
-    assert!(run(tri("0.2")).contains("lorentz diffusion"));
+    let finite = run(tri("0.2"));
+    assert!(
+        finite.contains("lacks an infinite horizon")
+            && finite.contains("the diffusion analysis measures D"),
+        "{finite}"
+    );
     assert!(
         run(SuperdiffusionConfig {
             batches: 8,

@@ -268,7 +268,7 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     (
         &["sweep", "--scene", "square", "--fields=1,2"],
-        "needs its radius",
+        "the square scene needs --radius",
     ),
     // superdiffusion
     (&["superdiffusion", "--w", "0.1"], "finite horizon"),
@@ -456,7 +456,7 @@ const BAD: &[(&[&str], &str)] = &[
             "--out",
             "out",
         ],
-        "--runs is not used",
+        "--runs 2: not used by a sweep in a field",
     ),
     (
         &[
@@ -627,7 +627,7 @@ const BAD: &[(&[&str], &str)] = &[
             "--time",
             "1",
         ],
-        "is not a pair",
+        "--start '1/2': not a pair",
     ),
     (
         &[
@@ -923,7 +923,10 @@ const BAD: &[(&[&str], &str)] = &[
         &["bench", "--long-flights", "1/4,1/3"],
         "use 2^-32 <= radius <= 1/4",
     ),
-    (&["bench", "--long-flights", "1/4,r"], "radius = r"),
+    (
+        &["bench", "--long-flights", "1/4,r"],
+        "--long-flights r: 'r' is not a decimal number",
+    ),
     (
         &["bench", "--long-flights", "1/4", "--threads", "2"],
         "cannot be used with",
@@ -934,11 +937,11 @@ const BAD: &[(&[&str], &str)] = &[
     ),
     (
         &["bench", "--walk-collisions", "10", "--w", "0.1"],
-        "--walk-collisions applies with --long-flights only",
+        "--walk-collisions 10: applies with --long-flights only",
     ),
     (
         &["bench", "--scene", "square", "--w", "0.1"],
-        "--scene applies with --long-flights only",
+        "--scene square: applies with --long-flights only",
     ),
     (
         &["bench", "--scene", "triangular", "--long-flights", "10,0.2"],

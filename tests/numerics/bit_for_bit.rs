@@ -105,5 +105,5 @@ fn an_exact_gap_reaches_mpfr_without_the_doubles_rounding() {
     let e = run(&wrong, &crate::common::threads(1))
         .unwrap_err()
         .to_string();
-    assert!(e.contains("w_exact = '1/5' is not w = 0.1"), "{e}");
+    assert!(e.contains("w_exact = '1/5': not w = 0.1"), "{e}");
 }

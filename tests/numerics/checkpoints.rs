@@ -212,7 +212,7 @@ fn edited_and_forged_checkpoints_are_refused() {
     assert_ne!(edited, text);
     std::fs::write(&path, &edited).unwrap();
     let e = run(&cfg, &opts).unwrap_err().to_string();
-    assert!(e.contains("c.jsonl line 3") && e.contains("digest"), "{e}");
+    assert!(e.contains("c.jsonl: line 3") && e.contains("digest"), "{e}");
     // Forged: the digests hold, the physics does not.
     let at_02 = |h: &mut serde_json::Value| h["config"]["w"] = serde_json::json!(0.2);
     std::fs::write(&path, forge(&text, at_02, |_| {})).unwrap();

@@ -127,7 +127,7 @@ fn open_corridors_the_simd_engine_and_mpfr_audits_are_refused() {
     };
     let square = SquareScene::new(0.25).unwrap();
     let e = run_on(&square, &cfg, &scalar(1)).unwrap_err();
-    assert!(e.to_string().contains("infinite horizon"), "{e}");
+    assert!(e.to_string().contains("lacks a finite horizon"), "{e}");
     // Corner radius 1/3 leaves the (1, 1) corridors open (2rc < 1/√2).
     let open = two_radii("1/3", "1/5");
     assert!(run_on(&open, &cfg, &scalar(1)).is_err());

@@ -337,7 +337,7 @@ fn diffusion_is_refused_in_the_square_scene() {
     let s = scene(0.45);
     assert!(!s.finite_horizon());
     let e = lorentz_gas::estimators::diffusion::require_finite_horizon(&s).unwrap_err();
-    assert!(e.to_string().contains("infinite horizon"), "{e}");
+    assert!(e.to_string().contains("lacks a finite horizon"), "{e}");
 }
 
 /// The event counters see every event of the square cell, whose four edges carry the event

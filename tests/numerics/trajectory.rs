@@ -285,7 +285,7 @@ fn starts_inside_a_disk_and_zero_directions_are_refused() {
     let e = trajectory(&square, &input(("0.5", "0.1"), ("0", "0"), "1", 10), false)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("direction (0, 0) is zero"), "{e}");
+    assert!(e.contains("direction = 0,0: a zero direction"), "{e}");
     let tri = TriangularScene::exact(parse_exact("0.1").unwrap()).unwrap();
     let e = trajectory(&tri, &input(("2.5", "0.1"), ("1", "0"), "1", 10), false)
         .unwrap_err()

@@ -339,16 +339,14 @@ pub fn run_arc_block(
     limit: u64,
 ) -> Result<Vec<u64>, Error> {
     if quotas.len() != states.len() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "an arc block runs its trajectories with one quota each (got {} states, {} quotas)",
             states.len(),
             quotas.len()
         )));
     }
     check(path, cell, w, states.len())?;
-    for &q in quotas {
-        super::check_trajectory_length(q)?;
-    }
+    super::check_quotas(quotas)?;
     let mut st = load(states, quotas);
     let lost = dispatch(path, cell, w, &mut st, limit, Mode::Free);
     unload(&st, states);
@@ -365,22 +363,18 @@ pub fn run_arc_block(
 /// non-finite field, a path this CPU lacks, a cell without disks.
 fn check(path: SimdPath, cell: &ConvexCell<f64>, w: f64, n: usize) -> Result<(), Error> {
     if n > BLOCK {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "an arc block runs 1 to {BLOCK} trajectories (got {n})"
         )));
     }
     if !(w.is_finite() && w != 0.0) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "the arc engine needs a finite nonzero field (got {w})"
         )));
     }
-    if !path.available() {
-        return Err(Error::Invalid(format!(
-            "this CPU cannot run the {path} path"
-        )));
-    }
+    path.check_available()?;
     if cell.disks.is_empty() {
-        return Err(Error::Invalid(
+        return Err(Error::Failed(
             "the arc engine needs a cell with disks".into(),
         ));
     }

@@ -30,13 +30,18 @@ impl Window {
     }
 }
 
+impl std::fmt::Display for Window {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}", self.lo, self.hi)
+    }
+}
+
 impl FromStr for Window {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self, Error> {
-        let bad = || {
-            Error::Invalid(format!(
-                "fit window '{s}' must be LO:HI in units of tau, 1 <= LO < HI <= 100000"
-            ))
+        let bad = || Error::NotANumber {
+            text: s.to_string(),
+            why: "is not a fit window: use LO:HI in units of tau, 1 <= LO < HI <= 100000",
         };
         let (a, b) = s.split_once(':').ok_or_else(bad)?;
         let lo: usize = a.trim().parse().map_err(|_| bad())?;
@@ -75,11 +80,13 @@ impl FromStr for MsdGrid {
         match s {
             "fit" => Ok(MsdGrid::Fit),
             "log" => Ok(MsdGrid::Log),
-            _ => Err(Error::Invalid(format!(
-                "msd_grid = {s:?}: must be fit (the fit windows' lags) or log (also a \
-                 logarithmic grid from inside the first flight, with the velocity \
-                 autocorrelation and its Green-Kubo integral)"
-            ))),
+            _ => Err(Error::parameter(
+                "msd_grid",
+                format!("{s:?}"),
+                "must be fit (the fit windows' lags) or log (also a logarithmic grid from inside \
+                 the first flight, with the velocity autocorrelation and its Green-Kubo \
+                 integral)",
+            )),
         }
     }
 }
@@ -177,14 +184,17 @@ impl DiffusionConfig {
                     got: self.collisions,
                 }
             } else {
-                Error::Invalid(format!(
-                    "w = {:?} needs about {min:.1e} collisions for {} batches to reach the fit \
-                     window (pi/(3w) = {:.1e} collisions per hop), more than any run can do \
-                     (2^64 = 1.8e19): use a larger w",
-                    self.w,
-                    self.batches,
-                    g.collisions_per_hop()
-                ))
+                Error::parameter(
+                    "w",
+                    format!("{:?}", self.w),
+                    format!(
+                        "needs about {min:.1e} collisions for {} batches to reach the fit window \
+                         (pi/(3w) = {:.1e} collisions per hop), more than any run can do (2^64 = \
+                         1.8e19): use a larger w",
+                        self.batches,
+                        g.collisions_per_hop()
+                    ),
+                )
             });
         }
         Ok(())
@@ -226,19 +236,27 @@ pub(super) fn check_run(
         });
     }
     crate::engine::parallel::check_batches("batches", batches)?;
-    crate::engine::check_trajectory_length(collisions.div_ceil(batches as u64))?;
+    crate::engine::check_trajectory_length(
+        collisions.div_ceil(batches as u64),
+        "batches",
+        batches,
+    )?;
     if let Precision::Bits(b) = precision {
         <rug::Float as Real>::check_ctx(b)?;
     }
     if check_window == window {
-        return Err(Error::Invalid(format!(
-            "check_window = {0}:{1} is the fit window {0}:{1}: the check needs another \
-             window, such as a later one ({2}:{3})",
-            window.lo,
-            window.hi,
-            2 * window.lo,
-            2 * window.hi
-        )));
+        return Err(Error::parameter(
+            "check_window",
+            window,
+            format!(
+                "this is the fit window {}:{}: the check needs another window, such as a later \
+                 one ({}:{})",
+                window.lo,
+                window.hi,
+                2 * window.lo,
+                2 * window.hi
+            ),
+        ));
     }
     Ok(())
 }

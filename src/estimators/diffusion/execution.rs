@@ -357,13 +357,9 @@ pub(super) fn execute(
     keep: &DiffusionKeeper,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<BatchResult>, Error> {
-    for j in jobs {
-        crate::engine::check_trajectory_length(j.collisions)?;
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(spec.threads)
-        .build()
-        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
+    let quotas: Vec<u64> = jobs.iter().map(|j| j.collisions).collect();
+    crate::engine::check_quotas(&quotas)?;
+    let pool = crate::engine::parallel::thread_pool(spec.threads)?;
     let trap64 = Trap::new(spec.w)?;
     match spec.engine {
         Resolved::Simd(path) => in_blocks(&pool, jobs, keep, |b| {

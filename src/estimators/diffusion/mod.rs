@@ -68,10 +68,11 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
             corridor: Box::new(corridor),
         });
     }
-    Err(Error::Invalid(format!(
-        "{} has an infinite horizon (collision-free corridors): the mean squared displacement grows like t ln t and the diffusion coefficient does not exist; use a finite-horizon scene (the triangular one with 0 < w < w_inf = 0.3094...), or the superdiffusion analysis, which measures the t ln t growth against the exact corridor constants (the constants analysis lists them); in a magnetic field every scene has a finite horizon (--field, Python field=)",
-        scene.label()
-    )))
+    Err(Error::Lacks {
+        scene: scene.label(),
+        capability: crate::error::Capability::FiniteHorizon,
+        analysis: "diffusion",
+    })
 }
 
 /// What one batch produced (also the unit of checkpointing).
@@ -231,7 +232,7 @@ pub fn rerun_batches(
     let (spec, _) = setup(cfg, engine, threads, audit)?;
     for &i in indices {
         if i >= cfg.batches {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "batch {i}: the run has batches 0 to {}",
                 cfg.batches - 1
             )));
@@ -289,7 +290,7 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
         return plan::run(cfg, options);
     }
     // Below w_inf a flight crosses at most a few traps: the collisions are the work.
-    Work::new("diffusion", "collisions", cfg.collisions as f64)
+    Work::new("diffusion", &["collisions"], cfg.collisions as f64)
         .simd()
         .check(options.threads)?;
     check_audit(options, cfg.precision)?;
@@ -351,11 +352,47 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
     Ok(rep)
 }
 
+/// Refuses a run `c` that cannot be packed with `first`: another MSD grid than the fit one, or
+/// another w, precision or fit windows.
+fn check_packable(first: &DiffusionConfig, c: &DiffusionConfig) -> Result<(), Error> {
+    if c.msd_grid != MsdGrid::Fit {
+        return Err(Error::parameter(
+            "msd_grid",
+            c.msd_grid,
+            "runs packed together keep the MSD on the fit grid only: use fit",
+        ));
+    }
+    let differs = [
+        ("w", c.w != first.w, format!("{:?}", c.w)),
+        (
+            "precision",
+            c.precision != first.precision,
+            c.precision.to_string(),
+        ),
+        ("window", c.window != first.window, c.window.to_string()),
+        (
+            "check_window",
+            c.check_window != first.check_window,
+            c.check_window.to_string(),
+        ),
+    ];
+    match differs.into_iter().find(|d| d.1) {
+        Some((parameter, _, value)) => Err(Error::parameter(
+            parameter,
+            value,
+            "runs packed together must share w, precision and fit windows",
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Refuses a per-event audit of an MPFR run (the audit replays `f64` events in MPFR).
 fn check_audit(options: &RunOptions, precision: Precision) -> Result<(), Error> {
     if options.audit.is_some() && precision != Precision::F64 {
-        return Err(Error::Invalid(
-            "the per-event audit replays f64 events in MPFR: it applies to f64 runs only".into(),
+        return Err(Error::parameter(
+            "precision",
+            precision,
+            "the per-event audit replays f64 events in MPFR: it applies to f64 runs only",
         ));
     }
     Ok(())
@@ -459,20 +496,7 @@ pub fn run_many(
     };
     for c in cfgs {
         c.validate()?;
-        if c.msd_grid != MsdGrid::Fit {
-            return Err(Error::Invalid(
-                "runs packed together keep the MSD on the fit grid only (msd_grid = fit)".into(),
-            ));
-        }
-        if c.w != first.w
-            || c.precision != first.precision
-            || c.window != first.window
-            || c.check_window != first.check_window
-        {
-            return Err(Error::Invalid(
-                "runs packed together must share w, precision and fit windows".into(),
-            ));
-        }
+        check_packable(first, c)?;
     }
     let (spec, g) = setup(first, options.engine, options.threads, None)?;
     let (resolved, tau) = (spec.engine, spec.watch.tau);

@@ -73,10 +73,11 @@ pub fn check_rel_err(target: f64) -> Result<(), Error> {
     if target.is_finite() && (lo..=hi).contains(&target) {
         return Ok(());
     }
-    Err(Error::Invalid(format!(
-        "rel_err = {target}: the relative error of D to plan for must lie in [{lo:e}, {hi}] \
-         (1e-4 is 0.01 %)"
-    )))
+    Err(Error::out_of_range(
+        "rel_err",
+        target,
+        format!("the relative error of D to plan for must lie in [{lo:e}, {hi}] (1e-4 is 0.01 %)"),
+    ))
 }
 
 /// The collisions a run of `collisions` in `batches` batches that gave the relative error
@@ -123,7 +124,7 @@ pub fn pilot(
 ) -> Result<(DiffusionReport, Pilot), Error> {
     let target = cfg
         .rel_err
-        .ok_or_else(|| Error::Invalid("a pilot needs the relative error to plan for".into()))?;
+        .ok_or_else(|| Error::missing("rel_err", "a pilot needs the relative error to plan for"))?;
     check_rel_err(target)?;
     let plain = DiffusionConfig {
         rel_err: None,
@@ -137,10 +138,14 @@ pub fn pilot(
     let rep = super::run(&plain, &quiet)?;
     let achieved = rep.D_err / rep.D.abs();
     let planned = collisions_for(cfg.collisions, cfg.batches, achieved, target).ok_or_else(|| {
-        Error::Invalid(format!(
-            "the pilot's relative error {achieved:.3e} cannot be planned down to {target:e}: it \
-             would need more than 2^64 collisions"
-        ))
+        Error::parameter(
+            "rel_err",
+            target,
+            format!(
+                "the pilot's relative error {achieved:.3e} cannot be planned down to it: it would \
+                 need more than 2^64 collisions"
+            ),
+        )
     })?;
     let pilot = Pilot {
         rel_err_target: target,

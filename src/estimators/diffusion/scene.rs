@@ -129,7 +129,7 @@ impl SceneDiffusionConfig {
         )?;
         let (unit, mfp) = (time_unit(scene), scene.mean_free_path());
         if !(unit > 0.0 && mfp > 0.0 && unit.is_finite() && mfp.is_finite()) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "{}: its mean free path {mfp} and time unit {unit} must be positive and finite",
                 scene.label()
             )));
@@ -282,7 +282,7 @@ pub fn run_on<S: Scene>(
     options.validate()?;
     options.refuse_unused("diffusion", &RunOption::ALL)?;
     cfg.validate(scene)?;
-    Work::new("diffusion", "collisions", cfg.collisions as f64)
+    Work::new("diffusion", &["collisions"], cfg.collisions as f64)
         .crossing(crossings_per_collision(scene))
         .check(options.threads)?;
     let engine = engine_on(scene, cfg.precision, options.engine)?;
@@ -382,10 +382,7 @@ fn lanes_on<S: Scene>(
     let lat = scene.lattice::<f64>(())?;
     let (cell, basis) = (lat.cell(), lat.basis_f64());
     let watch = cfg.watch(scene);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads)
-        .build()
-        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
+    let pool = crate::engine::parallel::thread_pool(options.threads)?;
     in_blocks(&pool, jobs, keep, |b| {
         let start = Instant::now();
         let audit = options.audit.map(|a| (a, scene));
@@ -406,10 +403,7 @@ fn execute_on<S: Scene>(
     options: &RunOptions,
     keep: &DiffusionKeeper,
 ) -> Result<Vec<BatchResult>, Error> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads)
-        .build()
-        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
+    let pool = crate::engine::parallel::thread_pool(options.threads)?;
     cfg.precision.dispatch(OnScene {
         scene,
         jobs,

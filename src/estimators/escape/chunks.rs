@@ -82,13 +82,14 @@ impl Chunks {
                     .iter()
                     .all(|l| l.time >= 0.0 && l.time <= t_max(k.task));
             if !sane {
-                return Err(Error::Invalid(format!(
-                    "{}: the chunk of batch {} from particle {} does not continue that batch: an \
-                     edited or foreign checkpoint (use another file)",
-                    p.display(),
-                    k.task,
-                    k.from
-                )));
+                return Err(Error::malformed(
+                    p,
+                    format!(
+                        "the chunk of batch {} from particle {} does not continue that batch: an \
+                         edited or foreign checkpoint (use another file)",
+                        k.task, k.from
+                    ),
+                ));
             }
             done.lifetimes.extend(k.lifetimes);
             done.events += k.events;

@@ -134,15 +134,29 @@ impl EscapeConfig {
         let mut distinct = self.widths.clone();
         distinct.sort_by(f64::total_cmp);
         distinct.dedup();
+        let widths = || {
+            (self.widths.iter())
+                .map(f64::to_string)
+                .collect::<Vec<_>>()
+                .join(",")
+        };
         if distinct.len() < 3 {
-            return Err(Error::Invalid(format!(
-                "{} distinct width(s) given: the extrapolation in 1/L needs at least 3 distinct \
-                 widths (2 for the line, 1 degree of freedom for its chi^2)",
-                distinct.len()
-            )));
+            return Err(Error::parameter(
+                "widths",
+                widths(),
+                format!(
+                    "{} distinct width(s) given: the extrapolation in 1/L needs at least 3 \
+                     distinct widths (2 for the line, 1 degree of freedom for its chi^2)",
+                    distinct.len()
+                ),
+            ));
         }
         if distinct.len() != self.widths.len() {
-            return Err(Error::Invalid("widths must be distinct".into()));
+            return Err(Error::parameter(
+                "widths",
+                widths(),
+                "widths must be distinct",
+            ));
         }
         if !(MIN_PARTICLES..=MAX_PARTICLES).contains(&self.particles_per_width) {
             return Err(Error::out_of_range(
@@ -219,7 +233,7 @@ pub fn window_rate(batches: &[Vec<Lifetime>], from: f64, to: f64) -> Result<Rate
     let n: u64 = counts.iter().map(|c| c.0).sum();
     let e: f64 = counts.iter().map(|c| c.1).sum();
     if n == 0 || e <= 0.0 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "no absorption in the time window ({from}, {to}]: use more particles"
         )));
     }
@@ -367,7 +381,7 @@ pub fn analyse_width(
     let absorbed = all.iter().filter(|l| l.absorbed).count() as u64;
     let t0 = tail_start(&all, TAIL_START_SURVIVAL);
     if t0 >= t_max {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "at L = {width} more than {TAIL_START_SURVIVAL} of the particles survive to t_max = \
              {t_max:.1}: the escape is much slower than the Machta-Zwanzig guess"
         )));
@@ -375,7 +389,7 @@ pub fn analyse_width(
     let tail = window_rate(batches, t0, t_max)?;
     let t1 = t0 + 1.0 / tail.gamma;
     if t1 >= t_max {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "at L = {width} the tail (t0 = {t0:.1}, t_max = {t_max:.1}) is shorter than two e-folds"
         )));
     }
@@ -453,9 +467,10 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
         .sum();
     crate::engine::work::Work::new(
         "escape",
-        "particles_per_width or the widths (or raise w)",
+        &["particles_per_width", "widths"],
         cfg.particles_per_width as f64 * per_particle,
     )
+    .or_raise("w")
     .check(threads)?;
     let pi2 = std::f64::consts::PI * std::f64::consts::PI;
     let strips: Vec<Strip> = cfg

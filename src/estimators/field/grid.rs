@@ -35,12 +35,23 @@ pub fn grid_of(
     let gaps = match (w, range) {
         (Some(w), (None, None, _)) => vec![w.trim().to_string()],
         (None, (Some(from), Some(to), steps)) => exact_grid(from, to, steps)?,
-        _ => {
-            return Err(Error::Invalid(
-                "a sweep in a field needs either w (a sweep over the field) or w_from and w_to \
-                 (a sweep over w), not both"
-                    .into(),
+        (Some(w), _) => {
+            return Err(Error::parameter(
+                "w",
+                w,
+                "a sweep in a field takes either one gap (a sweep over the field) or the ends \
+                 of a range of gaps (a sweep over w), not both",
             ));
+        }
+        (None, _) => {
+            return Err(Error::SceneParameter {
+                scene: "triangular",
+                parameter: "w",
+                needs: "w",
+                range: "one gap (a sweep over the field), or the ends of a range of gaps (a \
+                        sweep over w)",
+                missing: true,
+            });
         }
     };
     Ok((gaps, fields_of(field, fields)?))
@@ -62,17 +73,12 @@ pub fn scene_grid(
 ) -> Result<SweepGrid, Error> {
     match scene {
         "square" => {
-            if w.is_some() || range.0.is_some() || range.1.is_some() {
-                return Err(Error::Invalid(
-                    "the square scene sweeps the field at its radius: w, w_from and w_to are \
-                     the triangular scene's"
-                        .into(),
-                ));
+            let given = [("w", w), ("w_from", range.0), ("w_to", range.1)];
+            if let Some((parameter, _)) = given.iter().find(|(_, v)| v.is_some()) {
+                return Err(square_parameter(parameter, false));
             }
             let Some(r) = radius else {
-                return Err(Error::Invalid(
-                    "the square scene needs its radius (0 < r < 1/2)".into(),
-                ));
+                return Err(square_parameter("radius", true));
             };
             Ok(SweepGrid {
                 gaps: Vec::new(),
@@ -82,9 +88,13 @@ pub fn scene_grid(
         }
         "triangular" => {
             if radius.is_some() {
-                return Err(Error::Invalid(
-                    "radius is the square scene's: give scene square".into(),
-                ));
+                return Err(Error::SceneParameter {
+                    scene: "triangular",
+                    parameter: "radius",
+                    needs: "w",
+                    range: "or the ends of a range of gaps; the radius is the square scene's",
+                    missing: false,
+                });
             }
             let (gaps, fields) = grid_of(w, range, field, fields)?;
             Ok(SweepGrid {
@@ -94,12 +104,21 @@ pub fn scene_grid(
             })
         }
         "table" => {
-            if [w, radius, range.0, range.1].iter().any(Option::is_some) {
-                return Err(Error::Invalid(
-                    "a table given as data sweeps its field: w, radius, w_from and w_to are the \
-                     shipped scenes'"
-                        .into(),
-                ));
+            let given = [
+                ("w", w),
+                ("radius", radius),
+                ("w_from", range.0),
+                ("w_to", range.1),
+            ];
+            if let Some((parameter, _)) = given.iter().find(|(_, v)| v.is_some()) {
+                return Err(Error::SceneParameter {
+                    scene: "table",
+                    parameter,
+                    needs: "fields",
+                    range: "a table given as data sweeps its field; the gaps and radius are the \
+                            shipped scenes'",
+                    missing: false,
+                });
             }
             Ok(SweepGrid {
                 gaps: Vec::new(),
@@ -107,9 +126,22 @@ pub fn scene_grid(
                 fields: fields_of(field, fields)?,
             })
         }
-        other => Err(Error::Invalid(format!(
-            "scene '{other}' is not one of triangular, square, table"
-        ))),
+        other => Err(Error::out_of_range(
+            "scene",
+            other,
+            "use triangular, square or table",
+        )),
+    }
+}
+
+/// The square scene's refusal of `parameter` (the triangular scene's), or of its missing radius.
+fn square_parameter(parameter: &'static str, missing: bool) -> Error {
+    Error::SceneParameter {
+        scene: "square",
+        parameter,
+        needs: "radius",
+        range: "0 < radius < 1/2; the square scene sweeps the field at its radius",
+        missing,
     }
 }
 
@@ -121,9 +153,15 @@ pub fn fields_of(field: Option<&str>, fields: &[String]) -> Result<Vec<String>, 
     match (field, fields.is_empty()) {
         (Some(b), true) => Ok(vec![b.trim().to_string()]),
         (None, false) => Ok(fields.iter().map(|b| b.trim().to_string()).collect()),
-        _ => Err(Error::Invalid(
-            "give either field (a sweep over w) or fields (a sweep over the field), not both"
-                .into(),
+        (Some(b), false) => Err(Error::parameter(
+            "field",
+            b,
+            "give either one field (a sweep over w) or a list of fields (a sweep over the \
+             field), not both",
+        )),
+        (None, true) => Err(Error::missing(
+            "fields",
+            "give either one field (a sweep over w) or a list of fields (a sweep over the field)",
         )),
     }
 }
@@ -141,12 +179,20 @@ pub fn fields_of(field: Option<&str>, fields: &[String]) -> Result<Vec<String>, 
 /// ```
 ///
 /// # Errors
-/// Fewer than 2 steps, or an end that is not an exact decimal or fraction.
+/// Fewer than 2 steps, an end that is not an exact decimal or fraction, or equal ends.
 pub fn exact_grid(from: &str, to: &str, steps: u32) -> Result<Vec<String>, Error> {
     if steps < 2 {
         return Err(Error::out_of_range("steps", steps, "use at least 2 points"));
     }
-    let (a, b) = (parse_exact(from)?, parse_exact(to)?);
+    let a = parse_exact(from).map_err(|e| e.named("w_from"))?;
+    let b = parse_exact(to).map_err(|e| e.named("w_to"))?;
+    if a == b {
+        return Err(Error::parameter(
+            "w_to",
+            to,
+            "the same gap as w_from: a range of gaps needs two different ends",
+        ));
+    }
     let span = Rational::from(&b - &a);
     Ok((0..steps)
         .map(|k| exact_text(&(a.clone() + span.clone() * Rational::from((k, steps - 1)))))

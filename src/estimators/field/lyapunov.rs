@@ -82,7 +82,11 @@ pub fn run<S: Scene>(
             got: cfg.batches as u64,
         });
     }
-    crate::engine::check_trajectory_length(cfg.collisions_per_batch)?;
+    crate::engine::check_trajectory_length(
+        cfg.collisions_per_batch,
+        "collisions_per_batch",
+        cfg.collisions_per_batch,
+    )?;
     let geometry = FieldGeometry::new(
         crate::scenes::require_disk_lattice(scene, "Lyapunov in a field")?,
         b,

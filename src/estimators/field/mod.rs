@@ -93,9 +93,7 @@ pub struct FieldConfig {
 /// A field that is not an exact decimal or fraction, zero (the straight-line run: leave the
 /// field out), or outside [`FIELD_RANGE`].
 pub fn field_value(text: &str) -> Result<f64, Error> {
-    let b = nearest_f64(
-        &parse_exact(text).map_err(|e| Error::Invalid(format!("field = {text}: {e}")))?,
-    );
+    let b = nearest_f64(&parse_exact(text).map_err(|e| e.named("field"))?);
     let (lo, hi) = FIELD_RANGE;
     if b == 0.0 || !(lo..=hi).contains(&b.abs()) {
         return Err(Error::out_of_range(
@@ -129,8 +127,14 @@ impl FieldConfig {
     /// A parameter that is not an exact decimal or fraction.
     pub fn scene_parameters(&self) -> Result<(Option<f64>, Option<f64>), Error> {
         Ok(match &self.scene {
-            SceneSpec::Triangular { w } => (Some(nearest_f64(&parse_exact(w)?)), None),
-            SceneSpec::Square { radius } => (None, Some(nearest_f64(&parse_exact(radius)?))),
+            SceneSpec::Triangular { w } => {
+                let w = parse_exact(w).map_err(|e| e.named("w"))?;
+                (Some(nearest_f64(&w)), None)
+            }
+            SceneSpec::Square { radius } => {
+                let r = parse_exact(radius).map_err(|e| e.named("radius"))?;
+                (None, Some(nearest_f64(&r)))
+            }
             SceneSpec::Table(_) => (None, None),
         })
     }
@@ -174,19 +178,21 @@ impl FieldConfig {
 /// # Errors
 /// Either of them asked for.
 pub fn refuse_zero_field_options(rel_err: Option<f64>, grid: MsdGrid) -> Result<(), Error> {
-    if rel_err.is_some() {
-        return Err(Error::Invalid(
-            "rel_err: a run in a magnetic field is not planned for a relative error (yet): \
-             give its collisions, or plan them with a run without the field"
-                .into(),
+    if let Some(target) = rel_err {
+        return Err(Error::parameter(
+            "rel_err",
+            target,
+            "a run in a magnetic field is not planned for a relative error (yet): give its \
+             collisions, or plan them with a run without the field",
         ));
     }
     if !grid.is_fit() {
-        return Err(Error::Invalid(
-            "msd_grid = log: a run in a magnetic field keeps its MSD at the fit windows' \
-             lags only (the MSD curve, velocity autocorrelation and Green-Kubo integral are \
-             measured without a field)"
-                .into(),
+        return Err(Error::parameter(
+            "msd_grid",
+            grid,
+            "a run in a magnetic field keeps its MSD at the fit windows' lags only (the MSD \
+             curve, velocity autocorrelation and Green-Kubo integral are measured without a \
+             field)",
         ));
     }
     Ok(())
@@ -374,7 +380,7 @@ fn with_setup<T: Real, S: Scene, R>(
     f: impl FnOnce(&Setup<'_, T, S>, &[StreamKey], f64) -> Result<R, Error>,
 ) -> Result<R, Error> {
     let lattice = scene.lattice::<T>(ctx)?;
-    let exact = parse_exact(&cfg.field)?;
+    let exact = parse_exact(&cfg.field).map_err(|e| e.named("field"))?;
     let field = T::from_rational(ctx, &exact);
     let tau = time_unit(scene);
     let (grid, steps) = track::grid(tau, &cfg.statistics.window, &cfg.statistics.check_window);

@@ -43,19 +43,8 @@ pub fn run_part(
     options: &RunOptions,
 ) -> Result<FieldSweepPart, Error> {
     cfg.validate()?;
-    let n = cfg.grid().len();
-    if shard.count as usize > n {
-        return Err(Error::out_of_range(
-            "shard",
-            shard.to_string(),
-            format!("a sweep of {n} points has parts 0 to N-1 with N from 1 to {n}"),
-        ));
-    }
-    let Some(dir) = options.resume.as_deref() else {
-        return Err(Error::Invalid(
-            "a sweep part is written to a directory: give one (the run options' `resume`)".into(),
-        ));
-    };
+    shard.fits(cfg.grid().len())?;
+    let dir = crate::campaigns::shard::part_directory(options)?;
     let (rows, resumed) = sweep::run_points(cfg, options, &|i| shard.owns(i as u32))?;
     let part = FieldSweepPart {
         config: cfg.clone(),
@@ -99,11 +88,13 @@ pub fn merge(
             let path = point_path(dir, i);
             if reuse(&cfg, &path, i)?.is_some() {
                 if let Some((first, _)) = slot {
-                    return Err(Error::Invalid(format!(
-                        "point {i} is in two parts ({} and {}): merge each part once",
-                        first.display(),
-                        path.display()
-                    )));
+                    return Err(Error::malformed(
+                        &path,
+                        format!(
+                            "point {i} is in two parts ({} and this one): merge each part once",
+                            first.display()
+                        ),
+                    ));
                 }
                 let text = crate::files::read_to_string_limited(&path, 1 << 20)?;
                 *slot = Some((path, text));
@@ -141,20 +132,20 @@ fn part_of(dir: &Path) -> Result<FieldSweepPart, Error> {
 /// The one sweep of the parts `parts` (every part's configuration the same).
 fn sweep_of(parts: &[PathBuf]) -> Result<FieldSweepConfig, Error> {
     let Some(first) = parts.first() else {
-        return Err(Error::Invalid(
-            "merge needs the directories of the parts".into(),
-        ));
+        return Err(Error::Zero { what: "parts" });
     };
     let cfg = part_of(first)?.config;
     for dir in &parts[1..] {
         let other = part_of(dir)?.config;
         if other != cfg {
-            return Err(Error::Invalid(format!(
-                "{} is a part of another sweep than {} ({}): merge the parts of one sweep",
-                dir.display(),
-                first.display(),
-                difference(&other, &cfg).unwrap_or_else(|| "another configuration".into())
-            )));
+            return Err(Error::malformed(
+                dir,
+                format!(
+                    "a part of another sweep than {} ({}): merge the parts of one sweep",
+                    first.display(),
+                    difference(&other, &cfg).unwrap_or_else(|| "another configuration".into())
+                ),
+            ));
         }
     }
     Ok(cfg)

@@ -20,7 +20,8 @@ use super::{FieldConfig, FieldReport};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
-use crate::engine::resume::{difference, seal, unseal};
+use crate::engine::resume::{seal, unseal};
+use crate::estimators::sweep::points::{renamed_point, same_sweep};
 use crate::scenes::spec::SceneSpec;
 use crate::statistics::comparison::{self, Comparison, largest_of_bound};
 use crate::statistics::welch_dof;
@@ -110,18 +111,7 @@ impl FieldSweepConfig {
     /// # Errors
     /// An empty or oversized grid, a point repeated, or a point's invalid run (naming the range).
     pub fn validate(&self) -> Result<(), Error> {
-        let places = [
-            !self.gaps.is_empty(),
-            self.radius.is_some(),
-            self.table.is_some(),
-        ];
-        if places.iter().filter(|p| **p).count() != 1 || self.fields.is_empty() {
-            return Err(Error::Invalid(
-                "a field sweep needs at least one field and one of: gaps (the triangular scene), \
-                 a radius (the square one), a table"
-                    .into(),
-            ));
-        }
+        self.check_places()?;
         let n = self.scenes().len() * self.fields.len();
         if n > MAX_FIELD_SWEEP_POINTS {
             return Err(Error::out_of_range(
@@ -130,7 +120,7 @@ impl FieldSweepConfig {
                 format!("use 1 to {MAX_FIELD_SWEEP_POINTS} (gaps x fields)"),
             ));
         }
-        let mut seen = Vec::with_capacity(n);
+        let mut seen: Vec<(_, usize)> = Vec::with_capacity(n);
         for (i, (g, f)) in self.grid().into_iter().enumerate() {
             let c = self.point_config(i, g.clone(), f)?;
             c.validate()?;
@@ -140,14 +130,44 @@ impl FieldSweepConfig {
                 r.map(f64::to_bits),
                 c.field_value()?.to_bits(),
             );
-            if seen.contains(&key) {
-                return Err(Error::Invalid(format!(
+            let scene = i / self.fields.len();
+            if let Some(&(_, s)) = seen.iter().find(|(k, _)| *k == key) {
+                let why = format!(
                     "{g:?}, B = {f} appears twice in the grid: give each gap and field once"
-                )));
+                );
+                return Err(if s == scene {
+                    Error::parameter("fields", self.fields.join(","), why)
+                } else {
+                    Error::parameter("gaps", self.gaps.join(","), why)
+                });
             }
-            seen.push(key);
+            seen.push((key, scene));
         }
         Ok(())
+    }
+
+    /// Refuses a sweep without a field, or without exactly one of gaps, a radius and a table.
+    fn check_places(&self) -> Result<(), Error> {
+        const PLACES: &str = "a field sweep needs one of: gaps (the triangular scene), a radius (the square one), a table";
+        if self.fields.is_empty() {
+            return Err(Error::missing(
+                "fields",
+                "a field sweep needs at least one field",
+            ));
+        }
+        let given: Vec<(&'static str, String)> = [
+            ("gaps", (!self.gaps.is_empty()).then(|| self.gaps.join(","))),
+            ("radius", self.radius.clone()),
+            ("table", self.table.as_ref().map(|t| t.title().to_string())),
+        ]
+        .into_iter()
+        .filter_map(|(p, v)| Some((p, v?)))
+        .collect();
+        match given.as_slice() {
+            [_] => Ok(()),
+            [] => Err(Error::missing("gaps", PLACES)),
+            [_, (p, v), ..] => Err(Error::parameter(p, v, format!("{PLACES}, not several"))),
+        }
     }
 }
 
@@ -419,19 +439,9 @@ pub(super) fn reuse(
     }
     let text = crate::files::read_to_string_limited(path, MAX_POINT_BYTES)?;
     let p: FieldSweepPoint = unseal(path, &text, "field sweep point")?;
-    if p.config != *cfg {
-        return Err(Error::Invalid(format!(
-            "{} belongs to another sweep ({}): use another directory",
-            path.display(),
-            difference(&p.config, cfg).unwrap_or_else(|| "another configuration".into())
-        )));
-    }
+    same_sweep(path, &p.config, cfg)?;
     if p.index as usize != i {
-        return Err(Error::Invalid(format!(
-            "{} holds point {}: a renamed or copied point file (point i lives in point-iiii.json)",
-            path.display(),
-            p.index
-        )));
+        return Err(renamed_point(path, p.index));
     }
     Ok(Some(p.row))
 }

@@ -34,11 +34,15 @@ impl<S: Scene> FieldWalk<S> {
         let disks = crate::scenes::require_disk_lattice(scene, "field")?;
         let geometry = FieldGeometry::new(disks, b)?;
         if geometry.all_localized() {
-            return Err(Error::Invalid(format!(
-                "field = {field}: every orbit is localized on {} (pinned or skipping), so no \
-                 trajectory diffuses; use a weaker field",
-                scene.label()
-            )));
+            return Err(Error::parameter(
+                "field",
+                field,
+                format!(
+                    "every orbit is localized on {} (pinned or skipping), so no trajectory \
+                     diffuses; use a weaker field",
+                    scene.label()
+                ),
+            ));
         }
         let key = StreamKey::new(seed, Purpose::Trajectory, batch);
         let (mut state, rejected) = track::start(scene, &geometry, key)?;

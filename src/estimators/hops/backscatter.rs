@@ -180,7 +180,8 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
     options.refuse_unused("backscatter", &[])?;
     // Each injected particle stays π/(3w) collisions in its trap on average.
     let collisions = cfg.particles as f64 * Geometry::new(cfg.w)?.collisions_per_hop();
-    crate::engine::work::Work::new("backscatter", "particles (or raise w)", collisions)
+    crate::engine::work::Work::new("backscatter", &["particles"], collisions)
+        .or_raise("w")
         .check(options.threads)?;
     let BackscatterConfig {
         w,

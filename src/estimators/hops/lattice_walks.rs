@@ -85,10 +85,7 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<LatticeWalkReport, 
     let (w, order, seed, threads) = (cfg.w, cfg.order, cfg.seed, options.threads);
     let g = Geometry::new(w)?;
     let cfg = lattice_walk::LatticeWalkConfig::new(WALK_BATCHES, WALK_WALKERS, WALK_HOPS, seed);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Invalid(e.to_string()))?;
+    let pool = crate::engine::parallel::thread_pool(threads)?;
     let mut walks = Vec::new();
     for k in 1..=order {
         let walk = CorrelatedWalk::new(&h.table(k)?)?;

@@ -99,15 +99,23 @@ impl HopsConfig {
         let per = collisions / batches as u64;
         let min = min_collisions_per_batch(w)?;
         if per < min {
-            return Err(Error::Invalid(format!(
-                "collisions = {collisions} is too few for {batches} batches at w = {w}: the hop-level \
-                 Green–Kubo estimator needs at least {min} collisions per batch ({} hops of \
-                 pi/(3w) collisions each), i.e. collisions >= {}",
-                8 * MAX_LAG,
-                min.saturating_mul(batches as u64)
-            )));
+            return Err(Error::parameter(
+                "collisions",
+                collisions,
+                format!(
+                    "too few for {batches} batches at w = {w}: the hop-level Green–Kubo \
+                     estimator needs at least {min} collisions per batch ({} hops of pi/(3w) \
+                     collisions each), i.e. collisions >= {}",
+                    8 * MAX_LAG,
+                    min.saturating_mul(batches as u64)
+                ),
+            ));
         }
-        crate::engine::check_trajectory_length(collisions.div_ceil(batches as u64))?;
+        crate::engine::check_trajectory_length(
+            collisions.div_ceil(batches as u64),
+            "batches",
+            batches,
+        )?;
         crate::engine::parallel::check_batches("batches", batches)
     }
 }
@@ -183,7 +191,7 @@ impl HopsReport {
             .filter(|(name, _)| name.chars().count() == k)
             .collect();
         if k == 0 || m.is_empty() {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "no sequences of length {k} were counted"
             )));
         }
@@ -224,7 +232,7 @@ fn run_with_batches(
 ) -> Result<(HopsReport, Vec<Hops>), Error> {
     cfg.validate()?;
     options.validate()?;
-    crate::engine::work::Work::new("hops", "collisions", cfg.collisions as f64)
+    crate::engine::work::Work::new("hops", &["collisions"], cfg.collisions as f64)
         .simd()
         .check(options.threads)?;
     options.refuse_unused(

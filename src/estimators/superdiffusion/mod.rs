@@ -196,28 +196,37 @@ impl SuperdiffusionConfig {
                 format!("use at least 1 and below 2^octaves = {longest} (mean free times)"),
             ));
         }
-        for (what, w) in [("VACF", self.vacf_fit), ("MSD", self.msd_fit)] {
+        for (what, w) in [("vacf_fit", self.vacf_fit), ("msd_fit", self.msd_fit)] {
             let on_grid = self
                 .lag_steps()
                 .iter()
                 .filter(|&&m| (w[0]..=w[1]).contains(&(m as f64)))
                 .count();
             if !(w[0] >= 1.0 && w[0] < w[1] && w[1] <= longest) || on_grid < 2 {
-                return Err(Error::Invalid(format!(
-                    "{what} fit window {}:{} mean free times: use 1 <= from < to <= 2^octaves = {longest} with at least two lags inside",
-                    w[0], w[1]
-                )));
+                return Err(Error::parameter(
+                    what,
+                    format!("{}:{}", w[0], w[1]),
+                    format!(
+                        "use 1 <= from < to <= 2^octaves = {longest} mean free times with at \
+                         least two lags inside"
+                    ),
+                ));
             }
         }
         let per_batch = self.collisions / self.batches as u64;
         let needed = 4u64 << self.octaves;
         if per_batch < needed {
-            return Err(Error::Invalid(format!(
-                "{} collisions in {} batches: use at least {} per batch (4 times the longest lag, 2^{} mean free times)",
-                self.collisions, self.batches, needed, self.octaves
-            )));
+            return Err(Error::parameter(
+                "collisions",
+                self.collisions,
+                format!(
+                    "too few for {} batches: use at least {needed} per batch (4 times the \
+                     longest lag, 2^{} mean free times)",
+                    self.batches, self.octaves
+                ),
+            ));
         }
-        crate::engine::check_trajectory_length(per_batch + 1)?;
+        crate::engine::check_trajectory_length(per_batch + 1, "batches", self.batches)?;
         Ok(gas)
     }
 
@@ -384,17 +393,18 @@ fn run_on<S: Scene>(
     options: &RunOptions,
 ) -> Result<SuperdiffusionReport, Error> {
     if scene.finite_horizon() || !sd.infinite_horizon() {
-        return Err(Error::Invalid(format!(
-            "{} has a finite horizon: the mean squared displacement grows like t and D exists; use `lorentz diffusion` (superdiffusion needs w > w_inf = 0.3094... or the square scene)",
-            scene.label()
-        )));
+        return Err(Error::Lacks {
+            scene: scene.label(),
+            capability: crate::error::Capability::InfiniteHorizon,
+            analysis: "superdiffusion",
+        });
     }
     let flights = cfg.flights.resolve(scene)?;
     let crossings = match flights {
         Flights::Jump => 0.0,
         _ => crossings_per_collision(scene),
     };
-    Work::new("superdiffusion", "collisions", cfg.collisions as f64)
+    Work::new("superdiffusion", &["collisions"], cfg.collisions as f64)
         .crossing(crossings)
         .check(options.threads)?;
     let ell = scene.mean_free_path();

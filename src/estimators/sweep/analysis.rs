@@ -65,7 +65,7 @@ pub fn mz_crossing(rows: &[SweepRow]) -> Result<Option<Crossing>, Error> {
     let (t, err, chi2, dof) = if sel.len() >= 3 {
         let q = weighted_quadratic_fit(&x, &y, &e, x0)?;
         let (t, err) = q.root_near_zero().ok_or_else(|| {
-            Error::Invalid("the local quadratic of D - D_MZ has no real root".into())
+            Error::Failed("the local quadratic of D - D_MZ has no real root".into())
         })?;
         (t, err, q.chi2, q.dof)
     } else {

@@ -221,21 +221,26 @@ impl SweepConfig {
         }
         crate::engine::parallel::check_batches("runs", self.runs)?;
         // The ends exactly as typed: every point lies between them.
-        for end in [&self.w_from, &self.w_to] {
-            let w = crate::numbers::exact::ExactInput::parse(end)?.value;
+        for (name, end) in [("w_from", &self.w_from), ("w_to", &self.w_to)] {
+            let w = (crate::numbers::exact::ExactInput::parse(end))
+                .map_err(|e| e.named(name))?
+                .value;
             crate::scenes::triangular::geometry::check_diffusive_gap_exact(w, Some(end))?;
         }
         let points = self.points()?;
         if let Some(k) = points.windows(2).position(|p| p[0] == p[1]) {
-            return Err(Error::Invalid(format!(
-                "w_from = {} to w_to = {} in {} steps gives w = {} at points {k} and {}: the fits \
-                 need distinct w, use ends that differ by more than the steps resolve",
-                self.w_from,
-                self.w_to,
+            return Err(Error::parameter(
+                "steps",
                 self.steps,
-                points[k],
-                k + 1
-            )));
+                format!(
+                    "from w_from = {} to w_to = {} gives w = {} at points {k} and {}: the fits \
+                     need distinct w, use ends that differ by more than the steps resolve",
+                    self.w_from,
+                    self.w_to,
+                    points[k],
+                    k + 1
+                ),
+            ));
         }
         for (i, w) in points.into_iter().enumerate() {
             self.run_config(i as u32, w, 0).validate()?;
@@ -269,9 +274,13 @@ pub fn run(cfg: &SweepConfig, options: &RunOptions) -> Result<SweepReport, Error
         ],
     )?;
     let collisions = cfg.steps as f64 * cfg.runs as f64 * cfg.collisions as f64;
-    crate::engine::work::Work::new("sweep", "steps, runs or collisions_per_run", collisions)
-        .simd()
-        .check(options.threads)?;
+    crate::engine::work::Work::new(
+        "sweep",
+        &["steps", "runs", "collisions_per_run"],
+        collisions,
+    )
+    .simd()
+    .check(options.threads)?;
     let resolved = options.engine.resolve(true)?;
     let (points, resumed) = points::run_points(cfg, options, |_| true)?;
     let mut report = analysis::analyse(cfg, &points, resumed, options.threads)?;

@@ -98,6 +98,35 @@ fn recheck_one_run(
     Ok(())
 }
 
+/// Refuses the point file at `path` whose sweep `found` is not this one (`want`), naming the
+/// first difference.
+pub(crate) fn same_sweep<C: serde::Serialize + PartialEq>(
+    path: &Path,
+    found: &C,
+    want: &C,
+) -> Result<(), Error> {
+    if found == want {
+        return Ok(());
+    }
+    Err(Error::malformed(
+        path,
+        format!(
+            "belongs to another sweep ({}): use another directory",
+            difference(found, want).unwrap_or_else(|| "another configuration".into())
+        ),
+    ))
+}
+
+/// Refuses the point file at `path`, which holds point `held` under another point's name.
+pub(crate) fn renamed_point(path: &Path, held: impl std::fmt::Display) -> Error {
+    Error::malformed(
+        path,
+        format!(
+            "holds point {held}: a renamed or copied point file (point i lives in point-iiii.json)"
+        ),
+    )
+}
+
 /// Most bytes a point file may have: its configuration and a D ± error per run fit in far less.
 const MAX_POINT_BYTES: u64 = 16 << 20;
 
@@ -117,11 +146,7 @@ pub fn read_point(path: &Path) -> Result<SweepPoint, Error> {
             .ok()
     });
     if named != Some(p.index) {
-        return Err(Error::Invalid(format!(
-            "{} holds point {}: a renamed or copied point file (point i lives in point-iiii.json)",
-            path.display(),
-            p.index
-        )));
+        return Err(renamed_point(path, p.index));
     }
     Ok(p)
 }
@@ -133,20 +158,15 @@ fn reuse(cfg: &SweepConfig, path: &Path, i: usize, w: f64) -> Result<Option<Swee
         return Ok(None);
     }
     let p = read_point(path)?;
-    if p.config != *cfg {
-        return Err(Error::Invalid(format!(
-            "{} belongs to another sweep ({}): use another directory",
-            path.display(),
-            difference(&p.config, cfg).unwrap_or_else(|| "another configuration".into())
-        )));
-    }
+    same_sweep(path, &p.config, cfg)?;
     if p.w != w || p.index as usize != i {
-        return Err(Error::Invalid(format!(
-            "{} is point {} at w = {}, not point {i} at w = {w}: a damaged point file",
-            path.display(),
-            p.index,
-            p.w
-        )));
+        return Err(Error::malformed(
+            path,
+            format!(
+                "is point {} at w = {}, not point {i} at w = {w}: a damaged point file",
+                p.index, p.w
+            ),
+        ));
     }
     Ok(Some(p))
 }

@@ -91,13 +91,17 @@ pub(super) fn check(
         return Err(Error::NotFinite { what: "field" });
     }
     if precision != Precision::F64 {
-        return Err(Error::Invalid(
-            "bench with --field times the f64 arc kernel: leave out --precision".into(),
+        return Err(Error::parameter(
+            "precision",
+            precision,
+            "a bench in a field times the f64 arc kernel: leave it out",
         ));
     }
     if observe != Observe::None {
-        return Err(Error::Invalid(
-            "bench with --field times the bare arc kernel: leave out --observe".into(),
+        return Err(Error::parameter(
+            "observe",
+            format!("{observe:?}").to_lowercase(),
+            "a bench in a field times the bare arc kernel: leave it out",
         ));
     }
     engine.resolve(true)

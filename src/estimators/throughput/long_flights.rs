@@ -76,28 +76,37 @@ impl LongFlightBenchConfig {
     /// decimal or fraction, or one where flights do not jump; no collisions; repetitions out of
     /// range.
     pub fn scenes(&self) -> Result<BenchScenes, Error> {
-        let (n, what) = match (self.radii.len(), self.gaps.len()) {
-            (r, 0) => (r, "radii"),
-            (0, g) => (g, "gaps"),
-            _ => {
-                return Err(Error::Invalid(
-                    "long_flights: radii (square) and gaps (triangular) at once; time one lattice per run".into(),
-                ));
-            }
+        let values = if self.gaps.is_empty() {
+            &self.radii
+        } else {
+            &self.gaps
         };
-        if n == 0 || n > MAX_RADII {
-            return Err(Error::Invalid(format!(
-                "long_flights: {n} {what}; give 1 to {MAX_RADII}"
-            )));
+        if !self.radii.is_empty() && !self.gaps.is_empty() {
+            return Err(Error::parameter(
+                "long_flights",
+                values.join(","),
+                "radii (square) and gaps (triangular) at once; time one lattice per run",
+            ));
+        }
+        if values.is_empty() || values.len() > MAX_RADII {
+            return Err(Error::out_of_range(
+                "long_flights",
+                values.join(","),
+                format!(
+                    "give 1 to {MAX_RADII} radii or gaps ({} given)",
+                    values.len()
+                ),
+            ));
         }
         if self.collisions == 0 {
             return Err(Error::Zero { what: "collisions" });
         }
         if !(1..=MAX_REPETITIONS).contains(&self.repetitions) {
-            return Err(Error::Invalid(format!(
-                "repetitions = {}: use 1 to {MAX_REPETITIONS}",
-                self.repetitions
-            )));
+            return Err(Error::out_of_range(
+                "repetitions",
+                self.repetitions,
+                format!("use 1 to {MAX_REPETITIONS}"),
+            ));
         }
         if self.gaps.is_empty() {
             let s = self.radii.iter().map(|t| jumping_square(t));
@@ -135,7 +144,7 @@ impl Default for LongFlightBenchConfig {
 
 /// The triangular scene of gap `text`, where its flights jump.
 fn jumping_triangular(text: &str) -> Result<TriangularScene, Error> {
-    let w: Rational = parse_exact(text).map_err(|e| Error::Invalid(format!("w = {text}: {e}")))?;
+    let w: Rational = parse_exact(text).map_err(|e| e.named("long_flights"))?;
     let s = TriangularScene::exact(w)?;
     if s.long_flights().is_none() {
         return Err(Error::OutOfRange {
@@ -149,8 +158,7 @@ fn jumping_triangular(text: &str) -> Result<TriangularScene, Error> {
 
 /// The square scene of radius `text`, where its flights jump.
 fn jumping_square(text: &str) -> Result<SquareScene, Error> {
-    let r: Rational =
-        parse_exact(text).map_err(|e| Error::Invalid(format!("radius = {text}: {e}")))?;
+    let r: Rational = parse_exact(text).map_err(|e| e.named("long_flights"))?;
     let s = SquareScene::exact(r)?;
     if s.long_flight_radius().is_none() {
         return Err(Error::OutOfRange {
@@ -206,12 +214,13 @@ pub struct LongFlightBench {
 /// An invalid configuration, other options, or a run stopped on request.
 pub fn run(cfg: &LongFlightBenchConfig, options: &RunOptions) -> Result<LongFlightBench, Error> {
     options.validate()?;
-    options.refuse_unused("bench --long-flights", &[])?;
+    options.refuse_unused("the bench of long flights", &[])?;
     if options.threads != 1 {
-        return Err(Error::Invalid(format!(
-            "threads = {}: bench --long-flights times one thread; use 1",
-            options.threads
-        )));
+        return Err(Error::parameter(
+            "threads",
+            options.threads,
+            "the bench of long flights times one thread; use 1",
+        ));
     }
     let (jump, walk, mfp) = match cfg.scenes()? {
         BenchScenes::Square(s) => time_all(&s, cfg, options)?,

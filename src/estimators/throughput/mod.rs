@@ -19,6 +19,7 @@ use crate::engine::bound::{self, DividerBound};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{CROSSING_CODE, EventLanes, Nothing, Observer};
 use crate::engine::options::{RunOption, RunOptions};
+use crate::engine::parallel::thread_pool;
 use crate::engine::simd::BLOCK;
 use crate::engine::{Resolved, SimdPath, drive, run_block};
 use crate::estimators::diffusion::DiffusionConfig;
@@ -247,14 +248,6 @@ pub(super) fn advance<T: Real>(
             .collect::<Result<Vec<u64>, Error>>()
             .map(|v| v.iter().sum())
     })
-}
-
-/// A pool of `threads` workers.
-pub(super) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, Error> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Invalid(format!("thread pool: {e}")))
 }
 
 /// What the benchmark watches besides the engine's own crossing count.
@@ -544,14 +537,20 @@ fn check(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Checked, Error>
     }
     let field = cfg.field.filter(|b| *b != 0.0);
     if cfg.straight_beside && field.is_none() {
-        return Err(Error::Invalid(
-            "straight_beside times straight flights beside arcs: give a nonzero field".into(),
+        return Err(Error::parameter(
+            "straight_beside",
+            true,
+            "times straight flights beside arcs: give a nonzero field",
         ));
     }
-    if cfg.table.is_some() && (field.is_some() || cfg.observe != Observe::None) {
-        return Err(Error::Invalid(
-            "table times a table's bare straight flights beside the triangular gas: leave out the field and the observers".into(),
-        ));
+    const TABLE_BESIDE: &str = "a table is timed by its bare straight flights beside the \
+                                triangular gas: leave it out";
+    if let (Some(_), Some(b)) = (&cfg.table, field) {
+        return Err(Error::parameter("field", b, TABLE_BESIDE));
+    }
+    if cfg.table.is_some() && cfg.observe != Observe::None {
+        let observe = format!("{:?}", cfg.observe).to_lowercase();
+        return Err(Error::parameter("observe", observe, TABLE_BESIDE));
     }
     if cfg.table.is_some() && cfg.precision != Precision::F64 {
         return Err(Error::out_of_range(
@@ -569,8 +568,11 @@ fn check(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Checked, Error>
         (false, ..) => None,
         (true, Some(b), Some(path)) => Some((b, path)),
         _ => {
-            return Err(Error::Invalid(
-                "oracle_floor times the SIMD arc engine against its winner-only floor: give a nonzero field and a SIMD engine".into(),
+            return Err(Error::parameter(
+                "oracle_floor",
+                true,
+                "times the SIMD arc engine against its winner-only floor: give a nonzero field \
+                 and a SIMD engine",
             ));
         }
     };

@@ -99,11 +99,6 @@ pub struct ResultFile {
     pub value: Value,
 }
 
-/// Bad input naming the file.
-fn bad(path: &Path, why: impl std::fmt::Display) -> Error {
-    Error::Invalid(format!("{}: {why}", path.display()))
-}
-
 impl ResultFile {
     /// Reads `path` (a regular file of at most [`MAX_RESULT_BYTES`]), parses it and recognises
     /// its kind; anything else is bad input naming the file and the reason.
@@ -111,7 +106,7 @@ impl ResultFile {
         let bytes = read_bounded(path)?;
         let sha = crate::engine::resume::sha256_hex(&bytes);
         let value: Value = crate::engine::json::parse_unique(&bytes).map_err(|e| {
-            bad(
+            Error::malformed(
                 path,
                 format!(
                     "not a JSON result of lorentz ({e}); give a result an analysis wrote as JSON"
@@ -120,7 +115,10 @@ impl ResultFile {
         })?;
         drop(bytes);
         let Some(object) = value.as_object() else {
-            return Err(bad(path, "not a JSON object: not a result of lorentz"));
+            return Err(Error::malformed(
+                path,
+                "not a JSON object: not a result of lorentz",
+            ));
         };
         let mut kinds: Vec<Kind> = Kind::ALL
             .iter()
@@ -134,7 +132,7 @@ impl ResultFile {
         let kind = match kinds[..] {
             [k] => k,
             [] => {
-                return Err(bad(
+                return Err(Error::malformed(
                     path,
                     format!(
                         "not a result that report audits: it has none of the keys that identify {} (results of other commands are not audited)",
@@ -143,7 +141,7 @@ impl ResultFile {
                 ));
             }
             _ => {
-                return Err(bad(
+                return Err(Error::malformed(
                     path,
                     format!(
                         "keys of several kinds of result ({}): not a result of lorentz",
@@ -164,14 +162,14 @@ impl ResultFile {
     pub fn parse<T: DeserializeOwned + Serialize>(&self, path: &Path) -> Result<T, Error> {
         let kind = self.kind.name();
         let t = T::deserialize(&self.value).map_err(|e| {
-            bad(
+            Error::malformed(
                 path,
                 format!("not a {kind} result as lorentz writes it: {e}"),
             )
         })?;
-        let schema = serde_json::to_value(&t).map_err(|e| bad(path, e))?;
+        let schema = serde_json::to_value(&t).map_err(|e| Error::malformed(path, e))?;
         if let Some(key) = first_unknown_key(&self.value, &schema, "") {
-            return Err(bad(
+            return Err(Error::malformed(
                 path,
                 format!(
                     "unknown key `{key}`: a {kind} result holds no such key, and the audit accepts no field it does not check"
@@ -190,7 +188,7 @@ fn read_bounded(path: &Path) -> Result<Vec<u8>, Error> {
     let file = crate::files::open(path)?;
     let meta = file.metadata().map_err(Error::io("read", path))?;
     let too_big = |n: u64| {
-        bad(
+        Error::malformed(
             path,
             format!(
                 "{n} bytes is larger than the {MAX_RESULT_BYTES} bytes (64 MiB) a result file may have: refused before reading"

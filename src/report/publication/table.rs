@@ -25,11 +25,11 @@ pub(super) fn parse(
 ) -> Result<(SceneDiffusionReport, PeriodicTable), Error> {
     let r: SceneDiffusionReport = file.parse(path)?;
     let Some(spec) = &r.table else {
-        return Err(Error::Invalid(format!(
-            "{}: D on a scene without its table: report audits D on a table given as data \
-             (its `table` recorded)",
-            path.display()
-        )));
+        return Err(Error::malformed(
+            path,
+            "D on a scene without its table: report audits D on a table given as data (its \
+             `table` recorded)",
+        ));
     };
     let table = PeriodicTable::new(spec).map_err(|e| refused_config(path, e))?;
     r.config

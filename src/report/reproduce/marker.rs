@@ -27,14 +27,14 @@ pub(super) fn finished_step(marker: &Path, budget: &str, seed: u64) -> Result<Op
     let text = crate::files::read_to_string(marker)?;
     let d: Done = crate::engine::resume::unseal(marker, &text, "step marker")?;
     if d.seed != seed {
-        return Err(Error::Invalid(format!(
-            "{} was made with seed {} and this reproduction has seed {}: use another folder \
-             (or seed {})",
-            marker.display(),
-            d.seed,
-            seed,
-            d.seed
-        )));
+        return Err(Error::malformed(
+            marker,
+            format!(
+                "made with seed {} and this reproduction has seed {seed}: use another folder (or \
+                 seed {})",
+                d.seed, d.seed
+            ),
+        ));
     }
     Ok((d.budget == budget && d.version == env!("CARGO_PKG_VERSION")).then_some(d))
 }

@@ -45,10 +45,12 @@ impl std::str::FromStr for Budget {
         match s {
             "quick" => Ok(Budget::Quick),
             "paper" => Ok(Budget::Paper),
-            _ => Err(Error::Invalid(format!(
-                "budget = {s:?}: must be quick (minutes on 2 cores) or paper (the user guide's \
-                 statistics, about an hour on 2 cores)"
-            ))),
+            _ => Err(Error::parameter(
+                "budget",
+                format!("{s:?}"),
+                "must be quick (minutes on 2 cores) or paper (the user guide's statistics, about \
+                 an hour on 2 cores)",
+            )),
         }
     }
 }
@@ -390,7 +392,7 @@ fn sweep_config(step: Step, budget: Budget, seed: u64) -> Result<SweepConfig, Er
         // Fig. 8 at the paper's statistics: ten runs of 2·10⁹ collisions per point.
         (Step::Fig8Fine, Budget::Quick) => ("0.20", "0.30", 21, 10, 20_000_000, 16),
         (Step::Fig8Fine, Budget::Paper) => ("0.20", "0.30", 21, 10, 2_000_000_000, 16),
-        _ => return Err(Error::Invalid(format!("no sweep step {}", step.name()))),
+        _ => return Err(Error::Failed(format!("no sweep step {}", step.name()))),
     };
     let c = SweepConfig {
         w_from: from.into(),
@@ -450,7 +452,7 @@ fn d_table(
     );
     let mut rows = Vec::new();
     for (i, w) in TABLE_GAPS.iter().enumerate() {
-        let w64: f64 = w.parse().map_err(|_| Error::Invalid(format!("gap {w}")))?;
+        let w64: f64 = w.parse().map_err(|_| Error::Failed(format!("gap {w}")))?;
         let mut c = DiffusionConfig::new(w64);
         c.collisions = collisions;
         c.seed = seed;

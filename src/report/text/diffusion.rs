@@ -59,7 +59,7 @@ fn curve_lines(out: &mut String, r: &DiffusionReport) {
     line!(
         out,
         "MSD curve      : {} times from {:.4} to {:.4e} (MSD, velocity autocorrelation and \
-         Green-Kubo integral, in the --json result's msd_curve)",
+         Green-Kubo integral, in the JSON result's msd_curve)",
         c.times.len(),
         first.unwrap_or(f64::NAN),
         last.unwrap_or(f64::NAN)
@@ -109,7 +109,7 @@ fn plan_lines(out: &mut String, r: &DiffusionReport) {
         line!(
             out,
             "precision plan : {} % needs {:.2e} collisions, about {} here (the error falls as \
-             1/sqrt(collisions); --rel-err stops at a target)",
+             1/sqrt(collisions); a run planned for a relative error stops there)",
             100.0 * p.rel_err,
             p.collisions as f64,
             crate::engine::progress_lines::clock(p.seconds)

@@ -84,7 +84,7 @@ fn estimates(out: &mut String, r: &SuperdiffusionReport, n: usize) {
         }
         _ => line!(
             out,
-            "  C_flow, C_map: not fitted (every batch needs 100 flights longer than --tail-fit-from mean free paths at two lags; use more collisions)"
+            "  C_flow, C_map: not fitted (every batch needs 100 flights longer than the tail fit's start, in mean free paths, at two lags; use more collisions)"
         ),
     }
     row(

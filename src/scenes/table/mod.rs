@@ -54,6 +54,9 @@ pub struct PeriodicTable {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum TableError {
+    /// Text that is not a table: the parser's message, with its line.
+    #[error("not a table: {0}")]
+    Syntax(String),
     /// e₁ is not (a, 0) with a > 0, or e₂.y ≤ 0.
     #[error(
         "the lattice e1 = ({e1}), e2 = ({e2}) is not a cell of this form: give e1 = (a, 0) with a > 0 along the x axis and e2 = (b, h) with h > 0"

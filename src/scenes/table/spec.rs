@@ -24,6 +24,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::numbers::exact::parse_exact;
+use crate::scenes::table::TableError;
 
 /// The largest table file read (a table is a few lines; a bigger file is not one).
 pub const MAX_FILE_BYTES: u64 = 1 << 20;
@@ -129,10 +130,10 @@ impl TableSpec {
     /// The table written in TOML.
     ///
     /// # Errors
-    /// Text that is not such a table ([`Error::Invalid`], the parser's message with its line).
+    /// Text that is not such a table ([`TableError::Syntax`], the parser's message with its
+    /// line).
     pub fn from_toml(text: &str) -> Result<Self, Error> {
-        toml::from_str(text)
-            .map_err(|e| Error::Invalid(format!("not a table: {}", one_line(&e.to_string()))))
+        toml::from_str(text).map_err(|e| TableError::Syntax(one_line(&e.to_string())).into())
     }
 
     /// The table written in JSON (how the Python package passes a dict).
@@ -140,9 +141,8 @@ impl TableSpec {
     /// # Errors
     /// Text that is not such a table.
     pub fn from_json(text: &str) -> Result<Self, Error> {
-        let refuse = |e: serde_json::Error| {
-            Error::Invalid(format!("not a table: {}", one_line(&e.to_string())))
-        };
+        let refuse =
+            |e: serde_json::Error| Error::from(TableError::Syntax(one_line(&e.to_string())));
         let value = crate::engine::json::parse_unique(text.as_bytes()).map_err(refuse)?;
         serde_json::from_value(value).map_err(refuse)
     }
@@ -153,7 +153,7 @@ impl TableSpec {
     /// A file that cannot be read (naming it) or is not a table (naming it).
     pub fn read(path: &Path) -> Result<Self, Error> {
         let text = crate::files::read_to_string_limited(path, MAX_FILE_BYTES)?;
-        Self::from_toml(&text).map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))
+        Self::from_toml(&text).map_err(|e| Error::malformed(path, e))
     }
 
     /// The name, or `"table"`.

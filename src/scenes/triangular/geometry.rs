@@ -210,7 +210,7 @@ pub fn check_diffusive_gap(w: f64) -> Result<(), Error> {
 pub fn check_diffusive_gap_exact(w: f64, text: Option<&str>) -> Result<(), Error> {
     check_diffusive_gap(w)?;
     let Some(text) = text else { return Ok(()) };
-    crate::numbers::exact::check_exact("w", w, Some(text))?;
+    crate::numbers::exact::check_exact(("w", "w_exact"), w, Some(text))?;
     let q = crate::numbers::exact::parse_exact(text)?;
     if q <= 0 {
         return Err(Error::Trapped { w });
@@ -223,13 +223,17 @@ pub fn check_diffusive_gap_exact(w: f64, text: Option<&str>) -> Result<(), Error
             .to_integer()
             .map(|i| format!("0.{:0>22}", i.to_string()))
             .unwrap_or_default();
-        return Err(Error::Invalid(format!(
-            "w = {text} (exactly as typed) is not < w_inf = 4/sqrt(3) - 2 = {digits}...: the \
-             horizon is infinite there and the diffusion coefficient does not exist, although \
-             the nearest double {w:?} lies below w_inf (valid range: 0 < w < {:.6}, decided \
-             exactly)",
-            w_inf.to_f64()
-        )));
+        return Err(Error::parameter(
+            "w",
+            text,
+            format!(
+                "exactly as typed, not < w_inf = 4/sqrt(3) - 2 = {digits}...: the horizon is \
+                 infinite there and the diffusion coefficient does not exist, although the \
+                 nearest double {w:?} lies below w_inf (valid range: 0 < w < {:.6}, decided \
+                 exactly)",
+                w_inf.to_f64()
+            ),
+        ));
     }
     Ok(())
 }

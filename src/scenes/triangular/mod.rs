@@ -31,8 +31,7 @@ impl TriangularScene {
     /// # Errors
     /// If `w` is not a positive finite gap.
     pub fn new(w: f64) -> Result<Self, Error> {
-        let q = Rational::from_f64(w)
-            .ok_or_else(|| Error::Invalid(format!("w = {w} is not a finite number")))?;
+        let q = Rational::from_f64(w).ok_or(Error::NotFinite { what: "w" })?;
         Self::exact(q)
     }
 

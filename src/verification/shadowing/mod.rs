@@ -197,7 +197,7 @@ pub fn defects<S: Scene>(scene: &S, y: &[OrbitPoint], bits: u32) -> Result<Vec<f
         });
     }
     let table = Table::new(scene, bits)?;
-    let ev = evaluate(&table, y).map_err(|(k, e)| Error::Invalid(describe(k, &e, y)))?;
+    let ev = evaluate(&table, y).map_err(|(k, e)| Error::Failed(describe(k, &e, y)))?;
     Ok(ev.f.iter().map(|v| norm2(v).to_f64()).collect())
 }
 
@@ -413,11 +413,12 @@ fn field_of<S: Scene>(
     let geometry =
         crate::theory::magnetic::FieldGeometry::new(disks, crate::numbers::exact::nearest_f64(&q))?;
     if geometry.all_localized() {
-        return Err(Error::Invalid(format!(
-            "field = {}: every orbit is localized here (pinned or skipping), so no segment \
-             diffuses; use a weaker field",
-            config.field.as_deref().unwrap_or_default()
-        )));
+        return Err(Error::parameter(
+            "field",
+            config.field.as_deref().unwrap_or_default(),
+            "every orbit is localized here (pinned or skipping), so no segment diffuses; use a \
+             weaker field",
+        ));
     }
     Ok(Some((q, geometry)))
 }

@@ -65,7 +65,7 @@ fn record_segment<S: Scene>(
         let kind = step(&mut st)?;
         events += 1;
         if events > EVENTS_PER_COLLISION * (n + 1) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Failed(format!(
                 "no collision in {events} events: the table has an open corridor"
             )));
         }
@@ -100,7 +100,7 @@ where
     let i = (cw.x / basis.a - basis.beta * j).round();
     let (ex, ey) = (basis.a * (i + basis.beta * j) - cw.x, basis.h * j - cw.y);
     if ex.hypot(ey) > 1e-6 * (1.0 + cw.x.abs() + cw.y.abs()) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Failed(format!(
             "disk centre ({}, {}) is not a lattice point",
             cw.x, cw.y
         )));

@@ -49,10 +49,11 @@ impl Table {
         let c = lat.cell();
         let r = c.disks[0].radius().clone();
         if c.disks.iter().any(|d| *d.radius() != r) {
-            return Err(Error::Invalid(format!(
-                "{}: true shadowing is written for disks of one radius, and this scene's differ",
-                scene.label()
-            )));
+            return Err(Error::Lacks {
+                scene: scene.label(),
+                capability: crate::error::Capability::OneRadius,
+                analysis: "true shadowing",
+            });
         }
         Ok(Table {
             a: c.lattice.a.clone(),

@@ -42,10 +42,11 @@ const PRECISION_LENGTH_FULL: f64 = 32.0;
 pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<DiffusionReport, Error> {
     let r: DiffusionReport = file.parse(path)?;
     let Some(cfg) = &r.config else {
-        return Err(Error::Invalid(format!(
-            "{}: no `config`: a diffusion result written before results carried their configuration cannot be audited; run the diffusion again",
-            path.display()
-        )));
+        return Err(Error::malformed(
+            path,
+            "no `config`: a diffusion result written before results carried their configuration \
+             cannot be audited; run the diffusion again",
+        ));
     };
     cfg.validate().map_err(|e| refused_config(path, e))?;
     Ok(r)
@@ -53,17 +54,19 @@ pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<DiffusionReport, E
 
 /// A recorded configuration that command-line input with the same values would be refused for.
 pub(super) fn refused_config(path: &Path, e: Error) -> Error {
-    Error::Invalid(format!(
-        "{}: the recorded configuration is refused, as the same command-line input would be: {e}",
-        path.display()
-    ))
+    Error::malformed(
+        path,
+        format!(
+            "the recorded configuration is refused, as the same command-line input would be: {e}"
+        ),
+    )
 }
 
 /// The recorded configuration (present: [`parse`] checked it).
 fn config(r: &DiffusionReport) -> Result<&DiffusionConfig, Error> {
     r.config
         .as_ref()
-        .ok_or_else(|| Error::Invalid("a diffusion result without a configuration".into()))
+        .ok_or_else(|| Error::Failed("a diffusion result without a configuration".into()))
 }
 
 /// The re-runs, in the order [`checks`] takes them: the batches, the two precision runs, the
