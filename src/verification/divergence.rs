@@ -170,51 +170,69 @@ pub fn run<S: Scene>(
                     )?
                 }
             };
-            let u = (-(p.unwrap_or(53) as f64)).exp2();
-            let mut dev = Vec::with_capacity(n);
-            for (a, b) in track.iter().zip(&r) {
-                let mut d = Float::with_val(ref_bits, 0);
-                for i in 0..4 {
-                    d += (a.0[i].clone() - &b.0[i]).abs();
-                }
-                dev.push((d.to_f64(), b.1));
-            }
-            let horizon = dev.iter().position(|d| d.0 > 1e-3).unwrap_or(n) as f64;
-            let (mut xs, mut ts, mut ys) = (Vec::new(), Vec::new(), Vec::new());
-            for (i, d) in dev.iter().enumerate() {
-                if d.0 > 1e4 * u && d.0 < 1e-3 && (i as f64) < horizon {
-                    xs.push(i as f64);
-                    ts.push(d.1);
-                    ys.push(d.0.ln());
-                }
-            }
-            if xs.len() >= 5 {
-                per[pi].push((horizon, linear_fit(&xs, &ys).1, linear_fit(&ts, &ys).1));
-            } else {
-                per[pi].push((horizon, f64::NAN, f64::NAN));
-            }
+            per[pi].push(horizon_and_rates(&track, &r, *p, n, ref_bits));
         }
     }
     Ok(precs
         .iter()
         .zip(per)
-        .map(|(p, v)| {
-            let h: Vec<f64> = v.iter().map(|x| x.0).collect();
-            let rc: Vec<f64> = v.iter().map(|x| x.1).filter(|x| x.is_finite()).collect();
-            let rt: Vec<f64> = v.iter().map(|x| x.2).filter(|x| x.is_finite()).collect();
-            let (hm, he) = mean_se(&h);
-            let (cm, ce) = mean_se(&rc);
-            let (tm, te) = mean_se(&rt);
-            Divergence {
-                precision: p.map(|b| b.to_string()).unwrap_or_else(|| "f64".into()),
-                starts: cfg.starts,
-                horizon: hm,
-                horizon_err: he,
-                rate_per_collision: cm,
-                rate_per_collision_err: ce,
-                rate_per_time: tm,
-                rate_per_time_err: te,
-            }
-        })
+        .map(|(p, v)| summary(cfg, *p, &v))
         .collect())
+}
+
+/// The separation of the orbit `track` at precision `p` (`None`: f64) from the reference `r`,
+/// collision by collision: the horizon (the first collision at which it exceeds 10⁻³, or `n`)
+/// and its growth rates per collision and per unit time, fitted to ln(separation) between 10⁴·u
+/// and 10⁻³ before the horizon (NaN with fewer than 5 such points).
+fn horizon_and_rates(
+    track: &[([Float; 4], f64)],
+    r: &[([Float; 4], f64)],
+    p: Option<u32>,
+    n: usize,
+    ref_bits: u32,
+) -> (f64, f64, f64) {
+    let u = (-(p.unwrap_or(53) as f64)).exp2();
+    let mut dev = Vec::with_capacity(n);
+    for (a, b) in track.iter().zip(r) {
+        let mut d = Float::with_val(ref_bits, 0);
+        for i in 0..4 {
+            d += (a.0[i].clone() - &b.0[i]).abs();
+        }
+        dev.push((d.to_f64(), b.1));
+    }
+    let horizon = dev.iter().position(|d| d.0 > 1e-3).unwrap_or(n) as f64;
+    let (mut xs, mut ts, mut ys) = (Vec::new(), Vec::new(), Vec::new());
+    for (i, d) in dev.iter().enumerate() {
+        if d.0 > 1e4 * u && d.0 < 1e-3 && (i as f64) < horizon {
+            xs.push(i as f64);
+            ts.push(d.1);
+            ys.push(d.0.ln());
+        }
+    }
+    if xs.len() >= 5 {
+        (horizon, linear_fit(&xs, &ys).1, linear_fit(&ts, &ys).1)
+    } else {
+        (horizon, f64::NAN, f64::NAN)
+    }
+}
+
+/// The divergence at precision `p` over the starts' (horizon, rate per collision, rate per
+/// time), each with its standard error (the rates over the starts that have one).
+fn summary(cfg: &DivergenceConfig, p: Option<u32>, v: &[(f64, f64, f64)]) -> Divergence {
+    let h: Vec<f64> = v.iter().map(|x| x.0).collect();
+    let rc: Vec<f64> = v.iter().map(|x| x.1).filter(|x| x.is_finite()).collect();
+    let rt: Vec<f64> = v.iter().map(|x| x.2).filter(|x| x.is_finite()).collect();
+    let (hm, he) = mean_se(&h);
+    let (cm, ce) = mean_se(&rc);
+    let (tm, te) = mean_se(&rt);
+    Divergence {
+        precision: p.map(|b| b.to_string()).unwrap_or_else(|| "f64".into()),
+        starts: cfg.starts,
+        horizon: hm,
+        horizon_err: he,
+        rate_per_collision: cm,
+        rate_per_collision_err: ce,
+        rate_per_time: tm,
+        rate_per_time_err: te,
+    }
 }

@@ -11,7 +11,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::kernel::{
-    cell::CellKernel, cell::ConvexCell, flight::Event, flight::EventKind, flight::Flight,
+    cell::CellKernel, cell::ConvexCell, cell::Disk, flight::Event, flight::EventKind,
+    flight::Flight,
 };
 use crate::numbers::real::Real;
 
@@ -70,99 +71,104 @@ const U: f64 = crate::verification::error_model::UNIT_ROUNDOFF;
 /// squared radius of the disk considered (1 there), so for the triangular trap they are the bounds of
 /// `proofs-notes/error-model.md` term by term.
 fn candidates(cell: &ConvexCell<Float>, a: f64, f: &Flight<Float>) -> Vec<Candidate> {
-    let mut out = Vec::new();
+    let disks =
+        (cell.disks.iter().enumerate()).filter_map(|(m, d)| disk_candidate(d, m as u8, a, f));
+    let edges = (0..cell.edges.len()).filter_map(|k| edge_candidate(cell, k as u8, a, f));
+    disks.chain(edges).collect()
+}
+
+/// Disk `m`'s candidate, with its time bound and discriminant error ([`candidates`]).
+fn disk_candidate(disk: &Disk<Float>, m: u8, a: f64, f: &Flight<Float>) -> Option<Candidate> {
+    if f.excluded_disk == Some(m) {
+        return None;
+    }
     let (p, v) = (&f.pos, &f.vel);
     let vv = v.norm2();
-    for (m, disk) in cell.disks.iter().enumerate() {
-        let m = m as u8;
-        if f.excluded_disk == Some(m) {
-            continue;
+    let r2 = disk.radius2().to_f64();
+    let d = p.sub(&disk.centre);
+    let beta = d.dot(v);
+    let q = d.cross(v);
+    let disc = vv.clone() * disk.radius2() - &Real::square(&q);
+    let dn = d.norm2().sqrt().to_f64();
+    // Error model (first order, each term doubled): the f64 centre differs from the exact
+    // one by ≤ u·a per component, each operation adds its rounding; r² is rounded once.
+    let e_d = U * (dn + 2.0 * a);
+    let e_beta = 2.0 * (2.0 * e_d + 2.0 * U * dn);
+    let e_disc =
+        2.0 * (4.0 * U * r2 + 2.0 * q.to_f64().abs() * (2.0 * e_d + 2.0 * U * dn) + U * r2);
+    if !beta.lt0() {
+        // Moving away: the f64 sign of β can flip only if |β| ≤ e_β; then Δ ≈ |v|²r² and the
+        // root is t ≈ γ/(2|β|) ≥ …: such a start sits on the disk surface, handled by γ ≤ 0.
+        if beta.to_f64().abs() > e_beta || d.norm2().to_f64() > r2 + 8.0 * U * dn * dn {
+            return None;
         }
-        let r2 = disk.radius2().to_f64();
-        let d = p.sub(&disk.centre);
-        let beta = d.dot(v);
-        let q = d.cross(v);
-        let disc = vv.clone() * disk.radius2() - &Real::square(&q);
-        let dn = d.norm2().sqrt().to_f64();
-        // Error model (first order, each term doubled): the f64 centre differs from the exact
-        // one by ≤ u·a per component, each operation adds its rounding; r² is rounded once.
-        let e_d = U * (dn + 2.0 * a);
-        let e_beta = 2.0 * (2.0 * e_d + 2.0 * U * dn);
-        let e_disc =
-            2.0 * (4.0 * U * r2 + 2.0 * q.to_f64().abs() * (2.0 * e_d + 2.0 * U * dn) + U * r2);
-        if !beta.lt0() {
-            // Moving away: the f64 sign of β can flip only if |β| ≤ e_β; then Δ ≈ |v|²r² and the
-            // root is t ≈ γ/(2|β|) ≥ …: such a start sits on the disk surface, handled by γ ≤ 0.
-            if beta.to_f64().abs() > e_beta || d.norm2().to_f64() > r2 + 8.0 * U * dn * dn {
-                continue;
-            }
-        }
-        let disc64 = disc.to_f64();
-        if disc64 <= -e_disc {
-            continue;
-        }
-        let gamma = d.norm2() - disk.radius2();
-        let sq = if disc.is_sign_positive() {
-            disc.clone().sqrt()
-        } else {
-            Float::with_val(disc.prec(), 0)
-        };
-        let denom = sq.clone() - &beta;
-        let t = if gamma.is_sign_positive() && denom.is_sign_positive() && !denom.is_zero() {
-            gamma.clone() / &denom
-        } else {
-            Float::with_val(gamma.prec(), 0)
-        };
-        let (t64, den64, sq64) = (
-            t.to_f64(),
-            denom.to_f64().max(f64::MIN_POSITIVE),
-            sq.to_f64(),
-        );
-        let e_gamma = 2.0 * (2.0 * dn * e_d + 3.0 * U * dn * dn + U * r2);
-        let e_sq = if sq64 > 0.0 {
-            e_disc / (2.0 * sq64) + U * sq64
-        } else {
-            f64::INFINITY
-        };
-        let e_den = e_sq + e_beta + U * den64;
-        let time_bound = 2.0 * (e_gamma / den64 + t64 * e_den / den64 + U * t64);
-        out.push(Candidate {
-            kind: EventKind::Collision(m),
-            time: t,
-            time_bound,
-            disc: Some((disc64, e_disc)),
-        });
     }
-    for (k, e) in cell.edges.iter().enumerate() {
-        let k = k as u8;
-        if f.excluded_edge == Some(k) {
-            continue;
-        }
-        let nv = e.normal.dot(v);
-        let sigma = cell.edge_distance(k as usize, p);
-        let (nv64, s64) = (nv.to_f64(), sigma.to_f64());
-        let e_nv = 4.0 * U;
-        let e_sigma = 4.0 * U * (p.norm2().sqrt().to_f64() + 2.0 * a);
-        if nv64 >= e_nv {
-            continue;
-        }
-        let t = if sigma.is_sign_positive() && nv.is_sign_negative() {
-            sigma / &(-nv)
-        } else {
-            Float::with_val(v.x.prec(), 0)
-        };
-        let t64 = t.to_f64();
-        let mag = nv64.abs().max(f64::MIN_POSITIVE);
-        let time_bound =
-            2.0 * ((e_sigma + s64.abs().min(e_sigma)) / mag + t64 * e_nv / mag + U * t64);
-        out.push(Candidate {
-            kind: EventKind::Crossing(k),
-            time: t,
-            time_bound,
-            disc: None,
-        });
+    let disc64 = disc.to_f64();
+    if disc64 <= -e_disc {
+        return None;
     }
-    out
+    let gamma = d.norm2() - disk.radius2();
+    let sq = if disc.is_sign_positive() {
+        disc.clone().sqrt()
+    } else {
+        Float::with_val(disc.prec(), 0)
+    };
+    let denom = sq.clone() - &beta;
+    let t = if gamma.is_sign_positive() && denom.is_sign_positive() && !denom.is_zero() {
+        gamma.clone() / &denom
+    } else {
+        Float::with_val(gamma.prec(), 0)
+    };
+    let (t64, den64, sq64) = (
+        t.to_f64(),
+        denom.to_f64().max(f64::MIN_POSITIVE),
+        sq.to_f64(),
+    );
+    let e_gamma = 2.0 * (2.0 * dn * e_d + 3.0 * U * dn * dn + U * r2);
+    let e_sq = if sq64 > 0.0 {
+        e_disc / (2.0 * sq64) + U * sq64
+    } else {
+        f64::INFINITY
+    };
+    let e_den = e_sq + e_beta + U * den64;
+    let time_bound = 2.0 * (e_gamma / den64 + t64 * e_den / den64 + U * t64);
+    Some(Candidate {
+        kind: EventKind::Collision(m),
+        time: t,
+        time_bound,
+        disc: Some((disc64, e_disc)),
+    })
+}
+
+/// Edge `k`'s candidate, with its time bound ([`candidates`]).
+fn edge_candidate(cell: &ConvexCell<Float>, k: u8, a: f64, f: &Flight<Float>) -> Option<Candidate> {
+    let (p, v) = (&f.pos, &f.vel);
+    let e = &cell.edges[k as usize];
+    if f.excluded_edge == Some(k) {
+        return None;
+    }
+    let nv = e.normal.dot(v);
+    let sigma = cell.edge_distance(k as usize, p);
+    let (nv64, s64) = (nv.to_f64(), sigma.to_f64());
+    let e_nv = 4.0 * U;
+    let e_sigma = 4.0 * U * (p.norm2().sqrt().to_f64() + 2.0 * a);
+    if nv64 >= e_nv {
+        return None;
+    }
+    let t = if sigma.is_sign_positive() && nv.is_sign_negative() {
+        sigma / &(-nv)
+    } else {
+        Float::with_val(v.x.prec(), 0)
+    };
+    let t64 = t.to_f64();
+    let mag = nv64.abs().max(f64::MIN_POSITIVE);
+    let time_bound = 2.0 * ((e_sigma + s64.abs().min(e_sigma)) / mag + t64 * e_nv / mag + U * t64);
+    Some(Candidate {
+        kind: EventKind::Crossing(k),
+        time: t,
+        time_bound,
+        disc: None,
+    })
 }
 
 /// Replays the next event of the f64 flight `f` at `bits` of precision and compares.

@@ -231,6 +231,20 @@ pub struct Quantiles {
     pub max: f64,
 }
 
+impl AuditQuantiles {
+    /// The quantiles of every histogram of `summary`.
+    fn of(summary: &AuditSummary) -> Self {
+        AuditQuantiles {
+            time_error: q3(&summary.time_error),
+            position_error: q3(&summary.position_error),
+            velocity_error: q3(&summary.velocity_error),
+            time_error_over_bound: q3(&summary.time_error_over_bound),
+            position_error_over_bound: Some(q3(&summary.position_error_over_bound)),
+            velocity_error_over_bound: Some(q3(&summary.velocity_error_over_bound)),
+        }
+    }
+}
+
 fn q3(h: &LogHistogram) -> Quantiles {
     Quantiles {
         median: h.quantile(0.5),
@@ -305,18 +319,10 @@ pub fn run<S: Scene>(
         summary.merge(p);
         events += e;
     }
-    let quantiles = AuditQuantiles {
-        time_error: q3(&summary.time_error),
-        position_error: q3(&summary.position_error),
-        velocity_error: q3(&summary.velocity_error),
-        time_error_over_bound: q3(&summary.time_error_over_bound),
-        position_error_over_bound: Some(q3(&summary.position_error_over_bound)),
-        velocity_error_over_bound: Some(q3(&summary.velocity_error_over_bound)),
-    };
     Ok(AuditReport {
         config: cfg.clone(),
         events,
-        quantiles,
+        quantiles: AuditQuantiles::of(&summary),
         summary,
         seconds: start.elapsed().as_secs_f64(),
         flights,

@@ -68,15 +68,10 @@ pub(super) fn summarise(
         .iter()
         .map(|b| d_of_batch(b, tau, &cfg.check_window))
         .collect();
-    let ratio = |f: &dyn Fn(&Counters) -> f64| {
-        mean_se(&done.iter().map(|b| f(&b.counters)).collect::<Vec<_>>())
-    };
     let (d, d_err) = mean_se(&ds);
     let (dcv, dce) = mean_se(&dc);
     let window_diff = crate::statistics::comparison::paired(&ds, &dc)?;
-    let (mfp, mfp_e) = ratio(&|c| c.time / c.collisions as f64);
-    let (th, th_e) = ratio(&|c| c.time / c.crossings as f64);
-    let (cph, cph_e) = ratio(&|c| c.collisions as f64 / c.crossings as f64);
+    let [(mfp, mfp_e), (th, th_e), (cph, cph_e)] = counter_means(done);
     let (msd_times, msd_over_4t) = msd_over_4t(done, tau);
     let grid = super::execution::curve_grid(
         cfg.msd_grid,
@@ -133,6 +128,19 @@ pub(super) fn summarise(
             Some(threads),
         ),
     })
+}
+
+/// The mean free time, the mean time per hop and the collisions per hop, each as the mean over
+/// the batches with its standard error.
+fn counter_means(done: &[BatchResult]) -> [(f64, f64); 3] {
+    let ratio = |f: &dyn Fn(&Counters) -> f64| {
+        mean_se(&done.iter().map(|b| f(&b.counters)).collect::<Vec<_>>())
+    };
+    [
+        ratio(&|c| c.time / c.collisions as f64),
+        ratio(&|c| c.time / c.crossings as f64),
+        ratio(&|c| c.collisions as f64 / c.crossings as f64),
+    ]
 }
 
 /// The longest free path of any batch.

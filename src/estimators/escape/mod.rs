@@ -510,6 +510,20 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
         })
     })?;
     let widths = analyse_widths(&cfg.widths, &outs, &g, &t_max)?;
+    let mut report = finite_size_fit(cfg, widths, d_mz)?;
+    report.seconds = start.elapsed().as_secs_f64();
+    report.meta = RunMeta::new(Some(cfg.seed), Some(tasks as u64), "f64", Some(threads));
+    Ok(report)
+}
+
+/// The report of the analysed `widths`: D and the boundary shift from the weighted fit of
+/// D_eff(L) = D + c/L, its errors scaled by χ²/dof where that exceeds 1 (seconds and metadata
+/// left for the caller).
+fn finite_size_fit(
+    cfg: &EscapeConfig,
+    widths: Vec<EscapeWidth>,
+    d_mz: f64,
+) -> Result<EscapeReport, Error> {
     let x: Vec<f64> = widths.iter().map(|r| 1.0 / r.L).collect();
     let y: Vec<f64> = widths.iter().map(|r| r.D_eff).collect();
     let s: Vec<f64> = widths.iter().map(|r| r.D_eff_err).collect();
@@ -542,12 +556,12 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
         D_MZ: d_mz,
         tail_start_survival: TAIL_START_SURVIVAL,
         t_max_e_folds: T_MAX_E_FOLDS,
-        batches_per_width: nb,
+        batches_per_width: BATCHES_PER_WIDTH,
         events: widths.iter().map(|r| r.events).sum(),
         widths,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds: 0.0,
         config: cfg.clone(),
-        meta: RunMeta::new(Some(cfg.seed), Some(tasks as u64), "f64", Some(threads)),
+        meta: RunMeta::new(Some(cfg.seed), None, "f64", None),
     })
 }
 

@@ -445,13 +445,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         })
         .transpose()?;
     let (threads, progress) = (options.threads, options.progress);
-    let (roots, divisions) = match field {
-        Some(_) => (bound::ARC_ROOTS, bound::ARC_DIVISIONS),
-        None => (1, 2),
-    };
-    let unit = resolved
-        .simd()
-        .and_then(|p| bound::measure(p, roots, divisions));
+    let unit = divider_unit(resolved, field);
     let (samples, cpc, beside) = precision.dispatch(TimeRuns {
         engine: resolved,
         observe,
@@ -477,10 +471,11 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
     let ns_per_collision = 1e9 * threads as f64 / m;
     let divider_bound = unit.map(|unit| {
         let per_collision = unit.ns_per_event * (1.0 + cpc);
+        let fraction = per_collision / ns_per_collision;
         BoundReport {
             unit,
             ns_per_collision: per_collision,
-            fraction: per_collision / ns_per_collision,
+            fraction,
         }
     });
     Ok(Throughput {
@@ -502,6 +497,18 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         table,
         meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
     })
+}
+
+/// The divider bound of one event on the SIMD path `resolved` runs (none on the scalar engine):
+/// the arc kernel's roots and divisions in a field, one root and two divisions without.
+fn divider_unit(resolved: Resolved, field: Option<f64>) -> Option<DividerBound> {
+    let (roots, divisions) = match field {
+        Some(_) => (bound::ARC_ROOTS, bound::ARC_DIVISIONS),
+        None => (1, 2),
+    };
+    resolved
+        .simd()
+        .and_then(|p| bound::measure(p, roots, divisions))
 }
 
 /// What [`check`] found a measurement to be.

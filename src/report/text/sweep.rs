@@ -47,6 +47,13 @@ pub fn sweep(r: &SweepReport) -> String {
             x.residual
         );
     }
+    fits(&mut out, r);
+    out
+}
+
+/// The fits of the sweep: the straight line, the polynomials, the Boltzmann offset and where D
+/// crosses D_MZ.
+fn fits(out: &mut String, r: &SweepReport) {
     let l = &r.linear_fit;
     line!(
         out,
@@ -97,5 +104,4 @@ pub fn sweep(r: &SweepReport) -> String {
         ),
         None => line!(out, "D - D_MZ does not change sign in this range"),
     }
-    out
 }
