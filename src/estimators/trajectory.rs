@@ -410,32 +410,7 @@ fn run_at<S: Scene>(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Run, Error> {
     let lat = scene.lattice::<Float>(bits)?;
-    let (cell, pos) = scene.locate::<Float>(bits, &input.x, &input.y)?;
-    let kernel = lat.cell();
-    for d in &kernel.disks {
-        let c = &d.centre;
-        if (pos.sub(c).norm2() - d.radius2()).lt0() {
-            let centre = lat.world(&LatticeState {
-                cell,
-                flight: Flight::new(c.clone(), c.clone()),
-            });
-            return Err(inside_disk(input, &centre, d.radius().to_f64()));
-        }
-    }
-    let (dx, dy) = (
-        <Float as Real>::from_rational(bits, &input.dx),
-        <Float as Real>::from_rational(bits, &input.dy),
-    );
-    let norm = (dx.clone().square() + &dy.clone().square()).sqrt();
-    let mut vel = Vec2::new(dx / &norm, dy / &norm);
-    if cell.down {
-        // A point-reflected cell (s = −1) sees the world velocity reversed: world = L − p.
-        vel = -vel;
-    }
-    let mut s = LatticeState {
-        cell,
-        flight: Flight::new(pos, vel),
-    };
+    let mut s = start_state(scene, &lat, input, bits)?;
     let total = <Float as Real>::from_rational(bits, &input.time);
     let mut elapsed = Float::with_val(bits, 0);
     let (mut collisions, mut crossings) = (0u64, 0u64);
@@ -486,6 +461,41 @@ fn run_at<S: Scene>(
         crossings,
         sequence,
         events,
+    })
+}
+
+/// The input's start at `bits` of precision, in its cell's frame: its position, refused inside a
+/// disk, and its direction normalised.
+fn start_state<S: Scene>(
+    scene: &S,
+    lat: &Lattice<Float, S::Kernel<Float>>,
+    input: &TrajectoryInput,
+    bits: u32,
+) -> Result<LatticeState<Float>, Error> {
+    let (cell, pos) = scene.locate::<Float>(bits, &input.x, &input.y)?;
+    for d in &lat.cell().disks {
+        let c = &d.centre;
+        if (pos.sub(c).norm2() - d.radius2()).lt0() {
+            let centre = lat.world(&LatticeState {
+                cell,
+                flight: Flight::new(c.clone(), c.clone()),
+            });
+            return Err(inside_disk(input, &centre, d.radius().to_f64()));
+        }
+    }
+    let (dx, dy) = (
+        <Float as Real>::from_rational(bits, &input.dx),
+        <Float as Real>::from_rational(bits, &input.dy),
+    );
+    let norm = (dx.clone().square() + &dy.clone().square()).sqrt();
+    let mut vel = Vec2::new(dx / &norm, dy / &norm);
+    if cell.down {
+        // A point-reflected cell (s = −1) sees the world velocity reversed: world = L − p.
+        vel = -vel;
+    }
+    Ok(LatticeState {
+        cell,
+        flight: Flight::new(pos, vel),
     })
 }
 

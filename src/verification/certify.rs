@@ -193,6 +193,31 @@ pub fn run<S: Scene>(
     )
 }
 
+/// The Lyapunov exponent per collision the precision plan starts from (a short run of its own,
+/// with fixed seed and the cell walk, so the plan keeps its bits).
+fn planning_exponent<S: Scene>(scene: &S) -> Result<f64, Error> {
+    let cfg = LyapunovConfig {
+        collisions_per_batch: CERTIFY_LAMBDA_COLLISIONS,
+        batches: CERTIFY_LAMBDA_ORBITS,
+        seed: CERTIFY_LAMBDA_SEED,
+        // The plan keeps its bits: the walk, as before long flights.
+        flights: crate::engine::long_flight::Flights::Walk,
+    };
+    let one = RunOptions {
+        threads: 1,
+        ..RunOptions::default()
+    };
+    Ok(super::lyapunov::run(scene, &cfg, &one)?.per_collision)
+}
+
+/// The collisions before the f64 track `f` first leaves the certified one `hi` by more than 10⁻³.
+fn faithful_collisions(f: &[([Float; 4], f64)], hi: &[([Float; 4], f64)]) -> usize {
+    f.iter()
+        .zip(hi)
+        .position(|(x, y)| (0..4).any(|i| (x.0[i].clone() - &y.0[i]).abs().to_f64() > 1e-3))
+        .unwrap_or(f.len())
+}
+
 fn certify_with_meta<S: Scene>(
     scene: &S,
     start: &LatticeState<f64>,
@@ -207,22 +232,7 @@ fn certify_with_meta<S: Scene>(
     if digits == 0 {
         return Err(Error::Zero { what: "digits" });
     }
-    let lambda = super::lyapunov::run(
-        scene,
-        &LyapunovConfig {
-            collisions_per_batch: CERTIFY_LAMBDA_COLLISIONS,
-            batches: CERTIFY_LAMBDA_ORBITS,
-            seed: CERTIFY_LAMBDA_SEED,
-            // The plan keeps its bits: the walk, as before long flights.
-            flights: crate::engine::long_flight::Flights::Walk,
-        },
-        &RunOptions {
-            threads: 1,
-            ..RunOptions::default()
-        },
-    )?
-    .per_collision;
-    let mut bits = starting_bits(lambda, n, digits)?;
+    let mut bits = starting_bits(planning_exponent(scene)?, n, digits)?;
     let mut tried = Vec::new();
     let run = |b: u32, out: u32| -> Result<Vec<([Float; 4], f64)>, Error> {
         let lat = scene.lattice::<Float>(b)?;
@@ -248,11 +258,7 @@ fn certify_with_meta<S: Scene>(
         if agreed >= digits as f64 {
             let f = collision_track(&scene.lattice::<f64>(())?, start, n, out)?;
             progress(n as u64);
-            let faithful = f
-                .iter()
-                .zip(&hi)
-                .position(|(x, y)| (0..4).any(|i| (x.0[i].clone() - &y.0[i]).abs().to_f64() > 1e-3))
-                .unwrap_or(n);
+            let faithful = faithful_collisions(&f, &hi);
             return Ok(Certificate {
                 scene: scene.label(),
                 collisions: n,

@@ -235,14 +235,12 @@ fn run_with_batches(
     crate::engine::work::Work::new("hops", &["collisions"], cfg.collisions as f64)
         .simd()
         .check(options.threads)?;
-    options.refuse_unused(
-        "hops",
-        &[
-            RunOption::Engine,
-            RunOption::Resume,
-            RunOption::CheckpointEvery,
-        ],
-    )?;
+    let uses = [
+        RunOption::Engine,
+        RunOption::Resume,
+        RunOption::CheckpointEvery,
+    ];
+    options.refuse_unused("hops", &uses)?;
     let HopsConfig {
         w,
         collisions,
@@ -259,12 +257,6 @@ fn run_with_batches(
     let symmetry_bound =
         crate::statistics::comparison::largest_of_bound((res.len().max(2) - 1) as f64, comparisons);
     let p_bs = tables[0]["z"];
-    let values = |m: &BTreeMap<String, Estimate>| -> BTreeMap<String, f64> {
-        m.iter().map(|(k, e)| (k.clone(), e.value)).collect()
-    };
-    let errors = |m: &BTreeMap<String, Estimate>| -> BTreeMap<String, f64> {
-        m.iter().map(|(k, e)| (k.clone(), e.err)).collect()
-    };
     let none = BTreeMap::new();
     let pairs = tables.get(1).unwrap_or(&none);
     let all: BTreeMap<String, Estimate> = tables
@@ -312,6 +304,16 @@ fn run_with_batches(
         .with_engine(resolved),
     };
     Ok((report, res))
+}
+
+/// The values of a table of estimates.
+fn values(m: &BTreeMap<String, Estimate>) -> BTreeMap<String, f64> {
+    m.iter().map(|(k, e)| (k.clone(), e.value)).collect()
+}
+
+/// The standard errors of a table of estimates.
+fn errors(m: &BTreeMap<String, Estimate>) -> BTreeMap<String, f64> {
+    m.iter().map(|(k, e)| (k.clone(), e.err)).collect()
 }
 
 /// Kind of the records of a hops checkpoint.

@@ -232,37 +232,7 @@ where
             });
     }
     for (i, s) in series.iter().enumerate() {
-        let c = Palette99::pick(i).to_rgba();
-        let joined: Vec<(f64, f64)> = if s.line {
-            s.points.iter().map(|p| (p.0, p.1)).collect()
-        } else {
-            Vec::new()
-        };
-        chart
-            .draw_series(LineSeries::new(joined, c.stroke_width(2)))
-            .map_err(io)?
-            .label(s.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
-        if s.line || s.points.len() < 1000 {
-            let dots = s
-                .points
-                .iter()
-                .map(|p| Circle::new((p.0, p.1), 3, c.filled()));
-            chart.draw_series(dots).map_err(io)?;
-        } else {
-            // Dense scatter (e.g. Fig. 5): single pixels.
-            let pixels = s.points.iter().map(|p| Pixel::new((p.0, p.1), c));
-            chart.draw_series(pixels).map_err(io)?;
-        }
-        let notes = s.points.iter().zip(&s.notes);
-        chart
-            .draw_series(notes.map(|(p, t)| Text::new(t.clone(), (p.0, p.1), ("sans-serif", 13))))
-            .map_err(io)?;
-        let bars =
-            s.points.iter().filter(|p| p.2 > 0.0).map(|p| {
-                ErrorBar::new_vertical(p.0, p.1 - p.2, p.1, p.1 + p.2, c.stroke_width(1), 6)
-            });
-        chart.draw_series(bars).map_err(io)?;
+        draw_one(chart, Palette99::pick(i).to_rgba(), s, io)?;
     }
     chart
         .configure_series_labels()
@@ -272,6 +242,54 @@ where
         .label_font(("sans-serif", 14))
         .draw()
         .map_err(io)?;
+    Ok(())
+}
+
+/// One series of a chart in the colour `c`: its line (if joined), dots or single pixels, notes
+/// and error bars, in that order.
+fn draw_one<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    c: RGBAColor,
+    s: &Series,
+    io: &dyn Fn(plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>) -> Error,
+) -> Result<(), Error>
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    let joined: Vec<(f64, f64)> = if s.line {
+        s.points.iter().map(|p| (p.0, p.1)).collect()
+    } else {
+        Vec::new()
+    };
+    chart
+        .draw_series(LineSeries::new(joined, c.stroke_width(2)))
+        .map_err(io)?
+        .label(s.label.clone())
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
+    if s.line || s.points.len() < 1000 {
+        let dots = s
+            .points
+            .iter()
+            .map(|p| Circle::new((p.0, p.1), 3, c.filled()));
+        chart.draw_series(dots).map_err(io)?;
+    } else {
+        // Dense scatter (e.g. Fig. 5): single pixels.
+        let pixels = s.points.iter().map(|p| Pixel::new((p.0, p.1), c));
+        chart.draw_series(pixels).map_err(io)?;
+    }
+    let notes = s.points.iter().zip(&s.notes);
+    chart
+        .draw_series(notes.map(|(p, t)| Text::new(t.clone(), (p.0, p.1), ("sans-serif", 13))))
+        .map_err(io)?;
+    let bars = s
+        .points
+        .iter()
+        .filter(|p| p.2 > 0.0)
+        .map(|p| ErrorBar::new_vertical(p.0, p.1 - p.2, p.1, p.1 + p.2, c.stroke_width(1), 6));
+    chart.draw_series(bars).map_err(io)?;
     Ok(())
 }
 
