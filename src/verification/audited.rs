@@ -13,7 +13,7 @@ use crate::kernel::flight::Flight;
 /// An audited event with its exact f64 pre-event state (bit patterns, for replay).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct AuditedEvent {
-    /// The scene ([`Scene::label`]).
+    /// The scene ([`Scene::label`](crate::scenes::Scene::label)).
     pub scene: String,
     /// Position and velocity (x, y, vx, vy) as IEEE bit patterns.
     pub state_bits: [u64; 4],
@@ -160,7 +160,7 @@ impl AuditSummary {
 /// events at `reference_bits`. The thread count is not part of it: it never changes the result.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AuditConfig {
-    /// The scene ([`Scene::label`]).
+    /// The scene ([`Scene::label`](crate::scenes::Scene::label)).
     pub scene: String,
     /// Collisions in all (trajectory i gets ⌊N/T⌋, plus one for the first N mod T).
     pub collisions: u64,
