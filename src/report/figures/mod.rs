@@ -180,20 +180,27 @@ where
     Ok(())
 }
 
+/// An axis of `f64` values with tick labels, on any scale.
+trait Axis: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64> {}
+
+impl<T: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>> Axis for T {}
+
+/// What turns a drawing error of the backend `DB` into the crate's error.
+type DrawError<'e, DB> = dyn Fn(plotters::drawing::DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>) -> Error
+    + 'e;
+
 /// The mesh, every series (line, points or pixels, notes, error bars) and the legend, on a chart
 /// of any axis scales.
-fn chart_body<'a, DB, X, Y>(
+fn chart_body<'a, DB, X: Axis, Y: Axis>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
     spec: &PlotSpec,
     series: &[Series],
     (y0, y1): (f64, f64),
-    io: &dyn Fn(plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>) -> Error,
+    io: &DrawError<'_, DB>,
 ) -> Result<(), Error>
 where
     DB: DrawingBackend + 'a,
     DB::ErrorType: 'static,
-    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
-    Y: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
 {
     let count_tick = |v: &f64| {
         if v.fract() == 0.0 {
@@ -247,17 +254,15 @@ where
 
 /// One series of a chart in the colour `c`: its line (if joined), dots or single pixels, notes
 /// and error bars, in that order.
-fn draw_one<'a, DB, X, Y>(
+fn draw_one<'a, DB, X: Axis, Y: Axis>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
     c: RGBAColor,
     s: &Series,
-    io: &dyn Fn(plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>) -> Error,
+    io: &DrawError<'_, DB>,
 ) -> Result<(), Error>
 where
     DB: DrawingBackend + 'a,
     DB::ErrorType: 'static,
-    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
-    Y: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
 {
     let joined: Vec<(f64, f64)> = if s.line {
         s.points.iter().map(|p| (p.0, p.1)).collect()
