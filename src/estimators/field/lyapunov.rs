@@ -214,7 +214,7 @@ fn scalar<S: Scene>(walk: &FieldWalk<S>, target: u64, opts: &RunOptions) -> Resu
             .ok_or_else(|| no_next_event(state.flight.vel.to_f64()))?;
         if let Some((growth, time)) = carried.event(&state.flight, &ev, &cell, w) {
             t.collision(growth, time);
-            if t.collisions % REPORT_EVERY == 0 {
+            if t.collisions.is_multiple_of(REPORT_EVERY) {
                 (opts.progress)(REPORT_EVERY);
                 if let Some(stop) = &opts.stop {
                     stop.check()?;
