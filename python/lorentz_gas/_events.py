@@ -7,7 +7,7 @@ from typing import Any, Dict, Optional
 import numpy as np
 
 from . import _native
-from ._inputs import Count, Exact, Progress, Table, _count, _optional_exact, _scene, _total
+from ._inputs import Count, Exact, Progress, Table, _count, _optional_exact, _total, _where
 from ._keywords import in_package, public
 from ._progress import _Bar
 
@@ -79,15 +79,13 @@ class Trajectory:
         field: Optional[Exact] = None,
         flights: str = "auto",
     ):
-        self._stream = _native.EventStream(
-            _scene(scene, table, w=w, radius=radius),
-            _optional_exact("w", w),
-            _optional_exact("radius", radius),
-            _count("seed", seed),
-            _count("batch", batch),
-            _optional_exact("field", field),
-            str(flights),
-        )
+        self._stream = _native.EventStream({
+            **_where(scene, table, w, radius),
+            "seed": _count("seed", seed),
+            "batch": _count("batch", batch),
+            "field": _optional_exact("field", field),
+            "flights": str(flights),
+        })
 
     @property
     def start(self) -> np.ndarray:

@@ -64,17 +64,18 @@ def figure(
         A count given for another kind, or ``w`` for a figure on the paper's grid.
     """
     with _Bar(progress, 0, "units") as cb:
-        text, printed = _native.figure(
-            str(kind),
-            None if w is None else _exact("w", w),
-            None if particles is None else _count("particles", particles),
-            None if particles_per_gap is None else _count("particles_per_gap", particles_per_gap),
-            None if collisions_per_gap is None else _count("collisions_per_gap", collisions_per_gap),
-            _count("seed", seed),
-            _threads(threads),
-            os.fspath(out),
-            cb,
-        )
+        text, printed = _native.figure({
+            "kind": str(kind),
+            "w": None if w is None else _exact("w", w),
+            "particles": None if particles is None else _count("particles", particles),
+            "particles_per_gap": None if particles_per_gap is None
+            else _count("particles_per_gap", particles_per_gap),
+            "collisions_per_gap": None if collisions_per_gap is None
+            else _count("collisions_per_gap", collisions_per_gap),
+            "seed": _count("seed", seed),
+            "threads": _threads(threads),
+            "out": os.fspath(out),
+        }, cb)
     return FigureResult(text, os.fspath(out), printed=printed)
 
 
@@ -113,6 +114,8 @@ def reproduce(
     """
     with _Bar(progress, 0, "units") as cb:
         text, printed = _native.reproduce(
-            str(budget), _count("seed", seed), _threads(threads), os.fspath(out), cb
+            {"budget": str(budget), "seed": _count("seed", seed), "threads": _threads(threads),
+             "out": os.fspath(out)},
+            cb,
         )
     return ReproduceResult(text, os.fspath(out), printed=printed)

@@ -69,21 +69,37 @@ def _refuse_lossy(name: str, v: Any) -> None:
 Table = Union[str, "os.PathLike[str]", dict]
 
 
-def _scene(scene: str, table: Optional[Table], **given: Any) -> str:
-    """The scene as the compiled functions take it: its name, or a table given as data (a dict,
-    or the path of a TOML table file) as the table's JSON, every number as its exact text."""
+def _table(scene: str, table: Optional[Table], **given: Any) -> Optional[str]:
+    """A table given as data (a dict, or the path of a TOML table file) as the compiled functions
+    take it: the table's JSON, every number as its exact text; ``None`` without one."""
     if table is None:
-        return str(scene)
+        return None
     extra = [k for k, v in given.items() if v is not None]
     if scene != "triangular" or extra:
         raise ValueError(
             f"table= gives the whole table: leave out {', '.join(['scene='] * (scene != 'triangular') + [k + '=' for k in extra])}"
         )
+    return _table_json(table)
+
+
+def _table_json(table: Table) -> str:
+    """The table (a dict, or the path of a TOML table file) as its JSON."""
     if isinstance(table, dict):
         return json.dumps(_table_numbers(table))
     if isinstance(table, (str, os.PathLike)):
         return _native.read_table(os.fspath(table))
     raise TypeError(f"table must be a dict or the path of a TOML table file, not {type(table).__name__}")
+
+
+def _where(scene: str, table: Optional[Table], w: Any, radius: Any) -> dict:
+    """The scene's keys of a compiled function: ``scene``, ``table`` (its JSON, or ``None``),
+    ``w`` and ``radius``."""
+    return {
+        "scene": str(scene),
+        "table": _table(scene, table, w=w, radius=radius),
+        "w": _optional_exact("w", w),
+        "radius": _optional_exact("radius", radius),
+    }
 
 
 def _table_numbers(table: dict) -> dict:

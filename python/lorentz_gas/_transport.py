@@ -16,7 +16,8 @@ from ._inputs import (
     _exact,
     Table,
     _optional_exact,
-    _scene,
+    _table,
+    _where,
     _path,
     _threads,
     _total,
@@ -149,28 +150,25 @@ def diffusion(
     # A planned run's size is known only after its pilot: a bar without a total.
     total = None if rel_err is not None else _total(_count("collisions", 2e9 if collisions is None else collisions))
     with _Bar(progress, total, "coll") as cb:
-        text = _native.diffusion(
-            _scene(scene, table, w=w, radius=radius),
-            _optional_exact("w", w),
-            _optional_exact("radius", radius),
-            None if collisions is None else _count("collisions", collisions),
-            _count("batches", batches),
-            _count("seed", seed),
-            _threads(threads),
-            str(engine),
-            str(precision),
-            (float(window[0]), float(window[1])),
-            (float(check_window[0]), float(check_window[1])),
-            _path(checkpoint),
-            float(checkpoint_every),
-            None if audit is None else float(audit),
-            _count("reference_bits", reference_bits),
-            None if field is None else _exact("field", field),
-            _count("localization_samples", localization_samples),
-            cb,
-            None if rel_err is None else float(rel_err),
-            str(msd_grid),
-        )
+        text = _native.diffusion({
+            **_where(scene, table, w, radius),
+            "collisions": None if collisions is None else _count("collisions", collisions),
+            "batches": _count("batches", batches),
+            "seed": _count("seed", seed),
+            "threads": _threads(threads),
+            "engine": str(engine),
+            "precision": str(precision),
+            "window": (float(window[0]), float(window[1])),
+            "check_window": (float(check_window[0]), float(check_window[1])),
+            "checkpoint": _path(checkpoint),
+            "checkpoint_every": float(checkpoint_every),
+            "audit": None if audit is None else float(audit),
+            "reference_bits": _count("reference_bits", reference_bits),
+            "field": None if field is None else _exact("field", field),
+            "localization_samples": _count("localization_samples", localization_samples),
+            "rel_err": None if rel_err is None else float(rel_err),
+            "msd_grid": str(msd_grid),
+        }, cb)
     if '"D_xy"' in text:
         return FieldResult(text)
     if '"identities"' in text:
@@ -216,15 +214,8 @@ def hops(
     """
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
         text = _native.hops(
-            _exact("w", w),
-            _count("collisions", collisions),
-            _count("batches", batches),
-            _count("order", order),
-            _count("seed", seed),
-            _threads(threads),
-            str(engine),
-            _path(checkpoint),
-            float(checkpoint_every),
+            dict(_hop_params(w, collisions, batches, order, seed, threads, checkpoint,
+                             checkpoint_every), engine=str(engine)),
             cb,
         )
     return HopsResult(text)
@@ -295,16 +286,22 @@ def _hop_analysis(native, w, collisions, batches, order, seed, threads, checkpoi
                   checkpoint_every, progress) -> str:
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
         return native(
-            _exact("w", w),
-            _count("collisions", collisions),
-            _count("batches", batches),
-            _count("order", order),
-            _count("seed", seed),
-            _threads(threads),
-            _path(checkpoint),
-            float(checkpoint_every),
+            _hop_params(w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every),
             cb,
         )
+
+
+def _hop_params(w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every) -> dict:
+    return {
+        "w": _exact("w", w),
+        "collisions": _count("collisions", collisions),
+        "batches": _count("batches", batches),
+        "order": _count("order", order),
+        "seed": _count("seed", seed),
+        "threads": _threads(threads),
+        "checkpoint": _path(checkpoint),
+        "checkpoint_every": float(checkpoint_every),
+    }
 
 
 @public
@@ -337,15 +334,14 @@ def backscatter(
         collisions in the trap against their exact values.
     """
     with _Bar(progress, _total(_count("particles", particles)), "inj") as cb:
-        text = _native.backscatter(
-            _exact("w", w),
-            _count("particles", particles),
-            _count("batches", batches),
-            _count("seed", seed),
-            _threads(threads),
-            str(precision),
-            cb,
-        )
+        text = _native.backscatter({
+            "w": _exact("w", w),
+            "particles": _count("particles", particles),
+            "batches": _count("batches", batches),
+            "seed": _count("seed", seed),
+            "threads": _threads(threads),
+            "precision": str(precision),
+        }, cb)
     return BackscatterResult(text)
 
 
@@ -436,31 +432,31 @@ def sweep(
             )
         if fields is not None and (isinstance(fields, (str, bytes)) or not fields):
             raise ValueError("fields: give a non-empty sequence of exact numbers, e.g. [-1, 1]")
-        where = _scene(scene, table, w=w, radius=radius, w_from=w_from, w_to=w_to)
+        where = _table(scene, table, w=w, radius=radius, w_from=w_from, w_to=w_to)
         total = _total(_count("collisions_per_run", collisions_per_run))
         one_place = w is not None or radius is not None or table is not None
         total *= (1 if fields is None else len(fields)) * (
             1 if one_place else _total(_count("steps", steps))
         )
         with _Bar(progress, total, "coll") as cb:
-            text = _native.field_sweep(
-                where,
-                None if w is None else _exact("w", w),
-                _optional_exact("radius", radius),
-                None if w_from is None else _exact("w_from", w_from),
-                None if w_to is None else _exact("w_to", w_to),
-                _count("steps", steps),
-                None if field is None else _exact("field", field),
-                [] if fields is None else [_exact("fields", b) for b in fields],
-                _count("collisions_per_run", collisions_per_run),
-                _count("batches_per_run", batches_per_run),
-                _count("seed", seed),
-                _threads(threads),
-                str(engine),
-                _count("localization_samples", localization_samples),
-                _path(out),
-                cb,
-            )
+            text = _native.field_sweep({
+                "scene": str(scene),
+                "table": where,
+                "w": None if w is None else _exact("w", w),
+                "radius": _optional_exact("radius", radius),
+                "w_from": None if w_from is None else _exact("w_from", w_from),
+                "w_to": None if w_to is None else _exact("w_to", w_to),
+                "steps": _count("steps", steps),
+                "field": None if field is None else _exact("field", field),
+                "fields": [] if fields is None else [_exact("fields", b) for b in fields],
+                "collisions_per_run": _count("collisions_per_run", collisions_per_run),
+                "batches_per_run": _count("batches_per_run", batches_per_run),
+                "seed": _count("seed", seed),
+                "threads": _threads(threads),
+                "engine": str(engine),
+                "localization_samples": _count("localization_samples", localization_samples),
+                "out": _path(out),
+            }, cb)
         return FieldSweepResult(text)
     if w is not None:
         raise ValueError(
@@ -478,20 +474,19 @@ def sweep(
         _count("runs", runs)
     ) * _total(_count("steps", steps))
     with _Bar(progress, total, "coll") as cb:
-        text = _native.sweep(
-            _exact("w_from", w_from),
-            _exact("w_to", w_to),
-            _count("steps", steps),
-            _count("runs", runs),
-            _count("collisions_per_run", collisions_per_run),
-            _count("batches_per_run", batches_per_run),
-            _count("seed", seed),
-            _threads(threads),
-            str(engine),
-            _path(out),
-            float(checkpoint_every),
-            cb,
-        )
+        text = _native.sweep({
+            "w_from": _exact("w_from", w_from),
+            "w_to": _exact("w_to", w_to),
+            "steps": _count("steps", steps),
+            "runs": _count("runs", runs),
+            "collisions_per_run": _count("collisions_per_run", collisions_per_run),
+            "batches_per_run": _count("batches_per_run", batches_per_run),
+            "seed": _count("seed", seed),
+            "threads": _threads(threads),
+            "engine": str(engine),
+            "out": _path(out),
+            "checkpoint_every": float(checkpoint_every),
+        }, cb)
     return SweepResult(text)
 
 
@@ -528,16 +523,15 @@ def escape(
     """
     n = 4 if widths is None else len(widths)
     with _Bar(progress, _total(_count("particles_per_width", particles_per_width)) * n, "part") as cb:
-        text = _native.escape(
-            _exact("w", w),
-            None if widths is None else [float(x) for x in widths],
-            _count("particles_per_width", particles_per_width),
-            _count("seed", seed),
-            _threads(threads),
-            _path(checkpoint),
-            float(checkpoint_every),
-            cb,
-        )
+        text = _native.escape({
+            "w": _exact("w", w),
+            "widths": None if widths is None else [float(x) for x in widths],
+            "particles_per_width": _count("particles_per_width", particles_per_width),
+            "seed": _count("seed", seed),
+            "threads": _threads(threads),
+            "checkpoint": _path(checkpoint),
+            "checkpoint_every": float(checkpoint_every),
+        }, cb)
     return EscapeResult(text)
 
 
@@ -601,22 +595,21 @@ def superdiffusion(
         tables as numpy structured arrays (times in units of length at speed 1).
     """
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
-        text = _native.superdiffusion(
-            scene,
-            _optional_exact("w", w),
-            _optional_exact("radius", radius),
-            _count("collisions", collisions),
-            _count("batches", batches),
-            _count("octaves", octaves),
-            _count("points_per_octave", points_per_octave),
-            float(tail_fit_from),
-            None if vacf_fit is None else _window("vacf_fit", vacf_fit),
-            None if msd_fit is None else _window("msd_fit", msd_fit),
-            _count("seed", seed),
-            str(flights),
-            _threads(threads),
-            _path(checkpoint),
-            float(checkpoint_every),
-            cb,
-        )
+        text = _native.superdiffusion({
+            "scene": scene,
+            "w": _optional_exact("w", w),
+            "radius": _optional_exact("radius", radius),
+            "collisions": _count("collisions", collisions),
+            "batches": _count("batches", batches),
+            "octaves": _count("octaves", octaves),
+            "points_per_octave": _count("points_per_octave", points_per_octave),
+            "tail_fit_from": float(tail_fit_from),
+            "vacf_fit": None if vacf_fit is None else _window("vacf_fit", vacf_fit),
+            "msd_fit": None if msd_fit is None else _window("msd_fit", msd_fit),
+            "seed": _count("seed", seed),
+            "flights": str(flights),
+            "threads": _threads(threads),
+            "checkpoint": _path(checkpoint),
+            "checkpoint_every": float(checkpoint_every),
+        }, cb)
     return SuperdiffusionResult(text)

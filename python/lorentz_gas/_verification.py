@@ -18,7 +18,8 @@ from ._inputs import (
     _many,
     Table,
     _optional_exact,
-    _scene,
+    _table_json,
+    _where,
     _path,
     _threads,
     _total,
@@ -92,19 +93,16 @@ def lyapunov(
         ``localized_fraction_exact`` and ``rejected_starts`` instead of ``divergence``.
     """
     with _Bar(progress, 0, "coll") as cb:
-        text = _native.lyapunov(
-            _scene(scene, table, w=w, radius=radius),
-            _optional_exact("w", w),
-            _optional_exact("radius", radius),
-            _count("collisions_per_batch", collisions_per_batch),
-            _count("batches", batches),
-            None if starts is None else _count("starts", starts),
-            _count("seed", seed),
-            _threads(threads),
-            _optional_exact("field", field),
-            flights,
-            cb,
-        )
+        text = _native.lyapunov({
+            **_where(scene, table, w, radius),
+            "collisions_per_batch": _count("collisions_per_batch", collisions_per_batch),
+            "batches": _count("batches", batches),
+            "starts": None if starts is None else _count("starts", starts),
+            "seed": _count("seed", seed),
+            "threads": _threads(threads),
+            "field": _optional_exact("field", field),
+            "flights": flights,
+        }, cb)
     return LyapunovResult(text)
 
 
@@ -151,17 +149,14 @@ def free_paths(
         ξ, dimensionless, against the limit law, with z-scores).
     """
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
-        text = _native.free_paths(
-            _scene(scene, table, w=w, radius=radius),
-            _optional_exact("w", w),
-            _optional_exact("radius", radius),
-            _count("collisions", collisions),
-            _count("batches", batches),
-            _count("seed", seed),
-            str(flights),
-            _threads(threads),
-            cb,
-        )
+        text = _native.free_paths({
+            **_where(scene, table, w, radius),
+            "collisions": _count("collisions", collisions),
+            "batches": _count("batches", batches),
+            "seed": _count("seed", seed),
+            "flights": str(flights),
+            "threads": _threads(threads),
+        }, cb)
     return FreePathResult(text)
 
 
@@ -220,20 +215,17 @@ def audit(
         ``quantiles`` (flight time, contact point, velocity).
     """
     with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
-        text = _native.audit(
-            _scene(scene, table, w=w, radius=radius),
-            _optional_exact("w", w),
-            _optional_exact("radius", radius),
-            _count("collisions", collisions),
-            _count("batches", batches),
-            float(sample),
-            _count("reference_bits", reference_bits),
-            _count("seed", seed),
-            _optional_exact("field", field),
-            str(flights),
-            _threads(threads),
-            cb,
-        )
+        text = _native.audit({
+            **_where(scene, table, w, radius),
+            "collisions": _count("collisions", collisions),
+            "batches": _count("batches", batches),
+            "sample": float(sample),
+            "reference_bits": _count("reference_bits", reference_bits),
+            "seed": _count("seed", seed),
+            "field": _optional_exact("field", field),
+            "flights": str(flights),
+            "threads": _threads(threads),
+        }, cb)
     return AuditResult(text)
 
 
@@ -283,18 +275,15 @@ def shadow(
         segment and the true orbit.
     """
     with _Bar(progress, 0, "coll") as cb:
-        text = _native.shadow(
-            _scene(scene, table, w=w, radius=radius),
-            _optional_exact("w", w),
-            _optional_exact("radius", radius),
-            _count("collisions_per_segment", collisions_per_segment),
-            _count("segments", segments),
-            _count("reference_bits", reference_bits),
-            _count("seed", seed),
-            _optional_exact("field", field),
-            _threads(threads),
-            cb,
-        )
+        text = _native.shadow({
+            **_where(scene, table, w, radius),
+            "collisions_per_segment": _count("collisions_per_segment", collisions_per_segment),
+            "segments": _count("segments", segments),
+            "reference_bits": _count("reference_bits", reference_bits),
+            "seed": _count("seed", seed),
+            "field": _optional_exact("field", field),
+            "threads": _threads(threads),
+        }, cb)
     return ShadowResult(text)
 
 
@@ -334,15 +323,12 @@ def certify(
         long the f64 orbit stays within 1e-3 of it (``f64_faithful_collisions``).
     """
     with _Bar(progress, 3 * _total(_count("collisions", collisions)), "coll") as cb:
-        text = _native.certify(
-            _scene(scene, table, w=w, radius=radius),
-            _optional_exact("w", w),
-            _optional_exact("radius", radius),
-            _count("collisions", collisions),
-            _count("digits", digits),
-            _count("seed", seed),
-            cb,
-        )
+        text = _native.certify({
+            **_where(scene, table, w, radius),
+            "collisions": _count("collisions", collisions),
+            "digits": _count("digits", digits),
+            "seed": _count("seed", seed),
+        }, cb)
     return CertifyResult(text)
 
 
@@ -370,18 +356,17 @@ def trajectory(
     if scene is None:
         scene = "square" if radius is not None and w is None else "triangular"
     with _Bar(progress, 0, "coll") as cb:
-        text, printed = _native.trajectory(
-            scene,
-            _optional_exact("w", w),
-            _optional_exact("radius", radius),
-            (_exact("start", start[0]), _exact("start", start[1])),
-            (_exact("direction", direction[0]), _exact("direction", direction[1])),
-            _exact("time", time),
-            _count("digits", digits),
-            bool(events),
-            _optional_exact("field", field),
-            cb,
-        )
+        text, printed = _native.trajectory({
+            "scene": scene,
+            "w": _optional_exact("w", w),
+            "radius": _optional_exact("radius", radius),
+            "start": (_exact("start", start[0]), _exact("start", start[1])),
+            "direction": (_exact("direction", direction[0]), _exact("direction", direction[1])),
+            "time": _exact("time", time),
+            "digits": _count("digits", digits),
+            "events": bool(events),
+            "field": _optional_exact("field", field),
+        }, cb)
     return TrajectoryResult(text, printed=printed)
 
 
@@ -403,6 +388,8 @@ def bench(
     collisions_per_radius: Count = 1e6,
     walk_collisions: Count = 1e4,
     progress: Progress = None,
+    *,
+    table: Optional[Table] = None,
 ) -> BenchResult:
     """The engine's speed on this machine (``lorentz bench``): ``repetitions`` runs of
     ``collisions_per_thread`` collisions on each of ``threads`` threads, timed, the median
@@ -455,6 +442,11 @@ def bench(
         With ``long_flights``: collisions of each timed walk cell by cell (0: not timed).
     progress : bool, callable or None
         As in :func:`diffusion`, over repetitions.
+    table : dict or path, keyword only
+        A periodic table of disks given as data (as in :func:`diffusion`: a dict or the path of a
+        TOML table file) timed beside the triangular gas at ``w`` (``lorentz bench --table``):
+        each repetition of its straight flights right after the triangular one's, on the same
+        threads and engine (its cell on the SIMD lanes), f64 without a ``field`` or observers.
 
     Returns
     -------
@@ -465,7 +457,10 @@ def bench(
         ``straight_beside``: ``straight``; with ``oracle_floor``: ``oracle``, a dict (``steps``,
         ``collisions`` and ``events`` over the tape, ``full_ns_per_collision`` and
         ``floor_ns_per_collision`` in ns, ``floor_collisions_per_second`` in collisions/s, and
-        ``paired_ratio``, the median of floor over full time). With
+        ``paired_ratio``, the median of floor over full time). With ``table``: ``table``, a dict
+        (``table``, the table's name; ``samples`` and ``collisions_per_second_per_thread`` in
+        collisions/s; ``over_triangular``, its median over the triangular gas's; ``paired_ratio``,
+        the median of each repetition's ratio; ``crossings_per_collision``). With
         ``long_flights``: ``config`` and ``rows``, a numpy structured array with one record per
         radius or gap (``radius`` or ``w``, ``mean_free_path``, ``ns_per_collision``, ``over_first``,
         ``walk_ns_per_collision``, ``walk_over_jump``; NaN where the walk was not timed).
@@ -480,27 +475,27 @@ def bench(
                     "precision": str(precision) != "f64", "engine": engine != "auto",
                     "observe": observe != "none", "threads": threads != 1,
                     "field": field is not None, "straight_beside": bool(straight_beside),
-                    "oracle_floor": bool(oracle_floor)},
+                    "oracle_floor": bool(oracle_floor), "table": table is not None},
         )
     if collisions_per_radius != 1e6 or walk_collisions != 1e4 or scene != "square":
         raise ValueError(
             "scene, collisions_per_radius and walk_collisions apply with long_flights= only"
         )
     with _Bar(progress, _total(_count("repetitions", repetitions)), "rep") as cb:
-        text = _native.bench(
-            _exact("w", w),
-            _count("collisions_per_thread", collisions_per_thread),
-            _count("repetitions", repetitions),
-            str(precision),
-            str(engine),
-            str(observe),
-            _count("seed", seed),
-            _count("threads", threads),
-            None if field is None else _exact("field", field),
-            bool(straight_beside),
-            bool(oracle_floor),
-            cb,
-        )
+        text = _native.bench({
+            "w": _exact("w", w),
+            "collisions_per_thread": _count("collisions_per_thread", collisions_per_thread),
+            "repetitions": _count("repetitions", repetitions),
+            "precision": str(precision),
+            "engine": str(engine),
+            "observe": str(observe),
+            "seed": _count("seed", seed),
+            "threads": _count("threads", threads),
+            "field": None if field is None else _exact("field", field),
+            "straight_beside": bool(straight_beside),
+            "oracle_floor": bool(oracle_floor),
+            "table": None if table is None else _table_json(table),
+        }, cb)
     return BenchResult(text)
 
 
@@ -515,15 +510,14 @@ def _bench_long_flights(scene, values, collisions_per_radius, walk_collisions, r
         )
     values = [_exact("long_flights", r) for r in (values if _many(values) else [values])]
     with _Bar(progress, _total(_count("repetitions", repetitions)), "rep") as cb:
-        text = _native.bench_long_flights(
-            str(scene),
-            values,
-            _count("collisions_per_radius", collisions_per_radius),
-            _count("walk_collisions", walk_collisions),
-            _count("repetitions", repetitions),
-            _count("seed", seed),
-            cb,
-        )
+        text = _native.bench_long_flights({
+            "scene": str(scene),
+            "long_flights": values,
+            "collisions_per_radius": _count("collisions_per_radius", collisions_per_radius),
+            "walk_collisions": _count("walk_collisions", walk_collisions),
+            "repetitions": _count("repetitions", repetitions),
+            "seed": _count("seed", seed),
+        }, cb)
     return BenchResult(text)
 
 
@@ -552,7 +546,8 @@ def constants(
         key = "w" if w is not None else "radius"
         return ConstantsTable([constants(**{key: v}, precision=precision) for v in values])
     text, printed = _native.constants(
-        _optional_exact("w", w), _optional_exact("radius", radius), str(precision)
+        {"w": _optional_exact("w", w), "radius": _optional_exact("radius", radius),
+         "precision": str(precision)}
     )
     return ConstantsResult(text, printed=printed)
 
@@ -574,13 +569,13 @@ def report(
     1e12 or 2e9 with ``quick``; too few batches to judge); it is returned, not raised (``raise
     CheckFailedError`` yourself to stop a pipeline)."""
     with _Bar(progress, 0, "coll") as cb:
-        text, printed = _native.report(
-            os.fspath(path),
-            _path(out),
-            bool(quick),
-            _count("reference_bits", reference_bits),
-            None if max_rerun_collisions is None else _count("max_rerun_collisions", max_rerun_collisions),
-            _threads(threads),
-            cb,
-        )
+        text, printed = _native.report({
+            "path": os.fspath(path),
+            "out": _path(out),
+            "quick": bool(quick),
+            "reference_bits": _count("reference_bits", reference_bits),
+            "max_rerun_collisions": None if max_rerun_collisions is None
+            else _count("max_rerun_collisions", max_rerun_collisions),
+            "threads": _threads(threads),
+        }, cb)
     return ReportResult(text, printed=printed)

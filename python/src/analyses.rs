@@ -1,30 +1,28 @@
-//! One function per analysis: the values as typed, the library's configuration (checked by its
-//! `validate`), `run(&config, &options)` on a worker thread, the result as the command line's
-//! JSON.
+//! One reader per analysis: the values of its dict (`Params`), the library's configuration
+//! (checked by its `validate`), `run(&config, &options)` on a worker thread, the result as the
+//! command line's JSON.
 
 use std::path::PathBuf;
 use std::time::Duration;
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 use lorentz_gas::engine::Engine;
-use lorentz_gas::engine::options::{AuditSpec, MAX_CHECKPOINT_EVERY, RunOptions};
-use lorentz_gas::estimators::diffusion::scene::SceneDiffusionConfig;
-use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, Window};
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
-use lorentz_gas::estimators::field::{self, FieldConfig};
 use lorentz_gas::estimators::free_paths::{self, FreePathConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
 use lorentz_gas::estimators::sweep::{self, SweepConfig};
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
-use lorentz_gas::scenes::spec::{SceneChoice, SceneSpec};
-use lorentz_gas::scenes::table::PeriodicTable;
 use lorentz_gas::theory::constants::{self, ConstantsConfig};
 
-use crate::inputs::{self, count_u32, count_u64, count_usize, exact};
+use crate::inputs::{self, exact};
+use crate::params::{Params, Work, work};
+use crate::scenes::Where;
 use crate::watch::{Ctl, compute, json};
 
 /// The run options of a computation watched by `ctl`.
@@ -38,206 +36,19 @@ pub(crate) fn options<'a>(ctl: &'a Ctl<'a>, threads: usize, engine: Engine) -> R
     }
 }
 
-/// A fit window in units of τ, as the command line's `LO:HI`.
-fn window(name: &str, (lo, hi): (f64, f64)) -> PyResult<Window> {
-    format!("{lo}:{hi}")
-        .parse::<Window>()
-        .map_err(|e| PyValueError::new_err(format!("{name}: {e}")))
+/// `w`: a gap at which D exists (0 < w < w_inf), as its nearest double.
+pub(crate) fn diffusive_gap(p: &Params<'_, '_>) -> PyResult<f64> {
+    p.parsed("w", 0.1, |t| Ok(inputs::diffusive_gap(t)?.value))
 }
 
-/// A checkpoint interval in seconds, 0 to a day.
-fn interval(seconds: f64) -> PyResult<Duration> {
-    let max = MAX_CHECKPOINT_EVERY.as_secs_f64();
-    if !(0.0..=max).contains(&seconds) {
-        return Err(PyValueError::new_err(format!(
-            "checkpoint_every = {seconds} s is out of range: use 0 to {max} s"
-        )));
-    }
-    Ok(Duration::from_secs_f64(seconds))
-}
-
-#[pyfunction]
-#[pyo3(name = "diffusion", signature = (scene, w, radius, collisions, batches, seed, threads, engine, precision, window, check_window, checkpoint, checkpoint_every, audit, reference_bits, field, localization_samples, progress, rel_err, msd_grid = "fit"))]
-#[allow(clippy::too_many_arguments)]
-fn py_diffusion(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions: Option<&str>,
-    batches: &str,
-    seed: &str,
-    threads: Option<&str>,
-    engine: &str,
-    precision: &str,
-    window: (f64, f64),
-    check_window: (f64, f64),
-    checkpoint: Option<PathBuf>,
-    checkpoint_every: f64,
-    audit: Option<f64>,
-    reference_bits: &str,
-    field: Option<&str>,
-    localization_samples: &str,
-    progress: Option<Bound<'_, PyAny>>,
-    rel_err: Option<f64>,
-    msd_grid: &str,
-) -> PyResult<String> {
-    let spec = crate::scenes::spec(scene, w, radius)?;
-    let plain = DiffusionConfig {
-        collisions: match collisions {
-            Some(c) => count_u64("collisions", c)?,
-            None => diffusion::plan::default_collisions(rel_err),
-        },
-        batches: count_u32("batches", batches)?,
-        seed: count_u64("seed", seed)?,
-        precision: inputs::precision(precision)?,
-        window: self::window("window", window)?,
-        check_window: self::window("check_window", check_window)?,
-        rel_err,
-        msd_grid: msd_grid.parse().map_err(crate::py_err)?,
-        ..DiffusionConfig::new(0.1)
-    };
-    let samples = count_u64("localization_samples", localization_samples)?;
-    let cfg = configs(spec, plain, field, samples)?;
-    let audit = match audit {
-        Some(rate) => Some(
-            AuditSpec::new(rate, count_u32("reference_bits", reference_bits)?)
-                .map_err(crate::py_err)?,
-        ),
-        None => None,
-    };
-    let (threads, engine) = (inputs::threads(threads)?, inputs::engine(engine)?);
-    let every = interval(checkpoint_every)?;
-    let r = compute(py, progress, |ctl| {
-        let opts = RunOptions {
-            resume: checkpoint,
-            audit,
-            checkpoint_every: every,
-            ..options(ctl, threads, engine)
-        };
-        Ok(match &cfg {
-            Either::Field(fc) => Either::Field(field::run(fc, &opts)?),
-            Either::Plain(c) => Either::Plain(diffusion::run(c, &opts)?),
-            Either::Table(c, t) => Either::Table(diffusion::scene::run_on(&**t, c, &opts)?, ()),
-        })
-    })?;
-    match r {
-        Either::Field(r) => json(&r),
-        Either::Plain(r) => json(&r),
-        Either::Table(r, ()) => json(&r),
-    }
-}
-
-/// A diffusion run's result: without a field, in one, or on a table given as data.
-enum Either<P, F, S, T> {
-    Plain(P),
-    Field(F),
-    Table(S, T),
-}
-
-/// The configurations of a diffusion run.
-type Configs = Either<DiffusionConfig, FieldConfig, SceneDiffusionConfig, Box<PeriodicTable>>;
-
-/// The run of `scene` the statistics of `plain` ask for (validated): in the field, unless it is
-/// absent or exactly zero, on either scene; else the run without a field, on the triangular
-/// scene below w_inf (elsewhere the diffusion coefficient does not exist).
-fn configs(
-    scene: SceneSpec,
-    plain: DiffusionConfig,
-    field: Option<&str>,
-    samples: u64,
-) -> PyResult<Configs> {
-    let statistics = SceneDiffusionConfig {
-        collisions: plain.collisions,
-        batches: plain.batches,
-        seed: plain.seed,
-        precision: plain.precision,
-        window: plain.window,
-        check_window: plain.check_window,
-        msd_grid: plain.msd_grid,
-    };
-    let b = match field {
-        Some(b) if lorentz_gas::numbers::exact::parse_exact(b).map_err(crate::py_err)? != 0 => b,
-        _ => {
-            if let SceneChoice::Table(t) = scene.resolve().map_err(crate::py_err)? {
-                diffusion::scene::refuse_rel_err(plain.rel_err).map_err(crate::py_err)?;
-                statistics.validate(&*t).map_err(crate::py_err)?;
-                return Ok(Either::Table(statistics, t));
-            }
-            return plain_config(&scene, plain).map(Either::Plain);
-        }
-    };
-    field::refuse_zero_field_options(plain.rel_err, plain.msd_grid).map_err(crate::py_err)?;
-    let fc = FieldConfig {
-        statistics,
-        localization_samples: samples,
-        ..FieldConfig::new(scene, b)
-    };
-    fc.validate().map_err(crate::py_err)?;
-    Ok(Either::Field(fc))
-}
-
-/// The run without a field: the triangular scene's gap checked for a finite horizon.
-fn plain_config(scene: &SceneSpec, plain: DiffusionConfig) -> PyResult<DiffusionConfig> {
-    let w = match scene {
-        SceneSpec::Triangular { w } => inputs::diffusive_gap(w)?,
-        SceneSpec::Square { .. } | SceneSpec::Table(_) => {
-            let choice = scene.resolve().map_err(crate::py_err)?;
-            lorentz_gas::with_scene!(&choice, |s| diffusion::require_finite_horizon(s))
-                .map_err(crate::py_err)?;
-            return Err(PyValueError::new_err(
-                "the square scene has no diffusion coefficient without a field",
-            ));
-        }
-    };
-    let cfg = DiffusionConfig {
-        w: w.value,
-        w_exact: w.exact_text(),
-        ..plain
-    };
-    cfg.validate().map_err(crate::py_err)?;
-    Ok(cfg)
-}
-
-#[pyfunction]
-#[pyo3(name = "hops", signature = (w, collisions, batches, order, seed, threads, engine, checkpoint, checkpoint_every, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_hops(
-    py: Python<'_>,
-    w: &str,
-    collisions: &str,
-    batches: &str,
-    order: &str,
-    seed: &str,
-    threads: Option<&str>,
-    engine: &str,
-    checkpoint: Option<PathBuf>,
-    checkpoint_every: f64,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let cfg = hop_config(w, collisions, batches, order, seed)?;
-    let engine = inputs::engine(engine)?;
-    let kept = Kept::new(threads, checkpoint, checkpoint_every)?;
-    let r = compute(py, progress, |ctl| {
-        hops::run(&cfg, &kept.options(ctl, engine))
-    })?;
-    json(&r)
-}
-
-/// The configuration of a hop analysis (hops, theory, lattice walks) from the values as typed.
-fn hop_config(
-    w: &str,
-    collisions: &str,
-    batches: &str,
-    order: &str,
-    seed: &str,
-) -> PyResult<HopsConfig> {
+/// The configuration of a hop analysis (hops, theory, lattice walks).
+fn hop_config(p: &Params<'_, '_>) -> PyResult<HopsConfig> {
     Ok(HopsConfig {
-        w: inputs::diffusive_gap(w)?.value,
-        collisions: count_u64("collisions", collisions)?,
-        batches: count_u32("batches", batches)?,
-        order: count_usize("order", order)?,
-        seed: count_u64("seed", seed)?,
+        w: diffusive_gap(p)?,
+        collisions: p.count_u64("collisions")?,
+        batches: p.count_u32("batches")?,
+        order: p.count_usize("order")?,
+        seed: p.count_u64("seed")?,
         run: 0,
     })
 }
@@ -250,11 +61,12 @@ struct Kept {
 }
 
 impl Kept {
-    fn new(threads: Option<&str>, checkpoint: Option<PathBuf>, every: f64) -> PyResult<Self> {
+    /// `threads`, `checkpoint` and `checkpoint_every`.
+    fn read(p: &Params<'_, '_>) -> PyResult<Self> {
         Ok(Kept {
-            threads: inputs::threads(threads)?,
-            checkpoint,
-            every: interval(every)?,
+            threads: p.threads()?,
+            checkpoint: p.opt_path("checkpoint")?,
+            every: p.checkpoint_every()?,
         })
     }
 
@@ -267,318 +79,231 @@ impl Kept {
     }
 }
 
-#[pyfunction]
-#[pyo3(name = "theory", signature = (w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_theory(
-    py: Python<'_>,
-    w: &str,
-    collisions: &str,
-    batches: &str,
-    order: &str,
-    seed: &str,
-    threads: Option<&str>,
-    checkpoint: Option<PathBuf>,
-    checkpoint_every: f64,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let cfg = hop_config(w, collisions, batches, order, seed)?;
-    let kept = Kept::new(threads, checkpoint, checkpoint_every)?;
-    let r = compute(py, progress, |ctl| {
-        hops::theory::run(&cfg, &kept.options(ctl, Engine::Auto))
-    })?;
-    json(&r)
+/// `hops(params, progress)`.
+pub fn hops(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let cfg = hop_config(p)?;
+    let engine = p.engine()?;
+    let kept = Kept::read(p)?;
+    Ok(work(move |py, progress| {
+        json(&compute(py, progress, |ctl| {
+            hops::run(&cfg, &kept.options(ctl, engine))
+        })?)
+    }))
 }
 
-#[pyfunction]
-#[pyo3(name = "lattice_walk", signature = (w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_lattice_walk(
-    py: Python<'_>,
-    w: &str,
-    collisions: &str,
-    batches: &str,
-    order: &str,
-    seed: &str,
-    threads: Option<&str>,
-    checkpoint: Option<PathBuf>,
-    checkpoint_every: f64,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let cfg = hop_config(w, collisions, batches, order, seed)?;
-    let kept = Kept::new(threads, checkpoint, checkpoint_every)?;
-    let r = compute(py, progress, |ctl| {
-        hops::lattice_walks::run(&cfg, &kept.options(ctl, Engine::Auto))
-    })?;
-    json(&r)
+/// `theory(params, progress)`.
+pub fn theory(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let (cfg, kept) = (hop_config(p)?, Kept::read(p)?);
+    Ok(work(move |py, progress| {
+        json(&compute(py, progress, |ctl| {
+            hops::theory::run(&cfg, &kept.options(ctl, Engine::Auto))
+        })?)
+    }))
 }
 
-#[pyfunction]
-#[pyo3(name = "backscatter", signature = (w, particles, batches, seed, threads, precision, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_backscatter(
-    py: Python<'_>,
-    w: &str,
-    particles: &str,
-    batches: &str,
-    seed: &str,
-    threads: Option<&str>,
-    precision: &str,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let w = exact("w", w)?;
-    let cfg = BackscatterConfig {
-        w: w.value,
-        w_exact: w.exact_text(),
-        particles: count_u64("particles", particles)?,
-        batches: count_u32("batches", batches)?,
-        seed: count_u64("seed", seed)?,
-        run: 0,
-        precision: inputs::precision(precision)?,
-    };
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        backscatter::run(&cfg, &options(ctl, threads, Engine::Auto))
-    })?;
-    json(&r)
+/// `lattice_walk(params, progress)`.
+pub fn lattice_walk(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let (cfg, kept) = (hop_config(p)?, Kept::read(p)?);
+    Ok(work(move |py, progress| {
+        json(&compute(py, progress, |ctl| {
+            hops::lattice_walks::run(&cfg, &kept.options(ctl, Engine::Auto))
+        })?)
+    }))
 }
 
-#[pyfunction]
-#[pyo3(name = "sweep", signature = (w_from, w_to, steps, runs, collisions_per_run, batches_per_run, seed, threads, engine, out, checkpoint_every, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_sweep(
-    py: Python<'_>,
-    w_from: &str,
-    w_to: &str,
-    steps: &str,
-    runs: &str,
-    collisions_per_run: &str,
-    batches_per_run: &str,
-    seed: &str,
-    threads: Option<&str>,
-    engine: &str,
-    out: Option<PathBuf>,
-    checkpoint_every: f64,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let cfg = SweepConfig {
-        w_from: w_from.trim().to_string(),
-        w_to: w_to.trim().to_string(),
-        steps: count_u32("steps", steps)?,
-        runs: count_u32("runs", runs)?,
-        collisions: count_u64("collisions_per_run", collisions_per_run)?,
-        batches: count_u32("batches_per_run", batches_per_run)?,
-        seed: count_u64("seed", seed)?,
-    };
-    cfg.validate().map_err(crate::py_err)?;
-    let (threads, engine) = (inputs::threads(threads)?, inputs::engine(engine)?);
-    let every = interval(checkpoint_every)?;
-    let r = compute(py, progress, |ctl| {
-        let opts = RunOptions {
-            resume: out.clone(),
-            checkpoint_every: every,
-            ..options(ctl, threads, engine)
+/// `backscatter(params, progress)`.
+pub fn backscatter(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let w = p.text("w")?;
+    let particles = p.count_u64("particles")?;
+    let batches = p.count_u32("batches")?;
+    let seed = p.count_u64("seed")?;
+    let threads = p.threads()?;
+    let precision = p.precision()?;
+    Ok(work(move |py, progress| {
+        let w = exact("w", &w)?;
+        let cfg = BackscatterConfig {
+            w: w.value,
+            w_exact: w.exact_text(),
+            particles,
+            batches,
+            seed,
+            run: 0,
+            precision,
         };
-        let r = sweep::run(&cfg, &opts)?;
-        if let Some(dir) = &out {
-            sweep::write_tables(&r, dir)?;
-        }
-        Ok(r)
-    })?;
-    json(&r)
+        json(&compute(py, progress, |ctl| {
+            backscatter::run(&cfg, &options(ctl, threads, Engine::Auto))
+        })?)
+    }))
 }
 
-#[pyfunction]
-#[pyo3(name = "escape", signature = (w, widths, particles_per_width, seed, threads, checkpoint, checkpoint_every, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_escape(
-    py: Python<'_>,
-    w: &str,
-    widths: Option<Vec<f64>>,
-    particles_per_width: &str,
-    seed: &str,
-    threads: Option<&str>,
-    checkpoint: Option<PathBuf>,
-    checkpoint_every: f64,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let w = inputs::diffusive_gap(w)?.value;
+/// `sweep(params, progress)`: D over gaps without a field.
+pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let cfg = SweepConfig {
+        w_from: p.text("w_from")?.trim().to_string(),
+        w_to: p.text("w_to")?.trim().to_string(),
+        steps: p.count_u32("steps")?,
+        runs: p.count_u32("runs")?,
+        collisions: p.count_u64("collisions_per_run")?,
+        batches: p.count_u32("batches_per_run")?,
+        seed: p.count_u64("seed")?,
+    };
+    let (threads, engine) = (p.threads()?, p.engine()?);
+    let (out, every) = (p.opt_path("out")?, p.checkpoint_every()?);
+    Ok(work(move |py, progress| {
+        cfg.validate().map_err(crate::py_err)?;
+        let r = compute(py, progress, |ctl| {
+            let opts = RunOptions {
+                resume: out.clone(),
+                checkpoint_every: every,
+                ..options(ctl, threads, engine)
+            };
+            let r = sweep::run(&cfg, &opts)?;
+            if let Some(dir) = &out {
+                sweep::write_tables(&r, dir)?;
+            }
+            Ok(r)
+        })?;
+        json(&r)
+    }))
+}
+
+/// `escape(params, progress)`.
+pub fn escape(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let w = diffusive_gap(p)?;
+    let widths = p.opt_numbers("widths")?;
     let cfg = EscapeConfig {
         w,
-        widths: widths.unwrap_or_else(|| escape::default_widths(w)),
-        particles_per_width: count_u64("particles_per_width", particles_per_width)?,
-        seed: count_u64("seed", seed)?,
+        widths: Vec::new(),
+        particles_per_width: p.count_u64("particles_per_width")?,
+        seed: p.count_u64("seed")?,
     };
-    cfg.validate().map_err(crate::py_err)?;
-    let threads = inputs::threads(threads)?;
-    let every = interval(checkpoint_every)?;
-    let r = compute(py, progress, |ctl| {
-        let opts = RunOptions {
-            resume: checkpoint,
-            checkpoint_every: every,
-            ..options(ctl, threads, Engine::Auto)
+    let kept = Kept::read(p)?;
+    Ok(work(move |py, progress| {
+        let cfg = EscapeConfig {
+            widths: widths.unwrap_or_else(|| escape::default_widths(w)),
+            ..cfg
         };
-        escape::run(&cfg, &opts)
-    })?;
-    json(&r)
+        cfg.validate().map_err(crate::py_err)?;
+        json(&compute(py, progress, |ctl| {
+            escape::run(&cfg, &kept.options(ctl, Engine::Auto))
+        })?)
+    }))
 }
 
-#[pyfunction]
-#[pyo3(name = "superdiffusion", signature = (scene, w, radius, collisions, batches, octaves, points_per_octave, tail_fit_from, vacf_fit, msd_fit, seed, flights, threads, checkpoint, checkpoint_every, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_superdiffusion(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions: &str,
-    batches: &str,
-    octaves: &str,
-    points_per_octave: &str,
-    tail_fit_from: f64,
-    vacf_fit: Option<[f64; 2]>,
-    msd_fit: Option<[f64; 2]>,
-    seed: &str,
-    flights: &str,
-    threads: Option<&str>,
-    checkpoint: Option<PathBuf>,
-    checkpoint_every: f64,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    // The scene and its parameter checked as every analysis checks them, kept as typed.
-    let scene = crate::scenes::spec(scene, w, radius)?;
-    let every = interval(checkpoint_every)?;
-    let windows = SuperdiffusionConfig::new(scene).with_octaves(count_u32("octaves", octaves)?);
-    let cfg = SuperdiffusionConfig {
-        collisions: count_u64("collisions", collisions)?,
-        batches: count_u32("batches", batches)?,
-        points_per_octave: count_u32("points_per_octave", points_per_octave)?,
-        tail_fit_from,
-        vacf_fit: vacf_fit.unwrap_or(windows.vacf_fit),
-        msd_fit: msd_fit.unwrap_or(windows.msd_fit),
-        seed: count_u64("seed", seed)?,
-        flights: inputs::flights(flights)?,
-        ..windows
-    };
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        let opts = RunOptions {
-            resume: checkpoint,
-            checkpoint_every: every,
-            ..options(ctl, threads, Engine::Auto)
+/// `superdiffusion(params, progress)`.
+pub fn superdiffusion(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let place = Where::read_without_table(p)?;
+    let collisions = p.count_u64("collisions")?;
+    let batches = p.count_u32("batches")?;
+    let octaves = p.count_u32("octaves")?;
+    let points_per_octave = p.count_u32("points_per_octave")?;
+    let tail_fit_from = p.number("tail_fit_from")?;
+    let (vacf_fit, msd_fit) = (p.opt_pair("vacf_fit")?, p.opt_pair("msd_fit")?);
+    let (seed, flights) = (p.count_u64("seed")?, p.flights()?);
+    let kept = Kept::read(p)?;
+    Ok(work(move |py, progress| {
+        // The scene and its parameter checked as every analysis checks them, kept as typed.
+        let windows = SuperdiffusionConfig::new(place.spec()?).with_octaves(octaves);
+        let cfg = SuperdiffusionConfig {
+            collisions,
+            batches,
+            points_per_octave,
+            tail_fit_from,
+            vacf_fit: vacf_fit.unwrap_or(windows.vacf_fit),
+            msd_fit: msd_fit.unwrap_or(windows.msd_fit),
+            seed,
+            flights,
+            ..windows
         };
-        superdiffusion::run(&cfg, &opts)
-    })?;
-    json(&r)
+        json(&compute(py, progress, |ctl| {
+            superdiffusion::run(&cfg, &kept.options(ctl, Engine::Auto))
+        })?)
+    }))
 }
 
-#[pyfunction]
-#[pyo3(name = "free_paths", signature = (scene, w, radius, collisions, batches, seed, flights, threads, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_free_paths(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions: &str,
-    batches: &str,
-    seed: &str,
-    flights: &str,
-    threads: Option<&str>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let cfg = FreePathConfig {
-        collisions: count_u64("collisions", collisions)?,
-        batches: count_u32("batches", batches)?,
-        seed: count_u64("seed", seed)?,
-        flights: inputs::flights(flights)?,
-        ..FreePathConfig::new(crate::scenes::spec(scene, w, radius)?)
-    };
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        free_paths::run(&cfg, &options(ctl, threads, Engine::Auto))
-    })?;
-    json(&r)
+/// `free_paths(params, progress)`.
+pub fn free_paths(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let place = Where::read(p)?;
+    let collisions = p.count_u64("collisions")?;
+    let batches = p.count_u32("batches")?;
+    let seed = p.count_u64("seed")?;
+    let flights = p.flights()?;
+    let threads = p.threads()?;
+    Ok(work(move |py, progress| {
+        let cfg = FreePathConfig {
+            collisions,
+            batches,
+            seed,
+            flights,
+            ..FreePathConfig::new(place.spec()?)
+        };
+        json(&compute(py, progress, |ctl| {
+            free_paths::run(&cfg, &options(ctl, threads, Engine::Auto))
+        })?)
+    }))
 }
 
-#[pyfunction]
-#[pyo3(name = "report", signature = (result, out, quick, reference_bits, max_rerun_collisions, threads, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_report(
-    py: Python<'_>,
-    result: PathBuf,
-    out: Option<PathBuf>,
-    quick: bool,
-    reference_bits: &str,
-    max_rerun_collisions: Option<&str>,
-    threads: Option<&str>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<(String, String)> {
-    let out = out.unwrap_or_else(|| {
-        let stem = result
-            .file_stem()
-            .map_or("result".into(), |s| s.to_string_lossy().to_string());
-        result.with_file_name(format!("{stem}-report"))
-    });
-    let cfg = PublicationConfig {
-        result,
-        out: out.clone(),
-        quick,
-        reference_bits: count_u32("reference_bits", reference_bits)?,
-        max_rerun_collisions: max_rerun_collisions
-            .map(|m| count_u64("max_rerun_collisions", m))
-            .transpose()?,
-    };
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        publication::run(&cfg, &options(ctl, threads, Engine::Auto))
-    })?;
-    Ok((
-        json(&r)?,
-        lorentz_gas::report::text::publication::publication(&r, &out),
-    ))
+/// `report(params, progress)`: the publication audit of the result file `path`.
+pub fn report(p: &Params<'_, '_>) -> PyResult<Work<(String, String)>> {
+    let result = p.path("path")?;
+    let out = p.opt_path("out")?;
+    let quick = p.flag("quick")?;
+    let reference_bits = p.count_u32("reference_bits")?;
+    let max_rerun_collisions = p.opt_count_u64("max_rerun_collisions")?;
+    let threads = p.threads()?;
+    Ok(work(move |py, progress| {
+        let out = out.unwrap_or_else(|| {
+            let stem = result
+                .file_stem()
+                .map_or("result".into(), |s| s.to_string_lossy().to_string());
+            result.with_file_name(format!("{stem}-report"))
+        });
+        let cfg = PublicationConfig {
+            result,
+            out: out.clone(),
+            quick,
+            reference_bits,
+            max_rerun_collisions,
+        };
+        let r = compute(py, progress, |ctl| {
+            publication::run(&cfg, &options(ctl, threads, Engine::Auto))
+        })?;
+        Ok((
+            json(&r)?,
+            lorentz_gas::report::text::publication::publication(&r, &out),
+        ))
+    }))
 }
 
-/// Registers the analyses in the module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(py_diffusion, m)?)?;
-    m.add_function(wrap_pyfunction!(py_hops, m)?)?;
-    m.add_function(wrap_pyfunction!(py_theory, m)?)?;
-    m.add_function(wrap_pyfunction!(py_lattice_walk, m)?)?;
-    m.add_function(wrap_pyfunction!(py_backscatter, m)?)?;
-    m.add_function(wrap_pyfunction!(py_sweep, m)?)?;
-    m.add_function(wrap_pyfunction!(py_escape, m)?)?;
-    m.add_function(wrap_pyfunction!(py_superdiffusion, m)?)?;
-    m.add_function(wrap_pyfunction!(py_free_paths, m)?)?;
-    m.add_function(wrap_pyfunction!(py_report, m)?)?;
-    m.add_function(wrap_pyfunction!(py_constants, m)?)?;
-    m.add_function(wrap_pyfunction!(py_agreement_bound, m)?)?;
-    Ok(())
-}
-
-#[pyfunction]
-#[pyo3(name = "constants", signature = (w, radius, precision))]
-fn py_constants(
-    w: Option<&str>,
-    radius: Option<&str>,
-    precision: &str,
-) -> PyResult<(String, String)> {
-    // Either parameter names the scene; both, or neither, is refused by the scene's own check.
-    let name = if radius.is_some() && w.is_none() {
-        "square"
-    } else {
-        "triangular"
-    };
-    let scene = crate::scenes::spec(name, w, radius)?;
-    let r = constants::run(&ConstantsConfig {
-        scene,
-        precision: inputs::precision(precision)?,
+/// `constants(params)`: every closed form of a scene.
+pub fn constants(
+    p: &Params<'_, '_>,
+) -> PyResult<impl FnOnce() -> PyResult<(String, String)> + use<>> {
+    let (w, radius) = (p.opt_text("w")?, p.opt_text("radius")?);
+    let precision = p.precision()?;
+    Ok(move || {
+        // Either parameter names the scene; both, or neither, is refused by the scene's own check.
+        let name = if radius.is_some() && w.is_none() {
+            "square"
+        } else {
+            "triangular"
+        };
+        let place = Where {
+            name: name.into(),
+            table: None,
+            w,
+            radius,
+        };
+        let r = constants::run(&ConstantsConfig {
+            scene: place.spec()?,
+            precision,
+        })
+        .map_err(crate::py_err)?;
+        Ok((
+            r.to_json().map_err(crate::py_err)?,
+            lorentz_gas::report::text::constants::constants(&r),
+        ))
     })
-    .map_err(crate::py_err)?;
-    Ok((
-        r.to_json().map_err(crate::py_err)?,
-        lorentz_gas::report::text::constants::constants(&r),
-    ))
 }
 
 /// The crate's agreement bound: the Student-t quantile with `dof` degrees of freedom whose
@@ -593,4 +318,17 @@ fn py_agreement_bound(dof: f64) -> PyResult<f64> {
         )));
     }
     Ok(lorentz_gas::statistics::comparison::agreement_bound(dof))
+}
+
+#[pyfunction]
+#[pyo3(name = "constants", signature = (params))]
+fn py_constants(params: &Bound<'_, PyDict>) -> PyResult<(String, String)> {
+    Params::read(params, constants)?()
+}
+
+/// Registers the analyses of this file in the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(py_constants, m)?)?;
+    m.add_function(wrap_pyfunction!(py_agreement_bound, m)?)?;
+    Ok(())
 }

@@ -1,14 +1,18 @@
 //! `bench`: the engine's throughput on this machine (`lorentz bench`), bare or with the
-//! observers of an analysis, straight or in a magnetic field.
+//! observers of an analysis, straight or in a magnetic field, or a table given as data beside
+//! the triangular gas.
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use lorentz_gas::estimators::throughput::long_flights::{self, LongFlightBenchConfig};
+use lorentz_gas::estimators::throughput::long_flights::{self as long, LongFlightBenchConfig};
 use lorentz_gas::estimators::throughput::{self, Observe, ThroughputConfig};
+use lorentz_gas::scenes::table::PeriodicTable;
+use lorentz_gas::scenes::table::spec::TableSpec;
 
 use crate::analyses::options;
-use crate::inputs::{self, count_u64, count_usize};
+use crate::inputs;
+use crate::params::{Params, Work, work};
 use crate::watch::{compute, json};
 
 /// The observers, by the command line's names.
@@ -20,88 +24,82 @@ fn observe(text: &str) -> PyResult<Observe> {
     })
 }
 
-#[pyfunction]
-#[pyo3(name = "bench", signature = (w, collisions_per_thread, repetitions, precision, engine, observe, seed, threads, field, straight_beside, oracle_floor, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_bench(
-    py: Python<'_>,
-    w: &str,
-    collisions_per_thread: &str,
-    repetitions: &str,
-    precision: &str,
-    engine: &str,
-    observe: &str,
-    seed: &str,
-    threads: &str,
-    field: Option<&str>,
-    straight_beside: bool,
-    oracle_floor: bool,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let field = match field {
-        Some(b) => Some(inputs::exact("field", b)?.value).filter(|b| *b != 0.0),
-        None => None,
-    };
-    let cfg = ThroughputConfig {
-        w: inputs::exact("w", w)?.value,
-        precision: inputs::precision(precision)?,
-        observe: self::observe(observe)?,
-        collisions_per_thread: count_u64("collisions_per_thread", collisions_per_thread)?,
-        repetitions: count_usize("repetitions", repetitions)?,
-        seed: count_u64("seed", seed)?,
-        field,
-        straight_beside,
-        oracle_floor,
-        table: None,
-    };
-    let (threads, engine) = (inputs::threads(Some(threads))?, inputs::engine(engine)?);
-    let r = compute(py, progress, |ctl| {
-        throughput::run(&cfg, &options(ctl, threads, engine))
-    })?;
-    json(&r)
+/// The table timed beside the triangular gas (its JSON), checked as every analysis checks a
+/// table (disks that overlap are refused naming them).
+fn table(json: &str) -> PyResult<TableSpec> {
+    let spec = TableSpec::from_json(json).map_err(crate::py_err)?;
+    PeriodicTable::new(&spec).map_err(crate::py_err)?;
+    Ok(spec)
 }
 
-/// `bench(long_flights=...)`: a collision's cost against its flight's length on the square
-/// scene (the command line's `--long-flights`), one thread.
-#[pyfunction]
-#[pyo3(name = "bench_long_flights", signature = (scene, values, collisions_per_radius, walk_collisions, repetitions, seed, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_bench_long_flights(
-    py: Python<'_>,
-    scene: &str,
-    values: Vec<String>,
-    collisions_per_radius: &str,
-    walk_collisions: &str,
-    repetitions: &str,
-    seed: &str,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let (radii, gaps) = match scene {
-        "square" => (values, Vec::new()),
-        "triangular" => (Vec::new(), values),
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "scene = {scene}: use square or triangular"
-            )));
-        }
-    };
-    let cfg = LongFlightBenchConfig {
-        radii,
-        gaps,
-        collisions: count_u64("collisions_per_radius", collisions_per_radius)?,
-        walk_collisions: count_u64("walk_collisions", walk_collisions)?,
-        repetitions: count_usize("repetitions", repetitions)?,
-        seed: count_u64("seed", seed)?,
-    };
-    cfg.scenes()
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let r = compute(py, progress, |ctl| {
-        long_flights::run(&cfg, &options(ctl, 1, lorentz_gas::engine::Engine::Auto))
-    })?;
-    json(&r)
+/// `bench(params, progress)`.
+pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let w = p.text("w")?;
+    let collisions_per_thread = p.count_u64("collisions_per_thread")?;
+    let repetitions = p.count_usize("repetitions")?;
+    let precision = p.precision()?;
+    let engine = p.engine()?;
+    let observe = p.parsed("observe", Observe::None, self::observe)?;
+    let seed = p.count_u64("seed")?;
+    let threads = p.parsed("threads", 1, |t| inputs::threads(Some(t)))?;
+    let field = p.opt_text("field")?;
+    let straight_beside = p.flag("straight_beside")?;
+    let oracle_floor = p.flag("oracle_floor")?;
+    let table = p.opt_text("table")?;
+    Ok(work(move |py, progress| {
+        let field = match field {
+            Some(b) => Some(inputs::exact("field", &b)?.value).filter(|b| *b != 0.0),
+            None => None,
+        };
+        let cfg = ThroughputConfig {
+            w: inputs::exact("w", &w)?.value,
+            precision,
+            observe,
+            collisions_per_thread,
+            repetitions,
+            seed,
+            field,
+            straight_beside,
+            oracle_floor,
+            table: table.as_deref().map(self::table).transpose()?,
+        };
+        json(&compute(py, progress, |ctl| {
+            throughput::run(&cfg, &options(ctl, threads, engine))
+        })?)
+    }))
 }
 
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(py_bench, m)?)?;
-    m.add_function(wrap_pyfunction!(py_bench_long_flights, m)?)
+/// `bench_long_flights(params, progress)`: a collision's cost against its flight's length on
+/// the square scene (the command line's `--long-flights`), one thread.
+pub fn long_flights(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let scene = p.text("scene")?;
+    let values = p.texts("long_flights")?;
+    let collisions = p.count_u64("collisions_per_radius")?;
+    let walk_collisions = p.count_u64("walk_collisions")?;
+    let repetitions = p.count_usize("repetitions")?;
+    let seed = p.count_u64("seed")?;
+    Ok(work(move |py, progress| {
+        let (radii, gaps) = match scene.as_str() {
+            "square" => (values, Vec::new()),
+            "triangular" => (Vec::new(), values),
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "scene = {scene}: use square or triangular"
+                )));
+            }
+        };
+        let cfg = LongFlightBenchConfig {
+            radii,
+            gaps,
+            collisions,
+            walk_collisions,
+            repetitions,
+            seed,
+        };
+        cfg.scenes()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        json(&compute(py, progress, |ctl| {
+            long::run(&cfg, &options(ctl, 1, lorentz_gas::engine::Engine::Auto))
+        })?)
+    }))
 }

@@ -20,8 +20,9 @@ use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::table::PeriodicTable;
 use lorentz_gas::scenes::triangular::TriangularScene;
 
-use crate::inputs::{count_u32, count_u64};
-use crate::scenes::resolve;
+use crate::inputs::count_u64;
+use crate::params::Params;
+use crate::scenes::Where;
 use crate::watch::{Ctl, compute};
 use lorentz_gas::with_scene;
 
@@ -291,6 +292,37 @@ pub struct EventStream {
 }
 
 impl EventStream {
+    /// `EventStream(params)`: the trajectory of batch `batch` of `diffusion(seed=seed)` (or of
+    /// the run in `field`), its long flights as `flights` asks.
+    pub fn read(p: &Params<'_, '_>) -> PyResult<impl FnOnce() -> PyResult<Self> + use<>> {
+        let place = Where::read(p)?;
+        let seed = p.count_u64("seed")?;
+        let batch = p.count_u32("batch")?;
+        let field = p.opt_text("field")?;
+        let flights = p.text("flights")?;
+        Ok(move || {
+            let choice = place.resolve()?;
+            let walk = field_walk(&choice, field.as_deref(), seed, batch)?;
+            let flights = long_flights(&choice, &flights, walk.is_some())?;
+            let state = match &walk {
+                Some(walk) => walk.state().clone(),
+                None => {
+                    let mut s =
+                        with_scene!(&choice, |sc| sc.sample(&mut stream(seed, batch as u64)));
+                    s.flight.normalise_speed();
+                    s
+                }
+            };
+            Ok(EventStream {
+                choice,
+                flights,
+                state,
+                walk,
+                t: 0.0,
+            })
+        })
+    }
+
     fn state(&self) -> &LatticeState<f64> {
         self.walk.as_ref().map_or(&self.state, AnyFieldWalk::state)
     }
@@ -317,36 +349,9 @@ impl EventStream {
 #[pymethods]
 impl EventStream {
     #[new]
-    #[pyo3(signature = (scene, w, radius, seed, batch, field, flights))]
-    fn new(
-        scene: &str,
-        w: Option<&str>,
-        radius: Option<&str>,
-        seed: &str,
-        batch: &str,
-        field: Option<&str>,
-        flights: &str,
-    ) -> PyResult<Self> {
-        let choice = resolve(scene, w, radius)?;
-        let seed = count_u64("seed", seed)?;
-        let batch = count_u32("batch", batch)?;
-        let walk = field_walk(&choice, field, seed, batch)?;
-        let flights = long_flights(&choice, flights, walk.is_some())?;
-        let state = match &walk {
-            Some(walk) => walk.state().clone(),
-            None => {
-                let mut s = with_scene!(&choice, |sc| sc.sample(&mut stream(seed, batch as u64)));
-                s.flight.normalise_speed();
-                s
-            }
-        };
-        Ok(EventStream {
-            choice,
-            flights,
-            state,
-            walk,
-            t: 0.0,
-        })
+    #[pyo3(signature = (params))]
+    fn new(params: &Bound<'_, PyDict>) -> PyResult<Self> {
+        Params::read(params, Self::read)?()
     }
 
     /// The start of the trajectory as one row (time 0, kind start).

@@ -1,8 +1,6 @@
 //! The paper's figures (`lorentz figure`) and the whole reproduction (`lorentz reproduce`) for
 //! Python, stopped by Ctrl-C like every other analysis.
 
-use std::path::PathBuf;
-
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -12,6 +10,7 @@ use lorentz_gas::report::reproduce::{self, Budget, Reporter};
 use lorentz_gas::report::text;
 
 use crate::inputs::{self, count_u64};
+use crate::params::{Params, Work, work};
 use crate::watch::{Ctl, compute, json};
 
 /// The figure kinds, as `lorentz figure <KIND>` names them, and the one count each takes.
@@ -59,47 +58,37 @@ fn options<'a>(ctl: &'a Ctl<'a>, threads: usize) -> RunOptions<'a> {
     crate::analyses::options(ctl, threads, lorentz_gas::engine::Engine::Auto)
 }
 
-#[pyfunction]
-#[pyo3(name = "figure", signature = (kind, w, particles, particles_per_gap, collisions_per_gap, seed, threads, out, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_figure(
-    py: Python<'_>,
-    kind: &str,
-    w: Option<&str>,
-    particles: Option<&str>,
-    particles_per_gap: Option<&str>,
-    collisions_per_gap: Option<&str>,
-    seed: &str,
-    threads: Option<&str>,
-    out: PathBuf,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<(String, String)> {
-    let n = the_count(
-        kind,
-        w,
-        [
-            ("particles", particles),
-            ("particles_per_gap", particles_per_gap),
-            ("collisions_per_gap", collisions_per_gap),
-        ],
-    )?;
-    let seed = count_u64("seed", seed)?;
-    let threads = inputs::threads(threads)?;
-    let w = inputs::diffusive_gap(w.unwrap_or("0.1"))?.value;
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, threads);
-        match kind {
-            "backscatter-map" => {
-                let n = n.unwrap_or(paper::MAP_SAMPLES);
-                paper::backscatter_map(w, n, seed, &out, &opts)
+/// `figure(params, progress)`: one of the paper's figures into `out`.
+pub fn figure(p: &Params<'_, '_>) -> PyResult<Work<(String, String)>> {
+    let kind = p.text("kind")?;
+    let w = p.opt_text("w")?;
+    let counts = [
+        ("particles", p.opt_text("particles")?),
+        ("particles_per_gap", p.opt_text("particles_per_gap")?),
+        ("collisions_per_gap", p.opt_text("collisions_per_gap")?),
+    ];
+    let seed = p.count_u64("seed")?;
+    let threads = p.threads()?;
+    let out = p.path("out")?;
+    Ok(work(move |py, progress| {
+        let counts = counts.each_ref().map(|(name, v)| (*name, v.as_deref()));
+        let n = the_count(&kind, w.as_deref(), counts)?;
+        let w = inputs::diffusive_gap(w.as_deref().unwrap_or("0.1"))?.value;
+        let r = compute(py, progress, |ctl| {
+            let opts = options(ctl, threads);
+            match kind.as_str() {
+                "backscatter-map" => {
+                    let n = n.unwrap_or(paper::MAP_SAMPLES);
+                    paper::backscatter_map(w, n, seed, &out, &opts)
+                }
+                "backscatter" => {
+                    paper::backscatter_curve(n.unwrap_or(paper::CURVE_SAMPLES), seed, &out, &opts)
+                }
+                _ => paper::hierarchy(n.unwrap_or(paper::HIERARCHY_COLLISIONS), seed, &out, &opts),
             }
-            "backscatter" => {
-                paper::backscatter_curve(n.unwrap_or(paper::CURVE_SAMPLES), seed, &out, &opts)
-            }
-            _ => paper::hierarchy(n.unwrap_or(paper::HIERARCHY_COLLISIONS), seed, &out, &opts),
-        }
-    })?;
-    Ok((json(&r)?, text::figure::figure(&r, &out)))
+        })?;
+        Ok((json(&r)?, text::figure::figure(&r, &out)))
+    }))
 }
 
 /// A reproduction's reporter for Python: units to the progress sink, Ctrl-C as its stop flag.
@@ -118,31 +107,22 @@ impl Reporter for Watched<'_> {
     }
 }
 
-#[pyfunction]
-#[pyo3(name = "reproduce", signature = (budget, seed, threads, out, progress))]
-fn py_reproduce(
-    py: Python<'_>,
-    budget: &str,
-    seed: &str,
-    threads: Option<&str>,
-    out: PathBuf,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<(String, String)> {
-    let budget: Budget = budget.parse().map_err(crate::py_err)?;
-    let seed = count_u64("seed", seed)?;
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        let watched = Watched {
-            progress: ctl.progress,
-            stop: ctl.stop.clone(),
-        };
-        reproduce::reproduce(budget, &out, seed, threads, &watched)
+/// `reproduce(params, progress)`: every figure and table of the user guide into `out`.
+pub fn reproduce(p: &Params<'_, '_>) -> PyResult<Work<(String, String)>> {
+    let budget: Budget = p.parsed("budget", Budget::Quick, |t| {
+        t.parse().map_err(crate::py_err)
     })?;
-    Ok((json(&r)?, text::reproduce::reproduce(&r, &out)))
-}
-
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(py_figure, m)?)?;
-    m.add_function(wrap_pyfunction!(py_reproduce, m)?)?;
-    Ok(())
+    let seed = p.count_u64("seed")?;
+    let threads = p.threads()?;
+    let out = p.path("out")?;
+    Ok(work(move |py, progress| {
+        let r = compute(py, progress, |ctl| {
+            let watched = Watched {
+                progress: ctl.progress,
+                stop: ctl.stop.clone(),
+            };
+            reproduce::reproduce(budget, &out, seed, threads, &watched)
+        })?;
+        Ok((json(&r)?, text::reproduce::reproduce(&r, &out)))
+    }))
 }

@@ -1,16 +1,20 @@
-//! `lorentz_gas._native`: the crate's analyses for Python. Each function takes the values a
-//! user typed (gaps and counts as the text the command line parses, so that both parse them
-//! with one implementation and refuse them with one message), runs the library's
+//! `lorentz_gas._native`: the crate's analyses for Python. Each analysis takes one dict of its
+//! Python function's keyword parameters (`params.rs`: gaps and counts as the text the command
+//! line parses, so that both parse them with one implementation and refuse them with one
+//! message; a key the analysis does not read is refused), runs the library's
 //! `run(&config, &options)` with the GIL released, and returns the result as the command line's
 //! JSON (same serializer, so the same bits) or as numpy arrays. The Python package
 //! (`python/lorentz_gas/`) wraps them in keyword functions and result objects.
 
 mod analyses;
 mod bench;
+mod diffusion;
 mod events;
 mod field;
 mod figures;
 mod inputs;
+mod natives;
+mod params;
 mod plan;
 mod scenes;
 mod text;
@@ -63,13 +67,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CheckFailedError", m.py().get_type::<CheckFailedError>())?;
     m.add("ComputationError", m.py().get_type::<ComputationError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    natives::register(m)?;
     analyses::register(m)?;
-    bench::register(m)?;
     plan::register(m)?;
     events::register(m)?;
-    field::register(m)?;
-    figures::register(m)?;
-    verification::register(m)?;
     text::register(m)?;
     m.add_function(wrap_pyfunction!(scenes::read_table, m)?)?;
     Ok(())

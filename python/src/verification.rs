@@ -1,4 +1,4 @@
-//! The verification analyses' Python bindings: `lyapunov` (with `field=`), `audit`, `shadow`,
+//! The verification analyses' readers: `lyapunov` (with `field=`), `audit`, `shadow`,
 //! `certify` and `trajectory`, each the command line's analysis with its bits.
 
 use pyo3::exceptions::PyValueError;
@@ -6,69 +6,78 @@ use pyo3::prelude::*;
 
 use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::long_flight::Flights;
+use lorentz_gas::estimators::field::lyapunov::FieldLyapunovConfig;
 use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::report::text::lyapunov::LyapunovResult;
 use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::spec::SceneChoice;
 use lorentz_gas::verification::certify::{self, CertifyConfig};
 use lorentz_gas::verification::divergence::{self, DivergenceConfig};
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig};
 use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
 use lorentz_gas::verification::shadowing::{self, ShadowConfig};
-
-use crate::inputs::{self, count_u32, count_u64, count_usize, exact};
-use crate::scenes::resolve;
-use crate::watch::{compute, json};
-use lorentz_gas::scenes::spec::SceneChoice;
 use lorentz_gas::with_scene;
 
 use crate::analyses::options;
+use crate::inputs::{self, count_u32, exact};
+use crate::params::{Params, Progress, Work, work};
+use crate::scenes::Where;
+use crate::watch::{compute, json};
 
 /// Most divergence starts: each costs about a second of MPFR work at 4096 bits.
 const MAX_STARTS: u32 = 10_000;
 
-#[pyfunction]
-#[pyo3(name = "lyapunov", signature = (scene, w, radius, collisions_per_batch, batches, starts, seed, threads, field, flights, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_lyapunov(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions_per_batch: &str,
-    batches: &str,
-    starts: Option<&str>,
-    seed: &str,
-    threads: Option<&str>,
-    field: Option<&str>,
-    flights: &str,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let flights = inputs::flights(flights)?;
-    if let Some(b) = field.filter(|b| parse_exact(b).is_ok_and(|q| q != 0)) {
-        if flights == Flights::Jump {
-            return Err(PyValueError::new_err(
-                "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto",
-            ));
-        }
-        return crate::field::lyapunov_in_field(
-            py,
-            (scene, w, radius),
-            (
+/// `lyapunov(params, progress)`: in a nonzero `field` on arcs, else the tangent dynamics of
+/// straight flights and the divergence of finite-precision orbits.
+pub fn lyapunov(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let place = Where::read(p)?;
+    let collisions_per_batch = p.count_u64("collisions_per_batch")?;
+    let batches = p.count_u32("batches")?;
+    let starts = p.opt_text("starts")?;
+    let seed = p.count_u64("seed")?;
+    let threads = p.threads()?;
+    let field = p.opt_text("field")?;
+    let flights = p.flights()?;
+    Ok(work(move |py, progress| {
+        if let Some(b) = field.filter(|b| parse_exact(b).is_ok_and(|q| q != 0)) {
+            if flights == Flights::Jump {
+                return Err(PyValueError::new_err(
+                    "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto",
+                ));
+            }
+            let cfg = FieldLyapunovConfig {
                 collisions_per_batch,
                 batches,
-                starts.unwrap_or("0"),
                 seed,
-                threads,
-            ),
-            b,
-            progress,
-        );
-    }
-    let choice = resolve(scene, w, radius)?;
+                field: b.trim().to_string(),
+            };
+            let starts = (starts.as_deref(), threads);
+            return crate::field::lyapunov_in_field(py, progress, &place, cfg, starts);
+        }
+        let cfg = LyapunovConfig {
+            collisions_per_batch,
+            batches,
+            seed,
+            flights,
+        };
+        straight_lyapunov(py, progress, &place, cfg, (starts.as_deref(), threads))
+    }))
+}
+
+/// The exponent of straight flights, with the divergence of `starts` finite-precision orbits
+/// (`None`: the scene's default).
+fn straight_lyapunov(
+    py: Python<'_>,
+    progress: Progress<'_>,
+    place: &Where,
+    cfg: LyapunovConfig,
+    (starts, threads): (Option<&str>, usize),
+) -> PyResult<String> {
+    let choice = place.resolve()?;
     let starts = match starts {
         Some(s) => count_u32("starts", s)?,
-        None => with_scene!(&choice, |s| divergence::default_starts(s, flights))
+        None => with_scene!(&choice, |s| divergence::default_starts(s, cfg.flights))
             .map_err(|e| PyValueError::new_err(e.to_string()))?,
     };
     if starts == 1 || starts > MAX_STARTS {
@@ -77,21 +86,13 @@ fn py_lyapunov(
              bars are over the starts, reliable from 4; each costs about a second)"
         )));
     }
-    let seed = count_u64("seed", seed)?;
-    let cfg = LyapunovConfig {
-        collisions_per_batch: count_u64("collisions_per_batch", collisions_per_batch)?,
-        batches: count_u32("batches", batches)?,
-        seed,
-        flights,
-    };
-    let threads = inputs::threads(threads)?;
     let r = compute(py, progress, |ctl| {
         let opts = options(ctl, threads, Engine::Auto);
         let tangent = with_scene!(&choice, |s| lyapunov::run(s, &cfg, &opts))?;
         let divergence = if starts > 0 {
             let d = DivergenceConfig {
                 starts,
-                seed,
+                seed: cfg.seed,
                 ..DivergenceConfig::new()
             };
             let one = options(ctl, 1, Engine::Auto);
@@ -107,105 +108,76 @@ fn py_lyapunov(
     json(&r)
 }
 
-#[pyfunction]
-#[pyo3(name = "audit", signature = (scene, w, radius, collisions, batches, sample, reference_bits, seed, field, flights, threads, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_audit(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions: &str,
-    batches: &str,
-    sample: f64,
-    reference_bits: &str,
-    seed: &str,
-    field: Option<&str>,
-    flights: &str,
-    threads: Option<&str>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let choice = resolve(scene, w, radius)?;
-    let flights = inputs::flights(flights)?;
-    let cfg = AuditConfig {
-        scene: with_scene!(&choice, |s| s.label()),
-        collisions: count_u64("collisions", collisions)?,
-        batches: count_u32("batches", batches)?,
-        sample,
-        reference_bits: count_u32("reference_bits", reference_bits)?,
-        seed: count_u64("seed", seed)?,
-        field: field.map(str::to_string),
-        flights,
-    };
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, threads, Engine::Auto);
-        with_scene!(&choice, |s| shadow_audit::run(s, &cfg, &opts))
-    })?;
-    json(&r)
+/// `audit(params, progress)`: f64 events replayed in MPFR.
+pub fn audit(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let place = Where::read(p)?;
+    let collisions = p.count_u64("collisions")?;
+    let batches = p.count_u32("batches")?;
+    let sample = p.number("sample")?;
+    let reference_bits = p.count_u32("reference_bits")?;
+    let seed = p.count_u64("seed")?;
+    let field = p.opt_text("field")?;
+    let flights = p.flights()?;
+    let threads = p.threads()?;
+    Ok(work(move |py, progress| {
+        let choice = place.resolve()?;
+        let cfg = AuditConfig {
+            scene: with_scene!(&choice, |s| s.label()),
+            collisions,
+            batches,
+            sample,
+            reference_bits,
+            seed,
+            field,
+            flights,
+        };
+        json(&compute(py, progress, |ctl| {
+            let opts = options(ctl, threads, Engine::Auto);
+            with_scene!(&choice, |s| shadow_audit::run(s, &cfg, &opts))
+        })?)
+    }))
 }
 
-#[pyfunction]
-#[pyo3(name = "shadow", signature = (scene, w, radius, collisions_per_segment, segments, reference_bits, seed, field, threads, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_shadow(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions_per_segment: &str,
-    segments: &str,
-    reference_bits: &str,
-    seed: &str,
-    field: Option<&str>,
-    threads: Option<&str>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    // The triangular scene's gap as the command line's `shadow --w` takes it: 0 < w < w_inf.
-    if let (Some(w), "triangular") = (w, scene) {
-        inputs::diffusive_gap(w)?;
-    }
-    let choice = resolve(scene, w, radius)?;
+/// `shadow(params, progress)`: true orbits shadowing f64 segments.
+pub fn shadow(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let place = Where::read(p)?;
     let request = ShadowConfig {
-        collisions_per_segment: count_usize("collisions_per_segment", collisions_per_segment)?,
-        segments: count_u32("segments", segments)?,
-        seed: count_u64("seed", seed)?,
-        reference_bits: count_u32("reference_bits", reference_bits)?,
-        field: field.map(str::to_string),
+        collisions_per_segment: p.count_usize("collisions_per_segment")?,
+        segments: p.count_u32("segments")?,
+        reference_bits: p.count_u32("reference_bits")?,
+        seed: p.count_u64("seed")?,
+        field: p.opt_text("field")?,
     };
-    request.validate().map_err(crate::py_err)?;
-    let threads = inputs::threads(threads)?;
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, threads, Engine::Auto);
-        with_scene!(&choice, |s| shadowing::run(s, &request, &opts))
-    })?;
-    json(&r)
+    let threads = p.threads()?;
+    Ok(work(move |py, progress| {
+        // The triangular scene's gap as the command line's `shadow --w` takes it: 0 < w < w_inf.
+        if let (Some(w), "triangular", None) = (&place.w, place.name.as_str(), &place.table) {
+            inputs::diffusive_gap(w)?;
+        }
+        let choice = place.resolve()?;
+        request.validate().map_err(crate::py_err)?;
+        json(&compute(py, progress, |ctl| {
+            let opts = options(ctl, threads, Engine::Auto);
+            with_scene!(&choice, |s| shadowing::run(s, &request, &opts))
+        })?)
+    }))
 }
 
-#[pyfunction]
-#[pyo3(name = "certify", signature = (scene, w, radius, collisions, digits, seed, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_certify(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    collisions: &str,
-    digits: &str,
-    seed: &str,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
-    let choice = resolve(scene, w, radius)?;
+/// `certify(params, progress)`: a segment certified to its digits.
+pub fn certify(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let place = Where::read(p)?;
     let cfg = CertifyConfig {
-        collisions: count_usize("collisions", collisions)?,
-        digits: count_u32("digits", digits)?,
-        seed: count_u64("seed", seed)?,
+        collisions: p.count_usize("collisions")?,
+        digits: p.count_u32("digits")?,
+        seed: p.count_u64("seed")?,
     };
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, 1, Engine::Auto);
-        with_scene!(&choice, |s| certify::run(s, &cfg, &opts))
-    })?;
-    json(&r)
+    Ok(work(move |py, progress| {
+        let choice = place.resolve()?;
+        json(&compute(py, progress, |ctl| {
+            let opts = options(ctl, 1, Engine::Auto);
+            with_scene!(&choice, |s| certify::run(s, &cfg, &opts))
+        })?)
+    }))
 }
 
 /// One exact number of a trajectory's input, named for its message.
@@ -213,40 +185,46 @@ fn exact_q(name: &str, text: &str) -> PyResult<rug::Rational> {
     parse_exact(text).map_err(|e| PyValueError::new_err(format!("{name}: {e}")))
 }
 
-#[pyfunction]
-#[pyo3(name = "trajectory", signature = (scene, w, radius, start, direction, time, digits, events, field, progress))]
-#[allow(clippy::too_many_arguments)]
-fn py_trajectory(
-    py: Python<'_>,
-    scene: &str,
-    w: Option<&str>,
-    radius: Option<&str>,
-    start: (String, String),
-    direction: (String, String),
-    time: &str,
-    digits: &str,
-    events: bool,
-    field: Option<&str>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<(String, String)> {
-    let digits = count_u32("digits", digits)?;
-    if digits == 0 || digits > MAX_DIGITS {
-        return Err(PyValueError::new_err(format!(
-            "digits = {digits} is out of range: use 1 to {MAX_DIGITS}"
-        )));
-    }
-    let input = TrajectoryInput {
-        x: exact_q("start", &start.0)?,
-        y: exact_q("start", &start.1)?,
-        dx: exact_q("direction", &direction.0)?,
-        dy: exact_q("direction", &direction.1)?,
-        time: exact_q("time", time)?,
-        digits,
-        record_events: events,
-        field: field.map(|b| exact_q("field", b)).transpose()?,
-    };
-    // Any gap w > 0 (the trajectory is one orbit: no diffusive range is needed).
-    let choice = match (scene, w) {
+/// `trajectory(params, progress)`: one orbit from exact initial conditions.
+pub fn trajectory(p: &Params<'_, '_>) -> PyResult<Work<(String, String)>> {
+    let place = Where::read_without_table(p)?;
+    let (start, direction) = (p.text_pair("start")?, p.text_pair("direction")?);
+    let time = p.text("time")?;
+    let digits = p.count_u32("digits")?;
+    let events = p.flag("events")?;
+    let field = p.opt_text("field")?;
+    Ok(work(move |py, progress| {
+        if digits == 0 || digits > MAX_DIGITS {
+            return Err(PyValueError::new_err(format!(
+                "digits = {digits} is out of range: use 1 to {MAX_DIGITS}"
+            )));
+        }
+        let input = TrajectoryInput {
+            x: exact_q("start", &start.0)?,
+            y: exact_q("start", &start.1)?,
+            dx: exact_q("direction", &direction.0)?,
+            dy: exact_q("direction", &direction.1)?,
+            time: exact_q("time", &time)?,
+            digits,
+            record_events: events,
+            field: field.map(|b| exact_q("field", &b)).transpose()?,
+        };
+        let choice = orbit_scene(&place)?;
+        let r = compute(py, progress, |ctl| {
+            let opts = options(ctl, 1, Engine::Auto);
+            with_scene!(&choice, |s| trajectory::run(s, &input, &opts))
+        })?;
+        Ok((
+            json(&r)?,
+            lorentz_gas::report::text::trajectory::trajectory(&r, &time),
+        ))
+    }))
+}
+
+/// The scene of one orbit: on the triangular lattice any gap w > 0 (no diffusive range is
+/// needed).
+fn orbit_scene(place: &Where) -> PyResult<SceneChoice> {
+    match (place.name.as_str(), &place.w) {
         ("triangular", Some(w)) => {
             let q = exact("w", w)?.rational("w").map_err(crate::py_err)?;
             if q <= 0 {
@@ -255,27 +233,11 @@ fn py_trajectory(
                     lorentz_gas::numbers::exact::nearest_f64(&q)
                 )));
             }
-            SceneChoice::Triangular(Box::new(
+            Ok(SceneChoice::Triangular(Box::new(
                 lorentz_gas::scenes::triangular::TriangularScene::exact(q)
                     .map_err(crate::py_err)?,
-            ))
+            )))
         }
-        _ => resolve(scene, w, radius)?,
-    };
-    let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, 1, Engine::Auto);
-        with_scene!(&choice, |s| trajectory::run(s, &input, &opts))
-    })?;
-    Ok((
-        json(&r)?,
-        lorentz_gas::report::text::trajectory::trajectory(&r, time),
-    ))
-}
-
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(py_lyapunov, m)?)?;
-    m.add_function(wrap_pyfunction!(py_audit, m)?)?;
-    m.add_function(wrap_pyfunction!(py_shadow, m)?)?;
-    m.add_function(wrap_pyfunction!(py_certify, m)?)?;
-    m.add_function(wrap_pyfunction!(py_trajectory, m)?)
+        _ => place.resolve(),
+    }
 }

@@ -1,7 +1,9 @@
 """Each parameter in every front end: every field of an analysis's configuration (as its result
 records it: the library's one description of the run) is an option of the command line, a keyword
-of the Python function and a parameter of the compiled function's type stub; and the stubs are the
-compiled module's real signatures. A field added to a config and forgotten in one of them fails
+of the Python function, a key the compiled function reads and a key of its type stub; the keyword
+parameters of every public analysis are exactly the keys its compiled functions read
+(`_native.parameters`); and the stubs are the compiled module's real signatures. A field added to
+a config and forgotten in one of them, or a key the Python and Rust sides disagree on, fails
 here."""
 
 import ast
@@ -61,6 +63,30 @@ def cli_options(cli, command):
     return {m.replace("-", "_") for m in re.findall(r"^\s+(?:-\w, )?--([\w-]+)", text, re.M)}
 
 
+def stub_params_keys():
+    """The keys of each stub's ``params`` dict (its TypedDict's fields, with those it inherits)."""
+    tree = ast.parse(STUBS.read_text())
+    classes = {c.name: c for c in tree.body if isinstance(c, ast.ClassDef)}
+
+    def fields(name):
+        c = classes[name]
+        own = [a.target.id for a in c.body if isinstance(a, ast.AnnAssign)]
+        inherited = [f for b in c.bases if isinstance(b, ast.Name) and b.id in classes
+                     for f in fields(b.id)]
+        return inherited + own
+
+    # Each function, and each class by its constructor.
+    functions = [(f.name, f) for f in tree.body if isinstance(f, ast.FunctionDef)]
+    functions += [(c.name, f) for c in classes.values() for f in c.body
+                  if isinstance(f, ast.FunctionDef) and f.name == "__init__"]
+    out = {}
+    for name, f in functions:
+        params = [a for a in f.args.args if a.arg == "params"]
+        if params:
+            out[name] = fields(params[0].annotation.id)
+    return out
+
+
 def stub_parameters():
     """Each stub's parameters: a function's, or a class's constructor's (without self)."""
     tree = ast.parse(STUBS.read_text())
@@ -90,9 +116,12 @@ def test_every_config_field_is_a_parameter_everywhere(cli_json, cli, name):
     fields -= {f for (n, f) in NOT_PARAMETERS if n == name}
     options = cli_options(cli, command)
     keywords = set(inspect.signature(getattr(lg, function)).parameters)
-    stub = set(stub_parameters()[STUB_OF.get(name, function)])
+    native = STUB_OF.get(name, function)
+    stub = set(stub_params_keys()[native])
+    read = set(_native.parameters(native))
     for where, have in [("the command line", options), ("lorentz_gas." + function, keywords),
-                        ("the stub _native." + function, stub)]:
+                        ("the keys _native." + native + " reads", read),
+                        ("the stub _native." + native, stub)]:
         missing = sorted(fields - have)
         assert not missing, f"{name}: config fields missing from {where}: {missing}"
 
@@ -107,3 +136,97 @@ def test_the_stubs_are_the_compiled_signatures():
         assert stubs[name] == compiled_parameters(name), (name, stubs[name], compiled_parameters(name))
     extra = sorted(set(stubs) - compiled)
     assert not extra, f"stubs of functions the module does not have: {extra}"
+
+
+# The compiled functions behind each public analysis (the keys they read together are the
+# function's keyword parameters).
+NATIVES = {
+    "diffusion": ["diffusion"],
+    "hops": ["hops"],
+    "theory": ["theory"],
+    "lattice_walk": ["lattice_walk"],
+    "backscatter": ["backscatter"],
+    "sweep": ["sweep", "field_sweep"],
+    "escape": ["escape"],
+    "lyapunov": ["lyapunov"],
+    "superdiffusion": ["superdiffusion"],
+    "free_paths": ["free_paths"],
+    "audit": ["audit"],
+    "shadow": ["shadow"],
+    "certify": ["certify"],
+    "trajectory": ["trajectory"],
+    "constants": ["constants"],
+    "report": ["report"],
+    "figure": ["figure"],
+    "reproduce": ["reproduce"],
+    "bench": ["bench", "bench_long_flights"],
+    "events": ["EventStream"],
+    "Trajectory": ["EventStream"],
+}
+
+# Keyword parameters the Python wrapper consumes itself, with the reason.
+PYTHON_ONLY = {
+    "progress": "the progress bar or callback (`_progress._Bar`), passed beside the dict",
+    ("events", "n"): "the events asked for: passed to EventStream.next, not to the constructor",
+}
+
+# Public functions that are not analyses, with the reason.
+NOT_ANALYSES = {
+    "agreement_bound": "a closed form of one number (`_native.agreement_bound(dof)`)",
+    "draw_lattice": "pure Python (matplotlib)",
+    "lattice_disks": "pure Python (the disks of a scene that reach into a box, for drawing)",
+}
+
+
+def python_keywords(name):
+    f = getattr(lg, name)
+    sig = inspect.signature(f.__init__ if inspect.isclass(f) else f)
+    return {k for k in sig.parameters
+            if k not in ("self", "progress") and (name, k) not in PYTHON_ONLY}
+
+
+@pytest.mark.parametrize("name", sorted(NATIVES))
+def test_the_keywords_are_exactly_the_keys_the_compiled_functions_read(name):
+    keywords = python_keywords(name)
+    read = [set(_native.parameters(n)) for n in NATIVES[name]]
+    for native, keys in zip(NATIVES[name], read):
+        extra = sorted(keys - keywords)
+        assert not extra, f"_native.{native} reads keys lorentz_gas.{name} does not take: {extra}"
+    missing = sorted(keywords - set().union(*read))
+    assert not missing, f"lorentz_gas.{name} takes keywords no compiled function reads: {missing}"
+
+
+def test_every_public_function_and_every_compiled_analysis_is_checked():
+    public = {n for n in lg.__all__ if callable(getattr(lg, n))
+              and not (inspect.isclass(getattr(lg, n)) and n != "Trajectory")}
+    unchecked = sorted(public - set(NATIVES) - set(NOT_ANALYSES))
+    assert not unchecked, f"public functions neither in NATIVES nor in NOT_ANALYSES: {unchecked}"
+    stale = sorted((set(NATIVES) | set(NOT_ANALYSES)) - public)
+    assert not stale, f"NATIVES or NOT_ANALYSES name what lorentz_gas does not export: {stale}"
+    taking_params = set(stub_params_keys())
+    behind = {n for natives in NATIVES.values() for n in natives}
+    assert taking_params == behind, (sorted(taking_params - behind), sorted(behind - taking_params))
+
+
+@pytest.mark.parametrize("name", sorted(stub_params_keys()))
+def test_the_stubs_params_are_the_keys_read(name):
+    assert sorted(stub_params_keys()[name]) == sorted(_native.parameters(name)), name
+
+
+def test_a_key_not_read_or_missing_is_refused_naming_it():
+    good = {"w": "0.1", "radius": None, "precision": "f64"}
+    assert _native.constants(good)[0]
+    with pytest.raises(ValueError, match="unknown parameter `colour`"):
+        _native.constants({**good, "colour": "blue"})
+    with pytest.raises(ValueError, match="missing parameter `precision`"):
+        _native.constants({"w": "0.1", "radius": None})
+    with pytest.raises(ValueError, match=r"precision="):
+        _native.constants({**good, "precision": 53})
+    with pytest.raises(ValueError, match="no analysis named"):
+        _native.parameters("difusion")
+    # Refused before any work, for every analysis.
+    for name in stub_params_keys():
+        native = getattr(_native, name)
+        args = ({"unread": 1},) if name in ("constants", "EventStream") else ({"unread": 1}, None)
+        with pytest.raises(ValueError, match="missing parameter"):
+            native(*args)

@@ -108,3 +108,41 @@ def test_a_sweep_over_the_field_of_a_table_has_the_command_lines_bits(tmp_path, 
         lg.sweep(table=TABLE, w="0.1", fields=[1])
     with pytest.raises(ValueError, match="scene, radius and table are for a sweep over the field"):
         lg.sweep(table=TABLE, w_from="0.1", w_to="0.2", steps=2)
+
+
+def test_bench_times_a_table_beside_the_triangular_gas_as_the_command_line_does(cli_json):
+    args = dict(w="0.1", collisions_per_thread=4e4, repetitions=3, progress=False)
+    r = lg.bench(table=TABLE, **args)
+    t = r.table
+    assert t["table"].startswith("two-radius square (e1 = (1, 0)")
+    assert len(t["samples"]) == 3 and min(t["samples"]) > 0
+    assert t["collisions_per_second_per_thread"] > 0 and t["over_triangular"] > 0
+    assert t["paired_ratio"] > 0 and t["crossings_per_collision"] > 0
+    # The triangular gas's own throughput beside it, in the same run.
+    assert len(r.samples) == 3 and r.collisions_per_second_per_thread > 0
+    assert abs(t["over_triangular"] - np.median(t["samples"]) / np.median(r.samples)) < 1e-9
+    cli = cli_json("bench", "--w", "0.1", "--table", str(TABLE), "--collisions-per-thread", "4e4",
+                   "--repetitions", "3")
+    assert set(cli["table"]) == set(t) and cli["table"]["table"] == t["table"]
+    # Timings differ between runs; the trajectories do not: the same crossings, from a dict too.
+    assert cli["table"]["crossings_per_collision"] == t["crossings_per_collision"]
+    from_dict = lg.bench(table=TWO_RADII, **args).table
+    assert from_dict["crossings_per_collision"] == t["crossings_per_collision"]
+    assert "table" not in lg.bench(**args).keys()
+
+
+def test_bench_refuses_a_bad_table_naming_the_problem():
+    overlap = copy.deepcopy(TWO_RADII)
+    overlap["disks"][1]["radius"] = "0.31"
+    with pytest.raises(ValueError, match=r"disk 1 \(centre \(0, 0\), radius 2/5\) and disk 2"):
+        lg.bench(table=overlap, collisions_per_thread=1e4, repetitions=1)
+    with pytest.raises(ValueError, match="not a table"):
+        lg.bench(table={"lattice": {"e1": [1, 0], "e2": [0, 1]}, "disk": []})
+    with pytest.raises(ValueError, match="leave out the field and the observers"):
+        lg.bench(table=TABLE, field=1, collisions_per_thread=1e4, repetitions=1)
+    with pytest.raises(ValueError, match="use f64 with a table"):
+        lg.bench(table=TABLE, precision=128, collisions_per_thread=1e4, repetitions=1)
+    with pytest.raises(ValueError, match="table: long_flights= times one lattice"):
+        lg.bench(table=TABLE, long_flights=["1/4"])
+    with pytest.raises(OSError, match="no-such-table.toml"):
+        lg.bench(table="no-such-table.toml")
