@@ -138,7 +138,7 @@ def test_bench_refuses_a_bad_table_naming_the_problem():
         lg.bench(table=overlap, collisions_per_thread=1e4, repetitions=1)
     with pytest.raises(ValueError, match="not a table"):
         lg.bench(table={"lattice": {"e1": [1, 0], "e2": [0, 1]}, "disk": []})
-    with pytest.raises(ValueError, match="leave out the field and the observers"):
+    with pytest.raises(ValueError, match="field=1: a table is timed by its bare straight flights"):
         lg.bench(table=TABLE, field=1, collisions_per_thread=1e4, repetitions=1)
     with pytest.raises(ValueError, match="use f64 with a table"):
         lg.bench(table=TABLE, precision=128, collisions_per_thread=1e4, repetitions=1)
