@@ -334,6 +334,18 @@ fn divide<V: Lanes, const BY_BETA: bool>(f: &Front<V>) -> Cand<V> {
     disk.then(f.edge.event())
 }
 
+/// The exclusions (disk, edge) after the event `code` (`coll` where it is a collision) of lanes
+/// that excluded disk `ed`: after a collision (m, none); after crossing k the endpoints of Eₖ
+/// swap (m ↦ 3 − k − m), Pₖ and "none" become none, and Eₖ is the edge entered by.
+#[inline(always)]
+fn exclusions_after<V: Lanes>(code: V, coll: V::Mask, ed: V) -> (V, V) {
+    let k = code.sub(V::splat(CROSSING_CODE));
+    let none = V::splat(NO_LABEL);
+    let keeps = V::and_not(ed.gt(none), ed.eq(k));
+    let relabelled = V::select(keeps, V::splat(3.0).sub(k).sub(ed), none);
+    (V::select(coll, code, relabelled), V::select(coll, none, k))
+}
+
 /// Records the event of the lanes of `f` in `out`, applies it into `next`, and returns the bits
 /// (at their block positions) of the live lanes that had no next event (a zero or non-finite
 /// velocity; the scalar kernel's `None`) and of the live lanes. Finished lanes are left
@@ -395,14 +407,7 @@ fn back<V: Lanes, const L: usize>(
     let npy = V::select(coll, xy, cy.sub(xy));
     let nvx = V::select(coll, rvx, vx.neg());
     let nvy = V::select(coll, rvy, vy.neg());
-    // Exclusions: after a collision (m, none); after crossing k the endpoints of Eₖ swap
-    // (m ↦ 3 − k − m), Pₖ and "none" become none, and Eₖ is the edge entered by.
-    let k = code.sub(V::splat(CROSSING_CODE));
-    let none = V::splat(NO_LABEL);
-    let keeps = V::and_not(ed.gt(none), ed.eq(k));
-    let relabelled = V::select(keeps, V::splat(3.0).sub(k).sub(ed), none);
-    let ned = V::select(coll, code, relabelled);
-    let nee = V::select(coll, none, k);
+    let (ned, nee) = exclusions_after(code, coll, ed);
     // Cell: steps (1, 1), (0, 1), (1, 0) across E₀, E₁, E₂, times s; s flips on a crossing.
     let e2 = code.eq(V::splat(CROSSING_CODE + 2.0));
     let nci = ci.add(V::select(V::or(e0, e2), sg, zero));

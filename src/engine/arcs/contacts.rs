@@ -118,20 +118,7 @@ pub(super) fn disk<V: Lanes>(
     // On the circle, moving out: the return s = −2β/M.
     let s_ret = beta.mul(V::splat(-2.0)).mul(inv);
     // Off it: the entry.
-    let vr = a.speed.mul(d.r);
-    let shift = q.sub(w.mul(gamma).mul(V::splat(0.5)));
-    let k = vv_wq.add(w.mul(w).mul(gamma).mul(V::splat(0.25)));
-    let product = vr.add(shift).mul(vr.sub(shift));
-    // Off the circle with K < 0, β² − γK where the product rounded to ≤ 0.
-    let sum = beta.mul(beta).sub(gamma.mul(k));
-    let cancelled = V::and_not(V::and(gamma.gt(z), k.lt(z)), product.gt(z));
-    let disc = V::select(cancelled, sum, product);
-    let root = disc.sqrt();
-    let s_in = V::select(
-        bneg,
-        gamma.mul(k).div(root.sub(beta)).mul(inv),
-        beta.add(root).neg().mul(inv),
-    );
+    let (disc, s_in) = entry(c, a, d, (q, vv_wq, beta, gamma), inv);
     let f = w.mul(gamma).mul(V::splat(0.5)).neg().mul(inv);
     let (nx, ny) = (f.mul(mx).add(s_in.mul(ex)), f.mul(my).add(s_in.mul(ey)));
     // A particle off the circle that the disk frame puts on it has the contact of one on it.
@@ -155,6 +142,35 @@ pub(super) fn disk<V: Lanes>(
         V::select(ret, ey.mul(s_ret), V::select(now, z, ny)),
     );
     (Cand::new(a, c.left, (x, y), frame, has), stuck)
+}
+
+/// The entry of a particle off the circle ([`disk`]): the discriminant (β² − γK where the
+/// product (vr + shift)(vr − shift) rounded to ≤ 0 with γ > 0 and K < 0) and the arc parameter
+/// of the entry, by the cancellation-free root on each side of β = 0.
+#[inline(always)]
+fn entry<V: Lanes>(
+    c: &Consts<V>,
+    a: &ArcL<V>,
+    d: &DiskC<V>,
+    (q, vv_wq, beta, gamma): (V, V, V, V),
+    inv: V,
+) -> (V, V) {
+    let (z, w) = (V::splat(0.0), c.w);
+    let vr = a.speed.mul(d.r);
+    let shift = q.sub(w.mul(gamma).mul(V::splat(0.5)));
+    let k = vv_wq.add(w.mul(w).mul(gamma).mul(V::splat(0.25)));
+    let product = vr.add(shift).mul(vr.sub(shift));
+    // Off the circle with K < 0, β² − γK where the product rounded to ≤ 0.
+    let sum = beta.mul(beta).sub(gamma.mul(k));
+    let cancelled = V::and_not(V::and(gamma.gt(z), k.lt(z)), product.gt(z));
+    let disc = V::select(cancelled, sum, product);
+    let root = disc.sqrt();
+    let s_in = V::select(
+        beta.lt(z),
+        gamma.mul(k).div(root.sub(beta)).mul(inv),
+        beta.add(root).neg().mul(inv),
+    );
+    (disc, s_in)
 }
 
 /// Where a disk-frame entry (chord `f`) of a particle off the circle moving in (`lanes`) lies
