@@ -39,7 +39,8 @@ pub fn arc_flight(t: &mut Vector4<f64>, time: f64, w: f64) {
 /// Applies the linearisation of the arc event `ev` of the flight `f` (flight time `time`, field
 /// `w`) in `cell` to the tangent vector (δq, δv): the free flight ([`arc_flight`]), then a
 /// crossing (a point reflection negates the vector, a translation leaves it) or a collision
-/// ([`collision_map`]).
+/// ([`collision_map`]). The reference, event by event: the runs carry the vector from collision
+/// to collision ([`TangentLane`]), and `tests/numerics/arc_tangent.rs` holds the two together.
 pub fn arc_tangent_step(
     t: &mut Vector4<f64>,
     f: &Flight<f64>,

@@ -32,11 +32,11 @@ use contacts::{disk, edge};
 use order::{Cand, offer};
 
 use crate::Error;
-use crate::engine::SimdPath;
 use crate::engine::observe::{CROSSING_CODE, EventLanes, NO_EVENT, NO_LABEL};
 use crate::engine::simd::BLOCK;
+use crate::engine::{LaneWork, SimdPath, on_path};
 use crate::kernel::cell::ConvexCell;
-use crate::numbers::lanes::{self, Lanes};
+use crate::numbers::lanes::Lanes;
 use crate::scenes::lattice::LatticeState;
 
 /// The lane states of one block: position and velocity in the cell's frame, exclusions and
@@ -293,35 +293,6 @@ fn steps<V: Lanes, const RECORD: bool>(
     None
 }
 
-/// One `zmm` vector at a time: a step of the arc engine keeps far more values live than the
-/// straight engine's, and a pair of vectors spilled them (0.94 of the pair's time per
-/// collision, w = 0.1, B = 1, paired runs); two vectors interleaved candidate by candidate were
-/// slower still (77 against 56 ns per collision): the step is bound by the issue of its vector
-/// instructions, not by their latency (`docs/guide/field.md`, "Speed").
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-unsafe fn run_avx512(
-    cell: &ConvexCell<f64>,
-    w: f64,
-    st: &mut ArcLanes,
-    limit: u64,
-    mode: Mode<'_>,
-) -> Option<usize> {
-    run::<lanes::Avx512>(cell, w, st, limit, mode)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn run_avx2(
-    cell: &ConvexCell<f64>,
-    w: f64,
-    st: &mut ArcLanes,
-    limit: u64,
-    mode: Mode<'_>,
-) -> Option<usize> {
-    run::<lanes::Pair<lanes::Avx2>>(cell, w, st, limit, mode)
-}
-
 /// The arc engine: advances up to [`BLOCK`] trajectories `states` of a lattice with cell `cell`
 /// in the field `w` (≠ 0, finite), lane l until it has made `quotas[l]` collisions or the block
 /// has run `limit` events; returns the crossings of each state. The states are left where the
@@ -381,7 +352,12 @@ fn check(path: SimdPath, cell: &ConvexCell<f64>, w: f64, n: usize) -> Result<(),
     Ok(())
 }
 
-/// [`run`] on `path` (checked available by [`check`]).
+/// [`run`] on `path` (checked available by [`check`]), through [`on_path`]: one `zmm` vector at a
+/// time on AVX-512 — a step of the arc engine keeps far more values live than the straight
+/// engine's, and a pair of vectors spilled them (0.94 of the pair's time per collision,
+/// w = 0.1, B = 1, paired runs); two vectors interleaved candidate by candidate were slower
+/// still (77 against 56 ns per collision): the step is bound by the issue of its vector
+/// instructions, not by their latency (`docs/guide/field.md`, "Speed").
 fn dispatch(
     path: SimdPath,
     cell: &ConvexCell<f64>,
@@ -390,14 +366,35 @@ fn dispatch(
     limit: u64,
     mode: Mode<'_>,
 ) -> Option<usize> {
-    match path {
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: `check` made sure that this CPU has the feature.
-        SimdPath::Avx512 => unsafe { run_avx512(cell, w, st, limit, mode) },
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: as above.
-        SimdPath::Avx2 => unsafe { run_avx2(cell, w, st, limit, mode) },
-        _ => run::<lanes::Portable>(cell, w, st, limit, mode),
+    let mut work = ArcRun {
+        cell,
+        w,
+        st,
+        limit,
+        mode: Some(mode),
+        lost: None,
+    };
+    // `check` made sure that this CPU has the path.
+    on_path(path, &mut work).ok()?;
+    work.lost
+}
+
+/// One run of [`run`] as lane work for [`on_path`].
+struct ArcRun<'a, 'm> {
+    cell: &'a ConvexCell<f64>,
+    w: f64,
+    st: &'a mut ArcLanes,
+    limit: u64,
+    mode: Option<Mode<'m>>,
+    lost: Option<usize>,
+}
+
+impl LaneWork for ArcRun<'_, '_> {
+    #[inline(always)]
+    fn run<V: Lanes>(&mut self) {
+        if let Some(mode) = self.mode.take() {
+            self.lost = run::<V>(self.cell, self.w, self.st, self.limit, mode);
+        }
     }
 }
 
