@@ -11,6 +11,7 @@ use super::track::{self, Batch, LOOK_EVERY, Setup, Track, world_velocity};
 use crate::Error;
 use crate::engine::SimdPath;
 use crate::engine::arcs::{ArcBlock, ArcRecord};
+use crate::engine::options::StopFlag;
 use crate::engine::parallel::par_lane_blocks;
 use crate::scenes::Scene;
 use crate::scenes::magnetic::{ArcStep, no_next_event};
@@ -57,31 +58,72 @@ fn block<S: Scene>(
         .map(|s| Track::new(su, lat.unwrapped(s, 0.0), duration))
         .collect();
     let mut lanes = ArcBlock::new(path, lat.cell(), *su.field.0, &states)?;
-    let mut ring = vec![ArcRecord::default(); RING];
-    let mut unreported = 0;
-    while tracks.iter().any(Track::running) {
-        let lost = lanes.advance(&mut ring);
-        unreported += observe(su, &ring, &mut tracks, &mut lanes);
-        if let Some(l) = lost {
-            if tracks[l].running() {
-                return Err(no_next_event(lanes.state(l).flight.vel.to_f64()));
-            }
-            lanes.retire(l);
-        }
-        if unreported >= LOOK_EVERY {
-            (su.progress)(unreported);
-            unreported = 0;
-            if let Some(stop) = su.stop {
-                stop.check()?;
-            }
-        }
-    }
-    (su.progress)(unreported);
+    fly(
+        &mut lanes,
+        (su.progress, su.stop),
+        running(&tracks),
+        |ring, lanes| {
+            let counted = observe(su, ring, &mut tracks, lanes);
+            Ok(Looked {
+                counted,
+                running: running(&tracks),
+            })
+        },
+    )?;
     Ok(tracks
         .into_iter()
         .zip(rejected)
         .map(|(t, r)| t.finish(r))
         .collect())
+}
+
+/// The lanes whose track is still running, as bits.
+fn running(tracks: &[Track]) -> u64 {
+    (tracks.iter().enumerate()).fold(0, |b, (l, t)| b | u64::from(t.running()) << l)
+}
+
+/// What a look at a ring of recorded events found: the collisions counted, and the lanes still
+/// running (bits).
+pub(super) struct Looked {
+    pub(super) counted: u64,
+    pub(super) running: u64,
+}
+
+/// Flies the lanes of `block` while any of `running` (bits) runs: [`RING`] events at a time, each
+/// ring shown to `look` (which takes its events and retires the lanes it has finished), with
+/// progress reported and the stop flag looked at every [`LOOK_EVERY`] collisions. A lane that
+/// loses its next event while it runs is an error; one that is done is retired.
+///
+/// # Errors
+/// What `look` returns, an orbit without a next event, or an interruption.
+pub(super) fn fly(
+    block: &mut ArcBlock,
+    (progress, stop): (&dyn Fn(u64), Option<&StopFlag>),
+    mut running: u64,
+    mut look: impl FnMut(&[ArcRecord], &mut ArcBlock) -> Result<Looked, Error>,
+) -> Result<(), Error> {
+    let mut ring = vec![ArcRecord::default(); RING];
+    let mut unreported = 0;
+    while running != 0 {
+        let lost = block.advance(&mut ring);
+        let seen = look(&ring, block)?;
+        (unreported, running) = (unreported + seen.counted, seen.running);
+        if let Some(l) = lost {
+            if running >> l & 1 == 1 {
+                return Err(no_next_event(block.state(l).flight.vel.to_f64()));
+            }
+            block.retire(l);
+        }
+        if unreported >= LOOK_EVERY {
+            progress(unreported);
+            unreported = 0;
+            if let Some(stop) = stop {
+                stop.check()?;
+            }
+        }
+    }
+    progress(unreported);
+    Ok(())
 }
 
 /// Feeds the recorded events of every lane still running to its track, in order, and retires

@@ -10,7 +10,7 @@ use nalgebra::Vector4;
 use serde::{Deserialize, Serialize};
 
 use super::FieldWalk;
-use super::lanes::RING;
+use super::lanes::{Looked, RING, fly};
 use crate::Error;
 use crate::engine::arcs::{ArcBlock, ArcRecord};
 use crate::engine::metadata::RunMeta;
@@ -248,35 +248,38 @@ fn lanes<S: Scene>(
     let mut block = ArcBlock::new(path, cell, w, &states)?;
     let mut orbits: Vec<Tangent> = walks.iter().map(|o| Tangent::new(o, target)).collect();
     let vectors: Vec<_> = walks.iter().map(first_vector).collect();
-    let mut work = RingTangents {
-        cell,
-        w,
-        ring: vec![ArcRecord::default(); RING],
+    let mut state = TangentState {
         tangents: TangentBlock::new(&vectors),
         left: std::array::from_fn(|l| if l < walks.len() { target as f64 } else { 0.0 }),
         hits: vec![Hits::default(); RING],
     };
-    let mut unreported = 0;
-    while orbits.iter().any(Tangent::running) {
-        let lost = block.advance(&mut work.ring);
-        on_path(path, &mut work)?;
-        unreported += work.count(&mut orbits, w);
-        for (l, t) in orbits.iter().enumerate().filter(|(_, t)| !t.running()) {
-            block.retire(l);
-            debug_assert_eq!(t.collisions, target);
-        }
-        if let Some(l) = lost.filter(|&l| orbits[l].running()) {
-            return Err(no_next_event(block.state(l).flight.vel.to_f64()));
-        }
-        if unreported >= REPORT_EVERY {
-            (opts.progress)(unreported);
-            unreported = 0;
-            if let Some(stop) = &opts.stop {
-                stop.check()?;
+    let running = |orbits: &[Tangent]| {
+        (orbits.iter().enumerate()).fold(0, |b, (l, t)| b | u64::from(t.running()) << l)
+    };
+    let first = running(&orbits);
+    fly(
+        &mut block,
+        (opts.progress, opts.stop.as_ref()),
+        first,
+        |ring, block| {
+            let mut work = RingTangents {
+                cell,
+                w,
+                ring,
+                state: &mut state,
+            };
+            on_path(path, &mut work)?;
+            let counted = state.count(&mut orbits, w);
+            for (l, t) in orbits.iter().enumerate().filter(|(_, t)| !t.running()) {
+                block.retire(l);
+                debug_assert_eq!(t.collisions, target);
             }
-        }
-    }
-    (opts.progress)(unreported);
+            Ok(Looked {
+                counted,
+                running: running(&orbits),
+            })
+        },
+    )?;
     Ok(orbits)
 }
 
@@ -290,18 +293,23 @@ struct Hits {
     x: [f64; BLOCK],
 }
 
-/// The tangent vectors of a block's orbits carried through the events of a ring in vector lanes
-/// (each orbit until it has made its collisions: `left`).
-struct RingTangents<'a> {
-    cell: &'a ConvexCell<f64>,
-    w: f64,
-    ring: Vec<ArcRecord>,
+/// The tangent vectors of a block's orbits (each carried until it has made its collisions:
+/// `left`) and the collisions of the last ring.
+struct TangentState {
     tangents: TangentBlock,
     left: [f64; BLOCK],
     hits: Vec<Hits>,
 }
 
-impl RingTangents<'_> {
+/// The tangent vectors carried through the events of one ring in vector lanes.
+struct RingTangents<'a> {
+    cell: &'a ConvexCell<f64>,
+    w: f64,
+    ring: &'a [ArcRecord],
+    state: &'a mut TangentState,
+}
+
+impl TangentState {
     /// Gives every collision of the ring, in order, to its orbit; returns how many there were.
     fn count(&self, orbits: &mut [Tangent], w: f64) -> u64 {
         let mut n = 0;
@@ -321,13 +329,14 @@ impl LaneWork for RingTangents<'_> {
     #[inline(always)]
     fn run<V: Lanes>(&mut self) {
         let cell = TangentCell::<V>::new(self.cell, self.w);
-        for h in &mut self.hits {
+        let st = &mut *self.state;
+        for h in &mut st.hits {
             h.lanes = 0;
         }
         for o in (0..BLOCK).step_by(V::WIDTH) {
-            let mut t = TangentLane::<V>::load(&self.tangents, o);
-            let mut left = V::load(&self.left[o..]);
-            for (rec, h) in self.ring.iter().zip(&mut self.hits) {
+            let mut t = TangentLane::<V>::load(&st.tangents, o);
+            let mut left = V::load(&st.left[o..]);
+            for (rec, h) in self.ring.iter().zip(&mut st.hits) {
                 let b = &rec.before;
                 let live = V::and(V::from_bits(b.live_bits >> o), left.gt(V::splat(0.0)));
                 let at = |a: &[f64; BLOCK]| V::load(&a[o..]);
@@ -345,8 +354,8 @@ impl LaneWork for RingTangents<'_> {
                 c.x.store(&mut h.x[o..]);
                 h.lanes |= V::bits(c.lanes) << o;
             }
-            t.store(&mut self.tangents, o);
-            left.store(&mut self.left[o..]);
+            t.store(&mut st.tangents, o);
+            left.store(&mut st.left[o..]);
         }
     }
 }
