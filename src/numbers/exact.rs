@@ -92,6 +92,35 @@ pub fn nearest_f64(r: &Rational) -> f64 {
     Float::with_val(f64::MANTISSA_DIGITS, r).to_f64()
 }
 
+/// A double as exact text that [`parse_exact`] reads back as exactly `x`: the fraction m/2^k
+/// in lowest terms (`"1/4"`, `"3602879701896397/36028797018963968"` for 0.1), or the integer
+/// itself; for a parameter known only as a double. `None` for NaN, the infinities and the
+/// doubles whose fraction needs more than the 40 digits a decimal may have (|x| < 2^-80 or
+/// |x| ≥ 10^40 about, far outside every parameter's range).
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::numbers::exact::{exact_text_of, parse_exact, nearest_f64};
+/// assert_eq!(exact_text_of(0.25).unwrap(), "1/4");
+/// assert_eq!(exact_text_of(-3.0).unwrap(), "-3");
+/// let tenth = exact_text_of(0.1).unwrap();
+/// assert_eq!(tenth, "3602879701896397/36028797018963968");
+/// assert_eq!(parse_exact(&tenth).unwrap(), rug::Rational::from_f64(0.1).unwrap());
+/// assert!(exact_text_of(f64::NAN).is_none());
+/// ```
+pub fn exact_text_of(x: f64) -> Option<String> {
+    let q = Rational::from_f64(x)?;
+    let text = if *q.denom() == 1 {
+        q.numer().to_string()
+    } else {
+        q.to_string()
+    };
+    // The text must read back (each side within the digits a decimal may have).
+    let back = parse_exact(&text).ok()?;
+    (back == q).then_some(text)
+}
+
 /// A parameter (a gap or a radius) at a working precision: `exact`, the decimal or fraction the
 /// user typed, correctly rounded once to the context when it is given; otherwise the double
 /// `value` itself, taken as that binary number. At 53 bits both give `value` (see

@@ -161,6 +161,205 @@ impl SceneSpec {
     }
 }
 
+/// How the particle moves between collisions.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum Motion {
+    /// Straight lines at speed 1.
+    #[default]
+    Straight,
+    /// Arcs of a uniform magnetic field B perpendicular to the plane, B exactly as typed (a
+    /// decimal or a fraction): the velocity turns at the angular velocity B, counter-clockwise
+    /// for B > 0, on a cyclotron circle of radius 1/|B|.
+    Field(String),
+}
+
+/// What is simulated: the geometry (which table, its parameters exactly as typed) and the motion.
+/// Every analysis's configuration holds one; what only some tables have is asked of it
+/// ([`Error::Lacks`]).
+///
+/// In a configuration's JSON the table is flattened into the record in the form each kind of
+/// result has always had, so that files written before the table existed read as they were: the
+/// triangular gas without a field as `w` (the double) and `w_exact` (as typed), everything else as
+/// `scene` (a [`SceneSpec`]) with `field` for a field.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::scenes::spec::{Motion, SceneSpec, Table};
+/// let t = Table::triangular("1/10").unwrap();
+/// assert_eq!(t.gap_for("hops").unwrap(), 0.1);
+/// assert_eq!(serde_json::to_string(&t).unwrap(), r#"{"w":0.1,"w_exact":"1/10"}"#);
+/// let f = Table { scene: SceneSpec::Square { radius: "1/4".into() }, motion: Motion::Field("1".into()) };
+/// assert_eq!(
+///     serde_json::to_string(&f).unwrap(),
+///     r#"{"scene":{"scene":"square","radius":"1/4"},"field":"1"}"#
+/// );
+/// // A record of before: the double alone is the gap.
+/// let old: Table = serde_json::from_str(r#"{"w":0.1}"#).unwrap();
+/// assert_eq!(old.gap_for("hops").unwrap(), 0.1);
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "TableRecord", into = "TableRecord")]
+pub struct Table {
+    /// The geometry.
+    pub scene: SceneSpec,
+    /// The motion.
+    pub motion: Motion,
+}
+
+/// The keys a table has in a configuration's JSON.
+#[derive(Serialize, Deserialize)]
+struct TableRecord {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    w: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    w_exact: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    scene: Option<SceneSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    field: Option<String>,
+}
+
+impl From<Table> for TableRecord {
+    fn from(t: Table) -> Self {
+        let field = match t.motion {
+            Motion::Straight => None,
+            Motion::Field(b) => Some(b),
+        };
+        match t.scene {
+            SceneSpec::Triangular { w } if field.is_none() => TableRecord {
+                w: Some(ExactInput::parse(&w).map_or(f64::NAN, |x| x.value)),
+                w_exact: Some(w),
+                scene: None,
+                field,
+            },
+            scene => TableRecord {
+                w: None,
+                w_exact: None,
+                scene: Some(scene),
+                field,
+            },
+        }
+    }
+}
+
+impl TryFrom<TableRecord> for Table {
+    type Error = Error;
+    fn try_from(r: TableRecord) -> Result<Self, Error> {
+        let motion = r.field.map_or(Motion::Straight, Motion::Field);
+        let scene = match (r.w, r.scene) {
+            (Some(w), None) => {
+                if motion != Motion::Straight {
+                    return Err(Error::Invalid(
+                        "a gap w with a field: a field's table is given as `scene`".into(),
+                    ));
+                }
+                crate::numbers::exact::check_exact(("w", "w_exact"), w, r.w_exact.as_deref())?;
+                let text = r
+                    .w_exact
+                    .or_else(|| crate::numbers::exact::exact_text_of(w))
+                    .unwrap_or_else(|| format!("{w:?}"));
+                SceneSpec::Triangular { w: text }
+            }
+            (None, Some(scene)) if r.w_exact.is_none() => scene,
+            (None, None) => {
+                return Err(Error::Invalid(
+                    "no table: give `w` (the triangular gas's gap) or `scene`".into(),
+                ));
+            }
+            _ => {
+                return Err(Error::Invalid(
+                    "both a gap `w` and a `scene`: give one table".into(),
+                ));
+            }
+        };
+        Ok(Table { scene, motion })
+    }
+}
+
+impl Table {
+    /// The triangular gas at the gap `w` as typed (a decimal or a fraction), without a field.
+    ///
+    /// # Errors
+    /// Text that is not an exact number (or `nan`, `inf`, which validation refuses later).
+    pub fn triangular(w: &str) -> Result<Table, Error> {
+        let text = ExactInput::parse(w).map_err(|e| e.named("w"))?.text;
+        Ok(Table {
+            scene: SceneSpec::Triangular { w: text },
+            motion: Motion::Straight,
+        })
+    }
+
+    /// The triangular gas at the gap that is exactly the double `w` (runs at any precision start
+    /// from that binary number), without a field.
+    pub fn triangular_at(w: f64) -> Table {
+        let text = crate::numbers::exact::exact_text_of(w).unwrap_or_else(|| format!("{w:?}"));
+        Table {
+            scene: SceneSpec::Triangular { w: text },
+            motion: Motion::Straight,
+        }
+    }
+
+    /// The same geometry in the field B (as typed); `"0"` is the table without a field.
+    pub fn in_field(&self, b: &str) -> Table {
+        let zero = crate::numbers::exact::parse_exact(b).is_ok_and(|q| q == 0);
+        Table {
+            scene: self.scene.clone(),
+            motion: if zero {
+                Motion::Straight
+            } else {
+                Motion::Field(b.trim().to_string())
+            },
+        }
+    }
+
+    /// The triangular gap as typed, `None` on another scene.
+    pub fn gap_text(&self) -> Option<&str> {
+        match &self.scene {
+            SceneSpec::Triangular { w } => Some(w),
+            _ => None,
+        }
+    }
+
+    /// The triangular gap as the nearest double (what `f64` runs use), for `analysis`, which
+    /// runs on the triangular gas only.
+    ///
+    /// # Errors
+    /// Another scene ([`Error::Lacks`] trap symbols), or a gap that is not a number.
+    pub fn gap_for(&self, analysis: &'static str) -> Result<f64, Error> {
+        let Some(w) = self.gap_text() else {
+            return Err(self.lacks(crate::Capability::TrapSymbols, analysis));
+        };
+        Ok(ExactInput::parse(w).map_err(|e| e.named("w"))?.value)
+    }
+
+    /// The field B as typed, `None` without a field.
+    pub fn field(&self) -> Option<&str> {
+        match &self.motion {
+            Motion::Field(b) => Some(b),
+            Motion::Straight => None,
+        }
+    }
+
+    /// The refusal of `analysis` on this table, which lacks `capability`.
+    pub fn lacks(&self, capability: crate::Capability, analysis: &'static str) -> Error {
+        Error::Lacks {
+            scene: self.title(),
+            capability,
+            analysis,
+        }
+    }
+
+    /// The table's name for messages: the scene's, or a table's own title.
+    pub fn title(&self) -> String {
+        match &self.scene {
+            SceneSpec::Table(t) => t.title().to_string(),
+            s => s.name().to_string(),
+        }
+    }
+}
+
 /// Runs `$body` with `$s` bound to the concrete scene of a `&`[`SceneChoice`] (one monomorphic
 /// copy of `$body` per scene).
 #[macro_export]
