@@ -21,7 +21,7 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
-use lorentz_gas::estimators::diffusion::scene::{SceneDiffusionConfig, run_on};
+use lorentz_gas::estimators::diffusion::scene::{Sampling, run_on};
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::table::PeriodicTable;
 use lorentz_gas::scenes::table::spec::TableSpec;
@@ -35,11 +35,11 @@ fn main() -> Result<(), Error> {
         .into()
     });
     let table = PeriodicTable::new(&TableSpec::read(path.as_ref())?)?;
-    let cfg = SceneDiffusionConfig {
+    let cfg = Sampling {
         collisions: 32_000_000,
         batches: 16,
         seed: 7,
-        ..SceneDiffusionConfig::default()
+        ..Sampling::default()
     };
     let options = RunOptions {
         audit: Some(AuditSpec::new(1e-3, 256)?),

@@ -6,7 +6,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
+use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
+use lorentz_gas::verification::lyapunov::LyapunovConfig;
 use lorentz_gas::estimators::field::sweep::{self as field_sweep, FieldSweepConfig};
 use lorentz_gas::scenes::table::spec::TableSpec;
 
@@ -84,7 +85,7 @@ pub fn lyapunov_in_field(
     py: Python<'_>,
     progress: Progress<'_>,
     place: &Where,
-    cfg: FieldLyapunovConfig,
+    cfg: LyapunovConfig,
     (starts, threads): (Option<&str>, usize),
 ) -> PyResult<String> {
     if crate::inputs::count_u32("starts", starts.unwrap_or("0"))? > 0 {

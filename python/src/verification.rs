@@ -5,8 +5,6 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use lorentz_gas::engine::Engine;
-use lorentz_gas::engine::long_flight::Flights;
-use lorentz_gas::estimators::field::lyapunov::FieldLyapunovConfig;
 use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::report::text::lyapunov::LyapunovResult;
@@ -40,27 +38,18 @@ pub fn lyapunov(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let field = p.opt_text("field")?;
     let flights = p.flights()?;
     Ok(work(move |py, progress| {
-        if let Some(b) = field.filter(|b| parse_exact(b).is_ok_and(|q| q != 0)) {
-            if flights == Flights::Jump {
-                return Err(PyValueError::new_err(
-                    "flights = jump: arcs in a field cross the lattice cell by cell; use walk or auto",
-                ));
-            }
-            let cfg = FieldLyapunovConfig {
-                collisions_per_batch,
-                batches,
-                seed,
-                field: b.trim().to_string(),
-            };
-            let starts = (starts.as_deref(), threads);
-            return crate::field::lyapunov_in_field(py, progress, &place, cfg, starts);
-        }
         let cfg = LyapunovConfig {
             collisions_per_batch,
             batches,
             seed,
             flights,
+            field: None,
         };
+        if let Some(b) = field.filter(|b| parse_exact(b).is_ok_and(|q| q != 0)) {
+            let starts = (starts.as_deref(), threads);
+            let cfg = cfg.in_field(&b);
+            return crate::field::lyapunov_in_field(py, progress, &place, cfg, starts);
+        }
         straight_lyapunov(py, progress, &place, cfg, (starts.as_deref(), threads))
     }))
 }

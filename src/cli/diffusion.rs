@@ -2,14 +2,14 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
-use lorentz_gas::estimators::diffusion::scene::SceneDiffusionConfig;
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, DiffusionReport, MsdGrid, Window};
-use lorentz_gas::estimators::field;
+use lorentz_gas::estimators::transport::{self, Transport};
+use lorentz_gas::scenes::spec::{Motion, Table};
 use lorentz_gas::statistics::comparison;
 
 use super::args::{
     CheckpointArgs, EngineArg, OutputArgs, PrecisionArg, ReferenceBitsArg, RunArgs, SceneArgs,
-    SceneChoice, parse_count, parse_count_u32,
+    parse_count, parse_count_u32,
 };
 use super::output::emit;
 use super::progress::Progress;
@@ -73,115 +73,68 @@ pub struct Args {
     output: OutputArgs,
 }
 
-/// The configuration these options give (validated).
+/// The configuration these options give (validated): the table (`--w`, `--scene`, `--table`)
+/// in the field `--field` (none, or exactly 0, is the run without a field).
 pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
-    let w_exact = a.scene.w.as_ref().and_then(|w| w.exact_text());
-    let w = match a.scene.resolve()? {
-        SceneChoice::Triangular(s) => s.w(),
-        SceneChoice::Square(s) => {
-            diffusion::require_finite_horizon(&s)?;
-            unreachable!("the square scene has an infinite horizon")
-        }
-        SceneChoice::Table(t) => {
-            diffusion::require_finite_horizon(&*t)?;
-            return Err(Error::Lacks {
-                scene: t.spec().title().to_string(),
-                capability: lorentz_gas::Capability::TrapSymbols,
-                analysis: "triangular diffusion",
-            });
-        }
+    let table = Table {
+        scene: a.scene.spec()?,
+        motion: Motion::Straight,
     };
+    let table = match &a.field {
+        Some(b) => table.in_field(b),
+        None => table,
+    };
+    let in_field = table.field().is_some();
     let cfg = DiffusionConfig {
-        w,
-        w_exact,
-        collisions: a
-            .collisions
-            .unwrap_or_else(|| diffusion::plan::default_collisions(a.rel_err)),
+        collisions: a.collisions.unwrap_or_else(|| {
+            diffusion::plan::default_collisions(a.rel_err.filter(|_| !in_field))
+        }),
         batches: a.batches,
         seed: a.run.seed(),
-        run: 0,
         precision: a.precision.precision,
         window: a.window,
         check_window: a.check_window,
         rel_err: a.rel_err,
         msd_grid: a.msd_grid,
+        localization_samples: in_field.then_some(a.localization_samples),
+        ..DiffusionConfig::on(table)
     };
     cfg.validate()?;
     Ok(cfg)
 }
 
-/// The field run the arguments ask for (validated), unless the field is absent or exactly zero:
-/// on either scene (in a field every scene has a finite horizon).
-pub fn field_config(
-    a: &Args,
-) -> Result<Option<lorentz_gas::estimators::field::FieldConfig>, Error> {
-    let Some(b) = nonzero_field(a)? else {
-        return Ok(None);
-    };
-    field::refuse_zero_field_options(a.rel_err, a.msd_grid)?;
-    let cfg = field::FieldConfig {
-        statistics: statistics(a),
-        localization_samples: a.localization_samples,
-        ..field::FieldConfig::new(a.scene.spec()?, &b)
-    };
-    cfg.validate()?;
-    Ok(Some(cfg))
+/// The configuration a result of these options records: the run's, or on a table given as
+/// data without a field what it samples (the table recorded beside it).
+pub fn recorded_config(a: &Args) -> Result<serde_json::Value, Error> {
+    let cfg = config(a)?;
+    let table_run = cfg.table.field().is_none() && cfg.table.gap_text().is_none();
+    if table_run {
+        serde_json::to_value(cfg.sampling())
+    } else {
+        serde_json::to_value(&cfg)
+    }
+    .map_err(Error::encode)
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    if let Some(fc) = field_config(&a)? {
-        return super::field::run(&fc, options(&a)?, a.output.quiet, a.output.json);
-    }
-    if a.scene.table.is_some() {
-        return run_table(&a);
-    }
     let cfg = config(&a)?;
     let opts = options(&a)?;
-    let r = if cfg.rel_err.is_some() {
-        run_planned(&cfg, &opts, a.output.quiet)?
-    } else {
-        with_progress(cfg.collisions, "collisions", a.output.quiet, &opts, |o| {
-            diffusion::run(&cfg, o)
-        })?
-    };
-    emit(a.output.json, &r, print)
-}
-
-/// The configuration of a field-free run on a table given as data (`--table FILE` without
-/// `--field`), or `None` for another run.
-pub fn table_run_config(a: &Args) -> Result<Option<SceneDiffusionConfig>, Error> {
-    if a.scene.table.is_none() || nonzero_field(a)?.is_some() {
-        return Ok(None);
+    if cfg.rel_err.is_some() {
+        let r = run_planned(&cfg, &opts, a.output.quiet)?;
+        return emit(a.output.json, &r, print);
     }
-    let SceneChoice::Table(table) = a.scene.resolve()? else {
-        return Ok(None);
-    };
-    table_config(a, &table).map(Some)
-}
-
-/// The statistics of a run on any table (validated against it).
-fn table_config(
-    a: &Args,
-    table: &lorentz_gas::scenes::table::PeriodicTable,
-) -> Result<SceneDiffusionConfig, Error> {
-    diffusion::scene::refuse_rel_err(a.rel_err)?;
-    let cfg = statistics(a);
-    cfg.validate(table)?;
-    Ok(cfg)
-}
-
-/// The statistics of a run on any scene (in a field, or on a table given as data).
-fn statistics(a: &Args) -> SceneDiffusionConfig {
-    SceneDiffusionConfig {
-        collisions: a
-            .collisions
-            .unwrap_or_else(|| diffusion::plan::default_collisions(None)),
-        batches: a.batches,
-        seed: a.run.seed(),
-        precision: a.precision.precision,
-        window: a.window,
-        check_window: a.check_window,
-        msd_grid: a.msd_grid,
+    let r = with_progress(cfg.collisions, "collisions", a.output.quiet, &opts, |o| {
+        transport::run(&cfg, o)
+    })?;
+    match r {
+        Transport::Trap(r) => emit(a.output.json, &*r, print),
+        Transport::Field(r) => emit(a.output.json, &*r, super::field::print),
+        Transport::Table(r) => emit(a.output.json, &*r, |r| {
+            print!(
+                "{}",
+                lorentz_gas::report::text::scene_diffusion::scene_diffusion(r)
+            )
+        }),
     }
 }
 
@@ -197,24 +150,6 @@ fn options(a: &Args) -> Result<RunOptions<'static>, Error> {
         audit,
         ..super::signals::options()
     }))
-}
-
-/// D on a table given as data (`--table FILE`), on the scalar engine at any precision.
-fn run_table(a: &Args) -> Result<(), Error> {
-    let SceneChoice::Table(table) = a.scene.resolve()? else {
-        unreachable!("--table resolves to a table")
-    };
-    let cfg = table_config(a, &table)?;
-    let opts = options(a)?;
-    let r = with_progress(cfg.collisions, "collisions", a.output.quiet, &opts, |o| {
-        diffusion::scene::run_on(&*table, &cfg, o)
-    })?;
-    emit(a.output.json, &r, |r| {
-        print!(
-            "{}",
-            lorentz_gas::report::text::scene_diffusion::scene_diffusion(r)
-        )
-    })
 }
 
 /// Runs `f` with a progress report over `total` units in its options.
@@ -264,18 +199,6 @@ fn run_planned(
     with_progress(total, "collisions", quiet || full.is_none(), opts, |o| {
         diffusion::plan::finish(cfg, first, pilot, o)
     })
-}
-
-/// The field, unless absent or exactly zero (the run without a field, with its own bits).
-fn nonzero_field(a: &Args) -> Result<Option<String>, Error> {
-    match &a.field {
-        Some(b)
-            if lorentz_gas::numbers::exact::parse_exact(b).map_err(|e| e.named("field"))? != 0 =>
-        {
-            Ok(Some(b.clone()))
-        }
-        _ => Ok(None),
-    }
 }
 
 /// The result's text (the library's, which Python's `str()` shows too), and on stderr a warning

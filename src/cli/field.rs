@@ -1,28 +1,11 @@
 //! `lorentz diffusion --field B`: the diffusion tensor in a magnetic field.
 
-use lorentz_gas::Error;
-use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::{self, FieldConfig, FieldReport};
+use lorentz_gas::estimators::field::FieldReport;
 use lorentz_gas::statistics::comparison;
 
-use super::output::emit;
-use super::progress::Progress;
-
-/// Runs it with the options the command line gave and prints or writes the report.
-pub fn run(cfg: &FieldConfig, opts: RunOptions, quiet: bool, json: bool) -> Result<(), Error> {
-    let pb = Progress::new(cfg.statistics.collisions, "collisions", quiet);
-    let progress = pb.callback();
-    let opts = RunOptions {
-        progress: &progress,
-        ..opts
-    };
-    let r = field::run(cfg, &opts)?;
-    drop(progress);
-    drop(pb);
-    emit(json, &r, print)
-}
-
-fn print(r: &FieldReport) {
+/// The text of a field result, and on stderr a warning when the diffusing part's mean free
+/// time is far from Kac's.
+pub fn print(r: &FieldReport) {
     print!("{}", lorentz_gas::report::text::field::field(r));
     if r.all_localized {
         return;

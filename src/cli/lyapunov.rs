@@ -2,7 +2,7 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::lyapunov::{self as field_lyapunov, FieldLyapunovConfig};
+use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
 use lorentz_gas::report::text::lyapunov::{self as text, LyapunovResult};
 use lorentz_gas::statistics::comparison;
 use lorentz_gas::verification::divergence::{self, DivergenceConfig};
@@ -60,12 +60,7 @@ fn in_field(a: &Args, b: &str) -> Result<(), Error> {
         ));
     }
     let scene = a.scene.resolve()?;
-    let cfg = FieldLyapunovConfig {
-        collisions_per_batch: a.collisions_per_batch,
-        batches: a.batches,
-        seed: a.run.seed(),
-        field: b.trim().to_string(),
-    };
+    let cfg = config(a).in_field(b);
     let total =
         (a.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.batches as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
@@ -97,6 +92,17 @@ fn in_field(a: &Args, b: &str) -> Result<(), Error> {
 /// Most divergence starts: each costs about a second of MPFR work at 4096 bits.
 const MAX_STARTS: u32 = 10_000;
 
+/// The measurement the options ask for, without the field.
+fn config(a: &Args) -> LyapunovConfig {
+    LyapunovConfig {
+        collisions_per_batch: a.collisions_per_batch,
+        batches: a.batches,
+        seed: a.run.seed(),
+        flights: a.flights.flights,
+        field: None,
+    }
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
     if let Some(b) = a.field.as_deref().filter(|b| !is_zero(b)) {
         return in_field(&a, b);
@@ -122,12 +128,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     let total =
         (a.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.batches as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
-    let cfg = LyapunovConfig {
-        collisions_per_batch: a.collisions_per_batch,
-        batches: a.batches,
-        seed: a.run.seed(),
-        flights: a.flights.flights,
-    };
+    let cfg = config(&a);
     let opts = RunOptions {
         engine: a.engine.engine,
         ..pb.options(a.run.threads())

@@ -62,15 +62,7 @@ fn read_command_line(line: &[String]) -> CommandLine {
     use super::Cmd;
     let command = line.get(1).cloned().unwrap_or_default();
     let config = match &cli.cmd {
-        Cmd::Diffusion(a) => match (
-            super::diffusion::field_config(a),
-            super::diffusion::table_run_config(a),
-        ) {
-            (Ok(Some(fc)), _) => json(Ok(fc)),
-            (Ok(None), Ok(Some(tc))) => json(Ok(tc)),
-            (Ok(None), Ok(None)) => json(super::diffusion::config(a)),
-            (Err(e), _) | (_, Err(e)) => Err(e),
-        },
+        Cmd::Diffusion(a) => super::diffusion::recorded_config(a).map(Some),
         Cmd::Hops(a) => json(Ok(a.hop.config())),
         Cmd::Theory(a) | Cmd::LatticeWalk(a) => json(Ok(a.config())),
         Cmd::Backscatter(a) => json(Ok(super::backscatter::config(a))),

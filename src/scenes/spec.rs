@@ -161,6 +161,32 @@ impl SceneSpec {
     }
 }
 
+/// The fields the transport analyses take: 10⁻³ ≤ |B| ≤ 10³ (cyclotron radii from 10⁻³ to 10³;
+/// the kernel itself is tested from 10⁻⁶ to 10⁶).
+pub const FIELD_RANGE: (f64, f64) = (1e-3, 1e3);
+
+/// The field B of `text` as the nearest double, checked: nonzero and within [`FIELD_RANGE`].
+///
+/// # Errors
+/// A field that is not an exact decimal or fraction, zero (the straight-line run: leave the
+/// field out), or outside [`FIELD_RANGE`].
+pub fn field_value(text: &str) -> Result<f64, Error> {
+    use crate::numbers::exact::{nearest_f64, parse_exact};
+    let b = nearest_f64(&parse_exact(text).map_err(|e| e.named("field"))?);
+    let (lo, hi) = FIELD_RANGE;
+    if b == 0.0 || !(lo..=hi).contains(&b.abs()) {
+        return Err(Error::out_of_range(
+            "field",
+            b,
+            format!(
+                "use {lo:e} <= |field| <= {hi:e} (field = 0 is the zero-field run: leave \
+                 the field out)"
+            ),
+        ));
+    }
+    Ok(b)
+}
+
 /// How the particle moves between collisions.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 #[non_exhaustive]
@@ -332,6 +358,14 @@ impl Table {
             return Err(self.lacks(crate::Capability::TrapSymbols, analysis));
         };
         Ok(ExactInput::parse(w).map_err(|e| e.named("w"))?.value)
+    }
+
+    /// The field B as the nearest double, checked ([`field_value`]); `None` without a field.
+    ///
+    /// # Errors
+    /// As [`field_value`].
+    pub fn field_value(&self) -> Result<Option<f64>, Error> {
+        self.field().map(field_value).transpose()
     }
 
     /// The field B as typed, `None` without a field.

@@ -58,8 +58,9 @@ pub struct LyapunovReport {
     pub meta: RunMeta,
 }
 
-/// What a tangent-space Lyapunov measurement runs.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// What a tangent-space Lyapunov measurement runs: straight flights ([`run`]) or, with `field`,
+/// the arcs of a magnetic field ([`crate::estimators::field::lyapunov::run`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LyapunovConfig {
     /// Collisions of each batch (one orbit), after a transient of [`TANGENT_TRANSIENT`].
@@ -71,9 +72,21 @@ pub struct LyapunovConfig {
     /// How flights cross the lattice ([`Flights`]): `auto` (jumps where the scene supplies them and they are faster, [`crate::engine::long_flight::AUTO_MAX_RADIUS`]).
     #[serde(default)]
     pub flights: Flights,
+    /// A uniform magnetic field B, exactly as typed (a decimal or a fraction, 10⁻³ ≤ |B| ≤ 10³):
+    /// the exponent of the arcs. `None`: straight flights.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field: Option<String>,
 }
 
 impl LyapunovConfig {
+    /// The same measurement in the field B (as typed): the exponent of the arcs.
+    pub fn in_field(self, b: &str) -> Self {
+        LyapunovConfig {
+            field: Some(b.trim().to_string()),
+            ..self
+        }
+    }
+
     /// The command line's defaults: 2·10⁶ collisions in each of 16 batches, seed 1.
     pub fn new() -> Self {
         LyapunovConfig {
@@ -81,6 +94,7 @@ impl LyapunovConfig {
             batches: 16,
             seed: 1,
             flights: Flights::Auto,
+            field: None,
         }
     }
 }
@@ -109,7 +123,16 @@ pub fn run<S: Scene>(
         batches,
         seed,
         flights,
+        ref field,
     } = *cfg;
+    if let Some(b) = field {
+        return Err(Error::parameter(
+            "field",
+            b,
+            "this measurement flies straight lines: the exponent in a field is the arcs' \
+             (estimators::field::lyapunov::run)",
+        ));
+    }
     let flights = flights.resolve(scene)?;
     let radius = scene.long_flights().filter(|_| flights == Flights::Jump);
     let (threads, progress) = (options.threads, options.progress);

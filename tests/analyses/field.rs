@@ -10,14 +10,15 @@
 //!   the SIMD arc engine.
 
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
-use lorentz_gas::estimators::field::{self, FieldConfig, FieldReport};
+use lorentz_gas::estimators::field::{self, FieldReport};
+use lorentz_gas::scenes::spec::{Motion, Table};
 use lorentz_gas::scenes::spec::SceneSpec;
 
 use crate::common::{physics_only, t4, t4_welch, threads};
 
 const BATCHES: u32 = 16;
 
-fn config(w: f64, b: &str, collisions: u64) -> FieldConfig {
+fn config(w: f64, b: &str, collisions: u64) -> DiffusionConfig {
     scene_config(
         SceneSpec::Triangular {
             w: format!("{w:?}"),
@@ -27,14 +28,18 @@ fn config(w: f64, b: &str, collisions: u64) -> FieldConfig {
     )
 }
 
-fn scene_config(scene: SceneSpec, b: &str, collisions: u64) -> FieldConfig {
-    let mut cfg = FieldConfig {
-        localization_samples: 100_000,
-        ..FieldConfig::new(scene, b)
+fn scene_config(scene: SceneSpec, b: &str, collisions: u64) -> DiffusionConfig {
+    let table = Table {
+        scene,
+        motion: Motion::Field(b.into()),
     };
-    let s = &mut cfg.statistics;
-    (s.collisions, s.batches, s.seed) = (collisions, BATCHES, 11);
-    cfg
+    DiffusionConfig {
+        localization_samples: Some(100_000),
+        collisions,
+        batches: BATCHES,
+        seed: 11,
+        ..DiffusionConfig::on(table)
+    }
 }
 
 fn run(w: f64, b: &str, collisions: u64) -> FieldReport {
@@ -149,7 +154,7 @@ fn symmetric_and_kac(r: &FieldReport, at: &str) {
         r.field
     );
     let f = r.localized_fraction_exact;
-    let n = r.config.localization_samples as f64;
+    let n = r.config.localization_samples.unwrap_or(0) as f64;
     let bin = 4.0 * (f * (1.0 - f) / n).sqrt() + 1.0 / n;
     assert!(
         (r.localized_fraction - f).abs() <= bin,
@@ -356,16 +361,19 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
 /// arcs), each by the Welch 4σ bound of independent orbits.
 #[test]
 fn the_lyapunov_exponent_is_even_in_b_and_joins_the_zero_field_one() {
-    use lorentz_gas::estimators::field::lyapunov::{self as fl, FieldLyapunovConfig};
+    use lorentz_gas::estimators::field::lyapunov as fl;
     use lorentz_gas::scenes::triangular::TriangularScene;
     use lorentz_gas::verification::lyapunov::{self, LyapunovConfig};
     const ORBITS: u32 = 8;
     let scene = TriangularScene::new(0.1).unwrap();
-    let cfg = |b: &str, seed: u64| FieldLyapunovConfig {
-        collisions_per_batch: 200_000,
-        batches: ORBITS,
-        seed,
-        field: b.into(),
+    let cfg = |b: &str, seed: u64| {
+        LyapunovConfig {
+            collisions_per_batch: 200_000,
+            batches: ORBITS,
+            seed,
+            ..LyapunovConfig::new()
+        }
+        .in_field(b)
     };
     let run = |b: &str, seed: u64| fl::run(&scene, &cfg(b, seed), &threads(2)).unwrap().tangent;
     let zero = lyapunov::run(
@@ -398,18 +406,19 @@ fn the_lyapunov_exponent_is_even_in_b_and_joins_the_zero_field_one() {
 /// at B = 1, each by the Welch 4σ bound of independent orbits.
 #[test]
 fn on_the_square_lattice_the_field_exponent_is_even_in_b() {
-    use lorentz_gas::estimators::field::lyapunov::{self as fl, FieldLyapunovConfig};
+    use lorentz_gas::estimators::field::lyapunov as fl;
     use lorentz_gas::scenes::square::SquareScene;
     use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
     const ORBITS: u32 = 8;
     let scene = SquareScene::new(0.25).unwrap();
     let run = |b: &str, seed: u64| {
-        let cfg = FieldLyapunovConfig {
+        let cfg = LyapunovConfig {
             collisions_per_batch: 100_000,
             batches: ORBITS,
             seed,
-            field: b.into(),
-        };
+            ..LyapunovConfig::new()
+        }
+        .in_field(b);
         fl::run(&scene, &cfg, &threads(2)).unwrap().tangent
     };
     let zero = LyapunovConfig {
@@ -436,7 +445,7 @@ fn on_the_square_lattice_the_field_exponent_is_even_in_b() {
 fn the_field_exponent_has_the_same_bits_on_every_engine_and_thread_count() {
     use lorentz_gas::engine::Engine;
     use lorentz_gas::engine::options::RunOptions;
-    use lorentz_gas::estimators::field::lyapunov::{self as fl, FieldLyapunovConfig};
+    use lorentz_gas::estimators::field::lyapunov as fl;
     let on = |engine, threads| RunOptions {
         engine,
         threads,
@@ -448,12 +457,13 @@ fn the_field_exponent_has_the_same_bits_on_every_engine_and_thread_count() {
         (square("1/3"), "3/2"),
         (two_radius(), "1"),
     ] {
-        let cfg = FieldLyapunovConfig {
+        let cfg = lorentz_gas::verification::lyapunov::LyapunovConfig {
             collisions_per_batch: 20_000,
             batches: 16,
             seed: 7,
-            field: b.into(),
-        };
+            ..Default::default()
+        }
+        .in_field(b);
         let choice = scene.resolve().unwrap();
         let run =
             |o: &RunOptions| lorentz_gas::with_scene!(&choice, |s| fl::run(s, &cfg, o)).unwrap();

@@ -72,6 +72,7 @@ fn constants_at_53_bits_are_the_f64_constants() {
 fn an_exact_gap_reaches_mpfr_without_the_doubles_rounding() {
     use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
     use lorentz_gas::numbers::precision::Precision;
+    use lorentz_gas::scenes::spec::Table;
     let base = DiffusionConfig {
         collisions: 20_000,
         batches: 2,
@@ -80,9 +81,12 @@ fn an_exact_gap_reaches_mpfr_without_the_doubles_rounding() {
         ..DiffusionConfig::new(0.1)
     };
     let d = |precision: Precision, exact: Option<&str>| {
+        let table = exact.map_or(Table::triangular_at(0.1), |t| {
+            Table::triangular(t).unwrap()
+        });
         let cfg = DiffusionConfig {
             precision,
-            w_exact: exact.map(str::to_string),
+            table,
             ..base.clone()
         };
         let r = run(&cfg, &crate::common::threads(2)).unwrap();
@@ -98,11 +102,10 @@ fn an_exact_gap_reaches_mpfr_without_the_doubles_rounding() {
         of_tenth, of_double,
         "1/10 at 128 bits ran as the double 0.1"
     );
-    let wrong = DiffusionConfig {
-        w_exact: Some("1/5".into()),
-        ..base.clone()
-    };
-    let e = run(&wrong, &crate::common::threads(1))
+    // A record whose exact gap is not its double is refused as it is read.
+    let mut wrong = serde_json::to_value(&base).unwrap();
+    wrong["w_exact"] = "1/5".into();
+    let e = serde_json::from_value::<DiffusionConfig>(wrong)
         .unwrap_err()
         .to_string();
     assert!(e.contains("w_exact = '1/5': not w = 0.1"), "{e}");

@@ -9,7 +9,7 @@ use lorentz_gas::engine::cells;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::simd::BLOCK;
 use lorentz_gas::engine::{Engine, SimdPath};
-use lorentz_gas::estimators::diffusion::scene::{SceneDiffusionConfig, run_on};
+use lorentz_gas::estimators::diffusion::scene::{Sampling, run_on};
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::table::PeriodicTable;
@@ -56,10 +56,10 @@ fn every_lane_of_a_table_reproduces_the_scalar_kernel_on_every_available_path() 
 #[test]
 fn d_on_a_table_has_the_same_bits_on_both_engines_and_any_thread_count() {
     let table = two_radius();
-    let cfg = SceneDiffusionConfig {
+    let cfg = Sampling {
         collisions: 1_600_000,
         batches: 20,
-        ..SceneDiffusionConfig::default()
+        ..Sampling::default()
     };
     let on = |engine, threads| RunOptions {
         engine,

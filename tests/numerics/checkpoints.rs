@@ -214,10 +214,14 @@ fn edited_and_forged_checkpoints_are_refused() {
     let e = run(&cfg, &opts).unwrap_err().to_string();
     assert!(e.contains("c.jsonl: line 3") && e.contains("digest"), "{e}");
     // Forged: the digests hold, the physics does not.
-    let at_02 = |h: &mut serde_json::Value| h["config"]["w"] = serde_json::json!(0.2);
-    std::fs::write(&path, forge(&text, at_02, |_| {})).unwrap();
     let mut cfg_02 = cfg.clone();
-    cfg_02.w = 0.2;
+    cfg_02.table = lorentz_gas::scenes::spec::Table::triangular_at(0.2);
+    let table_02 = serde_json::to_value(&cfg_02.table).unwrap();
+    let at_02 = |h: &mut serde_json::Value| {
+        h["config"]["w"] = table_02["w"].clone();
+        h["config"]["w_exact"] = table_02["w_exact"].clone();
+    };
+    std::fs::write(&path, forge(&text, at_02, |_| {})).unwrap();
     let e = run(&cfg_02, &opts).unwrap_err();
     assert!(matches!(e, Error::Failed(_)), "{e}");
     let e = e.to_string();

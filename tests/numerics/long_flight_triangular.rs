@@ -108,6 +108,7 @@ fn lyapunov_at(w: &str, flights: Flights, collisions: u64, batches: u32) -> Lyap
         batches,
         seed: 43,
         flights,
+        field: None,
     };
     lyapunov::run(&scene, &cfg, &crate::common::threads(2)).unwrap()
 }

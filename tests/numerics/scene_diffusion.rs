@@ -8,7 +8,7 @@
 use lorentz_gas::Error;
 use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
-use lorentz_gas::estimators::diffusion::scene::{SceneDiffusionConfig, run_on};
+use lorentz_gas::estimators::diffusion::scene::{Sampling, run_on};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
 use lorentz_gas::numbers::precision::Precision;
 use lorentz_gas::scenes::square::SquareScene;
@@ -31,18 +31,18 @@ fn same_bits_as_the_triangular_estimator(w: &str, precision: Precision, collisio
     let q: Rational = lorentz_gas::numbers::exact::parse_exact(w).unwrap();
     let w64 = lorentz_gas::numbers::exact::nearest_f64(&q);
     let tri = DiffusionConfig {
-        w: w64,
-        w_exact: Some(w.to_string()),
+        table: lorentz_gas::scenes::spec::Table::triangular(w).unwrap(),
         collisions,
         batches: 4,
         seed: 3,
         precision,
         ..DiffusionConfig::new(w64)
     };
-    let general = SceneDiffusionConfig {
+    let general = Sampling {
         collisions,
         batches: 4,
         seed: 3,
+        run: 0,
         precision,
         window: tri.window,
         check_window: tri.check_window,
@@ -89,11 +89,11 @@ pub(super) fn two_radius() -> PeriodicTable {
 
 #[test]
 fn a_table_the_crate_does_not_ship_meets_its_identities_and_its_error_model() {
-    let cfg = SceneDiffusionConfig {
+    let cfg = Sampling {
         collisions: 4_000_000,
         batches: 8,
         seed: 11,
-        ..SceneDiffusionConfig::default()
+        ..Sampling::default()
     };
     let opts = RunOptions {
         audit: Some(AuditSpec::new(2e-3, 192).unwrap()),
@@ -120,10 +120,10 @@ fn a_table_the_crate_does_not_ship_meets_its_identities_and_its_error_model() {
 
 #[test]
 fn open_corridors_the_simd_engine_and_mpfr_audits_are_refused() {
-    let cfg = SceneDiffusionConfig {
+    let cfg = Sampling {
         collisions: 1_000_000,
         batches: 4,
-        ..SceneDiffusionConfig::default()
+        ..Sampling::default()
     };
     let square = SquareScene::new(0.25).unwrap();
     let e = run_on(&square, &cfg, &scalar(1)).unwrap_err();
@@ -149,7 +149,7 @@ fn open_corridors_the_simd_engine_and_mpfr_audits_are_refused() {
         ),
         "{e}"
     );
-    let mpfr = SceneDiffusionConfig {
+    let mpfr = Sampling {
         precision: Precision::Bits(128),
         ..cfg.clone()
     };
@@ -158,7 +158,7 @@ fn open_corridors_the_simd_engine_and_mpfr_audits_are_refused() {
         ..scalar(1)
     };
     assert!(run_on(&two_radius(), &mpfr, &audited).is_err());
-    let short = SceneDiffusionConfig {
+    let short = Sampling {
         collisions: 1000,
         ..cfg
     };
@@ -170,11 +170,11 @@ fn open_corridors_the_simd_engine_and_mpfr_audits_are_refused() {
 fn a_checkpoint_resumes_to_the_same_bits_and_refuses_another_scene() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("scene.ckpt");
-    let cfg = SceneDiffusionConfig {
+    let cfg = Sampling {
         collisions: 800_000,
         batches: 4,
         seed: 5,
-        ..SceneDiffusionConfig::default()
+        ..Sampling::default()
     };
     let plain = run_on(&two_radius(), &cfg, &scalar(2)).unwrap();
     let kept = RunOptions {

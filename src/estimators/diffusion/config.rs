@@ -5,9 +5,11 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 
 use super::execution::Job;
+use super::scene::Sampling;
 use crate::Error;
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
+use crate::scenes::spec::{SceneSpec, Table};
 use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap_exact};
 
 /// A fit window in units of the mean hop time τ.
@@ -104,16 +106,25 @@ impl std::fmt::Display for MsdGrid {
 /// longest lag averages over many independent time origins).
 pub const MIN_HOPS_PER_LAG: usize = 20;
 
-/// Everything that defines a diffusion run.
+/// Default number of phase points classified, in a field, for the sampled localized share.
+pub const DEFAULT_LOCALIZATION_SAMPLES: u64 = 1_000_000;
+
+/// Everything that defines a diffusion run, on any table and motion: the triangular gas without a
+/// field (the trap estimator of [`super::run`], with the paper's hierarchy beside D), any other
+/// table without a field ([`super::scene`]: the Einstein estimator on any finite-horizon table),
+/// or any table in a magnetic field ([`crate::estimators::field`]: the tensor D_xx, D_xy with the
+/// localized orbits counted exactly). [`crate::estimators::transport::run`] runs whichever the
+/// table asks for.
+///
+/// The fit windows are in units of the table's time unit (the paper's hop time τ on the
+/// triangular gas, the crossing time π|Q|/L elsewhere).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DiffusionConfig {
-    /// Gap w: the double that `f64` runs use.
-    pub w: f64,
-    /// The gap exactly as the user gave it (a decimal or a fraction such as `"1/10"`), whose
-    /// nearest double is `w`: runs at an MPFR precision start from it, rounded once, so they
-    /// never see the double's representation error. `None`: the double `w` is the gap.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub w_exact: Option<String>,
+    /// What is simulated: the geometry, its parameters exactly as typed (runs at an MPFR
+    /// precision round them once, never through a double), and the motion. In JSON the
+    /// triangular gas without a field is `w` and `w_exact`, any other table `scene` (and `field`).
+    #[serde(flatten)]
+    pub table: Table,
     /// Total number of collisions over all batches.
     pub collisions: u64,
     /// Number of independent batches (trajectories).
@@ -132,21 +143,32 @@ pub struct DiffusionConfig {
     pub check_window: Window,
     /// Plan the run for this relative error D_err/D ([`super::plan`]): `collisions` is then the
     /// size of a pilot run, and the result the plain run of the size the pilot plans (with the
-    /// pilot recorded), in the same batches. `None`: a plain run of `collisions`.
+    /// pilot recorded), in the same batches. `None`: a plain run of `collisions`. The triangular
+    /// gas without a field only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rel_err: Option<f64>,
     /// Where the MSD is kept: the fit windows' lags, or also the logarithmic grid of the MSD
-    /// curve ([`MsdGrid`]).
+    /// curve ([`MsdGrid`]; without a field).
     #[serde(default, skip_serializing_if = "MsdGrid::is_fit")]
     pub msd_grid: MsdGrid,
+    /// In a field: phase points drawn from the invariant measure and classified, for the sampled
+    /// share of localized orbits (1 to 10⁹). `None` without a field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub localization_samples: Option<u64>,
 }
 
 impl DiffusionConfig {
-    /// The default run at `w`: 2·10⁹ collisions in 32 batches, windows [10τ, 40τ] and [20τ, 80τ].
+    /// The default run at the gap that is exactly the double `w` (see [`Self::on`]).
     pub fn new(w: f64) -> Self {
+        Self::on(Table::triangular_at(w))
+    }
+
+    /// The default run on `table`: 2·10⁹ collisions in 32 batches, seed 1, windows [10τ, 40τ]
+    /// and [20τ, 80τ], in a field 10⁶ classified points.
+    pub fn on(table: Table) -> Self {
         DiffusionConfig {
-            w,
-            w_exact: None,
+            localization_samples: table.field().map(|_| DEFAULT_LOCALIZATION_SAMPLES),
+            table,
             collisions: 2_000_000_000,
             batches: 32,
             seed: 1,
@@ -159,12 +181,75 @@ impl DiffusionConfig {
         }
     }
 
-    /// Checks every parameter; errors name the valid range.
+    /// The triangular gap as the nearest double, for the trap estimator.
+    ///
+    /// # Errors
+    /// Another table ([`Error::Lacks`] trap symbols) or a gap that is not a number.
+    pub fn gap(&self) -> Result<f64, Error> {
+        self.table.gap_for("triangular diffusion")
+    }
+
+    /// What the run samples, whatever the table: collisions, batches, seed, precision, windows
+    /// and MSD grid (the streams of run 0 of the seed).
+    pub fn sampling(&self) -> Sampling {
+        Sampling {
+            collisions: self.collisions,
+            batches: self.batches,
+            seed: self.seed,
+            run: self.run,
+            precision: self.precision,
+            window: self.window,
+            check_window: self.check_window,
+            msd_grid: self.msd_grid,
+        }
+    }
+
+    /// Checks every parameter against the table and motion; errors name the valid range.
+    ///
+    /// # Errors
+    /// A bad table or field; an infinite horizon without a field (naming the corridor); what only
+    /// the triangular gas without a field has (`rel_err`), or only a run without a field (the
+    /// logarithmic MSD grid), asked of another; too few batches or collisions for the windows.
     pub fn validate(&self) -> Result<(), Error> {
-        check_diffusive_gap_exact(self.w, self.w_exact.as_deref())?;
         if let Some(r) = self.rel_err {
             super::plan::check_rel_err(r)?;
         }
+        if self.table.field_value()?.is_some() {
+            return self.validate_in_field();
+        }
+        if self.localization_samples.is_some() {
+            return Err(Error::parameter(
+                "localization_samples",
+                format!("{:?}", self.localization_samples),
+                "counts the localized orbits of a magnetic field: give a field, or leave it out",
+            ));
+        }
+        if let SceneSpec::Triangular { .. } = self.table.scene {
+            return self.validate_triangular();
+        }
+        super::scene::refuse_rel_err(self.rel_err)?;
+        let scene = self.table.scene.resolve()?;
+        crate::with_scene!(&scene, |s| self.sampling().validate(s))
+    }
+
+    /// The checks of a run in a field (a finite horizon on every table).
+    fn validate_in_field(&self) -> Result<(), Error> {
+        refuse_options_of_no_field(self.rel_err, self.msd_grid)?;
+        let n = self.localization_samples.unwrap_or(0);
+        if !(1..=1_000_000_000).contains(&n) {
+            return Err(Error::out_of_range(
+                "localization_samples",
+                n,
+                "use 1 to 1e9",
+            ));
+        }
+        let scene = self.table.scene.resolve()?;
+        crate::with_scene!(&scene, |s| self.sampling().check_statistics(s))
+    }
+
+    /// The checks of the trap estimator's run on the triangular gas.
+    fn validate_triangular(&self) -> Result<(), Error> {
+        check_diffusive_gap_exact(self.gap()?, self.table.gap_text())?;
         check_run(
             self.collisions,
             self.batches,
@@ -173,7 +258,8 @@ impl DiffusionConfig {
             &self.check_window,
         )?;
         // Each batch must be long enough to reach the far end of the check window many times.
-        let g = Geometry::new(self.w)?;
+        let w = self.gap()?;
+        let g = Geometry::new(w)?;
         let need_hops = (MIN_HOPS_PER_LAG * self.window.hi.max(self.check_window.hi)) as f64;
         let min = need_hops * g.collisions_per_hop() * self.batches as f64;
         if (self.collisions as f64) < min {
@@ -186,7 +272,7 @@ impl DiffusionConfig {
             } else {
                 Error::parameter(
                     "w",
-                    format!("{:?}", self.w),
+                    format!("{w:?}"),
                     format!(
                         "needs about {min:.1e} collisions for {} batches to reach the fit window \
                          (pi/(3w) = {:.1e} collisions per hop), more than any run can do (2^64 = \
@@ -210,6 +296,32 @@ impl DiffusionConfig {
     pub fn lags(&self) -> Vec<usize> {
         lags(&self.window, &self.check_window)
     }
+}
+
+/// Refuses what only a run without a field has: a plan for a relative error, the logarithmic
+/// MSD grid.
+///
+/// # Errors
+/// Either of them asked for.
+pub fn refuse_options_of_no_field(rel_err: Option<f64>, grid: MsdGrid) -> Result<(), Error> {
+    if let Some(target) = rel_err {
+        return Err(Error::parameter(
+            "rel_err",
+            target,
+            "a run in a magnetic field is not planned for a relative error (yet): give its \
+             collisions, or plan them with a run without the field",
+        ));
+    }
+    if !grid.is_fit() {
+        return Err(Error::parameter(
+            "msd_grid",
+            grid,
+            "a run in a magnetic field keeps its MSD at the fit windows' lags only (the MSD \
+             curve, velocity autocorrelation and Green-Kubo integral are measured without a \
+             field)",
+        ));
+    }
+    Ok(())
 }
 
 /// The checks every diffusion run shares, whatever its table: at least one collision and two

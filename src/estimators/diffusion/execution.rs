@@ -273,10 +273,11 @@ pub(super) fn setup(
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
-    let g = Geometry::new(cfg.w)?;
+    let w = cfg.gap()?;
+    let g = Geometry::new(w)?;
     let spec = ExecSpec {
-        w: cfg.w,
-        w_exact: cfg.w_exact.clone(),
+        w,
+        w_exact: cfg.table.gap_text().map(str::to_string),
         precision: cfg.precision,
         engine: engine.resolve(cfg.precision == Precision::F64)?,
         threads,

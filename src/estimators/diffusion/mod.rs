@@ -247,7 +247,7 @@ pub fn rerun_batches(
 /// The `f64` start of batch `index` of `cfg`: the state its trajectory starts from in the run
 /// (the equilibrium state of its stream (seed, run, index)).
 pub fn batch_start(cfg: &DiffusionConfig, index: u32) -> Result<LatticeState<f64>, Error> {
-    let trap64 = Trap::new(cfg.w)?;
+    let trap64 = Trap::new(cfg.gap()?)?;
     let job = Job {
         seed: cfg.seed,
         run: cfg.run,
@@ -363,7 +363,7 @@ fn check_packable(first: &DiffusionConfig, c: &DiffusionConfig) -> Result<(), Er
         ));
     }
     let differs = [
-        ("w", c.w != first.w, format!("{:?}", c.w)),
+        ("w", c.table != first.table, c.table.title()),
         (
             "precision",
             c.precision != first.precision,

@@ -41,17 +41,21 @@ use crate::verification::shadow_audit::AuditSummary;
 /// Kind of the records of a scene diffusion checkpoint.
 const CHECKPOINT_KIND: &str = "scene diffusion trajectories";
 
-/// What defines a diffusion run on a given scene (the scene itself is the first argument of
-/// [`run_on`]).
+/// What a diffusion run samples, whatever its table: the part of a [`super::DiffusionConfig`]
+/// that [`run_on`] takes beside a scene (a table of the crate's, or a [`Scene`] written in Rust
+/// outside it), and that a table's result records beside its table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SceneDiffusionConfig {
+pub struct Sampling {
     /// Total number of collisions over all batches.
     pub collisions: u64,
     /// Number of independent batches (trajectories), at least 2.
     pub batches: u32,
-    /// Seed of the random streams: batch b follows the trajectory stream (seed, 0, b).
+    /// Seed of the random streams: batch b follows the trajectory stream (seed, run, b).
     pub seed: u64,
+    /// Which run of this seed (0, left out of the JSON, for a single run).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub run: u64,
     /// Number type.
     pub precision: Precision,
     /// Fit window for D, in units of the scene's time unit ([`time_unit`]).
@@ -64,21 +68,27 @@ pub struct SceneDiffusionConfig {
     pub msd_grid: MsdGrid,
 }
 
-impl Default for SceneDiffusionConfig {
+impl Default for Sampling {
     /// The defaults of [`super::DiffusionConfig::new`]: 2·10⁹ collisions in 32 batches, seed 1,
     /// `f64`, windows [10, 40] and [20, 80].
     fn default() -> Self {
         let d = super::DiffusionConfig::new(0.1);
-        SceneDiffusionConfig {
+        Self {
             collisions: d.collisions,
             batches: d.batches,
             seed: d.seed,
+            run: 0,
             precision: d.precision,
             window: d.window,
             check_window: d.check_window,
             msd_grid: d.msd_grid,
         }
     }
+}
+
+/// Whether a run index is 0 (a single run, left out of a record).
+fn is_zero(run: &u64) -> bool {
+    *run == 0
 }
 
 /// The time unit of the MSD grid and the fit windows in `scene`: its crossing time τ, or its
@@ -102,7 +112,7 @@ pub fn refuse_rel_err(rel_err: Option<f64>) -> Result<(), Error> {
     }
 }
 
-impl SceneDiffusionConfig {
+impl Sampling {
     /// Checks every parameter against `scene`; errors name the valid range.
     ///
     /// # Errors
@@ -166,7 +176,7 @@ impl SceneDiffusionConfig {
     }
 
     fn jobs(&self) -> Vec<Job> {
-        super::config::jobs(self.seed, 0, self.collisions, self.batches).collect()
+        super::config::jobs(self.seed, self.run, self.collisions, self.batches).collect()
     }
 }
 
@@ -247,7 +257,7 @@ pub struct SceneDiffusionReport {
     /// D of each batch in the check window.
     pub batch_D_check: Vec<f64>,
     /// The configuration.
-    pub config: SceneDiffusionConfig,
+    pub config: Sampling,
     /// Version, seed, batches, precision, engine, threads.
     pub meta: RunMeta,
 }
@@ -264,7 +274,7 @@ impl SceneDiffusionReport {
 #[derive(Serialize)]
 struct Header<'a> {
     scene: String,
-    config: &'a SceneDiffusionConfig,
+    config: &'a Sampling,
 }
 
 /// D of `scene` by the Einstein formula (see the module documentation). `options`: `threads`,
@@ -276,7 +286,7 @@ struct Header<'a> {
 /// an I/O error, or a resumed run failing the scene's exact identities.
 pub fn run_on<S: Scene>(
     scene: &S,
-    cfg: &SceneDiffusionConfig,
+    cfg: &Sampling,
     options: &RunOptions,
 ) -> Result<SceneDiffusionReport, Error> {
     options.validate()?;
@@ -373,7 +383,7 @@ fn lanes_run<S: Scene>(scene: &S) -> Result<bool, Error> {
 /// scalar kernel's bits), in parallel, handing each finished batch to `keep`.
 fn lanes_on<S: Scene>(
     scene: &S,
-    cfg: &SceneDiffusionConfig,
+    cfg: &Sampling,
     jobs: &[Job],
     (path, options): (SimdPath, &RunOptions),
     keep: &DiffusionKeeper,
@@ -398,7 +408,7 @@ fn lanes_on<S: Scene>(
 /// finished batch to `keep`. Results come back in job order.
 fn execute_on<S: Scene>(
     scene: &S,
-    cfg: &SceneDiffusionConfig,
+    cfg: &Sampling,
     jobs: &[Job],
     options: &RunOptions,
     keep: &DiffusionKeeper,
@@ -465,7 +475,7 @@ impl<S: Scene> OnScene<'_, S> {
 /// The report of finished batches.
 fn summarise<S: Scene>(
     scene: &S,
-    cfg: &SceneDiffusionConfig,
+    cfg: &Sampling,
     done: &[BatchResult],
     seconds: f64,
     resumed: u32,

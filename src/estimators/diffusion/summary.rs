@@ -83,7 +83,7 @@ pub(super) fn summarise(
     let total: u64 = done.iter().map(|b| b.counters.collisions).sum();
     let audit = merged_audit(done);
     Ok(DiffusionReport {
-        w: cfg.w,
+        w: cfg.gap()?,
         D: d,
         D_err: d_err,
         window: cfg.window,

@@ -7,7 +7,7 @@
 //! with standard errors over orbits. Compare Datseris, Hupe & Fleischmann, Chaos 29, 093115 (2019).
 
 use nalgebra::Vector4;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use super::FieldWalk;
 use super::lanes::{Looked, RING, fly};
@@ -22,25 +22,13 @@ use crate::kernel::cell::ConvexCell;
 use crate::numbers::lanes::Lanes;
 use crate::scenes::Scene;
 use crate::scenes::magnetic::no_next_event;
+use crate::scenes::spec::field_value;
 use crate::statistics::mean_se;
 use crate::theory::magnetic::FieldGeometry;
 use crate::verification::arc_tangent::{
     CollisionTangent, LaneEvent, TangentBlock, TangentCell, TangentLane, half_angle_time,
 };
 use crate::verification::lyapunov::{LyapunovConfig, LyapunovReport, TANGENT_TRANSIENT};
-
-/// What a Lyapunov measurement in a field runs: the orbits of [`LyapunovConfig`] in the field B.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FieldLyapunovConfig {
-    /// Collisions of each batch (one orbit), after a transient of [`TANGENT_TRANSIENT`].
-    pub collisions_per_batch: u64,
-    /// Independent batches (orbits), at least 2; the error is over them.
-    pub batches: u32,
-    /// Seed: orbit b starts where batch b of the transport run with this seed starts.
-    pub seed: u64,
-    /// The field B, an exact decimal or fraction, 10⁻³ ≤ |B| ≤ 10³.
-    pub field: String,
-}
 
 /// The exponent in a field.
 #[derive(Debug, Clone, Serialize)]
@@ -57,7 +45,7 @@ pub struct FieldLyapunovReport {
     /// Localized starts set aside before the orbits' diffusing starts.
     pub rejected_starts: u64,
     /// The configuration.
-    pub config: FieldLyapunovConfig,
+    pub config: LyapunovConfig,
 }
 
 /// Runs the measurement (see the module documentation) on the engine `opts` names: the SIMD
@@ -69,12 +57,17 @@ pub struct FieldLyapunovReport {
 /// localized, options the analysis does not use, or an interruption.
 pub fn run<S: Scene>(
     scene: &S,
-    cfg: &FieldLyapunovConfig,
+    cfg: &LyapunovConfig,
     opts: &RunOptions,
 ) -> Result<FieldLyapunovReport, Error> {
     opts.validate()?;
     opts.refuse_unused("lyapunov in a field", &[RunOption::Engine])?;
-    let b = super::field_value(&cfg.field)?;
+    cfg.flights.in_field()?;
+    let field = cfg.field.as_deref().ok_or(Error::missing(
+        "field",
+        "the exponent in a field needs the field B",
+    ))?;
+    let b = field_value(field)?;
     if cfg.collisions_per_batch == 0 || cfg.batches < 2 {
         return Err(Error::TooFew {
             what: "collisions_per_batch, batches (>= 2)",
@@ -92,7 +85,7 @@ pub fn run<S: Scene>(
         b,
     )?;
     let engine = opts.engine.resolve(true)?;
-    let start = |i: u32| FieldWalk::start(scene, &cfg.field, cfg.seed, i as u64);
+    let start = |i: u32| FieldWalk::start(scene, field, cfg.seed, i as u64);
     let target = cfg.collisions_per_batch + TANGENT_TRANSIENT;
     let orbits = match engine {
         Resolved::Simd(path) => {
@@ -117,7 +110,7 @@ pub fn run<S: Scene>(
 /// The report of the finished `orbits`.
 fn report<S: Scene>(
     scene: &S,
-    cfg: &FieldLyapunovConfig,
+    cfg: &LyapunovConfig,
     geometry: &FieldGeometry,
     engine: Resolved,
     orbits: &[Tangent],
@@ -134,7 +127,7 @@ fn report<S: Scene>(
     );
     FieldLyapunovReport {
         tangent: LyapunovReport {
-            scene: format!("{} B={}", scene.label(), cfg.field),
+            scene: format!("{} B={}", scene.label(), cfg.field.as_deref().unwrap_or("0")),
             per_collision: pc,
             per_collision_err: pce,
             per_time: pt,
@@ -356,20 +349,6 @@ impl LaneWork for RingTangents<'_> {
             }
             t.store(&mut st.tangents, o);
             left.store(&mut st.left[o..]);
-        }
-    }
-}
-
-/// The defaults of [`LyapunovConfig`] in the field `field`.
-impl FieldLyapunovConfig {
-    /// 2·10⁶ collisions in each of 16 batches, seed 1, as without a field.
-    pub fn new(field: &str) -> Self {
-        let l = LyapunovConfig::new();
-        FieldLyapunovConfig {
-            collisions_per_batch: l.collisions_per_batch,
-            batches: l.batches,
-            seed: l.seed,
-            field: field.trim().to_string(),
         }
     }
 }

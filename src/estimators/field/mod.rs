@@ -5,7 +5,7 @@
 //! the square one at any radius, a table given as data: in a field the horizon is finite,
 //! corridors or not), with
 //! collisions, batches, seed, precision and fit windows in units of the scene's crossing time τ
-//! as for [`SceneDiffusionConfig`], plus the field B. Each batch is one
+//! as for any [`DiffusionConfig`], whose table carries the field B. Each batch is one
 //! trajectory started from the invariant measure restricted to the **diffusing** orbits (starts on
 //! pinned or skipping orbits, decided by exact geometry, are drawn again). Along it the
 //! displacement and the cumulative Lévy area are sampled every gτ, every sample a time origin,
@@ -27,19 +27,20 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::diffusion::scene::{SceneDiffusionConfig, time_unit};
-use super::diffusion::{MsdGrid, Window};
+use super::diffusion::scene::time_unit;
+use super::diffusion::{DiffusionConfig, Window};
 use crate::Error;
 use crate::engine::Resolved;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{par_batches, par_batches_watched, share};
 use crate::numbers::exact::{nearest_f64, parse_exact};
+use crate::scenes::spec::Table;
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
 use crate::scenes::Scene;
 use crate::scenes::sampling::{Purpose, StreamKey};
-use crate::scenes::spec::SceneSpec;
+use crate::scenes::spec::{SceneSpec, field_value};
 use crate::statistics::{linear_fit, mean_se};
 use crate::theory::magnetic::FieldGeometry;
 
@@ -55,147 +56,42 @@ pub use walk::FieldWalk;
 
 use track::{Batch, Setup};
 
-/// The fields the transport analysis takes: 10⁻³ ≤ |B| ≤ 10³ (cyclotron radii from 10⁻³ to 10³;
-/// the kernel itself is tested from 10⁻⁶ to 10⁶).
-pub const FIELD_RANGE: (f64, f64) = (1e-3, 1e3);
-
-/// Default number of phase points classified for the sampled localized share.
-pub const DEFAULT_LOCALIZATION_SAMPLES: u64 = 1_000_000;
-
-/// Everything that defines a transport run in a field.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FieldConfig {
-    /// The scene: the triangular lattice at any gap w > 0 or the square one at any radius
-    /// 0 < r < 1/2. In a field every orbit that collides meets a disk within one turn of its
-    /// cyclotron circle, so the horizon is finite on every scene, corridors or not.
-    pub scene: SceneSpec,
-    /// Collisions, batches, seed, precision and fit windows, as in a diffusion run on a scene
-    /// (flattened into the same record; the windows in units of the scene's crossing time τ,
-    /// [`time_unit`]; the MSD kept at their lags only). Each batch flies the same time: its share
-    /// of the collisions at Kac's mean free time of the diffusing part.
-    #[serde(flatten)]
-    pub statistics: SceneDiffusionConfig,
-    /// Which run of this seed (point i of a field sweep is run i): batch b flies the trajectory
-    /// stream `(seed, run, b)`.
-    #[serde(default)]
-    pub run: u64,
-    /// The field B exactly as given (a decimal or a fraction): the velocity turns at the angular
-    /// velocity B, counter-clockwise for B > 0, on a cyclotron circle of radius 1/|B|.
-    pub field: String,
-    /// Phase points drawn from the invariant measure and classified, for the sampled share of
-    /// localized orbits.
-    pub localization_samples: u64,
-}
-
-/// The field B of `text` as the nearest double, checked: nonzero and 10⁻³ ≤ |B| ≤ 10³.
+/// The field B of a run in a field, checked.
 ///
 /// # Errors
-/// A field that is not an exact decimal or fraction, zero (the straight-line run: leave the
-/// field out), or outside [`FIELD_RANGE`].
-pub fn field_value(text: &str) -> Result<f64, Error> {
-    let b = nearest_f64(&parse_exact(text).map_err(|e| e.named("field"))?);
-    let (lo, hi) = FIELD_RANGE;
-    if b == 0.0 || !(lo..=hi).contains(&b.abs()) {
-        return Err(Error::out_of_range(
-            "field",
-            b,
-            format!(
-                "use {lo:e} <= |field| <= {hi:e} (field = 0 is the zero-field run: leave \
-                 the field out)"
-            ),
-        ));
-    }
-    Ok(b)
+/// A table without a field, or a field out of range ([`field_value`]).
+pub fn field_of(cfg: &DiffusionConfig) -> Result<f64, Error> {
+    cfg.table.field_value()?.ok_or(Error::missing(
+        "field",
+        "a run in a magnetic field needs the field B",
+    ))
 }
 
-impl FieldConfig {
-    /// The default run of `scene` in the field `field` (a decimal or fraction): 2·10⁹ collisions
-    /// in 32 batches, seed 1, windows [10τ, 40τ] and [20τ, 80τ], 10⁶ classified points.
-    pub fn new(scene: SceneSpec, field: &str) -> Self {
-        FieldConfig {
-            scene,
-            statistics: SceneDiffusionConfig::default(),
-            run: 0,
-            field: field.trim().to_string(),
-            localization_samples: DEFAULT_LOCALIZATION_SAMPLES,
-        }
-    }
-
-    /// The gap of a triangular scene or the radius of a square one, as the nearest doubles.
-    ///
-    /// # Errors
-    /// A parameter that is not an exact decimal or fraction.
-    pub fn scene_parameters(&self) -> Result<(Option<f64>, Option<f64>), Error> {
-        Ok(match &self.scene {
-            SceneSpec::Triangular { w } => {
-                let w = parse_exact(w).map_err(|e| e.named("w"))?;
-                (Some(nearest_f64(&w)), None)
-            }
-            SceneSpec::Square { radius } => {
-                let r = parse_exact(radius).map_err(|e| e.named("radius"))?;
-                (None, Some(nearest_f64(&r)))
-            }
-            SceneSpec::Table(_) => (None, None),
-        })
-    }
-
-    /// The exact geometry of the localized orbits of the scene in the field.
-    ///
-    /// # Errors
-    /// A bad scene or field, or a scene that is not a periodic array of disks.
-    pub fn geometry(&self) -> Result<FieldGeometry, Error> {
-        let scene = self.scene.resolve()?;
-        crate::with_scene!(&scene, |s| geometry_of(s, self.field_value()?))
-    }
-
-    /// The field as the nearest double, checked ([`field_value`]).
-    ///
-    /// # Errors
-    /// As [`field_value`].
-    pub fn field_value(&self) -> Result<f64, Error> {
-        field_value(&self.field)
-    }
-
-    /// Checks every parameter; errors name the valid range.
-    pub fn validate(&self) -> Result<(), Error> {
-        refuse_zero_field_options(None, self.statistics.msd_grid)?;
-        self.field_value()?;
-        if !(1..=1_000_000_000).contains(&self.localization_samples) {
-            return Err(Error::out_of_range(
-                "localization_samples",
-                self.localization_samples,
-                "use 1 to 1e9",
-            ));
-        }
-        let scene = self.scene.resolve()?;
-        crate::with_scene!(&scene, |s| self.statistics.check_statistics(s))
-    }
-}
-
-/// Refuses what only a run without a field has: a plan for a relative error, the logarithmic
-/// MSD grid.
+/// The gap of a triangular table or the radius of a square one, as the nearest doubles.
 ///
 /// # Errors
-/// Either of them asked for.
-pub fn refuse_zero_field_options(rel_err: Option<f64>, grid: MsdGrid) -> Result<(), Error> {
-    if let Some(target) = rel_err {
-        return Err(Error::parameter(
-            "rel_err",
-            target,
-            "a run in a magnetic field is not planned for a relative error (yet): give its \
-             collisions, or plan them with a run without the field",
-        ));
-    }
-    if !grid.is_fit() {
-        return Err(Error::parameter(
-            "msd_grid",
-            grid,
-            "a run in a magnetic field keeps its MSD at the fit windows' lags only (the MSD \
-             curve, velocity autocorrelation and Green-Kubo integral are measured without a \
-             field)",
-        ));
-    }
-    Ok(())
+/// A parameter that is not an exact decimal or fraction.
+pub fn scene_parameters(table: &Table) -> Result<(Option<f64>, Option<f64>), Error> {
+    Ok(match &table.scene {
+        SceneSpec::Triangular { w } => {
+            let w = parse_exact(w).map_err(|e| e.named("w"))?;
+            (Some(nearest_f64(&w)), None)
+        }
+        SceneSpec::Square { radius } => {
+            let r = parse_exact(radius).map_err(|e| e.named("radius"))?;
+            (None, Some(nearest_f64(&r)))
+        }
+        SceneSpec::Table(_) => (None, None),
+    })
+}
+
+/// The exact geometry of the localized orbits of a run's table in its field.
+///
+/// # Errors
+/// A bad table or field.
+pub fn geometry(cfg: &DiffusionConfig) -> Result<FieldGeometry, Error> {
+    let scene = cfg.table.scene.resolve()?;
+    crate::with_scene!(&scene, |s| geometry_of(s, field_of(cfg)?))
 }
 
 /// Estimates with their standard errors over batches.
@@ -291,7 +187,7 @@ pub struct FieldReport {
     /// Per-batch Hall D_xy of the diffusing part.
     pub batch_D_xy: Vec<f64>,
     /// The configuration.
-    pub config: FieldConfig,
+    pub config: DiffusionConfig,
     /// Provenance.
     pub meta: RunMeta,
 }
@@ -301,25 +197,25 @@ pub struct FieldReport {
 /// # Errors
 /// An invalid configuration, options the analysis does not use (a checkpoint, an audit, an
 /// engine other than the scalar one it runs on), or an interruption.
-pub fn run(cfg: &FieldConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
+pub fn run(cfg: &DiffusionConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
     cfg.validate()?;
     opts.validate()?;
     opts.refuse_unused("diffusion in a field", &[RunOption::Engine])?;
-    let scene = cfg.scene.resolve()?;
+    let scene = cfg.table.scene.resolve()?;
     crate::with_scene!(&scene, |s| run_on(s, cfg, opts))
 }
 
 /// The run on the resolved scene.
-fn run_on<S: Scene>(scene: &S, cfg: &FieldConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
-    let geometry = geometry_of(scene, cfg.field_value()?)?;
+fn run_on<S: Scene>(scene: &S, cfg: &DiffusionConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
+    let geometry = geometry_of(scene, field_of(cfg)?)?;
     let started = Instant::now();
     let (localized, samples) = classify(cfg, scene, &geometry, opts)?;
-    let f64_run = cfg.statistics.precision == Precision::F64;
+    let f64_run = cfg.precision == Precision::F64;
     let engine = opts.engine.resolve(f64_run)?;
     let batches = if geometry.all_localized() {
         Vec::new()
     } else {
-        match (cfg.statistics.precision, engine) {
+        match (cfg.precision, engine) {
             (Precision::F64, Resolved::Simd(path)) => {
                 with_setup::<f64, S, _>(cfg, scene, &geometry, (), opts, |su, keys, d| {
                     lanes::batches(su, path, keys, d, opts.threads)
@@ -354,15 +250,15 @@ fn geometry_of<S: Scene>(scene: &S, b: f64) -> Result<FieldGeometry, Error> {
 /// The sampled localized share: `localization_samples` phase points in 64 chunks of their own
 /// streams (the same bits at any thread count).
 fn classify<S: Scene>(
-    cfg: &FieldConfig,
+    cfg: &DiffusionConfig,
     scene: &S,
     geometry: &FieldGeometry,
     opts: &RunOptions,
 ) -> Result<(u64, u64), Error> {
     const CHUNKS: u32 = 64;
-    let n = cfg.localization_samples;
+    let n = cfg.localization_samples.unwrap_or(0);
     let counts = par_batches(opts.threads, CHUNKS, |c| {
-        let key = track::classification_key(cfg.statistics.seed, cfg.run, c as u64);
+        let key = track::classification_key(cfg.seed, cfg.run, c as u64);
         track::classify_chunk(scene, geometry, key, share(n, CHUNKS, c))
     })?;
     Ok((counts.iter().sum(), n))
@@ -372,7 +268,7 @@ fn classify<S: Scene>(
 /// duration: every batch flies the same time, its share of the collisions at Kac's mean free
 /// time.
 fn with_setup<T: Real, S: Scene, R>(
-    cfg: &FieldConfig,
+    cfg: &DiffusionConfig,
     scene: &S,
     geometry: &FieldGeometry,
     ctx: T::Ctx,
@@ -380,10 +276,10 @@ fn with_setup<T: Real, S: Scene, R>(
     f: impl FnOnce(&Setup<'_, T, S>, &[StreamKey], f64) -> Result<R, Error>,
 ) -> Result<R, Error> {
     let lattice = scene.lattice::<T>(ctx)?;
-    let exact = parse_exact(&cfg.field).map_err(|e| e.named("field"))?;
+    let exact = parse_exact(cfg.table.field().unwrap_or("0")).map_err(|e| e.named("field"))?;
     let field = T::from_rational(ctx, &exact);
     let tau = time_unit(scene);
-    let (grid, steps) = track::grid(tau, &cfg.statistics.window, &cfg.statistics.check_window);
+    let (grid, steps) = track::grid(tau, &cfg.window, &cfg.check_window);
     let setup = Setup {
         scene,
         lattice: &lattice,
@@ -395,17 +291,17 @@ fn with_setup<T: Real, S: Scene, R>(
         stop: opts.stop.as_ref(),
         progress: opts.progress,
     };
-    let duration = (cfg.statistics.collisions / cfg.statistics.batches as u64) as f64
+    let duration = (cfg.collisions / cfg.batches as u64) as f64
         * geometry.diffusing_mean_free_time();
-    let keys: Vec<StreamKey> = (0..cfg.statistics.batches)
-        .map(|i| StreamKey::new(cfg.statistics.seed, Purpose::Trajectory, i as u64).in_run(cfg.run))
+    let keys: Vec<StreamKey> = (0..cfg.batches)
+        .map(|i| StreamKey::new(cfg.seed, Purpose::Trajectory, i as u64).in_run(cfg.run))
         .collect();
     f(&setup, &keys, duration)
 }
 
 /// Every batch at number type `T` on the scalar kernel, one per task.
 fn scalar_batches<T: Real, S: Scene>(
-    cfg: &FieldConfig,
+    cfg: &DiffusionConfig,
     scene: &S,
     geometry: &FieldGeometry,
     ctx: T::Ctx,
@@ -454,9 +350,9 @@ fn tensor(batches: &[Batch], lags: &[usize], tau: f64, win: &Window) -> Tensor {
 }
 
 /// The lags of both windows in units of τ, sorted, each once (the order of the batch means).
-fn all_lags(cfg: &FieldConfig) -> Vec<usize> {
-    let mut l = cfg.statistics.window.lags();
-    l.extend(cfg.statistics.check_window.lags());
+fn all_lags(cfg: &DiffusionConfig) -> Vec<usize> {
+    let mut l = cfg.window.lags();
+    l.extend(cfg.check_window.lags());
     l.sort_unstable();
     l.dedup();
     l
@@ -489,7 +385,7 @@ fn mean_free_time(batches: &[Batch]) -> (f64, f64) {
 }
 
 fn summarise<S: Scene>(
-    cfg: &FieldConfig,
+    cfg: &DiffusionConfig,
     (scene, geometry): (&S, &FieldGeometry),
     tau: f64,
     batches: &[Batch],
@@ -497,7 +393,7 @@ fn summarise<S: Scene>(
     started: Instant,
     opts: &RunOptions,
 ) -> Result<FieldReport, Error> {
-    let d = &cfg.statistics;
+    let d = cfg;
     let lags = all_lags(cfg);
     let (diffusing, check) = if batches.is_empty() {
         (Tensor::default(), Tensor::default())
@@ -527,12 +423,12 @@ fn summarise<S: Scene>(
     let f = localized as f64 / samples as f64;
     let collisions: u64 = batches.iter().map(|b| b.collisions).sum();
     let seconds = started.elapsed().as_secs_f64();
-    let (w, radius) = cfg.scene_parameters()?;
+    let (w, radius) = scene_parameters(&cfg.table)?;
     Ok(FieldReport {
         scene: scene.label(),
         w,
         radius,
-        field: cfg.field_value()?,
+        field: field_of(cfg)?,
         cyclotron_radius: geometry.cyclotron_radius(),
         D_xx: keep * xx,
         D_xx_err: keep * xx_err,

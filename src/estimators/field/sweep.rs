@@ -16,7 +16,9 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 pub use super::grid::{SweepGrid, exact_grid, fields_of, grid_of, scene_grid};
-use super::{FieldConfig, FieldReport};
+use super::FieldReport;
+use crate::estimators::diffusion::DiffusionConfig;
+use crate::scenes::spec::{Motion, Table};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
@@ -90,20 +92,25 @@ impl FieldSweepConfig {
         i: usize,
         scene: SceneSpec,
         field: &str,
-    ) -> Result<FieldConfig, Error> {
+    ) -> Result<DiffusionConfig, Error> {
         let scene = match scene {
             SceneSpec::Triangular { w } => SceneSpec::parse("triangular", Some(&w), None)?,
             SceneSpec::Square { radius } => SceneSpec::parse("square", None, Some(&radius))?,
             table @ SceneSpec::Table(_) => table,
         };
-        let mut cfg = FieldConfig {
-            run: i as u64,
-            localization_samples: self.localization_samples,
-            ..FieldConfig::new(scene, field)
+        // A field of 0 stays a field here, for validation to refuse: a sweep in a field has none.
+        let table = Table {
+            scene,
+            motion: Motion::Field(field.trim().to_string()),
         };
-        let s = &mut cfg.statistics;
-        (s.collisions, s.batches, s.seed) = (self.collisions, self.batches, self.seed);
-        Ok(cfg)
+        Ok(DiffusionConfig {
+            run: i as u64,
+            collisions: self.collisions,
+            batches: self.batches,
+            seed: self.seed,
+            localization_samples: Some(self.localization_samples),
+            ..DiffusionConfig::on(table)
+        })
     }
 
     /// Checks every parameter (every point's run) before anything runs or is written.
@@ -124,11 +131,11 @@ impl FieldSweepConfig {
         for (i, (g, f)) in self.grid().into_iter().enumerate() {
             let c = self.point_config(i, g.clone(), f)?;
             c.validate()?;
-            let (w, r) = c.scene_parameters()?;
+            let (w, r) = super::scene_parameters(&c.table)?;
             let key = (
                 w.map(f64::to_bits),
                 r.map(f64::to_bits),
-                c.field_value()?.to_bits(),
+                super::field_of(&c)?.to_bits(),
             );
             let scene = i / self.fields.len();
             if let Some(&(_, s)) = seen.iter().find(|(k, _)| *k == key) {

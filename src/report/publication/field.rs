@@ -11,6 +11,7 @@ use super::same_bits::rerun_check;
 use super::statistics::batch_statistics;
 use super::{Checks, Ctx, SIGMAS};
 use crate::Error;
+use crate::estimators::diffusion::DiffusionConfig;
 use crate::estimators::field::{self, FieldReport};
 use crate::statistics::normal_sigma_equivalent_t;
 use crate::theory::magnetic::{FieldGeometry, sampled_share_err};
@@ -28,14 +29,14 @@ fn geometry(r: &FieldReport) -> Result<FieldGeometry, Error> {
 }
 
 /// The exact geometry of a field run's configuration.
-pub(super) fn geometry_of(cfg: &field::FieldConfig) -> Result<FieldGeometry, Error> {
-    cfg.geometry()
+pub(super) fn geometry_of(cfg: &DiffusionConfig) -> Result<FieldGeometry, Error> {
+    field::geometry(cfg)
 }
 
 /// The checks: the record, the localized share, Kac, the symmetries, the batches, the re-run.
 pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Result<(), Error> {
     let cfg = &r.config;
-    let d = &cfg.statistics;
+    let d = cfg;
     let g = geometry(r)?;
     let mut bad = super::meta_problems(
         &r.meta,
@@ -44,13 +45,13 @@ pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
         &d.precision.to_string(),
     );
     let exact = [
-        (r.field, cfg.field_value()?),
+        (r.field, field::field_of(cfg)?),
         (r.pinned_fraction_exact, g.pinned_fraction()),
         (r.skipping_fraction_exact, g.skipping_fraction()),
         (r.localized_fraction_exact, g.localized_fraction()),
         (r.mean_free_time_exact, g.diffusing_mean_free_time()),
     ];
-    let (w, radius) = cfg.scene_parameters()?;
+    let (w, radius) = field::scene_parameters(&cfg.table)?;
     let same = |a: Option<f64>, b: Option<f64>| a.map(f64::to_bits) == b.map(f64::to_bits);
     if !same(r.w, w)
         || !same(r.radius, radius)
@@ -80,14 +81,14 @@ pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
             &[("D_xx", r.D_xx), ("D_xy", r.D_xy)],
         );
     } else {
-        let scene = cfg.scene.resolve()?;
+        let scene = cfg.table.scene.resolve()?;
         let isotropic = crate::with_scene!(&scene, |s| crate::scenes::Scene::isotropic(s));
         diffusing_checks(r, isotropic, checks);
         batch_statistics(&r.batch_D_xx, checks);
     }
     let what = format!(
         "{} collisions in {} batches at field {} (seed {}, {})",
-        d.collisions, d.batches, cfg.field, d.seed, d.precision
+        d.collisions, d.batches, cfg.table.field().unwrap_or("0"), d.seed, d.precision
     );
     rerun_check(r, d.collisions, &what, ctx, checks, |o| field::run(cfg, o))
 }
@@ -97,7 +98,7 @@ pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
 /// exactly.
 fn localized_share(r: &FieldReport, checks: &mut Checks) {
     let (v, x) = (r.localized_fraction, r.localized_fraction_exact);
-    let n = r.config.localization_samples as f64;
+    let n = r.config.localization_samples.unwrap_or(0) as f64;
     let e = sampled_share_err(x, n);
     let z = (v - x) / e;
     let ok = z.abs() <= SIGMAS;
@@ -114,7 +115,7 @@ fn localized_share(r: &FieldReport, checks: &mut Checks) {
 /// ([`crate::scenes::Scene::isotropic`]), a vanishing symmetric off-diagonal part, each within
 /// the Student-t bound of its batches.
 fn diffusing_checks(r: &FieldReport, isotropic: bool, checks: &mut Checks) {
-    let bound = normal_sigma_equivalent_t(f64::from(r.config.statistics.batches) - 1.0, SIGMAS);
+    let bound = normal_sigma_equivalent_t(f64::from(r.config.batches) - 1.0, SIGMAS);
     let t = &r.diffusing;
     let symmetric = "symmetric off-diagonal part of the tensor = 0 (lattice symmetry)";
     if !isotropic {

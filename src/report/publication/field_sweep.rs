@@ -102,10 +102,10 @@ fn row_problems(r: &FieldSweepReport) -> Result<Vec<String>, Error> {
         let at = format!("{g:?}");
         let pc = cfg.point_config(i, g, f)?;
         let geo = geometry_of(&pc)?;
-        let (w, radius) = pc.scene_parameters()?;
+        let (w, radius) = crate::estimators::field::scene_parameters(&pc.table)?;
         let same = |a: Option<f64>, b: Option<f64>| a.map(f64::to_bits) == b.map(f64::to_bits);
         let exact = [
-            (row.field, pc.field_value()?),
+            (row.field, crate::estimators::field::field_of(&pc)?),
             (row.cyclotron_radius, geo.cyclotron_radius()),
             (row.pinned_fraction_exact, geo.pinned_fraction()),
             (row.skipping_fraction_exact, geo.skipping_fraction()),

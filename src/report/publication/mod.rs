@@ -291,7 +291,7 @@ impl Audited {
             Audited::Hops(h) => Ok(vec![h.config().collisions]),
             Audited::Backscatter(r) => Ok(vec![backscatter::collisions(&r.config)?]),
             Audited::Escape(r) => Ok(vec![escape::collisions(&r.config)?]),
-            Audited::Field(r) => Ok(vec![r.config.statistics.collisions]),
+            Audited::Field(r) => Ok(vec![r.config.collisions]),
             Audited::FieldSweep(r) => Ok(vec![field_sweep::collisions(r)]),
             Audited::Table(t) => Ok(vec![t.0.config.collisions]),
         }

@@ -14,7 +14,7 @@ pub fn field(r: &FieldReport) -> String {
         out,
         "periodic Lorentz gas in a magnetic field, {}, B = {} (cyclotron radius {:.6})  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {:.1} s)",
         scene(r),
-        r.config.field,
+        r.config.table.field().unwrap_or("0"),
         r.cyclotron_radius,
         m.precision,
         m.engine,
@@ -115,7 +115,7 @@ fn tensor(out: &mut String, r: &FieldReport, n: usize) {
 /// The sampled localized share against the exact one (binomial error).
 fn binomial(r: &FieldReport) -> String {
     let f = r.localized_fraction_exact;
-    let n = r.config.localization_samples as f64;
+    let n = r.config.localization_samples.unwrap_or(0) as f64;
     let err = sampled_share_err(f, n);
     let c = comparison::of(r.localized_fraction - f, err, f64::INFINITY);
     format!(

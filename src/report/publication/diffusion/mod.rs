@@ -89,7 +89,7 @@ pub(super) fn checks(
     figures: &mut Vec<String>,
 ) -> Result<(), Error> {
     let cfg = config(r)?;
-    let g = Geometry::new(cfg.w)?;
+    let g = Geometry::new(cfg.gap()?)?;
     let shape = shape_problems(r, cfg, g.hop_time());
     if !shape.is_empty() {
         checks.pass_if(
@@ -172,7 +172,7 @@ fn reruns_checks(
 fn shape_problems(r: &DiffusionReport, cfg: &DiffusionConfig, tau: f64) -> Vec<String> {
     let mut bad = Vec::new();
     let batches = cfg.batches as usize;
-    if r.w.to_bits() != cfg.w.to_bits()
+    if cfg.gap().ok().map(f64::to_bits) != Some(r.w.to_bits())
         || r.window != cfg.window
         || r.check_window != cfg.check_window
     {
@@ -308,7 +308,7 @@ fn record_check(r: &DiffusionReport, cfg: &DiffusionConfig, checks: &mut Checks)
         ("D_check_err", r.D_check_err, dce),
         ("D_minus_D_check", r.D_minus_D_check, diff),
         ("D_minus_D_check_err", r.D_minus_D_check_err, diff_err),
-        ("w", r.w, cfg.w),
+        ("w", r.w, cfg.gap().unwrap_or(f64::NAN)),
     ] {
         if rec.to_bits() != again.to_bits() {
             bad.push(format!(

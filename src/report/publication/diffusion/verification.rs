@@ -46,7 +46,7 @@ pub(super) fn shadowing_certificate(
     checks: &mut Checks,
 ) -> Result<(), Error> {
     use crate::verification::shadowing::{f64_segment, shadow_pseudo_orbit};
-    let scene = crate::scenes::triangular::TriangularScene::new(cfg.w)?;
+    let scene = crate::scenes::triangular::TriangularScene::new(cfg.gap()?)?;
     let batches = shadowed_batches(cfg, rerun, ctx.quick);
     let bits = ctx.bits;
     let results = crate::engine::parallel::par_batches(ctx.threads, batches.len() as u32, |k| {
@@ -91,7 +91,7 @@ pub(super) fn shadowing_certificate(
 
 /// Least collisions of a [`PRECISION_BATCHES`]-batch run at `cfg`'s w and windows.
 pub(super) fn precision_min_collisions(cfg: &DiffusionConfig) -> Result<u64, Error> {
-    let g = Geometry::new(cfg.w)?;
+    let g = Geometry::new(cfg.gap()?)?;
     let hops = (crate::estimators::diffusion::MIN_HOPS_PER_LAG
         * cfg.window.hi.max(cfg.check_window.hi)) as f64;
     Ok((hops * g.collisions_per_hop() * PRECISION_BATCHES as f64).ceil() as u64)
