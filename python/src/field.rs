@@ -7,9 +7,9 @@ use pyo3::prelude::*;
 
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
-use lorentz_gas::verification::lyapunov::LyapunovConfig;
 use lorentz_gas::estimators::field::sweep::{self as field_sweep, FieldSweepConfig};
 use lorentz_gas::scenes::table::spec::TableSpec;
+use lorentz_gas::verification::lyapunov::LyapunovConfig;
 
 use crate::params::{Params, Progress, Work, work};
 use crate::scenes::Where;

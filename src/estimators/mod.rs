@@ -25,5 +25,5 @@ pub mod observer_costs;
 pub mod superdiffusion;
 pub mod sweep;
 pub mod throughput;
-pub mod transport;
 pub mod trajectory;
+pub mod transport;

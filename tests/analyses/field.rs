@@ -11,8 +11,8 @@
 
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
 use lorentz_gas::estimators::field::{self, FieldReport};
-use lorentz_gas::scenes::spec::{Motion, Table};
 use lorentz_gas::scenes::spec::SceneSpec;
+use lorentz_gas::scenes::spec::{Motion, Table};
 
 use crate::common::{physics_only, t4, t4_welch, threads};
 

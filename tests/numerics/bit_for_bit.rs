@@ -81,9 +81,7 @@ fn an_exact_gap_reaches_mpfr_without_the_doubles_rounding() {
         ..DiffusionConfig::new(0.1)
     };
     let d = |precision: Precision, exact: Option<&str>| {
-        let table = exact.map_or(Table::triangular_at(0.1), |t| {
-            Table::triangular(t).unwrap()
-        });
+        let table = exact.map_or(Table::triangular_at(0.1), |t| Table::triangular(t).unwrap());
         let cfg = DiffusionConfig {
             precision,
             table,

@@ -127,7 +127,11 @@ fn report<S: Scene>(
     );
     FieldLyapunovReport {
         tangent: LyapunovReport {
-            scene: format!("{} B={}", scene.label(), cfg.field.as_deref().unwrap_or("0")),
+            scene: format!(
+                "{} B={}",
+                scene.label(),
+                cfg.field.as_deref().unwrap_or("0")
+            ),
             per_collision: pc,
             per_collision_err: pce,
             per_time: pt,

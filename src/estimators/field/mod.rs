@@ -35,11 +35,11 @@ use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{par_batches, par_batches_watched, share};
 use crate::numbers::exact::{nearest_f64, parse_exact};
-use crate::scenes::spec::Table;
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
 use crate::scenes::Scene;
 use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::scenes::spec::Table;
 use crate::scenes::spec::{SceneSpec, field_value};
 use crate::statistics::{linear_fit, mean_se};
 use crate::theory::magnetic::FieldGeometry;
@@ -206,7 +206,11 @@ pub fn run(cfg: &DiffusionConfig, opts: &RunOptions) -> Result<FieldReport, Erro
 }
 
 /// The run on the resolved scene.
-fn run_on<S: Scene>(scene: &S, cfg: &DiffusionConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
+fn run_on<S: Scene>(
+    scene: &S,
+    cfg: &DiffusionConfig,
+    opts: &RunOptions,
+) -> Result<FieldReport, Error> {
     let geometry = geometry_of(scene, field_of(cfg)?)?;
     let started = Instant::now();
     let (localized, samples) = classify(cfg, scene, &geometry, opts)?;
@@ -291,8 +295,8 @@ fn with_setup<T: Real, S: Scene, R>(
         stop: opts.stop.as_ref(),
         progress: opts.progress,
     };
-    let duration = (cfg.collisions / cfg.batches as u64) as f64
-        * geometry.diffusing_mean_free_time();
+    let duration =
+        (cfg.collisions / cfg.batches as u64) as f64 * geometry.diffusing_mean_free_time();
     let keys: Vec<StreamKey> = (0..cfg.batches)
         .map(|i| StreamKey::new(cfg.seed, Purpose::Trajectory, i as u64).in_run(cfg.run))
         .collect();

@@ -15,16 +15,16 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-pub use super::grid::{SweepGrid, exact_grid, fields_of, grid_of, scene_grid};
 use super::FieldReport;
-use crate::estimators::diffusion::DiffusionConfig;
-use crate::scenes::spec::{Motion, Table};
+pub use super::grid::{SweepGrid, exact_grid, fields_of, grid_of, scene_grid};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::resume::{seal, unseal};
+use crate::estimators::diffusion::DiffusionConfig;
 use crate::estimators::sweep::points::{renamed_point, same_sweep};
 use crate::scenes::spec::SceneSpec;
+use crate::scenes::spec::{Motion, Table};
 use crate::statistics::comparison::{self, Comparison, largest_of_bound};
 use crate::statistics::welch_dof;
 

@@ -88,7 +88,11 @@ pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
     }
     let what = format!(
         "{} collisions in {} batches at field {} (seed {}, {})",
-        d.collisions, d.batches, cfg.table.field().unwrap_or("0"), d.seed, d.precision
+        d.collisions,
+        d.batches,
+        cfg.table.field().unwrap_or("0"),
+        d.seed,
+        d.precision
     );
     rerun_check(r, d.collisions, &what, ctx, checks, |o| field::run(cfg, o))
 }
