@@ -16,7 +16,7 @@ use lorentz_gas::estimators::free_paths::{self, FreePathConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
-use lorentz_gas::estimators::sweep::{self, SweepConfig};
+use lorentz_gas::estimators::sweep::{self, GapGrid, Grid, SweepConfig};
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
 use lorentz_gas::theory::constants::{self, ConstantsConfig};
 
@@ -139,10 +139,12 @@ pub fn backscatter(p: &Params<'_, '_>) -> PyResult<Work<String>> {
 /// `sweep(params, progress)`: D over gaps without a field.
 pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let cfg = SweepConfig {
-        w_from: p.text("w_from")?.trim().to_string(),
-        w_to: p.text("w_to")?.trim().to_string(),
-        steps: p.count_u32("steps")?,
-        runs: p.count_u32("runs")?,
+        grid: Grid::Gaps(GapGrid {
+            w_from: p.text("w_from")?.trim().to_string(),
+            w_to: p.text("w_to")?.trim().to_string(),
+            steps: p.count_u32("steps")?,
+            runs: p.count_u32("runs")?,
+        }),
         collisions: p.count_u64("collisions_per_run")?,
         batches: p.count_u32("batches_per_run")?,
         seed: p.count_u64("seed")?,

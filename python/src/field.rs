@@ -1,13 +1,15 @@
 //! Analyses in a magnetic field beside `diffusion(field=)`: `sweep(w=..., fields=[...])` and
 //! `sweep(w_from=..., w_to=..., field=...)` (the tensor over gaps and fields,
-//! `estimators::field::sweep`), and `lyapunov(field=)` (`estimators::field::lyapunov`).
+//! `estimators::sweep::field`), and `lyapunov(field=)` (`estimators::field::lyapunov`).
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
-use lorentz_gas::estimators::field::sweep::{self as field_sweep, FieldSweepConfig};
+use lorentz_gas::estimators::sweep::field::{self as field_sweep, FieldGrid};
+use lorentz_gas::estimators::sweep::field_grid::{self, SweepGrid};
+use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 use lorentz_gas::scenes::table::spec::TableSpec;
 use lorentz_gas::verification::lyapunov::LyapunovConfig;
 
@@ -21,16 +23,11 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let (w_from, w_to) = (p.opt_text("w_from")?, p.opt_text("w_to")?);
     let steps = p.count_u32("steps")?;
     let (field, fields) = (p.opt_text("field")?, p.texts("fields")?);
-    let partial = FieldSweepConfig {
-        gaps: Vec::new(),
-        radius: None,
-        fields: Vec::new(),
-        collisions: p.count_u64("collisions_per_run")?,
-        batches: p.count_u32("batches_per_run")?,
-        seed: p.count_u64("seed")?,
-        localization_samples: p.count_u64("localization_samples")?,
-        table: None,
-    };
+    let (collisions, batches) = (
+        p.count_u64("collisions_per_run")?,
+        p.count_u32("batches_per_run")?,
+    );
+    let (seed, localization_samples) = (p.count_u64("seed")?, p.count_u64("localization_samples")?);
     let (threads, engine) = (p.threads()?, p.engine()?);
     let out = p.opt_path("out")?;
     Ok(work(move |py, progress| {
@@ -44,11 +41,11 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
         } else {
             &place.name
         };
-        let field_sweep::SweepGrid {
+        let SweepGrid {
             gaps,
             radius,
             fields,
-        } = field_sweep::scene_grid(
+        } = field_grid::scene_grid(
             name,
             (place.w.as_deref(), place.radius.as_deref()),
             (w_from.as_deref(), w_to.as_deref(), steps),
@@ -56,12 +53,17 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             &fields,
         )
         .map_err(crate::py_err)?;
-        let cfg = FieldSweepConfig {
-            gaps,
-            radius,
-            fields,
-            table,
-            ..partial
+        let cfg = SweepConfig {
+            grid: Grid::InField(FieldGrid {
+                gaps,
+                radius,
+                fields,
+                localization_samples,
+                table,
+            }),
+            collisions,
+            batches,
+            seed,
         };
         cfg.validate().map_err(crate::py_err)?;
         let r = compute(py, progress, |ctl| {

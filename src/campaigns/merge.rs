@@ -227,7 +227,7 @@ impl Parts {
     /// with the part that owns each.
     fn complete(&self, sweep: &SweepConfig) -> Result<Vec<SweepPoint>, Error> {
         let grid = sweep.points()?;
-        let missing: Vec<u32> = (0..sweep.steps)
+        let missing: Vec<u32> = (0..sweep.steps())
             .filter(|i| !self.found.contains_key(i))
             .collect();
         if !missing.is_empty() {
@@ -245,7 +245,7 @@ impl Parts {
             return Err(Error::Invalid(format!(
                 "{} of {} points missing: {list}{more}; run (or finish) those parts first",
                 missing.len(),
-                sweep.steps
+                sweep.steps()
             )));
         }
         let mut points = Vec::with_capacity(self.found.len());

@@ -4,9 +4,7 @@
 //! * [`shard`]: one part of a sweep (point i belongs to part i mod N).
 //! * [`merge`]: the parts combined into the whole sweep, bit-identical to it.
 //! * [`slurm`]: job-array scripts and the dependent merge job for a sweep.
-//! * [`sweeps`]: the sweeps a campaign deals into parts, and their configuration files.
 
 pub mod merge;
 pub mod shard;
 pub mod slurm;
-pub mod sweeps;

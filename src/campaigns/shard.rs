@@ -64,7 +64,7 @@ impl Shard {
 
     /// Checks that every part of `cfg`'s points gets at least one point.
     pub fn validate(&self, cfg: &SweepConfig) -> Result<(), Error> {
-        self.fits(cfg.steps as usize)
+        self.fits(cfg.steps() as usize)
     }
 
     /// Checks that every part of a sweep of `points` points gets at least one point.
@@ -161,7 +161,7 @@ pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<ShardReport, Error
         resumed_points: resumed,
         meta: RunMeta::new(
             Some(sweep.seed),
-            Some(sweep.runs as u64 * sweep.batches as u64),
+            Some(sweep.runs() as u64 * sweep.batches as u64),
             Precision::F64,
             Some(options.threads),
         )

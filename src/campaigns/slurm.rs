@@ -8,16 +8,15 @@
 //! configuration written beside the scripts ([`super::sweeps`]; a table given as data travels in
 //! it) — and the merge job runs `lorentz merge OUT/shard-0 … OUT/shard-(N−1) --out OUT`, which
 //! writes the same tables, JSON and figures as the sweep run in one piece
-//! ([`crate::campaigns::merge::run`], [`crate::estimators::field::parts`]).
+//! ([`crate::campaigns::merge::run`], [`crate::estimators::sweep::field_parts`]).
 //!
 //! Slurm's default `MaxArraySize` is 1001 (tasks 0 … 1000); a site may set it lower or higher.
 
 use std::path::{Path, PathBuf};
 
-use super::sweeps::Sweep;
 use crate::Error;
 use crate::engine::Engine;
-use crate::estimators::sweep::SweepConfig;
+use crate::estimators::sweep::{GapGrid, Grid, SweepConfig};
 
 /// The configuration file of a sweep in a field, in `OUT/slurm/`.
 pub const CONFIG_FILE: &str = "sweep-config.json";
@@ -26,7 +25,7 @@ pub const CONFIG_FILE: &str = "sweep-config.json";
 #[derive(Debug, Clone)]
 pub struct SweepCampaign {
     /// The whole sweep.
-    pub sweep: Sweep,
+    pub sweep: SweepConfig,
     /// Parts (array tasks), 1 … the sweep's points.
     pub parts: u32,
     /// Output directory of the merged sweep; part i writes `OUT/shard-i`, the scripts and the
@@ -80,7 +79,7 @@ impl SweepCampaign {
     /// Checks the campaign before anything is written.
     pub fn validate(&self) -> Result<(), Error> {
         self.sweep.validate()?;
-        let points = self.sweep.points();
+        let points = self.sweep.steps();
         if self.parts == 0 || self.parts > points {
             return Err(Error::out_of_range(
                 "array",
@@ -191,9 +190,9 @@ impl SweepCampaign {
     /// What the parts' `lorentz sweep` is given for the sweep: the flags of a sweep over w, the
     /// configuration file of a sweep in a field.
     fn sweep_arguments(&self) -> String {
-        match &self.sweep {
-            Sweep::OverW(c) => over_w_arguments(c),
-            Sweep::InField(_) => {
+        match &self.sweep.grid {
+            Grid::Gaps(g) => over_w_arguments(&self.sweep, g),
+            Grid::InField(_) => {
                 format!(
                     "--config {}",
                     Self::q(&self.out.join("slurm").join(CONFIG_FILE))
@@ -250,7 +249,7 @@ impl SweepCampaign {
             ("merge.sbatch", self.merge_script()),
             ("submit.sh", self.submit_script()),
         ];
-        if let Sweep::InField(_) = &self.sweep {
+        if let Grid::InField(_) = &self.sweep.grid {
             files.push((CONFIG_FILE, self.sweep.to_json()?));
         }
         for (name, text) in files {
@@ -263,14 +262,14 @@ impl SweepCampaign {
 }
 
 /// The flags of a sweep over w, for its parts.
-fn over_w_arguments(c: &SweepConfig) -> String {
+fn over_w_arguments(c: &SweepConfig, g: &GapGrid) -> String {
     format!(
         "--w-from {} --w-to {} --steps {} --runs {} --collisions-per-run {} \\\n  \
          --batches-per-run {} --seed {}",
-        shell_quote(&c.w_from),
-        shell_quote(&c.w_to),
-        c.steps,
-        c.runs,
+        shell_quote(&g.w_from),
+        shell_quote(&g.w_to),
+        g.steps,
+        g.runs,
         c.collisions,
         c.batches,
         c.seed,
@@ -283,15 +282,17 @@ mod tests {
 
     fn campaign() -> SweepCampaign {
         SweepCampaign {
-            sweep: Sweep::OverW(SweepConfig {
-                w_from: "0.2".into(),
-                w_to: "0.3".into(),
-                steps: 21,
-                runs: 10,
+            sweep: SweepConfig {
+                grid: Grid::Gaps(GapGrid {
+                    w_from: "0.2".into(),
+                    w_to: "0.3".into(),
+                    steps: 21,
+                    runs: 10,
+                }),
                 collisions: 2_000_000_000,
                 batches: 16,
                 seed: 5,
-            }),
+            },
             parts: 7,
             out: PathBuf::from("/scratch/it's here"),
             binary: PathBuf::from("/opt/lorentz/bin/lorentz"),
@@ -320,19 +321,21 @@ mod tests {
 
     #[test]
     fn a_field_sweeps_parts_read_its_configuration_beside_the_scripts() {
-        use crate::estimators::field::sweep::FieldSweepConfig;
-        let field = FieldSweepConfig {
-            gaps: Vec::new(),
-            radius: Some("1/4".into()),
-            fields: ["-1", "1", "2"].map(String::from).to_vec(),
+        use crate::estimators::sweep::field::FieldGrid;
+        let field = SweepConfig {
+            grid: Grid::InField(FieldGrid {
+                gaps: Vec::new(),
+                radius: Some("1/4".into()),
+                fields: ["-1", "1", "2"].map(String::from).to_vec(),
+                localization_samples: 1000,
+                table: None,
+            }),
             collisions: 1_000_000,
             batches: 8,
             seed: 3,
-            localization_samples: 1000,
-            table: None,
         };
         let c = SweepCampaign {
-            sweep: Sweep::InField(field),
+            sweep: field,
             parts: 3,
             ..campaign()
         };

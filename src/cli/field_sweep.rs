@@ -3,36 +3,17 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig};
+use lorentz_gas::estimators::sweep::field::{self as sweep, FieldGrid};
+use lorentz_gas::estimators::sweep::field_grid::{self, SweepGrid};
+use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 
 use super::output::emit;
 use super::progress::Progress;
 use super::sweep::{Args, FieldArgs, GridArgs};
-use lorentz_gas::campaigns::sweeps::Sweep;
-
-/// The field sweep these options give (validated): its configuration file (`--config`), or
-/// its flags.
-pub fn config(a: &Args) -> Result<FieldSweepConfig, Error> {
-    match a.config.as_deref().map(Sweep::read).transpose()? {
-        Some(Sweep::InField(c)) => Ok(c),
-        Some(Sweep::OverW(_)) => Err(not_in_a_field(a)),
-        None => config_of(&a.grid, &a.in_field, a.run.seed()),
-    }
-}
-
-/// The refusal of a configuration file of a sweep over w where a sweep in a field is read.
-fn not_in_a_field(a: &Args) -> Error {
-    let path = a.config.as_deref().map(|p| p.display().to_string());
-    Error::parameter(
-        "config",
-        path.unwrap_or_default(),
-        "a sweep over w without a field",
-    )
-}
 
 /// The field sweep of the grid `g` and field options `f` with `seed` (validated; shared with
 /// `lorentz slurm sweep`).
-pub fn config_of(g: &GridArgs, f: &FieldArgs, seed: u64) -> Result<FieldSweepConfig, Error> {
+pub fn config_of(g: &GridArgs, f: &FieldArgs, seed: u64) -> Result<SweepConfig, Error> {
     if let Some(runs) = g.runs {
         return Err(Error::parameter(
             "runs",
@@ -51,26 +32,28 @@ pub fn config_of(g: &GridArgs, f: &FieldArgs, seed: u64) -> Result<FieldSweepCon
         (None, super::args::SceneName::Triangular) => "triangular",
         (None, super::args::SceneName::Square) => "square",
     };
-    let sweep::SweepGrid {
+    let SweepGrid {
         gaps,
         radius,
         fields,
-    } = sweep::scene_grid(
+    } = field_grid::scene_grid(
         scene,
         (f.w.as_deref(), f.radius.as_deref()),
         (g.w_from.as_deref(), g.w_to.as_deref(), g.steps),
         f.field.as_deref(),
         &f.fields,
     )?;
-    let cfg = FieldSweepConfig {
-        gaps,
-        radius,
-        fields,
+    let cfg = SweepConfig {
+        grid: Grid::InField(FieldGrid {
+            gaps,
+            radius,
+            fields,
+            localization_samples: f.localization_samples,
+            table,
+        }),
         collisions: g.collisions_per_run,
         batches: g.batches_per_run,
         seed,
-        localization_samples: f.localization_samples,
-        table,
     };
     cfg.validate()?;
     Ok(cfg)
@@ -78,8 +61,7 @@ pub fn config_of(g: &GridArgs, f: &FieldArgs, seed: u64) -> Result<FieldSweepCon
 
 /// Runs it, writes the tables and figures into --out, and prints the table; an Onsager–Casimir
 /// disagreement is a FAIL (exit 1) after everything is written.
-pub fn run(a: &Args) -> Result<(), Error> {
-    let cfg = config(a)?;
+pub fn run(a: &Args, cfg: &SweepConfig) -> Result<(), Error> {
     let out = a.out.clone();
     let shard = a
         .shard
@@ -87,8 +69,8 @@ pub fn run(a: &Args) -> Result<(), Error> {
         .map(lorentz_gas::campaigns::shard::Shard::parse)
         .transpose()?;
     let points = match shard {
-        Some(s) => (0..cfg.grid().len() as u32).filter(|&i| s.owns(i)).count(),
-        None => cfg.grid().len(),
+        Some(s) => (0..cfg.steps()).filter(|&i| s.owns(i)).count(),
+        None => cfg.steps() as usize,
     };
     let total = cfg.collisions.saturating_mul(points as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
@@ -104,7 +86,7 @@ pub fn run(a: &Args) -> Result<(), Error> {
         stop: Some(super::signals::stop_flag()),
     };
     if let Some(s) = shard {
-        let part = lorentz_gas::estimators::field::parts::run_part(&cfg, s, &opts)?;
+        let part = lorentz_gas::estimators::sweep::field_parts::run_part(cfg, s, &opts)?;
         drop(progress);
         drop(pb);
         return emit(a.output.json, &part, |p| {
@@ -117,7 +99,7 @@ pub fn run(a: &Args) -> Result<(), Error> {
             )
         });
     }
-    let r = sweep::run(&cfg, &opts)?;
+    let r = sweep::run(cfg, &opts)?;
     drop(progress);
     drop(pb);
     finish(&r, &out, a.output.json)

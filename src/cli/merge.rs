@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use lorentz_gas::Error;
 use lorentz_gas::campaigns::merge::{self, MergeConfig};
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::parts;
 use lorentz_gas::estimators::sweep;
+use lorentz_gas::estimators::sweep::field_parts;
 
 use super::args::{OutputArgs, ThreadsArg};
 use super::output::emit;
@@ -37,8 +37,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         threads: a.threads.threads(),
         ..super::signals::options()
     };
-    if a.dirs.iter().any(|d| parts::is_field_part(d)) {
-        let r = parts::merge(&a.dirs, &out, &opts)?;
+    if a.dirs.iter().any(|d| field_parts::is_field_part(d)) {
+        let r = field_parts::merge(&a.dirs, &out, &opts)?;
         return super::field_sweep::finish(&r, &out, a.output.json);
     }
     let r = merge::run(&cfg, &opts)?;

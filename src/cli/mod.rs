@@ -226,7 +226,6 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::FreePaths(a) => free_paths::run(a),
         Cmd::Backscatter(a) => backscatter::run(a),
         Cmd::Hops(a) => hops::run(a),
-        Cmd::Sweep(a) if sweep::in_field(&a) => field_sweep::run(&a),
         Cmd::Sweep(a) => sweep::run(a),
         Cmd::Merge(a) => merge::run(a),
         Cmd::Report(a) => report::run(a),

@@ -67,7 +67,6 @@ fn read_command_line(line: &[String]) -> CommandLine {
         Cmd::Theory(a) | Cmd::LatticeWalk(a) => json(Ok(a.config())),
         Cmd::Backscatter(a) => json(Ok(super::backscatter::config(a))),
         Cmd::Escape(a) => json(super::escape::config(a)),
-        Cmd::Sweep(a) if super::sweep::in_field(a) => json(super::field_sweep::config(a)),
         Cmd::Sweep(a) => json(super::sweep::config(a)),
         _ => Ok(None),
     };

@@ -5,7 +5,6 @@ use std::path::PathBuf;
 
 use lorentz_gas::Error;
 use lorentz_gas::campaigns::slurm::SweepCampaign;
-use lorentz_gas::campaigns::sweeps::Sweep;
 
 use super::args::{EngineArg, OutputArgs, SeedArg, parse_count_u32};
 use super::output::emit;
@@ -69,13 +68,9 @@ struct Written {
 pub fn run(a: Args) -> Result<(), Error> {
     let What::Sweep(a) = a.what;
     let sweep = if a.in_field.in_field() {
-        Sweep::InField(super::field_sweep::config_of(
-            &a.grid,
-            &a.in_field,
-            a.seed.seed,
-        )?)
+        super::field_sweep::config_of(&a.grid, &a.in_field, a.seed.seed)?
     } else {
-        Sweep::OverW(a.grid.config(a.seed.seed)?)
+        a.grid.config(a.seed.seed)?
     };
     let absolute = |p: PathBuf| -> Result<PathBuf, Error> {
         if p.is_absolute() {
@@ -104,8 +99,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         files: c.write()?,
         submit: format!("sh {}", c.out.join("slurm").join("submit.sh").display()),
         meta: lorentz_gas::engine::metadata::RunMeta::new(
-            Some(c.sweep.seed()),
-            Some(c.sweep.batches()),
+            Some(c.sweep.seed),
+            Some(c.sweep.trajectories()),
             lorentz_gas::numbers::precision::Precision::F64,
             Some(c.cpus_per_task as usize),
         ),

@@ -2,9 +2,8 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig};
-use lorentz_gas::campaigns::sweeps::Sweep;
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepReport};
+use lorentz_gas::estimators::sweep::{self, GapGrid, Grid, SweepConfig, SweepReport};
 use lorentz_gas::report::text::sweep as text;
 
 use std::path::PathBuf;
@@ -57,10 +56,12 @@ impl GridArgs {
             return Err(missing_end(self));
         };
         let cfg = SweepConfig {
-            w_from: w_from.clone(),
-            w_to: w_to.clone(),
-            steps: self.steps,
-            runs: self.runs.unwrap_or(DEFAULT_RUNS),
+            grid: Grid::Gaps(GapGrid {
+                w_from: w_from.clone(),
+                w_to: w_to.clone(),
+                steps: self.steps,
+                runs: self.runs.unwrap_or(DEFAULT_RUNS),
+            }),
             collisions: self.collisions_per_run,
             batches: self.batches_per_run,
             seed,
@@ -142,27 +143,17 @@ pub struct Args {
 }
 
 /// The configuration of the whole sweep these options give (validated): its configuration file
-/// (`--config`), or its flags.
-pub fn config(a: &Args) -> Result<lorentz_gas::estimators::sweep::SweepConfig, Error> {
-    match a.config.as_deref().map(Sweep::read).transpose()? {
-        Some(Sweep::OverW(c)) => Ok(c),
-        Some(Sweep::InField(_)) => {
-            let path = a.config.as_deref().map(|p| p.display().to_string());
-            Err(Error::parameter(
-                "config",
-                path.unwrap_or_default(),
-                "a sweep in a field",
-            ))
-        }
-        None => a.grid.config(a.run.seed()),
-    }
-}
-
-/// A sweep in a field (`--field` or `--fields` given, or a configuration file of one).
-pub fn in_field(a: &Args) -> bool {
+/// (`--config`), or its flags — a sweep in a field with `--field` or `--fields`.
+pub fn config(a: &Args) -> Result<SweepConfig, Error> {
     match a.config.as_deref() {
-        Some(p) => matches!(Sweep::read(p), Ok(Sweep::InField(_)) | Err(_)),
-        None => a.in_field.in_field(),
+        Some(p) => SweepConfig::read(p),
+        None if a.in_field.in_field() => {
+            super::field_sweep::config_of(&a.grid, &a.in_field, a.run.seed())
+        }
+        None => {
+            refuse_field_options(a)?;
+            a.grid.config(a.run.seed())
+        }
     }
 }
 
@@ -197,23 +188,24 @@ fn refuse_field_options(a: &Args) -> Result<(), Error> {
     Ok(())
 }
 
-/// Runs a sweep over w without a field (the field sweep runs those in a field: the command
-/// picks by [`in_field`]).
+/// Runs the sweep: over w without a field here, in a field by [`super::field_sweep::run`].
 pub fn run(a: Args) -> Result<(), Error> {
-    refuse_field_options(&a)?;
     let cfg = config(&a)?;
+    if let Grid::InField(_) = cfg.grid {
+        return super::field_sweep::run(&a, &cfg);
+    }
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     if let Some(s) = shard {
         s.validate(&cfg)?;
     }
     let out = a.out.clone();
     let points = match shard {
-        Some(s) => (0..cfg.steps).filter(|&i| s.owns(i)).count() as u64,
-        None => cfg.steps as u64,
+        Some(s) => (0..cfg.steps()).filter(|&i| s.owns(i)).count() as u64,
+        None => cfg.steps() as u64,
     };
     let total = cfg
         .collisions
-        .saturating_mul(cfg.runs as u64)
+        .saturating_mul(cfg.runs() as u64)
         .saturating_mul(points);
     let pb = Progress::new(total, "collisions", a.output.quiet);
     let progress = pb.callback();
@@ -237,10 +229,9 @@ pub fn run(a: Args) -> Result<(), Error> {
         drop(pb);
         return emit(a.output.json, &r, |r| {
             println!(
-                "part {} of sweep w = {} .. {}: points {:?} ({} resumed) written to {}/points; combine the parts with lorentz merge",
+                "part {} of {}: points {:?} ({} resumed) written to {}/points; combine the parts with lorentz merge",
                 r.shard,
-                cfg.w_from,
-                cfg.w_to,
+                cfg.describe(),
                 r.points,
                 r.resumed_points,
                 out.display()

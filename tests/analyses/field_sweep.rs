@@ -1,23 +1,30 @@
-//! The sweep in a field (`estimators::field::sweep`): every point is the transport run of its own
+//! The sweep in a field (`estimators::sweep::field`): every point is the transport run of its own
 //! configuration bit for bit, an interrupted sweep resumes to the same bits at another thread
 //! count, an edited point file is refused, and Onsager–Casimir holds over ±B.
 
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::sweep::{self, FieldSweepConfig, point_path};
-use lorentz_gas::estimators::field::{self};
+use lorentz_gas::estimators::field;
+use lorentz_gas::estimators::sweep::field::{self as sweep, FieldGrid, point_path};
+use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 
 use crate::common::{scratch, threads};
 
-fn config() -> FieldSweepConfig {
-    FieldSweepConfig {
-        gaps: vec!["0.1".into()],
-        radius: None,
-        fields: vec!["-1".into(), "1".into(), "5/2".into()],
-        collisions: 1_000_000,
-        batches: 8,
+fn config() -> SweepConfig {
+    grid(&["0.1"], &["-1", "1", "5/2"], 1_000_000, 8)
+}
+
+fn grid(gaps: &[&str], fields: &[&str], collisions: u64, batches: u32) -> SweepConfig {
+    SweepConfig {
+        grid: Grid::InField(FieldGrid {
+            gaps: gaps.iter().map(|g| g.to_string()).collect(),
+            radius: None,
+            fields: fields.iter().map(|f| f.to_string()).collect(),
+            localization_samples: 20_000,
+            table: None,
+        }),
+        collisions,
+        batches,
         seed: 5,
-        localization_samples: 20_000,
-        table: None,
     }
 }
 
@@ -32,8 +39,9 @@ fn a_field_sweep_is_its_points_runs_and_resumes_to_the_same_bits() {
     };
     let full = sweep::run(&cfg, &with_dir(2)).unwrap();
     assert_eq!(full.resumed_points, 0);
-    for (i, (g, f)) in cfg.grid().into_iter().enumerate() {
-        let alone = field::run(&cfg.point_config(i, g, f).unwrap(), &threads(1)).unwrap();
+    let fg = cfg.field_grid().unwrap();
+    for (i, (g, f)) in fg.grid().into_iter().enumerate() {
+        let alone = field::run(&fg.point_config(&cfg, i, (g, f)).unwrap(), &threads(1)).unwrap();
         let row = &full.rows[i];
         assert_eq!(
             (
@@ -68,7 +76,7 @@ fn a_field_sweep_is_its_points_runs_and_resumes_to_the_same_bits() {
     );
     // A directory of another sweep is refused.
     std::fs::write(&p, text).unwrap();
-    let other = FieldSweepConfig {
+    let other = SweepConfig {
         seed: 6,
         ..cfg.clone()
     };
@@ -81,13 +89,7 @@ fn a_field_sweep_is_its_points_runs_and_resumes_to_the_same_bits() {
 
 #[test]
 fn the_sweep_checks_onsager_casimir_over_plus_and_minus_b() {
-    let cfg = FieldSweepConfig {
-        gaps: vec!["0.1".into(), "0.3".into()],
-        fields: vec!["-1".into(), "1".into(), "1/2".into()],
-        collisions: 4_000_000,
-        batches: 16,
-        ..config()
-    };
+    let cfg = grid(&["0.1", "0.3"], &["-1", "1", "1/2"], 4_000_000, 16);
     let r = sweep::run(&cfg, &threads(2)).unwrap();
     // One check per gap with ±1; 1/2 has no partner.
     assert_eq!(r.onsager.len(), 2);

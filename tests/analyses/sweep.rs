@@ -34,10 +34,12 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     let dir = tmp.path().to_path_buf();
     let _ = std::fs::remove_dir_all(&dir);
     let cfg = SweepConfig {
-        w_from: "0.08".into(),
-        w_to: "0.16".into(),
-        steps: 3,
-        runs: 2,
+        grid: lorentz_gas::estimators::sweep::Grid::Gaps(lorentz_gas::estimators::sweep::GapGrid {
+            w_from: "0.08".into(),
+            w_to: "0.16".into(),
+            steps: 3,
+            runs: 2,
+        }),
         collisions: 3_000_000,
         batches: 4,
         seed: 9,
@@ -76,7 +78,7 @@ fn an_interrupted_sweep_resumes_without_redoing_points() {
     assert_eq!(runs.lines().next(), Some("w,run,run_D"));
     assert_eq!(
         runs.lines().count(),
-        1 + first.rows.len() * cfg.runs as usize
+        1 + first.rows.len() * cfg.runs() as usize
     );
     // "Interrupt": lose the last point; the rerun redoes only that one and gives the same bits.
     std::fs::remove_file(dir.join("points").join("point-0002.json")).unwrap();

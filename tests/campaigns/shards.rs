@@ -89,10 +89,12 @@ fn forge_points(points: &Path) -> Vec<(PathBuf, String)> {
 
 fn config(seed: u64) -> SweepConfig {
     SweepConfig {
-        w_from: "0.2".into(),
-        w_to: "0.3".into(),
-        steps: 5,
-        runs: 2,
+        grid: lorentz_gas::estimators::sweep::Grid::Gaps(lorentz_gas::estimators::sweep::GapGrid {
+            w_from: "0.2".into(),
+            w_to: "0.3".into(),
+            steps: 5,
+            runs: 2,
+        }),
         collisions: 200_000,
         batches: 4,
         seed,

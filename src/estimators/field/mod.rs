@@ -44,11 +44,8 @@ use crate::scenes::spec::{SceneSpec, field_value};
 use crate::statistics::{linear_fit, mean_se};
 use crate::theory::magnetic::FieldGeometry;
 
-pub mod grid;
 mod lanes;
 pub mod lyapunov;
-pub mod parts;
-pub mod sweep;
 mod track;
 mod walk;
 
@@ -363,14 +360,14 @@ fn all_lags(cfg: &DiffusionConfig) -> Vec<usize> {
 }
 
 /// A number of the JSON where `null` stands for what JSON cannot write, read back as NaN.
-pub(super) fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+pub(crate) fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// A mean free time of the JSON where `null` stands for the infinity JSON cannot write: where
 /// every orbit is localized nothing collides, measured or exact. Read back as infinity, so a
 /// record re-read has the bits it was written with.
-pub(super) fn infinite_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+pub(crate) fn infinite_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 

@@ -138,7 +138,7 @@ pub(crate) fn analyse(
         resumed_points: resumed,
         meta: RunMeta::new(
             Some(cfg.seed),
-            Some(cfg.runs as u64 * cfg.batches as u64),
+            Some(cfg.runs() as u64 * cfg.batches as u64),
             Precision::F64,
             Some(threads),
         ),

@@ -9,6 +9,10 @@
 //! χ²/dof (`proofs-notes/sweep-errors.md`).
 
 pub mod analysis;
+pub mod field;
+pub mod field_grid;
+pub mod field_parts;
+pub mod file;
 pub mod points;
 
 use std::path::Path;
@@ -23,17 +27,13 @@ use crate::numbers::exact::decimal_grid;
 use crate::numbers::precision::Precision;
 use crate::statistics::fits::{LineFit, WeightedMean};
 
-/// What defines a sweep.
+/// What defines a sweep: the grid it runs through and each point's run. One description of
+/// every sweep, for the command line, Python, campaigns' parts and Slurm job arrays.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SweepConfig {
-    /// First w, as the decimal typed (the grid is computed exactly: [`crate::numbers::exact`]).
-    pub w_from: String,
-    /// Last w, as typed.
-    pub w_to: String,
-    /// Number of points (≥ 2).
-    pub steps: u32,
-    /// Independent runs per point (≥ 1; with ≥ 2 their spread is checked against their errors).
-    pub runs: u32,
+    /// What is swept (in JSON, the grid's keys beside the run's).
+    #[serde(flatten)]
+    pub grid: Grid,
     /// Collisions per run (serialized as `collisions_per_run`, the command line's name).
     #[serde(rename = "collisions_per_run")]
     pub collisions: u64,
@@ -43,6 +43,29 @@ pub struct SweepConfig {
     pub batches: u32,
     /// Seed: run r of point i uses the streams of run i·runs + r of this seed.
     pub seed: u64,
+}
+
+/// What a sweep runs through.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Grid {
+    /// D(w) of the triangular gas without a field at evenly spaced gaps ([`run`]).
+    Gaps(GapGrid),
+    /// The diffusion tensor in a field over tables × fields ([`field::run`]).
+    InField(field::FieldGrid),
+}
+
+/// Evenly spaced gaps of the triangular gas, several runs at each.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GapGrid {
+    /// First w, as the decimal typed (the grid is computed exactly: [`crate::numbers::exact`]).
+    pub w_from: String,
+    /// Last w, as typed.
+    pub w_to: String,
+    /// Number of points (≥ 2).
+    pub steps: u32,
+    /// Independent runs per point (≥ 1; with ≥ 2 their spread is checked against their errors).
+    pub runs: u32,
 }
 
 /// One run of one point.
@@ -161,7 +184,7 @@ pub struct SweepRow {
     /// values over the mean of their squared batch errors. Every run has the same collisions and
     /// batches, so under "the runs agree within their errors" F is exactly F(R − 1, R(B − 1))
     /// distributed (NaN for one run, written as JSON `null`).
-    #[serde(deserialize_with = "nan_if_null")]
+    #[serde(deserialize_with = "crate::estimators::field::nan_if_null")]
     pub runs_f: f64,
     /// Its numerator degrees of freedom, R − 1.
     pub runs_f_dof1: u32,
@@ -169,7 +192,7 @@ pub struct SweepRow {
     pub runs_f_dof2: u64,
     /// Probability of an F at least this large if the runs agree within their errors (NaN for
     /// one run, written as JSON `null`).
-    #[serde(deserialize_with = "nan_if_null")]
+    #[serde(deserialize_with = "crate::estimators::field::nan_if_null")]
     pub runs_p_value: f64,
     /// Machta–Zwanzig.
     pub D_MZ: f64,
@@ -184,44 +207,100 @@ pub struct SweepRow {
     pub run_D_err: Vec<f64>,
 }
 
-/// A number that JSON writes as `null` when it is NaN (serde_json has no NaN) read back as NaN.
-fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-}
-
 impl SweepConfig {
-    /// The grid of w, exact decimals rounded once.
-    pub fn points(&self) -> Result<Vec<f64>, Error> {
-        decimal_grid(&self.w_from, &self.w_to, self.steps)
+    /// The gaps of a sweep over w without a field.
+    ///
+    /// # Errors
+    /// A sweep in a field (which [`field::run`] runs).
+    pub fn gap_grid(&self) -> Result<&GapGrid, Error> {
+        match &self.grid {
+            Grid::Gaps(g) => Ok(g),
+            Grid::InField(f) => Err(Error::parameter(
+                "fields",
+                f.fields.join(","),
+                "a sweep in a field has its own analysis (the tensor and Onsager-Casimir), not \
+                 the fits of D(w) without a field",
+            )),
+        }
     }
 
-    /// The diffusion run r of point i.
+    /// The tables and fields of a sweep in a field.
+    ///
+    /// # Errors
+    /// A sweep without a field.
+    pub fn field_grid(&self) -> Result<&field::FieldGrid, Error> {
+        match &self.grid {
+            Grid::InField(f) => Ok(f),
+            Grid::Gaps(_) => Err(Error::missing(
+                "fields",
+                "a sweep in a field needs its fields",
+            )),
+        }
+    }
+
+    /// Independent runs per point (one in a field).
+    pub fn runs(&self) -> u32 {
+        match &self.grid {
+            Grid::Gaps(g) => g.runs,
+            Grid::InField(_) => 1,
+        }
+    }
+
+    /// Its points (each belongs to one part of a campaign).
+    pub fn steps(&self) -> u32 {
+        match &self.grid {
+            Grid::Gaps(g) => g.steps,
+            Grid::InField(f) => f.grid().len() as u32,
+        }
+    }
+
+    /// The grid of w of a sweep without a field, exact decimals rounded once.
+    ///
+    /// # Errors
+    /// A sweep in a field, or ends that are not exact numbers.
+    pub fn points(&self) -> Result<Vec<f64>, Error> {
+        let g = self.gap_grid()?;
+        decimal_grid(&g.w_from, &g.w_to, g.steps)
+    }
+
+    /// The diffusion run r of point i at the gap w, without a field.
     pub fn run_config(&self, i: u32, w: f64, r: u32) -> DiffusionConfig {
         let mut c = DiffusionConfig::new(w);
         c.collisions = self.collisions;
         c.batches = self.batches;
         c.seed = self.seed;
         // u32·u32 + u32 < 2⁶⁴: cannot overflow, and distinct (i, r) give distinct runs.
-        c.run = i as u64 * self.runs as u64 + r as u64;
+        c.run = i as u64 * self.runs() as u64 + r as u64;
         c.precision = Precision::F64;
         c
     }
 
-    /// Checks every parameter before anything runs or is written.
+    /// Checks every parameter (every point's run) before anything runs or is written.
+    ///
+    /// # Errors
+    /// What the grid's checks refuse, naming the range.
     pub fn validate(&self) -> Result<(), Error> {
-        if self.steps < 2 || self.steps > MAX_SWEEP_POINTS {
+        match &self.grid {
+            Grid::Gaps(g) => self.validate_gaps(g),
+            Grid::InField(f) => f.validate(self),
+        }
+    }
+
+    /// The checks of a sweep over w without a field.
+    fn validate_gaps(&self, g: &GapGrid) -> Result<(), Error> {
+        if g.steps < 2 || g.steps > MAX_SWEEP_POINTS {
             return Err(Error::out_of_range(
                 "steps",
-                self.steps,
+                g.steps,
                 format!("use 2 to {MAX_SWEEP_POINTS} points (a sweep needs at least 2)"),
             ));
         }
-        if self.runs == 0 {
+        if g.runs == 0 {
             return Err(Error::Zero { what: "runs" });
         }
-        crate::engine::parallel::check_batches("runs", self.runs)?;
+        crate::engine::parallel::check_batches("runs", g.runs)?;
         // The ends exactly as typed: every point lies between them.
-        for (name, end) in [("w_from", &self.w_from), ("w_to", &self.w_to)] {
+        for (name, end) in [("w_from", &g.w_from), ("w_to", &g.w_to)] {
             let w = (crate::numbers::exact::ExactInput::parse(end))
                 .map_err(|e| e.named(name))?
                 .value;
@@ -231,12 +310,12 @@ impl SweepConfig {
         if let Some(k) = points.windows(2).position(|p| p[0] == p[1]) {
             return Err(Error::parameter(
                 "steps",
-                self.steps,
+                g.steps,
                 format!(
                     "from w_from = {} to w_to = {} gives w = {} at points {k} and {}: the fits \
                      need distinct w, use ends that differ by more than the steps resolve",
-                    self.w_from,
-                    self.w_to,
+                    g.w_from,
+                    g.w_to,
                     points[k],
                     k + 1
                 ),
@@ -273,7 +352,7 @@ pub fn run(cfg: &SweepConfig, options: &RunOptions) -> Result<SweepReport, Error
             RunOption::CheckpointEvery,
         ],
     )?;
-    let collisions = cfg.steps as f64 * cfg.runs as f64 * cfg.collisions as f64;
+    let collisions = cfg.steps() as f64 * cfg.runs() as f64 * cfg.collisions as f64;
     crate::engine::work::Work::new(
         "sweep",
         &["steps", "runs", "collisions_per_run"],

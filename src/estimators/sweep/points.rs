@@ -49,7 +49,7 @@ pub(crate) fn run_points(
     for (&(i, w), old) in grid.iter().zip(found) {
         match old {
             Some(p) => {
-                (options.progress)(cfg.collisions.saturating_mul(cfg.runs as u64));
+                (options.progress)(cfg.collisions.saturating_mul(cfg.runs() as u64));
                 points.push(p);
                 resumed += 1;
             }
@@ -72,7 +72,7 @@ fn recheck_one_run(
         return Ok(());
     }
     let p = reused[rand::random_range(0..reused.len())];
-    let r = rand::random_range(0..cfg.runs);
+    let r = rand::random_range(0..cfg.runs());
     let opts = RunOptions {
         resume: None,
         audit: None,
@@ -179,7 +179,7 @@ fn run_point(
     i: usize,
     w: f64,
 ) -> Result<SweepPoint, Error> {
-    let cfgs: Vec<DiffusionConfig> = (0..cfg.runs)
+    let cfgs: Vec<DiffusionConfig> = (0..cfg.runs())
         .map(|r| cfg.run_config(i as u32, w, r))
         .collect();
     // Finished batches of this point and its trajectories in flight are journalled, so that an

@@ -5,22 +5,23 @@ use std::path::Path;
 
 use super::{PlotSpec, Series, plot};
 use crate::Error;
-use crate::estimators::field::sweep::{FieldSweepReport, FieldSweepRow};
+use crate::estimators::sweep::field::{FieldSweepReport, FieldSweepRow};
 
 /// Writes `field-D_xx` and `field-D_xy` (`.png`, `.svg`) into `dir`.
 ///
 /// # Errors
 /// If a file cannot be written.
 pub fn write_field_sweep_figures(r: &FieldSweepReport, dir: &Path) -> Result<(), Error> {
-    let over_fields = r.config.fields.len() > 1;
+    let grid = r.config.field_grid()?;
+    let over_fields = grid.fields.len() > 1;
     let x_of = |row: &FieldSweepRow| if over_fields { row.field } else { row.place() };
     let xs: Vec<f64> = r.rows.iter().map(x_of).collect();
     let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let log_x = lo > 0.0 && hi >= 20.0 * lo;
     let x_label = if over_fields { "field B" } else { "gap w" };
-    let place = if r.config.radius.is_some() { "r" } else { "w" };
-    let table = r.config.table.as_ref().map(|t| t.title().to_string());
+    let place = if grid.radius.is_some() { "r" } else { "w" };
+    let table = grid.table.as_ref().map(|t| t.title().to_string());
     let curves = |y: &dyn Fn(&FieldSweepRow) -> (f64, f64)| -> Vec<Series> {
         let mut keys: Vec<f64> = Vec::new();
         for row in &r.rows {

@@ -11,7 +11,7 @@ use super::file::ResultFile;
 use super::same_bits::rerun_check;
 use super::{Checks, Ctx};
 use crate::Error;
-use crate::estimators::field::sweep::{self, FieldSweepReport, FieldSweepRow, onsager};
+use crate::estimators::sweep::field::{FieldSweepReport, FieldSweepRow, onsager};
 use crate::statistics::comparison::largest_of_bound;
 use crate::theory::magnetic::sampled_share_err;
 
@@ -24,7 +24,7 @@ pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<FieldSweepReport, 
 
 /// Collisions the re-run takes.
 pub(super) fn collisions(r: &FieldSweepReport) -> u64 {
-    let points = r.config.grid().len() as u64;
+    let points = u64::from(r.config.steps());
     r.config.collisions.saturating_mul(points)
 }
 
@@ -79,7 +79,7 @@ pub(super) fn checks(
     );
     rerun_check(r, collisions(r), &what, ctx, checks, |o| {
         // Which points an earlier run left to resume is bookkeeping, not the result.
-        sweep::run(cfg, o).map(|mut again| {
+        crate::estimators::sweep::field::run(cfg, o).map(|mut again| {
             again.resumed_points = r.resumed_points;
             again
         })
@@ -89,7 +89,8 @@ pub(super) fn checks(
 /// Rows that are not their points' exact geometry (gap, field, radius, shares, Kac's time).
 fn row_problems(r: &FieldSweepReport) -> Result<Vec<String>, Error> {
     let cfg = &r.config;
-    let grid = cfg.grid();
+    let fg = cfg.field_grid()?;
+    let grid = fg.grid();
     if r.rows.len() != grid.len() {
         return Ok(vec![format!(
             "{} rows for a grid of {} points",
@@ -100,7 +101,7 @@ fn row_problems(r: &FieldSweepReport) -> Result<Vec<String>, Error> {
     let mut bad = Vec::new();
     for (i, ((g, f), row)) in grid.into_iter().zip(&r.rows).enumerate() {
         let at = format!("{g:?}");
-        let pc = cfg.point_config(i, g, f)?;
+        let pc = fg.point_config(cfg, i, (g, f))?;
         let geo = geometry_of(&pc)?;
         let (w, radius) = crate::estimators::field::scene_parameters(&pc.table)?;
         let same = |a: Option<f64>, b: Option<f64>| a.map(f64::to_bits) == b.map(f64::to_bits);
@@ -141,11 +142,9 @@ fn shares_and_kac(r: &FieldSweepReport, checks: &mut Checks) {
             f64::INFINITY
         }
     };
+    let samples = r.config.field_grid().map_or(0, |g| g.localization_samples);
     let share = |row: &FieldSweepRow| {
-        let (x, m) = (
-            row.localized_fraction_exact,
-            r.config.localization_samples as f64,
-        );
+        let (x, m) = (row.localized_fraction_exact, samples as f64);
         z_of(row.localized_fraction, sampled_share_err(x, m), x)
     };
     let kac = |row: &FieldSweepRow| {

@@ -254,7 +254,7 @@ enum Audited {
     Backscatter(Box<crate::estimators::hops::backscatter::BackscatterReport>),
     Escape(Box<crate::estimators::escape::EscapeReport>),
     Field(Box<crate::estimators::field::FieldReport>),
-    FieldSweep(Box<crate::estimators::field::sweep::FieldSweepReport>),
+    FieldSweep(Box<crate::estimators::sweep::field::FieldSweepReport>),
     Table(
         Box<(
             crate::estimators::diffusion::scene::SceneDiffusionReport,

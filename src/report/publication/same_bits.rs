@@ -111,7 +111,7 @@ recorded!(
     crate::estimators::hops::backscatter::BackscatterReport,
     crate::estimators::escape::EscapeReport,
     crate::estimators::field::FieldReport,
-    crate::estimators::field::sweep::FieldSweepReport,
+    crate::estimators::sweep::field::FieldSweepReport,
     crate::estimators::diffusion::scene::SceneDiffusionReport
 );
 

@@ -27,8 +27,8 @@ pub(super) fn reruns(r: &SweepReport, quick: bool) -> Vec<u64> {
     } else {
         vec![
             c.collisions
-                .saturating_mul(u64::from(c.runs))
-                .saturating_mul(u64::from(c.steps)),
+                .saturating_mul(u64::from(c.runs()))
+                .saturating_mul(u64::from(c.steps())),
         ]
     }
 }
@@ -84,7 +84,7 @@ fn points_of(r: &SweepReport, grid: &[f64]) -> Result<Vec<SweepPoint>, String> {
         if row.w.to_bits() != w.to_bits() {
             return Err(format!("row {i}: w = {} is not the grid's {w}", row.w));
         }
-        let n = cfg.runs as usize;
+        let n = cfg.runs() as usize;
         if row.run_D.len() != n || row.run_D_err.len() != n {
             return Err(format!(
                 "row {i}: {} run values and {} run errors for {n} runs",
@@ -118,7 +118,7 @@ fn record_check(r: &SweepReport, again: &SweepReport, checks: &mut Checks) -> Re
             format!(
                 "{} points × {} runs analysed again from each run's D and error: the same bits",
                 r.rows.len(),
-                r.config.runs
+                r.config.runs()
             )
         } else {
             format!(
@@ -176,8 +176,8 @@ fn one_run_check(
         return Ok(());
     }
     // steps × runs can exceed u32 (10⁴ points × 2²⁰ runs): picked in u64.
-    let runs = u64::from(cfg.runs.max(1));
-    let pick = pick_from_digest(ctx.sha, u64::from(cfg.steps) * runs);
+    let runs = u64::from(cfg.runs().max(1));
+    let pick = pick_from_digest(ctx.sha, u64::from(cfg.steps()) * runs);
     // Below steps and runs respectively, so both fit in u32.
     let (i, k) = ((pick / runs) as u32, (pick % runs) as u32);
     let (iu, ku) = (i as usize, k as usize);
@@ -203,10 +203,13 @@ fn whole_sweep_check(r: &SweepReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
     let cfg = &r.config;
     let what = format!(
         "{} points × {} runs of {} collisions (seed {})",
-        cfg.steps, cfg.runs, cfg.collisions, cfg.seed
+        cfg.steps(),
+        cfg.runs(),
+        cfg.collisions,
+        cfg.seed
     );
     let n = cfg
         .collisions
-        .saturating_mul(u64::from(cfg.runs) * u64::from(cfg.steps));
+        .saturating_mul(u64::from(cfg.runs()) * u64::from(cfg.steps()));
     rerun_check(r, n, &what, ctx, checks, |o| sweep::run(cfg, o))
 }

@@ -19,7 +19,7 @@ use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOptions, StopFlag};
 use crate::estimators::diffusion::{DiffusionConfig, run};
-use crate::estimators::sweep::{self, SweepConfig, SweepReport};
+use crate::estimators::sweep::{self, GapGrid, Grid, SweepConfig, SweepReport};
 use crate::numbers::precision::Precision;
 use crate::report::figures::paper;
 use crate::scenes::triangular::geometry::Geometry;
@@ -379,8 +379,8 @@ impl Reproduction<'_> {
 impl SweepConfig {
     fn collisions_total(&self) -> u64 {
         self.collisions
-            .saturating_mul(self.runs as u64)
-            .saturating_mul(self.steps as u64)
+            .saturating_mul(self.runs() as u64)
+            .saturating_mul(self.steps() as u64)
     }
 }
 
@@ -395,10 +395,12 @@ fn sweep_config(step: Step, budget: Budget, seed: u64) -> Result<SweepConfig, Er
         _ => return Err(Error::Failed(format!("no sweep step {}", step.name()))),
     };
     let c = SweepConfig {
-        w_from: from.into(),
-        w_to: to.into(),
-        steps,
-        runs,
+        grid: Grid::Gaps(GapGrid {
+            w_from: from.into(),
+            w_to: to.into(),
+            steps,
+            runs,
+        }),
         collisions,
         batches,
         seed,

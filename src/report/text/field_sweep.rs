@@ -3,16 +3,20 @@
 //! files it wrote, and Python's `str()` of the result is the same text.
 
 use super::line;
-use crate::estimators::field::sweep::FieldSweepReport;
+use crate::estimators::sweep::field::FieldSweepReport;
 
 /// The sweep's table and its Onsager–Casimir checks.
 pub fn field_sweep(r: &FieldSweepReport) -> String {
     let mut out = String::new();
     let c = &r.config;
-    let (place, scenes) = match (&c.table, &c.radius) {
+    let g = match c.field_grid() {
+        Ok(g) => g,
+        Err(e) => return format!("{e}\n"),
+    };
+    let (place, scenes) = match (&g.table, &g.radius) {
         (Some(t), _) => ("", t.title().to_string()),
         (None, Some(r)) => ("radius", format!("square lattice, r = {r}")),
-        (None, None) => ("w", format!("{} gap(s)", c.gaps.len())),
+        (None, None) => ("w", format!("{} gap(s)", g.gaps.len())),
     };
     // A table has no scene parameter: its rows and checks name the field only.
     let at = |v: f64| {
@@ -25,7 +29,7 @@ pub fn field_sweep(r: &FieldSweepReport) -> String {
     line!(
         out,
         "sweep in a magnetic field: {scenes} x {} field(s), {} collisions in {} batches per point, seed {} ({} points resumed)",
-        c.fields.len(),
+        g.fields.len(),
         c.collisions,
         c.batches,
         c.seed,

@@ -9,13 +9,16 @@ use crate::estimators::sweep::SweepReport;
 pub fn sweep(r: &SweepReport) -> String {
     let mut out = String::new();
     let c = &r.config;
+    let (from, to) = c
+        .gap_grid()
+        .map_or(("?", "?"), |g| (g.w_from.as_str(), g.w_to.as_str()));
     line!(
         out,
         "sweep w = {} .. {}, {} points x {} runs x {} collisions in {} batches per run ({} points resumed)",
-        c.w_from,
-        c.w_to,
-        c.steps,
-        c.runs,
+        from,
+        to,
+        c.steps(),
+        c.runs(),
         c.collisions,
         c.batches,
         r.resumed_points

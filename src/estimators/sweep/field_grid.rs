@@ -1,6 +1,6 @@
 //! The grid of a field sweep as the command line and Python give it: the scene's parameter (a
 //! gap, an exact range of gaps, or the square lattice's radius) and the fields, as exact texts
-//! ([`super::sweep::FieldSweepConfig`] holds them).
+//! ([`super::FieldGrid`] holds them).
 
 use rug::{Integer, Rational};
 
@@ -173,7 +173,7 @@ pub fn fields_of(field: Option<&str>, fields: &[String]) -> Result<Vec<String>, 
 /// # Examples
 ///
 /// ```
-/// use lorentz_gas::estimators::field::grid::exact_grid;
+/// use lorentz_gas::estimators::sweep::field_grid::exact_grid;
 /// assert_eq!(exact_grid("0.1", "0.2", 3).unwrap(), ["0.1", "0.15", "0.2"]);
 /// assert_eq!(exact_grid("0", "1", 4).unwrap(), ["0", "1/3", "2/3", "1"]);
 /// ```

@@ -1,5 +1,5 @@
 //! The diffusion tensor over a grid of gaps and fields: a sweep over B at a fixed gap, over w at a
-//! fixed field, or both. Every point is one transport run in a field ([`super::run`]) on its own
+//! fixed field, or both. Every point is one transport run in a field ([`crate::estimators::field::run`]) on its own
 //! streams (point i is run i of the seed), so points are independent and each error bar is its
 //! own batches'. Where the grid holds B and −B at the same gap, Onsager–Casimir is checked:
 //! D_xx(B) − D_xx(−B) and D_xy(B) + D_xy(−B) against 0 with the Welch error of two independent
@@ -15,13 +15,13 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::FieldReport;
-pub use super::grid::{SweepGrid, exact_grid, fields_of, grid_of, scene_grid};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::resume::{seal, unseal};
 use crate::estimators::diffusion::DiffusionConfig;
+use crate::estimators::field::FieldReport;
+use crate::estimators::sweep::SweepConfig;
 use crate::estimators::sweep::points::{renamed_point, same_sweep};
 use crate::scenes::spec::SceneSpec;
 use crate::scenes::spec::{Motion, Table};
@@ -31,11 +31,12 @@ use crate::statistics::welch_dof;
 /// Most points of a field sweep (each is a transport run of its own).
 pub const MAX_FIELD_SWEEP_POINTS: usize = 1_000;
 
-/// What defines a sweep of the diffusion tensor over gaps and fields.
+/// The grid of a sweep in a field: the tables (the triangular gas at each gap, the square one at
+/// a radius, or a table given as data) × the fields.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FieldSweepConfig {
+pub struct FieldGrid {
     /// The gaps of the triangular scene, each an exact decimal or fraction as given (one gap: a
-    /// sweep over B); empty with `radius`.
+    /// sweep over B); empty with `radius` or `table`.
     pub gaps: Vec<String>,
     /// The square lattice at this radius (exact, as given) instead of the triangular one: a
     /// sweep over B on it.
@@ -44,16 +45,6 @@ pub struct FieldSweepConfig {
     /// The fields, each an exact decimal or fraction as given, nonzero, 10⁻³ ≤ |B| ≤ 10³ (one
     /// field: a sweep over w).
     pub fields: Vec<String>,
-    /// Collisions of each point (one run), over its batches (serialized as
-    /// `collisions_per_run`, the command line's name).
-    #[serde(rename = "collisions_per_run")]
-    pub collisions: u64,
-    /// Independent batches of each point (≥ 2): a point's error is the standard error over them
-    /// (serialized as `batches_per_run`).
-    #[serde(rename = "batches_per_run")]
-    pub batches: u32,
-    /// Seed: point i uses the streams of run i of this seed.
-    pub seed: u64,
     /// Phase points classified per point for the sampled localized share.
     pub localization_samples: u64,
     /// A table given as data instead of the triangular or square scene: a sweep over B on it
@@ -62,7 +53,16 @@ pub struct FieldSweepConfig {
     pub table: Option<crate::scenes::table::spec::TableSpec>,
 }
 
-impl FieldSweepConfig {
+impl FieldGrid {
+    /// Where it runs, in words.
+    pub fn place(&self) -> String {
+        match (&self.table, &self.radius) {
+            (Some(t), _) => format!("the table {}", t.title()),
+            (None, Some(r)) => format!("the square lattice at radius {r}"),
+            (None, None) => format!("the triangular lattice at w = {}", self.gaps.join(", ")),
+        }
+    }
+
     /// The scenes of the grid: the triangular one at each gap, the square one at `radius`, or the
     /// table.
     pub fn scenes(&self) -> Vec<SceneSpec> {
@@ -83,15 +83,15 @@ impl FieldSweepConfig {
             .collect()
     }
 
-    /// The transport run of point `i` on `scene` in the field `field`.
+    /// The transport run of point `i` of `sweep` on `scene` in the field `field`.
     ///
     /// # Errors
     /// A scene parameter that is not an exact decimal or fraction.
     pub fn point_config(
         &self,
+        sweep: &SweepConfig,
         i: usize,
-        scene: SceneSpec,
-        field: &str,
+        (scene, field): (SceneSpec, &str),
     ) -> Result<DiffusionConfig, Error> {
         let scene = match scene {
             SceneSpec::Triangular { w } => SceneSpec::parse("triangular", Some(&w), None)?,
@@ -105,19 +105,20 @@ impl FieldSweepConfig {
         };
         Ok(DiffusionConfig {
             run: i as u64,
-            collisions: self.collisions,
-            batches: self.batches,
-            seed: self.seed,
+            collisions: sweep.collisions,
+            batches: sweep.batches,
+            seed: sweep.seed,
             localization_samples: Some(self.localization_samples),
             ..DiffusionConfig::on(table)
         })
     }
 
-    /// Checks every parameter (every point's run) before anything runs or is written.
+    /// Checks every parameter of `sweep`, whose grid this is (every point's run), before
+    /// anything runs or is written.
     ///
     /// # Errors
     /// An empty or oversized grid, a point repeated, or a point's invalid run (naming the range).
-    pub fn validate(&self) -> Result<(), Error> {
+    pub fn validate(&self, sweep: &SweepConfig) -> Result<(), Error> {
         self.check_places()?;
         let n = self.scenes().len() * self.fields.len();
         if n > MAX_FIELD_SWEEP_POINTS {
@@ -129,13 +130,13 @@ impl FieldSweepConfig {
         }
         let mut seen: Vec<(_, usize)> = Vec::with_capacity(n);
         for (i, (g, f)) in self.grid().into_iter().enumerate() {
-            let c = self.point_config(i, g.clone(), f)?;
+            let c = self.point_config(sweep, i, (g.clone(), f))?;
             c.validate()?;
-            let (w, r) = super::scene_parameters(&c.table)?;
+            let (w, r) = crate::estimators::field::scene_parameters(&c.table)?;
             let key = (
                 w.map(f64::to_bits),
                 r.map(f64::to_bits),
-                super::field_of(&c)?.to_bits(),
+                crate::estimators::field::field_of(&c)?.to_bits(),
             );
             let scene = i / self.fields.len();
             if let Some(&(_, s)) = seen.iter().find(|(k, _)| *k == key) {
@@ -214,13 +215,13 @@ pub struct FieldSweepRow {
     pub all_localized: bool,
     /// Mean free time of the diffusing part, measured (infinite where every orbit is localized:
     /// `null` in JSON).
-    #[serde(deserialize_with = "super::infinite_if_null")]
+    #[serde(deserialize_with = "crate::estimators::field::infinite_if_null")]
     pub mean_free_time: f64,
     /// Its standard error.
-    #[serde(deserialize_with = "super::nan_if_null")]
+    #[serde(deserialize_with = "crate::estimators::field::nan_if_null")]
     pub mean_free_time_err: f64,
     /// Kac's closed form for it (infinite where every orbit is localized).
-    #[serde(deserialize_with = "super::infinite_if_null")]
+    #[serde(deserialize_with = "crate::estimators::field::infinite_if_null")]
     pub mean_free_time_exact: f64,
 }
 
@@ -262,7 +263,7 @@ pub struct FieldSweepReport {
     /// Points reused from an earlier run of the same sweep.
     pub resumed_points: u32,
     /// The configuration.
-    pub config: FieldSweepConfig,
+    pub config: SweepConfig,
     /// Provenance.
     pub meta: RunMeta,
 }
@@ -271,7 +272,7 @@ pub struct FieldSweepReport {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct FieldSweepPoint {
     /// The sweep it belongs to.
-    pub config: FieldSweepConfig,
+    pub config: SweepConfig,
     /// Its index in the grid.
     pub index: u32,
     /// Its row.
@@ -283,7 +284,7 @@ pub struct FieldSweepPoint {
 /// # Errors
 /// An invalid configuration or options (before any work or file), a directory holding another
 /// sweep's points or an edited one, an I/O error, or an interruption.
-pub fn run(cfg: &FieldSweepConfig, opts: &RunOptions) -> Result<FieldSweepReport, Error> {
+pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<FieldSweepReport, Error> {
     let (rows, resumed) = run_points(cfg, opts, &|_| true)?;
     let rows: Vec<FieldSweepRow> = rows.into_iter().flatten().collect();
     let onsager = onsager(&rows, cfg.batches);
@@ -310,12 +311,13 @@ pub fn run(cfg: &FieldSweepConfig, opts: &RunOptions) -> Result<FieldSweepReport
 /// # Errors
 /// As [`run`].
 pub(super) fn run_points(
-    cfg: &FieldSweepConfig,
+    cfg: &SweepConfig,
     opts: &RunOptions,
     owns: &dyn Fn(usize) -> bool,
 ) -> Result<(Vec<Option<FieldSweepRow>>, u32), Error> {
     cfg.validate()?;
     opts.validate()?;
+    let fg = cfg.field_grid()?;
     let dir = opts.resume.as_deref();
     // The points' runs take no checkpoint of their own: the point is the unit of resumption.
     let point_opts = RunOptions {
@@ -327,7 +329,7 @@ pub(super) fn run_points(
         crate::files::create_dir_all(d)?;
         crate::files::create_subdir(d.join("field-points"))?;
     }
-    let grid = cfg.grid();
+    let grid = fg.grid();
     // Every point already on disk is checked before any work.
     let mut found = Vec::with_capacity(grid.len());
     for i in 0..grid.len() {
@@ -347,7 +349,8 @@ pub(super) fn run_points(
                 Some(row)
             }
             None => {
-                let row = row_of(&super::run(&cfg.point_config(i, g, f)?, &point_opts)?);
+                let point = fg.point_config(cfg, i, (g, f))?;
+                let row = row_of(&crate::estimators::field::run(&point, &point_opts)?);
                 if let Some(d) = dir {
                     let p = FieldSweepPoint {
                         config: cfg.clone(),
@@ -437,7 +440,7 @@ const MAX_POINT_BYTES: u64 = 1 << 20;
 /// The finished row of point `i` at `path`, if there is one of this sweep; a file of another
 /// sweep, an edited, renamed or oversized one is an error naming the path.
 pub(super) fn reuse(
-    cfg: &FieldSweepConfig,
+    cfg: &SweepConfig,
     path: &Path,
     i: usize,
 ) -> Result<Option<FieldSweepRow>, Error> {
@@ -460,7 +463,8 @@ pub(super) fn reuse(
 /// An I/O error naming the path.
 pub fn write_tables(r: &FieldSweepReport, dir: &Path) -> Result<(), Error> {
     // A table's rows have no scene parameter: no such column.
-    let place = match (&r.config.table, &r.config.radius) {
+    let fg = r.config.field_grid()?;
+    let place = match (&fg.table, &fg.radius) {
         (Some(_), _) => "",
         (None, Some(_)) => "radius,",
         (None, None) => "w,",

@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::sweep::{self, FieldSweepConfig, FieldSweepReport, point_path, reuse};
+use super::SweepConfig;
+use super::field::{self, FieldSweepReport, point_path, reuse};
 use crate::Error;
 use crate::campaigns::shard::Shard;
 use crate::engine::metadata::RunMeta;
@@ -21,7 +22,7 @@ use crate::engine::resume::{difference, seal, unseal};
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct FieldSweepPart {
     /// The whole sweep.
-    pub config: FieldSweepConfig,
+    pub config: SweepConfig,
     /// Which part.
     pub shard: Shard,
     /// Indices of the part's points, all finished.
@@ -38,14 +39,14 @@ pub struct FieldSweepPart {
 /// An invalid sweep or part (every part needs a point), no directory, a directory of another
 /// sweep, an I/O error, or an interruption.
 pub fn run_part(
-    cfg: &FieldSweepConfig,
+    cfg: &SweepConfig,
     shard: Shard,
     options: &RunOptions,
 ) -> Result<FieldSweepPart, Error> {
     cfg.validate()?;
-    shard.fits(cfg.grid().len())?;
+    shard.fits(cfg.field_grid()?.grid().len())?;
     let dir = crate::campaigns::shard::part_directory(options)?;
-    let (rows, resumed) = sweep::run_points(cfg, options, &|i| shard.owns(i as u32))?;
+    let (rows, resumed) = field::run_points(cfg, options, &|i| shard.owns(i as u32))?;
     let part = FieldSweepPart {
         config: cfg.clone(),
         shard,
@@ -81,7 +82,7 @@ pub fn merge(
 ) -> Result<FieldSweepReport, Error> {
     crate::campaigns::merge::refuse_input_as_output(parts, out)?;
     let cfg = sweep_of(parts)?;
-    let n = cfg.grid().len();
+    let n = cfg.field_grid()?.grid().len();
     let mut found: Vec<Option<(PathBuf, String)>> = vec![None; n];
     for dir in parts {
         for (i, slot) in found.iter_mut().enumerate() {
@@ -119,7 +120,7 @@ pub fn merge(
         resume: Some(out.to_path_buf()),
         ..options.clone()
     };
-    sweep::run(&cfg, &opts)
+    field::run(&cfg, &opts)
 }
 
 /// The part record of `dir`.
@@ -130,7 +131,7 @@ fn part_of(dir: &Path) -> Result<FieldSweepPart, Error> {
 }
 
 /// The one sweep of the parts `parts` (every part's configuration the same).
-fn sweep_of(parts: &[PathBuf]) -> Result<FieldSweepConfig, Error> {
+fn sweep_of(parts: &[PathBuf]) -> Result<SweepConfig, Error> {
     let Some(first) = parts.first() else {
         return Err(Error::Zero { what: "parts" });
     };
