@@ -2,13 +2,14 @@
 //! --field B` (over w in a field): the diffusion tensor at every point, resumable by point.
 
 use lorentz_gas::Error;
+use lorentz_gas::campaigns::shard::Shard;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep::field::{self as sweep, FieldGrid};
 use lorentz_gas::estimators::sweep::field_grid::{self, SweepGrid};
+use lorentz_gas::estimators::sweep::field_parts::{self, FieldSweepPart};
 use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 
 use super::output::emit;
-use super::progress::Progress;
 use super::sweep::{Args, FieldArgs, GridArgs};
 
 /// The field sweep of the grid `g` and field options `f` with `seed` (validated; shared with
@@ -59,50 +60,41 @@ pub fn config_of(g: &GridArgs, f: &FieldArgs, seed: u64) -> Result<SweepConfig, 
     Ok(cfg)
 }
 
-/// Runs it, writes the tables and figures into --out, and prints the table; an Onsager–Casimir
-/// disagreement is a FAIL (exit 1) after everything is written.
-pub fn run(a: &Args, cfg: &SweepConfig) -> Result<(), Error> {
-    let out = a.out.clone();
-    let shard = a
-        .shard
-        .as_deref()
-        .map(lorentz_gas::campaigns::shard::Shard::parse)
-        .transpose()?;
-    let points = match shard {
-        Some(s) => (0..cfg.steps()).filter(|&i| s.owns(i)).count(),
-        None => cfg.steps() as usize,
-    };
-    let total = cfg.collisions.saturating_mul(points as u64);
-    let pb = Progress::new(total, "collisions", a.output.quiet);
-    let progress = pb.callback();
-    super::signals::keeping(&out);
-    let opts = RunOptions {
-        engine: a.engine.engine,
-        threads: a.run.threads(),
-        progress: &progress,
-        resume: Some(out.clone()),
-        audit: None,
-        checkpoint_every: a.every.checkpoint_every,
-        stop: Some(super::signals::stop_flag()),
-    };
-    if let Some(s) = shard {
-        let part = lorentz_gas::estimators::sweep::field_parts::run_part(cfg, s, &opts)?;
-        drop(progress);
-        drop(pb);
-        return emit(a.output.json, &part, |p| {
+/// What a sweep in a field computed: one part of it, or the whole.
+pub enum Outcome {
+    /// A part (`--shard`).
+    Part(FieldSweepPart),
+    /// The whole sweep.
+    Whole(Box<sweep::FieldSweepReport>),
+}
+
+/// Runs the sweep in a field, or the part `shard` of it, with `opts`.
+pub fn compute(
+    cfg: &SweepConfig,
+    shard: Option<Shard>,
+    opts: &RunOptions,
+) -> Result<Outcome, Error> {
+    Ok(match shard {
+        Some(s) => Outcome::Part(field_parts::run_part(cfg, s, opts)?),
+        None => Outcome::Whole(Box::new(sweep::run(cfg, opts)?)),
+    })
+}
+
+/// Writes the tables and figures of a whole sweep into --out and prints it (an Onsager–Casimir
+/// disagreement is a FAIL, exit 1, after everything is written), or prints what a part did.
+pub fn show(a: &Args, done: Outcome) -> Result<(), Error> {
+    match done {
+        Outcome::Whole(r) => finish(&r, &a.out, a.output.json),
+        Outcome::Part(part) => emit(a.output.json, &part, |p| {
             println!(
                 "part {} of the field sweep: points {:?} in {}/field-points ({} reused); merge every part with `lorentz merge`",
                 p.shard,
                 p.points,
-                out.display(),
+                a.out.display(),
                 p.resumed_points
             )
-        });
+        }),
     }
-    let r = sweep::run(cfg, &opts)?;
-    drop(progress);
-    drop(pb);
-    finish(&r, &out, a.output.json)
 }
 
 /// Writes the tables and figures of a finished field sweep into `out`, prints it, and judges

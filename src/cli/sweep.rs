@@ -191,9 +191,6 @@ fn refuse_field_options(a: &Args) -> Result<(), Error> {
 /// Runs the sweep: over w without a field here, in a field by [`super::field_sweep::run`].
 pub fn run(a: Args) -> Result<(), Error> {
     let cfg = config(&a)?;
-    if let Grid::InField(_) = cfg.grid {
-        return super::field_sweep::run(&a, &cfg);
-    }
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     if let Some(s) = shard {
         s.validate(&cfg)?;
@@ -219,6 +216,12 @@ pub fn run(a: Args) -> Result<(), Error> {
         checkpoint_every: a.every.checkpoint_every,
         stop: Some(super::signals::stop_flag()),
     };
+    if let Grid::InField(_) = cfg.grid {
+        let done = super::field_sweep::compute(&cfg, shard, &opts);
+        drop(progress);
+        drop(pb);
+        return super::field_sweep::show(&a, done?);
+    }
     if let Some(s) = shard {
         let part = ShardConfig {
             sweep: cfg.clone(),

@@ -11,6 +11,7 @@ mod commands;
 mod honest_numbers;
 mod hostile;
 mod planned;
+mod records;
 mod report;
 mod result_keys;
 mod tables;
