@@ -8,10 +8,12 @@
 //!
 //! A periodic table of disks is its lattice and the disks of one cell
 //! ([`TableSpec`]); [`PeriodicTable`] validates it exactly (overlaps, radii, the horizon) and is a
-//! [`Scene`] like the crate's own. Everything else comes with it:
+//! [`Scene`] like the crate's own. It is one [`Table`] (geometry and motion) of the one
+//! [`DiffusionConfig`], and everything else comes with it:
 //!
 //! * D by the Einstein formula with its standard error over independent batches
-//!   ([`run_on`]), with the table's exact identities measured — the mean free path against
+//!   ([`transport::run`]: on a table without a field, the Einstein estimator on any scene), with
+//!   the table's exact identities measured — the mean free path against
 //!   Santaló's π|Q|/|∂Q|, the mean crossing time against π|Q|/L — each within the 4σ-equivalent
 //!   Student-t bound;
 //! * the per-event shadow audit of the run's own events (a sample replayed in MPFR and judged
@@ -21,8 +23,10 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
-use lorentz_gas::estimators::diffusion::scene::{Sampling, run_on};
+use lorentz_gas::estimators::diffusion::DiffusionConfig;
+use lorentz_gas::estimators::transport::{self, Transport};
 use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::spec::{Motion, SceneSpec, Table};
 use lorentz_gas::scenes::table::PeriodicTable;
 use lorentz_gas::scenes::table::spec::TableSpec;
 
@@ -34,18 +38,26 @@ fn main() -> Result<(), Error> {
         )
         .into()
     });
-    let table = PeriodicTable::new(&TableSpec::read(path.as_ref())?)?;
-    let cfg = Sampling {
+    let spec = TableSpec::read(path.as_ref())?;
+    let table = PeriodicTable::new(&spec)?;
+    let cfg = DiffusionConfig {
         collisions: 32_000_000,
         batches: 16,
         seed: 7,
-        ..Sampling::default()
+        ..DiffusionConfig::on(Table {
+            scene: SceneSpec::Table(spec),
+            motion: Motion::Straight,
+        })
     };
     let options = RunOptions {
         audit: Some(AuditSpec::new(1e-3, 256)?),
         ..RunOptions::default()
     };
-    let r = run_on(&table, &cfg, &options)?;
+    let Transport::Table(r) = transport::run(&cfg, &options)? else {
+        return Err(Error::Failed(
+            "a table without a field runs the table's estimator".into(),
+        ));
+    };
     println!("{} (finite horizon: {})", r.scene, table.finite_horizon());
     println!(
         "D = {:.6} ± {:.6} from {} batches of {} collisions (check window: {:.6} ± {:.6})",
