@@ -39,7 +39,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     };
     if a.dirs.iter().any(|d| field_parts::is_field_part(d)) {
         let r = field_parts::merge(&a.dirs, &out, &opts)?;
-        return super::field_sweep::finish(&r, &out, a.output.json);
+        return super::sweep::finish_in_field(&r, &out, a.output.json);
     }
     let r = merge::run(&cfg, &opts)?;
     sweep::write_tables(&r, &out)?;

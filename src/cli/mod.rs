@@ -36,7 +36,6 @@ mod constants;
 mod diffusion;
 mod escape;
 mod field;
-mod field_sweep;
 mod figure;
 mod free_paths;
 mod hops;

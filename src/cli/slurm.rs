@@ -68,7 +68,7 @@ struct Written {
 pub fn run(a: Args) -> Result<(), Error> {
     let What::Sweep(a) = a.what;
     let sweep = if a.in_field.in_field() {
-        super::field_sweep::config_of(&a.grid, &a.in_field, a.seed.seed)?
+        super::sweep::config_in_field(&a.grid, &a.in_field, a.seed.seed)?
     } else {
         a.grid.config(a.seed.seed)?
     };

@@ -8,7 +8,8 @@
 use lorentz_gas::Error;
 use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
-use lorentz_gas::estimators::diffusion::scene::{Sampling, run_on};
+use lorentz_gas::estimators::diffusion::Sampling;
+use lorentz_gas::estimators::diffusion::scene::run_on;
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
 use lorentz_gas::numbers::precision::Precision;
 use lorentz_gas::scenes::square::SquareScene;

@@ -5,10 +5,10 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 
 use super::execution::Job;
-use super::scene::Sampling;
 use crate::Error;
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
+use crate::scenes::Scene;
 use crate::scenes::spec::{SceneSpec, Table};
 use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap_exact};
 
@@ -227,7 +227,7 @@ impl DiffusionConfig {
         if let SceneSpec::Triangular { .. } = self.table.scene {
             return self.validate_triangular();
         }
-        super::scene::refuse_rel_err(self.rel_err)?;
+        refuse_rel_err(self.rel_err)?;
         let scene = self.table.scene.resolve()?;
         crate::with_scene!(&scene, |s| self.sampling().validate(s))
     }
@@ -296,6 +296,145 @@ impl DiffusionConfig {
     pub fn lags(&self) -> Vec<usize> {
         lags(&self.window, &self.check_window)
     }
+}
+
+/// What a diffusion run samples, whatever its table: the part of a [`super::DiffusionConfig`]
+/// that [`run_on`] takes beside a scene (a table of the crate's, or a [`Scene`] written in Rust
+/// outside it), and that a table's result records beside its table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sampling {
+    /// Total number of collisions over all batches.
+    pub collisions: u64,
+    /// Number of independent batches (trajectories), at least 2.
+    pub batches: u32,
+    /// Seed of the random streams: batch b follows the trajectory stream (seed, run, b).
+    pub seed: u64,
+    /// Which run of this seed (0, left out of the JSON, for a single run).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub run: u64,
+    /// Number type.
+    pub precision: Precision,
+    /// Fit window for D, in units of the scene's time unit ([`time_unit`]).
+    pub window: Window,
+    /// Later window, fitted as a check of the linear regime.
+    pub check_window: Window,
+    /// Where the MSD is kept: the fit windows' lags, or also the logarithmic grid of the MSD
+    /// curve ([`MsdGrid`]).
+    #[serde(default, skip_serializing_if = "MsdGrid::is_fit")]
+    pub msd_grid: MsdGrid,
+}
+
+impl Default for Sampling {
+    /// The defaults of [`super::DiffusionConfig::new`]: 2·10⁹ collisions in 32 batches, seed 1,
+    /// `f64`, windows [10, 40] and [20, 80].
+    fn default() -> Self {
+        let d = super::DiffusionConfig::new(0.1);
+        Self {
+            collisions: d.collisions,
+            batches: d.batches,
+            seed: d.seed,
+            run: 0,
+            precision: d.precision,
+            window: d.window,
+            check_window: d.check_window,
+            msd_grid: d.msd_grid,
+        }
+    }
+}
+
+/// Whether a run index is 0 (a single run, left out of a record).
+fn is_zero(run: &u64) -> bool {
+    *run == 0
+}
+
+/// The time unit of the MSD grid and the fit windows in `scene`: its crossing time τ, or its
+/// mean free time ⟨ℓ⟩ (speed 1) if it supplies no τ.
+pub fn time_unit<S: Scene>(scene: &S) -> f64 {
+    scene
+        .crossing_time()
+        .unwrap_or_else(|| scene.mean_free_path())
+}
+
+/// A relative-error target on a scene the planner does not run on yet (`rel_err` plans the
+/// triangular estimator's runs): the one refusal both front ends present in their terms.
+pub fn refuse_rel_err(rel_err: Option<f64>) -> Result<(), Error> {
+    match rel_err {
+        Some(r) => Err(Error::out_of_range(
+            "rel_err",
+            r,
+            "not on a table given as data yet: give the collisions instead",
+        )),
+        None => Ok(()),
+    }
+}
+
+impl Sampling {
+    /// Checks every parameter against `scene`; errors name the valid range.
+    ///
+    /// # Errors
+    /// An infinite-horizon scene, too few batches or collisions, a precision out of range, or
+    /// equal windows.
+    pub fn validate<S: Scene>(&self, scene: &S) -> Result<(), Error> {
+        require_finite_horizon(scene)?;
+        self.check_statistics(scene)
+    }
+
+    /// The checks of [`Self::validate`] but the horizon's: batches, collisions (enough for the
+    /// windows at the scene's time unit), precision and windows. A run in a magnetic field, whose
+    /// horizon is finite on every scene, takes these.
+    ///
+    /// # Errors
+    /// Too few batches or collisions, a precision out of range, or equal windows.
+    pub fn check_statistics<S: Scene>(&self, scene: &S) -> Result<(), Error> {
+        check_run(
+            self.collisions,
+            self.batches,
+            self.precision,
+            &self.window,
+            &self.check_window,
+        )?;
+        let (unit, mfp) = (time_unit(scene), scene.mean_free_path());
+        if !(unit > 0.0 && mfp > 0.0 && unit.is_finite() && mfp.is_finite()) {
+            return Err(Error::Failed(format!(
+                "{}: its mean free path {mfp} and time unit {unit} must be positive and finite",
+                scene.label()
+            )));
+        }
+        let need = (MIN_HOPS_PER_LAG * self.window.hi.max(self.check_window.hi)) as f64;
+        let min = need * unit / mfp * self.batches as f64;
+        if (self.collisions as f64) < min {
+            return Err(Error::TooFew {
+                what: "collisions (for this scene, window and batch count)",
+                min: min.ceil().min(u64::MAX as f64) as u64,
+                got: self.collisions,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Refuses a scene in which the diffusion coefficient does not exist: with an infinite horizon
+/// (collision-free corridors) free flights have a distribution with ⟨ℓ²⟩ = ∞, the mean squared
+/// displacement grows like t ln t and the Einstein limit ⟨Δr²⟩/4t diverges (Bleher 1992).
+///
+/// # Errors
+/// For an infinite-horizon scene, with the reason.
+pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), Error> {
+    if scene.finite_horizon() {
+        return Ok(());
+    }
+    if let Some(corridor) = scene.widest_corridor() {
+        return Err(Error::OpenCorridor {
+            scene: scene.label(),
+            corridor: Box::new(corridor),
+        });
+    }
+    Err(Error::Lacks {
+        scene: scene.label(),
+        capability: crate::error::Capability::FiniteHorizon,
+        analysis: "diffusion",
+    })
 }
 
 /// Refuses what only a run without a field has: a plan for a relative error, the logarithmic

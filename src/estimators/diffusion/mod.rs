@@ -43,7 +43,10 @@ mod summary;
 use execution::{DiffusionKeeper, Job, execute, setup};
 
 // The configuration keeps its one public path, `estimators::diffusion::…` (its module is private).
-pub use config::{DiffusionConfig, MIN_HOPS_PER_LAG, MsdGrid, Window};
+pub use config::{
+    DiffusionConfig, MIN_HOPS_PER_LAG, MsdGrid, Sampling, Window, refuse_rel_err,
+    require_finite_horizon, time_unit,
+};
 
 /// Kind of the records of a diffusion checkpoint.
 const CHECKPOINT_KIND: &str = "diffusion trajectories";
@@ -51,29 +54,6 @@ const CHECKPOINT_KIND: &str = "diffusion trajectories";
 /// Kind of the records of a [`run_many`] journal.
 const PACKED_KIND: &str = "packed diffusion trajectories";
 use summary::{d_of_batch, summarise};
-
-/// Refuses a scene in which the diffusion coefficient does not exist: with an infinite horizon
-/// (collision-free corridors) free flights have a distribution with ⟨ℓ²⟩ = ∞, the mean squared
-/// displacement grows like t ln t and the Einstein limit ⟨Δr²⟩/4t diverges (Bleher 1992).
-///
-/// # Errors
-/// For an infinite-horizon scene, with the reason.
-pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), Error> {
-    if scene.finite_horizon() {
-        return Ok(());
-    }
-    if let Some(corridor) = scene.widest_corridor() {
-        return Err(Error::OpenCorridor {
-            scene: scene.label(),
-            corridor: Box::new(corridor),
-        });
-    }
-    Err(Error::Lacks {
-        scene: scene.label(),
-        capability: crate::error::Capability::FiniteHorizon,
-        analysis: "diffusion",
-    })
-}
 
 /// What one batch produced (also the unit of checkpointing).
 #[derive(Debug, Clone, Serialize, Deserialize)]

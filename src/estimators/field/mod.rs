@@ -27,7 +27,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::diffusion::scene::time_unit;
+use super::diffusion::time_unit;
 use super::diffusion::{DiffusionConfig, Window};
 use crate::Error;
 use crate::engine::Resolved;

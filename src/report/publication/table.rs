@@ -57,7 +57,7 @@ fn record(r: &SceneDiffusionReport, table: &PeriodicTable, checks: &mut Checks) 
     {
         bad.push("D, D_check or an error is not the one its batch values give".into());
     }
-    if r.time_unit.to_bits() != scene::time_unit(table).to_bits() {
+    if r.time_unit.to_bits() != crate::estimators::diffusion::time_unit(table).to_bits() {
         bad.push("the time unit is not the table's".into());
     }
     let exact = |name: &str| match name {
