@@ -18,6 +18,7 @@ use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
 use lorentz_gas::estimators::sweep::{self, GapGrid, Grid, SweepConfig};
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
+use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::theory::constants::{self, ConstantsConfig};
 
 use crate::inputs::{self, exact};
@@ -36,15 +37,18 @@ pub(crate) fn options<'a>(ctl: &'a Ctl<'a>, threads: usize, engine: Engine) -> R
     }
 }
 
-/// `w`: a gap at which D exists (0 < w < w_inf), as its nearest double.
-pub(crate) fn diffusive_gap(p: &Params<'_, '_>) -> PyResult<f64> {
-    p.parsed("w", 0.1, |t| Ok(inputs::diffusive_gap(t)?.value))
+/// `w`: the triangular gas at a gap at which D exists (0 < w < w_inf), exactly as given.
+pub(crate) fn diffusive_gap(p: &Params<'_, '_>) -> PyResult<Table> {
+    p.parsed("w", Table::triangular_at(0.1), |t| {
+        let w = inputs::diffusive_gap(t)?;
+        Table::triangular(&w.text).map_err(crate::py_err)
+    })
 }
 
 /// The configuration of a hop analysis (hops, theory, lattice walks).
 fn hop_config(p: &Params<'_, '_>) -> PyResult<HopsConfig> {
     Ok(HopsConfig {
-        w: diffusive_gap(p)?,
+        table: diffusive_gap(p)?,
         collisions: p.count_u64("collisions")?,
         batches: p.count_u32("batches")?,
         order: p.count_usize("order")?,
@@ -122,8 +126,7 @@ pub fn backscatter(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     Ok(work(move |py, progress| {
         let w = exact("w", &w)?;
         let cfg = BackscatterConfig {
-            w: w.value,
-            w_exact: w.exact_text(),
+            table: Table::triangular(&w.text).map_err(crate::py_err)?,
             particles,
             batches,
             seed,
@@ -171,20 +174,16 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
 
 /// `escape(params, progress)`.
 pub fn escape(p: &Params<'_, '_>) -> PyResult<Work<String>> {
-    let w = diffusive_gap(p)?;
+    let defaults = EscapeConfig::new(diffusive_gap(p)?);
     let widths = p.opt_numbers("widths")?;
     let cfg = EscapeConfig {
-        w,
-        widths: Vec::new(),
+        widths: widths.unwrap_or(defaults.widths),
         particles_per_width: p.count_u64("particles_per_width")?,
         seed: p.count_u64("seed")?,
+        table: defaults.table,
     };
     let kept = Kept::read(p)?;
     Ok(work(move |py, progress| {
-        let cfg = EscapeConfig {
-            widths: widths.unwrap_or_else(|| escape::default_widths(w)),
-            ..cfg
-        };
         cfg.validate().map_err(crate::py_err)?;
         json(&compute(py, progress, |ctl| {
             escape::run(&cfg, &kept.options(ctl, Engine::Auto))

@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 
 use lorentz_gas::estimators::throughput::long_flights::{self as long, LongFlightBenchConfig};
 use lorentz_gas::estimators::throughput::{self, Observe, ThroughputConfig};
+use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::scenes::table::PeriodicTable;
 use lorentz_gas::scenes::table::spec::TableSpec;
 
@@ -51,8 +52,9 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             Some(b) => Some(inputs::exact("field", &b)?.value).filter(|b| *b != 0.0),
             None => None,
         };
+        let w = inputs::exact("w", &w)?;
         let cfg = ThroughputConfig {
-            w: inputs::exact("w", &w)?.value,
+            table: Table::triangular(&w.text).map_err(crate::py_err)?,
             precision,
             observe,
             collisions_per_thread,
@@ -61,7 +63,7 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             field,
             straight_beside,
             oracle_floor,
-            table: table.as_deref().map(self::table).transpose()?,
+            table_beside: table.as_deref().map(self::table).transpose()?,
         };
         json(&compute(py, progress, |ctl| {
             throughput::run(&cfg, &options(ctl, threads, engine))

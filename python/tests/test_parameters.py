@@ -46,6 +46,10 @@ STUB_OF = {"sweep --fields": "field_sweep"}
 NOT_PARAMETERS = {
     ("diffusion", "w_exact"): "the gap as typed: given as w",
     ("backscatter", "w_exact"): "the gap as typed: given as w",
+    ("hops", "w_exact"): "the gap as typed: given as w",
+    ("theory", "w_exact"): "the gap as typed: given as w",
+    ("lattice_walk", "w_exact"): "the gap as typed: given as w",
+    ("escape", "w_exact"): "the gap as typed: given as w",
     ("diffusion", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("diffusion --field", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("hops", "run"): "which run of a seed: set by sweeps, not by a caller",

@@ -6,7 +6,7 @@ use clap::Args;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::hops::HopsConfig;
 use lorentz_gas::numbers::precision::Precision;
-use lorentz_gas::scenes::spec::SceneSpec;
+use lorentz_gas::scenes::spec::{Motion, SceneSpec, Table};
 
 pub use lorentz_gas::numbers::count::{
     parse_count, parse_count_u32, parse_count_usize, parse_threads,
@@ -45,9 +45,18 @@ impl GapArg {
         self.gap.value
     }
 
-    /// The gap exactly as typed (`"1/10"`), for runs at MPFR precisions.
-    pub fn exact_text(&self) -> Option<String> {
-        self.gap.exact_text()
+    /// The triangular gas at the gap exactly as typed, without a field.
+    pub fn table(&self) -> Table {
+        table_at(&self.gap)
+    }
+}
+
+/// The triangular gas at the gap `w` exactly as typed (already parsed: its text is a number),
+/// without a field.
+pub fn table_at(w: &Exact) -> Table {
+    Table {
+        scene: SceneSpec::Triangular { w: w.text.clone() },
+        motion: Motion::Straight,
     }
 }
 
@@ -146,7 +155,7 @@ impl HopCommand {
     /// The configuration these options give.
     pub fn config(&self) -> HopsConfig {
         HopsConfig {
-            w: self.gap.w(),
+            table: self.gap.table(),
             collisions: self.hop.collisions,
             batches: self.hop.batches,
             order: self.hop.order,

@@ -29,8 +29,7 @@ pub struct Args {
 /// The configuration these options give.
 pub fn config(a: &Args) -> BackscatterConfig {
     BackscatterConfig {
-        w: a.gap.w(),
-        w_exact: a.gap.exact_text(),
+        table: a.gap.table(),
         particles: a.particles,
         batches: a.batches,
         seed: a.run.seed(),

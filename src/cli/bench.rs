@@ -10,10 +10,11 @@ use lorentz_gas::estimators::throughput::{self, ThroughputConfig};
 use lorentz_gas::report::text::bench as text;
 
 use lorentz_gas::report::speed_error::{self, REPORT_STEPS, SpeedErrorConfig};
+use lorentz_gas::scenes::spec::Table;
 
 use super::args::{
     EngineArg, Exact, OutputArgs, PrecisionArg, SceneName, SeedArg, ThreadsArg, parse_count,
-    parse_count_usize, parse_diffusive_gap, parse_threads,
+    parse_count_usize, parse_diffusive_gap, parse_threads, table_at,
 };
 use super::output::{emit, to_json};
 use super::progress::Progress;
@@ -100,10 +101,13 @@ pub struct Args {
 }
 
 impl Args {
-    /// The gap as its nearest double (present wherever it is used: clap requires it without
-    /// --long-flights).
-    fn w(&self) -> f64 {
-        self.gap.as_ref().map_or(f64::NAN, |g| g.value)
+    /// The triangular gas at the gap exactly as typed (present wherever it is used: clap
+    /// requires it without --long-flights).
+    fn table(&self) -> Result<Table, Error> {
+        let w = self.gap.as_ref().ok_or_else(|| {
+            Error::parameter("w", "none", "give the gap of the triangular gas timed")
+        })?;
+        Ok(table_at(w))
     }
 }
 
@@ -163,7 +167,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         let out = a.out.clone();
         let pb = Progress::new(REPORT_STEPS, "steps", a.output.quiet);
         let cfg = SpeedErrorConfig {
-            w: a.w(),
+            table: a.table()?,
             seed: a.seed.seed,
             out: out.clone(),
         };
@@ -185,7 +189,7 @@ pub fn run(a: Args) -> Result<(), Error> {
     }
     if a.observer_costs {
         let cfg = ObserverCostsConfig {
-            w: a.w(),
+            table: a.table()?,
             collisions_per_thread: a.collisions_per_thread,
             repetitions: a.repetitions,
             seed: a.seed.seed,
@@ -213,7 +217,7 @@ pub fn run(a: Args) -> Result<(), Error> {
 /// The throughput measurement these options ask for (the field parsed exactly, the table read).
 fn throughput_config(a: &Args) -> Result<ThroughputConfig, Error> {
     Ok(ThroughputConfig {
-        w: a.w(),
+        table: a.table()?,
         precision: a.precision.precision,
         observe: a.observe,
         collisions_per_thread: a.collisions_per_thread,
@@ -230,7 +234,7 @@ fn throughput_config(a: &Args) -> Result<ThroughputConfig, Error> {
             .transpose()?,
         straight_beside: a.straight_beside,
         oracle_floor: a.oracle_floor,
-        table: a
+        table_beside: a
             .table
             .as_deref()
             .map(lorentz_gas::scenes::table::spec::TableSpec::read)

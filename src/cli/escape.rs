@@ -45,7 +45,7 @@ pub struct Args {
 /// The configuration these options give (validated).
 pub fn config(a: &Args) -> Result<EscapeConfig, Error> {
     let cfg = EscapeConfig {
-        w: a.gap.w(),
+        table: a.gap.table(),
         widths: a
             .widths
             .clone()

@@ -27,3 +27,39 @@ pub mod sweep;
 pub mod throughput;
 pub mod trajectory;
 pub mod transport;
+
+use crate::Error;
+use crate::scenes::spec::Table;
+
+/// The gap of `table` for `analysis`, which follows straight flights on the triangular gas: the
+/// double nearest the gap as typed (what `f64` runs use; runs at other precisions round
+/// [`Table::gap_text`] once). Another scene is refused ([`Error::Lacks`] trap symbols), and so
+/// is a field.
+///
+/// # Errors
+/// Another scene, a field, or a gap that is not a number.
+pub(crate) fn straight_gap(table: &Table, analysis: &'static str) -> Result<f64, Error> {
+    let w = table.gap_for(analysis)?;
+    if let Some(b) = table.field() {
+        return Err(Error::parameter(
+            "field",
+            b,
+            format!(
+                "the {analysis} analysis follows straight flights between collisions: leave the \
+                 field out"
+            ),
+        ));
+    }
+    Ok(w)
+}
+
+/// [`straight_gap`], a gap at which D exists (0 < w < w∞, decided on the gap as typed:
+/// [`check_diffusive_gap_exact`](crate::scenes::triangular::geometry::check_diffusive_gap_exact)).
+///
+/// # Errors
+/// As [`straight_gap`], and a gap outside (0, w∞).
+pub(crate) fn diffusive_gap(table: &Table, analysis: &'static str) -> Result<f64, Error> {
+    let w = straight_gap(table, analysis)?;
+    crate::scenes::triangular::geometry::check_diffusive_gap_exact(w, table.gap_text())?;
+    Ok(w)
+}

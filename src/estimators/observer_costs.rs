@@ -20,6 +20,7 @@ use crate::engine::parallel::thread_pool;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
+use crate::scenes::spec::Table;
 use crate::scenes::triangular::geometry::Geometry;
 
 /// The observer sets timed, the bare engine first.
@@ -32,11 +33,12 @@ pub const SETS: [Observe; 5] = [
 ];
 
 /// What an observer-cost measurement times (in `f64`, on the engine of the run options).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObserverCostsConfig {
-    /// Gap w > 0.
-    pub w: f64,
+    /// The triangular gas at a gap w > 0, without a field (in JSON `w` and `w_exact`).
+    #[serde(flatten)]
+    pub table: Table,
     /// Collisions of each thread in each timed run.
     pub collisions_per_thread: u64,
     /// Repetitions (rounds), 1 to [`MAX_REPETITIONS`]; each times every set once.
@@ -46,22 +48,31 @@ pub struct ObserverCostsConfig {
 }
 
 impl ObserverCostsConfig {
-    /// The command line's defaults at `w`: 2·10⁷ collisions, 7 rounds, seed 1.
-    pub fn new(w: f64) -> Self {
+    /// The command line's defaults on `table`: 2·10⁷ collisions, 7 rounds, seed 1.
+    pub fn new(table: Table) -> Self {
         ObserverCostsConfig {
-            w,
+            table,
             collisions_per_thread: 20_000_000,
             repetitions: 7,
             seed: 1,
         }
     }
 
-    /// Checks the gap, the collisions and the repetitions.
+    /// The gap as its nearest double (the runs are `f64`).
     ///
     /// # Errors
-    /// A gap that is not positive, no collisions, repetitions out of range.
+    /// A table other than the triangular gas without a field.
+    pub fn gap(&self) -> Result<f64, Error> {
+        crate::estimators::straight_gap(&self.table, "observer costs")
+    }
+
+    /// Checks the table, the gap, the collisions and the repetitions.
+    ///
+    /// # Errors
+    /// Another scene ([`Error::Lacks`] trap symbols), a field, a gap that is not positive, no
+    /// collisions, repetitions out of range.
     pub fn validate(&self) -> Result<(), Error> {
-        Geometry::new(self.w)?;
+        Geometry::new(self.gap()?)?;
         if self.collisions_per_thread == 0 {
             return Err(Error::Zero {
                 what: "collisions_per_thread",
@@ -124,8 +135,9 @@ pub fn run(cfg: &ObserverCostsConfig, options: &RunOptions) -> Result<ObserverCo
     let threads = options.threads;
     let engine = options.engine.resolve(true)?;
     let lanes = lanes(engine);
-    let trap64 = Trap::new(cfg.w)?;
-    let lat = TriangularLattice::new(cfg.w)?;
+    let w = cfg.gap()?;
+    let trap64 = Trap::new(w)?;
+    let lat = TriangularLattice::new(w)?;
     let pool = thread_pool(threads)?;
     let n = cfg.collisions_per_thread;
     let per_run = n / lanes as u64 * (lanes * threads) as u64;
@@ -170,7 +182,7 @@ pub fn run(cfg: &ObserverCostsConfig, options: &RunOptions) -> Result<ObserverCo
         })
         .collect();
     Ok(ObserverCosts {
-        w: cfg.w,
+        w,
         collisions_per_thread: n,
         rounds: cfg.repetitions,
         threads,

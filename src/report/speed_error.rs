@@ -18,11 +18,14 @@ use crate::engine::options::RunOptions;
 use crate::estimators::diffusion::{self, DiffusionConfig};
 use crate::estimators::throughput::{self, Observe, ThroughputConfig};
 use crate::kernel::{flight::Flight, trap::Trap};
+use crate::numbers::exact::param_at;
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
 use crate::report::figures::{PlotSpec, Series, plot};
 use crate::scenes::lattice::TriangularLattice;
 use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::scenes::spec::{SceneChoice, Table};
+use crate::scenes::triangular::TriangularScene;
 use crate::scenes::triangular::equilibrium_state;
 use crate::verification::divergence::{
     self, DIVERGENCE_COLLISIONS, DIVERGENCE_REFERENCE_BITS, Divergence, DivergenceConfig,
@@ -132,8 +135,11 @@ fn one_step<T: Real>(trap: &Trap<T>, tref: &Trap<Float>, states: &[Flight<f64>])
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpeedErrorConfig {
-    /// Gap, 0 < w < w∞.
-    pub w: f64,
+    /// The triangular gas at a gap 0 < w < w∞, without a field: the `f64` rows run at the double
+    /// nearest the gap, the MPFR rows and the references at the gap as typed rounded once to
+    /// their precision (in JSON `w` and `w_exact`).
+    #[serde(flatten)]
+    pub table: Table,
     /// Everything random comes from it (the calibration run's batches, the orbit of the one-step
     /// errors, the divergence starts).
     pub seed: u64,
@@ -150,16 +156,18 @@ pub struct SpeedErrorConfig {
 pub fn run(cfg: &SpeedErrorConfig, options: &RunOptions) -> Result<(SpeedReport, String), Error> {
     options.validate()?;
     options.refuse_unused("speed against error", &[])?;
-    let (w, dir, seed) = (cfg.w, cfg.out.as_path(), cfg.seed);
+    let table = &cfg.table;
+    let w = crate::estimators::diffusive_gap(table, "speed against error")?;
+    let exact = table.gap_text();
+    let (dir, seed) = (cfg.out.as_path(), cfg.seed);
     let (threads, progress) = (options.threads, options.progress);
-    crate::scenes::triangular::geometry::check_diffusive_gap(w)?;
     let (cfg, rel) = calibrate(w, dir, seed, threads)?;
     progress(2);
     let n_needed = cfg.collisions as f64 * (rel / 1e-3).powi(2);
     let states = one_step_states(w, seed)?;
-    let tref = Trap::new(Float::with_val(ONE_STEP_REFERENCE_BITS, w))?;
+    let tref = Trap::new(param_at::<Float>(ONE_STEP_REFERENCE_BITS, w, exact)?)?;
     let div = divergence::run(
-        &crate::scenes::triangular::TriangularScene::new(w)?,
+        &exact_scene(table)?,
         &DivergenceConfig {
             bits: REPORT_BITS.to_vec(),
             reference_bits: DIVERGENCE_REFERENCE_BITS,
@@ -174,6 +182,7 @@ pub fn run(cfg: &SpeedErrorConfig, options: &RunOptions) -> Result<(SpeedReport,
     )?;
     progress(1);
     let bench = Bench {
+        table,
         w,
         seed,
         n_needed,
@@ -203,6 +212,15 @@ pub fn run(cfg: &SpeedErrorConfig, options: &RunOptions) -> Result<(SpeedReport,
     )?;
     speed_plot(&report, dir)?;
     Ok((report, md))
+}
+
+/// The triangular scene at the gap as typed (the divergence horizons' orbits at every precision
+/// start from it).
+fn exact_scene(table: &Table) -> Result<TriangularScene, Error> {
+    match table.scene.resolve()? {
+        SceneChoice::Triangular(scene) => Ok(*scene),
+        _ => Err(table.lacks(crate::Capability::TrapSymbols, "speed against error")),
+    }
 }
 
 /// Calibration: the relative error of D from [`CALIBRATION_COLLISIONS`] f64 collisions (error ∝
@@ -253,6 +271,7 @@ fn one_step_states(w: f64, seed: u64) -> Result<Vec<Flight<f64>>, Error> {
 /// What the rows are measured with: the gap and seed, the collisions a 0.1 % D needs, the
 /// one-step states and their reference trap, the divergence horizons, and the progress callback.
 struct Bench<'a> {
+    table: &'a Table,
     w: f64,
     seed: u64,
     n_needed: f64,
@@ -267,7 +286,7 @@ impl Bench<'_> {
     fn time(&self, p: Precision, n: u64) -> Result<f64, Error> {
         // What production runs on: the SIMD engine for f64, the scalar engine for MPFR.
         let cfg = ThroughputConfig {
-            w: self.w,
+            table: self.table.clone(),
             precision: p,
             observe: Observe::None,
             collisions_per_thread: n,
@@ -276,7 +295,7 @@ impl Bench<'_> {
             field: None,
             straight_beside: false,
             oracle_floor: false,
-            table: None,
+            table_beside: None,
         };
         let one = RunOptions {
             threads: 1,
@@ -311,7 +330,8 @@ impl Bench<'_> {
                 MPFR_TIMING_COLLISIONS
             };
             let ns = self.time(Precision::Bits(b), n)?;
-            let (m, x) = one_step(&Trap::new(Float::with_val(b, w))?, self.tref, self.states);
+            let trap = Trap::new(param_at::<Float>(b, w, self.table.gap_text())?)?;
+            let (m, x) = one_step(&trap, self.tref, self.states);
             rows.push(ReportRow {
                 precision: b.to_string(),
                 bits: b,

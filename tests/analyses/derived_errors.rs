@@ -3,6 +3,7 @@
 //! each run reports.
 
 use lorentz_gas::estimators::hops::{self, HopsConfig, theory};
+use lorentz_gas::scenes::spec::Table;
 
 /// Runs of the theory from disjoint streams of one seed.
 const RUNS: u64 = 24;
@@ -28,7 +29,7 @@ fn jackknife_errors_of_the_hierarchy_match_the_spread_of_independent_runs() {
                 order: 3,
                 seed: 11,
                 run,
-                ..HopsConfig::new(0.15)
+                ..HopsConfig::new(Table::triangular_at(0.15))
             };
             theory::run(&cfg, &crate::common::threads(2)).unwrap()
         })
@@ -66,7 +67,7 @@ fn symmetry_bound_is_the_bonferroni_t_over_the_comparisons_and_holds() {
         batches: 16,
         order: 3,
         seed: 5,
-        ..HopsConfig::new(0.2)
+        ..HopsConfig::new(Table::triangular_at(0.2))
     };
     let r = hops::run(&cfg, &crate::common::threads(2)).unwrap();
     // Order 3: 3 + 9 + 27 sequences; mirror and reversed-mirror partners give at most 39 pairs,

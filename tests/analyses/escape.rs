@@ -10,6 +10,7 @@ use lorentz_gas::kernel::flight::Flight;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState};
 use lorentz_gas::scenes::sampling::{Purpose, StreamKey};
+use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::scenes::strip::{Side, Strip};
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::statistics::{normal_sigma_equivalent_t, student_t_quantile, welch_dof};
@@ -174,7 +175,7 @@ fn strip_samples_are_uniform_on_the_free_region() {
 #[test]
 fn escape_results_do_not_depend_on_the_thread_count() {
     let cfg = EscapeConfig {
-        w: 0.3,
+        table: Table::triangular("0.3").unwrap(),
         widths: vec![11.0, 13.0, 15.0],
         particles_per_width: escape::MIN_PARTICLES,
         seed: 5,
@@ -220,7 +221,7 @@ fn escape_cli_refuses_bad_input_with_status_2() {
 /// Bad input is refused with the valid range.
 #[test]
 fn bad_escape_input_is_refused() {
-    let ok = EscapeConfig::new(0.2);
+    let ok = EscapeConfig::new(Table::triangular_at(0.2));
     assert!(ok.validate().is_ok());
     let mut c = ok.clone();
     c.widths = vec![3.0, 20.0, 30.0];
@@ -238,14 +239,14 @@ fn bad_escape_input_is_refused() {
     c.particles_per_width = escape::MAX_PARTICLES + 1;
     assert!(c.validate().is_err());
     c = ok;
-    c.w = 0.31;
+    c.table = Table::triangular("0.31").unwrap();
     assert!(c.validate().is_err());
 }
 
 /// D_escape and its Einstein D at `w` within 3 combined σ.
 fn escape_agrees_with_einstein(w: f64, particles: u64, collisions: u64) {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut cfg = EscapeConfig::new(w);
+    let mut cfg = EscapeConfig::new(Table::triangular_at(w));
     cfg.particles_per_width = particles;
     cfg.seed = 2026;
     let r = escape::run(

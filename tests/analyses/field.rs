@@ -260,7 +260,7 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
         collisions_per_thread: 20_000,
         repetitions: 1,
         field: Some(1.0),
-        ..ThroughputConfig::new(0.1)
+        ..ThroughputConfig::new(Table::triangular_at(0.1))
     };
     let t = throughput::run(&cfg, &threads(1)).unwrap();
     assert_eq!(t.field, Some(1.0));

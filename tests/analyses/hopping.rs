@@ -12,12 +12,13 @@ use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::numbers::precision::Precision;
+use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::statistics::{normal_sigma_equivalent_t, student_t_quantile, welch_dof};
 
 /// A hop measurement of `collisions` in `batches` up to `order`, seed `seed`, run 0.
 fn hop_cfg(w: f64, collisions: u64, batches: u32, order: usize, seed: u64) -> HopsConfig {
     HopsConfig {
-        w,
+        table: Table::triangular_at(w),
         collisions,
         batches,
         order,
@@ -39,7 +40,7 @@ fn inject_cfg(
         batches,
         seed,
         precision,
-        ..BackscatterConfig::new(w)
+        ..BackscatterConfig::new(Table::triangular_at(w))
     }
 }
 

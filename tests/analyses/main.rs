@@ -20,4 +20,5 @@ mod planning;
 mod stops;
 mod superdiffusion;
 mod sweep;
+mod table_configs;
 mod theory;

@@ -10,6 +10,7 @@ use lorentz_gas::engine::options::{AuditSpec, RunOption, RunOptions};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
+use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::verification::certify::{self, CertifyConfig};
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig};
@@ -83,7 +84,7 @@ fn verification_analyses_refuse_every_run_option() {
         };
         refused(shadowing::run(&scene, &shadow, &o), "shadow", option);
         refused(
-            backscatter::run(&BackscatterConfig::new(0.1), &o),
+            backscatter::run(&BackscatterConfig::new(Table::triangular_at(0.1)), &o),
             "backscatter",
             option,
         );
@@ -94,12 +95,18 @@ fn verification_analyses_refuse_every_run_option() {
 #[test]
 fn estimators_refuse_the_options_they_do_not_use() {
     refused(
-        escape::run(&EscapeConfig::new(0.1), &with(RunOption::Engine)),
+        escape::run(
+            &EscapeConfig::new(Table::triangular_at(0.1)),
+            &with(RunOption::Engine),
+        ),
         "escape",
         RunOption::Engine,
     );
     refused(
-        escape::run(&EscapeConfig::new(0.1), &with(RunOption::Audit)),
+        escape::run(
+            &EscapeConfig::new(Table::triangular_at(0.1)),
+            &with(RunOption::Audit),
+        ),
         "escape",
         RunOption::Audit,
     );

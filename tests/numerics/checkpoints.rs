@@ -13,6 +13,7 @@ use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::numbers::precision::Precision;
+use lorentz_gas::scenes::spec::Table;
 use rand::{Rng, SeedableRng};
 
 /// The marker of a trajectory in flight in a checkpoint.
@@ -128,7 +129,7 @@ fn mpfr_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
 /// Green–Kubo ring are saved whole).
 #[test]
 fn hop_statistics_resume_from_any_moment_to_the_uninterrupted_bits() {
-    let mut cfg = HopsConfig::new(0.1);
+    let mut cfg = HopsConfig::new(Table::triangular_at(0.1));
     cfg.collisions = 12_000_000;
     cfg.batches = 4;
     cfg.seed = 8;
@@ -140,7 +141,7 @@ fn hop_statistics_resume_from_any_moment_to_the_uninterrupted_bits() {
 /// already followed are drawn again, not followed).
 #[test]
 fn escape_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
-    let mut cfg = EscapeConfig::new(0.2);
+    let mut cfg = EscapeConfig::new(Table::triangular_at(0.2));
     cfg.particles_per_width = 4000;
     cfg.seed = 4;
     let engines = [(Engine::Auto, 2), (Engine::Auto, 1)]; // escape runs the scalar kernel and takes no engine
@@ -252,7 +253,7 @@ fn edited_and_forged_checkpoints_are_refused() {
 fn a_forged_hops_checkpoint_is_refused() {
     let tmp = crate::common::scratch();
     let path = tmp.path().join("h.jsonl");
-    let mut cfg = HopsConfig::new(0.1);
+    let mut cfg = HopsConfig::new(Table::triangular_at(0.1));
     cfg.collisions = 2_000_000;
     cfg.batches = 4;
     let opts = RunOptions {

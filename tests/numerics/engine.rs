@@ -13,6 +13,7 @@ use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::Event, flight::Flight};
 use lorentz_gas::scenes::lattice::{CellIndex, Lattice, LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
+use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::scenes::triangular::equilibrium_state;
 
 /// Every event of every lane, as bits.
@@ -274,7 +275,7 @@ fn diffusion_and_hops_are_identical_on_every_engine() {
             .iter()
             .map(|&(e, t)| {
                 let cfg = HopsConfig {
-                    w,
+                    table: Table::triangular_at(w),
                     collisions,
                     batches: 20,
                     order: 3,
@@ -482,7 +483,7 @@ fn observer_sets_make_the_same_crossings_on_both_engines() {
         let cfg = ObserverCostsConfig {
             collisions_per_thread: 160_000,
             repetitions: 2,
-            ..ObserverCostsConfig::new(0.2)
+            ..ObserverCostsConfig::new(Table::triangular_at(0.2))
         };
         let r = observer_costs::run(
             &cfg,

@@ -40,9 +40,10 @@ use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::parallel::{par_batches_watched, share};
 use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::scenes::spec::Table;
 use crate::scenes::strip::Strip;
 use crate::scenes::triangular::TriangularScene;
-use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap};
+use crate::scenes::triangular::geometry::Geometry;
 use crate::statistics::fits::weighted_line_fit;
 
 /// Independent batches per width: the error of γ̂ is their batch error (dozens give a reliable
@@ -86,8 +87,10 @@ pub const FINITE_SIZE_FORM: &str = "D_eff(L) = gamma(L) L^2/pi^2 = D + c/L (abso
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EscapeConfig {
-    /// Gap w.
-    pub w: f64,
+    /// The triangular gas at a gap 0 < w < w∞, without a field (in JSON `w` and `w_exact`; a
+    /// record of before with `w` alone reads as that double).
+    #[serde(flatten)]
+    pub table: Table,
     /// Strip widths L (lengths, disk radius 1).
     pub widths: Vec<f64>,
     /// Particles per width.
@@ -97,11 +100,15 @@ pub struct EscapeConfig {
 }
 
 impl EscapeConfig {
-    /// The default run at `w`: [`default_widths`], 2·10⁵ particles per width, seed 1.
-    pub fn new(w: f64) -> Self {
+    /// The default run on `table`: [`default_widths`] at its gap (none on a table without one,
+    /// which [`validate`](Self::validate) refuses), 2·10⁵ particles per width, seed 1.
+    pub fn new(table: Table) -> Self {
+        let widths = table
+            .gap_for("escape")
+            .map_or_else(|_| Vec::new(), default_widths);
         EscapeConfig {
-            w,
-            widths: default_widths(w),
+            table,
+            widths,
             particles_per_width: 200_000,
             seed: 1,
         }
@@ -113,10 +120,19 @@ impl EscapeConfig {
         Ok((MIN_WIDTH_SPACINGS * g.spacing()).max(MIN_WIDTH_FREE_PATHS * g.mean_free_path()))
     }
 
+    /// The gap as its nearest double (what the strips run at); another table is an error.
+    pub fn gap(&self) -> Result<f64, Error> {
+        crate::estimators::straight_gap(&self.table, "escape")
+    }
+
     /// Checks every parameter; errors name the valid range.
+    ///
+    /// # Errors
+    /// Another scene ([`Error::Lacks`] trap symbols), a field, a gap outside (0, w∞) as typed,
+    /// and the widths and particles out of range.
     pub fn validate(&self) -> Result<(), Error> {
-        check_diffusive_gap(self.w)?;
-        let min = Self::min_width(self.w)?;
+        let w = crate::estimators::diffusive_gap(&self.table, "escape")?;
+        let min = Self::min_width(w)?;
         for &l in &self.widths {
             if !(l.is_finite() && l >= min && l <= MAX_WIDTH) {
                 return Err(Error::out_of_range(
@@ -126,7 +142,7 @@ impl EscapeConfig {
                         "use widths L from {min:.3} to {MAX_WIDTH} at w = {} (at least \
                          {MIN_WIDTH_SPACINGS} lattice spacings and {MIN_WIDTH_FREE_PATHS} mean \
                          free paths)",
-                        self.w
+                        w
                     ),
                 ));
             }
@@ -455,8 +471,9 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
     options.refuse_unused("escape", &[RunOption::Resume, RunOption::CheckpointEvery])?;
     let (threads, progress) = (options.threads, options.progress);
     let start = Instant::now();
-    let scene = TriangularScene::new(cfg.w)?;
-    let g = Geometry::new(cfg.w)?;
+    let w = cfg.gap()?;
+    let scene = TriangularScene::new(w)?;
+    let g = Geometry::new(w)?;
     let d_mz = g.d_mz();
     // A particle started uniformly in a strip of width L leaves after L²/(12 D) on average,
     // ⟨ℓ⟩ per collision (D ≈ D_MZ).
@@ -541,7 +558,7 @@ fn finite_size_fit(
     let (db_dc, db_dd) = (-0.25 / d, 0.25 * c / (d * d));
     let var_b = db_dc * db_dc * var_c + db_dd * db_dd * var_d + 2.0 * db_dc * db_dd * cov;
     Ok(EscapeReport {
-        w: cfg.w,
+        w: cfg.gap()?,
         D_escape: d,
         D_escape_err: var_d.sqrt(),
         slope: c,

@@ -12,7 +12,8 @@ use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::single_trap::SingleTrap;
-use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap_exact};
+use crate::scenes::spec::Table;
+use crate::scenes::triangular::geometry::Geometry;
 
 /// Injected visits between two calls of a progress callback: 2¹⁶, about 10⁶ collisions at w = 0.1
 /// (π/(3w) ≈ 10 collisions per visit).
@@ -22,12 +23,11 @@ const VISIT_CHUNK: u64 = 1 << 16;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BackscatterConfig {
-    /// Gap w, 0 < w < w∞: the double that `f64` runs use.
-    pub w: f64,
-    /// The gap exactly as given, for runs at an MPFR precision (see
-    /// [`DiffusionConfig::w_exact`](crate::estimators::diffusion::DiffusionConfig::w_exact)).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub w_exact: Option<String>,
+    /// The triangular gas at a gap 0 < w < w∞, without a field: `f64` runs use the double
+    /// nearest the gap, runs at an MPFR precision the gap as typed rounded once (in JSON `w`
+    /// and `w_exact`; a record of before with `w` alone reads as that double).
+    #[serde(flatten)]
+    pub table: Table,
     /// Particles injected in all (at least one per batch).
     pub particles: u64,
     /// Independent batches (at least 2); every error bar is over them.
@@ -43,11 +43,10 @@ pub struct BackscatterConfig {
 }
 
 impl BackscatterConfig {
-    /// The command line's defaults at `w`: 10⁷ visits in 32 batches, seed 1, `f64`.
-    pub fn new(w: f64) -> Self {
+    /// The command line's defaults on `table`: 10⁷ visits in 32 batches, seed 1, `f64`.
+    pub fn new(table: Table) -> Self {
         BackscatterConfig {
-            w,
-            w_exact: None,
+            table,
             particles: 10_000_000,
             batches: 32,
             seed: 1,
@@ -56,9 +55,21 @@ impl BackscatterConfig {
         }
     }
 
+    /// The gap as its nearest double (what `f64` runs and the closed forms use).
+    ///
+    /// # Errors
+    /// A table other than the triangular gas without a field.
+    pub fn gap(&self) -> Result<f64, Error> {
+        crate::estimators::straight_gap(&self.table, "backscatter")
+    }
+
     /// Checks every field before any work; errors name the valid range.
+    ///
+    /// # Errors
+    /// Another scene ([`Error::Lacks`] trap symbols), a field, a gap outside (0, w∞) as typed,
+    /// fewer than 2 batches or than one particle per batch.
     pub fn validate(&self) -> Result<(), Error> {
-        check_diffusive_gap_exact(self.w, self.w_exact.as_deref())?;
+        crate::estimators::diffusive_gap(&self.table, "backscatter")?;
         if self.batches < 2 {
             return Err(Error::TooFew {
                 what: "batches",
@@ -179,23 +190,23 @@ pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterR
     options.validate()?;
     options.refuse_unused("backscatter", &[])?;
     // Each injected particle stays π/(3w) collisions in its trap on average.
-    let collisions = cfg.particles as f64 * Geometry::new(cfg.w)?.collisions_per_hop();
+    let w = cfg.gap()?;
+    let collisions = cfg.particles as f64 * Geometry::new(w)?.collisions_per_hop();
     crate::engine::work::Work::new("backscatter", &["particles"], collisions)
         .or_raise("w")
         .check(options.threads)?;
     let BackscatterConfig {
-        w,
-        ref w_exact,
         particles,
         batches,
         seed,
         run,
         precision,
+        ..
     } = *cfg;
     let (threads, progress) = (options.threads, options.progress);
     let res = precision.dispatch(Inject {
         w,
-        w_exact: w_exact.as_deref(),
+        w_exact: cfg.table.gap_text(),
         particles,
         batches,
         seed,

@@ -81,8 +81,8 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<LatticeWalkReport, 
     use crate::theory::{lattice_walk, markov::CorrelatedWalk};
     let (h, batches) = super::run_with_batches(cfg, options)?;
     let pools = super::jackknife::leave_one_out(&batches, cfg.order)?;
-    let config = *cfg;
-    let (w, order, seed, threads) = (cfg.w, cfg.order, cfg.seed, options.threads);
+    let config = cfg.clone();
+    let (w, order, seed, threads) = (cfg.gap()?, cfg.order, cfg.seed, options.threads);
     let g = Geometry::new(w)?;
     let cfg = lattice_walk::LatticeWalkConfig::new(WALK_BATCHES, WALK_WALKERS, WALK_HOPS, seed);
     let pool = crate::engine::parallel::thread_pool(threads)?;

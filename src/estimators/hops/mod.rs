@@ -29,11 +29,12 @@ use crate::observers::hop_correlations::{HopCorrelations, MAX_LAG};
 use crate::observers::hops::{HopLanes, Hops};
 use crate::scenes::lattice::TriangularLattice;
 use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::scenes::spec::Table;
 use crate::scenes::symbols::{
     check_order, mirror_index, parse_sequence_index, reverse_index, sequence_name,
 };
 use crate::scenes::triangular::equilibrium_state;
-use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap};
+use crate::scenes::triangular::geometry::Geometry;
 use crate::statistics::mean_se;
 use crate::theory::green_kubo;
 
@@ -44,11 +45,14 @@ fn est(v: &[f64]) -> Estimate {
 
 /// Everything that defines a measurement of hop statistics along lattice trajectories (also the
 /// input of [`theory::run`] and [`lattice_walks::run`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HopsConfig {
-    /// Gap w, 0 < w < w∞.
-    pub w: f64,
+    /// The triangular gas at a gap 0 < w < w∞, without a field (in JSON its keys `w`, the
+    /// double, and `w_exact`, the gap as typed; a record of before with `w` alone reads as that
+    /// double).
+    #[serde(flatten)]
+    pub table: Table,
     /// Lorentz-gas collisions in all, shared over the batches
     /// ([`crate::engine::parallel::share`]).
     pub collisions: u64,
@@ -65,10 +69,24 @@ pub struct HopsConfig {
 }
 
 impl HopsConfig {
-    /// The command line's defaults at `w`: 2·10⁸ collisions in 16 batches, order 4, seed 1.
-    pub fn new(w: f64) -> Self {
+    /// The command line's defaults on `table`: 2·10⁸ collisions in 16 batches, order 4, seed 1.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::estimators::hops::HopsConfig;
+    /// use lorentz_gas::scenes::spec::Table;
+    /// let cfg = HopsConfig::new(Table::triangular("1/10").unwrap());
+    /// assert_eq!(cfg.gap().unwrap(), 0.1);
+    /// assert!(cfg.validate().is_ok());
+    /// // The square scene has no trap symbols.
+    /// let square = lorentz_gas::scenes::spec::SceneSpec::parse("square", None, Some("1/4")).unwrap();
+    /// let cfg = HopsConfig::new(Table { scene: square, motion: Default::default() });
+    /// assert!(matches!(cfg.validate(), Err(lorentz_gas::Error::Lacks { .. })));
+    /// ```
+    pub fn new(table: Table) -> Self {
         HopsConfig {
-            w,
+            table,
             collisions: 200_000_000,
             batches: 16,
             order: 4,
@@ -77,17 +95,23 @@ impl HopsConfig {
         }
     }
 
-    /// Checks before any work: 0 < w < w∞, 1 ≤ `order` ≤ [`crate::scenes::symbols::MAX_ORDER`],
-    /// `batches` ≥ 2, at least [`min_collisions_per_batch`] collisions per batch.
+    /// The gap as its nearest double (what the `f64` trajectories run at).
+    ///
+    /// # Errors
+    /// A table other than the triangular gas without a field.
+    pub fn gap(&self) -> Result<f64, Error> {
+        crate::estimators::straight_gap(&self.table, "hops")
+    }
+
+    /// Checks before any work: the triangular gas without a field at 0 < w < w∞ (as typed),
+    /// 1 ≤ `order` ≤ [`crate::scenes::symbols::MAX_ORDER`], `batches` ≥ 2, at least
+    /// [`min_collisions_per_batch`] collisions per batch.
+    ///
+    /// # Errors
+    /// Another scene ([`Error::Lacks`] trap symbols), a field, and each parameter out of range.
     pub fn validate(&self) -> Result<(), Error> {
-        let HopsConfig {
-            w,
-            collisions,
-            batches,
-            order,
-            ..
-        } = *self;
-        check_diffusive_gap(w)?;
+        let w = crate::estimators::diffusive_gap(&self.table, "hops")?;
+        let (collisions, batches, order) = (self.collisions, self.batches, self.order);
         check_order("order", order)?;
         if batches < 2 {
             return Err(Error::TooFew {
@@ -241,14 +265,8 @@ fn run_with_batches(
         RunOption::CheckpointEvery,
     ];
     options.refuse_unused("hops", &uses)?;
-    let HopsConfig {
-        w,
-        collisions,
-        batches,
-        order,
-        seed,
-        ..
-    } = *cfg;
+    let (w, collisions, batches) = (cfg.gap()?, cfg.collisions, cfg.batches);
+    let (order, seed) = (cfg.order, cfg.seed);
     let threads = options.threads;
     let (res, resolved) = measure(cfg, options)?;
     let g = Geometry::new(w)?;
@@ -294,7 +312,7 @@ fn run_with_batches(
         correlations_err: correlations.iter().map(|e| e.err).collect(),
         visits: res.iter().map(|h| h.visits).sum(),
         collisions,
-        config: *cfg,
+        config: cfg.clone(),
         meta: RunMeta::new(
             Some(seed),
             Some(batches as u64),
@@ -324,14 +342,8 @@ const CHECKPOINT_KIND: &str = "hop trajectories";
 /// and (every `options.checkpoint_every`) the trajectories in flight are kept there, and work
 /// already there continues, to the uninterrupted bits.
 fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolved), Error> {
-    let HopsConfig {
-        w,
-        collisions,
-        batches,
-        order,
-        seed,
-        run,
-    } = *cfg;
+    let (w, collisions, batches) = (cfg.gap()?, cfg.collisions, cfg.batches);
+    let (order, seed, run) = (cfg.order, cfg.seed, cfg.run);
     let (threads, progress) = (options.threads, options.progress);
     let resolved = options.engine.resolve(true)?;
     let lat = TriangularLattice::new(w)?;

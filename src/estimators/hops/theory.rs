@@ -103,8 +103,12 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<TheoryReport, Error
     use crate::theory::{appendix_a, hierarchy};
     cfg.validate()?;
     let top = cfg.order.max(3);
-    let w = cfg.w;
-    let (h, batches) = super::run_with_batches(&HopsConfig { order: top, ..*cfg }, options)?;
+    let w = cfg.gap()?;
+    let deeper = HopsConfig {
+        order: top,
+        ..cfg.clone()
+    };
+    let (h, batches) = super::run_with_batches(&deeper, options)?;
     let pools = jackknife::leave_one_out(&batches, top)?;
     let g = Geometry::new(w)?;
     let table = |k: usize| h.table(k);
@@ -136,7 +140,7 @@ pub fn run(cfg: &HopsConfig, options: &RunOptions) -> Result<TheoryReport, Error
         D_GK: h.D_GK,
         D_GK_err: h.D_GK_err,
         collisions: h.collisions,
-        config: *cfg,
+        config: cfg.clone(),
         meta: h.meta,
     })
 }

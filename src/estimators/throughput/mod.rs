@@ -3,6 +3,7 @@
 //! magnetic field (`lorentz bench --field`) one trajectory on arcs.
 
 mod arcs;
+mod check;
 pub mod long_flights;
 mod tables;
 
@@ -11,6 +12,8 @@ pub use tables::TableBench;
 
 use std::time::Instant;
 
+use check::{Checked, check};
+
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -18,10 +21,10 @@ use crate::Error;
 use crate::engine::bound::{self, DividerBound};
 use crate::engine::metadata::RunMeta;
 use crate::engine::observe::{CROSSING_CODE, EventLanes, Nothing, Observer};
-use crate::engine::options::{RunOption, RunOptions};
+use crate::engine::options::RunOptions;
 use crate::engine::parallel::thread_pool;
 use crate::engine::simd::BLOCK;
-use crate::engine::{Resolved, SimdPath, drive, run_block};
+use crate::engine::{Resolved, drive, run_block};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::kernel::trap::Trap;
 use crate::numbers::lanes::Lanes;
@@ -32,6 +35,7 @@ use crate::observers::hops::HopLanes;
 use crate::observers::msd::Msd;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
 use crate::scenes::sampling::stream;
+use crate::scenes::spec::Table;
 use crate::scenes::triangular::equilibrium_state;
 use crate::scenes::triangular::geometry::Geometry;
 
@@ -131,6 +135,8 @@ struct TimeRuns<'a> {
     field: Option<f64>,
     beside: bool,
     w: f64,
+    /// The gap as typed, rounded once at the working precision.
+    w_exact: Option<&'a str>,
     seed: u64,
     collisions: u64,
     reps: usize,
@@ -145,7 +151,8 @@ impl AtPrecision for TimeRuns<'_> {
     type Output = Result<(Vec<f64>, f64, Vec<f64>), Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
         let trap64 = Trap::new(self.w)?;
-        let lat = TriangularLattice::new(T::from_f64(ctx, self.w))?;
+        let w = crate::numbers::exact::param_at::<T>(ctx, self.w, self.w_exact)?;
+        let lat = TriangularLattice::new(w)?;
         let lanes = lanes(self.engine);
         let mut states = match self.field {
             Some(b) => arcs::starts::<T>(ctx, &trap64, self.seed, self.threads, lanes, b)?,
@@ -360,8 +367,11 @@ impl<const L: usize> Observer<L> for CrossingCount {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ThroughputConfig {
-    /// Gap w > 0.
-    pub w: f64,
+    /// The triangular gas at a gap w > 0, without a field (the bench's own `field` flies arcs):
+    /// `f64` runs use the double nearest the gap, MPFR runs the gap as typed rounded once (in
+    /// JSON `w` and `w_exact`).
+    #[serde(flatten)]
+    pub table: Table,
     /// Number type.
     pub precision: Precision,
     /// Which observers run beside the engine.
@@ -388,17 +398,18 @@ pub struct ThroughputConfig {
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub oracle_floor: bool,
     /// A table given as data, timed beside the triangular gas at `w` (straight flights, `f64`,
-    /// no observers; the same engine, its cell on the SIMD lanes): [`TableBench`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub table: Option<crate::scenes::table::spec::TableSpec>,
+    /// no observers; the same engine, its cell on the SIMD lanes): [`TableBench`] (in JSON
+    /// `table`).
+    #[serde(default, rename = "table", skip_serializing_if = "Option::is_none")]
+    pub table_beside: Option<crate::scenes::table::spec::TableSpec>,
 }
 
 impl ThroughputConfig {
-    /// The command line's defaults at `w`: f64, bare engine, 2·10⁷ collisions, 7 repetitions,
-    /// seed 1.
-    pub fn new(w: f64) -> Self {
+    /// The command line's defaults on `table`: f64, bare engine, 2·10⁷ collisions, 7
+    /// repetitions, seed 1.
+    pub fn new(table: Table) -> Self {
         ThroughputConfig {
-            w,
+            table,
             precision: Precision::F64,
             observe: Observe::None,
             collisions_per_thread: 20_000_000,
@@ -407,7 +418,7 @@ impl ThroughputConfig {
             field: None,
             straight_beside: false,
             oracle_floor: false,
-            table: None,
+            table_beside: None,
         }
     }
 }
@@ -421,12 +432,12 @@ impl ThroughputConfig {
 /// A gap that is not positive, no collisions, repetitions out of range, or invalid options.
 pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, Error> {
     let Checked {
+        w,
         field,
         resolved,
         oracle: oracle_path,
     } = check(cfg, options)?;
     let ThroughputConfig {
-        w,
         precision,
         observe,
         collisions_per_thread: collisions,
@@ -436,7 +447,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         ..
     } = *cfg;
     let mut table = cfg
-        .table
+        .table_beside
         .as_ref()
         .map(|spec| {
             let runs =
@@ -452,6 +463,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         field,
         beside: straight_beside,
         w,
+        w_exact: cfg.table.gap_text(),
         seed,
         collisions,
         reps,
@@ -509,85 +521,6 @@ fn divider_unit(resolved: Resolved, field: Option<f64>) -> Option<DividerBound> 
     resolved
         .simd()
         .and_then(|p| bound::measure(p, roots, divisions))
-}
-
-/// What [`check`] found a measurement to be.
-struct Checked {
-    /// The field (`None` for straight flights).
-    field: Option<f64>,
-    /// The engine that runs.
-    resolved: Resolved,
-    /// With `oracle_floor`: the field and SIMD path of the winner-only floor.
-    oracle: Option<(f64, SimdPath)>,
-}
-
-/// Refuses what [`run`] cannot time.
-fn check(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Checked, Error> {
-    options.validate()?;
-    options.refuse_unused("throughput", &[RunOption::Engine])?;
-    Geometry::new(cfg.w)?;
-    if cfg.collisions_per_thread == 0 {
-        return Err(Error::Zero {
-            what: "collisions_per_thread",
-        });
-    }
-    let reps = cfg.repetitions;
-    if reps == 0 || reps > MAX_REPETITIONS {
-        return Err(Error::out_of_range(
-            "repetitions",
-            reps,
-            format!("use 1 to {MAX_REPETITIONS}"),
-        ));
-    }
-    if options.threads == 0 {
-        return Err(Error::Zero { what: "threads" });
-    }
-    let field = cfg.field.filter(|b| *b != 0.0);
-    if cfg.straight_beside && field.is_none() {
-        return Err(Error::parameter(
-            "straight_beside",
-            true,
-            "times straight flights beside arcs: give a nonzero field",
-        ));
-    }
-    const TABLE_BESIDE: &str = "a table is timed by its bare straight flights beside the \
-                                triangular gas: leave it out";
-    if let (Some(_), Some(b)) = (&cfg.table, field) {
-        return Err(Error::parameter("field", b, TABLE_BESIDE));
-    }
-    if cfg.table.is_some() && cfg.observe != Observe::None {
-        let observe = format!("{:?}", cfg.observe).to_lowercase();
-        return Err(Error::parameter("observe", observe, TABLE_BESIDE));
-    }
-    if cfg.table.is_some() && cfg.precision != Precision::F64 {
-        return Err(Error::out_of_range(
-            "precision",
-            cfg.precision.to_string(),
-            "use f64 with a table timed beside the triangular gas",
-        ));
-    }
-    let (precision, engine) = (cfg.precision, options.engine);
-    let resolved = match field {
-        Some(b) => arcs::check(b, precision, cfg.observe, engine)?,
-        None => engine.resolve(precision == Precision::F64)?,
-    };
-    let oracle_path = match (cfg.oracle_floor, field, resolved.simd()) {
-        (false, ..) => None,
-        (true, Some(b), Some(path)) => Some((b, path)),
-        _ => {
-            return Err(Error::parameter(
-                "oracle_floor",
-                true,
-                "times the SIMD arc engine against its winner-only floor: give a nonzero field \
-                 and a SIMD engine",
-            ));
-        }
-    };
-    Ok(Checked {
-        field,
-        resolved,
-        oracle: oracle_path,
-    })
 }
 
 /// The straight repetitions' summary against the arcs' `samples`.

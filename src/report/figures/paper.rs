@@ -17,6 +17,7 @@ use crate::numbers::exact::decimal_grid;
 use crate::numbers::precision::Precision;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::single_trap::SingleTrap;
+use crate::scenes::spec::Table;
 use crate::scenes::symbols::Symbol;
 
 /// Default injections of Fig. 5: enough points to show the backscattering regions' shape.
@@ -203,8 +204,7 @@ impl Curve<'_> {
         let mut rows = Vec::new();
         for (i, &w) in ws.iter().enumerate() {
             let cfg = BackscatterConfig {
-                w,
-                w_exact: None,
+                table: Table::triangular_at(w),
                 particles: self.particles_per_gap,
                 batches: CURVE_BATCHES,
                 seed: self.seed,
@@ -347,7 +347,7 @@ impl HierarchyRuns {
     /// The hop statistics at gap `w`, point `i` (run i).
     fn hops(&self, i: usize, w: f64) -> HopsConfig {
         HopsConfig {
-            w,
+            table: Table::triangular_at(w),
             collisions: self.collisions,
             batches: HIERARCHY_BATCHES,
             order: HIERARCHY_ORDER,

@@ -21,7 +21,7 @@ pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<BackscatterReport,
 
 /// Expected collisions of the injections: π/(3w) per visit (Kac), rounded up.
 pub(super) fn collisions(cfg: &BackscatterConfig) -> Result<u64, Error> {
-    let per = Geometry::new(cfg.w)?.collisions_per_hop();
+    let per = Geometry::new(cfg.gap()?)?.collisions_per_hop();
     Ok((cfg.particles as f64 * per.max(1.0)).ceil() as u64)
 }
 
@@ -32,14 +32,15 @@ pub(super) fn checks(
     checks: &mut Checks,
 ) -> Result<(), Error> {
     let cfg = &r.config;
-    let g = Geometry::new(cfg.w)?;
+    let gap = cfg.gap()?;
+    let g = Geometry::new(gap)?;
     let mut bad = super::meta_problems(
         &r.meta,
         Some(cfg.seed),
         Some(u64::from(cfg.batches)),
         &cfg.precision.to_string(),
     );
-    if r.w.to_bits() != cfg.w.to_bits() || r.particles != cfg.particles {
+    if r.w.to_bits() != gap.to_bits() || r.particles != cfg.particles {
         bad.push("w or particles differ from the configuration's".into());
     }
     super::record_check(bad, checks);

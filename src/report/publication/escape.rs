@@ -25,7 +25,7 @@ pub(super) fn parse(file: &ResultFile, path: &Path) -> Result<EscapeReport, Erro
 /// Expected collisions of the run: per particle, the mean time to leave [0, L] from a uniform
 /// start, L²/(12D) (cut at t_max = 8L²/(π²D_MZ)), over the mean free path.
 pub(super) fn collisions(cfg: &EscapeConfig) -> Result<u64, Error> {
-    let g = Geometry::new(cfg.w)?;
+    let g = Geometry::new(cfg.gap()?)?;
     let (d_mz, ell) = (g.d_mz(), g.mean_free_path());
     let per_particle: f64 = cfg
         .widths
@@ -50,7 +50,7 @@ pub(super) fn checks(r: &EscapeReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Re
         "f64",
     );
     let recorded: Vec<f64> = r.widths.iter().map(|x| x.L).collect();
-    if r.w.to_bits() != cfg.w.to_bits() || recorded != cfg.widths {
+    if r.w.to_bits() != cfg.gap()?.to_bits() || recorded != cfg.widths {
         bad.push("w or the widths differ from the configuration's".into());
     }
     super::record_check(bad, checks);

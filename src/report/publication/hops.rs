@@ -74,8 +74,9 @@ pub(super) fn checks(h: &HopsKind, ctx: &Ctx<'_>, checks: &mut Checks) -> Result
         Some(u64::from(cfg.batches)),
         "f64",
     );
-    if w.to_bits() != cfg.w.to_bits() {
-        bad.push(format!("w: recorded {w}, configured {}", cfg.w));
+    let gap = cfg.gap()?;
+    if w.to_bits() != gap.to_bits() {
+        bad.push(format!("w: recorded {w}, configured {gap}"));
     }
     if collisions.is_some_and(|c| c != cfg.collisions) {
         bad.push(format!(
@@ -83,7 +84,7 @@ pub(super) fn checks(h: &HopsKind, ctx: &Ctx<'_>, checks: &mut Checks) -> Result
             cfg.collisions
         ));
     }
-    if Geometry::new(cfg.w)?.d_mz().to_bits() != d_mz.to_bits() {
+    if Geometry::new(gap)?.d_mz().to_bits() != d_mz.to_bits() {
         bad.push("D_MZ is not the closed form".into());
     }
     super::record_check(bad, checks);

@@ -364,7 +364,7 @@ impl Reproduction<'_> {
             Step::Speed => {
                 stage(crate::report::speed_error::REPORT_STEPS, "steps");
                 let cfg = crate::report::speed_error::SpeedErrorConfig {
-                    w: 0.1,
+                    table: crate::scenes::spec::Table::triangular("0.1")?,
                     seed,
                     out: sub.to_path_buf(),
                 };
