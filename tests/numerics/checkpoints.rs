@@ -338,3 +338,63 @@ fn a_stop_request_ends_a_run_that_then_resumes_to_the_uninterrupted_bits() {
     assert_eq!(plain.D.to_bits(), resumed.D.to_bits());
     assert_eq!(plain.batch_D, resumed.batch_D);
 }
+
+/// A checkpoint recorded before the gap was kept as typed (its configuration with the double `w`
+/// alone) resumes a run at the same double: a hops run from `--w 0.1` in `f64`, and a diffusion
+/// run at 128 bits whose gap is exactly that double; a 128-bit run at the gap 1/10, which is not
+/// the double, is refused.
+#[test]
+fn a_checkpoint_recorded_before_the_exact_gap_resumes_the_same_trajectories() {
+    let tmp = crate::common::scratch();
+    let without_exact = |h: &mut serde_json::Value| {
+        h["config"].as_object_mut().unwrap().remove("w_exact");
+    };
+    let opts = |path: &Path| RunOptions {
+        resume: Some(path.to_path_buf()),
+        ..crate::common::threads(2)
+    };
+    // Hops, f64 only: the old record named the double nearest the 0.1 typed now.
+    let hops_path = tmp.path().join("hops.jsonl");
+    let hops_cfg = HopsConfig {
+        collisions: 2_000_000,
+        batches: 4,
+        ..HopsConfig::new(Table::triangular("0.1").unwrap())
+    };
+    let first = hops::run(&hops_cfg, &opts(&hops_path)).unwrap();
+    let text = std::fs::read_to_string(&hops_path).unwrap();
+    std::fs::write(&hops_path, forge(&text, without_exact, |_| {})).unwrap();
+    // Refused, this would be an error naming the configuration; resumed, the same result.
+    let again = hops::run(&hops_cfg, &opts(&hops_path)).unwrap();
+    assert_eq!(again.p_bs.to_bits(), first.p_bs.to_bits());
+    assert_eq!(
+        serde_json::to_value(&again.pairs).unwrap(),
+        serde_json::to_value(&first.pairs).unwrap()
+    );
+    // Diffusion at 128 bits: the gap that is exactly the double resumes; 1/10 does not.
+    let path = tmp.path().join("d.jsonl");
+    let cfg = DiffusionConfig {
+        collisions: 40_000,
+        batches: 2,
+        precision: Precision::Bits(128),
+        window: "2:8".parse().unwrap(),
+        check_window: "3:9".parse().unwrap(),
+        ..DiffusionConfig::new(0.1)
+    };
+    let first = run(&cfg, &opts(&path)).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, forge(&text, without_exact, |_| {})).unwrap();
+    let again = run(&cfg, &opts(&path)).unwrap();
+    assert_eq!(
+        (again.resumed_batches, again.D.to_bits()),
+        (2, first.D.to_bits())
+    );
+    let tenth = DiffusionConfig {
+        table: Table::triangular("1/10").unwrap(),
+        ..cfg.clone()
+    };
+    let e = run(&tenth, &opts(&path)).unwrap_err().to_string();
+    assert!(
+        e.contains("another configuration") && e.contains("w_exact"),
+        "{e}"
+    );
+}
