@@ -250,13 +250,7 @@ impl DiffusionConfig {
     /// The checks of the trap estimator's run on the triangular gas.
     fn validate_triangular(&self) -> Result<(), Error> {
         check_diffusive_gap_exact(self.gap()?, self.table.gap_text())?;
-        check_run(
-            self.collisions,
-            self.batches,
-            self.precision,
-            &self.window,
-            &self.check_window,
-        )?;
+        self.sampling().check_run()?;
         // Each batch must be long enough to reach the far end of the check window many times.
         let w = self.gap()?;
         let g = Geometry::new(w)?;
@@ -387,13 +381,7 @@ impl Sampling {
     /// # Errors
     /// Too few batches or collisions, a precision out of range, or equal windows.
     pub fn check_statistics<S: Scene>(&self, scene: &S) -> Result<(), Error> {
-        check_run(
-            self.collisions,
-            self.batches,
-            self.precision,
-            &self.window,
-            &self.check_window,
-        )?;
+        self.check_run()?;
         let (unit, mfp) = (time_unit(scene), scene.mean_free_path());
         if !(unit > 0.0 && mfp > 0.0 && unit.is_finite() && mfp.is_finite()) {
             return Err(Error::Failed(format!(
@@ -463,53 +451,57 @@ pub fn refuse_options_of_no_field(rel_err: Option<f64>, grid: MsdGrid) -> Result
     Ok(())
 }
 
-/// The checks every diffusion run shares, whatever its table: at least one collision and two
-/// batches (within the thread pool's and a trajectory's limits), a usable precision, and a check
-/// window that is not the fit window.
-pub(super) fn check_run(
-    collisions: u64,
-    batches: u32,
-    precision: Precision,
-    window: &Window,
-    check_window: &Window,
-) -> Result<(), Error> {
-    if collisions == 0 {
-        return Err(Error::Zero { what: "collisions" });
-    }
-    if batches == 0 {
-        return Err(Error::Zero { what: "batches" });
-    }
-    if batches < 2 {
-        return Err(Error::TooFew {
-            what: "batches",
-            min: 2,
-            got: batches as u64,
-        });
-    }
-    crate::engine::parallel::check_batches("batches", batches)?;
-    crate::engine::check_trajectory_length(
-        collisions.div_ceil(batches as u64),
-        "batches",
-        batches,
-    )?;
-    if let Precision::Bits(b) = precision {
-        <rug::Float as Real>::check_ctx(b)?;
-    }
-    if check_window == window {
-        return Err(Error::parameter(
-            "check_window",
-            window,
-            format!(
-                "this is the fit window {}:{}: the check needs another window, such as a later \
+impl Sampling {
+    /// The checks every diffusion run shares, whatever its table: at least one collision and two
+    /// batches (within the thread pool's and a trajectory's limits), a usable precision, and a
+    /// check window that is not the fit window.
+    fn check_run(&self) -> Result<(), Error> {
+        let Sampling {
+            collisions,
+            batches,
+            precision,
+            ref window,
+            ref check_window,
+            ..
+        } = *self;
+        if collisions == 0 {
+            return Err(Error::Zero { what: "collisions" });
+        }
+        if batches == 0 {
+            return Err(Error::Zero { what: "batches" });
+        }
+        if batches < 2 {
+            return Err(Error::TooFew {
+                what: "batches",
+                min: 2,
+                got: batches as u64,
+            });
+        }
+        crate::engine::parallel::check_batches("batches", batches)?;
+        crate::engine::check_trajectory_length(
+            collisions.div_ceil(batches as u64),
+            "batches",
+            batches,
+        )?;
+        if let Precision::Bits(b) = precision {
+            <rug::Float as Real>::check_ctx(b)?;
+        }
+        if check_window == window {
+            return Err(Error::parameter(
+                "check_window",
+                window,
+                format!(
+                    "this is the fit window {}:{}: the check needs another window, such as a later \
                  one ({}:{})",
-                window.lo,
-                window.hi,
-                2 * window.lo,
-                2 * window.hi
-            ),
-        ));
+                    window.lo,
+                    window.hi,
+                    2 * window.lo,
+                    2 * window.hi
+                ),
+            ));
+        }
+        Ok(())
     }
-    Ok(())
 }
 
 /// Batch i of a run follows the stream (seed, run, i) for its share of the collisions.
