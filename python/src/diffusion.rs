@@ -47,10 +47,8 @@ pub fn read(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             Some(b) => table.in_field(b),
             None => table,
         };
-        if let SceneSpec::Triangular { w } = &table.scene {
-            if table.field().is_none() {
-                inputs::diffusive_gap(w)?;
-            }
+        if let (SceneSpec::Triangular { w }, None) = (&table.scene, table.field()) {
+            inputs::diffusive_gap(w)?;
         }
         let in_field = table.field().is_some();
         let cfg = DiffusionConfig {

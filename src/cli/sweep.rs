@@ -314,7 +314,7 @@ pub fn config_in_field(g: &GridArgs, f: &FieldArgs, seed: u64) -> Result<SweepCo
 /// What a sweep in a field computed: one part of it, or the whole.
 pub enum Outcome {
     /// A part (`--shard`).
-    Part(FieldSweepPart),
+    Part(Box<FieldSweepPart>),
     /// The whole sweep.
     Whole(Box<field::FieldSweepReport>),
 }
@@ -326,7 +326,7 @@ pub fn compute_in_field(
     opts: &RunOptions,
 ) -> Result<Outcome, Error> {
     Ok(match shard {
-        Some(s) => Outcome::Part(field_parts::run_part(cfg, s, opts)?),
+        Some(s) => Outcome::Part(Box::new(field_parts::run_part(cfg, s, opts)?)),
         None => Outcome::Whole(Box::new(field::run(cfg, opts)?)),
     })
 }
@@ -336,7 +336,7 @@ pub fn compute_in_field(
 pub fn show_in_field(a: &Args, done: Outcome) -> Result<(), Error> {
     match done {
         Outcome::Whole(r) => finish_in_field(&r, &a.out, a.output.json),
-        Outcome::Part(part) => emit(a.output.json, &part, |p| {
+        Outcome::Part(part) => emit(a.output.json, &*part, |p| {
             println!(
                 "part {} of the field sweep: points {:?} in {}/field-points ({} reused); merge every part with `lorentz merge`",
                 p.shard,
