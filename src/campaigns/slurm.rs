@@ -5,7 +5,7 @@
 //! Each array task runs `lorentz sweep … --shard $SLURM_ARRAY_TASK_ID/N --out OUT/shard-$ID`
 //! (resumable: a requeued or resubmitted task reuses its finished points) — a sweep over w with
 //! its flags, a sweep in a field with `--config OUT/slurm/sweep-config.json`, the validated
-//! configuration written beside the scripts ([`super::sweeps`]; a table given as data travels in
+//! configuration written beside the scripts ([`crate::estimators::sweep::SweepConfig::read`]; a table given as data travels in
 //! it) — and the merge job runs `lorentz merge OUT/shard-0 … OUT/shard-(N−1) --out OUT`, which
 //! writes the same tables, JSON and figures as the sweep run in one piece
 //! ([`crate::campaigns::merge::run`], [`crate::estimators::sweep::field_parts`]).

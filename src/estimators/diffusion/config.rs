@@ -293,7 +293,7 @@ impl DiffusionConfig {
 }
 
 /// What a diffusion run samples, whatever its table: the part of a [`super::DiffusionConfig`]
-/// that [`run_on`] takes beside a scene (a table of the crate's, or a [`Scene`] written in Rust
+/// that [`super::scene::run_on`] takes beside a scene (a table of the crate's, or a [`Scene`] written in Rust
 /// outside it), and that a table's result records beside its table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -121,11 +121,11 @@ pub struct SceneDiffusionReport {
     /// Its standard errors.
     pub msd_over_4t_err: Vec<f64>,
     /// The MSD curve on its logarithmic grid, with D by Green–Kubo (runs with
-    /// [`MsdGrid::Log`]).
+    /// [`super::MsdGrid::Log`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub msd_curve: Option<super::curve::MsdCurveReport>,
     /// D by Green–Kubo from the MSD curve against the Einstein D (runs with
-    /// [`MsdGrid::Log`]).
+    /// [`super::MsdGrid::Log`]).
     #[serde(flatten)]
     pub green_kubo: super::curve::GreenKuboD,
     /// Longest free path seen in the run.

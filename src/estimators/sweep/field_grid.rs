@@ -1,6 +1,6 @@
 //! The grid of a field sweep as the command line and Python give it: the scene's parameter (a
 //! gap, an exact range of gaps, or the square lattice's radius) and the fields, as exact texts
-//! ([`super::FieldGrid`] holds them).
+//! ([`super::field::FieldGrid`] holds them).
 
 use rug::{Integer, Rational};
 
