@@ -87,6 +87,19 @@ impl LyapunovConfig {
         }
     }
 
+    /// Refuses a field, for the measurement of straight flights.
+    fn refuse_field(&self) -> Result<(), Error> {
+        match &self.field {
+            Some(b) => Err(Error::parameter(
+                "field",
+                b,
+                "this measurement flies straight lines: the exponent in a field is the arcs' \
+                 (estimators::field::lyapunov::run)",
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// The command line's defaults: 2·10⁶ collisions in each of 16 batches, seed 1.
     pub fn new() -> Self {
         LyapunovConfig {
@@ -118,21 +131,14 @@ pub fn run<S: Scene>(
 ) -> Result<LyapunovReport, Error> {
     options.validate()?;
     options.refuse_unused("lyapunov", &[])?;
+    cfg.refuse_field()?;
     let LyapunovConfig {
         collisions_per_batch,
         batches,
         seed,
         flights,
-        ref field,
+        ..
     } = *cfg;
-    if let Some(b) = field {
-        return Err(Error::parameter(
-            "field",
-            b,
-            "this measurement flies straight lines: the exponent in a field is the arcs' \
-             (estimators::field::lyapunov::run)",
-        ));
-    }
     let flights = flights.resolve(scene)?;
     let radius = scene.long_flights().filter(|_| flights == Flights::Jump);
     let (threads, progress) = (options.threads, options.progress);
