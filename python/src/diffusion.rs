@@ -5,12 +5,12 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
-use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, MsdGrid, Window};
+use lorentz_gas::estimators::diffusion::{DiffusionConfig, MsdGrid, Window};
 use lorentz_gas::estimators::transport;
-use lorentz_gas::scenes::spec::{Motion, SceneSpec, Table};
+use lorentz_gas::scenes::spec::{Motion, Table};
 
 use crate::analyses::options;
-use crate::inputs::{self, count_u32};
+use crate::inputs::count_u32;
 use crate::params::{Params, Work, work};
 use crate::scenes::Where;
 use crate::watch::{compute, json};
@@ -41,29 +41,16 @@ pub fn read(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     Ok(work(move |py, progress| {
         let table = Table {
             scene: place.spec()?,
-            motion: Motion::Straight,
+            motion: Motion::in_field(field.as_deref().unwrap_or("0")),
         };
-        let table = match field.as_deref() {
-            Some(b) => table.in_field(b),
-            None => table,
-        };
-        if let (SceneSpec::Triangular { w }, None) = (&table.scene, table.field()) {
-            inputs::diffusive_gap(w)?;
-        }
-        let in_field = table.field().is_some();
         let cfg = DiffusionConfig {
-            collisions: collisions.unwrap_or_else(|| {
-                diffusion::plan::default_collisions(rel_err.filter(|_| !in_field))
-            }),
             batches,
             seed,
             precision,
             window: window("window", windows.0)?,
             check_window: window("check_window", windows.1)?,
-            rel_err,
             msd_grid,
-            localization_samples: in_field.then_some(samples),
-            ..DiffusionConfig::on(table)
+            ..DiffusionConfig::sized(table, collisions, rel_err, samples)
         };
         cfg.validate().map_err(crate::py_err)?;
         let audit = match audit {

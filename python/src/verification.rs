@@ -45,10 +45,10 @@ pub fn lyapunov(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             flights,
             field: None,
         };
-        if let Some(b) = field.filter(|b| parse_exact(b).is_ok_and(|q| q != 0)) {
+        let in_field = cfg.clone().in_field(field.as_deref().unwrap_or("0"));
+        if in_field.field.is_some() {
             let starts = (starts.as_deref(), threads);
-            let cfg = cfg.in_field(&b);
-            return crate::field::lyapunov_in_field(py, progress, &place, cfg, starts);
+            return crate::field::lyapunov_in_field(py, progress, &place, in_field, starts);
         }
         straight_lyapunov(py, progress, &place, cfg, (starts.as_deref(), threads))
     }))

@@ -78,26 +78,16 @@ pub struct Args {
 pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
     let table = Table {
         scene: a.scene.spec()?,
-        motion: Motion::Straight,
+        motion: Motion::in_field(a.field.as_deref().unwrap_or("0")),
     };
-    let table = match &a.field {
-        Some(b) => table.in_field(b),
-        None => table,
-    };
-    let in_field = table.field().is_some();
     let cfg = DiffusionConfig {
-        collisions: a.collisions.unwrap_or_else(|| {
-            diffusion::plan::default_collisions(a.rel_err.filter(|_| !in_field))
-        }),
         batches: a.batches,
         seed: a.run.seed(),
         precision: a.precision.precision,
         window: a.window,
         check_window: a.check_window,
-        rel_err: a.rel_err,
         msd_grid: a.msd_grid,
-        localization_samples: in_field.then_some(a.localization_samples),
-        ..DiffusionConfig::on(table)
+        ..DiffusionConfig::sized(table, a.collisions, a.rel_err, a.localization_samples)
     };
     cfg.validate()?;
     Ok(cfg)

@@ -43,14 +43,8 @@ pub struct Args {
     output: OutputArgs,
 }
 
-/// `true` for a field that is exactly zero (the run without a field).
-fn is_zero(b: &str) -> bool {
-    lorentz_gas::numbers::exact::parse_exact(b).is_ok_and(|q| q == 0)
-}
-
 /// `lorentz lyapunov --field B`: the tangent-space exponent on arcs.
-fn in_field(a: &Args, b: &str) -> Result<(), Error> {
-    a.flights.flights.in_field()?;
+fn in_field(a: &Args, cfg: &LyapunovConfig) -> Result<(), Error> {
     if let Some(starts) = a.starts.filter(|&s| s > 0) {
         return Err(Error::parameter(
             "starts",
@@ -60,7 +54,6 @@ fn in_field(a: &Args, b: &str) -> Result<(), Error> {
         ));
     }
     let scene = a.scene.resolve()?;
-    let cfg = config(a).in_field(b);
     let total =
         (a.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)).saturating_mul(a.batches as u64);
     let pb = Progress::new(total, "collisions", a.output.quiet);
@@ -68,7 +61,7 @@ fn in_field(a: &Args, b: &str) -> Result<(), Error> {
         engine: a.engine.engine,
         ..pb.options(a.run.threads())
     };
-    let r = with_scene!(&scene, |s| field_lyapunov::run(s, &cfg, &opts))?;
+    let r = with_scene!(&scene, |s| field_lyapunov::run(s, cfg, &opts))?;
     drop(opts);
     drop(pb);
     emit(a.output.json, &r, |r| {
@@ -104,8 +97,9 @@ fn config(a: &Args) -> LyapunovConfig {
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
-    if let Some(b) = a.field.as_deref().filter(|b| !is_zero(b)) {
-        return in_field(&a, b);
+    let field = config(&a).in_field(a.field.as_deref().unwrap_or("0"));
+    if field.field.is_some() {
+        return in_field(&a, &field);
     }
     let choice = a.scene.resolve()?;
     let starts = match a.starts {

@@ -200,6 +200,26 @@ pub enum Motion {
     Field(String),
 }
 
+impl Motion {
+    /// The motion in the field B as typed: a field, or straight lines where B is exactly zero
+    /// (text that is not a number stays a field, for validation to refuse naming it).
+    pub fn in_field(b: &str) -> Motion {
+        if crate::numbers::exact::parse_exact(b).is_ok_and(|q| q == 0) {
+            Motion::Straight
+        } else {
+            Motion::Field(b.trim().to_string())
+        }
+    }
+
+    /// The field as typed, `None` for straight lines.
+    pub fn field(&self) -> Option<&str> {
+        match self {
+            Motion::Field(b) => Some(b),
+            Motion::Straight => None,
+        }
+    }
+}
+
 /// What is simulated: the geometry (which table, its parameters exactly as typed) and the motion.
 /// Every analysis's configuration holds one; what only some tables have is asked of it
 /// ([`Error::Lacks`]).
@@ -282,11 +302,10 @@ impl TryFrom<TableRecord> for Table {
                     ));
                 }
                 crate::numbers::exact::check_exact(("w", "w_exact"), w, r.w_exact.as_deref())?;
-                let text = r
-                    .w_exact
-                    .or_else(|| crate::numbers::exact::exact_text_of(w))
-                    .unwrap_or_else(|| format!("{w:?}"));
-                SceneSpec::Triangular { w: text }
+                match r.w_exact {
+                    Some(text) => SceneSpec::Triangular { w: text },
+                    None => Table::triangular_at(w).scene,
+                }
             }
             (None, Some(scene)) if r.w_exact.is_none() => scene,
             (None, None) => {
@@ -329,14 +348,9 @@ impl Table {
 
     /// The same geometry in the field B (as typed); `"0"` is the table without a field.
     pub fn in_field(&self, b: &str) -> Table {
-        let zero = crate::numbers::exact::parse_exact(b).is_ok_and(|q| q == 0);
         Table {
             scene: self.scene.clone(),
-            motion: if zero {
-                Motion::Straight
-            } else {
-                Motion::Field(b.trim().to_string())
-            },
+            motion: Motion::in_field(b),
         }
     }
 
@@ -370,10 +384,7 @@ impl Table {
 
     /// The field B as typed, `None` without a field.
     pub fn field(&self) -> Option<&str> {
-        match &self.motion {
-            Motion::Field(b) => Some(b),
-            Motion::Straight => None,
-        }
+        self.motion.field()
     }
 
     /// The refusal of `analysis` on this table, which lacks `capability`.

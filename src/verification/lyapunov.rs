@@ -28,6 +28,7 @@ use crate::numbers::real::Real;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Lattice, LatticeState};
 use crate::scenes::sampling::stream;
+use crate::scenes::spec::Motion;
 use crate::statistics::mean_se;
 
 /// Collisions discarded at the start of each tangent orbit, so the tangent vector has turned into
@@ -79,10 +80,11 @@ pub struct LyapunovConfig {
 }
 
 impl LyapunovConfig {
-    /// The same measurement in the field B (as typed): the exponent of the arcs.
+    /// The same measurement in the field B (as typed): the exponent of the arcs, or of straight
+    /// flights where B is exactly zero ([`Motion::in_field`]).
     pub fn in_field(self, b: &str) -> Self {
         LyapunovConfig {
-            field: Some(b.trim().to_string()),
+            field: Motion::in_field(b).field().map(str::to_string),
             ..self
         }
     }

@@ -181,6 +181,26 @@ impl DiffusionConfig {
         }
     }
 
+    /// The run on `table` as a front end asks for it: `collisions`, or when not given the default
+    /// of the run (a pilot's with `rel_err`, which only a run without a field is planned by:
+    /// [`super::plan::default_collisions`]); `rel_err` as given (validation refuses it in a
+    /// field); `localization_samples` kept in a field only. The rest as [`Self::on`].
+    pub fn sized(
+        table: Table,
+        collisions: Option<u64>,
+        rel_err: Option<f64>,
+        localization_samples: u64,
+    ) -> Self {
+        let in_field = table.field().is_some();
+        let planned = rel_err.filter(|_| !in_field);
+        DiffusionConfig {
+            collisions: collisions.unwrap_or_else(|| super::plan::default_collisions(planned)),
+            rel_err,
+            localization_samples: in_field.then_some(localization_samples),
+            ..Self::on(table)
+        }
+    }
+
     /// The triangular gap as the nearest double, for the trap estimator.
     ///
     /// # Errors

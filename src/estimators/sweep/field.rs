@@ -75,6 +75,15 @@ impl FieldGrid {
         }
     }
 
+    /// The number of points: tables × fields.
+    pub fn points(&self) -> usize {
+        let tables = match (&self.table, &self.radius) {
+            (None, None) => self.gaps.len(),
+            _ => 1,
+        };
+        tables * self.fields.len()
+    }
+
     /// The points in order, scene-major: point i = (scene i / F, field i mod F) for F fields.
     pub fn grid(&self) -> Vec<(SceneSpec, &str)> {
         self.scenes()
@@ -120,7 +129,7 @@ impl FieldGrid {
     /// An empty or oversized grid, a point repeated, or a point's invalid run (naming the range).
     pub fn validate(&self, sweep: &SweepConfig) -> Result<(), Error> {
         self.check_places()?;
-        let n = self.scenes().len() * self.fields.len();
+        let n = self.points();
         if n > MAX_FIELD_SWEEP_POINTS {
             return Err(Error::out_of_range(
                 "points",

@@ -44,7 +44,7 @@ pub fn run_part(
     options: &RunOptions,
 ) -> Result<FieldSweepPart, Error> {
     cfg.validate()?;
-    shard.fits(cfg.field_grid()?.grid().len())?;
+    shard.fits(cfg.field_grid()?.points())?;
     let dir = crate::campaigns::shard::part_directory(options)?;
     let (rows, resumed) = field::run_points(cfg, options, &|i| shard.owns(i as u32))?;
     let part = FieldSweepPart {
@@ -82,7 +82,7 @@ pub fn merge(
 ) -> Result<FieldSweepReport, Error> {
     crate::campaigns::merge::refuse_input_as_output(parts, out)?;
     let cfg = sweep_of(parts)?;
-    let n = cfg.field_grid()?.grid().len();
+    let n = cfg.field_grid()?.points();
     let mut found: Vec<Option<(PathBuf, String)>> = vec![None; n];
     for dir in parts {
         for (i, slot) in found.iter_mut().enumerate() {

@@ -250,7 +250,7 @@ impl SweepConfig {
     pub fn steps(&self) -> u32 {
         match &self.grid {
             Grid::Gaps(g) => g.steps,
-            Grid::InField(f) => f.grid().len() as u32,
+            Grid::InField(f) => f.points() as u32,
         }
     }
 
