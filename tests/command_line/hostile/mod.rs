@@ -2,6 +2,13 @@
 //! files as checkpoints, two runs on one journal, a report that skipped checks, FIFOs, inputs
 //! that could never finish, a newline in a Slurm path, a merge into its own part, duplicate
 //! keys, and signals that must save and exit 130/143.
+//!
+//! The third round has a module per class, each broken on purpose once: [`grinding`] (what an
+//! audit or a resume re-checks cannot be chosen by editing the file or retrying), [`field_parity`]
+//! (the field goes through the field-free path's guards), [`cost_bounds`] (work priced before it
+//! starts), [`files`] (no stream truncates, deletes or writes through what was there), [`signals`]
+//! (every command honours the first signal within a second) and [`few_batches`] (no statistical
+//! verdict from too few batches).
 
 use std::os::unix::fs::{FileTypeExt, PermissionsExt, symlink};
 use std::path::Path;
