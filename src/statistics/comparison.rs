@@ -18,6 +18,53 @@ pub const SIGMAS: f64 = 4.0;
 /// Student-t bound of "4σ" is 32.6σ, with 4 it is 14.2σ (3 dof), and it falls to 5.5σ at 16.
 pub const FEW_SAMPLES: usize = 4;
 
+/// Fewest degrees of freedom from which a comparison gives a verdict: the error of
+/// [`FEW_SAMPLES`] independent values. Below it the bound means nothing (1 dof: 10 050σ; 2 dof:
+/// 127σ) — any difference "agrees" — so no verdict is given, neither agree nor disagree, and an
+/// audit reports the check as skipped (INCOMPLETE), never as a PASS.
+pub const MIN_VERDICT_DOF: f64 = (FEW_SAMPLES - 1) as f64;
+
+/// The verdict of |z| ≤ `bound` at `dof` degrees of freedom in a word: `agree`, `DISAGREE`, or
+/// below [`MIN_VERDICT_DOF`] `no verdict (…)`.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::statistics::comparison::verdict_word;
+/// assert_eq!(verdict_word(1.0, 5.5, 15.0), "agree");
+/// assert_eq!(verdict_word(9.0, 5.5, 15.0), "DISAGREE");
+/// assert!(verdict_word(596.6, 140706.0, 1.0).starts_with("no verdict from 1 dof"));
+/// ```
+pub fn verdict_word(z: f64, bound: f64, dof: f64) -> String {
+    if dof < MIN_VERDICT_DOF || dof.is_nan() {
+        no_verdict(dof)
+    } else if z.abs() <= bound {
+        "agree".into()
+    } else {
+        "DISAGREE".into()
+    }
+}
+
+/// Why there is no verdict from `dof` (below [`MIN_VERDICT_DOF`]) degrees of freedom.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::statistics::comparison::no_verdict;
+/// assert_eq!(
+///     no_verdict(1.0),
+///     "no verdict from 1 dof (its 4σ-equivalent bound, 10050σ, means nothing: 4 batches or more)"
+/// );
+/// ```
+pub fn no_verdict(dof: f64) -> String {
+    format!(
+        "no verdict from {} dof (its 4σ-equivalent bound, {:.0}σ, means nothing: {FEW_SAMPLES} \
+         batches or more)",
+        dof_text(dof),
+        agreement_bound(dof.max(1.0))
+    )
+}
+
 /// The agreement bound |z| ≤ t for a z with `dof` degrees of freedom (Student-t quantile at the
 /// normal 4σ tail).
 ///
@@ -70,9 +117,20 @@ impl Comparison {
         self.z.abs() <= self.bound
     }
 
+    /// Whether there are degrees of freedom enough for a verdict ([`MIN_VERDICT_DOF`]).
+    pub fn judged(&self) -> bool {
+        self.dof >= MIN_VERDICT_DOF
+    }
+
+    /// The verdict in a word ([`verdict_word`]): `agree`, `DISAGREE`, or no verdict from too
+    /// few degrees of freedom.
+    pub fn verdict(&self) -> String {
+        verdict_word(self.z, self.bound, self.dof)
+    }
+
     /// One phrase for a report: `+0.7σ (paired over 32 batches, bound 4.6σ: agree)`.
     pub fn describe(&self, how: &str) -> String {
-        let verdict = if self.agrees() { "agree" } else { "DISAGREE" };
+        let verdict = self.verdict();
         format!(
             "{:+.1}σ ({how}, bound {:.1}σ with {} dof: {verdict})",
             self.z,

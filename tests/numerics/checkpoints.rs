@@ -202,7 +202,7 @@ fn edited_and_forged_checkpoints_are_refused() {
         resume: Some(path.clone()),
         ..crate::common::threads(2)
     };
-    run(&cfg, &opts).unwrap();
+    let clean = run(&cfg, &opts).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     // One batch's flight time changed by 1 %: refused, naming file and line.
     let third = text.lines().nth(2).unwrap();
@@ -245,6 +245,14 @@ fn edited_and_forged_checkpoints_are_refused() {
     std::fs::write(&path, forged).unwrap();
     let e = run(&cfg, &opts).unwrap_err().to_string();
     assert!(e.contains("computed again from its seed"), "{e}");
+    // Each refused checkpoint was moved aside, never over another: retrying cannot draw again
+    // until an honest batch comes up. The same run then starts afresh, to the clean bits.
+    let aside = |name: &str| tmp.path().join(name);
+    assert!(!path.exists(), "a refused checkpoint stays where it can be resumed");
+    assert!(aside("c.jsonl.refused").exists() && aside("c.jsonl.refused.1").exists());
+    assert!(e.contains("c.jsonl.refused.1") && e.contains("starts afresh"), "{e}");
+    let again = run(&cfg, &opts).unwrap();
+    assert_eq!(again.D.to_bits(), clean.D.to_bits());
 }
 
 /// A hops checkpoint whose finished batches were edited (one more back-scattering count each) and

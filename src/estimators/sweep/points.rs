@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::{RunValue, SweepConfig, SweepPoint};
 use crate::Error;
+use crate::engine::checkpoint::{quarantine, quarantined};
 use crate::engine::options::RunOptions;
 use crate::engine::resume::{difference, seal, unseal};
 use crate::estimators::diffusion::{DiffusionConfig, run_many};
@@ -43,7 +44,7 @@ pub(crate) fn run_points(
             None => None,
         });
     }
-    recheck_one_run(cfg, options, &found)?;
+    recheck_one_run(cfg, options, dir, &found)?;
     let mut points = Vec::with_capacity(grid.len());
     let mut resumed = 0;
     for (&(i, w), old) in grid.iter().zip(found) {
@@ -60,42 +61,66 @@ pub(crate) fn run_points(
 }
 
 /// Computes one run of one reused point again, both drawn at random (operating-system entropy),
-/// and compares its D and error with the point file's to the bit: digests stop accidents, not an
-/// author who recomputes them (`proofs-notes/checkpoints.md`, claim 3).
+/// and compares its D and error with the point file's to the bit ([`recheck_one_point`]).
 fn recheck_one_run(
     cfg: &SweepConfig,
     options: &RunOptions,
+    dir: Option<&Path>,
     found: &[Option<SweepPoint>],
 ) -> Result<(), Error> {
-    let reused: Vec<&SweepPoint> = found.iter().flatten().collect();
-    if reused.is_empty() {
-        return Ok(());
-    }
-    let p = reused[rand::random_range(0..reused.len())];
-    let r = rand::random_range(0..cfg.runs());
+    let reused: Vec<usize> = (found.iter().enumerate())
+        .filter_map(|(k, p)| p.as_ref().map(|_| k))
+        .collect();
     let opts = RunOptions {
         resume: None,
         audit: None,
         progress: &|_| {},
         ..options.clone()
     };
-    let fresh = run_many(&[cfg.run_config(p.index, p.w, r)], &opts)?;
-    let recorded = p.runs.get(r as usize);
-    let same = match (fresh.first(), recorded) {
-        (Some(f), Some(x)) => {
-            f.D.to_bits() == x.D.to_bits() && f.D_err.to_bits() == x.D_err.to_bits()
-        }
-        _ => false,
-    };
-    if !same {
-        return Err(Error::Failed(format!(
-            "point {} (w = {}), run {r}, computed again from its seed to check the point file, does \
-             not give the recorded D: the file was edited (its digest recomputed); use another \
-             directory",
-            p.index, p.w
-        )));
+    recheck_one_point(&reused, (dir, point_path), |k| {
+        let Some(p) = found[k].as_ref() else {
+            return Ok(None);
+        };
+        let r = rand::random_range(0..cfg.runs());
+        let fresh = run_many(&[cfg.run_config(p.index, p.w, r)], &opts)?;
+        let same = match (fresh.first(), p.runs.get(r as usize)) {
+            (Some(f), Some(x)) => {
+                f.D.to_bits() == x.D.to_bits() && f.D_err.to_bits() == x.D_err.to_bits()
+            }
+            _ => false,
+        };
+        Ok((!same).then(|| format!("point {} (w = {}), run {r},", p.index, p.w)))
+    })
+}
+
+/// Draws one of the points reused from their files (`reused`, indices into the grid) at random
+/// (operating-system entropy, so that no one editing the files can know which), computes it
+/// again with `again` — which names what differs, `None` if it gives the recorded bits — and
+/// refuses the sweep on a difference, moving the point's file (`path` in `dir`) aside first
+/// ([`quarantine`]: retrying cannot draw again until an honest point comes up). Digests stop
+/// accidents, not an author who recomputes them (`proofs-notes/checkpoints.md`, claim 3). Every
+/// sweep (without a field and in one) re-checks its reused points here.
+///
+/// # Errors
+/// [`Error::Failed`] naming the point and its file, or an error of the re-run.
+pub(crate) fn recheck_one_point(
+    reused: &[usize],
+    (dir, path): (Option<&Path>, fn(&Path, usize) -> PathBuf),
+    again: impl FnOnce(usize) -> Result<Option<String>, Error>,
+) -> Result<(), Error> {
+    if reused.is_empty() {
+        return Ok(());
     }
-    Ok(())
+    let k = reused[rand::random_range(0..reused.len())];
+    let Some(what) = again(k)? else {
+        return Ok(());
+    };
+    let file = dir.map(|d| path(d, k));
+    Err(Error::Failed(format!(
+        "{what} computed again from its seed to check its point file, does not give the \
+         recorded values: the file was edited (its digest recomputed); {}",
+        quarantined(file.as_deref().map(quarantine))
+    )))
 }
 
 /// Refuses the point file at `path` whose sweep `found` is not this one (`want`), naming the

@@ -1,8 +1,9 @@
 //! The audit's list of checks and the helpers every kind's checks share: the record against the
-//! configuration, and indices chosen by the file's digest.
+//! configuration, and indices drawn at random.
 
 use super::{Check, Verdict};
 use crate::engine::metadata::RunMeta;
+use crate::statistics::comparison::{MIN_VERDICT_DOF, no_verdict};
 
 /// The checks of one audit, in order.
 pub(super) struct Checks(pub(super) Vec<Check>);
@@ -35,6 +36,23 @@ impl Checks {
     ) {
         let v = if ok { Verdict::Pass } else { Verdict::Fail };
         self.add(group, name, v, detail, numbers);
+    }
+
+    /// The PASS or FAIL `ok` of a statistical check whose bound has `dof` degrees of freedom —
+    /// or, below [`MIN_VERDICT_DOF`], a SKIP saying why: a bound from too few batches means
+    /// nothing, so the check is not a PASS and the audit is INCOMPLETE.
+    pub(super) fn judge(
+        &mut self,
+        dof: f64,
+        ok: bool,
+        (group, name): (&str, &str),
+        detail: String,
+        numbers: &[(&str, f64)],
+    ) {
+        if dof >= MIN_VERDICT_DOF {
+            return self.pass_if(ok, group, name, detail, numbers);
+        }
+        self.skip(group, name, format!("{detail}: {}", no_verdict(dof)));
     }
 
     /// A SKIP of `name` for `reason`.
@@ -85,18 +103,15 @@ pub(super) fn record_check(bad: Vec<String>, checks: &mut Checks) {
     );
 }
 
-/// An index below `n` chosen by the file's digest: not known in advance to whoever edits the
-/// file.
-pub(super) fn pick_from_digest(sha: &str, n: u64) -> u64 {
-    let head = sha
-        .get(..16)
-        .and_then(|h| u64::from_str_radix(h, 16).ok())
-        .unwrap_or(0);
-    head % n.max(1)
+/// A number drawn from the operating system's entropy (the thread's generator, seeded from it),
+/// once per audit: whoever edits a result file can neither know nor choose which batch or run the audit
+/// re-runs — padding the file or editing it again changes nothing (`proofs-notes/audit-draw.md`).
+pub(super) fn entropy_draw() -> u64 {
+    rand::random()
 }
 
-/// A batch index below `batches` chosen by the file's digest.
-pub(super) fn batch_from_digest(sha: &str, batches: u32) -> u32 {
-    // Below `batches`, so it fits.
-    pick_from_digest(sha, u64::from(batches)) as u32
+/// The index below `n` that the audit's `draw` ([`entropy_draw`]) picks: uniform to within
+/// n/2⁶⁴.
+pub(super) fn pick(draw: u64, n: u64) -> u64 {
+    draw % n.max(1)
 }

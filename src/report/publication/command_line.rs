@@ -52,6 +52,16 @@ pub(super) fn check(
         .first()
         .and_then(|p| std::path::Path::new(p).file_stem())
         .map(|s| s.to_string_lossy().to_string());
+    if recorded.command_line.iter().all(|a| a.trim().is_empty()) {
+        // Every run records its process's command line (a Python session's too): a missing or
+        // emptied one hides where the result came from, so the check cannot be made — and is
+        // not "not applicable".
+        let why = "the result records no command line (every run records its process's own): \
+                   where it came from cannot be checked"
+            .to_string();
+        checks.add("provenance", name, Verdict::Skip, why, &[]);
+        return;
+    }
     if program.as_deref() != Some("lorentz") {
         let why = format!(
             "recorded by `{}`, not by the lorentz command line: nothing to parse",

@@ -52,10 +52,10 @@ pub(super) fn checks(
             ("D_xx(B) - D_xx(-B) = 0", &o.d_xx_even),
             ("D_xy(B) + D_xy(-B) = 0", &o.d_xy_odd),
         ] {
-            checks.pass_if(
+            checks.judge(
+                c.dof,
                 c.agrees(),
-                "identities",
-                &format!(
+                ("identities", &format!(
                     "Onsager-Casimir at {}|B| = {}: {name}",
                     match (o.w, o.radius) {
                         (Some(w), _) => format!("w = {w}, "),
@@ -63,7 +63,7 @@ pub(super) fn checks(
                         (None, None) => String::new(),
                     },
                     o.field
-                ),
+                )),
                 c.describe("Welch, Bonferroni over the pairs"),
                 &[("value", c.difference), ("err", c.err), ("exact", 0.0)],
             );
@@ -174,10 +174,10 @@ fn shares_and_kac(r: &FieldSweepReport, checks: &mut Checks) {
         }
         let worst = zs.iter().fold(0.0f64, |a, z| a.max(z.abs()));
         let bound = largest_of_bound(dof, m);
-        checks.pass_if(
+        checks.judge(
+            dof,
             worst <= bound,
-            "identities",
-            name,
+            ("identities", name),
             format!("largest |z| = {worst:.2} over {m} points (bound {bound:.2}, Bonferroni)"),
             &[("value", worst), ("exact", 0.0)],
         );

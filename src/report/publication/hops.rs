@@ -88,6 +88,15 @@ pub(super) fn checks(h: &HopsKind, ctx: &Ctx<'_>, checks: &mut Checks) -> Result
         bad.push("D_MZ is not the closed form".into());
     }
     super::record_check(bad, checks);
+    // The result's error bars and symmetry verdicts are its batches' (the re-run checks their
+    // bits, not their meaning): from too few batches they are no verdict, and the audit no PASS.
+    checks.judge(
+        f64::from(cfg.batches.max(1) - 1),
+        true,
+        ("statistics", "the error bars and verdicts rest on enough batches"),
+        format!("{} batches", cfg.batches),
+        &[],
+    );
     let what = format!(
         "{} collisions in {} batches (seed {}, order {})",
         cfg.collisions, cfg.batches, cfg.seed, cfg.order

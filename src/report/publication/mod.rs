@@ -67,6 +67,7 @@ pub mod headline;
 mod hops;
 mod provenance;
 mod render;
+mod sampled;
 mod same_bits;
 mod statistics;
 mod sweep;
@@ -82,8 +83,9 @@ use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{MAX_AUDIT_BITS, MIN_AUDIT_BITS, RunOptions};
 use crate::numbers::precision::Precision;
-use checks::{Checks, batch_from_digest, meta_problems, pick_from_digest, record_check};
+use checks::{Checks, entropy_draw, meta_problems, pick, record_check};
 use file::{Kind, ResultFile};
+pub use sampled::Sampled;
 
 /// A check's outcome.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -170,6 +172,9 @@ pub struct PublicationReport {
     pub figures: Vec<String>,
     /// Whether the quick settings were used.
     pub quick: bool,
+    /// What a quick audit re-ran of a result's batches or runs, and so how strong its PASS is
+    /// (`None`: every one was re-run, or the kind is re-run whole).
+    pub sampled: Option<Sampled>,
     /// Collisions re-run in all (within the budget).
     pub rerun_collisions: u64,
     /// Wall-clock seconds the report took.
@@ -284,9 +289,9 @@ impl Audited {
     }
 
     /// The re-runs of the audit, in the order the checks take them: collisions each.
-    fn reruns(&self, quick: bool, sha: &str) -> Result<Vec<u64>, Error> {
+    fn reruns(&self, quick: bool, draw: u64) -> Result<Vec<u64>, Error> {
         match self {
-            Audited::Diffusion(r) => diffusion::reruns(r, quick, sha),
+            Audited::Diffusion(r) => diffusion::reruns(r, quick, draw),
             Audited::Sweep(r) => Ok(sweep::reruns(r, quick)),
             Audited::Hops(h) => Ok(vec![h.config().collisions]),
             Audited::Backscatter(r) => Ok(vec![backscatter::collisions(&r.config)?]),
@@ -332,7 +337,7 @@ fn admitted(reruns: &[u64], budget: Option<u64>) -> Vec<bool> {
 pub fn planned_rerun_collisions(cfg: &AuditConfig) -> Result<(Kind, u64), Error> {
     cfg.validate()?;
     let (file, a) = Audited::read(cfg)?;
-    let reruns = a.reruns(cfg.quick, &file.sha)?;
+    let reruns = a.reruns(cfg.quick, entropy_draw())?;
     let ok = admitted(&reruns, cfg.budget());
     let total = reruns
         .iter()
@@ -374,9 +379,11 @@ pub fn run_with(
     options.refuse_unused("report", &[])?;
     let start = std::time::Instant::now();
     let (file, audited) = Audited::read(cfg)?;
-    let reruns = audited.reruns(cfg.quick, &file.sha)?;
+    let draw = entropy_draw();
+    let reruns = audited.reruns(cfg.quick, draw)?;
     let ctx = Ctx {
-        sha: &file.sha,
+        draw,
+        sampled: Cell::new(None),
         out: &cfg.out,
         quick: cfg.quick,
         bits: cfg.reference_bits,
@@ -422,6 +429,7 @@ pub fn run_with(
         checks: checks.0,
         figures,
         quick: cfg.quick,
+        sampled: ctx.sampled.get(),
         rerun_collisions: ctx.done.get(),
         seconds: start.elapsed().as_secs_f64(),
         meta: RunMeta::new(
@@ -449,7 +457,12 @@ fn overall(checks: &[Check]) -> Verdict {
 /// What every check of one audit shares: the file's digest, where figures go, the settings, the
 /// re-runs with the budget's admission of each, and where re-runs report their collisions.
 struct Ctx<'a> {
-    sha: &'a str,
+    /// The audit's one draw of operating-system entropy: which batch or run a quick audit
+    /// re-runs ([`pick`]).
+    draw: u64,
+    /// What a quick audit re-ran of the units it could have ([`Sampled`]), set by the check
+    /// that re-runs them.
+    sampled: Cell<Option<Sampled>>,
     out: &'a Path,
     quick: bool,
     bits: u32,

@@ -11,14 +11,15 @@ impl PublicationReport {
         let p = &self.provenance;
         let mut s = format!(
             "# Audit of {}: **{}**\n\n## Result\n\n| | |\n|---|---|\n",
-            p.result_file, self.verdict
+            p.result_file,
+            self.verdict_stated()
         );
         for h in &self.headline {
             s += &format!("| {} | {} |\n", h.name, h.value.replace('|', "\\|"));
         }
         s += &format!(
             "| verdict | **{}** |\n\n## Provenance\n\n| | |\n|---|---|\n",
-            self.verdict
+            self.verdict_stated()
         );
         let mut row = |k: &str, v: String| s += &format!("| {k} | {} |\n", v.replace('|', "\\|"));
         row("result file SHA-256", format!("`{}`", p.sha256));
@@ -92,7 +93,8 @@ impl PublicationReport {
         }
         s += &format!(
             "<tr><th>verdict</th><td class=\"{}\">{}</td></tr>\n</table>\n<h2>Provenance</h2><table>\n",
-            self.verdict, self.verdict
+            self.verdict,
+            esc(&self.verdict_stated())
         );
         let mut row =
             |k: &str, v: &str| s += &format!("<tr><th>{k}</th><td>{}</td></tr>\n", esc(v));

@@ -7,7 +7,7 @@ use std::path::Path;
 use super::diffusion::refused_config;
 use super::file::ResultFile;
 use super::same_bits::{differing, rerun_check};
-use super::{ALPHA, Checks, Ctx, pick_from_digest};
+use super::{ALPHA, Checks, Ctx, Sampled, pick};
 use crate::Error;
 use crate::estimators::sweep::analysis::analyse;
 use crate::estimators::sweep::{self, RunValue, SweepConfig, SweepPoint, SweepReport};
@@ -162,7 +162,7 @@ fn runs_check(again: &SweepReport, checks: &mut Checks) {
     );
 }
 
-/// One run of one point, chosen by the digest, re-run from its seed: its D and error.
+/// One run of one point, drawn at random, re-run from its seed: its D and error.
 fn one_run_check(
     r: &SweepReport,
     grid: &[f64],
@@ -177,9 +177,11 @@ fn one_run_check(
     }
     // steps × runs can exceed u32 (10⁴ points × 2²⁰ runs): picked in u64.
     let runs = u64::from(cfg.runs().max(1));
-    let pick = pick_from_digest(ctx.sha, u64::from(cfg.steps()) * runs);
+    let all = u64::from(cfg.steps()) * runs;
+    let drawn = pick(ctx.draw, all);
+    ctx.sampled.set(Sampled::new("runs", 1, all));
     // Below steps and runs respectively, so both fit in u32.
-    let (i, k) = ((pick / runs) as u32, (pick % runs) as u32);
+    let (i, k) = ((drawn / runs) as u32, (drawn % runs) as u32);
     let (iu, ku) = (i as usize, k as usize);
     let c = cfg.run_config(i, grid[iu], k);
     let again = crate::estimators::diffusion::run(&c, &ctx.options())?;

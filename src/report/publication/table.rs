@@ -81,10 +81,10 @@ fn identities(r: &SceneDiffusionReport, checks: &mut Checks) {
     let bound = normal_sigma_equivalent_t(dof, super::SIGMAS);
     for i in &r.identities {
         let z = (i.measured - i.exact) / i.err;
-        checks.pass_if(
+        checks.judge(
+            dof,
             z.abs() <= bound,
-            "identities",
-            &format!("{} = its closed form", i.name),
+            ("identities", &format!("{} = its closed form", i.name)),
             format!(
                 "{} ± {:.1e} against {} ({z:+.2}σ; bound {bound:.2}σ)",
                 i.measured, i.err, i.exact

@@ -118,10 +118,5 @@ fn binomial(r: &FieldReport) -> String {
     let n = r.config.localization_samples.unwrap_or(0) as f64;
     let err = sampled_share_err(f, n);
     let c = comparison::of(r.localized_fraction - f, err, f64::INFINITY);
-    format!(
-        "{:+.1}σ, bound {:.1}σ: {}",
-        c.z,
-        c.bound,
-        if c.agrees() { "agree" } else { "DISAGREE" }
-    )
+    format!("{:+.1}σ, bound {:.1}σ: {}", c.z, c.bound, c.verdict())
 }

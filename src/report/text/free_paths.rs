@@ -56,10 +56,14 @@ pub fn free_paths(r: &FreePathReport) -> String {
             b.limit
         );
     }
-    let verdict = if r.max_z <= r.max_z_bound {
-        "consistent with the limit law"
+    let dof = crate::statistics::comparison::batch_dof(n);
+    let verdict = if dof < crate::statistics::comparison::MIN_VERDICT_DOF {
+        crate::statistics::comparison::verdict_word(r.max_z, r.max_z_bound, dof)
+    } else if r.max_z <= r.max_z_bound {
+        "consistent with the limit law".into()
     } else {
         "differs from the limit law (at a finite radius a difference is physics, not an error)"
+            .into()
     };
     line!(
         out,

@@ -51,8 +51,7 @@ pub fn jumped(flights: crate::engine::long_flight::Flights) -> &'static str {
 /// batches.
 pub fn sigmas(x: f64, err: f64, exact: f64, n: usize) -> String {
     let c = comparison::of(x - exact, err, comparison::batch_dof(n));
-    let verdict = if c.agrees() { "agree" } else { "DISAGREE" };
-    format!("{:+.1}σ, bound {:.1}σ: {verdict}", c.z, c.bound)
+    format!("{:+.1}σ, bound {:.1}σ: {}", c.z, c.bound, c.verdict())
 }
 
 /// "+1.5σ; no verdict: …" for a value measured where its estimator has not converged (no

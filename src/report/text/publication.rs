@@ -35,7 +35,7 @@ pub fn publication(r: &PublicationReport, out: &Path) -> String {
         text,
         "{}: {} ({} checks, {skipped} skipped; {:.3e} collisions re-run, {:.1} s); written: {}/report.{{md,html,json}}",
         r.provenance.result_file,
-        r.verdict,
+        r.verdict_stated(),
         r.checks.len(),
         r.rerun_collisions as f64,
         r.seconds,

@@ -46,7 +46,7 @@ pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
         r.D_minus_D_check,
         r.D_minus_D_check_err,
         check.z,
-        if check.agrees() { "agree" } else { "DISAGREE" }
+        check.verdict()
     );
     for i in &r.identities {
         line!(
@@ -58,7 +58,7 @@ pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
             i.exact,
             i.t,
             i.bound,
-            if i.agrees { "agree" } else { "DISAGREE" }
+            comparison::verdict_word(i.t, i.bound, comparison::batch_dof(r.batch_D.len()))
         );
     }
     if let Some(a) = &r.audit {

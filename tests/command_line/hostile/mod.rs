@@ -17,6 +17,10 @@ use std::time::{Duration, Instant};
 
 use crate::common::{lorentz_in as lorentz, scratch};
 
+mod few_batches;
+mod field_parity;
+mod grinding;
+
 fn mkfifo(path: &Path) {
     let status = Command::new("mkfifo").arg(path).status().expect("mkfifo");
     assert!(status.success());
