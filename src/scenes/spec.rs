@@ -173,18 +173,41 @@ pub const FIELD_RANGE: (f64, f64) = (1e-3, 1e3);
 pub fn field_value(text: &str) -> Result<f64, Error> {
     use crate::numbers::exact::{nearest_f64, parse_exact};
     let b = nearest_f64(&parse_exact(text).map_err(|e| e.named("field"))?);
-    let (lo, hi) = FIELD_RANGE;
-    if b == 0.0 || !(lo..=hi).contains(&b.abs()) {
+    if b == 0.0 {
         return Err(Error::out_of_range(
             "field",
-            b,
-            format!(
-                "use {lo:e} <= |field| <= {hi:e} (field = 0 is the zero-field run: leave \
-                 the field out)"
-            ),
+            shown(text),
+            "a nonzero field (field = 0 is the zero-field run: leave the field out)",
         ));
     }
+    field_within(b, text, FIELD_RANGE)?;
     Ok(b)
+}
+
+/// Refuses the field `b` (typed as `text`) unless `lo ≤ |b| ≤ hi`. The bounds are decimals
+/// and `b` is the double nearest the exact field, so a field typed as a bound (`1e-3`, `1/1000`)
+/// is the bound and accepted: one rule for every analysis and its range.
+///
+/// # Errors
+/// [`Error::OutOfRange`] naming the range, with the field as typed (shortened).
+pub fn field_within(b: f64, text: &str, (lo, hi): (f64, f64)) -> Result<(), Error> {
+    if (lo..=hi).contains(&b.abs()) {
+        return Ok(());
+    }
+    Err(Error::out_of_range(
+        "field",
+        shown(text),
+        format!("use {lo:e} <= |field| <= {hi:e}"),
+    ))
+}
+
+/// A value as typed, for a message: trimmed, and shortened beyond 32 characters.
+fn shown(text: &str) -> String {
+    let t = text.trim();
+    match t.char_indices().nth(32) {
+        Some((at, _)) => format!("{}…", &t[..at]),
+        None => t.to_string(),
+    }
 }
 
 /// How the particle moves between collisions.

@@ -232,6 +232,20 @@ fn colliding_start<S: Scene>(
         Some(d) => Some(FieldGeometry::new(d, w)?),
         None => None,
     };
+    // Starts are drawn until one meets a disk: where that share is too small for the draws to
+    // find one (a strong field, circles far smaller than the gaps), refuse at once with it.
+    let meets = geometry.as_ref().map_or(1.0, |g| 1.0 - g.pinned_fraction());
+    if meets * f64::from(MAX_DRAWS) < 20.0 {
+        return Err(Error::out_of_range(
+            "field",
+            format!("{w:e}"),
+            format!(
+                "in this field only {meets:.1e} of the starts have a cyclotron circle that meets \
+                 a disk (the rest are pinned): the audit draws its starts among those, so use a \
+                 weaker field"
+            ),
+        ));
+    }
     for _ in 0..MAX_DRAWS {
         let s = scene.sample(rng);
         let pinned = match &geometry {

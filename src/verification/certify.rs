@@ -208,7 +208,19 @@ fn planning_exponent<S: Scene>(scene: &S) -> Result<f64, Error> {
         threads: 1,
         ..RunOptions::default()
     };
-    Ok(super::lyapunov::run(scene, &cfg, &one)?.per_collision)
+    match super::lyapunov::run(scene, &cfg, &one) {
+        Ok(l) => Ok(l.per_collision),
+        // The planning run's own counts are not certify's to lower: name the scene instead.
+        Err(Error::TooMuchWork { estimate, .. }) => Err(Error::out_of_range(
+            "scene",
+            scene.label(),
+            format!(
+                "certify plans its precision from a Lyapunov exponent it measures first, and \
+                 here {estimate}; use a scene with shorter flights (a smaller gap, a larger radius)"
+            ),
+        )),
+        Err(e) => Err(e),
+    }
 }
 
 /// The collisions before the f64 track `f` first leaves the certified one `hi` by more than 10⁻³.

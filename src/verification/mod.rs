@@ -45,13 +45,7 @@ pub fn exact_field(
     if q.cmp0() == std::cmp::Ordering::Equal {
         return Ok(None);
     }
-    let (lo, hi) = range;
-    if !(lo..=hi).contains(&q.to_f64().abs()) {
-        return Err(crate::Error::OutOfRange {
-            parameter: "field",
-            value: text.to_string(),
-            range: format!("use {lo:e} <= |field| <= {hi:e}, or 0 for no field"),
-        });
-    }
+    let b = crate::numbers::exact::nearest_f64(&q);
+    crate::scenes::spec::field_within(b, text, range)?;
     Ok(Some(q))
 }

@@ -248,9 +248,15 @@ fn edited_and_forged_checkpoints_are_refused() {
     // Each refused checkpoint was moved aside, never over another: retrying cannot draw again
     // until an honest batch comes up. The same run then starts afresh, to the clean bits.
     let aside = |name: &str| tmp.path().join(name);
-    assert!(!path.exists(), "a refused checkpoint stays where it can be resumed");
+    assert!(
+        !path.exists(),
+        "a refused checkpoint stays where it can be resumed"
+    );
     assert!(aside("c.jsonl.refused").exists() && aside("c.jsonl.refused.1").exists());
-    assert!(e.contains("c.jsonl.refused.1") && e.contains("starts afresh"), "{e}");
+    assert!(
+        e.contains("c.jsonl.refused.1") && e.contains("starts afresh"),
+        "{e}"
+    );
     let again = run(&cfg, &opts).unwrap();
     assert_eq!(again.D.to_bits(), clean.D.to_bits());
 }

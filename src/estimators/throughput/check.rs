@@ -43,6 +43,10 @@ pub(super) fn check(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Chec
         return Err(Error::Zero { what: "threads" });
     }
     let field = cfg.field.filter(|b| *b != 0.0);
+    if let Some(b) = field {
+        // The transport analyses' range: beyond it the arc engine's starts are all pinned.
+        crate::scenes::spec::field_within(b, &format!("{b:e}"), crate::scenes::spec::FIELD_RANGE)?;
+    }
     if cfg.straight_beside && field.is_none() {
         return Err(Error::parameter(
             "straight_beside",

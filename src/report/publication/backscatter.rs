@@ -77,7 +77,11 @@ fn identity_checks(r: &BackscatterReport, g: &Geometry<f64>, checks: &mut Checks
         let closed = exact.to_bits() == x.to_bits();
         let z = (v - exact) / e;
         // A recorded closed form that is not the closed form FAILs however few the batches.
-        let dof = if closed { f64::from(r.config.batches) - 1.0 } else { f64::INFINITY };
+        let dof = if closed {
+            f64::from(r.config.batches) - 1.0
+        } else {
+            f64::INFINITY
+        };
         checks.judge(
             dof,
             z.abs() <= bound && closed,

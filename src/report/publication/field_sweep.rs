@@ -55,15 +55,18 @@ pub(super) fn checks(
             checks.judge(
                 c.dof,
                 c.agrees(),
-                ("identities", &format!(
-                    "Onsager-Casimir at {}|B| = {}: {name}",
-                    match (o.w, o.radius) {
-                        (Some(w), _) => format!("w = {w}, "),
-                        (None, Some(r)) => format!("r = {r}, "),
-                        (None, None) => String::new(),
-                    },
-                    o.field
-                )),
+                (
+                    "identities",
+                    &format!(
+                        "Onsager-Casimir at {}|B| = {}: {name}",
+                        match (o.w, o.radius) {
+                            (Some(w), _) => format!("w = {w}, "),
+                            (None, Some(r)) => format!("r = {r}, "),
+                            (None, None) => String::new(),
+                        },
+                        o.field
+                    ),
+                ),
                 c.describe("Welch, Bonferroni over the pairs"),
                 &[("value", c.difference), ("err", c.err), ("exact", 0.0)],
             );

@@ -93,7 +93,10 @@ pub(super) fn checks(h: &HopsKind, ctx: &Ctx<'_>, checks: &mut Checks) -> Result
     checks.judge(
         f64::from(cfg.batches.max(1) - 1),
         true,
-        ("statistics", "the error bars and verdicts rest on enough batches"),
+        (
+            "statistics",
+            "the error bars and verdicts rest on enough batches",
+        ),
         format!("{} batches", cfg.batches),
         &[],
     );

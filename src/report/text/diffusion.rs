@@ -123,13 +123,13 @@ fn plan_lines(out: &mut String, r: &DiffusionReport) {
 fn d_lines(out: &mut String, r: &DiffusionReport) {
     line!(
         out,
-        "D              = {:.6} ± {:.6}   ({:.3} %, MSD slope over [{}τ, {}τ]){}",
-        r.D,
-        r.D_err,
+        "D              = {}   ({:.3} %, MSD slope over [{}τ, {}τ]){}{}",
+        super::estimate(r.D, r.D_err),
         100.0 * r.D_err / r.D,
         r.window.lo,
         r.window.hi,
-        comparison::few_samples_note(r.batch_D.len(), "batches")
+        comparison::few_samples_note(r.batch_D.len(), "batches"),
+        super::negative_note(r.D, r.D_err, bound_of(r.batch_D.len()))
     );
     let n = r.batch_D.len();
     let window_check = comparison::of(
@@ -139,9 +139,8 @@ fn d_lines(out: &mut String, r: &DiffusionReport) {
     );
     line!(
         out,
-        "D (check)      = {:.6} ± {:.6}   (MSD slope over [{}τ, {}τ]; D − D_check = {:+.6} ± {:.6}, {})",
-        r.D_check,
-        r.D_check_err,
+        "D (check)      = {}   (MSD slope over [{}τ, {}τ]; D − D_check = {:+.6} ± {:.6}, {})",
+        super::estimate(r.D_check, r.D_check_err),
         r.check_window.lo,
         r.check_window.hi,
         r.D_minus_D_check,
@@ -194,4 +193,9 @@ fn identity_lines(out: &mut String, r: &DiffusionReport) {
             n
         )
     );
+}
+
+/// The 4σ-equivalent bound of an error from `n` batches.
+fn bound_of(n: usize) -> f64 {
+    comparison::agreement_bound(comparison::batch_dof(n))
 }

@@ -47,9 +47,8 @@ pub fn escape(r: &EscapeReport) -> String {
     line!(out, "fit: {}", r.finite_size_form);
     line!(
         out,
-        "D_escape       = {:.6} ± {:.6}   (chi2/dof = {:.2} with {} dof{})",
-        r.D_escape,
-        r.D_escape_err,
+        "D_escape       = {}   (chi2/dof = {:.2} with {} dof{})",
+        super::estimate(r.D_escape, r.D_escape_err),
         r.chi2_per_dof,
         r.dof,
         if r.errors_scaled {

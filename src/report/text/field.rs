@@ -57,43 +57,37 @@ fn scene(r: &FieldReport) -> String {
 /// The tensor lines of a run that was not all localized: whole phase space, the diffusing
 /// part, the check window and the mean free time against Kac's.
 fn tensor(out: &mut String, r: &FieldReport, n: usize) {
+    let bound = comparison::agreement_bound(comparison::batch_dof(n));
     line!(
         out,
-        "D_xx          = {:.6} ± {:.6}   (whole phase space; the diffusing part's × {:.6})",
-        r.D_xx,
-        r.D_xx_err,
-        1.0 - r.localized_fraction_exact
+        "D_xx          = {}   (whole phase space; the diffusing part's × {:.6}){}",
+        super::estimate(r.D_xx, r.D_xx_err),
+        1.0 - r.localized_fraction_exact,
+        super::negative_note(r.D_xx, r.D_xx_err, bound)
     );
     line!(
         out,
-        "D_xy (Hall)   = {:.6} ± {:.6}   (from the Lévy area; whole phase space)",
-        r.D_xy,
-        r.D_xy_err
+        "D_xy (Hall)   = {}   (from the Lévy area; whole phase space)",
+        super::estimate(r.D_xy, r.D_xy_err)
     );
     let t = &r.diffusing;
     let c = &r.diffusing_check;
     line!(
         out,
-        "diffusing part: D_xx {:.6} ± {:.6}, D_yy {:.6} ± {:.6}, Hall D_xy {:.6} ± {:.6}, symmetric D_xy {:.6} ± {:.6}   (MSD slopes over [{}τ, {}τ], τ = {:.4})",
-        t.D_xx,
-        t.D_xx_err,
-        t.D_yy,
-        t.D_yy_err,
-        t.D_xy,
-        t.D_xy_err,
-        t.D_xy_symmetric,
-        t.D_xy_symmetric_err,
+        "diffusing part: D_xx {}, D_yy {}, Hall D_xy {}, symmetric D_xy {}   (MSD slopes over [{}τ, {}τ], τ = {:.4})",
+        super::estimate(t.D_xx, t.D_xx_err),
+        super::estimate(t.D_yy, t.D_yy_err),
+        super::estimate(t.D_xy, t.D_xy_err),
+        super::estimate(t.D_xy_symmetric, t.D_xy_symmetric_err),
         r.window.lo,
         r.window.hi,
         r.tau
     );
     line!(
         out,
-        "check window  : D_xx {:.6} ± {:.6}, Hall D_xy {:.6} ± {:.6}   (over [{}τ, {}τ])",
-        c.D_xx,
-        c.D_xx_err,
-        c.D_xy,
-        c.D_xy_err,
+        "check window  : D_xx {}, Hall D_xy {}   (over [{}τ, {}τ])",
+        super::estimate(c.D_xx, c.D_xx_err),
+        super::estimate(c.D_xy, c.D_xy_err),
         r.check_window.lo,
         r.check_window.hi
     );

@@ -47,6 +47,39 @@ pub fn jumped(flights: crate::engine::long_flight::Flights) -> &'static str {
     }
 }
 
+/// `x ± e` at six decimals, as the printed lines show estimates — or, where six decimals would
+/// show a nonzero error as 0.000000 (below 5·10⁻⁷), to the place of the error
+/// ([`with_error`](crate::report::publication::headline::with_error)): an error bar is printed as
+/// zero only when it is zero.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::report::text::estimate;
+/// assert_eq!(estimate(0.1, 0.00023), "0.100000 ± 0.000230");
+/// assert_eq!(estimate(1.2e-7, 3.4e-8), "1.20e-7 ± 3.4e-8");
+/// assert_eq!(estimate(0.0, 0.0), "0.000000 ± 0.000000");
+/// ```
+pub fn estimate(x: f64, e: f64) -> String {
+    if e != 0.0 && e.abs() < 5e-7 {
+        crate::report::publication::headline::with_error(x, e)
+    } else {
+        format!("{x:.6} ± {e:.6}")
+    }
+}
+
+/// What a printed diffusion coefficient (never negative) needs beside it when it came out
+/// negative: that it is noise around 0, or — beyond `bound` errors — a sign of a fault.
+pub fn negative_note(x: f64, e: f64, bound: f64) -> &'static str {
+    if x >= 0.0 || x.is_nan() {
+        ""
+    } else if e > 0.0 && -x <= bound * e {
+        "  [negative: D ≥ 0, so this is noise around 0 within its error; more collisions resolve it]"
+    } else {
+        "  [negative beyond its error: D ≥ 0, so the run is at fault; please report it]"
+    }
+}
+
 /// "+1.5σ, bound 4.6σ: agree" for a value against its exact one, with the Student-t bound of `n`
 /// batches.
 pub fn sigmas(x: f64, err: f64, exact: f64, n: usize) -> String {

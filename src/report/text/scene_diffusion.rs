@@ -22,13 +22,17 @@ pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
     let w = &r.config.window;
     line!(
         out,
-        "{:<24} = {:.6} ± {:.6}   (MSD slope over [{}, {}] x {unit} = {:.6})",
+        "{:<24} = {}   (MSD slope over [{}, {}] x {unit} = {:.6}){}",
         "D",
-        r.D,
-        r.D_err,
+        super::estimate(r.D, r.D_err),
         w.lo,
         w.hi,
-        r.time_unit
+        r.time_unit,
+        super::negative_note(
+            r.D,
+            r.D_err,
+            comparison::agreement_bound(comparison::batch_dof(r.batch_D.len()))
+        )
     );
     let check = comparison::of(
         r.D_minus_D_check,
@@ -37,10 +41,9 @@ pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
     );
     line!(
         out,
-        "{:<24} = {:.6} ± {:.6}   (over [{}, {}]; D − D_check = {:+.6} ± {:.6}, {:+.1}σ: {})",
+        "{:<24} = {}   (over [{}, {}]; D − D_check = {:+.6} ± {:.6}, {:+.1}σ: {})",
         "D (check)",
-        r.D_check,
-        r.D_check_err,
+        super::estimate(r.D_check, r.D_check_err),
         r.config.check_window.lo,
         r.config.check_window.hi,
         r.D_minus_D_check,

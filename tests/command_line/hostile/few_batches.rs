@@ -50,7 +50,10 @@ fn an_audit_of_two_batches_is_incomplete_not_a_pass() {
         assert_eq!(code, 5, "{name}: {checks:?}");
         assert!(!skipped.is_empty(), "{name}: {checks:?}");
         for c in skipped {
-            assert!(c.2.contains("no verdict from 1 dof") && c.2.contains("10050σ"), "{c:?}");
+            assert!(
+                c.2.contains("no verdict from 1 dof") && c.2.contains("10050σ"),
+                "{c:?}"
+            );
         }
     }
 }
@@ -59,13 +62,28 @@ fn an_audit_of_two_batches_is_incomplete_not_a_pass() {
 #[test]
 fn a_limit_law_from_two_batches_is_no_verdict() {
     let tmp = scratch();
-    let args = ["free-paths", "--w", "0.2", "--collisions", "1e5", "--batches", "2", "--quiet"];
+    let args = [
+        "free-paths",
+        "--w",
+        "0.2",
+        "--collisions",
+        "1e5",
+        "--batches",
+        "2",
+        "--quiet",
+    ];
     let (code, out, err) = lorentz(tmp.path(), &args);
     assert_eq!(code, 0, "{err}");
     let largest = out.lines().find(|l| l.contains("largest |z|")).unwrap();
-    assert!(largest.contains("no verdict from 1 dof") && !largest.contains("consistent"), "{out}");
+    assert!(
+        largest.contains("no verdict from 1 dof") && !largest.contains("consistent"),
+        "{out}"
+    );
     let santalo = out.lines().find(|l| l.contains("Santalo")).unwrap();
-    assert!(santalo.contains("no verdict") && !santalo.contains("agree"), "{out}");
+    assert!(
+        santalo.contains("no verdict") && !santalo.contains("agree"),
+        "{out}"
+    );
 }
 
 /// A diffusion result whose `meta.command_line` was emptied: its provenance check is a SKIP,
@@ -74,13 +92,24 @@ fn a_limit_law_from_two_batches_is_no_verdict() {
 fn an_emptied_command_line_is_not_a_pass() {
     let tmp = scratch();
     let dir = tmp.path();
-    result(dir, "d.json", "diffusion --w 0.3 --collisions 1e6 --batches 8");
+    result(
+        dir,
+        "d.json",
+        "diffusion --w 0.3 --collisions 1e6 --batches 8",
+    );
     let text = std::fs::read_to_string(dir.join("d.json")).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["meta"]["command_line"] = serde_json::json!([]);
-    std::fs::write(dir.join("e.json"), serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    std::fs::write(
+        dir.join("e.json"),
+        serde_json::to_string_pretty(&v).unwrap(),
+    )
+    .unwrap();
     let (code, checks) = audit(dir, "e.json");
-    let c = checks.iter().find(|c| c.1.contains("recorded command line")).unwrap();
+    let c = checks
+        .iter()
+        .find(|c| c.1.contains("recorded command line"))
+        .unwrap();
     assert_eq!(c.0, "SKIP", "{c:?}");
     assert_eq!(code, 5, "{checks:?}");
 }

@@ -42,11 +42,55 @@ fn a_field_sweep_with_resealed_points_is_refused_like_the_field_free_one() {
     }
     let aside = std::fs::read_dir(&points)
         .unwrap()
-        .filter(|e| e.as_ref().unwrap().path().to_string_lossy().ends_with(".refused"))
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .to_string_lossy()
+                .ends_with(".refused")
+        })
         .count();
     assert_eq!(aside, 2, "each forged point is moved aside once");
     let (code, _, err) = field_sweep(dir);
     assert_eq!(code, 0, "{err}");
     let again = std::fs::read_to_string(dir.join("s/field-sweep.csv")).unwrap();
     assert_eq!(again, honest);
+}
+
+/// A field typed as its range's bound is the bound (compared as the double nearest the exact
+/// field, as every analysis compares it): `shadow --field 1e-3` runs. Beyond a range, or where
+/// no start can be drawn, the refusal comes at once, in one line, with the field as typed:
+/// `bench --field 1e9` (it had no range), `audit --field 1e6` (in range, but every circle is
+/// pinned), `diffusion --field 1e300` (once printed as 301 digits).
+#[test]
+fn a_field_at_its_bound_runs_and_beyond_it_is_refused_at_once_in_one_line() {
+    let tmp = scratch();
+    let dir = tmp.path();
+    let shadow = "shadow --w 0.1 --field 1e-3 --segments 1 --collisions-per-segment 20 --quiet";
+    let (code, _, err) = lorentz(dir, &shadow.split_whitespace().collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    for (args, says) in [
+        (
+            "bench --w 0.1 --field 1e9 --quiet",
+            "1e-3 <= |field| <= 1e3",
+        ),
+        (
+            "audit --w 0.1 --field 1e6 --collisions 1e3 --quiet",
+            "weaker field",
+        ),
+        (
+            "diffusion --w 0.1 --field 1e300 --quiet",
+            "--field 1e300 is out of range",
+        ),
+    ] {
+        let started = std::time::Instant::now();
+        let (code, _, err) = lorentz(dir, &args.split_whitespace().collect::<Vec<_>>());
+        let took = started.elapsed().as_secs_f64();
+        assert_eq!(code, 2, "{args}: {err}");
+        assert!(
+            err.contains(says) && err.lines().count() == 1 && err.len() < 400,
+            "{args}: {err}"
+        );
+        assert!(took < 1.0, "{args}: refused after {took:.2} s");
+    }
 }

@@ -424,7 +424,11 @@ fn identity_checks(r: &DiffusionReport, g: &Geometry<f64>, checks: &mut Checks) 
         let z = (v - exact) / e;
         let same = exact.to_bits() == recorded_exact.to_bits();
         // A recorded closed form that is not the closed form FAILs however few the batches.
-        let dof = if same { (n.max(2) - 1) as f64 } else { f64::INFINITY };
+        let dof = if same {
+            (n.max(2) - 1) as f64
+        } else {
+            f64::INFINITY
+        };
         checks.judge(
             dof,
             z.abs() <= bound_n && same,
