@@ -177,7 +177,11 @@ pub fn field_value(text: &str) -> Result<f64, Error> {
         return Err(Error::out_of_range(
             "field",
             shown(text),
-            "a nonzero field (field = 0 is the zero-field run: leave the field out)",
+            format!(
+                "use {:e} <= |field| <= {:e} (field = 0 is the zero-field run: leave the \
+                 field out)",
+                FIELD_RANGE.0, FIELD_RANGE.1
+            ),
         ));
     }
     field_within(b, text, FIELD_RANGE)?;

@@ -76,7 +76,7 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
         assert!(head.contains(cell), "{cell} not in the headline: {head}");
     }
     assert!(
-        head.contains("<th>verdict</th><td class=\"PASS\">PASS</td>"),
+        head.contains("<th>verdict</th><td class=\"PASS\">PASS (quick audit: 1 of 16 batches"),
         "{head}"
     );
     for f in ["report.md", "local-slope.png", "batch-histogram.svg"] {
@@ -329,7 +329,7 @@ const HOPS: [&str; 9] = [
     "--collisions",
     "2e5",
     "--batches",
-    "2",
+    "4",
     "--order",
     "3",
 ];
