@@ -157,7 +157,7 @@ impl Parts {
         if !manifest.exists() {
             return Ok(());
         }
-        let text = crate::files::read_to_string(&manifest)?;
+        let text = crate::files::read_to_string(&manifest, crate::files::Cap::MANIFEST)?;
         let m: ShardReport = unseal(&manifest, &text, "shard manifest")?;
         self.same(&m.config, d)?;
         if let Some((s0, d0)) = self.shards.values().next()
