@@ -462,6 +462,9 @@ pub(super) fn reuse(
     Ok(Some(p.row))
 }
 
+/// The files [`write_tables`] writes.
+pub const TABLE_FILES: [&str; 2] = ["field-sweep.csv", "field-sweep.json"];
+
 /// Writes `field-sweep.csv` (one line per point; its columns are the keys of the JSON rows) and
 /// `field-sweep.json` (the whole report) into `dir`.
 ///
