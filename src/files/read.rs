@@ -11,8 +11,8 @@ use crate::Error;
 /// names one: a file over it is refused from its size before it is read, and a file that grows
 /// past it while it is read is refused too, so no file makes the process hold more than its cap.
 ///
-/// The caps are wide margins over the largest files real runs write (measured in
-/// `proofs-notes/file-safety.md`, claim 5).
+/// The caps are margins over the largest files real runs write (each constant says how large
+/// those are).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Cap {
     /// The most bytes.
@@ -22,12 +22,14 @@ pub struct Cap {
 }
 
 impl Cap {
-    /// A journal: a checkpoint (`--checkpoint`, a sweep's `points/*.partial`). It holds the
-    /// finished batches and every trajectory in flight as exact rationals with its observers'
-    /// accumulators; the largest real ones (a diffusion of 10⁴ trajectories with its MSD grid)
-    /// are a few MiB.
+    /// A journal: a checkpoint (`--checkpoint`, a sweep's `points/*.partial`). It holds a line
+    /// per finished batch (a diffusion's, with its MSD grid: 551 bytes) and one per trajectory
+    /// in flight (its exact state and its observers' accumulators: about 2 kB, 16 per thread):
+    /// a default diffusion's is 20 to 300 kB, and one at the most batches a run takes
+    /// ([`MAX_BATCHES`](crate::engine::parallel::MAX_BATCHES)) at
+    /// most about 0.6 GB, under this cap.
     pub const CHECKPOINT: Cap = Cap {
-        bytes: 256 << 20,
+        bytes: 1 << 30,
         what: "a checkpoint",
     };
     /// A result the audit reads (`lorentz report`): a sweep of hundreds of points with every
@@ -79,10 +81,10 @@ fn size(n: u64) -> String {
     format!("{n} bytes")
 }
 
-/// A cap for a person: `256 MiB`.
+/// A cap for a person: `1 GiB`.
 fn cap_size(n: u64) -> String {
     for (unit, name) in [(1u64 << 30, "GiB"), (1 << 20, "MiB"), (1 << 10, "KiB")] {
-        if n >= unit && n % unit == 0 {
+        if n >= unit && n.is_multiple_of(unit) {
             return format!("{} {name}", n / unit);
         }
     }

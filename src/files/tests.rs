@@ -126,7 +126,7 @@ fn a_read_over_its_cap_is_refused_from_the_size() {
     assert_eq!(
         e.to_string(),
         format!(
-            "{}: 6.0 GiB (6442450944 bytes), beyond the 256 MiB a checkpoint can be",
+            "{}: 6.0 GiB (6442450944 bytes), beyond the 1 GiB a checkpoint can be",
             p.display()
         )
     );

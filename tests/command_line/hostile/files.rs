@@ -171,7 +171,7 @@ fn a_six_gib_sparse_checkpoint_is_refused_from_its_size() {
     assert_eq!(code, 2, "{err}");
     assert_eq!(
         err.trim(),
-        "error: big.ckpt: 6.0 GiB (6442450944 bytes), beyond the 256 MiB a checkpoint can be"
+        "error: big.ckpt: 6.0 GiB (6442450944 bytes), beyond the 1 GiB a checkpoint can be"
     );
     assert_eq!(
         std::fs::metadata(dir.join("big.ckpt")).unwrap().len(),
