@@ -9,7 +9,7 @@ use crate::Error;
 /// A path a command will write, for [`check_outputs`].
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Output {
-    /// A file written or replaced (by [`super::write`] or a [`super::Stream`]): absent or a
+    /// A file written or replaced (by [`super::write()`] or a [`super::Stream`]): absent or a
     /// regular file, never a link, directory, device or FIFO.
     File(PathBuf),
     /// A directory the tool names inside an output directory (`points/`): absent or a

@@ -146,7 +146,7 @@ fn create_temporary(path: &Path) -> Result<(PathBuf, File), Error> {
 }
 
 /// Opens the regular file `path` to append to it in place (a journal, just written by
-/// [`write`]): never through a symbolic link, and never a file with another hard link, whose
+/// [`write()`]): never through a symbolic link, and never a file with another hard link, whose
 /// other name would change with it.
 ///
 /// # Errors
