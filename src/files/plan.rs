@@ -71,7 +71,7 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[Output]) -> Result<(), Error> 
         let path = o.path();
         match o {
             Output::File(p) => {
-                writable(p, "write")?;
+                writable(p, "create")?;
                 if let Some(parent) = p.parent().filter(|d| !d.as_os_str().is_empty())
                     && let Ok(m) = std::fs::metadata(parent)
                     && !m.is_dir()
@@ -88,6 +88,9 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[Output]) -> Result<(), Error> 
             Output::Dir(p) => match std::fs::metadata(p) {
                 Ok(m) if !m.is_dir() => {
                     return Err(refused(p, "not a directory", CHOOSE_ANOTHER));
+                }
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(Error::io("create directory", p)(e));
                 }
                 _ => {}
             },
