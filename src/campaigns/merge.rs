@@ -29,7 +29,8 @@ pub struct MergeConfig {
 /// Refuses an output directory that is one of the parts or lies in one: merging into it would
 /// mix the merged points with a part's and break the next merge. (Parts inside the output
 /// directory, `OUT/shard-i`, are the Slurm campaign's layout.)
-pub(crate) fn refuse_input_as_output(dirs: &[PathBuf], out: &Path) -> Result<(), Error> {
+pub fn refuse_input_as_output(dirs: &[PathBuf], out: &Path) -> Result<(), Error> {
+    let resolved = crate::files::resolved;
     let o = resolved(out);
     for d in dirs {
         let d = resolved(d);
@@ -47,30 +48,6 @@ pub(crate) fn refuse_input_as_output(dirs: &[PathBuf], out: &Path) -> Result<(),
         }
     }
     Ok(())
-}
-
-/// `p` as the file system resolves it, so that `./a`, `a/`, a link to `a` and `a/new` (not yet
-/// made) compare as `a` and `a/new`: the longest existing ancestor canonicalised, the rest
-/// appended.
-fn resolved(p: &Path) -> PathBuf {
-    let mut rest = Vec::new();
-    let mut at = p;
-    loop {
-        if let Ok(c) = std::fs::canonicalize(if at.as_os_str().is_empty() {
-            Path::new(".")
-        } else {
-            at
-        }) {
-            return rest.iter().rev().fold(c, |acc, name| acc.join(name));
-        }
-        match (at.parent(), at.file_name()) {
-            (Some(parent), Some(name)) => {
-                rest.push(name.to_os_string());
-                at = parent;
-            }
-            _ => return p.to_path_buf(),
-        }
-    }
 }
 
 /// Combines the directories `cfg.parts` of a sharded sweep into `cfg.out`: the points are copied
@@ -157,7 +134,7 @@ impl Parts {
         if !manifest.exists() {
             return Ok(());
         }
-        let text = crate::files::read_to_string(&manifest)?;
+        let text = crate::files::read_to_string(&manifest, crate::files::Cap::MANIFEST)?;
         let m: ShardReport = unseal(&manifest, &text, "shard manifest")?;
         self.same(&m.config, d)?;
         if let Some((s0, d0)) = self.shards.values().next()

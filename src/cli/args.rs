@@ -247,6 +247,16 @@ pub struct CheckpointArgs {
 }
 
 impl CheckpointArgs {
+    /// Checks the checkpoint before any work ([`lorentz_gas::files::check_outputs`]): a regular
+    /// file or nothing, and none of the command's `inputs` (a `--table` file).
+    pub fn check(&self, inputs: &[&std::path::Path]) -> Result<(), lorentz_gas::Error> {
+        let Some(p) = &self.checkpoint else {
+            return Ok(());
+        };
+        let output = lorentz_gas::files::Output::File(p.clone());
+        lorentz_gas::files::check_outputs(inputs, &[output])
+    }
+
     /// `options` resuming from and saving to the checkpoint at its interval.
     pub fn apply<'a>(&self, options: RunOptions<'a>) -> RunOptions<'a> {
         if let Some(p) = &self.checkpoint {

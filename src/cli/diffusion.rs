@@ -134,6 +134,8 @@ fn options(a: &Args) -> Result<RunOptions<'static>, Error> {
         .audit
         .map(|rate| AuditSpec::new(rate, a.reference.reference_bits))
         .transpose()?;
+    a.checkpoint
+        .check(&a.scene.table.as_deref().into_iter().collect::<Vec<_>>())?;
     Ok(a.checkpoint.apply(RunOptions {
         engine: a.engine.engine,
         threads: a.run.threads(),

@@ -37,7 +37,12 @@ pub fn run(a: Args) -> Result<(), Error> {
         threads: a.threads.threads(),
         ..super::signals::options()
     };
-    if a.dirs.iter().any(|d| field_parts::is_field_part(d)) {
+    let in_field = a.dirs.iter().any(|d| field_parts::is_field_part(d));
+    let inputs: Vec<&std::path::Path> = a.dirs.iter().map(PathBuf::as_path).collect();
+    let outputs = super::sweep::outputs(&out, in_field, false);
+    merge::refuse_input_as_output(&a.dirs, &out)?;
+    lorentz_gas::files::check_outputs(&inputs, &outputs)?;
+    if in_field {
         let r = field_parts::merge(&a.dirs, &out, &opts)?;
         return super::sweep::finish_in_field(&r, &out, a.output.json);
     }

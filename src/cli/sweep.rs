@@ -11,7 +11,9 @@ use lorentz_gas::estimators::sweep::field_parts::{self, FieldSweepPart};
 use lorentz_gas::estimators::sweep::{self, GapGrid, Grid, SweepConfig, SweepReport};
 use lorentz_gas::report::text::sweep as text;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+use lorentz_gas::files::{self, Output};
 
 use super::args::{
     CheckpointEveryArg, EngineArg, OutputArgs, RunArgs, parse_count, parse_count_u32,
@@ -191,6 +193,26 @@ fn refuse_field_options(a: &Args) -> Result<(), Error> {
     Ok(())
 }
 
+/// Every path a sweep (`part`: one part of it) or a merge writes into `out`, for
+/// [`files::check_outputs`] before any work: `out`, its points' folder, and its tables and
+/// figures (a part: its manifest).
+pub fn outputs(out: &Path, in_field: bool, part: bool) -> Vec<Output> {
+    use lorentz_gas::report::figures::{field_sweep as field_figures, sweep as figures};
+    let points = if in_field { "field-points" } else { "points" };
+    let names: Vec<&str> = match (in_field, part) {
+        (false, true) => vec!["shard.json"],
+        (true, true) => vec!["field-shard.json"],
+        (false, false) => [&sweep::TABLE_FILES[..], &figures::FILES].concat(),
+        (true, false) => [&field::TABLE_FILES[..], &field_figures::FILES].concat(),
+    };
+    let mut v = vec![
+        Output::Dir(out.to_path_buf()),
+        Output::Subdir(out.join(points)),
+    ];
+    v.extend(Output::files_in(out, &names));
+    v
+}
+
 /// Runs the sweep: over w without a field here, in a field by [`compute_in_field`].
 pub fn run(a: Args) -> Result<(), Error> {
     let cfg = config(&a)?;
@@ -198,6 +220,12 @@ pub fn run(a: Args) -> Result<(), Error> {
     if let Some(s) = shard {
         s.validate(&cfg)?;
     }
+    let inputs: Vec<&Path> = [&a.config, &a.in_field.table]
+        .into_iter()
+        .filter_map(|p| p.as_deref())
+        .collect();
+    let in_field = matches!(cfg.grid, Grid::InField(_));
+    files::check_outputs(&inputs, &outputs(&a.out, in_field, shard.is_some()))?;
     let out = a.out.clone();
     let points = match shard {
         Some(s) => (0..cfg.steps()).filter(|&i| s.owns(i)).count() as u64,

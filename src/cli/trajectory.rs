@@ -9,6 +9,7 @@ use lorentz_gas::Error;
 use lorentz_gas::estimators::trajectory::{
     self, MAX_DIGITS, TrajectoryInput, TrajectoryReport, plan,
 };
+use lorentz_gas::files::Output;
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::spec::SceneSpec;
 use lorentz_gas::with_scene;
@@ -102,6 +103,11 @@ pub fn run(a: Args) -> Result<(), Error> {
     let text = |e: &Option<Exact>| e.as_ref().map(|e| e.text.clone());
     let spec = SceneSpec::parse(name, text(&a.w).as_deref(), text(&a.radius).as_deref())?;
     let choice = spec.resolve()?;
+    // The events file is checked with the request, before the run, and written only after it
+    // (see `write_events`).
+    if let Some(path) = &a.events {
+        lorentz_gas::files::check_outputs(&[], &[Output::File(path.clone())])?;
+    }
     let report = with_scene!(&choice, |s| run_scene(s, &input, &a))?;
     emit(a.output.json, &report, |r| {
         print!(
@@ -125,28 +131,24 @@ fn run_scene<S: lorentz_gas::scenes::Scene>(
         quiet,
     );
     let opts = pb.options(1);
-    // The events file is created once the request is checked and before the run, so that an
-    // unwritable path is refused before the work; a failed run leaves no file behind.
-    let Some(path) = &a.events else {
-        return trajectory::run(scene, input, &opts);
-    };
-    let file = lorentz_gas::files::create(path)?;
-    let report = trajectory::run(scene, input, &opts).inspect_err(|_| {
-        let _ = std::fs::remove_file(path);
-    })?;
-    write_events(file, path, &report)?;
+    let report = trajectory::run(scene, input, &opts)?;
+    if let Some(path) = &a.events {
+        write_events(path, &report)?;
+    }
     Ok(report)
 }
 
-fn write_events(file: std::fs::File, path: &Path, r: &TrajectoryReport) -> Result<(), Error> {
-    let mut out = std::io::BufWriter::new(file);
-    let failed = Error::io("write", path);
-    let write = |out: &mut std::io::BufWriter<_>| -> std::io::Result<()> {
+/// Writes the events of `r` to `path` through a temporary file renamed over it once complete
+/// (a failed write leaves what was at `path` as it was).
+fn write_events(path: &Path, r: &TrajectoryReport) -> Result<(), Error> {
+    let mut out = lorentz_gas::files::Stream::create(path)?;
+    let write = |out: &mut lorentz_gas::files::Stream| -> std::io::Result<()> {
         writeln!(out, "kind,obstacle,x,y,time")?;
         for e in &r.events {
             writeln!(out, "{},{},{},{},{}", e.kind, e.obstacle, e.x, e.y, e.time)?;
         }
-        out.flush()
+        Ok(())
     };
-    write(&mut out).map_err(failed)
+    write(&mut out).map_err(Error::io("write", path))?;
+    out.commit()
 }

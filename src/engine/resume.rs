@@ -243,7 +243,7 @@ fn read_journal<C: Serialize>(
         found: format!("not a lorentz journal ({why})"),
         why: "a checkpoint file is one this tool wrote, or absent, or empty: use another file",
     };
-    let text = match crate::files::read_to_string(path) {
+    let text = match crate::files::read_to_string(path, crate::files::Cap::CHECKPOINT) {
         Ok(t) => t,
         Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::InvalidData => {
             return Err(not_journal("not UTF-8 text"));

@@ -223,6 +223,14 @@ fn exact_scene(table: &Table) -> Result<TriangularScene, Error> {
     }
 }
 
+/// The files the speed-against-error document writes into its directory.
+const FILES: [&str; 4] = [
+    "speed-vs-error.md",
+    "speed-vs-error.json",
+    "speed-vs-error.png",
+    "speed-vs-error.svg",
+];
+
 /// Calibration: the relative error of D from [`CALIBRATION_COLLISIONS`] f64 collisions (error ∝
 /// N^(−1/2)), with the run's configuration; creates `dir` once the configuration is valid.
 fn calibrate(
@@ -235,6 +243,9 @@ fn calibrate(
     cfg.collisions = CALIBRATION_COLLISIONS;
     cfg.seed = seed;
     cfg.validate()?;
+    let mut outputs = vec![crate::files::Output::Dir(dir.to_path_buf())];
+    outputs.extend(crate::files::Output::files_in(dir, &FILES));
+    crate::files::check_outputs(&[], &outputs)?;
     crate::files::create_dir_all(dir)?;
     let cal = diffusion::run(
         &cfg,

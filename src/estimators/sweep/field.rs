@@ -478,9 +478,6 @@ pub fn point_path(dir: &Path, i: usize) -> PathBuf {
     dir.join("field-points").join(format!("point-{i:04}.json"))
 }
 
-/// Most bytes a point file may have (a configuration and one row).
-const MAX_POINT_BYTES: u64 = 1 << 20;
-
 /// The finished row of point `i` at `path`, if there is one of this sweep; a file of another
 /// sweep, an edited, renamed or oversized one is an error naming the path.
 pub(super) fn reuse(
@@ -491,7 +488,7 @@ pub(super) fn reuse(
     if !path.exists() {
         return Ok(None);
     }
-    let text = crate::files::read_to_string_limited(path, MAX_POINT_BYTES)?;
+    let text = crate::files::read_to_string(path, crate::files::Cap::FIELD_POINT)?;
     let p: FieldSweepPoint = unseal(path, &text, "field sweep point")?;
     same_sweep(path, &p.config, cfg)?;
     if p.index as usize != i {
@@ -499,6 +496,9 @@ pub(super) fn reuse(
     }
     Ok(Some(p.row))
 }
+
+/// The files [`write_tables`] writes.
+pub const TABLE_FILES: [&str; 2] = ["field-sweep.csv", "field-sweep.json"];
 
 /// Writes `field-sweep.csv` (one line per point; its columns are the keys of the JSON rows) and
 /// `field-sweep.json` (the whole report) into `dir`.

@@ -97,7 +97,7 @@ pub fn merge(
                         ),
                     ));
                 }
-                let text = crate::files::read_to_string_limited(&path, 1 << 20)?;
+                let text = crate::files::read_to_string(&path, crate::files::Cap::FIELD_POINT)?;
                 *slot = Some((path, text));
             }
         }
@@ -126,7 +126,7 @@ pub fn merge(
 /// The part record of `dir`.
 fn part_of(dir: &Path) -> Result<FieldSweepPart, Error> {
     let path = dir.join("field-shard.json");
-    let text = crate::files::read_to_string_limited(&path, 1 << 20)?;
+    let text = crate::files::read_to_string(&path, crate::files::Cap::FIELD_POINT)?;
     unseal(&path, &text, "field sweep part")
 }
 

@@ -13,7 +13,7 @@ use super::{Grid, SweepConfig};
 use crate::Error;
 
 /// The largest configuration file read: a sweep's parameters and at most a table of disks.
-pub const MAX_CONFIG_BYTES: u64 = 1 << 20;
+pub const MAX_CONFIG_BYTES: u64 = crate::files::Cap::CONFIG.bytes;
 
 impl SweepConfig {
     /// Its trajectories: runs × batches over all points, for a result's metadata.
@@ -53,7 +53,7 @@ impl SweepConfig {
     /// An unreadable or oversized file, JSON that is not a sweep's configuration, or an invalid
     /// parameter.
     pub fn read(path: &Path) -> Result<Self, Error> {
-        let text = crate::files::read_to_string_limited(path, MAX_CONFIG_BYTES)?;
+        let text = crate::files::read_to_string(path, crate::files::Cap::CONFIG)?;
         let value: Value = serde_json::from_str(&text).map_err(|e| Error::malformed(path, e))?;
         let sweep = Self::from_value(&value).map_err(|e| Error::malformed(path, e))?;
         sweep.validate()?;

@@ -367,6 +367,9 @@ pub fn run(cfg: &SweepConfig, options: &RunOptions) -> Result<SweepReport, Error
     Ok(report)
 }
 
+/// The files [`write_tables`] writes.
+pub const TABLE_FILES: [&str; 3] = ["sweep.csv", "sweep-runs.csv", "sweep.json"];
+
 /// Writes `sweep.csv` (one line per point; its columns are the keys of `sweep.json`'s rows),
 /// `sweep-runs.csv` (one line per run: `w,run,run_D`) and `sweep.json` into `dir` (the figures
 /// are [`write_sweep_figures`](crate::report::figures::sweep::write_sweep_figures)).

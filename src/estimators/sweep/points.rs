@@ -152,9 +152,6 @@ pub(crate) fn renamed_point(path: &Path, held: impl std::fmt::Display) -> Error 
     )
 }
 
-/// Most bytes a point file may have: its configuration and a D ± error per run fit in far less.
-const MAX_POINT_BYTES: u64 = 16 << 20;
-
 /// The sweep point in the file at `path`, its digest checked, and its index the one its name
 /// (`point-NNNN.json`) gives: an edited, truncated, renamed or foreign file is refused, naming
 /// the path.
@@ -162,7 +159,7 @@ const MAX_POINT_BYTES: u64 = 16 << 20;
 /// # Errors
 /// As above, or an I/O error naming the path.
 pub fn read_point(path: &Path) -> Result<SweepPoint, Error> {
-    let text = crate::files::read_to_string_limited(path, MAX_POINT_BYTES)?;
+    let text = crate::files::read_to_string(path, crate::files::Cap::POINT)?;
     let p: SweepPoint = unseal(path, &text, "sweep point")?;
     let named = path.file_name().and_then(|n| n.to_str()).and_then(|n| {
         n.strip_prefix("point-")?

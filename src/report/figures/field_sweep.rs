@@ -7,6 +7,14 @@ use super::{PlotSpec, Series, plot};
 use crate::Error;
 use crate::estimators::sweep::field::{FieldSweepReport, FieldSweepRow};
 
+/// The files [`write_field_sweep_figures`] writes.
+pub const FILES: [&str; 4] = [
+    "field-D_xx.png",
+    "field-D_xx.svg",
+    "field-D_xy.png",
+    "field-D_xy.svg",
+];
+
 /// Writes `field-D_xx` and `field-D_xy` (`.png`, `.svg`) into `dir`.
 ///
 /// # Errors

@@ -75,6 +75,28 @@ fn files(stem: &str) -> Vec<String> {
         .collect()
 }
 
+/// Checks, before any work, the directory `dir` and the files `names` a figure writes in it
+/// ([`crate::files::check_outputs`]).
+fn check_outputs(dir: &Path, names: &[String]) -> Result<(), Error> {
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let mut outputs = vec![crate::files::Output::Dir(dir.to_path_buf())];
+    outputs.extend(crate::files::Output::files_in(dir, &names));
+    crate::files::check_outputs(&[], &outputs)
+}
+
+/// The files [`hierarchy`] writes.
+fn hierarchy_files() -> Vec<String> {
+    let mut written = vec![
+        "fig3-4b-6-hierarchy.csv".to_string(),
+        "fig3-4b-6-hierarchy.json".to_string(),
+    ];
+    for stem in HIERARCHY_STEMS {
+        written.push(format!("{stem}.png"));
+        written.push(format!("{stem}.svg"));
+    }
+    written
+}
+
 /// Fig. 5: injection conditions (2x/w, sin α) that backscatter at gap `w` (`particles` injected),
 /// on one thread. `opts.progress` receives injections done; `opts.stop` ends it within a chunk
 /// of injections.
@@ -91,6 +113,7 @@ pub fn backscatter_map(
         return Err(Error::Zero { what: "particles" });
     }
     let scene = SingleTrap::new(w)?;
+    check_outputs(dir, &files("fig5-backscatter-map"))?;
     crate::files::create_dir_all(dir)?;
     let mut rng = StreamKey::new(seed, Purpose::Injection, 0).rng();
     let mut pts = Vec::new();
@@ -158,6 +181,9 @@ pub fn backscatter_curve(
         });
     }
     let [grid, inset] = backscatter_grids()?;
+    let mut names = files("fig4a-p-bs");
+    names.extend(files("fig4a-inset-p-bs"));
+    check_outputs(dir, &names)?;
     crate::files::create_dir_all(dir)?;
     let meta = RunMeta::new(
         Some(seed),
@@ -284,6 +310,7 @@ pub fn hierarchy(
         runs.hops(i, w).validate()?;
         runs.einstein(i, w).validate()?;
     }
+    check_outputs(dir, &hierarchy_files())?;
     crate::files::create_dir_all(dir)?;
     let mut rows = Vec::new();
     for (i, &w) in grid.iter().enumerate() {
@@ -304,16 +331,8 @@ pub fn hierarchy(
         &meta,
     )?;
     hierarchy_plots(&rows, dir)?;
-    let mut written = vec![
-        "fig3-4b-6-hierarchy.csv".to_string(),
-        "fig3-4b-6-hierarchy.json".to_string(),
-    ];
-    for stem in HIERARCHY_STEMS {
-        written.push(format!("{stem}.png"));
-        written.push(format!("{stem}.svg"));
-    }
     Ok(FigureReport {
-        files: written,
+        files: hierarchy_files(),
         meta,
     })
 }

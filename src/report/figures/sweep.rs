@@ -7,6 +7,16 @@ use super::{PlotSpec, Series, plot};
 use crate::Error;
 use crate::estimators::sweep::{SweepReport, SweepRow};
 
+/// The files [`write_sweep_figures`] writes.
+pub const FILES: [&str; 6] = [
+    "fig2-D-vs-w.png",
+    "fig2-D-vs-w.svg",
+    "fig7-boltzmann.png",
+    "fig7-boltzmann.svg",
+    "fig8-residuals.png",
+    "fig8-residuals.svg",
+];
+
 /// Writes `fig2-D-vs-w`, `fig7-boltzmann` and `fig8-residuals` (`.png`, `.svg`) into `dir`.
 ///
 /// # Errors

@@ -6,7 +6,6 @@
 //! struct, a key the struct does not hold refuses the file (so an audited file carries no
 //! unaudited fields), and the recorded configuration is validated as command-line input is.
 
-use std::io::Read;
 use std::path::Path;
 
 use serde::Serialize;
@@ -20,7 +19,7 @@ use crate::Error;
 /// below it: a default diffusion result is 8 kB (32 batches × 25 MSD lags), a 10⁴-point sweep of
 /// 10 runs about 6 MB; at 25 lags the bound allows about 10⁵ diffusion batches. Reading parses
 /// into a JSON tree and the result struct, about 4 times the file's size at most.
-pub const MAX_RESULT_BYTES: u64 = 64 << 20;
+pub const MAX_RESULT_BYTES: u64 = crate::files::Cap::RESULT.bytes;
 
 /// The kinds of result the audit knows, each recognised by a key that only it writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -183,29 +182,7 @@ impl ResultFile {
 /// Reads at most [`MAX_RESULT_BYTES`] of the regular file `path`, refusing larger ones (from the
 /// metadata, before reading) and anything that is not a regular file.
 fn read_bounded(path: &Path) -> Result<Vec<u8>, Error> {
-    // Opened without blocking (a FIFO would wait for a writer forever) and refused unless
-    // regular.
-    let file = crate::files::open(path)?;
-    let meta = file.metadata().map_err(Error::io("read", path))?;
-    let too_big = |n: u64| {
-        Error::malformed(
-            path,
-            format!(
-                "{n} bytes is larger than the {MAX_RESULT_BYTES} bytes (64 MiB) a result file may have: refused before reading"
-            ),
-        )
-    };
-    if meta.len() > MAX_RESULT_BYTES {
-        return Err(too_big(meta.len()));
-    }
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    file.take(MAX_RESULT_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(Error::io("read", path))?;
-    if bytes.len() as u64 > MAX_RESULT_BYTES {
-        return Err(too_big(bytes.len() as u64));
-    }
-    Ok(bytes)
+    crate::files::read(path, crate::files::Cap::RESULT)
 }
 
 /// The first key (as a dotted path) of `file` that `schema` (the result struct written back)

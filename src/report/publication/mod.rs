@@ -240,6 +240,19 @@ impl AuditConfig {
         Ok(())
     }
 
+    /// Every path the audit writes: `out` and the files in it ([`FILES`]).
+    pub fn outputs(&self) -> Vec<crate::files::Output> {
+        let mut v = vec![crate::files::Output::Dir(self.out.clone())];
+        v.extend(crate::files::Output::files_in(&self.out, &FILES));
+        v
+    }
+
+    /// Checks every output before any work ([`crate::files::check_outputs`]): none is a link,
+    /// a FIFO or a directory, and none is the audited file.
+    fn check_outputs(&self) -> Result<(), Error> {
+        crate::files::check_outputs(&[&self.result], &self.outputs())
+    }
+
     /// The budget of re-run collisions: the auditor's, never the file's.
     fn budget(&self) -> Option<u64> {
         Some(match (self.quick, self.max_rerun_collisions) {
@@ -250,6 +263,17 @@ impl AuditConfig {
         })
     }
 }
+
+/// The files an audit writes into its output directory: the report and its figures.
+pub const FILES: [&str; 7] = [
+    "report.md",
+    "report.html",
+    "report.json",
+    "local-slope.png",
+    "local-slope.svg",
+    "batch-histogram.png",
+    "batch-histogram.svg",
+];
 
 /// The audited result, parsed and validated: one per kind.
 enum Audited {
@@ -336,6 +360,7 @@ fn admitted(reruns: &[u64], budget: Option<u64>) -> Vec<bool> {
 /// before [`run`]. Reads and checks the file as [`run`] does (bad input is refused here too).
 pub fn planned_rerun_collisions(cfg: &AuditConfig) -> Result<(Kind, u64), Error> {
     cfg.validate()?;
+    cfg.check_outputs()?;
     let (file, a) = Audited::read(cfg)?;
     let reruns = a.reruns(cfg.quick, entropy_draw())?;
     let ok = admitted(&reruns, cfg.budget());
@@ -377,6 +402,7 @@ pub fn run_with(
     cfg.validate()?;
     options.validate()?;
     options.refuse_unused("report", &[])?;
+    cfg.check_outputs()?;
     let start = std::time::Instant::now();
     let (file, audited) = Audited::read(cfg)?;
     let draw = entropy_draw();

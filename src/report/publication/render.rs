@@ -136,8 +136,11 @@ impl PublicationReport {
         }
         s += "</table>\n";
         for f in &self.figures {
-            let svg =
-                crate::files::read_to_string(dir.join(format!("{f}.svg"))).unwrap_or_default();
+            let svg = crate::files::read_to_string(
+                dir.join(format!("{f}.svg")),
+                crate::files::Cap::DOCUMENT,
+            )
+            .unwrap_or_default();
             let svg = svg.trim_start_matches(|c| c != '<');
             let svg = svg
                 .strip_prefix("<?xml")

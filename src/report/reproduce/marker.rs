@@ -24,7 +24,7 @@ pub(super) fn finished_step(marker: &Path, budget: &str, seed: u64) -> Result<Op
     if !marker.exists() {
         return Ok(None);
     }
-    let text = crate::files::read_to_string(marker)?;
+    let text = crate::files::read_to_string(marker, crate::files::Cap::DOCUMENT)?;
     let d: Done = crate::engine::resume::unseal(marker, &text, "step marker")?;
     if d.seed != seed {
         return Err(Error::malformed(

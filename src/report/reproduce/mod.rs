@@ -195,6 +195,11 @@ pub fn reproduce(
     threads: usize,
     reporter: &dyn Reporter,
 ) -> Result<ReproduceReport, Error> {
+    use crate::files::Output;
+    let mut outputs = Output::files_in(dir, &["index.html", "reproduce.json"]);
+    outputs.insert(0, Output::Dir(dir.to_path_buf()));
+    outputs.extend(Step::ALL.iter().map(|s| Output::Subdir(dir.join(s.name()))));
+    crate::files::check_outputs(&[], &outputs)?;
     crate::files::create_dir_all(dir)?;
     let mut run = Reproduction {
         budget,
@@ -508,7 +513,7 @@ fn claims(
         );
     }
     let rows = |f: &str| -> Vec<(f64, f64, f64)> {
-        crate::files::read_to_string(dir.join("backscatter").join(f))
+        crate::files::read_to_string(dir.join("backscatter").join(f), crate::files::Cap::DOCUMENT)
             .ok()
             .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
             .and_then(|v| serde_json::from_value(v["data"]["rows"].clone()).ok())
@@ -605,7 +610,8 @@ fn index_html(dir: &Path, r: &ReproduceReport) -> String {
         );
         for f in &st.files {
             if f.ends_with(".md")
-                && let Ok(md) = crate::files::read_to_string(dir.join(f))
+                && let Ok(md) =
+                    crate::files::read_to_string(dir.join(f), crate::files::Cap::DOCUMENT)
             {
                 s += &md_table_html(&md);
             }

@@ -27,7 +27,7 @@ use crate::numbers::exact::parse_exact;
 use crate::scenes::table::TableError;
 
 /// The largest table file read (a table is a few lines; a bigger file is not one).
-pub const MAX_FILE_BYTES: u64 = 1 << 20;
+pub const MAX_FILE_BYTES: u64 = crate::files::Cap::TABLE.bytes;
 
 /// An exact number as written: a decimal (`"0.4"`, `"1e-3"`) or a fraction (`"2/5"`), or an
 /// integer.
@@ -152,7 +152,7 @@ impl TableSpec {
     /// # Errors
     /// A file that cannot be read (naming it) or is not a table (naming it).
     pub fn read(path: &Path) -> Result<Self, Error> {
-        let text = crate::files::read_to_string_limited(path, MAX_FILE_BYTES)?;
+        let text = crate::files::read_to_string(path, crate::files::Cap::TABLE)?;
         Self::from_toml(&text).map_err(|e| Error::malformed(path, e))
     }
 

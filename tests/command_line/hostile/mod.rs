@@ -19,6 +19,7 @@ use crate::common::{lorentz_in as lorentz, scratch};
 
 mod few_batches;
 mod field_parity;
+mod files;
 mod grinding;
 
 fn mkfifo(path: &Path) {
