@@ -57,7 +57,7 @@ pub fn jumped(flights: crate::engine::long_flight::Flights) -> &'static str {
 /// ```
 /// use lorentz_gas::report::text::estimate;
 /// assert_eq!(estimate(0.1, 0.00023), "0.100000 ± 0.000230");
-/// assert_eq!(estimate(1.2e-7, 3.4e-8), "1.20e-7 ± 3.4e-8");
+/// assert_eq!(estimate(1.2e-7, 3.4e-8), "1.2000e-7 ± 3.4e-8");
 /// assert_eq!(estimate(0.0, 0.0), "0.000000 ± 0.000000");
 /// ```
 pub fn estimate(x: f64, e: f64) -> String {
