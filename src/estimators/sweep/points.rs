@@ -93,6 +93,9 @@ fn recheck_one_run(
     })
 }
 
+/// Where a sweep keeps point i in its directory ([`point_path`], or a field sweep's).
+pub(crate) type PointPath = fn(&Path, usize) -> PathBuf;
+
 /// Draws one of the points reused from their files (`reused`, indices into the grid) at random
 /// (operating-system entropy, so that no one editing the files can know which), computes it
 /// again with `again` — which names what differs, `None` if it gives the recorded bits — and
@@ -105,7 +108,7 @@ fn recheck_one_run(
 /// [`Error::Failed`] naming the point and its file, or an error of the re-run.
 pub(crate) fn recheck_one_point(
     reused: &[usize],
-    (dir, path): (Option<&Path>, fn(&Path, usize) -> PathBuf),
+    (dir, path): (Option<&Path>, PointPath),
     again: impl FnOnce(usize) -> Result<Option<String>, Error>,
 ) -> Result<(), Error> {
     if reused.is_empty() {
