@@ -7,6 +7,8 @@
 //!   device or a FIFO found at the target is refused ([`Error::UnsafePath`]), never followed
 //!   or replaced; a regular file keeps its permissions. [`create`] opens a file for streaming
 //!   output with `O_NOFOLLOW`.
+//!   The temporary files in flight are recorded ([`in_flight`]), so that a process ended at once
+//!   by a signal removes them first.
 //! * **Reads never block on a FIFO.** [`open`] opens with `O_NONBLOCK` and refuses anything but
 //!   a regular file before reading (a FIFO or a terminal would block `read` forever).
 //! * **Directories the tool names are its own.** [`create_subdir`] refuses a symbolic link where
@@ -22,6 +24,8 @@ use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 use crate::Error;
+
+pub mod in_flight;
 
 /// What to do about a path that is refused.
 const CHOOSE_ANOTHER: &str = "lorentz writes and replaces only regular files (never through a \
@@ -217,6 +221,7 @@ pub fn write(path: impl AsRef<Path>, contents: impl AsRef<[u8]>) -> Result<(), E
     if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    in_flight::settled(&tmp);
     written?;
     // The rename itself is durable once the directory is synced (where the platform allows it).
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
@@ -228,7 +233,8 @@ pub fn write(path: impl AsRef<Path>, contents: impl AsRef<[u8]>) -> Result<(), E
 }
 
 /// A new file beside `path` (`.name.PID-N.tmp`), created exclusively: a name already taken, by
-/// a link or anything else, is skipped, never opened.
+/// a link or anything else, is skipped, never opened. It is recorded [`in_flight`] until
+/// [`write`] renames or removes it.
 fn create_temporary(path: &Path) -> Result<(PathBuf, File), Error> {
     let name = path
         .file_name()
@@ -238,7 +244,10 @@ fn create_temporary(path: &Path) -> Result<(PathBuf, File), Error> {
         tmp_name.push(name);
         tmp_name.push(format!(".{}-{n}.tmp", std::process::id()));
         let tmp = path.with_file_name(tmp_name);
-        match careful(OpenOptions::new().write(true).create_new(true), false).open(&tmp) {
+        let opened = in_flight::create(&tmp, || {
+            careful(OpenOptions::new().write(true).create_new(true), false).open(&tmp)
+        });
+        match opened {
             Ok(f) => return Ok((tmp, f)),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
             Err(e) => return Err(Error::io("create", &tmp)(e)),

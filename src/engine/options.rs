@@ -148,7 +148,8 @@ pub struct RunOptions<'a> {
     pub checkpoint_every: Duration,
     /// A flag whose request stops the run early with [`Error::Interrupted`] (analyses that
     /// offer it: diffusion, its packed runs and sweeps, and hops between segments of about
-    /// 0.1 s; backscatter, escape, Lyapunov exponents and the shadow audit between batches;
+    /// 0.1 s; backscatter between injections; escape, Lyapunov exponents and the shadow audit
+    /// between batches; a field run's classification every few milliseconds;
     /// `None`: the run cannot be stopped).
     /// Never changes the bits of a run that finishes.
     pub stop: Option<StopFlag>,
