@@ -1,5 +1,5 @@
 //! The temporary files of this process in flight (created by [`super::write`], not yet renamed
-//! into place or removed), so that a command line ending the process at once on a signal can
+//! into place or removed, and the lock files of [`super::lock`] still held), so that a command line ending the process at once on a signal can
 //! remove them first ([`abandon`]): the targets keep their old content and nothing is left
 //! beside them. Nothing here installs a signal handler; only the `lorentz` binary ends the
 //! process.
@@ -23,6 +23,11 @@ pub(super) fn create<T, E>(path: &Path, create: impl FnOnce() -> Result<T, E>) -
         files.push(path.to_path_buf());
     }
     made
+}
+
+/// Records the file `path` this process made and will remove (a lock file it holds).
+pub(super) fn record(path: &Path) {
+    held().push(path.to_path_buf());
 }
 
 /// Records that the temporary file `path` was renamed into place or removed.
