@@ -328,8 +328,9 @@ where
         self.in_flight.get(&(job.run, job.index))
     }
 
-    /// Collisions per trajectory between looks at the clock and at the stop request: all of
-    /// them when nothing in flight is saved and nobody can ask the run to stop.
+    /// Most collisions per trajectory between looks at the clock and at the stop request (the
+    /// segments are paced below it, [`Pace`]): all of them when nothing in flight is saved and
+    /// nobody can ask the run to stop.
     pub fn segment(&self, mpfr: bool) -> u64 {
         match (self.every, &self.stop) {
             (None, None) => u64::MAX,

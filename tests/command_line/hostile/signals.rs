@@ -351,3 +351,56 @@ fn sigterm_sighup_a_second_signal_and_an_ignored_sigint_end_a_run_too() {
         ],
     );
 }
+
+/// `f` run with a stop flag requested 0.3 s after it starts (as Python's Ctrl-C does through the
+/// library): the time from the request to its return, and whether it returned `Interrupted`.
+fn stopped_by_the_flag<R>(
+    f: impl FnOnce(&lorentz_gas::engine::options::RunOptions) -> Result<R, lorentz_gas::Error>,
+) -> (Duration, bool) {
+    use lorentz_gas::engine::options::{RunOptions, StopFlag};
+    let stop = StopFlag::default();
+    let opts = RunOptions {
+        threads: 1,
+        stop: Some(stop.clone()),
+        ..RunOptions::default()
+    };
+    std::thread::scope(|s| {
+        let asked = s.spawn(|| {
+            std::thread::sleep(Duration::from_millis(300));
+            stop.request();
+            Instant::now()
+        });
+        let r = f(&opts);
+        let (returned, asked) = (Instant::now(), asked.join().unwrap());
+        let interrupted = matches!(&r, Err(e) if e.kind() == lorentz_gas::ErrorKind::Interrupted);
+        (returned.saturating_duration_since(asked), interrupted)
+    })
+}
+
+#[test]
+fn the_library_loops_the_python_package_stops_look_at_the_flag_often() {
+    use lorentz_gas::estimators::diffusion::DiffusionConfig;
+    use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
+    use lorentz_gas::scenes::spec::{Motion, SceneSpec, Table};
+    // A field run's classification of its localized share, before any batch.
+    let table = Table {
+        scene: SceneSpec::Square {
+            radius: "0.3".into(),
+        },
+        motion: Motion::Field("1".into()),
+    };
+    let cfg = DiffusionConfig {
+        localization_samples: Some(1_000_000_000),
+        ..DiffusionConfig::on(table)
+    };
+    let (after, interrupted) =
+        stopped_by_the_flag(|o| lorentz_gas::estimators::field::run(&cfg, o));
+    assert!(interrupted && after < WITHIN, "{after:?}");
+    // Backscattering by injection, 1e10 particles (it looked only between batches).
+    let cfg = BackscatterConfig {
+        particles: 10_000_000_000,
+        ..BackscatterConfig::new(Table::triangular("0.1").unwrap())
+    };
+    let (after, interrupted) = stopped_by_the_flag(|o| backscatter::run(&cfg, o));
+    assert!(interrupted && after < WITHIN, "{after:?}");
+}
