@@ -329,7 +329,7 @@ where
     }
 
     /// Most collisions per trajectory between looks at the clock and at the stop request (the
-    /// segments are paced below it, [`Pace`]): all of them when nothing in flight is saved and
+    /// segments are paced below it, by wall time): all of them when nothing in flight is saved and
     /// nobody can ask the run to stop.
     pub fn segment(&self, mpfr: bool) -> u64 {
         match (self.every, &self.stop) {
