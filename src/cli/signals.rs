@@ -73,29 +73,38 @@ pub fn install() {
     }
 }
 
-/// What the watching thread does with signal `sig`.
+/// What the watching thread does with signal `sig`. The first one's ending runs on a thread of
+/// its own, so that the watching thread stays free for a second signal (which ends the process
+/// even if the first one's line could not be written, its standard error blocked).
 fn received(sig: i32) {
     let w = watch();
     if w.signal
         .compare_exchange(0, sig, Ordering::SeqCst, Ordering::SeqCst)
         .is_err()
     {
-        end_now(false);
+        end_now(kept().is_some());
     }
     w.stop.request();
-    if kept().is_none() {
+    // A run that keeps its work saves it and returns, or is ended at the end of its grace.
+    let grace = kept().map(|_| GRACE);
+    let ending = move || {
+        if let Some(g) = grace {
+            std::thread::sleep(g);
+        }
+        end_now(grace.is_some())
+    };
+    if std::thread::Builder::new()
+        .name("ending".into())
+        .spawn(ending)
+        .is_err()
+    {
         end_now(false);
     }
-    // The run saves and returns, or is ended at the end of its grace.
-    let _ = std::thread::Builder::new().name("grace".into()).spawn(|| {
-        std::thread::sleep(GRACE);
-        end_now(true);
-    });
 }
 
 /// Ends the process now with the first signal's status, after its line on stderr (unless it
 /// was written) and the removal of the temporary files in flight. `late`: a run that keeps its
-/// work did not return within [`GRACE`].
+/// work is ended before it saved (it did not return within [`GRACE`], or a second signal came).
 fn end_now(late: bool) -> ! {
     let (status, message) = line(late).unwrap_or((130, "stopped by a signal".into()));
     say(&message);
@@ -141,7 +150,7 @@ pub fn stopped() -> Option<(u8, String)> {
     line(false)
 }
 
-/// [`stopped`]; `late`: said of a run that keeps its work and did not return within [`GRACE`].
+/// [`stopped`]; `late`: said of a run that keeps its work and is ended before it saved.
 fn line(late: bool) -> Option<(u8, String)> {
     let sig = watch().signal.load(Ordering::SeqCst);
     if sig == 0 {
@@ -155,8 +164,9 @@ fn line(late: bool) -> Option<(u8, String)> {
     };
     let message = match kept() {
         Some(p) if late => format!(
-            "stopped by {name}: the run did not reach its next save within {:.1} s, so {} keeps \
-             the work saved before; the same command resumes it to the same bits",
+            "stopped by {name}: the run was ended before it saved what it had in flight (it did \
+             not within {:.1} s of the signal, or a second signal came), so {} keeps the work \
+             saved before; the same command resumes it to the same bits",
             GRACE.as_secs_f64(),
             p.display()
         ),

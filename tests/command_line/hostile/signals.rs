@@ -227,8 +227,11 @@ fn faults(dir: &Path, case: &Case, outcome: &Outcome) -> Vec<String> {
             outcome.stderr
         ));
     }
-    // A run that keeps its work saves it within the grace it is given (about 0.1 s).
-    if case.kept.is_some() && !outcome.stderr.contains("the work done so far is saved in") {
+    // A run that keeps its work saves it within the grace it is given (about 0.1 s), unless a
+    // second signal ends it first.
+    let saved = outcome.stderr.contains("the work done so far is saved in")
+        || case.signals.len() > 1 && outcome.stderr.contains("keeps the work saved before");
+    if case.kept.is_some() && !saved {
         bad.push(format!(
             "did not save its work in time: {:?}",
             outcome.stderr
