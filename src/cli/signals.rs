@@ -12,10 +12,11 @@
 //! * A second signal ends the process at once, whatever it runs.
 //!
 //! Ending the process removes the temporary files it has in flight first
-//! ([`lorentz_gas::files::in_flight`]), so every output holds its old content or nothing. The
-//! signals are received by `signal_hook`'s iterator, whose handler only writes to a pipe
-//! (async-signal-safe); everything else happens on the watching thread. The library installs
-//! no handler: the Python package turns Ctrl-C into the same [`StopFlag`] with Python's own.
+//! ([`lorentz_gas::files::in_flight`]), so every output holds its old content, a whole new one
+//! or nothing. The signals are received by `signal_hook`'s iterator, whose handler only writes
+//! to a pipe (async-signal-safe); everything else happens on the watching thread and the thread
+//! that ends the process. The library installs no handler: the Python package turns Ctrl-C into
+//! the same [`StopFlag`] with Python's own.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
@@ -54,22 +55,30 @@ fn watch() -> &'static Watch {
 }
 
 /// Starts the thread that receives SIGINT, SIGTERM and SIGHUP for the rest of the process's
-/// life. The handlers replace whatever disposition the process inherited (a shell starts a
-/// background job with SIGINT ignored). If they cannot be installed, the signals keep their
-/// default action, which ends the process too.
+/// life, and returns once it listens. The handlers replace whatever disposition the process
+/// inherited (a shell starts a background job with SIGINT ignored). They are registered by the
+/// thread itself: if it cannot start or they cannot be installed, the signals keep the
+/// disposition the process was given (by default, ending it).
 pub fn install() {
     #[cfg(unix)]
     {
-        let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
-            return;
-        };
-        let _ = std::thread::Builder::new()
-            .name("signals".into())
-            .spawn(move || {
+        let (ready, listening) = std::sync::mpsc::channel();
+        let watching = move || {
+            let registered = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]);
+            let _ = ready.send(());
+            if let Ok(mut signals) = registered {
                 for sig in signals.forever() {
                     received(sig);
                 }
-            });
+            }
+        };
+        if std::thread::Builder::new()
+            .name("signals".into())
+            .spawn(watching)
+            .is_ok()
+        {
+            let _ = listening.recv();
+        }
     }
 }
 
