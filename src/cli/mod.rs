@@ -150,6 +150,8 @@ enum Cmd {
 /// Parses the command line, runs the subcommand, and maps every error to its exit status
 /// ([`exit_status`]) with one line on stderr.
 pub fn main() -> ExitCode {
+    // Before any command runs: every command ends on SIGINT, SIGTERM and SIGHUP ([`signals`]).
+    signals::install();
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) if e.use_stderr() => {
@@ -184,9 +186,14 @@ pub fn main() -> ExitCode {
     };
     match run(cli.cmd) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.kind() == ErrorKind::Interrupted && signals::stopped().is_some() => {
+        Err(e) if signals::stopped().is_some() => {
+            // A run asked to stop by a signal: its own error first if the stop is not what
+            // ended it, then the signal's line and status.
+            if e.kind() != ErrorKind::Interrupted {
+                eprintln!("error: {}", one_line(&e));
+            }
             let (status, message) = signals::stopped().unwrap_or_default();
-            eprintln!("{message}");
+            signals::say(&message);
             ExitCode::from(status)
         }
         Err(e) => {

@@ -42,6 +42,9 @@ impl Reporter for Bars {
             ));
         }
     }
+    fn stop(&self) -> Option<lorentz_gas::engine::options::StopFlag> {
+        Some(super::signals::stop_flag())
+    }
     fn advance(&self, n: u64) {
         if let Ok(b) = self.bar.lock()
             && let Some(b) = b.as_ref()
@@ -53,6 +56,8 @@ impl Reporter for Bars {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let out = a.out.clone();
+    // Finished steps are kept in --out: a signal stops the run and the same command continues.
+    super::signals::keeping(&out);
     let bars = Bars {
         quiet: a.output.quiet,
         bar: Mutex::new(None),

@@ -83,10 +83,49 @@ pub struct InFlight<S> {
     pub observers: S,
 }
 
-/// Collisions per trajectory between two looks at the clock on the SIMD and `f64` engines
-/// (2²⁰: about 0.1 s for a block of 16), and at MPFR precision (2¹⁴: about as long).
+/// Most collisions per trajectory between two looks at the clock and the stop flag on the SIMD
+/// and `f64` engines, and at MPFR precision; [`Pace`] keeps each segment near
+/// [`SEGMENT_TIME`] below these.
 const SEGMENT_F64: u64 = 1 << 20;
 const SEGMENT_MPFR: u64 = 1 << 14;
+
+/// The wall time a segment aims at: a stop requested mid-segment is honoured within about this
+/// much (a few times it on a loaded machine).
+const SEGMENT_TIME: Duration = Duration::from_millis(100);
+
+/// Segment lengths that follow the wall time of the segments done: the first is short
+/// ([`FIRST_SEGMENT`] collisions), and each next one is twice or half the last while the last
+/// took under half or over twice [`SEGMENT_TIME`], within `max`. Where the segments end never
+/// changes the bits (the drives continue a state exactly).
+struct Pace {
+    len: u64,
+    max: u64,
+}
+
+/// Collisions per trajectory of the first segment of a watched run.
+const FIRST_SEGMENT: u64 = 1 << 10;
+
+impl Pace {
+    /// Segments of at most `max` collisions (`u64::MAX`: one segment, nobody watches).
+    fn new(max: u64) -> Self {
+        let len = if max == u64::MAX {
+            max
+        } else {
+            FIRST_SEGMENT.min(max)
+        };
+        Pace { len, max }
+    }
+
+    /// The next segment's length, the last having taken `took`.
+    fn after(&mut self, took: Duration) -> u64 {
+        if took < SEGMENT_TIME / 2 {
+            self.len = self.len.saturating_mul(2).min(self.max);
+        } else if took > SEGMENT_TIME * 2 {
+            self.len = (self.len / 2).max(1);
+        }
+        self.len
+    }
+}
 
 /// The work of a run kept on disk (or nowhere): what was found when it started, and where new
 /// work goes.
@@ -289,8 +328,9 @@ where
         self.in_flight.get(&(job.run, job.index))
     }
 
-    /// Collisions per trajectory between looks at the clock and at the stop request: all of
-    /// them when nothing in flight is saved and nobody can ask the run to stop.
+    /// Most collisions per trajectory between looks at the clock and at the stop request (the
+    /// segments are paced below it, by wall time): all of them when nothing in flight is saved and
+    /// nobody can ask the run to stop.
     pub fn segment(&self, mpfr: bool) -> u64 {
         match (self.every, &self.stop) {
             (None, None) => u64::MAX,
@@ -455,12 +495,15 @@ where
         }
         None => (start(), 0),
     };
-    let segment = keep.segment(T::bits(ctx) > 53);
+    let mut pace = Pace::new(keep.segment(T::bits(ctx) > 53));
+    let mut segment = pace.len;
     let mut last = Instant::now();
     while done < job.collisions {
         let q = (job.collisions - done).min(segment);
         keep.check_stop()?;
+        let began = Instant::now();
         step(&mut s, q, obs)?;
+        segment = pace.after(began.elapsed());
         done += q;
         if done < job.collisions {
             keep.save_if_due(&mut last, || vec![in_flight(job, done, &s, obs, 0)])?;
@@ -503,7 +546,8 @@ where
             None => states.push(start(l)),
         }
     }
-    let segment = keep.segment(false);
+    let mut pace = Pace::new(keep.segment(false));
+    let mut segment = pace.len;
     let mut last = Instant::now();
     loop {
         let quotas: Vec<u64> = jobs
@@ -515,7 +559,9 @@ where
             return Ok(states);
         }
         keep.check_stop()?;
+        let began = Instant::now();
         run_block(path, kernel, &mut states, &quotas, obs, progress)?;
+        segment = pace.after(began.elapsed());
         done.iter_mut().zip(&quotas).for_each(|(d, q)| *d += q);
         keep.save_if_due(&mut last, || {
             (0..jobs.len())

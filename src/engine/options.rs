@@ -147,8 +147,9 @@ pub struct RunOptions<'a> {
     /// this much work (analyses that offer it; default [`DEFAULT_CHECKPOINT_EVERY`]).
     pub checkpoint_every: Duration,
     /// A flag whose request stops the run early with [`Error::Interrupted`] (analyses that
-    /// offer it: diffusion, its packed runs and sweeps, and hops between segments of about
-    /// 0.1 s; backscatter, escape, Lyapunov exponents and the shadow audit between batches;
+    /// offer it: diffusion, its packed runs and sweeps, superdiffusion and hops between segments
+    /// of about 0.1 s; backscatter and escape between particles; Lyapunov exponents and the
+    /// shadow audit between batches; a field run's classification every few milliseconds;
     /// `None`: the run cannot be stopped).
     /// Never changes the bits of a run that finishes.
     pub stop: Option<StopFlag>,

@@ -19,6 +19,7 @@ impl Drop for Lock {
         // Removed while still held, so a run waiting on this file finds it gone and starts
         // afresh (see `lock`); closing the file releases the lock.
         let _ = std::fs::remove_file(&self.path);
+        super::in_flight::settled(&self.path);
         self.file.take();
     }
 }
@@ -62,6 +63,7 @@ pub fn lock(path: &Path) -> Result<Lock, Error> {
             Err(std::fs::TryLockError::Error(e)) => return Err(Error::io("lock", &lock_path)(e)),
         }
         if same_file(&f, &lock_path) {
+            super::in_flight::record(&lock_path);
             return Ok(Lock {
                 path: lock_path,
                 file: Some(f),

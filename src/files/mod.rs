@@ -10,6 +10,8 @@
 //!   a file appended to in place (a journal, [`open_append`]) must have no other hard link. A
 //!   symbolic link, a directory, a device or a FIFO found at the target is refused
 //!   ([`Error::UnsafePath`]), never followed or replaced; a regular file keeps its permissions.
+//!   The temporary files and held locks are recorded ([`in_flight`]), so that a process ended
+//!   at once by a signal removes them first.
 //! * **Outputs are checked before any work, and never replace an input.** [`check_outputs`]
 //!   takes every path a command will write ([`Output`]) and the files it reads, and refuses
 //!   what may not be replaced and any output that is (by device and inode) one of the inputs.
@@ -25,6 +27,7 @@
 //!
 //! The proof that nothing here follows a link is in `proofs-notes/file-safety.md`.
 
+pub mod in_flight;
 mod lock;
 mod plan;
 mod read;

@@ -70,7 +70,7 @@ impl Stream {
         drop(f);
         check_writable(&self.target)?;
         std::fs::rename(&self.tmp, &self.target).map_err(Error::io("rename into", &self.target))?;
-        self.tmp = PathBuf::new();
+        super::in_flight::settled(&std::mem::take(&mut self.tmp));
         // The rename itself is durable once the directory is synced (where the platform
         // allows it).
         if let Some(dir) = self.target.parent().filter(|d| !d.as_os_str().is_empty())
@@ -103,6 +103,7 @@ impl Drop for Stream {
                 drop(f);
             }
             let _ = std::fs::remove_file(&self.tmp);
+            super::in_flight::settled(&self.tmp);
         }
     }
 }
@@ -122,7 +123,8 @@ pub fn write(path: impl AsRef<Path>, contents: impl AsRef<[u8]>) -> Result<(), E
 }
 
 /// A new file beside `path` (`.name.PID-N.tmp`), created exclusively: a name already taken, by
-/// a link or anything else, is skipped, never opened.
+/// a link or anything else, is skipped, never opened. It is recorded
+/// [`in_flight`](super::in_flight) until its [`Stream`] renames or removes it.
 fn create_temporary(path: &Path) -> Result<(PathBuf, File), Error> {
     let name = path
         .file_name()
@@ -132,7 +134,10 @@ fn create_temporary(path: &Path) -> Result<(PathBuf, File), Error> {
         tmp_name.push(name);
         tmp_name.push(format!(".{}-{n}.tmp", std::process::id()));
         let tmp = path.with_file_name(tmp_name);
-        match careful(OpenOptions::new().write(true).create_new(true), false).open(&tmp) {
+        let opened = super::in_flight::create(&tmp, || {
+            careful(OpenOptions::new().write(true).create_new(true), false).open(&tmp)
+        });
+        match opened {
             Ok(f) => return Ok((tmp, f)),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
             Err(e) => return Err(Error::io("create", &tmp)(e)),

@@ -16,6 +16,7 @@ use rand::Rng;
 use super::{EscapeConfig, Lifetime};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
+use crate::engine::options::StopFlag;
 use crate::engine::resume::Journal;
 use crate::scenes::strip::Strip;
 
@@ -110,15 +111,16 @@ impl Chunks {
 
     /// Follows the particles of batch `task` from the random stream `rng` in `strip`, up to `n`
     /// of them with cut-off `t_max`, continuing after those already kept (whose starts are drawn
-    /// again, not followed) and keeping new ones at the interval and at the end.
+    /// again, not followed) and keeping new ones at the interval and at the end. A requested
+    /// `stop`, looked at before each particle, keeps the particles followed and ends the batch
+    /// with [`Error::Interrupted`].
     pub(super) fn follow(
         &self,
-        task: u32,
-        strip: &Strip,
+        (task, strip): (u32, &Strip),
         mut rng: impl Rng,
-        n: u64,
-        t_max: f64,
+        (n, t_max): (u64, f64),
         progress: &(dyn Fn(u64) + Sync),
+        stop: Option<&StopFlag>,
     ) -> Result<Done, Error> {
         let mut done = self.found(task);
         for _ in 0..done.lifetimes.len() {
@@ -126,6 +128,10 @@ impl Chunks {
         }
         let (mut saved, mut last) = ((done.lifetimes.len(), done.events), Instant::now());
         for _ in done.lifetimes.len() as u64..n {
+            if stop.is_some_and(StopFlag::requested) {
+                self.save(task, &done, &mut saved, &mut last, true)?;
+                return Err(Error::Interrupted);
+            }
             let s = strip.sample(&mut rng);
             let o = strip.follow(s, t_max)?;
             done.events += o.events;

@@ -520,7 +520,9 @@ pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Err
             .in_run(k as u64)
             .rng();
         let strip = &strips[k as usize];
-        let done = kept.follow(task, strip, rng, quota(task), t_max_of(task), progress)?;
+        let stop = options.stop.as_ref();
+        let (n, t_max) = (quota(task), t_max_of(task));
+        let done = kept.follow((task, strip), rng, (n, t_max), progress, stop)?;
         Ok(BatchOut {
             lifetimes: done.lifetimes,
             events: done.events,

@@ -33,7 +33,7 @@ use crate::Error;
 use crate::engine::Resolved;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
-use crate::engine::parallel::{par_batches, par_batches_watched, share};
+use crate::engine::parallel::{par_batches_watched, share};
 use crate::numbers::exact::{nearest_f64, parse_exact};
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
@@ -249,7 +249,8 @@ fn geometry_of<S: Scene>(scene: &S, b: f64) -> Result<FieldGeometry, Error> {
 }
 
 /// The sampled localized share: `localization_samples` phase points in 64 chunks of their own
-/// streams (the same bits at any thread count).
+/// streams (the same bits at any thread count), stopped by `opts.stop` within a few
+/// milliseconds.
 fn classify<S: Scene>(
     cfg: &DiffusionConfig,
     scene: &S,
@@ -258,9 +259,10 @@ fn classify<S: Scene>(
 ) -> Result<(u64, u64), Error> {
     const CHUNKS: u32 = 64;
     let n = cfg.localization_samples.unwrap_or(0);
-    let counts = par_batches(opts.threads, CHUNKS, |c| {
+    let stop = opts.stop.as_ref();
+    let counts = par_batches_watched(opts.threads, CHUNKS, stop, |c| {
         let key = track::classification_key(cfg.seed, cfg.run, c as u64);
-        track::classify_chunk(scene, geometry, key, share(n, CHUNKS, c))
+        track::classify_chunk(scene, geometry, key, share(n, CHUNKS, c), stop)
     })?;
     Ok((counts.iter().sum(), n))
 }

@@ -240,16 +240,23 @@ fn gcd(a: usize, b: usize) -> usize {
 }
 
 /// Classifies `n` phase points of stream `(seed, Classification, run, chunk)`: localized ones.
+/// `stop` is looked at every [`CLASSIFY_STOP_EVERY`] points.
 pub(super) fn classify_chunk<S: Scene>(
     scene: &S,
     geometry: &FieldGeometry,
     key: StreamKey,
     n: u64,
+    stop: Option<&StopFlag>,
 ) -> Result<u64, Error> {
     let lattice = scene.lattice::<f64>(())?;
     let mut rng = key.rng();
     let mut localized = 0;
-    for _ in 0..n {
+    for i in 0..n {
+        if i % CLASSIFY_STOP_EVERY == 0
+            && let Some(s) = stop
+        {
+            s.check()?;
+        }
         let s = scene.sample(&mut rng);
         let p = lattice.world(&s);
         let sg = s.cell.sign();
@@ -260,6 +267,9 @@ pub(super) fn classify_chunk<S: Scene>(
     }
     Ok(localized)
 }
+
+/// Phase points classified between two looks at the stop flag (a few milliseconds).
+const CLASSIFY_STOP_EVERY: u64 = 1 << 12;
 
 /// The key of classification chunk `chunk`.
 pub(super) fn classification_key(seed: u64, run: u64, chunk: u64) -> StreamKey {

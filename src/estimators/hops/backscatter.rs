@@ -155,6 +155,10 @@ impl AtPrecision for Inject<'_> {
                 .rng();
             let (mut exits, mut cf, mut t, mut c) = ([0u64; 3], 0u64, 0.0, 0u64);
             for i in 1..=n_b {
+                // A visit is a few collisions: the stop flag is looked at before each one.
+                if let Some(s) = self.stop {
+                    s.check()?;
+                }
                 let v = scene.random_visit(&mut rng)?;
                 exits[v.exit.index()] += 1;
                 cf += u64::from(v.collisions == 0);

@@ -10,6 +10,8 @@
 //! (every command honours the first signal within a second) and [`few_batches`] (no statistical
 //! verdict from too few batches).
 
+mod signals;
+
 use std::os::unix::fs::{FileTypeExt, PermissionsExt, symlink};
 use std::path::Path;
 use std::process::{Command, Stdio};
