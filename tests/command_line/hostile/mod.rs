@@ -10,7 +10,6 @@
 //! (every command honours the first signal within a second) and [`few_batches`] (no statistical
 //! verdict from too few batches).
 
-mod signals;
 
 use std::os::unix::fs::{FileTypeExt, PermissionsExt, symlink};
 use std::path::Path;
@@ -23,6 +22,7 @@ mod few_batches;
 mod field_parity;
 mod files;
 mod grinding;
+mod signals;
 
 fn mkfifo(path: &Path) {
     let status = Command::new("mkfifo").arg(path).status().expect("mkfifo");
