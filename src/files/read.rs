@@ -22,53 +22,34 @@ pub struct Cap {
 }
 
 impl Cap {
+    /// At most `bytes` bytes of a file that is `what`.
+    pub const fn new(bytes: u64, what: &'static str) -> Cap {
+        Cap { bytes, what }
+    }
+
     /// A journal: a checkpoint (`--checkpoint`, a sweep's `points/*.partial`). It holds a line
     /// per finished batch (a diffusion's, with its MSD grid: 551 bytes) and one per trajectory
     /// in flight (its exact state and its observers' accumulators: about 2 kB, 16 per thread):
     /// a default diffusion's is 20 to 300 kB, and one at the most batches a run takes
     /// ([`MAX_BATCHES`](crate::engine::parallel::MAX_BATCHES)) at
     /// most about 0.6 GB, under this cap.
-    pub const CHECKPOINT: Cap = Cap {
-        bytes: 1 << 30,
-        what: "a checkpoint",
-    };
+    pub const CHECKPOINT: Cap = Cap::new(1 << 30, "a checkpoint");
     /// A result the audit reads (`lorentz report`): a sweep of hundreds of points with every
     /// run is under 1 MiB.
-    pub const RESULT: Cap = Cap {
-        bytes: 64 << 20,
-        what: "a result file",
-    };
+    pub const RESULT: Cap = Cap::new(64 << 20, "a result file");
     /// A configuration file (`sweep --config`): a few KiB.
-    pub const CONFIG: Cap = Cap {
-        bytes: 1 << 20,
-        what: "a configuration file",
-    };
+    pub const CONFIG: Cap = Cap::new(1 << 20, "a configuration file");
     /// A table given as data (`--table`, TOML): a few KiB.
-    pub const TABLE: Cap = Cap {
-        bytes: 1 << 20,
-        what: "a table file",
-    };
+    pub const TABLE: Cap = Cap::new(1 << 20, "a table file");
     /// A finished point of a sweep over w (`points/*.json`), with every run's batches.
-    pub const POINT: Cap = Cap {
-        bytes: 16 << 20,
-        what: "a sweep point",
-    };
+    pub const POINT: Cap = Cap::new(16 << 20, "a sweep point");
     /// A finished point of a sweep in a field (`field-points/*.json`), or a part's manifest.
-    pub const FIELD_POINT: Cap = Cap {
-        bytes: 1 << 20,
-        what: "a field sweep's point or manifest",
-    };
+    pub const FIELD_POINT: Cap = Cap::new(1 << 20, "a field sweep's point or manifest");
     /// A part's manifest (`shard.json`): the part's configuration and point list.
-    pub const MANIFEST: Cap = Cap {
-        bytes: 16 << 20,
-        what: "a part's manifest",
-    };
+    pub const MANIFEST: Cap = Cap::new(16 << 20, "a part's manifest");
     /// A file this tool wrote and reads back into a document: a figure's SVG, a step's table
     /// or marker (`lorentz reproduce`, `lorentz report`).
-    pub const DOCUMENT: Cap = Cap {
-        bytes: 64 << 20,
-        what: "a figure or table of this tool",
-    };
+    pub const DOCUMENT: Cap = Cap::new(64 << 20, "a figure or table of this tool");
 }
 
 /// `n` bytes for a person: `6.0 GiB (6442450944 bytes)`, `300 bytes`.

@@ -386,16 +386,13 @@ fn recheck_one_field_point(
     found: &[Option<FieldSweepRow>],
 ) -> Result<(), Error> {
     let fg = cfg.field_grid()?;
-    let reused: Vec<usize> = (found.iter().enumerate())
-        .filter_map(|(k, p)| p.as_ref().map(|_| k))
-        .collect();
     let opts = RunOptions {
         progress: &|_| {},
         ..opts.clone()
     };
-    recheck_one_point(&reused, (dir, point_path), |i| {
+    recheck_one_point(found, (dir, point_path), |i, recorded| {
         let grid = fg.grid();
-        let (Some(recorded), Some(place)) = (&found[i], grid.get(i)) else {
+        let Some(place) = grid.get(i) else {
             return Ok(None);
         };
         let point = fg.point_config(cfg, i, place.clone())?;

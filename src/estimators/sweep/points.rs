@@ -68,19 +68,13 @@ fn recheck_one_run(
     dir: Option<&Path>,
     found: &[Option<SweepPoint>],
 ) -> Result<(), Error> {
-    let reused: Vec<usize> = (found.iter().enumerate())
-        .filter_map(|(k, p)| p.as_ref().map(|_| k))
-        .collect();
     let opts = RunOptions {
         resume: None,
         audit: None,
         progress: &|_| {},
         ..options.clone()
     };
-    recheck_one_point(&reused, (dir, point_path), |k| {
-        let Some(p) = found[k].as_ref() else {
-            return Ok(None);
-        };
+    recheck_one_point(found, (dir, point_path), |_, p| {
         let r = rand::random_range(0..cfg.runs());
         let fresh = run_many(&[cfg.run_config(p.index, p.w, r)], &opts)?;
         let same = match (fresh.first(), p.runs.get(r as usize)) {
@@ -96,7 +90,8 @@ fn recheck_one_run(
 /// Where a sweep keeps point i in its directory ([`point_path`], or a field sweep's).
 pub(crate) type PointPath = fn(&Path, usize) -> PathBuf;
 
-/// Draws one of the points reused from their files (`reused`, indices into the grid) at random
+/// Draws one of the points reused from their files (`found[i]` for point i, `None` for a point
+/// not on disk) at random
 /// (operating-system entropy, so that no one editing the files can know which), computes it
 /// again with `again` — which names what differs, `None` if it gives the recorded bits — and
 /// refuses the sweep on a difference, moving the point's file (`path` in `dir`) aside first
@@ -106,16 +101,19 @@ pub(crate) type PointPath = fn(&Path, usize) -> PathBuf;
 ///
 /// # Errors
 /// [`Error::Failed`] naming the point and its file, or an error of the re-run.
-pub(crate) fn recheck_one_point(
-    reused: &[usize],
+pub(crate) fn recheck_one_point<P>(
+    found: &[Option<P>],
     (dir, path): (Option<&Path>, PointPath),
-    again: impl FnOnce(usize) -> Result<Option<String>, Error>,
+    again: impl FnOnce(usize, &P) -> Result<Option<String>, Error>,
 ) -> Result<(), Error> {
+    let reused: Vec<(usize, &P)> = (found.iter().enumerate())
+        .filter_map(|(k, p)| Some((k, p.as_ref()?)))
+        .collect();
     if reused.is_empty() {
         return Ok(());
     }
-    let k = reused[rand::random_range(0..reused.len())];
-    let Some(what) = again(k)? else {
+    let (k, p) = reused[rand::random_range(0..reused.len())];
+    let Some(what) = again(k, p)? else {
         return Ok(());
     };
     let file = dir.map(|d| path(d, k));

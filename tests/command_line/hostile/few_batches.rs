@@ -62,16 +62,9 @@ fn an_audit_of_two_batches_is_incomplete_not_a_pass() {
 #[test]
 fn a_limit_law_from_two_batches_is_no_verdict() {
     let tmp = scratch();
-    let args = [
-        "free-paths",
-        "--w",
-        "0.2",
-        "--collisions",
-        "1e5",
-        "--batches",
-        "2",
-        "--quiet",
-    ];
+    let args: Vec<&str> = "free-paths --w 0.2 --collisions 1e5 --batches 2 --quiet"
+        .split(' ')
+        .collect();
     let (code, out, err) = lorentz(tmp.path(), &args);
     assert_eq!(code, 0, "{err}");
     let largest = out.lines().find(|l| l.contains("largest |z|")).unwrap();

@@ -10,7 +10,6 @@
 //! (every command honours the first signal within a second) and [`few_batches`] (no statistical
 //! verdict from too few batches).
 
-
 use std::os::unix::fs::{FileTypeExt, PermissionsExt, symlink};
 use std::path::Path;
 use std::process::{Command, Stdio};
