@@ -347,6 +347,7 @@ pub(super) fn run_points(
             _ => None,
         });
     }
+    check_work(cfg, &fg, &found, owns, &point_opts)?;
     let mut rows = Vec::with_capacity(grid.len());
     let mut resumed = 0;
     for (i, ((g, f), old)) in grid.into_iter().zip(found).enumerate() {
@@ -374,6 +375,30 @@ pub(super) fn run_points(
         rows.push(row);
     }
     Ok((rows, resumed))
+}
+
+/// Refuses the points still to run when, together, even the floor costs make them longer than a
+/// week of the sweep's threads: one check before the first point starts.
+fn check_work(
+    cfg: &SweepConfig,
+    fg: &FieldGrid,
+    found: &[Option<FieldSweepRow>],
+    owns: &dyn Fn(usize) -> bool,
+    opts: &RunOptions,
+) -> Result<(), Error> {
+    let simd = matches!(
+        opts.engine.resolve(true)?,
+        crate::engine::Resolved::Simd(_)
+    );
+    let mut parts = Vec::new();
+    for (i, (point, old)) in fg.grid().into_iter().zip(found).enumerate() {
+        if owns(i) && old.is_none() {
+            let point = fg.point_config(cfg, i, point)?;
+            parts.push(crate::estimators::field::work(&point, simd)?);
+        }
+    }
+    let lower = &["collisions", "fields", "localization_samples"];
+    crate::engine::work::Work::sum("a field sweep", lower, parts).check(opts.threads)
 }
 
 /// The row of a point's report.
