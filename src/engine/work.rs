@@ -48,7 +48,6 @@
 use crate::Error;
 use crate::numbers::precision::Precision;
 use crate::scenes::{Scene, Walk};
-use crate::scenes::magnetic::DiskLattice;
 
 /// The most work a run accepts: a week of every thread it is given.
 pub const MAX_SECONDS: f64 = 7.0 * 86_400.0;
@@ -82,7 +81,7 @@ pub const SECONDS_PER_CROSSING: f64 = 25e-9;
 
 /// A floor on the cost of one crossing of a cell edge by a straight flight walked cell by cell
 /// between collisions, on the triangular lattice's walk.
-pub const TRIANGULAR_SECONDS_PER_CROSSING: f64 = 10e-9;
+pub const TRIANGULAR_SECONDS_PER_CROSSING: f64 = 12e-9;
 
 /// The floor on one crossing of a cell edge by `scene`'s walk.
 pub fn seconds_per_crossing<S: Scene>(scene: &S) -> f64 {
@@ -95,25 +94,25 @@ pub fn seconds_per_crossing<S: Scene>(scene: &S) -> f64 {
 /// A floor on the cost of one crossing of a cell edge by an arc between collisions.
 pub const ARC_SECONDS_PER_CROSSING: f64 = 10e-9;
 
-/// A floor on the cost of one lattice row scanned by the classification of an orbit in a field
-/// (pinned, skipping or diffusing, `theory::magnetic::FieldGeometry::classify`).
-pub const SECONDS_PER_ROW: f64 = 2e-9;
+/// A floor on the cost of the classification of one orbit in a field (pinned, skipping or
+/// diffusing, `theory::magnetic::FieldGeometry::classify`): a diffusing orbit's circle is found
+/// meeting a disk in the first rows scanned, a pinned one scans every row within ρ + r.
+pub const SECONDS_PER_CLASSIFICATION: f64 = 20e-9;
 
 /// A floor on the exact pinned share's quadrature in a field, per power
 /// [`QUADRATURE_EXPONENT`] of the lattice rows within ρ + r of a height (the kinks of the free
 /// length times the rows each evaluation scans), where the annuli about the lattice points leave
 /// lines free; 0 elsewhere, where a line's free length is found covered at once.
-pub const QUADRATURE_SECONDS_PER_ROW_POWER: f64 = 4.4e-3;
+pub const QUADRATURE_SECONDS_PER_ROW_POWER: f64 = 4e-4;
 
-/// The growth of the exact pinned share's quadrature with the rows: measured 3.5 s, 18 to 26 s
-/// and more than 100 s at 11, 21 and 41 rows (the square lattice at ρr = 0.1), local slopes of
-/// 2.5 to 3.1 and above 2.3.
+/// The growth of the exact pinned share's quadrature with the rows: runs in a field measured
+/// 3.5 s, 18 to 26 s and more than 100 s at 11, 21 and 41 rows (the square lattice at ρr = 0.1),
+/// local slopes of 2.5 to 3.1 and above 2.3.
 pub const QUADRATURE_EXPONENT: f64 = 2.5;
 
-/// The floor on the classification of `samples` orbits in a field of cyclotron radius `rho` on
-/// `lattice`, on one thread.
-pub fn classification_seconds(lattice: &DiskLattice, rho: f64, samples: f64) -> f64 {
-    samples * classification_rows(lattice, rho) * SECONDS_PER_ROW
+/// The floor on the classification of `samples` orbits in a field, on one thread.
+pub fn classification_seconds(samples: f64) -> f64 {
+    samples * SECONDS_PER_CLASSIFICATION
 }
 
 /// The floor on the exact pinned share's quadrature over `rows` rows (0 where every line is
@@ -159,14 +158,6 @@ pub fn seconds_per_collision(precision: Precision) -> f64 {
         Precision::F64 => SCALAR_SECONDS_PER_COLLISION,
         Precision::Bits(bits) => mpfr_seconds_per_collision(bits),
     }
-}
-
-/// The lattice rows the classification of one orbit in a field scans on `lattice` at the
-/// cyclotron radius `rho`: for each disk, the rows within ρ + r of a height, twice (the skipping
-/// test and the meeting one).
-pub fn classification_rows(lattice: &DiskLattice, rho: f64) -> f64 {
-    let rows = |r: f64| (2.0 * (rho + r) / lattice.h).floor() + 1.0;
-    lattice.disks.iter().map(|d| 2.0 * rows(d.radius)).sum()
 }
 
 /// The cell edges a flight crosses per collision on `scene`, ⟨ℓ⟩/τ (Santaló's mean free path

@@ -57,6 +57,9 @@ pub struct FieldGeometry {
     reach: Vec<f64>,
     /// Every orbit is localized ([`FieldGeometry::all_localized`]), decided once.
     all_localized: bool,
+    /// The exact pinned share, integrated once when first asked for (its quadrature grows as a
+    /// power 2.5 of the rows within ρ + r: a run in a field asks for it five times).
+    pinned: std::sync::OnceLock<f64>,
 }
 
 /// Whether 2ρ ≤ R_m − r_m for every disk m: exactly, with ρ = 1/|B| for the double B the run
@@ -105,6 +108,7 @@ impl FieldGeometry {
             rho,
             reach,
             all_localized,
+            pinned: std::sync::OnceLock::new(),
         })
     }
 
@@ -257,6 +261,11 @@ impl FieldGeometry {
 
     /// The exact share of phase space in pinned orbits.
     pub fn pinned_fraction(&self) -> f64 {
+        *self.pinned.get_or_init(|| self.integrate_pinned())
+    }
+
+    /// The exact share of phase space in pinned orbits, integrated.
+    fn integrate_pinned(&self) -> f64 {
         let l = &self.lattice;
         let mut cuts = vec![0.0, l.h];
         for d in &l.disks {
@@ -317,7 +326,7 @@ impl FieldGeometry {
     pub fn setup_seconds(&self, samples: f64) -> (f64, f64) {
         use crate::engine::work::{classification_seconds, quadrature_seconds};
         let rows = self.quadrature_rows();
-        let classify = classification_seconds(&self.lattice, self.rho, samples);
+        let classify = classification_seconds(samples);
         (classify, quadrature_seconds(rows))
     }
 

@@ -115,8 +115,10 @@ pub fn run(cfg: &CostsConfig, options: &RunOptions) -> Result<Costs, Error> {
     let (square, triangular) = walks(cfg, options)?;
     row("cell edge, square walk, r = 1e-4", square, work::SECONDS_PER_CROSSING);
     row("cell edge, triangular walk, w = 1000", triangular, work::TRIANGULAR_SECONDS_PER_CROSSING);
+    let arc_walk = arc_walk(cfg)?;
+    row("cell edge, arcs, square r = 1/1000, B = 1/10", arc_walk, work::ARC_SECONDS_PER_CROSSING);
     let (row_s, quadrature) = classification(cfg)?;
-    row("lattice row, classification in a field", row_s, work::SECONDS_PER_ROW);
+    row("classification of an orbit in a field", row_s, work::SECONDS_PER_CLASSIFICATION);
     row(
         "pinned share's quadrature per rows^2.5, square r = 1/50, B = 1/5",
         quadrature,
@@ -181,8 +183,44 @@ fn walks(cfg: &CostsConfig, options: &RunOptions) -> Result<(f64, f64), Error> {
     Ok((s, t))
 }
 
-/// Seconds per lattice row of the classification of an orbit in a field (square lattice,
-/// r = 1/4, B = 10⁻³), and of the exact pinned share's quadrature per power 2.5 of its rows
+/// Seconds per cell edge crossed by an arc, collisions and observers included (square lattice,
+/// r = 1/1000, B = 1/10: tens of edges a collision), one thread: the difference of two runs'
+/// times over the difference of their edges, collisions times the measured mean free time
+/// over τ.
+fn arc_walk(cfg: &CostsConfig) -> Result<f64, Error> {
+    let scene = SquareScene::exact(Rational::from((1, 1000)))?;
+    let tau = scene.crossing_time().unwrap_or(f64::NAN);
+    let table = Table {
+        scene: crate::scenes::spec::SceneSpec::parse("square", None, Some("1/1000"))?,
+        motion: crate::scenes::spec::Motion::in_field("1/10"),
+    };
+    let one = RunOptions {
+        threads: 1,
+        ..RunOptions::default()
+    };
+    let timed = |collisions: u64| {
+        let c = crate::estimators::diffusion::DiffusionConfig {
+            collisions,
+            batches: 16,
+            seed: cfg.seed,
+            localization_samples: Some(1000),
+            ..crate::estimators::diffusion::DiffusionConfig::on(table.clone())
+        };
+        let start = Instant::now();
+        let r = crate::estimators::field::run(&c, &one)?;
+        let crossings = r.collisions as f64 * r.mean_free_time / tau;
+        Ok::<_, Error>((start.elapsed().as_secs_f64(), crossings))
+    };
+    // Two lengths, the set-up (the pinned share, the classification) the same in both.
+    let mut times = Vec::new();
+    for _ in 0..cfg.repetitions {
+        let ((t1, c1), (t2, c2)) = (timed(50_000)?, timed(250_000)?);
+        times.push((t2 - t1) / (c2 - c1));
+    }
+    Ok(median(&times))
+}
+
+/// Seconds per classification of an orbit in a field (square lattice, r = 1/4, B = 10⁻³), and of the exact pinned share's quadrature per power 2.5 of its rows
 /// (r = 1/50, B = 1/5).
 fn classification(cfg: &CostsConfig) -> Result<(f64, f64), Error> {
     let lattice = |r: i32| {
@@ -204,13 +242,12 @@ fn classification(cfg: &CostsConfig) -> Result<(f64, f64), Error> {
         std::hint::black_box(k);
         times.push(start.elapsed().as_secs_f64());
     }
-    let rows = work::classification_rows(wide.lattice(), wide.cyclotron_radius());
-    let per_row = median(&times) / (f64::from(n) * rows);
+    let per_orbit = median(&times) / f64::from(n);
     let narrow = FieldGeometry::new(lattice(50)?, 0.2)?;
     let start = Instant::now();
     std::hint::black_box(narrow.pinned_fraction());
     let rows = narrow.quadrature_rows();
-    Ok((per_row, start.elapsed().as_secs_f64() / rows.powf(work::QUADRATURE_EXPONENT)))
+    Ok((per_orbit, start.elapsed().as_secs_f64() / rows.powf(work::QUADRATURE_EXPONENT)))
 }
 
 /// The fit a + b·(p/1024)^α: α by least squares of log t against log p at 1024 bits and above,

@@ -17,6 +17,8 @@ use std::time::{Duration, Instant};
 
 use crate::common::{lorentz_in as lorentz, scratch};
 
+mod cost_bounds;
+
 fn mkfifo(path: &Path) {
     let status = Command::new("mkfifo").arg(path).status().expect("mkfifo");
     assert!(status.success());
