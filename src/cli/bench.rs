@@ -257,11 +257,17 @@ fn throughput_config(a: &Args) -> Result<ThroughputConfig, Error> {
 
 /// The cost model's constants, measured beside their floors.
 fn print_costs(r: &costs::Costs) {
-    println!("{:<64} {:>12} {:>12} {:>8}", "cost", "measured", "floor", "ratio");
+    println!(
+        "{:<64} {:>12} {:>12} {:>8}",
+        "cost", "measured", "floor", "ratio"
+    );
     for row in &r.rows {
         let s = |t: f64| format!("{:.3e} s", t);
         let (m, f) = (s(row.measured), s(row.floor));
-        println!("{:<64} {m:>12} {f:>12} {:>8.2}", row.cost, row.floor_over_measured);
+        println!(
+            "{:<64} {m:>12} {f:>12} {:>8.2}",
+            row.cost, row.floor_over_measured
+        );
     }
     let f = &r.mpfr_fit;
     println!(

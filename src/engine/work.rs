@@ -26,24 +26,37 @@
 //!   [`ARC_SIMD_SECONDS_PER_COLLISION`], [`ARC_SCALAR_SECONDS_PER_COLLISION`];
 //! * x, a cell edge crossed between collisions by the walk (a straight flight walked cell by
 //!   cell: [`SECONDS_PER_CROSSING`]; an arc: [`ARC_SECONDS_PER_CROSSING`]);
-//! * the set-up: a field's classification of orbits scans the lattice rows within ρ + r of a
-//!   sampled cyclotron centre, [`SECONDS_PER_ROW`] each, rows growing with ρ = 1/|B|.
+//! * the set-up: a field's classification of orbits ([`SECONDS_PER_CLASSIFICATION`] each) on
+//!   the run's threads, and its exact pinned share on one, a quadrature whose cost grows as a
+//!   power 2.5 of the lattice rows within ρ + r, ρ = 1/|B| ([`quadrature_seconds`]).
 //!
-//! Each constant is a floor, about half of what `lorentz bench --costs` measures (its report
-//! prints each measured value beside the floor here), so that a faster machine is not refused
-//! what it could finish: the check stops only what is out of reach. Measured on an AMD EPYC
-//! (Zen 4, 2 cores shared; `lorentz bench --costs`, medians of 3 repetitions, one thread):
+//! Each constant is a floor, about half of what `lorentz bench --costs` measures or less (its
+//! report prints each measured value beside the floor here), so that a faster machine is not
+//! refused what it could finish: the check stops only what is out of reach. Measured on an AMD
+//! EPYC (Zen 4; 2 cores shared with other jobs, so the spread between two calls is up to 3×),
+//! `lorentz bench --costs --repetitions 3`, medians, one thread (two calls):
 //!
 //! | cost | measured | floor |
 //! |---|---|---|
-//! | collision, SIMD engine, `f64` (w = 0.1) | 9.5 ns | 5 ns |
-//! | collision, scalar engine, `f64` | 38.8 ns | 15 ns |
-//! | collision, MPFR 64 / 1024 / 16 384 / 262 144 bits | 2.4 µs / 9.4 µs / 472 µs / 27.1 ms | 1.1 µs + 4.3 µs·(p/1024)^1.45 |
-//! | collision on arcs, SIMD arc engine (B = 1) | ARC_SIMD_MEASURED | ARC_SIMD_FLOOR |
-//! | collision on arcs, scalar | ARC_SCALAR_MEASURED | ARC_SCALAR_FLOOR |
-//! | cell edge, straight walk (square lattice, r = 10⁻⁴) | WALK_MEASURED | WALK_FLOOR |
-//! | cell edge, arc walk | ARC_WALK_MEASURED | ARC_WALK_FLOOR |
-//! | lattice row, classification of an orbit in a field | ROW_MEASURED | ROW_FLOOR |
+//! | collision, SIMD engine, `f64` (w = 0.1) | 9.7 to 23 ns | 5 ns |
+//! | collision, scalar engine, `f64` | 50 to 66 ns | 15 ns |
+//! | collision, MPFR 64 bits | 2.1 to 2.6 µs | 0.81 µs |
+//! | collision, MPFR 1024 bits | 9.0 to 9.5 µs | 4.7 µs |
+//! | collision, MPFR 16 384 bits | 453 to 472 µs | 148 µs |
+//! | collision, MPFR 262 144 bits | 27 to 80 ms | 5.4 ms |
+//! | collision, MPFR 2²⁰ bits (`bench --precision`) | 115 ms | 33 ms |
+//! | collision on arcs, SIMD arc engine (B = 1) | 44 to 200 ns | 20 ns |
+//! | collision on arcs, scalar (B = 1) | 188 to 774 ns | 80 ns |
+//! | cell edge, square walk (r = 10⁻⁴) | 54 to 166 ns | 25 ns |
+//! | cell edge, triangular walk (w = 1000) | 23 to 72 ns | 12 ns |
+//! | cell edge, arcs (square, r = 10⁻³, B = 0.1) | see `bench --costs` | 10 ns |
+//! | classification of an orbit in a field | 48 ns | 20 ns |
+//! | the pinned share's quadrature, per rows^2.5 | 0.83 ms | 0.4 ms |
+//!
+//! The MPFR fit of the measurements at 1024 bits and above is 2.0–2.5 µs + 7.3–9.1 µs ·
+//! (p/1024)^1.45–1.64; the floor's exponent is lower, 1.3, because MPFR's FFT multiplication
+//! makes the cost near-linear beyond 2¹⁶ bits (115 ms at 2²⁰ bits, not the 200 ms the power
+//! 1.45 gives), and a floor must stay below every measurement.
 
 use crate::Error;
 use crate::numbers::precision::Precision;
@@ -360,7 +373,11 @@ impl<'a> Work<'a> {
             serial += p.serial;
         }
         Work {
-            per_collision: if collisions > 0.0 { seconds / collisions } else { 0.0 },
+            per_collision: if collisions > 0.0 {
+                seconds / collisions
+            } else {
+                0.0
+            },
             setup,
             serial,
             ..Work::new(analysis, lower, collisions)

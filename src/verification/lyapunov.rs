@@ -164,7 +164,8 @@ pub fn run<S: Scene>(
         crossings_per_collision(scene)
     };
     Work::new("lyapunov", &["collisions_per_batch", "batches"], collisions)
-        .walking(scene).crossing(crossings)
+        .walking(scene)
+        .crossing(crossings)
         .check(threads)?;
     let lat = scene.lattice::<f64>(())?;
     let cell = lat.cell().clone();

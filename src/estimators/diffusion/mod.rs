@@ -270,11 +270,15 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
         return plan::run(cfg, options);
     }
     // Below w_inf a flight crosses at most a few traps: the collisions are the work.
-    Work::new("diffusion", work_lower(cfg.precision), cfg.collisions as f64)
-        .simd()
-        .at(cfg.precision)
-        .audited(options.audit)
-        .check(options.threads)?;
+    Work::new(
+        "diffusion",
+        work_lower(cfg.precision),
+        cfg.collisions as f64,
+    )
+    .simd()
+    .at(cfg.precision)
+    .audited(options.audit)
+    .check(options.threads)?;
     check_audit(options, cfg.precision)?;
     let audit = options.audit;
     let (spec, g) = setup(cfg, options.engine, options.threads, audit)?;

@@ -178,11 +178,15 @@ pub fn run_on<S: Scene>(
     options.validate()?;
     options.refuse_unused("diffusion", &RunOption::ALL)?;
     cfg.validate(scene)?;
-    Work::new("diffusion", super::work_lower(cfg.precision), cfg.collisions as f64)
-        .walking(scene)
-        .at(cfg.precision)
-        .audited(options.audit)
-        .check(options.threads)?;
+    Work::new(
+        "diffusion",
+        super::work_lower(cfg.precision),
+        cfg.collisions as f64,
+    )
+    .walking(scene)
+    .at(cfg.precision)
+    .audited(options.audit)
+    .check(options.threads)?;
     let engine = engine_on(scene, cfg.precision, options.engine)?;
     super::check_audit(options, cfg.precision)?;
     let start = Instant::now();

@@ -86,14 +86,18 @@ pub fn run<S: Scene>(
     )?;
     let engine = opts.engine.resolve(true)?;
     let collisions = f64::from(cfg.batches) * target_of(cfg) as f64;
-    crate::engine::work::Work::new("lyapunov in a field", &["collisions_per_batch", "batches"], collisions)
-        .in_field(
-            scene,
-            geometry.cyclotron_radius(),
-            matches!(engine, Resolved::Simd(_)),
-            geometry.setup_seconds(0.0),
-        )
-        .check(opts.threads)?;
+    crate::engine::work::Work::new(
+        "lyapunov in a field",
+        &["collisions_per_batch", "batches"],
+        collisions,
+    )
+    .in_field(
+        scene,
+        geometry.cyclotron_radius(),
+        matches!(engine, Resolved::Simd(_)),
+        geometry.setup_seconds(0.0),
+    )
+    .check(opts.threads)?;
     let start = |i: u32| FieldWalk::start(scene, field, cfg.seed, i as u64);
     let target = target_of(cfg);
     let orbits = match engine {

@@ -386,10 +386,7 @@ fn check_work(
     owns: &dyn Fn(usize) -> bool,
     opts: &RunOptions,
 ) -> Result<(), Error> {
-    let simd = matches!(
-        opts.engine.resolve(true)?,
-        crate::engine::Resolved::Simd(_)
-    );
+    let simd = matches!(opts.engine.resolve(true)?, crate::engine::Resolved::Simd(_));
     let mut parts = Vec::new();
     for (i, (point, old)) in fg.grid().into_iter().zip(found).enumerate() {
         if owns(i) && old.is_none() {
@@ -397,7 +394,7 @@ fn check_work(
             parts.push(crate::estimators::field::work(&point, simd)?);
         }
     }
-    let lower = &["collisions", "fields", "localization_samples"];
+    let lower = &["collisions_per_run", "fields", "localization_samples"];
     crate::engine::work::Work::sum("a field sweep", lower, parts).check(opts.threads)
 }
 

@@ -22,7 +22,8 @@ use crate::scenes::triangular::TriangularScene;
 use crate::theory::magnetic::FieldGeometry;
 
 /// The precisions MPFR collisions are timed at, with the collisions timed at each.
-pub const MPFR_POINTS: [(u32, u64); 4] = [(64, 20_000), (1024, 5_000), (16_384, 300), (262_144, 12)];
+pub const MPFR_POINTS: [(u32, u64); 4] =
+    [(64, 20_000), (1024, 5_000), (16_384, 300), (262_144, 12)];
 
 /// What `lorentz bench --costs` measures.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -98,9 +99,17 @@ pub fn run(cfg: &CostsConfig, options: &RunOptions) -> Result<Costs, Error> {
     };
     let w = Table::triangular("1/10")?;
     let simd = throughput(cfg, &w, Precision::F64, None, Engine::Auto, 2_000_000)?;
-    row("collision, SIMD engine, f64, w = 0.1", simd, work::SIMD_SECONDS_PER_COLLISION);
+    row(
+        "collision, SIMD engine, f64, w = 0.1",
+        simd,
+        work::SIMD_SECONDS_PER_COLLISION,
+    );
     let scalar = throughput(cfg, &w, Precision::F64, None, Engine::Scalar, 500_000)?;
-    row("collision, scalar engine, f64", scalar, work::SCALAR_SECONDS_PER_COLLISION);
+    row(
+        "collision, scalar engine, f64",
+        scalar,
+        work::SCALAR_SECONDS_PER_COLLISION,
+    );
     let mut mpfr = Vec::new();
     for (bits, n) in MPFR_POINTS {
         let t = throughput(cfg, &w, Precision::Bits(bits), None, Engine::Scalar, n)?;
@@ -109,16 +118,40 @@ pub fn run(cfg: &CostsConfig, options: &RunOptions) -> Result<Costs, Error> {
         mpfr.push((f64::from(bits), t));
     }
     let arcs = throughput(cfg, &w, Precision::F64, Some(1.0), Engine::Auto, 1_000_000)?;
-    row("collision on arcs, SIMD arc engine, B = 1", arcs, work::ARC_SIMD_SECONDS_PER_COLLISION);
+    row(
+        "collision on arcs, SIMD arc engine, B = 1",
+        arcs,
+        work::ARC_SIMD_SECONDS_PER_COLLISION,
+    );
     let arcs1 = throughput(cfg, &w, Precision::F64, Some(1.0), Engine::Scalar, 200_000)?;
-    row("collision on arcs, scalar, B = 1", arcs1, work::ARC_SCALAR_SECONDS_PER_COLLISION);
+    row(
+        "collision on arcs, scalar, B = 1",
+        arcs1,
+        work::ARC_SCALAR_SECONDS_PER_COLLISION,
+    );
     let (square, triangular) = walks(cfg, options)?;
-    row("cell edge, square walk, r = 1e-4", square, work::SECONDS_PER_CROSSING);
-    row("cell edge, triangular walk, w = 1000", triangular, work::TRIANGULAR_SECONDS_PER_CROSSING);
+    row(
+        "cell edge, square walk, r = 1e-4",
+        square,
+        work::SECONDS_PER_CROSSING,
+    );
+    row(
+        "cell edge, triangular walk, w = 1000",
+        triangular,
+        work::TRIANGULAR_SECONDS_PER_CROSSING,
+    );
     let arc_walk = arc_walk(cfg)?;
-    row("cell edge, arcs, square r = 1/1000, B = 1/10", arc_walk, work::ARC_SECONDS_PER_CROSSING);
+    row(
+        "cell edge, arcs, square r = 1/1000, B = 1/10",
+        arc_walk,
+        work::ARC_SECONDS_PER_CROSSING,
+    );
     let (row_s, quadrature) = classification(cfg)?;
-    row("classification of an orbit in a field", row_s, work::SECONDS_PER_CLASSIFICATION);
+    row(
+        "classification of an orbit in a field",
+        row_s,
+        work::SECONDS_PER_CLASSIFICATION,
+    );
     row(
         "pinned share's quadrature per rows^2.5, square r = 1/50, B = 1/5",
         quadrature,
@@ -247,7 +280,10 @@ fn classification(cfg: &CostsConfig) -> Result<(f64, f64), Error> {
     let start = Instant::now();
     std::hint::black_box(narrow.pinned_fraction());
     let rows = narrow.quadrature_rows();
-    Ok((per_orbit, start.elapsed().as_secs_f64() / rows.powf(work::QUADRATURE_EXPONENT)))
+    Ok((
+        per_orbit,
+        start.elapsed().as_secs_f64() / rows.powf(work::QUADRATURE_EXPONENT),
+    ))
 }
 
 /// The fit a + b·(p/1024)^α: α by least squares of log t against log p at 1024 bits and above,

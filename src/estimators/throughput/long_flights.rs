@@ -264,9 +264,17 @@ fn time_all<S: Scene>(
     let parts = scenes.iter().flat_map(|s| {
         let lower = &["collisions", "walk_collisions", "repetitions"];
         [
-            Work::new("the bench of long flights", lower, reps * cfg.collisions as f64),
-            Work::new("the bench of long flights", lower, reps * cfg.walk_collisions as f64)
-                .walking(s),
+            Work::new(
+                "the bench of long flights",
+                lower,
+                reps * cfg.collisions as f64,
+            ),
+            Work::new(
+                "the bench of long flights",
+                lower,
+                reps * cfg.walk_collisions as f64,
+            )
+            .walking(s),
         ]
     });
     let lower = &["walk_collisions", "collisions", "repetitions"];
