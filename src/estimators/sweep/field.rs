@@ -347,7 +347,7 @@ pub(super) fn run_points(
             _ => None,
         });
     }
-    check_work(cfg, &fg, &found, owns, &point_opts)?;
+    check_work(cfg, fg, &found, owns, &point_opts)?;
     let mut rows = Vec::with_capacity(grid.len());
     let mut resumed = 0;
     for (i, ((g, f), old)) in grid.into_iter().zip(found).enumerate() {
