@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use lorentz_gas::Error;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::observer_costs::{self, ObserverCostsConfig};
+use lorentz_gas::estimators::throughput::costs::{self, CostsConfig};
 use lorentz_gas::estimators::throughput::long_flights::{self, LongFlightBenchConfig};
 use lorentz_gas::estimators::throughput::{self, ThroughputConfig};
 use lorentz_gas::report::text::bench as text;
@@ -23,7 +24,7 @@ use super::progress::Progress;
 pub struct Args {
     /// Gap w between neighbouring disks (radius 1), a decimal or a fraction such as 1/10:
     /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094... (every bench but --long-flights).
-    #[arg(long = "w", value_name = "W", value_parser = parse_diffusive_gap, allow_hyphen_values = true, required_unless_present = "long_flights")]
+    #[arg(long = "w", value_name = "W", value_parser = parse_diffusive_gap, allow_hyphen_values = true, required_unless_present_any = ["long_flights", "costs"])]
     gap: Option<Exact>,
     /// Time a collision against the length of its flight: the square scene at these radii
     /// (exact, comma-separated, each 2^-32 <= r <= 1/4), or with --scene triangular the
@@ -93,6 +94,11 @@ pub struct Args {
     /// cell on the SIMD lanes), and report its speed against the triangular gas's
     #[arg(long, value_name = "FILE", conflicts_with_all = ["report", "observer_costs", "field", "observe"])]
     table: Option<PathBuf>,
+    /// Measure every constant of the cost model that refuses work beyond a week (collisions in
+    /// f64 and MPFR, on arcs, cell edges walked, a field's classification), one thread, each
+    /// beside its floor in `engine::work` (about half of it by design).
+    #[arg(long, conflicts_with_all = ["gap", "report", "observer_costs", "field", "observe", "precision", "threads", "table", "long_flights"])]
+    costs: bool,
     /// Output directory of --report (speed-vs-error.{md,json,png,svg}).
     #[arg(long, default_value = "results")]
     out: PathBuf,
@@ -163,6 +169,13 @@ pub fn run(a: Args) -> Result<(), Error> {
         );
     }
     refuse_long_flight_options(&a)?;
+    if a.costs {
+        let cfg = CostsConfig {
+            repetitions: a.repetitions,
+            seed: a.seed.seed,
+        };
+        return timed(&a, 1, "steps", |o| costs::run(&cfg, o), print_costs);
+    }
     if a.report {
         let out = a.out.clone();
         let pb = Progress::new(REPORT_STEPS, "steps", a.output.quiet);
@@ -240,6 +253,27 @@ fn throughput_config(a: &Args) -> Result<ThroughputConfig, Error> {
             .map(lorentz_gas::scenes::table::spec::TableSpec::read)
             .transpose()?,
     })
+}
+
+/// The cost model's constants, measured beside their floors.
+fn print_costs(r: &costs::Costs) {
+    println!(
+        "{:<64} {:>12} {:>12} {:>8}",
+        "cost", "measured", "floor", "ratio"
+    );
+    for row in &r.rows {
+        let s = |t: f64| format!("{:.3e} s", t);
+        let (m, f) = (s(row.measured), s(row.floor));
+        println!(
+            "{:<64} {m:>12} {f:>12} {:>8.2}",
+            row.cost, row.floor_over_measured
+        );
+    }
+    let f = &r.mpfr_fit;
+    println!(
+        "MPFR fit of the measured collisions: {:.2e} s + {:.2e} s * (p/1024)^{:.2}",
+        f.a, f.b, f.alpha
+    );
 }
 
 fn timed<R: serde::Serialize>(

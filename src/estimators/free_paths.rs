@@ -199,6 +199,7 @@ fn run_on<S: Scene>(
         crossings_per_collision(scene)
     };
     Work::new("free_paths", &["collisions"], cfg.collisions as f64)
+        .walking(scene)
         .crossing(crossings)
         .check(options.threads)?;
     let ell = scene.mean_free_path();

@@ -16,6 +16,7 @@
 //! unit of its last digit of the exact value, unless the two runs' agreement was a coincidence
 //! (the caveat of `proofs-notes/trajectory.md`).
 
+use crate::engine::work::{Work, mpfr_seconds_per_collision};
 use rug::ops::Pow;
 use rug::{Float, Integer, Rational};
 use serde::Serialize;
@@ -256,6 +257,11 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
             ),
         ));
     }
+    // The plan's exponent walks its cells, as the runs do: priced before either starts.
+    let planning = f64::from(PLAN_LAMBDA_ORBITS) * PLAN_LAMBDA_COLLISIONS as f64;
+    Work::new("trajectory's plan", &["time", "digits"], planning)
+        .walking(scene)
+        .check(1)?;
     let lambda = lyapunov::run(
         scene,
         &LyapunovConfig {
@@ -288,6 +294,11 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
             ),
         ));
     }
+    let per = mpfr_seconds_per_collision(bits as u32)
+        + mpfr_seconds_per_collision((2.0 * bits).min(f64::from(u32::MAX)) as u32);
+    Work::new("trajectory", &["time", "digits"], expected_events)
+        .costing(per)
+        .check(1)?;
     Ok(Plan {
         lambda_per_collision: lambda,
         mean_free_path,

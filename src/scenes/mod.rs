@@ -118,6 +118,15 @@ pub fn require_one_disk_per_cell<S: Scene>(
 /// Where [`Scene::locate`] puts a world point: its cell, and the point in that cell's frame.
 pub type Located<T> = Result<(CellIndex, Vec2<T>), Error>;
 
+/// The walk that crosses a scene's cells between collisions, each with its cost per crossing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Walk {
+    /// The triangular lattice's walk through its traps.
+    Triangular,
+    /// The generic walk through convex cells (the square lattice, tables given as data).
+    Cell,
+}
+
 /// A billiard table made of congruent convex cells.
 pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// The kernel that runs the scene's cell at number type `T` (the generic
@@ -167,6 +176,12 @@ pub trait Scene: Clone + std::fmt::Debug + Send + Sync {
     /// (the default): the scene does not supply it, and time is measured in mean free times.
     fn crossing_time(&self) -> Option<f64> {
         None
+    }
+
+    /// Which walk crosses the cells between collisions (for the cost of a crossing,
+    /// `engine::work`): the generic convex cell's, unless the scene has a faster one.
+    fn walk(&self) -> Walk {
+        Walk::Cell
     }
 
     /// The table as written, for a table given as data (results record it, so that a run can be

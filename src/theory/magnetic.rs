@@ -57,6 +57,9 @@ pub struct FieldGeometry {
     reach: Vec<f64>,
     /// Every orbit is localized ([`FieldGeometry::all_localized`]), decided once.
     all_localized: bool,
+    /// The exact pinned share, integrated once when first asked for (its quadrature grows as a
+    /// power 2.5 of the rows within ρ + r: a run in a field asks for it five times).
+    pinned: std::sync::OnceLock<f64>,
 }
 
 /// Whether 2ρ ≤ R_m − r_m for every disk m: exactly, with ρ = 1/|B| for the double B the run
@@ -105,6 +108,7 @@ impl FieldGeometry {
             rho,
             reach,
             all_localized,
+            pinned: std::sync::OnceLock::new(),
         })
     }
 
@@ -257,6 +261,11 @@ impl FieldGeometry {
 
     /// The exact share of phase space in pinned orbits.
     pub fn pinned_fraction(&self) -> f64 {
+        *self.pinned.get_or_init(|| self.integrate_pinned())
+    }
+
+    /// The exact share of phase space in pinned orbits, integrated.
+    fn integrate_pinned(&self) -> f64 {
         let l = &self.lattice;
         let mut cuts = vec![0.0, l.h];
         for d in &l.disks {
@@ -286,6 +295,39 @@ impl FieldGeometry {
     /// The localized share: pinned plus skipping.
     pub fn localized_fraction(&self) -> f64 {
         self.pinned_fraction() + self.skipping_fraction()
+    }
+
+    /// The lattice rows within ρ + r of a height, summed over the disks, that each evaluation of
+    /// the exact pinned share's quadrature scans — if a line is left free by the annuli (probed
+    /// at 64 heights), else 0: a line found covered returns at once, and the quadrature is quick.
+    /// Beyond 10⁵ rows no probe is made (their quadrature is out of reach either way).
+    pub fn quadrature_rows(&self) -> f64 {
+        const PROBES: u32 = 64;
+        let l = &self.lattice;
+        let rows: f64 = l
+            .disks
+            .iter()
+            .map(|d| (2.0 * (self.rho + d.radius) / l.h).floor() + 1.0)
+            .sum();
+        if rows > 1e5 {
+            return rows;
+        }
+        let height = |k: u32| (f64::from(k) + 0.5) / f64::from(PROBES) * l.h;
+        let free = (0..PROBES).any(|k| self.free_length(height(k)) > 0.0);
+        if free { rows } else { 0.0 }
+    }
+
+    /// The floors on the set-up of a run in this field, (on its threads, on one): the
+    /// classification of `samples` orbits and the exact pinned share
+    /// ([`classification_seconds`], [`quadrature_seconds`]).
+    ///
+    /// [`classification_seconds`]: crate::engine::work::classification_seconds
+    /// [`quadrature_seconds`]: crate::engine::work::quadrature_seconds
+    pub fn setup_seconds(&self, samples: f64) -> (f64, f64) {
+        use crate::engine::work::{classification_seconds, quadrature_seconds};
+        let rows = self.quadrature_rows();
+        let classify = classification_seconds(samples);
+        (classify, quadrature_seconds(rows))
     }
 
     /// The free length, over one period a of x, of the line at height y left by the annuli

@@ -7,6 +7,7 @@
 //! agree (`proofs-notes/certification.md`). The certified segment also shows how far the f64 orbit
 //! from the same start follows the true one.
 
+use crate::engine::work::{Work, mpfr_seconds_per_collision};
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
@@ -245,7 +246,18 @@ fn certify_with_meta<S: Scene>(
     if digits == 0 {
         return Err(Error::Zero { what: "digits" });
     }
+    let plan = f64::from(CERTIFY_LAMBDA_ORBITS) * CERTIFY_LAMBDA_COLLISIONS as f64;
+    let lower = &["collisions", "digits"];
+    Work::new("certify's plan", lower, plan)
+        .walking(scene)
+        .check(1)?;
     let mut bits = starting_bits(planning_exponent(scene)?, n, digits)?;
+    // The first attempt: runs at P and 2P bits, each walking its cells.
+    let per = mpfr_seconds_per_collision(bits) + mpfr_seconds_per_collision(bits.saturating_mul(2));
+    Work::new("certify", lower, n as f64)
+        .costing(per)
+        .walking(scene)
+        .check(1)?;
     let mut tried = Vec::new();
     let run = |b: u32, out: u32| -> Result<Vec<([Float; 4], f64)>, Error> {
         let lat = scene.lattice::<Float>(b)?;

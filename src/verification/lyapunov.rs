@@ -164,6 +164,7 @@ pub fn run<S: Scene>(
         crossings_per_collision(scene)
     };
     Work::new("lyapunov", &["collisions_per_batch", "batches"], collisions)
+        .walking(scene)
         .crossing(crossings)
         .check(threads)?;
     let lat = scene.lattice::<f64>(())?;

@@ -282,13 +282,25 @@ pub fn run<S: Scene>(
     crate::engine::parallel::check_batches("batches", cfg.batches)?;
     let field = cfg.field_exact()?;
     let flights = audit_flights(scene, cfg.flights, field.is_some())?;
-    let crossings = match flights {
-        Flights::Jump => 0.0,
-        _ => crossings_per_collision(scene),
+    // A jump is replayed by walking its column exactly: the sampled collisions walk their cells.
+    let walked = crossings_per_collision(scene);
+    let (crossings, replayed) = match flights {
+        Flights::Jump => (
+            0.0,
+            walked * crate::engine::work::seconds_per_crossing(scene),
+        ),
+        _ => (walked, 0.0),
     };
-    Work::new("audit", &["collisions"], cfg.collisions as f64)
-        .crossing(crossings)
-        .check(threads)?;
+    Work::new(
+        "audit",
+        &["collisions", "sample", "reference_bits"],
+        cfg.collisions as f64,
+    )
+    .walking(scene)
+    .crossing(crossings)
+    .replaying(cfg.sample, cfg.reference_bits)
+    .costing_more(cfg.sample * replayed)
+    .check(threads)?;
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }

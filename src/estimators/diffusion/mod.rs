@@ -270,9 +270,15 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
         return plan::run(cfg, options);
     }
     // Below w_inf a flight crosses at most a few traps: the collisions are the work.
-    Work::new("diffusion", &["collisions"], cfg.collisions as f64)
-        .simd()
-        .check(options.threads)?;
+    Work::new(
+        "diffusion",
+        work_lower(cfg.precision),
+        cfg.collisions as f64,
+    )
+    .simd()
+    .at(cfg.precision)
+    .audited(options.audit)
+    .check(options.threads)?;
     check_audit(options, cfg.precision)?;
     let audit = options.audit;
     let (spec, g) = setup(cfg, options.engine, options.threads, audit)?;
@@ -367,6 +373,15 @@ fn check_packable(first: &DiffusionConfig, c: &DiffusionConfig) -> Result<(), Er
 }
 
 /// Refuses a per-event audit of an MPFR run (the audit replays `f64` events in MPFR).
+/// The parameters a diffusion run refused for its work lowers: its collisions, and its precision
+/// in MPFR.
+pub(crate) fn work_lower(precision: Precision) -> &'static [&'static str] {
+    match precision {
+        Precision::F64 => &["collisions"],
+        Precision::Bits(_) => &["collisions", "precision"],
+    }
+}
+
 fn check_audit(options: &RunOptions, precision: Precision) -> Result<(), Error> {
     if options.audit.is_some() && precision != Precision::F64 {
         return Err(Error::parameter(

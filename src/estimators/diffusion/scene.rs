@@ -27,7 +27,7 @@ use crate::engine::checkpoint::{drive_kept, run_block_kept};
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOption, RunOptions};
 use crate::engine::simd::BLOCK;
-use crate::engine::work::{Work, crossings_per_collision};
+use crate::engine::work::Work;
 use crate::engine::{Engine, Resolved, SimdPath};
 use crate::kernel::cell::ConvexCell;
 use crate::numbers::precision::{AtPrecision, Precision};
@@ -178,9 +178,15 @@ pub fn run_on<S: Scene>(
     options.validate()?;
     options.refuse_unused("diffusion", &RunOption::ALL)?;
     cfg.validate(scene)?;
-    Work::new("diffusion", &["collisions"], cfg.collisions as f64)
-        .crossing(crossings_per_collision(scene))
-        .check(options.threads)?;
+    Work::new(
+        "diffusion",
+        super::work_lower(cfg.precision),
+        cfg.collisions as f64,
+    )
+    .walking(scene)
+    .at(cfg.precision)
+    .audited(options.audit)
+    .check(options.threads)?;
     let engine = engine_on(scene, cfg.precision, options.engine)?;
     super::check_audit(options, cfg.precision)?;
     let start = Instant::now();

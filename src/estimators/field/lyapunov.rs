@@ -85,8 +85,21 @@ pub fn run<S: Scene>(
         b,
     )?;
     let engine = opts.engine.resolve(true)?;
+    let collisions = f64::from(cfg.batches) * target_of(cfg) as f64;
+    crate::engine::work::Work::new(
+        "lyapunov in a field",
+        &["collisions_per_batch", "batches"],
+        collisions,
+    )
+    .in_field(
+        scene,
+        geometry.cyclotron_radius(),
+        matches!(engine, Resolved::Simd(_)),
+        geometry.setup_seconds(0.0),
+    )
+    .check(opts.threads)?;
     let start = |i: u32| FieldWalk::start(scene, field, cfg.seed, i as u64);
-    let target = cfg.collisions_per_batch + TANGENT_TRANSIENT;
+    let target = target_of(cfg);
     let orbits = match engine {
         Resolved::Simd(path) => {
             let batches: Vec<u32> = (0..cfg.batches).collect();
@@ -105,6 +118,11 @@ pub fn run<S: Scene>(
         }
     };
     Ok(report(scene, cfg, &geometry, engine, &orbits, opts))
+}
+
+/// The collisions of one orbit: its batch and the tangent's transient.
+fn target_of(cfg: &LyapunovConfig) -> u64 {
+    cfg.collisions_per_batch.saturating_add(TANGENT_TRANSIENT)
 }
 
 /// The report of the finished `orbits`.

@@ -23,6 +23,7 @@
 //! phase points (binomial error) and Kac's mean free time of the diffusing part are measured
 //! beside their exact values.
 
+use crate::engine::work::Work;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -209,10 +210,11 @@ fn run_on<S: Scene>(
     opts: &RunOptions,
 ) -> Result<FieldReport, Error> {
     let geometry = geometry_of(scene, field_of(cfg)?)?;
-    let started = Instant::now();
-    let (localized, samples) = classify(cfg, scene, &geometry, opts)?;
     let f64_run = cfg.precision == Precision::F64;
     let engine = opts.engine.resolve(f64_run)?;
+    work_on(scene, cfg, &geometry, matches!(engine, Resolved::Simd(_))).check(opts.threads)?;
+    let started = Instant::now();
+    let (localized, samples) = classify(cfg, scene, &geometry, opts)?;
     let batches = if geometry.all_localized() {
         Vec::new()
     } else {
@@ -240,6 +242,48 @@ fn run_on<S: Scene>(
     )?;
     report.meta = report.meta.with_engine(engine);
     Ok(report)
+}
+
+/// The work of the run `cfg` in a field (on the SIMD arc engine if `simd`), before it starts: its
+/// collisions on arcs at its precision, the classification of its localization samples and the
+/// exact pinned share.
+///
+/// # Errors
+/// A bad table or field.
+pub fn work(cfg: &DiffusionConfig, simd: bool) -> Result<Work<'static>, Error> {
+    let scene = cfg.table.scene.resolve()?;
+    crate::with_scene!(&scene, |s| Ok(work_on(
+        s,
+        cfg,
+        &geometry_of(s, field_of(cfg)?)?,
+        simd
+    )))
+}
+
+/// [`work`] on the resolved scene and geometry.
+fn work_on<S: Scene>(
+    scene: &S,
+    cfg: &DiffusionConfig,
+    geometry: &FieldGeometry,
+    simd: bool,
+) -> Work<'static> {
+    let lower = crate::estimators::diffusion::work_lower(cfg.precision);
+    let samples = cfg.localization_samples.unwrap_or(0) as f64;
+    let rho = geometry.cyclotron_radius();
+    let collisions = if geometry.all_localized() {
+        0.0
+    } else {
+        cfg.collisions as f64
+    };
+    let w = Work::new("diffusion in a field", lower, collisions)
+        .in_field(scene, rho, simd, geometry.setup_seconds(samples))
+        .at(cfg.precision);
+    // A stronger field shortens the arcs and the rows within ρ + r of the pinned share.
+    if w.serial > 0.0 || w.crossings > 1.0 {
+        w.or_raise("field")
+    } else {
+        w
+    }
 }
 
 /// The exact geometry of `scene` in the field `b`.

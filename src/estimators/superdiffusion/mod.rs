@@ -405,6 +405,7 @@ fn run_on<S: Scene>(
         _ => crossings_per_collision(scene),
     };
     Work::new("superdiffusion", &["collisions"], cfg.collisions as f64)
+        .walking(scene)
         .crossing(crossings)
         .check(options.threads)?;
     let ell = scene.mean_free_path();

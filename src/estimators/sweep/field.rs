@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::field_guards;
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
@@ -22,7 +23,7 @@ use crate::engine::resume::{seal, unseal};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::estimators::field::FieldReport;
 use crate::estimators::sweep::SweepConfig;
-use crate::estimators::sweep::points::{recheck_one_point, renamed_point, same_sweep};
+use crate::estimators::sweep::points::{renamed_point, same_sweep};
 use crate::scenes::spec::SceneSpec;
 use crate::scenes::spec::{Motion, Table};
 use crate::statistics::comparison::{self, Comparison, largest_of_bound};
@@ -347,7 +348,8 @@ pub(super) fn run_points(
             _ => None,
         });
     }
-    recheck_one_field_point(cfg, &point_opts, dir, &found)?;
+    field_guards::check_work(cfg, fg, &found, owns, &point_opts)?;
+    field_guards::recheck_one_point(cfg, &point_opts, dir, &found)?;
     let mut rows = Vec::with_capacity(grid.len());
     let mut resumed = 0;
     for (i, ((g, f), old)) in grid.into_iter().zip(found).enumerate() {
@@ -377,39 +379,8 @@ pub(super) fn run_points(
     Ok((rows, resumed))
 }
 
-/// Computes one reused point again, drawn at random, and compares its row with the point file's
-/// to the bit: the guard of every sweep ([`recheck_one_point`]).
-fn recheck_one_field_point(
-    cfg: &SweepConfig,
-    opts: &RunOptions,
-    dir: Option<&Path>,
-    found: &[Option<FieldSweepRow>],
-) -> Result<(), Error> {
-    let fg = cfg.field_grid()?;
-    let opts = RunOptions {
-        progress: &|_| {},
-        ..opts.clone()
-    };
-    recheck_one_point(found, (dir, point_path), |i, recorded| {
-        let grid = fg.grid();
-        let Some(place) = grid.get(i) else {
-            return Ok(None);
-        };
-        let point = fg.point_config(cfg, i, place.clone())?;
-        let fresh = row_of(&crate::estimators::field::run(&point, &opts)?);
-        let bits = |r: &FieldSweepRow| serde_json::to_value(r).ok();
-        let same = bits(&fresh).is_some() && bits(&fresh) == bits(recorded);
-        let at = match &place.0 {
-            SceneSpec::Triangular { w } => format!("w = {w}"),
-            SceneSpec::Square { radius } => format!("radius {radius}"),
-            SceneSpec::Table(t) => t.title().to_string(),
-        };
-        Ok((!same).then(|| format!("point {i} ({at}, B = {}),", place.1)))
-    })
-}
-
 /// The row of a point's report.
-fn row_of(r: &FieldReport) -> FieldSweepRow {
+pub(super) fn row_of(r: &FieldReport) -> FieldSweepRow {
     FieldSweepRow {
         w: r.w,
         radius: r.radius,

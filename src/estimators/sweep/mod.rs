@@ -11,6 +11,7 @@
 pub mod analysis;
 pub mod field;
 pub mod field_grid;
+mod field_guards;
 pub mod field_parts;
 pub mod file;
 pub mod points;

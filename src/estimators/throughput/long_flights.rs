@@ -9,6 +9,7 @@
 //! rotated by one scene per repetition; a scene's cost relative to the first is the median over
 //! repetitions of the paired ratio of their times per collision.
 
+use crate::engine::work::Work;
 use std::time::Instant;
 
 use rug::Rational;
@@ -258,6 +259,26 @@ fn time_all<S: Scene>(
     cfg: &LongFlightBenchConfig,
     options: &RunOptions,
 ) -> Result<Timings, Error> {
+    // The walk crosses ⟨ℓ⟩/τ cells a collision: at a radius of 2⁻³² billions. Priced first.
+    let reps = cfg.repetitions as f64;
+    let parts = scenes.iter().flat_map(|s| {
+        let lower = &["collisions", "walk_collisions", "repetitions"];
+        [
+            Work::new(
+                "the bench of long flights",
+                lower,
+                reps * cfg.collisions as f64,
+            ),
+            Work::new(
+                "the bench of long flights",
+                lower,
+                reps * cfg.walk_collisions as f64,
+            )
+            .walking(s),
+        ]
+    });
+    let lower = &["walk_collisions", "collisions", "repetitions"];
+    Work::sum("the bench of long flights", lower, parts).check(1)?;
     let mut runs = scenes
         .iter()
         .enumerate()

@@ -4,6 +4,7 @@
 
 mod arcs;
 mod check;
+pub mod costs;
 pub mod long_flights;
 mod tables;
 

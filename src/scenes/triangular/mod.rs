@@ -129,6 +129,10 @@ impl Scene for TriangularScene {
     }
 
     /// The paper's mean hop time τ = πA/(3w): a trap's three gaps of width w are its free edges.
+    fn walk(&self) -> super::Walk {
+        super::Walk::Triangular
+    }
+
     fn crossing_time(&self) -> Option<f64> {
         Geometry::new(self.w()).ok().map(|g| g.hop_time())
     }

@@ -17,6 +17,7 @@ use std::time::{Duration, Instant};
 
 use crate::common::{lorentz_in as lorentz, scratch};
 
+mod cost_bounds;
 mod few_batches;
 mod field_parity;
 mod files;
