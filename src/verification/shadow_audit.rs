@@ -283,6 +283,8 @@ pub fn run<S: Scene>(
     let field = cfg.field_exact()?;
     let flights = audit_flights(scene, cfg.flights, field.is_some())?;
     // A jump is replayed by walking its column exactly: the sampled collisions walk their cells.
+    // The ranges first: the work is priced from values known to be in range.
+    AuditSpec::new(cfg.sample, cfg.reference_bits)?;
     let walked = crossings_per_collision(scene);
     let (crossings, replayed) = match flights {
         Flights::Jump => (
@@ -304,7 +306,6 @@ pub fn run<S: Scene>(
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
-    AuditSpec::new(cfg.sample, cfg.reference_bits)?;
     let start = std::time::Instant::now();
     let lat = scene.lattice::<f64>(())?;
     let parts: Vec<(AuditSummary, u64)> = crate::engine::parallel::par_batches_watched(
