@@ -176,7 +176,11 @@ def test_str_of_a_report_is_the_command_lines_text(cli, tmp_path):
     code, out, err = cli("report", str(tmp_path / "d.json"), "--quick", "--out",
                          str(tmp_path / "r"), "--quiet")
     assert code == 0, err
-    assert _unclocked(str(result)) == _unclocked(out.rstrip("\n"))
+    # Each audit draws its re-run batch afresh (operating-system entropy), so the numbers of the
+    # re-run checks differ between the two: the lines, checks and verdicts are the same.
+    drawn = lambda text: re.sub(r"\d+(\.\d+)?(e[-+]?\d+)?", "N", _unclocked(text))
+    assert drawn(str(result)) == drawn(out.rstrip("\n"))
+    assert "PASS (quick audit: 1 of 16 batches re-run" in str(result).splitlines()[-1]
     assert str(result).splitlines()[-1].endswith(f"written: {tmp_path / 'r'}/report.{{md,html,json}}")
     assert "PASS" in str(result).splitlines()[-1]
 

@@ -4,7 +4,7 @@
 
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field;
-use lorentz_gas::estimators::sweep::field::{self as sweep, FieldGrid, point_path};
+use lorentz_gas::estimators::sweep::field::{self as sweep, FieldGrid, FieldSweepRow, point_path};
 use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 
 use crate::common::{scratch, threads};
@@ -108,4 +108,51 @@ fn the_sweep_checks_onsager_casimir_over_plus_and_minus_b() {
             "{row:?}"
         );
     }
+}
+
+/// The rows of a field sweep for the Onsager–Casimir pairing (no run).
+fn onsager_row(w: f64, field: f64, d_xx: f64, d_xy: f64, err: f64) -> FieldSweepRow {
+    FieldSweepRow {
+        w: Some(w),
+        radius: None,
+        field,
+        cyclotron_radius: 1.0 / field.abs(),
+        D_xx: d_xx,
+        D_xx_err: err,
+        D_xy: d_xy,
+        D_xy_err: err,
+        pinned_fraction_exact: 0.0,
+        skipping_fraction_exact: 0.0,
+        localized_fraction_exact: 0.0,
+        localized_fraction: 0.0,
+        localized_fraction_err: 0.0,
+        all_localized: false,
+        mean_free_time: 1.0,
+        mean_free_time_err: 0.0,
+        mean_free_time_exact: 1.0,
+    }
+}
+
+#[test]
+fn onsager_pairs_b_with_minus_b_at_the_same_gap_and_catches_a_violation() {
+    let rows = [
+        onsager_row(0.1, 1.0, 0.10, 0.05, 0.001),
+        onsager_row(0.1, -1.0, 0.1005, -0.0495, 0.001),
+        onsager_row(0.2, -1.0, 0.3, 0.0, 0.001),
+        onsager_row(0.1, 2.0, 0.07, 0.08, 0.001),
+    ];
+    let c = sweep::onsager(&rows, 16);
+    assert_eq!(c.len(), 1);
+    assert_eq!((c[0].w, c[0].field), (Some(0.1), 1.0));
+    assert!((c[0].d_xx_even.difference + 0.0005).abs() < 1e-15);
+    assert!((c[0].d_xy_odd.difference - 0.0005).abs() < 1e-15);
+    assert!((c[0].d_xx_even.err - 0.001 * 2f64.sqrt()).abs() < 1e-15);
+    assert!(c[0].d_xx_even.agrees() && c[0].d_xy_odd.agrees());
+    // A Hall part even in B (the same sign at ±B) is 70 errors from 0.
+    let even = [
+        onsager_row(0.1, 1.0, 0.10, 0.05, 0.001),
+        onsager_row(0.1, -1.0, 0.10, 0.05, 0.001),
+    ];
+    let c = sweep::onsager(&even, 16);
+    assert!(c[0].d_xx_even.agrees() && !c[0].d_xy_odd.agrees(), "{c:?}");
 }

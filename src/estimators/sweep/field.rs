@@ -15,7 +15,6 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::field_guards;
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
@@ -23,7 +22,7 @@ use crate::engine::resume::{seal, unseal};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::estimators::field::FieldReport;
 use crate::estimators::sweep::SweepConfig;
-use crate::estimators::sweep::points::{renamed_point, same_sweep};
+use crate::estimators::sweep::points::{recheck_one_point, renamed_point, same_sweep};
 use crate::scenes::spec::SceneSpec;
 use crate::scenes::spec::{Motion, Table};
 use crate::statistics::comparison::{self, Comparison, largest_of_bound};
@@ -348,8 +347,8 @@ pub(super) fn run_points(
             _ => None,
         });
     }
-    field_guards::check_work(cfg, fg, &found, owns, &point_opts)?;
-    field_guards::recheck_one_point(cfg, &point_opts, dir, &found)?;
+    check_work(cfg, fg, &found, owns, &point_opts)?;
+    recheck_one_field_point(cfg, &point_opts, dir, &found)?;
     let mut rows = Vec::with_capacity(grid.len());
     let mut resumed = 0;
     for (i, ((g, f), old)) in grid.into_iter().zip(found).enumerate() {
@@ -379,8 +378,60 @@ pub(super) fn run_points(
     Ok((rows, resumed))
 }
 
+/// Refuses the points still to run when, together, even the floor costs make them longer than a
+/// week of the sweep's threads: one check before the first point starts.
+fn check_work(
+    cfg: &SweepConfig,
+    fg: &FieldGrid,
+    found: &[Option<FieldSweepRow>],
+    owns: &dyn Fn(usize) -> bool,
+    opts: &RunOptions,
+) -> Result<(), Error> {
+    let simd = matches!(opts.engine.resolve(true)?, crate::engine::Resolved::Simd(_));
+    let mut parts = Vec::new();
+    for (i, (point, old)) in fg.grid().into_iter().zip(found).enumerate() {
+        if owns(i) && old.is_none() {
+            let point = fg.point_config(cfg, i, point)?;
+            parts.push(crate::estimators::field::work(&point, simd)?);
+        }
+    }
+    let lower = &["collisions_per_run", "fields", "localization_samples"];
+    crate::engine::work::Work::sum("a field sweep", lower, parts).check(opts.threads)
+}
+
+/// Computes one reused point again, drawn at random, and compares its row with the point file's
+/// to the bit: the guard of every sweep ([`recheck_one_point`]).
+fn recheck_one_field_point(
+    cfg: &SweepConfig,
+    opts: &RunOptions,
+    dir: Option<&Path>,
+    found: &[Option<FieldSweepRow>],
+) -> Result<(), Error> {
+    let fg = cfg.field_grid()?;
+    let opts = RunOptions {
+        progress: &|_| {},
+        ..opts.clone()
+    };
+    recheck_one_point(found, (dir, point_path), |i, recorded| {
+        let grid = fg.grid();
+        let Some(place) = grid.get(i) else {
+            return Ok(None);
+        };
+        let point = fg.point_config(cfg, i, place.clone())?;
+        let fresh = row_of(&crate::estimators::field::run(&point, &opts)?);
+        let bits = |r: &FieldSweepRow| serde_json::to_value(r).ok();
+        let same = bits(&fresh).is_some() && bits(&fresh) == bits(recorded);
+        let at = match &place.0 {
+            SceneSpec::Triangular { w } => format!("w = {w}"),
+            SceneSpec::Square { radius } => format!("radius {radius}"),
+            SceneSpec::Table(t) => t.title().to_string(),
+        };
+        Ok((!same).then(|| format!("point {i} ({at}, B = {}),", place.1)))
+    })
+}
+
 /// The row of a point's report.
-pub(super) fn row_of(r: &FieldReport) -> FieldSweepRow {
+fn row_of(r: &FieldReport) -> FieldSweepRow {
     FieldSweepRow {
         w: r.w,
         radius: r.radius,
@@ -517,55 +568,4 @@ pub fn write_tables(r: &FieldSweepReport, dir: &Path) -> Result<(), Error> {
         dir.join("field-sweep.json"),
         serde_json::to_string_pretty(r).map_err(Error::encode)?,
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn row(w: f64, field: f64, d_xx: f64, d_xy: f64, err: f64) -> FieldSweepRow {
-        FieldSweepRow {
-            w: Some(w),
-            radius: None,
-            field,
-            cyclotron_radius: 1.0 / field.abs(),
-            D_xx: d_xx,
-            D_xx_err: err,
-            D_xy: d_xy,
-            D_xy_err: err,
-            pinned_fraction_exact: 0.0,
-            skipping_fraction_exact: 0.0,
-            localized_fraction_exact: 0.0,
-            localized_fraction: 0.0,
-            localized_fraction_err: 0.0,
-            all_localized: false,
-            mean_free_time: 1.0,
-            mean_free_time_err: 0.0,
-            mean_free_time_exact: 1.0,
-        }
-    }
-
-    #[test]
-    fn onsager_pairs_b_with_minus_b_at_the_same_gap_and_catches_a_violation() {
-        let rows = [
-            row(0.1, 1.0, 0.10, 0.05, 0.001),
-            row(0.1, -1.0, 0.1005, -0.0495, 0.001),
-            row(0.2, -1.0, 0.3, 0.0, 0.001),
-            row(0.1, 2.0, 0.07, 0.08, 0.001),
-        ];
-        let c = onsager(&rows, 16);
-        assert_eq!(c.len(), 1);
-        assert_eq!((c[0].w, c[0].field), (Some(0.1), 1.0));
-        assert!((c[0].d_xx_even.difference + 0.0005).abs() < 1e-15);
-        assert!((c[0].d_xy_odd.difference - 0.0005).abs() < 1e-15);
-        assert!((c[0].d_xx_even.err - 0.001 * 2f64.sqrt()).abs() < 1e-15);
-        assert!(c[0].d_xx_even.agrees() && c[0].d_xy_odd.agrees());
-        // A Hall part even in B (the same sign at ±B) is 70 errors from 0.
-        let even = [
-            row(0.1, 1.0, 0.10, 0.05, 0.001),
-            row(0.1, -1.0, 0.10, 0.05, 0.001),
-        ];
-        let c = onsager(&even, 16);
-        assert!(c[0].d_xx_even.agrees() && !c[0].d_xy_odd.agrees(), "{c:?}");
-    }
 }

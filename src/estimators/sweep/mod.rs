@@ -11,7 +11,6 @@
 pub mod analysis;
 pub mod field;
 pub mod field_grid;
-mod field_guards;
 pub mod field_parts;
 pub mod file;
 pub mod points;

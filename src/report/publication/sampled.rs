@@ -4,10 +4,10 @@ use serde::Serialize;
 
 use super::{PublicationReport, Verdict};
 
-/// What a quick audit re-ran from their seeds: `rerun` of a result's `of` batches (or of a
+/// What a quick audit re-ran from their seeds: `rerun` of a result's `count` batches (or of a
 /// sweep's runs), drawn from operating-system entropy as the audit ran, so that no edit of the
 /// file can choose them. A forged unit passes only if the draw misses it: the PASS of a quick
-/// audit is only as strong as [`Sampled::pass_with_one_forged`], and a result is published with
+/// audit is only as strong as [`Sampled::p_forged_pass`], and a result is published with
 /// the full audit, which re-runs every one (`proofs-notes/audit-draw.md`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Sampled {
@@ -16,21 +16,21 @@ pub struct Sampled {
     /// How many were re-run.
     pub rerun: u64,
     /// Of how many.
-    pub of: u64,
+    pub count: u64,
     /// The chance that a result with one forged unit passes the re-run check: that the draw
-    /// misses it, (of − rerun)/of. A result with k forged units passes with chance
-    /// C(of − k, rerun)/C(of, rerun), no more.
-    pub pass_with_one_forged: f64,
+    /// misses it, (count − rerun)/count. A result with k forged units passes with
+    /// chance C(count − k, rerun)/C(count, rerun), no more.
+    pub p_forged_pass: f64,
 }
 
 impl Sampled {
-    /// `rerun` of `of` units re-run (`None` if that is all of them).
-    pub fn new(units: &'static str, rerun: u64, of: u64) -> Option<Self> {
-        (rerun < of).then(|| Sampled {
+    /// `rerun` of `count` units re-run (`None` if that is all of them).
+    pub fn new(units: &'static str, rerun: u64, count: u64) -> Option<Self> {
+        (rerun < count).then(|| Sampled {
             units,
             rerun,
-            of,
-            pass_with_one_forged: (of - rerun) as f64 / of as f64,
+            count,
+            p_forged_pass: (count - rerun) as f64 / count as f64,
         })
     }
 
@@ -41,7 +41,7 @@ impl Sampled {
     /// ```
     /// use lorentz_gas::report::publication::Sampled;
     /// let s = Sampled::new("batches", 1, 32).unwrap();
-    /// assert_eq!(s.pass_with_one_forged, 31.0 / 32.0);
+    /// assert_eq!(s.p_forged_pass, 31.0 / 32.0);
     /// assert!(s.strength().starts_with("quick audit: 1 of 32 batches re-run"), "{}", s.strength());
     /// assert!(Sampled::new("runs", 4, 4).is_none());
     /// ```
@@ -50,11 +50,11 @@ impl Sampled {
             "quick audit: {} of {} {} re-run, drawn at random as the audit ran; a result with one \
              of the others forged passes it with chance {}/{} ({:.0} %): publish with the full audit",
             self.rerun,
-            self.of,
+            self.count,
             self.units,
-            self.of - self.rerun,
-            self.of,
-            100.0 * self.pass_with_one_forged
+            self.count - self.rerun,
+            self.count,
+            100.0 * self.p_forged_pass
         )
     }
 }

@@ -446,10 +446,10 @@ pub fn run<S: Scene>(
     // Straight flights are shadowed about the disks at the lattice points, arcs by the field's
     // exact geometry: either way a disk is labelled by its lattice point.
     crate::scenes::require_one_disk_per_cell(scene, "shadow")?;
-    use crate::engine::work::{SHADOW_COLLISIONS_PER_COLLISION, Work, mpfr_seconds_per_collision};
+    use crate::engine::work::{Work, mpfr_seconds_per_collision, shadow_collisions_per_collision};
     let lower = &["segments", "collisions_per_segment", "reference_bits"];
     Work::new("shadow", lower, f64::from(segments) * collisions as f64)
-        .costing(SHADOW_COLLISIONS_PER_COLLISION * mpfr_seconds_per_collision(bits))
+        .costing(shadow_collisions_per_collision(bits) * mpfr_seconds_per_collision(bits))
         .check(threads)?;
     let field = field_of(scene, request)?;
     let exact = field.as_ref().map(|f| &f.0);

@@ -93,7 +93,7 @@ fn wall(args: &str) -> f64 {
 fn floors_are_below_real_runs_and_not_absurdly_so() {
     use lorentz_gas::engine::work::{
         self, ARC_SIMD_SECONDS_PER_COLLISION, SCALAR_SECONDS_PER_COLLISION, SECONDS_PER_CROSSING,
-        SHADOW_COLLISIONS_PER_COLLISION, Work, mpfr_seconds_per_collision,
+        Work, mpfr_seconds_per_collision, shadow_collisions_per_collision,
     };
     use lorentz_gas::scenes::square::SquareScene;
     let square = SquareScene::exact(rug::Rational::from((1, 10_000))).unwrap();
@@ -105,7 +105,7 @@ fn floors_are_below_real_runs_and_not_absurdly_so() {
         ),
         (
             "shadow --w 0.1 --segments 1 --collisions-per-segment 100 --reference-bits 1024",
-            100.0 * SHADOW_COLLISIONS_PER_COLLISION * mpfr_seconds_per_collision(1024),
+            100.0 * shadow_collisions_per_collision(1024) * mpfr_seconds_per_collision(1024),
         ),
         (
             "free-paths --scene square --radius 1/10000 --flights walk --collisions 3000 --batches 2",

@@ -53,10 +53,10 @@ fn a_quick_audit_draws_its_batch_afresh_whatever_the_file_holds() {
         drawn.insert(batch);
         assert_eq!(sampled["units"], "batches");
         assert_eq!(
-            (sampled["rerun"].as_u64(), sampled["of"].as_u64()),
+            (sampled["rerun"].as_u64(), sampled["count"].as_u64()),
             (Some(1), Some(16))
         );
-        assert_eq!(sampled["pass_with_one_forged"].as_f64(), Some(15.0 / 16.0));
+        assert_eq!(sampled["p_forged_pass"].as_f64(), Some(15.0 / 16.0));
         assert!(
             last.contains("PASS (quick audit: 1 of 16 batches re-run")
                 && last.contains("15/16")
