@@ -140,33 +140,8 @@ fn refuse_long_flight_options(a: &Args) -> Result<(), Error> {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let threads = a.threads.unwrap_or(1);
-    if let Some(values) = &a.long_flights {
-        let triangular = a.scene == Some(SceneName::Triangular);
-        let defaults = LongFlightBenchConfig::new();
-        let cfg = LongFlightBenchConfig {
-            radii: if triangular {
-                Vec::new()
-            } else {
-                values.clone()
-            },
-            gaps: if triangular {
-                values.clone()
-            } else {
-                Vec::new()
-            },
-            collisions: a.collisions_per_radius.unwrap_or(defaults.collisions),
-            walk_collisions: a.walk_collisions.unwrap_or(defaults.walk_collisions),
-            repetitions: a.repetitions,
-            seed: a.seed.seed,
-        };
-        cfg.scenes()?;
-        return timed(
-            &a,
-            1,
-            "repetitions",
-            |o| long_flights::run(&cfg, o),
-            |r| print!("{}", text::long_flights(r)),
-        );
+    if a.long_flights.is_some() {
+        return run_long_flights(&a);
     }
     refuse_long_flight_options(&a)?;
     if a.costs {
@@ -223,6 +198,38 @@ pub fn run(a: Args) -> Result<(), Error> {
         |o| throughput::run(&cfg, o),
         |r| print!("{}", text::throughput(r)),
     )
+}
+
+/// `bench --long-flights`: the long-flight engine against the cell walk at each radius (or gap
+/// of the triangular scene).
+fn run_long_flights(a: &Args) -> Result<(), Error> {
+    let values = a.long_flights.clone().unwrap_or_default();
+    let triangular = a.scene == Some(SceneName::Triangular);
+    let defaults = LongFlightBenchConfig::new();
+    let cfg = LongFlightBenchConfig {
+        radii: if triangular {
+            Vec::new()
+        } else {
+            values.clone()
+        },
+        gaps: if triangular {
+            values.clone()
+        } else {
+            Vec::new()
+        },
+        collisions: a.collisions_per_radius.unwrap_or(defaults.collisions),
+        walk_collisions: a.walk_collisions.unwrap_or(defaults.walk_collisions),
+        repetitions: a.repetitions,
+        seed: a.seed.seed,
+    };
+    cfg.scenes()?;
+    return timed(
+        &a,
+        1,
+        "repetitions",
+        |o| long_flights::run(&cfg, o),
+        |r| print!("{}", text::long_flights(r)),
+    );
 }
 
 /// Runs `measure` with a progress bar of --repetitions `unit` on `threads` threads and the

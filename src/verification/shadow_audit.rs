@@ -253,6 +253,35 @@ fn q3(h: &LogHistogram) -> Quantiles {
     }
 }
 
+/// Refuses the audit `cfg` of `scene` when even the floor costs make it longer than a week of
+/// its `threads` ([`Work`]): its collisions, the cells they walk, and the sampled replays in MPFR
+/// (a jump is replayed by walking its column exactly, so sampled jumps walk their cells).
+fn price<S: Scene>(
+    scene: &S,
+    cfg: &AuditConfig,
+    flights: Flights,
+    threads: usize,
+) -> Result<(), Error> {
+    let walked = crossings_per_collision(scene);
+    let (crossings, replayed) = match flights {
+        Flights::Jump => (
+            0.0,
+            walked * crate::engine::work::seconds_per_crossing(scene),
+        ),
+        _ => (walked, 0.0),
+    };
+    Work::new(
+        "audit",
+        &["collisions", "sample", "reference_bits"],
+        cfg.collisions as f64,
+    )
+    .walking(scene)
+    .crossing(crossings)
+    .replaying(cfg.sample, cfg.reference_bits)
+    .costing_more(cfg.sample * replayed)
+    .check(threads)
+}
+
 /// Runs the audit `cfg` on `threads` threads (the result does not depend on them). `progress`
 /// receives collision counts.
 ///
@@ -282,27 +311,9 @@ pub fn run<S: Scene>(
     crate::engine::parallel::check_batches("batches", cfg.batches)?;
     let field = cfg.field_exact()?;
     let flights = audit_flights(scene, cfg.flights, field.is_some())?;
-    // A jump is replayed by walking its column exactly: the sampled collisions walk their cells.
     // The ranges first: the work is priced from values known to be in range.
     AuditSpec::new(cfg.sample, cfg.reference_bits)?;
-    let walked = crossings_per_collision(scene);
-    let (crossings, replayed) = match flights {
-        Flights::Jump => (
-            0.0,
-            walked * crate::engine::work::seconds_per_crossing(scene),
-        ),
-        _ => (walked, 0.0),
-    };
-    Work::new(
-        "audit",
-        &["collisions", "sample", "reference_bits"],
-        cfg.collisions as f64,
-    )
-    .walking(scene)
-    .crossing(crossings)
-    .replaying(cfg.sample, cfg.reference_bits)
-    .costing_more(cfg.sample * replayed)
-    .check(threads)?;
+    price(scene, cfg, flights, threads)?;
     if threads == 0 {
         return Err(Error::Zero { what: "threads" });
     }
