@@ -16,7 +16,8 @@ pub struct Args {
     /// A result of diffusion, sweep (or merge), hops, theory, lattice-walk, backscatter or
     /// escape, written with --json (or sweep.json); at most 64 MiB.
     result: PathBuf,
-    /// Quick: one batch (or run) re-run, chosen by the file's digest, fewer events replayed,
+    /// Quick: one batch (or run) re-run, drawn at random (the verdict states how strong that is:
+    /// publish with the full audit), fewer events replayed,
     /// short precision runs, at most 2e9 collisions re-run in all — under a minute for a default
     /// diffusion result on 2 cores.
     #[arg(long)]

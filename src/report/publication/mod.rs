@@ -28,13 +28,14 @@
 //!   agree with each other and with the recorded D within errors;
 //! - **shadowing** — for the first 1000 collisions of some of the run's own trajectories, a true
 //!   orbit within δ of every f64 collision point ([`crate::verification::shadowing`]);
-//! - **reproducibility** — re-run batches give the recorded bits (one batch, chosen by the file's
-//!   digest, with `quick`; every batch otherwise).
+//! - **reproducibility** — re-run batches give the recorded bits (one batch, drawn from
+//!   operating-system entropy as the audit runs, with `quick` — its strength stated in the verdict,
+//!   [`Sampled`]; every batch otherwise).
 //!
 //! For a `sweep` result (also one written by `lorentz merge`: the same result): the record (the
 //! rows, the F tests of the runs, the fits and the crossing recomputed by the sweep's own analysis
 //! from each run's D and error in the file, to the bit), the runs' F tests over the points, and
-//! runs re-run from their seeds (one run of one point, chosen by the digest, with `quick`; the
+//! runs re-run from their seeds (one run of one point, drawn at random, with `quick`; the
 //! whole sweep otherwise). For `hops`, `theory`, `lattice-walk`, `backscatter` and `escape`: the
 //! record against its configuration, the exact identities they carry (Kac's lemma for
 //! injection), and the configuration re-run, every field identical but timing and metadata.
@@ -480,7 +481,7 @@ fn overall(checks: &[Check]) -> Verdict {
     }
 }
 
-/// What every check of one audit shares: the file's digest, where figures go, the settings, the
+/// What every check of one audit shares: its random draw, where figures go, the settings, the
 /// re-runs with the budget's admission of each, and where re-runs report their collisions.
 struct Ctx<'a> {
     /// The audit's one draw of operating-system entropy: which batch or run a quick audit
