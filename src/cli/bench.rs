@@ -223,17 +223,15 @@ fn run_long_flights(a: &Args) -> Result<(), Error> {
         seed: a.seed.seed,
     };
     cfg.scenes()?;
-    return timed(
-        &a,
+    timed(
+        a,
         1,
         "repetitions",
         |o| long_flights::run(&cfg, o),
         |r| print!("{}", text::long_flights(r)),
-    );
+    )
 }
 
-/// Runs `measure` with a progress bar of --repetitions `unit` on `threads` threads and the
-/// engine asked for, then prints its result (JSON or `text`).
 /// The throughput measurement these options ask for (the field parsed exactly, the table read).
 fn throughput_config(a: &Args) -> Result<ThroughputConfig, Error> {
     Ok(ThroughputConfig {
@@ -283,6 +281,8 @@ fn print_costs(r: &costs::Costs) {
     );
 }
 
+/// Runs `measure` with a progress bar of --repetitions `unit` on `threads` threads and the
+/// engine asked for, then prints its result (JSON or `text`).
 fn timed<R: serde::Serialize>(
     a: &Args,
     threads: usize,
