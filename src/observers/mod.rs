@@ -11,6 +11,7 @@
 //! L is, so every observable has the same bits on every engine.
 //!
 //! * [`msd`]: mean squared displacement at fixed lag times, sampled on a fixed time grid.
+//! * [`excursion`]: bounded or diffusing, one trajectory from the largest distance it reached.
 //! * [`counters`]: collisions, crossings, total time (compensated), longest flight.
 //! * [`hops`]: trap-hopping symbols, collisionless visits, hop-direction correlations.
 //! * [`flight_tails`]: the tails of the free flights under the map and the flow.
@@ -21,6 +22,7 @@
 //!   logarithmic grid.
 
 pub mod counters;
+pub mod excursion;
 pub mod flight_tails;
 pub mod free_paths;
 pub mod hop_correlations;
