@@ -61,7 +61,7 @@ pub struct Excursion {
 impl Excursion {
     /// Lattice cells (the longer lattice vector) an island orbit may span: island orbits circle a
     /// few disks (the square lattice's at r = 2/5, B = 2 spans one and a half cells).
-    pub const CELLS: f64 = 6.0;
+    pub const CELLS: f64 = 3.0;
 
     /// How far beyond the limit every diffusing trajectory of a run must reach for the split to
     /// be called clear: a diffusing trajectory that stays within this many limits is reported as
@@ -101,14 +101,14 @@ mod tests {
     fn a_circle_is_bounded_and_a_walk_away_is_not() {
         let tri = DiskLattice::equal(2.2, 0.5, 2.2 * 3f64.sqrt() / 2.0, 1.0);
         let ex = Excursion::of(&tri, 0.4);
-        assert!((ex.limit - (6.0 * 2.2 + 0.8)).abs() < 1e-12, "{}", ex.limit);
+        assert!((ex.limit - (3.0 * 2.2 + 0.8)).abs() < 1e-12, "{}", ex.limit);
         let mut r = Reach::new();
         for k in 0..1000 {
             let t = f64::from(k) * 0.01;
-            r.push(3.0 * t.cos() - 3.0, 3.0 * t.sin());
+            r.push(2.0 * t.cos() - 2.0, 2.0 * t.sin());
         }
         assert_eq!(ex.classify(&r), Component::Bounded);
-        assert!((r.largest() - 6.0).abs() < 1e-3);
+        assert!((r.largest() - 4.0).abs() < 1e-3);
         r.push(ex.limit * 1.01, 0.0);
         assert_eq!(ex.classify(&r), Component::Diffusing);
         assert!(ex.ambiguous(&r));
