@@ -38,6 +38,13 @@ impl Reach {
         Reach::default()
     }
 
+    /// A trajectory that reached the distance `largest` (a record read back).
+    pub fn at(largest: f64) -> Self {
+        Reach {
+            largest2: largest * largest,
+        }
+    }
+
     /// One point of the record: the displacement (x, y) from the start.
     #[inline]
     pub fn push(&mut self, x: f64, y: f64) {

@@ -5,6 +5,7 @@ use num_traits::Float;
 
 pub mod comparison;
 pub mod fits;
+pub mod outlier;
 
 /// Mean and standard error of the mean of independent values (the batch-means estimator).
 ///

@@ -38,6 +38,7 @@ use crate::engine::parallel::{par_batches_watched, share};
 use crate::numbers::exact::{nearest_f64, parse_exact};
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
+use crate::observers::excursion::Excursion;
 use crate::scenes::Scene;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::spec::Table;
@@ -45,11 +46,13 @@ use crate::scenes::spec::{SceneSpec, field_value};
 use crate::statistics::{linear_fit, mean_se};
 use crate::theory::magnetic::FieldGeometry;
 
+mod components;
 mod lanes;
 pub mod lyapunov;
 mod track;
 mod walk;
 
+pub use components::{Components, SPLIT_ALPHA};
 pub use walk::FieldWalk;
 
 use track::{Batch, Setup};
@@ -130,7 +133,7 @@ pub struct FieldReport {
     pub field: f64,
     /// Cyclotron radius 1/|B|.
     pub cyclotron_radius: f64,
-    /// D_xx over the whole phase space: (1 − localized share) × the diffusing part's, the mean
+    /// D_xx over the whole phase space: (1 − bounded share) × the diffusing part's, the mean
     /// of D_xx and D_yy — the isotropic D where the scene's symmetry makes the tensor isotropic
     /// ([`Scene::isotropic`]: the presets, a table a quarter turn maps onto itself), half its
     /// trace otherwise (`diffusing` has each).
@@ -141,7 +144,7 @@ pub struct FieldReport {
     pub D_xy: f64,
     /// Its standard error.
     pub D_xy_err: f64,
-    /// The tensor of the diffusing part, over the fit window.
+    /// The tensor of the diffusing part (the diffusing batches only), over the fit window.
     pub diffusing: Tensor,
     /// The same over the later check window (the linear regime's check).
     pub diffusing_check: Tensor,
@@ -180,10 +183,13 @@ pub struct FieldReport {
     pub collisions: u64,
     /// Wall-clock seconds.
     pub seconds: f64,
-    /// Per-batch D_xx (mean of xx and yy) of the diffusing part.
+    /// Per-batch D_xx (mean of xx and yy), every batch (bounded ones too: see `components`).
     pub batch_D_xx: Vec<f64>,
-    /// Per-batch Hall D_xy of the diffusing part.
+    /// Per-batch Hall D_xy, every batch.
     pub batch_D_xy: Vec<f64>,
+    /// The batches by component: the bounded ones set aside, the diffusing ones tested for one
+    /// distribution.
+    pub components: Components,
     /// The configuration.
     pub config: DiffusionConfig,
     /// Provenance.
@@ -376,12 +382,21 @@ fn tensor_of(b: &Batch, lags: &[usize], tau: f64, win: &Window) -> [f64; 4] {
     out
 }
 
-/// The tensor over `win` from every batch, with standard errors.
-fn tensor(batches: &[Batch], lags: &[usize], tau: f64, win: &Window) -> Tensor {
-    let per: Vec<[f64; 4]> = batches
-        .iter()
-        .map(|b| tensor_of(b, lags, tau, win))
+/// The tensor over `win` from the batches `keep` selects, with standard errors (zero if none).
+fn tensor(
+    batches: &[Batch],
+    lags: &[usize],
+    tau: f64,
+    win: &Window,
+    keep: impl Fn(usize) -> bool,
+) -> Tensor {
+    let per: Vec<[f64; 4]> = (batches.iter().enumerate())
+        .filter(|(i, _)| keep(*i))
+        .map(|(_, b)| tensor_of(b, lags, tau, win))
         .collect();
+    if per.is_empty() {
+        return Tensor::default();
+    }
     let stat = |k: usize| mean_se(&per.iter().map(|t| t[k]).collect::<Vec<_>>());
     let ((xx, xx_e), (yy, yy_e), (h, h_e), (s, s_e)) = (stat(0), stat(1), stat(2), stat(3));
     Tensor {
@@ -431,6 +446,19 @@ fn mean_free_time(batches: &[Batch]) -> (f64, f64) {
     (1.0 / r, e / (r * r))
 }
 
+/// The whole phase space's D from the diffusing part's `(d, se)`: times the share that diffuses,
+/// (1 − localized)(1 − p) with p the bounded batches' share, the error of p propagated.
+fn whole(d: (f64, f64), c: &Components, keep: f64) -> (f64, f64) {
+    let n = c.batch_component.len().max(1) as f64;
+    let p = f64::from(c.bounded) / n;
+    let share = keep * (1.0 - p);
+    if c.bounded_fraction_err == 0.0 {
+        return (share * d.0, share * d.1);
+    }
+    let e = (share * d.1).hypot(d.0 * c.bounded_fraction_err);
+    (share * d.0, e)
+}
+
 fn summarise<S: Scene>(
     cfg: &DiffusionConfig,
     (scene, geometry): (&S, &FieldGeometry),
@@ -442,30 +470,37 @@ fn summarise<S: Scene>(
 ) -> Result<FieldReport, Error> {
     let d = cfg;
     let lags = all_lags(cfg);
-    let (diffusing, check) = if batches.is_empty() {
-        (Tensor::default(), Tensor::default())
-    } else {
-        (
-            tensor(batches, &lags, tau, &d.window),
-            tensor(batches, &lags, tau, &d.check_window),
-        )
-    };
     let per: Vec<[f64; 4]> = batches
         .iter()
         .map(|b| tensor_of(b, &lags, tau, &d.window))
         .collect();
     let batch_xx: Vec<f64> = per.iter().map(|t| (t[0] + t[1]) / 2.0).collect();
-    let (xx, xx_err) = if per.is_empty() {
-        (0.0, 0.0)
-    } else {
-        mean_se(&batch_xx)
-    };
+    let batch_xy: Vec<f64> = per.iter().map(|t| t[2]).collect();
     // The diffusing share (exactly 0 where every orbit is localized, never −0 from rounding).
     let keep = if geometry.all_localized() {
         0.0
     } else {
         (1.0 - geometry.localized_fraction()).max(0.0)
     };
+    let reaches: Vec<_> = batches.iter().map(|b| b.reach).collect();
+    let excursion = Excursion::of(geometry.lattice(), geometry.cyclotron_radius());
+    let localized_exact = geometry.localized_fraction();
+    let components = Components::of(excursion, &reaches, (&batch_xx, &batch_xy), localized_exact);
+    let diffusing = tensor(batches, &lags, tau, &d.window, |i| components.diffusing(i));
+    let check = tensor(batches, &lags, tau, &d.check_window, |i| {
+        components.diffusing(i)
+    });
+    let kept: Vec<f64> = (batch_xx.iter().enumerate())
+        .filter(|(i, _)| components.diffusing(*i))
+        .map(|(_, v)| *v)
+        .collect();
+    let xx = if kept.is_empty() {
+        (0.0, 0.0)
+    } else {
+        mean_se(&kept)
+    };
+    let (xx, xx_err) = whole(xx, &components, keep);
+    let (xy, xy_err) = whole((diffusing.D_xy, diffusing.D_xy_err), &components, keep);
     let (mft, mft_err) = mean_free_time(batches);
     let f = localized as f64 / samples as f64;
     let collisions: u64 = batches.iter().map(|b| b.collisions).sum();
@@ -477,10 +512,10 @@ fn summarise<S: Scene>(
         radius,
         field: field_of(cfg)?,
         cyclotron_radius: geometry.cyclotron_radius(),
-        D_xx: keep * xx,
-        D_xx_err: keep * xx_err,
-        D_xy: keep * diffusing.D_xy,
-        D_xy_err: keep * diffusing.D_xy_err,
+        D_xx: xx,
+        D_xx_err: xx_err,
+        D_xy: xy,
+        D_xy_err: xy_err,
         diffusing,
         diffusing_check: check,
         pinned_fraction_exact: geometry.pinned_fraction(),
@@ -499,7 +534,8 @@ fn summarise<S: Scene>(
         collisions,
         seconds,
         batch_D_xx: batch_xx,
-        batch_D_xy: per.iter().map(|t| t[2]).collect(),
+        batch_D_xy: batch_xy,
+        components,
         config: cfg.clone(),
         meta: RunMeta::new(
             Some(d.seed),

@@ -13,6 +13,7 @@ use crate::kernel::arc::{arc_area, chord_at};
 use crate::kernel::flight::EventKind;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
+use crate::observers::excursion::Reach;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Basis64, Lattice, LatticeState, Unwrapped};
 use crate::scenes::magnetic::ArcStep;
@@ -84,6 +85,8 @@ pub(super) struct Batch {
     pub time: f64,
     /// Localized starts drawn (and set aside) before the diffusing one.
     pub rejected: u64,
+    /// The largest distance from its start at the samples of the time grid.
+    pub reach: Reach,
 }
 
 /// Where and how one batch runs.
@@ -124,6 +127,7 @@ pub(super) struct Track {
     t: f64,
     area: f64,
     next: u64,
+    reach: Reach,
     /// Collisions within the duration.
     pub(super) done: u64,
 }
@@ -147,6 +151,7 @@ impl Track {
             t: 0.0,
             area: 0.0,
             next: 1,
+            reach: Reach::new(),
             done: 0,
         }
     }
@@ -166,7 +171,9 @@ impl Track {
             let tau = self.next as f64 * self.grid - t;
             let x = chord_at(v, &tau, &w);
             let c = self.area + (r[0] * x.y - r[1] * x.x) + arc_area(tau, w);
-            self.sums.push(r[0] + x.x, r[1] + x.y, c);
+            let (dx, dy) = (r[0] + x.x, r[1] + x.y);
+            self.sums.push(dx, dy, c);
+            self.reach.push(dx, dy);
             self.next += 1;
         }
         self.area += (r[0] * step.chord[1] - r[1] * step.chord[0]) + step.area;
@@ -183,6 +190,7 @@ impl Track {
             collisions: self.done,
             time: self.duration,
             rejected,
+            reach: self.reach,
         }
     }
 }

@@ -84,7 +84,12 @@ pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
         let scene = cfg.table.scene.resolve()?;
         let isotropic = crate::with_scene!(&scene, |s| crate::scenes::Scene::isotropic(s));
         diffusing_checks(r, isotropic, checks);
-        batch_statistics(&r.batch_D_xx, checks);
+        component_checks(r, &g, checks);
+        let kept: Vec<f64> = (r.batch_D_xx.iter().enumerate())
+            .filter(|(i, _)| r.components.diffusing(*i))
+            .map(|(_, v)| *v)
+            .collect();
+        batch_statistics(&kept, checks);
     }
     let what = format!(
         "{} collisions in {} batches at field {} (seed {}, {})",
@@ -150,6 +155,71 @@ fn diffusing_checks(r: &FieldReport, isotropic: bool, checks: &mut Checks) {
             ("identities", name),
             format!("{v} ± {e:.1e} against {x} ({z:+.2}σ; bound {bound:.2}σ)"),
             &[("value", v), ("err", e), ("exact", x)],
+        );
+    }
+}
+
+/// The components: the record's classification is the one its reaches make at the table's limit,
+/// the diffusing batches are one distribution (else FAIL: an average over components is not an
+/// estimate), and every diffusing batch went clearly beyond the limit (else the split is not
+/// clear: skipped, so the report is INCOMPLETE).
+fn component_checks(r: &FieldReport, g: &FieldGeometry, checks: &mut Checks) {
+    use crate::estimators::field::Components;
+    use crate::observers::excursion::{Excursion, Reach};
+    let c = &r.components;
+    let excursion = Excursion::of(g.lattice(), g.cyclotron_radius());
+    let reaches: Vec<Reach> = c.batch_reach.iter().map(|&x| Reach::at(x)).collect();
+    let again = Components::of(
+        excursion,
+        &reaches,
+        (&r.batch_D_xx, &r.batch_D_xy),
+        r.localized_fraction_exact,
+    );
+    let same = serde_json::to_value(&again).ok() == serde_json::to_value(c).ok();
+    checks.pass_if(
+        same && reaches.len() == r.batch_D_xx.len(),
+        "statistics",
+        "components: the record's classification is its batches' reaches at the table's limit",
+        c.describe(),
+        &[("bounded", f64::from(c.bounded)), ("limit", c.limit)],
+    );
+    let one = "the diffusing batches are one component (no outlying D_xx or D_xy)";
+    match (c.extreme_D_xx, c.extreme_D_xy) {
+        (Some(xx), Some(xy)) => checks.pass_if(
+            !c.split,
+            "statistics",
+            one,
+            format!(
+                "most extreme D_xx batch {}: t = {:+.2}, D_xy batch {}: t = {:+.2}, against the \
+                 Bonferroni bound {:.2} (false alarm {} in all)",
+                xx.batch,
+                xx.t,
+                xy.batch,
+                xy.t,
+                xx.bound,
+                crate::estimators::field::SPLIT_ALPHA
+            ),
+            &[("t_D_xx", xx.t), ("t_D_xy", xy.t), ("bound", xx.bound)],
+        ),
+        _ => checks.skip(
+            "statistics",
+            one,
+            format!(
+                "{} diffusing batches: the test needs at least 3",
+                c.diffusing
+            ),
+        ),
+    }
+    if c.ambiguous > 0 {
+        checks.skip(
+            "statistics",
+            "the bounded and diffusing trajectories are clearly apart",
+            format!(
+                "{} diffusing batches stayed within {} limits ({:.3}) of their start: run longer",
+                c.ambiguous,
+                Excursion::AMBIGUOUS,
+                Excursion::AMBIGUOUS * c.limit
+            ),
         );
     }
 }

@@ -2,7 +2,8 @@
 //! most extreme batch, and the batch error against the errors of blocks of batches.
 
 use super::{ALPHA, Checks};
-use crate::statistics::{mean_se, student_t_quantile};
+use crate::statistics::mean_se;
+use crate::statistics::outlier::Extreme;
 
 /// The between-group F, the most extreme batch, and batch against block errors; skipped below 8
 /// batches (four groups need two batches each).
@@ -56,36 +57,27 @@ fn between_groups_check(x: &[f64], checks: &mut Checks) {
     );
 }
 
-/// The most extreme batch against a Bonferroni Student-t bound: each batch against the mean and
-/// spread of the others (externally studentised, t with n − 2 dof), in O(n) from the totals.
+/// The most extreme batch against a Bonferroni Student-t bound
+/// ([`crate::statistics::outlier::most_extreme`]).
 fn outlier_check(x: &[f64], checks: &mut Checks) {
-    let n = x.len();
-    let nf = n as f64;
-    let m = x.iter().sum::<f64>() / nf;
-    let ss: f64 = x.iter().map(|v| (v - m).powi(2)).sum();
-    let mut worst = (0usize, 0.0f64);
-    for (b, &xb) in x.iter().enumerate() {
-        // The others: mean (n m − x_b)/(n − 1), squares about it SS − (x_b − m)² n/(n − 1).
-        let mr = (nf * m - xb) / (nf - 1.0);
-        let ss_r = (ss - (xb - m).powi(2) * nf / (nf - 1.0)).max(0.0);
-        let sd = (ss_r / (nf - 2.0)).sqrt();
-        let t = (xb - mr) / (sd * (1.0 + 1.0 / (nf - 1.0)).sqrt());
-        if t.abs() > worst.1.abs() {
-            worst = (b, t);
-        }
-    }
-    let bound = student_t_quantile((n - 2) as f64, ALPHA / (2.0 * n as f64));
+    let Some(e) = crate::statistics::outlier::most_extreme(x, ALPHA) else {
+        return;
+    };
+    let (
+        n,
+        Extreme {
+            batch, t, bound, ..
+        },
+    ) = (x.len(), e);
     checks.pass_if(
-        worst.1.abs() <= bound,
+        e.passes(),
         "statistics",
         "no outlying batch",
         format!(
-            "most extreme batch {}: t = {:+.2} against the Bonferroni bound {bound:.2} (t with {} dof, {ALPHA} over {n} batches)",
-            worst.0,
-            worst.1,
+            "most extreme batch {batch}: t = {t:+.2} against the Bonferroni bound {bound:.2} (t with {} dof, {ALPHA} over {n} batches)",
             n - 2
         ),
-        &[("t", worst.1), ("bound", bound)],
+        &[("t", t), ("bound", bound)],
     );
 }
 

@@ -23,7 +23,6 @@ pub fn field(r: &FieldReport) -> String {
         r.collisions as f64,
         r.seconds
     );
-    let n = r.batch_D_xx.len();
     line!(
         out,
         "localized share = {:.6} ± {:.6}   exact {:.6} (pinned {:.6}, skipping {:.6}; {})",
@@ -41,7 +40,8 @@ pub fn field(r: &FieldReport) -> String {
         );
         return out;
     }
-    tensor(&mut out, r, n);
+    line!(out, "components    : {}", r.components.describe());
+    tensor(&mut out, r, r.batch_D_xx.len());
     out
 }
 
@@ -57,12 +57,13 @@ fn scene(r: &FieldReport) -> String {
 /// The tensor lines of a run that was not all localized: whole phase space, the diffusing
 /// part, the check window and the mean free time against Kac's.
 fn tensor(out: &mut String, r: &FieldReport, n: usize) {
-    let bound = comparison::agreement_bound(comparison::batch_dof(n));
+    let kept = r.components.diffusing as usize;
+    let bound = comparison::agreement_bound(comparison::batch_dof(kept));
     line!(
         out,
         "D_xx          = {}   (whole phase space; the diffusing part's × {:.6}){}",
         super::estimate(r.D_xx, r.D_xx_err),
-        1.0 - r.localized_fraction_exact,
+        1.0 - r.components.bounded_fraction,
         super::negative_note(r.D_xx, r.D_xx_err, bound)
     );
     line!(
