@@ -73,7 +73,7 @@ impl Excursion {
     /// How far beyond the limit every diffusing trajectory of a run must reach for the split to
     /// be called clear: a diffusing trajectory that stays within this many limits is reported as
     /// an ambiguous one (run longer).
-    pub const AMBIGUOUS: f64 = 4.0;
+    pub const AMBIGUOUS: f64 = 2.0;
 
     /// The limit of the disk array `lattice` at the cyclotron radius `rho`.
     pub fn of(lattice: &DiskLattice, rho: f64) -> Self {
@@ -119,7 +119,7 @@ mod tests {
         r.push(ex.limit * 1.01, 0.0);
         assert_eq!(ex.classify(&r), Component::Diffusing);
         assert!(ex.ambiguous(&r));
-        r.push(ex.limit * 4.5, 0.0);
+        r.push(ex.limit * 2.5, 0.0);
         assert!(!ex.ambiguous(&r));
     }
 }

@@ -130,6 +130,9 @@ fn onsager_row(w: f64, field: f64, d_xx: f64, d_xy: f64, err: f64) -> FieldSweep
         mean_free_time: 1.0,
         mean_free_time_err: 0.0,
         mean_free_time_exact: 1.0,
+        batch_D_xx: Vec::new(),
+        batch_D_xy: Vec::new(),
+        components: Default::default(),
     }
 }
 

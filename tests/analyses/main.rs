@@ -11,6 +11,7 @@ mod corridors;
 mod derived_errors;
 mod escape;
 mod field;
+mod field_components;
 mod field_sweep;
 mod free_paths;
 mod hopping;

@@ -14,7 +14,7 @@ use crate::statistics::outlier::{Extreme, most_extreme};
 pub const SPLIT_ALPHA: f64 = 1e-3;
 
 /// The trajectories of a run by component.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[allow(non_snake_case)]
 pub struct Components {
     /// The excursion limit: a trajectory that never went further from its start is bounded.

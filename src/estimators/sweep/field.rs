@@ -20,7 +20,7 @@ use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::resume::{seal, unseal};
 use crate::estimators::diffusion::DiffusionConfig;
-use crate::estimators::field::FieldReport;
+use crate::estimators::field::{Components, FieldReport};
 use crate::estimators::sweep::SweepConfig;
 use crate::estimators::sweep::points::{recheck_one_point, renamed_point, same_sweep};
 use crate::scenes::spec::SceneSpec;
@@ -232,6 +232,12 @@ pub struct FieldSweepRow {
     /// Kac's closed form for it (infinite where every orbit is localized).
     #[serde(deserialize_with = "crate::estimators::field::infinite_if_null")]
     pub mean_free_time_exact: f64,
+    /// Per-batch D_xx of the point, every batch (so that the point can be re-checked).
+    pub batch_D_xx: Vec<f64>,
+    /// Per-batch Hall D_xy of the point.
+    pub batch_D_xy: Vec<f64>,
+    /// The point's batches by component (bounded ones set aside).
+    pub components: Components,
 }
 
 impl FieldSweepRow {
@@ -450,6 +456,9 @@ fn row_of(r: &FieldReport) -> FieldSweepRow {
         mean_free_time: r.mean_free_time,
         mean_free_time_err: r.mean_free_time_err,
         mean_free_time_exact: r.mean_free_time_exact,
+        batch_D_xx: r.batch_D_xx.clone(),
+        batch_D_xy: r.batch_D_xy.clone(),
+        components: r.components.clone(),
     }
 }
 

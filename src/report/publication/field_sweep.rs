@@ -73,6 +73,7 @@ pub(super) fn checks(
         }
     }
     shares_and_kac(r, checks);
+    components(r, checks);
     let what = format!(
         "{} points of {} collisions in {} batches (seed {})",
         r.rows.len(),
@@ -117,6 +118,11 @@ fn row_problems(r: &FieldSweepReport) -> Result<Vec<String>, Error> {
             (row.mean_free_time_exact, geo.diffusing_mean_free_time()),
         ];
         let zero = !geo.all_localized() || (row.D_xx == 0.0 && row.D_xy == 0.0);
+        if !components_recomputed(row, &geo) {
+            bad.push(format!(
+                "row {i} ({at}, B = {f}): its components are not its batches' at the point's limit"
+            ));
+        }
         if exact.iter().any(|(a, b)| a.to_bits() != b.to_bits())
             || !same(row.w, w)
             || !same(row.radius, radius)
@@ -183,6 +189,68 @@ fn shares_and_kac(r: &FieldSweepReport, checks: &mut Checks) {
             ("identities", name),
             format!("largest |z| = {worst:.2} over {m} points (bound {bound:.2}, Bonferroni)"),
             &[("value", worst), ("exact", 0.0)],
+        );
+    }
+}
+
+/// Whether a row's components are those its batch values and reaches make at its point's limit.
+fn components_recomputed(
+    row: &FieldSweepRow,
+    geo: &crate::theory::magnetic::FieldGeometry,
+) -> bool {
+    use crate::estimators::field::Components;
+    use crate::observers::excursion::{Excursion, Reach};
+    let c = &row.components;
+    let reaches: Vec<Reach> = c.batch_reach.iter().map(|&x| Reach::at(x)).collect();
+    let again = if row.all_localized {
+        Components::default()
+    } else {
+        let excursion = Excursion::of(geo.lattice(), geo.cyclotron_radius());
+        let batches = (&row.batch_D_xx[..], &row.batch_D_xy[..]);
+        Components::of(excursion, &reaches, batches, row.localized_fraction_exact)
+    };
+    let lengths = reaches.len() == row.batch_D_xx.len() && reaches.len() == row.batch_D_xy.len();
+    lengths && serde_json::to_value(&again).ok() == serde_json::to_value(c).ok()
+}
+
+/// Every point's diffusing batches are one component (each at the false-alarm rate
+/// [`SPLIT_ALPHA`], so m points at most m times it), and every point's split is clear.
+///
+/// [`SPLIT_ALPHA`]: crate::estimators::field::SPLIT_ALPHA
+fn components(r: &FieldSweepReport, checks: &mut Checks) {
+    let at = |row: &FieldSweepRow| format!("{} at B = {}", row.place(), row.field);
+    let split: Vec<String> = r
+        .rows
+        .iter()
+        .filter(|x| x.components.split)
+        .map(at)
+        .collect();
+    let bounded: u32 = r.rows.iter().map(|x| x.components.bounded).sum();
+    checks.pass_if(
+        split.is_empty(),
+        "statistics",
+        "every point's diffusing batches are one component",
+        if split.is_empty() {
+            format!(
+                "no outlying batch at any of {} points ({bounded} bounded batches set aside; \
+                 false alarm {} a point)",
+                r.rows.len(),
+                crate::estimators::field::SPLIT_ALPHA
+            )
+        } else {
+            format!("split at {}", split.join(", "))
+        },
+        &[("split", split.len() as f64)],
+    );
+    let unclear: Vec<String> = (r.rows.iter())
+        .filter(|x| x.components.ambiguous > 0)
+        .map(at)
+        .collect();
+    if !unclear.is_empty() {
+        checks.skip(
+            "statistics",
+            "the bounded and diffusing trajectories are clearly apart at every point",
+            format!("not at {}: run longer", unclear.join(", ")),
         );
     }
 }
