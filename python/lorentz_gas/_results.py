@@ -250,7 +250,12 @@ class FieldResult(Result):
     tensor of the part that is neither pinned nor skipping), the exact shares
     ``pinned_fraction_exact``, ``skipping_fraction_exact``, ``localized_fraction_exact`` and the
     sampled ``localized_fraction`` ± ``localized_fraction_err``, ``mean_free_time`` against Kac's
-    ``mean_free_time_exact``, ``batch_D_xx`` and ``batch_D_xy``."""
+    ``mean_free_time_exact``, ``batch_D_xx`` and ``batch_D_xy`` (every batch), and
+    ``components`` (a dict): which batches stayed ``bounded`` (within ``limit`` of their start:
+    pinned, skipping or in a regular island) and were set aside, ``bounded_fraction`` ±
+    ``bounded_fraction_err`` (below ``bounded_fraction_upper`` at 95 %), and ``split`` (the
+    diffusing batches are not one component). ``D_xx`` and ``D_xy`` come from the diffusing
+    batches only."""
 
     _text_kind = "field"
 
@@ -274,7 +279,9 @@ class FieldSweepResult(Result):
     length²/time), ``pinned_fraction_exact``, ``skipping_fraction_exact``,
     ``localized_fraction_exact``, ``localized_fraction``, ``localized_fraction_err``,
     ``all_localized``, ``mean_free_time`` ± ``mean_free_time_err`` and Kac's
-    ``mean_free_time_exact``; each field is also an attribute. ``onsager`` lists the ±B checks
+    ``mean_free_time_exact``, and the point's ``bounded`` batches, ``bounded_fraction`` (±
+    ``bounded_fraction_err``, below ``bounded_fraction_upper`` at 95 %) and ``split`` (its
+    diffusing batches not one component); each field is also an attribute. ``onsager`` lists the ±B checks
     (``d_xx_even``, ``d_xy_odd``: difference, err, z, bound) and ``onsager_agrees`` their
     verdict; ``to_pandas()`` gives the table."""
 
@@ -282,7 +289,9 @@ class FieldSweepResult(Result):
 
     def __init__(self, text: str):
         super().__init__(text)
-        raw = self._data["rows"]
+        # One record per point: its numbers, and its components' share of bounded orbits (the
+        # batch values and classification stay in ``to_dict()["rows"]``).
+        raw = [_field_row(r) for r in self._data["rows"]]
         keys = list(raw[0].keys()) if raw else []
         dtype = [(k, np.bool_ if isinstance(raw[0][k], bool) else np.float64) for k in keys]
         self.rows = np.array([tuple(r[k] for k in keys) for r in raw], dtype=dtype)
@@ -295,6 +304,17 @@ class FieldSweepResult(Result):
         verdict = "agree" if self.onsager_agrees else "DISAGREE"
         checks = f", Onsager-Casimir at {len(self.onsager)} |B|: {verdict}" if self.onsager else ""
         return f"{n} points in a field{checks}"
+
+
+def _field_row(r: dict) -> dict:
+    """A field sweep's row as scalars: its numbers and its ``components``' ``bounded``,
+    ``bounded_fraction`` (± ``_err``, ``_upper``) and ``split``."""
+    row = {k: v for k, v in r.items() if not isinstance(v, (list, dict))}
+    c = r.get("components") or {}
+    for k in ("bounded", "bounded_fraction", "bounded_fraction_err", "bounded_fraction_upper"):
+        row[k] = float(c.get(k, 0.0))
+    row["split"] = bool(c.get("split", False))
+    return row
 
 
 class HopsResult(Result):
