@@ -34,7 +34,12 @@ pub(super) fn geometry_of(cfg: &DiffusionConfig) -> Result<FieldGeometry, Error>
 }
 
 /// The checks: the record, the localized share, Kac, the symmetries, the batches, the re-run.
-pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Result<(), Error> {
+pub(super) fn checks(
+    r: &FieldReport,
+    ctx: &Ctx<'_>,
+    checks: &mut Checks,
+    figures: &mut Vec<String>,
+) -> Result<(), Error> {
     let cfg = &r.config;
     let d = cfg;
     let g = geometry(r)?;
@@ -90,6 +95,7 @@ pub(super) fn checks(r: &FieldReport, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
             .map(|(_, v)| *v)
             .collect();
         batch_statistics(&kept, checks);
+        batch_histogram(r, &kept, ctx.out, figures)?;
     }
     let what = format!(
         "{} collisions in {} batches at field {} (seed {}, {})",
@@ -222,4 +228,30 @@ fn component_checks(r: &FieldReport, g: &FieldGeometry, checks: &mut Checks) {
             ),
         );
     }
+}
+
+/// The histogram of the batches' D_xx: the diffusing ones and the bounded ones set aside, with
+/// the diffusing part's D_xx marked.
+fn batch_histogram(
+    r: &FieldReport,
+    kept: &[f64],
+    out: &Path,
+    figures: &mut Vec<String>,
+) -> Result<(), Error> {
+    let bounded: Vec<f64> = (r.batch_D_xx.iter().enumerate())
+        .filter(|(i, _)| !r.components.diffusing(*i))
+        .map(|(_, v)| *v)
+        .collect();
+    let groups = [
+        (format!("{} diffusing batches", kept.len()), kept),
+        (
+            format!("{} bounded batches (set aside)", bounded.len()),
+            &bounded[..],
+        ),
+    ];
+    let mean = (r.diffusing.D_xx + r.diffusing.D_yy) / 2.0;
+    let names = ("D_xx of each batch (mean of xx and yy)", "D_xx");
+    super::histogram::histogram(&groups, mean, names, &out.join("batch-histogram"))?;
+    figures.push("batch-histogram".into());
+    Ok(())
 }

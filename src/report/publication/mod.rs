@@ -65,6 +65,7 @@ mod field;
 mod field_sweep;
 pub mod file;
 pub mod headline;
+mod histogram;
 mod hops;
 mod provenance;
 mod render;
@@ -439,7 +440,7 @@ pub fn run_with(
         Audited::Hops(h) => hops::checks(h, &ctx, &mut checks)?,
         Audited::Backscatter(r) => backscatter::checks(r, &ctx, &mut checks)?,
         Audited::Escape(r) => escape::checks(r, &ctx, &mut checks)?,
-        Audited::Field(r) => field::checks(r, &ctx, &mut checks)?,
+        Audited::Field(r) => field::checks(r, &ctx, &mut checks, &mut figures)?,
         Audited::FieldSweep(r) => field_sweep::checks(r, &ctx, &mut checks)?,
         Audited::Table(t) => table::checks((&t.0, &t.1), &ctx, &mut checks)?,
     }

@@ -69,7 +69,13 @@ pub(super) fn diffusion_figures(
         ],
     )?;
     figures.push("local-slope".into());
-    histogram(&r.batch_D, r.D, &out.join("batch-histogram"))?;
+    let groups = [(format!("{} batches", r.batch_D.len()), &r.batch_D[..])];
+    super::super::histogram::histogram(
+        &groups,
+        r.D,
+        ("D of each batch", "D"),
+        &out.join("batch-histogram"),
+    )?;
     figures.push("batch-histogram".into());
     Ok(())
 }
@@ -89,50 +95,4 @@ pub(super) fn local_slopes(r: &DiffusionReport) -> Vec<(f64, f64, f64)> {
             (0.5 * (t[k] + t[k + 1]), m, e)
         })
         .collect()
-}
-
-/// A histogram of the batch values, as a step outline, with the mean marked.
-pub(super) fn histogram(x: &[f64], mean: f64, stem: &Path) -> Result<(), Error> {
-    let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let bins = ((x.len() as f64).sqrt().ceil() as usize).max(4);
-    let width = ((hi - lo) / bins as f64).max(f64::MIN_POSITIVE);
-    let mut counts = vec![0u32; bins];
-    for v in x {
-        counts[(((v - lo) / width) as usize).min(bins - 1)] += 1;
-    }
-    let mut outline = vec![(lo, 0.0, 0.0)];
-    for (i, c) in counts.iter().enumerate() {
-        let a = lo + i as f64 * width;
-        outline.push((a, *c as f64, 0.0));
-        outline.push((a + width, *c as f64, 0.0));
-    }
-    outline.push((lo + bins as f64 * width, 0.0, 0.0));
-    let top = *counts.iter().max().unwrap_or(&1) as f64;
-    plot(
-        stem,
-        &PlotSpec {
-            title: "D of each batch",
-            x_label: "D",
-            y_label: "batches",
-            log_x: false,
-            log_y: false,
-            count_y: true,
-            ..Default::default()
-        },
-        &[
-            Series {
-                label: format!("{} batches", x.len()),
-                points: outline,
-                notes: Vec::new(),
-                line: true,
-            },
-            Series {
-                label: "mean".into(),
-                points: vec![(mean, 0.0, 0.0), (mean, top, 0.0)],
-                notes: Vec::new(),
-                line: true,
-            },
-        ],
-    )
 }

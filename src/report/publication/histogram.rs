@@ -1,0 +1,60 @@
+//! The histogram of a result's batch values: groups of batches (the diffusing and the bounded
+//! ones of a field run) as step outlines on common bins, with the estimate marked.
+
+use std::path::Path;
+
+use crate::Error;
+use crate::report::figures::{PlotSpec, Series, plot};
+
+/// A histogram of the batch values of each group `(label, values)`, on bins common to all, as
+/// step outlines, with `mean` marked; `(title, x_label)` name it.
+pub(super) fn histogram(
+    groups: &[(String, &[f64])],
+    mean: f64,
+    (title, x_label): (&str, &str),
+    stem: &Path,
+) -> Result<(), Error> {
+    let all = || groups.iter().flat_map(|g| g.1.iter().copied());
+    let lo = all().fold(f64::INFINITY, f64::min);
+    let hi = all().fold(f64::NEG_INFINITY, f64::max);
+    let bins = ((all().count() as f64).sqrt().ceil() as usize).max(4);
+    let width = ((hi - lo) / bins as f64).max(f64::MIN_POSITIVE);
+    let mut series = Vec::new();
+    let mut top = 1.0f64;
+    for (label, x) in groups.iter().filter(|g| !g.1.is_empty()) {
+        let mut counts = vec![0u32; bins];
+        for v in x.iter() {
+            counts[(((v - lo) / width) as usize).min(bins - 1)] += 1;
+        }
+        let mut outline = vec![(lo, 0.0, 0.0)];
+        for (i, c) in counts.iter().enumerate() {
+            let a = lo + i as f64 * width;
+            outline.push((a, f64::from(*c), 0.0));
+            outline.push((a + width, f64::from(*c), 0.0));
+        }
+        outline.push((lo + bins as f64 * width, 0.0, 0.0));
+        top = top.max(f64::from(*counts.iter().max().unwrap_or(&1)));
+        series.push(Series {
+            label: label.clone(),
+            points: outline,
+            notes: Vec::new(),
+            line: true,
+        });
+    }
+    series.push(Series {
+        label: "mean".into(),
+        points: vec![(mean, 0.0, 0.0), (mean, top, 0.0)],
+        notes: Vec::new(),
+        line: true,
+    });
+    let spec = PlotSpec {
+        title,
+        x_label,
+        y_label: "batches",
+        log_x: false,
+        log_y: false,
+        count_y: true,
+        ..Default::default()
+    };
+    plot(stem, &spec, &series)
+}
