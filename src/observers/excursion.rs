@@ -5,7 +5,8 @@
 //! geometry finds, regular islands hold orbits that bounce round several disks for ever and
 //! never leave a bounded region. A trajectory is called **bounded** when the largest distance
 //! from its start that it reaches in its whole run stays within the [`Excursion::limit`] of the
-//! table: a few lattice cells beyond a cyclotron diameter. A diffusing trajectory that flies the
+//! table: a few lattice cells beyond a cyclotron diameter (or as much again in a weak field). A
+//! diffusing trajectory that flies the
 //! time T reaches a distance of order √(4DT); the run says where the two are not well apart
 //! ([`Excursion::AMBIGUOUS`]).
 //!
@@ -61,7 +62,8 @@ impl Reach {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Excursion {
     /// The limit: [`Excursion::CELLS`] times the longer lattice vector, plus a cyclotron
-    /// diameter 2ρ.
+    /// diameter 2ρ or as much again, whichever is less (in a weak field the arcs between
+    /// collisions are as long as the table's flights, not 2ρ).
     pub limit: f64,
 }
 
@@ -78,8 +80,9 @@ impl Excursion {
     /// The limit of the disk array `lattice` at the cyclotron radius `rho`.
     pub fn of(lattice: &DiskLattice, rho: f64) -> Self {
         let e2 = (lattice.beta * lattice.a).hypot(lattice.h);
+        let cells = Self::CELLS * lattice.a.max(e2);
         Excursion {
-            limit: Self::CELLS * lattice.a.max(e2) + 2.0 * rho,
+            limit: cells + (2.0 * rho).min(cells),
         }
     }
 
@@ -109,6 +112,8 @@ mod tests {
         let tri = DiskLattice::equal(2.2, 0.5, 2.2 * 3f64.sqrt() / 2.0, 1.0);
         let ex = Excursion::of(&tri, 0.4);
         assert!((ex.limit - (3.0 * 2.2 + 0.8)).abs() < 1e-12, "{}", ex.limit);
+        // A weak field: the arcs are the table's flights, not cyclotron diameters.
+        assert_eq!(Excursion::of(&tri, 1000.0).limit, 2.0 * 3.0 * 2.2);
         let mut r = Reach::new();
         for k in 0..1000 {
             let t = f64::from(k) * 0.01;

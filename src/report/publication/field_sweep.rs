@@ -202,13 +202,9 @@ fn components_recomputed(
     use crate::observers::excursion::{Excursion, Reach};
     let c = &row.components;
     let reaches: Vec<Reach> = c.batch_reach.iter().map(|&x| Reach::at(x)).collect();
-    let again = if row.all_localized {
-        Components::default()
-    } else {
-        let excursion = Excursion::of(geo.lattice(), geo.cyclotron_radius());
-        let batches = (&row.batch_D_xx[..], &row.batch_D_xy[..]);
-        Components::of(excursion, &reaches, batches, row.localized_fraction_exact)
-    };
+    let excursion = Excursion::of(geo.lattice(), geo.cyclotron_radius());
+    let batches = (&row.batch_D_xx[..], &row.batch_D_xy[..]);
+    let again = Components::of(excursion, &reaches, batches, row.localized_fraction_exact);
     let lengths = reaches.len() == row.batch_D_xx.len() && reaches.len() == row.batch_D_xy.len();
     lengths && serde_json::to_value(&again).ok() == serde_json::to_value(c).ok()
 }
