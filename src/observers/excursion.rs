@@ -6,12 +6,11 @@
 //! never leave a bounded region. A trajectory is called **bounded** when the largest distance
 //! from its start that it reaches in its whole run stays within the [`Excursion::limit`] of the
 //! table: a few lattice cells beyond a cyclotron diameter (or as much again in a weak field). A
-//! diffusing trajectory that flies the
-//! time T reaches a distance of order √(4DT); the run says where the two are not well apart
-//! ([`Excursion::AMBIGUOUS`]).
+//! diffusing trajectory that flies the time T reaches a distance of order √(4DT); the run says
+//! where the two are not well apart ([`Excursion::AMBIGUOUS`]).
 //!
-//! The record is the unwrapped displacement at the samples of the run's time grid and at every
-//! event's start (where the observer has it anyway): its largest squared norm.
+//! The record is the unwrapped displacement at the samples of the run's time grid: its largest
+//! squared norm.
 
 use serde::{Deserialize, Serialize};
 
