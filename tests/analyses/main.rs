@@ -17,6 +17,7 @@ mod hopping;
 mod msd_curve;
 mod options;
 mod planning;
+mod section;
 mod stops;
 mod superdiffusion;
 mod sweep;

@@ -3,7 +3,8 @@
 //! the component it belongs to (`proofs-notes/poincare-section.md`).
 //!
 //! Orbit i starts from the invariant measure (uniform position in the free part of a cell,
-//! uniform direction) on its own stream `(seed, Section, i)`, so that the same seed gives the
+//! uniform direction; on the triangular lattice in an up or a down trap with probability ½) on
+//! its own stream `(seed, Section, i)`, so that the same seed gives the
 //! same bits at any thread count. In a field its cyclotron circle classifies it exactly
 //! ([`FieldGeometry::classify`]): a **pinned** orbit never collides (no points); a **skipping**
 //! orbit bounces round one disk for ever; every other orbit is flown `classify_collisions`
@@ -282,6 +283,7 @@ fn run_on<S: Scene>(
         lattice: &lattice,
         field: geometry.as_ref().map(|g| (g, g.field())),
         labels: &labels,
+        two_orientations: orbit::two_orientations(&lattice),
         collisions: cfg.collisions,
         classify: cfg.classify_collisions,
         seed: cfg.seed,

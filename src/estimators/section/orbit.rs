@@ -83,6 +83,8 @@ pub(super) struct Setup<'a, S: Scene> {
     /// The field's exact geometry, and B; `None` without a field.
     pub field: Option<(&'a FieldGeometry, f64)>,
     pub labels: &'a DiskLabels,
+    /// The cells come in two orientations ([`two_orientations`]).
+    pub two_orientations: bool,
     /// Collisions recorded per orbit.
     pub collisions: u64,
     /// Collisions flown per orbit to classify it (in a field).
@@ -106,11 +108,32 @@ pub(super) struct Flown {
 }
 
 /// The start of orbit `index`: drawn from the invariant measure on its own stream, its speed
-/// normalised.
-pub(super) fn start<S: Scene>(scene: &S, seed: u64, index: u64) -> LatticeState<f64> {
-    let mut s = scene.sample(&mut StreamKey::new(seed, Purpose::Section, index).rng());
+/// normalised. Where the scene's cells come in two orientations (the triangular lattice's up
+/// and down traps, each the other's point reflection) the sample of the cell (0, 0) is put in
+/// either with probability ½ (a further bit of the stream), so that the starts cover the whole
+/// period and not only its up traps: a regular island in a down trap is the point reflection of
+/// one in an up trap, its Birkhoff points θ + π.
+pub(super) fn start<S: Scene>(
+    scene: &S,
+    two_orientations: bool,
+    seed: u64,
+    index: u64,
+) -> LatticeState<f64> {
+    let mut rng = StreamKey::new(seed, Purpose::Section, index).rng();
+    let mut s = scene.sample(&mut rng);
+    if two_orientations {
+        s.cell.down = rand::RngCore::next_u64(&mut rng) >> 63 == 1;
+    }
     s.flight.normalise_speed();
     s
+}
+
+/// Whether the cells of `lattice` come in two orientations (some edge maps by a point
+/// reflection).
+pub(super) fn two_orientations<K: crate::kernel::cell::CellKernel<f64>>(
+    lattice: &Lattice<f64, K>,
+) -> bool {
+    lattice.cell().edges.iter().any(|e| e.flips())
 }
 
 /// The class by geometry of the orbit through `s` (diffusing without a field).
@@ -127,7 +150,7 @@ fn orbit_of<S: Scene>(su: &Setup<'_, S>, s: &LatticeState<f64>) -> Orbit {
 /// recorded collisions of a skipping one (its class is exact), the classification's of a
 /// diffusing one in a field, the recorded ones without a field.
 pub(super) fn fly<S: Scene>(su: &Setup<'_, S>, index: u64) -> Result<Flown, Error> {
-    let mut s = start(su.scene, su.seed, index);
+    let mut s = start(su.scene, su.two_orientations, su.seed, index);
     let orbit = orbit_of(su, &s);
     let mut out = Flown {
         orbit: Some(orbit),

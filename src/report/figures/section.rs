@@ -87,7 +87,7 @@ fn draw<DB: DrawingBackend>(
         .draw_series(std::iter::empty::<Pixel<(f64, f64)>>())
         .map_err(|x| e(&x))?
         .label(localized)
-        .legend(|(x, y)| Circle::new((x + 8, y), 5, WHITE.filled()));
+        .legend(|(x, y)| Circle::new((x + 8, y), 5, BLACK));
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::LowerRight)

@@ -12,15 +12,20 @@ pub fn section(r: &SectionResult) -> String {
         (Some(b), Some(rho)) => format!(", B = {b} (cyclotron radius {rho:.6})"),
         _ => ", no field".to_string(),
     };
+    let classify = if r.limit.is_some() {
+        format!(" and {} flown to classify", c.classify_collisions)
+    } else {
+        String::new()
+    };
     line!(
         out,
         "Poincaré section in Birkhoff coordinates, {}{field}  (seed {}, {} orbits, {} collisions \
-         recorded and {} flown to classify per orbit, {:.3e} collisions, {:.1} s)",
+         recorded{} per orbit, {:.3e} collisions, {:.1} s)",
         r.scene,
         c.seed,
         c.orbits,
         c.collisions,
-        c.classify_collisions,
+        classify,
         r.collisions as f64,
         r.seconds
     );
