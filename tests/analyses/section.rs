@@ -2,7 +2,7 @@
 //!
 //! * a skipping orbit keeps its incidence angle (`proofs-notes/poincare-section.md`): its points
 //!   lie on one line p = const, up to the rounding of its collisions (bounded below);
-//! * |p| ≤ 1 and θ ∈ [−π, π) at every point;
+//! * |p| ≤ 1 and θ ∈ [−π, π) at every point, on disks of radius 1 and 2/5;
 //! * without a field the billiard map preserves cos α dα dθ = dp dθ: the p of one late collision
 //!   per orbit is uniform on [−1, 1] and θ uniform on [−π, π) (χ² over 20 bins each, below its
 //!   0.999 quantile);
@@ -13,7 +13,7 @@
 use lorentz_gas::ErrorKind;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::section::{self, Component, SectionConfig, SectionResult};
-use lorentz_gas::scenes::spec::Table;
+use lorentz_gas::scenes::spec::{Motion, SceneSpec, Table};
 
 fn config(w: &str, field: &str, orbits: u32, collisions: u64, classify: u64) -> SectionConfig {
     SectionConfig {
@@ -76,8 +76,22 @@ fn a_skipping_orbit_keeps_its_incidence_angle() {
 
 #[test]
 fn every_point_is_in_the_birkhoff_rectangle() {
-    for field in ["0", "5/2", "-1"] {
-        let r = run(&config("0.2", field, 16, 2_000, 2_000), 2);
+    let square = |b: &str| SectionConfig {
+        table: Table {
+            scene: SceneSpec::Square {
+                radius: "2/5".into(),
+            },
+            motion: Motion::in_field(b),
+        },
+        ..config("0.2", "0", 16, 2_000, 2_000)
+    };
+    let mut cases: Vec<SectionConfig> = ["0", "5/2", "-1"]
+        .iter()
+        .map(|b| config("0.2", b, 16, 2_000, 2_000))
+        .collect();
+    cases.extend([square("0"), square("2")]);
+    for cfg in &cases {
+        let r = run(cfg, 2);
         assert!(!r.p.is_empty());
         for (t, p) in r.theta.iter().zip(&r.p) {
             assert!(p.abs() <= 1.0, "p = {p}");
