@@ -146,7 +146,7 @@ class SectionParams(TypedDict):
     w: Optional[str]
     radius: Optional[str]
     field: Optional[str]
-    orbits: str
+    trajectories: str
     collisions: str
     classify_collisions: str
     seed: str

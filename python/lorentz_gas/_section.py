@@ -30,11 +30,11 @@ class SectionResult(Result):
     point about its disk's centre in world coordinates (radians in [-pi, pi); the arc length
     is r * theta), ``p`` = sin of the angle of the outgoing velocity to the outward normal,
     counted counter-clockwise (the velocity's component along the counter-clockwise tangent, in
-    [-1, 1]), ``orbit`` (the orbit's index) and ``disk`` (the disk among the table's disks of one
+    [-1, 1]), ``trajectory`` (the trajectory's index) and ``disk`` (the disk among the table's disks of one
     cell). Per orbit: ``component`` (``"pinned"``, ``"skipping"``, ``"bounded"``: a regular
     island, ``"diffusing"``: the chaotic sea), ``reach`` (the largest distance from its start it
     reached, length) and ``ambiguous`` (a diffusing orbit within 4 excursion limits). Counts
-    ``pinned``, ``skipping``, ``bounded``, ``diffusing``, ``ambiguous_orbits``; ``limit`` the
+    ``pinned``, ``skipping``, ``bounded``, ``diffusing``, ``ambiguous_trajectories``; ``limit`` the
     excursion limit (length; ``None`` without a field), ``field``, ``cyclotron_radius``.
     ``to_pandas()`` gives the points with their orbit's component; ``plot()`` draws them."""
 
@@ -45,7 +45,7 @@ class SectionResult(Result):
         d = self._data
         self.theta = np.asarray(d["theta"], dtype=np.float64)
         self.p = np.asarray(d["p"], dtype=np.float64)
-        self.orbit = np.asarray(d["orbit"], dtype=np.int64)
+        self.trajectory = np.asarray(d["trajectory"], dtype=np.int64)
         self.disk = np.asarray(d["disk"], dtype=np.int64)
         self.component = np.asarray(d["component"], dtype=str)
         self.reach = np.asarray(d["reach"], dtype=np.float64)
@@ -58,17 +58,17 @@ class SectionResult(Result):
         d = self._data
         where = d["scene"] + (f", B = {d['config']['field']}" if "field" in d["config"] else "")
         return (f"{d['pinned']} pinned, {d['skipping']} skipping, {d['bounded']} bounded, "
-                f"{d['diffusing']} diffusing orbits, {len(self.theta)} points on {where}")
+                f"{d['diffusing']} diffusing trajectories, {len(self.theta)} points on {where}")
 
     def points(self) -> np.ndarray:
-        """The points as a numpy structured array: ``orbit``, ``component`` (its orbit's),
+        """The points as a numpy structured array: ``trajectory``, ``component`` (its trajectory's),
         ``disk``, ``theta`` (radians), ``p``."""
-        out = np.zeros(len(self.theta), dtype=[("orbit", np.int64), ("component", "U9"),
+        out = np.zeros(len(self.theta), dtype=[("trajectory", np.int64), ("component", "U9"),
                                                ("disk", np.int64), ("theta", np.float64),
                                                ("p", np.float64)])
-        out["orbit"], out["disk"] = self.orbit, self.disk
+        out["trajectory"], out["disk"] = self.trajectory, self.disk
         out["theta"], out["p"] = self.theta, self.p
-        out["component"] = self.component[self.orbit] if len(self.orbit) else []
+        out["component"] = self.component[self.trajectory] if len(self.trajectory) else []
         return out
 
     def to_pandas(self, table: Optional[str] = None):
@@ -79,22 +79,22 @@ class SectionResult(Result):
             raise ValueError(f"table={table!r}: this result's table is 'points'")
         return pd.DataFrame(self.points())
 
-    def plot(self, ax: Any = None, *, size: float = 0.3) -> Any:
+    def plot(self, ax: Any = None) -> Any:
         """Draws the section with matplotlib on ``ax`` (a new figure's axes if ``None``):
-        theta across [-pi, pi), p up [-1, 1], one dot of ``size`` per collision coloured by its
+        theta across [-pi, pi), p up [-1, 1], one dot per collision coloured by its
         orbit's component (diffusing light grey under skipping blue and bounded red), a legend
         with the number of orbits of each. Returns the axes."""
         if ax is None:
             import matplotlib.pyplot as plt
 
             _, ax = plt.subplots(figsize=(9, 6.5))
-        comp = self.component[self.orbit] if len(self.orbit) else np.array([], dtype=str)
+        comp = self.component[self.trajectory] if len(self.trajectory) else np.array([], dtype=str)
         for name, colour in COLOURS.items():
             n = int(np.sum(self.component == name))
             mask = comp == name
-            ax.scatter(self.theta[mask], self.p[mask], s=size, c=colour, marker=".",
+            ax.scatter(self.theta[mask], self.p[mask], s=2.0, c=colour, marker=".",
                        linewidths=0, rasterized=True,
-                       label=f"{name}: {n} orbit{'' if n == 1 else 's'}")
+                       label=f"{name}: {n} trajector{'y' if n == 1 else 'ies'}")
         ax.set_xlim(-np.pi, np.pi)
         ax.set_ylim(-1, 1)
         ax.set_xlabel("θ: polar angle of the contact point (radians; arc length s = rθ)")
@@ -115,7 +115,7 @@ def section(
     radius: Optional[Exact] = None,
     table: Optional[Table] = None,
     field: Optional[Exact] = None,
-    orbits: Count = 64,
+    trajectories: Count = 64,
     collisions: Count = 2000,
     classify_collisions: Count = 200_000,
     seed: Count = 1,
@@ -140,10 +140,10 @@ def section(
     field : exact number, optional
         The magnetic field B (1/time; ``"5/2"``: cyclotron radius 0.4 in units of the disk
         radius); 0 or None: straight flights.
-    orbits : int
-        Orbits, 1 to 100000.
+    trajectories : int
+        Trajectories, 1 to 100000.
     collisions : int
-        Collisions recorded per orbit (one point each), 1 to 1e7; orbits * collisions <= 2e7.
+        Collisions recorded per orbit (one point each), 1 to 1e7; trajectories * collisions <= 2e7.
     classify_collisions : int
         Collisions flown per orbit in a field to tell an island from the sea: at least
         ``collisions``, at most 1e10 (the default 2e5 takes a diffusing orbit at D = 0.005 well
@@ -154,7 +154,7 @@ def section(
     Returns
     -------
     SectionResult
-        ``theta`` (radians), ``p`` (dimensionless), ``orbit``, ``disk`` per point; ``component``,
+        ``theta`` (radians), ``p`` (dimensionless), ``trajectory``, ``disk`` per point; ``component``,
         ``reach`` (length), ``ambiguous`` per orbit; the counts; ``limit`` (length).
 
     Raises
@@ -164,16 +164,16 @@ def section(
 
     Example
     -------
-    >>> r = section(w=0.2, field="5/2", orbits=64)    # doctest: +SKIP
+    >>> r = section(w=0.2, field="5/2", trajectories=64)  # doctest: +SKIP
     >>> r.plot()                                      # doctest: +SKIP
     """
     per_orbit = classify_collisions if field not in (None, 0, "0") else collisions
-    total = _total(_count("orbits", orbits)) * _total(_count("collisions", per_orbit))
+    total = _total(_count("trajectories", trajectories)) * _total(_count("collisions", per_orbit))
     with _Bar(progress, total, "coll") as cb:
         text = _native.section({
             **_where(scene, table, w, radius),
             "field": _optional_exact("field", field),
-            "orbits": _count("orbits", orbits),
+            "trajectories": _count("trajectories", trajectories),
             "collisions": _count("collisions", collisions),
             "classify_collisions": _count("classify_collisions", classify_collisions),
             "seed": _count("seed", seed),

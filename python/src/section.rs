@@ -16,7 +16,7 @@ use crate::watch::{compute, json};
 pub fn section(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let place = Where::read(p)?;
     let field = p.opt_text("field")?;
-    let orbits = p.count_u32("orbits")?;
+    let trajectories = p.count_u32("trajectories")?;
     let collisions = p.count_u64("collisions")?;
     let classify_collisions = p.count_u64("classify_collisions")?;
     let seed = p.count_u64("seed")?;
@@ -27,7 +27,7 @@ pub fn section(p: &Params<'_, '_>) -> PyResult<Work<String>> {
                 scene: place.spec()?,
                 motion: Motion::in_field(field.as_deref().unwrap_or("0")),
             },
-            orbits,
+            trajectories,
             collisions,
             classify_collisions,
             seed,

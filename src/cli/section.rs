@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use lorentz_gas::Error;
 use lorentz_gas::estimators::section::{
-    self, DEFAULT_CLASSIFY_COLLISIONS, DEFAULT_COLLISIONS, DEFAULT_ORBITS, SectionConfig,
+    self, DEFAULT_CLASSIFY_COLLISIONS, DEFAULT_COLLISIONS, DEFAULT_TRAJECTORIES, SectionConfig,
 };
 use lorentz_gas::files::Output;
 use lorentz_gas::report::figures::section::{write_section_csv, write_section_figure};
@@ -24,10 +24,10 @@ pub struct Args {
     /// flights are straight and every orbit diffuses.
     #[arg(long, allow_hyphen_values = true)]
     field: Option<String>,
-    /// Orbits, each started from the invariant measure on its own stream: 1 to 100000.
-    #[arg(long, default_value_t = DEFAULT_ORBITS, value_parser = parse_count_u32, allow_negative_numbers = true)]
-    orbits: u32,
-    /// Collisions recorded per orbit (one point each): 1 to 1e7, orbits × collisions at most 2e7.
+    /// Trajectories, each started from the invariant measure on its own stream: 1 to 100000.
+    #[arg(long, default_value_t = DEFAULT_TRAJECTORIES, value_parser = parse_count_u32, allow_negative_numbers = true)]
+    trajectories: u32,
+    /// Collisions recorded per trajectory (one point each): 1 to 1e7, trajectories × collisions at most 2e7.
     #[arg(long, default_value_t = DEFAULT_COLLISIONS, value_parser = parse_count, allow_negative_numbers = true)]
     collisions: u64,
     /// Collisions flown per orbit in a field to tell a regular island (bounded) from the
@@ -39,7 +39,7 @@ pub struct Args {
     /// Write the figure (PNG: theta across, p up, one dot per collision coloured by component).
     #[arg(long, value_name = "FILE.png")]
     out: Option<PathBuf>,
-    /// Write the points as CSV: orbit, component, disk, theta, p.
+    /// Write the points as CSV: trajectory, component, disk, theta, p.
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
     #[command(flatten)]
@@ -53,7 +53,7 @@ pub fn config(a: &Args) -> Result<SectionConfig, Error> {
             scene: a.scene.spec()?,
             motion: Motion::in_field(a.field.as_deref().unwrap_or("0")),
         },
-        orbits: a.orbits,
+        trajectories: a.trajectories,
         collisions: a.collisions,
         classify_collisions: a.classify_collisions,
         seed: a.run.seed(),
@@ -89,7 +89,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         cfg.collisions
     };
     let pb = Progress::new(
-        u64::from(cfg.orbits).saturating_mul(per_orbit),
+        u64::from(cfg.trajectories).saturating_mul(per_orbit),
         "collisions",
         a.output.quiet,
     );

@@ -15,9 +15,15 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::section::{self, Component, SectionConfig, SectionResult};
 use lorentz_gas::scenes::spec::{Motion, SceneSpec, Table};
 
-fn config(w: &str, field: &str, orbits: u32, collisions: u64, classify: u64) -> SectionConfig {
+fn config(
+    w: &str,
+    field: &str,
+    trajectories: u32,
+    collisions: u64,
+    classify: u64,
+) -> SectionConfig {
     SectionConfig {
-        orbits,
+        trajectories,
         collisions,
         classify_collisions: classify,
         seed: 7,
@@ -39,7 +45,7 @@ fn run(cfg: &SectionConfig, threads: usize) -> SectionResult {
 /// The points (θ, p) of orbit `o`.
 fn points(r: &SectionResult, o: u32) -> Vec<(f64, f64)> {
     (0..r.theta.len())
-        .filter(|&i| r.orbit[i] == o)
+        .filter(|&i| r.trajectory[i] == o)
         .map(|i| (r.theta[i], r.p[i]))
         .collect()
 }
@@ -161,8 +167,8 @@ fn the_same_seed_gives_the_same_bits_on_one_thread_and_on_two() {
     assert_eq!(bits(&a.p), bits(&b.p));
     assert_eq!(bits(&a.reach), bits(&b.reach));
     assert_eq!(
-        (a.orbit, a.disk, a.component),
-        (b.orbit, b.disk, b.component)
+        (a.trajectory, a.disk, a.component),
+        (b.trajectory, b.disk, b.component)
     );
 }
 

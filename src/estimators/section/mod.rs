@@ -43,7 +43,7 @@ pub use orbit::birkhoff;
 use orbit::{DiskLabels, Flown, Setup};
 
 /// Orbits a section draws by default.
-pub const DEFAULT_ORBITS: u32 = 64;
+pub const DEFAULT_TRAJECTORIES: u32 = 64;
 /// Collisions recorded per orbit by default.
 pub const DEFAULT_COLLISIONS: u64 = 2_000;
 /// Collisions flown per orbit to classify it, by default: a diffusing orbit at D ≈ 0.005 (the
@@ -52,7 +52,7 @@ pub const DEFAULT_COLLISIONS: u64 = 2_000;
 /// and most reach several limits ([`Excursion::AMBIGUOUS`] flags the others).
 pub const DEFAULT_CLASSIFY_COLLISIONS: u64 = 200_000;
 /// Most orbits.
-pub const MAX_ORBITS: u32 = 100_000;
+pub const MAX_TRAJECTORIES: u32 = 100_000;
 /// Most collisions recorded per orbit.
 pub const MAX_COLLISIONS: u64 = 10_000_000;
 /// Most collisions flown per orbit to classify it.
@@ -66,8 +66,8 @@ pub struct SectionConfig {
     /// The table and the field B (none: straight flights), exactly as typed.
     #[serde(flatten)]
     pub table: Table,
-    /// Orbits, 1 to [`MAX_ORBITS`].
-    pub orbits: u32,
+    /// Orbits, 1 to [`MAX_TRAJECTORIES`].
+    pub trajectories: u32,
     /// Collisions recorded per orbit, 1 to [`MAX_COLLISIONS`].
     pub collisions: u64,
     /// Collisions flown per orbit in a field to classify it (bounded or diffusing), at least
@@ -82,7 +82,7 @@ impl SectionConfig {
     pub fn new(table: Table) -> Self {
         SectionConfig {
             table,
-            orbits: DEFAULT_ORBITS,
+            trajectories: DEFAULT_TRAJECTORIES,
             collisions: DEFAULT_COLLISIONS,
             classify_collisions: DEFAULT_CLASSIFY_COLLISIONS,
             seed: 1,
@@ -96,11 +96,11 @@ impl SectionConfig {
     pub fn validate(&self) -> Result<(), Error> {
         self.table.scene.resolve()?;
         self.table.field_value()?;
-        if !(1..=MAX_ORBITS).contains(&self.orbits) {
+        if !(1..=MAX_TRAJECTORIES).contains(&self.trajectories) {
             return Err(Error::out_of_range(
-                "orbits",
-                self.orbits,
-                format!("use 1 to {MAX_ORBITS}"),
+                "trajectories",
+                self.trajectories,
+                format!("use 1 to {MAX_TRAJECTORIES}"),
             ));
         }
         if !(1..=MAX_COLLISIONS).contains(&self.collisions) {
@@ -121,13 +121,13 @@ impl SectionConfig {
                 ),
             ));
         }
-        let points = u64::from(self.orbits) * self.collisions;
+        let points = u64::from(self.trajectories) * self.collisions;
         if points > MAX_POINTS {
             return Err(Error::out_of_range(
                 "collisions",
                 self.collisions,
                 format!(
-                    "orbits × collisions = {points} points: use at most {MAX_POINTS} in all \
+                    "trajectories × collisions = {points} points: use at most {MAX_POINTS} in all \
                      (each is kept until the end)"
                 ),
             ));
@@ -173,14 +173,14 @@ pub struct SectionResult {
     /// Orbits diffusing.
     pub diffusing: u32,
     /// Diffusing orbits whose reach is within [`Excursion::AMBIGUOUS`] limits.
-    pub ambiguous_orbits: u32,
+    pub ambiguous_trajectories: u32,
     /// θ of each point: the polar angle of the contact point about its disk's centre, world
     /// frame, radians in [−π, π).
     pub theta: Vec<f64>,
     /// p of each point: sin of the outgoing angle to the normal, counter-clockwise, in [−1, 1].
     pub p: Vec<f64>,
     /// The orbit of each point.
-    pub orbit: Vec<u32>,
+    pub trajectory: Vec<u32>,
     /// The disk of each point: its index among the table's disks of one cell.
     pub disk: Vec<u32>,
     /// The component of each orbit.
@@ -246,8 +246,8 @@ pub fn work(cfg: &SectionConfig) -> Result<Work<'static>, Error> {
 /// [`work`] on the resolved scene: every orbit flown its classification in a field (a floor:
 /// pinned and skipping orbits fly less), its recorded collisions without.
 fn work_on<S: Scene>(scene: &S, cfg: &SectionConfig, g: Option<&FieldGeometry>) -> Work<'static> {
-    const LOWER: &[&str] = &["orbits", "classify_collisions"];
-    let orbits = f64::from(cfg.orbits);
+    const LOWER: &[&str] = &["trajectories", "classify_collisions"];
+    let orbits = f64::from(cfg.trajectories);
     match g {
         Some(g) => Work::new("section", LOWER, orbits * cfg.classify_collisions as f64).in_field(
             scene,
@@ -257,7 +257,7 @@ fn work_on<S: Scene>(scene: &S, cfg: &SectionConfig, g: Option<&FieldGeometry>) 
         ),
         None => Work::new(
             "section",
-            &["orbits", "collisions"],
+            &["trajectories", "collisions"],
             orbits * cfg.collisions as f64,
         )
         .walking(scene),
@@ -290,7 +290,7 @@ fn run_on<S: Scene>(
         stop: opts.stop.as_ref(),
         progress: opts.progress,
     };
-    let flown = par_batches_watched(opts.threads, cfg.orbits, opts.stop.as_ref(), |i| {
+    let flown = par_batches_watched(opts.threads, cfg.trajectories, opts.stop.as_ref(), |i| {
         orbit::fly(&setup, u64::from(i))
     })?;
     let excursion = geometry
@@ -300,7 +300,7 @@ fn run_on<S: Scene>(
     r.seconds = started.elapsed().as_secs_f64();
     r.meta = RunMeta::new(
         Some(cfg.seed),
-        Some(u64::from(cfg.orbits)),
+        Some(u64::from(cfg.trajectories)),
         Precision::F64,
         Some(opts.threads),
     );
@@ -338,10 +338,10 @@ fn collect<S: Scene>(
         skipping: 0,
         bounded: 0,
         diffusing: 0,
-        ambiguous_orbits: 0,
+        ambiguous_trajectories: 0,
         theta: Vec::with_capacity(points),
         p: Vec::with_capacity(points),
-        orbit: Vec::with_capacity(points),
+        trajectory: Vec::with_capacity(points),
         disk: Vec::with_capacity(points),
         component: Vec::with_capacity(flown.len()),
         reach: Vec::with_capacity(flown.len()),
@@ -356,7 +356,8 @@ fn collect<S: Scene>(
         r.theta.extend_from_slice(&f.theta);
         r.p.extend_from_slice(&f.p);
         r.disk.extend_from_slice(&f.disk);
-        r.orbit.extend(std::iter::repeat_n(i as u32, f.theta.len()));
+        r.trajectory
+            .extend(std::iter::repeat_n(i as u32, f.theta.len()));
         r.component.push(c);
         r.reach.push(f.reach.largest());
         r.ambiguous.push(ambiguous);
@@ -365,6 +366,6 @@ fn collect<S: Scene>(
     r.skipping = r.count(Component::Skipping);
     r.bounded = r.count(Component::Bounded);
     r.diffusing = r.count(Component::Diffusing);
-    r.ambiguous_orbits = r.ambiguous.iter().filter(|a| **a).count() as u32;
+    r.ambiguous_trajectories = r.ambiguous.iter().filter(|a| **a).count() as u32;
     r
 }

@@ -70,19 +70,19 @@ fn draw<DB: DrawingBackend>(
     let per_orbit = &r.component;
     for (c, colour, name) in LAYERS {
         let n = r.count(c);
-        let dots = (r.theta.iter().zip(&r.p).zip(&r.orbit))
+        let dots = (r.theta.iter().zip(&r.p).zip(&r.trajectory))
             .filter(|(_, o)| per_orbit[**o as usize] == c)
             .map(|((t, p), _)| Pixel::new((*t, *p), colour));
         chart
             .draw_series(dots)
             .map_err(|x| e(&x))?
             .label(format!(
-                "{name}: {n} orbit{}",
-                if n == 1 { "" } else { "s" }
+                "{name}: {n} trajector{}",
+                if n == 1 { "y" } else { "ies" }
             ))
             .legend(move |(x, y)| Circle::new((x + 8, y), 5, colour.filled()));
     }
-    let localized = format!("pinned (no collision): {} orbits", r.pinned);
+    let localized = format!("pinned (no collision): {} trajectories", r.pinned);
     chart
         .draw_series(std::iter::empty::<Pixel<(f64, f64)>>())
         .map_err(|x| e(&x))?
@@ -140,9 +140,9 @@ pub fn write_section_figure(r: &SectionResult, path: &Path) -> Result<(), Error>
 /// If the file cannot be written.
 pub fn write_section_csv(r: &SectionResult, path: &Path) -> Result<(), Error> {
     use std::fmt::Write as _;
-    let mut text = String::from("orbit,component,disk,theta,p\n");
+    let mut text = String::from("trajectory,component,disk,theta,p\n");
     for i in 0..r.theta.len() {
-        let o = r.orbit[i] as usize;
+        let o = r.trajectory[i] as usize;
         let c = match r.component[o] {
             Component::Pinned => "pinned",
             Component::Skipping => "skipping",

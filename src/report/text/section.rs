@@ -19,11 +19,11 @@ pub fn section(r: &SectionResult) -> String {
     };
     line!(
         out,
-        "Poincaré section in Birkhoff coordinates, {}{field}  (seed {}, {} orbits, {} collisions \
-         recorded{} per orbit, {:.3e} collisions, {:.1} s)",
+        "Poincaré section in Birkhoff coordinates, {}{field}  (seed {}, {} trajectories, {} collisions \
+         recorded{} per trajectory, {:.3e} collisions, {:.1} s)",
         r.scene,
         c.seed,
-        c.orbits,
+        c.trajectories,
         c.collisions,
         classify,
         r.collisions as f64,
@@ -31,7 +31,7 @@ pub fn section(r: &SectionResult) -> String {
     );
     line!(
         out,
-        "orbits: {} pinned, {} skipping, {} bounded (regular islands), {} diffusing  ({} points)",
+        "trajectories: {} pinned, {} skipping, {} bounded (regular islands), {} diffusing  ({} points)",
         r.pinned,
         r.skipping,
         r.bounded,
@@ -42,8 +42,8 @@ pub fn section(r: &SectionResult) -> String {
         Some(limit) => {
             line!(
                 out,
-                "excursion limit {limit:.6}: an orbit that stays within it is bounded; largest \
-                 reach of a bounded orbit {}, smallest of a diffusing one {}",
+                "excursion limit {limit:.6}: a trajectory that stays within it is bounded; largest \
+                 reach of a bounded one {}, smallest of a diffusing one {}",
                 extreme(r, Component::Bounded, f64::max),
                 extreme(r, Component::Diffusing, f64::min)
             );
@@ -57,7 +57,7 @@ pub fn section(r: &SectionResult) -> String {
     if !ambiguous.is_empty() {
         line!(
             out,
-            "ambiguous: {} diffusing orbit(s) within 4 limits: {} — use more --classify-collisions",
+            "ambiguous: {} diffusing trajectories within 4 limits: {} — use more --classify-collisions",
             ambiguous.len(),
             ambiguous.join(", ")
         );
