@@ -11,7 +11,9 @@ import lorentz_gas as lg
 
 from test_same_bits import same
 
-ISLANDS = dict(w=0.2, field="5/2", trajectories=32, collisions=500, classify_collisions=50_000,
+# The default classification (2e5 collisions): at 5e4, trajectory 20 of this seed, a sticky one of
+# the sea, has not yet left the limit (reach 2.35, 61 at 2e5) and would be called bounded.
+ISLANDS = dict(w=0.2, field="5/2", trajectories=32, collisions=500, classify_collisions=200_000,
                seed=3)
 
 
@@ -40,10 +42,14 @@ def test_islands_at_w_0_2_and_b_5_2_are_bounded_curves():
     assert np.all(r.reach[bounded] <= r.limit)
     assert np.all(r.reach[r.component == "diffusing"] > r.limit)
     for t in bounded:
-        # An island's points fill a closed curve: they stay in a small part of the rectangle.
+        # An island trajectory bounces among the three disks of one trap: its points fill closed
+        # curves round three values of theta (a fourth cluster where one wraps round -pi).
         mask = r.trajectory == t
         assert mask.sum() == 500
-        assert np.ptp(r.p[mask]) < 1.0 and np.ptp(r.theta[mask]) < 1.0
+        assert np.ptp(r.p[mask]) < 1.0
+        theta = np.sort(r.theta[mask])
+        clusters = 1 + int(np.sum(np.diff(theta) > 0.5))
+        assert clusters <= 4, (t, clusters)
     assert np.all(np.abs(r.p) <= 1.0)
     frame = r.to_pandas()
     assert list(frame.columns) == ["trajectory", "component", "disk", "theta", "p"]
