@@ -91,6 +91,7 @@ from ._verification import (
     trajectory,
 )
 from ._figures import figure, reproduce
+from ._section import SectionResult, section
 from ._events import Trajectory, events
 from . import _events
 
@@ -115,6 +116,7 @@ __all__ = [
     "shadow",
     "certify",
     "trajectory",
+    "section",
     "constants",
     "report",
     "figure",
@@ -146,6 +148,7 @@ __all__ = [
     "ShadowResult",
     "CertifyResult",
     "TrajectoryResult",
+    "SectionResult",
     "BenchResult",
     "ReportResult",
     "FigureResult",

@@ -140,6 +140,18 @@ class ConstantsParams(TypedDict):
     radius: Optional[str]
     precision: str
 
+class SectionParams(TypedDict):
+    scene: str
+    table: Optional[str]
+    w: Optional[str]
+    radius: Optional[str]
+    field: Optional[str]
+    trajectories: str
+    collisions: str
+    classify_collisions: str
+    seed: str
+    threads: Optional[str]
+
 class LyapunovParams(TypedDict):
     scene: str
     table: Optional[str]
@@ -262,6 +274,7 @@ def audit(params: AuditParams, progress: Progress) -> str: ...
 def shadow(params: ShadowParams, progress: Progress) -> str: ...
 def certify(params: CertifyParams, progress: Progress) -> str: ...
 def trajectory(params: TrajectoryParams, progress: Progress) -> Tuple[str, str]: ...
+def section(params: SectionParams, progress: Progress) -> str: ...
 def report(params: ReportParams, progress: Progress) -> Tuple[str, str]: ...
 def constants(params: ConstantsParams) -> Tuple[str, str]: ...
 def parameters(name: str) -> List[str]: ...

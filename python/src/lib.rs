@@ -17,6 +17,7 @@ mod natives;
 mod params;
 mod plan;
 mod scenes;
+mod section;
 mod text;
 mod verification;
 mod watch;

@@ -63,6 +63,7 @@ analyses! {
     shadow: crate::verification::shadow,
     certify: crate::verification::certify,
     trajectory: crate::verification::trajectory,
+    section: crate::section::section,
     bench: crate::bench::bench,
     bench_long_flights: crate::bench::long_flights,
     figure: crate::figures::figure,

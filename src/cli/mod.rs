@@ -44,6 +44,7 @@ mod lyapunov;
 mod merge;
 mod report;
 mod reproduce;
+mod section;
 mod shadow;
 mod signals;
 mod slurm;
@@ -141,6 +142,8 @@ enum Cmd {
     LatticeWalk(lattice_walk::Args),
     /// Every closed-form quantity at gap w (geometry, Santalo, Machta-Zwanzig, Boltzmann).
     Constants(constants::Args),
+    /// Poincare section in Birkhoff coordinates (theta, p = sin of the outgoing angle) at collisions, each orbit coloured by its component: pinned, skipping, bounded (regular islands), diffusing.
+    Section(section::Args),
     /// One trajectory from exact initial conditions (start, direction, time) to certified digits by precision doubling.
     Trajectory(trajectory::Args),
     /// Kernel throughput (median of repetitions); with --report, speed against error.
@@ -223,6 +226,7 @@ fn flag(parameter: &str) -> String {
 fn run(cmd: Cmd) -> Result<(), Error> {
     match cmd {
         Cmd::Diffusion(a) => diffusion::run(a),
+        Cmd::Section(a) => section::run(a),
         Cmd::Escape(a) => escape::run(a),
         Cmd::Audit(a) => audit::run(a),
         Cmd::Lyapunov(a) => lyapunov::run(a),

@@ -9,6 +9,8 @@
 //! * [`free_paths`]: the free path between collisions against its Boltzmann–Grad limit law.
 //! * [`superdiffusion`]: an infinite horizon's t ln t growth, flight tails and limit law against
 //!   the exact corridor constants.
+//! * [`section`]: a Poincaré section in Birkhoff coordinates, each orbit coloured by its
+//!   component (pinned, skipping, a regular island, the chaotic sea).
 //! * [`trajectory`]: one trajectory from exact initial conditions to certified digits.
 //! * [`throughput`]: collisions per second of the engines (`lorentz bench`).
 //! * [`observer_costs`]: what each set of observers adds to the engine's time, timed in turns
@@ -22,6 +24,7 @@ pub mod field;
 pub mod free_paths;
 pub mod hops;
 pub mod observer_costs;
+pub mod section;
 pub mod superdiffusion;
 pub mod sweep;
 pub mod throughput;

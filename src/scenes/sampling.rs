@@ -30,6 +30,8 @@ pub enum Purpose {
     Escape,
     /// Phase points classified as pinned, skipping or diffusing in a magnetic field.
     Classification,
+    /// Starts of the orbits of a Poincaré section (`estimators::section`).
+    Section,
 }
 
 impl Purpose {
@@ -43,6 +45,7 @@ impl Purpose {
             Purpose::Verification => 5,
             Purpose::Escape => 6,
             Purpose::Classification => 7,
+            Purpose::Section => 8,
         }
     }
 }

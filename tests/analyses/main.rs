@@ -18,6 +18,7 @@ mod hopping;
 mod msd_curve;
 mod options;
 mod planning;
+mod section;
 mod stops;
 mod superdiffusion;
 mod sweep;

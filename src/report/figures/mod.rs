@@ -8,6 +8,7 @@ use plotters::prelude::*;
 
 pub mod field_sweep;
 pub mod paper;
+pub mod section;
 pub mod sweep;
 
 use crate::Error;

@@ -22,6 +22,7 @@ pub mod lyapunov;
 pub mod publication;
 pub mod reproduce;
 pub mod scene_diffusion;
+pub mod section;
 pub mod shadow;
 pub mod superdiffusion;
 pub mod sweep;
@@ -119,6 +120,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "shadow" => render(kind, json, shadow::shadow)?,
         "certify" => render(kind, json, certify::certify)?,
         "audit" => render(kind, json, audit::audit)?,
+        "section" => render(kind, json, section::section)?,
         _ => return Ok(None),
     };
     Ok(Some(text))
