@@ -57,8 +57,9 @@ pub fn section(r: &SectionResult) -> String {
     if !ambiguous.is_empty() {
         line!(
             out,
-            "ambiguous: {} diffusing trajectories within 4 limits: {} — use more --classify-collisions",
+            "ambiguous: {} diffusing trajectories within {} limits: {} — use more --classify-collisions",
             ambiguous.len(),
+            crate::observers::excursion::Excursion::AMBIGUOUS,
             ambiguous.join(", ")
         );
     }
