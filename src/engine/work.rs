@@ -51,7 +51,7 @@
 //! | cell edge, triangular walk (w = 1000) | 23 to 72 ns | 12 ns |
 //! | cell edge, arcs (square, r = 10⁻³, B = 0.1) | see `bench --costs` | 10 ns |
 //! | classification of an orbit in a field | 48 ns | 20 ns |
-//! | the pinned share's quadrature, per rows^2.5 | 0.83 ms | 0.4 ms |
+//! | the pinned share's quadrature, per rows^2.5 (r = 1/50, B = 1/5) | 14 µs | 6 µs |
 //!
 //! The MPFR fit of the measurements at 1024 bits and above is 2.0–2.5 µs + 7.3–9.1 µs ·
 //! (p/1024)^1.45–1.64; the floor's exponent is lower, 1.3, because MPFR's FFT multiplication
@@ -116,11 +116,16 @@ pub const SECONDS_PER_CLASSIFICATION: f64 = 20e-9;
 /// [`QUADRATURE_EXPONENT`] of the lattice rows within ρ + r of a height (the kinks of the free
 /// length times the rows each evaluation scans), where the annuli about the lattice points leave
 /// lines free; 0 elsewhere, where a line's free length is found covered at once.
-pub const QUADRATURE_SECONDS_PER_ROW_POWER: f64 = 4e-4;
+pub const QUADRATURE_SECONDS_PER_ROW_POWER: f64 = 6e-6;
 
-/// The growth of the exact pinned share's quadrature with the rows: runs in a field measured
-/// 3.5 s, 18 to 26 s and more than 100 s at 11, 21 and 41 rows (the square lattice at ρr = 0.1),
-/// local slopes of 2.5 to 3.1 and above 2.3.
+/// The growth of the exact pinned share's quadrature with the rows (pieces cut at every kink of
+/// the free length, `theory::magnetic::shares`: their number grows as the circle pairs, ~rows²,
+/// each evaluation as the rows): `pinned_fraction()` measured 5.6 ms and 27 ms at 11 and 21
+/// rows (square lattice, r = 1/50, B = 1/5 and 1/10: a local slope of 2.4; 17 ms at 41 rows,
+/// where the pinned set has thinned to 0.4 % and few crossings are on its boundary), and with
+/// thinner annuli (r = 1/200, more crossings on the boundary) 0.15 s and 0.50 s at 21 and 41
+/// rows (7.4·10⁻⁵ and 4.6·10⁻⁵ per rows^2.5). Before the cuts (kinks found by bisection) the
+/// first three took 3.5 s, 18 to 26 s and more than 100 s.
 pub const QUADRATURE_EXPONENT: f64 = 2.5;
 
 /// The floor on the classification of `samples` orbits in a field, on one thread.
