@@ -28,7 +28,7 @@
 //!   cell: [`SECONDS_PER_CROSSING`]; an arc: [`ARC_SECONDS_PER_CROSSING`]);
 //! * the set-up: a field's classification of orbits ([`SECONDS_PER_CLASSIFICATION`] each) on
 //!   the run's threads, and its exact pinned share on one, a quadrature whose cost grows as a
-//!   power 2.5 of the lattice rows within ρ + r, ρ = 1/|B| ([`quadrature_seconds`]).
+//!   power 3 of the lattice rows within ρ + r, ρ = 1/|B| ([`quadrature_seconds`]).
 //!
 //! Each constant is a floor, about half of what `lorentz bench --costs` measures or less (its
 //! report prints each measured value beside the floor here), so that a faster machine is not
@@ -51,7 +51,7 @@
 //! | cell edge, triangular walk (w = 1000) | 23 to 72 ns | 12 ns |
 //! | cell edge, arcs (square, r = 10⁻³, B = 0.1) | see `bench --costs` | 10 ns |
 //! | classification of an orbit in a field | 48 ns | 20 ns |
-//! | the pinned share's quadrature, per rows^2.5 (r = 1/50, B = 1/5) | 14 µs | 6 µs |
+//! | the pinned share's quadrature, per rows³ (r = 1/50 to 10⁻⁴) | 4.2 to 29 µs | 4 µs |
 //!
 //! The MPFR fit of the measurements at 1024 bits and above is 2.0–2.5 µs + 7.3–9.1 µs ·
 //! (p/1024)^1.45–1.64; the floor's exponent is lower, 1.3, because MPFR's FFT multiplication
@@ -116,17 +116,18 @@ pub const SECONDS_PER_CLASSIFICATION: f64 = 20e-9;
 /// [`QUADRATURE_EXPONENT`] of the lattice rows within ρ + r of a height (the kinks of the free
 /// length times the rows each evaluation scans), where the annuli about the lattice points leave
 /// lines free; 0 elsewhere, where a line's free length is found covered at once.
-pub const QUADRATURE_SECONDS_PER_ROW_POWER: f64 = 6e-6;
+pub const QUADRATURE_SECONDS_PER_ROW_POWER: f64 = 4e-6;
 
 /// The growth of the exact pinned share's quadrature with the rows (pieces cut at every kink of
-/// the free length, `theory::magnetic::shares`: their number grows as the circle pairs, ~rows²,
-/// each evaluation as the rows): `pinned_fraction()` measured 5.6 ms and 27 ms at 11 and 21
-/// rows (square lattice, r = 1/50, B = 1/5 and 1/10: a local slope of 2.4; 17 ms at 41 rows,
-/// where the pinned set has thinned to 0.4 % and few crossings are on its boundary), and with
-/// thinner annuli (r = 1/200, more crossings on the boundary) 0.15 s and 0.50 s at 21 and 41
-/// rows (7.4·10⁻⁵ and 4.6·10⁻⁵ per rows^2.5). Before the cuts (kinks found by bisection) the
-/// first three took 3.5 s, 18 to 26 s and more than 100 s.
-pub const QUADRATURE_EXPONENT: f64 = 2.5;
+/// the free length, `theory::magnetic::shares`: the circle pairs grow as rows², each crossing is
+/// tested against the rows, and each evaluation scans the rows): `pinned_fraction()` measured
+/// 5.6 ms and 27 ms at 11 and 21 rows (square lattice, r = 1/50, B = 1/5 and 1/10), 0.15 s and
+/// 0.50 s at 21 and 41 rows (r = 1/200), and whole runs at r = 10⁻⁴ (thin annuli, most
+/// crossings on the boundary) 1.8 s, 15.6 s and 104 s at 41, 81 and 161 rows (B = 1/20, 1/40,
+/// 1/80: local slopes 3.1 and 2.7, 2.5·10⁻⁵ to 2.9·10⁻⁵ per rows³). The floor is the least of
+/// these per rows³, the r = 1/50 case's 4.2·10⁻⁶; thin annuli cost up to seven times it. Before
+/// the cuts (kinks found by bisection) the first three took 3.5 s, 18 to 26 s and over 100 s.
+pub const QUADRATURE_EXPONENT: f64 = 3.0;
 
 /// The floor on the classification of `samples` orbits in a field, on one thread.
 pub fn classification_seconds(samples: f64) -> f64 {

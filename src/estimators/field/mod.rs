@@ -459,6 +459,26 @@ fn whole(d: (f64, f64), c: &Components, keep: f64) -> (f64, f64) {
     (share * d.0, e)
 }
 
+/// Every batch's D_xx (mean of xx and yy) and Hall D_xy over the fit window `win`, and the
+/// batches by component (their reaches at the table's excursion limit).
+fn classified(
+    batches: &[Batch],
+    geometry: &FieldGeometry,
+    (lags, tau, win): (&[usize], f64, &Window),
+) -> (Vec<f64>, Vec<f64>, Components) {
+    let per: Vec<[f64; 4]> = batches
+        .iter()
+        .map(|b| tensor_of(b, lags, tau, win))
+        .collect();
+    let batch_xx: Vec<f64> = per.iter().map(|t| (t[0] + t[1]) / 2.0).collect();
+    let batch_xy: Vec<f64> = per.iter().map(|t| t[2]).collect();
+    let reaches: Vec<_> = batches.iter().map(|b| b.reach).collect();
+    let excursion = Excursion::of(geometry.lattice(), geometry.cyclotron_radius());
+    let localized = geometry.localized_fraction();
+    let components = Components::of(excursion, &reaches, (&batch_xx, &batch_xy), localized);
+    (batch_xx, batch_xy, components)
+}
+
 fn summarise<S: Scene>(
     cfg: &DiffusionConfig,
     (scene, geometry): (&S, &FieldGeometry),
@@ -470,22 +490,13 @@ fn summarise<S: Scene>(
 ) -> Result<FieldReport, Error> {
     let d = cfg;
     let lags = all_lags(cfg);
-    let per: Vec<[f64; 4]> = batches
-        .iter()
-        .map(|b| tensor_of(b, &lags, tau, &d.window))
-        .collect();
-    let batch_xx: Vec<f64> = per.iter().map(|t| (t[0] + t[1]) / 2.0).collect();
-    let batch_xy: Vec<f64> = per.iter().map(|t| t[2]).collect();
+    let (batch_xx, batch_xy, components) = classified(batches, geometry, (&lags, tau, &d.window));
     // The diffusing share (exactly 0 where every orbit is localized, never −0 from rounding).
     let keep = if geometry.all_localized() {
         0.0
     } else {
         (1.0 - geometry.localized_fraction()).max(0.0)
     };
-    let reaches: Vec<_> = batches.iter().map(|b| b.reach).collect();
-    let excursion = Excursion::of(geometry.lattice(), geometry.cyclotron_radius());
-    let localized_exact = geometry.localized_fraction();
-    let components = Components::of(excursion, &reaches, (&batch_xx, &batch_xy), localized_exact);
     let diffusing = tensor(batches, &lags, tau, &d.window, |i| components.diffusing(i));
     let check = tensor(batches, &lags, tau, &d.check_window, |i| {
         components.diffusing(i)

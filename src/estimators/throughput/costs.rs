@@ -153,7 +153,7 @@ pub fn run(cfg: &CostsConfig, options: &RunOptions) -> Result<Costs, Error> {
         work::SECONDS_PER_CLASSIFICATION,
     );
     row(
-        "pinned share's quadrature per rows^2.5, square r = 1/50, B = 1/5",
+        "pinned share's quadrature per rows^3, square r = 1/50, B = 1/5",
         quadrature,
         work::QUADRATURE_SECONDS_PER_ROW_POWER,
     );
@@ -253,7 +253,7 @@ fn arc_walk(cfg: &CostsConfig) -> Result<f64, Error> {
     Ok(median(&times))
 }
 
-/// Seconds per classification of an orbit in a field (square lattice, r = 1/4, B = 10⁻³), and of the exact pinned share's quadrature per power 2.5 of its rows
+/// Seconds per classification of an orbit in a field (square lattice, r = 1/4, B = 10⁻³), and of the exact pinned share's quadrature per power 3 of its rows
 /// (r = 1/50, B = 1/5).
 fn classification(cfg: &CostsConfig) -> Result<(f64, f64), Error> {
     let lattice = |r: i32| {

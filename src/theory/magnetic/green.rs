@@ -74,6 +74,36 @@ fn arc_x_dy(cx: f64, r: f64, f1: f64, f2: f64) -> f64 {
         + r * r / 2.0 * ((f2 - f1) + ((2.0 * f2).sin() - (2.0 * f1).sin()) / 2.0)
 }
 
+/// The length of the left cell side (0 → e₂, direction `up`, length `e2`) inside the annuli.
+fn left_side_covered(all: &[Annulus], up: (f64, f64), e2: f64) -> f64 {
+    let mut pieces: Vec<(f64, f64)> = Vec::new();
+    for ann in all {
+        let (vx, vy) = ann.c;
+        let t = vx * up.0 + vy * up.1;
+        let dist = (vx * up.1 - vy * up.0).abs();
+        if dist >= ann.outer {
+            continue;
+        }
+        let wo = ((ann.outer - dist) * (ann.outer + dist)).sqrt();
+        if ann.inner > dist {
+            let wi = ((ann.inner - dist) * (ann.inner + dist)).sqrt();
+            pieces.extend([(t - wo, t - wi), (t + wi, t + wo)]);
+        } else {
+            pieces.push((t - wo, t + wo));
+        }
+    }
+    pieces.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let (mut along, mut reach) = (0.0, 0.0f64);
+    for (lo, hi) in pieces {
+        let (lo, hi) = (lo.max(reach), hi.min(e2));
+        if hi > lo {
+            along += hi - lo;
+        }
+        reach = reach.max(hi);
+    }
+    along
+}
+
 /// The area of the pinned set in one cell, by Green's theorem (module docs).
 fn pinned_area(l: &DiskLattice, rho: f64) -> f64 {
     let all = annuli(l, rho);
@@ -128,32 +158,7 @@ fn pinned_area(l: &DiskLattice, rho: f64) -> f64 {
             }
         }
     }
-    // The left side (0 → e₂) in U, as lengths along it.
-    let mut pieces: Vec<(f64, f64)> = Vec::new();
-    for ann in &all {
-        let (vx, vy) = ann.c;
-        let t = vx * up.0 + vy * up.1;
-        let dist = (vx * up.1 - vy * up.0).abs();
-        if dist >= ann.outer {
-            continue;
-        }
-        let wo = ((ann.outer - dist) * (ann.outer + dist)).sqrt();
-        if ann.inner > dist {
-            let wi = ((ann.inner - dist) * (ann.inner + dist)).sqrt();
-            pieces.extend([(t - wo, t - wi), (t + wi, t + wo)]);
-        } else {
-            pieces.push((t - wo, t + wo));
-        }
-    }
-    pieces.sort_by(|p, q| p.0.total_cmp(&q.0));
-    let (mut along, mut reach) = (0.0, 0.0f64);
-    for (lo, hi) in pieces {
-        let (lo, hi) = (lo.max(reach), hi.min(e2));
-        if hi > lo {
-            along += hi - lo;
-        }
-        reach = reach.max(hi);
-    }
+    let along = left_side_covered(&all, up, e2);
     area += l.a * along * l.h / e2;
     l.cell_area() - area
 }

@@ -66,7 +66,7 @@ pub struct FieldGeometry {
     /// Every orbit is localized ([`FieldGeometry::all_localized`]), decided once.
     all_localized: bool,
     /// The exact pinned share, integrated once when first asked for (its quadrature grows as a
-    /// power 2.5 of the rows within ρ + r: a run in a field asks for it five times).
+    /// cube of the rows within ρ + r: a run in a field asks for it five times).
     pinned: std::sync::OnceLock<f64>,
 }
 
