@@ -60,12 +60,12 @@ fn the_field_goes_through_the_same_check() {
     refused("lyapunov --w 0.1 --field 1 --collisions-per-batch 1e15 --batches 1000");
     refused("sweep --w 0.1 --fields 1,2,3 --collisions-per-run 1e15");
     // The exact pinned share's quadrature grows as the cube of the rows within rho + r, and an
-    // arc crosses up to 2 pi rho / tau cells: both priced before anything starts. Twelve fields
-    // at rho = 2000 on r = 1e-4 (4001 rows) are 35 days at the quadrature's floor (about seven
-    // times that measured with such thin annuli).
+    // arc crosses up to 2 pi rho / tau cells: both priced before anything starts. Sixty-four
+    // fields from rho = 1000 down on r = 1e-4 (2001 rows and fewer) are 12 days at the
+    // quadrature's floor on 2 threads (about seven times that measured with such thin annuli).
     refused("diffusion --scene square --radius 1e-4 --field 1e-3 --collisions 1e11");
-    let fields: Vec<String> = (0..12)
-        .map(|k| format!("{}", 5e-4 + 5e-6 * k as f64))
+    let fields: Vec<String> = (0..64)
+        .map(|k| format!("{}", 1e-3 + 1e-5 * k as f64))
         .collect();
     let sweep = format!(
         "sweep --scene square --radius 1e-4 --fields {} --collisions-per-run 1e5",
