@@ -59,11 +59,12 @@ pub fn most_extreme(x: &[f64], alpha: f64) -> Option<Extreme> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
 
-    fn normals(rng: &mut impl Rng, n: usize) -> Vec<f64> {
+    /// `n` independent standard normal values (Box–Muller), for the tests of batch statistics.
+    pub(crate) fn normals(rng: &mut impl Rng, n: usize) -> Vec<f64> {
         (0..n)
             .map(|_| {
                 let (u, v): (f64, f64) = (rng.random(), rng.random());

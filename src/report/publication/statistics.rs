@@ -125,17 +125,8 @@ fn f_quantile(d1: f64, d2: f64, p: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::report::publication::Verdict;
-    use rand::{Rng, SeedableRng};
-
-    /// `n` independent standard normal batch values (Box–Muller).
-    fn normals(rng: &mut impl Rng, n: usize) -> Vec<f64> {
-        (0..n)
-            .map(|_| {
-                let (u, v): (f64, f64) = (rng.random(), rng.random());
-                (-2.0 * (1.0 - u).ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-            })
-            .collect()
-    }
+    use crate::statistics::outlier::tests::normals;
+    use rand::SeedableRng;
 
     fn fails(x: &[f64]) -> bool {
         let mut c = Checks(Vec::new());
