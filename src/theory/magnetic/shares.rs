@@ -67,7 +67,7 @@ fn segment(r: f64, alpha: f64) -> f64 {
 /// The area of the intersection of two disks of radii `r1`, `r2` whose centres are `d` apart:
 /// 0 if they are disjoint, π min(r₁, r₂)² if one contains the other, else the sum of the two
 /// circular segments, their half-angles the angles at the centres of the triangle (d, r₁, r₂)
-/// from Kahan's formula ([`triangle_angle`]) — no cancellation near tangency (both angles
+/// from Kahan's formula (`triangle_angle`) — no cancellation near tangency (both angles
 /// small: the segments by series) or near containment (one angle near π).
 pub fn lens(r1: f64, r2: f64, d: f64) -> f64 {
     if d >= r1 + r2 {
