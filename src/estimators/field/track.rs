@@ -266,10 +266,7 @@ pub(super) fn classify_chunk<S: Scene>(
             s.check()?;
         }
         let s = scene.sample(&mut rng);
-        let p = lattice.world(&s);
-        let sg = s.cell.sign();
-        if geometry.classify(p.x, p.y, sg * s.flight.vel.x, sg * s.flight.vel.y) != Orbit::Diffusing
-        {
+        if geometry.classify_state(&lattice, &s) != Orbit::Diffusing {
             localized += 1;
         }
     }

@@ -141,9 +141,7 @@ fn orbit_of<S: Scene>(su: &Setup<'_, S>, s: &LatticeState<f64>) -> Orbit {
     let Some((geometry, _)) = su.field else {
         return Orbit::Diffusing;
     };
-    let p = su.lattice.world(s);
-    let sg = s.cell.sign();
-    geometry.classify(p.x, p.y, sg * s.flight.vel.x, sg * s.flight.vel.y)
+    geometry.classify_state(su.lattice, s)
 }
 
 /// Flies orbit `index`: none of a pinned orbit (its reach is its circle's diameter 2ρ), the

@@ -152,6 +152,18 @@ impl FieldGeometry {
         ((rho - r).abs(), (rho + r).min(reach))
     }
 
+    /// What the orbit of the lattice state `s` does: [`FieldGeometry::classify`] of its world
+    /// position and velocity (the cell's frame turned by the cell's orientation).
+    pub fn classify_state<K: crate::kernel::cell::CellKernel<f64>>(
+        &self,
+        lattice: &crate::scenes::lattice::Lattice<f64, K>,
+        s: &LatticeState<f64>,
+    ) -> Orbit {
+        let p = lattice.world(s);
+        let sg = s.cell.sign();
+        self.classify(p.x, p.y, sg * s.flight.vel.x, sg * s.flight.vel.y)
+    }
+
     /// What the orbit through the world point (x, y) with unit velocity (vx, vy) does.
     pub fn classify(&self, x: f64, y: f64, vx: f64, vy: f64) -> Orbit {
         let (zx, zy) = (x - vy / self.field, y + vx / self.field);
@@ -337,10 +349,7 @@ impl FieldGeometry {
         let lattice = scene.lattice::<f64>(())?;
         for rejected in 0..MAX_STARTS {
             let s = scene.sample(rng);
-            let p = lattice.world(&s);
-            let sg = s.cell.sign();
-            let orbit = self.classify(p.x, p.y, sg * s.flight.vel.x, sg * s.flight.vel.y);
-            if orbit == Orbit::Diffusing {
+            if self.classify_state(&lattice, &s) == Orbit::Diffusing {
                 return Ok((s, rejected));
             }
         }
