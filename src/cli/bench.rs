@@ -83,6 +83,11 @@ pub struct Args {
     /// threads and engine, and report the arcs' speed against them (side by side in one run).
     #[arg(long, requires = "field")]
     straight_beside: bool,
+    /// With --field: time `lorentz diffusion --field B` end to end too, each repetition right
+    /// after the arcs', with as many collisions on the same threads, and report its speed
+    /// against the engine's (median of the paired ratios).
+    #[arg(long, requires = "field")]
+    diffusion_beside: bool,
     /// With --field on the SIMD engine: also time the arc engine fed each event's winner from a
     /// tape of its own run (only that disk and edge computed, the same bits) beside the full
     /// engine on the same tape, one thread: the speed no choice of the next event in advance
@@ -251,6 +256,7 @@ fn throughput_config(a: &Args) -> Result<ThroughputConfig, Error> {
             })
             .transpose()?,
         straight_beside: a.straight_beside,
+        diffusion_beside: a.diffusion_beside,
         oracle_floor: a.oracle_floor,
         table_beside: a
             .table

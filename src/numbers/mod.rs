@@ -2,6 +2,8 @@
 //!
 //! * [`real`]: the number trait [`Real`](real::Real), implemented by `f64` and `rug::Float`
 //!   (≥ 53 bits); the kernel is generic over it.
+//! * [`atan`]: atan2 written in the lanes' operations only: the same bits on every path and
+//!   platform, for the observables of flights in a field.
 //! * [`lanes`]: vectors of `f64` lanes (AVX-512, AVX2, portable, one `f64`) with exactly the
 //!   scalar IEEE operations, for the SIMD engine and its observers.
 //! * [`precision`]: a run's precision (`f64` or MPFR bits) and instantiation at it.
@@ -15,6 +17,7 @@
 //! * [`exact`]: exact decimals and fractions (`0.1`, `1/3`) parsed as rationals, and grids of them
 //!   rounded once.
 
+pub mod atan;
 pub mod ball;
 pub mod count;
 pub mod exact;

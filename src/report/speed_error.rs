@@ -307,6 +307,7 @@ impl Bench<'_> {
             straight_beside: false,
             oracle_floor: false,
             table_beside: None,
+            diffusion_beside: false,
         };
         let one = RunOptions {
             threads: 1,

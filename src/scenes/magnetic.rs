@@ -11,11 +11,12 @@ use rug::Rational;
 
 use super::lattice::{Lattice, LatticeState};
 use crate::Error;
-use crate::kernel::arc::{arc_area, arc_time};
 use crate::kernel::cell::CellKernel;
 use crate::kernel::field::ArcEvent;
 use crate::kernel::flight::EventKind;
 use crate::kernel::vec2::Vec2;
+use crate::numbers::atan::atan2;
+use crate::numbers::lanes::Lanes;
 use crate::numbers::real::Real;
 
 /// One disk of a [`DiskLattice`]'s cell: its centre (world coordinates, relative to the lattice
@@ -209,7 +210,7 @@ impl DiskLattice {
 pub struct ArcStep {
     /// Collision or crossing.
     pub kind: EventKind,
-    /// Flight time to the event (2α/|ω|, see [`crate::kernel::arc::arc_time`]).
+    /// Flight time to the event ([`arc_observables`]).
     pub time: f64,
     /// The chord in world coordinates.
     pub chord: [f64; 2],
@@ -220,16 +221,40 @@ pub struct ArcStep {
 impl ArcStep {
     /// The event `kind` at the end of the chord `chord` of the arc of velocity `vel` in the field
     /// `w` (both in the frame of a cell of orientation `sign`), described in world coordinates:
-    /// the one description of an event whichever engine found it.
+    /// the one description of an event whichever engine and precision found it (the chord,
+    /// velocity and field rounded to `f64`, then [`arc_observables`]).
     pub fn new<T: Real>(kind: EventKind, vel: &Vec2<T>, chord: &Vec2<T>, sign: f64, w: &T) -> Self {
-        let time = arc_time(vel, chord, w).to_f64();
+        let x = (chord.x.to_f64(), chord.y.to_f64());
+        let (time, area) = arc_observables((vel.x.to_f64(), vel.y.to_f64()), x, w.to_f64());
         ArcStep {
             kind,
             time,
-            chord: [sign * chord.x.to_f64(), sign * chord.y.to_f64()],
-            area: arc_area(time, w.to_f64()),
+            chord: [sign * x.0, sign * x.1],
+            area,
         }
     }
+}
+
+/// The flight time t and the arc's part of the Lévy area, (φ − sin φ)/ω², of the arc of
+/// velocity `v` and chord `x` in the field `w` ≠ 0, in every lane (one `f64` for the scalar
+/// driver): φ = ωt = 2·atan2(y, c), y = ω|x|²/2 and c = v·x the chord's angle from v
+/// ([`crate::kernel::arc`]), and sin φ = 2yc/(y² + c²) (tan(φ/2) = y/c), the difference taken by
+/// its series where |φ| < 1/4 so that nothing cancels. The lanes' operations only
+/// ([`atan2`]): every engine, path and platform gives the same bits; observables only (no event
+/// depends on them). A chord of no length has t = 0.
+#[inline(always)]
+pub fn arc_observables<V: Lanes>(v: (V, V), x: (V, V), w: V) -> (V, V) {
+    let y = w.mul(x.0.mul(x.0).add(x.1.mul(x.1))).mul(V::splat(0.5));
+    let c = v.0.mul(x.0).add(v.1.mul(x.1));
+    let phi = atan2(y, c).mul(V::splat(2.0));
+    let p2 = phi.mul(phi);
+    // φ − sin φ = φ³/6 − φ⁵/120 + φ⁷/5040 − φ⁹/362880 + …
+    let tail = V::splat(1.0 / 5040.0).sub(p2.div(V::splat(362_880.0)));
+    let tail = V::splat(1.0 / 6.0).sub(p2.mul(V::splat(1.0 / 120.0).sub(p2.mul(tail))));
+    let series = phi.mul(p2).mul(tail);
+    let sin = V::splat(2.0).mul(y).mul(c).div(y.mul(y).add(c.mul(c)));
+    let excess = V::select(phi.abs().lt(V::splat(0.25)), series, phi.sub(sin));
+    (phi.div(w), excess.div(w.mul(w)))
 }
 
 impl<T: Real, K: CellKernel<T>> Lattice<T, K> {

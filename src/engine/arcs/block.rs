@@ -115,6 +115,11 @@ impl ArcBlock {
         }
     }
 
+    /// The vector path the block runs on.
+    pub fn path(&self) -> SimdPath {
+        self.path
+    }
+
     /// The number of trajectories.
     pub fn len(&self) -> usize {
         self.n

@@ -183,6 +183,9 @@ pub struct FieldReport {
     pub collisions: u64,
     /// Wall-clock seconds.
     pub seconds: f64,
+    /// Collisions per wall-clock second, end to end (0 in files written before it was kept).
+    #[serde(default)]
+    pub collisions_per_second: f64,
     /// Per-batch D_xx (mean of xx and yy), every batch (bounded ones too: see `components`).
     pub batch_D_xx: Vec<f64>,
     /// Per-batch Hall D_xy, every batch.
@@ -544,6 +547,7 @@ fn summarise<S: Scene>(
         tau,
         collisions,
         seconds,
+        collisions_per_second: collisions as f64 / seconds,
         batch_D_xx: batch_xx,
         batch_D_xy: batch_xy,
         components,

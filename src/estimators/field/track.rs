@@ -165,22 +165,62 @@ impl Track {
     /// `v`; returns `true` where it is a collision within the duration.
     pub(super) fn event(&mut self, start: &Unwrapped, v: &Vec2<f64>, step: &ArcStep) -> bool {
         let r = start.displacement_from(&self.origin, &self.basis);
-        let (t, w) = (self.t, self.w);
-        let end = t + step.time;
-        while self.next as f64 * self.grid <= end.min(self.duration) {
-            let tau = self.next as f64 * self.grid - t;
-            let x = chord_at(v, &tau, &w);
-            let c = self.area + (r[0] * x.y - r[1] * x.x) + arc_area(tau, w);
-            let (dx, dy) = (r[0] + x.x, r[1] + x.y);
-            self.sums.push(dx, dy, c);
-            self.reach.push(dx, dy);
-            self.next += 1;
-        }
+        let end = self.t + step.time;
+        self.sample_flight((self.t, self.area), r, v, end);
         self.area += (r[0] * step.chord[1] - r[1] * step.chord[0]) + step.area;
         self.t = end;
         let counted = matches!(step.kind, EventKind::Collision(_)) && end <= self.duration;
         self.done += u64::from(counted);
         counted
+    }
+
+    /// The samples of the time grid within the flight that starts at time `t` with the
+    /// cumulative area `area`, displacement `r` and world velocity `v` and ends at `end` (none
+    /// beyond the duration): the flight's part of [`Self::event`], which the SIMD driver calls
+    /// only for the flights that hold a sample ([`Self::next_sample`] ≤ min(`end`, duration)).
+    pub(super) fn sample_flight(
+        &mut self,
+        (t, area): (f64, f64),
+        r: [f64; 2],
+        v: &Vec2<f64>,
+        end: f64,
+    ) {
+        let w = self.w;
+        while self.next_sample() <= end.min(self.duration) {
+            let tau = self.next_sample() - t;
+            let x = chord_at(v, &tau, &w);
+            let c = area + (r[0] * x.y - r[1] * x.x) + arc_area(tau, w);
+            let (dx, dy) = (r[0] + x.x, r[1] + x.y);
+            self.sums.push(dx, dy, c);
+            self.reach.push(dx, dy);
+            self.next += 1;
+        }
+    }
+
+    /// The time of the next sample of the grid.
+    pub(super) fn next_sample(&self) -> f64 {
+        self.next as f64 * self.grid
+    }
+
+    /// The flight time, cumulative area and collisions so far, for the SIMD driver, which
+    /// carries them in its lanes between samples.
+    pub(super) fn hot(&self) -> (f64, f64, u64) {
+        (self.t, self.area, self.done)
+    }
+
+    /// Takes back what [`Self::hot`] gave, carried on.
+    pub(super) fn set_hot(&mut self, (t, area, done): (f64, f64, u64)) {
+        (self.t, self.area, self.done) = (t, area, done);
+    }
+
+    /// The start, as the SIMD driver differences positions from it.
+    pub(super) fn origin(&self) -> &Unwrapped {
+        &self.origin
+    }
+
+    /// The duration.
+    pub(super) fn duration(&self) -> f64 {
+        self.duration
     }
 
     /// What the batch measured.

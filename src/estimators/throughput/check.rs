@@ -47,6 +47,13 @@ pub(super) fn check(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Chec
         // The transport analyses' range: beyond it the arc engine's starts are all pinned.
         crate::scenes::spec::field_within(b, &format!("{b:e}"), crate::scenes::spec::FIELD_RANGE)?;
     }
+    if cfg.diffusion_beside && field.is_none() {
+        return Err(Error::parameter(
+            "diffusion_beside",
+            true,
+            "times a field run beside the arc engine: give a nonzero field",
+        ));
+    }
     if cfg.straight_beside && field.is_none() {
         return Err(Error::parameter(
             "straight_beside",

@@ -5,6 +5,7 @@
 mod arcs;
 mod check;
 pub mod costs;
+pub mod end_to_end;
 pub mod long_flights;
 mod tables;
 
@@ -83,6 +84,10 @@ pub struct Throughput {
     /// the same run (absent otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub table: Option<TableBench>,
+    /// With `diffusion_beside`: `lorentz diffusion` in the field end to end, timed in alternation
+    /// with the arcs in the same run (absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub diffusion: Option<end_to_end::EndToEnd>,
     /// Version, seed, precision, engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -145,12 +150,14 @@ struct TimeRuns<'a> {
     progress: &'a (dyn Fn(u64) + Sync),
     /// A table timed beside (`f64`): its runs, and its repetitions' rates and crossings.
     table: Option<&'a mut (tables::TableRuns, Vec<f64>, u64)>,
+    /// The diffusion analysis in the field, timed beside.
+    diffusion: Option<&'a mut end_to_end::DiffusionRuns>,
 }
 
 impl AtPrecision for TimeRuns<'_> {
     /// Each repetition's rate, crossings per collision, and the straight repetitions' rates.
     type Output = Result<(Vec<f64>, f64, Vec<f64>), Error>;
-    fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
+    fn at<T: Real>(mut self, ctx: T::Ctx) -> Self::Output {
         let trap64 = Trap::new(self.w)?;
         let w = crate::numbers::exact::param_at::<T>(ctx, self.w, self.w_exact)?;
         let lat = TriangularLattice::new(w)?;
@@ -200,6 +207,9 @@ impl AtPrecision for TimeRuns<'_> {
                 let t0 = Instant::now();
                 t.2 = t.0.advance(&pool, n)?;
                 t.1.push(per_rep as f64 / t0.elapsed().as_secs_f64());
+            }
+            if let Some(d) = self.diffusion.as_mut() {
+                d.time()?;
             }
             (self.progress)(1);
         }
@@ -403,6 +413,11 @@ pub struct ThroughputConfig {
     /// `table`).
     #[serde(default, rename = "table", skip_serializing_if = "Option::is_none")]
     pub table_beside: Option<crate::scenes::table::spec::TableSpec>,
+    /// With a field: time `lorentz diffusion` in the field end to end beside the engine, each
+    /// repetition right after the arcs', with as many collisions on the same threads
+    /// ([`end_to_end::EndToEnd`]).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub diffusion_beside: bool,
 }
 
 impl ThroughputConfig {
@@ -420,6 +435,7 @@ impl ThroughputConfig {
             straight_beside: false,
             oracle_floor: false,
             table_beside: None,
+            diffusion_beside: false,
         }
     }
 }
@@ -457,6 +473,14 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         })
         .transpose()?;
     let (threads, progress) = (options.threads, options.progress);
+    let per_rep = collisions / lanes(resolved) as u64 * (lanes(resolved) * threads) as u64;
+    let mut diffusion = field
+        .filter(|_| cfg.diffusion_beside)
+        .map(|b| {
+            let table = cfg.table.clone();
+            end_to_end::DiffusionRuns::new(table, b, per_rep, options.engine, threads)
+        })
+        .transpose()?;
     let unit = divider_unit(resolved, field);
     let (samples, cpc, beside) = precision.dispatch(TimeRuns {
         engine: resolved,
@@ -471,13 +495,14 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         threads,
         progress,
         table: table.as_mut(),
+        diffusion: diffusion.as_mut(),
     })?;
     let m = median(&samples);
-    let per_rep = collisions / lanes(resolved) as u64 * (lanes(resolved) * threads) as u64;
     let table = table.map(|(runs, rates, crossings)| {
         runs.report(rates, &samples, threads, crossings as f64 / per_rep as f64)
     });
     let straight = straight_beside.then(|| beside_report(&samples, beside, threads));
+    let diffusion = diffusion.map(|d| d.report(&samples));
     let oracle = oracle_path
         .map(|(b, path)| arcs::oracle_floor(path, w, b, seed, collisions, reps))
         .transpose()?;
@@ -508,6 +533,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         straight,
         oracle,
         table,
+        diffusion,
         meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
     })
 }

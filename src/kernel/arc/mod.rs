@@ -418,9 +418,14 @@ pub fn velocity_along<T: Real>(v: &Vec2<T>, x: &Vec2<T>, w: &T) -> Vec2<T> {
 }
 
 /// The flight time along the arc to the end of the chord `x` (velocity `v`, field `w` ≠ 0):
-/// 2α/ω with α = atan2(ω|x|²/2, v·x) the chord's angle from v. For observables only (not
-/// correctly rounded in `f64`; no event depends on it).
+/// 2α/ω with α = atan2(ω|x|²/2, v·x) the chord's angle from v; 0 for a chord of no length (where
+/// atan2(±0, −0) would say a whole turn). For observables only (not correctly rounded in `f64`;
+/// no event depends on it); a field run's observers use
+/// [`crate::scenes::magnetic::arc_observables`], the same bits on every engine.
 pub fn arc_time<T: Real>(v: &Vec2<T>, x: &Vec2<T>, w: &T) -> T {
+    if is_zero(x) {
+        return x.norm2();
+    }
     let y = (w.clone() * &x.norm2()).scale(0.5);
     let alpha = y.atan2(&v.dot(x));
     alpha.scale(2.0) / w

@@ -61,6 +61,18 @@ pub fn throughput(r: &Throughput) -> String {
             s.paired_ratio
         );
     }
+    if let Some(d) = &r.diffusion {
+        line!(
+            out,
+            "diffusion in the field end to end beside (same run, alternating; {:.3e} collisions, {} batches): median {:.3e} collisions/s per thread (runs: {}); diffusion / engine = {:.3} (median of the paired ratios {:.3})",
+            d.collisions as f64,
+            d.batches,
+            d.collisions_per_second_per_thread,
+            runs(&d.samples),
+            d.over_engine,
+            d.paired_ratio
+        );
+    }
     if let Some(t) = &r.table {
         line!(
             out,

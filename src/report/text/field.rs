@@ -12,7 +12,7 @@ pub fn field(r: &FieldReport) -> String {
     let m = &r.meta;
     line!(
         out,
-        "periodic Lorentz gas in a magnetic field, {}, B = {} (cyclotron radius {:.6})  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {:.1} s)",
+        "periodic Lorentz gas in a magnetic field, {}, B = {} (cyclotron radius {:.6})  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {}, {:.1} s, {:.3e} collisions/s)",
         scene(r),
         r.config.table.field().unwrap_or("0"),
         r.cyclotron_radius,
@@ -21,7 +21,9 @@ pub fn field(r: &FieldReport) -> String {
         m.seed.unwrap_or_default(),
         m.batches.unwrap_or_default(),
         r.collisions as f64,
-        r.seconds
+        crate::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
+        r.seconds,
+        r.collisions_per_second
     );
     line!(
         out,
