@@ -10,10 +10,10 @@
 use super::track::{self, Batch, LOOK_EVERY, Setup, Track};
 use crate::Error;
 use crate::engine::arcs::{ArcBlock, ArcRecord};
+use crate::engine::observe::CROSSING_CODE;
 use crate::engine::options::StopFlag;
 use crate::engine::parallel::par_lane_blocks;
 use crate::engine::simd::BLOCK;
-use crate::engine::observe::CROSSING_CODE;
 use crate::engine::{LaneWork, SimdPath, on_path};
 use crate::kernel::vec2::Vec2;
 use crate::numbers::lanes::Lanes;
