@@ -66,6 +66,29 @@ pub fn threads(threads: usize) -> RunOptions<'static> {
     }
 }
 
+/// The shadow audit of `collisions` collisions over 2 batches (seed `seed`) on 2 threads, every
+/// event replayed at 128 bits, in the field `field` (none: straight flights) with `flights`.
+pub fn full_audit<S: lorentz_gas::scenes::Scene>(
+    scene: &S,
+    collisions: u64,
+    seed: u64,
+    field: Option<&str>,
+    flights: lorentz_gas::engine::long_flight::Flights,
+) -> lorentz_gas::verification::shadow_audit::AuditReport {
+    use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
+    let cfg = AuditConfig {
+        scene: scene.label(),
+        collisions,
+        batches: 2,
+        sample: 1.0,
+        reference_bits: 128,
+        seed,
+        field: field.map(Into::into),
+        flights,
+    };
+    shadow_audit::run(scene, &cfg, &threads(2)).unwrap()
+}
+
 /// A result's JSON without what differs between runs of the same bits: timing (with the precision
 /// plan, whose time is this run's speed), metadata, and how much was resumed from a checkpoint.
 pub fn physics_only(mut v: serde_json::Value) -> serde_json::Value {

@@ -47,19 +47,7 @@ macro_rules! kernel_properties {
     ($name:ident, $t:ty, $ctx:expr, $cases:expr) => {
         mod $name {
             use super::*;
-            type T = $t;
-            fn ctx() -> <T as Real>::Ctx {
-                $ctx
-            }
-            fn u() -> f64 {
-                <T as Real>::unit_roundoff(ctx())
-            }
-            /// The f64 start lifted exactly, with the velocity normalised at the working precision.
-            fn lift(f: &Flight<f64>) -> Flight<T> {
-                let mut g = Flight::<T>::convert_from_f64(ctx(), f);
-                g.normalise_speed();
-                g
-            }
+            at_precision!($t, $ctx);
 
             #[test]
             fn energy_positions_and_exclusions_over_twenty_events() {

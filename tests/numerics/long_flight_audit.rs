@@ -61,20 +61,10 @@ fn the_mpfr_cell_walk_meets_the_disk_the_jumps_meet() {
 /// after them inside the one-step model, the engine recorded. Walking, nothing is jumped.
 #[test]
 fn audits_with_jumps_find_nothing_outside_the_model() {
-    use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
+    use lorentz_gas::verification::shadow_audit::AuditReport;
     let run = |q: u32, collisions: u64, flights: Flights| -> AuditReport {
         let scene = SquareScene::exact(Rational::from((1, q))).unwrap();
-        let cfg = AuditConfig {
-            scene: scene.label(),
-            collisions,
-            batches: 2,
-            sample: 1.0,
-            reference_bits: 128,
-            seed: 37,
-            field: None,
-            flights,
-        };
-        shadow_audit::run(&scene, &cfg, &crate::common::threads(2)).unwrap()
+        crate::common::full_audit(&scene, collisions, 37, None, flights)
     };
     for q in [100u32, 1000] {
         let r = run(q, 100_000, Flights::Auto);

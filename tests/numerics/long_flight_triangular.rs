@@ -13,22 +13,12 @@ use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::statistics::normal_sigma_equivalent_t;
 use lorentz_gas::verification::jump_audit_triangular::check_jump;
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
-use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
+use lorentz_gas::verification::shadow_audit::AuditReport;
 use rug::Rational;
 
 fn audit(w: &str, collisions: u64, flights: Flights) -> AuditReport {
     let scene = TriangularScene::exact(w.parse::<Rational>().unwrap()).unwrap();
-    let cfg = AuditConfig {
-        scene: scene.label(),
-        collisions,
-        batches: 2,
-        sample: 1.0,
-        reference_bits: 128,
-        seed: 41,
-        field: None,
-        flights,
-    };
-    shadow_audit::run(&scene, &cfg, &crate::common::threads(2)).unwrap()
+    crate::common::full_audit(&scene, collisions, 41, None, flights)
 }
 
 /// Every jump of runs at w = 1, 10 and 1000 (just beyond w∞ the jumps are rare, at w = 1000 every

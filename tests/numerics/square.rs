@@ -141,18 +141,7 @@ macro_rules! square_properties {
     ($name:ident, $t:ty, $ctx:expr, $cases:expr) => {
         mod $name {
             use super::*;
-            type T = $t;
-            fn ctx() -> <T as Real>::Ctx {
-                $ctx
-            }
-            fn u() -> f64 {
-                <T as Real>::unit_roundoff(ctx())
-            }
-            fn lift(f: &Flight<f64>) -> Flight<T> {
-                let mut g = Flight::<T>::convert_from_f64(ctx(), f);
-                g.normalise_speed();
-                g
-            }
+            at_precision!($t, $ctx);
 
             #[test]
             fn energy_cell_and_exclusions_hold_after_every_event() {
@@ -308,20 +297,8 @@ fn birkhoff_map_preserves_phase_space_volume() {
 /// reference runs at the exact radius while the f64 run uses its nearest double.
 #[test]
 fn shadow_audit_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
     let s = SquareScene::exact(Rational::from((1, 3))).unwrap();
-    let cfg = AuditConfig {
-        scene: s.label(),
-        collisions: 200_000,
-        batches: 2,
-        sample: 1.0,
-        reference_bits: 128,
-        seed: 93,
-        field: None,
-        flights: Default::default(),
-    };
-    let two = crate::common::threads(2);
-    let r = shadow_audit::run(&s, &cfg, &two).unwrap();
+    let r = crate::common::full_audit(&s, 200_000, 93, None, Default::default());
     assert!(r.summary.audited >= 200_000);
     assert_eq!(
         r.summary.outside,

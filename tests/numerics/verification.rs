@@ -5,7 +5,6 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight, trap::Trap};
 use lorentz_gas::numbers::real::Real;
-use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
@@ -186,21 +185,10 @@ fn near_surface_start_replays_within_the_model() {
 /// recorded worst events replay to the same verdict from their exact bit patterns.
 #[test]
 fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::shadow_audit::{self, AuditConfig, replay};
+    use lorentz_gas::verification::shadow_audit::replay;
     for &w in &[0.02, 0.1, 0.3] {
         let scene = TriangularScene::new(w).unwrap();
-        let cfg = AuditConfig {
-            scene: scene.label(),
-            collisions: 100_000,
-            batches: 2,
-            sample: 1.0,
-            reference_bits: 128,
-            seed: 7,
-            field: None,
-            flights: Default::default(),
-        };
-        let two = crate::common::threads(2);
-        let r = shadow_audit::run(&scene, &cfg, &two).unwrap();
+        let r = crate::common::full_audit(&scene, 100_000, 7, None, Default::default());
         assert!(r.summary.audited >= 100_000);
         assert_eq!(
             r.summary.outside,
