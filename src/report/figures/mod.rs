@@ -66,6 +66,19 @@ pub struct PlotSpec<'a> {
     pub count_y: bool,
 }
 
+impl<'a> PlotSpec<'a> {
+    /// Linear axes with this title and these labels, no bands, real-valued y (set the other
+    /// fields with `PlotSpec { log_y: true, ..PlotSpec::new(..) }`).
+    pub fn new(title: &'a str, x_label: &'a str, y_label: &'a str) -> Self {
+        PlotSpec {
+            title,
+            x_label,
+            y_label,
+            ..Default::default()
+        }
+    }
+}
+
 /// A tick label as people write it: integers without ".0", other values to six significant
 /// digits without trailing zeros, very large or small ones in scientific notation.
 fn tick(v: f64) -> String {
@@ -375,12 +388,9 @@ mod tests {
             y: Some((2.0, 3.0)),
         }];
         let spec = PlotSpec {
-            title: "t",
-            x_label: "x",
-            y_label: "count",
             bands: &bands,
             count_y: true,
-            ..Default::default()
+            ..PlotSpec::new("t", "x", "count")
         };
         let series: Vec<Series> = (0..4)
             .map(|i| Series {
