@@ -46,19 +46,9 @@ fn physics(json: &str) -> serde_json::Value {
 fn a_killed_diffusion_run_resumes_to_the_uninterrupted_bits() {
     let tmp = crate::common::scratch();
     let dir = tmp.path();
-    let run = [
-        "diffusion",
-        "--w",
-        "0.1",
-        "--collisions",
-        "2e8",
-        "--batches",
-        "16",
-        "--threads",
-        "2",
-        "--json",
-        "--quiet",
-    ];
+    let run = crate::common::words(
+        "diffusion --w 0.1 --collisions 2e8 --batches 16 --threads 2 --json --quiet",
+    );
     let (reference, full) = finish(dir, &run);
     let mut resumable = run.to_vec();
     resumable.extend(["--checkpoint", "run.ckpt", "--checkpoint-every", "0.05"]);

@@ -4,7 +4,7 @@
 
 use std::process::Command;
 
-use crate::common::lorentz_in;
+use crate::common::{lorentz_in, words};
 
 /// (command line, split at white space; a word the one-line message must contain)
 const BAD: &[(&str, &str)] = &[
@@ -430,9 +430,7 @@ fn bad_input_is_refused_with_status_2_one_line_and_no_files() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
     let mut failures = Vec::new();
-    let split = BAD
-        .iter()
-        .map(|(line, needle)| (line.split_whitespace().collect::<Vec<_>>(), needle));
+    let split = BAD.iter().map(|(line, needle)| (words(line), needle));
     let spaced = BAD_WITH_SPACES
         .iter()
         .map(|(a, needle)| (a.to_vec(), needle));
@@ -504,7 +502,7 @@ fn unreadable_or_unwritable_paths_exit_3_naming_the_path() {
     ];
     let mut failures = Vec::new();
     for (line, op, path) in cases {
-        let args: Vec<&str> = line.split_whitespace().collect();
+        let args = words(line);
         let (code, out, err) = lorentz_in(dir, &args);
         let lines = err.lines().filter(|l| !l.trim().is_empty()).count();
         if code != 3 || lines != 1 || !err.contains(op) || !err.contains(path) || !out.is_empty() {
@@ -523,15 +521,7 @@ fn unreadable_or_unwritable_paths_exit_3_naming_the_path() {
 fn simd_path_override_is_checked_and_reported() {
     let run = |v: &str| {
         Command::new(env!("CARGO_BIN_EXE_lorentz"))
-            .args([
-                "diffusion",
-                "--w",
-                "0.2",
-                "--collisions",
-                "4e5",
-                "--batches",
-                "4",
-            ])
+            .args(words("diffusion --w 0.2 --collisions 4e5 --batches 4"))
             .args(["--json", "--quiet"])
             .env("LORENTZ_SIMD", v)
             .output()
@@ -555,161 +545,26 @@ fn simd_path_override_is_checked_and_reported() {
 fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadata_block() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
-    let runs: &[&[&str]] = &[
+    let runs: &[&str] = &[
         // 8 batches: the fewest the report's batch statistics judge (fewer: INCOMPLETE).
-        &[
-            "diffusion",
-            "--w",
-            "0.2",
-            "--collisions",
-            "2e6",
-            "--batches",
-            "8",
-            "--window",
-            "2:8",
-            "--check-window",
-            "4:16",
-        ],
-        &[
-            "audit",
-            "--w",
-            "0.1",
-            "--collisions",
-            "2_000",
-            "--batches",
-            "2",
-        ],
-        &[
-            "lyapunov",
-            "--w",
-            "0.1",
-            "--collisions-per-batch",
-            "2e4",
-            "--batches",
-            "2",
-            "--starts",
-            "0",
-        ],
-        &[
-            "certify",
-            "--w",
-            "0.1",
-            "--collisions",
-            "50",
-            "--digits",
-            "20",
-        ],
-        &[
-            "backscatter",
-            "--w",
-            "0.1",
-            "--particles",
-            "2e4",
-            "--batches",
-            "4",
-        ],
-        &[
-            "hops",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--batches",
-            "4",
-            "--order",
-            "2",
-        ],
-        &[
-            "theory",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--batches",
-            "4",
-            "--order",
-            "2",
-        ],
-        &[
-            "lattice-walk",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--order",
-            "2",
-        ],
-        &["constants", "--w", "0.1", "--precision", "200"],
-        &[
-            "escape",
-            "--w",
-            "0.3",
-            "--widths",
-            "10,12,14",
-            "--particles-per-width",
-            "3.2e3",
-        ],
-        &[
-            "figure",
-            "backscatter-map",
-            "--particles",
-            "1e3",
-            "--out",
-            "fig",
-        ],
-        &[
-            "bench",
-            "--w",
-            "0.1",
-            "--collisions-per-thread",
-            "1e5",
-            "--repetitions",
-            "3",
-        ],
-        &[
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--steps",
-            "3",
-            "--runs",
-            "2",
-            "--collisions-per-run",
-            "1_000_000",
-            "--batches-per-run",
-            "4",
-            "--out",
-            "sweep",
-        ],
-        &[
-            "shadow",
-            "--w",
-            "0.1",
-            "--collisions-per-segment",
-            "20",
-            "--segments",
-            "2",
-        ],
-        &[
-            "trajectory",
-            "--scene",
-            "square",
-            "--radius",
-            "1/3",
-            "--start",
-            "1/2,1/10",
-            "--direction",
-            "1,1/7",
-            "--time",
-            "3",
-        ],
-        &["report", "d.json", "--quick", "--out", "rep"],
-        &["merge", "p0", "p1", "--out", "merged"],
-        &[
-            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "2", "--out", "slurm",
-        ],
+        "diffusion --w 0.2 --collisions 2e6 --batches 8 --window 2:8 --check-window 4:16",
+        "audit --w 0.1 --collisions 2_000 --batches 2",
+        "lyapunov --w 0.1 --collisions-per-batch 2e4 --batches 2 --starts 0",
+        "certify --w 0.1 --collisions 50 --digits 20",
+        "backscatter --w 0.1 --particles 2e4 --batches 4",
+        "hops --w 0.1 --collisions 1e6 --batches 4 --order 2",
+        "theory --w 0.1 --collisions 1e6 --batches 4 --order 2",
+        "lattice-walk --w 0.1 --collisions 1e6 --order 2",
+        "constants --w 0.1 --precision 200",
+        "escape --w 0.3 --widths 10,12,14 --particles-per-width 3.2e3",
+        "figure backscatter-map --particles 1e3 --out fig",
+        "bench --w 0.1 --collisions-per-thread 1e5 --repetitions 3",
+        "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1_000_000 --batches-per-run 4 --out sweep",
+        "shadow --w 0.1 --collisions-per-segment 20 --segments 2",
+        "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,1/7 --time 3",
+        "report d.json --quick --out rep",
+        "merge p0 p1 --out merged",
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 2 --out slurm",
     ];
     // What `merge` merges: the two parts of a sweep. (`report` audits the diffusion result the
     // first run below writes; `reproduce --json` takes minutes:
@@ -720,11 +575,12 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1e6 \
              --batches-per-run 4 --shard {part}/2 --out p{part} --quiet"
         );
-        let (code, _, err) = lorentz_in(&dir, &line.split_whitespace().collect::<Vec<_>>());
+        let (code, _, err) = lorentz_in(&dir, &words(&line));
         assert_eq!(code, 0, "{err}");
     }
-    for args in runs {
-        let mut a: Vec<&str> = args.to_vec();
+    for line in runs {
+        let args = words(line);
+        let mut a = args.clone();
         a.push("--json");
         if args[0] != "constants" {
             a.push("--quiet");
@@ -737,15 +593,7 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
         let v: serde_json::Value =
             serde_json::from_str(&out).unwrap_or_else(|e| panic!("{a:?}: {e}: {out}"));
         let meta = find_meta(&v).unwrap_or_else(|| panic!("{a:?}: no meta block in {out}"));
-        for k in [
-            "version",
-            "seed",
-            "batches",
-            "precision",
-            "engine",
-            "threads",
-            "command_line",
-        ] {
+        for k in words("version seed batches precision engine threads command_line") {
             assert!(meta.get(k).is_some(), "{a:?}: meta lacks {k}");
         }
         assert_eq!(meta["version"], env!("CARGO_PKG_VERSION"));
@@ -801,32 +649,10 @@ fn results_do_not_depend_on_the_thread_count() {
     let dir = tmp.path().to_path_buf();
     for base in [
         &["audit", "--w", "0.1", "--collisions", "1e5", "--json"][..],
-        &[
-            "diffusion",
-            "--w",
-            "0.2",
-            "--collisions",
-            "2e6",
-            "--batches",
-            "4",
-            "--window",
-            "2:8",
-            "--check-window",
-            "4:16",
-            "--json",
-        ][..],
-        &[
-            "hops",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--batches",
-            "4",
-            "--order",
-            "2",
-            "--json",
-        ][..],
+        &words(
+            "diffusion --w 0.2 --collisions 2e6 --batches 4 --window 2:8 --check-window 4:16 --json",
+        )[..],
+        &words("hops --w 0.1 --collisions 1e6 --batches 4 --order 2 --json")[..],
     ] {
         let run = |t: &str| {
             let mut a = base.to_vec();
@@ -852,38 +678,15 @@ fn json_outputs_have_the_documented_keys() {
     let dir = tmp.path().to_path_buf();
     let (code, out, err) = lorentz_in(
         &dir,
-        &[
-            "diffusion",
-            "--w",
-            "0.2",
-            "--collisions",
-            "2000000",
-            "--batches",
-            "4",
-            "--window",
-            "2:8",
-            "--check-window",
-            "4:16",
-            "--json",
-        ],
+        &words(
+            "diffusion --w 0.2 --collisions 2000000 --batches 4 --window 2:8 --check-window 4:16 --json",
+        ),
     );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    for k in [
-        "w",
-        "D",
-        "D_err",
-        "D_MZ",
-        "mean_free_path",
-        "mean_free_path_err",
-        "mean_free_path_exact",
-        "tau_hop",
-        "tau_hop_err",
-        "tau_hop_exact",
-        "collisions",
-        "seconds",
-        "collisions_per_second",
-    ] {
+    for k in words(
+        "w D D_err D_MZ mean_free_path mean_free_path_err mean_free_path_exact tau_hop tau_hop_err tau_hop_exact collisions seconds collisions_per_second",
+    ) {
         assert!(v.get(k).is_some(), "missing key {k}");
     }
     assert_eq!(v["meta"]["precision"], "f64");
@@ -911,34 +714,13 @@ fn json_outputs_have_the_documented_keys() {
     // Estimates as flat x / x_err pairs, records with named keys.
     let (code, out, err) = lorentz_in(
         &dir,
-        &[
-            "theory",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--batches",
-            "4",
-            "--order",
-            "2",
-            "--json",
-            "--quiet",
-        ],
+        &words("theory --w 0.1 --collisions 1e6 --batches 4 --order 2 --json --quiet"),
     );
     assert_eq!(code, 0, "{err}");
     let t: serde_json::Value = serde_json::from_str(&out).unwrap();
-    for k in [
-        "p_bs",
-        "p_bs_err",
-        "p_cf",
-        "p_cf_err",
-        "p_cf_appendix_a",
-        "p_cf_appendix_a_as_printed",
-        "D_2_as_printed",
-        "D_3_as_printed",
-        "D_GK",
-        "D_GK_err",
-    ] {
+    for k in words(
+        "p_bs p_bs_err p_cf p_cf_err p_cf_appendix_a p_cf_appendix_a_as_printed D_2_as_printed D_3_as_printed D_GK D_GK_err",
+    ) {
         assert!(t[k].is_number(), "theory: {k} is not a number");
     }
     for k in ["k", "D_k", "D_k_combined", "D_lattice_walk"] {
@@ -946,17 +728,7 @@ fn json_outputs_have_the_documented_keys() {
     }
     let (code, out, err) = lorentz_in(
         &dir,
-        &[
-            "backscatter",
-            "--w",
-            "0.1",
-            "--particles",
-            "2e4",
-            "--batches",
-            "4",
-            "--json",
-            "--quiet",
-        ],
+        &words("backscatter --w 0.1 --particles 2e4 --batches 4 --json --quiet"),
     );
     assert_eq!(code, 0, "{err}");
     let b: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -974,19 +746,9 @@ fn json_outputs_have_the_documented_keys() {
 #[test]
 fn closed_or_failing_output_ends_quietly() {
     use std::process::Stdio;
-    let args = [
-        "diffusion",
-        "--w",
-        "0.1",
-        "--collisions",
-        "4e6",
-        "--batches",
-        "4",
-        "--json",
-        "--quiet",
-    ];
+    let args = words("diffusion --w 0.1 --collisions 4e6 --batches 4 --json --quiet");
     let mut child = Command::new(env!("CARGO_BIN_EXE_lorentz"))
-        .args(args)
+        .args(&args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -998,7 +760,7 @@ fn closed_or_failing_output_ends_quietly() {
     assert!(!err.contains("panicked") && err.is_empty(), "stderr: {err}");
     if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
         let out = Command::new(env!("CARGO_BIN_EXE_lorentz"))
-            .args(args)
+            .args(&args)
             .stdout(full)
             .output()
             .unwrap();

@@ -24,6 +24,11 @@ pub fn lorentz_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// The words of a command line, split at white space (for [`lorentz_in`]).
+pub fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
+}
+
 /// A fresh temporary directory, removed when the returned guard is dropped — also when the test
 /// fails (the panic unwinds through the guard).
 pub fn scratch() -> tempfile::TempDir {
