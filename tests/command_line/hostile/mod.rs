@@ -41,22 +41,11 @@ fn small_result(dir: &Path) -> String {
 /// The first line of stderr, which every refusal is.
 /// A sweep of `steps` points from w = 0.1 to 0.2 at tiny statistics, with `more` options, in `dir`.
 fn small_sweep(dir: &Path, steps: &str, more: &[&str]) -> (i32, String, String) {
-    let mut args = vec![
-        "sweep",
-        "--w-from",
-        "0.1",
-        "--w-to",
-        "0.2",
-        "--steps",
-        steps,
-        "--runs",
-        "2",
-        "--collisions-per-run",
-        "1e5",
-        "--batches-per-run",
-        "4",
-        "--quiet",
-    ];
+    let mut args = words("sweep --w-from 0.1 --w-to 0.2 --steps");
+    args.push(steps);
+    args.extend(words(
+        "--runs 2 --collisions-per-run 1e5 --batches-per-run 4 --quiet",
+    ));
     args.extend_from_slice(more);
     lorentz(dir, &args)
 }
@@ -302,21 +291,9 @@ fn a_newline_in_a_slurm_path_is_refused_before_a_script_is_written() {
     let tmp = scratch();
     let dir = tmp.path();
     let out = dir.join("x\n#SBATCH --mem=1\nrm -rf ~");
-    let (code, _, err) = lorentz(
-        dir,
-        &[
-            "slurm",
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--array",
-            "2",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-    );
+    let mut args = words("slurm sweep --w-from 0.1 --w-to 0.2 --array 2 --out");
+    args.push(out.to_str().unwrap());
+    let (code, _, err) = lorentz(dir, &args);
     assert_eq!(code, 2, "{err}");
     assert!(first(&err).contains("control character"), "{err}");
     assert_eq!(std::fs::read_dir(dir).unwrap().count(), 0);
