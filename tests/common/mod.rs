@@ -62,6 +62,19 @@ pub fn runner(cases: u32, seed: u8) -> TestRunner {
     TestRunner::new_with_rng(cfg, TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]))
 }
 
+/// Checks `property` on `cases` cases of [`runner`]`(cases, seed)`: a scene parameter from
+/// `parameter` and three numbers uniform in [0, 1) that pick a start. Panics with the shrunk
+/// failing case.
+pub fn check_starts(
+    cases: u32,
+    seed: u8,
+    parameter: std::ops::Range<f64>,
+    property: impl Fn((f64, f64, f64, f64)) -> Result<(), proptest::test_runner::TestCaseError>,
+) {
+    let strategy = (parameter, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0);
+    runner(cases, seed).run(&strategy, property).unwrap();
+}
+
 /// Run options on `threads` threads, everything else default (auto engine, no progress, nothing
 /// resumed, no audit).
 pub fn threads(threads: usize) -> RunOptions<'static> {

@@ -11,6 +11,7 @@
 //! * reversibility of long orbits within the amplification bound, Liouville |det DT| = 1 of the
 //!   Birkhoff map, the shadow audit with 0 events outside the error model.
 
+use super::kernel_properties::assert_one_collision_reverses;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight};
 use lorentz_gas::numbers::real::Real;
@@ -22,7 +23,6 @@ use lorentz_gas::verification::error_model::{
     ENERGY_BAND_U, ONE_EVENT_U, POST_EVENT_U, UNIT_ROUNDOFF,
 };
 use proptest::prelude::*;
-use proptest::test_runner::TestRunner;
 use rand::Rng;
 use rug::{Float, Rational};
 
@@ -119,10 +119,6 @@ fn no_collision_is_missed() {
     }
 }
 
-fn runner(cases: u32) -> TestRunner {
-    crate::common::runner(cases, 9)
-}
-
 /// A free start in the cell from three numbers in [0, 1) (a walk until outside the disk, so that
 /// shrinking still acts on the inputs).
 fn start(r: f64, u1: f64, u2: f64, u3: f64) -> Flight<f64> {
@@ -145,94 +141,67 @@ macro_rules! square_properties {
 
             #[test]
             fn energy_cell_and_exclusions_hold_after_every_event() {
-                runner($cases)
-                    .run(
-                        &(0.01f64..0.4999, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0),
-                        |(r, u1, u2, u3)| {
-                            let cell = scene(r).kernel::<T>(ctx()).unwrap();
-                            let mut f = lift(&start(r, u1, u2, u3));
-                            let tol = POST_EVENT_U * u();
-                            for _ in 0..200 {
-                                let v_in = f.vel.clone();
-                                let ev = cell.next_event(&f).unwrap();
-                                prop_assert!(ev.time.to_f64() >= 0.0);
-                                cell.apply(&mut f, &ev);
-                                // One reflection's rounding: 128u for the unit disks of the
-                                // triangular trap; with |n| = r the contact point's absolute
-                                // error u·(½ + t) is relative u(½ + t)/r, so the band widens by
-                                // the factor 1 + 1/(2r) (proofs-notes/energy.md).
-                                let e2 = f.vel.norm2().add_f64(-1.0).to_f64();
-                                let band = ENERGY_BAND_U * u() * (1.0 + 0.5 / r);
-                                prop_assert!(e2.abs() <= band, "|v|^2 - 1 = {e2:e}");
-                                match ev.kind {
-                                    EventKind::Crossing(k) => {
-                                        // A translation: the velocity is untouched, bit for bit.
-                                        prop_assert!(f.vel == v_in, "crossing {k} changed v");
-                                        prop_assert_eq!(
-                                            f.excluded_edge,
-                                            Some(cell.edges[k as usize].entered)
-                                        );
-                                        prop_assert_eq!(f.excluded_disk, None);
-                                    }
-                                    EventKind::Collision(m) => {
-                                        prop_assert_eq!(f.excluded_disk, Some(m));
-                                        prop_assert_eq!(f.excluded_edge, None);
-                                    }
-                                }
-                                let d = (f.pos.sub(&cell.disks[0].centre).norm2()
-                                    - cell.disks[0].radius2())
-                                .to_f64();
-                                prop_assert!(d >= -tol, "inside the disk: {d:e}");
-                                for k in 0..4 {
-                                    let s = cell.edge_distance(k, &f.pos).to_f64();
-                                    prop_assert!(s >= -tol, "outside edge {k}: {s:e}");
-                                }
+                crate::common::check_starts($cases, 9, 0.01f64..0.4999, |(r, u1, u2, u3)| {
+                    let cell = scene(r).kernel::<T>(ctx()).unwrap();
+                    let mut f = lift(&start(r, u1, u2, u3));
+                    let tol = POST_EVENT_U * u();
+                    for _ in 0..200 {
+                        let v_in = f.vel.clone();
+                        let ev = cell.next_event(&f).unwrap();
+                        prop_assert!(ev.time.to_f64() >= 0.0);
+                        cell.apply(&mut f, &ev);
+                        // One reflection's rounding: 128u for the unit disks of the
+                        // triangular trap; with |n| = r the contact point's absolute
+                        // error u·(½ + t) is relative u(½ + t)/r, so the band widens by
+                        // the factor 1 + 1/(2r) (proofs-notes/energy.md).
+                        let e2 = f.vel.norm2().add_f64(-1.0).to_f64();
+                        let band = ENERGY_BAND_U * u() * (1.0 + 0.5 / r);
+                        prop_assert!(e2.abs() <= band, "|v|^2 - 1 = {e2:e}");
+                        match ev.kind {
+                            EventKind::Crossing(k) => {
+                                // A translation: the velocity is untouched, bit for bit.
+                                prop_assert!(f.vel == v_in, "crossing {k} changed v");
+                                prop_assert_eq!(
+                                    f.excluded_edge,
+                                    Some(cell.edges[k as usize].entered)
+                                );
+                                prop_assert_eq!(f.excluded_disk, None);
                             }
-                            Ok(())
-                        },
-                    )
-                    .unwrap();
+                            EventKind::Collision(m) => {
+                                prop_assert_eq!(f.excluded_disk, Some(m));
+                                prop_assert_eq!(f.excluded_edge, None);
+                            }
+                        }
+                        let d = (f.pos.sub(&cell.disks[0].centre).norm2()
+                            - cell.disks[0].radius2())
+                        .to_f64();
+                        prop_assert!(d >= -tol, "inside the disk: {d:e}");
+                        for k in 0..4 {
+                            let s = cell.edge_distance(k, &f.pos).to_f64();
+                            prop_assert!(s >= -tol, "outside edge {k}: {s:e}");
+                        }
+                    }
+                    Ok(())
+                });
             }
 
             #[test]
             fn single_event_reversal_returns_within_the_one_step_bound() {
-                runner($cases)
-                    .run(
-                        &(0.01f64..0.4999, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0),
-                        |(r, u1, u2, u3)| {
-                            let cell = scene(r).kernel::<T>(ctx()).unwrap();
-                            let mut f = lift(&start(r, u1, u2, u3));
-                            // Fly to the first collision (crossings on the way are translations).
-                            let ev = loop {
-                                let ev = cell.next_event(&f).unwrap();
-                                if matches!(ev.kind, EventKind::Collision(_)) {
-                                    break ev;
-                                }
-                                cell.apply(&mut f, &ev);
-                            };
-                            let v0 = f.vel.clone();
-                            cell.apply(&mut f, &ev);
-                            let x1 = f.pos.clone();
-                            f.reverse();
-                            let back = cell.next_event(&f).unwrap();
-                            prop_assert_eq!(back.kind, ev.kind);
-                            prop_assert!(back.time.to_f64() <= ONE_EVENT_U * u());
-                            cell.apply(&mut f, &back);
-                            let dv = Vec2::new(f.vel.x.clone() + &v0.x, f.vel.y.clone() + &v0.y)
-                                .norm2()
-                                .sqrt()
-                                .to_f64();
-                            // Two reflections with |n| = r: the error scales like u/r.
-                            prop_assert!(
-                                dv <= 4.0 * ONE_EVENT_U * u() / r,
-                                "velocity error {dv:e}"
-                            );
-                            let dx = f.pos.sub(&x1).norm2().sqrt().to_f64();
-                            prop_assert!(dx <= ONE_EVENT_U * u(), "position moved by {dx:e}");
-                            Ok(())
-                        },
-                    )
-                    .unwrap();
+                crate::common::check_starts($cases, 9, 0.01f64..0.4999, |(r, u1, u2, u3)| {
+                    let cell = scene(r).kernel::<T>(ctx()).unwrap();
+                    let mut f = lift(&start(r, u1, u2, u3));
+                    // Fly to the first collision (crossings on the way are translations).
+                    let ev = loop {
+                        let ev = cell.next_event(&f).unwrap();
+                        if matches!(ev.kind, EventKind::Collision(_)) {
+                            break ev;
+                        }
+                        cell.apply(&mut f, &ev);
+                    };
+                    // Two reflections with |n| = r: the error scales like u/r.
+                    let dv_max = 4.0 * ONE_EVENT_U * u() / r;
+                    assert_one_collision_reverses(&cell, f, &ev, u(), dv_max)
+                });
             }
         }
     };
