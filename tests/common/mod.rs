@@ -51,6 +51,12 @@ pub fn t4_welch(ea: f64, na: u32, eb: f64, nb: u32) -> f64 {
     normal_sigma_equivalent_t(welch_dof(ea, na as f64, eb, nb as f64), 4.0)
 }
 
+/// How far apart two independent estimates a ± ea and b ± eb are, in units of the standard error
+/// of their difference: |a − b|/√(ea² + eb²).
+pub fn z(a: f64, ea: f64, b: f64, eb: f64) -> f64 {
+    (a - b).abs() / (ea * ea + eb * eb).sqrt()
+}
+
 /// A proptest runner with `cases` cases, a fixed ChaCha seed (`seed` repeated), and no failure
 /// files: the same cases on every run, shrinking on failure.
 pub fn runner(cases: u32, seed: u8) -> TestRunner {

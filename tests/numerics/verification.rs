@@ -9,7 +9,9 @@ use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::scenes::triangular::equilibrium_state;
-use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t, welch_dof};
+use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t};
+
+use crate::common::{t4_welch, z};
 use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
 use lorentz_gas::verification::error_model::UNIT_ROUNDOFF;
 use lorentz_gas::verification::replay::check_event;
@@ -284,26 +286,26 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
         };
         let d = divergence::run(&scene, &cfg, &two).unwrap();
         let last = d.last().unwrap();
-        let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
-        let t4 = |ea: f64, eb: f64| {
-            normal_sigma_equivalent_t(welch_dof(ea, STARTS as f64, eb, l.batches as f64), 4.0)
+        // Within the 4σ bound of the two means (Welch–Satterthwaite degrees of freedom).
+        let agree = |a: f64, ea: f64, b: f64, eb: f64| {
+            z(a, ea, b, eb) < t4_welch(ea, STARTS, eb, l.batches)
         };
         assert!(
-            z(
+            agree(
                 last.rate_per_collision,
                 last.rate_per_collision_err,
                 l.per_collision,
                 l.per_collision_err
-            ) < t4(last.rate_per_collision_err, l.per_collision_err),
+            ),
             "w={w}: {last:?} vs {l:?}"
         );
         assert!(
-            z(
+            agree(
                 last.rate_per_time,
                 last.rate_per_time_err,
                 l.per_time,
                 l.per_time_err
-            ) < t4(last.rate_per_time_err, l.per_time_err),
+            ),
             "w={w}: {last:?} vs {l:?}"
         );
         // Horizons: f64 < 256 bits < 1024 bits, each roughly ∝ bits (ln 2·bits/λ).
@@ -411,18 +413,11 @@ fn statistics_do_not_move_with_precision() {
     cfg.batches = 16;
     cfg.precision = Precision::F64;
     let lo = run(&cfg, &crate::common::threads(2)).unwrap();
-    let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
-    let t4 = |ea: f64, eb: f64| {
-        normal_sigma_equivalent_t(
-            welch_dof(
-                ea,
-                hi.meta.batches.unwrap() as f64,
-                eb,
-                lo.meta.batches.unwrap() as f64,
-            ),
-            4.0,
-        )
-    };
+    let (n_hi, n_lo) = (
+        hi.meta.batches.unwrap() as u32,
+        lo.meta.batches.unwrap() as u32,
+    );
+    let t4 = |ea: f64, eb: f64| t4_welch(ea, n_hi, eb, n_lo);
     assert!(
         z(hi.D, hi.D_err, lo.D, lo.D_err) < t4(hi.D_err, lo.D_err),
         "D: {} ± {} (128) vs {} ± {} (f64)",
