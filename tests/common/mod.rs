@@ -163,3 +163,14 @@ pub fn errors_outside_their_spread<R>(
     }
     failures
 }
+
+/// Asserts that no quantity's reported error is off its spread over the runs
+/// ([`errors_outside_their_spread`]).
+pub fn assert_errors_match_their_spread<R>(
+    reports: &[R],
+    quantities: &[(&str, Pick<R>)],
+    error_dof: f64,
+) {
+    let failures = errors_outside_their_spread(reports, quantities, error_dof);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
