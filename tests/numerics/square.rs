@@ -214,17 +214,19 @@ square_properties!(mpfr128_square, Float, 128, 150);
 /// `proofs-notes/reversibility.md`, at f64 and at 256 bits.
 #[test]
 fn long_orbits_reverse_within_the_amplification_bound() {
-    use lorentz_gas::verification::reversibility::{
-        amplification, reversal_bound, reverse_and_return,
-    };
+    use super::verification::{Reversed, reversal_with_bound};
+    use lorentz_gas::verification::reversibility::{reversal_bound, reverse_and_return};
     let s = scene(1.0 / 3.0);
     for k in 0..4u64 {
         let s64 = s.sample(&mut stream(91, k));
         for n in [5u64, 15] {
             let lat = s.lattice::<f64>(()).unwrap();
-            let rev = reverse_and_return(&lat, &s64, n).unwrap();
-            let (amp, events) = amplification(&lat, &s64, n).unwrap();
-            let bound = reversal_bound(UNIT_ROUNDOFF, events, amp);
+            let Reversed {
+                r: rev,
+                amp,
+                events,
+                bound,
+            } = reversal_with_bound(&lat, &s64, n, UNIT_ROUNDOFF);
             assert!(
                 rev.position_error <= bound,
                 "f64 n={n}: {} > {bound:e}",
@@ -243,21 +245,14 @@ fn long_orbits_reverse_within_the_amplification_bound() {
 /// (h = 2⁻⁹⁰; the error budget of `proofs-notes/liouville.md` with curvature 1/r ≤ 20).
 #[test]
 fn birkhoff_map_preserves_phase_space_volume() {
-    use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
-    let bits = 256;
-    let h = Float::with_val(bits, Float::i_exp(1, -90));
-    let mut rng = stream(92, 0);
-    let mut checked = 0;
-    while checked < 16 {
+    let dets = super::verification::birkhoff_determinants(16, 92, |rng| {
         let r = 0.05 + 0.44 * rng.random::<f64>();
-        let s = Float::with_val(bits, 2.0 * std::f64::consts::PI * rng.random::<f64>());
-        let p = Float::with_val(bits, 1.9 * rng.random::<f64>() - 0.95);
-        let Some(j) = birkhoff_jacobian(&scene(r), bits, &s, &p, &h).unwrap() else {
-            continue;
-        };
-        let dev = (det2(&j).abs() - 1u32).abs().to_f64();
-        assert!(dev < 1e-30, "r = {r}: |det| - 1 = {dev:e}");
-        checked += 1;
+        let s = 2.0 * std::f64::consts::PI * rng.random::<f64>();
+        (scene(r), format!("r = {r}"), s)
+    });
+    for (what, det) in dets {
+        let dev = (det.abs() - 1u32).abs().to_f64();
+        assert!(dev < 1e-30, "{what}: |det| - 1 = {dev:e}");
     }
 }
 
