@@ -113,6 +113,18 @@ pub fn full_audit<S: lorentz_gas::scenes::Scene>(
     shadow_audit::run(scene, &cfg, &threads(2)).unwrap()
 }
 
+/// Asserts that the audit `r` replayed at least `least` events and found none of them outside
+/// the error model (the message names `what` and the first outside).
+pub fn assert_audit_clean(
+    r: &lorentz_gas::verification::shadow_audit::AuditReport,
+    least: u64,
+    what: &str,
+) {
+    let s = &r.summary;
+    assert!(s.audited >= least, "{what}: {} events audited", s.audited);
+    assert_eq!(s.outside, 0, "{what}: {:?}", s.outside_events.first());
+}
+
 /// A result's JSON without what differs between runs of the same bits: timing (with the precision
 /// plan, whose time is this run's speed), metadata, and how much was resumed from a checkpoint.
 pub fn physics_only(mut v: serde_json::Value) -> serde_json::Value {
