@@ -176,12 +176,8 @@ fn at_small_disks_the_triangular_exponent_has_the_square_lattices_constant() {
 #[test]
 fn the_triangular_long_flight_oracle_finds_every_jump_inside_its_model() {
     use lorentz_gas::verification::oracle::long_flight_triangular;
-    use rand::{RngCore, SeedableRng};
-    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(44);
     let (mut checked, mut skipped, mut longest) = (0u64, 0u64, 0u64);
-    for _ in 0..3_000 {
-        let mut data = [0u8; 24];
-        rng.fill_bytes(&mut data);
+    for data in super::long_flight_audit::random_inputs(44, 3_000) {
         let r = long_flight_triangular(&data).unwrap_or_else(|e| panic!("{data:?}: {e}"));
         checked += u64::from(r.checked);
         skipped += u64::from(r.skipped);
