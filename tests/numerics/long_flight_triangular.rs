@@ -10,7 +10,6 @@ use lorentz_gas::scenes::long_flight::LongFlights;
 use lorentz_gas::scenes::long_flight::triangular::{Search, trigger};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::statistics::normal_sigma_equivalent_t;
 use lorentz_gas::verification::jump_audit_triangular::check_jump;
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
 use lorentz_gas::verification::shadow_audit::AuditReport;
@@ -153,19 +152,8 @@ fn at_small_disks_the_triangular_exponent_has_the_square_lattices_constant() {
     let a = 2.0 + w;
     let ell = 3f64.sqrt() * a * a / 4.0 - std::f64::consts::FRAC_PI_2;
     let r = 1.0 / (3f64.sqrt() * a * a / 2.0).sqrt();
-    let zeta3 = 1.202_056_903_159_594_3;
-    let c = 1.0 - 4.0 * 2f64.ln() + 27.0 * zeta3 / (2.0 * std::f64::consts::PI.powi(2));
     let measured = l.per_collision - (2.0 * ell).ln();
-    let slack = normal_sigma_equivalent_t(3.0, 4.0) * l.per_collision_err + r * r.ln().powi(2);
-    println!(
-        "lambda - ln 2<l> = {measured:.5} ± {:.5}, C = {c:.5}",
-        l.per_collision_err
-    );
-    assert!(
-        (measured - c).abs() < slack,
-        "{measured} ± {} against C = {c}",
-        l.per_collision_err
-    );
+    super::long_flight::assert_dahlqvist("lambda - ln 2<l>", measured, l.per_collision_err, r);
 }
 
 /// The triangular long-flight fuzz oracle (`verification::oracle::long_flight_triangular`, the
