@@ -74,7 +74,8 @@ fn a_killed_sweep_resumes_to_the_uninterrupted_bits() {
     let dir = tmp.path();
     let sweep = |out: &'static str| {
         let mut args = crate::common::words(
-            "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 6e7 --batches-per-run 8 --threads 2 --json --quiet --checkpoint-every 0.05 --out",
+            "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 6e7 \
+             --batches-per-run 8 --threads 2 --json --quiet --checkpoint-every 0.05 --out",
         );
         args.push(out);
         args

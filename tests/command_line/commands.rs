@@ -196,7 +196,8 @@ const BAD: &[(&str, &str)] = &[
     ),
     // trajectory in a field
     (
-        "trajectory --scene triangular --w 0.1 --start 1.05,0 --direction 0,1 --time 1 --field 2000000",
+        "trajectory --scene triangular --w 0.1 --start 1.05,0 --direction 0,1 --time 1 \
+         --field 2000000",
         "|field| <= 1e6",
     ),
     // sweep in a field
@@ -281,7 +282,8 @@ const BAD: &[(&str, &str)] = &[
         "use a shorter time",
     ),
     (
-        "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,0 --time 1 --digits 20000",
+        "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,0 --time 1 \
+         --digits 20000",
         "use 1 to 10000",
     ),
     // one value is not an error bar; a check window equal to the fit window checks nothing
@@ -559,7 +561,8 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
         "escape --w 0.3 --widths 10,12,14 --particles-per-width 3.2e3",
         "figure backscatter-map --particles 1e3 --out fig",
         "bench --w 0.1 --collisions-per-thread 1e5 --repetitions 3",
-        "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1_000_000 --batches-per-run 4 --out sweep",
+        "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1_000_000 \
+         --batches-per-run 4 --out sweep",
         "shadow --w 0.1 --collisions-per-segment 20 --segments 2",
         "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,1/7 --time 3",
         "report d.json --quick --out rep",
@@ -593,7 +596,15 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
         let v: serde_json::Value =
             serde_json::from_str(&out).unwrap_or_else(|e| panic!("{a:?}: {e}: {out}"));
         let meta = find_meta(&v).unwrap_or_else(|| panic!("{a:?}: no meta block in {out}"));
-        for k in words("version seed batches precision engine threads command_line") {
+        for k in [
+            "version",
+            "seed",
+            "batches",
+            "precision",
+            "engine",
+            "threads",
+            "command_line",
+        ] {
             assert!(meta.get(k).is_some(), "{a:?}: meta lacks {k}");
         }
         assert_eq!(meta["version"], env!("CARGO_PKG_VERSION"));
@@ -650,7 +661,8 @@ fn results_do_not_depend_on_the_thread_count() {
     for base in [
         &["audit", "--w", "0.1", "--collisions", "1e5", "--json"][..],
         &words(
-            "diffusion --w 0.2 --collisions 2e6 --batches 4 --window 2:8 --check-window 4:16 --json",
+            "diffusion --w 0.2 --collisions 2e6 --batches 4 --window 2:8 --check-window 4:16 \
+             --json",
         )[..],
         &words("hops --w 0.1 --collisions 1e6 --batches 4 --order 2 --json")[..],
     ] {
@@ -679,14 +691,27 @@ fn json_outputs_have_the_documented_keys() {
     let (code, out, err) = lorentz_in(
         &dir,
         &words(
-            "diffusion --w 0.2 --collisions 2000000 --batches 4 --window 2:8 --check-window 4:16 --json",
+            "diffusion --w 0.2 --collisions 2000000 --batches 4 --window 2:8 --check-window 4:16 \
+             --json",
         ),
     );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    for k in words(
-        "w D D_err D_MZ mean_free_path mean_free_path_err mean_free_path_exact tau_hop tau_hop_err tau_hop_exact collisions seconds collisions_per_second",
-    ) {
+    for k in [
+        "w",
+        "D",
+        "D_err",
+        "D_MZ",
+        "mean_free_path",
+        "mean_free_path_err",
+        "mean_free_path_exact",
+        "tau_hop",
+        "tau_hop_err",
+        "tau_hop_exact",
+        "collisions",
+        "seconds",
+        "collisions_per_second",
+    ] {
         assert!(v.get(k).is_some(), "missing key {k}");
     }
     assert_eq!(v["meta"]["precision"], "f64");
@@ -718,9 +743,18 @@ fn json_outputs_have_the_documented_keys() {
     );
     assert_eq!(code, 0, "{err}");
     let t: serde_json::Value = serde_json::from_str(&out).unwrap();
-    for k in words(
-        "p_bs p_bs_err p_cf p_cf_err p_cf_appendix_a p_cf_appendix_a_as_printed D_2_as_printed D_3_as_printed D_GK D_GK_err",
-    ) {
+    for k in [
+        "p_bs",
+        "p_bs_err",
+        "p_cf",
+        "p_cf_err",
+        "p_cf_appendix_a",
+        "p_cf_appendix_a_as_printed",
+        "D_2_as_printed",
+        "D_3_as_printed",
+        "D_GK",
+        "D_GK_err",
+    ] {
         assert!(t[k].is_number(), "theory: {k} is not a number");
     }
     for k in ["k", "D_k", "D_k_combined", "D_lattice_walk"] {

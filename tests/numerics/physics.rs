@@ -11,7 +11,8 @@ use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::scenes::triangular::geometry::Geometry;
 use lorentz_gas::verification::error_model::{ENERGY_BAND_U, UNIT_ROUNDOFF, UNWRAP_EPS};
 
-/// Asserts that `x` ± `err` (a finite positive error) is within `k` errors of `exact`; `what` names it.
+/// Asserts that `x` ± `err` (a finite positive error) is within `k` errors of `exact`; `what`
+/// names it.
 pub(crate) fn within(x: f64, err: f64, exact: f64, k: f64, what: &str) {
     assert!(err > 0.0 && err.is_finite(), "{what}: bad error {err}");
     assert!(

@@ -179,7 +179,14 @@ fn a_checkpoint_path_that_is_not_a_journal_is_refused_and_left_as_it_was() {
     names.sort();
     assert_eq!(
         names,
-        words("link min.json mine.ckpt note.txt two.txt victim")
+        [
+            "link",
+            "min.json",
+            "mine.ckpt",
+            "note.txt",
+            "two.txt",
+            "victim"
+        ]
     );
 }
 
