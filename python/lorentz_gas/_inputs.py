@@ -8,7 +8,7 @@ import fractions
 import json
 import numbers
 import os
-from typing import Any, Callable, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -159,6 +159,11 @@ def _count(name: str, v: Any) -> str:
         f = float(v)
         return repr(int(f)) if f.is_integer() and abs(f) < 2.0**64 else repr(f)
     raise TypeError(f"{name} must be an int, a whole float or a string, not {type(v).__name__}")
+
+
+def _counts(**values: Any) -> Dict[str, str]:
+    """Counts by name, each as the text the command line parses (:func:`_count`)."""
+    return {name: _count(name, v) for name, v in values.items()}
 
 
 def _threads(v: Optional[Count]) -> Optional[str]:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Callable, Optional
+from typing import Any, Callable, Dict, Optional
 
 from ._inputs import Progress
 
@@ -54,3 +54,16 @@ class _Bar:
     def __exit__(self, *exc: Any) -> None:
         if self.bar is not None:
             self.bar.close()
+
+
+def _run(
+    native: Callable[..., Any],
+    progress: Progress,
+    total: Optional[float],
+    unit: str,
+    request: Dict[str, Any],
+) -> Any:
+    """The compiled run ``native(request, callback)``, its progress reported on a bar over
+    ``total`` ``unit`` as :class:`_Bar` does."""
+    with _Bar(progress, total, unit) as cb:
+        return native(request, cb)

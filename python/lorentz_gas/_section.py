@@ -8,9 +8,20 @@ from typing import Any, Optional
 import numpy as np
 
 from . import _native
-from ._inputs import Count, Exact, Progress, Table, _count, _optional_exact, _threads, _total, _where
+from ._inputs import (
+    Count,
+    Exact,
+    Progress,
+    Table,
+    _count,
+    _counts,
+    _optional_exact,
+    _threads,
+    _total,
+    _where,
+)
 from ._keywords import in_package, public
-from ._progress import _Bar
+from ._progress import _run
 from ._results import Result
 
 #: The components in drawing order (the sea first, under the rest) with their colours, as the
@@ -169,14 +180,15 @@ def section(
     """
     per_orbit = classify_collisions if field not in (None, 0, "0") else collisions
     total = _total(_count("trajectories", trajectories)) * _total(_count("collisions", per_orbit))
-    with _Bar(progress, total, "coll") as cb:
-        text = _native.section({
-            **_where(scene, table, w, radius),
-            "field": _optional_exact("field", field),
-            "trajectories": _count("trajectories", trajectories),
-            "collisions": _count("collisions", collisions),
-            "classify_collisions": _count("classify_collisions", classify_collisions),
-            "seed": _count("seed", seed),
-            "threads": _threads(threads),
-        }, cb)
+    text = _run(_native.section, progress, total, "coll", {
+        **_where(scene, table, w, radius),
+        "field": _optional_exact("field", field),
+        **_counts(
+            trajectories=trajectories,
+            collisions=collisions,
+            classify_collisions=classify_collisions,
+            seed=seed,
+        ),
+        "threads": _threads(threads),
+    })
     return SectionResult(text)

@@ -13,6 +13,7 @@ from ._inputs import (
     PathLike,
     Progress,
     _count,
+    _counts,
     _exact,
     Table,
     _optional_exact,
@@ -24,7 +25,7 @@ from ._inputs import (
     _window,
 )
 from ._keywords import public
-from ._progress import _Bar
+from ._progress import _run
 from ._results import (
     TableDiffusionResult,
     BackscatterResult,
@@ -149,26 +150,27 @@ def diffusion(
     """
     # A planned run's size is known only after its pilot: a bar without a total.
     total = None if rel_err is not None else _total(_count("collisions", 2e9 if collisions is None else collisions))
-    with _Bar(progress, total, "coll") as cb:
-        text = _native.diffusion({
-            **_where(scene, table, w, radius),
-            "collisions": None if collisions is None else _count("collisions", collisions),
-            "batches": _count("batches", batches),
-            "seed": _count("seed", seed),
-            "threads": _threads(threads),
-            "engine": str(engine),
-            "precision": str(precision),
-            "window": (float(window[0]), float(window[1])),
-            "check_window": (float(check_window[0]), float(check_window[1])),
-            "checkpoint": _path(checkpoint),
-            "checkpoint_every": float(checkpoint_every),
-            "audit": None if audit is None else float(audit),
-            "reference_bits": _count("reference_bits", reference_bits),
-            "field": None if field is None else _exact("field", field),
-            "localization_samples": _count("localization_samples", localization_samples),
-            "rel_err": None if rel_err is None else float(rel_err),
-            "msd_grid": str(msd_grid),
-        }, cb)
+    text = _run(_native.diffusion, progress, total, "coll", {
+        **_where(scene, table, w, radius),
+        "collisions": None if collisions is None else _count("collisions", collisions),
+        **_counts(
+            batches=batches,
+            seed=seed,
+            reference_bits=reference_bits,
+            localization_samples=localization_samples,
+        ),
+        "threads": _threads(threads),
+        "engine": str(engine),
+        "precision": str(precision),
+        "window": (float(window[0]), float(window[1])),
+        "check_window": (float(check_window[0]), float(check_window[1])),
+        "checkpoint": _path(checkpoint),
+        "checkpoint_every": float(checkpoint_every),
+        "audit": None if audit is None else float(audit),
+        "field": None if field is None else _exact("field", field),
+        "rel_err": None if rel_err is None else float(rel_err),
+        "msd_grid": str(msd_grid),
+    })
     if '"D_xy"' in text:
         return FieldResult(text)
     if '"identities"' in text:
@@ -212,13 +214,9 @@ def hops(
         against ``symmetry_bound``) and the hop-level Green–Kubo ``D_GK`` ± ``D_GK_err``
         (length^2/time) against ``D_MZ``.
     """
-    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
-        text = _native.hops(
-            dict(_hop_params(w, collisions, batches, order, seed, threads, checkpoint,
-                             checkpoint_every), engine=str(engine)),
-            cb,
-        )
-    return HopsResult(text)
+    params = _hop_params(w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every)
+    total = _total(_count("collisions", collisions))
+    return HopsResult(_run(_native.hops, progress, total, "coll", dict(params, engine=str(engine))))
 
 
 @public
@@ -284,20 +282,14 @@ def lattice_walk(
 
 def _hop_analysis(native, w, collisions, batches, order, seed, threads, checkpoint,
                   checkpoint_every, progress) -> str:
-    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
-        return native(
-            _hop_params(w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every),
-            cb,
-        )
+    params = _hop_params(w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every)
+    return _run(native, progress, _total(_count("collisions", collisions)), "coll", params)
 
 
 def _hop_params(w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every) -> dict:
     return {
         "w": _exact("w", w),
-        "collisions": _count("collisions", collisions),
-        "batches": _count("batches", batches),
-        "order": _count("order", order),
-        "seed": _count("seed", seed),
+        **_counts(collisions=collisions, batches=batches, order=order, seed=seed),
         "threads": _threads(threads),
         "checkpoint": _path(checkpoint),
         "checkpoint_every": float(checkpoint_every),
@@ -333,15 +325,12 @@ def backscatter(
         The exit probabilities (dimensionless) with their standard errors, the mean time and
         collisions in the trap against their exact values.
     """
-    with _Bar(progress, _total(_count("particles", particles)), "inj") as cb:
-        text = _native.backscatter({
-            "w": _exact("w", w),
-            "particles": _count("particles", particles),
-            "batches": _count("batches", batches),
-            "seed": _count("seed", seed),
-            "threads": _threads(threads),
-            "precision": str(precision),
-        }, cb)
+    text = _run(_native.backscatter, progress, _total(_count("particles", particles)), "inj", {
+        "w": _exact("w", w),
+        **_counts(particles=particles, batches=batches, seed=seed),
+        "threads": _threads(threads),
+        "precision": str(precision),
+    })
     return BackscatterResult(text)
 
 
@@ -438,25 +427,26 @@ def sweep(
         total *= (1 if fields is None else len(fields)) * (
             1 if one_place else _total(_count("steps", steps))
         )
-        with _Bar(progress, total, "coll") as cb:
-            text = _native.field_sweep({
-                "scene": str(scene),
-                "table": where,
-                "w": None if w is None else _exact("w", w),
-                "radius": _optional_exact("radius", radius),
-                "w_from": None if w_from is None else _exact("w_from", w_from),
-                "w_to": None if w_to is None else _exact("w_to", w_to),
-                "steps": _count("steps", steps),
-                "field": None if field is None else _exact("field", field),
-                "fields": [] if fields is None else [_exact("fields", b) for b in fields],
-                "collisions_per_run": _count("collisions_per_run", collisions_per_run),
-                "batches_per_run": _count("batches_per_run", batches_per_run),
-                "seed": _count("seed", seed),
-                "threads": _threads(threads),
-                "engine": str(engine),
-                "localization_samples": _count("localization_samples", localization_samples),
-                "out": _path(out),
-            }, cb)
+        text = _run(_native.field_sweep, progress, total, "coll", {
+            "scene": str(scene),
+            "table": where,
+            "w": None if w is None else _exact("w", w),
+            "radius": _optional_exact("radius", radius),
+            "w_from": None if w_from is None else _exact("w_from", w_from),
+            "w_to": None if w_to is None else _exact("w_to", w_to),
+            **_counts(
+                steps=steps,
+                collisions_per_run=collisions_per_run,
+                batches_per_run=batches_per_run,
+                seed=seed,
+                localization_samples=localization_samples,
+            ),
+            "field": None if field is None else _exact("field", field),
+            "fields": [] if fields is None else [_exact("fields", b) for b in fields],
+            "threads": _threads(threads),
+            "engine": str(engine),
+            "out": _path(out),
+        })
         return FieldSweepResult(text)
     if w is not None:
         raise ValueError(
@@ -473,20 +463,21 @@ def sweep(
     total = _total(_count("collisions_per_run", collisions_per_run)) * _total(
         _count("runs", runs)
     ) * _total(_count("steps", steps))
-    with _Bar(progress, total, "coll") as cb:
-        text = _native.sweep({
-            "w_from": _exact("w_from", w_from),
-            "w_to": _exact("w_to", w_to),
-            "steps": _count("steps", steps),
-            "runs": _count("runs", runs),
-            "collisions_per_run": _count("collisions_per_run", collisions_per_run),
-            "batches_per_run": _count("batches_per_run", batches_per_run),
-            "seed": _count("seed", seed),
-            "threads": _threads(threads),
-            "engine": str(engine),
-            "out": _path(out),
-            "checkpoint_every": float(checkpoint_every),
-        }, cb)
+    text = _run(_native.sweep, progress, total, "coll", {
+        "w_from": _exact("w_from", w_from),
+        "w_to": _exact("w_to", w_to),
+        **_counts(
+            steps=steps,
+            runs=runs,
+            collisions_per_run=collisions_per_run,
+            batches_per_run=batches_per_run,
+            seed=seed,
+        ),
+        "threads": _threads(threads),
+        "engine": str(engine),
+        "out": _path(out),
+        "checkpoint_every": float(checkpoint_every),
+    })
     return SweepResult(text)
 
 
@@ -522,16 +513,15 @@ def escape(
         chi^2 and the per-width escape rates.
     """
     n = 4 if widths is None else len(widths)
-    with _Bar(progress, _total(_count("particles_per_width", particles_per_width)) * n, "part") as cb:
-        text = _native.escape({
-            "w": _exact("w", w),
-            "widths": None if widths is None else [float(x) for x in widths],
-            "particles_per_width": _count("particles_per_width", particles_per_width),
-            "seed": _count("seed", seed),
-            "threads": _threads(threads),
-            "checkpoint": _path(checkpoint),
-            "checkpoint_every": float(checkpoint_every),
-        }, cb)
+    total = _total(_count("particles_per_width", particles_per_width)) * n
+    text = _run(_native.escape, progress, total, "part", {
+        "w": _exact("w", w),
+        "widths": None if widths is None else [float(x) for x in widths],
+        **_counts(particles_per_width=particles_per_width, seed=seed),
+        "threads": _threads(threads),
+        "checkpoint": _path(checkpoint),
+        "checkpoint_every": float(checkpoint_every),
+    })
     return EscapeResult(text)
 
 
@@ -594,22 +584,24 @@ def superdiffusion(
         The exact constants, the measured ones with errors, and the ``lags`` and ``limit_law``
         tables as numpy structured arrays (times in units of length at speed 1).
     """
-    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
-        text = _native.superdiffusion({
-            "scene": scene,
-            "w": _optional_exact("w", w),
-            "radius": _optional_exact("radius", radius),
-            "collisions": _count("collisions", collisions),
-            "batches": _count("batches", batches),
-            "octaves": _count("octaves", octaves),
-            "points_per_octave": _count("points_per_octave", points_per_octave),
-            "tail_fit_from": float(tail_fit_from),
-            "vacf_fit": None if vacf_fit is None else _window("vacf_fit", vacf_fit),
-            "msd_fit": None if msd_fit is None else _window("msd_fit", msd_fit),
-            "seed": _count("seed", seed),
-            "flights": str(flights),
-            "threads": _threads(threads),
-            "checkpoint": _path(checkpoint),
-            "checkpoint_every": float(checkpoint_every),
-        }, cb)
+    total = _total(_count("collisions", collisions))
+    text = _run(_native.superdiffusion, progress, total, "coll", {
+        "scene": scene,
+        "w": _optional_exact("w", w),
+        "radius": _optional_exact("radius", radius),
+        **_counts(
+            collisions=collisions,
+            batches=batches,
+            octaves=octaves,
+            points_per_octave=points_per_octave,
+            seed=seed,
+        ),
+        "tail_fit_from": float(tail_fit_from),
+        "vacf_fit": None if vacf_fit is None else _window("vacf_fit", vacf_fit),
+        "msd_fit": None if msd_fit is None else _window("msd_fit", msd_fit),
+        "flights": str(flights),
+        "threads": _threads(threads),
+        "checkpoint": _path(checkpoint),
+        "checkpoint_every": float(checkpoint_every),
+    })
     return SuperdiffusionResult(text)

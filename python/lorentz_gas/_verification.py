@@ -14,6 +14,7 @@ from ._inputs import (
     PathLike,
     Progress,
     _count,
+    _counts,
     _exact,
     _many,
     Table,
@@ -25,7 +26,7 @@ from ._inputs import (
     _total,
 )
 from ._keywords import public
-from ._progress import _Bar
+from ._progress import _run
 from ._results import (
     AuditResult,
     BenchResult,
@@ -92,17 +93,14 @@ def lyapunov(
         ``divergence`` (one row per horizon); in a field ``field``, ``cyclotron_radius``,
         ``localized_fraction_exact`` and ``rejected_starts`` instead of ``divergence``.
     """
-    with _Bar(progress, 0, "coll") as cb:
-        text = _native.lyapunov({
-            **_where(scene, table, w, radius),
-            "collisions_per_batch": _count("collisions_per_batch", collisions_per_batch),
-            "batches": _count("batches", batches),
-            "starts": None if starts is None else _count("starts", starts),
-            "seed": _count("seed", seed),
-            "threads": _threads(threads),
-            "field": _optional_exact("field", field),
-            "flights": flights,
-        }, cb)
+    text = _run(_native.lyapunov, progress, 0, "coll", {
+        **_where(scene, table, w, radius),
+        **_counts(collisions_per_batch=collisions_per_batch, batches=batches, seed=seed),
+        "starts": None if starts is None else _count("starts", starts),
+        "threads": _threads(threads),
+        "field": _optional_exact("field", field),
+        "flights": flights,
+    })
     return LyapunovResult(text)
 
 
@@ -148,15 +146,12 @@ def free_paths(
         ``mean``, ``ln_mean`` with errors and limits, and the ``bins`` table (probabilities of
         ξ, dimensionless, against the limit law, with z-scores).
     """
-    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
-        text = _native.free_paths({
-            **_where(scene, table, w, radius),
-            "collisions": _count("collisions", collisions),
-            "batches": _count("batches", batches),
-            "seed": _count("seed", seed),
-            "flights": str(flights),
-            "threads": _threads(threads),
-        }, cb)
+    text = _run(_native.free_paths, progress, _total(_count("collisions", collisions)), "coll", {
+        **_where(scene, table, w, radius),
+        **_counts(collisions=collisions, batches=batches, seed=seed),
+        "flights": str(flights),
+        "threads": _threads(threads),
+    })
     return FreePathResult(text)
 
 
@@ -214,18 +209,14 @@ def audit(
         ``summary`` (events audited, ``outside`` the error model, ambiguous), the one-step error
         ``quantiles`` (flight time, contact point, velocity).
     """
-    with _Bar(progress, _total(_count("collisions", collisions)), "coll") as cb:
-        text = _native.audit({
-            **_where(scene, table, w, radius),
-            "collisions": _count("collisions", collisions),
-            "batches": _count("batches", batches),
-            "sample": float(sample),
-            "reference_bits": _count("reference_bits", reference_bits),
-            "seed": _count("seed", seed),
-            "field": _optional_exact("field", field),
-            "flights": str(flights),
-            "threads": _threads(threads),
-        }, cb)
+    text = _run(_native.audit, progress, _total(_count("collisions", collisions)), "coll", {
+        **_where(scene, table, w, radius),
+        **_counts(collisions=collisions, batches=batches, reference_bits=reference_bits, seed=seed),
+        "sample": float(sample),
+        "field": _optional_exact("field", field),
+        "flights": str(flights),
+        "threads": _threads(threads),
+    })
     return AuditResult(text)
 
 
@@ -274,16 +265,17 @@ def shadow(
         Per segment: converged, certified (Kantorovich), the distance ``delta`` between the f64
         segment and the true orbit.
     """
-    with _Bar(progress, 0, "coll") as cb:
-        text = _native.shadow({
-            **_where(scene, table, w, radius),
-            "collisions_per_segment": _count("collisions_per_segment", collisions_per_segment),
-            "segments": _count("segments", segments),
-            "reference_bits": _count("reference_bits", reference_bits),
-            "seed": _count("seed", seed),
-            "field": _optional_exact("field", field),
-            "threads": _threads(threads),
-        }, cb)
+    text = _run(_native.shadow, progress, 0, "coll", {
+        **_where(scene, table, w, radius),
+        **_counts(
+            collisions_per_segment=collisions_per_segment,
+            segments=segments,
+            reference_bits=reference_bits,
+            seed=seed,
+        ),
+        "field": _optional_exact("field", field),
+        "threads": _threads(threads),
+    })
     return ShadowResult(text)
 
 
@@ -322,13 +314,10 @@ def certify(
         ``digits_agreed`` (runs at P and 2P bits agree to that many digits), ``bits``, and how
         long the f64 orbit stays within 1e-3 of it (``f64_faithful_collisions``).
     """
-    with _Bar(progress, 3 * _total(_count("collisions", collisions)), "coll") as cb:
-        text = _native.certify({
-            **_where(scene, table, w, radius),
-            "collisions": _count("collisions", collisions),
-            "digits": _count("digits", digits),
-            "seed": _count("seed", seed),
-        }, cb)
+    text = _run(_native.certify, progress, 3 * _total(_count("collisions", collisions)), "coll", {
+        **_where(scene, table, w, radius),
+        **_counts(collisions=collisions, digits=digits, seed=seed),
+    })
     return CertifyResult(text)
 
 
@@ -355,18 +344,17 @@ def trajectory(
     ``distance`` are decimal strings carrying exactly the certified digits (1 to 10000)."""
     if scene is None:
         scene = "square" if radius is not None and w is None else "triangular"
-    with _Bar(progress, 0, "coll") as cb:
-        text, printed = _native.trajectory({
-            "scene": scene,
-            "w": _optional_exact("w", w),
-            "radius": _optional_exact("radius", radius),
-            "start": (_exact("start", start[0]), _exact("start", start[1])),
-            "direction": (_exact("direction", direction[0]), _exact("direction", direction[1])),
-            "time": _exact("time", time),
-            "digits": _count("digits", digits),
-            "events": bool(events),
-            "field": _optional_exact("field", field),
-        }, cb)
+    text, printed = _run(_native.trajectory, progress, 0, "coll", {
+        "scene": scene,
+        "w": _optional_exact("w", w),
+        "radius": _optional_exact("radius", radius),
+        "start": (_exact("start", start[0]), _exact("start", start[1])),
+        "direction": (_exact("direction", direction[0]), _exact("direction", direction[1])),
+        "time": _exact("time", time),
+        **_counts(digits=digits),
+        "events": bool(events),
+        "field": _optional_exact("field", field),
+    })
     return TrajectoryResult(text, printed=printed)
 
 
@@ -481,21 +469,22 @@ def bench(
         raise ValueError(
             "scene, collisions_per_radius and walk_collisions apply with long_flights= only"
         )
-    with _Bar(progress, _total(_count("repetitions", repetitions)), "rep") as cb:
-        text = _native.bench({
-            "w": _exact("w", w),
-            "collisions_per_thread": _count("collisions_per_thread", collisions_per_thread),
-            "repetitions": _count("repetitions", repetitions),
-            "precision": str(precision),
-            "engine": str(engine),
-            "observe": str(observe),
-            "seed": _count("seed", seed),
-            "threads": _count("threads", threads),
-            "field": None if field is None else _exact("field", field),
-            "straight_beside": bool(straight_beside),
-            "oracle_floor": bool(oracle_floor),
-            "table": None if table is None else _table_json(table),
-        }, cb)
+    text = _run(_native.bench, progress, _total(_count("repetitions", repetitions)), "rep", {
+        "w": _exact("w", w),
+        **_counts(
+            collisions_per_thread=collisions_per_thread,
+            repetitions=repetitions,
+            seed=seed,
+            threads=threads,
+        ),
+        "precision": str(precision),
+        "engine": str(engine),
+        "observe": str(observe),
+        "field": None if field is None else _exact("field", field),
+        "straight_beside": bool(straight_beside),
+        "oracle_floor": bool(oracle_floor),
+        "table": None if table is None else _table_json(table),
+    })
     return BenchResult(text)
 
 
@@ -509,15 +498,17 @@ def _bench_long_flights(scene, values, collisions_per_radius, walk_collisions, r
             "repetitions, seed, collisions_per_radius and walk_collisions apply"
         )
     values = [_exact("long_flights", r) for r in (values if _many(values) else [values])]
-    with _Bar(progress, _total(_count("repetitions", repetitions)), "rep") as cb:
-        text = _native.bench_long_flights({
-            "scene": str(scene),
-            "long_flights": values,
-            "collisions_per_radius": _count("collisions_per_radius", collisions_per_radius),
-            "walk_collisions": _count("walk_collisions", walk_collisions),
-            "repetitions": _count("repetitions", repetitions),
-            "seed": _count("seed", seed),
-        }, cb)
+    total = _total(_count("repetitions", repetitions))
+    text = _run(_native.bench_long_flights, progress, total, "rep", {
+        "scene": str(scene),
+        "long_flights": values,
+        **_counts(
+            collisions_per_radius=collisions_per_radius,
+            walk_collisions=walk_collisions,
+            repetitions=repetitions,
+            seed=seed,
+        ),
+    })
     return BenchResult(text)
 
 
@@ -568,14 +559,13 @@ def report(
     INCOMPLETE when a check was skipped (re-runs beyond ``max_rerun_collisions``, by default
     1e12 or 2e9 with ``quick``; too few batches to judge); it is returned, not raised (``raise
     CheckFailedError`` yourself to stop a pipeline)."""
-    with _Bar(progress, 0, "coll") as cb:
-        text, printed = _native.report({
-            "path": os.fspath(path),
-            "out": _path(out),
-            "quick": bool(quick),
-            "reference_bits": _count("reference_bits", reference_bits),
-            "max_rerun_collisions": None if max_rerun_collisions is None
-            else _count("max_rerun_collisions", max_rerun_collisions),
-            "threads": _threads(threads),
-        }, cb)
+    text, printed = _run(_native.report, progress, 0, "coll", {
+        "path": os.fspath(path),
+        "out": _path(out),
+        "quick": bool(quick),
+        **_counts(reference_bits=reference_bits),
+        "max_rerun_collisions": None if max_rerun_collisions is None
+        else _count("max_rerun_collisions", max_rerun_collisions),
+        "threads": _threads(threads),
+    })
     return ReportResult(text, printed=printed)

@@ -144,11 +144,7 @@ pub struct HopCommand {
     #[command(flatten)]
     hop: HopArgs,
     #[command(flatten)]
-    run: RunArgs,
-    #[command(flatten)]
-    checkpoint: CheckpointArgs,
-    #[command(flatten)]
-    output: OutputArgs,
+    resumable: ResumableArgs,
 }
 
 impl HopCommand {
@@ -159,7 +155,7 @@ impl HopCommand {
             collisions: self.hop.collisions,
             batches: self.hop.batches,
             order: self.hop.order,
-            seed: self.run.seed(),
+            seed: self.resumable.run.seed(),
             run: 0,
         }
     }
@@ -172,17 +168,45 @@ impl HopCommand {
         print: impl FnOnce(&R),
     ) -> Result<(), lorentz_gas::Error> {
         let cfg = self.config();
-        let pb =
-            super::progress::Progress::new(self.hop.collisions, "collisions", self.output.quiet);
-        let progress = pb.callback();
+        self.resumable.run(
+            self.hop.collisions,
+            "collisions",
+            engine,
+            |opts| analysis(&cfg, opts),
+            print,
+        )
+    }
+}
+
+/// Seed and threads, checkpoint and output of a resumable analysis that reports one result.
+#[derive(Args, Debug, Clone)]
+pub struct ResumableArgs {
+    #[command(flatten)]
+    pub run: RunArgs,
+    #[command(flatten)]
+    pub checkpoint: CheckpointArgs,
+    #[command(flatten)]
+    pub output: OutputArgs,
+}
+
+impl ResumableArgs {
+    /// Runs `analysis` on `engine` with a progress bar over `total` `unit`s, these threads and
+    /// this checkpoint, then prints (or emits as JSON) its result.
+    pub fn run<R: serde::Serialize>(
+        &self,
+        total: u64,
+        unit: &str,
+        engine: lorentz_gas::engine::Engine,
+        analysis: impl FnOnce(&RunOptions) -> Result<R, lorentz_gas::Error>,
+        print: impl FnOnce(&R),
+    ) -> Result<(), lorentz_gas::Error> {
+        let pb = super::progress::Progress::new(total, unit, self.output.quiet);
         let opts = self.checkpoint.apply(RunOptions {
             engine,
-            threads: self.run.threads(),
-            progress: &progress,
-            ..super::signals::options()
+            ..pb.options(self.run.threads())
         });
-        let r = analysis(&cfg, &opts)?;
-        drop(progress);
+        let r = analysis(&opts)?;
+        drop(opts);
         drop(pb);
         super::output::emit(self.output.json, &r, print)
     }

@@ -2,12 +2,10 @@
 //! (Gaspard–Baras), extrapolated in 1/L.
 
 use lorentz_gas::Error;
-use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::engine::Engine;
 use lorentz_gas::estimators::escape::{self, EscapeConfig, EscapeReport};
 
-use super::args::{CheckpointArgs, GapArg, OutputArgs, RunArgs, parse_count};
-use super::output::emit;
-use super::progress::Progress;
+use super::args::{GapArg, ResumableArgs, parse_count};
 
 /// What a checkpoint of `escape` keeps: finished particles, not trajectories in flight (the
 /// shared help of `--checkpoint` and `--checkpoint-every` describes the latter).
@@ -35,11 +33,7 @@ pub struct Args {
     #[arg(long, default_value = "2e5", value_parser = parse_count, allow_negative_numbers = true)]
     particles_per_width: u64,
     #[command(flatten)]
-    run: RunArgs,
-    #[command(flatten)]
-    checkpoint: CheckpointArgs,
-    #[command(flatten)]
-    output: OutputArgs,
+    resumable: ResumableArgs,
 }
 
 /// The configuration these options give (validated).
@@ -51,7 +45,7 @@ pub fn config(a: &Args) -> Result<EscapeConfig, Error> {
             .clone()
             .unwrap_or_else(|| escape::default_widths(a.gap.w())),
         particles_per_width: a.particles_per_width,
-        seed: a.run.seed(),
+        seed: a.resumable.run.seed(),
     };
     cfg.validate()?;
     Ok(cfg)
@@ -59,21 +53,14 @@ pub fn config(a: &Args) -> Result<EscapeConfig, Error> {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let cfg = config(&a)?;
-    let pb = Progress::new(
-        cfg.particles_per_width * cfg.widths.len() as u64,
+    let total = cfg.particles_per_width * cfg.widths.len() as u64;
+    a.resumable.run(
+        total,
         "particles",
-        a.output.quiet,
-    );
-    let progress = pb.callback();
-    let opts = a.checkpoint.apply(RunOptions {
-        threads: a.run.threads(),
-        progress: &progress,
-        ..super::signals::options()
-    });
-    let r = escape::run(&cfg, &opts)?;
-    drop(progress);
-    drop(pb);
-    emit(a.output.json, &r, print)
+        Engine::Auto,
+        |opts| escape::run(&cfg, opts),
+        print,
+    )
 }
 
 fn print(r: &EscapeReport) {

@@ -2,13 +2,10 @@
 //! growth and limit law, each against the exact corridor constants.
 
 use lorentz_gas::Error;
+use lorentz_gas::engine::Engine;
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig, SuperdiffusionReport};
 
-use super::args::{
-    CheckpointArgs, FlightsArg, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32,
-};
-use super::output::emit;
-use super::progress::Progress;
+use super::args::{FlightsArg, ResumableArgs, SceneArgs, parse_count, parse_count_u32};
 
 /// The gap superdiffusion needs (the shared help of `--w` gives the whole range w > 0).
 const GAP_HELP: &str = "Gap w of the triangular scene, a decimal or a fraction such as 1/10: w > \
@@ -48,11 +45,7 @@ pub struct Args {
     #[command(flatten)]
     flights: FlightsArg,
     #[command(flatten)]
-    run: RunArgs,
-    #[command(flatten)]
-    checkpoint: CheckpointArgs,
-    #[command(flatten)]
-    output: OutputArgs,
+    resumable: ResumableArgs,
 }
 
 /// A window FROM:TO of two positive numbers.
@@ -78,17 +71,18 @@ pub fn run(a: Args) -> Result<(), Error> {
         tail_fit_from: a.tail_fit_from,
         vacf_fit: a.vacf_fit.unwrap_or(windows.vacf_fit),
         msd_fit: a.msd_fit.unwrap_or(windows.msd_fit),
-        seed: a.run.seed(),
+        seed: a.resumable.run.seed(),
         flights: a.flights.flights,
         ..windows
     };
     cfg.validate()?;
-    let pb = Progress::new(a.collisions, "collisions", a.output.quiet);
-    let opts = a.checkpoint.apply(pb.options(a.run.threads()));
-    let r = superdiffusion::run(&cfg, &opts)?;
-    drop(opts);
-    drop(pb);
-    emit(a.output.json, &r, print)
+    a.resumable.run(
+        a.collisions,
+        "collisions",
+        Engine::Auto,
+        |opts| superdiffusion::run(&cfg, opts),
+        print,
+    )
 }
 
 fn print(r: &SuperdiffusionReport) {

@@ -423,12 +423,12 @@ fn speed_plot(report: &SpeedReport, dir: &Path) -> Result<(), Error> {
     plot(
         &dir.join("speed-vs-error"),
         &PlotSpec {
-            title: &format!("Speed against error, w = {w}"),
-            x_label: "correct digits per event (-log10 of the median one-step error)",
-            y_label: "ns per collision (one core)",
-            log_x: false,
             log_y: true,
-            ..Default::default()
+            ..PlotSpec::new(
+                &format!("Speed against error, w = {w}"),
+                "correct digits per event (-log10 of the median one-step error)",
+                "ns per collision (one core)",
+            )
         },
         &[Series {
             label: "kernel (f64 and MPFR)".into(),

@@ -6,7 +6,7 @@
 //! normal's two-sided 4σ tail probability 6.3·10⁻⁵ (`statistics::normal_sigma_equivalent_t`; 15 dof:
 //! 5.48, 30 dof: 4.65).
 
-use crate::common::{t4, t4_welch};
+use crate::common::{t4, t4_welch, z};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
@@ -54,10 +54,6 @@ fn two_threads(progress: &(dyn Fn(u64) + Sync)) -> RunOptions<'_> {
 }
 
 fn quiet(_: u64) {}
-
-fn z(a: f64, ea: f64, b: f64, eb: f64) -> f64 {
-    (a - b).abs() / (ea * ea + eb * eb).sqrt()
-}
 
 /// Batches of a result, from its metadata block.
 fn nb(m: &lorentz_gas::engine::metadata::RunMeta) -> u32 {

@@ -2,16 +2,8 @@
 //! plain run of the size its pilot plans, bit for bit, and reaches the target within the
 //! statistics of the pilot's own error estimate.
 
-use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, plan};
 use lorentz_gas::statistics::f_p_value;
-
-fn opts() -> RunOptions<'static> {
-    RunOptions {
-        threads: 2,
-        ..RunOptions::default()
-    }
-}
 
 /// The pilot (1.28·10⁷ collisions at w = 0.2 in 128 batches) planned down to a quarter of its
 /// relative error: about 16 times its size. The result is bit for bit the plain run of the
@@ -28,7 +20,7 @@ fn a_planned_run_is_the_plain_run_of_its_size_and_reaches_its_target() {
         batches: 128,
         ..DiffusionConfig::new(0.2)
     };
-    let pilot = diffusion::run(&base, &opts()).unwrap();
+    let pilot = diffusion::run(&base, &crate::common::threads(2)).unwrap();
     let pilot_rel = pilot.D_err / pilot.D;
     let target = pilot_rel / 4.0;
     let planned = diffusion::run(
@@ -36,7 +28,7 @@ fn a_planned_run_is_the_plain_run_of_its_size_and_reaches_its_target() {
             rel_err: Some(target),
             ..base.clone()
         },
-        &opts(),
+        &crate::common::threads(2),
     )
     .unwrap();
     let p = planned.pilot.expect("a planned run records its pilot");
@@ -52,7 +44,7 @@ fn a_planned_run_is_the_plain_run_of_its_size_and_reaches_its_target() {
             collisions: p.planned_collisions,
             ..base
         },
-        &opts(),
+        &crate::common::threads(2),
     )
     .unwrap();
     assert_eq!(planned.D.to_bits(), plain.D.to_bits());
@@ -79,13 +71,13 @@ fn a_pilot_that_meets_its_target_is_the_run() {
         collisions: 4_000_000,
         ..DiffusionConfig::new(0.2)
     };
-    let plain = diffusion::run(&base, &opts()).unwrap();
+    let plain = diffusion::run(&base, &crate::common::threads(2)).unwrap();
     let planned = diffusion::run(
         &DiffusionConfig {
             rel_err: Some(0.5),
             ..base
         },
-        &opts(),
+        &crate::common::threads(2),
     )
     .unwrap();
     assert_eq!(planned.D.to_bits(), plain.D.to_bits());
@@ -102,7 +94,7 @@ fn every_run_plans_the_next_decade() {
             collisions: 4_000_000,
             ..DiffusionConfig::new(0.2)
         },
-        &opts(),
+        &crate::common::threads(2),
     )
     .unwrap();
     let rel = r.D_err / r.D;

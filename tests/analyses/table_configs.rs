@@ -10,7 +10,6 @@ use serde::de::DeserializeOwned;
 use serde_json::Value;
 
 use lorentz_gas::Error;
-use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::escape::{self, EscapeConfig, EscapeReport};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
 use lorentz_gas::estimators::hops::{self, HopsConfig, HopsReport};
@@ -119,13 +118,6 @@ fn audit_reads<T: DeserializeOwned + Serialize>(report: &impl Serialize, old_con
     file.parse(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn two_threads() -> RunOptions<'static> {
-    RunOptions {
-        threads: 2,
-        ..RunOptions::default()
-    }
-}
-
 #[test]
 fn hops_backscatter_and_escape_results_of_before_pass_the_audit_key_check() {
     let hops_cfg = HopsConfig {
@@ -134,7 +126,7 @@ fn hops_backscatter_and_escape_results_of_before_pass_the_audit_key_check() {
         order: 2,
         ..HopsConfig::new(Table::triangular("0.1").unwrap())
     };
-    let h = hops::run(&hops_cfg, &two_threads()).unwrap();
+    let h = hops::run(&hops_cfg, &crate::common::threads(2)).unwrap();
     let old = r#"{"w": 0.1, "collisions": 400000, "batches": 2, "order": 2, "seed": 1,
                   "run": 0}"#;
     let back: HopsReport = audit_reads(&h, old);
@@ -145,7 +137,7 @@ fn hops_backscatter_and_escape_results_of_before_pass_the_audit_key_check() {
             batches: 2,
             ..BackscatterConfig::new(Table::triangular("0.1").unwrap())
         },
-        &two_threads(),
+        &crate::common::threads(2),
     )
     .unwrap();
     let old = r#"{"w": 0.1, "particles": 1000, "batches": 2, "seed": 1, "run": 0,
@@ -158,7 +150,7 @@ fn hops_backscatter_and_escape_results_of_before_pass_the_audit_key_check() {
             particles_per_width: escape::MIN_PARTICLES,
             ..EscapeConfig::new(Table::triangular("0.3").unwrap())
         },
-        &two_threads(),
+        &crate::common::threads(2),
     )
     .unwrap();
     let old = r#"{"w": 0.3, "widths": [11.0, 13.0, 15.0], "particles_per_width": 3200,
@@ -177,8 +169,12 @@ fn hops_runs_keep_their_bits_whichever_way_the_gap_is_given() {
         order: 3,
         ..HopsConfig::new(table)
     };
-    let typed = hops::run(&cfg(Table::triangular("1/10").unwrap()), &two_threads()).unwrap();
-    let double = hops::run(&cfg(Table::triangular_at(0.1)), &two_threads()).unwrap();
+    let typed = hops::run(
+        &cfg(Table::triangular("1/10").unwrap()),
+        &crate::common::threads(2),
+    )
+    .unwrap();
+    let double = hops::run(&cfg(Table::triangular_at(0.1)), &crate::common::threads(2)).unwrap();
     let physics = |r: &HopsReport| {
         let mut v = serde_json::to_value(r).unwrap();
         v.as_object_mut()
@@ -242,9 +238,13 @@ fn hops_backscatter_and_escape_refuse_other_tables_and_fields() {
         }
         // Through the entry points too, before any work (speed against error creates no
         // folder).
-        let e = hops::theory::run(&HopsConfig::new(table.clone()), &two_threads()).unwrap_err();
+        let e = hops::theory::run(&HopsConfig::new(table.clone()), &crate::common::threads(2))
+            .unwrap_err();
         assert!(e.to_string().contains(message), "{e}");
-        let e = throughput::run(&ThroughputConfig::new(table.clone()), &two_threads());
+        let e = throughput::run(
+            &ThroughputConfig::new(table.clone()),
+            &crate::common::threads(2),
+        );
         assert!(e.is_err());
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("speed");
@@ -253,7 +253,7 @@ fn hops_backscatter_and_escape_refuse_other_tables_and_fields() {
             seed: 1,
             out: out.clone(),
         };
-        let e = speed_error::run(&cfg, &two_threads()).unwrap_err();
+        let e = speed_error::run(&cfg, &crate::common::threads(2)).unwrap_err();
         assert!(e.to_string().contains(message), "{e}");
         assert!(!out.exists());
     }

@@ -270,22 +270,10 @@ fn a_merged_sweep_with_one_run_edited_fails_its_report() {
     use crate::common::lorentz_in as lorentz;
     let tmp = crate::common::scratch();
     let dir = tmp.path();
-    let sweep = [
-        "sweep",
-        "--w-from",
-        "0.2",
-        "--w-to",
-        "0.3",
-        "--steps",
-        "3",
-        "--runs",
-        "2",
-        "--collisions-per-run",
-        "2e5",
-        "--batches-per-run",
-        "4",
-        "--quiet",
-    ];
+    let sweep = crate::common::words(
+        "sweep --w-from 0.2 --w-to 0.3 --steps 3 --runs 2 --collisions-per-run 2e5 \
+         --batches-per-run 4 --quiet",
+    );
     for part in ["0/2", "1/2"] {
         let out = format!("part-{}", &part[..1]);
         let mut args = sweep.to_vec();

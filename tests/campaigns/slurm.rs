@@ -212,22 +212,10 @@ fn sweeps_sharded_over_a_real_slurm_cluster_equal_the_sweeps_in_one_piece() {
     let conf = cluster.dir.join("slurm.conf");
 
     // A sweep over w.
-    let sweep = [
-        "--w-from",
-        "0.2",
-        "--w-to",
-        "0.3",
-        "--steps",
-        "6",
-        "--runs",
-        "2",
-        "--collisions-per-run",
-        "3e5",
-        "--batches-per-run",
-        "4",
-        "--seed",
-        "11",
-    ];
+    let sweep = crate::common::words(
+        "--w-from 0.2 --w-to 0.3 --steps 6 --runs 2 --collisions-per-run 3e5 --batches-per-run 4 \
+         --seed 11",
+    );
     run_campaign(&conf, &sweep, "4", &root.join("campaign"));
     in_one_piece(&sweep, &root.join("whole"));
     let figures = [

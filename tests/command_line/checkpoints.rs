@@ -46,19 +46,9 @@ fn physics(json: &str) -> serde_json::Value {
 fn a_killed_diffusion_run_resumes_to_the_uninterrupted_bits() {
     let tmp = crate::common::scratch();
     let dir = tmp.path();
-    let run = [
-        "diffusion",
-        "--w",
-        "0.1",
-        "--collisions",
-        "2e8",
-        "--batches",
-        "16",
-        "--threads",
-        "2",
-        "--json",
-        "--quiet",
-    ];
+    let run = crate::common::words(
+        "diffusion --w 0.1 --collisions 2e8 --batches 16 --threads 2 --json --quiet",
+    );
     let (reference, full) = finish(dir, &run);
     let mut resumable = run.to_vec();
     resumable.extend(["--checkpoint", "run.ckpt", "--checkpoint-every", "0.05"]);
@@ -83,29 +73,12 @@ fn a_killed_sweep_resumes_to_the_uninterrupted_bits() {
     let tmp = crate::common::scratch();
     let dir = tmp.path();
     let sweep = |out: &'static str| {
-        vec![
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--steps",
-            "3",
-            "--runs",
-            "2",
-            "--collisions-per-run",
-            "6e7",
-            "--batches-per-run",
-            "8",
-            "--threads",
-            "2",
-            "--json",
-            "--quiet",
-            "--checkpoint-every",
-            "0.05",
-            "--out",
-            out,
-        ]
+        let mut args = crate::common::words(
+            "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 6e7 \
+             --batches-per-run 8 --threads 2 --json --quiet --checkpoint-every 0.05 --out",
+        );
+        args.push(out);
+        args
     };
     let (reference, full) = finish(dir, &sweep("whole"));
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(23);

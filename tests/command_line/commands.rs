@@ -4,959 +4,440 @@
 
 use std::process::Command;
 
-use crate::common::lorentz_in;
+use crate::common::{lorentz_in, words};
 
-/// (arguments, a word the one-line message must contain)
-const BAD: &[(&[&str], &str)] = &[
+/// (command line, split at white space; a word the one-line message must contain)
+const BAD: &[(&str, &str)] = &[
     // diffusion
-    (&["diffusion", "--w", "0"], "0 < w < 4/sqrt(3) - 2"),
-    (&["diffusion", "--w", "-0.1"], "trapped"),
-    (&["diffusion", "--w", "0.31"], "0.309"),
-    (&["diffusion", "--w", "0.3094010767585031"], "infinite"),
-    (&["diffusion", "--w", "NaN"], "finite"),
-    (&["diffusion", "--w", "inf"], "finite"),
-    (&["diffusion", "--w", "abc"], "invalid value"),
+    ("diffusion --w 0", "0 < w < 4/sqrt(3) - 2"),
+    ("diffusion --w -0.1", "trapped"),
+    ("diffusion --w 0.31", "0.309"),
+    ("diffusion --w 0.3094010767585031", "infinite"),
+    ("diffusion --w NaN", "finite"),
+    ("diffusion --w inf", "finite"),
+    ("diffusion --w abc", "invalid value"),
     (
-        &["diffusion", "--w", "1e-300", "--collisions", "1000"],
+        "diffusion --w 1e-300 --collisions 1000",
         "more than any run",
     ),
-    (&["diffusion", "--w", "0.1", "--precision", "52"], "53"),
+    ("diffusion --w 0.1 --precision 52", "53"),
+    ("diffusion --w 0.1 --rel-err 0", "[1e-7, 0.5]"),
+    ("diffusion --w 0.1 --rel-err 0.7", "[1e-7, 0.5]"),
+    ("diffusion --w 0.1 --rel-err NaN", "[1e-7, 0.5]"),
+    ("diffusion --w 0.1 --rel-err 1e-9", "[1e-7, 0.5]"),
+    ("diffusion --w 0.1 --precision double", "f64"),
     (
-        &["diffusion", "--w", "0.1", "--rel-err", "0"],
-        "[1e-7, 0.5]",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--rel-err", "0.7"],
-        "[1e-7, 0.5]",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--rel-err", "NaN"],
-        "[1e-7, 0.5]",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--rel-err", "1e-9"],
-        "[1e-7, 0.5]",
-    ),
-    (&["diffusion", "--w", "0.1", "--precision", "double"], "f64"),
-    (
-        &["diffusion", "--w", "0.1", "--msd-grid", "fine"],
+        "diffusion --w 0.1 --msd-grid fine",
         "fit (the fit windows' lags) or log",
     ),
     (
-        &[
-            "diffusion",
-            "--w",
-            "0.1",
-            "--field",
-            "1",
-            "--msd-grid",
-            "log",
-        ],
+        "diffusion --w 0.1 --field 1 --msd-grid log",
         "measured without a field",
     ),
+    ("diffusion --w 0.1 --collisions 0", "collisions"),
+    ("diffusion --w 0.1 --collisions -5", "whole number"),
+    ("diffusion --w 0.1 --collisions 1.5", "whole number"),
+    ("diffusion --w 0.1 --collisions 1e20", "too large"),
+    ("diffusion --w 0.1 --batches 0", "batches"),
+    ("diffusion --w 0.1 --engine gpu", "simd"),
     (
-        &["diffusion", "--w", "0.1", "--collisions", "0"],
-        "collisions",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--collisions", "-5"],
-        "whole number",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--collisions", "1.5"],
-        "whole number",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--collisions", "1e20"],
-        "too large",
-    ),
-    (&["diffusion", "--w", "0.1", "--batches", "0"], "batches"),
-    (&["diffusion", "--w", "0.1", "--engine", "gpu"], "simd"),
-    (
-        &[
-            "diffusion",
-            "--w",
-            "0.1",
-            "--engine",
-            "simd",
-            "--precision",
-            "128",
-        ],
+        "diffusion --w 0.1 --engine simd --precision 128",
         "f64 only",
     ),
+    ("diffusion --w 0.1 --collisions 1e18 --batches 2", "2^50"),
+    ("hops --w 0.1 --engine fast", "scalar"),
+    ("bench --w 0.1 --observe all", "diffusion"),
+    ("diffusion --w 0.1 --batches 1", "batches"),
+    ("diffusion --w 0.1 --batches 5e9", "4294967295"),
     (
-        &[
-            "diffusion",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e18",
-            "--batches",
-            "2",
-        ],
-        "2^50",
-    ),
-    (&["hops", "--w", "0.1", "--engine", "fast"], "scalar"),
-    (&["bench", "--w", "0.1", "--observe", "all"], "diffusion"),
-    (&["diffusion", "--w", "0.1", "--batches", "1"], "batches"),
-    (
-        &["diffusion", "--w", "0.1", "--batches", "5e9"],
-        "4294967295",
-    ),
-    (
-        &[
-            "diffusion",
-            "--w",
-            "0.1",
-            "--batches",
-            "4e9",
-            "--collisions",
-            "1e19",
-        ],
+        "diffusion --w 0.1 --batches 4e9 --collisions 1e19",
         "at most 1048576",
     ),
     (
-        &[
-            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "4e9", "--out", "out",
-        ],
+        "sweep --w-from 0.1 --w-to 0.2 --steps 4e9 --out out",
         "2 to 10000",
     ),
     (
-        &[
-            "audit",
-            "--w",
-            "0.1",
-            "--batches",
-            "4e9",
-            "--collisions",
-            "1e19",
-        ],
+        "audit --w 0.1 --batches 4e9 --collisions 1e19",
         "at most 1048576",
     ),
-    (
-        &["diffusion", "--w", "0.1", "--collisions", "1000"],
-        "too small",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--threads", "0"],
-        "threads must be from 1",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--threads", "1e9"],
-        "threads must be from 1",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--threads", "4096"],
-        "4 per core",
-    ),
-    (&["bench", "--w", "0.1", "--threads", "4096"], "4 per core"),
-    (&["diffusion", "--w", "0.1", "--window", "40:10"], "window"),
-    (&["diffusion", "--w", "0.1", "--audit", "2"], "(0, 1]"),
-    (
-        &[
-            "diffusion",
-            "--w",
-            "0.1",
-            "--audit",
-            "0.1",
-            "--reference-bits",
-            "64",
-        ],
-        "128",
-    ),
+    ("diffusion --w 0.1 --collisions 1000", "too small"),
+    ("diffusion --w 0.1 --threads 0", "threads must be from 1"),
+    ("diffusion --w 0.1 --threads 1e9", "threads must be from 1"),
+    ("diffusion --w 0.1 --threads 4096", "4 per core"),
+    ("bench --w 0.1 --threads 4096", "4 per core"),
+    ("diffusion --w 0.1 --window 40:10", "window"),
+    ("diffusion --w 0.1 --audit 2", "(0, 1]"),
+    ("diffusion --w 0.1 --audit 0.1 --reference-bits 64", "128"),
     // audit
-    (&["audit", "--w", "0"], "trapped"),
-    (&["audit", "--w", "0.1", "--collisions", "0"], "collisions"),
-    (&["audit", "--w", "0.1", "--batches", "0"], "batches"),
-    (&["audit", "--w", "0.1", "--sample", "0"], "(0, 1]"),
-    (&["audit", "--w", "0.1", "--sample", "1.5"], "(0, 1]"),
-    (&["audit", "--w", "0.1", "--reference-bits", "64"], "128"),
-    (&["audit", "--w", "0.1", "--field", "1e7"], "1e6"),
-    (&["audit", "--w", "0.1", "--field", "-1e-7"], "1e-6"),
-    (&["audit", "--w", "0.1", "--field", "one"], "field"),
-    (&["diffusion", "--w", "0.1", "--field", "one"], "field"),
-    (
-        &["audit", "--w", "0.1", "--reference-bits", "4000000000"],
-        "65536",
-    ),
+    ("audit --w 0", "trapped"),
+    ("audit --w 0.1 --collisions 0", "collisions"),
+    ("audit --w 0.1 --batches 0", "batches"),
+    ("audit --w 0.1 --sample 0", "(0, 1]"),
+    ("audit --w 0.1 --sample 1.5", "(0, 1]"),
+    ("audit --w 0.1 --reference-bits 64", "128"),
+    ("audit --w 0.1 --field 1e7", "1e6"),
+    ("audit --w 0.1 --field -1e-7", "1e-6"),
+    ("audit --w 0.1 --field one", "field"),
+    ("diffusion --w 0.1 --field one", "field"),
+    ("audit --w 0.1 --reference-bits 4000000000", "65536"),
     // scenes
+    ("audit --scene square --radius 0.5", "0 < radius < 1/2"),
+    ("audit --scene square --radius -1/3", "0 < radius < 1/2"),
+    ("audit --scene square --radius 1/0", "divides by zero"),
+    ("audit --scene square --radius x", "not a decimal"),
+    ("audit --scene square", "needs --radius"),
     (
-        &["audit", "--scene", "square", "--radius", "0.5"],
-        "0 < radius < 1/2",
+        "certify --scene square --radius inf",
+        "radius must be a finite number",
     ),
+    ("shadow --w nan", "w must be a finite number"),
+    ("shadow --w 1/0", "divides by zero"),
     (
-        &["audit", "--scene", "square", "--radius", "-1/3"],
-        "0 < radius < 1/2",
-    ),
-    (
-        &["audit", "--scene", "square", "--radius", "1/0"],
+        "figure backscatter-map --w 1/0 --out out",
         "divides by zero",
     ),
     (
-        &["audit", "--scene", "square", "--radius", "x"],
-        "not a decimal",
-    ),
-    (&["audit", "--scene", "square"], "needs --radius"),
-    (
-        &["certify", "--scene", "square", "--radius", "inf"],
-        "radius must be a finite number",
-    ),
-    (&["shadow", "--w", "nan"], "w must be a finite number"),
-    (&["shadow", "--w", "1/0"], "divides by zero"),
-    (
-        &["figure", "backscatter-map", "--w", "1/0", "--out", "out"],
-        "divides by zero",
-    ),
-    (
-        &[
-            "trajectory",
-            "--scene",
-            "square",
-            "--radius",
-            "nan",
-            "--start",
-            "0,0",
-            "--direction",
-            "1,0",
-            "--time",
-            "1",
-        ],
+        "trajectory --scene square --radius nan --start 0,0 --direction 1,0 --time 1",
         "radius must be a finite number",
     ),
     (
-        &[
-            "audit", "--scene", "square", "--radius", "0.3", "--w", "0.1",
-        ],
+        "audit --scene square --radius 0.3 --w 0.1",
         "does not apply",
     ),
+    ("audit --scene hexagonal --w 0.1", "triangular"),
+    ("lyapunov --w 0.1 --radius 0.3", "does not apply"),
+    ("certify --scene square --radius 0.7", "0 < radius < 1/2"),
     (
-        &["audit", "--scene", "hexagonal", "--w", "0.1"],
-        "triangular",
-    ),
-    (
-        &["lyapunov", "--w", "0.1", "--radius", "0.3"],
-        "does not apply",
-    ),
-    (
-        &["certify", "--scene", "square", "--radius", "0.7"],
-        "0 < radius < 1/2",
-    ),
-    (
-        &["diffusion", "--scene", "square", "--radius", "1/3"],
+        "diffusion --scene square --radius 1/3",
         "in a magnetic field every scene has a finite horizon",
     ),
     (
-        &[
-            "diffusion",
-            "--scene",
-            "square",
-            "--radius",
-            "1/3",
-            "--field",
-            "1",
-            "--rel-err",
-            "1e-3",
-        ],
+        "diffusion --scene square --radius 1/3 --field 1 --rel-err 1e-3",
         "not planned for a relative error",
     ),
-    (&["diffusion", "--collisions", "1e6"], "needs --w"),
+    ("diffusion --collisions 1e6", "needs --w"),
     (
-        &[
-            "sweep", "--scene", "square", "--radius", "1/4", "--w-from", "0.1", "--w-to", "0.2",
-        ],
+        "sweep --scene square --radius 1/4 --w-from 0.1 --w-to 0.2",
         "sweep over w without a field is the triangular scene's",
     ),
     (
-        &["sweep", "--scene", "square", "--fields=1,2"],
+        "sweep --scene square --fields=1,2",
         "the square scene needs --radius",
     ),
     // superdiffusion
-    (&["superdiffusion", "--w", "0.1"], "finite horizon"),
+    ("superdiffusion --w 0.1", "finite horizon"),
     (
-        &["superdiffusion", "--scene", "square", "--radius", "1/2"],
+        "superdiffusion --scene square --radius 1/2",
         "0 < radius < 1/2",
     ),
     (
-        &[
-            "superdiffusion",
-            "--scene",
-            "square",
-            "--radius",
-            "1/4",
-            "--batches",
-            "4",
-        ],
+        "superdiffusion --scene square --radius 1/4 --batches 4",
         "at least 16",
     ),
-    (
-        &["superdiffusion", "--w", "0.5", "--msd-fit", "64:8"],
-        "FROM:TO",
-    ),
-    (
-        &["superdiffusion", "--w", "0.5", "--vacf-fit", "64:8192"],
-        "2^octaves",
-    ),
-    (
-        &["superdiffusion", "--w", "0.5", "--collisions", "1e5"],
-        "per batch",
-    ),
+    ("superdiffusion --w 0.5 --msd-fit 64:8", "FROM:TO"),
+    ("superdiffusion --w 0.5 --vacf-fit 64:8192", "2^octaves"),
+    ("superdiffusion --w 0.5 --collisions 1e5", "per batch"),
     // lyapunov
-    (&["lyapunov", "--w", "-0.4"], "trapped"),
-    (&["lyapunov", "--w", "0.1", "--batches", "1"], "batches"),
-    (
-        &["lyapunov", "--w", "0.1", "--collisions-per-batch", "0"],
-        "collisions",
-    ),
-    (&["lyapunov", "--w", "0.1", "--starts", "1e6"], "starts"),
+    ("lyapunov --w -0.4", "trapped"),
+    ("lyapunov --w 0.1 --batches 1", "batches"),
+    ("lyapunov --w 0.1 --collisions-per-batch 0", "collisions"),
+    ("lyapunov --w 0.1 --starts 1e6", "starts"),
     // certify
-    (&["certify", "--w", "0"], "trapped"),
+    ("certify --w 0", "trapped"),
+    ("certify --w 0.1 --collisions 0", "collisions"),
+    ("certify --w 0.1 --digits 0", "digits"),
+    ("certify --w 0.1 --digits -3", "whole number"),
+    ("diffusion --w 0.1 --seed -1", "whole number"),
     (
-        &["certify", "--w", "0.1", "--collisions", "0"],
-        "collisions",
-    ),
-    (&["certify", "--w", "0.1", "--digits", "0"], "digits"),
-    (&["certify", "--w", "0.1", "--digits", "-3"], "whole number"),
-    (&["diffusion", "--w", "0.1", "--seed", "-1"], "whole number"),
-    (
-        &["certify", "--w", "0.1", "--collisions", "100000000000"],
+        "certify --w 0.1 --collisions 100000000000",
         "use at most 33007 collisions (where the memory limit of 4 GiB binds)",
     ),
-    (
-        &[
-            "certify",
-            "--w",
-            "0.1",
-            "--collisions",
-            "200000",
-            "--digits",
-            "10",
-        ],
-        "memory",
-    ),
+    ("certify --w 0.1 --collisions 200000 --digits 10", "memory"),
     // shadow
-    (&["shadow", "--w", "0.4"], "0 < w < 0.309401"),
+    ("shadow --w 0.4", "0 < w < 0.309401"),
     (
-        &["shadow", "--w", "0.1", "--collisions-per-segment", "0"],
+        "shadow --w 0.1 --collisions-per-segment 0",
         "use 2 to 10000",
     ),
     (
-        &["shadow", "--w", "0.1", "--collisions-per-segment", "2e4"],
+        "shadow --w 0.1 --collisions-per-segment 2e4",
         "use 2 to 10000",
     ),
-    (
-        &["shadow", "--w", "0.1", "--reference-bits", "64"],
-        "use 128 to",
-    ),
-    (
-        &["shadow", "--w", "0.1", "--segments", "0"],
-        "use 1 to 10000",
-    ),
+    ("shadow --w 0.1 --reference-bits 64", "use 128 to"),
+    ("shadow --w 0.1 --segments 0", "use 1 to 10000"),
     // backscatter
-    (&["backscatter", "--w", "0"], "trapped"),
-    (
-        &["backscatter", "--w", "0.1", "--particles", "0"],
-        "particles",
-    ),
-    (&["backscatter", "--w", "0.1", "--batches", "1"], "batches"),
-    (&["backscatter", "--w", "0.1", "--precision", "20"], "53"),
+    ("backscatter --w 0", "trapped"),
+    ("backscatter --w 0.1 --particles 0", "particles"),
+    ("backscatter --w 0.1 --batches 1", "batches"),
+    ("backscatter --w 0.1 --precision 20", "53"),
     // hops
-    (&["hops", "--w", "0.35"], "infinite"),
-    (&["hops", "--w", "0.1", "--collisions", "0"], "collisions"),
-    (&["hops", "--w", "0.1", "--order", "0"], "order"),
-    (&["hops", "--w", "0.1", "--order", "100"], "order"),
-    (&["hops", "--w", "0.1", "--batches", "1"], "batches"),
+    ("hops --w 0.35", "infinite"),
+    ("hops --w 0.1 --collisions 0", "collisions"),
+    ("hops --w 0.1 --order 0", "order"),
+    ("hops --w 0.1 --order 100", "order"),
+    ("hops --w 0.1 --batches 1", "batches"),
     // checkpoint intervals
+    ("diffusion --w 0.1 --checkpoint-every -1", "0 to 86400"),
+    ("hops --w 0.1 --checkpoint-every 1e6", "0 to 86400"),
+    ("escape --w 0.1 --checkpoint-every soon", "0 to 86400"),
     (
-        &["diffusion", "--w", "0.1", "--checkpoint-every", "-1"],
-        "0 to 86400",
-    ),
-    (
-        &["hops", "--w", "0.1", "--checkpoint-every", "1e6"],
-        "0 to 86400",
-    ),
-    (
-        &["escape", "--w", "0.1", "--checkpoint-every", "soon"],
-        "0 to 86400",
-    ),
-    (
-        &[
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--checkpoint-every",
-            "NaN",
-        ],
+        "sweep --w-from 0.1 --w-to 0.2 --checkpoint-every NaN",
         "0 to 86400",
     ),
     // lyapunov in a field
     (
-        &[
-            "lyapunov",
-            "--scene",
-            "triangular",
-            "--w",
-            "0.1",
-            "--field",
-            "1",
-            "--starts",
-            "4",
-        ],
+        "lyapunov --scene triangular --w 0.1 --field 1 --starts 4",
         "not measured in a field",
     ),
     (
-        &[
-            "lyapunov",
-            "--scene",
-            "triangular",
-            "--w",
-            "0.1",
-            "--field",
-            "5000",
-        ],
+        "lyapunov --scene triangular --w 0.1 --field 5000",
         "1e-3 <= |field| <= 1e3",
     ),
     // trajectory in a field
     (
-        &[
-            "trajectory",
-            "--scene",
-            "triangular",
-            "--w",
-            "0.1",
-            "--start",
-            "1.05,0",
-            "--direction",
-            "0,1",
-            "--time",
-            "1",
-            "--field",
-            "2000000",
-        ],
+        "trajectory --scene triangular --w 0.1 --start 1.05,0 --direction 0,1 --time 1 \
+         --field 2000000",
         "|field| <= 1e6",
     ),
     // sweep in a field
     (
-        &["sweep", "--w", "0.1", "--fields=0,1", "--out", "out"],
+        "sweep --w 0.1 --fields=0,1 --out out",
         "1e-3 <= |field| <= 1e3",
     ),
+    ("sweep --w 0.1 --fields=1,1 --out out", "appears twice"),
     (
-        &["sweep", "--w", "0.1", "--fields=1,1", "--out", "out"],
-        "appears twice",
-    ),
-    (
-        &[
-            "sweep",
-            "--w",
-            "0.1",
-            "--fields=1",
-            "--runs",
-            "2",
-            "--out",
-            "out",
-        ],
+        "sweep --w 0.1 --fields=1 --runs 2 --out out",
         "--runs 2: not used by a sweep in a field",
     ),
     (
-        &[
-            "sweep", "--w", "0.1", "--w-from", "0.1", "--w-to", "0.2", "--field", "1",
-        ],
+        "sweep --w 0.1 --w-from 0.1 --w-to 0.2 --field 1",
         "not both",
     ),
-    (&["sweep", "--w", "0.1", "--out", "out"], "--fields"),
+    ("sweep --w 0.1 --out out", "--fields"),
+    ("sweep --w 0.1 --field 1 --fields=2 --out out", "not both"),
     (
-        &[
-            "sweep",
-            "--w",
-            "0.1",
-            "--field",
-            "1",
-            "--fields=2",
-            "--out",
-            "out",
-        ],
-        "not both",
-    ),
-    (
-        &[
-            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--field", "1", "--shard", "0/2000",
-        ],
+        "sweep --w-from 0.1 --w-to 0.2 --field 1 --shard 0/2000",
         "has parts 0 to N-1",
     ),
     // sweep
+    ("sweep --w-from 0.1 --w-to 0.5 --out out", "infinite"),
+    ("sweep --w-from 0.1 --w-to 0.2 --steps 1 --out out", "steps"),
+    ("sweep --w-from 0.1 --w-to 0.2 --runs 0 --out out", "runs"),
     (
-        &["sweep", "--w-from", "0.1", "--w-to", "0.5", "--out", "out"],
-        "infinite",
-    ),
-    (
-        &[
-            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--steps", "1", "--out", "out",
-        ],
-        "steps",
-    ),
-    (
-        &[
-            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--runs", "0", "--out", "out",
-        ],
-        "runs",
-    ),
-    (
-        &[
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--batches-per-run",
-            "1",
-            "--out",
-            "out",
-        ],
+        "sweep --w-from 0.1 --w-to 0.2 --batches-per-run 1 --out out",
         "batches",
     ),
+    ("sweep --w-from abc --w-to 0.2 --out out", "decimal"),
     (
-        &["sweep", "--w-from", "abc", "--w-to", "0.2", "--out", "out"],
-        "decimal",
-    ),
-    (
-        &[
-            "sweep", "--w-from", "0.1", "--w-to", "0.1", "--steps", "3", "--out", "out",
-        ],
+        "sweep --w-from 0.1 --w-to 0.1 --steps 3 --out out",
         "distinct w",
     ),
     (
-        &[
-            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.1", "--array", "2", "--out", "out",
-        ],
+        "slurm sweep --w-from 0.1 --w-to 0.1 --array 2 --out out",
         "distinct w",
     ),
     (
-        &[
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--collisions-per-run",
-            "1000",
-            "--out",
-            "out",
-        ],
+        "sweep --w-from 0.1 --w-to 0.2 --collisions-per-run 1000 --out out",
         "too small",
     ),
     (
-        &[
-            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--shard", "3/3", "--out", "out",
-        ],
+        "sweep --w-from 0.1 --w-to 0.2 --shard 3/3 --out out",
         "0 to N-1",
     ),
+    ("sweep --w-from 0.1 --w-to 0.2 --shard a/b --out out", "I/N"),
     (
-        &[
-            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--shard", "a/b", "--out", "out",
-        ],
-        "I/N",
-    ),
-    (
-        &[
-            "sweep", "--w-from", "0.1", "--w-to", "0.2", "--shard", "11/12", "--out", "out",
-        ],
+        "sweep --w-from 0.1 --w-to 0.2 --shard 11/12 --out out",
         "every part needs a point",
     ),
     // report, reproduce
+    ("report r.json --reference-bits 64", "128 to 65536"),
+    ("report r.json --reference-bits 1e6", "128 to 65536"),
+    ("report r.json --seed 2", "unexpected argument '--seed'"),
+    ("reproduce --budget huge --out out", "invalid value"),
     (
-        &["report", "r.json", "--reference-bits", "64"],
-        "128 to 65536",
-    ),
-    (
-        &["report", "r.json", "--reference-bits", "1e6"],
-        "128 to 65536",
-    ),
-    (
-        &["report", "r.json", "--seed", "2"],
-        "unexpected argument '--seed'",
-    ),
-    (
-        &["reproduce", "--budget", "huge", "--out", "out"],
-        "invalid value",
-    ),
-    (
-        &[
-            "reproduce",
-            "--budget",
-            "quick",
-            "--threads",
-            "0",
-            "--out",
-            "out",
-        ],
+        "reproduce --budget quick --threads 0 --out out",
         "threads must be from 1 to",
     ),
-    (
-        &["reproduce", "--seed", "-1", "--out", "out"],
-        "is not a count",
-    ),
+    ("reproduce --seed -1 --out out", "is not a count"),
     // trajectory: the start, the direction, the time and the digits
     (
-        &[
-            "trajectory",
-            "--scene",
-            "square",
-            "--radius",
-            "1/3",
-            "--start",
-            "0,0",
-            "--direction",
-            "1,0",
-            "--time",
-            "1",
-        ],
+        "trajectory --scene square --radius 1/3 --start 0,0 --direction 1,0 --time 1",
         "distance >= the radius",
     ),
     (
-        &[
-            "trajectory",
-            "--scene",
-            "square",
-            "--radius",
-            "1/3",
-            "--start",
-            "1/2",
-            "--direction",
-            "1,0",
-            "--time",
-            "1",
-        ],
+        "trajectory --scene square --radius 1/3 --start 1/2 --direction 1,0 --time 1",
         "--start '1/2': not a pair",
     ),
     (
-        &[
-            "trajectory",
-            "--scene",
-            "square",
-            "--radius",
-            "1/3",
-            "--start",
-            "1/2,1/10",
-            "--direction",
-            "0,0",
-            "--time",
-            "1",
-        ],
+        "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 0,0 --time 1",
         "use a nonzero direction",
     ),
     (
-        &[
-            "trajectory",
-            "--scene",
-            "square",
-            "--radius",
-            "1/3",
-            "--start",
-            "1/2,1/10",
-            "--direction",
-            "1,0",
-            "--time",
-            "0",
-        ],
+        "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,0 --time 0",
         "use a time > 0",
     ),
     (
-        &[
-            "trajectory",
-            "--scene",
-            "square",
-            "--radius",
-            "1/3",
-            "--start",
-            "1/2,1/10",
-            "--direction",
-            "1,0",
-            "--time",
-            "1e30",
-        ],
+        "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,0 --time 1e30",
         "use a shorter time",
     ),
     (
-        &[
-            "trajectory",
-            "--scene",
-            "square",
-            "--radius",
-            "1/3",
-            "--start",
-            "1/2,1/10",
-            "--direction",
-            "1,0",
-            "--time",
-            "1",
-            "--digits",
-            "20000",
-        ],
+        "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,0 --time 1 \
+         --digits 20000",
         "use 1 to 10000",
     ),
     // one value is not an error bar; a check window equal to the fit window checks nothing
     (
-        &["lyapunov", "--w", "0.1", "--starts", "1"],
+        "lyapunov --w 0.1 --starts 1",
         "use 0 (no divergence measurement) or 2 to",
     ),
     (
-        &[
-            "diffusion",
-            "--w",
-            "0.1",
-            "--window",
-            "10:40",
-            "--check-window",
-            "10:40",
-        ],
+        "diffusion --w 0.1 --window 10:40 --check-window 10:40",
         "is the fit window 10:40",
     ),
-    (
-        &["sweep", "--w-from", "1/0", "--w-to", "0.2", "--out", "out"],
-        "divides by zero",
-    ),
+    ("sweep --w-from 1/0 --w-to 0.2 --out out", "divides by zero"),
     // merge
-    (&["merge", "no-such-dir", "--out", "out"], "no sweep points"),
-    (&["merge", "--out", "out"], "required"),
-    (
-        &["merge", "d", "--seed", "2"],
-        "unexpected argument '--seed'",
-    ),
+    ("merge no-such-dir --out out", "no sweep points"),
+    ("merge --out out", "required"),
+    ("merge d --seed 2", "unexpected argument '--seed'"),
     // slurm
     (
-        &[
-            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "0", "--out", "out",
-        ],
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 0 --out out",
         "1 to 11 parts",
     ),
     (
-        &[
-            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "12", "--out", "out",
-        ],
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 12 --out out",
         "1 to 11 parts",
     ),
     (
-        &[
-            "slurm",
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--array",
-            "4",
-            "--partition",
-            "a b",
-            "--out",
-            "out",
-        ],
-        "partition",
-    ),
-    (
-        &[
-            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "4", "--time", "2h",
-            "--out", "out",
-        ],
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 4 --time 2h --out out",
         "2:00:00",
     ),
     (
-        &[
-            "slurm",
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--array",
-            "4",
-            "--cpus-per-task",
-            "0",
-            "--out",
-            "out",
-        ],
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 4 --cpus-per-task 0 --out out",
         "cpus-per-task",
     ),
     (
-        &[
-            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.5", "--array", "4", "--out", "out",
-        ],
+        "slurm sweep --w-from 0.1 --w-to 0.5 --array 4 --out out",
         "infinite",
     ),
     (
-        &[
-            "slurm",
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--array",
-            "4",
-            "--threads",
-            "2",
-            "--out",
-            "out",
-        ],
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 4 --threads 2 --out out",
         "unexpected argument '--threads'",
     ),
     // figure
+    ("figure fig9 --out out", "unrecognized subcommand"),
     (
-        &["figure", "fig9", "--out", "out"],
-        "unrecognized subcommand",
-    ),
-    (
-        &["figure", "backscatter", "--w", "0.1", "--out", "out"],
+        "figure backscatter --w 0.1 --out out",
         "unexpected argument '--w'",
     ),
     (
-        &[
-            "figure",
-            "hierarchy",
-            "--particles-per-gap",
-            "10",
-            "--out",
-            "out",
-        ],
+        "figure hierarchy --particles-per-gap 10 --out out",
         "unexpected argument",
     ),
+    ("figure backscatter-map --w 0 --out out", "trapped"),
     (
-        &["figure", "backscatter-map", "--w", "0", "--out", "out"],
-        "trapped",
-    ),
-    (
-        &[
-            "figure",
-            "backscatter-map",
-            "--particles",
-            "0",
-            "--out",
-            "out",
-        ],
+        "figure backscatter-map --particles 0 --out out",
         "particles",
     ),
     // theory
-    (&["theory", "--w", "0"], "trapped"),
-    (&["theory", "--w", "0.1", "--order", "0"], "order"),
-    (&["theory", "--w", "0.1", "--order", "100"], "order"),
+    ("theory --w 0", "trapped"),
+    ("theory --w 0.1 --order 0", "order"),
+    ("theory --w 0.1 --order 100", "order"),
     // lattice-walk
-    (&["lattice-walk", "--w", "0"], "trapped"),
-    (&["lattice-walk", "--w", "0.1", "--order", "0"], "order"),
-    (&["lattice-walk", "--w", "0.1", "--order", "100"], "order"),
+    ("lattice-walk --w 0", "trapped"),
+    ("lattice-walk --w 0.1 --order 0", "order"),
+    ("lattice-walk --w 0.1 --order 100", "order"),
     // escape
-    (&["escape", "--w", "0"], "trapped"),
+    ("escape --w 0", "trapped"),
     (
-        &["escape", "--w", "0.1", "--widths", "3,20,30"],
+        "escape --w 0.1 --widths 3,20,30",
         "--widths 3 is out of range: use widths L from",
     ),
-    (&["escape", "--w", "0.1", "--widths", "20,30"], "3 distinct"),
-    (
-        &["escape", "--w", "0.1", "--particles-per-width", "0"],
-        "particles",
-    ),
-    (
-        &["escape", "--w", "0.1", "--particles-per-width", "1e12"],
-        "particles",
-    ),
+    ("escape --w 0.1 --widths 20,30", "3 distinct"),
+    ("escape --w 0.1 --particles-per-width 0", "particles"),
+    ("escape --w 0.1 --particles-per-width 1e12", "particles"),
     // constants
-    (&["constants", "--w", "0"], "trapped"),
-    (
-        &["constants", "--scene", "square", "--radius", "1/2"],
-        "0 < radius < 1/2",
-    ),
-    (
-        &["constants", "--scene", "square", "--w", "0.1"],
-        "--radius",
-    ),
-    (
-        &["constants", "--scene", "square", "--radius", "1/4096"],
-        "1/2048",
-    ),
-    (&["constants", "--w", "10000"], "w <= 2362"),
-    (&["constants", "--w", "0.1", "--precision", "20"], "53"),
-    (
-        &["constants", "--w", "0.1", "--precision", "2000000000"],
-        "1048576",
-    ),
-    (
-        &["diffusion", "--w", "0.1", "--precision", "99999999999"],
-        "1048576",
-    ),
+    ("constants --w 0", "trapped"),
+    ("constants --scene square --radius 1/2", "0 < radius < 1/2"),
+    ("constants --scene square --w 0.1", "--radius"),
+    ("constants --scene square --radius 1/4096", "1/2048"),
+    ("constants --w 10000", "w <= 2362"),
+    ("constants --w 0.1 --precision 20", "53"),
+    ("constants --w 0.1 --precision 2000000000", "1048576"),
+    ("diffusion --w 0.1 --precision 99999999999", "1048576"),
     // bench
+    ("bench --w 0.1 --collisions-per-thread 0", "collisions"),
+    ("bench --w 0.1 --collisions 1e5", "unexpected argument"),
+    ("bench --w -1", "trapped"),
     (
-        &["bench", "--w", "0.1", "--collisions-per-thread", "0"],
-        "collisions",
-    ),
-    (
-        &["bench", "--w", "0.1", "--collisions", "1e5"],
-        "unexpected argument",
-    ),
-    (&["bench", "--w", "-1"], "trapped"),
-    (
-        &["bench", "--w", "0.1", "--repetitions", "0"],
+        "bench --w 0.1 --repetitions 0",
         "--repetitions 0 is out of range: use 1 to",
     ),
-    (&["bench", "--w", "0.1", "--threads", "0"], "threads"),
+    ("bench --w 0.1 --threads 0", "threads"),
     (
-        &[
-            "bench",
-            "--w",
-            "0.1",
-            "--observer-costs",
-            "--repetitions",
-            "0",
-        ],
+        "bench --w 0.1 --observer-costs --repetitions 0",
         "--repetitions 0 is out of range: use 1 to",
     ),
     (
-        &[
-            "bench",
-            "--w",
-            "0.1",
-            "--observer-costs",
-            "--precision",
-            "128",
-        ],
+        "bench --w 0.1 --observer-costs --precision 128",
         "cannot be used with",
     ),
+    ("bench --long-flights 1/4,1/3", "use 2^-32 <= radius <= 1/4"),
     (
-        &["bench", "--long-flights", "1/4,1/3"],
-        "use 2^-32 <= radius <= 1/4",
-    ),
-    (
-        &["bench", "--long-flights", "1/4,r"],
+        "bench --long-flights 1/4,r",
         "--long-flights r: 'r' is not a decimal number",
     ),
     (
-        &["bench", "--long-flights", "1/4", "--threads", "2"],
+        "bench --long-flights 1/4 --threads 2",
         "cannot be used with",
     ),
+    ("bench --long-flights 1/4 --w 0.1", "cannot be used with"),
     (
-        &["bench", "--long-flights", "1/4", "--w", "0.1"],
-        "cannot be used with",
-    ),
-    (
-        &["bench", "--walk-collisions", "10", "--w", "0.1"],
+        "bench --walk-collisions 10 --w 0.1",
         "--walk-collisions 10: applies with --long-flights only",
     ),
     (
-        &["bench", "--scene", "square", "--w", "0.1"],
+        "bench --scene square --w 0.1",
         "--scene square: applies with --long-flights only",
     ),
     (
-        &["bench", "--scene", "triangular", "--long-flights", "10,0.2"],
+        "bench --scene triangular --long-flights 10,0.2",
         "use w_inf = 4/sqrt(3) - 2 < w <= 2^20 - 2",
     ),
-    (&["bench"], "--w"),
+    ("bench", "--w"),
 ];
+
+/// [`BAD`] for arguments with white space in them.
+const BAD_WITH_SPACES: &[(&[&str], &str)] = &[(
+    &[
+        "slurm",
+        "sweep",
+        "--w-from",
+        "0.1",
+        "--w-to",
+        "0.2",
+        "--array",
+        "4",
+        "--partition",
+        "a b",
+        "--out",
+        "out",
+    ],
+    "partition",
+)];
 
 #[test]
 fn bad_input_is_refused_with_status_2_one_line_and_no_files() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
     let mut failures = Vec::new();
-    for (args, needle) in BAD {
-        let (code, out, err) = lorentz_in(&dir, args);
+    let split = BAD.iter().map(|(line, needle)| (words(line), needle));
+    let spaced = BAD_WITH_SPACES
+        .iter()
+        .map(|(a, needle)| (a.to_vec(), needle));
+    for (args, needle) in split.chain(spaced) {
+        let (code, out, err) = lorentz_in(&dir, &args);
         let lines = err.lines().filter(|l| !l.trim().is_empty()).count();
         let written: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().collect();
         if code != 2
@@ -1023,7 +504,7 @@ fn unreadable_or_unwritable_paths_exit_3_naming_the_path() {
     ];
     let mut failures = Vec::new();
     for (line, op, path) in cases {
-        let args: Vec<&str> = line.split_whitespace().collect();
+        let args = words(line);
         let (code, out, err) = lorentz_in(dir, &args);
         let lines = err.lines().filter(|l| !l.trim().is_empty()).count();
         if code != 3 || lines != 1 || !err.contains(op) || !err.contains(path) || !out.is_empty() {
@@ -1042,15 +523,7 @@ fn unreadable_or_unwritable_paths_exit_3_naming_the_path() {
 fn simd_path_override_is_checked_and_reported() {
     let run = |v: &str| {
         Command::new(env!("CARGO_BIN_EXE_lorentz"))
-            .args([
-                "diffusion",
-                "--w",
-                "0.2",
-                "--collisions",
-                "4e5",
-                "--batches",
-                "4",
-            ])
+            .args(words("diffusion --w 0.2 --collisions 4e5 --batches 4"))
             .args(["--json", "--quiet"])
             .env("LORENTZ_SIMD", v)
             .output()
@@ -1074,161 +547,27 @@ fn simd_path_override_is_checked_and_reported() {
 fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadata_block() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
-    let runs: &[&[&str]] = &[
+    let runs: &[&str] = &[
         // 8 batches: the fewest the report's batch statistics judge (fewer: INCOMPLETE).
-        &[
-            "diffusion",
-            "--w",
-            "0.2",
-            "--collisions",
-            "2e6",
-            "--batches",
-            "8",
-            "--window",
-            "2:8",
-            "--check-window",
-            "4:16",
-        ],
-        &[
-            "audit",
-            "--w",
-            "0.1",
-            "--collisions",
-            "2_000",
-            "--batches",
-            "2",
-        ],
-        &[
-            "lyapunov",
-            "--w",
-            "0.1",
-            "--collisions-per-batch",
-            "2e4",
-            "--batches",
-            "2",
-            "--starts",
-            "0",
-        ],
-        &[
-            "certify",
-            "--w",
-            "0.1",
-            "--collisions",
-            "50",
-            "--digits",
-            "20",
-        ],
-        &[
-            "backscatter",
-            "--w",
-            "0.1",
-            "--particles",
-            "2e4",
-            "--batches",
-            "4",
-        ],
-        &[
-            "hops",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--batches",
-            "4",
-            "--order",
-            "2",
-        ],
-        &[
-            "theory",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--batches",
-            "4",
-            "--order",
-            "2",
-        ],
-        &[
-            "lattice-walk",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--order",
-            "2",
-        ],
-        &["constants", "--w", "0.1", "--precision", "200"],
-        &[
-            "escape",
-            "--w",
-            "0.3",
-            "--widths",
-            "10,12,14",
-            "--particles-per-width",
-            "3.2e3",
-        ],
-        &[
-            "figure",
-            "backscatter-map",
-            "--particles",
-            "1e3",
-            "--out",
-            "fig",
-        ],
-        &[
-            "bench",
-            "--w",
-            "0.1",
-            "--collisions-per-thread",
-            "1e5",
-            "--repetitions",
-            "3",
-        ],
-        &[
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--steps",
-            "3",
-            "--runs",
-            "2",
-            "--collisions-per-run",
-            "1_000_000",
-            "--batches-per-run",
-            "4",
-            "--out",
-            "sweep",
-        ],
-        &[
-            "shadow",
-            "--w",
-            "0.1",
-            "--collisions-per-segment",
-            "20",
-            "--segments",
-            "2",
-        ],
-        &[
-            "trajectory",
-            "--scene",
-            "square",
-            "--radius",
-            "1/3",
-            "--start",
-            "1/2,1/10",
-            "--direction",
-            "1,1/7",
-            "--time",
-            "3",
-        ],
-        &["report", "d.json", "--quick", "--out", "rep"],
-        &["merge", "p0", "p1", "--out", "merged"],
-        &[
-            "slurm", "sweep", "--w-from", "0.1", "--w-to", "0.2", "--array", "2", "--out", "slurm",
-        ],
+        "diffusion --w 0.2 --collisions 2e6 --batches 8 --window 2:8 --check-window 4:16",
+        "audit --w 0.1 --collisions 2_000 --batches 2",
+        "lyapunov --w 0.1 --collisions-per-batch 2e4 --batches 2 --starts 0",
+        "certify --w 0.1 --collisions 50 --digits 20",
+        "backscatter --w 0.1 --particles 2e4 --batches 4",
+        "hops --w 0.1 --collisions 1e6 --batches 4 --order 2",
+        "theory --w 0.1 --collisions 1e6 --batches 4 --order 2",
+        "lattice-walk --w 0.1 --collisions 1e6 --order 2",
+        "constants --w 0.1 --precision 200",
+        "escape --w 0.3 --widths 10,12,14 --particles-per-width 3.2e3",
+        "figure backscatter-map --particles 1e3 --out fig",
+        "bench --w 0.1 --collisions-per-thread 1e5 --repetitions 3",
+        "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1_000_000 \
+         --batches-per-run 4 --out sweep",
+        "shadow --w 0.1 --collisions-per-segment 20 --segments 2",
+        "trajectory --scene square --radius 1/3 --start 1/2,1/10 --direction 1,1/7 --time 3",
+        "report d.json --quick --out rep",
+        "merge p0 p1 --out merged",
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 2 --out slurm",
     ];
     // What `merge` merges: the two parts of a sweep. (`report` audits the diffusion result the
     // first run below writes; `reproduce --json` takes minutes:
@@ -1239,11 +578,12 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
             "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1e6 \
              --batches-per-run 4 --shard {part}/2 --out p{part} --quiet"
         );
-        let (code, _, err) = lorentz_in(&dir, &line.split_whitespace().collect::<Vec<_>>());
+        let (code, _, err) = lorentz_in(&dir, &words(&line));
         assert_eq!(code, 0, "{err}");
     }
-    for args in runs {
-        let mut a: Vec<&str> = args.to_vec();
+    for line in runs {
+        let args = words(line);
+        let mut a = args.clone();
         a.push("--json");
         if args[0] != "constants" {
             a.push("--quiet");
@@ -1320,32 +660,11 @@ fn results_do_not_depend_on_the_thread_count() {
     let dir = tmp.path().to_path_buf();
     for base in [
         &["audit", "--w", "0.1", "--collisions", "1e5", "--json"][..],
-        &[
-            "diffusion",
-            "--w",
-            "0.2",
-            "--collisions",
-            "2e6",
-            "--batches",
-            "4",
-            "--window",
-            "2:8",
-            "--check-window",
-            "4:16",
-            "--json",
-        ][..],
-        &[
-            "hops",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--batches",
-            "4",
-            "--order",
-            "2",
-            "--json",
-        ][..],
+        &words(
+            "diffusion --w 0.2 --collisions 2e6 --batches 4 --window 2:8 --check-window 4:16 \
+             --json",
+        )[..],
+        &words("hops --w 0.1 --collisions 1e6 --batches 4 --order 2 --json")[..],
     ] {
         let run = |t: &str| {
             let mut a = base.to_vec();
@@ -1371,20 +690,10 @@ fn json_outputs_have_the_documented_keys() {
     let dir = tmp.path().to_path_buf();
     let (code, out, err) = lorentz_in(
         &dir,
-        &[
-            "diffusion",
-            "--w",
-            "0.2",
-            "--collisions",
-            "2000000",
-            "--batches",
-            "4",
-            "--window",
-            "2:8",
-            "--check-window",
-            "4:16",
-            "--json",
-        ],
+        &words(
+            "diffusion --w 0.2 --collisions 2000000 --batches 4 --window 2:8 --check-window 4:16 \
+             --json",
+        ),
     );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -1430,19 +739,7 @@ fn json_outputs_have_the_documented_keys() {
     // Estimates as flat x / x_err pairs, records with named keys.
     let (code, out, err) = lorentz_in(
         &dir,
-        &[
-            "theory",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--batches",
-            "4",
-            "--order",
-            "2",
-            "--json",
-            "--quiet",
-        ],
+        &words("theory --w 0.1 --collisions 1e6 --batches 4 --order 2 --json --quiet"),
     );
     assert_eq!(code, 0, "{err}");
     let t: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -1465,17 +762,7 @@ fn json_outputs_have_the_documented_keys() {
     }
     let (code, out, err) = lorentz_in(
         &dir,
-        &[
-            "backscatter",
-            "--w",
-            "0.1",
-            "--particles",
-            "2e4",
-            "--batches",
-            "4",
-            "--json",
-            "--quiet",
-        ],
+        &words("backscatter --w 0.1 --particles 2e4 --batches 4 --json --quiet"),
     );
     assert_eq!(code, 0, "{err}");
     let b: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -1493,19 +780,9 @@ fn json_outputs_have_the_documented_keys() {
 #[test]
 fn closed_or_failing_output_ends_quietly() {
     use std::process::Stdio;
-    let args = [
-        "diffusion",
-        "--w",
-        "0.1",
-        "--collisions",
-        "4e6",
-        "--batches",
-        "4",
-        "--json",
-        "--quiet",
-    ];
+    let args = words("diffusion --w 0.1 --collisions 4e6 --batches 4 --json --quiet");
     let mut child = Command::new(env!("CARGO_BIN_EXE_lorentz"))
-        .args(args)
+        .args(&args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -1517,7 +794,7 @@ fn closed_or_failing_output_ends_quietly() {
     assert!(!err.contains("panicked") && err.is_empty(), "stderr: {err}");
     if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
         let out = Command::new(env!("CARGO_BIN_EXE_lorentz"))
-            .args(args)
+            .args(&args)
             .stdout(full)
             .output()
             .unwrap();

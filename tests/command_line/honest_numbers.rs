@@ -2,7 +2,7 @@
 //! trajectories are paired, every derived number carries an error or bound with a verdict, and
 //! no error bar is NaN.
 
-use crate::common::{lorentz_in, scratch};
+use crate::common::{lorentz_in, scratch, words};
 use lorentz_gas::statistics::{comparison, mean_se};
 
 /// The example: fit windows [1τ, 3τ] and [2τ, 6τ] of the same 32 trajectories. Added in
@@ -13,18 +13,7 @@ use lorentz_gas::statistics::{comparison, mean_se};
 #[test]
 fn early_fit_windows_are_compared_paired_and_warned_about() {
     let tmp = scratch();
-    let base = [
-        "diffusion",
-        "--w",
-        "0.1",
-        "--window",
-        "1:3",
-        "--check-window",
-        "2:6",
-        "--collisions",
-        "2e8",
-        "--quiet",
-    ];
+    let base = words("diffusion --w 0.1 --window 1:3 --check-window 2:6 --collisions 2e8 --quiet");
     let (code, out, err) = lorentz_in(tmp.path(), &[&base[..], &["--json"]].concat());
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -88,7 +77,7 @@ fn no_command_prints_nan_and_few_batches_are_labelled() {
     ];
     let mut failures = Vec::new();
     for line in commands {
-        let args: Vec<&str> = line.split_whitespace().collect();
+        let args = words(line);
         let (code, out, err) = lorentz_in(tmp.path(), &[&args[..], &["--quiet"]].concat());
         let text = format!("{out}{err}");
         if code != 0 || text.to_lowercase().contains("nan") {

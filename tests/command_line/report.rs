@@ -6,6 +6,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use crate::common::lorentz_in as lorentz;
+use crate::common::words;
 
 pub(crate) fn checks(dir: &Path, report: &str) -> Vec<(String, String, String)> {
     let text = std::fs::read_to_string(dir.join(report).join("report.json")).unwrap();
@@ -30,17 +31,7 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
     let dir = tmp.path().to_path_buf();
     let (code, json, err) = lorentz(
         &dir,
-        &[
-            "diffusion",
-            "--w",
-            "0.3",
-            "--collisions",
-            "4e6",
-            "--batches",
-            "16",
-            "--json",
-            "--quiet",
-        ],
+        &words("diffusion --w 0.3 --collisions 4e6 --batches 16 --json --quiet"),
     );
     assert_eq!(code, 0, "{err}");
     std::fs::write(dir.join("d.json"), &json).unwrap();
@@ -232,15 +223,7 @@ fn other_results_are_re_run_from_their_configuration() {
     std::fs::create_dir_all(&dir).unwrap();
     let (code, json, err) = lorentz(
         &dir,
-        &[
-            "backscatter",
-            "--w",
-            "0.1",
-            "--particles",
-            "20000",
-            "--json",
-            "--quiet",
-        ],
+        &words("backscatter --w 0.1 --particles 20000 --json --quiet"),
     );
     assert_eq!(code, 0, "{err}");
     std::fs::write(dir.join("b.json"), &json).unwrap();
@@ -322,34 +305,19 @@ fn quick_report(dir: &Path, file: &str) -> (i32, String, Vec<(String, String, St
     )
 }
 
-const HOPS: [&str; 9] = [
-    "hops",
-    "--w",
-    "0.1",
-    "--collisions",
-    "2e5",
-    "--batches",
-    "4",
-    "--order",
-    "3",
-];
+/// A quick hops run (its command line).
+const HOPS: &str = "hops --w 0.1 --collisions 2e5 --batches 4 --order 3";
 
 #[test]
 fn an_edited_command_line_is_never_run() {
     let tmp = crate::common::scratch();
     let dir = tmp.path();
-    let mut v = result_in(dir, "h.json", &HOPS);
+    let mut v = result_in(dir, "h.json", &words(HOPS));
     // The file's author asks for figures in `evil/`: a subcommand, an output and work of their
     // choosing.
-    v["meta"]["command_line"] = serde_json::json!([
-        "lorentz",
-        "figure",
-        "backscatter-map",
-        "--particles",
-        "1000",
-        "--out",
-        "evil"
-    ]);
+    v["meta"]["command_line"] = serde_json::json!(words(
+        "lorentz figure backscatter-map --particles 1000 --out evil"
+    ));
     std::fs::write(
         dir.join("evil.json"),
         serde_json::to_string_pretty(&v).unwrap(),
@@ -428,7 +396,7 @@ fn a_foreign_or_unknown_kind_is_refused() {
 fn understated_work_is_computed_from_the_configuration_and_bounded() {
     let tmp = crate::common::scratch();
     let dir = tmp.path();
-    let mut v = result_in(dir, "h.json", &HOPS);
+    let mut v = result_in(dir, "h.json", &words(HOPS));
     // The configuration asks for 10^14 collisions (about a day on 2 cores); the summary field
     // understates it.
     v["config"]["collisions"] = serde_json::json!(100_000_000_000_000u64);
@@ -468,14 +436,7 @@ fn understated_work_is_computed_from_the_configuration_and_bounded() {
     // status 5, naming the skipped check), and a fitting re-run still runs.
     let (code, _, err) = lorentz(
         dir,
-        &[
-            "report",
-            "h.json",
-            "--max-rerun-collisions",
-            "1e5",
-            "--out",
-            "rep-bounded",
-        ],
+        &words("report h.json --max-rerun-collisions 1e5 --out rep-bounded"),
     );
     assert_eq!(code, 5, "{err}");
     assert!(
@@ -485,14 +446,7 @@ fn understated_work_is_computed_from_the_configuration_and_bounded() {
     assert!(checks(dir, "rep-bounded").iter().any(|c| c.0 == "SKIP"));
     let (code, _, err) = lorentz(
         dir,
-        &[
-            "report",
-            "h.json",
-            "--max-rerun-collisions",
-            "2e5",
-            "--out",
-            "rep-fits",
-        ],
+        &words("report h.json --max-rerun-collisions 2e5 --out rep-fits"),
     );
     assert_eq!(code, 0, "{err}");
     assert!(checks(dir, "rep-fits").iter().all(|c| c.0 == "PASS"));
@@ -502,7 +456,7 @@ fn understated_work_is_computed_from_the_configuration_and_bounded() {
 fn extra_keys_are_refused_naming_the_key() {
     let tmp = crate::common::scratch();
     let dir = tmp.path();
-    let v = result_in(dir, "h.json", &HOPS);
+    let v = result_in(dir, "h.json", &words(HOPS));
     for (file, key) in [
         ("top.json", "unaudited"),
         ("nested.json", "config.unaudited"),
@@ -669,21 +623,10 @@ fn a_field_result_is_audited_against_its_exact_geometry() {
 fn a_field_sweep_is_audited_row_by_row_and_its_onsager_checks_recomputed() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
-    let args = [
-        "sweep",
-        "--w",
-        "0.1",
-        "--fields=-1,1,5/2",
-        "--collisions-per-run",
-        "4e5",
-        "--batches-per-run",
-        "8",
-        "--localization-samples",
-        "1e4",
-        "--out",
-        "fs",
-        "--quiet",
-    ];
+    let args = words(
+        "sweep --w 0.1 --fields=-1,1,5/2 --collisions-per-run 4e5 --batches-per-run 8 \
+         --localization-samples 1e4 --out fs --quiet",
+    );
     let (code, out, err) = lorentz(&dir, &args);
     assert_eq!(code, 0, "{out}{err}");
     let (code, out, err) = lorentz(&dir, &["report", "fs/field-sweep.json", "--quiet"]);
@@ -741,7 +684,7 @@ fn where_every_orbit_is_localized_a_result_and_a_resumed_square_sweep_pass_the_a
     assert!(c.iter().all(|x| x.0 == "PASS"));
     let sweep = "sweep --scene square --radius 1/4 --fields=-1,1,4 --collisions-per-run 4e5 \
                  --batches-per-run 8 --localization-samples 1e4 --out sq --json --quiet";
-    let sweep: Vec<&str> = sweep.split_whitespace().collect();
+    let sweep = words(sweep);
     let (code, first, err) = lorentz(&dir, &sweep);
     assert_eq!(code, 0, "{err}");
     let (code, again, err) = lorentz(&dir, &sweep);

@@ -24,6 +24,11 @@ pub fn lorentz_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// The words of a command line, split at white space (for [`lorentz_in`]).
+pub fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
+}
+
 /// A fresh temporary directory, removed when the returned guard is dropped — also when the test
 /// fails (the panic unwinds through the guard).
 pub fn scratch() -> tempfile::TempDir {
@@ -46,6 +51,12 @@ pub fn t4_welch(ea: f64, na: u32, eb: f64, nb: u32) -> f64 {
     normal_sigma_equivalent_t(welch_dof(ea, na as f64, eb, nb as f64), 4.0)
 }
 
+/// How far apart two independent estimates a ± ea and b ± eb are, in units of the standard error
+/// of their difference: |a − b|/√(ea² + eb²).
+pub fn z(a: f64, ea: f64, b: f64, eb: f64) -> f64 {
+    (a - b).abs() / (ea * ea + eb * eb).sqrt()
+}
+
 /// A proptest runner with `cases` cases, a fixed ChaCha seed (`seed` repeated), and no failure
 /// files: the same cases on every run, shrinking on failure.
 pub fn runner(cases: u32, seed: u8) -> TestRunner {
@@ -57,6 +68,19 @@ pub fn runner(cases: u32, seed: u8) -> TestRunner {
     TestRunner::new_with_rng(cfg, TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]))
 }
 
+/// Checks `property` on `cases` cases of [`runner`]`(cases, seed)`: a scene parameter from
+/// `parameter` and three numbers uniform in [0, 1) that pick a start. Panics with the shrunk
+/// failing case.
+pub fn check_starts(
+    cases: u32,
+    seed: u8,
+    parameter: std::ops::Range<f64>,
+    property: impl Fn((f64, f64, f64, f64)) -> Result<(), proptest::test_runner::TestCaseError>,
+) {
+    let strategy = (parameter, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0);
+    runner(cases, seed).run(&strategy, property).unwrap();
+}
+
 /// Run options on `threads` threads, everything else default (auto engine, no progress, nothing
 /// resumed, no audit).
 pub fn threads(threads: usize) -> RunOptions<'static> {
@@ -64,6 +88,41 @@ pub fn threads(threads: usize) -> RunOptions<'static> {
         threads,
         ..RunOptions::default()
     }
+}
+
+/// The shadow audit of `collisions` collisions over 2 batches (seed `seed`) on 2 threads, every
+/// event replayed at 128 bits, in the field `field` (none: straight flights) with `flights`.
+pub fn full_audit<S: lorentz_gas::scenes::Scene>(
+    scene: &S,
+    collisions: u64,
+    seed: u64,
+    field: Option<&str>,
+    flights: lorentz_gas::engine::long_flight::Flights,
+) -> lorentz_gas::verification::shadow_audit::AuditReport {
+    use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
+    let cfg = AuditConfig {
+        scene: scene.label(),
+        collisions,
+        batches: 2,
+        sample: 1.0,
+        reference_bits: 128,
+        seed,
+        field: field.map(Into::into),
+        flights,
+    };
+    shadow_audit::run(scene, &cfg, &threads(2)).unwrap()
+}
+
+/// Asserts that the audit `r` replayed at least `least` events and found none of them outside
+/// the error model (the message names `what` and the first outside).
+pub fn assert_audit_clean(
+    r: &lorentz_gas::verification::shadow_audit::AuditReport,
+    least: u64,
+    what: &str,
+) {
+    let s = &r.summary;
+    assert!(s.audited >= least, "{what}: {} events audited", s.audited);
+    assert_eq!(s.outside, 0, "{what}: {:?}", s.outside_events.first());
 }
 
 /// A result's JSON without what differs between runs of the same bits: timing (with the precision
@@ -115,4 +174,15 @@ pub fn errors_outside_their_spread<R>(
         }
     }
     failures
+}
+
+/// Asserts that no quantity's reported error is off its spread over the runs
+/// ([`errors_outside_their_spread`]).
+pub fn assert_errors_match_their_spread<R>(
+    reports: &[R],
+    quantities: &[(&str, Pick<R>)],
+    error_dof: f64,
+) {
+    let failures = errors_outside_their_spread(reports, quantities, error_dof);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

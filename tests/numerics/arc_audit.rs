@@ -14,21 +14,11 @@ use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::square::SquareScene;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::verification::arc_audit::{check_arc_event, recorded_state};
-use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
+use lorentz_gas::verification::shadow_audit::AuditReport;
 use rug::Rational;
 
 fn audit<S: Scene>(scene: &S, field: &str, collisions: u64, seed: u64) -> AuditReport {
-    let cfg = AuditConfig {
-        scene: scene.label(),
-        collisions,
-        batches: 2,
-        sample: 1.0,
-        reference_bits: 128,
-        seed,
-        field: Some(field.into()),
-        flights: Default::default(),
-    };
-    shadow_audit::run(scene, &cfg, &crate::common::threads(2)).unwrap()
+    crate::common::full_audit(scene, collisions, seed, Some(field), Default::default())
 }
 
 /// Every replayed arc event inside its running bound, with the bound a few u at the median

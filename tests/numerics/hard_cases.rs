@@ -80,11 +80,7 @@ fn free_path(w: f64, n: u64, b: u64, seed: u64) -> FreePaths {
 fn santalo_within_four_sigma(w: f64, m: f64, se: f64, b: u64) {
     let exact = Geometry::new(w).unwrap().mean_free_path();
     let k = normal_sigma_equivalent_t(b as f64 - 1.0, 4.0);
-    assert!(
-        (m - exact).abs() <= k * se,
-        "w = {w}: {m} ± {se} vs {exact} (t = {:.2}, bound {k:.2})",
-        (m - exact) / se
-    );
+    super::physics::within(m, se, exact, k, &format!("w = {w}"));
 }
 
 /// w = 10⁻⁶: a gap of a millionth, about 10⁶ collisions per hop. Santaló still holds within 4σ,
@@ -131,22 +127,7 @@ fn just_below_the_horizon_threshold() {
 #[test]
 fn exactly_at_w0() {
     let w = Geometry::<f64>::w_0(());
-    let lat = TriangularLattice::new(w).unwrap();
-    let mut s = equilibrium_state(lat.trap(), &mut stream(43, 0));
-    let (mut entered, mut collided, mut free) = (false, true, 0);
-    for _ in 0..4_000_000 {
-        match lat.step(&mut s).unwrap().kind {
-            EventKind::Collision(_) => collided = true,
-            EventKind::Crossing(_) => {
-                if entered && !collided {
-                    free += 1;
-                }
-                entered = true;
-                collided = false;
-            }
-        }
-    }
-    assert_eq!(free, 0);
+    assert_eq!(super::physics::collisionless_crossings(w, 43), 0);
     let fp = free_path(w, 500_000, 16, 44);
     santalo_within_four_sigma(w, fp.mean, fp.se, 16);
 }

@@ -9,12 +9,13 @@
 //! * a post-event position is never inside a disk by more than 256u (|x − c|² ≥ 1 − 256u);
 //! * a post-event position is within 256u·a of the closed triangle.
 
+use lorentz_gas::kernel::cell::CellKernel;
 use lorentz_gas::kernel::vec2::Vec2;
-use lorentz_gas::kernel::{flight::EventKind, flight::Flight, trap::Trap};
+use lorentz_gas::kernel::{flight::Event, flight::EventKind, flight::Flight, trap::Trap};
 use lorentz_gas::numbers::real::Real;
 use lorentz_gas::verification::error_model::{ENERGY_BAND_U, ONE_EVENT_U, POST_EVENT_U};
 use proptest::prelude::*;
-use proptest::test_runner::TestRunner;
+use proptest::test_runner::{TestCaseError, TestRunner};
 use rug::Float;
 
 /// A free start in the canonical trap from three numbers in [0, 1): position by reflection of
@@ -43,139 +44,127 @@ fn runner(cases: u32) -> TestRunner {
     crate::common::runner(cases, 7)
 }
 
+/// Carries out the collision `ev` of `f` on `kernel`, reverses and takes the next event: the same
+/// collision at zero time (within ONE_EVENT_U·u), after which the velocity is −v₀ within `dv_max`
+/// and the position has moved by at most ONE_EVENT_U·u.
+pub(crate) fn assert_one_collision_reverses<T: Real, K: CellKernel<T>>(
+    kernel: &K,
+    mut f: Flight<T>,
+    ev: &Event<T>,
+    u: f64,
+    dv_max: f64,
+) -> Result<(), TestCaseError> {
+    let v0 = f.vel.clone();
+    kernel.apply(&mut f, ev);
+    let x1 = f.pos.clone();
+    f.reverse();
+    let back = kernel.next_event(&f).unwrap();
+    prop_assert_eq!(back.kind, ev.kind);
+    prop_assert!(
+        back.time.to_f64() <= ONE_EVENT_U * u,
+        "re-collision at t = {:e}",
+        back.time.to_f64()
+    );
+    kernel.apply(&mut f, &back);
+    let dv = Vec2::new(f.vel.x.clone() + &v0.x, f.vel.y.clone() + &v0.y)
+        .norm2()
+        .sqrt()
+        .to_f64();
+    prop_assert!(dv <= dv_max, "velocity error {dv:e}");
+    let dx = f.pos.sub(&x1).norm2().sqrt().to_f64();
+    prop_assert!(dx <= ONE_EVENT_U * u, "position moved by {dx:e}");
+    Ok(())
+}
+
 macro_rules! kernel_properties {
     ($name:ident, $t:ty, $ctx:expr, $cases:expr) => {
         mod $name {
             use super::*;
-            type T = $t;
-            fn ctx() -> <T as Real>::Ctx {
-                $ctx
-            }
-            fn u() -> f64 {
-                <T as Real>::unit_roundoff(ctx())
-            }
-            /// The f64 start lifted exactly, with the velocity normalised at the working precision.
-            fn lift(f: &Flight<f64>) -> Flight<T> {
-                let mut g = Flight::<T>::convert_from_f64(ctx(), f);
-                g.normalise_speed();
-                g
-            }
+            at_precision!($t, $ctx);
 
             #[test]
             fn energy_positions_and_exclusions_over_twenty_events() {
-                runner($cases)
-                    .run(
-                        &(0.001f64..0.309, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0),
-                        |(w, u1, u2, u3)| {
-                            let Some(f64s) = start(w, u1, u2, u3) else {
-                                return Ok(());
-                            };
-                            let trap = Trap::new(T::from_f64(ctx(), w)).unwrap();
-                            let mut f = lift(&f64s);
-                            let tol = POST_EVENT_U * u();
-                            for _ in 0..20 {
-                                let v_in = f.vel.clone();
-                                let e2 = v_in.norm2();
-                                let ev = trap
-                                    .next_event(&f)
-                                    .expect("a unit velocity always has an event");
-                                prop_assert!(!ev.time.lt0(), "negative flight time");
-                                trap.apply(&mut f, &ev);
-                                let e2b = f.vel.norm2();
-                                // |v|² − 1 is formed in T before rounding to f64: rounding |v|²
-                                // itself to f64 would read every MPFR deviation below 2⁻⁵³ as 0.
-                                let eta = e2b.clone().add_f64(-1.0).to_f64();
-                                prop_assert!(
-                                    eta.abs() <= ENERGY_BAND_U * u(),
-                                    "|v|^2 - 1 = {:e} = {:.1}u after {:?} (before: {:e})",
-                                    eta,
-                                    eta / u(),
-                                    ev.kind,
-                                    e2.clone().add_f64(-1.0).to_f64()
-                                );
-                                // A crossing is a point reflection: v ↦ −v exactly, so |v|² is
-                                // unchanged bit for bit (no rounding may enter; the 128u band
-                                // would hide one).
-                                if let EventKind::Crossing(k) = ev.kind {
-                                    prop_assert!(
-                                        f.vel.x == -v_in.x.clone() && f.vel.y == -v_in.y.clone(),
-                                        "crossing {k} changed v beyond a sign: {:?} -> {:?}",
-                                        v_in,
-                                        f.vel
-                                    );
-                                    prop_assert!(
-                                        e2b == e2,
-                                        "crossing {k} changed |v|^2 by {:e}u",
-                                        (e2b.clone() - e2.clone()).to_f64() / u()
-                                    );
-                                }
-                                for c in trap.vertices() {
-                                    // |x − c|² − 1 in T (as for the energy: 1 − 256u is 1 in f64).
-                                    let d = f.pos.sub(c).norm2().add_f64(-1.0).to_f64();
-                                    prop_assert!(d >= -tol, "inside a disk: |x-c|^2 - 1 = {d:e}");
-                                }
-                                for k in 0..3 {
-                                    let s = trap.edge_distance(k, &f.pos).to_f64();
-                                    prop_assert!(
-                                        s >= -tol * trap.a().to_f64(),
-                                        "outside edge {k}: {s:e}"
-                                    );
-                                }
-                                match ev.kind {
-                                    EventKind::Collision(m) => {
-                                        prop_assert_eq!(f.excluded_disk, Some(m))
-                                    }
-                                    EventKind::Crossing(k) => {
-                                        prop_assert_eq!(f.excluded_edge, Some(k))
-                                    }
-                                }
+                crate::common::check_starts($cases, 7, 0.001f64..0.309, |(w, u1, u2, u3)| {
+                    let Some(f64s) = start(w, u1, u2, u3) else {
+                        return Ok(());
+                    };
+                    let trap = Trap::new(T::from_f64(ctx(), w)).unwrap();
+                    let mut f = lift(&f64s);
+                    let tol = POST_EVENT_U * u();
+                    for _ in 0..20 {
+                        let v_in = f.vel.clone();
+                        let e2 = v_in.norm2();
+                        let ev = trap
+                            .next_event(&f)
+                            .expect("a unit velocity always has an event");
+                        prop_assert!(!ev.time.lt0(), "negative flight time");
+                        trap.apply(&mut f, &ev);
+                        let e2b = f.vel.norm2();
+                        // |v|² − 1 is formed in T before rounding to f64: rounding |v|²
+                        // itself to f64 would read every MPFR deviation below 2⁻⁵³ as 0.
+                        let eta = e2b.clone().add_f64(-1.0).to_f64();
+                        prop_assert!(
+                            eta.abs() <= ENERGY_BAND_U * u(),
+                            "|v|^2 - 1 = {:e} = {:.1}u after {:?} (before: {:e})",
+                            eta,
+                            eta / u(),
+                            ev.kind,
+                            e2.clone().add_f64(-1.0).to_f64()
+                        );
+                        // A crossing is a point reflection: v ↦ −v exactly, so |v|² is
+                        // unchanged bit for bit (no rounding may enter; the 128u band
+                        // would hide one).
+                        if let EventKind::Crossing(k) = ev.kind {
+                            prop_assert!(
+                                f.vel.x == -v_in.x.clone() && f.vel.y == -v_in.y.clone(),
+                                "crossing {k} changed v beyond a sign: {:?} -> {:?}",
+                                v_in,
+                                f.vel
+                            );
+                            prop_assert!(
+                                e2b == e2,
+                                "crossing {k} changed |v|^2 by {:e}u",
+                                (e2b.clone() - e2.clone()).to_f64() / u()
+                            );
+                        }
+                        for c in trap.vertices() {
+                            // |x − c|² − 1 in T (as for the energy: 1 − 256u is 1 in f64).
+                            let d = f.pos.sub(c).norm2().add_f64(-1.0).to_f64();
+                            prop_assert!(d >= -tol, "inside a disk: |x-c|^2 - 1 = {d:e}");
+                        }
+                        for k in 0..3 {
+                            let s = trap.edge_distance(k, &f.pos).to_f64();
+                            prop_assert!(s >= -tol * trap.a().to_f64(), "outside edge {k}: {s:e}");
+                        }
+                        match ev.kind {
+                            EventKind::Collision(m) => {
+                                prop_assert_eq!(f.excluded_disk, Some(m))
                             }
-                            Ok(())
-                        },
-                    )
-                    .unwrap();
+                            EventKind::Crossing(k) => {
+                                prop_assert_eq!(f.excluded_edge, Some(k))
+                            }
+                        }
+                    }
+                    Ok(())
+                });
             }
 
             #[test]
             fn single_event_reversal_returns_within_the_one_step_bound() {
                 // Forward one collision, reverse, one collision back (at zero time): the velocity
                 // returns to −v₀ within 4·256u (two reflections), the position stays put.
-                runner($cases)
-                    .run(
-                        &(0.01f64..0.3, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0),
-                        |(w, u1, u2, u3)| {
-                            let Some(f64s) = start(w, u1, u2, u3) else {
-                                return Ok(());
-                            };
-                            let trap = Trap::new(T::from_f64(ctx(), w)).unwrap();
-                            let mut f = lift(&f64s);
-                            let v0 = f.vel.clone();
-                            let ev = trap.next_event(&f).unwrap();
-                            if !matches!(ev.kind, EventKind::Collision(_)) {
-                                return Ok(());
-                            }
-                            trap.apply(&mut f, &ev);
-                            let x1 = f.pos.clone();
-                            f.reverse();
-                            let back = trap.next_event(&f).unwrap();
-                            prop_assert_eq!(back.kind, ev.kind);
-                            prop_assert!(
-                                back.time.to_f64() <= ONE_EVENT_U * u(),
-                                "re-collision at t = {:e}",
-                                back.time.to_f64()
-                            );
-                            trap.apply(&mut f, &back);
-                            let dv = Vec2::new(f.vel.x.clone() + &v0.x, f.vel.y.clone() + &v0.y)
-                                .norm2()
-                                .sqrt()
-                                .to_f64();
-                            prop_assert!(dv <= 4.0 * ONE_EVENT_U * u(), "velocity error {dv:e}");
-                            let dx = f.pos.sub(&x1).norm2().sqrt().to_f64();
-                            prop_assert!(dx <= ONE_EVENT_U * u(), "position moved by {dx:e}");
-                            Ok(())
-                        },
-                    )
-                    .unwrap();
+                crate::common::check_starts($cases, 7, 0.01f64..0.3, |(w, u1, u2, u3)| {
+                    let Some(f64s) = start(w, u1, u2, u3) else {
+                        return Ok(());
+                    };
+                    let trap = Trap::new(T::from_f64(ctx(), w)).unwrap();
+                    let f = lift(&f64s);
+                    let ev = trap.next_event(&f).unwrap();
+                    if !matches!(ev.kind, EventKind::Collision(_)) {
+                        return Ok(());
+                    }
+                    assert_one_collision_reverses(&trap, f, &ev, u(), 4.0 * ONE_EVENT_U * u())
+                });
             }
         }
     };

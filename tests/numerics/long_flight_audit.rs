@@ -61,20 +61,10 @@ fn the_mpfr_cell_walk_meets_the_disk_the_jumps_meet() {
 /// after them inside the one-step model, the engine recorded. Walking, nothing is jumped.
 #[test]
 fn audits_with_jumps_find_nothing_outside_the_model() {
-    use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
+    use lorentz_gas::verification::shadow_audit::AuditReport;
     let run = |q: u32, collisions: u64, flights: Flights| -> AuditReport {
         let scene = SquareScene::exact(Rational::from((1, q))).unwrap();
-        let cfg = AuditConfig {
-            scene: scene.label(),
-            collisions,
-            batches: 2,
-            sample: 1.0,
-            reference_bits: 128,
-            seed: 37,
-            field: None,
-            flights,
-        };
-        shadow_audit::run(&scene, &cfg, &crate::common::threads(2)).unwrap()
+        crate::common::full_audit(&scene, collisions, 37, None, flights)
     };
     for q in [100u32, 1000] {
         let r = run(q, 100_000, Flights::Auto);
@@ -98,6 +88,17 @@ fn audits_with_jumps_find_nothing_outside_the_model() {
     assert_eq!((r.flights, r.summary.jumps.audited), (Flights::Walk, 0));
 }
 
+/// `count` random 24-byte inputs of a fuzz oracle, the same on every run (seed `seed`).
+pub(crate) fn random_inputs(seed: u64, count: usize) -> impl Iterator<Item = [u8; 24]> {
+    use rand::{RngCore, SeedableRng};
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
+    (0..count).map(move |_| {
+        let mut data = [0u8; 24];
+        rng.fill_bytes(&mut data);
+        data
+    })
+}
+
 /// The long-flight fuzz oracle (`verification::oracle::long_flight`, the `long_flight` fuzz
 /// target) on 100 000 random inputs: near misses of far disks (r(1 ± 2^−e) from a disk up to
 /// 65 536 columns away), lines along and near small rational directions, and any direction, at
@@ -107,12 +108,8 @@ fn audits_with_jumps_find_nothing_outside_the_model() {
 #[test]
 fn the_long_flight_oracle_finds_every_jump_inside_its_model() {
     use lorentz_gas::verification::oracle::long_flight;
-    use rand::{RngCore, SeedableRng};
-    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(38);
     let (mut checked, mut skipped, mut edge, mut columns) = (0u64, 0u64, 0u64, 0u64);
-    for _ in 0..100_000 {
-        let mut data = [0u8; 24];
-        rng.fill_bytes(&mut data);
+    for data in random_inputs(38, 100_000) {
         let r = long_flight(&data).unwrap_or_else(|e| panic!("{data:?}: {e}"));
         checked += u64::from(r.checked);
         skipped += u64::from(r.skipped);

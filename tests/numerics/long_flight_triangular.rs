@@ -10,25 +10,14 @@ use lorentz_gas::scenes::long_flight::LongFlights;
 use lorentz_gas::scenes::long_flight::triangular::{Search, trigger};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
-use lorentz_gas::statistics::normal_sigma_equivalent_t;
 use lorentz_gas::verification::jump_audit_triangular::check_jump;
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, LyapunovReport};
-use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
+use lorentz_gas::verification::shadow_audit::AuditReport;
 use rug::Rational;
 
 fn audit(w: &str, collisions: u64, flights: Flights) -> AuditReport {
     let scene = TriangularScene::exact(w.parse::<Rational>().unwrap()).unwrap();
-    let cfg = AuditConfig {
-        scene: scene.label(),
-        collisions,
-        batches: 2,
-        sample: 1.0,
-        reference_bits: 128,
-        seed: 41,
-        field: None,
-        flights,
-    };
-    shadow_audit::run(&scene, &cfg, &crate::common::threads(2)).unwrap()
+    crate::common::full_audit(&scene, collisions, 41, None, flights)
 }
 
 /// Every jump of runs at w = 1, 10 and 1000 (just beyond w∞ the jumps are rare, at w = 1000 every
@@ -163,19 +152,8 @@ fn at_small_disks_the_triangular_exponent_has_the_square_lattices_constant() {
     let a = 2.0 + w;
     let ell = 3f64.sqrt() * a * a / 4.0 - std::f64::consts::FRAC_PI_2;
     let r = 1.0 / (3f64.sqrt() * a * a / 2.0).sqrt();
-    let zeta3 = 1.202_056_903_159_594_3;
-    let c = 1.0 - 4.0 * 2f64.ln() + 27.0 * zeta3 / (2.0 * std::f64::consts::PI.powi(2));
     let measured = l.per_collision - (2.0 * ell).ln();
-    let slack = normal_sigma_equivalent_t(3.0, 4.0) * l.per_collision_err + r * r.ln().powi(2);
-    println!(
-        "lambda - ln 2<l> = {measured:.5} ± {:.5}, C = {c:.5}",
-        l.per_collision_err
-    );
-    assert!(
-        (measured - c).abs() < slack,
-        "{measured} ± {} against C = {c}",
-        l.per_collision_err
-    );
+    super::long_flight::assert_dahlqvist("lambda - ln 2<l>", measured, l.per_collision_err, r);
 }
 
 /// The triangular long-flight fuzz oracle (`verification::oracle::long_flight_triangular`, the
@@ -186,12 +164,8 @@ fn at_small_disks_the_triangular_exponent_has_the_square_lattices_constant() {
 #[test]
 fn the_triangular_long_flight_oracle_finds_every_jump_inside_its_model() {
     use lorentz_gas::verification::oracle::long_flight_triangular;
-    use rand::{RngCore, SeedableRng};
-    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(44);
     let (mut checked, mut skipped, mut longest) = (0u64, 0u64, 0u64);
-    for _ in 0..3_000 {
-        let mut data = [0u8; 24];
-        rng.fill_bytes(&mut data);
+    for data in super::long_flight_audit::random_inputs(44, 3_000) {
         let r = long_flight_triangular(&data).unwrap_or_else(|e| panic!("{data:?}: {e}"));
         checked += u64::from(r.checked);
         skipped += u64::from(r.skipped);

@@ -8,6 +8,26 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+/// The items a property module at scalar type `$t` (context `$ctx`) works with: `T`, `ctx()`, its
+/// unit roundoff `u()`, and `lift`, an `f64` flight lifted exactly with its velocity normalised at
+/// the working precision. `Flight` and `Real` must be in scope.
+macro_rules! at_precision {
+    ($t:ty, $ctx:expr) => {
+        type T = $t;
+        fn ctx() -> <T as Real>::Ctx {
+            $ctx
+        }
+        fn u() -> f64 {
+            <T as Real>::unit_roundoff(ctx())
+        }
+        fn lift(f: &Flight<f64>) -> Flight<T> {
+            let mut g = Flight::<T>::convert_from_f64(ctx(), f);
+            g.normalise_speed();
+            g
+        }
+    };
+}
+
 mod arc_audit;
 mod arc_engine;
 mod arc_shadowing;

@@ -11,7 +11,9 @@ use lorentz_gas::scenes::triangular::equilibrium_state;
 use lorentz_gas::scenes::triangular::geometry::Geometry;
 use lorentz_gas::verification::error_model::{ENERGY_BAND_U, UNIT_ROUNDOFF, UNWRAP_EPS};
 
-fn within(x: f64, err: f64, exact: f64, k: f64, what: &str) {
+/// Asserts that `x` ± `err` (a finite positive error) is within `k` errors of `exact`; `what`
+/// names it.
+pub(crate) fn within(x: f64, err: f64, exact: f64, k: f64, what: &str) {
     assert!(err > 0.0 && err.is_finite(), "{what}: bad error {err}");
     assert!(
         (x - exact).abs() <= k * err,
@@ -211,29 +213,33 @@ fn free_paths_are_bounded_below_w_inf() {
     }
 }
 
+/// The collisionless crossings of a trap (entered by one gap and left by another without a
+/// collision) in 4·10⁶ events of the equilibrium trajectory of stream `seed` at the gap `w`.
+pub(crate) fn collisionless_crossings(w: f64, seed: u64) -> u64 {
+    let lat = TriangularLattice::new(w).unwrap();
+    let mut s = equilibrium_state(lat.trap(), &mut stream(seed, 0));
+    let (mut since_crossing, mut collided, mut n) = (false, true, 0);
+    for _ in 0..4_000_000 {
+        match lat.step(&mut s).unwrap().kind {
+            EventKind::Collision(_) => collided = true,
+            EventKind::Crossing(_) => {
+                if since_crossing && !collided {
+                    n += 1;
+                }
+                since_crossing = true;
+                collided = false;
+            }
+        }
+    }
+    n
+}
+
 /// Collisionless crossings of a trap (enter by one gap, leave by another, no collision) are
 /// impossible below w₀ = 2/√3 − 1 and exist above it.
 #[test]
 fn collisionless_flights_onset_w0() {
     let w0 = Geometry::<f64>::w_0(());
-    let count = |w: f64| -> u64 {
-        let lat = TriangularLattice::new(w).unwrap();
-        let mut s = equilibrium_state(lat.trap(), &mut stream(8, 0));
-        let (mut since_crossing, mut collided, mut n) = (false, true, 0);
-        for _ in 0..4_000_000 {
-            match lat.step(&mut s).unwrap().kind {
-                EventKind::Collision(_) => collided = true,
-                EventKind::Crossing(_) => {
-                    if since_crossing && !collided {
-                        n += 1;
-                    }
-                    since_crossing = true;
-                    collided = false;
-                }
-            }
-        }
-        n
-    };
+    let count = |w: f64| collisionless_crossings(w, 8);
     assert_eq!(count(w0 * 0.999), 0);
     assert_eq!(count(0.1), 0);
     assert!(count(0.17) > 0);

@@ -177,37 +177,52 @@ fn the_analytic_jacobian_matches_central_differences() {
     let bits = 256;
     let table = Table::new(&sc, bits).unwrap();
     let h = Float::with_val(bits, -116f64).exp2();
-    let rounding = (CONVERGENCE_SLACK_BITS as f64 - bits as f64).exp2();
-    let cos = |p: &Float| {
-        (Float::with_val(bits, 1) - p.clone().square())
-            .sqrt()
-            .to_f64()
-    };
     for k in 0..19 {
         assert_eq!(
             (y[k].s.prec(), y[k].p.prec()),
             (BITS, BITS),
             "the steps x ± h are exact for 128-bit points"
         );
-        let x = OrbitPoint {
-            disk: y[k].disk,
-            s: Float::with_val(bits, &y[k].s),
-            p: Float::with_val(bits, &y[k].p),
-        };
-        let (image, jac) = table.map(&x, y[k + 1].disk).unwrap();
-        let c = cos(&x.p).min(cos(&image.p)).min(1.0);
-        let big_j = jac.iter().map(|v| v.to_f64().abs()).fold(0.0, f64::max);
-        let entry_err = rounding * (1.0 + big_j) / c;
-        let tol = rounding * (1.0 / h.to_f64() + 1.0 + big_j) / c
-            + h.to_f64().powi(2) * big_j.powi(3) / c.powi(4);
-        let det = jac[0].clone() * &jac[3] - &(jac[1].clone() * &jac[2]);
-        let det_err = (det.clone() - 1u32).abs().to_f64();
-        assert!(
-            det_err <= 4.0 * big_j * entry_err,
-            "k {k}: det DT − 1 = {det_err:e}"
-        );
-        assert_central_differences(&table, &x, y[k + 1].disk, &jac, &h, tol, &format!("k {k}"));
+        assert_step_jacobian(&table, bits, &y[k], y[k + 1].disk, &h, &format!("k {k}"));
     }
+}
+
+/// Asserts that the analytic DT of the step from `from` (taken at the table's precision `bits`)
+/// to the disk `next` on `table` matches central differences of step `h` within
+/// tol = 2^(S−P)·(1/h + 1 + J)/c + h²·J³/c⁴, and that det DT = 1 within 4J times the entries'
+/// error 2^(S−P)·(1 + J)/c (c the smaller cos φ of the step's ends); `what` names the step.
+pub(crate) fn assert_step_jacobian(
+    table: &Table,
+    bits: u32,
+    from: &OrbitPoint,
+    next: [i64; 2],
+    h: &Float,
+    what: &str,
+) {
+    let rounding = (CONVERGENCE_SLACK_BITS as f64 - bits as f64).exp2();
+    let cos = |p: &Float| {
+        (Float::with_val(bits, 1) - p.clone().square())
+            .sqrt()
+            .to_f64()
+    };
+    let x = OrbitPoint {
+        disk: from.disk,
+        s: Float::with_val(bits, &from.s),
+        p: Float::with_val(bits, &from.p),
+    };
+    let (image, jac) = table.map(&x, next).unwrap();
+    let c = cos(&x.p).min(cos(&image.p)).min(1.0);
+    let big_j = jac.iter().map(|v| v.to_f64().abs()).fold(0.0, f64::max);
+    let entry_err = rounding * (1.0 + big_j) / c;
+    let tol = rounding * (1.0 / h.to_f64() + 1.0 + big_j) / c
+        + h.to_f64().powi(2) * big_j.powi(3) / c.powi(4);
+    let det = jac[0].clone() * &jac[3] - &(jac[1].clone() * &jac[2]);
+    let det_err = (det - 1u32).abs().to_f64();
+    assert!(
+        det_err <= 4.0 * big_j * entry_err,
+        "{what}: det DT − 1 = {det_err:e}"
+    );
+    assert_central_differences(table, &x, next, &jac, h, tol, what);
 }
 
 #[test]

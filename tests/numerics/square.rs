@@ -11,6 +11,7 @@
 //! * reversibility of long orbits within the amplification bound, Liouville |det DT| = 1 of the
 //!   Birkhoff map, the shadow audit with 0 events outside the error model.
 
+use super::kernel_properties::assert_one_collision_reverses;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight};
 use lorentz_gas::numbers::real::Real;
@@ -22,7 +23,6 @@ use lorentz_gas::verification::error_model::{
     ENERGY_BAND_U, ONE_EVENT_U, POST_EVENT_U, UNIT_ROUNDOFF,
 };
 use proptest::prelude::*;
-use proptest::test_runner::TestRunner;
 use rand::Rng;
 use rug::{Float, Rational};
 
@@ -119,10 +119,6 @@ fn no_collision_is_missed() {
     }
 }
 
-fn runner(cases: u32) -> TestRunner {
-    crate::common::runner(cases, 9)
-}
-
 /// A free start in the cell from three numbers in [0, 1) (a walk until outside the disk, so that
 /// shrinking still acts on the inputs).
 fn start(r: f64, u1: f64, u2: f64, u3: f64) -> Flight<f64> {
@@ -141,109 +137,71 @@ macro_rules! square_properties {
     ($name:ident, $t:ty, $ctx:expr, $cases:expr) => {
         mod $name {
             use super::*;
-            type T = $t;
-            fn ctx() -> <T as Real>::Ctx {
-                $ctx
-            }
-            fn u() -> f64 {
-                <T as Real>::unit_roundoff(ctx())
-            }
-            fn lift(f: &Flight<f64>) -> Flight<T> {
-                let mut g = Flight::<T>::convert_from_f64(ctx(), f);
-                g.normalise_speed();
-                g
-            }
+            at_precision!($t, $ctx);
 
             #[test]
             fn energy_cell_and_exclusions_hold_after_every_event() {
-                runner($cases)
-                    .run(
-                        &(0.01f64..0.4999, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0),
-                        |(r, u1, u2, u3)| {
-                            let cell = scene(r).kernel::<T>(ctx()).unwrap();
-                            let mut f = lift(&start(r, u1, u2, u3));
-                            let tol = POST_EVENT_U * u();
-                            for _ in 0..200 {
-                                let v_in = f.vel.clone();
-                                let ev = cell.next_event(&f).unwrap();
-                                prop_assert!(ev.time.to_f64() >= 0.0);
-                                cell.apply(&mut f, &ev);
-                                // One reflection's rounding: 128u for the unit disks of the
-                                // triangular trap; with |n| = r the contact point's absolute
-                                // error u·(½ + t) is relative u(½ + t)/r, so the band widens by
-                                // the factor 1 + 1/(2r) (proofs-notes/energy.md).
-                                let e2 = f.vel.norm2().add_f64(-1.0).to_f64();
-                                let band = ENERGY_BAND_U * u() * (1.0 + 0.5 / r);
-                                prop_assert!(e2.abs() <= band, "|v|^2 - 1 = {e2:e}");
-                                match ev.kind {
-                                    EventKind::Crossing(k) => {
-                                        // A translation: the velocity is untouched, bit for bit.
-                                        prop_assert!(f.vel == v_in, "crossing {k} changed v");
-                                        prop_assert_eq!(
-                                            f.excluded_edge,
-                                            Some(cell.edges[k as usize].entered)
-                                        );
-                                        prop_assert_eq!(f.excluded_disk, None);
-                                    }
-                                    EventKind::Collision(m) => {
-                                        prop_assert_eq!(f.excluded_disk, Some(m));
-                                        prop_assert_eq!(f.excluded_edge, None);
-                                    }
-                                }
-                                let d = (f.pos.sub(&cell.disks[0].centre).norm2()
-                                    - cell.disks[0].radius2())
-                                .to_f64();
-                                prop_assert!(d >= -tol, "inside the disk: {d:e}");
-                                for k in 0..4 {
-                                    let s = cell.edge_distance(k, &f.pos).to_f64();
-                                    prop_assert!(s >= -tol, "outside edge {k}: {s:e}");
-                                }
+                crate::common::check_starts($cases, 9, 0.01f64..0.4999, |(r, u1, u2, u3)| {
+                    let cell = scene(r).kernel::<T>(ctx()).unwrap();
+                    let mut f = lift(&start(r, u1, u2, u3));
+                    let tol = POST_EVENT_U * u();
+                    for _ in 0..200 {
+                        let v_in = f.vel.clone();
+                        let ev = cell.next_event(&f).unwrap();
+                        prop_assert!(ev.time.to_f64() >= 0.0);
+                        cell.apply(&mut f, &ev);
+                        // One reflection's rounding: 128u for the unit disks of the
+                        // triangular trap; with |n| = r the contact point's absolute
+                        // error u·(½ + t) is relative u(½ + t)/r, so the band widens by
+                        // the factor 1 + 1/(2r) (proofs-notes/energy.md).
+                        let e2 = f.vel.norm2().add_f64(-1.0).to_f64();
+                        let band = ENERGY_BAND_U * u() * (1.0 + 0.5 / r);
+                        prop_assert!(e2.abs() <= band, "|v|^2 - 1 = {e2:e}");
+                        match ev.kind {
+                            EventKind::Crossing(k) => {
+                                // A translation: the velocity is untouched, bit for bit.
+                                prop_assert!(f.vel == v_in, "crossing {k} changed v");
+                                prop_assert_eq!(
+                                    f.excluded_edge,
+                                    Some(cell.edges[k as usize].entered)
+                                );
+                                prop_assert_eq!(f.excluded_disk, None);
                             }
-                            Ok(())
-                        },
-                    )
-                    .unwrap();
+                            EventKind::Collision(m) => {
+                                prop_assert_eq!(f.excluded_disk, Some(m));
+                                prop_assert_eq!(f.excluded_edge, None);
+                            }
+                        }
+                        let d = (f.pos.sub(&cell.disks[0].centre).norm2()
+                            - cell.disks[0].radius2())
+                        .to_f64();
+                        prop_assert!(d >= -tol, "inside the disk: {d:e}");
+                        for k in 0..4 {
+                            let s = cell.edge_distance(k, &f.pos).to_f64();
+                            prop_assert!(s >= -tol, "outside edge {k}: {s:e}");
+                        }
+                    }
+                    Ok(())
+                });
             }
 
             #[test]
             fn single_event_reversal_returns_within_the_one_step_bound() {
-                runner($cases)
-                    .run(
-                        &(0.01f64..0.4999, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0),
-                        |(r, u1, u2, u3)| {
-                            let cell = scene(r).kernel::<T>(ctx()).unwrap();
-                            let mut f = lift(&start(r, u1, u2, u3));
-                            // Fly to the first collision (crossings on the way are translations).
-                            let ev = loop {
-                                let ev = cell.next_event(&f).unwrap();
-                                if matches!(ev.kind, EventKind::Collision(_)) {
-                                    break ev;
-                                }
-                                cell.apply(&mut f, &ev);
-                            };
-                            let v0 = f.vel.clone();
-                            cell.apply(&mut f, &ev);
-                            let x1 = f.pos.clone();
-                            f.reverse();
-                            let back = cell.next_event(&f).unwrap();
-                            prop_assert_eq!(back.kind, ev.kind);
-                            prop_assert!(back.time.to_f64() <= ONE_EVENT_U * u());
-                            cell.apply(&mut f, &back);
-                            let dv = Vec2::new(f.vel.x.clone() + &v0.x, f.vel.y.clone() + &v0.y)
-                                .norm2()
-                                .sqrt()
-                                .to_f64();
-                            // Two reflections with |n| = r: the error scales like u/r.
-                            prop_assert!(
-                                dv <= 4.0 * ONE_EVENT_U * u() / r,
-                                "velocity error {dv:e}"
-                            );
-                            let dx = f.pos.sub(&x1).norm2().sqrt().to_f64();
-                            prop_assert!(dx <= ONE_EVENT_U * u(), "position moved by {dx:e}");
-                            Ok(())
-                        },
-                    )
-                    .unwrap();
+                crate::common::check_starts($cases, 9, 0.01f64..0.4999, |(r, u1, u2, u3)| {
+                    let cell = scene(r).kernel::<T>(ctx()).unwrap();
+                    let mut f = lift(&start(r, u1, u2, u3));
+                    // Fly to the first collision (crossings on the way are translations).
+                    let ev = loop {
+                        let ev = cell.next_event(&f).unwrap();
+                        if matches!(ev.kind, EventKind::Collision(_)) {
+                            break ev;
+                        }
+                        cell.apply(&mut f, &ev);
+                    };
+                    // Two reflections with |n| = r: the error scales like u/r.
+                    let dv_max = 4.0 * ONE_EVENT_U * u() / r;
+                    assert_one_collision_reverses(&cell, f, &ev, u(), dv_max)
+                });
             }
         }
     };
@@ -256,17 +214,19 @@ square_properties!(mpfr128_square, Float, 128, 150);
 /// `proofs-notes/reversibility.md`, at f64 and at 256 bits.
 #[test]
 fn long_orbits_reverse_within_the_amplification_bound() {
-    use lorentz_gas::verification::reversibility::{
-        amplification, reversal_bound, reverse_and_return,
-    };
+    use super::verification::{Reversed, reversal_with_bound};
+    use lorentz_gas::verification::reversibility::{reversal_bound, reverse_and_return};
     let s = scene(1.0 / 3.0);
     for k in 0..4u64 {
         let s64 = s.sample(&mut stream(91, k));
         for n in [5u64, 15] {
             let lat = s.lattice::<f64>(()).unwrap();
-            let rev = reverse_and_return(&lat, &s64, n).unwrap();
-            let (amp, events) = amplification(&lat, &s64, n).unwrap();
-            let bound = reversal_bound(UNIT_ROUNDOFF, events, amp);
+            let Reversed {
+                r: rev,
+                amp,
+                events,
+                bound,
+            } = reversal_with_bound(&lat, &s64, n, UNIT_ROUNDOFF);
             assert!(
                 rev.position_error <= bound,
                 "f64 n={n}: {} > {bound:e}",
@@ -285,21 +245,14 @@ fn long_orbits_reverse_within_the_amplification_bound() {
 /// (h = 2⁻⁹⁰; the error budget of `proofs-notes/liouville.md` with curvature 1/r ≤ 20).
 #[test]
 fn birkhoff_map_preserves_phase_space_volume() {
-    use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
-    let bits = 256;
-    let h = Float::with_val(bits, Float::i_exp(1, -90));
-    let mut rng = stream(92, 0);
-    let mut checked = 0;
-    while checked < 16 {
+    let dets = super::verification::birkhoff_determinants(16, 92, |rng| {
         let r = 0.05 + 0.44 * rng.random::<f64>();
-        let s = Float::with_val(bits, 2.0 * std::f64::consts::PI * rng.random::<f64>());
-        let p = Float::with_val(bits, 1.9 * rng.random::<f64>() - 0.95);
-        let Some(j) = birkhoff_jacobian(&scene(r), bits, &s, &p, &h).unwrap() else {
-            continue;
-        };
-        let dev = (det2(&j).abs() - 1u32).abs().to_f64();
-        assert!(dev < 1e-30, "r = {r}: |det| - 1 = {dev:e}");
-        checked += 1;
+        let s = 2.0 * std::f64::consts::PI * rng.random::<f64>();
+        (scene(r), format!("r = {r}"), s)
+    });
+    for (what, det) in dets {
+        let dev = (det.abs() - 1u32).abs().to_f64();
+        assert!(dev < 1e-30, "{what}: |det| - 1 = {dev:e}");
     }
 }
 
@@ -308,27 +261,9 @@ fn birkhoff_map_preserves_phase_space_volume() {
 /// reference runs at the exact radius while the f64 run uses its nearest double.
 #[test]
 fn shadow_audit_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
     let s = SquareScene::exact(Rational::from((1, 3))).unwrap();
-    let cfg = AuditConfig {
-        scene: s.label(),
-        collisions: 200_000,
-        batches: 2,
-        sample: 1.0,
-        reference_bits: 128,
-        seed: 93,
-        field: None,
-        flights: Default::default(),
-    };
-    let two = crate::common::threads(2);
-    let r = shadow_audit::run(&s, &cfg, &two).unwrap();
-    assert!(r.summary.audited >= 200_000);
-    assert_eq!(
-        r.summary.outside,
-        0,
-        "{:?}",
-        r.summary.outside_events.first()
-    );
+    let r = crate::common::full_audit(&s, 200_000, 93, None, Default::default());
+    crate::common::assert_audit_clean(&r, 200_000, "square r = 1/3");
 }
 
 /// The horizon is infinite for every radius, and the Einstein D is refused.

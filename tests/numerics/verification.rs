@@ -2,21 +2,57 @@
 //! map, uniform sin φ at collisions, and f64 events replayed in MPFR within the error model.
 
 use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::kernel::cell::CellKernel;
 use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::kernel::{flight::EventKind, flight::Flight, trap::Trap};
 use lorentz_gas::numbers::real::Real;
 use lorentz_gas::scenes::Scene;
-use lorentz_gas::scenes::lattice::{LatticeState, TriangularLattice};
+use lorentz_gas::scenes::lattice::{Lattice, LatticeState, TriangularLattice};
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::scenes::triangular::equilibrium_state;
-use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t, welch_dof};
+use lorentz_gas::statistics::{mean_se, normal_sigma_equivalent_t};
+
+use crate::common::{t4_welch, z};
 use lorentz_gas::verification::birkhoff::{birkhoff_jacobian, det2};
 use lorentz_gas::verification::error_model::UNIT_ROUNDOFF;
 use lorentz_gas::verification::replay::check_event;
-use lorentz_gas::verification::reversibility::{amplification, reversal_bound, reverse_and_return};
+use lorentz_gas::verification::reversibility::{
+    Reversal, amplification, reversal_bound, reverse_and_return,
+};
 use rand::Rng;
+use rand_xoshiro::Xoshiro256PlusPlus;
 use rug::Float;
+
+/// `n` collisions forward, reversed and back, with the bound on the errors.
+pub(crate) struct Reversed<T> {
+    /// The errors of the return.
+    pub r: Reversal<T>,
+    /// The largest flow Jacobian max‖J‖ along the orbit.
+    pub amp: f64,
+    /// Events of the orbit.
+    pub events: u64,
+    /// 2·E·256u·max‖J‖ (E events, u the unit roundoff).
+    pub bound: f64,
+}
+
+/// `n` collisions of `lat` from `start`, reversed and back, at the unit roundoff `u`.
+pub(crate) fn reversal_with_bound<T: Real, K: CellKernel<T>>(
+    lat: &Lattice<T, K>,
+    start: &LatticeState<T>,
+    n: u64,
+    u: f64,
+) -> Reversed<T> {
+    let r = reverse_and_return(lat, start, n).unwrap();
+    let (amp, events) = amplification(lat, start, n).unwrap();
+    let bound = reversal_bound(u, events, amp);
+    Reversed {
+        r,
+        amp,
+        events,
+        bound,
+    }
+}
 
 /// f64: N collisions forward and back return within 2·E·256u·max‖J‖ (E events, J the flow
 /// Jacobian along the orbit), for N up to 25 — where max‖J‖ has grown to ~1e10.
@@ -26,9 +62,7 @@ fn f64_reversal_within_the_chaos_bound() {
         let lat = TriangularLattice::new(w).unwrap();
         for n in [1u64, 5, 10, 25] {
             let start = equilibrium_state(lat.trap(), &mut stream(21, k as u64 * 100 + n));
-            let r = reverse_and_return(&lat, &start, n).unwrap();
-            let (amp, events) = amplification(&lat, &start, n).unwrap();
-            let bound = reversal_bound(UNIT_ROUNDOFF, events, amp);
+            let Reversed { r, bound, .. } = reversal_with_bound(&lat, &start, n, UNIT_ROUNDOFF);
             assert!(
                 r.position_error <= bound,
                 "w={w} n={n}: {:e} > {bound:e}",
@@ -52,9 +86,8 @@ fn mpfr256_fifty_collisions_return_below_1e_minus_50() {
         let lat = TriangularLattice::new(Float::with_val(256, w)).unwrap();
         let mut start = LatticeState::<Float>::convert_from_f64(256, &start64);
         start.flight.normalise_speed();
-        let r = reverse_and_return(&lat, &start, 50).unwrap();
-        let (amp, events) = amplification(&lat, &start, 50).unwrap();
-        let bound = reversal_bound(<Float as Real>::unit_roundoff(256), events, amp);
+        let u = <Float as Real>::unit_roundoff(256);
+        let Reversed { r, amp, bound, .. } = reversal_with_bound(&lat, &start, 50, u);
         let err = r.position_error.to_f64().max(r.velocity_error.to_f64());
         assert!(err < 1e-50, "w={w}: {err:e}");
         assert!(err <= bound, "w={w}: {err:e} > bound {bound:e}");
@@ -69,29 +102,41 @@ fn mpfr256_fifty_collisions_return_below_1e_minus_50() {
 /// so 1e-40 is a bound with a wide margin (proofs-notes/liouville.md).
 #[test]
 fn birkhoff_map_preserves_phase_space_volume() {
-    let bits = 256;
-    let h = Float::with_val(bits, Float::i_exp(1, -90));
-    let mut rng = stream(23, 0);
-    let mut checked = 0;
-    while checked < 24 {
+    let dets = birkhoff_determinants(24, 23, |rng| {
         let w = 0.02 + 0.28 * rng.random::<f64>();
-        let s = Float::with_val(
-            bits,
-            0.05 + (std::f64::consts::FRAC_PI_3 - 0.1) * rng.random::<f64>(),
-        );
-        let p = Float::with_val(bits, 1.9 * rng.random::<f64>() - 0.95);
-        let Some(j) =
-            birkhoff_jacobian(&TriangularScene::new(w).unwrap(), bits, &s, &p, &h).unwrap()
-        else {
-            continue;
-        };
-        let det = det2(&j);
+        let s = 0.05 + (std::f64::consts::FRAC_PI_3 - 0.1) * rng.random::<f64>();
+        (TriangularScene::new(w).unwrap(), format!("w={w}"), s)
+    });
+    for (what, det) in dets {
         let dev = (det.clone().abs() - 1u32).abs().to_f64();
-        assert!(dev < 1e-40, "w={w}: det = {det}");
+        assert!(dev < 1e-40, "{what}: det = {det}");
         // Orientation: with s counter-clockwise and φ from the outward normal, det = +1.
         assert!(det.is_sign_positive(), "det = {det}");
-        checked += 1;
     }
+}
+
+/// det DT of the Birkhoff map by central differences at 256 bits (h = 2⁻⁹⁰) at `count` points
+/// drawn from stream `seed`: `draw` gives the scene, its name for messages and the arc length s,
+/// then sin φ is drawn uniform in [−0.95, 0.95]; a point whose next collision is out of reach is
+/// drawn again.
+pub(crate) fn birkhoff_determinants<S: Scene>(
+    count: usize,
+    seed: u64,
+    mut draw: impl FnMut(&mut Xoshiro256PlusPlus) -> (S, String, f64),
+) -> Vec<(String, Float)> {
+    let bits = 256;
+    let h = Float::with_val(bits, Float::i_exp(1, -90));
+    let mut rng = stream(seed, 0);
+    let mut dets = Vec::new();
+    while dets.len() < count {
+        let (scene, what, s) = draw(&mut rng);
+        let s = Float::with_val(bits, s);
+        let p = Float::with_val(bits, 1.9 * rng.random::<f64>() - 0.95);
+        if let Some(j) = birkhoff_jacobian(&scene, bits, &s, &p, &h).unwrap() {
+            dets.push((what, det2(&j)));
+        }
+    }
+    dets
 }
 
 /// At collisions sin φ is uniform on [−1, 1] (the invariant measure cos φ dφ ds). Twenty bins,
@@ -186,28 +231,11 @@ fn near_surface_start_replays_within_the_model() {
 /// recorded worst events replay to the same verdict from their exact bit patterns.
 #[test]
 fn audit_of_production_trajectories_finds_nothing_outside_the_model() {
-    use lorentz_gas::verification::shadow_audit::{self, AuditConfig, replay};
+    use lorentz_gas::verification::shadow_audit::replay;
     for &w in &[0.02, 0.1, 0.3] {
         let scene = TriangularScene::new(w).unwrap();
-        let cfg = AuditConfig {
-            scene: scene.label(),
-            collisions: 100_000,
-            batches: 2,
-            sample: 1.0,
-            reference_bits: 128,
-            seed: 7,
-            field: None,
-            flights: Default::default(),
-        };
-        let two = crate::common::threads(2);
-        let r = shadow_audit::run(&scene, &cfg, &two).unwrap();
-        assert!(r.summary.audited >= 100_000);
-        assert_eq!(
-            r.summary.outside,
-            0,
-            "w={w}: {:?}",
-            r.summary.outside_events.first()
-        );
+        let r = crate::common::full_audit(&scene, 100_000, 7, None, Default::default());
+        crate::common::assert_audit_clean(&r, 100_000, &format!("w={w}"));
         assert!(r.quantiles.time_error_over_bound.max <= 1.0);
         let worst = &r.summary.worst[0];
         let again = replay(&scene, worst, 128).unwrap();
@@ -296,26 +324,26 @@ fn divergence_rate_matches_the_tangent_space_lyapunov_exponent() {
         };
         let d = divergence::run(&scene, &cfg, &two).unwrap();
         let last = d.last().unwrap();
-        let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
-        let t4 = |ea: f64, eb: f64| {
-            normal_sigma_equivalent_t(welch_dof(ea, STARTS as f64, eb, l.batches as f64), 4.0)
+        // Within the 4σ bound of the two means (Welch–Satterthwaite degrees of freedom).
+        let agree = |a: f64, ea: f64, b: f64, eb: f64| {
+            z(a, ea, b, eb) < t4_welch(ea, STARTS, eb, l.batches)
         };
         assert!(
-            z(
+            agree(
                 last.rate_per_collision,
                 last.rate_per_collision_err,
                 l.per_collision,
                 l.per_collision_err
-            ) < t4(last.rate_per_collision_err, l.per_collision_err),
+            ),
             "w={w}: {last:?} vs {l:?}"
         );
         assert!(
-            z(
+            agree(
                 last.rate_per_time,
                 last.rate_per_time_err,
                 l.per_time,
                 l.per_time_err
-            ) < t4(last.rate_per_time_err, l.per_time_err),
+            ),
             "w={w}: {last:?} vs {l:?}"
         );
         // Horizons: f64 < 256 bits < 1024 bits, each roughly ∝ bits (ln 2·bits/λ).
@@ -423,18 +451,11 @@ fn statistics_do_not_move_with_precision() {
     cfg.batches = 16;
     cfg.precision = Precision::F64;
     let lo = run(&cfg, &crate::common::threads(2)).unwrap();
-    let z = |a: f64, ea: f64, b: f64, eb: f64| (a - b).abs() / (ea * ea + eb * eb).sqrt();
-    let t4 = |ea: f64, eb: f64| {
-        normal_sigma_equivalent_t(
-            welch_dof(
-                ea,
-                hi.meta.batches.unwrap() as f64,
-                eb,
-                lo.meta.batches.unwrap() as f64,
-            ),
-            4.0,
-        )
-    };
+    let (n_hi, n_lo) = (
+        hi.meta.batches.unwrap() as u32,
+        lo.meta.batches.unwrap() as u32,
+    );
+    let t4 = |ea: f64, eb: f64| t4_welch(ea, n_hi, eb, n_lo);
     assert!(
         z(hi.D, hi.D_err, lo.D, lo.D_err) < t4(hi.D_err, lo.D_err),
         "D: {} ± {} (128) vs {} ± {} (f64)",

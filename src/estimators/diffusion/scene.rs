@@ -20,7 +20,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::execution::{BatchObservers, DiffusionKeeper, Job, Watch, curve_grid, in_blocks};
-use super::summary::{d_of_batch, merged_audit, msd_over_4t};
+use super::summary::{merged_audit, msd_over_4t};
 use super::{BatchResult, Sampling, open_keeper, time_unit};
 use crate::Error;
 use crate::engine::checkpoint::{drive_kept, run_block_kept};
@@ -374,14 +374,10 @@ fn summarise<S: Scene>(
     meta: RunMeta,
 ) -> Result<SceneDiffusionReport, Error> {
     let tau = time_unit(scene);
-    let ds: Vec<f64> = done
+    let (ds, dc): (Vec<f64>, Vec<f64>) = done
         .iter()
-        .map(|b| d_of_batch(b, tau, &cfg.window))
-        .collect();
-    let dc: Vec<f64> = done
-        .iter()
-        .map(|b| d_of_batch(b, tau, &cfg.check_window))
-        .collect();
+        .map(|b| super::batch_d(b, tau, &cfg.window, &cfg.check_window))
+        .unzip();
     let (d, d_err) = mean_se(&ds);
     let (dcv, dce) = mean_se(&dc);
     let diff = crate::statistics::comparison::paired(&ds, &dc)?;

@@ -60,14 +60,10 @@ pub(super) fn summarise(
     resumed: u32,
     run_now: u64,
 ) -> Result<DiffusionReport, Error> {
-    let ds: Vec<f64> = done
+    let (ds, dc): (Vec<f64>, Vec<f64>) = done
         .iter()
-        .map(|b| d_of_batch(b, tau, &cfg.window))
-        .collect();
-    let dc: Vec<f64> = done
-        .iter()
-        .map(|b| d_of_batch(b, tau, &cfg.check_window))
-        .collect();
+        .map(|b| super::batch_d(b, tau, &cfg.window, &cfg.check_window))
+        .unzip();
     let (d, d_err) = mean_se(&ds);
     let (dcv, dce) = mean_se(&dc);
     let window_diff = crate::statistics::comparison::paired(&ds, &dc)?;

@@ -83,12 +83,8 @@ pub fn write_field_sweep_figures(r: &FieldSweepReport, dir: &Path) -> Result<(),
         plot(
             &dir.join(stem),
             &PlotSpec {
-                title,
-                x_label,
-                y_label,
                 log_x,
-                log_y: false,
-                ..Default::default()
+                ..PlotSpec::new(title, x_label, y_label)
             },
             &curves(y),
         )?;

@@ -66,6 +66,19 @@ pub struct PlotSpec<'a> {
     pub count_y: bool,
 }
 
+impl<'a> PlotSpec<'a> {
+    /// Linear axes with this title and these labels, no bands, real-valued y (set the other
+    /// fields with `PlotSpec { log_y: true, ..PlotSpec::new(..) }`).
+    pub fn new(title: &'a str, x_label: &'a str, y_label: &'a str) -> Self {
+        PlotSpec {
+            title,
+            x_label,
+            y_label,
+            ..Default::default()
+        }
+    }
+}
+
 /// A tick label as people write it: integers without ".0", other values to six significant
 /// digits without trailing zeros, very large or small ones in scientific notation.
 fn tick(v: f64) -> String {
@@ -141,41 +154,23 @@ where
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(80);
+    // One chart body per pair of scales (each pair is its own coordinate type).
+    macro_rules! body_on {
+        ($x:expr, $y:expr) => {
+            chart_body(
+                &mut b.build_cartesian_2d($x, $y).map_err(io)?,
+                spec,
+                series,
+                (y0, y1),
+                &io,
+            )?
+        };
+    }
     match (spec.log_x, spec.log_y) {
-        (true, true) => chart_body(
-            &mut b
-                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-                .map_err(io)?,
-            spec,
-            series,
-            (y0, y1),
-            &io,
-        )?,
-        (true, false) => chart_body(
-            &mut b
-                .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
-                .map_err(io)?,
-            spec,
-            series,
-            (y0, y1),
-            &io,
-        )?,
-        (false, true) => chart_body(
-            &mut b
-                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
-                .map_err(io)?,
-            spec,
-            series,
-            (y0, y1),
-            &io,
-        )?,
-        (false, false) => chart_body(
-            &mut b.build_cartesian_2d(x0..x1, y0..y1).map_err(io)?,
-            spec,
-            series,
-            (y0, y1),
-            &io,
-        )?,
+        (true, true) => body_on!((x0..x1).log_scale(), (y0..y1).log_scale()),
+        (true, false) => body_on!((x0..x1).log_scale(), y0..y1),
+        (false, true) => body_on!(x0..x1, (y0..y1).log_scale()),
+        (false, false) => body_on!(x0..x1, y0..y1),
     }
     root.present().map_err(io)?;
     Ok(())
@@ -242,15 +237,29 @@ where
     for (i, s) in series.iter().enumerate() {
         draw_one(chart, Palette99::pick(i).to_rgba(), s, io)?;
     }
+    draw_legend(chart, SeriesLabelPosition::UpperRight, 0.8, 14).map_err(io)?;
+    Ok(())
+}
+
+/// Draws the legend of `chart` at `position`: a black frame over white of opacity `opacity`,
+/// labels in the embedded sans-serif at `size` pixels.
+fn draw_legend<'a, DB, CT>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+    opacity: f64,
+    size: u32,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>
+where
+    DB: DrawingBackend + 'a,
+    CT: plotters::coord::CoordTranslate,
+{
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.8))
+        .position(position)
+        .background_style(WHITE.mix(opacity))
         .border_style(BLACK)
-        .label_font(("sans-serif", 14))
+        .label_font(("sans-serif", size))
         .draw()
-        .map_err(io)?;
-    Ok(())
 }
 
 /// One series of a chart in the colour `c`: its line (if joined), dots or single pixels, notes
@@ -302,6 +311,21 @@ where
 /// Figure size in pixels.
 const SIZE: (u32, u32) = (800, 600);
 
+/// The PNG encoding of `rgb`, an RGB bitmap of `size` pixels drawn for `path` (which an error
+/// names).
+fn png_bytes(rgb: &[u8], size: (u32, u32), path: &Path) -> Result<Vec<u8>, Error> {
+    let mut encoded = Vec::new();
+    image::ImageEncoder::write_image(
+        image::codecs::png::PngEncoder::new(&mut encoded),
+        rgb,
+        size.0,
+        size.1,
+        image::ColorType::Rgb8,
+    )
+    .map_err(|e| Error::io("encode", path)(std::io::Error::other(e.to_string())))?;
+    Ok(encoded)
+}
+
 /// Writes `stem.png` and `stem.svg` (800×600). Both are drawn in memory and written by
 /// [`crate::files::write`], so a link found where a figure goes is refused, not followed.
 pub fn plot(stem: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), Error> {
@@ -315,16 +339,7 @@ pub fn plot(stem: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), Error
         spec,
         series,
     )?;
-    let mut encoded = Vec::new();
-    image::ImageEncoder::write_image(
-        image::codecs::png::PngEncoder::new(&mut encoded),
-        &rgb,
-        SIZE.0,
-        SIZE.1,
-        image::ColorType::Rgb8,
-    )
-    .map_err(|e| Error::io("encode", &png)(std::io::Error::other(e.to_string())))?;
-    crate::files::write(&png, encoded)?;
+    crate::files::write(&png, png_bytes(&rgb, SIZE, &png)?)?;
     let mut text = String::new();
     draw(
         &svg,
@@ -375,12 +390,9 @@ mod tests {
             y: Some((2.0, 3.0)),
         }];
         let spec = PlotSpec {
-            title: "t",
-            x_label: "x",
-            y_label: "count",
             bands: &bands,
             count_y: true,
-            ..Default::default()
+            ..PlotSpec::new("t", "x", "count")
         };
         let series: Vec<Series> = (0..4)
             .map(|i| Series {

@@ -141,14 +141,11 @@ pub fn backscatter_map(
     )?;
     plot(
         &dir.join("fig5-backscatter-map"),
-        &PlotSpec {
-            title: &format!("Injections that backscatter, w = {w} (paper Fig. 5)"),
-            x_label: "2x/w",
-            y_label: "sin(alpha)",
-            log_x: false,
-            log_y: false,
-            ..Default::default()
-        },
+        &PlotSpec::new(
+            &format!("Injections that backscatter, w = {w} (paper Fig. 5)"),
+            "2x/w",
+            "sin(alpha)",
+        ),
         &[Series {
             label: format!("backscattered ({} of {particles})", pts.len()),
             points: pts,
@@ -259,14 +256,11 @@ impl Curve<'_> {
         let third: Vec<(f64, f64, f64)> = ws.iter().map(|&w| (w, 1.0 / 3.0, 0.0)).collect();
         plot(
             &dir.join(name),
-            &PlotSpec {
-                title: "Backscattering probability (paper Fig. 4a)",
-                x_label: "gap w",
-                y_label: "p_bs",
-                log_x: false,
-                log_y: false,
-                ..Default::default()
-            },
+            &PlotSpec::new(
+                "Backscattering probability (paper Fig. 4a)",
+                "gap w",
+                "p_bs",
+            ),
             &[
                 Series {
                     label: "p_bs by injection (error bars: SE)".into(),
@@ -415,14 +409,7 @@ fn hierarchy_plots(rows: &[HierarchyRow], dir: &Path) -> Result<(), Error> {
         line: true,
     };
     let d = |label: &str| ser(label, &|r| (r.0, r.2, r.3));
-    let spec = |title: &'static str, y: &'static str| PlotSpec {
-        title,
-        x_label: "gap w",
-        y_label: y,
-        log_x: false,
-        log_y: false,
-        ..Default::default()
-    };
+    let spec = |title: &'static str, y: &'static str| PlotSpec::new(title, "gap w", y);
     plot(
         &dir.join("fig3a-p-cf"),
         &spec(

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::register_font;
+use super::{draw_legend, png_bytes, register_font};
 use crate::Error;
 use crate::estimators::section::{Component, SectionResult};
 
@@ -88,14 +88,7 @@ fn draw<DB: DrawingBackend>(
         .map_err(|x| e(&x))?
         .label(localized)
         .legend(|(x, y)| Circle::new((x + 8, y), 5, BLACK));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 16))
-        .draw()
-        .map_err(|x| e(&x))?;
+    draw_legend(&mut chart, SeriesLabelPosition::LowerRight, 0.85, 16).map_err(|x| e(&x))?;
     area.present().map_err(|x| e(&x))
 }
 
@@ -112,16 +105,7 @@ pub fn section_png(r: &SectionResult, path: &Path) -> Result<Vec<u8>, Error> {
         BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(),
     )
     .map_err(failed)?;
-    let mut encoded = Vec::new();
-    image::ImageEncoder::write_image(
-        image::codecs::png::PngEncoder::new(&mut encoded),
-        &rgb,
-        SIZE.0,
-        SIZE.1,
-        image::ColorType::Rgb8,
-    )
-    .map_err(|x| Error::io("encode", path)(std::io::Error::other(x.to_string())))?;
-    Ok(encoded)
+    png_bytes(&rgb, SIZE, path)
 }
 
 /// Writes the section's figure to `path` (PNG, [`crate::files::write`]: a link there is refused,

@@ -31,14 +31,7 @@ pub fn write_sweep_figures(r: &SweepReport, dir: &Path) -> Result<(), Error> {
     };
     plot(
         &dir.join("fig2-D-vs-w"),
-        &PlotSpec {
-            title: "Diffusion coefficient D(w) (paper Fig. 2)",
-            x_label: "gap w",
-            y_label: "D",
-            log_x: false,
-            log_y: false,
-            ..Default::default()
-        },
+        &PlotSpec::new("Diffusion coefficient D(w) (paper Fig. 2)", "gap w", "D"),
         &[
             s("D (Einstein, this crate)", pts(&|x| (x.w, x.D, x.D_err))),
             s("Machta-Zwanzig D_MZ", pts(&|x| (x.w, x.D_MZ, 0.0))),
@@ -47,14 +40,11 @@ pub fn write_sweep_figures(r: &SweepReport, dir: &Path) -> Result<(), Error> {
     let off = r.boltzmann_offset.mean;
     plot(
         &dir.join("fig7-boltzmann"),
-        &PlotSpec {
-            title: &format!("D against 1/n (paper Fig. 7); D_Bo - {off:.4}"),
-            x_label: "1/n",
-            y_label: "D",
-            log_x: false,
-            log_y: false,
-            ..Default::default()
-        },
+        &PlotSpec::new(
+            &format!("D against 1/n (paper Fig. 7); D_Bo - {off:.4}"),
+            "1/n",
+            "D",
+        ),
         &[
             s("D", pts(&|x| (x.inv_n, x.D, x.D_err))),
             s(
@@ -72,14 +62,11 @@ pub fn write_sweep_figures(r: &SweepReport, dir: &Path) -> Result<(), Error> {
     }
     plot(
         &dir.join("fig8-residuals"),
-        &PlotSpec {
-            title: "Residuals of D from a linear fit in w (paper Fig. 8)",
-            x_label: "gap w",
-            y_label: "D - linear fit",
-            log_x: false,
-            log_y: false,
-            ..Default::default()
-        },
+        &PlotSpec::new(
+            "Residuals of D from a linear fit in w (paper Fig. 8)",
+            "gap w",
+            "D - linear fit",
+        ),
         &[
             s(
                 "mean over runs (error bar: from the batches)",

@@ -48,13 +48,8 @@ pub(super) fn histogram(
         line: true,
     });
     let spec = PlotSpec {
-        title,
-        x_label,
-        y_label: "batches",
-        log_x: false,
-        log_y: false,
         count_y: true,
-        ..Default::default()
+        ..PlotSpec::new(title, x_label, "batches")
     };
     plot(stem, &spec, &series)
 }

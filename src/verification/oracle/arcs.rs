@@ -114,12 +114,8 @@ pub fn fly<S: Scene>(
     steps: u32,
 ) -> Result<OracleReport, OracleFailure> {
     let label = format!("{} B={b:e}", scene.label());
-    let fail_at = |event: Option<u64>, reason: String, state: String| OracleFailure {
-        case,
-        scene: label.clone(),
-        event,
-        reason,
-        state,
+    let fail_at = |event: Option<u64>, reason: String, state: String| {
+        OracleFailure::new(case, &label, event, reason, state)
     };
     let lat = scene
         .lattice::<f64>(())

@@ -277,6 +277,26 @@ pub struct OracleFailure {
     pub state: String,
 }
 
+impl OracleFailure {
+    /// The failure of `case` on `scene` at `event` (`None`: before any event), for `reason`,
+    /// from `state` (its Debug form).
+    pub(crate) fn new(
+        case: Option<PrimitiveCase>,
+        scene: &str,
+        event: Option<u64>,
+        reason: String,
+        state: String,
+    ) -> Self {
+        OracleFailure {
+            case,
+            scene: scene.to_string(),
+            event,
+            reason,
+            state,
+        }
+    }
+}
+
 impl fmt::Display for OracleFailure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
@@ -303,13 +323,8 @@ pub fn replay_events<S: Scene>(
     events: u32,
 ) -> Result<OracleReport, OracleFailure> {
     let label = scene.label();
-    let setup = |reason: String| OracleFailure {
-        case,
-        scene: label.clone(),
-        event: None,
-        reason,
-        state: format!("{start:?}"),
-    };
+    let setup =
+        |reason: String| OracleFailure::new(case, &label, None, reason, format!("{start:?}"));
     let k64 = scene.kernel::<f64>(()).map_err(|e| setup(e.to_string()))?;
     let kref = scene
         .kernel::<Float>(ORACLE_BITS)
@@ -318,12 +333,8 @@ pub fn replay_events<S: Scene>(
     let mut rep = OracleReport::new(case, label.clone());
     for n in 0..events as u64 {
         let before = f.clone();
-        let fail = |reason: String| OracleFailure {
-            case,
-            scene: label.clone(),
-            event: Some(n),
-            reason,
-            state: format!("{before:?}"),
+        let fail = |reason: String| {
+            OracleFailure::new(case, &label, Some(n), reason, format!("{before:?}"))
         };
         let c = check_event(&k64, &kref, &f).map_err(|e| fail(format!("check_event: {e}")))?;
         let nums = [
@@ -398,12 +409,9 @@ pub fn decided_in_balls(data: &[u8]) -> Result<u64, OracleFailure> {
     };
     let mut decided = 0;
     for bits in [53, ORACLE_BITS] {
-        let fail = |event: Option<u64>, reason: String, state: String| OracleFailure {
-            case: Some(input.case),
-            scene: format!("triangular w={w:e} at {bits} bits"),
-            event,
-            reason,
-            state,
+        let scene = format!("triangular w={w:e} at {bits} bits");
+        let fail = |event: Option<u64>, reason: String, state: String| {
+            OracleFailure::new(Some(input.case), &scene, event, reason, state)
         };
         let trap = Trap::new(Float::with_val(bits, w))
             .map_err(|e| fail(None, e.to_string(), String::new()))?;

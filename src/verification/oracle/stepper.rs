@@ -24,13 +24,9 @@ pub fn step_lattice<S: Scene>(
     steps: u32,
 ) -> Result<OracleReport, OracleFailure> {
     let label = scene.label();
-    let lat = scene.lattice::<f64>(()).map_err(|e| OracleFailure {
-        case,
-        scene: label.clone(),
-        event: None,
-        reason: e.to_string(),
-        state: format!("{start:?}"),
-    })?;
+    let lat = scene
+        .lattice::<f64>(())
+        .map_err(|e| OracleFailure::new(case, &label, None, e.to_string(), format!("{start:?}")))?;
     let basis = lat.basis_f64();
     let bounds = EventBounds::new(lat.cell().clone());
     let diam = bounds.diam;
@@ -38,12 +34,8 @@ pub fn step_lattice<S: Scene>(
     let mut rep = OracleReport::new(case, label.clone());
     for n in 0..steps as u64 {
         let before = s.clone();
-        let fail = |reason: String| OracleFailure {
-            case,
-            scene: label.clone(),
-            event: Some(n),
-            reason,
-            state: format!("{before:?}"),
+        let fail = |reason: String| {
+            OracleFailure::new(case, &label, Some(n), reason, format!("{before:?}"))
         };
         let u_before = lat.unwrapped(&s, 0.0);
         let sg = s.cell.sign();

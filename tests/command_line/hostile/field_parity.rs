@@ -3,12 +3,12 @@
 
 use std::path::Path;
 
-use crate::common::{lorentz_in as lorentz, scratch};
+use crate::common::{lorentz_in as lorentz, scratch, words};
 
 fn field_sweep(dir: &Path) -> (i32, String, String) {
     let args = "sweep --w 0.2 --fields 1,2 --collisions-per-run 2e5 --batches-per-run 4 \
                 --localization-samples 1e4 --out s --quiet";
-    lorentz(dir, &args.split_whitespace().collect::<Vec<_>>())
+    lorentz(dir, &words(args))
 }
 
 /// Every point of a finished field sweep re-sealed with D_xx × 1.5 (its digest recomputed, as
@@ -67,7 +67,7 @@ fn a_field_at_its_bound_runs_and_beyond_it_is_refused_at_once_in_one_line() {
     let tmp = scratch();
     let dir = tmp.path();
     let shadow = "shadow --w 0.1 --field 1e-3 --segments 1 --collisions-per-segment 20 --quiet";
-    let (code, _, err) = lorentz(dir, &shadow.split_whitespace().collect::<Vec<_>>());
+    let (code, _, err) = lorentz(dir, &words(shadow));
     assert_eq!(code, 0, "{err}");
     for (args, says) in [
         (
@@ -84,7 +84,7 @@ fn a_field_at_its_bound_runs_and_beyond_it_is_refused_at_once_in_one_line() {
         ),
     ] {
         let started = std::time::Instant::now();
-        let (code, _, err) = lorentz(dir, &args.split_whitespace().collect::<Vec<_>>());
+        let (code, _, err) = lorentz(dir, &words(args));
         let took = started.elapsed().as_secs_f64();
         assert_eq!(code, 2, "{args}: {err}");
         assert!(

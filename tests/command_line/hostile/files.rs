@@ -15,7 +15,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use super::{first, lorentz, small_result, small_sweep};
-use crate::common::scratch;
+use crate::common::{scratch, words};
 
 /// Exit status, stdout and stderr.
 type Output = (i32, String, String);
@@ -156,16 +156,7 @@ fn a_six_gib_sparse_checkpoint_is_refused_from_its_size() {
     let t = Instant::now();
     let (code, _, err) = lorentz(
         dir,
-        &[
-            "diffusion",
-            "--w",
-            "0.2",
-            "--collisions",
-            "1e6",
-            "--checkpoint",
-            "big.ckpt",
-            "--quiet",
-        ],
+        &words("diffusion --w 0.2 --collisions 1e6 --checkpoint big.ckpt --quiet"),
     );
     assert!(t.elapsed() < Duration::from_secs(1), "{:?}", t.elapsed());
     assert_eq!(code, 2, "{err}");
@@ -201,7 +192,7 @@ fn a_linked_sweep_json_is_refused_before_any_work() {
     let t = Instant::now();
     let sweep = "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 2e7 \
                  --batches-per-run 4 --out out --quiet";
-    let (code, _, err) = lorentz(dir, &sweep.split_whitespace().collect::<Vec<_>>());
+    let (code, _, err) = lorentz(dir, &words(sweep));
     assert!(t.elapsed() < Duration::from_secs(1), "{:?}", t.elapsed());
     assert_eq!(code, 2, "{err}");
     assert_eq!(err.trim().lines().count(), 1, "{err}");

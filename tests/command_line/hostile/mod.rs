@@ -15,7 +15,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::common::{lorentz_in as lorentz, scratch};
+use crate::common::{lorentz_in as lorentz, scratch, words};
 
 mod cost_bounds;
 mod few_batches;
@@ -41,22 +41,11 @@ fn small_result(dir: &Path) -> String {
 /// The first line of stderr, which every refusal is.
 /// A sweep of `steps` points from w = 0.1 to 0.2 at tiny statistics, with `more` options, in `dir`.
 fn small_sweep(dir: &Path, steps: &str, more: &[&str]) -> (i32, String, String) {
-    let mut args = vec![
-        "sweep",
-        "--w-from",
-        "0.1",
-        "--w-to",
-        "0.2",
-        "--steps",
-        steps,
-        "--runs",
-        "2",
-        "--collisions-per-run",
-        "1e5",
-        "--batches-per-run",
-        "4",
-        "--quiet",
-    ];
+    let mut args = words("sweep --w-from 0.1 --w-to 0.2 --steps");
+    args.push(steps);
+    args.extend(words(
+        "--runs 2 --collisions-per-run 1e5 --batches-per-run 4 --quiet",
+    ));
     args.extend_from_slice(more);
     lorentz(dir, &args)
 }
@@ -205,20 +194,9 @@ fn a_checkpoint_path_that_is_not_a_journal_is_refused_and_left_as_it_was() {
 fn a_second_run_on_one_journal_is_refused_while_the_first_runs() {
     let tmp = scratch();
     let dir = tmp.path();
-    let args = [
-        "diffusion",
-        "--w",
-        "0.1",
-        "--collisions",
-        "2e10",
-        "--batches",
-        "4",
-        "--threads",
-        "1",
-        "--quiet",
-        "--checkpoint",
-        "run.ckpt",
-    ];
+    let args = words(
+        "diffusion --w 0.1 --collisions 2e10 --batches 4 --threads 1 --quiet --checkpoint run.ckpt",
+    );
     let mut first_run = start_checkpointed(dir, &args, Stdio::null());
     let (code, _, err) = lorentz(dir, &args);
     first_run.kill().unwrap();
@@ -234,16 +212,7 @@ fn a_report_with_a_skipped_check_is_incomplete_not_a_pass() {
     let out = small_result(dir);
     let (code, _, err) = lorentz(
         dir,
-        &[
-            "report",
-            "d.json",
-            "--quick",
-            "--max-rerun-collisions",
-            "0",
-            "--out",
-            "rep",
-            "--quiet",
-        ],
+        &words("report d.json --quick --max-rerun-collisions 0 --out rep --quiet"),
     );
     assert_eq!(code, 5, "{err}");
     assert!(first(&err).contains("INCOMPLETE"), "{err}");
@@ -272,15 +241,7 @@ fn fifos_are_refused_without_blocking() {
     mkfifo(&dir.join("fifo"));
     for args in [
         &["report", "fifo", "--quick", "--out", "rep"][..],
-        &[
-            "diffusion",
-            "--w",
-            "0.1",
-            "--collisions",
-            "1e6",
-            "--checkpoint",
-            "fifo",
-        ][..],
+        &words("diffusion --w 0.1 --collisions 1e6 --checkpoint fifo")[..],
     ] {
         let t = Instant::now();
         let (code, _, err) = lorentz(dir, args);
@@ -337,21 +298,9 @@ fn a_newline_in_a_slurm_path_is_refused_before_a_script_is_written() {
     let tmp = scratch();
     let dir = tmp.path();
     let out = dir.join("x\n#SBATCH --mem=1\nrm -rf ~");
-    let (code, _, err) = lorentz(
-        dir,
-        &[
-            "slurm",
-            "sweep",
-            "--w-from",
-            "0.1",
-            "--w-to",
-            "0.2",
-            "--array",
-            "2",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-    );
+    let mut args = words("slurm sweep --w-from 0.1 --w-to 0.2 --array 2 --out");
+    args.push(out.to_str().unwrap());
+    let (code, _, err) = lorentz(dir, &args);
     assert_eq!(code, 2, "{err}");
     assert!(first(&err).contains("control character"), "{err}");
     assert_eq!(std::fs::read_dir(dir).unwrap().count(), 0);
@@ -406,19 +355,7 @@ fn sigint_and_sigterm_save_exit_130_and_143_and_resume_to_the_same_bits() {
     let dir = tmp.path();
     // 32 batches fill the SIMD engine's 16 lanes on each of the 2 threads (4 batches ran at an
     // eighth of its speed): the run takes seconds, the signals come 0.3 s after it starts.
-    let run = [
-        "diffusion",
-        "--w",
-        "0.1",
-        "--collisions",
-        "2e8",
-        "--batches",
-        "32",
-        "--threads",
-        "2",
-        "--json",
-        "--quiet",
-    ];
+    let run = words("diffusion --w 0.1 --collisions 2e8 --batches 32 --threads 2 --json --quiet");
     let (code, reference, err) = lorentz(dir, &run);
     assert_eq!(code, 0, "{err}");
     let mut resumable = run.to_vec();

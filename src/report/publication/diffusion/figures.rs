@@ -34,13 +34,12 @@ pub(super) fn diffusion_figures(
     plot(
         &stem,
         &PlotSpec {
-            title: "Local slope D(t) = d MSD / (4 dt), with the recorded D",
-            x_label: "t (time; speed 1, lengths in disk radii)",
-            y_label: "D(t)",
-            log_x: false,
-            log_y: false,
             bands: &bands,
-            ..Default::default()
+            ..PlotSpec::new(
+                "Local slope D(t) = d MSD / (4 dt), with the recorded D",
+                "t (time; speed 1, lengths in disk radii)",
+                "D(t)",
+            )
         },
         &[
             Series {
