@@ -233,6 +233,7 @@ class BenchParams(TypedDict):
     field: Optional[str]
     straight_beside: bool
     oracle_floor: bool
+    diffusion_beside: bool
     table: Optional[str]
 
 class BenchLongFlightsParams(TypedDict):

@@ -378,6 +378,7 @@ def bench(
     progress: Progress = None,
     *,
     table: Optional[Table] = None,
+    diffusion_beside: bool = False,
 ) -> BenchResult:
     """The engine's speed on this machine (``lorentz bench``): ``repetitions`` runs of
     ``collisions_per_thread`` collisions on each of ``threads`` threads, timed, the median
@@ -435,6 +436,9 @@ def bench(
         TOML table file) timed beside the triangular gas at ``w`` (``lorentz bench --table``):
         each repetition of its straight flights right after the triangular one's, on the same
         threads and engine (its cell on the SIMD lanes), f64 without a ``field`` or observers.
+    diffusion_beside : bool, keyword only
+        With ``field``: time :func:`diffusion` in the field end to end too (as many collisions,
+        the same threads), each repetition right after the arcs' (``diffusion`` in the result).
 
     Returns
     -------
@@ -442,7 +446,10 @@ def bench(
         ``collisions_per_second`` (all threads) and ``collisions_per_second_per_thread``
         (collisions/s), ``ns_per_collision`` (ns per collision per thread), ``samples`` (each
         repetition's collisions/s), ``divider_bound`` (SIMD engine), ``meta``; with
-        ``straight_beside``: ``straight``; with ``oracle_floor``: ``oracle``, a dict (``steps``,
+        ``straight_beside``: ``straight``; with ``diffusion_beside``: ``diffusion``, a dict
+        (``collisions``, ``batches``, ``samples`` and ``collisions_per_second_per_thread`` in
+        collisions/s, ``over_engine``, its median over the engine's, and ``paired_ratio``, the
+        median of each repetition's ratio); with ``oracle_floor``: ``oracle``, a dict (``steps``,
         ``collisions`` and ``events`` over the tape, ``full_ns_per_collision`` and
         ``floor_ns_per_collision`` in ns, ``floor_collisions_per_second`` in collisions/s, and
         ``paired_ratio``, the median of floor over full time). With ``table``: ``table``, a dict
@@ -463,7 +470,8 @@ def bench(
                     "precision": str(precision) != "f64", "engine": engine != "auto",
                     "observe": observe != "none", "threads": threads != 1,
                     "field": field is not None, "straight_beside": bool(straight_beside),
-                    "oracle_floor": bool(oracle_floor), "table": table is not None},
+                    "oracle_floor": bool(oracle_floor), "table": table is not None,
+                    "diffusion_beside": bool(diffusion_beside)},
         )
     if collisions_per_radius != 1e6 or walk_collisions != 1e4 or scene != "square":
         raise ValueError(
@@ -483,6 +491,7 @@ def bench(
         "field": None if field is None else _exact("field", field),
         "straight_beside": bool(straight_beside),
         "oracle_floor": bool(oracle_floor),
+        "diffusion_beside": bool(diffusion_beside),
         "table": None if table is None else _table_json(table),
     })
     return BenchResult(text)

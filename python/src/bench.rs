@@ -45,6 +45,7 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let threads = p.parsed("threads", 1, |t| inputs::threads(Some(t)))?;
     let field = p.opt_text("field")?;
     let straight_beside = p.flag("straight_beside")?;
+    let diffusion_beside = p.flag("diffusion_beside")?;
     let oracle_floor = p.flag("oracle_floor")?;
     let table = p.opt_text("table")?;
     Ok(work(move |py, progress| {
@@ -63,6 +64,7 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             field,
             straight_beside,
             oracle_floor,
+            diffusion_beside,
             table_beside: table.as_deref().map(self::table).transpose()?,
         };
         json(&compute(py, progress, |ctl| {

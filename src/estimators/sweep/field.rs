@@ -316,7 +316,8 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<FieldSweepReport, Err
             Some(cfg.batches as u64),
             crate::numbers::precision::Precision::F64,
             Some(opts.threads),
-        ),
+        )
+        .with_engine(opts.engine.resolve(true)?),
     })
 }
 

@@ -108,7 +108,10 @@ pub(super) fn check(
 }
 
 /// `lanes` starts per thread from equilibrium (thread k: the seed's stream k, in order), each
-/// drawn again from the same stream while it is on a pinned orbit (which never collides).
+/// drawn again from the same stream while it is on a localized orbit: a pinned one never
+/// collides, and a skipping one makes several crossings per collision round its disk, so that
+/// its lane would hold the whole block back (the block runs until its slowest lane has its
+/// quota). A field run flies diffusing starts only, too.
 pub(super) fn starts<T: Real>(
     ctx: T::Ctx,
     trap64: &Trap<f64>,
@@ -131,14 +134,14 @@ pub(super) fn starts<T: Real>(
                         let p = lat64.world(&s64);
                         let sg = s64.cell.sign();
                         let (vx, vy) = (sg * s64.flight.vel.x, sg * s64.flight.vel.y);
-                        if geometry.classify(p.x, p.y, vx, vy) != Orbit::Pinned {
+                        if geometry.classify(p.x, p.y, vx, vy) == Orbit::Diffusing {
                             let mut s = LatticeState::convert_from_f64(ctx, &s64);
                             s.flight.normalise_speed();
                             return Ok(s);
                         }
                     }
                     Err(Error::Failed(
-                        "no start off a pinned orbit in 10^6 draws: almost every orbit is pinned at this field"
+                        "no diffusing start in 10^6 draws: almost every orbit is localized at this field"
                             .into(),
                     ))
                 })
