@@ -1,5 +1,31 @@
-"""The three panels the field examples share: D_xx(B), the Hall D_xy(B) and the localized share
-(exact and sampled), each over the whole phase space, against a logarithmic field axis."""
+"""What the field examples share: their command line (measure, or draw what an earlier run
+measured), and the three panels D_xx(B), the Hall D_xy(B) and the localized share (exact and
+sampled), each over the whole phase space, against a logarithmic field axis."""
+
+
+def measured(description, collisions, out, measure):
+    """The examples' command line: ``--collisions`` (default ``collisions``), ``--batches``,
+    ``--out`` (default ``out``), ``--json`` (write the measurements there) and ``--load`` (draw
+    from a file ``--json`` wrote instead of measuring). Returns the measurements,
+    ``measure(collisions, batches)`` or the file's, and the parsed arguments."""
+    import argparse
+    import json
+
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--collisions", default=collisions)
+    p.add_argument("--batches", type=int, default=16)
+    p.add_argument("--out", default=str(out))
+    p.add_argument("--json", default=None, help="write the measurements here")
+    p.add_argument("--load", default=None, help="draw from a file --json wrote")
+    args = p.parse_args()
+    if args.load:
+        with open(args.load) as f:
+            return json.load(f), args
+    data = measure(args.collisions, args.batches)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(data, f)
+    return data, args
 
 
 def draw_rows(ax, rows, label, colour):

@@ -15,8 +15,6 @@ bounded beyond the exact share and where the diffusing batches split marked. Bar
 standard errors.
 """
 
-import argparse
-import json
 import pathlib
 from fractions import Fraction
 
@@ -25,6 +23,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from _field_panels import measured  # noqa: E402
 
 W = "0.2"
 FIELDS = [str(Fraction(k, 10)) for k in range(1, 31)]
@@ -115,19 +114,7 @@ def draw(data, out):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--collisions", default="2e7")
-    p.add_argument("--batches", type=int, default=16)
-    p.add_argument("--out", default=str(OUT))
-    p.add_argument("--json", default=None, help="write the measurements here")
-    p.add_argument("--load", default=None, help="draw from a file --json wrote")
-    args = p.parse_args()
-    if args.load:
-        data = json.load(open(args.load))
-    else:
-        data = measure(args.collisions, args.batches)
-        if args.json:
-            json.dump(data, open(args.json, "w"))
+    data, args = measured(__doc__.splitlines()[0], "2e7", OUT, measure)
     draw(data, args.out)
 
 

@@ -13,8 +13,6 @@ lines have the slope D_sup of the corridors' exact t ln t law (``lg.constants(ra
 ln(1/B), for comparison only: the weak-field law is not derived. Bars are batch standard errors.
 """
 
-import argparse
-import json
 import math
 
 import matplotlib
@@ -22,7 +20,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from _field_panels import draw_rows, label_axes  # noqa: E402
+from _field_panels import draw_rows, label_axes, measured  # noqa: E402
 
 FIELDS = ["1/1000", "1/300", "1/100", "1/30", "1/10", "1/4", "1/2", "3/4", "1", "3/2", "2",
           "3", "4", "6"]
@@ -70,19 +68,10 @@ def draw(data, out):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--collisions", default="1e7")
-    p.add_argument("--batches", type=int, default=16)
-    p.add_argument("--out", default="field-square.png")
-    p.add_argument("--json", default=None, help="write the measurements here")
-    p.add_argument("--load", default=None, help="draw from a file --json wrote")
-    args = p.parse_args()
-    if args.load:
-        data = json.load(open(args.load))
-    else:
-        data = [measure(r, args.collisions, args.batches) for r in ("1/4", "1/3")]
-        if args.json:
-            json.dump(data, open(args.json, "w"))
+    data, args = measured(
+        __doc__.splitlines()[0], "1e7", "field-square.png",
+        lambda n, k: [measure(r, n, k) for r in ("1/4", "1/3")],
+    )
     draw(data, args.out)
 
 

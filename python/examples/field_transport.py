@@ -10,15 +10,13 @@ and the exact localized share with the sampled one. Bars are batch standard erro
 which every orbit is localized (2/|B| <= w) have D = 0 exactly and are drawn as such.
 """
 
-import argparse
-import json
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from _field_panels import draw_rows, label_axes  # noqa: E402
+from _field_panels import draw_rows, label_axes, measured  # noqa: E402
 
 FIELDS = ["1/20", "1/10", "1/5", "7/20", "1/2", "3/4", "1", "3/2", "2", "3", "4", "5", "7",
           "10", "14", "20"]
@@ -40,19 +38,10 @@ def measure(w, collisions, batches):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--collisions", default="2e7")
-    p.add_argument("--batches", type=int, default=16)
-    p.add_argument("--out", default="field-transport.png")
-    p.add_argument("--json", default=None, help="write the measurements here")
-    p.add_argument("--load", default=None, help="draw from a file --json wrote")
-    args = p.parse_args()
-    if args.load:
-        data = json.load(open(args.load))
-    else:
-        data = [measure(w, args.collisions, args.batches) for w in ("0.1", "0.2", "0.3")]
-        if args.json:
-            json.dump(data, open(args.json, "w"))
+    data, args = measured(
+        __doc__.splitlines()[0], "2e7", "field-transport.png",
+        lambda n, k: [measure(w, n, k) for w in ("0.1", "0.2", "0.3")],
+    )
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
     for d, colour in zip(data, ["C0", "C3", "C2"]):
         draw_rows(ax, d["rows"], f"w = {d['w']}", colour)
