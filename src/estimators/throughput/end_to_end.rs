@@ -12,9 +12,8 @@ use crate::Error;
 use crate::engine::Engine;
 use crate::engine::options::RunOptions;
 use crate::estimators::diffusion::DiffusionConfig;
-use crate::scenes::spec::Table;
 
-use super::median;
+use super::{ThroughputConfig, median};
 
 /// The diffusion analysis in the field, timed beside the arc engine in the same run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -43,28 +42,31 @@ pub(super) struct DiffusionRuns {
 }
 
 impl DiffusionRuns {
-    /// `lorentz diffusion` on `table` in the field `b` (its double), `collisions` collisions on
-    /// `threads` threads with `engine`, otherwise the command's defaults.
+    /// With `cfg.diffusion_beside` and a `field`: `lorentz diffusion` on `cfg`'s table in the
+    /// field (its double), `collisions` collisions on the benchmark's threads and engine,
+    /// otherwise the command's defaults; `None` otherwise.
     ///
     /// # Errors
     /// A field whose double has no exact text (not finite).
-    pub(super) fn new(
-        table: Table,
-        b: f64,
+    pub(super) fn beside(
+        cfg: &ThroughputConfig,
+        field: Option<f64>,
         collisions: u64,
-        engine: Engine,
-        threads: usize,
-    ) -> Result<Self, Error> {
+        options: &RunOptions,
+    ) -> Result<Option<Self>, Error> {
+        let Some(b) = field.filter(|_| cfg.diffusion_beside) else {
+            return Ok(None);
+        };
         let text =
             crate::numbers::exact::exact_text_of(b).ok_or(Error::NotFinite { what: "field" })?;
-        let table = table.in_field(&text);
+        let table = cfg.table.in_field(&text);
         let samples = crate::estimators::diffusion::DEFAULT_LOCALIZATION_SAMPLES;
-        Ok(DiffusionRuns {
+        Ok(Some(DiffusionRuns {
             cfg: DiffusionConfig::sized(table, Some(collisions), None, samples),
-            engine,
-            threads,
+            engine: options.engine,
+            threads: options.threads,
             rates: Vec::new(),
-        })
+        }))
     }
 
     /// One run, timed.

@@ -474,13 +474,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         .transpose()?;
     let (threads, progress) = (options.threads, options.progress);
     let per_rep = collisions / lanes(resolved) as u64 * (lanes(resolved) * threads) as u64;
-    let mut diffusion = field
-        .filter(|_| cfg.diffusion_beside)
-        .map(|b| {
-            let table = cfg.table.clone();
-            end_to_end::DiffusionRuns::new(table, b, per_rep, options.engine, threads)
-        })
-        .transpose()?;
+    let mut diffusion = end_to_end::DiffusionRuns::beside(cfg, field, per_rep, options)?;
     let unit = divider_unit(resolved, field);
     let (samples, cpc, beside) = precision.dispatch(TimeRuns {
         engine: resolved,
@@ -507,15 +501,7 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         .map(|(b, path)| arcs::oracle_floor(path, w, b, seed, collisions, reps))
         .transpose()?;
     let ns_per_collision = 1e9 * threads as f64 / m;
-    let divider_bound = unit.map(|unit| {
-        let per_collision = unit.ns_per_event * (1.0 + cpc);
-        let fraction = per_collision / ns_per_collision;
-        BoundReport {
-            unit,
-            ns_per_collision: per_collision,
-            fraction,
-        }
-    });
+    let divider_bound = unit.map(|unit| divider_bound(unit, cpc, ns_per_collision));
     Ok(Throughput {
         w,
         collisions_per_thread: collisions,
@@ -536,6 +522,17 @@ pub fn run(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Throughput, E
         diffusion,
         meta: RunMeta::new(Some(seed), None, precision, Some(threads)).with_engine(resolved),
     })
+}
+
+/// The divider's bound `unit` against the engine's `ns_per_collision`, `cpc` crossings per
+/// collision.
+fn divider_bound(unit: DividerBound, cpc: f64, ns_per_collision: f64) -> BoundReport {
+    let per_collision = unit.ns_per_event * (1.0 + cpc);
+    BoundReport {
+        unit,
+        ns_per_collision: per_collision,
+        fraction: per_collision / ns_per_collision,
+    }
 }
 
 /// The divider bound of one event on the SIMD path `resolved` runs (none on the scalar engine):
