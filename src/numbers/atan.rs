@@ -17,6 +17,8 @@
 //! test drawing 10⁶ arguments against MPFR finds at most 1.86) is derived in
 //! `proofs-notes/observable-angles.md`.
 
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
+
 use super::lanes::Lanes;
 
 /// tan(π/8) rounded: the reduction's thresholds (a boundary off by rounding only widens |u|
@@ -39,10 +41,10 @@ const P: [f64; 11] = [
 ];
 
 /// π/4, π/2, 3π/4 and π as the double nearest and the double nearest the remainder.
-const PI_4: [f64; 2] = [0.785_398_163_397_448_3, 3.061_616_997_868_383e-17];
-const PI_2: [f64; 2] = [1.570_796_326_794_896_6, 6.123_233_995_736_766e-17];
+const PI_4: [f64; 2] = [FRAC_PI_4, 3.061_616_997_868_383e-17];
+const PI_2: [f64; 2] = [FRAC_PI_2, 6.123_233_995_736_766e-17];
 const PI_3_4: [f64; 2] = [2.356_194_490_192_345, 9.184_850_993_605_148e-17];
-const PI: [f64; 2] = [3.141_592_653_589_793, 1.224_646_799_147_353_2e-16];
+const PI: [f64; 2] = [std::f64::consts::PI, 1.224_646_799_147_353_2e-16];
 
 /// atan2(y, x) ∈ [−π, π] in every lane, for finite arguments, within 3 units in the last place;
 /// except that both arguments zero give 0 (of either sign: an arc of no length turns by no
