@@ -35,9 +35,19 @@ RUNS = {
 }
 
 
+@pytest.fixture
+def python_handles_ctrl_c():
+    """Python's own SIGINT handler for the length of a test. A shell starts a background job
+    with SIGINT ignored, and Python then installs no handler of its own: the Ctrl-C a test sends
+    would be ignored and the run it should stop would go on for its hour (issue 59)."""
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, before)
+
+
 @pytest.mark.parametrize("threads", [1, 2])
 @pytest.mark.parametrize("analysis", sorted(RUNS))
-def test_ctrl_c_stops_a_long_run_within_a_second(analysis, threads):
+def test_ctrl_c_stops_a_long_run_within_a_second(analysis, threads, python_handles_ctrl_c):
     before = os_threads()
     sent = {}
 
@@ -57,6 +67,22 @@ def test_ctrl_c_stops_a_long_run_within_a_second(analysis, threads):
     while os_threads() > before and time.monotonic() < deadline:
         time.sleep(0.05)
     assert os_threads() <= before
+
+
+def test_the_ctrl_c_test_passes_where_sigint_is_ignored_as_in_a_background_job():
+    """Run in a process that inherits SIGINT ignored, as a shell's background job does, the
+    Ctrl-C test stops its run (with its own handler) instead of running for the run's hour."""
+    import subprocess
+    import sys
+
+    r = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", __file__,
+         "-k", "ctrl_c_stops and backscatter and 1"],
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
+        capture_output=True, text=True, timeout=120,
+    )
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+    assert "1 passed" in r.stdout
 
 
 def test_the_gil_is_released_while_computing():
