@@ -36,6 +36,7 @@ from ._results import (
     ConstantsTable,
     LyapunovResult,
     ReportResult,
+    Result,
     ShadowResult,
     TrajectoryResult,
 )
@@ -554,7 +555,7 @@ def constants(
 
 @public
 def report(
-    path: PathLike,
+    path: Union[PathLike, Result],
     out: Optional[PathLike] = None,
     quick: bool = False,
     reference_bits: Count = 128,
@@ -567,7 +568,14 @@ def report(
     ``out`` (default: next to the file). The verdict is the result's ``verdict``: PASS, FAIL, or
     INCOMPLETE when a check was skipped (re-runs beyond ``max_rerun_collisions``, by default
     1e12 or 2e9 with ``quick``; too few batches to judge); it is returned, not raised (``raise
-    CheckFailedError`` yourself to stop a pipeline)."""
+    CheckFailedError`` yourself to stop a pipeline).
+
+    ``path`` may be a result itself (``lg.report(lg.diffusion(...), out="audit")``): its JSON is
+    written to ``out``/result.json first (``out`` is then required; a result.json already there
+    must be this result's, byte for byte, else ``ValueError``), and that file is audited, so the
+    report names a file that stays beside it."""
+    if isinstance(path, Result):
+        path = _result_file(path, out)
     text, printed = _run(_native.report, progress, 0, "coll", {
         "path": os.fspath(path),
         "out": _path(out),
@@ -578,3 +586,29 @@ def report(
         "threads": _threads(threads),
     })
     return ReportResult(text, printed=printed)
+
+
+def _result_file(result: Result, out: Optional[PathLike]) -> str:
+    """``out``/result.json holding ``result``'s JSON: created, or found with exactly that text;
+    never another file overwritten."""
+    if out is None:
+        raise ValueError(
+            "report(result): give out= (a directory): the result is written there as "
+            "result.json, beside report.md, report.html and report.json"
+        )
+    folder = os.fspath(out)
+    os.makedirs(folder, exist_ok=True)
+    file = os.path.join(folder, "result.json")
+    text = result.to_json()
+    try:
+        with open(file, "x", encoding="utf-8") as f:
+            f.write(text)
+    except FileExistsError:
+        if os.path.islink(file) or not os.path.isfile(file):
+            raise ValueError(f"{file}: not a regular file; give another out=") from None
+        with open(file, encoding="utf-8") as f:
+            if f.read() != text:
+                raise ValueError(
+                    f"{file} holds another result: give another out= (nothing overwritten)"
+                ) from None
+    return file

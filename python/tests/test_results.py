@@ -185,6 +185,28 @@ def test_str_of_a_report_is_the_command_lines_text(cli, tmp_path):
     assert "PASS" in str(result).splitlines()[-1]
 
 
+def test_a_result_goes_straight_into_the_audit(tmp_path):
+    d = lg.diffusion(w=0.1, collisions=1.6e6, batches=16)
+    audit = tmp_path / "audit"
+    assert lg.report(d, out=audit, quick=True).verdict == "PASS"
+    assert (audit / "result.json").read_text() == d.to_json()
+    assert (audit / "report.json").is_file()
+    # Again into the same folder: the same file is found there and audited again.
+    assert lg.report(d, out=audit, quick=True).verdict == "PASS"
+    other = lg.diffusion(w=0.1, collisions=1.6e6, batches=16, seed=2)
+    with pytest.raises(ValueError, match="holds another result"):
+        lg.report(other, out=audit, quick=True)
+    assert (audit / "result.json").read_text() == d.to_json(), "a file was overwritten"
+    with pytest.raises(ValueError, match="give out="):
+        lg.report(d)
+    # A link where the file would go is never written through.
+    (tmp_path / "linked").mkdir()
+    (tmp_path / "linked" / "result.json").symlink_to(tmp_path / "elsewhere.json")
+    with pytest.raises(ValueError, match="not a regular file"):
+        lg.report(d, out=tmp_path / "linked", quick=True)
+    assert not (tmp_path / "elsewhere.json").exists()
+
+
 def test_str_of_a_reproduction_is_the_command_lines_text_and_its_steps_resume_there(cli, tmp_path):
     # One reproduction (about 100 s on 2 cores), made in Python; the command line then finds
     # every step finished in the same folder and prints the same lines, each marked resumed
