@@ -283,7 +283,7 @@ class FieldSweepResult(Result):
     ``bounded_fraction_err``, below ``bounded_fraction_upper`` at 95 %) and ``split`` (its
     diffusing batches not one component); each field is also an attribute. ``onsager`` lists the ±B checks
     (``d_xx_even``, ``d_xy_odd``: difference, err, z, bound) and ``onsager_agrees`` their
-    verdict; ``to_pandas()`` gives the table."""
+    verdict; ``to_pandas()`` gives the table, ``to_pandas("onsager")`` the checks."""
 
     _text_kind = "field-sweep"
 
@@ -298,6 +298,29 @@ class FieldSweepResult(Result):
         for k in keys:
             if k not in self._data:
                 setattr(self, k, self.rows[k])
+
+    def _tables(self) -> Dict[str, np.ndarray]:
+        """``rows``, and ``onsager`` flattened: one record per |B| with ``w`` (or ``radius``),
+        ``field`` and each check's ``difference``, ``err``, ``dof``, ``z`` and ``bound`` as
+        ``d_xx_even_z``, ``d_xy_odd_bound``, ...."""
+        tables = super()._tables()
+        checks = self._data.get("onsager") or []
+        if checks:
+            flat = [
+                {**{k: c[k] for k in ("w", "radius", "field") if k in c},
+                 **{f"{name}_{k}": v for name in ("d_xx_even", "d_xy_odd")
+                    for k, v in c[name].items()}}
+                for c in checks
+            ]
+            keys = list(flat[0])
+            tables["onsager"] = np.array([tuple(r[k] for k in keys) for r in flat],
+                                         dtype=[(k, np.float64) for k in keys])
+        return tables
+
+    def to_pandas(self, table: Optional[str] = "rows"):
+        """``rows`` as a ``pandas.DataFrame`` (needs pandas), or ``table="onsager"``: the ±B
+        checks, one row per |B|."""
+        return super().to_pandas(table)
 
     def _summary(self) -> str:
         n = len(self.rows)

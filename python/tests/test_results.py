@@ -234,6 +234,13 @@ def test_str_of_a_sweep_in_a_field_is_the_command_lines_text_before_its_files(cl
     assert written.startswith(f"written: {tmp_path / 's'}/field-sweep.")
     assert str(result) == "\n".join(table)
     assert str(result).splitlines()[-1].startswith("Onsager-Casimir at radius = 0.25, |B| = 1:")
+    pytest.importorskip("pandas")
+    assert list(result.to_pandas()["field"]) == [1.0, -1.0]
+    checks = result.to_pandas("onsager")
+    c = result.onsager[0]
+    assert list(checks["field"]) == [1.0] and list(checks["radius"]) == [0.25]
+    assert checks["d_xx_even_z"][0] == c["d_xx_even"]["z"]
+    assert checks["d_xy_odd_bound"][0] == c["d_xy_odd"]["bound"]
 
 
 def test_str_is_the_command_lines_text(run, cli):
