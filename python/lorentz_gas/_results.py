@@ -300,7 +300,7 @@ class FieldSweepResult(Result):
                 setattr(self, k, self.rows[k])
 
     def _tables(self) -> Dict[str, np.ndarray]:
-        """``rows``, and ``onsager`` flattened: one record per |B| with ``w`` (or ``radius``),
+        """``rows``, and ``onsager`` flattened: one record per ``|B|`` with ``w`` (or ``radius``),
         ``field`` and each check's ``difference``, ``err``, ``dof``, ``z`` and ``bound`` as
         ``d_xx_even_z``, ``d_xy_odd_bound``, ...."""
         tables = super()._tables()
@@ -319,7 +319,7 @@ class FieldSweepResult(Result):
 
     def to_pandas(self, table: Optional[str] = "rows"):
         """``rows`` as a ``pandas.DataFrame`` (needs pandas), or ``table="onsager"``: the ±B
-        checks, one row per |B|."""
+        checks, one row per ``|B|``."""
         return super().to_pandas(table)
 
     def _summary(self) -> str:
