@@ -22,6 +22,7 @@ class DiffusionParams(TypedDict):
     w: Optional[str]
     radius: Optional[str]
     rel_err: Optional[float]
+    plan_only: bool
     collisions: Optional[str]
     batches: str
     seed: str

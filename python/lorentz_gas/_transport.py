@@ -61,6 +61,7 @@ def diffusion(
     progress: Progress = None,
     *,
     rel_err: Optional[float] = None,
+    plan_only: bool = False,
     msd_grid: str = "fit",
     scene: str = "triangular",
     radius: Optional[Exact] = None,
@@ -116,6 +117,13 @@ def diffusion(
         size it plans runs (the bits of a plain run of that size, resumable with
         ``checkpoint``); ``pilot`` in the result records the pilot. The error reached scatters
         by about 13 % about the target with 32 batches (the pilot's error is itself estimated).
+        The planned run continues the pilot's trajectories rather than computing them again,
+        and a resumed planned run takes its pilot from its checkpoint.
+    plan_only : bool
+        With ``rel_err``: run the pilot only and return its result, with ``pilot`` and ``plan``
+        (the collisions the target needs, ``plan["collisions"]``, and the seconds they take at
+        the pilot's speed, ``plan["seconds"]``), without the planned run. Takes no
+        ``checkpoint`` or ``audit``.
     msd_grid : {"fit", "log"}
         Where the MSD is kept: ``"fit"``, the fit windows' lags (which D is fitted from);
         ``"log"``, also a logarithmic grid from an eighth of the mean free time on (four times
@@ -148,8 +156,12 @@ def diffusion(
         ``localized_fraction_exact``, ``localized_fraction`` ± ``localized_fraction_err``,
         ``mean_free_time`` against Kac's ``mean_free_time_exact``.
     """
+    if plan_only and rel_err is None:
+        raise ValueError("plan_only=True plans a run for a relative error: give rel_err too")
     # A planned run's size is known only after its pilot: a bar without a total.
-    total = None if rel_err is not None else _total(_count("collisions", 2e9 if collisions is None else collisions))
+    default = 2e8 if rel_err is not None else 2e9
+    size = _total(_count("collisions", default if collisions is None else collisions))
+    total = None if rel_err is not None and not plan_only else size
     text = _run(_native.diffusion, progress, total, "coll", {
         **_where(scene, table, w, radius),
         "collisions": None if collisions is None else _count("collisions", collisions),
@@ -169,6 +181,7 @@ def diffusion(
         "audit": None if audit is None else float(audit),
         "field": None if field is None else _exact("field", field),
         "rel_err": None if rel_err is None else float(rel_err),
+        "plan_only": bool(plan_only),
         "msd_grid": str(msd_grid),
     })
     if '"D_xy"' in text:

@@ -5,7 +5,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
-use lorentz_gas::estimators::diffusion::{DiffusionConfig, MsdGrid, Window};
+use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, MsdGrid, Window};
 use lorentz_gas::estimators::transport;
 use lorentz_gas::scenes::spec::{Motion, Table};
 
@@ -26,6 +26,7 @@ fn window(name: &str, (lo, hi): (f64, f64)) -> PyResult<Window> {
 pub fn read(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let place = Where::read(p)?;
     let rel_err = p.opt_number("rel_err")?;
+    let plan_only = p.flag("plan_only")?;
     let collisions = p.opt_count_u64("collisions")?;
     let (batches, seed) = (p.count_u32("batches")?, p.count_u64("seed")?);
     let precision = p.precision()?;
@@ -67,7 +68,10 @@ pub fn read(p: &Params<'_, '_>) -> PyResult<Work<String>> {
                 checkpoint_every: every,
                 ..options(ctl, threads, engine)
             };
-            transport::run(&cfg, &opts)
+            match plan_only {
+                true => diffusion::plan::plan_only(&cfg, &opts).map(|r| transport::Transport::Trap(Box::new(r))),
+                false => transport::run(&cfg, &opts),
+            }
         })?;
         json(&r)
     }))

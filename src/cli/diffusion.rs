@@ -33,6 +33,10 @@ pub struct Args {
     /// run of that size; resumable with --checkpoint). From 1e-7 to 0.5.
     #[arg(long, allow_negative_numbers = true)]
     rel_err: Option<f64>,
+    /// With --rel-err: run the pilot only and print its result with the plan (the collisions the
+    /// target needs and how long they take at the pilot's speed), without the planned run.
+    #[arg(long, requires = "rel_err", conflicts_with_all = ["checkpoint", "audit"])]
+    plan_only: bool,
     /// Independent batches (trajectories), at least 2; the error bar is their standard error.
     #[arg(long, default_value = "32", value_parser = parse_count_u32, allow_negative_numbers = true)]
     batches: u32,
@@ -109,6 +113,12 @@ pub fn recorded_config(a: &Args) -> Result<serde_json::Value, Error> {
 pub fn run(a: Args) -> Result<(), Error> {
     let cfg = config(&a)?;
     let opts = options(&a)?;
+    if a.plan_only {
+        let r = with_progress(cfg.collisions, "collisions (pilot)", a.output.quiet, &opts, |o| {
+            diffusion::plan::plan_only(&cfg, o)
+        })?;
+        return emit(a.output.json, &r, print);
+    }
     if cfg.rel_err.is_some() {
         let r = run_planned(&cfg, &opts, a.output.quiet)?;
         return emit(a.output.json, &r, print);
@@ -166,20 +176,27 @@ fn run_planned(
     opts: &RunOptions,
     quiet: bool,
 ) -> Result<DiffusionReport, Error> {
-    let (first, pilot) = with_progress(cfg.collisions, "collisions (pilot)", quiet, opts, |o| {
+    let first = with_progress(cfg.collisions, "collisions (pilot)", quiet, opts, |o| {
         diffusion::plan::pilot(cfg, o)
     })?;
-    let full = diffusion::plan::planned_config(cfg, &pilot);
+    let pilot = &first.pilot;
+    let full = diffusion::plan::planned_config(cfg, pilot);
     if !quiet {
-        let rate = first.collisions_per_second.max(f64::MIN_POSITIVE);
+        let rate = match &first.report {
+            Some(r) => r.collisions_per_second,
+            None => pilot.collisions as f64 / pilot.seconds,
+        };
         eprintln!(
-            "pilot: {:.3e} collisions gave a relative error of {:.3} %; {} % needs {:.2e} \
+            "pilot{}: {:.3e} collisions gave a relative error of {:.3} %; {} % needs {:.2e} \
              collisions, about {} here{}",
+            if first.report.is_none() { " (from the checkpoint)" } else { "" },
             pilot.collisions as f64,
             100.0 * pilot.rel_err,
             100.0 * pilot.rel_err_target,
             pilot.planned_collisions as f64,
-            lorentz_gas::engine::progress_lines::clock(pilot.planned_collisions as f64 / rate),
+            lorentz_gas::engine::progress_lines::clock(
+                pilot.planned_collisions as f64 / rate.max(f64::MIN_POSITIVE)
+            ),
             if full.is_none() {
                 ": the pilot is the run"
             } else {
@@ -189,7 +206,7 @@ fn run_planned(
     }
     let total = full.as_ref().map_or(0, |f| f.collisions);
     with_progress(total, "collisions", quiet || full.is_none(), opts, |o| {
-        diffusion::plan::finish(cfg, first, pilot, o)
+        diffusion::plan::finish(cfg, first, o)
     })
 }
 

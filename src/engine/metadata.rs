@@ -36,6 +36,10 @@ pub struct RunMeta {
     pub threads: Option<usize>,
     /// The command line of the process that produced the result.
     pub command_line: Vec<String>,
+    /// In a checkpoint's header only: the pilot that planned the run's size (a diffusion run
+    /// planned for a relative error), so that a resumed planned run need not run it again.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pilot: Option<serde_json::Value>,
 }
 
 impl RunMeta {
@@ -65,6 +69,7 @@ impl RunMeta {
             simd: None,
             threads,
             command_line: std::env::args().collect(),
+            pilot: None,
         }
     }
 

@@ -76,6 +76,16 @@ fn digest_of(_salt: &str, _v: &Value) -> Result<String, Error> {
 pub const NO_CHECKPOINTS: &str = "this build of lorentz-gas keeps no checkpoints or sealed \
      files: build the library with its `checkpoints` feature (on by default)";
 
+/// The metadata in the header of the journal at `path`, if it is a readable journal (`None`
+/// otherwise: opening it decides what it is). What it says is untrusted: a caller validates what
+/// it uses, and the journal's own open checks the header's digest and configuration.
+pub fn header_meta(path: &Path) -> Option<RunMeta> {
+    crate::files::check_writable(path).ok()??;
+    let text = crate::files::read_to_string(path, crate::files::Cap::CHECKPOINT).ok()?;
+    let first = text.lines().next()?;
+    serde_json::from_str::<Header<Value>>(first).ok()?.meta
+}
+
 /// The first line of a journal.
 #[derive(Serialize, Deserialize)]
 struct Header<C> {

@@ -24,7 +24,6 @@ use crate::engine::Engine;
 use crate::engine::checkpoint::Quota;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{AuditSpec, RunOption, RunOptions};
-use crate::engine::work::Work;
 use crate::kernel::trap::Trap;
 use crate::numbers::precision::Precision;
 use crate::observers::counters::Counters;
@@ -36,6 +35,7 @@ mod config;
 pub mod curve;
 mod execution;
 pub mod plan;
+mod plain;
 mod resumed;
 pub mod scene;
 mod summary;
@@ -269,73 +269,7 @@ pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionRepor
     if cfg.rel_err.is_some() {
         return plan::run(cfg, options);
     }
-    // Below w_inf a flight crosses at most a few traps: the collisions are the work.
-    Work::new(
-        "diffusion",
-        work_lower(cfg.precision),
-        cfg.collisions as f64,
-    )
-    .simd()
-    .at(cfg.precision)
-    .audited(options.audit)
-    .check(options.threads)?;
-    check_audit(options, cfg.precision)?;
-    let audit = options.audit;
-    let (spec, g) = setup(cfg, options.engine, options.threads, audit)?;
-    let (resolved, tau) = (spec.engine, spec.watch.tau);
-    let start = Instant::now();
-    let jobs: Vec<Job> = cfg.jobs().collect();
-    // The header records the engine that runs, not the default.
-    let meta = RunMeta::new(
-        Some(cfg.seed),
-        Some(cfg.batches as u64),
-        cfg.precision,
-        None,
-    )
-    .with_engine(resolved);
-    let keep = open_keeper(options, CHECKPOINT_KIND, cfg, Some(meta), &jobs)?;
-    resumed::recheck_one_batch(
-        &keep,
-        &jobs,
-        std::slice::from_ref(cfg),
-        options.engine,
-        options.resume.as_deref(),
-    )?;
-    let resumed = keep.finished().count() as u32;
-    let todo: Vec<Job> = jobs
-        .into_iter()
-        .filter(|j| !keep.is_finished(&j.quota()))
-        .collect();
-    let new = execute(&todo, spec, &keep, options.progress)?;
-    // The trajectories resumed in flight had made part of their collisions in earlier runs.
-    let earlier = keep.in_flight_collisions(None);
-    let run_now: u64 = new
-        .iter()
-        .map(|b| b.counters.collisions)
-        .sum::<u64>()
-        .saturating_sub(earlier);
-    let mut done: Vec<BatchResult> = keep.finished().map(|(_, b)| b.clone()).collect();
-    let earlier = earlier + done.iter().map(|b| b.counters.collisions).sum::<u64>();
-    done.extend(new);
-    done.sort_by_key(|b| b.index);
-    let seconds = start.elapsed().as_secs_f64();
-    let mut rep = summarise(
-        cfg,
-        &g,
-        tau,
-        &done,
-        options.threads,
-        seconds,
-        resumed,
-        run_now,
-    )?;
-    rep.meta = rep.meta.with_engine(resolved);
-    rep.resumed_collisions = earlier;
-    rep.plan = plan::next_decade(&rep);
-    if resumed > 0 || keep.in_flight_count() > 0 {
-        check_resumed_identities(&rep, options.resume.as_deref())?;
-    }
-    Ok(rep)
+    plain::run(cfg, options, plain::Planned::Alone).map(|(r, _)| r)
 }
 
 /// Refuses a run `c` that cannot be packed with `first`: another MSD grid than the fit one, or
@@ -502,7 +436,7 @@ pub fn run_many(
         &keep,
         &jobs,
         cfgs,
-        options.engine,
+        (options.engine, options.stop.as_ref()),
         options.resume.as_deref(),
     )?;
     let todo: Vec<Job> = jobs

@@ -10,13 +10,16 @@
 //! 1/√(2(B − 1)) (13 %) of the target relative error, not exactly on it.
 //!
 //! A planned run ([`DiffusionConfig::rel_err`]) is two plain runs of the same seed and batches: a
-//! pilot of `collisions` (no checkpoint: it is short and recomputed on a resume, to the same
-//! plan), then, if the pilot's error is above the target, the planned size. The result is the
-//! second run, bit for bit the plain run of that size, with the pilot recorded beside it.
+//! pilot of `collisions` (no checkpoint of its own), then, if the pilot's error is above the
+//! target, the planned size, which continues the pilot's trajectories instead of computing them
+//! again and records the pilot in its checkpoint's header, so that a resumed planned run does not
+//! run the pilot again. The result is the second run, bit for bit the plain run of that size,
+//! with the pilot recorded beside it.
 
 use serde::{Deserialize, Serialize};
 
-use super::{DiffusionConfig, DiffusionReport};
+use super::plain::{Planned, PilotCarry};
+use super::{BatchResult, DiffusionConfig, DiffusionReport};
 use crate::Error;
 use crate::engine::options::RunOptions;
 
@@ -62,6 +65,12 @@ pub struct Pilot {
     pub seconds: f64,
     /// The collisions planned from it (the result's, unless the pilot already met the target).
     pub planned_collisions: u64,
+    /// Whether the planned run continued the pilot's trajectories (their first
+    /// `collisions` / batches collisions each) instead of computing them again: with the MSD on
+    /// the fit grid and no per-event audit, and not when the pilot was taken from the planned
+    /// run's checkpoint. Either way the result has the same bits.
+    #[serde(default)]
+    pub continued: bool,
 }
 
 /// Refuses a target outside [`REL_ERR_RANGE`] (or not a number).
@@ -97,8 +106,9 @@ pub fn collisions_for(collisions: u64, batches: u32, achieved: f64, target: f64)
 }
 
 /// The plan for the next decade below a run's own relative error (0.046 % plans for 0.01 %),
-/// at the run's speed; `None` without a positive error or speed.
-pub fn next_decade(rep: &DiffusionReport) -> Option<Plan> {
+/// at the run's speed — or, where this invocation ran nothing (a finished run reopened), at the
+/// speed its batches recorded ([`recorded_speed`]); `None` without a positive error or speed.
+pub fn next_decade(rep: &DiffusionReport, done: &[BatchResult]) -> Option<Plan> {
     let achieved = rep.D_err / rep.D.abs();
     if !(achieved > 0.0 && achieved.is_finite()) {
         return None;
@@ -106,26 +116,59 @@ pub fn next_decade(rep: &DiffusionReport) -> Option<Plan> {
     let decade = 10f64.powi(achieved.log10().ceil() as i32 - 1);
     let batches = rep.meta.batches.unwrap_or(2) as u32;
     let collisions = collisions_for(rep.collisions, batches, achieved, decade)?;
-    (rep.collisions_per_second > 0.0).then(|| Plan {
+    let speed = match rep.collisions_per_second {
+        s if s > 0.0 => s,
+        _ => recorded_speed(done, rep.meta.threads.unwrap_or(1)),
+    };
+    (speed > 0.0 && speed.is_finite()).then(|| Plan {
         rel_err: decade,
         collisions,
-        seconds: collisions as f64 / rep.collisions_per_second,
+        seconds: collisions as f64 / speed,
     })
 }
 
+/// The speed the `batches` recorded, on `threads` threads: their collisions over their seconds
+/// (each batch's seconds are its thread's time, or its share of its SIMD block's) times the
+/// threads. A batch resumed from a state in flight recorded only its last invocation's time, so
+/// this overstates the speed by at most the share of such batches.
+pub fn recorded_speed(batches: &[BatchResult], threads: usize) -> f64 {
+    let collisions: u64 = batches.iter().map(|b| b.counters.collisions).sum();
+    let seconds: f64 = batches.iter().map(|b| b.seconds).sum();
+    collisions as f64 / seconds * threads as f64
+}
+
+/// A planned run's pilot: its record, its result (`None` when a resumed planned run found the
+/// pilot in its checkpoint's header instead of running it), and its trajectories for the planned
+/// run to continue.
+pub struct PilotRun {
+    /// The pilot's record.
+    pub pilot: Pilot,
+    /// The pilot's own result.
+    pub report: Option<DiffusionReport>,
+    /// The pilot's trajectories.
+    carry: Option<PilotCarry>,
+}
+
 /// Runs the pilot of the planned run `cfg` (its `collisions`, without checkpoint or audit) and
-/// plans the target `cfg.rel_err` from it.
+/// plans the target `cfg.rel_err` from it — or takes the pilot from the header of the planned
+/// run's checkpoint (`options.resume`) if that run was started, so that a resumed planned run
+/// does not run its pilot again.
 ///
 /// # Errors
 /// As [`super::run`]; a configuration without `rel_err` is refused.
-pub fn pilot(
-    cfg: &DiffusionConfig,
-    options: &RunOptions,
-) -> Result<(DiffusionReport, Pilot), Error> {
+pub fn pilot(cfg: &DiffusionConfig, options: &RunOptions) -> Result<PilotRun, Error> {
     let target = cfg
         .rel_err
         .ok_or_else(|| Error::missing("rel_err", "a pilot needs the relative error to plan for"))?;
     check_rel_err(target)?;
+    cfg.validate()?;
+    if let Some(pilot) = kept_pilot(cfg, options) {
+        return Ok(PilotRun {
+            pilot,
+            report: None,
+            carry: None,
+        });
+    }
     let plain = DiffusionConfig {
         rel_err: None,
         ..cfg.clone()
@@ -135,7 +178,7 @@ pub fn pilot(
         audit: None,
         ..options.clone()
     };
-    let rep = super::run(&plain, &quiet)?;
+    let (rep, carry) = super::plain::run(&plain, &quiet, Planned::Pilot)?;
     let achieved = rep.D_err / rep.D.abs();
     let planned = collisions_for(cfg.collisions, cfg.batches, achieved, target).ok_or_else(|| {
         Error::parameter(
@@ -153,8 +196,54 @@ pub fn pilot(
         rel_err: achieved,
         seconds: rep.seconds,
         planned_collisions: planned.max(cfg.collisions),
+        continued: false,
     };
-    Ok((rep, pilot))
+    Ok(PilotRun {
+        pilot,
+        report: Some(rep),
+        carry,
+    })
+}
+
+/// The pilot recorded in the header of the checkpoint at `options.resume`, if it is this planned
+/// run's: the same target and pilot size, and a planned size the pilot's error gives. The
+/// journal's own open then checks that the checkpoint is the planned run's.
+fn kept_pilot(cfg: &DiffusionConfig, options: &RunOptions) -> Option<Pilot> {
+    let meta = crate::engine::resume::header_meta(options.resume.as_deref()?)?;
+    let p: Pilot = serde_json::from_value(meta.pilot?).ok()?;
+    let again = collisions_for(p.collisions, cfg.batches, p.rel_err, p.rel_err_target)?;
+    let ours = p.rel_err_target == cfg.rel_err? && p.collisions == cfg.collisions;
+    (ours && p.planned_collisions == again.max(p.collisions) && p.seconds >= 0.0).then_some(p)
+}
+
+/// The plan alone (`--plan-only`): the pilot of the planned run `cfg`, whose result it returns
+/// with the pilot recorded and `plan` the plan for the target — its collisions, and how long they
+/// take at the pilot's speed (a loaded machine runs the planned run slower; the progress of the
+/// planned run estimates its end from its own speed). Nothing is kept on disk.
+///
+/// # Errors
+/// As [`pilot`]; a checkpoint or per-event audit in `options` (a pilot keeps and audits nothing).
+pub fn plan_only(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionReport, Error> {
+    if options.resume.is_some() || options.audit.is_some() {
+        return Err(Error::parameter(
+            "plan_only",
+            "true",
+            "the plan alone runs the pilot only, which keeps no checkpoint and has no audit: \
+             drop checkpoint and audit, or plan_only",
+        ));
+    }
+    let first = pilot(cfg, options)?;
+    let mut rep = first
+        .report
+        .ok_or_else(|| Error::Failed("a pilot without a checkpoint gave no result".into()))?;
+    let p = first.pilot;
+    rep.plan = Some(Plan {
+        rel_err: p.rel_err_target,
+        collisions: p.planned_collisions,
+        seconds: p.planned_collisions as f64 / rep.collisions_per_second,
+    });
+    rep.pilot = Some(p);
+    Ok(rep)
 }
 
 /// The plain run a pilot plans: `cfg` at the planned size, without `rel_err`; `None` when the
@@ -173,31 +262,41 @@ pub fn planned_config(cfg: &DiffusionConfig, pilot: &Pilot) -> Option<DiffusionC
 /// # Errors
 /// As [`super::run`].
 pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionReport, Error> {
-    let (first, pilot) = self::pilot(cfg, options)?;
-    finish(cfg, first, pilot, options)
+    finish(cfg, pilot(cfg, options)?, options)
 }
 
-/// After the pilot `first` of `cfg`: the run it plans, or the pilot itself where it met the
-/// target (run again with `options`' audit if one is asked for), with the pilot recorded.
+/// After the pilot `first` of `cfg`: the run it plans, continuing the pilot's trajectories where
+/// their observers are the planned run's (the fit grid; no per-event audit, which replays a
+/// trajectory from its start), or the pilot itself where it met the target (run again with
+/// `options`' audit if one is asked for), with the pilot recorded.
 ///
 /// # Errors
 /// As [`super::run`].
 pub fn finish(
     cfg: &DiffusionConfig,
-    first: DiffusionReport,
-    pilot: Pilot,
+    first: PilotRun,
     options: &RunOptions,
 ) -> Result<DiffusionReport, Error> {
-    let mut rep = match planned_config(cfg, &pilot) {
-        Some(full) => super::run(&full, options)?,
-        None if options.audit.is_some() => super::run(
+    let mut pilot = first.pilot;
+    let ran_now = first.report.is_some();
+    let mut rep = match (planned_config(cfg, &pilot), first.report) {
+        (Some(full), _) => {
+            let same_observers = full.msd_grid == super::MsdGrid::Fit && options.audit.is_none();
+            let carry = first.carry.filter(|_| same_observers);
+            // A pilot taken from the checkpoint's header keeps what it recorded.
+            if ran_now {
+                pilot.continued = carry.is_some();
+            }
+            super::plain::run(&full, options, Planned::After(pilot, carry))?.0
+        }
+        (None, Some(rep)) if options.audit.is_none() => rep,
+        (None, _) => super::run(
             &DiffusionConfig {
                 rel_err: None,
                 ..cfg.clone()
             },
             options,
         )?,
-        None => first,
     };
     rep.pilot = Some(pilot);
     Ok(rep)

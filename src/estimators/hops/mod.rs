@@ -405,10 +405,11 @@ fn measure(cfg: &HopsConfig, options: &RunOptions) -> Result<(Vec<Hops>, Resolve
     Ok((all.into_iter().map(|(_, h)| h).collect(), resolved))
 }
 
-/// Computes one finished batch of `keep` again, drawn at random (operating-system entropy), on
-/// the scalar engine (the same bits as the SIMD one) and refuses the checkpoint unless its hop
-/// statistics are the recorded ones: digests stop accidents, not someone who recomputes them
-/// (`proofs-notes/checkpoints.md`, claim 3).
+/// Checks one finished batch of `keep`, drawn at random (operating-system entropy), on the
+/// scalar engine (the same bits as the SIMD one) from its seed to its first mark and from its
+/// second mark to its end, and refuses the checkpoint unless its hop statistics are the recorded
+/// ones: digests stop accidents, not someone who recomputes them (`proofs-notes/checkpoints.md`,
+/// claim 3).
 fn recheck_one_batch(
     keep: &Keeper<Hops, Hops>,
     jobs: &[Quota],
@@ -417,26 +418,16 @@ fn recheck_one_batch(
     order: usize,
     options: &RunOptions,
 ) -> Result<(), Error> {
-    let Some(((_, index), recorded)) = keep.random_finished() else {
-        return Ok(());
+    let run = |j: &Quota, k: &Keeper<Hops, Hops>| -> Result<Hops, Error> {
+        let mut h = HopLanes::new(order, 1)?;
+        drive_kept(lat, (), j, || start(j.index), &mut h, k, &|_| {})?;
+        Ok(h.into_lanes().remove(0))
     };
-    let job = jobs.iter().find(|j| j.index == index);
-    let mut h = HopLanes::new(order, 1)?;
-    if let Some(j) = job {
-        let none = Keeper::<Hops, Hops>::none();
-        drive_kept(lat, (), j, || start(j.index), &mut h, &none, &|_| {})?;
-    }
-    let fresh = h.into_lanes().remove(0);
-    let same =
-        job.is_some() && serde_json::to_value(&fresh).ok() == serde_json::to_value(recorded).ok();
-    if !same {
-        return Err(crate::engine::checkpoint::recomputed_differs(
-            options.resume.as_deref(),
-            &format!("batch {index}"),
-            "hop statistics",
-        ));
-    }
-    Ok(())
+    let json = |h: &Hops| serde_json::to_value(h).ok();
+    let same = |a: &Hops, b: &Hops| json(a).is_some() && json(a) == json(b);
+    let stop = options.stop.as_ref();
+    let at = (options.resume.as_deref(), "hop statistics");
+    crate::engine::checkpoint::recheck_one_batch(keep, jobs, stop, &run, &same, at)
 }
 
 /// The sequence probabilities of every length 1 … `order` (batch means and errors by name), and

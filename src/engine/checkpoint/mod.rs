@@ -8,22 +8,31 @@
 //! has the uninterrupted bits on any engine and thread count (`proofs-notes/checkpoints.md`).
 
 use std::collections::{BTreeMap, HashMap};
-use std::path::{Path, PathBuf};
+use std::path::Path;
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use super::metadata::RunMeta;
-use super::observe::Observer;
 use super::options::StopFlag;
 use super::resume::Journal;
-use super::simd::BLOCK;
-use super::{SimdPath, drive, run_block};
 use crate::Error;
-use crate::kernel::cell::CellKernel;
 use crate::numbers::real::Real;
-use crate::scenes::lattice::{ExactState, Lattice, LatticeState};
+use crate::scenes::lattice::{ExactState, LatticeState};
+
+mod carry;
+mod drive;
+mod marks;
+mod quarantine;
+
+pub use carry::Carry;
+use drive::{SEGMENT_F64, SEGMENT_MPFR};
+pub use drive::{drive_kept, drive_kept_with, run_block_kept};
+pub use marks::{MARK, recheck_one_batch};
+pub(crate) use quarantine::quarantined;
+pub use quarantine::{quarantine, recomputed_differs};
 
 /// An observer whose accumulators, lane by lane, can be saved and put back exactly.
 pub trait LaneCheckpoint {
@@ -62,6 +71,11 @@ pub enum Record<F, S> {
         index: u32,
         /// Its result.
         result: F,
+        /// The trajectory's states at its marks ([`MARK`] collisions from either end), with which
+        /// a resumed run checks this batch in bounded time ([`recheck_one_batch`]); none for a
+        /// batch too short to have marks, or kept by an older version.
+        #[serde(default = "Vec::new", skip_serializing_if = "Vec::is_empty")]
+        marks: Vec<InFlight<S>>,
     },
     /// A trajectory in flight.
     InFlight(InFlight<S>),
@@ -83,49 +97,6 @@ pub struct InFlight<S> {
     pub observers: S,
 }
 
-/// Most collisions per trajectory between two looks at the clock and the stop flag on the SIMD
-/// and `f64` engines, and at MPFR precision; [`Pace`] keeps each segment near
-/// [`SEGMENT_TIME`] below these.
-const SEGMENT_F64: u64 = 1 << 20;
-const SEGMENT_MPFR: u64 = 1 << 14;
-
-/// The wall time a segment aims at: a stop requested mid-segment is honoured within about this
-/// much (a few times it on a loaded machine).
-const SEGMENT_TIME: Duration = Duration::from_millis(100);
-
-/// Segment lengths that follow the wall time of the segments done: the first is short
-/// ([`FIRST_SEGMENT`] collisions), and each next one is twice or half the last while the last
-/// took under half or over twice [`SEGMENT_TIME`], within `max`. Where the segments end never
-/// changes the bits (the drives continue a state exactly).
-struct Pace {
-    len: u64,
-    max: u64,
-}
-
-/// Collisions per trajectory of the first segment of a watched run.
-const FIRST_SEGMENT: u64 = 1 << 10;
-
-impl Pace {
-    /// Segments of at most `max` collisions (`u64::MAX`: one segment, nobody watches).
-    fn new(max: u64) -> Self {
-        let len = if max == u64::MAX {
-            max
-        } else {
-            FIRST_SEGMENT.min(max)
-        };
-        Pace { len, max }
-    }
-
-    /// The next segment's length, the last having taken `took`.
-    fn after(&mut self, took: Duration) -> u64 {
-        if took < SEGMENT_TIME / 2 {
-            self.len = self.len.saturating_mul(2).min(self.max);
-        } else if took > SEGMENT_TIME * 2 {
-            self.len = (self.len / 2).max(1);
-        }
-        self.len
-    }
-}
 
 /// The work of a run kept on disk (or nowhere): what was found when it started, and where new
 /// work goes.
@@ -137,6 +108,14 @@ pub struct Keeper<F, S> {
     in_flight: HashMap<(u64, u32), InFlight<S>>,
     /// A request to stop, looked at between segments (`None`: the run is not watched).
     stop: Option<StopFlag>,
+    /// Whether trajectories stop at their marks ([`MARK`]) to keep their states there.
+    marking: bool,
+    /// The collisions of each trajectory of the run, for its marks (a probe runs part of one).
+    quotas: HashMap<(u64, u32), u64>,
+    /// The states kept at the marks, by trajectory.
+    marks: Mutex<HashMap<(u64, u32), Vec<InFlight<S>>>>,
+    /// The trajectories' final states, where they are captured ([`Keeper::capturing`]).
+    ends: Option<Mutex<Vec<InFlight<S>>>>,
 }
 
 impl<F, S> Keeper<F, S>
@@ -152,6 +131,10 @@ where
             finished: BTreeMap::new(),
             in_flight: HashMap::new(),
             stop: None,
+            marking: false,
+            quotas: HashMap::new(),
+            marks: Mutex::new(HashMap::new()),
+            ends: None,
         }
     }
 
@@ -199,26 +182,46 @@ where
             finished: BTreeMap::new(),
             in_flight: HashMap::new(),
             stop: None,
+            // Marks are states in flight: kept only where those are saved.
+            marking: every.is_some(),
+            quotas: quota.iter().map(|(&k, q)| (k, q.collisions)).collect(),
+            marks: Mutex::new(HashMap::new()),
+            ends: None,
         };
         for r in records {
             k.take(p, r, &quota, fits)?;
         }
         k.in_flight.retain(|key, _| !k.finished.contains_key(key));
-        let mut kept: Vec<Record<F, S>> = k
-            .finished
-            .iter()
+        journal.rewrite(&k.compacted())?;
+        k.journal = Some(journal);
+        Ok(k)
+    }
+
+    /// The records a journal is rewritten to when it is opened: the finished batches (with their
+    /// marks), then the newest state of each trajectory in flight and its marks before it.
+    fn compacted(&self) -> Vec<Record<F, S>> {
+        let marks = self.lock_marks();
+        let mut kept: Vec<Record<F, S>> = (self.finished.iter())
             .map(|(&(run, index), b)| Record::Finished {
                 run,
                 index,
                 result: b.clone(),
+                marks: marks.get(&(run, index)).cloned().unwrap_or_default(),
             })
             .collect();
-        let mut flying: Vec<&InFlight<S>> = k.in_flight.values().collect();
+        let mut flying: Vec<&InFlight<S>> = self.in_flight.values().collect();
         flying.sort_by_key(|f| (f.run, f.index));
-        kept.extend(flying.into_iter().cloned().map(Record::InFlight));
-        journal.rewrite(&kept)?;
-        k.journal = Some(journal);
-        Ok(k)
+        for f in flying {
+            let earlier = marks.get(&(f.run, f.index)).into_iter().flatten();
+            kept.extend(
+                earlier
+                    .filter(|m| m.collisions < f.collisions)
+                    .cloned()
+                    .map(Record::InFlight),
+            );
+            kept.push(Record::InFlight(f.clone()));
+        }
+        kept
     }
 
     /// Adds record `r` of the journal at `p`, checked against the jobs' quotas.
@@ -239,7 +242,12 @@ where
             )
         };
         match r {
-            Record::Finished { run, index, result } => {
+            Record::Finished {
+                run,
+                index,
+                result,
+                marks,
+            } => {
                 let key = (run, index);
                 if !quota.get(&key).is_some_and(|q| fits(q, &result)) {
                     return Err(foreign(run, index, "is not a batch of this run"));
@@ -247,6 +255,8 @@ where
                 if self.finished.insert(key, result).is_some() {
                     return Err(foreign(key.0, key.1, "appears twice"));
                 }
+                self.take_marks(key, marks)
+                    .map_err(|why| foreign(run, index, why))?;
             }
             Record::InFlight(f) => {
                 let key = (f.run, f.index);
@@ -257,6 +267,8 @@ where
                         "is not a trajectory in flight of this run",
                     ));
                 }
+                self.take_marks(key, vec![f.clone()])
+                    .map_err(|why| foreign(f.run, f.index, why))?;
                 let newer = self
                     .in_flight
                     .get(&key)
@@ -299,20 +311,6 @@ where
         f + self.in_flight.values().map(|s| s.collisions).sum::<u64>()
     }
 
-    /// One finished batch found at the start, `((run, index), result)`, drawn uniformly with
-    /// operating-system entropy, so that no one editing the checkpoint can know which: the batch
-    /// a resumed run computes again to check the checkpoint (`None` if none is finished).
-    pub fn random_finished(&self) -> Option<((u64, u32), &F)> {
-        let n = self.finished.len();
-        if n == 0 {
-            return None;
-        }
-        self.finished
-            .iter()
-            .nth(rand::random_range(0..n))
-            .map(|(k, f)| (*k, f))
-    }
-
     /// Collisions of the trajectories in flight that this run resumed (of run `run` only, if
     /// given): work an earlier invocation did.
     pub fn in_flight_collisions(&self, run: Option<u64>) -> u64 {
@@ -339,16 +337,18 @@ where
         }
     }
 
-    /// Keeps the finished batch `result` of `job`.
+    /// Keeps the finished batch `result` of `job`, with its marks.
     pub fn finish(&self, job: &Quota, result: &F) -> Result<(), Error> {
-        match &self.journal {
-            Some(j) => j.append(&Record::Finished {
-                run: job.run,
-                index: job.index,
-                result: result.clone(),
-            }),
-            None => Ok(()),
-        }
+        let Some(j) = &self.journal else {
+            return Ok(());
+        };
+        let marks = self.lock_marks().remove(&(job.run, job.index));
+        j.append(&Record::Finished {
+            run: job.run,
+            index: job.index,
+            result: result.clone(),
+            marks: marks.unwrap_or_default(),
+        })
     }
 
     /// Saves the trajectories in flight that `states` yields if an interval has passed since
@@ -379,212 +379,5 @@ impl<S> InFlight<S> {
     /// The saved state at number type `T`.
     pub fn state<T: Real>(&self, ctx: T::Ctx) -> Result<LatticeState<T>, Error> {
         LatticeState::from_exact(ctx, &self.state)
-    }
-}
-
-/// The refusal of the checkpoint at `path` whose finished `batch`, computed again from its seed,
-/// did not give the recorded `values` ([`Keeper::random_finished`]). The file is moved aside
-/// first ([`quarantine`]): a refused checkpoint cannot be resumed again as it is, so retrying does
-/// not draw again until an honest batch comes up — the next run starts afresh.
-pub fn recomputed_differs(path: Option<&Path>, batch: &str, values: &str) -> Error {
-    let shown = path.map_or_else(|| "the checkpoint".into(), |p| p.display().to_string());
-    let moved = path.map(quarantine);
-    Error::Failed(format!(
-        "{shown}: {batch}, computed again from its seed to check the checkpoint, does not give the \
-         recorded {values}: the checkpoint was edited (its digests recomputed) or belongs to \
-         another configuration; {}",
-        quarantined(moved)
-    ))
-}
-
-/// What became of a refused file, for the refusal: moved aside, or why not.
-pub(crate) fn quarantined(moved: Option<Result<PathBuf, Error>>) -> String {
-    match moved {
-        Some(Ok(to)) => format!(
-            "it is moved to {} and cannot be resumed; the same command starts afresh",
-            to.display()
-        ),
-        Some(Err(e)) => format!("it could not be moved aside ({e}): do not resume it"),
-        None => "use another file".into(),
-    }
-}
-
-/// Moves the file at `path` aside to `PATH.refused` (or `PATH.refused.N`), never over an
-/// existing file: what a re-check refused cannot be resumed again as it is. The name is linked
-/// first and the old one removed, so the file is never lost and nothing is replaced; where hard
-/// links are not supported it is renamed to a name that does not exist.
-///
-/// # Errors
-/// An I/O error naming the path, or 1000 names taken.
-pub fn quarantine(path: &Path) -> Result<PathBuf, Error> {
-    use std::io::ErrorKind;
-    let name = path.file_name().unwrap_or_default().to_string_lossy();
-    for n in 0..1000 {
-        let to = path.with_file_name(match n {
-            0 => format!("{name}.refused"),
-            _ => format!("{name}.refused.{n}"),
-        });
-        match std::fs::hard_link(path, &to) {
-            Ok(()) => {
-                std::fs::remove_file(path).map_err(Error::io("remove", path))?;
-                return Ok(to);
-            }
-            Err(e) if e.kind() == ErrorKind::AlreadyExists => continue,
-            Err(_) if std::fs::symlink_metadata(&to).is_err() => {
-                std::fs::rename(path, &to).map_err(Error::io("rename", path))?;
-                return Ok(to);
-            }
-            Err(e) => return Err(Error::io("link", path)(e)),
-        }
-    }
-    Err(Error::Failed(format!(
-        "{}: 1000 refused copies of it are already beside it",
-        path.display()
-    )))
-}
-
-/// Runs `job`'s trajectory on the scalar engine at precision `ctx` until it has made its
-/// collisions — from `start()`, or from its saved state if it was in flight (with `obs`'s lane
-/// put back) — in segments, saving it at `keep`'s interval. Returns the final state. The same
-/// bits as [`drive`] in one piece.
-///
-/// # Errors
-/// A saved state that does not fit, a lost next event, or an I/O error of the journal.
-pub fn drive_kept<T, K, O, F>(
-    lat: &Lattice<T, K>,
-    ctx: T::Ctx,
-    job: &Quota,
-    start: impl FnOnce() -> LatticeState<T>,
-    obs: &mut O,
-    keep: &Keeper<F, O::Lane>,
-    progress: &dyn Fn(u64),
-) -> Result<LatticeState<T>, Error>
-where
-    T: Real,
-    K: CellKernel<T>,
-    O: Observer<1> + LaneCheckpoint,
-    F: Serialize + DeserializeOwned + Clone,
-{
-    let step = |s: &mut LatticeState<T>, q: u64, obs: &mut O| drive(lat, s, q, obs, progress);
-    drive_kept_with(ctx, job, start, obs, keep, step)
-}
-
-/// [`drive_kept`] with the engine given as `step(state, collisions, observer)`: the scalar
-/// engine, or the one with long flights ([`super::long_flight::drive_jumps`]). A run resumed from
-/// a checkpoint continues with the same engine, so the same bits as `step` in one piece.
-///
-/// # Errors
-/// As [`drive_kept`].
-pub fn drive_kept_with<T, O, F>(
-    ctx: T::Ctx,
-    job: &Quota,
-    start: impl FnOnce() -> LatticeState<T>,
-    obs: &mut O,
-    keep: &Keeper<F, O::Lane>,
-    mut step: impl FnMut(&mut LatticeState<T>, u64, &mut O) -> Result<(), Error>,
-) -> Result<LatticeState<T>, Error>
-where
-    T: Real,
-    O: Observer<1> + LaneCheckpoint,
-    F: Serialize + DeserializeOwned + Clone,
-{
-    let (mut s, mut done) = match keep.resumed(job) {
-        Some(f) => {
-            obs.restore_lane(0, &f.observers)?;
-            (f.state::<T>(ctx)?, f.collisions)
-        }
-        None => (start(), 0),
-    };
-    let mut pace = Pace::new(keep.segment(T::bits(ctx) > 53));
-    let mut segment = pace.len;
-    let mut last = Instant::now();
-    while done < job.collisions {
-        let q = (job.collisions - done).min(segment);
-        keep.check_stop()?;
-        let began = Instant::now();
-        step(&mut s, q, obs)?;
-        segment = pace.after(began.elapsed());
-        done += q;
-        if done < job.collisions {
-            keep.save_if_due(&mut last, || vec![in_flight(job, done, &s, obs, 0)])?;
-        }
-    }
-    Ok(s)
-}
-
-/// Runs up to [`BLOCK`] trajectories `jobs` together on the SIMD engine's `path` (the lanes of
-/// `kernel`: the triangular trap or a convex cell) until each has
-/// made its collisions — lane l from `start(l)`, or from its saved state if it was in flight
-/// (with `obs`'s lane put back) — in segments, saving them at `keep`'s interval. Returns the
-/// final states. The same bits as [`run_block`] in one piece.
-///
-/// # Errors
-/// As [`run_block`], a saved state that does not fit, or an I/O error of the journal.
-pub fn run_block_kept<O, F, K>(
-    path: SimdPath,
-    kernel: &K,
-    jobs: &[Quota],
-    start: impl Fn(usize) -> LatticeState<f64>,
-    obs: &mut O,
-    keep: &Keeper<F, O::Lane>,
-    progress: &dyn Fn(u64),
-) -> Result<Vec<LatticeState<f64>>, Error>
-where
-    O: Observer<BLOCK> + LaneCheckpoint,
-    F: Serialize + DeserializeOwned + Clone,
-    K: super::BlockKernel,
-{
-    let mut states = Vec::with_capacity(jobs.len());
-    let mut done = vec![0u64; jobs.len()];
-    for (l, j) in jobs.iter().enumerate() {
-        match keep.resumed(j) {
-            Some(f) => {
-                obs.restore_lane(l, &f.observers)?;
-                states.push(f.state::<f64>(())?);
-                done[l] = f.collisions;
-            }
-            None => states.push(start(l)),
-        }
-    }
-    let mut pace = Pace::new(keep.segment(false));
-    let mut segment = pace.len;
-    let mut last = Instant::now();
-    loop {
-        let quotas: Vec<u64> = jobs
-            .iter()
-            .zip(&done)
-            .map(|(j, d)| (j.collisions - d).min(segment))
-            .collect();
-        if quotas.iter().all(|&q| q == 0) {
-            return Ok(states);
-        }
-        keep.check_stop()?;
-        let began = Instant::now();
-        run_block(path, kernel, &mut states, &quotas, obs, progress)?;
-        segment = pace.after(began.elapsed());
-        done.iter_mut().zip(&quotas).for_each(|(d, q)| *d += q);
-        keep.save_if_due(&mut last, || {
-            (0..jobs.len())
-                .filter(|&l| done[l] < jobs[l].collisions)
-                .map(|l| in_flight(&jobs[l], done[l], &states[l], obs, l))
-                .collect()
-        })?;
-    }
-}
-
-/// Lane `l`'s trajectory in flight: `job` after `collisions` collisions in `state`.
-fn in_flight<T: Real, O: LaneCheckpoint>(
-    job: &Quota,
-    collisions: u64,
-    state: &LatticeState<T>,
-    obs: &O,
-    l: usize,
-) -> InFlight<O::Lane> {
-    InFlight {
-        run: job.run,
-        index: job.index,
-        collisions,
-        state: state.to_exact(),
-        observers: obs.save_lane(l),
     }
 }
