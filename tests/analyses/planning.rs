@@ -32,6 +32,7 @@ fn a_planned_run_is_the_plain_run_of_its_size_and_reaches_its_target() {
     )
     .unwrap();
     let p = planned.pilot.expect("a planned run records its pilot");
+    assert!(p.continued, "the planned run continues the pilot's trajectories");
     assert_eq!(p.rel_err.to_bits(), pilot_rel.to_bits());
     assert_eq!((p.collisions, p.rel_err_target), (pilot_size, target));
     assert_eq!(
@@ -105,4 +106,76 @@ fn every_run_plans_the_next_decade() {
     assert!(n >= exact && n <= exact * 1.1 + 32.0, "{n} for {exact}");
     assert_eq!(p.collisions % 32, 0);
     assert!((p.seconds - n / r.collisions_per_second).abs() <= 1e-9 * p.seconds);
+}
+
+/// A planned run kept in a checkpoint records its pilot in the checkpoint's header: reopened, it
+/// runs neither the pilot (the progress it reports is the planned run's collisions exactly, not
+/// the pilot's besides) nor any batch again, and prints the same result with the same keys, its
+/// plan for the next decade included. Breaking it on purpose — dropping the pilot from the
+/// header — reports the pilot's 4·10⁶ collisions as well and fails.
+#[test]
+fn a_reopened_planned_run_runs_neither_its_pilot_nor_its_batches_again() {
+    use lorentz_gas::engine::options::RunOptions;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let tmp = crate::common::scratch();
+    let cfg = DiffusionConfig {
+        collisions: 4_000_000,
+        batches: 8,
+        rel_err: Some(2e-3),
+        ..DiffusionConfig::new(0.2)
+    };
+    let path = tmp.path().join("planned.jsonl");
+    let opts = RunOptions {
+        resume: Some(path.clone()),
+        ..crate::common::threads(2)
+    };
+    let first = diffusion::run(&cfg, &opts).unwrap();
+    let p = first.pilot.unwrap();
+    assert!(p.continued && p.planned_collisions > cfg.collisions, "{p:?}");
+    let reported = AtomicU64::new(0);
+    let count = |n: u64| {
+        reported.fetch_add(n, Ordering::Relaxed);
+    };
+    let again = diffusion::run(
+        &cfg,
+        &RunOptions {
+            progress: &count,
+            ..opts.clone()
+        },
+    )
+    .unwrap();
+    assert_eq!(reported.load(Ordering::Relaxed), p.planned_collisions);
+    assert_eq!(again.resumed_batches, 8);
+    assert_eq!(again.D.to_bits(), first.D.to_bits());
+    assert_eq!(again.pilot, first.pilot);
+    let keys = |r: &diffusion::DiffusionReport| {
+        let v = serde_json::to_value(r).unwrap();
+        let o = v.as_object().unwrap().clone();
+        o.into_iter().filter(|(_, x)| !x.is_null()).map(|(k, _)| k).collect::<Vec<_>>()
+    };
+    assert_eq!(keys(&again), keys(&first));
+    assert_eq!(
+        again.plan.map(|p| p.collisions),
+        first.plan.map(|p| p.collisions)
+    );
+}
+
+/// The plan alone: the pilot's result, with the pilot and the plan for the target, which a
+/// planned run of the same pilot then runs to (the same collisions).
+#[test]
+fn the_plan_alone_is_the_pilot_with_the_plan_for_the_target() {
+    let cfg = DiffusionConfig {
+        collisions: 4_000_000,
+        batches: 8,
+        rel_err: Some(2e-3),
+        ..DiffusionConfig::new(0.2)
+    };
+    let only = plan::plan_only(&cfg, &crate::common::threads(2)).unwrap();
+    let p = only.pilot.unwrap();
+    let plan = only.plan.unwrap();
+    assert_eq!(only.collisions, cfg.collisions);
+    assert_eq!((plan.rel_err, plan.collisions), (2e-3, p.planned_collisions));
+    assert!(plan.seconds > 0.0);
+    let planned = diffusion::run(&cfg, &crate::common::threads(2)).unwrap();
+    assert_eq!(planned.collisions, plan.collisions);
 }

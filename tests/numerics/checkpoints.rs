@@ -207,7 +207,8 @@ fn edited_and_forged_checkpoints_are_refused() {
     // One batch's flight time changed by 1 %: refused, naming file and line.
     let line = text.lines().position(|l| l.contains("\"finished\"")).unwrap();
     let third = text.lines().nth(line).unwrap();
-    let at = third.find("\"time\":").unwrap() + 7;
+    let result = third.find("\"result\"").unwrap();
+    let at = result + third[result..].find("\"time\":").unwrap() + 7;
     let end = at + third[at..].find([',', '}']).unwrap();
     let t: f64 = third[at..end].parse().unwrap();
     let edited = text.replacen(&third[at..end], &format!("{:?}", t * 1.01), 1);
