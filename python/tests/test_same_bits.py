@@ -260,6 +260,19 @@ def test_a_planned_run_has_the_command_lines_bits_and_plan(cli_json):
         lg.diffusion(w="0.2", rel_err=0.0)
 
 
+def test_the_plan_alone_is_the_command_lines_pilot_with_its_plan(cli_json):
+    py = lg.diffusion(w="0.2", rel_err=2e-3, plan_only=True, collisions=4e6, batches=8, seed=3)
+    cl = cli_json("diffusion", "--w", "0.2", "--rel-err", "2e-3", "--plan-only", "--collisions",
+                  "4e6", "--batches", "8", "--seed", "3")
+    same(py.to_dict(), cl)
+    assert py.collisions == 4e6 and py.pilot["continued"] is False
+    assert py.plan["rel_err"] == 2e-3 and py.plan["collisions"] == py.pilot["planned_collisions"]
+    planned = lg.diffusion(w="0.2", rel_err=2e-3, collisions=4e6, batches=8, seed=3)
+    assert planned.collisions == py.plan["collisions"] and planned.pilot["continued"] is True
+    with pytest.raises(ValueError, match="give rel_err too"):
+        lg.diffusion(w="0.2", plan_only=True)
+
+
 def test_bench_has_the_command_lines_keys_and_counts(cli_json):
     py = lg.bench(w="0.2", collisions_per_thread=2e5, repetitions=3, progress=False)
     cl = cli_json("bench", "--w", "0.2", "--collisions-per-thread", "2e5", "--repetitions", "3")
