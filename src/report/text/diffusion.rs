@@ -95,15 +95,23 @@ fn curve_lines(out: &mut String, r: &DiffusionReport) {
 
 /// The relative error this run reached against a planned one, and what the next decade needs.
 fn plan_lines(out: &mut String, r: &DiffusionReport) {
-    if let Some(p) = &r.pilot {
-        line!(
+    match &r.pilot {
+        Some(p) if r.collisions < p.planned_collisions => line!(
             out,
-            "planned run    : for {} % from a pilot of {:.3e} collisions ({:.3} %); reached {:.3} %",
+            "plan only      : a pilot of {:.3e} collisions for {} %; the planned run was not run",
+            p.collisions as f64,
+            100.0 * p.rel_err_target
+        ),
+        Some(p) => line!(
+            out,
+            "planned run    : for {} % from a pilot of {:.3e} collisions ({:.3} %){}; reached {:.3} %",
             100.0 * p.rel_err_target,
             p.collisions as f64,
             100.0 * p.rel_err,
+            if p.continued { ", continued" } else { "" },
             100.0 * r.D_err / r.D.abs()
-        );
+        ),
+        None => {}
     }
     if let Some(p) = &r.plan {
         line!(
