@@ -69,7 +69,8 @@ pub fn read(p: &Params<'_, '_>) -> PyResult<Work<String>> {
                 ..options(ctl, threads, engine)
             };
             match plan_only {
-                true => diffusion::plan::plan_only(&cfg, &opts).map(|r| transport::Transport::Trap(Box::new(r))),
+                true => diffusion::plan::plan_only(&cfg, &opts)
+                    .map(|r| transport::Transport::Trap(Box::new(r))),
                 false => transport::run(&cfg, &opts),
             }
         })?;

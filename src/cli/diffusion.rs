@@ -114,9 +114,13 @@ pub fn run(a: Args) -> Result<(), Error> {
     let cfg = config(&a)?;
     let opts = options(&a)?;
     if a.plan_only {
-        let r = with_progress(cfg.collisions, "collisions (pilot)", a.output.quiet, &opts, |o| {
-            diffusion::plan::plan_only(&cfg, o)
-        })?;
+        let r = with_progress(
+            cfg.collisions,
+            "collisions (pilot)",
+            a.output.quiet,
+            &opts,
+            |o| diffusion::plan::plan_only(&cfg, o),
+        )?;
         return emit(a.output.json, &r, print);
     }
     if cfg.rel_err.is_some() {
@@ -189,7 +193,11 @@ fn run_planned(
         eprintln!(
             "pilot{}: {:.3e} collisions gave a relative error of {:.3} %; {} % needs {:.2e} \
              collisions, about {} here{}",
-            if first.report.is_none() { " (from the checkpoint)" } else { "" },
+            if first.report.is_none() {
+                " (from the checkpoint)"
+            } else {
+                ""
+            },
             pilot.collisions as f64,
             100.0 * pilot.rel_err,
             100.0 * pilot.rel_err_target,

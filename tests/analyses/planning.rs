@@ -32,7 +32,10 @@ fn a_planned_run_is_the_plain_run_of_its_size_and_reaches_its_target() {
     )
     .unwrap();
     let p = planned.pilot.expect("a planned run records its pilot");
-    assert!(p.continued, "the planned run continues the pilot's trajectories");
+    assert!(
+        p.continued,
+        "the planned run continues the pilot's trajectories"
+    );
     assert_eq!(p.rel_err.to_bits(), pilot_rel.to_bits());
     assert_eq!((p.collisions, p.rel_err_target), (pilot_size, target));
     assert_eq!(
@@ -131,7 +134,10 @@ fn a_reopened_planned_run_runs_neither_its_pilot_nor_its_batches_again() {
     };
     let first = diffusion::run(&cfg, &opts).unwrap();
     let p = first.pilot.unwrap();
-    assert!(p.continued && p.planned_collisions > cfg.collisions, "{p:?}");
+    assert!(
+        p.continued && p.planned_collisions > cfg.collisions,
+        "{p:?}"
+    );
     let reported = AtomicU64::new(0);
     let count = |n: u64| {
         reported.fetch_add(n, Ordering::Relaxed);
@@ -151,7 +157,10 @@ fn a_reopened_planned_run_runs_neither_its_pilot_nor_its_batches_again() {
     let keys = |r: &diffusion::DiffusionReport| {
         let v = serde_json::to_value(r).unwrap();
         let o = v.as_object().unwrap().clone();
-        o.into_iter().filter(|(_, x)| !x.is_null()).map(|(k, _)| k).collect::<Vec<_>>()
+        o.into_iter()
+            .filter(|(_, x)| !x.is_null())
+            .map(|(k, _)| k)
+            .collect::<Vec<_>>()
     };
     assert_eq!(keys(&again), keys(&first));
     assert_eq!(
@@ -174,7 +183,10 @@ fn the_plan_alone_is_the_pilot_with_the_plan_for_the_target() {
     let p = only.pilot.unwrap();
     let plan = only.plan.unwrap();
     assert_eq!(only.collisions, cfg.collisions);
-    assert_eq!((plan.rel_err, plan.collisions), (2e-3, p.planned_collisions));
+    assert_eq!(
+        (plan.rel_err, plan.collisions),
+        (2e-3, p.planned_collisions)
+    );
     assert!(plan.seconds > 0.0);
     let planned = diffusion::run(&cfg, &crate::common::threads(2)).unwrap();
     assert_eq!(planned.collisions, plan.collisions);

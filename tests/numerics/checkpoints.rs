@@ -205,7 +205,10 @@ fn edited_and_forged_checkpoints_are_refused() {
     let clean = run(&cfg, &opts).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     // One batch's flight time changed by 1 %: refused, naming file and line.
-    let line = text.lines().position(|l| l.contains("\"finished\"")).unwrap();
+    let line = text
+        .lines()
+        .position(|l| l.contains("\"finished\""))
+        .unwrap();
     let third = text.lines().nth(line).unwrap();
     let result = third.find("\"result\"").unwrap();
     let at = result + third[result..].find("\"time\":").unwrap() + 7;

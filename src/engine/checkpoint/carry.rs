@@ -80,7 +80,10 @@ where
         }
         for e in carry.ends {
             let key = (e.run, e.index);
-            let later = self.in_flight.get(&key).is_some_and(|f| f.collisions >= e.collisions);
+            let later = self
+                .in_flight
+                .get(&key)
+                .is_some_and(|f| f.collisions >= e.collisions);
             let fits = self.quotas.get(&key).is_some_and(|&n| e.collisions < n);
             if later || !fits || self.finished.contains_key(&key) {
                 continue;

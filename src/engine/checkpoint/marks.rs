@@ -9,14 +9,16 @@
 //! bit. Together at most 2·[`MARK`] collisions, whatever the batch's length; a trajectory too
 //! short to have two marks is computed again whole (at most that much too).
 
-use std::collections::HashMap;
 use std::path::Path;
 use std::sync::{MutexGuard, PoisonError};
 
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
-use super::{InFlight, Keeper, Quota, recomputed_differs};
+use super::{InFlight, Keeper, Marks, Quota, recomputed_differs};
+
+/// A finished batch drawn for the check: its (run, batch), result and marks.
+type Drawn<F, S> = ((u64, u32), F, Vec<InFlight<S>>);
 use crate::Error;
 use crate::engine::options::StopFlag;
 
@@ -74,7 +76,8 @@ where
 
     /// Whether `done` collisions of `job` is one of its marks.
     pub(super) fn at_mark(&self, job: &Quota, done: u64) -> bool {
-        self.marks_of(job).is_some_and(|(a, b)| done == a || done == b)
+        self.marks_of(job)
+            .is_some_and(|(a, b)| done == a || done == b)
     }
 
     /// Keeps `state`, `job`'s trajectory at a mark: in memory for its finished record, and in
@@ -108,7 +111,10 @@ where
         }
         let mut all = self.lock_marks();
         let kept = all.entry(key).or_default();
-        for f in found.into_iter().filter(|f| f.collisions == a || f.collisions == b) {
+        for f in found
+            .into_iter()
+            .filter(|f| f.collisions == a || f.collisions == b)
+        {
             if !kept.iter().any(|m| m.collisions == f.collisions) {
                 kept.push(f);
             }
@@ -119,13 +125,13 @@ where
 
     /// The marks, by trajectory (a poisoned lock still holds whole states: each is inserted
     /// whole).
-    pub(super) fn lock_marks(&self) -> MutexGuard<'_, HashMap<(u64, u32), Vec<InFlight<S>>>> {
+    pub(super) fn lock_marks(&self) -> MutexGuard<'_, Marks<S>> {
         self.marks.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
     /// One finished batch found at the start, drawn uniformly with operating-system entropy so
     /// that no one editing the checkpoint can know which: its key, result and marks.
-    fn draw(&self) -> Option<((u64, u32), F, Vec<InFlight<S>>)> {
+    fn draw(&self) -> Option<Drawn<F, S>> {
         let n = self.finished.len();
         if n == 0 {
             return None;
@@ -175,7 +181,11 @@ where
         (Some((a, b)), [h, t]) if h.collisions == a && t.collisions == b => (h, t),
         _ => {
             let fresh = run(job, &Keeper::none().watching(stop))?;
-            return if same(&fresh, &recorded) { Ok(()) } else { differs(batch) };
+            return if same(&fresh, &recorded) {
+                Ok(())
+            } else {
+                differs(batch)
+            };
         }
     };
     let probe = Keeper::probe(job, job.collisions, None).watching(stop);
@@ -185,14 +195,27 @@ where
     };
     run(&to_head, &probe)?;
     let json = |m: &InFlight<S>| serde_json::to_value(m).ok();
-    let fresh_head = probe.probed(job).into_iter().find(|m| m.collisions == head.collisions);
-    if fresh_head.as_ref().and_then(json).is_none_or(|f| Some(f) != json(head)) {
-        return differs(format!("{batch} (its first {} collisions)", head.collisions));
+    let fresh_head = probe
+        .probed(job)
+        .into_iter()
+        .find(|m| m.collisions == head.collisions);
+    if fresh_head
+        .as_ref()
+        .and_then(json)
+        .is_none_or(|f| Some(f) != json(head))
+    {
+        return differs(format!(
+            "{batch} (its first {} collisions)",
+            head.collisions
+        ));
     }
     let probe = Keeper::probe(job, job.collisions, Some(tail.clone())).watching(stop);
     let fresh = run(job, &probe)?;
     if !same(&fresh, &recorded) {
-        return differs(format!("{batch} (its last {} collisions)", job.collisions - tail.collisions));
+        return differs(format!(
+            "{batch} (its last {} collisions)",
+            job.collisions - tail.collisions
+        ));
     }
     Ok(())
 }

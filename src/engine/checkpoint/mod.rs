@@ -97,6 +97,8 @@ pub struct InFlight<S> {
     pub observers: S,
 }
 
+/// The states kept at the marks of each trajectory ([`MARK`]), by (run, batch).
+type Marks<S> = HashMap<(u64, u32), Vec<InFlight<S>>>;
 
 /// The work of a run kept on disk (or nowhere): what was found when it started, and where new
 /// work goes.
@@ -113,7 +115,7 @@ pub struct Keeper<F, S> {
     /// The collisions of each trajectory of the run, for its marks (a probe runs part of one).
     quotas: HashMap<(u64, u32), u64>,
     /// The states kept at the marks, by trajectory.
-    marks: Mutex<HashMap<(u64, u32), Vec<InFlight<S>>>>,
+    marks: Mutex<Marks<S>>,
     /// The trajectories' final states, where they are captured ([`Keeper::capturing`]).
     ends: Option<Mutex<Vec<InFlight<S>>>>,
 }

@@ -71,7 +71,8 @@ pub(super) fn run(
     // The trajectories resumed in flight had made part of their collisions earlier: in earlier
     // runs, or in the pilot (`carried`, whose time is not this run's).
     let in_flight = keep.in_flight_collisions(None);
-    let run_now = (new.iter().map(|b| b.counters.collisions).sum::<u64>()).saturating_sub(in_flight);
+    let run_now =
+        (new.iter().map(|b| b.counters.collisions).sum::<u64>()).saturating_sub(in_flight);
     let mut done: Vec<BatchResult> = keep.finished().map(|(_, b)| b.clone()).collect();
     let resumed = done.len() as u32;
     let earlier = in_flight - carried.1 + done.iter().map(|b| b.counters.collisions).sum::<u64>();
@@ -100,8 +101,13 @@ fn keeper(
 ) -> Result<(DiffusionKeeper, (usize, u64)), Error> {
     let quotas: Vec<Quota> = jobs.iter().map(Job::quota).collect();
     // The header records the engine that runs, not the default.
-    let mut meta = RunMeta::new(Some(cfg.seed), Some(cfg.batches as u64), cfg.precision, None)
-        .with_engine(resolved);
+    let mut meta = RunMeta::new(
+        Some(cfg.seed),
+        Some(cfg.batches as u64),
+        cfg.precision,
+        None,
+    )
+    .with_engine(resolved);
     let carry = match planned {
         Planned::Pilot => {
             let k = DiffusionKeeper::capturing(&quotas).watching(options.stop.as_ref());

@@ -18,7 +18,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::plain::{Planned, PilotCarry};
+use super::plain::{PilotCarry, Planned};
 use super::{BatchResult, DiffusionConfig, DiffusionReport};
 use crate::Error;
 use crate::engine::options::RunOptions;

@@ -31,7 +31,10 @@ pub(super) fn recheck_one_batch(
         let job = jobs.iter().find(|j| j.run == q.run && j.index == q.index);
         let cfg = cfgs.iter().find(|c| c.run == q.run);
         let (Some(job), Some(cfg)) = (job, cfg) else {
-            return Err(Error::Failed(format!("run {} has no batch {}", q.run, q.index)));
+            return Err(Error::Failed(format!(
+                "run {} has no batch {}",
+                q.run, q.index
+            )));
         };
         let job = Job {
             collisions: q.collisions,
@@ -74,8 +77,9 @@ mod tests {
         crate::estimators::diffusion::run(&cfg, &opts).unwrap();
         let jobs: Vec<Job> = cfg.jobs().collect();
         let quotas: Vec<Quota> = jobs.iter().map(Job::quota).collect();
-        let keep = super::super::open_keeper(&opts, super::super::CHECKPOINT_KIND, &cfg, None, &jobs)
-            .unwrap();
+        let keep =
+            super::super::open_keeper(&opts, super::super::CHECKPOINT_KIND, &cfg, None, &jobs)
+                .unwrap();
         assert_eq!(keep.finished().count(), 2);
         // Each piece the check runs: (collisions asked for, collisions it starts from).
         let pieces = Mutex::new(Vec::new());
