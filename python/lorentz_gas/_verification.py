@@ -598,17 +598,7 @@ def _result_file(result: Result, out: Optional[PathLike]) -> str:
         )
     folder = os.fspath(out)
     os.makedirs(folder, exist_ok=True)
-    file = os.path.join(folder, "result.json")
-    text = result.to_json()
     try:
-        with open(file, "x", encoding="utf-8") as f:
-            f.write(text)
-    except FileExistsError:
-        if os.path.islink(file) or not os.path.isfile(file):
-            raise ValueError(f"{file}: not a regular file; give another out=") from None
-        with open(file, encoding="utf-8") as f:
-            if f.read() != text:
-                raise ValueError(
-                    f"{file} holds another result: give another out= (nothing overwritten)"
-                ) from None
-    return file
+        return result.save(os.path.join(folder, "result.json"))
+    except ValueError as e:
+        raise ValueError(f"{e}; give another out=") from None
