@@ -19,7 +19,9 @@ class DiffusionResult(Result):
     ``times`` (time), ``msd`` (length²), ``vacf`` (⟨v(0)·v(t)⟩, 1 at t = 0) and ``green_kubo``
     (½∫₀ᵗ⟨v(0)·v(s)⟩ds, length²/time), each with ``_err``, from an eighth of the mean free time
     on; and ``D_green_kubo`` ± ``D_green_kubo_err`` with ``D_minus_D_green_kubo`` (paired).
-    ``print(r)`` shows the command line's text."""
+    Tables: ``to_pandas("batches")`` (one row per batch: ``D``, ``D_check``) and
+    ``to_pandas("msd")`` (one row per time of the MSD grid). ``print(r)`` shows the command
+    line's text."""
 
     _text_kind = "diffusion"
 

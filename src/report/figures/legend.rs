@@ -77,7 +77,7 @@ fn columns<DB: DrawingBackend>(
     let half = (width as i32 - LEFT) / 2 - SAMPLE - 16;
     let fits = entries.iter().all(|(_, label)| {
         area.estimate_text_size(label, &font())
-            .map_or(false, |(w, _)| (w as i32) < half)
+            .is_ok_and(|(w, _)| (w as i32) < half)
     });
     if fits && entries.len() > 1 { 2 } else { 1 }
 }
