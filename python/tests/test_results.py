@@ -1,7 +1,9 @@
 """Result objects: arrays, a readable repr, to_dict and to_json, pandas."""
 
 import json
+import pathlib
 import re
+import shutil
 
 import numpy as np
 import pytest
@@ -198,8 +200,14 @@ def test_a_result_goes_straight_into_the_audit(tmp_path):
     with pytest.raises(ValueError, match="holds another result"):
         lg.report(other, out=audit, quick=True)
     assert (audit / "result.json").read_text() == d.to_json() + "\n", "a file was overwritten"
-    with pytest.raises(ValueError, match="give out="):
-        lg.report(d)
+    # Without a folder: a new one in the temporary directory, named by the report.
+    alone = lg.report(d, quick=True)
+    assert alone.verdict == "PASS"
+    written = str(alone).splitlines()[-1]
+    folder = pathlib.Path(re.fullmatch(r"written: (.*)/report\.\{md,html,json\}", written)[1])
+    assert folder.name.startswith("lorentz-report-") and folder != audit
+    assert (folder / "result.json").read_text() == d.to_json() + "\n"
+    shutil.rmtree(folder)
     # A link where the file would go is never written through.
     (tmp_path / "linked").mkdir()
     (tmp_path / "linked" / "result.json").symlink_to(tmp_path / "elsewhere.json")
