@@ -124,7 +124,7 @@ KINDS: List[Tuple[str, str, Tuple[str, ...], Callable[..., Result]]] = [
     ("lattice-walk", "lattice-walk", ("walks",), LatticeWalkResult),
     ("backscatter", "backscatter", ("mean_visit_time",), BackscatterResult),
     ("escape", "escape", ("D_escape",), EscapeResult),
-    ("lyapunov", "lyapunov", ("tangent", "divergence"), LyapunovResult),
+    ("lyapunov", "lyapunov", ("tangent",), LyapunovResult),
     ("superdiffusion", "superdiffusion", ("lags", "limit_law"), SuperdiffusionResult),
     ("free-paths", "free-paths", ("bins", "ln_mean_limit"), FreePathResult),
     ("audit", "audit", ("events", "quantiles", "summary"), AuditResult),

@@ -307,7 +307,9 @@ class LyapunovResult(Result):
         super().__init__(text)
         #: One record per precision: ``precision``, ``starts``, the ``horizon`` (collisions) and
         #: the divergence rate per collision and per unit time, each with ``_err``.
-        self.divergence = _tables.records(self._data["divergence"])
+        #: (In a field there is none: ``tangent`` only.)
+        if "divergence" in self._data:
+            self.divergence = _tables.records(self._data["divergence"])
 
     def _summary(self) -> str:
         t = self._data["tangent"]

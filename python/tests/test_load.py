@@ -33,6 +33,8 @@ PRINTED = {
     "escape": (lg.EscapeResult, ["escape", "--w", "0.1", "--particles-per-width", "3200"]),
     "lyapunov": (lg.LyapunovResult, ["lyapunov", "--w", "0.1", "--collisions-per-batch", "1000",
                                      "--batches", "2"]),
+    "lyapunov-field": (lg.LyapunovResult, ["lyapunov", "--w", "0.1", "--field", "1/2",
+                                           "--collisions-per-batch", "1000", "--batches", "2"]),
     "superdiffusion": (lg.SuperdiffusionResult, ["superdiffusion", "--scene", "square", "--radius",
                                                  "1/4", "--collisions", "3.2e5", "--batches", "16",
                                                  "--octaves", "4"]),
