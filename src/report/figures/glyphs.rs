@@ -23,7 +23,9 @@ fn font() -> &'static FontRef<'static> {
     })
 }
 
-/// A backend whose text is drawn glyph by glyph at the right places ([module docs](self)).
+/// A drawing backend whose text is drawn glyph by glyph, each at its pen position plus its left
+/// side bearing (plotters' own drawing leaves the bearing out: "D ± D _err"); everything else
+/// goes to the wrapped backend unchanged.
 pub struct Glyphs<B>(pub B);
 
 /// The pixels of `text` at `size` pixels, as (x, y, coverage) from the layout box's top left
@@ -130,7 +132,7 @@ impl<B: DrawingBackend> DrawingBackend for Glyphs<B> {
         self.0.blit_bitmap(pos, (iw, ih), src)
     }
 
-    /// As plotters' default (anchor, rotation, clipping), with the glyphs of [`rasterize`].
+    /// As plotters' default (anchor, rotation, clipping), with the glyphs of `rasterize`.
     fn draw_text<S: BackendTextStyle>(
         &mut self,
         text: &str,
