@@ -94,6 +94,14 @@ from ._figures import figure, reproduce
 from ._section import SectionResult, section
 from ._events import Trajectory, events
 from . import _events
+from ._kinds import (
+    FigureDataResult,
+    ObserverCostsResult,
+    ShardResult,
+    SlurmResult,
+    SpeedErrorResult,
+)
+from ._load import load
 
 # Restated here: Sphinx reads the doc comment of a name of the package in this file.
 #: The dtype of :func:`events`: one record per event.
@@ -119,6 +127,7 @@ __all__ = [
     "section",
     "constants",
     "report",
+    "load",
     "figure",
     "reproduce",
     "events",
@@ -153,6 +162,11 @@ __all__ = [
     "ReportResult",
     "FigureResult",
     "ReproduceResult",
+    "SpeedErrorResult",
+    "ObserverCostsResult",
+    "ShardResult",
+    "FigureDataResult",
+    "SlurmResult",
     "CheckFailedError",
     "ComputationError",
 ]

@@ -2,177 +2,12 @@
 
 from __future__ import annotations
 
-import copy
-import json
 from typing import Any, Dict, List, Optional
 
 import numpy as np
 
-
-def _is_number(v: Any) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
-
-
-def _array(v: Any) -> Any:
-    """A list of numbers (or a rectangular list of such lists) as a numpy array, else ``v``."""
-    if isinstance(v, list) and v:
-        if all(_is_number(x) for x in v):
-            if all(isinstance(x, int) for x in v):
-                return np.asarray(v, dtype=np.int64)
-            return np.asarray(v, dtype=np.float64)
-        if all(isinstance(x, list) and x and all(_is_number(y) for y in x) for x in v):
-            if len({len(x) for x in v}) == 1:
-                return np.asarray(v, dtype=np.float64)
-    return v
-
-
-def _pm(x: Optional[float], err: Optional[float]) -> str:
-    if x is None or err is None:
-        return "n/a"
-    return f"{x:.6f} ± {err:.6f}"
-
-
-def _with_error(x: float, err: float) -> str:
-    """``x ± err`` with the error to two significant digits and the value to the same decimal
-    place (``0.15229 ± 0.00011``), as ``lorentz report``'s headline writes it."""
-    import math
-
-    if not (math.isfinite(x) and math.isfinite(err) and err > 0):
-        return f"{x} ± {err}"
-    place = math.floor(math.log10(err)) - 1
-    if not -6 <= place <= 6 or abs(x) >= 1e6:
-        return f"{x:.4e} ± {err:.1e}"
-    decimals = max(-place, 0)
-    return f"{x:.{decimals}f} ± {err:.{decimals}f}"
-
-
-def _scalars(data: Dict[str, Any]) -> List[tuple]:
-    """(key, text) for the result's top-level scalars, each estimate with its ``_err`` as one
-    ``x ± err`` entry (the ``_err`` key itself not repeated)."""
-    out = []
-    for k, v in data.items():
-        if k.endswith("_err") and k[: -len("_err")] in data:
-            continue
-        err = data.get(f"{k}_err")
-        if _is_number(v) and _is_number(err):
-            out.append((k, _with_error(float(v), float(err))))
-        elif _is_number(v) or isinstance(v, (str, bool)):
-            out.append((k, str(v)))
-    return out
-
-
-class Result:
-    """A result: every key of the command line's ``--json`` output as an attribute (numeric
-    lists as numpy arrays), ``meta`` (how it was computed) as a dict, ``to_dict()`` and
-    ``to_json()`` (the command line's JSON, digit for digit)."""
-
-    _kind = "result"
-
-    def __init__(self, text: str, *, printed: Optional[str] = None):
-        self._json = text
-        #: The command line's text of this result, where the call that made it rendered it.
-        self._printed = printed
-        self._data: Dict[str, Any] = json.loads(text)
-        for k, v in self._data.items():
-            setattr(self, k, _array(v))
-
-    def keys(self) -> List[str]:
-        """The result's keys, in the command line's order."""
-        return list(self._data)
-
-    def __getitem__(self, key: str) -> Any:
-        return getattr(self, key)
-
-    def to_dict(self) -> Dict[str, Any]:
-        """The result as plain Python data (lists, not arrays): ``json.loads(self.to_json())``."""
-        return copy.deepcopy(self._data)
-
-    def to_json(self) -> str:
-        """The command line's JSON of this result (``lorentz <command> --json``), unchanged."""
-        return self._json
-
-    def _summary(self) -> str:
-        return ", ".join(self.keys()[:6]) + ", ..."
-
-    def __repr__(self) -> str:
-        return f"<{type(self).__name__}: {self._summary()}>"
-
-    def _meta_text(self) -> str:
-        m = self._data.get("meta") or {}
-        parts = [f"{k} {m[k]}" for k in ("seed", "batches", "precision", "engine", "threads")
-                 if m.get(k) is not None]
-        return ", ".join(parts)
-
-    #: The result kind whose command-line text the library renders (``None``: not yet).
-    _text_kind: Optional[str] = None
-
-    def __str__(self) -> str:
-        """The command line's text of this result (``lorentz <command>`` without ``--json``),
-        where the library renders it; otherwise the summary line, every scalar of the result
-        (estimates as ``x ± err`` to the place of their error) and how it was computed."""
-        if self._printed is not None:
-            return self._printed.rstrip("\n")
-        if self._text_kind is not None:
-            from . import _native
-
-            try:
-                text = _native.text(self._text_kind, self._json)
-            except ValueError:
-                # JSON the text cannot be read back from (a value JSON writes as null, such
-                # as a NaN): the table below rather than no str() at all.
-                text = None
-            if text is not None:
-                return text.rstrip("\n")
-        rows = _scalars(self._data)
-        width = max((len(k) for k, _ in rows), default=0)
-        lines = [f"{type(self).__name__}: {self._summary()}"]
-        lines += [f"  {k:<{width}}  {v}" for k, v in rows]
-        if self._meta_text():
-            lines.append(f"  ({self._meta_text()})")
-        return "\n".join(lines)
-
-    def _repr_html_(self) -> str:
-        """The same as a table, for notebooks."""
-        import html
-
-        cells = "".join(
-            f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
-            f"<td style='text-align:left'>{html.escape(v)}</td></tr>"
-            for k, v in _scalars(self._data)
-        )
-        meta = html.escape(self._meta_text())
-        return (
-            f"<div><b>{html.escape(type(self).__name__)}</b>: {html.escape(self._summary())}"
-            f"<table>{cells}</table><small>{meta}</small></div>"
-        )
-
-    def _tables(self) -> Dict[str, np.ndarray]:
-        """The result's tables: its numpy structured arrays, by attribute name."""
-        return {
-            k: v for k, v in vars(self).items()
-            if isinstance(v, np.ndarray) and v.dtype.names and not k.startswith("_")
-        }
-
-    def to_pandas(self, table: Optional[str] = None):
-        """A table of the result as a ``pandas.DataFrame`` (needs pandas): its one table
-        (``rows`` of a sweep, ...), the one named by ``table`` where there are several
-        (``lags`` or ``limit_law`` of superdiffusion), or, without any, one row of its scalars
-        (estimates and their errors as separate columns)."""
-        try:
-            import pandas as pd
-        except ImportError as e:  # pragma: no cover - depends on the environment
-            raise ImportError(f"{type(self).__name__}.to_pandas() needs pandas: pip install pandas") from e
-        tables = self._tables()
-        if table is not None:
-            if table not in tables:
-                raise ValueError(f"table={table!r}: this result's tables are {sorted(tables) or 'none'}")
-            return pd.DataFrame(tables[table])
-        if len(tables) == 1:
-            return pd.DataFrame(next(iter(tables.values())))
-        if len(tables) > 1:
-            raise ValueError(f"this result has several tables: name one with table= ({', '.join(sorted(tables))})")
-        return pd.DataFrame([{k: v for k, v in self._data.items()
-                              if _is_number(v) or isinstance(v, (str, bool))}])
+from . import _tables
+from ._result_base import Result, _is_number, _pm  # noqa: F401  (Result: the package's base)
 
 
 class DiffusionResult(Result):
@@ -184,7 +19,9 @@ class DiffusionResult(Result):
     ``times`` (time), ``msd`` (length²), ``vacf`` (⟨v(0)·v(t)⟩, 1 at t = 0) and ``green_kubo``
     (½∫₀ᵗ⟨v(0)·v(s)⟩ds, length²/time), each with ``_err``, from an eighth of the mean free time
     on; and ``D_green_kubo`` ± ``D_green_kubo_err`` with ``D_minus_D_green_kubo`` (paired).
-    ``print(r)`` shows the command line's text."""
+    Tables: ``to_pandas("batches")`` (one row per batch: ``D``, ``D_check``) and
+    ``to_pandas("msd")`` (one row per time of the MSD grid). ``print(r)`` shows the command
+    line's text."""
 
     _text_kind = "diffusion"
 
@@ -210,6 +47,9 @@ class DiffusionResult(Result):
                 table[k] = [np.nan if x is None else x for x in curve.get(k) or []]
             self.msd_curve = table
 
+    def _more_tables(self) -> Dict[str, np.ndarray]:
+        return _msd_and_batches(self._data)
+
     def collisions_for(self, rel_err: float) -> int:
         """The collisions (in this run's batches) that give the relative error ``rel_err`` of D
         (``1e-4`` is 0.01 %, from 1e-7 to 0.5): N·(r/rel_err)² for this run's N collisions and
@@ -231,6 +71,22 @@ class DiffusionResult(Result):
         return f"D = {_pm(self.D, self.D_err)} at w = {self.w}"
 
 
+def _msd_and_batches(d: Dict[str, Any]) -> Dict[str, np.ndarray]:
+    """``msd``: one record per time of the MSD grid, ``times`` (time), ``msd_over_4t``
+    (length²/time) with its ``_err``, ``msd`` and ``msd_err`` (length²); ``batches``: one record
+    per batch, its ``D`` and ``D_check`` (length²/time)."""
+    times = np.asarray(d.get("msd_times") or [], dtype=np.float64)
+    m = np.asarray(d.get("msd_over_4t") or [], dtype=np.float64)
+    e = np.asarray(d.get("msd_over_4t_err") or [], dtype=np.float64)
+    msd = None
+    if len(times) == len(m) == len(e):
+        msd = _tables.columns(times=times, msd_over_4t=m, msd_over_4t_err=e,
+                              msd=4 * times * m, msd_err=4 * times * e)
+    return {"msd": msd, "batches": _tables.columns(
+        batch=list(range(len(d.get("batch_D") or []))),
+        D=d.get("batch_D"), D_check=d.get("batch_D_check"))}
+
+
 class TableDiffusionResult(Result):
     """D on a table given as data (``diffusion(table=...)``): ``D`` ± ``D_err`` (length²/time,
     the table's own lengths, speed 1), the check window's ``D_check``, ``identities`` (the mean
@@ -239,6 +95,9 @@ class TableDiffusionResult(Result):
     ``batch_D``; ``table``, the table as written. ``print(r)`` shows the command line's text."""
 
     _text_kind = "table-diffusion"
+
+    def _more_tables(self) -> Dict[str, np.ndarray]:
+        return _msd_and_batches(self._data)
 
     def _summary(self) -> str:
         return f"D = {_pm(self.D, self.D_err)} on {self.scene}"
@@ -258,6 +117,15 @@ class FieldResult(Result):
     batches only."""
 
     _text_kind = "field"
+
+    def _more_tables(self) -> Dict[str, np.ndarray]:
+        """``batches``: one record per batch, ``D_xx`` and ``D_xy`` (length²/time), its
+        ``component`` and ``reach`` (the farthest it got from its start, length)."""
+        d, c = self._data, self._data.get("components") or {}
+        return {"batches": _tables.columns(
+            batch=list(range(len(d.get("batch_D_xx") or []))), D_xx=d.get("batch_D_xx"),
+            D_xy=d.get("batch_D_xy"), component=c.get("batch_component"),
+            reach=c.get("batch_reach"))}
 
     def _summary(self) -> str:
         return (
@@ -299,27 +167,13 @@ class FieldSweepResult(Result):
             if k not in self._data:
                 setattr(self, k, self.rows[k])
 
-    def _tables(self) -> Dict[str, np.ndarray]:
-        """``rows``, and ``onsager`` flattened: one record per ``|B|`` with ``w`` (or ``radius``),
-        ``field`` and each check's ``difference``, ``err``, ``dof``, ``z`` and ``bound`` as
-        ``d_xx_even_z``, ``d_xy_odd_bound``, ...."""
-        tables = super()._tables()
-        checks = self._data.get("onsager") or []
-        if checks:
-            flat = [
-                {**{k: c[k] for k in ("w", "radius", "field") if k in c},
-                 **{f"{name}_{k}": v for name in ("d_xx_even", "d_xy_odd")
-                    for k, v in c[name].items()}}
-                for c in checks
-            ]
-            keys = list(flat[0])
-            tables["onsager"] = np.array([tuple(r[k] for k in keys) for r in flat],
-                                         dtype=[(k, np.float64) for k in keys])
-        return tables
+    _default_table = "rows"
 
     def to_pandas(self, table: Optional[str] = "rows"):
         """``rows`` as a ``pandas.DataFrame`` (needs pandas), or ``table="onsager"``: the ±B
-        checks, one row per ``|B|``."""
+        checks, one row per ``|B|``, with ``w`` (or ``radius``), ``field`` and each check's
+        ``difference``, ``err``, ``dof``, ``z`` and ``bound`` as ``d_xx_even_z``,
+        ``d_xy_odd_bound``, ...."""
         return super().to_pandas(table)
 
     def _summary(self) -> str:
@@ -345,6 +199,19 @@ class HopsResult(Result):
     ``pairs`` (with ``pairs_err``), the hop-level Green–Kubo ``D_GK`` against ``D_MZ``."""
 
     _text_kind = "hops"
+
+    def _more_tables(self) -> Dict[str, np.ndarray]:
+        """``pairs`` and ``sequences``: one record per symbol sequence, its probability
+        ``value`` and ``err``; ``correlations``: one record per lag j (hops), C_j with ``err``."""
+        d = self._data
+        c = d.get("correlations") or []
+        return {
+            "pairs": _tables.keyed(d.get("pairs") or {}, d.get("pairs_err") or {}, key="sequence"),
+            "sequences": _tables.keyed(d.get("sequences") or {}, d.get("sequences_err") or {},
+                                       key="sequence"),
+            "correlations": _tables.columns(lag=list(range(1, len(c) + 1)), value=c,
+                                            err=d.get("correlations_err")),
+        }
 
     def _summary(self) -> str:
         return (
@@ -407,6 +274,15 @@ class SweepResult(Result):
             if raw and k in raw[0]:
                 setattr(self, k, np.array([r[k] for r in raw], dtype=np.float64))
 
+    def _more_tables(self) -> Dict[str, np.ndarray]:
+        """``runs``: one record per run of each point, its ``w``, ``run`` (index), ``D`` and
+        ``D_err`` (length²/time)."""
+        return {"runs": _tables.records([
+            {"w": r["w"], "run": i, "D": x, "D_err": e}
+            for r in self._data["rows"]
+            for i, (x, e) in enumerate(zip(r.get("run_D") or [], r.get("run_D_err") or []))
+        ])}
+
     def _summary(self) -> str:
         ws = self.rows["w"]
         return f"{len(ws)} points, w = {ws[0]} .. {ws[-1]}"
@@ -427,26 +303,20 @@ class LyapunovResult(Result):
 
     _text_kind = "lyapunov"
 
+    def __init__(self, text: str):
+        super().__init__(text)
+        #: One record per precision: ``precision``, ``starts``, the ``horizon`` (collisions) and
+        #: the divergence rate per collision and per unit time, each with ``_err``.
+        #: (In a field there is none: ``tangent`` only.)
+        if "divergence" in self._data:
+            self.divergence = _tables.records(self._data["divergence"])
+
     def _summary(self) -> str:
         t = self._data["tangent"]
         return (
             f"lambda = {_pm(t['per_collision'], t['per_collision_err'])} per collision, "
             f"{_pm(t['per_time'], t['per_time_err'])} per unit time"
         )
-
-
-def _records(raw: List[Dict[str, Any]]) -> np.ndarray:
-    """Rows of numbers (``None`` as NaN) and texts as a numpy structured array."""
-    if not raw:
-        return np.zeros(0)
-    keys = list(raw[0])
-    ints = [k for k in keys if all(isinstance(r[k], int) and not isinstance(r[k], bool) for r in raw)]
-    texts = {k: max(len(r[k]) for r in raw) for k in keys if all(isinstance(r[k], str) for r in raw)}
-    dtype = [(k, f"U{texts[k]}" if k in texts else np.int64 if k in ints else np.float64)
-             for k in keys]
-    return np.array(
-        [tuple(np.nan if r[k] is None else r[k] for k in keys) for r in raw], dtype=dtype
-    )
 
 
 class SuperdiffusionResult(Result):
@@ -468,8 +338,8 @@ class SuperdiffusionResult(Result):
 
     def __init__(self, text: str):
         super().__init__(text)
-        self.lags = _records(self._data["lags"])
-        self.limit_law = _records(self._data["limit_law"])
+        self.lags = _tables.records(self._data["lags"])
+        self.limit_law = _tables.records(self._data["limit_law"])
 
     def _summary(self) -> str:
         d = self._data
@@ -493,7 +363,7 @@ class FreePathResult(Result):
 
     def __init__(self, text: str):
         super().__init__(text)
-        self.bins = _records(self._data["bins"])
+        self.bins = _tables.records(self._data["bins"])
 
     def _summary(self) -> str:
         d = self._data
@@ -507,6 +377,11 @@ class AuditResult(Result):
     """A shadow audit: the events replayed in MPFR and how many fell outside the error model."""
 
     _text_kind = "audit"
+
+    def _more_tables(self) -> Dict[str, np.ndarray]:
+        """``quantiles``: one record per error measure (``error``), its ``median``, ``p99`` and
+        ``max``."""
+        return {"quantiles": _tables.keyed(self._data.get("quantiles") or {}, key="error")}
 
     def _summary(self) -> str:
         s = self._data["summary"]
@@ -531,8 +406,14 @@ class BenchResult(Result):
             self._text_kind = "bench-long-flights"
             # One record per radius (or gap); each repetition's timings stay in
             # ``to_dict()["rows"]``.
-            self.rows = _records([{k: v for k, v in r.items() if not isinstance(v, list)}
+            self.rows = _tables.records([{k: v for k, v in r.items() if not isinstance(v, list)}
                                   for r in self._data["rows"]])
+
+    def _more_tables(self) -> Dict[str, np.ndarray]:
+        """``samples``: one record per repetition, its ``collisions_per_second``."""
+        s = self._data.get("samples")
+        return {"samples": _tables.columns(repetition=list(range(len(s))),
+                                           collisions_per_second=s) if s else None}
 
     def _summary(self) -> str:
         d = self._data

@@ -3,7 +3,7 @@ makes phase space mixed, the regular islands drawn among the chaotic sea."""
 
 from __future__ import annotations
 
-from typing import Any, Optional
+from typing import Any, Dict, Optional
 
 import numpy as np
 
@@ -47,7 +47,8 @@ class SectionResult(Result):
     reached, length) and ``ambiguous`` (a diffusing orbit within 4 excursion limits). Counts
     ``pinned``, ``skipping``, ``bounded``, ``diffusing``, ``ambiguous_trajectories``; ``limit`` the
     excursion limit (length; ``None`` without a field), ``field``, ``cyclotron_radius``.
-    ``to_pandas()`` gives the points with their orbit's component; ``plot()`` draws them."""
+    ``to_pandas()`` gives the points with their orbit's component, ``to_pandas("orbits")`` one record
+    per orbit; ``plot()`` draws them."""
 
     _text_kind = "section"
 
@@ -82,13 +83,16 @@ class SectionResult(Result):
         out["component"] = self.component[self.trajectory] if len(self.trajectory) else []
         return out
 
-    def to_pandas(self, table: Optional[str] = None):
-        """The points (:meth:`points`) as a ``pandas.DataFrame`` (needs pandas)."""
-        import pandas as pd
+    _default_table = "points"
 
-        if table not in (None, "points"):
-            raise ValueError(f"table={table!r}: this result's table is 'points'")
-        return pd.DataFrame(self.points())
+    def _more_tables(self) -> Dict[str, np.ndarray]:
+        """``points`` (:meth:`points`), and ``orbits``: one record per trajectory, its
+        ``component``, ``reach`` (length) and ``ambiguous``."""
+        orbits = np.zeros(len(self.component), dtype=[("component", "U9"), ("reach", np.float64),
+                                                      ("ambiguous", np.bool_)])
+        orbits["component"], orbits["reach"], orbits["ambiguous"] = (
+            self.component, self.reach, self.ambiguous)
+        return {"points": self.points(), "orbits": orbits}
 
     def plot(self, ax: Any = None) -> Any:
         """Draws the section with matplotlib on ``ax`` (a new figure's axes if ``None``):

@@ -5,6 +5,7 @@ closed forms, the engine's speed and the publication audit of a result file."""
 from __future__ import annotations
 
 import os
+import tempfile
 from typing import Any, Optional, Tuple, Union
 
 from . import _native
@@ -570,11 +571,14 @@ def report(
     1e12 or 2e9 with ``quick``; too few batches to judge); it is returned, not raised (``raise
     CheckFailedError`` yourself to stop a pipeline).
 
-    ``path`` may be a result itself (``lg.report(lg.diffusion(...), out="audit")``): its JSON is
-    written to ``out``/result.json first (``out`` is then required; a result.json already there
-    must be this result's, byte for byte, else ``ValueError``), and that file is audited, so the
-    report names a file that stays beside it."""
+    ``path`` may be a result itself (``lg.report(lg.diffusion(...))``): its JSON is written to
+    ``out``/result.json first (a result.json already there must be this result's, byte for
+    byte, else ``ValueError``; without ``out``, a new folder ``lorentz-report-*`` in the
+    temporary directory, named on the last line of ``str()`` of the report), and that file is
+    audited, so the report names a file that stays beside it."""
     if isinstance(path, Result):
+        if out is None:
+            out = tempfile.mkdtemp(prefix="lorentz-report-")
         path = _result_file(path, out)
     text, printed = _run(_native.report, progress, 0, "coll", {
         "path": os.fspath(path),
@@ -588,27 +592,12 @@ def report(
     return ReportResult(text, printed=printed)
 
 
-def _result_file(result: Result, out: Optional[PathLike]) -> str:
+def _result_file(result: Result, out: PathLike) -> str:
     """``out``/result.json holding ``result``'s JSON: created, or found with exactly that text;
     never another file overwritten."""
-    if out is None:
-        raise ValueError(
-            "report(result): give out= (a directory): the result is written there as "
-            "result.json, beside report.md, report.html and report.json"
-        )
     folder = os.fspath(out)
     os.makedirs(folder, exist_ok=True)
-    file = os.path.join(folder, "result.json")
-    text = result.to_json()
     try:
-        with open(file, "x", encoding="utf-8") as f:
-            f.write(text)
-    except FileExistsError:
-        if os.path.islink(file) or not os.path.isfile(file):
-            raise ValueError(f"{file}: not a regular file; give another out=") from None
-        with open(file, encoding="utf-8") as f:
-            if f.read() != text:
-                raise ValueError(
-                    f"{file} holds another result: give another out= (nothing overwritten)"
-                ) from None
-    return file
+        return result.save(os.path.join(folder, "result.json"))
+    except ValueError as e:
+        raise ValueError(f"{e}; give another out=") from None

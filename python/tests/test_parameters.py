@@ -182,6 +182,7 @@ NOT_ANALYSES = {
     "agreement_bound": "a closed form of one number (`_native.agreement_bound(dof)`)",
     "draw_lattice": "pure Python (matplotlib)",
     "lattice_disks": "pure Python (the disks of a scene that reach into a box, for drawing)",
+    "load": "pure Python (a result file read back into its result object)",
 }
 
 

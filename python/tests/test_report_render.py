@@ -54,6 +54,13 @@ def test_report_html_shows_its_headline_and_figures(cli, tmp_path):
     figures = svg.findall(html)
     assert len(figures) >= 2, len(figures)
     with_figures = screenshot(browser, page, tmp_path / "with.png")
+    # The verdict at the top of the page: the green of PASS within the first 120 px (the
+    # heading), before any table.
+    green = (with_figures[..., 1] > 0.3) & (with_figures[..., 0] < 0.1) & (with_figures[..., 2] < 0.1)
+    assert green[:120].sum() > 50, "no PASS in the heading"
+    # Each figure at its size: 800 x 600 (the SVG's own), inline.
+    for f in figures:
+        assert re.search(r'<svg[^>]*width="800"[^>]*height="600"', f), f[:200]
     # The same page without its figures: what the figures add to the picture.
     bare = tmp_path / "rep" / "bare.html"
     bare.write_text(svg.sub("", html), encoding="utf-8")
@@ -61,8 +68,9 @@ def test_report_html_shows_its_headline_and_figures(cli, tmp_path):
     h = min(len(with_figures), len(without))
     changed = np.any(np.abs(with_figures[:h] - without[:h]) > 0.1, axis=2)
     rows = np.flatnonzero(changed.any(axis=1))
-    # Each figure is drawn 400 px or more high at this width; in colour (lines, bands), not blank.
-    assert len(rows) > 400 * len(figures) // 2, f"{len(rows)} rows differ"
+    # Each figure is drawn 600 px high at this width (the rows it changes: most of its height,
+    # the white margins aside); in colour (lines, bands, bars), not blank.
+    assert len(rows) > 500 * len(figures), f"{len(rows)} rows differ"
     drawn = with_figures[rows]
     saturation = drawn.max(axis=2) - drawn.min(axis=2)
     assert (saturation > 0.3).mean() > 0.002, "the figures hold no coloured pixel"

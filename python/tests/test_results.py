@@ -1,7 +1,9 @@
 """Result objects: arrays, a readable repr, to_dict and to_json, pandas."""
 
 import json
+import pathlib
 import re
+import shutil
 
 import numpy as np
 import pytest
@@ -180,25 +182,32 @@ def test_str_of_a_report_is_the_command_lines_text(cli, tmp_path):
     # re-run checks differ between the two: the lines, checks and verdicts are the same.
     drawn = lambda text: re.sub(r"\d+(\.\d+)?(e[-+]?\d+)?", "N", _unclocked(text))
     assert drawn(str(result)) == drawn(out.rstrip("\n"))
-    assert "PASS (quick audit: 1 of 16 batches re-run" in str(result).splitlines()[-1]
-    assert str(result).splitlines()[-1].endswith(f"written: {tmp_path / 'r'}/report.{{md,html,json}}")
-    assert "PASS" in str(result).splitlines()[-1]
+    # The verdict first, where a reader (and `head -1`) sees it; the documents written last.
+    first = str(result).splitlines()[0]
+    assert "d.json: PASS (quick audit: 1 of 16 batches re-run" in first, first
+    assert str(result).splitlines()[-1] == f"written: {tmp_path / 'r'}/report.{{md,html,json}}"
 
 
 def test_a_result_goes_straight_into_the_audit(tmp_path):
     d = lg.diffusion(w=0.1, collisions=1.6e6, batches=16)
     audit = tmp_path / "audit"
     assert lg.report(d, out=audit, quick=True).verdict == "PASS"
-    assert (audit / "result.json").read_text() == d.to_json()
+    assert (audit / "result.json").read_text() == d.to_json() + "\n"
     assert (audit / "report.json").is_file()
     # Again into the same folder: the same file is found there and audited again.
     assert lg.report(d, out=audit, quick=True).verdict == "PASS"
     other = lg.diffusion(w=0.1, collisions=1.6e6, batches=16, seed=2)
     with pytest.raises(ValueError, match="holds another result"):
         lg.report(other, out=audit, quick=True)
-    assert (audit / "result.json").read_text() == d.to_json(), "a file was overwritten"
-    with pytest.raises(ValueError, match="give out="):
-        lg.report(d)
+    assert (audit / "result.json").read_text() == d.to_json() + "\n", "a file was overwritten"
+    # Without a folder: a new one in the temporary directory, named by the report.
+    alone = lg.report(d, quick=True)
+    assert alone.verdict == "PASS"
+    written = str(alone).splitlines()[-1]
+    folder = pathlib.Path(re.fullmatch(r"written: (.*)/report\.\{md,html,json\}", written)[1])
+    assert folder.name.startswith("lorentz-report-") and folder != audit
+    assert (folder / "result.json").read_text() == d.to_json() + "\n"
+    shutil.rmtree(folder)
     # A link where the file would go is never written through.
     (tmp_path / "linked").mkdir()
     (tmp_path / "linked" / "result.json").symlink_to(tmp_path / "elsewhere.json")

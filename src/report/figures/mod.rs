@@ -7,6 +7,8 @@ use std::sync::Once;
 use plotters::prelude::*;
 
 pub mod field_sweep;
+mod glyphs;
+mod legend;
 pub mod paper;
 pub mod section;
 pub mod sweep;
@@ -15,14 +17,18 @@ use crate::Error;
 
 static FONT: Once = Once::new();
 
+/// The embedded DejaVu Sans.
+const FONT_BYTES: &[u8] = include_bytes!("DejaVuSans.ttf");
+
 /// Registers the embedded font as "sans-serif" (idempotent).
 pub fn register_font() {
     FONT.call_once(|| {
-        let bytes: &'static [u8] = include_bytes!("DejaVuSans.ttf");
         // The font is valid; registration only fails for malformed data.
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, bytes);
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT_BYTES);
     });
 }
+
+pub use glyphs::Glyphs;
 
 /// One series of a log-log or lin-log plot: label, points (x, y, optional y error).
 pub struct Series {
@@ -64,6 +70,9 @@ pub struct PlotSpec<'a> {
     pub bands: &'a [Band],
     /// The y axis counts things: integer tick labels only.
     pub count_y: bool,
+    /// Bars of this width (x units) for every series not joined by a line: one bar from 0 to
+    /// each point's y, centred on its x (a histogram); `None`: markers.
+    pub bar_width: Option<f64>,
 }
 
 impl<'a> PlotSpec<'a> {
@@ -95,16 +104,50 @@ fn tick(v: f64) -> String {
     }
 }
 
-/// Room at the top of the y range for `entries` legend lines, so the legend (upper right) never
-/// covers data: the data keep the lower part of a plot area about 470 px high.
-fn headroom((y0, y1): (f64, f64), entries: usize, log: bool) -> (f64, f64) {
-    let f = ((22 * entries + 24) as f64 / 470.0).min(0.45);
-    if log {
-        (y0, y0 * (y1 / y0).powf(1.0 / (1.0 - f)))
-    } else {
-        (y0, y0 + (y1 - y0) / (1.0 - f))
+/// The decimals that write every one of the tick values `keys` exactly (to 10⁻⁹ of their step),
+/// so a linear axis labels its ticks alike (0.166, 0.168, 0.170 — not 0.17); `None` where
+/// [`tick`]'s own form is better (no ticks, or values beyond 10⁻⁴ … 10⁷).
+fn axis_decimals(keys: &[f64]) -> Option<usize> {
+    let top = keys.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let step = keys
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if keys.is_empty() || top >= 1e7 || (step.is_finite() && step < 1e-4) {
+        return None;
+    }
+    let tolerance = if step.is_finite() { step * 1e-9 } else { 1e-12 };
+    (0..=6).find(|&d| {
+        let scale = 10f64.powi(d as i32);
+        keys.iter()
+            .all(|v| ((v * scale).round() / scale - v).abs() <= tolerance)
+    })
+}
+
+/// The tick labels of an axis whose labelled ticks are `keys`: on a linear axis all with the
+/// same decimals ([`axis_decimals`]), else each as [`tick`] writes it.
+fn tick_labels(keys: &[f64], log: bool) -> impl Fn(&f64) -> String {
+    let decimals = if log { None } else { axis_decimals(keys) };
+    move |v: &f64| match decimals {
+        Some(d) => {
+            let s = format!("{v:.d$}");
+            // "-0.000" is 0.
+            if s.trim_start_matches('-')
+                .chars()
+                .all(|c| c == '0' || c == '.')
+            {
+                s.trim_start_matches('-').to_string()
+            } else {
+                s
+            }
+        }
+        None => tick(*v),
     }
 }
+
+/// Labelled ticks per axis (plotters' count of bold mesh lines, each with its label).
+const TICKS: usize = 10;
 
 /// A plotting error while drawing `path` (the backends write the file when the figure is
 /// presented, so their errors are I/O errors on that file).
@@ -135,7 +178,11 @@ where
     let fail = io(path);
     let io = |e: plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>| fail(&e);
     root.fill(&WHITE).map_err(io)?;
-    let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
+    // Bars reach half their width either side of their centre.
+    let half = spec.bar_width.unwrap_or(0.0) / 2.0;
+    let xs = series
+        .iter()
+        .flat_map(|s| s.points.iter().flat_map(move |p| [p.0 - half, p.0 + half]));
     let xs = xs.chain(spec.bands.iter().flat_map(|b| [b.x.0, b.x.1]));
     let ys = series
         .iter()
@@ -148,8 +195,13 @@ where
     );
     let (x0, x1) = range(xs, spec.log_x);
     let (y0, y1) = range(ys.filter(|y| !spec.log_y || *y > 0.0), spec.log_y);
-    let (y0, y1) = headroom((y0, y1), series.len() + spec.bands.len(), spec.log_y);
-    let mut b = ChartBuilder::on(&root);
+    // The legend below the axes, off the data.
+    let entries = legend::entries(spec, series);
+    let (w, h) = root.dim_in_pixel();
+    let below = legend::height(&root, &entries, w);
+    let (upper, lower) = root.split_vertically(h.saturating_sub(below));
+    legend::draw(&lower, &entries, w).map_err(io)?;
+    let mut b = ChartBuilder::on(&upper);
     b.caption(spec.title, ("sans-serif", 22))
         .margin(12)
         .x_label_area_size(45)
@@ -198,46 +250,61 @@ where
     DB: DrawingBackend + 'a,
     DB::ErrorType: 'static,
 {
-    let count_tick = |v: &f64| {
-        if v.fract() == 0.0 {
+    let keys = |log: bool, k: Vec<f64>| if log { Vec::new() } else { k };
+    // A count axis ticks at whole numbers only: no more ticks than counts in its range.
+    let y_ticks = if spec.count_y {
+        ((y1 - y0).floor().max(1.0) as usize + 1).min(TICKS)
+    } else {
+        TICKS
+    };
+    let x_keys = keys(spec.log_x, chart.as_coord_spec().x_spec().key_points(TICKS));
+    let y_keys = keys(
+        spec.log_y,
+        chart.as_coord_spec().y_spec().key_points(y_ticks),
+    );
+    let x_tick = tick_labels(&x_keys, spec.log_x);
+    let y_real = tick_labels(&y_keys, spec.log_y);
+    let y_tick = |v: &f64| {
+        if !spec.count_y {
+            y_real(v)
+        } else if v.fract() == 0.0 {
             tick(*v)
         } else {
             String::new()
         }
     };
-    let y_tick: &dyn Fn(&f64) -> String = if spec.count_y {
-        &count_tick
-    } else {
-        &|v: &f64| tick(*v)
-    };
+    // A light major grid (no minor lines), axes in black, labels in the embedded font.
     chart
         .configure_mesh()
+        .x_labels(TICKS)
+        .y_labels(y_ticks)
+        .bold_line_style(RGBColor(225, 225, 225).stroke_width(1))
+        .light_line_style(TRANSPARENT)
+        .axis_style(BLACK.stroke_width(1))
         .x_desc(spec.x_label)
         .y_desc(spec.y_label)
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(y_tick)
+        .x_label_formatter(&x_tick)
+        .y_label_formatter(&y_tick)
         .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 15))
         .draw()
         .map_err(io)?;
     for (k, b) in spec.bands.iter().enumerate() {
-        let c = Palette99::pick(series.len() + k).to_rgba();
+        let c = legend::colour(series.len() + k);
         let (lo, hi) = b.y.unwrap_or((y0, y1));
-        let fill = c.mix(0.18).filled();
         chart
             .draw_series(std::iter::once(Rectangle::new(
                 [(b.x.0, lo), (b.x.1, hi)],
-                fill,
+                c.mix(0.18).filled(),
             )))
-            .map_err(io)?
-            .label(b.label.clone())
-            .legend(move |(x, y)| {
-                Rectangle::new([(x, y - 6), (x + 18, y + 6)], c.mix(0.35).filled())
-            });
+            .map_err(io)?;
     }
     for (i, s) in series.iter().enumerate() {
-        draw_one(chart, Palette99::pick(i).to_rgba(), s, io)?;
+        match spec.bar_width {
+            Some(width) if !s.line => draw_bars(chart, legend::colour(i), s, width, io)?,
+            _ => draw_one(chart, legend::colour(i), s, io)?,
+        }
     }
-    draw_legend(chart, SeriesLabelPosition::UpperRight, 0.8, 14).map_err(io)?;
     Ok(())
 }
 
@@ -281,16 +348,17 @@ where
     };
     chart
         .draw_series(LineSeries::new(joined, c.stroke_width(2)))
-        .map_err(io)?
-        .label(s.label.clone())
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
-    if s.line || s.points.len() < 1000 {
+        .map_err(io)?;
+    // Markers on the measured points (a series with error bars, or without a line); a
+    // reference line (a mean, a closed form) is a plain line.
+    let measured = !s.line || s.points.iter().any(|p| p.2 > 0.0);
+    if measured && s.points.len() < 1000 {
         let dots = s
             .points
             .iter()
             .map(|p| Circle::new((p.0, p.1), 3, c.filled()));
         chart.draw_series(dots).map_err(io)?;
-    } else {
+    } else if !s.line {
         // Dense scatter (e.g. Fig. 5): single pixels.
         let pixels = s.points.iter().map(|p| Pixel::new((p.0, p.1), c));
         chart.draw_series(pixels).map_err(io)?;
@@ -305,6 +373,33 @@ where
         .filter(|p| p.2 > 0.0)
         .map(|p| ErrorBar::new_vertical(p.0, p.1 - p.2, p.1, p.1 + p.2, c.stroke_width(1), 6));
     chart.draw_series(bars).map_err(io)?;
+    Ok(())
+}
+
+/// The series `s` as bars of `width` from 0 to each point's y, filled in `c` (translucent, so
+/// a second histogram shows through) with a solid outline.
+fn draw_bars<'a, DB, X: Axis, Y: Axis>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    c: RGBAColor,
+    s: &Series,
+    width: f64,
+    io: &DrawError<'_, DB>,
+) -> Result<(), Error>
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+{
+    let corners = |p: &(f64, f64, f64)| [(p.0 - width / 2.0, 0.0), (p.0 + width / 2.0, p.1)];
+    let bars = s.points.iter().filter(|p| p.1 > 0.0);
+    chart
+        .draw_series(
+            bars.clone()
+                .map(|p| Rectangle::new(corners(p), c.mix(0.6).filled())),
+        )
+        .map_err(io)?;
+    chart
+        .draw_series(bars.map(|p| Rectangle::new(corners(p), c.stroke_width(1))))
+        .map_err(io)?;
     Ok(())
 }
 
@@ -335,7 +430,7 @@ pub fn plot(stem: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), Error
     let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
     draw(
         &png,
-        BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(),
+        Glyphs(BitMapBackend::with_buffer(&mut rgb, SIZE)).into_drawing_area(),
         spec,
         series,
     )?;
@@ -374,12 +469,14 @@ mod tests {
         el[start..].split('"').next()?.parse().ok()
     }
 
-    /// Renders series whose points crowd the upper right corner (where the legend goes) and
-    /// asserts on the SVG itself: the legend box covers no data point and no end of an error
-    /// bar; the band is drawn; count ticks are integers. (Broken on purpose — the headroom taken
-    /// out — the legend box sits on the top points and the test fails.)
+    /// Renders series whose points crowd the upper right corner and asserts on the SVG itself:
+    /// every legend label sits below every data point, every end of an error bar and the x
+    /// axis's labels (the legend is off the data); the band is drawn; count ticks are integers;
+    /// the grid has no minor lines (one line per labelled tick). (Broken on purpose — the legend
+    /// drawn on the upper part of the figure instead of the strip below — the labels sit among
+    /// the points and the test fails.)
     #[test]
-    fn the_legend_covers_no_data_and_counts_tick_as_integers() {
+    fn the_legend_is_below_the_data_and_counts_tick_as_integers() {
         register_font();
         let points: Vec<(f64, f64, f64)> = (0..40)
             .map(|k| (k as f64, (k as f64).sqrt(), 0.2))
@@ -413,40 +510,62 @@ mod tests {
             &series,
         )
         .unwrap();
-        let legend = svg
-            .split('<')
-            .find(|e| e.starts_with("rect") && e.contains("opacity=\"0.8\""))
-            .expect("a legend box");
-        let (x, y) = (attr(legend, "x").unwrap(), attr(legend, "y").unwrap());
-        let (w, h) = (
-            attr(legend, "width").unwrap(),
-            attr(legend, "height").unwrap(),
-        );
-        let inside = |px: f64, py: f64| px >= x && px <= x + w && py >= y && py <= y + h;
-        let circles: Vec<(f64, f64)> = svg
+        let texts: Vec<(f64, &str)> = svg
+            .split("<text")
+            .skip(1)
+            .filter_map(|t| {
+                let (head, rest) = t.split_once('>')?;
+                Some((attr(head, "y")?, rest.split('<').next()?.trim()))
+            })
+            .collect();
+        let labels: Vec<f64> = texts
+            .iter()
+            .filter(|t| t.1.starts_with("a series with a long label") || t.1 == "band")
+            .map(|t| t.0)
+            .collect();
+        assert_eq!(labels.len(), 5, "every entry labelled: {texts:?}");
+        let top_of_legend = labels.iter().copied().fold(f64::INFINITY, f64::min);
+        let circles: Vec<f64> = svg
             .split('<')
             .filter(|e| e.starts_with("circle"))
-            .map(|e| (attr(e, "cx").unwrap(), attr(e, "cy").unwrap()))
+            .map(|e| attr(e, "cy").unwrap())
             .collect();
         assert!(circles.len() >= 160, "every point drawn: {}", circles.len());
         assert!(
-            circles.iter().all(|&(cx, cy)| !inside(cx, cy)),
-            "a data point under the legend box {legend}"
+            circles.iter().all(|&cy| cy < top_of_legend),
+            "a data point at or below the legend (top {top_of_legend})"
         );
-        let ends = svg
+        let bar_ends = svg
             .split('<')
             .filter(|e| e.starts_with("line"))
-            .filter_map(|e| Some((attr(e, "x1")?, attr(e, "y1")?)));
-        assert!(ends.into_iter().all(|(bx, by)| !inside(bx, by)));
+            .filter_map(|e| attr(e, "y1"));
+        assert!(bar_ends.into_iter().all(|y| y < top_of_legend));
+        let x_desc = texts.iter().find(|t| t.1 == "x").expect("the x label").0;
+        assert!(x_desc < top_of_legend, "the legend above the x label");
         assert!(svg.contains("opacity=\"0.18\""), "the band is drawn");
+        // The grid: one light line per labelled tick, no minor lines between them.
+        let grid = svg.matches("stroke=\"#E1E1E1\"").count();
+        assert!((4..=2 * (TICKS + 1)).contains(&grid), "{grid} grid lines");
         // Count ticks: "0", "1", … and never a fraction.
-        let texts: Vec<&str> = svg
-            .split("<text")
-            .skip(1)
-            .filter_map(|t| Some(t.split_once('>')?.1.split('<').next()?.trim()))
-            .collect();
-        assert!(texts.contains(&"3"), "{texts:?}");
-        assert!(!texts.iter().any(|t| t.contains('.')), "{texts:?}");
+        let ticks: Vec<&str> = texts.iter().map(|t| t.1).collect();
+        assert!(ticks.contains(&"3"), "{ticks:?}");
+        assert!(!ticks.iter().any(|t| t.contains('.')), "{ticks:?}");
+    }
+
+    #[test]
+    fn an_axis_labels_its_ticks_with_the_same_decimals() {
+        let keys = [0.164, 0.166, 0.168, 0.17, 0.172];
+        let label = tick_labels(&keys, false);
+        let shown: Vec<String> = keys.iter().map(&label).collect();
+        assert_eq!(shown, ["0.164", "0.166", "0.168", "0.170", "0.172"]);
+        let label = tick_labels(&[0.0, 0.25, 0.5, 0.75, 1.0], false);
+        assert_eq!(label(&1.0), "1.00");
+        assert_eq!(label(&-0.0), "0.00");
+        let label = tick_labels(&[20.0, 40.0, 60.0], false);
+        assert_eq!(label(&40.0), "40");
+        // A logarithmic axis labels each tick as written.
+        let label = tick_labels(&[0.01, 0.1, 1.0], true);
+        assert_eq!((label(&0.01), label(&1.0)), ("0.01".into(), "1".into()));
     }
 
     #[test]

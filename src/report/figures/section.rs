@@ -102,7 +102,7 @@ pub fn section_png(r: &SectionResult, path: &Path) -> Result<Vec<u8>, Error> {
     let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
     draw(
         r,
-        BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(),
+        super::Glyphs(BitMapBackend::with_buffer(&mut rgb, SIZE)).into_drawing_area(),
     )
     .map_err(failed)?;
     png_bytes(&rgb, SIZE, path)

@@ -1,5 +1,5 @@
 //! The histogram of a result's batch values: groups of batches (the diffusing and the bounded
-//! ones of a field run) as step outlines on common bins, with the estimate marked.
+//! ones of a field run) as bars on common bins, with the estimate marked.
 
 use std::path::Path;
 
@@ -7,7 +7,8 @@ use crate::Error;
 use crate::report::figures::{PlotSpec, Series, plot};
 
 /// A histogram of the batch values of each group `(label, values)`, on bins common to all, as
-/// step outlines, with `mean` marked; `(title, x_label)` name it.
+/// bars (translucent, so groups show through each other), with `mean` marked; `(title,
+/// x_label)` name it.
 pub(super) fn histogram(
     groups: &[(String, &[f64])],
     mean: f64,
@@ -26,19 +27,16 @@ pub(super) fn histogram(
         for v in x.iter() {
             counts[(((v - lo) / width) as usize).min(bins - 1)] += 1;
         }
-        let mut outline = vec![(lo, 0.0, 0.0)];
-        for (i, c) in counts.iter().enumerate() {
-            let a = lo + i as f64 * width;
-            outline.push((a, f64::from(*c), 0.0));
-            outline.push((a + width, f64::from(*c), 0.0));
-        }
-        outline.push((lo + bins as f64 * width, 0.0, 0.0));
         top = top.max(f64::from(*counts.iter().max().unwrap_or(&1)));
         series.push(Series {
             label: label.clone(),
-            points: outline,
+            points: counts
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (lo + (i as f64 + 0.5) * width, f64::from(*c), 0.0))
+                .collect(),
             notes: Vec::new(),
-            line: true,
+            line: false,
         });
     }
     series.push(Series {
@@ -49,6 +47,7 @@ pub(super) fn histogram(
     });
     let spec = PlotSpec {
         count_y: true,
+        bar_width: Some(width),
         ..PlotSpec::new(title, x_label, "batches")
     };
     plot(stem, &spec, &series)

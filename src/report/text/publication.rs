@@ -7,9 +7,24 @@ use super::line;
 use crate::report::publication::{PublicationReport, Verdict};
 
 /// The text of a `report` result written into `out`, line by line as the command line prints
-/// it: the headline, one line per check, and the verdict.
+/// it: the verdict first (with the file, the checks and the work), the headline, one line per
+/// check, and where the documents were written.
 pub fn publication(r: &PublicationReport, out: &Path) -> String {
     let mut text = String::new();
+    let skipped = r
+        .checks
+        .iter()
+        .filter(|c| c.verdict == Verdict::Skip)
+        .count();
+    line!(
+        text,
+        "{}: {} ({} checks, {skipped} skipped; {:.3e} collisions re-run, {:.1} s)",
+        r.provenance.result_file,
+        r.verdict_stated(),
+        r.checks.len(),
+        r.rerun_collisions as f64,
+        r.seconds,
+    );
     let head: Vec<String> = r
         .headline
         .iter()
@@ -26,20 +41,6 @@ pub fn publication(r: &PublicationReport, out: &Path) -> String {
             c.detail
         );
     }
-    let skipped = r
-        .checks
-        .iter()
-        .filter(|c| c.verdict == Verdict::Skip)
-        .count();
-    line!(
-        text,
-        "{}: {} ({} checks, {skipped} skipped; {:.3e} collisions re-run, {:.1} s); written: {}/report.{{md,html,json}}",
-        r.provenance.result_file,
-        r.verdict_stated(),
-        r.checks.len(),
-        r.rerun_collisions as f64,
-        r.seconds,
-        out.display()
-    );
+    line!(text, "written: {}/report.{{md,html,json}}", out.display());
     text
 }

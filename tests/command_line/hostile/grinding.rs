@@ -9,7 +9,7 @@ use std::collections::BTreeSet;
 use crate::common::{lorentz_in as lorentz, scratch};
 
 /// The batch a quick audit of `file` re-ran (from its `report.json` in `out`), its `sampled`
-/// block and the printed verdict line.
+/// block and the printed verdict line (the first).
 fn quick_audit(dir: &std::path::Path, file: &str, out: &str) -> (u64, serde_json::Value, String) {
     let (code, stdout, err) = lorentz(dir, &["report", file, "--quick", "--out", out, "--quiet"]);
     assert_eq!(code, 0, "{err}");
@@ -23,8 +23,8 @@ fn quick_audit(dir: &std::path::Path, file: &str, out: &str) -> (u64, serde_json
         .expect("the quick audit re-runs one batch");
     assert_eq!(rerun["verdict"], "PASS", "{rerun}");
     let batch = rerun["numbers"]["first_batch_rerun"].as_f64().unwrap() as u64;
-    let last = stdout.lines().last().unwrap_or_default().to_string();
-    (batch, v["sampled"].clone(), last)
+    let first = stdout.lines().next().unwrap_or_default().to_string();
+    (batch, v["sampled"].clone(), first)
 }
 
 /// The same bytes audited again, and copies padded with spaces (which changed the digest that
@@ -48,7 +48,7 @@ fn a_quick_audit_draws_its_batch_afresh_whatever_the_file_holds() {
             std::fs::write(dir.join(&padded), format!("{out}{}", " ".repeat(k))).unwrap();
             padded
         };
-        let (batch, sampled, last) = quick_audit(dir, &file, &format!("r{k}"));
+        let (batch, sampled, first) = quick_audit(dir, &file, &format!("r{k}"));
         assert!(batch < 16, "{batch}");
         drawn.insert(batch);
         assert_eq!(sampled["units"], "batches");
@@ -58,10 +58,10 @@ fn a_quick_audit_draws_its_batch_afresh_whatever_the_file_holds() {
         );
         assert_eq!(sampled["p_forged_pass"].as_f64(), Some(15.0 / 16.0));
         assert!(
-            last.contains("PASS (quick audit: 1 of 16 batches re-run")
-                && last.contains("15/16")
-                && last.contains("publish with the full audit"),
-            "{last}"
+            first.contains("PASS (quick audit: 1 of 16 batches re-run")
+                && first.contains("15/16")
+                && first.contains("publish with the full audit"),
+            "{first}"
         );
     }
     assert!(
