@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs what a fresh machine lacks for lorentz-gas, and nothing else:
 #   GNU m4 and a C compiler, which rug's bundled GMP/MPFR build needs (Debian/Ubuntu: apt-get).
+# The system's GMP and MPFR (libgmp-dev, libmpfr-dev) are not needed: the build links rug's own,
+# built once and cached (docs/performance.md, "Building GMP and MPFR", says why).
 # Safe to run any number of times: it only installs what is missing.
 set -euo pipefail
 
@@ -26,7 +28,7 @@ if ((${#missing[@]})); then
 fi
 
 command -v cargo >/dev/null 2>&1 || {
-  echo "bootstrap: cargo not found: install stable Rust (1.85 or newer) with rustup" >&2
+  echo "bootstrap: cargo not found: install stable Rust (1.89 or newer, the rust-version of Cargo.toml) with rustup" >&2
   exit 1
 }
 echo "bootstrap: m4, a C compiler and cargo are present" >&2
