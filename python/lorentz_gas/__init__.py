@@ -76,9 +76,9 @@ from ._transport import (
     hops,
     lattice_walk,
     superdiffusion,
-    sweep,
     theory,
 )
+from ._sweep import ShardResult, merge, sweep
 from ._verification import (
     audit,
     bench,
@@ -108,6 +108,7 @@ __all__ = [
     "lattice_walk",
     "backscatter",
     "sweep",
+    "merge",
     "escape",
     "lyapunov",
     "superdiffusion",
@@ -141,6 +142,7 @@ __all__ = [
     "SuperdiffusionResult",
     "SweepResult",
     "FieldSweepResult",
+    "ShardResult",
     "EscapeResult",
     "LyapunovResult",
     "FreePathResult",
