@@ -52,7 +52,7 @@ def test_a_dask_local_cluster_gives_the_bits_of_one_process(one_process):
 
 def test_parts_on_disk_merge_into_the_bits_of_one_process(one_process, tmp_path):
     parts = [lg.sweep(**FIELD, shard=f"{i}/3", out=tmp_path / f"p{i}") for i in range(3)]
-    assert [p["points"] for p in parts] == [[0], [1], [2]]
+    assert [list(p["points"]) for p in parts] == [[0], [1], [2]]
     assert "part 1/3" in repr(parts[1])
     merged = lg.merge([tmp_path / "p2", tmp_path / "p0", tmp_path / "p1"], out=tmp_path / "m")
     assert isinstance(merged, lg.FieldSweepResult)
@@ -61,7 +61,7 @@ def test_parts_on_disk_merge_into_the_bits_of_one_process(one_process, tmp_path)
     with pytest.raises(ValueError, match=r"1 of 3 points missing.*part 2/3"):
         lg.merge([tmp_path / "p0", tmp_path / "p1"])
     over_w = [lg.sweep(**OVER_W, shard=f"{i}/2", out=tmp_path / f"w{i}") for i in range(2)]
-    assert [p["points"] for p in over_w] == [[0, 2], [1]]
+    assert [list(p["points"]) for p in over_w] == [[0, 2], [1]]
     merged = lg.merge([tmp_path / "w0", tmp_path / "w1"])
     assert science(merged) == one_process["over_w"]
 
