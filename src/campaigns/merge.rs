@@ -1,6 +1,6 @@
 //! The parts of a sharded sweep — over w, or in a field on any table — combined into the whole
 //! sweep: the same bits as the sweep run in one piece, apart from `meta` (this process) and
-//! `resumed_points` (every point merged). The parts come from directories ([`read_part`]) or
+//! `resumed_points` (the points the parts reused from earlier runs). The parts come from directories ([`read_part`]) or
 //! from memory (a process pool's, [`super::shard::SweepPart::sealed_points`]); one merge for both.
 
 use std::collections::BTreeMap;
@@ -193,7 +193,7 @@ pub fn merge(
             crate::files::write(stored::point_path(&sweep, out, p.index), &p.text)?;
         }
     }
-    let mut finished = stored::analyse(&sweep, &points, options)?;
+    let mut finished = stored::analyse(&sweep, &points, gathered.resumed, options)?;
     if let Finished::OverW(r) = &mut finished {
         gathered.name_engines(&mut r.meta);
     }
@@ -213,6 +213,8 @@ struct Gathered {
     found: BTreeMap<u32, (SealedPoint, PathBuf)>,
     /// The engines that ran the parts (informational: every engine gives the same bits).
     engines: Vec<(String, Option<String>)>,
+    /// Points the parts reused from earlier runs (a directory without a manifest: all of its).
+    resumed: u32,
 }
 
 impl Gathered {
@@ -261,10 +263,14 @@ impl Gathered {
                 ));
             }
             self.shards.insert(m.shard.index, (m.shard, d.clone()));
+            self.resumed += m.resumed_points;
             let e = (m.meta.engine.clone(), m.meta.simd.clone());
             if !self.engines.contains(&e) {
                 self.engines.push(e);
             }
+        }
+        if part.manifest.is_none() {
+            self.resumed += part.points.len() as u32;
         }
         for (path, p) in &part.points {
             self.same(&stored::sweep_of(path, &p.text)?, d)?;

@@ -156,24 +156,24 @@ impl Checker {
     }
 }
 
-/// The whole sweep's analysis from every point (`points[i]` is point i, checked by [`check`]),
-/// all of them counted as reused.
+/// The whole sweep's analysis from every point (`points[i]` is point i, checked by
+/// [`Checker::check`]), `resumed` of them reused from earlier runs.
 ///
 /// # Errors
 /// A text that does not parse, or what the kind's analysis refuses.
 pub fn analyse(
     cfg: &SweepConfig,
     points: &[SealedPoint],
+    resumed: u32,
     options: &RunOptions,
 ) -> Result<Finished, Error> {
-    let n = points.len() as u32;
     let at = |p: &SealedPoint| PathBuf::from(format!("point {}", p.index));
     match cfg.grid {
         Grid::Gaps(_) => {
             let parsed = (points.iter())
                 .map(|p| unseal::<SweepPoint>(&at(p), &p.text, "sweep point"))
                 .collect::<Result<Vec<_>, Error>>()?;
-            let r = super::analysis::analyse(cfg, &parsed, n, options.threads)?;
+            let r = super::analysis::analyse(cfg, &parsed, resumed, options.threads)?;
             Ok(Finished::OverW(Box::new(r)))
         }
         Grid::InField(_) => {
@@ -181,7 +181,7 @@ pub fn analyse(
                 .map(|p| unseal::<FieldSweepPoint>(&at(p), &p.text, "field sweep point"))
                 .map(|p| p.map(|p| p.row))
                 .collect::<Result<Vec<_>, Error>>()?;
-            let r = field::report(cfg, rows, n, options)?;
+            let r = field::report(cfg, rows, resumed, options)?;
             Ok(Finished::InField(Box::new(r)))
         }
     }
