@@ -76,9 +76,9 @@ from ._transport import (
     hops,
     lattice_walk,
     superdiffusion,
-    sweep,
     theory,
 )
+from ._sweep import ShardResult, merge, sweep
 from ._verification import (
     audit,
     bench,
@@ -116,6 +116,7 @@ __all__ = [
     "lattice_walk",
     "backscatter",
     "sweep",
+    "merge",
     "escape",
     "lyapunov",
     "superdiffusion",
@@ -150,6 +151,7 @@ __all__ = [
     "SuperdiffusionResult",
     "SweepResult",
     "FieldSweepResult",
+    "ShardResult",
     "EscapeResult",
     "LyapunovResult",
     "FreePathResult",

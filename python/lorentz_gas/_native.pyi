@@ -71,6 +71,7 @@ class SweepParams(TypedDict):
     threads: Optional[str]
     engine: str
     out: Optional[str]
+    shard: Optional[str]
     checkpoint_every: float
 
 class FieldSweepParams(TypedDict):
@@ -87,9 +88,15 @@ class FieldSweepParams(TypedDict):
     batches_per_run: str
     seed: str
     localization_samples: str
+    shard: Optional[str]
     threads: Optional[str]
     engine: str
     out: Optional[str]
+
+class MergeParams(TypedDict):
+    shards: List[str]
+    out: Optional[str]
+    threads: Optional[str]
 
 class EscapeParams(TypedDict):
     w: str
@@ -268,6 +275,8 @@ def lattice_walk(params: HopParams, progress: Progress) -> str: ...
 def backscatter(params: BackscatterParams, progress: Progress) -> str: ...
 def sweep(params: SweepParams, progress: Progress) -> str: ...
 def field_sweep(params: FieldSweepParams, progress: Progress) -> str: ...
+def merge(params: MergeParams, progress: Progress) -> str: ...
+def merge_parts(parts: List[str], out: Optional[str], threads: Optional[str]) -> str: ...
 def escape(params: EscapeParams, progress: Progress) -> str: ...
 def lyapunov(params: LyapunovParams, progress: Progress) -> str: ...
 def superdiffusion(params: SuperdiffusionParams, progress: Progress) -> str: ...

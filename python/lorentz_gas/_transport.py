@@ -17,7 +17,6 @@ from ._inputs import (
     _exact,
     Table,
     _optional_exact,
-    _table,
     _where,
     _path,
     _threads,
@@ -32,11 +31,9 @@ from ._results import (
     DiffusionResult,
     EscapeResult,
     FieldResult,
-    FieldSweepResult,
     HopsResult,
     LatticeWalkResult,
     SuperdiffusionResult,
-    SweepResult,
     TheoryResult,
 )
 
@@ -345,153 +342,6 @@ def backscatter(
         "precision": str(precision),
     })
     return BackscatterResult(text)
-
-
-@public
-def sweep(
-    w_from: Optional[Exact] = None,
-    w_to: Optional[Exact] = None,
-    steps: Count = 11,
-    runs: Optional[Count] = None,
-    collisions_per_run: Count = 2e8,
-    batches_per_run: Count = 8,
-    seed: Count = 1,
-    threads: Optional[Count] = None,
-    engine: str = "auto",
-    out: Optional[PathLike] = None,
-    checkpoint_every: float = 60.0,
-    progress: Progress = None,
-    *,
-    w: Optional[Exact] = None,
-    field: Optional[Exact] = None,
-    fields: Optional[Sequence[Exact]] = None,
-    localization_samples: Count = 1e6,
-    scene: str = "triangular",
-    radius: Optional[Exact] = None,
-    table: Optional[Table] = None,
-) -> Union[SweepResult, FieldSweepResult]:
-    """D(w) over a grid of gaps (``lorentz sweep``), or the diffusion tensor in a magnetic field
-    over gaps and fields (``lorentz sweep --field`` / ``--fields``).
-
-    Parameters
-    ----------
-    w_from, w_to : str, float, Fraction or Decimal
-        First and last gap, each in 0 < w < w_inf = 0.3094...; the grid is computed exactly
-        (0.1 .. 0.2 in 3 steps has 0.15, not its nearest double's neighbour).
-    steps : int
-        Number of gaps, at least 2.
-    runs : int, optional
-        Independent runs at each gap (default 10; their spread is checked against the batch
-        errors). Not used in a field: one run per point.
-    collisions_per_run : int
-        Collisions of each run, over its batches (a point costs runs x this).
-    batches_per_run : int
-        Independent batches of each run, at least 2.
-    out : path, optional
-        Keep finished points there (a rerun resumes) and write sweep.csv, sweep-runs.csv,
-        sweep.json and the figures (in a field: field-sweep.csv and field-sweep.json).
-    seed, threads, engine, checkpoint_every, progress
-        As in :func:`diffusion`.
-    w : str, float, Fraction or Decimal, keyword only
-        The gap of a sweep over the field (with ``fields``), instead of ``w_from``/``w_to``.
-    field : exact number, keyword only
-        A fixed field B (angular velocity of the velocity, 1/time; cyclotron radius 1/abs(B)) for
-        a sweep over w.
-    fields : sequence of exact numbers, keyword only
-        The fields of a sweep over B (each nonzero, 1e-3 <= abs(B) <= 1e3); with B and -B both
-        given, Onsager-Casimir is checked.
-    localization_samples : int, keyword only
-        Phase points classified per point for the sampled localized share.
-    scene : {"triangular", "square"}, keyword only
-        The lattice of a sweep in a field: the triangular one (at ``w`` or over ``w_from`` ..
-        ``w_to``) or the square one at ``radius`` (a sweep over ``fields``: in a field its
-        corridors close). A sweep over w without a field is the triangular scene's.
-    radius : str, float, Fraction or Decimal, keyword only
-        Disk radius of the square scene, 0 < radius < 1/2, taken exactly like ``w``.
-    table : dict or path, keyword only
-        A table given as data (as in :func:`diffusion`) for a sweep over ``fields`` on it, instead
-        of ``scene``, ``w`` and ``radius``.
-
-    Returns
-    -------
-    SweepResult
-        ``rows`` (numpy structured array, one record per gap: ``w``, ``D`` ± ``D_err`` in
-        length^2/time, ``D_MZ``, ``D_Bo``, the runs' F test), the same fields as attributes,
-        ``run_D`` (points x runs), ``linear_fit``; ``to_pandas()``.
-    FieldSweepResult
-        In a field: ``rows`` with ``w`` (or ``radius`` on the square lattice), ``field``, ``D_xx`` ± ``D_xx_err``, the Hall ``D_xy`` ±
-        ``D_xy_err`` (length^2/time), the exact and sampled localized shares and Kac's mean free
-        time; ``onsager`` (the ±B checks) and ``onsager_agrees``; ``to_pandas()``.
-    """
-    if field is not None or fields is not None:
-        if runs is not None:
-            raise ValueError(
-                "runs is not used by a sweep in a field (one run of collisions_per_run per point)"
-            )
-        if checkpoint_every != 60.0:
-            raise ValueError(
-                "checkpoint_every is not used by a sweep in a field (it resumes by point from out)"
-            )
-        if fields is not None and (isinstance(fields, (str, bytes)) or not fields):
-            raise ValueError("fields: give a non-empty sequence of exact numbers, e.g. [-1, 1]")
-        where = _table(scene, table, w=w, radius=radius, w_from=w_from, w_to=w_to)
-        total = _total(_count("collisions_per_run", collisions_per_run))
-        one_place = w is not None or radius is not None or table is not None
-        total *= (1 if fields is None else len(fields)) * (
-            1 if one_place else _total(_count("steps", steps))
-        )
-        text = _run(_native.field_sweep, progress, total, "coll", {
-            "scene": str(scene),
-            "table": where,
-            "w": None if w is None else _exact("w", w),
-            "radius": _optional_exact("radius", radius),
-            "w_from": None if w_from is None else _exact("w_from", w_from),
-            "w_to": None if w_to is None else _exact("w_to", w_to),
-            **_counts(
-                steps=steps,
-                collisions_per_run=collisions_per_run,
-                batches_per_run=batches_per_run,
-                seed=seed,
-                localization_samples=localization_samples,
-            ),
-            "field": None if field is None else _exact("field", field),
-            "fields": [] if fields is None else [_exact("fields", b) for b in fields],
-            "threads": _threads(threads),
-            "engine": str(engine),
-            "out": _path(out),
-        })
-        return FieldSweepResult(text)
-    if w is not None:
-        raise ValueError(
-            "w is the gap of a sweep over the field: give fields=[...] (a sweep over w: w_from, w_to)"
-        )
-    if scene != "triangular" or radius is not None or table is not None:
-        raise ValueError(
-            "a sweep over w without a field is the triangular scene's: scene, radius and table are "
-            "for a sweep over the field (fields=[...])"
-        )
-    if w_from is None or w_to is None:
-        raise ValueError("a sweep over w needs w_from and w_to")
-    runs = 10 if runs is None else runs
-    total = _total(_count("collisions_per_run", collisions_per_run)) * _total(
-        _count("runs", runs)
-    ) * _total(_count("steps", steps))
-    text = _run(_native.sweep, progress, total, "coll", {
-        "w_from": _exact("w_from", w_from),
-        "w_to": _exact("w_to", w_to),
-        **_counts(
-            steps=steps,
-            runs=runs,
-            collisions_per_run=collisions_per_run,
-            batches_per_run=batches_per_run,
-            seed=seed,
-        ),
-        "threads": _threads(threads),
-        "engine": str(engine),
-        "out": _path(out),
-        "checkpoint_every": float(checkpoint_every),
-    })
-    return SweepResult(text)
 
 
 @public

@@ -16,7 +16,7 @@ use lorentz_gas::estimators::free_paths::{self, FreePathConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
-use lorentz_gas::estimators::sweep::{self, GapGrid, Grid, SweepConfig};
+use lorentz_gas::estimators::sweep::{GapGrid, Grid, SweepConfig};
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
 use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::theory::constants::{self, ConstantsConfig};
@@ -152,23 +152,15 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
         batches: p.count_u32("batches_per_run")?,
         seed: p.count_u64("seed")?,
     };
-    let (threads, engine) = (p.threads()?, p.engine()?);
-    let (out, every) = (p.opt_path("out")?, p.checkpoint_every()?);
+    let how = crate::campaigns::SweepRun::read(p)?;
+    let every = p.checkpoint_every()?;
     Ok(work(move |py, progress| {
         cfg.validate().map_err(crate::py_err)?;
-        let r = compute(py, progress, |ctl| {
-            let opts = RunOptions {
-                resume: out.clone(),
-                checkpoint_every: every,
-                ..options(ctl, threads, engine)
-            };
-            let r = sweep::run(&cfg, &opts)?;
-            if let Some(dir) = &out {
-                sweep::write_tables(&r, dir)?;
-            }
-            Ok(r)
-        })?;
-        json(&r)
+        let how = crate::campaigns::SweepRun {
+            every: Some(every),
+            ..how
+        };
+        crate::campaigns::run_sweep(py, progress, cfg, how)
     }))
 }
 

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
-use lorentz_gas::estimators::sweep::field::{self as field_sweep, FieldGrid};
+use lorentz_gas::estimators::sweep::field::FieldGrid;
 use lorentz_gas::estimators::sweep::field_grid::{self, SweepGrid};
 use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 use lorentz_gas::scenes::table::spec::TableSpec;
@@ -28,8 +28,7 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
         p.count_u32("batches_per_run")?,
     );
     let (seed, localization_samples) = (p.count_u64("seed")?, p.count_u64("localization_samples")?);
-    let (threads, engine) = (p.threads()?, p.engine()?);
-    let out = p.opt_path("out")?;
+    let how = crate::campaigns::SweepRun::read(p)?;
     Ok(work(move |py, progress| {
         // A table given as data is the scene `table` of the grid.
         let table = match &place.table {
@@ -66,18 +65,7 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             seed,
         };
         cfg.validate().map_err(crate::py_err)?;
-        let r = compute(py, progress, |ctl| {
-            let opts = RunOptions {
-                resume: out.clone(),
-                ..crate::analyses::options(ctl, threads, engine)
-            };
-            let r = field_sweep::run(&cfg, &opts)?;
-            if let Some(dir) = &out {
-                field_sweep::write_tables(&r, dir)?;
-            }
-            Ok(r)
-        })?;
-        json(&r)
+        crate::campaigns::run_sweep(py, progress, cfg, how)
     }))
 }
 

@@ -8,6 +8,7 @@
 
 mod analyses;
 mod bench;
+mod campaigns;
 mod diffusion;
 mod events;
 mod field;
@@ -74,5 +75,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     events::register(m)?;
     text::register(m)?;
     m.add_function(wrap_pyfunction!(scenes::read_table, m)?)?;
+    m.add_function(wrap_pyfunction!(campaigns::merge_parts, m)?)?;
     Ok(())
 }

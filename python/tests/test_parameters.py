@@ -153,6 +153,7 @@ NATIVES = {
     "lattice_walk": ["lattice_walk"],
     "backscatter": ["backscatter"],
     "sweep": ["sweep", "field_sweep"],
+    "merge": ["merge"],
     "escape": ["escape"],
     "lyapunov": ["lyapunov"],
     "superdiffusion": ["superdiffusion"],
@@ -175,6 +176,7 @@ NATIVES = {
 PYTHON_ONLY = {
     "progress": "the progress bar or callback (`_progress._Bar`), passed beside the dict",
     ("events", "n"): "the events asked for: passed to EventStream.next, not to the constructor",
+    ("sweep", "executor"): "the pool the points are spread over: each call is the compiled sweep",
 }
 
 # Public functions that are not analyses, with the reason.

@@ -1,6 +1,7 @@
-//! One part of a sweep too large for one machine: point i belongs to part i mod N, so a Slurm
-//! job array of N tasks runs the whole sweep, and [`super::merge`] combines the parts into the
-//! bits of the sweep in one piece.
+//! One part of a sweep too large for one machine — any sweep: over w, or in a field on any table:
+//! point i belongs to part i mod N, so a Slurm job array of N tasks (or N calls in a process pool)
+//! runs the whole sweep, and [`super::merge`] combines the parts into the bits of the sweep in one
+//! piece.
 
 use serde::{Deserialize, Serialize};
 
@@ -8,7 +9,7 @@ use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::{RunOption, RunOptions};
 use crate::engine::resume::seal;
-use crate::estimators::sweep::points::run_points;
+use crate::estimators::sweep::stored::{self, SealedPoint};
 use crate::estimators::sweep::{MAX_SWEEP_POINTS, SweepConfig};
 use crate::numbers::precision::Precision;
 
@@ -83,24 +84,18 @@ impl Shard {
     }
 }
 
-/// The directory a sweep part is written to: the run options' `resume`.
-pub fn part_directory<'a>(options: &'a RunOptions<'_>) -> Result<&'a std::path::Path, Error> {
-    options
-        .resume
-        .as_deref()
-        .ok_or_else(|| Error::missing("resume", "a sweep part is written to a directory: give one"))
-}
-
 impl std::fmt::Display for Shard {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}/{}", self.index, self.count)
     }
 }
 
-/// What one part of a sharded sweep leaves in its directory (`shard.json`, next to `points/`):
-/// the part's identity for [`super::merge::run`].
+/// What one part of a sharded sweep leaves in its directory, beside its points (`shard.json`
+/// over w, `field-shard.json` in a field: [`SweepConfig::part_manifest`]): the part's identity
+/// for [`super::merge::run`]. Without a directory (a part computed for a process pool), the
+/// part carries its points itself (`sealed_points`).
 #[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct ShardReport {
+pub struct SweepPart {
     /// The whole sweep's configuration.
     pub config: SweepConfig,
     /// Which part.
@@ -111,6 +106,9 @@ pub struct ShardReport {
     pub resumed_points: u32,
     /// Version, seed, engine, threads, command line of this part's process.
     pub meta: RunMeta,
+    /// The part's points as their files would hold them, when the part has no directory.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sealed_points: Vec<SealedPoint>,
 }
 
 /// One part of a sweep: the whole sweep's configuration and which part.
@@ -131,15 +129,15 @@ impl ShardConfig {
     }
 }
 
-/// Runs part `cfg.shard` of the sweep `cfg.sweep`: its points only (resumable, as
-/// [`crate::estimators::sweep::run`]), written to `DIR/points/` with `DIR/shard.json`, where DIR
-/// is `options.resume` (required: a part is only useful on disk); the analysis waits for
-/// [`super::merge::run`]. `options.progress` receives collision counts.
+/// Runs part `cfg.shard` of the sweep `cfg.sweep`, over w or in a field: its points only
+/// (resumable, as the whole sweep), written to `DIR/points/` (in a field `DIR/field-points/`)
+/// with the part's manifest, where DIR is `options.resume`; without a directory the part carries
+/// its points ([`SweepPart::sealed_points`]). The analysis waits for [`super::merge`].
+/// `options.progress` receives collision counts.
 ///
 /// # Errors
-/// An invalid configuration or options, no directory, a directory of another sweep, or an I/O
-/// error.
-pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<ShardReport, Error> {
+/// An invalid configuration or options, a directory of another sweep, or an I/O error.
+pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<SweepPart, Error> {
     cfg.validate()?;
     options.validate()?;
     options.refuse_unused(
@@ -150,11 +148,10 @@ pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<ShardReport, Error
             RunOption::CheckpointEvery,
         ],
     )?;
-    let dir = part_directory(options)?;
     let (sweep, shard) = (&cfg.sweep, cfg.shard);
     let resolved = options.engine.resolve(true)?;
-    let (points, resumed) = run_points(sweep, options, |i| shard.owns(i))?;
-    let report = ShardReport {
+    let (points, resumed) = stored::run_points(sweep, options, &|i| shard.owns(i))?;
+    let mut part = SweepPart {
         config: sweep.clone(),
         shard,
         points: points.iter().map(|p| p.index).collect(),
@@ -166,7 +163,14 @@ pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<ShardReport, Error
             Some(options.threads),
         )
         .with_engine(resolved),
+        sealed_points: Vec::new(),
     };
-    crate::files::write(dir.join("shard.json"), seal(&report)?.as_bytes())?;
-    Ok(report)
+    match options.resume.as_deref() {
+        Some(dir) => {
+            let manifest = dir.join(sweep.part_manifest());
+            crate::files::write(manifest, seal(&part)?.as_bytes())?;
+        }
+        None => part.sealed_points = points,
+    }
+    Ok(part)
 }

@@ -8,7 +8,7 @@
 //! configuration written beside the scripts ([`crate::estimators::sweep::SweepConfig::read`]; a table given as data travels in
 //! it) — and the merge job runs `lorentz merge OUT/shard-0 … OUT/shard-(N−1) --out OUT`, which
 //! writes the same tables, JSON and figures as the sweep run in one piece
-//! ([`crate::campaigns::merge::run`], [`crate::estimators::sweep::field_parts`]).
+//! ([`crate::campaigns::merge::run`]).
 //!
 //! Slurm's default `MaxArraySize` is 1001 (tasks 0 … 1000); a site may set it lower or higher.
 
@@ -41,6 +41,80 @@ pub struct SweepCampaign {
     pub partition: Option<String>,
     /// Wall-time limit of each task (Slurm's formats, e.g. `2:00:00` or `1-00:00:00`).
     pub time: Option<String>,
+    /// The account the jobs are charged to, if not the user's default one.
+    pub account: Option<String>,
+    /// Memory of each job (per node), in Slurm's form: a whole number with an optional unit
+    /// K, M, G or T (`4G`, `500M`).
+    pub mem: Option<String>,
+    /// Further `#SBATCH` directives of both jobs, each in option syntax `--key=value` (or a flag
+    /// `--key`), e.g. `--qos=long`, `--constraint=avx2`.
+    pub extra: Vec<String>,
+}
+
+/// The `#SBATCH` options the campaign writes itself (or takes as its own options): an extra
+/// directive may not set them again.
+pub const OWN_DIRECTIVES: [&str; 11] = [
+    "job-name",
+    "output",
+    "error",
+    "array",
+    "ntasks",
+    "cpus-per-task",
+    "dependency",
+    "partition",
+    "time",
+    "account",
+    "mem",
+];
+
+/// Checks an extra directive: `--key=value` or `--key`, the key lowercase letters, digits and
+/// `-`, the value letters, digits and `_ . , : = + @ / % -` (no space, quote or other shell or
+/// line syntax), and not one of the campaign's own ([`OWN_DIRECTIVES`]).
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::campaigns::slurm::check_directive;
+/// assert!(check_directive("--qos=long").is_ok());
+/// assert!(check_directive("--exclusive").is_ok());
+/// assert!(check_directive("--qos=long; rm -rf ~").is_err());
+/// assert!(check_directive("qos=long").is_err());
+/// assert!(check_directive("--array=0-99").is_err());
+/// ```
+pub fn check_directive(d: &str) -> Result<(), Error> {
+    const FORM: &str = "use option syntax --key=value (or a flag --key): the key lowercase \
+                        letters, digits and '-', the value letters, digits and _ . , : = + @ / % - \
+                        (no spaces, quotes or other shell characters)";
+    let (key, value) = match d.strip_prefix("--") {
+        Some(rest) => rest
+            .split_once('=')
+            .map_or((rest, None), |(k, v)| (k, Some(v))),
+        None => return Err(Error::parameter("sbatch", format!("{d:?}"), FORM)),
+    };
+    let key_ok = key.starts_with(|c: char| c.is_ascii_lowercase())
+        && key
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-');
+    let value_ok = value.is_none_or(|v| {
+        !v.is_empty()
+            && v.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "_.,:=+@/%-".contains(c))
+    });
+    if !key_ok || !value_ok {
+        return Err(Error::parameter("sbatch", format!("{d:?}"), FORM));
+    }
+    if OWN_DIRECTIVES.contains(&key) {
+        return Err(Error::parameter(
+            "sbatch",
+            format!("{d:?}"),
+            format!(
+                "--{key} is written by the campaign itself or has its own option; extra \
+                 directives may not set any of --{}",
+                OWN_DIRECTIVES.join(", --")
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Most CPUs per task accepted: more than any node has today, so larger is a typo.
@@ -57,6 +131,20 @@ pub const MAX_CPUS_PER_TASK: u32 = 1024;
 /// ```
 pub fn shell_quote(s: &str) -> String {
     format!("'{}'", s.replace('\'', "'\\''"))
+}
+
+/// Checks `--mem`: a whole number of megabytes, or with a unit K, M, G or T.
+fn check_mem(m: &str) -> Result<(), Error> {
+    let digits = m.strip_suffix(['K', 'M', 'G', 'T']).unwrap_or(m);
+    if digits.is_empty() || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return Err(Error::parameter(
+            "mem",
+            format!("{m:?}"),
+            "use Slurm's form: a whole number with an optional unit K, M, G or T, e.g. 4G or \
+             500M (megabytes without a unit)",
+        ));
+    }
+    Ok(())
 }
 
 fn checked(
@@ -112,6 +200,17 @@ impl SweepCampaign {
                 |c| c.is_ascii_digit() || c == ':' || c == '-',
             )?;
         }
+        if let Some(a) = &self.account {
+            checked("account", a, "letters, digits, '_', '-' and '.'", |c| {
+                c.is_ascii_alphanumeric() || "_-.".contains(c)
+            })?;
+        }
+        if let Some(m) = &self.mem {
+            check_mem(m)?;
+        }
+        for d in &self.extra {
+            check_directive(d)?;
+        }
         for (what, p) in [("out", &self.out), ("binary", &self.binary)] {
             if !p.is_absolute() {
                 return Err(Error::parameter(
@@ -155,6 +254,15 @@ impl SweepCampaign {
         }
         if let Some(t) = &self.time {
             s += &format!("#SBATCH --time={t}\n");
+        }
+        if let Some(a) = &self.account {
+            s += &format!("#SBATCH --account={a}\n");
+        }
+        if let Some(m) = &self.mem {
+            s += &format!("#SBATCH --mem={m}\n");
+        }
+        for d in &self.extra {
+            s += &format!("#SBATCH {d}\n");
         }
         s
     }
@@ -300,6 +408,9 @@ mod tests {
             cpus_per_task: 2,
             partition: Some("short".into()),
             time: Some("2:00:00".into()),
+            account: Some("phys-42".into()),
+            mem: Some("4G".into()),
+            extra: vec!["--qos=long".into(), "--exclusive".into()],
         }
     }
 
@@ -308,9 +419,14 @@ mod tests {
         let s = campaign().array_script();
         assert!(s.contains("#SBATCH --array=0-6\n"), "{s}");
         assert!(
-            s.contains("#SBATCH --partition=short\n#SBATCH --time=2:00:00\n"),
+            s.contains(
+                "#SBATCH --partition=short\n#SBATCH --time=2:00:00\n#SBATCH --account=phys-42\n\
+                 #SBATCH --mem=4G\n#SBATCH --qos=long\n#SBATCH --exclusive\n"
+            ),
             "{s}"
         );
+        // The merge job is charged and placed as the array is.
+        assert!(campaign().merge_script().contains("#SBATCH --qos=long\n"));
         assert!(s.contains("--w-from '0.2' --w-to '0.3' --steps 21 --runs 10 --collisions-per-run 2000000000 \\\n  --batches-per-run 16 --seed 5"), "{s}");
         assert!(s.contains("--shard \"$SLURM_ARRAY_TASK_ID/7\""), "{s}");
         assert!(
@@ -379,6 +495,65 @@ mod tests {
         c.cpus_per_task = 0;
         assert!(c.validate().is_err());
         assert!(campaign().validate().is_ok());
+    }
+
+    #[test]
+    fn account_memory_and_extra_directives_cannot_inject_lines_or_commands() {
+        let refused = |f: &dyn Fn(&mut SweepCampaign)| {
+            let mut c = campaign();
+            f(&mut c);
+            let e = c.validate().unwrap_err().to_string();
+            assert!(!e.contains('\n'), "{e}");
+            e
+        };
+        for a in ["a\n#SBATCH --mem=1", "a b", "a;id", "$(id)", ""] {
+            let e = refused(&|c| c.account = Some(a.into()));
+            assert!(
+                e.contains("account") && e.contains("letters, digits"),
+                "{e}"
+            );
+        }
+        for m in ["4GB", "4 G", "-1", "G", "4G\n#", "1e3"] {
+            let e = refused(&|c| c.mem = Some(m.into()));
+            assert!(e.contains("mem") && e.contains("K, M, G or T"), "{e}");
+        }
+        for d in [
+            "--qos=long\n#SBATCH --array=0-99",
+            "--qos=long\rx",
+            "--qos=long;id",
+            "--qos=$(id)",
+            "--qos=`id`",
+            "--qos='a'",
+            "--qos=a b",
+            "--mail-user=a|b",
+            "-q long",
+            "qos=long",
+            "--QOS=long",
+            "--=x",
+            "--qos=",
+            "#SBATCH --qos=long",
+        ] {
+            let e = refused(&|c| c.extra = vec![d.into()]);
+            assert!(e.contains("--key=value"), "{d:?}: {e}");
+        }
+        for own in [
+            "--array=0-3",
+            "--output=/tmp/x",
+            "--dependency=afterok:1",
+            "--mem=1G",
+        ] {
+            let e = refused(&|c| c.extra = vec![own.into()]);
+            assert!(e.contains("written by the campaign"), "{own:?}: {e}");
+        }
+        for ok in [
+            "--gres=gpu:1",
+            "--mail-user=me@example.org",
+            "--mail-type=END,FAIL",
+        ] {
+            let mut c = campaign();
+            c.extra = vec![ok.into()];
+            assert!(c.validate().is_ok(), "{ok}");
+        }
     }
 
     #[test]

@@ -42,6 +42,16 @@ struct SweepArgs {
     /// Wall-time limit of each task, in Slurm's forms (90, 2:00:00, 1-12:00:00).
     #[arg(long)]
     time: Option<String>,
+    /// The Slurm account the jobs are charged to (default: the user's default account).
+    #[arg(long)]
+    account: Option<String>,
+    /// Memory of each job (per node), in Slurm's form: 4G, 500M (megabytes without a unit).
+    #[arg(long)]
+    mem: Option<String>,
+    /// A further #SBATCH directive of both jobs in option syntax, --key=value or a flag --key
+    /// (e.g. --sbatch=--qos=long); repeatable. Checked: no spaces, quotes or shell characters.
+    #[arg(long, value_name = "--KEY=VALUE", allow_hyphen_values = true)]
+    sbatch: Vec<String>,
     /// The lorentz binary the jobs run (default: this one), as seen from the compute nodes.
     #[arg(long)]
     lorentz: Option<PathBuf>,
@@ -94,6 +104,9 @@ pub fn run(a: Args) -> Result<(), Error> {
         cpus_per_task: a.cpus_per_task,
         partition: a.partition,
         time: a.time,
+        account: a.account,
+        mem: a.mem,
+        extra: a.sbatch,
     };
     let w = Written {
         files: c.write()?,

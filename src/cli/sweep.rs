@@ -7,7 +7,7 @@ use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep::field::{self, FieldGrid};
 use lorentz_gas::estimators::sweep::field_grid::{self, SweepGrid};
-use lorentz_gas::estimators::sweep::field_parts::{self, FieldSweepPart};
+use lorentz_gas::estimators::sweep::stored::Finished;
 use lorentz_gas::estimators::sweep::{self, GapGrid, Grid, SweepConfig, SweepReport};
 use lorentz_gas::report::text::sweep as text;
 
@@ -247,37 +247,49 @@ pub fn run(a: Args) -> Result<(), Error> {
         checkpoint_every: a.every.checkpoint_every,
         stop: Some(super::signals::stop_flag()),
     };
-    if let Grid::InField(_) = cfg.grid {
-        let done = compute_in_field(&cfg, shard, &opts);
-        drop(progress);
-        drop(pb);
-        return show_in_field(&a, done?);
-    }
     if let Some(s) = shard {
         let part = ShardConfig {
             sweep: cfg.clone(),
             shard: s,
         };
-        let r = shard::run(&part, &opts)?;
+        let r = shard::run(&part, &opts);
         drop(progress);
         drop(pb);
-        return emit(a.output.json, &r, |r| {
+        return emit(a.output.json, &r?, |r| {
             println!(
-                "part {} of {}: points {:?} ({} resumed) written to {}/points; combine the parts with lorentz merge",
+                "part {} of {}: points {:?} ({} resumed) written to {}/{}; combine the parts with lorentz merge",
                 r.shard,
                 cfg.describe(),
                 r.points,
                 r.resumed_points,
-                out.display()
+                out.display(),
+                cfg.points_folder(),
             );
         });
     }
-    let r = sweep::run(&cfg, &opts)?;
+    let r = match cfg.grid {
+        Grid::Gaps(_) => sweep::run(&cfg, &opts).map(|r| Finished::OverW(Box::new(r))),
+        Grid::InField(_) => field::run(&cfg, &opts).map(|r| Finished::InField(Box::new(r))),
+    };
     drop(progress);
     drop(pb);
-    sweep::write_tables(&r, &out)?;
-    lorentz_gas::report::figures::sweep::write_sweep_figures(&r, &out)?;
-    emit(a.output.json, &r, |r| {
+    finish(&r?, &out, a.output.json)
+}
+
+/// Writes the tables and figures of a finished sweep of either kind into `out` and prints it (a
+/// field sweep's Onsager–Casimir disagreement is a FAIL, exit 1, after everything is written).
+pub fn finish(r: &Finished, out: &Path, json: bool) -> Result<(), Error> {
+    match r {
+        Finished::OverW(r) => finish_over_w(r, out, json),
+        Finished::InField(r) => finish_in_field(r, out, json),
+    }
+}
+
+/// Writes the tables and figures of a finished sweep over w into `out` and prints it.
+fn finish_over_w(r: &SweepReport, out: &Path, json: bool) -> Result<(), Error> {
+    sweep::write_tables(r, out)?;
+    lorentz_gas::report::figures::sweep::write_sweep_figures(r, out)?;
+    emit(json, r, |r| {
         print(r);
         println!(
             "written: {}/sweep.{{csv,json}}, sweep-runs.csv, fig2-D-vs-w, fig7-boltzmann, fig8-residuals (.png, .svg)",
@@ -337,43 +349,6 @@ pub fn config_in_field(g: &GridArgs, f: &FieldArgs, seed: u64) -> Result<SweepCo
     };
     cfg.validate()?;
     Ok(cfg)
-}
-
-/// What a sweep in a field computed: one part of it, or the whole.
-pub enum Outcome {
-    /// A part (`--shard`).
-    Part(Box<FieldSweepPart>),
-    /// The whole sweep.
-    Whole(Box<field::FieldSweepReport>),
-}
-
-/// Runs the sweep in a field, or the part `shard` of it, with `opts`.
-pub fn compute_in_field(
-    cfg: &SweepConfig,
-    shard: Option<Shard>,
-    opts: &RunOptions,
-) -> Result<Outcome, Error> {
-    Ok(match shard {
-        Some(s) => Outcome::Part(Box::new(field_parts::run_part(cfg, s, opts)?)),
-        None => Outcome::Whole(Box::new(field::run(cfg, opts)?)),
-    })
-}
-
-/// Writes the tables and figures of a whole sweep into --out and prints it (an Onsager–Casimir
-/// disagreement is a FAIL, exit 1, after everything is written), or prints what a part did.
-pub fn show_in_field(a: &Args, done: Outcome) -> Result<(), Error> {
-    match done {
-        Outcome::Whole(r) => finish_in_field(&r, &a.out, a.output.json),
-        Outcome::Part(part) => emit(a.output.json, &*part, |p| {
-            println!(
-                "part {} of the field sweep: points {:?} in {}/field-points ({} reused); merge every part with `lorentz merge`",
-                p.shard,
-                p.points,
-                a.out.display(),
-                p.resumed_points
-            )
-        }),
-    }
 }
 
 /// Writes the tables and figures of a finished field sweep into `out`, prints it, and judges

@@ -4,9 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use lorentz_gas::campaigns::merge::{self, MergeConfig};
-use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig, ShardReport};
+use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig, SweepPart};
 use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::sweep::stored::Finished;
 use lorentz_gas::estimators::sweep::{self, SweepConfig, SweepReport};
 use lorentz_gas::report::figures::sweep::write_sweep_figures;
 
@@ -28,13 +29,7 @@ fn sweep_on(cfg: &SweepConfig, dir: &Path, engine: Engine, threads: usize) -> Sw
 }
 
 /// `lorentz sweep --shard I/N --out dir`.
-fn run_shard(
-    cfg: &SweepConfig,
-    s: Shard,
-    dir: &Path,
-    engine: Engine,
-    threads: usize,
-) -> ShardReport {
+fn run_shard(cfg: &SweepConfig, s: Shard, dir: &Path, engine: Engine, threads: usize) -> SweepPart {
     let part = ShardConfig {
         sweep: cfg.clone(),
         shard: s,
@@ -48,10 +43,12 @@ fn merge_into(parts: &[PathBuf], out: &Path) -> Result<SweepReport, lorentz_gas:
         parts: parts.to_vec(),
         out: out.to_path_buf(),
     };
-    let r = merge::run(&cfg, &crate::common::threads(1))?;
+    let Finished::OverW(r) = merge::run(&cfg, &crate::common::threads(1))? else {
+        panic!("a sweep over w merged into a sweep in a field");
+    };
     sweep::write_tables(&r, out)?;
     write_sweep_figures(&r, out)?;
-    Ok(r)
+    Ok(*r)
 }
 
 /// Resuming the sweep `config(1)` in `dir` after `edit` of point file `p` is refused, naming it.
@@ -324,4 +321,98 @@ fn a_merged_sweep_with_one_run_edited_fails_its_report() {
         "{failed:?}"
     );
     assert!(failed[1].ends_with("rows differ"), "{failed:?}");
+}
+
+/// A sweep in a field (the triangular gas at w = 0.2, B = -1, 1, 2: three points) dealt into
+/// three parts — on disk, as `lorentz sweep --shard I/3`, and in memory, as a process pool's
+/// calls — and merged: the rows, Onsager–Casimir checks and point files of the sweep run in one
+/// piece, bit for bit; a part's points carried in memory are its files' bytes.
+#[test]
+fn a_field_sweep_in_three_parts_merges_to_the_unsharded_bits() {
+    use lorentz_gas::campaigns::merge::PartData;
+    use lorentz_gas::estimators::sweep::field::{self, FieldGrid};
+    let tmp = crate::common::scratch();
+    let dir = tmp.path().to_path_buf();
+    let cfg = SweepConfig {
+        grid: lorentz_gas::estimators::sweep::Grid::InField(FieldGrid {
+            gaps: vec!["0.2".into()],
+            radius: None,
+            fields: ["-1", "1", "2"].map(String::from).to_vec(),
+            localization_samples: 10_000,
+            table: None,
+        }),
+        collisions: 200_000,
+        batches: 4,
+        seed: 7,
+    };
+    let whole = field::run(&cfg, &options(Engine::Auto, 2, &dir.join("whole"))).unwrap();
+    let science = |r: &field::FieldSweepReport| {
+        let v = serde_json::to_value(r).unwrap();
+        (v["rows"].clone(), v["onsager"].clone(), v["config"].clone())
+    };
+    let mut on_disk = Vec::new();
+    let mut in_memory = Vec::new();
+    for (i, (engine, threads)) in [(Engine::Auto, 1), (Engine::Scalar, 2), (Engine::Auto, 2)]
+        .into_iter()
+        .enumerate()
+    {
+        let part = ShardConfig {
+            sweep: cfg.clone(),
+            shard: Shard {
+                index: i as u32,
+                count: 3,
+            },
+        };
+        let d = dir.join(format!("part-{i}"));
+        let r = shard::run(&part, &options(engine, threads, &d)).unwrap();
+        assert_eq!(r.points, vec![i as u32]);
+        assert!(
+            r.sealed_points.is_empty(),
+            "a part on disk carries no points"
+        );
+        assert!(d.join("field-shard.json").is_file());
+        on_disk.push(d);
+        let opts = RunOptions {
+            engine,
+            threads,
+            ..RunOptions::default()
+        };
+        let m = shard::run(&part, &opts).unwrap();
+        let [p] = &m.sealed_points[..] else {
+            panic!("part {i} carries {} points", m.sealed_points.len());
+        };
+        let file = dir.join(format!("whole/field-points/point-{i:04}.json"));
+        assert_eq!(p.text, std::fs::read_to_string(file).unwrap());
+        in_memory.push(PartData::in_memory(m));
+    }
+    on_disk.reverse();
+    let merged = dir.join("merged");
+    let cfg_m = MergeConfig {
+        parts: on_disk,
+        out: merged.clone(),
+    };
+    let threads1 = crate::common::threads(1);
+    let Finished::InField(from_disk) = merge::run(&cfg_m, &threads1).unwrap() else {
+        panic!("a field sweep merged into a sweep over w");
+    };
+    assert_eq!(science(&from_disk), science(&whole));
+    assert_eq!(
+        from_disk.resumed_points, 0,
+        "the parts computed every point"
+    );
+    for i in 0..3 {
+        let f = format!("field-points/point-{i:04}.json");
+        same_bytes(&dir.join("whole").join(&f), &merged.join(&f));
+    }
+    let Finished::InField(from_memory) = merge::merge(in_memory, None, &threads1).unwrap() else {
+        panic!("a field sweep merged into a sweep over w");
+    };
+    assert_eq!(science(&from_memory), science(&whole));
+    // The merged directory is the finished sweep: running it there reuses every point.
+    let again = field::run(&cfg, &options(Engine::Auto, 2, &merged)).unwrap();
+    assert_eq!(
+        (again.resumed_points, science(&again)),
+        (3, science(&whole))
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

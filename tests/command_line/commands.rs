@@ -325,6 +325,22 @@ const BAD: &[(&str, &str)] = &[
         "slurm sweep --w-from 0.1 --w-to 0.2 --array 4 --threads 2 --out out",
         "unexpected argument '--threads'",
     ),
+    (
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 4 --account a;id --out out",
+        "letters, digits",
+    ),
+    (
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 4 --mem 4GB --out out",
+        "K, M, G or T",
+    ),
+    (
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 4 --sbatch=--qos=$(id) --out out",
+        "--key=value",
+    ),
+    (
+        "slurm sweep --w-from 0.1 --w-to 0.2 --array 4 --sbatch=--array=0-99 --out out",
+        "written by the campaign",
+    ),
     // figure
     ("figure fig9 --out out", "unrecognized subcommand"),
     (

@@ -301,7 +301,18 @@ pub struct FieldSweepPoint {
 /// sweep's points or an edited one, an I/O error, or an interruption.
 pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<FieldSweepReport, Error> {
     let (rows, resumed) = run_points(cfg, opts, &|_| true)?;
-    let rows: Vec<FieldSweepRow> = rows.into_iter().flatten().collect();
+    report(cfg, rows.into_iter().flatten().collect(), resumed, opts)
+}
+
+/// The report of the sweep `cfg` from every point's row (in grid order), `resumed` of them
+/// reused: the rows and Onsager–Casimir wherever the grid holds ±B (an error: an engine that
+/// cannot run here).
+pub(crate) fn report(
+    cfg: &SweepConfig,
+    rows: Vec<FieldSweepRow>,
+    resumed: u32,
+    opts: &RunOptions,
+) -> Result<FieldSweepReport, Error> {
     let onsager = onsager(&rows, cfg.batches);
     Ok(FieldSweepReport {
         onsager_agrees: onsager
@@ -509,21 +520,28 @@ pub fn point_path(dir: &Path, i: usize) -> PathBuf {
 
 /// The finished row of point `i` at `path`, if there is one of this sweep; a file of another
 /// sweep, an edited, renamed or oversized one is an error naming the path.
-pub(super) fn reuse(
-    cfg: &SweepConfig,
-    path: &Path,
-    i: usize,
-) -> Result<Option<FieldSweepRow>, Error> {
+fn reuse(cfg: &SweepConfig, path: &Path, i: usize) -> Result<Option<FieldSweepRow>, Error> {
     if !path.exists() {
         return Ok(None);
     }
     let text = crate::files::read_to_string(path, crate::files::Cap::FIELD_POINT)?;
-    let p: FieldSweepPoint = unseal(path, &text, "field sweep point")?;
+    parse(cfg, path, &text, i).map(Some)
+}
+
+/// Point `i` of `cfg` from its sealed `text`, read from `path`: an edited, truncated, renamed or
+/// foreign point is refused, naming the path.
+pub(super) fn parse(
+    cfg: &SweepConfig,
+    path: &Path,
+    text: &str,
+    i: usize,
+) -> Result<FieldSweepRow, Error> {
+    let p: FieldSweepPoint = unseal(path, text, "field sweep point")?;
     same_sweep(path, &p.config, cfg)?;
     if p.index as usize != i {
         return Err(renamed_point(path, p.index));
     }
-    Ok(Some(p.row))
+    Ok(p.row)
 }
 
 /// The files [`write_tables`] writes.

@@ -11,9 +11,9 @@
 pub mod analysis;
 pub mod field;
 pub mod field_grid;
-pub mod field_parts;
 pub mod file;
 pub mod points;
+pub mod stored;
 
 use std::path::Path;
 

@@ -153,23 +153,31 @@ pub(crate) fn renamed_point(path: &Path, held: impl std::fmt::Display) -> Error 
     )
 }
 
-/// The sweep point in the file at `path`, its digest checked, and its index the one its name
-/// (`point-NNNN.json`) gives: an edited, truncated, renamed or foreign file is refused, naming
-/// the path.
+/// Point `i` (at the gap `w`) of `cfg` from its sealed `text`, read from `path`: an edited,
+/// truncated, renamed, foreign or off-grid point is refused, naming the path.
 ///
 /// # Errors
-/// As above, or an I/O error naming the path.
-pub fn read_point(path: &Path) -> Result<SweepPoint, Error> {
-    let text = crate::files::read_to_string(path, crate::files::Cap::POINT)?;
-    let p: SweepPoint = unseal(path, &text, "sweep point")?;
-    let named = path.file_name().and_then(|n| n.to_str()).and_then(|n| {
-        n.strip_prefix("point-")?
-            .strip_suffix(".json")?
-            .parse::<u32>()
-            .ok()
-    });
-    if named != Some(p.index) {
+/// As above.
+pub(crate) fn parse(
+    cfg: &SweepConfig,
+    path: &Path,
+    text: &str,
+    i: usize,
+    w: f64,
+) -> Result<SweepPoint, Error> {
+    let p: SweepPoint = unseal(path, text, "sweep point")?;
+    same_sweep(path, &p.config, cfg)?;
+    if p.index as usize != i {
         return Err(renamed_point(path, p.index));
+    }
+    if p.w != w {
+        return Err(Error::malformed(
+            path,
+            format!(
+                "is point {i} at w = {}, not at w = {w} as the grid has it: a damaged point file",
+                p.w
+            ),
+        ));
     }
     Ok(p)
 }
@@ -180,18 +188,8 @@ fn reuse(cfg: &SweepConfig, path: &Path, i: usize, w: f64) -> Result<Option<Swee
     if !path.exists() {
         return Ok(None);
     }
-    let p = read_point(path)?;
-    same_sweep(path, &p.config, cfg)?;
-    if p.w != w || p.index as usize != i {
-        return Err(Error::malformed(
-            path,
-            format!(
-                "is point {} at w = {}, not point {i} at w = {w}: a damaged point file",
-                p.index, p.w
-            ),
-        ));
-    }
-    Ok(Some(p))
+    let text = crate::files::read_to_string(path, crate::files::Cap::POINT)?;
+    parse(cfg, path, &text, i, w).map(Some)
 }
 
 /// Runs point `i` (its runs packed together), written to `dir` if given.
