@@ -104,12 +104,13 @@ fn checkpoint_resumes_finished_batches() {
     let full = run(&cfg, &resumable).unwrap();
     // Simulate an interruption: keep the header and two finished batches, plus a torn line.
     let text = std::fs::read_to_string(&path).unwrap();
-    let lines: Vec<&str> = text.lines().filter(|l| !l.is_empty()).collect();
+    let header = text.lines().next().unwrap();
+    let finished: Vec<&str> = text.lines().filter(|l| l.contains("\"finished\"")).collect();
     std::fs::write(
         &path,
         format!(
-            "{}\n{}\n{}\n{{\"index\":3,\"coun",
-            lines[0], lines[1], lines[2]
+            "{header}\n{}\n{}\n{{\"index\":3,\"coun",
+            finished[0], finished[1]
         ),
     )
     .unwrap();
