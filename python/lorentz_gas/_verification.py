@@ -5,7 +5,9 @@ closed forms, the engine's speed and the publication audit of a result file."""
 from __future__ import annotations
 
 import os
-from typing import Any, Optional, Tuple, Union
+from typing import Any, Optional, Sequence, Tuple, Union
+
+import numpy as np
 
 from . import _native
 from ._inputs import (
@@ -15,6 +17,7 @@ from ._inputs import (
     Progress,
     _count,
     _counts,
+    _numbers,
     _exact,
     _many,
     Table,
@@ -116,6 +119,8 @@ def free_paths(
     batches: Count = 16,
     seed: Count = 1,
     flights: str = "auto",
+    bins: Optional[Union[Sequence[float], np.ndarray]] = None,
+    keep_samples: Count = 0,
     threads: Optional[Count] = None,
     progress: Progress = None,
 ) -> FreePathResult:
@@ -135,6 +140,15 @@ def free_paths(
         Independent trajectories, at least 2; the errors are over them.
     flights : {"auto", "walk", "jump"}
         How flights cross the lattice, as in :func:`lyapunov`. Recorded as ``flights``.
+    bins : array of float, optional
+        Your bin edges in ξ = τ/ℓ (dimensionless), such as ``np.linspace(0, 4, 17)``: 2 to
+        1001 finite numbers >= 0, increasing; a flight outside ``[bins[0], bins[-1])`` falls in
+        no bin (the probabilities stay shares of all flights). Default: quarters up to 2, then
+        wider bins to an open last one.
+    keep_samples : int
+        Keep the ξ of this many flights (0 to 1e6, at most the complete flights) as
+        ``free_path_samples``: each batch keeps its share, every k-th complete flight from its
+        first, so that they spread over the whole trajectory and are nearly independent.
     seed, threads, progress
         As in :func:`diffusion`.
     table : dict or path, optional
@@ -144,13 +158,17 @@ def free_paths(
     Returns
     -------
     FreePathResult
-        ``mean``, ``ln_mean`` with errors and limits, and the ``bins`` table (probabilities of
-        ξ, dimensionless, against the limit law, with z-scores).
+        ``mean``, ``ln_mean`` with errors and limits, the ``bins`` table (probabilities of
+        ξ, dimensionless, against the limit law, with z-scores) and ``free_path_samples`` (an
+        array of ξ; empty unless ``keep_samples``). ``r.plot()`` draws the histogram against
+        the limit law (matplotlib).
     """
     text = _run(_native.free_paths, progress, _total(_count("collisions", collisions)), "coll", {
         **_where(scene, table, w, radius),
         **_counts(collisions=collisions, batches=batches, seed=seed),
         "flights": str(flights),
+        "bins": None if bins is None else _numbers("bins", bins),
+        "keep_samples": _count("keep_samples", keep_samples),
         "threads": _threads(threads),
     })
     return FreePathResult(text)

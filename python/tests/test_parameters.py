@@ -182,6 +182,8 @@ NOT_ANALYSES = {
     "agreement_bound": "a closed form of one number (`_native.agreement_bound(dof)`)",
     "draw_lattice": "pure Python (matplotlib)",
     "lattice_disks": "pure Python (the disks of a scene that reach into a box, for drawing)",
+    "arcs": "pure Python (the flights of an events array, with their circles in a field)",
+    "draw_events": "pure Python (matplotlib)",
 }
 
 
