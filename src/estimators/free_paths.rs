@@ -72,7 +72,8 @@ pub fn parse_edges(text: &str) -> Result<Vec<f64>, Error> {
     Ok(edges)
 }
 
-const EDGES_RANGE: &str = "use the bin edges in xi = tau/<l> as E0,E1,...: 2 to 1001 finite numbers      >= 0, increasing (flights outside [E0, last) fall in no bin)";
+const EDGES_RANGE: &str = "use the bin edges in xi = tau/<l> as E0,E1,...: 2 to 1001 finite numbers \
+     >= 0, increasing (flights outside [E0, last) fall in no bin)";
 
 /// Checks the user's bin edges: 2 to [`MAX_EDGES`] finite numbers ≥ 0, strictly increasing.
 ///

@@ -149,15 +149,16 @@ impl MsdGrid {
             return Ok(());
         };
         let longest = times.last().copied().unwrap_or(0.0);
-        let reach = collisions as f64 / f64::from(batches.max(1)) * ell / CURVE_WINDOWS;
+        let per_batch = collisions as f64 / f64::from(batches.max(1));
+        let reach = per_batch * ell / CURVE_WINDOWS;
         if longest > reach {
             return Err(Error::out_of_range(
                 "msd_grid",
                 format!("{self} (longest time {longest})"),
                 format!(
-                    "times from 0 to {reach:.6} (a hundredth of a batch's trajectory of \
-                     collisions/batches mean free paths {ell:.6}): use shorter times, or more \
-                     collisions per batch"
+                    "times from 0 to {reach:.6} (a hundredth of a batch's trajectory: \
+                     {per_batch:.0} collisions of mean free path {ell:.6}): use shorter times, \
+                     or more collisions per batch"
                 ),
             ));
         }
