@@ -206,6 +206,9 @@ impl FromStr for MsdGrid {
             }
             return Ok(g);
         }
+        if !s.contains(',') && s.trim().parse::<f64>().is_err() {
+            return Err(bad(s, "not a grid"));
+        }
         let times = s
             .split(',')
             .map(|x| number(s, x))
