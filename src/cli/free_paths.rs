@@ -20,9 +20,9 @@ pub struct Args {
     batches: u32,
     #[command(flatten)]
     flights: FlightsArg,
-    /// The histogram's bin edges in xi = tau/<l>, as E0,E1,...: 2 to 1001 finite numbers >= 0,
-    /// increasing (flights outside [E0, last) fall in no bin; default: quarters to 2, then wider
-    /// bins to an open last one).
+    /// The histogram's bin edges in xi = tau/l (l the mean free path), as E0,E1,...: 2 to 1001
+    /// finite numbers >= 0, increasing (flights outside [E0, last) fall in no bin; default:
+    /// quarters to 2, then wider bins to an open last one).
     #[arg(long, value_name = "EDGES", value_parser = edges)]
     bins: Option<Edges>,
     /// Keep the xi of this many flights (0 to 1e6), spread evenly over each batch's trajectory,
