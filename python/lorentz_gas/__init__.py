@@ -61,7 +61,7 @@ from ._results import (
     TrajectoryResult,
 )
 
-from ._drawing import draw_lattice, lattice_disks
+from ._drawing import ARC_DTYPE, arcs, draw_events, draw_lattice, lattice_disks
 
 # The functions and classes below are defined in private modules; each is the package's own
 # (`__module__` "lorentz_gas": `help`, reprs, Sphinx and the doctests name it `lorentz_gas.<name>`),
@@ -136,7 +136,10 @@ __all__ = [
     "Trajectory",
     "draw_lattice",
     "lattice_disks",
+    "arcs",
+    "draw_events",
     "EVENT_DTYPE",
+    "ARC_DTYPE",
     "agreement_bound",
     "Result",
     "ConstantsResult",

@@ -1,4 +1,5 @@
-"""The lattice under a trajectory picture: the disks of a scene drawn on matplotlib axes."""
+"""A trajectory picture: the disks of a scene and the flights of a trajectory (arcs in a
+field) drawn on matplotlib axes (imported only when drawing)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import math
 from fractions import Fraction
 from typing import Any, List, Optional, Tuple
 
+import numpy as np
 
 
 def _number(name: str, v: Any) -> float:
@@ -117,3 +119,127 @@ def draw_lattice(
     ax.set_ylim(*ylim)
     ax.set_aspect("equal")
     return patches
+
+
+#: The dtype of :func:`arcs`: one record per flight between two consecutive events.
+ARC_DTYPE = np.dtype(
+    [
+        ("t", np.float64),  # time of the flight's first event (its start)
+        ("time", np.float64),  # the flight's time (speed 1: its length)
+        ("x", np.float64),  # where the flight starts
+        ("y", np.float64),
+        ("vx", np.float64),  # the velocity it starts with (unit length)
+        ("vy", np.float64),
+        ("centre_x", np.float64),  # the centre of its circle (NaN: a straight flight)
+        ("centre_y", np.float64),
+        ("radius", np.float64),  # 1/|B| (inf: a straight flight)
+        ("sense", np.int8),  # +1 counter-clockwise (B > 0), -1 clockwise (B < 0), 0 straight
+        ("angle", np.float64),  # the angle turned, B * time (radians; 0 straight)
+    ]
+)
+
+#: The largest angle (radians) between two points of a drawn arc.
+_ARC_STEP = 0.05
+
+
+def _field(field: Any) -> float:
+    b = 0.0 if field is None else _number("field", field)
+    if b != 0.0 and not 1e-3 <= abs(b) <= 1e3:
+        raise ValueError(f"field = {field}: use 1e-3 <= abs(field) <= 1e3, or 0 (no field)")
+    return b
+
+
+def arcs(events: np.ndarray, field: Any = None) -> np.ndarray:
+    """The flights between consecutive rows of :func:`events` (or :class:`Trajectory`), with
+    the circle each one runs on in a magnetic field.
+
+    Parameters
+    ----------
+    events : numpy structured array
+        Rows of dtype :data:`EVENT_DTYPE` (at least ``t``, ``x``, ``y``, ``vx``, ``vy``), in
+        time order: flight k runs from row k to row k + 1.
+    field : str, float or Fraction, optional
+        The field B the events were computed in (``events(..., field=B)``; 1e-3 <= abs(B) <=
+        1e3); ``None`` or 0: straight flights.
+
+    Returns
+    -------
+    numpy structured array of dtype :data:`ARC_DTYPE`
+        One row per flight (``len(events) - 1``): its start ``t``, ``time``, start point ``x``,
+        ``y`` and velocity ``vx``, ``vy``; in a field the ``centre_x``, ``centre_y`` of its
+        cyclotron circle (the start point plus (−vy, vx)/B), ``radius`` 1/abs(B), ``sense`` +1
+        (counter-clockwise, B > 0) or −1 (clockwise) and ``angle`` B·time turned; without one
+        NaN centres, an infinite radius, sense 0 and angle 0.
+
+    Examples
+    --------
+    >>> import lorentz_gas as lg
+    >>> ev = lg.events(w="0.1", n=50, field="1/2")
+    >>> a = lg.arcs(ev, field="1/2")
+    >>> # Each arc ends at the next event: the centre plus the radius turned by the angle.
+    >>> start = np.arctan2(a["y"] - a["centre_y"], a["x"] - a["centre_x"])
+    >>> x_end = a["centre_x"] + a["radius"] * np.cos(start + a["angle"])
+    >>> bool(np.allclose(x_end, ev["x"][1:], atol=1e-9))
+    True
+    >>> bool(np.all(a["radius"] == 2.0) and np.all(a["sense"] == 1))
+    True
+    """
+    b = _field(field)
+    ev = np.asarray(events)
+    n = max(len(ev) - 1, 0)
+    out = np.zeros(n, dtype=ARC_DTYPE)
+    if n == 0:
+        return out
+    first = ev[:-1]
+    out["t"] = first["t"]
+    out["time"] = ev["t"][1:] - first["t"]
+    for k in ("x", "y", "vx", "vy"):
+        out[k] = first[k]
+    if b == 0.0:
+        out["centre_x"] = out["centre_y"] = np.nan
+        out["radius"] = np.inf
+        return out
+    out["centre_x"] = first["x"] - first["vy"] / b
+    out["centre_y"] = first["y"] + first["vx"] / b
+    out["radius"] = 1.0 / abs(b)
+    out["sense"] = 1 if b > 0 else -1
+    out["angle"] = b * out["time"]
+    return out
+
+
+def _polyline(events: np.ndarray, field: Any = None) -> Tuple[np.ndarray, np.ndarray]:
+    """The trajectory of :func:`events` as one polyline ``(x, y)`` to draw: the event points
+    joined by straight segments, or in a ``field`` by their arcs, each drawn with a point at
+    least every 0.05 radian (see :func:`arcs`). Lengths as in the events."""
+    a = arcs(events, field)
+    ev = np.asarray(events)
+    if len(a) == 0 or a["sense"][0] == 0:
+        return np.asarray(ev["x"], dtype=float), np.asarray(ev["y"], dtype=float)
+    xs, ys = [], []
+    for r in a:
+        m = max(int(math.ceil(abs(r["angle"]) / _ARC_STEP)), 1)
+        phi0 = math.atan2(r["y"] - r["centre_y"], r["x"] - r["centre_x"])
+        phi = phi0 + np.linspace(0.0, r["angle"], m, endpoint=False)
+        xs.append(r["centre_x"] + r["radius"] * np.cos(phi))
+        ys.append(r["centre_y"] + r["radius"] * np.sin(phi))
+    xs.append(np.asarray(ev["x"][-1:], dtype=float))
+    ys.append(np.asarray(ev["y"][-1:], dtype=float))
+    return np.concatenate(xs), np.concatenate(ys)
+
+
+def draw_events(ax: Any, events: np.ndarray, field: Any = None, **style: Any) -> List[Any]:
+    """Draw the trajectory of :func:`events` on matplotlib axes ``ax``: straight flights, or
+    in a ``field`` their arcs, each drawn with a point at least every 0.05 radian; ``**style`` goes to ``ax.plot`` (default: a thin
+    line). Returns the lines added; draw the disks under it with :func:`draw_lattice`.
+
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt, lorentz_gas as lg
+    >>> ev = lg.events(w="0.1", n=100, field="1/2")
+    >>> fig, ax = plt.subplots()
+    >>> lines = lg.draw_events(ax, ev, field="1/2")
+    >>> disks = lg.draw_lattice(ax, w="0.1")
+    >>> len(lines)
+    1
+    """
+    x, y = _polyline(events, field)
+    return ax.plot(x, y, **{"lw": 0.8, **style})

@@ -119,3 +119,69 @@ def reproduce(
             cb,
         )
     return ReproduceResult(text, os.fspath(out), printed=printed)
+
+
+# --- Drawings of results (``r.plot()``): matplotlib, imported only here -----------------------
+
+
+def _axes(ax):
+    """``ax``, or new axes of a new figure; matplotlib is imported only now."""
+    try:
+        import matplotlib.pyplot as plt
+    except ImportError as e:
+        raise ImportError(
+            "plot() needs matplotlib, an optional dependency: pip install 'lorentz-gas[plot]' "
+            "(or pip install matplotlib)"
+        ) from e
+    if ax is None:
+        _, ax = plt.subplots()
+    return ax
+
+
+def plot_diffusion(r, ax=None):
+    """The MSD of a diffusion result against time on log-log axes: the curve (``msd_curve``,
+    with its errors) where the run kept one, else the MSD at ``msd_times``; and the line 4Dt of
+    the fitted D. Returns the axes."""
+    import numpy as np
+
+    ax = _axes(ax)
+    c = getattr(r, "msd_curve", None)
+    if c is not None and len(c):
+        t, m, e = c["times"], c["msd"], c["msd_err"]
+    else:
+        t, m, e = np.asarray(r.msd_times), r.msd, r.msd_err
+    inside = t > 0  # t = 0 (MSD 0) has no place on log axes
+    ax.errorbar(t[inside], m[inside], yerr=e[inside], fmt=".", ms=3, label="MSD")
+    line = np.geomspace(t[inside].min(), t[inside].max(), 50)
+    ax.plot(line, 4 * r.D * line, "--", lw=0.8, label=f"4Dt, D = {r.D:.5g}")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("t")
+    ax.set_ylabel("⟨Δr²⟩")
+    ax.legend()
+    return ax
+
+
+def plot_free_paths(r, ax=None):
+    """The free-path histogram of a result: each bin's probability density (probability over
+    width, with its error) against the Boltzmann–Grad limit law's, over ξ = τ/⟨ℓ⟩; with
+    ``free_path_samples``, their histogram on the same bins too. The open last bin is left
+    out. Returns the axes."""
+    import numpy as np
+
+    ax = _axes(ax)
+    b = r.bins[np.isfinite(r.bins["hi"])]
+    width = b["hi"] - b["lo"]
+    mid = (b["lo"] + b["hi"]) / 2
+    ax.errorbar(mid, b["probability"] / width, xerr=width / 2,
+                yerr=b["probability_err"] / width, fmt=".", label="measured")
+    ax.stairs(b["limit"] / width, np.append(b["lo"], b["hi"][-1]), label="limit law (r → 0)")
+    xi = np.asarray(getattr(r, "free_path_samples", []), dtype=float)
+    if len(xi):
+        counts, _ = np.histogram(xi, bins=np.append(b["lo"], b["hi"][-1]))
+        ax.stairs(counts / len(xi) / width, np.append(b["lo"], b["hi"][-1]), ls=":",
+                  label=f"{len(xi)} samples")
+    ax.set_xlabel("ξ = τ/⟨ℓ⟩")
+    ax.set_ylabel("probability density")
+    ax.legend()
+    return ax

@@ -184,3 +184,15 @@ def _total(v: Any) -> float:
 def _many(v: Any) -> bool:
     """Whether ``v`` is several values (a list, tuple or array), not one (text, a number)."""
     return isinstance(v, (list, tuple, np.ndarray))
+
+
+def _numbers(name: str, v: Any) -> str:
+    """Several numbers (a list, tuple or array; or their text ``"0,0.5,1"``) as the text the
+    command line parses, each float to the digits that give back its bits."""
+    if isinstance(v, str):
+        return v
+    try:
+        values = np.asarray(v, dtype=np.float64).ravel()
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"{name}: {v!r} is not a list of numbers") from e
+    return ",".join(repr(float(x)) for x in values)

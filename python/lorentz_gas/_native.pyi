@@ -133,6 +133,8 @@ class FreePathsParams(TypedDict):
     batches: str
     seed: str
     flights: str
+    bins: Optional[str]
+    keep_samples: str
     threads: Optional[str]
 
 class ReportParams(TypedDict):

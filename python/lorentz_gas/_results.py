@@ -19,11 +19,21 @@ class DiffusionResult(Result):
     ``times`` (time), ``msd`` (length²), ``vacf`` (⟨v(0)·v(t)⟩, 1 at t = 0) and ``green_kubo``
     (½∫₀ᵗ⟨v(0)·v(s)⟩ds, length²/time), each with ``_err``, from an eighth of the mean free time
     on; and ``D_green_kubo`` ± ``D_green_kubo_err`` with ``D_minus_D_green_kubo`` (paired).
+    On your own times (``msd_grid=np.array([0, ...])``) the table starts at t = 0 and adds
+    ``vacf_x``, ``vacf_y`` (⟨v_x(0)v_x(t)⟩, ⟨v_y(0)v_y(t)⟩: ½ each at t = 0). ``r.plot()``
+    draws the MSD against 4Dt (matplotlib).
     Tables: ``to_pandas("batches")`` (one row per batch: ``D``, ``D_check``) and
     ``to_pandas("msd")`` (one row per time of the MSD grid). ``print(r)`` shows the command
     line's text."""
 
     _text_kind = "diffusion"
+
+    def plot(self, ax: Any = None) -> Any:
+        """The MSD against time on log-log axes ``ax`` (new ones if ``None``), the curve where
+        the run kept one, with the line 4Dt; returns the axes. Needs matplotlib."""
+        from ._figures import plot_diffusion
+
+        return plot_diffusion(self, ax)
 
     @property
     def msd(self) -> np.ndarray:
@@ -41,6 +51,7 @@ class DiffusionResult(Result):
         if isinstance(curve, dict):
             # One record per time of the logarithmic grid (a table: ``to_pandas()``).
             names = ["times", "msd", "msd_err", "vacf", "vacf_err", "green_kubo", "green_kubo_err"]
+            names += [k for k in ("vacf_x", "vacf_x_err", "vacf_y", "vacf_y_err") if k in curve]
             n = len(curve.get("times") or [])
             table = np.zeros(n, dtype=[(k, np.float64) for k in names])
             for k in names:
@@ -357,13 +368,25 @@ class FreePathResult(Result):
     ``ln_mean_limit`` = 27ζ(3)/(2π²) − 3 ln 2, each with ``_err``; ``longest`` ξ;
     ``max_z`` over the bins against ``max_z_bound``. ``bins`` is a numpy structured
     array, one record per bin of ξ: ``lo``, ``hi`` (NaN for the open last bin),
-    ``probability`` ± ``probability_err``, the limit law's ``limit`` and ``z``."""
+    ``probability`` ± ``probability_err``, the limit law's ``limit`` and ``z`` (on the
+    ``bins=`` edges given); ``free_path_samples``, the ξ kept (``keep_samples=``). ``r.plot()``
+    draws the histogram against the limit law (matplotlib)."""
 
     _text_kind = "free-paths"
+
+    def plot(self, ax: Any = None) -> Any:
+        """The histogram's probability densities against the limit law's (and the samples' on
+        the same bins) on axes ``ax`` (new ones if ``None``); returns the axes. Needs
+        matplotlib."""
+        from ._figures import plot_free_paths
+
+        return plot_free_paths(self, ax)
 
     def __init__(self, text: str):
         super().__init__(text)
         self.bins = _tables.records(self._data["bins"])
+        #: The ξ kept (``keep_samples``): an empty array if none were.
+        self.free_path_samples = np.asarray(self._data.get("free_path_samples", []), dtype=float)
 
     def _summary(self) -> str:
         d = self._data

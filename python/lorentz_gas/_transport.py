@@ -6,6 +6,8 @@ from __future__ import annotations
 import os  # noqa: F401  (the "os.PathLike[str]" of PathLike, for typing.get_type_hints)
 from typing import Optional, Sequence, Tuple, Union
 
+import numpy as np
+
 from . import _native
 from ._inputs import (
     Count,
@@ -15,6 +17,7 @@ from ._inputs import (
     _count,
     _counts,
     _exact,
+    _numbers,
     Table,
     _optional_exact,
     _where,
@@ -59,7 +62,7 @@ def diffusion(
     *,
     rel_err: Optional[float] = None,
     plan_only: bool = False,
-    msd_grid: str = "fit",
+    msd_grid: Union[str, Sequence[float], np.ndarray] = "fit",
     scene: str = "triangular",
     radius: Optional[Exact] = None,
     table: Optional[Table] = None,
@@ -121,13 +124,20 @@ def diffusion(
         (the collisions the target needs, ``plan["collisions"]``, and the seconds they take at
         the pilot's speed, ``plan["seconds"]``), without the planned run. Takes no
         ``checkpoint`` or ``audit``.
-    msd_grid : {"fit", "log"}
+    msd_grid : {"fit", "log"}, "log:FROM,TO,PER_OCTAVE" or array of times
         Where the MSD is kept: ``"fit"``, the fit windows' lags (which D is fitted from);
         ``"log"``, also a logarithmic grid from an eighth of the mean free time on (four times
         per octave), with the velocity autocorrelation and its running Green-Kubo integral:
         ``msd_curve`` (a table: ``times``, ``msd``, ``vacf``, ``green_kubo``, each with
         ``_err``) and ``D_green_kubo`` ± ``D_green_kubo_err`` in the result. D keeps its bits;
-        the run is about 20 times slower per collision.
+        the run is about 20 times slower per collision. Your own times (time units, not τ):
+        an array such as ``np.array([0, 0.5, 1, 2, 4])`` (from 0 on, increasing, finite, at
+        most 1000 of them, the longest at most a hundredth of a batch's trajectory) or
+        ``"log:FROM,TO,PER_OCTAVE"`` (t = 0, then FROM·2^(k/PER_OCTAVE) up to TO); the table
+        then starts at t = 0 (``msd`` 0 exactly, ``vacf`` 1) and has ``vacf_x`` and ``vacf_y``,
+        ⟨v_x(0)v_x(t)⟩ and ⟨v_y(0)v_y(t)⟩ (½ each at t = 0), with ``_err``; the time origins
+        are a mean free time apart (further for the longest times), and the run costs about one
+        pair sum per time per collision.
     scene : {"triangular", "square"}
         The lattice: ``"triangular"`` (the paper's, needs ``w``) or ``"square"`` (disks of
         ``radius`` at unit spacing). The square scene has corridors, so only a run in a
@@ -179,7 +189,7 @@ def diffusion(
         "field": None if field is None else _exact("field", field),
         "rel_err": None if rel_err is None else float(rel_err),
         "plan_only": bool(plan_only),
-        "msd_grid": str(msd_grid),
+        "msd_grid": _numbers("msd_grid", msd_grid),
     })
     if '"D_xy"' in text:
         return FieldResult(text)

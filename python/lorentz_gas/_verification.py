@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import os
 import tempfile
-from typing import Any, Optional, Tuple, Union
+from typing import Any, Optional, Sequence, Tuple, Union
+
+import numpy as np
 
 from . import _native
 from ._inputs import (
@@ -16,6 +18,7 @@ from ._inputs import (
     Progress,
     _count,
     _counts,
+    _numbers,
     _exact,
     _many,
     Table,
@@ -117,6 +120,8 @@ def free_paths(
     batches: Count = 16,
     seed: Count = 1,
     flights: str = "auto",
+    bins: Optional[Union[Sequence[float], np.ndarray]] = None,
+    keep_samples: Count = 0,
     threads: Optional[Count] = None,
     progress: Progress = None,
 ) -> FreePathResult:
@@ -136,6 +141,15 @@ def free_paths(
         Independent trajectories, at least 2; the errors are over them.
     flights : {"auto", "walk", "jump"}
         How flights cross the lattice, as in :func:`lyapunov`. Recorded as ``flights``.
+    bins : array of float, optional
+        Your bin edges in ξ = τ/ℓ (dimensionless), such as ``np.linspace(0, 4, 17)``: 2 to
+        1001 finite numbers >= 0, increasing; a flight outside ``[bins[0], bins[-1])`` falls in
+        no bin (the probabilities stay shares of all flights). Default: quarters up to 2, then
+        wider bins to an open last one.
+    keep_samples : int
+        Keep the ξ of this many flights (0 to 1e6, at most the complete flights) as
+        ``free_path_samples``: each batch keeps its share, every k-th complete flight from its
+        first, so that they spread over the whole trajectory and are nearly independent.
     seed, threads, progress
         As in :func:`diffusion`.
     table : dict or path, optional
@@ -145,13 +159,17 @@ def free_paths(
     Returns
     -------
     FreePathResult
-        ``mean``, ``ln_mean`` with errors and limits, and the ``bins`` table (probabilities of
-        ξ, dimensionless, against the limit law, with z-scores).
+        ``mean``, ``ln_mean`` with errors and limits, the ``bins`` table (probabilities of
+        ξ, dimensionless, against the limit law, with z-scores) and ``free_path_samples`` (an
+        array of ξ; empty unless ``keep_samples``). ``r.plot()`` draws the histogram against
+        the limit law (matplotlib).
     """
     text = _run(_native.free_paths, progress, _total(_count("collisions", collisions)), "coll", {
         **_where(scene, table, w, radius),
         **_counts(collisions=collisions, batches=batches, seed=seed),
         "flights": str(flights),
+        "bins": None if bins is None else _numbers("bins", bins),
+        "keep_samples": _count("keep_samples", keep_samples),
         "threads": _threads(threads),
     })
     return FreePathResult(text)

@@ -222,14 +222,22 @@ pub fn free_paths(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let seed = p.count_u64("seed")?;
     let flights = p.flights()?;
     let threads = p.threads()?;
+    let bins = match p.opt_text("bins")? {
+        Some(t) => Some(free_paths::parse_edges(&t).map_err(crate::py_err)?),
+        None => None,
+    };
+    let keep_samples = p.count_u64("keep_samples")?;
     Ok(work(move |py, progress| {
         let cfg = FreePathConfig {
             collisions,
             batches,
             seed,
             flights,
+            bins,
+            keep_samples,
             ..FreePathConfig::new(place.spec()?)
         };
+        cfg.validate().map_err(crate::py_err)?;
         json(&compute(py, progress, |ctl| {
             free_paths::run(&cfg, &options(ctl, threads, Engine::Auto))
         })?)

@@ -185,6 +185,8 @@ NOT_ANALYSES = {
     "draw_lattice": "pure Python (matplotlib)",
     "lattice_disks": "pure Python (the disks of a scene that reach into a box, for drawing)",
     "load": "pure Python (a result file read back into its result object)",
+    "arcs": "pure Python (the flights of an events array, with their circles in a field)",
+    "draw_events": "pure Python (matplotlib)",
 }
 
 

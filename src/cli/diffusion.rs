@@ -90,7 +90,7 @@ pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
         precision: a.precision.precision,
         window: a.window,
         check_window: a.check_window,
-        msd_grid: a.msd_grid,
+        msd_grid: a.msd_grid.clone(),
         ..DiffusionConfig::sized(table, a.collisions, a.rel_err, a.localization_samples)
     };
     cfg.validate()?;

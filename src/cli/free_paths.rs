@@ -20,10 +20,27 @@ pub struct Args {
     batches: u32,
     #[command(flatten)]
     flights: FlightsArg,
+    /// The histogram's bin edges in xi = tau/l (l the mean free path), as E0,E1,...: 2 to 1001
+    /// finite numbers >= 0, increasing (flights outside [E0, last) fall in no bin; default:
+    /// quarters to 2, then wider bins to an open last one).
+    #[arg(long, value_name = "EDGES", value_parser = edges)]
+    bins: Option<Edges>,
+    /// Keep the xi of this many flights (0 to 1e6), spread evenly over each batch's trajectory,
+    /// as `free_path_samples` in the JSON.
+    #[arg(long, default_value = "0", value_parser = parse_count, allow_negative_numbers = true)]
+    keep_samples: u64,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
     output: OutputArgs,
+}
+
+/// The edges of `--bins` (one value, not a list of them to clap).
+#[derive(Clone)]
+struct Edges(Vec<f64>);
+
+fn edges(text: &str) -> Result<Edges, Error> {
+    free_paths::parse_edges(text).map(Edges)
 }
 
 pub fn run(a: Args) -> Result<(), Error> {
@@ -32,6 +49,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         batches: a.batches,
         seed: a.run.seed(),
         flights: a.flights.flights,
+        bins: a.bins.map(|e| e.0),
+        keep_samples: a.keep_samples,
         ..FreePathConfig::new(a.scene.spec()?)
     };
     cfg.validate()?;

@@ -50,7 +50,9 @@ pub struct Args {
     /// 1e-6 <= |B| <= 1e6.
     #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
     field: Option<Exact>,
-    /// Write every event of the final run (kind, obstacle, world x, world y, time) to this CSV.
+    /// Write every event of the final run (kind, obstacle, world x, world y, time, the world
+    /// velocity vx, vy after it, and in a field the centre centre_x, centre_y of the arc that
+    /// follows it, radius 1/|B|) to this CSV.
     #[arg(long)]
     events: Option<PathBuf>,
     #[command(flatten)]
@@ -143,9 +145,17 @@ fn run_scene<S: lorentz_gas::scenes::Scene>(
 fn write_events(path: &Path, r: &TrajectoryReport) -> Result<(), Error> {
     let mut out = lorentz_gas::files::Stream::create(path)?;
     let write = |out: &mut lorentz_gas::files::Stream| -> std::io::Result<()> {
-        writeln!(out, "kind,obstacle,x,y,time")?;
+        // In a field each event also gives the centre of the arc that follows it.
+        let field = r.events.iter().any(|e| e.centre.is_some());
+        let extra = if field { ",centre_x,centre_y" } else { "" };
+        writeln!(out, "kind,obstacle,x,y,time,vx,vy{extra}")?;
         for e in &r.events {
-            writeln!(out, "{},{},{},{},{}", e.kind, e.obstacle, e.x, e.y, e.time)?;
+            let (k, o) = (e.kind, e.obstacle);
+            write!(out, "{k},{o},{},{},{},{},{}", e.x, e.y, e.time, e.vx, e.vy)?;
+            match &e.centre {
+                Some((cx, cy)) => writeln!(out, ",{cx},{cy}")?,
+                None => writeln!(out)?,
+            }
         }
         Ok(())
     };

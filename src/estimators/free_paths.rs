@@ -49,6 +49,51 @@ pub const EDGES: [f64; 15] = [
 /// Fewest complete flights a batch must have.
 pub const MIN_FLIGHTS_PER_BATCH: u64 = 1000;
 
+/// The most edges of the user's bins.
+pub const MAX_EDGES: usize = 1001;
+
+/// The most free-path samples a result keeps.
+pub const MAX_KEPT_SAMPLES: u64 = 1_000_000;
+
+/// The edges of the user's bins read from text such as `0,0.5,1,2,4` (see [`check_edges`]).
+///
+/// # Errors
+/// A word that is not a number, or edges [`check_edges`] refuses.
+pub fn parse_edges(text: &str) -> Result<Vec<f64>, Error> {
+    let edges = text
+        .split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<f64>()
+                .map_err(|_| Error::parameter("bins", format!("{text:?}"), EDGES_RANGE))
+        })
+        .collect::<Result<Vec<f64>, Error>>()?;
+    check_edges(&edges)?;
+    Ok(edges)
+}
+
+const EDGES_RANGE: &str = "use the bin edges in xi = tau/<l> as E0,E1,...: 2 to 1001 finite numbers \
+     >= 0, increasing (flights outside [E0, last) fall in no bin)";
+
+/// Checks the user's bin edges: 2 to [`MAX_EDGES`] finite numbers ≥ 0, strictly increasing.
+///
+/// # Errors
+/// Edges that are not such.
+pub fn check_edges(edges: &[f64]) -> Result<(), Error> {
+    let ok = (2..=MAX_EDGES).contains(&edges.len())
+        && edges.iter().all(|e| e.is_finite() && *e >= 0.0)
+        && edges.windows(2).all(|p| p[0] < p[1]);
+    if ok {
+        return Ok(());
+    }
+    let text = edges
+        .iter()
+        .map(|e| e.to_string())
+        .collect::<Vec<_>>()
+        .join(",");
+    Err(Error::parameter("bins", text, EDGES_RANGE))
+}
+
 /// What a free-path measurement runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -66,6 +111,17 @@ pub struct FreePathConfig {
     /// supplies them and they are faster.
     #[serde(default)]
     pub flights: Flights,
+    /// The histogram's bin edges in ξ (see [`check_edges`]); `None` for [`EDGES`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bins: Option<Vec<f64>>,
+    /// Keep the ξ of this many flights (0 to [`MAX_KEPT_SAMPLES`], at most the complete
+    /// flights), spread evenly over each batch's trajectory (`free_path_samples`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub keep_samples: u64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 impl FreePathConfig {
@@ -77,7 +133,14 @@ impl FreePathConfig {
             batches: 16,
             seed: 1,
             flights: Flights::Auto,
+            bins: None,
+            keep_samples: 0,
         }
+    }
+
+    /// The histogram's edges: the user's, or [`EDGES`].
+    pub fn edges(&self) -> &[f64] {
+        self.bins.as_deref().unwrap_or(&EDGES)
     }
 
     /// Checks the counts.
@@ -107,6 +170,20 @@ impl FreePathConfig {
                 min,
                 got: self.collisions,
             });
+        }
+        if let Some(e) = &self.bins {
+            check_edges(e)?;
+        }
+        let flights = self.collisions - self.batches as u64;
+        if self.keep_samples > MAX_KEPT_SAMPLES.min(flights) {
+            return Err(Error::out_of_range(
+                "keep_samples",
+                self.keep_samples,
+                format!(
+                    "use 0 to {} (at most 1e6, and at most the complete flights)",
+                    MAX_KEPT_SAMPLES.min(flights)
+                ),
+            ));
         }
         Ok(())
     }
@@ -159,8 +236,12 @@ pub struct FreePathReport {
     pub ln_mean_limit: f64,
     /// The longest ξ seen.
     pub longest: f64,
-    /// The histogram against the limit law.
+    /// The histogram against the limit law (on the configuration's `bins`, or [`EDGES`]).
     pub bins: Vec<FreePathBin>,
+    /// The ξ of the flights kept (`keep_samples`): in batch order, each batch's every k-th
+    /// complete flight from its first.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub free_path_samples: Vec<f64>,
     /// The largest |z| over the bins that have one.
     pub max_z: f64,
     /// Its bound for a run that follows the limit law (Bonferroni over the bins, Student-t).
@@ -209,8 +290,10 @@ fn run_on<S: Scene>(
         par_batches_watched(options.threads, cfg.batches, options.stop.as_ref(), |b| {
             let mut rng = stream(cfg.seed, b as u64);
             let mut s = scene.sample(&mut rng);
-            let mut obs = FreePaths::new(ell, &EDGES);
             let n = share(cfg.collisions, cfg.batches, b);
+            let keep = share(cfg.keep_samples, cfg.batches, b);
+            let stride = (n - 1) / keep.max(1);
+            let mut obs = FreePaths::new(ell, cfg.edges()).keeping(keep as usize, stride);
             in_legs(options.stop.as_ref(), n, STOP_EVERY, |k| match radius {
                 Some(r) => drive_jumps(&lat, &r, &mut s, k, &mut obs, progress),
                 None => drive(&lat, &mut s, k, &mut obs, progress),
@@ -238,7 +321,8 @@ fn summarize(
     let (mean, mean_err) = of(&|c| c.sum / n(c));
     let (ln_mean, ln_mean_err) = of(&|c| c.ln_sum / n(c));
     let dof = batch_dof(per.len());
-    let bins: Vec<FreePathBin> = EDGES
+    let bins: Vec<FreePathBin> = cfg
+        .edges()
         .windows(2)
         .enumerate()
         .map(|(k, e)| {
@@ -276,6 +360,7 @@ fn summarize(
         max_z_bound: largest_of_bound(dof, bins.len()),
         max_z,
         bins,
+        free_path_samples: per.iter().flat_map(|c| c.kept.iter().copied()).collect(),
         meta: RunMeta::new(
             Some(cfg.seed),
             Some(cfg.batches as u64),

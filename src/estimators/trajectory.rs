@@ -32,6 +32,9 @@ use crate::scenes::Scene;
 use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
 use crate::verification::lyapunov::{self, LyapunovConfig};
 
+mod events;
+pub use events::EventRecord;
+
 /// Most digits a trajectory may ask for: 10⁴ digits already need ≥ 33 000 bits before any
 /// chaos, and more only hides a typo.
 pub const MAX_DIGITS: u32 = 10_000;
@@ -94,21 +97,6 @@ pub struct TrajectoryInput {
     /// flights are arcs of the generic arc kernel at the working precision, turning
     /// counter-clockwise for B > 0 on circles of radius 1/|B|.
     pub field: Option<Rational>,
-}
-
-/// One event of the final run, for `--events`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct EventRecord {
-    /// `collision` or `crossing`.
-    pub kind: &'static str,
-    /// The disk (collision) or edge (crossing) label in the cell's frame.
-    pub obstacle: u8,
-    /// World x of the event, 20 significant digits.
-    pub x: String,
-    /// World y of the event, 20 significant digits.
-    pub y: String,
-    /// Time of the event since the start, 20 significant digits.
-    pub time: String,
 }
 
 /// The plan made before anything is allocated.
@@ -450,14 +438,13 @@ fn run_at<S: Scene>(
             }
         };
         if record_events {
-            let w = lat.world(&s);
-            events.push(EventRecord {
-                kind,
-                obstacle,
-                x: w.x.to_string_radix(10, Some(EVENT_DIGITS)),
-                y: w.y.to_string_radix(10, Some(EVENT_DIGITS)),
-                time: elapsed.to_string_radix(10, Some(EVENT_DIGITS)),
-            });
+            events.push(events::record(
+                &lat,
+                &s,
+                field.as_ref(),
+                (kind, obstacle),
+                &elapsed,
+            ));
         }
         if (sequence.len() as u64) > max_events {
             return Err(Error::Failed(format!(
@@ -573,9 +560,6 @@ fn finish_arc(s: &mut LatticeState<Float>, t: &Float, b: &Float) {
     let x = chord_at(&s.flight.vel, t, b);
     s.flight.pos = Vec2::new(s.flight.pos.x.clone() + &x.x, s.flight.pos.y.clone() + &x.y);
 }
-
-/// Significant digits of the `--events` coordinates and times.
-const EVENT_DIGITS: usize = 20;
 
 /// Digits counted for `q`: the number of integer digits of |q| (0 if |q| < 1), so that
 /// `digits` digits of `q` end at the decimal position 10^(lead − digits).

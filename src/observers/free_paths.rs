@@ -1,5 +1,7 @@
 //! The free paths between collisions of one trajectory, in units of a given length (the scene's
-//! mean free path): their count, sum, sum of logarithms, longest and histogram on fixed edges.
+//! mean free path): their count, sum, sum of logarithms, longest and histogram on given edges,
+//! and optionally some of them as raw samples (every k-th flight, so that the samples kept are
+//! spread over the whole trajectory and nearly independent).
 //!
 //! A trajectory that starts from the flow's invariant measure starts inside a flight; that
 //! first, partial flight is not a sample of the billiard map and is not counted (as in
@@ -21,6 +23,8 @@ pub struct FreePathCounts {
     pub longest: f64,
     /// Per bin k, `edges[k] <= ξ < edges[k + 1]`: the flights in it.
     pub bins: Vec<u64>,
+    /// The raw ξ of the flights kept (flights 0, k, 2k, … up to the number asked for).
+    pub kept: Vec<f64>,
 }
 
 /// The free paths of one trajectory (the scalar engine's one lane).
@@ -31,11 +35,14 @@ pub struct FreePaths {
     flight: f64,
     started: bool,
     counts: FreePathCounts,
+    /// Keep this many flights' ξ, every `stride`-th.
+    keep: usize,
+    stride: u64,
 }
 
 impl FreePaths {
-    /// Flights measured in units of `unit`, histogrammed on the ascending `edges` (the first 0,
-    /// the last +∞, so every flight falls in a bin).
+    /// Flights measured in units of `unit`, histogrammed on the ascending `edges` (a flight
+    /// outside `[edges[0], edges[last])` falls in no bin).
     pub fn new(unit: f64, edges: &[f64]) -> Self {
         FreePaths {
             inverse_unit: 1.0 / unit,
@@ -48,8 +55,19 @@ impl FreePaths {
                 ln_sum: 0.0,
                 longest: 0.0,
                 bins: vec![0; edges.len().saturating_sub(1)],
+                kept: Vec::new(),
             },
+            keep: 0,
+            stride: 1,
         }
+    }
+
+    /// Also keeps the ξ of `keep` flights, every `stride`-th complete flight from the first.
+    pub fn keeping(mut self, keep: usize, stride: u64) -> Self {
+        self.keep = keep;
+        self.stride = stride.max(1);
+        self.counts.kept = Vec::with_capacity(keep);
+        self
     }
 
     /// The counts so far.
@@ -65,13 +83,16 @@ impl FreePaths {
             return;
         }
         let c = &mut self.counts;
+        if c.kept.len() < self.keep && c.flights.is_multiple_of(self.stride) {
+            c.kept.push(xi);
+        }
         c.flights += 1;
         c.sum += xi;
         c.ln_sum += xi.ln();
         c.longest = c.longest.max(xi);
-        // The bin k with edges[k] <= xi < edges[k + 1].
-        let k = self.edges.partition_point(|&e| e <= xi).saturating_sub(1);
-        if let Some(b) = c.bins.get_mut(k) {
+        // The bin k with edges[k] <= xi < edges[k + 1] (none below the first edge).
+        let k = self.edges.partition_point(|&e| e <= xi).checked_sub(1);
+        if let Some(b) = k.and_then(|k| c.bins.get_mut(k)) {
             *b += 1;
         }
     }
@@ -128,5 +149,15 @@ mod tests {
         assert_eq!(c.sum, 6.0);
         assert_eq!(c.longest, 4.5);
         assert!((c.ln_sum - (0.5f64.ln() + 4.5f64.ln())).abs() < 1e-15);
+        assert!(c.kept.is_empty());
+        // Keeping two, every second complete flight: flights 0 and 2.
+        let mut k = FreePaths::new(2.0, &[0.0, 1.0]).keeping(2, 2);
+        k.observe::<f64>(&steps);
+        assert_eq!(k.counts().kept, vec![1.0, 4.5]);
+        // Flights beyond the last edge, or below the first, fall in no bin.
+        assert_eq!(k.counts().bins, vec![1]);
+        let mut above = FreePaths::new(2.0, &[0.6, 5.0]);
+        above.observe::<f64>(&steps);
+        assert_eq!(above.counts().bins, vec![2]);
     }
 }

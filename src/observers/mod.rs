@@ -18,6 +18,8 @@
 //! * [`free_paths`]: the free paths between collisions in units of the mean free path, histogrammed.
 //! * [`msd_curve`]: the MSD, the velocity autocorrelation and its running Green–Kubo integral
 //!   on a multiple-τ logarithmic grid from inside the first flight (four times per octave).
+//! * [`msd_times`]: the MSD, the velocity autocorrelation per component and the Green–Kubo
+//!   integral at times the user gives, from t = 0 on.
 //! * [`lag_moments`]: ⟨|Δr|²⟩, ⟨v(0)·v(t)⟩ and the scaled displacement's histogram at lags on a
 //!   logarithmic grid.
 
@@ -30,3 +32,4 @@ pub mod hops;
 pub mod lag_moments;
 pub mod msd;
 pub mod msd_curve;
+pub mod msd_times;

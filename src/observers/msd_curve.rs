@@ -244,6 +244,12 @@ pub struct CurveValues {
     pub vacf: Vec<f64>,
     /// ½⟨v(0)·Δr(t)⟩ = ½∫₀ᵗ ⟨v(0)·v(s)⟩ ds.
     pub green_kubo: Vec<f64>,
+    /// ⟨v_x(0)v_x(t)⟩ (at the user's times, [`super::msd_times`]; empty on this grid).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vacf_x: Vec<f64>,
+    /// ⟨v_y(0)v_y(t)⟩ (likewise).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vacf_y: Vec<f64>,
 }
 
 /// Accumulates the curve of L trajectories.
@@ -315,6 +321,8 @@ impl MsdCurve {
             msd: Vec::new(),
             vacf: Vec::new(),
             green_kubo: Vec::new(),
+            vacf_x: Vec::new(),
+            vacf_y: Vec::new(),
         };
         for (k, level) in self.lanes[l].levels.iter().enumerate() {
             for m in multiples(k) {

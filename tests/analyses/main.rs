@@ -16,6 +16,7 @@ mod field_sweep;
 mod free_paths;
 mod hopping;
 mod msd_curve;
+mod msd_times;
 mod options;
 mod planning;
 mod section;

@@ -28,7 +28,7 @@ const BAD: &[(&str, &str)] = &[
     ("diffusion --w 0.1 --precision double", "f64"),
     (
         "diffusion --w 0.1 --msd-grid fine",
-        "fit (the fit windows' lags) or log",
+        "use fit (the fit windows' lags), log",
     ),
     (
         "diffusion --w 0.1 --field 1 --msd-grid log",

@@ -111,6 +111,19 @@ fn runs_with_the_msd_curve_resume_from_any_moment_to_the_uninterrupted_bits() {
     resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, (IN_FLIGHT, 8), engines, 4);
 }
 
+/// The same with the MSD at the user's times (`--msd-grid 0,…`): each lane's ring of origins,
+/// countdowns and sums are saved whole, so the curve keeps the uninterrupted bits.
+#[test]
+fn runs_at_the_users_times_resume_from_any_moment_to_the_uninterrupted_bits() {
+    let mut cfg = DiffusionConfig::new(0.12);
+    cfg.collisions = 12_000_000;
+    cfg.batches = 4;
+    cfg.seed = 7;
+    cfg.msd_grid = "0,0.1,1,7.5,60,300".parse().unwrap();
+    let engines = [(Engine::Auto, 2), (Engine::Scalar, 1)];
+    resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, (IN_FLIGHT, 8), engines, 4);
+}
+
 /// MPFR: the saved states are exact rationals at the run's precision (segments of 2¹⁴
 /// collisions).
 #[test]

@@ -47,7 +47,7 @@ fn same_bits_as_the_triangular_estimator(w: &str, precision: Precision, collisio
         precision,
         window: tri.window,
         check_window: tri.check_window,
-        msd_grid: tri.msd_grid,
+        msd_grid: tri.msd_grid.clone(),
     };
     let a = diffusion::run(&tri, &scalar(2)).unwrap();
     let b = run_on(&TriangularScene::exact(q).unwrap(), &general, &scalar(1)).unwrap();

@@ -275,6 +275,45 @@ fn events_are_recorded_in_order_up_to_time_t() {
     assert!(times.last().is_some_and(|&t| t <= 10.0));
 }
 
+/// In a field every recorded event gives the centre of the arc that follows it: the event point
+/// and the next one are both at 1/|B| from that centre (to the 20 printed digits, 1e-15 here),
+/// and the velocity after the event is a unit vector tangent to the circle, turning
+/// counter-clockwise for B > 0 ((p − c) × v = +1/|B|·sign B). Without a field there is no
+/// centre. Broken on purpose (the centre on the other side, (x, y) − (−vy, vx)/B), the next
+/// event is 2/|B| off the circle and the test fails.
+#[test]
+fn events_in_a_field_give_the_centre_of_the_following_arc() {
+    let scene = TriangularScene::exact(parse_exact("1/10").unwrap()).unwrap();
+    for b in ["1/2", "-3/2"] {
+        let mut inp = input(("1.05", "0.6"), ("1", "0.3"), "10", 20);
+        inp.field = Some(parse_exact(b).unwrap());
+        let r = trajectory(&scene, &inp, true).unwrap();
+        let bf: f64 = parse_exact(b).unwrap().to_f64();
+        let radius = 1.0 / bf.abs();
+        let num = |s: &str| s.parse::<f64>().unwrap();
+        assert!(r.events.len() > 5, "{b}: {} events", r.events.len());
+        for pair in r.events.windows(2) {
+            let (e, next) = (&pair[0], &pair[1]);
+            let (cx, cy) = e.centre.as_ref().map(|(x, y)| (num(x), num(y))).unwrap();
+            let (px, py, vx, vy) = (num(&e.x), num(&e.y), num(&e.vx), num(&e.vy));
+            assert!(((px - cx).hypot(py - cy) - radius).abs() < 1e-12, "{b}");
+            assert!(
+                ((num(&next.x) - cx).hypot(num(&next.y) - cy) - radius).abs() < 1e-12,
+                "{b}"
+            );
+            assert!((vx.hypot(vy) - 1.0).abs() < 1e-15);
+            let cross = (px - cx) * vy - (py - cy) * vx;
+            assert!((cross - radius * bf.signum()).abs() < 1e-12, "{b}: {cross}");
+        }
+    }
+    let straight = trajectory(
+        &scene,
+        &input(("1.05", "0.6"), ("1", "0.3"), "10", 20),
+        true,
+    );
+    assert!(straight.unwrap().events.iter().all(|e| e.centre.is_none()));
+}
+
 #[test]
 fn starts_inside_a_disk_and_zero_directions_are_refused() {
     let square = SquareScene::exact(parse_exact("1/3").unwrap()).unwrap();

@@ -12,6 +12,9 @@ use crate::scenes::Scene;
 use crate::scenes::spec::{SceneSpec, Table};
 use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap_exact};
 
+mod grid;
+pub use grid::{CURVE_WINDOWS, MsdGrid};
+
 /// A fit window in units of the mean hop time τ.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Window {
@@ -52,53 +55,6 @@ impl FromStr for Window {
             return Err(bad());
         }
         Ok(Window { lo, hi })
-    }
-}
-
-/// The lags at which the MSD is kept: those of the fit windows only (what D is fitted from), or
-/// those and a logarithmic grid from inside the first free flight on, with the velocity
-/// autocorrelation and its running Green–Kubo integral ([`crate::observers::msd_curve`]). D has
-/// the same bits on either grid.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum MsdGrid {
-    /// The lags of the fit windows only.
-    #[default]
-    Fit,
-    /// The fit windows' lags and the logarithmic grid of the MSD curve.
-    Log,
-}
-
-impl MsdGrid {
-    /// True for the default, the fit grid (which a configuration's JSON leaves out).
-    pub fn is_fit(&self) -> bool {
-        *self == MsdGrid::Fit
-    }
-}
-
-impl FromStr for MsdGrid {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self, Error> {
-        match s {
-            "fit" => Ok(MsdGrid::Fit),
-            "log" => Ok(MsdGrid::Log),
-            _ => Err(Error::parameter(
-                "msd_grid",
-                format!("{s:?}"),
-                "must be fit (the fit windows' lags) or log (also a logarithmic grid from inside \
-                 the first flight, with the velocity autocorrelation and its Green-Kubo \
-                 integral)",
-            )),
-        }
-    }
-}
-
-impl std::fmt::Display for MsdGrid {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            MsdGrid::Fit => "fit",
-            MsdGrid::Log => "log",
-        })
     }
 }
 
@@ -147,8 +103,8 @@ pub struct DiffusionConfig {
     /// gas without a field only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rel_err: Option<f64>,
-    /// Where the MSD is kept: the fit windows' lags, or also the logarithmic grid of the MSD
-    /// curve ([`MsdGrid`]; without a field).
+    /// Where the MSD is kept: the fit windows' lags, or also the MSD curve on the logarithmic
+    /// grid or on the user's times from 0 ([`MsdGrid`]; without a field).
     #[serde(default, skip_serializing_if = "MsdGrid::is_fit")]
     pub msd_grid: MsdGrid,
     /// In a field: phase points drawn from the invariant measure and classified, for the sampled
@@ -220,7 +176,7 @@ impl DiffusionConfig {
             precision: self.precision,
             window: self.window,
             check_window: self.check_window,
-            msd_grid: self.msd_grid,
+            msd_grid: self.msd_grid.clone(),
         }
     }
 
@@ -254,7 +210,7 @@ impl DiffusionConfig {
 
     /// The checks of a run in a field (a finite horizon on every table).
     fn validate_in_field(&self) -> Result<(), Error> {
-        refuse_options_of_no_field(self.rel_err, self.msd_grid)?;
+        refuse_options_of_no_field(self.rel_err, &self.msd_grid)?;
         let n = self.localization_samples.unwrap_or(0);
         if !(1..=1_000_000_000).contains(&n) {
             return Err(Error::out_of_range(
@@ -274,6 +230,8 @@ impl DiffusionConfig {
         // Each batch must be long enough to reach the far end of the check window many times.
         let w = self.gap()?;
         let g = Geometry::new(w)?;
+        self.msd_grid
+            .check_reach(g.mean_free_path(), self.collisions, self.batches)?;
         let need_hops = (MIN_HOPS_PER_LAG * self.window.hi.max(self.check_window.hi)) as f64;
         let min = need_hops * g.collisions_per_hop() * self.batches as f64;
         if (self.collisions as f64) < min {
@@ -409,6 +367,8 @@ impl Sampling {
                 scene.label()
             )));
         }
+        self.msd_grid
+            .check_reach(mfp, self.collisions, self.batches)?;
         let need = (MIN_HOPS_PER_LAG * self.window.hi.max(self.check_window.hi)) as f64;
         let min = need * unit / mfp * self.batches as f64;
         if (self.collisions as f64) < min {
@@ -450,7 +410,7 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
 ///
 /// # Errors
 /// Either of them asked for.
-pub fn refuse_options_of_no_field(rel_err: Option<f64>, grid: MsdGrid) -> Result<(), Error> {
+pub fn refuse_options_of_no_field(rel_err: Option<f64>, grid: &MsdGrid) -> Result<(), Error> {
     if let Some(target) = rel_err {
         return Err(Error::parameter(
             "rel_err",

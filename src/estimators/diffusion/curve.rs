@@ -1,13 +1,13 @@
-//! The MSD curve of a run on the logarithmic grid ([`super::MsdGrid::Log`]): the mean squared
-//! displacement, the velocity autocorrelation and the running Green–Kubo integral, each the
-//! mean over the batches with its standard error, and D by Green–Kubo over the fit window,
-//! compared with the Einstein D of the same trajectories.
+//! The MSD curve of a run on the logarithmic grid ([`super::MsdGrid::Log`]) or at the user's
+//! times: the mean squared displacement, the velocity autocorrelation (per component too at the
+//! user's times) and the running Green–Kubo integral, each the mean over the batches with its
+//! standard error, and D by Green–Kubo over the fit window, compared with the Einstein D of the
+//! same trajectories.
 
 use serde::{Deserialize, Serialize};
 
 use super::{BatchResult, Window};
 use crate::Error;
-use crate::observers::msd_curve::CurveGrid;
 use crate::statistics::comparison::paired;
 use crate::statistics::mean_se;
 
@@ -15,7 +15,7 @@ use crate::statistics::mean_se;
 #[allow(non_snake_case)]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MsdCurveReport {
-    /// The grid's times: ⟨ℓ⟩/8 … 7⟨ℓ⟩/8, then four per octave.
+    /// The grid's times: ⟨ℓ⟩/8 … 7⟨ℓ⟩/8, then four per octave; or the user's, from 0.
     pub times: Vec<f64>,
     /// ⟨|Δr(t)|²⟩ (length²).
     pub msd: Vec<f64>,
@@ -30,6 +30,18 @@ pub struct MsdCurveReport {
     pub green_kubo: Vec<f64>,
     /// Its standard errors.
     pub green_kubo_err: Vec<f64>,
+    /// ⟨v_x(0)v_x(t)⟩, ½ at t = 0 (the user's times only; absent on the logarithmic grid).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vacf_x: Vec<f64>,
+    /// Its standard errors.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vacf_x_err: Vec<f64>,
+    /// ⟨v_y(0)v_y(t)⟩, ½ at t = 0 (likewise).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vacf_y: Vec<f64>,
+    /// Its standard errors.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vacf_y_err: Vec<f64>,
 }
 
 /// D by Green–Kubo from the MSD curve, against the Einstein D (in a report's top level; absent
@@ -52,22 +64,21 @@ pub struct GreenKuboD {
     pub D_minus_D_green_kubo_err: Option<f64>,
 }
 
-/// The curve of `done` on `grid`, and D by Green–Kubo in `window` (in units of `tau`) against
-/// the batches' Einstein values `batch_d`. `None` and no D without a grid.
+/// The curve of `done` at the grid's `times`, and D by Green–Kubo in `window` (in units of
+/// `tau`) against the batches' Einstein values `batch_d`. `None` and no D without a grid.
 ///
 /// # Errors
 /// If a batch lacks the curve the grid asks for.
 pub(super) fn summarise(
-    grid: Option<CurveGrid>,
+    times: Option<Vec<f64>>,
     done: &[BatchResult],
     tau: f64,
     window: &Window,
     batch_d: &[f64],
 ) -> Result<(Option<MsdCurveReport>, GreenKuboD), Error> {
-    let Some(grid) = grid else {
+    let Some(times) = times else {
         return Ok((None, GreenKuboD::default()));
     };
-    let times = grid.times();
     let mut curves = Vec::with_capacity(done.len());
     for b in done {
         match &b.curve {
@@ -89,6 +100,18 @@ pub(super) fn summarise(
     let (msd, msd_err) = column(&|b, k| curves[b].msd[k]);
     let (vacf, vacf_err) = column(&|b, k| curves[b].vacf[k]);
     let (green_kubo, green_kubo_err) = column(&|b, k| curves[b].green_kubo[k]);
+    // The components where every batch has them (the user's times).
+    let components = curves
+        .iter()
+        .all(|c| c.vacf_x.len() == times.len() && c.vacf_y.len() == times.len());
+    let ((vacf_x, vacf_x_err), (vacf_y, vacf_y_err)) = if components {
+        (
+            column(&|b, k| curves[b].vacf_x[k]),
+            column(&|b, k| curves[b].vacf_y[k]),
+        )
+    } else {
+        Default::default()
+    };
     let (lo, hi) = (window.lo as f64 * tau, window.hi as f64 * tau);
     let inside: Vec<usize> = (0..times.len())
         .filter(|&k| times[k] >= lo && times[k] <= hi)
@@ -116,6 +139,10 @@ pub(super) fn summarise(
         vacf_err,
         green_kubo,
         green_kubo_err,
+        vacf_x,
+        vacf_x_err,
+        vacf_y,
+        vacf_y_err,
     };
     Ok((Some(curve), d))
 }

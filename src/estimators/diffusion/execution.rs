@@ -19,7 +19,8 @@ use crate::numbers::precision::{AtPrecision, Precision};
 use crate::numbers::real::Real;
 use crate::observers::counters::{CounterLaneState, CounterLanes};
 use crate::observers::msd::{Msd, MsdLaneState};
-use crate::observers::msd_curve::{CurveGrid, CurveLaneState, MsdCurve};
+use crate::observers::msd_curve::{CurveGrid, CurveLaneState, CurveValues, MsdCurve};
+use crate::observers::msd_times::{MsdAtTimes, TimesGrid, TimesLaneState};
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Basis64, LatticeState, TriangularLattice};
 use crate::scenes::sampling::{Purpose, StreamKey};
@@ -86,12 +87,31 @@ impl Job {
 }
 
 /// What a diffusion run watches along each trajectory: counters, the MSD, optionally the MSD
-/// curve on its logarithmic grid, and optionally the per-event shadow audit of the scene `S`.
+/// curve on its logarithmic grid or at the user's times, and optionally the per-event shadow
+/// audit of the scene `S`.
 pub(super) struct BatchObservers<S: Scene = TriangularScene> {
     counters: CounterLanes,
     msd: Msd,
     curve: Option<MsdCurve>,
+    times: Option<MsdAtTimes>,
     audit: Option<AuditLanes<S>>,
+}
+
+/// The grid of a run's MSD curve: the logarithmic multiple-τ grid, or the user's times.
+#[derive(Debug, Clone)]
+pub(super) enum Curve {
+    Log(CurveGrid),
+    Times(TimesGrid),
+}
+
+impl Curve {
+    /// The curve's times, increasing.
+    pub(super) fn times(&self) -> Vec<f64> {
+        match self {
+            Curve::Log(g) => g.times(),
+            Curve::Times(g) => g.times().to_vec(),
+        }
+    }
 }
 
 /// Where a run's trajectories are watched: τ, the fit windows' lags (in units of τ), and the
@@ -100,7 +120,7 @@ pub(super) struct BatchObservers<S: Scene = TriangularScene> {
 pub(super) struct Watch {
     pub(super) tau: f64,
     pub(super) lags: Vec<usize>,
-    pub(super) curve: Option<CurveGrid>,
+    pub(super) curve: Option<Curve>,
 }
 
 impl<S: Scene> BatchObservers<S> {
@@ -129,7 +149,14 @@ impl<S: Scene> BatchObservers<S> {
         Ok(BatchObservers {
             counters: CounterLanes::new(lanes),
             msd: Msd::new(watch.tau, &watch.lags, basis, lanes),
-            curve: watch.curve.map(|g| MsdCurve::new(g, basis, lanes)),
+            curve: match &watch.curve {
+                Some(Curve::Log(g)) => Some(MsdCurve::new(*g, basis, lanes)),
+                _ => None,
+            },
+            times: match &watch.curve {
+                Some(Curve::Times(g)) => Some(MsdAtTimes::new(g.clone(), basis, lanes)),
+                _ => None,
+            },
             audit,
         })
     }
@@ -139,7 +166,7 @@ impl<S: Scene> BatchObservers<S> {
         if let Some(e) = self.audit.as_mut().and_then(|a| a.error.take()) {
             return Err(e);
         }
-        let mut audits = self.audit.map(|a| a.lanes);
+        let mut audits = self.audit.take().map(|a| a.lanes);
         Ok(jobs
             .iter()
             .enumerate()
@@ -148,11 +175,30 @@ impl<S: Scene> BatchObservers<S> {
                 counters: self.counters.lane(l),
                 lags: self.msd.lags().to_vec(),
                 msd: self.msd.values(l),
-                curve: self.curve.as_ref().map(|c| c.values(l)),
+                curve: self.curve_values(l),
                 seconds,
                 audit: audits.as_mut().and_then(|a| a[l].take()).map(|a| a.summary),
             })
             .collect())
+    }
+}
+
+impl<S: Scene> BatchObservers<S> {
+    /// Lane `l`'s MSD curve, on whichever grid the run keeps one.
+    fn curve_values(&self, l: usize) -> Option<CurveValues> {
+        if let Some(c) = &self.curve {
+            return Some(c.values(l));
+        }
+        self.times.as_ref().map(|c| {
+            let v = c.values(l);
+            CurveValues {
+                msd: v.msd,
+                vacf: v.vacf,
+                green_kubo: v.green_kubo,
+                vacf_x: v.vacf_x,
+                vacf_y: v.vacf_y,
+            }
+        })
     }
 }
 
@@ -166,6 +212,9 @@ pub(super) struct DiffusionLane {
     /// The MSD curve's lane (runs that keep one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     curve: Option<CurveLaneState>,
+    /// The lane of the MSD at the user's times (runs that keep them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    times: Option<TimesLaneState>,
 }
 
 /// The checkpoint of a diffusion run: finished batches and trajectories in flight.
@@ -178,17 +227,23 @@ impl<S: Scene> LaneCheckpoint for BatchObservers<S> {
             counters: self.counters.lane_state(l),
             msd: self.msd.lane_state(l),
             curve: self.curve.as_ref().map(|c| c.lane_state(l)),
+            times: self.times.as_ref().map(|c| c.lane_state(l)),
         }
     }
     fn restore_lane(&mut self, l: usize, saved: &DiffusionLane) -> Result<(), Error> {
         self.counters.set_lane_state(l, &saved.counters)?;
         self.msd.set_lane_state(l, &saved.msd)?;
+        let other =
+            || Error::Invalid("a saved trajectory kept another MSD grid than this run's".into());
         match (self.curve.as_mut(), &saved.curve) {
+            (Some(c), Some(s)) => c.set_lane_state(l, s)?,
+            (None, None) => {}
+            _ => return Err(other()),
+        }
+        match (self.times.as_mut(), &saved.times) {
             (Some(c), Some(s)) => c.set_lane_state(l, s),
             (None, None) => Ok(()),
-            _ => Err(Error::Invalid(
-                "a saved trajectory kept another MSD grid than this run's".into(),
-            )),
+            _ => Err(other()),
         }
     }
 }
@@ -199,6 +254,9 @@ impl<const L: usize, S: Scene> Observer<L> for BatchObservers<S> {
         self.counters.observe::<V>(steps);
         self.msd.observe::<V>(steps);
         if let Some(c) = self.curve.as_mut() {
+            c.observe::<V>(steps);
+        }
+        if let Some(c) = self.times.as_mut() {
             c.observe::<V>(steps);
         }
         if let Some(a) = self.audit.as_mut() {
@@ -285,7 +343,7 @@ pub(super) fn setup(
             tau: g.hop_time(),
             lags: cfg.lags(),
             curve: curve_grid(
-                cfg.msd_grid,
+                &cfg.msd_grid,
                 g.mean_free_path(),
                 cfg.collisions,
                 cfg.batches,
@@ -308,21 +366,25 @@ pub(super) struct ExecSpec {
     pub(super) audit: Option<AuditSpec>,
 }
 
-/// A batch's trajectory must cover the MSD curve's longest lag this many times.
-pub(super) const CURVE_WINDOWS: f64 = 100.0;
-
 /// The grid of the MSD curve of a run of `collisions` in `batches` at mean free path `ell`
-/// (`None` on the fit grid): from ⟨ℓ⟩/8, inside the first flight, on to a hundredth of a
-/// batch's trajectory.
+/// (`None` on the fit grid): the logarithmic grid from ⟨ℓ⟩/8, inside the first flight, on to a
+/// hundredth of a batch's trajectory, or the user's times with origins every ⟨ℓ⟩.
 pub(super) fn curve_grid(
-    grid: super::MsdGrid,
+    grid: &super::MsdGrid,
     ell: f64,
     collisions: u64,
     batches: u32,
-) -> Option<CurveGrid> {
+) -> Option<Curve> {
+    if let Some(times) = grid.times() {
+        return Some(Curve::Times(TimesGrid::new(times, ell)));
+    }
     let per_batch = collisions as f64 / f64::from(batches.max(1));
-    (grid == super::MsdGrid::Log)
-        .then(|| CurveGrid::reaching(ell / 8.0, per_batch * ell / CURVE_WINDOWS))
+    (*grid == super::MsdGrid::Log).then(|| {
+        Curve::Log(CurveGrid::reaching(
+            ell / 8.0,
+            per_batch * ell / super::config::CURVE_WINDOWS,
+        ))
+    })
 }
 
 /// Runs `jobs` in blocks of [`BLOCK`] on `pool`, each block by `run` (the SIMD engine's lanes),

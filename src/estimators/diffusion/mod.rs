@@ -278,7 +278,7 @@ fn check_packable(first: &DiffusionConfig, c: &DiffusionConfig) -> Result<(), Er
     if c.msd_grid != MsdGrid::Fit {
         return Err(Error::parameter(
             "msd_grid",
-            c.msd_grid,
+            &c.msd_grid,
             "runs packed together keep the MSD on the fit grid only: use fit",
         ));
     }

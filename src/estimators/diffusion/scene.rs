@@ -53,7 +53,7 @@ impl Sampling {
             tau: time_unit(scene),
             lags: self.lags(),
             curve: curve_grid(
-                self.msd_grid,
+                &self.msd_grid,
                 scene.mean_free_path(),
                 self.collisions,
                 self.batches,
@@ -382,8 +382,8 @@ fn summarise<S: Scene>(
     let (dcv, dce) = mean_se(&dc);
     let diff = crate::statistics::comparison::paired(&ds, &dc)?;
     let (msd_times, over) = msd_over_4t(done, tau);
-    let grid = cfg.watch(scene).curve;
-    let (msd_curve, green_kubo) = super::curve::summarise(grid, done, tau, &cfg.window, &ds)?;
+    let times = cfg.watch(scene).curve.map(|g| g.times());
+    let (msd_curve, green_kubo) = super::curve::summarise(times, done, tau, &cfg.window, &ds)?;
     let audit = merged_audit(done);
     Ok(SceneDiffusionReport {
         scene: scene.label(),

@@ -70,12 +70,13 @@ pub(super) fn summarise(
     let [(mfp, mfp_e), (th, th_e), (cph, cph_e)] = counter_means(done);
     let (msd_times, msd_over_4t) = msd_over_4t(done, tau);
     let grid = super::execution::curve_grid(
-        cfg.msd_grid,
+        &cfg.msd_grid,
         g.mean_free_path(),
         cfg.collisions,
         cfg.batches,
     );
-    let (msd_curve, green_kubo) = super::curve::summarise(grid, done, tau, &cfg.window, &ds)?;
+    let times = grid.map(|g| g.times());
+    let (msd_curve, green_kubo) = super::curve::summarise(times, done, tau, &cfg.window, &ds)?;
     let total: u64 = done.iter().map(|b| b.counters.collisions).sum();
     let audit = merged_audit(done);
     Ok(DiffusionReport {

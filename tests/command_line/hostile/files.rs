@@ -102,7 +102,7 @@ fn an_events_file_is_replaced_only_by_a_finished_run_and_never_through_a_hard_li
     // A finished run replaces the name; the other hard link keeps the old contents.
     let (code, _, err) = trajectory(dir, "f.csv", "0,1.5", "20", &[]);
     assert_eq!(code, 0, "{err}");
-    assert!(text(&dir.join("f.csv")).starts_with("kind,obstacle,x,y,time\n"));
+    assert!(text(&dir.join("f.csv")).starts_with("kind,obstacle,x,y,time,vx,vy\n"));
     assert_eq!(text(&dir.join("partner.csv")), "precious");
     assert_eq!(names(dir), before);
     // A link at the path is refused before a run of seconds, its target untouched.
