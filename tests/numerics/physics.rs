@@ -105,7 +105,10 @@ fn checkpoint_resumes_finished_batches() {
     // Simulate an interruption: keep the header and two finished batches, plus a torn line.
     let text = std::fs::read_to_string(&path).unwrap();
     let header = text.lines().next().unwrap();
-    let finished: Vec<&str> = text.lines().filter(|l| l.contains("\"finished\"")).collect();
+    let finished: Vec<&str> = text
+        .lines()
+        .filter(|l| l.contains("\"finished\""))
+        .collect();
     std::fs::write(
         &path,
         format!(
