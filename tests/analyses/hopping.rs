@@ -8,7 +8,7 @@
 
 use crate::common::{t4, t4_welch, z};
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
+use lorentz_gas::estimators::diffusion::run;
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::numbers::precision::Precision;
@@ -162,10 +162,7 @@ fn collisionless_visits_only_above_w0() {
 fn hop_level_green_kubo_matches_einstein() {
     for &w in &[0.05, 0.25] {
         let gk = hops::run(&hop_cfg(w, 60_000_000, 16, 1, 56), &two_threads(&quiet)).unwrap();
-        let mut cfg = DiffusionConfig::new(w);
-        cfg.collisions = 60_000_000;
-        cfg.batches = 16;
-        cfg.seed = 57;
+        let cfg = crate::common::diffusion_config(w, 60_000_000, 16, 57);
         let e = run(&cfg, &crate::common::threads(2)).unwrap();
         assert_agree(
             &format!("w={w}: GK vs Einstein"),
@@ -241,10 +238,7 @@ fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
         let kf = K as f64;
         let se4 =
             ((kf - 1.0) / kf * loo.iter().map(|d| (d - mean_loo).powi(2)).sum::<f64>()).sqrt();
-        let mut cfg = DiffusionConfig::new(w);
-        cfg.collisions = 40_000_000;
-        cfg.batches = 16;
-        cfg.seed = 72;
+        let cfg = crate::common::diffusion_config(w, 40_000_000, 16, 72);
         let e = run(&cfg, &crate::common::threads(2)).unwrap();
         let dof = welch_dof(se4, kf, e.D_err, nb(&e.meta) as f64);
         let t_max = normal_sigma_equivalent_t(dof, 4.0);

@@ -90,6 +90,21 @@ pub fn threads(threads: usize) -> RunOptions<'static> {
     }
 }
 
+/// The diffusion at gap `w` of `collisions` collisions in `batches` batches, seed `seed`; every
+/// other setting the default.
+pub fn diffusion_config(
+    w: f64,
+    collisions: u64,
+    batches: u32,
+    seed: u64,
+) -> lorentz_gas::estimators::diffusion::DiffusionConfig {
+    let mut cfg = lorentz_gas::estimators::diffusion::DiffusionConfig::new(w);
+    cfg.collisions = collisions;
+    cfg.batches = batches;
+    cfg.seed = seed;
+    cfg
+}
+
 /// The shadow audit of `collisions` collisions over 2 batches (seed `seed`) on 2 threads, every
 /// event replayed at 128 bits, in the field `field` (none: straight flights) with `flights`.
 pub fn full_audit<S: lorentz_gas::scenes::Scene>(
