@@ -90,6 +90,15 @@ pub fn threads(threads: usize) -> RunOptions<'static> {
     }
 }
 
+/// Run options on `engine` with `threads` threads, everything else default.
+pub fn on_engine(engine: lorentz_gas::engine::Engine, threads: usize) -> RunOptions<'static> {
+    RunOptions {
+        engine,
+        threads,
+        ..RunOptions::default()
+    }
+}
+
 /// The diffusion at gap `w` of `collisions` collisions in `batches` batches, seed `seed`; every
 /// other setting the default.
 pub fn diffusion_config(
