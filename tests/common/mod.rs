@@ -24,6 +24,13 @@ pub fn lorentz_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// The JSON a successful (exit 0) `lorentz ARGS` in `dir` prints.
+pub fn lorentz_json(dir: &Path, args: &[&str]) -> serde_json::Value {
+    let (code, out, err) = lorentz_in(dir, args);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(&out).unwrap_or_else(|e| panic!("{args:?}: {e}: {out}"))
+}
+
 /// The words of a command line, split at white space (for [`lorentz_in`]).
 pub fn words(line: &str) -> Vec<&str> {
     line.split_whitespace().collect()
