@@ -333,7 +333,7 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
         );
         assert!(o.paired_ratio > 0.0 && o.full_ns_per_collision > 0.0);
     }
-    assert!(throughput::run(&oracle, &scalar).is_err());
+    assert!(throughput::run(&oracle, &crate::common::on_engine(Engine::Scalar, 1)).is_err());
     let no_field = ThroughputConfig {
         field: None,
         ..oracle

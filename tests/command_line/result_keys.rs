@@ -6,7 +6,7 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::common::{lorentz_in, scratch};
+use crate::common::scratch;
 
 /// The rows of the table: the result kinds (backticked words of the first column) and the text
 /// of the second.

@@ -14,7 +14,7 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use super::{assert_refused, lorentz, refused_at_once, small_result, small_sweep};
+use super::{assert_refused, first, lorentz, refused_at_once, small_result, small_sweep};
 use crate::common::{scratch, words};
 
 /// Exit status, stdout and stderr.
