@@ -3,8 +3,7 @@
 //! strip), thread independence, and D_escape against the Einstein D within 3 combined σ (the
 //! Student-t quantile at the normal's 3σ tail probability).
 
-use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::diffusion::{self, DiffusionConfig};
+use lorentz_gas::estimators::diffusion;
 use lorentz_gas::estimators::escape::{self, EscapeConfig};
 use lorentz_gas::kernel::flight::Flight;
 use lorentz_gas::kernel::vec2::Vec2;
@@ -249,26 +248,9 @@ fn escape_agrees_with_einstein(w: f64, particles: u64, collisions: u64) {
     let mut cfg = EscapeConfig::new(Table::triangular_at(w));
     cfg.particles_per_width = particles;
     cfg.seed = 2026;
-    let r = escape::run(
-        &cfg,
-        &RunOptions {
-            threads,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
-    let mut dc = DiffusionConfig::new(w);
-    dc.collisions = collisions;
-    dc.batches = 16;
-    dc.seed = 2026;
-    let d = diffusion::run(
-        &dc,
-        &RunOptions {
-            threads,
-            ..RunOptions::default()
-        },
-    )
-    .unwrap();
+    let r = escape::run(&cfg, &crate::common::threads(threads)).unwrap();
+    let dc = crate::common::diffusion_config(w, collisions, 16, 2026);
+    let d = diffusion::run(&dc, &crate::common::threads(threads)).unwrap();
     let sigma = r.D_escape_err.hypot(d.D_err);
     let z = (r.D_escape - d.D) / sigma;
     for x in &r.widths {

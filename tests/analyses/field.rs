@@ -68,6 +68,15 @@ fn consistent_with_zero(x: f64, ea: f64, eb: f64) -> bool {
     x.abs() <= t4_welch(ea, BATCHES, eb, BATCHES) * (ea * ea + eb * eb).sqrt()
 }
 
+/// Asserts [`consistent_with_zero`] of `x`, a combination of the estimates `a` and `b` (value,
+/// standard error), naming `what` and both estimates if not.
+fn assert_zero_within(what: &str, x: f64, (a, ea): (f64, f64), (b, eb): (f64, f64)) {
+    assert!(
+        consistent_with_zero(x, ea, eb),
+        "{what}: {a} ± {ea} vs {b} ± {eb}"
+    );
+}
+
 #[test]
 #[ignore = "slow tier: CI runs it with `cargo test --release --test analyses slow_tier -- --ignored`"]
 fn slow_tier_d_xx_is_even_and_the_hall_part_odd_in_the_field() {
@@ -111,21 +120,17 @@ fn onsager_casimir(scene: &SceneSpec, b: &str, collisions: u64) {
         |b: &str| field::run(&scene_config(scene.clone(), b, collisions), &threads(2)).unwrap();
     let (plus, minus) = (run(b), run(&format!("-{b}")));
     let at = format!("{scene:?} B=±{b}");
-    assert!(
-        consistent_with_zero(plus.D_xx - minus.D_xx, plus.D_xx_err, minus.D_xx_err),
-        "{at}: D_xx {} ± {} vs {} ± {}",
-        plus.D_xx,
-        plus.D_xx_err,
-        minus.D_xx,
-        minus.D_xx_err
+    assert_zero_within(
+        &format!("{at}: D_xx"),
+        plus.D_xx - minus.D_xx,
+        (plus.D_xx, plus.D_xx_err),
+        (minus.D_xx, minus.D_xx_err),
     );
-    assert!(
-        consistent_with_zero(plus.D_xy + minus.D_xy, plus.D_xy_err, minus.D_xy_err),
-        "{at}: D_xy {} ± {} vs {} ± {}",
-        plus.D_xy,
-        plus.D_xy_err,
-        minus.D_xy,
-        minus.D_xy_err
+    assert_zero_within(
+        &format!("{at}: D_xy"),
+        plus.D_xy + minus.D_xy,
+        (plus.D_xy, plus.D_xy_err),
+        (minus.D_xy, minus.D_xy_err),
     );
     // The Hall part is there (not 0 by accident of the estimator) and turns with the field.
     assert!(plus.D_xy.abs() > 4.0 * plus.D_xy_err, "{at}: {}", plus.D_xy);
@@ -175,13 +180,11 @@ fn a_weak_field_joins_d_of_w() {
     };
     let zero = diffusion::run(&cfg, &threads(2)).unwrap();
     assert_eq!(weak.localized_fraction_exact, 0.0);
-    assert!(
-        consistent_with_zero(weak.D_xx - zero.D, weak.D_xx_err, zero.D_err),
-        "D_xx(B = 0.001) = {} ± {}, D(w) = {} ± {}",
-        weak.D_xx,
-        weak.D_xx_err,
-        zero.D,
-        zero.D_err
+    assert_zero_within(
+        "D_xx(B = 0.001) vs D(w)",
+        weak.D_xx - zero.D,
+        (weak.D_xx, weak.D_xx_err),
+        (zero.D, zero.D_err),
     );
 }
 
@@ -225,12 +228,7 @@ fn on_the_square_lattice_every_orbit_is_localized_once_2rho_reaches_1_minus_2r()
 #[test]
 fn same_seed_same_bits_on_every_engine_and_thread_count() {
     use lorentz_gas::engine::Engine;
-    use lorentz_gas::engine::options::RunOptions;
-    let on = |engine, threads| RunOptions {
-        engine,
-        threads,
-        ..RunOptions::default()
-    };
+    let on = crate::common::on_engine;
     for cfg in [
         config(0.15, "-3/4", 2_000_000),
         scene_config(square("1/3"), "3/2", 1_000_000),
@@ -253,7 +251,6 @@ fn same_seed_same_bits_on_every_engine_and_thread_count() {
 #[test]
 fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
     use lorentz_gas::engine::Engine;
-    use lorentz_gas::engine::options::RunOptions;
     use lorentz_gas::estimators::throughput::{self, Observe, ThroughputConfig};
     use lorentz_gas::numbers::precision::Precision;
     let cfg = ThroughputConfig {
@@ -267,24 +264,13 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
     // `auto`: the SIMD arc engine where the CPU has AVX2 or AVX-512, else the scalar kernel.
     assert_eq!(t.meta.engine, Engine::Auto.resolve(true).unwrap().name());
     assert!(t.collisions_per_second > 0.0 && t.crossings_per_collision > 0.0);
-    let scalar = RunOptions {
-        engine: Engine::Scalar,
-        ..threads(1)
-    };
-    let s = throughput::run(&cfg, &scalar).unwrap();
-    assert_eq!(
-        (s.meta.engine.as_str(), s.trajectories_per_thread),
-        ("scalar", 1)
-    );
-    let simd = RunOptions {
-        engine: Engine::Simd,
-        ..threads(1)
-    };
-    let v = throughput::run(&cfg, &simd).unwrap();
-    assert_eq!(
-        (v.meta.engine.as_str(), v.trajectories_per_thread),
-        ("simd", 16)
-    );
+    for (engine, name, lanes) in [(Engine::Scalar, "scalar", 1), (Engine::Simd, "simd", 16)] {
+        let r = throughput::run(&cfg, &crate::common::on_engine(engine, 1)).unwrap();
+        assert_eq!(
+            (r.meta.engine.as_str(), r.trajectories_per_thread),
+            (name, lanes)
+        );
+    }
     let mpfr = ThroughputConfig {
         precision: Precision::Bits(128),
         ..cfg.clone()
@@ -347,7 +333,7 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
         );
         assert!(o.paired_ratio > 0.0 && o.full_ns_per_collision > 0.0);
     }
-    assert!(throughput::run(&oracle, &scalar).is_err());
+    assert!(throughput::run(&oracle, &crate::common::on_engine(Engine::Scalar, 1)).is_err());
     let no_field = ThroughputConfig {
         field: None,
         ..oracle
@@ -446,11 +432,7 @@ fn the_field_exponent_has_the_same_bits_on_every_engine_and_thread_count() {
     use lorentz_gas::engine::Engine;
     use lorentz_gas::engine::options::RunOptions;
     use lorentz_gas::estimators::field::lyapunov as fl;
-    let on = |engine, threads| RunOptions {
-        engine,
-        threads,
-        ..RunOptions::default()
-    };
+    let on = crate::common::on_engine;
     let triangular = SceneSpec::Triangular { w: "0.15".into() };
     for (scene, b) in [
         (triangular, "-3/4"),

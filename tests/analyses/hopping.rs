@@ -8,7 +8,7 @@
 
 use crate::common::{t4, t4_welch, z};
 use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::diffusion::{DiffusionConfig, run};
+use lorentz_gas::estimators::diffusion::run;
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig, BackscatterReport};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::numbers::precision::Precision;
@@ -44,6 +44,15 @@ fn inject_cfg(
     }
 }
 
+/// The injection report of `inject_cfg(w, visits, batches, seed, precision)` on two quiet threads.
+fn inject(w: f64, visits: u64, batches: u32, seed: u64, precision: Precision) -> BackscatterReport {
+    backscatter::run(
+        &inject_cfg(w, visits, batches, seed, precision),
+        &two_threads(&quiet),
+    )
+    .unwrap()
+}
+
 /// Two threads, reporting progress to `progress`.
 fn two_threads(progress: &(dyn Fn(u64) + Sync)) -> RunOptions<'_> {
     RunOptions {
@@ -60,31 +69,42 @@ fn nb(m: &lorentz_gas::engine::metadata::RunMeta) -> u32 {
     m.batches.expect("batches in the metadata") as u32
 }
 
+/// Asserts that two independent batch estimates `(value, error, batches)` agree within the
+/// Welch "4σ" bound of their difference.
+fn assert_agree(what: &str, a: (f64, f64, u32), b: (f64, f64, u32)) {
+    let k = t4_welch(a.1, a.2, b.1, b.2);
+    assert!(
+        z(a.0, a.1, b.0, b.1) < k,
+        "{what}: {} ± {} vs {} ± {} (bound {k:.2})",
+        a.0,
+        a.1,
+        b.0,
+        b.1
+    );
+}
+
+/// Asserts that a batch estimate `value ± error` over `batches` is within "4σ" of `exact`.
+fn assert_exact(value: f64, error: f64, exact: f64, batches: u32, what: &dyn std::fmt::Debug) {
+    assert!(z(value, error, exact, 0.0) < t4(batches), "{what:?}");
+}
+
 #[test]
 fn injection_obeys_kac_and_agrees_with_trajectories() {
     for &w in &[0.055, 0.2] {
-        let inj = backscatter::run(
-            &inject_cfg(w, 1_000_000, 16, 51, Precision::F64),
-            &two_threads(&quiet),
-        )
-        .unwrap();
-        assert!(
-            z(
-                inj.mean_visit_time,
-                inj.mean_visit_time_err,
-                inj.mean_visit_time_exact,
-                0.0
-            ) < t4(nb(&inj.meta)),
-            "{inj:?}"
+        let inj = inject(w, 1_000_000, 16, 51, Precision::F64);
+        assert_exact(
+            inj.mean_visit_time,
+            inj.mean_visit_time_err,
+            inj.mean_visit_time_exact,
+            nb(&inj.meta),
+            &inj,
         );
-        assert!(
-            z(
-                inj.mean_collisions_per_visit,
-                inj.mean_collisions_per_visit_err,
-                inj.mean_collisions_per_visit_exact,
-                0.0
-            ) < t4(nb(&inj.meta)),
-            "{inj:?}"
+        assert_exact(
+            inj.mean_collisions_per_visit,
+            inj.mean_collisions_per_visit_err,
+            inj.mean_collisions_per_visit_exact,
+            nb(&inj.meta),
+            &inj,
         );
         // p_l = p_r. The two come from the same visits, whose exits are independent multinomial
         // draws, so the difference has the exact variance (p_l + p_r − (p_l − p_r)²)/N — larger
@@ -98,14 +118,10 @@ fn injection_obeys_kac_and_agrees_with_trajectories() {
             (pl - pr) / sd
         );
         let tr = hops::run(&hop_cfg(w, 40_000_000, 16, 3, 52), &two_threads(&quiet)).unwrap();
-        let k = t4_welch(inj.p_bs_err, nb(&inj.meta), tr.p_bs_err, nb(&tr.meta));
-        assert!(
-            z(inj.p_bs, inj.p_bs_err, tr.p_bs, tr.p_bs_err) < k,
-            "injection {} ± {} vs trajectory {} ± {} (bound {k:.2})",
-            inj.p_bs,
-            inj.p_bs_err,
-            tr.p_bs,
-            tr.p_bs_err
+        assert_agree(
+            "p_bs injection vs trajectory",
+            (inj.p_bs, inj.p_bs_err, nb(&inj.meta)),
+            (tr.p_bs, tr.p_bs_err, nb(&tr.meta)),
         );
         // 2·(3 + 9 + 27) = 78 symmetry z-scores, each Student-t with 15 dof: the bound is the
         // t₁₅ quantile at two-sided probability 0.003/78 (Bonferroni), so that a false alarm
@@ -132,18 +148,11 @@ fn collisionless_visits_only_above_w0() {
         above.p_cf,
         above.p_cf_err
     );
-    let inj = backscatter::run(
-        &inject_cfg(0.25, 400_000, 16, 55, Precision::F64),
-        &two_threads(&quiet),
-    )
-    .unwrap();
-    let k = t4_welch(inj.p_cf_err, nb(&inj.meta), above.p_cf_err, nb(&above.meta));
-    assert!(
-        z(inj.p_cf, inj.p_cf_err, above.p_cf, above.p_cf_err) < k,
-        "p_cf injection {:?} vs trajectory {} ± {} (bound {k:.2})",
-        inj.p_cf,
-        above.p_cf,
-        above.p_cf_err
+    let inj = inject(0.25, 400_000, 16, 55, Precision::F64);
+    assert_agree(
+        "p_cf injection vs trajectory",
+        (inj.p_cf, inj.p_cf_err, nb(&inj.meta)),
+        (above.p_cf, above.p_cf_err, nb(&above.meta)),
     );
 }
 
@@ -153,19 +162,12 @@ fn collisionless_visits_only_above_w0() {
 fn hop_level_green_kubo_matches_einstein() {
     for &w in &[0.05, 0.25] {
         let gk = hops::run(&hop_cfg(w, 60_000_000, 16, 1, 56), &two_threads(&quiet)).unwrap();
-        let mut cfg = DiffusionConfig::new(w);
-        cfg.collisions = 60_000_000;
-        cfg.batches = 16;
-        cfg.seed = 57;
+        let cfg = crate::common::diffusion_config(w, 60_000_000, 16, 57);
         let e = run(&cfg, &crate::common::threads(2)).unwrap();
-        let k = t4_welch(gk.D_GK_err, nb(&gk.meta), e.D_err, nb(&e.meta));
-        assert!(
-            z(gk.D_GK, gk.D_GK_err, e.D, e.D_err) < k,
-            "w={w}: GK {} ± {} vs Einstein {} ± {} (bound {k:.2})",
-            gk.D_GK,
-            gk.D_GK_err,
-            e.D,
-            e.D_err
+        assert_agree(
+            &format!("w={w}: GK vs Einstein"),
+            (gk.D_GK, gk.D_GK_err, nb(&gk.meta)),
+            (e.D, e.D_err, nb(&e.meta)),
         );
     }
 }
@@ -174,32 +176,19 @@ fn hop_level_green_kubo_matches_einstein() {
 /// 4 combined standard errors.
 #[test]
 fn backscattering_does_not_move_with_precision() {
-    let hi = backscatter::run(
-        &inject_cfg(0.1, 32_000, 16, 61, Precision::Bits(128)),
-        &two_threads(&quiet),
-    )
-    .unwrap();
-    let lo = backscatter::run(
-        &inject_cfg(0.1, 1_000_000, 16, 62, Precision::F64),
-        &two_threads(&quiet),
-    )
-    .unwrap();
-    let k = t4_welch(hi.p_bs_err, nb(&hi.meta), lo.p_bs_err, nb(&lo.meta));
-    assert!(
-        z(hi.p_bs, hi.p_bs_err, lo.p_bs, lo.p_bs_err) < k,
-        "{} ± {} vs {} ± {} (bound {k:.2})",
-        hi.p_bs,
-        hi.p_bs_err,
-        lo.p_bs,
-        lo.p_bs_err
+    let hi = inject(0.1, 32_000, 16, 61, Precision::Bits(128));
+    let lo = inject(0.1, 1_000_000, 16, 62, Precision::F64);
+    assert_agree(
+        "p_bs MPFR-128 vs f64",
+        (hi.p_bs, hi.p_bs_err, nb(&hi.meta)),
+        (lo.p_bs, lo.p_bs_err, nb(&lo.meta)),
     );
-    assert!(
-        z(
-            hi.mean_visit_time,
-            hi.mean_visit_time_err,
-            hi.mean_visit_time_exact,
-            0.0
-        ) < t4(nb(&hi.meta))
+    assert_exact(
+        hi.mean_visit_time,
+        hi.mean_visit_time_err,
+        hi.mean_visit_time_exact,
+        nb(&hi.meta),
+        &hi,
     );
 }
 
@@ -249,10 +238,7 @@ fn order_four_lattice_walk_reproduces_the_lorentz_gas_d() {
         let kf = K as f64;
         let se4 =
             ((kf - 1.0) / kf * loo.iter().map(|d| (d - mean_loo).powi(2)).sum::<f64>()).sqrt();
-        let mut cfg = DiffusionConfig::new(w);
-        cfg.collisions = 40_000_000;
-        cfg.batches = 16;
-        cfg.seed = 72;
+        let cfg = crate::common::diffusion_config(w, 40_000_000, 16, 72);
         let e = run(&cfg, &crate::common::threads(2)).unwrap();
         let dof = welch_dof(se4, kf, e.D_err, nb(&e.meta) as f64);
         let t_max = normal_sigma_equivalent_t(dof, 4.0);

@@ -94,22 +94,13 @@ fn verification_analyses_refuse_every_run_option() {
 
 #[test]
 fn estimators_refuse_the_options_they_do_not_use() {
-    refused(
-        escape::run(
-            &EscapeConfig::new(Table::triangular_at(0.1)),
-            &with(RunOption::Engine),
-        ),
-        "escape",
-        RunOption::Engine,
-    );
-    refused(
-        escape::run(
-            &EscapeConfig::new(Table::triangular_at(0.1)),
-            &with(RunOption::Audit),
-        ),
-        "escape",
-        RunOption::Audit,
-    );
+    for option in [RunOption::Engine, RunOption::Audit] {
+        refused(
+            escape::run(&EscapeConfig::new(Table::triangular_at(0.1)), &with(option)),
+            "escape",
+            option,
+        );
+    }
     let cfg = DiffusionConfig {
         collisions: 1_000_000,
         batches: 4,

@@ -208,26 +208,17 @@ fn refusals() -> Vec<(Table, &'static str)> {
 #[test]
 fn hops_backscatter_and_escape_refuse_other_tables_and_fields() {
     for (table, message) in refusals() {
+        let t = || table.clone();
         let errors: [(&str, Error); 4] = [
-            (
-                "hops",
-                HopsConfig::new(table.clone()).validate().unwrap_err(),
-            ),
+            ("hops", HopsConfig::new(t()).validate().unwrap_err()),
             (
                 "backscatter",
-                BackscatterConfig::new(table.clone())
-                    .validate()
-                    .unwrap_err(),
+                BackscatterConfig::new(t()).validate().unwrap_err(),
             ),
-            (
-                "escape",
-                EscapeConfig::new(table.clone()).validate().unwrap_err(),
-            ),
+            ("escape", EscapeConfig::new(t()).validate().unwrap_err()),
             (
                 "observer costs",
-                ObserverCostsConfig::new(table.clone())
-                    .validate()
-                    .unwrap_err(),
+                ObserverCostsConfig::new(t()).validate().unwrap_err(),
             ),
         ];
         for (analysis, e) in errors {

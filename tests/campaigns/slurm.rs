@@ -74,15 +74,23 @@ fn job_state(conf: &Path, id: &str) -> String {
         .to_string()
 }
 
-fn lorentz(args: &[&str]) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lorentz"))
-        .args(args)
+/// Runs `command`, which must succeed (else the failure names `what` and its stderr): its output.
+fn succeeds(command: &mut Command, what: &str) -> std::process::Output {
+    let out = command
         .output()
-        .expect("run lorentz");
+        .unwrap_or_else(|e| panic!("run {what}: {e}"));
     assert!(
         out.status.success(),
-        "lorentz {args:?}: {}",
+        "{what}: {}",
         String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn lorentz(args: &[&str]) {
+    succeeds(
+        Command::new(env!("CARGO_BIN_EXE_lorentz")).args(args),
+        &format!("lorentz {args:?}"),
     );
 }
 
@@ -199,15 +207,9 @@ fn sweeps_sharded_over_a_real_slurm_cluster_equal_the_sweeps_in_one_piece() {
     let cluster = Cluster {
         dir: root.join("cluster"),
     };
-    let started = Command::new(script())
-        .arg("start")
-        .arg(&cluster.dir)
-        .output()
-        .expect("run slurm-local.sh");
-    assert!(
-        started.status.success(),
-        "the local cluster did not start: {}",
-        String::from_utf8_lossy(&started.stderr)
+    succeeds(
+        Command::new(script()).arg("start").arg(&cluster.dir),
+        "the local cluster did not start (slurm-local.sh)",
     );
     let conf = cluster.dir.join("slurm.conf");
 

@@ -704,15 +704,13 @@ fn results_do_not_depend_on_the_thread_count() {
 fn json_outputs_have_the_documented_keys() {
     let tmp = crate::common::scratch();
     let dir = tmp.path().to_path_buf();
-    let (code, out, err) = lorentz_in(
+    let v = crate::common::lorentz_json(
         &dir,
         &words(
             "diffusion --w 0.2 --collisions 2000000 --batches 4 --window 2:8 --check-window 4:16 \
              --json",
         ),
     );
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     for k in [
         "w",
         "D",
@@ -753,12 +751,10 @@ fn json_outputs_have_the_documented_keys() {
     );
     assert_eq!(c["meta"]["precision"], "200");
     // Estimates as flat x / x_err pairs, records with named keys.
-    let (code, out, err) = lorentz_in(
+    let t = crate::common::lorentz_json(
         &dir,
         &words("theory --w 0.1 --collisions 1e6 --batches 4 --order 2 --json --quiet"),
     );
-    assert_eq!(code, 0, "{err}");
-    let t: serde_json::Value = serde_json::from_str(&out).unwrap();
     for k in [
         "p_bs",
         "p_bs_err",
@@ -776,12 +772,10 @@ fn json_outputs_have_the_documented_keys() {
     for k in ["k", "D_k", "D_k_combined", "D_lattice_walk"] {
         assert!(t["orders"][0][k].is_number(), "theory: orders lack {k}");
     }
-    let (code, out, err) = lorentz_in(
+    let b = crate::common::lorentz_json(
         &dir,
         &words("backscatter --w 0.1 --particles 2e4 --batches 4 --json --quiet"),
     );
-    assert_eq!(code, 0, "{err}");
-    let b: serde_json::Value = serde_json::from_str(&out).unwrap();
     for k in ["p_bs", "p_l", "p_r", "p_cf"] {
         assert!(b[k].is_number(), "backscatter: {k}");
         assert!(b[format!("{k}_err")].is_number(), "backscatter: {k}_err");
@@ -877,9 +871,7 @@ fn gaps_are_exact_decimals_or_fractions() {
             "--json",
             "--quiet",
         ];
-        let (code, out, err) = lorentz_in(dir, &args);
-        assert_eq!(code, 0, "{err}");
-        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let v = crate::common::lorentz_json(dir, &args);
         (v["w"].as_f64().unwrap(), v["D"].as_f64().unwrap().to_bits())
     };
     assert_eq!(run("1/10"), run("0.1"));

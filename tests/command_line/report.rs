@@ -77,17 +77,8 @@ fn a_fresh_diffusion_result_passes_and_an_edited_one_fails() {
     // One digit of D changed: the report fails, in its reproducibility group, with status 1.
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     let d = v["D"].as_f64().unwrap();
-    let edited = json.replacen(
-        &format!("\"D\": {d}"),
-        &format!("\"D\": {}", d * (1.0 + 1e-4)),
-        1,
-    );
-    assert_ne!(edited, json);
-    std::fs::write(dir.join("edited.json"), &edited).unwrap();
-    let (code, _, err) = lorentz(&dir, &["report", "edited.json", "--quick", "--quiet"]);
-    assert_eq!(code, 1, "{err}");
+    let (err, c) = edited_report(&dir, &json, "D", d, d * (1.0 + 1e-4));
     assert!(err.contains("FAILED"), "{err}");
-    let c = checks(&dir, "edited-report");
     assert!(
         c.iter().any(|x| x.0 == "FAIL" && x.1 == "reproducibility"),
         "{c:?}"
@@ -236,16 +227,7 @@ fn other_results_are_re_run_from_their_configuration() {
 
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     let p = v["p_bs"].as_f64().unwrap();
-    let edited = json.replacen(
-        &format!("\"p_bs\": {p}"),
-        &format!("\"p_bs\": {}", p + 1e-5),
-        1,
-    );
-    assert_ne!(edited, json);
-    std::fs::write(dir.join("edited.json"), &edited).unwrap();
-    let (code, _, _) = lorentz(&dir, &["report", "edited.json", "--quick", "--quiet"]);
-    assert_eq!(code, 1);
-    let c = checks(&dir, "edited-report");
+    let (_, c) = edited_report(&dir, &json, "p_bs", p, p + 1e-5);
     assert!(
         c.iter().any(|x| x.0 == "FAIL" && x.1 == "reproducibility"),
         "{c:?}"
@@ -303,6 +285,27 @@ fn quick_report(dir: &Path, file: &str) -> (i32, String, Vec<(String, String, St
         format!("{out}{err}"),
         checks(dir, &format!("{stem}-report")),
     )
+}
+
+/// `json` with the first `"key": old` replaced by `"key": new`, written to `dir/edited.json` and
+/// reported on with `--quick`: the report must fail (status 1). What it printed and its checks.
+fn edited_report(
+    dir: &Path,
+    json: &str,
+    key: &str,
+    old: f64,
+    new: f64,
+) -> (String, Vec<(String, String, String)>) {
+    let edited = json.replacen(
+        &format!("\"{key}\": {old}"),
+        &format!("\"{key}\": {new}"),
+        1,
+    );
+    assert_ne!(edited, json);
+    std::fs::write(dir.join("edited.json"), &edited).unwrap();
+    let (code, printed, c) = quick_report(dir, "edited.json");
+    assert_eq!(code, 1, "{printed}");
+    (printed, c)
 }
 
 /// A quick hops run (its command line).
@@ -601,16 +604,7 @@ fn a_field_result_is_audited_against_its_exact_geometry() {
         v["localized_fraction"].as_f64().unwrap(),
         v["localized_fraction_err"].as_f64().unwrap(),
     );
-    let edited = json.replacen(
-        &format!("\"localized_fraction\": {p}"),
-        &format!("\"localized_fraction\": {}", p + 10.0 * e),
-        1,
-    );
-    assert_ne!(edited, json);
-    std::fs::write(dir.join("edited.json"), &edited).unwrap();
-    let (code, _, _) = lorentz(&dir, &["report", "edited.json", "--quick", "--quiet"]);
-    assert_eq!(code, 1);
-    let c = checks(&dir, "edited-report");
+    let (_, c) = edited_report(&dir, &json, "localized_fraction", p, p + 10.0 * e);
     assert!(
         c.iter()
             .any(|x| x.0 == "FAIL" && x.2.starts_with("sampled localized share")),
@@ -649,12 +643,7 @@ fn a_field_sweep_is_audited_row_by_row_and_its_onsager_checks_recomputed() {
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     let d = v["rows"][0]["D_xy"].as_f64().unwrap();
     assert!(d < 0.0);
-    let edited = json.replacen(&format!("\"D_xy\": {d}"), &format!("\"D_xy\": {}", -d), 1);
-    assert_ne!(edited, json);
-    std::fs::write(dir.join("edited.json"), &edited).unwrap();
-    let (code, _, _) = lorentz(&dir, &["report", "edited.json", "--quick", "--quiet"]);
-    assert_eq!(code, 1);
-    let c = checks(&dir, "edited-report");
+    let (_, c) = edited_report(&dir, &json, "D_xy", d, -d);
     assert!(
         c.iter()
             .any(|x| x.0 == "FAIL" && x.2.starts_with("Onsager-Casimir at w = 0.1, |B| = 1: D_xy")),

@@ -6,7 +6,7 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::common::{lorentz_in, scratch};
+use crate::common::scratch;
 
 /// The rows of the table: the result kinds (backticked words of the first column) and the text
 /// of the second.
@@ -65,10 +65,7 @@ fn all_keys(v: &serde_json::Value, into: &mut BTreeSet<String>) {
 }
 
 fn json_of(dir: &Path, line: &str) -> serde_json::Value {
-    let args: Vec<&str> = line.split_whitespace().collect();
-    let (code, out, err) = lorentz_in(dir, &args);
-    assert_eq!(code, 0, "{line}: {err}");
-    serde_json::from_str(&out).unwrap_or_else(|e| panic!("{line}: {e}: {out}"))
+    crate::common::lorentz_json(dir, &line.split_whitespace().collect::<Vec<_>>())
 }
 
 fn file_json(path: &Path) -> serde_json::Value {

@@ -24,6 +24,13 @@ pub fn lorentz_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// The JSON a successful (exit 0) `lorentz ARGS` in `dir` prints.
+pub fn lorentz_json(dir: &Path, args: &[&str]) -> serde_json::Value {
+    let (code, out, err) = lorentz_in(dir, args);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(&out).unwrap_or_else(|e| panic!("{args:?}: {e}: {out}"))
+}
+
 /// The words of a command line, split at white space (for [`lorentz_in`]).
 pub fn words(line: &str) -> Vec<&str> {
     line.split_whitespace().collect()
@@ -88,6 +95,30 @@ pub fn threads(threads: usize) -> RunOptions<'static> {
         threads,
         ..RunOptions::default()
     }
+}
+
+/// Run options on `engine` with `threads` threads, everything else default.
+pub fn on_engine(engine: lorentz_gas::engine::Engine, threads: usize) -> RunOptions<'static> {
+    RunOptions {
+        engine,
+        threads,
+        ..RunOptions::default()
+    }
+}
+
+/// The diffusion at gap `w` of `collisions` collisions in `batches` batches, seed `seed`; every
+/// other setting the default.
+pub fn diffusion_config(
+    w: f64,
+    collisions: u64,
+    batches: u32,
+    seed: u64,
+) -> lorentz_gas::estimators::diffusion::DiffusionConfig {
+    let mut cfg = lorentz_gas::estimators::diffusion::DiffusionConfig::new(w);
+    cfg.collisions = collisions;
+    cfg.batches = batches;
+    cfg.seed = seed;
+    cfg
 }
 
 /// The shadow audit of `collisions` collisions over 2 batches (seed `seed`) on 2 threads, every

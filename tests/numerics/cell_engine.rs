@@ -6,7 +6,6 @@
 //! both engines at any thread count.
 
 use lorentz_gas::engine::cells;
-use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::engine::simd::BLOCK;
 use lorentz_gas::engine::{Engine, SimdPath};
 use lorentz_gas::estimators::diffusion::Sampling;
@@ -62,11 +61,7 @@ fn d_on_a_table_has_the_same_bits_on_both_engines_and_any_thread_count() {
         batches: 20,
         ..Sampling::default()
     };
-    let on = |engine, threads| RunOptions {
-        engine,
-        threads,
-        ..RunOptions::default()
-    };
+    let on = crate::common::on_engine;
     let physics = |engine, threads| {
         let r = run_on(&table, &cfg, &on(engine, threads)).unwrap();
         let mut v = serde_json::to_value(&r).unwrap();

@@ -90,10 +90,7 @@ fn resume_with_interval<R: serde::Serialize>(
 /// batches, and lines torn by the cut.
 #[test]
 fn f64_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
-    let mut cfg = DiffusionConfig::new(0.12);
-    cfg.collisions = 12_000_000;
-    cfg.batches = 4;
-    cfg.seed = 5;
+    let cfg = crate::common::diffusion_config(0.12, 12_000_000, 4, 5);
     let engines = [(Engine::Auto, 2), (Engine::Scalar, 1)];
     resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, (IN_FLIGHT, 8), engines, 6);
 }
@@ -102,10 +99,7 @@ fn f64_runs_resume_from_any_moment_to_the_uninterrupted_bits() {
 /// and restored exactly, so the curve, D by Green–Kubo and D keep the uninterrupted bits.
 #[test]
 fn runs_with_the_msd_curve_resume_from_any_moment_to_the_uninterrupted_bits() {
-    let mut cfg = DiffusionConfig::new(0.12);
-    cfg.collisions = 12_000_000;
-    cfg.batches = 4;
-    cfg.seed = 6;
+    let mut cfg = crate::common::diffusion_config(0.12, 12_000_000, 4, 6);
     cfg.msd_grid = lorentz_gas::estimators::diffusion::MsdGrid::Log;
     let engines = [(Engine::Auto, 2), (Engine::Scalar, 1)];
     resumes_from_every_prefix(|o| run(&cfg, o), cfg.seed, (IN_FLIGHT, 8), engines, 4);
@@ -323,13 +317,8 @@ fn a_forged_hops_checkpoint_is_refused() {
 fn a_stop_request_ends_a_run_that_then_resumes_to_the_uninterrupted_bits() {
     use lorentz_gas::engine::options::StopFlag;
     use std::time::Instant;
-    let cfg = DiffusionConfig {
-        // 1.25·10⁷ collisions per trajectory: about 12 segments, a second or two on one core.
-        collisions: 200_000_000,
-        batches: 16,
-        seed: 9,
-        ..DiffusionConfig::new(0.1)
-    };
+    // 1.25·10⁷ collisions per trajectory: about 12 segments, a second or two on one core.
+    let cfg = crate::common::diffusion_config(0.1, 200_000_000, 16, 9);
     let plain = run(&cfg, &crate::common::threads(1)).unwrap();
     let watched = RunOptions {
         stop: Some(StopFlag::default()),

@@ -28,6 +28,22 @@ use rug::Float;
 
 const FIELDS: [f64; 6] = [0.01, -0.3, 1.0, -2.5, 10.0, 100.0];
 
+/// The events `check(scene, seed, B, n)` counts over every B of [`FIELDS`] (its index `i`) on the
+/// triangular lattice at w = 0.1 (seed `first + i`), at w = 0.3 (`first + 10 + i`) and the
+/// square one at r = 1/4 (`first + 20 + i`). A macro: `check` is generic over the scene.
+macro_rules! over_fields {
+    ($check:ident, $first:expr, $n:expr) => {{
+        let mut events = 0;
+        for (i, &w) in FIELDS.iter().enumerate() {
+            let i = i as u64;
+            events += $check(&triangular(0.1), $first + i, w, $n);
+            events += $check(&triangular(0.3), $first + 10 + i, w, $n);
+            events += $check(&SquareScene::new(0.25).unwrap(), $first + 20 + i, w, $n);
+        }
+        events
+    }};
+}
+
 fn triangular(w: f64) -> TriangularScene {
     TriangularScene::new(w).unwrap()
 }
@@ -59,12 +75,7 @@ fn same_bits<S: Scene>(scene: &S, seed: u64, w: f64, n: usize) -> usize {
 
 #[test]
 fn mpfr53_follows_the_f64_arc_kernel_bit_for_bit() {
-    let mut events = 0;
-    for (i, &w) in FIELDS.iter().enumerate() {
-        events += same_bits(&triangular(0.1), 10 + i as u64, w, 3000);
-        events += same_bits(&triangular(0.3), 20 + i as u64, w, 3000);
-        events += same_bits(&SquareScene::new(0.25).unwrap(), 30 + i as u64, w, 3000);
-    }
+    let events = over_fields!(same_bits, 10, 3000);
     assert!(
         events > 35_000,
         "most orbits should collide: {events} events"
@@ -121,12 +132,7 @@ fn against_256<S: Scene>(scene: &S, seed: u64, w: f64, n: usize) -> usize {
 
 #[test]
 fn every_arc_event_is_the_256_bit_event_and_stays_on_its_obstacle() {
-    let mut events = 0;
-    for (i, &w) in FIELDS.iter().enumerate() {
-        events += against_256(&triangular(0.1), 40 + i as u64, w, 1500);
-        events += against_256(&triangular(0.3), 50 + i as u64, w, 1500);
-        events += against_256(&SquareScene::new(0.25).unwrap(), 60 + i as u64, w, 1500);
-    }
+    let events = over_fields!(against_256, 40, 1500);
     assert!(events > 20_000, "{events}");
 }
 

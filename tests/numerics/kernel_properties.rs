@@ -82,14 +82,18 @@ macro_rules! kernel_properties {
             use super::*;
             at_precision!($t, $ctx);
 
+            /// The trap at gap `w` and the start `start(w, u1, u2, u3)` lifted to it, if any.
+            fn trap_and_start(w: f64, u1: f64, u2: f64, u3: f64) -> Option<(Trap<T>, Flight<T>)> {
+                let f64s = start(w, u1, u2, u3)?;
+                Some((Trap::new(T::from_f64(ctx(), w)).unwrap(), lift(&f64s)))
+            }
+
             #[test]
             fn energy_positions_and_exclusions_over_twenty_events() {
                 crate::common::check_starts($cases, 7, 0.001f64..0.309, |(w, u1, u2, u3)| {
-                    let Some(f64s) = start(w, u1, u2, u3) else {
+                    let Some((trap, mut f)) = trap_and_start(w, u1, u2, u3) else {
                         return Ok(());
                     };
-                    let trap = Trap::new(T::from_f64(ctx(), w)).unwrap();
-                    let mut f = lift(&f64s);
                     let tol = POST_EVENT_U * u();
                     for _ in 0..20 {
                         let v_in = f.vel.clone();
@@ -154,11 +158,9 @@ macro_rules! kernel_properties {
                 // Forward one collision, reverse, one collision back (at zero time): the velocity
                 // returns to −v₀ within 4·256u (two reflections), the position stays put.
                 crate::common::check_starts($cases, 7, 0.01f64..0.3, |(w, u1, u2, u3)| {
-                    let Some(f64s) = start(w, u1, u2, u3) else {
+                    let Some((trap, f)) = trap_and_start(w, u1, u2, u3) else {
                         return Ok(());
                     };
-                    let trap = Trap::new(T::from_f64(ctx(), w)).unwrap();
-                    let f = lift(&f64s);
                     let ev = trap.next_event(&f).unwrap();
                     if !matches!(ev.kind, EventKind::Collision(_)) {
                         return Ok(());

@@ -30,10 +30,7 @@ pub(crate) fn within(x: f64, err: f64, exact: f64, k: f64, what: &str) {
 fn exact_identities_within_four_sigma() {
     use lorentz_gas::statistics::normal_sigma_equivalent_t;
     for &w in &[0.05, 0.25] {
-        let mut cfg = DiffusionConfig::new(w);
-        cfg.collisions = 40_000_000;
-        cfg.batches = 16;
-        cfg.seed = 2024;
+        let cfg = crate::common::diffusion_config(w, 40_000_000, 16, 2024);
         let r = run(&cfg, &crate::common::threads(2)).unwrap();
         let k = normal_sigma_equivalent_t(r.meta.batches.unwrap() as f64 - 1.0, 4.0);
         within(
@@ -67,10 +64,7 @@ fn exact_identities_within_four_sigma() {
 /// Same seed ⇒ same bits, whatever the number of threads.
 #[test]
 fn same_seed_same_bits_any_thread_count() {
-    let mut cfg = DiffusionConfig::new(0.15);
-    cfg.collisions = 4_000_000;
-    cfg.batches = 4;
-    cfg.seed = 99;
+    let mut cfg = crate::common::diffusion_config(0.15, 4_000_000, 4, 99);
     cfg.window = "2:8".parse().unwrap();
     cfg.check_window = "4:16".parse().unwrap();
     let a = run(&cfg, &crate::common::threads(1)).unwrap();

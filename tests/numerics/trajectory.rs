@@ -16,6 +16,16 @@ use lorentz_gas::scenes::triangular::TriangularScene;
 /// Precision of the reference: far beyond the few hundred bits ten to twenty collisions lose.
 const REF_BITS: u32 = 2000;
 
+/// A table-driven case: lattice, size, start, direction, time and a last field of the test's own.
+type Case<'a, T> = (
+    &'a str,
+    &'a str,
+    (&'a str, &'a str),
+    (&'a str, &'a str),
+    &'a str,
+    T,
+);
+
 /// The disk lattice of the reference, in world coordinates.
 enum Disks {
     /// Radius r at every integer point.
@@ -221,15 +231,7 @@ fn siam_problem_2_distance_at_t_10_to_100_digits() {
 
 #[test]
 fn variants_agree_with_the_brute_force_reference() {
-    type Case<'a> = (
-        &'a str,
-        &'a str,
-        (&'a str, &'a str),
-        (&'a str, &'a str),
-        &'a str,
-        u32,
-    );
-    let cases: [Case; 6] = [
+    let cases: [Case<u32>; 6] = [
         ("square", "1/4", ("1/2", "1/3"), ("3", "4"), "7", 50),
         ("square", "0.2", ("0.3", "-0.45"), ("-1", "2"), "15", 40),
         ("square", "1/3", ("0.5", "0.1"), ("1", "0"), "12.5", 60),
@@ -523,15 +525,7 @@ fn reference_arc(
 
 #[test]
 fn trajectories_in_a_field_agree_with_the_circle_intersection_reference() {
-    type Case<'a> = (
-        &'a str,
-        &'a str,
-        (&'a str, &'a str),
-        (&'a str, &'a str),
-        &'a str,
-        &'a str,
-    );
-    let cases: [Case; 7] = [
+    let cases: [Case<&str>; 7] = [
         ("triangular", "1/10", ("1.05", "0"), ("0", "1"), "10", "1"),
         (
             "triangular",

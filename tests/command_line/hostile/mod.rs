@@ -54,6 +54,23 @@ fn first(err: &str) -> &str {
     err.lines().next().unwrap_or("")
 }
 
+/// Asserts that a run (exit status, stdout, stderr) was refused: exit 2, `message` in the first
+/// line of stderr.
+fn assert_refused((code, _, err): (i32, String, String), message: &str) {
+    assert_eq!(code, 2, "{err}");
+    assert!(first(&err).contains(message), "{err}");
+}
+
+/// Runs `lorentz ARGS` in `dir`, which must be refused within a second with one line naming
+/// `message`.
+fn refused_at_once(dir: &Path, args: &[&str], message: &str) {
+    let t = Instant::now();
+    let (code, out, err) = lorentz(dir, args);
+    assert!(t.elapsed() < Duration::from_secs(1), "{:?}", t.elapsed());
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert_refused((code, out, err), message);
+}
+
 #[test]
 fn links_in_an_output_directory_are_refused_and_their_targets_untouched() {
     let tmp = scratch();
@@ -64,18 +81,11 @@ fn links_in_an_output_directory_are_refused_and_their_targets_untouched() {
     // A file the sweep writes, as a link to a file outside.
     std::fs::create_dir(dir.join("a")).unwrap();
     symlink(dir.join("victim"), dir.join("a/sweep.json")).unwrap();
-    let (code, _, err) = sweep("a");
-    assert_eq!(code, 2, "{err}");
-    assert!(
-        first(&err).contains("a/sweep.json: a symbolic link"),
-        "{err}"
-    );
+    assert_refused(sweep("a"), "a/sweep.json: a symbolic link");
     // A directory the sweep makes, as a link to a directory outside.
     std::fs::create_dir(dir.join("b")).unwrap();
     symlink(dir.join("elsewhere"), dir.join("b/points")).unwrap();
-    let (code, _, err) = sweep("b");
-    assert_eq!(code, 2, "{err}");
-    assert!(first(&err).contains("b/points: a symbolic link"), "{err}");
+    assert_refused(sweep("b"), "b/points: a symbolic link");
     assert_eq!(
         std::fs::read_to_string(dir.join("victim")).unwrap(),
         "precious"
@@ -134,9 +144,7 @@ fn a_checkpoint_path_that_is_not_a_journal_is_refused_and_left_as_it_was() {
     }
     std::fs::write(dir.join("victim"), "precious").unwrap();
     symlink(dir.join("victim"), dir.join("link")).unwrap();
-    let (code, _, err) = run("link");
-    assert_eq!(code, 2, "{err}");
-    assert!(first(&err).contains("a symbolic link"), "{err}");
+    assert_refused(run("link"), "a symbolic link");
     assert!(
         std::fs::symlink_metadata(dir.join("link"))
             .unwrap()
@@ -147,9 +155,7 @@ fn a_checkpoint_path_that_is_not_a_journal_is_refused_and_left_as_it_was() {
         std::fs::read_to_string(dir.join("victim")).unwrap(),
         "precious"
     );
-    let (code, _, err) = run("/dev/null");
-    assert_eq!(code, 2, "{err}");
-    assert!(first(&err).contains("a device"), "{err}");
+    assert_refused(run("/dev/null"), "a device");
     assert!(
         std::fs::metadata("/dev/null")
             .unwrap()
@@ -198,11 +204,10 @@ fn a_second_run_on_one_journal_is_refused_while_the_first_runs() {
         "diffusion --w 0.1 --collisions 2e10 --batches 4 --threads 1 --quiet --checkpoint run.ckpt",
     );
     let mut first_run = start_checkpointed(dir, &args, Stdio::null());
-    let (code, _, err) = lorentz(dir, &args);
+    let second = lorentz(dir, &args);
     first_run.kill().unwrap();
     first_run.wait().unwrap();
-    assert_eq!(code, 2, "{err}");
-    assert!(first(&err).contains("in use by another run"), "{err}");
+    assert_refused(second, "in use by another run");
 }
 
 #[test]
@@ -229,9 +234,10 @@ fn a_report_with_a_skipped_check_is_incomplete_not_a_pass() {
     // A key given twice says two things: refused.
     let dup = out.replacen("\"D\":", "\"D\": 0.5, \"D\":", 1);
     std::fs::write(dir.join("dup.json"), dup).unwrap();
-    let (code, _, err) = lorentz(dir, &["report", "dup.json", "--quick", "--out", "rep3"]);
-    assert_eq!(code, 2, "{err}");
-    assert!(first(&err).contains("duplicate key `D`"), "{err}");
+    assert_refused(
+        lorentz(dir, &["report", "dup.json", "--quick", "--out", "rep3"]),
+        "duplicate key `D`",
+    );
 }
 
 #[test]
@@ -300,9 +306,7 @@ fn a_newline_in_a_slurm_path_is_refused_before_a_script_is_written() {
     let out = dir.join("x\n#SBATCH --mem=1\nrm -rf ~");
     let mut args = words("slurm sweep --w-from 0.1 --w-to 0.2 --array 2 --out");
     args.push(out.to_str().unwrap());
-    let (code, _, err) = lorentz(dir, &args);
-    assert_eq!(code, 2, "{err}");
-    assert!(first(&err).contains("control character"), "{err}");
+    assert_refused(lorentz(dir, &args), "control character");
     assert_eq!(std::fs::read_dir(dir).unwrap().count(), 0);
 }
 
