@@ -213,7 +213,7 @@ pub fn outputs(out: &Path, in_field: bool, part: bool) -> Vec<Output> {
     v
 }
 
-/// Runs the sweep: over w without a field here, in a field by [`compute_in_field`].
+/// Runs the sweep (over w without a field, or in one), or the part `--shard` of it.
 pub fn run(a: Args) -> Result<(), Error> {
     let cfg = config(&a)?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;

@@ -87,7 +87,7 @@ where
 }
 
 /// [`drive_kept`] with the engine given as `step(state, collisions, observer)`: the scalar
-/// engine, or the one with long flights ([`super::long_flight::drive_jumps`]). A run resumed from
+/// engine, or the one with long flights ([`crate::engine::long_flight::drive_jumps`]). A run resumed from
 /// a checkpoint continues with the same engine, so the same bits as `step` in one piece.
 ///
 /// # Errors
