@@ -50,6 +50,21 @@ pub struct EventLanes<const L: usize> {
     pub cell: [[f64; L]; 3],
 }
 
+impl<const L: usize> EventLanes<L> {
+    /// Calls `f(l)` for each live lane `l` below `lanes`, in increasing order.
+    #[inline(always)]
+    pub fn each_live(&self, lanes: usize, mut f: impl FnMut(usize)) {
+        let mut live = self.live_bits;
+        while live != 0 {
+            let l = live.trailing_zeros() as usize;
+            live &= live - 1;
+            if l < lanes {
+                f(l);
+            }
+        }
+    }
+}
+
 impl<const L: usize> Default for EventLanes<L> {
     fn default() -> Self {
         EventLanes {

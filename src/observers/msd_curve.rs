@@ -385,14 +385,7 @@ impl<const L: usize> Observer<L> for MsdCurve {
     #[inline(always)]
     fn observe<V: Lanes>(&mut self, steps: &[EventLanes<L>]) {
         for e in steps {
-            let mut live = e.live_bits;
-            while live != 0 {
-                let l = live.trailing_zeros() as usize;
-                live &= live - 1;
-                if l < self.lanes.len() {
-                    self.flight(e, l);
-                }
-            }
+            e.each_live(self.lanes.len(), |l| self.flight(e, l));
         }
     }
 }
