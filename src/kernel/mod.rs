@@ -12,6 +12,8 @@
 //!   cell with disk obstacles, whose edges map exactly into the neighbouring cell.
 //! * [`arc`], [`field`]: flights in a uniform magnetic field — arc contacts by algebra alone,
 //!   ordered by their chords, and the generic cell kernel on arcs.
+//! * [`thermostat`]: flights under a Gaussian-thermostatted electric field — a closed form
+//!   without cancellation and contacts certified by a march of root-free steps.
 //! * [`trap`]: the triangular lattice's trap (three disks, three edges, point reflections) with
 //!   its fused fast path, bit-identical to the generic kernel on the same cell.
 //!
@@ -24,5 +26,6 @@ pub mod choice;
 pub mod field;
 pub mod flight;
 pub mod ray_disk;
+pub mod thermostat;
 pub mod trap;
 pub mod vec2;

@@ -130,6 +130,19 @@ pub trait Real:
     /// `f64`: the flight time of an arc, for observables, never an event's choice).
     fn atan2(self, x: &Self) -> Self;
 
+    /// eˣ (not correctly rounded for `f64`: the thermostatted flight, within its error model
+    /// `proofs-notes/thermostat-flight.md`, and theory).
+    fn exp(self) -> Self;
+
+    /// eˣ − 1 without cancellation at small x (see [`Real::exp`]).
+    fn exp_m1(self) -> Self;
+
+    /// ln(1 + x) without cancellation at small x (see [`Real::exp`]).
+    fn ln_1p(self) -> Self;
+
+    /// The natural logarithm (see [`Real::exp`]).
+    fn ln(self) -> Self;
+
     /// Zero.
     fn zero(ctx: Self::Ctx) -> Self {
         Self::from_f64(ctx, 0.0)
@@ -238,6 +251,18 @@ impl Real for f64 {
     fn atan2(self, x: &f64) -> f64 {
         f64::atan2(self, *x)
     }
+    fn exp(self) -> f64 {
+        f64::exp(self)
+    }
+    fn exp_m1(self) -> f64 {
+        f64::exp_m1(self)
+    }
+    fn ln_1p(self) -> f64 {
+        f64::ln_1p(self)
+    }
+    fn ln(self) -> f64 {
+        f64::ln(self)
+    }
     #[inline(always)]
     fn square(&self) -> f64 {
         self * self
@@ -335,6 +360,18 @@ impl Real for Float {
     }
     fn atan2(self, x: &Float) -> Float {
         Float::atan2(self, x)
+    }
+    fn exp(self) -> Float {
+        Float::exp(self)
+    }
+    fn exp_m1(self) -> Float {
+        Float::exp_m1(self)
+    }
+    fn ln_1p(self) -> Float {
+        Float::ln_1p(self)
+    }
+    fn ln(self) -> Float {
+        Float::ln(self)
     }
     #[inline]
     fn square(&self) -> Float {

@@ -277,6 +277,36 @@ impl Real for Tracked {
         let e = (ax * self.e + ay * x.e) / r2;
         Tracked::with(self.v.atan2(&x.v), e).widen_libm()
     }
+    fn exp(self) -> Tracked {
+        // |δeˣ| ≤ eˣ(e^δ − 1) for |δ| ≤ e.
+        let v = self.v.exp();
+        let e = v.to_f64().abs() * self.e.exp_m1() * UP;
+        Tracked::with(v, e).widen_libm()
+    }
+    fn exp_m1(self) -> Tracked {
+        let ex = Float::with_val(self.v.prec(), self.v.exp_ref());
+        let e = ex.to_f64().abs() * self.e.exp_m1() * UP;
+        Tracked::with(self.v.exp_m1(), e).widen_libm()
+    }
+    fn ln_1p(self) -> Tracked {
+        // |ln′| = 1/(1 + x) ≤ 1/(1 + x − e) over the bound.
+        let room = (1.0 + self.v.to_f64()) * (1.0 - 4.0 * U) - self.e;
+        let e = if room > 0.0 {
+            self.e / room * UP
+        } else {
+            f64::INFINITY
+        };
+        Tracked::with(self.v.ln_1p(), e).widen_libm()
+    }
+    fn ln(self) -> Tracked {
+        let room = self.v.to_f64().abs() * (1.0 - 4.0 * U) - self.e;
+        let e = if room > 0.0 {
+            self.e / room * UP
+        } else {
+            f64::INFINITY
+        };
+        Tracked::with(self.v.ln(), e).widen_libm()
+    }
     fn neg_mut(&mut self) {
         rug::ops::NegAssign::neg_assign(&mut self.v);
     }

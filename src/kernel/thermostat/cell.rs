@@ -1,0 +1,278 @@
+//! The generic cell kernel under the thermostat: the next event of a thermostatted flight among a
+//! cell's disks and edges, each contact certified by [`isolate::earliest`], and its execution.
+//!
+//! The rules are the straight kernel's ([`crate::kernel::cell`]): ties go to the lower disk label,
+//! then collisions before crossings, then the lower edge label; the disk left and the edge entered
+//! by are excluded by identity, with the meaning a curved flight needs (as an arc's,
+//! [`crate::kernel::field`]): the obstacle the particle is *on*, whose contact is a return. The
+//! edges are searched up to a horizon by which the flight has certainly left the cell
+//! ([`exit_bound`]), the disks up to the earliest crossing found.
+//!
+//! Executing an event moves to the flight's point at the event, then reflects specularly at a
+//! disk or maps into the neighbour's frame at an edge, and ends with the Newton factor
+//! (3 − |v|²)/2 (`proofs-notes/energy.md`). A point reflection turns position, velocity and field
+//! by π: the thermostat is the same in every cell only if the cells are translates; a
+//! point-reflected neighbour sees −E, which the caller carries ([`Flipped`]).
+
+use super::isolate::{self, Contact, Found, Jet};
+use super::{FlightPoint, Start, Thermostat};
+use crate::kernel::cell::ConvexCell;
+use crate::kernel::flight::{EventKind, Flight};
+use crate::kernel::vec2::Vec2;
+use crate::numbers::real::Real;
+
+/// Whether the current cell's frame is point-reflected with respect to the field's: the field
+/// is −E in it (a crossing through a [`crate::kernel::cell::EdgeMap::PointReflection`] flips it).
+pub type Flipped = bool;
+
+/// The next event of a thermostatted flight.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThermoEvent<T> {
+    /// Collision or crossing, with its label.
+    pub kind: EventKind,
+    /// The flight time to it.
+    pub time: T,
+    /// The flight there: displacement, velocity on arrival, ξ along the field.
+    pub at: FlightPoint<T>,
+}
+
+/// The error bounds (δX, δv) of a flight point at `t` ([`Start::error`]), δX widened by
+/// 8u(`offset` + 1) for forming the offset from the obstacle.
+fn flight_error<T: Real>(start: &Start<'_, T>, t: &T, offset: f64) -> (f64, f64) {
+    let (dx, dv) = start.error(t);
+    (dx + 8.0 * T::unit_roundoff(t.ctx()) * (offset + 1.0), dv)
+}
+
+/// |X − c|² − r² along the flight from d = p − c.
+struct DiskContact<'s, 'a, T: Real> {
+    start: &'s Start<'a, T>,
+    d: Vec2<T>,
+    r2: T,
+    identity: bool,
+}
+
+impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
+    fn jet(&self, t: &T) -> Jet<T> {
+        let ctx = t.ctx();
+        let at = self.start.at(t);
+        let dd = Vec2::new(self.d.x.clone() + &at.disp.x, self.d.y.clone() + &at.disp.y);
+        let reach = dd.norm2().sqrt();
+        let f1 = dd.dot(&at.vel).scale(2.0);
+        let f2 = dd.dot(&at.acc).scale(2.0).add_f64(2.0);
+        if self.identity && !t.gt0() {
+            let zero = T::zero(ctx);
+            let err = [zero.clone(), zero.clone(), zero.clone()];
+            return Jet {
+                f: zero,
+                f1,
+                f2,
+                err,
+                reach,
+            };
+        }
+        let d = self.d.norm2().sqrt().to_f64();
+        let (dx, dv) = flight_error(self.start, t, d);
+        let (rho, r2) = (reach.to_f64(), self.r2.to_f64());
+        let eps = self.start.thermostat().strength.to_f64();
+        let u = T::unit_roundoff(ctx);
+        let e = [
+            2.0 * rho * dx + dx * dx + 8.0 * u * (rho * rho + r2),
+            2.0 * dx + 2.0 * rho * dv + 8.0 * u * rho,
+            2.0 * eps * (dx + 2.0 * rho * dv) + 8.0 * u * (1.0 + eps * rho),
+        ];
+        Jet {
+            f: dd.norm2() - &self.r2,
+            f1,
+            f2,
+            err: e.map(|x| T::from_f64(ctx, x)),
+            reach,
+        }
+    }
+
+    /// |F‴| = |2(X − c)·v̈| ≤ 2(ρ + h)ε².
+    fn third(&self, jet: &Jet<T>, h: &T) -> T {
+        let eps = &self.start.thermostat().strength;
+        (jet.reach.clone() + h) * &eps.square().scale(2.0 + 1.0 / 65536.0)
+    }
+}
+
+/// σ + n·X: the signed distance to an edge along the flight.
+struct EdgeContact<'s, 'a, T: Real> {
+    start: &'s Start<'a, T>,
+    normal: &'s Vec2<T>,
+    sigma: T,
+    scale: f64,
+    identity: bool,
+}
+
+impl<T: Real> Contact<T> for EdgeContact<'_, '_, T> {
+    fn jet(&self, t: &T) -> Jet<T> {
+        let ctx = t.ctx();
+        let at = self.start.at(t);
+        let n = self.normal;
+        let f1 = n.dot(&at.vel);
+        let f2 = n.dot(&at.acc);
+        let zero = T::zero(ctx);
+        if self.identity && !t.gt0() {
+            let err = [zero.clone(), zero.clone(), zero.clone()];
+            return Jet {
+                f: zero.clone(),
+                f1,
+                f2,
+                err,
+                reach: zero,
+            };
+        }
+        let nx = n.dot(&at.disp);
+        let (dx, dv) = flight_error(self.start, t, self.scale);
+        let eps = self.start.thermostat().strength.to_f64();
+        let u = T::unit_roundoff(ctx);
+        let e = [
+            dx + 4.0 * u * (self.scale + nx.to_f64().abs()),
+            dv + 4.0 * u,
+            2.0 * eps * dv + 4.0 * u * eps,
+        ];
+        Jet {
+            f: self.sigma.clone() + &nx,
+            f1,
+            f2,
+            err: e.map(|x| T::from_f64(ctx, x)),
+            reach: zero,
+        }
+    }
+
+    /// |F‴| = |n·v̈| ≤ ε².
+    fn third(&self, _: &Jet<T>, _: &T) -> T {
+        let eps = &self.start.thermostat().strength;
+        eps.square().scale(1.0 + 1.0 / 65536.0)
+    }
+}
+
+/// A time by which the flight from `p` with velocity `v` has left the cell: |X(t)| ≥ ξ(t) and
+/// e^{εξ} = cosh εt + c sinh εt ≥ (p/2)e^{εt} (p = 1 + c), so |X| > L, the largest distance from
+/// `p` to a corner, once t > L + ln(2/p)/ε (t > L where p = 0: then ξ = −t).
+pub fn exit_bound<T: Real>(cell: &ConvexCell<T>, p: &Vec2<T>, start: &Start<'_, T>) -> T {
+    let ctx = p.x.ctx();
+    let far = cell
+        .corners
+        .iter()
+        .map(|c| c.sub(p).norm2())
+        .fold(T::zero(ctx), |a, b| if b > a { b } else { a })
+        .sqrt()
+        .scale(1.0 + 1.0 / 1024.0);
+    let lag = if start.p.gt0() {
+        (T::from_f64(ctx, 2.0) / &start.p).ln() / &start.thermostat().strength
+    } else {
+        T::zero(ctx)
+    };
+    (far + &lag.scale(1.0 + 1.0 / 1024.0)).add_f64(1e-9)
+}
+
+impl<T: Real> ConvexCell<T> {
+    /// The next event of the flight `f` under the thermostat `th` (expressed in this cell's
+    /// frame), or `None`: a particle sliding along the disk it is on (the creeping limit,
+    /// [`Found::Creeps`]), or a flight no edge of which is found before its exit bound (a zero or
+    /// non-finite velocity).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::kernel::{flight::{EventKind, Flight}, thermostat::Thermostat, trap::Trap, vec2::Vec2};
+    /// let cell = Trap::new(0.1f64).unwrap().cell().clone();
+    /// // From the middle of the base gap straight up, the field along +y: the apex disk P₂.
+    /// let th = Thermostat { strength: 0.3, dir: Vec2::new(0.0, 1.0) };
+    /// let f = Flight::new(Vec2::new(1.05, 0.0), Vec2::new(0.0, 1.0));
+    /// assert_eq!(cell.next_event_thermostat(&f, &th).unwrap().kind, EventKind::Collision(2));
+    /// ```
+    pub fn next_event_thermostat(
+        &self,
+        f: &Flight<T>,
+        th: &Thermostat<T>,
+    ) -> Option<ThermoEvent<T>> {
+        let start = th.start(&f.vel);
+        let mut horizon = exit_bound(self, &f.pos, &start);
+        let mut best: Option<EventKind> = None;
+        for (k, e) in self.edges.iter().enumerate() {
+            let k = k as u8;
+            let contact = EdgeContact {
+                start: &start,
+                normal: &e.normal,
+                sigma: e.normal.dot(&f.pos) - &e.offset,
+                scale: f.pos.x.to_f64().abs() + f.pos.y.to_f64().abs() + e.offset.to_f64().abs(),
+                identity: f.excluded_edge == Some(k),
+            };
+            let t = match isolate::earliest(&contact, contact.identity, &horizon) {
+                Found::Root(t) => t,
+                Found::Creeps => T::zero(horizon.ctx()),
+                Found::Clear => continue,
+            };
+            if best.is_none() || t < horizon {
+                best = Some(EventKind::Crossing(k));
+                horizon = t;
+            }
+        }
+        best?;
+        for (m, d) in self.disks.iter().enumerate() {
+            let m = m as u8;
+            let contact = DiskContact {
+                start: &start,
+                d: f.pos.sub(&d.centre),
+                r2: d.radius2().clone(),
+                identity: f.excluded_disk == Some(m),
+            };
+            match isolate::earliest(&contact, contact.identity, &horizon) {
+                Found::Root(t) => {
+                    let over_edge = matches!(best, Some(EventKind::Crossing(_)));
+                    if t < horizon || (over_edge && t <= horizon) {
+                        best = Some(EventKind::Collision(m));
+                        horizon = t;
+                    }
+                }
+                Found::Creeps => return None,
+                Found::Clear => {}
+            }
+        }
+        let at = start.at(&horizon);
+        best.map(|kind| ThermoEvent {
+            kind,
+            time: horizon,
+            at,
+        })
+    }
+
+    /// Moves along the flight to the event and carries it out; returns whether the frame was
+    /// point-reflected (the field is then −E in the new cell's frame).
+    pub fn apply_thermostat(&self, f: &mut Flight<T>, ev: &ThermoEvent<T>) -> Flipped {
+        let mut v = ev.at.vel.clone();
+        let newton = (-v.norm2()).add_f64(3.0).scale(0.5);
+        let x = Vec2::new(
+            f.pos.x.clone() + &ev.at.disp.x,
+            f.pos.y.clone() + &ev.at.disp.y,
+        );
+        let moved = ev.time.gt0();
+        let flipped = match ev.kind {
+            EventKind::Collision(m) => {
+                self.disks[m as usize].reflect(&mut v, &x);
+                f.pos = x;
+                f.excluded_disk = Some(m);
+                f.excluded_edge = None;
+                false
+            }
+            EventKind::Crossing(k) => {
+                let e = &self.edges[k as usize];
+                f.pos = e.map.carry(&x, &mut v);
+                f.excluded_disk = if moved {
+                    None
+                } else {
+                    f.excluded_disk.and_then(|m| e.disks_after[m as usize])
+                };
+                f.excluded_edge = Some(e.entered);
+                e.flips()
+            }
+        };
+        v.x *= &newton;
+        v.y *= &newton;
+        f.vel = v;
+        flipped
+    }
+}

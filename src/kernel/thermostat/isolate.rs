@@ -1,0 +1,223 @@
+//! The earliest root of a contact function along a thermostatted flight, certified: a march of
+//! steps each proved root-free by a lower bound, that cannot step over a grazing contact
+//! (`proofs-notes/thermostat-flight.md`, "Certified events").
+//!
+//! A contact function F(t) is positive before the contact (|X − c|² − r² for a disk, the signed
+//! distance to an edge). At a time a the [`Jet`] gives F, F′, F″ with bounds e₀, e₁, e₂ on their
+//! errors, and [`Contact::third`] a bound M on |F‴| over [a, a + h]. Taylor's theorem then gives,
+//! for 0 ≤ s ≤ h,
+//!
+//! F(a + s) ≥ L(s) = (F − e₀) + (F′ − e₁)s + ((F″ − e₂)/2 − Mh/6)s²,
+//!
+//! and the march advances by the smallest positive root of L (a hair less, for the rounding of
+//! the root), or by all of h where L has none. A grazing contact has no root-free neighbourhood,
+//! so the march stops before it: it can be refused only where F > e₀ is certain.
+//!
+//! The march stops at a time a where F − e₀ ≤ 0: there the contact is *decided within the model*
+//! — taken if F′ ≤ 0 (approaching or tangent), with one Taylor step to the root; refused as a
+//! near miss if F′ > 0 (leaving), the march going on from L with F itself. On the obstacle by
+//! identity (the disk just left, the edge entered by) F(0) = 0 exactly: the contact is now if
+//! F′(0) < 0, the creeping limit if F′(0) = 0 and F″(0) ≤ 0 ([`Found::Creeps`]), else the march
+//! leaves it. Nothing is nudged.
+
+use crate::numbers::real::Real;
+
+/// A contact function and its first two derivatives at one time, each with a bound on its
+/// error, and the distance `reach` from the obstacle's centre (for [`Contact::third`]).
+#[derive(Debug, Clone)]
+pub struct Jet<T> {
+    /// F.
+    pub f: T,
+    /// F′.
+    pub f1: T,
+    /// F″.
+    pub f2: T,
+    /// Bounds on the errors of F, F′, F″.
+    pub err: [T; 3],
+    /// |X − c| for a disk (zero for an edge).
+    pub reach: T,
+}
+
+/// What a certified search finds before its horizon.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Found<T> {
+    /// The earliest contact, at this flight time.
+    Root(T),
+    /// No contact before the horizon.
+    Clear,
+    /// On the obstacle by identity, moving along it (F′ = 0) and turning into it (F″ ≤ 0).
+    Creeps,
+}
+
+/// A contact function along one flight.
+pub trait Contact<T: Real> {
+    /// F, F′, F″ at the flight time `t` ≥ 0, with their error bounds (exact zero at t = 0 on the
+    /// obstacle by identity).
+    fn jet(&self, t: &T) -> Jet<T>;
+    /// A bound on |F‴| over [t, t + h], t the time of `jet`.
+    fn third(&self, jet: &Jet<T>, h: &T) -> T;
+}
+
+/// Steps after which a march stops where it is and takes the contact there (a march that has not
+/// ended is at a grazing approach it can neither certify nor refuse).
+pub const MAX_STEPS: usize = 1000;
+
+/// The fraction of a lower bound's root that a step takes (its rounding is a few units).
+const SAFE: f64 = 1.0 - 1.0 / 1_048_576.0;
+
+/// What the jet at the current time says.
+enum Decision<T> {
+    Root,
+    Creeps,
+    /// March on with the lower bound's value and slope.
+    Step(T, T),
+}
+
+fn decide<T: Real>(j: &Jet<T>, on_identity: bool) -> Decision<T> {
+    if on_identity {
+        if j.f1.lt0() {
+            return Decision::Root;
+        }
+        if !j.f1.gt0() && !j.f2.gt0() {
+            return Decision::Creeps;
+        }
+        return Decision::Step(T::zero(j.f.ctx()), j.f1.clone());
+    }
+    let lo = j.f.clone() - &j.err[0];
+    if lo.gt0() {
+        return Decision::Step(lo, j.f1.clone() - &j.err[1]);
+    }
+    if !j.f1.gt0() {
+        return Decision::Root;
+    }
+    // Leaving within the model: decided as a near miss.
+    let f = if j.f.gt0() {
+        j.f.clone()
+    } else {
+        T::zero(j.f.ctx())
+    };
+    Decision::Step(f, j.f1.clone())
+}
+
+/// The earliest root of `c` in [0, `horizon`] (no horizon: until found), starting on the
+/// obstacle by identity if `identity`.
+pub fn earliest<T: Real, C: Contact<T>>(c: &C, identity: bool, horizon: &T) -> Found<T> {
+    let ctx = horizon.ctx();
+    let mut a = T::zero(ctx);
+    let mut hint = T::one(ctx);
+    for n in 0..MAX_STEPS {
+        let j = c.jet(&a);
+        let (lo, slope) = match decide(&j, identity && n == 0) {
+            Decision::Root => return Found::Root(a.clone() + &refine(&j)),
+            Decision::Creeps => return Found::Creeps,
+            Decision::Step(lo, slope) => (lo, slope),
+        };
+        let remaining = horizon.clone() - &a;
+        if !remaining.gt0() {
+            return Found::Clear;
+        }
+        let curv = (j.f2.clone() - &j.err[2]).scale(0.5);
+        let Some(s) = advance(c, &j, (&lo, &slope, &curv), &remaining, &mut hint) else {
+            return Found::Clear;
+        };
+        let next = a.clone() + &s;
+        if next <= a {
+            return Found::Root(a);
+        }
+        a = next;
+    }
+    Found::Root(a)
+}
+
+/// The step from the current time: the largest the lower bound certifies, trying h = `hint`
+/// (at most `remaining`) and then h = twice the root found, where the cubic term is smaller.
+/// `None` where all of `remaining` is certified free.
+fn advance<T: Real, C: Contact<T>>(
+    c: &C,
+    j: &Jet<T>,
+    (lo, slope, curv): (&T, &T, &T),
+    remaining: &T,
+    hint: &mut T,
+) -> Option<T> {
+    let mut h = if *hint < *remaining {
+        hint.clone()
+    } else {
+        remaining.clone()
+    };
+    let sixth = T::from_f64(h.ctx(), 6.0);
+    let mut best: Option<T> = None;
+    for _ in 0..4 {
+        let quad = curv.clone() - &((c.third(j, &h) * &h) / &sixth);
+        match first_root(lo, slope, &quad) {
+            Some(s) if s < h => {
+                let shrink = s.clone().scale(4.0) < h;
+                if best.as_ref().is_none_or(|b| s > *b) {
+                    best = Some(s.clone());
+                }
+                if !shrink {
+                    break;
+                }
+                // Twice the root, or an eighth of h at a root at (or near) zero: a tangent start
+                // turning away needs h < 3F″/M.
+                let eighth = h.scale(0.125);
+                h = s.scale(2.0);
+                if h < eighth {
+                    h = eighth;
+                }
+            }
+            _ => {
+                if h >= *remaining {
+                    return None;
+                }
+                *hint = h.clone().scale(2.0);
+                return Some(h);
+            }
+        }
+    }
+    let s = best?;
+    *hint = s.clone().scale(2.0);
+    Some(s.scale(SAFE))
+}
+
+/// The smallest positive root of A + Bs + Cs² (A ≥ 0), without cancellation; `None` if it has
+/// none. A discriminant within its rounding of zero counts as zero (a root, never a miss).
+pub fn first_root<T: Real>(a: &T, b: &T, c: &T) -> Option<T> {
+    let four_ac = (a.clone() * c).scale(4.0);
+    let disc = b.square() - &four_ac;
+    if b.lt0() {
+        let u = T::unit_roundoff(a.ctx());
+        let noise = (b.square() + &four_ac.abs()).scale(8.0 * u);
+        if (disc.clone() + &noise).lt0() {
+            return None;
+        }
+        let root = if disc.gt0() {
+            disc.sqrt()
+        } else {
+            T::zero(a.ctx())
+        };
+        return Some(a.clone().scale(2.0) / &(root - b));
+    }
+    if !c.lt0() {
+        return None;
+    }
+    Some((b.clone() + &disc.sqrt()) / &c.clone().scale(-2.0))
+}
+
+/// The Taylor step from a time where the contact was taken to its root: the smallest positive
+/// root of F + F′s + F″s²/2 when approaching (F > 0, F′ < 0), at most the nearest approach
+/// −F′/F″; zero otherwise.
+fn refine<T: Real>(j: &Jet<T>) -> T {
+    let zero = T::zero(j.f.ctx());
+    if !(j.f.gt0() && j.f1.lt0()) {
+        return zero;
+    }
+    let half = j.f2.clone().scale(0.5);
+    let s = first_root(&j.f, &j.f1, &half).unwrap_or_else(|| j.f.clone() / &(-j.f1.clone()));
+    if j.f2.gt0() {
+        let vertex = -j.f1.clone() / &j.f2;
+        if vertex < s {
+            return vertex;
+        }
+    }
+    s
+}

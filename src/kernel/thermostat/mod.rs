@@ -1,0 +1,202 @@
+//! Flights under a Gaussian-thermostatted electric field: ṙ = v, v̇ = E − (E·v)v, |v| = 1.
+//!
+//! In the frame of the field (ê = E/|E|, ê⊥ = Jê, ε = |E|) the velocity angle θ from ê obeys
+//! θ̇ = −ε sin θ, so tan(θ/2) = tan(θ₀/2)e^{−εt}: the velocity relaxes towards ê, and the flight
+//! has a closed form (`proofs-notes/thermostat-flight.md`). With c = ê·v, s = ê×v at the start,
+//! p = 1 + c, m = 1 − c (each formed without cancellation, p·m = s²) and x = e^{−εt}:
+//!
+//! * along the field, ξ(t) = t + ln A/ε, A = (p + m x²)/2 = 1 − m(1 − x²)/2, taken as
+//!   `ln_1p(−m·(−expm1(−2εt))/2)` where A ≥ 1/2 and as `ln(A)` (two positive terms) below;
+//! * across it, η(t) = (2/ε)·atan(s·(−expm1(−εt))/(p + m x));
+//! * the velocity, cos θ = (p − m x²)/(p + m x²), sin θ = 2sx/(p + m x²);
+//! * the acceleration v̇ = ε sin θ·(sin θ ê − cos θ ê⊥), of size ε|sin θ| ≤ ε, and
+//!   |v̈| = ε²|sin θ| ≤ ε² (the certificates' curvature bounds, [`isolate`]);
+//! * the phase-space contraction α = E·v integrates to ∫₀ᵗ α = εξ(t) (the work of the field).
+//!
+//! Every form is free of cancellation as εt → 0 (it tends to the straight flight t·v) and as
+//! εt → ∞ (the anti-aligned start p → 0 included). `exp`, `expm1`, `ln`, `ln_1p` and `atan` are
+//! not correctly rounded in `f64`: the flight is accurate to its error model, not bit for bit with
+//! MPFR at 53 bits. The next event in a cell is [`ConvexCell::next_event_thermostat`]
+//! (`cell.rs`), its contacts certified by [`isolate`].
+//!
+//! [`ConvexCell::next_event_thermostat`]: super::cell::ConvexCell::next_event_thermostat
+
+pub mod cell;
+pub mod isolate;
+
+use super::arc::perp;
+use super::vec2::Vec2;
+use crate::numbers::real::Real;
+use rug::Rational;
+
+/// The thermostatted field: its strength ε = |E| > 0 and direction ê (unit to rounding).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Thermostat<T> {
+    /// ε = |E| > 0.
+    pub strength: T,
+    /// ê = E/|E|.
+    pub dir: Vec2<T>,
+}
+
+/// Where a flight is at a time t: displacement from the start, velocity, acceleration, and the
+/// displacement ξ along the field (ε·ξ is the integrated contraction ∫α dt).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlightPoint<T> {
+    /// X(t) = ξê + ηê⊥.
+    pub disp: Vec2<T>,
+    /// v(t).
+    pub vel: Vec2<T>,
+    /// v̇(t).
+    pub acc: Vec2<T>,
+    /// ξ(t).
+    pub along: T,
+}
+
+/// A flight about to start: the start velocity in the field's frame (c, s) and p = 1 + c,
+/// m = 1 − c without cancellation.
+#[derive(Debug, Clone)]
+pub struct Start<'a, T: Real> {
+    th: &'a Thermostat<T>,
+    s: T,
+    p: T,
+    m: T,
+}
+
+impl<T: Real> Thermostat<T> {
+    /// The field of signed strength `field` (exact) along the angle `degrees` (exact) from the
+    /// x axis, at the working precision `ctx`; `None` for a zero field (straight flights). A
+    /// multiple of 90° gives the exact axis; other angles round cos and sin at `ctx`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::kernel::thermostat::Thermostat;
+    /// use rug::Rational;
+    /// let th = Thermostat::<f64>::exact(&Rational::from((-3, 10)), &Rational::from(90), ()).unwrap();
+    /// assert_eq!((th.strength, th.dir.x, th.dir.y), (0.3, 0.0, -1.0));
+    /// assert!(Thermostat::<f64>::exact(&Rational::new(), &Rational::from(30), ()).is_none());
+    /// ```
+    pub fn exact(field: &Rational, degrees: &Rational, ctx: T::Ctx) -> Option<Self> {
+        if *field == 0 {
+            return None;
+        }
+        let turn = Rational::from(degrees / 90u32);
+        let (cos, sin) = if *turn.denom() == 1 {
+            let q = turn.numer().mod_u(4) as usize;
+            let (c, s) = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][q];
+            (T::from_f64(ctx, c), T::from_f64(ctx, s))
+        } else {
+            let angle = T::pi(ctx) * &T::from_rational(ctx, &Rational::from(degrees / 180u32));
+            (angle.clone().cos(), angle.sin())
+        };
+        let sign = if *field < 0 { -1.0 } else { 1.0 };
+        Some(Thermostat {
+            strength: T::from_rational(ctx, &Rational::from(field.abs_ref())),
+            dir: Vec2::new(cos.scale(sign), sin.scale(sign)),
+        })
+    }
+
+    /// The flight that starts with the velocity `v`.
+    pub fn start(&self, v: &Vec2<T>) -> Start<'_, T> {
+        let c = self.dir.dot(v);
+        let s = self.dir.cross(v);
+        let (p, m) = if c.lt0() {
+            let m = (-c).add_f64(1.0);
+            ((s.square()) / &m, m)
+        } else {
+            let p = c.add_f64(1.0);
+            (p.clone(), s.square() / &p)
+        };
+        Start { th: self, s, p, m }
+    }
+
+    /// The acceleration ε sin θ (sin θ ê − cos θ ê⊥) at the velocity (cos θ, sin θ) in the
+    /// field's frame.
+    fn acceleration(&self, cos: &T, sin: &T) -> Vec2<T> {
+        let k = self.strength.clone() * sin;
+        let (a, b) = (k.clone() * sin, -(k * cos));
+        self.world(&a, &b)
+    }
+
+    /// aê + bê⊥.
+    fn world(&self, a: &T, b: &T) -> Vec2<T> {
+        let e = &self.dir;
+        let j = perp(e);
+        Vec2::new(
+            a.clone() * &e.x + &(b.clone() * &j.x),
+            a.clone() * &e.y + &(b.clone() * &j.y),
+        )
+    }
+}
+
+impl<T: Real> Start<'_, T> {
+    /// The flight at the time `t` ≥ 0 (see the module documentation for the forms).
+    pub fn at(&self, t: &T) -> FlightPoint<T> {
+        let eps = &self.th.strength;
+        let et = eps.clone() * t;
+        let x = (-et.clone()).exp();
+        let g = -((-et.clone()).exp_m1());
+        let mx = self.m.clone() * &x;
+        let across = if self.s.gt0() || self.s.lt0() {
+            let z = (self.s.clone() * &g) / &(self.p.clone() + &mx);
+            z.atan().scale(2.0) / eps
+        } else {
+            T::zero(t.ctx())
+        };
+        let mx2 = mx * &x;
+        let log_a = if self.p.gt0() || self.p.lt0() {
+            let z = (self.m.clone() * &(-(et.scale(-2.0).exp_m1()))).scale(0.5);
+            if z.clone().add_f64(-0.5).gt0() {
+                (self.p.clone() + &mx2).scale(0.5).ln()
+            } else {
+                (-z).ln_1p()
+            }
+        } else {
+            // Anti-aligned (s = 0, c < 0): A = (m/2)x², without underflow of x².
+            self.m.clone().scale(0.5).ln() - &et.scale(2.0)
+        };
+        let along = t.clone() + &(log_a / eps);
+        let den = self.p.clone() + &mx2;
+        let cos = (self.p.clone() - &mx2) / &den;
+        let sin = (self.s.clone() * &x).scale(2.0) / &den;
+        FlightPoint {
+            disp: self.th.world(&along, &across),
+            vel: self.th.world(&cos, &sin),
+            acc: self.th.acceleration(&cos, &sin),
+            along,
+        }
+    }
+
+    /// The error model of [`Start::at`] at `t` in units of the working precision
+    /// (`proofs-notes/thermostat-flight.md`): bounds (δX, δv) on the errors of the displacement
+    /// and the velocity against the exact flight of the same start. The forms' own rounding gives
+    /// 64u·t and 16u(1 + εt); the start's angle from ê, formed with an absolute error ≤ 2u,
+    /// perturbs θ(t) by 2u·sin θ/sin θ₀ ≤ 2u·min(e^{εt}, 1/|s|) and X by 2u(|X| + I),
+    /// I = ∫₀ᵗ sin θ/sin θ₀ ≤ min(t·e^{εt}, π/(ε|s|)) (the anti-aligned start is unstable).
+    pub fn error(&self, t: &T) -> (f64, f64) {
+        let u = T::unit_roundoff(t.ctx());
+        let t = t.to_f64().abs();
+        let eps = self.th.strength.to_f64();
+        let s = self.s.to_f64().abs();
+        let grow = (eps * t).exp();
+        let lean = grow.min(1.0 / s);
+        let integral = (t * grow).min(std::f64::consts::PI / (eps * s));
+        (
+            u * (64.0 * t + 4.0 * (t + integral)),
+            u * (16.0 * (1.0 + eps * t) + 4.0 * lean),
+        )
+    }
+
+    /// The thermostat this flight runs in.
+    pub fn thermostat(&self) -> &Thermostat<T> {
+        self.th
+    }
+}
+
+/// The integrated phase-space contraction ∫₀ᵗ α dt = ε·ξ(t) of a flight that has reached `at`.
+pub fn contraction<T: Real>(th: &Thermostat<T>, at: &FlightPoint<T>) -> T {
+    th.strength.clone() * &at.along
+}
+
+#[cfg(test)]
+mod tests;
