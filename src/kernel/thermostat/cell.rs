@@ -192,15 +192,8 @@ impl<T: Real> ConvexCell<T> {
         let start = th.start(&f.vel);
         let mut horizon = exit_bound(self, &f.pos, &start);
         let mut best: Option<EventKind> = None;
-        for (k, e) in self.edges.iter().enumerate() {
-            let k = k as u8;
-            let contact = EdgeContact {
-                start: &start,
-                normal: &e.normal,
-                sigma: e.normal.dot(&f.pos) - &e.offset,
-                scale: f.pos.x.to_f64().abs() + f.pos.y.to_f64().abs() + e.offset.to_f64().abs(),
-                identity: f.excluded_edge == Some(k),
-            };
+        for k in 0..self.edges.len() as u8 {
+            let contact = self.edge_contact(&start, f, k);
             let t = match isolate::earliest(&contact, contact.identity, &horizon) {
                 Found::Root(t) => t,
                 Found::Creeps => T::zero(horizon.ctx()),
@@ -212,14 +205,8 @@ impl<T: Real> ConvexCell<T> {
             }
         }
         best?;
-        for (m, d) in self.disks.iter().enumerate() {
-            let m = m as u8;
-            let contact = DiskContact {
-                start: &start,
-                d: f.pos.sub(&d.centre),
-                r2: d.radius2().clone(),
-                identity: f.excluded_disk == Some(m),
-            };
+        for m in 0..self.disks.len() as u8 {
+            let contact = self.disk_contact(&start, f, m);
             match isolate::earliest(&contact, contact.identity, &horizon) {
                 Found::Root(t) => {
                     let over_edge = matches!(best, Some(EventKind::Crossing(_)));
@@ -238,6 +225,54 @@ impl<T: Real> ConvexCell<T> {
             time: horizon,
             at,
         })
+    }
+
+    /// The contact function of the candidate `kind` along the flight `f` at the time `t`: its
+    /// value, slope and curvature with their error bounds (a transversal contact's time is
+    /// accurate to about e₀/|F′|, `proofs-notes/thermostat-flight.md`).
+    pub fn thermostat_jet(
+        &self,
+        f: &Flight<T>,
+        th: &Thermostat<T>,
+        kind: EventKind,
+        t: &T,
+    ) -> Jet<T> {
+        let start = th.start(&f.vel);
+        match kind {
+            EventKind::Collision(m) => self.disk_contact(&start, f, m).jet(t),
+            EventKind::Crossing(k) => self.edge_contact(&start, f, k).jet(t),
+        }
+    }
+
+    fn disk_contact<'s, 'a>(
+        &'s self,
+        start: &'s Start<'a, T>,
+        f: &Flight<T>,
+        m: u8,
+    ) -> DiskContact<'s, 'a, T> {
+        let d = &self.disks[m as usize];
+        DiskContact {
+            start,
+            d: f.pos.sub(&d.centre),
+            r2: d.radius2().clone(),
+            identity: f.excluded_disk == Some(m),
+        }
+    }
+
+    fn edge_contact<'s, 'a>(
+        &'s self,
+        start: &'s Start<'a, T>,
+        f: &Flight<T>,
+        k: u8,
+    ) -> EdgeContact<'s, 'a, T> {
+        let e = &self.edges[k as usize];
+        EdgeContact {
+            start,
+            normal: &e.normal,
+            sigma: e.normal.dot(&f.pos) - &e.offset,
+            scale: f.pos.x.to_f64().abs() + f.pos.y.to_f64().abs() + e.offset.to_f64().abs(),
+            identity: f.excluded_edge == Some(k),
+        }
     }
 
     /// Moves along the flight to the event and carries it out; returns whether the frame was

@@ -90,10 +90,20 @@ impl<T: Real> Thermostat<T> {
             (angle.clone().cos(), angle.sin())
         };
         let sign = if *field < 0 { -1.0 } else { 1.0 };
-        Some(Thermostat {
-            strength: T::from_rational(ctx, &Rational::from(field.abs_ref())),
-            dir: Vec2::new(cos.scale(sign), sin.scale(sign)),
-        })
+        let strength = T::from_rational(ctx, &Rational::from(field.abs_ref()));
+        Some(Thermostat::new(
+            strength,
+            Vec2::new(cos.scale(sign), sin.scale(sign)),
+        ))
+    }
+
+    /// The field of strength `strength` > 0 along `dir` (≠ 0), normalised at the working
+    /// precision: the closed form takes |ê| = 1, and a direction a rounding off unit length would
+    /// break the flight's reversibility at that rounding (an exact axis stays exact).
+    pub fn new(strength: T, dir: Vec2<T>) -> Self {
+        let norm = dir.norm2().sqrt();
+        let dir = Vec2::new(dir.x / &norm, dir.y / &norm);
+        Thermostat { strength, dir }
     }
 
     /// The flight that starts with the velocity `v`.
@@ -198,5 +208,7 @@ pub fn contraction<T: Real>(th: &Thermostat<T>, at: &FlightPoint<T>) -> T {
     th.strength.clone() * &at.along
 }
 
+#[cfg(test)]
+mod event_tests;
 #[cfg(test)]
 mod tests;

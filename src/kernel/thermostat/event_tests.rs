@@ -1,0 +1,233 @@
+//! Certified thermostatted events: the straight kernel's at ε → 0, grazing contacts taken or
+//! refused on the right side of the model, reversible, and `f64` against MPFR-200 within the
+//! per-event bound (`proofs-notes/thermostat-flight.md`).
+
+use super::tests::Mix;
+use super::*;
+use crate::kernel::cell::{ConvexCell, Disk, Edge, EdgeMap, LatticeBasis};
+use crate::kernel::flight::{EventKind, Flight};
+use crate::kernel::trap::Trap;
+use rug::Float;
+
+const U: f64 = f64::EPSILON / 2.0;
+
+/// A free start in `cell` with a random direction.
+fn start_in(cell: &ConvexCell<f64>, r: &mut Mix) -> Flight<f64> {
+    let (w, h) = cell
+        .corners
+        .iter()
+        .fold((0f64, 0f64), |(w, h), c| (w.max(c.x), h.max(c.y)));
+    loop {
+        let p = Vec2::new(w * r.unit(), h * r.unit());
+        if cell.is_free(&p) {
+            let phi = 6.3 * r.unit();
+            return Flight::new(p, Vec2::new(phi.cos(), phi.sin()));
+        }
+    }
+}
+
+fn field(eps: f64, r: &mut Mix) -> Thermostat<f64> {
+    let phi = 6.3 * r.unit();
+    Thermostat {
+        strength: eps,
+        dir: Vec2::new(phi.cos(), phi.sin()),
+    }
+}
+
+/// The per-event bound on the error of an event's time: (e₀ + extra)/|F′| twice over (the
+/// factor 2 covers the second-order term of a transversal root, `thermostat-flight.md`).
+fn time_bound(j: &isolate::Jet<f64>, extra: f64) -> f64 {
+    2.0 * (j.err[0] + extra) / j.f1.abs()
+}
+
+/// ε = 10⁻¹⁰: the straight kernel's event, its time within (e₀ + 2ρ·εt²/2 + 16u(ρ² + r²))/|F′|
+/// — the curved flight is within εt²/2 of the straight one — over 3000 random starts in the
+/// trap at w = 0.1 (skipping contacts within 10⁻³ of grazing, where the bound is not small).
+#[test]
+fn a_vanishing_field_gives_the_straight_events() {
+    let cell = Trap::new(0.1f64).unwrap().cell().clone();
+    let mut r = Mix(21);
+    let (mut compared, mut worst) = (0, 0f64);
+    for _ in 0..3000 {
+        let f = start_in(&cell, &mut r);
+        let th = field(1e-10, &mut r);
+        let straight = cell.next_event(&f).unwrap();
+        let ev = cell.next_event_thermostat(&f, &th).unwrap();
+        assert_eq!(ev.kind, straight.kind, "{f:?}");
+        let j = cell.thermostat_jet(&f, &th, ev.kind, &ev.time);
+        let t = ev.time;
+        let rho = j.reach.max(1.0);
+        let extra = rho * th.strength * t * t + 16.0 * U * (rho * rho + 1.0);
+        if j.f1.abs() < 1e-3 {
+            continue;
+        }
+        let bound = time_bound(&j, extra);
+        let gap = (t - straight.time).abs();
+        assert!(gap <= bound, "{gap:e} > {bound:e} for {f:?}");
+        compared += 1;
+        worst = worst.max(gap / bound);
+    }
+    assert!(compared > 2900, "{compared}");
+    eprintln!("ε = 1e-10: largest |t − t_straight| / bound over {compared} events: {worst:.3}");
+}
+
+/// A box [−10, 10]² whose edges translate into the next box, holding the given disks.
+fn boxed(disks: Vec<Disk<f64>>) -> ConvexCell<f64> {
+    let side = |nx: f64, ny: f64, k: u8, entered: u8| Edge {
+        normal: Vec2::new(nx, ny),
+        offset: -10.0,
+        map: EdgeMap::Translation(Vec2::new(-20.0 * nx, -20.0 * ny)),
+        entered,
+        disks_after: disks.iter().map(|_| None).collect(),
+        step: [k as i64, 0],
+    };
+    let c = |x: f64, y: f64| Vec2::new(x, y);
+    ConvexCell {
+        corners: vec![
+            c(-10.0, -10.0),
+            c(10.0, -10.0),
+            c(10.0, 10.0),
+            c(-10.0, 10.0),
+        ],
+        edges: vec![
+            side(1.0, 0.0, 0, 1),
+            side(-1.0, 0.0, 1, 0),
+            side(0.0, 1.0, 2, 3),
+            side(0.0, -1.0, 3, 2),
+        ],
+        disks,
+        lattice: LatticeBasis {
+            a: 20.0,
+            beta: 0.0,
+            h: 20.0,
+        },
+    }
+}
+
+/// A disk of radius r tangent to a random flight at its point at t* = 1 (on either side, at
+/// curvatures below 1/r), moved by δ towards the flight (a penetration, which must be taken,
+/// before t*) or away (a miss by δ, which must be refused): δ from 10⁻¹³ (a few times the model's
+/// e₀/2r ≈ 10⁻¹⁴ there) to 10⁻⁶, at ε from 0.01 to 3.
+#[test]
+fn grazing_contacts_are_taken_or_refused_on_the_right_side() {
+    let mut r = Mix(5);
+    for n in 0..400 {
+        let eps = [0.01, 0.3, 3.0][n % 3];
+        let radius = 0.2 + 0.1 * r.unit();
+        let th = field(eps, &mut r);
+        let phi = 6.3 * r.unit();
+        let f = Flight::new(Vec2::new(0.0, 0.0), Vec2::new(phi.cos(), phi.sin()));
+        let at = th.start(&f.vel).at(&1.0);
+        let side = if n % 2 == 0 { 1.0 } else { -1.0 };
+        let normal = Vec2::new(-at.vel.y * side, at.vel.x * side);
+        let delta = 10f64.powf(-13.0 + 7.0 * r.unit());
+        for (toward, sign) in [(true, -1.0), (false, 1.0)] {
+            let k = radius + sign * delta;
+            let centre = Vec2::new(at.disp.x + k * normal.x, at.disp.y + k * normal.y);
+            let cell = boxed(vec![Disk::new(centre, radius)]);
+            let ev = cell.next_event_thermostat(&f, &th).unwrap();
+            let hit = ev.kind == EventKind::Collision(0);
+            assert_eq!(hit, toward, "{n}: δ = {delta:e}, ε = {eps}, side {side}");
+            if hit {
+                assert!(ev.time <= 1.0 + 1e-12, "{n}: {}", ev.time);
+            }
+        }
+    }
+}
+
+/// Reversibility at 200 bits: 20 events in the trap at w = 0.1 (the field flipping with the
+/// point-reflected cells), the velocity reversed with E fixed, 20 events back (the first at
+/// t = 0: the disk or edge the particle is on, now moved into) and the first flight time again:
+/// the start, with the velocity reversed, to 10⁻³⁰ (chaos amplifies 2⁻²⁰⁰ by ≲ 10²⁵ over 40
+/// events).
+#[test]
+fn thermostatted_events_are_reversible() {
+    let cell = Trap::new(Float::with_val(200, 0.1)).unwrap().cell().clone();
+    let cell64 = Trap::new(0.1f64).unwrap().cell().clone();
+    let mut r = Mix(9);
+    for eps in [0.01, 0.3, 3.0] {
+        let f64s = start_in(&cell64, &mut r);
+        let mut f = Flight::<Float>::convert_from_f64(200, &f64s);
+        // Unit vectors at 200 bits: the closed form takes |v| = |ê| = 1.
+        let norm = f.vel.norm2().sqrt();
+        f.vel = Vec2::new(f.vel.x.clone() / &norm, f.vel.y.clone() / &norm);
+        let v0 = f.vel.clone();
+        let p0 = f.pos.clone();
+        let mut th = Thermostat::new(
+            Float::with_val(200, eps),
+            lift_field(&field(eps, &mut r)).dir,
+        );
+        let first = run(&cell, &mut f, &mut th, 20);
+        f.vel = -f.vel;
+        let back = run(&cell, &mut f, &mut th, 20);
+        assert!(!back[0].gt0(), "the first event back is now");
+        let end = th.start(&f.vel).at(&first[0]);
+        let x = Vec2::new(f.pos.x.clone() + &end.disp.x, f.pos.y.clone() + &end.disp.y);
+        let off = x.sub(&p0).norm2().sqrt();
+        let dv = Vec2::new(end.vel.x.clone() + &v0.x, end.vel.y.clone() + &v0.y);
+        assert!(off.to_f64() < 1e-30, "ε = {eps}: {}", off.to_f64());
+        assert!(dv.norm2().sqrt().to_f64() < 1e-30, "ε = {eps}");
+    }
+}
+
+/// Runs `n` events, flipping the field at point reflections; returns their flight times.
+fn run(
+    cell: &ConvexCell<Float>,
+    f: &mut Flight<Float>,
+    th: &mut Thermostat<Float>,
+    n: usize,
+) -> Vec<Float> {
+    let mut times = Vec::new();
+    for _ in 0..n {
+        let ev = cell.next_event_thermostat(f, th).unwrap();
+        if cell.apply_thermostat(f, &ev) {
+            th.dir = -th.dir.clone();
+        }
+        times.push(ev.time);
+    }
+    times
+}
+
+/// `f64` against MPFR-200 from the same (lifted) state and field over random starts in the trap
+/// at w = 0.1 and 0.3 and ε ∈ {0.01, 0.3, 3}: the same event, its time within
+/// 2(e₀⁽⁶⁴⁾ + 2ρ·4u·a)/|F′| (the cells' constants differ by the rounding of a, h, √3).
+#[test]
+fn f64_events_agree_with_mpfr_within_the_model() {
+    let mut r = Mix(13);
+    let mut worst = 0f64;
+    let mut count = 0;
+    for w in [0.1, 0.3] {
+        let c64 = Trap::new(w).unwrap().cell().clone();
+        let c200 = Trap::new(Float::with_val(200, w)).unwrap().cell().clone();
+        for n in 0..600 {
+            let eps = [0.01, 0.3, 3.0][n % 3];
+            let f = start_in(&c64, &mut r);
+            let th = field(eps, &mut r);
+            let ev = c64.next_event_thermostat(&f, &th).unwrap();
+            let hi = lift_field(&th);
+            let fh = Flight::<Float>::convert_from_f64(200, &f);
+            let eh = c200.next_event_thermostat(&fh, &hi).unwrap();
+            assert_eq!(ev.kind, eh.kind, "w = {w}, {f:?} ε = {eps}");
+            let j = c64.thermostat_jet(&f, &th, ev.kind, &ev.time);
+            let bound = time_bound(&j, 8.0 * U * j.reach.max(1.0) * 2.5);
+            let gap = (eh.time.to_f64() - ev.time).abs();
+            assert!(
+                gap <= bound,
+                "{gap:e} > {bound:e}: w = {w}, {f:?}, ε = {eps}"
+            );
+            worst = worst.max(gap / bound);
+            count += 1;
+        }
+    }
+    eprintln!("f64 vs MPFR-200: largest |Δt| / bound over {count} events: {worst:.3}");
+}
+
+fn lift_field(th: &Thermostat<f64>) -> Thermostat<Float> {
+    Thermostat {
+        strength: Float::with_val(200, th.strength),
+        dir: Vec2::new(
+            Float::with_val(200, th.dir.x),
+            Float::with_val(200, th.dir.y),
+        ),
+    }
+}
