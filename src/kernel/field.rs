@@ -100,15 +100,32 @@ impl<T: Real> ConvexCell<T> {
     /// Moves along the arc to the event and carries it out (see the module documentation).
     pub fn apply_in_field(&self, f: &mut Flight<T>, ev: &ArcEvent<T>) {
         let newton = (-f.vel.norm2()).add_f64(3.0).scale(0.5);
-        let mut v = ev.velocity.clone();
         let x = Vec2::new(f.pos.x.clone() + &ev.chord.x, f.pos.y.clone() + &ev.chord.y);
         let moved = !is_zero(&ev.chord);
-        match ev.kind {
+        self.land(f, ev.kind, x, ev.velocity.clone(), moved, &newton);
+    }
+
+    /// Carries out the event `kind` of a curved flight that reached `x` with the velocity `v`: a
+    /// collision reflects specularly, a crossing maps into the neighbour's frame (the disk left
+    /// carried over only if the particle has not `moved`); then the speed is multiplied by
+    /// `newton`. Returns whether the frame was point-reflected. Shared by arcs and thermostatted
+    /// flights.
+    pub fn land(
+        &self,
+        f: &mut Flight<T>,
+        kind: EventKind,
+        x: Vec2<T>,
+        mut v: Vec2<T>,
+        moved: bool,
+        newton: &T,
+    ) -> bool {
+        let flipped = match kind {
             EventKind::Collision(m) => {
                 self.disks[m as usize].reflect(&mut v, &x);
                 f.pos = x;
                 f.excluded_disk = Some(m);
                 f.excluded_edge = None;
+                false
             }
             EventKind::Crossing(k) => {
                 let e = &self.edges[k as usize];
@@ -119,10 +136,12 @@ impl<T: Real> ConvexCell<T> {
                     f.excluded_disk.and_then(|m| e.disks_after[m as usize])
                 };
                 f.excluded_edge = Some(e.entered);
+                e.flips()
             }
-        }
-        v.x *= &newton;
-        v.y *= &newton;
+        };
+        v.x *= newton;
+        v.y *= newton;
         f.vel = v;
+        flipped
     }
 }

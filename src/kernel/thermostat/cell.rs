@@ -148,6 +148,36 @@ impl<T: Real> Contact<T> for EdgeContact<'_, '_, T> {
     }
 }
 
+/// A disk's or an edge's contact function.
+enum Candidate<'s, 'a, T: Real> {
+    Disk(DiskContact<'s, 'a, T>),
+    Edge(EdgeContact<'s, 'a, T>),
+}
+
+impl<T: Real> Candidate<'_, '_, T> {
+    fn identity(&self) -> bool {
+        match self {
+            Candidate::Disk(c) => c.identity,
+            Candidate::Edge(c) => c.identity,
+        }
+    }
+}
+
+impl<T: Real> Contact<T> for Candidate<'_, '_, T> {
+    fn jet(&self, t: &T) -> Jet<T> {
+        match self {
+            Candidate::Disk(c) => c.jet(t),
+            Candidate::Edge(c) => c.jet(t),
+        }
+    }
+    fn third(&self, jet: &Jet<T>, h: &T) -> T {
+        match self {
+            Candidate::Disk(c) => c.third(jet, h),
+            Candidate::Edge(c) => c.third(jet, h),
+        }
+    }
+}
+
 /// A time by which the flight from `p` with velocity `v` has left the cell: |X(t)| ≥ ξ(t) and
 /// e^{εξ} = cosh εt + c sinh εt ≥ (p/2)e^{εt} (p = 1 + c), so |X| > L, the largest distance from
 /// `p` to a corner, once t > L + ln(2/p)/ε (t > L where p = 0: then ξ = −t).
@@ -193,8 +223,8 @@ impl<T: Real> ConvexCell<T> {
         let mut horizon = exit_bound(self, &f.pos, &start);
         let mut best: Option<EventKind> = None;
         for k in 0..self.edges.len() as u8 {
-            let contact = self.edge_contact(&start, f, k);
-            let t = match isolate::earliest(&contact, contact.identity, &horizon) {
+            let contact = self.candidate(&start, f, EventKind::Crossing(k));
+            let t = match isolate::earliest(&contact, contact.identity(), &horizon) {
                 Found::Root(t) => t,
                 Found::Creeps => T::zero(horizon.ctx()),
                 Found::Clear => continue,
@@ -206,8 +236,8 @@ impl<T: Real> ConvexCell<T> {
         }
         best?;
         for m in 0..self.disks.len() as u8 {
-            let contact = self.disk_contact(&start, f, m);
-            match isolate::earliest(&contact, contact.identity, &horizon) {
+            let contact = self.candidate(&start, f, EventKind::Collision(m));
+            match isolate::earliest(&contact, contact.identity(), &horizon) {
                 Found::Root(t) => {
                     let over_edge = matches!(best, Some(EventKind::Crossing(_)));
                     if t < horizon || (over_edge && t <= horizon) {
@@ -238,76 +268,49 @@ impl<T: Real> ConvexCell<T> {
         t: &T,
     ) -> Jet<T> {
         let start = th.start(&f.vel);
+        self.candidate(&start, f, kind).jet(t)
+    }
+
+    /// The contact function of the candidate `kind` along the flight from `f`.
+    fn candidate<'s, 'a>(
+        &'s self,
+        start: &'s Start<'a, T>,
+        f: &Flight<T>,
+        kind: EventKind,
+    ) -> Candidate<'s, 'a, T> {
         match kind {
-            EventKind::Collision(m) => self.disk_contact(&start, f, m).jet(t),
-            EventKind::Crossing(k) => self.edge_contact(&start, f, k).jet(t),
-        }
-    }
-
-    fn disk_contact<'s, 'a>(
-        &'s self,
-        start: &'s Start<'a, T>,
-        f: &Flight<T>,
-        m: u8,
-    ) -> DiskContact<'s, 'a, T> {
-        let d = &self.disks[m as usize];
-        DiskContact {
-            start,
-            d: f.pos.sub(&d.centre),
-            r2: d.radius2().clone(),
-            identity: f.excluded_disk == Some(m),
-        }
-    }
-
-    fn edge_contact<'s, 'a>(
-        &'s self,
-        start: &'s Start<'a, T>,
-        f: &Flight<T>,
-        k: u8,
-    ) -> EdgeContact<'s, 'a, T> {
-        let e = &self.edges[k as usize];
-        EdgeContact {
-            start,
-            normal: &e.normal,
-            sigma: e.normal.dot(&f.pos) - &e.offset,
-            scale: f.pos.x.to_f64().abs() + f.pos.y.to_f64().abs() + e.offset.to_f64().abs(),
-            identity: f.excluded_edge == Some(k),
+            EventKind::Collision(m) => {
+                let disk = &self.disks[m as usize];
+                Candidate::Disk(DiskContact {
+                    start,
+                    d: f.pos.sub(&disk.centre),
+                    r2: disk.radius2().clone(),
+                    identity: f.excluded_disk == Some(m),
+                })
+            }
+            EventKind::Crossing(k) => {
+                let e = &self.edges[k as usize];
+                let (p, o) = (&f.pos, e.offset.to_f64().abs());
+                Candidate::Edge(EdgeContact {
+                    start,
+                    normal: &e.normal,
+                    sigma: e.normal.dot(p) - &e.offset,
+                    scale: p.x.to_f64().abs() + p.y.to_f64().abs() + o,
+                    identity: f.excluded_edge == Some(k),
+                })
+            }
         }
     }
 
     /// Moves along the flight to the event and carries it out; returns whether the frame was
     /// point-reflected (the field is then −E in the new cell's frame).
     pub fn apply_thermostat(&self, f: &mut Flight<T>, ev: &ThermoEvent<T>) -> Flipped {
-        let mut v = ev.at.vel.clone();
+        let v = ev.at.vel.clone();
         let newton = (-v.norm2()).add_f64(3.0).scale(0.5);
         let x = Vec2::new(
             f.pos.x.clone() + &ev.at.disp.x,
             f.pos.y.clone() + &ev.at.disp.y,
         );
-        let moved = ev.time.gt0();
-        let flipped = match ev.kind {
-            EventKind::Collision(m) => {
-                self.disks[m as usize].reflect(&mut v, &x);
-                f.pos = x;
-                f.excluded_disk = Some(m);
-                f.excluded_edge = None;
-                false
-            }
-            EventKind::Crossing(k) => {
-                let e = &self.edges[k as usize];
-                f.pos = e.map.carry(&x, &mut v);
-                f.excluded_disk = if moved {
-                    None
-                } else {
-                    f.excluded_disk.and_then(|m| e.disks_after[m as usize])
-                };
-                f.excluded_edge = Some(e.entered);
-                e.flips()
-            }
-        };
-        v.x *= &newton;
-        v.y *= &newton;
-        f.vel = v;
-        flipped
+        self.land(f, ev.kind, x, v, ev.time.gt0(), &newton)
     }
 }
