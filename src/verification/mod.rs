@@ -16,6 +16,7 @@ pub mod arc_tangent;
 pub mod audited;
 pub mod birkhoff;
 pub mod certify;
+pub mod cycles;
 pub mod divergence;
 pub mod error_model;
 pub mod jump_audit;

@@ -38,6 +38,7 @@ mod cell_engine;
 mod certified;
 mod checkpoints;
 mod choice;
+mod cycles;
 mod engine;
 mod field;
 mod fuzz_oracle;
