@@ -147,6 +147,10 @@ fn the_three_disk_escape_rate_at_r_over_a_6_is_the_known_value() {
         .expect("converged to 1e-12 by N = 8");
     let exact = row.escape_rate_exact.clone().unwrap();
     let off = (exact - &known).abs().to_f64();
+    eprintln!(
+        "N = {}: |gamma_N - known| = {off:.3e}, estimate {:.3e}",
+        row.max_length, row.escape_rate_error
+    );
     assert!(
         off <= row.escape_rate_error,
         "N = {}: |γ − known| = {off:e} > {:e}",
@@ -157,6 +161,10 @@ fn the_three_disk_escape_rate_at_r_over_a_6_is_the_known_value() {
     let off_last = (last.escape_rate_exact.clone().unwrap() - &known)
         .abs()
         .to_f64();
+    eprintln!(
+        "N = 8: |gamma_N - known| = {off_last:.3e}, estimate {:.3e}",
+        last.escape_rate_error
+    );
     assert!(
         off_last <= last.escape_rate_error.max(1e-30),
         "N = 8: {off_last:e}"

@@ -163,11 +163,10 @@ pub fn convergence_table(
         rows.push(Truncation {
             max_length: n,
             escape_rate: g,
-            escape_rate_error: prev.map_or(f64::NAN, |p| {
-                (gamma.clone() - p.escape_rate_exact.as_ref().expect("set"))
-                    .abs()
-                    .to_f64()
-            }),
+            escape_rate_error: match prev.and_then(|p| p.escape_rate_exact.as_ref()) {
+                Some(before) => (gamma.clone() - before).abs().to_f64(),
+                None => f64::NAN,
+            },
             lyapunov,
             lyapunov_error: change(lyapunov, |p| p.lyapunov),
             entropy: lyapunov - g,

@@ -62,7 +62,7 @@ pub fn full_space_prime_count(n: usize) -> usize {
         let n = seq.len();
         if k == n {
             let primitive =
-                (1..n).all(|r| n % r != 0 || (0..n).any(|i| seq[i] != seq[(i + r) % n]));
+                (1..n).all(|r| !n.is_multiple_of(r) || (0..n).any(|i| seq[i] != seq[(i + r) % n]));
             *found += usize::from(seq[n - 1] != seq[0] && primitive);
             return;
         }
