@@ -219,11 +219,20 @@ fn repeller_table_to_12() {
             .map(|c| c.cycle.radius)
             .fold(0.0, f64::max);
         eprintln!("largest certificate radius {worst:.3e}");
+        let known = Float::with_val(128, Float::parse(GAMMA_R6).unwrap());
         for (d, z) in report
             .spectral_determinant
             .iter()
             .zip(&report.zeta_function)
         {
+            if side == 6.0 {
+                let off = (d.escape_rate_exact.clone().unwrap() - &known).abs();
+                eprintln!(
+                    "N={:2} |gamma_N - known| = {:.3e}",
+                    d.max_length,
+                    off.to_f64()
+                );
+            }
             eprintln!(
                 "N={:2} det: gamma={:.18} err={:.2e} lambda={:.15} (err {:.1e}) h_KS={:.15} d={:.15} (err {:.1e}) | zeta: gamma={:.15} err={:.2e}",
                 d.max_length,
