@@ -219,6 +219,24 @@ fn repeller_table_to_12() {
             .map(|c| c.cycle.radius)
             .fold(0.0, f64::max);
         eprintln!("largest certificate radius {worst:.3e}");
+        let most = |f: fn(&lorentz_gas::verification::cycles::Cycle) -> f64| {
+            report
+                .cycles
+                .iter()
+                .map(|c| f(&c.cycle))
+                .fold(0.0, f64::max)
+        };
+        eprintln!(
+            "largest K {:.3e}, largest M {:.3e}, largest 2MK^2 eps {:.3e}, smallest clearance {:.3e}",
+            most(|c| c.inverse_bound),
+            most(|c| c.lipschitz),
+            most(|c| 2.0 * c.lipschitz * c.inverse_bound * c.inverse_bound * c.residual),
+            report
+                .cycles
+                .iter()
+                .map(|c| c.cycle.min_clearance)
+                .fold(f64::INFINITY, f64::min)
+        );
         let known = Float::with_val(128, Float::parse(GAMMA_R6).unwrap());
         for (d, z) in report
             .spectral_determinant
