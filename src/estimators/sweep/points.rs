@@ -167,12 +167,17 @@ pub(crate) fn recheck_one_point<P>(
     let Some(what) = again(k, p)? else {
         return Ok(());
     };
-    let file = dir.map(|d| path(d, k));
-    Err(Error::Failed(format!(
+    Err(recorded_differs(&what, dir.map(|d| path(d, k)).as_deref()))
+}
+
+/// The refusal of a point file (at `file`) that `what` — the point, or the part of it — computed
+/// again does not reproduce; the file is moved aside first ([`quarantine`]).
+pub(crate) fn recorded_differs(what: &str, file: Option<&Path>) -> Error {
+    Error::Failed(format!(
         "{what} computed again from its seed to check its point file, does not give the \
          recorded values: the file was edited (its digest recomputed); {}",
-        quarantined(file.as_deref().map(quarantine))
-    )))
+        quarantined(file.map(quarantine))
+    ))
 }
 
 /// Refuses the point file at `path` whose sweep `found` is not this one (`want`), naming the
