@@ -195,8 +195,7 @@ pub fn merge(
     out: Option<&Path>,
     options: &RunOptions,
 ) -> Result<Finished, Error> {
-    options.validate()?;
-    options.refuse_unused("merge", &[])?;
+    options.accept("merge", &[])?;
     let mut gathered = Gathered::default();
     for p in &parts {
         gathered.add(p)?;

@@ -384,8 +384,7 @@ fn analyse_widths(
 /// An invalid configuration or options, before any work.
 pub fn run(cfg: &EscapeConfig, options: &RunOptions) -> Result<EscapeReport, Error> {
     cfg.validate()?;
-    options.validate()?;
-    options.refuse_unused("escape", &[RunOption::Resume, RunOption::CheckpointEvery])?;
+    options.accept("escape", &[RunOption::Resume, RunOption::CheckpointEvery])?;
     let (threads, progress) = (options.threads, options.progress);
     let start = Instant::now();
     let w = cfg.gap()?;

@@ -332,8 +332,7 @@ pub fn run<S: Scene>(
     input: &TrajectoryInput,
     options: &RunOptions,
 ) -> Result<TrajectoryReport, Error> {
-    options.validate()?;
-    options.refuse_unused("trajectory", &[])?;
+    options.accept("trajectory", &[])?;
     let (record_events, progress) = (input.record_events, options.progress);
     let plan = plan(scene, input)?;
     let max_events = (plan.expected_events * EVENT_SLACK) as u64 + 10_000;
