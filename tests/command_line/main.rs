@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod bad_inputs;
 mod checkpoints;
 mod commands;
 mod honest_numbers;
