@@ -14,5 +14,6 @@ mod hostile;
 mod planned;
 mod records;
 mod report;
+mod report_field;
 mod result_keys;
 mod tables;
