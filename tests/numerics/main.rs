@@ -42,6 +42,7 @@ mod cycles;
 mod engine;
 mod field;
 mod fuzz_oracle;
+mod fuzz_regressions_arc;
 mod hard_cases;
 mod kernel_properties;
 mod long_flight;

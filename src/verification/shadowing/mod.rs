@@ -440,8 +440,7 @@ pub fn run<S: Scene>(
     request: &ShadowConfig,
     options: &RunOptions,
 ) -> Result<ShadowReport, Error> {
-    options.validate()?;
-    options.refuse_unused("shadow", &[])?;
+    options.accept("shadow", &[])?;
     request.validate()?;
     let (threads, progress) = (options.threads, options.progress);
     let (collisions, segments, bits) = (
