@@ -79,9 +79,9 @@ from ._transport import (
     theory,
 )
 from ._sweep import ShardResult, merge, sweep
+from ._bench import bench
 from ._verification import (
     audit,
-    bench,
     certify,
     constants,
     free_paths,

@@ -17,10 +17,27 @@ def _in_notebook() -> bool:
     return shell is not None and type(shell).__name__ == "ZMQInteractiveShell"
 
 
-class _Bar:
-    """A tqdm bar fed by the run's progress (nothing when tqdm is missing)."""
+class _Feed:
+    """What the compiled run calls on a bar: ``feed(n)`` for ``n`` more units done, and
+    ``feed.restart(total)`` when a second stage starts (the run a pilot planned): the bar starts
+    again over that stage's total, so that its rate and time estimate are the stage's own."""
 
-    def __init__(self, progress: Progress, total: Optional[float], unit: str):
+    def __init__(self, bar: Any):
+        self.bar = bar
+
+    def __call__(self, n: int) -> None:
+        self.bar.update(n)
+
+    def restart(self, total: int) -> None:
+        self.bar.reset(total=int(total))
+        self.bar.set_description("planned run")
+
+
+class _Bar:
+    """A tqdm bar fed by the run's progress (nothing when tqdm is missing); ``desc`` names its
+    first stage."""
+
+    def __init__(self, progress: Progress, total: Optional[float], unit: str, desc: str = ""):
         self.bar = None
         self.callback: Optional[Callable[[int], Any]] = None
         if progress is None:
@@ -45,8 +62,9 @@ class _Bar:
                 unit=unit,
                 unit_scale=True,
                 dynamic_ncols=True,
+                desc=desc or None,
             )
-            self.callback = self.bar.update
+            self.callback = _Feed(self.bar)
 
     def __enter__(self) -> Optional[Callable[[int], Any]]:
         return self.callback
@@ -62,8 +80,9 @@ def _run(
     total: Optional[float],
     unit: str,
     request: Dict[str, Any],
+    desc: str = "",
 ) -> Any:
     """The compiled run ``native(request, callback)``, its progress reported on a bar over
     ``total`` ``unit`` as :class:`_Bar` does."""
-    with _Bar(progress, total, unit) as cb:
+    with _Bar(progress, total, unit, desc) as cb:
         return native(request, cb)

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import concurrent.futures
 import json
-import os  # noqa: F401  (the "os.PathLike[str]" of PathLike, for typing.get_type_hints)
+import os
+import secrets
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 from . import _native
@@ -265,11 +266,12 @@ def _scatter(
         )
     out = request["out"]
     total, progress = bar
+    todo = _to_compute(native, out, points)
     texts: List[Optional[str]] = [None] * points
-    with _Bar(progress, total, "coll") as callback:
+    with _Bar(progress, total / points * len(todo), "coll") as callback:
         futures = {
             executor.submit(_part, native, {**request, "out": None, "shard": f"{i}/{points}"}): i
-            for i in range(points)
+            for i in todo
         }
         try:
             for f in concurrent.futures.as_completed(futures):
@@ -282,6 +284,19 @@ def _scatter(
             raise
     text = _native.merge_parts([t for t in texts if t is not None], out, request["threads"])
     return FieldSweepResult(text) if native == "field_sweep" else SweepResult(text)
+
+
+def _to_compute(native: str, out: Optional[str], points: int) -> List[int]:
+    """The points an executor computes: those without a file in ``out`` yet, and one of those
+    with a file, drawn at random (operating-system entropy), computed again as the check of the
+    files reused (``_native.merge_parts`` compares it to its file to the bit)."""
+    if out is None:
+        return list(range(points))
+    folder = os.path.join(out, "field-points" if native == "field_sweep" else "points")
+    have = [os.path.isfile(os.path.join(folder, f"point-{i:04d}.json")) for i in range(points)]
+    done = [i for i in range(points) if have[i]]
+    check = [secrets.choice(done)] if done else []
+    return [i for i in range(points) if not have[i]] + check
 
 
 @public

@@ -111,6 +111,9 @@ def diffusion(
     progress : bool, callable or None
         Show a tqdm bar (if tqdm is installed), or call ``progress(n)`` with collisions done.
         ``None`` (the default): a bar in a Jupyter notebook, none in scripts; ``False``: none.
+        With ``rel_err`` the bar counts the pilot, then starts again over the planned run's
+        collisions (its time estimate is the planned run's, at its measured speed); a callable
+        with a ``restart(total)`` method is told so.
     rel_err : float, optional
         Stop at this relative error of D (``1e-4`` is 0.01 %, from 1e-7 to 0.5): a pilot of
         ``collisions`` measures how the error falls with the collisions, then the run of the
@@ -165,11 +168,11 @@ def diffusion(
     """
     if plan_only and rel_err is None:
         raise ValueError("plan_only=True plans a run for a relative error: give rel_err too")
-    # A planned run's size is known only after its pilot: a bar without a total.
+    # A planned run's bar counts its pilot, then starts again over the planned collisions.
     default = 2e8 if rel_err is not None else 2e9
     size = _total(_count("collisions", default if collisions is None else collisions))
-    total = None if rel_err is not None and not plan_only else size
-    text = _run(_native.diffusion, progress, total, "coll", {
+    stage = "pilot" if rel_err is not None else ""
+    text = _run(_native.diffusion, progress, size, "coll", {
         **_where(scene, table, w, radius),
         "collisions": None if collisions is None else _count("collisions", collisions),
         **_counts(
@@ -190,7 +193,7 @@ def diffusion(
         "rel_err": None if rel_err is None else float(rel_err),
         "plan_only": bool(plan_only),
         "msd_grid": _numbers("msd_grid", msd_grid),
-    })
+    }, stage)
     if '"D_xy"' in text:
         return FieldResult(text)
     if '"identities"' in text:

@@ -146,7 +146,9 @@ pub fn merge(p: &Params<'_, '_>) -> PyResult<Work<String>> {
 }
 
 /// `merge_parts(parts, out, threads)`: the parts a process pool computed (each the JSON of a
-/// `sweep(shard=...)` without `out`, its points carried), merged in this process (into `out`).
+/// `sweep(shard=...)` without `out`, its points carried), merged in this process (into `out`),
+/// with the points already finished in `out` reused (`campaigns::merge::reused_in`: a point of
+/// the parts that is also there must be its file's text to the bit).
 #[pyfunction]
 #[pyo3(signature = (parts, out, threads))]
 pub fn merge_parts(
@@ -156,11 +158,26 @@ pub fn merge_parts(
     threads: Option<String>,
 ) -> PyResult<String> {
     let threads = crate::inputs::threads(threads.as_deref())?;
-    let mut read = Vec::with_capacity(parts.len());
+    let mut read = Vec::with_capacity(parts.len() + 1);
     for (k, text) in parts.iter().enumerate() {
         let part: SweepPart = serde_json::from_str(text)
             .map_err(|e| PyValueError::new_err(format!("part {k} is not a sweep part: {e}")))?;
         read.push(PartData::in_memory(part));
     }
-    merged(py, move || Ok(read), out, threads)
+    let dir = out.clone();
+    merged(
+        py,
+        move || {
+            if let Some(kept) = dir
+                .as_deref()
+                .map(|d| merge::reused_in(d, &read))
+                .transpose()?
+            {
+                read.extend(kept);
+            }
+            Ok(read)
+        },
+        out,
+        threads,
+    )
 }

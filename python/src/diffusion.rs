@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use lorentz_gas::engine::options::{AuditSpec, RunOptions};
 use lorentz_gas::estimators::diffusion::{self, DiffusionConfig, MsdGrid, Window};
 use lorentz_gas::estimators::transport;
-use lorentz_gas::scenes::spec::{Motion, Table};
+use lorentz_gas::scenes::spec::{Motion, SceneSpec, Table};
 
 use crate::analyses::options;
 use crate::inputs::count_u32;
@@ -68,12 +68,36 @@ pub fn read(p: &Params<'_, '_>) -> PyResult<Work<String>> {
                 checkpoint_every: every,
                 ..options(ctl, threads, engine)
             };
+            let trap = |r| transport::Transport::Trap(Box::new(r));
             match plan_only {
-                true => diffusion::plan::plan_only(&cfg, &opts)
-                    .map(|r| transport::Transport::Trap(Box::new(r))),
+                true => diffusion::plan::plan_only(&cfg, &opts).map(trap),
+                false if planned_on_the_trap(&cfg) => planned(&cfg, &opts, ctl).map(trap),
                 false => transport::run(&cfg, &opts),
             }
         })?;
         json(&r)
     }))
+}
+
+/// Whether `cfg` is a run for a relative error on the triangular lattice without a field: a
+/// pilot, then the run it plans ([`planned`]).
+fn planned_on_the_trap(cfg: &DiffusionConfig) -> bool {
+    cfg.rel_err.is_some()
+        && cfg.table.field().is_none()
+        && matches!(cfg.table.scene, SceneSpec::Triangular { .. })
+}
+
+/// The pilot, then the run it plans with the progress started again over the planned
+/// collisions (the command line's two bars), so that a bar's time estimate is the planned run's
+/// at its measured speed: `diffusion::plan::run` in two steps.
+fn planned(
+    cfg: &DiffusionConfig,
+    opts: &RunOptions,
+    ctl: &crate::watch::Ctl<'_>,
+) -> Result<diffusion::DiffusionReport, lorentz_gas::Error> {
+    let first = diffusion::plan::pilot(cfg, opts)?;
+    if let Some(full) = diffusion::plan::planned_config(cfg, &first.pilot) {
+        (ctl.restart)(full.collisions);
+    }
+    diffusion::plan::finish(cfg, first, opts)
 }

@@ -19,11 +19,18 @@ use crate::py_err;
 /// How often the calling thread looks at Python's signals and reports progress.
 const POLL: Duration = Duration::from_millis(100);
 
-/// What a computation receives: the stop flag to pass in its `RunOptions` and the progress sink.
+/// What a computation receives: the stop flag to pass in its `RunOptions`, the progress sink,
+/// and `restart(total)`, which starts the progress again over `total` units (a run's second
+/// stage: the run its pilot planned), so that a bar's rate and time estimate are that stage's.
 pub struct Ctl<'a> {
     pub stop: &'a StopFlag,
     pub progress: &'a (dyn Fn(u64) + Sync),
+    pub restart: &'a (dyn Fn(u64) + Sync),
 }
+
+/// A restart of the progress not yet passed to Python: the new total, and the units done when
+/// it was asked for (those before it belong to the stage that ended).
+type Restart = std::sync::Mutex<Option<(u64, u64)>>;
 
 /// Runs `f` on a worker thread with the GIL released, stopping it on Ctrl-C and calling
 /// `progress(n)` (a Python callable, with the GIL) with the units done since the last call.
@@ -37,15 +44,22 @@ pub fn compute<R: Send>(
     let sink = |n: u64| {
         done.fetch_add(n, Ordering::Relaxed);
     };
+    let restarted: Restart = std::sync::Mutex::new(None);
+    let restart = |total: u64| {
+        if let Ok(mut r) = restarted.lock() {
+            *r = Some((total, done.load(Ordering::Relaxed)));
+        }
+    };
     let callback: Option<Py<PyAny>> = progress.map(Bound::unbind);
     let (result, raised) = py.detach(|| {
         std::thread::scope(|s| {
             let (tx, rx) = mpsc::channel::<()>();
-            let (stop_ref, sink_ref) = (&stop, &sink);
+            let (stop_ref, sink_ref, restart_ref) = (&stop, &sink, &restart);
             let worker = s.spawn(move || {
                 let ctl = Ctl {
                     stop: stop_ref,
                     progress: sink_ref,
+                    restart: restart_ref,
                 };
                 let r = f(&ctl);
                 let _ = tx.send(());
@@ -63,15 +77,13 @@ pub fn compute<R: Send>(
                         stop.request();
                         raised = Some(e);
                     }
-                    let now = done.load(Ordering::Relaxed);
-                    if let (Some(cb), None) = (&callback, &raised)
-                        && now > reported
-                    {
-                        if let Err(e) = cb.call1(py, (now - reported,)) {
+                    let pending = restarted.lock().ok().and_then(|mut r| r.take());
+                    if let (Some(cb), None) = (&callback, &raised) {
+                        let fed = feed(py, cb, &done, &mut reported, pending);
+                        if let Err(e) = fed {
                             stop.request();
                             raised = Some(e);
                         }
-                        reported = now;
                     }
                 });
                 if finished {
@@ -88,6 +100,32 @@ pub fn compute<R: Send>(
         return Err(e);
     }
     result.map_err(py_err)
+}
+
+/// Passes the units done since the last call to the callback `cb` (a restart first closes the
+/// stage it ends, then calls `cb.restart(total)` where the callback has that method).
+fn feed(
+    py: Python<'_>,
+    cb: &Py<PyAny>,
+    done: &AtomicU64,
+    reported: &mut u64,
+    restart: Option<(u64, u64)>,
+) -> PyResult<()> {
+    if let Some((total, at)) = restart {
+        if at > *reported {
+            cb.call1(py, (at - *reported,))?;
+        }
+        *reported = at;
+        if cb.bind(py).hasattr("restart")? {
+            cb.call_method1(py, "restart", (total,))?;
+        }
+    }
+    let now = done.load(Ordering::Relaxed);
+    if now > *reported {
+        cb.call1(py, (now - *reported,))?;
+        *reported = now;
+    }
+    Ok(())
 }
 
 /// A result as the command line's JSON (the same serializer, so the same digits).

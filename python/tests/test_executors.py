@@ -106,3 +106,41 @@ def test_bad_input_is_refused_with_value_error(tmp_path):
         lg.sweep(**FIELD, shard="0/4", out=tmp_path / "p")
     with pytest.raises(ValueError, match="sequence of directories"):
         lg.merge(tmp_path)
+
+
+class _Counting(concurrent.futures.ThreadPoolExecutor):
+    """A thread pool that records the part of each call submitted to it."""
+
+    def __init__(self):
+        super().__init__(max_workers=1)
+        self.parts = []
+
+    def submit(self, fn, *args, **kwargs):
+        self.parts.append(args[1]["shard"])
+        return super().submit(fn, *args, **kwargs)
+
+
+def test_an_executor_with_out_computes_only_the_missing_points_and_checks_one_kept(
+        one_process, tmp_path):
+    out = tmp_path / "s"
+    with _Counting() as pool:
+        lg.sweep(**OVER_W, out=out, executor=pool)
+    assert sorted(pool.parts) == ["0/3", "1/3", "2/3"]
+    # Point 1 lost: it is computed, and one of the two kept (drawn at random) again as the check.
+    (out / "points" / "point-0001.json").unlink()
+    with _Counting() as pool:
+        again = lg.sweep(**OVER_W, out=out, executor=pool)
+    assert pool.parts[0] == "1/3" and len(pool.parts) == 2 and pool.parts[1] in ("0/3", "2/3")
+    assert science(again) == one_process["over_w"]
+    assert again["resumed_points"] == 1
+    # Only point 0 kept, and edited: it is the one computed again, refused and moved aside.
+    for i in (1, 2):
+        (out / "points" / f"point-000{i}.json").unlink()
+    kept = out / "points" / "point-0000.json"
+    text = kept.read_text()
+    d = json.loads(text)["runs"][0]["D"]
+    kept.write_text(text.replace(repr(d), repr(d * 1.05), 1))
+    with _Counting() as pool:
+        with pytest.raises(Exception, match="point 0 computed again from its seed"):
+            lg.sweep(**OVER_W, out=out, executor=pool)
+    assert not kept.exists() and (out / "points" / "point-0000.json.refused").is_file()

@@ -260,6 +260,32 @@ def test_a_planned_run_has_the_command_lines_bits_and_plan(cli_json):
         lg.diffusion(w="0.2", rel_err=0.0)
 
 
+class _Stages:
+    """A progress callable with ``restart``: what it was told, in order."""
+
+    def __init__(self):
+        self.calls = []
+
+    def __call__(self, n):
+        self.calls.append(("done", n))
+
+    def restart(self, total):
+        self.calls.append(("restart", total))
+
+
+def test_a_planned_runs_progress_starts_again_over_the_planned_collisions():
+    stages = _Stages()
+    r = lg.diffusion(w="0.2", rel_err=2e-3, collisions=4e6, batches=8, seed=3, progress=stages)
+    restarts = [k for k, (what, _) in enumerate(stages.calls) if what == "restart"]
+    assert len(restarts) == 1
+    k = restarts[0]
+    # The pilot's collisions, then the planned run's over the total announced (the pilot's
+    # trajectories it continues are counted there, as the command line's second bar counts them).
+    assert sum(n for _, n in stages.calls[:k]) == 4e6
+    assert stages.calls[k][1] == r.collisions == r.pilot["planned_collisions"]
+    assert sum(n for _, n in stages.calls[k + 1:]) == r.collisions
+
+
 def test_the_plan_alone_is_the_command_lines_pilot_with_its_plan(cli_json):
     py = lg.diffusion(w="0.2", rel_err=2e-3, plan_only=True, collisions=4e6, batches=8, seed=3)
     cl = cli_json("diffusion", "--w", "0.2", "--rel-err", "2e-3", "--plan-only", "--collisions",

@@ -13,6 +13,7 @@ use crate::Error;
 use crate::engine::options::RunOptions;
 use crate::engine::resume::{difference, unseal};
 use crate::estimators::sweep::SweepConfig;
+use crate::estimators::sweep::points::recorded_differs;
 use crate::estimators::sweep::stored::{self, Checker, FOLDERS, Finished, MANIFESTS, SealedPoint};
 
 /// What to merge, and where.
@@ -152,6 +153,36 @@ pub fn run(cfg: &MergeConfig, options: &RunOptions) -> Result<Finished, Error> {
     merge(parts, Some(&cfg.out), options)
 }
 
+/// The points already finished in `out` (where a sweep or a merge wrote them) as one part,
+/// for a sweep whose other points were computed elsewhere (`parts`, a process pool's): a point
+/// also in `parts` — one the caller drew at random and computed again — must be its file's text
+/// to the bit, or the file is moved aside and the sweep refused; the others are taken as they
+/// are, and the merge checks each (sealed, of this sweep, on its grid). `None` where `out`
+/// holds no points.
+///
+/// # Errors
+/// A point computed again that differs from its file, or a part that cannot be read.
+pub fn reused_in(out: &Path, parts: &[PartData]) -> Result<Option<PartData>, Error> {
+    if !FOLDERS.iter().any(|f| out.join(f).is_dir()) {
+        return Ok(None);
+    }
+    let mut part = read_part(out)?;
+    part.manifest = None;
+    let fresh: BTreeMap<u32, &SealedPoint> = (parts.iter())
+        .flat_map(|p| p.points.iter().map(|(_, s)| (s.index, s)))
+        .collect();
+    let mut kept = Vec::with_capacity(part.points.len());
+    for (path, p) in std::mem::take(&mut part.points) {
+        match fresh.get(&p.index) {
+            None => kept.push((path, p)),
+            Some(f) if f.text == p.text => {}
+            Some(_) => return Err(recorded_differs(&format!("point {}", p.index), Some(&path))),
+        }
+    }
+    part.points = kept;
+    Ok(Some(part))
+}
+
 /// Combines `parts` of one sweep (of either kind): every point checked (sealed, of this sweep,
 /// on its grid), present once, none missing; with `out`, the points are written to its points'
 /// folder; the whole is analysed as the sweep in one piece analyses it.
@@ -164,8 +195,7 @@ pub fn merge(
     out: Option<&Path>,
     options: &RunOptions,
 ) -> Result<Finished, Error> {
-    options.validate()?;
-    options.refuse_unused("merge", &[])?;
+    options.accept("merge", &[])?;
     let mut gathered = Gathered::default();
     for p in &parts {
         gathered.add(p)?;

@@ -139,8 +139,7 @@ impl ShardConfig {
 /// An invalid configuration or options, a directory of another sweep, or an I/O error.
 pub fn run(cfg: &ShardConfig, options: &RunOptions) -> Result<SweepPart, Error> {
     cfg.validate()?;
-    options.validate()?;
-    options.refuse_unused(
+    options.accept(
         "sweep part",
         &[
             RunOption::Engine,

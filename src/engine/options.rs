@@ -242,6 +242,16 @@ impl RunOptions<'_> {
         }
     }
 
+    /// The options checked ([`Self::validate`]) and those `analysis` does not use (`uses`)
+    /// refused ([`Self::refuse_unused`]): what every analysis asks of its options first.
+    ///
+    /// # Errors
+    /// As those two.
+    pub fn accept(&self, analysis: &'static str, uses: &[RunOption]) -> Result<(), Error> {
+        self.validate()?;
+        self.refuse_unused(analysis, uses)
+    }
+
     /// Refuses, with [`Error::UnusedOption`], the first option set away from its default that
     /// `analysis` does not use (`uses`): an option that would be ignored is an error, never a
     /// silent no-op.

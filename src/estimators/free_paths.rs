@@ -258,8 +258,7 @@ pub struct FreePathReport {
 /// stopped on request.
 pub fn run(cfg: &FreePathConfig, options: &RunOptions) -> Result<FreePathReport, Error> {
     cfg.validate()?;
-    options.validate()?;
-    options.refuse_unused("free_paths", &[])?;
+    options.accept("free_paths", &[])?;
     match cfg.scene.resolve()? {
         SceneChoice::Triangular(s) => run_on(&*s, cfg, options),
         SceneChoice::Square(s) => run_on(&s, cfg, options),

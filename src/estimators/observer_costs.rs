@@ -129,8 +129,7 @@ pub struct ObserverCosts {
 /// An invalid configuration or options; a set whose crossings differ from the bare engine's
 /// (the observers changed the dynamics: a bug).
 pub fn run(cfg: &ObserverCostsConfig, options: &RunOptions) -> Result<ObserverCosts, Error> {
-    options.validate()?;
-    options.refuse_unused("observer costs", &[RunOption::Engine])?;
+    options.accept("observer costs", &[RunOption::Engine])?;
     cfg.validate()?;
     let threads = options.threads;
     let engine = options.engine.resolve(true)?;

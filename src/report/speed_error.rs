@@ -154,8 +154,7 @@ pub struct SpeedErrorConfig {
 /// # Errors
 /// A gap outside (0, w∞), invalid options, or an I/O error.
 pub fn run(cfg: &SpeedErrorConfig, options: &RunOptions) -> Result<(SpeedReport, String), Error> {
-    options.validate()?;
-    options.refuse_unused("speed against error", &[])?;
+    options.accept("speed against error", &[])?;
     let table = &cfg.table;
     let w = crate::estimators::diffusive_gap(table, "speed against error")?;
     let exact = table.gap_text();

@@ -181,8 +181,7 @@ pub fn run<S: Scene>(
     cfg: &CertifyConfig,
     options: &RunOptions,
 ) -> Result<Certificate, Error> {
-    options.validate()?;
-    options.refuse_unused("certify", &[])?;
+    options.accept("certify", &[])?;
     let start = scene.sample(&mut crate::scenes::sampling::stream(cfg.seed, 0));
     certify_with_meta(
         scene,

@@ -125,8 +125,7 @@ pub fn run<S: Scene>(
     cfg: &DivergenceConfig,
     options: &RunOptions,
 ) -> Result<Vec<Divergence>, Error> {
-    options.validate()?;
-    options.refuse_unused("divergence", &[])?;
+    options.accept("divergence", &[])?;
     cfg.validate()?;
     let (bits, ref_bits, n, starts, seed) = (
         &cfg.bits[..],

@@ -131,8 +131,7 @@ pub fn run<S: Scene>(
     cfg: &LyapunovConfig,
     options: &RunOptions,
 ) -> Result<LyapunovReport, Error> {
-    options.validate()?;
-    options.refuse_unused("lyapunov", &[])?;
+    options.accept("lyapunov", &[])?;
     cfg.refuse_field()?;
     let LyapunovConfig {
         collisions_per_batch,

@@ -9,6 +9,8 @@
 //! * [`shadow_audit`]: the MPFR shadow audit of a production run's own trajectories;
 //!   [`arc_audit`]: its events in a magnetic field, judged by the kernel's running error bound.
 //! * [`lyapunov`], [`divergence`], [`certify`]: chaos, certified segments.
+//! * [`cycles`]: certified periodic orbits of open tables (the three-disk repeller) and their
+//!   cycle expansions (escape rate, Lyapunov exponent, KS entropy).
 //! * `oracle` (feature `oracle`): the fuzzing oracle (also run by `cargo test`).
 
 pub mod arc_audit;
@@ -16,6 +18,7 @@ pub mod arc_tangent;
 pub mod audited;
 pub mod birkhoff;
 pub mod certify;
+pub mod cycles;
 pub mod divergence;
 pub mod error_model;
 pub mod jump_audit;

@@ -292,8 +292,7 @@ pub fn run<S: Scene>(
     cfg: &AuditConfig,
     options: &RunOptions,
 ) -> Result<AuditReport, Error> {
-    options.validate()?;
-    options.refuse_unused("audit", &[])?;
+    options.accept("audit", &[])?;
     let (threads, progress) = (options.threads, options.progress);
     if cfg.scene != scene.label() {
         return Err(Error::Failed(format!(

@@ -71,6 +71,9 @@ fn forge_points(points: &Path) -> Vec<(PathBuf, String)> {
     let mut originals = Vec::new();
     for entry in std::fs::read_dir(points).unwrap() {
         let path = entry.unwrap().path();
+        if path.extension().is_none_or(|x| x != "json") {
+            continue; // a point's kept batches
+        }
         let text = std::fs::read_to_string(&path).unwrap();
         let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
         v.as_object_mut().unwrap().remove("digest");
@@ -243,15 +246,29 @@ fn merge_refuses_missing_duplicate_foreign_and_edited_parts() {
     // A sweep resumed in a directory with an edited point refuses it too.
     refuse_resume(&b, &p, &run_d);
     // Forged: every point's D raised by 5 % and its digest recomputed. The seals hold, but the
-    // resumed sweep computes one run of one point again (drawn at random) and stops.
-    let originals = forge_points(&b.join("points"));
-    let e = sweep::run(&config(1), &options(Engine::Auto, 2, &b))
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("computed again from its seed"), "{e}");
-    for (path, text) in originals {
-        std::fs::write(path, text).unwrap();
+    // resumed sweep rebuilds one point (drawn at random) from its kept batches, one of them
+    // computed again at its marks, and stops; without its batches, one of its runs is computed
+    // again whole.
+    let resumed_forged = |want: &str| {
+        let originals = forge_points(&b.join("points"));
+        let e = sweep::run(&config(1), &options(Engine::Auto, 2, &b))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("computed again from its seed") && e.contains(want),
+            "{e}"
+        );
+        for (path, text) in originals {
+            std::fs::write(path, text).unwrap();
+        }
+    };
+    resumed_forged("rebuilt from its batches");
+    for i in [1, 3] {
+        let kept = lorentz_gas::estimators::sweep::points::batches_path(&b, i);
+        assert!(kept.is_file(), "{} kept", kept.display());
+        std::fs::remove_file(kept).unwrap();
     }
+    resumed_forged(", run ");
     assert!(
         merge_into(&[a, b], &out).is_ok(),
         "the restored parts merge"

@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod bad_inputs;
 mod checkpoints;
 mod commands;
 mod honest_numbers;
@@ -13,5 +14,6 @@ mod hostile;
 mod planned;
 mod records;
 mod report;
+mod report_field;
 mod result_keys;
 mod tables;

@@ -197,6 +197,42 @@ pub fn batch_d(b: &BatchResult, tau: f64, window: &Window, check: &Window) -> (f
     (d_of_batch(b, tau, window), d_of_batch(b, tau, check))
 }
 
+/// D over the batches `done`, in the fit window and in the check window, and their paired
+/// difference.
+pub(crate) struct WindowDs {
+    /// Each batch's D in the fit window.
+    pub ds: Vec<f64>,
+    /// Their mean and its standard error.
+    pub d: (f64, f64),
+    /// Each batch's D in the check window.
+    pub dc: Vec<f64>,
+    /// Their mean and its standard error.
+    pub check: (f64, f64),
+    /// D − D_check, paired over the batches.
+    pub diff: crate::statistics::comparison::Comparison,
+}
+
+/// [`WindowDs`] of the batches `done` with the time unit `tau`.
+///
+/// # Errors
+/// Fewer than two batches.
+pub(crate) fn window_ds(
+    done: &[BatchResult],
+    tau: f64,
+    window: &Window,
+    check: &Window,
+) -> Result<WindowDs, Error> {
+    let (ds, dc): (Vec<f64>, Vec<f64>) =
+        done.iter().map(|b| batch_d(b, tau, window, check)).unzip();
+    Ok(WindowDs {
+        d: mean_se(&ds),
+        check: mean_se(&dc),
+        diff: crate::statistics::comparison::paired(&ds, &dc)?,
+        ds,
+        dc,
+    })
+}
+
 /// Runs only the batches `indices` of `cfg` (their own streams and collision shares, so each gives
 /// the bits it gave in the full run), on `engine`, replaying a fraction of their events in MPFR
 /// when `audit` is given. For re-checking a recorded result batch by batch.
@@ -263,8 +299,7 @@ pub fn batch_start(cfg: &DiffusionConfig, index: u32) -> Result<LatticeState<f64
 /// assert!((r.D - 0.17).abs() < 8.0 * r.D_err + 0.02);
 /// ```
 pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<DiffusionReport, Error> {
-    options.validate()?;
-    options.refuse_unused("diffusion", &RunOption::ALL)?;
+    options.accept("diffusion", &RunOption::ALL)?;
     cfg.validate()?;
     if cfg.rel_err.is_some() {
         return plan::run(cfg, options);
@@ -411,8 +446,7 @@ pub fn run_many(
     cfgs: &[DiffusionConfig],
     options: &RunOptions,
 ) -> Result<Vec<DiffusionReport>, Error> {
-    options.validate()?;
-    options.refuse_unused(
+    options.accept(
         "diffusion (packed runs)",
         &[
             RunOption::Engine,

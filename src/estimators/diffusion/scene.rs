@@ -175,8 +175,7 @@ pub fn run_on<S: Scene>(
     cfg: &Sampling,
     options: &RunOptions,
 ) -> Result<SceneDiffusionReport, Error> {
-    options.validate()?;
-    options.refuse_unused("diffusion", &RunOption::ALL)?;
+    options.accept("diffusion", &RunOption::ALL)?;
     cfg.validate(scene)?;
     Work::new(
         "diffusion",
@@ -374,13 +373,13 @@ fn summarise<S: Scene>(
     meta: RunMeta,
 ) -> Result<SceneDiffusionReport, Error> {
     let tau = time_unit(scene);
-    let (ds, dc): (Vec<f64>, Vec<f64>) = done
-        .iter()
-        .map(|b| super::batch_d(b, tau, &cfg.window, &cfg.check_window))
-        .unzip();
-    let (d, d_err) = mean_se(&ds);
-    let (dcv, dce) = mean_se(&dc);
-    let diff = crate::statistics::comparison::paired(&ds, &dc)?;
+    let super::WindowDs {
+        ds,
+        dc,
+        d: (d, d_err),
+        check: (dcv, dce),
+        diff,
+    } = super::window_ds(done, tau, &cfg.window, &cfg.check_window)?;
     let (msd_times, over) = msd_over_4t(done, tau);
     let times = cfg.watch(scene).curve.map(|g| g.times());
     let (msd_curve, green_kubo) = super::curve::summarise(times, done, tau, &cfg.window, &ds)?;

@@ -60,13 +60,13 @@ pub(super) fn summarise(
     resumed: u32,
     run_now: u64,
 ) -> Result<DiffusionReport, Error> {
-    let (ds, dc): (Vec<f64>, Vec<f64>) = done
-        .iter()
-        .map(|b| super::batch_d(b, tau, &cfg.window, &cfg.check_window))
-        .unzip();
-    let (d, d_err) = mean_se(&ds);
-    let (dcv, dce) = mean_se(&dc);
-    let window_diff = crate::statistics::comparison::paired(&ds, &dc)?;
+    let super::WindowDs {
+        ds,
+        dc,
+        d: (d, d_err),
+        check: (dcv, dce),
+        diff: window_diff,
+    } = super::window_ds(done, tau, &cfg.window, &cfg.check_window)?;
     let [(mfp, mfp_e), (th, th_e), (cph, cph_e)] = counter_means(done);
     let (msd_times, msd_over_4t) = msd_over_4t(done, tau);
     let grid = super::execution::curve_grid(

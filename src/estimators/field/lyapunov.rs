@@ -60,8 +60,7 @@ pub fn run<S: Scene>(
     cfg: &LyapunovConfig,
     opts: &RunOptions,
 ) -> Result<FieldLyapunovReport, Error> {
-    opts.validate()?;
-    opts.refuse_unused("lyapunov in a field", &[RunOption::Engine])?;
+    opts.accept("lyapunov in a field", &[RunOption::Engine])?;
     cfg.flights.in_field()?;
     let field = cfg.field.as_deref().ok_or(Error::missing(
         "field",

@@ -206,8 +206,7 @@ pub struct FieldReport {
 /// engine other than the scalar one it runs on), or an interruption.
 pub fn run(cfg: &DiffusionConfig, opts: &RunOptions) -> Result<FieldReport, Error> {
     cfg.validate()?;
-    opts.validate()?;
-    opts.refuse_unused("diffusion in a field", &[RunOption::Engine])?;
+    opts.accept("diffusion in a field", &[RunOption::Engine])?;
     let scene = cfg.table.scene.resolve()?;
     crate::with_scene!(&scene, |s| run_on(s, cfg, opts))
 }

@@ -191,8 +191,7 @@ impl AtPrecision for Inject<'_> {
 /// An invalid configuration or options, before any work.
 pub fn run(cfg: &BackscatterConfig, options: &RunOptions) -> Result<BackscatterReport, Error> {
     cfg.validate()?;
-    options.validate()?;
-    options.refuse_unused("backscatter", &[])?;
+    options.accept("backscatter", &[])?;
     // Each injected particle stays π/(3w) collisions in its trap on average.
     let w = cfg.gap()?;
     let collisions = cfg.particles as f64 * Geometry::new(w)?.collisions_per_hop();

@@ -213,8 +213,7 @@ impl SectionResult {
 /// an array of disks, work beyond the limit, or an interruption.
 pub fn run(cfg: &SectionConfig, opts: &RunOptions) -> Result<SectionResult, Error> {
     cfg.validate()?;
-    opts.validate()?;
-    opts.refuse_unused("section", &[])?;
+    opts.accept("section", &[])?;
     let scene = cfg.table.scene.resolve()?;
     crate::with_scene!(&scene, |s| run_on(s, cfg, opts))
 }

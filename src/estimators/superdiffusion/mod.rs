@@ -374,8 +374,7 @@ pub fn run(
     options: &RunOptions,
 ) -> Result<SuperdiffusionReport, Error> {
     let gas = cfg.lattice()?;
-    options.validate()?;
-    options.refuse_unused(
+    options.accept(
         "superdiffusion",
         &[RunOption::Resume, RunOption::CheckpointEvery],
     )?;

@@ -343,8 +343,7 @@ impl SweepConfig {
 /// sweep's points, or an I/O error.
 pub fn run(cfg: &SweepConfig, options: &RunOptions) -> Result<SweepReport, Error> {
     cfg.validate()?;
-    options.validate()?;
-    options.refuse_unused(
+    options.accept(
         "sweep",
         &[
             RunOption::Engine,

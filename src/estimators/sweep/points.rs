@@ -9,11 +9,23 @@ use crate::Error;
 use crate::engine::checkpoint::{quarantine, quarantined};
 use crate::engine::options::RunOptions;
 use crate::engine::resume::{difference, seal, unseal};
-use crate::estimators::diffusion::{DiffusionConfig, run_many};
+use crate::estimators::diffusion::{DiffusionConfig, DiffusionReport, run_many};
 
 /// The file of point `i` in the sweep directory `dir`.
 pub fn point_path(dir: &Path, i: usize) -> PathBuf {
     dir.join("points").join(format!("point-{i:04}.json"))
+}
+
+/// The journal of point `i`'s batches in `dir` while it runs (`point-iiii.partial`).
+fn journal_path(dir: &Path, i: usize) -> PathBuf {
+    point_path(dir, i).with_extension("partial")
+}
+
+/// Where point `i`'s finished batches stay beside its file (`point-iiii.batches`: its journal,
+/// renamed when the point is written), so that a reused point is checked from them at the cost
+/// of one batch's marks, not of a run ([`recheck_one_run`]).
+pub fn batches_path(dir: &Path, i: usize) -> PathBuf {
+    point_path(dir, i).with_extension("batches")
 }
 
 /// Runs (or reuses) the points i of `cfg` with `owns(i)`, in index order; with a directory
@@ -60,8 +72,11 @@ pub(crate) fn run_points(
     Ok((points, resumed))
 }
 
-/// Computes one run of one reused point again, both drawn at random (operating-system entropy),
-/// and compares its D and error with the point file's to the bit ([`recheck_one_point`]).
+/// Checks one reused point, drawn at random (operating-system entropy), against its runs'
+/// D and error to the bit ([`recheck_one_point`]): rebuilt from its kept batches
+/// ([`batches_path`]), one of them computed again at its marks — seconds, whatever the
+/// point's length — or, where the batches are not kept (a point written before they were),
+/// one of its runs computed again whole.
 fn recheck_one_run(
     cfg: &SweepConfig,
     options: &RunOptions,
@@ -74,17 +89,53 @@ fn recheck_one_run(
         progress: &|_| {},
         ..options.clone()
     };
+    let same = |f: &DiffusionReport, x: &RunValue| {
+        f.D.to_bits() == x.D.to_bits() && f.D_err.to_bits() == x.D_err.to_bits()
+    };
     recheck_one_point(found, (dir, point_path), |_, p| {
+        let i = p.index as usize;
+        if let Some(kept) = dir.map(|d| batches_path(d, i)).filter(|b| is_file(b)) {
+            let cfgs = point_runs(cfg, i, p.w);
+            let opts = RunOptions {
+                resume: Some(kept),
+                ..opts.clone()
+            };
+            let rebuilt = run_many(&cfgs, &opts)?;
+            let agree = rebuilt.len() == p.runs.len()
+                && rebuilt.iter().zip(&p.runs).all(|(f, x)| same(f, x));
+            return Ok((!agree).then(|| {
+                format!(
+                    "point {i} (w = {}), rebuilt from its batches with one of them",
+                    p.w
+                )
+            }));
+        }
         let r = rand::random_range(0..cfg.runs());
         let fresh = run_many(&[cfg.run_config(p.index, p.w, r)], &opts)?;
-        let same = match (fresh.first(), p.runs.get(r as usize)) {
-            (Some(f), Some(x)) => {
-                f.D.to_bits() == x.D.to_bits() && f.D_err.to_bits() == x.D_err.to_bits()
-            }
-            _ => false,
-        };
-        Ok((!same).then(|| format!("point {} (w = {}), run {r},", p.index, p.w)))
+        let agree =
+            matches!((fresh.first(), p.runs.get(r as usize)), (Some(f), Some(x)) if same(f, x));
+        Ok((!agree).then(|| format!("point {i} (w = {}), run {r},", p.w)))
     })
+}
+
+/// Whether `path` is a regular file (not a link, not missing).
+fn is_file(path: &Path) -> bool {
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_file())
+}
+
+/// The runs of point `i` at the gap `w`.
+fn point_runs(cfg: &SweepConfig, i: usize, w: f64) -> Vec<DiffusionConfig> {
+    (0..cfg.runs())
+        .map(|r| cfg.run_config(i as u32, w, r))
+        .collect()
+}
+
+/// Keeps a finished point's journal as its batches: linked to `kept` (which never replaces a
+/// file there), then removed from its running name. Where it cannot be kept it is removed, and
+/// the point is checked by a run when reused.
+fn keep_batches(journal: &Path, kept: &Path) {
+    let _ = std::fs::hard_link(journal, kept);
+    let _ = std::fs::remove_file(journal);
 }
 
 /// Where a sweep keeps point i in its directory ([`point_path`], or a field sweep's).
@@ -116,12 +167,17 @@ pub(crate) fn recheck_one_point<P>(
     let Some(what) = again(k, p)? else {
         return Ok(());
     };
-    let file = dir.map(|d| path(d, k));
-    Err(Error::Failed(format!(
+    Err(recorded_differs(&what, dir.map(|d| path(d, k)).as_deref()))
+}
+
+/// The refusal of a point file (at `file`) that `what` — the point, or the part of it — computed
+/// again does not reproduce; the file is moved aside first ([`quarantine`]).
+pub(crate) fn recorded_differs(what: &str, file: Option<&Path>) -> Error {
+    Error::Failed(format!(
         "{what} computed again from its seed to check its point file, does not give the \
          recorded values: the file was edited (its digest recomputed); {}",
-        quarantined(file.as_deref().map(quarantine))
-    )))
+        quarantined(file.map(quarantine))
+    ))
 }
 
 /// Refuses the point file at `path` whose sweep `found` is not this one (`want`), naming the
@@ -200,13 +256,11 @@ fn run_point(
     i: usize,
     w: f64,
 ) -> Result<SweepPoint, Error> {
-    let cfgs: Vec<DiffusionConfig> = (0..cfg.runs())
-        .map(|r| cfg.run_config(i as u32, w, r))
-        .collect();
+    let cfgs = point_runs(cfg, i, w);
     // Finished batches of this point and its trajectories in flight are journalled, so that an
     // interruption loses at most one checkpoint interval.
     let path = dir.map(|d| point_path(d, i));
-    let journal = path.as_ref().map(|p| p.with_extension("partial"));
+    let journal = dir.map(|d| journal_path(d, i));
     let opts = RunOptions {
         resume: journal.clone(),
         audit: None,
@@ -227,7 +281,7 @@ fn run_point(
     };
     if let (Some(path), Some(journal)) = (path, journal) {
         crate::files::write(&path, seal(&p)?.as_bytes())?;
-        let _ = std::fs::remove_file(&journal);
+        keep_batches(&journal, &path.with_extension("batches"));
     }
     Ok(p)
 }

@@ -23,8 +23,7 @@ pub(super) struct Checked {
 
 /// Refuses what [`run`](super::run) cannot time.
 pub(super) fn check(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Checked, Error> {
-    options.validate()?;
-    options.refuse_unused("throughput", &[RunOption::Engine])?;
+    options.accept("throughput", &[RunOption::Engine])?;
     let w = gap(&cfg.table)?;
     if cfg.collisions_per_thread == 0 {
         return Err(Error::Zero {

@@ -86,8 +86,7 @@ pub struct Costs {
 /// # Errors
 /// Repetitions out of range, an interruption, or a failed timing run.
 pub fn run(cfg: &CostsConfig, options: &RunOptions) -> Result<Costs, Error> {
-    options.validate()?;
-    options.refuse_unused("the bench of costs", &[])?;
+    options.accept("the bench of costs", &[])?;
     let mut rows = Vec::new();
     let mut row = |cost: &str, measured: f64, floor: f64| {
         rows.push(CostRow {

@@ -214,8 +214,7 @@ pub struct LongFlightBench {
 /// # Errors
 /// An invalid configuration, other options, or a run stopped on request.
 pub fn run(cfg: &LongFlightBenchConfig, options: &RunOptions) -> Result<LongFlightBench, Error> {
-    options.validate()?;
-    options.refuse_unused("the bench of long flights", &[])?;
+    options.accept("the bench of long flights", &[])?;
     if options.threads != 1 {
         return Err(Error::parameter(
             "threads",

@@ -402,8 +402,7 @@ pub fn run_with(
     reader: Option<command_line::ReadCommandLine>,
 ) -> Result<PublicationReport, Error> {
     cfg.validate()?;
-    options.validate()?;
-    options.refuse_unused("report", &[])?;
+    options.accept("report", &[])?;
     cfg.check_outputs()?;
     let start = std::time::Instant::now();
     let (file, audited) = Audited::read(cfg)?;

@@ -46,17 +46,7 @@ pub(super) fn clearance(
             if d == y[k].disk || d == y[k + 1].disk {
                 continue;
             }
-            let c = table.centre(d);
-            let rel = c.sub(&x0);
-            let mut u = rel.dot(&v);
-            if u.is_sign_negative() {
-                u = Float::with_val(table.bits, 0);
-            } else if u > tau[k] {
-                u = tau[k].clone();
-            }
-            let q = x0.along(&u, &v);
-            let gap = c.sub(&q).norm2().sqrt() - &table.r;
-            let g = gap.to_f64();
+            let g = segment_gap(table, &x0, &v, &tau[k], &table.centre(d)).to_f64();
             if g <= 0.0 {
                 return (g.min(min), Some((k, d, g)));
             }
@@ -64,4 +54,22 @@ pub(super) fn clearance(
         }
     }
     (min, None)
+}
+
+/// Distance − r of the flight x0 + u v, 0 ≤ u ≤ `tau` (|v| = 1), from the disk centred at `c`.
+pub(crate) fn segment_gap(
+    table: &Table,
+    x0: &Vec2<Float>,
+    v: &Vec2<Float>,
+    tau: &Float,
+    c: &Vec2<Float>,
+) -> Float {
+    let mut u = c.sub(x0).dot(v);
+    if u.is_sign_negative() {
+        u = Float::with_val(table.bits, 0);
+    } else if u > *tau {
+        u = tau.clone();
+    }
+    let q = x0.along(&u, v);
+    c.sub(&q).norm2().sqrt() - &table.r
 }

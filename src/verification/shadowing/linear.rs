@@ -3,19 +3,19 @@
 use super::*;
 
 /// `d` reduced to (−π, π] (differences of polar angles).
-pub(super) fn reduce_angle(d: Float) -> Float {
+pub(crate) fn reduce_angle(d: Float) -> Float {
     let b = d.prec();
     let two_pi = Float::with_val(b, rug::float::Constant::Pi) * 2u32;
     let k = (d.clone() / &two_pi).round();
     d - &(k * &two_pi)
 }
 
-pub(super) fn m_mul(a: &M2, b: &M2) -> M2 {
+pub(crate) fn m_mul(a: &M2, b: &M2) -> M2 {
     let e = |i: usize, j: usize| a[2 * i].clone() * &b[j] + &(a[2 * i + 1].clone() * &b[2 + j]);
     [e(0, 0), e(0, 1), e(1, 0), e(1, 1)]
 }
 
-pub(super) fn m_t(a: &M2) -> M2 {
+pub(crate) fn m_t(a: &M2) -> M2 {
     [a[0].clone(), a[2].clone(), a[1].clone(), a[3].clone()]
 }
 
@@ -34,9 +34,9 @@ pub(super) fn m_inv_spd(a: &M2) -> Option<M2> {
     ])
 }
 
-pub(super) type V2 = [Float; 2];
+pub(crate) type V2 = [Float; 2];
 
-pub(super) fn mv(a: &M2, v: &V2) -> V2 {
+pub(crate) fn mv(a: &M2, v: &V2) -> V2 {
     [
         a[0].clone() * &v[0] + &(a[1].clone() * &v[1]),
         a[2].clone() * &v[0] + &(a[3].clone() * &v[1]),
@@ -47,12 +47,12 @@ pub(super) fn mtv(a: &M2, v: &V2) -> V2 {
     mv(&m_t(a), v)
 }
 
-pub(super) fn norm2(v: &V2) -> Float {
+pub(crate) fn norm2(v: &V2) -> Float {
     (v[0].clone().square() + &v[1].clone().square()).sqrt()
 }
 
 /// Frobenius norm of a 2×2 matrix (≥ its spectral norm), in f64.
-pub(super) fn m_norm(a: &M2) -> f64 {
+pub(crate) fn m_norm(a: &M2) -> f64 {
     a.iter().map(|x| x.to_f64().powi(2)).sum::<f64>().sqrt()
 }
 

@@ -57,6 +57,12 @@ use table::*;
 
 pub use segment::{f64_segment, f64_segment_in_field};
 
+// What the certified periodic orbits (`verification::cycles`) share with the shadows.
+pub(crate) use clearance::segment_gap;
+pub(crate) use linear::{V2, m_mul, m_norm, mv, norm2};
+pub(crate) use newton::{Evaluation, evaluate};
+pub(crate) use table::{M2, StepFailure};
+
 // The table keeps its one public path, `verification::shadowing::Table` (its module is private).
 pub use table::Table;
 
@@ -434,8 +440,7 @@ pub fn run<S: Scene>(
     request: &ShadowConfig,
     options: &RunOptions,
 ) -> Result<ShadowReport, Error> {
-    options.validate()?;
-    options.refuse_unused("shadow", &[])?;
+    options.accept("shadow", &[])?;
     request.validate()?;
     let (threads, progress) = (options.threads, options.progress);
     let (collisions, segments, bits) = (

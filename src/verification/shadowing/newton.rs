@@ -3,16 +3,16 @@
 use super::*;
 
 /// Defects, Jacobians and the geometry of one evaluation of F along a pseudo-orbit.
-pub(super) struct Evaluation {
-    pub(super) f: Vec<V2>,
-    pub(super) jac: Vec<M2>,
-    pub(super) tau: Vec<Float>,
+pub(crate) struct Evaluation {
+    pub(crate) f: Vec<V2>,
+    pub(crate) jac: Vec<M2>,
+    pub(crate) tau: Vec<Float>,
     /// Smallest cos φ over the collisions and its event.
-    pub(super) cos_min: (f64, usize),
+    pub(crate) cos_min: (f64, usize),
 }
 
 /// Evaluates F at `y` on `table` (at the table's precision).
-pub(super) fn evaluate(
+pub(crate) fn evaluate(
     table: &Table,
     y: &[OrbitPoint],
 ) -> Result<Evaluation, (usize, StepFailure)> {

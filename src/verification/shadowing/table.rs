@@ -14,25 +14,28 @@ pub struct Table {
     /// The field ω = B at the working precision (the velocity turns at the angular velocity ω,
     /// counter-clockwise for ω > 0), or `None`: straight flights.
     pub(super) omega: Option<Float>,
+    /// An open table's disk centres at the working precision (disk k is labelled (k, 0)), or
+    /// `None`: the lattice's disks.
+    pub(super) centres: Option<Vec<Vec2<Float>>>,
 }
 
 /// 2×2 matrix, row-major.
-pub(super) type M2 = [Float; 4];
+pub(crate) type M2 = [Float; 4];
 
 /// One step of the map with its Jacobian.
-pub(super) struct Step {
-    pub(super) s: Float,
-    pub(super) p: Float,
-    pub(super) jac: M2,
+pub(crate) struct Step {
+    pub(crate) s: Float,
+    pub(crate) p: Float,
+    pub(crate) jac: M2,
     /// cos φ at the arrival.
-    pub(super) cos_in: Float,
+    pub(crate) cos_in: Float,
     /// Free flight τ.
-    pub(super) tau: Float,
+    pub(crate) tau: Float,
 }
 
 /// Why a step of the map could not be taken.
 #[derive(Debug, Clone)]
-pub(super) enum StepFailure {
+pub(crate) enum StepFailure {
     /// |p| ≥ 1: the outgoing velocity is tangent to the disk (or beyond).
     Grazing(Float),
     /// The line of flight misses the recorded next disk.
@@ -62,7 +65,28 @@ impl Table {
             r,
             bits,
             omega: None,
+            centres: None,
         })
+    }
+
+    /// An open table at `bits`: the disks of radius `r` centred at `centres` (disk k is labelled
+    /// (k, 0) in [`OrbitPoint::disk`]), with straight flights.
+    pub(crate) fn open(centres: Vec<Vec2<Float>>, r: Float, bits: u32) -> Self {
+        let zero = Float::new(bits);
+        Table {
+            a: zero.clone(),
+            beta: zero.clone(),
+            h: zero,
+            r,
+            bits,
+            omega: None,
+            centres: Some(centres),
+        }
+    }
+
+    /// The disk radius at the working precision.
+    pub(crate) fn radius(&self) -> &Float {
+        &self.r
     }
 
     /// The table of `scene` at `bits` in the field `field` (exact, nonzero; `None` or zero:
@@ -87,8 +111,11 @@ impl Table {
         self.bits
     }
 
-    /// Centre of disk (i, j): (a(i + βj), hj).
+    /// Centre of disk (i, j): (a(i + βj), hj); on an open table, the centre of disk i.
     pub fn centre(&self, d: [i64; 2]) -> Vec2<Float> {
+        if let Some(c) = &self.centres {
+            return c[d[0] as usize].clone();
+        }
         let (i, j) = (self.f(d[0] as f64), self.f(d[1] as f64));
         let x = self.a.clone() * &(i + &(self.beta.clone() * &j));
         Vec2::new(x, self.h.clone() * &j)
@@ -115,7 +142,7 @@ impl Table {
     }
 
     /// Contact point and outgoing velocity of the collision state `x`.
-    pub(super) fn phase(&self, x: &OrbitPoint) -> Result<(Vec2<Float>, Vec2<Float>), StepFailure> {
+    pub(crate) fn phase(&self, x: &OrbitPoint) -> Result<(Vec2<Float>, Vec2<Float>), StepFailure> {
         let d = self.departure(x)?;
         Ok((d.x0, d.v))
     }
@@ -192,7 +219,7 @@ impl Table {
     /// The billiard map from `x` to the disk `next` and its analytic Jacobian in (s, p)
     /// (chain rule through the flight; `proofs-notes/shadowing.md`): along a straight line, or
     /// along an arc in a field ([`Table::arc_step`]).
-    pub(super) fn step(&self, x: &OrbitPoint, next: [i64; 2]) -> Result<Step, StepFailure> {
+    pub(crate) fn step(&self, x: &OrbitPoint, next: [i64; 2]) -> Result<Step, StepFailure> {
         if let Some(omega) = &self.omega {
             return self.arc_step(x, next, omega);
         }

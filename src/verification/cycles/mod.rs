@@ -1,0 +1,298 @@
+//! Certified periodic orbits of open tables (finitely many disks, no lattice) and their cycle
+//! expansions (`proofs-notes/cycles.md`).
+//!
+//! A cycle is named by its disk sequence d₀ … d_{n−1} (no two equal in a row, cyclically). Its
+//! collision points x_k = (s_k, p_k) in Birkhoff coordinates solve the closed system
+//!
+//! F_k(y) = T_k(x_k) − x_{k+1 mod n} = 0,  k = 0 … n − 1,
+//!
+//! T_k the billiard map from disk d_k to disk d_{k+1} of [`crate::verification::shadowing`]
+//! (the shadows' exact map and its analytic Jacobian A_k, shared, not copied). Newton's method
+//! runs in MPFR; the Newton–Kantorovich certificate bounds ‖DF⁻¹‖ by a computed inverse and its
+//! residual, the defect ε at twice the precision, and proves a unique zero within 2Kε. The
+//! kernel's ray–disk contact ([`crate::kernel::ray_disk`]) then decides that each flight meets
+//! its disk first and passes through no other (pruning decided, not assumed). The period T_p
+//! and the expanding eigenvalue Λ_p of the monodromy ∏A_k carry bounds from the radius.
+
+pub mod expansion;
+mod newton;
+mod prune;
+pub mod repeller;
+pub mod symbols;
+
+use rug::Float;
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::kernel::vec2::Vec2;
+use crate::verification::shadowing::{M2, OrbitPoint, Table};
+
+pub use newton::certify_cycle;
+
+/// Smallest working precision of a certified cycle.
+pub const MIN_CYCLE_BITS: u32 = 128;
+/// Largest working precision of a certified cycle.
+pub const MAX_CYCLE_BITS: u32 = 4096;
+/// Longest cycle (collisions) certified.
+pub const MAX_CYCLE_LENGTH: usize = 512;
+
+/// The disks of an open table: one radius, finitely many centres, no lattice.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Disks {
+    /// The three-disk repeller: disks of radius `radius` at the corners (0, 0), (R, 0),
+    /// (R/2, R√3/2) of the equilateral triangle of side `side` = R (R > 2a).
+    ThreeDisk {
+        /// The side R of the triangle (distance between centres).
+        side: f64,
+        /// The disk radius a.
+        radius: f64,
+    },
+    /// Disks of radius `radius` centred at `centres` (exact binary values), disjoint.
+    Explicit {
+        /// The centres.
+        centres: Vec<[f64; 2]>,
+        /// The disk radius.
+        radius: f64,
+    },
+}
+
+impl Disks {
+    /// The three-disk repeller with centre distance `side` = R and disk radius `radius` = a.
+    pub fn three_disk(side: f64, radius: f64) -> Self {
+        Disks::ThreeDisk { side, radius }
+    }
+
+    /// Number of disks.
+    pub fn count(&self) -> usize {
+        match self {
+            Disks::ThreeDisk { .. } => 3,
+            Disks::Explicit { centres, .. } => centres.len(),
+        }
+    }
+
+    /// The disk radius.
+    pub fn radius(&self) -> f64 {
+        match self {
+            Disks::ThreeDisk { radius, .. } | Disks::Explicit { radius, .. } => *radius,
+        }
+    }
+
+    /// Checks the geometry: finite positive radius, at least two disks, no two touching.
+    ///
+    /// # Errors
+    /// A bad radius or side, fewer than two disks, or overlapping disks.
+    pub fn validate(&self) -> Result<(), Error> {
+        let r = self.radius();
+        if !(r.is_finite() && r > 0.0) {
+            return Err(Error::out_of_range("radius", r, "use a finite radius > 0"));
+        }
+        let c = self.centres_f64();
+        if c.len() < 2 {
+            return Err(Error::TooFew {
+                what: "disks",
+                min: 2,
+                got: c.len() as u64,
+            });
+        }
+        for (i, a) in c.iter().enumerate() {
+            if !(a[0].is_finite() && a[1].is_finite()) {
+                return Err(Error::NotFinite { what: "centres" });
+            }
+            for b in &c[..i] {
+                if (a[0] - b[0]).hypot(a[1] - b[1]) <= 2.0 * r {
+                    return Err(Error::out_of_range(
+                        "radius",
+                        r,
+                        "use a radius below half the smallest distance between centres (disjoint disks)",
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The centres in `f64` (rounded for the three-disk corner (R/2, R√3/2)).
+    pub fn centres_f64(&self) -> Vec<[f64; 2]> {
+        match self {
+            Disks::ThreeDisk { side, .. } => vec![
+                [0.0, 0.0],
+                [*side, 0.0],
+                [0.5 * side, 0.5 * side * 3f64.sqrt()],
+            ],
+            Disks::Explicit { centres, .. } => centres.clone(),
+        }
+    }
+
+    /// The centres at `bits` of precision (√3 rounded once at `bits`).
+    pub fn centres(&self, bits: u32) -> Vec<Vec2<Float>> {
+        match self {
+            Disks::ThreeDisk { side, .. } => {
+                let r = Float::with_val(bits, side);
+                let h = Float::with_val(bits, 3).sqrt() * &r / 2u32;
+                vec![
+                    Vec2::new(Float::new(bits), Float::new(bits)),
+                    Vec2::new(r.clone(), Float::new(bits)),
+                    Vec2::new(r / 2u32, h),
+                ]
+            }
+            Disks::Explicit { centres, .. } => centres
+                .iter()
+                .map(|c| Vec2::from_f64(bits, c[0], c[1]))
+                .collect(),
+        }
+    }
+
+    /// The table at `bits`: the shadows' exact billiard map on these disks.
+    pub(crate) fn table(&self, bits: u32) -> Table {
+        Table::open(
+            self.centres(bits),
+            Float::with_val(bits, self.radius()),
+            bits,
+        )
+    }
+}
+
+/// A periodic orbit found, with its certificate (or the reason there is none).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Cycle {
+    /// The disk sequence d₀ … d_{n−1}.
+    pub disks: Vec<usize>,
+    /// Working precision (bits).
+    pub precision_bits: u32,
+    /// Newton iterations taken.
+    pub iterations: usize,
+    /// Period T_p (time at unit speed: the length of the orbit).
+    pub period: f64,
+    /// |T_p − period| ≤ this for the true orbit (2n·a·radius plus rounding).
+    pub period_bound: f64,
+    /// Λ_p: the expanding eigenvalue of the monodromy matrix ∏A_k (signed).
+    pub stability: f64,
+    /// |Λ_p − stability| ≤ this (first order in the radius, with the estimated ‖D²T‖, plus
+    /// rounding).
+    pub stability_bound: f64,
+    /// ε = ‖F(y*)‖₂ at twice the precision plus the rounding allowance.
+    pub residual: f64,
+    /// K ≥ ‖DF(y*)⁻¹‖₂ (computed inverse X, ‖X‖_F/(1 − ‖I − X·DF‖_F)).
+    pub inverse_bound: f64,
+    /// 2Kε: the true cycle lies within this of y* (ℓ² norm on (s, p)ⁿ).
+    pub radius: f64,
+    /// 1/(K·M): no other cycle with this disk sequence within this of y*.
+    pub uniqueness_radius: f64,
+    /// M = 100 × the secant estimate of ‖D²T‖ (an estimate with a safety factor, not a bound).
+    pub lipschitz: f64,
+    /// Smallest cos φ of the collisions.
+    pub min_cos_phi: f64,
+    /// Smallest distance − a of a flight from a disk other than its two ends.
+    pub min_clearance: f64,
+    /// Existence and uniqueness proved (2MK²ε ≤ 1), the ball clear of grazing and of other
+    /// disks, and the kernel's contact check passed.
+    pub certified: bool,
+    /// `Some`: the kernel refused the orbit (a flight meets another disk first), and why.
+    pub pruned: Option<String>,
+    /// `None`, or why the cycle is not certified.
+    pub failure: Option<String>,
+    /// The orbit (P bits).
+    #[serde(skip)]
+    pub orbit: Vec<OrbitPoint>,
+    /// The Jacobians A_k of the map along the orbit.
+    #[serde(skip)]
+    pub jacobians: Vec<M2>,
+    /// The period at the working precision.
+    #[serde(skip)]
+    pub period_exact: Option<Float>,
+}
+
+impl Cycle {
+    /// The expanding eigenvalue of the product A_{m−1}⋯A₀ of the first `m` Jacobians (signed),
+    /// at the working precision.
+    pub fn partial_stability(&self, m: usize) -> Float {
+        let bits = self.precision_bits;
+        let mut p: M2 = std::array::from_fn(|i| Float::with_val(bits, u32::from(i % 3 == 0)));
+        for a in &self.jacobians[..m] {
+            p = crate::verification::shadowing::m_mul(a, &p);
+        }
+        expanding_eigenvalue(&p)
+    }
+}
+
+/// The eigenvalue of larger modulus of a real 2×2 matrix with real eigenvalues (signed);
+/// NaN if they are complex.
+pub fn expanding_eigenvalue(m: &M2) -> Float {
+    let t = m[0].clone() + &m[3];
+    let d = m[0].clone() * &m[3] - &(m[1].clone() * &m[2]);
+    let disc = (t.clone().square() - &(d * 4u32)).sqrt();
+    if t.is_sign_negative() {
+        (t - disc) / 2u32
+    } else {
+        (t + disc) / 2u32
+    }
+}
+
+/// The starting guess of the cycle through `disks`: each contact point on the bisector of the
+/// directions to the previous and the next disk, each velocity towards the next contact point.
+fn initial_guess(disks: &Disks, seq: &[usize], bits: u32) -> Vec<OrbitPoint> {
+    let c = disks.centres_f64();
+    let r = disks.radius();
+    let n = seq.len();
+    let unit = |a: [f64; 2], b: [f64; 2]| {
+        let (x, y) = (b[0] - a[0], b[1] - a[1]);
+        let l = x.hypot(y);
+        [x / l, y / l]
+    };
+    let s: Vec<f64> = (0..n)
+        .map(|k| {
+            let here = c[seq[k]];
+            let u = unit(here, c[seq[(k + n - 1) % n]]);
+            let w = unit(here, c[seq[(k + 1) % n]]);
+            (u[1] + w[1]).atan2(u[0] + w[0])
+        })
+        .collect();
+    let contact = |k: usize| [c[seq[k]][0] + r * s[k].cos(), c[seq[k]][1] + r * s[k].sin()];
+    (0..n)
+        .map(|k| {
+            let v = unit(contact(k), contact((k + 1) % n));
+            let p = s[k].cos() * v[1] - s[k].sin() * v[0];
+            OrbitPoint {
+                disk: [seq[k] as i64, 0],
+                s: Float::with_val(bits, s[k]),
+                p: Float::with_val(bits, p),
+            }
+        })
+        .collect()
+}
+
+/// Refuses a disk sequence that names no cycle on `disks`, or a precision out of range.
+fn check_sequence(disks: &Disks, seq: &[usize], bits: u32) -> Result<(), Error> {
+    disks.validate()?;
+    if !(2..=MAX_CYCLE_LENGTH).contains(&seq.len()) {
+        return Err(Error::out_of_range(
+            "cycle_length",
+            seq.len(),
+            format!("use 2 to {MAX_CYCLE_LENGTH} collisions"),
+        ));
+    }
+    if !(MIN_CYCLE_BITS..=MAX_CYCLE_BITS).contains(&bits) {
+        return Err(Error::out_of_range(
+            "reference_bits",
+            bits,
+            format!("use {MIN_CYCLE_BITS} to {MAX_CYCLE_BITS} bits"),
+        ));
+    }
+    let m = disks.count();
+    if let Some(&d) = seq.iter().find(|&&d| d >= m) {
+        return Err(Error::out_of_range(
+            "disks",
+            d,
+            format!("use disk labels 0 to {}", m - 1),
+        ));
+    }
+    let n = seq.len();
+    if (0..n).any(|k| seq[k] == seq[(k + 1) % n]) {
+        return Err(Error::parameter(
+            "disks",
+            format!("{seq:?}"),
+            "no disk may follow itself (cyclically): a flight joins two different disks",
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,159 @@
+//! The three-disk repeller by cycles: every fundamental-domain prime cycle up to a length,
+//! certified in the full space, and the cycle expansions of its escape rate, Lyapunov exponent,
+//! KS entropy and partial dimension.
+
+use super::expansion::{CycleWeight, Expansion, Truncation, convergence_table};
+use super::symbols::{full_space, prime_words, word_text};
+use super::*;
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
+use crate::engine::parallel::par_batches;
+
+/// Longest fundamental-domain cycle expanded (3 × 16 = 48 collisions in the full space).
+pub const MAX_FUNDAMENTAL_LENGTH: usize = 16;
+
+/// What [`run`] is asked for.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RepellerConfig {
+    /// Distance R between the disk centres, R > 2a.
+    pub side: f64,
+    /// Disk radius a.
+    pub radius: f64,
+    /// Longest fundamental-domain cycle N, 1 to [`MAX_FUNDAMENTAL_LENGTH`].
+    pub max_length: usize,
+    /// MPFR working precision of the cycles (bits).
+    pub reference_bits: u32,
+}
+
+impl RepellerConfig {
+    /// Checks every parameter; errors name the valid range.
+    ///
+    /// # Errors
+    /// Disks that touch, a length or precision out of range.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(self.side.is_finite() && self.radius.is_finite() && self.side > 2.0 * self.radius) {
+            return Err(Error::out_of_range(
+                "side",
+                self.side,
+                "use a finite side R > 2a (disjoint disks)",
+            ));
+        }
+        Disks::three_disk(self.side, self.radius).validate()?;
+        if !(1..=MAX_FUNDAMENTAL_LENGTH).contains(&self.max_length) {
+            return Err(Error::out_of_range(
+                "max_length",
+                self.max_length,
+                format!("use 1 to {MAX_FUNDAMENTAL_LENGTH}"),
+            ));
+        }
+        if !(MIN_CYCLE_BITS..=MAX_CYCLE_BITS).contains(&self.reference_bits) {
+            return Err(Error::out_of_range(
+                "reference_bits",
+                self.reference_bits,
+                format!("use {MIN_CYCLE_BITS} to {MAX_CYCLE_BITS} bits"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A fundamental-domain prime cycle and its certified full-space cycle.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FundamentalCycle {
+    /// The binary word p̃ (0: reflection, 1: rotation).
+    pub word: String,
+    /// Order h of the symmetry the full-space cycle closes with (its length is h·n_p̃).
+    pub order: usize,
+    /// T_p̃ = T_p/h.
+    pub period: f64,
+    /// Λ_p̃ = (−1)^(number of 0s) × the expanding eigenvalue of the first n_p̃ Jacobians
+    /// (a reflection is −I in Birkhoff coordinates); Λ_p̃^h = Λ_p.
+    pub stability: f64,
+    /// The certified full-space cycle.
+    pub cycle: Cycle,
+    /// n_p̃, T_p̃, Λ_p̃ at the working precision.
+    #[serde(skip)]
+    weight: Option<CycleWeight>,
+}
+
+/// The certified cycles and the convergence tables of both expansions.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RepellerReport {
+    /// What was run.
+    pub config: RepellerConfig,
+    /// Cycles certified (all, when the report is complete).
+    pub certified: usize,
+    /// The fundamental-domain prime cycles, by length.
+    pub cycles: Vec<FundamentalCycle>,
+    /// The spectral determinant's truncations N = 1 … max_length.
+    pub spectral_determinant: Vec<Truncation>,
+    /// The dynamical zeta function's truncations.
+    pub zeta_function: Vec<Truncation>,
+    /// Version, precision, threads, command line.
+    pub meta: RunMeta,
+}
+
+/// The fundamental-domain cycle of `word` on the repeller `disks`, certified at `bits`.
+///
+/// # Errors
+/// As [`certify_cycle`].
+pub fn fundamental_cycle(disks: &Disks, word: &[u8], bits: u32) -> Result<FundamentalCycle, Error> {
+    let (seq, order) = full_space(word);
+    let cycle = certify_cycle(disks, &seq, bits)?;
+    let zeros = word.iter().filter(|&&s| s == 0).count();
+    let mut lam = cycle.partial_stability(word.len());
+    if zeros % 2 == 1 {
+        lam = -lam;
+    }
+    let period = match &cycle.period_exact {
+        Some(t) => t.clone() / order as u32,
+        None => Float::with_val(bits, f64::NAN),
+    };
+    Ok(FundamentalCycle {
+        word: word_text(word),
+        order,
+        period: period.to_f64(),
+        stability: lam.to_f64(),
+        weight: Some(CycleWeight {
+            length: word.len(),
+            period,
+            stability: lam,
+        }),
+        cycle,
+    })
+}
+
+/// Certifies every fundamental-domain prime cycle up to `config.max_length` and expands. The
+/// result does not depend on `options.threads`.
+///
+/// # Errors
+/// A parameter out of range, or a cycle that is not certified (the message names it).
+pub fn run(config: &RepellerConfig, options: &RunOptions) -> Result<RepellerReport, Error> {
+    options.validate()?;
+    options.refuse_unused("cycles", &[])?;
+    config.validate()?;
+    let disks = Disks::three_disk(config.side, config.radius);
+    let words = prime_words(config.max_length);
+    let cycles = par_batches(options.threads, words.len() as u32, |k| {
+        let c = fundamental_cycle(&disks, &words[k as usize], config.reference_bits)?;
+        (options.progress)(1);
+        Ok(c)
+    })?;
+    if let Some(bad) = cycles.iter().find(|c| !c.cycle.certified) {
+        return Err(Error::Failed(format!(
+            "cycle {} is not certified: {}",
+            bad.word,
+            bad.cycle.failure.as_deref().unwrap_or("unknown")
+        )));
+    }
+    let weights: Vec<CycleWeight> = cycles.iter().filter_map(|c| c.weight.clone()).collect();
+    let n = config.max_length;
+    Ok(RepellerReport {
+        config: config.clone(),
+        certified: cycles.len(),
+        spectral_determinant: convergence_table(&weights, n, Expansion::SpectralDeterminant)?,
+        zeta_function: convergence_table(&weights, n, Expansion::ZetaFunction)?,
+        cycles,
+        meta: RunMeta::new(None, None, config.reference_bits, Some(options.threads)),
+    })
+}

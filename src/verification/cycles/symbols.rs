@@ -1,0 +1,82 @@
+//! The symbolic dynamics of the three-disk repeller and its C3v reduction: ChaosBook's binary
+//! code of the fundamental domain (0: back to the disk just left, a reflection; 1: on to the
+//! third disk, a rotation).
+
+/// The binary prime cycles (Lyndon words: aperiodic, least among their rotations) of length 1 to
+/// `max_len`, by length and then lexicographically (Duval's algorithm).
+pub fn prime_words(max_len: usize) -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
+    if max_len == 0 {
+        return out;
+    }
+    let mut w: Vec<u8> = vec![0];
+    loop {
+        out.push(w.clone());
+        // Next Lyndon word of length ≤ max_len: repeat w to max_len, increment the last 0.
+        let m = w.len();
+        while w.len() < max_len {
+            w.push(w[w.len() - m]);
+        }
+        while w.last() == Some(&1) {
+            w.pop();
+        }
+        match w.last_mut() {
+            Some(x) => *x = 1,
+            None => break,
+        }
+    }
+    out.sort_by(|a, b| a.len().cmp(&b.len()).then(a.cmp(b)));
+    out
+}
+
+/// The full-space disk sequence of the fundamental-domain word `word` and the order h of the
+/// symmetry g it closes with (the full cycle is h·ñ long; 6/h distinct full-space cycles share
+/// it): from disk 1 reached from disk 0, symbol 0 returns to the disk just left and 1 goes on to
+/// the third, until the pair (previous, current) is (0, 1) again at the end of a pass.
+pub fn full_space(word: &[u8]) -> (Vec<usize>, usize) {
+    let (mut prev, mut cur) = (0usize, 1usize);
+    let mut seq = Vec::new();
+    let mut passes = 0;
+    loop {
+        for &sym in word {
+            seq.push(cur);
+            let next = if sym == 0 { prev } else { 3 - prev - cur };
+            (prev, cur) = (cur, next);
+        }
+        passes += 1;
+        if (prev, cur) == (0, 1) {
+            return (seq, passes);
+        }
+    }
+}
+
+/// The word as text ("0", "01", …).
+pub fn word_text(word: &[u8]) -> String {
+    word.iter().map(|&b| char::from(b'0' + b)).collect()
+}
+
+/// The number of full-space prime cycles of length `n` ≥ 2 over three disks with no disk
+/// following itself (cyclically), by brute force: the primitive sequences, n rotations each.
+pub fn full_space_prime_count(n: usize) -> usize {
+    fn walk(seq: &mut [usize], k: usize, found: &mut usize) {
+        let n = seq.len();
+        if k == n {
+            let primitive =
+                (1..n).all(|r| !n.is_multiple_of(r) || (0..n).any(|i| seq[i] != seq[(i + r) % n]));
+            *found += usize::from(seq[n - 1] != seq[0] && primitive);
+            return;
+        }
+        for d in 0..3 {
+            if k == 0 || d != seq[k - 1] {
+                seq[k] = d;
+                walk(seq, k + 1, found);
+            }
+        }
+    }
+    if n < 2 {
+        return 0;
+    }
+    let mut found = 0;
+    walk(&mut vec![0; n], 0, &mut found);
+    found / n
+}
