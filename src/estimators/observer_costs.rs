@@ -72,6 +72,7 @@ impl ObserverCostsConfig {
     /// Another scene ([`Error::Lacks`] trap symbols), a field, a gap that is not positive, no
     /// collisions, repetitions out of range.
     pub fn validate(&self) -> Result<(), Error> {
+        self.table.motion_taken_by("observer costs")?;
         Geometry::new(self.gap()?)?;
         if self.collisions_per_thread == 0 {
             return Err(Error::Zero {

@@ -156,6 +156,7 @@ pub struct SpeedErrorConfig {
 pub fn run(cfg: &SpeedErrorConfig, options: &RunOptions) -> Result<(SpeedReport, String), Error> {
     options.accept("speed against error", &[])?;
     let table = &cfg.table;
+    table.motion_taken_by("speed against error")?;
     let w = crate::estimators::diffusive_gap(table, "speed against error")?;
     let exact = table.gap_text();
     let (dir, seed) = (cfg.out.as_path(), cfg.seed);

@@ -480,6 +480,37 @@ impl Table {
         self.motion.field()
     }
 
+    /// Refuses a motion `analysis` does not take yet: the thermostatted field has its kernel
+    /// (`kernel::thermostat`) but no analysis drives it, and [`Self::field`] is `None` for it, so
+    /// an analysis that did not ask would fly straight lines. Every configuration holding a
+    /// table calls this in its validation.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] for [`Motion::Thermostat`], naming the analysis.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::estimators::diffusion::DiffusionConfig;
+    /// use lorentz_gas::scenes::spec::Motion;
+    /// let mut cfg = DiffusionConfig::new(0.1);
+    /// assert!(cfg.validate().is_ok());
+    /// cfg.table.motion = Motion::thermostat("3/10", "0");
+    /// let e = cfg.validate().unwrap_err().to_string();
+    /// assert!(e.contains("diffusion does not take the thermostatted electric field"), "{e}");
+    /// // A zero field is the straight-line table.
+    /// cfg.table.motion = Motion::thermostat("0", "30");
+    /// assert!(cfg.validate().is_ok());
+    /// ```
+    pub fn motion_taken_by(&self, analysis: &'static str) -> Result<(), Error> {
+        match self.motion {
+            Motion::Thermostat { .. } => Err(Error::Invalid(format!(
+                "{analysis} does not take the thermostatted electric field yet: leave it out"
+            ))),
+            _ => Ok(()),
+        }
+    }
+
     /// The refusal of `analysis` on this table, which lacks `capability`.
     pub fn lacks(&self, capability: crate::Capability, analysis: &'static str) -> Error {
         Error::Lacks {

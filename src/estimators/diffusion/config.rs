@@ -187,6 +187,7 @@ impl DiffusionConfig {
     /// the triangular gas without a field has (`rel_err`), or only a run without a field (the
     /// logarithmic MSD grid), asked of another; too few batches or collisions for the windows.
     pub fn validate(&self) -> Result<(), Error> {
+        self.table.motion_taken_by("diffusion")?;
         if let Some(r) = self.rel_err {
             super::plan::check_rel_err(r)?;
         }

@@ -133,6 +133,7 @@ impl EscapeConfig {
     /// Another scene ([`Error::Lacks`] trap symbols), a field, a gap outside (0, w∞) as typed,
     /// and the widths and particles out of range.
     pub fn validate(&self) -> Result<(), Error> {
+        self.table.motion_taken_by("escape")?;
         let w = crate::estimators::diffusive_gap(&self.table, "escape")?;
         let min = Self::min_width(w)?;
         for &l in &self.widths {

@@ -69,6 +69,7 @@ impl BackscatterConfig {
     /// Another scene ([`Error::Lacks`] trap symbols), a field, a gap outside (0, w∞) as typed,
     /// fewer than 2 batches or than one particle per batch.
     pub fn validate(&self) -> Result<(), Error> {
+        self.table.motion_taken_by("backscatter")?;
         crate::estimators::diffusive_gap(&self.table, "backscatter")?;
         if self.batches < 2 {
             return Err(Error::TooFew {

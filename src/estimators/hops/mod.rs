@@ -110,6 +110,7 @@ impl HopsConfig {
     /// # Errors
     /// Another scene ([`Error::Lacks`] trap symbols), a field, and each parameter out of range.
     pub fn validate(&self) -> Result<(), Error> {
+        self.table.motion_taken_by("hops")?;
         let w = crate::estimators::diffusive_gap(&self.table, "hops")?;
         let (collisions, batches, order) = (self.collisions, self.batches, self.order);
         check_order("order", order)?;

@@ -94,6 +94,7 @@ impl SectionConfig {
     /// # Errors
     /// A bad table or field, or a count out of its range.
     pub fn validate(&self) -> Result<(), Error> {
+        self.table.motion_taken_by("section")?;
         self.table.scene.resolve()?;
         self.table.field_value()?;
         if !(1..=MAX_TRAJECTORIES).contains(&self.trajectories) {

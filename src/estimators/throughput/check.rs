@@ -24,6 +24,7 @@ pub(super) struct Checked {
 /// Refuses what [`run`](super::run) cannot time.
 pub(super) fn check(cfg: &ThroughputConfig, options: &RunOptions) -> Result<Checked, Error> {
     options.accept("throughput", &[RunOption::Engine])?;
+    cfg.table.motion_taken_by("throughput")?;
     let w = gap(&cfg.table)?;
     if cfg.collisions_per_thread == 0 {
         return Err(Error::Zero {
