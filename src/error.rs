@@ -490,6 +490,34 @@ impl Error {
         }
     }
 
+    /// `Ok` where `value` of `parameter` lies in `range`, else [`Error::OutOfRange`] advising
+    /// "use LO to HI" followed by `then` (a unit or a reason: `" bits"`, `""`): the one check of
+    /// a parameter's bounds.
+    ///
+    /// # Errors
+    /// As above.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use lorentz_gas::Error;
+    /// assert!(Error::unless_in("segments", 3, 1..=8, "").is_ok());
+    /// let e = Error::unless_in("bits", 4000, 64..=2048, " bits").unwrap_err();
+    /// assert_eq!(e.to_string(), "bits = 4000 is out of range: use 64 to 2048 bits");
+    /// ```
+    pub fn unless_in<T: PartialOrd + std::fmt::Display>(
+        parameter: &'static str,
+        value: T,
+        range: std::ops::RangeInclusive<T>,
+        then: &str,
+    ) -> Result<(), Error> {
+        if range.contains(&value) {
+            return Ok(());
+        }
+        let advice = format!("use {} to {}{then}", range.start(), range.end());
+        Err(Error::out_of_range(parameter, value, advice))
+    }
+
     /// [`Error::Parameter`]: `parameter` (a configuration's field) given `value`, and why it is
     /// not accepted here, as advice.
     pub fn parameter(

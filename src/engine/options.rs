@@ -59,13 +59,12 @@ impl AuditSpec {
                 "use a sample rate in (0, 1]",
             ));
         }
-        if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&bits) {
-            return Err(Error::out_of_range(
-                "reference_bits",
-                bits,
-                format!("use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} bits for the audit's replay"),
-            ));
-        }
+        Error::unless_in(
+            "reference_bits",
+            bits,
+            MIN_AUDIT_BITS..=MAX_AUDIT_BITS,
+            " bits for the audit's replay",
+        )?;
         Ok(())
     }
 }

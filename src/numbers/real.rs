@@ -197,6 +197,18 @@ pub trait Real:
     fn to_mpfr(&self, bits: u32) -> Float;
 }
 
+/// The elementary functions a [`Real`] takes from its type's own inherent methods of the same
+/// name (`f64`'s from the platform's libm, `Float`'s from MPFR, correctly rounded).
+macro_rules! forward_unary {
+    ($t:ty: $($f:ident),*) => {
+        $(
+            fn $f(self) -> $t {
+                <$t>::$f(self)
+            }
+        )*
+    };
+}
+
 impl Real for f64 {
     type Ctx = ();
 
@@ -239,29 +251,9 @@ impl Real for f64 {
         // The correctly rounded value of π, identical to MPFR's π at 53 bits.
         std::f64::consts::PI
     }
-    fn sin(self) -> f64 {
-        f64::sin(self)
-    }
-    fn cos(self) -> f64 {
-        f64::cos(self)
-    }
-    fn atan(self) -> f64 {
-        f64::atan(self)
-    }
+    forward_unary!(f64: sin, cos, atan, exp, exp_m1, ln_1p, ln);
     fn atan2(self, x: &f64) -> f64 {
         f64::atan2(self, *x)
-    }
-    fn exp(self) -> f64 {
-        f64::exp(self)
-    }
-    fn exp_m1(self) -> f64 {
-        f64::exp_m1(self)
-    }
-    fn ln_1p(self) -> f64 {
-        f64::ln_1p(self)
-    }
-    fn ln(self) -> f64 {
-        f64::ln(self)
     }
     #[inline(always)]
     fn square(&self) -> f64 {
@@ -349,29 +341,9 @@ impl Real for Float {
     fn pi(ctx: u32) -> Float {
         Float::with_val(ctx, Constant::Pi)
     }
-    fn sin(self) -> Float {
-        Float::sin(self)
-    }
-    fn cos(self) -> Float {
-        Float::cos(self)
-    }
-    fn atan(self) -> Float {
-        Float::atan(self)
-    }
+    forward_unary!(Float: sin, cos, atan, exp, exp_m1, ln_1p, ln);
     fn atan2(self, x: &Float) -> Float {
         Float::atan2(self, x)
-    }
-    fn exp(self) -> Float {
-        Float::exp(self)
-    }
-    fn exp_m1(self) -> Float {
-        Float::exp_m1(self)
-    }
-    fn ln_1p(self) -> Float {
-        Float::ln_1p(self)
-    }
-    fn ln(self) -> Float {
-        Float::ln(self)
     }
     #[inline]
     fn square(&self) -> Float {

@@ -177,13 +177,12 @@ impl EscapeConfig {
                 "widths must be distinct",
             ));
         }
-        if !(MIN_PARTICLES..=MAX_PARTICLES).contains(&self.particles_per_width) {
-            return Err(Error::out_of_range(
-                "particles_per_width",
-                self.particles_per_width,
-                format!("use {MIN_PARTICLES} to {MAX_PARTICLES}"),
-            ));
-        }
+        Error::unless_in(
+            "particles_per_width",
+            self.particles_per_width,
+            MIN_PARTICLES..=MAX_PARTICLES,
+            "",
+        )?;
         Ok(())
     }
 }

@@ -97,20 +97,13 @@ impl SectionConfig {
         self.table.motion_taken_by("section")?;
         self.table.scene.resolve()?;
         self.table.field_value()?;
-        if !(1..=MAX_TRAJECTORIES).contains(&self.trajectories) {
-            return Err(Error::out_of_range(
-                "trajectories",
-                self.trajectories,
-                format!("use 1 to {MAX_TRAJECTORIES}"),
-            ));
-        }
-        if !(1..=MAX_COLLISIONS).contains(&self.collisions) {
-            return Err(Error::out_of_range(
-                "collisions",
-                self.collisions,
-                format!("use 1 to {MAX_COLLISIONS} collisions recorded per orbit"),
-            ));
-        }
+        Error::unless_in("trajectories", self.trajectories, 1..=MAX_TRAJECTORIES, "")?;
+        Error::unless_in(
+            "collisions",
+            self.collisions,
+            1..=MAX_COLLISIONS,
+            " collisions recorded per orbit",
+        )?;
         if !(self.collisions..=MAX_CLASSIFY_COLLISIONS).contains(&self.classify_collisions) {
             return Err(Error::out_of_range(
                 "classify_collisions",

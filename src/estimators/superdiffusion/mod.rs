@@ -174,13 +174,12 @@ impl SuperdiffusionConfig {
                 ),
             ));
         }
-        if !(1..=MAX_OCTAVES).contains(&self.octaves) {
-            return Err(Error::out_of_range(
-                "octaves",
-                self.octaves,
-                format!("use 1 to {MAX_OCTAVES} (the longest lag is 2^octaves mean free times)"),
-            ));
-        }
+        Error::unless_in(
+            "octaves",
+            self.octaves,
+            1..=MAX_OCTAVES,
+            " (the longest lag is 2^octaves mean free times)",
+        )?;
         if !(1..=16).contains(&self.points_per_octave) {
             return Err(Error::out_of_range(
                 "points_per_octave",

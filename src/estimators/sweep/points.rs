@@ -23,7 +23,7 @@ fn journal_path(dir: &Path, i: usize) -> PathBuf {
 
 /// Where point `i`'s finished batches stay beside its file (`point-iiii.batches`: its journal,
 /// renamed when the point is written), so that a reused point is checked from them at the cost
-/// of one batch's marks, not of a run ([`recheck_one_run`]).
+/// of one batch's marks, not of a run.
 pub fn batches_path(dir: &Path, i: usize) -> PathBuf {
     point_path(dir, i).with_extension("batches")
 }

@@ -102,13 +102,7 @@ impl LongFlightBenchConfig {
         if self.collisions == 0 {
             return Err(Error::Zero { what: "collisions" });
         }
-        if !(1..=MAX_REPETITIONS).contains(&self.repetitions) {
-            return Err(Error::out_of_range(
-                "repetitions",
-                self.repetitions,
-                format!("use 1 to {MAX_REPETITIONS}"),
-            ));
-        }
+        Error::unless_in("repetitions", self.repetitions, 1..=MAX_REPETITIONS, "")?;
         if self.gaps.is_empty() {
             let s = self.radii.iter().map(|t| jumping_square(t));
             Ok(BenchScenes::Square(s.collect::<Result<_, _>>()?))

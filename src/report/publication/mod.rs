@@ -230,15 +230,12 @@ impl AuditConfig {
     /// Checks the settings (the file itself is checked when it is read).
     pub fn validate(&self) -> Result<(), Error> {
         let bits = self.reference_bits;
-        if !(MIN_AUDIT_BITS..=MAX_AUDIT_BITS).contains(&bits) {
-            return Err(Error::out_of_range(
-                "reference_bits",
-                bits,
-                format!(
-                    "use {MIN_AUDIT_BITS} to {MAX_AUDIT_BITS} (the shadow audit needs at least {MIN_AUDIT_BITS})"
-                ),
-            ));
-        }
+        Error::unless_in(
+            "reference_bits",
+            bits,
+            MIN_AUDIT_BITS..=MAX_AUDIT_BITS,
+            &format!(" (the shadow audit needs at least {MIN_AUDIT_BITS})"),
+        )?;
         Ok(())
     }
 

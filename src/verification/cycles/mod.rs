@@ -264,20 +264,18 @@ fn initial_guess(disks: &Disks, seq: &[usize], bits: u32) -> Vec<OrbitPoint> {
 /// Refuses a disk sequence that names no cycle on `disks`, or a precision out of range.
 fn check_sequence(disks: &Disks, seq: &[usize], bits: u32) -> Result<(), Error> {
     disks.validate()?;
-    if !(2..=MAX_CYCLE_LENGTH).contains(&seq.len()) {
-        return Err(Error::out_of_range(
-            "cycle_length",
-            seq.len(),
-            format!("use 2 to {MAX_CYCLE_LENGTH} collisions"),
-        ));
-    }
-    if !(MIN_CYCLE_BITS..=MAX_CYCLE_BITS).contains(&bits) {
-        return Err(Error::out_of_range(
-            "reference_bits",
-            bits,
-            format!("use {MIN_CYCLE_BITS} to {MAX_CYCLE_BITS} bits"),
-        ));
-    }
+    Error::unless_in(
+        "cycle_length",
+        seq.len(),
+        2..=MAX_CYCLE_LENGTH,
+        " collisions",
+    )?;
+    Error::unless_in(
+        "reference_bits",
+        bits,
+        MIN_CYCLE_BITS..=MAX_CYCLE_BITS,
+        " bits",
+    )?;
     let m = disks.count();
     if let Some(&d) = seq.iter().find(|&&d| d >= m) {
         return Err(Error::out_of_range(

@@ -39,20 +39,18 @@ impl RepellerConfig {
             ));
         }
         Disks::three_disk(self.side, self.radius).validate()?;
-        if !(1..=MAX_FUNDAMENTAL_LENGTH).contains(&self.max_length) {
-            return Err(Error::out_of_range(
-                "max_length",
-                self.max_length,
-                format!("use 1 to {MAX_FUNDAMENTAL_LENGTH}"),
-            ));
-        }
-        if !(MIN_CYCLE_BITS..=MAX_CYCLE_BITS).contains(&self.reference_bits) {
-            return Err(Error::out_of_range(
-                "reference_bits",
-                self.reference_bits,
-                format!("use {MIN_CYCLE_BITS} to {MAX_CYCLE_BITS} bits"),
-            ));
-        }
+        Error::unless_in(
+            "max_length",
+            self.max_length,
+            1..=MAX_FUNDAMENTAL_LENGTH,
+            "",
+        )?;
+        Error::unless_in(
+            "reference_bits",
+            self.reference_bits,
+            MIN_CYCLE_BITS..=MAX_CYCLE_BITS,
+            " bits",
+        )?;
         Ok(())
     }
 }

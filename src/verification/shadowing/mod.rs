@@ -297,22 +297,18 @@ pub fn shadow_pseudo_orbit_in_field<S: Scene>(
 }
 /// Refuses a segment length or precision outside the supported ranges, naming them.
 pub fn check_request(n: usize, bits: u32) -> Result<(), Error> {
-    if !(2..=MAX_COLLISIONS).contains(&n) {
-        return Err(Error::out_of_range(
-            "collisions_per_segment",
-            n,
-            format!(
-                "use 2 to {MAX_COLLISIONS} (a segment needs one step; longer segments: split them)"
-            ),
-        ));
-    }
-    if !(MIN_SHADOW_BITS..=MAX_SHADOW_BITS).contains(&bits) {
-        return Err(Error::out_of_range(
-            "reference_bits",
-            bits,
-            format!("use {MIN_SHADOW_BITS} to {MAX_SHADOW_BITS} bits"),
-        ));
-    }
+    Error::unless_in(
+        "collisions_per_segment",
+        n,
+        2..=MAX_COLLISIONS,
+        " (a segment needs one step; longer segments: split them)",
+    )?;
+    Error::unless_in(
+        "reference_bits",
+        bits,
+        MIN_SHADOW_BITS..=MAX_SHADOW_BITS,
+        " bits",
+    )?;
     Ok(())
 }
 
@@ -392,13 +388,7 @@ impl ShadowConfig {
     /// A segment length, precision, segment count or field out of range.
     pub fn validate(&self) -> Result<(), Error> {
         check_request(self.collisions_per_segment, self.reference_bits)?;
-        if !(1..=MAX_SEGMENTS).contains(&self.segments) {
-            return Err(Error::out_of_range(
-                "segments",
-                self.segments,
-                format!("use 1 to {MAX_SEGMENTS}"),
-            ));
-        }
+        Error::unless_in("segments", self.segments, 1..=MAX_SEGMENTS, "")?;
         self.field_exact()?;
         Ok(())
     }
