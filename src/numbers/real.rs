@@ -123,15 +123,16 @@ pub trait Real:
     /// cos (theory only, see [`Real::sin`]).
     fn cos(self) -> Self;
 
-    /// arctan (theory only, see [`Real::sin`]).
+    /// arctan, correctly rounded for `f64` too (CORE-MATH): the thermostatted flight's angle, and
+    /// theory.
     fn atan(self) -> Self;
 
     /// The angle of the vector (x, y) = (`x`, `self`) in (−π, π] (not correctly rounded for
     /// `f64`: the flight time of an arc, for observables, never an event's choice).
     fn atan2(self, x: &Self) -> Self;
 
-    /// eˣ (not correctly rounded for `f64`: the thermostatted flight, within its error model
-    /// `proofs-notes/thermostat-flight.md`, and theory).
+    /// eˣ, correctly rounded for `f64` too (CORE-MATH), so that the thermostatted flight in `f64`
+    /// is its MPFR-53 flight to the bit (`proofs-notes/thermostat-flight.md`), and theory.
     fn exp(self) -> Self;
 
     /// eˣ − 1 without cancellation at small x (see [`Real::exp`]).
@@ -251,7 +252,24 @@ impl Real for f64 {
         // The correctly rounded value of π, identical to MPFR's π at 53 bits.
         std::f64::consts::PI
     }
-    forward_unary!(f64: sin, cos, atan, exp, exp_m1, ln_1p, ln);
+    forward_unary!(f64: sin, cos);
+    // Correctly rounded, so that a generic computation with them (the thermostatted flight) in
+    // `f64` is its MPFR-53 computation to the bit.
+    fn atan(self) -> f64 {
+        core_math::atan(self)
+    }
+    fn exp(self) -> f64 {
+        core_math::exp(self)
+    }
+    fn exp_m1(self) -> f64 {
+        core_math::expm1(self)
+    }
+    fn ln_1p(self) -> f64 {
+        core_math::log1p(self)
+    }
+    fn ln(self) -> f64 {
+        core_math::log(self)
+    }
     fn atan2(self, x: &f64) -> f64 {
         f64::atan2(self, *x)
     }

@@ -15,8 +15,8 @@
 //!
 //! Every form is free of cancellation as εt → 0 (it tends to the straight flight t·v) and as
 //! εt → ∞ (the anti-aligned start p → 0 included). `exp`, `expm1`, `ln`, `ln_1p` and `atan` are
-//! not correctly rounded in `f64`: the flight is accurate to its error model, not bit for bit with
-//! MPFR at 53 bits. The next event in a cell is [`ConvexCell::next_event_thermostat`]
+//! correctly rounded in `f64` too (CORE-MATH), so the `f64` flight is the MPFR-53 flight to the
+//! bit, and both are within the error model of the exact one. The next event in a cell is [`ConvexCell::next_event_thermostat`]
 //! (`cell.rs`), its contacts certified by [`isolate`].
 //!
 //! [`ConvexCell::next_event_thermostat`]: super::cell::ConvexCell::next_event_thermostat
