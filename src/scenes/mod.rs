@@ -15,6 +15,8 @@
 //!   always infinite horizon), on the generic kernel.
 //! * [`magnetic`]: the lattice walked along arcs in a uniform magnetic field, and the disk array
 //!   the field's exact geometry needs.
+//! * [`spec`], [`motion`]: a table's description — which geometry, and how the particle moves
+//!   (straight, in a magnetic field, thermostatted) — each parameter exactly as typed.
 //! * [`single_trap`]: one trap of three disks and its gaps, for injection experiments.
 //! * [`table`]: any periodic table of disks given as data (a lattice by exact basis vectors,
 //!   disks by exact centres and radii), validated exactly, on the generic kernel.
@@ -26,6 +28,7 @@
 pub mod lattice;
 pub mod long_flight;
 pub mod magnetic;
+pub mod motion;
 pub mod sampling;
 pub mod single_trap;
 pub mod spec;

@@ -16,6 +16,8 @@ use super::triangular::TriangularScene;
 use crate::Error;
 use crate::numbers::exact::ExactInput;
 
+pub use super::motion::Motion;
+
 /// The crate's scenes, each with its one parameter exactly as typed.
 ///
 /// # Examples
@@ -211,91 +213,6 @@ fn shown(text: &str) -> String {
     match t.char_indices().nth(32) {
         Some((at, _)) => format!("{}…", &t[..at]),
         None => t.to_string(),
-    }
-}
-
-/// How the particle moves between collisions.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
-#[non_exhaustive]
-pub enum Motion {
-    /// Straight lines at speed 1.
-    #[default]
-    Straight,
-    /// Arcs of a uniform magnetic field B perpendicular to the plane, B exactly as typed (a
-    /// decimal or a fraction): the velocity turns at the angular velocity B, counter-clockwise
-    /// for B > 0, on a cyclotron circle of radius 1/|B|.
-    Field(String),
-    /// A Gaussian-thermostatted electric field E in the plane (ṙ = v, v̇ = E − (E·v)v: the
-    /// speed stays 1), its signed strength and its angle from the x axis in degrees, each exactly
-    /// as typed (`proofs-notes/thermostat-flight.md`). Not yet taken by the analyses, which
-    /// refuse it on reading a configuration.
-    Thermostat {
-        /// The signed strength (a decimal or a fraction); −E is the field turned by 180°.
-        field: String,
-        /// The angle of E from the x axis, in degrees (a decimal or a fraction).
-        angle: String,
-    },
-}
-
-impl Motion {
-    /// The motion in the field B as typed: a field, or straight lines where B is exactly zero
-    /// (text that is not a number stays a field, for validation to refuse naming it).
-    pub fn in_field(b: &str) -> Motion {
-        if crate::numbers::exact::parse_exact(b).is_ok_and(|q| q == 0) {
-            Motion::Straight
-        } else {
-            Motion::Field(b.trim().to_string())
-        }
-    }
-
-    /// The thermostatted field of strength `field` along `angle` (degrees), each as typed: straight
-    /// lines where the strength is exactly zero, so that E = 0 keeps today's bits (text that is
-    /// not a number stays a field, for validation to refuse naming it).
-    ///
-    /// # Examples
-    ///
-    /// ```
-    /// use lorentz_gas::scenes::spec::Motion;
-    /// assert_eq!(Motion::thermostat("0/3", "30"), Motion::Straight);
-    /// let m = Motion::thermostat(" 3/10 ", "90");
-    /// let th = m.thermostat_at::<f64>(()).unwrap().unwrap();
-    /// assert_eq!((th.strength, th.dir.x, th.dir.y), (0.3, 0.0, 1.0));
-    /// ```
-    pub fn thermostat(field: &str, angle: &str) -> Motion {
-        if crate::numbers::exact::parse_exact(field).is_ok_and(|q| q == 0) {
-            Motion::Straight
-        } else {
-            Motion::Thermostat {
-                field: field.trim().to_string(),
-                angle: angle.trim().to_string(),
-            }
-        }
-    }
-
-    /// The field as typed, `None` for straight lines and for the thermostat.
-    pub fn field(&self) -> Option<&str> {
-        match self {
-            Motion::Field(b) => Some(b),
-            Motion::Straight | Motion::Thermostat { .. } => None,
-        }
-    }
-
-    /// The thermostatted field at the working precision `ctx`, each input parsed exactly and
-    /// rounded once there; `None` for another motion.
-    ///
-    /// # Errors
-    /// A strength or an angle that is not an exact decimal or fraction.
-    pub fn thermostat_at<T: crate::numbers::real::Real>(
-        &self,
-        ctx: T::Ctx,
-    ) -> Result<Option<crate::kernel::thermostat::Thermostat<T>>, Error> {
-        use crate::numbers::exact::parse_exact;
-        let Motion::Thermostat { field, angle } = self else {
-            return Ok(None);
-        };
-        let e = parse_exact(field).map_err(|e| e.named("electric"))?;
-        let a = parse_exact(angle).map_err(|e| e.named("electric_angle"))?;
-        Ok(crate::kernel::thermostat::Thermostat::exact(&e, &a, ctx))
     }
 }
 
