@@ -19,12 +19,31 @@ fn th64(eps: f64, angle: f64) -> Thermostat<f64> {
     }
 }
 
-/// The same field, lifted exactly to MPFR.
-fn lift(th: &Thermostat<f64>) -> Thermostat<Float> {
+/// The same field, lifted exactly to MPFR at `bits`.
+fn lift_to(th: &Thermostat<f64>, bits: u32) -> Thermostat<Float> {
+    let at = |x: f64| Float::with_val(bits, x);
     Thermostat {
-        strength: big(th.strength),
-        dir: Vec2::new(big(th.dir.x), big(th.dir.y)),
+        strength: at(th.strength),
+        dir: Vec2::new(at(th.dir.x), at(th.dir.y)),
     }
+}
+
+/// The same field, lifted exactly to MPFR at [`BITS`].
+fn lift(th: &Thermostat<f64>) -> Thermostat<Float> {
+    lift_to(th, BITS)
+}
+
+/// Flight `n` of a random sample: ε from 10⁻⁶ to 10³, any field direction, a flight time up to 3,
+/// and every fourth start within 10⁻¹² of anti-alignment (where p = 1 + c is tiny).
+fn random_flight(r: &mut Mix, n: usize) -> (Thermostat<f64>, Vec2<f64>, f64) {
+    let th = th64(10f64.powf(9.0 * r.unit() - 6.0), 6.3 * r.unit());
+    let phi = if n.is_multiple_of(4) {
+        th.dir.y.atan2(th.dir.x) + std::f64::consts::PI + 1e-12 * (r.unit() - 0.5)
+    } else {
+        6.3 * r.unit()
+    };
+    let t = 3.0 * r.unit();
+    (th, Vec2::new(phi.cos(), phi.sin()), t)
 }
 
 /// A small deterministic generator (SplitMix64) for the random flights.
@@ -105,15 +124,7 @@ fn f64_flights_are_within_the_error_model() {
     let mut r = Mix(11);
     let mut worst: f64 = 0.0;
     for n in 0..4000 {
-        let th = th64(10f64.powf(9.0 * r.unit() - 6.0), 6.3 * r.unit());
-        let phi = if n % 4 == 0 {
-            // Near anti-alignment, where p = 1 + c is tiny.
-            th.dir.y.atan2(th.dir.x) + std::f64::consts::PI + 1e-12 * (r.unit() - 0.5)
-        } else {
-            6.3 * r.unit()
-        };
-        let v = Vec2::new(phi.cos(), phi.sin());
-        let t = 3.0 * r.unit();
+        let (th, v, t) = random_flight(&mut r, n);
         let start = th.start(&v);
         let at = start.at(&t);
         let (mx, mv) = start.error(&t);
@@ -141,20 +152,11 @@ fn f64_flights_are_mpfr_53_flights_bit_for_bit() {
     };
     let mut differ = 0;
     for n in 0..4000 {
-        let th = th64(10f64.powf(9.0 * r.unit() - 6.0), 6.3 * r.unit());
-        let phi = if n % 4 == 0 {
-            th.dir.y.atan2(th.dir.x) + std::f64::consts::PI + 1e-12 * (r.unit() - 0.5)
-        } else {
-            6.3 * r.unit()
-        };
-        let v = Vec2::new(phi.cos(), phi.sin());
-        let t = 3.0 * r.unit();
+        let (th, v, t) = random_flight(&mut r, n);
         let lo = th.start(&v).at(&t);
-        let th53 = Thermostat {
-            strength: at53(th.strength),
-            dir: Vec2::new(at53(th.dir.x), at53(th.dir.y)),
-        };
-        let hi = th53.start(&Vec2::new(at53(v.x), at53(v.y))).at(&at53(t));
+        let hi = lift_to(&th, 53)
+            .start(&Vec2::new(at53(v.x), at53(v.y)))
+            .at(&at53(t));
         let lo_bits = [lo.disp.x, lo.disp.y, lo.vel.x, lo.vel.y, lo.along].map(f64::to_bits);
         if lo_bits != bits(&hi) {
             differ += 1;
