@@ -34,6 +34,7 @@ import numpy as np  # noqa: F401  (the namespace of the package's doctests, `doc
 
 from . import _native
 from ._native import CheckFailedError, ComputationError
+from ._current import CurrentResult
 from ._results import (
     AuditResult,
     BackscatterResult,
@@ -147,6 +148,7 @@ __all__ = [
     "DiffusionResult",
     "TableDiffusionResult",
     "FieldResult",
+    "CurrentResult",
     "HopsResult",
     "TheoryResult",
     "LatticeWalkResult",

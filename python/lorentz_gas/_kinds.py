@@ -34,6 +34,7 @@ from ._results import (
     TheoryResult,
     TrajectoryResult,
 )
+from ._current import CurrentResult
 from ._section import SectionResult
 
 
@@ -111,6 +112,7 @@ KINDS: List[Tuple[str, str, Tuple[str, ...], Callable[..., Result]]] = [
      TableDiffusionResult),
     ("diffusion", "diffusion", ("batch_D", "msd_times"), DiffusionResult),
     ("field", "diffusion --field", ("batch_D_xx", "localized_fraction_exact"), FieldResult),
+    ("current", "diffusion --electric", ("J_parallel", "mobility"), CurrentResult),
     ("field-sweep", "sweep --fields (field-sweep.json), merge", ("rows", "onsager"),
      FieldSweepResult),
     ("sweep", "sweep (sweep.json), merge", ("rows", "linear_fit"), SweepResult),

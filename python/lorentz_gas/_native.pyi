@@ -32,6 +32,8 @@ class DiffusionParams(TypedDict):
     msd_grid: str
     localization_samples: str
     field: Optional[str]
+    electric: Optional[str]
+    electric_angle: str
     audit: Optional[float]
     reference_bits: str
     threads: Optional[str]

@@ -26,6 +26,7 @@ from ._inputs import (
     _total,
     _window,
 )
+from ._current import CurrentResult
 from ._keywords import public
 from ._progress import _run
 from ._results import (
@@ -66,9 +67,12 @@ def diffusion(
     scene: str = "triangular",
     radius: Optional[Exact] = None,
     table: Optional[Table] = None,
-) -> Union[DiffusionResult, FieldResult, TableDiffusionResult]:
-    """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``), or with a
-    magnetic ``field`` the diffusion tensor (``lorentz diffusion --field``).
+    electric: Optional[Exact] = None,
+    electric_angle: Exact = 0,
+) -> Union[DiffusionResult, FieldResult, TableDiffusionResult, CurrentResult]:
+    """The diffusion coefficient D(w) by the Einstein formula (``lorentz diffusion``), with a
+    magnetic ``field`` the diffusion tensor (``lorentz diffusion --field``), or under a
+    thermostatted ``electric`` field the current (``lorentz diffusion --electric``).
 
     Parameters
     ----------
@@ -153,6 +157,15 @@ def diffusion(
         ...]}`` (every number exact like ``w``; ``"name"`` optional) or the path of a TOML table
         file (``examples/tables/``). Refused with ``ValueError`` naming the disks that overlap or
         the open corridor where the analysis needs a finite horizon.
+    electric : str, float, Fraction or Decimal, optional, keyword only
+        A Gaussian-thermostatted electric field E in the plane (1/time at speed 1: dv/dt = E -
+        (E.v)v keeps the speed 1), taken exactly like ``w``, 0 < abs(E) <= 10: the run measures
+        the current, the mobility J/E (which tends to D as E -> 0), the entropy production E.J and
+        the diffusion tensor about the drift. ``None`` or 0: the run without a field (its own
+        bits). A finite horizon is needed; the run takes no checkpoint, audit or ``rel_err`` yet
+        and runs on the scalar engine.
+    electric_angle : str, float, Fraction or Decimal, keyword only
+        The field's direction from the x axis in degrees, taken exactly (-360 to 360).
 
     Returns
     -------
@@ -165,6 +178,10 @@ def diffusion(
         phase space, ``diffusing`` (the tensor of the diffusing part), ``pinned_fraction_exact``,
         ``localized_fraction_exact``, ``localized_fraction`` ± ``localized_fraction_err``,
         ``mean_free_time`` against Kac's ``mean_free_time_exact``.
+    CurrentResult
+        With a nonzero ``electric``: ``J_x``, ``J_y``, ``J_parallel``, ``J_perp``,
+        ``mobility``, ``entropy_production`` (each with ``_err``), the tensor about the drift
+        ``diffusion``, the velocity angle's ``angle_density``.
     """
     if plan_only and rel_err is None:
         raise ValueError("plan_only=True plans a run for a relative error: give rel_err too")
@@ -190,10 +207,14 @@ def diffusion(
         "checkpoint_every": float(checkpoint_every),
         "audit": None if audit is None else float(audit),
         "field": None if field is None else _exact("field", field),
+        "electric": None if electric is None else _exact("electric", electric),
+        "electric_angle": _exact("electric_angle", electric_angle),
         "rel_err": None if rel_err is None else float(rel_err),
         "plan_only": bool(plan_only),
         "msd_grid": _numbers("msd_grid", msd_grid),
     }, stage)
+    if '"J_parallel"' in text:
+        return CurrentResult(text)
     if '"D_xy"' in text:
         return FieldResult(text)
     if '"identities"' in text:

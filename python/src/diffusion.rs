@@ -36,13 +36,19 @@ pub fn read(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     })?;
     let samples = p.count_u64("localization_samples")?;
     let field = p.opt_text("field")?;
+    let electric = p.opt_text("electric")?;
+    let electric_angle = p.text("electric_angle")?;
     let (audit, reference_bits) = (p.opt_number("audit")?, p.text("reference_bits")?);
     let (threads, engine) = (p.threads()?, p.engine()?);
     let (checkpoint, every) = (p.opt_path("checkpoint")?, p.checkpoint_every()?);
     Ok(work(move |py, progress| {
+        let motion = match &electric {
+            Some(e) => Motion::thermostat(e, &electric_angle),
+            None => Motion::in_field(field.as_deref().unwrap_or("0")),
+        };
         let table = Table {
             scene: place.spec()?,
-            motion: Motion::in_field(field.as_deref().unwrap_or("0")),
+            motion,
         };
         let cfg = DiffusionConfig {
             batches,
@@ -83,7 +89,7 @@ pub fn read(p: &Params<'_, '_>) -> PyResult<Work<String>> {
 /// pilot, then the run it plans ([`planned`]).
 fn planned_on_the_trap(cfg: &DiffusionConfig) -> bool {
     cfg.rel_err.is_some()
-        && cfg.table.field().is_none()
+        && cfg.table.motion == Motion::Straight
         && matches!(cfg.table.scene, SceneSpec::Triangular { .. })
 }
 

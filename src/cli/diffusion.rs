@@ -68,8 +68,23 @@ pub struct Args {
     /// --w: the velocity turns at the angular velocity B, counter-clockwise for B > 0, on a
     /// cyclotron circle of radius 1/|B|. With a nonzero field the run measures the diffusion
     /// tensor (D_xx and the Hall D_xy) and the localized orbits; 0 is the run without a field.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "electric")]
     field: Option<String>,
+    /// A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E -
+    /// (E.v)v), its strength an exact decimal or fraction, 0 < |E| <= 10: the run measures the
+    /// current J, the mobility J/E (-> D as E -> 0), the entropy production E.J and the diffusion
+    /// tensor about the drift; 0 is the run without a field.
+    #[arg(long, allow_hyphen_values = true)]
+    electric: Option<String>,
+    /// With --electric: the field's angle from the x axis in degrees, an exact decimal or
+    /// fraction.
+    #[arg(
+        long,
+        default_value = "0",
+        allow_hyphen_values = true,
+        requires = "electric"
+    )]
+    electric_angle: String,
     /// With --field: phase points classified for the sampled share of localized orbits.
     #[arg(long, default_value = "1e6", value_parser = parse_count, requires = "field")]
     localization_samples: u64,
@@ -78,11 +93,16 @@ pub struct Args {
 }
 
 /// The configuration these options give (validated): the table (`--w`, `--scene`, `--table`)
-/// in the field `--field` (none, or exactly 0, is the run without a field).
+/// in the field `--field` or under `--electric` (none, or exactly 0, is the run without a
+/// field).
 pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
+    let motion = match &a.electric {
+        Some(e) => Motion::thermostat(e, &a.electric_angle),
+        None => Motion::in_field(a.field.as_deref().unwrap_or("0")),
+    };
     let table = Table {
         scene: a.scene.spec()?,
-        motion: Motion::in_field(a.field.as_deref().unwrap_or("0")),
+        motion,
     };
     let cfg = DiffusionConfig {
         batches: a.batches,
@@ -101,7 +121,7 @@ pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
 /// data without a field what it samples (the table recorded beside it).
 pub fn recorded_config(a: &Args) -> Result<serde_json::Value, Error> {
     let cfg = config(a)?;
-    let table_run = cfg.table.field().is_none() && cfg.table.gap_text().is_none();
+    let table_run = cfg.table.motion == Motion::Straight && cfg.table.gap_text().is_none();
     if table_run {
         serde_json::to_value(cfg.sampling())
     } else {
@@ -133,6 +153,9 @@ pub fn run(a: Args) -> Result<(), Error> {
     match r {
         Transport::Trap(r) => emit(a.output.json, &*r, print),
         Transport::Field(r) => emit(a.output.json, &*r, super::field::print),
+        Transport::Current(r) => emit(a.output.json, &*r, |r| {
+            print!("{}", lorentz_gas::report::text::current::current(r))
+        }),
         Transport::Table(r) => emit(a.output.json, &*r, |r| {
             print!(
                 "{}",

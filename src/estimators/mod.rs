@@ -18,6 +18,7 @@
 //!
 //! [`metadata`](crate::engine::metadata) records how each result was computed.
 
+pub mod current;
 pub mod diffusion;
 pub mod escape;
 pub mod field;

@@ -6,19 +6,22 @@
 //! * any other table without a field: the Einstein estimator on a scene
 //!   ([`diffusion::scene::run_on`]), D with the table's exact identities measured;
 //! * any table in a field: the tensor D_xx, D_xy with the localized orbits counted exactly
-//!   ([`field::run`]).
+//!   ([`field::run`]);
+//! * any table under the thermostatted electric field: the current J(E), its mobility and the
+//!   diffusion tensor about the drift ([`current::run`]).
 //!
 //! Each result is written in the form its kind has always had, so that `report`, `merge` and
 //! resume read the files of every version.
 
 use serde::Serialize;
 
+use super::current::{self, CurrentReport};
 use super::diffusion::scene::SceneDiffusionReport;
 use super::diffusion::{self, DiffusionConfig, DiffusionReport};
 use super::field::{self, FieldReport};
 use crate::Error;
 use crate::engine::options::RunOptions;
-use crate::scenes::spec::SceneChoice;
+use crate::scenes::spec::{Motion, SceneChoice};
 
 /// The result of [`run`]: the one its table and motion give.
 #[derive(Debug, Clone, Serialize)]
@@ -30,6 +33,8 @@ pub enum Transport {
     Table(Box<SceneDiffusionReport>),
     /// Any table in a field.
     Field(Box<FieldReport>),
+    /// Any table under the thermostatted electric field: the current.
+    Current(Box<CurrentReport>),
 }
 
 /// Runs `cfg` (validated first) with `options`, on the estimator its table asks for.
@@ -39,6 +44,9 @@ pub enum Transport {
 /// the estimator does not use, an I/O error or an interruption.
 pub fn run(cfg: &DiffusionConfig, options: &RunOptions) -> Result<Transport, Error> {
     cfg.validate()?;
+    if let Motion::Thermostat { .. } = cfg.table.motion {
+        return Ok(Transport::Current(Box::new(current::run(cfg, options)?)));
+    }
     if cfg.table.field().is_some() {
         return Ok(Transport::Field(Box::new(field::run(cfg, options)?)));
     }

@@ -36,6 +36,7 @@ pub mod square;
 pub mod strip;
 pub mod symbols;
 pub mod table;
+pub mod thermostat;
 pub mod triangular;
 
 use rand::Rng;

@@ -17,8 +17,9 @@ pub enum Motion {
     Field(String),
     /// A Gaussian-thermostatted electric field E in the plane (ṙ = v, v̇ = E − (E·v)v: the
     /// speed stays 1), its signed strength and its angle from the x axis in degrees, each exactly
-    /// as typed (`proofs-notes/thermostat-flight.md`). Not yet taken by the analyses, which
-    /// refuse it on reading a configuration.
+    /// as typed (`proofs-notes/thermostat-flight.md`). Taken by the diffusion run (the current
+    /// J(E), [`crate::estimators::current`]); the other analyses refuse it
+    /// ([`super::spec::Table::motion_taken_by`]).
     Thermostat {
         /// The signed strength (a decimal or a fraction); −E is the field turned by 180°.
         field: String,

@@ -298,12 +298,20 @@ impl From<Table> for TableRecord {
 impl TryFrom<TableRecord> for Table {
     type Error = Error;
     fn try_from(r: TableRecord) -> Result<Self, Error> {
-        if r.electric.is_some() || r.electric_angle.is_some() {
-            return Err(Error::Invalid(
-                "`electric`: the thermostatted field is not yet taken by the analyses".into(),
-            ));
-        }
-        let motion = r.field.map_or(Motion::Straight, Motion::Field);
+        let motion = match (r.field, r.electric, r.electric_angle) {
+            (Some(_), Some(_), _) => {
+                return Err(Error::Invalid(
+                    "both a magnetic `field` and an `electric` one: give one motion".into(),
+                ));
+            }
+            (_, None, Some(_)) => {
+                return Err(Error::Invalid(
+                    "`electric_angle` without `electric`: give the field's strength".into(),
+                ));
+            }
+            (b, None, None) => b.map_or(Motion::Straight, Motion::Field),
+            (None, Some(e), angle) => Motion::thermostat(&e, angle.as_deref().unwrap_or("0")),
+        };
         let scene = match (r.w, r.scene) {
             (Some(w), None) => {
                 if motion != Motion::Straight {
@@ -397,10 +405,10 @@ impl Table {
         self.motion.field()
     }
 
-    /// Refuses a motion `analysis` does not take yet: the thermostatted field has its kernel
-    /// (`kernel::thermostat`) but no analysis drives it, and [`Self::field`] is `None` for it, so
-    /// an analysis that did not ask would fly straight lines. Every configuration holding a
-    /// table calls this in its validation.
+    /// Refuses a motion `analysis` does not take yet: the thermostatted field is taken by the
+    /// diffusion run (whose validation does not call this) and by no other analysis so far, and
+    /// [`Self::field`] is `None` for it, so an analysis that did not ask would fly straight
+    /// lines. Every other configuration holding a table calls this in its validation.
     ///
     /// # Errors
     /// [`Error::Invalid`] for [`Motion::Thermostat`], naming the analysis.
@@ -408,13 +416,13 @@ impl Table {
     /// # Examples
     ///
     /// ```
-    /// use lorentz_gas::estimators::diffusion::DiffusionConfig;
-    /// use lorentz_gas::scenes::spec::Motion;
-    /// let mut cfg = DiffusionConfig::new(0.1);
+    /// use lorentz_gas::estimators::hops::HopsConfig;
+    /// use lorentz_gas::scenes::spec::{Motion, Table};
+    /// let mut cfg = HopsConfig::new(Table::triangular("1/10").unwrap());
     /// assert!(cfg.validate().is_ok());
     /// cfg.table.motion = Motion::thermostat("3/10", "0");
     /// let e = cfg.validate().unwrap_err().to_string();
-    /// assert!(e.contains("diffusion does not take the thermostatted electric field"), "{e}");
+    /// assert!(e.contains("hops does not take the thermostatted electric field"), "{e}");
     /// // A zero field is the straight-line table.
     /// cfg.table.motion = Motion::thermostat("0", "30");
     /// assert!(cfg.validate().is_ok());
@@ -535,7 +543,17 @@ mod tests {
             json,
             r#"{"scene":{"scene":"triangular","w":"0.1"},"electric":"1/3","electric_angle":"-90"}"#
         );
-        assert!(serde_json::from_str::<Table>(&json).is_err());
+        assert_eq!(serde_json::from_str::<Table>(&json).unwrap(), t);
+        for bad in [
+            r#"{"scene":{"scene":"square","radius":"1/4"},"field":"1","electric":"1"}"#,
+            r#"{"scene":{"scene":"square","radius":"1/4"},"electric_angle":"30"}"#,
+        ] {
+            assert!(serde_json::from_str::<Table>(bad).is_err(), "{bad}");
+        }
+        // A zero field read is the straight table.
+        let zero = r#"{"scene":{"scene":"square","radius":"1/4"},"electric":"0/7"}"#;
+        let read: Table = serde_json::from_str(zero).unwrap();
+        assert_eq!(read.motion, Motion::Straight);
     }
 
     /// The scene of `w = "1/10"` or `"0.1"` at 256 bits has w = 1/10 rounded once at 256 bits,

@@ -9,7 +9,7 @@ use crate::Error;
 use crate::numbers::precision::Precision;
 use crate::numbers::real::Real;
 use crate::scenes::Scene;
-use crate::scenes::spec::{SceneSpec, Table};
+use crate::scenes::spec::{Motion, SceneSpec, Table};
 use crate::scenes::triangular::geometry::{Geometry, check_diffusive_gap_exact};
 
 mod grid;
@@ -187,7 +187,9 @@ impl DiffusionConfig {
     /// the triangular gas without a field has (`rel_err`), or only a run without a field (the
     /// logarithmic MSD grid), asked of another; too few batches or collisions for the windows.
     pub fn validate(&self) -> Result<(), Error> {
-        self.table.motion_taken_by("diffusion")?;
+        if let Motion::Thermostat { .. } = self.table.motion {
+            return self.validate_thermostat();
+        }
         if let Some(r) = self.rel_err {
             super::plan::check_rel_err(r)?;
         }
@@ -211,7 +213,7 @@ impl DiffusionConfig {
 
     /// The checks of a run in a field (a finite horizon on every table).
     fn validate_in_field(&self) -> Result<(), Error> {
-        refuse_options_of_no_field(self.rel_err, &self.msd_grid)?;
+        refuse_options_of_no_field(self.rel_err, &self.msd_grid, "a magnetic field")?;
         let n = self.localization_samples.unwrap_or(0);
         if !(1..=1_000_000_000).contains(&n) {
             return Err(Error::out_of_range(
@@ -222,6 +224,23 @@ impl DiffusionConfig {
         }
         let scene = self.table.scene.resolve()?;
         crate::with_scene!(&scene, |s| self.sampling().check_statistics(s))
+    }
+
+    /// The checks of a run under the thermostatted electric field: its strength and angle, a
+    /// finite horizon (along a corridor the field would drive a flight forever), the run's
+    /// statistics.
+    fn validate_thermostat(&self) -> Result<(), Error> {
+        refuse_options_of_no_field(self.rel_err, &self.msd_grid, "the thermostatted field")?;
+        if self.localization_samples.is_some() {
+            return Err(Error::parameter(
+                "localization_samples",
+                format!("{:?}", self.localization_samples),
+                "counts the localized orbits of a magnetic field: leave it out with --electric",
+            ));
+        }
+        check_electric(&self.table.motion)?;
+        let scene = self.table.scene.resolve()?;
+        crate::with_scene!(&scene, |s| self.sampling().validate(s))
     }
 
     /// The checks of the trap estimator's run on the triangular gas.
@@ -411,22 +430,62 @@ pub fn require_finite_horizon<S: crate::scenes::Scene>(scene: &S) -> Result<(), 
 ///
 /// # Errors
 /// Either of them asked for.
-pub fn refuse_options_of_no_field(rel_err: Option<f64>, grid: &MsdGrid) -> Result<(), Error> {
+pub fn refuse_options_of_no_field(
+    rel_err: Option<f64>,
+    grid: &MsdGrid,
+    field: &str,
+) -> Result<(), Error> {
     if let Some(target) = rel_err {
         return Err(Error::parameter(
             "rel_err",
             target,
-            "a run in a magnetic field is not planned for a relative error (yet): give its \
-             collisions, or plan them with a run without the field",
+            format!(
+                "a run in {field} is not planned for a relative error (yet): give its \
+                 collisions, or plan them with a run without the field"
+            ),
         ));
     }
     if !grid.is_fit() {
         return Err(Error::parameter(
             "msd_grid",
             grid,
-            "a run in a magnetic field keeps its MSD at the fit windows' lags only (the MSD \
-             curve, velocity autocorrelation and Green-Kubo integral are measured without a \
-             field)",
+            format!(
+                "a run in {field} keeps its MSD at the fit windows' lags only (the MSD \
+                 curve, velocity autocorrelation and Green-Kubo integral are measured without a \
+                 field)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The largest strength |E| of the thermostatted field a run takes.
+pub const MAX_ELECTRIC: f64 = 10.0;
+
+/// Checks the thermostatted field of `motion`: an exact strength 0 < |E| ≤ [`MAX_ELECTRIC`]
+/// (zero is the straight table) and an exact angle in degrees, |angle| ≤ 360.
+///
+/// # Errors
+/// A strength or angle that is not an exact decimal or fraction, or out of range.
+pub fn check_electric(motion: &Motion) -> Result<(), Error> {
+    let Motion::Thermostat { field, angle } = motion else {
+        return Ok(());
+    };
+    let e = crate::numbers::exact::parse_exact(field).map_err(|e| e.named("electric"))?;
+    let a = crate::numbers::exact::parse_exact(angle).map_err(|e| e.named("electric_angle"))?;
+    let strength = crate::numbers::exact::nearest_f64(&e).abs();
+    if !(strength > 0.0 && strength <= MAX_ELECTRIC) {
+        return Err(Error::parameter(
+            "electric",
+            field,
+            format!("use 0 < |E| <= {MAX_ELECTRIC} (0 is the table without the field)"),
+        ));
+    }
+    if crate::numbers::exact::nearest_f64(&a).abs() > 360.0 {
+        return Err(Error::parameter(
+            "electric_angle",
+            angle,
+            "use an angle in degrees from -360 to 360",
         ));
     }
     Ok(())

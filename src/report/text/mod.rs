@@ -10,6 +10,7 @@ pub mod backscatter;
 pub mod bench;
 pub mod certify;
 pub mod constants;
+pub mod current;
 pub mod diffusion;
 pub mod escape;
 pub mod field;
@@ -104,6 +105,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
     let text = match kind {
         "diffusion" => render(kind, json, diffusion::diffusion)?,
         "field" => render(kind, json, field::field)?,
+        "current" => render(kind, json, current::current)?,
         "table-diffusion" => render(kind, json, scene_diffusion::scene_diffusion)?,
         "hops" => render(kind, json, hops::hops)?,
         "theory" => render(kind, json, theory::theory)?,

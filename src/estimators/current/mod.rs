@@ -1,0 +1,250 @@
+//! The steady state of the driven Lorentz gas: the current J = ⟨v⟩ under a Gaussian-thermostatted
+//! electric field E, its mobility J/E, the entropy production E·J, the diffusion tensor about the
+//! drift and the distribution of the velocity angle (`proofs-notes/thermostat-current.md`).
+//!
+//! The run is a diffusion run ([`DiffusionConfig`]) whose table carries the thermostat
+//! ([`Motion::Thermostat`](crate::scenes::spec::Motion::Thermostat)) on any periodic array of disks with a finite horizon. Each batch
+//! is one trajectory started from the field-free invariant measure (its stream is the straight
+//! run's), flown for a warm-up of 1/[`WARM_UP_SHARE`] of its stretch towards the steady state, then
+//! observed for the flight time T = (collisions per batch) × ⟨ℓ⟩ rounded to the sampling grid
+//! (⟨ℓ⟩ Santaló's field-free mean free path). Per batch:
+//!
+//! * J = X(T)/T, X the displacement over the observed stretch;
+//! * the phase-space contraction averaged over it, ⟨α⟩ = ε ξ(T)/T = E·J exactly (∫α dt = εξ,
+//!   ξ the displacement along E: the entropy production is the field's work);
+//! * D_ij: half the least-squares slopes of ⟨Δx_iΔx_j⟩ − ⟨Δx_i⟩⟨Δx_j⟩ over the fit window,
+//!   every grid sample a time origin;
+//! * the velocity angle from E at the grid samples, binned.
+//!
+//! Errors are standard errors over batches. The Einstein relation J/E → D as E → 0 (the
+//! straight gas's D, the contraction being the dissipation function) and J(−E) = −J(E) are the
+//! checks (`tests/analyses/current.rs`).
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::diffusion::{DiffusionConfig, Estimate, Window, time_unit};
+use crate::Error;
+use crate::engine::Resolved;
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
+use crate::engine::parallel::par_batches_watched;
+use crate::kernel::thermostat::Thermostat;
+use crate::numbers::precision::Precision;
+use crate::numbers::real::Real;
+use crate::scenes::Scene;
+use crate::scenes::sampling::{Purpose, StreamKey};
+use crate::scenes::thermostat::CellFields;
+use crate::statistics::{linear_fit, mean_se};
+
+mod summary;
+mod track;
+
+pub use summary::DriftTensor;
+pub use track::ANGLE_BINS;
+use track::{Batch, Setup};
+
+/// The warm-up is 1/`WARM_UP_SHARE` of a batch's observed stretch.
+pub const WARM_UP_SHARE: f64 = 64.0;
+
+/// The result of a run under the thermostatted field.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct CurrentReport {
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
+    /// The field's strength ε = |E| (nearest double of the exact value in `config`; a negative
+    /// field as typed is the positive one turned by 180°).
+    pub electric: f64,
+    /// Its direction ê = E/|E| in the world (x, y).
+    pub direction: [f64; 2],
+    /// J_x = ⟨v_x⟩ in the steady state.
+    pub J_x: f64,
+    /// Its standard error over the batches.
+    pub J_x_err: f64,
+    /// J_y.
+    pub J_y: f64,
+    /// Its standard error over the batches.
+    pub J_y_err: f64,
+    /// ê·J, the current along the field.
+    pub J_parallel: f64,
+    /// Its standard error over the batches.
+    pub J_parallel_err: f64,
+    /// ê⊥·J (ê⊥ = ê turned by +90°), the current across it (0 where a mirror of the table
+    /// contains E).
+    pub J_perp: f64,
+    /// Its standard error over the batches.
+    pub J_perp_err: f64,
+    /// J_parallel/ε: the mobility, which tends to D as ε → 0 (the Einstein relation).
+    pub mobility: f64,
+    /// Its standard error over the batches.
+    pub mobility_err: f64,
+    /// E·J = ⟨α⟩, the entropy production (the mean phase-space contraction rate).
+    pub entropy_production: f64,
+    /// Its standard error over the batches.
+    pub entropy_production_err: f64,
+    /// The diffusion tensor about the drift over the fit window.
+    pub diffusion: DriftTensor,
+    /// The same over the check window.
+    pub diffusion_check: DriftTensor,
+    /// Centres of the velocity angle's bins (radians from E, over (−π, π]).
+    pub angle_bins: Vec<f64>,
+    /// The angle's probability density per radian in each bin (time average).
+    pub angle_density: Vec<f64>,
+    /// Its standard error over the batches.
+    pub angle_density_err: Vec<f64>,
+    /// Mean time between collisions in the steady state: the inverse of the collision rate
+    /// averaged over batches of equal duration.
+    pub mean_free_time: f64,
+    /// Its standard error over the batches.
+    pub mean_free_time_err: f64,
+    /// The field-free mean free time ⟨ℓ⟩ (Santaló), which sets the batches' duration.
+    pub mean_free_time_no_field: f64,
+    /// Fit window (units of the scene's crossing time τ).
+    pub window: Window,
+    /// Check window.
+    pub check_window: Window,
+    /// The time unit τ.
+    pub tau: f64,
+    /// Flight time of each batch's warm-up.
+    pub warm_up: f64,
+    /// Flight time of each batch's observed stretch.
+    pub duration: f64,
+    /// Collisions within the observed stretches.
+    pub collisions: u64,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+    /// Collisions (observed) per wall-clock second, end to end.
+    pub collisions_per_second: f64,
+    /// Per-batch J_parallel.
+    pub batch_J_parallel: Vec<f64>,
+    /// Per-batch J_perp.
+    pub batch_J_perp: Vec<f64>,
+    /// The configuration.
+    pub config: DiffusionConfig,
+    /// Provenance.
+    pub meta: RunMeta,
+}
+
+/// The field of a configuration's table in the world's frame at precision `ctx`.
+///
+/// # Errors
+/// A table without the thermostat, or a field that is not an exact decimal or fraction.
+pub fn field_at<T: Real>(cfg: &DiffusionConfig, ctx: T::Ctx) -> Result<Thermostat<T>, Error> {
+    cfg.table
+        .motion
+        .thermostat_at::<T>(ctx)?
+        .ok_or(Error::missing(
+            "electric",
+            "a run under the thermostat needs a nonzero field E",
+        ))
+}
+
+/// Runs the analysis of the steady state under the thermostat (scalar engine; no checkpoint or
+/// audit yet).
+///
+/// # Errors
+/// An invalid configuration, options the analysis does not use, or an interruption.
+pub fn run(cfg: &DiffusionConfig, opts: &RunOptions) -> Result<CurrentReport, Error> {
+    cfg.validate()?;
+    opts.accept("diffusion under the thermostat", &[])?;
+    let scene = cfg.table.scene.resolve()?;
+    crate::with_scene!(&scene, |s| run_on(s, cfg, opts))
+}
+
+/// The run on the resolved scene.
+fn run_on<S: Scene>(
+    scene: &S,
+    cfg: &DiffusionConfig,
+    opts: &RunOptions,
+) -> Result<CurrentReport, Error> {
+    let started = Instant::now();
+    let batches = match cfg.precision {
+        Precision::F64 => batches::<f64, S>(scene, cfg, (), opts)?,
+        Precision::Bits(bits) => batches::<rug::Float, S>(scene, cfg, bits, opts)?,
+    };
+    let world = field_at::<f64>(cfg, ())?;
+    let meta = RunMeta::new(
+        Some(cfg.seed),
+        Some(u64::from(cfg.batches)),
+        cfg.precision,
+        Some(opts.threads),
+    )
+    .with_engine(Resolved::Scalar);
+    let seconds = started.elapsed().as_secs_f64();
+    Ok(summary::summarise(
+        scene,
+        cfg,
+        &world,
+        &batches,
+        (seconds, meta),
+    ))
+}
+
+/// The grid of a run: spacing g·τ (g the greatest common divisor of the windows' lags in units
+/// of τ), every lag in grid steps, and the grid steps of a batch's observed stretch.
+fn grid<S: Scene>(scene: &S, cfg: &DiffusionConfig) -> (f64, Vec<usize>, u64) {
+    let tau = time_unit(scene);
+    let mut lags = cfg.window.lags();
+    lags.extend(cfg.check_window.lags());
+    lags.sort_unstable();
+    lags.dedup();
+    let g = lags.iter().fold(0, |a, &b| gcd(a, b)).max(1);
+    let spacing = g as f64 * tau;
+    let stretch = (cfg.collisions / u64::from(cfg.batches)) as f64 * scene.mean_free_path();
+    let samples = (stretch / spacing).round().max(1.0) as u64;
+    (spacing, lags.iter().map(|l| l / g).collect(), samples)
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 { a } else { gcd(b, a % b) }
+}
+
+/// Every batch at number type `T` on the scalar kernel, one per task (the same bits at any
+/// thread count: each batch is its own stream).
+fn batches<T: Real, S: Scene>(
+    scene: &S,
+    cfg: &DiffusionConfig,
+    ctx: T::Ctx,
+    opts: &RunOptions,
+) -> Result<Vec<Batch>, Error> {
+    let lattice = scene.lattice::<T>(ctx)?;
+    let fields = CellFields::new(field_at::<T>(cfg, ctx)?);
+    let world = field_at::<f64>(cfg, ())?;
+    let (spacing, steps, samples) = grid(scene, cfg);
+    let setup = Setup {
+        scene,
+        lattice: &lattice,
+        fields: &fields,
+        world: &world,
+        ctx,
+        grid: spacing,
+        steps: &steps,
+        warm_up: samples as f64 * spacing / WARM_UP_SHARE,
+        samples,
+        stop: opts.stop.as_ref(),
+        progress: opts.progress,
+    };
+    par_batches_watched(opts.threads, cfg.batches, opts.stop.as_ref(), |i| {
+        let key = StreamKey::new(cfg.seed, Purpose::Trajectory, u64::from(i)).in_run(cfg.run);
+        track::batch(&setup, key)
+    })
+}
+
+/// One batch's slope over `win` of the moment `f` of its lag means (against the lag in time).
+fn slope(b: &Batch, lags: &[usize], tau: f64, win: &Window, f: impl Fn(&[f64; 5]) -> f64) -> f64 {
+    let (x, y): (Vec<f64>, Vec<f64>) = lags
+        .iter()
+        .zip(&b.means)
+        .filter(|(l, _)| **l >= win.lo && **l <= win.hi)
+        .map(|(l, m)| (*l as f64 * tau, f(m)))
+        .unzip();
+    linear_fit(&x, &y).1
+}
+
+/// The mean and standard error of `xs` as an [`Estimate`].
+fn mean_of(xs: &[f64]) -> Estimate {
+    let (value, err) = mean_se(xs);
+    Estimate { value, err }
+}

@@ -1,0 +1,167 @@
+//! The batches of a run under the thermostat summarised: means and standard errors over batches.
+
+use serde::{Deserialize, Serialize};
+
+use super::track::{ANGLE_BINS, Batch};
+use super::{CurrentReport, WARM_UP_SHARE, grid, mean_of, slope};
+use crate::engine::metadata::RunMeta;
+use crate::estimators::diffusion::{DiffusionConfig, Window, time_unit};
+use crate::kernel::thermostat::Thermostat;
+use crate::scenes::Scene;
+use crate::statistics::mean_se;
+
+/// The diffusion tensor about the drift over one window, each component with its standard error
+/// over batches: half the slopes of the lag covariances ⟨ΔaΔb⟩ − ⟨Δa⟩⟨Δb⟩.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct DriftTensor {
+    /// D_xx.
+    pub D_xx: f64,
+    /// Its standard error.
+    pub D_xx_err: f64,
+    /// D_yy.
+    pub D_yy: f64,
+    /// Its standard error.
+    pub D_yy_err: f64,
+    /// D_xy (symmetric).
+    pub D_xy: f64,
+    /// Its standard error.
+    pub D_xy_err: f64,
+    /// Along the field, ê·D·ê.
+    pub D_parallel: f64,
+    /// Its standard error.
+    pub D_parallel_err: f64,
+    /// Across it, ê⊥·D·ê⊥.
+    pub D_perp: f64,
+    /// Its standard error.
+    pub D_perp_err: f64,
+}
+
+/// One batch's tensor over `win`: [xx, yy, xy, along, across].
+fn tensor_of(b: &Batch, lags: &[usize], tau: f64, win: &Window, e: [f64; 2]) -> [f64; 5] {
+    let var = |m: &[f64; 5], u: [f64; 2]| {
+        let cxx = m[0] - m[3] * m[3];
+        let cyy = m[1] - m[4] * m[4];
+        let cxy = m[2] - m[3] * m[4];
+        u[0] * u[0] * cxx + 2.0 * u[0] * u[1] * cxy + u[1] * u[1] * cyy
+    };
+    let half = |f: &dyn Fn(&[f64; 5]) -> f64| slope(b, lags, tau, win, f) / 2.0;
+    [
+        half(&|m| var(m, [1.0, 0.0])),
+        half(&|m| var(m, [0.0, 1.0])),
+        half(&|m| m[2] - m[3] * m[4]),
+        half(&|m| var(m, e)),
+        half(&|m| var(m, [-e[1], e[0]])),
+    ]
+}
+
+/// The tensor over `win` from every batch.
+fn tensor(batches: &[Batch], lags: &[usize], tau: f64, win: &Window, e: [f64; 2]) -> DriftTensor {
+    let per: Vec<[f64; 5]> = batches
+        .iter()
+        .map(|b| tensor_of(b, lags, tau, win, e))
+        .collect();
+    let stat = |k: usize| mean_se(&per.iter().map(|t| t[k]).collect::<Vec<_>>());
+    let ((xx, xx_e), (yy, yy_e), (xy, xy_e)) = (stat(0), stat(1), stat(2));
+    let ((par, par_e), (perp, perp_e)) = (stat(3), stat(4));
+    DriftTensor {
+        D_xx: xx,
+        D_xx_err: xx_e,
+        D_yy: yy,
+        D_yy_err: yy_e,
+        D_xy: xy,
+        D_xy_err: xy_e,
+        D_parallel: par,
+        D_parallel_err: par_e,
+        D_perp: perp,
+        D_perp_err: perp_e,
+    }
+}
+
+/// The velocity angle's density per radian by bin, with its standard error over batches.
+fn angle_density(batches: &[Batch]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let width = std::f64::consts::TAU / ANGLE_BINS as f64;
+    let centres = (0..ANGLE_BINS)
+        .map(|k| -std::f64::consts::PI + (k as f64 + 0.5) * width)
+        .collect();
+    let (density, err) = (0..ANGLE_BINS)
+        .map(|k| {
+            let per: Vec<f64> = batches
+                .iter()
+                .map(|b| b.angles[k] as f64 / (b.angles.iter().sum::<u64>().max(1) as f64 * width))
+                .collect();
+            mean_se(&per)
+        })
+        .unzip();
+    (centres, density, err)
+}
+
+/// The report of `batches`, run on `scene` under the field `world` (doubles) in `seconds`.
+pub(super) fn summarise<S: Scene>(
+    scene: &S,
+    cfg: &DiffusionConfig,
+    world: &Thermostat<f64>,
+    batches: &[Batch],
+    (seconds, meta): (f64, RunMeta),
+) -> CurrentReport {
+    let e = [world.dir.x, world.dir.y];
+    let eps = world.strength;
+    let tau = time_unit(scene);
+    let mut lags = cfg.window.lags();
+    lags.extend(cfg.check_window.lags());
+    lags.sort_unstable();
+    lags.dedup();
+    let per = |f: &dyn Fn(&Batch) -> f64| batches.iter().map(f).collect::<Vec<f64>>();
+    let along = per(&|b| e[0] * b.current[0] + e[1] * b.current[1]);
+    let across = per(&|b| -e[1] * b.current[0] + e[0] * b.current[1]);
+    let rate = mean_of(&per(&|b| b.collisions as f64 / b.time));
+    let (angle_bins, angle_density, angle_density_err) = angle_density(batches);
+    let collisions = batches.iter().map(|b| b.collisions).sum();
+    let (spacing, _, samples) = grid(scene, cfg);
+    let duration = samples as f64 * spacing;
+    let (j_x, j_y) = (
+        mean_of(&per(&|b| b.current[0])),
+        mean_of(&per(&|b| b.current[1])),
+    );
+    let (j_par, j_perp) = (mean_of(&along), mean_of(&across));
+    let mobility = mean_of(&along.iter().map(|j| j / eps).collect::<Vec<_>>());
+    let production = mean_of(&along.iter().map(|j| j * eps).collect::<Vec<_>>());
+    let mean_free_time = 1.0 / rate.value;
+    CurrentReport {
+        scene: scene.label(),
+        electric: eps,
+        direction: e,
+        J_x: j_x.value,
+        J_x_err: j_x.err,
+        J_y: j_y.value,
+        J_y_err: j_y.err,
+        J_parallel: j_par.value,
+        J_parallel_err: j_par.err,
+        J_perp: j_perp.value,
+        J_perp_err: j_perp.err,
+        mobility: mobility.value,
+        mobility_err: mobility.err,
+        entropy_production: production.value,
+        entropy_production_err: production.err,
+        diffusion: tensor(batches, &lags, tau, &cfg.window, e),
+        diffusion_check: tensor(batches, &lags, tau, &cfg.check_window, e),
+        angle_bins,
+        angle_density,
+        angle_density_err,
+        mean_free_time,
+        mean_free_time_err: rate.err * mean_free_time * mean_free_time,
+        mean_free_time_no_field: scene.mean_free_path(),
+        window: cfg.window,
+        check_window: cfg.check_window,
+        tau,
+        warm_up: duration / WARM_UP_SHARE,
+        duration,
+        collisions,
+        seconds,
+        collisions_per_second: collisions as f64 / seconds.max(f64::MIN_POSITIVE),
+        batch_J_parallel: along,
+        batch_J_perp: across,
+        config: cfg.clone(),
+        meta,
+    }
+}

@@ -1,0 +1,228 @@
+//! One trajectory under the thermostat: a warm-up towards the steady state, then its unwrapped
+//! position and velocity angle sampled on a fixed time grid, every sample a time origin of the
+//! lag moments ⟨Δx²⟩, ⟨Δy²⟩, ⟨ΔxΔy⟩, ⟨Δx⟩, ⟨Δy⟩ (the spread about the drift is their
+//! difference), and the current X(T)/T of the observed stretch.
+
+use crate::Error;
+use crate::engine::options::StopFlag;
+use crate::kernel::flight::EventKind;
+use crate::kernel::thermostat::Thermostat;
+use crate::kernel::vec2::Vec2;
+use crate::numbers::atan::atan2;
+use crate::numbers::real::Real;
+use crate::scenes::Scene;
+use crate::scenes::lattice::{Basis64, Lattice, LatticeState, Unwrapped};
+use crate::scenes::sampling::StreamKey;
+use crate::scenes::thermostat::{CellFields, ThermoStep};
+
+/// Bins of the velocity angle's histogram over (−π, π], the angle from E.
+pub const ANGLE_BINS: usize = 72;
+
+/// Collisions between two looks at the progress and the stop flag.
+const LOOK_EVERY: u64 = 1 << 14;
+
+/// The lag moments of one trajectory: for each lag, Σ Δx², Σ Δy², Σ ΔxΔy, Σ Δx, Σ Δy over every
+/// time origin.
+#[derive(Debug, Clone)]
+struct DriftSums {
+    steps: Vec<usize>,
+    ring: Vec<[f64; 2]>,
+    samples: u64,
+    sums: Vec<[f64; 5]>,
+    counts: Vec<u64>,
+}
+
+impl DriftSums {
+    fn new(steps: Vec<usize>) -> Self {
+        let n = steps.iter().copied().max().unwrap_or(0) + 1;
+        DriftSums {
+            sums: vec![[0.0; 5]; steps.len()],
+            counts: vec![0; steps.len()],
+            steps,
+            ring: vec![[0.0; 2]; n],
+            samples: 0,
+        }
+    }
+
+    fn push(&mut self, x: f64, y: f64) {
+        let n = self.ring.len() as u64;
+        let k = self.samples;
+        self.ring[(k % n) as usize] = [x, y];
+        for (i, &l) in self.steps.iter().enumerate() {
+            if k >= l as u64 {
+                let [x0, y0] = self.ring[((k - l as u64) % n) as usize];
+                let (dx, dy) = (x - x0, y - y0);
+                let s = &mut self.sums[i];
+                s[0] += dx * dx;
+                s[1] += dy * dy;
+                s[2] += dx * dy;
+                s[3] += dx;
+                s[4] += dy;
+                self.counts[i] += 1;
+            }
+        }
+        self.samples += 1;
+    }
+
+    fn means(&self) -> Vec<[f64; 5]> {
+        self.sums
+            .iter()
+            .zip(&self.counts)
+            .map(|(s, &c)| s.map(|v| v / c as f64))
+            .collect()
+    }
+}
+
+/// What one batch measured over its observed stretch.
+#[derive(Debug, Clone)]
+pub(super) struct Batch {
+    /// The current X(T)/T.
+    pub current: [f64; 2],
+    /// ⟨Δx²⟩, ⟨Δy²⟩, ⟨ΔxΔy⟩, ⟨Δx⟩, ⟨Δy⟩ at each lag.
+    pub means: Vec<[f64; 5]>,
+    /// Grid samples of the velocity angle from E, by bin of (−π, π].
+    pub angles: Vec<u64>,
+    /// Collisions within the observed stretch.
+    pub collisions: u64,
+    /// Its duration T.
+    pub time: f64,
+}
+
+/// Where and how one batch runs.
+pub(super) struct Setup<'a, T: Real, S: Scene> {
+    pub scene: &'a S,
+    pub lattice: &'a Lattice<T, S::Kernel<T>>,
+    /// The field in every cell's frame, at the working precision.
+    pub fields: &'a CellFields<T>,
+    /// The field in the world's frame as doubles (for the samples between events).
+    pub world: &'a Thermostat<f64>,
+    pub ctx: T::Ctx,
+    /// Grid spacing (time).
+    pub grid: f64,
+    /// The lags in grid steps.
+    pub steps: &'a [usize],
+    /// Flight time before the observed stretch starts (at the first event after it).
+    pub warm_up: f64,
+    /// Grid steps observed.
+    pub samples: u64,
+    pub stop: Option<&'a StopFlag>,
+    pub progress: &'a (dyn Fn(u64) + Sync),
+}
+
+/// One trajectory's observer, fed flight by flight.
+struct Drift<'a> {
+    sums: DriftSums,
+    angles: Vec<u64>,
+    world: &'a Thermostat<f64>,
+    grid: f64,
+    last: u64,
+    next: u64,
+    t: f64,
+    end: [f64; 2],
+    done: u64,
+}
+
+impl Drift<'_> {
+    fn running(&self) -> bool {
+        self.next <= self.last
+    }
+
+    /// The flight from the displacement `r` with world velocity `v`, `step` to its event: its
+    /// grid samples, and the collision at its end if it is within the observed stretch.
+    fn flight(&mut self, r: [f64; 2], v: &Vec2<f64>, step: &ThermoStep) {
+        let end = self.t + step.time;
+        let start = self.world.start(v);
+        while self.next <= self.last && self.next as f64 * self.grid <= end {
+            let at = start.at(&(self.next as f64 * self.grid - self.t));
+            let (x, y) = (r[0] + at.disp.x, r[1] + at.disp.y);
+            self.sums.push(x, y);
+            let e = &self.world.dir;
+            let theta = atan2(e.cross(&at.vel), e.dot(&at.vel));
+            let bin = ((theta + std::f64::consts::PI) / std::f64::consts::TAU * ANGLE_BINS as f64)
+                .floor() as usize;
+            self.angles[bin.min(ANGLE_BINS - 1)] += 1;
+            if self.next == self.last {
+                self.end = [x, y];
+            }
+            self.next += 1;
+        }
+        self.t = end;
+        let observed = end <= self.last as f64 * self.grid;
+        self.done += u64::from(matches!(step.kind, EventKind::Collision(_)) && observed);
+    }
+}
+
+/// The world velocity of a state (its cell frame turned by the cell's orientation).
+fn world_velocity<T: Real>(s: &LatticeState<T>) -> Vec2<f64> {
+    let sg = s.cell.sign();
+    Vec2::new(sg * s.flight.vel.x.to_f64(), sg * s.flight.vel.y.to_f64())
+}
+
+/// Counts the collisions of `step` and, every [`LOOK_EVERY`], reports them and looks at the stop
+/// flag.
+fn look<T: Real, S: Scene>(
+    su: &Setup<'_, T, S>,
+    count: &mut u64,
+    step: &ThermoStep,
+) -> Result<(), Error> {
+    if matches!(step.kind, EventKind::Collision(_)) {
+        *count += 1;
+        if count.is_multiple_of(LOOK_EVERY) {
+            (su.progress)(LOOK_EVERY);
+            if let Some(stop) = su.stop {
+                stop.check()?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Runs the batch of stream `key` on the scalar kernel: a start from the field-free invariant
+/// measure, the warm-up, then the observed stretch of [`Setup::samples`] grid steps.
+pub(super) fn batch<T: Real, S: Scene>(
+    su: &Setup<'_, T, S>,
+    key: StreamKey,
+) -> Result<Batch, Error> {
+    let s64 = su.scene.sample(&mut key.rng());
+    let mut s = LatticeState::<T>::convert_from_f64(su.ctx, &s64);
+    s.flight.normalise_speed();
+    let lat = su.lattice;
+    let mut count = 0;
+    let mut t = 0.0;
+    while t < su.warm_up {
+        let step = lat.step_thermostat(&mut s, su.fields)?;
+        t += step.time;
+        look(su, &mut count, &step)?;
+    }
+    let basis: Basis64 = lat.basis_f64();
+    let origin: Unwrapped = lat.unwrapped(&s, 0.0);
+    let mut sums = DriftSums::new(su.steps.to_vec());
+    sums.push(0.0, 0.0);
+    let mut drift = Drift {
+        sums,
+        angles: vec![0; ANGLE_BINS],
+        world: su.world,
+        grid: su.grid,
+        last: su.samples,
+        next: 1,
+        t: 0.0,
+        end: [0.0; 2],
+        done: 0,
+    };
+    while drift.running() {
+        let r = lat.unwrapped(&s, 0.0).displacement_from(&origin, &basis);
+        let v = world_velocity(&s);
+        let step = lat.step_thermostat(&mut s, su.fields)?;
+        drift.flight(r, &v, &step);
+        look(su, &mut count, &step)?;
+    }
+    (su.progress)(count % LOOK_EVERY);
+    let time = su.samples as f64 * su.grid;
+    Ok(Batch {
+        current: [drift.end[0] / time, drift.end[1] / time],
+        means: drift.sums.means(),
+        angles: drift.angles,
+        collisions: drift.done,
+        time,
+    })
+}
