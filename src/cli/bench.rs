@@ -7,7 +7,9 @@ use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::observer_costs::{self, ObserverCostsConfig};
 use lorentz_gas::estimators::throughput::costs::{self, CostsConfig};
 use lorentz_gas::estimators::throughput::long_flights::{self, LongFlightBenchConfig};
+use lorentz_gas::estimators::throughput::thermostat::{self, ElectricBenchConfig};
 use lorentz_gas::estimators::throughput::{self, ThroughputConfig};
+use lorentz_gas::numbers::exact::{nearest_f64, parse_exact};
 use lorentz_gas::report::text::bench as text;
 
 use lorentz_gas::report::speed_error::{self, REPORT_STEPS, SpeedErrorConfig};
@@ -79,6 +81,13 @@ pub struct Args {
     /// scalar); 0: straight flights, the default.
     #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs"])]
     field: Option<String>,
+    /// A Gaussian-thermostatted electric field E along the x axis, an exact decimal or
+    /// fraction, 0 < |E| <= 10 (the double nearest it): time the thermostatted walk (the generic
+    /// cell kernel with certified events, scalar, bare) and straight flights (E = 0) on the
+    /// engine asked for (--engine scalar: the scalar kernel), in turns, and report both rates and
+    /// their ratio (median of the paired ratios). Give fewer --collisions-per-thread (2e5).
+    #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs", "field", "observe", "table", "costs"])]
+    electric: Option<String>,
     /// With --field: time straight flights too, each repetition right after the arcs' on the same
     /// threads and engine, and report the arcs' speed against them (side by side in one run).
     #[arg(long, requires = "field")]
@@ -196,6 +205,19 @@ pub fn run(a: Args) -> Result<(), Error> {
         );
     }
     let cfg = throughput_config(&a)?;
+    if let Some(e) = &a.electric {
+        let cfg = ElectricBenchConfig {
+            straight: cfg,
+            electric: nearest_f64(&parse_exact(e).map_err(|e| e.named("electric"))?),
+        };
+        return timed(
+            &a,
+            threads,
+            "repetitions",
+            |o| thermostat::run(&cfg, o),
+            |r| print!("{}", text::electric(r)),
+        );
+    }
     timed(
         &a,
         threads,

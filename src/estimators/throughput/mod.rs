@@ -1,6 +1,7 @@
 //! Engine throughput (the CLI's `bench`): events only, no observables. Each thread runs one
 //! trajectory (scalar engine) or one block of [`BLOCK`] trajectories (SIMD engine); in a
-//! magnetic field (`lorentz bench --field`) one trajectory on arcs.
+//! magnetic field (`lorentz bench --field`) one trajectory on arcs; under the thermostatted
+//! electric field (`lorentz bench --electric`, [`thermostat`]) beside straight flights.
 
 mod arcs;
 mod check;
@@ -8,6 +9,7 @@ pub mod costs;
 pub mod end_to_end;
 pub mod long_flights;
 mod tables;
+pub mod thermostat;
 
 pub use arcs::OracleFloor;
 pub use tables::TableBench;

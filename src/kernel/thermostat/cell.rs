@@ -222,14 +222,18 @@ impl<T: Real> ConvexCell<T> {
         let start = th.start(&f.vel);
         let mut horizon = exit_bound(self, &f.pos, &start);
         let mut best: Option<EventKind> = None;
-        for k in 0..self.edges.len() as u8 {
+        for k in self.edge_order(f) {
             let contact = self.candidate(&start, f, EventKind::Crossing(k));
             let t = match isolate::earliest(&contact, contact.identity(), &horizon) {
                 Found::Root(t) => t,
                 Found::Creeps => T::zero(horizon.ctx()),
                 Found::Clear => continue,
             };
-            if best.is_none() || t < horizon {
+            let first = match best {
+                Some(EventKind::Crossing(b)) => t < horizon || (t == horizon && k < b),
+                _ => true,
+            };
+            if first {
                 best = Some(EventKind::Crossing(k));
                 horizon = t;
             }
@@ -255,6 +259,26 @@ impl<T: Real> ConvexCell<T> {
             time: horizon,
             at,
         })
+    }
+
+    /// The edges in the order the straight flight from `f` crosses their lines (edges it moves
+    /// away from last, then by label): the search of the earliest crossing then meets the exit
+    /// first, and the other edges are searched only up to it. The order changes no certificate
+    /// (ties still go to the lower label); it is read from the `f64` values, so it is the same
+    /// order in `f64` and MPFR-53.
+    fn edge_order(&self, f: &Flight<T>) -> Vec<u8> {
+        let time = |k: u8| {
+            let e = &self.edges[k as usize];
+            let (nv, sigma) = (e.normal.dot(&f.vel).to_f64(), e.normal.dot(&f.pos) - &e.offset);
+            if nv < 0.0 {
+                sigma.to_f64() / -nv
+            } else {
+                f64::INFINITY
+            }
+        };
+        let mut order: Vec<(f64, u8)> = (0..self.edges.len() as u8).map(|k| (time(k), k)).collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        order.into_iter().map(|(_, k)| k).collect()
     }
 
     /// The contact function of the candidate `kind` along the flight `f` at the time `t`: its

@@ -141,23 +141,48 @@ impl<T: Real> Thermostat<T> {
 
 impl<T: Real> Start<'_, T> {
     /// The flight at the time `t` ≥ 0 (see the module documentation for the forms).
+    ///
+    /// Three transcendental calls: g = −expm1(−εt), atan and a logarithm; x = e^{−εt} is 1 − g
+    /// while g ≤ ½ (no cancellation there) and exp(−εt) beyond, and 1 − x² = g(1 + x). At
+    /// t = 0 no call is made: exp, expm1, atan and log1p are exact at ±0 (1, ±0, ±0, ±0), so the
+    /// start's point is the same value, bit for bit, as the calls would give.
     pub fn at(&self, t: &T) -> FlightPoint<T> {
+        self.point(t, true)
+    }
+
+    /// [`Start::at`], with the calls at t = 0 skipped if `shortcut` (the test of the shortcut
+    /// calls them).
+    fn point(&self, t: &T, shortcut: bool) -> FlightPoint<T> {
         let eps = &self.th.strength;
         let et = eps.clone() * t;
-        let x = (-et.clone()).exp();
-        let g = -((-et.clone()).exp_m1());
+        let now = shortcut && !(et.gt0() || et.lt0());
+        // g = −expm1(−εt); expm1(±0) = ±0 makes it εt itself at the start.
+        let g = if now {
+            et.clone()
+        } else {
+            -((-et.clone()).exp_m1())
+        };
+        let x = if now || !g.clone().add_f64(-0.5).gt0() {
+            (-g.clone()).add_f64(1.0)
+        } else {
+            (-et.clone()).exp()
+        };
         let mx = self.m.clone() * &x;
         let across = if self.s.gt0() || self.s.lt0() {
             let z = (self.s.clone() * &g) / &(self.p.clone() + &mx);
-            z.atan().scale(2.0) / eps
+            let a = if now { z } else { z.atan() };
+            a.scale(2.0) / eps
         } else {
             T::zero(t.ctx())
         };
         let mx2 = mx * &x;
         let log_a = if self.p.gt0() || self.p.lt0() {
-            let z = (self.m.clone() * &(-(et.scale(-2.0).exp_m1()))).scale(0.5);
+            // m·(1 − x²)/2, 1 − x² = g(1 + x) = −expm1(−2εt).
+            let z = (self.m.clone() * &(g * &x.clone().add_f64(1.0))).scale(0.5);
             if z.clone().add_f64(-0.5).gt0() {
                 (self.p.clone() + &mx2).scale(0.5).ln()
+            } else if now {
+                -z
             } else {
                 (-z).ln_1p()
             }

@@ -5,6 +5,7 @@ use super::line;
 use crate::engine::metadata::RunMeta;
 use crate::estimators::observer_costs::ObserverCosts;
 use crate::estimators::throughput::Throughput;
+use crate::estimators::throughput::thermostat::ElectricBench;
 use crate::estimators::throughput::long_flights::LongFlightBench;
 
 /// The engine that ran, with its SIMD path if any.
@@ -19,6 +20,43 @@ fn engine(m: &RunMeta) -> String {
 fn runs(samples: &[f64]) -> String {
     let shown: Vec<String> = samples.iter().map(|s| format!("{s:.3e}")).collect();
     shown.join(" ")
+}
+
+/// `bench --electric`: the thermostatted walk beside straight flights.
+pub fn electric(r: &ElectricBench) -> String {
+    let mut out = String::new();
+    line!(
+        out,
+        "w = {}  E = {} (along x)  precision {}  straight engine {}  {} collisions per thread x {} repetitions on {} thread(s)",
+        r.w,
+        r.electric,
+        r.meta.precision,
+        engine(&r.meta),
+        r.collisions_per_thread,
+        r.repetitions,
+        r.threads
+    );
+    line!(
+        out,
+        "thermostat (scalar, certified events): median {:.3e} collisions/s per thread = {:.1} ns/collision  (runs: {})",
+        r.collisions_per_second_per_thread,
+        r.ns_per_collision,
+        runs(&r.samples)
+    );
+    line!(
+        out,
+        "straight flights (same run, alternating): median {:.3e} collisions/s per thread  (runs: {})",
+        r.straight_collisions_per_second_per_thread,
+        runs(&r.straight_samples)
+    );
+    line!(
+        out,
+        "thermostat / straight = {:.4} (median of the paired ratios {:.4}; 1/{:.0})",
+        r.thermostat_over_straight,
+        r.paired_ratio,
+        1.0 / r.paired_ratio
+    );
+    out
 }
 
 /// The text of a throughput result (`lorentz bench`).

@@ -1,0 +1,214 @@
+//! The thermostat's throughput (`lorentz bench --electric E`): the lattice walk under the
+//! Gaussian-thermostatted field ([`crate::scenes::thermostat`], the generic cell kernel with
+//! certified events, scalar) timed in alternation with straight flights (E = 0) on the engine
+//! the options resolve, in one run: both rates and the median of the paired ratios.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use rug::Rational;
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::engine::Resolved;
+use crate::engine::metadata::RunMeta;
+use crate::engine::options::RunOptions;
+use crate::engine::parallel::thread_pool;
+use crate::kernel::flight::EventKind;
+use crate::kernel::thermostat::Thermostat;
+use crate::kernel::trap::Trap;
+use crate::numbers::precision::AtPrecision;
+use crate::numbers::real::Real;
+use crate::scenes::lattice::{LatticeState, TriangularLattice};
+use crate::scenes::thermostat::CellFields;
+
+use super::check::{Checked, check};
+use super::{Observe, ThroughputConfig, advance, lanes, median, starts};
+
+/// The strongest field timed (the analyses' range).
+pub const MAX_ELECTRIC: f64 = 10.0;
+
+/// What `bench --electric` times: the straight bench's configuration (gap, precision,
+/// collisions per thread, repetitions, seed; no observers, no magnetic field) and the field.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ElectricBenchConfig {
+    /// The straight flights' configuration, timed beside.
+    #[serde(flatten)]
+    pub straight: ThroughputConfig,
+    /// The field's strength E (the double nearest the value typed), 0 < |E| ≤ 10, along the x
+    /// axis.
+    pub electric: f64,
+}
+
+/// The thermostatted walk against straight flights, timed in alternation in one run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ElectricBench {
+    /// Gap w.
+    pub w: f64,
+    /// Field strength E (along the x axis).
+    pub electric: f64,
+    /// Collisions of each thread in each repetition (shared out over its trajectories).
+    pub collisions_per_thread: u64,
+    /// Repetitions.
+    pub repetitions: usize,
+    /// Threads.
+    pub threads: usize,
+    /// Trajectories per thread (both walks: 1 on the scalar engine, a SIMD block otherwise).
+    pub trajectories_per_thread: usize,
+    /// The thermostat's median collisions per second per thread.
+    pub collisions_per_second_per_thread: f64,
+    /// Its median nanoseconds per collision on one thread.
+    pub ns_per_collision: f64,
+    /// Every thermostat repetition's collisions per second (all threads), in order.
+    pub samples: Vec<f64>,
+    /// Crossings per collision of the thermostatted walk.
+    pub crossings_per_collision: f64,
+    /// The straight flights' median collisions per second per thread (the engine in `meta`).
+    pub straight_collisions_per_second_per_thread: f64,
+    /// Every straight repetition's collisions per second (all threads), in order.
+    pub straight_samples: Vec<f64>,
+    /// The thermostat's median over the straight flights' (per thread).
+    pub thermostat_over_straight: f64,
+    /// The median over repetitions of each pair's ratio (thermostat over straight).
+    pub paired_ratio: f64,
+    /// Version, seed, precision, the straight flights' engine, threads, command line.
+    pub meta: RunMeta,
+}
+
+/// Times `cfg.straight.repetitions` pairs: the thermostatted walk, then straight flights on the
+/// same threads, each `cfg.straight.collisions_per_thread` collisions per thread.
+///
+/// # Errors
+/// What [`super::run`] refuses, observers, a magnetic field or a table beside, a field E that
+/// is zero, not finite or beyond [`MAX_ELECTRIC`], or invalid options.
+pub fn run(cfg: &ElectricBenchConfig, options: &RunOptions) -> Result<ElectricBench, Error> {
+    let s = &cfg.straight;
+    let Checked { w, resolved, .. } = check(s, options)?;
+    let lone = s.field.is_none()
+        && s.observe == Observe::None
+        && s.table_beside.is_none()
+        && !(s.straight_beside || s.diffusion_beside || s.oracle_floor);
+    if !lone {
+        return Err(Error::Invalid(
+            "the thermostat is timed bare beside straight flights: leave out observers, a \
+             magnetic field, a table and the other benches"
+                .into(),
+        ));
+    }
+    let e = cfg.electric;
+    if !(e.is_finite() && e != 0.0 && e.abs() <= MAX_ELECTRIC) {
+        return Err(Error::out_of_range(
+            "electric",
+            e,
+            format!("use 0 < |E| <= {MAX_ELECTRIC}"),
+        ));
+    }
+    let (samples, cpc, straight) = s.precision.dispatch(Pairs {
+        cfg,
+        w,
+        engine: resolved,
+        threads: options.threads,
+        progress: options.progress,
+    })?;
+    let (m, ms) = (median(&samples), median(&straight));
+    let threads = options.threads;
+    let ratios: Vec<f64> = samples.iter().zip(&straight).map(|(a, b)| a / b).collect();
+    Ok(ElectricBench {
+        w,
+        electric: e,
+        collisions_per_thread: s.collisions_per_thread,
+        repetitions: s.repetitions,
+        threads,
+        trajectories_per_thread: lanes(resolved),
+        collisions_per_second_per_thread: m / threads as f64,
+        ns_per_collision: 1e9 * threads as f64 / m,
+        samples,
+        crossings_per_collision: cpc,
+        straight_collisions_per_second_per_thread: ms / threads as f64,
+        straight_samples: straight,
+        thermostat_over_straight: m / ms,
+        paired_ratio: median(&ratios),
+        meta: RunMeta::new(Some(s.seed), None, s.precision, Some(threads)).with_engine(resolved),
+    })
+}
+
+/// The paired repetitions at one precision.
+struct Pairs<'a> {
+    cfg: &'a ElectricBenchConfig,
+    w: f64,
+    engine: Resolved,
+    threads: usize,
+    progress: &'a (dyn Fn(u64) + Sync),
+}
+
+impl AtPrecision for Pairs<'_> {
+    /// The thermostat's rates, its crossings per collision, the straight rates.
+    type Output = Result<(Vec<f64>, f64, Vec<f64>), Error>;
+    fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
+        let s = &self.cfg.straight;
+        let trap64 = Trap::new(self.w)?;
+        let gap = crate::numbers::exact::param_at::<T>(ctx, self.w, s.table.gap_text())?;
+        let lat = TriangularLattice::new(gap)?;
+        let e = Rational::from_f64(self.cfg.electric)
+            .ok_or_else(|| Error::out_of_range("electric", self.cfg.electric, "a finite E"))?;
+        let th = Thermostat::<T>::exact(&e, &Rational::new(), ctx)
+            .ok_or_else(|| Error::out_of_range("electric", 0.0, "use 0 < |E|"))?;
+        let fields = CellFields::new(th);
+        let lanes = lanes(self.engine);
+        let mut field_states = starts::<T>(ctx, &trap64, s.seed, self.threads, lanes);
+        let mut straight_states = field_states.clone();
+        let pool = thread_pool(self.threads)?;
+        let n = s.collisions_per_thread;
+        let per_rep = (n / lanes as u64 * (lanes * self.threads) as u64) as f64;
+        let field = |st: &mut Vec<Vec<LatticeState<T>>>, n: u64| walk(&pool, &lat, &fields, st, n);
+        let plain = |st: &mut Vec<Vec<LatticeState<T>>>, n: u64| {
+            advance(&pool, self.engine, Observe::None, &lat, &trap64, st, n)
+        };
+        // One untimed warm-up of a tenth of the length each.
+        field(&mut field_states, (n / 10).max(1))?;
+        plain(&mut straight_states, (n / 10).max(1))?;
+        let (mut rates, mut straight, mut crossings) = (Vec::new(), Vec::new(), 0);
+        for _ in 0..s.repetitions {
+            let t0 = Instant::now();
+            crossings = field(&mut field_states, n)?;
+            rates.push(per_rep / t0.elapsed().as_secs_f64());
+            let t0 = Instant::now();
+            plain(&mut straight_states, n)?;
+            straight.push(per_rep / t0.elapsed().as_secs_f64());
+            (self.progress)(1);
+        }
+        Ok((rates, crossings as f64 / per_rep, straight))
+    }
+}
+
+/// Every thread's trajectories continued under the field by `n` collisions (shared out over
+/// them); returns the crossings made.
+fn walk<T: Real>(
+    pool: &rayon::ThreadPool,
+    lat: &TriangularLattice<T>,
+    fields: &CellFields<T>,
+    states: &mut [Vec<LatticeState<T>>],
+    n: u64,
+) -> Result<u64, Error> {
+    pool.install(|| {
+        states
+            .par_iter_mut()
+            .map(|block| {
+                let each = n / block.len() as u64;
+                let mut crossings = 0;
+                for s in block.iter_mut() {
+                    let mut collisions = 0;
+                    while collisions < each {
+                        match lat.step_thermostat(s, fields)?.kind {
+                            EventKind::Collision(_) => collisions += 1,
+                            EventKind::Crossing(_) => crossings += 1,
+                        }
+                    }
+                }
+                Ok(crossings)
+            })
+            .collect::<Result<Vec<u64>, Error>>()
+            .map(|v| v.iter().sum())
+    })
+}
