@@ -131,6 +131,14 @@ pub trait Real:
     /// `f64`: the flight time of an arc, for observables, never an event's choice).
     fn atan2(self, x: &Self) -> Self;
 
+    /// arctan(`self`/`x`) for x > 0, correctly rounded from the exact quotient for `f64` too
+    /// (CORE-MATH's atan2, MPFR's atan2): the thermostatted flight's angle, one rounding fewer
+    /// than `atan` of the rounded quotient and, in `f64`, without the slow path CORE-MATH's atan
+    /// takes for most arguments between 2⁻⁸ and 1. Other types: `atan` of the quotient.
+    fn atan_ratio(self, x: &Self) -> Self {
+        (self / x).atan()
+    }
+
     /// eˣ, correctly rounded for `f64` too (CORE-MATH), so that the thermostatted flight in `f64`
     /// is its MPFR-53 flight to the bit (`proofs-notes/thermostat-flight.md`), and theory.
     fn exp(self) -> Self;
@@ -273,6 +281,9 @@ impl Real for f64 {
     fn atan2(self, x: &f64) -> f64 {
         f64::atan2(self, *x)
     }
+    fn atan_ratio(self, x: &f64) -> f64 {
+        core_math::atan2(self, *x)
+    }
     #[inline(always)]
     fn square(&self) -> f64 {
         self * self
@@ -361,6 +372,9 @@ impl Real for Float {
     }
     forward_unary!(Float: sin, cos, atan, exp, exp_m1, ln_1p, ln);
     fn atan2(self, x: &Float) -> Float {
+        Float::atan2(self, x)
+    }
+    fn atan_ratio(self, x: &Float) -> Float {
         Float::atan2(self, x)
     }
     #[inline]

@@ -269,7 +269,10 @@ impl<T: Real> ConvexCell<T> {
     fn edge_order(&self, f: &Flight<T>) -> Vec<u8> {
         let time = |k: u8| {
             let e = &self.edges[k as usize];
-            let (nv, sigma) = (e.normal.dot(&f.vel).to_f64(), e.normal.dot(&f.pos) - &e.offset);
+            let (nv, sigma) = (
+                e.normal.dot(&f.vel).to_f64(),
+                e.normal.dot(&f.pos) - &e.offset,
+            );
             if nv < 0.0 {
                 sigma.to_f64() / -nv
             } else {

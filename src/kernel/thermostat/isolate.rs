@@ -62,7 +62,6 @@ pub trait Contact<T: Real> {
 /// ended is at a grazing approach it can neither certify nor refuse).
 pub const MAX_STEPS: usize = 1000;
 
-
 /// What the jet at the current time says.
 enum Decision<T> {
     Root,
@@ -142,15 +141,15 @@ fn advance<T: Real, C: Contact<T>>(
     } else {
         remaining.clone()
     };
-    let sixth = T::from_f64(h.ctx(), 6.0);
-    let mut best: Option<(T, f64)> = None;
+    let mut best: Option<(T, T)> = None;
     for _ in 0..4 {
-        let quad = curv.clone() - &((c.third(j, &h) * &h) / &sixth);
+        // Mh/6, rounded up by the factor's excess over 1/6 (0.1666667 > 1/6).
+        let quad = curv.clone() - &(c.third(j, &h) * &h).scale(0.166_666_7);
         match first_root(lo, slope, &quad) {
             Some(s) if s < h => {
                 let shrink = s.clone().scale(4.0) < h;
                 if best.as_ref().is_none_or(|b| s > b.0) {
-                    best = Some((s.clone(), root_error(lo, slope, &quad)));
+                    best = Some((s.clone(), quad));
                 }
                 if !shrink {
                     break;
@@ -172,7 +171,8 @@ fn advance<T: Real, C: Contact<T>>(
             }
         }
     }
-    let (s, rel) = best?;
+    let (s, quad) = best?;
+    let rel = root_error(lo, slope, &quad);
     *hint = s.clone().scale(2.0);
     // The root less twice its rounding error: below the exact root of L.
     Some(s.clone() - &s.scale(2.0 * rel))

@@ -7,7 +7,8 @@
 //!
 //! * along the field, ξ(t) = t + ln A/ε, A = (p + m x²)/2 = 1 − m(1 − x²)/2, taken as
 //!   `ln_1p(−m·(−expm1(−2εt))/2)` where A ≥ 1/2 and as `ln(A)` (two positive terms) below;
-//! * across it, η(t) = (2/ε)·atan(s·(−expm1(−εt))/(p + m x));
+//! * across it, η(t) = (2/ε)·atan(s·(−expm1(−εt))/(p + m x)), the arctangent of the exact
+//!   quotient ([`Real::atan_ratio`]);
 //! * the velocity, cos θ = (p − m x²)/(p + m x²), sin θ = 2sx/(p + m x²);
 //! * the acceleration v̇ = ε sin θ·(sin θ ê − cos θ ê⊥), of size ε|sin θ| ≤ ε, and
 //!   |v̈| = ε²|sin θ| ≤ ε² (the certificates' curvature bounds, [`isolate`]);
@@ -142,7 +143,7 @@ impl<T: Real> Thermostat<T> {
 impl<T: Real> Start<'_, T> {
     /// The flight at the time `t` ≥ 0 (see the module documentation for the forms).
     ///
-    /// Three transcendental calls: g = −expm1(−εt), atan and a logarithm; x = e^{−εt} is 1 − g
+    /// Three transcendental calls: g = −expm1(−εt), atan (of a ratio) and a logarithm; x = e^{−εt} is 1 − g
     /// while g ≤ ½ (no cancellation there) and exp(−εt) beyond, and 1 − x² = g(1 + x). At
     /// t = 0 no call is made: exp, expm1, atan and log1p are exact at ±0 (1, ±0, ±0, ±0), so the
     /// start's point is the same value, bit for bit, as the calls would give.
@@ -169,8 +170,9 @@ impl<T: Real> Start<'_, T> {
         };
         let mx = self.m.clone() * &x;
         let across = if self.s.gt0() || self.s.lt0() {
-            let z = (self.s.clone() * &g) / &(self.p.clone() + &mx);
-            let a = if now { z } else { z.atan() };
+            let (y, x) = (self.s.clone() * &g, self.p.clone() + &mx);
+            // atan2(±0, x > 0) = ±0 (x > 0 unless p = 0 and x = 0: then y = 0 too, and s = 0).
+            let a = if now { y / &x } else { y.atan_ratio(&x) };
             a.scale(2.0) / eps
         } else {
             T::zero(t.ctx())

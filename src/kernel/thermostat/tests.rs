@@ -245,11 +245,14 @@ fn exact_root(a: f64, b: f64, c: f64) -> Option<Float> {
     let root = disc.sqrt();
     let two_c = Float::with_val(BITS, &c * 2u32);
     let nb = Float::with_val(BITS, -&b);
-    [Float::with_val(BITS, &nb - &root), Float::with_val(BITS, &nb + &root)]
-        .into_iter()
-        .map(|n| n / &two_c)
-        .filter(|r| *r > 0)
-        .min_by(|x, y| x.partial_cmp(y).unwrap())
+    [
+        Float::with_val(BITS, &nb - &root),
+        Float::with_val(BITS, &nb + &root),
+    ]
+    .into_iter()
+    .map(|n| n / &two_c)
+    .filter(|r| *r > 0)
+    .min_by(|x, y| x.partial_cmp(y).unwrap())
 }
 
 /// A march step — the root of the lower bound L less twice [`root_error`] — is below the exact
@@ -273,7 +276,10 @@ fn a_step_stays_below_the_exact_root() {
             continue;
         };
         let step = s - s * 2.0 * root_error(&a, &b, &c);
-        assert!(big(step) <= exact, "{n}: step {step:e} past the root {exact} of {a:e} {b:e} {c:e}");
+        assert!(
+            big(step) <= exact,
+            "{n}: step {step:e} past the root {exact} of {a:e} {b:e} {c:e}"
+        );
         checked += 1;
         near += usize::from(n % 2 == 0);
     }
@@ -297,19 +303,32 @@ fn exact_fields_have_exact_axes() {
 fn the_start_point_is_the_calls_at_zero_bit_for_bit() {
     let mut r = Mix(13);
     let bits = |p: &FlightPoint<f64>| {
-        [p.disp.x, p.disp.y, p.vel.x, p.vel.y, p.acc.x, p.acc.y, p.along].map(f64::to_bits)
+        [
+            p.disp.x, p.disp.y, p.vel.x, p.vel.y, p.acc.x, p.acc.y, p.along,
+        ]
+        .map(f64::to_bits)
     };
     let words = |p: &FlightPoint<Float>| {
-        [&p.disp.x, &p.disp.y, &p.vel.x, &p.vel.y, &p.acc.x, &p.acc.y, &p.along]
-            .map(|q| (q.to_f64().to_bits(), q.is_sign_negative()))
+        [
+            &p.disp.x, &p.disp.y, &p.vel.x, &p.vel.y, &p.acc.x, &p.acc.y, &p.along,
+        ]
+        .map(|q| (q.to_f64().to_bits(), q.is_sign_negative()))
     };
     for n in 0..2000 {
         let (th, v, _) = random_flight(&mut r, n);
         let start = th.start(&v);
-        assert_eq!(bits(&start.point(&0.0, true)), bits(&start.point(&0.0, false)), "{n}");
+        assert_eq!(
+            bits(&start.point(&0.0, true)),
+            bits(&start.point(&0.0, false)),
+            "{n}"
+        );
         let hi = lift(&th);
         let start = hi.start(&Vec2::new(big(v.x), big(v.y)));
         let zero = big(0.0);
-        assert_eq!(words(&start.point(&zero, true)), words(&start.point(&zero, false)), "{n}");
+        assert_eq!(
+            words(&start.point(&zero, true)),
+            words(&start.point(&zero, false)),
+            "{n}"
+        );
     }
 }

@@ -5,8 +5,8 @@ use super::line;
 use crate::engine::metadata::RunMeta;
 use crate::estimators::observer_costs::ObserverCosts;
 use crate::estimators::throughput::Throughput;
-use crate::estimators::throughput::thermostat::ElectricBench;
 use crate::estimators::throughput::long_flights::LongFlightBench;
+use crate::estimators::throughput::thermostat::ElectricBench;
 
 /// The engine that ran, with its SIMD path if any.
 fn engine(m: &RunMeta) -> String {
