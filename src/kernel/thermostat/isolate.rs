@@ -127,7 +127,8 @@ pub fn earliest<T: Real, C: Contact<T>>(c: &C, identity: bool, horizon: &T) -> F
 }
 
 /// The step from the current time: the largest the lower bound certifies, trying h = `hint`
-/// (at most `remaining`) and then h = twice the root found, where the cubic term is smaller.
+/// (at most `remaining`; twice the linear root where that is below a quarter of it) and then
+/// h = twice the root found, where the cubic term is smaller.
 /// `None` where all of `remaining` is certified free.
 fn advance<T: Real, C: Contact<T>>(
     c: &C,
@@ -141,6 +142,14 @@ fn advance<T: Real, C: Contact<T>>(
     } else {
         remaining.clone()
     };
+    // Approaching: start from twice the linear root F/|F′| where it is well inside h (the try
+    // the shrinking below would reach after several).
+    if slope.lt0() {
+        let guess = (lo.clone() / &(-slope.clone())).scale(2.0);
+        if guess.clone().scale(4.0) < h {
+            h = guess;
+        }
+    }
     let mut best: Option<(T, T)> = None;
     for _ in 0..4 {
         // Mh/6, rounded up by the factor's excess over 1/6 (0.1666667 > 1/6).
