@@ -417,6 +417,30 @@ pub(crate) const BAD: &[(&str, &str)] = &[
         "use w_inf = 4/sqrt(3) - 2 < w <= 2^20 - 2",
     ),
     ("bench", "--w"),
+    // cycles: R and a decided exactly (R = 2a touches), N and the bits in their ranges
+    (
+        "cycles --side 2 --radius 1",
+        "--side 2 is out of range: use a finite side R > 2a = 2",
+    ),
+    ("cycles --side 6 --radius 3", "R > 2a = 6"),
+    (
+        "cycles --radius 0",
+        "--radius 0 is out of range: use a finite radius a > 0",
+    ),
+    ("cycles --radius -1", "a > 0"),
+    (
+        "cycles --side nan",
+        "--side NaN is out of range: use a finite side R > 2a",
+    ),
+    ("cycles --side six", "--side six"),
+    ("cycles --max-length 0", "use 1 to 16"),
+    ("cycles --max-length 17", "use 1 to 16"),
+    (
+        "cycles --bits 64",
+        "--bits 64 is out of range: use 128 to 4096 bits",
+    ),
+    ("cycles --threads 0", "threads must be from 1"),
+    ("cycles --out . --max-length 1", "directory"),
 ];
 
 /// [`BAD`] for arguments with white space in them.

@@ -11,6 +11,7 @@ pub mod bench;
 pub mod certify;
 pub mod constants;
 pub mod current;
+pub mod cycles;
 pub mod diffusion;
 pub mod escape;
 pub mod field;
@@ -123,6 +124,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "certify" => render(kind, json, certify::certify)?,
         "audit" => render(kind, json, audit::audit)?,
         "section" => render(kind, json, section::section)?,
+        "cycles" => render(kind, json, cycles::cycles)?,
         _ => return Ok(None),
     };
     Ok(Some(text))
