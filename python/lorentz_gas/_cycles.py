@@ -38,11 +38,13 @@ def _cycles(rows: List[Dict[str, Any]]) -> np.ndarray:
     width = max([len(r["word"]) for r in rows] + [1])
     dtype = [("word", f"U{width}"), ("length", np.int64), ("order", np.int64),
              ("period", np.float64), ("stability", np.float64),
-             ("certificate_radius", np.float64), ("period_bound", np.float64),
+             ("certificate_radius", np.float64), ("full_period", np.float64),
+             ("period_bound", np.float64), ("full_stability", np.float64),
              ("stability_bound", np.float64), ("certified", np.bool_)]
     return np.array(
         [(r["word"], len(r["word"]), r["order"], _number(r["period"]), _number(r["stability"]),
-          _number(r["cycle"]["radius"]), _number(r["cycle"]["period_bound"]),
+          _number(r["cycle"]["radius"]), _number(r["cycle"]["period"]),
+          _number(r["cycle"]["period_bound"]), _number(r["cycle"]["stability"]),
           _number(r["cycle"]["stability_bound"]), bool(r["cycle"]["certified"]))
          for r in rows],
         dtype=dtype,
@@ -61,9 +63,11 @@ class CyclesResult(Result):
     The convergence table of the spectral determinant (one entry per truncation N = 1 ...
     max_length): ``N``, ``escape_rate`` (γ, 1/time), ``lyapunov`` (λ, 1/time), ``entropy``
     (h_KS = λ - γ, 1/time), ``partial_dimension`` (d, dimensionless), each with its truncation
-    error ``<name>_error`` = |x_N - x_(N-1)| (NaN at N = 1); ``zeta_escape_rate`` and
+    error ``<name>_error`` = abs(x_N - x_(N-1)) (NaN at N = 1); ``zeta_escape_rate`` and
     ``zeta_escape_rate_error``, the dynamical zeta function's. The tables as structured arrays:
-    ``cycles``, ``spectral_determinant``, ``zeta_function`` (``to_pandas()`` gives the
+    ``cycles`` (with ``length``, the full-space cycle's ``full_period`` T_p = h T_p̃ and
+    ``full_stability`` Λ_p = Λ_p̃^h with their rigorous bounds ``period_bound`` and
+    ``stability_bound``, and ``certified``), ``spectral_determinant``, ``zeta_function`` (``to_pandas()`` gives the
     determinant's, ``to_pandas("cycles")`` the cycles)."""
 
     _text_kind = "cycles"
