@@ -39,6 +39,7 @@ use crate::scenes::thermostat::CellFields;
 use crate::statistics::{linear_fit, mean_se};
 
 mod summary;
+mod tangent;
 mod track;
 
 pub use summary::DriftTensor;
@@ -84,6 +85,28 @@ pub struct CurrentReport {
     pub entropy_production: f64,
     /// Its standard error over the batches.
     pub entropy_production_err: f64,
+    /// λ₊, the positive Lyapunov exponent of the flow (per unit time).
+    pub lambda_plus: f64,
+    /// Its standard error over the batches.
+    pub lambda_plus_err: f64,
+    /// λ₋, the negative one (the third is 0, along the flow).
+    pub lambda_minus: f64,
+    /// Its standard error over the batches.
+    pub lambda_minus_err: f64,
+    /// λ₊ + λ₋ + ⟨α⟩ over the pair's own stretch (to its last collision) per batch: the sum
+    /// rule says 0, but for ln(|f(T)|/|f(0)|)/T ≤ ln(1 + ε²)/(2T).
+    pub sum_rule: f64,
+    /// Its standard error over the batches.
+    pub sum_rule_err: f64,
+    /// The largest |Σ ln stretchings + ∫α + ln(|f(T)|/|f(0)|)| of a batch: the sum rule per
+    /// trajectory, 0 but for rounding.
+    pub sum_rule_residual: f64,
+    /// The rounding bound of that batch's residual (`proofs-notes/thermostat-lyapunov.md`).
+    pub sum_rule_residual_bound: f64,
+    /// The Kaplan–Yorke dimension of the attractor of the flow, 2 + λ₊/|λ₋| (per batch).
+    pub kaplan_yorke: f64,
+    /// Its standard error over the batches.
+    pub kaplan_yorke_err: f64,
     /// The diffusion tensor about the drift over the fit window.
     pub diffusion: DriftTensor,
     /// The same over the check window.
