@@ -24,7 +24,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::diffusion::{DiffusionConfig, Estimate, Window, time_unit};
+use super::diffusion::{DiffusionConfig, Estimate, Window, lag_grid, time_unit};
 use crate::Error;
 use crate::engine::Resolved;
 use crate::engine::metadata::RunMeta;
@@ -205,23 +205,13 @@ fn run_on<S: Scene>(
     ))
 }
 
-/// The grid of a run: spacing g·τ (g the greatest common divisor of the windows' lags in units
-/// of τ), every lag in grid steps, and the grid steps of a batch's observed stretch.
+/// The grid of a run: the lags' sampling grid ([`lag_grid`]) and the grid steps of a batch's
+/// observed stretch.
 fn grid<S: Scene>(scene: &S, cfg: &DiffusionConfig) -> (f64, Vec<usize>, u64) {
-    let tau = time_unit(scene);
-    let mut lags = cfg.window.lags();
-    lags.extend(cfg.check_window.lags());
-    lags.sort_unstable();
-    lags.dedup();
-    let g = lags.iter().fold(0, |a, &b| gcd(a, b)).max(1);
-    let spacing = g as f64 * tau;
+    let (spacing, steps) = lag_grid(time_unit(scene), &cfg.lags());
     let stretch = (cfg.collisions / u64::from(cfg.batches)) as f64 * scene.mean_free_path();
     let samples = (stretch / spacing).round().max(1.0) as u64;
-    (spacing, lags.iter().map(|l| l / g).collect(), samples)
-}
-
-fn gcd(a: usize, b: usize) -> usize {
-    if b == 0 { a } else { gcd(b, a % b) }
+    (spacing, steps, samples)
 }
 
 /// Every batch at number type `T` on the scalar kernel, one per task (the same bits at any

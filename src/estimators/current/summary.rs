@@ -136,10 +136,7 @@ pub(super) fn summarise<S: Scene>(
     let e = [world.dir.x, world.dir.y];
     let eps = world.strength;
     let tau = time_unit(scene);
-    let mut lags = cfg.window.lags();
-    lags.extend(cfg.check_window.lags());
-    lags.sort_unstable();
-    lags.dedup();
+    let lags = cfg.lags();
     let per = |f: &dyn Fn(&Batch) -> f64| batches.iter().map(f).collect::<Vec<f64>>();
     let along = per(&|b| e[0] * b.current[0] + e[1] * b.current[1]);
     let across = per(&|b| -e[1] * b.current[0] + e[0] * b.current[1]);

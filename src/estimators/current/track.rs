@@ -10,6 +10,7 @@ use crate::kernel::thermostat::{Start, Thermostat};
 use crate::kernel::vec2::Vec2;
 use crate::numbers::atan::atan2;
 use crate::numbers::real::Real;
+use crate::observers::lag_ring::LagRing;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Basis64, Lattice, LatticeState, Unwrapped};
 use crate::scenes::sampling::StreamKey;
@@ -23,56 +24,14 @@ pub const ANGLE_BINS: usize = 72;
 /// Collisions between two looks at the progress and the stop flag.
 const LOOK_EVERY: u64 = 1 << 14;
 
-/// The lag moments of one trajectory: for each lag, Σ Δx², Σ Δy², Σ ΔxΔy, Σ Δx, Σ Δy over every
-/// time origin.
-#[derive(Debug, Clone)]
-struct DriftSums {
-    steps: Vec<usize>,
-    ring: Vec<[f64; 2]>,
-    samples: u64,
-    sums: Vec<[f64; 5]>,
-    counts: Vec<u64>,
-}
+/// The lag moments of one trajectory's displacement (x, y): per lag Σ Δx², Σ Δy², Σ ΔxΔy, Σ Δx,
+/// Σ Δy over every time origin.
+type DriftSums = LagRing<2, 5>;
 
-impl DriftSums {
-    fn new(steps: Vec<usize>) -> Self {
-        let n = steps.iter().copied().max().unwrap_or(0) + 1;
-        DriftSums {
-            sums: vec![[0.0; 5]; steps.len()],
-            counts: vec![0; steps.len()],
-            steps,
-            ring: vec![[0.0; 2]; n],
-            samples: 0,
-        }
-    }
-
-    fn push(&mut self, x: f64, y: f64) {
-        let n = self.ring.len() as u64;
-        let k = self.samples;
-        self.ring[(k % n) as usize] = [x, y];
-        for (i, &l) in self.steps.iter().enumerate() {
-            if k >= l as u64 {
-                let [x0, y0] = self.ring[((k - l as u64) % n) as usize];
-                let (dx, dy) = (x - x0, y - y0);
-                let s = &mut self.sums[i];
-                s[0] += dx * dx;
-                s[1] += dy * dy;
-                s[2] += dx * dy;
-                s[3] += dx;
-                s[4] += dy;
-                self.counts[i] += 1;
-            }
-        }
-        self.samples += 1;
-    }
-
-    fn means(&self) -> Vec<[f64; 5]> {
-        self.sums
-            .iter()
-            .zip(&self.counts)
-            .map(|(s, &c)| s.map(|v| v / c as f64))
-            .collect()
-    }
+/// A pair's contribution to [`DriftSums`].
+fn drift_moments(&[x0, y0]: &[f64; 2], &[x, y]: &[f64; 2]) -> [f64; 5] {
+    let (dx, dy) = (x - x0, y - y0);
+    [dx * dx, dy * dy, dx * dy, dx, dy]
 }
 
 /// What one batch measured over its observed stretch.
@@ -138,7 +97,7 @@ impl Drift<'_> {
         while self.next <= self.last && self.next as f64 * self.grid <= end {
             let at = start.at(&(self.next as f64 * self.grid - self.t));
             let (x, y) = (r[0] + at.disp.x, r[1] + at.disp.y);
-            self.sums.push(x, y);
+            self.sums.push([x, y], drift_moments);
             let e = &self.world.dir;
             let theta = atan2(e.cross(&at.vel), e.dot(&at.vel));
             let bin = ((theta + std::f64::consts::PI) / std::f64::consts::TAU * ANGLE_BINS as f64)
@@ -204,7 +163,7 @@ pub(super) fn batch<T: Real, S: Scene>(
     let basis: Basis64 = lat.basis_f64();
     let origin: Unwrapped = lat.unwrapped(&s, 0.0);
     let mut sums = DriftSums::new(su.steps.to_vec());
-    sums.push(0.0, 0.0);
+    sums.push([0.0, 0.0], drift_moments);
     let mut drift = Drift {
         sums,
         angles: vec![0; ANGLE_BINS],
