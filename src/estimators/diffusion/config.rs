@@ -567,3 +567,13 @@ pub(super) fn lags(window: &Window, check_window: &Window) -> Vec<usize> {
     l.dedup();
     l
 }
+
+/// The time grid that samples the lags `lags` (in units of τ) of a run whose samples are every
+/// time origin: spacing g·τ, g the lags' greatest common divisor, and each lag in grid steps.
+pub fn lag_grid(tau: f64, lags: &[usize]) -> (f64, Vec<usize>) {
+    fn gcd(a: usize, b: usize) -> usize {
+        if b == 0 { a } else { gcd(b, a % b) }
+    }
+    let g = lags.iter().fold(0, |a, &b| gcd(a, b)).max(1);
+    (g as f64 * tau, lags.iter().map(|l| l / g).collect())
+}

@@ -49,6 +49,16 @@ pub fn current(r: &CurrentReport) -> String {
         "entropy production E·J = ⟨α⟩ = {}",
         estimate(r.entropy_production, r.entropy_production_err)
     );
+    line!(
+        out,
+        "Lyapunov      : λ₊ {}, λ₋ {} per unit time; λ₊ + λ₋ + ⟨α⟩ = {}   (sum rule; per trajectory within {:.1e} of exact, rounding bound {:.1e}); Kaplan–Yorke dimension {}",
+        estimate(r.lambda_plus, r.lambda_plus_err),
+        estimate(r.lambda_minus, r.lambda_minus_err),
+        estimate(r.sum_rule, r.sum_rule_err),
+        r.sum_rule_residual,
+        r.sum_rule_residual_bound,
+        estimate(r.kaplan_yorke, r.kaplan_yorke_err)
+    );
     tensor(&mut out, "about the drift", &r.diffusion, r);
     tensor(&mut out, "check window", &r.diffusion_check, r);
     line!(
