@@ -10,11 +10,11 @@ from test_same_bits import same
 
 
 def test_a_run_under_the_thermostat_has_the_command_lines_bits(cli_json):
-    py = lg.diffusion(w="1/5", electric="3/10", electric_angle="-45", collisions=4e5, batches=4,
-                      seed=5)
-    cl = cli_json("diffusion", "--w", "1/5", "--electric", "3/10", "--electric-angle", "-45",
-                  "--collisions", "4e5", "--batches", "4", "--seed", "5")
-    same(py.to_dict(), cl)
+    args = dict(w="1/5", electric="3/10", electric_angle="-45", collisions=400_000, batches=4,
+                seed=5)
+    py = lg.diffusion(**args)
+    same(py.to_dict(), cli_json("diffusion", *[x for k, v in args.items()
+                                               for x in ("--" + k.replace("_", "-"), str(v))]))
     assert isinstance(py, lg.CurrentResult)
     assert "J/E" in repr(py) and "E = 0.3" in repr(py)
     assert str(py).startswith("periodic Lorentz gas under a thermostatted electric field")

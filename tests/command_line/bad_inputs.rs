@@ -75,6 +75,31 @@ pub(crate) const BAD: &[(&str, &str)] = &[
     ("audit --w 0.1 --field -1e-7", "1e-6"),
     ("audit --w 0.1 --field one", "field"),
     ("diffusion --w 0.1 --field one", "field"),
+    ("diffusion --w 0.1 --electric 11", "0 < |E| <= 10"),
+    ("diffusion --w 0.1 --electric one", "electric"),
+    (
+        "diffusion --w 0.1 --electric 1 --electric-angle 361",
+        "-360 to 360",
+    ),
+    ("diffusion --w 0.1 --electric-angle 30", "--electric"),
+    (
+        "diffusion --w 0.1 --electric 1 --field 1",
+        "cannot be used with",
+    ),
+    (
+        "diffusion --w 0.1 --electric 1 --rel-err 1e-3",
+        "thermostatted field",
+    ),
+    (
+        "diffusion --w 0.1 --electric 1 --checkpoint c.ck",
+        "checkpoint",
+    ),
+    ("diffusion --w 0.1 --electric 1 --engine simd", "engine"),
+    ("diffusion --w 0.1 --electric 1 --audit 0.1", "audit"),
+    (
+        "diffusion --scene square --radius 1/4 --electric 1",
+        "lacks a finite horizon",
+    ),
     ("audit --w 0.1 --reference-bits 4000000000", "65536"),
     // scenes
     ("audit --scene square --radius 0.5", "0 < radius < 1/2"),

@@ -69,13 +69,7 @@ fn carried(
         flight_map(&mut u, &world.start(&v), dt);
         lat.apply_thermostat(&mut s, &ev);
         if let EventKind::Collision(m) = ev.kind {
-            let disk = &lat.cell().disks[m as usize];
-            let r = disk.radius().to_f64();
-            let sg = s.cell.sign() / r;
-            let n = Vec2::new(
-                sg * (s.flight.pos.x.to_f64() - disk.centre.x.to_f64()),
-                sg * (s.flight.pos.y.to_f64() - disk.centre.y.to_f64()),
-            );
+            let (n, r) = super::super::track::contact_normal(lat, &s, m);
             collision_map(&mut u, world, (&n, r), &velocity(&s));
         }
         t += dt;

@@ -206,13 +206,24 @@ fn tangent<T: Real, K: crate::kernel::cell::CellKernel<T>>(
 ) {
     pair.flight(&world.start(v), step.time, step.along);
     if let EventKind::Collision(m) = step.kind {
-        let disk = &lat.cell().disks[m as usize];
-        let r = disk.radius().to_f64();
-        let sg = s.cell.sign() / r;
-        let n = Vec2::new(
-            sg * (s.flight.pos.x.to_f64() - disk.centre.x.to_f64()),
-            sg * (s.flight.pos.y.to_f64() - disk.centre.y.to_f64()),
-        );
+        let (n, r) = contact_normal(lat, s, m);
         pair.collision(&n, r, &world_velocity(s));
     }
+}
+
+/// The outward unit normal (world) at the contact of the state `s` on disk `m` of its cell, and
+/// the disk's radius.
+pub(super) fn contact_normal<T: Real, K: crate::kernel::cell::CellKernel<T>>(
+    lat: &Lattice<T, K>,
+    s: &LatticeState<T>,
+    m: u8,
+) -> (Vec2<f64>, f64) {
+    let disk = &lat.cell().disks[m as usize];
+    let r = disk.radius().to_f64();
+    let sg = s.cell.sign() / r;
+    let n = Vec2::new(
+        sg * (s.flight.pos.x.to_f64() - disk.centre.x.to_f64()),
+        sg * (s.flight.pos.y.to_f64() - disk.centre.y.to_f64()),
+    );
+    (n, r)
 }

@@ -207,6 +207,11 @@ impl DiffusionConfig {
             return self.validate_triangular();
         }
         refuse_rel_err(self.rel_err)?;
+        self.validate_sampling()
+    }
+
+    /// The checks of [`Sampling::validate`] on the table's scene (its horizon among them).
+    fn validate_sampling(&self) -> Result<(), Error> {
         let scene = self.table.scene.resolve()?;
         crate::with_scene!(&scene, |s| self.sampling().validate(s))
     }
@@ -239,8 +244,7 @@ impl DiffusionConfig {
             ));
         }
         check_electric(&self.table.motion)?;
-        let scene = self.table.scene.resolve()?;
-        crate::with_scene!(&scene, |s| self.sampling().validate(s))
+        self.validate_sampling()
     }
 
     /// The checks of the trap estimator's run on the triangular gas.

@@ -50,6 +50,29 @@ pub fn jumped(flights: crate::engine::long_flight::Flights) -> &'static str {
     }
 }
 
+/// The provenance a batch run's first line ends with: `(P precision, E engine, seed S, B
+/// batches, N collisions, K threads, T s, R collisions/s)`, the engine with its SIMD path if
+/// `with_path`, the rate left out where it is `None`.
+pub fn provenance(
+    m: &crate::engine::metadata::RunMeta,
+    (collisions, seconds, rate): (u64, f64, Option<f64>),
+    with_path: bool,
+) -> String {
+    let engine = match (&m.simd, with_path) {
+        (Some(p), true) => format!("{} ({p})", m.engine),
+        _ => m.engine.clone(),
+    };
+    let rate = rate.map_or(String::new(), |r| format!(", {r:.3e} collisions/s"));
+    format!(
+        "({} precision, {engine} engine, seed {}, {} batches, {:.3e} collisions, {}, {seconds:.1} s{rate})",
+        m.precision,
+        m.seed.unwrap_or_default(),
+        m.batches.unwrap_or_default(),
+        collisions as f64,
+        crate::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
+    )
+}
+
 /// `x ± e` at six decimals, as the printed lines show estimates — or, where six decimals would
 /// show a nonzero error as 0.000000 (below 5·10⁻⁷), to the place of the error
 /// ([`with_error`](crate::report::publication::headline::with_error)): an error bar is printed as
