@@ -94,7 +94,10 @@ fn zero_of(f: impl Fn(&Float) -> Float, x0: Float) -> Result<Float, Error> {
         }
     }
     Err(Error::Failed(
-        "the leading zero of the cycle expansion was not found (Newton diverged)".into(),
+        "the leading zero of the cycle expansion was not found (Newton diverged): near \
+         touching disks (R/a below about 2.05) pruning makes the truncated expansion \
+         ill-conditioned; use a larger side or a shorter --max-length"
+            .into(),
     ))
 }
 
