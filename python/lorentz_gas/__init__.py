@@ -93,6 +93,7 @@ from ._verification import (
 )
 from ._figures import figure, reproduce
 from ._section import SectionResult, section
+from ._cycles import CyclesResult, cycles
 from ._events import Trajectory, events
 from . import _events
 from ._kinds import (
@@ -125,6 +126,7 @@ __all__ = [
     "audit",
     "shadow",
     "certify",
+    "cycles",
     "trajectory",
     "section",
     "constants",
@@ -163,6 +165,7 @@ __all__ = [
     "AuditResult",
     "ShadowResult",
     "CertifyResult",
+    "CyclesResult",
     "TrajectoryResult",
     "SectionResult",
     "BenchResult",

@@ -8,7 +8,7 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
-from . import _tables
+from . import _cycles, _tables
 from ._result_base import Result
 from ._results import (
     AuditResult,
@@ -132,6 +132,7 @@ KINDS: List[Tuple[str, str, Tuple[str, ...], Callable[..., Result]]] = [
     ("audit", "audit", ("events", "quantiles", "summary"), AuditResult),
     ("shadow", "shadow", ("segments", "converged", "certified"), ShadowResult),
     ("certify", "certify", ("digits_agreed", "f64_faithful_collisions"), CertifyResult),
+    ("cycles", "cycles", ("spectral_determinant", "zeta_function"), _cycles.CyclesResult),
     ("trajectory", "trajectory", ("certified_digits", "distance"), TrajectoryResult),
     ("section", "section", ("theta", "p", "component"), SectionResult),
     ("constants", "constants", ("mean_free_path", "finite_horizon", "precision_bits"),

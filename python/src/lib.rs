@@ -9,6 +9,7 @@
 mod analyses;
 mod bench;
 mod campaigns;
+mod cycles;
 mod diffusion;
 mod events;
 mod field;

@@ -63,6 +63,7 @@ analyses! {
     audit: crate::verification::audit,
     shadow: crate::verification::shadow,
     certify: crate::verification::certify,
+    cycles: crate::cycles::cycles,
     trajectory: crate::verification::trajectory,
     section: crate::section::section,
     bench: crate::bench::bench,

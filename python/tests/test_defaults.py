@@ -10,7 +10,7 @@ import pytest
 import lorentz_gas as lg
 
 FUNCTIONS = ["diffusion", "hops", "theory", "lattice_walk", "backscatter", "sweep", "escape", "lyapunov", "superdiffusion", "free_paths", "audit",
-             "shadow", "certify", "trajectory", "report", "bench"]
+             "shadow", "certify", "cycles", "trajectory", "report", "bench"]
 # Python keywords that are not command-line options (or are one under another name).
 NOT_OPTIONS = {"w", "progress", "path", "start", "direction", "time", "events", "scene",
                "radius", "out", "widths", "threads", "max_rerun_collisions", "checkpoint",

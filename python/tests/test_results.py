@@ -101,6 +101,10 @@ _TEXT_KINDS = {
         lambda: lg.certify(w=0.1, collisions=50),
         ["certify", "--w", "0.1", "--collisions", "50"],
     ),
+    "cycles": (
+        lambda: lg.cycles(max_length=4),
+        ["cycles", "--max-length", "4"],
+    ),
     "shadow": (
         lambda: lg.shadow(w=0.1, collisions_per_segment=100, segments=4),
         ["shadow", "--w", "0.1", "--collisions-per-segment", "100", "--segments", "4"],

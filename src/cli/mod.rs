@@ -33,6 +33,7 @@ mod backscatter;
 mod bench;
 mod certify;
 mod constants;
+mod cycles;
 mod diffusion;
 mod escape;
 mod field;
@@ -140,6 +141,8 @@ enum Cmd {
     /// Fig. 6b by simulation: correlated lattice walks of order 1..K driven by the measured symbol tables, next to their exact D.
     #[command(mut_arg("order", |a| a.help(lattice_walk::ORDER_HELP)))]
     LatticeWalk(lattice_walk::Args),
+    /// The three-disk repeller by certified periodic orbits: escape rate, Lyapunov exponent, KS entropy and partial dimension from the cycle expansions, against the longest cycle N.
+    Cycles(cycles::Args),
     /// Every closed-form quantity at gap w (geometry, Santalo, Machta-Zwanzig, Boltzmann).
     Constants(constants::Args),
     /// Poincare section in Birkhoff coordinates (theta, p = sin of the outgoing angle) at collisions, each orbit coloured by its component: pinned, skipping, bounded (regular islands), diffusing.
@@ -245,6 +248,7 @@ fn run(cmd: Cmd) -> Result<(), Error> {
         Cmd::Theory(a) => theory::run(a),
         Cmd::LatticeWalk(a) => lattice_walk::run(a),
         Cmd::Constants(a) => constants::run(a),
+        Cmd::Cycles(a) => cycles::run(a),
         Cmd::Trajectory(a) => trajectory::run(a),
         Cmd::Bench(a) => bench::run(a),
     }

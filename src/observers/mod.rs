@@ -20,6 +20,8 @@
 //!   on a multiple-τ logarithmic grid from inside the first flight (four times per octave).
 //! * [`msd_times`]: the MSD, the velocity autocorrelation per component and the Green–Kubo
 //!   integral at times the user gives, from t = 0 on.
+//! * [`lag_ring`]: sums over time origins at fixed lags of any pair of samples (the moments of
+//!   a run in a field and of the driven gas).
 //! * [`lag_moments`]: ⟨|Δr|²⟩, ⟨v(0)·v(t)⟩ and the scaled displacement's histogram at lags on a
 //!   logarithmic grid.
 
@@ -30,6 +32,7 @@ pub mod free_paths;
 pub mod hop_correlations;
 pub mod hops;
 pub mod lag_moments;
+pub mod lag_ring;
 pub mod msd;
 pub mod msd_curve;
 pub mod msd_times;

@@ -8,6 +8,7 @@
 mod common;
 
 mod corridors;
+mod current;
 mod derived_errors;
 mod escape;
 mod field;

@@ -75,6 +75,31 @@ pub(crate) const BAD: &[(&str, &str)] = &[
     ("audit --w 0.1 --field -1e-7", "1e-6"),
     ("audit --w 0.1 --field one", "field"),
     ("diffusion --w 0.1 --field one", "field"),
+    ("diffusion --w 0.1 --electric 11", "0 < |E| <= 10"),
+    ("diffusion --w 0.1 --electric one", "electric"),
+    (
+        "diffusion --w 0.1 --electric 1 --electric-angle 361",
+        "-360 to 360",
+    ),
+    ("diffusion --w 0.1 --electric-angle 30", "--electric"),
+    (
+        "diffusion --w 0.1 --electric 1 --field 1",
+        "cannot be used with",
+    ),
+    (
+        "diffusion --w 0.1 --electric 1 --rel-err 1e-3",
+        "thermostatted field",
+    ),
+    (
+        "diffusion --w 0.1 --electric 1 --checkpoint c.ck",
+        "checkpoint",
+    ),
+    ("diffusion --w 0.1 --electric 1 --engine simd", "engine"),
+    ("diffusion --w 0.1 --electric 1 --audit 0.1", "audit"),
+    (
+        "diffusion --scene square --radius 1/4 --electric 1",
+        "lacks a finite horizon",
+    ),
     ("audit --w 0.1 --reference-bits 4000000000", "65536"),
     // scenes
     ("audit --scene square --radius 0.5", "0 < radius < 1/2"),
@@ -417,6 +442,30 @@ pub(crate) const BAD: &[(&str, &str)] = &[
         "use w_inf = 4/sqrt(3) - 2 < w <= 2^20 - 2",
     ),
     ("bench", "--w"),
+    // cycles: R and a decided exactly (R = 2a touches), N and the bits in their ranges
+    (
+        "cycles --side 2 --radius 1",
+        "--side 2 is out of range: use a finite side R > 2a = 2",
+    ),
+    ("cycles --side 6 --radius 3", "R > 2a = 6"),
+    (
+        "cycles --radius 0",
+        "--radius 0 is out of range: use a finite radius a > 0",
+    ),
+    ("cycles --radius -1", "a > 0"),
+    (
+        "cycles --side nan",
+        "--side NaN is out of range: use a finite side R > 2a",
+    ),
+    ("cycles --side six", "--side six"),
+    ("cycles --max-length 0", "use 1 to 16"),
+    ("cycles --max-length 17", "use 1 to 16"),
+    (
+        "cycles --bits 64",
+        "--bits 64 is out of range: use 128 to 4096 bits",
+    ),
+    ("cycles --threads 0", "threads must be from 1"),
+    ("cycles --out . --max-length 1", "directory"),
 ];
 
 /// [`BAD`] for arguments with white space in them.

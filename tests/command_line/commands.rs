@@ -134,6 +134,7 @@ fn every_command_accepts_json_quiet_and_scientific_counts_and_shares_one_metadat
         "audit --w 0.1 --collisions 2_000 --batches 2",
         "lyapunov --w 0.1 --collisions-per-batch 2e4 --batches 2 --starts 0",
         "certify --w 0.1 --collisions 50 --digits 20",
+        "cycles --max-length 2",
         "backscatter --w 0.1 --particles 2e4 --batches 4",
         "hops --w 0.1 --collisions 1e6 --batches 4 --order 2",
         "theory --w 0.1 --collisions 1e6 --batches 4 --order 2",

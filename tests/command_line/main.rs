@@ -9,6 +9,7 @@ mod common;
 mod bad_inputs;
 mod checkpoints;
 mod commands;
+mod cycles;
 mod honest_numbers;
 mod hostile;
 mod planned;

@@ -165,6 +165,7 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
             "certify",
             run("certify --w 0.1 --collisions 50 --digits 20"),
         ),
+        ("cycles", run("cycles --max-length 3")),
         (
             "trajectory",
             run(

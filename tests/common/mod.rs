@@ -217,3 +217,16 @@ pub fn assert_errors_match_their_spread<R>(
     let failures = errors_outside_their_spread(reports, quantities, error_dof);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// Below the gap no flight fits twice, so at a time t = f·⟨ℓ⟩ short of it the MSD is
+/// t²(1 − 4f/9) and the velocity autocorrelation 1 − 4f/3 exactly (`proofs-notes/msd-curve.md`):
+/// each measured value `(x, err)` within `k4` errors of them.
+pub fn short_time_curve((t, f, k4): (f64, f64, f64), msd: (f64, f64), vacf: (f64, f64)) {
+    let near = |(x, err): (f64, f64), want: f64| (x - want).abs() <= k4 * err;
+    assert!(
+        near(msd, t * t * (1.0 - 4.0 * f / 9.0)),
+        "MSD({t}) = {}",
+        msd.0
+    );
+    assert!(near(vacf, 1.0 - 4.0 * f / 3.0), "C({t}) = {}", vacf.0);
+}

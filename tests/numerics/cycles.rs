@@ -18,7 +18,7 @@ const GAMMA_R6: &str = "0.4103384077693464893384613078192";
 #[test]
 fn the_two_disk_cycle_has_its_closed_form_period_and_stability() {
     let cases = [
-        Disks::three_disk(6.0, 1.0),
+        Disks::three_disk(6, 1),
         Disks::Explicit {
             centres: vec![[0.0, 0.0], [2.625, 0.0]],
             radius: 0.75,
@@ -82,7 +82,7 @@ fn a_cycle_through_a_third_disk_is_pruned_by_the_kernel() {
     let free = certify_cycle(&disks, &[0, 2], BITS).unwrap();
     assert!(free.certified && free.pruned.is_none(), "{free:?}");
     // The three-disk repeller prunes nothing at R/a = 6: its 0–1 bounce is certified.
-    let open = certify_cycle(&Disks::three_disk(6.0, 1.0), &[0, 1, 2, 1], BITS).unwrap();
+    let open = certify_cycle(&Disks::three_disk(6, 1), &[0, 1, 2, 1], BITS).unwrap();
     assert!(open.certified, "{:?}", open.failure);
 }
 
@@ -105,7 +105,7 @@ fn fundamental_cycles_stand_for_the_full_space_ones() {
             .sum();
         assert_eq!(from_words, full_space_prime_count(n), "length {n}");
     }
-    let disks = Disks::three_disk(6.0, 1.0);
+    let disks = Disks::three_disk(6, 1);
     for w in prime_words(5) {
         let f = fundamental_cycle(&disks, &w, BITS).unwrap();
         assert!(f.cycle.certified, "{}: {:?}", f.word, f.cycle.failure);
@@ -132,10 +132,9 @@ fn fundamental_cycles_stand_for_the_full_space_ones() {
 #[test]
 fn the_three_disk_escape_rate_at_r_over_a_6_is_the_known_value() {
     let config = RepellerConfig {
-        side: 6.0,
-        radius: 1.0,
         max_length: 8,
-        reference_bits: BITS,
+        bits: BITS,
+        ..RepellerConfig::new("6", "1")
     };
     let report = run(&config, &RunOptions::default()).unwrap();
     assert_eq!(report.certified, prime_words(8).len());
@@ -186,12 +185,19 @@ fn the_three_disk_escape_rate_at_r_over_a_6_is_the_known_value() {
 
 #[test]
 fn cycles_that_are_not_cycles_are_refused() {
-    let disks = Disks::three_disk(6.0, 1.0);
+    let disks = Disks::three_disk(6, 1);
     assert!(certify_cycle(&disks, &[0, 1, 1], BITS).is_err());
     assert!(certify_cycle(&disks, &[0, 1, 0], BITS).is_err()); // 0 follows 0 cyclically
     assert!(certify_cycle(&disks, &[0, 3], BITS).is_err());
     assert!(certify_cycle(&disks, &[0, 1], 64).is_err());
-    assert!(certify_cycle(&Disks::three_disk(1.5, 1.0), &[0, 1], BITS).is_err());
+    assert!(
+        certify_cycle(
+            &Disks::three_disk(rug::Rational::from((3, 2)), 1),
+            &[0, 1],
+            BITS
+        )
+        .is_err()
+    );
 }
 
 /// The convergence table to N = 12 with its cost (not run by default: the numbers of the
@@ -199,12 +205,11 @@ fn cycles_that_are_not_cycles_are_refused() {
 #[test]
 #[ignore]
 fn repeller_table_to_12() {
-    for side in [6.0, 3.0] {
+    for side in ["6", "3"] {
         let config = RepellerConfig {
-            side,
-            radius: 1.0,
             max_length: 12,
-            reference_bits: BITS,
+            bits: BITS,
+            ..RepellerConfig::new(side, "1")
         };
         let start = std::time::Instant::now();
         let report = run(&config, &RunOptions::default()).unwrap();
@@ -243,7 +248,7 @@ fn repeller_table_to_12() {
             .iter()
             .zip(&report.zeta_function)
         {
-            if side == 6.0 {
+            if side == "6" {
                 let off = (d.escape_rate_exact.clone().unwrap() - &known).abs();
                 eprintln!(
                     "N={:2} |gamma_N - known| = {:.3e}",
@@ -266,4 +271,59 @@ fn repeller_table_to_12() {
             );
         }
     }
+}
+
+/// R and a are taken exactly as typed: R = 2, a = 1/3 is the repeller of R/a = 6 scaled by 1/3,
+/// so its γ is 3·γ(R = 6, a = 1) at every N to the expansion's 128 bits (a = 1/3 rounded to a
+/// double first would move γ by ~10⁻¹⁷ relative); bad text, NaN, a ≤ 0 and R ≤ 2a are refused
+/// naming the valid range.
+#[test]
+fn side_and_radius_are_exact_as_typed() {
+    let at = |side: &str, radius: &str| {
+        let config = RepellerConfig {
+            max_length: 4,
+            ..RepellerConfig::new(side, radius)
+        };
+        run(&config, &RunOptions::default()).unwrap()
+    };
+    let (unit, third) = (at("6", "1"), at("2", "1/3"));
+    for (u, t) in unit
+        .spectral_determinant
+        .iter()
+        .zip(&third.spectral_determinant)
+    {
+        let u = u.escape_rate_exact.clone().unwrap() * 3u32;
+        let t = t.escape_rate_exact.clone().unwrap();
+        let rel = ((t - &u) / &u).abs().to_f64();
+        assert!(rel < 1e-30, "3 gamma(6, 1) against gamma(2, 1/3): {rel:e}");
+    }
+    let refused = |side: &str, radius: &str| {
+        RepellerConfig::new(side, radius)
+            .validate()
+            .unwrap_err()
+            .to_string()
+    };
+    assert_eq!(
+        refused("2", "1"),
+        "side = 2 is out of range: use a finite side R > 2a = 2 (disjoint disks)"
+    );
+    assert_eq!(
+        refused("0.2", "0.1"),
+        "side = 0.2 is out of range: use a finite side R > 2a = 0.2 (disjoint disks)"
+    );
+    assert!(refused("6", "0").contains("use a finite radius a > 0"));
+    assert!(refused("6", "-1/2").contains("use a finite radius a > 0"));
+    assert!(refused("nan", "1").contains("use a finite side R > 2a"));
+    assert!(refused("6", "inf").contains("use a finite radius a > 0"));
+    assert!(refused("six", "1").starts_with("side = six"));
+    let long = RepellerConfig {
+        max_length: 17,
+        ..RepellerConfig::new("6", "1")
+    };
+    assert!(
+        long.validate()
+            .unwrap_err()
+            .to_string()
+            .contains("use 1 to 16")
+    );
 }

@@ -24,7 +24,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::diffusion::{DiffusionConfig, Estimate, Window, time_unit};
+use super::diffusion::{DiffusionConfig, Estimate, Window, lag_grid, time_unit};
 use crate::Error;
 use crate::engine::Resolved;
 use crate::engine::metadata::RunMeta;
@@ -39,6 +39,7 @@ use crate::scenes::thermostat::CellFields;
 use crate::statistics::{linear_fit, mean_se};
 
 mod summary;
+mod tangent;
 mod track;
 
 pub use summary::DriftTensor;
@@ -84,6 +85,28 @@ pub struct CurrentReport {
     pub entropy_production: f64,
     /// Its standard error over the batches.
     pub entropy_production_err: f64,
+    /// λ₊, the positive Lyapunov exponent of the flow (per unit time).
+    pub lambda_plus: f64,
+    /// Its standard error over the batches.
+    pub lambda_plus_err: f64,
+    /// λ₋, the negative one (the third is 0, along the flow).
+    pub lambda_minus: f64,
+    /// Its standard error over the batches.
+    pub lambda_minus_err: f64,
+    /// λ₊ + λ₋ + ⟨α⟩ over the pair's own stretch (to its last collision) per batch: the sum
+    /// rule says 0, but for ln(|f(T)|/|f(0)|)/T ≤ ln(1 + ε²)/(2T).
+    pub sum_rule: f64,
+    /// Its standard error over the batches.
+    pub sum_rule_err: f64,
+    /// The largest |Σ ln stretchings + ∫α + ln(|f(T)|/|f(0)|)| of a batch: the sum rule per
+    /// trajectory, 0 but for rounding.
+    pub sum_rule_residual: f64,
+    /// The rounding bound of that batch's residual (`proofs-notes/thermostat-lyapunov.md`).
+    pub sum_rule_residual_bound: f64,
+    /// The Kaplan–Yorke dimension of the attractor of the flow, 2 + λ₊/|λ₋| (per batch).
+    pub kaplan_yorke: f64,
+    /// Its standard error over the batches.
+    pub kaplan_yorke_err: f64,
     /// The diffusion tensor about the drift over the fit window.
     pub diffusion: DriftTensor,
     /// The same over the check window.
@@ -182,23 +205,13 @@ fn run_on<S: Scene>(
     ))
 }
 
-/// The grid of a run: spacing g·τ (g the greatest common divisor of the windows' lags in units
-/// of τ), every lag in grid steps, and the grid steps of a batch's observed stretch.
+/// The grid of a run: the lags' sampling grid ([`lag_grid`]) and the grid steps of a batch's
+/// observed stretch.
 fn grid<S: Scene>(scene: &S, cfg: &DiffusionConfig) -> (f64, Vec<usize>, u64) {
-    let tau = time_unit(scene);
-    let mut lags = cfg.window.lags();
-    lags.extend(cfg.check_window.lags());
-    lags.sort_unstable();
-    lags.dedup();
-    let g = lags.iter().fold(0, |a, &b| gcd(a, b)).max(1);
-    let spacing = g as f64 * tau;
+    let (spacing, steps) = lag_grid(time_unit(scene), &cfg.lags());
     let stretch = (cfg.collisions / u64::from(cfg.batches)) as f64 * scene.mean_free_path();
     let samples = (stretch / spacing).round().max(1.0) as u64;
-    (spacing, lags.iter().map(|l| l / g).collect(), samples)
-}
-
-fn gcd(a: usize, b: usize) -> usize {
-    if b == 0 { a } else { gcd(b, a % b) }
+    (spacing, steps, samples)
 }
 
 /// Every batch at number type `T` on the scalar kernel, one per task (the same bits at any

@@ -2,10 +2,11 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::tangent::PairBatch;
 use super::track::{ANGLE_BINS, Batch};
 use super::{CurrentReport, WARM_UP_SHARE, grid, mean_of, slope};
 use crate::engine::metadata::RunMeta;
-use crate::estimators::diffusion::{DiffusionConfig, Window, time_unit};
+use crate::estimators::diffusion::{DiffusionConfig, Estimate, Window, time_unit};
 use crate::kernel::thermostat::Thermostat;
 use crate::scenes::Scene;
 use crate::statistics::mean_se;
@@ -96,6 +97,34 @@ fn angle_density(batches: &[Batch]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     (centres, density, err)
 }
 
+/// The Lyapunov pair over the batches.
+struct PairSummary {
+    plus: Estimate,
+    minus: Estimate,
+    sum_rule: Estimate,
+    kaplan_yorke: Estimate,
+    /// The batch of the largest residual relative to its bound: (residual, bound).
+    residual: (f64, f64),
+}
+
+fn pair_summary(batches: &[Batch]) -> PairSummary {
+    let per = |f: &dyn Fn(&PairBatch) -> f64| {
+        mean_of(&batches.iter().map(|b| f(&b.pair)).collect::<Vec<_>>())
+    };
+    let worst = batches
+        .iter()
+        .map(|b| (b.pair.residual.abs(), b.pair.bound))
+        .max_by(|a, b| (a.0 / a.1).total_cmp(&(b.0 / b.1)))
+        .unwrap_or((0.0, 0.0));
+    PairSummary {
+        plus: per(&|p| p.lambda[0]),
+        minus: per(&|p| p.lambda[1]),
+        sum_rule: per(&|p| p.lambda[0] + p.lambda[1] + p.alpha),
+        kaplan_yorke: per(&|p| 2.0 + p.lambda[0] / p.lambda[1].abs()),
+        residual: worst,
+    }
+}
+
 /// The report of `batches`, run on `scene` under the field `world` (doubles) in `seconds`.
 pub(super) fn summarise<S: Scene>(
     scene: &S,
@@ -107,10 +136,7 @@ pub(super) fn summarise<S: Scene>(
     let e = [world.dir.x, world.dir.y];
     let eps = world.strength;
     let tau = time_unit(scene);
-    let mut lags = cfg.window.lags();
-    lags.extend(cfg.check_window.lags());
-    lags.sort_unstable();
-    lags.dedup();
+    let lags = cfg.lags();
     let per = |f: &dyn Fn(&Batch) -> f64| batches.iter().map(f).collect::<Vec<f64>>();
     let along = per(&|b| e[0] * b.current[0] + e[1] * b.current[1]);
     let across = per(&|b| -e[1] * b.current[0] + e[0] * b.current[1]);
@@ -127,6 +153,7 @@ pub(super) fn summarise<S: Scene>(
     let mobility = mean_of(&along.iter().map(|j| j / eps).collect::<Vec<_>>());
     let production = mean_of(&along.iter().map(|j| j * eps).collect::<Vec<_>>());
     let mean_free_time = 1.0 / rate.value;
+    let lyapunov = pair_summary(batches);
     CurrentReport {
         scene: scene.label(),
         electric: eps,
@@ -143,6 +170,16 @@ pub(super) fn summarise<S: Scene>(
         mobility_err: mobility.err,
         entropy_production: production.value,
         entropy_production_err: production.err,
+        lambda_plus: lyapunov.plus.value,
+        lambda_plus_err: lyapunov.plus.err,
+        lambda_minus: lyapunov.minus.value,
+        lambda_minus_err: lyapunov.minus.err,
+        sum_rule: lyapunov.sum_rule.value,
+        sum_rule_err: lyapunov.sum_rule.err,
+        sum_rule_residual: lyapunov.residual.0,
+        sum_rule_residual_bound: lyapunov.residual.1,
+        kaplan_yorke: lyapunov.kaplan_yorke.value,
+        kaplan_yorke_err: lyapunov.kaplan_yorke.err,
         diffusion: tensor(batches, &lags, tau, &cfg.window, e),
         diffusion_check: tensor(batches, &lags, tau, &cfg.check_window, e),
         angle_bins,

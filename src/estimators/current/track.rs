@@ -6,14 +6,17 @@
 use crate::Error;
 use crate::engine::options::StopFlag;
 use crate::kernel::flight::EventKind;
-use crate::kernel::thermostat::Thermostat;
+use crate::kernel::thermostat::{Start, Thermostat};
 use crate::kernel::vec2::Vec2;
 use crate::numbers::atan::atan2;
 use crate::numbers::real::Real;
+use crate::observers::lag_ring::LagRing;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Basis64, Lattice, LatticeState, Unwrapped};
 use crate::scenes::sampling::StreamKey;
 use crate::scenes::thermostat::{CellFields, ThermoStep};
+
+use super::tangent::{Pair, PairBatch};
 
 /// Bins of the velocity angle's histogram over (−π, π], the angle from E.
 pub const ANGLE_BINS: usize = 72;
@@ -21,56 +24,14 @@ pub const ANGLE_BINS: usize = 72;
 /// Collisions between two looks at the progress and the stop flag.
 const LOOK_EVERY: u64 = 1 << 14;
 
-/// The lag moments of one trajectory: for each lag, Σ Δx², Σ Δy², Σ ΔxΔy, Σ Δx, Σ Δy over every
-/// time origin.
-#[derive(Debug, Clone)]
-struct DriftSums {
-    steps: Vec<usize>,
-    ring: Vec<[f64; 2]>,
-    samples: u64,
-    sums: Vec<[f64; 5]>,
-    counts: Vec<u64>,
-}
+/// The lag moments of one trajectory's displacement (x, y): per lag Σ Δx², Σ Δy², Σ ΔxΔy, Σ Δx,
+/// Σ Δy over every time origin.
+type DriftSums = LagRing<2, 5>;
 
-impl DriftSums {
-    fn new(steps: Vec<usize>) -> Self {
-        let n = steps.iter().copied().max().unwrap_or(0) + 1;
-        DriftSums {
-            sums: vec![[0.0; 5]; steps.len()],
-            counts: vec![0; steps.len()],
-            steps,
-            ring: vec![[0.0; 2]; n],
-            samples: 0,
-        }
-    }
-
-    fn push(&mut self, x: f64, y: f64) {
-        let n = self.ring.len() as u64;
-        let k = self.samples;
-        self.ring[(k % n) as usize] = [x, y];
-        for (i, &l) in self.steps.iter().enumerate() {
-            if k >= l as u64 {
-                let [x0, y0] = self.ring[((k - l as u64) % n) as usize];
-                let (dx, dy) = (x - x0, y - y0);
-                let s = &mut self.sums[i];
-                s[0] += dx * dx;
-                s[1] += dy * dy;
-                s[2] += dx * dy;
-                s[3] += dx;
-                s[4] += dy;
-                self.counts[i] += 1;
-            }
-        }
-        self.samples += 1;
-    }
-
-    fn means(&self) -> Vec<[f64; 5]> {
-        self.sums
-            .iter()
-            .zip(&self.counts)
-            .map(|(s, &c)| s.map(|v| v / c as f64))
-            .collect()
-    }
+/// A pair's contribution to [`DriftSums`].
+fn drift_moments(&[x0, y0]: &[f64; 2], &[x, y]: &[f64; 2]) -> [f64; 5] {
+    let (dx, dy) = (x - x0, y - y0);
+    [dx * dx, dy * dy, dx * dy, dx, dy]
 }
 
 /// What one batch measured over its observed stretch.
@@ -86,6 +47,8 @@ pub(super) struct Batch {
     pub collisions: u64,
     /// Its duration T.
     pub time: f64,
+    /// The Lyapunov pair.
+    pub pair: PairBatch,
 }
 
 /// Where and how one batch runs.
@@ -127,15 +90,14 @@ impl Drift<'_> {
         self.next <= self.last
     }
 
-    /// The flight from the displacement `r` with world velocity `v`, `step` to its event: its
-    /// grid samples, and the collision at its end if it is within the observed stretch.
-    fn flight(&mut self, r: [f64; 2], v: &Vec2<f64>, step: &ThermoStep) {
+    /// The flight `start` from the displacement `r`, `step` to its event: its grid samples, and
+    /// the collision at its end if it is within the observed stretch.
+    fn flight(&mut self, r: [f64; 2], start: &Start<'_, f64>, step: &ThermoStep) {
         let end = self.t + step.time;
-        let start = self.world.start(v);
         while self.next <= self.last && self.next as f64 * self.grid <= end {
             let at = start.at(&(self.next as f64 * self.grid - self.t));
             let (x, y) = (r[0] + at.disp.x, r[1] + at.disp.y);
-            self.sums.push(x, y);
+            self.sums.push([x, y], drift_moments);
             let e = &self.world.dir;
             let theta = atan2(e.cross(&at.vel), e.dot(&at.vel));
             let bin = ((theta + std::f64::consts::PI) / std::f64::consts::TAU * ANGLE_BINS as f64)
@@ -187,17 +149,21 @@ pub(super) fn batch<T: Real, S: Scene>(
     let mut s = LatticeState::<T>::convert_from_f64(su.ctx, &s64);
     s.flight.normalise_speed();
     let lat = su.lattice;
+    let mut pair = Pair::new(su.world, &world_velocity(&s));
     let mut count = 0;
     let mut t = 0.0;
     while t < su.warm_up {
+        let v = world_velocity(&s);
         let step = lat.step_thermostat(&mut s, su.fields)?;
+        tangent(lat, &s, su.world, &mut pair, (&v, &step));
         t += step.time;
         look(su, &mut count, &step)?;
     }
+    pair.restart_at(&world_velocity(&s));
     let basis: Basis64 = lat.basis_f64();
     let origin: Unwrapped = lat.unwrapped(&s, 0.0);
     let mut sums = DriftSums::new(su.steps.to_vec());
-    sums.push(0.0, 0.0);
+    sums.push([0.0, 0.0], drift_moments);
     let mut drift = Drift {
         sums,
         angles: vec![0; ANGLE_BINS],
@@ -213,7 +179,8 @@ pub(super) fn batch<T: Real, S: Scene>(
         let r = lat.unwrapped(&s, 0.0).displacement_from(&origin, &basis);
         let v = world_velocity(&s);
         let step = lat.step_thermostat(&mut s, su.fields)?;
-        drift.flight(r, &v, &step);
+        drift.flight(r, &su.world.start(&v), &step);
+        tangent(lat, &s, su.world, &mut pair, (&v, &step));
         look(su, &mut count, &step)?;
     }
     (su.progress)(count % LOOK_EVERY);
@@ -224,5 +191,39 @@ pub(super) fn batch<T: Real, S: Scene>(
         angles: drift.angles,
         collisions: drift.done,
         time,
+        pair: pair.finish(),
     })
+}
+
+/// The pair through the event `step` of the flight that left with the world velocity `v`, the
+/// state `s` being the one after it (at a collision: on the disk, leaving).
+fn tangent<T: Real, K: crate::kernel::cell::CellKernel<T>>(
+    lat: &Lattice<T, K>,
+    s: &LatticeState<T>,
+    world: &Thermostat<f64>,
+    pair: &mut Pair<'_>,
+    (v, step): (&Vec2<f64>, &ThermoStep),
+) {
+    pair.flight(&world.start(v), step.time, step.along);
+    if let EventKind::Collision(m) = step.kind {
+        let (n, r) = contact_normal(lat, s, m);
+        pair.collision(&n, r, &world_velocity(s));
+    }
+}
+
+/// The outward unit normal (world) at the contact of the state `s` on disk `m` of its cell, and
+/// the disk's radius.
+pub(super) fn contact_normal<T: Real, K: crate::kernel::cell::CellKernel<T>>(
+    lat: &Lattice<T, K>,
+    s: &LatticeState<T>,
+    m: u8,
+) -> (Vec2<f64>, f64) {
+    let disk = &lat.cell().disks[m as usize];
+    let r = disk.radius().to_f64();
+    let sg = s.cell.sign() / r;
+    let n = Vec2::new(
+        sg * (s.flight.pos.x.to_f64() - disk.centre.x.to_f64()),
+        sg * (s.flight.pos.y.to_f64() - disk.centre.y.to_f64()),
+    );
+    (n, r)
 }

@@ -207,6 +207,11 @@ impl DiffusionConfig {
             return self.validate_triangular();
         }
         refuse_rel_err(self.rel_err)?;
+        self.validate_sampling()
+    }
+
+    /// The checks of [`Sampling::validate`] on the table's scene (its horizon among them).
+    fn validate_sampling(&self) -> Result<(), Error> {
         let scene = self.table.scene.resolve()?;
         crate::with_scene!(&scene, |s| self.sampling().validate(s))
     }
@@ -239,8 +244,7 @@ impl DiffusionConfig {
             ));
         }
         check_electric(&self.table.motion)?;
-        let scene = self.table.scene.resolve()?;
-        crate::with_scene!(&scene, |s| self.sampling().validate(s))
+        self.validate_sampling()
     }
 
     /// The checks of the trap estimator's run on the triangular gas.
@@ -566,4 +570,14 @@ pub(super) fn lags(window: &Window, check_window: &Window) -> Vec<usize> {
     l.sort_unstable();
     l.dedup();
     l
+}
+
+/// The time grid that samples the lags `lags` (in units of τ) of a run whose samples are every
+/// time origin: spacing g·τ, g the lags' greatest common divisor, and each lag in grid steps.
+pub fn lag_grid(tau: f64, lags: &[usize]) -> (f64, Vec<usize>) {
+    fn gcd(a: usize, b: usize) -> usize {
+        if b == 0 { a } else { gcd(b, a % b) }
+    }
+    let g = lags.iter().fold(0, |a, &b| gcd(a, b)).max(1);
+    (g as f64 * tau, lags.iter().map(|l| l / g).collect())
 }

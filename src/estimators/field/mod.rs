@@ -334,7 +334,7 @@ fn with_setup<T: Real, S: Scene, R>(
     let exact = parse_exact(cfg.table.field().unwrap_or("0")).map_err(|e| e.named("field"))?;
     let field = T::from_rational(ctx, &exact);
     let tau = time_unit(scene);
-    let (grid, steps) = track::grid(tau, &cfg.window, &cfg.check_window);
+    let (grid, steps) = crate::estimators::diffusion::lag_grid(tau, &cfg.lags());
     let setup = Setup {
         scene,
         lattice: &lattice,
@@ -413,15 +413,6 @@ fn tensor(
     }
 }
 
-/// The lags of both windows in units of τ, sorted, each once (the order of the batch means).
-fn all_lags(cfg: &DiffusionConfig) -> Vec<usize> {
-    let mut l = cfg.window.lags();
-    l.extend(cfg.check_window.lags());
-    l.sort_unstable();
-    l.dedup();
-    l
-}
-
 /// A number of the JSON where `null` stands for what JSON cannot write, read back as NaN.
 pub(crate) fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::NAN))
@@ -491,7 +482,7 @@ fn summarise<S: Scene>(
     opts: &RunOptions,
 ) -> Result<FieldReport, Error> {
     let d = cfg;
-    let lags = all_lags(cfg);
+    let lags = cfg.lags();
     let (batch_xx, batch_xy, components) = classified(batches, geometry, (&lags, tau, &d.window));
     // The diffusing share (exactly 0 where every orbit is localized, never −0 from rounding).
     let keep = if geometry.all_localized() {

@@ -6,7 +6,6 @@
 //! [t₀, t₁] is A = C(t₁) − C(t₀) − X(t₀) × (X(t₁) − X(t₀)), and ⟨A⟩ grows like (D_xy − D_yx)·t:
 //! twice the Hall part of the tensor, which no mean squared displacement sees.
 
-use super::super::diffusion::Window;
 use crate::Error;
 use crate::engine::options::StopFlag;
 use crate::kernel::arc::{arc_area, chord_at};
@@ -14,63 +13,34 @@ use crate::kernel::flight::EventKind;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
 use crate::observers::excursion::Reach;
+use crate::observers::lag_ring::LagRing;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Basis64, Lattice, LatticeState, Unwrapped};
 use crate::scenes::magnetic::ArcStep;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::theory::magnetic::{FieldGeometry, Orbit};
 
-/// The lag sums of one trajectory: for each lag, Σ Δx², Σ Δy², Σ ΔxΔy, Σ A over every time origin.
+/// The lag sums of one trajectory: for each lag, Σ Δx², Σ Δy², Σ ΔxΔy, Σ A over every time origin
+/// (samples: displacement x, y and cumulative area c).
 #[derive(Debug, Clone)]
-pub(super) struct LagSums {
-    /// Lags in grid steps.
-    steps: Vec<usize>,
-    ring: Vec<[f64; 3]>,
-    samples: u64,
-    sums: Vec<[f64; 4]>,
-    counts: Vec<u64>,
-}
+pub(super) struct LagSums(LagRing<3, 4>);
 
 impl LagSums {
     pub(super) fn new(steps: Vec<usize>) -> Self {
-        let n = steps.iter().copied().max().unwrap_or(0) + 1;
-        LagSums {
-            sums: vec![[0.0; 4]; steps.len()],
-            counts: vec![0; steps.len()],
-            steps,
-            ring: vec![[0.0; 3]; n],
-            samples: 0,
-        }
+        LagSums(LagRing::new(steps))
     }
 
     /// One sample: displacement (x, y) and cumulative area c.
     pub(super) fn push(&mut self, x: f64, y: f64, c: f64) {
-        let n = self.ring.len() as u64;
-        let k = self.samples;
-        self.ring[(k % n) as usize] = [x, y, c];
-        for (i, &l) in self.steps.iter().enumerate() {
-            if k >= l as u64 {
-                let [x0, y0, c0] = self.ring[((k - l as u64) % n) as usize];
-                let (dx, dy) = (x - x0, y - y0);
-                let area = c - c0 - (x0 * dy - y0 * dx);
-                let s = &mut self.sums[i];
-                s[0] += dx * dx;
-                s[1] += dy * dy;
-                s[2] += dx * dy;
-                s[3] += area;
-                self.counts[i] += 1;
-            }
-        }
-        self.samples += 1;
+        self.0.push([x, y, c], |&[x0, y0, c0], &[x, y, c]| {
+            let (dx, dy) = (x - x0, y - y0);
+            [dx * dx, dy * dy, dx * dy, c - c0 - (x0 * dy - y0 * dx)]
+        });
     }
 
     /// The means per lag (NaN where a lag was never reached).
     pub(super) fn means(&self) -> Vec<[f64; 4]> {
-        self.sums
-            .iter()
-            .zip(&self.counts)
-            .map(|(s, &c)| s.map(|v| v / c as f64))
-            .collect()
+        self.0.means()
     }
 }
 
@@ -270,21 +240,6 @@ pub(super) fn batch<T: Real, S: Scene>(
     }
     (su.progress)(track.done % LOOK_EVERY);
     Ok(track.finish(rejected))
-}
-
-/// The grid of a run: spacing g·τ (g the greatest common divisor of the fit lags in units of τ) and
-/// every lag of both windows in grid steps.
-pub(super) fn grid(tau: f64, window: &Window, check: &Window) -> (f64, Vec<usize>) {
-    let mut lags = window.lags();
-    lags.extend(check.lags());
-    lags.sort_unstable();
-    lags.dedup();
-    let g = lags.iter().fold(0, |a, &b| gcd(a, b)).max(1);
-    (g as f64 * tau, lags.iter().map(|l| l / g).collect())
-}
-
-fn gcd(a: usize, b: usize) -> usize {
-    if b == 0 { a } else { gcd(b, a % b) }
 }
 
 /// Classifies `n` phase points of stream `(seed, Classification, run, chunk)`: localized ones.

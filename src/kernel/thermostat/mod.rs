@@ -228,6 +228,25 @@ impl<T: Real> Start<'_, T> {
     pub fn thermostat(&self) -> &Thermostat<T> {
         self.th
     }
+
+    /// The flight's variation with its start angle at the time `t`: (∂X(t)/∂θ₀, ∂θ(t)/∂θ₀),
+    /// the tangent map of a flight (`proofs-notes/thermostat-lyapunov.md`). With x = e^{−εt} and
+    /// D = p + m x², ∂θ/∂θ₀ = sin θ/sin θ₀ = 2x/D and, in the field's frame,
+    /// ∂X/∂θ₀ = (v(t) − v(0))/θ̇(0) = (−s(1 − x²), (1 − x)(p − m x))/(εD), each factor formed
+    /// without cancellation (1 − x and 1 − x² by `expm1`); it tends to t·Jv(0) as εt → 0.
+    pub fn variation(&self, t: &T) -> (Vec2<T>, T) {
+        let eps = &self.th.strength;
+        let et = eps.clone() * t;
+        let x = (-et.clone()).exp();
+        let g1 = -((-et.clone()).exp_m1());
+        let g2 = -(et.scale(-2.0).exp_m1());
+        let mx = self.m.clone() * &x;
+        let den = self.p.clone() + &(mx.clone() * &x);
+        let eden = eps.clone() * &den;
+        let along = -(self.s.clone() * &g2) / &eden;
+        let across = (g1 * &(self.p.clone() - &mx)) / &eden;
+        (self.th.world(&along, &across), x.scale(2.0) / &den)
+    }
 }
 
 /// The integrated phase-space contraction ∫₀ᵗ α dt = ε·ξ(t) of a flight that has reached `at`.

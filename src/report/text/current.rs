@@ -18,36 +18,45 @@ pub fn current(r: &CurrentReport) -> String {
     };
     line!(
         out,
-        "periodic Lorentz gas under a thermostatted electric field, {}, E = {} at {}° ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {}, {:.1} s, {:.3e} collisions/s)",
+        "periodic Lorentz gas under a thermostatted electric field, {}, E = {} at {}°  {}",
         r.scene,
         e,
         angle,
-        m.precision,
-        m.engine,
-        m.seed.unwrap_or_default(),
-        m.batches.unwrap_or_default(),
-        r.collisions as f64,
-        crate::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
-        r.seconds,
-        r.collisions_per_second
+        super::provenance(
+            m,
+            (r.collisions, r.seconds, Some(r.collisions_per_second)),
+            false
+        )
+    );
+    let est = |(v, e): (f64, f64)| estimate(v, e);
+    let (jx, jy) = (est((r.J_x, r.J_x_err)), est((r.J_y, r.J_y_err)));
+    let (along, across) = (
+        est((r.J_parallel, r.J_parallel_err)),
+        est((r.J_perp, r.J_perp_err)),
     );
     line!(
         out,
-        "current       : J_x {}, J_y {}   (along E {}, across {})",
-        estimate(r.J_x, r.J_x_err),
-        estimate(r.J_y, r.J_y_err),
-        estimate(r.J_parallel, r.J_parallel_err),
-        estimate(r.J_perp, r.J_perp_err)
+        "current       : J_x {jx}, J_y {jy}   (along E {along}, across {across})"
+    );
+    let mobility = est((r.mobility, r.mobility_err));
+    let production = est((r.entropy_production, r.entropy_production_err));
+    line!(
+        out,
+        "mobility J/E  = {mobility}   (→ D as E → 0: the Einstein relation); entropy production E·J = ⟨α⟩ = {production}"
+    );
+    let (plus, minus) = (
+        est((r.lambda_plus, r.lambda_plus_err)),
+        est((r.lambda_minus, r.lambda_minus_err)),
+    );
+    let (rule, ky) = (
+        est((r.sum_rule, r.sum_rule_err)),
+        est((r.kaplan_yorke, r.kaplan_yorke_err)),
     );
     line!(
         out,
-        "mobility J/E  = {}   (→ D as E → 0: the Einstein relation)",
-        estimate(r.mobility, r.mobility_err)
-    );
-    line!(
-        out,
-        "entropy production E·J = ⟨α⟩ = {}",
-        estimate(r.entropy_production, r.entropy_production_err)
+        "Lyapunov      : λ₊ {plus}, λ₋ {minus} per unit time; λ₊ + λ₋ + ⟨α⟩ = {rule}   (sum rule; per trajectory within {:.1e} of exact, rounding bound {:.1e}); Kaplan–Yorke dimension {ky}",
+        r.sum_rule_residual,
+        r.sum_rule_residual_bound
     );
     tensor(&mut out, "about the drift", &r.diffusion, r);
     tensor(&mut out, "check window", &r.diffusion_check, r);

@@ -11,19 +11,13 @@ pub fn diffusion(r: &DiffusionReport) -> String {
     let m = &r.meta;
     line!(
         out,
-        "periodic Lorentz gas, w = {}  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {}, {:.1} s, {:.3e} collisions/s)",
+        "periodic Lorentz gas, w = {}  {}",
         r.w,
-        m.precision,
-        match &m.simd {
-            Some(p) => format!("{} ({p})", m.engine),
-            None => m.engine.clone(),
-        },
-        m.seed.unwrap_or_default(),
-        m.batches.unwrap_or_default(),
-        r.collisions as f64,
-        crate::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
-        r.seconds,
-        r.collisions_per_second
+        super::provenance(
+            m,
+            (r.collisions, r.seconds, Some(r.collisions_per_second)),
+            true
+        )
     );
     d_lines(&mut out, r);
     identity_lines(&mut out, r);

@@ -12,18 +12,15 @@ pub fn field(r: &FieldReport) -> String {
     let m = &r.meta;
     line!(
         out,
-        "periodic Lorentz gas in a magnetic field, {}, B = {} (cyclotron radius {:.6})  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {}, {:.1} s, {:.3e} collisions/s)",
+        "periodic Lorentz gas in a magnetic field, {}, B = {} (cyclotron radius {:.6})  {}",
         scene(r),
         r.config.table.field().unwrap_or("0"),
         r.cyclotron_radius,
-        m.precision,
-        m.engine,
-        m.seed.unwrap_or_default(),
-        m.batches.unwrap_or_default(),
-        r.collisions as f64,
-        crate::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
-        r.seconds,
-        r.collisions_per_second
+        super::provenance(
+            m,
+            (r.collisions, r.seconds, Some(r.collisions_per_second)),
+            false
+        )
     );
     line!(
         out,

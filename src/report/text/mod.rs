@@ -11,6 +11,7 @@ pub mod bench;
 pub mod certify;
 pub mod constants;
 pub mod current;
+pub mod cycles;
 pub mod diffusion;
 pub mod escape;
 pub mod field;
@@ -47,6 +48,29 @@ pub fn jumped(flights: crate::engine::long_flight::Flights) -> &'static str {
     } else {
         ""
     }
+}
+
+/// The provenance a batch run's first line ends with: `(P precision, E engine, seed S, B
+/// batches, N collisions, K threads, T s, R collisions/s)`, the engine with its SIMD path if
+/// `with_path`, the rate left out where it is `None`.
+pub fn provenance(
+    m: &crate::engine::metadata::RunMeta,
+    (collisions, seconds, rate): (u64, f64, Option<f64>),
+    with_path: bool,
+) -> String {
+    let engine = match (&m.simd, with_path) {
+        (Some(p), true) => format!("{} ({p})", m.engine),
+        _ => m.engine.clone(),
+    };
+    let rate = rate.map_or(String::new(), |r| format!(", {r:.3e} collisions/s"));
+    format!(
+        "({} precision, {engine} engine, seed {}, {} batches, {:.3e} collisions, {}, {seconds:.1} s{rate})",
+        m.precision,
+        m.seed.unwrap_or_default(),
+        m.batches.unwrap_or_default(),
+        collisions as f64,
+        crate::report::counted(m.threads.unwrap_or_default() as u64, "thread"),
+    )
 }
 
 /// `x ± e` at six decimals, as the printed lines show estimates — or, where six decimals would
@@ -123,6 +147,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "certify" => render(kind, json, certify::certify)?,
         "audit" => render(kind, json, audit::audit)?,
         "section" => render(kind, json, section::section)?,
+        "cycles" => render(kind, json, cycles::cycles)?,
         _ => return Ok(None),
     };
     Ok(Some(text))

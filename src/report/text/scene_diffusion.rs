@@ -7,16 +7,10 @@ use crate::statistics::comparison;
 /// The text of a diffusion result on a table, line by line as the command line prints it.
 pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
     let m = &r.meta;
-    let threads = crate::report::counted(m.threads.unwrap_or_default() as u64, "thread");
     let mut out = format!(
-        "{}  ({} precision, {} engine, seed {}, {} batches, {:.3e} collisions, {threads}, {:.1} s)\n",
+        "{}  {}\n",
         r.scene,
-        m.precision,
-        m.engine,
-        m.seed.unwrap_or_default(),
-        m.batches.unwrap_or_default(),
-        r.collisions as f64,
-        r.seconds,
+        super::provenance(m, (r.collisions, r.seconds, None), false)
     );
     let unit = format!("the {}", r.time_unit_name);
     let w = &r.config.window;

@@ -94,7 +94,10 @@ fn zero_of(f: impl Fn(&Float) -> Float, x0: Float) -> Result<Float, Error> {
         }
     }
     Err(Error::Failed(
-        "the leading zero of the cycle expansion was not found (Newton diverged)".into(),
+        "the leading zero of the cycle expansion was not found (Newton diverged): near \
+         touching disks (R/a below about 2.05) pruning makes the truncated expansion \
+         ill-conditioned; use a larger side or a shorter --max-length"
+            .into(),
     ))
 }
 
@@ -105,19 +108,23 @@ pub struct Truncation {
     pub max_length: usize,
     /// Escape rate γ = −s₀(0).
     pub escape_rate: f64,
-    /// |γ_N − γ_{N−1}|: the truncation error estimate (NaN at N = 1).
+    /// |γ_N − γ_{N−1}|: the truncation error estimate (NaN at N = 1, `null` in JSON).
+    #[serde(deserialize_with = "crate::estimators::field::nan_if_null")]
     pub escape_rate_error: f64,
     /// Mean Lyapunov exponent λ = s₀′(0) on the repeller (per unit time).
     pub lyapunov: f64,
     /// |λ_N − λ_{N−1}|.
+    #[serde(deserialize_with = "crate::estimators::field::nan_if_null")]
     pub lyapunov_error: f64,
     /// KS entropy h_KS = λ − γ.
     pub entropy: f64,
     /// |h_N − h_{N−1}|.
+    #[serde(deserialize_with = "crate::estimators::field::nan_if_null")]
     pub entropy_error: f64,
     /// Partial dimension d: s₀(1 − d) = 0 (Bowen's equation).
     pub partial_dimension: f64,
     /// |d_N − d_{N−1}|.
+    #[serde(deserialize_with = "crate::estimators::field::nan_if_null")]
     pub partial_dimension_error: f64,
     /// γ at the working precision of the expansion.
     #[serde(skip)]

@@ -20,11 +20,12 @@ mod prune;
 pub mod repeller;
 pub mod symbols;
 
-use rug::Float;
+use rug::{Float, Rational};
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::kernel::vec2::Vec2;
+use crate::numbers::exact::nearest_f64;
 use crate::verification::shadowing::{M2, OrbitPoint, Table};
 
 pub use newton::certify_cycle;
@@ -37,15 +38,16 @@ pub const MAX_CYCLE_BITS: u32 = 4096;
 pub const MAX_CYCLE_LENGTH: usize = 512;
 
 /// The disks of an open table: one radius, finitely many centres, no lattice.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Disks {
     /// The three-disk repeller: disks of radius `radius` at the corners (0, 0), (R, 0),
-    /// (R/2, R√3/2) of the equilateral triangle of side `side` = R (R > 2a).
+    /// (R/2, R√3/2) of the equilateral triangle of side `side` = R (R > 2a), both exact
+    /// (rounded once at the working precision).
     ThreeDisk {
         /// The side R of the triangle (distance between centres).
-        side: f64,
+        side: Rational,
         /// The disk radius a.
-        radius: f64,
+        radius: Rational,
     },
     /// Disks of radius `radius` centred at `centres` (exact binary values), disjoint.
     Explicit {
@@ -57,9 +59,13 @@ pub enum Disks {
 }
 
 impl Disks {
-    /// The three-disk repeller with centre distance `side` = R and disk radius `radius` = a.
-    pub fn three_disk(side: f64, radius: f64) -> Self {
-        Disks::ThreeDisk { side, radius }
+    /// The three-disk repeller with centre distance `side` = R and disk radius `radius` = a,
+    /// exact (`Disks::three_disk(6, 1)`, or rationals parsed from what a user typed).
+    pub fn three_disk(side: impl Into<Rational>, radius: impl Into<Rational>) -> Self {
+        Disks::ThreeDisk {
+            side: side.into(),
+            radius: radius.into(),
+        }
     }
 
     /// Number of disks.
@@ -70,18 +76,48 @@ impl Disks {
         }
     }
 
-    /// The disk radius.
+    /// The disk radius as its nearest double (for starting guesses and error bounds).
     pub fn radius(&self) -> f64 {
         match self {
-            Disks::ThreeDisk { radius, .. } | Disks::Explicit { radius, .. } => *radius,
+            Disks::ThreeDisk { radius, .. } => nearest_f64(radius),
+            Disks::Explicit { radius, .. } => *radius,
         }
     }
 
-    /// Checks the geometry: finite positive radius, at least two disks, no two touching.
+    /// The disk radius at `bits` of precision (an exact radius rounded once).
+    pub fn radius_at(&self, bits: u32) -> Float {
+        match self {
+            Disks::ThreeDisk { radius, .. } => Float::with_val(bits, radius),
+            Disks::Explicit { radius, .. } => Float::with_val(bits, radius),
+        }
+    }
+
+    /// Checks the geometry: finite positive radius, at least two disks, no two touching (the
+    /// three-disk repeller decided exactly: a > 0 and R > 2a).
     ///
     /// # Errors
     /// A bad radius or side, fewer than two disks, or overlapping disks.
     pub fn validate(&self) -> Result<(), Error> {
+        if let Disks::ThreeDisk { side, radius } = self {
+            if *radius <= 0 {
+                return Err(Error::out_of_range(
+                    "radius",
+                    nearest_f64(radius),
+                    "use a finite radius a > 0",
+                ));
+            }
+            if *side <= Rational::from(radius * 2u32) {
+                return Err(Error::out_of_range(
+                    "side",
+                    nearest_f64(side),
+                    format!(
+                        "use a finite side R > 2a = {} (disjoint disks)",
+                        nearest_f64(&Rational::from(radius * 2u32))
+                    ),
+                ));
+            }
+            return Ok(());
+        }
         let r = self.radius();
         if !(r.is_finite() && r > 0.0) {
             return Err(Error::out_of_range("radius", r, "use a finite radius > 0"));
@@ -111,19 +147,22 @@ impl Disks {
         Ok(())
     }
 
-    /// The centres in `f64` (rounded for the three-disk corner (R/2, R√3/2)).
+    /// The centres in `f64` (rounded for the three-disk corners).
     pub fn centres_f64(&self) -> Vec<[f64; 2]> {
         match self {
-            Disks::ThreeDisk { side, .. } => vec![
-                [0.0, 0.0],
-                [*side, 0.0],
-                [0.5 * side, 0.5 * side * 3f64.sqrt()],
-            ],
+            Disks::ThreeDisk { side, .. } => {
+                let side = nearest_f64(side);
+                vec![
+                    [0.0, 0.0],
+                    [side, 0.0],
+                    [0.5 * side, 0.5 * side * 3f64.sqrt()],
+                ]
+            }
             Disks::Explicit { centres, .. } => centres.clone(),
         }
     }
 
-    /// The centres at `bits` of precision (√3 rounded once at `bits`).
+    /// The centres at `bits` of precision (R rounded once, √3 rounded once at `bits`).
     pub fn centres(&self, bits: u32) -> Vec<Vec2<Float>> {
         match self {
             Disks::ThreeDisk { side, .. } => {
@@ -144,11 +183,7 @@ impl Disks {
 
     /// The table at `bits`: the shadows' exact billiard map on these disks.
     pub(crate) fn table(&self, bits: u32) -> Table {
-        Table::open(
-            self.centres(bits),
-            Float::with_val(bits, self.radius()),
-            bits,
-        )
+        Table::open(self.centres(bits), self.radius_at(bits), bits)
     }
 }
 
@@ -182,7 +217,9 @@ pub struct Cycle {
     pub lipschitz: f64,
     /// Smallest cos φ of the collisions.
     pub min_cos_phi: f64,
-    /// Smallest distance − a of a flight from a disk other than its two ends.
+    /// Smallest distance − a of a flight from a disk other than its two ends (∞, `null` in
+    /// JSON, on a table of two disks).
+    #[serde(deserialize_with = "crate::estimators::field::infinite_if_null")]
     pub min_clearance: f64,
     /// Existence and uniqueness proved (2MK²ε ≤ 1), the ball clear of grazing and of other
     /// disks, and the kernel's contact check passed.
@@ -270,12 +307,7 @@ fn check_sequence(disks: &Disks, seq: &[usize], bits: u32) -> Result<(), Error> 
         2..=MAX_CYCLE_LENGTH,
         " collisions",
     )?;
-    Error::unless_in(
-        "reference_bits",
-        bits,
-        MIN_CYCLE_BITS..=MAX_CYCLE_BITS,
-        " bits",
-    )?;
+    Error::unless_in("bits", bits, MIN_CYCLE_BITS..=MAX_CYCLE_BITS, " bits")?;
     let m = disks.count();
     if let Some(&d) = seq.iter().find(|&&d| d >= m) {
         return Err(Error::out_of_range(

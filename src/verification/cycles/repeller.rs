@@ -8,49 +8,78 @@ use super::*;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::parallel::par_batches;
+use crate::numbers::exact::ExactInput;
 
 /// Longest fundamental-domain cycle expanded (3 × 16 = 48 collisions in the full space).
 pub const MAX_FUNDAMENTAL_LENGTH: usize = 16;
 
+/// Default working precision of the cycles (bits).
+pub const DEFAULT_CYCLE_BITS: u32 = 256;
+/// Default longest fundamental-domain cycle.
+pub const DEFAULT_MAX_LENGTH: usize = 8;
+
 /// What [`run`] is asked for.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RepellerConfig {
-    /// Distance R between the disk centres, R > 2a.
-    pub side: f64,
-    /// Disk radius a.
-    pub radius: f64,
+    /// Distance R between the disk centres, R > 2a, exactly as typed (a decimal or a fraction,
+    /// rounded once at the working precision).
+    pub side: String,
+    /// Disk radius a > 0, exactly as typed.
+    pub radius: String,
     /// Longest fundamental-domain cycle N, 1 to [`MAX_FUNDAMENTAL_LENGTH`].
     pub max_length: usize,
-    /// MPFR working precision of the cycles (bits).
-    pub reference_bits: u32,
+    /// MPFR working precision of the cycles and their certificates (bits),
+    /// [`MIN_CYCLE_BITS`] to [`MAX_CYCLE_BITS`].
+    pub bits: u32,
 }
 
 impl RepellerConfig {
+    /// The repeller of side `side` and radius `radius` (exact text) with the command line's
+    /// defaults: N = [`DEFAULT_MAX_LENGTH`] at [`DEFAULT_CYCLE_BITS`] bits.
+    pub fn new(side: &str, radius: &str) -> Self {
+        RepellerConfig {
+            side: side.trim().to_string(),
+            radius: radius.trim().to_string(),
+            max_length: DEFAULT_MAX_LENGTH,
+            bits: DEFAULT_CYCLE_BITS,
+        }
+    }
+
+    /// The disks, R and a parsed exactly ([`parse_exact`](crate::numbers::exact::parse_exact)).
+    ///
+    /// # Errors
+    /// Text that is not an exact decimal or fraction, a NaN or an infinity, a ≤ 0 or R ≤ 2a.
+    pub fn disks(&self) -> Result<Disks, Error> {
+        let exact = |what: &'static str, text: &str, range: &str| -> Result<Rational, Error> {
+            let e = ExactInput::parse(text).map_err(|e| e.named(what))?;
+            e.exact
+                .ok_or_else(|| Error::out_of_range(what, e.value, range))
+        };
+        let radius = exact("radius", &self.radius, "use a finite radius a > 0")?;
+        let side = exact(
+            "side",
+            &self.side,
+            "use a finite side R > 2a (disjoint disks)",
+        )?;
+        let disks = Disks::three_disk(side, radius);
+        disks.validate()?;
+        Ok(disks)
+    }
+
     /// Checks every parameter; errors name the valid range.
     ///
     /// # Errors
     /// Disks that touch, a length or precision out of range.
     pub fn validate(&self) -> Result<(), Error> {
-        if !(self.side.is_finite() && self.radius.is_finite() && self.side > 2.0 * self.radius) {
-            return Err(Error::out_of_range(
-                "side",
-                self.side,
-                "use a finite side R > 2a (disjoint disks)",
-            ));
-        }
-        Disks::three_disk(self.side, self.radius).validate()?;
+        self.disks()?;
         Error::unless_in(
             "max_length",
             self.max_length,
             1..=MAX_FUNDAMENTAL_LENGTH,
-            "",
+            " (the longest fundamental-domain cycle)",
         )?;
-        Error::unless_in(
-            "reference_bits",
-            self.reference_bits,
-            MIN_CYCLE_BITS..=MAX_CYCLE_BITS,
-            " bits",
-        )?;
+        Error::unless_in("bits", self.bits, MIN_CYCLE_BITS..=MAX_CYCLE_BITS, " bits")?;
         Ok(())
     }
 }
@@ -130,10 +159,10 @@ pub fn run(config: &RepellerConfig, options: &RunOptions) -> Result<RepellerRepo
     options.validate()?;
     options.refuse_unused("cycles", &[])?;
     config.validate()?;
-    let disks = Disks::three_disk(config.side, config.radius);
+    let disks = config.disks()?;
     let words = prime_words(config.max_length);
     let cycles = par_batches(options.threads, words.len() as u32, |k| {
-        let c = fundamental_cycle(&disks, &words[k as usize], config.reference_bits)?;
+        let c = fundamental_cycle(&disks, &words[k as usize], config.bits)?;
         (options.progress)(1);
         Ok(c)
     })?;
@@ -152,6 +181,6 @@ pub fn run(config: &RepellerConfig, options: &RunOptions) -> Result<RepellerRepo
         spectral_determinant: convergence_table(&weights, n, Expansion::SpectralDeterminant)?,
         zeta_function: convergence_table(&weights, n, Expansion::ZetaFunction)?,
         cycles,
-        meta: RunMeta::new(None, None, config.reference_bits, Some(options.threads)),
+        meta: RunMeta::new(None, None, config.bits, Some(options.threads)),
     })
 }

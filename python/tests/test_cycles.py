@@ -1,0 +1,61 @@
+"""`lg.cycles`: the three-disk repeller by certified cycles, the command line's `lorentz cycles`
+with its bits, as arrays."""
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+import lorentz_gas as lg
+
+#: The escape rate of the three-disk repeller at R:a = 6 (a = 1, speed 1), ChaosBook's value as
+#: `tests/numerics/cycles.rs` quotes it.
+GAMMA_R6 = 0.4103384077693464893384613078192
+
+
+def test_cycles_at_r_over_a_6_give_the_known_escape_rate(cli_json):
+    r = lg.cycles(side=6, radius=1, max_length=7, threads=2)
+    # 2 + 1 + 2 + 3 + 6 + 9 + 18 binary prime cycles of length 1 to 7, every one certified.
+    assert r.certified == 41
+    assert len(r.word) == len(r.order) == len(r.period) == len(r.stability) == 41
+    assert r.word.dtype.kind == "U" and list(r.word[:3]) == ["0", "1", "01"]
+    assert np.all(r.certificate_radius < 1e-60) and np.all(r.cycles["certified"])
+    # The two-disk cycle "0": T_p = 2(R - 2a) = 8 over its order h = 2, and Λ = +(5 + √24)
+    # (the closed forms of tests/numerics/cycles.rs).
+    assert r.order[0] == 2 and r.period[0] == pytest.approx(4.0, rel=1e-15)
+    assert r.stability[0] == pytest.approx(5 + 24 ** 0.5, rel=1e-14)
+    # The table: one row per N, the truncation error NaN at N = 1, γ within it of the known
+    # value at N = 7 (plus the rounding of γ to a double), and within the issue's 1e-12.
+    assert list(r.N) == list(range(1, 8))
+    assert np.isnan(r.escape_rate_error[0]) and np.all(r.escape_rate_error[1:] >= 0)
+    off = abs(r.escape_rate[-1] - GAMMA_R6)
+    assert off <= r.escape_rate_error[-1] + 2 * np.finfo(float).eps * GAMMA_R6
+    assert off < 1e-12
+    assert np.allclose(r.entropy, r.lyapunov - r.escape_rate, rtol=0, atol=1e-15)
+    assert len(r.zeta_escape_rate) == 7 and r.zeta_escape_rate_error[-1] > r.escape_rate_error[-1]
+    # The command line's result, bit for bit (the meta block says how, not what).
+    c = cli_json("cycles", "--side", "6", "--radius", "1", "--max-length", "7")
+    d = r.to_dict()
+    for k in ("config", "certified", "cycles", "spectral_determinant", "zeta_function"):
+        assert d[k] == c[k], k
+    assert repr(r).startswith("<CyclesResult: gamma = 0.410338407769346")
+    assert str(r).startswith("three-disk repeller, side R = 6, radius a = 1: 41 of 41")
+    t = r.to_pandas()
+    assert list(t["max_length"]) == list(range(1, 8))
+    assert len(r.to_pandas("cycles")) == 41
+
+
+def test_side_and_radius_are_exact_and_bad_input_is_a_value_error():
+    r = lg.cycles(side="13/2", radius=Fraction(1, 2), max_length=2)
+    assert r.config["side"] == "13/2" and r.config["radius"] == "1/2"
+    for kwargs, needle in [
+        (dict(side=2, radius=1), "side=2 is out of range: use a finite side R > 2a = 2"),
+        (dict(radius=0), "radius=0 is out of range: use a finite radius a > 0"),
+        (dict(side="nan"), "use a finite side R > 2a"),
+        (dict(max_length=17), "use 1 to 16"),
+        (dict(max_length=0), "max_length"),
+        (dict(bits=64), "bits=64 is out of range: use 128 to 4096 bits"),
+        (dict(side="six"), "side"),
+    ]:
+        with pytest.raises(ValueError, match=needle.replace("(", r"\(").replace(")", r"\)")):
+            lg.cycles(**kwargs)
