@@ -261,10 +261,21 @@ pub(super) fn advance<T: Real>(
     states: &mut [Vec<LatticeState<T>>],
     n: u64,
 ) -> Result<u64, Error> {
+    par_blocks(pool, states, |block| {
+        run_thread(engine, observe, lat, trap64, block, n)
+    })
+}
+
+/// The sum of `f` over every thread's block of trajectories, one block a task on `pool`.
+pub(super) fn par_blocks<T: Real>(
+    pool: &rayon::ThreadPool,
+    states: &mut [Vec<LatticeState<T>>],
+    f: impl Fn(&mut Vec<LatticeState<T>>) -> Result<u64, Error> + Sync + Send,
+) -> Result<u64, Error> {
     pool.install(|| {
         states
             .par_iter_mut()
-            .map(|block| run_thread(engine, observe, lat, trap64, block, n))
+            .map(f)
             .collect::<Result<Vec<u64>, Error>>()
             .map(|v| v.iter().sum())
     })

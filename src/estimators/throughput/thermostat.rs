@@ -5,7 +5,6 @@
 
 use std::time::Instant;
 
-use rayon::prelude::*;
 use rug::Rational;
 use serde::{Deserialize, Serialize};
 
@@ -23,7 +22,7 @@ use crate::scenes::lattice::{LatticeState, TriangularLattice};
 use crate::scenes::thermostat::CellFields;
 
 use super::check::{Checked, check};
-use super::{Observe, ThroughputConfig, advance, lanes, median, starts};
+use super::{Observe, ThroughputConfig, advance, lanes, median, par_blocks, starts};
 
 /// The strongest field timed (the analyses' range).
 pub const MAX_ELECTRIC: f64 = 10.0;
@@ -161,7 +160,8 @@ impl AtPrecision for Pairs<'_> {
         let pool = thread_pool(self.threads)?;
         let n = s.collisions_per_thread;
         let per_rep = (n / lanes as u64 * (lanes * self.threads) as u64) as f64;
-        let field = |st: &mut Vec<Vec<LatticeState<T>>>, n: u64| walk(&pool, &lat, &fields, st, n);
+        let field =
+            |st: &mut Vec<Vec<LatticeState<T>>>, n: u64| walk(&pool, (&lat, &fields), st, n);
         let plain = |st: &mut Vec<Vec<LatticeState<T>>>, n: u64| {
             advance(&pool, self.engine, Observe::None, &lat, &trap64, st, n)
         };
@@ -186,29 +186,22 @@ impl AtPrecision for Pairs<'_> {
 /// them); returns the crossings made.
 fn walk<T: Real>(
     pool: &rayon::ThreadPool,
-    lat: &TriangularLattice<T>,
-    fields: &CellFields<T>,
+    (lat, fields): (&TriangularLattice<T>, &CellFields<T>),
     states: &mut [Vec<LatticeState<T>>],
     n: u64,
 ) -> Result<u64, Error> {
-    pool.install(|| {
-        states
-            .par_iter_mut()
-            .map(|block| {
-                let each = n / block.len() as u64;
-                let mut crossings = 0;
-                for s in block.iter_mut() {
-                    let mut collisions = 0;
-                    while collisions < each {
-                        match lat.step_thermostat(s, fields)?.kind {
-                            EventKind::Collision(_) => collisions += 1,
-                            EventKind::Crossing(_) => crossings += 1,
-                        }
-                    }
+    par_blocks(pool, states, |block| {
+        let each = n / block.len() as u64;
+        let mut crossings = 0;
+        for s in block.iter_mut() {
+            let mut collisions = 0;
+            while collisions < each {
+                match lat.step_thermostat(s, fields)?.kind {
+                    EventKind::Collision(_) => collisions += 1,
+                    EventKind::Crossing(_) => crossings += 1,
                 }
-                Ok(crossings)
-            })
-            .collect::<Result<Vec<u64>, Error>>()
-            .map(|v| v.iter().sum())
+            }
+        }
+        Ok(crossings)
     })
 }
