@@ -18,8 +18,9 @@ def test_a_run_under_the_thermostat_has_the_command_lines_bits(cli_json):
     assert isinstance(py, lg.CurrentResult)
     assert "J/E" in repr(py) and "E = 0.3" in repr(py)
     assert str(py).startswith("periodic Lorentz gas under a thermostatted electric field")
-    # The direction is the exact angle's, rounded once.
-    assert np.allclose(py.direction, [np.sqrt(0.5), -np.sqrt(0.5)], rtol=0, atol=1e-16)
+    # The direction of the exact angle −45°: π/4 and its cosine and sine rounded, then
+    # normalised, a few units in the last place of √½ (4.4e-16 is four).
+    assert np.allclose(py.direction, [np.sqrt(0.5), -np.sqrt(0.5)], rtol=0, atol=4.4e-16)
     angles = py.to_pandas("angles")
     assert len(angles) == len(py.angle_bins) == 72
     # A density per radian: it integrates to 1 over the circle.

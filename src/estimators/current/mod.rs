@@ -133,7 +133,7 @@ pub struct CurrentReport {
     /// Flight time of each batch's warm-up.
     pub warm_up: f64,
     /// Flight time of each batch's observed stretch.
-    pub duration: f64,
+    pub measured_time: f64,
     /// Collisions within the observed stretches.
     pub collisions: u64,
     /// Wall-clock seconds.

@@ -192,7 +192,7 @@ pub(super) fn summarise<S: Scene>(
         check_window: cfg.check_window,
         tau,
         warm_up: duration / WARM_UP_SHARE,
-        duration,
+        measured_time: duration,
         collisions,
         seconds,
         collisions_per_second: collisions as f64 / seconds.max(f64::MIN_POSITIVE),

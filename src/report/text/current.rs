@@ -65,7 +65,7 @@ pub fn current(r: &CurrentReport) -> String {
         "mean free time = {}   (without the field {:.6}); each batch {:.4e} in flight after a warm-up of {:.4e}",
         estimate(r.mean_free_time, r.mean_free_time_err),
         r.mean_free_time_no_field,
-        r.duration,
+        r.measured_time,
         r.warm_up
     );
     out
