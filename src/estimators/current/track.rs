@@ -153,9 +153,9 @@ pub(super) fn batch<T: Real, S: Scene>(
     let mut count = 0;
     let mut t = 0.0;
     while t < su.warm_up {
-        let v = world_velocity(&s);
+        let start = su.world.start(&world_velocity(&s));
         let step = lat.step_thermostat(&mut s, su.fields)?;
-        tangent(lat, &s, su.world, &mut pair, (&v, &step));
+        tangent(lat, &s, &mut pair, (&start, &step));
         t += step.time;
         look(su, &mut count, &step)?;
     }
@@ -177,10 +177,10 @@ pub(super) fn batch<T: Real, S: Scene>(
     };
     while drift.running() {
         let r = lat.unwrapped(&s, 0.0).displacement_from(&origin, &basis);
-        let v = world_velocity(&s);
+        let start = su.world.start(&world_velocity(&s));
         let step = lat.step_thermostat(&mut s, su.fields)?;
-        drift.flight(r, &su.world.start(&v), &step);
-        tangent(lat, &s, su.world, &mut pair, (&v, &step));
+        drift.flight(r, &start, &step);
+        tangent(lat, &s, &mut pair, (&start, &step));
         look(su, &mut count, &step)?;
     }
     (su.progress)(count % LOOK_EVERY);
@@ -195,16 +195,15 @@ pub(super) fn batch<T: Real, S: Scene>(
     })
 }
 
-/// The pair through the event `step` of the flight that left with the world velocity `v`, the
-/// state `s` being the one after it (at a collision: on the disk, leaving).
+/// The pair through the event `step` of the flight `start` (world frame), the state `s` being the
+/// one after it (at a collision: on the disk, leaving).
 fn tangent<T: Real, K: crate::kernel::cell::CellKernel<T>>(
     lat: &Lattice<T, K>,
     s: &LatticeState<T>,
-    world: &Thermostat<f64>,
     pair: &mut Pair<'_>,
-    (v, step): (&Vec2<f64>, &ThermoStep),
+    (start, step): (&Start<'_, f64>, &ThermoStep),
 ) {
-    pair.flight(&world.start(v), step.time, step.along);
+    pair.flight(start, step.time, step.along);
     if let EventKind::Collision(m) = step.kind {
         let (n, r) = contact_normal(lat, s, m);
         pair.collision(&n, r, &world_velocity(s));
