@@ -300,7 +300,7 @@ impl SweepCampaign {
     fn sweep_arguments(&self) -> String {
         match &self.sweep.grid {
             Grid::Gaps(g) => over_w_arguments(&self.sweep, g),
-            Grid::InField(_) => {
+            Grid::InField(_) | Grid::Driven(_) => {
                 format!(
                     "--config {}",
                     Self::q(&self.out.join("slurm").join(CONFIG_FILE))
@@ -357,7 +357,7 @@ impl SweepCampaign {
             ("merge.sbatch", self.merge_script()),
             ("submit.sh", self.submit_script()),
         ];
-        if let Grid::InField(_) = &self.sweep.grid {
+        if matches!(&self.sweep.grid, Grid::InField(_) | Grid::Driven(_)) {
             files.push((CONFIG_FILE, self.sweep.to_json()?));
         }
         for (name, text) in files {

@@ -37,9 +37,12 @@ pub fn run(a: Args) -> Result<(), Error> {
         threads: a.threads.threads(),
         ..super::signals::options()
     };
-    let in_field = a.dirs.iter().any(|d| d.join(FOLDERS[1]).is_dir());
+    let kind = (1..FOLDERS.len())
+        .rev()
+        .find(|&k| a.dirs.iter().any(|d| d.join(FOLDERS[k]).is_dir()))
+        .unwrap_or(0);
     let inputs: Vec<&std::path::Path> = a.dirs.iter().map(PathBuf::as_path).collect();
-    let outputs = super::sweep::outputs(&out, in_field, false);
+    let outputs = super::sweep::outputs(&out, kind, false);
     merge::refuse_input_as_output(&a.dirs, &out)?;
     lorentz_gas::files::check_outputs(&inputs, &outputs)?;
     let r = merge::run(&cfg, &opts)?;
@@ -47,6 +50,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         let kind = match r {
             Finished::OverW(_) => "sweep",
             Finished::InField(_) => "field sweep",
+            Finished::Driven(_) => "driven sweep",
         };
         println!("merged {} parts of the {kind}", a.dirs.len());
     }

@@ -88,6 +88,10 @@ pub const ARC_SIMD_SECONDS_PER_COLLISION: f64 = 20e-9;
 /// A floor on the cost of one collision on arcs in a field, on the scalar arc kernel.
 pub const ARC_SCALAR_SECONDS_PER_COLLISION: f64 = 80e-9;
 
+/// The floor on the cost of a collision under the thermostatted electric field (measured: about
+/// 1.8 µs per collision and thread, `lorentz bench --electric 0.3`).
+pub const THERMOSTAT_SECONDS_PER_COLLISION: f64 = 0.5e-6;
+
 /// A floor on the cost of one crossing of a cell edge by a straight flight walked cell by cell
 /// between collisions, on the generic convex-cell walk (the square lattice, tables as data).
 pub const SECONDS_PER_CROSSING: f64 = 25e-9;

@@ -112,6 +112,23 @@ pub struct Comparison {
 }
 
 impl Comparison {
+    /// The difference `x` of two independent estimates with standard errors `(ea, eb)`, each over
+    /// `batches` batches, as one of `m` comparisons: the quadrature error with Welch's degrees of
+    /// freedom, and the Bonferroni bound over the `m` ([`largest_of_bound`]). Two exact zeros
+    /// (both errors 0) are compared as the difference itself.
+    pub fn welch(x: f64, (ea, eb): (f64, f64), batches: u32, m: usize) -> Comparison {
+        let err = ea.hypot(eb);
+        if err == 0.0 {
+            return of(x, 0.0, f64::INFINITY);
+        }
+        let n = f64::from(batches);
+        let dof = crate::statistics::welch_dof(ea, n, eb, n);
+        Comparison {
+            bound: largest_of_bound(dof, m),
+            ..of(x, err, dof)
+        }
+    }
+
     /// Whether |z| is within the bound.
     pub fn agrees(&self) -> bool {
         self.z.abs() <= self.bound

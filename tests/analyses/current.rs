@@ -77,11 +77,11 @@ fn the_current_is_odd_in_the_field_and_crosses_no_mirror() {
     let forth = run(&config("1/5", "3/10", "0", n, 1));
     let back = run(&config("1/5", "3/10", "180", n, 2));
     // The field drives a current along itself.
-    assert!(forth.J_parallel > t4(BATCHES) * forth.J_parallel_err);
-    let along = |r: &CurrentReport| (r.J_parallel, r.J_parallel_err);
+    assert!(forth.steady.J_parallel > t4(BATCHES) * forth.steady.J_parallel_err);
+    let along = |r: &CurrentReport| (r.steady.J_parallel, r.steady.J_parallel_err);
     agree("J(E) against −J(−E)", along(&forth), along(&back));
     for r in [&forth, &back] {
-        zero("J_perp", (r.J_perp, r.J_perp_err));
+        zero("J_perp", (r.steady.J_perp, r.steady.J_perp_err));
     }
 }
 
@@ -92,10 +92,10 @@ fn the_mobility_is_isotropic() {
     let b = run(&config("1/5", "3/10", "90", n, 4));
     agree(
         "J/E at 0° and 90°",
-        (a.mobility, a.mobility_err),
-        (b.mobility, b.mobility_err),
+        (a.steady.mobility, a.steady.mobility_err),
+        (b.steady.mobility, b.steady.mobility_err),
     );
-    zero("J_perp", (b.J_perp, b.J_perp_err));
+    zero("J_perp", (b.steady.J_perp, b.steady.J_perp_err));
 }
 
 #[test]
@@ -115,11 +115,15 @@ fn the_mobility_at_a_small_field_is_d() {
     };
     agree(
         "J/E against D",
-        (current.mobility, current.mobility_err),
+        (current.steady.mobility, current.steady.mobility_err),
         (d.D, d.D_err),
     );
     // The error is small enough to tell D from D/2 or 2D (a wrong Einstein factor).
-    assert!(current.mobility_err < d.D / 8.0, "{}", current.mobility_err);
+    assert!(
+        current.steady.mobility_err < d.D / 8.0,
+        "{}",
+        current.steady.mobility_err
+    );
 }
 
 #[test]
@@ -140,16 +144,16 @@ fn the_lyapunov_pair_obeys_the_sum_rule_and_joins_the_straight_exponent() {
     for (e, seed) in [("1/100", 9), ("1", 10)] {
         let r = run(&config("1/5", e, "15", 2_000_000, seed));
         assert!(
-            r.sum_rule_residual <= r.sum_rule_residual_bound,
+            r.steady.sum_rule_residual <= r.steady.sum_rule_residual_bound,
             "E = {e}: residual {} over its bound {}",
-            r.sum_rule_residual,
-            r.sum_rule_residual_bound
+            r.steady.sum_rule_residual,
+            r.steady.sum_rule_residual_bound
         );
-        zero("the sum rule", (r.sum_rule, r.sum_rule_err));
+        zero("the sum rule", (r.steady.sum_rule, r.steady.sum_rule_err));
         assert!(
-            r.kaplan_yorke > 2.0 && r.kaplan_yorke < 3.0,
+            r.steady.kaplan_yorke > 2.0 && r.steady.kaplan_yorke < 3.0,
             "{}",
-            r.kaplan_yorke
+            r.steady.kaplan_yorke
         );
         if e == "1/100" {
             // λ₊ − λ(0) = O(E²): about 1e-5 here, far below the errors.
@@ -164,12 +168,12 @@ fn the_lyapunov_pair_obeys_the_sum_rule_and_joins_the_straight_exponent() {
             let lambda = (straight.per_time, straight.per_time_err);
             agree(
                 "λ₊ against λ(0)",
-                (r.lambda_plus, r.lambda_plus_err),
+                (r.steady.lambda_plus, r.steady.lambda_plus_err),
                 lambda,
             );
             agree(
                 "−λ₋ against λ(0)",
-                (-r.lambda_minus, r.lambda_minus_err),
+                (-r.steady.lambda_minus, r.steady.lambda_minus_err),
                 lambda,
             );
         }

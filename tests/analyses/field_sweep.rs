@@ -4,7 +4,8 @@
 
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field;
-use lorentz_gas::estimators::sweep::field::{self as sweep, FieldGrid, FieldSweepRow, point_path};
+use lorentz_gas::estimators::sweep::field::{self as sweep, FieldGrid, FieldSweepRow};
+use lorentz_gas::estimators::sweep::point_grid::point_path;
 use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 
 use crate::common::{scratch, threads};
@@ -61,12 +62,12 @@ fn a_field_sweep_is_its_points_runs_and_resumes_to_the_same_bits() {
     // Distinct streams per point: ±B are independent runs, not one run mirrored.
     assert_ne!(full.rows[0].D_xx, full.rows[1].D_xx);
     // A point lost (killed mid-sweep) is recomputed, the others reused, on one thread.
-    std::fs::remove_file(point_path(&dir, 1)).unwrap();
+    std::fs::remove_file(point_path::<FieldGrid>(&dir, 1)).unwrap();
     let resumed = sweep::run(&cfg, &with_dir(1)).unwrap();
     assert_eq!(resumed.resumed_points, 2);
     assert_eq!(resumed.rows, full.rows);
     // An edited point is refused, naming its file.
-    let p = point_path(&dir, 2);
+    let p = point_path::<FieldGrid>(&dir, 2);
     let text = std::fs::read_to_string(&p).unwrap();
     std::fs::write(&p, text.replacen("\"D_xx\": 0.", "\"D_xx\": 1.", 1)).unwrap();
     let err = sweep::run(&cfg, &with_dir(1)).unwrap_err().to_string();

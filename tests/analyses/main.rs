@@ -10,6 +10,7 @@ mod common;
 mod corridors;
 mod current;
 mod derived_errors;
+mod driven_sweep;
 mod escape;
 mod field;
 mod field_components;

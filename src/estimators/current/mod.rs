@@ -42,7 +42,7 @@ mod summary;
 mod tangent;
 mod track;
 
-pub use summary::DriftTensor;
+pub use summary::{DriftTensor, Steady};
 pub use track::ANGLE_BINS;
 use track::{Batch, Setup};
 
@@ -60,55 +60,9 @@ pub struct CurrentReport {
     pub electric: f64,
     /// Its direction ê = E/|E| in the world (x, y).
     pub direction: [f64; 2],
-    /// J_x = ⟨v_x⟩ in the steady state.
-    pub J_x: f64,
-    /// Its standard error over the batches.
-    pub J_x_err: f64,
-    /// J_y.
-    pub J_y: f64,
-    /// Its standard error over the batches.
-    pub J_y_err: f64,
-    /// ê·J, the current along the field.
-    pub J_parallel: f64,
-    /// Its standard error over the batches.
-    pub J_parallel_err: f64,
-    /// ê⊥·J (ê⊥ = ê turned by +90°), the current across it (0 where a mirror of the table
-    /// contains E).
-    pub J_perp: f64,
-    /// Its standard error over the batches.
-    pub J_perp_err: f64,
-    /// J_parallel/ε: the mobility, which tends to D as ε → 0 (the Einstein relation).
-    pub mobility: f64,
-    /// Its standard error over the batches.
-    pub mobility_err: f64,
-    /// E·J = ⟨α⟩, the entropy production (the mean phase-space contraction rate).
-    pub entropy_production: f64,
-    /// Its standard error over the batches.
-    pub entropy_production_err: f64,
-    /// λ₊, the positive Lyapunov exponent of the flow (per unit time).
-    pub lambda_plus: f64,
-    /// Its standard error over the batches.
-    pub lambda_plus_err: f64,
-    /// λ₋, the negative one (the third is 0, along the flow).
-    pub lambda_minus: f64,
-    /// Its standard error over the batches.
-    pub lambda_minus_err: f64,
-    /// λ₊ + λ₋ + ⟨α⟩ over the pair's own stretch (to its last collision) per batch: the sum
-    /// rule says 0, but for ln(|f(T)|/|f(0)|)/T ≤ ln(1 + ε²)/(2T).
-    pub sum_rule: f64,
-    /// Its standard error over the batches.
-    pub sum_rule_err: f64,
-    /// The largest |Σ ln stretchings + ∫α + ln(|f(T)|/|f(0)|)| of a batch: the sum rule per
-    /// trajectory, 0 but for rounding.
-    pub sum_rule_residual: f64,
-    /// The rounding bound of that batch's residual (`proofs-notes/thermostat-lyapunov.md`).
-    pub sum_rule_residual_bound: f64,
-    /// The Kaplan–Yorke dimension of the attractor of the flow, 2 + λ₊/|λ₋| (per batch).
-    pub kaplan_yorke: f64,
-    /// Its standard error over the batches.
-    pub kaplan_yorke_err: f64,
-    /// The diffusion tensor about the drift over the fit window.
-    pub diffusion: DriftTensor,
+    /// The steady state's numbers with their standard errors (flattened: J_x … mean_free_time).
+    #[serde(flatten)]
+    pub steady: Steady,
     /// The same over the check window.
     pub diffusion_check: DriftTensor,
     /// Centres of the velocity angle's bins (radians from E, over (−π, π]).
@@ -117,11 +71,6 @@ pub struct CurrentReport {
     pub angle_density: Vec<f64>,
     /// Its standard error over the batches.
     pub angle_density_err: Vec<f64>,
-    /// Mean time between collisions in the steady state: the inverse of the collision rate
-    /// averaged over batches of equal duration.
-    pub mean_free_time: f64,
-    /// Its standard error over the batches.
-    pub mean_free_time_err: f64,
     /// The field-free mean free time ⟨ℓ⟩ (Santaló), which sets the batches' duration.
     pub mean_free_time_no_field: f64,
     /// Fit window (units of the scene's crossing time τ).
@@ -172,8 +121,19 @@ pub fn field_at<T: Real>(cfg: &DiffusionConfig, ctx: T::Ctx) -> Result<Thermosta
 pub fn run(cfg: &DiffusionConfig, opts: &RunOptions) -> Result<CurrentReport, Error> {
     cfg.validate()?;
     opts.accept("diffusion under the thermostat", &[])?;
+    work(cfg).check(opts.threads)?;
     let scene = cfg.table.scene.resolve()?;
     crate::with_scene!(&scene, |s| run_on(s, cfg, opts))
+}
+
+/// The work of a run under the thermostat: its collisions and warm-ups on the scalar engine, at
+/// the thermostat's floor per collision ([`crate::engine::work::THERMOSTAT_SECONDS_PER_COLLISION`]).
+pub fn work(cfg: &DiffusionConfig) -> crate::engine::work::Work<'static> {
+    let lower = crate::estimators::diffusion::work_lower(cfg.precision);
+    let collisions = cfg.collisions as f64 * (1.0 + 1.0 / WARM_UP_SHARE);
+    crate::engine::work::Work::new("diffusion under the thermostat", lower, collisions)
+        .costing(crate::engine::work::THERMOSTAT_SECONDS_PER_COLLISION)
+        .at(cfg.precision)
 }
 
 /// The run on the resolved scene.

@@ -13,7 +13,7 @@ use crate::statistics::mean_se;
 
 /// The diffusion tensor about the drift over one window, each component with its standard error
 /// over batches: half the slopes of the lag covariances ⟨ΔaΔb⟩ − ⟨Δa⟩⟨Δb⟩.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[allow(non_snake_case)]
 pub struct DriftTensor {
     /// D_xx.
@@ -36,6 +36,67 @@ pub struct DriftTensor {
     pub D_perp: f64,
     /// Its standard error.
     pub D_perp_err: f64,
+}
+
+/// The numbers of the steady state under the thermostat, each with its standard error over
+/// batches: what a run reports and a sweep over E keeps of each point.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct Steady {
+    /// J_x = ⟨v_x⟩ in the steady state.
+    pub J_x: f64,
+    /// Its standard error over the batches.
+    pub J_x_err: f64,
+    /// J_y.
+    pub J_y: f64,
+    /// Its standard error over the batches.
+    pub J_y_err: f64,
+    /// ê·J, the current along the field.
+    pub J_parallel: f64,
+    /// Its standard error over the batches.
+    pub J_parallel_err: f64,
+    /// ê⊥·J (ê⊥ = ê turned by +90°), the current across it (0 where a mirror of the table
+    /// contains E).
+    pub J_perp: f64,
+    /// Its standard error over the batches.
+    pub J_perp_err: f64,
+    /// J_parallel/ε: the mobility, which tends to D as ε → 0 (the Einstein relation).
+    pub mobility: f64,
+    /// Its standard error over the batches.
+    pub mobility_err: f64,
+    /// E·J = ⟨α⟩, the entropy production (the mean phase-space contraction rate).
+    pub entropy_production: f64,
+    /// Its standard error over the batches.
+    pub entropy_production_err: f64,
+    /// λ₊, the positive Lyapunov exponent of the flow (per unit time).
+    pub lambda_plus: f64,
+    /// Its standard error over the batches.
+    pub lambda_plus_err: f64,
+    /// λ₋, the negative one (the third is 0, along the flow).
+    pub lambda_minus: f64,
+    /// Its standard error over the batches.
+    pub lambda_minus_err: f64,
+    /// λ₊ + λ₋ + ⟨α⟩ over the pair's own stretch (to its last collision) per batch: the sum
+    /// rule says 0, but for ln(|f(T)|/|f(0)|)/T ≤ ln(1 + ε²)/(2T).
+    pub sum_rule: f64,
+    /// Its standard error over the batches.
+    pub sum_rule_err: f64,
+    /// The largest |Σ ln stretchings + ∫α + ln(|f(T)|/|f(0)|)| of a batch: the sum rule per
+    /// trajectory, 0 but for rounding.
+    pub sum_rule_residual: f64,
+    /// The rounding bound of that batch's residual (`proofs-notes/thermostat-lyapunov.md`).
+    pub sum_rule_residual_bound: f64,
+    /// The Kaplan–Yorke dimension of the attractor of the flow, 2 + λ₊/|λ₋| (per batch).
+    pub kaplan_yorke: f64,
+    /// Its standard error over the batches.
+    pub kaplan_yorke_err: f64,
+    /// The diffusion tensor about the drift over the fit window.
+    pub diffusion: DriftTensor,
+    /// Mean time between collisions in the steady state: the inverse of the collision rate
+    /// averaged over batches of equal duration.
+    pub mean_free_time: f64,
+    /// Its standard error over the batches.
+    pub mean_free_time_err: f64,
 }
 
 /// One batch's tensor over `win`: [xx, yy, xy, along, across].
@@ -125,26 +186,19 @@ fn pair_summary(batches: &[Batch]) -> PairSummary {
     }
 }
 
-/// The report of `batches`, run on `scene` under the field `world` (doubles) in `seconds`.
-pub(super) fn summarise<S: Scene>(
-    scene: &S,
-    cfg: &DiffusionConfig,
+/// The steady state's numbers over `batches` under the field `world` (doubles), the tensor over
+/// the fit window `win` of `lags` (time unit `tau`).
+fn steady(
     world: &Thermostat<f64>,
     batches: &[Batch],
-    (seconds, meta): (f64, RunMeta),
-) -> CurrentReport {
+    (lags, tau, win): (&[usize], f64, &Window),
+) -> Steady {
     let e = [world.dir.x, world.dir.y];
     let eps = world.strength;
-    let tau = time_unit(scene);
-    let lags = cfg.lags();
     let per = |f: &dyn Fn(&Batch) -> f64| batches.iter().map(f).collect::<Vec<f64>>();
     let along = per(&|b| e[0] * b.current[0] + e[1] * b.current[1]);
     let across = per(&|b| -e[1] * b.current[0] + e[0] * b.current[1]);
     let rate = mean_of(&per(&|b| b.collisions as f64 / b.time));
-    let (angle_bins, angle_density, angle_density_err) = angle_density(batches);
-    let collisions = batches.iter().map(|b| b.collisions).sum();
-    let (spacing, _, samples) = grid(scene, cfg);
-    let duration = samples as f64 * spacing;
     let (j_x, j_y) = (
         mean_of(&per(&|b| b.current[0])),
         mean_of(&per(&|b| b.current[1])),
@@ -154,10 +208,7 @@ pub(super) fn summarise<S: Scene>(
     let production = mean_of(&along.iter().map(|j| j * eps).collect::<Vec<_>>());
     let mean_free_time = 1.0 / rate.value;
     let lyapunov = pair_summary(batches);
-    CurrentReport {
-        scene: scene.label(),
-        electric: eps,
-        direction: e,
+    Steady {
         J_x: j_x.value,
         J_x_err: j_x.err,
         J_y: j_y.value,
@@ -180,13 +231,40 @@ pub(super) fn summarise<S: Scene>(
         sum_rule_residual_bound: lyapunov.residual.1,
         kaplan_yorke: lyapunov.kaplan_yorke.value,
         kaplan_yorke_err: lyapunov.kaplan_yorke.err,
-        diffusion: tensor(batches, &lags, tau, &cfg.window, e),
+        diffusion: tensor(batches, lags, tau, win, e),
+        mean_free_time,
+        mean_free_time_err: rate.err * mean_free_time * mean_free_time,
+    }
+}
+
+/// The report of `batches`, run on `scene` under the field `world` (doubles) in `seconds`.
+pub(super) fn summarise<S: Scene>(
+    scene: &S,
+    cfg: &DiffusionConfig,
+    world: &Thermostat<f64>,
+    batches: &[Batch],
+    (seconds, meta): (f64, RunMeta),
+) -> CurrentReport {
+    let e = [world.dir.x, world.dir.y];
+    let eps = world.strength;
+    let tau = time_unit(scene);
+    let lags = cfg.lags();
+    let per = |f: &dyn Fn(&Batch) -> f64| batches.iter().map(f).collect::<Vec<f64>>();
+    let along = per(&|b| e[0] * b.current[0] + e[1] * b.current[1]);
+    let across = per(&|b| -e[1] * b.current[0] + e[0] * b.current[1]);
+    let (angle_bins, angle_density, angle_density_err) = angle_density(batches);
+    let collisions = batches.iter().map(|b| b.collisions).sum();
+    let (spacing, _, samples) = grid(scene, cfg);
+    let duration = samples as f64 * spacing;
+    CurrentReport {
+        scene: scene.label(),
+        electric: eps,
+        direction: e,
+        steady: steady(world, batches, (&lags, tau, &cfg.window)),
         diffusion_check: tensor(batches, &lags, tau, &cfg.check_window, e),
         angle_bins,
         angle_density,
         angle_density_err,
-        mean_free_time,
-        mean_free_time_err: rate.err * mean_free_time * mean_free_time,
         mean_free_time_no_field: scene.mean_free_path(),
         window: cfg.window,
         check_window: cfg.check_window,

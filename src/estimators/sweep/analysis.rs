@@ -118,14 +118,7 @@ pub(crate) fn analyse(
         r.residual = r.D - lin.at(r.w);
     }
     let crossing = mz_crossing(&rows)?;
-    let mut polynomial_chi2 = Vec::new();
-    for degree in 1..=MAX_POLYNOMIAL_DEGREE {
-        if ws.len() < degree + 2 {
-            break;
-        }
-        let (chi2, dof) = weighted_polynomial_chi2(&ws, &ds, &es, degree)?;
-        polynomial_chi2.push(PolynomialChi2 { degree, chi2, dof });
-    }
+    let polynomial_chi2 = polynomial_chi2(&ws, &ds, &es)?;
     Ok(SweepReport {
         polynomial_chi2,
         config: cfg.clone(),
@@ -143,4 +136,24 @@ pub(crate) fn analyse(
             Some(threads),
         ),
     })
+}
+
+/// χ² and degrees of freedom of weighted polynomials through (x, y ± e) of degree 1 …
+/// [`MAX_POLYNOMIAL_DEGREE`], as far as the points allow (two more distinct x than the degree).
+///
+/// # Errors
+/// Errors that are not positive, or points that do not determine a polynomial.
+pub fn polynomial_chi2(x: &[f64], y: &[f64], e: &[f64]) -> Result<Vec<PolynomialChi2>, Error> {
+    let mut distinct = x.to_vec();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup();
+    let mut out = Vec::new();
+    for degree in 1..=MAX_POLYNOMIAL_DEGREE {
+        if distinct.len() < degree + 2 {
+            break;
+        }
+        let (chi2, dof) = weighted_polynomial_chi2(x, y, e, degree)?;
+        out.push(PolynomialChi2 { degree, chi2, dof });
+    }
+    Ok(out)
 }

@@ -6,27 +6,24 @@
 //! estimates, at the crate's agreement level corrected for the number of comparisons (Bonferroni,
 //! [`largest_of_bound`]).
 //!
-//! Resumption: with `options.resume` (a directory) each finished point is sealed into
-//! `DIR/field-points/point-NNNN.json` as it finishes and reused (its configuration and digest
-//! checked) when the sweep runs again, so an interrupted sweep loses at most the point in
-//! progress.
+//! Resumption: the points are sealed into `DIR/field-points/` as they finish
+//! ([`super::point_grid`], the mechanism of every sweep of transport runs).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use super::point_grid::{self, GridPoint, PointGrid};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
-use crate::engine::options::{RunOption, RunOptions};
-use crate::engine::resume::{seal, unseal};
+use crate::engine::options::RunOptions;
+use crate::engine::work::Work;
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::estimators::field::{Components, FieldReport};
 use crate::estimators::sweep::SweepConfig;
-use crate::estimators::sweep::points::{recheck_one_point, renamed_point, same_sweep};
 use crate::scenes::spec::SceneSpec;
 use crate::scenes::spec::{Motion, Table};
-use crate::statistics::comparison::{self, Comparison, largest_of_bound};
-use crate::statistics::welch_dof;
+use crate::statistics::comparison::Comparison;
 
 /// Most points of a field sweep (each is a transport run of its own).
 pub const MAX_FIELD_SWEEP_POINTS: usize = 1_000;
@@ -284,15 +281,7 @@ pub struct FieldSweepReport {
 }
 
 /// One finished point on disk (the unit of resumption).
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct FieldSweepPoint {
-    /// The sweep it belongs to.
-    pub config: SweepConfig,
-    /// Its index in the grid.
-    pub index: u32,
-    /// Its row.
-    pub row: FieldSweepRow,
-}
+pub type FieldSweepPoint = GridPoint<FieldSweepRow>;
 
 /// Runs the sweep (see the module documentation).
 ///
@@ -300,7 +289,7 @@ pub struct FieldSweepPoint {
 /// An invalid configuration or options (before any work or file), a directory holding another
 /// sweep's points or an edited one, an I/O error, or an interruption.
 pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<FieldSweepReport, Error> {
-    let (rows, resumed) = run_points(cfg, opts, &|_| true)?;
+    let (rows, resumed) = point_grid::run_points::<FieldGrid>(cfg, opts, &|_| true)?;
     report(cfg, rows.into_iter().flatten().collect(), resumed, opts)
 }
 
@@ -332,120 +321,44 @@ pub(crate) fn report(
     })
 }
 
-/// The points `owns` selects, each reused from `options.resume` (a directory) or run and sealed
-/// there: every point's row (`None` for a point not selected) and how many were reused.
-///
-/// # Errors
-/// As [`run`].
-pub(super) fn run_points(
-    cfg: &SweepConfig,
-    opts: &RunOptions,
-    owns: &dyn Fn(usize) -> bool,
-) -> Result<(Vec<Option<FieldSweepRow>>, u32), Error> {
-    cfg.validate()?;
-    opts.validate()?;
-    let fg = cfg.field_grid()?;
-    let dir = opts.resume.as_deref();
-    // The points' runs take no checkpoint of their own: the point is the unit of resumption.
-    let point_opts = RunOptions {
-        resume: None,
-        ..opts.clone()
-    };
-    point_opts.refuse_unused("a field sweep", &[RunOption::Engine])?;
-    if let Some(d) = dir {
-        crate::files::create_dir_all(d)?;
-        crate::files::create_subdir(d.join("field-points"))?;
-    }
-    let grid = fg.grid();
-    // Every point already on disk is checked before any work.
-    let mut found = Vec::with_capacity(grid.len());
-    for i in 0..grid.len() {
-        found.push(match dir {
-            Some(d) if owns(i) => reuse(cfg, &point_path(d, i), i)?,
-            _ => None,
-        });
-    }
-    check_work(cfg, fg, &found, owns, &point_opts)?;
-    recheck_one_field_point(cfg, &point_opts, dir, &found)?;
-    let mut rows = Vec::with_capacity(grid.len());
-    let mut resumed = 0;
-    for (i, ((g, f), old)) in grid.into_iter().zip(found).enumerate() {
-        let row = match old {
-            _ if !owns(i) => None,
-            Some(row) => {
-                (opts.progress)(cfg.collisions);
-                resumed += 1;
-                Some(row)
-            }
-            None => {
-                let point = fg.point_config(cfg, i, (g, f))?;
-                let row = row_of(&crate::estimators::field::run(&point, &point_opts)?);
-                if let Some(d) = dir {
-                    let p = FieldSweepPoint {
-                        config: cfg.clone(),
-                        index: i as u32,
-                        row: row.clone(),
-                    };
-                    crate::files::write(point_path(d, i), seal(&p)?.as_bytes())?;
-                }
-                Some(row)
-            }
-        };
-        rows.push(row);
-    }
-    Ok((rows, resumed))
-}
+impl PointGrid for FieldGrid {
+    type Row = FieldSweepRow;
+    const FOLDER: &'static str = "field-points";
+    const WHAT: &'static str = "field sweep point";
+    const SWEEP: &'static str = "a field sweep";
+    const LOWER: &'static [&'static str] =
+        &["collisions_per_run", "fields", "localization_samples"];
 
-/// Refuses the points still to run when, together, even the floor costs make them longer than a
-/// week of the sweep's threads: one check before the first point starts.
-fn check_work(
-    cfg: &SweepConfig,
-    fg: &FieldGrid,
-    found: &[Option<FieldSweepRow>],
-    owns: &dyn Fn(usize) -> bool,
-    opts: &RunOptions,
-) -> Result<(), Error> {
-    let simd = matches!(opts.engine.resolve(true)?, crate::engine::Resolved::Simd(_));
-    let mut parts = Vec::new();
-    for (i, (point, old)) in fg.grid().into_iter().zip(found).enumerate() {
-        if owns(i) && old.is_none() {
-            let point = fg.point_config(cfg, i, point)?;
-            parts.push(crate::estimators::field::work(&point, simd)?);
-        }
+    fn of(cfg: &SweepConfig) -> Result<&Self, Error> {
+        cfg.field_grid()
     }
-    let lower = &["collisions_per_run", "fields", "localization_samples"];
-    crate::engine::work::Work::sum("a field sweep", lower, parts).check(opts.threads)
-}
 
-/// Computes one reused point again, drawn at random, and compares its row with the point file's
-/// to the bit: the guard of every sweep ([`recheck_one_point`]).
-fn recheck_one_field_point(
-    cfg: &SweepConfig,
-    opts: &RunOptions,
-    dir: Option<&Path>,
-    found: &[Option<FieldSweepRow>],
-) -> Result<(), Error> {
-    let fg = cfg.field_grid()?;
-    let opts = RunOptions {
-        progress: &|_| {},
-        ..opts.clone()
-    };
-    recheck_one_point(found, (dir, point_path), |i, recorded| {
-        let grid = fg.grid();
-        let Some(place) = grid.get(i) else {
-            return Ok(None);
-        };
-        let point = fg.point_config(cfg, i, place.clone())?;
-        let fresh = row_of(&crate::estimators::field::run(&point, &opts)?);
-        let bits = |r: &FieldSweepRow| serde_json::to_value(r).ok();
-        let same = bits(&fresh).is_some() && bits(&fresh) == bits(recorded);
-        let at = match &place.0 {
+    fn points(&self) -> usize {
+        Self::points(self)
+    }
+
+    fn point(&self, sweep: &SweepConfig, i: usize) -> Result<DiffusionConfig, Error> {
+        let place = self.grid().swap_remove(i);
+        self.point_config(sweep, i, place)
+    }
+
+    fn label(&self, i: usize) -> String {
+        let (scene, field) = self.grid().swap_remove(i);
+        let at = match &scene {
             SceneSpec::Triangular { w } => format!("w = {w}"),
             SceneSpec::Square { radius } => format!("radius {radius}"),
             SceneSpec::Table(t) => t.title().to_string(),
         };
-        Ok((!same).then(|| format!("point {i} ({at}, B = {}),", place.1)))
-    })
+        format!("{at}, B = {field}")
+    }
+
+    fn row(point: &DiffusionConfig, opts: &RunOptions) -> Result<FieldSweepRow, Error> {
+        Ok(row_of(&crate::estimators::field::run(point, opts)?))
+    }
+
+    fn work(point: &DiffusionConfig, simd: bool) -> Result<Work<'static>, Error> {
+        crate::estimators::field::work(point, simd)
+    }
 }
 
 /// The row of a point's report.
@@ -488,19 +401,8 @@ pub fn onsager(rows: &[FieldSweepRow], batches: u32) -> Vec<OnsagerCheck> {
         })
         .collect();
     let m = 2 * pairs.len();
-    let n = batches as f64;
-    let compare = |x: f64, ea: f64, eb: f64| {
-        let err = ea.hypot(eb);
-        if err == 0.0 {
-            // Both exactly 0 (every orbit localized): no statistics, the difference itself.
-            return comparison::of(x, 0.0, f64::INFINITY);
-        }
-        let dof = welch_dof(ea, n, eb, n);
-        Comparison {
-            bound: largest_of_bound(dof, m),
-            ..comparison::of(x, err, dof)
-        }
-    };
+    // Where every orbit is localized both are 0 exactly: the difference itself.
+    let compare = |x: f64, ea: f64, eb: f64| Comparison::welch(x, (ea, eb), batches, m);
     pairs
         .into_iter()
         .map(|(p, q)| OnsagerCheck {
@@ -511,37 +413,6 @@ pub fn onsager(rows: &[FieldSweepRow], batches: u32) -> Vec<OnsagerCheck> {
             d_xy_odd: compare(p.D_xy + q.D_xy, p.D_xy_err, q.D_xy_err),
         })
         .collect()
-}
-
-/// The file of point `i` in the sweep directory `dir`.
-pub fn point_path(dir: &Path, i: usize) -> PathBuf {
-    dir.join("field-points").join(format!("point-{i:04}.json"))
-}
-
-/// The finished row of point `i` at `path`, if there is one of this sweep; a file of another
-/// sweep, an edited, renamed or oversized one is an error naming the path.
-fn reuse(cfg: &SweepConfig, path: &Path, i: usize) -> Result<Option<FieldSweepRow>, Error> {
-    if !path.exists() {
-        return Ok(None);
-    }
-    let text = crate::files::read_to_string(path, crate::files::Cap::FIELD_POINT)?;
-    parse(cfg, path, &text, i).map(Some)
-}
-
-/// Point `i` of `cfg` from its sealed `text`, read from `path`: an edited, truncated, renamed or
-/// foreign point is refused, naming the path.
-pub(super) fn parse(
-    cfg: &SweepConfig,
-    path: &Path,
-    text: &str,
-    i: usize,
-) -> Result<FieldSweepRow, Error> {
-    let p: FieldSweepPoint = unseal(path, text, "field sweep point")?;
-    same_sweep(path, &p.config, cfg)?;
-    if p.index as usize != i {
-        return Err(renamed_point(path, p.index));
-    }
-    Ok(p.row)
 }
 
 /// The files [`write_tables`] writes.

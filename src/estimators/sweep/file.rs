@@ -35,6 +35,14 @@ impl SweepConfig {
                 self.steps(),
                 self.collisions
             ),
+            Grid::Driven(d) => format!(
+                "the driven sweep at w = {} (fields E {} at {} degrees; {} points x {} collisions)",
+                d.gaps.join(", "),
+                d.electric.join(", "),
+                d.electric_angle,
+                self.steps(),
+                self.collisions
+            ),
         }
     }
 
@@ -66,7 +74,7 @@ impl SweepConfig {
             return Err("not a JSON object: a sweep's configuration is one".into());
         };
         let sweep: SweepConfig = serde_json::from_value(value.clone()).map_err(|e| {
-            format!("{e}: a sweep over w has w_from, w_to, steps and runs, one in a field gaps (or radius or table), fields and localization_samples")
+            format!("{e}: a sweep over w has w_from, w_to, steps and runs, one in a field gaps (or radius or table), fields and localization_samples, a driven one gaps, electric and electric_angle")
         })?;
         let known = serde_json::to_value(&sweep).map_err(|e| e.to_string())?;
         let known = known.as_object().map(|o| o.keys().collect::<Vec<_>>());

@@ -9,9 +9,11 @@
 //! χ²/dof (`proofs-notes/sweep-errors.md`).
 
 pub mod analysis;
+pub mod driven;
 pub mod field;
 pub mod field_grid;
 pub mod file;
+pub mod point_grid;
 pub mod points;
 pub mod stored;
 
@@ -53,6 +55,8 @@ pub enum Grid {
     Gaps(GapGrid),
     /// The diffusion tensor in a field over tables × fields ([`field::run`]).
     InField(field::FieldGrid),
+    /// The driven gas's steady state over gaps × fields E ([`driven::run`]).
+    Driven(driven::DrivenGrid),
 }
 
 /// Evenly spaced gaps of the triangular gas, several runs at each.
@@ -221,6 +225,12 @@ impl SweepConfig {
                 "a sweep in a field has its own analysis (the tensor and Onsager-Casimir), not \
                  the fits of D(w) without a field",
             )),
+            Grid::Driven(d) => Err(Error::parameter(
+                "electric",
+                d.electric.join(","),
+                "a driven sweep has its own analysis (the mobility), not the fits of D(w) \
+                 without a field",
+            )),
         }
     }
 
@@ -231,7 +241,7 @@ impl SweepConfig {
     pub fn field_grid(&self) -> Result<&field::FieldGrid, Error> {
         match &self.grid {
             Grid::InField(f) => Ok(f),
-            Grid::Gaps(_) => Err(Error::missing(
+            Grid::Gaps(_) | Grid::Driven(_) => Err(Error::missing(
                 "fields",
                 "a sweep in a field needs its fields",
             )),
@@ -242,7 +252,7 @@ impl SweepConfig {
     pub fn runs(&self) -> u32 {
         match &self.grid {
             Grid::Gaps(g) => g.runs,
-            Grid::InField(_) => 1,
+            Grid::InField(_) | Grid::Driven(_) => 1,
         }
     }
 
@@ -251,6 +261,7 @@ impl SweepConfig {
         match &self.grid {
             Grid::Gaps(g) => g.steps,
             Grid::InField(f) => f.points() as u32,
+            Grid::Driven(d) => d.points() as u32,
         }
     }
 
@@ -283,6 +294,7 @@ impl SweepConfig {
         match &self.grid {
             Grid::Gaps(g) => self.validate_gaps(g),
             Grid::InField(f) => f.validate(self),
+            Grid::Driven(d) => d.validate(self),
         }
     }
 

@@ -1,5 +1,6 @@
-//! The finished points of a sweep of either kind — over w without a field (`points/`) or in a
-//! field (`field-points/`) — as sealed texts by index: what a part of a campaign computes,
+//! The finished points of a sweep of any kind — over w without a field (`points/`), in a
+//! magnetic field (`field-points/`) or under the thermostat (`driven-points/`) — as sealed texts
+//! by index: what a part of a campaign computes,
 //! carries and leaves, and what a merge checks and analyses. One mechanism for every sweep
 //! ([`crate::campaigns`]): only running a point, checking one and analysing the whole are the
 //! kind's, here.
@@ -8,7 +9,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::field::{self, FieldSweepPoint, FieldSweepReport};
+use super::driven::{self, DrivenGrid, DrivenSweepReport};
+use super::field::{self, FieldGrid, FieldSweepReport};
+use super::point_grid::{self, PointGrid};
 use super::points;
 use super::{Grid, SweepConfig, SweepPoint, SweepReport};
 use crate::Error;
@@ -31,30 +34,35 @@ pub enum Finished {
     OverW(Box<SweepReport>),
     /// The tensor in a field.
     InField(Box<FieldSweepReport>),
+    /// The driven gas's steady state.
+    Driven(Box<DrivenSweepReport>),
 }
 
-/// The two folders of points a sweep directory can hold: over w, in a field.
-pub const FOLDERS: [&str; 2] = ["points", "field-points"];
+/// The folders of points a sweep directory can hold: over w, in a field, driven.
+pub const FOLDERS: [&str; 3] = ["points", FieldGrid::FOLDER, DrivenGrid::FOLDER];
 
-/// The two names of a part's manifest: over w, in a field.
-pub const MANIFESTS: [&str; 2] = ["shard.json", "field-shard.json"];
-
-fn kind(cfg: &SweepConfig) -> usize {
-    match cfg.grid {
-        Grid::Gaps(_) => 0,
-        Grid::InField(_) => 1,
-    }
-}
+/// The names of a part's manifest: over w, in a field, driven.
+pub const MANIFESTS: [&str; 3] = ["shard.json", "field-shard.json", "driven-shard.json"];
 
 impl SweepConfig {
+    /// Its kind, as the index of its [`FOLDERS`] and [`MANIFESTS`]: 0 over w, 1 in a magnetic
+    /// field, 2 driven.
+    pub fn kind(&self) -> usize {
+        match self.grid {
+            Grid::Gaps(_) => 0,
+            Grid::InField(_) => 1,
+            Grid::Driven(_) => 2,
+        }
+    }
+
     /// The folder of this sweep's points in its directory.
     pub fn points_folder(&self) -> &'static str {
-        FOLDERS[kind(self)]
+        FOLDERS[self.kind()]
     }
 
     /// The file a part of this sweep leaves beside its points.
     pub fn part_manifest(&self) -> &'static str {
-        MANIFESTS[kind(self)]
+        MANIFESTS[self.kind()]
     }
 }
 
@@ -62,7 +70,8 @@ impl SweepConfig {
 pub fn point_path(cfg: &SweepConfig, dir: &Path, i: u32) -> PathBuf {
     match cfg.grid {
         Grid::Gaps(_) => points::point_path(dir, i as usize),
-        Grid::InField(_) => field::point_path(dir, i as usize),
+        Grid::InField(_) => point_grid::point_path::<FieldGrid>(dir, i as usize),
+        Grid::Driven(_) => point_grid::point_path::<DrivenGrid>(dir, i as usize),
     }
 }
 
@@ -83,19 +92,21 @@ pub fn run_points(
             let texts = found.iter().map(|p| sealed(p.index, seal(p)));
             Ok((texts.collect::<Result<_, Error>>()?, resumed))
         }
-        Grid::InField(_) => {
-            let (rows, resumed) = field::run_points(cfg, options, &|i| owns(i as u32))?;
-            let texts = (rows.into_iter().enumerate()).filter_map(|(i, row)| {
-                let p = FieldSweepPoint {
-                    config: cfg.clone(),
-                    index: i as u32,
-                    row: row?,
-                };
-                Some(sealed(i as u32, seal(&p)))
-            });
-            Ok((texts.collect::<Result<_, Error>>()?, resumed))
-        }
+        Grid::InField(_) => run_grid_points::<FieldGrid>(cfg, options, owns),
+        Grid::Driven(_) => run_grid_points::<DrivenGrid>(cfg, options, owns),
     }
+}
+
+/// [`run_points`] of a sweep of transport runs ([`point_grid`]).
+fn run_grid_points<G: PointGrid>(
+    cfg: &SweepConfig,
+    options: &RunOptions,
+    owns: &dyn Fn(u32) -> bool,
+) -> Result<(Vec<SealedPoint>, u32), Error> {
+    let (rows, resumed) = point_grid::run_points::<G>(cfg, options, &|i| owns(i as u32))?;
+    let texts = point_grid::sealed(cfg, rows)?;
+    let points = (texts.into_iter()).map(|(index, text)| SealedPoint { index, text });
+    Ok((points.collect(), resumed))
 }
 
 /// The sweep a sealed point (read from `path`) belongs to, its digest checked, whatever its
@@ -126,7 +137,7 @@ impl Checker {
     pub fn new(cfg: &SweepConfig) -> Result<Checker, Error> {
         let gaps = match cfg.grid {
             Grid::Gaps(_) => cfg.points()?,
-            Grid::InField(_) => Vec::new(),
+            Grid::InField(_) | Grid::Driven(_) => Vec::new(),
         };
         Ok(Checker {
             cfg: cfg.clone(),
@@ -151,7 +162,12 @@ impl Checker {
             Grid::Gaps(_) => {
                 points::parse(cfg, path, text, i as usize, self.gaps[i as usize]).map(drop)
             }
-            Grid::InField(_) => field::parse(cfg, path, text, i as usize).map(drop),
+            Grid::InField(_) => {
+                point_grid::parse::<FieldGrid>(cfg, path, text, i as usize).map(drop)
+            }
+            Grid::Driven(_) => {
+                point_grid::parse::<DrivenGrid>(cfg, path, text, i as usize).map(drop)
+            }
         }
     }
 }
@@ -177,12 +193,19 @@ pub fn analyse(
             Ok(Finished::OverW(Box::new(r)))
         }
         Grid::InField(_) => {
-            let rows = (points.iter())
-                .map(|p| unseal::<FieldSweepPoint>(&at(p), &p.text, "field sweep point"))
-                .map(|p| p.map(|p| p.row))
-                .collect::<Result<Vec<_>, Error>>()?;
+            let rows = point_grid::rows_of::<FieldGrid>(&texts(points))?;
             let r = field::report(cfg, rows, resumed, options)?;
             Ok(Finished::InField(Box::new(r)))
         }
+        Grid::Driven(_) => {
+            let rows = point_grid::rows_of::<DrivenGrid>(&texts(points))?;
+            let r = driven::report(cfg, rows, resumed, options)?;
+            Ok(Finished::Driven(Box::new(r)))
+        }
     }
+}
+
+/// The points' indices and texts.
+fn texts(points: &[SealedPoint]) -> Vec<(u32, &str)> {
+    points.iter().map(|p| (p.index, p.text.as_str())).collect()
 }

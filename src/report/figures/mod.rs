@@ -6,6 +6,7 @@ use std::sync::Once;
 
 use plotters::prelude::*;
 
+pub mod driven_sweep;
 pub mod field_sweep;
 mod glyphs;
 mod legend;

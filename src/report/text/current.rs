@@ -28,42 +28,43 @@ pub fn current(r: &CurrentReport) -> String {
             false
         )
     );
+    let s = &r.steady;
     let est = |(v, e): (f64, f64)| estimate(v, e);
-    let (jx, jy) = (est((r.J_x, r.J_x_err)), est((r.J_y, r.J_y_err)));
+    let (jx, jy) = (est((s.J_x, s.J_x_err)), est((s.J_y, s.J_y_err)));
     let (along, across) = (
-        est((r.J_parallel, r.J_parallel_err)),
-        est((r.J_perp, r.J_perp_err)),
+        est((s.J_parallel, s.J_parallel_err)),
+        est((s.J_perp, s.J_perp_err)),
     );
     line!(
         out,
         "current       : J_x {jx}, J_y {jy}   (along E {along}, across {across})"
     );
-    let mobility = est((r.mobility, r.mobility_err));
-    let production = est((r.entropy_production, r.entropy_production_err));
+    let mobility = est((s.mobility, s.mobility_err));
+    let production = est((s.entropy_production, s.entropy_production_err));
     line!(
         out,
         "mobility J/E  = {mobility}   (→ D as E → 0: the Einstein relation); entropy production E·J = ⟨α⟩ = {production}"
     );
     let (plus, minus) = (
-        est((r.lambda_plus, r.lambda_plus_err)),
-        est((r.lambda_minus, r.lambda_minus_err)),
+        est((s.lambda_plus, s.lambda_plus_err)),
+        est((s.lambda_minus, s.lambda_minus_err)),
     );
     let (rule, ky) = (
-        est((r.sum_rule, r.sum_rule_err)),
-        est((r.kaplan_yorke, r.kaplan_yorke_err)),
+        est((s.sum_rule, s.sum_rule_err)),
+        est((s.kaplan_yorke, s.kaplan_yorke_err)),
     );
     line!(
         out,
         "Lyapunov      : λ₊ {plus}, λ₋ {minus} per unit time; λ₊ + λ₋ + ⟨α⟩ = {rule}   (sum rule; per trajectory within {:.1e} of exact, rounding bound {:.1e}); Kaplan–Yorke dimension {ky}",
-        r.sum_rule_residual,
-        r.sum_rule_residual_bound
+        s.sum_rule_residual,
+        s.sum_rule_residual_bound
     );
-    tensor(&mut out, "about the drift", &r.diffusion, r);
+    tensor(&mut out, "about the drift", &s.diffusion, r);
     tensor(&mut out, "check window", &r.diffusion_check, r);
     line!(
         out,
         "mean free time = {}   (without the field {:.6}); each batch {:.4e} in flight after a warm-up of {:.4e}",
-        estimate(r.mean_free_time, r.mean_free_time_err),
+        estimate(s.mean_free_time, s.mean_free_time_err),
         r.mean_free_time_no_field,
         r.measured_time,
         r.warm_up

@@ -13,6 +13,7 @@ pub mod constants;
 pub mod current;
 pub mod cycles;
 pub mod diffusion;
+pub mod driven_sweep;
 pub mod escape;
 pub mod field;
 pub mod field_sweep;

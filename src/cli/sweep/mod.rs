@@ -1,13 +1,16 @@
 //! `lorentz sweep`: D over a range of w, resumable, with the paper's coarse and fine analyses; or
 //! in a field (`--w W --fields B1,B2,...` over the field, `--w-from .. --w-to .. --field B` over w
-//! in a field, any table): the diffusion tensor at every point, resumable by point.
+//! in a field, any table): the diffusion tensor at every point, resumable by point; or the driven
+//! gas over E (`--w W --electric E1,E2,...`, [`driven`]).
+
+pub mod driven;
 
 use lorentz_gas::Error;
 use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig};
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep::field::{self, FieldGrid};
 use lorentz_gas::estimators::sweep::field_grid::{self, SweepGrid};
-use lorentz_gas::estimators::sweep::stored::Finished;
+use lorentz_gas::estimators::sweep::stored::{FOLDERS, Finished, MANIFESTS};
 use lorentz_gas::estimators::sweep::{self, GapGrid, Grid, SweepConfig, SweepReport};
 use lorentz_gas::report::text::sweep as text;
 
@@ -124,11 +127,14 @@ pub struct Args {
     pub(super) grid: GridArgs,
     #[command(flatten)]
     pub(super) in_field: FieldArgs,
+    #[command(flatten)]
+    pub(super) driven: driven::DrivenArgs,
     /// The sweep's configuration as JSON (as `lorentz slurm sweep` writes it, or a result's
     /// `config`), instead of the flags that describe a sweep: over w, or in a field on any table.
     #[arg(long, value_name = "FILE", conflicts_with_all = [
         "w_from", "w_to", "steps", "runs", "collisions_per_run", "batches_per_run", "w", "field",
-        "fields", "scene", "radius", "table", "localization_samples", "seed",
+        "fields", "scene", "radius", "table", "localization_samples", "seed", "electric",
+        "electric_angle",
     ])]
     pub(super) config: Option<PathBuf>,
     /// Compute only part I of N (I = 0 .. N-1; point i belongs to part i mod N) into --out, for
@@ -154,6 +160,10 @@ pub struct Args {
 pub fn config(a: &Args) -> Result<SweepConfig, Error> {
     match a.config.as_deref() {
         Some(p) => SweepConfig::read(p),
+        None if a.driven.driven() => {
+            let w = a.in_field.w.as_deref();
+            driven::config(&a.grid, w, &a.driven, a.run.seed())
+        }
         None if a.in_field.in_field() => config_in_field(&a.grid, &a.in_field, a.run.seed()),
         None => {
             refuse_field_options(a)?;
@@ -193,21 +203,22 @@ fn refuse_field_options(a: &Args) -> Result<(), Error> {
     Ok(())
 }
 
-/// Every path a sweep (`part`: one part of it) or a merge writes into `out`, for
+/// Every path a sweep of the kind `kind` (0 over w, 1 in a field, 2 driven: the index of
+/// [`FOLDERS`]; `part`: one part of it) or a merge writes into `out`, for
 /// [`files::check_outputs`] before any work: `out`, its points' folder, and its tables and
 /// figures (a part: its manifest).
-pub fn outputs(out: &Path, in_field: bool, part: bool) -> Vec<Output> {
-    use lorentz_gas::report::figures::{field_sweep as field_figures, sweep as figures};
-    let points = if in_field { "field-points" } else { "points" };
-    let names: Vec<&str> = match (in_field, part) {
-        (false, true) => vec!["shard.json"],
-        (true, true) => vec!["field-shard.json"],
-        (false, false) => [&sweep::TABLE_FILES[..], &figures::FILES].concat(),
-        (true, false) => [&field::TABLE_FILES[..], &field_figures::FILES].concat(),
+pub fn outputs(out: &Path, kind: usize, part: bool) -> Vec<Output> {
+    use lorentz_gas::estimators::sweep::driven as driven_tables;
+    use lorentz_gas::report::figures::{driven_sweep, field_sweep, sweep as figures};
+    let names: Vec<&str> = match (kind, part) {
+        (_, true) => vec![MANIFESTS[kind]],
+        (0, false) => [&sweep::TABLE_FILES[..], &figures::FILES].concat(),
+        (1, false) => [&field::TABLE_FILES[..], &field_sweep::FILES].concat(),
+        _ => [&driven_tables::TABLE_FILES[..], &driven_sweep::FILES].concat(),
     };
     let mut v = vec![
         Output::Dir(out.to_path_buf()),
-        Output::Subdir(out.join(points)),
+        Output::Subdir(out.join(FOLDERS[kind])),
     ];
     v.extend(Output::files_in(out, &names));
     v
@@ -224,8 +235,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         .into_iter()
         .filter_map(|p| p.as_deref())
         .collect();
-    let in_field = matches!(cfg.grid, Grid::InField(_));
-    files::check_outputs(&inputs, &outputs(&a.out, in_field, shard.is_some()))?;
+    files::check_outputs(&inputs, &outputs(&a.out, cfg.kind(), shard.is_some()))?;
     let out = a.out.clone();
     let points = match shard {
         Some(s) => (0..cfg.steps()).filter(|&i| s.owns(i)).count() as u64,
@@ -270,6 +280,8 @@ pub fn run(a: Args) -> Result<(), Error> {
     let r = match cfg.grid {
         Grid::Gaps(_) => sweep::run(&cfg, &opts).map(|r| Finished::OverW(Box::new(r))),
         Grid::InField(_) => field::run(&cfg, &opts).map(|r| Finished::InField(Box::new(r))),
+        Grid::Driven(_) => lorentz_gas::estimators::sweep::driven::run(&cfg, &opts)
+            .map(|r| Finished::Driven(Box::new(r))),
     };
     drop(progress);
     drop(pb);
@@ -282,6 +294,7 @@ pub fn finish(r: &Finished, out: &Path, json: bool) -> Result<(), Error> {
     match r {
         Finished::OverW(r) => finish_over_w(r, out, json),
         Finished::InField(r) => finish_in_field(r, out, json),
+        Finished::Driven(r) => driven::finish(r, out, json),
     }
 }
 
