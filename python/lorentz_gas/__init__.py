@@ -34,7 +34,7 @@ import numpy as np  # noqa: F401  (the namespace of the package's doctests, `doc
 
 from . import _native
 from ._native import CheckFailedError, ComputationError
-from ._current import CurrentResult
+from ._current import CurrentResult, DrivenSweepResult
 from ._results import (
     AuditResult,
     BackscatterResult,
@@ -151,6 +151,7 @@ __all__ = [
     "TableDiffusionResult",
     "FieldResult",
     "CurrentResult",
+    "DrivenSweepResult",
     "HopsResult",
     "TheoryResult",
     "LatticeWalkResult",

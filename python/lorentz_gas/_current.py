@@ -44,3 +44,36 @@ class CurrentResult(Result):
             f"J = ({_pm(self.J_x, self.J_x_err)}, {_pm(self.J_y, self.J_y_err)}) "
             f"at E = {self.electric} on {self.scene}"
         )
+
+
+class DrivenSweepResult(Result):
+    """The driven gas over fields E (``sweep(w=..., electric=[...])``, ``lorentz sweep
+    --electric``). ``rows`` is a numpy structured array, one record per point (gap-major): ``w``,
+    the signed field ``electric`` (1/time; the speed is 1) at ``electric_angle`` degrees, and the
+    steady state as in :class:`CurrentResult` — ``J_parallel``, ``J_perp`` (length/time),
+    ``mobility`` = J_parallel/abs(E) (length²/time, along each point's own field),
+    ``entropy_production``, ``lambda_plus``, ``lambda_minus``, ``sum_rule``, ``kaplan_yorke``,
+    ``mean_free_time``, each with ``_err``, and the tensor about the drift as ``diffusion_D_xx``
+    … ``diffusion_D_perp_err``. ``mobility`` (the attribute) lists per gap the χ² of polynomials
+    in abs(E) through the mobilities (``polynomial_chi2``) and the Einstein extrapolations
+    ``einstein_linear`` (J/E = D + a·abs(E)) and ``einstein_quadratic`` (D + c·E²), whose
+    ``intercept`` ± √``var_intercept`` is D; ``odd`` the J(−E) = −J(E) checks and ``odd_agrees``
+    their verdict. ``to_pandas()`` gives the rows, ``to_pandas("odd")`` the checks."""
+
+    _text_kind = "driven-sweep"
+    _default_table = "rows"
+
+    def __init__(self, text: str):
+        super().__init__(text)
+        self.rows = _tables.records(self._data["rows"])
+
+    def _summary(self) -> str:
+        n = len(self.rows)
+        verdict = "agree" if self.odd_agrees else "DISAGREE"
+        checks = f", J(-E) = -J(E) at {len(self.odd)} |E|: {verdict}" if self.odd else ""
+        fits = [m["einstein_linear"] for m in self.mobility if m.get("einstein_linear")]
+        einstein = ""
+        if fits:
+            f = fits[0]
+            einstein = f", D + a|E| extrapolates to {_pm(f['intercept'], f['var_intercept'] ** 0.5)}"
+        return f"{n} points of the driven gas{einstein}{checks}"

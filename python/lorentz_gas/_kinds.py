@@ -34,7 +34,7 @@ from ._results import (
     TheoryResult,
     TrajectoryResult,
 )
-from ._current import CurrentResult
+from ._current import CurrentResult, DrivenSweepResult
 from ._section import SectionResult
 
 
@@ -113,6 +113,8 @@ KINDS: List[Tuple[str, str, Tuple[str, ...], Callable[..., Result]]] = [
     ("diffusion", "diffusion", ("batch_D", "msd_times"), DiffusionResult),
     ("field", "diffusion --field", ("batch_D_xx", "localized_fraction_exact"), FieldResult),
     ("current", "diffusion --electric", ("J_parallel", "mobility"), CurrentResult),
+    ("driven-sweep", "sweep --electric (driven-sweep.json), merge", ("rows", "odd"),
+     DrivenSweepResult),
     ("field-sweep", "sweep --fields (field-sweep.json), merge", ("rows", "onsager"),
      FieldSweepResult),
     ("sweep", "sweep (sweep.json), merge", ("rows", "linear_fit"), SweepResult),

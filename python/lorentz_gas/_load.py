@@ -36,8 +36,9 @@ def _no_constant(name: str) -> Any:
 
 
 #: The result files the command line writes into an output folder, which ``load(folder)`` finds.
-FOLDER_FILES = ("sweep.json", "field-sweep.json", "report.json", "reproduce.json",
-                "speed-vs-error.json", "shard.json", "field-shard.json")
+FOLDER_FILES = ("sweep.json", "field-sweep.json", "driven-sweep.json", "report.json",
+                "reproduce.json", "speed-vs-error.json", "shard.json", "field-shard.json",
+                "driven-shard.json")
 
 
 def _in_folder(folder: str) -> str:

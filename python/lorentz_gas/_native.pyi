@@ -95,6 +95,18 @@ class FieldSweepParams(TypedDict):
     engine: str
     out: Optional[str]
 
+class DrivenSweepParams(TypedDict):
+    w: str
+    electric: List[str]
+    electric_angle: str
+    collisions_per_run: str
+    batches_per_run: str
+    seed: str
+    shard: Optional[str]
+    threads: Optional[str]
+    engine: str
+    out: Optional[str]
+
 class MergeParams(TypedDict):
     shards: List[str]
     out: Optional[str]
@@ -286,6 +298,7 @@ def lattice_walk(params: HopParams, progress: Progress) -> str: ...
 def backscatter(params: BackscatterParams, progress: Progress) -> str: ...
 def sweep(params: SweepParams, progress: Progress) -> str: ...
 def field_sweep(params: FieldSweepParams, progress: Progress) -> str: ...
+def driven_sweep(params: DrivenSweepParams, progress: Progress) -> str: ...
 def merge(params: MergeParams, progress: Progress) -> str: ...
 def merge_parts(parts: List[str], out: Optional[str], threads: Optional[str]) -> str: ...
 def escape(params: EscapeParams, progress: Progress) -> str: ...

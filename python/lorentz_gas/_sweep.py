@@ -1,4 +1,5 @@
-"""Sweeps: D(w) over a grid of gaps, or the diffusion tensor in a field over gaps and fields; in
+"""Sweeps: D(w) over a grid of gaps, the diffusion tensor in a field over gaps and fields, or the
+driven gas over fields E; in
 parts (``shard=``, merged by :func:`merge`, as ``lorentz sweep --shard`` and ``lorentz merge``),
 or spread over a process pool or a cluster (``executor=``) with the bits of one process."""
 
@@ -28,7 +29,18 @@ from ._inputs import (
 )
 from ._keywords import in_package, public
 from ._progress import _Bar, _run
+from ._current import DrivenSweepResult
 from ._results import FieldSweepResult, Result, SweepResult
+
+#: A finished sweep of any kind.
+Finished = Union[SweepResult, FieldSweepResult, DrivenSweepResult]
+
+#: The result class and points' folder of each compiled sweep.
+_KINDS = {
+    "sweep": (SweepResult, "points"),
+    "field_sweep": (FieldSweepResult, "field-points"),
+    "driven_sweep": (DrivenSweepResult, "driven-points"),
+}
 
 
 @in_package
@@ -67,12 +79,15 @@ def sweep(
     scene: str = "triangular",
     radius: Optional[Exact] = None,
     table: Optional[Table] = None,
+    electric: Optional[Sequence[Exact]] = None,
+    electric_angle: Exact = 0,
     shard: Optional[str] = None,
     executor: Optional[concurrent.futures.Executor] = None,
-) -> Union[SweepResult, FieldSweepResult, ShardResult]:
-    """D(w) over a grid of gaps (``lorentz sweep``), or the diffusion tensor in a magnetic field
-    over gaps and fields (``lorentz sweep --field`` / ``--fields``); whole, one part of it
-    (``shard``), or spread over a process pool or cluster (``executor``).
+) -> Union[Finished, ShardResult]:
+    """D(w) over a grid of gaps (``lorentz sweep``), the diffusion tensor in a magnetic field
+    over gaps and fields (``lorentz sweep --field`` / ``--fields``), or the driven gas over fields
+    E at one gap (``lorentz sweep --electric``); whole, one part of it (``shard``), or spread over
+    a process pool or cluster (``executor``).
 
     Parameters
     ----------
@@ -113,6 +128,12 @@ def sweep(
     table : dict or path, keyword only
         A table given as data (as in :func:`diffusion`) for a sweep over ``fields`` on it, instead
         of ``scene``, ``w`` and ``radius``.
+    electric : sequence of exact numbers, keyword only
+        The fields E of a sweep of the driven gas at the gap ``w`` (a Gaussian-thermostatted
+        electric field, 1/time, the speed staying 1; each 0 < abs(E) <= 10, exact like ``w``);
+        with E and -E both given, J(-E) = -J(E) is checked.
+    electric_angle : exact number, keyword only
+        With ``electric``: the fields' angle from the x axis in degrees.
     shard : str, keyword only
         ``"I/N"``: compute only part I of N (point i belongs to part i mod N) into ``out``, as
         ``lorentz sweep --shard``; combine the N parts with :func:`merge`.
@@ -134,6 +155,11 @@ def sweep(
         ``D_xx`` ± ``D_xx_err``, the Hall ``D_xy`` ± ``D_xy_err`` (length^2/time), the exact and
         sampled localized shares and Kac's mean free time; ``onsager`` (the ±B checks) and
         ``onsager_agrees``; ``to_pandas()``.
+    DrivenSweepResult
+        With ``electric``: ``rows`` with ``w``, ``electric``, the mobility J/E ± its error
+        (length²/time), the current, the Lyapunov pair and the sum rule per point; ``mobility``
+        (per gap the polynomial χ² and the Einstein extrapolations to D), ``odd`` (the ±E
+        checks) and ``odd_agrees``; ``to_pandas()``.
     ShardResult
         With ``shard``: the part's ``shard``, ``points`` and ``resumed_points``.
     """
@@ -141,10 +167,10 @@ def sweep(
         w_from=w_from, w_to=w_to, steps=steps, runs=runs, collisions_per_run=collisions_per_run,
         batches_per_run=batches_per_run, seed=seed, checkpoint_every=checkpoint_every, w=w,
         field=field, fields=fields, localization_samples=localization_samples, scene=scene,
-        radius=radius, table=table,
+        radius=radius, table=table, electric=electric, electric_angle=electric_angle,
     )
     total = points * _total(_count("collisions_per_run", collisions_per_run)) * (
-        1 if native == "field_sweep" else _total(_count("runs", 10 if runs is None else runs))
+        _total(_count("runs", 10 if runs is None else runs)) if native == "sweep" else 1
     )
     request.update(threads=_threads(threads), engine=str(engine), out=_path(out), shard=shard)
     if executor is not None:
@@ -161,16 +187,27 @@ def sweep(
     text = _run(getattr(_native, native), progress, total, "coll", request)
     if shard is not None:
         return ShardResult(text)
-    return FieldSweepResult(text) if native == "field_sweep" else SweepResult(text)
+    return _KINDS[native][0](text)
 
 
 def _request(
     *, w_from: Any, w_to: Any, steps: Any, runs: Any, collisions_per_run: Any,
     batches_per_run: Any, seed: Any, checkpoint_every: float, w: Any, field: Any, fields: Any,
-    localization_samples: Any, scene: str, radius: Any, table: Any,
+    localization_samples: Any, scene: str, radius: Any, table: Any, electric: Any,
+    electric_angle: Any,
 ) -> Tuple[str, Dict[str, Any], int]:
-    """The compiled function of the sweep (``sweep`` over w, ``field_sweep`` in a field), its
-    keys but the run's (threads, engine, out, shard), and the number of points."""
+    """The compiled function of the sweep (``sweep`` over w, ``field_sweep`` in a field,
+    ``driven_sweep`` under the thermostat), its keys but the run's (threads, engine, out, shard),
+    and the number of points."""
+    if electric is not None:
+        return _driven_request(
+            w=w, runs=runs, checkpoint_every=checkpoint_every, electric=electric,
+            electric_angle=electric_angle, others=dict(
+                w_from=w_from, w_to=w_to, field=field, fields=fields, radius=radius,
+                table=table),
+            counts=dict(collisions_per_run=collisions_per_run, batches_per_run=batches_per_run,
+                        seed=seed),
+        )
     if field is not None or fields is not None:
         if runs is not None:
             raise ValueError(
@@ -229,6 +266,35 @@ def _request(
     }, int(_total(_count("steps", steps)))
 
 
+def _driven_request(
+    *, w: Any, runs: Any, checkpoint_every: float, electric: Any, electric_angle: Any,
+    others: Dict[str, Any], counts: Dict[str, Any],
+) -> Tuple[str, Dict[str, Any], int]:
+    """The request of a sweep of the driven gas (``electric`` given) and its number of points."""
+    given = [k for k, v in others.items() if v is not None]
+    if given:
+        raise ValueError(
+            f"{given[0]}: a sweep of the driven gas runs over E at one gap; give w= and "
+            "electric=[...] only"
+        )
+    if runs is not None or checkpoint_every != 60.0:
+        what = "runs" if runs is not None else "checkpoint_every"
+        raise ValueError(
+            f"{what} is not used by a sweep of the driven gas (one run of collisions_per_run per "
+            "point, resumed by point from out)"
+        )
+    if w is None:
+        raise ValueError("w: a sweep of the driven gas needs its gap, e.g. w=0.2")
+    if isinstance(electric, (str, bytes)) or not electric:
+        raise ValueError("electric: give a non-empty sequence of exact numbers, e.g. [0.1, 0.2]")
+    return "driven_sweep", {
+        "w": _exact("w", w),
+        "electric": [_exact("electric", e) for e in electric],
+        "electric_angle": _exact("electric_angle", electric_angle),
+        **_counts(**counts),
+    }, len(electric)
+
+
 def _shard_index(shard: str) -> int:
     try:
         return int(str(shard).split("/")[0])
@@ -256,7 +322,7 @@ def _scatter(
     executor: concurrent.futures.Executor,
     points: int,
     bar: Tuple[float, Progress],
-) -> Union[SweepResult, FieldSweepResult]:
+) -> Finished:
     """The sweep with each of its ``points`` a call to ``executor`` (part i of ``points``), the
     parts merged here with the bits of one process (``_native.merge_parts``)."""
     if not callable(getattr(executor, "submit", None)):
@@ -283,7 +349,7 @@ def _scatter(
                 f.cancel()
             raise
     text = _native.merge_parts([t for t in texts if t is not None], out, request["threads"])
-    return FieldSweepResult(text) if native == "field_sweep" else SweepResult(text)
+    return _KINDS[native][0](text)
 
 
 def _to_compute(native: str, out: Optional[str], points: int) -> List[int]:
@@ -292,7 +358,7 @@ def _to_compute(native: str, out: Optional[str], points: int) -> List[int]:
     files reused (``_native.merge_parts`` compares it to its file to the bit)."""
     if out is None:
         return list(range(points))
-    folder = os.path.join(out, "field-points" if native == "field_sweep" else "points")
+    folder = os.path.join(out, _KINDS[native][1])
     have = [os.path.isfile(os.path.join(folder, f"point-{i:04d}.json")) for i in range(points)]
     done = [i for i in range(points) if have[i]]
     check = [secrets.choice(done)] if done else []
@@ -305,7 +371,7 @@ def merge(
     out: Optional[PathLike] = None,
     threads: Optional[Count] = None,
     progress: Progress = None,
-) -> Union[SweepResult, FieldSweepResult]:
+) -> Finished:
     """The parts of a sweep (the directories of ``sweep(shard="I/N", out=DIR)`` or ``lorentz
     sweep --shard``, all N, in any order) combined into the whole sweep (``lorentz merge``): the
     same bits as the sweep run in one piece, apart from ``meta`` and ``resumed_points``.
@@ -323,7 +389,7 @@ def merge(
 
     Returns
     -------
-    SweepResult or FieldSweepResult
+    SweepResult, FieldSweepResult or DrivenSweepResult
         As :func:`sweep` returns for the whole sweep.
     """
     if isinstance(shards, (str, bytes, os.PathLike)):
@@ -333,4 +399,6 @@ def merge(
         "out": _path(out),
         "threads": _threads(threads),
     })
-    return FieldSweepResult(text) if "onsager" in json.loads(text) else SweepResult(text)
+    keys = json.loads(text)
+    kind = "driven_sweep" if "odd" in keys else "field_sweep" if "onsager" in keys else "sweep"
+    return _KINDS[kind][0](text)

@@ -14,7 +14,7 @@ use lorentz_gas::campaigns::shard::{self, Shard, ShardConfig, SweepPart};
 use lorentz_gas::engine::Engine;
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::sweep::stored::Finished;
-use lorentz_gas::estimators::sweep::{self, SweepConfig, field};
+use lorentz_gas::estimators::sweep::{self, SweepConfig, driven, field};
 
 use crate::params::{Params, Progress, Work, work};
 use crate::watch::{compute, json};
@@ -76,6 +76,7 @@ pub fn run_sweep(
         let whole = match cfg.grid {
             sweep::Grid::Gaps(_) => Finished::OverW(Box::new(sweep::run(&cfg, &opts)?)),
             sweep::Grid::InField(_) => Finished::InField(Box::new(field::run(&cfg, &opts)?)),
+            sweep::Grid::Driven(_) => Finished::Driven(Box::new(driven::run(&cfg, &opts)?)),
         };
         if let Some(dir) = &how.out {
             write_tables(&whole, dir)?;
@@ -98,6 +99,7 @@ fn write_tables(r: &Finished, dir: &std::path::Path) -> Result<(), lorentz_gas::
     match r {
         Finished::OverW(r) => sweep::write_tables(r, dir),
         Finished::InField(r) => field::write_tables(r, dir),
+        Finished::Driven(r) => driven::write_tables(r, dir),
     }
 }
 
@@ -105,6 +107,7 @@ fn finished_json(r: &Finished) -> PyResult<String> {
     match r {
         Finished::OverW(r) => json(&**r),
         Finished::InField(r) => json(&**r),
+        Finished::Driven(r) => json(&**r),
     }
 }
 

@@ -1,12 +1,14 @@
-//! Analyses in a magnetic field beside `diffusion(field=)`: `sweep(w=..., fields=[...])` and
-//! `sweep(w_from=..., w_to=..., field=...)` (the tensor over gaps and fields,
-//! `estimators::sweep::field`), and `lyapunov(field=)` (`estimators::field::lyapunov`).
+//! Analyses in a field beside `diffusion(field=)` and `diffusion(electric=)`:
+//! `sweep(w=..., fields=[...])` and `sweep(w_from=..., w_to=..., field=...)` (the tensor over gaps
+//! and fields, `estimators::sweep::field`), `sweep(w=..., electric=[...])` (the driven gas over E,
+//! `estimators::sweep::driven`), and `lyapunov(field=)` (`estimators::field::lyapunov`).
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
+use lorentz_gas::estimators::sweep::driven::DrivenGrid;
 use lorentz_gas::estimators::sweep::field::FieldGrid;
 use lorentz_gas::estimators::sweep::field_grid::{self, SweepGrid};
 use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
@@ -59,6 +61,32 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
                 fields,
                 localization_samples,
                 table,
+            }),
+            collisions,
+            batches,
+            seed,
+        };
+        cfg.validate().map_err(crate::py_err)?;
+        crate::campaigns::run_sweep(py, progress, cfg, how)
+    }))
+}
+
+/// `driven_sweep(params, progress)`: the driven gas over the fields E at one gap.
+pub fn driven_sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let gaps = vec![p.text("w")?];
+    let (electric, electric_angle) = (p.texts("electric")?, p.text("electric_angle")?);
+    let (collisions, batches) = (
+        p.count_u64("collisions_per_run")?,
+        p.count_u32("batches_per_run")?,
+    );
+    let seed = p.count_u64("seed")?;
+    let how = crate::campaigns::SweepRun::read(p)?;
+    Ok(work(move |py, progress| {
+        let cfg = SweepConfig {
+            grid: Grid::Driven(DrivenGrid {
+                gaps,
+                electric,
+                electric_angle,
             }),
             collisions,
             batches,

@@ -54,6 +54,7 @@ analyses! {
     backscatter: crate::analyses::backscatter,
     sweep: crate::analyses::sweep,
     field_sweep: crate::field::sweep,
+    driven_sweep: crate::field::driven_sweep,
     merge: crate::campaigns::merge,
     escape: crate::analyses::escape,
     superdiffusion: crate::analyses::superdiffusion,

@@ -48,3 +48,38 @@ def test_bad_fields_are_value_errors(kwargs, message):
         args.pop("w")
     with pytest.raises(ValueError, match=message):
         lg.diffusion(**args)
+
+
+def test_a_driven_sweep_has_the_command_lines_bits_and_reads_back(cli_json, tmp_path):
+    fields = ["-3/10", "1/10", "3/10"]
+    py = lg.sweep(w="1/5", electric=fields, collisions_per_run=3e5, batches_per_run=8, seed=4,
+                  threads=2)
+    out = tmp_path / "driven"
+    cli = cli_json("sweep", "--w", "1/5", "--electric=" + ",".join(fields),
+                   "--collisions-per-run", "3e5", "--batches-per-run", "8", "--seed", "4",
+                   "--threads", "1", "--out", str(out))
+    same(py.to_dict(), cli)
+    assert isinstance(py, lg.DrivenSweepResult)
+    assert list(py.rows["electric"]) == [-0.3, 0.1, 0.3]
+    assert "mobility" in py.to_pandas().columns and len(py.to_pandas("odd")) == 1
+    assert str(py).startswith("sweep of the driven gas")
+    assert "J(-E) = -J(E) at 1 |E|" in repr(py)
+    back = lg.load(str(out))
+    assert isinstance(back, lg.DrivenSweepResult)
+    assert back.to_dict()["rows"] == py.to_dict()["rows"]
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(electric=["1/10"], fields=["1"]), "fields: a sweep of the driven gas"),
+    (dict(electric=["1/10"], w=None), "w: a sweep of the driven gas needs its gap"),
+    (dict(electric="1/10"), "non-empty sequence"),
+    (dict(electric=["0"]), r"0 < \|E\| <= 10"),
+    (dict(electric=["1/10"], runs=2), "runs is not used"),
+])
+def test_bad_driven_sweeps_are_value_errors(kwargs, message):
+    args = dict(w="0.2", collisions_per_run=2e5, batches_per_run=4)
+    args.update(kwargs)
+    if args.get("w") is None:
+        args.pop("w")
+    with pytest.raises(ValueError, match=message):
+        lg.sweep(**args)

@@ -41,10 +41,13 @@ CASES = {
     "sweep --fields": ["--w", "0.2", "--fields=-1,1", "--collisions-per-run", "1e6",
                        "--batches-per-run", "4", "--localization-samples", "1000",
                        "--out", tempfile.mkdtemp(prefix="lorentz-test-")],
+    "sweep --electric": ["--w", "0.2", "--electric=-1/10,1/10", "--collisions-per-run", "2e5",
+                         "--batches-per-run", "4",
+                         "--out", tempfile.mkdtemp(prefix="lorentz-test-")],
 }
 
 # The compiled function behind a case, where it is not the Python function's own name.
-STUB_OF = {"sweep --fields": "field_sweep"}
+STUB_OF = {"sweep --fields": "field_sweep", "sweep --electric": "driven_sweep"}
 
 # Config fields that are not parameters of the call, with the reason. Every entry must name a
 # field the config has (a stale entry fails too).
@@ -64,6 +67,7 @@ NOT_PARAMETERS = {
     ("lattice_walk", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("audit", "scene"): "the scene's label, from scene, w and radius",
     ("sweep --fields", "gaps"): "the exact grid of gaps: from w, or w_from, w_to and steps",
+    ("sweep --electric", "gaps"): "the one gap: given as w",
 }
 
 
@@ -156,7 +160,7 @@ NATIVES = {
     "theory": ["theory"],
     "lattice_walk": ["lattice_walk"],
     "backscatter": ["backscatter"],
-    "sweep": ["sweep", "field_sweep"],
+    "sweep": ["sweep", "field_sweep", "driven_sweep"],
     "merge": ["merge"],
     "escape": ["escape"],
     "lyapunov": ["lyapunov"],

@@ -142,6 +142,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "lyapunov" => render(kind, json, lyapunov::lyapunov)?,
         "sweep" => render(kind, json, sweep::sweep)?,
         "field-sweep" => render(kind, json, field_sweep::field_sweep)?,
+        "driven-sweep" => render(kind, json, driven_sweep::driven_sweep)?,
         "bench" => render(kind, json, bench::throughput)?,
         "bench-long-flights" => render(kind, json, bench::long_flights)?,
         "shadow" => render(kind, json, shadow::shadow)?,
