@@ -7,13 +7,13 @@ use lorentz_gas::statistics::comparison;
 /// time is far from Kac's.
 pub fn print(r: &FieldReport) {
     print!("{}", lorentz_gas::report::text::field::field(r));
-    if r.all_localized {
+    if r.point.all_localized {
         return;
     }
-    let n = r.batch_D_xx.len();
+    let n = r.point.batch_D_xx.len();
     let kac = comparison::of(
-        r.mean_free_time - r.mean_free_time_exact,
-        r.mean_free_time_err,
+        r.point.mean_free_time - r.point.mean_free_time_exact,
+        r.point.mean_free_time_err,
         comparison::batch_dof(n),
     );
     if !kac.agrees() {

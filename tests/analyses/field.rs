@@ -122,18 +122,22 @@ fn onsager_casimir(scene: &SceneSpec, b: &str, collisions: u64) {
     let at = format!("{scene:?} B=±{b}");
     assert_zero_within(
         &format!("{at}: D_xx"),
-        plus.D_xx - minus.D_xx,
-        (plus.D_xx, plus.D_xx_err),
-        (minus.D_xx, minus.D_xx_err),
+        plus.point.D_xx - minus.point.D_xx,
+        (plus.point.D_xx, plus.point.D_xx_err),
+        (minus.point.D_xx, minus.point.D_xx_err),
     );
     assert_zero_within(
         &format!("{at}: D_xy"),
-        plus.D_xy + minus.D_xy,
-        (plus.D_xy, plus.D_xy_err),
-        (minus.D_xy, minus.D_xy_err),
+        plus.point.D_xy + minus.point.D_xy,
+        (plus.point.D_xy, plus.point.D_xy_err),
+        (minus.point.D_xy, minus.point.D_xy_err),
     );
     // The Hall part is there (not 0 by accident of the estimator) and turns with the field.
-    assert!(plus.D_xy.abs() > 4.0 * plus.D_xy_err, "{at}: {}", plus.D_xy);
+    assert!(
+        plus.point.D_xy.abs() > 4.0 * plus.point.D_xy_err,
+        "{at}: {}",
+        plus.point.D_xy
+    );
     for r in [&plus, &minus] {
         symmetric_and_kac(r, &at);
     }
@@ -152,19 +156,19 @@ fn symmetric_and_kac(r: &FieldReport, at: &str) {
         consistent_with_zero(t.D_xx - t.D_yy, t.D_xx_err, t.D_yy_err),
         "{at}: {t:?}"
     );
-    let kac = r.mean_free_time - r.mean_free_time_exact;
+    let kac = r.point.mean_free_time - r.point.mean_free_time_exact;
     assert!(
-        kac.abs() <= bound * r.mean_free_time_err,
+        kac.abs() <= bound * r.point.mean_free_time_err,
         "{at} B={}: Kac {kac:e}",
-        r.field
+        r.point.field
     );
-    let f = r.localized_fraction_exact;
+    let f = r.point.localized_fraction_exact;
     let n = r.config.localization_samples.unwrap_or(0) as f64;
     let bin = 4.0 * (f * (1.0 - f) / n).sqrt() + 1.0 / n;
     assert!(
-        (r.localized_fraction - f).abs() <= bin,
+        (r.point.localized_fraction - f).abs() <= bin,
         "{at}: {} vs {f}",
-        r.localized_fraction
+        r.point.localized_fraction
     );
 }
 
@@ -179,11 +183,11 @@ fn a_weak_field_joins_d_of_w() {
         ..DiffusionConfig::new(w)
     };
     let zero = diffusion::run(&cfg, &threads(2)).unwrap();
-    assert_eq!(weak.localized_fraction_exact, 0.0);
+    assert_eq!(weak.point.localized_fraction_exact, 0.0);
     assert_zero_within(
         "D_xx(B = 0.001) vs D(w)",
-        weak.D_xx - zero.D,
-        (weak.D_xx, weak.D_xx_err),
+        weak.point.D_xx - zero.D,
+        (weak.point.D_xx, weak.point.D_xx_err),
         (zero.D, zero.D_err),
     );
 }
@@ -192,18 +196,18 @@ fn a_weak_field_joins_d_of_w() {
 fn where_every_orbit_is_localized_the_tensor_is_exactly_zero() {
     // w = 0.1: every orbit is localized once 2ρ ≤ A − 2r = 0.1, i.e. B ≥ 20.
     let r = run(0.1, "25", 8_000_000);
-    assert!(r.all_localized);
-    assert_eq!((r.D_xx, r.D_xy, r.collisions), (0.0, 0.0, 0));
-    assert_eq!(r.localized_fraction, 1.0);
+    assert!(r.point.all_localized);
+    assert_eq!((r.point.D_xx, r.point.D_xy, r.collisions), (0.0, 0.0, 0));
+    assert_eq!(r.point.localized_fraction, 1.0);
     assert!(
-        (r.localized_fraction_exact - 1.0).abs() < 1e-11,
+        (r.point.localized_fraction_exact - 1.0).abs() < 1e-11,
         "{}",
-        r.localized_fraction_exact
+        r.point.localized_fraction_exact
     );
     // Just below, some orbits diffuse.
     let r = run(0.1, "19", 8_000_000);
     assert!(
-        !r.all_localized && r.localized_fraction < 1.0 && r.D_xx > 0.0,
+        !r.point.all_localized && r.point.localized_fraction < 1.0 && r.point.D_xx > 0.0,
         "{r:?}"
     );
 }
@@ -213,15 +217,15 @@ fn on_the_square_lattice_every_orbit_is_localized_once_2rho_reaches_1_minus_2r()
     // r = 1/4 at unit spacing: every orbit is localized once 2ρ ≤ 1 − 2r = 1/2, i.e. B ≥ 4.
     let cfg = |b: &str| scene_config(square("1/4"), b, 4_000_000);
     let r = field::run(&cfg("4"), &threads(2)).unwrap();
-    assert!(r.all_localized);
-    assert_eq!((r.D_xx, r.D_xy, r.collisions), (0.0, 0.0, 0));
+    assert!(r.point.all_localized);
+    assert_eq!((r.point.D_xx, r.point.D_xy, r.collisions), (0.0, 0.0, 0));
     assert_eq!(
-        (r.localized_fraction, r.radius, r.w),
+        (r.point.localized_fraction, r.point.radius, r.point.w),
         (1.0, Some(0.25), None)
     );
     // Just below, some orbits diffuse, and the share is still the exact one.
     let r = field::run(&cfg("7/2"), &threads(2)).unwrap();
-    assert!(!r.all_localized && r.D_xx > 0.0, "{r:?}");
+    assert!(!r.point.all_localized && r.point.D_xx > 0.0, "{r:?}");
     symmetric_and_kac(&r, "square r=1/4 B=7/2");
 }
 

@@ -35,30 +35,30 @@ fn run(cfg: &DiffusionConfig) -> FieldReport {
 #[test]
 fn islands_at_w_0_2_b_5_2_are_set_aside_and_not_averaged() {
     let r = run(&config("0.2", "5/2", 10_000_000, 16, 1));
-    let c = &r.components;
+    let c = &r.point.components;
     assert!(c.bounded >= 1 && c.diffusing >= 3, "{c:?}");
     assert_eq!(c.ambiguous, 0, "{c:?}");
     let kept: Vec<f64> = (0..16)
         .filter(|&i| c.diffusing(i))
-        .map(|i| r.batch_D_xx[i])
+        .map(|i| r.point.batch_D_xx[i])
         .collect();
     let (mean, _) = mean_se(&kept);
     for i in (0..16).filter(|&i| !c.diffusing(i)) {
         // An island's MSD saturates: its slope is a small share of the diffusing one's.
-        assert!(r.batch_D_xx[i].abs() < 0.2 * mean, "batch {i}: {r:?}");
+        assert!(r.point.batch_D_xx[i].abs() < 0.2 * mean, "batch {i}: {r:?}");
         assert!(c.batch_reach[i] <= c.limit);
     }
     assert!(!c.split, "{c:?}");
-    let share = (1.0 - r.localized_fraction_exact) * (1.0 - f64::from(c.bounded) / 16.0);
+    let share = (1.0 - r.point.localized_fraction_exact) * (1.0 - f64::from(c.bounded) / 16.0);
     assert!(
-        (r.D_xx - share * mean).abs() <= 1e-15 * mean,
+        (r.point.D_xx - share * mean).abs() <= 1e-15 * mean,
         "{} {}",
-        r.D_xx,
+        r.point.D_xx,
         share * mean
     );
     assert!(c.bounded_fraction_err > 0.0 && c.bounded_fraction_upper > c.bounded_fraction);
     // All batches averaged as one: many of the diffusing part's errors below it.
-    let (all, _) = mean_se(&r.batch_D_xx);
+    let (all, _) = mean_se(&r.point.batch_D_xx);
     assert!(
         mean - all > 4.0 * r.diffusing.D_xx_err,
         "{mean} {all} {r:?}"
@@ -76,18 +76,18 @@ fn where_nothing_is_bounded_nothing_is_set_aside_and_false_alarms_are_rare() {
     let mut alarms = 0;
     for (k, b) in ["1/2", "1"].iter().cycle().take(96).enumerate() {
         let r = run(&config("0.2", b, 400_000, 16, 100 + k as u64));
-        let c = &r.components;
+        let c = &r.point.components;
         assert_eq!(
             (c.bounded, c.ambiguous),
             (0, 0),
             "B = {b}, seed {}: {c:?}",
             100 + k
         );
-        assert_eq!(c.bounded_fraction, r.localized_fraction_exact);
+        assert_eq!(c.bounded_fraction, r.point.localized_fraction_exact);
         assert_eq!(c.bounded_fraction_err, 0.0);
-        let keep = (1.0 - r.localized_fraction_exact).max(0.0);
-        let (m, se) = mean_se(&r.batch_D_xx);
-        assert_eq!((r.D_xx, r.D_xx_err), (keep * m, keep * se));
+        let keep = (1.0 - r.point.localized_fraction_exact).max(0.0);
+        let (m, se) = mean_se(&r.point.batch_D_xx);
+        assert_eq!((r.point.D_xx, r.point.D_xx_err), (keep * m, keep * se));
         alarms += usize::from(c.split);
     }
     assert!(

@@ -51,13 +51,13 @@ fn a_field_sweep_is_its_points_runs_and_resumes_to_the_same_bits() {
                 row.D_xx_err.to_bits()
             ),
             (
-                alone.D_xx.to_bits(),
-                alone.D_xy.to_bits(),
-                alone.D_xx_err.to_bits()
+                alone.point.D_xx.to_bits(),
+                alone.point.D_xy.to_bits(),
+                alone.point.D_xx_err.to_bits()
             ),
             "point {i}"
         );
-        assert_eq!(row.localized_fraction, alone.localized_fraction);
+        assert_eq!(row.localized_fraction, alone.point.localized_fraction);
     }
     // Distinct streams per point: ±B are independent runs, not one run mirrored.
     assert_ne!(full.rows[0].D_xx, full.rows[1].D_xx);

@@ -117,12 +117,12 @@ pub struct Tensor {
     pub D_xy_symmetric_err: f64,
 }
 
-/// The result of a transport run in a field.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+/// What a transport run in a field measured, the point of a field sweep
+/// ([`crate::estimators::sweep::field::FieldSweepRow`]): its place and field, the tensor over the
+/// whole phase space, the localized shares, the mean free time and the batches.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[allow(non_snake_case)]
-pub struct FieldReport {
-    /// The scene ([`Scene::label`]).
-    pub scene: String,
+pub struct FieldPoint {
     /// Gap w of the triangular scene.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub w: Option<f64>,
@@ -144,10 +144,6 @@ pub struct FieldReport {
     pub D_xy: f64,
     /// Its standard error.
     pub D_xy_err: f64,
-    /// The tensor of the diffusing part (the diffusing batches only), over the fit window.
-    pub diffusing: Tensor,
-    /// The same over the later check window (the linear regime's check).
-    pub diffusing_check: Tensor,
     /// Exact share of phase space in pinned orbits.
     pub pinned_fraction_exact: f64,
     /// Exact share in skipping orbits.
@@ -170,6 +166,35 @@ pub struct FieldReport {
     /// Kac's closed form for it (infinite where every orbit is localized).
     #[serde(deserialize_with = "infinite_if_null")]
     pub mean_free_time_exact: f64,
+    /// Per-batch D_xx (mean of xx and yy), every batch (bounded ones too: see `components`).
+    pub batch_D_xx: Vec<f64>,
+    /// Per-batch Hall D_xy, every batch.
+    pub batch_D_xy: Vec<f64>,
+    /// The batches by component: the bounded ones set aside, the diffusing ones tested for one
+    /// distribution.
+    pub components: Components,
+}
+
+impl FieldPoint {
+    /// The point's scene parameter: its gap w, or its radius on the square lattice (0 on a
+    /// table, which has none).
+    pub fn place(&self) -> f64 {
+        self.w.or(self.radius).unwrap_or(0.0)
+    }
+}
+
+/// The result of a transport run in a field.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FieldReport {
+    /// The scene ([`Scene::label`]).
+    pub scene: String,
+    /// What it measured (flattened: `w` … `components`).
+    #[serde(flatten)]
+    pub point: FieldPoint,
+    /// The tensor of the diffusing part (the diffusing batches only), over the fit window.
+    pub diffusing: Tensor,
+    /// The same over the later check window (the linear regime's check).
+    pub diffusing_check: Tensor,
     /// Localized starts drawn and set aside before the batches' diffusing starts.
     pub rejected_starts: u64,
     /// Fit window (units of the scene's crossing time τ).
@@ -186,13 +211,6 @@ pub struct FieldReport {
     /// Collisions per wall-clock second, end to end (0 in files written before it was kept).
     #[serde(default)]
     pub collisions_per_second: f64,
-    /// Per-batch D_xx (mean of xx and yy), every batch (bounded ones too: see `components`).
-    pub batch_D_xx: Vec<f64>,
-    /// Per-batch Hall D_xy, every batch.
-    pub batch_D_xy: Vec<f64>,
-    /// The batches by component: the bounded ones set aside, the diffusing ones tested for one
-    /// distribution.
-    pub components: Components,
     /// The configuration.
     pub config: DiffusionConfig,
     /// Provenance.
@@ -512,25 +530,30 @@ fn summarise<S: Scene>(
     let (w, radius) = scene_parameters(&cfg.table)?;
     Ok(FieldReport {
         scene: scene.label(),
-        w,
-        radius,
-        field: field_of(cfg)?,
-        cyclotron_radius: geometry.cyclotron_radius(),
-        D_xx: xx,
-        D_xx_err: xx_err,
-        D_xy: xy,
-        D_xy_err: xy_err,
+        point: FieldPoint {
+            w,
+            radius,
+            field: field_of(cfg)?,
+            cyclotron_radius: geometry.cyclotron_radius(),
+            D_xx: xx,
+            D_xx_err: xx_err,
+            D_xy: xy,
+            D_xy_err: xy_err,
+            pinned_fraction_exact: geometry.pinned_fraction(),
+            skipping_fraction_exact: geometry.skipping_fraction(),
+            localized_fraction_exact: geometry.localized_fraction(),
+            localized_fraction: f,
+            localized_fraction_err: (f * (1.0 - f) / samples as f64).sqrt(),
+            all_localized: geometry.all_localized(),
+            mean_free_time: mft,
+            mean_free_time_err: mft_err,
+            mean_free_time_exact: geometry.diffusing_mean_free_time(),
+            batch_D_xx: batch_xx,
+            batch_D_xy: batch_xy,
+            components,
+        },
         diffusing,
         diffusing_check: check,
-        pinned_fraction_exact: geometry.pinned_fraction(),
-        skipping_fraction_exact: geometry.skipping_fraction(),
-        localized_fraction_exact: geometry.localized_fraction(),
-        localized_fraction: f,
-        localized_fraction_err: (f * (1.0 - f) / samples as f64).sqrt(),
-        all_localized: geometry.all_localized(),
-        mean_free_time: mft,
-        mean_free_time_err: mft_err,
-        mean_free_time_exact: geometry.diffusing_mean_free_time(),
         rejected_starts: batches.iter().map(|b| b.rejected).sum(),
         window: d.window,
         check_window: d.check_window,
@@ -538,9 +561,6 @@ fn summarise<S: Scene>(
         collisions,
         seconds,
         collisions_per_second: collisions as f64 / seconds,
-        batch_D_xx: batch_xx,
-        batch_D_xy: batch_xy,
-        components,
         config: cfg.clone(),
         meta: RunMeta::new(
             Some(d.seed),

@@ -19,7 +19,6 @@ use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::work::Work;
 use crate::estimators::diffusion::DiffusionConfig;
-use crate::estimators::field::{Components, FieldReport};
 use crate::estimators::sweep::SweepConfig;
 use crate::scenes::spec::SceneSpec;
 use crate::scenes::spec::{Motion, Table};
@@ -185,65 +184,8 @@ impl FieldGrid {
     }
 }
 
-/// One point of the sweep.
-#[allow(non_snake_case)]
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FieldSweepRow {
-    /// Gap of the triangular scene.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub w: Option<f64>,
-    /// Disk radius of the square scene.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub radius: Option<f64>,
-    /// Field B.
-    pub field: f64,
-    /// Cyclotron radius 1/|B|.
-    pub cyclotron_radius: f64,
-    /// D_xx over the whole phase space.
-    pub D_xx: f64,
-    /// Its standard error over the point's batches.
-    pub D_xx_err: f64,
-    /// The Hall part D_xy over the whole phase space.
-    pub D_xy: f64,
-    /// Its standard error.
-    pub D_xy_err: f64,
-    /// Exact share of phase space in pinned orbits.
-    pub pinned_fraction_exact: f64,
-    /// Exact share in skipping orbits.
-    pub skipping_fraction_exact: f64,
-    /// Exact localized share.
-    pub localized_fraction_exact: f64,
-    /// Sampled localized share.
-    pub localized_fraction: f64,
-    /// Its binomial standard error.
-    pub localized_fraction_err: f64,
-    /// Every orbit is localized: D = 0 exactly.
-    pub all_localized: bool,
-    /// Mean free time of the diffusing part, measured (infinite where every orbit is localized:
-    /// `null` in JSON).
-    #[serde(deserialize_with = "crate::estimators::field::infinite_if_null")]
-    pub mean_free_time: f64,
-    /// Its standard error.
-    #[serde(deserialize_with = "crate::estimators::field::nan_if_null")]
-    pub mean_free_time_err: f64,
-    /// Kac's closed form for it (infinite where every orbit is localized).
-    #[serde(deserialize_with = "crate::estimators::field::infinite_if_null")]
-    pub mean_free_time_exact: f64,
-    /// Per-batch D_xx of the point, every batch (so that the point can be re-checked).
-    pub batch_D_xx: Vec<f64>,
-    /// Per-batch Hall D_xy of the point.
-    pub batch_D_xy: Vec<f64>,
-    /// The point's batches by component (bounded ones set aside).
-    pub components: Components,
-}
-
-impl FieldSweepRow {
-    /// The point's scene parameter: its gap w, or its radius on the square lattice (0 on a
-    /// table, which has none).
-    pub fn place(&self) -> f64 {
-        self.w.or(self.radius).unwrap_or(0.0)
-    }
-}
+/// One point of the sweep: what its transport run measured.
+pub type FieldSweepRow = crate::estimators::field::FieldPoint;
 
 /// Onsager–Casimir at one gap (or radius) and one |B|.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -353,37 +295,11 @@ impl PointGrid for FieldGrid {
     }
 
     fn row(point: &DiffusionConfig, opts: &RunOptions) -> Result<FieldSweepRow, Error> {
-        Ok(row_of(&crate::estimators::field::run(point, opts)?))
+        Ok(crate::estimators::field::run(point, opts)?.point)
     }
 
     fn work(point: &DiffusionConfig, simd: bool) -> Result<Work<'static>, Error> {
         crate::estimators::field::work(point, simd)
-    }
-}
-
-/// The row of a point's report.
-fn row_of(r: &FieldReport) -> FieldSweepRow {
-    FieldSweepRow {
-        w: r.w,
-        radius: r.radius,
-        field: r.field,
-        cyclotron_radius: r.cyclotron_radius,
-        D_xx: r.D_xx,
-        D_xx_err: r.D_xx_err,
-        D_xy: r.D_xy,
-        D_xy_err: r.D_xy_err,
-        pinned_fraction_exact: r.pinned_fraction_exact,
-        skipping_fraction_exact: r.skipping_fraction_exact,
-        localized_fraction_exact: r.localized_fraction_exact,
-        localized_fraction: r.localized_fraction,
-        localized_fraction_err: r.localized_fraction_err,
-        all_localized: r.all_localized,
-        mean_free_time: r.mean_free_time,
-        mean_free_time_err: r.mean_free_time_err,
-        mean_free_time_exact: r.mean_free_time_exact,
-        batch_D_xx: r.batch_D_xx.clone(),
-        batch_D_xy: r.batch_D_xy.clone(),
-        components: r.components.clone(),
     }
 }
 

@@ -240,7 +240,7 @@ fn arc_walk(cfg: &CostsConfig) -> Result<f64, Error> {
         };
         let start = Instant::now();
         let r = crate::estimators::field::run(&c, &one)?;
-        let crossings = r.collisions as f64 * r.mean_free_time / tau;
+        let crossings = r.collisions as f64 * r.point.mean_free_time / tau;
         Ok::<_, Error>((start.elapsed().as_secs_f64(), crossings))
     };
     // Two lengths, the set-up (the pinned share, the classification) the same in both.

@@ -50,48 +50,48 @@ pub(super) fn checks(
         &d.precision.to_string(),
     );
     let exact = [
-        (r.field, field::field_of(cfg)?),
-        (r.pinned_fraction_exact, g.pinned_fraction()),
-        (r.skipping_fraction_exact, g.skipping_fraction()),
-        (r.localized_fraction_exact, g.localized_fraction()),
-        (r.mean_free_time_exact, g.diffusing_mean_free_time()),
+        (r.point.field, field::field_of(cfg)?),
+        (r.point.pinned_fraction_exact, g.pinned_fraction()),
+        (r.point.skipping_fraction_exact, g.skipping_fraction()),
+        (r.point.localized_fraction_exact, g.localized_fraction()),
+        (r.point.mean_free_time_exact, g.diffusing_mean_free_time()),
     ];
     let (w, radius) = field::scene_parameters(&cfg.table)?;
     let same = |a: Option<f64>, b: Option<f64>| a.map(f64::to_bits) == b.map(f64::to_bits);
-    if !same(r.w, w)
-        || !same(r.radius, radius)
+    if !same(r.point.w, w)
+        || !same(r.point.radius, radius)
         || exact.iter().any(|(a, b)| a.to_bits() != b.to_bits())
     {
         bad.push(
             "w, the radius, the field or a closed form differs from the configuration's".into(),
         );
     }
-    if r.all_localized != g.all_localized() {
+    if r.point.all_localized != g.all_localized() {
         bad.push("all_localized is not the exact geometry's".into());
     }
     super::record_check(bad, checks);
     localized_share(r, checks);
-    if r.all_localized {
-        let zero = r.D_xx == 0.0 && r.D_xy == 0.0 && r.batch_D_xx.is_empty();
+    if r.point.all_localized {
+        let zero = r.point.D_xx == 0.0 && r.point.D_xy == 0.0 && r.point.batch_D_xx.is_empty();
         checks.pass_if(
             zero,
             "identities",
             "every orbit localized: D = 0 exactly",
             format!(
                 "D_xx = {}, D_xy = {}, {} batches run",
-                r.D_xx,
-                r.D_xy,
-                r.batch_D_xx.len()
+                r.point.D_xx,
+                r.point.D_xy,
+                r.point.batch_D_xx.len()
             ),
-            &[("D_xx", r.D_xx), ("D_xy", r.D_xy)],
+            &[("D_xx", r.point.D_xx), ("D_xy", r.point.D_xy)],
         );
     } else {
         let scene = cfg.table.scene.resolve()?;
         let isotropic = crate::with_scene!(&scene, |s| crate::scenes::Scene::isotropic(s));
         diffusing_checks(r, isotropic, checks);
         component_checks(r, &g, checks);
-        let kept: Vec<f64> = (r.batch_D_xx.iter().enumerate())
-            .filter(|(i, _)| r.components.diffusing(*i))
+        let kept: Vec<f64> = (r.point.batch_D_xx.iter().enumerate())
+            .filter(|(i, _)| r.point.components.diffusing(*i))
             .map(|(_, v)| *v)
             .collect();
         batch_statistics(&kept, checks);
@@ -112,7 +112,7 @@ pub(super) fn checks(
 /// √(p(1 − p)/n) of n samples under p (4σ normal bound); a share of 0 or 1 must be sampled
 /// exactly.
 fn localized_share(r: &FieldReport, checks: &mut Checks) {
-    let (v, x) = (r.localized_fraction, r.localized_fraction_exact);
+    let (v, x) = (r.point.localized_fraction, r.point.localized_fraction_exact);
     let n = r.config.localization_samples.unwrap_or(0) as f64;
     let e = sampled_share_err(x, n);
     let z = (v - x) / e;
@@ -146,9 +146,9 @@ fn diffusing_checks(r: &FieldReport, isotropic: bool, checks: &mut Checks) {
     }
     let mut cases = vec![(
         "mean free time of the diffusing part = Kac's",
-        r.mean_free_time,
-        r.mean_free_time_err,
-        r.mean_free_time_exact,
+        r.point.mean_free_time,
+        r.point.mean_free_time_err,
+        r.point.mean_free_time_exact,
     )];
     if isotropic {
         cases.push((symmetric, t.D_xy_symmetric, t.D_xy_symmetric_err, 0.0));
@@ -172,18 +172,18 @@ fn diffusing_checks(r: &FieldReport, isotropic: bool, checks: &mut Checks) {
 fn component_checks(r: &FieldReport, g: &FieldGeometry, checks: &mut Checks) {
     use crate::estimators::field::Components;
     use crate::observers::excursion::{Excursion, Reach};
-    let c = &r.components;
+    let c = &r.point.components;
     let excursion = Excursion::of(g.lattice(), g.cyclotron_radius());
     let reaches: Vec<Reach> = c.batch_reach.iter().map(|&x| Reach::at(x)).collect();
     let again = Components::of(
         excursion,
         &reaches,
-        (&r.batch_D_xx, &r.batch_D_xy),
-        r.localized_fraction_exact,
+        (&r.point.batch_D_xx, &r.point.batch_D_xy),
+        r.point.localized_fraction_exact,
     );
     let same = serde_json::to_value(&again).ok() == serde_json::to_value(c).ok();
     checks.pass_if(
-        same && reaches.len() == r.batch_D_xx.len(),
+        same && reaches.len() == r.point.batch_D_xx.len(),
         "statistics",
         "components: the record's classification is its batches' reaches at the table's limit",
         c.describe(),
@@ -238,8 +238,8 @@ fn batch_histogram(
     out: &Path,
     figures: &mut Vec<String>,
 ) -> Result<(), Error> {
-    let bounded: Vec<f64> = (r.batch_D_xx.iter().enumerate())
-        .filter(|(i, _)| !r.components.diffusing(*i))
+    let bounded: Vec<f64> = (r.point.batch_D_xx.iter().enumerate())
+        .filter(|(i, _)| !r.point.components.diffusing(*i))
         .map(|(_, v)| *v)
         .collect();
     let groups = [

@@ -15,7 +15,7 @@ pub fn field(r: &FieldReport) -> String {
         "periodic Lorentz gas in a magnetic field, {}, B = {} (cyclotron radius {:.6})  {}",
         scene(r),
         r.config.table.field().unwrap_or("0"),
-        r.cyclotron_radius,
+        r.point.cyclotron_radius,
         super::provenance(
             m,
             (r.collisions, r.seconds, Some(r.collisions_per_second)),
@@ -25,28 +25,28 @@ pub fn field(r: &FieldReport) -> String {
     line!(
         out,
         "localized share = {:.6} ± {:.6}   exact {:.6} (pinned {:.6}, skipping {:.6}; {})",
-        r.localized_fraction,
-        r.localized_fraction_err,
-        r.localized_fraction_exact,
-        r.pinned_fraction_exact,
-        r.skipping_fraction_exact,
+        r.point.localized_fraction,
+        r.point.localized_fraction_err,
+        r.point.localized_fraction_exact,
+        r.point.pinned_fraction_exact,
+        r.point.skipping_fraction_exact,
         binomial(r)
     );
-    if r.all_localized {
+    if r.point.all_localized {
         line!(
             out,
             "every orbit is localized (2ρ ≤ A − 2r): D_xx = D_xy = 0 exactly, no trajectory run"
         );
         return out;
     }
-    line!(out, "components    : {}", r.components.describe());
-    tensor(&mut out, r, r.batch_D_xx.len());
+    line!(out, "components    : {}", r.point.components.describe());
+    tensor(&mut out, r, r.point.batch_D_xx.len());
     out
 }
 
 /// The scene: the triangular one by its gap, the square one by its radius.
 fn scene(r: &FieldReport) -> String {
-    match (r.w, r.radius) {
+    match (r.point.w, r.point.radius) {
         (Some(w), _) => format!("w = {w}"),
         (None, Some(radius)) => format!("square lattice, r = {radius}"),
         (None, None) => r.scene.clone(),
@@ -56,19 +56,19 @@ fn scene(r: &FieldReport) -> String {
 /// The tensor lines of a run that was not all localized: whole phase space, the diffusing
 /// part, the check window and the mean free time against Kac's.
 fn tensor(out: &mut String, r: &FieldReport, n: usize) {
-    let kept = r.components.diffusing as usize;
+    let kept = r.point.components.diffusing as usize;
     let bound = comparison::agreement_bound(comparison::batch_dof(kept));
     line!(
         out,
         "D_xx          = {}   (whole phase space; the diffusing part's × {:.6}){}",
-        super::estimate(r.D_xx, r.D_xx_err),
-        1.0 - r.components.bounded_fraction,
-        super::negative_note(r.D_xx, r.D_xx_err, bound)
+        super::estimate(r.point.D_xx, r.point.D_xx_err),
+        1.0 - r.point.components.bounded_fraction,
+        super::negative_note(r.point.D_xx, r.point.D_xx_err, bound)
     );
     line!(
         out,
         "D_xy (Hall)   = {}   (from the Lévy area; whole phase space)",
-        super::estimate(r.D_xy, r.D_xy_err)
+        super::estimate(r.point.D_xy, r.point.D_xy_err)
     );
     let t = &r.diffusing;
     let c = &r.diffusing_check;
@@ -94,13 +94,13 @@ fn tensor(out: &mut String, r: &FieldReport, n: usize) {
     line!(
         out,
         "mean free time = {:.6} ± {:.6}   Kac {:.6}  ({})",
-        r.mean_free_time,
-        r.mean_free_time_err,
-        r.mean_free_time_exact,
+        r.point.mean_free_time,
+        r.point.mean_free_time_err,
+        r.point.mean_free_time_exact,
         sigmas(
-            r.mean_free_time,
-            r.mean_free_time_err,
-            r.mean_free_time_exact,
+            r.point.mean_free_time,
+            r.point.mean_free_time_err,
+            r.point.mean_free_time_exact,
             n
         )
     );
@@ -108,9 +108,9 @@ fn tensor(out: &mut String, r: &FieldReport, n: usize) {
 
 /// The sampled localized share against the exact one (binomial error).
 fn binomial(r: &FieldReport) -> String {
-    let f = r.localized_fraction_exact;
+    let f = r.point.localized_fraction_exact;
     let n = r.config.localization_samples.unwrap_or(0) as f64;
     let err = sampled_share_err(f, n);
-    let c = comparison::of(r.localized_fraction - f, err, f64::INFINITY);
+    let c = comparison::of(r.point.localized_fraction - f, err, f64::INFINITY);
     format!("{:+.1}σ, bound {:.1}σ: {}", c.z, c.bound, c.verdict())
 }
