@@ -16,7 +16,7 @@ use lorentz_gas::estimators::free_paths::{self, FreePathConfig};
 use lorentz_gas::estimators::hops::backscatter::{self, BackscatterConfig};
 use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
-use lorentz_gas::estimators::sweep::{GapGrid, Grid, SweepConfig};
+use lorentz_gas::estimators::sweep::{GapGrid, Grid};
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
 use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::theory::constants::{self, ConstantsConfig};
@@ -141,26 +141,19 @@ pub fn backscatter(p: &Params<'_, '_>) -> PyResult<Work<String>> {
 
 /// `sweep(params, progress)`: D over gaps without a field.
 pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
-    let cfg = SweepConfig {
-        grid: Grid::Gaps(GapGrid {
-            w_from: p.text("w_from")?.trim().to_string(),
-            w_to: p.text("w_to")?.trim().to_string(),
-            steps: p.count_u32("steps")?,
-            runs: p.count_u32("runs")?,
-        }),
-        collisions: p.count_u64("collisions_per_run")?,
-        batches: p.count_u32("batches_per_run")?,
-        seed: p.count_u64("seed")?,
+    let grid = Grid::Gaps(GapGrid {
+        w_from: p.text("w_from")?.trim().to_string(),
+        w_to: p.text("w_to")?.trim().to_string(),
+        steps: p.count_u32("steps")?,
+        runs: p.count_u32("runs")?,
+    });
+    let sizes = crate::campaigns::sizes(p)?;
+    let how = crate::campaigns::SweepRun {
+        every: Some(p.checkpoint_every()?),
+        ..crate::campaigns::SweepRun::read(p)?
     };
-    let how = crate::campaigns::SweepRun::read(p)?;
-    let every = p.checkpoint_every()?;
     Ok(work(move |py, progress| {
-        cfg.validate().map_err(crate::py_err)?;
-        let how = crate::campaigns::SweepRun {
-            every: Some(every),
-            ..how
-        };
-        crate::campaigns::run_sweep(py, progress, cfg, how)
+        crate::campaigns::run_grid(py, progress, grid, sizes, how)
     }))
 }
 

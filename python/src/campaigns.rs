@@ -44,7 +44,34 @@ impl SweepRun {
     }
 }
 
-/// Runs the sweep `cfg` (either kind) as `how` says: the whole sweep (its tables written into
+/// The run sizes every sweep takes: collisions and batches per run, and the seed.
+pub fn sizes(p: &Params<'_, '_>) -> PyResult<(u64, u32, u64)> {
+    Ok((
+        p.count_u64("collisions_per_run")?,
+        p.count_u32("batches_per_run")?,
+        p.count_u64("seed")?,
+    ))
+}
+
+/// The sweep over `grid` at `sizes` ([`sizes`]), validated, run as `how` says ([`run_sweep`]).
+pub fn run_grid(
+    py: Python<'_>,
+    progress: Progress<'_>,
+    grid: sweep::Grid,
+    (collisions, batches, seed): (u64, u32, u64),
+    how: SweepRun,
+) -> PyResult<String> {
+    let cfg = SweepConfig {
+        grid,
+        collisions,
+        batches,
+        seed,
+    };
+    cfg.validate().map_err(crate::py_err)?;
+    run_sweep(py, progress, cfg, how)
+}
+
+/// Runs the sweep `cfg` (any kind) as `how` says: the whole sweep (its tables written into
 /// `out`, if given), or one part of it (its points into `out`, or carried in the result).
 pub fn run_sweep(
     py: Python<'_>,

@@ -8,10 +8,10 @@ use pyo3::prelude::*;
 
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
+use lorentz_gas::estimators::sweep::Grid;
 use lorentz_gas::estimators::sweep::driven::DrivenGrid;
 use lorentz_gas::estimators::sweep::field::FieldGrid;
 use lorentz_gas::estimators::sweep::field_grid::{self, SweepGrid};
-use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 use lorentz_gas::scenes::table::spec::TableSpec;
 use lorentz_gas::verification::lyapunov::LyapunovConfig;
 
@@ -25,11 +25,10 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let (w_from, w_to) = (p.opt_text("w_from")?, p.opt_text("w_to")?);
     let steps = p.count_u32("steps")?;
     let (field, fields) = (p.opt_text("field")?, p.texts("fields")?);
-    let (collisions, batches) = (
-        p.count_u64("collisions_per_run")?,
-        p.count_u32("batches_per_run")?,
+    let (sizes, localization_samples) = (
+        crate::campaigns::sizes(p)?,
+        p.count_u64("localization_samples")?,
     );
-    let (seed, localization_samples) = (p.count_u64("seed")?, p.count_u64("localization_samples")?);
     let how = crate::campaigns::SweepRun::read(p)?;
     Ok(work(move |py, progress| {
         // A table given as data is the scene `table` of the grid.
@@ -54,20 +53,14 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             &fields,
         )
         .map_err(crate::py_err)?;
-        let cfg = SweepConfig {
-            grid: Grid::InField(FieldGrid {
-                gaps,
-                radius,
-                fields,
-                localization_samples,
-                table,
-            }),
-            collisions,
-            batches,
-            seed,
-        };
-        cfg.validate().map_err(crate::py_err)?;
-        crate::campaigns::run_sweep(py, progress, cfg, how)
+        let grid = Grid::InField(FieldGrid {
+            gaps,
+            radius,
+            fields,
+            localization_samples,
+            table,
+        });
+        crate::campaigns::run_grid(py, progress, grid, sizes, how)
     }))
 }
 
@@ -75,25 +68,17 @@ pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
 pub fn driven_sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let gaps = vec![p.text("w")?];
     let (electric, electric_angle) = (p.texts("electric")?, p.text("electric_angle")?);
-    let (collisions, batches) = (
-        p.count_u64("collisions_per_run")?,
-        p.count_u32("batches_per_run")?,
+    let (sizes, how) = (
+        crate::campaigns::sizes(p)?,
+        crate::campaigns::SweepRun::read(p)?,
     );
-    let seed = p.count_u64("seed")?;
-    let how = crate::campaigns::SweepRun::read(p)?;
     Ok(work(move |py, progress| {
-        let cfg = SweepConfig {
-            grid: Grid::Driven(DrivenGrid {
-                gaps,
-                electric,
-                electric_angle,
-            }),
-            collisions,
-            batches,
-            seed,
-        };
-        cfg.validate().map_err(crate::py_err)?;
-        crate::campaigns::run_sweep(py, progress, cfg, how)
+        let grid = Grid::Driven(DrivenGrid {
+            gaps,
+            electric,
+            electric_angle,
+        });
+        crate::campaigns::run_grid(py, progress, grid, sizes, how)
     }))
 }
 

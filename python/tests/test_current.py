@@ -34,20 +34,31 @@ def test_a_zero_electric_field_is_the_run_without_a_field():
     assert isinstance(b, lg.DiffusionResult) and list(a.batch_D) == list(b.batch_D)
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    (dict(electric="11"), r"0 < \|E\| <= 10"),
-    (dict(electric="1", electric_angle="400"), "-360 to 360"),
-    (dict(electric="x"), "electric"),
-    (dict(electric="1", field="1"), "one motion|both"),
-    (dict(electric="1", scene="square", radius="1/4", w=None), "corridor|horizon"),
+# Each analysis with the smallest valid run, the bad input given on top of it.
+BASE = {
+    "diffusion": dict(w="0.2", collisions=2e5, batches=4),
+    "sweep": dict(w="0.2", collisions_per_run=2e5, batches_per_run=4),
+}
+
+
+@pytest.mark.parametrize("call, kwargs, message", [
+    ("diffusion", dict(electric="11"), r"0 < \|E\| <= 10"),
+    ("diffusion", dict(electric="1", electric_angle="400"), "-360 to 360"),
+    ("diffusion", dict(electric="x"), "electric"),
+    ("diffusion", dict(electric="1", field="1"), "one motion|both"),
+    ("diffusion", dict(electric="1", scene="square", radius="1/4", w=None), "corridor|horizon"),
+    ("sweep", dict(electric=["1/10"], fields=["1"]), "fields: a sweep of the driven gas"),
+    ("sweep", dict(electric=["1/10"], w=None), "w: a sweep of the driven gas needs its gap"),
+    ("sweep", dict(electric="1/10"), "non-empty sequence"),
+    ("sweep", dict(electric=["0"]), r"0 < \|E\| <= 10"),
+    ("sweep", dict(electric=["1/10"], runs=2), "runs is not used"),
 ])
-def test_bad_fields_are_value_errors(kwargs, message):
-    args = dict(w="0.2", collisions=2e5, batches=4)
-    args.update(kwargs)
+def test_bad_fields_are_value_errors(call, kwargs, message):
+    args = dict(BASE[call], **kwargs)
     if args.get("w") is None:
         args.pop("w")
     with pytest.raises(ValueError, match=message):
-        lg.diffusion(**args)
+        getattr(lg, call)(**args)
 
 
 def test_a_driven_sweep_has_the_command_lines_bits_and_reads_back(cli_json, tmp_path):
@@ -69,17 +80,3 @@ def test_a_driven_sweep_has_the_command_lines_bits_and_reads_back(cli_json, tmp_
     assert back.to_dict()["rows"] == py.to_dict()["rows"]
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    (dict(electric=["1/10"], fields=["1"]), "fields: a sweep of the driven gas"),
-    (dict(electric=["1/10"], w=None), "w: a sweep of the driven gas needs its gap"),
-    (dict(electric="1/10"), "non-empty sequence"),
-    (dict(electric=["0"]), r"0 < \|E\| <= 10"),
-    (dict(electric=["1/10"], runs=2), "runs is not used"),
-])
-def test_bad_driven_sweeps_are_value_errors(kwargs, message):
-    args = dict(w="0.2", collisions_per_run=2e5, batches_per_run=4)
-    args.update(kwargs)
-    if args.get("w") is None:
-        args.pop("w")
-    with pytest.raises(ValueError, match=message):
-        lg.sweep(**args)

@@ -6,10 +6,11 @@
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::current;
 use lorentz_gas::estimators::sweep::driven::{self, DrivenGrid};
-use lorentz_gas::estimators::sweep::point_grid::{PointGrid, point_path};
+use lorentz_gas::estimators::sweep::point_grid::PointGrid;
 use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 
 use crate::common::{scratch, threads};
+use crate::field_sweep::loses_a_point_and_refuses_an_edit;
 
 fn grid(electric: &[&str], collisions: u64, batches: u32) -> SweepConfig {
     SweepConfig {
@@ -46,20 +47,10 @@ fn a_driven_sweep_is_its_points_runs_and_resumes_to_the_same_bits() {
     // J(−E) = −J(E): the mobilities along ±E agree (at the sweep's Bonferroni bound).
     assert_eq!(full.odd.len(), 1);
     assert!(full.odd_agrees, "{:?}", full.odd);
-    // A point lost (killed mid-sweep) is recomputed, the others reused, on one thread.
-    std::fs::remove_file(point_path::<DrivenGrid>(&dir, 1)).unwrap();
-    let resumed = driven::run(&cfg, &with_dir(1)).unwrap();
-    assert_eq!(resumed.resumed_points, 2);
-    assert_eq!(resumed.rows, full.rows);
-    // An edited point is refused, naming its file.
-    let p = point_path::<DrivenGrid>(&dir, 2);
-    let text = std::fs::read_to_string(&p).unwrap();
-    std::fs::write(&p, text.replacen("\"mobility\": 0.", "\"mobility\": 1.", 1)).unwrap();
-    let err = driven::run(&cfg, &with_dir(1)).unwrap_err().to_string();
-    assert!(
-        err.contains("point-0002.json") && err.contains("digest"),
-        "{err}"
-    );
+    let rows = loses_a_point_and_refuses_an_edit::<DrivenGrid, _>(&dir, "\"mobility\": 0.", |t| {
+        driven::run(&cfg, &with_dir(t)).map(|r| (r.rows, r.resumed_points))
+    });
+    assert_eq!(rows, full.rows);
 }
 
 #[test]

@@ -5,7 +5,7 @@
 use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::field;
 use lorentz_gas::estimators::sweep::field::{self as sweep, FieldGrid, FieldSweepRow};
-use lorentz_gas::estimators::sweep::point_grid::point_path;
+use lorentz_gas::estimators::sweep::point_grid::{PointGrid, point_path};
 use lorentz_gas::estimators::sweep::{Grid, SweepConfig};
 
 use crate::common::{scratch, threads};
@@ -61,22 +61,11 @@ fn a_field_sweep_is_its_points_runs_and_resumes_to_the_same_bits() {
     }
     // Distinct streams per point: ±B are independent runs, not one run mirrored.
     assert_ne!(full.rows[0].D_xx, full.rows[1].D_xx);
-    // A point lost (killed mid-sweep) is recomputed, the others reused, on one thread.
-    std::fs::remove_file(point_path::<FieldGrid>(&dir, 1)).unwrap();
-    let resumed = sweep::run(&cfg, &with_dir(1)).unwrap();
-    assert_eq!(resumed.resumed_points, 2);
-    assert_eq!(resumed.rows, full.rows);
-    // An edited point is refused, naming its file.
-    let p = point_path::<FieldGrid>(&dir, 2);
-    let text = std::fs::read_to_string(&p).unwrap();
-    std::fs::write(&p, text.replacen("\"D_xx\": 0.", "\"D_xx\": 1.", 1)).unwrap();
-    let err = sweep::run(&cfg, &with_dir(1)).unwrap_err().to_string();
-    assert!(
-        err.contains("point-0002.json") && err.contains("digest"),
-        "{err}"
-    );
+    let p = loses_a_point_and_refuses_an_edit::<FieldGrid, _>(&dir, "\"D_xx\": 0.", |t| {
+        sweep::run(&cfg, &with_dir(t)).map(|r| (r.rows, r.resumed_points))
+    });
+    assert_eq!(p, full.rows);
     // A directory of another sweep is refused.
-    std::fs::write(&p, text).unwrap();
     let other = SweepConfig {
         seed: 6,
         ..cfg.clone()
@@ -159,4 +148,32 @@ fn onsager_pairs_b_with_minus_b_at_the_same_gap_and_catches_a_violation() {
     ];
     let c = sweep::onsager(&even, 16);
     assert!(c[0].d_xx_even.agrees() && !c[0].d_xy_odd.agrees(), "{c:?}");
+}
+
+/// A sweep whose point 1 was lost (killed mid-sweep) recomputes it and reuses the other two, on
+/// one thread, to the same rows (returned); point 2 edited at `key` (its digest left) is refused,
+/// naming its file, and left edited.
+pub(crate) fn loses_a_point_and_refuses_an_edit<G: PointGrid, R>(
+    dir: &std::path::Path,
+    key: &str,
+    run: impl Fn(usize) -> Result<(Vec<R>, u32), lorentz_gas::Error>,
+) -> Vec<R>
+where
+    R: std::fmt::Debug,
+{
+    std::fs::remove_file(point_path::<G>(dir, 1)).unwrap();
+    let (rows, resumed) = run(1).unwrap();
+    assert_eq!(resumed, 2);
+    let p = point_path::<G>(dir, 2);
+    let text = std::fs::read_to_string(&p).unwrap();
+    let edited = text.replacen(key, &key.replace(" 0.", " 1."), 1);
+    assert_ne!(edited, text, "{key} is not in the point file");
+    std::fs::write(&p, edited).unwrap();
+    let err = run(1).unwrap_err().to_string();
+    assert!(
+        err.contains("point-0002.json") && err.contains("digest"),
+        "{err}"
+    );
+    std::fs::write(&p, text).unwrap();
+    rows
 }

@@ -94,11 +94,8 @@ pub fn finish(r: &DrivenSweepReport, out: &Path, json: bool) -> Result<(), Error
             out.display()
         );
     })?;
-    if r.odd_agrees {
-        Ok(())
-    } else {
-        Err(Error::CheckFailed(
-            "J(-E) = -J(E): the mobilities along E and -E are not consistent".into(),
-        ))
-    }
+    super::verdict(
+        r.odd_agrees,
+        "J(-E) = -J(E): the mobilities along E and -E are not consistent",
+    )
 }

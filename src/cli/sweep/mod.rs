@@ -381,12 +381,17 @@ pub fn finish_in_field(
             out.display()
         );
     })?;
-    if r.onsager_agrees {
+    verdict(
+        r.onsager_agrees,
+        "Onsager-Casimir: D_xx(B) - D_xx(-B) or D_xy(B) + D_xy(-B) is not consistent with 0",
+    )
+}
+
+/// A sweep's symmetry check: `Ok` where it agrees, else the FAIL `failure` (exit 1).
+pub fn verdict(agrees: bool, failure: &str) -> Result<(), Error> {
+    if agrees {
         Ok(())
     } else {
-        Err(Error::CheckFailed(
-            "Onsager-Casimir: D_xx(B) - D_xx(-B) or D_xy(B) + D_xy(-B) is not consistent with 0"
-                .into(),
-        ))
+        Err(Error::CheckFailed(failure.into()))
     }
 }

@@ -7,17 +7,7 @@ use crate::estimators::sweep::driven::{DrivenSweepReport, MobilityAnalysis};
 
 /// The sweep's table, the mobility's analysis per gap and the symmetry checks.
 pub fn driven_sweep(r: &DrivenSweepReport) -> String {
-    let mut out = String::new();
-    let c = &r.config;
-    line!(
-        out,
-        "sweep of the driven gas: {} point(s), {} collisions in {} batches per point, seed {} ({} points resumed)",
-        r.rows.len(),
-        c.collisions,
-        c.batches,
-        c.seed,
-        r.resumed_points
-    );
+    let mut out = header(r);
     let row = |c: [&str; 7]| {
         format!(
             "{:>8}  {:>9}  {:<20}  {:<20}  {:<20}  {:<21}  {}",
@@ -87,4 +77,17 @@ fn analysis(out: &mut String, m: &MobilityAnalysis) {
             chi2.join(", ")
         );
     }
+}
+
+/// The first line: the grid, the run sizes and the seed.
+fn header(r: &DrivenSweepReport) -> String {
+    let c = &r.config;
+    format!(
+        "sweep of the driven gas: {} point(s), {} collisions in {} batches per point, seed {} ({} points resumed)\n",
+        r.rows.len(),
+        c.collisions,
+        c.batches,
+        c.seed,
+        r.resumed_points
+    )
 }
