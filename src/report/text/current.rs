@@ -7,27 +7,18 @@ use crate::estimators::current::{CurrentReport, DriftTensor};
 
 /// The text of a run under the thermostat, line by line as the command line prints it.
 pub fn current(r: &CurrentReport) -> String {
-    let mut out = String::new();
-    let m = &r.meta;
-    let table = &r.config.table;
-    let (e, angle) = match &table.motion {
+    let (e, angle) = match &r.config.table.motion {
         crate::scenes::spec::Motion::Thermostat { field, angle } => {
             (field.as_str(), angle.as_str())
         }
         _ => ("0", "0"),
     };
-    line!(
-        out,
-        "periodic Lorentz gas under a thermostatted electric field, {}, E = {} at {}°  {}",
-        r.scene,
-        e,
-        angle,
-        super::provenance(
-            m,
-            (r.collisions, r.seconds, Some(r.collisions_per_second)),
-            false
-        )
+    let title = format_args!(
+        "periodic Lorentz gas under a thermostatted electric field, {}, E = {e} at {angle}°",
+        r.scene
     );
+    let counts = (r.collisions, r.seconds, Some(r.collisions_per_second));
+    let mut out = super::first_line(title, &r.meta, counts, false);
     let s = &r.steady;
     let est = |(v, e): (f64, f64)| estimate(v, e);
     let (jx, jy) = (est((s.J_x, s.J_x_err)), est((s.J_y, s.J_y_err)));

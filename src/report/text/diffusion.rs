@@ -7,17 +7,11 @@ use crate::statistics::comparison;
 
 /// The text of a diffusion result, line by line as the command line prints it.
 pub fn diffusion(r: &DiffusionReport) -> String {
-    let mut out = String::new();
-    let m = &r.meta;
-    line!(
-        out,
-        "periodic Lorentz gas, w = {}  {}",
-        r.w,
-        super::provenance(
-            m,
-            (r.collisions, r.seconds, Some(r.collisions_per_second)),
-            true
-        )
+    let mut out = super::first_line(
+        format_args!("periodic Lorentz gas, w = {}", r.w),
+        &r.meta,
+        (r.collisions, r.seconds, Some(r.collisions_per_second)),
+        true,
     );
     d_lines(&mut out, r);
     identity_lines(&mut out, r);

@@ -8,20 +8,14 @@ use crate::theory::magnetic::sampled_share_err;
 
 /// The text of a diffusion result in a field, line by line as the command line prints it.
 pub fn field(r: &FieldReport) -> String {
-    let mut out = String::new();
-    let m = &r.meta;
-    line!(
-        out,
-        "periodic Lorentz gas in a magnetic field, {}, B = {} (cyclotron radius {:.6})  {}",
+    let title = format!(
+        "periodic Lorentz gas in a magnetic field, {}, B = {} (cyclotron radius {:.6})",
         scene(r),
         r.config.table.field().unwrap_or("0"),
         r.point.cyclotron_radius,
-        super::provenance(
-            m,
-            (r.collisions, r.seconds, Some(r.collisions_per_second)),
-            false
-        )
     );
+    let counts = (r.collisions, r.seconds, Some(r.collisions_per_second));
+    let mut out = super::first_line(title, &r.meta, counts, false);
     line!(
         out,
         "localized share = {:.6} ± {:.6}   exact {:.6} (pinned {:.6}, skipping {:.6}; {})",

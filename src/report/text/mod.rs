@@ -51,6 +51,16 @@ pub fn jumped(flights: crate::engine::long_flight::Flights) -> &'static str {
     }
 }
 
+/// A batch run's first line: `title`, then its [`provenance`] (with a newline).
+pub fn first_line(
+    title: impl std::fmt::Display,
+    m: &crate::engine::metadata::RunMeta,
+    counts: (u64, f64, Option<f64>),
+    with_path: bool,
+) -> String {
+    format!("{title}  {}\n", provenance(m, counts, with_path))
+}
+
 /// The provenance a batch run's first line ends with: `(P precision, E engine, seed S, B
 /// batches, N collisions, K threads, T s, R collisions/s)`, the engine with its SIMD path if
 /// `with_path`, the rate left out where it is `None`.

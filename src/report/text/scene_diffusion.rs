@@ -6,12 +6,7 @@ use crate::statistics::comparison;
 
 /// The text of a diffusion result on a table, line by line as the command line prints it.
 pub fn scene_diffusion(r: &SceneDiffusionReport) -> String {
-    let m = &r.meta;
-    let mut out = format!(
-        "{}  {}\n",
-        r.scene,
-        super::provenance(m, (r.collisions, r.seconds, None), false)
-    );
+    let mut out = super::first_line(&r.scene, &r.meta, (r.collisions, r.seconds, None), false);
     let unit = format!("the {}", r.time_unit_name);
     let w = &r.config.window;
     line!(
