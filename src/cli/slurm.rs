@@ -19,8 +19,8 @@ pub struct Args {
 #[derive(clap::Subcommand)]
 enum What {
     /// A sweep as a job array of N parts and a merge job that runs when all have succeeded: over
-    /// w (--w-from, --w-to), or in a field (--fields at --w, --scene square --radius or --table;
-    /// or --field over w), as `lorentz sweep` takes them.
+    /// w (--w-from, --w-to), in a field (--fields at --w, --scene square --radius or --table;
+    /// or --field over w), or driven (--electric at --w), as `lorentz sweep` takes them.
     Sweep(SweepArgs),
 }
 
@@ -30,6 +30,8 @@ struct SweepArgs {
     grid: GridArgs,
     #[command(flatten)]
     in_field: FieldArgs,
+    #[command(flatten)]
+    driven: super::sweep::driven::DrivenArgs,
     /// Parts of the sweep: array tasks 0 .. N-1 (1 to the number of points).
     #[arg(long, value_parser = parse_count_u32, allow_negative_numbers = true)]
     array: u32,
@@ -77,7 +79,10 @@ struct Written {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let What::Sweep(a) = a.what;
-    let sweep = if a.in_field.in_field() {
+    let sweep = if a.driven.driven() {
+        let w = a.in_field.w.as_deref();
+        super::sweep::driven::config(&a.grid, w, &a.driven, a.seed.seed)?
+    } else if a.in_field.in_field() {
         super::sweep::config_in_field(&a.grid, &a.in_field, a.seed.seed)?
     } else {
         a.grid.config(a.seed.seed)?
