@@ -33,6 +33,7 @@ def bench(
     *,
     table: Optional[Table] = None,
     diffusion_beside: bool = False,
+    electric: Optional[Exact] = None,
 ) -> BenchResult:
     """The engine's speed on this machine (``lorentz bench``): ``repetitions`` runs of
     ``collisions_per_thread`` collisions on each of ``threads`` threads, timed, the median
@@ -93,6 +94,14 @@ def bench(
     diffusion_beside : bool, keyword only
         With ``field``: time :func:`diffusion` in the field end to end too (as many collisions,
         the same threads), each repetition right after the arcs' (``diffusion`` in the result).
+    electric : str, Fraction or float, keyword only
+        Time the walk under a Gaussian-thermostatted electric field E along x (1/time, exact like
+        ``w``, 0 < abs(E) <= 10) beside straight flights, in alternation in one run (``lorentz
+        bench --electric``): the thermostat's ``collisions_per_second_per_thread`` and
+        ``samples``, the straight ones' ``straight_collisions_per_second_per_thread`` and
+        ``straight_samples``, ``thermostat_over_straight`` (the medians' ratio) and
+        ``paired_ratio`` (the median of each repetition's ratio). Bare: no ``observe``,
+        ``field``, ``table`` or other bench beside it.
 
     Returns
     -------
@@ -125,7 +134,7 @@ def bench(
                     "observe": observe != "none", "threads": threads != 1,
                     "field": field is not None, "straight_beside": bool(straight_beside),
                     "oracle_floor": bool(oracle_floor), "table": table is not None,
-                    "diffusion_beside": bool(diffusion_beside)},
+                    "diffusion_beside": bool(diffusion_beside), "electric": electric is not None},
         )
     if collisions_per_radius != 1e6 or walk_collisions != 1e4 or scene != "square":
         raise ValueError(
@@ -147,6 +156,7 @@ def bench(
         "oracle_floor": bool(oracle_floor),
         "diffusion_beside": bool(diffusion_beside),
         "table": None if table is None else _table_json(table),
+        "electric": None if electric is None else _exact("electric", electric),
     })
     return BenchResult(text)
 

@@ -266,6 +266,7 @@ class BenchParams(TypedDict):
     oracle_floor: bool
     diffusion_beside: bool
     table: Optional[str]
+    electric: Optional[str]
 
 class BenchLongFlightsParams(TypedDict):
     scene: str

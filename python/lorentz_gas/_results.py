@@ -431,6 +431,8 @@ class BenchResult(Result):
             # ``to_dict()["rows"]``.
             self.rows = _tables.records([{k: v for k, v in r.items() if not isinstance(v, list)}
                                   for r in self._data["rows"]])
+        elif "thermostat_over_straight" in self._data:
+            self._text_kind = "bench-electric"
 
     def _more_tables(self) -> Dict[str, np.ndarray]:
         """``samples``: one record per repetition, its ``collisions_per_second``."""

@@ -6,6 +6,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use lorentz_gas::estimators::throughput::long_flights::{self as long, LongFlightBenchConfig};
+use lorentz_gas::estimators::throughput::thermostat::{self, ElectricBenchConfig};
 use lorentz_gas::estimators::throughput::{self, Observe, ThroughputConfig};
 use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::scenes::table::PeriodicTable;
@@ -48,6 +49,7 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let diffusion_beside = p.flag("diffusion_beside")?;
     let oracle_floor = p.flag("oracle_floor")?;
     let table = p.opt_text("table")?;
+    let electric = p.opt_text("electric")?;
     Ok(work(move |py, progress| {
         let field = match field {
             Some(b) => Some(inputs::exact("field", &b)?.value).filter(|b| *b != 0.0),
@@ -67,6 +69,15 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             diffusion_beside,
             table_beside: table.as_deref().map(self::table).transpose()?,
         };
+        if let Some(e) = electric {
+            let cfg = ElectricBenchConfig {
+                straight: cfg,
+                electric: inputs::exact("electric", &e)?.value,
+            };
+            return json(&compute(py, progress, |ctl| {
+                thermostat::run(&cfg, &options(ctl, threads, engine))
+            })?);
+        }
         json(&compute(py, progress, |ctl| {
             throughput::run(&cfg, &options(ctl, threads, engine))
         })?)

@@ -80,3 +80,15 @@ def test_a_driven_sweep_has_the_command_lines_bits_and_reads_back(cli_json, tmp_
     assert back.to_dict()["rows"] == py.to_dict()["rows"]
 
 
+
+
+def test_the_thermostat_is_benched_beside_straight_flights():
+    r = lg.bench(w="1/5", electric="3/10", collisions_per_thread=2e4, repetitions=2,
+                 engine="scalar")
+    assert isinstance(r, lg.BenchResult)
+    assert r.electric == 0.3 and len(r.samples) == len(r.straight_samples) == 2
+    assert 0 < r.thermostat_over_straight < 1
+    assert str(r).startswith("w = 0.2  E = 0.3 (along x)")
+    with pytest.raises(ValueError, match="bare"):
+        lg.bench(w="1/5", electric="3/10", collisions_per_thread=2e4, repetitions=1,
+                 observe="msd")

@@ -154,6 +154,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "field-sweep" => render(kind, json, field_sweep::field_sweep)?,
         "driven-sweep" => render(kind, json, driven_sweep::driven_sweep)?,
         "bench" => render(kind, json, bench::throughput)?,
+        "bench-electric" => render(kind, json, bench::electric)?,
         "bench-long-flights" => render(kind, json, bench::long_flights)?,
         "shadow" => render(kind, json, shadow::shadow)?,
         "certify" => render(kind, json, certify::certify)?,
