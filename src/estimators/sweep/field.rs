@@ -105,7 +105,7 @@ impl FieldGrid {
         let scene = match scene {
             SceneSpec::Triangular { w } => SceneSpec::parse("triangular", Some(&w), None)?,
             SceneSpec::Square { radius } => SceneSpec::parse("square", None, Some(&radius))?,
-            table @ SceneSpec::Table(_) => table,
+            table @ (SceneSpec::Table(_) | SceneSpec::Open(_)) => table,
         };
         // A field of 0 stays a field here, for validation to refuse: a sweep in a field has none.
         let table = Table {
@@ -443,6 +443,7 @@ fn recheck_one_field_point(
             SceneSpec::Triangular { w } => format!("w = {w}"),
             SceneSpec::Square { radius } => format!("radius {radius}"),
             SceneSpec::Table(t) => t.title().to_string(),
+            SceneSpec::Open(t) => t.title(),
         };
         Ok((!same).then(|| format!("point {i} ({at}, B = {}),", place.1)))
     })
