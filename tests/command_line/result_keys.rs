@@ -128,7 +128,7 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
         ),
         (
             "escape --repeller",
-            run("escape --repeller --side 6 --radius 1 --particles 1e5"),
+            run("escape --repeller --side 6 --radius 1 --particles 1e6"),
         ),
         (
             "escape --repeller",

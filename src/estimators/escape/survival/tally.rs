@@ -129,21 +129,23 @@ pub struct WindowEstimate {
 /// No survivors at the window's end, or no root within the moments' reach.
 pub fn estimate(tally: &Tally, first: usize, s0: f64) -> Result<WindowEstimate, Error> {
     let (now, next) = (&tally.moments[first], &tally.moments[first + 1]);
+    let survivors = tally.alive.get(first + 1).copied().unwrap_or(0);
+    let too_few = || {
+        Error::Failed(format!(
+            "only {survivors} particles of a batch survived to collision {}, too few to place \
+             the escape rate: use more particles (a few hundred survivors per batch) or an \
+             earlier window",
+            first + 1
+        ))
+    };
     if next.time[0] == 0.0 {
-        return Err(Error::Failed(
-            "no particle survived to the end of the window: use more particles or an earlier \
-             window"
-                .into(),
-        ));
+        return Err(too_few());
     }
     let reach = MAX_SHIFT / tally.time_max.max(1e-300);
     let g = |ds: f64| next.at(ds).0.ln() - now.at(ds).0.ln();
     let (mut lo, mut hi) = (-reach, reach);
     if !(g(lo) < 0.0 && g(hi) > 0.0) {
-        return Err(Error::Failed(format!(
-            "the escape rate is not within {reach:.3e} of the pilot's {s0:.6}: use more particles \
-             (the pilot has too few survivors)"
-        )));
+        return Err(too_few());
     }
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
