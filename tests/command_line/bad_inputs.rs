@@ -413,7 +413,6 @@ pub(crate) const BAD: &[(&str, &str)] = &[
     ("escape --repeller --window 21", "use 1 to 20"),
     ("escape --repeller --w 0.1", "cannot be used with"),
     ("escape --repeller --checkpoint c.jsonl", "checkpoint"),
-    ("escape --open /nonexistent.json", "/nonexistent.json"),
     ("escape --side 5", "--repeller"),
     // constants
     ("constants --w 0", "trapped"),
