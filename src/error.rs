@@ -242,6 +242,9 @@ pub enum Capability {
     InfiniteHorizon,
     /// Disks of one radius (true shadowing's).
     OneRadius,
+    /// A lattice: periodic copies of a cell (an open table has none; only the escape analysis
+    /// takes one).
+    Lattice,
 }
 
 impl std::fmt::Display for Capability {
@@ -264,6 +267,10 @@ impl std::fmt::Display for Capability {
                  w > w_inf = 0.3094... or the square scene)"
             }
             Capability::OneRadius => "disks of one radius",
+            Capability::Lattice => {
+                "a lattice (an open table has finitely many disks and no lattice: the escape \
+                 analysis takes it, as lorentz escape --repeller or --open FILE)"
+            }
         })
     }
 }

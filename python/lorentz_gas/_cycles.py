@@ -12,7 +12,7 @@ from . import _native
 from ._inputs import Count, Exact, Progress, _count, _counts, _exact, _threads, _total
 from ._keywords import in_package, public
 from ._progress import _run
-from ._results import Result
+from ._results import Result, _pm
 
 #: The columns of a convergence table, as the JSON names them.
 _TRUNCATION = ("max_length", "escape_rate", "escape_rate_error", "lyapunov", "lyapunov_error",
@@ -97,6 +97,34 @@ class CyclesResult(Result):
         return (f"gamma = {self.escape_rate[-1]:.15f} (truncation error {error}) at N = "
                 f"{self.N[-1]}, R = {c['side']}, a = {c['radius']}, "
                 f"{self._data['certified']} cycles certified")
+
+
+@in_package
+class SurvivalResult(Result):
+    """An open table's escape by survival (``lorentz escape --repeller`` or ``--open FILE``).
+
+    Every key of the JSON as an attribute: ``gamma`` (the escape rate γ from the window at
+    collision n0, 1/time), ``gamma_late`` (the next window's: the check), ``lyapunov`` (λ,
+    1/time), ``entropy`` (h_KS = λ - γ, 1/time), ``mean_flight_time`` (⟨T⟩, time), each with
+    its standard error over the batches ``<name>_err``; ``window_check_sigma``;
+    ``transient_ratio`` and ``transient_bias`` (None before n0 = 3); ``survival`` (numpy array:
+    the fraction of the particles alive at collision 0, 1, ..., n0 + 2). ``windows`` is a
+    structured array with one record per window start n = 1 ... n0 + 1 (``start``, ``gamma``,
+    ``gamma_err``, ``lyapunov``, ``lyapunov_err``); ``to_pandas()`` gives it."""
+
+    _text_kind = "escape-survival"
+    _default_table = "windows"
+
+    def __init__(self, text: str):
+        super().__init__(text)
+        keys = ("start", "gamma", "gamma_err", "lyapunov", "lyapunov_err")
+        dtype = [(k, np.int64 if k == "start" else np.float64) for k in keys]
+        self.windows = np.array([tuple(r[k] for k in keys) for r in self._data["windows"]],
+                                dtype=dtype)
+
+    def _summary(self) -> str:
+        return (f"gamma = {_pm(self.gamma, self.gamma_err)}, lambda = "
+                f"{_pm(self.lyapunov, self.lyapunov_err)} on the {self.table}")
 
 
 @public

@@ -128,6 +128,8 @@ KINDS: List[Tuple[str, str, Tuple[str, ...], Callable[..., Result]]] = [
     ("lattice-walk", "lattice-walk", ("walks",), LatticeWalkResult),
     ("backscatter", "backscatter", ("mean_visit_time",), BackscatterResult),
     ("escape", "escape", ("D_escape",), EscapeResult),
+    ("escape-survival", "escape --repeller, escape --open", ("gamma", "windows", "pilot_gamma"),
+     _cycles.SurvivalResult),
     ("lyapunov", "lyapunov", ("tangent",), LyapunovResult),
     ("superdiffusion", "superdiffusion", ("lags", "limit_law"), SuperdiffusionResult),
     ("free-paths", "free-paths", ("bins", "ln_mean_limit"), FreePathResult),

@@ -3,7 +3,8 @@ trap hopping and the hierarchy built on it, backscattering, escape rates and sup
 
 from __future__ import annotations
 
-import os  # noqa: F401  (the "os.PathLike[str]" of PathLike, for typing.get_type_hints)
+import json
+import os
 from typing import Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -25,8 +26,10 @@ from ._inputs import (
     _threads,
     _total,
     _window,
+    _table_numbers,
 )
 from ._current import CurrentResult
+from ._cycles import SurvivalResult
 from ._keywords import public
 from ._progress import _run
 from ._results import (
@@ -380,7 +383,7 @@ def backscatter(
 
 @public
 def escape(
-    w: Exact,
+    w: Optional[Exact] = None,
     widths: Optional[Sequence[float]] = None,
     particles_per_width: Count = 2e5,
     seed: Count = 1,
@@ -388,27 +391,68 @@ def escape(
     checkpoint: Optional[PathLike] = None,
     checkpoint_every: float = 60.0,
     progress: Progress = None,
-) -> EscapeResult:
-    """D from the escape rate out of open strips (``lorentz escape``, Gaspard–Baras).
+    *,
+    repeller: bool = False,
+    side: Exact = 6,
+    radius: Exact = 1,
+    open_table: Optional[Union[dict, PathLike]] = None,
+    particles: Count = 1e7,
+    window: Count = 3,
+) -> Union[EscapeResult, SurvivalResult]:
+    """Escape rates (``lorentz escape``): D from the escape out of open strips of the triangular
+    gas (Gaspard–Baras, ``w=``), or an open table's escape rate by survival (``repeller=True``
+    or ``open_table=``).
 
     Parameters
     ----------
     w : str, float, Fraction or Decimal
-        Gap, 0 < w < w_inf = 0.3094...
+        Gap of the strips' triangular gas, 0 < w < w_inf = 0.3094... (not with an open table).
     widths : sequence of float, optional
         At least 3 distinct strip widths L (lengths; default 8a, 12a, 16a, 24a with a = 2 + w),
         each at least max(4a, 10 mean free paths) and at most 2000.
     particles_per_width : int
         Particles injected into each strip, split into the batches the error bars are over.
     seed, threads, checkpoint, checkpoint_every, progress
-        As in :func:`diffusion`.
+        As in :func:`diffusion` (an open table keeps no checkpoint).
+    repeller : bool
+        The open table is the three-disk repeller: disks of radius ``radius`` = a at the corners
+        of the equilateral triangle of side ``side`` = R (lengths, exact as typed: R > 2a).
+    side, radius : exact number
+        R and a of the repeller (defaults 6 and 1).
+    open_table : dict or path, optional
+        An open table given as data: ``{"name": ..., "disks": [{"centre": [x, y], "radius":
+        r}, ...]}`` (2 to 64 disjoint disks, numbers exact as strings, Fractions or ints), or
+        the path of such a JSON file.
+    particles : int
+        Particles started on the open table (32000 to 1e12), split into 32 batches.
+    window : int
+        The collision n0 at which the survival window starts (1 to 20); the next window is the
+        check.
 
     Returns
     -------
     EscapeResult
-        ``D_escape`` ± ``D_escape_err`` (length^2/time), extrapolated in 1/L, with the fit's
-        chi^2 and the per-width escape rates.
+        Strips: ``D_escape`` ± ``D_escape_err`` (length^2/time), extrapolated in 1/L, with the
+        fit's chi^2 and the per-width escape rates.
+    SurvivalResult
+        An open table: ``gamma`` (1/time), ``lyapunov`` (1/time), ``entropy`` (h_KS, 1/time),
+        each with ``_err``, and the estimates of every window start as arrays.
     """
+    if repeller or open_table is not None:
+        if repeller and open_table is not None:
+            raise ValueError("repeller=True and open_table= name two tables: give one")
+        if w is not None or widths is not None or checkpoint is not None:
+            raise ValueError("an open table takes no w=, widths= or checkpoint=: leave them out")
+        text = _run(_native.survival, progress, _total(_count("particles", particles)), "part", {
+            "side": _exact("side", side),
+            "radius": _exact("radius", radius),
+            "open_table": None if open_table is None else _open_table_json(open_table),
+            **_counts(particles=particles, window=window, seed=seed),
+            "threads": _threads(threads),
+        })
+        return SurvivalResult(text)
+    if w is None:
+        raise ValueError("w= is missing: give the gap (0 < w < w_inf = 0.3094...), or repeller=True or open_table=")
     n = 4 if widths is None else len(widths)
     total = _total(_count("particles_per_width", particles_per_width)) * n
     text = _run(_native.escape, progress, total, "part", {
@@ -420,6 +464,16 @@ def escape(
         "checkpoint_every": float(checkpoint_every),
     })
     return EscapeResult(text)
+
+
+def _open_table_json(table: Union[dict, PathLike]) -> str:
+    """An open table (a dict, or the path of a JSON file) as its JSON, numbers as exact text."""
+    if isinstance(table, dict):
+        return json.dumps(_table_numbers(table))
+    if isinstance(table, (str, os.PathLike)):
+        with open(os.fspath(table), encoding="utf-8") as f:
+            return f.read()
+    raise TypeError(f"open_table must be a dict or the path of a JSON file, not {type(table).__name__}")
 
 
 @public

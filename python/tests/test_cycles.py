@@ -59,3 +59,37 @@ def test_side_and_radius_are_exact_and_bad_input_is_a_value_error():
     ]:
         with pytest.raises(ValueError, match=needle.replace("(", r"\(").replace(")", r"\)")):
             lg.cycles(**kwargs)
+
+
+def test_escape_by_survival_on_the_repeller_and_on_disks_given_as_data(cli_json):
+    r = lg.escape(repeller=True, side=6, radius=1, particles=2e6, threads=2)
+    assert isinstance(r, lg.SurvivalResult)
+    # γ of the cycles within 4 batch standard errors (32 batches; the window's transient,
+    # about 3e-5, is far below the error of 2e6 particles).
+    assert abs(r.gamma - GAMMA_R6) < 4 * r.gamma_err
+    assert r.entropy == pytest.approx(r.lyapunov - r.gamma, abs=1e-15)
+    assert list(r.windows["start"]) == [1, 2, 3, 4] and r.survival[0] == 1.0
+    c = cli_json("escape", "--repeller", "--side", "6", "--radius", "1", "--particles", "2e6")
+    d = r.to_dict()
+    for k in ("config", "gamma", "gamma_err", "windows", "survival", "lyapunov"):
+        assert d[k] == c[k], k
+    assert repr(r).startswith("<SurvivalResult: gamma = 0.41")
+    assert str(r).startswith("escape from the three-disk repeller R = 6, a = 1 by survival")
+    # The same three disks as data: the same table up to √3's rounding, so the same γ within
+    # the errors; every number exact as typed.
+    h = "5.196152422706631880582339024517617100828415761"  # 3√3
+    disks = [{"centre": ["0", "0"], "radius": 1}, {"centre": [6, 0], "radius": "1"},
+             {"centre": ["3", h], "radius": Fraction(1)}]
+    o = lg.escape(open_table={"name": "three disks", "disks": disks}, particles=2e6, threads=2)
+    assert o.table == "three disks" and o.config["scene"]["disks"][2]["centre"][1] == h
+    assert abs(o.gamma - r.gamma) < 4 * np.hypot(o.gamma_err, r.gamma_err)
+    for kwargs, needle in [
+        (dict(repeller=True, side=2), "side=2 is out of range: use a side R > 2a = 2"),
+        (dict(repeller=True, particles=10), "particles=10 is out of range: use 32000 to"),
+        (dict(repeller=True, window=0), "window=0 is out of range: use 1 to 20"),
+        (dict(repeller=True, w=0.1), "takes no w="),
+        (dict(open_table={"disks": disks[:1]}), "disks=1 is out of range: use 2 to 64 disks"),
+        (dict(), "w= is missing"),
+    ]:
+        with pytest.raises(ValueError, match=needle):
+            lg.escape(**kwargs)

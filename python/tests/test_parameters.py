@@ -35,6 +35,7 @@ CASES = {
     "shadow --field": ["--w", "0.2", "--collisions-per-segment", "20", "--segments", "1",
                        "--field", "1"],
     "escape": ["--w", "0.2", "--particles-per-width", "3200"],
+    "escape --repeller": ["--repeller", "--particles", "1e5"],
     "cycles": ["--max-length", "2"],
     "section": ["--w", "0.2", "--field", "5/2", "--trajectories", "4", "--collisions", "100",
                 "--classify-collisions", "1000"],
@@ -47,7 +48,11 @@ CASES = {
 }
 
 # The compiled function behind a case, where it is not the Python function's own name.
-STUB_OF = {"sweep --fields": "field_sweep", "sweep --electric": "driven_sweep"}
+STUB_OF = {
+    "sweep --fields": "field_sweep",
+    "sweep --electric": "driven_sweep",
+    "escape --repeller": "survival",
+}
 
 # Config fields that are not parameters of the call, with the reason. Every entry must name a
 # field the config has (a stale entry fails too).
@@ -58,6 +63,7 @@ NOT_PARAMETERS = {
     ("theory", "w_exact"): "the gap as typed: given as w",
     ("lattice_walk", "w_exact"): "the gap as typed: given as w",
     ("escape", "w_exact"): "the gap as typed: given as w",
+    ("escape --repeller", "scene"): "the open table: from repeller, side and radius, or open_table",
     ("diffusion", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("diffusion --field", "run"): "which run of a seed: set by sweeps, not by a caller",
     ("diffusion --electric", "run"): "which run of a seed: set by sweeps, not by a caller",
@@ -162,7 +168,7 @@ NATIVES = {
     "backscatter": ["backscatter"],
     "sweep": ["sweep", "field_sweep", "driven_sweep"],
     "merge": ["merge"],
-    "escape": ["escape"],
+    "escape": ["escape", "survival"],
     "lyapunov": ["lyapunov"],
     "superdiffusion": ["superdiffusion"],
     "free_paths": ["free_paths"],
@@ -185,6 +191,7 @@ NATIVES = {
 PYTHON_ONLY = {
     "progress": "the progress bar or callback (`_progress._Bar`), passed beside the dict",
     ("events", "n"): "the events asked for: passed to EventStream.next, not to the constructor",
+    ("escape", "repeller"): "picks the open table's compiled survival (with side and radius)",
     ("sweep", "executor"): "the pool the points are spread over: each call is the compiled sweep",
 }
 

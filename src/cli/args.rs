@@ -40,11 +40,6 @@ pub struct GapArg {
 }
 
 impl GapArg {
-    /// The gap as its nearest double.
-    pub fn w(&self) -> f64 {
-        self.gap.value
-    }
-
     /// The triangular gas at the gap exactly as typed, without a field.
     pub fn table(&self) -> Table {
         table_at(&self.gap)

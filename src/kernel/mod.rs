@@ -8,6 +8,7 @@
 //! * [`certified`]: the trap's next event decided in `f64` balls, only the chosen time computed at
 //!   the working precision (MPFR), with the full comparison's bits.
 //! * [`flight`]: the state of a free flight and the events that end it (exclusions by identity).
+//! * [`open`]: an open table's next collision or its escape (finitely many disks, no cell).
 //! * [`cell`]: the generic cell kernel — next event and its execution in any convex polygonal
 //!   cell with disk obstacles, whose edges map exactly into the neighbouring cell.
 //! * [`arc`], [`field`]: flights in a uniform magnetic field — arc contacts by algebra alone,
@@ -25,6 +26,7 @@ pub mod certified;
 pub mod choice;
 pub mod field;
 pub mod flight;
+pub mod open;
 pub mod ray_disk;
 pub mod thermostat;
 pub mod trap;

@@ -29,6 +29,7 @@ pub mod lattice;
 pub mod long_flight;
 pub mod magnetic;
 pub mod motion;
+pub mod open;
 pub mod sampling;
 pub mod single_trap;
 pub mod spec;

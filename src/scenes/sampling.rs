@@ -32,6 +32,8 @@ pub enum Purpose {
     Classification,
     /// Starts of the orbits of a Poincaré section (`estimators::section`).
     Section,
+    /// Starts on an open table for the survival estimator of its escape rate.
+    Survival,
 }
 
 impl Purpose {
@@ -46,6 +48,7 @@ impl Purpose {
             Purpose::Escape => 6,
             Purpose::Classification => 7,
             Purpose::Section => 8,
+            Purpose::Survival => 9,
         }
     }
 }

@@ -9,6 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::open::OpenSpec;
 use super::square::SquareScene;
 use super::table::PeriodicTable;
 use super::table::spec::TableSpec;
@@ -48,6 +49,10 @@ pub enum SceneSpec {
     /// Any periodic table of disks given as data (a `--table` file, a Python dict), every
     /// number as written.
     Table(TableSpec),
+    /// An open table: finitely many disks and no lattice (the three-disk repeller, or disks
+    /// given as data), whose trajectories escape. Only the escape analysis takes it; every
+    /// analysis of a lattice refuses it ([`Error::Lacks`] a lattice, from [`Self::resolve`]).
+    Open(OpenSpec),
 }
 
 /// A scene resolved from its [`SceneSpec`], for the scene-generic analyses (one monomorphic
@@ -132,6 +137,7 @@ impl SceneSpec {
             SceneSpec::Triangular { .. } => "triangular",
             SceneSpec::Square { .. } => "square",
             SceneSpec::Table(_) => "table",
+            SceneSpec::Open(_) => "open",
         }
     }
 
@@ -139,9 +145,14 @@ impl SceneSpec {
     ///
     /// # Errors
     /// A gap that is not finite or not positive, a radius outside (0, 1/2), a table that is not
-    /// one ([`Error::Table`]).
+    /// one ([`Error::Table`]), an open table (no lattice: [`Error::Lacks`]).
     pub fn resolve(&self) -> Result<SceneChoice, Error> {
         match self {
+            SceneSpec::Open(t) => Err(Error::Lacks {
+                scene: t.title(),
+                capability: crate::Capability::Lattice,
+                analysis: "lattice",
+            }),
             SceneSpec::Table(t) => Ok(SceneChoice::Table(Box::new(PeriodicTable::new(t)?))),
             SceneSpec::Square { radius } => {
                 let r = (ExactInput::parse(radius).map_err(|e| e.named("radius"))?)
@@ -449,6 +460,7 @@ impl Table {
     pub fn title(&self) -> String {
         match &self.scene {
             SceneSpec::Table(t) => t.title().to_string(),
+            SceneSpec::Open(t) => t.title(),
             s => s.name().to_string(),
         }
     }

@@ -172,6 +172,13 @@ pub fn run(cfg: &ConstantsConfig) -> Result<ConstantsReport, Error> {
                 analysis: "constants",
             });
         }
+        SceneSpec::Open(t) => {
+            return Err(Error::Lacks {
+                scene: t.title(),
+                capability: Capability::Lattice,
+                analysis: "constants",
+            });
+        }
     };
     cfg.precision.dispatch(Tabulate {
         table,

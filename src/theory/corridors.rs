@@ -142,6 +142,13 @@ impl LatticeGas {
                     analysis: "superdiffusion",
                 });
             }
+            SceneSpec::Open(t) => {
+                return Err(Error::Lacks {
+                    scene: t.title(),
+                    capability: crate::Capability::Lattice,
+                    analysis: "superdiffusion",
+                });
+            }
         };
         gas.validate()?;
         Ok(gas)

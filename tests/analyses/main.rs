@@ -24,6 +24,7 @@ mod planning;
 mod section;
 mod stops;
 mod superdiffusion;
+mod survival;
 mod sweep;
 mod table_configs;
 mod theory;

@@ -393,6 +393,27 @@ pub(crate) const BAD: &[(&str, &str)] = &[
     ("escape --w 0.1 --widths 20,30", "3 distinct"),
     ("escape --w 0.1 --particles-per-width 0", "particles"),
     ("escape --w 0.1 --particles-per-width 1e12", "particles"),
+    (
+        "escape --repeller --side 2",
+        "--side 2 is out of range: use a side R > 2a = 2",
+    ),
+    (
+        "escape --repeller --radius 0",
+        "--radius 0 is out of range: use a radius a > 0",
+    ),
+    ("escape --repeller --side six", "--side"),
+    (
+        "escape --repeller --particles 10",
+        "--particles 10 is out of range: use 32000 to",
+    ),
+    (
+        "escape --repeller --window 0",
+        "--window 0 is out of range: use 1 to 20",
+    ),
+    ("escape --repeller --window 21", "use 1 to 20"),
+    ("escape --repeller --w 0.1", "cannot be used with"),
+    ("escape --repeller --checkpoint c.jsonl", "checkpoint"),
+    ("escape --side 5", "--repeller"),
     // constants
     ("constants --w 0", "trapped"),
     ("constants --scene square --radius 1/2", "0 < radius < 1/2"),

@@ -127,6 +127,14 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
             run("escape --w 0.3 --widths 10,12,14 --particles-per-width 3.2e3"),
         ),
         (
+            "escape --repeller",
+            run("escape --repeller --side 6 --radius 1 --particles 1e6"),
+        ),
+        (
+            "escape --repeller",
+            run("escape --repeller --side 3 --radius 1 --particles 1e5 --window 2"),
+        ),
+        (
             "sweep",
             run(
                 "sweep --w-from 0.1 --w-to 0.2 --steps 3 --runs 2 --collisions-per-run 1e6 --batches-per-run 4 --out sw",

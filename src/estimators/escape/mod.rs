@@ -33,6 +33,7 @@ use serde::{Deserialize, Serialize};
 
 mod chunks;
 mod rate;
+pub mod survival;
 
 use chunks::Chunks;
 pub use rate::{Lifetime, RateEstimate, tail_start, window_counts, window_rate};

@@ -82,7 +82,7 @@ pub fn scene_parameters(table: &Table) -> Result<(Option<f64>, Option<f64>), Err
             let r = parse_exact(radius).map_err(|e| e.named("radius"))?;
             (None, Some(nearest_f64(&r)))
         }
-        SceneSpec::Table(_) => (None, None),
+        SceneSpec::Table(_) | SceneSpec::Open(_) => (None, None),
     })
 }
 

@@ -101,7 +101,7 @@ impl FieldGrid {
         let scene = match scene {
             SceneSpec::Triangular { w } => SceneSpec::parse("triangular", Some(&w), None)?,
             SceneSpec::Square { radius } => SceneSpec::parse("square", None, Some(&radius))?,
-            table @ SceneSpec::Table(_) => table,
+            table @ (SceneSpec::Table(_) | SceneSpec::Open(_)) => table,
         };
         // A field of 0 stays a field here, for validation to refuse: a sweep in a field has none.
         let table = Table {
@@ -290,6 +290,7 @@ impl PointGrid for FieldGrid {
             SceneSpec::Triangular { w } => format!("w = {w}"),
             SceneSpec::Square { radius } => format!("radius {radius}"),
             SceneSpec::Table(t) => t.title().to_string(),
+            SceneSpec::Open(t) => t.title(),
         };
         format!("{at}, B = {field}")
     }

@@ -28,6 +28,7 @@ pub mod scene_diffusion;
 pub mod section;
 pub mod shadow;
 pub mod superdiffusion;
+pub mod survival;
 pub mod sweep;
 pub mod theory;
 pub mod trajectory;
@@ -147,6 +148,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "lattice-walk" => render(kind, json, lattice_walk::lattice_walk)?,
         "backscatter" => render(kind, json, backscatter::backscatter)?,
         "escape" => render(kind, json, escape::escape)?,
+        "escape-survival" => render(kind, json, survival::survival)?,
         "superdiffusion" => render(kind, json, superdiffusion::superdiffusion)?,
         "free-paths" => render(kind, json, free_paths::free_paths)?,
         "lyapunov" => render(kind, json, lyapunov::lyapunov)?,
