@@ -218,8 +218,10 @@ impl<S: Scene> CurvedAuditor<S> {
         }
         let c = check_curved_event(&self.lat64, &self.lat_t, s, &self.m64, &self.m_t)?;
         let label = &self.label;
-        self.summary
-            .add(&c, || AuditedEvent::new(label, &s.flight, &c));
+        self.summary.add(&c, || AuditedEvent {
+            down: s.cell.down,
+            ..AuditedEvent::new(label, &s.flight, &c)
+        });
         Ok(())
     }
 }
@@ -343,9 +345,10 @@ fn flying_start<S: Scene>(
     )))
 }
 
-/// The pre-event state of a recorded event, from its exact bit patterns, in the cell (0, 0)
-/// (the kernel works in the cell's own frame: the cell index moves with the state and does not
-/// enter the event).
+/// The pre-event state of a recorded event, from its exact bit patterns, in the cell (0, 0) of
+/// its orientation (the kernel works in the cell's own frame: the cell index moves with the state
+/// and does not enter the event; the orientation does under the thermostat, whose field is −E in
+/// a point-reflected cell).
 pub fn recorded_state(e: &AuditedEvent) -> LatticeState<f64> {
     let [x, y, vx, vy] = e.state_bits.map(f64::from_bits);
     let mut flight = crate::kernel::flight::Flight::new(
@@ -358,7 +361,7 @@ pub fn recorded_state(e: &AuditedEvent) -> LatticeState<f64> {
         cell: crate::scenes::lattice::CellIndex {
             i: 0,
             j: 0,
-            down: false,
+            down: e.down,
         },
         flight,
     }

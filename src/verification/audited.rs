@@ -4,8 +4,8 @@
 
 use serde::{Deserialize, Serialize};
 
-pub use super::log_histogram::LogHistogram;
 use super::curved::ExactMotion;
+pub use super::log_histogram::LogHistogram;
 use super::replay::EventCheck;
 use crate::Error;
 use crate::engine::long_flight::Flights;
@@ -22,6 +22,11 @@ pub struct AuditedEvent {
     pub state: [f64; 4],
     /// Excluded disk and edge (`null` = none).
     pub excluded: [Option<u8>; 2],
+    /// The state's cell is point-reflected (a down trap of the triangular lattice), where the
+    /// thermostat's field is −E (absent: false; arcs and straight flights are the same in
+    /// every cell).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub down: bool,
     /// The verdict.
     pub check: EventCheck,
 }
@@ -39,6 +44,7 @@ impl AuditedEvent {
             ],
             state: [f.pos.x, f.pos.y, f.vel.x, f.vel.y],
             excluded: [f.excluded_disk, f.excluded_edge],
+            down: false,
             check: check.clone(),
         }
     }

@@ -94,8 +94,7 @@ pub fn flight_residual(
     let p_bits = f64::from(bits);
     let drift = 8.0 * defect * (1.0 + ev.time.v.to_f64());
     let tol = |x: &Float| {
-        (1.0 + x.to_f64().abs())
-            * ((-p_bits / 2.0).exp2() + (16.0 - p_bits).exp2() * weak + drift)
+        (1.0 + x.to_f64().abs()) * ((-p_bits / 2.0).exp2() + (16.0 - p_bits).exp2() * weak + drift)
     };
     let res = |a: Float, b: &Float| (a - b).to_f64().abs() / tol(b);
     [
