@@ -8,7 +8,8 @@
 //! flight (at [`FLIGHT_BITS`], from the same `f64` state and field) is outside every disk and
 //! inside every edge up to the kernel's own bound e₀ on the contact function, and at the event
 //! it is on the obstacle reported up to 2e₀ (`proofs-notes/thermostat-audit.md`, the stopping
-//! band); after it the state is finite, of speed 1 within the energy band, outside every disk and
+//! band); after it the state is finite, of speed 1 within the energy band widened by the
+//! contact's residual through the reflection (4·2e₀/r²), outside every disk and
 //! inside every edge up to the post-event bound plus the contact's e₀, the cell moved across the
 //! edge on a crossing and the obstacle met is excluded. A flight without a next event (the
 //! creeping limit) ends the input.
@@ -136,7 +137,8 @@ pub fn fly_thermostat<S: Scene>(
 /// precision of `hp`, the `f64` state and field lifted exactly) at [`SAMPLES`] − 1 interior times
 /// of the event `ev`'s flight and at the event: none below −e₀ before it (e₀ the `f64` kernel's
 /// own bound of that contact function there), the obstacle met within 2e₀ of zero at it. Returns
-/// the largest e₀ at the event (the post-event check's slack).
+/// the largest e₀ at the event (the post-event check's slack). Each bound adds the start's own
+/// offset from its obstacles, the post-event bound.
 fn no_missed_contact(
     cell: &ConvexCell<f64>,
     hp: &ConvexCell<Float>,
@@ -152,6 +154,15 @@ fn no_missed_contact(
         .map(EventKind::Collision)
         .chain((0..cell.edges.len() as u8).map(EventKind::Crossing))
         .collect();
+    // The kernel takes the start as exact, the obstacle it is on at distance 0; the start itself
+    // is off its obstacles by up to the decoder's validity and the post-event bound (kept as an
+    // exclusion within it, `arcs::into_domain`), an offset the flight carries along.
+    let r = cell
+        .disks
+        .iter()
+        .map(|d| d.radius().to_f64())
+        .fold(0.0, f64::max);
+    let floor = POST_EVENT_U * U * (1.0 + cell.extent()) * (1.0 + r);
     let mut slack = 0.0f64;
     for i in 1..=SAMPLES {
         let t = ev.time * f64::from(i) / f64::from(SAMPLES);
@@ -169,7 +180,7 @@ fn no_missed_contact(
                     (e.normal.dot(&x) - &e.offset).to_f64()
                 }
             };
-            if i < SAMPLES && value < -e0 {
+            if i < SAMPLES && value < -(e0 + floor) {
                 return Err(format!(
                     "{k:?} missed before {:?} at t = {t:e} of {:e}: F = {value:e}, e0 = {e0:e}",
                     ev.kind, ev.time
@@ -177,7 +188,7 @@ fn no_missed_contact(
             }
             if i == SAMPLES {
                 slack = slack.max(e0);
-                if k == ev.kind && value.abs() > 2.0 * e0 + 64.0 * U {
+                if k == ev.kind && value.abs() > 2.0 * e0 + 64.0 * U + floor {
                     return Err(format!(
                         "{k:?} at t = {t:e} off its obstacle: F = {value:e}, e0 = {e0:e}"
                     ));
@@ -207,6 +218,10 @@ fn after_event(
     {
         return Err(format!("non-finite state after {:?}: {fl:?}", ev.kind));
     }
+    // A contact a residual δF = |x − c|² − r² off the circle (|δF| ≤ 2e₀ + 64u, checked at the
+    // event) reflects the speed² by up to 4|δF|/r²: the straight band plus that.
+    let r = cell.smallest_radius();
+    let band = band + 4.0 * (2.0 * slack + 64.0 * U) / (r * r * U);
     let dev = (fl.vel.norm2() - 1.0).abs() / U;
     rep.worst_energy_u = rep.worst_energy_u.max(dev);
     if dev.is_nan() || dev > band {
