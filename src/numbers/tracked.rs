@@ -65,7 +65,7 @@ pub fn take_ambiguous() -> u64 {
 }
 
 /// The number of ambiguous decisions among an algorithm's free choices
-/// ([`Real::freely`](super::real::Real::freely)) since the last call on this thread, and reset
+/// ([`Real::freely`]) since the last call on this thread, and reset
 /// it.
 pub fn take_free_ambiguous() -> u64 {
     FREE_AMBIGUOUS.with(|c| c.replace(0))
