@@ -86,7 +86,21 @@ SCENE = {
     "square-arbitrary": scene(-1, -1, 0, 4096, PRIM["square-arbitrary"]),
 }
 
-for target, seeds in (("collision_primitive", PRIM), ("scene_stepper", SCENE)):
+def electric(k, a):
+    """The thermostat_kernel's field bytes: E = 10^(4k/255 - 3), angle 2*pi*a/65536."""
+    return bytes([k]) + struct.pack("<H", a)
+
+# Grazing and degenerate starts (impact parameters r(1 -/+ 2^-52), tangential starts on a disk,
+# common tangents, corners) under weak, middling and strong fields at several angles.
+GRAZING = ["impact-origin-up", "near-far-down", "tangent-corner-up", "tangent-tiny-w-down",
+           "corner-aimed-up", "square-corridor-far", "square-near-tiny-r",
+           "square-corner-along-edge", "square-impact-near-half"]
+FIELDS = {"E1e-3-x": electric(0, 0), "E0.3-60deg": electric(158, 10923),
+          "E10-minus-y": electric(255, 49152), "E1-135deg": electric(191, 24576)}
+THERMO = {f"{name}-{f}": SCENE[name] + fb for name in GRAZING for f, fb in FIELDS.items()}
+
+for target, seeds in (("collision_primitive", PRIM), ("scene_stepper", SCENE),
+                      ("thermostat_kernel", THERMO)):
     d = os.path.join("corpus", target)
     os.makedirs(d, exist_ok=True)
     for name, b in seeds.items():

@@ -200,6 +200,8 @@ class AuditParams(TypedDict):
     reference_bits: str
     seed: str
     field: Optional[str]
+    electric: Optional[str]
+    electric_angle: Optional[str]
     flights: str
     threads: Optional[str]
 

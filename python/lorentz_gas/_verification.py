@@ -186,6 +186,8 @@ def audit(
     reference_bits: Count = 128,
     seed: Count = 1,
     field: Optional[Exact] = None,
+    electric: Optional[Exact] = None,
+    electric_angle: Optional[Exact] = None,
     flights: str = "auto",
     threads: Optional[Count] = None,
     progress: Progress = None,
@@ -208,6 +210,14 @@ def audit(
         A uniform magnetic field B (inverse time; the cyclotron radius is 1/abs(B) in units of the
         disk radius), exact like ``w``, 1e-6 <= abs(B) <= 1e6; ``None`` or 0: no field. The
         replayed events are then arcs, judged by the arc kernel's running error bound.
+    electric : str, Fraction or float, optional
+        A Gaussian-thermostatted electric field E in the plane (1/time at speed 1: dv/dt = E -
+        (E.v)v), exact like ``w``, 0 < abs(E) <= 10; ``None`` or 0: no field. Not with ``field``.
+        The replayed events are then thermostatted flights, judged by their kernel's running
+        error bound and checked against independent closed forms
+        (``summary["worst"][i]["check"]["flight_identity"]``, at most 1).
+    electric_angle : str, Fraction or float, optional
+        With ``electric``: the field's angle from the x axis in degrees, exact; ``None``: 0.
     flights : {"auto", "walk", "jump"}
         How straight flights cross the lattice, as in :func:`lyapunov`: with ``"jump"`` each long
         flight is replayed as a whole, against the exact column walk on the square lattice
@@ -232,6 +242,8 @@ def audit(
         **_counts(collisions=collisions, batches=batches, reference_bits=reference_bits, seed=seed),
         "sample": float(sample),
         "field": _optional_exact("field", field),
+        "electric": _optional_exact("electric", electric),
+        "electric_angle": _optional_exact("electric_angle", electric_angle),
         "flights": str(flights),
         "threads": _threads(threads),
     })

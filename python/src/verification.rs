@@ -106,6 +106,8 @@ pub fn audit(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let reference_bits = p.count_u32("reference_bits")?;
     let seed = p.count_u64("seed")?;
     let field = p.opt_text("field")?;
+    let electric = p.opt_text("electric")?;
+    let electric_angle = p.opt_text("electric_angle")?;
     let flights = p.flights()?;
     let threads = p.threads()?;
     Ok(work(move |py, progress| {
@@ -118,6 +120,8 @@ pub fn audit(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             reference_bits,
             seed,
             field,
+            electric,
+            electric_angle,
             flights,
         };
         json(&compute(py, progress, |ctl| {

@@ -27,8 +27,18 @@ pub struct Args {
     /// A uniform magnetic field B perpendicular to the plane, an exact decimal or fraction like
     /// --w (1e-6 <= |B| <= 1e6; 0 or absent: no field): the replayed events are arcs, judged by
     /// the arc kernel's running error bound.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "electric")]
     field: Option<String>,
+    /// A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E -
+    /// (E.v)v), its strength an exact decimal or fraction, 0 < |E| <= 10 (0 is the audit without
+    /// a field): the replayed events are thermostatted flights, judged by their kernel's running
+    /// error bound and checked against independent closed forms.
+    #[arg(long, allow_hyphen_values = true)]
+    electric: Option<String>,
+    /// With --electric: the field's angle from the x axis in degrees, an exact decimal or
+    /// fraction.
+    #[arg(long, allow_hyphen_values = true, requires = "electric")]
+    electric_angle: Option<String>,
     /// How straight flights cross the lattice: jump (straight to the cell of the first disk they
     /// can meet, each jump replayed as a whole: against the exact column walk on the square
     /// scene with 2^-32 <= radius <= 1/4, by the MPFR trap walk on the triangular one with
@@ -57,6 +67,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         reference_bits: a.reference_bits,
         seed: a.run.seed(),
         field: a.field.clone(),
+        electric: a.electric.clone(),
+        electric_angle: a.electric_angle.clone(),
         flights: a.flights,
     };
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);

@@ -204,6 +204,24 @@ pub trait Real:
 
     /// The value as an MPFR number of `bits` bits (exact when `bits` ≥ this number's precision).
     fn to_mpfr(&self, bits: u32) -> Float;
+
+    /// The same value, marked as a free choice of an algorithm (a certified march's point or
+    /// step, any value of which serves): the identity for every type but the running error
+    /// analysis ([`super::tracked::Tracked`]), which starts its bound afresh from it
+    /// (`proofs-notes/thermostat-audit.md`). No arithmetic: `f64` and MPFR keep their bits.
+    #[inline(always)]
+    fn anchored(self) -> Self {
+        self
+    }
+
+    /// Runs `f`, whose decisions are free choices of an algorithm (a trial step's size, whether
+    /// to march on or take the Taylor step to the root): `f()` for every type; the running error
+    /// analysis counts an ambiguous decision in it apart, as one that changes the path and not,
+    /// unless the event itself differs, the result (`proofs-notes/thermostat-audit.md`).
+    #[inline(always)]
+    fn freely<R>(f: impl FnOnce() -> R) -> R {
+        f()
+    }
 }
 
 /// The elementary functions a [`Real`] takes from its type's own inherent methods of the same

@@ -26,6 +26,12 @@
 //! thread-local count records it ([`take_ambiguous`]). An audited event with an ambiguous
 //! decision may legitimately differ from the reference (`crate::verification::arc_audit`).
 //!
+//! An iterative algorithm's free choices — a certified march's points and trial steps, whether to
+//! march on or take the last Taylor step — are not the `f64` run's to match: any serves, and
+//! what follows from the point reached is judged. [`Real::anchored`] takes such a value with
+//! bound 0, and [`Real::freely`] counts the decisions made in it apart ([`take_free_ambiguous`]),
+//! `proofs-notes/thermostat-audit.md`.
+//!
 //! The sine, cosine and arctangents of `f64` are not correctly rounded: their bound adds 2u of
 //! the result plus the propagated error (used for the flight time, an observable only).
 
@@ -49,6 +55,8 @@ pub const MIN_TRACKED_BITS: u32 = 128;
 
 thread_local! {
     static AMBIGUOUS: Cell<u64> = const { Cell::new(0) };
+    static FREE_AMBIGUOUS: Cell<u64> = const { Cell::new(0) };
+    static FREE_DEPTH: Cell<u32> = const { Cell::new(0) };
 }
 
 /// The number of ambiguous decisions since the last call on this thread, and reset it.
@@ -56,8 +64,17 @@ pub fn take_ambiguous() -> u64 {
     AMBIGUOUS.with(|c| c.replace(0))
 }
 
+/// The number of ambiguous decisions among an algorithm's free choices
+/// ([`Real::freely`]) since the last call on this thread, and reset
+/// it.
+pub fn take_free_ambiguous() -> u64 {
+    FREE_AMBIGUOUS.with(|c| c.replace(0))
+}
+
 fn flag() {
-    AMBIGUOUS.with(|c| c.set(c.get() + 1));
+    let free = FREE_DEPTH.with(Cell::get) > 0;
+    let counter = if free { &FREE_AMBIGUOUS } else { &AMBIGUOUS };
+    counter.with(|c| c.set(c.get() + 1));
 }
 
 /// A high-precision value and a bound on the `f64` computation's distance from it (see the
@@ -345,6 +362,19 @@ impl Real for Tracked {
     }
     fn to_mpfr(&self, bits: u32) -> Float {
         Float::with_val(bits, &self.v)
+    }
+    /// A free choice of the algorithm: the replay takes it as the `f64` run's own value, bound 0
+    /// (the `f64` run's choice differs, and serves as well: what follows from it is judged, not
+    /// how it was reached).
+    fn anchored(self) -> Tracked {
+        Tracked { v: self.v, e: 0.0 }
+    }
+    /// The decisions in `f` are counted apart ([`take_free_ambiguous`]).
+    fn freely<R>(f: impl FnOnce() -> R) -> R {
+        FREE_DEPTH.with(|d| d.set(d.get() + 1));
+        let r = f();
+        FREE_DEPTH.with(|d| d.set(d.get() - 1));
+        r
     }
 }
 

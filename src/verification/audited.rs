@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::curved::ExactMotion;
 pub use super::log_histogram::LogHistogram;
 use super::replay::EventCheck;
 use crate::Error;
@@ -21,6 +22,11 @@ pub struct AuditedEvent {
     pub state: [f64; 4],
     /// Excluded disk and edge (`null` = none).
     pub excluded: [Option<u8>; 2],
+    /// The state's cell is point-reflected (a down trap of the triangular lattice), where the
+    /// thermostat's field is −E (absent: false; arcs and straight flights are the same in
+    /// every cell).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub down: bool,
     /// The verdict.
     pub check: EventCheck,
 }
@@ -38,6 +44,7 @@ impl AuditedEvent {
             ],
             state: [f.pos.x, f.pos.y, f.vel.x, f.vel.y],
             excluded: [f.excluded_disk, f.excluded_edge],
+            down: false,
             check: check.clone(),
         }
     }
@@ -177,6 +184,15 @@ pub struct AuditConfig {
     /// ([`super::arc_audit`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field: Option<String>,
+    /// A Gaussian-thermostatted electric field E, its signed strength exactly as given (absent or
+    /// 0: no field; 0 < |E| ≤ 10): the events replayed are thermostatted flights, judged by their
+    /// kernel's running error bound and checked against independent closed forms
+    /// ([`super::thermo_audit`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electric: Option<String>,
+    /// The angle of E from the x axis in degrees, exactly as given (absent: 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electric_angle: Option<String>,
     /// How straight flights cross the lattice ([`Flights`]): `auto` jumps where the scene
     /// supplies long flights and they are faster ([`Flights::resolve`]), and there is no field.
     #[serde(default)]
@@ -193,5 +209,44 @@ impl AuditConfig {
     /// A field that is not an exact decimal or fraction, or outside [`AUDIT_FIELD_RANGE`].
     pub fn field_exact(&self) -> Result<Option<rug::Rational>, Error> {
         super::exact_field(self.field.as_deref(), AUDIT_FIELD_RANGE)
+    }
+
+    /// The curved motion, exact, if there is one: the magnetic field, or the thermostatted
+    /// electric one (`None`: straight flights, a zero or absent field).
+    ///
+    /// # Errors
+    /// Both fields given, an angle without a strength, or a field that is not exact or out of
+    /// its range ([`AuditConfig::field_exact`],
+    /// [`check_electric`](crate::estimators::diffusion::check_electric)).
+    pub fn motion(&self) -> Result<Option<ExactMotion>, Error> {
+        use crate::numbers::exact::parse_exact;
+        use crate::scenes::spec::Motion;
+        let Some(e) = &self.electric else {
+            if let Some(a) = &self.electric_angle {
+                return Err(Error::parameter(
+                    "electric_angle",
+                    a,
+                    "an angle without a field: give the field's strength as electric too",
+                ));
+            }
+            return Ok(self.field_exact()?.map(ExactMotion::Field));
+        };
+        if self.field.is_some() {
+            return Err(Error::parameter(
+                "electric",
+                e,
+                "both a magnetic field and an electric one: give one motion",
+            ));
+        }
+        let angle = self.electric_angle.as_deref().unwrap_or("0");
+        let motion = Motion::thermostat(e, angle);
+        crate::estimators::diffusion::check_electric(&motion)?;
+        Ok(match motion {
+            Motion::Thermostat { field, angle } => Some(ExactMotion::Thermostat {
+                field: parse_exact(&field).map_err(|e| e.named("electric"))?,
+                angle: parse_exact(&angle).map_err(|e| e.named("electric_angle"))?,
+            }),
+            _ => None,
+        })
     }
 }

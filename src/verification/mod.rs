@@ -7,7 +7,9 @@
 //! * [`reversibility`]: forward N collisions, reverse, N back.
 //! * [`birkhoff`]: the collision map in Birkhoff coordinates and its Jacobian.
 //! * [`shadow_audit`]: the MPFR shadow audit of a production run's own trajectories;
-//!   [`arc_audit`]: its events in a magnetic field, judged by the kernel's running error bound.
+//!   [`arc_audit`]: its events in a magnetic field or under the thermostat ([`curved`], the two
+//!   motions; [`thermo_audit`], the thermostat's own checks), judged by the kernel's running
+//!   error bound.
 //! * [`lyapunov`], [`divergence`], [`certify`]: chaos, certified segments.
 //! * [`cycles`]: certified periodic orbits of open tables (the three-disk repeller) and their
 //!   cycle expansions (escape rate, Lyapunov exponent, KS entropy).
@@ -18,6 +20,7 @@ pub mod arc_tangent;
 pub mod audited;
 pub mod birkhoff;
 pub mod certify;
+pub mod curved;
 pub mod cycles;
 pub mod divergence;
 pub mod error_model;
@@ -31,6 +34,7 @@ pub mod replay;
 pub mod reversibility;
 pub mod shadow_audit;
 pub mod shadowing;
+pub mod thermo_audit;
 
 /// A field given as text, exact, if there is one: `None` for an absent or zero field.
 ///

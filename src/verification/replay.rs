@@ -52,6 +52,11 @@ pub struct EventCheck {
     pub ambiguous: bool,
     /// Everything within the model.
     pub in_model: bool,
+    /// Thermostatted flights: the reference flight's largest residual against closed forms the
+    /// kernel does not use, in units of its tolerance (above 1: the reference is not the
+    /// thermostatted flight, and the event is outside the model); absent for other motions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flight_identity: Option<f64>,
 }
 
 fn label(k: EventKind) -> String {
@@ -243,5 +248,6 @@ pub fn check_event<K64: CellKernel<f64>, KRef: CellKernel<Float>>(
         velocity_bound,
         ambiguous,
         in_model,
+        flight_identity: None,
     })
 }

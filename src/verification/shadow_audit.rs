@@ -308,8 +308,8 @@ pub fn run<S: Scene>(
         return Err(Error::Zero { what: "batches" });
     }
     crate::engine::parallel::check_batches("batches", cfg.batches)?;
-    let field = cfg.field_exact()?;
-    let flights = audit_flights(scene, cfg.flights, field.is_some())?;
+    let motion = cfg.motion()?;
+    let flights = audit_flights(scene, cfg.flights, motion.is_some())?;
     // The ranges first: the work is priced from values known to be in range.
     AuditSpec::new(cfg.sample, cfg.reference_bits)?;
     price(scene, cfg, flights, threads)?;
@@ -323,8 +323,8 @@ pub fn run<S: Scene>(
         cfg.batches,
         options.stop.as_ref(),
         |b| {
-            if let Some(q) = &field {
-                return super::arc_audit::batch(scene, cfg, q, b, options);
+            if let Some(m) = &motion {
+                return super::arc_audit::batch(scene, cfg, m, b, options);
             }
             straight_batch(
                 scene,
@@ -358,8 +358,8 @@ pub fn run<S: Scene>(
     })
 }
 
-/// The engine an audit runs: `walk` in a field (arcs cross cell by cell), else `flights`
-/// resolved for the scene.
+/// The engine an audit runs: `walk` in a field (arcs and thermostatted flights cross cell by
+/// cell), else `flights` resolved for the scene.
 ///
 /// # Errors
 /// `jump` in a field or in a scene without long flights.

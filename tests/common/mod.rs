@@ -139,6 +139,8 @@ pub fn full_audit<S: lorentz_gas::scenes::Scene>(
         reference_bits: 128,
         seed,
         field: field.map(Into::into),
+        electric: None,
+        electric_angle: None,
         flights,
     };
     shadow_audit::run(scene, &cfg, &threads(2)).unwrap()

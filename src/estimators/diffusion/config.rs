@@ -466,7 +466,7 @@ pub fn refuse_options_of_no_field(
 /// The largest strength |E| of the thermostatted field a run takes.
 pub const MAX_ELECTRIC: f64 = 10.0;
 
-/// Checks the thermostatted field of `motion`: an exact strength 0 < |E| ≤ [`MAX_ELECTRIC`]
+/// Checks the thermostatted field of `motion`: an exact strength 0 < |E| ≤ 10 (`MAX_ELECTRIC`)
 /// (zero is the straight table) and an exact angle in degrees, |angle| ≤ 360.
 ///
 /// # Errors

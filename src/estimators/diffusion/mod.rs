@@ -45,7 +45,7 @@ use execution::{DiffusionKeeper, Job, execute, setup};
 // The configuration keeps its one public path, `estimators::diffusion::…` (its module is private).
 pub use config::{
     DEFAULT_LOCALIZATION_SAMPLES, DiffusionConfig, MIN_HOPS_PER_LAG, MsdGrid, Sampling, Window,
-    lag_grid, refuse_rel_err, require_finite_horizon, time_unit,
+    check_electric, lag_grid, refuse_rel_err, require_finite_horizon, time_unit,
 };
 
 /// Kind of the records of a diffusion checkpoint.

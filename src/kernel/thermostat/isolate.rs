@@ -81,7 +81,8 @@ fn decide<T: Real>(j: &Jet<T>, on_identity: bool) -> Decision<T> {
         return Decision::Step(T::zero(j.f.ctx()), j.f1.clone());
     }
     let lo = j.f.clone() - &j.err[0];
-    if lo.gt0() {
+    // Marching on or taking the Taylor step to the root both end at the root.
+    if T::freely(|| lo.gt0()) {
         return Decision::Step(lo, j.f1.clone() - &j.err[1]);
     }
     if !j.f1.gt0() {
@@ -114,14 +115,19 @@ pub fn earliest<T: Real, C: Contact<T>>(c: &C, identity: bool, horizon: &T) -> F
             return Found::Clear;
         }
         let curv = (j.f2.clone() - &j.err[2]).scale(0.5);
-        let Some(s) = advance(c, &j, (&lo, &slope, &curv), &remaining, &mut hint) else {
+        let step = T::freely(|| advance(c, &j, (&lo, &slope, &curv), &remaining, &mut hint));
+        let Some(s) = step else {
             return Found::Clear;
         };
         let next = a.clone() + &s;
-        if next <= a {
+        // A step below the point's resolution: the march stands at the root (or one more
+        // step, as certain, reaches it).
+        if T::freely(|| next <= a) {
             return Found::Root(a);
         }
-        a = next;
+        // Any certified point serves: the event is decided by the jets at the points, and its
+        // time by the last one's Taylor step, not by how the point was reached.
+        a = next.anchored();
     }
     Found::Root(a)
 }
@@ -152,6 +158,8 @@ fn advance<T: Real, C: Contact<T>>(
     }
     let mut best: Option<(T, T)> = None;
     for _ in 0..4 {
+        // A trial step is a free choice too.
+        h = h.anchored();
         // Mh/6, rounded up by the factor's excess over 1/6 (0.1666667 > 1/6).
         let quad = curv.clone() - &(c.third(j, &h) * &h).scale(0.166_666_7);
         match first_root(lo, slope, &quad) {
@@ -244,7 +252,8 @@ pub fn first_root<T: Real>(a: &T, b: &T, c: &T) -> Option<T> {
 /// −F′/F″; zero otherwise.
 fn refine<T: Real>(j: &Jet<T>) -> T {
     let zero = T::zero(j.f.ctx());
-    if !(j.f.gt0() && j.f1.lt0()) {
+    // At the root within rounding, a step of zero or the Taylor step both stay within it.
+    if !(T::freely(|| j.f.gt0()) && j.f1.lt0()) {
         return zero;
     }
     let half = j.f2.clone().scale(0.5);

@@ -13,7 +13,14 @@ pub fn audit(r: &AuditReport) -> String {
         (Some(b), Ok(Some(_))) => {
             format!(" in the field B = {b} (arcs, against their running error bound)")
         }
-        _ => String::new(),
+        _ => match &c.electric {
+            Some(e) if matches!(c.motion(), Ok(Some(_))) => format!(
+                " under the thermostatted field E = {e} at {} degrees (against the running \
+                 error bound and the closed forms)",
+                c.electric_angle.as_deref().unwrap_or("0")
+            ),
+            _ => String::new(),
+        },
     };
     line!(
         out,

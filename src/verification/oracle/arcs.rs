@@ -41,7 +41,7 @@ pub fn in_domain(s: &LatticeState<f64>) -> bool {
 /// is the one the particle is *on* (`proofs-notes/magnetic-arcs.md`), while the decoder, written
 /// for straight flights, also excludes the disk a particle moves away from at a distance; such an
 /// exclusion is dropped (one within the post-event bound of its obstacle is kept).
-fn into_domain(cell: &ConvexCell<f64>, mut s: LatticeState<f64>) -> LatticeState<f64> {
+pub(super) fn into_domain(cell: &ConvexCell<f64>, mut s: LatticeState<f64>) -> LatticeState<f64> {
     let f = &mut s.flight;
     for x in [&mut f.pos.x, &mut f.pos.y, &mut f.vel.x, &mut f.vel.y] {
         if x.abs() < NORMAL_FLOOR {

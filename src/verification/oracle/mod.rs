@@ -20,6 +20,9 @@
 //!
 //! * [`arc_kernel`]: the same lattice states flown on arcs in a decoded magnetic field, MPFR-53
 //!   against `f64` bit for bit and the post-event invariants after every event.
+//! * [`thermostat_kernel`]: the same lattice states flown under a Gaussian-thermostatted field
+//!   E ∈ [10⁻³, 10] at any angle: MPFR-53 against `f64` bit for bit, no contact missed along the
+//!   flight (the exact flight sampled at 128 bits), and the post-event invariants.
 //! * [`decided_in_balls`]: the same decoded starts' events as the MPFR kernel decides them in
 //!   `f64` balls, against its full comparison, bit for bit (`proofs-notes/certified-filter.md`).
 //!
@@ -54,6 +57,7 @@ mod long_flight;
 mod long_flight_triangular;
 mod starts;
 mod stepper;
+mod thermostat;
 
 use bytes::*;
 use geo::*;
@@ -68,6 +72,9 @@ pub use long_flight::{LongFlightReport, MAX_COLUMNS, long_flight};
 pub use long_flight_triangular::{MAX_SPAN, TriangularFlightReport, long_flight_triangular};
 pub use starts::{decode_primitive, decode_scene};
 pub use stepper::step_lattice;
+pub use thermostat::{
+    FLIGHT_BITS, MAX_THERMO_STEPS, SAMPLES, decode_electric, fly_thermostat, thermostat_kernel,
+};
 
 /// Precision of the MPFR replay and of the decoder's geometric constructions.
 pub const ORACLE_BITS: u32 = 192;

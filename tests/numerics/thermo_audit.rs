@@ -1,0 +1,134 @@
+//! The shadow audit of thermostatted flights (`verification::arc_audit` on
+//! `verification::curved::Curved::Thermostat`, `proofs-notes/thermostat-audit.md`): every sampled
+//! `f64` event replayed on tracked numbers by the same kernel, judged against the running bound
+//! of its own computation widened by the march's stopping band, the reference checked against
+//! independent closed forms.
+//!
+//! * production trajectories at w = 0.1 and 0.3 in fields E = 1/100, 3/10 and 3 (at 30° and
+//!   −90°): nothing outside the model, and the bound is not vacuous;
+//! * the audit catches an `f64` run in a field 10⁻¹² off the exact one;
+//! * the recorded worst events replay to their verdict.
+
+use lorentz_gas::kernel::thermostat::Thermostat;
+use lorentz_gas::numbers::tracked::Tracked;
+use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::thermostat::CellFields;
+use lorentz_gas::scenes::triangular::TriangularScene;
+use lorentz_gas::verification::arc_audit::{check_curved_event, recorded_state};
+use lorentz_gas::verification::curved::{Curved, ExactMotion};
+use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
+use rug::Rational;
+
+fn audit(scene: &TriangularScene, e: &str, angle: &str, collisions: u64, seed: u64) -> AuditReport {
+    let cfg = AuditConfig {
+        scene: scene.label(),
+        collisions,
+        batches: 2,
+        sample: 1.0,
+        reference_bits: 128,
+        seed,
+        field: None,
+        electric: Some(e.into()),
+        electric_angle: Some(angle.into()),
+        flights: Default::default(),
+    };
+    shadow_audit::run(scene, &cfg, &crate::common::threads(2)).unwrap()
+}
+
+fn motion(e: &str, angle: &str) -> ExactMotion {
+    ExactMotion::Thermostat {
+        field: e.parse().unwrap(),
+        angle: angle.parse().unwrap(),
+    }
+}
+
+/// Every replayed thermostatted event inside the model, none ambiguous beyond 1 %, the
+/// reference the thermostatted flight, and the bound a few u (one of ∞ would pass anything).
+#[test]
+fn audit_of_thermostatted_flights_finds_nothing_outside_the_model() {
+    let mut runs = Vec::new();
+    for (i, (e, angle)) in [
+        ("1/100", "30"),
+        ("3/10", "30"),
+        ("3", "30"),
+        ("3/10", "-90"),
+    ]
+    .iter()
+    .enumerate()
+    {
+        for w in [0.1, 0.3] {
+            let scene = TriangularScene::new(w).unwrap();
+            let r = audit(&scene, e, angle, 1500, 70 + i as u64);
+            runs.push((format!("w={w} E={e} at {angle}"), r));
+        }
+    }
+    for (what, r) in &runs {
+        let s = &r.summary;
+        assert_eq!(s.audited, r.events, "{what}");
+        assert!(s.audited >= 1500, "{what}: {}", s.audited);
+        assert_eq!(s.outside, 0, "{what}: {:?}", s.outside_events.first());
+        assert!(s.ambiguous * 100 < s.audited, "{what}: {}", s.ambiguous);
+        let q = &r.quantiles;
+        for b in [q.position_error_over_bound, q.velocity_error_over_bound] {
+            assert!(b.unwrap().max <= 1.0, "{what}: {b:?}");
+        }
+        assert!(q.time_error_over_bound.max <= 1.0, "{what}");
+        for e in &s.worst {
+            let c = &e.check;
+            assert!(c.flight_identity.is_some_and(|x| x <= 1.0), "{what}: {c:?}");
+            assert!(c.position_bound < 1e-12, "{what}: worst bound {c:?}");
+        }
+    }
+}
+
+/// An `f64` run in a field 10⁻¹² stronger than the exact one is caught: its events leave the
+/// bound of the exact flight.
+#[test]
+fn audit_catches_an_f64_field_off_by_a_picometre() {
+    let scene = TriangularScene::exact(Rational::from((1, 10))).unwrap();
+    let lat64 = scene.lattice::<f64>(()).unwrap();
+    let lat_t = scene.lattice::<Tracked>(128).unwrap();
+    let exact = motion("3/10", "30");
+    let m_t = exact.tracked(128);
+    let Curved::Thermostat(fields) = exact.in_f64(128) else {
+        unreachable!("a thermostat")
+    };
+    let th = fields.world();
+    let off = Curved::Thermostat(CellFields::new(Thermostat {
+        strength: th.strength + 1e-12,
+        dir: th.dir.clone(),
+    }));
+    let mut rng = lorentz_gas::scenes::sampling::stream(3, 0);
+    let (mut outside, mut n) = (0, 0);
+    while n < 200 {
+        let mut s = scene.sample(&mut rng);
+        for _ in 0..10 {
+            let Some(ev) = off.next(&lat64, &s) else {
+                break;
+            };
+            let c = check_curved_event(&lat64, &lat_t, &s, &off, &m_t).unwrap();
+            outside += usize::from(!c.in_model);
+            n += 1;
+            off.apply(&lat64, &mut s, &ev);
+        }
+    }
+    assert!(outside * 2 > n, "{outside} of {n} outside");
+}
+
+/// The worst events of a run, replayed from their bit patterns, give the same verdict.
+#[test]
+fn worst_thermostat_events_replay_to_their_verdict() {
+    let scene = TriangularScene::new(0.2).unwrap();
+    let r = audit(&scene, "1", "45", 1000, 61);
+    let lat64 = scene.lattice::<f64>(()).unwrap();
+    let lat_t = scene.lattice::<Tracked>(128).unwrap();
+    let m = motion("1", "45");
+    let (m64, m_t) = (m.in_f64(128), m.tracked(128));
+    assert!(!r.summary.worst.is_empty());
+    for e in &r.summary.worst {
+        let s = recorded_state(e);
+        let c = check_curved_event(&lat64, &lat_t, &s, &m64, &m_t).unwrap();
+        assert_eq!(c.position_error, e.check.position_error);
+        assert_eq!(c.in_model, e.check.in_model);
+    }
+}
