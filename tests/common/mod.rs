@@ -130,20 +130,33 @@ pub fn full_audit<S: lorentz_gas::scenes::Scene>(
     field: Option<&str>,
     flights: lorentz_gas::engine::long_flight::Flights,
 ) -> lorentz_gas::verification::shadow_audit::AuditReport {
-    use lorentz_gas::verification::shadow_audit::{self, AuditConfig};
-    let cfg = AuditConfig {
+    let cfg = lorentz_gas::verification::shadow_audit::AuditConfig {
+        field: field.map(Into::into),
+        flights,
+        ..audit_config(scene, collisions, seed)
+    };
+    lorentz_gas::verification::shadow_audit::run(scene, &cfg, &threads(2)).unwrap()
+}
+
+/// The audit of `collisions` collisions over 2 batches (seed `seed`) of straight flights on
+/// `scene`, every event replayed at 128 bits: the base the audits' tests set their motion on.
+pub fn audit_config<S: lorentz_gas::scenes::Scene>(
+    scene: &S,
+    collisions: u64,
+    seed: u64,
+) -> lorentz_gas::verification::shadow_audit::AuditConfig {
+    lorentz_gas::verification::shadow_audit::AuditConfig {
         scene: scene.label(),
         collisions,
         batches: 2,
         sample: 1.0,
         reference_bits: 128,
         seed,
-        field: field.map(Into::into),
+        field: None,
         electric: None,
         electric_angle: None,
-        flights,
-    };
-    shadow_audit::run(scene, &cfg, &threads(2)).unwrap()
+        flights: Default::default(),
+    }
 }
 
 /// Asserts that the audit `r` replayed at least `least` events and found none of them outside

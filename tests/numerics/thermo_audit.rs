@@ -21,16 +21,9 @@ use rug::Rational;
 
 fn audit(scene: &TriangularScene, e: &str, angle: &str, collisions: u64, seed: u64) -> AuditReport {
     let cfg = AuditConfig {
-        scene: scene.label(),
-        collisions,
-        batches: 2,
-        sample: 1.0,
-        reference_bits: 128,
-        seed,
-        field: None,
         electric: Some(e.into()),
         electric_angle: Some(angle.into()),
-        flights: Default::default(),
+        ..crate::common::audit_config(scene, collisions, seed)
     };
     shadow_audit::run(scene, &cfg, &crate::common::threads(2)).unwrap()
 }

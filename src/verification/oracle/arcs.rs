@@ -230,12 +230,7 @@ fn check(
     rep: &mut OracleReport,
 ) -> Result<(), String> {
     let fl = &after.flight;
-    if ![fl.pos.x, fl.pos.y, fl.vel.x, fl.vel.y]
-        .iter()
-        .all(|x| x.is_finite())
-    {
-        return Err(format!("non-finite state after {:?}: {fl:?}", ev.kind));
-    }
+    super::finite_after(fl, ev.kind)?;
     let dev = (fl.vel.norm2() - 1.0).abs() / U;
     rep.worst_energy_u = rep.worst_energy_u.max(dev);
     if dev.is_nan() || dev > band {

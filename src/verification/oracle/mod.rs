@@ -476,6 +476,21 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
     }
 }
 
+/// Refuses a non-finite flight after the event `kind`.
+fn finite_after(
+    fl: &crate::kernel::flight::Flight<f64>,
+    kind: crate::kernel::flight::EventKind,
+) -> Result<(), String> {
+    if [fl.pos.x, fl.pos.y, fl.vel.x, fl.vel.y]
+        .iter()
+        .all(|x| x.is_finite())
+    {
+        Ok(())
+    } else {
+        Err(format!("non-finite state after {kind:?}: {fl:?}"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

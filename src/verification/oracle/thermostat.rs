@@ -212,12 +212,7 @@ fn after_event(
     rep: &mut OracleReport,
 ) -> Result<(), String> {
     let fl = &after.flight;
-    if ![fl.pos.x, fl.pos.y, fl.vel.x, fl.vel.y]
-        .iter()
-        .all(|x| x.is_finite())
-    {
-        return Err(format!("non-finite state after {:?}: {fl:?}", ev.kind));
-    }
+    super::finite_after(fl, ev.kind)?;
     // A contact a residual δF = |x − c|² − r² off the circle (|δF| ≤ 2e₀ + 64u, checked at the
     // event) reflects the speed² by up to 4|δF|/r²: the straight band plus that.
     let r = cell.smallest_radius();
