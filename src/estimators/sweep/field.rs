@@ -4,7 +4,7 @@
 //! own batches'. Where the grid holds B and −B at the same gap, Onsager–Casimir is checked:
 //! D_xx(B) − D_xx(−B) and D_xy(B) + D_xy(−B) against 0 with the Welch error of two independent
 //! estimates, at the crate's agreement level corrected for the number of comparisons (Bonferroni,
-//! [`largest_of_bound`]).
+//! [`largest_of_bound`](crate::statistics::comparison::largest_of_bound)).
 //!
 //! Resumption: the points are sealed into `DIR/field-points/` as they finish
 //! ([`super::point_grid`], the mechanism of every sweep of transport runs).

@@ -4,7 +4,7 @@
 //! Z_n(s) = Σ_{alive at collision n} e^{sτ_n} behaves as c(s) ν(s)ⁿ once n is past the
 //! transient, and ν(γ) = 1 at the escape rate γ (the weights e^{γτ} undo the decay of the
 //! surviving fraction exactly). So γ̂ solves Z_{n+1}(s) = Z_n(s) at the window's collision n,
-//! and with E_n[f] = Σ e^{γ̂τ_n} f / Z_n(γ̂) the increments E_{n+1} − E_n of τ and of ln Λ are
+//! and with E_n\[f\] = Σ e^{γ̂τ_n} f / Z_n(γ̂) the increments E_{n+1} − E_n of τ and of ln Λ are
 //! the natural measure's mean flight time ⟨T⟩ and mean expansion per flight ⟨ln Λ⟩:
 //! λ = ⟨ln Λ⟩/⟨T⟩ (`docs/guide/cycles.md`, "Survival").
 //!
