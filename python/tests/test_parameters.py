@@ -35,7 +35,7 @@ CASES = {
     "shadow --field": ["--w", "0.2", "--collisions-per-segment", "20", "--segments", "1",
                        "--field", "1"],
     "escape": ["--w", "0.2", "--particles-per-width", "3200"],
-    "escape --repeller": ["--repeller", "--particles", "1e5"],
+    "escape --repeller": ["--repeller", "--particles", "1e6"],
     "cycles": ["--max-length", "2"],
     "section": ["--w", "0.2", "--field", "5/2", "--trajectories", "4", "--collisions", "100",
                 "--classify-collisions", "1000"],
