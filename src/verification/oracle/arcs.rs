@@ -138,10 +138,8 @@ pub fn fly<S: Scene>(
             lat.next_event_in_field(&s, &b),
             l53.next_event_in_field(&m, &b53),
         );
-        let (ev, ev53) = match (ev, ev53) {
-            (None, None) => break,
-            (Some(e), Some(e53)) => (e, e53),
-            (e, e53) => return Err(fail(format!("f64 event {e:?}, MPFR-53 event {e53:?}"))),
+        let Some((ev, ev53)) = super::both(ev, ev53).map_err(fail)? else {
+            break;
         };
         lat.apply_in_field(&mut s, &ev);
         l53.apply_in_field(&mut m, &ev53);

@@ -476,6 +476,19 @@ pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
     }
 }
 
+/// The `f64` event and the MPFR-53 one of one step: both (`Some`), neither (`None`: the flight
+/// ends), or a refusal naming them where only one of the two exists.
+fn both<E: std::fmt::Debug, F: std::fmt::Debug>(
+    ev: Option<E>,
+    ev53: Option<F>,
+) -> Result<Option<(E, F)>, String> {
+    match (ev, ev53) {
+        (None, None) => Ok(None),
+        (Some(e), Some(e53)) => Ok(Some((e, e53))),
+        (e, e53) => Err(format!("f64 event {e:?}, MPFR-53 event {e53:?}")),
+    }
+}
+
 /// Refuses a non-finite flight after the event `kind`.
 fn finite_after(
     fl: &crate::kernel::flight::Flight<f64>,

@@ -106,10 +106,8 @@ pub fn fly_thermostat<S: Scene>(
             lat.next_event_thermostat(&s, &f64s),
             l53.next_event_thermostat(&m, &f53),
         );
-        let (ev, ev53) = match (ev, ev53) {
-            (None, None) => break,
-            (Some(e), Some(e53)) => (e, e53),
-            (e, e53) => return Err(fail(format!("f64 event {e:?}, MPFR-53 event {e53:?}"))),
+        let Some((ev, ev53)) = super::both(ev, ev53).map_err(fail)? else {
+            break;
         };
         let th = f64s.in_cell(&s.cell);
         let slack = no_missed_contact(lat.cell(), lhp.cell(), &s, th, fhp.in_cell(&s.cell), &ev)
