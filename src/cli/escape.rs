@@ -133,6 +133,16 @@ fn survival_config(a: &Args, open: OpenSpec) -> Result<SurvivalConfig, Error> {
     Ok(cfg)
 }
 
+/// The configuration these options give, as a result records it: the survival run's on an open
+/// table, the strips' otherwise (for the audit's provenance check).
+pub fn recorded_config(a: &Args) -> Result<serde_json::Value, Error> {
+    let value = match open_table(a)? {
+        Some(open) => serde_json::to_value(survival_config(a, open)?),
+        None => serde_json::to_value(config(a)?),
+    };
+    value.map_err(Error::encode)
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
     if let Some(open) = open_table(&a)? {
         let cfg = survival_config(&a, open)?;

@@ -14,7 +14,8 @@ use super::progress::Progress;
 #[derive(clap::Args)]
 pub struct Args {
     /// A result of diffusion, sweep (or merge), hops, theory, lattice-walk, backscatter or
-    /// escape, written with --json (or sweep.json); at most 64 MiB.
+    /// escape (strips, or survival on an open table), written with --json (or sweep.json); at
+    /// most 64 MiB.
     result: PathBuf,
     /// Quick: one batch (or run) re-run, drawn at random (the verdict states how strong that is:
     /// publish with the full audit), fewer events replayed,
@@ -67,7 +68,7 @@ fn read_command_line(line: &[String]) -> CommandLine {
         Cmd::Hops(a) => json(Ok(a.hop.config())),
         Cmd::Theory(a) | Cmd::LatticeWalk(a) => json(Ok(a.config())),
         Cmd::Backscatter(a) => json(Ok(super::backscatter::config(a))),
-        Cmd::Escape(a) => json(super::escape::config(a)),
+        Cmd::Escape(a) => super::escape::recorded_config(a).map(Some),
         Cmd::Sweep(a) => json(super::sweep::config(a)),
         _ => Ok(None),
     };

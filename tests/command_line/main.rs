@@ -16,5 +16,6 @@ mod planned;
 mod records;
 mod report;
 mod report_field;
+mod report_survival;
 mod result_keys;
 mod tables;

@@ -36,8 +36,10 @@ pub enum Kind {
     LatticeWalk,
     /// `lorentz backscatter --json`.
     Backscatter,
-    /// `lorentz escape --json`.
+    /// `lorentz escape --json` (open strips of the triangular gas).
     Escape,
+    /// `lorentz escape --repeller` or `--open FILE` with `--json` (survival on an open table).
+    Survival,
     /// `lorentz diffusion --field B --json`.
     Field,
     /// `lorentz sweep --fields …` or `--field B` (`field-sweep.json`, `--json`).
@@ -49,7 +51,7 @@ pub enum Kind {
 impl Kind {
     /// Every kind, each with the keys that identify it (all present; `bench --report` has `rows`
     /// too, but no `linear_fit`).
-    pub const ALL: [(Kind, &'static [&'static str]); 10] = [
+    pub const ALL: [(Kind, &'static [&'static str]); 11] = [
         (Kind::Diffusion, &["batch_D"]),
         (Kind::Sweep, &["rows", "linear_fit"]),
         (Kind::Hops, &["pairs"]),
@@ -57,6 +59,7 @@ impl Kind {
         (Kind::LatticeWalk, &["walks"]),
         (Kind::Backscatter, &["mean_visit_time"]),
         (Kind::Escape, &["D_escape"]),
+        (Kind::Survival, &["start_density", "batch_gamma"]),
         (Kind::Field, &["batch_D_xx", "localized_fraction_exact"]),
         (Kind::FieldSweep, &["rows", "onsager"]),
         (Kind::TableDiffusion, &["batch_D", "identities", "table"]),
@@ -71,7 +74,7 @@ impl Kind {
             Kind::Theory => "theory",
             Kind::LatticeWalk => "lattice-walk",
             Kind::Backscatter => "backscatter",
-            Kind::Escape => "escape",
+            Kind::Escape | Kind::Survival => "escape",
             Kind::Field => "diffusion",
             Kind::FieldSweep => "sweep",
             Kind::TableDiffusion => "diffusion",

@@ -24,8 +24,8 @@ const PARAMETERS: [(&str, &str); 5] = [
 ];
 
 /// The estimates shown, each with its `_err`.
-const ESTIMATES: [&str; 8] = [
-    "D", "D_xx", "D_xy", "p_bs", "D_escape", "D_hops", "gamma", "lambda",
+const ESTIMATES: [&str; 10] = [
+    "D", "D_xx", "D_xy", "p_bs", "D_escape", "D_hops", "gamma", "lambda", "lyapunov", "entropy",
 ];
 
 /// The headline of the result `value` of kind `kind`: the parameters, batches and seed, the

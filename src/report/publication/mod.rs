@@ -36,7 +36,11 @@
 //! rows, the F tests of the runs, the fits and the crossing recomputed by the sweep's own analysis
 //! from each run's D and error in the file, to the bit), the runs' F tests over the points, and
 //! runs re-run from their seeds (one run of one point, drawn at random, with `quick`; the
-//! whole sweep otherwise). For `hops`, `theory`, `lattice-walk`, `backscatter` and `escape`: the
+//! whole sweep otherwise). For survival on an open table (`escape --repeller` or `--open`): the
+//! record recomputed from its batches to the bit, their statistics, the window check, γ, λ and
+//! h_KS against the certified cycle expansion of the three-disk repeller (N/A on a table given
+//! as data), and the run re-run (one batch with `quick`). For `hops`, `theory`, `lattice-walk`,
+//! `backscatter` and `escape` on strips: the
 //! record against its configuration, the exact identities they carry (Kac's lemma for
 //! injection), and the configuration re-run, every field identical but timing and metadata.
 //!
@@ -72,6 +76,7 @@ mod render;
 mod same_bits;
 mod sampled;
 mod statistics;
+mod survival;
 mod sweep;
 mod table;
 
@@ -281,6 +286,7 @@ enum Audited {
     Hops(Box<hops::HopsKind>),
     Backscatter(Box<crate::estimators::hops::backscatter::BackscatterReport>),
     Escape(Box<crate::estimators::escape::EscapeReport>),
+    Survival(Box<crate::estimators::escape::survival::SurvivalReport>),
     Field(Box<crate::estimators::field::FieldReport>),
     FieldSweep(Box<crate::estimators::sweep::field::FieldSweepReport>),
     Table(
@@ -304,6 +310,7 @@ impl Audited {
             }
             Kind::Backscatter => Audited::Backscatter(Box::new(backscatter::parse(&file, path)?)),
             Kind::Escape => Audited::Escape(Box::new(escape::parse(&file, path)?)),
+            Kind::Survival => Audited::Survival(Box::new(survival::parse(&file, path)?)),
             Kind::Field => Audited::Field(Box::new(field::parse(&file, path)?)),
             Kind::FieldSweep => Audited::FieldSweep(Box::new(field_sweep::parse(&file, path)?)),
             Kind::TableDiffusion => Audited::Table(Box::new(table::parse(&file, path)?)),
@@ -319,6 +326,7 @@ impl Audited {
             Audited::Hops(h) => Ok(vec![h.config().collisions]),
             Audited::Backscatter(r) => Ok(vec![backscatter::collisions(&r.config)?]),
             Audited::Escape(r) => Ok(vec![escape::collisions(&r.config)?]),
+            Audited::Survival(r) => survival::reruns(r, quick),
             Audited::Field(r) => Ok(vec![r.config.collisions]),
             Audited::FieldSweep(r) => Ok(vec![field_sweep::collisions(r)]),
             Audited::Table(t) => Ok(vec![t.0.config.collisions]),
@@ -332,6 +340,7 @@ impl Audited {
             Audited::Hops(h) => h.meta(),
             Audited::Backscatter(r) => &r.meta,
             Audited::Escape(r) => &r.meta,
+            Audited::Survival(r) => &r.meta,
             Audited::Field(r) => &r.meta,
             Audited::FieldSweep(r) => &r.meta,
             Audited::Table(t) => &t.0.meta,
@@ -436,6 +445,7 @@ pub fn run_with(
         Audited::Hops(h) => hops::checks(h, &ctx, &mut checks)?,
         Audited::Backscatter(r) => backscatter::checks(r, &ctx, &mut checks)?,
         Audited::Escape(r) => escape::checks(r, &ctx, &mut checks)?,
+        Audited::Survival(r) => survival::checks(r, &ctx, &mut checks)?,
         Audited::Field(r) => field::checks(r, &ctx, &mut checks, &mut figures)?,
         Audited::FieldSweep(r) => field_sweep::checks(r, &ctx, &mut checks)?,
         Audited::Table(t) => table::checks((&t.0, &t.1), &ctx, &mut checks)?,

@@ -110,6 +110,7 @@ recorded!(
     crate::estimators::hops::lattice_walks::LatticeWalkReport,
     crate::estimators::hops::backscatter::BackscatterReport,
     crate::estimators::escape::EscapeReport,
+    crate::estimators::escape::survival::SurvivalReport,
     crate::estimators::field::FieldReport,
     crate::estimators::sweep::field::FieldSweepReport,
     crate::estimators::diffusion::scene::SceneDiffusionReport

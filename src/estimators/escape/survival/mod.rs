@@ -172,6 +172,10 @@ pub struct SurvivalReport {
     pub mean_flight_time_err: f64,
     /// The fraction of the particles alive at collision k = 0, 1, …, n₀ + 2.
     pub survival: Vec<f64>,
+    /// Each batch's γ from the window at n₀ (the errors are their spread; the audit re-runs one).
+    pub batch_gamma: Vec<f64>,
+    /// Each batch's λ from the window at n₀.
+    pub batch_lyapunov: Vec<f64>,
     /// The pilot's γ, about which the weights are expanded.
     pub pilot_gamma: f64,
     /// Collisions over all particles.
@@ -233,14 +237,14 @@ fn batch(
     Ok(tally)
 }
 
-/// The pilot's γ: a small run whose moments are taken about s = 0 and solved exactly by
-/// doubling the reach until the root is inside it.
+/// The pilot's γ and its collisions per particle: a small run whose moments are taken about
+/// s = 0 and solved exactly by doubling the reach until the root is inside it.
 fn pilot(
     table: &OpenDisks<f64>,
     starts: &Starts,
     cfg: &SurvivalConfig,
     options: &RunOptions,
-) -> Result<f64, Error> {
+) -> Result<(f64, f64), Error> {
     let key = StreamKey::new(cfg.seed, Purpose::Survival, 0).in_run(1);
     let quiet = RunOptions {
         progress: &|_| {},
@@ -253,7 +257,7 @@ fn pilot(
         match estimate(&t, cfg.window as usize, s0) {
             Ok(e) => {
                 if (e.gamma - s0).abs() * t.time_max < 0.1 * tally::MAX_SHIFT {
-                    return Ok(e.gamma);
+                    return Ok((e.gamma, t.collisions as f64 / PILOT_PARTICLES as f64));
                 }
                 s0 = e.gamma;
             }
@@ -279,7 +283,7 @@ pub fn run(cfg: &SurvivalConfig, options: &RunOptions) -> Result<SurvivalReport,
     let open = cfg.open()?;
     let table = open.at::<f64>(());
     let starts = Starts::new(&table);
-    let s0 = pilot(&table, &starts, cfg, options)?;
+    let (s0, _) = pilot(&table, &starts, cfg, options)?;
     let window = cfg.window as usize;
     let tallies = par_batches_watched(options.threads, BATCHES, options.stop.as_ref(), |b| {
         let key = StreamKey::new(cfg.seed, Purpose::Survival, u64::from(b));
@@ -301,32 +305,75 @@ pub fn run(cfg: &SurvivalConfig, options: &RunOptions) -> Result<SurvivalReport,
     Ok(report)
 }
 
-/// The pooled estimates of every window of `all` with the batch errors of `tallies`, and
-/// their standard errors over the batches of (γ, λ, ⟨T⟩, λ − γ).
+/// Collisions a run of `cfg` makes, expected from its pilot (run here: about 0.1 s) — the
+/// audit's budget, computed from the configuration and never from a record.
+///
+/// # Errors
+/// As [`run`].
+pub fn expected_collisions(cfg: &SurvivalConfig, options: &RunOptions) -> Result<u64, Error> {
+    cfg.validate()?;
+    let table = cfg.open()?.at::<f64>(());
+    let starts = Starts::new(&table);
+    let (_, per_particle) = pilot(&table, &starts, cfg, options)?;
+    Ok((per_particle * cfg.particles as f64).ceil() as u64)
+}
+
+/// Batch `b` of the run of `cfg` alone, with the run's pilot: its estimates from the window at
+/// n₀, the bits of the whole run's `batch_gamma[b]` and `batch_lyapunov[b]` (the audit's quick
+/// re-run). `options.progress` receives particles.
+///
+/// # Errors
+/// As [`run`], and a batch outside 0 … [`BATCHES`] − 1.
+pub fn rerun_batch(
+    cfg: &SurvivalConfig,
+    b: u32,
+    options: &RunOptions,
+) -> Result<WindowEstimate, Error> {
+    cfg.validate()?;
+    Error::unless_in("batch", b, 0..=BATCHES - 1, "")?;
+    let table = cfg.open()?.at::<f64>(());
+    let starts = Starts::new(&table);
+    let (s0, _) = pilot(&table, &starts, cfg, options)?;
+    let key = StreamKey::new(cfg.seed, Purpose::Survival, u64::from(b));
+    let n = share(cfg.particles, BATCHES, b);
+    let t = batch(&table, &starts, (n, cfg.window as usize, s0), key, options)?;
+    estimate(&t, cfg.window as usize, s0)
+}
+
+/// One window: the pooled estimates, their standard errors over the batches of (γ, λ, ⟨T⟩,
+/// λ − γ), and each batch's estimates.
+type Window = (WindowEstimate, [f64; 4], Vec<WindowEstimate>);
+
+/// The windows n = 1 … n₀ + 1 of `all` with the batch errors of `tallies`.
 fn windows(
     cfg: &SurvivalConfig,
     all: &Tally,
     tallies: &[Tally],
     s0: f64,
-) -> Result<Vec<(WindowEstimate, [f64; 4])>, Error> {
+) -> Result<Vec<Window>, Error> {
     (1..=cfg.window as usize + 1)
         .map(|n| {
             let pooled = estimate(all, n, s0)?;
             let each: Vec<WindowEstimate> = (tallies.iter())
                 .map(|t| estimate(t, n, s0))
                 .collect::<Result<_, Error>>()?;
-            let se = |f: &dyn Fn(&WindowEstimate) -> f64| {
-                mean_se(&each.iter().map(f).collect::<Vec<f64>>()).1
-            };
-            let errs = [
-                se(&|e| e.gamma),
-                se(&|e| e.lyapunov),
-                se(&|e| e.mean_flight_time),
-                se(&|e| e.lyapunov - e.gamma),
-            ];
-            Ok((pooled, errs))
+            let errs = batch_errors(&each);
+            Ok((pooled, errs, each))
         })
         .collect()
+}
+
+/// The standard errors over the batches' estimates `each` of (γ, λ, ⟨T⟩, λ − γ): the report's
+/// errors.
+pub fn batch_errors(each: &[WindowEstimate]) -> [f64; 4] {
+    let se =
+        |f: &dyn Fn(&WindowEstimate) -> f64| mean_se(&each.iter().map(f).collect::<Vec<f64>>()).1;
+    [
+        se(&|e| e.gamma),
+        se(&|e| e.lyapunov),
+        se(&|e| e.mean_flight_time),
+        se(&|e| e.lyapunov - e.gamma),
+    ]
 }
 
 /// The transient's ratio per collision and the bias it leaves in γ at the last of `gammas`.
@@ -348,7 +395,8 @@ fn summarise(
 ) -> Result<SurvivalReport, Error> {
     let rows = windows(cfg, all, tallies, s0)?;
     let n0 = cfg.window as usize;
-    let ((main, err), (late, late_err)) = (rows[n0 - 1], rows[n0]);
+    let ((main, err, each), (late, late_err, _)) = (&rows[n0 - 1], &rows[n0]);
+    let (main, err, late, late_err) = (*main, *err, *late, *late_err);
     let gammas: Vec<f64> = rows[..n0].iter().map(|r| r.0.gamma).collect();
     let (transient_ratio, transient_bias) = transient(&gammas);
     let starts = all.alive[0].max(1) as f64;
@@ -361,7 +409,7 @@ fn summarise(
         gamma_late_err: late_err[0],
         window_check_sigma: (late.gamma - main.gamma) / err[0].hypot(late_err[0]),
         windows: (rows.iter().zip(1u32..))
-            .map(|((e, s), start)| SurvivalWindow {
+            .map(|((e, s, _), start)| SurvivalWindow {
                 start,
                 gamma: e.gamma,
                 gamma_err: s[0],
@@ -378,6 +426,8 @@ fn summarise(
         mean_flight_time: main.mean_flight_time,
         mean_flight_time_err: err[2],
         survival: all.alive.iter().map(|&a| a as f64 / starts).collect(),
+        batch_gamma: each.iter().map(|e| e.gamma).collect(),
+        batch_lyapunov: each.iter().map(|e| e.lyapunov).collect(),
         pilot_gamma: s0,
         collisions: all.collisions,
         batches: BATCHES,
