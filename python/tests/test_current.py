@@ -28,6 +28,18 @@ def test_a_run_under_the_thermostat_has_the_command_lines_bits(cli_json):
     assert len(py.to_pandas("batches")) == 4
 
 
+
+def test_a_driven_result_passes_the_publication_audit(tmp_path):
+    """``report`` audits a driven result: its record, the sum rule, J_perp = 0 on a mirror line,
+    a shadow audit of thermostatted events, a batch re-run to the bit."""
+    r = lg.diffusion(w="0.2", electric="3/10", collisions=2e5, batches=8, seed=5)
+    rep = lg.report(r, out=tmp_path / "j", quick=True)
+    assert rep.verdict == "PASS", [c for c in rep.checks if c["verdict"] not in ("PASS", "N/A")]
+    names = [c["name"] for c in rep.checks if c["verdict"] == "PASS"]
+    for name in ("sum rule: ", "no current across", "shadow audit of thermostatted events",
+                 "the recorded configuration re-run"):
+        assert any(n.startswith(name) for n in names), name
+
 def test_a_zero_electric_field_is_the_run_without_a_field():
     a = lg.diffusion(w="0.1", collisions=2e6, batches=4, seed=3)
     b = lg.diffusion(w="0.1", collisions=2e6, batches=4, seed=3, electric="0", electric_angle=30)

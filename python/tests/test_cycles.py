@@ -61,8 +61,13 @@ def test_side_and_radius_are_exact_and_bad_input_is_a_value_error():
             lg.cycles(**kwargs)
 
 
-def test_escape_by_survival_on_the_repeller_and_on_disks_given_as_data(cli_json):
+def test_escape_by_survival_on_the_repeller_and_on_disks_given_as_data(cli_json, tmp_path):
     r = lg.escape(repeller=True, side=6, radius=1, particles=2e6, threads=2)
+    assert len(r.batch_gamma) == len(r.batch_lyapunov) == 32
+    # The audit: the record from the batches, γ, λ and h_KS against the certified cycles.
+    rep = lg.report(r, out=tmp_path / "s", quick=True)
+    assert rep.verdict == "PASS", [c for c in rep.checks if c["verdict"] != "PASS"]
+    assert any(c["name"] == "γ by survival = γ by cycles" for c in rep.checks)
     assert isinstance(r, lg.SurvivalResult)
     # γ of the cycles within 4 batch standard errors (32 batches; the window's transient,
     # about 3e-5, is far below the error of 2e6 particles).

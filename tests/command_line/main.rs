@@ -15,6 +15,7 @@ mod hostile;
 mod planned;
 mod records;
 mod report;
+mod report_current;
 mod report_field;
 mod report_survival;
 mod result_keys;

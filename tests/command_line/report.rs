@@ -576,3 +576,42 @@ fn the_fuzz_seeds_and_their_mutations_stay_inside_out() {
         assert!(outside.is_empty(), "input {i}: {outside:?}");
     }
 }
+
+/// Whether `c` holds a check of `verdict` whose name starts with `name`.
+pub(crate) fn has(c: &[(String, String, String)], verdict: &str, name: &str) -> bool {
+    c.iter().any(|x| x.0 == verdict && x.2.starts_with(name))
+}
+
+/// A fresh `lorentz ARGS --json` result in `dir/file`, reported on with `--quick`: every check
+/// passes or does not apply, and each of `names` passes. The result's JSON.
+pub(crate) fn passes_quick(dir: &Path, file: &str, args: &str, names: &[&str]) -> String {
+    let json = result_text_in(dir, file, &words(args));
+    let (code, printed, c) = quick_report(dir, file);
+    assert_eq!(code, 0, "{printed}");
+    assert!(c.iter().all(|x| x.0 == "PASS" || x.0 == "N/A"), "{c:?}");
+    for name in names {
+        assert!(has(&c, "PASS", name), "{name}: {c:?}");
+    }
+    json
+}
+
+/// `json` with its one occurrence of the number `old` replaced by `new`, written to
+/// `dir/edited.json` and reported on with `--quick`: the report must fail (status 1). Its checks.
+pub(crate) fn edited_number_report(
+    dir: &Path,
+    json: &str,
+    old: f64,
+    new: f64,
+) -> Vec<(String, String, String)> {
+    assert_eq!(json.matches(&format!("{old}")).count(), 1, "{old}");
+    edited_text_report(dir, &json.replacen(&format!("{old}"), &format!("{new}"), 1))
+}
+
+/// The result text `edited` written to `dir/edited.json` and reported on with `--quick`: the
+/// report must fail (status 1). Its checks.
+pub(crate) fn edited_text_report(dir: &Path, edited: &str) -> Vec<(String, String, String)> {
+    std::fs::write(dir.join("edited.json"), edited).unwrap();
+    let (code, printed, c) = quick_report(dir, "edited.json");
+    assert_eq!(code, 1, "{printed}");
+    c
+}

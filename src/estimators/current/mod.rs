@@ -136,6 +136,23 @@ pub fn work(cfg: &DiffusionConfig) -> crate::engine::work::Work<'static> {
         .at(cfg.precision)
 }
 
+/// Batch `i` of the run of `cfg` alone: its current along and across E, the bits of the whole
+/// run's `batch_J_parallel[i]` and `batch_J_perp[i]` (the audit's quick re-run).
+///
+/// # Errors
+/// As [`run`], and a batch outside 0 … batches − 1.
+pub fn rerun_batch(cfg: &DiffusionConfig, i: u32, opts: &RunOptions) -> Result<[f64; 2], Error> {
+    cfg.validate()?;
+    Error::unless_in("batch", i, 0..=cfg.batches.saturating_sub(1), "")?;
+    let scene = cfg.table.scene.resolve()?;
+    let b = crate::with_scene!(&scene, |s| match cfg.precision {
+        Precision::F64 => batches::<f64, _>(s, cfg, (), opts, Some(i)),
+        Precision::Bits(bits) => batches::<rug::Float, _>(s, cfg, bits, opts, Some(i)),
+    })?;
+    let world = field_at::<f64>(cfg, ())?;
+    Ok(summary::along_across([world.dir.x, world.dir.y], &b[0]))
+}
+
 /// The run on the resolved scene.
 fn run_on<S: Scene>(
     scene: &S,
@@ -144,8 +161,8 @@ fn run_on<S: Scene>(
 ) -> Result<CurrentReport, Error> {
     let started = Instant::now();
     let batches = match cfg.precision {
-        Precision::F64 => batches::<f64, S>(scene, cfg, (), opts)?,
-        Precision::Bits(bits) => batches::<rug::Float, S>(scene, cfg, bits, opts)?,
+        Precision::F64 => batches::<f64, S>(scene, cfg, (), opts, None)?,
+        Precision::Bits(bits) => batches::<rug::Float, S>(scene, cfg, bits, opts, None)?,
     };
     let world = field_at::<f64>(cfg, ())?;
     let meta = RunMeta::new(
@@ -175,12 +192,13 @@ fn grid<S: Scene>(scene: &S, cfg: &DiffusionConfig) -> (f64, Vec<usize>, u64) {
 }
 
 /// Every batch at number type `T` on the scalar kernel, one per task (the same bits at any
-/// thread count: each batch is its own stream).
+/// thread count: each batch is its own stream), or batch `only` alone.
 fn batches<T: Real, S: Scene>(
     scene: &S,
     cfg: &DiffusionConfig,
     ctx: T::Ctx,
     opts: &RunOptions,
+    only: Option<u32>,
 ) -> Result<Vec<Batch>, Error> {
     let lattice = scene.lattice::<T>(ctx)?;
     let fields = CellFields::new(field_at::<T>(cfg, ctx)?);
@@ -199,10 +217,13 @@ fn batches<T: Real, S: Scene>(
         stop: opts.stop.as_ref(),
         progress: opts.progress,
     };
-    par_batches_watched(opts.threads, cfg.batches, opts.stop.as_ref(), |i| {
-        let key = StreamKey::new(cfg.seed, Purpose::Trajectory, u64::from(i)).in_run(cfg.run);
-        track::batch(&setup, key)
-    })
+    let key = |i: u32| StreamKey::new(cfg.seed, Purpose::Trajectory, u64::from(i)).in_run(cfg.run);
+    match only {
+        Some(i) => Ok(vec![track::batch(&setup, key(i))?]),
+        None => par_batches_watched(opts.threads, cfg.batches, opts.stop.as_ref(), |i| {
+            track::batch(&setup, key(i))
+        }),
+    }
 }
 
 /// One batch's slope over `win` of the moment `f` of its lag means (against the lag in time).

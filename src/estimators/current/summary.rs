@@ -196,8 +196,8 @@ fn steady(
     let e = [world.dir.x, world.dir.y];
     let eps = world.strength;
     let per = |f: &dyn Fn(&Batch) -> f64| batches.iter().map(f).collect::<Vec<f64>>();
-    let along = per(&|b| e[0] * b.current[0] + e[1] * b.current[1]);
-    let across = per(&|b| -e[1] * b.current[0] + e[0] * b.current[1]);
+    let along = per(&|b| along_across(e, b)[0]);
+    let across = per(&|b| along_across(e, b)[1]);
     let rate = mean_of(&per(&|b| b.collisions as f64 / b.time));
     let (j_x, j_y) = (
         mean_of(&per(&|b| b.current[0])),
@@ -237,6 +237,14 @@ fn steady(
     }
 }
 
+/// A batch's current along E and across it (ê⊥ = ê turned by +90°), `e` = ê.
+pub(super) fn along_across(e: [f64; 2], b: &Batch) -> [f64; 2] {
+    [
+        e[0] * b.current[0] + e[1] * b.current[1],
+        -e[1] * b.current[0] + e[0] * b.current[1],
+    ]
+}
+
 /// The report of `batches`, run on `scene` under the field `world` (doubles) in `seconds`.
 pub(super) fn summarise<S: Scene>(
     scene: &S,
@@ -250,8 +258,8 @@ pub(super) fn summarise<S: Scene>(
     let tau = time_unit(scene);
     let lags = cfg.lags();
     let per = |f: &dyn Fn(&Batch) -> f64| batches.iter().map(f).collect::<Vec<f64>>();
-    let along = per(&|b| e[0] * b.current[0] + e[1] * b.current[1]);
-    let across = per(&|b| -e[1] * b.current[0] + e[0] * b.current[1]);
+    let along = per(&|b| along_across(e, b)[0]);
+    let across = per(&|b| along_across(e, b)[1]);
     let (angle_bins, angle_density, angle_density_err) = angle_density(batches);
     let collisions = batches.iter().map(|b| b.collisions).sum();
     let (spacing, _, samples) = grid(scene, cfg);

@@ -4,6 +4,7 @@
 use super::{Check, Verdict};
 use crate::engine::metadata::RunMeta;
 use crate::statistics::comparison::{MIN_VERDICT_DOF, no_verdict};
+use crate::statistics::normal_sigma_equivalent_t;
 
 /// The checks of one audit, in order.
 pub(super) struct Checks(pub(super) Vec<Check>);
@@ -53,6 +54,27 @@ impl Checks {
             return self.pass_if(ok, group, name, detail, numbers);
         }
         self.skip(group, name, format!("{detail}: {}", no_verdict(dof)));
+    }
+
+    /// The check that `v ± e` agrees with `x` within the Student-t bound of `dof` degrees of
+    /// freedom (the crate's 4σ-equivalent, [`super::SIGMAS`]; judged as [`Checks::judge`]), its
+    /// detail `what` followed by the numbers.
+    pub(super) fn within_t(
+        &mut self,
+        dof: f64,
+        (group, name): (&str, &str),
+        ((v, e), x): ((f64, f64), f64),
+        what: String,
+    ) {
+        let bound = normal_sigma_equivalent_t(dof, super::SIGMAS);
+        let z = (v - x) / e;
+        self.judge(
+            dof,
+            z.abs() <= bound,
+            (group, name),
+            format!("{what}{v} ± {e:.1e} against {x} ({z:+.2}σ; bound {bound:.2}σ)"),
+            &[("value", v), ("err", e), ("exact", x)],
+        );
     }
 
     /// A SKIP of `name` for `reason`.

@@ -42,6 +42,8 @@ pub enum Kind {
     Survival,
     /// `lorentz diffusion --field B --json`.
     Field,
+    /// `lorentz diffusion --electric E --json` (the driven gas's steady state).
+    Current,
     /// `lorentz sweep --fields …` or `--field B` (`field-sweep.json`, `--json`).
     FieldSweep,
     /// `lorentz diffusion --table FILE --json` (D on a table given as data).
@@ -51,7 +53,7 @@ pub enum Kind {
 impl Kind {
     /// Every kind, each with the keys that identify it (all present; `bench --report` has `rows`
     /// too, but no `linear_fit`).
-    pub const ALL: [(Kind, &'static [&'static str]); 11] = [
+    pub const ALL: [(Kind, &'static [&'static str]); 12] = [
         (Kind::Diffusion, &["batch_D"]),
         (Kind::Sweep, &["rows", "linear_fit"]),
         (Kind::Hops, &["pairs"]),
@@ -61,6 +63,10 @@ impl Kind {
         (Kind::Escape, &["D_escape"]),
         (Kind::Survival, &["start_density", "batch_gamma"]),
         (Kind::Field, &["batch_D_xx", "localized_fraction_exact"]),
+        (
+            Kind::Current,
+            &["J_parallel", "batch_J_parallel", "mobility"],
+        ),
         (Kind::FieldSweep, &["rows", "onsager"]),
         (Kind::TableDiffusion, &["batch_D", "identities", "table"]),
     ];
@@ -75,7 +81,7 @@ impl Kind {
             Kind::LatticeWalk => "lattice-walk",
             Kind::Backscatter => "backscatter",
             Kind::Escape | Kind::Survival => "escape",
-            Kind::Field => "diffusion",
+            Kind::Field | Kind::Current => "diffusion",
             Kind::FieldSweep => "sweep",
             Kind::TableDiffusion => "diffusion",
         }

@@ -36,7 +36,10 @@
 //! rows, the F tests of the runs, the fits and the crossing recomputed by the sweep's own analysis
 //! from each run's D and error in the file, to the bit), the runs' F tests over the points, and
 //! runs re-run from their seeds (one run of one point, drawn at random, with `quick`; the
-//! whole sweep otherwise). For survival on an open table (`escape --repeller` or `--open`): the
+//! whole sweep otherwise). For the driven gas (`diffusion --electric`): the record recomputed
+//! from its batches and exact field, their statistics, the Lyapunov sum rule on average and per
+//! trajectory, J⊥ = 0 on a mirror line, a shadow audit of thermostatted events at the recorded
+//! table and field, and a re-run (one batch with `quick`). For survival on an open table (`escape --repeller` or `--open`): the
 //! record recomputed from its batches to the bit, their statistics, the window check, γ, λ and
 //! h_KS against the certified cycle expansion of the three-disk repeller (N/A on a table given
 //! as data), and the run re-run (one batch with `quick`). For `hops`, `theory`, `lattice-walk`,
@@ -63,6 +66,8 @@
 mod backscatter;
 mod checks;
 pub mod command_line;
+mod ctx;
+mod current;
 mod diffusion;
 mod escape;
 mod field;
@@ -82,7 +87,7 @@ mod table;
 
 use std::cell::Cell;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
@@ -91,6 +96,7 @@ use crate::engine::metadata::RunMeta;
 use crate::engine::options::{MAX_AUDIT_BITS, MIN_AUDIT_BITS, RunOptions};
 use crate::numbers::precision::Precision;
 use checks::{Checks, entropy_draw, meta_problems, pick, record_check};
+use ctx::Ctx;
 use file::{Kind, ResultFile};
 pub use sampled::Sampled;
 
@@ -286,6 +292,7 @@ enum Audited {
     Hops(Box<hops::HopsKind>),
     Backscatter(Box<crate::estimators::hops::backscatter::BackscatterReport>),
     Escape(Box<crate::estimators::escape::EscapeReport>),
+    Current(Box<crate::estimators::current::CurrentReport>),
     Survival(Box<crate::estimators::escape::survival::SurvivalReport>),
     Field(Box<crate::estimators::field::FieldReport>),
     FieldSweep(Box<crate::estimators::sweep::field::FieldSweepReport>),
@@ -311,6 +318,7 @@ impl Audited {
             Kind::Backscatter => Audited::Backscatter(Box::new(backscatter::parse(&file, path)?)),
             Kind::Escape => Audited::Escape(Box::new(escape::parse(&file, path)?)),
             Kind::Survival => Audited::Survival(Box::new(survival::parse(&file, path)?)),
+            Kind::Current => Audited::Current(Box::new(current::parse(&file, path)?)),
             Kind::Field => Audited::Field(Box::new(field::parse(&file, path)?)),
             Kind::FieldSweep => Audited::FieldSweep(Box::new(field_sweep::parse(&file, path)?)),
             Kind::TableDiffusion => Audited::Table(Box::new(table::parse(&file, path)?)),
@@ -327,6 +335,7 @@ impl Audited {
             Audited::Backscatter(r) => Ok(vec![backscatter::collisions(&r.config)?]),
             Audited::Escape(r) => Ok(vec![escape::collisions(&r.config)?]),
             Audited::Survival(r) => survival::reruns(r, quick),
+            Audited::Current(r) => Ok(current::reruns(r, quick)),
             Audited::Field(r) => Ok(vec![r.config.collisions]),
             Audited::FieldSweep(r) => Ok(vec![field_sweep::collisions(r)]),
             Audited::Table(t) => Ok(vec![t.0.config.collisions]),
@@ -341,6 +350,7 @@ impl Audited {
             Audited::Backscatter(r) => &r.meta,
             Audited::Escape(r) => &r.meta,
             Audited::Survival(r) => &r.meta,
+            Audited::Current(r) => &r.meta,
             Audited::Field(r) => &r.meta,
             Audited::FieldSweep(r) => &r.meta,
             Audited::Table(t) => &t.0.meta,
@@ -446,6 +456,7 @@ pub fn run_with(
         Audited::Backscatter(r) => backscatter::checks(r, &ctx, &mut checks)?,
         Audited::Escape(r) => escape::checks(r, &ctx, &mut checks)?,
         Audited::Survival(r) => survival::checks(r, &ctx, &mut checks)?,
+        Audited::Current(r) => current::checks(r, &ctx, &mut checks)?,
         Audited::Field(r) => field::checks(r, &ctx, &mut checks, &mut figures)?,
         Audited::FieldSweep(r) => field_sweep::checks(r, &ctx, &mut checks)?,
         Audited::Table(t) => table::checks((&t.0, &t.1), &ctx, &mut checks)?,
@@ -485,82 +496,6 @@ fn overall(checks: &[Check]) -> Verdict {
         Verdict::Incomplete
     } else {
         Verdict::Pass
-    }
-}
-
-/// What every check of one audit shares: its random draw, where figures go, the settings, the
-/// re-runs with the budget's admission of each, and where re-runs report their collisions.
-struct Ctx<'a> {
-    /// The audit's one draw of operating-system entropy: which batch or run a quick audit
-    /// re-runs ([`pick`]).
-    draw: u64,
-    /// What a quick audit re-ran of the units it could have ([`Sampled`]), set by the check
-    /// that re-runs them.
-    sampled: Cell<Option<Sampled>>,
-    out: &'a Path,
-    quick: bool,
-    bits: u32,
-    threads: usize,
-    progress: &'a (dyn Fn(u64) + Sync),
-    /// The re-runs' collisions, in the order the checks take them.
-    reruns: Vec<u64>,
-    /// Whether each fits in the budget.
-    admitted: Vec<bool>,
-    /// The next re-run to be taken.
-    next: Cell<usize>,
-    /// Collisions of the re-runs taken so far.
-    done: Cell<u64>,
-    budget: Option<u64>,
-}
-
-impl Ctx<'_> {
-    /// Takes the next re-run: `Ok(collisions)` if the budget admits it, else `Err(reason)` for the
-    /// SKIP of its check.
-    fn take(&self) -> Result<u64, String> {
-        let i = self.next.get();
-        self.next.set(i + 1);
-        let n = self.reruns.get(i).copied().unwrap_or(u64::MAX);
-        if self.admitted.get(i).copied().unwrap_or(false) {
-            self.done.set(self.done.get() + n);
-            return Ok(n);
-        }
-        let budget = self.budget.unwrap_or(u64::MAX);
-        Err(format!(
-            "the re-run needs {:.3e} collisions (computed from the recorded configuration); the audit re-runs at most {:.3e} in all ({}), {:.3e} of them left: not re-run",
-            n as f64,
-            budget as f64,
-            if self.quick {
-                "quick report"
-            } else {
-                "its bound"
-            },
-            budget.saturating_sub(self.done.get()) as f64,
-        ))
-    }
-
-    /// Runs `f` with the options of a re-run of `n` collisions whose progress comes in `units`
-    /// units (particles, visits) of about n/units collisions each.
-    fn rerun_in_units<T>(
-        &self,
-        n: u64,
-        units: u64,
-        f: impl FnOnce(&RunOptions) -> Result<T, Error>,
-    ) -> Result<T, Error> {
-        let per = n / units.max(1);
-        let progress = |v: u64| (self.progress)(v.saturating_mul(per));
-        f(&RunOptions {
-            progress: &progress,
-            ..self.options()
-        })
-    }
-
-    /// Run options for a re-run: the default engine on the audit's threads, its progress.
-    fn options(&self) -> RunOptions<'_> {
-        RunOptions {
-            threads: self.threads,
-            progress: self.progress,
-            ..RunOptions::default()
-        }
     }
 }
 

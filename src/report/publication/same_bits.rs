@@ -111,6 +111,7 @@ recorded!(
     crate::estimators::hops::backscatter::BackscatterReport,
     crate::estimators::escape::EscapeReport,
     crate::estimators::escape::survival::SurvivalReport,
+    crate::estimators::current::CurrentReport,
     crate::estimators::field::FieldReport,
     crate::estimators::sweep::field::FieldSweepReport,
     crate::estimators::diffusion::scene::SceneDiffusionReport

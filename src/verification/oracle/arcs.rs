@@ -89,11 +89,7 @@ pub fn decode_field(data: &[u8]) -> f64 {
 /// A decoding failure or the first violation, with the state before the failing event.
 pub fn arc_kernel(data: &[u8]) -> Result<OracleReport, OracleFailure> {
     let input = decode_scene(data)?;
-    let case = Some(input.primitive.case);
-    let start = LatticeState {
-        cell: input.cell,
-        flight: input.primitive.flight.clone(),
-    };
+    let (case, start) = input.start();
     let b = decode_field(data);
     let steps = input.steps.min(MAX_ARC_STEPS);
     match input.primitive.scene {

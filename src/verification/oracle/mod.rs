@@ -233,6 +233,17 @@ pub struct SceneInput {
     pub steps: u32,
 }
 
+impl SceneInput {
+    /// The decoded family and the lattice state the oracles fly from.
+    pub fn start(&self) -> (Option<PrimitiveCase>, LatticeState<f64>) {
+        let state = LatticeState {
+            cell: self.cell,
+            flight: self.primitive.flight.clone(),
+        };
+        (Some(self.primitive.case), state)
+    }
+}
+
 /// What an oracle run checked.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OracleReport {
@@ -465,11 +476,7 @@ fn scene_failure(reason: String) -> OracleFailure {
 /// A decoding failure or the first violation, with the state before the failing event.
 pub fn scene_stepper(data: &[u8]) -> Result<OracleReport, OracleFailure> {
     let input = decode_scene(data)?;
-    let case = Some(input.primitive.case);
-    let start = LatticeState {
-        cell: input.cell,
-        flight: input.primitive.flight.clone(),
-    };
+    let (case, start) = input.start();
     match input.primitive.scene {
         SceneParams::Triangular { w } => step_lattice(&triangular(w)?, case, &start, input.steps),
         SceneParams::Square { r } => step_lattice(&square(r)?, case, &start, input.steps),

@@ -46,11 +46,7 @@ pub fn decode_electric(data: &[u8]) -> (f64, f64) {
 /// A decoding failure or the first violation, with the state before the failing event.
 pub fn thermostat_kernel(data: &[u8]) -> Result<OracleReport, OracleFailure> {
     let input = decode_scene(data)?;
-    let case = Some(input.primitive.case);
-    let start = LatticeState {
-        cell: input.cell,
-        flight: input.primitive.flight.clone(),
-    };
+    let (case, start) = input.start();
     let field = decode_electric(data);
     let steps = input.steps.min(MAX_THERMO_STEPS);
     match input.primitive.scene {
