@@ -582,17 +582,28 @@ pub(crate) fn has(c: &[(String, String, String)], verdict: &str, name: &str) -> 
     c.iter().any(|x| x.0 == verdict && x.2.starts_with(name))
 }
 
-/// A fresh `lorentz ARGS --json` result in `dir/file`, reported on with `--quick`: every check
-/// passes or does not apply, and each of `names` passes. The result's JSON.
-pub(crate) fn passes_quick(dir: &Path, file: &str, args: &str, names: &[&str]) -> String {
+/// The checks every audit of a result with batches passes (their names' beginnings).
+const EVERY_AUDIT: [&str; 4] = [
+    "recorded command line gives",
+    "the record agrees",
+    "between-batch F",
+    "the recorded configuration re-run",
+];
+
+/// A fresh `lorentz ARGS --json` result in a new scratch directory's `file`, reported on with
+/// `--quick`: every check passes or does not apply, and each of `names` passes besides those of
+/// every audit. The directory and the result's JSON.
+pub(crate) fn passes_quick(file: &str, args: &str, names: &[&str]) -> (tempfile::TempDir, String) {
+    let tmp = crate::common::scratch();
+    let dir = tmp.path();
     let json = result_text_in(dir, file, &words(args));
     let (code, printed, c) = quick_report(dir, file);
     assert_eq!(code, 0, "{printed}");
     assert!(c.iter().all(|x| x.0 == "PASS" || x.0 == "N/A"), "{c:?}");
-    for name in names {
+    for name in EVERY_AUDIT.iter().chain(names) {
         assert!(has(&c, "PASS", name), "{name}: {c:?}");
     }
-    json
+    (tmp, json)
 }
 
 /// `json` with its one occurrence of the number `old` replaced by `new`, written to

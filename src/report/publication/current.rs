@@ -13,7 +13,7 @@ use super::same_bits::rerun_check;
 use super::statistics::batch_statistics;
 use super::{Checks, Ctx, Verdict};
 use crate::Error;
-use crate::estimators::current::{self, CurrentReport, WARM_UP_SHARE};
+use crate::estimators::current::{self, CurrentReport, Steady, WARM_UP_SHARE};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::numbers::exact::parse_exact;
 use crate::scenes::spec::{Motion, SceneSpec};
@@ -94,37 +94,50 @@ fn record_problems(r: &CurrentReport) -> Result<Vec<String>, Error> {
         bad.push(format!("not {n} batches with one J∥ and one J⊥ each"));
         return Ok(bad);
     }
-    let eps = world.strength;
-    let scaled = |k: f64| {
-        r.batch_J_parallel
-            .iter()
-            .map(|j| j * k)
-            .collect::<Vec<f64>>()
-    };
-    let mobility: Vec<f64> = r.batch_J_parallel.iter().map(|j| j / eps).collect();
-    let s = &r.steady;
-    let pairs = [
+    bad.extend(steady_problems(
+        &r.steady,
+        (&r.batch_J_parallel, Some(&r.batch_J_perp)),
+        world.strength,
+    ));
+    Ok(bad)
+}
+
+/// What of the steady state `s` differs from its batches' currents along E (and across it, when
+/// recorded) under the field's strength `eps`: J∥, J⊥, the mobility and the entropy production
+/// with their errors, to the bit.
+pub(super) fn steady_problems(
+    s: &Steady,
+    (along, across): (&[f64], Option<&[f64]>),
+    eps: f64,
+) -> Vec<String> {
+    let scaled = |f: &dyn Fn(f64) -> f64| along.iter().map(|&j| f(j)).collect::<Vec<f64>>();
+    let mut pairs = vec![
         (
             "J_parallel",
             (s.J_parallel, s.J_parallel_err),
-            mean_se(&r.batch_J_parallel),
+            mean_se(along),
         ),
-        ("J_perp", (s.J_perp, s.J_perp_err), mean_se(&r.batch_J_perp)),
-        ("mobility", (s.mobility, s.mobility_err), mean_se(&mobility)),
+        (
+            "mobility",
+            (s.mobility, s.mobility_err),
+            mean_se(&scaled(&|j| j / eps)),
+        ),
         (
             "entropy_production",
             (s.entropy_production, s.entropy_production_err),
-            mean_se(&scaled(eps)),
+            mean_se(&scaled(&|j| j * eps)),
         ),
     ];
-    for (name, (v, e), (again, again_err)) in pairs {
-        if !same(v, again) || !same(e, again_err) {
-            bad.push(format!(
-                "{name} {v:e} ± {e:e} is not {again:e} ± {again_err:e} from the batches"
-            ));
-        }
+    if let Some(across) = across {
+        pairs.push(("J_perp", (s.J_perp, s.J_perp_err), mean_se(across)));
     }
-    Ok(bad)
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
+    (pairs.into_iter())
+        .filter(|(_, (v, e), (a, ae))| !same(*v, *a) || !same(*e, *ae))
+        .map(|(name, (v, e), (a, ae))| {
+            format!("{name} {v:e} ± {e:e} is not {a:e} ± {ae:e} from the batches")
+        })
+        .collect()
 }
 
 /// λ₊ + λ₋ + ⟨α⟩ = 0 on average (within the Student-t bound of the batches) and per trajectory

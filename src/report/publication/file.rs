@@ -44,6 +44,8 @@ pub enum Kind {
     Field,
     /// `lorentz diffusion --electric E --json` (the driven gas's steady state).
     Current,
+    /// `lorentz sweep --electric E1,E2,…` (`driven-sweep.json`, `--json`) and its merge.
+    DrivenSweep,
     /// `lorentz sweep --fields …` or `--field B` (`field-sweep.json`, `--json`).
     FieldSweep,
     /// `lorentz diffusion --table FILE --json` (D on a table given as data).
@@ -53,7 +55,7 @@ pub enum Kind {
 impl Kind {
     /// Every kind, each with the keys that identify it (all present; `bench --report` has `rows`
     /// too, but no `linear_fit`).
-    pub const ALL: [(Kind, &'static [&'static str]); 12] = [
+    pub const ALL: [(Kind, &'static [&'static str]); 13] = [
         (Kind::Diffusion, &["batch_D"]),
         (Kind::Sweep, &["rows", "linear_fit"]),
         (Kind::Hops, &["pairs"]),
@@ -63,10 +65,8 @@ impl Kind {
         (Kind::Escape, &["D_escape"]),
         (Kind::Survival, &["start_density", "batch_gamma"]),
         (Kind::Field, &["batch_D_xx", "localized_fraction_exact"]),
-        (
-            Kind::Current,
-            &["J_parallel", "batch_J_parallel", "mobility"],
-        ),
+        (Kind::Current, &["J_parallel", "batch_J_parallel"]),
+        (Kind::DrivenSweep, &["rows", "odd", "mobility"]),
         (Kind::FieldSweep, &["rows", "onsager"]),
         (Kind::TableDiffusion, &["batch_D", "identities", "table"]),
     ];
@@ -82,7 +82,7 @@ impl Kind {
             Kind::Backscatter => "backscatter",
             Kind::Escape | Kind::Survival => "escape",
             Kind::Field | Kind::Current => "diffusion",
-            Kind::FieldSweep => "sweep",
+            Kind::FieldSweep | Kind::DrivenSweep => "sweep",
             Kind::TableDiffusion => "diffusion",
         }
     }

@@ -39,7 +39,9 @@
 //! whole sweep otherwise). For the driven gas (`diffusion --electric`): the record recomputed
 //! from its batches and exact field, their statistics, the Lyapunov sum rule on average and per
 //! trajectory, J⊥ = 0 on a mirror line, a shadow audit of thermostatted events at the recorded
-//! table and field, and a re-run (one batch with `quick`). For survival on an open table (`escape --repeller` or `--open`): the
+//! table and field, and a re-run (one batch with `quick`); a driven sweep row by row the same
+//! way, with its ±E checks and the sum rule at every point recomputed. For survival on an open
+//! table (`escape --repeller` or `--open`): the
 //! record recomputed from its batches to the bit, their statistics, the window check, γ, λ and
 //! h_KS against the certified cycle expansion of the three-disk repeller (N/A on a table given
 //! as data), and the run re-run (one batch with `quick`). For `hops`, `theory`, `lattice-walk`,
@@ -69,6 +71,7 @@ pub mod command_line;
 mod ctx;
 mod current;
 mod diffusion;
+mod driven_sweep;
 mod escape;
 mod field;
 mod field_sweep;
@@ -293,6 +296,7 @@ enum Audited {
     Backscatter(Box<crate::estimators::hops::backscatter::BackscatterReport>),
     Escape(Box<crate::estimators::escape::EscapeReport>),
     Current(Box<crate::estimators::current::CurrentReport>),
+    DrivenSweep(Box<crate::estimators::sweep::driven::DrivenSweepReport>),
     Survival(Box<crate::estimators::escape::survival::SurvivalReport>),
     Field(Box<crate::estimators::field::FieldReport>),
     FieldSweep(Box<crate::estimators::sweep::field::FieldSweepReport>),
@@ -319,6 +323,7 @@ impl Audited {
             Kind::Escape => Audited::Escape(Box::new(escape::parse(&file, path)?)),
             Kind::Survival => Audited::Survival(Box::new(survival::parse(&file, path)?)),
             Kind::Current => Audited::Current(Box::new(current::parse(&file, path)?)),
+            Kind::DrivenSweep => Audited::DrivenSweep(Box::new(driven_sweep::parse(&file, path)?)),
             Kind::Field => Audited::Field(Box::new(field::parse(&file, path)?)),
             Kind::FieldSweep => Audited::FieldSweep(Box::new(field_sweep::parse(&file, path)?)),
             Kind::TableDiffusion => Audited::Table(Box::new(table::parse(&file, path)?)),
@@ -336,6 +341,7 @@ impl Audited {
             Audited::Escape(r) => Ok(vec![escape::collisions(&r.config)?]),
             Audited::Survival(r) => survival::reruns(r, quick),
             Audited::Current(r) => Ok(current::reruns(r, quick)),
+            Audited::DrivenSweep(r) => Ok(driven_sweep::reruns(r, quick)),
             Audited::Field(r) => Ok(vec![r.config.collisions]),
             Audited::FieldSweep(r) => Ok(vec![field_sweep::collisions(r)]),
             Audited::Table(t) => Ok(vec![t.0.config.collisions]),
@@ -351,6 +357,7 @@ impl Audited {
             Audited::Escape(r) => &r.meta,
             Audited::Survival(r) => &r.meta,
             Audited::Current(r) => &r.meta,
+            Audited::DrivenSweep(r) => &r.meta,
             Audited::Field(r) => &r.meta,
             Audited::FieldSweep(r) => &r.meta,
             Audited::Table(t) => &t.0.meta,
@@ -457,6 +464,7 @@ pub fn run_with(
         Audited::Escape(r) => escape::checks(r, &ctx, &mut checks)?,
         Audited::Survival(r) => survival::checks(r, &ctx, &mut checks)?,
         Audited::Current(r) => current::checks(r, &ctx, &mut checks)?,
+        Audited::DrivenSweep(r) => driven_sweep::checks(r, &ctx, &mut checks)?,
         Audited::Field(r) => field::checks(r, &ctx, &mut checks, &mut figures)?,
         Audited::FieldSweep(r) => field_sweep::checks(r, &ctx, &mut checks)?,
         Audited::Table(t) => table::checks((&t.0, &t.1), &ctx, &mut checks)?,

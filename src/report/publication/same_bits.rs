@@ -112,6 +112,7 @@ recorded!(
     crate::estimators::escape::EscapeReport,
     crate::estimators::escape::survival::SurvivalReport,
     crate::estimators::current::CurrentReport,
+    crate::estimators::sweep::driven::DrivenSweepReport,
     crate::estimators::field::FieldReport,
     crate::estimators::sweep::field::FieldSweepReport,
     crate::estimators::diffusion::scene::SceneDiffusionReport
