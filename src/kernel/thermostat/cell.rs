@@ -49,6 +49,8 @@ struct DiskContact<'s, 'a, T: Real> {
     d: Vec2<T>,
     r2: T,
     identity: bool,
+    /// |d|, r² and ε in `f64`: the error model's inputs that do not change along the flight.
+    model: [f64; 3],
 }
 
 impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
@@ -70,10 +72,9 @@ impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
                 reach,
             };
         }
-        let d = self.d.norm2().sqrt().to_f64();
+        let [d, r2, eps] = self.model;
         let (dx, dv) = flight_error(self.start, t, d);
-        let (rho, r2) = (reach.to_f64(), self.r2.to_f64());
-        let eps = self.start.thermostat().strength.to_f64();
+        let rho = reach.to_f64();
         let u = T::unit_roundoff(ctx);
         let e = [
             2.0 * rho * dx + dx * dx + 8.0 * u * (rho * rho + r2),
@@ -198,6 +199,34 @@ pub fn exit_bound<T: Real>(cell: &ConvexCell<T>, p: &Vec2<T>, start: &Start<'_, 
     (far + &lag.scale(1.0 + 1.0 / 1024.0)).add_f64(1e-9)
 }
 
+/// Edges a cell's order holds on the stack (a cell with more keeps the rest in a `Vec`).
+const STACK_EDGES: usize = 8;
+
+/// The edges of a cell sorted by (straight crossing time, label): on the stack, one insertion
+/// per edge, for a cell of at most [`STACK_EDGES`] edges (no allocation per event), else sorted in
+/// `more`. Labels are distinct, so both give the one order of that total order.
+#[derive(Default)]
+struct EdgeOrder {
+    stack: [(f64, u8); STACK_EDGES],
+    len: usize,
+    more: Vec<(f64, u8)>,
+}
+
+impl EdgeOrder {
+    /// Inserts an edge in order (at most [`STACK_EDGES`] of them).
+    fn insert(&mut self, time: f64, k: u8) {
+        let before = |a: &&(f64, u8)| a.0.total_cmp(&time).then(a.1.cmp(&k)).is_lt();
+        let at = self.stack[..self.len].iter().take_while(before).count();
+        self.stack.copy_within(at..self.len, at + 1);
+        self.stack[at] = (time, k);
+        self.len += 1;
+    }
+
+    fn labels(&self) -> impl Iterator<Item = u8> + '_ {
+        self.stack[..self.len].iter().chain(&self.more).map(|a| a.1)
+    }
+}
+
 impl<T: Real> ConvexCell<T> {
     /// The next event of the flight `f` under the thermostat `th` (expressed in this cell's
     /// frame), or `None`: a particle sliding along the disk it is on (the creeping limit,
@@ -222,7 +251,7 @@ impl<T: Real> ConvexCell<T> {
         let start = th.start(&f.vel);
         let mut horizon = exit_bound(self, &f.pos, &start);
         let mut best: Option<EventKind> = None;
-        for k in self.edge_order(f) {
+        for k in self.edge_order(f).labels() {
             let contact = self.candidate(&start, f, EventKind::Crossing(k));
             let t = match isolate::earliest(&contact, contact.identity(), &horizon) {
                 Found::Root(t) => t,
@@ -266,7 +295,7 @@ impl<T: Real> ConvexCell<T> {
     /// first, and the other edges are searched only up to it. The order changes no certificate
     /// (ties still go to the lower label); it is read from the `f64` values, so it is the same
     /// order in `f64` and MPFR-53.
-    fn edge_order(&self, f: &Flight<T>) -> Vec<u8> {
+    fn edge_order(&self, f: &Flight<T>) -> EdgeOrder {
         let time = |k: u8| {
             let e = &self.edges[k as usize];
             let (nv, sigma) = (
@@ -279,9 +308,15 @@ impl<T: Real> ConvexCell<T> {
                 f64::INFINITY
             }
         };
-        let mut order: Vec<(f64, u8)> = (0..self.edges.len() as u8).map(|k| (time(k), k)).collect();
-        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        order.into_iter().map(|(_, k)| k).collect()
+        let mut order = EdgeOrder::default();
+        let n = self.edges.len() as u8;
+        if n as usize <= STACK_EDGES {
+            (0..n).for_each(|k| order.insert(time(k), k));
+        } else {
+            order.more = (0..n).map(|k| (time(k), k)).collect();
+            order.more.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        }
+        order
     }
 
     /// The contact function of the candidate `kind` along the flight `f` at the time `t`: its
@@ -308,11 +343,15 @@ impl<T: Real> ConvexCell<T> {
         match kind {
             EventKind::Collision(m) => {
                 let disk = &self.disks[m as usize];
+                let (d, r2) = (f.pos.sub(&disk.centre), disk.radius2().clone());
+                let eps = start.thermostat().strength.to_f64();
+                let model = [d.norm2().sqrt().to_f64(), r2.to_f64(), eps];
                 Candidate::Disk(DiskContact {
                     start,
-                    d: f.pos.sub(&disk.centre),
-                    r2: disk.radius2().clone(),
+                    d,
+                    r2,
                     identity: f.excluded_disk == Some(m),
+                    model,
                 })
             }
             EventKind::Crossing(k) => {

@@ -61,6 +61,9 @@ pub struct Start<'a, T: Real> {
     s: T,
     p: T,
     m: T,
+    /// The error model's constants of this flight, in `f64` ([`Start::error`]): ε, 1/|s| and
+    /// π/(ε|s|), formed once for the flight instead of at every point of every march.
+    model: [f64; 3],
 }
 
 impl<T: Real> Thermostat<T> {
@@ -118,7 +121,15 @@ impl<T: Real> Thermostat<T> {
             let p = c.add_f64(1.0);
             (p.clone(), s.square() / &p)
         };
-        Start { th: self, s, p, m }
+        let (eps, sin) = (self.strength.to_f64(), s.to_f64().abs());
+        let model = [eps, 1.0 / sin, std::f64::consts::PI / (eps * sin)];
+        Start {
+            th: self,
+            s,
+            p,
+            m,
+            model,
+        }
     }
 
     /// The acceleration ε sin θ (sin θ ê − cos θ ê⊥) at the velocity (cos θ, sin θ) in the
@@ -213,11 +224,10 @@ impl<T: Real> Start<'_, T> {
     pub fn error(&self, t: &T) -> (f64, f64) {
         let u = T::unit_roundoff(t.ctx());
         let t = t.to_f64().abs();
-        let eps = self.th.strength.to_f64();
-        let s = self.s.to_f64().abs();
+        let [eps, inv_s, turn] = self.model;
         let grow = (eps * t).exp();
-        let lean = grow.min(1.0 / s);
-        let integral = (t * grow).min(std::f64::consts::PI / (eps * s));
+        let lean = grow.min(inv_s);
+        let integral = (t * grow).min(turn);
         (
             u * (64.0 * t + 4.0 * (t + integral)),
             u * (16.0 * (1.0 + eps * t) + 4.0 * lean),
