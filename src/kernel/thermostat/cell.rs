@@ -55,8 +55,24 @@ struct DiskContact<'s, 'a, T: Real> {
 
 impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
     fn jet(&self, t: &T) -> Jet<T> {
+        self.jet_on(t, &self.start.at(t))
+    }
+
+    fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
+        self.jet_on(&T::zero(ctx), self.start.origin())
+    }
+
+    /// |F‴| = |2(X − c)·v̈| ≤ 2(ρ + h)ε².
+    fn third(&self, jet: &Jet<T>, h: &T) -> T {
+        let eps = &self.start.thermostat().strength;
+        (jet.reach.clone() + h) * &eps.square().scale(2.0 + 1.0 / 65536.0)
+    }
+}
+
+impl<T: Real> DiskContact<'_, '_, T> {
+    /// The jet at `t`, the flight being at `at` there.
+    fn jet_on(&self, t: &T, at: &FlightPoint<T>) -> Jet<T> {
         let ctx = t.ctx();
-        let at = self.start.at(t);
         let dd = Vec2::new(self.d.x.clone() + &at.disp.x, self.d.y.clone() + &at.disp.y);
         let reach = dd.norm2().sqrt();
         let f1 = dd.dot(&at.vel).scale(2.0);
@@ -89,12 +105,6 @@ impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
             reach,
         }
     }
-
-    /// |F‴| = |2(X − c)·v̈| ≤ 2(ρ + h)ε².
-    fn third(&self, jet: &Jet<T>, h: &T) -> T {
-        let eps = &self.start.thermostat().strength;
-        (jet.reach.clone() + h) * &eps.square().scale(2.0 + 1.0 / 65536.0)
-    }
 }
 
 /// σ + n·X: the signed distance to an edge along the flight.
@@ -108,8 +118,24 @@ struct EdgeContact<'s, 'a, T: Real> {
 
 impl<T: Real> Contact<T> for EdgeContact<'_, '_, T> {
     fn jet(&self, t: &T) -> Jet<T> {
+        self.jet_on(t, &self.start.at(t))
+    }
+
+    fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
+        self.jet_on(&T::zero(ctx), self.start.origin())
+    }
+
+    /// |F‴| = |n·v̈| ≤ ε².
+    fn third(&self, _: &Jet<T>, _: &T) -> T {
+        let eps = &self.start.thermostat().strength;
+        eps.square().scale(1.0 + 1.0 / 65536.0)
+    }
+}
+
+impl<T: Real> EdgeContact<'_, '_, T> {
+    /// The jet at `t`, the flight being at `at` there.
+    fn jet_on(&self, t: &T, at: &FlightPoint<T>) -> Jet<T> {
         let ctx = t.ctx();
-        let at = self.start.at(t);
         let n = self.normal;
         let f1 = n.dot(&at.vel);
         let f2 = n.dot(&at.acc);
@@ -141,12 +167,6 @@ impl<T: Real> Contact<T> for EdgeContact<'_, '_, T> {
             reach: zero,
         }
     }
-
-    /// |F‴| = |n·v̈| ≤ ε².
-    fn third(&self, _: &Jet<T>, _: &T) -> T {
-        let eps = &self.start.thermostat().strength;
-        eps.square().scale(1.0 + 1.0 / 65536.0)
-    }
 }
 
 /// A disk's or an edge's contact function.
@@ -169,6 +189,12 @@ impl<T: Real> Contact<T> for Candidate<'_, '_, T> {
         match self {
             Candidate::Disk(c) => c.jet(t),
             Candidate::Edge(c) => c.jet(t),
+        }
+    }
+    fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
+        match self {
+            Candidate::Disk(c) => c.start_jet(ctx),
+            Candidate::Edge(c) => c.start_jet(ctx),
         }
     }
     fn third(&self, jet: &Jet<T>, h: &T) -> T {
