@@ -340,7 +340,9 @@ impl<T: Real> ConvexCell<T> {
             (0..n).for_each(|k| order.insert(time(k), k));
         } else {
             order.more = (0..n).map(|k| (time(k), k)).collect();
-            order.more.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            order
+                .more
+                .sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         }
         order
     }
@@ -404,5 +406,34 @@ impl<T: Real> ConvexCell<T> {
             f.pos.y.clone() + &ev.at.disp.y,
         );
         self.land(f, ev.kind, x, v, ev.time.gt0(), &newton)
+    }
+}
+
+#[cfg(test)]
+mod order_tests {
+    use super::{EdgeOrder, STACK_EDGES};
+
+    /// The order on the stack is the sort by (time, label) of the `Vec` it replaced, ties,
+    /// infinities and signed zeros included (labels are distinct, so the order is unique).
+    #[test]
+    fn the_stack_order_is_the_sort_by_time_then_label() {
+        let times = [0.5, f64::INFINITY, -0.0, 0.0, 0.5, 1e-300, 2.0, 0.5];
+        let mut seed = 60u64;
+        for round in 0..2000 {
+            let n = 1 + round % STACK_EDGES;
+            let mut edges = Vec::new();
+            let mut order = EdgeOrder::default();
+            for k in 0..n as u8 {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let t = times[(seed >> 33) as usize % times.len()];
+                edges.push((t, k));
+                order.insert(t, k);
+            }
+            edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let sorted: Vec<u8> = edges.iter().map(|e| e.1).collect();
+            assert_eq!(order.labels().collect::<Vec<_>>(), sorted, "{edges:?}");
+        }
     }
 }
