@@ -49,12 +49,30 @@ struct DiskContact<'s, 'a, T: Real> {
     d: Vec2<T>,
     r2: T,
     identity: bool,
+    /// |d|, r² and ε in `f64`: the error model's inputs that do not change along the flight.
+    model: [f64; 3],
 }
 
 impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
     fn jet(&self, t: &T) -> Jet<T> {
+        self.jet_on(t, &self.start.at(t))
+    }
+
+    fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
+        self.jet_on(&T::zero(ctx), self.start.origin())
+    }
+
+    /// |F‴| = |2(X − c)·v̈| ≤ 2(ρ + h)ε².
+    fn third(&self, jet: &Jet<T>, h: &T) -> T {
+        let eps = &self.start.thermostat().strength;
+        (jet.reach.clone() + h) * &eps.square().scale(2.0 + 1.0 / 65536.0)
+    }
+}
+
+impl<T: Real> DiskContact<'_, '_, T> {
+    /// The jet at `t`, the flight being at `at` there.
+    fn jet_on(&self, t: &T, at: &FlightPoint<T>) -> Jet<T> {
         let ctx = t.ctx();
-        let at = self.start.at(t);
         let dd = Vec2::new(self.d.x.clone() + &at.disp.x, self.d.y.clone() + &at.disp.y);
         let reach = dd.norm2().sqrt();
         let f1 = dd.dot(&at.vel).scale(2.0);
@@ -70,10 +88,9 @@ impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
                 reach,
             };
         }
-        let d = self.d.norm2().sqrt().to_f64();
+        let [d, r2, eps] = self.model;
         let (dx, dv) = flight_error(self.start, t, d);
-        let (rho, r2) = (reach.to_f64(), self.r2.to_f64());
-        let eps = self.start.thermostat().strength.to_f64();
+        let rho = reach.to_f64();
         let u = T::unit_roundoff(ctx);
         let e = [
             2.0 * rho * dx + dx * dx + 8.0 * u * (rho * rho + r2),
@@ -88,12 +105,6 @@ impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
             reach,
         }
     }
-
-    /// |F‴| = |2(X − c)·v̈| ≤ 2(ρ + h)ε².
-    fn third(&self, jet: &Jet<T>, h: &T) -> T {
-        let eps = &self.start.thermostat().strength;
-        (jet.reach.clone() + h) * &eps.square().scale(2.0 + 1.0 / 65536.0)
-    }
 }
 
 /// σ + n·X: the signed distance to an edge along the flight.
@@ -107,8 +118,24 @@ struct EdgeContact<'s, 'a, T: Real> {
 
 impl<T: Real> Contact<T> for EdgeContact<'_, '_, T> {
     fn jet(&self, t: &T) -> Jet<T> {
+        self.jet_on(t, &self.start.at(t))
+    }
+
+    fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
+        self.jet_on(&T::zero(ctx), self.start.origin())
+    }
+
+    /// |F‴| = |n·v̈| ≤ ε².
+    fn third(&self, _: &Jet<T>, _: &T) -> T {
+        let eps = &self.start.thermostat().strength;
+        eps.square().scale(1.0 + 1.0 / 65536.0)
+    }
+}
+
+impl<T: Real> EdgeContact<'_, '_, T> {
+    /// The jet at `t`, the flight being at `at` there.
+    fn jet_on(&self, t: &T, at: &FlightPoint<T>) -> Jet<T> {
         let ctx = t.ctx();
-        let at = self.start.at(t);
         let n = self.normal;
         let f1 = n.dot(&at.vel);
         let f2 = n.dot(&at.acc);
@@ -140,12 +167,6 @@ impl<T: Real> Contact<T> for EdgeContact<'_, '_, T> {
             reach: zero,
         }
     }
-
-    /// |F‴| = |n·v̈| ≤ ε².
-    fn third(&self, _: &Jet<T>, _: &T) -> T {
-        let eps = &self.start.thermostat().strength;
-        eps.square().scale(1.0 + 1.0 / 65536.0)
-    }
 }
 
 /// A disk's or an edge's contact function.
@@ -168,6 +189,12 @@ impl<T: Real> Contact<T> for Candidate<'_, '_, T> {
         match self {
             Candidate::Disk(c) => c.jet(t),
             Candidate::Edge(c) => c.jet(t),
+        }
+    }
+    fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
+        match self {
+            Candidate::Disk(c) => c.start_jet(ctx),
+            Candidate::Edge(c) => c.start_jet(ctx),
         }
     }
     fn third(&self, jet: &Jet<T>, h: &T) -> T {
@@ -198,6 +225,34 @@ pub fn exit_bound<T: Real>(cell: &ConvexCell<T>, p: &Vec2<T>, start: &Start<'_, 
     (far + &lag.scale(1.0 + 1.0 / 1024.0)).add_f64(1e-9)
 }
 
+/// Edges a cell's order holds on the stack (a cell with more keeps the rest in a `Vec`).
+const STACK_EDGES: usize = 8;
+
+/// The edges of a cell sorted by (straight crossing time, label): on the stack, one insertion
+/// per edge, for a cell of at most [`STACK_EDGES`] edges (no allocation per event), else sorted in
+/// `more`. Labels are distinct, so both give the one order of that total order.
+#[derive(Default)]
+struct EdgeOrder {
+    stack: [(f64, u8); STACK_EDGES],
+    len: usize,
+    more: Vec<(f64, u8)>,
+}
+
+impl EdgeOrder {
+    /// Inserts an edge in order (at most [`STACK_EDGES`] of them).
+    fn insert(&mut self, time: f64, k: u8) {
+        let before = |a: &&(f64, u8)| a.0.total_cmp(&time).then(a.1.cmp(&k)).is_lt();
+        let at = self.stack[..self.len].iter().take_while(before).count();
+        self.stack.copy_within(at..self.len, at + 1);
+        self.stack[at] = (time, k);
+        self.len += 1;
+    }
+
+    fn labels(&self) -> impl Iterator<Item = u8> + '_ {
+        self.stack[..self.len].iter().chain(&self.more).map(|a| a.1)
+    }
+}
+
 impl<T: Real> ConvexCell<T> {
     /// The next event of the flight `f` under the thermostat `th` (expressed in this cell's
     /// frame), or `None`: a particle sliding along the disk it is on (the creeping limit,
@@ -222,7 +277,7 @@ impl<T: Real> ConvexCell<T> {
         let start = th.start(&f.vel);
         let mut horizon = exit_bound(self, &f.pos, &start);
         let mut best: Option<EventKind> = None;
-        for k in self.edge_order(f) {
+        for k in self.edge_order(f).labels() {
             let contact = self.candidate(&start, f, EventKind::Crossing(k));
             let t = match isolate::earliest(&contact, contact.identity(), &horizon) {
                 Found::Root(t) => t,
@@ -266,7 +321,7 @@ impl<T: Real> ConvexCell<T> {
     /// first, and the other edges are searched only up to it. The order changes no certificate
     /// (ties still go to the lower label); it is read from the `f64` values, so it is the same
     /// order in `f64` and MPFR-53.
-    fn edge_order(&self, f: &Flight<T>) -> Vec<u8> {
+    fn edge_order(&self, f: &Flight<T>) -> EdgeOrder {
         let time = |k: u8| {
             let e = &self.edges[k as usize];
             let (nv, sigma) = (
@@ -279,9 +334,17 @@ impl<T: Real> ConvexCell<T> {
                 f64::INFINITY
             }
         };
-        let mut order: Vec<(f64, u8)> = (0..self.edges.len() as u8).map(|k| (time(k), k)).collect();
-        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        order.into_iter().map(|(_, k)| k).collect()
+        let mut order = EdgeOrder::default();
+        let n = self.edges.len() as u8;
+        if n as usize <= STACK_EDGES {
+            (0..n).for_each(|k| order.insert(time(k), k));
+        } else {
+            order.more = (0..n).map(|k| (time(k), k)).collect();
+            order
+                .more
+                .sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        }
+        order
     }
 
     /// The contact function of the candidate `kind` along the flight `f` at the time `t`: its
@@ -308,11 +371,15 @@ impl<T: Real> ConvexCell<T> {
         match kind {
             EventKind::Collision(m) => {
                 let disk = &self.disks[m as usize];
+                let (d, r2) = (f.pos.sub(&disk.centre), disk.radius2().clone());
+                let eps = start.thermostat().strength.to_f64();
+                let model = [d.norm2().sqrt().to_f64(), r2.to_f64(), eps];
                 Candidate::Disk(DiskContact {
                     start,
-                    d: f.pos.sub(&disk.centre),
-                    r2: disk.radius2().clone(),
+                    d,
+                    r2,
                     identity: f.excluded_disk == Some(m),
+                    model,
                 })
             }
             EventKind::Crossing(k) => {
@@ -339,5 +406,34 @@ impl<T: Real> ConvexCell<T> {
             f.pos.y.clone() + &ev.at.disp.y,
         );
         self.land(f, ev.kind, x, v, ev.time.gt0(), &newton)
+    }
+}
+
+#[cfg(test)]
+mod order_tests {
+    use super::{EdgeOrder, STACK_EDGES};
+
+    /// The order on the stack is the sort by (time, label) of the `Vec` it replaced, ties,
+    /// infinities and signed zeros included (labels are distinct, so the order is unique).
+    #[test]
+    fn the_stack_order_is_the_sort_by_time_then_label() {
+        let times = [0.5, f64::INFINITY, -0.0, 0.0, 0.5, 1e-300, 2.0, 0.5];
+        let mut seed = 60u64;
+        for round in 0..2000 {
+            let n = 1 + round % STACK_EDGES;
+            let mut edges = Vec::new();
+            let mut order = EdgeOrder::default();
+            for k in 0..n as u8 {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let t = times[(seed >> 33) as usize % times.len()];
+                edges.push((t, k));
+                order.insert(t, k);
+            }
+            edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let sorted: Vec<u8> = edges.iter().map(|e| e.1).collect();
+            assert_eq!(order.labels().collect::<Vec<_>>(), sorted, "{edges:?}");
+        }
     }
 }

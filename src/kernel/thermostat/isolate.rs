@@ -54,6 +54,11 @@ pub trait Contact<T: Real> {
     /// F, F′, F″ at the flight time `t` ≥ 0, with their error bounds (exact zero at t = 0 on the
     /// obstacle by identity).
     fn jet(&self, t: &T) -> Jet<T>;
+    /// The jet at t = +0, where every march begins ([`Contact::jet`] of +0 unless the contact
+    /// keeps the start's point).
+    fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
+        self.jet(&T::zero(ctx))
+    }
     /// A bound on |F‴| over [t, t + h], t the time of `jet`.
     fn third(&self, jet: &Jet<T>, h: &T) -> T;
 }
@@ -104,7 +109,7 @@ pub fn earliest<T: Real, C: Contact<T>>(c: &C, identity: bool, horizon: &T) -> F
     let mut a = T::zero(ctx);
     let mut hint = T::one(ctx);
     for n in 0..MAX_STEPS {
-        let j = c.jet(&a);
+        let j = if n == 0 { c.start_jet(ctx) } else { c.jet(&a) };
         let (lo, slope) = match decide(&j, identity && n == 0) {
             Decision::Root => return Found::Root(a.clone() + &refine(&j)),
             Decision::Creeps => return Found::Creeps,

@@ -29,6 +29,7 @@ use super::arc::perp;
 use super::vec2::Vec2;
 use crate::numbers::real::Real;
 use rug::Rational;
+use std::cell::OnceCell;
 
 /// The thermostatted field: its strength ε = |E| > 0 and direction ê (unit to rounding).
 #[derive(Debug, Clone, PartialEq)]
@@ -61,6 +62,11 @@ pub struct Start<'a, T: Real> {
     s: T,
     p: T,
     m: T,
+    /// The error model's constants of this flight, in `f64` ([`Start::error`]): ε, 1/|s| and
+    /// π/(ε|s|), formed once for the flight instead of at every point of every march.
+    model: [f64; 3],
+    /// The point at t = +0, formed once for every march of the flight ([`Start::origin`]).
+    origin: OnceCell<FlightPoint<T>>,
 }
 
 impl<T: Real> Thermostat<T> {
@@ -118,7 +124,16 @@ impl<T: Real> Thermostat<T> {
             let p = c.add_f64(1.0);
             (p.clone(), s.square() / &p)
         };
-        Start { th: self, s, p, m }
+        let (eps, sin) = (self.strength.to_f64(), s.to_f64().abs());
+        let model = [eps, 1.0 / sin, std::f64::consts::PI / (eps * sin)];
+        Start {
+            th: self,
+            s,
+            p,
+            m,
+            model,
+            origin: OnceCell::new(),
+        }
     }
 
     /// The acceleration ε sin θ (sin θ ê − cos θ ê⊥) at the velocity (cos θ, sin θ) in the
@@ -149,6 +164,13 @@ impl<T: Real> Start<'_, T> {
     /// start's point is the same value, bit for bit, as the calls would give.
     pub fn at(&self, t: &T) -> FlightPoint<T> {
         self.point(t, true)
+    }
+
+    /// The flight at t = +0, [`Start::at`] of +0, formed once for the flight: every march of
+    /// every candidate begins there (the same value, bit for bit, as forming it again).
+    pub fn origin(&self) -> &FlightPoint<T> {
+        self.origin
+            .get_or_init(|| self.point(&T::zero(self.th.strength.ctx()), true))
     }
 
     /// [`Start::at`], with the calls at t = 0 skipped if `shortcut` (the test of the shortcut
@@ -213,11 +235,12 @@ impl<T: Real> Start<'_, T> {
     pub fn error(&self, t: &T) -> (f64, f64) {
         let u = T::unit_roundoff(t.ctx());
         let t = t.to_f64().abs();
-        let eps = self.th.strength.to_f64();
-        let s = self.s.to_f64().abs();
-        let grow = (eps * t).exp();
-        let lean = grow.min(1.0 / s);
-        let integral = (t * grow).min(std::f64::consts::PI / (eps * s));
+        let [eps, inv_s, turn] = self.model;
+        // e⁰ = 1 exactly: no call at the start of a march.
+        let et = eps * t;
+        let grow = if et == 0.0 { 1.0 } else { et.exp() };
+        let lean = grow.min(inv_s);
+        let integral = (t * grow).min(turn);
         (
             u * (64.0 * t + 4.0 * (t + integral)),
             u * (16.0 * (1.0 + eps * t) + 4.0 * lean),
