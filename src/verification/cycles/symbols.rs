@@ -3,25 +3,33 @@
 //! third disk, a rotation).
 
 /// The binary prime cycles (Lyndon words: aperiodic, least among their rotations) of length 1 to
-/// `max_len`, by length and then lexicographically (Duval's algorithm).
+/// `max_len`, by length and then lexicographically.
 pub fn prime_words(max_len: usize) -> Vec<Vec<u8>> {
+    prime_words_over(2, max_len)
+}
+
+/// The prime cycles over the alphabet 0 … `letters` − 1 (Lyndon words) of length 1 to
+/// `max_len`, by length and then lexicographically (Duval's algorithm).
+pub fn prime_words_over(letters: u8, max_len: usize) -> Vec<Vec<u8>> {
     let mut out = Vec::new();
-    if max_len == 0 {
+    if max_len == 0 || letters == 0 {
         return out;
     }
+    let top = letters - 1;
     let mut w: Vec<u8> = vec![0];
     loop {
         out.push(w.clone());
-        // Next Lyndon word of length ≤ max_len: repeat w to max_len, increment the last 0.
+        // Next Lyndon word of length ≤ max_len: repeat w to max_len, drop trailing top letters,
+        // increment the last.
         let m = w.len();
         while w.len() < max_len {
             w.push(w[w.len() - m]);
         }
-        while w.last() == Some(&1) {
+        while w.last() == Some(&top) {
             w.pop();
         }
         match w.last_mut() {
-            Some(x) => *x = 1,
+            Some(x) => *x += 1,
             None => break,
         }
     }
