@@ -235,7 +235,7 @@ def cycles(
     max_length : int
         The longest prime cycle N (the table has one row per N): the repeller's
         fundamental-domain cycles, 1 to 16 (default 8; N = 8 takes about a second, each N more
-        about twice as long); the lattice's, in collisions, 1 to 6 (default 5).
+        about twice as long); the lattice's, in collisions, 1 to 7 (default 5).
     bits : int
         MPFR working precision of the cycles and their certificates, 128 to 4096 bits (default
         256 for the repeller, 128 for the lattice).
@@ -271,9 +271,11 @@ def cycles(
         if side is not None or radius is not None:
             raise ValueError("w (the triangular Lorentz gas) takes no side or radius (the "
                              "three-disk repeller): give one or the other")
-        text = _run(_native.lattice_cycles, progress, None, "classes", {
+        n = 5 if max_length is None else max_length
+        text = _run(_native.lattice_cycles, progress, _prime_cycles(_count("max_length", n), 12, 7),
+                    "cycles", {
             "w": _exact("w", w),
-            **_counts(max_length=5 if max_length is None else max_length,
+            **_counts(max_length=n,
                       bits=128 if bits is None else bits,
                       msd_collisions=int(2e8) if msd_collisions is None else msd_collisions),
             "threads": _threads(threads),
@@ -293,14 +295,15 @@ def cycles(
     return CyclesResult(text)
 
 
-def _prime_cycles(max_length: str) -> Optional[float]:
-    """The number of binary prime cycles of length 1 to ``max_length`` (the units of work), or
-    ``None`` where ``max_length`` is out of range (the compiled reader refuses it)."""
+def _prime_cycles(max_length: str, letters: int = 2, longest: int = 16) -> Optional[float]:
+    """The number of prime cycles over ``letters`` letters of length 1 to ``max_length`` (the
+    units of work), or ``None`` where ``max_length`` is out of 1 ... ``longest`` (the compiled
+    reader refuses it)."""
     try:
         n = int(_total(max_length))
     except (TypeError, ValueError):
         return None
-    if not 1 <= n <= 16:
+    if not 1 <= n <= longest:
         return None
 
     def mobius(k: int) -> int:
@@ -314,5 +317,5 @@ def _prime_cycles(max_length: str) -> Optional[float]:
             p += 1
         return -out if m > 1 else out
 
-    return float(sum(sum(mobius(d) * 2 ** (m // d) for d in range(1, m + 1) if m % d == 0) // m
-                     for m in range(1, n + 1)))
+    return float(sum(sum(mobius(d) * letters ** (m // d) for d in range(1, m + 1) if m % d == 0)
+                     // m for m in range(1, n + 1)))

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use lorentz_gas::Error;
 use lorentz_gas::files::Output;
-use lorentz_gas::verification::cycles::lattice::letters::classes;
+use lorentz_gas::verification::cycles::lattice::letters::LETTERS;
 use lorentz_gas::verification::cycles::lattice::run::{
     self as lattice, DEFAULT_LATTICE_BITS, DEFAULT_LATTICE_LENGTH, DEFAULT_MSD_COLLISIONS,
     LatticeConfig,
@@ -15,7 +15,7 @@ use lorentz_gas::verification::cycles::lattice::run::{
 use lorentz_gas::verification::cycles::repeller::{
     self, DEFAULT_CYCLE_BITS, DEFAULT_MAX_LENGTH, RepellerConfig,
 };
-use lorentz_gas::verification::cycles::symbols::prime_words;
+use lorentz_gas::verification::cycles::symbols::{prime_word_count, prime_words};
 
 use super::args::{OutputArgs, ThreadsArg, parse_count, parse_count_u32, parse_count_usize};
 use super::output::{emit, to_json};
@@ -35,7 +35,7 @@ pub struct Args {
     #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["side", "radius"])]
     w: Option<String>,
     /// Longest prime cycle N of the expansions (the table has one row per N): the repeller's
-    /// fundamental-domain cycles, 1 to 16 (default 8); the lattice's, in collisions, 1 to 6
+    /// fundamental-domain cycles, 1 to 16 (default 8); the lattice's, in collisions, 1 to 7
     /// (default 5).
     #[arg(long, value_parser = parse_count_usize, allow_negative_numbers = true)]
     max_length: Option<usize>,
@@ -108,8 +108,8 @@ fn run_lattice(a: Args, w: &str) -> Result<(), Error> {
         lorentz_gas::files::check_outputs(&[], &[Output::File(out.clone())])?;
     }
     let pb = Progress::new(
-        classes(cfg.max_length).len() as u64,
-        "classes",
+        prime_word_count(LETTERS.len() as u64, cfg.max_length),
+        "cycles",
         a.output.quiet,
     );
     let r = lattice::run(&cfg, &pb.options(a.threads.threads()))?;

@@ -5,7 +5,7 @@
 
 use std::collections::BTreeSet;
 
-use crate::verification::cycles::symbols::prime_words_over;
+use crate::verification::cycles::symbols::for_each_prime_word;
 
 /// The twelve letters: the 6 nearest neighbours A–F (at 0°, 60°, …, 300°) and the 6 second
 /// neighbours a–f (at 30°, 90°, …, 330°), as lattice indices (i, j).
@@ -111,26 +111,32 @@ pub fn images(word: &[u8]) -> Vec<Vec<u8>> {
 }
 
 /// One class of prime cycles under C6v: its representative (the least word of the class) and
-/// every member.
+/// the number of cycles in it (its members are [`images`] of the representative).
 #[derive(Debug, Clone)]
 pub struct Class {
     /// The least word of the class.
     pub representative: Vec<u8>,
-    /// The class's cycles (the representative included), as least rotations, sorted.
-    pub members: Vec<Vec<u8>>,
+    /// The class's cycles, the representative included.
+    pub size: usize,
 }
 
 /// The C6v classes of the prime cycles (Lyndon words over the 12 letters) of length 1 to
-/// `max_len`, by length and then by representative.
+/// `max_len`, by length and then by representative (only the representatives are kept: 5·10⁵
+/// classes at length 7 stand for 5.7·10⁶ cycles).
 pub fn classes(max_len: usize) -> Vec<Class> {
-    prime_words_over(LETTERS.len() as u8, max_len)
-        .into_iter()
-        .filter_map(|w| {
-            let members = images(&w);
-            (members[0] == w).then(|| Class {
-                representative: w,
-                members,
-            })
-        })
-        .collect()
+    let mut out = Vec::new();
+    for_each_prime_word(LETTERS.len() as u8, max_len, |w| {
+        let members = images(w);
+        if members[0] == w {
+            out.push(Class {
+                representative: w.to_vec(),
+                size: members.len(),
+            });
+        }
+    });
+    out.sort_by(|a, b| {
+        (a.representative.len(), &a.representative)
+            .cmp(&(b.representative.len(), &b.representative))
+    });
+    out
 }

@@ -5,7 +5,7 @@ use rug::{Float, Rational};
 use serde::{Deserialize, Serialize};
 
 use super::averages::{Averages, WindingWeight, averages};
-use super::letters::{Class, LETTERS, classes, winding, word_text};
+use super::letters::{Class, LETTERS, classes, images, winding, word_text};
 use super::{LatticeDisks, Stage, certify_word};
 use crate::Error;
 use crate::engine::metadata::RunMeta;
@@ -17,7 +17,7 @@ use crate::verification::cycles::expansion::EXPANSION_BITS;
 use crate::verification::cycles::{Cycle, MAX_CYCLE_BITS, MIN_CYCLE_BITS};
 
 /// Longest cycle of the lattice expanded (the classes grow as 12ⁿ/(12n)).
-pub const MAX_LATTICE_LENGTH: usize = 6;
+pub const MAX_LATTICE_LENGTH: usize = 7;
 /// Default longest cycle.
 pub const DEFAULT_LATTICE_LENGTH: usize = 5;
 /// Default working precision of the lattice's cycles (bits).
@@ -189,16 +189,17 @@ fn class_outcome(
     if let Some((stage, reason)) = out.refused {
         return Ok(Err(RefusedWord {
             word,
-            images: class.members.len(),
+            images: class.size,
             stage,
             reason,
         }));
     }
+    let members = images(&class.representative);
     Ok(Ok(LatticeCycle {
         word,
         winding: winding(&class.representative),
-        images: class.members.iter().map(|w| word_text(w)).collect(),
-        image_windings: class.members.iter().map(|w| winding(w)).collect(),
+        images: members.iter().map(|w| word_text(w)).collect(),
+        image_windings: members.iter().map(|w| winding(w)).collect(),
         cycle: out.cycle.expect("a certified word has its cycle"),
     }))
 }
@@ -225,7 +226,8 @@ fn weights(disks: &LatticeDisks, cycles: &[LatticeCycle]) -> Vec<WindingWeight> 
 
 /// Certifies one word of every C6v class of prime cycles up to `config.max_length`, expands the
 /// zeta function over all certified cycles and tabulates D against N, beside D from the MSD
-/// when `config.msd_collisions` > 0. The cycles do not depend on `options.threads`.
+/// when `config.msd_collisions` > 0. The cycles do not depend on `options.threads`; progress
+/// counts prime cycles (each class its size).
 ///
 /// # Errors
 /// A parameter out of range, or the MSD run's.
@@ -242,7 +244,7 @@ pub fn run(config: &LatticeConfig, options: &RunOptions) -> Result<LatticeReport
             .iter()
             .map(|&i| class_outcome(&disks, &all[i], config.bits))
             .collect();
-        (options.progress)(mine.len() as u64);
+        (options.progress)(mine.iter().map(|&i| all[i].size as u64).sum());
         out
     })?;
     let mut outcomes: Vec<Option<Result<LatticeCycle, RefusedWord>>> = vec![None; all.len()];
