@@ -76,10 +76,11 @@ fn solve(h: &[Vec<f64>], g: &[f64], mu: f64) -> Option<Vec<f64>> {
         if a[col][col].abs() < 1e-300 {
             return None;
         }
-        for i in col + 1..n {
-            let f = a[i][col] / a[col][col];
-            for j in col..=n {
-                a[i][j] -= f * a[col][j];
+        let pivot = a[col].clone();
+        for row in a.iter_mut().skip(col + 1) {
+            let f = row[col] / pivot[col];
+            for (x, p) in row.iter_mut().zip(&pivot).skip(col) {
+                *x -= f * p;
             }
         }
     }
