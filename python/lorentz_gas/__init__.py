@@ -93,7 +93,7 @@ from ._verification import (
 )
 from ._figures import figure, reproduce
 from ._section import SectionResult, section
-from ._cycles import CyclesResult, SurvivalResult, cycles
+from ._cycles import CyclesResult, LatticeCyclesResult, SurvivalResult, cycles
 from ._events import Trajectory, events
 from . import _events
 from ._kinds import (
@@ -167,6 +167,7 @@ __all__ = [
     "ShadowResult",
     "CertifyResult",
     "CyclesResult",
+    "LatticeCyclesResult",
     "SurvivalResult",
     "TrajectoryResult",
     "SectionResult",

@@ -4,7 +4,7 @@ cycle expansions of its escape rate, Lyapunov exponent, KS entropy and partial d
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Union
 
 import numpy as np
 
@@ -127,77 +127,183 @@ class SurvivalResult(Result):
                 f"{_pm(self.lyapunov, self.lyapunov_err)} on the {self.table}")
 
 
+#: The columns of the lattice's convergence table, as the JSON names them.
+_LATTICE_TABLE = ("max_length", "certified", "refused", "zeta", "mean_period", "mean_length",
+                  "mean_square_winding", "diffusion", "mean_free_time", "change")
+
+
+@in_package
+class LatticeCyclesResult(Result):
+    """The triangular Lorentz gas by certified cycles (``lorentz cycles --w``).
+
+    Per certified prime cycle (numpy arrays, one entry per cycle, each C6v image its own entry,
+    ordered by length): ``word`` (its letters: A-F the nearest neighbours at 0, 60, ... 300
+    degrees, a-f the second neighbours at 30, 90, ... 330 degrees), ``length`` (collisions),
+    ``winding`` (shape (n, 2): the lattice indices (i, j) of n̂_p, the disk reached after one
+    period; the centre of disk (i, j) is (2 + w)(i + j/2, j√3/2)), ``period`` (T_p, time at speed 1), ``stability`` (Λ_p, the
+    expanding eigenvalue, signed), ``certificate_radius`` (the true cycle lies within it of the
+    computed one). The convergence table, one entry per truncation N = 1 ... max_length: ``N``,
+    ``zeta`` (1/ζ(0,0), -> 0),
+    ``mean_period`` (⟨T⟩_ζ), ``mean_length`` (⟨n⟩_ζ), ``mean_square_winding`` (⟨n̂²⟩_ζ, a
+    squared length), ``diffusion`` (D_N = ⟨n̂²⟩_ζ/(4⟨T⟩_ζ), length²/time), ``mean_free_time``
+    (⟨T⟩_ζ/⟨n⟩_ζ, against ``mean_free_time_exact``) and ``change`` (D_N - D_(N-1), NaN at N = 1).
+    ``msd`` is the MSD's D beside it (a dict: ``D``, ``D_err``, ``difference_sigma``; None when not
+    run). ``cycles`` and ``table`` are the structured arrays (``to_pandas()`` gives the table,
+    with the prime cycles ``certified`` and ``refused`` of length <= N; ``to_pandas("cycles")``
+    the cycles); ``refused`` lists the class representatives not certified (``word``,
+    ``images``, ``stage``: screen, kernel, newton or certificate, and the ``reason``)."""
+
+    _text_kind = "lattice-cycles"
+    _default_table = "table"
+
+    def __init__(self, text: str):
+        super().__init__(text)
+        d = self._data
+        rows = []
+        for c in d["cycles"]:
+            for word, wind in zip(c["images"], c["image_windings"]):
+                rows.append((word, len(word), wind[0], wind[1], _number(c["cycle"]["period"]),
+                             _number(c["cycle"]["stability"]), _number(c["cycle"]["radius"])))
+        width = max([len(r[0]) for r in rows] + [1])
+        dtype = [("word", f"U{width}"), ("length", np.int64), ("i", np.int64), ("j", np.int64),
+                 ("period", np.float64), ("stability", np.float64),
+                 ("certificate_radius", np.float64)]
+        self.cycles = np.array(rows, dtype=dtype)
+        self.word = self.cycles["word"].copy()
+        self.length = self.cycles["length"].copy()
+        self.winding = np.stack([self.cycles["i"], self.cycles["j"]], axis=-1).reshape(-1, 2)
+        for k in ("period", "stability", "certificate_radius"):
+            setattr(self, k, self.cycles[k].copy())
+        tdtype = [(k, np.int64 if k in ("max_length", "certified", "refused") else np.float64)
+                  for k in _LATTICE_TABLE]
+        self.table = np.array(
+            [tuple(r[k] if k in ("max_length", "certified", "refused") else _number(r[k])
+                   for k in _LATTICE_TABLE) for r in d["table"]], dtype=tdtype)
+        self.N = self.table["max_length"].copy()
+        for k in _LATTICE_TABLE[3:]:
+            setattr(self, k, self.table[k].copy())
+
+    def _summary(self) -> str:
+        c = self._data["config"]
+        if not len(self.N):
+            return f"w = {c['w']}: no truncation"
+        msd = self._data.get("msd")
+        beside = "" if msd is None else f", MSD {msd['D']:.6f} ± {msd['D_err']:.6f}"
+        return (f"D_N = {self.diffusion[-1]:.6f} at N = {self.N[-1]}, w = {c['w']}, "
+                f"{len(self.word)} prime cycles certified{beside}")
+
+
 @public
 def cycles(
     *,
-    side: Exact = 6,
-    radius: Exact = 1,
-    max_length: Count = 8,
-    bits: Count = 256,
+    side: Optional[Exact] = None,
+    radius: Optional[Exact] = None,
+    w: Optional[Exact] = None,
+    max_length: Optional[Count] = None,
+    bits: Optional[Count] = None,
+    msd_collisions: Optional[Count] = None,
     threads: Optional[Count] = None,
     progress: Progress = None,
-) -> CyclesResult:
-    """The three-disk repeller by certified periodic orbits (``lorentz cycles``).
+) -> Union[CyclesResult, LatticeCyclesResult]:
+    """Certified periodic orbits and their cycle expansions (``lorentz cycles``): the
+    three-disk repeller, or with ``w`` the triangular Lorentz gas.
 
-    Three disks of radius a at the corners of an equilateral triangle of side R. Every prime
-    cycle of the fundamental domain up to length ``max_length`` is found by Newton's method in
-    MPFR and certified (Newton-Kantorovich: a unique true cycle within ``certificate_radius``,
-    meeting every disk of its sequence and passing through no other, decided by the kernel);
-    the spectral determinant and the dynamical zeta function, expanded in cycle length, give the
-    escape rate, the mean Lyapunov exponent, the KS entropy and the partial dimension at every
-    truncation N, each with its truncation error.
+    The repeller: three disks of radius a at the corners of an equilateral triangle of side R.
+    Every prime cycle of the fundamental domain up to length ``max_length`` is found by Newton's
+    method in MPFR and certified (Newton-Kantorovich: a unique true cycle within
+    ``certificate_radius``, meeting every disk of its sequence and passing through no other,
+    decided by the kernel); the spectral determinant and the dynamical zeta function, expanded
+    in cycle length, give the escape rate, the mean Lyapunov exponent, the KS entropy and the
+    partial dimension at every truncation N, each with its truncation error.
+
+    The lattice (``w`` given): the cycles of the triangular Lorentz gas's elementary cell, words
+    of lattice displacements to the 6 nearest and 6 second neighbours closed modulo the lattice
+    with their windings, one per C6v class certified (its images share T_p and Λ_p), and the
+    diffusion coefficient by the cycle-averaging formula D_N = ⟨n̂²⟩_ζ/(4⟨T⟩_ζ) at every
+    truncation N, beside D from the MSD.
 
     Parameters
     ----------
     side : exact number
         R, the distance between the disk centres (a length): R > 2a. Exact as typed
-        (``"6"``, ``"13/2"``, a ``Fraction``), rounded once at ``bits``.
+        (``"6"``, ``"13/2"``, a ``Fraction``), rounded once at ``bits``. Default 6.
     radius : exact number
-        a, the disk radius (a length): a > 0, exact as ``side``.
+        a, the disk radius (a length): a > 0, exact as ``side``. Default 1.
+    w : exact number
+        The triangular Lorentz gas at this gap instead of the repeller (a length, disks of
+        radius 1): 0 < w < w_inf = 4/√3 - 2 (a finite horizon), exact as typed.
     max_length : int
-        The longest fundamental-domain cycle N, 1 to 16 (the table has one row per N; N = 8 takes
-        about a second, each N more about twice as long).
+        The longest prime cycle N (the table has one row per N): the repeller's
+        fundamental-domain cycles, 1 to 16 (default 8; N = 8 takes about a second, each N more
+        about twice as long); the lattice's, in collisions, 1 to 7 (default 5).
     bits : int
-        MPFR working precision of the cycles and their certificates, 128 to 4096 bits.
+        MPFR working precision of the cycles and their certificates, 128 to 4096 bits (default
+        256 for the repeller, 128 for the lattice).
+    msd_collisions : int
+        With ``w``: collisions of the MSD run whose D stands beside the table, 1e6 to 1e11, or 0
+        for none (default 2e8).
     threads, progress
         As in :func:`diffusion`; the result does not depend on ``threads``.
 
     Returns
     -------
-    CyclesResult
-        The cycles (``word``, ``order``, ``period``, ``stability``, ``certificate_radius``) and
-        the convergence table (``N``, ``escape_rate``, ``lyapunov``, ``entropy``,
-        ``partial_dimension`` with their ``_error``; ``zeta_escape_rate``).
+    CyclesResult or LatticeCyclesResult
+        The repeller's cycles (``word``, ``order``, ``period``, ``stability``,
+        ``certificate_radius``) and convergence table (``N``, ``escape_rate``, ``lyapunov``,
+        ``entropy``, ``partial_dimension`` with their ``_error``; ``zeta_escape_rate``); or the
+        lattice's cycles (``word``, ``winding``, ``period``, ``stability``,
+        ``certificate_radius``) and table (``N``, ``zeta``, ``diffusion``, ``change``, ...).
 
     Raises
     ------
     ValueError
-        R <= 2a, a <= 0, a length or precision out of range (the message names the valid range).
+        R <= 2a, a <= 0, w outside (0, w_inf), ``w`` with ``side`` or ``radius``, a length or
+        precision out of range (the message names the valid range).
 
     Example
     -------
     >>> r = cycles(side=6, radius=1, max_length=6)  # doctest: +SKIP
     >>> r.escape_rate[-1]                            # doctest: +SKIP
     0.41033840...
+    >>> cycles(w="1/10", max_length=4).diffusion     # doctest: +SKIP
     """
+    if w is not None:
+        if side is not None or radius is not None:
+            raise ValueError("w (the triangular Lorentz gas) takes no side or radius (the "
+                             "three-disk repeller): give one or the other")
+        n = 5 if max_length is None else max_length
+        text = _run(_native.lattice_cycles, progress, _prime_cycles(_count("max_length", n), 12, 7),
+                    "cycles", {
+            "w": _exact("w", w),
+            **_counts(max_length=n,
+                      bits=128 if bits is None else bits,
+                      msd_collisions=int(2e8) if msd_collisions is None else msd_collisions),
+            "threads": _threads(threads),
+        })
+        return LatticeCyclesResult(text)
+    if msd_collisions is not None:
+        raise ValueError("msd_collisions is an option of the triangular Lorentz gas (w=...): "
+                         "the three-disk repeller has no MSD")
+    max_length = 8 if max_length is None else max_length
     n = _count("max_length", max_length)
     text = _run(_native.cycles, progress, _prime_cycles(n), "cycles", {
-        "side": _exact("side", side),
-        "radius": _exact("radius", radius),
-        **_counts(max_length=max_length, bits=bits),
+        "side": _exact("side", 6 if side is None else side),
+        "radius": _exact("radius", 1 if radius is None else radius),
+        **_counts(max_length=max_length, bits=256 if bits is None else bits),
         "threads": _threads(threads),
     })
     return CyclesResult(text)
 
 
-def _prime_cycles(max_length: str) -> Optional[float]:
-    """The number of binary prime cycles of length 1 to ``max_length`` (the units of work), or
-    ``None`` where ``max_length`` is out of range (the compiled reader refuses it)."""
+def _prime_cycles(max_length: str, letters: int = 2, longest: int = 16) -> Optional[float]:
+    """The number of prime cycles over ``letters`` letters of length 1 to ``max_length`` (the
+    units of work), or ``None`` where ``max_length`` is out of 1 ... ``longest`` (the compiled
+    reader refuses it)."""
     try:
         n = int(_total(max_length))
     except (TypeError, ValueError):
         return None
-    if not 1 <= n <= 16:
+    if not 1 <= n <= longest:
         return None
 
     def mobius(k: int) -> int:
@@ -211,5 +317,5 @@ def _prime_cycles(max_length: str) -> Optional[float]:
             p += 1
         return -out if m > 1 else out
 
-    return float(sum(sum(mobius(d) * 2 ** (m // d) for d in range(1, m + 1) if m % d == 0) // m
-                     for m in range(1, n + 1)))
+    return float(sum(sum(mobius(d) * letters ** (m // d) for d in range(1, m + 1) if m % d == 0)
+                     // m for m in range(1, n + 1)))

@@ -137,6 +137,8 @@ KINDS: List[Tuple[str, str, Tuple[str, ...], Callable[..., Result]]] = [
     ("shadow", "shadow", ("segments", "converged", "certified"), ShadowResult),
     ("certify", "certify", ("digits_agreed", "f64_faithful_collisions"), CertifyResult),
     ("cycles", "cycles", ("spectral_determinant", "zeta_function"), _cycles.CyclesResult),
+    ("lattice-cycles", "cycles --w", ("letters", "refused", "mean_free_time_exact"),
+     _cycles.LatticeCyclesResult),
     ("trajectory", "trajectory", ("certified_digits", "distance"), TrajectoryResult),
     ("section", "section", ("theta", "p", "component"), SectionResult),
     ("constants", "constants", ("mean_free_path", "finite_horizon", "precision_bits"),

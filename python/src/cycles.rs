@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 use lorentz_gas::engine::Engine;
 use lorentz_gas::estimators::escape::survival::{self, SurvivalConfig};
 use lorentz_gas::scenes::open::OpenSpec;
+use lorentz_gas::verification::cycles::lattice::run::{self as lattice, LatticeConfig};
 use lorentz_gas::verification::cycles::repeller::{self, RepellerConfig};
 
 use crate::analyses::options;
@@ -27,6 +28,26 @@ pub fn cycles(p: &Params<'_, '_>) -> PyResult<Work<String>> {
         cfg.validate().map_err(crate::py_err)?;
         json(&compute(py, progress, |ctl| {
             repeller::run(&cfg, &options(ctl, threads, Engine::Auto))
+        })?)
+    }))
+}
+
+/// `lattice_cycles(params, progress)`: the triangular Lorentz gas at gap `w` by certified
+/// cycles (the command line's `lorentz cycles --w`): every C6v class of prime cycles up to
+/// `max_length`, certified, and D by cycle averaging against N beside the MSD's.
+pub fn lattice_cycles(p: &Params<'_, '_>) -> PyResult<Work<String>> {
+    let w = p.text("w")?;
+    let cfg = LatticeConfig {
+        max_length: p.count_usize("max_length")?,
+        bits: p.count_u32("bits")?,
+        msd_collisions: p.count_u64("msd_collisions")?,
+        ..LatticeConfig::new(&w)
+    };
+    let threads = p.threads()?;
+    Ok(work(move |py, progress| {
+        cfg.validate().map_err(crate::py_err)?;
+        json(&compute(py, progress, |ctl| {
+            lattice::run(&cfg, &options(ctl, threads, Engine::Auto))
         })?)
     }))
 }

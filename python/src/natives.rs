@@ -65,6 +65,7 @@ analyses! {
     shadow: crate::verification::shadow,
     certify: crate::verification::certify,
     cycles: crate::cycles::cycles,
+    lattice_cycles: crate::cycles::lattice_cycles,
     survival: crate::cycles::survival,
     trajectory: crate::verification::trajectory,
     section: crate::section::section,

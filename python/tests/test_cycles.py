@@ -61,6 +61,36 @@ def test_side_and_radius_are_exact_and_bad_input_is_a_value_error():
             lg.cycles(**kwargs)
 
 
+def test_lattice_cycles_give_d_by_cycle_averaging(cli_json):
+    r = lg.cycles(w="1/10", max_length=5, msd_collisions=0, threads=2)
+    assert isinstance(r, lg.LatticeCyclesResult) and r.msd is None
+    # 142 certified prime cycles of length <= 5 (C6v images included), each with its winding.
+    assert len(r.word) == len(r.period) == len(r.stability) == len(r.certificate_radius) == 142
+    assert r.winding.shape == (142, 2) and np.all(r.certificate_radius < 1e-29)
+    # The nearest-neighbour bounce AD: T = 2w, winding 0 (tests/numerics/lattice_cycles.rs).
+    k = list(r.word).index("AD")
+    assert r.period[k] == pytest.approx(0.2, rel=1e-15) and list(r.winding[k]) == [0, 0]
+    assert list(r.N) == [1, 2, 3, 4, 5] and np.isnan(r.change[0])
+    assert r.table["certified"][-1] == 142
+    assert r.diffusion[-1] == pytest.approx(0.13829500, abs=1e-8)
+    c = cli_json("cycles", "--w", "1/10", "--max-length", "5", "--msd-collisions", "0")
+    d = r.to_dict()
+    for k in ("config", "cycles", "refused", "table"):
+        assert d[k] == c[k], k
+    assert repr(r).startswith("<LatticeCyclesResult: D_N = 0.138295 at N = 5")
+    assert str(r).startswith("triangular Lorentz gas, w = 1/10: prime cycles of length 1 to 5")
+    assert len(r.to_pandas()) == 5 and len(r.to_pandas("cycles")) == 142
+    for kwargs, needle in [
+        (dict(w="0.31"), "w"),
+        (dict(w=0), "w"),
+        (dict(w="1/10", max_length=8), "use 1 to 7"),
+        (dict(w="1/10", side=6), "takes no side or radius"),
+        (dict(msd_collisions=0), "msd_collisions"),
+    ]:
+        with pytest.raises(ValueError, match=needle):
+            lg.cycles(**kwargs)
+
+
 def test_escape_by_survival_on_the_repeller_and_on_disks_given_as_data(cli_json, tmp_path):
     r = lg.escape(repeller=True, side=6, radius=1, particles=2e6, threads=2)
     assert len(r.batch_gamma) == len(r.batch_lyapunov) == 32

@@ -37,6 +37,7 @@ CASES = {
     "escape": ["--w", "0.2", "--particles-per-width", "3200"],
     "escape --repeller": ["--repeller", "--particles", "1e6"],
     "cycles": ["--max-length", "2"],
+    "cycles --w": ["--w", "1/10", "--max-length", "2", "--msd-collisions", "0"],
     "section": ["--w", "0.2", "--field", "5/2", "--trajectories", "4", "--collisions", "100",
                 "--classify-collisions", "1000"],
     "sweep --fields": ["--w", "0.2", "--fields=-1,1", "--collisions-per-run", "1e6",
@@ -52,6 +53,7 @@ STUB_OF = {
     "sweep --fields": "field_sweep",
     "sweep --electric": "driven_sweep",
     "escape --repeller": "survival",
+    "cycles --w": "lattice_cycles",
 }
 
 # Config fields that are not parameters of the call, with the reason. Every entry must name a
@@ -175,7 +177,7 @@ NATIVES = {
     "audit": ["audit"],
     "shadow": ["shadow"],
     "certify": ["certify"],
-    "cycles": ["cycles"],
+    "cycles": ["cycles", "lattice_cycles"],
     "trajectory": ["trajectory"],
     "section": ["section"],
     "constants": ["constants"],

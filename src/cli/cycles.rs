@@ -1,16 +1,23 @@
-//! `lorentz cycles`: the three-disk repeller by certified periodic orbits and their cycle
-//! expansions (escape rate, Lyapunov exponent, KS entropy, partial dimension against N).
+//! `lorentz cycles`: certified periodic orbits and their cycle expansions — the three-disk
+//! repeller (escape rate, Lyapunov exponent, KS entropy, partial dimension against N, with
+//! `--side`/`--radius`), or the triangular Lorentz gas (D by cycle averaging against N beside
+//! the MSD's, with `--w`).
 
 use std::path::PathBuf;
 
 use lorentz_gas::Error;
 use lorentz_gas::files::Output;
+use lorentz_gas::verification::cycles::lattice::letters::LETTERS;
+use lorentz_gas::verification::cycles::lattice::run::{
+    self as lattice, DEFAULT_LATTICE_BITS, DEFAULT_LATTICE_LENGTH, DEFAULT_MSD_COLLISIONS,
+    LatticeConfig,
+};
 use lorentz_gas::verification::cycles::repeller::{
     self, DEFAULT_CYCLE_BITS, DEFAULT_MAX_LENGTH, RepellerConfig,
 };
-use lorentz_gas::verification::cycles::symbols::prime_words;
+use lorentz_gas::verification::cycles::symbols::{prime_word_count, prime_words};
 
-use super::args::{OutputArgs, ThreadsArg, parse_count_u32, parse_count_usize};
+use super::args::{OutputArgs, ThreadsArg, parse_count, parse_count_u32, parse_count_usize};
 use super::output::{emit, to_json};
 use super::progress::Progress;
 
@@ -23,13 +30,23 @@ pub struct Args {
     /// Disk radius a, a decimal or a fraction (exact): a > 0.
     #[arg(long, default_value = "1", allow_hyphen_values = true)]
     radius: String,
-    /// Longest fundamental-domain prime cycle N of the expansions, 1 to 16 (the table has one
-    /// row per N).
-    #[arg(long, default_value_t = DEFAULT_MAX_LENGTH, value_parser = parse_count_usize, allow_negative_numbers = true)]
-    max_length: usize,
-    /// MPFR working precision of the cycles and their certificates, 128 to 4096 bits.
-    #[arg(long, default_value_t = DEFAULT_CYCLE_BITS, value_parser = parse_count_u32, allow_negative_numbers = true)]
-    bits: u32,
+    /// The triangular Lorentz gas at gap w instead of the repeller, a decimal or a fraction
+    /// (exact): 0 < w < w_inf = 0.309402 (a finite horizon). D by cycle averaging.
+    #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["side", "radius"])]
+    w: Option<String>,
+    /// Longest prime cycle N of the expansions (the table has one row per N): the repeller's
+    /// fundamental-domain cycles, 1 to 16 (default 8); the lattice's, in collisions, 1 to 7
+    /// (default 5).
+    #[arg(long, value_parser = parse_count_usize, allow_negative_numbers = true)]
+    max_length: Option<usize>,
+    /// MPFR working precision of the cycles and their certificates, 128 to 4096 bits (default
+    /// 256 for the repeller, 128 for the lattice).
+    #[arg(long, value_parser = parse_count_u32, allow_negative_numbers = true)]
+    bits: Option<u32>,
+    /// With --w: collisions of the MSD run whose D stands beside the table, 10^6 to 10^11, or 0
+    /// for none (default 2e8).
+    #[arg(long, requires = "w", value_parser = parse_count, allow_negative_numbers = true)]
+    msd_collisions: Option<u64>,
     #[command(flatten)]
     threads: ThreadsArg,
     /// Also write the result's JSON (as --json prints it) to this file.
@@ -39,18 +56,33 @@ pub struct Args {
     output: OutputArgs,
 }
 
-/// The configuration these options give (validated).
+/// The repeller's configuration these options give (validated).
 pub fn config(a: &Args) -> Result<RepellerConfig, Error> {
     let cfg = RepellerConfig {
-        max_length: a.max_length,
-        bits: a.bits,
+        max_length: a.max_length.unwrap_or(DEFAULT_MAX_LENGTH),
+        bits: a.bits.unwrap_or(DEFAULT_CYCLE_BITS),
         ..RepellerConfig::new(&a.side, &a.radius)
     };
     cfg.validate()?;
     Ok(cfg)
 }
 
+/// The lattice's configuration at the gap `w` (validated).
+pub fn lattice_config(a: &Args, w: &str) -> Result<LatticeConfig, Error> {
+    let cfg = LatticeConfig {
+        max_length: a.max_length.unwrap_or(DEFAULT_LATTICE_LENGTH),
+        bits: a.bits.unwrap_or(DEFAULT_LATTICE_BITS),
+        msd_collisions: a.msd_collisions.unwrap_or(DEFAULT_MSD_COLLISIONS),
+        ..LatticeConfig::new(w)
+    };
+    cfg.validate()?;
+    Ok(cfg)
+}
+
 pub fn run(a: Args) -> Result<(), Error> {
+    if let Some(w) = a.w.clone() {
+        return run_lattice(a, &w);
+    }
     let cfg = config(&a)?;
     if let Some(out) = &a.out {
         lorentz_gas::files::check_outputs(&[], &[Output::File(out.clone())])?;
@@ -67,5 +99,28 @@ pub fn run(a: Args) -> Result<(), Error> {
     }
     emit(a.output.json, &r, |r| {
         print!("{}", lorentz_gas::report::text::cycles::cycles(r));
+    })
+}
+
+fn run_lattice(a: Args, w: &str) -> Result<(), Error> {
+    let cfg = lattice_config(&a, w)?;
+    if let Some(out) = &a.out {
+        lorentz_gas::files::check_outputs(&[], &[Output::File(out.clone())])?;
+    }
+    let pb = Progress::new(
+        prime_word_count(LETTERS.len() as u64, cfg.max_length),
+        "cycles",
+        a.output.quiet,
+    );
+    let r = lattice::run(&cfg, &pb.options(a.threads.threads()))?;
+    drop(pb);
+    if let Some(out) = &a.out {
+        lorentz_gas::files::write(out, format!("{}\n", to_json(&r)?))?;
+    }
+    emit(a.output.json, &r, |r| {
+        print!(
+            "{}",
+            lorentz_gas::report::text::lattice_cycles::lattice_cycles(r)
+        );
     })
 }

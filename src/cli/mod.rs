@@ -141,7 +141,7 @@ enum Cmd {
     /// Fig. 6b by simulation: correlated lattice walks of order 1..K driven by the measured symbol tables, next to their exact D.
     #[command(mut_arg("order", |a| a.help(lattice_walk::ORDER_HELP)))]
     LatticeWalk(lattice_walk::Args),
-    /// The three-disk repeller by certified periodic orbits: escape rate, Lyapunov exponent, KS entropy and partial dimension from the cycle expansions, against the longest cycle N.
+    /// Certified periodic orbits and cycle expansions: the three-disk repeller (escape rate, Lyapunov exponent, KS entropy, partial dimension) or, with --w, the triangular Lorentz gas (D by cycle averaging beside the MSD), against the longest cycle N.
     Cycles(cycles::Args),
     /// Every closed-form quantity at gap w (geometry, Santalo, Machta-Zwanzig, Boltzmann).
     Constants(constants::Args),

@@ -46,6 +46,7 @@ mod fuzz_regressions_arc;
 mod fuzz_thermostat;
 mod hard_cases;
 mod kernel_properties;
+mod lattice_cycles;
 mod long_flight;
 mod long_flight_audit;
 mod long_flight_triangular;

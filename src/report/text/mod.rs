@@ -20,6 +20,7 @@ pub mod field_sweep;
 pub mod figure;
 pub mod free_paths;
 pub mod hops;
+pub mod lattice_cycles;
 pub mod lattice_walk;
 pub mod lyapunov;
 pub mod publication;
@@ -163,6 +164,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "audit" => render(kind, json, audit::audit)?,
         "section" => render(kind, json, section::section)?,
         "cycles" => render(kind, json, cycles::cycles)?,
+        "lattice-cycles" => render(kind, json, lattice_cycles::lattice_cycles)?,
         _ => return Ok(None),
     };
     Ok(Some(text))

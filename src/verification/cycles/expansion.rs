@@ -66,15 +66,59 @@ pub fn truncated(
             c[r * p.length] += w / &r_f;
         }
     }
-    let mut a: Vec<Float> = vec![Float::with_val(b, 1)];
-    for m in 1..=n {
-        let mut sum = Float::new(b);
-        for k in 1..=m {
-            sum += c[k].clone() * &a[m - k] * k as u32;
-        }
-        a.push(-sum / m as u32);
+    exp_series(&c)
+        .into_iter()
+        .fold(Float::new(b), |acc, x| acc + x)
+}
+
+/// A coefficient of a power series in z that [`exp_series`] can exponentiate: a number, or a
+/// jet of a function and its derivatives ([`super::lattice::averages::Jet`]).
+pub(crate) trait Coefficient: Clone {
+    /// The additive identity.
+    fn zero() -> Self;
+    /// The multiplicative identity.
+    fn one() -> Self;
+    /// `self + other`.
+    fn plus(&self, other: &Self) -> Self;
+    /// `self × other`.
+    fn times(&self, other: &Self) -> Self;
+    /// `self × k / m`.
+    fn ratio(&self, k: i64, m: u32) -> Self;
+}
+
+impl Coefficient for Float {
+    fn zero() -> Self {
+        Float::new(EXPANSION_BITS)
     }
-    a.into_iter().fold(Float::new(b), |acc, x| acc + x)
+    fn one() -> Self {
+        Float::with_val(EXPANSION_BITS, 1)
+    }
+    fn plus(&self, other: &Self) -> Self {
+        self.clone() + other
+    }
+    fn times(&self, other: &Self) -> Self {
+        self.clone() * other
+    }
+    fn ratio(&self, k: i64, m: u32) -> Self {
+        self.clone() * k / m
+    }
+}
+
+/// The coefficients a₀ … a_n of exp(−Σ_{m=1}^{n} c_m z^m) (`c[0]` unused): a₀ = 1,
+/// a_m = −(1/m) Σ_{k=1}^{m} k c_k a_{m−k}. With c_m the sum of t_p^r/r over the prime cycles
+/// and repeats of length r·n_p = m, Σ a_m z^m is ∏_p (1 − t_p) expanded to z^n: the
+/// curvature expansion of a dynamical zeta function (or, with the determinant's weights, of the
+/// spectral determinant).
+pub(crate) fn exp_series<C: Coefficient>(c: &[C]) -> Vec<C> {
+    let mut a: Vec<C> = vec![C::one()];
+    for m in 1..c.len() {
+        let mut sum = C::zero();
+        for k in 1..=m {
+            sum = sum.plus(&c[k].times(&a[m - k]).ratio(k as i64, 1));
+        }
+        a.push(sum.ratio(-1, m as u32));
+    }
+    a
 }
 
 /// Newton's method for a zero of `f` from `x0` (central differences of step 2⁻⁴⁰), to 2⁻¹⁰⁰.

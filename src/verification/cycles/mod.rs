@@ -15,6 +15,8 @@
 //! and the expanding eigenvalue Λ_p of the monodromy ∏A_k carry bounds from the radius.
 
 pub mod expansion;
+pub mod lattice;
+mod minimise;
 mod newton;
 mod prune;
 pub mod repeller;
@@ -28,6 +30,7 @@ use crate::kernel::vec2::Vec2;
 use crate::numbers::exact::nearest_f64;
 use crate::verification::shadowing::{M2, OrbitPoint, Table};
 
+pub(crate) use newton::certify_closed;
 pub use newton::certify_cycle;
 
 /// Smallest working precision of a certified cycle.
@@ -180,17 +183,44 @@ impl Disks {
                 .collect(),
         }
     }
+}
 
+/// A table whose periodic orbits [`certify_cycle`]'s Newton method certifies: an open table
+/// ([`Disks`]) or a lattice ([`lattice::LatticeDisks`]). Disks are labelled as in
+/// [`OrbitPoint::disk`].
+pub(crate) trait CycleTable: Sync {
     /// The table at `bits`: the shadows' exact billiard map on these disks.
-    pub(crate) fn table(&self, bits: u32) -> Table {
-        Table::open(self.centres(bits), self.radius_at(bits), bits)
+    fn table(&self, bits: u32) -> Result<Table, Error>;
+    /// The disk radius as its nearest double.
+    fn radius_f64(&self) -> f64;
+    /// Every disk (the departure's included) that a flight of length at most `reach` from a
+    /// point of disk `from` can come within one radius of.
+    fn near(&self, from: [i64; 2], reach: f64) -> Vec<[i64; 2]>;
+    /// The disk's name in messages.
+    fn label(&self, d: [i64; 2]) -> String;
+}
+
+impl CycleTable for Disks {
+    fn table(&self, bits: u32) -> Result<Table, Error> {
+        Ok(Table::open(self.centres(bits), self.radius_at(bits), bits))
+    }
+    fn radius_f64(&self) -> f64 {
+        self.radius()
+    }
+    fn near(&self, _from: [i64; 2], _reach: f64) -> Vec<[i64; 2]> {
+        (0..self.count() as i64).map(|k| [k, 0]).collect()
+    }
+    fn label(&self, d: [i64; 2]) -> String {
+        d[0].to_string()
     }
 }
 
 /// A periodic orbit found, with its certificate (or the reason there is none).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Cycle {
-    /// The disk sequence d₀ … d_{n−1}.
+    /// The disk sequence d₀ … d_{n−1} (an open table's; empty, and absent from the JSON, for a
+    /// lattice cycle, which its word names).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub disks: Vec<usize>,
     /// Working precision (bits).
     pub precision_bits: u32,
@@ -269,28 +299,72 @@ pub fn expanding_eigenvalue(m: &M2) -> Float {
 /// directions to the previous and the next disk, each velocity towards the next contact point.
 fn initial_guess(disks: &Disks, seq: &[usize], bits: u32) -> Vec<OrbitPoint> {
     let c = disks.centres_f64();
-    let r = disks.radius();
-    let n = seq.len();
+    let centres: Vec<[f64; 2]> = seq.iter().map(|&d| c[d]).collect();
+    let labels: Vec<[i64; 2]> = seq.iter().map(|&d| [d as i64, 0]).collect();
+    let s = bisector_angles(&centres, [0.0, 0.0]);
+    orbit_from_angles(&centres, [0.0, 0.0], disks.radius(), &s, &labels, bits)
+}
+
+/// The closed itinerary's neighbours of collision k: the centres `c[k − 1]` and `c[k + 1]`, the
+/// last followed by `c[0] + shift` and the first preceded by `c[n − 1] − shift` (`shift` the
+/// winding of a lattice cycle, zero on an open table).
+pub(crate) fn neighbours(c: &[[f64; 2]], shift: [f64; 2], k: usize) -> ([f64; 2], [f64; 2]) {
+    let n = c.len();
+    let prev = if k == 0 {
+        [c[n - 1][0] - shift[0], c[n - 1][1] - shift[1]]
+    } else {
+        c[k - 1]
+    };
+    let next = if k + 1 == n {
+        [c[0][0] + shift[0], c[0][1] + shift[1]]
+    } else {
+        c[k + 1]
+    };
+    (prev, next)
+}
+
+/// Each contact angle on the bisector of the directions to the previous and the next centre.
+pub(crate) fn bisector_angles(c: &[[f64; 2]], shift: [f64; 2]) -> Vec<f64> {
     let unit = |a: [f64; 2], b: [f64; 2]| {
         let (x, y) = (b[0] - a[0], b[1] - a[1]);
         let l = x.hypot(y);
         [x / l, y / l]
     };
-    let s: Vec<f64> = (0..n)
+    (0..c.len())
         .map(|k| {
-            let here = c[seq[k]];
-            let u = unit(here, c[seq[(k + n - 1) % n]]);
-            let w = unit(here, c[seq[(k + 1) % n]]);
+            let (prev, next) = neighbours(c, shift, k);
+            let (u, w) = (unit(c[k], prev), unit(c[k], next));
             (u[1] + w[1]).atan2(u[0] + w[0])
         })
-        .collect();
-    let contact = |k: usize| [c[seq[k]][0] + r * s[k].cos(), c[seq[k]][1] + r * s[k].sin()];
+        .collect()
+}
+
+/// The collision states with contact angles `s` on the disks of centres `c` (radius `r`, labels
+/// `labels`), each velocity towards the next contact point.
+pub(crate) fn orbit_from_angles(
+    c: &[[f64; 2]],
+    shift: [f64; 2],
+    r: f64,
+    s: &[f64],
+    labels: &[[i64; 2]],
+    bits: u32,
+) -> Vec<OrbitPoint> {
+    let n = c.len();
+    let contact = |k: usize, centre: [f64; 2]| {
+        [
+            centre[0] + r * s[k % n].cos(),
+            centre[1] + r * s[k % n].sin(),
+        ]
+    };
     (0..n)
         .map(|k| {
-            let v = unit(contact(k), contact((k + 1) % n));
-            let p = s[k].cos() * v[1] - s[k].sin() * v[0];
+            let here = contact(k, c[k]);
+            let there = contact(k + 1, neighbours(c, shift, k).1);
+            let (x, y) = (there[0] - here[0], there[1] - here[1]);
+            let l = x.hypot(y);
+            let p = s[k].cos() * (y / l) - s[k].sin() * (x / l);
             OrbitPoint {
-                disk: [seq[k] as i64, 0],
+                disk: labels[k],
                 s: Float::with_val(bits, s[k]),
                 p: Float::with_val(bits, p),
             }

@@ -13,15 +13,19 @@ const SLACK: f64 = 24.0;
 const LIPSCHITZ_SAFETY: f64 = 100.0;
 
 /// The defects F_k = T_k(x_k) − x_{k+1 mod n} of the cycle `y` with the Jacobians and flights
-/// (the shadows' evaluation of the open chain x₀ … x_{n−1}, x₀).
-fn evaluate_cycle(table: &Table, y: &[OrbitPoint]) -> Result<Evaluation, String> {
+/// (the shadows' evaluation of the open chain x₀ … x_{n−1}, x₀′, x₀′ the state x₀ on the disk
+/// `close`: x₀'s own on an open table, x₀'s shifted by the winding on a lattice).
+fn evaluate_cycle(table: &Table, y: &[OrbitPoint], close: [i64; 2]) -> Result<Evaluation, String> {
     let mut chain = y.to_vec();
-    chain.push(y[0].clone());
+    chain.push(OrbitPoint {
+        disk: close,
+        ..y[0].clone()
+    });
     evaluate(table, &chain).map_err(|(k, e)| match e {
         StepFailure::Grazing(_) => format!("grazing collision at collision {k}"),
         StepFailure::Miss => format!(
-            "the flight from collision {k} misses disk {}",
-            chain[k + 1].disk[0]
+            "the flight from collision {k} misses disk {:?}",
+            chain[k + 1].disk
         ),
     })
 }
@@ -75,8 +79,9 @@ fn newton(
     table: &Table,
     y: &mut Vec<OrbitPoint>,
     bits: u32,
+    close: [i64; 2],
 ) -> Result<(Evaluation, usize), (usize, String)> {
-    let mut ev = evaluate_cycle(table, y).map_err(|w| (0, w))?;
+    let mut ev = evaluate_cycle(table, y, close).map_err(|w| (0, w))?;
     let mut it = 0;
     loop {
         let res = max_defect(&ev);
@@ -107,7 +112,7 @@ fn newton(
                     p: x.p.clone() + &(d[1].clone() * &step),
                 })
                 .collect();
-            match evaluate_cycle(table, &trial) {
+            match evaluate_cycle(table, &trial, close) {
                 Ok(next) if max_defect(&next) < res || step < 1e-3 => {
                     *y = trial;
                     ev = next;
@@ -182,7 +187,7 @@ fn secant(y: &[OrbitPoint], jac: &[M2], other: &[OrbitPoint], other_jac: &[M2]) 
 /// [`LIPSCHITZ_SAFETY`].
 fn lipschitz(
     table: &Table,
-    y: &[OrbitPoint],
+    (y, close): (&[OrbitPoint], [i64; 2]),
     ev: &Evaluation,
     first: &Evaluation,
     y0: &[OrbitPoint],
@@ -199,7 +204,7 @@ fn lipschitz(
                 p: x.p.clone() - &(delta.clone() * (dp * (1 + (k % 3) as u32))),
             })
             .collect();
-        if let Ok(e) = evaluate_cycle(table, &near) {
+        if let Ok(e) = evaluate_cycle(table, &near, close) {
             m = m.max(secant(y, &ev.jac, &near, &e.jac));
         }
     }
@@ -217,12 +222,30 @@ fn lipschitz(
 /// [[`MIN_CYCLE_BITS`], [`MAX_CYCLE_BITS`]].
 pub fn certify_cycle(disks: &Disks, seq: &[usize], bits: u32) -> Result<Cycle, Error> {
     check_sequence(disks, seq, bits)?;
-    let table = disks.table(bits);
     let y0 = initial_guess(disks, seq, bits);
-    let first = evaluate_cycle(&table, &y0);
+    let mut cycle = certify_closed(disks, y0, [seq[0] as i64, 0], bits)?;
+    cycle.disks = seq.to_vec();
+    Ok(cycle)
+}
+
+/// Newton's method at `bits` from the collision states `y0` on `geometry`'s disks, the cycle
+/// closing on the disk `close` (the first disk, or on a lattice the first shifted by the
+/// winding), its Newton–Kantorovich certificate and the kernel's check of its flights. The
+/// cycle's `disks` are left empty for the caller to name.
+///
+/// # Errors
+/// The defect at twice the precision cannot be evaluated.
+pub(crate) fn certify_closed<G: CycleTable>(
+    geometry: &G,
+    y0: Vec<OrbitPoint>,
+    close: [i64; 2],
+    bits: u32,
+) -> Result<Cycle, Error> {
+    let table = geometry.table(bits)?;
+    let first = evaluate_cycle(&table, &y0, close);
     let mut y = y0.clone();
-    let mut cycle = Cycle::unfinished(seq, bits);
-    let (ev, iterations) = match newton(&table, &mut y, bits) {
+    let mut cycle = Cycle::unfinished(&[], bits);
+    let (ev, iterations) = match newton(&table, &mut y, bits, close) {
         Ok(done) => done,
         Err((it, why)) => {
             cycle.iterations = it;
@@ -232,23 +255,28 @@ pub fn certify_cycle(disks: &Disks, seq: &[usize], bits: u32) -> Result<Cycle, E
     };
     cycle.iterations = iterations;
     cycle.min_cos_phi = ev.cos_min.0;
-    let contacts = super::prune::kernel_check(&table, disks.count(), &y, &ev.tau);
+    let contacts = super::prune::kernel_check(&table, geometry, (&y, close), &ev.tau);
     cycle.min_clearance = contacts.min_clearance;
     cycle.pruned = contacts.blocked;
-    let eps = residual(disks, &y, &ev, bits)?;
+    let eps = residual(&geometry.table(2 * bits)?, (&y, close), &ev, bits)?;
     let m = match &first {
-        Ok(f) => lipschitz(&table, &y, &ev, f, &y0),
-        Err(_) => lipschitz(&table, &y, &ev, &ev, &y),
+        Ok(f) => lipschitz(&table, (&y, close), &ev, f, &y0),
+        Err(_) => lipschitz(&table, (&y, close), &ev, &ev, &y),
     };
     cycle.orbit = y;
     cycle.jacobians = ev.jac.clone();
-    certify(&mut cycle, &ev, eps, m, disks.radius());
+    certify(&mut cycle, &ev, eps, m, geometry.radius_f64());
     Ok(cycle)
 }
 
-/// ε = ‖F(y*)‖₂ at twice the precision plus √n·2^(24−2P)/cos φ_min.
-fn residual(disks: &Disks, y: &[OrbitPoint], ev: &Evaluation, bits: u32) -> Result<f64, Error> {
-    let ev2 = evaluate_cycle(&disks.table(2 * bits), y).map_err(Error::Failed)?;
+/// ε = ‖F(y*)‖₂ at twice the precision (on `table2`) plus √n·2^(24−2P)/cos φ_min.
+fn residual(
+    table2: &Table,
+    (y, close): (&[OrbitPoint], [i64; 2]),
+    ev: &Evaluation,
+    bits: u32,
+) -> Result<f64, Error> {
+    let ev2 = evaluate_cycle(table2, y, close).map_err(Error::Failed)?;
     let l2 = ev2
         .f
         .iter()

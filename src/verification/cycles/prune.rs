@@ -13,14 +13,14 @@ pub(super) struct Contacts {
     pub(super) blocked: Option<String>,
 }
 
-/// Runs every flight x_k + t v_k of the cycle `y` (flight times `tau` from the map) through the
-/// kernel's ray–disk contact [`ray_circle_centred`] against each of the `count` disks but its
-/// own: the recorded next disk must be met, at τ_k to 2^(40−P)(1 + τ_k)/cos φ, and no other disk
-/// may be met at t ≤ τ_k.
-pub(super) fn kernel_check(
+/// Runs every flight x_k + t v_k of the cycle `y` closing on the disk `close` (flight times
+/// `tau` from the map) through the kernel's ray–disk contact [`ray_circle_centred`] against each
+/// disk of `geometry` it can come near but its own: the recorded next disk must be met, at τ_k
+/// to 2^(40−P)(1 + τ_k)/cos φ, and no other disk may be met at t ≤ τ_k.
+pub(super) fn kernel_check<G: CycleTable>(
     table: &Table,
-    count: usize,
-    y: &[OrbitPoint],
+    geometry: &G,
+    (y, close): (&[OrbitPoint], [i64; 2]),
     tau: &[Float],
 ) -> Contacts {
     let n = y.len();
@@ -36,9 +36,19 @@ pub(super) fn kernel_check(
             return out;
         };
         let vv = v.norm2();
-        let (here, next) = (y[k].disk[0] as usize, y[(k + 1) % n].disk[0] as usize);
-        for j in (0..count).filter(|&j| j != here) {
-            let c = table.centre([j as i64, 0]);
+        let here = y[k].disk;
+        let next = if k + 1 == n { close } else { y[k + 1].disk };
+        let reach = tau[k].to_f64() + 1.0;
+        let near = geometry.near(here, reach);
+        if !near.contains(&next) {
+            out.blocked = Some(format!(
+                "the flight from collision {k} cannot reach disk {}",
+                geometry.label(next)
+            ));
+            return out;
+        }
+        for j in near.into_iter().filter(|&j| j != here) {
+            let c = table.centre(j);
             let d = x0.sub(&c);
             let hit = ray_circle_centred(d.x, d.y, &v, &vv, &r2);
             if j == next {
@@ -48,13 +58,16 @@ pub(super) fn kernel_check(
                 let tol = (40.0 - f64::from(bits)).exp2() * (1.0 + tau[k].to_f64()) / cos_in;
                 match hit {
                     None => {
-                        out.blocked =
-                            Some(format!("the flight from collision {k} misses disk {j}"));
+                        out.blocked = Some(format!(
+                            "the flight from collision {k} misses disk {}",
+                            geometry.label(j)
+                        ));
                         return out;
                     }
                     Some(t) if (t.clone() - &tau[k]).to_f64().abs() > tol => {
                         out.blocked = Some(format!(
-                            "the flight from collision {k} meets disk {j} at t = {:.6e}, not at the map's {:.6e}",
+                            "the flight from collision {k} meets disk {} at t = {:.6e}, not at the map's {:.6e}",
+                            geometry.label(j),
                             t.to_f64(),
                             tau[k].to_f64()
                         ));
@@ -66,7 +79,10 @@ pub(super) fn kernel_check(
             }
             if let Some(t) = hit.filter(|t| *t <= tau[k]) {
                 out.blocked = Some(format!(
-                    "the flight from collision {k} (disk {here} to disk {next}) passes through disk {j} at t = {:.6e} < {:.6e}",
+                    "the flight from collision {k} (disk {} to disk {}) passes through disk {} at t = {:.6e} < {:.6e}",
+                    geometry.label(here),
+                    geometry.label(next),
+                    geometry.label(j),
                     t.to_f64(),
                     tau[k].to_f64()
                 ));

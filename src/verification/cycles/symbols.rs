@@ -3,30 +3,72 @@
 //! third disk, a rotation).
 
 /// The binary prime cycles (Lyndon words: aperiodic, least among their rotations) of length 1 to
-/// `max_len`, by length and then lexicographically (Duval's algorithm).
+/// `max_len`, by length and then lexicographically.
 pub fn prime_words(max_len: usize) -> Vec<Vec<u8>> {
+    prime_words_over(2, max_len)
+}
+
+/// The prime cycles over the alphabet 0 … `letters` − 1 (Lyndon words) of length 1 to
+/// `max_len`, by length and then lexicographically.
+pub fn prime_words_over(letters: u8, max_len: usize) -> Vec<Vec<u8>> {
     let mut out = Vec::new();
-    if max_len == 0 {
-        return out;
+    for_each_prime_word(letters, max_len, |w| out.push(w.to_vec()));
+    out.sort_by(|a, b| a.len().cmp(&b.len()).then(a.cmp(b)));
+    out
+}
+
+/// The number of prime cycles (Lyndon words) over `letters` letters of length 1 to `max_len`:
+/// Σ_n (1/n) Σ_{d | n} μ(d) letters^{n/d} (Möbius inversion).
+pub fn prime_word_count(letters: u64, max_len: usize) -> u64 {
+    let mobius = |k: usize| -> i64 {
+        let (mut m, mut p, mut out) = (k, 2, 1);
+        while p * p <= m {
+            if m.is_multiple_of(p) {
+                m /= p;
+                if m.is_multiple_of(p) {
+                    return 0;
+                }
+                out = -out;
+            }
+            p += 1;
+        }
+        if m > 1 { -out } else { out }
+    };
+    (1..=max_len)
+        .map(|n| {
+            let sum: i64 = (1..=n)
+                .filter(|d| n.is_multiple_of(*d))
+                .map(|d| mobius(d) * letters.pow((n / d) as u32) as i64)
+                .sum();
+            sum as u64 / n as u64
+        })
+        .sum()
+}
+
+/// Calls `f` on every prime cycle over the alphabet 0 … `letters` − 1 (Lyndon word) of length
+/// 1 to `max_len`, in lexicographic order (Duval's algorithm), without keeping them.
+pub fn for_each_prime_word(letters: u8, max_len: usize, mut f: impl FnMut(&[u8])) {
+    if max_len == 0 || letters == 0 {
+        return;
     }
+    let top = letters - 1;
     let mut w: Vec<u8> = vec![0];
     loop {
-        out.push(w.clone());
-        // Next Lyndon word of length ≤ max_len: repeat w to max_len, increment the last 0.
+        f(&w);
+        // Next Lyndon word of length ≤ max_len: repeat w to max_len, drop trailing top letters,
+        // increment the last.
         let m = w.len();
         while w.len() < max_len {
             w.push(w[w.len() - m]);
         }
-        while w.last() == Some(&1) {
+        while w.last() == Some(&top) {
             w.pop();
         }
         match w.last_mut() {
-            Some(x) => *x = 1,
+            Some(x) => *x += 1,
             None => break,
         }
     }
-    out.sort_by(|a, b| a.len().cmp(&b.len()).then(a.cmp(b)));
-    out
 }
 
 /// The full-space disk sequence of the fundamental-domain word `word` and the order h of the
