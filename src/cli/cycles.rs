@@ -81,46 +81,41 @@ pub fn lattice_config(a: &Args, w: &str) -> Result<LatticeConfig, Error> {
 
 pub fn run(a: Args) -> Result<(), Error> {
     if let Some(w) = a.w.clone() {
-        return run_lattice(a, &w);
+        let cfg = lattice_config(&a, &w)?;
+        let total = prime_word_count(LETTERS.len() as u64, cfg.max_length);
+        return run_and_emit(
+            &a,
+            total,
+            |o| lattice::run(&cfg, o),
+            lorentz_gas::report::text::lattice_cycles::lattice_cycles,
+        );
     }
     let cfg = config(&a)?;
-    if let Some(out) = &a.out {
-        lorentz_gas::files::check_outputs(&[], &[Output::File(out.clone())])?;
-    }
-    let pb = Progress::new(
-        prime_words(cfg.max_length).len() as u64,
-        "cycles",
-        a.output.quiet,
-    );
-    let r = repeller::run(&cfg, &pb.options(a.threads.threads()))?;
-    drop(pb);
-    if let Some(out) = &a.out {
-        lorentz_gas::files::write(out, format!("{}\n", to_json(&r)?))?;
-    }
-    emit(a.output.json, &r, |r| {
-        print!("{}", lorentz_gas::report::text::cycles::cycles(r));
-    })
+    let total = prime_words(cfg.max_length).len() as u64;
+    run_and_emit(
+        &a,
+        total,
+        |o| repeller::run(&cfg, o),
+        lorentz_gas::report::text::cycles::cycles,
+    )
 }
 
-fn run_lattice(a: Args, w: &str) -> Result<(), Error> {
-    let cfg = lattice_config(&a, w)?;
+/// Runs `f` with a bar over `total` prime words, writes its result to `--out` if asked (the path
+/// checked first) and prints it (`text`, or JSON).
+fn run_and_emit<R: serde::Serialize>(
+    a: &Args,
+    total: u64,
+    f: impl FnOnce(&lorentz_gas::engine::options::RunOptions) -> Result<R, Error>,
+    text: impl Fn(&R) -> String,
+) -> Result<(), Error> {
     if let Some(out) = &a.out {
         lorentz_gas::files::check_outputs(&[], &[Output::File(out.clone())])?;
     }
-    let pb = Progress::new(
-        prime_word_count(LETTERS.len() as u64, cfg.max_length),
-        "cycles",
-        a.output.quiet,
-    );
-    let r = lattice::run(&cfg, &pb.options(a.threads.threads()))?;
+    let pb = Progress::new(total, "cycles", a.output.quiet);
+    let r = f(&pb.options(a.threads.threads()))?;
     drop(pb);
     if let Some(out) = &a.out {
         lorentz_gas::files::write(out, format!("{}\n", to_json(&r)?))?;
     }
-    emit(a.output.json, &r, |r| {
-        print!(
-            "{}",
-            lorentz_gas::report::text::lattice_cycles::lattice_cycles(r)
-        );
-    })
+    emit(a.output.json, &r, |r| print!("{}", text(r)))
 }

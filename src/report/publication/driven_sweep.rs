@@ -8,7 +8,7 @@ use std::path::Path;
 use super::current::steady_problems;
 use super::diffusion::refused_config;
 use super::file::ResultFile;
-use super::same_bits::rerun_check;
+use super::same_bits::sweep_rerun_check;
 use super::{Checks, Ctx};
 use crate::Error;
 use crate::engine::options::RunOptions;
@@ -51,30 +51,13 @@ pub(super) fn checks(
     checks: &mut Checks,
 ) -> Result<(), Error> {
     let cfg = &r.config;
-    let mut bad =
-        super::meta_problems(&r.meta, Some(cfg.seed), Some(u64::from(cfg.batches)), "f64");
-    bad.extend(row_problems(r)?);
-    let again = driven::report(
-        cfg,
-        r.rows.clone(),
-        r.resumed_points,
-        &RunOptions::default(),
-    )?;
-    let same = serde_json::to_value(&again.mobility).ok() == serde_json::to_value(&r.mobility).ok()
-        && serde_json::to_value(&again.odd).ok() == serde_json::to_value(&r.odd).ok();
-    if !same || again.odd_agrees != r.odd_agrees {
-        bad.push("the mobility's analysis or the ±E checks are not those of the rows".into());
-    }
-    super::record_check(bad, checks);
-    for o in &again.odd {
+    for o in &record(r, checks)?.odd {
         let c = &o.mobility_even;
+        let name = format!("J(−E) = −J(E) at w = {}, |E| = {}", o.w, o.electric);
         checks.judge(
             c.dof,
             c.agrees(),
-            (
-                "identities",
-                &format!("J(−E) = −J(E) at w = {}, |E| = {}", o.w, o.electric),
-            ),
+            ("identities", &name),
             c.describe("Welch, Bonferroni over the pairs"),
             &[("value", c.difference), ("err", c.err), ("exact", 0.0)],
         );
@@ -93,26 +76,36 @@ pub(super) fn checks(
             Ok(vec![current::rerun_batch(&pc, k % b, o)?[0]])
         });
     }
-    let what = format!(
-        "{} points of {} collisions in {} batches (seed {})",
-        r.rows.len(),
-        cfg.collisions,
-        cfg.batches,
-        cfg.seed
-    );
-    rerun_check(
-        r,
-        cfg.collisions.saturating_mul(r.rows.len() as u64),
-        &what,
-        ctx,
-        checks,
-        |o| {
-            driven::run(cfg, o).map(|mut again| {
-                again.resumed_points = r.resumed_points;
-                again
-            })
-        },
-    )
+    let units = cfg.collisions.saturating_mul(r.rows.len() as u64);
+    sweep_rerun_check(r, (cfg, r.rows.len(), units), ctx, checks, |o| {
+        driven::run(cfg, o).map(|mut again| {
+            again.resumed_points = r.resumed_points;
+            again
+        })
+    })
+}
+
+/// The record check (the metadata, every row against its point, the mobility's analysis and
+/// the ±E checks recomputed from the rows); returns the sweep's report recomputed from its rows.
+fn record(r: &DrivenSweepReport, checks: &mut Checks) -> Result<DrivenSweepReport, Error> {
+    let cfg = &r.config;
+    let mut bad = row_problems(r)?;
+    let batches = Some(u64::from(cfg.batches));
+    bad.extend(super::meta_problems(
+        &r.meta,
+        Some(cfg.seed),
+        batches,
+        "f64",
+    ));
+    let opts = RunOptions::default();
+    let again = driven::report(cfg, r.rows.clone(), r.resumed_points, &opts)?;
+    let same = serde_json::to_value(&again.mobility).ok() == serde_json::to_value(&r.mobility).ok()
+        && serde_json::to_value(&again.odd).ok() == serde_json::to_value(&r.odd).ok();
+    if !same || again.odd_agrees != r.odd_agrees {
+        bad.push("the mobility's analysis or the ±E checks are not those of the rows".into());
+    }
+    super::record_check(bad, checks);
+    Ok(again)
 }
 
 /// The rows against their points: the gap, the field and its angle as the exact point gives

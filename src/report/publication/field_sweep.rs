@@ -8,7 +8,7 @@ use std::path::Path;
 use super::diffusion::refused_config;
 use super::field::geometry_of;
 use super::file::ResultFile;
-use super::same_bits::rerun_check;
+use super::same_bits::sweep_rerun_check;
 use super::{Checks, Ctx};
 use crate::Error;
 use crate::estimators::sweep::field::{FieldSweepReport, FieldSweepRow, onsager};
@@ -74,14 +74,8 @@ pub(super) fn checks(
     }
     shares_and_kac(r, checks);
     components(r, checks);
-    let what = format!(
-        "{} points of {} collisions in {} batches (seed {})",
-        r.rows.len(),
-        cfg.collisions,
-        cfg.batches,
-        cfg.seed
-    );
-    rerun_check(r, collisions(r), &what, ctx, checks, |o| {
+    let points = (cfg, r.rows.len(), collisions(r));
+    sweep_rerun_check(r, points, ctx, checks, |o| {
         // Which points an earlier run left to resume is bookkeeping, not the result.
         crate::estimators::sweep::field::run(cfg, o).map(|mut again| {
             again.resumed_points = r.resumed_points;

@@ -118,6 +118,22 @@ recorded!(
     crate::estimators::diffusion::scene::SceneDiffusionReport
 );
 
+/// The re-run check of a whole sweep `recorded` of `points` points (`units` collisions in all),
+/// configured by `cfg`: [`rerun_check`].
+pub(super) fn sweep_rerun_check<T: Recorded>(
+    recorded: &T,
+    (cfg, points, units): (&crate::estimators::sweep::SweepConfig, usize, u64),
+    ctx: &Ctx<'_>,
+    checks: &mut Checks,
+    run: impl FnOnce(&RunOptions) -> Result<T, Error>,
+) -> Result<(), Error> {
+    let what = format!(
+        "{points} points of {} collisions in {} batches (seed {})",
+        cfg.collisions, cfg.batches, cfg.seed
+    );
+    rerun_check(recorded, units, &what, ctx, checks, run)
+}
+
 /// The re-run check of the result `recorded`, whose re-run reports progress in `units` units:
 /// skipped when the budget does not admit it, else `run` re-runs the recorded configuration and
 /// every field must be identical.
