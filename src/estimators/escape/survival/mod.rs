@@ -281,15 +281,12 @@ pub fn run(cfg: &SurvivalConfig, options: &RunOptions) -> Result<SurvivalReport,
     options.accept("escape", &[])?;
     let start = Instant::now();
     let open = cfg.open()?;
-    let table = open.at::<f64>(());
-    let starts = Starts::new(&table);
-    let (s0, _) = pilot(&table, &starts, cfg, options)?;
-    let window = cfg.window as usize;
+    let p = Prepared::new(cfg, options)?;
     let tallies = par_batches_watched(options.threads, BATCHES, options.stop.as_ref(), |b| {
-        let key = StreamKey::new(cfg.seed, Purpose::Survival, u64::from(b));
-        let n = share(cfg.particles, BATCHES, b);
-        batch(&table, &starts, (n, window, s0), key, options)
+        p.batch(cfg, b, options)
     })?;
+    let window = cfg.window as usize;
+    let s0 = p.s0;
     let mut all = Tally::new(window + 2);
     for t in &tallies {
         all.merge(t);
@@ -312,10 +309,8 @@ pub fn run(cfg: &SurvivalConfig, options: &RunOptions) -> Result<SurvivalReport,
 /// As [`run`].
 pub fn expected_collisions(cfg: &SurvivalConfig, options: &RunOptions) -> Result<u64, Error> {
     cfg.validate()?;
-    let table = cfg.open()?.at::<f64>(());
-    let starts = Starts::new(&table);
-    let (_, per_particle) = pilot(&table, &starts, cfg, options)?;
-    Ok((per_particle * cfg.particles as f64).ceil() as u64)
+    let p = Prepared::new(cfg, options)?;
+    Ok((p.per_particle * cfg.particles as f64).ceil() as u64)
 }
 
 /// Batch `b` of the run of `cfg` alone, with the run's pilot: its estimates from the window at
@@ -331,13 +326,46 @@ pub fn rerun_batch(
 ) -> Result<WindowEstimate, Error> {
     cfg.validate()?;
     Error::unless_in("batch", b, 0..=BATCHES - 1, "")?;
-    let table = cfg.open()?.at::<f64>(());
-    let starts = Starts::new(&table);
-    let (s0, _) = pilot(&table, &starts, cfg, options)?;
-    let key = StreamKey::new(cfg.seed, Purpose::Survival, u64::from(b));
-    let n = share(cfg.particles, BATCHES, b);
-    let t = batch(&table, &starts, (n, cfg.window as usize, s0), key, options)?;
-    estimate(&t, cfg.window as usize, s0)
+    let p = Prepared::new(cfg, options)?;
+    estimate(&p.batch(cfg, b, options)?, cfg.window as usize, p.s0)
+}
+
+/// What every batch of a run shares: the table, its start sampler and the pilot's rate (with
+/// the pilot's collisions per particle).
+struct Prepared {
+    table: OpenDisks<f64>,
+    starts: Starts,
+    s0: f64,
+    per_particle: f64,
+}
+
+impl Prepared {
+    /// The table of `cfg` (validated by the caller) and its pilot.
+    fn new(cfg: &SurvivalConfig, options: &RunOptions) -> Result<Self, Error> {
+        let table = cfg.open()?.at::<f64>(());
+        let starts = Starts::new(&table);
+        let (s0, per_particle) = pilot(&table, &starts, cfg, options)?;
+        Ok(Prepared {
+            table,
+            starts,
+            s0,
+            per_particle,
+        })
+    }
+
+    /// Batch `b`'s tally: its share of the particles on its own stream.
+    fn batch(&self, cfg: &SurvivalConfig, b: u32, options: &RunOptions) -> Result<Tally, Error> {
+        let key = StreamKey::new(cfg.seed, Purpose::Survival, u64::from(b));
+        let n = share(cfg.particles, BATCHES, b);
+        let window = cfg.window as usize;
+        batch(
+            &self.table,
+            &self.starts,
+            (n, window, self.s0),
+            key,
+            options,
+        )
+    }
 }
 
 /// One window: the pooled estimates, their standard errors over the batches of (γ, λ, ⟨T⟩,
