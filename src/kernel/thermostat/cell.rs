@@ -14,7 +14,7 @@
 //! by π: the thermostat is the same in every cell only if the cells are translates; a
 //! point-reflected neighbour sees −E, which the caller carries ([`Flipped`]).
 
-use super::isolate::{self, Contact, Found, Jet};
+use super::isolate::{self, Contact, Found, Jet, Lean};
 use super::{FlightPoint, Start, Thermostat};
 use crate::kernel::cell::ConvexCell;
 use crate::kernel::flight::{EventKind, Flight};
@@ -43,6 +43,17 @@ fn flight_error<T: Real>(start: &Start<'_, T>, t: &T, offset: f64) -> (f64, f64)
     (dx + 8.0 * T::unit_roundoff(t.ctx()) * (offset + 1.0), dv)
 }
 
+/// |sin θ| of the flight point `at` (time `t`) against the exact flight's, rounded up by the
+/// velocity's error δv and the cross product's rounding, and whether cos θ ≥ 0 beyond them.
+fn lean_at<T: Real>(start: &Start<'_, T>, t: &T, at: &FlightPoint<T>) -> Lean {
+    let dir = &start.thermostat().dir;
+    let slack = start.error(t).1 + 4.0 * T::unit_roundoff(t.ctx());
+    Lean {
+        sin: dir.cross(&at.vel).to_f64().abs() + slack,
+        relaxing: dir.dot(&at.vel).to_f64() > slack,
+    }
+}
+
 /// |X − c|² − r² along the flight from d = p − c.
 struct DiskContact<'s, 'a, T: Real> {
     start: &'s Start<'a, T>,
@@ -62,10 +73,11 @@ impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
         self.jet_on(&T::zero(ctx), self.start.origin())
     }
 
-    /// |F‴| = |2(X − c)·v̈| ≤ 2(ρ + h)ε².
+    /// |F‴| = |2(X − c)·v̈| ≤ 2(ρ + h)ε²|sin θ| over [t, t + h].
     fn third(&self, jet: &Jet<T>, h: &T) -> T {
         let eps = &self.start.thermostat().strength;
-        (jet.reach.clone() + h) * &eps.square().scale(2.0 + 1.0 / 65536.0)
+        let lean = jet.lean.over(self.model[2], h.to_f64());
+        (jet.reach.clone() + h) * &eps.square().scale((2.0 + 1.0 / 65536.0) * lean)
     }
 }
 
@@ -86,6 +98,7 @@ impl<T: Real> DiskContact<'_, '_, T> {
                 f2,
                 err,
                 reach,
+                lean: lean_at(self.start, t, at),
             };
         }
         let [d, r2, eps] = self.model;
@@ -103,6 +116,7 @@ impl<T: Real> DiskContact<'_, '_, T> {
             f2,
             err: e.map(|x| T::from_f64(ctx, x)),
             reach,
+            lean: lean_at(self.start, t, at),
         }
     }
 }
@@ -125,10 +139,11 @@ impl<T: Real> Contact<T> for EdgeContact<'_, '_, T> {
         self.jet_on(&T::zero(ctx), self.start.origin())
     }
 
-    /// |F‴| = |n·v̈| ≤ ε².
-    fn third(&self, _: &Jet<T>, _: &T) -> T {
+    /// |F‴| = |n·v̈| ≤ ε²|sin θ| over [t, t + h].
+    fn third(&self, jet: &Jet<T>, h: &T) -> T {
         let eps = &self.start.thermostat().strength;
-        eps.square().scale(1.0 + 1.0 / 65536.0)
+        let lean = jet.lean.over(eps.to_f64(), h.to_f64());
+        eps.square().scale((1.0 + 1.0 / 65536.0) * lean)
     }
 }
 
@@ -148,6 +163,7 @@ impl<T: Real> EdgeContact<'_, '_, T> {
                 f2,
                 err,
                 reach: zero,
+                lean: lean_at(self.start, t, at),
             };
         }
         let nx = n.dot(&at.disp);
@@ -165,6 +181,7 @@ impl<T: Real> EdgeContact<'_, '_, T> {
             f2,
             err: e.map(|x| T::from_f64(ctx, x)),
             reach: zero,
+            lean: lean_at(self.start, t, at),
         }
     }
 }

@@ -135,6 +135,38 @@ fn grazing_contacts_are_taken_or_refused_on_the_right_side() {
     }
 }
 
+/// A flight leaving the edge it entered by almost along it, the field along that edge: the
+/// lateral distance grows to |v⊥|(1 − e^{−εt})/ε only, yet the edge must be refused and the far
+/// edge found at ξ = 19. The fuzz finding `seed-creeps-away-from-entry-edge-square-E9.65-x`: with
+/// |F‴| bounded by ε² instead of ε²|sin θ| the march crept in steps of ~10⁻⁴, reached its step
+/// limit and took the entry edge back, 10⁻¹⁰ off it.
+#[test]
+fn a_flight_creeping_away_from_its_entry_edge_is_not_taken_back() {
+    let cell = boxed(Vec::new());
+    for eps in [0.01, 0.3, 9.65] {
+        // The lateral distance reaches v⊥/ε ≥ 3·10⁻¹², beyond the edge's e₀ ≤ 4·10⁻¹³ up to t = 20
+        // (closer, the model cannot tell the flight from one that returns, and may take it).
+        for lean in [3e-11, 1.5e-9, 1e-6] {
+            let th = Thermostat {
+                strength: eps,
+                dir: Vec2::new(1.0, 0.0),
+            };
+            // On the top edge (y = 10, label 3), moving right and slightly down.
+            let mut f = Flight::new(Vec2::new(-9.0, 10.0), Vec2::new(1.0, -lean));
+            f.excluded_edge = Some(3);
+            let ev = cell.next_event_thermostat(&f, &th).unwrap();
+            assert_eq!(ev.kind, EventKind::Crossing(1), "ε = {eps}, v⊥ = {lean:e}");
+            // At the root within the model: ξ = 19 within 2e₀ (|F′| = 1), and ξ(t) = t + ln A/ε
+            // with |ln A| ≤ m = 1 − cos θ₀ ≤ v⊥²/2.
+            let e0 = cell.thermostat_jet(&f, &th, ev.kind, &ev.time).err[0];
+            let off = (ev.at.disp.x - 19.0).abs();
+            assert!(off <= 2.0 * e0, "ε = {eps}: ξ off by {off:e}, e₀ = {e0:e}");
+            let lag = lean * lean / (2.0 * eps) + 2.0 * e0;
+            assert!((ev.time - 19.0).abs() <= lag, "{}", ev.time);
+        }
+    }
+}
+
 /// Reversibility at 200 bits: 20 events in the trap at w = 0.1 (the field flipping with the
 /// point-reflected cells), the velocity reversed with E fixed, 20 events back (the first at
 /// t = 0: the disk or edge the particle is on, now moved into) and the first flight time again:

@@ -36,6 +36,36 @@ pub struct Jet<T> {
     pub err: [T; 3],
     /// |X − c| for a disk (zero for an edge).
     pub reach: T,
+    /// A bound on |sin θ| over [t, t + h] for any h, θ the velocity's angle from the field
+    /// ([`Lean`]): |v̈| = ε²|sin θ|, so it scales [`Contact::third`].
+    pub lean: Lean,
+}
+
+/// |sin θ| at a jet's time, rounded up by its error, and whether cos θ ≥ 0 there for certain.
+/// Since d ln|sin θ|/dt = −ε cos θ, |sin θ| never grows once cos θ ≥ 0 (and θ never leaves that
+/// half), and grows at most as e^{εs} before: [`Lean::over`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lean {
+    /// |sin θ| at the jet's time plus its error bound.
+    pub sin: f64,
+    /// cos θ ≥ 0 there, beyond its error.
+    pub relaxing: bool,
+}
+
+impl Lean {
+    /// A bound on |sin θ| over [t, t + h] at the field ε: |sin θ(t)| where cos θ(t) ≥ 0, else
+    /// |sin θ(t)|·e^{εh} bounded above by 1 + x + x² (x = εh ≤ 1; e^x ≤ 1 + x + x² there), at most 1.
+    /// Arithmetic only, so the same in `f64` and every precision.
+    pub fn over(&self, eps: f64, h: f64) -> f64 {
+        if self.relaxing {
+            return self.sin.min(1.0);
+        }
+        let x = eps * h;
+        if x.is_nan() || x > 1.0 {
+            return 1.0;
+        }
+        (self.sin * (1.0 + x + x * x) * (1.0 + 1e-15)).min(1.0)
+    }
 }
 
 /// What a certified search finds before its horizon.

@@ -139,6 +139,35 @@ fn f64_flights_are_within_the_error_model() {
     eprintln!("largest error / model over 4000 flights: {worst:.3}");
 }
 
+/// A start of speed 1 + δ (|δ| from 10⁻¹² to 10⁻⁴, as a decoded fuzz start or a state before its
+/// Newton factor) flies its direction at speed 1: the `f64` flight against the MPFR-200 flight of
+/// the exactly normalised direction, within [`Start::error`]'s model. Unnormalised, ξ took
+/// cos θ₀ = c and the velocity c/|v|: a slope error ≈ δ, 10⁻⁹·t at δ = 2·10⁻⁹ (the fuzz seed
+/// `seed-unnormalised-speed-tiny-disk-square-E0.001-x`, a crossing 4·10⁻¹⁰ early).
+#[test]
+fn a_start_off_unit_speed_flies_its_direction_at_speed_one() {
+    let mut r = Mix(17);
+    for n in 0..2000 {
+        let (th, v, t) = random_flight(&mut r, n);
+        let delta = 10f64.powf(-12.0 + 8.0 * r.unit()) * if n % 2 == 0 { 1.0 } else { -1.0 };
+        let fast = Vec2::new(v.x * (1.0 + delta), v.y * (1.0 + delta));
+        let start = th.start(&fast);
+        let at = start.at(&t);
+        let (mx, mv) = start.error(&t);
+        let hi = Vec2::new(big(fast.x), big(fast.y));
+        let norm = hi.norm2().sqrt();
+        let dir = Vec2::new(hi.x.clone() / &norm, hi.y.clone() / &norm);
+        let exact = lift(&th).start(&dir).at(&big(t));
+        let dx = dist(&exact.disp, &at.disp);
+        let dv = dist(&exact.vel, &at.vel);
+        assert!(
+            dx <= mx,
+            "{n}: δ = {delta:e}: δX = {dx:e} > {mx:e} at t = {t}"
+        );
+        assert!(dv <= mv, "{n}: δ = {delta:e}: δv = {dv:e} > {mv:e}");
+    }
+}
+
 /// With correctly rounded elementary functions (CORE-MATH in `f64`, MPFR) the `f64` flight is the
 /// MPFR flight at 53 bits to the bit — the displacement, the velocity and ξ — over random flights
 /// as above (near anti-alignment included): the shadow audit replays what ran. (With `f64`'s
