@@ -102,14 +102,14 @@ impl<T: Real> ConvexCell<T> {
         let newton = (-f.vel.norm2()).add_f64(3.0).scale(0.5);
         let x = Vec2::new(f.pos.x.clone() + &ev.chord.x, f.pos.y.clone() + &ev.chord.y);
         let moved = !is_zero(&ev.chord);
-        self.land(f, ev.kind, x, ev.velocity.clone(), moved, &newton);
+        self.land(f, ev.kind, x, ev.velocity.clone(), moved, Some(&newton));
     }
 
     /// Carries out the event `kind` of a curved flight that reached `x` with the velocity `v`: a
     /// collision reflects specularly, a crossing maps into the neighbour's frame (the disk left
     /// carried over only if the particle has not `moved`); then the speed is multiplied by
-    /// `newton`. Returns whether the frame was point-reflected. Shared by arcs and thermostatted
-    /// flights.
+    /// `newton` if given. Returns whether the frame was point-reflected. Shared by arcs and
+    /// thermostatted flights.
     pub fn land(
         &self,
         f: &mut Flight<T>,
@@ -117,7 +117,7 @@ impl<T: Real> ConvexCell<T> {
         x: Vec2<T>,
         mut v: Vec2<T>,
         moved: bool,
-        newton: &T,
+        newton: Option<&T>,
     ) -> bool {
         let flipped = match kind {
             EventKind::Collision(m) => {
@@ -139,8 +139,10 @@ impl<T: Real> ConvexCell<T> {
                 e.flips()
             }
         };
-        v.x *= newton;
-        v.y *= newton;
+        if let Some(k) = newton {
+            v.x *= k;
+            v.y *= k;
+        }
         f.vel = v;
         flipped
     }

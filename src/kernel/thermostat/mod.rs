@@ -115,20 +115,15 @@ impl<T: Real> Thermostat<T> {
         Thermostat { strength, dir }
     }
 
-    /// The flight that starts with the velocity `v`.
+    /// The flight that starts with the velocity `v`, of unit speed up to the rounding of the
+    /// engine's states (|v|² − 1 = O(u): every start is a rounded unit vector, and the Newton
+    /// factor after every event keeps it so). The forms take c² + s² = 1; a start of speed 1 + δ
+    /// is flown with cos θ₀ = c along the field but c/|v| in its velocity, a slope error ≈ δ —
+    /// inside the error model for δ of a few u, outside it beyond
+    /// (`proofs-notes/thermostat-flight.md`, "The start's speed").
     pub fn start(&self, v: &Vec2<T>) -> Start<'_, T> {
-        // The start's direction at speed 1: the forms below take c² + s² = 1 (p + m = 2 in ξ,
-        // p·m = s² in η and v), and a start of speed 1 + δ flown unnormalised moves ξ by ≈ δt/2
-        // against its own velocity, outside the error model once δ ≫ u (found by the fuzz target:
-        // δ = 1.9·10⁻⁹, a crossing 4·10⁻¹⁰ early; `proofs-notes/thermostat-flight.md`).
-        let (c, s) = (self.dir.dot(v), self.dir.cross(v));
-        let n2 = c.square() + &s.square();
-        let (c, s) = if n2.gt0() {
-            let norm = n2.sqrt();
-            (c / &norm, s / &norm)
-        } else {
-            (c, s)
-        };
+        let c = self.dir.dot(v);
+        let s = self.dir.cross(v);
         let relaxing = !c.lt0();
         let (p, m) = if c.lt0() {
             let m = (-c).add_f64(1.0);
