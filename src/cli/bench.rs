@@ -81,13 +81,22 @@ pub struct Args {
     /// scalar); 0: straight flights, the default.
     #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs"])]
     field: Option<String>,
-    /// A Gaussian-thermostatted electric field E along the x axis, an exact decimal or
-    /// fraction, 0 < |E| <= 10 (the double nearest it): time the thermostatted walk (the generic
-    /// cell kernel with certified events, scalar, bare) and straight flights (E = 0) on the
-    /// engine asked for (--engine scalar: the scalar kernel), in turns, and report both rates and
+    /// A Gaussian-thermostatted electric field E in the plane, its strength an exact decimal or
+    /// fraction (the double nearest it) at --electric-angle, 0 < |E| <= 10: time the
+    /// thermostatted walk (the generic cell kernel with certified events, scalar, bare) and
+    /// straight flights (E = 0) on the engine asked for (--engine scalar: the scalar kernel), in turns, and report both rates and
     /// their ratio (median of the paired ratios). Give fewer --collisions-per-thread (2e5).
     #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs", "field", "observe", "table", "costs"])]
     electric: Option<String>,
+    /// With --electric: the field's angle from the x axis in degrees, an exact decimal or
+    /// fraction (as `lorentz diffusion --electric-angle` takes it).
+    #[arg(
+        long,
+        default_value = "0",
+        allow_hyphen_values = true,
+        requires = "electric"
+    )]
+    electric_angle: String,
     /// With --field: time straight flights too, each repetition right after the arcs' on the same
     /// threads and engine, and report the arcs' speed against them (side by side in one run).
     #[arg(long, requires = "field")]
@@ -209,6 +218,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         let cfg = ElectricBenchConfig {
             straight: cfg,
             electric: nearest_f64(&parse_exact(e).map_err(|e| e.named("electric"))?),
+            electric_angle: a.electric_angle.trim().to_string(),
         };
         return timed(
             &a,
