@@ -100,7 +100,7 @@ def test_the_thermostat_is_benched_beside_straight_flights():
     assert isinstance(r, lg.BenchResult)
     assert r.electric == 0.3 and len(r.samples) == len(r.straight_samples) == 2
     assert 0 < r.thermostat_over_straight < 1
-    assert str(r).startswith("w = 0.2  E = 0.3 (along x)")
+    assert str(r).startswith("w = 0.2  E = 0.3 at 0° from x")
     with pytest.raises(ValueError, match="bare"):
         lg.bench(w="1/5", electric="3/10", collisions_per_thread=2e4, repetitions=1,
                  observe="msd")

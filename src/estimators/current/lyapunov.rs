@@ -9,7 +9,7 @@
 //! the logarithmic stretchings against ∫α beside its rounding bound), and the Kaplan–Yorke
 //! dimension 2 + λ₊/|λ₋| of the attractor.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::tangent::{Pair, PairBatch, pair_summary};
 use super::track::{LOOK_EVERY, look, start, tangent, world_velocity};
@@ -20,21 +20,17 @@ use crate::engine::long_flight::Flights;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
 use crate::engine::parallel::par_batches_watched;
-use crate::estimators::diffusion::Estimate;
+use crate::estimators::diffusion::{Estimate, check_electric};
 use crate::kernel::flight::EventKind;
 use crate::kernel::thermostat::Thermostat;
 use crate::scenes::Scene;
 use crate::scenes::sampling::{Purpose, StreamKey};
-use crate::scenes::spec::Motion;
 use crate::scenes::thermostat::CellFields;
 use crate::statistics::comparison::{self, Comparison};
 use crate::verification::lyapunov::{LyapunovConfig, LyapunovReport, TANGENT_TRANSIENT};
 
-/// The strongest field the pair is measured at (the diffusion run's range).
-pub const MAX_ELECTRIC: f64 = 10.0;
-
 /// The Lyapunov pair under the thermostat.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct DrivenLyapunovReport {
     /// λ₊ per collision and per unit time, as without a field (the same record as the
     /// command's `tangent` without a field).
@@ -98,25 +94,15 @@ pub fn warm_up(n: u64) -> u64 {
     (n / WARM_UP_SHARE as u64).max(TANGENT_TRANSIENT)
 }
 
-/// The field of a configuration at double precision, checked: a thermostat, 0 < |E| ≤
-/// [`MAX_ELECTRIC`].
+/// The field of a configuration at double precision, checked as the diffusion run checks it
+/// ([`check_electric`]): 0 < |E| ≤ 10, the angle within ±360°.
 fn field_of(cfg: &LyapunovConfig) -> Result<Thermostat<f64>, Error> {
     let motion = cfg.motion()?;
-    let world = motion.thermostat_at::<f64>(())?.ok_or(Error::missing(
+    check_electric(&motion)?;
+    motion.thermostat_at::<f64>(())?.ok_or(Error::missing(
         "electric",
         "the driven gas's pair needs a nonzero field E",
-    ))?;
-    if !(world.strength.is_finite() && world.strength <= MAX_ELECTRIC) {
-        let Motion::Thermostat { field, .. } = motion else {
-            unreachable!("a thermostat")
-        };
-        return Err(Error::out_of_range(
-            "electric",
-            field,
-            format!("use 0 < |E| <= {MAX_ELECTRIC}"),
-        ));
-    }
-    Ok(world)
+    ))
 }
 
 /// Runs the measurement (see the module documentation) on the scalar kernel, one trajectory per

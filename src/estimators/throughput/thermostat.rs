@@ -19,6 +19,7 @@ use crate::kernel::trap::Trap;
 use crate::numbers::precision::AtPrecision;
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
+use crate::scenes::spec::Motion;
 use crate::scenes::thermostat::CellFields;
 
 use super::check::{Checked, check};
@@ -117,6 +118,8 @@ pub fn run(cfg: &ElectricBenchConfig, options: &RunOptions) -> Result<ElectricBe
             format!("use 0 < |E| <= {MAX_ELECTRIC}"),
         ));
     }
+    let typed = crate::numbers::exact::exact_text_of(e).unwrap_or_else(|| format!("{e:?}"));
+    crate::estimators::diffusion::check_electric(&Motion::thermostat(&typed, &cfg.electric_angle))?;
     let world = field::<f64>(cfg, ())?;
     let (samples, cpc, straight) = s.precision.dispatch(Pairs {
         cfg,

@@ -7,6 +7,7 @@ use rug::{Float, Rational};
 
 use super::TrajectoryInput;
 use crate::Error;
+use crate::estimators::diffusion::check_electric;
 use crate::kernel::arc::{arc_time, chord_at};
 use crate::kernel::cell::CellKernel;
 use crate::kernel::flight::EventKind;
@@ -14,11 +15,8 @@ use crate::kernel::thermostat::Thermostat;
 use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::scenes::spec::Motion;
 use crate::scenes::thermostat::CellFields;
-
-/// The strongest electric field a trajectory takes (the analyses' range, where the thermostat's
-/// kernel is tested).
-pub const TRAJECTORY_MAX_ELECTRIC: f64 = 10.0;
 
 /// The motion of one run at its working precision.
 pub(super) enum Flow {
@@ -40,28 +38,23 @@ pub(super) fn electric_of(input: &TrajectoryInput) -> Option<&(Rational, Rationa
     input.electric.as_ref().filter(|(e, _)| *e != 0)
 }
 
-/// Refuses a magnetic field beside an electric one, and an electric field beyond
-/// [`TRAJECTORY_MAX_ELECTRIC`].
-pub(super) fn check_electric(input: &TrajectoryInput) -> Result<(), Error> {
-    let Some((e, _)) = electric_of(input) else {
+/// Refuses a magnetic field beside an electric one, and an electric field the diffusion run
+/// would refuse ([`check_electric`]: 0 < |E| ≤ 10, the angle within ±360°).
+pub(super) fn check_electric_input(input: &TrajectoryInput) -> Result<(), Error> {
+    let Some((e, angle)) = electric_of(input) else {
         return Ok(());
     };
-    let near = crate::numbers::exact::nearest_f64(e);
     if field_of(input).is_some() {
         return Err(Error::parameter(
             "electric",
-            near,
+            crate::numbers::exact::nearest_f64(e),
             "both a magnetic field and an electric one: give one motion",
         ));
     }
-    if near.abs() > TRAJECTORY_MAX_ELECTRIC {
-        return Err(Error::out_of_range(
-            "electric",
-            near,
-            format!("use 0 <= |E| <= {TRAJECTORY_MAX_ELECTRIC}"),
-        ));
-    }
-    Ok(())
+    check_electric(&Motion::Thermostat {
+        field: e.to_string(),
+        angle: angle.to_string(),
+    })
 }
 
 impl Flow {

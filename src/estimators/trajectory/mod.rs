@@ -35,7 +35,6 @@ mod events;
 mod flow;
 pub use digits::{decimal, digits_agreed};
 pub use events::EventRecord;
-pub use flow::TRAJECTORY_MAX_ELECTRIC;
 use flow::{Flow, electric_of, field_of};
 
 /// Most digits a trajectory may ask for: 10⁴ digits already need ≥ 33 000 bits before any
@@ -102,7 +101,8 @@ pub struct TrajectoryInput {
     pub field: Option<Rational>,
     /// A Gaussian-thermostatted electric field E (exact), its signed strength and its angle from
     /// the x axis in degrees (`None` or E = 0: straight flights with their own bits): flights of
-    /// the thermostat's kernel at the working precision, |E| ≤ [`TRAJECTORY_MAX_ELECTRIC`].
+    /// the thermostat's kernel at the working precision, |E| ≤ 10 and |angle| ≤ 360
+    /// ([`crate::estimators::diffusion::check_electric`]).
     pub electric: Option<(Rational, Rational)>,
 }
 
@@ -225,7 +225,7 @@ fn check_input(input: &TrajectoryInput) -> Result<(), Error> {
             ));
         }
     }
-    flow::check_electric(input)?;
+    flow::check_electric_input(input)?;
     crate::scenes::check_pair(
         "direction",
         &input.dx,
