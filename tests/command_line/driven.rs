@@ -25,7 +25,7 @@ fn num(v: &serde_json::Value, key: &str) -> f64 {
 /// bound it reports, per trajectory within its rounding bound — and agrees with the pair the
 /// steady-state run `diffusion --electric` measures on independent streams (Welch, the "4σ"
 /// bound). Broken on purpose: with ⟨α⟩ taken with the wrong sign in the paired comparison the
-/// sum rule fails at z ≈ 10³ (checked once, then restored).
+/// sum rule fails at z = −53 (checked once, then restored).
 #[test]
 fn lyapunov_under_the_thermostat_keeps_the_sum_rule_and_matches_the_diffusion_run() {
     let tmp = scratch();
