@@ -24,6 +24,7 @@ use crate::estimators::diffusion::{Estimate, check_electric};
 use crate::kernel::flight::EventKind;
 use crate::kernel::thermostat::Thermostat;
 use crate::scenes::Scene;
+use crate::scenes::lattice::Lattice;
 use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::thermostat::CellFields;
 use crate::statistics::comparison::{self, Comparison};
@@ -147,24 +148,35 @@ pub fn run<S: Scene>(
     let fields = CellFields::new(world.clone());
     let orbits = par_batches_watched(opts.threads, cfg.batches, opts.stop.as_ref(), |i| {
         let key = StreamKey::new(cfg.seed, Purpose::Trajectory, u64::from(i));
-        orbit(scene, (&lattice, &fields, &world), key, n, opts)
+        let on = Flight {
+            scene,
+            lat: &lattice,
+            fields: &fields,
+            world: &world,
+        };
+        orbit(&on, key, n, opts)
     })?;
     Ok(report(scene, cfg, &world, &orbits, opts.threads))
 }
 
+/// Where the trajectories fly: the scene, its lattice and the field (in every cell's frame and
+/// in the world's).
+struct Flight<'a, S: Scene> {
+    scene: &'a S,
+    lat: &'a Lattice<f64, S::Kernel<f64>>,
+    fields: &'a CellFields<f64>,
+    world: &'a Thermostat<f64>,
+}
+
 /// One trajectory of stream `key`: the warm-up, then `n` collisions measured.
 fn orbit<S: Scene>(
-    scene: &S,
-    (lat, fields, world): (
-        &crate::scenes::lattice::Lattice<f64, S::Kernel<f64>>,
-        &CellFields<f64>,
-        &Thermostat<f64>,
-    ),
+    on: &Flight<'_, S>,
     key: StreamKey,
     n: u64,
     opts: &RunOptions,
 ) -> Result<Orbit, Error> {
-    let mut s = start::<f64, S>(scene, (), key);
+    let (lat, fields, world) = (on.lat, on.fields, on.world);
+    let mut s = start::<f64, S>(on.scene, (), key);
     let mut pair = Pair::new(world, &world_velocity(&s));
     let watch = (opts.progress, opts.stop.as_ref());
     let mut count = 0;
