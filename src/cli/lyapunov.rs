@@ -37,8 +37,8 @@ pub struct Args {
     field: Option<String>,
     /// A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E -
     /// (E.v)v), its strength an exact decimal or fraction, 0 < |E| <= 10: the Lyapunov pair
-    /// lambda_+ and lambda_- of the driven gas, their sum against -<alpha> (the sum rule) and
-    /// the Kaplan-Yorke dimension; 0 is the run without a field.
+    /// lambda_+ and lambda_- of the driven gas, their sum against minus the mean contraction
+    /// rate alpha (the sum rule) and the Kaplan-Yorke dimension; 0 is the run without a field.
     #[arg(long, allow_hyphen_values = true)]
     electric: Option<String>,
     /// With --electric: the field's angle from the x axis in degrees, an exact decimal or

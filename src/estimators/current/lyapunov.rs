@@ -2,7 +2,7 @@
 //! `batches` trajectories under the Gaussian-thermostatted field, started from the field-free
 //! invariant measure (trajectory b from the stream of batch b of the run of the steady state,
 //! [`super::run`]) and warmed up towards the steady state, the two tangent vectors of
-//! [`super::tangent`] (`proofs-notes/thermostat-lyapunov.md`) over `collisions_per_batch`
+//! `current::tangent` (`proofs-notes/thermostat-lyapunov.md`) over `collisions_per_batch`
 //! collisions: λ₊ and λ₋ (per unit time and per collision) with standard errors over the
 //! trajectories, the mean contraction ⟨α⟩ = E·J, the sum rule λ₊ + λ₋ = −⟨α⟩ on average (paired
 //! over the trajectories, Student-t, [`comparison::paired`]) and per trajectory (the residual of
