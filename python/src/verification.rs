@@ -5,7 +5,9 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use lorentz_gas::engine::Engine;
+use lorentz_gas::engine::options::RunOptions;
 use lorentz_gas::estimators::current::lyapunov as driven;
+use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
 use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::report::text::lyapunov::LyapunovResult;
@@ -61,33 +63,43 @@ pub fn lyapunov(p: &Params<'_, '_>) -> PyResult<Work<String>> {
         let starts = (starts.as_deref(), threads);
         match moving.motion().map_err(crate::py_err)? {
             Motion::Field(_) => {
-                crate::field::lyapunov_in_field(py, progress, &place, moving, starts)
+                without_divergence(py, progress, &place, starts, "in a field", |c, o| {
+                    with_scene!(c, |s| field_lyapunov::run(s, &moving, o))
+                })
             }
-            Motion::Thermostat { .. } => driven_lyapunov(py, progress, &place, moving, starts),
+            Motion::Thermostat { .. } => without_divergence(
+                py,
+                progress,
+                &place,
+                starts,
+                "under the thermostat",
+                |c, o| with_scene!(c, |s| driven::run(s, &moving, o)),
+            ),
             _ => straight_lyapunov(py, progress, &place, cfg, starts),
         }
     }))
 }
 
-/// `lyapunov(electric=E)`: the pair of the thermostatted flow (the command line's
-/// `--electric`), without the divergence measurement (`starts` as typed, `None`: 0).
-fn driven_lyapunov(
+/// An exponent whose divergence of finite-precision orbits is not measured (`starts` as typed:
+/// `None` or 0; `within` says where, for the refusal): `run` on the place's scene with the
+/// call's options (the command line's `--field` and `--electric`).
+fn without_divergence<R: serde::Serialize + Send>(
     py: Python<'_>,
     progress: Progress<'_>,
     place: &Where,
-    cfg: LyapunovConfig,
     (starts, threads): (Option<&str>, usize),
+    within: &str,
+    run: impl FnOnce(&SceneChoice, &RunOptions<'_>) -> Result<R, lorentz_gas::Error> + Send,
 ) -> PyResult<String> {
     if count_u32("starts", starts.unwrap_or("0"))? > 0 {
-        return Err(PyValueError::new_err(
-            "starts (the divergence of finite-precision orbits) is not measured under the \
-             thermostat: give starts=0",
-        ));
+        return Err(PyValueError::new_err(format!(
+            "starts (the divergence of finite-precision orbits) is not measured {within}: give \
+             starts=0"
+        )));
     }
     let choice = place.resolve()?;
     let r = compute(py, progress, |ctl| {
-        let opts = options(ctl, threads, Engine::Auto);
-        with_scene!(&choice, |s| driven::run(s, &cfg, &opts))
+        run(&choice, &options(ctl, threads, Engine::Auto))
     })?;
     json(&r)
 }

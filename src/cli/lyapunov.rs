@@ -11,12 +11,20 @@ use lorentz_gas::verification::divergence::{self, DivergenceConfig};
 use lorentz_gas::verification::lyapunov::{self, LyapunovConfig, TANGENT_TRANSIENT};
 
 use super::args::{
-    EngineArg, FlightsArg, OutputArgs, RunArgs, SceneArgs, parse_count, parse_count_u32, with_scene,
+    ElectricArgs, EngineArg, FlightsArg, OutputArgs, RunArgs, SceneArgs, parse_count,
+    parse_count_u32, with_scene,
 };
 use super::output::emit;
 use super::progress::Progress;
 
+/// What `--electric` measures here.
+const ELECTRIC_HELP: &str = "A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E - \
+    (E.v)v), its strength an exact decimal or fraction, 0 < |E| <= 10: the Lyapunov pair \
+    lambda_+ and lambda_- of the driven gas, their sum against minus the mean contraction rate \
+    alpha (the sum rule) and the Kaplan-Yorke dimension; 0 is the run without a field.";
+
 #[derive(clap::Args)]
+#[command(mut_arg("electric", |a| a.help(ELECTRIC_HELP)))]
 pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
@@ -35,21 +43,8 @@ pub struct Args {
     /// arcs, on orbits started in the diffusing part of phase space; 0 is the run without a field.
     #[arg(long, allow_negative_numbers = true, conflicts_with = "electric")]
     field: Option<String>,
-    /// A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E -
-    /// (E.v)v), its strength an exact decimal or fraction, 0 < |E| <= 10: the Lyapunov pair
-    /// lambda_+ and lambda_- of the driven gas, their sum against minus the mean contraction
-    /// rate alpha (the sum rule) and the Kaplan-Yorke dimension; 0 is the run without a field.
-    #[arg(long, allow_hyphen_values = true)]
-    electric: Option<String>,
-    /// With --electric: the field's angle from the x axis in degrees, an exact decimal or
-    /// fraction.
-    #[arg(
-        long,
-        default_value = "0",
-        allow_hyphen_values = true,
-        requires = "electric"
-    )]
-    electric_angle: String,
+    #[command(flatten)]
+    electric: ElectricArgs,
     #[command(flatten)]
     flights: FlightsArg,
     #[command(flatten)]
@@ -140,8 +135,8 @@ fn config(a: &Args) -> LyapunovConfig {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let moving = config(&a).in_field(a.field.as_deref().unwrap_or("0"));
-    let moving = match &a.electric {
-        Some(e) => moving.under_electric(e, &a.electric_angle),
+    let moving = match a.electric.given() {
+        Some((e, angle)) => moving.under_electric(e, angle),
         None => moving,
     };
     match moving.motion()? {
