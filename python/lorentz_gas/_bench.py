@@ -6,7 +6,8 @@ from __future__ import annotations
 from typing import Any, Optional, Union
 
 from . import _native
-from ._inputs import Count, Exact, Progress, Table, _count, _counts, _exact, _many, _table_json, _total
+from ._inputs import (Count, Exact, Progress, Table, _count, _counts, _exact, _many,
+                      _optional_exact, _table_json, _total)
 from ._keywords import public
 from ._progress import _run
 from ._results import BenchResult
@@ -34,6 +35,7 @@ def bench(
     table: Optional[Table] = None,
     diffusion_beside: bool = False,
     electric: Optional[Exact] = None,
+    electric_angle: Optional[Exact] = None,
 ) -> BenchResult:
     """The engine's speed on this machine (``lorentz bench``): ``repetitions`` runs of
     ``collisions_per_thread`` collisions on each of ``threads`` threads, timed, the median
@@ -95,13 +97,16 @@ def bench(
         With ``field``: time :func:`diffusion` in the field end to end too (as many collisions,
         the same threads), each repetition right after the arcs' (``diffusion`` in the result).
     electric : str, Fraction or float, keyword only
-        Time the walk under a Gaussian-thermostatted electric field E along x (1/time, exact like
-        ``w``, 0 < abs(E) <= 10) beside straight flights, in alternation in one run (``lorentz
+        Time the walk under a Gaussian-thermostatted electric field E at ``electric_angle``
+        (1/time, exact like ``w``, 0 < abs(E) <= 10) beside straight flights, in alternation in one run (``lorentz
         bench --electric``): the thermostat's ``collisions_per_second_per_thread`` and
         ``samples``, the straight ones' ``straight_collisions_per_second_per_thread`` and
         ``straight_samples``, ``thermostat_over_straight`` (the medians' ratio) and
         ``paired_ratio`` (the median of each repetition's ratio). Bare: no ``observe``,
         ``field``, ``table`` or other bench beside it.
+    electric_angle : str, Fraction or float, keyword only
+        With ``electric``: the field's angle from the x axis in degrees, exact (as
+        :func:`diffusion` takes it); None: 0.
 
     Returns
     -------
@@ -134,7 +139,8 @@ def bench(
                     "observe": observe != "none", "threads": threads != 1,
                     "field": field is not None, "straight_beside": bool(straight_beside),
                     "oracle_floor": bool(oracle_floor), "table": table is not None,
-                    "diffusion_beside": bool(diffusion_beside), "electric": electric is not None},
+                    "diffusion_beside": bool(diffusion_beside), "electric": electric is not None,
+                    "electric_angle": electric_angle is not None},
         )
     if collisions_per_radius != 1e6 or walk_collisions != 1e4 or scene != "square":
         raise ValueError(
@@ -157,6 +163,7 @@ def bench(
         "diffusion_beside": bool(diffusion_beside),
         "table": None if table is None else _table_json(table),
         "electric": None if electric is None else _exact("electric", electric),
+        "electric_angle": _optional_exact("electric_angle", electric_angle),
     })
     return BenchResult(text)
 

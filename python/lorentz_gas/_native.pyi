@@ -188,6 +188,8 @@ class LyapunovParams(TypedDict):
     threads: Optional[str]
     field: Optional[str]
     flights: str
+    electric: Optional[str]
+    electric_angle: Optional[str]
 
 class AuditParams(TypedDict):
     scene: str
@@ -259,6 +261,8 @@ class TrajectoryParams(TypedDict):
     digits: str
     events: bool
     field: Optional[str]
+    electric: Optional[str]
+    electric_angle: Optional[str]
 
 class EventStreamParams(TypedDict):
     scene: str
@@ -285,6 +289,7 @@ class BenchParams(TypedDict):
     diffusion_beside: bool
     table: Optional[str]
     electric: Optional[str]
+    electric_angle: Optional[str]
 
 class BenchLongFlightsParams(TypedDict):
     scene: str

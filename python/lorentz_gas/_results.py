@@ -321,9 +321,20 @@ class LyapunovResult(Result):
         #: (In a field there is none: ``tangent`` only.)
         if "divergence" in self._data:
             self.divergence = _tables.records(self._data["divergence"])
+        #: Under the thermostat (``electric=``): ``lambda_plus``, ``lambda_minus`` (1/time),
+        #: ``contraction`` (⟨α⟩ = E·J), ``kaplan_yorke``, each with ``_err``, and ``sum_rule``.
+        if "sum_rule" in self._data:
+            self._text_kind = "lyapunov-driven"
 
     def _summary(self) -> str:
         t = self._data["tangent"]
+        if "sum_rule" in self._data:
+            d = self._data
+            return (
+                f"lambda+ = {_pm(d['lambda_plus'], d['lambda_plus_err'])}, "
+                f"lambda- = {_pm(d['lambda_minus'], d['lambda_minus_err'])} per unit time, "
+                f"Kaplan-Yorke {_pm(d['kaplan_yorke'], d['kaplan_yorke_err'])}"
+            )
         return (
             f"lambda = {_pm(t['per_collision'], t['per_collision_err'])} per collision, "
             f"{_pm(t['per_time'], t['per_time_err'])} per unit time"

@@ -59,6 +59,8 @@ def lyapunov(
     progress: Progress = None,
     field: Optional[Exact] = None,
     flights: str = "auto",
+    electric: Optional[Exact] = None,
+    electric_angle: Optional[Exact] = None,
 ) -> LyapunovResult:
     """The largest Lyapunov exponent (``lorentz lyapunov``).
 
@@ -88,13 +90,25 @@ def lyapunov(
     table : dict or path, optional
         Any periodic table of disks instead of ``scene``, ``w`` and ``radius``, as in
         :func:`diffusion`.
+    electric : str, Fraction or float, optional
+        A Gaussian-thermostatted electric field E in the plane (1/time at speed 1: dv/dt = E -
+        (E.v)v), exact, 0 < abs(E) <= 10: the Lyapunov pair of the driven gas (each trajectory
+        warmed up for max(1000, collisions_per_batch/64) collisions first); 0 or None: no
+        field. Not with ``field``; ``starts`` must be 0 or None.
+    electric_angle : str, Fraction or float, optional
+        With ``electric``: the field's angle from the x axis in degrees, exact; ``None``: 0.
 
     Returns
     -------
     LyapunovResult
         ``tangent`` (``per_collision`` and ``per_time`` with errors: 1/collision, 1/time) and
         ``divergence`` (one row per horizon); in a field ``field``, ``cyclotron_radius``,
-        ``localized_fraction_exact`` and ``rejected_starts`` instead of ``divergence``.
+        ``localized_fraction_exact`` and ``rejected_starts`` instead of ``divergence``; under
+        ``electric``, ``lambda_plus`` and ``lambda_minus`` (1/time) with errors,
+        ``contraction`` (⟨α⟩ = E·J, 1/time), ``sum_rule`` (λ₊ + λ₋ against −⟨α⟩, paired
+        Student-t: ``difference``, ``err``, ``dof``, ``z``, ``bound``), ``sum_rule_residual``
+        beside ``sum_rule_residual_bound`` (per trajectory) and ``kaplan_yorke`` (dimensionless)
+        instead of ``divergence``.
     """
     text = _run(_native.lyapunov, progress, 0, "coll", {
         **_where(scene, table, w, radius),
@@ -103,6 +117,8 @@ def lyapunov(
         "threads": _threads(threads),
         "field": _optional_exact("field", field),
         "flights": flights,
+        "electric": _optional_exact("electric", electric),
+        "electric_angle": _optional_exact("electric_angle", electric_angle),
     })
     return LyapunovResult(text)
 
@@ -364,13 +380,18 @@ def trajectory(
     events: bool = False,
     progress: Progress = None,
     field: Optional[Exact] = None,
+    electric: Optional[Exact] = None,
+    electric_angle: Optional[Exact] = None,
 ) -> TrajectoryResult:
     """One trajectory from exact initial conditions to certified digits (``lorentz
     trajectory``): ``start`` (x, y) in world coordinates outside every disk, ``direction``
     (dx, dy) nonzero, total ``time`` > 0, all exact. ``scene`` defaults to "triangular" with
     ``w`` and "square" with ``radius``. ``field`` (exact, 1/time) is a uniform magnetic field
     B: flights are arcs turning counter-clockwise for B > 0 on circles of radius 1/abs(B)
-    (0 or None: straight; otherwise 1e-6 <= abs(B) <= 1e6). The result's ``x``, ``y`` and
+    (0 or None: straight; otherwise 1e-6 <= abs(B) <= 1e6). ``electric`` (exact, 1/time,
+    abs(E) <= 10) is a Gaussian-thermostatted electric field E at ``electric_angle`` degrees
+    from the x axis (exact; None: 0): flights of the thermostat's kernel with certified events
+    (0 or None: straight; not with ``field``). The result's ``x``, ``y`` and
     ``distance`` are decimal strings carrying exactly the certified digits (1 to 10000)."""
     if scene is None:
         scene = "square" if radius is not None and w is None else "triangular"
@@ -384,6 +405,8 @@ def trajectory(
         **_counts(digits=digits),
         "events": bool(events),
         "field": _optional_exact("field", field),
+        "electric": _optional_exact("electric", electric),
+        "electric_angle": _optional_exact("electric_angle", electric_angle),
     })
     return TrajectoryResult(text, printed=printed)
 

@@ -50,6 +50,7 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let oracle_floor = p.flag("oracle_floor")?;
     let table = p.opt_text("table")?;
     let electric = p.opt_text("electric")?;
+    let electric_angle = p.opt_text("electric_angle")?;
     Ok(work(move |py, progress| {
         let field = match field {
             Some(b) => Some(inputs::exact("field", &b)?.value).filter(|b| *b != 0.0),
@@ -69,10 +70,17 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             diffusion_beside,
             table_beside: table.as_deref().map(self::table).transpose()?,
         };
+        if electric.is_none() && electric_angle.is_some() {
+            return Err(PyValueError::new_err(
+                "electric_angle without electric: give the field's strength too",
+            ));
+        }
         if let Some(e) = electric {
+            let angle = electric_angle.as_deref().unwrap_or("0");
             let cfg = ElectricBenchConfig {
                 straight: cfg,
                 electric: inputs::exact("electric", &e)?.value,
+                electric_angle: inputs::exact("electric_angle", angle)?.text,
             };
             return json(&compute(py, progress, |ctl| {
                 thermostat::run(&cfg, &options(ctl, threads, engine))

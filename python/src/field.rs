@@ -1,23 +1,19 @@
 //! Analyses in a field beside `diffusion(field=)` and `diffusion(electric=)`:
 //! `sweep(w=..., fields=[...])` and `sweep(w_from=..., w_to=..., field=...)` (the tensor over gaps
 //! and fields, `estimators::sweep::field`), `sweep(w=..., electric=[...])` (the driven gas over E,
-//! `estimators::sweep::driven`), and `lyapunov(field=)` (`estimators::field::lyapunov`).
+//! `estimators::sweep::driven`); `lyapunov(field=)` is read with the other exponents
+//! (`verification.rs`).
 
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use lorentz_gas::engine::options::RunOptions;
-use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
 use lorentz_gas::estimators::sweep::Grid;
 use lorentz_gas::estimators::sweep::driven::DrivenGrid;
 use lorentz_gas::estimators::sweep::field::FieldGrid;
 use lorentz_gas::estimators::sweep::field_grid::{self, SweepGrid};
 use lorentz_gas::scenes::table::spec::TableSpec;
-use lorentz_gas::verification::lyapunov::LyapunovConfig;
 
-use crate::params::{Params, Progress, Work, work};
+use crate::params::{Params, Work, work};
 use crate::scenes::Where;
-use crate::watch::{compute, json};
 
 /// `field_sweep(params, progress)`: the tensor over gaps (or radii) and fields.
 pub fn sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
@@ -80,31 +76,4 @@ pub fn driven_sweep(p: &Params<'_, '_>) -> PyResult<Work<String>> {
         });
         crate::campaigns::run_grid(py, progress, grid, sizes, how)
     }))
-}
-
-/// `lyapunov(field=B)`: the tangent-space exponent on arcs (the command line's `--field`), with
-/// `starts` as typed (`None`: 0).
-pub fn lyapunov_in_field(
-    py: Python<'_>,
-    progress: Progress<'_>,
-    place: &Where,
-    cfg: LyapunovConfig,
-    (starts, threads): (Option<&str>, usize),
-) -> PyResult<String> {
-    if crate::inputs::count_u32("starts", starts.unwrap_or("0"))? > 0 {
-        return Err(PyValueError::new_err(
-            "starts (the divergence of finite-precision orbits) is not measured in a field: give starts=0",
-        ));
-    }
-    let choice = place.resolve()?;
-    let r = compute(py, progress, |ctl| {
-        let opts = RunOptions {
-            threads,
-            progress: ctl.progress,
-            stop: Some(ctl.stop.clone()),
-            ..RunOptions::default()
-        };
-        lorentz_gas::with_scene!(&choice, |s| field_lyapunov::run(s, &cfg, &opts))
-    })?;
-    json(&r)
 }

@@ -5,10 +5,14 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use lorentz_gas::engine::Engine;
+use lorentz_gas::engine::options::RunOptions;
+use lorentz_gas::estimators::current::lyapunov as driven;
+use lorentz_gas::estimators::field::lyapunov as field_lyapunov;
 use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::report::text::lyapunov::LyapunovResult;
 use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::spec::Motion;
 use lorentz_gas::scenes::spec::SceneChoice;
 use lorentz_gas::verification::certify::{self, CertifyConfig};
 use lorentz_gas::verification::divergence::{self, DivergenceConfig};
@@ -36,6 +40,7 @@ pub fn lyapunov(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let seed = p.count_u64("seed")?;
     let threads = p.threads()?;
     let field = p.opt_text("field")?;
+    let (electric, electric_angle) = (p.opt_text("electric")?, p.opt_text("electric_angle")?);
     let flights = p.flights()?;
     Ok(work(move |py, progress| {
         let cfg = LyapunovConfig {
@@ -43,15 +48,60 @@ pub fn lyapunov(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             batches,
             seed,
             flights,
-            field: None,
+            ..LyapunovConfig::new()
         };
-        let in_field = cfg.clone().in_field(field.as_deref().unwrap_or("0"));
-        if in_field.field.is_some() {
-            let starts = (starts.as_deref(), threads);
-            return crate::field::lyapunov_in_field(py, progress, &place, in_field, starts);
+        let moving = match (&electric, &electric_angle) {
+            (Some(e), a) => cfg.clone().under_electric(e, a.as_deref().unwrap_or("0")),
+            (None, Some(_)) => {
+                return Err(PyValueError::new_err(
+                    "electric_angle without electric: give the field's strength too",
+                ));
+            }
+            (None, None) => cfg.clone(),
         }
-        straight_lyapunov(py, progress, &place, cfg, (starts.as_deref(), threads))
+        .in_field(field.as_deref().unwrap_or("0"));
+        let starts = (starts.as_deref(), threads);
+        match moving.motion().map_err(crate::py_err)? {
+            Motion::Field(_) => {
+                without_divergence(py, progress, &place, starts, "in a field", |c, o| {
+                    with_scene!(c, |s| field_lyapunov::run(s, &moving, o))
+                })
+            }
+            Motion::Thermostat { .. } => without_divergence(
+                py,
+                progress,
+                &place,
+                starts,
+                "under the thermostat",
+                |c, o| with_scene!(c, |s| driven::run(s, &moving, o)),
+            ),
+            _ => straight_lyapunov(py, progress, &place, cfg, starts),
+        }
     }))
+}
+
+/// An exponent whose divergence of finite-precision orbits is not measured (`starts` as typed:
+/// `None` or 0; `within` says where, for the refusal): `run` on the place's scene with the
+/// call's options (the command line's `--field` and `--electric`).
+fn without_divergence<R: serde::Serialize + Send>(
+    py: Python<'_>,
+    progress: Progress<'_>,
+    place: &Where,
+    (starts, threads): (Option<&str>, usize),
+    within: &str,
+    run: impl FnOnce(&SceneChoice, &RunOptions<'_>) -> Result<R, lorentz_gas::Error> + Send,
+) -> PyResult<String> {
+    if count_u32("starts", starts.unwrap_or("0"))? > 0 {
+        return Err(PyValueError::new_err(format!(
+            "starts (the divergence of finite-precision orbits) is not measured {within}: give \
+             starts=0"
+        )));
+    }
+    let choice = place.resolve()?;
+    let r = compute(py, progress, |ctl| {
+        run(&choice, &options(ctl, threads, Engine::Auto))
+    })?;
+    json(&r)
 }
 
 /// The exponent of straight flights, with the divergence of `starts` finite-precision orbits
@@ -186,7 +236,20 @@ pub fn trajectory(p: &Params<'_, '_>) -> PyResult<Work<(String, String)>> {
     let digits = p.count_u32("digits")?;
     let events = p.flag("events")?;
     let field = p.opt_text("field")?;
+    let (electric, electric_angle) = (p.opt_text("electric")?, p.opt_text("electric_angle")?);
     Ok(work(move |py, progress| {
+        let electric = match (electric, electric_angle) {
+            (Some(e), a) => Some((
+                exact_q("electric", &e)?,
+                exact_q("electric_angle", a.as_deref().unwrap_or("0"))?,
+            )),
+            (None, Some(_)) => {
+                return Err(PyValueError::new_err(
+                    "electric_angle without electric: give the field's strength too",
+                ));
+            }
+            (None, None) => None,
+        };
         if digits == 0 || digits > MAX_DIGITS {
             return Err(PyValueError::new_err(format!(
                 "digits = {digits} is out of range: use 1 to {MAX_DIGITS}"
@@ -201,6 +264,7 @@ pub fn trajectory(p: &Params<'_, '_>) -> PyResult<Work<(String, String)>> {
             digits,
             record_events: events,
             field: field.map(|b| exact_q("field", &b)).transpose()?,
+            electric,
         };
         let choice = orbit_scene(&place)?;
         let r = compute(py, progress, |ctl| {

@@ -50,6 +50,9 @@ def test_a_zero_electric_field_is_the_run_without_a_field():
 BASE = {
     "diffusion": dict(w="0.2", collisions=2e5, batches=4),
     "sweep": dict(w="0.2", collisions_per_run=2e5, batches_per_run=4),
+    "lyapunov": dict(w="0.2", collisions_per_batch=2e3, batches=2),
+    "trajectory": dict(start=("0", "1.05"), direction=("1", "1/3"), time="2", w="1/10"),
+    "bench": dict(w="0.2", collisions_per_thread=1e4, repetitions=1, engine="scalar"),
 }
 
 
@@ -64,6 +67,18 @@ BASE = {
     ("sweep", dict(electric="1/10"), "non-empty sequence"),
     ("sweep", dict(electric=["0"]), r"0 < \|E\| <= 10"),
     ("sweep", dict(electric=["1/10"], runs=2), "runs is not used"),
+    ("lyapunov", dict(electric="11"), r"0 < \|E\| <= 10"),
+    ("lyapunov", dict(electric="1", electric_angle="-361"), "-360 to 360"),
+    ("lyapunov", dict(electric="one"), "electric"),
+    ("lyapunov", dict(electric_angle="30"), "electric_angle without electric"),
+    ("lyapunov", dict(electric="1", field="1"), "one motion"),
+    ("lyapunov", dict(electric="1", starts=4), "not measured under the thermostat"),
+    ("trajectory", dict(electric="11"), r"0 < \|E\| <= 10"),
+    ("trajectory", dict(electric="1", electric_angle="400"), "-360 to 360"),
+    ("trajectory", dict(electric_angle="30"), "electric_angle without electric"),
+    ("trajectory", dict(electric="1", field="1"), "one motion"),
+    ("bench", dict(electric="1", electric_angle="1/0"), "divides by zero"),
+    ("bench", dict(electric_angle="45"), "electric_angle without electric"),
 ])
 def test_bad_fields_are_value_errors(call, kwargs, message):
     args = dict(BASE[call], **kwargs)
@@ -100,7 +115,41 @@ def test_the_thermostat_is_benched_beside_straight_flights():
     assert isinstance(r, lg.BenchResult)
     assert r.electric == 0.3 and len(r.samples) == len(r.straight_samples) == 2
     assert 0 < r.thermostat_over_straight < 1
-    assert str(r).startswith("w = 0.2  E = 0.3 (along x)")
+    assert str(r).startswith("w = 0.2  E = 0.3 at 0° from x")
+    # The exact angle, as diffusion takes it: 90° is the y axis to the bit.
+    up = lg.bench(w="1/5", electric="3/10", electric_angle=90, collisions_per_thread=1e4,
+                  repetitions=1, engine="scalar")
+    assert up.electric_angle == "90" and list(up.direction) == [0.0, 1.0]
     with pytest.raises(ValueError, match="bare"):
         lg.bench(w="1/5", electric="3/10", collisions_per_thread=2e4, repetitions=1,
                  observe="msd")
+
+
+def test_the_driven_pair_has_the_command_lines_bits(cli_json):
+    """``lyapunov(electric=...)`` is ``lorentz lyapunov --electric``: the same bits, the sum rule
+    within its bounds, a readable repr."""
+    args = dict(w="1/5", electric="1/2", electric_angle="30", collisions_per_batch=20000,
+                batches=4, seed=3)
+    py = lg.lyapunov(**args)
+    same(py.to_dict(), cli_json("lyapunov", *[x for k, v in args.items()
+                                              for x in ("--" + k.replace("_", "-"), str(v))]))
+    assert isinstance(py, lg.LyapunovResult)
+    assert str(py).startswith("triangular w=0.2 under E = 0.5 at 30°")
+    assert "lambda+" in repr(py) and "Kaplan-Yorke" in repr(py)
+    assert abs(py.sum_rule["z"]) <= py.sum_rule["bound"]
+    assert py.sum_rule_residual <= py.sum_rule_residual_bound
+    assert py.lambda_plus > 0 > py.lambda_minus and 2 < py.kaplan_yorke < 3
+
+
+def test_a_driven_trajectory_has_the_command_lines_digits(cli_json):
+    """``trajectory(electric=..., electric_angle=...)`` certifies the command line's digits, and
+    ``electric=0`` is the straight trajectory."""
+    kw = dict(start=("0", "1.05"), direction=("1", "1/3"), time="20", w="1/10", digits=30)
+    py = lg.trajectory(**kw, electric="3/10", electric_angle=30)
+    cl = cli_json("trajectory", "--scene", "triangular", "--w", "1/10", "--start", "0,1.05",
+                  "--direction", "1,1/3", "--time", "20", "--digits", "30", "--electric", "3/10",
+                  "--electric-angle", "30")
+    assert (py.x, py.y, py.distance) == (cl["x"], cl["y"], cl["distance"])
+    assert py.electric == "3/10" and py.certified_digits >= 30
+    straight = lg.trajectory(**kw)
+    assert lg.trajectory(**kw, electric=0, electric_angle=45).to_dict()["x"] == straight.x

@@ -207,6 +207,34 @@ impl ResumableArgs {
     }
 }
 
+/// The Gaussian-thermostatted electric field of a command that takes one (`diffusion`,
+/// `lyapunov`, `bench`); each says what it measures there (`mut_arg("electric", ...)`).
+#[derive(Args, Debug, Clone)]
+pub struct ElectricArgs {
+    /// A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E -
+    /// (E.v)v), its strength an exact decimal or fraction, 0 < |E| <= 10; 0 is the run without a
+    /// field.
+    #[arg(long, allow_hyphen_values = true)]
+    pub electric: Option<String>,
+    /// With --electric: the field's angle from the x axis in degrees, an exact decimal or
+    /// fraction.
+    #[arg(
+        long,
+        default_value = "0",
+        allow_hyphen_values = true,
+        requires = "electric"
+    )]
+    pub electric_angle: String,
+}
+
+impl ElectricArgs {
+    /// The thermostat these options give (`None` without `--electric`): strength and angle as
+    /// typed.
+    pub fn given(&self) -> Option<(&str, &str)> {
+        (self.electric.as_deref()).map(|e| (e, self.electric_angle.as_str()))
+    }
+}
+
 /// The seed of a stochastic computation.
 #[derive(Args, Debug, Clone)]
 pub struct SeedArg {

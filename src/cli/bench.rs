@@ -16,13 +16,24 @@ use lorentz_gas::report::speed_error::{self, REPORT_STEPS, SpeedErrorConfig};
 use lorentz_gas::scenes::spec::Table;
 
 use super::args::{
-    EngineArg, Exact, OutputArgs, PrecisionArg, SceneName, SeedArg, ThreadsArg, parse_count,
-    parse_count_usize, parse_diffusive_gap, parse_threads, table_at,
+    ElectricArgs, EngineArg, Exact, OutputArgs, PrecisionArg, SceneName, SeedArg, ThreadsArg,
+    parse_count, parse_count_usize, parse_diffusive_gap, parse_threads, table_at,
 };
 use super::output::{emit, to_json};
 use super::progress::Progress;
 
+/// What `--electric` times here.
+const ELECTRIC_HELP: &str = "A Gaussian-thermostatted electric field E in the plane, its strength an exact decimal or \
+    fraction (the double nearest it) at --electric-angle, 0 < |E| <= 10: time the \
+    thermostatted walk (the generic cell kernel with certified events, scalar, bare) and \
+    straight flights (E = 0) on the engine asked for (--engine scalar: the scalar kernel), in \
+    turns, and report both rates and their ratio (median of the paired ratios). Give fewer \
+    --collisions-per-thread (2e5).";
+
 #[derive(clap::Args)]
+#[command(mut_arg("electric", |a| a.help(ELECTRIC_HELP).conflicts_with_all(
+    ["report", "observer_costs", "field", "observe", "table", "costs"]
+)))]
 pub struct Args {
     /// Gap w between neighbouring disks (radius 1), a decimal or a fraction such as 1/10:
     /// 0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094... (every bench but --long-flights).
@@ -81,13 +92,8 @@ pub struct Args {
     /// scalar); 0: straight flights, the default.
     #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs"])]
     field: Option<String>,
-    /// A Gaussian-thermostatted electric field E along the x axis, an exact decimal or
-    /// fraction, 0 < |E| <= 10 (the double nearest it): time the thermostatted walk (the generic
-    /// cell kernel with certified events, scalar, bare) and straight flights (E = 0) on the
-    /// engine asked for (--engine scalar: the scalar kernel), in turns, and report both rates and
-    /// their ratio (median of the paired ratios). Give fewer --collisions-per-thread (2e5).
-    #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["report", "observer_costs", "field", "observe", "table", "costs"])]
-    electric: Option<String>,
+    #[command(flatten)]
+    electric: ElectricArgs,
     /// With --field: time straight flights too, each repetition right after the arcs' on the same
     /// threads and engine, and report the arcs' speed against them (side by side in one run).
     #[arg(long, requires = "field")]
@@ -205,10 +211,11 @@ pub fn run(a: Args) -> Result<(), Error> {
         );
     }
     let cfg = throughput_config(&a)?;
-    if let Some(e) = &a.electric {
+    if let Some((e, angle)) = a.electric.given() {
         let cfg = ElectricBenchConfig {
             straight: cfg,
             electric: nearest_f64(&parse_exact(e).map_err(|e| e.named("electric"))?),
+            electric_angle: angle.trim().to_string(),
         };
         return timed(
             &a,

@@ -8,8 +8,8 @@ use lorentz_gas::scenes::spec::{Motion, Table};
 use lorentz_gas::statistics::comparison;
 
 use super::args::{
-    CheckpointArgs, EngineArg, OutputArgs, PrecisionArg, ReferenceBitsArg, RunArgs, SceneArgs,
-    parse_count, parse_count_u32,
+    CheckpointArgs, ElectricArgs, EngineArg, OutputArgs, PrecisionArg, ReferenceBitsArg, RunArgs,
+    SceneArgs, parse_count, parse_count_u32,
 };
 use super::output::emit;
 use super::progress::Progress;
@@ -19,8 +19,14 @@ const GAP_HELP: &str = "Gap w of the triangular scene, a decimal or a fraction s
     0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094... (a finite horizon, where D exists); with --field \
     any w > 0 (a field bounds every flight)";
 
+const ELECTRIC_HELP: &str = "A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E - \
+    (E.v)v), its strength an exact decimal or fraction, 0 < |E| <= 10: the run measures the \
+    current J, the mobility J/E (-> D as E -> 0), the entropy production E.J and the diffusion \
+    tensor about the drift; 0 is the run without a field.";
+
 #[derive(clap::Args)]
 #[command(mut_arg("w", |a| a.help(GAP_HELP)))]
+#[command(mut_arg("electric", |a| a.help(ELECTRIC_HELP)))]
 pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
@@ -70,21 +76,8 @@ pub struct Args {
     /// tensor (D_xx and the Hall D_xy) and the localized orbits; 0 is the run without a field.
     #[arg(long, allow_hyphen_values = true, conflicts_with = "electric")]
     field: Option<String>,
-    /// A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E -
-    /// (E.v)v), its strength an exact decimal or fraction, 0 < |E| <= 10: the run measures the
-    /// current J, the mobility J/E (-> D as E -> 0), the entropy production E.J and the diffusion
-    /// tensor about the drift; 0 is the run without a field.
-    #[arg(long, allow_hyphen_values = true)]
-    electric: Option<String>,
-    /// With --electric: the field's angle from the x axis in degrees, an exact decimal or
-    /// fraction.
-    #[arg(
-        long,
-        default_value = "0",
-        allow_hyphen_values = true,
-        requires = "electric"
-    )]
-    electric_angle: String,
+    #[command(flatten)]
+    electric: ElectricArgs,
     /// With --field: phase points classified for the sampled share of localized orbits.
     #[arg(long, default_value = "1e6", value_parser = parse_count, requires = "field")]
     localization_samples: u64,
@@ -96,8 +89,8 @@ pub struct Args {
 /// in the field `--field` or under `--electric` (none, or exactly 0, is the run without a
 /// field).
 pub fn config(a: &Args) -> Result<DiffusionConfig, Error> {
-    let motion = match &a.electric {
-        Some(e) => Motion::thermostat(e, &a.electric_angle),
+    let motion = match a.electric.given() {
+        Some((e, angle)) => Motion::thermostat(e, angle),
         None => Motion::in_field(a.field.as_deref().unwrap_or("0")),
     };
     let table = Table {

@@ -48,8 +48,23 @@ pub struct Args {
     /// A uniform magnetic field B, exact (such as 1 or -1/3): flights are arcs turning
     /// counter-clockwise for B > 0 on circles of radius 1/|B|; 0 (the default) is straight.
     /// 1e-6 <= |B| <= 1e6.
-    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true, conflicts_with = "electric")]
     field: Option<Exact>,
+    /// A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E -
+    /// (E.v)v), its strength exact, |E| <= 10: flights of the thermostat's kernel with certified
+    /// events at every precision; 0 is the straight run.
+    #[arg(long, value_parser = parse_exact_arg, allow_hyphen_values = true)]
+    electric: Option<Exact>,
+    /// With --electric: the field's angle from the x axis in degrees, an exact decimal or
+    /// fraction.
+    #[arg(
+        long,
+        default_value = "0",
+        value_parser = parse_exact_arg,
+        allow_hyphen_values = true,
+        requires = "electric"
+    )]
+    electric_angle: Exact,
     /// Write every event of the final run (kind, obstacle, world x, world y, time, the world
     /// velocity vx, vy after it, and in a field the centre centre_x, centre_y of the arc that
     /// follows it, radius 1/|B|) to this CSV.
@@ -96,6 +111,14 @@ pub fn run(a: Args) -> Result<(), Error> {
         record_events: a.events.is_some(),
         field: (a.field.as_ref())
             .map(|b| parse_exact(&b.text).map_err(|e| e.named("field")))
+            .transpose()?,
+        electric: (a.electric.as_ref())
+            .map(|e| -> Result<_, Error> {
+                let strength = parse_exact(&e.text).map_err(|e| e.named("electric"))?;
+                let angle =
+                    parse_exact(&a.electric_angle.text).map_err(|e| e.named("electric_angle"))?;
+                Ok((strength, angle))
+            })
             .transpose()?,
     };
     let name = match a.scene {

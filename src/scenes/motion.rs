@@ -18,8 +18,11 @@ pub enum Motion {
     /// A Gaussian-thermostatted electric field E in the plane (ṙ = v, v̇ = E − (E·v)v: the
     /// speed stays 1), its signed strength and its angle from the x axis in degrees, each exactly
     /// as typed (`proofs-notes/thermostat-flight.md`). Taken by the diffusion run (the current
-    /// J(E), [`crate::estimators::current`]); the other analyses refuse it
-    /// ([`super::spec::Table::motion_taken_by`]).
+    /// J(E), [`crate::estimators::current`]); the other analyses that hold a table refuse it
+    /// ([`super::spec::Table::motion_taken_by`]). The Lyapunov pair, one trajectory and the
+    /// bench take the field through their own configurations
+    /// ([`crate::verification::lyapunov::LyapunovConfig::electric`],
+    /// [`crate::estimators::trajectory::TrajectoryInput::electric`]).
     Thermostat {
         /// The signed strength (a decimal or a fraction); −E is the field turned by 180°.
         field: String,

@@ -203,6 +203,8 @@ fn planning_exponent<S: Scene>(scene: &S) -> Result<f64, Error> {
         // The plan keeps its bits: the walk, as before long flights.
         flights: crate::engine::long_flight::Flights::Walk,
         field: None,
+        electric: None,
+        electric_angle: None,
     };
     let one = RunOptions {
         threads: 1,

@@ -77,6 +77,15 @@ pub struct LyapunovConfig {
     /// the exponent of the arcs. `None`: straight flights.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field: Option<String>,
+    /// A Gaussian-thermostatted electric field E, its strength exactly as typed (a decimal or a
+    /// fraction, 0 < |E| ≤ 10): the Lyapunov pair of the driven gas
+    /// ([`crate::estimators::current::lyapunov::run`]). `None`: no such field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electric: Option<String>,
+    /// With `electric`: the field's angle from the x axis in degrees, exactly as typed (`None`:
+    /// 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electric_angle: Option<String>,
 }
 
 impl LyapunovConfig {
@@ -89,16 +98,59 @@ impl LyapunovConfig {
         }
     }
 
+    /// The same measurement under the thermostatted field of strength `e` along `angle` degrees
+    /// (each as typed): the driven gas's Lyapunov pair, or straight flights where E is exactly
+    /// zero ([`Motion::thermostat`]).
+    pub fn under_electric(self, e: &str, angle: &str) -> Self {
+        let (electric, electric_angle) = match Motion::thermostat(e, angle) {
+            Motion::Thermostat { field, angle } => (Some(field), Some(angle)),
+            _ => (None, None),
+        };
+        LyapunovConfig {
+            electric,
+            electric_angle,
+            ..self
+        }
+    }
+
+    /// The motion of the measurement: straight lines, a magnetic field's arcs or the
+    /// thermostat's flights.
+    ///
+    /// # Errors
+    /// Both a magnetic and an electric field, or an angle without the electric field.
+    pub fn motion(&self) -> Result<Motion, Error> {
+        match (&self.field, &self.electric, &self.electric_angle) {
+            (Some(_), Some(_), _) => Err(Error::parameter(
+                "electric",
+                self.electric.as_deref().unwrap_or(""),
+                "both a magnetic field and an electric one: give one motion",
+            )),
+            (_, None, Some(a)) => Err(Error::parameter(
+                "electric_angle",
+                a,
+                "an angle without the electric field: give its strength too",
+            )),
+            (b, None, None) => Ok(b.as_deref().map_or(Motion::Straight, Motion::in_field)),
+            (None, Some(e), a) => Ok(Motion::thermostat(e, a.as_deref().unwrap_or("0"))),
+        }
+    }
+
     /// Refuses a field, for the measurement of straight flights.
     fn refuse_field(&self) -> Result<(), Error> {
-        match &self.field {
-            Some(b) => Err(Error::parameter(
+        match self.motion()? {
+            Motion::Field(b) => Err(Error::parameter(
                 "field",
                 b,
                 "this measurement flies straight lines: the exponent in a field is the arcs' \
                  (estimators::field::lyapunov::run)",
             )),
-            None => Ok(()),
+            Motion::Thermostat { field, .. } => Err(Error::parameter(
+                "electric",
+                field,
+                "this measurement flies straight lines: the driven gas's pair is \
+                 estimators::current::lyapunov::run's",
+            )),
+            _ => Ok(()),
         }
     }
 
@@ -110,6 +162,8 @@ impl LyapunovConfig {
             seed: 1,
             flights: Flights::Auto,
             field: None,
+            electric: None,
+            electric_angle: None,
         }
     }
 }

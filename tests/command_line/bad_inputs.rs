@@ -100,6 +100,56 @@ pub(crate) const BAD: &[(&str, &str)] = &[
         "diffusion --scene square --radius 1/4 --electric 1",
         "lacks a finite horizon",
     ),
+    // the thermostatted field beside diffusion: lyapunov, trajectory, bench
+    ("lyapunov --w 0.1 --electric 11", "0 < |E| <= 10"),
+    ("lyapunov --w 0.1 --electric one", "electric"),
+    (
+        "lyapunov --w 0.1 --electric 1 --electric-angle 361",
+        "-360 to 360",
+    ),
+    ("lyapunov --w 0.1 --electric-angle 30", "--electric"),
+    (
+        "lyapunov --w 0.1 --electric 1 --field 1",
+        "cannot be used with",
+    ),
+    (
+        "lyapunov --w 0.1 --electric 1 --starts 4",
+        "under the thermostat",
+    ),
+    (
+        "lyapunov --w 0.1 --electric 1 --flights jump",
+        "cell by cell",
+    ),
+    ("lyapunov --w 0.1 --electric 1 --batches 1", "at least 2"),
+    (
+        "trajectory --scene triangular --w 1/10 --start 0,1.05 --direction 1,0 --time 1 --electric 11",
+        "0 < |E| <= 10",
+    ),
+    (
+        "trajectory --scene triangular --w 1/10 --start 0,1.05 --direction 1,0 --time 1 --electric x",
+        "electric",
+    ),
+    (
+        "trajectory --scene triangular --w 1/10 --start 0,1.05 --direction 1,0 --time 1 --electric 1 --electric-angle -400",
+        "-360 to 360",
+    ),
+    (
+        "trajectory --scene triangular --w 1/10 --start 0,1.05 --direction 1,0 --time 1 --electric-angle 3",
+        "--electric",
+    ),
+    (
+        "trajectory --scene triangular --w 1/10 --start 0,1.05 --direction 1,0 --time 1 --electric 1 --field 1",
+        "cannot be used with",
+    ),
+    (
+        "bench --w 0.1 --electric 1 --electric-angle 1/0",
+        "divides by zero",
+    ),
+    (
+        "bench --w 0.1 --electric 1 --electric-angle 720",
+        "-360 to 360",
+    ),
+    ("bench --w 0.1 --electric-angle 45", "--electric"),
     ("audit --w 0.1 --reference-bits 4000000000", "65536"),
     // scenes
     ("audit --scene square --radius 0.5", "0 < radius < 1/2"),

@@ -10,6 +10,7 @@ mod bad_inputs;
 mod checkpoints;
 mod commands;
 mod cycles;
+mod driven;
 mod honest_numbers;
 mod hostile;
 mod planned;

@@ -156,6 +156,10 @@ fn results(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
             "lyapunov --field",
             run("lyapunov --w 0.1 --field 1 --collisions-per-batch 2e4 --batches 2"),
         ),
+        (
+            "lyapunov --electric",
+            run("lyapunov --w 0.1 --electric 1/2 --collisions-per-batch 2e4 --batches 2"),
+        ),
         ("audit", run("audit --w 0.1 --collisions 2e3 --batches 2")),
         (
             "audit --field",

@@ -74,6 +74,7 @@ fn position(
         digits: 40,
         record_events: false,
         field: Some(q(b)),
+        electric: None,
     };
     let r = trajectory::run(scene, &input, &RunOptions::default()).unwrap();
     let [x, y, _] = r.values;

@@ -113,6 +113,8 @@ fn lyapunov_with_jumps_agrees_with_the_cell_walk() {
             seed: 5,
             flights,
             field: None,
+            electric: None,
+            electric_angle: None,
         };
         lyapunov::run(&scene, &cfg, &crate::common::threads(2)).unwrap()
     };
@@ -177,6 +179,8 @@ fn the_lyapunov_exponent_at_small_radius_is_dahlqvists() {
         seed: 7,
         flights: Flights::Auto,
         field: None,
+        electric: None,
+        electric_angle: None,
     };
     let l = lyapunov::run(
         &SquareScene::new(r).unwrap(),

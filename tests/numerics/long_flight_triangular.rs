@@ -98,6 +98,8 @@ fn lyapunov_at(w: &str, flights: Flights, collisions: u64, batches: u32) -> Lyap
         seed: 43,
         flights,
         field: None,
+        electric: None,
+        electric_angle: None,
     };
     lyapunov::run(&scene, &cfg, &crate::common::threads(2)).unwrap()
 }

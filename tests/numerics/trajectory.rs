@@ -155,6 +155,7 @@ fn input(start: (&str, &str), dir: (&str, &str), t: &str, digits: u32) -> Trajec
         digits,
         record_events: false,
         field: None,
+        electric: None,
     }
 }
 

@@ -38,6 +38,7 @@ use crate::scenes::sampling::{Purpose, StreamKey};
 use crate::scenes::thermostat::CellFields;
 use crate::statistics::{linear_fit, mean_se};
 
+pub mod lyapunov;
 mod summary;
 mod tangent;
 mod track;

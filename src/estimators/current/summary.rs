@@ -2,11 +2,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::tangent::PairBatch;
+use super::tangent::pair_summary;
 use super::track::{ANGLE_BINS, Batch};
 use super::{CurrentReport, WARM_UP_SHARE, grid, mean_of, slope};
 use crate::engine::metadata::RunMeta;
-use crate::estimators::diffusion::{DiffusionConfig, Estimate, Window, time_unit};
+use crate::estimators::diffusion::{DiffusionConfig, Window, time_unit};
 use crate::kernel::thermostat::Thermostat;
 use crate::scenes::Scene;
 use crate::statistics::mean_se;
@@ -158,34 +158,6 @@ fn angle_density(batches: &[Batch]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     (centres, density, err)
 }
 
-/// The Lyapunov pair over the batches.
-struct PairSummary {
-    plus: Estimate,
-    minus: Estimate,
-    sum_rule: Estimate,
-    kaplan_yorke: Estimate,
-    /// The batch of the largest residual relative to its bound: (residual, bound).
-    residual: (f64, f64),
-}
-
-fn pair_summary(batches: &[Batch]) -> PairSummary {
-    let per = |f: &dyn Fn(&PairBatch) -> f64| {
-        mean_of(&batches.iter().map(|b| f(&b.pair)).collect::<Vec<_>>())
-    };
-    let worst = batches
-        .iter()
-        .map(|b| (b.pair.residual.abs(), b.pair.bound))
-        .max_by(|a, b| (a.0 / a.1).total_cmp(&(b.0 / b.1)))
-        .unwrap_or((0.0, 0.0));
-    PairSummary {
-        plus: per(&|p| p.lambda[0]),
-        minus: per(&|p| p.lambda[1]),
-        sum_rule: per(&|p| p.lambda[0] + p.lambda[1] + p.alpha),
-        kaplan_yorke: per(&|p| 2.0 + p.lambda[0] / p.lambda[1].abs()),
-        residual: worst,
-    }
-}
-
 /// The steady state's numbers over `batches` under the field `world` (doubles), the tensor over
 /// the fit window `win` of `lags` (time unit `tau`).
 fn steady(
@@ -207,7 +179,7 @@ fn steady(
     let mobility = mean_of(&along.iter().map(|j| j / eps).collect::<Vec<_>>());
     let production = mean_of(&along.iter().map(|j| j * eps).collect::<Vec<_>>());
     let mean_free_time = 1.0 / rate.value;
-    let lyapunov = pair_summary(batches);
+    let lyapunov = pair_summary(&batches.iter().map(|b| b.pair).collect::<Vec<_>>());
     Steady {
         J_x: j_x.value,
         J_x_err: j_x.err,

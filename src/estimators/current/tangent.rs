@@ -6,6 +6,8 @@
 //! e^{−∫α}: the logarithmic stretchings sum to −∫α − ln(|f(T)|/|f(0)|) trajectory by trajectory,
 //! which the run reports as a residual beside its rounding bound.
 
+use super::mean_of;
+use crate::estimators::diffusion::Estimate;
 use crate::kernel::thermostat::{Start, Thermostat};
 use crate::kernel::vec2::Vec2;
 use crate::statistics::CompensatedSum;
@@ -24,6 +26,39 @@ pub(super) struct PairBatch {
     pub residual: f64,
     /// The residual's rounding bound.
     pub bound: f64,
+    /// The flight time the pair measured over (to its last renormalisation).
+    pub time: f64,
+}
+
+/// The Lyapunov pair over independent trajectories, each with its standard error over them.
+pub(super) struct PairSummary {
+    pub plus: Estimate,
+    pub minus: Estimate,
+    /// ⟨α⟩, the mean phase-space contraction rate.
+    pub alpha: Estimate,
+    /// λ₊ + λ₋ + ⟨α⟩ per trajectory.
+    pub sum_rule: Estimate,
+    pub kaplan_yorke: Estimate,
+    /// The trajectory of the largest residual relative to its bound: (residual, bound).
+    pub residual: (f64, f64),
+}
+
+/// The pair summarised over the trajectories `pairs`.
+pub(super) fn pair_summary(pairs: &[PairBatch]) -> PairSummary {
+    let per = |f: &dyn Fn(&PairBatch) -> f64| mean_of(&pairs.iter().map(f).collect::<Vec<_>>());
+    let worst = pairs
+        .iter()
+        .map(|p| (p.residual.abs(), p.bound))
+        .max_by(|a, b| (a.0 / a.1).total_cmp(&(b.0 / b.1)))
+        .unwrap_or((0.0, 0.0));
+    PairSummary {
+        plus: per(&|p| p.lambda[0]),
+        minus: per(&|p| p.lambda[1]),
+        alpha: per(&|p| p.alpha),
+        sum_rule: per(&|p| p.lambda[0] + p.lambda[1] + p.alpha),
+        kaplan_yorke: per(&|p| 2.0 + p.lambda[0] / p.lambda[1].abs()),
+        residual: worst,
+    }
 }
 
 /// The tangent pair of one trajectory.
@@ -181,6 +216,7 @@ impl<'a> Pair<'a> {
             lambda: [plus / t, minus / t],
             alpha: alpha / t,
             residual: residual.value(),
+            time: self.time.value(),
             bound: 64.0 * U * self.events as f64
                 + 4.0 * U * (plus.abs() + minus.abs() + alpha.abs())
                 + 128.0 * U * self.world.strength * t,

@@ -22,7 +22,7 @@ use super::tangent::{Pair, PairBatch};
 pub const ANGLE_BINS: usize = 72;
 
 /// Collisions between two looks at the progress and the stop flag.
-const LOOK_EVERY: u64 = 1 << 14;
+pub(super) const LOOK_EVERY: u64 = 1 << 14;
 
 /// The lag moments of one trajectory's displacement (x, y): per lag Σ Δx², Σ Δy², Σ ΔxΔy, Σ Δx,
 /// Σ Δy over every time origin.
@@ -115,28 +115,37 @@ impl Drift<'_> {
 }
 
 /// The world velocity of a state (its cell frame turned by the cell's orientation).
-fn world_velocity<T: Real>(s: &LatticeState<T>) -> Vec2<f64> {
+pub(super) fn world_velocity<T: Real>(s: &LatticeState<T>) -> Vec2<f64> {
     let sg = s.cell.sign();
     Vec2::new(sg * s.flight.vel.x.to_f64(), sg * s.flight.vel.y.to_f64())
 }
 
 /// Counts the collisions of `step` and, every [`LOOK_EVERY`], reports them and looks at the stop
 /// flag.
-fn look<T: Real, S: Scene>(
-    su: &Setup<'_, T, S>,
+pub(super) fn look(
+    (progress, stop): (&(dyn Fn(u64) + Sync), Option<&StopFlag>),
     count: &mut u64,
     step: &ThermoStep,
 ) -> Result<(), Error> {
     if matches!(step.kind, EventKind::Collision(_)) {
         *count += 1;
         if count.is_multiple_of(LOOK_EVERY) {
-            (su.progress)(LOOK_EVERY);
-            if let Some(stop) = su.stop {
+            progress(LOOK_EVERY);
+            if let Some(stop) = stop {
                 stop.check()?;
             }
         }
     }
     Ok(())
+}
+
+/// The start of the trajectory of stream `key`: a point of the field-free invariant measure at
+/// the working precision `ctx`, its speed made 1 there.
+pub(super) fn start<T: Real, S: Scene>(scene: &S, ctx: T::Ctx, key: StreamKey) -> LatticeState<T> {
+    let s64 = scene.sample(&mut key.rng());
+    let mut s = LatticeState::<T>::convert_from_f64(ctx, &s64);
+    s.flight.normalise_speed();
+    s
 }
 
 /// Runs the batch of stream `key` on the scalar kernel: a start from the field-free invariant
@@ -145,9 +154,7 @@ pub(super) fn batch<T: Real, S: Scene>(
     su: &Setup<'_, T, S>,
     key: StreamKey,
 ) -> Result<Batch, Error> {
-    let s64 = su.scene.sample(&mut key.rng());
-    let mut s = LatticeState::<T>::convert_from_f64(su.ctx, &s64);
-    s.flight.normalise_speed();
+    let mut s = start::<T, S>(su.scene, su.ctx, key);
     let lat = su.lattice;
     let mut pair = Pair::new(su.world, &world_velocity(&s));
     let mut count = 0;
@@ -157,7 +164,7 @@ pub(super) fn batch<T: Real, S: Scene>(
         let step = lat.step_thermostat(&mut s, su.fields)?;
         tangent(lat, &s, &mut pair, (&start, &step));
         t += step.time;
-        look(su, &mut count, &step)?;
+        look((su.progress, su.stop), &mut count, &step)?;
     }
     pair.restart_at(&world_velocity(&s));
     let basis: Basis64 = lat.basis_f64();
@@ -181,7 +188,7 @@ pub(super) fn batch<T: Real, S: Scene>(
         let step = lat.step_thermostat(&mut s, su.fields)?;
         drift.flight(r, &start, &step);
         tangent(lat, &s, &mut pair, (&start, &step));
-        look(su, &mut count, &step)?;
+        look((su.progress, su.stop), &mut count, &step)?;
     }
     (su.progress)(count % LOOK_EVERY);
     let time = su.samples as f64 * su.grid;
@@ -197,7 +204,7 @@ pub(super) fn batch<T: Real, S: Scene>(
 
 /// The pair through the event `step` of the flight `start` (world frame), the state `s` being the
 /// one after it (at a collision: on the disk, leaving).
-fn tangent<T: Real, K: crate::kernel::cell::CellKernel<T>>(
+pub(super) fn tangent<T: Real, K: crate::kernel::cell::CellKernel<T>>(
     lat: &Lattice<T, K>,
     s: &LatticeState<T>,
     pair: &mut Pair<'_>,

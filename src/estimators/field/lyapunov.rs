@@ -62,6 +62,8 @@ pub fn run<S: Scene>(
 ) -> Result<FieldLyapunovReport, Error> {
     opts.accept("lyapunov in a field", &[RunOption::Engine])?;
     cfg.flights.in_field()?;
+    // An electric field beside the magnetic one is refused.
+    cfg.motion()?;
     let field = cfg.field.as_deref().ok_or(Error::missing(
         "field",
         "the exponent in a field needs the field B",

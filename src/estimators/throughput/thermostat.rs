@@ -19,6 +19,7 @@ use crate::kernel::trap::Trap;
 use crate::numbers::precision::AtPrecision;
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
+use crate::scenes::spec::Motion;
 use crate::scenes::thermostat::CellFields;
 
 use super::check::{Checked, check};
@@ -35,9 +36,17 @@ pub struct ElectricBenchConfig {
     /// The straight flights' configuration, timed beside.
     #[serde(flatten)]
     pub straight: ThroughputConfig,
-    /// The field's strength E (the double nearest the value typed), 0 < |E| ≤ 10, along the x
-    /// axis.
+    /// The field's strength E (the double nearest the value typed), 0 < |E| ≤ 10.
     pub electric: f64,
+    /// The field's angle from the x axis in degrees, exactly as typed (a decimal or a fraction;
+    /// rounded once at the working precision, as the diffusion run takes it).
+    #[serde(default = "along_x")]
+    pub electric_angle: String,
+}
+
+/// The angle of a field along the x axis, what a configuration without one means.
+fn along_x() -> String {
+    "0".into()
 }
 
 /// The thermostatted walk against straight flights, timed in alternation in one run.
@@ -45,8 +54,14 @@ pub struct ElectricBenchConfig {
 pub struct ElectricBench {
     /// Gap w.
     pub w: f64,
-    /// Field strength E (along the x axis).
+    /// Field strength E.
     pub electric: f64,
+    /// Its angle from the x axis in degrees, as typed.
+    #[serde(default = "along_x")]
+    pub electric_angle: String,
+    /// Its direction ê in the world (x, y), at double precision.
+    #[serde(default)]
+    pub direction: [f64; 2],
     /// Collisions of each thread in each repetition (shared out over its trajectories).
     pub collisions_per_thread: u64,
     /// Repetitions.
@@ -103,6 +118,9 @@ pub fn run(cfg: &ElectricBenchConfig, options: &RunOptions) -> Result<ElectricBe
             format!("use 0 < |E| <= {MAX_ELECTRIC}"),
         ));
     }
+    let typed = crate::numbers::exact::exact_text_of(e).unwrap_or_else(|| format!("{e:?}"));
+    crate::estimators::diffusion::check_electric(&Motion::thermostat(&typed, &cfg.electric_angle))?;
+    let world = field::<f64>(cfg, ())?;
     let (samples, cpc, straight) = s.precision.dispatch(Pairs {
         cfg,
         w,
@@ -116,6 +134,8 @@ pub fn run(cfg: &ElectricBenchConfig, options: &RunOptions) -> Result<ElectricBe
     Ok(ElectricBench {
         w,
         electric: e,
+        electric_angle: cfg.electric_angle.clone(),
+        direction: [world.dir.x, world.dir.y],
         collisions_per_thread: s.collisions_per_thread,
         repetitions: s.repetitions,
         threads,
@@ -149,11 +169,7 @@ impl AtPrecision for Pairs<'_> {
         let trap64 = Trap::new(self.w)?;
         let gap = crate::numbers::exact::param_at::<T>(ctx, self.w, s.table.gap_text())?;
         let lat = TriangularLattice::new(gap)?;
-        let e = Rational::from_f64(self.cfg.electric)
-            .ok_or_else(|| Error::out_of_range("electric", self.cfg.electric, "a finite E"))?;
-        let th = Thermostat::<T>::exact(&e, &Rational::new(), ctx)
-            .ok_or_else(|| Error::out_of_range("electric", 0.0, "use 0 < |E|"))?;
-        let fields = CellFields::new(th);
+        let fields = CellFields::new(field::<T>(self.cfg, ctx)?);
         let lanes = lanes(self.engine);
         let mut field_states = starts::<T>(ctx, &trap64, s.seed, self.threads, lanes);
         let mut straight_states = field_states.clone();
@@ -180,6 +196,19 @@ impl AtPrecision for Pairs<'_> {
         }
         Ok((rates, crossings as f64 / per_rep, straight))
     }
+}
+
+/// The field of `cfg` at the working precision `ctx`: E the double typed, its angle exact.
+///
+/// # Errors
+/// A strength that is not finite or zero, an angle that is not an exact decimal or fraction.
+fn field<T: Real>(cfg: &ElectricBenchConfig, ctx: T::Ctx) -> Result<Thermostat<T>, Error> {
+    let e = Rational::from_f64(cfg.electric)
+        .ok_or_else(|| Error::out_of_range("electric", cfg.electric, "a finite E"))?;
+    let angle = crate::numbers::exact::parse_exact(&cfg.electric_angle)
+        .map_err(|e| e.named("electric_angle"))?;
+    Thermostat::<T>::exact(&e, &angle, ctx)
+        .ok_or_else(|| Error::out_of_range("electric", 0.0, "use 0 < |E|"))
 }
 
 /// Every thread's trajectories continued under the field by `n` collisions (shared out over

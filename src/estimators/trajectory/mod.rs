@@ -23,7 +23,6 @@ use serde::Serialize;
 use crate::Error;
 use crate::engine::metadata::RunMeta;
 use crate::engine::options::RunOptions;
-use crate::kernel::arc::{arc_time, chord_at};
 use crate::kernel::vec2::Vec2;
 use crate::kernel::{flight::EventKind, flight::Flight};
 use crate::numbers::real::Real;
@@ -33,8 +32,10 @@ use crate::verification::lyapunov::{self, LyapunovConfig};
 
 mod digits;
 mod events;
+mod flow;
 pub use digits::{decimal, digits_agreed};
 pub use events::EventRecord;
+use flow::{Flow, electric_of, field_of};
 
 /// Most digits a trajectory may ask for: 10⁴ digits already need ≥ 33 000 bits before any
 /// chaos, and more only hides a typo.
@@ -98,6 +99,11 @@ pub struct TrajectoryInput {
     /// flights are arcs of the generic arc kernel at the working precision, turning
     /// counter-clockwise for B > 0 on circles of radius 1/|B|.
     pub field: Option<Rational>,
+    /// A Gaussian-thermostatted electric field E (exact), its signed strength and its angle from
+    /// the x axis in degrees (`None` or E = 0: straight flights with their own bits): flights of
+    /// the thermostat's kernel at the working precision, |E| ≤ 10 and |angle| ≤ 360
+    /// ([`crate::estimators::diffusion::check_electric`]).
+    pub electric: Option<(Rational, Rational)>,
 }
 
 /// The plan made before anything is allocated.
@@ -132,6 +138,12 @@ pub struct TrajectoryReport {
     /// The magnetic field B as an exact fraction (absent without one).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub field: Option<String>,
+    /// The electric field E (its strength as an exact fraction; absent without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub electric: Option<String>,
+    /// Its angle from the x axis in degrees, as an exact fraction (absent without the field).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub electric_angle: Option<String>,
     /// World x at time T, exactly `certified_digits` digits.
     pub x: String,
     /// World y at time T.
@@ -213,6 +225,7 @@ fn check_input(input: &TrajectoryInput) -> Result<(), Error> {
             ));
         }
     }
+    flow::check_electric_input(input)?;
     crate::scenes::check_pair(
         "direction",
         &input.dx,
@@ -260,6 +273,8 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
             // The plan keeps its bits: the walk, as before long flights.
             flights: crate::engine::long_flight::Flights::Walk,
             field: None,
+            electric: None,
+            electric_angle: None,
         },
         &RunOptions {
             threads: 1,
@@ -323,6 +338,7 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
 ///     digits: 30,
 ///     record_events: false,
 ///     field: None,
+///     electric: None,
 /// };
 /// let r = trajectory::run(&scene, &input, &RunOptions::default()).unwrap();
 /// assert!(r.distance.starts_with("0.99526"));
@@ -352,6 +368,8 @@ pub fn run<S: Scene>(
             return Ok(TrajectoryReport {
                 scene: scene.label(),
                 field: field_of(input).map(|b| b.to_string()),
+                electric: electric_of(input).map(|(e, _)| e.to_string()),
+                electric_angle: electric_of(input).map(|(_, a)| a.to_string()),
                 x: text(0),
                 y: text(1),
                 distance: text(2),
@@ -416,12 +434,9 @@ fn run_at<S: Scene>(
     let (mut collisions, mut crossings) = (0u64, 0u64);
     let mut sequence = Vec::new();
     let mut events = Vec::new();
-    let field = field_of(input).map(|b| <Float as Real>::from_rational(bits, b));
+    let flow = Flow::of(input, bits);
     loop {
-        let Some((kind, time)) = (match &field {
-            None => next_straight(&lat, &mut s, &elapsed, &total)?,
-            Some(b) => next_arc(&lat, &mut s, b, &elapsed, &total)?,
-        }) else {
+        let Some((kind, time)) = flow.next(&lat, &mut s, &elapsed, &total)? else {
             break;
         };
         elapsed = time;
@@ -441,7 +456,7 @@ fn run_at<S: Scene>(
             events.push(events::record(
                 &lat,
                 &s,
-                field.as_ref(),
+                flow.field(),
                 (kind, obstacle),
                 &elapsed,
             ));
@@ -496,67 +511,4 @@ fn start_state<S: Scene>(
         cell,
         flight: Flight::new(pos, vel),
     })
-}
-
-/// The field of the input, if any and nonzero (B = 0 is the straight run, with its bits).
-fn field_of(input: &TrajectoryInput) -> Option<&Rational> {
-    input.field.as_ref().filter(|b| **b != 0)
-}
-
-/// The next straight event of `s` if it comes by time `total` (then carried out: its kind and
-/// the time after it); else `s` is moved to time `total` and `None` returned.
-fn next_straight(
-    lat: &Lattice<Float, impl crate::kernel::cell::CellKernel<Float>>,
-    s: &mut LatticeState<Float>,
-    elapsed: &Float,
-    total: &Float,
-) -> Result<Option<(EventKind, Float)>, Error> {
-    let ev = lat
-        .next_event(s)
-        .ok_or_else(|| Error::Failed("the flight has no next event (zero velocity)".into()))?;
-    let end = elapsed.clone() + &ev.time;
-    if end > *total {
-        let rest = total.clone() - elapsed;
-        s.flight.pos = s.flight.pos.along(&rest, &s.flight.vel);
-        return Ok(None);
-    }
-    lat.apply(s, &ev);
-    Ok(Some((ev.kind, end)))
-}
-
-/// The same on arcs in the field `b`: the event's time is the arc's angle over ω
-/// ([`arc_time`]), and the last part-flight the arc's chord after the remaining time
-/// ([`chord_at`]). With no event at all the cyclotron circle meets no disk or edge (a pinned
-/// orbit): the particle circles for the remaining time. A particle sliding along the disk it is
-/// on (the kernel's creeping limit, measure zero) has no defined continuation and is refused.
-fn next_arc(
-    lat: &Lattice<Float, impl crate::kernel::cell::CellKernel<Float>>,
-    s: &mut LatticeState<Float>,
-    b: &Float,
-    elapsed: &Float,
-    total: &Float,
-) -> Result<Option<(EventKind, Float)>, Error> {
-    let rest = total.clone() - elapsed;
-    let Some(ev) = lat.next_event_in_field(s, b) else {
-        if s.flight.excluded_disk.is_some() {
-            return Err(Error::Failed(
-                "the particle slides along the disk it is on (a tangent start turning into the disk): choose another direction".into(),
-            ));
-        }
-        finish_arc(s, &rest, b);
-        return Ok(None);
-    };
-    let end = elapsed.clone() + &arc_time(&s.flight.vel, &ev.chord, b);
-    if end > *total {
-        finish_arc(s, &rest, b);
-        return Ok(None);
-    }
-    lat.apply_in_field(s, &ev);
-    Ok(Some((ev.kind, end)))
-}
-
-/// Moves `s` along its arc for the time `t` (no event on the way).
-fn finish_arc(s: &mut LatticeState<Float>, t: &Float, b: &Float) {
-    let x = chord_at(&s.flight.vel, t, b);
-    s.flight.pos = Vec2::new(s.flight.pos.x.clone() + &x.x, s.flight.pos.y.clone() + &x.y);
 }

@@ -27,9 +27,10 @@ pub fn electric(r: &ElectricBench) -> String {
     let mut out = String::new();
     line!(
         out,
-        "w = {}  E = {} (along x)  precision {}  straight engine {}  {} collisions per thread x {} repetitions on {} thread(s)",
+        "w = {}  E = {} at {}° from x  precision {}  straight engine {}  {} collisions per thread x {} repetitions on {} thread(s)",
         r.w,
         r.electric,
+        r.electric_angle,
         r.meta.precision,
         engine(&r.meta),
         r.collisions_per_thread,

@@ -97,3 +97,48 @@ pub fn lyapunov(r: &LyapunovResult) -> String {
     }
     out
 }
+
+/// The text of `lyapunov --electric E`: the pair, the sum rule on average and per trajectory,
+/// and the Kaplan–Yorke dimension.
+pub fn driven(r: &crate::estimators::current::lyapunov::DrivenLyapunovReport) -> String {
+    let mut out = String::new();
+    let l = &r.tangent;
+    let angle = r.config.electric_angle.as_deref().unwrap_or("0");
+    let e = r.config.electric.as_deref().unwrap_or("0");
+    let est = |v: f64, err: f64| super::estimate(v, err);
+    line!(
+        out,
+        "{} at {angle}° (typed E = {e}): the Lyapunov pair of the thermostatted flow ({} trajectories x {} collisions after a warm-up of {}){}",
+        l.scene,
+        l.batches,
+        l.collisions_per_batch,
+        r.warm_up_collisions,
+        comparison::few_samples_note(l.batches as usize, "batches")
+    );
+    line!(
+        out,
+        "  λ₊ {} per unit time ({:.5} ± {:.5} per collision); λ₋ {} per unit time ({:.5} ± {:.5} per collision)",
+        est(r.lambda_plus, r.lambda_plus_err),
+        l.per_collision,
+        l.per_collision_err,
+        est(r.lambda_minus, r.lambda_minus_err),
+        r.lambda_minus_per_collision,
+        r.lambda_minus_per_collision_err
+    );
+    line!(
+        out,
+        "  sum rule: λ₊ + λ₋ + ⟨α⟩ = {} with ⟨α⟩ = E·J = {}: {}; per trajectory within {:.1e} of exact (rounding bound {:.1e})",
+        est(r.sum_rule.difference, r.sum_rule.err),
+        est(r.contraction, r.contraction_err),
+        r.sum_rule.describe("paired over the trajectories"),
+        r.sum_rule_residual,
+        r.sum_rule_residual_bound
+    );
+    line!(
+        out,
+        "  Kaplan–Yorke dimension 2 + λ₊/|λ₋| = {}; mean free time {:.6}",
+        est(r.kaplan_yorke, r.kaplan_yorke_err),
+        r.mean_free_time
+    );
+    out
+}

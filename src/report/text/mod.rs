@@ -153,6 +153,7 @@ pub fn of_json(kind: &str, json: &str) -> Result<Option<String>, Error> {
         "superdiffusion" => render(kind, json, superdiffusion::superdiffusion)?,
         "free-paths" => render(kind, json, free_paths::free_paths)?,
         "lyapunov" => render(kind, json, lyapunov::lyapunov)?,
+        "lyapunov-driven" => render(kind, json, lyapunov::driven)?,
         "sweep" => render(kind, json, sweep::sweep)?,
         "field-sweep" => render(kind, json, field_sweep::field_sweep)?,
         "driven-sweep" => render(kind, json, driven_sweep::driven_sweep)?,

@@ -10,8 +10,12 @@ pub fn trajectory(r: &TrajectoryReport, time: &str) -> String {
     let mut out = String::new();
     line!(
         out,
-        "{}, t = {time}: {} collisions, {} crossings",
+        "{}{}, t = {time}: {} collisions, {} crossings",
         r.scene,
+        match (&r.electric, &r.electric_angle) {
+            (Some(e), Some(a)) => format!(" under the thermostatted field E = {e} at {a}°"),
+            _ => String::new(),
+        },
         r.collisions,
         r.crossings
     );
