@@ -64,24 +64,14 @@ struct DiskContact<'s, 'a, T: Real> {
     model: [f64; 3],
 }
 
-impl<T: Real> Contact<T> for DiskContact<'_, '_, T> {
-    fn jet(&self, t: &T) -> Jet<T> {
-        self.jet_on(t, &self.start.at(t))
-    }
-
-    fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
-        self.jet_on(&T::zero(ctx), self.start.origin())
-    }
-
+impl<T: Real> DiskContact<'_, '_, T> {
     /// |F‴| = |2(X − c)·v̈| ≤ 2(ρ + h)ε²|sin θ| over [t, t + h].
     fn third(&self, jet: &Jet<T>, h: &T) -> T {
         let eps = &self.start.thermostat().strength;
         let lean = jet.lean.over(self.model[2], h.to_f64());
         (jet.reach.clone() + h) * &eps.square().scale((2.0 + 1.0 / 65536.0) * lean)
     }
-}
 
-impl<T: Real> DiskContact<'_, '_, T> {
     /// The jet at `t`, the flight being at `at` there.
     fn jet_on(&self, t: &T, at: &FlightPoint<T>) -> Jet<T> {
         let ctx = t.ctx();
@@ -130,24 +120,14 @@ struct EdgeContact<'s, 'a, T: Real> {
     identity: bool,
 }
 
-impl<T: Real> Contact<T> for EdgeContact<'_, '_, T> {
-    fn jet(&self, t: &T) -> Jet<T> {
-        self.jet_on(t, &self.start.at(t))
-    }
-
-    fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
-        self.jet_on(&T::zero(ctx), self.start.origin())
-    }
-
+impl<T: Real> EdgeContact<'_, '_, T> {
     /// |F‴| = |n·v̈| ≤ ε²|sin θ| over [t, t + h].
     fn third(&self, jet: &Jet<T>, h: &T) -> T {
         let eps = &self.start.thermostat().strength;
         let lean = jet.lean.over(eps.to_f64(), h.to_f64());
         eps.square().scale((1.0 + 1.0 / 65536.0) * lean)
     }
-}
 
-impl<T: Real> EdgeContact<'_, '_, T> {
     /// The jet at `t`, the flight being at `at` there.
     fn jet_on(&self, t: &T, at: &FlightPoint<T>) -> Jet<T> {
         let ctx = t.ctx();
@@ -199,21 +179,32 @@ impl<T: Real> Candidate<'_, '_, T> {
             Candidate::Edge(c) => c.identity,
         }
     }
+
+    fn start(&self) -> &Start<'_, T> {
+        match self {
+            Candidate::Disk(c) => c.start,
+            Candidate::Edge(c) => c.start,
+        }
+    }
+
+    /// The jet at `t`, the flight being at `at` there.
+    fn jet_on(&self, t: &T, at: &FlightPoint<T>) -> Jet<T> {
+        match self {
+            Candidate::Disk(c) => c.jet_on(t, at),
+            Candidate::Edge(c) => c.jet_on(t, at),
+        }
+    }
 }
 
 impl<T: Real> Contact<T> for Candidate<'_, '_, T> {
     fn jet(&self, t: &T) -> Jet<T> {
-        match self {
-            Candidate::Disk(c) => c.jet(t),
-            Candidate::Edge(c) => c.jet(t),
-        }
+        self.jet_on(t, &self.start().at(t))
     }
+
     fn start_jet(&self, ctx: T::Ctx) -> Jet<T> {
-        match self {
-            Candidate::Disk(c) => c.start_jet(ctx),
-            Candidate::Edge(c) => c.start_jet(ctx),
-        }
+        self.jet_on(&T::zero(ctx), self.start().origin())
     }
+
     fn third(&self, jet: &Jet<T>, h: &T) -> T {
         match self {
             Candidate::Disk(c) => c.third(jet, h),
