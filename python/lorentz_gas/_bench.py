@@ -7,7 +7,7 @@ from typing import Any, Optional, Union
 
 from . import _native
 from ._inputs import (Count, Exact, Progress, Table, _count, _counts, _exact, _many,
-                      _optional_exact, _table_json, _total)
+                      _driving, _table_json, _total)
 from ._keywords import public
 from ._progress import _run
 from ._results import BenchResult
@@ -157,13 +157,11 @@ def bench(
         "precision": str(precision),
         "engine": str(engine),
         "observe": str(observe),
-        "field": None if field is None else _exact("field", field),
+        **_driving(field, electric, electric_angle),
         "straight_beside": bool(straight_beside),
         "oracle_floor": bool(oracle_floor),
         "diffusion_beside": bool(diffusion_beside),
         "table": None if table is None else _table_json(table),
-        "electric": None if electric is None else _exact("electric", electric),
-        "electric_angle": _optional_exact("electric_angle", electric_angle),
     })
     return BenchResult(text)
 

@@ -6,7 +6,7 @@ import os
 from typing import Optional
 
 from . import _native
-from ._inputs import Count, Exact, PathLike, Progress, _count, _exact, _threads
+from ._inputs import Count, Exact, PathLike, Progress, _count, _optional_exact, _threads
 from ._keywords import public
 from ._progress import _Bar
 from ._results import FigureResult, ReproduceResult
@@ -66,7 +66,7 @@ def figure(
     with _Bar(progress, 0, "units") as cb:
         text, printed = _native.figure({
             "kind": str(kind),
-            "w": None if w is None else _exact("w", w),
+            "w": _optional_exact("w", w),
             "particles": None if particles is None else _count("particles", particles),
             "particles_per_gap": None if particles_per_gap is None
             else _count("particles_per_gap", particles_per_gap),

@@ -136,6 +136,17 @@ def _optional_exact(name: str, v: Any) -> Optional[str]:
     return None if v is None else _exact(name, v)
 
 
+def _driving(field: Any, electric: Any, electric_angle: Any) -> Dict[str, Optional[str]]:
+    """The fields that drive the gas, each exact or ``None`` (not given): the magnetic field B
+    (``field``), the thermostatted electric field E (``electric``) and E's angle in degrees
+    (``electric_angle``), as the native calls take them."""
+    return {
+        "field": _optional_exact("field", field),
+        "electric": _optional_exact("electric", electric),
+        "electric_angle": _optional_exact("electric_angle", electric_angle),
+    }
+
+
 def _window(name: str, v: Any) -> Tuple[float, float]:
     """A window (from, to) of two numbers."""
     try:

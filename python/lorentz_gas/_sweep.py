@@ -227,10 +227,10 @@ def _request(
         return "field_sweep", {
             "scene": str(scene),
             "table": where,
-            "w": None if w is None else _exact("w", w),
+            "w": _optional_exact("w", w),
             "radius": _optional_exact("radius", radius),
-            "w_from": None if w_from is None else _exact("w_from", w_from),
-            "w_to": None if w_to is None else _exact("w_to", w_to),
+            "w_from": _optional_exact("w_from", w_from),
+            "w_to": _optional_exact("w_to", w_to),
             **_counts(
                 steps=steps,
                 collisions_per_run=collisions_per_run,
@@ -238,7 +238,7 @@ def _request(
                 seed=seed,
                 localization_samples=localization_samples,
             ),
-            "field": None if field is None else _exact("field", field),
+            "field": _optional_exact("field", field),
             "fields": [] if fields is None else [_exact("fields", b) for b in fields],
         }, points
     if w is not None:

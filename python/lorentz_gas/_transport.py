@@ -209,8 +209,8 @@ def diffusion(
         "checkpoint": _path(checkpoint),
         "checkpoint_every": float(checkpoint_every),
         "audit": None if audit is None else float(audit),
-        "field": None if field is None else _exact("field", field),
-        "electric": None if electric is None else _exact("electric", electric),
+        "field": _optional_exact("field", field),
+        "electric": _optional_exact("electric", electric),
         "electric_angle": _exact("electric_angle", electric_angle),
         "rel_err": None if rel_err is None else float(rel_err),
         "plan_only": bool(plan_only),
@@ -261,9 +261,8 @@ def hops(
         against ``symmetry_bound``) and the hop-level Green–Kubo ``D_GK`` ± ``D_GK_err``
         (length^2/time) against ``D_MZ``.
     """
-    params = _hop_params(w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every)
-    total = _total(_count("collisions", collisions))
-    return HopsResult(_run(_native.hops, progress, total, "coll", dict(params, engine=str(engine))))
+    return HopsResult(_hop_analysis(_native.hops, w, collisions, batches, order, seed, threads,
+                                    checkpoint, checkpoint_every, progress, engine=str(engine)))
 
 
 @public
@@ -328,19 +327,18 @@ def lattice_walk(
 
 
 def _hop_analysis(native, w, collisions, batches, order, seed, threads, checkpoint,
-                  checkpoint_every, progress) -> str:
-    params = _hop_params(w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every)
-    return _run(native, progress, _total(_count("collisions", collisions)), "coll", params)
-
-
-def _hop_params(w, collisions, batches, order, seed, threads, checkpoint, checkpoint_every) -> dict:
-    return {
+                  checkpoint_every, progress, **more: str) -> str:
+    """The JSON of the hop analysis ``native`` (hops, theory, lattice-walk): the parameters they
+    share, then ``more`` (hops' ``engine``)."""
+    params = {
         "w": _exact("w", w),
         **_counts(collisions=collisions, batches=batches, order=order, seed=seed),
         "threads": _threads(threads),
         "checkpoint": _path(checkpoint),
         "checkpoint_every": float(checkpoint_every),
+        **more,
     }
+    return _run(native, progress, _total(_count("collisions", collisions)), "coll", params)
 
 
 @public

@@ -18,6 +18,7 @@ from ._inputs import (
     Progress,
     _count,
     _counts,
+    _driving,
     _numbers,
     _exact,
     _many,
@@ -115,10 +116,8 @@ def lyapunov(
         **_counts(collisions_per_batch=collisions_per_batch, batches=batches, seed=seed),
         "starts": None if starts is None else _count("starts", starts),
         "threads": _threads(threads),
-        "field": _optional_exact("field", field),
         "flights": flights,
-        "electric": _optional_exact("electric", electric),
-        "electric_angle": _optional_exact("electric_angle", electric_angle),
+        **_driving(field, electric, electric_angle),
     })
     return LyapunovResult(text)
 
@@ -257,9 +256,7 @@ def audit(
         **_where(scene, table, w, radius),
         **_counts(collisions=collisions, batches=batches, reference_bits=reference_bits, seed=seed),
         "sample": float(sample),
-        "field": _optional_exact("field", field),
-        "electric": _optional_exact("electric", electric),
-        "electric_angle": _optional_exact("electric_angle", electric_angle),
+        **_driving(field, electric, electric_angle),
         "flights": str(flights),
         "threads": _threads(threads),
     })
@@ -404,9 +401,7 @@ def trajectory(
         "time": _exact("time", time),
         **_counts(digits=digits),
         "events": bool(events),
-        "field": _optional_exact("field", field),
-        "electric": _optional_exact("electric", electric),
-        "electric_angle": _optional_exact("electric_angle", electric_angle),
+        **_driving(field, electric, electric_angle),
     })
     return TrajectoryResult(text, printed=printed)
 
