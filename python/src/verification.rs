@@ -190,6 +190,8 @@ pub fn shadow(p: &Params<'_, '_>) -> PyResult<Work<String>> {
         reference_bits: p.count_u32("reference_bits")?,
         seed: p.count_u64("seed")?,
         field: p.opt_text("field")?,
+        electric: p.opt_text("electric")?,
+        electric_angle: p.opt_text("electric_angle")?,
     };
     let threads = p.threads()?;
     Ok(work(move |py, progress| {
