@@ -89,7 +89,7 @@ impl Table {
     }
 
     /// The disk radius at the working precision.
-    pub(crate) fn radius(&self) -> &Float {
+    pub fn radius(&self) -> &Float {
         &self.r
     }
 

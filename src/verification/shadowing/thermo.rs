@@ -4,9 +4,10 @@
 //! From the contact point X₀ with the outgoing unit velocity v (angle θ₀), the flight is the
 //! kernel's closed form X(t) = X₀ + Δ(t) ([`Start::at`], `proofs-notes/thermostat-flight.md`),
 //! at the working precision. The arrival on the recorded disk c′ is the first root of
-//! F(t) = |X₀ − c′ + Δ(t)|² − r²: a march that steps by the distance to the disk (the speed is 1,
-//! so no contact comes sooner), then Newton's method on F, bracketed by bisection where a
-//! concave F makes it overshoot. A root where the flight leaves the disk (n′·v⁻ ≥ 0) is a miss.
+//! F(t) = |X₀ − c′ + Δ(t)|² − r²: a march of steps each certified free of contact by the speed
+//! (the distance to the disk) or by a quadratic lower bound on F from |v̇| ≤ ε ([`safe_step`]),
+//! which near a transversal root are Newton's steps to second order, so the march ends there
+//! quadratically. A root where the flight leaves the disk (n′·v⁻ ≥ 0) is a miss.
 //!
 //! The Jacobian follows the collision map of `proofs-notes/thermostat-lyapunov.md`: the
 //! departure's tangent (δX₀, δv) with δθ₀ = v × δv; the flight at a fixed time
@@ -34,9 +35,10 @@ fn quarter(v: &Vec2<Float>) -> Vec2<Float> {
 }
 
 impl Table {
-    /// The first contact time of the flight `start` with the disk whose centre is at `d` from
-    /// the start's point reversed (d = X₀ − c′), or `Miss`. `identity`: the disk just left (a
-    /// return), where the march first steps by at least r/64 while the flight leaves it.
+    /// The first contact time of the flight `start` with the disk whose centre c′ is at −`d`
+    /// from the start's point (d = X₀ − c′), or `Miss`. `identity`: the disk just left (a
+    /// return), where F(0) = 0 is taken exactly. A march of steps each free of contact (see
+    /// [`safe_step`]) that ends where the step falls below the rounding level.
     fn first_contact(
         &self,
         start: &Start<'_, Float>,
@@ -48,45 +50,32 @@ impl Table {
         let eps = start.thermostat().strength.to_f64();
         // Far beyond every disk of the cell's neighbourhood, and past any turn of the velocity.
         let far = 64.0 * (d.norm2().sqrt().to_f64() + r.to_f64()) + 64.0 / eps;
-        let near = r.clone() / 8u32;
-        let tol = Float::with_val(b, Float::i_exp(1, 10 - b as i32));
+        let tol = Float::with_val(b, Float::i_exp(1, 8 - b as i32));
         let mut t = Float::new(b);
-        let mut lo = Float::new(b);
-        let mut hi: Option<Float> = None;
-        for _ in 0..MAX_MARCH {
+        for n in 0..MAX_MARCH {
             let at = start.at(&t);
             let rel = plus(d, &at.disp);
             let dist = rel.norm2().sqrt();
             let g = dist.clone() - r;
-            let f1 = rel.dot(&at.vel);
-            if g.is_sign_negative() && !(identity && t.is_zero()) {
-                // Inside: a Newton step went past the entry; bisect the bracket.
-                hi = Some(t.clone());
-                t = (lo.clone() + &t) / 2u32;
+            if identity && n == 0 {
+                let f1 = rel.dot(&at.vel) * 2u32;
+                t = safe_step(&Float::new(b), &f1, &dist, &g, r, eps);
                 continue;
+            }
+            if !g.is_sign_positive() || g.is_zero() {
+                // At the rounding level of the root (each step ends before it).
+                return Ok(t);
             }
             if g.to_f64() > far {
                 return Err(StepFailure::Miss);
             }
-            lo = t.clone();
-            let mut next = if f1.is_sign_negative() && g < near {
-                // Newton on F = |rel|² − r²: δt = F/(−F′) = g(|rel| + r)/(−2 rel·v).
-                let dt = g.clone() * &(dist + r) / &(-(f1 * 2u32));
-                if dt <= tol.clone() * &(t.clone().abs() + 1u32) {
-                    return Ok(t + &dt);
-                }
-                t.clone() + &dt
-            } else if identity && !f1.is_sign_negative() {
-                t.clone() + &g.max(&(r.clone() / 64u32))
-            } else {
-                t.clone() + &g
-            };
-            if let Some(h) = &hi
-                && next >= *h
-            {
-                next = (lo.clone() + h) / 2u32;
+            let f = g.clone() * &(dist.clone() + r);
+            let f1 = rel.dot(&at.vel) * 2u32;
+            let step = safe_step(&f, &f1, &dist, &g, r, eps);
+            if step <= tol.clone() * &(t.clone() + 1u32) {
+                return Ok(t + &step);
             }
-            t = next;
+            t += &step;
         }
         Err(StepFailure::Miss)
     }
@@ -136,6 +125,27 @@ impl Table {
             tau,
         })
     }
+}
+
+/// A step from a point at the distance `dist` = r + `g` from the disk's centre, with
+/// F = |X − c|² − r² = `f` ≥ 0 and F′ = `f1`, before which the flight cannot reach the disk: the
+/// larger of g (the speed is 1) and the first root of the lower bound
+/// L(s) = F + F′s + cs², c = 1 − ε(dist + S), on [0, S], S = max(2g, r/4) (F″/2 = 1 + (X − c)·v̇
+/// and |v̇| ≤ ε, |X − c| ≤ dist + s), or S where L has none there. Near a transversal root the
+/// step is Newton's to second order, so the march converges quadratically.
+fn safe_step(f: &Float, f1: &Float, dist: &Float, g: &Float, r: &Float, eps: f64) -> Float {
+    let cap = (g.clone() * 2u32).max(&(r.clone() / 4u32));
+    let c = -((dist.clone() + &cap) * eps) + 1u32;
+    let root = if f.is_zero() {
+        // On the disk by identity, leaving: the root of F′ + cs.
+        (f1.is_sign_positive() && c.is_sign_negative()).then(|| -(f1.clone() / &c))
+    } else {
+        let disc = f1.clone().square() - &(c.clone() * f * 4u32);
+        let opens = c.is_sign_negative() || f1.is_sign_negative();
+        (opens && disc.is_sign_positive()).then(|| f.clone() * 2u32 / &(disc.sqrt() - f1))
+    };
+    let step = root.map_or(cap.clone(), |s| s.min(&cap));
+    step.max(g)
 }
 
 /// A lower bound on the clearance (distance − r) of one thermostatted flight, X₀ + Δ(t) for
