@@ -1,6 +1,7 @@
 //! `lorentz shadow`: true orbits near f64 segments (Newton on the whole segment in MPFR).
 
 use lorentz_gas::Error;
+use lorentz_gas::scenes::spec::Motion;
 use lorentz_gas::verification::shadowing::{self as shadowing, ShadowConfig};
 
 use super::args::{
@@ -62,14 +63,19 @@ fn scene(a: &SceneArgs) -> Result<SceneChoice, Error> {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let scene = scene(&a.scene)?;
+    // E = 0 is the run without a field, recorded as such (its bits are the straight run's).
+    let (electric, electric_angle) = match a.electric.given() {
+        Some((e, angle)) => Motion::thermostat(e, angle).thermostat_texts(),
+        None => (None, None),
+    };
     let request = ShadowConfig {
         collisions_per_segment: a.collisions_per_segment,
         segments: a.segments,
         seed: a.run.seed(),
         reference_bits: a.reference_bits,
         field: a.field.clone(),
-        electric: a.electric.given().map(|(e, _)| e.to_string()),
-        electric_angle: a.electric.given().map(|(_, angle)| angle.to_string()),
+        electric,
+        electric_angle,
     };
     request.validate()?;
     let pb = Progress::new(

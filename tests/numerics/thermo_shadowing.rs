@@ -52,8 +52,8 @@ fn contact(table: &Table, x: &OrbitPoint, bits: u32) -> [Float; 2] {
 }
 
 /// The analytic Jacobian of the thermostatted map against central differences at 256 bits with
-/// the straight map's error model (`tests/numerics/shadowing.rs`: tol = 2^(S−P)(1/h + 1 + J)/c
-/// + h²J³/c⁴, h = 2⁻¹¹⁶), and its determinant against the phase-space contraction: the section
+/// the straight map's error model (`tests/numerics/shadowing.rs`:
+/// tol = 2^(S−P)(1/h + 1 + J)/c + h²J³/c⁴, h = 2⁻¹¹⁶), and its determinant against the phase-space contraction: the section
 /// form ds dp is the flux of the flow's volume, which a flight multiplies by e^{−∫α} and ∫α = E·ΔX
 /// (the field's work), so det DT = e^{−E·(X₁ − X₀)} from the contact points alone — within 4J
 /// times the entries' error. Fields from 10⁻² to 10, both signs, oblique angles. Broken on
