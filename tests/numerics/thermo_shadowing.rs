@@ -105,9 +105,9 @@ fn the_thermostatted_map_has_the_analytic_jacobian_and_contracts_by_the_work() {
 
 /// The fields E ∈ {0.01, 0.3, 3} at w = 0.1 and 0.3: every segment converges and is
 /// certified, with δ within the Newton–Kantorovich bound 2K‖F(y⁰)‖₂ and the pseudo-orbit's
-/// defects within reach of δ ([`assert_certified`]). Broken on purpose: with the thermostat's
-/// direction turned by 1° in the shadow's table (not in the f64 run) no segment converges to
-/// the rounding level with a certificate (checked once, then restored).
+/// defects within reach of δ ([`assert_certified`]). Broken on purpose: with the thermostat
+/// dropped from the shadow's table (straight true flights against thermostatted f64 segments)
+/// no segment is certified (checked once, then restored).
 #[test]
 fn f64_thermostatted_segments_are_shadowed_at_w_0_1_and_0_3() {
     for w in ["0.1", "0.3"] {
