@@ -277,6 +277,8 @@ def shadow(
     scene: str = "triangular",
     radius: Optional[Exact] = None,
     table: Optional[Table] = None,
+    electric: Optional[Exact] = None,
+    electric_angle: Optional[Exact] = None,
 ) -> ShadowResult:
     """True orbits shadowing f64 segments (``lorentz shadow``).
 
@@ -296,6 +298,13 @@ def shadow(
         disk radius), exact like ``w``, 1e-3 <= abs(B) <= 1e3; ``None`` or 0: no field. The
         segments are f64 orbits on arcs from the diffusing starts of :func:`diffusion` in the
         same field, and their shadows true orbits on arcs.
+    electric : str, Fraction or float, optional
+        A Gaussian-thermostatted electric field E in the plane (1/time at speed 1: dv/dt = E -
+        (E.v)v), exact like ``w``, 0 < abs(E) <= 10; ``None`` or 0: no field (the field-free
+        bits). The segments are f64 thermostatted orbits from the equilibrium starts, and their
+        shadows true thermostatted orbits. Not with ``field``.
+    electric_angle : str, Fraction or float, optional
+        With ``electric``: the field's angle from the x axis in degrees, exact; ``None``: 0.
     seed, threads, progress
         As in :func:`diffusion`.
     table : dict or path, optional
@@ -317,6 +326,8 @@ def shadow(
             seed=seed,
         ),
         "field": _optional_exact("field", field),
+        "electric": _optional_exact("electric", electric),
+        "electric_angle": _optional_exact("electric_angle", electric_angle),
         "threads": _threads(threads),
     })
     return ShadowResult(text)

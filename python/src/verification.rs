@@ -184,12 +184,20 @@ pub fn audit(p: &Params<'_, '_>) -> PyResult<Work<String>> {
 /// `shadow(params, progress)`: true orbits shadowing f64 segments.
 pub fn shadow(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let place = Where::read(p)?;
+    // E = 0 is the run without a field, recorded as such (the command line's rule).
+    let angle = p.opt_text("electric_angle")?;
+    let (electric, electric_angle) = match p.opt_text("electric")? {
+        Some(e) => Motion::thermostat(&e, angle.as_deref().unwrap_or("0")).thermostat_texts(),
+        None => (None, angle),
+    };
     let request = ShadowConfig {
         collisions_per_segment: p.count_usize("collisions_per_segment")?,
         segments: p.count_u32("segments")?,
         reference_bits: p.count_u32("reference_bits")?,
         seed: p.count_u64("seed")?,
         field: p.opt_text("field")?,
+        electric,
+        electric_angle,
     };
     let threads = p.threads()?;
     Ok(work(move |py, progress| {

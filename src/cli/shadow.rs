@@ -1,10 +1,12 @@
 //! `lorentz shadow`: true orbits near f64 segments (Newton on the whole segment in MPFR).
 
 use lorentz_gas::Error;
+use lorentz_gas::scenes::spec::Motion;
 use lorentz_gas::verification::shadowing::{self as shadowing, ShadowConfig};
 
 use super::args::{
-    OutputArgs, RunArgs, SceneArgs, SceneChoice, parse_count_u32, parse_count_usize, with_scene,
+    ElectricArgs, OutputArgs, RunArgs, SceneArgs, SceneChoice, parse_count_u32, parse_count_usize,
+    with_scene,
 };
 use super::output::emit;
 use super::progress::Progress;
@@ -13,8 +15,14 @@ use super::progress::Progress;
 const GAP_HELP: &str = "Gap w of the triangular scene, a decimal or a fraction such as 1/10: \
     0 < w < w_inf = 4/sqrt(3) - 2 = 0.3094...";
 
+/// What `--electric` shadows here.
+const ELECTRIC_HELP: &str = "A Gaussian-thermostatted electric field E in the plane (speed stays 1: dv/dt = E - \
+    (E.v)v), its strength an exact decimal or fraction, 0 < |E| <= 10 (0: no field): segments of \
+    thermostatted flights from equilibrium starts, shadowed by true thermostatted orbits.";
+
 #[derive(clap::Args)]
 #[command(mut_arg("w", |a| a.help(GAP_HELP)))]
+#[command(mut_arg("electric", |a| a.help(ELECTRIC_HELP)))]
 pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
@@ -31,8 +39,10 @@ pub struct Args {
     /// A uniform magnetic field B perpendicular to the plane, an exact decimal or fraction like
     /// --w (1e-3 <= |B| <= 1e3; 0 or absent: no field): segments on arcs from diffusing starts,
     /// shadowed by true orbits on arcs.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "electric")]
     field: Option<String>,
+    #[command(flatten)]
+    electric: ElectricArgs,
     #[command(flatten)]
     run: RunArgs,
     #[command(flatten)]
@@ -53,12 +63,19 @@ fn scene(a: &SceneArgs) -> Result<SceneChoice, Error> {
 
 pub fn run(a: Args) -> Result<(), Error> {
     let scene = scene(&a.scene)?;
+    // E = 0 is the run without a field, recorded as such (its bits are the straight run's).
+    let (electric, electric_angle) = match a.electric.given() {
+        Some((e, angle)) => Motion::thermostat(e, angle).thermostat_texts(),
+        None => (None, None),
+    };
     let request = ShadowConfig {
         collisions_per_segment: a.collisions_per_segment,
         segments: a.segments,
         seed: a.run.seed(),
         reference_bits: a.reference_bits,
         field: a.field.clone(),
+        electric,
+        electric_angle,
     };
     request.validate()?;
     let pb = Progress::new(

@@ -66,6 +66,15 @@ impl Motion {
         }
     }
 
+    /// The thermostat's strength and angle as a configuration records them (`electric`,
+    /// `electric_angle`): both `None` for another motion (a zero strength is straight lines).
+    pub fn thermostat_texts(self) -> (Option<String>, Option<String>) {
+        match self {
+            Motion::Thermostat { field, angle } => (Some(field), Some(angle)),
+            _ => (None, None),
+        }
+    }
+
     /// The field as typed, `None` for straight lines and for the thermostat.
     pub fn field(&self) -> Option<&str> {
         match self {

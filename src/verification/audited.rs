@@ -219,34 +219,11 @@ impl AuditConfig {
     /// its range ([`AuditConfig::field_exact`],
     /// [`check_electric`](crate::estimators::diffusion::check_electric)).
     pub fn motion(&self) -> Result<Option<ExactMotion>, Error> {
-        use crate::numbers::exact::parse_exact;
-        use crate::scenes::spec::Motion;
-        let Some(e) = &self.electric else {
-            if let Some(a) = &self.electric_angle {
-                return Err(Error::parameter(
-                    "electric_angle",
-                    a,
-                    "an angle without a field: give the field's strength as electric too",
-                ));
-            }
-            return Ok(self.field_exact()?.map(ExactMotion::Field));
-        };
-        if self.field.is_some() {
-            return Err(Error::parameter(
-                "electric",
-                e,
-                "both a magnetic field and an electric one: give one motion",
-            ));
-        }
-        let angle = self.electric_angle.as_deref().unwrap_or("0");
-        let motion = Motion::thermostat(e, angle);
-        crate::estimators::diffusion::check_electric(&motion)?;
-        Ok(match motion {
-            Motion::Thermostat { field, angle } => Some(ExactMotion::Thermostat {
-                field: parse_exact(&field).map_err(|e| e.named("electric"))?,
-                angle: parse_exact(&angle).map_err(|e| e.named("electric_angle"))?,
-            }),
-            _ => None,
-        })
+        ExactMotion::given(
+            self.field.as_deref(),
+            || self.field_exact(),
+            self.electric.as_deref(),
+            self.electric_angle.as_deref(),
+        )
     }
 }

@@ -59,6 +59,50 @@ impl<T> CurvedEvent<T> {
 }
 
 impl ExactMotion {
+    /// The motion a configuration gives: the magnetic field `field` (as typed, made exact and
+    /// checked by `field_exact`), or the thermostatted field of strength `electric` along
+    /// `angle` degrees (absent: 0), each as typed; `None`: straight flights (no field, or a zero
+    /// one).
+    ///
+    /// # Errors
+    /// Both fields, an angle without a strength, or a field that is not exact or out of its
+    /// range (`field_exact`, [`check_electric`](crate::estimators::diffusion::check_electric)).
+    pub fn given(
+        field: Option<&str>,
+        field_exact: impl FnOnce() -> Result<Option<Rational>, crate::Error>,
+        electric: Option<&str>,
+        angle: Option<&str>,
+    ) -> Result<Option<Self>, crate::Error> {
+        use crate::numbers::exact::parse_exact;
+        use crate::scenes::spec::Motion;
+        let Some(e) = electric else {
+            if let Some(a) = angle {
+                return Err(crate::Error::parameter(
+                    "electric_angle",
+                    a,
+                    "an angle without a field: give the field's strength as electric too",
+                ));
+            }
+            return Ok(field_exact()?.map(ExactMotion::Field));
+        };
+        if field.is_some() {
+            return Err(crate::Error::parameter(
+                "electric",
+                e,
+                "both a magnetic field and an electric one: give one motion",
+            ));
+        }
+        let motion = Motion::thermostat(e, angle.unwrap_or("0"));
+        crate::estimators::diffusion::check_electric(&motion)?;
+        Ok(match motion {
+            Motion::Thermostat { field, angle } => Some(ExactMotion::Thermostat {
+                field: parse_exact(&field).map_err(|e| e.named("electric"))?,
+                angle: parse_exact(&angle).map_err(|e| e.named("electric_angle"))?,
+            }),
+            _ => None,
+        })
+    }
+
     /// The motion on tracked numbers at `bits`: every parameter rounded once from its exact value,
     /// with the bound of its `f64` rounding.
     pub fn tracked(&self, bits: u32) -> Curved<Tracked> {

@@ -102,10 +102,7 @@ impl LyapunovConfig {
     /// (each as typed): the driven gas's Lyapunov pair, or straight flights where E is exactly
     /// zero ([`Motion::thermostat`]).
     pub fn under_electric(self, e: &str, angle: &str) -> Self {
-        let (electric, electric_angle) = match Motion::thermostat(e, angle) {
-            Motion::Thermostat { field, angle } => (Some(field), Some(angle)),
-            _ => (None, None),
-        };
+        let (electric, electric_angle) = Motion::thermostat(e, angle).thermostat_texts();
         LyapunovConfig {
             electric,
             electric_angle,

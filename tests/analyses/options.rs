@@ -81,6 +81,8 @@ fn verification_analyses_refuse_every_run_option() {
             seed: 1,
             reference_bits: 256,
             field: None,
+            electric: None,
+            electric_angle: None,
         };
         refused(shadowing::run(&scene, &shadow, &o), "shadow", option);
         refused(

@@ -236,6 +236,16 @@ pub(crate) const BAD: &[(&str, &str)] = &[
     ),
     ("shadow --w 0.1 --reference-bits 64", "use 128 to"),
     ("shadow --w 0.1 --segments 0", "use 1 to 10000"),
+    ("shadow --w 0.1 --electric 11", "0 < |E| <= 10"),
+    (
+        "shadow --w 0.1 --electric 1 --electric-angle 361",
+        "-360 to 360",
+    ),
+    ("shadow --w 0.1 --electric-angle 30", "--electric"),
+    (
+        "shadow --w 0.1 --electric 1 --field 1",
+        "cannot be used with",
+    ),
     // backscatter
     ("backscatter --w 0", "trapped"),
     ("backscatter --w 0.1 --particles 0", "particles"),

@@ -177,3 +177,27 @@ fn bench_takes_the_field_angle_exactly() {
         "{x} {y}"
     );
 }
+
+/// `shadow --electric`: a short thermostatted segment is shadowed by a true orbit with its
+/// Newton–Kantorovich certificate (δ within 2K‖F(y⁰)‖₂, the correction bound 2Kε far below δ),
+/// and E = 0 is the field-free run bit for bit. Broken on purpose: with the thermostat dropped
+/// from the shadow's table (straight true flights against thermostatted f64 segments) no
+/// segment converges (checked once, then restored).
+#[test]
+fn shadow_under_the_thermostat_is_certified_and_zero_field_is_the_straight_run() {
+    let tmp = scratch();
+    let dir = tmp.path();
+    let base = "shadow --w 0.1 --collisions-per-segment 50 --segments 2 --json --quiet";
+    let driven = format!("{base} --electric 0.3 --electric-angle 30");
+    let r = lorentz_json(dir, &words(&driven));
+    assert_eq!(r["config"]["electric"], "0.3", "{r}");
+    assert_eq!(r["certified"], 2, "{r}");
+    for s in r["segments"].as_array().unwrap() {
+        let delta = num(s, "delta");
+        assert!(delta <= num(s, "a_priori_bound"), "{s}");
+        assert!(num(s, "correction_bound") < 1e-3 * delta, "{s}");
+    }
+    let straight = bits_of(lorentz_json(dir, &words(base)));
+    let zero = format!("{base} --electric 0 --electric-angle 45");
+    assert_eq!(bits_of(lorentz_json(dir, &words(&zero))), straight);
+}

@@ -82,6 +82,8 @@ fn f64_arc_segments_are_shadowed_at_w_0_1_and_0_3() {
                 seed: 1,
                 reference_bits: BITS,
                 field: Some(field.to_string()),
+                electric: None,
+                electric_angle: None,
             };
             let r = shadowing::run(&sc, &request, &crate::common::threads(1)).unwrap();
             for s in &r.segments {
@@ -97,6 +99,8 @@ fn f64_arc_segments_are_shadowed_at_w_0_1_and_0_3() {
         seed: 1,
         reference_bits: BITS,
         field: Some("10".into()),
+        electric: None,
+        electric_angle: None,
     };
     let e = shadowing::run(&scene("0.3"), &request, &crate::common::threads(1))
         .unwrap_err()
@@ -262,6 +266,8 @@ fn f64_segments_of_the_square_lattice_are_shadowed_with_and_without_a_field() {
             seed: 1,
             reference_bits: BITS,
             field: field.map(str::to_string),
+            electric: None,
+            electric_angle: None,
         };
         let r = shadowing::run(&sc, &request, &crate::common::threads(1)).unwrap();
         assert!(r.scene.starts_with("square"), "{}", r.scene);

@@ -58,5 +58,6 @@ mod square;
 mod table_field;
 mod tables;
 mod thermo_audit;
+mod thermo_shadowing;
 mod trajectory;
 mod verification;

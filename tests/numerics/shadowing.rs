@@ -26,6 +26,8 @@ fn request(collisions: usize, segments: u32) -> ShadowConfig {
         seed: 1,
         reference_bits: BITS,
         field: None,
+        electric: None,
+        electric_angle: None,
     }
 }
 

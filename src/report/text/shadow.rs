@@ -2,6 +2,7 @@
 //! to stdout, and Python's `str()` of the result is the same text.
 
 use super::line;
+use crate::verification::curved::ExactMotion;
 use crate::verification::shadowing::ShadowReport;
 
 /// The text of a `shadow` result, line by line as the command line prints it.
@@ -12,8 +13,13 @@ pub fn shadow(r: &ShadowReport) -> String {
         out,
         "{}{}: {} segments of {} collisions at {} bits: {} converged, {} certified; median delta {}, max {}",
         r.scene,
-        match (&r.config.field, r.config.field_exact()) {
-            (Some(b), Ok(Some(_))) => format!(" in the field B = {b} (arcs)"),
+        match (r.config.motion(), &r.config.field, &r.config.electric) {
+            (Ok(Some(ExactMotion::Field(_))), Some(b), _) =>
+                format!(" in the field B = {b} (arcs)"),
+            (Ok(Some(ExactMotion::Thermostat { .. })), _, Some(e)) => format!(
+                " under the thermostatted field E = {e} at {} deg",
+                r.config.electric_angle.as_deref().unwrap_or("0")
+            ),
             _ => String::new(),
         },
         r.segments.len(),

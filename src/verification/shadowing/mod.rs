@@ -40,6 +40,7 @@ use crate::kernel::vec2::Vec2;
 use crate::scenes::Scene;
 use crate::scenes::lattice::LatticeState;
 use crate::scenes::sampling::stream;
+use crate::verification::curved::ExactMotion;
 
 mod arc;
 mod clearance;
@@ -47,6 +48,7 @@ mod linear;
 mod newton;
 mod segment;
 mod table;
+mod thermo;
 
 use arc::*;
 use clearance::*;
@@ -54,8 +56,9 @@ use linear::*;
 use newton::*;
 use segment::*;
 use table::*;
+use thermo::*;
 
-pub use segment::{f64_segment, f64_segment_in_field};
+pub use segment::{f64_segment, f64_segment_in_field, f64_segment_in_thermostat};
 
 // What the certified periodic orbits (`verification::cycles`) share with the shadows.
 pub(crate) use clearance::segment_gap;
@@ -234,9 +237,27 @@ pub fn shadow_pseudo_orbit_in_field<S: Scene>(
     bits: u32,
     field: Option<&rug::Rational>,
 ) -> Result<Shadow, Error> {
+    let motion = field
+        .filter(|q| q.cmp0() != std::cmp::Ordering::Equal)
+        .map(|q| ExactMotion::Field(q.clone()));
+    shadow_pseudo_orbit_in_motion(scene, orbit, bits, motion.as_ref())
+}
+
+/// As [`shadow_pseudo_orbit`], under `motion` (`None`: straight flights): the true orbit's
+/// flights are arcs of the magnetic field, or the flights of the thermostatted electric field,
+/// with the same disk sequence.
+///
+/// # Errors
+/// As [`shadow_pseudo_orbit`].
+pub fn shadow_pseudo_orbit_in_motion<S: Scene>(
+    scene: &S,
+    orbit: &[OrbitPoint],
+    bits: u32,
+    motion: Option<&ExactMotion>,
+) -> Result<Shadow, Error> {
     check_request(orbit.len(), bits)?;
     let n = orbit.len();
-    let table = Table::in_field(scene, bits, field)?;
+    let table = Table::in_motion(scene, bits, motion)?;
     let lift = |x: &OrbitPoint| OrbitPoint {
         disk: x.disk,
         s: Float::with_val(bits, &x.s),
@@ -256,7 +277,7 @@ pub fn shadow_pseudo_orbit_in_field<S: Scene>(
     sh.failure = None;
     sh.converged = true;
     // The defect at twice the precision (the points are exact at 2P).
-    let table2 = Table::in_field(scene, 2 * bits, field)?;
+    let table2 = Table::in_motion(scene, 2 * bits, motion)?;
     let ev2 = match evaluate(&table2, &y) {
         Ok(ev) => ev,
         Err((k, e)) => {
@@ -270,9 +291,10 @@ pub fn shadow_pseudo_orbit_in_field<S: Scene>(
     sh.max_jacobian_norm = Some(amax);
     sh.min_cos_phi = Some(last.cos_min.0);
     sh.min_cos_phi_event = Some(last.cos_min.1);
-    let (gap, blocked) = match &table.omega {
-        Some(omega) => arc_clearance(&table, &y, &last.tau, omega),
-        None => clearance(&table, &y, &last.tau),
+    let (gap, blocked) = match (&table.omega, &table.thermo) {
+        (Some(omega), _) => arc_clearance(&table, &y, &last.tau, omega),
+        (None, Some(th)) => thermo_clearance(&table, &y, &last.tau, th),
+        (None, None) => clearance(&table, &y, &last.tau),
     };
     sh.min_clearance = Some(gap);
     if let Some((k, d, g)) = blocked {
@@ -367,6 +389,14 @@ pub struct ShadowConfig {
     /// their shadows true orbits on arcs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field: Option<String>,
+    /// A Gaussian-thermostatted electric field E, its signed strength an exact decimal or
+    /// fraction, 0 < |E| ≤ 10 (`None` or 0: straight flights): the segments are `f64`
+    /// thermostatted orbits from equilibrium starts and their shadows true thermostatted orbits.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electric: Option<String>,
+    /// With `electric`: the field's angle from the x axis in degrees, exact (`None`: 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electric_angle: Option<String>,
 }
 
 /// The fields true shadowing takes: 10⁻³ ≤ |B| ≤ 10³, those of the transport runs whose segments
@@ -389,8 +419,22 @@ impl ShadowConfig {
     pub fn validate(&self) -> Result<(), Error> {
         check_request(self.collisions_per_segment, self.reference_bits)?;
         Error::unless_in("segments", self.segments, 1..=MAX_SEGMENTS, "")?;
-        self.field_exact()?;
+        self.motion()?;
         Ok(())
+    }
+
+    /// The motion, exact: the magnetic field, the thermostatted electric one, or `None`
+    /// (straight flights).
+    ///
+    /// # Errors
+    /// Both fields, an angle without a strength, or a field not exact or out of its range.
+    pub fn motion(&self) -> Result<Option<ExactMotion>, Error> {
+        ExactMotion::given(
+            self.field.as_deref(),
+            || self.field_exact(),
+            self.electric.as_deref(),
+            self.electric_angle.as_deref(),
+        )
     }
 }
 
@@ -447,10 +491,10 @@ pub fn run<S: Scene>(
         .costing(shadow_collisions_per_collision(bits) * mpfr_seconds_per_collision(bits))
         .check(threads)?;
     let field = field_of(scene, request)?;
-    let exact = field.as_ref().map(|f| &f.0);
+    let motion = request.motion()?;
     let out = par_batches(threads, segments, |k| {
-        let orbit = seeded_segment(scene, request, field.as_ref(), k)?;
-        let mut shadow = shadow_pseudo_orbit_in_field(scene, &orbit, bits, exact)?;
+        let orbit = seeded_segment(scene, request, field.as_ref(), motion.as_ref(), k)?;
+        let mut shadow = shadow_pseudo_orbit_in_motion(scene, &orbit, bits, motion.as_ref())?;
         shadow.orbit = Vec::new();
         progress(collisions as u64);
         Ok(SegmentShadow {

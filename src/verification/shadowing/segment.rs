@@ -48,6 +48,24 @@ pub fn f64_segment_in_field<S: Scene>(
     })
 }
 
+/// As [`f64_segment`], on the `f64` thermostat kernel in the field `fields` (the run's own
+/// [`CellFields`](crate::scenes::thermostat::CellFields)).
+///
+/// # Errors
+/// As [`f64_segment`]; a flight without a next event (a creeping slide).
+pub fn f64_segment_in_thermostat<S: Scene>(
+    scene: &S,
+    start: &LatticeState<f64>,
+    fields: &crate::scenes::thermostat::CellFields<f64>,
+    n: usize,
+    bits: u32,
+) -> Result<Vec<OrbitPoint>, Error> {
+    let lat = scene.lattice::<f64>(())?;
+    record_segment(scene, start, n, bits, |st| {
+        Ok(lat.step_thermostat(st, fields)?.kind)
+    })
+}
+
 /// The first `n` collisions of the orbit from `start` advanced event by event by `step`.
 fn record_segment<S: Scene>(
     scene: &S,
@@ -129,11 +147,13 @@ where
 }
 
 /// The segment of `config`'s run number `k`: the `f64` orbit from the equilibrium start of
-/// batch k (in a field, the diffusing start of batch k of the transport run in that field).
+/// batch k (in a field, the diffusing start of batch k of the transport run in that field; under
+/// the thermostat, the equilibrium start of batch k flown under it).
 pub(super) fn seeded_segment<S: Scene>(
     scene: &S,
     config: &ShadowConfig,
     field: Option<&(rug::Rational, crate::theory::magnetic::FieldGeometry)>,
+    motion: Option<&ExactMotion>,
     k: u32,
 ) -> Result<Vec<OrbitPoint>, Error> {
     let (n, bits, seed) = (
@@ -143,6 +163,11 @@ pub(super) fn seeded_segment<S: Scene>(
     );
     let Some((_, geometry)) = field else {
         let start = scene.sample(&mut stream(seed, k as u64));
+        if let Some(ExactMotion::Thermostat { field, angle }) = motion {
+            let th = crate::kernel::thermostat::Thermostat::<f64>::exact(field, angle, ());
+            let fields = crate::scenes::thermostat::CellFields::new(th.expect("a nonzero field"));
+            return f64_segment_in_thermostat(scene, &start, &fields, n, bits);
+        }
         return f64_segment(scene, &start, n, bits);
     };
     let key = crate::scenes::sampling::StreamKey::new(

@@ -14,6 +14,8 @@ pub struct Table {
     /// The field ω = B at the working precision (the velocity turns at the angular velocity ω,
     /// counter-clockwise for ω > 0), or `None`: straight flights.
     pub(super) omega: Option<Float>,
+    /// The thermostatted electric field at the working precision (world frame), or `None`.
+    pub(super) thermo: Option<crate::kernel::thermostat::Thermostat<Float>>,
     /// An open table's disk centres at the working precision (disk k is labelled (k, 0)), or
     /// `None`: the lattice's disks.
     pub(super) centres: Option<Vec<Vec2<Float>>>,
@@ -65,6 +67,7 @@ impl Table {
             r,
             bits,
             omega: None,
+            thermo: None,
             centres: None,
         })
     }
@@ -80,12 +83,13 @@ impl Table {
             r,
             bits,
             omega: None,
+            thermo: None,
             centres: Some(centres),
         }
     }
 
     /// The disk radius at the working precision.
-    pub(crate) fn radius(&self) -> &Float {
+    pub fn radius(&self) -> &Float {
         &self.r
     }
 
@@ -99,10 +103,30 @@ impl Table {
         bits: u32,
         field: Option<&rug::Rational>,
     ) -> Result<Self, Error> {
-        let mut t = Table::new(scene, bits)?;
-        t.omega = field
+        let motion = field
             .filter(|q| q.cmp0() != std::cmp::Ordering::Equal)
-            .map(|q| Float::with_val(bits, q));
+            .map(|q| ExactMotion::Field(q.clone()));
+        Table::in_motion(scene, bits, motion.as_ref())
+    }
+
+    /// The table of `scene` at `bits` under `motion` (`None`: straight flights): arcs of the
+    /// magnetic field, or the flights of the thermostatted electric field.
+    ///
+    /// # Errors
+    /// As [`Table::new`].
+    pub fn in_motion<S: Scene>(
+        scene: &S,
+        bits: u32,
+        motion: Option<&ExactMotion>,
+    ) -> Result<Self, Error> {
+        let mut t = Table::new(scene, bits)?;
+        match motion {
+            Some(ExactMotion::Field(b)) => t.omega = Some(Float::with_val(bits, b)),
+            Some(ExactMotion::Thermostat { field, angle }) => {
+                t.thermo = crate::kernel::thermostat::Thermostat::exact(field, angle, bits);
+            }
+            None => {}
+        }
         Ok(t)
     }
 
@@ -222,6 +246,9 @@ impl Table {
     pub(crate) fn step(&self, x: &OrbitPoint, next: [i64; 2]) -> Result<Step, StepFailure> {
         if let Some(omega) = &self.omega {
             return self.arc_step(x, next, omega);
+        }
+        if let Some(th) = &self.thermo {
+            return self.thermo_step(x, next, th);
         }
         let b = self.bits;
         let dep = self.departure(x)?;
