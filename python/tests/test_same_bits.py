@@ -213,6 +213,10 @@ def test_every_other_analysis_has_the_command_lines_bits(cli_json):
                            seed=2, field="1"),
          ["shadow", "--scene", "square", "--radius", "1/4", "--collisions-per-segment", "20",
           "--segments", "2", "--seed", "2", "--field", "1"]),
+        (lambda: lg.shadow(w="0.2", collisions_per_segment=20, segments=2, seed=2,
+                           electric="3/10", electric_angle=30),
+         ["shadow", "--w", "0.2", "--collisions-per-segment", "20", "--segments", "2", "--seed", "2",
+          "--electric", "3/10", "--electric-angle", "30"]),
     ]
     for run, args in cases:
         same(run().to_dict(), cli_json(*args), args[0])

@@ -72,6 +72,10 @@ pub(super) struct Pair<'a> {
     time: CompensatedSum,
     pending: (f64, f64, u64),
     events: u64,
+    /// Σ over renormalisations of |u_i| before the projections over the norm n_i after them: the
+    /// cancellation that scales the rounding of ln n_i (≈ 1, large after a nearly grazing
+    /// collision has turned both vectors towards the same direction).
+    cancel: f64,
     ln_f0: f64,
     ln_f: f64,
 }
@@ -135,6 +139,7 @@ impl<'a> Pair<'a> {
             time: CompensatedSum::default(),
             pending: (0.0, 0.0, 0),
             events: 0,
+            cancel: 0.0,
             ln_f0: 0.0,
             ln_f: 0.0,
         };
@@ -149,6 +154,7 @@ impl<'a> Pair<'a> {
         self.logs = [CompensatedSum::default(); 2];
         (self.alpha, self.time) = (CompensatedSum::default(), CompensatedSum::default());
         self.events = 0;
+        self.cancel = 0.0;
         self.ln_f0 = self.ln_f;
     }
 
@@ -176,6 +182,7 @@ impl<'a> Pair<'a> {
     fn renormalise(&mut self, v: &Vec2<f64>) {
         let f = [v.x, v.y, turn(self.world, v)];
         let ff = dot(&f, &f);
+        let before = self.u.map(|u| dot(&u, &u).sqrt());
         for u in &mut self.u {
             let c = dot(u, &f) / ff;
             for (a, b) in u.iter_mut().zip(&f) {
@@ -193,6 +200,7 @@ impl<'a> Pair<'a> {
         self.u[1] = self.u[1].map(|a| a / n2);
         self.logs[0].add(n1.ln());
         self.logs[1].add(n2.ln());
+        self.cancel += before[0] / n1 + before[1] / n2;
         self.ln_f = 0.5 * ff.ln();
         self.time.add(self.pending.0);
         self.alpha.add(self.pending.1);
@@ -218,6 +226,7 @@ impl<'a> Pair<'a> {
             residual: residual.value(),
             time: self.time.value(),
             bound: 64.0 * U * self.events as f64
+                + 16.0 * U * self.cancel
                 + 4.0 * U * (plus.abs() + minus.abs() + alpha.abs())
                 + 128.0 * U * self.world.strength * t,
         }
