@@ -217,6 +217,8 @@ class ShadowParams(TypedDict):
     reference_bits: str
     seed: str
     field: Optional[str]
+    electric: Optional[str]
+    electric_angle: Optional[str]
     threads: Optional[str]
 
 class CertifyParams(TypedDict):
