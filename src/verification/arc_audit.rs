@@ -96,9 +96,6 @@ pub fn check_curved_event<K64: CellKernel<f64>, KT: CellKernel<Tracked>>(
     take_ambiguous();
     take_free_ambiguous();
     let mut st = LatticeState::<Tracked>::convert_from_f64(bits, s);
-    if let Curved::Thermostat(_) = m_t {
-        super::thermo_audit::order_decisions(lat_t.cell(), &st.flight);
-    }
     let evt = m_t.next(lat_t, &st);
     let t64 = m64.time(s, &ev64);
     let mut a64 = s.clone();

@@ -14,30 +14,6 @@ use crate::kernel::vec2::Vec2;
 use crate::numbers::real::Real;
 use crate::numbers::tracked::Tracked;
 
-/// The order in which the kernel searches a cell's edges (the straight flight's crossing times
-/// σ/(−n·v), read in `f64`) decided on tracked numbers: a sign of n·v or a comparison of two
-/// neighbouring times within its bounds counts as an ambiguous decision. The kernel reads these
-/// times with `to_f64`, which a tracked number cannot watch, and the order sets the horizons the
-/// later searches march to.
-pub fn order_decisions(cell: &ConvexCell<Tracked>, f: &Flight<Tracked>) {
-    let mut times: Vec<Tracked> = cell
-        .edges
-        .iter()
-        .filter_map(|e| {
-            let nv = e.normal.dot(&f.vel);
-            nv.lt0().then(|| {
-                let sigma = e.normal.dot(&f.pos) - &e.offset;
-                sigma / &(-nv)
-            })
-        })
-        .collect();
-    times.sort_by(|a, b| a.v.total_cmp(&b.v));
-    for pair in times.windows(2) {
-        // The comparison flags a gap within the two bounds.
-        let _ = pair[0] < pair[1];
-    }
-}
-
 /// The largest residual of the reference flight `ev` from the start velocity `v0` under `th`
 /// (the cell's frame) against the independent closed forms of `proofs-notes/thermostat-audit.md`,
 /// each in units of its tolerance: above 1 the reference is not the thermostatted flight.

@@ -132,27 +132,59 @@ fn decide<T: Real>(j: &Jet<T>, on_identity: bool) -> Decision<T> {
     Decision::Step(f, j.f1.clone())
 }
 
+/// What one jet of a march says about its contact from the march's time a on.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Verdict<T> {
+    /// The contact, at a plus this (the Taylor step from a to the root).
+    Root(T),
+    /// On the obstacle by identity, moving along it and turning into it ([`Found::Creeps`]).
+    Creeps,
+    /// Certified free up to the horizon.
+    Clear,
+    /// Certified free over [a, a + s] for this s > 0 (or a step below the point's resolution:
+    /// a + s = a, the march standing at the root).
+    Free(T),
+}
+
+/// One step of a march: the verdict of the jet `j` of `c` at the march's time (on the obstacle
+/// by identity if `identity`, which only the start can be), `remaining` the time to the horizon
+/// and `hint` the march's step hint, updated.
+pub fn verdict<T: Real, C: Contact<T>>(
+    c: &C,
+    j: &Jet<T>,
+    identity: bool,
+    remaining: &T,
+    hint: &mut T,
+) -> Verdict<T> {
+    let (lo, slope) = match decide(j, identity) {
+        Decision::Root => return Verdict::Root(refine(j)),
+        Decision::Creeps => return Verdict::Creeps,
+        Decision::Step(lo, slope) => (lo, slope),
+    };
+    if !remaining.gt0() {
+        return Verdict::Clear;
+    }
+    let curv = (j.f2.clone() - &j.err[2]).scale(0.5);
+    match T::freely(|| advance(c, j, (&lo, &slope, &curv), remaining, hint)) {
+        Some(s) => Verdict::Free(s),
+        None => Verdict::Clear,
+    }
+}
+
 /// The earliest root of `c` in [0, `horizon`] (no horizon: until found), starting on the
-/// obstacle by identity if `identity`.
+/// obstacle by identity if `identity`: a march of [`verdict`]s at its own points.
 pub fn earliest<T: Real, C: Contact<T>>(c: &C, identity: bool, horizon: &T) -> Found<T> {
     let ctx = horizon.ctx();
     let mut a = T::zero(ctx);
     let mut hint = T::one(ctx);
     for n in 0..MAX_STEPS {
         let j = if n == 0 { c.start_jet(ctx) } else { c.jet(&a) };
-        let (lo, slope) = match decide(&j, identity && n == 0) {
-            Decision::Root => return Found::Root(a.clone() + &refine(&j)),
-            Decision::Creeps => return Found::Creeps,
-            Decision::Step(lo, slope) => (lo, slope),
-        };
         let remaining = horizon.clone() - &a;
-        if !remaining.gt0() {
-            return Found::Clear;
-        }
-        let curv = (j.f2.clone() - &j.err[2]).scale(0.5);
-        let step = T::freely(|| advance(c, &j, (&lo, &slope, &curv), &remaining, &mut hint));
-        let Some(s) = step else {
-            return Found::Clear;
+        let s = match verdict(c, &j, identity && n == 0, &remaining, &mut hint) {
+            Verdict::Root(s) => return Found::Root(a + &s),
+            Verdict::Creeps => return Found::Creeps,
+            Verdict::Clear => return Found::Clear,
+            Verdict::Free(s) => s,
         };
         let next = a.clone() + &s;
         // A step below the point's resolution: the march stands at the root (or one more

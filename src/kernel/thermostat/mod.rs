@@ -23,7 +23,9 @@
 //! [`ConvexCell::next_event_thermostat`]: super::cell::ConvexCell::next_event_thermostat
 
 pub mod cell;
+mod contacts;
 pub mod isolate;
+mod search;
 
 use super::arc::perp;
 use super::vec2::Vec2;

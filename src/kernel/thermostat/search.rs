@@ -1,0 +1,169 @@
+//! The next event of a thermostatted flight in a cell: one march for all its candidates.
+//!
+//! Every disk and edge is certified at the same flight points ([`isolate::verdict`]), so that one
+//! closed-form point — three correctly rounded calls — serves the jets of all of them, where a
+//! march per candidate formed points of its own (`proofs-notes/thermostat-flight.md`, "One march
+//! for all candidates"). The march goes to the earliest time up to which some candidate is not yet
+//! certified free; a candidate leaves it when it is certified free up to the earliest contact found
+//! so far (the horizon), or when its contact is found. Ties go to collisions before crossings, then
+//! to the lower label (the straight kernel's rule).
+
+use super::Start;
+use super::contacts::{Candidate, Here};
+use super::isolate::{self, MAX_STEPS, Verdict};
+use crate::kernel::flight::EventKind;
+use crate::numbers::real::Real;
+
+/// One candidate of the search: its contact function, its march's step hint, and the time up
+/// to which it is certified free.
+pub(super) struct Slot<'s, 'a, T: Real> {
+    kind: EventKind,
+    contact: Candidate<'s, 'a, T>,
+    hint: T,
+    free: T,
+    live: bool,
+    /// The march point whose jet it has seen last.
+    seen: Option<usize>,
+}
+
+/// The earliest contact found so far: its time and its candidate.
+type Best<T> = Option<(T, EventKind)>;
+
+/// The order of simultaneous events: collisions before crossings, then the lower label.
+fn rank(kind: EventKind) -> (bool, u8) {
+    match kind {
+        EventKind::Collision(m) => (false, m),
+        EventKind::Crossing(k) => (true, k),
+    }
+}
+
+/// Keeps the contact of `kind` at `t` if it comes before the best so far.
+fn offer<T: Real>(best: &mut Best<T>, t: T, kind: EventKind) {
+    let first = match best {
+        None => true,
+        Some((h, b)) => t < *h || (t == *h && rank(kind) < rank(*b)),
+    };
+    if first {
+        *best = Some((t, kind));
+    }
+}
+
+/// The time no march needs to pass: the earliest contact so far, else the exit bound.
+fn horizon<T: Real>(best: &Best<T>, exit: &T) -> T {
+    best.as_ref().map_or(exit, |b| &b.0).clone()
+}
+
+impl<'s, 'a, T: Real> Slot<'s, 'a, T> {
+    /// The candidate `kind` with its contact function, not yet certified anywhere.
+    pub fn new(kind: EventKind, contact: Candidate<'s, 'a, T>) -> Self {
+        let ctx = contact.start().thermostat().strength.ctx();
+        Slot {
+            kind,
+            contact,
+            hint: T::one(ctx),
+            free: T::zero(ctx),
+            live: true,
+            seen: None,
+        }
+    }
+
+    /// The candidate's verdict at the flight point `here` (the start if `first`) with the
+    /// horizon `horizon`: its contact offered to `best`, or its certificate extended. `false`
+    /// for the creeping limit on a disk (no next event).
+    fn visit(&mut self, here: &Here<'_, T>, first: bool, horizon: &T, best: &mut Best<T>) -> bool {
+        let a = here.t;
+        let identity = first && self.contact.identity();
+        let j = self.contact.jet_on(here);
+        let remaining = horizon.clone() - a;
+        match isolate::verdict(&self.contact, &j, identity, &remaining, &mut self.hint) {
+            Verdict::Root(s) => {
+                self.live = false;
+                offer(best, a.clone() + &s, self.kind);
+            }
+            Verdict::Creeps => {
+                self.live = false;
+                if matches!(self.kind, EventKind::Collision(_)) {
+                    return false;
+                }
+                // Entered by this edge and turning back out of the cell: an exit now.
+                offer(best, a.clone(), self.kind);
+            }
+            Verdict::Clear => self.live = false,
+            Verdict::Free(s) => {
+                let until = a.clone() + &s;
+                // A step below the point's resolution: the march stands at the root.
+                if T::freely(|| until <= *a) {
+                    self.live = false;
+                    offer(best, a.clone(), self.kind);
+                } else if T::freely(|| until > self.free) {
+                    // Any certified point serves: [0, free] and [a, a + s] are both free and
+                    // a ≤ free.
+                    self.free = until.anchored();
+                }
+            }
+        }
+        true
+    }
+}
+
+/// The live candidate certified free for the shortest time, if that is before `horizon`
+/// (those certified free up to it leave the march).
+fn least_free<T: Real>(slots: &mut [Slot<'_, '_, T>], horizon: &T) -> Option<usize> {
+    let mut least: Option<usize> = None;
+    for k in 0..slots.len() {
+        if !slots[k].live {
+            continue;
+        }
+        if T::freely(|| slots[k].free >= *horizon) {
+            slots[k].live = false;
+        } else if least.is_none_or(|l| T::freely(|| slots[k].free < slots[l].free)) {
+            least = Some(k);
+        }
+    }
+    least
+}
+
+/// The earliest contact of the flight `start` among `slots` before the exit bound `exit`, and its
+/// time: one march from t = 0 whose next point is where the least certified candidate's
+/// certificate ends. At each point a candidate's jet is formed only if its certificate ends
+/// first (all of them at the start), so that a point is formed only where a certificate from
+/// the point before cannot reach further. `None` for the creeping limit on a disk, or where no
+/// candidate has a contact before `exit`.
+pub(super) fn earliest_event<T: Real>(
+    start: &Start<'_, T>,
+    slots: &mut [Slot<'_, '_, T>],
+    exit: &T,
+) -> Option<(EventKind, T)> {
+    let mut best: Best<T> = None;
+    let mut a = T::zero(exit.ctx());
+    for n in 0..MAX_STEPS {
+        let owned;
+        let at = if n == 0 {
+            start.origin()
+        } else {
+            owned = start.at(&a);
+            &owned
+        };
+        let here = Here::new(start, &a, at);
+        loop {
+            let Some(k) = least_free(slots, &horizon(&best, exit)) else {
+                return best.map(|(t, kind)| (kind, t));
+            };
+            let slot = &mut slots[k];
+            if slot.seen == Some(n) {
+                a = slot.free.clone();
+                break;
+            }
+            slot.seen = Some(n);
+            if !slot.visit(&here, n == 0, &horizon(&best, exit), &mut best) {
+                return None;
+            }
+        }
+    }
+    // A march that has not ended stands at a grazing approach it can neither certify nor
+    // refuse: the candidates held at `a` take their contact there (as `isolate::earliest`).
+    for slot in slots.iter().filter(|s| s.live && s.free == a) {
+        offer(&mut best, a.clone(), slot.kind);
+    }
+    best.map(|(t, kind)| (kind, t))
+}
