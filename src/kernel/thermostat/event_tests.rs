@@ -266,8 +266,8 @@ fn lift_field_to(th: &Thermostat<f64>, bits: u32) -> Thermostat<Float> {
     }
 }
 
-/// The march is one algorithm at every precision (its step margins and the edges' order read
-/// from `f64` values, exact at 53 bits): 5 successive events from each of 600 random starts at
+/// The march is one algorithm at every precision (its step margins read from `f64` values,
+/// exact at 53 bits): 5 successive events from each of 600 random starts at
 /// w = 0.1 and 0.3, ε ∈ {0.01, 0.3, 3}, are the same in `f64` and MPFR-53 to the bit — kind,
 /// time, displacement and velocity — the point-reflected cells flipping the field in both.
 #[test]
