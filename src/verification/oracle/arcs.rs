@@ -19,9 +19,11 @@
 //! degenerate case (motion along an edge). Events keep states in the domain: a coordinate is a
 //! sum or difference of O(1) numbers, 0 or above 2⁻⁶⁰ — checked after every event.
 
+use super::curved_walk::{Judge, cell_and_exclusions_after, unit_speed_after, walk};
 use super::stepper::EventBounds;
 use super::*;
 use crate::kernel::field::ArcEvent;
+use crate::verification::curved::{Curved, CurvedEvent};
 
 /// The smallest nonzero magnitude of a state coordinate at which MPFR-53 and `f64` must agree
 /// bit for bit: products with fields down to 2⁻²⁰ and with other coordinates stay far above the
@@ -110,55 +112,27 @@ pub fn fly<S: Scene>(
     steps: u32,
 ) -> Result<OracleReport, OracleFailure> {
     let label = format!("{} B={b:e}", scene.label());
-    let fail_at = |event: Option<u64>, reason: String, state: String| {
-        OracleFailure::new(case, &label, event, reason, state)
-    };
     let lat = scene
         .lattice::<f64>(())
-        .map_err(|e| fail_at(None, e.to_string(), String::new()))?;
-    let l53 = scene
-        .lattice::<Float>(53)
-        .map_err(|e| fail_at(None, e.to_string(), String::new()))?;
-    let bounds = EventBounds::new(lat.cell().clone());
+        .map_err(|e| OracleFailure::new(case, &label, None, e.to_string(), String::new()))?;
+    let cell = lat.cell();
+    let bounds = EventBounds::new(cell.clone());
     let band = arc_energy_band(&bounds, b);
-    let b53 = Float::with_val(53, b);
-    let mut s = into_domain(lat.cell(), start.clone());
-    let mut m = LatticeState::<Float>::convert_from_f64(53, &s);
-    let mut rep = OracleReport::new(case, label.clone());
     // Consecutive returns to the disk the particle is on (see `returns_after`).
     let mut hops = 0.0;
-    for n in 0..u64::from(steps) {
-        let before = s.clone();
-        let fail = |reason: String| fail_at(Some(n), reason, format!("{before:?}"));
-        let (ev, ev53) = (
-            lat.next_event_in_field(&s, &b),
-            l53.next_event_in_field(&m, &b53),
-        );
-        let Some((ev, ev53)) = super::both(ev, ev53).map_err(fail)? else {
-            break;
+    let judge: &mut Judge<'_> = &mut |before, ev, after, rep| {
+        let CurvedEvent::Arc(ev) = ev else {
+            return Err(format!("not an arc's event: {:?}", ev.kind()));
         };
-        lat.apply_in_field(&mut s, &ev);
-        l53.apply_in_field(&mut m, &ev53);
-        if ev.kind != ev53.kind || m.to_f64() != s {
-            return Err(fail(format!(
-                "MPFR-53 {:?} to {:?}, f64 {:?} to {s:?}",
-                ev53.kind,
-                m.to_f64(),
-                ev.kind
-            )));
-        }
-        let kappa = concentricity(lat.cell(), &before.flight, &ev, b);
-        check(&bounds, band * kappa, &before, &ev, &s, &mut rep).map_err(fail)?;
-        hops = returns_after(hops, &before.flight, &ev, &s.flight);
-        bounds
-            .check_position_within(&s.flight, ev.kind, kappa * (1.0 + hops))
-            .map_err(fail)?;
-        if !in_domain(&s) {
-            return Err(fail(format!("left the arc kernel's domain: {s:?}")));
-        }
-        rep.events += 1;
-    }
-    Ok(rep)
+        let kappa = concentricity(cell, &before.flight, ev, b);
+        unit_speed_after(&after.flight, ev.kind, band * kappa, rep)?;
+        cell_and_exclusions_after(cell, before, ev.kind, after, rep)?;
+        hops = returns_after(hops, &before.flight, ev, &after.flight);
+        bounds.check_position_within(&after.flight, ev.kind, kappa * (1.0 + hops))
+    };
+    let motions = (&Curved::Arc(b), &Curved::Arc(Float::with_val(53, b)));
+    let run = (case, label.as_str(), steps);
+    walk(scene, &lat, run, start, motions, judge)
 }
 
 /// ||v|² − 1| ≤ `ARC_ENERGY_BAND_U`·u·(1 + extent/r)²·(1 + |B|·extent) after every arc event
@@ -212,44 +186,4 @@ fn returns_after(hops: f64, before: &Flight<f64>, ev: &ArcEvent<f64>, after: &Fl
         EventKind::Crossing(_) if after.excluded_disk.is_some() => hops,
         _ => 0.0,
     }
-}
-
-/// The checks after one arc event.
-fn check(
-    bounds: &EventBounds,
-    band: f64,
-    before: &LatticeState<f64>,
-    ev: &ArcEvent<f64>,
-    after: &LatticeState<f64>,
-    rep: &mut OracleReport,
-) -> Result<(), String> {
-    let fl = &after.flight;
-    super::finite_after(fl, ev.kind)?;
-    let dev = (fl.vel.norm2() - 1.0).abs() / U;
-    rep.worst_energy_u = rep.worst_energy_u.max(dev);
-    if dev.is_nan() || dev > band {
-        return Err(format!(
-            "|v|^2 - 1 = {dev} u after {:?} (band {} u)",
-            ev.kind, band
-        ));
-    }
-    match ev.kind {
-        EventKind::Collision(m) => {
-            rep.collisions += 1;
-            if after.cell != before.cell
-                || fl.excluded_disk != Some(m)
-                || fl.excluded_edge.is_some()
-            {
-                return Err(format!("cell or exclusions after collision {m}: {after:?}"));
-            }
-        }
-        EventKind::Crossing(k) => {
-            rep.crossings += 1;
-            let edge = &bounds.cell.edges[k as usize];
-            if after.cell != before.cell.across(edge) || fl.excluded_edge != Some(edge.entered) {
-                return Err(format!("cell or exclusions after crossing {k}: {after:?}"));
-            }
-        }
-    }
-    Ok(())
 }

@@ -52,6 +52,7 @@ use crate::verification::replay::check_event;
 
 mod arcs;
 mod bytes;
+mod curved_walk;
 mod geo;
 mod long_flight;
 mod long_flight_triangular;

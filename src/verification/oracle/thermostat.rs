@@ -14,11 +14,12 @@
 //! edge on a crossing and the obstacle met is excluded. A flight without a next event (the
 //! creeping limit) ends the input.
 
-use super::arcs::{in_domain, into_domain};
+use super::curved_walk::{Judge, cell_and_exclusions_after, unit_speed_after, walk};
 use super::*;
 use crate::kernel::thermostat::Thermostat;
 use crate::kernel::thermostat::cell::ThermoEvent;
 use crate::scenes::thermostat::CellFields;
+use crate::verification::curved::{Curved, CurvedEvent};
 
 /// Most events one input flies.
 pub const MAX_THERMO_STEPS: u32 = 4;
@@ -82,49 +83,25 @@ pub fn fly_thermostat<S: Scene>(
     steps: u32,
 ) -> Result<OracleReport, OracleFailure> {
     let label = format!("{} E={e:e} at {angle} rad", scene.label());
-    let fail_at = |event: Option<u64>, reason: String, state: String| {
-        OracleFailure::new(case, &label, event, reason, state)
-    };
-    let err = |e: crate::Error| fail_at(None, e.to_string(), String::new());
+    let err =
+        |e: crate::Error| OracleFailure::new(case, &label, None, e.to_string(), String::new());
     let lat = scene.lattice::<f64>(()).map_err(err)?;
-    let l53 = scene.lattice::<Float>(53).map_err(err)?;
     let lhp = scene.lattice::<Float>(FLIGHT_BITS).map_err(err)?;
     let (f64s, f53) = fields(e, angle, 53);
     let (_, fhp) = fields(e, angle, FLIGHT_BITS);
-    let band = energy_band(lat.cell());
-    let mut s = into_domain(lat.cell(), start.clone());
-    let mut m = LatticeState::<Float>::convert_from_f64(53, &s);
-    let mut rep = OracleReport::new(case, label.clone());
-    for n in 0..u64::from(steps) {
-        let before = s.clone();
-        let fail = |reason: String| fail_at(Some(n), reason, format!("{before:?}"));
-        let (ev, ev53) = (
-            lat.next_event_thermostat(&s, &f64s),
-            l53.next_event_thermostat(&m, &f53),
-        );
-        let Some((ev, ev53)) = super::both(ev, ev53).map_err(fail)? else {
-            break;
+    let cell = lat.cell();
+    let band = energy_band(cell);
+    let judge: &mut Judge<'_> = &mut |before, ev, after, rep| {
+        let CurvedEvent::Thermostat(ev) = ev else {
+            return Err(format!("not a thermostatted event: {:?}", ev.kind()));
         };
-        let th = f64s.in_cell(&s.cell);
-        let slack = no_missed_contact(lat.cell(), lhp.cell(), &s, th, fhp.in_cell(&s.cell), &ev)
-            .map_err(fail)?;
-        lat.apply_thermostat(&mut s, &ev);
-        l53.apply_thermostat(&mut m, &ev53);
-        if ev.kind != ev53.kind || m.to_f64() != s {
-            return Err(fail(format!(
-                "MPFR-53 {:?} to {:?}, f64 {:?} to {s:?}",
-                ev53.kind,
-                m.to_f64(),
-                ev.kind
-            )));
-        }
-        after_event(lat.cell(), band, slack, &before, &ev, &s, &mut rep).map_err(fail)?;
-        if !in_domain(&s) {
-            return Err(fail(format!("left the kernel's domain: {s:?}")));
-        }
-        rep.events += 1;
-    }
-    Ok(rep)
+        let (th, th_hp) = (f64s.in_cell(&before.cell), fhp.in_cell(&before.cell));
+        let slack = no_missed_contact(cell, lhp.cell(), before, th, th_hp, ev)?;
+        after_event(cell, band, slack, before, ev, after, rep)
+    };
+    let motions = (&Curved::Thermostat(f64s.clone()), &Curved::Thermostat(f53));
+    let run = (case, label.as_str(), steps);
+    walk(scene, &lat, run, start, motions, judge)
 }
 
 /// The contact functions of every disk and edge along the exact flight from `s` (at the
@@ -206,19 +183,11 @@ fn after_event(
     rep: &mut OracleReport,
 ) -> Result<(), String> {
     let fl = &after.flight;
-    super::finite_after(fl, ev.kind)?;
     // A contact a residual δF = |x − c|² − r² off the circle (|δF| ≤ 2e₀ + 64u, checked at the
     // event) reflects the speed² by up to 4|δF|/r²: the straight band plus that.
     let r = cell.smallest_radius();
     let band = band + 4.0 * (2.0 * slack + 64.0 * U) / (r * r * U);
-    let dev = (fl.vel.norm2() - 1.0).abs() / U;
-    rep.worst_energy_u = rep.worst_energy_u.max(dev);
-    if dev.is_nan() || dev > band {
-        return Err(format!(
-            "|v|^2 - 1 = {dev} u after {:?} (band {band} u)",
-            ev.kind
-        ));
-    }
+    unit_speed_after(fl, ev.kind, band, rep)?;
     let room = POST_EVENT_U * U * (1.0 + cell.extent()) + 2.0 * slack;
     for (m, disk) in cell.disks.iter().enumerate() {
         let d = fl.pos.sub(&disk.centre).norm2() - disk.radius2();
@@ -232,20 +201,5 @@ fn after_event(
             return Err(format!("outside edge {k} after {:?}: {sig:e}", ev.kind));
         }
     }
-    match ev.kind {
-        EventKind::Collision(m) => {
-            rep.collisions += 1;
-            if after.cell != before.cell || fl.excluded_disk != Some(m) {
-                return Err(format!("cell or exclusion after collision {m}: {after:?}"));
-            }
-        }
-        EventKind::Crossing(k) => {
-            rep.crossings += 1;
-            let edge = &cell.edges[k as usize];
-            if after.cell != before.cell.across(edge) || fl.excluded_edge != Some(edge.entered) {
-                return Err(format!("cell or exclusion after crossing {k}: {after:?}"));
-            }
-        }
-    }
-    Ok(())
+    cell_and_exclusions_after(cell, before, ev.kind, after, rep)
 }
