@@ -260,3 +260,86 @@ def test_a_key_not_read_or_missing_is_refused_naming_it():
         args = ({"unread": 1},) if name in ("constants", "EventStream") else ({"unread": 1}, None)
         with pytest.raises(ValueError, match="missing parameter"):
             native(*args)
+
+
+class _Handed(Exception):
+    """Raised by a stand-in compiled function once it has recorded its request."""
+
+
+def handed_request(monkeypatch, name, **kwargs):
+    """The request ``lorentz_gas.<name>(**kwargs)`` hands to its compiled function: each
+    compiled function of the analysis is replaced by one that records its request and stops."""
+    seen = {}
+
+    def stand_in(native):
+        def record(request, *rest):
+            seen[native] = dict(request)
+            raise _Handed
+        return record
+
+    for native in NATIVES[name]:
+        monkeypatch.setattr(_native, native, stand_in(native))
+    with pytest.raises(_Handed):
+        getattr(lg, name)(**kwargs)
+    assert len(seen) == 1, seen
+    return seen
+
+
+# Values of common keywords, two each: a call with one of them that differs from the default
+# must hand a different request on.
+VALUES = {
+    "engine": ["scalar", "simd"],
+    "seed": [3, 7],
+    "threads": [1, 2],
+    "batches": [3, 5],
+    "collisions": [10_000, 20_000],
+    "precision": ["f64", 128],
+}
+
+# Analyses whose every call needs more than w (a result to read, a table to draw): left to their
+# own tests.
+NEEDS_MORE = {"merge", "report", "figure", "reproduce", "events", "Trajectory", "trajectory",
+              "constants"}
+
+
+def forwarding_cases():
+    cases = []
+    for name in sorted(set(NATIVES) - NEEDS_MORE):
+        params = inspect.signature(getattr(lg, name)).parameters
+        for key, values in VALUES.items():
+            if key in params:
+                cases.append((name, key))
+    return cases
+
+
+@pytest.mark.parametrize("name,key", forwarding_cases())
+def test_every_common_keyword_reaches_the_compiled_function(monkeypatch, name, key):
+    """A keyword the wrapper takes but drops (a dict entry forgotten, or the default written in
+    its place) passes the name checks above; here a value other than the default must change
+    the request the compiled function is handed."""
+    params = inspect.signature(getattr(lg, name)).parameters
+    # The gap wherever it may be given (where it may also be left out, a run on its table); a
+    # sweep over w by its ends.
+    if name == "sweep":
+        base = {"w_from": "0.1", "w_to": "0.2", "steps": 2}
+    elif "w" in params and params["w"].default in (inspect.Parameter.empty, None):
+        base = {"w": "0.2"}
+    else:
+        base = {}
+    default = params[key].default
+    value = next(v for v in VALUES[key] if v != default)
+    before = handed_request(monkeypatch, name, **base)
+    after = handed_request(monkeypatch, name, **base, **{key: value})
+    assert before.keys() == after.keys(), (before.keys(), after.keys())
+    (native,) = before
+    assert before[native] != after[native], (
+        f"lorentz_gas.{name}({key}={value!r}) hands _native.{native} the request of the default"
+    )
+
+
+def test_the_forwarding_test_covers_the_analyses_that_run_on_an_engine():
+    covered = {(n, k) for n, k in forwarding_cases()}
+    for name in ["diffusion", "hops", "sweep", "bench"]:
+        assert (name, "engine") in covered, name
+    for name in ["diffusion", "hops", "theory", "lattice_walk", "backscatter", "lyapunov"]:
+        assert (name, "seed") in covered, name
