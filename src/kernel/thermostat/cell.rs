@@ -62,8 +62,8 @@ pub fn exit_bound<T: Real>(cell: &ConvexCell<T>, p: &Vec2<T>, start: &Start<'_, 
 impl<T: Real> ConvexCell<T> {
     /// The next event of the flight `f` under the thermostat `th` (expressed in this cell's
     /// frame), or `None`: a particle sliding along the disk it is on (the creeping limit,
-    /// [`Found::Creeps`]), or a flight no edge of which is found before its exit bound (a zero or
-    /// non-finite velocity).
+    /// [`super::isolate::Found::Creeps`]), or a flight with no contact before its exit bound (a
+    /// zero or non-finite velocity).
     ///
     /// # Examples
     ///
