@@ -74,3 +74,22 @@ fn cycles_at_r_over_a_6_give_the_known_escape_rate_within_the_truncation_error()
         "{text}"
     );
 }
+
+/// Lattice cycles up to length 2 at w = 1/10 all return (every winding 0): D_2 and ⟨n²⟩ are
+/// zero, printed as 0.00000000 and recorded as 0.0, never with the sign of −0.
+#[test]
+fn lattice_cycles_that_all_return_give_an_unsigned_zero_d() {
+    let tmp = scratch();
+    let line = "cycles --w 1/10 --max-length 2 --msd-collisions 0";
+    let (code, text, err) = lorentz_in(tmp.path(), &words(line));
+    assert_eq!(code, 0, "{err}");
+    assert!(!text.contains("-0.00000000"), "{text}");
+    let (code, out, err) = lorentz_in(tmp.path(), &words(&format!("{line} --json --quiet")));
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let last = &v["table"][1];
+    for key in ["diffusion", "mean_square_winding"] {
+        let x = last[key].as_f64().unwrap();
+        assert!(x == 0.0 && x.is_sign_positive(), "{key} = {x:?}");
+    }
+}

@@ -121,7 +121,9 @@ pub fn averages(cycles: &[WindingWeight], max_length: usize) -> Vec<Averages> {
             n_mean -= a[m].0[0].clone() * m as u32;
             let zeta = (a[0].0[0].clone() + &f.0[0]).to_f64();
             let mean_period = f.0[1].to_f64();
-            let square = -(f.0[4].clone() + &f.0[5]).to_f64();
+            // 0 − x, not −x: an expansion whose cycles all return (every winding 0) gives +0,
+            // not the −0 that printed as "-0.00000000".
+            let square = 0.0 - (f.0[4].clone() + &f.0[5]).to_f64();
             Averages {
                 zeta,
                 mean_period,
