@@ -146,7 +146,8 @@ pub(super) fn earliest_event<T: Real>(
         };
         let here = Here::new(start, &a, at);
         loop {
-            let Some(k) = least_free(slots, &horizon(&best, exit)) else {
+            let h = horizon(&best, exit);
+            let Some(k) = least_free(slots, &h) else {
                 return best.map(|(t, kind)| (kind, t));
             };
             let slot = &mut slots[k];
@@ -155,7 +156,7 @@ pub(super) fn earliest_event<T: Real>(
                 break;
             }
             slot.seen = Some(n);
-            if !slot.visit(&here, n == 0, &horizon(&best, exit), &mut best) {
+            if !slot.visit(&here, n == 0, &h, &mut best) {
                 return None;
             }
         }
