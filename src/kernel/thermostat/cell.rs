@@ -52,11 +52,24 @@ pub fn exit_bound<T: Real>(cell: &ConvexCell<T>, p: &Vec2<T>, start: &Start<'_, 
         .sqrt()
         .scale(1.0 + 1.0 / 1024.0);
     let lag = if start.p.gt0() {
-        (T::from_f64(ctx, 2.0) / &start.p).ln() / &start.thermostat().strength
+        T::from_f64(ctx, ln_above(2.0 / start.p.to_f64())) / &start.thermostat().strength
     } else {
         T::zero(ctx)
     };
     (far + &lag.scale(1.0 + 1.0 / 1024.0)).add_f64(1e-9)
+}
+
+/// An upper bound on ln y for y ≥ 1 by arithmetic on its binary exponent: y = 2ᵏm with
+/// m ∈ [1, 2) and ln m ≤ m − 1, so ln y ≤ k·ln 2 + m − 1 (ln 2 rounded up), within ln 2 − ½ of
+/// ln y. No correctly rounded call for a bound the march only needs to be above the exit.
+fn ln_above(y: f64) -> f64 {
+    if !(y.is_finite() && y >= 1.0) {
+        return if y < 1.0 { 0.0 } else { f64::INFINITY };
+    }
+    let bits = y.to_bits();
+    let k = ((bits >> 52) & 0x7ff) as f64 - 1023.0;
+    let m = f64::from_bits((bits & ((1u64 << 52) - 1)) | (1023u64 << 52));
+    k * 0.693_147_180_559_945_4 + (m - 1.0)
 }
 
 impl<T: Real> ConvexCell<T> {
@@ -88,9 +101,18 @@ impl<T: Real> ConvexCell<T> {
         let mut slots: Vec<Slot<'_, '_, T>> = kinds
             .map(|k| Slot::new(k, Candidate::new(self, &start, f, k)))
             .collect();
-        let (kind, time) = search::earliest_event(&start, &mut slots, &exit)?;
-        let at = start.at(&time);
-        Some(ThermoEvent { kind, time, at })
+        let found = search::earliest_event(&start, &mut slots, &exit)?;
+        // The Taylor step from the march's last point where its remainder is below the
+        // precision, else the closed form at the event's time.
+        let at = found
+            .from
+            .and_then(|(p, s)| start.step_from(&p, &s))
+            .unwrap_or_else(|| start.at(&found.time));
+        Some(ThermoEvent {
+            kind: found.kind,
+            time: found.time,
+            at,
+        })
     }
 
     /// The contact function of the candidate `kind` along the flight `f` at the time `t`: its

@@ -164,11 +164,45 @@ pub fn verdict<T: Real, C: Contact<T>>(
     if !remaining.gt0() {
         return Verdict::Clear;
     }
+    if !identity && let Some(s) = T::freely(|| bracketed(c, j, remaining)) {
+        return Verdict::Root(s);
+    }
     let curv = (j.f2.clone() - &j.err[2]).scale(0.5);
     match T::freely(|| advance(c, j, (&lo, &slope, &curv), remaining, hint)) {
         Some(s) => Verdict::Free(s),
         None => Verdict::Clear,
     }
+}
+
+/// The Taylor step to the root from a point a where the march may stop before F − e₀ ≤ 0: an
+/// approaching contact whose Taylor step s ≤ `remaining` leaves a remainder Ms³/6, with the
+/// slope's and curvature's errors e₁s + e₂s²/2, below e₀/128, and whose F stays monotone over
+/// [a, a + s] (|F′| − e₁ − (|F″| + e₂)s − Ms²/2 > 0). The exact contact is then the only root
+/// there and within (e_F + e₀/128)/|F′| of a + s, inside the band of the stop at F − e₀ ≤ 0
+/// (`proofs-notes/thermostat-flight.md`, "The bracket stop"). In `f64` from the values, so the
+/// same decision at every precision.
+fn bracketed<T: Real, C: Contact<T>>(c: &C, j: &Jet<T>, remaining: &T) -> Option<T> {
+    let (f, f1, f2) = (j.f.to_f64(), j.f1.to_f64(), j.f2.to_f64());
+    let [e0, e1, e2] = [0, 1, 2].map(|k| j.err[k].to_f64());
+    // Approaching, and near enough that a cubic term from the linear step may be below e₀.
+    if !(f1 < 0.0 && f > e0) {
+        return None;
+    }
+    let near = f / -f1;
+    let quick = c.third(j, &T::from_f64(j.f.ctx(), 2.0 * near)).to_f64();
+    if !(quick * near * near * near * 22.0 <= e0) {
+        return None;
+    }
+    let half = j.f2.clone().scale(0.5);
+    let step = first_root(&j.f, &j.f1, &half)?;
+    if !(step <= *remaining) {
+        return None;
+    }
+    let s = step.to_f64();
+    let m = c.third(j, &step).to_f64();
+    let rest = m * s * s * s / 6.0 + e1 * s + e2 * s * s / 2.0;
+    let slope = -f1 - e1 - (f2.abs() + e2) * s - m * s * s / 2.0;
+    (rest * 128.0 <= e0 && slope > 0.0).then_some(step)
 }
 
 /// The earliest root of `c` in [0, `horizon`] (no horizon: until found), starting on the
@@ -229,7 +263,12 @@ fn advance<T: Real, C: Contact<T>>(
         h = h.anchored();
         // Mh/6, rounded up by the factor's excess over 1/6 (0.1666667 > 1/6).
         let quad = curv.clone() - &(c.third(j, &h) * &h).scale(0.166_666_7);
-        match first_root(lo, slope, &quad) {
+        let root = if clear_over(lo, slope, &quad, &h) {
+            None
+        } else {
+            first_root(lo, slope, &quad)
+        };
+        match root {
             Some(s) if s < h => {
                 let shrink = s.clone().scale(4.0) < h;
                 if best.as_ref().is_none_or(|b| s > b.0) {
@@ -260,6 +299,23 @@ fn advance<T: Real, C: Contact<T>>(
     *hint = s.clone().scale(2.0);
     // The root less twice its rounding error: below the exact root of L.
     Some(s.clone() - &s.scale(2.0 * rel))
+}
+
+/// Whether lo + bs + cs² (lo > 0) is certainly positive over [0, h], decided without its roots:
+/// positive at h beyond the rounding of its value there, and without a minimum inside (not
+/// convex, not falling at 0, or still falling at h — its vertex at or beyond h). Where this
+/// cannot say, [`first_root`] decides; it says yes only where the smallest positive root is
+/// beyond h, so the march's steps are those of the roots, with fewer square roots.
+fn clear_over<T: Real>(lo: &T, b: &T, c: &T, h: &T) -> bool {
+    let at_h = lo.clone() + &(h.clone() * &(b.clone() + &(h.clone() * c)));
+    let (l, bb, cc, x) = (lo.to_f64(), b.to_f64(), c.to_f64(), h.to_f64());
+    let u = T::unit_roundoff(lo.ctx());
+    if !(at_h.to_f64() > 8.0 * u * (l.abs() + x * bb.abs() + x * x * cc.abs())) {
+        return false;
+    }
+    // The vertex's test is in `f64`, so with f64's rounding at every precision.
+    let w = u.max(f64::EPSILON);
+    cc <= 0.0 || bb >= 0.0 || bb + 2.0 * cc * x < -8.0 * w * (bb.abs() + 2.0 * cc.abs() * x)
 }
 
 /// A bound on the relative error of [`first_root`]'s value (a + bs + cs², a ≥ 0): a few units

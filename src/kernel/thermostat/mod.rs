@@ -241,6 +241,44 @@ impl<T: Real> Start<'_, T> {
         }
     }
 
+    /// The flight at a + `s` from its point `at` at a, by a third-order Taylor step, where that
+    /// step's remainder is below the working precision: (εs)³ ≤ 3u/64 (`None` beyond). With
+    /// |v⃛| ≤ 2ε³|sin θ| the remainders are ε³s³/3 ≤ u/64 for the velocity and ε³s⁴/12 ≤ su/256 for
+    /// the displacement (`proofs-notes/thermostat-flight.md`, "The event's point"); the jerk is
+    /// v̈ = −ε² sin θ (sin 2θ ê − cos 2θ ê⊥), the acceleration that of the new velocity. Four
+    /// operations only, so the same in `f64` and MPFR-53.
+    pub fn step_from(&self, at: &FlightPoint<T>, s: &T) -> Option<FlightPoint<T>> {
+        let th = self.th;
+        let eps = &th.strength;
+        let es = (eps.clone() * s).to_f64();
+        if !(es >= 0.0 && es * es * es <= 3.0 / 64.0 * T::unit_roundoff(s.ctx())) {
+            return None;
+        }
+        let (cos, sin) = (th.dir.dot(&at.vel), th.dir.cross(&at.vel));
+        let k = -(eps.square() * &sin);
+        let double = (cos.clone() * &sin).scale(2.0);
+        let cos2 = (cos.clone() - &sin) * &(cos + &sin);
+        let jerk = th.world(&(k.clone() * &double), &(-(k * &cos2)));
+        // Δv = s(v̇ + (s/2)v̈), ΔX = s(v + (s/2)(v̇ + (s/3)v̈)).
+        let half = s.clone().scale(0.5);
+        let third = s.clone() / &T::from_f64(s.ctx(), 3.0);
+        let (v, a) = (&at.vel, &at.acc);
+        let term = |x: &T, y: &T, h: &T| x.clone() + &(h.clone() * y);
+        let dvx = s.clone() * &term(&a.x, &jerk.x, &half);
+        let dvy = s.clone() * &term(&a.y, &jerk.y, &half);
+        let dx = s.clone() * &term(&v.x, &term(&a.x, &jerk.x, &third), &half);
+        let dy = s.clone() * &term(&v.y, &term(&a.y, &jerk.y, &third), &half);
+        let along = at.along.clone() + &(th.dir.x.clone() * &dx + &(th.dir.y.clone() * &dy));
+        let vel = Vec2::new(v.x.clone() + &dvx, v.y.clone() + &dvy);
+        let (c, n) = (th.dir.dot(&vel), th.dir.cross(&vel));
+        Some(FlightPoint {
+            disp: Vec2::new(at.disp.x.clone() + &dx, at.disp.y.clone() + &dy),
+            acc: th.acceleration(&c, &n),
+            vel,
+            along,
+        })
+    }
+
     /// The error model of [`Start::at`] at `t` in units of the working precision
     /// (`proofs-notes/thermostat-flight.md`): bounds (δX, δv) on the errors of the displacement
     /// and the velocity against the exact flight of the same start. The forms' own rounding gives

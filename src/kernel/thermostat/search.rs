@@ -8,9 +8,9 @@
 //! so far (the horizon), or when its contact is found. Ties go to collisions before crossings, then
 //! to the lower label (the straight kernel's rule).
 
-use super::Start;
 use super::contacts::{Candidate, Here};
 use super::isolate::{self, MAX_STEPS, Verdict};
+use super::{FlightPoint, Start};
 use crate::kernel::flight::EventKind;
 use crate::numbers::real::Real;
 
@@ -26,8 +26,20 @@ pub(super) struct Slot<'s, 'a, T: Real> {
     seen: Option<usize>,
 }
 
-/// The earliest contact found so far: its time and its candidate.
-type Best<T> = Option<(T, EventKind)>;
+/// A contact found: its time, its candidate, and where its Taylor step left from — the flight
+/// point of the march at a and the step s, the contact being at a + s (none where it is the
+/// march's own point).
+pub(super) struct Found<T> {
+    /// The contact's time.
+    pub time: T,
+    /// Its candidate.
+    pub kind: EventKind,
+    /// The march point a and the step s to the contact.
+    pub from: Option<(FlightPoint<T>, T)>,
+}
+
+/// The earliest contact found so far.
+type Best<T> = Option<Found<T>>;
 
 /// The order of simultaneous events: collisions before crossings, then the lower label.
 fn rank(kind: EventKind) -> (bool, u8) {
@@ -37,20 +49,26 @@ fn rank(kind: EventKind) -> (bool, u8) {
     }
 }
 
-/// Keeps the contact of `kind` at `t` if it comes before the best so far.
-fn offer<T: Real>(best: &mut Best<T>, t: T, kind: EventKind) {
+/// Keeps the contact of `kind` at `t`, reached from `from`, if it comes before the best so far.
+fn offer<T: Real>(
+    best: &mut Best<T>,
+    time: T,
+    kind: EventKind,
+    from: impl FnOnce() -> Option<(FlightPoint<T>, T)>,
+) {
     let first = match best {
         None => true,
-        Some((h, b)) => t < *h || (t == *h && rank(kind) < rank(*b)),
+        Some(b) => time < b.time || (time == b.time && rank(kind) < rank(b.kind)),
     };
     if first {
-        *best = Some((t, kind));
+        let from = from();
+        *best = Some(Found { time, kind, from });
     }
 }
 
 /// The time no march needs to pass: the earliest contact so far, else the exit bound.
 fn horizon<T: Real>(best: &Best<T>, exit: &T) -> T {
-    best.as_ref().map_or(exit, |b| &b.0).clone()
+    best.as_ref().map_or(exit, |b| &b.time).clone()
 }
 
 impl<'s, 'a, T: Real> Slot<'s, 'a, T> {
@@ -78,7 +96,8 @@ impl<'s, 'a, T: Real> Slot<'s, 'a, T> {
         match isolate::verdict(&self.contact, &j, identity, &remaining, &mut self.hint) {
             Verdict::Root(s) => {
                 self.live = false;
-                offer(best, a.clone() + &s, self.kind);
+                let t = a.clone() + &s;
+                offer(best, t, self.kind, || Some((here.at.clone(), s)));
             }
             Verdict::Creeps => {
                 self.live = false;
@@ -86,7 +105,7 @@ impl<'s, 'a, T: Real> Slot<'s, 'a, T> {
                     return false;
                 }
                 // Entered by this edge and turning back out of the cell: an exit now.
-                offer(best, a.clone(), self.kind);
+                offer(best, a.clone(), self.kind, || None);
             }
             Verdict::Clear => self.live = false,
             Verdict::Free(s) => {
@@ -94,7 +113,7 @@ impl<'s, 'a, T: Real> Slot<'s, 'a, T> {
                 // A step below the point's resolution: the march stands at the root.
                 if T::freely(|| until <= *a) {
                     self.live = false;
-                    offer(best, a.clone(), self.kind);
+                    offer(best, a.clone(), self.kind, || None);
                 } else if T::freely(|| until > self.free) {
                     // Any certified point serves: [0, free] and [a, a + s] are both free and
                     // a ≤ free.
@@ -133,7 +152,7 @@ pub(super) fn earliest_event<T: Real>(
     start: &Start<'_, T>,
     slots: &mut [Slot<'_, '_, T>],
     exit: &T,
-) -> Option<(EventKind, T)> {
+) -> Option<Found<T>> {
     let mut best: Best<T> = None;
     let mut a = T::zero(exit.ctx());
     for n in 0..MAX_STEPS {
@@ -148,7 +167,7 @@ pub(super) fn earliest_event<T: Real>(
         loop {
             let h = horizon(&best, exit);
             let Some(k) = least_free(slots, &h) else {
-                return best.map(|(t, kind)| (kind, t));
+                return best;
             };
             let slot = &mut slots[k];
             if slot.seen == Some(n) {
@@ -164,7 +183,7 @@ pub(super) fn earliest_event<T: Real>(
     // A march that has not ended stands at a grazing approach it can neither certify nor
     // refuse: the candidates held at `a` take their contact there (as `isolate::earliest`).
     for slot in slots.iter().filter(|s| s.live && s.free == a) {
-        offer(&mut best, a.clone(), slot.kind);
+        offer(&mut best, a.clone(), slot.kind, || None);
     }
-    best.map(|(t, kind)| (kind, t))
+    best
 }

@@ -369,3 +369,64 @@ fn the_start_point_is_the_calls_at_zero_bit_for_bit() {
         );
     }
 }
+
+/// The event's point by a Taylor step ([`Start::step_from`], `proofs-notes/thermostat-flight.md`,
+/// "The event's point"), over 2000 random flights (a quarter near anti-alignment) and steps up
+/// to the largest it takes: in `f64`, within [`Start::error`] at t + s of the exact flight; at
+/// 200 bits, within the two closed forms' models plus the remainders (ε³s³/3 for the velocity,
+/// ε³s⁴/12 for the displacement) of the closed form at t + s; refused beyond (εs)³ = 3u/64.
+#[test]
+fn a_taylor_step_to_the_event_is_within_the_model() {
+    let mut r = Mix(23);
+    let diff = |a: &Vec2<Float>, b: &Vec2<Float>| {
+        let (x, y) = (
+            Float::with_val(BITS, &a.x - &b.x),
+            Float::with_val(BITS, &a.y - &b.y),
+        );
+        Float::with_val(BITS, x.square() + y.square())
+            .sqrt()
+            .to_f64()
+    };
+    let mut worst: f64 = 0.0;
+    for n in 0..2000 {
+        let (th, v, t) = random_flight(&mut r, n);
+        let eps = th.strength;
+        let start = th.start(&v);
+        let widest = (3.0 / 64.0 * U).cbrt() / eps;
+        let s = widest * r.unit();
+        let p = start
+            .step_from(&start.at(&t), &s)
+            .expect("a step within the bound");
+        assert!(start.step_from(&start.at(&t), &(1.01 * widest)).is_none());
+        let hi = lift(&th);
+        let hs = hi.start(&Vec2::new(big(v.x), big(v.y)));
+        let exact = hs.at(&(big(t) + s));
+        let (mx, mv) = start.error(&(t + s));
+        let (dx, dv) = (dist(&exact.disp, &p.disp), dist(&exact.vel, &p.vel));
+        assert!(
+            dx <= mx && dv <= mv,
+            "{n}: δX = {dx:e} of {mx:e}, δv = {dv:e} of {mv:e}"
+        );
+        worst = worst.max(dx / mx).max(dv / mv);
+        // At 200 bits the remainder is what separates the step from the closed form (of a start
+        // and a field of unit length at 200 bits: the forms take them so).
+        let field = unit_field(eps, th.dir.y.atan2(th.dir.x));
+        let hs = field.start(&unit(v.y.atan2(v.x)));
+        let u = <Float as Real>::unit_roundoff(BITS);
+        let s = big((3.0 / 64.0 * u).cbrt() / eps * r.unit());
+        let p = hs
+            .step_from(&hs.at(&big(t)), &s)
+            .expect("a step within the bound");
+        let ts = big(t) + &s;
+        let exact = hs.at(&ts);
+        let es = eps * s.to_f64();
+        let (ma, va) = hs.error(&big(t));
+        let (mb, vb) = hs.error(&ts);
+        let (rx, rv) = (es.powi(3) * s.to_f64() / 12.0, es.powi(3) / 3.0);
+        let (dx, dv) = (diff(&exact.disp, &p.disp), diff(&exact.vel, &p.vel));
+        let slack = 4.0 * u * (1.0 + ts.to_f64());
+        assert!(dx <= ma + mb + rx + slack, "{n}: 200 bits δX = {dx:e}");
+        assert!(dv <= va + vb + rv + slack, "{n}: 200 bits δv = {dv:e}");
+    }
+    eprintln!("largest error / model of the Taylor step in f64: {worst:.3}");
+}
