@@ -190,12 +190,15 @@ fn bracketed<T: Real, C: Contact<T>>(c: &C, j: &Jet<T>, remaining: &T) -> Option
     }
     let near = f / -f1;
     let quick = c.third(j, &T::from_f64(j.f.ctx(), 2.0 * near)).to_f64();
-    if !(quick * near * near * near * 22.0 <= e0) {
+    // (NaN-safe: a comparison that fails, fails the stop.)
+    let close = quick * near * near * near * 22.0 <= e0;
+    if !close {
         return None;
     }
     let half = j.f2.clone().scale(0.5);
     let step = first_root(&j.f, &j.f1, &half)?;
-    if !(step <= *remaining) {
+    let within = step <= *remaining;
+    if !within {
         return None;
     }
     let s = step.to_f64();
@@ -310,7 +313,8 @@ fn clear_over<T: Real>(lo: &T, b: &T, c: &T, h: &T) -> bool {
     let at_h = lo.clone() + &(h.clone() * &(b.clone() + &(h.clone() * c)));
     let (l, bb, cc, x) = (lo.to_f64(), b.to_f64(), c.to_f64(), h.to_f64());
     let u = T::unit_roundoff(lo.ctx());
-    if !(at_h.to_f64() > 8.0 * u * (l.abs() + x * bb.abs() + x * x * cc.abs())) {
+    let above = at_h.to_f64() > 8.0 * u * (l.abs() + x * bb.abs() + x * x * cc.abs());
+    if !above {
         return false;
     }
     // The vertex's test is in `f64`, so with f64's rounding at every precision.
