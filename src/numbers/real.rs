@@ -214,6 +214,15 @@ pub trait Real:
         self
     }
 
+    /// The same value, carrying a truncation of at most `e` besides its rounding (a Taylor
+    /// step's remainder): the identity for every type but the running error analysis
+    /// ([`super::tracked::Tracked`]), which adds `e` to its bound. No arithmetic.
+    #[inline(always)]
+    fn truncated(self, e: f64) -> Self {
+        let _ = e;
+        self
+    }
+
     /// Runs `f`, whose decisions are free choices of an algorithm (a trial step's size, whether
     /// to march on or take the Taylor step to the root): `f()` for every type; the running error
     /// analysis counts an ambiguous decision in it apart, as one that changes the path and not,

@@ -369,6 +369,13 @@ impl Real for Tracked {
     fn anchored(self) -> Tracked {
         Tracked { v: self.v, e: 0.0 }
     }
+    /// A truncation bounded by `e` joins the running bound.
+    fn truncated(self, e: f64) -> Tracked {
+        Tracked {
+            v: self.v,
+            e: self.e + e,
+        }
+    }
     /// The decisions in `f` are counted apart ([`take_free_ambiguous`]).
     fn freely<R>(f: impl FnOnce() -> R) -> R {
         FREE_DEPTH.with(|d| d.set(d.get() + 1));

@@ -268,11 +268,20 @@ impl<T: Real> Start<'_, T> {
         let dvy = s.clone() * &term(&a.y, &jerk.y, &half);
         let dx = s.clone() * &term(&v.x, &term(&a.x, &jerk.x, &third), &half);
         let dy = s.clone() * &term(&v.y, &term(&a.y, &jerk.y, &third), &half);
-        let along = at.along.clone() + &(th.dir.x.clone() * &dx + &(th.dir.y.clone() * &dy));
-        let vel = Vec2::new(v.x.clone() + &dvx, v.y.clone() + &dvy);
+        // The remainders, in the running error analysis's bound (no arithmetic elsewhere).
+        let (rv, rx) = (es * es * es / 3.0, es * es * es * s.to_f64() / 12.0);
+        let along = (at.along.clone() + &(th.dir.x.clone() * &dx + &(th.dir.y.clone() * &dy)))
+            .truncated(rx);
+        let vel = Vec2::new(
+            (v.x.clone() + &dvx).truncated(rv),
+            (v.y.clone() + &dvy).truncated(rv),
+        );
         let (c, n) = (th.dir.dot(&vel), th.dir.cross(&vel));
         Some(FlightPoint {
-            disp: Vec2::new(at.disp.x.clone() + &dx, at.disp.y.clone() + &dy),
+            disp: Vec2::new(
+                (at.disp.x.clone() + &dx).truncated(rx),
+                (at.disp.y.clone() + &dy).truncated(rx),
+            ),
             acc: th.acceleration(&c, &n),
             vel,
             along,
