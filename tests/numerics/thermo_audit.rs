@@ -7,11 +7,15 @@
 //! * production trajectories at w = 0.1 and 0.3 in fields E = 1/100, 3/10 and 3 (at 30° and
 //!   −90°): nothing outside the model, and the bound is not vacuous;
 //! * the audit catches an `f64` run in a field 10⁻¹² off the exact one;
-//! * the recorded worst events replay to their verdict.
+//! * the recorded worst events replay to their verdict, and the events of the first audit of the
+//!   Taylor step to the event's point that its residual check wrongly put outside replay inside.
 
+use lorentz_gas::kernel::flight::Flight;
 use lorentz_gas::kernel::thermostat::Thermostat;
+use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::numbers::tracked::Tracked;
 use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::lattice::{CellIndex, LatticeState};
 use lorentz_gas::scenes::thermostat::CellFields;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::verification::arc_audit::{check_curved_event, recorded_state};
@@ -123,5 +127,131 @@ fn worst_thermostat_events_replay_to_their_verdict() {
         let c = check_curved_event(&lat64, &lat_t, &s, &m64, &m_t).unwrap();
         assert_eq!(c.position_error, e.check.position_error);
         assert_eq!(c.in_model, e.check.in_model);
+    }
+}
+
+/// The eight events farthest outside the model in the first audit of the Taylor step to the
+/// event's point (19 of 6.18·10⁶ events, every one through its closed-form residual, up to 5.3
+/// times its tolerance: the replay's step carried a remainder up to u/64 that the check did not
+/// allow; `proofs-notes/thermostat-audit.md`, "Measured") replay inside it, their reference the
+/// thermostatted flight.
+#[test]
+fn taylor_stepped_event_points_found_outside_replay_inside_the_model() {
+    type Case = (f64, &'static str, [u64; 4], [Option<u8>; 2], bool);
+    let cases: [Case; 8] = [
+        (
+            0.1,
+            "3",
+            [
+                4607154184861138508,
+                4590365341409302731,
+                4607110258820953814,
+                13817091472848951585,
+            ],
+            [Some(0), None],
+            true,
+        ),
+        (
+            0.1,
+            "3/10",
+            [
+                4603101952714018541,
+                4606708571708872587,
+                4605374106810159006,
+                13826960726688334773,
+            ],
+            [None, Some(1)],
+            true,
+        ),
+        (
+            0.1,
+            "3/10",
+            [
+                4603057244367009805,
+                4605744596801998778,
+                13828240760029368842,
+                4604202378708508456,
+            ],
+            [Some(0), None],
+            false,
+        ),
+        (
+            0.1,
+            "3",
+            [
+                4607157301473451829,
+                4590041960027008307,
+                4607074362972817812,
+                13818104062423027573,
+            ],
+            [Some(0), None],
+            true,
+        ),
+        (
+            0.1,
+            "3/10",
+            [
+                4607365719464065166,
+                0,
+                13829568653321415788,
+                4601865966711774439,
+            ],
+            [None, Some(2)],
+            true,
+        ),
+        (
+            0.3,
+            "3/10",
+            [
+                4609964050470744243,
+                4607668549713380551,
+                4606931179708815579,
+                13820990193266460444,
+            ],
+            [Some(2), None],
+            false,
+        ),
+        (
+            0.3,
+            "3/10",
+            [
+                4606488161515765272,
+                4607263401917250441,
+                4604000675255293061,
+                13828417023804065343,
+            ],
+            [Some(2), None],
+            true,
+        ),
+        (
+            0.1,
+            "3",
+            [
+                4605973231849001908,
+                4602683061881200835,
+                4607093935560554412,
+                13817577744000891625,
+            ],
+            [Some(0), None],
+            true,
+        ),
+    ];
+    for (w, e, bits, excluded, down) in cases {
+        let scene = TriangularScene::new(w).unwrap();
+        let lat64 = scene.lattice::<f64>(()).unwrap();
+        let lat_t = scene.lattice::<Tracked>(128).unwrap();
+        let m = motion(e, "30");
+        let (m64, m_t) = (m.in_f64(128), m.tracked(128));
+        let [x, y, vx, vy] = bits.map(f64::from_bits);
+        let mut flight = Flight::new(Vec2::new(x, y), Vec2::new(vx, vy));
+        (flight.excluded_disk, flight.excluded_edge) = (excluded[0], excluded[1]);
+        let cell = CellIndex { i: 0, j: 0, down };
+        let s = LatticeState { cell, flight };
+        let c = check_curved_event(&lat64, &lat_t, &s, &m64, &m_t).unwrap();
+        assert!(c.in_model, "w = {w}, E = {e}: {c:?}");
+        assert!(
+            c.flight_identity.is_some_and(|r| r <= 1.0),
+            "w = {w}, E = {e}: {c:?}"
+        );
     }
 }
