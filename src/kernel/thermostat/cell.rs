@@ -60,9 +60,10 @@ pub fn exit_bound<T: Real>(cell: &ConvexCell<T>, p: &Vec2<T>, start: &Start<'_, 
 }
 
 /// An upper bound on ln y for y ≥ 1 by arithmetic on its binary exponent: y = 2ᵏm with
-/// m ∈ [1, 2) and ln m ≤ m − 1, so ln y ≤ k·ln 2 + m − 1 (ln 2 rounded up), within ln 2 − ½ of
-/// ln y. No correctly rounded call for a bound the march only needs to be above the exit.
-fn ln_above(y: f64) -> f64 {
+/// m ∈ [1, 2) and ln m ≤ m − 1, so ln y ≤ k·ln 2 + m − 1 (ln 2 rounded up), within 1 − ln 2 of
+/// ln y (0 below 1). No correctly rounded call for a bound the march only needs to be above the
+/// exit.
+pub(super) fn ln_above(y: f64) -> f64 {
     if !(y.is_finite() && y >= 1.0) {
         return if y < 1.0 { 0.0 } else { f64::INFINITY };
     }
