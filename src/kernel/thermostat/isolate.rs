@@ -182,8 +182,7 @@ pub fn verdict<T: Real, C: Contact<T>>(
 /// (`proofs-notes/thermostat-flight.md`, "The bracket stop"). In `f64` from the values, so the
 /// same decision at every precision.
 fn bracketed<T: Real, C: Contact<T>>(c: &C, j: &Jet<T>, remaining: &T) -> Option<T> {
-    let (f, f1, f2) = (j.f.to_f64(), j.f1.to_f64(), j.f2.to_f64());
-    let [e0, e1, e2] = [0, 1, 2].map(|k| j.err[k].to_f64());
+    let (f, f1, e0) = (j.f.to_f64(), j.f1.to_f64(), j.err[0].to_f64());
     // Approaching, and near enough that a cubic term from the linear step may be below e₀.
     if !(f1 < 0.0 && f > e0) {
         return None;
@@ -201,6 +200,7 @@ fn bracketed<T: Real, C: Contact<T>>(c: &C, j: &Jet<T>, remaining: &T) -> Option
     if !within {
         return None;
     }
+    let (f2, e1, e2) = (j.f2.to_f64(), j.err[1].to_f64(), j.err[2].to_f64());
     let s = step.to_f64();
     let m = c.third(j, &step).to_f64();
     let rest = m * s * s * s / 6.0 + e1 * s + e2 * s * s / 2.0;
