@@ -13,7 +13,8 @@
 //! rounding, [`root_error`]), or by all of h where L has none. A grazing contact has no root-free neighbourhood,
 //! so the march stops before it: it can be refused only where F > e₀ is certain.
 //!
-//! The march stops at a time a where F − e₀ ≤ 0: there the contact is *decided within the model*
+//! The march stops at a time a where F − e₀ ≤ 0 (or one point earlier where the Taylor step's
+//! remainder is below e₀/128, [`verdict`]'s bracket stop): there the contact is *decided within the model*
 //! — taken if F′ ≤ 0 (approaching or tangent), with one Taylor step to the root; refused as a
 //! near miss if F′ > 0 (leaving), the march going on from L with F itself. On the obstacle by
 //! identity (the disk just left, the edge entered by) F(0) = 0 exactly: the contact is now if
