@@ -69,9 +69,10 @@ pub fn flight_residual(
     let weak = 1.0 + 1.0 / eps.to_f64();
     let p_bits = f64::from(bits);
     let drift = 8.0 * defect * (1.0 + ev.time.v.to_f64());
-    // The event's point may be a Taylor step from the march's last point, with a remainder of at
-    // most u/64 of the computation replayed (`Start::step_from`): far below f64's resolution.
-    let taylor = <Tracked as Real>::unit_roundoff(bits) / 64.0;
+    // The event's point may be a Taylor step from the march's last point, itself a Taylor step
+    // from a closed-form point: two remainders of at most u/64 each of the computation replayed
+    // (`Start::step_from`), far below f64's resolution.
+    let taylor = <Tracked as Real>::unit_roundoff(bits) / 32.0;
     let tol = |x: &Float| {
         (1.0 + x.to_f64().abs())
             * ((-p_bits / 2.0).exp2() + (16.0 - p_bits).exp2() * weak + drift + taylor)

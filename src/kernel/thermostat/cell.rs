@@ -17,6 +17,7 @@
 
 use super::contacts::Candidate;
 use super::isolate::{Contact, Jet};
+use super::screen::Tube;
 use super::search::{self, Slot};
 use super::{FlightPoint, Start, Thermostat};
 use crate::kernel::cell::ConvexCell;
@@ -99,8 +100,15 @@ impl<T: Real> ConvexCell<T> {
         let kinds = (0..self.edges.len() as u8)
             .map(EventKind::Crossing)
             .chain((0..self.disks.len() as u8).map(EventKind::Collision));
+        let tube = Tube::new(f, &th.strength, &exit);
         let mut slots: Vec<Slot<'_, '_, T>> = kinds
-            .map(|k| Slot::new(k, Candidate::new(self, &start, f, k)))
+            .map(|k| {
+                Slot::new(
+                    k,
+                    Candidate::new(self, &start, f, k),
+                    tube.free_time(self, f, k),
+                )
+            })
             .collect();
         let found = search::earliest_event(&start, &mut slots, &exit)?;
         // The Taylor step from the march's last point where its remainder is below the

@@ -58,7 +58,8 @@ pub(super) struct DiskContact<'s, 'a, T: Real> {
     d: Vec2<T>,
     r2: T,
     identity: bool,
-    /// |d|, r² and ε in `f64`: the error model's inputs that do not change along the flight.
+    /// |d|₁ ≥ |d|, r² and ε in `f64`: the error model's inputs that do not change along the
+    /// flight.
     model: [f64; 3],
 }
 
@@ -185,7 +186,8 @@ impl<'s, 'a, T: Real> Candidate<'s, 'a, T> {
                 let disk = &cell.disks[m as usize];
                 let (d, r2) = (f.pos.sub(&disk.centre), disk.radius2().clone());
                 let eps = start.thermostat().strength.to_f64();
-                let model = [d.norm2().sqrt().to_f64(), r2.to_f64(), eps];
+                // |d|₁ ≥ |d|: the offset's size in the error model, without a square root.
+                let model = [d.x.to_f64().abs() + d.y.to_f64().abs(), r2.to_f64(), eps];
                 Candidate::Disk(DiskContact {
                     start,
                     d,

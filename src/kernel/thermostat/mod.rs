@@ -25,6 +25,7 @@
 pub mod cell;
 mod contacts;
 pub mod isolate;
+mod screen;
 mod search;
 
 use super::arc::perp;
@@ -241,51 +242,81 @@ impl<T: Real> Start<'_, T> {
         }
     }
 
-    /// The flight at a + `s` from its point `at` at a, by a third-order Taylor step, where that
-    /// step's remainder is below the working precision: (εs)³ ≤ 3u/64 (`None` beyond). With
-    /// |v⃛| ≤ 2ε³|sin θ| the remainders are ε³s³/3 ≤ u/64 for the velocity and ε³s⁴/12 ≤ su/256 for
-    /// the displacement (`proofs-notes/thermostat-flight.md`, "The event's point"); the jerk is
-    /// v̈ = −ε² sin θ (sin 2θ ê − cos 2θ ê⊥), the acceleration that of the new velocity. Four
-    /// operations only, so the same in `f64` and MPFR-53.
+    /// The flight at a + `s` from its point `at` at a, by a Taylor step of the lowest order K ≤ 7
+    /// whose remainder is below the working precision (`None` where even the seventh order's is
+    /// not: εs beyond about 8.5·10⁻³ in `f64`).
+    /// The velocity's derivatives are bounded by the zigzag numbers, |v⁽ⁿ⁾| ≤ Aₙεⁿ, so the
+    /// remainders are A_{K+1}(εs)^{K+1}/(K + 1)! ≤ u/64 for the velocity and
+    /// A_{K+1}(εs)^{K+1}s/(K + 2)! for the displacement (`proofs-notes/thermostat-flight.md`,
+    /// "Taylor steps"). In the field's frame v⁽ᵏ⁾ = εᵏBₖ·v (complex, v = cos θ + i sin θ,
+    /// [`taylor_terms`]); the sums are taken in σ = εs by Horner's rule, with exact divisions by
+    /// the factorials' factors. Four operations only, so the same in `f64` and MPFR-53.
     pub fn step_from(&self, at: &FlightPoint<T>, s: &T) -> Option<FlightPoint<T>> {
+        let es = (self.th.strength.clone() * s).to_f64();
+        let order = taylor_order(es, T::unit_roundoff(s.ctx()))?;
+        Some(self.step_by(at, s, order))
+    }
+
+    /// [`Start::step_from`] at the order `order` (1 to 7), its remainders added to the running
+    /// error analysis's bound.
+    fn step_by(&self, at: &FlightPoint<T>, s: &T, order: usize) -> FlightPoint<T> {
         let th = self.th;
-        let eps = &th.strength;
-        let es = (eps.clone() * s).to_f64();
-        if !(es >= 0.0 && es * es * es <= 3.0 / 64.0 * T::unit_roundoff(s.ctx())) {
-            return None;
-        }
-        let (cos, sin) = (th.dir.dot(&at.vel), th.dir.cross(&at.vel));
-        let k = -(eps.square() * &sin);
-        let double = (cos.clone() * &sin).scale(2.0);
-        let cos2 = (cos.clone() - &sin) * &(cos + &sin);
-        let jerk = th.world(&(k.clone() * &double), &(-(k * &cos2)));
-        // Δv = s(v̇ + (s/2)v̈), ΔX = s(v + (s/2)(v̇ + (s/3)v̈)).
-        let half = s.clone().scale(0.5);
-        let third = s.clone() / &T::from_f64(s.ctx(), 3.0);
-        let (v, a) = (&at.vel, &at.acc);
-        let term = |x: &T, y: &T, h: &T| x.clone() + &(h.clone() * y);
-        let dvx = s.clone() * &term(&a.x, &jerk.x, &half);
-        let dvy = s.clone() * &term(&a.y, &jerk.y, &half);
-        let dx = s.clone() * &term(&v.x, &term(&a.x, &jerk.x, &third), &half);
-        let dy = s.clone() * &term(&v.y, &term(&a.y, &jerk.y, &third), &half);
-        // The remainders, in the running error analysis's bound (no arithmetic elsewhere).
-        let (rv, rx) = (es * es * es / 3.0, es * es * es * s.to_f64() / 12.0);
-        let along = (at.along.clone() + &(th.dir.x.clone() * &dx + &(th.dir.y.clone() * &dy)))
-            .truncated(rx);
-        let vel = Vec2::new(
-            (v.x.clone() + &dvx).truncated(rv),
-            (v.y.clone() + &dvy).truncated(rv),
+        let ctx = s.ctx();
+        let sigma = th.strength.clone() * s;
+        let es = sigma.to_f64();
+        let (c, n) = (th.dir.dot(&at.vel), th.dir.cross(&at.vel));
+        let b = taylor_terms(&c, &n, order);
+        // h[k] = σ/(k + 2), up to σ/(order + 1).
+        let h: [T; 7] = std::array::from_fn(|i| match i + 2 {
+            k if k > order + 1 => T::zero(ctx),
+            k if k.is_power_of_two() => sigma.clone().scale(1.0 / k as f64),
+            k => sigma.clone() / &T::from_f64(ctx, k as f64),
+        });
+        // Σ Bₖσᵏ/k! over v (the velocity's increment) and 1 + Σ Bₖσᵏ/(k + 1)! (the
+        // displacement's over s·v), as (real, imaginary) pairs.
+        let horner = |shift: usize| {
+            let mut z = b[order - 1].clone();
+            for j in (1..order).rev() {
+                let hj = &h[j + shift - 2];
+                z = (
+                    b[j - 1].0.clone() + &(hj.clone() * &z.0),
+                    b[j - 1].1.clone() + &(hj.clone() * &z.1),
+                );
+            }
+            z
+        };
+        let q = horner(1);
+        let q = (sigma.clone() * &q.0, sigma * &q.1);
+        let p = horner(2);
+        let p = (
+            (h[0].clone() * &p.0).add_f64(1.0) * s,
+            h[0].clone() * &p.1 * s,
         );
-        let (c, n) = (th.dir.dot(&vel), th.dir.cross(&vel));
-        Some(FlightPoint {
+        // Multiplied by v = c + in in the field's frame.
+        let turn = |z: &(T, T)| {
+            let re = c.clone() * &z.0 - &(n.clone() * &z.1);
+            let im = c.clone() * &z.1 + &(n.clone() * &z.0);
+            (re, im)
+        };
+        let (dx, dv) = (turn(&p), turn(&q));
+        let (dx_w, dv_w) = (th.world(&dx.0, &dx.1), th.world(&dv.0, &dv.1));
+        // The remainders, in the running error analysis's bound (no arithmetic elsewhere).
+        let rv = taylor_remainder(es, order);
+        let rx = rv * s.to_f64() / (order + 2) as f64;
+        let vel = Vec2::new(
+            (at.vel.x.clone() + &dv_w.x).truncated(rv),
+            (at.vel.y.clone() + &dv_w.y).truncated(rv),
+        );
+        let (cv, nv) = (th.dir.dot(&vel), th.dir.cross(&vel));
+        FlightPoint {
             disp: Vec2::new(
-                (at.disp.x.clone() + &dx).truncated(rx),
-                (at.disp.y.clone() + &dy).truncated(rx),
+                (at.disp.x.clone() + &dx_w.x).truncated(rx),
+                (at.disp.y.clone() + &dx_w.y).truncated(rx),
             ),
-            acc: th.acceleration(&c, &n),
+            acc: th.acceleration(&cv, &nv),
             vel,
-            along,
-        })
+            along: (at.along.clone() + &dx.0).truncated(rx),
+        }
     }
 
     /// The error model of [`Start::at`] at `t` in units of the working precision
@@ -337,6 +368,102 @@ impl<T: Real> Start<'_, T> {
         let across = (g1 * &(self.p.clone() - &mx)) / &eden;
         (self.th.world(&along, &across), x.scale(2.0) / &den)
     }
+}
+
+/// The zigzag numbers A₀…A₈: |v⁽ⁿ⁾| ≤ Aₙεⁿ along every thermostatted flight
+/// (`proofs-notes/thermostat-flight.md`, "Taylor steps").
+const ZIGZAG: [f64; 9] = [1.0, 1.0, 1.0, 2.0, 5.0, 16.0, 61.0, 272.0, 1385.0];
+
+/// A_{K+1}/(K + 1)! for the orders K = 1…7.
+const TAYLOR: [f64; 7] = [
+    ZIGZAG[2] / 2.0,
+    ZIGZAG[3] / 6.0,
+    ZIGZAG[4] / 24.0,
+    ZIGZAG[5] / 120.0,
+    ZIGZAG[6] / 720.0,
+    ZIGZAG[7] / 5040.0,
+    ZIGZAG[8] / 40320.0,
+];
+
+/// Bounds on the velocity's remainder of Taylor steps of the orders K = 1…7 at σ = εs:
+/// A_{K+1}σ^{K+1}/(K + 1)! (rounded up by 2⁻⁵⁰, in `f64`).
+fn taylor_remainders(es: f64) -> [f64; 7] {
+    let mut p = es;
+    std::array::from_fn(|k| {
+        p *= es;
+        p * TAYLOR[k] * (1.0 + 1.0 / (1u64 << 50) as f64)
+    })
+}
+
+/// The bound on the velocity's remainder of a Taylor step of order `order` at σ = εs.
+fn taylor_remainder(es: f64, order: usize) -> f64 {
+    taylor_remainders(es)[order - 1]
+}
+
+/// The lowest order K ≤ 7 of a Taylor step at σ = εs ≥ 0 whose velocity remainder is at most
+/// u/64 (`None` if none is). Multiplications in `f64`, so the same decision at every precision of
+/// the same u.
+fn taylor_order(es: f64, u: f64) -> Option<usize> {
+    if !(es >= 0.0) {
+        return None;
+    }
+    let r = taylor_remainders(es);
+    r.iter().position(|&x| x <= u / 64.0).map(|k| k + 1)
+}
+
+/// B₁…B_K (K = `order`, zero beyond) of a Taylor step at the velocity (cos θ, sin θ) = (C, S) in
+/// the field's frame, ε = 1: v⁽ᵏ⁾ = εᵏBₖ·v as complex numbers, from θ̇ = −ε sin θ
+/// (B_{k+1} = DBₖ − iS·Bₖ, D the derivative along the flight: Ṡ = −CS, Ċ = S²):
+/// B₁ = −iS, B₂ = −S² + iCS, B₃ = 3CS² − iS(C² − 2S²), B₄ = −S²(7C² − 5S²) + iCS(C² − 11S²),
+/// B₅ = 15CS²(C² − 3S²) − iS(C⁴ − 43C²S² + 16S⁴),
+/// B₆ = −S²(31C⁴ − 268C²S² + 61S⁴) + iCS(C⁴ − 148C²S² + 211S⁴),
+/// B₇ = 21CS²(3C⁴ − 64C²S² + 53S⁴) − iS(C⁶ − 480C⁴S² + 1767C²S⁴ − 272S⁶).
+fn taylor_terms<T: Real>(c: &T, n: &T, order: usize) -> [(T, T); 7] {
+    let ctx = c.ctx();
+    let k = |x: f64| T::from_f64(ctx, x);
+    let (cc, ss, cs) = (c.square(), n.square(), c.clone() * n);
+    let s2c = ss.clone() * c;
+    // A polynomial Σ aᵢ C^{2(m−i)} S^{2i} by Horner's rule in the pair (C², S²).
+    let even = |a: &[f64]| {
+        let mut p = k(a[0]);
+        let mut sp = T::one(ctx);
+        for &ai in &a[1..] {
+            sp = sp * &ss;
+            p = p * &cc + &(k(ai) * &sp);
+        }
+        p
+    };
+    let mut b: [(T, T); 7] = std::array::from_fn(|_| (T::zero(ctx), T::zero(ctx)));
+    b[0] = (T::zero(ctx), -n.clone());
+    b[1] = (-ss.clone(), cs.clone());
+    if order >= 3 {
+        b[2] = (s2c.clone().scale(3.0), -(n.clone() * &even(&[1.0, -2.0])));
+    }
+    if order >= 4 {
+        b[3] = (
+            -(ss.clone() * &even(&[7.0, -5.0])),
+            cs.clone() * &even(&[1.0, -11.0]),
+        );
+    }
+    if order >= 5 {
+        b[4] = (
+            (s2c.clone() * &even(&[1.0, -3.0])).scale(15.0),
+            -(n.clone() * &even(&[1.0, -43.0, 16.0])),
+        );
+    }
+    if order >= 6 {
+        b[5] = (
+            -(ss.clone() * &even(&[31.0, -268.0, 61.0])),
+            cs.clone() * &even(&[1.0, -148.0, 211.0]),
+        );
+    }
+    if order >= 7 {
+        b[6] = (
+            (s2c * &even(&[3.0, -64.0, 53.0])) * &k(21.0),
+            -(n.clone() * &even(&[1.0, -480.0, 1767.0, -272.0])),
+        );
+    }
+    b
 }
 
 /// The integrated phase-space contraction ∫₀ᵗ α dt = ε·ξ(t) of a flight that has reached `at`.

@@ -72,14 +72,15 @@ fn horizon<T: Real>(best: &Best<T>, exit: &T) -> T {
 }
 
 impl<'s, 'a, T: Real> Slot<'s, 'a, T> {
-    /// The candidate `kind` with its contact function, not yet certified anywhere.
-    pub fn new(kind: EventKind, contact: Candidate<'s, 'a, T>) -> Self {
+    /// The candidate `kind` with its contact function, certified free up to `free` ≥ 0 (the
+    /// screen's time, [`super::screen`]; 0 where the march certifies it from its start).
+    pub fn new(kind: EventKind, contact: Candidate<'s, 'a, T>, free: f64) -> Self {
         let ctx = contact.start().thermostat().strength.ctx();
         Slot {
             kind,
             contact,
             hint: T::one(ctx),
-            free: T::zero(ctx),
+            free: T::from_f64(ctx, free).anchored(),
             live: true,
             seen: None,
         }
@@ -155,12 +156,23 @@ pub(super) fn earliest_event<T: Real>(
 ) -> Option<Found<T>> {
     let mut best: Best<T> = None;
     let mut a = T::zero(exit.ctx());
+    // The last point formed in closed form and its time (none: the origin): a later point within
+    // a Taylor step's reach of it is that step, never a step from a step (`Start::step_from`).
+    let mut base: Option<(T, FlightPoint<T>)> = None;
     for n in 0..MAX_STEPS {
         let owned;
         let at = if n == 0 {
             start.origin()
         } else {
-            owned = start.at(&a);
+            let stepped = match &base {
+                Some((t0, p0)) => start.step_from(p0, &(a.clone() - t0)),
+                None => start.step_from(start.origin(), &a),
+            };
+            owned = stepped.unwrap_or_else(|| {
+                let p = start.at(&a);
+                base = Some((a.clone(), p.clone()));
+                p
+            });
             &owned
         };
         let here = Here::new(start, &a, at);

@@ -371,10 +371,11 @@ fn the_start_point_is_the_calls_at_zero_bit_for_bit() {
 }
 
 /// The event's point by a Taylor step ([`Start::step_from`], `proofs-notes/thermostat-flight.md`,
-/// "The event's point"), over 2000 random flights (a quarter near anti-alignment) and steps up
+/// "Taylor steps"), over 2000 random flights (a quarter near anti-alignment) and steps up
 /// to the largest it takes: in `f64`, within [`Start::error`] at t + s of the exact flight; at
-/// 200 bits, within the two closed forms' models plus the remainders (ε³s³/3 for the velocity,
-/// ε³s⁴/12 for the displacement) of the closed form at t + s; refused beyond (εs)³ = 3u/64.
+/// 200 bits, within the two closed forms' models plus the remainders (A_{K+1}(εs)^{K+1}/(K + 1)!
+/// for the velocity, A_{K+1}(εs)^{K+1}s/(K + 2)! for the displacement, K the order taken) of the
+/// closed form at t + s; refused beyond the seventh order's reach, A₈(εs)⁸/8! = u/64.
 #[test]
 fn a_taylor_step_to_the_event_is_within_the_model() {
     let mut r = Mix(23);
@@ -392,8 +393,9 @@ fn a_taylor_step_to_the_event_is_within_the_model() {
         let (th, v, t) = random_flight(&mut r, n);
         let eps = th.strength;
         let start = th.start(&v);
-        let widest = (3.0 / 64.0 * U).cbrt() / eps;
-        let s = widest * r.unit();
+        let widest = (U / 64.0 * 40320.0 / 1385.0).powf(1.0 / 8.0) / eps;
+        // Steps of every order: from the widest down to 10⁻¹⁸ of it.
+        let s = widest * r.unit().powi(1 + 3 * (n % 7) as i32);
         let p = start
             .step_from(&start.at(&t), &s)
             .expect("a step within the bound");
@@ -413,7 +415,8 @@ fn a_taylor_step_to_the_event_is_within_the_model() {
         let field = unit_field(eps, th.dir.y.atan2(th.dir.x));
         let hs = field.start(&unit(v.y.atan2(v.x)));
         let u = <Float as Real>::unit_roundoff(BITS);
-        let s = big((3.0 / 64.0 * u).cbrt() / eps * r.unit());
+        let s = big((u / 64.0 * 40320.0 / 1385.0).powf(1.0 / 8.0) / eps
+            * r.unit().powi(1 + 3 * (n % 7) as i32));
         let p = hs
             .step_from(&hs.at(&big(t)), &s)
             .expect("a step within the bound");
@@ -422,7 +425,10 @@ fn a_taylor_step_to_the_event_is_within_the_model() {
         let es = eps * s.to_f64();
         let (ma, va) = hs.error(&big(t));
         let (mb, vb) = hs.error(&ts);
-        let (rx, rv) = (es.powi(3) * s.to_f64() / 12.0, es.powi(3) / 3.0);
+        let order = taylor_order(es, u).expect("an order within the bound");
+        let rv = taylor_remainder(es, order);
+        let rx = rv * s.to_f64() / (order + 2) as f64;
+        assert!(rv <= u / 64.0);
         let (dx, dv) = (diff(&exact.disp, &p.disp), diff(&exact.vel, &p.vel));
         let slack = 4.0 * u * (1.0 + ts.to_f64());
         assert!(dx <= ma + mb + rx + slack, "{n}: 200 bits δX = {dx:e}");
@@ -451,4 +457,56 @@ fn the_exit_bounds_logarithm_is_above_by_less_than_a_third() {
         );
     }
     assert_eq!(super::cell::ln_above(0.99), 0.0);
+}
+
+/// Taylor steps of every order K = 1…7 ([`Start::step_by`]) against the closed form at 200 bits,
+/// at σ = εs up to 0.4 (far beyond the steps taken, where every term counts): within the
+/// remainders A_{K+1}σ^{K+1}/(K + 1)! (velocity) and A_{K+1}σ^{K+1}s/(K + 2)! (displacement) of
+/// the zigzag bound, over 300 random flights — a wrong coefficient of Bₖ exceeds the bound of
+/// order k at small σ, a wrong bound at large σ.
+#[test]
+fn taylor_steps_of_every_order_are_within_their_remainders() {
+    let mut r = Mix(29);
+    let (mut worst, mut tight) = (0f64, 0f64);
+    for n in 0..300 {
+        let (th, v, t) = random_flight(&mut r, n);
+        let eps = th.strength;
+        let field = unit_field(eps, th.dir.y.atan2(th.dir.x));
+        let hs = field.start(&unit(v.y.atan2(v.x)));
+        let sigma = 0.4 * r.unit().powi(1 + (n % 3) as i32);
+        let s = big(sigma / eps);
+        let a = hs.at(&big(t));
+        let exact = hs.at(&(big(t) + &s));
+        let (ma, va) = hs.error(&big(t));
+        let (mb, vb) = hs.error(&(big(t) + &s));
+        for order in 1..=7 {
+            let p = hs.step_by(&a, &s, order);
+            let rv = taylor_remainder(sigma, order);
+            let rx = rv * s.to_f64() / (order + 2) as f64;
+            let (dx, dv) = (dist_big(&exact.disp, &p.disp), dist_big(&exact.vel, &p.vel));
+            let (bx, bv) = (rx + ma + mb + 1e-50, rv + va + vb + 1e-50);
+            assert!(
+                dv <= bv,
+                "{n}, order {order}, σ = {sigma}: δv = {dv:e} > {bv:e}"
+            );
+            assert!(
+                dx <= bx,
+                "{n}, order {order}, σ = {sigma}: δX = {dx:e} > {bx:e}"
+            );
+            worst = worst.max(dv / bv).max(dx / bx);
+            if order == 7 {
+                tight = tight.max(dv / bv);
+            }
+        }
+    }
+    eprintln!("largest Taylor error over its remainder: {worst:.3} (order 7: {tight:.3})");
+}
+
+/// |a − b| at 200 bits.
+fn dist_big(a: &Vec2<Float>, b: &Vec2<Float>) -> f64 {
+    let x = Float::with_val(BITS, &a.x - &b.x);
+    let y = Float::with_val(BITS, &a.y - &b.y);
+    Float::with_val(BITS, x.square() + y.square())
+        .sqrt()
+        .to_f64()
 }
