@@ -206,7 +206,7 @@ impl<T: Real> Start<'_, T> {
         let across = if self.s.gt0() || self.s.lt0() {
             let (y, x) = (self.s.clone() * &g, self.p.clone() + &mx);
             // atan2(±0, x > 0) = ±0 (x > 0 unless p = 0 and x = 0: then y = 0 too, and s = 0).
-            let a = if now { y / &x } else { y.atan_ratio(&x) };
+            let a = if now { y / &x } else { atan_of_ratio(y, &x) };
             a.scale(2.0) / eps
         } else {
             T::zero(t.ctx())
@@ -370,6 +370,29 @@ impl<T: Real> Start<'_, T> {
     }
 }
 
+/// atan(y/x) for x > 0: the series q − q³/3 of the rounded quotient q = y/x where z⁴ ≤ u/8
+/// (z = y/x read in `f64`: |z| ≤ 2⁻¹⁴ in `f64`; the remainder |z|⁵/5 is below u|z|/40), else the
+/// correctly rounded arctangent of the exact quotient ([`Real::atan_ratio`]). Below that ratio
+/// CORE-MATH's atan2 can meet a quotient y/x on a rounding midpoint, where atan(y/x) lies within
+/// |z|³/3 of it and its accurate path gives up: it prints "Unexpected worst-case found" and calls
+/// `exit(1)` (found by the fuzz target `thermostat_kernel` at y = 3·2⁻⁵¹, x = 2 − 3·2⁻⁵¹; reported
+/// in `proofs-notes/thermostat-flight.md`, "Error model"). The series is four operations, so the
+/// same in `f64` and MPFR-53, within 2u of the arctangent (the error model's count allows it).
+fn atan_of_ratio<T: Real>(y: T, x: &T) -> T {
+    let z = y.to_f64() / x.to_f64();
+    let z2 = z * z;
+    if z2 * z2 <= T::unit_roundoff(x.ctx()) / 8.0 {
+        let q = y / x;
+        // ±0 stays ±0, as atan2(±0, x > 0) (q − q³/3 would be +0).
+        if !(q.gt0() || q.lt0()) {
+            return q;
+        }
+        let cube = q.clone() * &q.square();
+        return q - &(cube / &T::from_f64(x.ctx(), 3.0));
+    }
+    y.atan_ratio(x)
+}
+
 /// The zigzag numbers A₀…A₈: |v⁽ⁿ⁾| ≤ Aₙεⁿ along every thermostatted flight
 /// (`proofs-notes/thermostat-flight.md`, "Taylor steps").
 const ZIGZAG: [f64; 9] = [1.0, 1.0, 1.0, 2.0, 5.0, 16.0, 61.0, 272.0, 1385.0];
@@ -404,7 +427,7 @@ fn taylor_remainder(es: f64, order: usize) -> f64 {
 /// u/64 (`None` if none is). Multiplications in `f64`, so the same decision at every precision of
 /// the same u.
 fn taylor_order(es: f64, u: f64) -> Option<usize> {
-    if !(es >= 0.0) {
+    if es.is_nan() || es < 0.0 {
         return None;
     }
     let r = taylor_remainders(es);
@@ -428,7 +451,7 @@ fn taylor_terms<T: Real>(c: &T, n: &T, order: usize) -> [(T, T); 7] {
         let mut p = k(a[0]);
         let mut sp = T::one(ctx);
         for &ai in &a[1..] {
-            sp = sp * &ss;
+            sp *= &ss;
             p = p * &cc + &(k(ai) * &sp);
         }
         p

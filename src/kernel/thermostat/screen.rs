@@ -139,7 +139,7 @@ impl Tube {
         // √q2 ≤ (1 + q2)/2: a bound on |d| for the margins, without a square root.
         let rho = (1.0 + q2) * 0.5 * (1.0 + 8.0 * U) + slack;
         let leaving = b - 8.0 * U * rho * (1.0 + vv) - slack * (1.0 + vv) - rho * self.k;
-        if !(leaving > 0.0) {
+        if leaving.is_nan() || leaving <= 0.0 {
             return 0.0;
         }
         let rho2 = (q2 * (1.0 + 8.0 * U)).sqrt() + slack;
@@ -164,7 +164,7 @@ impl Tube {
             let s = n[0] * p[0] + n[1] * p[1] - o;
             s - 16.0 * U * (p[0].abs() + p[1].abs() + o.abs() + 1.0)
         };
-        if !(identity || sigma > 0.0) || (identity && !(slope > 0.0)) {
+        if !(identity || sigma > 0.0) || (identity && (slope.is_nan() || slope <= 0.0)) {
             return 0.0;
         }
         let eps = self.eps * (1.0 + 8.0 * U);

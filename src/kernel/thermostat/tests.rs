@@ -510,3 +510,34 @@ fn dist_big(a: &Vec2<Float>, b: &Vec2<Float>) -> f64 {
         .sqrt()
         .to_f64()
 }
+
+/// The quotient on a rounding midpoint that CORE-MATH's atan2 gives up on (`exit(1)`, found by the
+/// fuzz target `thermostat_kernel`): y = 3·2⁻⁵¹, x = 2 − 3·2⁻⁵¹, y/x = 1.5·2⁻⁵¹(1 + 1.5·2⁻⁵¹ + …)
+/// 4.5 units of its last place above 1.5·2⁻⁵¹, atan(y/x) within |z|³/3 below that midpoint. The
+/// flight takes the series there ([`atan_of_ratio`]): within 2u of the arctangent at 200 bits, the
+/// same bits in MPFR-53, and the series is taken for every |y/x| ≤ 2⁻¹⁴ and no ratio above 2⁻¹³.
+#[test]
+fn the_atan2_worst_case_on_a_rounding_midpoint_takes_the_series() {
+    let (y, x) = (3.0 * 2f64.powi(-51), 2.0 - 3.0 * 2f64.powi(-51));
+    let a = atan_of_ratio(y, &x);
+    let exact = Float::with_val(BITS, big(y) / big(x)).atan();
+    let err = (Float::with_val(BITS, &exact - a) / &exact).to_f64().abs();
+    assert!(err <= 2.0 * U, "relative error {err:e}");
+    let m = atan_of_ratio(Float::with_val(53, y), &Float::with_val(53, x));
+    assert_eq!(m.to_f64().to_bits(), a.to_bits());
+    let mut r = Mix(37);
+    for _ in 0..2000 {
+        let (y, x) = (2f64.powf(-60.0 * r.unit()), 0.5 + r.unit());
+        let z = y / x;
+        let a = atan_of_ratio(y, &x);
+        let exact = Float::with_val(BITS, big(y) / big(x)).atan();
+        let err = (Float::with_val(BITS, &exact - a) / &exact).to_f64().abs();
+        assert!(err <= 2.0 * U, "y = {y:e}, x = {x}: relative error {err:e}");
+        if z <= 2f64.powi(-14) {
+            let q = y / x;
+            assert_eq!(a.to_bits(), (q - q * q * q / 3.0).to_bits());
+        } else if z > 2f64.powi(-13) {
+            assert_eq!(a.to_bits(), y.atan_ratio(&x).to_bits());
+        }
+    }
+}
