@@ -149,6 +149,41 @@ pub struct ConvexCell<T> {
 }
 
 impl<T: Real> ConvexCell<T> {
+    /// The same cell with every value mapped by `f` — a copy at another precision (the nearest
+    /// `f64`s, or `f64` values lifted exactly to MPFR); each disk's r² is rounded again at the new
+    /// precision ([`Disk::new`]).
+    pub fn map_values<U: Real>(&self, f: impl Fn(&T) -> U) -> ConvexCell<U> {
+        let v = |p: &Vec2<T>| Vec2::new(f(&p.x), f(&p.y));
+        ConvexCell {
+            corners: self.corners.iter().map(v).collect(),
+            disks: self
+                .disks
+                .iter()
+                .map(|d| Disk::new(v(&d.centre), f(&d.radius)))
+                .collect(),
+            edges: self
+                .edges
+                .iter()
+                .map(|e| Edge {
+                    normal: v(&e.normal),
+                    offset: f(&e.offset),
+                    map: match &e.map {
+                        EdgeMap::Translation(t) => EdgeMap::Translation(v(t)),
+                        EdgeMap::PointReflection(p) => EdgeMap::PointReflection(v(p)),
+                    },
+                    entered: e.entered,
+                    disks_after: e.disks_after.clone(),
+                    step: e.step,
+                })
+                .collect(),
+            lattice: LatticeBasis {
+                a: f(&self.lattice.a),
+                beta: f(&self.lattice.beta),
+                h: f(&self.lattice.h),
+            },
+        }
+    }
+
     /// Largest |coordinate| of the corners and disk centres: the scale of the absolute rounding
     /// errors of the cell's constants, used by the shadow error model.
     pub fn extent(&self) -> f64 {

@@ -114,36 +114,7 @@ pub fn amplification<T: Real, K: CellKernel<T>>(
 
 /// The nearest-`f64` copy of a cell (for the f64 tangent map along an orbit of any precision).
 pub fn cell_to_f64<T: Real>(c: &ConvexCell<T>) -> ConvexCell<f64> {
-    use crate::kernel::cell::{Disk, Edge, EdgeMap, LatticeBasis};
-    let v = |p: &Vec2<T>| Vec2::new(p.x.to_f64(), p.y.to_f64());
-    ConvexCell {
-        corners: c.corners.iter().map(v).collect(),
-        disks: c
-            .disks
-            .iter()
-            .map(|d| Disk::new(v(&d.centre), d.radius().to_f64()))
-            .collect(),
-        edges: c
-            .edges
-            .iter()
-            .map(|e| Edge {
-                normal: v(&e.normal),
-                offset: e.offset.to_f64(),
-                map: match &e.map {
-                    EdgeMap::Translation(t) => EdgeMap::Translation(v(t)),
-                    EdgeMap::PointReflection(p) => EdgeMap::PointReflection(v(p)),
-                },
-                entered: e.entered,
-                disks_after: e.disks_after.clone(),
-                step: e.step,
-            })
-            .collect(),
-        lattice: LatticeBasis {
-            a: c.lattice.a.to_f64(),
-            beta: c.lattice.beta.to_f64(),
-            h: c.lattice.h.to_f64(),
-        },
-    }
+    c.map_values(|x| x.to_f64())
 }
 
 /// The reversal error bound 2·E·K·u·max‖J‖ with E events forward (as many back) and the

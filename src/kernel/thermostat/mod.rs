@@ -8,7 +8,8 @@
 //! * along the field, ξ(t) = t + ln A/ε, A = (p + m x²)/2 = 1 − m(1 − x²)/2, taken as
 //!   `ln_1p(−m·(−expm1(−2εt))/2)` where A ≥ 1/2 and as `ln(A)` (two positive terms) below;
 //! * across it, η(t) = (2/ε)·atan(s·(−expm1(−εt))/(p + m x)), the arctangent of the exact
-//!   quotient ([`Real::atan_ratio`]);
+//!   quotient ([`Real::atan_ratio`]; below |quotient| = 2⁻¹⁴ the series q − q³/3, since
+//!   CORE-MATH's atan2 exits on a quotient on a rounding midpoint, `atan_of_ratio`);
 //! * the velocity, cos θ = (p − m x²)/(p + m x²), sin θ = 2sx/(p + m x²);
 //! * the acceleration v̇ = ε sin θ·(sin θ ê − cos θ ê⊥), of size ε|sin θ| ≤ ε, and
 //!   |v̈| = ε²|sin θ| ≤ ε² (the certificates' curvature bounds, [`isolate`]);

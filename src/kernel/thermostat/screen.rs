@@ -182,7 +182,7 @@ mod tests {
     use super::super::tests::Mix;
     use super::super::{Thermostat, contacts::Candidate};
     use super::*;
-    use crate::kernel::cell::{Disk, Edge, EdgeMap, LatticeBasis};
+    use crate::kernel::cell::Disk;
     use crate::kernel::trap::Trap;
     use crate::kernel::vec2::Vec2;
     use rug::Float;
@@ -200,35 +200,7 @@ mod tests {
     /// The cell `c` at 200 bits, its values lifted exactly: the screen's claims are about the
     /// exact geometry of the values it reads.
     fn lift_cell(c: &ConvexCell<f64>) -> ConvexCell<Float> {
-        let map = |m: &EdgeMap<f64>| match m {
-            EdgeMap::Translation(t) => EdgeMap::Translation(lift(t)),
-            EdgeMap::PointReflection(t) => EdgeMap::PointReflection(lift(t)),
-        };
-        ConvexCell {
-            corners: c.corners.iter().map(lift).collect(),
-            disks: c
-                .disks
-                .iter()
-                .map(|d| Disk::new(lift(&d.centre), big(*d.radius())))
-                .collect(),
-            edges: c
-                .edges
-                .iter()
-                .map(|e| Edge {
-                    normal: lift(&e.normal),
-                    offset: big(e.offset),
-                    map: map(&e.map),
-                    entered: e.entered,
-                    disks_after: e.disks_after.clone(),
-                    step: e.step,
-                })
-                .collect(),
-            lattice: LatticeBasis {
-                a: big(c.lattice.a),
-                beta: big(c.lattice.beta),
-                h: big(c.lattice.h),
-            },
-        }
+        c.map_values(|x| big(*x))
     }
 
     /// A start of `kind` in `cell`: free inside, on a disk leaving it, or on an edge entering by

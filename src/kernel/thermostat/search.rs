@@ -6,7 +6,10 @@
 //! for all candidates"). The march goes to the earliest time up to which some candidate is not yet
 //! certified free; a candidate leaves it when it is certified free up to the earliest contact found
 //! so far (the horizon), or when its contact is found. Ties go to collisions before crossings, then
-//! to the lower label (the straight kernel's rule).
+//! to the lower label (the straight kernel's rule). A candidate starts certified free up to its
+//! screen's time ([`super::screen`]), so one no contact reaches before the event needs no jet; a
+//! point within a Taylor step's reach of the last closed-form point is that step
+//! ([`super::Start::step_from`], "Taylor steps" in the note).
 
 use super::contacts::{Candidate, Here};
 use super::isolate::{self, MAX_STEPS, Verdict};
