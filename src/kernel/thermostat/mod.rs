@@ -250,7 +250,7 @@ impl<T: Real> Start<'_, T> {
     /// remainders are A_{K+1}(εs)^{K+1}/(K + 1)! ≤ u/64 for the velocity and
     /// A_{K+1}(εs)^{K+1}s/(K + 2)! for the displacement (`proofs-notes/thermostat-flight.md`,
     /// "Taylor steps"). In the field's frame v⁽ᵏ⁾ = εᵏBₖ·v (complex, v = cos θ + i sin θ,
-    /// [`taylor_terms`]); the sums are taken in σ = εs by Horner's rule, with exact divisions by
+    /// `taylor_terms`); the sums are taken in σ = εs by Horner's rule, with exact divisions by
     /// the factorials' factors. Four operations only, so the same in `f64` and MPFR-53.
     pub fn step_from(&self, at: &FlightPoint<T>, s: &T) -> Option<FlightPoint<T>> {
         let es = (self.th.strength.clone() * s).to_f64();
