@@ -12,6 +12,7 @@ use lorentz_gas::estimators::trajectory::{self, MAX_DIGITS, TrajectoryInput};
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::report::text::lyapunov::LyapunovResult;
 use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::motion::MotionInput;
 use lorentz_gas::scenes::spec::Motion;
 use lorentz_gas::scenes::spec::SceneChoice;
 use lorentz_gas::verification::certify::{self, CertifyConfig};
@@ -50,18 +51,19 @@ pub fn lyapunov(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             flights,
             ..LyapunovConfig::new()
         };
-        let moving = match (&electric, &electric_angle) {
-            (Some(e), a) => cfg.clone().under_electric(e, a.as_deref().unwrap_or("0")),
-            (None, Some(_)) => {
-                return Err(PyValueError::new_err(
-                    "electric_angle without electric: give the field's strength too",
-                ));
-            }
-            (None, None) => cfg.clone(),
+        // Zero fields are straight flights, recorded as such (`MotionInput::with_field`); the
+        // shape is checked by `resolve()` below, as for every configuration.
+        let motion = match (&electric, &electric_angle) {
+            (Some(e), a) => MotionInput::default().with_electric(e, a.as_deref().unwrap_or("0")),
+            (None, a) => MotionInput {
+                electric_angle: a.clone(),
+                ..Default::default()
+            },
         }
-        .in_field(field.as_deref().unwrap_or("0"));
+        .with_field(field.as_deref().unwrap_or("0"));
+        let moving = LyapunovConfig { motion, ..cfg };
         let starts = (starts.as_deref(), threads);
-        match moving.motion().map_err(crate::py_err)? {
+        match moving.motion.resolve().map_err(crate::py_err)? {
             Motion::Field(_) => {
                 without_divergence(py, progress, &place, starts, "in a field", |c, o| {
                     with_scene!(c, |s| field_lyapunov::run(s, &moving, o))
@@ -169,9 +171,11 @@ pub fn audit(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             sample,
             reference_bits,
             seed,
-            field,
-            electric,
-            electric_angle,
+            motion: MotionInput {
+                field,
+                electric,
+                electric_angle,
+            },
             flights,
         };
         json(&compute(py, progress, |ctl| {
@@ -186,18 +190,23 @@ pub fn shadow(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let place = Where::read(p)?;
     // E = 0 is the run without a field, recorded as such (the command line's rule).
     let angle = p.opt_text("electric_angle")?;
-    let (electric, electric_angle) = match p.opt_text("electric")? {
-        Some(e) => Motion::thermostat(&e, angle.as_deref().unwrap_or("0")).thermostat_texts(),
-        None => (None, angle),
+    let given = MotionInput {
+        field: p.opt_text("field")?,
+        ..Default::default()
+    };
+    let motion = match p.opt_text("electric")? {
+        Some(e) => given.with_electric(&e, angle.as_deref().unwrap_or("0")),
+        None => MotionInput {
+            electric_angle: angle,
+            ..given
+        },
     };
     let request = ShadowConfig {
         collisions_per_segment: p.count_usize("collisions_per_segment")?,
         segments: p.count_u32("segments")?,
         reference_bits: p.count_u32("reference_bits")?,
         seed: p.count_u64("seed")?,
-        field: p.opt_text("field")?,
-        electric,
-        electric_angle,
+        motion,
     };
     let threads = p.threads()?;
     Ok(work(move |py, progress| {

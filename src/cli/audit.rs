@@ -2,6 +2,7 @@
 
 use lorentz_gas::Error;
 use lorentz_gas::engine::long_flight::Flights;
+use lorentz_gas::scenes::motion::MotionInput;
 use lorentz_gas::verification::shadow_audit::{self, AuditConfig, AuditReport};
 
 use lorentz_gas::scenes::Scene;
@@ -66,9 +67,11 @@ pub fn run(a: Args) -> Result<(), Error> {
         sample: a.sample,
         reference_bits: a.reference_bits,
         seed: a.run.seed(),
-        field: a.field.clone(),
-        electric: a.electric.clone(),
-        electric_angle: a.electric_angle.clone(),
+        motion: MotionInput {
+            field: a.field.clone(),
+            electric: a.electric.clone(),
+            electric_angle: a.electric_angle.clone(),
+        },
         flights: a.flights,
     };
     let pb = Progress::new(cfg.collisions, "collisions", a.output.quiet);

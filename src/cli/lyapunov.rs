@@ -139,7 +139,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         Some((e, angle)) => moving.under_electric(e, angle),
         None => moving,
     };
-    match moving.motion()? {
+    match moving.motion.resolve()? {
         Motion::Field(_) => return in_field(&a, &moving),
         Motion::Thermostat { .. } => return driven(&a, &moving),
         _ => {}

@@ -1,7 +1,7 @@
 //! `lorentz shadow`: true orbits near f64 segments (Newton on the whole segment in MPFR).
 
 use lorentz_gas::Error;
-use lorentz_gas::scenes::spec::Motion;
+use lorentz_gas::scenes::motion::MotionInput;
 use lorentz_gas::verification::shadowing::{self as shadowing, ShadowConfig};
 
 use super::args::{
@@ -64,18 +64,20 @@ fn scene(a: &SceneArgs) -> Result<SceneChoice, Error> {
 pub fn run(a: Args) -> Result<(), Error> {
     let scene = scene(&a.scene)?;
     // E = 0 is the run without a field, recorded as such (its bits are the straight run's).
-    let (electric, electric_angle) = match a.electric.given() {
-        Some((e, angle)) => Motion::thermostat(e, angle).thermostat_texts(),
-        None => (None, None),
+    let motion = MotionInput {
+        field: a.field.clone(),
+        ..Default::default()
+    };
+    let motion = match a.electric.given() {
+        Some((e, angle)) => motion.with_electric(e, angle),
+        None => motion,
     };
     let request = ShadowConfig {
         collisions_per_segment: a.collisions_per_segment,
         segments: a.segments,
         seed: a.run.seed(),
         reference_bits: a.reference_bits,
-        field: a.field.clone(),
-        electric,
-        electric_angle,
+        motion,
     };
     request.validate()?;
     let pb = Progress::new(

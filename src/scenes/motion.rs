@@ -2,6 +2,8 @@
 //! flights of a Gaussian-thermostatted electric field — each parameter exactly as typed, one
 //! variant of a table's description ([`super::spec::Table`]).
 
+use serde::{Deserialize, Serialize};
+
 use crate::Error;
 
 /// How the particle moves between collisions.
@@ -21,7 +23,7 @@ pub enum Motion {
     /// J(E), [`crate::estimators::current`]); the other analyses that hold a table refuse it
     /// ([`super::spec::Table::motion_taken_by`]). The Lyapunov pair, one trajectory and the
     /// bench take the field through their own configurations
-    /// ([`crate::verification::lyapunov::LyapunovConfig::electric`],
+    /// ([`crate::verification::lyapunov::LyapunovConfig::motion`],
     /// [`crate::estimators::trajectory::TrajectoryInput::electric`]).
     Thermostat {
         /// The signed strength (a decimal or a fraction); −E is the field turned by 180°.
@@ -99,5 +101,82 @@ impl Motion {
         let e = parse_exact(field).map_err(|e| e.named("electric"))?;
         let a = parse_exact(angle).map_err(|e| e.named("electric_angle"))?;
         Ok(crate::kernel::thermostat::Thermostat::exact(&e, &a, ctx))
+    }
+}
+
+/// A motion's parameters exactly as a configuration gives them: the keys `field`, `electric` and
+/// `electric_angle` that a table's record and the configurations of the shadow audit, true
+/// shadowing and the Lyapunov measurement flatten into their JSON (all absent: straight flights).
+/// [`MotionInput::resolve`] checks its shape, once for all of them; each analysis checks the
+/// ranges it takes.
+///
+/// # Examples
+///
+/// ```
+/// use lorentz_gas::scenes::motion::{Motion, MotionInput};
+/// let m = MotionInput::default().with_electric("-3/10", "90");
+/// assert_eq!(m.resolve().unwrap(), Motion::thermostat("-3/10", "90"));
+/// let json = serde_json::to_string(&m).unwrap();
+/// assert_eq!(json, r#"{"electric":"-3/10","electric_angle":"90"}"#);
+/// let both = MotionInput { field: Some("1".into()), ..m };
+/// assert!(both.resolve().unwrap_err().to_string().contains("give one motion"));
+/// ```
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MotionInput {
+    /// A uniform magnetic field B perpendicular to the plane, exactly as typed (a decimal or a
+    /// fraction; absent or 0: no field): the flights are arcs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field: Option<String>,
+    /// A Gaussian-thermostatted electric field E, its signed strength exactly as typed (a decimal
+    /// or a fraction; absent or 0: no field): the flights are the thermostat's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electric: Option<String>,
+    /// With `electric`: the angle of E from the x axis in degrees, exactly as typed (absent: 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electric_angle: Option<String>,
+}
+
+impl MotionInput {
+    /// The same input with the magnetic field B as typed (none where B is exactly zero,
+    /// [`Motion::in_field`]); the electric field stays as it was.
+    pub fn with_field(self, b: &str) -> Self {
+        MotionInput {
+            field: Motion::in_field(b).field().map(str::to_string),
+            ..self
+        }
+    }
+
+    /// The same input with the thermostatted field of strength `e` along `angle` degrees, each as
+    /// typed (none where E is exactly zero, [`Motion::thermostat`]); the magnetic field stays as it
+    /// was.
+    pub fn with_electric(self, e: &str, angle: &str) -> Self {
+        let (electric, electric_angle) = Motion::thermostat(e, angle).thermostat_texts();
+        MotionInput {
+            electric,
+            electric_angle,
+            ..self
+        }
+    }
+
+    /// The motion: straight lines, a magnetic field's arcs or the thermostat's flights (a zero
+    /// field of either kind is straight lines).
+    ///
+    /// # Errors
+    /// Both a magnetic and an electric field, or an angle without the electric field.
+    pub fn resolve(&self) -> Result<Motion, Error> {
+        match (&self.field, &self.electric, &self.electric_angle) {
+            (Some(_), Some(e), _) => Err(Error::parameter(
+                "electric",
+                e,
+                "both a magnetic field and an electric one: give one motion",
+            )),
+            (_, None, Some(a)) => Err(Error::parameter(
+                "electric_angle",
+                a,
+                "electric_angle without electric: give the field's strength too",
+            )),
+            (b, None, None) => Ok(b.as_deref().map_or(Motion::Straight, Motion::in_field)),
+            (None, Some(e), a) => Ok(Motion::thermostat(e, a.as_deref().unwrap_or("0"))),
+        }
     }
 }

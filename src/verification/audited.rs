@@ -10,6 +10,7 @@ use super::replay::EventCheck;
 use crate::Error;
 use crate::engine::long_flight::Flights;
 use crate::kernel::flight::Flight;
+use crate::scenes::motion::MotionInput;
 
 /// An audited event with its exact f64 pre-event state (bit patterns, for replay).
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -179,20 +180,13 @@ pub struct AuditConfig {
     pub reference_bits: u32,
     /// Seed.
     pub seed: u64,
-    /// A uniform magnetic field B, exactly as given (a decimal or a fraction; absent or 0: no
-    /// field): the events replayed are arcs, judged by the arc kernel's running error bound
-    /// ([`super::arc_audit`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub field: Option<String>,
-    /// A Gaussian-thermostatted electric field E, its signed strength exactly as given (absent or
-    /// 0: no field; 0 < |E| ≤ 10): the events replayed are thermostatted flights, judged by their
-    /// kernel's running error bound and checked against independent closed forms
-    /// ([`super::thermo_audit`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub electric: Option<String>,
-    /// The angle of E from the x axis in degrees, exactly as given (absent: 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub electric_angle: Option<String>,
+    /// The motion, each parameter exactly as given (flattened: the keys `field`, `electric` and
+    /// `electric_angle`): arcs of a magnetic field B with 10⁻⁶ ≤ |B| ≤ 10⁶, judged by the arc
+    /// kernel's running error bound ([`super::arc_audit`]), or the flights of a thermostatted
+    /// electric field with 0 < |E| ≤ 10, judged by their kernel's running error bound and checked
+    /// against independent closed forms ([`super::thermo_audit`]); none: straight flights.
+    #[serde(flatten)]
+    pub motion: MotionInput,
     /// How straight flights cross the lattice ([`Flights`]): `auto` jumps where the scene
     /// supplies long flights and they are faster ([`Flights::resolve`]), and there is no field.
     #[serde(default)]
@@ -208,7 +202,7 @@ impl AuditConfig {
     /// # Errors
     /// A field that is not an exact decimal or fraction, or outside [`AUDIT_FIELD_RANGE`].
     pub fn field_exact(&self) -> Result<Option<rug::Rational>, Error> {
-        super::exact_field(self.field.as_deref(), AUDIT_FIELD_RANGE)
+        super::exact_field(self.motion.field.as_deref(), AUDIT_FIELD_RANGE)
     }
 
     /// The curved motion, exact, if there is one: the magnetic field, or the thermostatted
@@ -218,12 +212,7 @@ impl AuditConfig {
     /// Both fields given, an angle without a strength, or a field that is not exact or out of
     /// its range ([`AuditConfig::field_exact`],
     /// [`check_electric`](crate::estimators::diffusion::check_electric)).
-    pub fn motion(&self) -> Result<Option<ExactMotion>, Error> {
-        ExactMotion::given(
-            self.field.as_deref(),
-            || self.field_exact(),
-            self.electric.as_deref(),
-            self.electric_angle.as_deref(),
-        )
+    pub fn exact_motion(&self) -> Result<Option<ExactMotion>, Error> {
+        ExactMotion::of(&self.motion, AUDIT_FIELD_RANGE)
     }
 }

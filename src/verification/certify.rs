@@ -202,9 +202,7 @@ fn planning_exponent<S: Scene>(scene: &S) -> Result<f64, Error> {
         seed: CERTIFY_LAMBDA_SEED,
         // The plan keeps its bits: the walk, as before long flights.
         flights: crate::engine::long_flight::Flights::Walk,
-        field: None,
-        electric: None,
-        electric_angle: None,
+        motion: Default::default(),
     };
     let one = RunOptions {
         threads: 1,

@@ -13,6 +13,7 @@ use crate::kernel::thermostat::cell::ThermoEvent;
 use crate::numbers::real::Real;
 use crate::numbers::tracked::Tracked;
 use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::scenes::motion::{Motion, MotionInput};
 use crate::scenes::thermostat::CellFields;
 
 /// A curved motion exactly as given: the magnetic field B, or the thermostatted field's signed
@@ -59,48 +60,30 @@ impl<T> CurvedEvent<T> {
 }
 
 impl ExactMotion {
-    /// The motion a configuration gives: the magnetic field `field` (as typed, made exact and
-    /// checked by `field_exact`), or the thermostatted field of strength `electric` along
-    /// `angle` degrees (absent: 0), each as typed; `None`: straight flights (no field, or a zero
-    /// one).
+    /// The motion a configuration gives ([`MotionInput::resolve`]), exact: the magnetic field B
+    /// with |B| in `field_range`, or the thermostatted field of strength E along its angle;
+    /// `None`: straight flights (no field, or a zero one).
     ///
     /// # Errors
     /// Both fields, an angle without a strength, or a field that is not exact or out of its
-    /// range (`field_exact`, [`check_electric`](crate::estimators::diffusion::check_electric)).
-    pub fn given(
-        field: Option<&str>,
-        field_exact: impl FnOnce() -> Result<Option<Rational>, crate::Error>,
-        electric: Option<&str>,
-        angle: Option<&str>,
-    ) -> Result<Option<Self>, crate::Error> {
+    /// range ([`super::exact_field`],
+    /// [`check_electric`](crate::estimators::diffusion::check_electric)).
+    pub fn of(input: &MotionInput, field_range: (f64, f64)) -> Result<Option<Self>, crate::Error> {
         use crate::numbers::exact::parse_exact;
-        use crate::scenes::spec::Motion;
-        let Some(e) = electric else {
-            if let Some(a) = angle {
-                return Err(crate::Error::parameter(
-                    "electric_angle",
-                    a,
-                    "an angle without a field: give the field's strength as electric too",
-                ));
+        let motion = input.resolve()?;
+        match &motion {
+            Motion::Field(b) => {
+                Ok(super::exact_field(Some(b), field_range)?.map(ExactMotion::Field))
             }
-            return Ok(field_exact()?.map(ExactMotion::Field));
-        };
-        if field.is_some() {
-            return Err(crate::Error::parameter(
-                "electric",
-                e,
-                "both a magnetic field and an electric one: give one motion",
-            ));
+            Motion::Thermostat { field, angle } => {
+                crate::estimators::diffusion::check_electric(&motion)?;
+                Ok(Some(ExactMotion::Thermostat {
+                    field: parse_exact(field).map_err(|e| e.named("electric"))?,
+                    angle: parse_exact(angle).map_err(|e| e.named("electric_angle"))?,
+                }))
+            }
+            _ => Ok(None),
         }
-        let motion = Motion::thermostat(e, angle.unwrap_or("0"));
-        crate::estimators::diffusion::check_electric(&motion)?;
-        Ok(match motion {
-            Motion::Thermostat { field, angle } => Some(ExactMotion::Thermostat {
-                field: parse_exact(&field).map_err(|e| e.named("electric"))?,
-                angle: parse_exact(&angle).map_err(|e| e.named("electric_angle"))?,
-            }),
-            _ => None,
-        })
     }
 
     /// The motion on tracked numbers at `bits`: every parameter rounded once from its exact value,

@@ -27,6 +27,7 @@ use crate::numbers::lanes::Lanes;
 use crate::numbers::real::Real;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{Lattice, LatticeState};
+use crate::scenes::motion::MotionInput;
 use crate::scenes::sampling::stream;
 use crate::scenes::spec::Motion;
 use crate::statistics::mean_se;
@@ -73,68 +74,37 @@ pub struct LyapunovConfig {
     /// How flights cross the lattice ([`Flights`]): `auto` (jumps where the scene supplies them and they are faster, [`crate::engine::long_flight::AUTO_MAX_RADIUS`]).
     #[serde(default)]
     pub flights: Flights,
-    /// A uniform magnetic field B, exactly as typed (a decimal or a fraction, 10⁻³ ≤ |B| ≤ 10³):
-    /// the exponent of the arcs. `None`: straight flights.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub field: Option<String>,
-    /// A Gaussian-thermostatted electric field E, its strength exactly as typed (a decimal or a
-    /// fraction, 0 < |E| ≤ 10): the Lyapunov pair of the driven gas
-    /// ([`crate::estimators::current::lyapunov::run`]). `None`: no such field.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub electric: Option<String>,
-    /// With `electric`: the field's angle from the x axis in degrees, exactly as typed (`None`:
-    /// 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub electric_angle: Option<String>,
+    /// The motion, each parameter exactly as typed (flattened: the keys `field`, `electric` and
+    /// `electric_angle`): a uniform magnetic field B with 10⁻³ ≤ |B| ≤ 10³ — the exponent of the
+    /// arcs — or a thermostatted electric field with 0 < |E| ≤ 10 — the Lyapunov pair of the
+    /// driven gas ([`crate::estimators::current::lyapunov::run`]); none: straight flights.
+    #[serde(flatten)]
+    pub motion: MotionInput,
 }
 
 impl LyapunovConfig {
     /// The same measurement in the field B (as typed): the exponent of the arcs, or of straight
-    /// flights where B is exactly zero ([`Motion::in_field`]).
+    /// flights where B is exactly zero ([`MotionInput::with_field`]).
     pub fn in_field(self, b: &str) -> Self {
         LyapunovConfig {
-            field: Motion::in_field(b).field().map(str::to_string),
+            motion: self.motion.with_field(b),
             ..self
         }
     }
 
     /// The same measurement under the thermostatted field of strength `e` along `angle` degrees
     /// (each as typed): the driven gas's Lyapunov pair, or straight flights where E is exactly
-    /// zero ([`Motion::thermostat`]).
+    /// zero ([`MotionInput::with_electric`]).
     pub fn under_electric(self, e: &str, angle: &str) -> Self {
-        let (electric, electric_angle) = Motion::thermostat(e, angle).thermostat_texts();
         LyapunovConfig {
-            electric,
-            electric_angle,
+            motion: self.motion.with_electric(e, angle),
             ..self
-        }
-    }
-
-    /// The motion of the measurement: straight lines, a magnetic field's arcs or the
-    /// thermostat's flights.
-    ///
-    /// # Errors
-    /// Both a magnetic and an electric field, or an angle without the electric field.
-    pub fn motion(&self) -> Result<Motion, Error> {
-        match (&self.field, &self.electric, &self.electric_angle) {
-            (Some(_), Some(_), _) => Err(Error::parameter(
-                "electric",
-                self.electric.as_deref().unwrap_or(""),
-                "both a magnetic field and an electric one: give one motion",
-            )),
-            (_, None, Some(a)) => Err(Error::parameter(
-                "electric_angle",
-                a,
-                "an angle without the electric field: give its strength too",
-            )),
-            (b, None, None) => Ok(b.as_deref().map_or(Motion::Straight, Motion::in_field)),
-            (None, Some(e), a) => Ok(Motion::thermostat(e, a.as_deref().unwrap_or("0"))),
         }
     }
 
     /// Refuses a field, for the measurement of straight flights.
     fn refuse_field(&self) -> Result<(), Error> {
-        match self.motion()? {
+        match self.motion.resolve()? {
             Motion::Field(b) => Err(Error::parameter(
                 "field",
                 b,
@@ -158,9 +128,7 @@ impl LyapunovConfig {
             batches: 16,
             seed: 1,
             flights: Flights::Auto,
-            field: None,
-            electric: None,
-            electric_angle: None,
+            motion: MotionInput::default(),
         }
     }
 }

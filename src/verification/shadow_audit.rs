@@ -308,7 +308,7 @@ pub fn run<S: Scene>(
         return Err(Error::Zero { what: "batches" });
     }
     crate::engine::parallel::check_batches("batches", cfg.batches)?;
-    let motion = cfg.motion()?;
+    let motion = cfg.exact_motion()?;
     let flights = audit_flights(scene, cfg.flights, motion.is_some())?;
     // The ranges first: the work is priced from values known to be in range.
     AuditSpec::new(cfg.sample, cfg.reference_bits)?;

@@ -321,9 +321,7 @@ fn audits_of_long_flights_find_nothing_outside_the_error_model() {
         sample: 1.0,
         reference_bits: 128,
         seed: 3,
-        field: None,
-        electric: None,
-        electric_angle: None,
+        motion: Default::default(),
         flights: lorentz_gas::engine::long_flight::Flights::Walk,
     };
     let tri = TriangularScene::exact(Rational::from((1, 2))).unwrap();

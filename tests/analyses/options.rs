@@ -80,9 +80,7 @@ fn verification_analyses_refuse_every_run_option() {
             segments: 1,
             seed: 1,
             reference_bits: 256,
-            field: None,
-            electric: None,
-            electric_angle: None,
+            motion: Default::default(),
         };
         refused(shadowing::run(&scene, &shadow, &o), "shadow", option);
         refused(

@@ -46,9 +46,7 @@ fn a_stop_mid_batch_ends_lyapunov_within_a_leg() {
         batches: 2,
         seed: 1,
         flights: Flights::Walk,
-        field: None,
-        electric: None,
-        electric_angle: None,
+        motion: Default::default(),
     };
     let (err, seen) = stopped_after_a_leg(|o| lyapunov::run(&scene, &cfg, o));
     assert!(matches!(err, Error::Interrupted), "{err}");

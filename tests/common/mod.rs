@@ -131,7 +131,10 @@ pub fn full_audit<S: lorentz_gas::scenes::Scene>(
     flights: lorentz_gas::engine::long_flight::Flights,
 ) -> lorentz_gas::verification::shadow_audit::AuditReport {
     let cfg = lorentz_gas::verification::shadow_audit::AuditConfig {
-        field: field.map(Into::into),
+        motion: lorentz_gas::scenes::motion::MotionInput {
+            field: field.map(Into::into),
+            ..Default::default()
+        },
         flights,
         ..audit_config(scene, collisions, seed)
     };
@@ -152,9 +155,7 @@ pub fn audit_config<S: lorentz_gas::scenes::Scene>(
         sample: 1.0,
         reference_bits: 128,
         seed,
-        field: None,
-        electric: None,
-        electric_angle: None,
+        motion: Default::default(),
         flights: Default::default(),
     }
 }

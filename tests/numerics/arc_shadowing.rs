@@ -8,6 +8,7 @@ use super::shadowing::{assert_certified, assert_step_jacobian};
 
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::motion::MotionInput;
 use lorentz_gas::scenes::sampling::{Purpose, StreamKey};
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::theory::magnetic::FieldGeometry;
@@ -81,9 +82,10 @@ fn f64_arc_segments_are_shadowed_at_w_0_1_and_0_3() {
                 segments: 3,
                 seed: 1,
                 reference_bits: BITS,
-                field: Some(field.to_string()),
-                electric: None,
-                electric_angle: None,
+                motion: MotionInput {
+                    field: Some(field.to_string()),
+                    ..Default::default()
+                },
             };
             let r = shadowing::run(&sc, &request, &crate::common::threads(1)).unwrap();
             for s in &r.segments {
@@ -98,9 +100,10 @@ fn f64_arc_segments_are_shadowed_at_w_0_1_and_0_3() {
         segments: 1,
         seed: 1,
         reference_bits: BITS,
-        field: Some("10".into()),
-        electric: None,
-        electric_angle: None,
+        motion: MotionInput {
+            field: Some("10".into()),
+            ..Default::default()
+        },
     };
     let e = shadowing::run(&scene("0.3"), &request, &crate::common::threads(1))
         .unwrap_err()
@@ -265,9 +268,10 @@ fn f64_segments_of_the_square_lattice_are_shadowed_with_and_without_a_field() {
             segments: 3,
             seed: 1,
             reference_bits: BITS,
-            field: field.map(str::to_string),
-            electric: None,
-            electric_angle: None,
+            motion: MotionInput {
+                field: field.map(str::to_string),
+                ..Default::default()
+            },
         };
         let r = shadowing::run(&sc, &request, &crate::common::threads(1)).unwrap();
         assert!(r.scene.starts_with("square"), "{}", r.scene);

@@ -112,9 +112,7 @@ fn lyapunov_with_jumps_agrees_with_the_cell_walk() {
             batches: 8,
             seed: 5,
             flights,
-            field: None,
-            electric: None,
-            electric_angle: None,
+            motion: Default::default(),
         };
         lyapunov::run(&scene, &cfg, &crate::common::threads(2)).unwrap()
     };
@@ -178,9 +176,7 @@ fn the_lyapunov_exponent_at_small_radius_is_dahlqvists() {
         batches: 4,
         seed: 7,
         flights: Flights::Auto,
-        field: None,
-        electric: None,
-        electric_angle: None,
+        motion: Default::default(),
     };
     let l = lyapunov::run(
         &SquareScene::new(r).unwrap(),

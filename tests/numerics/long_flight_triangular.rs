@@ -97,9 +97,7 @@ fn lyapunov_at(w: &str, flights: Flights, collisions: u64, batches: u32) -> Lyap
         batches,
         seed: 43,
         flights,
-        field: None,
-        electric: None,
-        electric_angle: None,
+        motion: Default::default(),
     };
     lyapunov::run(&scene, &cfg, &crate::common::threads(2)).unwrap()
 }

@@ -59,5 +59,6 @@ mod table_field;
 mod tables;
 mod thermo_audit;
 mod thermo_shadowing;
+mod ties;
 mod trajectory;
 mod verification;

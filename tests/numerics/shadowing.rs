@@ -25,9 +25,7 @@ fn request(collisions: usize, segments: u32) -> ShadowConfig {
         segments,
         seed: 1,
         reference_bits: BITS,
-        field: None,
-        electric: None,
-        electric_angle: None,
+        motion: Default::default(),
     }
 }
 

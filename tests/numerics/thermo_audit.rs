@@ -16,6 +16,7 @@ use lorentz_gas::kernel::vec2::Vec2;
 use lorentz_gas::numbers::tracked::Tracked;
 use lorentz_gas::scenes::Scene;
 use lorentz_gas::scenes::lattice::{CellIndex, LatticeState};
+use lorentz_gas::scenes::motion::MotionInput;
 use lorentz_gas::scenes::thermostat::CellFields;
 use lorentz_gas::scenes::triangular::TriangularScene;
 use lorentz_gas::verification::arc_audit::{check_curved_event, recorded_state};
@@ -25,8 +26,11 @@ use rug::Rational;
 
 fn audit(scene: &TriangularScene, e: &str, angle: &str, collisions: u64, seed: u64) -> AuditReport {
     let cfg = AuditConfig {
-        electric: Some(e.into()),
-        electric_angle: Some(angle.into()),
+        motion: MotionInput {
+            electric: Some(e.into()),
+            electric_angle: Some(angle.into()),
+            ..Default::default()
+        },
         ..crate::common::audit_config(scene, collisions, seed)
     };
     shadow_audit::run(scene, &cfg, &crate::common::threads(2)).unwrap()

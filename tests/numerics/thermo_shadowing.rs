@@ -10,6 +10,7 @@ use super::shadowing::{assert_central_differences, assert_certified};
 
 use lorentz_gas::numbers::exact::parse_exact;
 use lorentz_gas::scenes::Scene;
+use lorentz_gas::scenes::motion::MotionInput;
 use lorentz_gas::scenes::sampling::stream;
 use lorentz_gas::scenes::thermostat::CellFields;
 use lorentz_gas::scenes::triangular::TriangularScene;
@@ -118,9 +119,7 @@ fn f64_thermostatted_segments_are_shadowed_at_w_0_1_and_0_3() {
                 segments: 2,
                 seed: 1,
                 reference_bits: BITS,
-                field: None,
-                electric: Some(e.to_string()),
-                electric_angle: Some("30".to_string()),
+                motion: MotionInput::default().with_electric(e, "30"),
             };
             let r = shadowing::run(&sc, &request, &crate::common::threads(1)).unwrap();
             for s in &r.segments {

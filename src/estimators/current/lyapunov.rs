@@ -98,7 +98,7 @@ pub fn warm_up(n: u64) -> u64 {
 /// The field of a configuration at double precision, checked as the diffusion run checks it
 /// ([`check_electric`]): 0 < |E| ≤ 10, the angle within ±360°.
 fn field_of(cfg: &LyapunovConfig) -> Result<Thermostat<f64>, Error> {
-    let motion = cfg.motion()?;
+    let motion = cfg.motion.resolve()?;
     check_electric(&motion)?;
     motion.thermostat_at::<f64>(())?.ok_or(Error::missing(
         "electric",

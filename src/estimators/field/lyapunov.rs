@@ -63,8 +63,8 @@ pub fn run<S: Scene>(
     opts.accept("lyapunov in a field", &[RunOption::Engine])?;
     cfg.flights.in_field()?;
     // An electric field beside the magnetic one is refused.
-    cfg.motion()?;
-    let field = cfg.field.as_deref().ok_or(Error::missing(
+    cfg.motion.resolve()?;
+    let field = cfg.motion.field.as_deref().ok_or(Error::missing(
         "field",
         "the exponent in a field needs the field B",
     ))?;
@@ -149,7 +149,7 @@ fn report<S: Scene>(
             scene: format!(
                 "{} B={}",
                 scene.label(),
-                cfg.field.as_deref().unwrap_or("0")
+                cfg.motion.field.as_deref().unwrap_or("0")
             ),
             per_collision: pc,
             per_collision_err: pce,

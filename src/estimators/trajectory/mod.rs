@@ -272,9 +272,7 @@ pub fn plan<S: Scene>(scene: &S, input: &TrajectoryInput) -> Result<Plan, Error>
             seed: PLAN_LAMBDA_SEED,
             // The plan keeps its bits: the walk, as before long flights.
             flights: crate::engine::long_flight::Flights::Walk,
-            field: None,
-            electric: None,
-            electric_angle: None,
+            motion: Default::default(),
         },
         &RunOptions {
             threads: 1,

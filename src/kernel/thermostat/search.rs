@@ -202,3 +202,44 @@ pub(super) fn earliest_event<T: Real>(
     }
     best
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Offers every candidate at one time in `order` and returns the one kept.
+    fn kept(order: &[EventKind]) -> EventKind {
+        let mut best: Best<f64> = None;
+        for &kind in order {
+            offer(&mut best, 0.5, kind, || None);
+        }
+        best.unwrap().kind
+    }
+
+    /// Simultaneous contacts go to collisions before crossings, then to the lower label, in
+    /// whatever order the march finds them (an earlier time always wins).
+    #[test]
+    fn simultaneous_contacts_go_to_the_collision_then_the_lower_label() {
+        use EventKind::{Collision, Crossing};
+        let all = [
+            Crossing(0),
+            Crossing(2),
+            Collision(1),
+            Collision(0),
+            Crossing(1),
+        ];
+        let mut order = all;
+        for turn in 0..all.len() {
+            order.rotate_left(1);
+            assert_eq!(kept(&order), Collision(0), "turn {turn}: {order:?}");
+            let mut back = order;
+            back.reverse();
+            assert_eq!(kept(&back), Collision(0), "turn {turn}, reversed: {back:?}");
+        }
+        assert_eq!(kept(&[Crossing(2), Crossing(1)]), Crossing(1));
+        let mut best: Best<f64> = None;
+        offer(&mut best, 0.5, Collision(0), || None);
+        offer(&mut best, 0.25, Crossing(2), || None);
+        assert_eq!(best.unwrap().kind, Crossing(2), "an earlier crossing wins");
+    }
+}

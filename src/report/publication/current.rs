@@ -16,6 +16,7 @@ use crate::Error;
 use crate::estimators::current::{self, CurrentReport, Steady, WARM_UP_SHARE};
 use crate::estimators::diffusion::DiffusionConfig;
 use crate::numbers::exact::parse_exact;
+use crate::scenes::motion::MotionInput;
 use crate::scenes::spec::{Motion, SceneSpec};
 use crate::statistics::mean_se;
 use crate::verification::audited::AuditConfig;
@@ -224,9 +225,11 @@ fn audit_check(cfg: &DiffusionConfig, ctx: &Ctx<'_>, checks: &mut Checks) -> Res
         sample: 1.0,
         reference_bits: ctx.bits,
         seed: cfg.seed,
-        field: None,
-        electric: Some(field.clone()),
-        electric_angle: Some(angle.clone()),
+        motion: MotionInput {
+            electric: Some(field.clone()),
+            electric_angle: Some(angle.clone()),
+            ..Default::default()
+        },
         flights: Default::default(),
     };
     let o = ctx.options();

@@ -9,15 +9,15 @@ pub fn audit(r: &AuditReport) -> String {
     let mut out = String::new();
     let s = &r.summary;
     let c = &r.config;
-    let field = match (&c.field, c.field_exact()) {
+    let field = match (&c.motion.field, c.field_exact()) {
         (Some(b), Ok(Some(_))) => {
             format!(" in the field B = {b} (arcs, against their running error bound)")
         }
-        _ => match &c.electric {
-            Some(e) if matches!(c.motion(), Ok(Some(_))) => format!(
+        _ => match &c.motion.electric {
+            Some(e) if matches!(c.exact_motion(), Ok(Some(_))) => format!(
                 " under the thermostatted field E = {e} at {} degrees (against the running \
                  error bound and the closed forms)",
-                c.electric_angle.as_deref().unwrap_or("0")
+                c.motion.electric_angle.as_deref().unwrap_or("0")
             ),
             _ => String::new(),
         },

@@ -103,8 +103,8 @@ pub fn lyapunov(r: &LyapunovResult) -> String {
 pub fn driven(r: &crate::estimators::current::lyapunov::DrivenLyapunovReport) -> String {
     let mut out = String::new();
     let l = &r.tangent;
-    let angle = r.config.electric_angle.as_deref().unwrap_or("0");
-    let e = r.config.electric.as_deref().unwrap_or("0");
+    let angle = r.config.motion.electric_angle.as_deref().unwrap_or("0");
+    let e = r.config.motion.electric.as_deref().unwrap_or("0");
     let est = |v: f64, err: f64| super::estimate(v, err);
     line!(
         out,

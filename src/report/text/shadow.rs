@@ -13,12 +13,16 @@ pub fn shadow(r: &ShadowReport) -> String {
         out,
         "{}{}: {} segments of {} collisions at {} bits: {} converged, {} certified; median delta {}, max {}",
         r.scene,
-        match (r.config.motion(), &r.config.field, &r.config.electric) {
+        match (
+            r.config.exact_motion(),
+            &r.config.motion.field,
+            &r.config.motion.electric
+        ) {
             (Ok(Some(ExactMotion::Field(_))), Some(b), _) =>
                 format!(" in the field B = {b} (arcs)"),
             (Ok(Some(ExactMotion::Thermostat { .. })), _, Some(e)) => format!(
                 " under the thermostatted field E = {e} at {} deg",
-                r.config.electric_angle.as_deref().unwrap_or("0")
+                r.config.motion.electric_angle.as_deref().unwrap_or("0")
             ),
             _ => String::new(),
         },

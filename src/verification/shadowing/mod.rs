@@ -39,6 +39,7 @@ use crate::kernel::flight::EventKind;
 use crate::kernel::vec2::Vec2;
 use crate::scenes::Scene;
 use crate::scenes::lattice::LatticeState;
+use crate::scenes::motion::MotionInput;
 use crate::scenes::sampling::stream;
 use crate::verification::curved::ExactMotion;
 
@@ -383,20 +384,14 @@ pub struct ShadowConfig {
     /// MPFR working precision P of the true orbit (bits), [`MIN_SHADOW_BITS`] to
     /// [`MAX_SHADOW_BITS`].
     pub reference_bits: u32,
-    /// A uniform field B perpendicular to the plane, an exact decimal or fraction,
-    /// 10⁻³ ≤ |B| ≤ 10³ (`None` or 0: no field): the segments are `f64` arc orbits started in the
-    /// diffusing part (segment k where batch k of the transport run in the field starts) and
-    /// their shadows true orbits on arcs.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub field: Option<String>,
-    /// A Gaussian-thermostatted electric field E, its signed strength an exact decimal or
-    /// fraction, 0 < |E| ≤ 10 (`None` or 0: straight flights): the segments are `f64`
-    /// thermostatted orbits from equilibrium starts and their shadows true thermostatted orbits.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub electric: Option<String>,
-    /// With `electric`: the field's angle from the x axis in degrees, exact (`None`: 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub electric_angle: Option<String>,
+    /// The motion, each parameter an exact decimal or fraction (flattened: the keys `field`,
+    /// `electric` and `electric_angle`): a uniform field B with 10⁻³ ≤ |B| ≤ 10³ — the segments
+    /// `f64` arc orbits started in the diffusing part (segment k where batch k of the transport
+    /// run in the field starts), their shadows true orbits on arcs — or a thermostatted electric
+    /// field with 0 < |E| ≤ 10 — `f64` thermostatted orbits from equilibrium starts and true
+    /// thermostatted shadows; none: straight flights.
+    #[serde(flatten)]
+    pub motion: MotionInput,
 }
 
 /// The fields true shadowing takes: 10⁻³ ≤ |B| ≤ 10³, those of the transport runs whose segments
@@ -409,7 +404,7 @@ impl ShadowConfig {
     /// # Errors
     /// A field that is not an exact decimal or fraction, or outside [`SHADOW_FIELD_RANGE`].
     pub fn field_exact(&self) -> Result<Option<rug::Rational>, Error> {
-        super::exact_field(self.field.as_deref(), SHADOW_FIELD_RANGE)
+        super::exact_field(self.motion.field.as_deref(), SHADOW_FIELD_RANGE)
     }
 
     /// Checks every parameter; errors name the valid range.
@@ -419,7 +414,7 @@ impl ShadowConfig {
     pub fn validate(&self) -> Result<(), Error> {
         check_request(self.collisions_per_segment, self.reference_bits)?;
         Error::unless_in("segments", self.segments, 1..=MAX_SEGMENTS, "")?;
-        self.motion()?;
+        self.exact_motion()?;
         Ok(())
     }
 
@@ -428,13 +423,8 @@ impl ShadowConfig {
     ///
     /// # Errors
     /// Both fields, an angle without a strength, or a field not exact or out of its range.
-    pub fn motion(&self) -> Result<Option<ExactMotion>, Error> {
-        ExactMotion::given(
-            self.field.as_deref(),
-            || self.field_exact(),
-            self.electric.as_deref(),
-            self.electric_angle.as_deref(),
-        )
+    pub fn exact_motion(&self) -> Result<Option<ExactMotion>, Error> {
+        ExactMotion::of(&self.motion, SHADOW_FIELD_RANGE)
     }
 }
 
@@ -455,7 +445,7 @@ fn field_of<S: Scene>(
     if geometry.all_localized() {
         return Err(Error::parameter(
             "field",
-            config.field.as_deref().unwrap_or_default(),
+            config.motion.field.as_deref().unwrap_or_default(),
             "every orbit is localized here (pinned or skipping), so no segment diffuses; use a \
              weaker field",
         ));
@@ -491,7 +481,7 @@ pub fn run<S: Scene>(
         .costing(shadow_collisions_per_collision(bits) * mpfr_seconds_per_collision(bits))
         .check(threads)?;
     let field = field_of(scene, request)?;
-    let motion = request.motion()?;
+    let motion = request.exact_motion()?;
     let out = par_batches(threads, segments, |k| {
         let orbit = seeded_segment(scene, request, field.as_ref(), motion.as_ref(), k)?;
         let mut shadow = shadow_pseudo_orbit_in_motion(scene, &orbit, bits, motion.as_ref())?;
