@@ -325,9 +325,7 @@ def shadow(
             reference_bits=reference_bits,
             seed=seed,
         ),
-        "field": _optional_exact("field", field),
-        "electric": _optional_exact("electric", electric),
-        "electric_angle": _optional_exact("electric_angle", electric_angle),
+        **_driving(field, electric, electric_angle),
         "threads": _threads(threads),
     })
     return ShadowResult(text)
