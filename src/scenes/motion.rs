@@ -122,17 +122,18 @@ impl Motion {
 /// assert!(both.resolve().unwrap_err().to_string().contains("give one motion"));
 /// ```
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct MotionInput {
     /// A uniform magnetic field B perpendicular to the plane, exactly as typed (a decimal or a
     /// fraction; absent or 0: no field): the flights are arcs.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub field: Option<String>,
     /// A Gaussian-thermostatted electric field E, its signed strength exactly as typed (a decimal
     /// or a fraction; absent or 0: no field): the flights are the thermostat's.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub electric: Option<String>,
     /// With `electric`: the angle of E from the x axis in degrees, exactly as typed (absent: 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub electric_angle: Option<String>,
 }
 
