@@ -105,10 +105,10 @@ impl Motion {
 }
 
 /// A motion's parameters exactly as a configuration gives them: the keys `field`, `electric` and
-/// `electric_angle` that a table's record and the configurations of the shadow audit, true
-/// shadowing and the Lyapunov measurement flatten into their JSON (all absent: straight flights).
-/// [`MotionInput::resolve`] checks its shape, once for all of them; each analysis checks the
-/// ranges it takes.
+/// `electric_angle` that the configurations of the shadow audit, true shadowing and the Lyapunov
+/// measurement flatten into their JSON (all absent: straight flights; a table's record has the
+/// same keys, [`super::spec::Table`]). [`MotionInput::resolve`] checks its shape, once for all of
+/// them; each analysis checks the ranges it takes.
 ///
 /// # Examples
 ///
