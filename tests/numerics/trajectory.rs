@@ -566,7 +566,7 @@ fn trajectories_in_a_field_agree_with_the_circle_intersection_reference() {
         check(&r, &reference, &what);
         collided.push(reference.1);
         assert_eq!(
-            r.field.as_deref(),
+            r.motion.field.as_deref(),
             Some(parse_exact(b).unwrap().to_string().as_str())
         );
     }

@@ -28,6 +28,7 @@ use crate::kernel::{flight::EventKind, flight::Flight};
 use crate::numbers::real::Real;
 use crate::scenes::Scene;
 use crate::scenes::lattice::{CellIndex, Lattice, LatticeState};
+use crate::scenes::motion::MotionInput;
 use crate::verification::lyapunov::{self, LyapunovConfig};
 
 mod digits;
@@ -135,15 +136,10 @@ pub fn estimated_seconds(bits: f64, events: f64) -> f64 {
 pub struct TrajectoryReport {
     /// The scene ([`Scene::label`]).
     pub scene: String,
-    /// The magnetic field B as an exact fraction (absent without one).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub field: Option<String>,
-    /// The electric field E (its strength as an exact fraction; absent without one).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub electric: Option<String>,
-    /// Its angle from the x axis in degrees, as an exact fraction (absent without the field).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub electric_angle: Option<String>,
+    /// The motion, each parameter as an exact fraction (flattened: the keys `field`, `electric`
+    /// and `electric_angle`, absent for straight flights).
+    #[serde(flatten)]
+    pub motion: MotionInput,
     /// World x at time T, exactly `certified_digits` digits.
     pub x: String,
     /// World y at time T.
@@ -365,9 +361,11 @@ pub fn run<S: Scene>(
             let text = |k: usize| decimal(&hi.values[k], certified);
             return Ok(TrajectoryReport {
                 scene: scene.label(),
-                field: field_of(input).map(|b| b.to_string()),
-                electric: electric_of(input).map(|(e, _)| e.to_string()),
-                electric_angle: electric_of(input).map(|(_, a)| a.to_string()),
+                motion: MotionInput {
+                    field: field_of(input).map(|b| b.to_string()),
+                    electric: electric_of(input).map(|(e, _)| e.to_string()),
+                    electric_angle: electric_of(input).map(|(_, a)| a.to_string()),
+                },
                 x: text(0),
                 y: text(1),
                 distance: text(2),

@@ -12,7 +12,7 @@ pub fn trajectory(r: &TrajectoryReport, time: &str) -> String {
         out,
         "{}{}, t = {time}: {} collisions, {} crossings",
         r.scene,
-        match (&r.electric, &r.electric_angle) {
+        match (&r.motion.electric, &r.motion.electric_angle) {
             (Some(e), Some(a)) => format!(" under the thermostatted field E = {e} at {a}°"),
             _ => String::new(),
         },
