@@ -71,7 +71,12 @@ def bench(
         With ``field`` on the SIMD engine: also time the arc engine fed each event's winner from
         a tape of its own run (only that disk and edge computed, the same bits) beside the full
         engine on the same tape, one thread: the speed no choice of the next event in advance
-        can beat with this kernel's arithmetic, on this CPU (``oracle`` in the result).
+        can beat with this kernel's arithmetic, on this CPU (``oracle`` in the result). With
+        ``electric``: the thermostat's floor, each event of a tape of its walk (the run's
+        ``collisions_per_thread``, at most 2e5 collisions) certified given only the candidate
+        the full search found, beside the full search on the same tape (``oracle``: ``events``,
+        ``collisions``, ``identical``, ``full_ns_per_collision``, ``floor_ns_per_collision``,
+        ``floor_collisions_per_second``, ``paired_ratio``, ``floor_over_straight``).
     long_flights : list of exact numbers, optional
         Radii of the square scene (each 2**-32 <= r <= 1/4; the first is the reference), or with
         ``scene="triangular"`` gaps w of the triangular one (w_inf < w <= 2**20 - 2): time a

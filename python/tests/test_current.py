@@ -125,6 +125,19 @@ def test_the_thermostat_is_benched_beside_straight_flights():
                  observe="msd")
 
 
+def test_the_thermostats_winner_only_floor_is_the_command_lines_tape(cli_json):
+    """``bench(electric=..., oracle_floor=True)`` times the winner-only floor on the tape the
+    command line records: the same events, found again identically as often."""
+    r = lg.bench(w="1/5", electric="3/10", collisions_per_thread=4000, repetitions=2,
+                 engine="scalar", oracle_floor=True, progress=False)
+    o = r.oracle
+    assert o["collisions"] == 4000 and o["events"] > 4000
+    assert o["floor_over_straight"] == pytest.approx(r.paired_ratio / o["paired_ratio"])
+    cl = cli_json("bench", "--w", "1/5", "--electric", "3/10", "--collisions-per-thread", "4000",
+                  "--repetitions", "2", "--engine", "scalar", "--oracle-floor")
+    assert [cl["oracle"][k] for k in ("events", "identical")] == [o["events"], o["identical"]]
+
+
 def test_the_driven_pair_has_the_command_lines_bits(cli_json):
     """``lyapunov(electric=...)`` is ``lorentz lyapunov --electric``: the same bits, the sum rule
     within its bounds, a readable repr."""

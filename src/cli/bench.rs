@@ -31,6 +31,7 @@ const ELECTRIC_HELP: &str = "A Gaussian-thermostatted electric field E in the pl
     --collisions-per-thread (2e5).";
 
 #[derive(clap::Args)]
+#[command(group(clap::ArgGroup::new("driven").args(["field", "electric"])))]
 #[command(mut_arg("electric", |a| a.help(ELECTRIC_HELP).conflicts_with_all(
     ["report", "observer_costs", "field", "observe", "table", "costs"]
 )))]
@@ -106,8 +107,10 @@ pub struct Args {
     /// With --field on the SIMD engine: also time the arc engine fed each event's winner from a
     /// tape of its own run (only that disk and edge computed, the same bits) beside the full
     /// engine on the same tape, one thread: the speed no choice of the next event in advance
-    /// can beat with this kernel's arithmetic, on this CPU.
-    #[arg(long, requires = "field")]
+    /// can beat with this kernel's arithmetic, on this CPU. With --electric: the same for the
+    /// thermostat, each event of a tape of its walk (at most 2e5 collisions) certified given
+    /// only the candidate the full search found.
+    #[arg(long, requires = "driven")]
     oracle_floor: bool,
     /// Time this table (a TOML file, as `diffusion --table` reads) beside the triangular gas at
     /// --w: each repetition right after the triangular one, on the same threads and engine (its

@@ -150,6 +150,7 @@ pub(crate) const BAD: &[(&str, &str)] = &[
         "-360 to 360",
     ),
     ("bench --w 0.1 --electric-angle 45", "--electric"),
+    ("bench --w 0.1 --oracle-floor", "--field"),
     ("audit --w 0.1 --reference-bits 4000000000", "65536"),
     // scenes
     ("audit --scene square --radius 0.5", "0 < radius < 1/2"),

@@ -178,6 +178,40 @@ fn bench_takes_the_field_angle_exactly() {
     );
 }
 
+/// `bench --electric E --oracle-floor`: a tape of the seed's thermostatted walk (the run's
+/// collisions per thread), every event found again by the winner alone beside the full search;
+/// the floor's numbers are those its definition gives (its rate 10⁹/ns, its ratio to straight
+/// flights the run's paired ratio over the floor's), and the tape is the seed's: two runs record
+/// the same events and find the same number of them again identically.
+#[test]
+fn bench_times_the_thermostats_winner_only_floor_on_a_tape_of_its_walk() {
+    let tmp = scratch();
+    let dir = tmp.path();
+    let cmd = "bench --w 0.2 --electric 0.3 --electric-angle 30 --collisions-per-thread 5000 --repetitions 3 --engine scalar --oracle-floor --json --quiet";
+    let r = lorentz_json(dir, &words(cmd));
+    let o = &r["oracle"];
+    let count = |k: &str| o[k].as_u64().unwrap();
+    assert_eq!(count("collisions"), 5000, "{o}");
+    // 0.19 crossings a collision at w = 0.2: between one and two events a collision.
+    assert!(count("events") > 5000 && count("events") < 10000, "{o}");
+    assert!(count("identical") <= count("events"), "{o}");
+    assert_eq!(
+        num(o, "floor_collisions_per_second"),
+        1e9 / num(o, "floor_ns_per_collision")
+    );
+    assert_eq!(
+        num(o, "floor_over_straight"),
+        num(&r, "paired_ratio") / num(o, "paired_ratio")
+    );
+    assert!(num(o, "paired_ratio") > 0.0 && num(o, "full_ns_per_collision") > 0.0);
+    let again = lorentz_json(dir, &words(cmd));
+    for k in ["events", "collisions", "identical"] {
+        assert_eq!(again["oracle"][k], o[k], "{k}");
+    }
+    let plain = lorentz_json(dir, &words(&cmd.replace(" --oracle-floor", "")));
+    assert!(plain.get("oracle").is_none(), "{plain}");
+}
+
 /// `shadow --electric`: a short thermostatted segment is shadowed by a true orbit with its
 /// Newton–Kantorovich certificate (δ within 2K‖F(y⁰)‖₂, the correction bound 2Kε far below δ),
 /// and E = 0 is the field-free run bit for bit. Broken on purpose: with the thermostat dropped

@@ -25,6 +25,10 @@ use crate::scenes::thermostat::CellFields;
 use super::check::{Checked, check};
 use super::{Observe, ThroughputConfig, advance, lanes, median, par_blocks, starts};
 
+mod floor;
+use floor::Floor;
+pub use floor::{MAX_TAPE_COLLISIONS, ThermostatFloor};
+
 /// The strongest field timed (the analyses' range).
 pub const MAX_ELECTRIC: f64 = 10.0;
 
@@ -86,6 +90,9 @@ pub struct ElectricBench {
     pub thermostat_over_straight: f64,
     /// The median over repetitions of each pair's ratio (thermostat over straight).
     pub paired_ratio: f64,
+    /// With `oracle_floor`: the thermostat's winner-only floor (absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub oracle: Option<ThermostatFloor>,
     /// Version, seed, precision, the straight flights' engine, threads, command line.
     pub meta: RunMeta,
 }
@@ -98,11 +105,17 @@ pub struct ElectricBench {
 /// is zero, not finite or beyond [`MAX_ELECTRIC`], or invalid options.
 pub fn run(cfg: &ElectricBenchConfig, options: &RunOptions) -> Result<ElectricBench, Error> {
     let s = &cfg.straight;
-    let Checked { w, resolved, .. } = check(s, options)?;
+    // `oracle_floor` is the thermostat's own floor here ([`ThermostatFloor`]), not the arc
+    // engine's that `check` validates.
+    let straight = ThroughputConfig {
+        oracle_floor: false,
+        ..s.clone()
+    };
+    let Checked { w, resolved, .. } = check(&straight, options)?;
     let lone = s.field.is_none()
         && s.observe == Observe::None
         && s.table_beside.is_none()
-        && !(s.straight_beside || s.diffusion_beside || s.oracle_floor);
+        && !(s.straight_beside || s.diffusion_beside);
     if !lone {
         return Err(Error::Invalid(
             "the thermostat is timed bare beside straight flights: leave out observers, a \
@@ -131,6 +144,14 @@ pub fn run(cfg: &ElectricBenchConfig, options: &RunOptions) -> Result<ElectricBe
     let (m, ms) = (median(&samples), median(&straight));
     let threads = options.threads;
     let ratios: Vec<f64> = samples.iter().zip(&straight).map(|(a, b)| a / b).collect();
+    let oracle = match s.oracle_floor {
+        true => Some(
+            s.precision
+                .dispatch(Floor { cfg, w })?
+                .beside(median(&ratios)),
+        ),
+        false => None,
+    };
     Ok(ElectricBench {
         w,
         electric: e,
@@ -148,6 +169,7 @@ pub fn run(cfg: &ElectricBenchConfig, options: &RunOptions) -> Result<ElectricBe
         straight_samples: straight,
         thermostat_over_straight: m / ms,
         paired_ratio: median(&ratios),
+        oracle,
         meta: RunMeta::new(Some(s.seed), None, s.precision, Some(threads)).with_engine(resolved),
     })
 }
@@ -166,10 +188,7 @@ impl AtPrecision for Pairs<'_> {
     type Output = Result<(Vec<f64>, f64, Vec<f64>), Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
         let s = &self.cfg.straight;
-        let trap64 = Trap::new(self.w)?;
-        let gap = crate::numbers::exact::param_at::<T>(ctx, self.w, s.table.gap_text())?;
-        let lat = TriangularLattice::new(gap)?;
-        let fields = CellFields::new(field::<T>(self.cfg, ctx)?);
+        let (trap64, lat, fields) = scene::<T>(self.cfg, self.w, ctx)?;
         let lanes = lanes(self.engine);
         let mut field_states = starts::<T>(ctx, &trap64, s.seed, self.threads, lanes);
         let mut straight_states = field_states.clone();
@@ -196,6 +215,16 @@ impl AtPrecision for Pairs<'_> {
         }
         Ok((rates, crossings as f64 / per_rep, straight))
     }
+}
+
+/// The trap in `f64` (where the starts are drawn), the lattice and the field in its cells.
+type Scene<T> = (Trap<f64>, TriangularLattice<T>, CellFields<T>);
+
+/// The [`Scene`] at the gap `w` as typed, at the working precision `ctx`.
+fn scene<T: Real>(cfg: &ElectricBenchConfig, w: f64, ctx: T::Ctx) -> Result<Scene<T>, Error> {
+    let gap = crate::numbers::exact::param_at::<T>(ctx, w, cfg.straight.table.gap_text())?;
+    let fields = CellFields::new(field::<T>(cfg, ctx)?);
+    Ok((Trap::new(w)?, TriangularLattice::new(gap)?, fields))
 }
 
 /// The field of `cfg` at the working precision `ctx`: E the double typed, its angle exact.

@@ -95,11 +95,25 @@ impl<T: Real> ConvexCell<T> {
         f: &Flight<T>,
         th: &Thermostat<T>,
     ) -> Option<ThermoEvent<T>> {
-        let start = th.start(&f.vel);
-        let exit = exit_bound(self, &f.pos, &start);
         let kinds = (0..self.edges.len() as u8)
             .map(EventKind::Crossing)
             .chain((0..self.disks.len() as u8).map(EventKind::Collision));
+        self.next_event_thermostat_among(f, th, kinds)
+    }
+
+    /// [`ConvexCell::next_event_thermostat`] among the candidates `kinds` only (in the order
+    /// given; the full search offers the edges, then the disks). Given the one candidate the full
+    /// search found, it is the winner-only floor of an event: the certificates of that contact
+    /// alone, which no way of ruling out the others in advance can save
+    /// (`benches/thermostat.rs`).
+    pub fn next_event_thermostat_among(
+        &self,
+        f: &Flight<T>,
+        th: &Thermostat<T>,
+        kinds: impl Iterator<Item = EventKind>,
+    ) -> Option<ThermoEvent<T>> {
+        let start = th.start(&f.vel);
+        let exit = exit_bound(self, &f.pos, &start);
         let tube = Tube::new(f, &th.strength, &exit);
         let mut slots: Vec<Slot<'_, '_, T>> = kinds
             .map(|k| {

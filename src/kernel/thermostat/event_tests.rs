@@ -348,13 +348,15 @@ fn event_by_single_marches(
 }
 
 /// The one march for all candidates finds the event a march per candidate finds (the search
-/// before 2026-11-30): the same obstacle, the time within the stopping band 2e₀/|F′| of the two,
+/// before 2026-11-30), and the event the march of the winner alone finds
+/// ([`ConvexCell::next_event_thermostat_among`], the floor of `bench --oracle-floor`): the same
+/// obstacle, the time within the stopping band 2e₀/|F′| of the two,
 /// over 5 successive events from each of 600 random starts at w = 0.1 and 0.3, ε ∈ {0.01, 0.3, 3}
 /// (so that flights leave the disk or the edge they are on, too).
 #[test]
 fn one_march_for_all_candidates_finds_the_event_of_a_march_per_candidate() {
     let mut r = Mix(17);
-    let mut worst = 0f64;
+    let (mut worst, mut worst_alone) = (0f64, 0f64);
     for w in [0.1, 0.3] {
         let cell = Trap::new(w).unwrap().cell().clone();
         for n in 0..600 {
@@ -369,6 +371,13 @@ fn one_march_for_all_candidates_finds_the_event_of_a_march_per_candidate() {
                 let bound = time_bound(&j, 0.0);
                 assert!(gap <= bound, "{n}.{k}, w = {w}: {gap:e} > {bound:e}");
                 worst = worst.max(gap / bound);
+                // The winner alone (the floor of `bench --oracle-floor`) certifies the same root.
+                let alone = cell.next_event_thermostat_among(&f, &th, std::iter::once(kind));
+                let alone = alone.unwrap();
+                assert_eq!(alone.kind, kind, "{n}.{k}, w = {w}: {f:?}");
+                let gap = (alone.time - ev.time).abs();
+                assert!(gap <= bound, "{n}.{k}, w = {w}, alone: {gap:e} > {bound:e}");
+                worst_alone = worst_alone.max(gap / bound);
                 if cell.apply_thermostat(&mut f, &ev) {
                     th.dir = Vec2::new(-th.dir.x, -th.dir.y);
                 }
@@ -376,4 +385,5 @@ fn one_march_for_all_candidates_finds_the_event_of_a_march_per_candidate() {
         }
     }
     eprintln!("one march against a march per candidate: largest |Δt| / bound {worst:.3}");
+    eprintln!("one march against the winner's alone: largest |Δt| / bound {worst_alone:.3}");
 }

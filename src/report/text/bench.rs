@@ -57,6 +57,24 @@ pub fn electric(r: &ElectricBench) -> String {
         r.paired_ratio,
         1.0 / r.paired_ratio
     );
+    if let Some(f) = &r.oracle {
+        line!(
+            out,
+            "winner-only floor (one thread, a tape of {} events, {} collisions; {} found as the full search finds them): {:.1} ns/collision against {:.1} for the full search on the tape (median paired ratio {:.3})",
+            f.events,
+            f.collisions,
+            f.identical,
+            f.floor_ns_per_collision,
+            f.full_ns_per_collision,
+            f.paired_ratio
+        );
+        line!(
+            out,
+            "floor / straight = {:.4} (1/{:.1}): the best ratio this kernel's certificates allow on this CPU",
+            f.floor_over_straight,
+            1.0 / f.floor_over_straight
+        );
+    }
     out
 }
 
