@@ -18,13 +18,29 @@ use lorentz_gas::estimators::hops::{self, HopsConfig};
 use lorentz_gas::estimators::superdiffusion::{self, SuperdiffusionConfig};
 use lorentz_gas::estimators::sweep::{GapGrid, Grid};
 use lorentz_gas::report::publication::{self, AuditConfig as PublicationConfig};
-use lorentz_gas::scenes::spec::Table;
+use lorentz_gas::scenes::motion::MotionInput;
+use lorentz_gas::scenes::spec::{Motion, Table};
 use lorentz_gas::theory::constants::{self, ConstantsConfig};
 
 use crate::inputs::{self, exact};
 use crate::params::{Params, Work, work};
 use crate::scenes::Where;
 use crate::watch::{Ctl, compute, json};
+
+/// The motion the keywords `field`, `electric` and `electric_angle` give
+/// ([`MotionInput::resolve`]: at most one field, an angle only with `electric`), each as typed.
+pub(crate) fn motion_shape(
+    field: &Option<String>,
+    electric: &Option<String>,
+    electric_angle: &Option<String>,
+) -> PyResult<Motion> {
+    let input = MotionInput {
+        field: field.clone(),
+        electric: electric.clone(),
+        electric_angle: electric_angle.clone(),
+    };
+    input.resolve().map_err(crate::py_err)
+}
 
 /// The run options of a computation watched by `ctl`.
 pub(crate) fn options<'a>(ctl: &'a Ctl<'a>, threads: usize, engine: Engine) -> RunOptions<'a> {

@@ -12,7 +12,7 @@ use lorentz_gas::scenes::spec::Table;
 use lorentz_gas::scenes::table::PeriodicTable;
 use lorentz_gas::scenes::table::spec::TableSpec;
 
-use crate::analyses::options;
+use crate::analyses::{motion_shape, options};
 use crate::inputs;
 use crate::params::{Params, Work, work};
 use crate::watch::{compute, json};
@@ -52,6 +52,7 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let electric = p.opt_text("electric")?;
     let electric_angle = p.opt_text("electric_angle")?;
     Ok(work(move |py, progress| {
+        motion_shape(&field, &electric, &electric_angle)?;
         let field = match field {
             Some(b) => Some(inputs::exact("field", &b)?.value).filter(|b| *b != 0.0),
             None => None,
@@ -70,11 +71,6 @@ pub fn bench(p: &Params<'_, '_>) -> PyResult<Work<String>> {
             diffusion_beside,
             table_beside: table.as_deref().map(self::table).transpose()?,
         };
-        if electric.is_none() && electric_angle.is_some() {
-            return Err(PyValueError::new_err(
-                "electric_angle without electric: give the field's strength too",
-            ));
-        }
         if let Some(e) = electric {
             let angle = electric_angle.as_deref().unwrap_or("0");
             let cfg = ElectricBenchConfig {

@@ -42,15 +42,9 @@ pub fn read(p: &Params<'_, '_>) -> PyResult<Work<String>> {
     let (threads, engine) = (p.threads()?, p.engine()?);
     let (checkpoint, every) = (p.opt_path("checkpoint")?, p.checkpoint_every()?);
     Ok(work(move |py, progress| {
-        let motion = match (&electric, &field) {
-            (Some(_), Some(_)) => {
-                return Err(PyValueError::new_err(
-                    "both a magnetic `field` and an `electric` one: give one motion",
-                ));
-            }
-            (Some(e), None) => Motion::thermostat(e, &electric_angle),
-            (None, b) => Motion::in_field(b.as_deref().unwrap_or("0")),
-        };
+        // Python's angle defaults to 0: it is the motion's only with `electric`.
+        let angle = electric.as_ref().map(|_| electric_angle.clone());
+        let motion = crate::analyses::motion_shape(&field, &electric, &angle)?;
         let table = Table {
             scene: place.spec()?,
             motion,

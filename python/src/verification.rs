@@ -255,17 +255,13 @@ pub fn trajectory(p: &Params<'_, '_>) -> PyResult<Work<(String, String)>> {
     let field = p.opt_text("field")?;
     let (electric, electric_angle) = (p.opt_text("electric")?, p.opt_text("electric_angle")?);
     Ok(work(move |py, progress| {
+        crate::analyses::motion_shape(&field, &electric, &electric_angle)?;
         let electric = match (electric, electric_angle) {
             (Some(e), a) => Some((
                 exact_q("electric", &e)?,
                 exact_q("electric_angle", a.as_deref().unwrap_or("0"))?,
             )),
-            (None, Some(_)) => {
-                return Err(PyValueError::new_err(
-                    "electric_angle without electric: give the field's strength too",
-                ));
-            }
-            (None, None) => None,
+            (None, _) => None,
         };
         if digits == 0 || digits > MAX_DIGITS {
             return Err(PyValueError::new_err(format!(
