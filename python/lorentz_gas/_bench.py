@@ -76,7 +76,9 @@ def bench(
         ``collisions_per_thread``, at most 2e5 collisions) certified given only the candidate
         the full search found, beside the full search on the same tape (``oracle``: ``events``,
         ``collisions``, ``identical``, ``full_ns_per_collision``, ``floor_ns_per_collision``,
-        ``floor_collisions_per_second``, ``paired_ratio``, ``floor_over_straight``).
+        ``floor_collisions_per_second``, ``samples``, ``full_samples``, ``paired_ratio``,
+        ``floor_over_straight``: the median of each repetition's floor rate over the straight
+        flights' per thread).
     long_flights : list of exact numbers, optional
         Radii of the square scene (each 2**-32 <= r <= 1/4; the first is the reference), or with
         ``scene="triangular"`` gaps w of the triangular one (w_inf < w <= 2**20 - 2): time a

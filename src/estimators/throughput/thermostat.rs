@@ -26,7 +26,7 @@ use super::check::{Checked, check};
 use super::{Observe, ThroughputConfig, advance, lanes, median, par_blocks, starts};
 
 mod floor;
-use floor::Floor;
+use floor::Tape;
 pub use floor::{MAX_TAPE_COLLISIONS, ThermostatFloor};
 
 /// The strongest field timed (the analyses' range).
@@ -134,7 +134,12 @@ pub fn run(cfg: &ElectricBenchConfig, options: &RunOptions) -> Result<ElectricBe
     let typed = crate::numbers::exact::exact_text_of(e).unwrap_or_else(|| format!("{e:?}"));
     crate::estimators::diffusion::check_electric(&Motion::thermostat(&typed, &cfg.electric_angle))?;
     let world = field::<f64>(cfg, ())?;
-    let (samples, cpc, straight) = s.precision.dispatch(Pairs {
+    let Timed {
+        samples,
+        crossings_per_collision: cpc,
+        straight,
+        oracle,
+    } = s.precision.dispatch(Pairs {
         cfg,
         w,
         engine: resolved,
@@ -144,14 +149,6 @@ pub fn run(cfg: &ElectricBenchConfig, options: &RunOptions) -> Result<ElectricBe
     let (m, ms) = (median(&samples), median(&straight));
     let threads = options.threads;
     let ratios: Vec<f64> = samples.iter().zip(&straight).map(|(a, b)| a / b).collect();
-    let oracle = match s.oracle_floor {
-        true => Some(
-            s.precision
-                .dispatch(Floor { cfg, w })?
-                .beside(median(&ratios)),
-        ),
-        false => None,
-    };
     Ok(ElectricBench {
         w,
         electric: e,
@@ -183,15 +180,35 @@ struct Pairs<'a> {
     progress: &'a (dyn Fn(u64) + Sync),
 }
 
+/// What the paired repetitions measured.
+struct Timed {
+    /// The thermostat's rates (all threads), one a repetition.
+    samples: Vec<f64>,
+    crossings_per_collision: f64,
+    /// The straight flights' rates (all threads).
+    straight: Vec<f64>,
+    /// With `oracle_floor`: the winner-only floor, timed in the same repetitions.
+    oracle: Option<ThermostatFloor>,
+}
+
 impl AtPrecision for Pairs<'_> {
-    /// The thermostat's rates, its crossings per collision, the straight rates.
-    type Output = Result<(Vec<f64>, f64, Vec<f64>), Error>;
+    type Output = Result<Timed, Error>;
     fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
         let s = &self.cfg.straight;
         let (trap64, lat, fields) = scene::<T>(self.cfg, self.w, ctx)?;
         let lanes = lanes(self.engine);
         let mut field_states = starts::<T>(ctx, &trap64, s.seed, self.threads, lanes);
         let mut straight_states = field_states.clone();
+        // The floor's tape: the walk of the first thread's first start.
+        let mut tape = match s.oracle_floor {
+            true => Some(Tape::record(
+                &lat,
+                &fields,
+                field_states[0][0].clone(),
+                s.collisions_per_thread,
+            )?),
+            false => None,
+        };
         let pool = thread_pool(self.threads)?;
         let n = s.collisions_per_thread;
         let per_rep = (n / lanes as u64 * (lanes * self.threads) as u64) as f64;
@@ -211,9 +228,18 @@ impl AtPrecision for Pairs<'_> {
             let t0 = Instant::now();
             plain(&mut straight_states, n)?;
             straight.push(per_rep / t0.elapsed().as_secs_f64());
+            if let Some(tape) = &mut tape {
+                tape.time(&lat, &fields)?;
+            }
             (self.progress)(1);
         }
-        Ok((rates, crossings as f64 / per_rep, straight))
+        let per_thread: Vec<f64> = straight.iter().map(|r| r / self.threads as f64).collect();
+        Ok(Timed {
+            crossings_per_collision: crossings as f64 / per_rep,
+            oracle: tape.map(|t| t.result(&per_thread)),
+            samples: rates,
+            straight,
+        })
     }
 }
 

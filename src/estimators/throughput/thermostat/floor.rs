@@ -13,16 +13,14 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::{ElectricBenchConfig, scene};
 use crate::Error;
 use crate::kernel::flight::EventKind;
 use crate::kernel::thermostat::cell::ThermoEvent;
-use crate::numbers::precision::AtPrecision;
 use crate::numbers::real::Real;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
 use crate::scenes::thermostat::CellFields;
 
-use super::super::{median, starts};
+use super::super::median;
 
 /// The longest tape, in collisions (its states are kept in memory).
 pub const MAX_TAPE_COLLISIONS: u64 = 200_000;
@@ -43,83 +41,107 @@ pub struct ThermostatFloor {
     pub floor_ns_per_collision: f64,
     /// Its collisions per second, 10⁹ over the line above.
     pub floor_collisions_per_second: f64,
+    /// The winner-only search's nanoseconds per collision, one a repetition.
+    pub samples: Vec<f64>,
+    /// The full search's on the tape, one a repetition.
+    pub full_samples: Vec<f64>,
     /// The median over repetitions of the winner-only time over the full one.
     pub paired_ratio: f64,
-    /// The floor's rate over the straight flights': the run's paired ratio (thermostat over
-    /// straight) over this one (floor over full time), each a median of ratios of runs made in
-    /// turns — the best thermostat over straight ratio this kernel's certificates allow.
+    /// The median over repetitions of the floor's rate over the straight flights' per thread,
+    /// timed in the same repetition: the best thermostat over straight ratio this kernel's
+    /// certificates allow.
     pub floor_over_straight: f64,
 }
 
-impl ThermostatFloor {
-    /// With the run's median paired ratio of the thermostat's rate over the straight flights'.
-    pub(super) fn beside(mut self, thermostat_over_straight: f64) -> Self {
-        self.floor_over_straight = thermostat_over_straight / self.paired_ratio;
-        self
-    }
-}
-
-/// The floor's tape and timings at one precision.
-pub(super) struct Floor<'a> {
-    pub cfg: &'a ElectricBenchConfig,
-    pub w: f64,
+/// The tape of the floor and its timings, one pair a repetition of the run.
+pub(super) struct Tape<T: Real> {
+    entries: Vec<Entry<T>>,
+    collisions: u64,
+    identical: u64,
+    /// Seconds of each full pass over the tape, and of each winner-only pass.
+    full: Vec<f64>,
+    floor: Vec<f64>,
 }
 
 /// An event of the tape: the state before it and the candidate the full search found.
 type Entry<T> = (LatticeState<T>, EventKind);
 
-impl AtPrecision for Floor<'_> {
-    type Output = Result<ThermostatFloor, Error>;
-    fn at<T: Real>(self, ctx: T::Ctx) -> Self::Output {
-        let s = &self.cfg.straight;
-        let (trap64, lat, fields) = scene::<T>(self.cfg, self.w, ctx)?;
-        let start = starts::<T>(ctx, &trap64, s.seed, 1, 1).remove(0).remove(0);
-        let collisions = s.collisions_per_thread.clamp(1, MAX_TAPE_COLLISIONS);
-        let tape = record(&lat, &fields, start, collisions)?;
-        let identical = tape
-            .iter()
-            .filter(|(st, kind)| {
-                search(&lat, &fields, st, None) == search(&lat, &fields, st, Some(*kind))
-            })
-            .count() as u64;
-        let (mut full, mut floor, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
-        for _ in 0..s.repetitions {
-            let all = pass(&lat, &fields, &tape, false)?;
-            let only = pass(&lat, &fields, &tape, true)?;
-            full.push(1e9 * all / collisions as f64);
-            floor.push(1e9 * only / collisions as f64);
-            ratio.push(only / all);
+impl<T: Real> Tape<T> {
+    /// The thermostatted walk from `start` up to `collisions` collisions (at most
+    /// [`MAX_TAPE_COLLISIONS`]), each event's state before it and its candidate, and how many of
+    /// its events the winner alone finds as the full search does.
+    pub fn record(
+        lat: &TriangularLattice<T>,
+        fields: &CellFields<T>,
+        start: LatticeState<T>,
+        collisions: u64,
+    ) -> Result<Self, Error> {
+        let collisions = collisions.clamp(1, MAX_TAPE_COLLISIONS);
+        let (mut s, mut entries, mut made) = (start, Vec::new(), 0);
+        while made < collisions {
+            let before = s.clone();
+            let kind = lat.step_thermostat(&mut s, fields)?.kind;
+            made += matches!(kind, EventKind::Collision(_)) as u64;
+            entries.push((before, kind));
         }
-        let floor_ns = median(&floor);
-        Ok(ThermostatFloor {
-            events: tape.len() as u64,
+        let same = |(st, kind): &&Entry<T>| {
+            search(lat, fields, st, None) == search(lat, fields, st, Some(*kind))
+        };
+        let identical = entries.iter().filter(same).count() as u64;
+        Ok(Tape {
+            entries,
             collisions,
             identical,
+            full: Vec::new(),
+            floor: Vec::new(),
+        })
+    }
+
+    /// One repetition: the full search over the tape, then the winner alone.
+    pub fn time(
+        &mut self,
+        lat: &TriangularLattice<T>,
+        fields: &CellFields<T>,
+    ) -> Result<(), Error> {
+        self.full.push(pass(lat, fields, &self.entries, false)?);
+        self.floor.push(pass(lat, fields, &self.entries, true)?);
+        Ok(())
+    }
+
+    /// The floor, beside the straight flights' rate per thread of each repetition, `straight`
+    /// (timed in the same repetitions).
+    pub fn result(&self, straight: &[f64]) -> ThermostatFloor {
+        let per = |secs: &[f64]| -> Vec<f64> {
+            secs.iter()
+                .map(|t| 1e9 * t / self.collisions as f64)
+                .collect()
+        };
+        let (full, floor) = (per(&self.full), per(&self.floor));
+        let ratio: Vec<f64> = self
+            .floor
+            .iter()
+            .zip(&self.full)
+            .map(|(a, b)| a / b)
+            .collect();
+        let over: Vec<f64> = floor
+            .iter()
+            .zip(straight)
+            .map(|(f, s)| 1e9 / f / s)
+            .collect();
+        let floor_ns = median(&floor);
+        ThermostatFloor {
+            events: self.entries.len() as u64,
+            collisions: self.collisions,
+            identical: self.identical,
             full_ns_per_collision: median(&full),
             floor_ns_per_collision: floor_ns,
             floor_collisions_per_second: 1e9 / floor_ns,
             paired_ratio: median(&ratio),
-            floor_over_straight: f64::NAN,
-        })
+            floor_over_straight: median(&over),
+            samples: floor,
+            full_samples: full,
+        }
     }
-}
-
-/// The thermostatted walk from `start` up to `collisions` collisions, each event's state before
-/// it and its candidate.
-fn record<T: Real>(
-    lat: &TriangularLattice<T>,
-    fields: &CellFields<T>,
-    start: LatticeState<T>,
-    collisions: u64,
-) -> Result<Vec<Entry<T>>, Error> {
-    let (mut s, mut tape, mut made) = (start, Vec::new(), 0);
-    while made < collisions {
-        let before = s.clone();
-        let kind = lat.step_thermostat(&mut s, fields)?.kind;
-        made += matches!(kind, EventKind::Collision(_)) as u64;
-        tape.push((before, kind));
-    }
-    Ok(tape)
 }
 
 /// The next event from the state `s`: the full search, or among `only` alone.
