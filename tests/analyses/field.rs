@@ -332,10 +332,10 @@ fn the_arc_kernel_has_a_benchmark_and_it_refuses_what_it_cannot_time() {
         assert_eq!(o.events, 16.0 * o.steps as f64);
         assert!(o.collisions > 0.5 * o.events && o.collisions < o.events);
         assert_eq!(
-            o.floor_collisions_per_second,
-            1e9 / o.floor_ns_per_collision
+            o.times.floor_collisions_per_second,
+            1e9 / o.times.floor_ns_per_collision
         );
-        assert!(o.paired_ratio > 0.0 && o.full_ns_per_collision > 0.0);
+        assert!(o.times.paired_ratio > 0.0 && o.times.full_ns_per_collision > 0.0);
     }
     assert!(throughput::run(&oracle, &crate::common::on_engine(Engine::Scalar, 1)).is_err());
     let no_field = ThroughputConfig {

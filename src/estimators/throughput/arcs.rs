@@ -19,7 +19,7 @@ use crate::scenes::sampling::stream;
 use crate::scenes::triangular::equilibrium_state;
 use crate::theory::magnetic::{FieldGeometry, Orbit};
 
-use super::{Observe, median};
+use super::{FloorTimes, Observe};
 
 /// The longest tape of `--oracle-floor`, in steps (a step is one event of each of the [`BLOCK`]
 /// lanes; the tape holds 8 bytes per lane and step: 32 MiB at most).
@@ -35,14 +35,9 @@ pub struct OracleFloor {
     pub collisions: f64,
     /// Events (collisions and crossings) over the tape (all lanes).
     pub events: f64,
-    /// The full engine's median nanoseconds per collision over the tape.
-    pub full_ns_per_collision: f64,
-    /// The median nanoseconds per collision of the engine fed each event's winner.
-    pub floor_ns_per_collision: f64,
-    /// Its collisions per second (one thread): 10⁹ / `floor_ns_per_collision`.
-    pub floor_collisions_per_second: f64,
-    /// The median over repetitions of each pair's ratio, floor over full time.
-    pub paired_ratio: f64,
+    /// The full engine's time and that of the engine fed each event's winner.
+    #[serde(flatten)]
+    pub times: FloorTimes,
 }
 
 /// [`OracleFloor`] at gap `w` in the field `b` on `path`: a tape of ⌊`collisions`/[`BLOCK`]⌋
@@ -60,22 +55,17 @@ pub(super) fn oracle_floor(
     let states = starts::<f64>((), &trap, seed, 1, BLOCK, b)?.remove(0);
     let steps = (collisions / BLOCK as u64).clamp(1, MAX_TAPE_STEPS as u64) as usize;
     let tape = WinnerTape::record(&ArcBlock::new(path, trap.cell(), b, &states)?, steps)?;
-    let (mut full, mut floor, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut full, mut floor) = (Vec::new(), Vec::new());
     for _ in 0..reps {
         let t = tape.time()?;
         full.push(1e9 * t.full / tape.collisions());
         floor.push(1e9 * t.oracle / tape.collisions());
-        ratio.push(t.oracle / t.full);
     }
-    let floor_ns = median(&floor);
     Ok(OracleFloor {
         steps,
         collisions: tape.collisions(),
         events: tape.events(),
-        full_ns_per_collision: median(&full),
-        floor_ns_per_collision: floor_ns,
-        floor_collisions_per_second: 1e9 / floor_ns,
-        paired_ratio: median(&ratio),
+        times: FloorTimes::of(&full, &floor),
     })
 }
 

@@ -122,6 +122,36 @@ pub struct BoundReport {
     pub fraction: f64,
 }
 
+/// A winner-only floor's times beside the full search's on the same tape, one thread: what the
+/// arc engine's and the thermostat's floors share ([`OracleFloor`], [`ThermostatFloor`]).
+///
+/// [`ThermostatFloor`]: thermostat::ThermostatFloor
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FloorTimes {
+    /// The full search's median nanoseconds per collision over the tape.
+    pub full_ns_per_collision: f64,
+    /// The winner-only search's.
+    pub floor_ns_per_collision: f64,
+    /// Its collisions per second (one thread): 10⁹ / `floor_ns_per_collision`.
+    pub floor_collisions_per_second: f64,
+    /// The median over repetitions of each pair's ratio, floor over full time.
+    pub paired_ratio: f64,
+}
+
+impl FloorTimes {
+    /// From each repetition's nanoseconds per collision of the full and the winner-only pass.
+    pub fn of(full: &[f64], floor: &[f64]) -> Self {
+        let ratio: Vec<f64> = floor.iter().zip(full).map(|(a, b)| a / b).collect();
+        let floor_ns = median(floor);
+        FloorTimes {
+            full_ns_per_collision: median(full),
+            floor_ns_per_collision: floor_ns,
+            floor_collisions_per_second: 1e9 / floor_ns,
+            paired_ratio: median(&ratio),
+        }
+    }
+}
+
 pub(super) fn median(v: &[f64]) -> f64 {
     let mut s = v.to_vec();
     s.sort_by(|a, b| a.total_cmp(b));

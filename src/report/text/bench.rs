@@ -64,9 +64,9 @@ pub fn electric(r: &ElectricBench) -> String {
             f.events,
             f.collisions,
             f.identical,
-            f.floor_ns_per_collision,
-            f.full_ns_per_collision,
-            f.paired_ratio
+            f.times.floor_ns_per_collision,
+            f.times.full_ns_per_collision,
+            f.times.paired_ratio
         );
         line!(
             out,
@@ -147,10 +147,10 @@ pub fn throughput(r: &Throughput) -> String {
             out,
             "winner-only floor (one thread; each event's winner read from a tape of {} steps of this engine's own run, only that disk and edge computed, the same bits): {:.3e} collisions/s = {:.2} ns/collision against the full engine's {:.2} on the same tape; floor / full = {:.3} (median of the paired ratios)",
             o.steps,
-            o.floor_collisions_per_second,
-            o.floor_ns_per_collision,
-            o.full_ns_per_collision,
-            o.paired_ratio
+            o.times.floor_collisions_per_second,
+            o.times.floor_ns_per_collision,
+            o.times.full_ns_per_collision,
+            o.times.paired_ratio
         );
     }
     out

@@ -20,7 +20,7 @@ use crate::numbers::real::Real;
 use crate::scenes::lattice::{LatticeState, TriangularLattice};
 use crate::scenes::thermostat::CellFields;
 
-use super::super::median;
+use super::super::{FloorTimes, median};
 
 /// The longest tape, in collisions (its states are kept in memory).
 pub const MAX_TAPE_COLLISIONS: u64 = 200_000;
@@ -35,18 +35,14 @@ pub struct ThermostatFloor {
     /// Events the winner-only search finds as the full one does: the same candidate, time and
     /// flight point (the march's points can differ where the others' certificates placed them).
     pub identical: u64,
-    /// The full search's median nanoseconds per collision on the tape (found and carried out).
-    pub full_ns_per_collision: f64,
-    /// The winner-only search's.
-    pub floor_ns_per_collision: f64,
-    /// Its collisions per second, 10⁹ over the line above.
-    pub floor_collisions_per_second: f64,
+    /// The full search's time on the tape (each event found and carried out) and the winner
+    /// alone's.
+    #[serde(flatten)]
+    pub times: FloorTimes,
     /// The winner-only search's nanoseconds per collision, one a repetition.
     pub samples: Vec<f64>,
     /// The full search's on the tape, one a repetition.
     pub full_samples: Vec<f64>,
-    /// The median over repetitions of the winner-only time over the full one.
-    pub paired_ratio: f64,
     /// The median over repetitions of the floor's rate over the straight flights' per thread,
     /// timed in the same repetition: the best thermostat over straight ratio this kernel's
     /// certificates allow.
@@ -117,26 +113,16 @@ impl<T: Real> Tape<T> {
                 .collect()
         };
         let (full, floor) = (per(&self.full), per(&self.floor));
-        let ratio: Vec<f64> = self
-            .floor
-            .iter()
-            .zip(&self.full)
-            .map(|(a, b)| a / b)
-            .collect();
         let over: Vec<f64> = floor
             .iter()
             .zip(straight)
             .map(|(f, s)| 1e9 / f / s)
             .collect();
-        let floor_ns = median(&floor);
         ThermostatFloor {
             events: self.entries.len() as u64,
             collisions: self.collisions,
             identical: self.identical,
-            full_ns_per_collision: median(&full),
-            floor_ns_per_collision: floor_ns,
-            floor_collisions_per_second: 1e9 / floor_ns,
-            paired_ratio: median(&ratio),
+            times: FloorTimes::of(&full, &floor),
             floor_over_straight: median(&over),
             samples: floor,
             full_samples: full,
